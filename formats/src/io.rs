@@ -1,0 +1,218 @@
+//! Files, streams and siblings: dispatch to the format modules, stdin/stdout for `-`,
+//! and atomic writes (temporary file, then rename).
+
+use std::collections::BTreeMap;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::{Format, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
+
+/// Where a reader finds the files beside the main one (Triangle's `.node` beside its
+/// `.ele`, Medit's `.sol` beside its `.mesh`).
+pub trait SiblingSource {
+    /// The bytes of the sibling with extension `ext` (no dot), `Ok(None)` when there is
+    /// none.
+    fn read_sibling(&self, ext: &str) -> Result<Option<Vec<u8>>>;
+    /// How to name the sibling in messages.
+    fn describe(&self, ext: &str) -> String;
+}
+
+/// No siblings: a stream.
+pub struct NoSiblings;
+
+impl SiblingSource for NoSiblings {
+    fn read_sibling(&self, _ext: &str) -> Result<Option<Vec<u8>>> {
+        Ok(None)
+    }
+    fn describe(&self, ext: &str) -> String {
+        format!("<stdin>.{ext}")
+    }
+}
+
+/// Siblings on disk: the main path with its last extension replaced.
+pub struct PathSiblings {
+    base: PathBuf,
+}
+
+impl PathSiblings {
+    /// Siblings of `main` (`dir/naca.1.ele` → `dir/naca.1.<ext>`).
+    pub fn new(main: &Path) -> Self {
+        PathSiblings { base: main.with_extension("") }
+    }
+
+    /// The path of the sibling with extension `ext`.
+    pub fn path(&self, ext: &str) -> PathBuf {
+        let mut s = self.base.clone().into_os_string();
+        s.push(".");
+        s.push(ext);
+        PathBuf::from(s)
+    }
+}
+
+impl SiblingSource for PathSiblings {
+    fn read_sibling(&self, ext: &str) -> Result<Option<Vec<u8>>> {
+        let p = self.path(ext);
+        match std::fs::read(&p) {
+            Ok(b) => Ok(Some(b)),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(Error::from(e).with_path(p)),
+        }
+    }
+    fn describe(&self, ext: &str) -> String {
+        self.path(ext).display().to_string()
+    }
+}
+
+/// Siblings held in memory, for tests and for round trips without files.
+#[derive(Debug, Default, Clone)]
+pub struct MemorySiblings {
+    /// Extension (no dot) → bytes.
+    pub files: BTreeMap<String, Vec<u8>>,
+}
+
+impl MemorySiblings {
+    /// The siblings a writer produced.
+    pub fn from_written(w: &Written) -> Self {
+        MemorySiblings { files: w.siblings.iter().cloned().collect() }
+    }
+}
+
+impl SiblingSource for MemorySiblings {
+    fn read_sibling(&self, ext: &str) -> Result<Option<Vec<u8>>> {
+        Ok(self.files.get(ext).cloned())
+    }
+    fn describe(&self, ext: &str) -> String {
+        format!("<memory>.{ext}")
+    }
+}
+
+/// Reads a mesh in `format` from bytes. The result is checked with
+/// [`TaggedMesh::validate`], so whatever a reader let through, no cell refers to a
+/// missing point and no data array has the wrong length.
+pub fn read_bytes(format: Format, bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
+    let mesh = match format {
+        Format::Triangle => crate::triangle::read(bytes, ctx)?,
+        Format::Gmsh => crate::gmsh::read(bytes, ctx)?,
+        Format::VtkLegacy => crate::vtk::read_legacy(bytes, ctx)?,
+        Format::Vtu => crate::vtk::read_vtu(bytes, ctx)?,
+        Format::Obj => crate::obj::read(bytes, ctx)?,
+        Format::Medit => crate::medit::read(bytes, ctx)?,
+        Format::Gltf => return Err(Error::new(ErrorKind::Unsupported("reading glTF (smartmesh writes it for viewers)".into()))),
+    };
+    if let Some(p) = mesh.validate().into_iter().next() {
+        return Err(Error::new(ErrorKind::Inconsistent(p.to_string())));
+    }
+    Ok(mesh)
+}
+
+/// Writes a mesh in `format` to bytes (the main file and its siblings).
+pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    if let Some(p) = mesh.validate().into_iter().next() {
+        return Err(Error::new(ErrorKind::CannotWrite { format: format.name(), reason: p.to_string() }));
+    }
+    match format {
+        Format::Triangle => crate::triangle::write(mesh, opts),
+        Format::Gmsh => crate::gmsh::write(mesh, opts),
+        Format::VtkLegacy => crate::vtk::write_legacy(mesh, opts),
+        Format::Vtu => crate::vtk::write_vtu(mesh, opts),
+        Format::Obj => crate::obj::write(mesh, opts),
+        Format::Medit => crate::medit::write(mesh, opts),
+        Format::Gltf => crate::gltf::write(mesh, opts),
+    }
+}
+
+fn resolve_format(path: &Path, format: Option<Format>) -> Result<Format> {
+    match format {
+        Some(f) => Ok(f),
+        None => Format::from_path(path).ok_or_else(|| Error::new(ErrorKind::UnknownFormat(path.display().to_string()))),
+    }
+}
+
+fn is_stdio(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// Reads a mesh from a path (`-` for stdin, which needs `format`). Siblings are
+/// looked up beside the path. Errors carry the path.
+pub fn read_path(path: &Path, format: Option<Format>) -> Result<TaggedMesh> {
+    if is_stdio(path) {
+        let format = format.ok_or_else(|| Error::new(ErrorKind::UnknownFormat("-".into())))?;
+        let mut bytes = Vec::new();
+        std::io::stdin().lock().read_to_end(&mut bytes)?;
+        let ctx = ReadContext { siblings: &NoSiblings, extension: String::new() };
+        return read_bytes(format, &bytes, &ctx);
+    }
+    let format = resolve_format(path, format)?;
+    let bytes = std::fs::read(path).map_err(|e| Error::from(e).with_path(path))?;
+    let siblings = PathSiblings::new(path);
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let ctx = ReadContext { siblings: &siblings, extension: ext };
+    read_bytes(format, &bytes, &ctx).map_err(|e| e.with_path(path))
+}
+
+/// Writes a mesh to a path (`-` for stdout, which needs `format` and a format without
+/// siblings). Every file goes to a temporary name beside its target first and is
+/// renamed only when all are complete.
+pub fn write_path(path: &Path, mesh: &TaggedMesh, format: Option<Format>, opts: &WriteOptions) -> Result<WriteReport> {
+    if is_stdio(path) {
+        let format = format.ok_or_else(|| Error::new(ErrorKind::UnknownFormat("-".into())))?;
+        let mut opts = opts.clone();
+        opts.main_name = None;
+        let written = write_bytes(format, mesh, &opts)?;
+        if !written.siblings.is_empty() {
+            let exts: Vec<_> = written.siblings.iter().map(|(e, _)| format!(".{e}")).collect();
+            return Err(Error::new(ErrorKind::CannotWrite {
+                format: format.name(),
+                reason: format!("it needs sibling files ({}), which stdout cannot hold; name an output file", exts.join(", ")),
+            }));
+        }
+        let mut out = std::io::stdout().lock();
+        out.write_all(&written.main)?;
+        out.flush()?;
+        return Ok(written.report);
+    }
+    let format = resolve_format(path, format)?;
+    let mut opts = opts.clone();
+    opts.main_name = path.file_name().and_then(|n| n.to_str()).map(str::to_owned);
+    let written = write_bytes(format, mesh, &opts).map_err(|e| e.with_path(path))?;
+    let siblings = PathSiblings::new(path);
+    let mut targets = vec![(path.to_path_buf(), written.main)];
+    for (ext, bytes) in written.siblings {
+        targets.push((siblings.path(&ext), bytes));
+    }
+    write_all_atomically(&targets)?;
+    Ok(written.report)
+}
+
+/// Writes every `(path, bytes)` to a temporary file beside `path`, then renames them
+/// all. On failure the temporary files are removed and no target is touched.
+pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
+    let mut temps: Vec<(PathBuf, &Path)> = Vec::new();
+    let cleanup = |temps: &[(PathBuf, &Path)]| {
+        for (t, _) in temps {
+            let _ = std::fs::remove_file(t);
+        }
+    };
+    for (target, bytes) in targets {
+        let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let tmp = target.with_file_name(format!(".{name}.smartmesh-{}.tmp", std::process::id()));
+        let res = std::fs::File::create(&tmp).and_then(|mut f| {
+            f.write_all(bytes)?;
+            f.flush()
+        });
+        if let Err(e) = res {
+            let _ = std::fs::remove_file(&tmp);
+            cleanup(&temps);
+            return Err(Error::from(e).with_path(target));
+        }
+        temps.push((tmp, target));
+    }
+    for (tmp, target) in &temps {
+        if let Err(e) = std::fs::rename(tmp, target) {
+            cleanup(&temps);
+            return Err(Error::from(e).with_path(target));
+        }
+    }
+    Ok(())
+}

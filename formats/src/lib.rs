@@ -1,0 +1,232 @@
+//! Read and write 2D tagged meshes and their fields in the formats of the meshing world.
+//!
+//! Features:
+//! - one in-memory [`TaggedMesh`]: points, cell blocks, physical and geometrical tags,
+//!   tag names, Gmsh entities, named point and cell data (scalars, vectors, tensors);
+//! - one module per format, each with the same two entry points
+//!   `read(&[u8], &ReadContext) -> Result<TaggedMesh>` and
+//!   `write(&TaggedMesh, &WriteOptions) -> Result<Written>`:
+//!   [`triangle`] (.node/.ele/.poly/.edge/.area), [`gmsh`] (MSH 2.2 and 4.1, ASCII and
+//!   binary), [`vtk`] (legacy .vtk 4.2/5.1 and XML .vtu), [`obj`], [`medit`]
+//!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only);
+//! - [`Format::from_path`], a static extension table;
+//! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
+//!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written to
+//!   a temporary file and renamed, so a failed write never leaves half a file;
+//! - errors that name the file, the line or byte offset, and what was expected.
+//!
+//! This crate sizes nothing and knows no topology: those are the `smartmesh` crate's.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+mod error;
+mod io;
+mod mesh;
+pub mod text;
+
+pub mod gltf;
+pub mod gmsh;
+pub mod medit;
+pub mod obj;
+pub mod triangle;
+pub mod vtk;
+
+#[cfg(feature = "proptest")]
+pub mod arbitrary;
+
+pub use error::{Error, ErrorKind, Position, Result};
+pub use io::{read_bytes, read_path, write_all_atomically, write_bytes, write_path, MemorySiblings, NoSiblings, PathSiblings, SiblingSource};
+pub use mesh::{sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, MeshProblem, RegionSeed, TaggedMesh};
+
+use std::path::Path;
+
+/// A file format smartmesh reads or writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Format {
+    /// Triangle's .node/.ele/.poly/.edge/.area family.
+    Triangle,
+    /// Gmsh MSH 2.2 or 4.1, ASCII or binary.
+    Gmsh,
+    /// VTK legacy `.vtk`.
+    VtkLegacy,
+    /// VTK XML unstructured grid `.vtu`.
+    Vtu,
+    /// Wavefront OBJ.
+    Obj,
+    /// Medit `.mesh` (ASCII) or `.meshb` (binary), with `.sol`/`.solb` beside it.
+    Medit,
+    /// glTF 2.0: `.gltf` with a `.bin` beside it, or a single `.glb`.
+    Gltf,
+}
+
+/// The extension table, as meshio's `_helpers.py` keeps one: last suffix, lower case.
+const EXTENSIONS: &[(&str, Format)] = &[
+    ("node", Format::Triangle),
+    ("ele", Format::Triangle),
+    ("poly", Format::Triangle),
+    ("edge", Format::Triangle),
+    ("msh", Format::Gmsh),
+    ("vtk", Format::VtkLegacy),
+    ("vtu", Format::Vtu),
+    ("obj", Format::Obj),
+    ("mesh", Format::Medit),
+    ("meshb", Format::Medit),
+    ("gltf", Format::Gltf),
+    ("glb", Format::Gltf),
+];
+
+impl Format {
+    /// The format of a path, from its last extension (`naca.1.ele` is Triangle,
+    /// `test.0.mesh` is Medit).
+    pub fn from_path(path: impl AsRef<Path>) -> Option<Format> {
+        let ext = path.as_ref().extension()?.to_str()?.to_ascii_lowercase();
+        Format::from_extension(&ext)
+    }
+
+    /// The format of an extension without its dot.
+    pub fn from_extension(ext: &str) -> Option<Format> {
+        EXTENSIONS.iter().find(|(e, _)| e.eq_ignore_ascii_case(ext)).map(|&(_, f)| f)
+    }
+
+    /// The format of a `--from`/`--to` name: an extension or a format name
+    /// (`gmsh`, `msh`, `vtk`, `vtu`, `triangle`, `obj`, `medit`, `mesh`, `gltf`, `glb`).
+    pub fn from_name(name: &str) -> Option<Format> {
+        let n = name.to_ascii_lowercase();
+        Format::from_extension(&n).or(match n.as_str() {
+            "triangle" => Some(Format::Triangle),
+            "gmsh" => Some(Format::Gmsh),
+            "vtk-legacy" | "legacy" => Some(Format::VtkLegacy),
+            "medit" | "mmg" => Some(Format::Medit),
+            _ => None,
+        })
+    }
+
+    /// A human name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Triangle => "Triangle",
+            Format::Gmsh => "Gmsh MSH",
+            Format::VtkLegacy => "VTK legacy",
+            Format::Vtu => "VTK XML (.vtu)",
+            Format::Obj => "OBJ",
+            Format::Medit => "Medit",
+            Format::Gltf => "glTF",
+        }
+    }
+
+    /// Whether smartmesh reads this format.
+    pub fn can_read(self) -> bool {
+        !matches!(self, Format::Gltf)
+    }
+
+    /// The names accepted by [`Format::from_name`], for help texts.
+    pub const NAMES: &'static str = "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb";
+}
+
+/// Gmsh MSH file format version to write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum GmshVersion {
+    /// MSH 2.2 (physical and elementary tags on each element).
+    V22,
+    /// MSH 4.1 (entities, the current default of Gmsh).
+    #[default]
+    V41,
+}
+
+/// VTK XML data encoding.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VtuEncoding {
+    /// Numbers as text.
+    Ascii,
+    /// base64 inline binary.
+    #[default]
+    Binary,
+    /// Raw appended data after the XML.
+    Appended,
+}
+
+/// Options for writers; each writer reads the ones that concern it.
+#[derive(Debug, Clone)]
+pub struct WriteOptions {
+    /// Binary rather than ASCII, where the format has both (Gmsh, VTK legacy, Medit
+    /// is chosen by extension instead: `.meshb`).
+    pub binary: bool,
+    /// Gmsh version.
+    pub gmsh_version: GmshVersion,
+    /// VTK legacy file version: `(4, 2)` or `(5, 1)`.
+    pub vtk_legacy_version: (u8, u8),
+    /// VTK XML encoding.
+    pub vtu_encoding: VtuEncoding,
+    /// zlib compression of VTK XML binary and appended data.
+    pub compress: bool,
+    /// Write `.meshb`/`.solb` (Medit binary) instead of ASCII, and `.glb` instead of
+    /// `.gltf` + `.bin`.
+    pub medit_binary: bool,
+    /// glTF: the point field whose values colour the vertices (first scalar if unset).
+    pub color_field: Option<String>,
+    /// glTF: write one `.glb` instead of `.gltf` + `.bin`.
+    pub glb: bool,
+    /// File name (no directory) of the main output, for formats whose main file names
+    /// its siblings (glTF's `.bin` URI). `None` when writing to stdout.
+    pub main_name: Option<String>,
+}
+
+impl Default for WriteOptions {
+    fn default() -> Self {
+        WriteOptions {
+            binary: false,
+            gmsh_version: GmshVersion::V41,
+            vtk_legacy_version: (4, 2),
+            vtu_encoding: VtuEncoding::Binary,
+            compress: true,
+            medit_binary: false,
+            color_field: None,
+            glb: false,
+            main_name: None,
+        }
+    }
+}
+
+/// What a reader may consult besides the main file's bytes.
+pub struct ReadContext<'a> {
+    /// Sibling files (same base name, another extension).
+    pub siblings: &'a dyn SiblingSource,
+    /// Lower-case extension of the main file (`ele`, `poly`, `meshb`...), empty for a
+    /// stream with an explicit `--from`.
+    pub extension: String,
+}
+
+impl<'a> ReadContext<'a> {
+    /// A context with no siblings, for a main file with extension `ext`.
+    pub fn alone(ext: &str) -> ReadContext<'static> {
+        ReadContext { siblings: &NoSiblings, extension: ext.to_ascii_lowercase() }
+    }
+}
+
+/// What a writer produced: the main file and the siblings it needs beside it.
+#[derive(Debug, Default)]
+pub struct Written {
+    /// Bytes of the main file.
+    pub main: Vec<u8>,
+    /// `(extension, bytes)` of each sibling file, written beside the main one with the
+    /// main file's base name (`out.sol` beside `out.mesh`).
+    pub siblings: Vec<(String, Vec<u8>)>,
+    /// What the format could not hold.
+    pub report: WriteReport,
+}
+
+/// What a writer dropped because the format cannot hold it, one line each, for the
+/// user to read (`convert` prints them on stderr and in `--json`).
+#[derive(Debug, Default, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct WriteReport {
+    /// One human-readable line per dropped item.
+    pub dropped: Vec<String>,
+}
+
+impl WriteReport {
+    /// Records a dropped item.
+    pub fn drop(&mut self, what: impl Into<String>) {
+        self.dropped.push(what.into());
+    }
+}

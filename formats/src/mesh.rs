@@ -1,0 +1,486 @@
+//! The in-memory mesh every format reads into and writes from.
+//!
+//! A [`TaggedMesh`] is deliberately close to what the files hold: points, blocks of
+//! cells of one kind each, one physical and one geometrical (elementary) tag per cell,
+//! the names of tags, and named point and cell data. It knows nothing of topology or
+//! sizing: those live in the `smartmesh` crate, which builds them *from* the tags.
+//!
+//! Conventions shared by every reader and writer:
+//! - point indices are 0-based into `points`, whatever the file's own numbering;
+//! - a tag of `0` means "no tag" (Gmsh 2.2's convention for an element without a
+//!   physical group, Triangle's for an unmarked segment);
+//! - tensors travel as 9 components, a row-major 3x3 matrix (Gmsh's and ParaView's
+//!   layout); a 2D symmetric tensor `[[a, b], [b, c]]` is `[a, b, 0, b, c, 0, 0, 0, zz]`.
+
+use std::collections::BTreeMap;
+
+/// The kind of a cell. First-order cells are what smartmesh computes with; second-order
+/// cells are read and kept so that a conversion loses nothing, and a writer whose format
+/// cannot hold them says so in its [`crate::WriteReport`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CellKind {
+    /// A single point (Gmsh element type 15, Medit `Corners` are *not* cells).
+    Vertex,
+    /// A 2-node segment.
+    Line,
+    /// A 3-node triangle.
+    Triangle,
+    /// A 4-node quadrilateral.
+    Quad,
+    /// A 3-node second-order segment (end, end, middle).
+    Line3,
+    /// A 6-node second-order triangle (corners, then edge middles).
+    Triangle6,
+    /// An 8-node serendipity quadrilateral.
+    Quad8,
+    /// A 9-node second-order quadrilateral.
+    Quad9,
+}
+
+impl CellKind {
+    /// Every kind, in a fixed order (the order blocks are sorted in by [`TaggedMesh::sort_blocks`]).
+    pub const ALL: [CellKind; 8] = [
+        CellKind::Vertex,
+        CellKind::Line,
+        CellKind::Triangle,
+        CellKind::Quad,
+        CellKind::Line3,
+        CellKind::Triangle6,
+        CellKind::Quad8,
+        CellKind::Quad9,
+    ];
+
+    /// Number of nodes of one cell.
+    pub const fn nodes_per_cell(self) -> usize {
+        match self {
+            CellKind::Vertex => 1,
+            CellKind::Line => 2,
+            CellKind::Triangle => 3,
+            CellKind::Quad => 4,
+            CellKind::Line3 => 3,
+            CellKind::Triangle6 => 6,
+            CellKind::Quad8 => 8,
+            CellKind::Quad9 => 9,
+        }
+    }
+
+    /// Topological dimension: 0 for vertices, 1 for lines, 2 for surface cells.
+    pub const fn dim(self) -> u8 {
+        match self {
+            CellKind::Vertex => 0,
+            CellKind::Line | CellKind::Line3 => 1,
+            _ => 2,
+        }
+    }
+
+    /// Whether the cell is second order (has mid-edge or mid-face nodes).
+    pub const fn is_second_order(self) -> bool {
+        matches!(self, CellKind::Line3 | CellKind::Triangle6 | CellKind::Quad8 | CellKind::Quad9)
+    }
+
+    /// The Gmsh element type number (MSH 2.2 and 4.1 agree).
+    pub const fn gmsh_type(self) -> i32 {
+        match self {
+            CellKind::Vertex => 15,
+            CellKind::Line => 1,
+            CellKind::Triangle => 2,
+            CellKind::Quad => 3,
+            CellKind::Line3 => 8,
+            CellKind::Triangle6 => 9,
+            CellKind::Quad8 => 16,
+            CellKind::Quad9 => 10,
+        }
+    }
+
+    /// The kind of a Gmsh element type number, if smartmesh knows it.
+    pub const fn from_gmsh_type(t: i32) -> Option<CellKind> {
+        Some(match t {
+            15 => CellKind::Vertex,
+            1 => CellKind::Line,
+            2 => CellKind::Triangle,
+            3 => CellKind::Quad,
+            8 => CellKind::Line3,
+            9 => CellKind::Triangle6,
+            16 => CellKind::Quad8,
+            10 => CellKind::Quad9,
+            _ => return None,
+        })
+    }
+
+    /// The VTK cell type number.
+    pub const fn vtk_type(self) -> u8 {
+        match self {
+            CellKind::Vertex => 1,
+            CellKind::Line => 3,
+            CellKind::Triangle => 5,
+            CellKind::Quad => 9,
+            CellKind::Line3 => 21,
+            CellKind::Triangle6 => 22,
+            CellKind::Quad8 => 23,
+            CellKind::Quad9 => 28,
+        }
+    }
+
+    /// The kind of a VTK cell type number, if smartmesh knows it.
+    pub const fn from_vtk_type(t: u8) -> Option<CellKind> {
+        Some(match t {
+            1 => CellKind::Vertex,
+            3 => CellKind::Line,
+            5 => CellKind::Triangle,
+            9 => CellKind::Quad,
+            21 => CellKind::Line3,
+            22 => CellKind::Triangle6,
+            23 => CellKind::Quad8,
+            28 => CellKind::Quad9,
+            _ => return None,
+        })
+    }
+
+    /// A short lower-case name, as `info` prints it.
+    pub const fn name(self) -> &'static str {
+        match self {
+            CellKind::Vertex => "vertex",
+            CellKind::Line => "line",
+            CellKind::Triangle => "triangle",
+            CellKind::Quad => "quad",
+            CellKind::Line3 => "line3",
+            CellKind::Triangle6 => "triangle6",
+            CellKind::Quad8 => "quad8",
+            CellKind::Quad9 => "quad9",
+        }
+    }
+}
+
+/// Cells of one kind, stored flat: cell `i` is `nodes[i*k .. (i+1)*k]` with
+/// `k = kind.nodes_per_cell()`. `physical[i]` and `geometrical[i]` are its tags.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellBlock {
+    /// The kind of every cell of the block.
+    pub kind: CellKind,
+    /// Point indices, `kind.nodes_per_cell()` per cell.
+    pub nodes: Vec<usize>,
+    /// Physical tag of each cell (Gmsh physical group, Triangle marker or region
+    /// attribute, Medit reference, OBJ group); 0 when the file gives none.
+    pub physical: Vec<i32>,
+    /// Geometrical (elementary) tag of each cell: the Gmsh entity the cell is classified
+    /// on. Formats with a single tag store the same value in both.
+    pub geometrical: Vec<i32>,
+}
+
+impl CellBlock {
+    /// An empty block of `kind`.
+    pub fn new(kind: CellKind) -> Self {
+        CellBlock { kind, nodes: Vec::new(), physical: Vec::new(), geometrical: Vec::new() }
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.physical.len()
+    }
+
+    /// Whether the block holds no cell.
+    pub fn is_empty(&self) -> bool {
+        self.physical.is_empty()
+    }
+
+    /// Appends one cell.
+    pub fn push(&mut self, nodes: &[usize], physical: i32, geometrical: i32) {
+        debug_assert_eq!(nodes.len(), self.kind.nodes_per_cell());
+        self.nodes.extend_from_slice(nodes);
+        self.physical.push(physical);
+        self.geometrical.push(geometrical);
+    }
+
+    /// The nodes of cell `i`.
+    pub fn cell(&self, i: usize) -> &[usize] {
+        let k = self.kind.nodes_per_cell();
+        &self.nodes[i * k..(i + 1) * k]
+    }
+
+    /// Iterator over the cells' node slices.
+    pub fn cells(&self) -> std::slice::ChunksExact<'_, usize> {
+        self.nodes.chunks_exact(self.kind.nodes_per_cell())
+    }
+}
+
+/// A named array of values attached to points or cells, `components` values per item.
+///
+/// Scalars have 1 component, vectors 3 (2D vectors are stored with z = 0), tensors 9
+/// (row-major 3x3). Other counts are kept as they are.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DataArray {
+    /// Values per point (or cell).
+    pub components: usize,
+    /// `components * n` values, item-major.
+    pub values: Vec<f64>,
+}
+
+impl DataArray {
+    /// A new array; `values.len()` must be a multiple of `components`.
+    pub fn new(components: usize, values: Vec<f64>) -> Self {
+        debug_assert!(components > 0 && values.len() % components == 0);
+        DataArray { components, values }
+    }
+
+    /// Number of items (points or cells) the array covers.
+    pub fn len(&self) -> usize {
+        if self.components == 0 {
+            0
+        } else {
+            self.values.len() / self.components
+        }
+    }
+
+    /// Whether the array covers no item.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+
+    /// The values of item `i`.
+    pub fn item(&self, i: usize) -> &[f64] {
+        &self.values[i * self.components..(i + 1) * self.components]
+    }
+
+    /// What the array looks like to a user: scalar, vector, tensor or other.
+    pub fn shape(&self) -> DataShape {
+        match self.components {
+            1 => DataShape::Scalar,
+            2 | 3 => DataShape::Vector,
+            9 => DataShape::Tensor,
+            _ => DataShape::Other,
+        }
+    }
+}
+
+/// How a [`DataArray`] is meant to be read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DataShape {
+    /// One value per item.
+    Scalar,
+    /// 2 or 3 values per item.
+    Vector,
+    /// 9 values per item, a row-major 3x3 matrix.
+    Tensor,
+    /// Any other count.
+    Other,
+}
+
+/// A point inside a region of a planar straight-line graph (Triangle `.poly`), with the
+/// region's attribute and area bound. Used by the mesher; kept through conversions
+/// between formats that can hold it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RegionSeed {
+    /// A point strictly inside the region.
+    pub point: [f64; 2],
+    /// The regional attribute, which becomes the face tag of the region's triangles.
+    pub attribute: f64,
+    /// Maximum triangle area in the region; negative when unconstrained.
+    pub max_area: f64,
+}
+
+/// A 2D (or 3D, when a file says so) mesh with tags and fields.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TaggedMesh {
+    /// Point coordinates. z is 0 for 2D files and kept when a file has it.
+    pub points: Vec<[f64; 3]>,
+    /// 2 when every coordinate is planar as written (Triangle, Medit `Dimension 2`),
+    /// 3 when the file stores three coordinates per point.
+    pub coordinate_dim: u8,
+    /// Cell blocks, in file order. Several blocks may share a kind.
+    pub blocks: Vec<CellBlock>,
+    /// Names of physical tags: `(dimension, tag) -> name` (Gmsh `$PhysicalNames`, OBJ
+    /// groups, ...).
+    pub tag_names: BTreeMap<(u8, i32), String>,
+    /// Physical tags of each geometrical entity `(dimension, entity tag)`, as Gmsh 4.1's
+    /// `$Entities` lists them. May list several physical groups per entity and entities
+    /// without cells (a Gmsh point entity, say). Empty when the file has no such table.
+    pub entities: BTreeMap<(u8, i32), Vec<i32>>,
+    /// Named point data, one item per point.
+    pub point_data: BTreeMap<String, DataArray>,
+    /// Named cell data, one item per cell over all blocks in block order.
+    pub cell_data: BTreeMap<String, DataArray>,
+    /// Named sets of point indices that a format keeps apart from cells (Medit
+    /// `Corners`, `RequiredVertices`).
+    pub point_sets: BTreeMap<String, Vec<usize>>,
+    /// Named sets of cell indices (global, over all blocks in block order), such as
+    /// Medit `Ridges` or `RequiredEdges`.
+    pub cell_sets: BTreeMap<String, Vec<usize>>,
+    /// Hole points of a planar straight-line graph (Triangle `.poly`).
+    pub holes: Vec<[f64; 2]>,
+    /// Region seeds of a planar straight-line graph (Triangle `.poly`).
+    pub regions: Vec<RegionSeed>,
+}
+
+impl TaggedMesh {
+    /// An empty 2D mesh.
+    pub fn new() -> Self {
+        TaggedMesh { coordinate_dim: 2, ..Default::default() }
+    }
+
+    /// Total number of cells over all blocks.
+    pub fn num_cells(&self) -> usize {
+        self.blocks.iter().map(CellBlock::len).sum()
+    }
+
+    /// Number of cells of `kind` over all blocks.
+    pub fn num_cells_of(&self, kind: CellKind) -> usize {
+        self.blocks.iter().filter(|b| b.kind == kind).map(CellBlock::len).sum()
+    }
+
+    /// The block of `kind` at the end of `blocks`, created if the last block has
+    /// another kind. Readers use it to append cells while keeping file order.
+    pub fn block_mut(&mut self, kind: CellKind) -> &mut CellBlock {
+        if self.blocks.last().map(|b| b.kind) != Some(kind) {
+            self.blocks.push(CellBlock::new(kind));
+        }
+        self.blocks.last_mut().expect("just pushed")
+    }
+
+    /// Iterator over `(kind, nodes, physical, geometrical)` of every cell in block order.
+    pub fn cells(&self) -> impl Iterator<Item = (CellKind, &[usize], i32, i32)> + '_ {
+        self.blocks.iter().flat_map(|b| {
+            b.cells().zip(b.physical.iter().zip(&b.geometrical)).map(move |(n, (&p, &g))| (b.kind, n, p, g))
+        })
+    }
+
+    /// Merges consecutive blocks of the same kind (cell order and cell data unchanged).
+    pub fn merge_adjacent_blocks(&mut self) {
+        let mut merged: Vec<CellBlock> = Vec::with_capacity(self.blocks.len());
+        for b in self.blocks.drain(..) {
+            match merged.last_mut() {
+                Some(last) if last.kind == b.kind => {
+                    last.nodes.extend(b.nodes);
+                    last.physical.extend(b.physical);
+                    last.geometrical.extend(b.geometrical);
+                }
+                _ => merged.push(b),
+            }
+        }
+        self.blocks = merged;
+    }
+
+    /// The name of physical tag `tag` of dimension `dim`, if the file named it.
+    pub fn tag_name(&self, dim: u8, tag: i32) -> Option<&str> {
+        self.tag_names.get(&(dim, tag)).map(String::as_str)
+    }
+
+    /// Axis-aligned bounding box `(min, max)` of the points, `None` when there are none.
+    pub fn bounding_box(&self) -> Option<([f64; 3], [f64; 3])> {
+        let mut it = self.points.iter();
+        let first = *it.next()?;
+        let (mut lo, mut hi) = (first, first);
+        for p in it {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        Some((lo, hi))
+    }
+
+    /// Every problem that makes the mesh unusable or inconsistent, empty when none:
+    /// out-of-range indices, non-finite coordinates, data arrays of the wrong length.
+    /// Orientation and quality are the `smartmesh` crate's business.
+    pub fn validate(&self) -> Vec<MeshProblem> {
+        let mut problems = Vec::new();
+        let n = self.points.len();
+        for (i, p) in self.points.iter().enumerate() {
+            if !p.iter().all(|c| c.is_finite()) {
+                problems.push(MeshProblem::NonFiniteCoordinate { point: i });
+            }
+        }
+        let mut offset = 0;
+        for (bi, b) in self.blocks.iter().enumerate() {
+            let k = b.kind.nodes_per_cell();
+            if b.nodes.len() != b.physical.len() * k || b.geometrical.len() != b.physical.len() {
+                problems.push(MeshProblem::BlockLengths { block: bi });
+                continue;
+            }
+            for (ci, cell) in b.cells().enumerate() {
+                if let Some(&bad) = cell.iter().find(|&&v| v >= n) {
+                    problems.push(MeshProblem::NodeOutOfRange { cell: offset + ci, node: bad });
+                }
+            }
+            offset += b.len();
+        }
+        for (name, a) in &self.point_data {
+            if a.len() != n || a.components == 0 || a.values.len() % a.components != 0 {
+                problems.push(MeshProblem::DataLength { name: name.clone(), expected: n, found: a.len() });
+            }
+        }
+        let nc = self.num_cells();
+        for (name, a) in &self.cell_data {
+            if a.len() != nc || a.components == 0 || a.values.len() % a.components != 0 {
+                problems.push(MeshProblem::DataLength { name: name.clone(), expected: nc, found: a.len() });
+            }
+        }
+        for (name, set) in &self.point_sets {
+            if let Some(&bad) = set.iter().find(|&&v| v >= n) {
+                problems.push(MeshProblem::SetOutOfRange { name: name.clone(), index: bad });
+            }
+        }
+        for (name, set) in &self.cell_sets {
+            if let Some(&bad) = set.iter().find(|&&v| v >= nc) {
+                problems.push(MeshProblem::SetOutOfRange { name: name.clone(), index: bad });
+            }
+        }
+        problems
+    }
+}
+
+/// One problem found by [`TaggedMesh::validate`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshProblem {
+    /// A coordinate is NaN or infinite.
+    #[error("point {point} has a non-finite coordinate")]
+    NonFiniteCoordinate {
+        /// 0-based point index.
+        point: usize,
+    },
+    /// A cell refers to a point that does not exist.
+    #[error("cell {cell} refers to point {node}, which does not exist")]
+    NodeOutOfRange {
+        /// Global 0-based cell index.
+        cell: usize,
+        /// The offending point index.
+        node: usize,
+    },
+    /// A block's node and tag arrays disagree in length.
+    #[error("block {block} has node and tag arrays of inconsistent lengths")]
+    BlockLengths {
+        /// Block index.
+        block: usize,
+    },
+    /// A data array does not cover every point (or cell).
+    #[error("data array `{name}` has {found} items, expected {expected}")]
+    DataLength {
+        /// Array name.
+        name: String,
+        /// Expected item count.
+        expected: usize,
+        /// Item count found.
+        found: usize,
+    },
+    /// A point or cell set names an index that does not exist.
+    #[error("set `{name}` refers to index {index}, which does not exist")]
+    SetOutOfRange {
+        /// Set name.
+        name: String,
+        /// The offending index.
+        index: usize,
+    },
+}
+
+/// Converts a 2D symmetric tensor `(m11, m12, m22)` to the 9-component row-major layout,
+/// with `zz` on the third diagonal entry.
+pub fn sym2_to_tensor9(m11: f64, m12: f64, m22: f64, zz: f64) -> [f64; 9] {
+    [m11, m12, 0.0, m12, m22, 0.0, 0.0, 0.0, zz]
+}
+
+/// The 2D symmetric part `(m11, m12, m22)` of a 9-component row-major tensor
+/// (off-diagonal terms averaged).
+pub fn tensor9_to_sym2(t: &[f64]) -> (f64, f64, f64) {
+    (t[0], 0.5 * (t[1] + t[3]), t[4])
+}
