@@ -1,0 +1,81 @@
+//! Helpers shared by the integration tests of the formats crate.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use smartmesh_formats::{read_bytes, write_bytes, Format, MemorySiblings, ReadContext, TaggedMesh, WriteOptions, Written};
+
+/// The public sample meshes written by other tools (`../shared/fixtures/public`), or
+/// `$SMARTMESH_PUBLIC_FIXTURES`.
+pub fn public_fixtures() -> PathBuf {
+    if let Ok(p) = std::env::var("SMARTMESH_PUBLIC_FIXTURES") {
+        return PathBuf::from(p);
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/public")
+}
+
+/// One public fixture by relative path (`gmsh/naca0012.v41_ascii.msh`).
+pub fn public_fixture(rel: &str) -> PathBuf {
+    let p = public_fixtures().join(rel);
+    assert!(p.exists(), "public fixture {} is missing", p.display());
+    p
+}
+
+/// Reads a file through the path API (siblings looked up beside it).
+pub fn read_file(rel: &str) -> TaggedMesh {
+    let p = public_fixture(rel);
+    smartmesh_formats::read_path(&p, None).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Writes `mesh` in `format` and reads it back, through memory.
+pub fn roundtrip(format: Format, ext: &str, mesh: &TaggedMesh, opts: &WriteOptions) -> (Written, TaggedMesh) {
+    let written = write_bytes(format, mesh, opts).unwrap_or_else(|e| panic!("write {ext}: {e}"));
+    let sib = MemorySiblings::from_written(&written);
+    let ctx = ReadContext { siblings: &sib, extension: ext.to_string() };
+    let back = read_bytes(format, &written.main, &ctx).unwrap_or_else(|e| panic!("read back {ext}: {e}"));
+    (written, back)
+}
+
+/// Whether the interop tools must be there (CI sets `SMARTMESH_REQUIRE_INTEROP=1`).
+pub fn interop_required() -> bool {
+    std::env::var("SMARTMESH_REQUIRE_INTEROP").map(|v| v == "1").unwrap_or(false)
+}
+
+/// The Python interpreter for interop tests (`$SMARTMESH_PYTHON` or `python3`) if it
+/// can import every module in `modules`; `None` (the test then skips, saying so)
+/// when it cannot, unless interop is required, in which case the test fails.
+pub fn python_with(modules: &[&str]) -> Option<String> {
+    let py = std::env::var("SMARTMESH_PYTHON").unwrap_or_else(|_| "python3".into());
+    let code = modules.iter().map(|m| format!("import {m}")).collect::<Vec<_>>().join("; ");
+    let ok = Command::new(&py).args(["-c", &code]).output().map(|o| o.status.success()).unwrap_or(false);
+    if ok {
+        Some(py)
+    } else if interop_required() {
+        panic!("interop test needs Python modules {modules:?} (SMARTMESH_REQUIRE_INTEROP=1)");
+    } else {
+        eprintln!("skipping: Python modules {modules:?} not available");
+        None
+    }
+}
+
+/// Runs `python -c script args...` and returns its stdout; panics with stderr on failure.
+pub fn run_python(py: &str, script: &str, args: &[&str]) -> String {
+    let out = Command::new(py).arg("-c").arg(script).args(args).output().expect("run python");
+    assert!(
+        out.status.success(),
+        "python failed:\n--- stdout\n{}\n--- stderr\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Count of cells per `(kind, physical tag)`, the usual fingerprint of a tagged mesh.
+pub fn counts_per_tag(mesh: &TaggedMesh) -> std::collections::BTreeMap<(String, i32), usize> {
+    let mut m = std::collections::BTreeMap::new();
+    for (kind, _, p, _) in mesh.cells() {
+        *m.entry((kind.name().to_string(), p)).or_insert(0) += 1;
+    }
+    m
+}
