@@ -1,5 +1,19 @@
 //! smartmesh: anisotropic size fields from the geometry of a 2D tagged mesh.
+//!
+//! Features:
+//! - [`formats`]: read and write Triangle, Gmsh, VTK, OBJ, Medit and glTF files into one
+//!   [`formats::TaggedMesh`] (the `smartmesh-formats` crate, usable on its own);
+//! - [`topology`]: topological points, curves and faces recovered from the tags, every
+//!   mesh vertex and edge classified on one of them;
+//! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub use smartmesh_formats as formats;
+
+pub mod quality;
+pub mod summary;
+pub mod topology;
+
+pub use summary::MeshSummary;
+pub use topology::Topology;

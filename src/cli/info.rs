@@ -1,0 +1,137 @@
+//! `smartmesh info FILE`: counts, bounding box, tags, topology, fields, quality.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use clap::Args;
+use smartmesh::formats::{read_path, Format};
+use smartmesh::summary::MeshSummary;
+use smartmesh::topology::Topology;
+
+use super::{parse_format, print_stdout, CliError};
+
+/// Print what a mesh file holds: counts, bounding box, tags and their names, the
+/// topology recovered from the tags, data arrays and element quality.
+#[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  smartmesh info naca0012.msh
+  smartmesh info --json square.1.ele | jq .topology.curves
+  cat mesh.vtu | smartmesh info --from vtu -")]
+pub struct InfoArgs {
+    /// Mesh file (`-` for stdin, with --from).
+    file: PathBuf,
+    /// Input format, when the extension does not tell (gmsh, vtk, vtu, triangle, obj, medit).
+    #[arg(long, value_parser = parse_format)]
+    from: Option<Format>,
+    /// Print a JSON document instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `info`.
+pub fn run(args: InfoArgs) -> Result<(), CliError> {
+    let mesh = read_path(&args.file, args.from)?;
+    let topo = Topology::from_mesh(&mesh);
+    let summary = MeshSummary::of(&mesh, &topo);
+    if args.json {
+        let mut s = serde_json::to_string_pretty(&summary).map_err(|e| CliError::usage(e.to_string()))?;
+        s.push('\n');
+        return print_stdout(&s);
+    }
+    print_stdout(&render(&args.file.display().to_string(), &summary))
+}
+
+fn fmt_g(v: f64) -> String {
+    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
+        format!("{}", (v * 1e6).round() / 1e6)
+    } else {
+        format!("{v:.4e}")
+    }
+}
+
+fn named(tag: Option<i32>, name: &Option<String>) -> String {
+    match (tag, name) {
+        (Some(t), Some(n)) => format!("{t} \"{n}\""),
+        (Some(t), None) => t.to_string(),
+        (None, _) => "(untagged)".into(),
+    }
+}
+
+/// The text report.
+fn render(file: &str, s: &MeshSummary) -> String {
+    let mut o = String::new();
+    let _ = writeln!(o, "{file}");
+    let _ = write!(o, "  points      {}", s.points);
+    if s.unused_points > 0 {
+        let _ = write!(o, " ({} used by no cell)", s.unused_points);
+    }
+    let _ = writeln!(o, ", {}D coordinates", s.coordinate_dim);
+    let cells: Vec<String> = s.cells.iter().map(|(k, n)| format!("{n} {k}")).collect();
+    let _ = writeln!(o, "  cells       {}", if cells.is_empty() { "none".into() } else { cells.join(", ") });
+    if let Some([lo, hi]) = s.bounding_box {
+        let _ = writeln!(
+            o,
+            "  bounds      x [{}, {}]  y [{}, {}]{}",
+            fmt_g(lo[0]),
+            fmt_g(hi[0]),
+            fmt_g(lo[1]),
+            fmt_g(hi[1]),
+            if lo[2] != hi[2] { format!("  z [{}, {}]", fmt_g(lo[2]), fmt_g(hi[2])) } else { String::new() }
+        );
+    }
+    if !s.tags.is_empty() {
+        let _ = writeln!(o, "  tags (dimension, tag, name: cells)");
+        for t in &s.tags {
+            let _ = writeln!(o, "    {}D {:>6} {:<20} {}", t.dim, t.tag, t.name.as_deref().map(|n| format!("\"{n}\"")).unwrap_or_default(), t.cells);
+        }
+    }
+    let topo = &s.topology;
+    let _ = writeln!(o, "  topology    {} points, {} curves, {} faces", topo.points.len(), topo.curves.len(), topo.faces.len());
+    for f in &topo.faces {
+        let _ = writeln!(o, "    face  {:<24} {} cells, area {}", named(Some(f.tag), &f.name), f.cells, fmt_g(f.area));
+    }
+    for c in &topo.curves {
+        let closed = if c.closed_pieces > 0 { format!(", {} closed", c.closed_pieces) } else { String::new() };
+        let _ = writeln!(
+            o,
+            "    curve {:<24} {} edges in {} piece{}{}, length {}, {}",
+            named(c.tag, &c.name),
+            c.edges,
+            c.pieces,
+            if c.pieces == 1 { "" } else { "s" },
+            closed,
+            fmt_g(c.length),
+            if c.on_boundary { "boundary" } else { "interior" }
+        );
+    }
+    let listed: Vec<&_> = topo.points.iter().filter(|p| p.tag.is_some()).collect();
+    for p in &listed {
+        let _ = writeln!(o, "    point {:<24} vertex {}", named(p.tag, &p.name), p.vertex);
+    }
+    let recovered = topo.points.len() - listed.len();
+    if recovered > 0 {
+        let _ = writeln!(o, "    {recovered} more points recovered at curve ends and junctions");
+    }
+    for (label, fields) in [("point data", &s.point_data), ("cell data", &s.cell_data)] {
+        for f in fields.iter() {
+            let range = f.range.map(|[a, b]| format!(" in [{}, {}]", fmt_g(a), fmt_g(b))).unwrap_or_default();
+            let _ = writeln!(o, "  {label:<11} {} ({} component{}){range}", f.name, f.components, if f.components == 1 { "" } else { "s" });
+        }
+    }
+    if let Some(q) = &s.quality {
+        let _ = writeln!(
+            o,
+            "  quality     {} triangles: min {:.4}, mean {:.4}, min angle {:.2} deg, {} inverted or flat",
+            q.triangles, q.min_quality, q.mean_quality, q.min_angle_deg, q.inverted_or_flat
+        );
+        let _ = writeln!(
+            o,
+            "              edge length [{}, {}], area [{}, {}]",
+            fmt_g(q.edge_length_range[0]),
+            fmt_g(q.edge_length_range[1]),
+            fmt_g(q.area_range[0]),
+            fmt_g(q.area_range[1])
+        );
+    }
+    o
+}

@@ -1,0 +1,199 @@
+//! What `smartmesh info` reports about a mesh, as one serialisable value.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+use smartmesh_formats::{DataShape, TaggedMesh};
+
+use crate::quality::QualitySummary;
+use crate::topology::{Classification, PointOrigin, Topology};
+
+/// Counts, bounding box, tags, topology, fields and quality of a mesh.
+#[derive(Debug, Clone, Serialize)]
+pub struct MeshSummary {
+    /// Number of points.
+    pub points: usize,
+    /// Points used by no cell (Gmsh keeps, e.g., a circle's centre).
+    pub unused_points: usize,
+    /// 2 or 3, as the file stores coordinates.
+    pub coordinate_dim: u8,
+    /// Cell counts per kind name.
+    pub cells: BTreeMap<String, usize>,
+    /// `[min, max]` corners of the bounding box (x, y, z).
+    pub bounding_box: Option<[[f64; 3]; 2]>,
+    /// Every physical tag used, with its dimension, name and cell count.
+    pub tags: Vec<TagSummary>,
+    /// The recovered topology.
+    pub topology: TopologySummary,
+    /// Point data arrays.
+    pub point_data: Vec<FieldSummary>,
+    /// Cell data arrays.
+    pub cell_data: Vec<FieldSummary>,
+    /// Element shape quality, when the mesh has surface cells.
+    pub quality: Option<QualitySummary>,
+}
+
+/// One physical tag.
+#[derive(Debug, Clone, Serialize)]
+pub struct TagSummary {
+    /// Topological dimension of the cells carrying it.
+    pub dim: u8,
+    /// The tag.
+    pub tag: i32,
+    /// Its name, if the file names it.
+    pub name: Option<String>,
+    /// Number of cells carrying it.
+    pub cells: usize,
+}
+
+/// One named data array.
+#[derive(Debug, Clone, Serialize)]
+pub struct FieldSummary {
+    /// Array name.
+    pub name: String,
+    /// Components per item.
+    pub components: usize,
+    /// Scalar, vector, tensor or other.
+    pub shape: DataShape,
+    /// Smallest and largest value over all components (`None` if empty).
+    pub range: Option<[f64; 2]>,
+}
+
+/// Topological entities found from the tags.
+#[derive(Debug, Clone, Serialize)]
+pub struct TopologySummary {
+    /// Topological points.
+    pub points: Vec<PointSummary>,
+    /// Topological curves.
+    pub curves: Vec<CurveSummary>,
+    /// Topological faces.
+    pub faces: Vec<FaceSummary>,
+}
+
+/// One topological point.
+#[derive(Debug, Clone, Serialize)]
+pub struct PointSummary {
+    /// Tag of the vertex cell listing it, if any.
+    pub tag: Option<i32>,
+    /// Name, if any.
+    pub name: Option<String>,
+    /// Mesh vertex (0-based).
+    pub vertex: usize,
+    /// Listed, curve end or junction.
+    pub origin: PointOrigin,
+}
+
+/// One topological curve.
+#[derive(Debug, Clone, Serialize)]
+pub struct CurveSummary {
+    /// Tag, `None` for a curve derived from untagged boundary or interface edges.
+    pub tag: Option<i32>,
+    /// Name, if any.
+    pub name: Option<String>,
+    /// Mesh edges on it.
+    pub edges: usize,
+    /// Number of polyline pieces, and how many of them are closed.
+    pub pieces: usize,
+    /// Closed pieces.
+    pub closed_pieces: usize,
+    /// Whether every edge is a boundary edge.
+    pub on_boundary: bool,
+    /// Length of the curve.
+    pub length: f64,
+}
+
+/// One topological face.
+#[derive(Debug, Clone, Serialize)]
+pub struct FaceSummary {
+    /// Tag.
+    pub tag: i32,
+    /// Name, if any.
+    pub name: Option<String>,
+    /// Surface cells in it.
+    pub cells: usize,
+    /// Area (quads split along a diagonal; absolute value of signed areas).
+    pub area: f64,
+}
+
+impl MeshSummary {
+    /// Summarises `mesh`, whose topology is `topo`.
+    pub fn of(mesh: &TaggedMesh, topo: &Topology) -> MeshSummary {
+        let mut cells = BTreeMap::new();
+        let mut tags: BTreeMap<(u8, i32), usize> = BTreeMap::new();
+        for (kind, _, p, _) in mesh.cells() {
+            *cells.entry(kind.name().to_string()).or_insert(0) += 1;
+            *tags.entry((kind.dim(), p)).or_insert(0) += 1;
+        }
+        let field = |name: &String, a: &smartmesh_formats::DataArray| FieldSummary {
+            name: name.clone(),
+            components: a.components,
+            shape: a.shape(),
+            range: a.values.iter().fold(None, |r: Option<[f64; 2]>, &v| Some(r.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]))),
+        };
+        let xy = |i: usize| [mesh.points[i][0], mesh.points[i][1]];
+        let topology = TopologySummary {
+            points: topo
+                .points
+                .iter()
+                .map(|p| PointSummary { tag: p.tag, name: p.name.clone(), vertex: p.vertex, origin: p.origin })
+                .collect(),
+            curves: topo
+                .curves
+                .iter()
+                .map(|c| CurveSummary {
+                    tag: c.tag,
+                    name: c.name.clone(),
+                    edges: c.polylines.iter().map(|p| p.num_edges()).sum(),
+                    pieces: c.polylines.len(),
+                    closed_pieces: c.polylines.iter().filter(|p| p.closed).count(),
+                    on_boundary: c.on_boundary,
+                    length: c
+                        .polylines
+                        .iter()
+                        .flat_map(|p| p.edges())
+                        .map(|[a, b]| {
+                            let (p, q) = (xy(a), xy(b));
+                            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()
+                        })
+                        .sum(),
+                })
+                .collect(),
+            faces: topo
+                .faces
+                .iter()
+                .map(|f| FaceSummary {
+                    tag: f.tag,
+                    name: f.name.clone(),
+                    cells: f.cells.len(),
+                    area: f
+                        .cells
+                        .iter()
+                        .map(|&ci| {
+                            let v = topo.surface_cells[ci].vertices();
+                            let mut a = crate::quality::signed_area(xy(v[0]), xy(v[1]), xy(v[2]));
+                            if v.len() == 4 {
+                                a += crate::quality::signed_area(xy(v[0]), xy(v[2]), xy(v[3]));
+                            }
+                            a.abs()
+                        })
+                        .sum(),
+                })
+                .collect(),
+        };
+        MeshSummary {
+            points: mesh.points.len(),
+            unused_points: topo.vertex_class.iter().filter(|c| **c == Classification::Unused).count(),
+            coordinate_dim: mesh.coordinate_dim,
+            cells,
+            bounding_box: mesh.bounding_box().map(|(lo, hi)| [lo, hi]),
+            tags: tags
+                .into_iter()
+                .map(|((dim, tag), n)| TagSummary { dim, tag, name: mesh.tag_name(dim, tag).map(str::to_owned), cells: n })
+                .collect(),
+            topology,
+            point_data: mesh.point_data.iter().map(|(n, a)| field(n, a)).collect(),
+            cell_data: mesh.cell_data.iter().map(|(n, a)| field(n, a)).collect(),
+            quality: QualitySummary::of(&mesh.points, topo),
+        }
+    }
+}
