@@ -45,7 +45,7 @@ impl From<smartmesh::formats::Error> for CliError {
         CliError {
             status: if broken_pipe {
                 ExitStatus::Success
-            } else if e.is_input_error() {
+            } else if e.is_input_error() || matches!(&e.kind, smartmesh::formats::ErrorKind::Io(io) if io.kind() == std::io::ErrorKind::NotFound) {
                 ExitStatus::Error
             } else {
                 ExitStatus::Failure
