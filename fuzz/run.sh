@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Runs every reader's fuzz target for a fixed time each (default 60 s), seeded with the
+# public fixtures. Not part of CI (slow); run before a release or after touching a reader:
+#   fuzz/run.sh [seconds-per-target]
+# Needs cargo-fuzz (`cargo install cargo-fuzz`). The machine has one stable toolchain:
+# RUSTC_BOOTSTRAP=1 lets it accept the sanitizer flags cargo-fuzz passes.
+set -euo pipefail
+cd "$(dirname "$0")"
+secs="${1:-60}"
+fixtures="${SMARTMESH_PUBLIC_FIXTURES:-$(cd ../.. && pwd)/shared/fixtures/public}"
+export RUSTC_BOOTSTRAP=1
+declare -A seeds=([gmsh]="gmsh/*.msh" [vtk_legacy]="vtk/*.vtk" [vtu]="vtk/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb")
+status=0
+for target in gmsh vtk_legacy vtu triangle obj medit; do
+    corpus="corpus/$target"
+    mkdir -p "$corpus"
+    for pattern in ${seeds[$target]}; do
+        for f in $fixtures/$pattern; do
+            [ -f "$f" ] && [ "$(stat -c %s "$f")" -lt 300000 ] && cp -f "$f" "$corpus/"
+        done
+    done
+    echo "== $target for ${secs}s"
+    if ! cargo fuzz run "$target" "$corpus" -- -max_total_time="$secs" -rss_limit_mb=2048 -max_len=400000; then
+        echo "!! $target found a crash: see fuzz/artifacts/$target" >&2
+        status=1
+    fi
+done
+exit $status

@@ -1,0 +1,205 @@
+//! The command-line contract: exit codes, what goes to stdout and stderr, files
+//! written or not written.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn smartmesh() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_smartmesh"))
+}
+
+fn run(args: &[&str]) -> Output {
+    smartmesh().args(args).output().expect("run smartmesh")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn bundled(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
+}
+
+fn public(rel: &str) -> PathBuf {
+    let root = std::env::var("SMARTMESH_PUBLIC_FIXTURES")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/fixtures/public"));
+    root.join(rel)
+}
+
+#[test]
+fn help_and_version_exit_zero() {
+    let o = run(&["--help"]);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(stdout(&o).contains("convert"));
+    let o = run(&["convert", "--help"]);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(stdout(&o).contains("Examples:"));
+    let o = run(&["--version"]);
+    assert_eq!(o.status.code(), Some(0));
+}
+
+#[test]
+fn bad_usage_exits_two() {
+    let o = run(&["convert"]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = run(&["frobnicate"]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = run(&["info", "--from", "pdf", "x"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("unknown format"));
+}
+
+#[test]
+fn missing_file_exits_two_and_names_it() {
+    let o = run(&["info", "no/such/mesh.msh"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("no/such/mesh.msh"), "{}", stderr(&o));
+}
+
+#[test]
+fn unknown_extension_asks_for_from() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("mesh.xyz");
+    std::fs::write(&p, "hello").unwrap();
+    let o = run(&["info", p.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--from"), "{}", stderr(&o));
+}
+
+#[test]
+fn info_on_the_bundled_example() {
+    let o = run(&["info", bundled("cylinder.msh").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let s = stdout(&o);
+    for name in ["\"Inlet\"", "\"Outlet\"", "\"Walls\"", "\"Cylinder\"", "\"Fluid\"", "\"Stagnation\""] {
+        assert!(s.contains(name), "info should list {name}:\n{s}");
+    }
+    assert!(s.contains("quality"), "{s}");
+}
+
+#[test]
+fn info_json_is_machine_readable() {
+    let o = run(&["info", "--json", bundled("cylinder.msh").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("valid JSON");
+    assert!(v["points"].as_u64().unwrap() > 100);
+    let curves = v["topology"]["curves"].as_array().unwrap();
+    let cyl = curves.iter().find(|c| c["name"] == "Cylinder").expect("Cylinder curve");
+    // The cylinder is one closed loop of four arcs under one tag: with the Stagnation
+    // point listed on it, the loop is one piece that starts and ends there.
+    assert_eq!(cyl["pieces"], 1);
+    let faces = v["topology"]["faces"].as_array().unwrap();
+    assert_eq!(faces.len(), 1);
+    // Area of the channel minus the disc (the disc is polygonal, so slightly larger area).
+    let area = faces[0]["area"].as_f64().unwrap();
+    let exact = 4.0 - std::f64::consts::PI * 0.15 * 0.15;
+    assert!((area - exact).abs() < 2e-3, "area {area} vs {exact}");
+    assert_eq!(v["quality"]["inverted_or_flat"], 0);
+}
+
+#[test]
+fn convert_chain_keeps_tags_and_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = bundled("cylinder.msh");
+    let mut prev = src.clone();
+    // Gmsh -> VTU -> legacy VTK -> Gmsh 2.2 binary -> Medit -> Gmsh 4.1: the face and
+    // curve cell counts per tag must survive every hop that can hold them.
+    let before = run(&["info", "--json", src.to_str().unwrap()]);
+    let before: serde_json::Value = serde_json::from_slice(&before.stdout).unwrap();
+    for (name, extra) in [
+        ("a.vtu", vec![]),
+        ("b.vtk", vec!["--binary"]),
+        ("c.msh", vec!["--gmsh-version", "2.2", "--binary"]),
+        ("d.msh", vec![]),
+    ] {
+        let out = dir.path().join(name);
+        let mut args = vec!["convert", prev.to_str().unwrap(), out.to_str().unwrap()];
+        args.extend(extra);
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(0), "{name}: {}", stderr(&o));
+        prev = out;
+    }
+    let after = run(&["info", "--json", prev.to_str().unwrap()]);
+    let after: serde_json::Value = serde_json::from_slice(&after.stdout).unwrap();
+    assert_eq!(before["points"], after["points"]);
+    assert_eq!(before["cells"], after["cells"]);
+    let tags = |v: &serde_json::Value| -> Vec<(u64, i64, u64)> {
+        v["tags"].as_array().unwrap().iter().map(|t| (t["dim"].as_u64().unwrap(), t["tag"].as_i64().unwrap(), t["cells"].as_u64().unwrap())).collect()
+    };
+    assert_eq!(tags(&before), tags(&after));
+}
+
+#[test]
+fn lossy_conversion_says_what_was_dropped() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("naca.obj");
+    let o = run(&["convert", public("vtk/naca0012_ascii.vtu").to_str().unwrap(), out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("metric"), "dropping the metric must be reported: {}", stderr(&o));
+    let o = run(&["convert", "--json", public("vtk/naca0012_ascii.vtu").to_str().unwrap(), out.to_str().unwrap()]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(!v["dropped"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn malformed_input_exits_two_with_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("bad.msh");
+    std::fs::write(&p, "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n2 1 0 2\n1\n2\n0.0 0.0 0.0\nnan 1.0 0.0\n$EndNodes\n").unwrap();
+    let out = dir.path().join("out.vtu");
+    let o = run(&["convert", p.to_str().unwrap(), out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("bad.msh:"), "{e}");
+    assert!(!out.exists(), "no output may be left behind");
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(leftovers.len(), 1, "only the input remains: {leftovers:?}");
+}
+
+#[test]
+fn stdin_to_stdout() {
+    let bytes = std::fs::read(bundled("cylinder.msh")).unwrap();
+    let mut child = smartmesh()
+        .args(["convert", "--from", "msh", "--to", "vtk", "-", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    {
+        use std::io::Write;
+        child.stdin.take().unwrap().write_all(&bytes).unwrap();
+    }
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(o.stdout.starts_with(b"# vtk DataFile Version"));
+}
+
+#[test]
+fn stdout_needs_a_format() {
+    let o = run(&["convert", bundled("cylinder.msh").to_str().unwrap(), "-"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--from/--to"), "{}", stderr(&o));
+}
+
+#[test]
+fn output_is_deterministic() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut outputs = Vec::new();
+    for ext in ["msh", "vtu", "vtk", "mesh", "obj", "node", "glb"] {
+        let a = dir.path().join(format!("a.{ext}"));
+        let b = dir.path().join(format!("b.{ext}"));
+        for p in [&a, &b] {
+            let o = run(&["convert", bundled("cylinder.msh").to_str().unwrap(), p.to_str().unwrap()]);
+            assert_eq!(o.status.code(), Some(0), "{ext}: {}", stderr(&o));
+        }
+        assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "{ext} output differs between runs");
+        outputs.push(ext);
+    }
+    assert_eq!(outputs.len(), 7);
+}
