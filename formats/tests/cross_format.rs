@@ -1,0 +1,194 @@
+//! Every public fixture through every format that can hold it: write, read back,
+//! compare with what the format promises to keep. Points bitwise (every writer prints
+//! the shortest decimal that reads back exactly), cells as multisets (formats may
+//! regroup cells by tag), tags, names and fields where the format holds them; and
+//! what a format cannot hold must appear in the write report.
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use smartmesh_formats::{CellKind, Format, GmshVersion, TaggedMesh, VtuEncoding, WriteOptions};
+
+/// What a target format keeps.
+#[derive(Debug, Clone, Copy)]
+struct Caps {
+    quads: bool,
+    lines: bool,
+    vertices: bool,
+    geometrical: bool,
+    names: bool,
+    /// All point data (`true`), or only the `metric`/`size` arrays MMG reads (`false`).
+    point_data: PointData,
+    cell_data: bool,
+    z: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum PointData {
+    All,
+    MetricOnly,
+    None,
+}
+
+struct Target {
+    name: &'static str,
+    format: Format,
+    ext: &'static str,
+    opts: WriteOptions,
+    caps: Caps,
+}
+
+fn targets() -> Vec<Target> {
+    let o = WriteOptions::default;
+    let full = Caps { quads: true, lines: true, vertices: true, geometrical: true, names: true, point_data: PointData::All, cell_data: true, z: true };
+    let vtk = Caps { ..full };
+    let medit = Caps { quads: true, lines: true, vertices: false, geometrical: false, names: false, point_data: PointData::MetricOnly, cell_data: false, z: false };
+    let obj = Caps { quads: true, lines: true, vertices: true, geometrical: false, names: true, point_data: PointData::None, cell_data: false, z: true };
+    let triangle = Caps { quads: false, lines: true, vertices: false, geometrical: false, names: false, point_data: PointData::None, cell_data: false, z: false };
+    vec![
+        Target { name: "gmsh 2.2 ascii", format: Format::Gmsh, ext: "msh", opts: WriteOptions { gmsh_version: GmshVersion::V22, ..o() }, caps: full },
+        Target { name: "gmsh 2.2 binary", format: Format::Gmsh, ext: "msh", opts: WriteOptions { gmsh_version: GmshVersion::V22, binary: true, ..o() }, caps: full },
+        Target { name: "gmsh 4.1 ascii", format: Format::Gmsh, ext: "msh", opts: o(), caps: full },
+        Target { name: "gmsh 4.1 binary", format: Format::Gmsh, ext: "msh", opts: WriteOptions { binary: true, ..o() }, caps: full },
+        Target { name: "vtk 4.2 ascii", format: Format::VtkLegacy, ext: "vtk", opts: o(), caps: vtk },
+        Target { name: "vtk 4.2 binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { binary: true, ..o() }, caps: vtk },
+        Target { name: "vtk 5.1 ascii", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), ..o() }, caps: vtk },
+        Target { name: "vtk 5.1 binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), binary: true, ..o() }, caps: vtk },
+        Target { name: "vtu ascii", format: Format::Vtu, ext: "vtu", opts: WriteOptions { vtu_encoding: VtuEncoding::Ascii, ..o() }, caps: vtk },
+        Target { name: "vtu binary", format: Format::Vtu, ext: "vtu", opts: WriteOptions { compress: false, ..o() }, caps: vtk },
+        Target { name: "vtu zlib", format: Format::Vtu, ext: "vtu", opts: o(), caps: vtk },
+        Target { name: "vtu appended", format: Format::Vtu, ext: "vtu", opts: WriteOptions { vtu_encoding: VtuEncoding::Appended, ..o() }, caps: vtk },
+        Target { name: "medit ascii", format: Format::Medit, ext: "mesh", opts: WriteOptions { main_name: Some("x.mesh".into()), ..o() }, caps: medit },
+        Target { name: "medit binary", format: Format::Medit, ext: "meshb", opts: WriteOptions { medit_binary: true, main_name: Some("x.meshb".into()), ..o() }, caps: medit },
+        Target { name: "obj", format: Format::Obj, ext: "obj", opts: o(), caps: obj },
+        Target { name: "triangle", format: Format::Triangle, ext: "ele", opts: WriteOptions { main_name: Some("x.ele".into()), ..o() }, caps: triangle },
+    ]
+}
+
+fn fixtures() -> Vec<String> {
+    let root = common::public_fixtures();
+    let mut out = Vec::new();
+    for dir in ["gmsh", "vtk", "medit", "obj", "triangle"] {
+        let mut names: Vec<String> = std::fs::read_dir(root.join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| Format::from_path(n).is_some())
+            .collect();
+        names.sort();
+        for n in names {
+            // Triangle sets are read once through their .ele (or .poly / .node when that is all there is).
+            if dir == "triangle" {
+                let stem = n.rsplit_once('.').unwrap().0.to_string();
+                let has = |e: &str| root.join(dir).join(format!("{stem}.{e}")).exists();
+                let ext = n.rsplit_once('.').unwrap().1;
+                let main = if has("ele") { "ele" } else if has("poly") { "poly" } else { "node" };
+                if ext != main {
+                    continue;
+                }
+            }
+            out.push(format!("{dir}/{n}"));
+        }
+    }
+    out
+}
+
+/// The cells as a sorted multiset of (kind, nodes, physical, geometrical-or-0).
+fn cell_multiset(m: &TaggedMesh, caps: Caps) -> Vec<(CellKind, Vec<usize>, i32, i32)> {
+    let mut v: Vec<_> = m
+        .cells()
+        .filter(|(k, ..)| (caps.quads || *k != CellKind::Quad) && (caps.lines || *k != CellKind::Line) && (caps.vertices || *k != CellKind::Vertex))
+        .map(|(k, n, p, g)| (k, n.to_vec(), p, if caps.geometrical { g } else { 0 }))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Tag names of the tags that cells still carry.
+fn used_names(m: &TaggedMesh, cells: &[(CellKind, Vec<usize>, i32, i32)]) -> BTreeMap<(u8, i32), String> {
+    let mut out = BTreeMap::new();
+    for (k, _, p, _) in cells {
+        if let Some(n) = m.tag_name(k.dim(), *p) {
+            out.insert((k.dim(), *p), n.to_string());
+        }
+    }
+    out
+}
+
+#[test]
+fn every_fixture_through_every_format() {
+    let mut checked = 0;
+    let mut failures = Vec::new();
+    for rel in fixtures() {
+        let mesh = common::read_file(&rel);
+        for t in targets() {
+            let caps = t.caps;
+            let has_second_order = mesh.blocks.iter().any(|b| b.kind.is_second_order());
+            let has_quads = mesh.num_cells_of(CellKind::Quad) > 0;
+            if has_second_order || (has_quads && !caps.quads) || mesh.num_cells() == 0 {
+                continue;
+            }
+            let (written, back) = common::roundtrip(t.format, t.ext, &mesh, &t.opts);
+            let mut problems = Vec::new();
+            if back.points.len() != mesh.points.len() {
+                problems.push(format!("{} points, expected {}", back.points.len(), mesh.points.len()));
+            } else {
+                let dims = if caps.z { 3 } else { 2 };
+                if let Some(i) = (0..mesh.points.len()).find(|&i| (0..dims).any(|k| back.points[i][k].to_bits() != mesh.points[i][k].to_bits())) {
+                    problems.push(format!("point {i} is {:?}, expected {:?}", back.points[i], mesh.points[i]));
+                }
+            }
+            let (a, b) = (cell_multiset(&mesh, caps), cell_multiset(&back, caps));
+            if a != b {
+                problems.push(format!("cells differ ({} vs {})", a.len(), b.len()));
+            }
+            if caps.names && used_names(&mesh, &a) != used_names(&back, &b) {
+                problems.push(format!("names differ: {:?} vs {:?}", used_names(&mesh, &a), used_names(&back, &b)));
+            }
+            let expected_pd: Vec<&String> = match caps.point_data {
+                PointData::All => mesh.point_data.keys().collect(),
+                PointData::MetricOnly => mesh.point_data.keys().filter(|k| *k == "metric").take(1).collect(),
+                PointData::None => vec![],
+            };
+            for k in &expected_pd {
+                match back.point_data.get(*k) {
+                    None => problems.push(format!("point data `{k}` lost")),
+                    Some(arr) => {
+                        let orig = &mesh.point_data[*k];
+                        let same = if caps.point_data == PointData::MetricOnly {
+                            // Medit keeps the 2D part m11 m12 m22 of the tensor.
+                            (0..orig.len()).all(|i| {
+                                let (x, y) = (orig.item(i), arr.item(i));
+                                [0, 1, 4].iter().all(|&c| x[c].to_bits() == y[c].to_bits())
+                            })
+                        } else {
+                            arr == orig
+                        };
+                        if !same {
+                            problems.push(format!("point data `{k}` changed"));
+                        }
+                    }
+                }
+            }
+            // Nothing lost in silence: arrays that did not survive are in the report.
+            for k in mesh.point_data.keys() {
+                if !back.point_data.contains_key(k) && !written.report.dropped.iter().any(|d| d.contains(k.as_str())) {
+                    problems.push(format!("point data `{k}` dropped without a word in the report"));
+                }
+            }
+            if caps.cell_data {
+                for (k, arr) in &mesh.cell_data {
+                    if back.cell_data.get(k) != Some(arr) && !written.report.dropped.iter().any(|d| d.contains(k.as_str())) {
+                        problems.push(format!("cell data `{k}` changed or lost"));
+                    }
+                }
+            }
+            if !problems.is_empty() {
+                failures.push(format!("{rel} -> {}: {}", t.name, problems.join("; ")));
+            }
+            checked += 1;
+        }
+    }
+    assert!(failures.is_empty(), "{} of {checked} round trips failed:\n{}", failures.len(), failures.join("\n"));
+    assert!(checked > 150, "only {checked} round trips ran");
+}
