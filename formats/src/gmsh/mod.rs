@@ -171,7 +171,12 @@ fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
 /// A cursor that reads text tokens and binary arrays from the same bytes, and names
 /// lines in ASCII files and byte offsets in binary ones.
 pub(super) struct Cursor<'a> {
+    /// Tokens over `full[base..]`.
     pub t: Tokens<'a>,
+    full: &'a [u8],
+    /// 0 in ASCII files; in binary ones, where `t` was last restarted, so that moving
+    /// past binary data costs nothing (lines are not counted there).
+    base: usize,
     pub binary: bool,
 }
 
@@ -185,10 +190,37 @@ pub(super) fn show(tok: &[u8]) -> String {
 }
 
 impl<'a> Cursor<'a> {
+    fn new(full: &'a [u8]) -> Self {
+        Cursor { t: Tokens::new(full), full, base: 0, binary: false }
+    }
+
+    /// Byte offset of the cursor in the file.
+    #[inline]
+    pub fn pos(&self) -> usize {
+        self.base + self.t.pos()
+    }
+
+    /// Moves forward to byte offset `abs`.
+    #[inline]
+    pub fn seek(&mut self, abs: usize) {
+        let abs = abs.min(self.full.len());
+        if self.binary {
+            self.base = abs;
+            self.t = Tokens::new(&self.full[abs..]);
+        } else {
+            self.t.seek(abs.saturating_sub(self.base));
+        }
+    }
+
+    /// The bytes not read yet.
+    pub fn remaining(&self) -> &'a [u8] {
+        &self.full[self.pos()..]
+    }
+
     /// Where the cursor is: a byte offset in binary files, a line in ASCII ones.
     pub fn here(&self) -> Position {
         if self.binary {
-            Position::Byte(self.t.pos() as u64)
+            Position::Byte(self.pos() as u64)
         } else {
             Position::Line(self.t.line())
         }
@@ -206,7 +238,7 @@ impl<'a> Cursor<'a> {
     /// Where the token of `len` bytes just read started.
     pub fn here_before(&self, len: usize) -> Position {
         if self.binary {
-            Position::Byte(self.t.pos().saturating_sub(len) as u64)
+            Position::Byte(self.pos().saturating_sub(len) as u64)
         } else {
             Position::Line(self.t.line())
         }
@@ -229,7 +261,7 @@ impl<'a> Cursor<'a> {
     fn text<T>(&mut self, f: impl FnOnce(&mut Tokens<'a>) -> Result<T>) -> Result<T> {
         if self.binary {
             self.t.skip_space();
-            let start = self.t.pos();
+            let start = self.pos();
             f(&mut self.t).map_err(|mut e| {
                 e.at = Some(Position::Byte(start as u64));
                 e
@@ -301,18 +333,18 @@ impl<'a> Cursor<'a> {
     /// The next `n` bytes of binary data.
     #[inline]
     pub fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8]> {
-        let pos = self.t.pos();
-        let data = self.t.data();
+        let pos = self.pos();
+        let data = self.full;
         if data.len() - pos < n {
             return Err(self.byte_err(pos, ErrorKind::UnexpectedEof { context: format!("{what}: {n} bytes needed, {} left", data.len() - pos) }));
         }
-        self.t.seek(pos + n);
+        self.seek(pos + n);
         Ok(&data[pos..pos + n])
     }
 
     /// `n * size` bytes, with the product checked.
     pub fn take_array(&mut self, n: usize, size: usize, what: &str) -> Result<&'a [u8]> {
-        let pos = self.t.pos();
+        let pos = self.pos();
         let total = n.checked_mul(size).ok_or_else(|| {
             self.byte_err(pos, ErrorKind::ImplausibleCount { what: what.into(), count: n as u64, limit: "the byte count overflows".into() })
         })?;
@@ -334,22 +366,176 @@ impl<'a> Cursor<'a> {
 
     /// A binary count, checked against the bytes left.
     pub fn bin_count(&mut self, st: usize, what: &str, min_bytes_per_item: usize) -> Result<usize> {
-        let pos = self.t.pos();
+        let pos = self.pos();
         let n = self.bin_size(st, what)?;
-        let left = self.t.data().len() - self.t.pos();
+        let left = self.full.len() - self.pos();
         let n = usize::try_from(n).unwrap_or(usize::MAX);
         text::check_count(n, left, min_bytes_per_item, what).map_err(|k| self.byte_err(pos, k))
     }
 
     /// A binary double that must be finite.
     pub fn bin_f64(&mut self, what: &str) -> Result<f64> {
-        let pos = self.t.pos();
+        let pos = self.pos();
         let v = le_f64(self.take(8, what)?);
         if v.is_finite() {
             Ok(v)
         } else {
             Err(self.byte_err(pos, ErrorKind::NonFinite { what: what.into(), value: v.to_string() }))
         }
+    }
+}
+
+/// A quick scanner for the hot loops of the ASCII readers: plain unsigned integers and
+/// finite floats followed by white space. Anything else, and every error, goes back to
+/// [`Tokens`], which parses or explains it; the `Cursor` is kept at the scanner's last
+/// synchronisation point, so that its line count stays right.
+pub(super) struct Scan<'a> {
+    d: &'a [u8],
+    pos: usize,
+    line: u64,
+    /// Start of the token being read, where `Tokens` resumes after a miss.
+    start: usize,
+}
+
+impl Scan<'_> {
+    #[inline(always)]
+    fn skip_space(&mut self) {
+        while let Some(&c) = self.d.get(self.pos) {
+            match c {
+                b' ' | b'\t' | b'\r' => self.pos += 1,
+                b'\n' => {
+                    self.line += 1;
+                    self.pos += 1;
+                }
+                _ => break,
+            }
+        }
+        self.start = self.pos;
+    }
+
+    #[inline(always)]
+    fn ends_token(&self, at: usize) -> bool {
+        self.d.get(at).map_or(true, |&c| matches!(c, b' ' | b'\t' | b'\r' | b'\n'))
+    }
+
+    #[inline(always)]
+    fn uint(&mut self) -> Option<u64> {
+        self.skip_space();
+        let mut v: u64 = 0;
+        let mut p = self.pos;
+        while let Some(&c) = self.d.get(p) {
+            let digit = c.wrapping_sub(b'0');
+            if digit > 9 {
+                break;
+            }
+            v = v.wrapping_mul(10).wrapping_add(digit as u64);
+            p += 1;
+        }
+        // 19 digits cannot overflow a u64; longer numbers go to the careful parser.
+        if p == self.pos || p - self.pos > 19 || !self.ends_token(p) {
+            return None;
+        }
+        self.pos = p;
+        Some(v)
+    }
+
+    #[inline(always)]
+    fn float(&mut self) -> Option<f64> {
+        self.skip_space();
+        let (v, n) = fast_float2::parse_partial::<f64, _>(&self.d[self.pos..]).ok()?;
+        if n == 0 || !v.is_finite() || !self.ends_token(self.pos + n) {
+            return None;
+        }
+        self.pos += n;
+        Some(v)
+    }
+
+    /// Bytes not read yet.
+    pub fn bytes_left(&self) -> usize {
+        self.d.len() - self.pos
+    }
+
+    /// The line of the last number read.
+    #[inline]
+    pub fn line(&self) -> u64 {
+        self.line
+    }
+
+    /// Whether only blanks remain on the current line.
+    #[inline]
+    pub fn at_line_end(&self) -> bool {
+        let mut p = self.pos;
+        while let Some(&c) = self.d.get(p) {
+            match c {
+                b' ' | b'\t' | b'\r' => p += 1,
+                b'\n' => return true,
+                _ => return false,
+            }
+        }
+        true
+    }
+}
+
+impl<'a> Cursor<'a> {
+    /// A scanner at the cursor.
+    pub fn scan(&self) -> Scan<'a> {
+        Scan { d: self.full, pos: self.pos(), line: self.t.line(), start: self.pos() }
+    }
+
+    /// Moves the cursor to where the scanner is (before an error or a text read).
+    pub fn unscan(&mut self, s: &Scan<'a>) {
+        self.seek(s.pos);
+    }
+
+    #[inline(always)]
+    pub fn scan_u64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<u64> {
+        match s.uint() {
+            Some(v) => Ok(v),
+            None => self.slow_u64(s, what),
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn slow_u64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<u64> {
+        self.seek(s.start);
+        let v = self.u64(what)?;
+        *s = self.scan();
+        Ok(v)
+    }
+
+    #[inline(always)]
+    pub fn scan_i64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<i64> {
+        match s.uint() {
+            Some(v) if v <= i64::MAX as u64 => Ok(v as i64),
+            _ => self.slow_i64(s, what),
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn slow_i64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<i64> {
+        self.seek(s.start);
+        let v = self.i64(what)?;
+        *s = self.scan();
+        Ok(v)
+    }
+
+    #[inline(always)]
+    pub fn scan_f64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<f64> {
+        match s.float() {
+            Some(v) => Ok(v),
+            None => self.slow_f64(s, what),
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn slow_f64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<f64> {
+        self.seek(s.start);
+        let v = self.f64(what)?;
+        *s = self.scan();
+        Ok(v)
     }
 }
 
@@ -363,7 +549,7 @@ pub(super) fn le_f64(b: &[u8]) -> f64 {
     f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]])
 }
 
-#[inline]
+#[inline(always)]
 pub(super) fn le_size(b: &[u8], st: usize) -> u64 {
     if st == 8 {
         u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]])
@@ -377,8 +563,11 @@ pub(super) fn le_size(b: &[u8], st: usize) -> u64 {
 
 const NONE: usize = usize::MAX;
 
-/// Tag → index, dense when the tags are nearly contiguous, sorted otherwise.
+/// Tag → index: nothing stored when the tags are `first, first + 1, ...` for values
+/// `0, 1, ...` (how Gmsh numbers), a dense table when they are nearly contiguous, a
+/// sorted one otherwise.
 pub(super) enum TagMap {
+    Range { first: u64, len: usize },
     Dense(Vec<usize>),
     Sparse(Vec<(u64, usize)>),
 }
@@ -386,7 +575,14 @@ pub(super) enum TagMap {
 impl TagMap {
     /// The map of `(tag, value)` pairs; `Err(tag)` names a tag given twice.
     fn build<I: Iterator<Item = (u64, usize)> + Clone>(items: I) -> std::result::Result<TagMap, u64> {
-        let (count, max) = items.clone().fold((0usize, 0u64), |(c, m), (t, _)| (c + 1, m.max(t)));
+        let mut first = None;
+        let (count, max, range) = items.clone().fold((0usize, 0u64, true), |(c, m, r), (t, v)| {
+            let f = *first.get_or_insert(t);
+            (c + 1, m.max(t), r && v == c && t.checked_sub(f) == Some(c as u64))
+        });
+        if range {
+            return Ok(TagMap::Range { first: first.unwrap_or(1), len: count });
+        }
         // Dense within a small multiple of the count: memory bounded by the file size.
         if max < (count as u64).saturating_mul(4).saturating_add(1024) {
             let mut table = vec![NONE; max as usize + 1];
@@ -411,28 +607,97 @@ impl TagMap {
     #[inline]
     pub fn get(&self, tag: u64) -> Option<usize> {
         match self {
+            TagMap::Range { first, len } => tag.checked_sub(*first).filter(|&d| d < *len as u64).map(|d| d as usize),
             TagMap::Dense(t) => t.get(usize::try_from(tag).ok()?).copied().filter(|&v| v != NONE),
             TagMap::Sparse(v) => v.binary_search_by_key(&tag, |&(t, _)| t).ok().map(|i| v[i].1),
         }
     }
 
-    /// The values in ascending tag order.
-    fn values_in_tag_order(&self) -> Vec<usize> {
-        match self {
-            TagMap::Dense(t) => t.iter().copied().filter(|&v| v != NONE).collect(),
-            TagMap::Sparse(v) => v.iter().map(|&(_, i)| i).collect(),
-        }
-    }
 }
 
 // ---------------------------------------------------------------------------------
 // Reading: state shared by both versions
 
+/// Element tags of a block: a range while they count up by one, as Gmsh writes them.
+pub(super) enum TagList {
+    Range { first: u64, len: usize },
+    List(Vec<u64>),
+}
+
+impl TagList {
+    pub fn new() -> Self {
+        TagList::Range { first: 0, len: 0 }
+    }
+
+    #[inline]
+    pub fn push(&mut self, t: u64) {
+        match self {
+            TagList::Range { first, len } => {
+                if *len == 0 {
+                    *first = t;
+                    *len = 1;
+                } else if first.checked_add(*len as u64) == Some(t) {
+                    *len += 1;
+                } else {
+                    let mut v: Vec<u64> = (*first..*first + *len as u64).collect();
+                    v.push(t);
+                    *self = TagList::List(v);
+                }
+            }
+            TagList::List(v) => v.push(t),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        match self {
+            TagList::Range { len, .. } => *len,
+            TagList::List(v) => v.len(),
+        }
+    }
+
+    #[inline]
+    fn get(&self, i: usize) -> u64 {
+        match self {
+            TagList::Range { first, .. } => first + i as u64,
+            TagList::List(v) => v[i],
+        }
+    }
+
+    fn iter(&self) -> impl Iterator<Item = u64> + Clone + '_ {
+        (0..self.len()).map(move |i| self.get(i))
+    }
+
+    fn contains(&self, t: u64) -> bool {
+        match self {
+            TagList::Range { first, len } => t.checked_sub(*first).is_some_and(|d| d < *len as u64),
+            TagList::List(v) => v.contains(&t),
+        }
+    }
+
+    /// The last tag if every tag is above `prev` and above the one before it.
+    fn ascending_after(&self, prev: u64) -> Option<u64> {
+        match self {
+            TagList::Range { len: 0, .. } => Some(prev),
+            TagList::Range { first, len } => (*first > prev).then(|| first + *len as u64 - 1),
+            TagList::List(v) => {
+                let mut p = prev;
+                for &t in v {
+                    if t <= p {
+                        return None;
+                    }
+                    p = t;
+                }
+                Some(p)
+            }
+        }
+    }
+}
+
 /// Elements of one kind as read, before they are put in tag order.
 pub(super) struct RawBlock {
     pub kind: CellKind,
     pub at: Position,
-    pub tags: Vec<u64>,
+    pub tags: TagList,
     /// Node positions in file order (indices into `Reader::points`).
     pub nodes: Vec<usize>,
     /// Per cell; empty for 4.1 blocks until `finish` fills them from the entity.
@@ -497,7 +762,7 @@ pub(super) struct Reader<'a> {
 impl<'a> Reader<'a> {
     fn new(bytes: &'a [u8]) -> Self {
         Reader {
-            c: Cursor { t: Tokens::new(bytes), binary: false },
+            c: Cursor::new(bytes),
             v4: true,
             size_t: 8,
             points: Vec::new(),
@@ -554,7 +819,7 @@ impl<'a> Reader<'a> {
             self.size_t = data_size as usize;
             self.c.end_text_line()?;
             self.c.binary = true;
-            let pos = self.c.t.pos();
+            let pos = self.c.pos();
             let b = self.c.take(4, "the endianness marker (the integer 1)")?;
             let le = le_i32(b);
             if le != 1 {
@@ -589,7 +854,7 @@ impl<'a> Reader<'a> {
     fn skip_section(&mut self, name: &[u8], at: Position) -> Result<()> {
         let mut end = b"\n$End".to_vec();
         end.extend_from_slice(name);
-        let rest = self.c.t.remaining();
+        let rest = self.c.remaining();
         let mut from = 0;
         loop {
             let Some(i) = memchr::memmem::find(&rest[from..], &end) else {
@@ -599,8 +864,8 @@ impl<'a> Reader<'a> {
             let after = from + i + end.len();
             // The marker must be the whole token (`$EndComments`, not `$EndCommentsX`).
             if rest.get(after).map_or(true, |c| c.is_ascii_whitespace()) {
-                let pos = self.c.t.pos() + from + i + 1;
-                self.c.t.seek(pos);
+                let pos = self.c.pos() + from + i + 1;
+                self.c.seek(pos);
                 self.c.t.next();
                 return Ok(());
             }
@@ -613,12 +878,14 @@ impl<'a> Reader<'a> {
         if let Some(m) = self.node_map.take() {
             return Ok(m);
         }
-        TagMap::build(self.node_tags.iter().copied().zip(0..)).map_err(|dup| {
-            // Where the second definition is: the block holding its last occurrence.
-            let last = self.node_tags.iter().rposition(|&t| t == dup).unwrap_or(0);
-            let at = self.node_blocks.iter().rev().find(|(start, _)| *start <= last).map_or(Position::Byte(0), |b| b.1);
-            Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent(format!("node tag {dup} is defined twice (the second time in the node block here)")) }
-        })
+        TagMap::build(self.node_tags.iter().copied().zip(0..)).map_err(|dup| self.duplicate_node(dup))
+    }
+
+    fn duplicate_node(&self, dup: u64) -> Error {
+        // Where the second definition is: the block holding its last occurrence.
+        let last = self.node_tags.iter().rposition(|&t| t == dup).unwrap_or(0);
+        let at = self.node_blocks.iter().rev().find(|(start, _)| *start <= last).map_or(Position::Byte(0), |b| b.1);
+        Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent(format!("node tag {dup} is defined twice (the second time in the node block here)")) }
     }
 
     pub fn put_node_map(&mut self, m: TagMap) {
@@ -636,7 +903,7 @@ impl<'a> Reader<'a> {
     }
 
     fn raw_tags(&self) -> impl Iterator<Item = (u64, usize)> + Clone + '_ {
-        self.raw.iter().flat_map(|b| b.tags.iter().copied()).zip(0..).chain(self.aliases.iter().copied())
+        self.raw.iter().flat_map(|b| b.tags.iter()).zip(0..).chain(self.aliases.iter().copied())
     }
 
     fn take_elem_map(&mut self) -> Result<TagMap> {
@@ -647,7 +914,7 @@ impl<'a> Reader<'a> {
     }
 
     fn duplicate_element(&self, dup: u64) -> Error {
-        let at = self.raw.iter().rev().find(|b| b.tags.contains(&dup)).map_or(Position::Byte(0), |b| b.at);
+        let at = self.raw.iter().rev().find(|b| b.tags.contains(dup)).map_or(Position::Byte(0), |b| b.at);
         Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent(format!("element tag {dup} is used twice (the second time in the element block here)")) }
     }
 
@@ -717,18 +984,18 @@ impl<'a> Reader<'a> {
         if self.c.binary {
             self.c.end_text_line()?;
             for _ in 0..n {
-                let pos = self.c.t.pos();
+                let pos = self.c.pos();
                 let tag = self.c.bin_i32("the tag of a data entry")?;
                 let target = u64::try_from(tag).ok().and_then(|t| map.get(t)).ok_or_else(|| unknown(&self.c, Position::Byte(pos as u64), tag as i64))?;
                 let mult = if kind == ViewKind::ElementNode {
-                    let p = self.c.t.pos();
+                    let p = self.c.pos();
                     let m = self.c.bin_i32("the number of nodes of an entry")?;
                     positive_mult(m as i64).ok_or_else(|| self.c.byte_err(p, ErrorKind::Expected { expected: "a positive number of nodes per element".into(), found: m.to_string() }))?
                 } else {
                     1
                 };
                 let k = ncomp * mult;
-                let p = self.c.t.pos();
+                let p = self.c.pos();
                 let b = self.c.take_array(k, 8, "data values")?;
                 for (j, ch) in b.chunks_exact(8).enumerate() {
                     let v = le_f64(ch);
@@ -743,28 +1010,30 @@ impl<'a> Reader<'a> {
                 }
             }
         } else {
+            let mut s = self.c.scan();
             for _ in 0..n {
-                let tag = self.c.i64("the tag of a data entry")?;
-                let line = self.c.here();
+                let tag = self.c.scan_i64(&mut s, "the tag of a data entry")?;
+                let line = Position::Line(s.line());
                 let target = u64::try_from(tag).ok().and_then(|t| map.get(t)).ok_or_else(|| unknown(&self.c, line, tag))?;
                 let mult = if kind == ViewKind::ElementNode {
-                    let m = self.c.i64("the number of nodes of an entry")?;
-                    positive_mult(m).ok_or_else(|| self.c.err(ErrorKind::Expected { expected: "a positive number of nodes per element".into(), found: m.to_string() }))?
+                    let m = self.c.scan_i64(&mut s, "the number of nodes of an entry")?;
+                    positive_mult(m).ok_or_else(|| self.c.err_at(line, ErrorKind::Expected { expected: "a positive number of nodes per element".into(), found: m.to_string() }))?
                 } else {
                     1
                 };
                 let k = ncomp * mult;
-                if k > self.c.t.remaining().len() / 2 + 1 {
-                    return Err(self.c.err(ErrorKind::UnexpectedEof { context: format!("entry of `{name}` with {k} values") }));
+                if k > s.bytes_left() / 2 + 1 {
+                    return Err(self.c.err_at(line, ErrorKind::UnexpectedEof { context: format!("entry of `{name}` with {k} values") }));
                 }
                 for _ in 0..k {
-                    values.push(self.c.f64("a data value")?);
+                    values.push(self.c.scan_f64(&mut s, "a data value")?);
                 }
                 targets.push(target);
                 if kind == ViewKind::ElementNode {
                     offsets.push(values.len());
                 }
             }
+            self.c.unscan(&s);
         }
         match kind {
             ViewKind::Node => self.node_map = Some(map),
@@ -806,20 +1075,22 @@ impl<'a> Reader<'a> {
 
         // Points in ascending node-tag order; `node_rank[file position]` is the index.
         let node_rank: Option<Vec<usize>> = if self.node_tags.windows(2).all(|w| w[0] < w[1]) {
+            mesh.points = std::mem::take(&mut self.points);
             None
         } else {
-            let map = self.take_node_map()?;
-            let order = map.values_in_tag_order();
-            let mut rank = vec![0; order.len()];
-            for (r, &pos) in order.iter().enumerate() {
-                rank[pos] = r;
+            let mut runs = Vec::new();
+            runs_of(self.node_tags.iter().copied(), 0, &mut runs);
+            let runs = sorted_runs(runs).map_err(|dup| self.duplicate_node(dup))?;
+            let mut rank = vec![0; self.points.len()];
+            mesh.points.reserve(self.points.len());
+            for &(_, pos, len) in &runs {
+                for (j, r) in rank[pos..pos + len].iter_mut().enumerate() {
+                    *r = mesh.points.len() + j;
+                }
+                mesh.points.extend_from_slice(&self.points[pos..pos + len]);
             }
-            mesh.points = order.iter().map(|&p| self.points[p]).collect();
             Some(rank)
         };
-        if node_rank.is_none() {
-            mesh.points = std::mem::take(&mut self.points);
-        }
 
         // Physical tags of 4.1 blocks: the first physical tag of the entity.
         for b in &mut self.raw {
@@ -835,17 +1106,7 @@ impl<'a> Reader<'a> {
         }
 
         // Cells in ascending element-tag order; `cell_rank[raw id]` is the index.
-        let ascending = {
-            let mut prev = 0u64;
-            let mut ok = true;
-            for b in &self.raw {
-                for &t in &b.tags {
-                    ok &= t > prev;
-                    prev = t;
-                }
-            }
-            ok
-        };
+        let ascending = self.raw.iter().try_fold(0u64, |prev, b| b.tags.ascending_after(prev)).is_some();
         let cell_rank: Option<Vec<usize>> = if ascending {
             for b in std::mem::take(&mut self.raw) {
                 match mesh.blocks.last_mut() {
@@ -859,28 +1120,43 @@ impl<'a> Reader<'a> {
             }
             None
         } else {
-            // Tags without their 2.2 aliases, so that the order covers cells only.
-            let aliases = std::mem::take(&mut self.aliases);
-            let map = TagMap::build(self.raw_tags()).map_err(|dup| self.duplicate_element(dup))?;
-            self.aliases = aliases;
-            let order = map.values_in_tag_order();
-            let starts: Vec<usize> = self
-                .raw
-                .iter()
-                .scan(0, |s, b| {
-                    let r = *s;
-                    *s += b.tags.len();
-                    Some(r)
-                })
-                .collect();
-            let mut rank = vec![0; order.len()];
-            for (r, &id) in order.iter().enumerate() {
-                rank[id] = r;
+            // Runs of consecutive tags within each block, put in tag order and copied.
+            let mut runs = Vec::new();
+            let mut starts = Vec::with_capacity(self.raw.len());
+            let mut id = 0;
+            for b in &self.raw {
+                starts.push(id);
+                match &b.tags {
+                    TagList::Range { first, len } if *len > 0 => runs.push((*first, id, *len)),
+                    TagList::Range { .. } => {}
+                    TagList::List(v) => runs_of(v.iter().copied(), id, &mut runs),
+                }
+                id += b.tags.len();
+            }
+            let runs = sorted_runs(runs).map_err(|dup| self.duplicate_element(dup))?;
+            // The rank of each cell is needed only to place element data.
+            let mut rank = if self.views.iter().any(|v| v.kind != ViewKind::Node) { vec![0; id] } else { Vec::new() };
+            let mut out = 0;
+            for &(_, id, len) in &runs {
                 let bi = starts.partition_point(|&s| s <= id) - 1;
-                let b = &self.raw[bi];
-                let i = id - starts[bi];
-                let k = b.kind.nodes_per_cell();
-                mesh.block_mut(b.kind).push(&b.nodes[i * k..(i + 1) * k], b.physical[i], b.geometrical[i]);
+                let b = &mut self.raw[bi];
+                let (i, k) = (id - starts[bi], b.kind.nodes_per_cell());
+                if i == 0 && len == b.tags.len() && mesh.blocks.last().map(|l| l.kind) != Some(b.kind) {
+                    // A whole block in place: moved, not copied.
+                    let (nodes, physical, geometrical) = (std::mem::take(&mut b.nodes), std::mem::take(&mut b.physical), std::mem::take(&mut b.geometrical));
+                    mesh.blocks.push(crate::CellBlock { kind: b.kind, nodes, physical, geometrical });
+                } else {
+                    let dst = mesh.block_mut(b.kind);
+                    dst.nodes.extend_from_slice(&b.nodes[i * k..(i + len) * k]);
+                    dst.physical.extend_from_slice(&b.physical[i..i + len]);
+                    dst.geometrical.extend_from_slice(&b.geometrical[i..i + len]);
+                }
+                if let Some(r) = rank.get_mut(id..id + len) {
+                    for (j, r) in r.iter_mut().enumerate() {
+                        *r = out + j;
+                    }
+                }
+                out += len;
             }
             Some(rank)
         };
@@ -920,6 +1196,32 @@ impl<'a> Reader<'a> {
         }
         mesh.entities = std::mem::take(&mut self.entities);
         Ok(mesh)
+    }
+}
+
+/// Appends the maximal runs of consecutive tags `(first tag, first position, length)`
+/// of `tags`, whose first is at position `pos0`.
+fn runs_of(tags: impl Iterator<Item = u64>, pos0: usize, out: &mut Vec<(u64, usize, usize)>) {
+    let start = out.len();
+    for (i, t) in tags.enumerate() {
+        if out.len() > start {
+            if let Some(r) = out.last_mut() {
+                if r.0.checked_add(r.2 as u64) == Some(t) {
+                    r.2 += 1;
+                    continue;
+                }
+            }
+        }
+        out.push((t, pos0 + i, 1));
+    }
+}
+
+/// Runs in tag order; `Err(tag)` names a tag two runs share.
+fn sorted_runs(mut runs: Vec<(u64, usize, usize)>) -> std::result::Result<Vec<(u64, usize, usize)>, u64> {
+    runs.sort_unstable();
+    match runs.windows(2).find(|w| w[0].0.saturating_add(w[0].2 as u64) > w[1].0) {
+        Some(w) => Err(w[1].0),
+        None => Ok(runs),
     }
 }
 

@@ -21,7 +21,7 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position, parametric: b
     if binary {
         r.c.end_text_line()?;
         if !parametric {
-            let p = r.c.t.pos();
+            let p = r.c.pos();
             let data = r.c.take_array(n, 28, "nodes (4 + 3 x 8 bytes each)")?;
             for (i, ch) in data.chunks_exact(28).enumerate() {
                 let t = le_i32(ch);
@@ -37,13 +37,13 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position, parametric: b
             }
         } else {
             for _ in 0..n {
-                let p = r.c.t.pos();
+                let p = r.c.pos();
                 let t = r.c.bin_i32("node number")?;
                 if t <= 0 {
                     return Err(r.c.byte_err(p, bad_tag(t as i64)));
                 }
                 let xyz = [r.c.bin_f64("x coordinate")?, r.c.bin_f64("y coordinate")?, r.c.bin_f64("z coordinate")?];
-                let dp = r.c.t.pos();
+                let dp = r.c.pos();
                 let dim = r.c.bin_i32("dimension of the classifying entity")?;
                 r.c.bin_i32("tag of the classifying entity")?;
                 let extra = parametric_count(dim).ok_or_else(|| r.c.byte_err(dp, ErrorKind::Expected { expected: "an entity dimension 0 to 3".into(), found: dim.to_string() }))?;
@@ -53,28 +53,33 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position, parametric: b
             }
         }
     } else {
+        let mut s = r.c.scan();
         for _ in 0..n {
-            let t = r.c.u64("node number")?;
-            let line = r.c.t.line();
+            let t = r.c.scan_u64(&mut s, "node number")?;
+            let line = s.line();
             if t == 0 {
+                r.c.unscan(&s);
                 return Err(r.c.err(bad_tag(0)));
             }
-            let xyz = [r.c.f64("x coordinate")?, r.c.f64("y coordinate")?, r.c.f64("z coordinate")?];
+            let xyz = [r.c.scan_f64(&mut s, "x coordinate")?, r.c.scan_f64(&mut s, "y coordinate")?, r.c.scan_f64(&mut s, "z coordinate")?];
             if parametric {
+                r.c.unscan(&s);
                 let dim = r.c.i32("dimension of the classifying entity")?;
                 r.c.i32("tag of the classifying entity")?;
                 let extra = parametric_count(dim).ok_or_else(|| r.c.err(ErrorKind::Expected { expected: "an entity dimension 0 to 3".into(), found: dim.to_string() }))?;
                 for _ in 0..extra {
                     r.c.f64("parametric coordinate")?;
                 }
+                s = r.c.scan();
             }
-            if r.c.t.line() != line || !r.c.t.at_line_end() {
+            if s.line() != line || !s.at_line_end() {
                 let expected = if parametric { "a node number, 3 coordinates, an entity and its parametric coordinates on one line" } else { "a node number and 3 coordinates on one line" };
                 return Err(r.c.err_at(Position::Line(line), ErrorKind::Expected { expected: expected.into(), found: "another number of values".into() }));
             }
             r.node_tags.push(t);
             r.points.push(xyz);
         }
+        r.c.unscan(&s);
     }
     r.nodes_changed();
     r.c.expect_end(section)
@@ -123,7 +128,7 @@ impl Collector {
         let b = self.cur.get_or_insert_with(|| RawBlock {
             kind,
             at,
-            tags: Vec::new(),
+            tags: super::TagList::new(),
             nodes: Vec::new(),
             physical: Vec::new(),
             geometrical: Vec::new(),
@@ -152,7 +157,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
         r.c.end_text_line()?;
         let mut done = 0usize;
         while done < n {
-            let hp = r.c.t.pos();
+            let hp = r.c.pos();
             let etype = r.c.bin_i32("element type")?;
             let count = r.c.bin_i32("number of elements that follow")?;
             let ntags = r.c.bin_i32("number of tags")?;
@@ -168,7 +173,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             }
             let (count, ntags, k) = (count as usize, ntags as usize, kind.nodes_per_cell());
             let rec = 4 * (1 + ntags + k);
-            let p = r.c.t.pos();
+            let p = r.c.pos();
             let data = r.c.take_array(count, rec, "elements")?;
             for (e, ch) in data.chunks_exact(rec).enumerate() {
                 let at = p + e * rec;
@@ -188,19 +193,31 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             done += count;
         }
     } else {
+        let mut s = r.c.scan();
         for _ in 0..n {
-            let et = r.c.u64("element number")?;
-            let line = r.c.t.line();
+            let et = r.c.scan_u64(&mut s, "element number")?;
+            let line = s.line();
             if et == 0 {
+                r.c.unscan(&s);
                 return Err(r.c.err(ErrorKind::Expected { expected: "an element number of at least 1".into(), found: "0".into() }));
             }
-            let etype = r.c.i32("element type")?;
-            let kind = cell_kind(etype).map_err(|k| r.c.err(k))?;
-            let ntags = r.c.usize("number of tags")?;
+            let etype = r.c.scan_i64(&mut s, "element type")?;
+            let kind = match i32::try_from(etype).map_err(|_| ErrorKind::Expected { expected: "an element type".into(), found: etype.to_string() }).and_then(cell_kind) {
+                Ok(k) => k,
+                Err(k) => {
+                    r.c.unscan(&s);
+                    return Err(r.c.err(k));
+                }
+            };
+            let ntags = r.c.scan_u64(&mut s, "number of tags")?;
             let (mut physical, mut geometrical) = (0, 0);
             for j in 0..ntags {
                 // Physical, elementary, then partition tags (read past).
-                let v = r.c.i32("element tag")?;
+                let v = r.c.scan_i64(&mut s, "element tag")?;
+                let Ok(v) = i32::try_from(v) else {
+                    r.c.unscan(&s);
+                    return Err(r.c.err(ErrorKind::Expected { expected: "an element tag (a 32-bit integer)".into(), found: v.to_string() }));
+                };
                 match j {
                     0 => physical = v,
                     1 => geometrical = v,
@@ -209,10 +226,14 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             }
             let k = kind.nodes_per_cell();
             for slot in &mut nodes[..k] {
-                let nt = r.c.i64("node number")?;
-                *slot = u64::try_from(nt).ok().and_then(|t| map.get(t)).ok_or_else(|| r.c.err(missing(et, nt)))?;
+                let nt = r.c.scan_i64(&mut s, "node number")?;
+                let Some(v) = u64::try_from(nt).ok().and_then(|t| map.get(t)) else {
+                    r.c.unscan(&s);
+                    return Err(r.c.err(missing(et, nt)));
+                };
+                *slot = v;
             }
-            if r.c.t.line() != line || !r.c.t.at_line_end() {
+            if s.line() != line || !s.at_line_end() {
                 return Err(Error::at_line(
                     line,
                     ErrorKind::Expected {
@@ -223,6 +244,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             }
             col.add(r, Position::Line(line), kind, et, physical, geometrical, &nodes[..k]);
         }
+        r.c.unscan(&s);
     }
     if let Some(b) = col.cur.take() {
         r.push_raw(b);

@@ -131,7 +131,7 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
         let width = 3 + if parametric == 1 { dim as usize } else { 0 };
         r.node_blocks.push((r.node_tags.len(), block_at));
         if binary {
-            let p = r.c.t.pos();
+            let p = r.c.pos();
             let tags = r.c.take_array(n, st, "node tags")?;
             for (i, ch) in tags.chunks_exact(st).enumerate() {
                 let t = le_size(ch, st);
@@ -140,7 +140,7 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
                 }
                 r.node_tags.push(t);
             }
-            let p = r.c.t.pos();
+            let p = r.c.pos();
             let coords = r.c.take_array(n, 8 * width, "node coordinates")?;
             for (i, ch) in coords.chunks_exact(8 * width).enumerate() {
                 let xyz = [le_f64(&ch[0..8]), le_f64(&ch[8..16]), le_f64(&ch[16..24])];
@@ -150,25 +150,28 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
                 r.points.push(xyz);
             }
         } else {
+            let mut s = r.c.scan();
             for _ in 0..n {
-                let t = r.c.u64("node tag")?;
+                let t = r.c.scan_u64(&mut s, "node tag")?;
                 if t == 0 {
+                    r.c.unscan(&s);
                     return Err(r.c.err(ErrorKind::Expected { expected: "a node tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
                 }
                 r.node_tags.push(t);
             }
             for _ in 0..n {
-                let x = r.c.f64("x coordinate")?;
-                let line = r.c.t.line();
-                let xyz = [x, r.c.f64("y coordinate")?, r.c.f64("z coordinate")?];
+                let x = r.c.scan_f64(&mut s, "x coordinate")?;
+                let line = s.line();
+                let xyz = [x, r.c.scan_f64(&mut s, "y coordinate")?, r.c.scan_f64(&mut s, "z coordinate")?];
                 for _ in 3..width {
-                    r.c.f64("parametric coordinate")?;
+                    r.c.scan_f64(&mut s, "parametric coordinate")?;
                 }
-                if r.c.t.line() != line {
+                if s.line() != line {
                     return Err(r.c.err_at(Position::Line(line), ErrorKind::Expected { expected: format!("{width} coordinates on the line"), found: "fewer".into() }));
                 }
                 r.points.push(xyz);
             }
+            r.c.unscan(&s);
         }
     }
     if total != n_nodes {
@@ -198,49 +201,46 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
         let mut b = RawBlock {
             kind,
             at: block_at,
-            tags: Vec::with_capacity(n),
+            tags: super::TagList::new(),
             nodes: Vec::with_capacity(n * k),
             physical: Vec::new(),
             geometrical: vec![tag; n],
             entity: Some((dim as u8, tag)),
         };
-        let missing = |et: u64, nt: u64| ErrorKind::Inconsistent(format!("element {et} refers to node {nt}, which no $Nodes section defines"));
         if binary {
-            let rec = (1 + k) * st;
-            let p = r.c.t.pos();
-            let data = r.c.take_array(n, rec, "elements")?;
-            for (e, ch) in data.chunks_exact(rec).enumerate() {
-                let et = le_size(ch, st);
-                if et == 0 {
-                    return Err(r.c.byte_err(p + e * rec, ErrorKind::Expected { expected: "an element tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
-                }
-                b.tags.push(et);
-                for j in 1..=k {
-                    let nt = le_size(&ch[j * st..], st);
-                    let v = map.get(nt).ok_or_else(|| r.c.byte_err(p + e * rec + j * st, missing(et, nt)))?;
-                    b.nodes.push(v);
-                }
+            let p = r.c.pos();
+            let data = r.c.take_array(n, (1 + k) * st, "elements")?;
+            if st == 8 {
+                binary_elements::<8>(r, &map, &mut b, data, p)?;
+            } else {
+                binary_elements::<4>(r, &map, &mut b, data, p)?;
             }
         } else {
+            let mut s = r.c.scan();
             for _ in 0..n {
-                let et = r.c.u64("element tag")?;
-                let line = r.c.t.line();
+                let et = r.c.scan_u64(&mut s, "element tag")?;
+                let line = s.line();
                 if et == 0 {
+                    r.c.unscan(&s);
                     return Err(r.c.err(ErrorKind::Expected { expected: "an element tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
                 }
                 b.tags.push(et);
                 for _ in 0..k {
-                    let nt = r.c.u64("node tag")?;
-                    let v = map.get(nt).ok_or_else(|| r.c.err(missing(et, nt)))?;
+                    let nt = r.c.scan_u64(&mut s, "node tag")?;
+                    let Some(v) = map.get(nt) else {
+                        r.c.unscan(&s);
+                        return Err(r.c.err(missing(et, nt)));
+                    };
                     b.nodes.push(v);
                 }
-                if r.c.t.line() != line || !r.c.t.at_line_end() {
+                if s.line() != line || !s.at_line_end() {
                     return Err(r.c.err_at(
                         Position::Line(line),
                         ErrorKind::Expected { expected: format!("{k} node tags after element {et} (a {})", kind.name()), found: "another number of values on the line".into() },
                     ));
                 }
             }
+            r.c.unscan(&s);
         }
         r.push_raw(b);
     }
@@ -249,6 +249,31 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
     }
     r.put_node_map(map);
     r.c.expect_end("Elements")
+}
+
+fn missing(et: u64, nt: u64) -> ErrorKind {
+    ErrorKind::Inconsistent(format!("element {et} refers to node {nt}, which no $Nodes section defines"))
+}
+
+/// Binary element records of `ST`-byte `size_t`s: a tag then the node tags.
+fn binary_elements<const ST: usize>(r: &Reader<'_>, map: &super::TagMap, b: &mut RawBlock, data: &[u8], p: usize) -> Result<()> {
+    let k = b.kind.nodes_per_cell();
+    let rec = (1 + k) * ST;
+    for (e, ch) in data.chunks_exact(rec).enumerate() {
+        let et = le_size(ch, ST);
+        if et == 0 {
+            return Err(r.c.byte_err(p + e * rec, ErrorKind::Expected { expected: "an element tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+        }
+        b.tags.push(et);
+        for (j, t) in ch[ST..].chunks_exact(ST).enumerate() {
+            let nt = le_size(t, ST);
+            let Some(v) = map.get(nt) else {
+                return Err(r.c.byte_err(p + e * rec + (j + 1) * ST, missing(et, nt)));
+            };
+            b.nodes.push(v);
+        }
+    }
+    Ok(())
 }
 
 // ---------------------------------------------------------------------------------
