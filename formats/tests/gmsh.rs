@@ -878,4 +878,10 @@ fn bench_against_mshio() {
     bad[at] = b'x';
     println!("mshio error:     {}", mshio::parse_msh_bytes(&bad).map(|_| ()).map_err(|e| format!("{e}")).unwrap_err());
     println!("smartmesh error: {}", read_msh(&bad).unwrap_err());
+    // And on headers with an odd data size.
+    for head in ["$MeshFormat\n4.1 0 300\n$EndMeshFormat\n", "$MeshFormat\n4.1 1 3\n\x01\x00\x00\x00\n$EndMeshFormat\n"] {
+        let r = std::panic::catch_unwind(|| mshio::parse_msh_bytes(head.as_bytes()).is_ok());
+        println!("mshio on {head:?}: {}", if r.is_err() { "panicked" } else { "returned" });
+        println!("smartmesh: {:?}", read_msh(head.as_bytes()).err().map(|e| e.to_string()));
+    }
 }

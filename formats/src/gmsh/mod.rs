@@ -6,12 +6,15 @@
 //! `src/post/PViewDataGModelIO_MSH.cpp`, `PViewIO.cpp`).
 //!
 //! Hand-written rather than built on `mshio` (the crate the design names for 4.1),
-//! after measuring it: on a 4.1 file of 750k nodes and 1.5M triangles it is slower than
-//! this reader (numbers in `formats/tests/gmsh.rs`, `bench_against_mshio`), it rejects
-//! parametric nodes ("not supported yet"), it panics (`unimplemented!`) on a header
-//! whose data size is not 1, 2, 4, 8 or 16, it silently byte-swaps big-endian files,
-//! and it reads neither `$PhysicalNames` nor `$NodeData`, nor MSH 2.2 — so it would
-//! have needed a second parser beside it anyway.
+//! after measuring it (`bench_against_mshio` in `formats/tests/gmsh.rs`, release, on a
+//! 4.1 file of 751,689 nodes and 1,499,912 triangles): it parses ASCII in 0.78 s where
+//! this reader builds the whole mesh in 0.20 s, and binary in 0.33 s against 0.06 s;
+//! its errors carry no line (a letter in a node tag reads "An invalid entity tag value
+//! was encountered" and a hex dump; here "25: expected node tag (a non-negative
+//! integer), found `x`"); it
+//! panics (`unimplemented!`) on a binary header whose size_t is 3 bytes; it refuses
+//! parametric nodes ("not supported yet"); and it reads neither `$PhysicalNames` nor
+//! `$NodeData`, nor MSH 2.2, so a second parser would have been needed beside it anyway.
 //!
 //! Reading:
 //! - `$MeshFormat` 2.x or 4.1, ASCII (`0`) or binary (`1`); binary files must be
@@ -62,8 +65,13 @@
 //! elements, partitioned entities (their cells are read without physical tags),
 //! interpolation schemes.
 //!
-//! Cost: one pass over the bytes; ASCII numbers go through [`crate::text::Tokens`],
-//! binary arrays through `chunks_exact` + `from_le_bytes`.
+//! Points are read with their three coordinates (`coordinate_dim` 3), as MSH stores them.
+//!
+//! Cost: one pass over the bytes, O(n) but for files whose tags are out of order
+//! (sorted in runs). ASCII numbers go through a small scanner for plain digits and
+//! floats, with [`crate::text::Tokens`] behind it for anything else and for errors;
+//! binary arrays through `chunks_exact` + `from_le_bytes`. Writing fills one pre-sized
+//! buffer with `text::push_f64` / `push_int` numbers.
 
 mod msh2;
 mod msh4;
@@ -77,8 +85,7 @@ use crate::{CellKind, DataArray, Error, ErrorKind, GmshVersion, Position, ReadCo
 pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     let mut r = Reader::new(bytes);
     r.read_mesh_format()?;
-    loop {
-        let Some(tok) = r.c.t.next() else { break };
+    while let Some(tok) = r.c.t.next() {
         let at = r.c.here_before(tok.len());
         if tok.first() != Some(&b'$') || tok.len() < 2 {
             return Err(Error { path: None, at: Some(at), kind: ErrorKind::Expected { expected: "a section header such as `$Nodes`".into(), found: show(tok) } });
@@ -973,7 +980,7 @@ impl<'a> Reader<'a> {
         let what = if kind == ViewKind::Node { "node" } else { "element" };
         let mut targets = Vec::with_capacity(n);
         let mut offsets = Vec::new();
-        let mut values = Vec::with_capacity(if kind == ViewKind::ElementNode { n * ncomp } else { n * ncomp });
+        let mut values = Vec::with_capacity(n * ncomp);
         if kind == ViewKind::ElementNode {
             offsets.reserve(n + 1);
             offsets.push(0);
@@ -1226,7 +1233,7 @@ fn sorted_runs(mut runs: Vec<(u64, usize, usize)>) -> std::result::Result<Vec<(u
 }
 
 fn positive_mult(m: i64) -> Option<usize> {
-    (m >= 1 && m <= 1 << 16).then_some(m as usize)
+    (1..=1 << 16).contains(&m).then_some(m as usize)
 }
 
 /// The text between the first pair of double quotes of a line.
@@ -1345,7 +1352,7 @@ fn write_view(out: &mut Vec<u8>, section: &str, what: &str, name: &str, a: &Data
     let k = a.components;
     if !matches!(k, 1 | 3 | 9) {
         report.drop(format!(
-            "{what} `{name}` has {k} components: Gmsh views have 1, 3 or 9; written as is, which smartmesh reads back but Gmsh may not"
+            "{what} `{name}` has {k} components: Gmsh draws views of 1, 3 or 9; written as is (Gmsh reads it but may not display it)"
         ));
     }
     let items = a.values.chunks_exact(k);

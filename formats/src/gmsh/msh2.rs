@@ -102,8 +102,18 @@ struct Collector {
     cur: Option<RawBlock>,
 }
 
+/// One element as read: where, its kind and tag, physical and elementary tags.
+struct Element {
+    at: Position,
+    kind: CellKind,
+    tag: u64,
+    physical: i32,
+    geometrical: i32,
+}
+
 impl Collector {
-    fn add(&mut self, r: &mut Reader<'_>, at: Position, kind: CellKind, tag: u64, physical: i32, geometrical: i32, nodes: &[usize]) {
+    fn add(&mut self, r: &mut Reader<'_>, e: Element, nodes: &[usize]) {
+        let Element { at, kind, tag, physical, geometrical } = e;
         if let Some(b) = &self.cur {
             if b.kind == kind {
                 let k = kind.nodes_per_cell();
@@ -188,7 +198,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                     let nt = le_i32(&ch[off..]);
                     *slot = u64::try_from(nt).ok().and_then(|t| map.get(t)).ok_or_else(|| r.c.byte_err(at + off, missing(et as u64, nt as i64)))?;
                 }
-                col.add(r, Position::Byte(at as u64), kind, et as u64, physical, geometrical, &nodes[..k]);
+                col.add(r, Element { at: Position::Byte(at as u64), kind, tag: et as u64, physical, geometrical }, &nodes[..k]);
             }
             done += count;
         }
@@ -242,7 +252,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                     },
                 ));
             }
-            col.add(r, Position::Line(line), kind, et, physical, geometrical, &nodes[..k]);
+            col.add(r, Element { at: Position::Line(line), kind, tag: et, physical, geometrical }, &nodes[..k]);
         }
         r.c.unscan(&s);
     }

@@ -296,9 +296,9 @@ struct Ent {
 impl Ent {
     fn grow(&mut self, p: &[f64; 3]) {
         if self.has_box {
-            for k in 0..3 {
-                self.lo[k] = self.lo[k].min(p[k]);
-                self.hi[k] = self.hi[k].max(p[k]);
+            for ((lo, hi), &c) in self.lo.iter_mut().zip(&mut self.hi).zip(p) {
+                *lo = lo.min(c);
+                *hi = hi.max(c);
             }
         } else {
             self.lo = *p;
