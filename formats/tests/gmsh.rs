@@ -416,6 +416,22 @@ $ElementData\n1\n\"q\"\n1\n0\n3\n0\n1\n1\n2 4.5\n$EndElementData\n"
     assert_eq!(m.cell_data["q"].values, vec![4.5]);
 }
 
+/// Regression (found by `write_read_with_independent_geometrical_tags`): two equal
+/// triangles of one entity in two groups, one after the other, are two cells, not a
+/// cell and Gmsh's copy of it; the writer leaves a gap in the numbering between them.
+#[test]
+fn identical_cells_in_two_groups_are_not_taken_for_gmsh_copies() {
+    let mut m = small_mesh();
+    m.blocks[0].nodes[3..6].copy_from_slice(&[0, 1, 4]);
+    m.blocks[0].physical[1] = 9;
+    for bin in [false, true] {
+        let (_, back) = common::roundtrip(Format::Gmsh, "msh", &m, &opts(GmshVersion::V22, bin));
+        assert_same_mesh(&m, &back, "2.2");
+    }
+    let text = String::from_utf8(gmsh::write(&m, &opts(GmshVersion::V22, false)).unwrap().main).unwrap();
+    assert!(text.contains("\n1 2 2 7 1 1 2 5\n3 2 2 9 1 1 2 5\n"), "{text}");
+}
+
 #[test]
 fn extra_partition_tags_are_read_past() {
     let file = format!("{HEAD22}$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 4 5 1 1 2 1 2 3\n$EndElements\n");
@@ -706,6 +722,13 @@ fn malformed_node_data_without_its_integer_tags() {
 fn malformed_node_data_with_too_few_values() {
     let e = err_text(&format!("{HEAD41}{SQUARE41}$NodeData\n1\n\"T\"\n1\n0\n3\n0\n3\n2\n1 1 2 3\n2 1 2\n$EndNodeData\n"));
     assert!(e.to_string().contains("data value"), "{e}");
+}
+
+#[test]
+fn malformed_view_with_a_huge_number_of_components() {
+    let e = err_text(&format!("{HEAD41}{SQUARE41}$ElementData\n1\n\"q\"\n1\n0\n3\n0\n1000000000000\n0\n$EndElementData\n"));
+    assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. }), "{e}");
+    assert_eq!(e.at, Some(Position::Line(35)), "{e}");
 }
 
 #[test]

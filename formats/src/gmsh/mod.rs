@@ -139,8 +139,8 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
     let mut out = Vec::with_capacity(estimate_size(mesh, opts.binary));
     match opts.gmsh_version {
-        GmshVersion::V41 => msh4::write(mesh, opts.binary, &mut out, &mut report),
-        GmshVersion::V22 => msh2::write(mesh, opts.binary, &mut out, &mut report),
+        GmshVersion::V41 => msh4::write(mesh, opts.binary, &mut out, &mut report)?,
+        GmshVersion::V22 => msh2::write(mesh, opts.binary, &mut out, &mut report)?,
     }
     report_unheld(mesh, &mut report);
     Ok(Written { main: out, siblings: Vec::new(), report })
@@ -646,7 +646,7 @@ impl TagList {
                 } else if first.checked_add(*len as u64) == Some(t) {
                     *len += 1;
                 } else {
-                    let mut v: Vec<u64> = (*first..*first + *len as u64).collect();
+                    let mut v: Vec<u64> = (0..*len as u64).map(|i| *first + i).collect();
                     v.push(t);
                     *self = TagList::List(v);
                 }
@@ -735,6 +735,8 @@ impl ViewKind {
 struct View {
     kind: ViewKind,
     name: String,
+    /// Where its header is, for errors found when the array is built.
+    at: Position,
     step: i64,
     ncomp: usize,
     /// Node positions (file order) or raw cell ids.
@@ -967,8 +969,15 @@ impl<'a> Reader<'a> {
             return Err(self.c.err(ErrorKind::Expected { expected: "a number of components of at least 1 (1, 3 or 9)".into(), found: "0".into() }));
         }
         // Smallest entry: a tag and its values, `1 0\n` in ASCII.
-        let min_entry = if self.c.binary { 4 + 8 * ncomp } else { 2 + 2 * ncomp };
-        let min_entry = if kind == ViewKind::ElementNode { min_entry + if self.c.binary { 4 } else { 2 } } else { min_entry };
+        let min_entry = if self.c.binary { ncomp.saturating_mul(8).saturating_add(4) } else { ncomp.saturating_mul(2).saturating_add(2) };
+        let min_entry = if kind == ViewKind::ElementNode { min_entry.saturating_add(if self.c.binary { 4 } else { 2 }) } else { min_entry };
+        if ncomp > self.c.remaining().len() {
+            return Err(self.c.err(ErrorKind::ImplausibleCount {
+                what: format!("${section} number of components"),
+                count: ncomp as u64,
+                limit: "more than the bytes left in the file".into(),
+            }));
+        }
         let n = self.c.count("number of entries (integer tag 3)", min_entry)?;
         for _ in 3..n_int {
             self.c.i64("integer tag")?;
@@ -1047,7 +1056,7 @@ impl<'a> Reader<'a> {
             _ => self.elem_map = Some(map),
         }
         self.c.expect_end(section)?;
-        let view = View { kind, name, step, ncomp, targets, offsets, values };
+        let view = View { kind, name, at: header_at, step, ncomp, targets, offsets, values };
         // The same view again: another partition of the same step is merged, another
         // step replaces it (the last step in the file is kept).
         if let Some(old) = self.views.iter_mut().find(|v| v.kind == kind && v.name == view.name) {
@@ -1177,8 +1186,21 @@ impl<'a> Reader<'a> {
                 _ => (&cell_rank, n_cells),
             };
             let place = |t: usize| rank.as_ref().map_or(t, |r| r[t]);
+            let width = if v.kind == ViewKind::ElementNode { v.offsets.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(v.ncomp) } else { v.ncomp };
+            // A view covering few items with many components must not make the array
+            // of every item huge: at most about the file's size in values.
+            let limit = self.c.full.len() + (1 << 20);
+            if n.checked_mul(width).map_or(true, |t| t > limit) {
+                return Err(self.c.err_at(
+                    v.at,
+                    ErrorKind::ImplausibleCount {
+                        what: format!("view `{}` ({width} values for each of {n} items)", v.name),
+                        count: (n as u64).saturating_mul(width as u64),
+                        limit: format!("more values than the file's {} bytes justify", self.c.full.len()),
+                    },
+                ));
+            }
             let array = if v.kind == ViewKind::ElementNode {
-                let width = v.offsets.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(v.ncomp);
                 let mut values = vec![f64::NAN; n * width];
                 for (e, &t) in v.targets.iter().enumerate() {
                     let src = &v.values[v.offsets[e]..v.offsets[e + 1]];

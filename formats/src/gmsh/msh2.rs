@@ -100,6 +100,8 @@ fn parametric_count(dim: i32) -> Option<usize> {
 /// further physical group of its entity as one cell.
 struct Collector {
     cur: Option<RawBlock>,
+    /// Tag of the element read last (a cell or a copy).
+    last_tag: u64,
 }
 
 /// One element as read: where, its kind and tag, physical and elementary tags.
@@ -114,13 +116,15 @@ struct Element {
 impl Collector {
     fn add(&mut self, r: &mut Reader<'_>, e: Element, nodes: &[usize]) {
         let Element { at, kind, tag, physical, geometrical } = e;
+        let follows = self.last_tag.checked_add(1) == Some(tag);
+        self.last_tag = tag;
         if let Some(b) = &self.cur {
             if b.kind == kind {
                 let k = kind.nodes_per_cell();
                 let i = b.tags.len() - 1;
-                if b.geometrical[i] == geometrical && b.physical[i] != physical && b.nodes[i * k..] == *nodes {
-                    // Same element, same entity, another physical group: Gmsh's way of
-                    // writing an entity that belongs to several groups.
+                if follows && b.geometrical[i] == geometrical && b.physical[i] != physical && b.nodes[i * k..] == *nodes {
+                    // Same element, same entity, another physical group, the next
+                    // number: Gmsh's way of writing an entity in several groups.
                     let original = b.physical[i];
                     r.aliases.push((tag, r.n_raw_cells + i));
                     let list = r.entities.entry((kind.dim(), geometrical)).or_default();
@@ -161,7 +165,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
     let binary = r.c.binary;
     let n = r.c.count("number of elements", 8)?;
     let map: TagMap = r.take_node_map()?;
-    let mut col = Collector { cur: None };
+    let mut col = Collector { cur: None, last_tag: 0 };
     let mut nodes = [0usize; 9];
     if binary {
         r.c.end_text_line()?;
@@ -268,7 +272,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
 
 /// Writes MSH 2.2: nodes tagged index + 1, each cell with its physical and elementary
 /// tag, once more for each further physical group `entities` lists for its entity.
-pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) {
+pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) -> Result<()> {
     write_mesh_format(out, "2.2", binary);
     write_physical_names(out, mesh, report);
 
@@ -311,6 +315,9 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
             negative += (g < 0) as usize;
         }
     }
+    if total >= (i32::MAX / 2) as usize {
+        return Err(Error::new(ErrorKind::CannotWrite { format: "Gmsh MSH", reason: format!("{total} elements (with the copies for further physical groups) are more than MSH 2.2 can number") }));
+    }
     if negative > 0 {
         report.drop(format!("{negative} cell(s) with a negative geometrical tag: written, but Gmsh skips such elements when it reads MSH 2.2"));
     }
@@ -336,6 +343,11 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
         }
         for (i, cell) in b.cells().enumerate() {
             let (p, g) = (b.physical[i], b.geometrical[i]);
+            // A cell equal to the one before but for its physical tag would read as
+            // Gmsh's copy of it: a gap in the numbering keeps it a cell of its own.
+            if i > 0 && b.geometrical[i - 1] == g && b.physical[i - 1] != p && b.cell(i - 1) == cell {
+                num += 1;
+            }
             cell_tag.push(num + 1);
             for q in std::iter::once(p).chain(copies(dim, g, p).copied()) {
                 num += 1;
@@ -368,4 +380,5 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
     }
     out.extend_from_slice(b"$EndElements\n");
     write_views(out, mesh, binary, &|i| cell_tag[i] as u64, report);
+    Ok(())
 }

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use super::{cell_kind, le_f64, le_i32, le_size, write_mesh_format, write_physical_names, write_views, RawBlock, Reader};
 use crate::text::{push_f64, push_int};
-use crate::{CellKind, ErrorKind, Position, Result, TaggedMesh, WriteReport};
+use crate::{CellKind, Error, ErrorKind, Position, Result, TaggedMesh, WriteReport};
 
 // ---------------------------------------------------------------------------------
 // Reading
@@ -323,7 +323,7 @@ struct Plan {
     nodes: Vec<u32>,
 }
 
-fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Plan {
+fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
     // 1. The (dimension, geometrical tag, physical tag) of every cell.
     let mut combos: BTreeMap<(u8, i32, i32), u32> = BTreeMap::new();
     let mut first_phys: BTreeMap<(u8, i32), i32> = BTreeMap::new();
@@ -348,15 +348,20 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Plan {
     }
 
     // 2. Free tags per dimension, above every tag in use.
-    let mut next_free = [1i32; 4];
+    let mut next_free = [1i64; 4];
     for &(d, g, _) in combos.keys() {
-        next_free[d as usize] = next_free[d as usize].max(g.saturating_add(1));
+        next_free[d as usize] = next_free[d as usize].max(g as i64 + 1);
     }
     for &(d, t) in mesh.entities.keys() {
         if d <= 3 {
-            next_free[d as usize] = next_free[d as usize].max(t.saturating_add(1));
+            next_free[d as usize] = next_free[d as usize].max(t as i64 + 1);
         }
     }
+    let mut alloc = |d: u8| -> Result<i32> {
+        let t = next_free[d as usize];
+        next_free[d as usize] += 1;
+        i32::try_from(t).map_err(|_| Error::new(ErrorKind::CannotWrite { format: "Gmsh MSH", reason: format!("no free {d}D entity tag is left above the largest one in use") }))
+    };
 
     // 3. An entity per (dimension, geometrical tag); cells of other physical tags than
     //    the entity's first move to new entities.
@@ -374,8 +379,7 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Plan {
         let (d, g) = (*d, *g);
         if g <= 0 {
             for &(p, id) in list {
-                let t = next_free[d as usize];
-                next_free[d as usize] += 1;
+                let t = alloc(d)?;
                 ents.insert((d, t), if p != 0 { vec![p] } else { vec![] });
                 combo_ent[id as usize] = (d, t);
                 untagged += 1;
@@ -404,8 +408,7 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Plan {
             if p == home {
                 combo_ent[id as usize] = (d, g);
             } else {
-                let t = next_free[d as usize];
-                next_free[d as usize] += 1;
+                let t = alloc(d)?;
                 ents.insert((d, t), if p != 0 { vec![p] } else { vec![] });
                 combo_ent[id as usize] = (d, t);
                 moved.push(format!("group {p} → entity {t}"));
@@ -433,7 +436,7 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Plan {
     }
     // Nodes with no cell need an entity to be written in.
     let host_key = if mesh.num_cells() == 0 && !mesh.points.is_empty() {
-        let key = (2, next_free[2]);
+        let key = (2, alloc(2)?);
         ents.insert(key, Vec::new());
         Some(key)
     } else {
@@ -530,7 +533,7 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Plan {
         fill[e as usize] += 1;
     }
     let node_groups = (0..ents.len()).filter(|&e| ncounts[e + 1] > ncounts[e]).map(|e| (e as u32, ncounts[e]..ncounts[e + 1])).collect();
-    Plan { ents, groups, cells, node_groups, nodes }
+    Ok(Plan { ents, groups, cells, node_groups, nodes })
 }
 
 /// Appends a `size_t` (8 bytes: the files say so in `$MeshFormat`).
@@ -717,12 +720,13 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
 }
 
 /// Writes MSH 4.1.
-pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) {
-    let plan = plan(mesh, report);
+pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) -> Result<()> {
+    let plan = plan(mesh, report)?;
     write_mesh_format(out, "4.1", binary);
     write_physical_names(out, mesh, report);
     write_entities(out, mesh, &plan, binary);
     write_nodes(out, mesh, &plan, binary);
     write_elements(out, mesh, &plan, binary);
     write_views(out, mesh, binary, &|i| i as u64 + 1, report);
+    Ok(())
 }
