@@ -50,9 +50,10 @@ fn assert_data_bitwise(a: &BTreeMap<String, DataArray>, b: &BTreeMap<String, Dat
     }
 }
 
-/// Everything but `entities` and `coordinate_dim` (MSH always stores 3 coordinates).
+/// Everything but `entities` (which a 4.1 file always fills).
 fn assert_same_mesh(a: &TaggedMesh, b: &TaggedMesh, what: &str) {
     assert_points_bitwise(a, b, what);
+    assert_eq!(a.coordinate_dim, b.coordinate_dim, "{what}: coordinate_dim");
     assert_eq!(cell_list(a), cell_list(b), "{what}: cells");
     assert_eq!(a.tag_names, b.tag_names, "{what}: tag names");
     assert_data_bitwise(&a.point_data, &b.point_data, &format!("{what}: point data"));
@@ -128,7 +129,7 @@ fn fixtures_have_the_expected_counts_per_tag() {
             assert_eq!(m.points.len(), e.nodes, "{what}: nodes");
             assert_eq!(common::counts_per_tag(&m), e.counts, "{what}: counts per tag");
             assert_eq!(m.tag_names, e.names, "{what}: names");
-            assert_eq!(m.coordinate_dim, 3, "{what}");
+            assert_eq!(m.coordinate_dim, 2, "{what}: planar");
             assert!(m.point_data.is_empty() && m.cell_data.is_empty(), "{what}");
             if enc.starts_with("v41") {
                 assert_eq!(m.entities.len(), e.entities_41, "{what}: entities");
@@ -270,6 +271,17 @@ fn unused_nodes_and_data_survive_each_encoding() {
         let (w, back) = common::roundtrip(Format::Gmsh, "msh", &m, &opts(v, bin));
         assert_same_mesh(&m, &back, &format!("{v:?} binary={bin}"));
         assert!(w.report.dropped.is_empty(), "{:?}", w.report.dropped);
+    }
+}
+
+#[test]
+fn z_coordinates_are_kept() {
+    let mut m = small_mesh();
+    m.points[2][2] = -0.125;
+    m.coordinate_dim = 3;
+    for (v, bin) in all_options() {
+        let (_, back) = common::roundtrip(Format::Gmsh, "msh", &m, &opts(v, bin));
+        assert_same_mesh(&m, &back, &format!("{v:?} binary={bin}"));
     }
 }
 

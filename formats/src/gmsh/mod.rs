@@ -65,7 +65,8 @@
 //! elements, partitioned entities (their cells are read without physical tags),
 //! interpolation schemes.
 //!
-//! Points are read with their three coordinates (`coordinate_dim` 3), as MSH stores them.
+//! Points keep the three coordinates MSH stores; `coordinate_dim` is 3 when some z is
+//! not 0, else 2.
 //!
 //! Cost: one pass over the bytes, O(n) but for files whose tags are out of order
 //! (sorted in runs). ASCII numbers go through a small scanner for plain digits and
@@ -1086,7 +1087,6 @@ impl<'a> Reader<'a> {
     /// physical tags and builds the data arrays.
     fn finish(mut self) -> Result<TaggedMesh> {
         let mut mesh = TaggedMesh::new();
-        mesh.coordinate_dim = 3;
         mesh.tag_names = std::mem::take(&mut self.tag_names);
 
         // Points in ascending node-tag order; `node_rank[file position]` is the index.
@@ -1224,6 +1224,9 @@ impl<'a> Reader<'a> {
             };
         }
         mesh.entities = std::mem::take(&mut self.entities);
+        // MSH always stores z; a mesh is 2D when every z is 0 (the convention of the
+        // other readers).
+        mesh.coordinate_dim = if mesh.points.iter().all(|p| p[2] == 0.0) { 2 } else { 3 };
         Ok(mesh)
     }
 }
