@@ -1,0 +1,732 @@
+//! MSH 4.1: `$Entities`, `$Nodes` and `$Elements` in entity blocks (reference manual,
+//! "MSH file format"), and the writer that plans the entities.
+
+use std::collections::BTreeMap;
+
+use super::{cell_kind, le_f64, le_i32, le_size, write_mesh_format, write_physical_names, write_views, RawBlock, Reader};
+use crate::text::{push_f64, push_int};
+use crate::{CellKind, Error, ErrorKind, Position, Result, TaggedMesh, WriteReport};
+
+// ---------------------------------------------------------------------------------
+// Reading
+
+/// `$Entities`: the physical tags of every point, curve, surface and volume.
+pub(super) fn read_entities(r: &mut Reader<'_>) -> Result<()> {
+    let binary = r.c.binary;
+    let st = r.size_t;
+    let names = ["points", "curves", "surfaces", "volumes"];
+    let mut counts = [0usize; 4];
+    if binary {
+        r.c.end_text_line()?;
+        for d in 0..4 {
+            let min = if d == 0 { 4 + 24 + st } else { 4 + 48 + 2 * st };
+            counts[d] = r.c.bin_count(st, &format!("number of {}", names[d]), min)?;
+        }
+    } else {
+        for d in 0..4 {
+            counts[d] = r.c.count(&format!("number of {}", names[d]), if d == 0 { 10 } else { 18 })?;
+        }
+    }
+    for (dim, &count) in counts.iter().enumerate() {
+        for _ in 0..count {
+            let at = r.c.mark();
+            let n_coords = if dim == 0 { 3 } else { 6 };
+            let tag;
+            let mut phys = Vec::new();
+            if binary {
+                tag = r.c.bin_i32("entity tag")?;
+                // Coordinates (points) or bounding boxes: read past, not kept.
+                r.c.take(8 * n_coords, "entity coordinates")?;
+                let n = r.c.bin_count(st, "number of physical tags", 4)?;
+                phys.extend(r.c.take_array(n, 4, "physical tags")?.chunks_exact(4).map(le_i32));
+                if dim > 0 {
+                    let n = r.c.bin_count(st, "number of bounding entities", 4)?;
+                    r.c.take_array(n, 4, "bounding entity tags")?;
+                }
+            } else {
+                tag = r.c.i32("entity tag")?;
+                for _ in 0..n_coords {
+                    r.c.f64(if dim == 0 { "point coordinate" } else { "bounding box coordinate" })?;
+                }
+                let n = r.c.count("number of physical tags", 2)?;
+                for _ in 0..n {
+                    phys.push(r.c.i32("physical tag")?);
+                }
+                if dim > 0 {
+                    let n = r.c.count("number of bounding entities", 2)?;
+                    for _ in 0..n {
+                        r.c.i32("bounding entity tag")?;
+                    }
+                }
+            }
+            if r.entities.insert((dim as u8, tag), phys).is_some() {
+                return Err(r.c.err_at(at, ErrorKind::Inconsistent(format!("{} {tag} is defined twice in $Entities", &names[dim][..names[dim].len() - 1]))));
+            }
+        }
+    }
+    r.c.expect_end("Entities")
+}
+
+/// The four `size_t` of a `$Nodes` or `$Elements` header: blocks, items, min and max tag.
+fn section_header(r: &mut Reader<'_>, item: &str, min_block: usize, min_item: usize) -> Result<(usize, usize)> {
+    if r.c.binary {
+        let st = r.size_t;
+        r.c.end_text_line()?;
+        let blocks = r.c.bin_count(st, &format!("number of {item} blocks"), min_block)?;
+        let n = r.c.bin_count(st, &format!("number of {item}s"), min_item)?;
+        r.c.bin_size(st, &format!("smallest {item} tag"))?;
+        r.c.bin_size(st, &format!("largest {item} tag"))?;
+        Ok((blocks, n))
+    } else {
+        let blocks = r.c.count(&format!("number of {item} blocks"), min_block)?;
+        let n = r.c.count(&format!("number of {item}s"), min_item)?;
+        r.c.u64(&format!("smallest {item} tag"))?;
+        r.c.u64(&format!("largest {item} tag"))?;
+        Ok((blocks, n))
+    }
+}
+
+/// The `entityDim entityTag x n` header of a block.
+fn block_header(r: &mut Reader<'_>, third: &str, item: &str, min_item: usize) -> Result<(i32, i32, i32, usize)> {
+    let at = r.c.mark();
+    let (dim, tag, x, n) = if r.c.binary {
+        let dim = r.c.bin_i32("entity dimension")?;
+        let tag = r.c.bin_i32("entity tag")?;
+        let x = r.c.bin_i32(third)?;
+        let n = r.c.bin_count(r.size_t, &format!("number of {item}s in the block"), min_item)?;
+        (dim, tag, x, n)
+    } else {
+        let dim = r.c.i32("entity dimension")?;
+        let tag = r.c.i32("entity tag")?;
+        let x = r.c.i32(third)?;
+        let n = r.c.count(&format!("number of {item}s in the block"), min_item)?;
+        (dim, tag, x, n)
+    };
+    if !(0..=3).contains(&dim) {
+        return Err(r.c.err_at(at, ErrorKind::Expected { expected: "an entity dimension 0 to 3".into(), found: dim.to_string() }));
+    }
+    Ok((dim, tag, x, n))
+}
+
+/// `$Nodes`: entity blocks of tags then coordinates (and parametric coordinates, read past).
+pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()> {
+    let binary = r.c.binary;
+    let st = r.size_t;
+    // Smallest node: `1\n0 0 0\n` in ASCII, a size_t and 3 doubles in binary.
+    let min_node = if binary { st + 24 } else { 8 };
+    let (n_blocks, n_nodes) = section_header(r, "node", if binary { 12 + st } else { 8 }, min_node)?;
+    r.points.reserve(n_nodes);
+    r.node_tags.reserve(n_nodes);
+    let mut total = 0usize;
+    for _ in 0..n_blocks {
+        let block_at = r.c.mark();
+        let (dim, _tag, parametric, n) = block_header(r, "parametric flag", "node", min_node)?;
+        if parametric != 0 && parametric != 1 {
+            return Err(r.c.err_at(block_at, ErrorKind::Expected { expected: "a parametric flag 0 or 1".into(), found: parametric.to_string() }));
+        }
+        total += n;
+        if total > n_nodes {
+            return Err(r.c.err_at(block_at, ErrorKind::Inconsistent(format!("the node blocks hold more nodes than the $Nodes header announces ({n_nodes})"))));
+        }
+        let width = 3 + if parametric == 1 { dim as usize } else { 0 };
+        r.node_blocks.push((r.node_tags.len(), block_at));
+        if binary {
+            let p = r.c.pos();
+            let tags = r.c.take_array(n, st, "node tags")?;
+            for (i, ch) in tags.chunks_exact(st).enumerate() {
+                let t = le_size(ch, st);
+                if t == 0 {
+                    return Err(r.c.byte_err(p + i * st, ErrorKind::Expected { expected: "a node tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+                }
+                r.node_tags.push(t);
+            }
+            let p = r.c.pos();
+            let coords = r.c.take_array(n, 8 * width, "node coordinates")?;
+            for (i, ch) in coords.chunks_exact(8 * width).enumerate() {
+                let xyz = [le_f64(&ch[0..8]), le_f64(&ch[8..16]), le_f64(&ch[16..24])];
+                if !xyz.iter().all(|c| c.is_finite()) {
+                    return Err(r.c.byte_err(p + i * 8 * width, ErrorKind::NonFinite { what: "a node coordinate".into(), value: format!("{xyz:?}") }));
+                }
+                r.points.push(xyz);
+            }
+        } else {
+            let mut s = r.c.scan();
+            for _ in 0..n {
+                let t = r.c.scan_u64(&mut s, "node tag")?;
+                if t == 0 {
+                    r.c.unscan(&s);
+                    return Err(r.c.err(ErrorKind::Expected { expected: "a node tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+                }
+                r.node_tags.push(t);
+            }
+            for _ in 0..n {
+                let x = r.c.scan_f64(&mut s, "x coordinate")?;
+                let line = s.line();
+                let xyz = [x, r.c.scan_f64(&mut s, "y coordinate")?, r.c.scan_f64(&mut s, "z coordinate")?];
+                for _ in 3..width {
+                    r.c.scan_f64(&mut s, "parametric coordinate")?;
+                }
+                if s.line() != line {
+                    return Err(r.c.err_at(Position::Line(line), ErrorKind::Expected { expected: format!("{width} coordinates on the line"), found: "fewer".into() }));
+                }
+                r.points.push(xyz);
+            }
+            r.c.unscan(&s);
+        }
+    }
+    if total != n_nodes {
+        return Err(r.c.err_at(section_at, ErrorKind::Inconsistent(format!("$Nodes announces {n_nodes} nodes, but its blocks hold {total}"))));
+    }
+    r.nodes_changed();
+    r.c.expect_end("Nodes")
+}
+
+/// `$Elements`: entity blocks of one element type each.
+pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
+    let section_at = r.c.mark();
+    let binary = r.c.binary;
+    let st = r.size_t;
+    let (n_blocks, n_elems) = section_header(r, "element", if binary { 12 + st } else { 8 }, if binary { 2 * st } else { 4 })?;
+    let map = r.take_node_map()?;
+    let mut total = 0usize;
+    for _ in 0..n_blocks {
+        let block_at = r.c.mark();
+        let (dim, tag, etype, n) = block_header(r, "element type", "element", if binary { 2 * st } else { 4 })?;
+        let kind = cell_kind(etype).map_err(|k| r.c.err_at(block_at, k))?;
+        let k = kind.nodes_per_cell();
+        total += n;
+        if total > n_elems {
+            return Err(r.c.err_at(block_at, ErrorKind::Inconsistent(format!("the element blocks hold more elements than the $Elements header announces ({n_elems})"))));
+        }
+        let mut b = RawBlock {
+            kind,
+            at: block_at,
+            tags: super::TagList::new(),
+            nodes: Vec::with_capacity(n * k),
+            physical: Vec::new(),
+            geometrical: vec![tag; n],
+            entity: Some((dim as u8, tag)),
+        };
+        if binary {
+            let p = r.c.pos();
+            let data = r.c.take_array(n, (1 + k) * st, "elements")?;
+            if st == 8 {
+                binary_elements::<8>(r, &map, &mut b, data, p)?;
+            } else {
+                binary_elements::<4>(r, &map, &mut b, data, p)?;
+            }
+        } else {
+            let mut s = r.c.scan();
+            for _ in 0..n {
+                let et = r.c.scan_u64(&mut s, "element tag")?;
+                let line = s.line();
+                if et == 0 {
+                    r.c.unscan(&s);
+                    return Err(r.c.err(ErrorKind::Expected { expected: "an element tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+                }
+                b.tags.push(et);
+                for _ in 0..k {
+                    let nt = r.c.scan_u64(&mut s, "node tag")?;
+                    let Some(v) = map.get(nt) else {
+                        r.c.unscan(&s);
+                        return Err(r.c.err(missing(et, nt)));
+                    };
+                    b.nodes.push(v);
+                }
+                if s.line() != line || !s.at_line_end() {
+                    return Err(r.c.err_at(
+                        Position::Line(line),
+                        ErrorKind::Expected { expected: format!("{k} node tags after element {et} (a {})", kind.name()), found: "another number of values on the line".into() },
+                    ));
+                }
+            }
+            r.c.unscan(&s);
+        }
+        r.push_raw(b);
+    }
+    if total != n_elems {
+        return Err(r.c.err_at(section_at, ErrorKind::Inconsistent(format!("$Elements announces {n_elems} elements, but its blocks hold {total}"))));
+    }
+    r.put_node_map(map);
+    r.c.expect_end("Elements")
+}
+
+fn missing(et: u64, nt: u64) -> ErrorKind {
+    ErrorKind::Inconsistent(format!("element {et} refers to node {nt}, which no $Nodes section defines"))
+}
+
+/// Binary element records of `ST`-byte `size_t`s: a tag then the node tags.
+fn binary_elements<const ST: usize>(r: &Reader<'_>, map: &super::TagMap, b: &mut RawBlock, data: &[u8], p: usize) -> Result<()> {
+    let k = b.kind.nodes_per_cell();
+    let rec = (1 + k) * ST;
+    for (e, ch) in data.chunks_exact(rec).enumerate() {
+        let et = le_size(ch, ST);
+        if et == 0 {
+            return Err(r.c.byte_err(p + e * rec, ErrorKind::Expected { expected: "an element tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+        }
+        b.tags.push(et);
+        for (j, t) in ch[ST..].chunks_exact(ST).enumerate() {
+            let nt = le_size(t, ST);
+            let Some(v) = map.get(nt) else {
+                return Err(r.c.byte_err(p + e * rec + (j + 1) * ST, missing(et, nt)));
+            };
+            b.nodes.push(v);
+        }
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------
+// Writing
+
+const UNSET: u32 = u32::MAX;
+
+/// A model entity as written.
+struct Ent {
+    dim: u8,
+    tag: i32,
+    phys: Vec<i32>,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    has_box: bool,
+    /// The node of a point entity's vertex cell.
+    point: Option<usize>,
+}
+
+impl Ent {
+    fn grow(&mut self, p: &[f64; 3]) {
+        if self.has_box {
+            for ((lo, hi), &c) in self.lo.iter_mut().zip(&mut self.hi).zip(p) {
+                *lo = lo.min(c);
+                *hi = hi.max(c);
+            }
+        } else {
+            self.lo = *p;
+            self.hi = *p;
+            self.has_box = true;
+        }
+    }
+}
+
+fn kind_index(k: CellKind) -> usize {
+    CellKind::ALL.iter().position(|&x| x == k).unwrap_or(0)
+}
+
+/// Where every cell and node goes: entities, element blocks, node blocks.
+struct Plan {
+    ents: Vec<Ent>,
+    /// Element blocks `(entity, kind)` with their cells as `(block, index)`.
+    groups: Vec<(u32, CellKind, std::ops::Range<usize>)>,
+    cells: Vec<(u32, u32)>,
+    /// Node blocks `(entity, nodes)`.
+    node_groups: Vec<(u32, std::ops::Range<usize>)>,
+    nodes: Vec<u32>,
+}
+
+fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
+    // 1. The (dimension, geometrical tag, physical tag) of every cell.
+    let mut combos: BTreeMap<(u8, i32, i32), u32> = BTreeMap::new();
+    let mut first_phys: BTreeMap<(u8, i32), i32> = BTreeMap::new();
+    let mut cell_combo: Vec<u32> = Vec::with_capacity(mesh.num_cells());
+    let mut last: Option<((u8, i32, i32), u32)> = None;
+    for b in &mesh.blocks {
+        let dim = b.kind.dim();
+        for (&p, &g) in b.physical.iter().zip(&b.geometrical) {
+            let key = (dim, g, p);
+            let id = match last {
+                Some((k, id)) if k == key => id,
+                _ => {
+                    let n = combos.len() as u32;
+                    let id = *combos.entry(key).or_insert(n);
+                    first_phys.entry((dim, g)).or_insert(p);
+                    last = Some((key, id));
+                    id
+                }
+            };
+            cell_combo.push(id);
+        }
+    }
+
+    // 2. Free tags per dimension, above every tag in use.
+    let mut next_free = [1i64; 4];
+    for &(d, g, _) in combos.keys() {
+        next_free[d as usize] = next_free[d as usize].max(g as i64 + 1);
+    }
+    for &(d, t) in mesh.entities.keys() {
+        if d <= 3 {
+            next_free[d as usize] = next_free[d as usize].max(t as i64 + 1);
+        }
+    }
+    let mut alloc = |d: u8| -> Result<i32> {
+        let t = next_free[d as usize];
+        next_free[d as usize] += 1;
+        i32::try_from(t).map_err(|_| Error::new(ErrorKind::CannotWrite { format: "Gmsh MSH", reason: format!("no free {d}D entity tag is left above the largest one in use") }))
+    };
+
+    // 3. An entity per (dimension, geometrical tag); cells of other physical tags than
+    //    the entity's first move to new entities.
+    let mut ents: BTreeMap<(u8, i32), Vec<i32>> = BTreeMap::new();
+    let mut combo_ent: Vec<(u8, i32)> = vec![(0, 0); combos.len()];
+    let by_entity = {
+        let mut m: BTreeMap<(u8, i32), Vec<(i32, u32)>> = BTreeMap::new();
+        for (&(d, g, p), &id) in &combos {
+            m.entry((d, g)).or_default().push((p, id));
+        }
+        m
+    };
+    let mut untagged = 0usize;
+    for ((d, g), list) in &by_entity {
+        let (d, g) = (*d, *g);
+        if g <= 0 {
+            for &(p, id) in list {
+                let t = alloc(d)?;
+                ents.insert((d, t), if p != 0 { vec![p] } else { vec![] });
+                combo_ent[id as usize] = (d, t);
+                untagged += 1;
+            }
+            continue;
+        }
+        let listed = mesh.entities.get(&(d, g)).filter(|l| !l.is_empty());
+        let home = match listed {
+            Some(l) if list.iter().any(|&(p, _)| p == l[0]) => l[0],
+            _ => first_phys.get(&(d, g)).copied().unwrap_or(0),
+        };
+        let tags = match listed {
+            Some(l) if l.contains(&home) => std::iter::once(home).chain(l.iter().copied().filter(|&p| p != home)).collect(),
+            Some(l) => {
+                report.drop(format!(
+                    "{d}D entity {g}: its physical groups {l:?} do not include its cells' group {home}; written with group {home} only"
+                ));
+                if home != 0 { vec![home] } else { vec![] }
+            }
+            None if home != 0 => vec![home],
+            None => vec![],
+        };
+        ents.insert((d, g), tags);
+        let mut moved = Vec::new();
+        for &(p, id) in list {
+            if p == home {
+                combo_ent[id as usize] = (d, g);
+            } else {
+                let t = alloc(d)?;
+                ents.insert((d, t), if p != 0 { vec![p] } else { vec![] });
+                combo_ent[id as usize] = (d, t);
+                moved.push(format!("group {p} → entity {t}"));
+            }
+        }
+        if !moved.is_empty() {
+            report.drop(format!(
+                "{d}D entity {g} holds cells of several physical groups; MSH 4.1 gives groups to entities, not cells, so cells were moved to new entities ({}), changing their geometrical tag",
+                moved.join(", ")
+            ));
+        }
+    }
+    if untagged > 0 {
+        report.drop(format!(
+            "cells without a positive geometrical tag placed on {untagged} new entities (Gmsh entity tags are strictly positive)"
+        ));
+    }
+    // Entities without cells keep their groups.
+    for (&(d, t), list) in &mesh.entities {
+        if d > 3 || t <= 0 {
+            report.drop(format!("entity ({d}, {t}): Gmsh entities have a dimension 0 to 3 and a positive tag"));
+        } else {
+            ents.entry((d, t)).or_insert_with(|| list.clone());
+        }
+    }
+    // Nodes with no cell need an entity to be written in.
+    let host_key = if mesh.num_cells() == 0 && !mesh.points.is_empty() {
+        let key = (2, alloc(2)?);
+        ents.insert(key, Vec::new());
+        Some(key)
+    } else {
+        None
+    };
+
+    // 4. Entities in (dimension, tag) order.
+    let index: BTreeMap<(u8, i32), u32> = ents.keys().enumerate().map(|(i, &k)| (k, i as u32)).collect();
+    let mut ents: Vec<Ent> =
+        ents.into_iter().map(|((dim, tag), phys)| Ent { dim, tag, phys, lo: [0.0; 3], hi: [0.0; 3], has_box: false, point: None }).collect();
+    let combo_idx: Vec<u32> = combo_ent.iter().map(|k| index[k]).collect();
+
+    // 5. Element blocks by (entity, kind): a counting sort of the cells.
+    let nk = CellKind::ALL.len();
+    let mut counts = vec![0usize; ents.len() * nk + 1];
+    let mut keys: Vec<u32> = Vec::with_capacity(cell_combo.len());
+    {
+        let mut c = 0;
+        for b in &mesh.blocks {
+            let ki = kind_index(b.kind);
+            for _ in 0..b.len() {
+                let key = combo_idx[cell_combo[c] as usize] as usize * nk + ki;
+                counts[key + 1] += 1;
+                keys.push(key as u32);
+                c += 1;
+            }
+        }
+    }
+    for i in 1..counts.len() {
+        counts[i] += counts[i - 1];
+    }
+    let mut cells = vec![(0u32, 0u32); keys.len()];
+    {
+        let mut fill = counts.clone();
+        let mut c = 0;
+        for (bi, b) in mesh.blocks.iter().enumerate() {
+            for i in 0..b.len() {
+                let key = keys[c] as usize;
+                cells[fill[key]] = (bi as u32, i as u32);
+                fill[key] += 1;
+                c += 1;
+            }
+        }
+    }
+    let mut groups = Vec::new();
+    for key in 0..ents.len() * nk {
+        if counts[key + 1] > counts[key] {
+            groups.push(((key / nk) as u32, CellKind::ALL[key % nk], counts[key]..counts[key + 1]));
+        }
+    }
+
+    // 6. Each node on the first (lowest-dimensional) entity that uses it; bounding boxes.
+    let mut node_ent = vec![UNSET; mesh.points.len()];
+    for (e, kind, range) in &groups {
+        let ent = &mut ents[*e as usize];
+        for &(bi, i) in &cells[range.clone()] {
+            for &v in mesh.blocks[bi as usize].cell(i as usize) {
+                if node_ent[v] == UNSET {
+                    node_ent[v] = *e;
+                }
+                ent.grow(&mesh.points[v]);
+                if *kind == CellKind::Vertex && ent.point.is_none() {
+                    ent.point = Some(v);
+                }
+            }
+        }
+    }
+    // Nodes no cell uses: on the first entity of the highest dimension with cells.
+    let host = match host_key {
+        Some(k) => Some(index[&k]),
+        None => groups.iter().map(|g| g.0).max_by_key(|&e| (ents[e as usize].dim, std::cmp::Reverse(ents[e as usize].tag))),
+    };
+    if let Some(h) = host {
+        for (v, e) in node_ent.iter_mut().enumerate() {
+            if *e == UNSET {
+                *e = h;
+                ents[h as usize].grow(&mesh.points[v]);
+            }
+        }
+    }
+
+    // 7. Node blocks: a counting sort of the nodes by entity.
+    let mut ncounts = vec![0usize; ents.len() + 1];
+    for &e in &node_ent {
+        ncounts[e as usize + 1] += 1;
+    }
+    for i in 1..ncounts.len() {
+        ncounts[i] += ncounts[i - 1];
+    }
+    let mut nodes = vec![0u32; node_ent.len()];
+    let mut fill = ncounts.clone();
+    for (v, &e) in node_ent.iter().enumerate() {
+        nodes[fill[e as usize]] = v as u32;
+        fill[e as usize] += 1;
+    }
+    let node_groups = (0..ents.len()).filter(|&e| ncounts[e + 1] > ncounts[e]).map(|e| (e as u32, ncounts[e]..ncounts[e + 1])).collect();
+    Ok(Plan { ents, groups, cells, node_groups, nodes })
+}
+
+/// Appends a `size_t` (8 bytes: the files say so in `$MeshFormat`).
+#[inline]
+fn push_size(out: &mut Vec<u8>, v: usize) {
+    out.extend_from_slice(&(v as u64).to_le_bytes());
+}
+
+fn push_f64s(out: &mut Vec<u8>, vs: &[f64], binary: bool) {
+    for &v in vs {
+        if binary {
+            out.extend_from_slice(&v.to_le_bytes());
+        } else {
+            out.push(b' ');
+            push_f64(out, v);
+        }
+    }
+}
+
+fn write_entities(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: bool) {
+    out.extend_from_slice(b"$Entities\n");
+    let mut counts = [0usize; 4];
+    for e in &plan.ents {
+        counts[e.dim as usize] += 1;
+    }
+    if binary {
+        for c in counts {
+            push_size(out, c);
+        }
+    } else {
+        for (i, c) in counts.iter().enumerate() {
+            push_int(out, *c);
+            out.push(if i < 3 { b' ' } else { b'\n' });
+        }
+    }
+    let first_node: BTreeMap<u32, usize> = plan.node_groups.iter().map(|(e, r)| (*e, plan.nodes[r.start] as usize)).collect();
+    for (ei, e) in plan.ents.iter().enumerate() {
+        if binary {
+            out.extend_from_slice(&e.tag.to_le_bytes());
+        } else {
+            push_int(out, e.tag);
+        }
+        if e.dim == 0 {
+            let p = e.point.or_else(|| first_node.get(&(ei as u32)).copied()).map_or([0.0; 3], |v| mesh.points[v]);
+            push_f64s(out, &p, binary);
+        } else {
+            push_f64s(out, &e.lo, binary);
+            push_f64s(out, &e.hi, binary);
+        }
+        if binary {
+            push_size(out, e.phys.len());
+            for p in &e.phys {
+                out.extend_from_slice(&p.to_le_bytes());
+            }
+            if e.dim > 0 {
+                push_size(out, 0);
+            }
+        } else {
+            out.push(b' ');
+            push_int(out, e.phys.len());
+            for p in &e.phys {
+                out.push(b' ');
+                push_int(out, *p);
+            }
+            if e.dim > 0 {
+                out.extend_from_slice(b" 0");
+            }
+            out.push(b'\n');
+        }
+    }
+    if binary {
+        out.push(b'\n');
+    }
+    out.extend_from_slice(b"$EndEntities\n");
+}
+
+fn write_header4(out: &mut Vec<u8>, blocks: usize, n: usize, binary: bool) {
+    let (lo, hi) = if n == 0 { (0, 0) } else { (1, n) };
+    if binary {
+        for v in [blocks, n, lo, hi] {
+            push_size(out, v);
+        }
+    } else {
+        for (i, v) in [blocks, n, lo, hi].into_iter().enumerate() {
+            push_int(out, v);
+            out.push(if i < 3 { b' ' } else { b'\n' });
+        }
+    }
+}
+
+fn write_block_header(out: &mut Vec<u8>, dim: u8, tag: i32, third: i32, n: usize, binary: bool) {
+    if binary {
+        out.extend_from_slice(&(dim as i32).to_le_bytes());
+        out.extend_from_slice(&tag.to_le_bytes());
+        out.extend_from_slice(&third.to_le_bytes());
+        push_size(out, n);
+    } else {
+        push_int(out, dim);
+        out.push(b' ');
+        push_int(out, tag);
+        out.push(b' ');
+        push_int(out, third);
+        out.push(b' ');
+        push_int(out, n);
+        out.push(b'\n');
+    }
+}
+
+fn write_nodes(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: bool) {
+    out.extend_from_slice(b"$Nodes\n");
+    write_header4(out, plan.node_groups.len(), mesh.points.len(), binary);
+    for (e, range) in &plan.node_groups {
+        let ent = &plan.ents[*e as usize];
+        let nodes = &plan.nodes[range.clone()];
+        write_block_header(out, ent.dim, ent.tag, 0, nodes.len(), binary);
+        if binary {
+            for &v in nodes {
+                push_size(out, v as usize + 1);
+            }
+            for &v in nodes {
+                for c in mesh.points[v as usize] {
+                    out.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+        } else {
+            for &v in nodes {
+                push_int(out, v + 1);
+                out.push(b'\n');
+            }
+            for &v in nodes {
+                let p = &mesh.points[v as usize];
+                push_f64(out, p[0]);
+                out.push(b' ');
+                push_f64(out, p[1]);
+                out.push(b' ');
+                push_f64(out, p[2]);
+                out.push(b'\n');
+            }
+        }
+    }
+    if binary {
+        out.push(b'\n');
+    }
+    out.extend_from_slice(b"$EndNodes\n");
+}
+
+fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: bool) {
+    out.extend_from_slice(b"$Elements\n");
+    write_header4(out, plan.groups.len(), mesh.num_cells(), binary);
+    let offsets: Vec<usize> = mesh
+        .blocks
+        .iter()
+        .scan(0, |s, b| {
+            let r = *s;
+            *s += b.len();
+            Some(r)
+        })
+        .collect();
+    for (e, kind, range) in &plan.groups {
+        let ent = &plan.ents[*e as usize];
+        write_block_header(out, ent.dim, ent.tag, kind.gmsh_type(), range.len(), binary);
+        for &(bi, i) in &plan.cells[range.clone()] {
+            let tag = offsets[bi as usize] + i as usize + 1;
+            let cell = mesh.blocks[bi as usize].cell(i as usize);
+            if binary {
+                push_size(out, tag);
+                for &v in cell {
+                    push_size(out, v + 1);
+                }
+            } else {
+                push_int(out, tag);
+                for &v in cell {
+                    out.push(b' ');
+                    push_int(out, v + 1);
+                }
+                out.push(b'\n');
+            }
+        }
+    }
+    if binary {
+        out.push(b'\n');
+    }
+    out.extend_from_slice(b"$EndElements\n");
+}
+
+/// Writes MSH 4.1.
+pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) -> Result<()> {
+    let plan = plan(mesh, report)?;
+    write_mesh_format(out, "4.1", binary);
+    write_physical_names(out, mesh, report);
+    write_entities(out, mesh, &plan, binary);
+    write_nodes(out, mesh, &plan, binary);
+    write_elements(out, mesh, &plan, binary);
+    write_views(out, mesh, binary, &|i| i as u64 + 1, report);
+    Ok(())
+}
