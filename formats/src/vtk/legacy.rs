@@ -11,7 +11,7 @@ use crate::error::Position;
 use crate::text::{check_count, Tokens};
 use crate::{Error, ErrorKind, Result, TaggedMesh, WriteOptions, Written};
 
-use super::{decode_f64, decode_i64, offsets, push_num, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
+use super::{decode_f64, decode_i64, decode_indices, decode_points, offsets, push_num, put, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
 
 /// Which data section the arrays that follow belong to.
 #[derive(Clone, Copy, PartialEq)]
@@ -22,6 +22,11 @@ enum Section {
 }
 
 struct Reader<'a> {
+    /// The whole file.
+    data: &'a [u8],
+    /// Offset of `t`'s slice in `data`: after a binary array the cursor restarts there,
+    /// so that no time is spent counting lines through binary data.
+    base: usize,
     t: Tokens<'a>,
     binary: bool,
     npoints: Option<usize>,
@@ -71,9 +76,13 @@ fn show(tok: &[u8]) -> String {
 }
 
 impl<'a> Reader<'a> {
+    fn pos(&self) -> usize {
+        self.base + self.t.pos()
+    }
+
     fn here(&self) -> Position {
         if self.binary {
-            Position::Byte(self.t.pos() as u64)
+            Position::Byte(self.pos() as u64)
         } else {
             Position::Line(self.t.line())
         }
@@ -87,7 +96,7 @@ impl<'a> Reader<'a> {
     /// useful position.
     fn fix(&self, mut e: Error) -> Error {
         if self.binary {
-            e.at = Some(Position::Byte(self.t.pos() as u64));
+            e.at = Some(Position::Byte(self.pos() as u64));
         }
         e
     }
@@ -140,18 +149,19 @@ impl<'a> Reader<'a> {
     /// The `n * ty.size()` bytes of a binary array, the cursor moved past them.
     fn binary_bytes(&mut self, n: usize, ty: Scalar, what: &str) -> Result<&'a [u8]> {
         let rem = self.t.remaining();
-        let need = n.checked_mul(ty.size()).filter(|&b| b <= rem.len()).ok_or_else(|| {
-            self.err(ErrorKind::UnexpectedEof { context: format!("{what}: {n} values of {} bytes, {} bytes left", ty.size(), rem.len()) })
-        })?;
-        let start = self.t.pos();
-        self.t.seek(start + need);
+        let need = n
+            .checked_mul(ty.size())
+            .filter(|&b| b <= rem.len())
+            .ok_or_else(|| self.err(ErrorKind::UnexpectedEof { context: format!("{what}: {n} values of {} bytes, {} bytes left", ty.size(), rem.len()) }))?;
+        self.base = self.pos() + need;
+        self.t = Tokens::new(&self.data[self.base..]);
         Ok(&rem[..need])
     }
 
     /// Reads `n` values as `f64` (ASCII or binary), refusing NaN and infinities.
     fn floats(&mut self, n: usize, ty: Scalar, what: &str, out: &mut Vec<f64>) -> Result<()> {
         if self.binary {
-            let start = self.t.pos();
+            let start = self.pos();
             let bytes = self.binary_bytes(n, ty, what)?;
             decode_f64(bytes, ty, true, n, out).map_err(|i| {
                 Error::at_byte((start + i * ty.size()) as u64, ErrorKind::NonFinite { what: format!("{what}, value {i}"), value: "NaN or infinity".into() })
@@ -168,7 +178,7 @@ impl<'a> Reader<'a> {
     /// Reads `n` integers (ASCII or binary).
     fn ints(&mut self, n: usize, ty: Scalar, what: &str, out: &mut Vec<i64>) -> Result<()> {
         if self.binary {
-            let start = self.t.pos();
+            let start = self.pos();
             let bytes = self.binary_bytes(n, ty, what)?;
             decode_i64(bytes, ty, true, n, out).map_err(|i| {
                 Error::at_byte((start + i * ty.size()) as u64, ErrorKind::Expected { expected: format!("{what}: an integer"), found: format!("value {i}") })
@@ -197,9 +207,20 @@ impl<'a> Reader<'a> {
         let n = self.count("points", 6, 3)?;
         let ty = self.scalar()?;
         self.end_header();
-        let mut flat = Vec::new();
-        self.floats(3 * n, ty, "point coordinate", &mut flat)?;
-        self.grid.points = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        if self.binary {
+            let start = self.pos();
+            let bytes = self.binary_bytes(3 * n, ty, "point coordinates")?;
+            self.grid.points = decode_points(bytes, ty, true, n).map_err(|i| {
+                Error::at_byte(
+                    (start + i * ty.size()) as u64,
+                    ErrorKind::NonFinite { what: format!("coordinate {} of point {}", i % 3, i / 3), value: "NaN or infinity".into() },
+                )
+            })?;
+        } else {
+            let mut flat = Vec::new();
+            self.floats(3 * n, ty, "point coordinate", &mut flat)?;
+            self.grid.points = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        }
         self.npoints = Some(n);
         if self.grid.cells_at.is_some() && self.grid.connectivity.iter().any(|&v| v >= n) {
             return Err(Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent("CELLS before POINTS refer to points that do not exist".into()) });
@@ -245,15 +266,19 @@ impl<'a> Reader<'a> {
             }
             let cty = self.scalar()?;
             self.end_header();
-            let mut conn = Vec::new();
             if self.binary {
-                self.ints(size, cty, "cell node", &mut conn)?;
+                let start = self.pos();
+                let bytes = self.binary_bytes(size, cty, "cell nodes")?;
                 let np = self.npoints.unwrap_or(usize::MAX);
-                if let Some(i) = conn.iter().position(|&v| v < 0 || v as u64 >= np as u64) {
+                self.grid.connectivity = decode_indices(bytes, cty, true, size, np).map_err(|(i, v)| {
                     let cell = offs.partition_point(|&o| o as usize <= i).saturating_sub(1);
-                    return Err(self.node(conn[i], cell).unwrap_err());
-                }
-                self.grid.connectivity = conn.into_iter().map(|v| v as usize).collect();
+                    let mut e = self
+                        .node(v, cell)
+                        .err()
+                        .unwrap_or_else(|| self.err(ErrorKind::Expected { expected: "an integer node index".into(), found: v.to_string() }));
+                    e.at = Some(Position::Byte((start + i * cty.size()) as u64));
+                    e
+                })?;
             } else {
                 let mut out = Vec::with_capacity(size);
                 for c in 0..ncells {
@@ -268,7 +293,11 @@ impl<'a> Reader<'a> {
             self.ncells = Some(ncells);
         } else {
             if size < n {
-                return Err(Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent(format!("CELLS {n} {size}: the list size must count one node count per cell")) });
+                return Err(Error {
+                    path: None,
+                    at: Some(at),
+                    kind: ErrorKind::Inconsistent(format!("CELLS {n} {size}: the list size must count one node count per cell")),
+                });
             }
             self.end_header();
             let mut offs = Vec::with_capacity(n + 1);
@@ -276,25 +305,49 @@ impl<'a> Reader<'a> {
             offs.push(0usize);
             let mut left = size;
             if self.binary {
-                let start = self.t.pos();
+                let start = self.pos();
                 let bytes = self.binary_bytes(size, Scalar::I32, "cell list")?;
-                let mut it = bytes.chunks_exact(4).map(|c| i32::from_be_bytes(c.try_into().expect("4 bytes")) as i64);
-                for c in 0..n {
-                    let pos = start + 4 * (size - left);
-                    let k = it.next().unwrap_or(-1);
+                let word = |i: usize| i32::from_be_bytes(bytes[4 * i..4 * i + 4].try_into().expect("4 bytes")) as i64;
+                let k0 = if n > 0 { word(0) } else { 0 };
+                let uniform =
+                    n > 0 && (1..=64).contains(&k0) && size == n * (k0 as usize + 1) && bytes.chunks_exact(4 * (k0 as usize + 1)).all(|c| c[..4] == bytes[..4]);
+                let mut p = 0;
+                if uniform {
+                    // Every cell has the same node count (a triangle mesh): one pass.
+                    let k = k0 as usize;
+                    conn.resize(n * k, 0);
+                    for (dst, src) in conn.chunks_exact_mut(k).zip(bytes.chunks_exact(4 * (k + 1))) {
+                        for (d, b) in dst.iter_mut().zip(src[4..].chunks_exact(4)) {
+                            *d = i32::from_be_bytes(b.try_into().expect("4 bytes")) as usize;
+                        }
+                    }
+                    offs.extend((1..=n).map(|c| c * k));
+                    left = 0;
+                }
+                for c in 0..if uniform { 0 } else { n } {
+                    let k = word(p);
                     left -= 1;
                     if k < 0 || k as usize > left {
-                        return Err(Error::at_byte(pos as u64, ErrorKind::Expected { expected: format!("a node count for cell {c}, at most {left}"), found: k.to_string() }));
+                        return Err(Error::at_byte(
+                            (start + 4 * p) as u64,
+                            ErrorKind::Expected { expected: format!("a node count for cell {c}, at most {left}"), found: k.to_string() },
+                        ));
                     }
-                    for _ in 0..k {
-                        let v = it.next().unwrap_or(-1);
-                        conn.push(self.node(v, c).map_err(|mut e| {
-                            e.at = Some(Position::Byte(pos as u64));
-                            e
-                        })?);
-                    }
-                    left -= k as usize;
+                    let k = k as usize;
+                    // Negative indices wrap to huge values and fail the range check below.
+                    conn.extend(bytes[4 * (p + 1)..4 * (p + 1 + k)].chunks_exact(4).map(|b| i32::from_be_bytes(b.try_into().expect("4 bytes")) as usize));
+                    p += 1 + k;
+                    left -= k;
                     offs.push(conn.len());
+                }
+                let np = self.npoints.unwrap_or(usize::MAX);
+                if let Some(i) = conn.iter().position(|&v| v >= np) {
+                    let c = offs.partition_point(|&o| o <= i) - 1;
+                    let at = start + 4 * (i + c + 1);
+                    return Err(Error::at_byte(
+                        at as u64,
+                        ErrorKind::IndexOutOfRange { what: format!("cell {c}"), index: conn[i] as i32 as i64, available: np },
+                    ));
                 }
             } else {
                 for c in 0..n {
@@ -429,8 +482,19 @@ impl<'a> Reader<'a> {
     }
 
     fn read_attribute(&mut self, key: &'a [u8]) -> Result<()> {
-        const KEYWORDS: [&[u8]; 11] =
-            [b"SCALARS", b"VECTORS", b"NORMALS", b"TENSORS", b"TENSORS6", b"TEXTURE_COORDINATES", b"GLOBAL_IDS", b"PEDIGREE_IDS", b"COLOR_SCALARS", b"LOOKUP_TABLE", b"FIELD"];
+        const KEYWORDS: [&[u8]; 11] = [
+            b"SCALARS",
+            b"VECTORS",
+            b"NORMALS",
+            b"TENSORS",
+            b"TENSORS6",
+            b"TEXTURE_COORDINATES",
+            b"GLOBAL_IDS",
+            b"PEDIGREE_IDS",
+            b"COLOR_SCALARS",
+            b"LOOKUP_TABLE",
+            b"FIELD",
+        ];
         let k = key.to_ascii_uppercase();
         if KEYWORDS.contains(&k.as_slice()) {
             self.need_section(key)?;
@@ -550,7 +614,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<TaggedMesh> {
     } else {
         return Err(t.expected("ASCII or BINARY", kind));
     };
-    let mut r = Reader { t, binary, npoints: None, ncells: None, section: Section::Dataset, items: 0, grid: Grid::default() };
+    let mut r = Reader { data: bytes, base: 0, t, binary, npoints: None, ncells: None, section: Section::Dataset, items: 0, grid: Grid::default() };
     let mut dataset = false;
     while let Some(key) = r.t.next() {
         let k = key.to_ascii_uppercase();
@@ -597,10 +661,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         (4, 2) => false,
         (5, 1) => true,
         (a, b) => {
-            return Err(Error::new(ErrorKind::CannotWrite {
-                format: "VTK legacy",
-                reason: format!("file version {a}.{b}: smartmesh writes 4.2 and 5.1"),
-            }))
+            return Err(Error::new(ErrorKind::CannotWrite { format: "VTK legacy", reason: format!("file version {a}.{b}: smartmesh writes 4.2 and 5.1") }))
         }
     };
     let binary = opts.binary;
@@ -611,9 +672,10 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     if !v51 && nconn + nc > i32::MAX as usize {
         return Err(Error::new(ErrorKind::CannotWrite { format: "VTK legacy 4.2", reason: "more than 2^31 cell list entries; write version 5.1".into() }));
     }
-    let data_values = plan.point_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>() + plan.cell_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>();
+    let data_values =
+        plan.point_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>() + plan.cell_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>();
     let per_value = if binary { 8 } else { 20 };
-    let mut out = Vec::with_capacity(512 + np * 3 * per_value + (nconn + nc) * if binary { 8 } else { 8 } + nc * 24 + data_values * per_value);
+    let mut out = Vec::with_capacity(512 + np * 3 * per_value + (nconn + nc) * 8 + nc * 24 + data_values * per_value);
 
     out.extend_from_slice(if v51 { b"# vtk DataFile Version 5.1\n" } else { b"# vtk DataFile Version 4.2\n" });
     out.extend_from_slice(b"written by smartmesh\n");
@@ -624,11 +686,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     crate::text::push_int(&mut out, np);
     out.extend_from_slice(b" double\n");
     if binary {
-        for p in &mesh.points {
-            for c in p {
-                out.extend_from_slice(&c.to_be_bytes());
-            }
-        }
+        put(&mut out, mesh.points.as_flattened(), f64::to_be_bytes);
         out.push(b'\n');
     } else {
         for p in &mesh.points {
@@ -649,9 +707,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         crate::text::push_int(&mut out, nconn);
         out.extend_from_slice(b"\nOFFSETS vtktypeint64\n");
         if binary {
-            for o in &offs {
-                out.extend_from_slice(&(*o as i64).to_be_bytes());
-            }
+            put(&mut out, &offs, |o| (o as i64).to_be_bytes());
             out.push(b'\n');
         } else {
             for o in &offs {
@@ -662,9 +718,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         out.extend_from_slice(b"CONNECTIVITY vtktypeint64\n");
         for b in &mesh.blocks {
             if binary {
-                for &v in &b.nodes {
-                    out.extend_from_slice(&(v as i64).to_be_bytes());
-                }
+                put(&mut out, &b.nodes, |v| (v as i64).to_be_bytes());
             } else {
                 for cell in b.cells() {
                     for (j, &v) in cell.iter().enumerate() {
@@ -688,20 +742,25 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         out.push(b'\n');
         for b in &mesh.blocks {
             let k = b.kind.nodes_per_cell();
-            for cell in b.cells() {
-                if binary {
-                    out.extend_from_slice(&(k as i32).to_be_bytes());
-                    for &v in cell {
-                        out.extend_from_slice(&(v as i32).to_be_bytes());
+            if binary {
+                // `k i1 .. ik` per cell, converted in place as `put` does.
+                let s = out.len();
+                out.resize(s + b.len() * (k + 1) * 4, 0);
+                for (dst, cell) in out[s..].chunks_exact_mut((k + 1) * 4).zip(b.nodes.chunks_exact(k)) {
+                    dst[..4].copy_from_slice(&(k as i32).to_be_bytes());
+                    for (d, &v) in dst[4..].chunks_exact_mut(4).zip(cell) {
+                        d.copy_from_slice(&(v as i32).to_be_bytes());
                     }
-                } else {
-                    crate::text::push_int(&mut out, k);
-                    for &v in cell {
-                        out.push(b' ');
-                        crate::text::push_int(&mut out, v);
-                    }
-                    out.push(b'\n');
                 }
+                continue;
+            }
+            for cell in b.cells() {
+                crate::text::push_int(&mut out, k);
+                for &v in cell {
+                    out.push(b' ');
+                    crate::text::push_int(&mut out, v);
+                }
+                out.push(b'\n');
             }
         }
         if binary {
@@ -714,10 +773,10 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     out.push(b'\n');
     for b in &mesh.blocks {
         let t = b.kind.vtk_type() as i32;
-        for _ in 0..b.len() {
-            if binary {
-                out.extend_from_slice(&t.to_be_bytes());
-            } else {
+        if binary {
+            put(&mut out, &vec![t; b.len()], i32::to_be_bytes);
+        } else {
+            for _ in 0..b.len() {
                 crate::text::push_int(&mut out, t);
                 out.push(b'\n');
             }
@@ -739,8 +798,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             encode_name(&mut out, name);
             out.extend_from_slice(b" 1 2 int\n");
             if binary {
-                out.extend_from_slice(&tag.to_be_bytes());
-                out.extend_from_slice(&(dim as i32).to_be_bytes());
+                put(&mut out, &[tag, dim as i32], i32::to_be_bytes);
             } else {
                 crate::text::push_int(&mut out, tag);
                 out.push(b' ');
@@ -797,9 +855,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
 
 fn write_ints(out: &mut Vec<u8>, v: &[i32], binary: bool) {
     if binary {
-        for x in v {
-            out.extend_from_slice(&x.to_be_bytes());
-        }
+        put(out, v, i32::to_be_bytes);
     } else {
         for x in v {
             crate::text::push_int(out, *x);
@@ -813,9 +869,7 @@ fn write_ints(out: &mut Vec<u8>, v: &[i32], binary: bool) {
 
 fn write_floats(out: &mut Vec<u8>, v: &[f64], per_line: usize, binary: bool) {
     if binary {
-        for x in v {
-            out.extend_from_slice(&x.to_be_bytes());
-        }
+        put(out, v, f64::to_be_bytes);
         out.push(b'\n');
     } else {
         for item in v.chunks(per_line.max(1)) {

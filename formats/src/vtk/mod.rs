@@ -230,6 +230,50 @@ pub(crate) fn decode_i64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
     Ok(())
 }
 
+/// Decodes `n` points (3 values each) straight into `[f64; 3]`, the hot path of
+/// every binary reader. Returns the index of the first non-finite value.
+pub(crate) fn decode_points(bytes: &[u8], ty: Scalar, big: bool, n: usize) -> std::result::Result<Vec<[f64; 3]>, usize> {
+    let bytes = &bytes[..3 * n * ty.size()];
+    let pts: Vec<[f64; 3]> = if ty == Scalar::F64 {
+        let f = |c: &[u8]| if big { f64::from_be_bytes(c.try_into().expect("8")) } else { f64::from_le_bytes(c.try_into().expect("8")) };
+        bytes.chunks_exact(24).map(|c| [f(&c[..8]), f(&c[8..16]), f(&c[16..])]).collect()
+    } else {
+        let mut flat = Vec::new();
+        decode_f64(bytes, ty, big, 3 * n, &mut flat)?;
+        flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+    };
+    match pts.as_flattened().iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(i),
+        None => Ok(pts),
+    }
+}
+
+/// Decodes `n` point indices, each checked to be in `0..limit`; on failure, the
+/// position and value of the first bad one.
+pub(crate) fn decode_indices(bytes: &[u8], ty: Scalar, big: bool, n: usize, limit: usize) -> std::result::Result<Vec<usize>, (usize, i64)> {
+    let bytes = &bytes[..n * ty.size()];
+    let ok = |v: i64| v >= 0 && (v as u64) < limit as u64;
+    let out: Vec<usize> = match (ty, big) {
+        (Scalar::I64, false) => bytes.chunks_exact(8).map(|c| i64::from_le_bytes(c.try_into().expect("8")) as usize).collect(),
+        (Scalar::I64, true) => bytes.chunks_exact(8).map(|c| i64::from_be_bytes(c.try_into().expect("8")) as usize).collect(),
+        (Scalar::I32, false) => bytes.chunks_exact(4).map(|c| i32::from_le_bytes(c.try_into().expect("4")) as usize).collect(),
+        (Scalar::I32, true) => bytes.chunks_exact(4).map(|c| i32::from_be_bytes(c.try_into().expect("4")) as usize).collect(),
+        _ => {
+            let mut v = Vec::new();
+            decode_i64(bytes, ty, big, n, &mut v).map_err(|i| (i, -1))?;
+            if let Some(i) = v.iter().position(|&x| !ok(x)) {
+                return Err((i, v[i]));
+            }
+            return Ok(v.into_iter().map(|x| x as usize).collect());
+        }
+    };
+    // Negative values wrapped to huge `usize`s: one comparison catches both.
+    match out.iter().position(|&v| v >= limit) {
+        Some(i) => Err((i, out[i] as i64)),
+        None => Ok(out),
+    }
+}
+
 /// A named array as read from a file, before it is sorted into tags and data.
 #[derive(Debug)]
 pub(crate) struct Named {
@@ -294,8 +338,12 @@ fn vtk_type_name(t: u8) -> &'static str {
 }
 
 /// Converts a tag array value to `i32`, refusing fractions and overflow.
+#[inline]
 fn tag_value(v: f64) -> Option<i32> {
-    (v.fract() == 0.0 && v >= i32::MIN as f64 && v <= i32::MAX as f64).then_some(v as i32)
+    // `as` saturates (and maps NaN to 0): the round trip fails for fractions,
+    // out-of-range values and NaN alike.
+    let t = v as i32;
+    (t as f64 == v).then_some(t)
 }
 
 impl Grid {
@@ -359,8 +407,18 @@ impl Grid {
                 (p, g)
             }
         };
+        let mut phys = phys.unwrap_or_else(|| vec![0; n]);
+        let mut geom = geom.unwrap_or_else(|| phys.clone());
 
-        for i in 0..n {
+        // Every reader checks node indices where it reads them, so that the error names
+        // the line or byte; `read_bytes` validates the mesh once more.
+        debug_assert!(connectivity.iter().all(|&v| v < np), "node index out of range");
+        // Cells go to blocks a run of one type at a time: a whole run is one slice copy
+        // (or no copy at all when the file holds one cell type).
+        let single_run = n > 0 && types.iter().all(|&t| t == types[0]);
+        let mut connectivity = Some(connectivity);
+        let mut i = 0;
+        while i < n {
             let t = types[i];
             let kind = CellKind::from_vtk_type(t).ok_or_else(|| {
                 at_error(
@@ -371,23 +429,35 @@ impl Grid {
                     )),
                 )
             })?;
-            let (a, b) = (offsets[i], offsets[i + 1]);
-            if b < a || b > connectivity.len() || b - a != kind.nodes_per_cell() {
-                return Err(at_error(
-                    cells_at,
-                    ErrorKind::Expected {
-                        expected: format!("{} nodes for cell {i} (a {})", kind.nodes_per_cell(), kind.name()),
-                        found: format!("{}", b.wrapping_sub(a) as isize),
-                    },
-                ));
+            let k = kind.nodes_per_cell();
+            let mut j = i;
+            while j < n && types[j] == t {
+                let (a, b) = (offsets[j], offsets[j + 1]);
+                if b < a || b - a != k {
+                    return Err(at_error(
+                        cells_at,
+                        ErrorKind::Expected { expected: format!("{k} nodes for cell {j} (a {})", kind.name()), found: format!("{}", b as i128 - a as i128) },
+                    ));
+                }
+                j += 1;
             }
-            let nodes = &connectivity[a..b];
-            if let Some(&bad) = nodes.iter().find(|&&v| v >= np) {
-                return Err(at_error(cells_at, ErrorKind::IndexOutOfRange { what: format!("cell {i}"), index: bad as i64, available: np }));
+            let (a, b) = (offsets[i], offsets[j]);
+            if b > connectivity.as_ref().map_or(0, Vec::len) {
+                return Err(at_error(cells_at, ErrorKind::Inconsistent(format!("cells {i}..{j} end at node {b}, past the connectivity"))));
             }
-            let p = phys.as_ref().map_or(0, |v| v[i]);
-            let g = geom.as_ref().map_or(p, |v| v[i]);
-            mesh.block_mut(kind).push(nodes, p, g);
+            let block = mesh.block_mut(kind);
+            if single_run && block.nodes.is_empty() && a == 0 {
+                let mut conn = connectivity.take().unwrap_or_default();
+                conn.truncate(b);
+                block.nodes = conn;
+                block.physical = std::mem::take(&mut phys);
+                block.geometrical = std::mem::take(&mut geom);
+            } else {
+                block.nodes.extend_from_slice(connectivity.as_ref().map_or(&[][..], |c| &c[a..b]));
+                block.physical.extend_from_slice(&phys[i..j]);
+                block.geometrical.extend_from_slice(&geom[i..j]);
+            }
+            i = j;
         }
 
         for a in point_arrays {
@@ -491,6 +561,17 @@ pub(crate) fn push_num(out: &mut Vec<u8>, v: f64) {
         crate::text::push_int(out, v as i64);
     } else {
         crate::text::push_f64(out, v);
+    }
+}
+
+/// Appends `v` as fixed-width binary values: the buffer grows once and the values are
+/// converted in place, a loop the compiler turns into plain (or byte-swapping) copies.
+#[inline]
+pub(crate) fn put<T: Copy, const W: usize>(out: &mut Vec<u8>, v: &[T], f: impl Fn(T) -> [u8; W]) {
+    let s = out.len();
+    out.resize(s + v.len() * W, 0);
+    for (c, &x) in out[s..].chunks_exact_mut(W).zip(v) {
+        c.copy_from_slice(&f(x));
     }
 }
 

@@ -28,7 +28,7 @@ use crate::error::Position;
 use crate::text::Tokens;
 use crate::{Error, ErrorKind, Result, TaggedMesh, VtuEncoding, WriteOptions, Written};
 
-use super::{decode_f64, decode_i64, offsets, push_num, threads, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
+use super::{decode_f64, decode_i64, decode_indices, decode_points, offsets, push_num, put, threads, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
 
 /// Standard alphabet, padding optional and accepted where it stands.
 const B64: GeneralPurpose = GeneralPurpose::new(
@@ -114,7 +114,9 @@ impl<'a> Scan<'a> {
             let start = self.pos + lt;
             let rest = &self.d[start..];
             let skip_to = |close: &[u8], what: &str| -> Result<usize> {
-                find(rest, close).map(|i| start + i + close.len()).ok_or_else(|| err(start, ErrorKind::UnexpectedEof { context: format!("unterminated {what}") }))
+                find(rest, close)
+                    .map(|i| start + i + close.len())
+                    .ok_or_else(|| err(start, ErrorKind::UnexpectedEof { context: format!("unterminated {what}") }))
             };
             if rest.starts_with(b"<?") {
                 self.pos = skip_to(b"?>", "processing instruction")?;
@@ -175,7 +177,10 @@ impl<'a> Scan<'a> {
                 i += 1;
             }
             if d.get(i) != Some(&b'=') {
-                return Err(err(k0, ErrorKind::Expected { expected: format!("`=` after attribute {}", show(key)), found: show(&d[i.min(d.len())..(i + 10).min(d.len())]) }));
+                return Err(err(
+                    k0,
+                    ErrorKind::Expected { expected: format!("`=` after attribute {}", show(key)), found: show(&d[i.min(d.len())..(i + 10).min(d.len())]) },
+                ));
             }
             i += 1;
             while i < d.len() && is_space(d[i]) {
@@ -183,7 +188,15 @@ impl<'a> Scan<'a> {
             }
             let q = match d.get(i) {
                 Some(&q @ (b'"' | b'\'')) => q,
-                _ => return Err(err(i.min(d.len()), ErrorKind::Expected { expected: format!("a quoted value for attribute {}", show(key)), found: show(&d[i.min(d.len())..(i + 10).min(d.len())]) })),
+                _ => {
+                    return Err(err(
+                        i.min(d.len()),
+                        ErrorKind::Expected {
+                            expected: format!("a quoted value for attribute {}", show(key)),
+                            found: show(&d[i.min(d.len())..(i + 10).min(d.len())]),
+                        },
+                    ))
+                }
             };
             let v0 = i + 1;
             let Some(len) = memchr::memchr(q, &d[v0..]) else {
@@ -303,6 +316,19 @@ struct Appended {
     raw: bool,
 }
 
+/// The bytes of one array: a slice of the file, or of a decoded/inflated buffer.
+struct Payload<'a> {
+    bytes: Cow<'a, [u8]>,
+    start: usize,
+    len: usize,
+}
+
+impl Payload<'_> {
+    fn as_slice(&self) -> &[u8] {
+        &self.bytes[self.start..self.start + self.len]
+    }
+}
+
 struct Decoder<'a> {
     d: &'a [u8],
     big: bool,
@@ -327,16 +353,26 @@ fn read_array_specs<'a>(s: &mut Scan<'a>, container: &Tag<'a>, out: &mut Vec<Spe
             Ev::Start(t) => s.skip_subtree(&t)?,
             Ev::End(name, _) if name == container.name => return Ok(()),
             Ev::End(name, pos) => {
-                return Err(err(pos, ErrorKind::Expected { expected: format!("</{}>", String::from_utf8_lossy(container.name)), found: format!("</{}>", String::from_utf8_lossy(name)) }))
+                return Err(err(
+                    pos,
+                    ErrorKind::Expected {
+                        expected: format!("</{}>", String::from_utf8_lossy(container.name)),
+                        found: format!("</{}>", String::from_utf8_lossy(name)),
+                    },
+                ))
             }
-            Ev::Eof => return Err(err(container.at, ErrorKind::UnexpectedEof { context: format!("<{}> is not closed", String::from_utf8_lossy(container.name)) })),
+            Ev::Eof => {
+                return Err(err(container.at, ErrorKind::UnexpectedEof { context: format!("<{}> is not closed", String::from_utf8_lossy(container.name)) }))
+            }
         }
     }
 }
 
 fn spec(t: &Tag<'_>, d: &[u8]) -> Result<Spec> {
     let name = t.attr_str("Name").unwrap_or_default();
-    let ty_name = t.attr_str("type").ok_or_else(|| err(t.at, ErrorKind::Expected { expected: format!("a type= attribute on DataArray `{name}`"), found: "none".into() }))?;
+    let ty_name = t
+        .attr_str("type")
+        .ok_or_else(|| err(t.at, ErrorKind::Expected { expected: format!("a type= attribute on DataArray `{name}`"), found: "none".into() }))?;
     let ty = Scalar::from_xml(&ty_name).ok_or_else(|| {
         err(t.at, ErrorKind::Unsupported(format!("DataArray `{name}` of type {ty_name}: smartmesh reads Int8..Int64, UInt8..UInt64, Float32 and Float64")))
     })?;
@@ -349,7 +385,10 @@ fn spec(t: &Tag<'_>, d: &[u8]) -> Result<Spec> {
         Some(b"binary") => Format::Binary,
         Some(b"appended") => Format::Appended,
         other => {
-            return Err(err(t.at, ErrorKind::Expected { expected: format!("format=\"ascii\", \"binary\" or \"appended\" on `{name}`"), found: show(other.unwrap_or(b"nothing")) }))
+            return Err(err(
+                t.at,
+                ErrorKind::Expected { expected: format!("format=\"ascii\", \"binary\" or \"appended\" on `{name}`"), found: show(other.unwrap_or(b"nothing")) },
+            ))
         }
     };
     let offset = t.attr_usize("offset")?.unwrap_or(0);
@@ -369,7 +408,13 @@ fn spec(t: &Tag<'_>, d: &[u8]) -> Result<Spec> {
 /// Strips whitespace and decodes base64 that may hold several padded runs (VTK
 /// encodes a compressed array's header and data separately).
 fn base64_decode(text: &[u8], at: usize, name: &str) -> Result<Vec<u8>> {
-    let clean: Vec<u8> = text.iter().copied().filter(|c| !c.is_ascii_whitespace()).collect();
+    // Writers put the whole run on one line: then no copy is needed.
+    let trimmed = text.trim_ascii();
+    let clean: Cow<'_, [u8]> = if trimmed.iter().any(|c| c.is_ascii_whitespace()) {
+        Cow::Owned(trimmed.iter().copied().filter(|c| !c.is_ascii_whitespace()).collect())
+    } else {
+        Cow::Borrowed(trimmed)
+    };
     let mut out = Vec::with_capacity(clean.len() / 4 * 3 + 3);
     let mut s = 0;
     while s < clean.len() {
@@ -378,8 +423,9 @@ fn base64_decode(text: &[u8], at: usize, name: &str) -> Result<Vec<u8>> {
             Some(p) => (s + (p / 4 + 1) * 4).min(clean.len()),
             None => clean.len(),
         };
-        B64.decode_vec(&clean[s..end], &mut out)
-            .map_err(|e| err(at, ErrorKind::Expected { expected: format!("base64 data in DataArray `{name}`"), found: format!("{e} (in run starting at character {s})") }))?;
+        B64.decode_vec(&clean[s..end], &mut out).map_err(|e| {
+            err(at, ErrorKind::Expected { expected: format!("base64 data in DataArray `{name}`"), found: format!("{e} (in run starting at character {s})") })
+        })?;
         s = end;
     }
     Ok(out)
@@ -434,13 +480,25 @@ impl<'a> Decoder<'a> {
 
     /// The bytes of a binary or appended array, decoded and inflated, checked to be
     /// `expected` bytes when that is known.
-    fn payload(&self, sp: &Spec, expected: Option<usize>) -> Result<Cow<'a, [u8]>> {
+    fn payload(&self, sp: &Spec, expected: Option<usize>) -> Result<Payload<'a>> {
         let (src, at0): (Cow<'a, [u8]>, usize) = match sp.format {
             Format::Binary => (Cow::Owned(base64_decode(&self.d[sp.text.0..sp.text.1], sp.text.0, &sp.name)?), sp.text.0),
             Format::Appended => {
-                let ap = self.appended.as_ref().ok_or_else(|| err(sp.at, ErrorKind::Expected { expected: format!("an <AppendedData> element for appended array `{}`", sp.name), found: "none".into() }))?;
+                let ap = self.appended.as_ref().ok_or_else(|| {
+                    err(sp.at, ErrorKind::Expected { expected: format!("an <AppendedData> element for appended array `{}`", sp.name), found: "none".into() })
+                })?;
                 let start = ap.base.checked_add(sp.offset).filter(|&s| s <= ap.end).ok_or_else(|| {
-                    err(sp.at, ErrorKind::UnexpectedEof { context: format!("appended array `{}` starts at offset {}, but the appended data has {} bytes", sp.name, sp.offset, ap.end - ap.base) })
+                    err(
+                        sp.at,
+                        ErrorKind::UnexpectedEof {
+                            context: format!(
+                                "appended array `{}` starts at offset {}, but the appended data has {} bytes",
+                                sp.name,
+                                sp.offset,
+                                ap.end - ap.base
+                            ),
+                        },
+                    )
                 })?;
                 if ap.raw {
                     (Cow::Borrowed(&self.d[start..ap.end]), start)
@@ -466,15 +524,7 @@ impl<'a> Decoder<'a> {
             if n > (src.len() - hs) as u64 {
                 return Err(err(at0, ErrorKind::UnexpectedEof { context: format!("DataArray `{}` announces {n} bytes, {} remain", sp.name, src.len() - hs) }));
             }
-            let n = n as usize;
-            return Ok(match src {
-                Cow::Borrowed(b) => Cow::Borrowed(&b[hs..hs + n]),
-                Cow::Owned(mut v) => {
-                    v.truncate(hs + n);
-                    v.drain(..hs);
-                    Cow::Owned(v)
-                }
-            });
+            return Ok(Payload { bytes: src, start: hs, len: n as usize });
         }
         // [nblocks, block size, last block size, compressed sizes...]
         if src.len() < 3 * hs {
@@ -484,7 +534,10 @@ impl<'a> Decoder<'a> {
         let bs = self.word(&src[hs..]);
         let last = self.word(&src[2 * hs..]);
         let hlen = nb.checked_add(3).and_then(|k| k.checked_mul(hs as u64)).filter(|&l| l <= src.len() as u64).ok_or_else(|| {
-            err(at0, ErrorKind::ImplausibleCount { what: format!("compressed blocks of `{}`", sp.name), count: nb, limit: format!("{} bytes of data", src.len()) })
+            err(
+                at0,
+                ErrorKind::ImplausibleCount { what: format!("compressed blocks of `{}`", sp.name), count: nb, limit: format!("{} bytes of data", src.len()) },
+            )
         })? as usize;
         let mut csizes = Vec::with_capacity(nb as usize);
         let mut csum = 0u64;
@@ -494,7 +547,10 @@ impl<'a> Decoder<'a> {
             csizes.push(c);
         }
         if csum > (src.len() - hlen) as u64 {
-            return Err(err(at0, ErrorKind::UnexpectedEof { context: format!("compressed blocks of `{}` need {csum} bytes, {} remain", sp.name, src.len() - hlen) }));
+            return Err(err(
+                at0,
+                ErrorKind::UnexpectedEof { context: format!("compressed blocks of `{}` need {csum} bytes, {} remain", sp.name, src.len() - hlen) },
+            ));
         }
         if last > bs || (nb > 0 && bs == 0) {
             return Err(err(at0, ErrorKind::Inconsistent(format!("compression header of `{}`: last block of {last} bytes, blocks of {bs}", sp.name))));
@@ -507,7 +563,11 @@ impl<'a> Decoder<'a> {
         if total > (csum as u128 + 64 * nb as u128) * MAX_INFLATE_RATIO as u128 {
             return Err(err(
                 at0,
-                ErrorKind::ImplausibleCount { what: format!("uncompressed bytes of `{}`", sp.name), count: total.min(u64::MAX as u128) as u64, limit: format!("zlib cannot expand {csum} bytes that far") },
+                ErrorKind::ImplausibleCount {
+                    what: format!("uncompressed bytes of `{}`", sp.name),
+                    count: total.min(u64::MAX as u128) as u64,
+                    limit: format!("zlib cannot expand {csum} bytes that far"),
+                },
             ));
         }
         if let Some(e) = expected {
@@ -523,8 +583,10 @@ impl<'a> Decoder<'a> {
             p += c as usize;
         }
         let mut out = vec![0u8; total];
-        inflate_blocks(&blocks, &mut out, bs as usize).map_err(|i| err(at0, ErrorKind::Expected { expected: format!("zlib data in block {i} of `{}`", sp.name), found: "a corrupt or short stream".into() }))?;
-        Ok(Cow::Owned(out))
+        inflate_blocks(&blocks, &mut out, bs as usize).map_err(|i| {
+            err(at0, ErrorKind::Expected { expected: format!("zlib data in block {i} of `{}`", sp.name), found: "a corrupt or short stream".into() })
+        })?;
+        Ok(Payload { bytes: Cow::Owned(out), start: 0, len: total })
     }
 
     /// The values of an array as `f64`: `expected` values when known.
@@ -539,16 +601,19 @@ impl<'a> Decoder<'a> {
             let mut t = Tokens::new(text);
             while let Some(tok) = t.next() {
                 let pos = sp.text.0 + t.pos() - tok.len();
-                let v = crate::text::parse_f64(tok).map_err(|_| err(pos, ErrorKind::Expected { expected: format!("a number in DataArray `{}`", sp.name), found: show(tok) }))?;
+                let v = crate::text::parse_f64(tok)
+                    .map_err(|_| err(pos, ErrorKind::Expected { expected: format!("a number in DataArray `{}`", sp.name), found: show(tok) }))?;
                 if !v.is_finite() {
                     return Err(err(pos, ErrorKind::NonFinite { what: format!("value {} of `{}`", out.len(), sp.name), value: show(tok) }));
                 }
                 out.push(v);
             }
         } else {
-            let bytes = self.payload(sp, expected.and_then(|e| e.checked_mul(sp.ty.size())))?;
+            let p = self.payload(sp, expected.and_then(|e| e.checked_mul(sp.ty.size())))?;
+            let bytes = p.as_slice();
             let n = bytes.len() / sp.ty.size();
-            decode_f64(&bytes, sp.ty, self.big, n, &mut out).map_err(|i| err(sp.at, ErrorKind::NonFinite { what: format!("value {i} of `{}`", sp.name), value: "NaN or infinity".into() }))?;
+            decode_f64(bytes, sp.ty, self.big, n, &mut out)
+                .map_err(|i| err(sp.at, ErrorKind::NonFinite { what: format!("value {i} of `{}`", sp.name), value: "NaN or infinity".into() }))?;
         }
         if let Some(e) = expected {
             if out.len() != e {
@@ -556,6 +621,39 @@ impl<'a> Decoder<'a> {
             }
         }
         Ok(out)
+    }
+
+    fn points(&self, sp: &Spec, n: usize) -> Result<Vec<[f64; 3]>> {
+        if sp.format == Format::Ascii {
+            let flat = self.floats(sp, Some(3 * n))?;
+            return Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
+        }
+        let p = self.payload(sp, (3 * n).checked_mul(sp.ty.size()))?;
+        decode_points(p.as_slice(), sp.ty, self.big, n)
+            .map_err(|i| err(sp.at, ErrorKind::NonFinite { what: format!("coordinate {} of point {}", i % 3, i / 3), value: "NaN or infinity".into() }))
+    }
+
+    /// `expected` point indices, each below `limit`.
+    fn indices(&self, sp: &Spec, expected: usize, limit: usize, offsets: &[usize]) -> Result<Vec<usize>> {
+        let bad = |i: usize, v: i64| {
+            let c = offsets.partition_point(|&o| o <= i).saturating_sub(1);
+            err(sp.at, ErrorKind::IndexOutOfRange { what: format!("cell {c} in `{}`", sp.name), index: v, available: limit })
+        };
+        if sp.format == Format::Ascii {
+            let v = self.ints(sp, expected)?;
+            if let Some(i) = v.iter().position(|&x| x < 0 || x as u64 >= limit as u64) {
+                return Err(bad(i, v[i]));
+            }
+            return Ok(v.into_iter().map(|x| x as usize).collect());
+        }
+        let p = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
+        decode_indices(p.as_slice(), sp.ty, self.big, expected, limit).map_err(|(i, v)| {
+            if v == -1 && sp.ty.is_float() {
+                err(sp.at, ErrorKind::Expected { expected: format!("integers in `{}`", sp.name), found: format!("value {i} is not one") })
+            } else {
+                bad(i, v)
+            }
+        })
     }
 
     fn ints(&self, sp: &Spec, expected: usize) -> Result<Vec<i64>> {
@@ -566,13 +664,17 @@ impl<'a> Decoder<'a> {
             out.reserve(expected);
             let mut t = Tokens::new(text);
             while let Some(tok) = t.next() {
-                let v = crate::text::parse_i64(tok).ok_or_else(|| err(sp.text.0 + t.pos() - tok.len(), ErrorKind::Expected { expected: format!("an integer in DataArray `{}`", sp.name), found: show(tok) }))?;
+                let v = crate::text::parse_i64(tok).ok_or_else(|| {
+                    err(sp.text.0 + t.pos() - tok.len(), ErrorKind::Expected { expected: format!("an integer in DataArray `{}`", sp.name), found: show(tok) })
+                })?;
                 out.push(v);
             }
         } else {
-            let bytes = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
+            let p = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
+            let bytes = p.as_slice();
             let n = bytes.len() / sp.ty.size();
-            decode_i64(&bytes, sp.ty, self.big, n, &mut out).map_err(|i| err(sp.at, ErrorKind::Expected { expected: format!("integers in `{}`", sp.name), found: format!("value {i} is not one") }))?;
+            decode_i64(bytes, sp.ty, self.big, n, &mut out)
+                .map_err(|i| err(sp.at, ErrorKind::Expected { expected: format!("integers in `{}`", sp.name), found: format!("value {i} is not one") }))?;
         }
         if out.len() != expected {
             return Err(err(sp.at, ErrorKind::Inconsistent(format!("DataArray `{}` has {} values, expected {expected}", sp.name, out.len()))));
@@ -584,19 +686,22 @@ impl<'a> Decoder<'a> {
 /// Reads a `.vtu` file.
 pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     let mut s = Scan { d, pos: 0 };
-    let root = loop {
-        match s.next()? {
-            Ev::Start(t) => break t,
-            Ev::End(_, p) => return Err(err(p, ErrorKind::Expected { expected: "<VTKFile>".into(), found: "an end tag".into() })),
-            Ev::Eof => return Err(err(d.len(), ErrorKind::UnexpectedEof { context: "expected <VTKFile>".into() })),
-        }
+    let root = match s.next()? {
+        Ev::Start(t) => t,
+        Ev::End(_, p) => return Err(err(p, ErrorKind::Expected { expected: "<VTKFile>".into(), found: "an end tag".into() })),
+        Ev::Eof => return Err(err(d.len(), ErrorKind::UnexpectedEof { context: "expected <VTKFile>".into() })),
     };
     if root.name != b"VTKFile" {
         return Err(err(root.at, ErrorKind::Expected { expected: "<VTKFile>".into(), found: format!("<{}>", String::from_utf8_lossy(root.name)) }));
     }
     match root.attr("type") {
         Some(b"UnstructuredGrid") => {}
-        other => return Err(err(root.at, ErrorKind::Unsupported(format!("VTK XML type {}: smartmesh reads UnstructuredGrid (.vtu)", show(other.unwrap_or(b"(none)")))))),
+        other => {
+            return Err(err(
+                root.at,
+                ErrorKind::Unsupported(format!("VTK XML type {}: smartmesh reads UnstructuredGrid (.vtu)", show(other.unwrap_or(b"(none)")))),
+            ))
+        }
     }
     let big = match root.attr("byte_order") {
         None | Some(b"LittleEndian") => false,
@@ -641,7 +746,9 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
                             _ => s.skip_subtree(&c)?,
                         },
                         Ev::End(b"Piece", _) => break,
-                        Ev::End(n, p) => return Err(err(p, ErrorKind::Expected { expected: "</Piece>".into(), found: format!("</{}>", String::from_utf8_lossy(n)) })),
+                        Ev::End(n, p) => {
+                            return Err(err(p, ErrorKind::Expected { expected: "</Piece>".into(), found: format!("</{}>", String::from_utf8_lossy(n)) }))
+                        }
                         Ev::Eof => return Err(err(t.at, ErrorKind::UnexpectedEof { context: "<Piece> is not closed".into() })),
                     }
                 }
@@ -654,7 +761,9 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
                 };
                 // The data starts after `_`; raw bytes may contain anything, so the
                 // scan stops here.
-                let us = memchr::memchr(b'_', &d[t.end..]).map(|i| t.end + i).ok_or_else(|| err(t.end, ErrorKind::Expected { expected: "`_` before the appended data".into(), found: "none".into() }))?;
+                let us = memchr::memchr(b'_', &d[t.end..])
+                    .map(|i| t.end + i)
+                    .ok_or_else(|| err(t.end, ErrorKind::Expected { expected: "`_` before the appended data".into(), found: "none".into() }))?;
                 let base = us + 1;
                 let end = memchr::memmem::rfind(&d[base..], b"</AppendedData>").map_or(d.len(), |i| base + i);
                 let end = if raw { end } else { base + crate::text::trim(&d[base..end]).len() };
@@ -664,7 +773,12 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             Ev::Start(t) => s.skip_subtree(&t)?,
             Ev::End(b"UnstructuredGrid", _) => {}
             Ev::End(b"VTKFile", _) | Ev::Eof => break,
-            Ev::End(n, p) => return Err(err(p, ErrorKind::Expected { expected: "</UnstructuredGrid> or </VTKFile>".into(), found: format!("</{}>", String::from_utf8_lossy(n)) })),
+            Ev::End(n, p) => {
+                return Err(err(
+                    p,
+                    ErrorKind::Expected { expected: "</UnstructuredGrid> or </VTKFile>".into(), found: format!("</{}>", String::from_utf8_lossy(n)) },
+                ))
+            }
         }
     }
     let Some((np, nc, piece_at)) = piece else {
@@ -675,7 +789,8 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     crate::text::check_count(np, d.len().saturating_mul(MAX_INFLATE_RATIO), 3, "points").map_err(|k| err(piece_at, k))?;
     crate::text::check_count(nc, d.len().saturating_mul(MAX_INFLATE_RATIO), 1, "cells").map_err(|k| err(piece_at, k))?;
 
-    let mut app_offsets: Vec<usize> = field.iter().chain(&point).chain(&cell).chain(&pts).chain(&cells).filter(|s| s.format == Format::Appended).map(|s| s.offset).collect();
+    let mut app_offsets: Vec<usize> =
+        field.iter().chain(&point).chain(&cell).chain(&pts).chain(&cells).filter(|s| s.format == Format::Appended).map(|s| s.offset).collect();
     app_offsets.sort_unstable();
     app_offsets.dedup();
     let dec = Decoder { d, big, hsize, zlib, appended, app_offsets };
@@ -685,8 +800,7 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     if p.components != 3 && np > 0 {
         return Err(err(p.at, ErrorKind::Expected { expected: "3 components in Points".into(), found: p.components.to_string() }));
     }
-    let flat = dec.floats(p, Some(np * 3))?;
-    g.points = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    g.points = dec.points(p, np)?;
 
     let find = |name: &str| cells.iter().find(|s| s.name == name);
     if nc > 0 || !cells.is_empty() {
@@ -707,18 +821,16 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             // Each cell smartmesh reads has at most 9 nodes; a larger step is refused
             // by the cell check, but must not drive an allocation here.
             if e < prev || e - prev > 64 {
-                return Err(err(off.at, ErrorKind::Inconsistent(format!("offsets must rise by the node count of each cell; cell {i} ends at {e} after {prev}"))));
+                return Err(err(
+                    off.at,
+                    ErrorKind::Inconsistent(format!("offsets must rise by the node count of each cell; cell {i} ends at {e} after {prev}")),
+                ));
             }
             prev = e;
             g.offsets.push(e as usize);
         }
         let con = find("connectivity").ok_or_else(|| missing("connectivity"))?;
-        let conn = dec.ints(con, prev as usize)?;
-        if let Some(i) = conn.iter().position(|&v| v < 0 || v as u64 >= np as u64) {
-            let c = g.offsets.partition_point(|&o| o <= i).saturating_sub(1);
-            return Err(err(con.at, ErrorKind::IndexOutOfRange { what: format!("cell {c} in `connectivity`"), index: conn[i], available: np }));
-        }
-        g.connectivity = conn.into_iter().map(|v| v as usize).collect();
+        g.connectivity = dec.indices(con, prev as usize, np, &g.offsets)?;
         g.cells_at = at(con.at);
     } else {
         g.offsets = vec![0];
@@ -772,60 +884,61 @@ fn deflate_blocks(data: &[u8]) -> Vec<Vec<u8>> {
     })
 }
 
-struct Writer {
+/// Writes the bytes of one array into the buffer it is given.
+type RawWriter<'a> = Box<dyn FnOnce(&mut Vec<u8>) + 'a>;
+
+struct Writer<'a> {
     out: Vec<u8>,
-    app: Vec<u8>,
     enc: VtuEncoding,
     compress: bool,
+    /// Compressed appended data, built as the arrays come.
+    app: Vec<u8>,
+    /// Length of the appended data so far (the next array's `offset`).
+    app_len: usize,
+    /// Uncompressed appended arrays, written straight into `out` after the XML (their
+    /// offsets follow from their sizes), which saves copying them twice.
+    deferred: Vec<(usize, RawWriter<'a>)>,
 }
 
-impl Writer {
-    /// Header words (UInt64, little-endian) followed by the data, as a binary array
-    /// holds them; for inline binary the two are base64-encoded separately when
-    /// compressed (as VTK does) and together when not.
-    fn binary_payload(&mut self, raw: &[u8]) {
-        let mut header: Vec<u8> = Vec::new();
-        let body: Vec<u8>;
+impl<'a> Writer<'a> {
+    /// `buf` holds 8 bytes of room for a UInt64 header, then the array's bytes. Writes
+    /// the header words (little-endian) and the data as an inline or appended binary
+    /// array: for inline base64, header and data are encoded separately when
+    /// compressed (as VTK does) and as one run when not.
+    fn binary_payload(&mut self, mut buf: Vec<u8>) {
+        let n = buf.len() - 8;
         if self.compress {
-            let blocks = deflate_blocks(raw);
-            let last = raw.len() % BLOCK;
-            for w in [blocks.len() as u64, BLOCK as u64, last as u64] {
+            let blocks = deflate_blocks(&buf[8..]);
+            let mut header = Vec::with_capacity(8 * (3 + blocks.len()));
+            for w in [blocks.len() as u64, BLOCK as u64, (n % BLOCK) as u64] {
                 header.extend_from_slice(&w.to_le_bytes());
             }
             for b in &blocks {
                 header.extend_from_slice(&(b.len() as u64).to_le_bytes());
             }
-            body = blocks.concat();
-        } else {
-            header.extend_from_slice(&(raw.len() as u64).to_le_bytes());
-            body = Vec::new();
-        }
-        match self.enc {
-            VtuEncoding::Appended => {
+            if self.enc == VtuEncoding::Appended {
                 self.app.extend_from_slice(&header);
-                if self.compress {
-                    self.app.extend_from_slice(&body);
-                } else {
-                    self.app.extend_from_slice(raw);
+                for b in &blocks {
+                    self.app.extend_from_slice(b);
                 }
-            }
-            _ => {
+                self.app_len = self.app.len();
+            } else {
                 self.out.extend_from_slice(b"          ");
-                if self.compress {
-                    push_base64(&mut self.out, &header);
-                    push_base64(&mut self.out, &body);
-                } else {
-                    header.extend_from_slice(raw);
-                    push_base64(&mut self.out, &header);
-                }
+                push_base64(&mut self.out, &header);
+                push_base64(&mut self.out, &blocks.concat());
                 self.out.push(b'\n');
             }
+        } else {
+            buf[..8].copy_from_slice(&(n as u64).to_le_bytes());
+            self.out.extend_from_slice(b"          ");
+            push_base64(&mut self.out, &buf);
+            self.out.push(b'\n');
         }
     }
 
-    /// One `<DataArray>`: `ascii` writes the values as text, `raw` as little-endian
-    /// bytes.
-    fn array(&mut self, ty: &str, name: &str, components: usize, ascii: impl FnOnce(&mut Vec<u8>), raw: impl FnOnce(&mut Vec<u8>)) {
+    /// One `<DataArray>`: `ascii` writes the values as text, `raw` as `nbytes`
+    /// little-endian bytes.
+    fn array(&mut self, ty: &str, name: &str, components: usize, nbytes: usize, ascii: impl FnOnce(&mut Vec<u8>), raw: impl FnOnce(&mut Vec<u8>) + 'a) {
         let o = &mut self.out;
         o.extend_from_slice(b"        <DataArray type=\"");
         o.extend_from_slice(ty.as_bytes());
@@ -845,36 +958,52 @@ impl Writer {
             }
             VtuEncoding::Binary => {
                 o.extend_from_slice(b" format=\"binary\">\n");
-                let mut bytes = Vec::new();
-                raw(&mut bytes);
-                self.binary_payload(&bytes);
+                let mut buf = Vec::with_capacity(8 + nbytes);
+                buf.extend_from_slice(&[0; 8]);
+                raw(&mut buf);
+                self.binary_payload(buf);
                 self.out.extend_from_slice(b"        </DataArray>\n");
             }
             VtuEncoding::Appended => {
                 o.extend_from_slice(b" format=\"appended\" offset=\"");
-                crate::text::push_int(o, self.app.len());
+                crate::text::push_int(o, self.app_len);
                 o.extend_from_slice(b"\"/>\n");
                 if self.compress {
-                    let mut bytes = Vec::new();
-                    raw(&mut bytes);
-                    self.binary_payload(&bytes);
+                    let mut buf = Vec::with_capacity(8 + nbytes);
+                    buf.extend_from_slice(&[0; 8]);
+                    raw(&mut buf);
+                    self.binary_payload(buf);
                 } else {
-                    // Straight into the appended block: header, then the bytes.
-                    let h = self.app.len();
-                    self.app.extend_from_slice(&0u64.to_le_bytes());
-                    raw(&mut self.app);
-                    let n = (self.app.len() - h - 8) as u64;
-                    self.app[h..h + 8].copy_from_slice(&n.to_le_bytes());
+                    self.app_len += 8 + nbytes;
+                    self.deferred.push((nbytes, Box::new(raw)));
                 }
             }
         }
     }
 
-    fn f64_array(&mut self, name: &str, components: usize, values: &[f64]) {
+    /// The appended block, after the XML.
+    fn finish_appended(&mut self) {
+        self.out.extend_from_slice(b"  <AppendedData encoding=\"raw\">\n   _");
+        if self.compress {
+            self.out.extend_from_slice(&self.app);
+        } else {
+            self.out.reserve(self.app_len + 64);
+            for (nbytes, raw) in std::mem::take(&mut self.deferred) {
+                self.out.extend_from_slice(&(nbytes as u64).to_le_bytes());
+                let start = self.out.len();
+                raw(&mut self.out);
+                debug_assert_eq!(self.out.len() - start, nbytes, "appended array size");
+            }
+        }
+        self.out.extend_from_slice(b"\n  </AppendedData>\n");
+    }
+
+    fn f64_array(&mut self, name: &str, components: usize, values: &'a [f64]) {
         self.array(
             "Float64",
             name,
             components,
+            values.len() * 8,
             |o| {
                 for item in values.chunks(components.max(1)) {
                     o.extend_from_slice(b"          ");
@@ -887,20 +1016,16 @@ impl Writer {
                     o.push(b'\n');
                 }
             },
-            |o| {
-                o.reserve(values.len() * 8);
-                for v in values {
-                    o.extend_from_slice(&v.to_le_bytes());
-                }
-            },
+            |o| put(o, values, f64::to_le_bytes),
         );
     }
 
-    fn i32_array(&mut self, name: &str, values: &[i32]) {
+    fn i32_array(&mut self, name: &str, values: &'a [i32]) {
         self.array(
             "Int32",
             name,
             1,
+            values.len() * 4,
             |o| {
                 for &v in values {
                     o.extend_from_slice(b"          ");
@@ -908,12 +1033,7 @@ impl Writer {
                     o.push(b'\n');
                 }
             },
-            |o| {
-                o.reserve(values.len() * 4);
-                for v in values {
-                    o.extend_from_slice(&v.to_le_bytes());
-                }
-            },
+            |o| put(o, values, i32::to_le_bytes),
         );
     }
 }
@@ -934,15 +1054,18 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let np = mesh.points.len();
     let nc = mesh.num_cells();
     let nconn: usize = mesh.blocks.iter().map(|b| b.nodes.len()).sum();
-    let data_values = plan.point_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>() + plan.cell_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>();
+    let data_values =
+        plan.point_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>() + plan.cell_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>();
     let raw_bytes = np * 24 + nconn * 8 + nc * 17 + data_values * 8;
     let cap = match (enc, compress) {
         (VtuEncoding::Ascii, _) => raw_bytes * 2,
         (_, true) => raw_bytes / 2,
         (VtuEncoding::Binary, false) => raw_bytes * 4 / 3 + 4096,
-        (VtuEncoding::Appended, false) => 4096,
+        (VtuEncoding::Appended, false) => raw_bytes + 4096,
     };
-    let mut w = Writer { out: Vec::with_capacity(cap), app: Vec::with_capacity(if enc == VtuEncoding::Appended { raw_bytes + 1024 } else { 0 }), enc, compress };
+    // Declared before the writer, which borrows it until the appended data is out.
+    let offs = offsets(mesh);
+    let mut w = Writer { out: Vec::with_capacity(cap), enc, compress, app: Vec::new(), app_len: 0, deferred: Vec::new() };
 
     let o = &mut w.out;
     o.extend_from_slice(b"<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"");
@@ -996,6 +1119,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         "Float64",
         "Points",
         3,
+        np * 24,
         |o| {
             for p in flat {
                 o.extend_from_slice(b"          ");
@@ -1007,20 +1131,14 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
                 o.push(b'\n');
             }
         },
-        |o| {
-            o.reserve(flat.len() * 24);
-            for p in flat {
-                for c in p {
-                    o.extend_from_slice(&c.to_le_bytes());
-                }
-            }
-        },
+        |o| put(o, flat.as_flattened(), f64::to_le_bytes),
     );
     w.out.extend_from_slice(b"      </Points>\n      <Cells>\n");
     w.array(
         "Int64",
         "connectivity",
         1,
+        nconn * 8,
         |o| {
             for b in &mesh.blocks {
                 for cell in b.cells() {
@@ -1038,17 +1156,15 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         |o| {
             o.reserve(nconn * 8);
             for b in &mesh.blocks {
-                for &v in &b.nodes {
-                    o.extend_from_slice(&(v as i64).to_le_bytes());
-                }
+                put(o, &b.nodes, |v| (v as i64).to_le_bytes());
             }
         },
     );
-    let offs = offsets(mesh);
     w.array(
         "Int64",
         "offsets",
         1,
+        nc * 8,
         |o| {
             for &v in &offs[1..] {
                 o.extend_from_slice(b"          ");
@@ -1056,17 +1172,13 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
                 o.push(b'\n');
             }
         },
-        |o| {
-            o.reserve(nc * 8);
-            for &v in &offs[1..] {
-                o.extend_from_slice(&(v as i64).to_le_bytes());
-            }
-        },
+        |o| put(o, &offs[1..], |v| (v as i64).to_le_bytes()),
     );
     w.array(
         "UInt8",
         "types",
         1,
+        nc,
         |o| {
             for b in &mesh.blocks {
                 let t = b.kind.vtk_type();
@@ -1085,9 +1197,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     );
     w.out.extend_from_slice(b"      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
     if enc == VtuEncoding::Appended {
-        w.out.extend_from_slice(b"  <AppendedData encoding=\"raw\">\n   _");
-        w.out.extend_from_slice(&w.app);
-        w.out.extend_from_slice(b"\n  </AppendedData>\n");
+        w.finish_appended();
     }
     w.out.extend_from_slice(b"</VTKFile>\n");
     let report = std::mem::take(&mut plan.report);
