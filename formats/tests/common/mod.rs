@@ -62,7 +62,12 @@ pub fn python_with(modules: &[&str]) -> Option<String> {
 /// Runs `python -c script args...` and returns its stdout; panics with stderr on failure.
 pub fn run_python(py: &str, script: &str, args: &[&str]) -> String {
     let out = Command::new(py).arg("-c").arg(script).args(args).output().expect("run python");
-    assert!(out.status.success(), "python failed:\n--- stdout\n{}\n--- stderr\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "python failed:\n--- stdout\n{}\n--- stderr\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
