@@ -391,6 +391,41 @@ fn legacy_bad_cell_list_size() {
 }
 
 #[test]
+fn legacy_cell_list_runs_out() {
+    // Two cells announced, the first uses the whole list.
+    let e = legacy_err(&TRI.replace("CELLS 1 4\n3 0 1 2", "CELLS 2 4\n3 0 1 2\n3 0 1 2"));
+    assert!(e.to_string().contains("the list ends before cell 1"), "{e}");
+    let mut m = TaggedMesh::new();
+    m.points = vec![[0.0; 3]; 3];
+    m.blocks.push(smartmesh_formats::CellBlock::new(CellKind::Triangle));
+    m.blocks[0].push(&[0, 1, 2], 1, 1);
+    let bytes = write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() }).unwrap().main;
+    let i = memchr::memmem::find(&bytes, b"CELLS 1 4").unwrap();
+    let mut bad = bytes.clone();
+    bad[i..i + 9].copy_from_slice(b"CELLS 2 4");
+    let e = read(Format::VtkLegacy, &bad).unwrap_err();
+    assert!(e.to_string().contains("the list ends before cell 1"), "{e}");
+    assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
+}
+
+#[test]
+fn vtu_string_field_data_is_skipped() {
+    let text = VTU.replace(
+        "<UnstructuredGrid>\n",
+        "<UnstructuredGrid>\n<FieldData><DataArray type=\"String\" Name=\"note\" NumberOfTuples=\"1\" format=\"ascii\">104 105 0</DataArray></FieldData>\n",
+    );
+    assert!(read(Format::Vtu, text.as_bytes()).is_ok());
+    let e = vtu_err(&VTU.replace("type=\"Int64\" Name=\"connectivity\"", "type=\"String\" Name=\"connectivity\""));
+    assert!(matches!(e.kind, ErrorKind::Unsupported(_)), "{e}");
+}
+
+#[test]
+fn vtu_huge_component_count() {
+    let e = vtu_err(&VTU.replace("</Points>", "</Points><PointData><DataArray type=\"Float64\" Name=\"x\" NumberOfComponents=\"9000000000000000000\" format=\"ascii\">1</DataArray></PointData>"));
+    assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. }), "{e}");
+}
+
+#[test]
 fn legacy_cell_types_count_differs() {
     let e = legacy_err(&TRI.replace("CELL_TYPES 1\n5", "CELL_TYPES 2\n5 5"));
     assert!(e.to_string().contains("CELL_TYPES 2 after CELLS with 1 cells"), "{e}");
@@ -624,4 +659,35 @@ fn writer_refuses_other_legacy_versions() {
     let m = rich_mesh();
     let e = write_bytes(Format::VtkLegacy, &m, &WriteOptions { vtk_legacy_version: (3, 0), ..Default::default() }).unwrap_err();
     assert!(e.to_string().contains("4.2 and 5.1"), "{e}");
+}
+
+#[test]
+fn damaged_fixtures_fail_with_a_position() {
+    // Deterministic damage (a fixed xorshift): truncations and flipped bytes. Every
+    // read returns a mesh or an error that says where; none panics.
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    for rel in FIXTURES {
+        let bytes = std::fs::read(common::public_fixture(rel)).unwrap();
+        let format = if rel.ends_with(".vtu") { Format::Vtu } else { Format::VtkLegacy };
+        for _ in 0..60 {
+            let cut = (next() % bytes.len() as u64) as usize;
+            if let Err(e) = read(format, &bytes[..cut]) {
+                assert!(e.at.is_some(), "{rel} cut at {cut}: {e}");
+            }
+            let mut bad = bytes.clone();
+            for _ in 0..3 {
+                let i = (next() % bytes.len() as u64) as usize;
+                bad[i] = (next() & 0xff) as u8;
+            }
+            if let Err(e) = read(format, &bad) {
+                assert!(e.at.is_some(), "{rel} damaged: {e}");
+            }
+        }
+    }
 }

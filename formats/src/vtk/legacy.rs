@@ -325,6 +325,12 @@ impl<'a> Reader<'a> {
                     left = 0;
                 }
                 for c in 0..if uniform { 0 } else { n } {
+                    if left == 0 {
+                        return Err(Error::at_byte(
+                            (start + 4 * p) as u64,
+                            ErrorKind::Inconsistent(format!("CELLS {n} {size}: the list ends before cell {c}")),
+                        ));
+                    }
                     let k = word(p);
                     left -= 1;
                     if k < 0 || k as usize > left {
@@ -351,6 +357,9 @@ impl<'a> Reader<'a> {
                 }
             } else {
                 for c in 0..n {
+                    if left == 0 {
+                        return Err(self.err(ErrorKind::Inconsistent(format!("CELLS {n} {size}: the list ends before cell {c}"))));
+                    }
                     let k = self.t.i64("node count")?;
                     left -= 1;
                     if k < 0 || k as usize > left {

@@ -340,14 +340,21 @@ struct Decoder<'a> {
     app_offsets: Vec<usize>,
 }
 
+/// The `<DataArray>`s of a container. In `<FieldData>` arrays of other than numeric
+/// types (ParaView writes strings there) are skipped: they cannot name a tag.
 fn read_array_specs<'a>(s: &mut Scan<'a>, container: &Tag<'a>, out: &mut Vec<Spec>) -> Result<()> {
     if container.empty {
         return Ok(());
     }
+    let field = container.name == b"FieldData";
     loop {
         match s.next()? {
             Ev::Start(t) if t.name == b"DataArray" => {
-                out.push(spec(&t, s.d)?);
+                match spec(&t, s.d) {
+                    Ok(sp) => out.push(sp),
+                    Err(e) if field && matches!(e.kind, ErrorKind::Unsupported(_)) => {}
+                    Err(e) => return Err(e),
+                }
                 s.skip_subtree(&t)?;
             }
             Ev::Start(t) => s.skip_subtree(&t)?,
@@ -796,11 +803,25 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     let dec = Decoder { d, big, hsize, zlib, appended, app_offsets };
 
     let mut g = Grid::default();
-    let p = pts.first().ok_or_else(|| err(piece_at, ErrorKind::Expected { expected: "a <Points> DataArray".into(), found: "none".into() }))?;
+    let empty_points =
+        Spec { name: "Points".into(), ty: Scalar::F64, components: 3, format: Format::Ascii, offset: 0, tuples: None, text: (0, 0), at: piece_at };
+    let p = match pts.first() {
+        Some(p) => p,
+        None if np == 0 => &empty_points,
+        None => return Err(err(piece_at, ErrorKind::Expected { expected: "a <Points> DataArray".into(), found: "none".into() })),
+    };
     if p.components != 3 && np > 0 {
         return Err(err(p.at, ErrorKind::Expected { expected: "3 components in Points".into(), found: p.components.to_string() }));
     }
     g.points = dec.points(p, np)?;
+    let values = |n: usize, sp: &Spec| {
+        n.checked_mul(sp.components).ok_or_else(|| {
+            err(
+                sp.at,
+                ErrorKind::ImplausibleCount { what: format!("values of `{}`", sp.name), count: sp.components as u64, limit: "too many components".into() },
+            )
+        })
+    };
 
     let find = |name: &str| cells.iter().find(|s| s.name == name);
     if nc > 0 || !cells.is_empty() {
@@ -836,17 +857,17 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
         g.offsets = vec![0];
     }
     for sp in &point {
-        let values = dec.floats(sp, Some(np * sp.components))?;
+        let values = dec.floats(sp, Some(values(np, sp)?))?;
         g.point_arrays.push(Named { name: sp.name.clone(), components: sp.components, values, at: Position::Byte(sp.at as u64) });
     }
     for sp in &cell {
-        let values = dec.floats(sp, Some(nc * sp.components))?;
+        let values = dec.floats(sp, Some(values(nc, sp)?))?;
         g.cell_arrays.push(Named { name: sp.name.clone(), components: sp.components, values, at: Position::Byte(sp.at as u64) });
     }
     for sp in &field {
         // Field arrays other than numbers (strings) are skipped by `spec` refusing
         // them; the tuple count is optional.
-        let values = dec.floats(sp, sp.tuples.map(|t| t * sp.components))?;
+        let values = dec.floats(sp, sp.tuples.and_then(|t| t.checked_mul(sp.components)))?;
         g.field_arrays.push(Named { name: sp.name.clone(), components: sp.components, values, at: Position::Byte(sp.at as u64) });
     }
     g.into_mesh()
