@@ -397,12 +397,26 @@ impl<'a> Reader<'a> {
             }
         }
         self.end_header();
-        let mut v = Vec::new();
-        self.ints(n, Scalar::I32, "cell type", &mut v)?;
-        if let Some(i) = v.iter().position(|&t| !(0..=255).contains(&t)) {
-            return Err(self.err(ErrorKind::Expected { expected: format!("a VTK cell type (0 to 255) for cell {i}"), found: v[i].to_string() }));
+        let bad = |i: usize, t: i64| ErrorKind::Expected { expected: format!("a VTK cell type (0 to 255) for cell {i}"), found: t.to_string() };
+        if self.binary {
+            let start = self.pos();
+            let bytes = self.binary_bytes(n, Scalar::I32, "cell types")?;
+            let word = |c: &[u8]| i32::from_be_bytes(c.try_into().expect("4 bytes"));
+            if let Some(i) = bytes.chunks_exact(4).position(|c| !(0..=255).contains(&word(c))) {
+                return Err(Error::at_byte((start + 4 * i) as u64, bad(i, word(&bytes[4 * i..4 * i + 4]) as i64)));
+            }
+            self.grid.types = bytes.chunks_exact(4).map(|c| c[3]).collect();
+        } else {
+            let mut types = Vec::with_capacity(n);
+            for i in 0..n {
+                let t = self.t.i64("cell type")?;
+                if !(0..=255).contains(&t) {
+                    return Err(self.err(bad(i, t)));
+                }
+                types.push(t as u8);
+            }
+            self.grid.types = types;
         }
-        self.grid.types = v.into_iter().map(|t| t as u8).collect();
         self.grid.types_at = Some(at);
         self.ncells.get_or_insert(n);
         Ok(())

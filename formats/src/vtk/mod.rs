@@ -43,11 +43,21 @@
 //! Why by hand and not with the vtkio crate, which the design prefers: measured on the
 //! public fixtures and on a 1.5-million-triangle mesh (release build), vtkio 0.6.3 does
 //! not read legacy 5.1, VTK's own zlib `.vtu` (its header and blocks are two base64
-//! runs) nor appended raw data; 0.7.0-rc2 reads 5.1 and zlib but not appended raw, took
-//! 23 s to write zlib `.vtu` (meshio: 2.4 s) and 2.4 s / 3.5 s to read / write legacy
+//! runs) nor appended raw data; 0.7.0-rc2 reads 5.1 and zlib but not appended raw
+//! (`unknown variant raw`), took 23–39 s to write zlib `.vtu` (meshio on the same
+//! machine: about 4 s), 0.9 s to read it and 1.7 s / 2.5 s to read / write legacy
 //! ASCII, failed to read its own legacy binary output, and its errors carry no
-//! position. The formats are simple enough that a direct reader and writer are shorter
-//! than the adapters, and give every error a line (legacy ASCII) or byte offset.
+//! position. The formats are simple
+//! enough that a direct reader and writer are shorter than the adapters would be, and
+//! every error gets a line (legacy ASCII) or byte offset. So the crate does not depend
+//! on vtkio; VTK's own readers and writers (Python `vtk`) check our files instead, in
+//! `tests/vtk_interop.rs`.
+//!
+//! Speed (same 1.5M-triangle mesh, best of 7, 2-core machine): zlib `.vtu` written in
+//! 0.4 s and read in 0.4 s (meshio on the same file and machine: 4.2 s and 1.0 s; the
+//! blocks are deflated at level 1 on every core), legacy ASCII read/written in
+//! 0.6 s / 0.5 s (meshio: 9.4 s / 10.3 s), legacy binary and appended raw within 1.5–2.2x
+//! of copying the file's bytes.
 
 mod legacy;
 mod xml;
