@@ -691,3 +691,15 @@ fn damaged_fixtures_fail_with_a_position() {
         }
     }
 }
+
+#[test]
+fn empty_meshes_round_trip() {
+    let mut points_only = TaggedMesh::new();
+    points_only.points = vec![[1.0, 2.0, 0.0], [3.0, 4.0, 0.0]];
+    for m in [TaggedMesh::new(), points_only] {
+        for (label, format, opts) in variants() {
+            let (_, back) = common::roundtrip(format, "vtk", &m, &opts);
+            assert_eq!(back, m, "{label}");
+        }
+    }
+}
