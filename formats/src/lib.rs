@@ -66,6 +66,7 @@ const EXTENSIONS: &[(&str, Format)] = &[
     ("ele", Format::Triangle),
     ("poly", Format::Triangle),
     ("edge", Format::Triangle),
+    ("area", Format::Triangle),
     ("msh", Format::Gmsh),
     ("vtk", Format::VtkLegacy),
     ("vtu", Format::Vtu),
