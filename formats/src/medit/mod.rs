@@ -42,10 +42,11 @@
 //! `MeshVersionFormatted 2` (64-bit reals; 3 when a binary file passes 2 GiB), `Dimension 2`
 //! unless a z coordinate is not 0. The physical tag is the reference. The solution file
 //! beside it (`.sol` or `.solb`) holds point data `metric` as a type-3 tensor, or `size` as
-//! a scalar when there is no metric: MMG reads one solution. Everything else is reported as
-//! dropped: other point and cell data, geometrical tags that differ from the physical
-//! ones, tag names, Gmsh entities, point cells, 8-node quadrilaterals, holes and regions,
-//! and point or cell sets other than the six above.
+//! a scalar when there is no metric: MMG reads one solution. (The `mmg2d_O3` command looks
+//! for `x.sol` beside `x.meshb` unless told `-sol x.solb`; it writes `.sol` itself.)
+//! Everything else is reported as dropped: other point and cell data, geometrical tags
+//! that differ from the physical ones, tag names, Gmsh entities, point cells, 8-node
+//! quadrilaterals, holes and regions, and point or cell sets other than the six above.
 //!
 //! [`read_sol`] and [`write_sol`] read and write a solution file alone, for the sizing
 //! engine that writes metrics.
