@@ -22,6 +22,7 @@
 mod error;
 mod io;
 mod mesh;
+mod scan;
 pub mod text;
 
 pub mod gltf;

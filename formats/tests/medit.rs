@@ -39,6 +39,7 @@ fn read_with_sol(mesh: &[u8], ext: &str, sol_ext: &str, sol: &[u8]) -> smartmesh
 // -----------------------------------------------------------------------------------------
 
 #[test]
+#[allow(clippy::excessive_precision)] // the values as the file prints them
 fn square_hole_input_with_metric() {
     let m = read_file("medit/square_hole_input.mesh");
     assert_eq!(m.coordinate_dim, 2);
@@ -642,4 +643,26 @@ fn malformed_sol_beside_mesh() {
     let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n4\n1 7\n1\n2\n3\n4\nEnd\n").unwrap_err();
     assert!(e.to_string().contains("solution type 1 (scalar)"), "{e}");
     assert_eq!(line_of(&e), 5);
+}
+
+#[test]
+fn malformed_error_after_fast_records() {
+    // The first records go through the fast path; the error still names its own line.
+    let e = ascii_err(&format!("{SQUARE}Triangles\n3\n1 2 3 0\n1 3 4 0\n1 4 7 0\nEnd\n"));
+    assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index: 7, .. }), "{e}");
+    assert_eq!(line_of(&e), 13);
+    let e = ascii_err("Vertices\n3\n0 0 0\n1 0 0\n1 inf 0\nEnd\n");
+    assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
+    assert_eq!(line_of(&e), 7);
+}
+
+#[test]
+fn records_mixing_fast_and_general_paths() {
+    let m = read_alone(
+        format!("{HEAD}Vertices 4 0 0 0 1 0 # c\n 0\n1 1.0D0 0\n0 1 0\nTriangles\n2\n1 2 3 +1 # comment\n1 3 4 -2\nEnd\n").as_bytes(),
+        "mesh",
+    )
+    .unwrap();
+    assert_eq!(m.points[2], [1.0, 1.0, 0.0]);
+    assert_eq!(m.blocks[0].physical, vec![1, -2]);
 }

@@ -82,6 +82,7 @@ fn box_4_vertex_markers() {
 }
 
 #[test]
+#[allow(clippy::excessive_precision)] // the values as the files print them
 fn a_with_vertex_attributes() {
     let m = read_file("triangle/A.poly");
     assert_eq!(m.points.len(), 29);
@@ -433,10 +434,13 @@ proptest! {
         let ext = main.rsplit_once('.').unwrap().1;
         let (w, mut back) = roundtrip(Format::Triangle, ext, &m, &opts(main));
         prop_assert!(w.report.dropped.is_empty(), "{:?}", w.report.dropped);
-        // The tags come back as the first triangle attribute too (0 on lines).
-        let attr = back.cell_data.remove("triangle:attribute1").expect("tags as attribute");
+        // The tags come back as the first triangle attribute too (0 on lines); when every
+        // triangle tag is 0, no attribute is written.
         let expected: Vec<f64> = m.cells().map(|(k, _, p, _)| if k == CellKind::Triangle { p as f64 } else { 0.0 }).collect();
-        prop_assert_eq!(attr.values, expected);
+        match back.cell_data.remove("triangle:attribute1") {
+            Some(attr) => prop_assert_eq!(attr.values, expected),
+            None => prop_assert!(expected.iter().all(|&v| v == 0.0)),
+        }
         prop_assert_eq!(&back, &m);
         for (a, b) in back.points.iter().zip(&m.points) {
             prop_assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
@@ -588,4 +592,30 @@ fn comments_blank_lines_and_zero_based_numbering() {
     // 2.5 is not an integer, so the attribute is not a tag.
     assert_eq!(m.blocks[0].physical, vec![0, 0]);
     assert_eq!(m.cell_data["triangle:attribute1"].values, vec![5.0, 2.5]);
+}
+
+#[test]
+fn malformed_error_after_fast_records() {
+    // The first records go through the fast path; the error still names its own line.
+    let node = "5 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n5 0.5 0.5\n";
+    let e = err("ele", "4 3 0\n1 1 2 5\n2 2 3 5\n3 3 4 5\n4 4 1 9\n", &[("node", node)]);
+    assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index: 9, .. }), "{e}");
+    assert_eq!(e.to_string().split(':').nth(1), Some("5"), "{e}");
+    let e = err("node", "4 2 0 0\n1 0 0\n2 1 0\n\n# gap\n3 1 1\n4 0 inf\n", &[]);
+    assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
+    assert!(e.to_string().starts_with("<stdin>:7:"), "{e}");
+}
+
+#[test]
+fn records_mixing_fast_and_general_paths() {
+    // Comments, missing optional fields and extra fields in the middle of a block.
+    let m = read_mem(
+        "node",
+        "6 2 1 1\n1 0 0 0.5 1\n2 1 0 0.5 1 # c\n3 1 1\n# comment line\n4 0 1 2.5 4 extra\n5 2 2 1 5\n6 3 3 1 6\n",
+        &[],
+    )
+    .unwrap();
+    assert_eq!(m.points[5], [3.0, 3.0, 0.0]);
+    assert_eq!(m.point_data["triangle:attribute1"].values, vec![0.5, 0.5, 0.0, 2.5, 1.0, 1.0]);
+    assert_eq!(m.point_data["triangle:marker"].values, vec![1.0, 1.0, 0.0, 4.0, 5.0, 6.0]);
 }

@@ -2,6 +2,7 @@
 //! (records may span lines), `#` comments.
 
 use crate::error::{Error, ErrorKind, Position, Result};
+use crate::scan::Scan;
 use crate::text::{push_f64, push_int, Tokens};
 
 use super::keywords::{Keyword, KEYWORDS};
@@ -76,15 +77,51 @@ fn read_vertices(t: &mut Tokens<'_>, p: &mut Parsed, line: u64) -> Result<()> {
     let n = t.count("number of vertices", 2 * (dim + 1))?;
     p.points.reserve_exact(n);
     p.refs.reserve_exact(n);
-    for _ in 0..n {
+    let mut i = 0;
+    while i < n {
+        i += fast_vertices(t, p, dim, n - i);
+        if i == n {
+            break;
+        }
+        // The general path, for a record the fast path left (and its error, if any).
         let x = t.f64("x coordinate of a vertex")?;
         let y = t.f64("y coordinate of a vertex")?;
         let z = if dim == 3 { t.f64("z coordinate of a vertex")? } else { 0.0 };
         p.points.push([x, y, z]);
         p.refs.push(reference(t, "vertex reference")?);
+        i += 1;
     }
     p.vertices_read = true;
     Ok(())
+}
+
+/// Reads up to `max` vertices of plain numbers; returns how many, with the tokenizer
+/// moved past them.
+fn fast_vertices(t: &mut Tokens<'_>, p: &mut Parsed, dim: usize, max: usize) -> usize {
+    let mut s = Scan::new(t.data(), t.pos());
+    let (mut done, mut end) = (0, t.pos());
+    while done < max {
+        let mut c = [0.0; 3];
+        for slot in c.iter_mut().take(dim) {
+            s.ws();
+            match s.f64() {
+                Some(v) => *slot = v,
+                None => return finish(t, end, done),
+            }
+        }
+        s.ws();
+        let Some(r) = s.int().and_then(|r| i32::try_from(r).ok()) else { return finish(t, end, done) };
+        p.points.push(c);
+        p.refs.push(r);
+        done += 1;
+        end = s.pos;
+    }
+    finish(t, end, done)
+}
+
+fn finish(t: &mut Tokens<'_>, end: usize, done: usize) -> usize {
+    t.seek(end);
+    done
 }
 
 fn read_elements(t: &mut Tokens<'_>, p: &mut Parsed, kind: CellKind, line: u64) -> Result<()> {
@@ -95,7 +132,13 @@ fn read_elements(t: &mut Tokens<'_>, p: &mut Parsed, kind: CellKind, line: u64) 
     // or libMeshb writes; otherwise the numbers are checked at the end.
     let nv = if p.vertices_read { p.points.len() } else { usize::MAX };
     let mut e = Elements { kind, nodes: Vec::with_capacity(n * k), refs: Vec::with_capacity(n), at: Locator::Line(line), unchecked: !p.vertices_read };
-    for i in 0..n {
+    let mut i = 0;
+    while i < n {
+        i += fast_elements(t, &mut e, k, nv, n - i);
+        if i == n {
+            break;
+        }
+        // The general path, for a record the fast path left (and its error, if any).
         for _ in 0..k {
             let v = t.i64("vertex number")?;
             if v < 1 || v as u64 > nv as u64 {
@@ -108,9 +151,34 @@ fn read_elements(t: &mut Tokens<'_>, p: &mut Parsed, kind: CellKind, line: u64) 
             e.nodes.push(v as usize - 1);
         }
         e.refs.push(reference(t, "element reference")?);
+        i += 1;
     }
     p.elements.push(e);
     Ok(())
+}
+
+/// Reads up to `max` elements of plain numbers in range; returns how many, with the
+/// tokenizer moved past them.
+fn fast_elements(t: &mut Tokens<'_>, e: &mut Elements, k: usize, nv: usize, max: usize) -> usize {
+    let mut s = Scan::new(t.data(), t.pos());
+    let (mut done, mut end) = (0, t.pos());
+    let mut v = [0usize; 9];
+    while done < max {
+        for slot in v.iter_mut().take(k) {
+            s.ws();
+            match s.int() {
+                Some(x) if x >= 1 && x as u64 <= nv as u64 => *slot = x as usize - 1,
+                _ => return finish(t, end, done),
+            }
+        }
+        s.ws();
+        let Some(r) = s.int().and_then(|r| i32::try_from(r).ok()) else { return finish(t, end, done) };
+        e.nodes.extend_from_slice(&v[..k]);
+        e.refs.push(r);
+        done += 1;
+        end = s.pos;
+    }
+    finish(t, end, done)
 }
 
 fn read_set(t: &mut Tokens<'_>, p: &mut Parsed, code: usize) -> Result<()> {
@@ -150,11 +218,29 @@ fn read_sol(t: &mut Tokens<'_>, p: &mut Parsed, line: u64) -> Result<()> {
     let stride: usize = types.iter().map(|&ty| sol_size(ty, p.dim).unwrap_or(0)).sum();
     crate::text::check_count(n.saturating_mul(stride), t.remaining().len(), 2, "solution values").map_err(|k| Error::at_line(line, k))?;
     let mut values = Vec::with_capacity(n * stride);
-    for _ in 0..n * stride {
-        values.push(t.f64("a solution value")?);
+    while values.len() < n * stride {
+        fast_reals(t, &mut values, n * stride);
+        if values.len() < n * stride {
+            values.push(t.f64("a solution value")?);
+        }
     }
     p.sol = Some(Sol { n, types, values, at: Some(Position::Line(line)) });
     Ok(())
+}
+
+/// Reads plain reals until `values` holds `total`; stops early at anything else.
+fn fast_reals(t: &mut Tokens<'_>, values: &mut Vec<f64>, total: usize) {
+    let mut s = Scan::new(t.data(), t.pos());
+    let mut end = t.pos();
+    while values.len() < total {
+        s.ws();
+        match s.f64() {
+            Some(v) => values.push(v),
+            None => break,
+        }
+        end = s.pos;
+    }
+    t.seek(end);
 }
 
 /// Skips a keyword smartmesh does not use, by its layout; returns its item count.
@@ -275,7 +361,7 @@ pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
         push_int(&mut out, ty);
     }
     out.push(b'\n');
-    let stride = if s.n == 0 { 0 } else { s.values.len() / s.n };
+    let stride = s.values.len().checked_div(s.n).unwrap_or(0);
     for row in s.values.chunks(stride.max(1)) {
         for (j, v) in row.iter().enumerate() {
             if j > 0 {

@@ -105,20 +105,36 @@ enum Bad {
     Coord(usize, f64),
 }
 
-fn elements<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &mut Vec<usize>, refs: &mut Vec<i32>) -> Result<(), Bad> {
+/// Decodes `K`-node elements; returns the largest vertex number (0-based) met.
+fn elements<const LE: bool, const I8: bool, const K: usize>(data: &[u8], nodes: &mut Vec<usize>, refs: &mut Vec<i32>) -> Result<usize, Bad> {
     let isz = if I8 { 8 } else { 4 };
-    for (i, rec) in data.chunks_exact((k + 1) * isz).enumerate() {
-        for j in 0..k {
+    let mut largest = 0;
+    for (i, rec) in data.chunks_exact((K + 1) * isz).enumerate() {
+        let mut cell = [0usize; K];
+        for (j, slot) in cell.iter_mut().enumerate() {
             let v = int_at::<LE, I8>(&rec[j * isz..]);
             if v < 1 || v as u64 > usize::MAX as u64 {
                 return Err(Bad::Node(i, v));
             }
-            nodes.push(v as usize - 1);
+            *slot = v as usize - 1;
+            largest = largest.max(*slot);
         }
-        let r = int_at::<LE, I8>(&rec[k * isz..]);
+        nodes.extend_from_slice(&cell);
+        let r = int_at::<LE, I8>(&rec[K * isz..]);
         refs.push(i32::try_from(r).map_err(|_| Bad::Ref(i, r))?);
     }
-    Ok(())
+    Ok(largest)
+}
+
+/// [`elements`] for every byte order, integer size and node count smartmesh reads.
+fn elements_any<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &mut Vec<usize>, refs: &mut Vec<i32>) -> Result<usize, Bad> {
+    match k {
+        2 => elements::<LE, I8, 2>(data, nodes, refs),
+        3 => elements::<LE, I8, 3>(data, nodes, refs),
+        4 => elements::<LE, I8, 4>(data, nodes, refs),
+        6 => elements::<LE, I8, 6>(data, nodes, refs),
+        _ => elements::<LE, I8, 9>(data, nodes, refs),
+    }
 }
 
 fn vertices<const LE: bool, const I8: bool, const R4: bool>(data: &[u8], dim: usize, points: &mut Vec<[f64; 3]>, refs: &mut Vec<i32>) -> Result<(), Bad> {
@@ -208,17 +224,17 @@ pub(super) fn read(b: &[u8]) -> Result<Parsed> {
             Some(KW_SOL_AT_VERTICES) => read_sol(b, data, limit, f, &mut p)?,
             Some(c) if element_kind(c).is_some() => read_elements(b, data, limit, f, c, &mut p)?,
             Some(c) if set_target(c).is_some() => read_set(b, data, limit, f, c, &mut p)?,
-            Some(c) => {
-                if is_volume(c) && KEYWORDS[c].counted {
-                    let n = scalar(b, data, f.isz(), le, "a count")?;
-                    if n > 0 {
-                        return Err(Error::at_byte(
-                            pos as u64,
-                            ErrorKind::Unsupported(format!("{n} {}: smartmesh reads 2D meshes (no volume elements)", KEYWORDS[c].name)),
-                        ));
-                    }
+            Some(c) if is_volume(c) && KEYWORDS[c].counted => {
+                let n = scalar(b, data, f.isz(), le, "a count")?;
+                if n > 0 {
+                    return Err(Error::at_byte(
+                        pos as u64,
+                        ErrorKind::Unsupported(format!("{n} {}: smartmesh reads 2D meshes (no volume elements)", KEYWORDS[c].name)),
+                    ));
                 }
             }
+            // Other keywords of the table: skipped by their offset.
+            Some(_) => {}
             // Codes outside the table: skipped by their offset like any other.
             None => {}
         }
@@ -302,12 +318,15 @@ fn read_elements(b: &[u8], data: usize, limit: usize, f: Fmt, code: usize, p: &m
     };
     let d = &b[start..start + n * size];
     let r = match (f.le, f.isz() == 8) {
-        (true, false) => elements::<true, false>(d, k, &mut e.nodes, &mut e.refs),
-        (true, true) => elements::<true, true>(d, k, &mut e.nodes, &mut e.refs),
-        (false, false) => elements::<false, false>(d, k, &mut e.nodes, &mut e.refs),
-        (false, true) => elements::<false, true>(d, k, &mut e.nodes, &mut e.refs),
+        (true, false) => elements_any::<true, false>(d, k, &mut e.nodes, &mut e.refs),
+        (true, true) => elements_any::<true, true>(d, k, &mut e.nodes, &mut e.refs),
+        (false, false) => elements_any::<false, false>(d, k, &mut e.nodes, &mut e.refs),
+        (false, true) => elements_any::<false, true>(d, k, &mut e.nodes, &mut e.refs),
     };
-    r.map_err(|bad| bad_item(bad, start, size, kind.name(), k * f.isz()))?;
+    let largest = r.map_err(|bad| bad_item(bad, start, size, kind.name(), k * f.isz()))?;
+    // With the vertices known, one comparison settles the upper bound; the full check at
+    // the end (which names the element) runs only when it fails or they come later.
+    e.unchecked = !p.vertices_read || largest >= p.points.len();
     p.elements.push(e);
     Ok(())
 }

@@ -344,7 +344,7 @@ fn assemble(p: Parsed) -> Result<TaggedMesh> {
         mesh.point_data.insert(REF.into(), DataArray::new(1, p.refs.iter().map(|&r| r as f64).collect()));
     }
     for e in &p.elements {
-        if !e.unchecked {
+        if !e.unchecked || e.nodes.is_empty() {
             continue;
         }
         let k = e.kind.nodes_per_cell();
@@ -359,14 +359,21 @@ fn assemble(p: Parsed) -> Result<TaggedMesh> {
             ));
         }
     }
-    // Blocks in a fixed order; several keywords of one kind are joined.
+    // Blocks in a fixed order; several keywords of one kind are joined (the first one
+    // moved, not copied).
     let mut offsets = BTreeMap::new();
     let mut total = 0;
+    let mut elements = p.elements;
     for &(_, kind) in &ELEMENTS {
         let mut block = CellBlock::new(kind);
-        for e in p.elements.iter().filter(|e| e.kind == kind) {
-            block.nodes.extend_from_slice(&e.nodes);
-            block.physical.extend_from_slice(&e.refs);
+        for e in elements.iter_mut().filter(|e| e.kind == kind) {
+            if block.nodes.is_empty() {
+                block.nodes = std::mem::take(&mut e.nodes);
+                block.physical = std::mem::take(&mut e.refs);
+            } else {
+                block.nodes.extend_from_slice(&e.nodes);
+                block.physical.extend_from_slice(&e.refs);
+            }
         }
         offsets.insert(kind, (total, block.len()));
         total += block.len();

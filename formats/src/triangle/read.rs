@@ -5,6 +5,7 @@
 use std::borrow::Cow;
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::scan::Scan;
 use crate::text::{check_count, parse_f64, parse_i64, Tokens};
 use crate::{CellBlock, CellKind, DataArray, ReadContext, RegionSeed, TaggedMesh};
 
@@ -196,6 +197,63 @@ impl<'t, 'a> Rec<'t, 'a> {
 }
 
 // ---------------------------------------------------------------------------------------
+// The fast path: whole records of plain numbers on one line each
+// ---------------------------------------------------------------------------------------
+
+/// Records with more attributes than this always take the general path.
+const FAST_ATTRIBUTES: usize = 8;
+
+impl Scan<'_> {
+    #[inline(always)]
+    fn next_f64(&mut self) -> Option<f64> {
+        self.blank();
+        self.f64()
+    }
+
+    #[inline(always)]
+    fn next_i32(&mut self) -> Option<i32> {
+        self.blank();
+        self.int().and_then(|v| i32::try_from(v).ok())
+    }
+
+    #[inline(always)]
+    fn next_index(&mut self, base: i64, n: usize) -> Option<usize> {
+        self.blank();
+        let v = self.int()?.checked_sub(base)?;
+        (v >= 0 && (v as u64) < n as u64).then_some(v as usize)
+    }
+}
+
+/// Reads up to `max` records `<number> <fields...>` whose fields `fields` parses, and
+/// hands each to `push`, as long as every record is complete, on one line, and nothing
+/// else is on that line. Returns how many were read; the tokenizer is moved past them,
+/// and the general path takes the record that stopped it (with its defaults, comments
+/// and errors).
+#[inline(always)]
+fn fast<R>(t: &mut Tokens<'_>, max: usize, mut fields: impl FnMut(&mut Scan<'_>) -> Option<R>, mut push: impl FnMut(R), enabled: bool) -> usize {
+    if !enabled {
+        return 0;
+    }
+    let mut s = Scan::new(t.data(), t.pos());
+    let (mut done, mut end) = (0, t.pos());
+    while done < max {
+        s.ws();
+        if s.int().is_none() {
+            break;
+        }
+        let Some(r) = fields(&mut s) else { break };
+        if !s.eol() {
+            break;
+        }
+        push(r);
+        done += 1;
+        end = s.pos;
+    }
+    t.seek(end);
+    done
+}
+
+// ---------------------------------------------------------------------------------------
 // One parser per file
 // ---------------------------------------------------------------------------------------
 
@@ -226,7 +284,28 @@ fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<NodeList> {
         markers: (nmarkers == 1).then(|| Vec::with_capacity(n)),
         base: 1,
     };
-    for i in 0..n {
+    let mut i = 0;
+    while i < n {
+        if i > 0 {
+            i += fast(t, n - i, |s| {
+                let (x, y) = (s.next_f64()?, s.next_f64()?);
+                let mut a = [0.0; FAST_ATTRIBUTES];
+                for slot in a.iter_mut().take(nattr) {
+                    *slot = s.next_f64()?;
+                }
+                let m = if nmarkers == 1 { Some(s.next_i32()?) } else { None };
+                Some((x, y, a, m))
+            }, |(x, y, a, m)| {
+                list.xy.push([x, y]);
+                list.attrs.extend_from_slice(&a[..nattr]);
+                if let (Some(ms), Some(m)) = (list.markers.as_mut(), m) {
+                    ms.push(m);
+                }
+            }, nattr <= FAST_ATTRIBUTES);
+            if i == n {
+                break;
+            }
+        }
         let line = start(t, || format!("vertex {} of {n}", i + 1))?;
         let mut r = Rec::new(t, line, "vertex", i + 1);
         let number = r.number()?;
@@ -247,6 +326,7 @@ fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<NodeList> {
             m.push(r.opt_marker()?);
         }
         r.end();
+        i += 1;
     }
     Ok(list)
 }
@@ -274,7 +354,29 @@ fn parse_ele(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Ele> {
     let k = kind.nodes_per_cell();
     let mut ele = Ele { kind, nodes: Vec::with_capacity(n * k), nattr, attrs: Vec::with_capacity(n * nattr) };
     let mut v = [0usize; 6];
-    for i in 0..n {
+    let mut i = 0;
+    while i < n {
+        i += fast(t, n - i, |s| {
+            let mut w = [0usize; 6];
+            for slot in w.iter_mut().take(k) {
+                *slot = s.next_index(base, nv)?;
+            }
+            let mut a = [0.0; FAST_ATTRIBUTES];
+            for slot in a.iter_mut().take(nattr) {
+                *slot = s.next_f64()?;
+            }
+            Some((w, a))
+        }, |(w, a)| {
+            if k == 6 {
+                ele.nodes.extend_from_slice(&[w[0], w[1], w[2], w[5], w[3], w[4]]);
+            } else {
+                ele.nodes.extend_from_slice(&w[..3]);
+            }
+            ele.attrs.extend_from_slice(&a[..nattr]);
+        }, nattr <= FAST_ATTRIBUTES);
+        if i == n {
+            break;
+        }
         let line = start(t, || format!("triangle {} of {n}", i + 1))?;
         let mut r = Rec::new(t, line, "triangle", i + 1);
         r.number()?;
@@ -293,6 +395,7 @@ fn parse_ele(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Ele> {
             ele.attrs.push(a);
         }
         r.end();
+        i += 1;
     }
     Ok(ele)
 }
@@ -308,7 +411,19 @@ fn parse_segments(t: &mut Tokens<'_>, nv: usize, base: i64, file: &str) -> Resul
     }
     r.end();
     let mut lines = Lines { nodes: Vec::with_capacity(2 * n), tags: Vec::with_capacity(n), rays: Vec::new() };
-    for i in 0..n {
+    let mut i = 0;
+    while i < n {
+        i += fast(t, n - i, |s| {
+            let (a, b) = (s.next_index(base, nv)?, s.next_index(base, nv)?);
+            let m = if nmarkers == 1 { s.next_i32()? } else { 0 };
+            Some((a, b, m))
+        }, |(a, b, m)| {
+            lines.nodes.extend_from_slice(&[a, b]);
+            lines.tags.push(m);
+        }, true);
+        if i == n {
+            break;
+        }
         let line = start(t, || format!("segment {} of {n}", i + 1))?;
         let mut r = Rec::new(t, line, "segment", i + 1);
         r.number()?;
@@ -318,6 +433,7 @@ fn parse_segments(t: &mut Tokens<'_>, nv: usize, base: i64, file: &str) -> Resul
         r.end();
         lines.nodes.extend_from_slice(&[a, b]);
         lines.tags.push(m);
+        i += 1;
     }
     Ok(lines)
 }
@@ -388,7 +504,20 @@ fn parse_edges(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Lines> {
     }
     r.end();
     let mut lines = Lines { nodes: Vec::with_capacity(2 * n), tags: Vec::with_capacity(n), rays: Vec::new() };
-    for i in 0..n {
+    let mut i = 0;
+    while i < n {
+        // Rays (second endpoint -1) are left to the general path.
+        i += fast(t, n - i, |s| {
+            let (a, b) = (s.next_index(base, nv)?, s.next_index(base, nv)?);
+            let m = if nmarkers == 1 { s.next_i32()? } else { 0 };
+            Some((a, b, m))
+        }, |(a, b, m)| {
+            lines.nodes.extend_from_slice(&[a, b]);
+            lines.tags.push(m);
+        }, true);
+        if i == n {
+            break;
+        }
         let line = start(t, || format!("edge {} of {n}", i + 1))?;
         let mut r = Rec::new(t, line, "edge", i + 1);
         r.number()?;
@@ -402,6 +531,7 @@ fn parse_edges(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Lines> {
             let m = if nmarkers == 1 { r.opt_marker()? } else { 0 };
             r.end();
             lines.rays.push((a, m, [dx, dy]));
+            i += 1;
             continue;
         }
         *r.t = save;
@@ -410,6 +540,7 @@ fn parse_edges(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Lines> {
         r.end();
         lines.nodes.extend_from_slice(&[a, b]);
         lines.tags.push(m);
+        i += 1;
     }
     Ok(lines)
 }
@@ -427,12 +558,18 @@ fn parse_area(t: &mut Tokens<'_>, ntri: usize) -> Result<Vec<f64>> {
     }
     r.end();
     let mut areas = Vec::with_capacity(n);
-    for i in 0..n {
+    let mut i = 0;
+    while i < n {
+        i += fast(t, n - i, |s| s.next_f64(), |a| areas.push(a), true);
+        if i == n {
+            break;
+        }
         let line = start(t, || format!("triangle {} of {n}", i + 1))?;
         let mut r = Rec::new(t, line, "triangle", i + 1);
         r.number()?;
         areas.push(r.opt_f64("maximum area", -1.0)?);
         r.end();
+        i += 1;
     }
     Ok(areas)
 }

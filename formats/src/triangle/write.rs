@@ -218,7 +218,8 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     for (name, a) in &mesh.cell_data {
         let is_attr = name.strip_prefix(ATTRIBUTE_PREFIX).and_then(|k| k.parse::<usize>().ok()).is_some_and(|k| k >= 1 && k <= cattrs.len());
         let kept = (is_attr && ntri > 0) || name == AREA || (name == RAY_DIRECTION && rays.is_some());
-        if !kept && !(name == RAY_DIRECTION && nvert > 0) {
+        // Ray directions without rays were reported with the vertex cells.
+        if !(kept || name == RAY_DIRECTION && nvert > 0) {
             report.drop(format!(
                 "cell data `{name}` ({} components): Triangle keeps only triangle attributes (`{ATTRIBUTE_PREFIX}1`, ...) and area bounds (`{AREA}`)",
                 a.components
@@ -280,13 +281,14 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
                         ele.push(b' ');
                         push_int(&mut ele, cell[j] + 1);
                     }
-                    for c in 0..ncols {
+                    if use_tags {
                         ele.push(b' ');
-                        if use_tags && c == 0 {
-                            push_int(&mut ele, b.physical[i]);
-                        } else {
-                            push_f64(&mut ele, cattrs[c].values[off + i]);
-                        }
+                        push_int(&mut ele, b.physical[i]);
+                    }
+                    // With tags, they take the place of `triangle:attribute1`.
+                    for a in cattrs.iter().skip(usize::from(use_tags)) {
+                        ele.push(b' ');
+                        push_f64(&mut ele, a.values[off + i]);
                     }
                     ele.push(b'\n');
                 }
