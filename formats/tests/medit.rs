@@ -94,7 +94,12 @@ fn square_hole_mesh_and_meshb_agree() {
 fn full_mesh() -> TaggedMesh {
     let mut m = TaggedMesh::new();
     m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0], [0.1, 1e-300, 0.0]];
-    m.blocks.push(CellBlock { kind: CellKind::Line, nodes: vec![0, 1, 1, 2, 2, 3, 3, 0], physical: vec![1, 2, -3, 4], geometrical: vec![1, 2, -3, 4] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Line,
+        nodes: vec![0, 1, 1, 2, 2, 3, 3, 0],
+        physical: vec![1, 2, -3, 4],
+        geometrical: vec![1, 2, -3, 4],
+    });
     m.blocks.push(CellBlock { kind: CellKind::Triangle, nodes: vec![0, 1, 4, 1, 2, 4], physical: vec![7, 8], geometrical: vec![7, 8] });
     m.blocks.push(CellBlock { kind: CellKind::Quad, nodes: vec![2, 3, 0, 4], physical: vec![9], geometrical: vec![9] });
     m.point_data.insert("medit:ref".into(), DataArray::new(1, vec![1.0, 2.0, 3.0, 4.0, 0.0, -5.0]));
@@ -314,7 +319,10 @@ fn binary_versions_and_byte_orders() {
             let bytes = handmade(version, le);
             let m = read_alone(&bytes, "meshb").unwrap_or_else(|e| panic!("v{version} le={le}: {e}"));
             assert_eq!(m.points, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.5, 0.0]], "v{version} le={le}");
-            assert_eq!(m.blocks, vec![CellBlock { kind: CellKind::Triangle, nodes: vec![0, 1, 2], physical: vec![7], geometrical: vec![7] }]);
+            assert_eq!(
+                m.blocks,
+                vec![CellBlock { kind: CellKind::Triangle, nodes: vec![0, 1, 2], physical: vec![7], geometrical: vec![7] }]
+            );
             assert_eq!(m.point_data["medit:ref"].values, vec![0.0, 1.0, 2.0]);
             assert_eq!(m.point_sets["Corners"], vec![0, 2]);
         }
@@ -509,7 +517,7 @@ fn malformed_unskippable_layout() {
 #[test]
 fn known_keywords_are_skipped() {
     let m = read_alone(
-        format!("# comment\n{HEAD}{SQUARE}Normals\n1\n1.0 0.0\nNormalAtVertices\n1\n1 1\nAngleOfCornerBound\n45\nSolAtTriangles\n1\n1 1\n2.5\nTriangles\n1\n1 2 3 5\nEnd\n").as_bytes(),
+        format!("# comment\n{HEAD}{SQUARE}Normals\n1\n1.0 0.0\nNormalAtVertices\n1\n1 1\nAngleOfCornerBound\n45\nSolAtTriangles\n2\n2 1 3\n1.5 1 2 3\n2.5 4 5 6\nComments\n1\nany text, even 12 numbers\nTriangles\n1\n1 2 3 5\nEnd\n").as_bytes(),
         "mesh",
     )
     .unwrap();
@@ -636,11 +644,14 @@ fn malformed_binary_huge_count() {
 #[test]
 fn malformed_sol_beside_mesh() {
     let mesh = format!("{HEAD}{SQUARE}End\n");
-    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 1\n1\n2\n3\nEnd\n").unwrap_err();
+    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 1\n1\n2\n3\nEnd\n")
+        .unwrap_err();
     assert!(e.to_string().starts_with("<memory>.sol:3:"), "{e}");
-    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n4\n1 1\n1\n2\n3\n4\nEnd\n").unwrap_err();
+    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n4\n1 1\n1\n2\n3\n4\nEnd\n")
+        .unwrap_err();
     assert!(e.to_string().contains("the solution is 3D but the mesh is 2D"), "{e}");
-    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n4\n1 7\n1\n2\n3\n4\nEnd\n").unwrap_err();
+    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n4\n1 7\n1\n2\n3\n4\nEnd\n")
+        .unwrap_err();
     assert!(e.to_string().contains("solution type 1 (scalar)"), "{e}");
     assert_eq!(line_of(&e), 5);
 }

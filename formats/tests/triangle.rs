@@ -162,7 +162,15 @@ fn face_and_la() {
     assert_eq!(m.points.len(), 141);
     assert_eq!(
         counts_per_tag(&m),
-        counts(&[("line", 0, 12), ("line", 101, 2), ("line", 102, 18), ("line", 103, 25), ("line", 104, 32), ("line", 105, 26), ("line", 106, 33)])
+        counts(&[
+            ("line", 0, 12),
+            ("line", 101, 2),
+            ("line", 102, 18),
+            ("line", 103, 25),
+            ("line", 104, 32),
+            ("line", 105, 26),
+            ("line", 106, 33)
+        ])
     );
     // "1 6 -0.2 0.05": no area column, so Triangle takes the attribute as the area too.
     assert_eq!(m.regions.len(), 6);
@@ -268,7 +276,12 @@ fn every_public_file_reads() {
 fn full_mesh() -> TaggedMesh {
     let mut m = TaggedMesh::new();
     m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0], [0.1, 1e-7, 0.0]];
-    m.blocks.push(CellBlock { kind: CellKind::Line, nodes: vec![0, 1, 1, 2, 2, 3, 3, 0], physical: vec![1, 2, -3, 4], geometrical: vec![1, 2, -3, 4] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Line,
+        nodes: vec![0, 1, 1, 2, 2, 3, 3, 0],
+        physical: vec![1, 2, -3, 4],
+        geometrical: vec![1, 2, -3, 4],
+    });
     m.blocks.push(CellBlock {
         kind: CellKind::Triangle,
         nodes: vec![0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4],
@@ -282,7 +295,10 @@ fn full_mesh() -> TaggedMesh {
     m.cell_data.insert("triangle:attribute2".into(), DataArray::new(1, vec![0.0, 0.0, 0.0, 0.0, 0.25, -1.5, 1e300, 0.0]));
     m.cell_data.insert("triangle:area".into(), DataArray::new(1, vec![-1.0, -1.0, -1.0, -1.0, 0.01, -1.0, 0.5, -1.0]));
     m.holes = vec![[0.25, 0.75]];
-    m.regions = vec![RegionSeed { point: [0.5, 0.25], attribute: 7.0, max_area: 0.1 }, RegionSeed { point: [0.5, 0.75], attribute: 8.0, max_area: -1.0 }];
+    m.regions = vec![
+        RegionSeed { point: [0.5, 0.25], attribute: 7.0, max_area: 0.1 },
+        RegionSeed { point: [0.5, 0.75], attribute: 8.0, max_area: -1.0 },
+    ];
     m
 }
 
@@ -341,7 +357,8 @@ fn mesh_to_stdout_needs_siblings() {
     assert!(String::from_utf8_lossy(&w.main).starts_with("6 2 1 1\n"));
     assert!(!w.siblings.is_empty());
     // write_path refuses stdout for a set of files, saying why.
-    let e = smartmesh_formats::write_path(std::path::Path::new("-"), &full_mesh(), Some(Format::Triangle), &WriteOptions::default()).unwrap_err();
+    let e = smartmesh_formats::write_path(std::path::Path::new("-"), &full_mesh(), Some(Format::Triangle), &WriteOptions::default())
+        .unwrap_err();
     assert!(e.to_string().contains("sibling files"), "{e}");
 }
 
@@ -401,7 +418,15 @@ fn what_triangle_cannot_hold_is_reported() {
     m.point_sets.insert("Corners".into(), vec![0]);
     let w = write_bytes(Format::Triangle, &m, &opts("x.node")).unwrap();
     let d = w.report.dropped.join("\n");
-    for needle in ["z coordinates of 1 points", "1 quad cells", "point data `metric` (9 components)", "cell data `quality`", "1 tag names", "point set `Corners`", "geometrical tags of 1 triangles"] {
+    for needle in [
+        "z coordinates of 1 points",
+        "1 quad cells",
+        "point data `metric` (9 components)",
+        "cell data `quality`",
+        "1 tag names",
+        "point set `Corners`",
+        "geometrical tags of 1 triangles",
+    ] {
         assert!(d.contains(needle), "missing `{needle}` in:\n{d}");
     }
 }
@@ -609,12 +634,9 @@ fn malformed_error_after_fast_records() {
 #[test]
 fn records_mixing_fast_and_general_paths() {
     // Comments, missing optional fields and extra fields in the middle of a block.
-    let m = read_mem(
-        "node",
-        "6 2 1 1\n1 0 0 0.5 1\n2 1 0 0.5 1 # c\n3 1 1\n# comment line\n4 0 1 2.5 4 extra\n5 2 2 1 5\n6 3 3 1 6\n",
-        &[],
-    )
-    .unwrap();
+    let m =
+        read_mem("node", "6 2 1 1\n1 0 0 0.5 1\n2 1 0 0.5 1 # c\n3 1 1\n# comment line\n4 0 1 2.5 4 extra\n5 2 2 1 5\n6 3 3 1 6\n", &[])
+            .unwrap();
     assert_eq!(m.points[5], [3.0, 3.0, 0.0]);
     assert_eq!(m.point_data["triangle:attribute1"].values, vec![0.5, 0.5, 0.0, 2.5, 1.0, 1.0]);
     assert_eq!(m.point_data["triangle:marker"].values, vec![1.0, 1.0, 0.0, 4.0, 5.0, 6.0]);

@@ -206,7 +206,11 @@ fn meshio_reads_our_mesh() {
     let dir = tempfile::tempdir().unwrap();
     let back = dir.path().join("meshio.mesh");
     let src = public_fixture("medit/square_hole_mmg.mesh");
-    run_python(&py, "import sys, meshio; meshio.write(sys.argv[2], meshio.read(sys.argv[1]))", &[src.to_str().unwrap(), back.to_str().unwrap()]);
+    run_python(
+        &py,
+        "import sys, meshio; meshio.write(sys.argv[2], meshio.read(sys.argv[1]))",
+        &[src.to_str().unwrap(), back.to_str().unwrap()],
+    );
     let theirs = read_path(&back, Some(Format::Medit)).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(counts_per_tag(&theirs), counts_per_tag(&m));
 }

@@ -131,7 +131,13 @@ fn read_elements(t: &mut Tokens<'_>, p: &mut Parsed, kind: CellKind, line: u64) 
     // The vertex count is known when Vertices came first, as it does in every file MMG
     // or libMeshb writes; otherwise the numbers are checked at the end.
     let nv = if p.vertices_read { p.points.len() } else { usize::MAX };
-    let mut e = Elements { kind, nodes: Vec::with_capacity(n * k), refs: Vec::with_capacity(n), at: Locator::Line(line), unchecked: !p.vertices_read };
+    let mut e = Elements {
+        kind,
+        nodes: Vec::with_capacity(n * k),
+        refs: Vec::with_capacity(n),
+        at: Locator::Line(line),
+        unchecked: !p.vertices_read,
+    };
     let mut i = 0;
     while i < n {
         i += fast_elements(t, &mut e, k, nv, n - i);
@@ -188,7 +194,11 @@ fn read_set(t: &mut Tokens<'_>, p: &mut Parsed, code: usize) -> Result<()> {
     for _ in 0..n {
         let v = t.i64("a number in a set keyword")?;
         if v < 1 {
-            return Err(t.error(ErrorKind::IndexOutOfRange { what: format!("{name} entry {}", s.items.len() + 1), index: v, available: 0 }));
+            return Err(t.error(ErrorKind::IndexOutOfRange {
+                what: format!("{name} entry {}", s.items.len() + 1),
+                index: v,
+                available: 0,
+            }));
         }
         s.items.push(usize::try_from(v - 1).unwrap_or(usize::MAX));
         s.at.push(Position::Line(t.line()));
@@ -205,7 +215,13 @@ fn sol_types(t: &mut Tokens<'_>, dim: u8, name: &str) -> Result<Vec<u32>> {
         let ty = t.i64("solution type")?;
         match u32::try_from(ty).ok().filter(|&ty| sol_size(ty, dim).is_some()) {
             Some(ty) => types.push(ty),
-            None => return Err(Error::expected(t.line(), "solution type 1 (scalar), 2 (vector), 3 (symmetric tensor) or 4 (matrix)", ty.to_string())),
+            None => {
+                return Err(Error::expected(
+                    t.line(),
+                    "solution type 1 (scalar), 2 (vector), 3 (symmetric tensor) or 4 (matrix)",
+                    ty.to_string(),
+                ))
+            }
         }
     }
     Ok(types)
@@ -246,13 +262,39 @@ fn fast_reals(t: &mut Tokens<'_>, values: &mut Vec<f64>, total: usize) {
 /// Skips a keyword smartmesh does not use, by its layout; returns its item count.
 fn skip(t: &mut Tokens<'_>, kw: &Keyword, dim: u8, line: u64) -> Result<usize> {
     let unknown = || {
-        Error::at_line(line, ErrorKind::Unsupported(format!("keyword {} (layout `{}`, which smartmesh cannot skip in ASCII)", kw.name, kw.layout)))
+        Error::at_line(
+            line,
+            ErrorKind::Unsupported(format!("keyword {} (layout `{}`, which smartmesh cannot skip in ASCII)", kw.name, kw.layout)),
+        )
     };
-    let mut layout = kw.layout.as_bytes();
+    let layout = kw.layout.as_bytes();
     if dim == 0 && layout.iter().any(|c| matches!(c, b'd' | b's' | b'h')) {
         return Err(Error::expected(line, format!("Dimension before {}", kw.name), kw.name));
     }
-    // Solution keywords: a type header fixes the number of reals of an item.
+    // Fields of one item: numbers (repeated per dimension or per solution real), and
+    // whole-line strings.
+    let fields = |sol: usize| -> Result<(usize, usize)> {
+        let (mut numbers, mut strings) = (0usize, 0usize);
+        let mut rest = layout;
+        while let [c, tail @ ..] = rest {
+            let (repeat, field, tail) = match (c, tail) {
+                (b'd', [f, tail @ ..]) => (dim as usize, *f, tail),
+                (b's' | b'h', [f, tail @ ..]) => (sol, *f, tail),
+                _ => (1, *c, tail),
+            };
+            match field {
+                b'i' | b'r' => numbers = numbers.saturating_add(repeat),
+                b'c' => strings += repeat,
+                _ => return Err(unknown()),
+            }
+            rest = tail;
+        }
+        Ok((numbers, strings))
+    };
+    fields(0)?;
+    // As libMeshb reads the header: the count, then for solutions the types (and for
+    // high-order solutions the degree and node count).
+    let n = if kw.counted { t.count(&format!("number of {}", kw.name), 2)? } else { 1 };
     let mut sol = 0;
     if matches!(layout, b"sr" | b"hr") {
         let types = sol_types(t, dim, kw.name)?;
@@ -263,26 +305,8 @@ fn skip(t: &mut Tokens<'_>, kw: &Keyword, dim: u8, line: u64) -> Result<usize> {
             sol = sol.saturating_mul(nodes);
         }
     }
-    // Fields of one item: numbers, and whole-line strings.
-    let (mut numbers, mut strings) = (0usize, 0usize);
-    while let [c, rest @ ..] = layout {
-        let (repeat, field, rest) = match (c, rest) {
-            (b'd', [f, rest @ ..]) => (dim as usize, *f, rest),
-            (b's' | b'h', [f, rest @ ..]) => (sol, *f, rest),
-            _ => (1, *c, rest),
-        };
-        match field {
-            b'i' | b'r' => numbers = numbers.saturating_add(repeat),
-            b'c' => strings += repeat,
-            _ => return Err(unknown()),
-        }
-        layout = rest;
-    }
-    let n = if kw.counted {
-        t.count(&format!("number of {}", kw.name), 2 * numbers.max(1))?
-    } else {
-        1
-    };
+    let (numbers, strings) = fields(sol)?;
+    crate::text::check_count(n.saturating_mul(numbers), t.remaining().len(), 2, kw.name).map_err(|k| Error::at_line(line, k))?;
     for _ in 0..n {
         for _ in 0..numbers {
             t.token("a number")?;

@@ -106,7 +106,11 @@ enum Bad {
 }
 
 /// Decodes `K`-node elements; returns the largest vertex number (0-based) met.
-fn elements<const LE: bool, const I8: bool, const K: usize>(data: &[u8], nodes: &mut Vec<usize>, refs: &mut Vec<i32>) -> Result<usize, Bad> {
+fn elements<const LE: bool, const I8: bool, const K: usize>(
+    data: &[u8],
+    nodes: &mut Vec<usize>,
+    refs: &mut Vec<i32>,
+) -> Result<usize, Bad> {
     let isz = if I8 { 8 } else { 4 };
     let mut largest = 0;
     for (i, rec) in data.chunks_exact((K + 1) * isz).enumerate() {
@@ -137,7 +141,12 @@ fn elements_any<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &m
     }
 }
 
-fn vertices<const LE: bool, const I8: bool, const R4: bool>(data: &[u8], dim: usize, points: &mut Vec<[f64; 3]>, refs: &mut Vec<i32>) -> Result<(), Bad> {
+fn vertices<const LE: bool, const I8: bool, const R4: bool>(
+    data: &[u8],
+    dim: usize,
+    points: &mut Vec<[f64; 3]>,
+    refs: &mut Vec<i32>,
+) -> Result<(), Bad> {
     let (isz, rsz) = (if I8 { 8 } else { 4 }, if R4 { 4 } else { 8 });
     for (i, rec) in data.chunks_exact(dim * rsz + isz).enumerate() {
         let mut p = [0.0; 3];
@@ -175,7 +184,10 @@ pub(super) fn read(b: &[u8]) -> Result<Parsed> {
         _ => {
             return Err(Error::at_byte(
                 0,
-                ErrorKind::Expected { expected: "the endianness code 1 (or 16777216, byte-swapped) of a binary Medit file".into(), found: code.to_string() },
+                ErrorKind::Expected {
+                    expected: "the endianness code 1 (or 16777216, byte-swapped) of a binary Medit file".into(),
+                    found: code.to_string(),
+                },
             ))
         }
     };
@@ -210,7 +222,10 @@ pub(super) fn read(b: &[u8]) -> Result<Parsed> {
             Some(KW_DIMENSION) => {
                 let d = scalar(b, data, 4, le, "the dimension")?;
                 if d != 2 && d != 3 {
-                    return Err(Error::at_byte(data as u64, ErrorKind::Expected { expected: "Dimension 2 or 3".into(), found: d.to_string() }));
+                    return Err(Error::at_byte(
+                        data as u64,
+                        ErrorKind::Expected { expected: "Dimension 2 or 3".into(), found: d.to_string() },
+                    ));
                 }
                 p.dim = d as u8;
             }
@@ -300,7 +315,9 @@ fn bad_item(bad: Bad, start: usize, size: usize, item: &str, ref_offset: usize) 
             at(i) + ref_offset as u64,
             ErrorKind::Expected { expected: format!("the reference of {item} {} (a 32-bit integer)", i + 1), found: v.to_string() },
         ),
-        Bad::Coord(i, v) => Error::at_byte(at(i), ErrorKind::NonFinite { what: format!("a real of {item} {}", i + 1), value: v.to_string() }),
+        Bad::Coord(i, v) => {
+            Error::at_byte(at(i), ErrorKind::NonFinite { what: format!("a real of {item} {}", i + 1), value: v.to_string() })
+        }
     }
 }
 
@@ -340,7 +357,10 @@ fn read_set(b: &[u8], data: usize, limit: usize, f: Fmt, code: usize, p: &mut Pa
         let at = start + i * size;
         let v = scalar(b, at, size, f.le, name)?;
         if v < 1 {
-            return Err(Error::at_byte(at as u64, ErrorKind::IndexOutOfRange { what: format!("{name} entry {}", i + 1), index: v, available: 0 }));
+            return Err(Error::at_byte(
+                at as u64,
+                ErrorKind::IndexOutOfRange { what: format!("{name} entry {}", i + 1), index: v, available: 0 },
+            ));
         }
         s.items.push(usize::try_from(v - 1).unwrap_or(usize::MAX));
         s.at.push(Position::Byte(at as u64));
@@ -352,11 +372,16 @@ fn read_set(b: &[u8], data: usize, limit: usize, f: Fmt, code: usize, p: &mut Pa
 fn read_sol(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) -> Result<()> {
     need_dim(p, data, "SolAtVertices")?;
     let n = scalar(b, data, f.isz(), f.le, "the number of vertices of SolAtVertices")?;
-    let n = usize::try_from(n).map_err(|_| Error::at_byte(data as u64, ErrorKind::Expected { expected: "a non-negative number of vertices".into(), found: n.to_string() }))?;
+    let n = usize::try_from(n).map_err(|_| {
+        Error::at_byte(data as u64, ErrorKind::Expected { expected: "a non-negative number of vertices".into(), found: n.to_string() })
+    })?;
     let mut at = data + f.isz();
     let nt = scalar(b, at, 4, f.le, "the number of solution types")?;
     let nt = usize::try_from(nt).ok().filter(|&nt| nt <= limit.saturating_sub(at) / 4).ok_or_else(|| {
-        Error::at_byte(at as u64, ErrorKind::ImplausibleCount { what: "solution types".into(), count: nt as u64, limit: "more than the keyword's bytes".into() })
+        Error::at_byte(
+            at as u64,
+            ErrorKind::ImplausibleCount { what: "solution types".into(), count: nt as u64, limit: "more than the keyword's bytes".into() },
+        )
     })?;
     at += 4;
     let mut types = Vec::with_capacity(nt);
@@ -367,14 +392,18 @@ fn read_sol(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) -> Resu
             None => {
                 return Err(Error::at_byte(
                     at as u64,
-                    ErrorKind::Expected { expected: "solution type 1 (scalar), 2 (vector), 3 (symmetric tensor) or 4 (matrix)".into(), found: ty.to_string() },
+                    ErrorKind::Expected {
+                        expected: "solution type 1 (scalar), 2 (vector), 3 (symmetric tensor) or 4 (matrix)".into(),
+                        found: ty.to_string(),
+                    },
                 ))
             }
         }
         at += 4;
     }
     let stride: usize = types.iter().map(|&ty| sol_size(ty, p.dim).unwrap_or(0)).sum();
-    check_count(n.saturating_mul(stride), limit.saturating_sub(at), f.rsz(), "solution values").map_err(|k| Error::at_byte(data as u64, k))?;
+    check_count(n.saturating_mul(stride), limit.saturating_sub(at), f.rsz(), "solution values")
+        .map_err(|k| Error::at_byte(data as u64, k))?;
     let mut values = Vec::with_capacity(n * stride);
     let d = &b[at..at + n * stride * f.rsz()];
     let r = match (f.le, f.real4) {

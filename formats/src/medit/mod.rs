@@ -19,9 +19,11 @@
 //! # Reading
 //! - `MeshVersionFormatted` 1 to 4, `Dimension` 2 or 3 (z is kept, `coordinate_dim` 3).
 //! - `Vertices` with their references (point data `medit:ref`, present only when some
-//!   reference is not 0); `Edges`, `Triangles`, `Quadrilaterals` (and `EdgesP2`,
-//!   `TrianglesP2`, `QuadrilateralsQ2`, taken in smartmesh's node order, as meshio does):
-//!   the reference is the physical and geometrical tag. Blocks come out in the order lines,
+//!   reference is not 0); `Edges`, `Triangles`, `Quadrilaterals`: the reference is the
+//!   physical and geometrical tag. `EdgesP2` (ends, then middle, as libMeshb documents
+//!   it), `TrianglesP2` and `QuadrilateralsQ2` are read and written with their nodes as
+//!   they are, taken to be in smartmesh's (Gmsh's) order: libMeshb leaves that order to
+//!   optional `...Ordering` keywords, which smartmesh does not read. Blocks come out in the order lines,
 //!   triangles, quadrilaterals, then second order, whatever the order in the file.
 //! - `Corners`, `RequiredVertices` become point sets of those names (0-based point
 //!   indices); `Ridges`, `RequiredEdges` (edge numbers), `RequiredTriangles`,
@@ -289,10 +291,7 @@ pub fn read_sol(bytes: &[u8], n_vertices: usize, binary: bool) -> Result<BTreeMa
 fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize) -> Result<BTreeMap<String, DataArray>> {
     let at = sol.at.unwrap_or(Position::Line(1));
     if sol.n != n_vertices {
-        return Err(error_at(
-            at,
-            ErrorKind::Inconsistent(format!("SolAtVertices gives {} vertices, the mesh has {n_vertices}", sol.n)),
-        ));
+        return Err(error_at(at, ErrorKind::Inconsistent(format!("SolAtVertices gives {} vertices, the mesh has {n_vertices}", sol.n))));
     }
     let sizes: Vec<usize> = sol.types.iter().map(|&t| sol_size(t, dim).unwrap_or(0)).collect();
     let stride: usize = sizes.iter().sum();
@@ -310,7 +309,13 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize) -> Result<BTreeMap<String, 
         *k += 1;
         let name = if *k == 1 { base.to_string() } else { format!("{base}_{k}") };
         let d = dim as usize;
-        let comps = if typ == 1 { 1 } else if typ == 2 { 3 } else { 9 };
+        let comps = if typ == 1 {
+            1
+        } else if typ == 2 {
+            3
+        } else {
+            9
+        };
         let mut values = Vec::with_capacity(comps * sol.n);
         for v in 0..sol.n {
             let s = &sol.values[v * stride + offset..v * stride + offset + size];
@@ -392,11 +397,7 @@ fn assemble(p: Parsed) -> Result<TaggedMesh> {
         if let Some(i) = s.items.iter().position(|&v| v >= available) {
             return Err(error_at(
                 s.at[i],
-                ErrorKind::IndexOutOfRange {
-                    what: format!("{name} entry {}", i + 1),
-                    index: s.items[i] as i64 + 1,
-                    available,
-                },
+                ErrorKind::IndexOutOfRange { what: format!("{name} entry {}", i + 1), index: s.items[i] as i64 + 1, available },
             ));
         }
         let indices = s.items.iter().map(|&v| v + offset);
@@ -492,7 +493,9 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     // File order as MMG writes it: edges, then triangles, then quadrilaterals.
     elements.sort_by_key(|(code, _)| ELEMENTS.iter().position(|(c, _)| c == code));
     if geo_differs > 0 {
-        report.drop(format!("geometrical tags of {geo_differs} cells differ from the physical ones: Medit keeps one reference (the physical tag)"));
+        report.drop(format!(
+            "geometrical tags of {geo_differs} cells differ from the physical ones: Medit keeps one reference (the physical tag)"
+        ));
     }
 
     // Sets.
@@ -601,7 +604,9 @@ pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result
             1 => 1u32,
             2 | 3 => 2,
             9 => 3,
-            c => return Err(cannot(format!("array `{name}` has {c} components; a solution is a scalar, a vector or a 9-component tensor"))),
+            c => {
+                return Err(cannot(format!("array `{name}` has {c} components; a solution is a scalar, a vector or a 9-component tensor")))
+            }
         });
     }
     let d = dim as usize;
@@ -616,14 +621,7 @@ pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result
                 (2, _) => values.extend_from_slice(&[s[0], s[1], 0.0]),
                 (3, _) => values.extend_from_slice(s),
                 (_, 2) => values.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4]]),
-                (_, _) => values.extend_from_slice(&[
-                    s[0],
-                    0.5 * (s[1] + s[3]),
-                    s[4],
-                    0.5 * (s[2] + s[6]),
-                    0.5 * (s[5] + s[7]),
-                    s[8],
-                ]),
+                (_, _) => values.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4], 0.5 * (s[2] + s[6]), 0.5 * (s[5] + s[7]), s[8]]),
             }
         }
     }

@@ -18,16 +18,16 @@
 //!   `.node`; when both list vertices, the lists must agree.
 //!   Boundary markers go to point data `triangle:marker`, attributes to point data
 //!   `triangle:attribute1`, `triangle:attribute2`, ... (one scalar each).
-//! - `.ele`: 3-node triangles ([`CellKind::Triangle`]) or 6-node ones
-//!   ([`CellKind::Triangle6`]; Triangle puts the mid-edge nodes opposite corners 1, 2, 3,
+//! - `.ele`: 3-node triangles ([`CellKind::Triangle`](crate::CellKind::Triangle)) or 6-node ones
+//!   ([`CellKind::Triangle6`](crate::CellKind::Triangle6); Triangle puts the mid-edge nodes opposite corners 1, 2, 3,
 //!   they are reordered to edges 1-2, 2-3, 3-1). Every attribute is kept as cell data
 //!   `triangle:attribute<k>`; when all first attributes are integers, they are also the
 //!   physical and geometrical tags of the triangles.
-//! - Segments of the `.poly` become [`CellKind::Line`] cells tagged with their boundary
+//! - Segments of the `.poly` become [`CellKind::Line`](crate::CellKind::Line) cells tagged with their boundary
 //!   marker; holes go to [`TaggedMesh::holes`], regional attributes and area bounds to
 //!   [`TaggedMesh::regions`]. Without a `.poly` (or when the main file is the `.edge`),
 //!   the `.edge` file gives the Line cells; the infinite rays of a Voronoi `.v.edge` become
-//!   [`CellKind::Vertex`] cells at their origin, with cell data `triangle:ray_direction`.
+//!   [`CellKind::Vertex`](crate::CellKind::Vertex) cells at their origin, with cell data `triangle:ray_direction`.
 //! - `.area`: per-triangle area bounds, cell data `triangle:area`.
 //! - Cell data covers every cell: non-triangles get 0 as attributes, -1 as area, and
 //!   non-rays a zero direction.
@@ -56,9 +56,7 @@
 mod read;
 mod write;
 
-#[allow(unused_imports)] // for the links in the module documentation
-use crate::{CellKind, TaggedMesh};
-use crate::{ReadContext, Result, WriteOptions, Written};
+use crate::{ReadContext, Result, TaggedMesh, WriteOptions, Written};
 
 /// Point data holding the boundary marker of each vertex.
 pub const MARKER: &str = "triangle:marker";

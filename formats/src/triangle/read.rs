@@ -230,7 +230,13 @@ impl Scan<'_> {
 /// and the general path takes the record that stopped it (with its defaults, comments
 /// and errors).
 #[inline(always)]
-fn fast<R>(t: &mut Tokens<'_>, max: usize, mut fields: impl FnMut(&mut Scan<'_>) -> Option<R>, mut push: impl FnMut(R), enabled: bool) -> usize {
+fn fast<R>(
+    t: &mut Tokens<'_>,
+    max: usize,
+    mut fields: impl FnMut(&mut Scan<'_>) -> Option<R>,
+    mut push: impl FnMut(R),
+    enabled: bool,
+) -> usize {
     if !enabled {
         return 0;
     }
@@ -287,21 +293,27 @@ fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<NodeList> {
     let mut i = 0;
     while i < n {
         if i > 0 {
-            i += fast(t, n - i, |s| {
-                let (x, y) = (s.next_f64()?, s.next_f64()?);
-                let mut a = [0.0; FAST_ATTRIBUTES];
-                for slot in a.iter_mut().take(nattr) {
-                    *slot = s.next_f64()?;
-                }
-                let m = if nmarkers == 1 { Some(s.next_i32()?) } else { None };
-                Some((x, y, a, m))
-            }, |(x, y, a, m)| {
-                list.xy.push([x, y]);
-                list.attrs.extend_from_slice(&a[..nattr]);
-                if let (Some(ms), Some(m)) = (list.markers.as_mut(), m) {
-                    ms.push(m);
-                }
-            }, nattr <= FAST_ATTRIBUTES);
+            i += fast(
+                t,
+                n - i,
+                |s| {
+                    let (x, y) = (s.next_f64()?, s.next_f64()?);
+                    let mut a = [0.0; FAST_ATTRIBUTES];
+                    for slot in a.iter_mut().take(nattr) {
+                        *slot = s.next_f64()?;
+                    }
+                    let m = if nmarkers == 1 { Some(s.next_i32()?) } else { None };
+                    Some((x, y, a, m))
+                },
+                |(x, y, a, m)| {
+                    list.xy.push([x, y]);
+                    list.attrs.extend_from_slice(&a[..nattr]);
+                    if let (Some(ms), Some(m)) = (list.markers.as_mut(), m) {
+                        ms.push(m);
+                    }
+                },
+                nattr <= FAST_ATTRIBUTES,
+            );
             if i == n {
                 break;
             }
@@ -356,24 +368,30 @@ fn parse_ele(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Ele> {
     let mut v = [0usize; 6];
     let mut i = 0;
     while i < n {
-        i += fast(t, n - i, |s| {
-            let mut w = [0usize; 6];
-            for slot in w.iter_mut().take(k) {
-                *slot = s.next_index(base, nv)?;
-            }
-            let mut a = [0.0; FAST_ATTRIBUTES];
-            for slot in a.iter_mut().take(nattr) {
-                *slot = s.next_f64()?;
-            }
-            Some((w, a))
-        }, |(w, a)| {
-            if k == 6 {
-                ele.nodes.extend_from_slice(&[w[0], w[1], w[2], w[5], w[3], w[4]]);
-            } else {
-                ele.nodes.extend_from_slice(&w[..3]);
-            }
-            ele.attrs.extend_from_slice(&a[..nattr]);
-        }, nattr <= FAST_ATTRIBUTES);
+        i += fast(
+            t,
+            n - i,
+            |s| {
+                let mut w = [0usize; 6];
+                for slot in w.iter_mut().take(k) {
+                    *slot = s.next_index(base, nv)?;
+                }
+                let mut a = [0.0; FAST_ATTRIBUTES];
+                for slot in a.iter_mut().take(nattr) {
+                    *slot = s.next_f64()?;
+                }
+                Some((w, a))
+            },
+            |(w, a)| {
+                if k == 6 {
+                    ele.nodes.extend_from_slice(&[w[0], w[1], w[2], w[5], w[3], w[4]]);
+                } else {
+                    ele.nodes.extend_from_slice(&w[..3]);
+                }
+                ele.attrs.extend_from_slice(&a[..nattr]);
+            },
+            nattr <= FAST_ATTRIBUTES,
+        );
         if i == n {
             break;
         }
@@ -413,14 +431,20 @@ fn parse_segments(t: &mut Tokens<'_>, nv: usize, base: i64, file: &str) -> Resul
     let mut lines = Lines { nodes: Vec::with_capacity(2 * n), tags: Vec::with_capacity(n), rays: Vec::new() };
     let mut i = 0;
     while i < n {
-        i += fast(t, n - i, |s| {
-            let (a, b) = (s.next_index(base, nv)?, s.next_index(base, nv)?);
-            let m = if nmarkers == 1 { s.next_i32()? } else { 0 };
-            Some((a, b, m))
-        }, |(a, b, m)| {
-            lines.nodes.extend_from_slice(&[a, b]);
-            lines.tags.push(m);
-        }, true);
+        i += fast(
+            t,
+            n - i,
+            |s| {
+                let (a, b) = (s.next_index(base, nv)?, s.next_index(base, nv)?);
+                let m = if nmarkers == 1 { s.next_i32()? } else { 0 };
+                Some((a, b, m))
+            },
+            |(a, b, m)| {
+                lines.nodes.extend_from_slice(&[a, b]);
+                lines.tags.push(m);
+            },
+            true,
+        );
         if i == n {
             break;
         }
@@ -507,14 +531,20 @@ fn parse_edges(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Lines> {
     let mut i = 0;
     while i < n {
         // Rays (second endpoint -1) are left to the general path.
-        i += fast(t, n - i, |s| {
-            let (a, b) = (s.next_index(base, nv)?, s.next_index(base, nv)?);
-            let m = if nmarkers == 1 { s.next_i32()? } else { 0 };
-            Some((a, b, m))
-        }, |(a, b, m)| {
-            lines.nodes.extend_from_slice(&[a, b]);
-            lines.tags.push(m);
-        }, true);
+        i += fast(
+            t,
+            n - i,
+            |s| {
+                let (a, b) = (s.next_index(base, nv)?, s.next_index(base, nv)?);
+                let m = if nmarkers == 1 { s.next_i32()? } else { 0 };
+                Some((a, b, m))
+            },
+            |(a, b, m)| {
+                lines.nodes.extend_from_slice(&[a, b]);
+                lines.tags.push(m);
+            },
+            true,
+        );
         if i == n {
             break;
         }
@@ -551,10 +581,7 @@ fn parse_area(t: &mut Tokens<'_>, ntri: usize) -> Result<Vec<f64>> {
     let mut r = Rec::new(t, line, "header", 0);
     let n = r.count("number of triangles", 4)?;
     if n != ntri {
-        return Err(Error::at_line(
-            line,
-            ErrorKind::Inconsistent(format!("the .area file lists {n} triangles, the .ele file {ntri}")),
-        ));
+        return Err(Error::at_line(line, ErrorKind::Inconsistent(format!("the .area file lists {n} triangles, the .ele file {ntri}"))));
     }
     r.end();
     let mut areas = Vec::with_capacity(n);
@@ -597,9 +624,7 @@ pub(super) fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     };
     // Errors in a sibling name the sibling; those in the main file get its path from the
     // caller.
-    let in_file = |k: Kind| {
-        move |e: Error| if k == main { e } else { e.with_path(ctx.siblings.describe(k.ext())) }
-    };
+    let in_file = |k: Kind| move |e: Error| if k == main { e } else { e.with_path(ctx.siblings.describe(k.ext())) };
 
     let node_bytes = load(Kind::Node)?;
     let node = match &node_bytes {

@@ -23,10 +23,7 @@ fn as_markers(a: &DataArray) -> Option<Vec<i32>> {
     if a.components != 1 {
         return None;
     }
-    a.values
-        .iter()
-        .map(|&v| (v.fract() == 0.0 && v >= i32::MIN as f64 && v <= i32::MAX as f64).then_some(v as i32))
-        .collect()
+    a.values.iter().map(|&v| (v.fract() == 0.0 && v >= i32::MIN as f64 && v <= i32::MAX as f64).then_some(v as i32)).collect()
 }
 
 /// The vertex list: header and one vertex a line (shared by `.node` and a self-contained
@@ -167,7 +164,9 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         report.drop(format!("{nvert} vertex cells: {why}"));
     }
     if ntri3 > 0 && ntri6 > 0 {
-        report.drop(format!("mid-edge nodes of {ntri6} triangle6 cells: a .ele holds one kind of triangle, they were written by their corners"));
+        report.drop(format!(
+            "mid-edge nodes of {ntri6} triangle6 cells: a .ele holds one kind of triangle, they were written by their corners"
+        ));
     }
     let tri_nodes = if ntri3 == 0 && ntri6 > 0 { 6 } else { 3 };
 
@@ -201,11 +200,16 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
     for (n, what) in geo_differs.iter().zip(["segments", "triangles"]) {
         if *n > 0 {
-            report.drop(format!("geometrical tags of {n} {what}: Triangle keeps one tag (the physical one, as {})", if what == "segments" { "boundary marker" } else { "first attribute" }));
+            report.drop(format!(
+                "geometrical tags of {n} {what}: Triangle keeps one tag (the physical one, as {})",
+                if what == "segments" { "boundary marker" } else { "first attribute" }
+            ));
         }
     }
     if attr1_differs > 0 {
-        report.drop(format!("cell data `{ATTRIBUTE_PREFIX}1` of {attr1_differs} triangles: the physical tags were written as the first attribute instead"));
+        report.drop(format!(
+            "cell data `{ATTRIBUTE_PREFIX}1` of {attr1_differs} triangles: the physical tags were written as the first attribute instead"
+        ));
     }
     let area = match mesh.cell_data.get(AREA) {
         Some(a) if a.components == 1 && ntri > 0 => Some(a),
@@ -216,7 +220,8 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         None => None,
     };
     for (name, a) in &mesh.cell_data {
-        let is_attr = name.strip_prefix(ATTRIBUTE_PREFIX).and_then(|k| k.parse::<usize>().ok()).is_some_and(|k| k >= 1 && k <= cattrs.len());
+        let is_attr =
+            name.strip_prefix(ATTRIBUTE_PREFIX).and_then(|k| k.parse::<usize>().ok()).is_some_and(|k| k >= 1 && k <= cattrs.len());
         let kept = (is_attr && ntri > 0) || name == AREA || (name == RAY_DIRECTION && rays.is_some());
         // Ray directions without rays were reported with the vertex cells.
         if !(kept || name == RAY_DIRECTION && nvert > 0) {
