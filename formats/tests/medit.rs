@@ -677,3 +677,26 @@ fn records_mixing_fast_and_general_paths() {
     assert_eq!(m.points[2], [1.0, 1.0, 0.0]);
     assert_eq!(m.blocks[0].physical, vec![1, -2]);
 }
+
+#[test]
+fn malformed_dimension_changes() {
+    let e = read_alone(b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n1\n1 3\n1 2 3\nDimension 3\n", "mesh").unwrap_err();
+    assert!(e.to_string().contains("Dimension 3 after Dimension 2"), "{e}");
+    assert_eq!(line_of(&e), 7);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    /// Whatever the bytes, the readers return a value or an error: no panic, no abort.
+    #[test]
+    fn prop_no_panic_on_damaged_files(edits in prop::collection::vec((any::<prop::sample::Index>(), any::<u8>()), 1..8), cut in any::<prop::sample::Index>(), binary in any::<bool>()) {
+        let mut bytes = if binary { handmade(2, true) } else { format!("{HEAD}{SQUARE}Edges\n1\n1 2 3\nTriangles\n2\n1 2 3 4\n1 3 4 4\nCorners\n1\n2\nRequiredEdges\n1\n1\nEnd\n").into_bytes() };
+        for (at, byte) in edits {
+            let i = at.index(bytes.len());
+            bytes[i] = byte;
+        }
+        bytes.truncate(cut.index(bytes.len() + 1).max(1));
+        let _ = read_alone(&bytes, if binary { "meshb" } else { "mesh" });
+        let _ = read_sol(&bytes, 4, binary);
+    }
+}

@@ -641,3 +641,26 @@ fn records_mixing_fast_and_general_paths() {
     assert_eq!(m.point_data["triangle:attribute1"].values, vec![0.5, 0.5, 0.0, 2.5, 1.0, 1.0]);
     assert_eq!(m.point_data["triangle:marker"].values, vec![1.0, 1.0, 0.0, 4.0, 5.0, 6.0]);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    /// Whatever the bytes, the reader returns a value or an error: no panic, no abort.
+    #[test]
+    fn prop_no_panic_on_damaged_files(edits in prop::collection::vec((any::<prop::sample::Index>(), any::<u8>()), 1..8), cut in any::<prop::sample::Index>(), which in 0usize..4) {
+        let w = write_bytes(Format::Triangle, &full_mesh(), &opts("d.node")).unwrap();
+        let mut files: BTreeMap<String, Vec<u8>> = w.siblings.into_iter().collect();
+        files.insert("node".into(), w.main);
+        let ext = ["node", "ele", "poly", "area"][which];
+        let bytes = files.get_mut(ext).unwrap();
+        for (at, byte) in edits {
+            let i = at.index(bytes.len());
+            bytes[i] = byte;
+        }
+        let keep = cut.index(bytes.len() + 1);
+        bytes.truncate(keep);
+        let main = files.remove(ext).unwrap();
+        let sib = MemorySiblings { files };
+        let _ = read_bytes(Format::Triangle, &main, &ReadContext { siblings: &sib, extension: ext.into() });
+        let _ = read_bytes(Format::Triangle, &main, &ReadContext { siblings: &NoSiblings, extension: String::new() });
+    }
+}

@@ -31,6 +31,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<Parsed> {
                 if d != 2 && d != 3 {
                     return Err(Error::expected(t.line(), "Dimension 2 or 3", d.to_string()));
                 }
+                // Everything read so far was laid out with the first one.
+                if p.dim != 0 && p.dim != d as u8 {
+                    return Err(Error::at_line(t.line(), ErrorKind::Inconsistent(format!("Dimension {d} after Dimension {}", p.dim))));
+                }
                 p.dim = d as u8;
             }
             KW_VERTICES => read_vertices(&mut t, &mut p, line)?,

@@ -227,6 +227,10 @@ pub(super) fn read(b: &[u8]) -> Result<Parsed> {
                         ErrorKind::Expected { expected: "Dimension 2 or 3".into(), found: d.to_string() },
                     ));
                 }
+                // Everything read so far was laid out with the first one.
+                if p.dim != 0 && p.dim != d as u8 {
+                    return Err(Error::at_byte(data as u64, ErrorKind::Inconsistent(format!("Dimension {d} after Dimension {}", p.dim))));
+                }
                 p.dim = d as u8;
             }
             Some(KW_FLOAT_PRECISION) => {
