@@ -35,14 +35,16 @@
 //! # Writing
 //! The main file's extension (`WriteOptions::main_name`) chooses the files:
 //! - `.node`, `.ele` or `.area`: `.node` (markers from point data `triangle:marker` when
-//!   present), `.ele` when there are triangles (or when it is the main file), `.poly` with
-//!   0 vertices when there are segments, holes or regions (as Triangle's own output
-//!   `.poly` files are), `.area` when there is cell data `triangle:area`.
+//!   present), `.ele` when there are triangles (or when the main file is the `.ele` or
+//!   `.area`), `.poly` with 0 vertices when there are segments, holes or regions (as
+//!   Triangle's own output `.poly` files are), `.area` when there is cell data
+//!   `triangle:area` (or when it is the main file; -1, no bound, for every triangle).
 //! - `.poly`: with triangles, the same set with the `.poly` as main file; without
 //!   triangles, one self-contained PSLG (vertices, segments, holes, regions).
 //! - `.edge`: `.edge` (Line cells and Voronoi rays) beside `.node` and `.ele`; holes and
 //!   regions are reported as dropped, since a `.poly` beside it would take precedence.
-//! - no name (stdout): a self-contained `.poly` when there are no triangles, otherwise the
+//! - no name (stdout): a self-contained `.poly` when there are no triangles but segments,
+//!   holes or regions, otherwise the
 //!   `.node` as main file and its siblings (which stdout cannot hold: the caller says so).
 //!
 //! The first triangle attribute is the physical tag (when any triangle has one), followed
