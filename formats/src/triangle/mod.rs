@@ -44,8 +44,8 @@
 //! - `.edge`: `.edge` (Line cells and Voronoi rays) beside `.node` and `.ele`; holes and
 //!   regions are reported as dropped, since a `.poly` beside it would take precedence.
 //! - no name (stdout): a self-contained `.poly` when there are no triangles but segments,
-//!   holes or regions, otherwise the
-//!   `.node` as main file and its siblings (which stdout cannot hold: the caller says so).
+//!   holes or regions, otherwise the `.node` as main file and its siblings (which stdout
+//!   cannot hold: the caller says so).
 //!
 //! The first triangle attribute is the physical tag (when any triangle has one), followed
 //! by cell data `triangle:attribute2`...; without tags, the `triangle:attribute<k>`
