@@ -22,6 +22,7 @@
 mod error;
 mod io;
 mod mesh;
+mod scan;
 pub mod text;
 
 pub mod gltf;
@@ -66,6 +67,7 @@ const EXTENSIONS: &[(&str, Format)] = &[
     ("ele", Format::Triangle),
     ("poly", Format::Triangle),
     ("edge", Format::Triangle),
+    ("area", Format::Triangle),
     ("msh", Format::Gmsh),
     ("vtk", Format::VtkLegacy),
     ("vtu", Format::Vtu),

@@ -1,0 +1,638 @@
+//! Medit / MMG meshes: `.mesh` (ASCII) and `.meshb` (binary), with their solution files
+//! `.sol` / `.solb`.
+//!
+//! Sources: the libMeshb keyword table and reader (LoicMarechal/libMeshb
+//! `sources/libmeshb7.c`, `Documentation/libMeshb7.tex`) and MMG's readers
+//! (MmgTools/mmg `src/mmg2d/inout_2d.c`, `src/common/inout.c`); meshio's
+//! `src/meshio/medit/_medit.py` for comparison.
+//!
+//! # Files
+//! A file is a sequence of keywords, each followed by its data. ASCII files write the
+//! keyword's name; binary files start with the endianness code (the 32-bit integer 1, read
+//! as 16777216 in the other byte order) and the version, then give each keyword as its code
+//! and the byte offset of the next keyword. The version sets the binary sizes: 1 = 32-bit
+//! reals, 2 = 64-bit reals, 3 = 64-bit offsets, 4 = 64-bit integers too. Every keyword of
+//! libMeshb's table is known (its name, whether a count follows, the layout of an item),
+//! so keywords smartmesh does not use are skipped, in ASCII by their layout and in binary
+//! by the next-keyword offset. A name that is not in the table is an error.
+//!
+//! # Reading
+//! - `MeshVersionFormatted` 1 to 4, `Dimension` 2 or 3 (z is kept, `coordinate_dim` 3).
+//! - `Vertices` with their references (point data `medit:ref`, present only when some
+//!   reference is not 0); `Edges`, `Triangles`, `Quadrilaterals`: the reference is the
+//!   physical and geometrical tag. `EdgesP2` (ends, then middle, as libMeshb documents
+//!   it), `TrianglesP2` and `QuadrilateralsQ2` are read and written with their nodes as
+//!   they are, taken to be in smartmesh's (Gmsh's) order: libMeshb leaves that order to
+//!   optional `...Ordering` keywords, which smartmesh does not read. Blocks come out in the order lines,
+//!   triangles, quadrilaterals, then second order, whatever the order in the file.
+//! - `Corners`, `RequiredVertices` become point sets of those names (0-based point
+//!   indices); `Ridges`, `RequiredEdges` (edge numbers), `RequiredTriangles`,
+//!   `RequiredQuadrilaterals` become cell sets of those names (global cell indices).
+//! - Volume elements (tetrahedra, prisms, ...) are refused: smartmesh meshes are 2D.
+//! - `SolAtVertices`, in the mesh file or in the `.sol`/`.solb` beside it (for `x.mesh`,
+//!   `x.sol` then `x.solb`; for `x.meshb`, `x.solb` then `x.sol`), with any number of
+//!   solutions per vertex: type 1 (scalar) becomes point data `size`, type 2 (vector)
+//!   `vector` (3 components, z = 0 in 2D), type 3 (symmetric tensor, written m11 m12 m22 in
+//!   2D and m11 m12 m22 m13 m23 m33 in 3D, not VTK's order) `metric` (9 components, zz = 1
+//!   in 2D), type 4 (full matrix) `matrix`; a second solution of the same type gets `_2`,
+//!   and so on.
+//!
+//! # Writing
+//! `x.meshb` writes binary, `x.mesh` ASCII; other names (or stdout) follow
+//! `WriteOptions::medit_binary`. The extension wins over the option because MMG and
+//! libMeshb choose how to read a file from its extension. The mesh is written with
+//! `MeshVersionFormatted 2` (64-bit reals; 3 when a binary file passes 2 GiB), `Dimension 2`
+//! unless a z coordinate is not 0. The physical tag is the reference. The solution file
+//! beside it (`.sol` or `.solb`) holds point data `metric` as a type-3 tensor, or `size` as
+//! a scalar when there is no metric: MMG reads one solution. (The `mmg2d_O3` command looks
+//! for `x.sol` beside `x.meshb` unless told `-sol x.solb`; it writes `.sol` itself.)
+//! Everything else is reported as dropped: other point and cell data, geometrical tags
+//! that differ from the physical ones, tag names, Gmsh entities, point cells, 8-node
+//! quadrilaterals, holes and regions, and point or cell sets other than the six above.
+//!
+//! [`read_sol`] and [`write_sol`] read and write a solution file alone, for the sizing
+//! engine that writes metrics.
+
+mod ascii;
+mod binary;
+mod keywords;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::error::{Error, ErrorKind, Position, Result};
+use crate::{sym2_to_tensor9, CellBlock, CellKind, DataArray, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
+
+use keywords::KEYWORDS;
+
+/// Point data holding the reference of each vertex.
+pub const REF: &str = "medit:ref";
+
+// Keyword codes smartmesh reads or writes (positions in libMeshb's table).
+const KW_VERSION: usize = 1;
+const KW_DIMENSION: usize = 3;
+const KW_VERTICES: usize = 4;
+const KW_EDGES: usize = 5;
+const KW_TRIANGLES: usize = 6;
+const KW_QUADRILATERALS: usize = 7;
+const KW_CORNERS: usize = 13;
+const KW_RIDGES: usize = 14;
+const KW_REQUIRED_VERTICES: usize = 15;
+const KW_REQUIRED_EDGES: usize = 16;
+const KW_REQUIRED_TRIANGLES: usize = 17;
+const KW_REQUIRED_QUADRILATERALS: usize = 18;
+const KW_TRIANGLES_P2: usize = 24;
+const KW_EDGES_P2: usize = 25;
+const KW_QUADRILATERALS_Q2: usize = 27;
+const KW_END: usize = 54;
+const KW_SOL_AT_VERTICES: usize = 62;
+const KW_FLOAT_PRECISION: usize = 155;
+
+/// Element keywords smartmesh keeps, and their cell kinds (in the order blocks come out).
+const ELEMENTS: [(usize, CellKind); 6] = [
+    (KW_EDGES, CellKind::Line),
+    (KW_TRIANGLES, CellKind::Triangle),
+    (KW_QUADRILATERALS, CellKind::Quad),
+    (KW_EDGES_P2, CellKind::Line3),
+    (KW_TRIANGLES_P2, CellKind::Triangle6),
+    (KW_QUADRILATERALS_Q2, CellKind::Quad9),
+];
+
+/// Volume elements: a 2D toolchain cannot hold them.
+const VOLUMES: [&str; 16] = [
+    "Tetrahedra",
+    "Prisms",
+    "Hexahedra",
+    "TetrahedraP2",
+    "HexahedraQ2",
+    "Polyhedra",
+    "Pyramids",
+    "PrismsP2",
+    "PyramidsP2",
+    "TetrahedraP3",
+    "TetrahedraP4",
+    "HexahedraQ3",
+    "HexahedraQ4",
+    "PyramidsP3",
+    "PyramidsP4",
+    "PrismsP3",
+];
+
+/// Sets of vertices (point sets) and of elements (cell sets): keyword, and the element
+/// kind the numbers refer to (`None` for vertices).
+const SETS: [(usize, Option<CellKind>); 6] = [
+    (KW_CORNERS, None),
+    (KW_REQUIRED_VERTICES, None),
+    (KW_RIDGES, Some(CellKind::Line)),
+    (KW_REQUIRED_EDGES, Some(CellKind::Line)),
+    (KW_REQUIRED_TRIANGLES, Some(CellKind::Triangle)),
+    (KW_REQUIRED_QUADRILATERALS, Some(CellKind::Quad)),
+];
+
+fn element_kind(code: usize) -> Option<CellKind> {
+    ELEMENTS.iter().find(|(c, _)| *c == code).map(|&(_, k)| k)
+}
+
+fn set_target(code: usize) -> Option<Option<CellKind>> {
+    SETS.iter().find(|(c, _)| *c == code).map(|&(_, k)| k)
+}
+
+fn is_volume(code: usize) -> bool {
+    VOLUMES.contains(&KEYWORDS[code].name)
+}
+
+/// The code of a keyword name.
+fn lookup(name: &[u8]) -> Option<usize> {
+    KEYWORDS.iter().position(|k| k.name.as_bytes() == name && k.name != "Reserved")
+}
+
+/// Number of reals of one solution of `typ` (1 scalar, 2 vector, 3 symmetric, 4 matrix).
+fn sol_size(typ: u32, dim: u8) -> Option<usize> {
+    let d = dim as usize;
+    match typ {
+        1 => Some(1),
+        2 => Some(d),
+        3 => Some(d * (d + 1) / 2),
+        4 => Some(d * d),
+        _ => None,
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// What the two readers produce
+// ---------------------------------------------------------------------------------------
+
+/// Elements of one kind, 0-based node numbers (at least 0; the upper bound is checked
+/// once every keyword is read, when `unchecked`).
+#[derive(Debug)]
+struct Elements {
+    kind: CellKind,
+    nodes: Vec<usize>,
+    refs: Vec<i32>,
+    /// Where each element is, for errors found after reading.
+    at: Locator,
+    /// Whether the node numbers are still to be checked against the vertex count.
+    unchecked: bool,
+}
+
+/// Where item `i` of a keyword is in the file.
+#[derive(Debug, Clone, Copy)]
+enum Locator {
+    /// An ASCII keyword at this line (items are not located more precisely).
+    Line(u64),
+    /// A binary block: first item at `start`, `size` bytes each.
+    Bytes { start: u64, size: u64 },
+}
+
+impl Locator {
+    fn at(self, i: usize) -> Position {
+        match self {
+            Locator::Line(l) => Position::Line(l),
+            Locator::Bytes { start, size } => Position::Byte(start + size * i as u64),
+        }
+    }
+}
+
+/// Numbers of a set keyword, 0-based.
+#[derive(Debug)]
+struct Set {
+    code: usize,
+    items: Vec<usize>,
+    at: Vec<Position>,
+}
+
+/// Solutions at vertices.
+#[derive(Debug, Default)]
+struct Sol {
+    n: usize,
+    types: Vec<u32>,
+    /// `n * Σ sol_size(type)` values, vertex-major.
+    values: Vec<f64>,
+    at: Option<Position>,
+}
+
+/// A file as read, before indices are resolved.
+#[derive(Debug, Default)]
+struct Parsed {
+    dim: u8,
+    points: Vec<[f64; 3]>,
+    refs: Vec<i32>,
+    vertices_read: bool,
+    elements: Vec<Elements>,
+    sets: Vec<Set>,
+    sol: Option<Sol>,
+}
+
+fn error_at(at: Position, kind: ErrorKind) -> Error {
+    Error { path: None, at: Some(at), kind }
+}
+
+fn is_binary(bytes: &[u8]) -> bool {
+    bytes.len() >= 4 && matches!(bytes[..4], [1, 0, 0, 0] | [0, 0, 0, 1])
+}
+
+fn parse(bytes: &[u8], binary: bool) -> Result<Parsed> {
+    if binary {
+        binary::read(bytes)
+    } else {
+        ascii::read(bytes)
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Reading
+// ---------------------------------------------------------------------------------------
+
+/// Reads a Medit mesh (ASCII or binary, told by its first bytes) and the solution file
+/// beside it (see the module documentation).
+pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
+    // The first bytes tell (an ASCII file starts with a letter, a comment or a space); a
+    // `.meshb` that is neither gets the binary reader's error about its endianness code.
+    let binary = is_binary(bytes) || ctx.extension == "meshb";
+    let p = parse(bytes, binary)?;
+    let mut mesh = assemble(p)?;
+    let order: [&str; 2] = if ctx.extension == "meshb" { ["solb", "sol"] } else { ["sol", "solb"] };
+    for ext in order {
+        if let Some(sol_bytes) = ctx.siblings.read_sibling(ext)? {
+            let in_sol = |e: Error| e.with_path(ctx.siblings.describe(ext));
+            let p = parse(&sol_bytes, is_binary(&sol_bytes)).map_err(in_sol)?;
+            let sol = p.sol.unwrap_or_default();
+            if sol.types.is_empty() {
+                break;
+            }
+            if p.dim != 0 && p.dim != mesh.coordinate_dim {
+                return Err(in_sol(Error::new(ErrorKind::Inconsistent(format!(
+                    "the solution is {}D but the mesh is {}D",
+                    p.dim, mesh.coordinate_dim
+                )))));
+            }
+            for (name, a) in sol_arrays(&sol, p.dim, mesh.points.len()).map_err(in_sol)? {
+                mesh.point_data.insert(name, a);
+            }
+            break;
+        }
+    }
+    Ok(mesh)
+}
+
+/// Reads a solution file (`.sol` when `binary` is false, `.solb` when true) whose
+/// `SolAtVertices` must cover `n_vertices` vertices. Returns the arrays named as in the
+/// module documentation (`size`, `vector`, `metric`, `matrix`); an empty map when the
+/// file has no solution at vertices.
+pub fn read_sol(bytes: &[u8], n_vertices: usize, binary: bool) -> Result<BTreeMap<String, DataArray>> {
+    let p = parse(bytes, binary)?;
+    match p.sol {
+        Some(sol) => sol_arrays(&sol, p.dim, n_vertices),
+        None => Ok(BTreeMap::new()),
+    }
+}
+
+/// Names and converts the solutions of a `SolAtVertices`.
+fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize) -> Result<BTreeMap<String, DataArray>> {
+    let at = sol.at.unwrap_or(Position::Line(1));
+    if sol.n != n_vertices {
+        return Err(error_at(at, ErrorKind::Inconsistent(format!("SolAtVertices gives {} vertices, the mesh has {n_vertices}", sol.n))));
+    }
+    let sizes: Vec<usize> = sol.types.iter().map(|&t| sol_size(t, dim).unwrap_or(0)).collect();
+    let stride: usize = sizes.iter().sum();
+    let mut out = BTreeMap::new();
+    let mut seen: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut offset = 0;
+    for (&typ, &size) in sol.types.iter().zip(&sizes) {
+        let base = match typ {
+            1 => "size",
+            2 => "vector",
+            3 => "metric",
+            _ => "matrix",
+        };
+        let k = seen.entry(base).or_insert(0);
+        *k += 1;
+        let name = if *k == 1 { base.to_string() } else { format!("{base}_{k}") };
+        let d = dim as usize;
+        let comps = if typ == 1 {
+            1
+        } else if typ == 2 {
+            3
+        } else {
+            9
+        };
+        let mut values = Vec::with_capacity(comps * sol.n);
+        for v in 0..sol.n {
+            let s = &sol.values[v * stride + offset..v * stride + offset + size];
+            match (typ, d) {
+                (1, _) => values.push(s[0]),
+                (2, 2) => values.extend_from_slice(&[s[0], s[1], 0.0]),
+                (2, _) => values.extend_from_slice(&s[..3]),
+                (3, 2) => values.extend_from_slice(&sym2_to_tensor9(s[0], s[1], s[2], 1.0)),
+                // libMeshb's 3D order: m11 m12 m22 m13 m23 m33.
+                (3, _) => values.extend_from_slice(&[s[0], s[1], s[3], s[1], s[2], s[4], s[3], s[4], s[5]]),
+                (_, 2) => values.extend_from_slice(&[s[0], s[1], 0.0, s[2], s[3], 0.0, 0.0, 0.0, 1.0]),
+                (_, _) => values.extend_from_slice(&s[..9]),
+            }
+        }
+        out.insert(name, DataArray::new(comps, values));
+        offset += size;
+    }
+    Ok(out)
+}
+
+/// Resolves indices and builds the mesh.
+fn assemble(p: Parsed) -> Result<TaggedMesh> {
+    let nv = p.points.len();
+    if p.dim == 0 && (!p.points.is_empty() || !p.elements.is_empty()) {
+        return Err(Error::new(ErrorKind::Expected { expected: "a Dimension keyword".into(), found: "none".into() }));
+    }
+    let mut mesh = TaggedMesh::new();
+    mesh.coordinate_dim = if p.dim == 3 { 3 } else { 2 };
+    mesh.points = p.points;
+    if p.refs.iter().any(|&r| r != 0) {
+        mesh.point_data.insert(REF.into(), DataArray::new(1, p.refs.iter().map(|&r| r as f64).collect()));
+    }
+    for e in &p.elements {
+        if !e.unchecked || e.nodes.is_empty() {
+            continue;
+        }
+        let k = e.kind.nodes_per_cell();
+        if let Some(pos) = e.nodes.iter().position(|&v| v >= nv) {
+            return Err(error_at(
+                e.at.at(pos / k),
+                ErrorKind::IndexOutOfRange {
+                    what: format!("{} {} ({})", e.kind.name(), pos / k + 1, KEYWORDS[element_code(e.kind)].name),
+                    index: e.nodes[pos] as i64 + 1,
+                    available: nv,
+                },
+            ));
+        }
+    }
+    // Blocks in a fixed order; several keywords of one kind are joined (the first one
+    // moved, not copied).
+    let mut offsets = BTreeMap::new();
+    let mut total = 0;
+    let mut elements = p.elements;
+    for &(_, kind) in &ELEMENTS {
+        let mut block = CellBlock::new(kind);
+        for e in elements.iter_mut().filter(|e| e.kind == kind) {
+            if block.nodes.is_empty() {
+                block.nodes = std::mem::take(&mut e.nodes);
+                block.physical = std::mem::take(&mut e.refs);
+            } else {
+                block.nodes.extend_from_slice(&e.nodes);
+                block.physical.extend_from_slice(&e.refs);
+            }
+        }
+        offsets.insert(kind, (total, block.len()));
+        total += block.len();
+        if !block.is_empty() {
+            block.geometrical = block.physical.clone();
+            mesh.blocks.push(block);
+        }
+    }
+    for s in p.sets {
+        let name = KEYWORDS[s.code].name.to_string();
+        let target = set_target(s.code).flatten();
+        let (offset, available) = match target {
+            None => (0, nv),
+            Some(kind) => offsets.get(&kind).copied().unwrap_or((0, 0)),
+        };
+        if let Some(i) = s.items.iter().position(|&v| v >= available) {
+            return Err(error_at(
+                s.at[i],
+                ErrorKind::IndexOutOfRange { what: format!("{name} entry {}", i + 1), index: s.items[i] as i64 + 1, available },
+            ));
+        }
+        let indices = s.items.iter().map(|&v| v + offset);
+        match target {
+            None => mesh.point_sets.entry(name).or_default().extend(indices),
+            Some(_) => mesh.cell_sets.entry(name).or_default().extend(indices),
+        }
+    }
+    if let Some(sol) = p.sol {
+        for (name, a) in sol_arrays(&sol, p.dim, nv)? {
+            mesh.point_data.insert(name, a);
+        }
+    }
+    Ok(mesh)
+}
+
+fn element_code(kind: CellKind) -> usize {
+    ELEMENTS.iter().find(|(_, k)| *k == kind).map_or(0, |&(c, _)| c)
+}
+
+// ---------------------------------------------------------------------------------------
+// Writing
+// ---------------------------------------------------------------------------------------
+
+/// What the writers serialise: the mesh with its choices made.
+struct Out<'m> {
+    dim: u8,
+    points: &'m [[f64; 3]],
+    refs: Option<Vec<i32>>,
+    /// Element keyword and the blocks written under it.
+    elements: Vec<(usize, Vec<&'m CellBlock>)>,
+    /// Set keyword and its 1-based numbers.
+    sets: Vec<(usize, Vec<usize>)>,
+}
+
+impl Out<'_> {
+    fn count(&self, code: usize) -> usize {
+        self.elements.iter().filter(|(c, _)| *c == code).flat_map(|(_, b)| b.iter()).map(|b| b.len()).sum()
+    }
+}
+
+fn integral_i32(v: f64) -> Option<i32> {
+    (v.fract() == 0.0 && v >= i32::MIN as f64 && v <= i32::MAX as f64).then_some(v as i32)
+}
+
+/// Writes a mesh as Medit, with its solution file beside it (see the module documentation).
+pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    let binary = match opts.main_name.as_deref().and_then(|n| Path::new(n).extension()).and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("meshb") => true,
+        Some(e) if e.eq_ignore_ascii_case("mesh") => false,
+        _ => opts.medit_binary,
+    };
+    let mut report = WriteReport::default();
+    let dim = if mesh.points.iter().any(|p| p[2] != 0.0) { 3 } else { 2 };
+
+    let refs = match mesh.point_data.get(REF) {
+        Some(a) if a.components == 1 => {
+            let r: Option<Vec<i32>> = a.values.iter().map(|&v| integral_i32(v)).collect();
+            if r.is_none() {
+                report.drop(format!("point data `{REF}`: not integers, so not vertex references"));
+            }
+            r
+        }
+        Some(a) => {
+            report.drop(format!("point data `{REF}` ({} components): a vertex has one reference", a.components));
+            None
+        }
+        None => None,
+    };
+
+    // Elements, and the global index → element number maps the sets need.
+    let mut elements = Vec::new();
+    let mut number: BTreeMap<CellKind, Vec<(usize, usize)>> = BTreeMap::new(); // kind → [(first global, len)]
+    let mut offset = 0;
+    let mut geo_differs = 0;
+    for b in &mesh.blocks {
+        if let Some(&(code, _)) = ELEMENTS.iter().find(|(_, k)| *k == b.kind) {
+            match elements.iter_mut().find(|(c, _): &&mut (usize, Vec<&CellBlock>)| *c == code) {
+                Some((_, list)) => list.push(b),
+                None => elements.push((code, vec![b])),
+            }
+            number.entry(b.kind).or_default().push((offset, b.len()));
+            geo_differs += b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count();
+        } else if !b.is_empty() {
+            let why = match b.kind {
+                CellKind::Vertex => "Medit has no point elements (Corners and RequiredVertices are point sets)",
+                _ => "Medit has no 8-node quadrilaterals",
+            };
+            report.drop(format!("{} {} cells: {why}", b.len(), b.kind.name()));
+        }
+        offset += b.len();
+    }
+    // File order as MMG writes it: edges, then triangles, then quadrilaterals.
+    elements.sort_by_key(|(code, _)| ELEMENTS.iter().position(|(c, _)| c == code));
+    if geo_differs > 0 {
+        report.drop(format!(
+            "geometrical tags of {geo_differs} cells differ from the physical ones: Medit keeps one reference (the physical tag)"
+        ));
+    }
+
+    // Sets.
+    let mut sets = Vec::new();
+    for (name, items) in &mesh.point_sets {
+        match lookup(name.as_bytes()).filter(|&c| set_target(c) == Some(None)) {
+            Some(code) => sets.push((code, items.iter().map(|&v| v + 1).collect())),
+            None => report.drop(format!("point set `{name}`: Medit keeps only Corners and RequiredVertices")),
+        }
+    }
+    for (name, items) in &mesh.cell_sets {
+        let Some((code, kind)) = lookup(name.as_bytes()).and_then(|c| set_target(c).flatten().map(|k| (c, k))) else {
+            report.drop(format!("cell set `{name}`: Medit keeps only Ridges, RequiredEdges, RequiredTriangles and RequiredQuadrilaterals"));
+            continue;
+        };
+        // Global cell index → number among the elements of `kind`, in writing order.
+        let ranges = number.get(&kind).map(Vec::as_slice).unwrap_or(&[]);
+        let mut numbers = Vec::with_capacity(items.len());
+        let mut lost = 0;
+        for &g in items {
+            let mut before = 0;
+            let mut found = None;
+            for &(first, len) in ranges {
+                if g >= first && g < first + len {
+                    found = Some(before + g - first + 1);
+                    break;
+                }
+                before += len;
+            }
+            match found {
+                Some(n) => numbers.push(n),
+                None => lost += 1,
+            }
+        }
+        if lost > 0 {
+            report.drop(format!("{lost} entries of cell set `{name}`: they are not {} cells", kind.name()));
+        }
+        sets.push((code, numbers));
+    }
+    sets.sort_by_key(|(code, _)| SETS.iter().position(|(c, _)| c == code));
+
+    if !mesh.tag_names.is_empty() {
+        report.drop(format!("{} tag names: Medit references have no names", mesh.tag_names.len()));
+    }
+    if !mesh.entities.is_empty() {
+        report.drop(format!("{} Gmsh entities: Medit has none", mesh.entities.len()));
+    }
+    if !mesh.holes.is_empty() || !mesh.regions.is_empty() {
+        report.drop(format!("{} holes and {} regions: Medit meshes have no PSLG seeds", mesh.holes.len(), mesh.regions.len()));
+    }
+    for (name, a) in &mesh.cell_data {
+        report.drop(format!("cell data `{name}` ({} components): the Medit writer keeps point data only (SolAtVertices)", a.components));
+    }
+
+    // The solution MMG reads: the metric, else the size.
+    let metric = mesh.point_data.get("metric").filter(|a| a.components == 9);
+    let size = mesh.point_data.get("size").filter(|a| a.components == 1);
+    let chosen = match (metric, size) {
+        (Some(m), _) => Some(("metric", m)),
+        (None, Some(s)) => Some(("size", s)),
+        _ => None,
+    };
+    for (name, a) in &mesh.point_data {
+        if name == REF || chosen.is_some_and(|(c, _)| c == name) {
+            continue;
+        }
+        let why = if name == "metric" {
+            "a metric needs 9 components".to_string()
+        } else if chosen.is_some() {
+            format!("MMG reads one solution, `{}` was written", chosen.map_or("", |c| c.0))
+        } else {
+            "only `metric` (tensor) or `size` (scalar) go to the solution file".into()
+        };
+        report.drop(format!("point data `{name}` ({} components): {why}", a.components));
+    }
+
+    let out = Out { dim, points: &mesh.points, refs, elements, sets };
+    let main = if binary { binary::write_mesh(&out) } else { ascii::write_mesh(&out) };
+    let mut written = Written { main, siblings: Vec::new(), report };
+    if let Some((name, a)) = chosen {
+        let sol = write_sol(&[(name, a)], dim, binary)?;
+        written.siblings.push((if binary { "solb" } else { "sol" }.to_string(), sol));
+    }
+    Ok(written)
+}
+
+/// Writes a solution file (`.solb` when `binary`, else `.sol`) with one `SolAtVertices`
+/// holding every array in order: 1 component → scalar (type 1), 2 or 3 → vector (type 2),
+/// 9 → symmetric tensor (type 3, m11 m12 m22 in 2D; off-diagonal terms averaged).
+/// `dim` is 2 or 3; every array must cover the same number of vertices.
+pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result<Vec<u8>> {
+    let cannot = |reason: String| Error::new(ErrorKind::CannotWrite { format: "Medit solution", reason });
+    if dim != 2 && dim != 3 {
+        return Err(cannot(format!("dimension {dim}: Medit solutions are 2D or 3D")));
+    }
+    let Some(&(_, first)) = arrays.first() else {
+        return Err(cannot("no array to write".into()));
+    };
+    let n = first.len();
+    let mut types = Vec::with_capacity(arrays.len());
+    for &(name, a) in arrays {
+        if a.len() != n {
+            return Err(cannot(format!("array `{name}` covers {} vertices, `{}` {n}", a.len(), arrays[0].0)));
+        }
+        types.push(match a.components {
+            1 => 1u32,
+            2 | 3 => 2,
+            9 => 3,
+            c => {
+                return Err(cannot(format!("array `{name}` has {c} components; a solution is a scalar, a vector or a 9-component tensor")))
+            }
+        });
+    }
+    let d = dim as usize;
+    let stride: usize = types.iter().map(|&t| sol_size(t, dim).unwrap_or(0)).sum();
+    let mut values = Vec::with_capacity(n * stride);
+    for v in 0..n {
+        for &(_, a) in arrays {
+            let s = a.item(v);
+            match (a.components, d) {
+                (1, _) => values.push(s[0]),
+                (2, 2) | (3, 2) => values.extend_from_slice(&s[..2]),
+                (2, _) => values.extend_from_slice(&[s[0], s[1], 0.0]),
+                (3, _) => values.extend_from_slice(s),
+                (_, 2) => values.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4]]),
+                (_, _) => values.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4], 0.5 * (s[2] + s[6]), 0.5 * (s[5] + s[7]), s[8]]),
+            }
+        }
+    }
+    let sol = SolOut { dim, n, types: &types, values: &values };
+    Ok(if binary { binary::write_sol(&sol) } else { ascii::write_sol(&sol) })
+}
+
+/// A `SolAtVertices` to serialise: `values` holds `n * Σ sizes` reals in file order.
+struct SolOut<'a> {
+    dim: u8,
+    n: usize,
+    types: &'a [u32],
+    values: &'a [f64],
+}
