@@ -3,3 +3,8 @@
 #![warn(missing_docs)]
 
 pub use smartmesh_formats as formats;
+
+pub mod metric;
+pub mod sizing;
+
+pub use metric::{SizeBounds, SizeTensor, Sym2};
