@@ -19,10 +19,11 @@
 //! eigenvalues, and Alauzet's failure cases (thesis 3.2.1: equal or nested matrices) do
 //! not exist. Nested inputs (one σ test) return the inner (outer) input bit for bit.
 //!
-//! Cost: two closed-form 2×2 SVDs (each two `hypot`, two `atan2`, two `sin_cos`).
+//! Cost: two closed-form SVDs of graded 2×2 matrices (four symmetric 2×2 eigen-solves, a
+//! few square roots and divisions, no trigonometry).
 
 use super::size_tensor::SizeTensor;
-use super::svd2::svd2;
+use super::svd2::svd_graded;
 
 /// Relative slack of the nesting test: singular values within a few ulps of 1 count as 1,
 /// so A ∩ A returns A exactly instead of a rounded copy.
@@ -105,10 +106,8 @@ fn combine(a: &SizeTensor, b: &SizeTensor, mode: Mode) -> SizeTensor {
     // vectors with compensated products (S is small and exact for nearly parallel axes).
     let cos = diff_of_products(c1, c2, -s1, s2);
     let sin = diff_of_products(s1, c2, c1, s2);
-    let (pr, qr, ps, qs) = (p / r1, q / r1, p / r2, q / r2);
-    let g = [[cos * pr, -sin * qr], [sin * ps, cos * qs]];
-    let det_g = pr * qs * (cos * cos + sin * sin);
-    let sg = svd2(g, det_g);
+    // G = D2⁻¹ R2ᵀ R1 D1 = diag(1/r1, 1/r2) Rot(C, S) diag(p, q).
+    let sg = svd_graded([r1.recip(), r2.recip()], [cos, sin], [p, q]);
     let [sigma1, sigma2] = sg.sigma;
 
     if sigma2 >= 1.0 - NESTED_SLACK {
@@ -125,11 +124,8 @@ fn combine(a: &SizeTensor, b: &SizeTensor, mode: Mode) -> SizeTensor {
         Mode::Intersection => [sigma1.recip(), 1.0],
         Mode::Union => [1.0, sigma2.recip()],
     };
-    let [vx, vy] = sg.v;
-    // B = D1 [v1 v2] diag(scale), v2 = v1⊥ = (−vy, vx).
-    let b = [[p * vx * scale[0], -p * vy * scale[1]], [q * vy * scale[0], q * vx * scale[1]]];
-    let det_b = p * q * scale[0] * scale[1];
-    let sb = svd2(b, det_b);
+    // B = D1 [v1 v2] diag(scale) with v2 = v1⊥: again a graded matrix.
+    let sb = svd_graded([p, q], sg.v, scale);
     // Back to the world frame: R1 u.
     let [ux, uy] = sb.u;
     let axis = [c1 * ux - s1 * uy, s1 * ux + c1 * uy];

@@ -29,7 +29,7 @@ pub enum TensorError {
     },
     /// A size falls outside [`SizeTensor::MIN_SIZE`, `SizeTensor::MAX_SIZE`]; check the
     /// units of the tensor (a metric holds 1/h², a size tensor h).
-    #[error("size {size} is outside [1e-100, 1e100]")]
+    #[error("size {size} is outside [1e-30, 1e30]")]
     SizeOutOfRange {
         /// The offending size.
         size: f64,
@@ -53,11 +53,13 @@ pub struct SizeTensor {
 }
 
 impl SizeTensor {
-    /// Smallest size accepted. Together with [`SizeTensor::MAX_SIZE`] it keeps 1/h², and
-    /// the ratios of sizes that the intersection forms, inside the f64 range.
-    pub const MIN_SIZE: f64 = 1e-100;
+    /// Smallest size accepted. With [`SizeTensor::MAX_SIZE`] it bounds the ratio of two
+    /// sizes by 1e60, so that the fourth powers of such ratios, which the intersection's
+    /// Gram matrices form, stay inside the normal f64 range (1e±240), and so do the metric
+    /// entries 1/h². Any mesh fits: coordinates carry 16 digits.
+    pub const MIN_SIZE: f64 = 1e-30;
     /// Largest size accepted.
-    pub const MAX_SIZE: f64 = 1e100;
+    pub const MAX_SIZE: f64 = 1e30;
 
     /// The size tensor with first axis along `axis` (any non-zero vector; normalised) and
     /// sizes `h1` along it, `h2` across it.
@@ -265,7 +267,9 @@ fn canonical_axis(v: [f64; 2]) -> Option<[f64; 2]> {
     if !(n > 0.0 && n.is_finite()) {
         return None;
     }
-    let u = [v[0] / n, v[1] / n];
+    // A vector that is unit to rounding is kept as it is, so that rebuilding a tensor from
+    // `axis()` gives back the same bits.
+    let u = if (n - 1.0).abs() <= 2.0 * f64::EPSILON { v } else { [v[0] / n, v[1] / n] };
     Some(if u[0] < 0.0 || (u[0] == 0.0 && u[1] < 0.0) { [-u[0], -u[1]] } else { u })
 }
 
@@ -281,7 +285,7 @@ mod tests {
         assert!(SizeTensor::try_new([1.0, 0.0], -1.0, 1.0).is_none());
         assert!(SizeTensor::try_new([1.0, 0.0], 1.0, f64::INFINITY).is_none());
         assert!(SizeTensor::try_new([1.0, 0.0], 1.0, f64::NAN).is_none());
-        assert!(SizeTensor::try_new([1.0, 0.0], 1e-101, 1.0).is_none());
+        assert!(SizeTensor::try_new([1.0, 0.0], 1e-31, 1.0).is_none());
         let t = SizeTensor::try_new([-3.0, -4.0], 2.0, 1.0).unwrap();
         assert_eq!(t.axis(), [0.6, 0.8]);
         assert_eq!(t.sizes(), [2.0, 1.0]);

@@ -1,94 +1,110 @@
-//! Closed-form singular value decomposition of a general 2×2 matrix, the kernel of the
-//! simultaneous reduction in the robust size-tensor intersection (thesis 3.2.2).
+//! Singular value decomposition of a graded 2×2 matrix M = diag(α) Rot diag(β), the kernel
+//! of the simultaneous reduction in the robust size-tensor intersection (thesis 3.2.2): both
+//! matrices that the intersection decomposes have that form (a diagonal of sizes, a
+//! rotation, a diagonal of sizes).
 //!
-//! Source: J. Blinn, "Consider the lowly 2×2 matrix", Jim Blinn's Corner, IEEE Computer
-//! Graphics and Applications (1996). Split M = [[E+F, G−H], [G+H, E−F]] into a scaled
-//! rotation (E, H) and a scaled reflection (F, G); with Q = hypot(E, H), R = hypot(F, G),
-//! a2 = atan2(H, E), a1 = atan2(G, F):
+//! Method: the right (left) singular vectors are the eigenvectors of MᵀM (M Mᵀ), which for
+//! this structure have closed-form entries with no cancellation but a difference of data:
 //!
-//!   M = Rot(φ) diag(Q + R, Q − R) Rot(θ),   φ = (a2 + a1)/2,   θ = (a2 − a1)/2.
+//!   MᵀM = [[β1²(α1²c² + α2²s²), β1β2 c s (α2² − α1²)], [·, β2²(α1²s² + α2²c²)]]
+//!   M Mᵀ = [[α1²(β1²c² + β2²s²), α1α2 c s (β1² − β2²)], [·, α2²(β1²s² + β2²c²)]]
 //!
-//! Nothing is squared, so entries up to the top of the f64 range do not overflow (the
-//! sizes of two size tensors can differ by 10^200). The smaller singular value is
-//! det/σ1 with the determinant supplied by the caller, who knows it exactly as a product
-//! of sizes (Q − R would cancel for thin ellipses). Cost: two `hypot`, two `atan2`, two
-//! `sin_cos`.
+//! with x² − y² evaluated as (x − y)(x + y). Each entry is then accurate to a few ulps
+//! relative to itself, so [`eigen2`](super::eigen2)'s half-angle eigenvector gets small
+//! components (nearly aligned ellipses, the hard case of thin intersections) to full
+//! relative accuracy — an angle from `atan2` sums would carry an absolute error of ε
+//! instead, which a 1e6 aspect ratio turns into 1e-10 on the sizes. σ1 is the square root
+//! of the larger eigenvalue (a sum, no cancellation) and σ2 = det M / σ1 with
+//! det M = α1α2β1β2 exactly, so both singular values are accurate to a few ulps whatever
+//! the aspect ratio. α and β are first divided by their largest entry, so nothing squared
+//! overflows. Cost: two closed-form symmetric eigen-solves.
 
-/// `M = σ1 u vᵀ + σ2 u⊥ v⊥ᵀ` with unit `u`, `v` and ⊥ the rotation by +90°.
+use super::eigen2::eigen2;
+use super::sym2::Sym2;
+
+/// `M = σ1 u vᵀ + σ2 u⊥ v⊥ᵀ` up to the signs of `u` and `v` (which ellipse axes ignore).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Svd2 {
-    /// First left singular vector.
+    /// First left singular vector (unit).
     pub u: [f64; 2],
-    /// First right singular vector.
+    /// First right singular vector (unit).
     pub v: [f64; 2],
-    /// σ1 >= |σ2|; σ2 has the sign of the determinant.
+    /// σ1 >= σ2 > 0.
     pub sigma: [f64; 2],
 }
 
-/// SVD of `[[m00, m01], [m10, m11]]` whose determinant is `det` (passed in because the
-/// callers know it to full relative accuracy).
-pub(crate) fn svd2(m: [[f64; 2]; 2], det: f64) -> Svd2 {
-    let [[m00, m01], [m10, m11]] = m;
-    let e = 0.5 * m00 + 0.5 * m11;
-    let f = 0.5 * m00 - 0.5 * m11;
-    let g = 0.5 * m10 + 0.5 * m01;
-    let h = 0.5 * m10 - 0.5 * m01;
-    let q = e.hypot(h);
-    let r = f.hypot(g);
-    let s1 = q + r;
-    let s2 = if s1 > 0.0 { det / s1 } else { 0.0 };
-    let a1 = g.atan2(f);
-    let a2 = h.atan2(e);
-    let phi = 0.5 * (a2 + a1);
-    let theta = 0.5 * (a2 - a1);
-    let (sp, cp) = phi.sin_cos();
-    let (st, ct) = theta.sin_cos();
-    // Rot(θ) = Vᵀ, so the first column of V is (cos θ, −sin θ).
-    Svd2 { u: [cp, sp], v: [ct, -st], sigma: [s1, s2] }
+/// x² − y² without the cancellation of the squares.
+fn diff_of_squares(x: f64, y: f64) -> f64 {
+    (x - y) * (x + y)
+}
+
+/// SVD of diag(α) [[c, −s], [s, c]] diag(β) with α, β > 0 and (c, s) a unit vector.
+pub(crate) fn svd_graded(alpha: [f64; 2], rotation: [f64; 2], beta: [f64; 2]) -> Svd2 {
+    let ka = alpha[0].max(alpha[1]);
+    let kb = beta[0].max(beta[1]);
+    let (a1, a2) = (alpha[0] / ka, alpha[1] / ka);
+    let (b1, b2) = (beta[0] / kb, beta[1] / kb);
+    let [c, s] = rotation;
+    let (cc, ss, cs) = (c * c, s * s, c * s);
+    let right = Sym2 {
+        a: b1 * b1 * (a1 * a1 * cc + a2 * a2 * ss),
+        b: b1 * b2 * cs * diff_of_squares(a2, a1),
+        c: b2 * b2 * (a1 * a1 * ss + a2 * a2 * cc),
+    };
+    let left = Sym2 {
+        a: a1 * a1 * (b1 * b1 * cc + b2 * b2 * ss),
+        b: a1 * a2 * cs * diff_of_squares(b1, b2),
+        c: a2 * a2 * (b1 * b1 * ss + b2 * b2 * cc),
+    };
+    let er = eigen2(right);
+    let el = eigen2(left);
+    let s1 = er.values[0].max(el.values[0]).sqrt();
+    let det = a1 * a2 * b1 * b2 * (cc + ss);
+    let s2 = if s1 > 0.0 { (det / s1).min(s1) } else { 0.0 };
+    let k = ka * kb;
+    Svd2 { u: el.vector, v: er.vector, sigma: [s1 * k, s2 * k] }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn recompose(s: &Svd2) -> [[f64; 2]; 2] {
-        let [ux, uy] = s.u;
-        let [vx, vy] = s.v;
-        let (px, py) = (-uy, ux);
-        let (qx, qy) = (-vy, vx);
-        let [s1, s2] = s.sigma;
-        [
-            [s1 * ux * vx + s2 * px * qx, s1 * ux * vy + s2 * px * qy],
-            [s1 * uy * vx + s2 * py * qx, s1 * uy * vy + s2 * py * qy],
-        ]
+    fn matrix(alpha: [f64; 2], rot: [f64; 2], beta: [f64; 2]) -> [[f64; 2]; 2] {
+        let [c, s] = rot;
+        [[alpha[0] * c * beta[0], -alpha[0] * s * beta[1]], [alpha[1] * s * beta[0], alpha[1] * c * beta[1]]]
+    }
+
+    fn check(alpha: [f64; 2], rot: [f64; 2], beta: [f64; 2]) {
+        let m = matrix(alpha, rot, beta);
+        let d = svd_graded(alpha, rot, beta);
+        // M v = ±σ1 u and M v⊥ = ±σ2 u⊥.
+        let [vx, vy] = d.v;
+        let mv = [m[0][0] * vx + m[0][1] * vy, m[1][0] * vx + m[1][1] * vy];
+        let mp = [-m[0][0] * vy + m[0][1] * vx, -m[1][0] * vy + m[1][1] * vx];
+        let along = (mv[0] * d.u[0] + mv[1] * d.u[1]).abs();
+        let across = (-mp[0] * d.u[1] + mp[1] * d.u[0]).abs();
+        assert!((along / d.sigma[0] - 1.0).abs() < 1e-14, "{alpha:?} {rot:?} {beta:?}: {d:?}");
+        assert!((across / d.sigma[1] - 1.0).abs() < 1e-10, "{alpha:?} {rot:?} {beta:?}: {d:?}");
+        assert!(d.sigma[0] >= d.sigma[1]);
     }
 
     #[test]
-    fn recomposes_general_matrices() {
-        for m in [
-            [[1.0, 2.0], [3.0, 4.0]],
-            [[2.0, 0.0], [0.0, 1.0]],
-            [[0.0, -1.0], [1.0, 0.0]],
-            [[1e6, 1e-6], [-3.0, 1e-3]],
-            [[1.0, 0.0], [0.0, 1.0]],
-        ] {
-            let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-            let s = svd2(m, det);
-            let back = recompose(&s);
-            let scale = s.sigma[0];
-            for i in 0..2 {
-                for j in 0..2 {
-                    assert!((back[i][j] - m[i][j]).abs() <= 8.0 * f64::EPSILON * scale, "{m:?}");
-                }
-            }
-            assert!(s.sigma[0] >= s.sigma[1].abs());
-        }
+    fn decomposes_graded_matrices() {
+        let t = 0.3f64;
+        check([1.0, 2.0], [t.cos(), t.sin()], [3.0, 0.5]);
+        check([1.0, 1e-6], [t.cos(), t.sin()], [1.0, 1.0]);
+        check([1.0, 1.0], [1.0, 0.0], [1.0, 1.0]);
+        check([1e6, 1.0], [1e-7f64.cos(), 1e-7f64.sin()], [1e-6, 1.0]);
+        check([1e30, 1e-30], [0.6, 0.8], [1e-30, 1e30]);
     }
 
     #[test]
-    fn huge_entries_do_not_overflow() {
-        let m = [[1e300, 0.0], [0.0, 1e-300]];
-        let s = svd2(m, 1.0);
-        assert_eq!(s.sigma, [1e300, 1e-300]);
+    fn extreme_ratios_neither_overflow_nor_underflow() {
+        let d = svd_graded([1e30, 1e-30], [1.0, 0.0], [1e30, 1e-30]);
+        assert!((d.sigma[0] / 1e60 - 1.0).abs() < 1e-15, "{d:?}");
+        assert!((d.sigma[1] / 1e-60 - 1.0).abs() < 1e-15, "{d:?}");
+        let d = svd_graded([1.0, 1e-60], [0.0, 1.0], [1.0, 1e-60]);
+        assert!((d.sigma[0] / 1e-60 - 1.0).abs() < 1e-15, "{d:?}");
+        assert!((d.sigma[1] / 1e-60 - 1.0).abs() < 1e-15, "{d:?}");
     }
 }

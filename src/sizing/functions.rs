@@ -99,7 +99,7 @@ pub enum FunctionError {
     },
 }
 
-const SIZE_RANGE: &str = "a size in [1e-100, 1e100]";
+const SIZE_RANGE: &str = "a size in [1e-30, 1e30]";
 const POSITIVE: &str = "a finite number > 0";
 
 fn check_size(parameter: Parameter, value: f64) -> Result<f64, FunctionError> {
@@ -149,7 +149,7 @@ pub struct DistanceFunction {
 }
 
 impl DistanceFunction {
-    /// Checks the parameters: both sizes in [1e-100, 1e100], `max_distance` and `exponent`
+    /// Checks the parameters: both sizes in [1e-30, 1e30], `max_distance` and `exponent`
     /// finite and > 0.
     pub fn try_new(size_at_source: f64, size_at_max_distance: f64, max_distance: f64, exponent: f64) -> Result<DistanceFunction, FunctionError> {
         Ok(DistanceFunction {
@@ -202,7 +202,7 @@ pub struct SizeProjectionFunction {
 }
 
 impl SizeProjectionFunction {
-    /// Checks the parameters: the size in [1e-100, 1e100], `max_distance` and `exponent`
+    /// Checks the parameters: the size in [1e-30, 1e30], `max_distance` and `exponent`
     /// finite and > 0.
     pub fn try_new(size_at_max_distance: f64, max_distance: f64, exponent: f64) -> Result<SizeProjectionFunction, FunctionError> {
         Ok(SizeProjectionFunction {
@@ -251,7 +251,7 @@ pub struct CurvatureToSize {
 }
 
 impl CurvatureToSize {
-    /// Checks the parameters: both sizes in [1e-100, 1e100] with `min_size <= max_size`, the
+    /// Checks the parameters: both sizes in [1e-30, 1e30] with `min_size <= max_size`, the
     /// chordal deviation `size_of_error` finite and > 0.
     pub fn try_new(min_size: f64, max_size: f64, size_of_error: f64) -> Result<CurvatureToSize, FunctionError> {
         let min_size = check_size(Parameter::MinSize, min_size)?;
