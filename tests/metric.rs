@@ -4,7 +4,9 @@
 use nalgebra::{Matrix2, SymmetricEigen};
 use proptest::prelude::*;
 use smartmesh::metric::{eigen2, SizeBounds, SizeTensor, Sym2};
-use smartmesh::sizing::{CurvatureToSize, DistanceFunction, FunctionError, Parameter, SizeProjectionFunction};
+use smartmesh::sizing::{
+    CurvatureToSize, DistanceFunction, FunctionError, Parameter, SizeProjectionFunction,
+};
 
 // ---------------------------------------------------------------------------------------
 // Generators
@@ -16,13 +18,17 @@ fn arb_size() -> impl Strategy<Value = f64> {
 
 /// A size tensor with aspect ratio up to `max_aspect` (log-uniform), any orientation.
 fn arb_tensor(max_aspect: f64) -> impl Strategy<Value = SizeTensor> {
-    (-std::f64::consts::PI..std::f64::consts::PI, arb_size(), 0.0..max_aspect.log10(), any::<bool>()).prop_map(
-        |(angle, h, log_aspect, flip)| {
+    (
+        -std::f64::consts::PI..std::f64::consts::PI,
+        arb_size(),
+        0.0..max_aspect.log10(),
+        any::<bool>(),
+    )
+        .prop_map(|(angle, h, log_aspect, flip)| {
             let other = h * 10f64.powf(log_aspect);
             let (h1, h2) = if flip { (other, h) } else { (h, other) };
             SizeTensor::from_angle(angle, h1, h2).unwrap()
-        },
-    )
+        })
 }
 
 fn rotated(t: &SizeTensor, radians: f64) -> SizeTensor {
@@ -43,8 +49,10 @@ fn arb_pair() -> impl Strategy<Value = (SizeTensor, SizeTensor)> {
         (arb_tensor(1e6), arb_tensor(1e6)),
         (arb_tensor(1e3), arb_size()).prop_map(|(a, h)| (a, SizeTensor::isotropic(h))),
         (arb_tensor(1e6), tiny.clone()).prop_map(|(a, t)| (a, rotated(&a, t))),
-        (arb_tensor(1e6), tiny.clone(), tiny.clone()).prop_map(|(a, s1, s2)| (a, scaled(&a, 1.0 + s1, 1.0 + s2))),
-        (arb_tensor(1e6), tiny.clone(), 0.5..2.0f64).prop_map(|(a, t, k)| (a, scaled(&rotated(&a, t), k, 1.0 / k))),
+        (arb_tensor(1e6), tiny.clone(), tiny.clone())
+            .prop_map(|(a, s1, s2)| (a, scaled(&a, 1.0 + s1, 1.0 + s2))),
+        (arb_tensor(1e6), tiny.clone(), 0.5..2.0f64)
+            .prop_map(|(a, t, k)| (a, scaled(&rotated(&a, t), k, 1.0 / k))),
         (arb_tensor(1e6), -1e-5..1e-5f64).prop_map(|(a, t)| (a, rotated(&a, t))),
         (arb_tensor(1e6), 0.0..3.2f64).prop_map(|(a, t)| (a, rotated(&a, t))),
         (arb_tensor(1e6), tiny).prop_map(|(a, t)| {
@@ -84,12 +92,16 @@ fn directions(extra: &[&SizeTensor]) -> Vec<[f64; 2]> {
 /// Largest relative excess of `inner` over `outer`: max over directions of
 /// size_inner(u) / size_outer(u) − 1 (≤ 0 when contained).
 fn excess(inner: &SizeTensor, outer: &SizeTensor, dirs: &[[f64; 2]]) -> f64 {
-    dirs.iter().map(|&u| inner.size_along(u) / outer.size_along(u) - 1.0).fold(f64::NEG_INFINITY, f64::max)
+    dirs.iter()
+        .map(|&u| inner.size_along(u) / outer.size_along(u) - 1.0)
+        .fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// Largest relative difference of the radii of two tensors over the directions.
 fn radius_diff(a: &SizeTensor, b: &SizeTensor, dirs: &[[f64; 2]]) -> f64 {
-    dirs.iter().map(|&u| (a.size_along(u) / b.size_along(u) - 1.0).abs()).fold(0.0, f64::max)
+    dirs.iter()
+        .map(|&u| (a.size_along(u) / b.size_along(u) - 1.0).abs())
+        .fold(0.0, f64::max)
 }
 
 /// Containment tolerance: 1e-12 relative, widened by ε·aspect ratio for the thin
@@ -120,7 +132,9 @@ fn brute_force(a: &SizeTensor, b: &SizeTensor, union: bool) -> Sym2 {
     let c = li * m2 * li.transpose();
     let c = 0.5 * (c + c.transpose());
     let eig = SymmetricEigen::new(c);
-    let mu = eig.eigenvalues.map(|m| if union { m.min(1.0) } else { m.max(1.0) });
+    let mu = eig
+        .eigenvalues
+        .map(|m| if union { m.min(1.0) } else { m.max(1.0) });
     let q = eig.eigenvectors;
     let r = l * q * Matrix2::from_diagonal(&mu) * q.transpose() * l.transpose();
     from_na(&r)
@@ -246,7 +260,11 @@ proptest! {
 /// `power_of_two_scaling_is_exact`).
 #[test]
 fn rebuilding_from_the_parts_is_lossless() {
-    let t = SizeTensor::new([0.9955197600922155, -0.09455372687492333], 156057.05276247373, 1.0);
+    let t = SizeTensor::new(
+        [0.9955197600922155, -0.09455372687492333],
+        156057.05276247373,
+        1.0,
+    );
     assert_eq!(SizeTensor::try_new(t.axis(), t.h1(), t.h2()), Some(t));
     for k in 0..1000 {
         let t = SizeTensor::from_angle(k as f64 * 0.0123, 1.0, 2.0).unwrap();
@@ -261,9 +279,15 @@ fn intersection_of_crossing_thin_ellipses() {
     let a = SizeTensor::new([1.0, 0.0], 1.0, 1e-6);
     let b = SizeTensor::new([0.0, 1.0], 1.0, 1e-6);
     let i = a.intersection(&b);
-    assert!((i.h1() - 1e-6).abs() < 1e-18 && (i.h2() - 1e-6).abs() < 1e-18, "{i:?}");
+    assert!(
+        (i.h1() - 1e-6).abs() < 1e-18 && (i.h2() - 1e-6).abs() < 1e-18,
+        "{i:?}"
+    );
     let u = a.union(&b);
-    assert!((u.h1() - 1.0).abs() < 1e-12 && (u.h2() - 1.0).abs() < 1e-12, "{u:?}");
+    assert!(
+        (u.h1() - 1.0).abs() < 1e-12 && (u.h2() - 1.0).abs() < 1e-12,
+        "{u:?}"
+    );
 }
 
 #[test]
@@ -281,7 +305,10 @@ fn intersection_handles_the_ends_of_the_size_range() {
     let a = SizeTensor::new([1.0, 0.0], SizeTensor::MAX_SIZE, SizeTensor::MIN_SIZE);
     let b = SizeTensor::new([1.0, 1.0], SizeTensor::MAX_SIZE, SizeTensor::MIN_SIZE);
     for r in [a.intersection(&b), a.union(&b), b.intersection(&a)] {
-        assert!(r.h1().is_finite() && r.h2().is_finite() && r.h_min() >= SizeTensor::MIN_SIZE, "{r:?}");
+        assert!(
+            r.h1().is_finite() && r.h2().is_finite() && r.h_min() >= SizeTensor::MIN_SIZE,
+            "{r:?}"
+        );
     }
 }
 
@@ -357,7 +384,13 @@ fn intersection_handles_the_ends_of_the_size_range() {
 
 /// (name, a, b, intersection, union); a tensor as (axis, h1, h2), a result as (smaller
 /// size, larger size, angle of the smaller size's axis in (−π/2, π/2]).
-type Reference = (&'static str, ([f64; 2], f64, f64), ([f64; 2], f64, f64), (f64, f64, f64), (f64, f64, f64));
+type Reference = (
+    &'static str,
+    ([f64; 2], f64, f64),
+    ([f64; 2], f64, f64),
+    (f64, f64, f64),
+    (f64, f64, f64),
+);
 
 // Computed values; one of them happens to be −π/4.
 #[rustfmt::skip]
@@ -406,14 +439,23 @@ fn intersection_and_union_match_60_digit_references() {
     for &(name, (ax_a, a1, a2), (ax_b, b1, b2), inter, union) in REFERENCES {
         let a = SizeTensor::new(ax_a, a1, a2);
         let b = SizeTensor::new(ax_b, b1, b2);
-        for (what, ours, (small, large, angle)) in [("∩", a.intersection(&b), inter), ("∪", a.union(&b), union)] {
+        for (what, ours, (small, large, angle)) in
+            [("∩", a.intersection(&b), inter), ("∪", a.union(&b), union)]
+        {
             // Sizes to 1e-12 relative, whatever the aspect ratio.
             let e_small = (ours.h_min() / small - 1.0).abs();
             let e_large = (ours.h_max() / large - 1.0).abs();
-            assert!(e_small <= 1e-12 && e_large <= 1e-12, "{name} {what}: {ours:?} vs ({small}, {large}): {e_small:e} {e_large:e}");
+            assert!(
+                e_small <= 1e-12 && e_large <= 1e-12,
+                "{name} {what}: {ours:?} vs ({small}, {large}): {e_small:e} {e_large:e}"
+            );
             // The orientation where the result is not (nearly) round, to 1e-12 rad.
             if large / small > 1.0 + 1e-6 {
-                let axis = if ours.h1() <= ours.h2() { ours.axis() } else { ours.second_axis() };
+                let axis = if ours.h1() <= ours.h2() {
+                    ours.axis()
+                } else {
+                    ours.second_axis()
+                };
                 let d = (axis[1].atan2(axis[0]) - angle).rem_euclid(std::f64::consts::PI);
                 let d = d.min(std::f64::consts::PI - d);
                 assert!(d <= 1e-12, "{name} {what}: angle off by {d:e}");
@@ -426,13 +468,22 @@ fn intersection_and_union_match_60_digit_references() {
 // Closed-form eigen against nalgebra
 
 fn arb_sym2() -> impl Strategy<Value = Sym2> {
-    let entry = prop_oneof![-1e3..1e3f64, (-300.0..300.0f64).prop_map(|e| 10f64.powf(e)), Just(0.0)];
+    let entry = prop_oneof![
+        -1e3..1e3f64,
+        (-300.0..300.0f64).prop_map(|e| 10f64.powf(e)),
+        Just(0.0)
+    ];
     prop_oneof![
         (entry.clone(), entry.clone(), entry.clone()).prop_map(|(a, b, c)| Sym2::new(a, b, c)),
         // Adversarial: nearly equal diagonal, tiny off-diagonal.
-        (-1e3..1e3f64, -1e-12..1e-12f64, -1e-12..1e-12f64).prop_map(|(a, d, b)| Sym2::new(a, a * b, a * (1.0 + d))),
+        (-1e3..1e3f64, -1e-12..1e-12f64, -1e-12..1e-12f64).prop_map(|(a, d, b)| Sym2::new(
+            a,
+            a * b,
+            a * (1.0 + d)
+        )),
         (arb_tensor(1e6)).prop_map(|t| t.to_metric()),
-        (arb_tensor(1e6), -1.0..1.0f64).prop_map(|(t, s)| Sym2::from_eigen([t.h1(), -s * t.h2()], t.axis())),
+        (arb_tensor(1e6), -1.0..1.0f64)
+            .prop_map(|(t, s)| Sym2::from_eigen([t.h1(), -s * t.h2()], t.axis())),
     ]
 }
 
@@ -535,8 +586,17 @@ proptest! {
 fn distance_function_analytic_values() {
     // Fcorners of appendix A.1.6: MINSIZE 0.02, MAXSIZE 0.5, MAXDISTANCE 0.75, EXPONENT 2.
     let f = DistanceFunction::try_new(0.02, 0.5, 0.75, 2.0).unwrap();
-    for (d, s) in [(0.0, 0.02), (0.375, 0.02 + 0.25 * 0.48), (0.75, 0.5), (1.0, 0.5)] {
-        assert!((f.eval(d) - s).abs() <= 1e-15, "s({d}) = {} != {s}", f.eval(d));
+    for (d, s) in [
+        (0.0, 0.02),
+        (0.375, 0.02 + 0.25 * 0.48),
+        (0.75, 0.5),
+        (1.0, 0.5),
+    ] {
+        assert!(
+            (f.eval(d) - s).abs() <= 1e-15,
+            "s({d}) = {} != {s}",
+            f.eval(d)
+        );
     }
     // Square-root growth: fast near the source.
     let f = DistanceFunction::try_new(1.0, 2.0, 4.0, 0.5).unwrap();
@@ -598,12 +658,24 @@ fn parameter_errors_name_the_parameter_and_the_range() {
     ];
     for (result, parameter, message) in cases {
         let e = result.unwrap_err();
-        assert!(matches!(e, FunctionError::OutOfRange { parameter: p, .. } if p == parameter), "{e:?}");
+        assert!(
+            matches!(e, FunctionError::OutOfRange { parameter: p, .. } if p == parameter),
+            "{e:?}"
+        );
         assert_eq!(e.to_string(), message);
     }
     let e = CurvatureToSize::try_new(1.0, 0.1, 0.1).unwrap_err();
-    assert_eq!(e, FunctionError::MinAboveMax { min_size: 1.0, max_size: 0.1 });
-    assert_eq!(e.to_string(), "MINSIZE = 1 exceeds MAXSIZE = 0.1: a curvature-to-size function needs MINSIZE <= MAXSIZE");
+    assert_eq!(
+        e,
+        FunctionError::MinAboveMax {
+            min_size: 1.0,
+            max_size: 0.1
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "MINSIZE = 1 exceeds MAXSIZE = 0.1: a curvature-to-size function needs MINSIZE <= MAXSIZE"
+    );
 }
 
 proptest! {

@@ -22,7 +22,9 @@ impl SizeTensor {
     /// tensor, a weight is not finite, or a resulting size falls outside
     /// [`MIN_SIZE`](SizeTensor::MIN_SIZE), [`MAX_SIZE`](SizeTensor::MAX_SIZE) (possible only
     /// with weights that do not sum to 1).
-    pub fn log_euclidean_mean<'t>(weighted: impl IntoIterator<Item = (f64, &'t SizeTensor)>) -> Option<SizeTensor> {
+    pub fn log_euclidean_mean<'t>(
+        weighted: impl IntoIterator<Item = (f64, &'t SizeTensor)>,
+    ) -> Option<SizeTensor> {
         let mut sum = Sym2::new(0.0, 0.0, 0.0);
         let mut any = false;
         for (w, t) in weighted {

@@ -22,7 +22,9 @@ pub enum TensorError {
     /// eigenvalue is zero or negative, so some direction would get an infinite or
     /// imaginary size. Typically a size tensor was written where a metric was expected,
     /// or a placeholder (all zeros) was left on an unused node.
-    #[error("metric tensor is not positive definite: smallest eigenvalue {smallest_eigenvalue} <= 0")]
+    #[error(
+        "metric tensor is not positive definite: smallest eigenvalue {smallest_eigenvalue} <= 0"
+    )]
     NotPositiveDefinite {
         /// The smallest eigenvalue found.
         smallest_eigenvalue: f64,
@@ -106,7 +108,10 @@ impl SizeTensor {
         } else {
             axis
         };
-        SizeTensor { axis, h: [clamp_size(h[0]), clamp_size(h[1])] }
+        SizeTensor {
+            axis,
+            h: [clamp_size(h[0]), clamp_size(h[1])],
+        }
     }
 
     /// Unit vector of the first axis.
@@ -172,7 +177,13 @@ impl SizeTensor {
 
     /// The metric tensor M = R diag(1/h1², 1/h2²) Rᵀ (thesis 3.1.6), what files carry.
     pub fn to_metric(&self) -> Sym2 {
-        Sym2::from_eigen([(self.h[0] * self.h[0]).recip(), (self.h[1] * self.h[1]).recip()], self.axis)
+        Sym2::from_eigen(
+            [
+                (self.h[0] * self.h[0]).recip(),
+                (self.h[1] * self.h[1]).recip(),
+            ],
+            self.axis,
+        )
     }
 
     /// The size matrix R diag(h1, h2) Rᵀ (thesis Eq. 3.3): what ParaView's tensor glyph
@@ -196,7 +207,11 @@ impl SizeTensor {
                 return Err(TensorError::SizeOutOfRange { size });
             }
         }
-        let axis = canonical_axis(e.vector).ok_or(TensorError::NotFinite { a: m.a, b: m.b, c: m.c })?;
+        let axis = canonical_axis(e.vector).ok_or(TensorError::NotFinite {
+            a: m.a,
+            b: m.b,
+            c: m.c,
+        })?;
         Ok(SizeTensor { axis, h })
     }
 
@@ -210,7 +225,10 @@ impl SizeTensor {
     /// the one the physics needs) is kept and the result never asks for a coarser mesh than
     /// step 1. The orientation is unchanged.
     pub fn clamp(&self, bounds: &SizeBounds) -> SizeTensor {
-        let mut h = [self.h[0].clamp(bounds.h_min, bounds.h_max), self.h[1].clamp(bounds.h_min, bounds.h_max)];
+        let mut h = [
+            self.h[0].clamp(bounds.h_min, bounds.h_max),
+            self.h[1].clamp(bounds.h_min, bounds.h_max),
+        ];
         let (big, small) = if h[0] >= h[1] { (0, 1) } else { (1, 0) };
         let limit = h[small] * bounds.max_aspect_ratio;
         if h[big] > limit {
@@ -234,7 +252,11 @@ impl SizeBounds {
     /// (`f64::INFINITY` for no limit); `None` otherwise.
     pub fn try_new(h_min: f64, h_max: f64, max_aspect_ratio: f64) -> Option<SizeBounds> {
         let ok = in_range(h_min) && in_range(h_max) && h_min <= h_max && max_aspect_ratio >= 1.0;
-        ok.then_some(SizeBounds { h_min, h_max, max_aspect_ratio })
+        ok.then_some(SizeBounds {
+            h_min,
+            h_max,
+            max_aspect_ratio,
+        })
     }
 
     /// The smallest size allowed.
@@ -269,8 +291,16 @@ fn canonical_axis(v: [f64; 2]) -> Option<[f64; 2]> {
     }
     // A vector that is unit to rounding is kept as it is, so that rebuilding a tensor from
     // `axis()` gives back the same bits.
-    let u = if (n - 1.0).abs() <= 2.0 * f64::EPSILON { v } else { [v[0] / n, v[1] / n] };
-    Some(if u[0] < 0.0 || (u[0] == 0.0 && u[1] < 0.0) { [-u[0], -u[1]] } else { u })
+    let u = if (n - 1.0).abs() <= 2.0 * f64::EPSILON {
+        v
+    } else {
+        [v[0] / n, v[1] / n]
+    };
+    Some(if u[0] < 0.0 || (u[0] == 0.0 && u[1] < 0.0) {
+        [-u[0], -u[1]]
+    } else {
+        u
+    })
 }
 
 #[cfg(test)]

@@ -62,7 +62,11 @@ pub(crate) fn svd_graded(alpha: [f64; 2], rotation: [f64; 2], beta: [f64; 2]) ->
     let det = a1 * a2 * b1 * b2 * (cc + ss);
     let s2 = if s1 > 0.0 { (det / s1).min(s1) } else { 0.0 };
     let k = ka * kb;
-    Svd2 { u: el.vector, v: er.vector, sigma: [s1 * k, s2 * k] }
+    Svd2 {
+        u: el.vector,
+        v: er.vector,
+        sigma: [s1 * k, s2 * k],
+    }
 }
 
 #[cfg(test)]
@@ -71,7 +75,10 @@ mod tests {
 
     fn matrix(alpha: [f64; 2], rot: [f64; 2], beta: [f64; 2]) -> [[f64; 2]; 2] {
         let [c, s] = rot;
-        [[alpha[0] * c * beta[0], -alpha[0] * s * beta[1]], [alpha[1] * s * beta[0], alpha[1] * c * beta[1]]]
+        [
+            [alpha[0] * c * beta[0], -alpha[0] * s * beta[1]],
+            [alpha[1] * s * beta[0], alpha[1] * c * beta[1]],
+        ]
     }
 
     fn check(alpha: [f64; 2], rot: [f64; 2], beta: [f64; 2]) {
@@ -83,8 +90,14 @@ mod tests {
         let mp = [-m[0][0] * vy + m[0][1] * vx, -m[1][0] * vy + m[1][1] * vx];
         let along = (mv[0] * d.u[0] + mv[1] * d.u[1]).abs();
         let across = (-mp[0] * d.u[1] + mp[1] * d.u[0]).abs();
-        assert!((along / d.sigma[0] - 1.0).abs() < 1e-14, "{alpha:?} {rot:?} {beta:?}: {d:?}");
-        assert!((across / d.sigma[1] - 1.0).abs() < 1e-10, "{alpha:?} {rot:?} {beta:?}: {d:?}");
+        assert!(
+            (along / d.sigma[0] - 1.0).abs() < 1e-14,
+            "{alpha:?} {rot:?} {beta:?}: {d:?}"
+        );
+        assert!(
+            (across / d.sigma[1] - 1.0).abs() < 1e-10,
+            "{alpha:?} {rot:?} {beta:?}: {d:?}"
+        );
         assert!(d.sigma[0] >= d.sigma[1]);
     }
 

@@ -106,7 +106,11 @@ fn check_size(parameter: Parameter, value: f64) -> Result<f64, FunctionError> {
     if (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&value) {
         Ok(value)
     } else {
-        Err(FunctionError::OutOfRange { parameter, value, expected: SIZE_RANGE })
+        Err(FunctionError::OutOfRange {
+            parameter,
+            value,
+            expected: SIZE_RANGE,
+        })
     }
 }
 
@@ -114,7 +118,11 @@ fn check_positive(parameter: Parameter, value: f64) -> Result<f64, FunctionError
     if value > 0.0 && value.is_finite() {
         Ok(value)
     } else {
-        Err(FunctionError::OutOfRange { parameter, value, expected: POSITIVE })
+        Err(FunctionError::OutOfRange {
+            parameter,
+            value,
+            expected: POSITIVE,
+        })
     }
 }
 
@@ -151,7 +159,12 @@ pub struct DistanceFunction {
 impl DistanceFunction {
     /// Checks the parameters: both sizes in [1e-30, 1e30], `max_distance` and `exponent`
     /// finite and > 0.
-    pub fn try_new(size_at_source: f64, size_at_max_distance: f64, max_distance: f64, exponent: f64) -> Result<DistanceFunction, FunctionError> {
+    pub fn try_new(
+        size_at_source: f64,
+        size_at_max_distance: f64,
+        max_distance: f64,
+        exponent: f64,
+    ) -> Result<DistanceFunction, FunctionError> {
         Ok(DistanceFunction {
             size_at_source: check_size(Parameter::SizeAtSource, size_at_source)?,
             size_at_max_distance: check_size(Parameter::SizeAtMaxDistance, size_at_max_distance)?,
@@ -162,7 +175,13 @@ impl DistanceFunction {
 
     /// The size at distance `d` (NaN gives NaN).
     pub fn eval(&self, d: f64) -> f64 {
-        graded(self.size_at_source, self.size_at_max_distance, d, self.max_distance, self.exponent)
+        graded(
+            self.size_at_source,
+            self.size_at_max_distance,
+            d,
+            self.max_distance,
+            self.exponent,
+        )
     }
 
     /// The size at distance 0 (`MINSIZE` / `SIZE_AT_BORDER`).
@@ -204,7 +223,11 @@ pub struct SizeProjectionFunction {
 impl SizeProjectionFunction {
     /// Checks the parameters: the size in [1e-30, 1e30], `max_distance` and `exponent`
     /// finite and > 0.
-    pub fn try_new(size_at_max_distance: f64, max_distance: f64, exponent: f64) -> Result<SizeProjectionFunction, FunctionError> {
+    pub fn try_new(
+        size_at_max_distance: f64,
+        max_distance: f64,
+        exponent: f64,
+    ) -> Result<SizeProjectionFunction, FunctionError> {
         Ok(SizeProjectionFunction {
             size_at_max_distance: check_size(Parameter::SizeAtMaxDistance, size_at_max_distance)?,
             max_distance: check_positive(Parameter::MaxDistance, max_distance)?,
@@ -214,7 +237,13 @@ impl SizeProjectionFunction {
 
     /// The size at distance `d` from a source point whose size is `size_at_source`.
     pub fn eval(&self, d: f64, size_at_source: f64) -> f64 {
-        graded(size_at_source, self.size_at_max_distance, d, self.max_distance, self.exponent)
+        graded(
+            size_at_source,
+            self.size_at_max_distance,
+            d,
+            self.max_distance,
+            self.exponent,
+        )
     }
 
     /// The size at the maximal distance (`MAXSIZE` / `SIZE_AT_MAX_DISTANCE`).
@@ -253,14 +282,22 @@ pub struct CurvatureToSize {
 impl CurvatureToSize {
     /// Checks the parameters: both sizes in [1e-30, 1e30] with `min_size <= max_size`, the
     /// chordal deviation `size_of_error` finite and > 0.
-    pub fn try_new(min_size: f64, max_size: f64, size_of_error: f64) -> Result<CurvatureToSize, FunctionError> {
+    pub fn try_new(
+        min_size: f64,
+        max_size: f64,
+        size_of_error: f64,
+    ) -> Result<CurvatureToSize, FunctionError> {
         let min_size = check_size(Parameter::MinSize, min_size)?;
         let max_size = check_size(Parameter::MaxSize, max_size)?;
         if min_size > max_size {
             return Err(FunctionError::MinAboveMax { min_size, max_size });
         }
         let size_of_error = check_positive(Parameter::SizeOfError, size_of_error)?;
-        Ok(CurvatureToSize { min_size, max_size, size_of_error })
+        Ok(CurvatureToSize {
+            min_size,
+            max_size,
+            size_of_error,
+        })
     }
 
     /// The size for curvature `curvature` (1/length; NaN gives NaN).
@@ -272,7 +309,11 @@ impl CurvatureToSize {
     pub fn eval_radius(&self, radius: f64) -> f64 {
         let r = radius.abs();
         let delta = self.size_of_error;
-        let h = if r > delta { 2.0 * (delta * (2.0 * r - delta)).sqrt() } else { 2.0 * r };
+        let h = if r > delta {
+            2.0 * (delta * (2.0 * r - delta)).sqrt()
+        } else {
+            2.0 * r
+        };
         h.clamp(self.min_size, self.max_size)
     }
 
@@ -323,6 +364,9 @@ mod tests {
     #[test]
     fn messages_name_the_parameter_and_range() {
         let e = DistanceFunction::try_new(0.1, 1.0, -5.0, 1.0).unwrap_err();
-        assert_eq!(e.to_string(), "MAXDISTANCE (maximal distance) = -5 is out of range: expected a finite number > 0");
+        assert_eq!(
+            e.to_string(),
+            "MAXDISTANCE (maximal distance) = -5 is out of range: expected a finite number > 0"
+        );
     }
 }

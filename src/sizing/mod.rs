@@ -3,4 +3,6 @@
 
 pub mod functions;
 
-pub use functions::{CurvatureToSize, DistanceFunction, FunctionError, Parameter, SizeProjectionFunction};
+pub use functions::{
+    CurvatureToSize, DistanceFunction, FunctionError, Parameter, SizeProjectionFunction,
+};
