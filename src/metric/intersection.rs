@@ -14,7 +14,7 @@
 //! Why this formulation: it never forms a metric matrix, so nothing squares an aspect
 //! ratio. Both matrices it decomposes are graded, diagonal × rotation × diagonal, with the
 //! relative rotation taken from the two stored unit vectors by compensated products (its
-//! sine is exact for nearly parallel axes); `svd_graded` gets their singular vectors to
+//! sine is exact for nearly parallel axes); `svd2::right_singular` gets their singular vectors to
 //! full relative accuracy and their smaller singular values from exact determinants
 //! (products of sizes). So equal, nested, isotropic, nearly degenerate and 1e6-aspect
 //! inputs go through the same code, nothing divides by a gap between eigenvalues, and
@@ -22,11 +22,11 @@
 //! inputs (one σ test) return the inner (outer) input bit for bit. The sizes agree with
 //! 60-digit evaluations to 1e-12 at aspect ratio 1e6 (tests/metric.rs).
 //!
-//! Cost: two closed-form SVDs of graded 2×2 matrices (four symmetric 2×2 eigen-solves, a
-//! few square roots and divisions, no trigonometry).
+//! Cost: two symmetric 2×2 eigen-solves in closed form, a few square roots and divisions,
+//! no trigonometry.
 
 use super::size_tensor::SizeTensor;
-use super::svd2::svd_graded;
+use super::svd2::right_singular;
 
 /// Relative slack of the nesting test: singular values within a few ulps of 1 count as 1,
 /// so A ∩ A returns A exactly instead of a rounded copy.
@@ -110,7 +110,7 @@ fn combine(a: &SizeTensor, b: &SizeTensor, mode: Mode) -> SizeTensor {
     let cos = diff_of_products(c1, c2, -s1, s2);
     let sin = diff_of_products(s1, c2, c1, s2);
     // G = D2⁻¹ R2ᵀ R1 D1 = diag(1/r1, 1/r2) Rot(C, S) diag(p, q).
-    let sg = svd_graded([r1.recip(), r2.recip()], [cos, sin], [p, q]);
+    let sg = right_singular([r1.recip(), r2.recip()], [cos, sin], [p, q]);
     let [sigma1, sigma2] = sg.sigma;
 
     if sigma2 >= 1.0 - NESTED_SLACK {
@@ -127,10 +127,12 @@ fn combine(a: &SizeTensor, b: &SizeTensor, mode: Mode) -> SizeTensor {
         Mode::Intersection => [sigma1.recip(), 1.0],
         Mode::Union => [1.0, sigma2.recip()],
     };
-    // B = D1 [v1 v2] diag(scale) with v2 = v1⊥: again a graded matrix.
-    let sb = svd_graded([p, q], sg.v, scale);
+    // B = D1 [v1 v2] diag(scale) with v2 = v1⊥, again graded; the result's axes are its
+    // left singular vectors, the right ones of Bᵀ = diag(scale) Rot(v)ᵀ D1.
+    let [vx, vy] = sg.vector;
+    let sb = right_singular(scale, [vx, -vy], [p, q]);
     // Back to the world frame: R1 u.
-    let [ux, uy] = sb.u;
+    let [ux, uy] = sb.vector;
     let axis = [c1 * ux - s1 * uy, s1 * ux + c1 * uy];
     let n = axis[0].hypot(axis[1]);
     SizeTensor::from_parts([axis[0] / n, axis[1] / n], sb.sigma)

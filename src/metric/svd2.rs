@@ -17,18 +17,16 @@
 //! of the larger eigenvalue (a sum, no cancellation) and σ2 = det M / σ1 with
 //! det M = α1α2β1β2 exactly, so both singular values are accurate to a few ulps whatever
 //! the aspect ratio. α and β are first divided by their largest entry, so nothing squared
-//! overflows. Cost: two closed-form symmetric eigen-solves.
+//! overflows. Cost: one closed-form symmetric eigen-solve.
 
 use super::eigen2::eigen2;
 use super::sym2::Sym2;
 
-/// `M = σ1 u vᵀ + σ2 u⊥ v⊥ᵀ` up to the signs of `u` and `v` (which ellipse axes ignore).
+/// The singular values of a matrix and its first right singular vector.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Svd2 {
-    /// First left singular vector (unit).
-    pub u: [f64; 2],
-    /// First right singular vector (unit).
-    pub v: [f64; 2],
+pub(crate) struct Singular {
+    /// First right singular vector (unit, up to sign, which ellipse axes ignore).
+    pub vector: [f64; 2],
     /// σ1 >= σ2 > 0.
     pub sigma: [f64; 2],
 }
@@ -38,33 +36,28 @@ fn diff_of_squares(x: f64, y: f64) -> f64 {
     (x - y) * (x + y)
 }
 
-/// SVD of diag(α) [[c, −s], [s, c]] diag(β) with α, β > 0 and (c, s) a unit vector.
-pub(crate) fn svd_graded(alpha: [f64; 2], rotation: [f64; 2], beta: [f64; 2]) -> Svd2 {
+/// Singular values and first right singular vector of diag(α) [[c, −s], [s, c]] diag(β),
+/// with α, β > 0 and (c, s) a unit vector. The left singular vectors of that matrix are the
+/// right ones of its transpose, `right_singular(β, [c, −s], α)`.
+pub(crate) fn right_singular(alpha: [f64; 2], rotation: [f64; 2], beta: [f64; 2]) -> Singular {
     let ka = alpha[0].max(alpha[1]);
     let kb = beta[0].max(beta[1]);
     let (a1, a2) = (alpha[0] / ka, alpha[1] / ka);
     let (b1, b2) = (beta[0] / kb, beta[1] / kb);
     let [c, s] = rotation;
-    let (cc, ss, cs) = (c * c, s * s, c * s);
-    let right = Sym2 {
+    let (cc, ss) = (c * c, s * s);
+    let gram = Sym2 {
         a: b1 * b1 * (a1 * a1 * cc + a2 * a2 * ss),
-        b: b1 * b2 * cs * diff_of_squares(a2, a1),
+        b: b1 * b2 * c * s * diff_of_squares(a2, a1),
         c: b2 * b2 * (a1 * a1 * ss + a2 * a2 * cc),
     };
-    let left = Sym2 {
-        a: a1 * a1 * (b1 * b1 * cc + b2 * b2 * ss),
-        b: a1 * a2 * cs * diff_of_squares(b1, b2),
-        c: a2 * a2 * (b1 * b1 * ss + b2 * b2 * cc),
-    };
-    let er = eigen2(right);
-    let el = eigen2(left);
-    let s1 = er.values[0].max(el.values[0]).sqrt();
+    let e = eigen2(gram);
+    let s1 = e.values[0].sqrt();
     let det = a1 * a2 * b1 * b2 * (cc + ss);
     let s2 = if s1 > 0.0 { (det / s1).min(s1) } else { 0.0 };
     let k = ka * kb;
-    Svd2 {
-        u: el.vector,
-        v: er.vector,
+    Singular {
+        vector: e.vector,
         sigma: [s1 * k, s2 * k],
     }
 }
@@ -83,13 +76,15 @@ mod tests {
 
     fn check(alpha: [f64; 2], rot: [f64; 2], beta: [f64; 2]) {
         let m = matrix(alpha, rot, beta);
-        let d = svd_graded(alpha, rot, beta);
+        let d = right_singular(alpha, rot, beta);
+        let left = right_singular(beta, [rot[0], -rot[1]], alpha);
+        assert_eq!(d.sigma, left.sigma);
         // M v = ±σ1 u and M v⊥ = ±σ2 u⊥.
-        let [vx, vy] = d.v;
+        let [vx, vy] = d.vector;
         let mv = [m[0][0] * vx + m[0][1] * vy, m[1][0] * vx + m[1][1] * vy];
         let mp = [-m[0][0] * vy + m[0][1] * vx, -m[1][0] * vy + m[1][1] * vx];
-        let along = (mv[0] * d.u[0] + mv[1] * d.u[1]).abs();
-        let across = (-mp[0] * d.u[1] + mp[1] * d.u[0]).abs();
+        let along = (mv[0] * left.vector[0] + mv[1] * left.vector[1]).abs();
+        let across = (-mp[0] * left.vector[1] + mp[1] * left.vector[0]).abs();
         assert!(
             (along / d.sigma[0] - 1.0).abs() < 1e-14,
             "{alpha:?} {rot:?} {beta:?}: {d:?}"
@@ -113,10 +108,10 @@ mod tests {
 
     #[test]
     fn extreme_ratios_neither_overflow_nor_underflow() {
-        let d = svd_graded([1e30, 1e-30], [1.0, 0.0], [1e30, 1e-30]);
+        let d = right_singular([1e30, 1e-30], [1.0, 0.0], [1e30, 1e-30]);
         assert!((d.sigma[0] / 1e60 - 1.0).abs() < 1e-15, "{d:?}");
         assert!((d.sigma[1] / 1e-60 - 1.0).abs() < 1e-15, "{d:?}");
-        let d = svd_graded([1.0, 1e-60], [0.0, 1.0], [1.0, 1e-60]);
+        let d = right_singular([1.0, 1e-60], [0.0, 1.0], [1.0, 1e-60]);
         assert!((d.sigma[0] / 1e-60 - 1.0).abs() < 1e-15, "{d:?}");
         assert!((d.sigma[1] / 1e-60 - 1.0).abs() < 1e-15, "{d:?}");
     }
