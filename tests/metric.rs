@@ -210,32 +210,23 @@ proptest! {
 
     #[test]
     fn agrees_with_the_brute_force_twin(a in arb_tensor(1e3), b in arb_tensor(1e3)) {
-        // The twin works on metric matrices and inverts a Cholesky factor, so its own error
-        // grows like ε·(A1·A2)² with the aspect ratios A1, A2 (measured: at most 223 ε (A1·A2)²
-        // over 40,000 pairs; at aspect 23 it is already 1.4e-12 off where a 60-digit
-        // evaluation puts the closed form 1e-15 off). So: 1e-12 where the twin is that
-        // accurate (A1·A2 up to about 4), the twin's own bound beyond; the thin cases are
-        // checked to 1e-12 against 60-digit references below.
-        let tol = 1e-12f64.max(256.0 * f64::EPSILON * (a.aspect_ratio() * b.aspect_ratio()).powi(2));
+        // The twin's own accuracy sets the tolerance. nalgebra's SymmetricEigen finishes a
+        // 2×2 block with a closed form whose eigenvector (λ1 − d2, e) cancels: about 1e-12
+        // relative even for round inputs (a pair of aspect 1.3 and 2.0: twin 1.0e-12 off a
+        // 60-digit evaluation, closed form 1.3e-16 off; measured worst 3.6e-12 over 20,000
+        // such pairs). The Cholesky inverse adds ε·(A1·A2)² for aspect ratios A1, A2
+        // (measured worst 223 ε (A1·A2)²). The closed form is held to 1e-12 by the 60-digit
+        // references below.
+        let tol = 1e-11f64.max(256.0 * f64::EPSILON * (a.aspect_ratio() * b.aspect_ratio()).powi(2));
         for union in [false, true] {
             let fast = if union { a.union(&b) } else { a.intersection(&b) };
             let slow = brute_force(&a, &b, union);
             let d = rel_frobenius(&fast.to_metric(), &slow);
             prop_assert!(d <= tol, "union {union}: {d:e} > {tol:e}: {a:?} {b:?} -> {fast:?} vs {slow:?}");
-        }
-    }
-
-    #[test]
-    fn agrees_with_the_brute_force_twin_to_1e12_when_nearly_isotropic(a in arb_tensor(2.0), b in arb_tensor(2.0)) {
-        for union in [false, true] {
-            let fast = if union { a.union(&b) } else { a.intersection(&b) };
-            let slow = brute_force(&a, &b, union);
-            let d = rel_frobenius(&fast.to_metric(), &slow);
-            prop_assert!(d <= 1e-12, "union {union}: {d:e}: {a:?} {b:?} -> {fast:?} vs {slow:?}");
             let slow = SizeTensor::try_from_metric(&slow).unwrap();
             let dirs = directions(&[&a, &b, &fast]);
             let d = radius_diff(&fast, &slow, &dirs);
-            prop_assert!(d <= 1e-12, "union {union}: radii differ by {d:e}");
+            prop_assert!(d <= tol, "union {union}: radii differ by {d:e} > {tol:e}");
         }
     }
 
