@@ -11,9 +11,16 @@
 
 pub use smartmesh_formats as formats;
 
+<<<<<<< HEAD
 pub mod quality;
 pub mod summary;
 pub mod topology;
 
 pub use summary::MeshSummary;
 pub use topology::Topology;
+=======
+pub mod metric;
+pub mod sizing;
+
+pub use metric::{SizeBounds, SizeTensor, Sym2};
+>>>>>>> metric

@@ -1,0 +1,23 @@
+//! Metric algebra in 2D: size tensors, metric tensors and the operations the sizing
+//! algorithms and the remesher need (thesis chapter 3 and 4.3.4).
+//!
+//! - [`SizeTensor`]: what the code reasons in — the orientation of the first axis and two
+//!   sizes h1, h2 (desired edge lengths), stored decomposed as thesis 4.3.4 asks.
+//! - [`Sym2`]: a plain symmetric 2×2 matrix for hot loops and for files, which carry metric
+//!   tensors M = R diag(1/h1², 1/h2²) Rᵀ.
+//! - [`eigen2`]: the closed-form symmetric 2×2 eigen-decomposition behind the conversions.
+//! - [`SizeTensor::intersection`] / [`SizeTensor::union`]: the robust size-tensor
+//!   intersection of thesis 3.2.2 and its dual, by simultaneous reduction.
+//! - [`SizeTensor::clamp`] with [`SizeBounds`]: global h_min, h_max and aspect-ratio limits.
+//! - [`SizeTensor::log_euclidean_mean`]: weighted interpolation that keeps tensors SPD.
+
+mod eigen2;
+mod interpolation;
+mod intersection;
+mod size_tensor;
+mod svd2;
+mod sym2;
+
+pub use eigen2::{eigen2, Eigen2};
+pub use size_tensor::{SizeBounds, SizeTensor, TensorError};
+pub use sym2::Sym2;
