@@ -11,16 +11,12 @@
 
 pub use smartmesh_formats as formats;
 
-<<<<<<< HEAD
+pub mod metric;
 pub mod quality;
+pub mod sizing;
 pub mod summary;
 pub mod topology;
 
+pub use metric::{SizeBounds, SizeTensor, Sym2};
 pub use summary::MeshSummary;
 pub use topology::Topology;
-=======
-pub mod metric;
-pub mod sizing;
-
-pub use metric::{SizeBounds, SizeTensor, Sym2};
->>>>>>> metric
