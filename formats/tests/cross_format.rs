@@ -138,6 +138,12 @@ fn every_fixture_through_every_format() {
                     problems.push(format!("point {i} is {:?}, expected {:?}", back.points[i], mesh.points[i]));
                 }
             }
+            // Gmsh 4.1 entity tags are strictly positive: cells without one are placed on
+            // new entities, which the report says; their physical tags must still hold.
+            let mut caps = caps;
+            if written.report.dropped.iter().any(|d| d.contains("new entities")) {
+                caps.geometrical = false;
+            }
             let (a, b) = (cell_multiset(&mesh, caps), cell_multiset(&back, caps));
             if a != b {
                 problems.push(format!("cells differ ({} vs {})", a.len(), b.len()));
