@@ -5,12 +5,19 @@
 //!   [`formats::TaggedMesh`] (the `smartmesh-formats` crate, usable on its own);
 //! - [`topology`]: topological points, curves and faces recovered from the tags, every
 //!   mesh vertex and edge classified on one of them;
+//! - [`mesh_graph`]: the mesh as a graph (CSR vertex adjacency) for neighbour propagation;
+//! - [`geometry`]: point–segment projection and an exact closest-segment index;
+//! - [`metric`]: size tensors and metric algebra (intersection, union, clamping);
+//! - [`sizing`]: size functions, and neighbour propagation from sources with exact
+//!   closest points;
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub use smartmesh_formats as formats;
 
+pub mod geometry;
+pub mod mesh_graph;
 pub mod metric;
 pub mod quality;
 pub mod sizing;
@@ -18,5 +25,6 @@ pub mod summary;
 pub mod topology;
 
 pub use metric::{SizeBounds, SizeTensor, Sym2};
+pub use mesh_graph::MeshGraph;
 pub use summary::MeshSummary;
 pub use topology::Topology;

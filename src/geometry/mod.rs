@@ -1,0 +1,12 @@
+//! Plane geometry kernels the sizing algorithms share: the distance from a point to a
+//! segment with its foot point and parameter (thesis 4.3.6.3, "common methods"), the
+//! contact test between a segment and a mesh cell, and a spatial index over a set of
+//! segments that answers exact closest-segment queries.
+//!
+//! Everything here works on plain `[f64; 2]` points and knows nothing of meshes or tags.
+
+pub mod segment;
+pub mod segment_index;
+
+pub use segment::{Point2, Projection, SegmentGeom};
+pub use segment_index::{Nearest, QueryStats, SegmentIndex};

@@ -1,0 +1,198 @@
+//! The mesh as a graph for neighbour propagation (thesis 2.2.5, 4.3.1.3): vertex
+//! adjacency in compressed sparse row form, 2D coordinates, the corners of the surface
+//! cells, and for each vertex the length of its longest incident mesh edge.
+//!
+//! Built from [`Topology::edges`] (every mesh edge once, sorted) so that the neighbour
+//! lists, and so every propagation order, are deterministic: each list is sorted by
+//! vertex index. Cost: O(vertices + edges) time and memory; indices are `u32`.
+
+use smartmesh_formats::TaggedMesh;
+
+use crate::geometry::Point2;
+use crate::topology::Topology;
+
+/// Marks the missing fourth corner of a triangle in [`MeshGraph::cells`].
+pub const NO_CORNER: u32 = u32::MAX;
+
+/// Why a graph could not be built.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum MeshGraphError {
+    /// An edge or cell names a vertex the coordinates do not have. Check that the
+    /// edges and cells come from the same mesh as the coordinates.
+    #[error("vertex {index} is out of range: the mesh has {len} vertices")]
+    VertexOutOfRange {
+        /// The index found.
+        index: usize,
+        /// The number of vertices.
+        len: usize,
+    },
+    /// More vertices or adjacency entries than `u32` indices can address.
+    #[error("the mesh is too large for 32-bit vertex indices ({0} entries)")]
+    TooLarge(usize),
+}
+
+/// Vertex adjacency of a 2D mesh in CSR form.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshGraph {
+    coords: Vec<Point2>,
+    offsets: Vec<u32>,
+    neighbours: Vec<u32>,
+    longest_edge: Vec<f64>,
+    cells: Vec<[u32; 4]>,
+}
+
+impl MeshGraph {
+    /// The graph of `mesh`, with the edges and cells its `topology` found. Coordinates
+    /// are the x and y of the mesh points.
+    pub fn from_topology(topology: &Topology, mesh: &TaggedMesh) -> Result<MeshGraph, MeshGraphError> {
+        let coords: Vec<Point2> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
+        let edges: Vec<[usize; 2]> = topology.edges.iter().map(|e| e.0).collect();
+        let cells: Vec<[usize; 4]> = topology.surface_cells.iter().map(|c| c.corners).collect();
+        MeshGraph::from_edges(coords, &edges, &cells)
+    }
+
+    /// The graph of vertices `coords` joined by `edges`; `cells` are the surface cells
+    /// (four corners, the fourth `usize::MAX` for a triangle), used to find the cells a
+    /// free polyline crosses. Repeated edges and loops are dropped.
+    pub fn from_edges(coords: Vec<Point2>, edges: &[[usize; 2]], cells: &[[usize; 4]]) -> Result<MeshGraph, MeshGraphError> {
+        let n = coords.len();
+        if n >= u32::MAX as usize || 2 * edges.len() >= u32::MAX as usize {
+            return Err(MeshGraphError::TooLarge(n.max(2 * edges.len())));
+        }
+        let check = |v: usize| if v < n { Ok(()) } else { Err(MeshGraphError::VertexOutOfRange { index: v, len: n }) };
+        let mut degree = vec![0u32; n + 1];
+        for &[a, b] in edges {
+            check(a)?;
+            check(b)?;
+            if a != b {
+                degree[a] += 1;
+                degree[b] += 1;
+            }
+        }
+        let mut offsets = vec![0u32; n + 1];
+        for v in 0..n {
+            offsets[v + 1] = offsets[v] + degree[v];
+        }
+        let mut fill: Vec<u32> = offsets[..n].to_vec();
+        let mut neighbours = vec![0u32; offsets[n] as usize];
+        for &[a, b] in edges {
+            if a != b {
+                neighbours[fill[a] as usize] = b as u32;
+                fill[a] += 1;
+                neighbours[fill[b] as usize] = a as u32;
+                fill[b] += 1;
+            }
+        }
+        // Sort and deduplicate each list, compacting in place.
+        let mut write = 0usize;
+        let mut new_offsets = vec![0u32; n + 1];
+        for v in 0..n {
+            let (s, e) = (offsets[v] as usize, offsets[v + 1] as usize);
+            neighbours[s..e].sort_unstable();
+            let start = write;
+            for i in s..e {
+                if write == start || neighbours[write - 1] != neighbours[i] {
+                    neighbours[write] = neighbours[i];
+                    write += 1;
+                }
+            }
+            new_offsets[v + 1] = write as u32;
+        }
+        neighbours.truncate(write);
+        let longest_edge = (0..n)
+            .map(|v| {
+                let p = coords[v];
+                neighbours[new_offsets[v] as usize..new_offsets[v + 1] as usize]
+                    .iter()
+                    .map(|&u| {
+                        let q = coords[u as usize];
+                        ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt()
+                    })
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        let mut out_cells = Vec::with_capacity(cells.len());
+        for c in cells {
+            let mut k = [NO_CORNER; 4];
+            for (i, &v) in c.iter().enumerate() {
+                if v != usize::MAX {
+                    check(v)?;
+                    k[i] = v as u32;
+                }
+            }
+            out_cells.push(k);
+        }
+        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells })
+    }
+
+    /// Number of vertices.
+    pub fn num_vertices(&self) -> usize {
+        self.coords.len()
+    }
+
+    /// Number of edges (each counted once).
+    pub fn num_edges(&self) -> usize {
+        self.neighbours.len() / 2
+    }
+
+    /// Coordinates of vertex `v`.
+    #[inline]
+    pub fn point(&self, v: usize) -> Point2 {
+        self.coords[v]
+    }
+
+    /// All coordinates.
+    pub fn points(&self) -> &[Point2] {
+        &self.coords
+    }
+
+    /// Neighbours of vertex `v`, sorted by index.
+    #[inline]
+    pub fn neighbours(&self, v: usize) -> &[u32] {
+        &self.neighbours[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+    }
+
+    /// Length of the longest mesh edge at `v` (0 for an isolated vertex): no point of
+    /// a cell incident to `v` is farther from `v` than this.
+    #[inline]
+    pub fn longest_edge(&self, v: usize) -> f64 {
+        self.longest_edge[v]
+    }
+
+    /// Surface cells by their corners ([`NO_CORNER`] fourth corner for a triangle).
+    pub fn cells(&self) -> &[[u32; 4]] {
+        &self.cells
+    }
+
+    /// Iterator over the edges `[a, b]`, `a < b`, in increasing order.
+    pub fn edges(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
+        (0..self.coords.len()).flat_map(move |a| {
+            self.neighbours(a).iter().filter(move |&&b| b as usize > a).map(move |&b| [a as u32, b])
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csr_is_sorted_and_deduplicated() {
+        let coords = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let edges = [[2, 0], [0, 1], [1, 2], [0, 2], [2, 3], [3, 0], [3, 3]];
+        let g = MeshGraph::from_edges(coords, &edges, &[[0, 1, 2, usize::MAX], [0, 2, 3, usize::MAX]]).unwrap();
+        assert_eq!(g.neighbours(0), &[1, 2, 3]);
+        assert_eq!(g.neighbours(2), &[0, 1, 3]);
+        assert_eq!(g.num_edges(), 5);
+        assert_eq!(g.edges().collect::<Vec<_>>(), vec![[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]]);
+        assert!((g.longest_edge(0) - 2f64.sqrt()).abs() < 1e-15);
+        assert_eq!(g.longest_edge(1), 1.0);
+        assert_eq!(g.cells()[1], [0, 2, 3, NO_CORNER]);
+    }
+
+    #[test]
+    fn out_of_range_is_an_error() {
+        let e = MeshGraph::from_edges(vec![[0.0, 0.0]], &[[0, 4]], &[]).unwrap_err();
+        assert_eq!(e, MeshGraphError::VertexOutOfRange { index: 4, len: 1 });
+    }
+}

@@ -1,0 +1,702 @@
+//! Neighbour propagation from a source (thesis 2.2.5, 2.2.10.4–5, 4.3.6–4.3.7): every
+//! mesh vertex near a source gets its closest point on the source — distance, segment,
+//! foot point, parameter, curvilinear abscissa and side — starting at the source and
+//! stopping past a maximum distance. This is the engine of distance to border, distance
+//! to a vertex, distance between two boundaries and distance to an imaginary polyline.
+//!
+//! Method. A [`Source`] is a set of segments: polylines along mesh edges (topological
+//! curves), free polylines that may cross cells (a wake), and single points. Propagation
+//! is a breadth-first search by levels from the source's seed vertices (the vertices of
+//! the source, and for free pieces the corners of every cell they touch, so that a
+//! coarse mesh is still marked). A vertex of the next level takes as guess the closest
+//! segments of its already evaluated neighbours, marches along the polyline while the
+//! foot point sits on a segment end (thesis 4.3.6.3), and then *certifies* the guess
+//! with the segment index ([`SegmentIndex::certify`]): only the boxes nearer than the
+//! guessed distance are opened. Pure neighbour propagation stops in local minima near
+//! the medial axis of non-convex sources on coarse meshes; the certification makes every
+//! answer the exact closest point on the discretised source (ties: smaller segment id),
+//! equal bit for bit to [`closest_point_brute_force`], whatever the order or the guess.
+//! Since each answer is exact and depends on nothing else, the result is the same with
+//! any number of threads: levels are evaluated in parallel (rayon) and committed in order.
+//!
+//! Stopping. A vertex is expanded (its neighbours queued) when its distance is at most
+//! `max_distance` plus its longest incident edge. Then every vertex within
+//! `max_distance` is reached whenever the straight segment to its closest point stays in
+//! the mesh: each cell crossed by that segment holds a point within `max_distance`, so
+//! its corners are expanded, and the last one touches the source. Reported are the seeds
+//! and the vertices within `max_distance`; the others are evaluated in transit only.
+//!
+//! Cost: O(1) segment projections per vertex for the guess, plus the certification,
+//! whose box tests are bounded by the depth of the index (O(log m) for m segments, a
+//! few nanoseconds each) and in practice open one or two leaves. Seeding free pieces
+//! scans the cells once (O(cells), with a box test against the source first).
+
+use rayon::prelude::*;
+
+use crate::geometry::segment::{point_in_polygon, segment_touches_polygon, segments_touch};
+use crate::geometry::{Nearest, Point2, Projection, QueryStats, SegmentGeom, SegmentIndex};
+use crate::mesh_graph::{MeshGraph, NO_CORNER};
+use crate::topology::Topology;
+
+/// One segment of a source.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SourceSegment {
+    /// Start point.
+    pub a: Point2,
+    /// End point (equal to `a` for a point source).
+    pub b: Point2,
+    /// Index of its polyline in [`Source::polylines`].
+    pub polyline: u32,
+    /// The previous segment along the polyline (wrapping round a closed one).
+    pub prev: Option<u32>,
+    /// The next segment along the polyline (wrapping round a closed one).
+    pub next: Option<u32>,
+    /// Curvilinear abscissa of `a` along its polyline (0 at the polyline's first point).
+    pub abscissa: f64,
+    /// Length of the segment.
+    pub length: f64,
+}
+
+/// What a source polyline is made of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PieceKind {
+    /// Mesh edges between mesh vertices (a topological curve, or a path of the mesh).
+    MeshEdges,
+    /// A single mesh vertex (a topological point).
+    MeshVertex,
+    /// A polyline given by coordinates, which may cross cells (a wake).
+    Free,
+    /// A single point given by coordinates.
+    FreePoint,
+}
+
+/// One polyline of a source: a run of consecutive segments.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SourcePolyline {
+    /// Its first segment in [`Source::segments`].
+    pub first_segment: u32,
+    /// Number of segments (1 for a point, whose segment has zero length).
+    pub num_segments: u32,
+    /// Whether its last point joins its first.
+    pub closed: bool,
+    /// What it is made of.
+    pub kind: PieceKind,
+    /// Total length.
+    pub length: f64,
+}
+
+/// Why a source could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SourceError {
+    /// A piece names a mesh vertex the mesh does not have. Check that the source and
+    /// the graph come from the same mesh.
+    #[error("source piece {piece}: vertex {vertex} is out of range (the mesh has {len} vertices)")]
+    VertexOutOfRange {
+        /// The piece, in the order pieces were added.
+        piece: usize,
+        /// The vertex index.
+        vertex: usize,
+        /// Number of mesh vertices.
+        len: usize,
+    },
+    /// A topological curve or point index the topology does not have.
+    #[error("source piece {piece}: topological {what} {index} does not exist ({len} known)")]
+    EntityOutOfRange {
+        /// The piece.
+        piece: usize,
+        /// "curve" or "point".
+        what: &'static str,
+        /// The index asked for.
+        index: usize,
+        /// How many there are.
+        len: usize,
+    },
+    /// A piece with no point. Give at least one point (a point source) or two.
+    #[error("source piece {piece} has no point")]
+    EmptyPiece {
+        /// The piece.
+        piece: usize,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("source piece {piece}: point {point} has a non-finite coordinate")]
+    NonFinite {
+        /// The piece.
+        piece: usize,
+        /// The point within the piece.
+        point: usize,
+    },
+}
+
+#[derive(Debug, Clone)]
+enum Piece {
+    Mesh { vertices: Vec<usize>, closed: bool },
+    Free { points: Vec<Point2>, closed: bool },
+    Error(SourceError),
+}
+
+/// Collects the pieces of a [`Source`] on one mesh; errors are reported by
+/// [`SourceBuilder::build`].
+#[derive(Debug, Clone)]
+pub struct SourceBuilder<'g> {
+    graph: &'g MeshGraph,
+    pieces: Vec<Piece>,
+}
+
+impl<'g> SourceBuilder<'g> {
+    /// A builder for sources on `graph`.
+    pub fn new(graph: &'g MeshGraph) -> SourceBuilder<'g> {
+        SourceBuilder { graph, pieces: Vec::new() }
+    }
+
+    /// A polyline along mesh vertices (consecutive vertices should share a mesh edge; a
+    /// single vertex is a point source).
+    pub fn mesh_polyline(&mut self, vertices: &[usize], closed: bool) -> &mut Self {
+        self.pieces.push(Piece::Mesh { vertices: vertices.to_vec(), closed });
+        self
+    }
+
+    /// Every polyline of topological curve `curve`, in its orientation.
+    pub fn topology_curve(&mut self, topology: &Topology, curve: usize) -> &mut Self {
+        match topology.curves.get(curve) {
+            Some(c) => {
+                for pl in &c.polylines {
+                    self.mesh_polyline(&pl.vertices, pl.closed);
+                }
+            }
+            None => {
+                let e = SourceError::EntityOutOfRange { piece: self.pieces.len(), what: "curve", index: curve, len: topology.curves.len() };
+                self.pieces.push(Piece::Error(e));
+            }
+        }
+        self
+    }
+
+    /// Topological point `point`, as a point source on its mesh vertex.
+    pub fn topology_point(&mut self, topology: &Topology, point: usize) -> &mut Self {
+        match topology.points.get(point) {
+            Some(p) => self.mesh_polyline(&[p.vertex], false),
+            None => {
+                let e = SourceError::EntityOutOfRange { piece: self.pieces.len(), what: "point", index: point, len: topology.points.len() };
+                self.pieces.push(Piece::Error(e));
+                self
+            }
+        }
+    }
+
+    /// Mesh vertex `v` as a point source.
+    pub fn vertex(&mut self, v: usize) -> &mut Self {
+        self.mesh_polyline(&[v], false)
+    }
+
+    /// A polyline given by coordinates, which need not follow mesh edges (thesis
+    /// 4.3.6.5, the imaginary polyline).
+    pub fn polyline(&mut self, points: &[Point2], closed: bool) -> &mut Self {
+        self.pieces.push(Piece::Free { points: points.to_vec(), closed });
+        self
+    }
+
+    /// A point given by coordinates.
+    pub fn point(&mut self, p: Point2) -> &mut Self {
+        self.polyline(&[p], false)
+    }
+
+    /// The source, with its segment index and seed vertices.
+    pub fn build(&self) -> Result<Source, SourceError> {
+        let n = self.graph.num_vertices();
+        let mut segments = Vec::new();
+        let mut polylines = Vec::new();
+        let mut seeds: Vec<u32> = Vec::new();
+        for (piece, pc) in self.pieces.iter().enumerate() {
+            let (points, closed, kind): (Vec<Point2>, bool, PieceKind) = match pc {
+                Piece::Error(e) => return Err(e.clone()),
+                Piece::Mesh { vertices, closed } => {
+                    let mut pts = Vec::with_capacity(vertices.len());
+                    for &v in vertices {
+                        if v >= n {
+                            return Err(SourceError::VertexOutOfRange { piece, vertex: v, len: n });
+                        }
+                        seeds.push(v as u32);
+                        pts.push(self.graph.point(v));
+                    }
+                    let kind = if vertices.len() == 1 { PieceKind::MeshVertex } else { PieceKind::MeshEdges };
+                    (pts, *closed, kind)
+                }
+                Piece::Free { points, closed } => {
+                    if let Some(i) = points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+                        return Err(SourceError::NonFinite { piece, point: i });
+                    }
+                    let kind = if points.len() == 1 { PieceKind::FreePoint } else { PieceKind::Free };
+                    (points.clone(), *closed, kind)
+                }
+            };
+            if points.is_empty() {
+                return Err(SourceError::EmptyPiece { piece });
+            }
+            let pl = polylines.len() as u32;
+            let first = segments.len() as u32;
+            let closed = closed && points.len() >= 2;
+            let k = points.len();
+            let count = if k == 1 { 1 } else if closed { k } else { k - 1 };
+            let mut s = 0.0;
+            for i in 0..count {
+                let a = points[i];
+                let b = if k == 1 { a } else { points[(i + 1) % k] };
+                let length = SegmentGeom::new(a, b).length();
+                let id = first + i as u32;
+                let prev = if i > 0 { Some(id - 1) } else if closed { Some(first + count as u32 - 1) } else { None };
+                let next = if i + 1 < count { Some(id + 1) } else if closed { Some(first) } else { None };
+                segments.push(SourceSegment { a, b, polyline: pl, prev, next, abscissa: s, length });
+                s += length;
+            }
+            polylines.push(SourcePolyline { first_segment: first, num_segments: count as u32, closed, kind, length: s });
+        }
+        let geoms: Vec<SegmentGeom> = segments.iter().map(|s| SegmentGeom::new(s.a, s.b)).collect();
+        let index = SegmentIndex::new(&geoms);
+        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), index };
+        seeds.extend(source.free_piece_seeds(self.graph));
+        seeds.sort_unstable();
+        seeds.dedup();
+        source.seeds = seeds;
+        Ok(source)
+    }
+}
+
+/// A discretised source: segments with their polylines, an index over them, and the
+/// mesh vertices propagation starts from.
+#[derive(Debug, Clone)]
+pub struct Source {
+    segments: Vec<SourceSegment>,
+    geoms: Vec<SegmentGeom>,
+    polylines: Vec<SourcePolyline>,
+    seeds: Vec<u32>,
+    index: SegmentIndex,
+}
+
+/// The closest point of a source to a mesh vertex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClosestPoint {
+    /// Euclidean distance to the source.
+    pub distance: f64,
+    /// The segment the closest point lies on (the smallest id among equally close ones).
+    pub segment: u32,
+    /// The closest point.
+    pub foot: Point2,
+    /// Parameter of the foot along the segment, in `[0, 1]`.
+    pub parameter: f64,
+    /// Curvilinear abscissa of the foot along its polyline.
+    pub abscissa: f64,
+    /// +1 when the vertex lies left of the polyline's direction (inside the domain for
+    /// a boundary curve, which topology orients with the domain on its left), -1 right,
+    /// 0 on the source, beside a point source, or where the side is undefined (beyond
+    /// the end of an open polyline on its line, at a fold). At a polyline corner the
+    /// side follows the sum of the two segments' unit normals.
+    pub side: i8,
+}
+
+impl ClosestPoint {
+    /// `side × distance`.
+    pub fn signed_distance(&self) -> f64 {
+        f64::from(self.side) * self.distance
+    }
+}
+
+impl Source {
+    /// A builder for a source on `graph`.
+    pub fn builder(graph: &MeshGraph) -> SourceBuilder<'_> {
+        SourceBuilder::new(graph)
+    }
+
+    /// The segments, polyline by polyline.
+    pub fn segments(&self) -> &[SourceSegment] {
+        &self.segments
+    }
+
+    /// The polylines.
+    pub fn polylines(&self) -> &[SourcePolyline] {
+        &self.polylines
+    }
+
+    /// Mesh vertices propagation starts from, sorted.
+    pub fn seeds(&self) -> &[u32] {
+        &self.seeds
+    }
+
+    /// The segment index.
+    pub fn index(&self) -> &SegmentIndex {
+        &self.index
+    }
+
+    /// The exact closest point of the source to `p`, from the index.
+    pub fn closest_point(&self, p: Point2) -> Option<ClosestPoint> {
+        self.index.closest(p, &mut QueryStats::default()).map(|n| self.describe(p, n))
+    }
+
+    /// Fills in abscissa and side for a projection of `p`.
+    fn describe(&self, p: Point2, n: Nearest) -> ClosestPoint {
+        let s = &self.segments[n.segment as usize];
+        let Projection { distance_squared, foot, t } = n.projection;
+        ClosestPoint {
+            distance: distance_squared.sqrt(),
+            segment: n.segment,
+            foot,
+            parameter: t,
+            abscissa: s.abscissa + t * s.length,
+            side: self.side(p, n.segment as usize, foot, t),
+        }
+    }
+
+    fn side(&self, p: Point2, seg: usize, foot: Point2, t: f64) -> i8 {
+        let g = &self.geoms[seg];
+        if g.inv_len2 == 0.0 {
+            return 0;
+        }
+        let unit_left = |g: &SegmentGeom| {
+            let l = g.length();
+            [-g.d[1] / l, g.d[0] / l]
+        };
+        let mut n = unit_left(g);
+        let s = &self.segments[seg];
+        let other = if t == 0.0 {
+            s.prev
+        } else if t == 1.0 {
+            s.next
+        } else {
+            None
+        };
+        if let Some(o) = other {
+            let go = &self.geoms[o as usize];
+            if go.inv_len2 > 0.0 {
+                let m = unit_left(go);
+                n = [n[0] + m[0], n[1] + m[1]];
+            }
+        }
+        let dot = (p[0] - foot[0]) * n[0] + (p[1] - foot[1]) * n[1];
+        if dot > 0.0 {
+            1
+        } else if dot < 0.0 {
+            -1
+        } else {
+            0
+        }
+    }
+
+    /// Corners of every cell that a free piece touches (every edge when the graph has
+    /// no cell). Near misses within a few ulps count: an extra seed costs one
+    /// evaluation, a missing one could leave a crossed cell unmarked.
+    fn free_piece_seeds(&self, graph: &MeshGraph) -> Vec<u32> {
+        let free: Vec<bool> = self
+            .segments
+            .iter()
+            .map(|s| matches!(self.polylines[s.polyline as usize].kind, PieceKind::Free | PieceKind::FreePoint))
+            .collect();
+        let Some((mut lo, mut hi)) = free.iter().zip(&self.segments).filter(|(f, _)| **f).fold(None, |acc: Option<(Point2, Point2)>, (_, s)| {
+            let (l, h) = acc.unwrap_or(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]));
+            Some(([l[0].min(s.a[0]).min(s.b[0]), l[1].min(s.a[1]).min(s.b[1])], [h[0].max(s.a[0]).max(s.b[0]), h[1].max(s.a[1]).max(s.b[1])]))
+        }) else {
+            return Vec::new();
+        };
+        let scale = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs()).max(f64::MIN_POSITIVE);
+        let tol = 64.0 * f64::EPSILON * scale;
+        for k in 0..2 {
+            lo[k] -= tol;
+            hi[k] += tol;
+        }
+        let mut seeds = Vec::new();
+        let mut corners: Vec<Point2> = Vec::with_capacity(4);
+        let mut visit = |vs: &[u32], seeds: &mut Vec<u32>| {
+            corners.clear();
+            corners.extend(vs.iter().map(|&v| graph.point(v as usize)));
+            let (mut cl, mut ch) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+            for c in &corners {
+                for k in 0..2 {
+                    cl[k] = cl[k].min(c[k] - tol);
+                    ch[k] = ch[k].max(c[k] + tol);
+                }
+            }
+            if cl[0] > hi[0] || ch[0] < lo[0] || cl[1] > hi[1] || ch[1] < lo[1] {
+                return;
+            }
+            let mut hit = false;
+            self.index.for_each_overlapping(cl, ch, |id, g| {
+                if !hit && free[id as usize] {
+                    hit = if corners.len() == 2 {
+                        segments_touch(g.a, g.b, corners[0], corners[1], tol)
+                    } else {
+                        segment_touches_polygon(g.a, g.b, &corners, tol) || point_in_polygon(g.b, &corners)
+                    };
+                }
+            });
+            if hit {
+                seeds.extend_from_slice(vs);
+            }
+        };
+        if graph.cells().is_empty() {
+            for e in graph.edges() {
+                visit(&e, &mut seeds);
+            }
+        } else {
+            for c in graph.cells() {
+                let k = if c[3] == NO_CORNER { 3 } else { 4 };
+                visit(&c[..k], &mut seeds);
+            }
+        }
+        seeds
+    }
+}
+
+/// The brute-force twin of the propagation (test twin): the closest point of `source`
+/// to `p` by projecting on every segment, ties to the smaller segment id. O(m) per
+/// point; the propagation must agree with it bit for bit.
+pub fn closest_point_brute_force(source: &Source, p: Point2) -> Option<ClosestPoint> {
+    let mut best: Option<Nearest> = None;
+    for (i, g) in source.geoms.iter().enumerate() {
+        if !g.a.iter().chain(&g.b).all(|c| c.is_finite()) {
+            continue;
+        }
+        let c = Nearest { segment: i as u32, projection: g.project(p) };
+        if best.as_ref().map_or(true, |b| c.beats(b)) {
+            best = Some(c);
+        }
+    }
+    best.map(|n| source.describe(p, n))
+}
+
+/// Knobs of [`propagate`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PropagationOptions {
+    /// Evaluate large levels on the rayon thread pool. The result is the same either
+    /// way; only the time changes.
+    pub parallel: bool,
+}
+
+impl Default for PropagationOptions {
+    fn default() -> Self {
+        PropagationOptions { parallel: true }
+    }
+}
+
+impl PropagationOptions {
+    /// Defaults: parallel.
+    pub fn new() -> PropagationOptions {
+        PropagationOptions::default()
+    }
+
+    /// With or without parallel evaluation.
+    pub fn with_parallel(self, parallel: bool) -> PropagationOptions {
+        PropagationOptions { parallel }
+    }
+}
+
+/// What a propagation did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct PropagationReport {
+    /// Seed vertices.
+    pub seeds: usize,
+    /// Vertices whose closest point was computed (reported or in transit).
+    pub evaluated: usize,
+    /// Vertices reported in the [`Reach`].
+    pub reached: usize,
+    /// Vertices where the neighbours' guess was not the closest segment and the index
+    /// found a strictly closer one: the local minima of pure neighbour propagation.
+    pub corrected: usize,
+    /// Breadth-first levels.
+    pub levels: usize,
+    /// Index boxes tested.
+    pub boxes_tested: u64,
+    /// Segments projected on (guesses and index leaves).
+    pub segments_tested: u64,
+}
+
+/// The vertices a propagation reached and their closest points on the source, in
+/// breadth-first order (seeds first, by index; then level by level, each level in
+/// the order its vertices were queued).
+#[derive(Debug, Clone)]
+pub struct Reach {
+    vertices: Vec<u32>,
+    closest: Vec<ClosestPoint>,
+    /// Position of each mesh vertex in `vertices`, or `u32::MAX`.
+    slot: Vec<u32>,
+    report: PropagationReport,
+}
+
+impl Reach {
+    /// Number of reached vertices.
+    pub fn len(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// Whether nothing was reached.
+    pub fn is_empty(&self) -> bool {
+        self.vertices.is_empty()
+    }
+
+    /// Reached vertices in order; the first `report().seeds` are the seeds.
+    pub fn vertices(&self) -> &[u32] {
+        &self.vertices
+    }
+
+    /// Closest points, parallel to [`Reach::vertices`].
+    pub fn closest_points(&self) -> &[ClosestPoint] {
+        &self.closest
+    }
+
+    /// The closest point of vertex `v`, if reached.
+    pub fn get(&self, v: usize) -> Option<&ClosestPoint> {
+        match self.slot.get(v) {
+            Some(&s) if s != u32::MAX => Some(&self.closest[s as usize]),
+            _ => None,
+        }
+    }
+
+    /// `(vertex, closest point)` in order.
+    pub fn iter(&self) -> impl Iterator<Item = (usize, &ClosestPoint)> {
+        self.vertices.iter().map(|&v| v as usize).zip(&self.closest)
+    }
+
+    /// What the propagation did.
+    pub fn report(&self) -> &PropagationReport {
+        &self.report
+    }
+}
+
+const UNSEEN: u32 = u32::MAX;
+const QUEUED: u32 = u32::MAX - 1;
+/// Levels smaller than this are evaluated on the calling thread.
+const PARALLEL_MIN_LEVEL: usize = 2048;
+/// Steps of the march along the polyline from the neighbours' guess.
+const MARCH_STEPS: usize = 4;
+
+struct Evaluation {
+    nearest: Nearest,
+    corrected: bool,
+    stats: QueryStats,
+}
+
+/// Propagates from `source` over `graph` up to `max_distance` (thesis Algorithms 4.2–4.5,
+/// with exact closest points). A negative or NaN `max_distance` reaches the seeds only;
+/// an infinite one reaches the seeds' connected components.
+pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options: &PropagationOptions) -> Reach {
+    let n = graph.num_vertices();
+    let max = if max_distance >= 0.0 { max_distance } else { 0.0 };
+    let mut report = PropagationReport::default();
+    let mut slot = vec![UNSEEN; n];
+    let mut order: Vec<u32> = Vec::new();
+    let mut found: Vec<Nearest> = Vec::new();
+    let mut frontier: Vec<u32> = if source.index.is_empty() { Vec::new() } else { source.seeds.iter().copied().filter(|&v| (v as usize) < n).collect() };
+    for &v in &frontier {
+        slot[v as usize] = QUEUED;
+    }
+    report.seeds = frontier.len();
+    let mut level = 0usize;
+    while !frontier.is_empty() {
+        let evaluate = |&v: &u32| -> Evaluation {
+            if level == 0 {
+                let mut stats = QueryStats::default();
+                let nearest = source.index.closest(graph.point(v as usize), &mut stats).expect("index is not empty");
+                Evaluation { nearest, corrected: false, stats }
+            } else {
+                evaluate_from_neighbours(graph, source, &slot, &found, v as usize)
+            }
+        };
+        let evaluations: Vec<Evaluation> = if options.parallel && frontier.len() >= PARALLEL_MIN_LEVEL {
+            frontier.par_iter().with_min_len(256).map(evaluate).collect()
+        } else {
+            frontier.iter().map(evaluate).collect()
+        };
+        // Commit the level, then queue the neighbours of the vertices to expand.
+        let mut next = Vec::new();
+        for (&v, e) in frontier.iter().zip(&evaluations) {
+            slot[v as usize] = found.len() as u32;
+            found.push(e.nearest);
+            order.push(v);
+            report.corrected += usize::from(e.corrected);
+            report.boxes_tested += e.stats.boxes;
+            report.segments_tested += e.stats.segments;
+        }
+        for (&v, e) in frontier.iter().zip(&evaluations) {
+            let d = e.nearest.projection.distance();
+            if d <= max + graph.longest_edge(v as usize) {
+                for &u in graph.neighbours(v as usize) {
+                    if slot[u as usize] == UNSEEN {
+                        slot[u as usize] = QUEUED;
+                        next.push(u);
+                    }
+                }
+            }
+        }
+        frontier = next;
+        level += 1;
+    }
+    report.levels = level;
+    report.evaluated = order.len();
+    // Keep the seeds and the vertices within max_distance; the slot array becomes the
+    // lookup of the reported vertices.
+    let mut vertices = Vec::new();
+    let mut closest = Vec::new();
+    for (i, (&v, nearest)) in order.iter().zip(&found).enumerate() {
+        let keep = i < report.seeds || nearest.projection.distance() <= max;
+        slot[v as usize] = if keep { vertices.len() as u32 } else { UNSEEN };
+        if keep {
+            vertices.push(v);
+            closest.push(source.describe(graph.point(v as usize), *nearest));
+        }
+    }
+    report.reached = vertices.len();
+    Reach { vertices, closest, slot, report }
+}
+
+/// The closest point of vertex `v` from its evaluated neighbours' segments, marched
+/// along the polyline, then certified by the index.
+fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, slot: &[u32], found: &[Nearest], v: usize) -> Evaluation {
+    let p = graph.point(v);
+    let mut stats = QueryStats::default();
+    let mut tried = [u32::MAX; 8];
+    let mut num_tried = 0;
+    let mut best: Option<Nearest> = None;
+    for &u in graph.neighbours(v) {
+        let s = slot[u as usize];
+        if s >= QUEUED {
+            continue;
+        }
+        let seg = found[s as usize].segment;
+        if tried[..num_tried].contains(&seg) {
+            continue;
+        }
+        if num_tried < tried.len() {
+            tried[num_tried] = seg;
+            num_tried += 1;
+        }
+        stats.segments += 1;
+        let c = Nearest { segment: seg, projection: source.geoms[seg as usize].project(p) };
+        if best.as_ref().map_or(true, |b| c.beats(b)) {
+            best = Some(c);
+        }
+    }
+    let Some(mut best) = best else {
+        // Queued vertices always have an evaluated neighbour; stay exact regardless.
+        let nearest = source.index.closest(p, &mut stats).expect("index is not empty");
+        return Evaluation { nearest, corrected: false, stats };
+    };
+    // March towards the closer neighbour segment while the foot sits on an end.
+    for _ in 0..MARCH_STEPS {
+        let s = &source.segments[best.segment as usize];
+        let step = if best.projection.t == 0.0 {
+            s.prev
+        } else if best.projection.t == 1.0 {
+            s.next
+        } else {
+            None
+        };
+        let Some(q) = step else { break };
+        stats.segments += 1;
+        let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
+        if c.beats(&best) {
+            best = c;
+        } else {
+            break;
+        }
+    }
+    let guess = best.projection.distance_squared;
+    let nearest = source.index.certify(p, best, &mut stats);
+    Evaluation { nearest, corrected: nearest.projection.distance_squared < guess, stats }
+}
