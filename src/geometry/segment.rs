@@ -166,7 +166,8 @@ mod tests {
         let a = [0.1, 0.7];
         let b = [0.3, 0.9];
         let c = [0.35, 1.7];
-        let p = [0.9, 0.2];
+        // Beyond `b` along `ab` (t > 1) and before `b` along `bc` (t < 0).
+        let p = [1.3, 0.8];
         let d1 = SegmentGeom::new(a, b).project(p);
         let d2 = SegmentGeom::new(b, c).project(p);
         assert_eq!(d1.foot, b);
