@@ -118,15 +118,15 @@ impl<'a> Tokens<'a> {
         (self.pos > start).then(|| &d[start..self.pos])
     }
 
-    /// The next token without consuming it.
+    /// The next token without consuming it. The whitespace before it is consumed (and
+    /// its newlines counted once), so the line names the token's line and a following
+    /// [`Tokens::next`] does not count those newlines again.
     pub fn peek(&mut self) -> Option<&'a [u8]> {
-        let save = (self.pos, self.line);
+        self.skip_space();
+        let (pos, line) = (self.pos, self.line);
         let t = self.next();
-        // The line stays where the token is, so an error about it names its line.
-        self.pos = save.0;
-        if t.is_none() {
-            self.line = save.1;
-        }
+        self.pos = pos;
+        self.line = line;
         t
     }
 
@@ -317,6 +317,22 @@ mod tests {
         assert_eq!(t.i64("c").unwrap(), -3);
         assert_eq!(t.line(), 4);
         assert!(t.next().is_none());
+    }
+
+    #[test]
+    fn peek_then_next_counts_each_newline_once() {
+        let mut t = Tokens::with_comments(b"a\n\n  b # note\nc\n", b'#');
+        assert_eq!(t.next(), Some(&b"a"[..]));
+        assert_eq!(t.peek(), Some(&b"b"[..]));
+        assert_eq!(t.line(), 3);
+        assert_eq!(t.peek(), Some(&b"b"[..]));
+        assert_eq!(t.next(), Some(&b"b"[..]));
+        assert_eq!(t.line(), 3);
+        assert_eq!(t.next(), Some(&b"c"[..]));
+        assert_eq!(t.line(), 4);
+        assert_eq!(t.peek(), None);
+        assert_eq!(t.next(), None);
+        assert_eq!(t.line(), 5);
     }
 
     #[test]

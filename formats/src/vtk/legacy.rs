@@ -128,7 +128,8 @@ impl<'a> Reader<'a> {
     }
 
     /// Consumes the next token if it is `word` (any case). Written with a clone rather
-    /// than [`Tokens::peek`], whose line count would advance twice over the newline.
+    /// than [`Tokens::peek`]: when the word is absent nothing may be consumed, not even
+    /// the newline before a binary array, whose first byte may look like whitespace.
     fn take_word(&mut self, word: &[u8]) -> bool {
         let save = self.t.clone();
         if self.t.next().is_some_and(|w| w.eq_ignore_ascii_case(word)) {
