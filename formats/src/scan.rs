@@ -69,11 +69,12 @@ impl<'a> Scan<'a> {
             if c > 9 {
                 break;
             }
-            v = v * 10 + c as i64;
-            p += 1;
-            if p - start > 18 {
+            // A 19th digit could overflow i64: refuse it before multiplying.
+            if p - start >= 18 {
                 return None;
             }
+            v = v * 10 + c as i64;
+            p += 1;
         }
         if p == start {
             return None;
@@ -134,6 +135,10 @@ mod tests {
         assert_eq!(Scan::new(b"nan ", 0).f64(), None);
         assert_eq!(Scan::new(b"1.0D+02 ", 0).f64(), None);
         assert_eq!(Scan::new(b"1234567890123456789 ", 0).int(), None);
+        assert_eq!(Scan::new(b"999999999999999999 ", 0).int(), Some(999_999_999_999_999_999));
+        // Found by fuzzing: 19+ digits used to overflow before the length check.
+        assert_eq!(Scan::new(b"99999999999999999999 ", 0).int(), None);
+        assert_eq!(Scan::new(b"-9999999999999999999 ", 0).int(), None);
         assert_eq!(Scan::new(b"x", 0).int(), None);
         let mut s = Scan::new(b"1 \r\n2", 0);
         s.int();
