@@ -157,7 +157,7 @@ fn border_tensor(
 ) -> Result<SizeTensor, Failure> {
     let d = c.distance;
     let h_normal = perpendicular.eval(d);
-    let node = junctions.node(c.segment, c.parameter);
+    let node = junctions.node(source, c);
     let Some(node) = node else {
         let h_border = curvature.eval(curv.at(c.segment, c.parameter));
         return tensor(v, normal_at(source, junctions, p, c), h_normal, projection.eval(d, h_border));

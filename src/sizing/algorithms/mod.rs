@@ -249,16 +249,19 @@ impl Junctions {
         Junctions { node_of_end, offsets, sides }
     }
 
-    /// The node of a foot point at an end of `segment` (`t` 0 or 1), if it is one.
-    pub(crate) fn node(&self, segment: u32, t: f64) -> Option<usize> {
-        let end = if t == 0.0 {
+    /// The node of closest point `c` when its foot is an end of its segment: `t` is 0 or
+    /// 1, or the foot equals an end point bit for bit (a projection of a polyline vertex
+    /// on the segment it ends may round `t` to just below 1).
+    pub(crate) fn node(&self, source: &Source, c: &ClosestPoint) -> Option<usize> {
+        let s = source.segments().get(c.segment as usize)?;
+        let end = if c.parameter == 0.0 || c.foot == s.a {
             0
-        } else if t == 1.0 {
+        } else if c.parameter == 1.0 || c.foot == s.b {
             1
         } else {
             return None;
         };
-        let n = *self.node_of_end.get(segment as usize)?.get(end)?;
+        let n = *self.node_of_end.get(c.segment as usize)?.get(end)?;
         (n != u32::MAX).then_some(n as usize)
     }
 
@@ -281,7 +284,7 @@ pub(crate) fn direction(source: &Source, s: u32) -> Option<Point2> {
 /// `None` for a point source.
 pub(crate) fn tangent_at(source: &Source, junctions: &Junctions, c: &ClosestPoint) -> Option<Point2> {
     let own = direction(source, c.segment)?;
-    let Some(node) = junctions.node(c.segment, c.parameter) else { return Some(own) };
+    let Some(node) = junctions.node(source, c) else { return Some(own) };
     let mut sum = [0.0, 0.0];
     for &(s, _) in junctions.sides(node) {
         if let Some(d) = direction(source, s) {
