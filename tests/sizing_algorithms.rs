@@ -263,13 +263,13 @@ fn uniform_is_exact_on_faces_curves_and_points() {
             }
         }
     }
-    for i in 0..30 {
-        want[i] = want[i].min(0.1);
+    for w in want.iter_mut().take(30) {
+        *w = w.min(0.1);
     }
     want[10 * 30 + 10] = 0.05;
-    for v in 0..n {
-        assert_eq!(f.tensors[v].sizes(), [want[v], want[v]], "vertex {v}");
-        assert_eq!(f.reached[v], want[v] < 1.0);
+    for (v, &w) in want.iter().enumerate() {
+        assert_eq!(f.tensors[v].sizes(), [w, w], "vertex {v}");
+        assert_eq!(f.reached[v], w < 1.0);
     }
     assert_eq!(f.steps[1].vertices_reached, 30);
     assert_eq!(f.steps[2].vertices_reached, 1);
@@ -645,8 +645,8 @@ fn straight_wake_has_the_analytic_abscissa_and_respects_within() {
             t.iter().for_each(|&v| in_face[v] = true);
         }
     }
-    for v in 0..m.coords.len() {
-        assert_eq!(f2.reached[v], f.reached[v] && in_face[v], "vertex {v}");
+    for (v, &inf) in in_face.iter().enumerate() {
+        assert_eq!(f2.reached[v], f.reached[v] && inf, "vertex {v}");
         if f2.reached[v] {
             assert_eq!(f2.tensors[v], f.tensors[v]);
         }
@@ -741,7 +741,7 @@ fn default_size_and_its_warning() {
     assert!(rel(f.default_size, diag) < 1e-15);
     assert_eq!(f.warnings.len(), 1);
     assert!(f.warnings[0].contains("bounding-box diagonal"), "{}", f.warnings[0]);
-    let far = 20 * 1 + 10 * 21; // the top-right corner
+    let far = 20 + 10 * 21; // the top-right corner
     assert!(!f.reached[far] && f.tensors[far] == SizeTensor::isotropic(f.default_size));
     let g = run(&m, &plan(Some(0.7), vec![step]));
     assert!(g.warnings.is_empty());

@@ -221,18 +221,17 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
         }
     }
     let n = graph.num_vertices();
-    let mut current: Vec<Option<SizeTensor>> = vec![None; n];
+    let mut tensors: Vec<SizeTensor> = vec![SizeTensor::isotropic(1.0); n];
+    let mut reached = vec![false; n];
     let mut steps = Vec::with_capacity(plan.steps.len());
     let mut warnings = Vec::new();
     for (index, step) in plan.steps.iter().enumerate() {
         observer(StepEvent::Started { index, label: step.label.clone(), of: plan.steps.len() });
         let c = run_algorithm(graph, topology, &step.algorithm, index, &step.label)?;
         for (&v, t) in c.vertices.iter().zip(&c.tensors) {
-            let slot = &mut current[v as usize];
-            *slot = Some(match slot {
-                Some(old) => old.intersection(t),
-                None => *t,
-            });
+            let v = v as usize;
+            tensors[v] = if reached[v] { tensors[v].intersection(t) } else { *t };
+            reached[v] = true;
         }
         if c.is_empty() {
             warnings.push(format!("step {index} ({}): reached no vertex", step.label));
@@ -241,7 +240,6 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
         steps.push(StepReport { label: step.label.clone(), algorithm: step.algorithm.keyword(), vertices_reached: c.len(), seeds: c.seeds });
     }
 
-    let reached: Vec<bool> = current.iter().map(Option::is_some).collect();
     let unreached = reached.iter().filter(|r| !**r).count();
     let default_size = match plan.h_max {
         Some(h) => h,
@@ -257,7 +255,9 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
         }
     };
     let default = SizeTensor::try_new([1.0, 0.0], default_size, default_size).ok_or(SizingError::NoDefaultSize(default_size))?;
-    let mut tensors: Vec<SizeTensor> = current.into_iter().map(|t| t.unwrap_or(default)).collect();
+    for (t, _) in tensors.iter_mut().zip(&reached).filter(|(_, r)| !**r) {
+        *t = default;
+    }
     if let Some(b) = &bounds {
         tensors.iter_mut().for_each(|t| *t = t.clamp(b));
     }

@@ -48,7 +48,8 @@ pub(crate) fn run(
     assemble(&reach1, |v, c1| {
         let Some(c2) = reach2.get(v) else { return Ok(None) };
         let thickness = c1.distance + c2.distance;
-        if !(thickness <= r) {
+        // NaN distances (non-finite coordinates) fail this test too.
+        if thickness.is_nan() || thickness > r {
             return Ok(None);
         }
         let p = graph.point(v);

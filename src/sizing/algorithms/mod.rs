@@ -191,19 +191,23 @@ where
 /// point source seen from the point itself) the isotropic tensor of the smaller size,
 /// the only one that respects both sizes in every orientation.
 pub(crate) fn tensor(vertex: usize, normal: Option<Point2>, h_normal: f64, h_tangent: f64) -> Result<SizeTensor, Failure> {
-    let t = match normal {
-        Some(n) => SizeTensor::try_new(n, h_normal, h_tangent),
-        None => {
+    let sizes_ok = (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&h_normal) && (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&h_tangent);
+    match normal {
+        // `unit` gave a finite unit vector: no second normalisation.
+        Some(n) if sizes_ok && n[0].is_finite() && n[1].is_finite() => Ok(SizeTensor::from_parts(n, [h_normal, h_tangent])),
+        None if sizes_ok => {
             let h = h_normal.min(h_tangent);
-            SizeTensor::try_new([1.0, 0.0], h, h)
+            Ok(SizeTensor::from_parts([1.0, 0.0], [h, h]))
         }
-    };
-    t.ok_or(Failure::Degenerate { vertex })
+        _ => Err(Failure::Degenerate { vertex }),
+    }
 }
 
 /// The unit vector along `v`, if it has a length.
 pub(crate) fn unit(v: Point2) -> Option<Point2> {
-    let n = v[0].hypot(v[1]);
+    // A plain square root, not `hypot`: coordinates of a mesh are far from overflow,
+    // and this runs once per vertex.
+    let n = (v[0] * v[0] + v[1] * v[1]).sqrt();
     (n > 0.0 && n.is_finite()).then(|| [v[0] / n, v[1] / n])
 }
 
