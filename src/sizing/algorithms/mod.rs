@@ -6,7 +6,8 @@
 //! Every algorithm is a pure function from the mesh and its parameters to a
 //! [`Contribution`]: the vertices it reaches, each with one size tensor. The driver
 //! ([`crate::sizing::compute_size_field`]) intersects contributions into the field in plan
-//! order. Each algorithm works by neighbour propagation ([`propagate`]) from its sources,
+//! order. Each algorithm works by neighbour propagation
+//! ([`crate::sizing::propagate`]) from its sources,
 //! stopping past its maximum distance; UNIFORM needs none.
 //!
 //! Maximum distance. An algorithm propagates up to the largest maximum distance of the
