@@ -133,7 +133,9 @@ fn graded(s0: f64, s1: f64, d: f64, max_distance: f64, exponent: f64) -> f64 {
     if t >= 1.0 {
         return s1;
     }
-    let s = s0 + t.powf(exponent) * (s1 - s0);
+    // pow(t, 1) is t exactly (IEEE 754), so the linear case skips the call.
+    let w = if exponent == 1.0 { t } else { t.powf(exponent) };
+    let s = s0 + w * (s1 - s0);
     s.clamp(s0.min(s1), s0.max(s1))
 }
 

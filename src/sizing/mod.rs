@@ -1,13 +1,25 @@
 //! Sizing: the functions and algorithms that turn geometric characteristics into size
-//! tensors (thesis 4.3.5–4.3.7), and the propagation engine they share.
+//! tensors (thesis 4.3.5–4.3.7), the propagation engine they share, the engine that runs
+//! a plan into a size field, and the gradation pass (thesis 7.4.1).
 
+pub mod algorithms;
+pub mod field;
 pub mod functions;
+pub mod gradation;
 pub mod plan;
 pub mod propagation;
 
+/// What one algorithm gives: reached vertices with one tensor each.
+pub use algorithms::Contribution;
+/// Three-point (Menger) curvature and the corner angle of CURVATURE_OF_BORDER (thesis 4.3.7.2).
+pub use algorithms::curvature_of_border::{three_point_curvature, CORNER_ANGLE};
+/// The sizing engine: a plan run on a mesh into one size tensor per vertex (thesis 4.3.6).
+pub use field::{compute_size_field, plan_bounds, run_algorithm, SizeField, SizingError, StepEvent, StepReport};
 pub use functions::{
     CurvatureToSize, DistanceFunction, FunctionError, Parameter, SizeProjectionFunction,
 };
+/// Anisotropic size gradation (Alauzet's metric gradation, thesis 7.4.1).
+pub use gradation::{apply_gradation, grow, growth_factor, GradationReport};
 pub use plan::{Algorithm, EntitySet, SizingPlan, Step};
 /// Neighbour propagation from a source with exact closest points (thesis 2.2.10.4–5, 4.3.6).
 pub use propagation::{

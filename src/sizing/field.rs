@@ -1,0 +1,291 @@
+//! The sizing engine: runs a [`SizingPlan`] on a mesh and returns one size tensor per
+//! vertex (thesis 4.3.6, Algorithms 4.1–4.5, and 7.4.1).
+//!
+//! Order of work:
+//! 1. each step of the plan, in plan order, computes its tensors on the vertices it
+//!    reaches ([`crate::sizing::algorithms`]); each is *intersected* into the vertex's
+//!    current tensor (thesis 3.2.2; the first one a vertex gets is taken as it is). The
+//!    intersection is not associative, so the order is the plan's, always;
+//! 2. vertices no step reaches take the default size: the plan's h_max, or the
+//!    bounding-box diagonal of the mesh when it has none (with a warning);
+//! 3. when the plan gives h_min, h_max or a maximum aspect ratio, every tensor is
+//!    clamped ([`SizeTensor::clamp`]);
+//! 4. when the plan gives a gradation, the gradation pass ([`crate::sizing::gradation`])
+//!    bounds the growth of sizes between neighbours. It only shrinks tensors, so the
+//!    bounds of step 3 still hold (an intersection of two ellipses that contain the disc
+//!    of radius h_min contains it, and its aspect ratio cannot exceed the larger of
+//!    theirs); the clamp is applied once more to remove rounding.
+//!
+//! Deterministic: every algorithm commits its tensors in a fixed order whatever the
+//! number of threads, and steps 1–4 run in a fixed order.
+
+use crate::mesh_graph::MeshGraph;
+use crate::metric::{SizeBounds, SizeTensor};
+use crate::sizing::algorithms::{self, Contribution, Failure};
+use crate::sizing::gradation::{apply_gradation, GradationReport};
+use crate::sizing::plan::{Algorithm, SizingPlan};
+use crate::topology::Topology;
+
+/// Progress of [`compute_size_field`], for a progress bar.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum StepEvent {
+    /// Step `index` (0-based) of `of`, labelled `label`, starts.
+    Started {
+        /// The step, 0-based.
+        index: usize,
+        /// Its label.
+        label: String,
+        /// Number of steps.
+        of: usize,
+    },
+    /// Step `index` finished, having given tensors to `reached` vertices.
+    Finished {
+        /// The step, 0-based.
+        index: usize,
+        /// Vertices it gave a tensor.
+        reached: usize,
+    },
+}
+
+/// What one step did, for summaries (`--json`).
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct StepReport {
+    /// The step's label.
+    pub label: String,
+    /// The recipe keyword of its algorithm.
+    pub algorithm: &'static str,
+    /// Vertices that got a tensor from it.
+    pub vertices_reached: usize,
+    /// Vertices its propagation started from (0 for UNIFORM).
+    pub seeds: usize,
+}
+
+/// One size tensor per mesh vertex, and how they came about.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SizeField {
+    /// The tensor of each mesh vertex, by vertex index.
+    pub tensors: Vec<SizeTensor>,
+    /// Whether some step reached the vertex (false: it has the default size).
+    pub reached: Vec<bool>,
+    /// The size of the vertices no step reached (before clamping).
+    pub default_size: f64,
+    /// Things the user should know that did not stop the work.
+    pub warnings: Vec<String>,
+    /// One report per step, in plan order.
+    pub steps: Vec<StepReport>,
+    /// What the gradation pass did, when the plan asks for one.
+    pub gradation: Option<GradationReport>,
+}
+
+/// Why a plan could not be run. Step errors name the step (0-based) and its label.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SizingError {
+    /// A step names a topological entity (or a mesh vertex or cell) the mesh does not
+    /// have: the plan was resolved against another mesh.
+    #[error("step {step} ({label}): {what} {index} is out of range (the mesh has {len})")]
+    EntityOutOfRange {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+        /// "point", "curve", "face", "mesh vertex" or "surface cell".
+        what: &'static str,
+        /// The index.
+        index: usize,
+        /// How many there are.
+        len: usize,
+    },
+    /// An entity of a kind the algorithm cannot use (a face as a border, a point as a
+    /// curvature source): name curves there.
+    #[error("step {step} ({label}): {what} {index} cannot be a source of this algorithm")]
+    UnsupportedEntity {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+        /// "point", "curve" or "face".
+        what: &'static str,
+        /// Its index.
+        index: usize,
+    },
+    /// The step's sources make no segment and no point (no entity, or curves without
+    /// edges): give it at least one.
+    #[error("step {step} ({label}): the source has no segment")]
+    NoSource {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+    },
+    /// An imaginary polyline without any point: give at least one.
+    #[error("step {step} ({label}): the polyline is empty")]
+    EmptyPolyline {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+    },
+    /// A polyline point with a NaN or infinite coordinate.
+    #[error("step {step} ({label}): polyline point {point} is not finite")]
+    NonFinitePoint {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+        /// The point, 0-based.
+        point: usize,
+    },
+    /// A size outside [1e-30, 1e30] (e.g. a UNIFORM size of 0).
+    #[error("step {step} ({label}): size {size} is out of range: expected a size in [1e-30, 1e30]")]
+    InvalidSize {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+        /// The size.
+        size: f64,
+    },
+    /// No tensor could be formed at a vertex: its coordinates are not finite.
+    #[error("step {step} ({label}): no size tensor at vertex {vertex} (are its coordinates finite?)")]
+    Degenerate {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+        /// The vertex.
+        vertex: usize,
+    },
+    /// The global bounds contradict each other or are out of range: need
+    /// 1e-30 <= h_min <= h_max <= 1e30 and max_aspect_ratio >= 1.
+    #[error("invalid global bounds: h_min = {h_min:?}, h_max = {h_max:?}, max_aspect_ratio = {max_aspect_ratio:?} (need 1e-30 <= h_min <= h_max <= 1e30, aspect ratio >= 1)")]
+    InvalidBounds {
+        /// As given.
+        h_min: Option<f64>,
+        /// As given.
+        h_max: Option<f64>,
+        /// As given.
+        max_aspect_ratio: Option<f64>,
+    },
+    /// The gradation must be a finite number >= 1.
+    #[error("gradation {0} is out of range: expected a finite number >= 1")]
+    InvalidGradation(f64),
+    /// Some vertex is reached by no step, the plan gives no h_max, and the mesh's
+    /// bounding box has no usable diagonal (a single point, or non-finite coordinates):
+    /// give h_max.
+    #[error("no default size: the plan has no h_max and the bounding-box diagonal is {0}")]
+    NoDefaultSize(f64),
+}
+
+impl Failure {
+    fn at(self, step: usize, label: &str) -> SizingError {
+        let label = label.to_string();
+        match self {
+            Failure::EntityOutOfRange { what, index, len } => SizingError::EntityOutOfRange { step, label, what, index, len },
+            Failure::UnsupportedEntity { what, index } => SizingError::UnsupportedEntity { step, label, what, index },
+            Failure::NoSource => SizingError::NoSource { step, label },
+            Failure::EmptyPolyline => SizingError::EmptyPolyline { step, label },
+            Failure::NonFinitePoint { point } => SizingError::NonFinitePoint { step, label, point },
+            Failure::InvalidSize { size } => SizingError::InvalidSize { step, label, size },
+            Failure::Degenerate { vertex } => SizingError::Degenerate { step, label, vertex },
+        }
+    }
+}
+
+/// The tensors one algorithm asks for on `graph`, before any combination: the vertices
+/// it reaches, each with its tensor (`step` and `label` only name it in errors).
+pub fn run_algorithm(graph: &MeshGraph, topology: &Topology, algorithm: &Algorithm, step: usize, label: &str) -> Result<Contribution, SizingError> {
+    algorithms::run(graph, topology, algorithm).map_err(|f| f.at(step, label))
+}
+
+/// The global bounds of `plan`, if it gives any.
+pub fn plan_bounds(plan: &SizingPlan) -> Result<Option<SizeBounds>, SizingError> {
+    if plan.h_min.is_none() && plan.h_max.is_none() && plan.max_aspect_ratio.is_none() {
+        return Ok(None);
+    }
+    SizeBounds::try_new(
+        plan.h_min.unwrap_or(SizeTensor::MIN_SIZE),
+        plan.h_max.unwrap_or(SizeTensor::MAX_SIZE),
+        plan.max_aspect_ratio.unwrap_or(f64::INFINITY),
+    )
+    .map(Some)
+    .ok_or(SizingError::InvalidBounds { h_min: plan.h_min, h_max: plan.h_max, max_aspect_ratio: plan.max_aspect_ratio })
+}
+
+/// Runs `plan` on the mesh of `graph` and `topology` (see the module header);
+/// `observer` hears each step start and finish.
+pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingPlan, observer: &mut dyn FnMut(StepEvent)) -> Result<SizeField, SizingError> {
+    let bounds = plan_bounds(plan)?;
+    if let Some(g) = plan.gradation {
+        if !(g >= 1.0 && g.is_finite()) {
+            return Err(SizingError::InvalidGradation(g));
+        }
+    }
+    let n = graph.num_vertices();
+    let mut tensors: Vec<SizeTensor> = vec![SizeTensor::isotropic(1.0); n];
+    let mut reached = vec![false; n];
+    let mut steps = Vec::with_capacity(plan.steps.len());
+    let mut warnings = Vec::new();
+    for (index, step) in plan.steps.iter().enumerate() {
+        observer(StepEvent::Started { index, label: step.label.clone(), of: plan.steps.len() });
+        let c = run_algorithm(graph, topology, &step.algorithm, index, &step.label)?;
+        for (&v, t) in c.vertices.iter().zip(&c.tensors) {
+            let v = v as usize;
+            tensors[v] = if reached[v] { tensors[v].intersection(t) } else { *t };
+            reached[v] = true;
+        }
+        if c.is_empty() {
+            warnings.push(format!("step {index} ({}): reached no vertex", step.label));
+        }
+        observer(StepEvent::Finished { index, reached: c.len() });
+        steps.push(StepReport { label: step.label.clone(), algorithm: step.algorithm.keyword(), vertices_reached: c.len(), seeds: c.seeds });
+    }
+
+    let unreached = reached.iter().filter(|r| !**r).count();
+    let default_size = match plan.h_max {
+        Some(h) => h,
+        None => {
+            let diagonal = bounding_box_diagonal(graph);
+            if unreached > 0 {
+                if !(SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&diagonal) {
+                    return Err(SizingError::NoDefaultSize(diagonal));
+                }
+                warnings.push(format!("no h_max: {unreached} vertices that no step reaches get the bounding-box diagonal {diagonal} as their size"));
+            }
+            diagonal.clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE)
+        }
+    };
+    let default = SizeTensor::try_new([1.0, 0.0], default_size, default_size).ok_or(SizingError::NoDefaultSize(default_size))?;
+    for (t, _) in tensors.iter_mut().zip(&reached).filter(|(_, r)| !**r) {
+        *t = default;
+    }
+    if let Some(b) = &bounds {
+        tensors.iter_mut().for_each(|t| *t = t.clamp(b));
+    }
+    let gradation = plan.gradation.map(|g| {
+        let report = apply_gradation(graph, &mut tensors, g);
+        if let Some(b) = &bounds {
+            tensors.iter_mut().for_each(|t| *t = t.clamp(b));
+        }
+        if !report.converged {
+            warnings.push(format!("gradation stopped after {} updates before reaching its fixed point", report.updates));
+        }
+        report
+    });
+    Ok(SizeField { tensors, reached, default_size, warnings, steps, gradation })
+}
+
+/// Length of the diagonal of the bounding box of the vertices (0 with none).
+fn bounding_box_diagonal(graph: &MeshGraph) -> f64 {
+    let pts = graph.points();
+    if pts.is_empty() {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in pts {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+}
