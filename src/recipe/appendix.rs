@@ -370,7 +370,7 @@ impl Reader<'_> {
             let e = self.error(type_s.at, RecipeErrorKind::UnknownName { referrer: format!("algorithm {}", i + 1), what: "algorithm type", name: written.clone() }, "");
             return Err(e.suggest(nearest(&written, TYPES.iter().copied()).map(|s| format!("\"{s}\""))));
         };
-        let ctx = format!("{list} entry {} ({t})", i + 1);
+        let ctx = format!("{list} entry {}, {t}", i + 1);
         let keys = algorithm_keys(t);
         let f = self.fields(g, keys, line, &ctx)?;
         let base = format!("algorithms[{i}]");

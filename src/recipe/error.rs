@@ -168,14 +168,11 @@ impl RecipeError {
         self
     }
 
-    /// Whether the error comes from the text of the recipe (exit status 2) rather than
-    /// from reading it or running a tool (exit status 1).
+    /// Whether the error lies in the input (a recipe that cannot be read, is wrong or does
+    /// not fit the mesh: exit status 2) rather than in running a tool (a preprocessor
+    /// that exists but cannot be started: exit status 1).
     pub fn is_input_error(&self) -> bool {
-        match &self.kind {
-            RecipeErrorKind::Io(_) => false,
-            RecipeErrorKind::Preprocessor(m) => !m.starts_with("cannot run"),
-            _ => true,
-        }
+        !matches!(&self.kind, RecipeErrorKind::Preprocessor(m) if m.starts_with("cannot run"))
     }
 }
 

@@ -60,7 +60,16 @@ fn classify(message: &str) -> RecipeError {
         return if is_field {
             RecipeError::new(RecipeErrorKind::UnknownKey { key: word.to_string() }).suggest(s.map(String::from))
         } else {
-            RecipeError::new(RecipeErrorKind::Syntax(message.to_string())).suggest(s.map(|s| format!("\"{s}\"")))
+            // The model also accepts the appendix's upper-case keywords: list each once.
+            let mut known: Vec<&str> = expected.iter().copied().filter(|e| !e.chars().any(|c| c.is_ascii_uppercase())).collect();
+            if known.is_empty() {
+                known = expected.clone();
+            }
+            let text = match s {
+                Some(_) => format!("unknown value \"{word}\""),
+                None => format!("unknown value \"{word}\", expected one of {}", known.iter().map(|k| format!("\"{k}\"")).collect::<Vec<_>>().join(", ")),
+            };
+            RecipeError::new(RecipeErrorKind::Syntax(text)).suggest(s.map(|s| format!("\"{s}\"")))
         };
     }
     RecipeError::new(RecipeErrorKind::Syntax(message.to_string()))
@@ -71,12 +80,40 @@ pub fn read_toml(text: &str, origin: &Path) -> Result<Recipe, RecipeError> {
     let mut recipe: Recipe = toml::from_str(text).map_err(|e| {
         let err = classify(e.message());
         match e.span() {
-            Some(span) => err.at(origin, line_of(text, span.start)),
+            Some(span) => {
+                // Inside a tagged table (functions, algorithms) serde reports the whole
+                // table: look for the key's own line in it.
+                let line = match &err.kind {
+                    RecipeErrorKind::UnknownKey { key } => key_line(text, span.clone(), key),
+                    _ => None,
+                };
+                err.at(origin, line.unwrap_or_else(|| line_of(text, span.start)))
+            }
             None => err.in_file(origin),
         }
     })?;
     recipe.places = toml_places(text, origin);
     Ok(recipe)
+}
+
+/// The line where `key = …` is written from the start of `span` to the end of its
+/// table (the span may cover only the table's header), if it is there.
+fn key_line(text: &str, span: std::ops::Range<usize>, key: &str) -> Option<usize> {
+    let start = span.start.min(text.len());
+    let end = span.end.clamp(start, text.len());
+    let mut offset = start;
+    for (i, l) in text.get(start..)?.split_inclusive('\n').enumerate() {
+        let t = l.trim_start();
+        if i > 0 && offset >= end && t.starts_with('[') {
+            break;
+        }
+        let rest = t.strip_prefix(key).or_else(|| t.strip_prefix(&format!("\"{key}\"")));
+        if rest.is_some_and(|r| r.trim_start().starts_with('=')) {
+            return Some(line_of(text, offset));
+        }
+        offset += l.len();
+    }
+    None
 }
 
 /// Reads a JSON recipe (unvalidated).
@@ -95,7 +132,7 @@ pub fn read_json(text: &str, origin: &Path) -> Result<Recipe, RecipeError> {
 pub fn write_toml(recipe: &Recipe) -> String {
     // The model has string keys, no missing values and finite numbers (validated), all of
     // which TOML can hold; a failure here would be a bug in the model, reported in the text.
-    toml::to_string_pretty(recipe).unwrap_or_else(|e| format!("# smartmesh could not write this recipe as TOML: {e}\n"))
+    toml::to_string(recipe).unwrap_or_else(|e| format!("# smartmesh could not write this recipe as TOML: {e}\n"))
 }
 
 /// The model as pretty JSON.

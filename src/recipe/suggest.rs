@@ -5,22 +5,28 @@
 //! the same mistake as far as a reader is concerned.
 
 /// The candidate closest to `word`, when it is close enough to be a plausible typo:
-/// at most a third of the word's length in edits (and at least 1, at most 3). Ties go to
+/// about a third of the word's length in edits (at least 1, at most 3). Ties go to
 /// the first candidate, so the answer does not depend on anything but the order given.
 pub fn nearest<'a, I>(word: &str, candidates: I) -> Option<&'a str>
 where
     I: IntoIterator<Item = &'a str>,
 {
     let w = word.to_lowercase();
-    let limit = (w.chars().count() / 3).clamp(1, 3);
-    let mut best: Option<(usize, &'a str)> = None;
+    let limit = ((w.chars().count() + 1) / 3).clamp(1, 3);
+    // Ranked by the distance without case, then with case (so `distance_to_boarder`
+    // prefers `distance_to_border` to `DISTANCE_TO_BORDER`), then by order.
+    let mut best: Option<((usize, usize), &'a str)> = None;
     for c in candidates {
         if c == word {
             continue;
         }
         let d = strsim::osa_distance(&w, &c.to_lowercase());
-        if d <= limit && best.map_or(true, |(bd, _)| d < bd) {
-            best = Some((d, c));
+        if d > limit {
+            continue;
+        }
+        let rank = (d, strsim::osa_distance(word, c));
+        if best.map_or(true, |(b, _)| rank < b) {
+            best = Some((rank, c));
         }
     }
     best.map(|(_, c)| c)
