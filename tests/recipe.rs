@@ -158,7 +158,7 @@ fn libconfig_syntax_cases() {
     let e = err("CREATE_REGIONS = (\n { NAME = \"A\"; TOPOLOGICAL_ENTITIES = [ 1, 2 ] }\n { NAME = \"B\"; }\n);");
     assert_eq!(e.line, Some(3), "a missing comma between groups: {e}");
     let e = err("HMIN = 0.1;\n\nHMAX = \"big\";");
-    assert_eq!((e.line, e.kind.clone()), (Some(3), RecipeErrorKind::WrongType { key: "HMAX".into(), expected: "a number".into(), found: "a string".into() }));
+    assert_eq!((e.line, *e.kind.clone()), (Some(3), RecipeErrorKind::WrongType { key: "HMAX".into(), expected: "a number".into(), found: "a string".into() }));
     let e = err("CREATE_REGIONS = (\n  { NAME = \"A\"; TOPOLOGICAL_ENTITIES = [ 1 ];\n");
     assert!(e.to_string().contains("never closed"), "{e}");
     let e = err("NAME = \"unterminated;\n");
@@ -168,7 +168,7 @@ fn libconfig_syntax_cases() {
     let e = err("HMIN = 1;\nHMIN = 2;");
     assert!(e.to_string().contains("twice") && e.line == Some(2), "{e}");
     let e = err("CREATE_REGIONS = ( { NAME = \"A\"; TOPOLOGICAL_ENTITIES = [ 1 ]; },\n { NAME = \"A\"; TOPOLOGICAL_ENTITIES = [ 2 ]; } );");
-    assert_eq!((e.line, e.kind.clone()), (Some(2), RecipeErrorKind::DuplicateName { what: "region", name: "A".into() }));
+    assert_eq!((e.line, *e.kind.clone()), (Some(2), RecipeErrorKind::DuplicateName { what: "region", name: "A".into() }));
 }
 
 #[test]
@@ -199,7 +199,7 @@ fn cpp_define_include_and_if0() {
     // A preprocessor error is reported with its message.
     std::fs::write(dir.path().join("main.cfg"), "#include \"missing.h\"\n").unwrap();
     let e = Recipe::from_path(&dir.path().join("main.cfg")).unwrap_err();
-    assert!(matches!(e.kind, RecipeErrorKind::Preprocessor(_)) && e.to_string().contains("missing.h"), "{e}");
+    assert!(matches!(*e.kind, RecipeErrorKind::Preprocessor(_)) && e.to_string().contains("missing.h"), "{e}");
 }
 
 #[test]
@@ -261,7 +261,7 @@ fn every_spelling_variant_gives_the_same_model() {
     }
     // Two spellings of one key are an error, not a silent choice.
     let e = cfg(&CANONICAL.replacen("MINSIZE = 0.1; MAXSIZE = 1.0; MAXDISTANCE", "MINSIZE = 0.1; SIZE_AT_BORDER = 0.2; MAXSIZE = 1.0; MAXDISTANCE", 1)).unwrap_err();
-    assert_eq!(e.kind, RecipeErrorKind::DuplicateKey { key: "SIZE_AT_BORDER".into(), other: "MINSIZE".into() });
+    assert_eq!(*e.kind, RecipeErrorKind::DuplicateKey { key: "SIZE_AT_BORDER".into(), other: "MINSIZE".into() });
     // A projection function has no size at the source (thesis 4.3.5.2).
     let e = cfg(&CANONICAL.replacen("NAME = \"P\"; MAXSIZE", "NAME = \"P\"; MIN_SIZE = 0.1; MAXSIZE", 1)).unwrap_err();
     assert!(e.to_string().contains("MIN_SIZE is not a parameter of a projection function"), "{e}");
@@ -274,7 +274,7 @@ fn misspelt_keys_and_names_get_suggestions_with_lines() {
     let e = cfg("CREATE_REGION = ();").unwrap_err();
     assert_eq!(e.suggestion.as_deref(), Some("CREATE_REGIONS"));
     let e = cfg("CREATE_ALGORITHMS = ( { TYPE = \"UNIFORM\"; SIZE = 1; REGIONS = \"A\"; FUNCTION = \"F\"; } );").unwrap_err();
-    assert!(matches!(&e.kind, RecipeErrorKind::UnknownKey { key } if key == "FUNCTION"), "a key of another algorithm type: {e}");
+    assert!(matches!(&*e.kind, RecipeErrorKind::UnknownKey { key } if key == "FUNCTION"), "a key of another algorithm type: {e}");
     let e = cfg("CREATE_ALGORITHMS = ( { TYPE = \"DISTANCE_TO_BOARDER\"; } );").unwrap_err();
     assert_eq!(e.suggestion.as_deref(), Some("\"DISTANCE_TO_BORDER\""));
 
@@ -468,7 +468,7 @@ fn a_tag_in_several_dimensions_takes_the_dimension_the_algorithm_expects() {
 
     // Two algorithms wanting different dimensions of one region: ambiguous.
     let e = plan("1", &format!("{UNIFORM}, {BORDER}")).unwrap_err();
-    assert!(matches!(&e.kind, RecipeErrorKind::Dimension { region, detail } if region == "R" && detail.contains("ambiguous") && detail.contains("tag 1 is in curves and faces")), "{e}");
+    assert!(matches!(&*e.kind, RecipeErrorKind::Dimension { region, detail } if region == "R" && detail.contains("ambiguous") && detail.contains("tag 1 is in curves and faces")), "{e}");
     assert_eq!(e.line, Some(1));
     // Entities of different dimensions in one region.
     let e = plan("1, 5", UNIFORM).unwrap_err();
@@ -482,7 +482,7 @@ fn a_tag_in_several_dimensions_takes_the_dimension_the_algorithm_expects() {
 fn absent_tags_and_names_are_errors() {
     let topo = clashing_tags();
     let e = with_algorithms("{ NAME = \"R\";\n ENTITIES = [ 1,\n 77 ]; }", UNIFORM).resolve(&topo).unwrap_err();
-    assert!(matches!(&e.kind, RecipeErrorKind::AbsentEntity { region, entity, .. } if region == "R" && entity == "tag 77"), "{e}");
+    assert!(matches!(&*e.kind, RecipeErrorKind::AbsentEntity { region, entity, .. } if region == "R" && entity == "tag 77"), "{e}");
     assert_eq!(e.line, Some(3), "the line of the entity itself");
     assert!(e.to_string().contains("curve tags 1, 2"), "{e}");
     // Unused regions are checked too.

@@ -120,8 +120,8 @@ pub enum RecipeErrorKind {
 /// A recipe error with its place.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RecipeError {
-    /// What went wrong.
-    pub kind: RecipeErrorKind,
+    /// What went wrong (boxed: errors travel through many `Result`s, kept small).
+    pub kind: Box<RecipeErrorKind>,
     /// The file (the recipe, or a file it includes), when known.
     pub file: Option<PathBuf>,
     /// The 1-based line, when known.
@@ -136,7 +136,7 @@ pub struct RecipeError {
 impl RecipeError {
     /// An error without a place yet.
     pub fn new(kind: RecipeErrorKind) -> RecipeError {
-        RecipeError { kind, file: None, line: None, context: None, suggestion: None }
+        RecipeError { kind: Box::new(kind), file: None, line: None, context: None, suggestion: None }
     }
 
     /// Sets the place.
@@ -172,7 +172,7 @@ impl RecipeError {
     /// not fit the mesh: exit status 2) rather than in running a tool (a preprocessor
     /// that exists but cannot be started: exit status 1).
     pub fn is_input_error(&self) -> bool {
-        !matches!(&self.kind, RecipeErrorKind::Preprocessor(m) if m.starts_with("cannot run"))
+        !matches!(&*self.kind, RecipeErrorKind::Preprocessor(m) if m.starts_with("cannot run"))
     }
 }
 
@@ -197,7 +197,7 @@ impl fmt::Display for RecipeError {
 
 impl std::error::Error for RecipeError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match &self.kind {
+        match &*self.kind {
             RecipeErrorKind::Function { source, .. } => Some(source),
             _ => None,
         }

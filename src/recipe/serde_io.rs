@@ -83,7 +83,7 @@ pub fn read_toml(text: &str, origin: &Path) -> Result<Recipe, RecipeError> {
             Some(span) => {
                 // Inside a tagged table (functions, algorithms) serde reports the whole
                 // table: look for the key's own line in it.
-                let line = match &err.kind {
+                let line = match &*err.kind {
                     RecipeErrorKind::UnknownKey { key } => key_line(text, span.clone(), key),
                     _ => None,
                 };
