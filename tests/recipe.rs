@@ -296,6 +296,11 @@ fn misspelt_keys_and_names_get_suggestions_with_lines() {
     assert_eq!(e.line, Some(7));
     assert!(e.to_string().starts_with("function \"D2\": MAXDISTANCE (maximal distance) = -3 is out of range"), "{e}");
 
+    let e = toml("[functions.F]\nkind = \"distance\"\nsize_at_source = 0.1\nsize_at_max_distance = 1.0\nmax_distance = 0\nexponent = 1\n").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "function \"F\": MAXDISTANCE (maximal distance) = 0 is out of range: expected a finite number > 0 at recipe.toml:5 (in key max_distance of function \"F\")"
+    );
     let t = "[functions.F]\nkind = \"distance\"\nsize_at_source = 0.1\nsize_at_max_distnace = 1.0\n";
     let e = toml(t).unwrap_err();
     assert_eq!(e.to_string(), "unknown key size_at_max_distnace at recipe.toml:4, did you mean size_at_max_distance?");

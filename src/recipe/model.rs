@@ -551,11 +551,18 @@ impl Recipe {
         }
         for (name, f) in &self.functions {
             if let Err(e) = f.check() {
-                let key = match &e {
-                    FunctionError::OutOfRange { parameter, .. } => model_field(*parameter),
-                    FunctionError::MinAboveMax { .. } => "min_size",
+                let (key, shown) = match &e {
+                    FunctionError::OutOfRange { parameter, .. } => (model_field(*parameter), parameter.recipe_key()),
+                    FunctionError::MinAboveMax { .. } => ("min_size", "MINSIZE"),
                 };
-                return Err(self.error_at(RecipeErrorKind::Function { name: name.clone(), source: e }, &format!("functions.{name}.{key}")));
+                let path = format!("functions.{name}.{key}");
+                let written = self.written_key(&path, key).to_string();
+                let mut err = self.error_at(RecipeErrorKind::Function { name: name.clone(), source: e }, &path);
+                // The message names the appendix keyword; say so when the file spelt it otherwise.
+                if written != shown {
+                    err.context = Some(format!("key {written} of function \"{name}\""));
+                }
+                return Err(err);
             }
         }
         for (i, a) in self.algorithms.iter().enumerate() {
