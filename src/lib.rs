@@ -10,6 +10,8 @@
 //! - [`metric`]: size tensors and metric algebra (intersection, union, clamping);
 //! - [`sizing`]: size functions, and neighbour propagation from sources with exact
 //!   closest points;
+//! - [`recipe`]: sizing recipes (libconfig as in the thesis, TOML, JSON) into one
+//!   validated model, resolved against a mesh into a sizing plan;
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -20,11 +22,13 @@ pub mod geometry;
 pub mod mesh_graph;
 pub mod metric;
 pub mod quality;
+pub mod recipe;
 pub mod sizing;
 pub mod summary;
 pub mod topology;
 
 pub use metric::{SizeBounds, SizeTensor, Sym2};
 pub use mesh_graph::MeshGraph;
+pub use recipe::{Recipe, RecipeError};
 pub use summary::MeshSummary;
 pub use topology::Topology;

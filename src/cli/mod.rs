@@ -2,6 +2,7 @@
 
 mod convert;
 mod info;
+mod recipe;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -79,6 +80,7 @@ struct Cli {
 enum Command {
     Info(info::InfoArgs),
     Convert(convert::ConvertArgs),
+    Recipe(recipe::RecipeArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -96,6 +98,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info(a) => info::run(a),
         Command::Convert(a) => convert::run(a),
+        Command::Recipe(a) => recipe::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),

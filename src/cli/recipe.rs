@@ -1,0 +1,233 @@
+//! `smartmesh recipe check RECIPE MESH` and `smartmesh recipe convert IN OUT`.
+
+use std::fmt::Write as _;
+use std::io::Read as _;
+use std::path::{Path, PathBuf};
+
+use clap::{Args, Subcommand};
+use smartmesh::formats::{read_path, write_all_atomically, Format};
+use smartmesh::recipe::{Recipe, RecipeError, RecipeFormat, RegionReport};
+use smartmesh::sizing::{Algorithm, EntitySet};
+use smartmesh::topology::Topology;
+
+use super::{parse_format, print_stdout, CliError, ExitStatus};
+
+/// Sizing recipes: check one against a mesh, or convert it between libconfig, TOML and JSON.
+#[derive(Debug, Args)]
+pub struct RecipeArgs {
+    #[command(subcommand)]
+    command: RecipeCommand,
+}
+
+#[derive(Debug, Subcommand)]
+enum RecipeCommand {
+    Check(CheckArgs),
+    Convert(ConvertArgs),
+}
+
+fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
+    RecipeFormat::from_name(name).ok_or_else(|| format!("unknown recipe format `{name}`; known: libconfig (cfg), toml, json"))
+}
+
+/// Read a recipe, resolve it against a mesh and print how each region and algorithm
+/// resolved: the topological entities, their tags and names, the mesh vertices and
+/// edges they hold. Exit status 0 when the recipe is valid for the mesh, 2 otherwise.
+#[derive(Debug, Args)]
+#[command(after_help = "Recipe formats come from the extension: .cfg .conf .libconfig (libconfig, thesis \
+appendix A; run through the C preprocessor `cpp` when it holds #define, #include or #if), \
+.toml, .json.
+
+Examples:
+  smartmesh recipe check distributor.cfg distributor.msh
+  smartmesh recipe check --json wing.toml wing.msh | jq '.regions[] | {name, dimension}'")]
+pub struct CheckArgs {
+    /// Recipe file (`-` for stdin, with --format).
+    recipe: PathBuf,
+    /// Mesh file the recipe names tags of.
+    mesh: PathBuf,
+    /// Recipe format, when the extension does not tell (libconfig, toml, json).
+    #[arg(long, value_parser = parse_recipe_format)]
+    format: Option<RecipeFormat>,
+    /// Mesh format, when the extension does not tell.
+    #[arg(long, value_parser = parse_format)]
+    from: Option<Format>,
+    /// Print a JSON document instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Convert a recipe between libconfig (thesis appendix A), TOML and JSON. Reading checks
+/// it fully (names, kinds, ranges); no mesh is needed.
+#[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  smartmesh recipe convert distributor.cfg distributor.toml
+  smartmesh recipe convert wing.toml - --to json")]
+pub struct ConvertArgs {
+    /// Input recipe (`-` for stdin, with --from).
+    input: PathBuf,
+    /// Output recipe (`-` for stdout, with --to).
+    output: PathBuf,
+    /// Input format, when the extension does not tell (libconfig, toml, json).
+    #[arg(long, value_parser = parse_recipe_format)]
+    from: Option<RecipeFormat>,
+    /// Output format, when the extension does not tell.
+    #[arg(long, value_parser = parse_recipe_format)]
+    to: Option<RecipeFormat>,
+}
+
+impl From<RecipeError> for CliError {
+    fn from(e: RecipeError) -> CliError {
+        CliError { status: if e.is_input_error() { ExitStatus::Error } else { ExitStatus::Failure }, message: e.to_string() }
+    }
+}
+
+/// Runs `recipe …`.
+pub fn run(args: RecipeArgs) -> Result<(), CliError> {
+    match args.command {
+        RecipeCommand::Check(a) => check(a),
+        RecipeCommand::Convert(a) => convert(a),
+    }
+}
+
+fn read_recipe(path: &Path, format: Option<RecipeFormat>) -> Result<Recipe, CliError> {
+    if path.as_os_str() == "-" {
+        let format = format.ok_or_else(|| CliError::usage("reading a recipe from stdin needs --format (or --from): libconfig, toml or json"))?;
+        let mut text = String::new();
+        std::io::stdin().read_to_string(&mut text).map_err(|e| CliError::usage(format!("reading the recipe from stdin: {e}")))?;
+        return Ok(Recipe::from_str(&text, format, Path::new("<stdin>"))?);
+    }
+    match format {
+        Some(f) => {
+            let text = std::fs::read_to_string(path).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?;
+            Ok(Recipe::from_str(&text, f, path)?)
+        }
+        None if RecipeFormat::from_path(path).is_none() => Err(CliError::usage(format!(
+            "{}: the extension tells no recipe format (.cfg, .conf, .libconfig, .toml, .json); give it with --format/--from",
+            path.display()
+        ))),
+        None => Ok(Recipe::from_path(path)?),
+    }
+}
+
+#[derive(serde::Serialize)]
+struct StepSummary<'a> {
+    label: &'a str,
+    #[serde(rename = "type")]
+    keyword: &'a str,
+    points: usize,
+    curves: usize,
+    faces: usize,
+}
+
+#[derive(serde::Serialize)]
+struct CheckSummary<'a> {
+    recipe: String,
+    mesh: String,
+    h_min: Option<f64>,
+    h_max: Option<f64>,
+    max_aspect_ratio: Option<f64>,
+    gradation: Option<f64>,
+    regions: &'a [RegionReport],
+    algorithms: Vec<StepSummary<'a>>,
+}
+
+/// The entities an algorithm works on, all its sets together.
+fn entities(a: &Algorithm) -> EntitySet {
+    match a {
+        Algorithm::Uniform { on, .. } => on.clone(),
+        Algorithm::DistanceToPoint { sources, .. } => sources.clone(),
+        Algorithm::DistanceToBorder { borders, .. } | Algorithm::CurvatureOfBorder { borders, .. } => borders.clone(),
+        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => first.union(second),
+        Algorithm::DistanceToImaginaryPolyline { within, .. } => within.clone(),
+    }
+}
+
+fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+fn check(args: CheckArgs) -> Result<(), CliError> {
+    let recipe = read_recipe(&args.recipe, args.format)?;
+    let mesh = read_path(&args.mesh, args.from)?;
+    let topo = Topology::from_mesh(&mesh);
+    let resolved = recipe.resolve(&topo)?;
+    let plan = &resolved.plan;
+    let steps: Vec<StepSummary> = plan
+        .steps
+        .iter()
+        .map(|s| {
+            let e = entities(&s.algorithm);
+            StepSummary { label: &s.label, keyword: s.algorithm.keyword(), points: e.points.len(), curves: e.curves.len(), faces: e.faces.len() }
+        })
+        .collect();
+    if args.json {
+        let summary = CheckSummary {
+            recipe: args.recipe.display().to_string(),
+            mesh: args.mesh.display().to_string(),
+            h_min: plan.h_min,
+            h_max: plan.h_max,
+            max_aspect_ratio: plan.max_aspect_ratio,
+            gradation: plan.gradation,
+            regions: &resolved.regions,
+            algorithms: steps,
+        };
+        let mut s = serde_json::to_string_pretty(&summary).map_err(|e| CliError::usage(e.to_string()))?;
+        s.push('\n');
+        return print_stdout(&s);
+    }
+    let mut o = String::new();
+    let _ = writeln!(o, "{} on {}: valid", args.recipe.display(), args.mesh.display());
+    let mut global = Vec::new();
+    for (k, v) in [("hmin", plan.h_min), ("hmax", plan.h_max), ("max aspect ratio", plan.max_aspect_ratio), ("gradation", plan.gradation)] {
+        if let Some(v) = v {
+            global.push(format!("{k} {v}"));
+        }
+    }
+    let _ = writeln!(o, "  global      {}", if global.is_empty() { "no bounds (vertices no algorithm reaches get the bounding-box diagonal)".into() } else { global.join(", ") });
+    let _ = writeln!(o, "  regions");
+    const DIM: [&str; 3] = ["points", "curves", "faces"];
+    for r in &resolved.regions {
+        const ONE: [&str; 3] = ["point", "curve", "face"];
+        let what = match r.dimension {
+            Some(d) => plural(r.entities, ONE[d], DIM[d]),
+            None => "ambiguous dimension".into(),
+        };
+        let tags: Vec<String> = r.tags.iter().map(i32::to_string).collect();
+        let names = if r.entity_names.is_empty() { String::new() } else { format!(" ({})", r.entity_names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")) };
+        let mut counts = vec![plural(r.vertices, "vertex", "vertices")];
+        if r.dimension.is_some_and(|d| d > 0) {
+            counts.push(plural(r.edges, "edge", "edges"));
+        }
+        if r.dimension == Some(2) {
+            counts.push(plural(r.cells, "cell", "cells"));
+        }
+        let used = if r.used_by.is_empty() { "unused".to_string() } else { format!("used by {}", r.used_by.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")) };
+        let _ = writeln!(o, "    {:<16} {what}: tags {}{names}; {}; {used}", r.name, tags.join(", "), counts.join(", "));
+    }
+    let _ = writeln!(o, "  algorithms");
+    for s in &steps {
+        let mut parts = Vec::new();
+        for (n, one, many) in [(s.points, "point", "points"), (s.curves, "curve", "curves"), (s.faces, "face", "faces")] {
+            if n > 0 {
+                parts.push(plural(n, one, many));
+            }
+        }
+        let on = if parts.is_empty() { "everywhere".into() } else { parts.join(", ") };
+        let _ = writeln!(o, "    {}: {on}", s.label);
+    }
+    print_stdout(&o)
+}
+
+fn convert(args: ConvertArgs) -> Result<(), CliError> {
+    let to = match args.to.or_else(|| RecipeFormat::from_path(&args.output)) {
+        Some(f) => f,
+        None => return Err(CliError::usage(format!("{}: the extension tells no recipe format (.cfg, .toml, .json); give it with --to", args.output.display()))),
+    };
+    let recipe = read_recipe(&args.input, args.from)?;
+    let text = recipe.to_format(to);
+    if args.output.as_os_str() == "-" {
+        return print_stdout(&text);
+    }
+    write_all_atomically(&[(args.output.clone(), text.into_bytes())])?;
+    Ok(())
+}

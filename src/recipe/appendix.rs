@@ -1,0 +1,568 @@
+//! The libconfig recipe of thesis appendix A, read into the model and written back.
+//!
+//! Top-level settings (all optional):
+//!
+//! | key | model | value |
+//! | --- | --- | --- |
+//! | `HMIN` (`H_MIN`), `HMAX` (`H_MAX`), `MAX_ASPECT_RATIO`, `GRADATION` | `global` | numbers |
+//! | `CREATE_REGIONS` | `regions` | list of `{ NAME; TOPOLOGICAL_ENTITIES }` (or `ENTITIES`) |
+//! | `CREATE_POLYLINES` | `polylines` | list of `{ NAME; X_COORDS; Y_COORDS }` |
+//! | `CREATE_DISTANCE_FUNCTIONS` | `functions` (distance) | `{ NAME; MINSIZE; MAXSIZE; MAXDISTANCE; EXPONENT }` |
+//! | `CREATE_PROJECTION_FUNCTIONS` | `functions` (projection) | `{ NAME; MAXSIZE; MAXDISTANCE; EXPONENT }` |
+//! | `CREATE_CURVATURE_TO_SIZE_FUNCTIONS` | `functions` (curvature) | `{ NAME; MINSIZE; MAXSIZE; SIZE_OF_ERROR }` |
+//! | `CREATE_ALGORITHMS` | `algorithms` | list of `{ TYPE; … }` in the order they run |
+//!
+//! Spellings found in the thesis, all accepted: `MINSIZE`/`MIN_SIZE` (and, for distance
+//! functions, `SIZE_AT_BORDER`/`SIZE_AT_TOPOLOGICAL_VERTEX`, thesis 7.4.3),
+//! `MAXSIZE`/`MAX_SIZE`/`SIZE_AT_MAX_DISTANCE`, `MAXDISTANCE`/`MAX_DISTANCE`,
+//! `TOPOLOGICAL_ENTITIES`/`ENTITIES`, `PROJECTION_FUNCTION`/`PARALLEL_PROJECTION_FUNCTION`,
+//! and, for DISTANCE_TO_IMAGINARY_POLYLINE, `POLYLINE_DISTANCE_FUNCTION` (the example of
+//! A.1.6) or `PARALLEL_FUNCTION` (the syntax of A.1.5.6). `COORDINATES` names a polyline
+//! of `CREATE_POLYLINES`. `REGIONS`/`REGIONS2` take one name or a list or array of names;
+//! entity lists may be nested (`( [1, 2], [3, 4] )`, thesis figure 5.1) and mix numbers
+//! and names.
+//!
+//! Appendix A.1.4 lists MIN_SIZE for projection functions, but a projection function
+//! takes its size at the source from the border it starts on (thesis 4.3.5.2): such a
+//! key is an error that says so, rather than a value silently ignored.
+
+use std::fmt::Write as _;
+
+use super::error::{RecipeError, RecipeErrorKind};
+use super::libconfig::{self, Node, Setting, Value};
+use super::model::{AlgorithmSpec, EntityRef, FunctionSpec, Places, Recipe};
+use super::preprocess::{self, Source};
+use super::suggest::nearest;
+
+/// A key of an item: the model field and the spellings accepted (the first is written).
+struct Key {
+    field: &'static str,
+    spellings: &'static [&'static str],
+    required: bool,
+}
+
+const fn req(field: &'static str, spellings: &'static [&'static str]) -> Key {
+    Key { field, spellings, required: true }
+}
+
+const fn opt(field: &'static str, spellings: &'static [&'static str]) -> Key {
+    Key { field, spellings, required: false }
+}
+
+const NAME: Key = req("name", &["NAME"]);
+const TYPE: Key = req("type", &["TYPE"]);
+const REGIONS: Key = req("regions", &["REGIONS"]);
+const PERP: Key = req("perpendicular", &["PERPENDICULAR_FUNCTION"]);
+const PARA: Key = req("parallel", &["PARALLEL_FUNCTION"]);
+const MIN_SIZE: &[&str] = &["MINSIZE", "MIN_SIZE"];
+const SIZE_AT_SOURCE: &[&str] = &["MINSIZE", "MIN_SIZE", "SIZE_AT_BORDER", "SIZE_AT_TOPOLOGICAL_VERTEX"];
+const MAX_SIZE: &[&str] = &["MAXSIZE", "MAX_SIZE", "SIZE_AT_MAX_DISTANCE"];
+const MAX_DISTANCE: &[&str] = &["MAXDISTANCE", "MAX_DISTANCE"];
+
+const TOP: &[Key] = &[
+    opt("hmin", &["HMIN", "H_MIN"]),
+    opt("hmax", &["HMAX", "H_MAX"]),
+    opt("max_aspect_ratio", &["MAX_ASPECT_RATIO"]),
+    opt("gradation", &["GRADATION"]),
+    opt("regions", &["CREATE_REGIONS"]),
+    opt("polylines", &["CREATE_POLYLINES"]),
+    opt("distance", &["CREATE_DISTANCE_FUNCTIONS"]),
+    opt("projection", &["CREATE_PROJECTION_FUNCTIONS"]),
+    opt("curvature", &["CREATE_CURVATURE_TO_SIZE_FUNCTIONS"]),
+    opt("algorithms", &["CREATE_ALGORITHMS"]),
+];
+const REGION: &[Key] = &[NAME, req("entities", &["TOPOLOGICAL_ENTITIES", "ENTITIES"])];
+const POLYLINE: &[Key] = &[NAME, req("x", &["X_COORDS"]), req("y", &["Y_COORDS"])];
+const DISTANCE: &[Key] = &[
+    NAME,
+    req("size_at_source", SIZE_AT_SOURCE),
+    req("size_at_max_distance", MAX_SIZE),
+    req("max_distance", MAX_DISTANCE),
+    req("exponent", &["EXPONENT"]),
+];
+const PROJECTION: &[Key] = &[NAME, req("size_at_max_distance", MAX_SIZE), req("max_distance", MAX_DISTANCE), req("exponent", &["EXPONENT"])];
+const CURVATURE: &[Key] = &[NAME, req("min_size", MIN_SIZE), req("max_size", MAX_SIZE), req("size_of_error", &["SIZE_OF_ERROR"])];
+
+const TYPES: &[&str] = &["UNIFORM", "DISTANCE_TO_POINT", "DISTANCE_TO_BORDER", "CURVATURE_OF_BORDER", "DISTANCE_BETWEEN_TWO_BORDERS", "DISTANCE_TO_IMAGINARY_POLYLINE"];
+
+const PROJ: Key = req("projection", &["PROJECTION_FUNCTION", "PARALLEL_PROJECTION_FUNCTION"]);
+const UNIFORM: &[Key] = &[TYPE, req("size", &["SIZE"]), REGIONS];
+const TO_POINT: &[Key] = &[TYPE, req("function", &["FUNCTION"]), REGIONS];
+const TO_BORDER: &[Key] = &[TYPE, PERP, PARA, REGIONS];
+const CURVATURE_OF_BORDER: &[Key] = &[TYPE, PERP, req("curvature_to_size", &["CURVATURE_TO_SIZE_FUNCTION"]), PROJ, REGIONS];
+const TWO_BORDERS: &[Key] = &[TYPE, PERP, PARA, REGIONS, req("second_regions", &["REGIONS2"])];
+const TO_POLYLINE: &[Key] = &[
+    TYPE,
+    PERP,
+    req("polyline_distance", &["POLYLINE_DISTANCE_FUNCTION", "PARALLEL_FUNCTION"]),
+    req("projection", &["PARALLEL_PROJECTION_FUNCTION", "PROJECTION_FUNCTION"]),
+    req("polyline", &["COORDINATES"]),
+    opt("regions", &["REGIONS"]),
+];
+
+fn algorithm_keys(t: &str) -> &'static [Key] {
+    match t {
+        "UNIFORM" => UNIFORM,
+        "DISTANCE_TO_POINT" => TO_POINT,
+        "DISTANCE_TO_BORDER" => TO_BORDER,
+        "CURVATURE_OF_BORDER" => CURVATURE_OF_BORDER,
+        "DISTANCE_BETWEEN_TWO_BORDERS" => TWO_BORDERS,
+        _ => TO_POLYLINE,
+    }
+}
+
+struct Reader<'a> {
+    source: &'a Source,
+    places: Places,
+}
+
+/// The settings found for each key of a table, in the table's order.
+struct Found<'s> {
+    settings: Vec<Option<&'s Setting>>,
+}
+
+impl<'s> Found<'s> {
+    fn get(&self, keys: &[Key], field: &str) -> Option<&'s Setting> {
+        keys.iter().position(|k| k.field == field).and_then(|i| self.settings[i])
+    }
+}
+
+/// Reads libconfig text (preprocessed when it holds directives) into an unvalidated model.
+pub fn read(text: &str, origin: &std::path::Path) -> Result<Recipe, RecipeError> {
+    let source = preprocess::load(text, origin)?;
+    let settings = libconfig::parse(&source)?;
+    let mut reader = Reader { source: &source, places: Places::new(origin) };
+    let mut recipe = Recipe::default();
+    reader.read_top(&settings, &mut recipe)?;
+    recipe.places = reader.places;
+    Ok(recipe)
+}
+
+impl Reader<'_> {
+    fn error(&self, line0: usize, kind: RecipeErrorKind, context: &str) -> RecipeError {
+        let (f, l) = self.source.place(line0);
+        let e = RecipeError::new(kind).at(f, l);
+        if context.is_empty() {
+            e
+        } else {
+            e.within(context)
+        }
+    }
+
+    fn place(&mut self, path: String, line0: usize, key: &str, context: &str) {
+        let (f, l) = self.source.place(line0);
+        let f = f.to_path_buf();
+        self.places.insert(path, &f, l, key, context);
+    }
+
+    /// Matches the settings of a group against `keys`: unknown keys (with a suggestion),
+    /// two spellings of one key, missing required keys.
+    fn fields<'s>(&self, settings: &'s [Setting], keys: &[Key], group_line: usize, context: &str) -> Result<Found<'s>, RecipeError> {
+        let mut found: Vec<Option<&'s Setting>> = vec![None; keys.len()];
+        for s in settings {
+            let Some(i) = keys.iter().position(|k| k.spellings.contains(&s.name.as_str())) else {
+                let all = keys.iter().flat_map(|k| k.spellings.iter().copied());
+                return Err(self.error(s.at, RecipeErrorKind::UnknownKey { key: s.name.clone() }, context).suggest(nearest(&s.name, all).map(String::from)));
+            };
+            if let Some(prev) = found[i] {
+                return Err(self.error(s.at, RecipeErrorKind::DuplicateKey { key: s.name.clone(), other: prev.name.clone() }, context));
+            }
+            found[i] = Some(s);
+        }
+        for (k, f) in keys.iter().zip(&found) {
+            if k.required && f.is_none() {
+                return Err(self.error(group_line, RecipeErrorKind::MissingKey { key: k.spellings[0].to_string() }, context));
+            }
+        }
+        Ok(Found { settings: found })
+    }
+
+    fn wrong(&self, s: &Setting, node: &Node, expected: &str, context: &str) -> RecipeError {
+        self.error(node.at, RecipeErrorKind::WrongType { key: s.name.clone(), expected: expected.into(), found: node.value.describe().into() }, context)
+    }
+
+    fn number(&self, s: &Setting, context: &str) -> Result<f64, RecipeError> {
+        match s.value.value {
+            Value::Int(i) => Ok(i as f64),
+            Value::Float(f) => Ok(f),
+            _ => Err(self.wrong(s, &s.value, "a number", context)),
+        }
+    }
+
+    fn string(&self, s: &Setting, context: &str) -> Result<String, RecipeError> {
+        match &s.value.value {
+            Value::Str(t) => Ok(t.clone()),
+            _ => Err(self.wrong(s, &s.value, "a string", context)),
+        }
+    }
+
+    /// One name, or a list or array of names (nested lists flattened).
+    fn names(&self, s: &Setting, context: &str) -> Result<Vec<String>, RecipeError> {
+        fn walk(r: &Reader, s: &Setting, n: &Node, out: &mut Vec<String>, context: &str) -> Result<(), RecipeError> {
+            match &n.value {
+                Value::Str(t) => out.push(t.clone()),
+                Value::List(items) | Value::Array(items) => items.iter().try_for_each(|i| walk(r, s, i, out, context))?,
+                _ => return Err(r.wrong(s, n, "a region name in quotes, or a list of them", context)),
+            }
+            Ok(())
+        }
+        let mut out = Vec::new();
+        walk(self, s, &s.value, &mut out, context)?;
+        Ok(out)
+    }
+
+    /// Tag numbers and names, nested lists flattened, each with its line.
+    fn entities(&self, s: &Setting, context: &str) -> Result<Vec<(EntityRef, usize)>, RecipeError> {
+        fn walk(r: &Reader, s: &Setting, n: &Node, out: &mut Vec<(EntityRef, usize)>, context: &str) -> Result<(), RecipeError> {
+            match &n.value {
+                Value::Int(i) => match i32::try_from(*i) {
+                    Ok(t) => out.push((EntityRef::Tag(t), n.at)),
+                    Err(_) => return Err(r.error(n.at, RecipeErrorKind::Invalid(format!("tag {i} in {} does not fit a 32-bit tag", s.name)), context)),
+                },
+                Value::Str(t) => out.push((EntityRef::Name(t.clone()), n.at)),
+                Value::List(items) | Value::Array(items) => items.iter().try_for_each(|i| walk(r, s, i, out, context))?,
+                _ => return Err(r.wrong(s, n, "tag numbers or tag names", context)),
+            }
+            Ok(())
+        }
+        let mut out = Vec::new();
+        walk(self, s, &s.value, &mut out, context)?;
+        Ok(out)
+    }
+
+    fn numbers(&self, s: &Setting, context: &str) -> Result<Vec<f64>, RecipeError> {
+        let items = match &s.value.value {
+            Value::Array(items) | Value::List(items) => items,
+            _ => return Err(self.wrong(s, &s.value, "an array of numbers", context)),
+        };
+        items
+            .iter()
+            .map(|n| match n.value {
+                Value::Int(i) => Ok(i as f64),
+                Value::Float(f) => Ok(f),
+                _ => Err(self.wrong(s, n, "an array of numbers", context)),
+            })
+            .collect()
+    }
+
+    /// The groups of a `CREATE_…` list.
+    fn groups<'s>(&self, s: &'s Setting) -> Result<Vec<(&'s [Setting], usize)>, RecipeError> {
+        let items: &[Node] = match &s.value.value {
+            Value::List(items) => items,
+            Value::Group(g) => return Ok(vec![(g, s.value.at)]),
+            _ => return Err(self.wrong(s, &s.value, "a list ( { … }, … )", "")),
+        };
+        items
+            .iter()
+            .map(|n| match &n.value {
+                Value::Group(g) => Ok((g.as_slice(), n.at)),
+                _ => Err(self.wrong(s, n, "a list of groups { … }", "")),
+            })
+            .collect()
+    }
+
+    fn read_top(&mut self, settings: &[Setting], recipe: &mut Recipe) -> Result<(), RecipeError> {
+        let top = self.fields(settings, TOP, 0, "")?;
+        for (field, slot) in [("hmin", &mut recipe.global.h_min), ("hmax", &mut recipe.global.h_max), ("max_aspect_ratio", &mut recipe.global.max_aspect_ratio), ("gradation", &mut recipe.global.gradation)] {
+            if let Some(s) = top.get(TOP, field) {
+                *slot = Some(self.number(s, "")?);
+                self.place(format!("global.{field}"), s.at, &s.name, "");
+            }
+        }
+        if let Some(s) = top.get(TOP, "regions") {
+            for (i, (g, line)) in self.groups(s)?.into_iter().enumerate() {
+                let ctx = format!("{} entry {}", s.name, i + 1);
+                let f = self.fields(g, REGION, line, &ctx)?;
+                let name_s = f.get(REGION, "name").expect("required");
+                let name = self.string(name_s, &ctx)?;
+                let ent_s = f.get(REGION, "entities").expect("required");
+                let entities = self.entities(ent_s, &ctx)?;
+                let ctx = format!("region \"{name}\"");
+                if recipe.regions.contains_key(&name) {
+                    return Err(self.error(name_s.at, RecipeErrorKind::DuplicateName { what: "region", name }, ""));
+                }
+                self.place(format!("regions.{name}"), line, &s.name, &ctx);
+                for (k, (_, at)) in entities.iter().enumerate() {
+                    self.place(format!("regions.{name}[{k}]"), *at, &ent_s.name, &ctx);
+                }
+                recipe.regions.insert(name, entities.into_iter().map(|(e, _)| e).collect());
+            }
+        }
+        if let Some(s) = top.get(TOP, "polylines") {
+            for (i, (g, line)) in self.groups(s)?.into_iter().enumerate() {
+                let ctx = format!("{} entry {}", s.name, i + 1);
+                let f = self.fields(g, POLYLINE, line, &ctx)?;
+                let name_s = f.get(POLYLINE, "name").expect("required");
+                let name = self.string(name_s, &ctx)?;
+                let xs_s = f.get(POLYLINE, "x").expect("required");
+                let ys_s = f.get(POLYLINE, "y").expect("required");
+                let (xs, ys) = (self.numbers(xs_s, &ctx)?, self.numbers(ys_s, &ctx)?);
+                if xs.len() != ys.len() {
+                    return Err(self.error(ys_s.at, RecipeErrorKind::Invalid(format!("polyline \"{name}\": {} X_COORDS but {} Y_COORDS", xs.len(), ys.len())), &ctx));
+                }
+                if recipe.polylines.contains_key(&name) {
+                    return Err(self.error(name_s.at, RecipeErrorKind::DuplicateName { what: "polyline", name }, ""));
+                }
+                self.place(format!("polylines.{name}"), line, &s.name, &format!("polyline \"{name}\""));
+                recipe.polylines.insert(name, xs.into_iter().zip(ys).map(|(x, y)| [x, y]).collect());
+            }
+        }
+        for (list, keys) in [("distance", DISTANCE), ("projection", PROJECTION), ("curvature", CURVATURE)] {
+            if let Some(s) = top.get(TOP, list) {
+                for (i, (g, line)) in self.groups(s)?.into_iter().enumerate() {
+                    let ctx = format!("{} entry {}", s.name, i + 1);
+                    if list == "projection" {
+                        if let Some(m) = g.iter().find(|m| SIZE_AT_SOURCE.contains(&m.name.as_str())) {
+                            return Err(self.error(
+                                m.at,
+                                RecipeErrorKind::Invalid(format!(
+                                    "{} is not a parameter of a projection function: its size at the source is the size found on the border (thesis 4.3.5.2); remove it",
+                                    m.name
+                                )),
+                                &ctx,
+                            ));
+                        }
+                    }
+                    let f = self.fields(g, keys, line, &ctx)?;
+                    let name_s = f.get(keys, "name").expect("required");
+                    let name = self.string(name_s, &ctx)?;
+                    let ctx = format!("function \"{name}\"");
+                    let mut v = |field: &str| -> Result<f64, RecipeError> {
+                        let st = f.get(keys, field).expect("required");
+                        self.place(format!("functions.{name}.{field}"), st.at, &st.name, &ctx);
+                        self.number(st, &ctx)
+                    };
+                    let spec = match list {
+                        "distance" => FunctionSpec::Distance {
+                            size_at_source: v("size_at_source")?,
+                            size_at_max_distance: v("size_at_max_distance")?,
+                            max_distance: v("max_distance")?,
+                            exponent: v("exponent")?,
+                        },
+                        "projection" => FunctionSpec::Projection { size_at_max_distance: v("size_at_max_distance")?, max_distance: v("max_distance")?, exponent: v("exponent")? },
+                        _ => FunctionSpec::CurvatureToSize { min_size: v("min_size")?, max_size: v("max_size")?, size_of_error: v("size_of_error")? },
+                    };
+                    if let Some(prev) = recipe.functions.get(&name) {
+                        return Err(self.error(name_s.at, RecipeErrorKind::Invalid(format!("function \"{name}\" is defined twice (already a {} function); function names are shared by the three lists", prev.kind_name())), ""));
+                    }
+                    self.place(format!("functions.{name}"), line, &s.name, &ctx);
+                    recipe.functions.insert(name, spec);
+                }
+            }
+        }
+        if let Some(s) = top.get(TOP, "algorithms") {
+            for (i, (g, line)) in self.groups(s)?.into_iter().enumerate() {
+                let a = self.read_algorithm(&s.name, i, g, line)?;
+                recipe.algorithms.push(a);
+            }
+        }
+        Ok(())
+    }
+
+    fn read_algorithm(&mut self, list: &str, i: usize, g: &[Setting], line: usize) -> Result<AlgorithmSpec, RecipeError> {
+        let ctx = format!("{list} entry {}", i + 1);
+        let Some(type_s) = g.iter().find(|s| s.name == "TYPE") else {
+            return Err(self.error(line, RecipeErrorKind::MissingKey { key: "TYPE".into() }, &ctx));
+        };
+        let written = self.string(type_s, &ctx)?;
+        let upper = written.to_ascii_uppercase();
+        let Some(t) = TYPES.iter().copied().find(|t| *t == upper) else {
+            let e = self.error(type_s.at, RecipeErrorKind::UnknownName { referrer: format!("algorithm {}", i + 1), what: "algorithm type", name: written.clone() }, "");
+            return Err(e.suggest(nearest(&written, TYPES.iter().copied()).map(|s| format!("\"{s}\""))));
+        };
+        let ctx = format!("{list} entry {}, {t}", i + 1);
+        let keys = algorithm_keys(t);
+        let f = self.fields(g, keys, line, &ctx)?;
+        let base = format!("algorithms[{i}]");
+        self.place(base.clone(), line, list, &ctx);
+        for (k, s) in keys.iter().zip(&f.settings) {
+            if let Some(s) = s {
+                self.place(format!("{base}.{}", k.field), s.at, &s.name, &ctx);
+            }
+        }
+        let name = |field: &str| -> Result<String, RecipeError> { self.string(f.get(keys, field).expect("required"), &ctx) };
+        let regions = |field: &str| -> Result<Vec<String>, RecipeError> {
+            match f.get(keys, field) {
+                Some(s) => self.names(s, &ctx),
+                None => Ok(Vec::new()),
+            }
+        };
+        Ok(match t {
+            "UNIFORM" => AlgorithmSpec::Uniform { size: self.number(f.get(keys, "size").expect("required"), &ctx)?, regions: regions("regions")? },
+            "DISTANCE_TO_POINT" => AlgorithmSpec::DistanceToPoint { function: name("function")?, regions: regions("regions")? },
+            "DISTANCE_TO_BORDER" => AlgorithmSpec::DistanceToBorder { perpendicular: name("perpendicular")?, parallel: name("parallel")?, regions: regions("regions")? },
+            "CURVATURE_OF_BORDER" => AlgorithmSpec::CurvatureOfBorder {
+                perpendicular: name("perpendicular")?,
+                curvature_to_size: name("curvature_to_size")?,
+                projection: name("projection")?,
+                regions: regions("regions")?,
+            },
+            "DISTANCE_BETWEEN_TWO_BORDERS" => AlgorithmSpec::DistanceBetweenTwoBorders {
+                perpendicular: name("perpendicular")?,
+                parallel: name("parallel")?,
+                regions: regions("regions")?,
+                second_regions: regions("second_regions")?,
+            },
+            _ => AlgorithmSpec::DistanceToImaginaryPolyline {
+                perpendicular: name("perpendicular")?,
+                polyline_distance: name("polyline_distance")?,
+                projection: name("projection")?,
+                polyline: name("polyline")?,
+                regions: regions("regions")?,
+            },
+        })
+    }
+}
+
+/// A libconfig string literal.
+fn quote(s: &str) -> String {
+    let mut o = String::with_capacity(s.len() + 2);
+    o.push('"');
+    for c in s.chars() {
+        match c {
+            '\\' => o.push_str("\\\\"),
+            '"' => o.push_str("\\\""),
+            '\n' => o.push_str("\\n"),
+            '\r' => o.push_str("\\r"),
+            '\t' => o.push_str("\\t"),
+            '\u{c}' => o.push_str("\\f"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(o, "\\x{:02x}", c as u32);
+            }
+            c => o.push(c),
+        }
+    }
+    o.push('"');
+    o
+}
+
+/// A float that libconfig reads back as a float, exactly (shortest round-trip form).
+fn float(v: f64) -> String {
+    format!("{v:?}")
+}
+
+fn name_list(names: &[String]) -> String {
+    let v: Vec<String> = names.iter().map(|n| quote(n)).collect();
+    format!("( {} )", v.join(", "))
+}
+
+/// The model in the libconfig of appendix A.
+pub fn write(r: &Recipe) -> String {
+    let mut o = String::from("// smartmesh sizing recipe (libconfig, thesis appendix A)\n");
+    let g = &r.global;
+    for (key, v) in [("HMIN", g.h_min), ("HMAX", g.h_max), ("MAX_ASPECT_RATIO", g.max_aspect_ratio), ("GRADATION", g.gradation)] {
+        if let Some(v) = v {
+            let _ = writeln!(o, "{key} = {};", float(v));
+        }
+    }
+    let list = |o: &mut String, key: &str, items: Vec<String>| {
+        if !items.is_empty() {
+            let _ = writeln!(o, "\n{key} =\n(\n{}\n);", items.join(",\n"));
+        }
+    };
+    list(
+        &mut o,
+        "CREATE_REGIONS",
+        r.regions
+            .iter()
+            .map(|(name, ents)| {
+                let all_tags = ents.iter().all(|e| matches!(e, EntityRef::Tag(_)));
+                let all_names = ents.iter().all(|e| matches!(e, EntityRef::Name(_)));
+                let items: Vec<String> = ents
+                    .iter()
+                    .map(|e| match e {
+                        EntityRef::Tag(t) => t.to_string(),
+                        EntityRef::Name(n) => quote(n),
+                    })
+                    .collect();
+                // An array holds one scalar type; a mixed region needs a list.
+                let (open, close) = if all_tags || all_names { ("[", "]") } else { ("(", ")") };
+                format!("    {{ NAME = {}; TOPOLOGICAL_ENTITIES = {open} {} {close}; }}", quote(name), items.join(", "))
+            })
+            .collect(),
+    );
+    list(
+        &mut o,
+        "CREATE_POLYLINES",
+        r.polylines
+            .iter()
+            .map(|(name, pts)| {
+                let xs: Vec<String> = pts.iter().map(|p| float(p[0])).collect();
+                let ys: Vec<String> = pts.iter().map(|p| float(p[1])).collect();
+                format!("    {{ NAME = {};\n      X_COORDS = [ {} ];\n      Y_COORDS = [ {} ]; }}", quote(name), xs.join(", "), ys.join(", "))
+            })
+            .collect(),
+    );
+    let functions = |kind: &str| -> Vec<String> {
+        r.functions
+            .iter()
+            .filter(|(_, f)| f.kind_name() == kind)
+            .map(|(name, f)| {
+                let body = match *f {
+                    FunctionSpec::Distance { size_at_source, size_at_max_distance, max_distance, exponent } => format!(
+                        "MINSIZE = {}; MAXSIZE = {}; MAXDISTANCE = {}; EXPONENT = {};",
+                        float(size_at_source),
+                        float(size_at_max_distance),
+                        float(max_distance),
+                        float(exponent)
+                    ),
+                    FunctionSpec::Projection { size_at_max_distance, max_distance, exponent } => {
+                        format!("MAXSIZE = {}; MAXDISTANCE = {}; EXPONENT = {};", float(size_at_max_distance), float(max_distance), float(exponent))
+                    }
+                    FunctionSpec::CurvatureToSize { min_size, max_size, size_of_error } => {
+                        format!("MINSIZE = {}; MAXSIZE = {}; SIZE_OF_ERROR = {};", float(min_size), float(max_size), float(size_of_error))
+                    }
+                };
+                format!("    {{ NAME = {}; {body} }}", quote(name))
+            })
+            .collect()
+    };
+    list(&mut o, "CREATE_DISTANCE_FUNCTIONS", functions("distance"));
+    list(&mut o, "CREATE_PROJECTION_FUNCTIONS", functions("projection"));
+    list(&mut o, "CREATE_CURVATURE_TO_SIZE_FUNCTIONS", functions("curvature-to-size"));
+    list(
+        &mut o,
+        "CREATE_ALGORITHMS",
+        r.algorithms
+            .iter()
+            .map(|a| {
+                let body = match a {
+                    AlgorithmSpec::Uniform { size, regions } => format!("SIZE = {}; REGIONS = {};", float(*size), name_list(regions)),
+                    AlgorithmSpec::DistanceToPoint { function, regions } => format!("FUNCTION = {}; REGIONS = {};", quote(function), name_list(regions)),
+                    AlgorithmSpec::DistanceToBorder { perpendicular, parallel, regions } => {
+                        format!("PERPENDICULAR_FUNCTION = {};\n      PARALLEL_FUNCTION = {}; REGIONS = {};", quote(perpendicular), quote(parallel), name_list(regions))
+                    }
+                    AlgorithmSpec::CurvatureOfBorder { perpendicular, curvature_to_size, projection, regions } => format!(
+                        "PERPENDICULAR_FUNCTION = {};\n      CURVATURE_TO_SIZE_FUNCTION = {}; PROJECTION_FUNCTION = {}; REGIONS = {};",
+                        quote(perpendicular),
+                        quote(curvature_to_size),
+                        quote(projection),
+                        name_list(regions)
+                    ),
+                    AlgorithmSpec::DistanceBetweenTwoBorders { perpendicular, parallel, regions, second_regions } => format!(
+                        "PERPENDICULAR_FUNCTION = {};\n      PARALLEL_FUNCTION = {}; REGIONS = {}; REGIONS2 = {};",
+                        quote(perpendicular),
+                        quote(parallel),
+                        name_list(regions),
+                        name_list(second_regions)
+                    ),
+                    AlgorithmSpec::DistanceToImaginaryPolyline { perpendicular, polyline_distance, projection, polyline, regions } => {
+                        let mut s = format!(
+                            "PERPENDICULAR_FUNCTION = {};\n      POLYLINE_DISTANCE_FUNCTION = {};\n      PARALLEL_PROJECTION_FUNCTION = {};\n      COORDINATES = {};",
+                            quote(perpendicular),
+                            quote(polyline_distance),
+                            quote(projection),
+                            quote(polyline)
+                        );
+                        if !regions.is_empty() {
+                            let _ = write!(s, " REGIONS = {};", name_list(regions));
+                        }
+                        s
+                    }
+                };
+                format!("    {{ TYPE = \"{}\"; {body} }}", a.keyword())
+            })
+            .collect(),
+    );
+    o
+}

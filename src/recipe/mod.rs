@@ -1,0 +1,27 @@
+//! Sizing recipes (thesis 5.3 and appendix A): the user's choice of algorithms, functions
+//! and regions, read from libconfig (the thesis format, through the C preprocessor),
+//! TOML or JSON into one validated model, [`Recipe`], and resolved against a mesh into a
+//! [`SizingPlan`](crate::sizing::SizingPlan).
+//!
+//! - [`model`]: the model (serde), its validation, reading and writing;
+//! - [`preprocess`] and [`libconfig`]: cpp and `@include`, then the libconfig syntax
+//!   with lines;
+//! - [`appendix`]: the keywords of appendix A and their spelling variants, to and from
+//!   the model;
+//! - [`serde_io`]: TOML and JSON;
+//! - [`resolve`]: regions to topological entities, functions built, steps labelled;
+//! - [`suggest`] and [`error`]: errors that name file, line and key, and the nearest
+//!   valid name.
+
+pub mod appendix;
+pub mod error;
+pub mod libconfig;
+pub mod model;
+pub mod preprocess;
+pub mod resolve;
+pub mod serde_io;
+pub mod suggest;
+
+pub use error::{RecipeError, RecipeErrorKind};
+pub use model::{AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, Recipe, RecipeFormat};
+pub use resolve::{RegionReport, Resolved};

@@ -1,0 +1,398 @@
+//! A recipe resolved against one mesh: region names become topological entities of the
+//! mesh's [`Topology`], function names become built functions, and every algorithm a
+//! labelled [`Step`] of a [`SizingPlan`].
+//!
+//! Region entities are tag numbers or tag names, looked up among the topology's points,
+//! curves and faces. Gmsh numbers points, curves and faces separately, so one number (or
+//! name) can exist in several dimensions. The rule:
+//!
+//! 1. an entity absent from every dimension is an error (with what the mesh has);
+//! 2. a region holds entities of one dimension (appendix A.1.1): the dimensions where
+//!    *every* entity of the region exists are its candidates; none is an error;
+//! 3. one candidate: that is the region's dimension. Several: the algorithms that use
+//!    the region decide by the dimension they expect — points for DISTANCE_TO_POINT,
+//!    curves for the border algorithms, faces for UNIFORM and for the `REGIONS` of
+//!    DISTANCE_TO_IMAGINARY_POLYLINE. If they expect different candidates, or none of
+//!    the candidates, the region is ambiguous: an error that says which tags are where;
+//! 4. each algorithm then checks it can use that dimension: UNIFORM takes any,
+//!    DISTANCE_TO_POINT points or curves (their vertices are point sources),
+//!    DISTANCE_TO_BORDER and DISTANCE_BETWEEN_TWO_BORDERS curves or points,
+//!    CURVATURE_OF_BORDER curves, DISTANCE_TO_IMAGINARY_POLYLINE faces.
+//!
+//! A region that no algorithm uses and whose dimension stays ambiguous is reported with
+//! no dimension rather than refused: it has no effect on the plan.
+
+use std::collections::BTreeSet;
+
+use serde::Serialize;
+
+use super::error::{RecipeError, RecipeErrorKind};
+use super::model::{referrer, AlgorithmSpec, EntityRef, FunctionSpec, Recipe};
+use super::suggest::nearest;
+use crate::sizing::plan::{Algorithm, EntitySet, SizingPlan, Step};
+use crate::sizing::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
+use crate::topology::Topology;
+
+const DIM_NAMES: [&str; 3] = ["points", "curves", "faces"];
+
+/// How one region of the recipe resolved on the mesh (for `smartmesh recipe check`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct RegionReport {
+    /// The region's name.
+    pub name: String,
+    /// 0 points, 1 curves, 2 faces; `None` when ambiguous and used by no algorithm.
+    pub dimension: Option<usize>,
+    /// Tags of the topological entities it resolved to, sorted.
+    pub tags: Vec<i32>,
+    /// Their names, where the mesh names them, sorted.
+    pub entity_names: Vec<String>,
+    /// Number of topological entities.
+    pub entities: usize,
+    /// Mesh vertices on them (a face's include its boundary).
+    pub vertices: usize,
+    /// Mesh edges on them (a face's: the edges of its cells).
+    pub edges: usize,
+    /// Mesh cells (faces only).
+    pub cells: usize,
+    /// The algorithms that use it, numbered from 1.
+    pub used_by: Vec<usize>,
+}
+
+/// A recipe resolved on a mesh: the plan to run and how each region resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Resolved {
+    /// The plan for the sizing engine.
+    pub plan: SizingPlan,
+    /// One report per region, by name.
+    pub regions: Vec<RegionReport>,
+}
+
+/// Which dimensions an algorithm's region list accepts, the one it prefers first.
+fn expected(a: &AlgorithmSpec) -> &'static [usize] {
+    match a {
+        AlgorithmSpec::Uniform { .. } => &[2, 1, 0],
+        AlgorithmSpec::DistanceToPoint { .. } => &[0, 1],
+        AlgorithmSpec::DistanceToBorder { .. } | AlgorithmSpec::DistanceBetweenTwoBorders { .. } => &[1, 0],
+        AlgorithmSpec::CurvatureOfBorder { .. } => &[1],
+        AlgorithmSpec::DistanceToImaginaryPolyline { .. } => &[2],
+    }
+}
+
+/// Indices of the entities matching `e` in each dimension.
+fn lookup(topo: &Topology, e: &EntityRef) -> [Vec<usize>; 3] {
+    let hit_tag = |tag: Option<i32>, name: &Option<String>| match e {
+        EntityRef::Tag(t) => tag == Some(*t),
+        EntityRef::Name(n) => name.as_deref() == Some(n.as_str()),
+    };
+    [
+        topo.points.iter().enumerate().filter(|(_, p)| hit_tag(p.tag, &p.name)).map(|(i, _)| i).collect(),
+        topo.curves.iter().enumerate().filter(|(_, c)| hit_tag(c.tag, &c.name)).map(|(i, _)| i).collect(),
+        topo.faces.iter().enumerate().filter(|(_, f)| hit_tag(Some(f.tag), &f.name)).map(|(i, _)| i).collect(),
+    ]
+}
+
+fn list_tags(tags: BTreeSet<i32>) -> String {
+    let v: Vec<String> = tags.iter().take(24).map(i32::to_string).collect();
+    let more = if tags.len() > 24 { format!(" and {} more", tags.len() - 24) } else { String::new() };
+    format!("{}{more}", v.join(", "))
+}
+
+fn available_tags(topo: &Topology) -> String {
+    let p: BTreeSet<i32> = topo.points.iter().filter_map(|p| p.tag).collect();
+    let c: BTreeSet<i32> = topo.curves.iter().filter_map(|c| c.tag).collect();
+    let f: BTreeSet<i32> = topo.faces.iter().map(|f| f.tag).collect();
+    let mut parts = Vec::new();
+    for (what, set) in [("point", p), ("curve", c), ("face", f)] {
+        if !set.is_empty() {
+            parts.push(format!("{what} tags {}", list_tags(set)));
+        }
+    }
+    if parts.is_empty() {
+        "; the mesh has no tagged entity".into()
+    } else {
+        format!("; the mesh has {}", parts.join("; "))
+    }
+}
+
+fn entity_names(topo: &Topology) -> Vec<&str> {
+    let mut names: Vec<&str> = topo
+        .points
+        .iter()
+        .filter_map(|p| p.name.as_deref())
+        .chain(topo.curves.iter().filter_map(|c| c.name.as_deref()))
+        .chain(topo.faces.iter().filter_map(|f| f.name.as_deref()))
+        .collect();
+    names.sort_unstable();
+    names.dedup();
+    names
+}
+
+struct RegionState {
+    /// Per dimension, the entity indices of the whole region (sorted, unique).
+    by_dim: [Vec<usize>; 3],
+    /// Dimensions where every entity exists.
+    candidates: Vec<usize>,
+    /// Per entity, the dimensions where it exists (for messages).
+    entity_dims: Vec<(EntityRef, Vec<usize>)>,
+    dimension: Option<usize>,
+}
+
+impl Recipe {
+    /// Resolves the recipe against a mesh's topology (see the module documentation for
+    /// the rule that gives each region its dimension).
+    pub fn resolve(&self, topology: &Topology) -> Result<Resolved, RecipeError> {
+        // The fields are public: a recipe built in code may never have been checked.
+        self.validate()?;
+        let names: Vec<&String> = self.regions.keys().collect();
+        let mut states: Vec<RegionState> = Vec::with_capacity(names.len());
+        for (name, entities) in &self.regions {
+            let mut by_dim: [BTreeSet<usize>; 3] = Default::default();
+            let mut candidates: Vec<usize> = vec![0, 1, 2];
+            let mut entity_dims = Vec::new();
+            for (k, e) in entities.iter().enumerate() {
+                let hits = lookup(topology, e);
+                let dims: Vec<usize> = (0..3).filter(|&d| !hits[d].is_empty()).collect();
+                if dims.is_empty() {
+                    let path = format!("regions.{name}[{k}]");
+                    let (available, suggestion) = match e {
+                        EntityRef::Tag(_) => (available_tags(topology), None),
+                        EntityRef::Name(n) => {
+                            let all = entity_names(topology);
+                            let s = nearest(n, all.iter().copied()).map(|s| format!("\"{s}\""));
+                            let list = if all.is_empty() { "; the mesh names no entity".to_string() } else { format!("; the mesh names {}", all.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")) };
+                            (list, s)
+                        }
+                    };
+                    return Err(self.error_at(RecipeErrorKind::AbsentEntity { region: name.clone(), entity: e.to_string(), available }, &path).suggest(suggestion));
+                }
+                for d in &dims {
+                    by_dim[*d].extend(hits[*d].iter().copied());
+                }
+                candidates.retain(|d| dims.contains(d));
+                entity_dims.push((e.clone(), dims));
+            }
+            if candidates.is_empty() {
+                let detail = format!(
+                    "its entities are of different dimensions ({}); a region holds entities of one dimension",
+                    entity_dims.iter().map(|(e, d)| format!("{e}: {}", d.iter().map(|&d| DIM_NAMES[d]).collect::<Vec<_>>().join(" or "))).collect::<Vec<_>>().join(", ")
+                );
+                return Err(self.error_at(RecipeErrorKind::Dimension { region: name.clone(), detail }, &format!("regions.{name}")));
+            }
+            let dimension = (candidates.len() == 1).then(|| candidates[0]);
+            states.push(RegionState { by_dim: by_dim.map(|s| s.into_iter().collect()), candidates, entity_dims, dimension });
+        }
+
+        // Ambiguous regions: the algorithms that use them vote with the dimension they
+        // prefer among the region's candidates.
+        let mut used_by: Vec<Vec<usize>> = vec![Vec::new(); names.len()];
+        for (i, a) in self.algorithms.iter().enumerate() {
+            for (_, list) in a.region_lists() {
+                for r in list {
+                    let k = names.binary_search(&r).expect("validated: the region exists");
+                    if !used_by[k].contains(&(i + 1)) {
+                        used_by[k].push(i + 1);
+                    }
+                }
+            }
+        }
+        for (k, st) in states.iter_mut().enumerate() {
+            if st.dimension.is_some() || used_by[k].is_empty() {
+                continue;
+            }
+            let mut votes: BTreeSet<usize> = BTreeSet::new();
+            for &i in &used_by[k] {
+                if let Some(&d) = expected(&self.algorithms[i - 1]).iter().find(|d| st.candidates.contains(d)) {
+                    votes.insert(d);
+                }
+            }
+            if votes.len() == 1 {
+                st.dimension = votes.into_iter().next();
+            } else {
+                let shared: Vec<String> = st
+                    .entity_dims
+                    .iter()
+                    .filter(|(_, d)| d.len() > 1)
+                    .map(|(e, d)| format!("{e} is in {}", d.iter().map(|&d| DIM_NAMES[d]).collect::<Vec<_>>().join(" and ")))
+                    .collect();
+                let users: Vec<String> = used_by[k].iter().map(|&i| format!("{} ({})", referrer(i - 1), self.algorithms[i - 1].keyword())).collect();
+                let detail = format!(
+                    "ambiguous: {}, and {} cannot tell which is meant; use tag names, or split the region",
+                    shared.join(", "),
+                    users.join(", ")
+                );
+                return Err(self.error_at(RecipeErrorKind::Dimension { region: names[k].clone(), detail }, &format!("regions.{}", names[k])));
+            }
+        }
+
+        let set_of = |k: usize| -> EntitySet {
+            let st = &states[k];
+            let mut s = EntitySet::default();
+            match st.dimension {
+                Some(0) => s.points = st.by_dim[0].clone(),
+                Some(1) => s.curves = st.by_dim[1].clone(),
+                Some(2) => s.faces = st.by_dim[2].clone(),
+                _ => {}
+            }
+            s
+        };
+
+        let mut steps = Vec::with_capacity(self.algorithms.len());
+        for (i, a) in self.algorithms.iter().enumerate() {
+            let base = format!("algorithms[{i}]");
+            // Region lists to entity sets, each region's dimension checked.
+            let mut sets: Vec<EntitySet> = Vec::new();
+            for (field, list) in a.region_lists() {
+                let mut set = EntitySet::default();
+                for r in list {
+                    let k = names.binary_search(&r).expect("validated: the region exists");
+                    let d = states[k].dimension.expect("a used region has a dimension");
+                    if !expected(a).contains(&d) {
+                        let accepted: Vec<&str> = expected(a).iter().map(|&d| DIM_NAMES[d]).collect();
+                        let key = self.written_key(&format!("{base}.{field}"), field).to_string();
+                        return Err(self.error_at(
+                            RecipeErrorKind::Invalid(format!("{} {}: {key} \"{r}\" holds {}, but {} takes {}", referrer(i), a.keyword(), DIM_NAMES[d], a.keyword(), accepted.join(" or "))),
+                            &format!("{base}.{field}"),
+                        ));
+                    }
+                    set = set.union(&set_of(k));
+                }
+                sets.push(set);
+            }
+            let algorithm = match a {
+                AlgorithmSpec::Uniform { size, .. } => Algorithm::Uniform { size: *size, on: sets.remove(0) },
+                AlgorithmSpec::DistanceToPoint { function, .. } => Algorithm::DistanceToPoint { function: self.distance(function)?, sources: sets.remove(0) },
+                AlgorithmSpec::DistanceToBorder { perpendicular, parallel, .. } => {
+                    Algorithm::DistanceToBorder { perpendicular: self.distance(perpendicular)?, parallel: self.distance(parallel)?, borders: sets.remove(0) }
+                }
+                AlgorithmSpec::CurvatureOfBorder { perpendicular, curvature_to_size, projection, .. } => Algorithm::CurvatureOfBorder {
+                    perpendicular: self.distance(perpendicular)?,
+                    curvature: self.curvature(curvature_to_size)?,
+                    projection: self.projection(projection)?,
+                    borders: sets.remove(0),
+                },
+                AlgorithmSpec::DistanceBetweenTwoBorders { perpendicular, parallel, .. } => {
+                    let second = sets.remove(1);
+                    Algorithm::DistanceBetweenTwoBorders { perpendicular: self.distance(perpendicular)?, parallel: self.distance(parallel)?, first: sets.remove(0), second }
+                }
+                AlgorithmSpec::DistanceToImaginaryPolyline { perpendicular, polyline_distance, projection, polyline, .. } => Algorithm::DistanceToImaginaryPolyline {
+                    perpendicular: self.distance(perpendicular)?,
+                    polyline_distance: self.distance(polyline_distance)?,
+                    projection: self.projection(projection)?,
+                    polyline: self.polylines.get(polyline).cloned().expect("validated: the polyline exists"),
+                    within: sets.remove(0),
+                },
+            };
+            steps.push(Step { label: label(i, a), algorithm });
+        }
+
+        let regions = states
+            .iter()
+            .enumerate()
+            .map(|(k, st)| report(topology, names[k], st, used_by[k].clone()))
+            .collect();
+        let g = &self.global;
+        let plan = SizingPlan { h_min: g.h_min, h_max: g.h_max, max_aspect_ratio: g.max_aspect_ratio, gradation: g.gradation, steps };
+        Ok(Resolved { plan, regions })
+    }
+
+    fn function_error(&self, name: &str, e: crate::sizing::FunctionError) -> RecipeError {
+        self.error_at(RecipeErrorKind::Function { name: name.to_string(), source: e }, &format!("functions.{name}"))
+    }
+
+    fn distance(&self, name: &str) -> Result<DistanceFunction, RecipeError> {
+        match self.functions.get(name).and_then(FunctionSpec::distance) {
+            Some(r) => r.map_err(|e| self.function_error(name, e)),
+            None => Err(self.error_at(RecipeErrorKind::Invalid(format!("\"{name}\" is not a distance function")), &format!("functions.{name}"))),
+        }
+    }
+
+    fn projection(&self, name: &str) -> Result<SizeProjectionFunction, RecipeError> {
+        match self.functions.get(name).and_then(FunctionSpec::projection) {
+            Some(r) => r.map_err(|e| self.function_error(name, e)),
+            None => Err(self.error_at(RecipeErrorKind::Invalid(format!("\"{name}\" is not a projection function")), &format!("functions.{name}"))),
+        }
+    }
+
+    fn curvature(&self, name: &str) -> Result<CurvatureToSize, RecipeError> {
+        match self.functions.get(name).and_then(FunctionSpec::curvature) {
+            Some(r) => r.map_err(|e| self.function_error(name, e)),
+            None => Err(self.error_at(RecipeErrorKind::Invalid(format!("\"{name}\" is not a curvature-to-size function")), &format!("functions.{name}"))),
+        }
+    }
+}
+
+fn quoted(names: &[String]) -> String {
+    names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")
+}
+
+/// `algorithm 3 (DISTANCE_TO_BORDER on "StayVane")`.
+fn label(i: usize, a: &AlgorithmSpec) -> String {
+    let what = match a {
+        AlgorithmSpec::DistanceBetweenTwoBorders { regions, second_regions, .. } => format!("between {} and {}", quoted(regions), quoted(second_regions)),
+        AlgorithmSpec::DistanceToImaginaryPolyline { polyline, regions, .. } if regions.is_empty() => format!("along \"{polyline}\""),
+        AlgorithmSpec::DistanceToImaginaryPolyline { polyline, regions, .. } => format!("along \"{polyline}\" within {}", quoted(regions)),
+        other => format!("on {}", quoted(other.region_lists()[0].1)),
+    };
+    format!("{} ({} {what})", referrer(i), a.keyword())
+}
+
+fn report(topo: &Topology, name: &str, st: &RegionState, used_by: Vec<usize>) -> RegionReport {
+    let mut tags = BTreeSet::new();
+    let mut names = BTreeSet::new();
+    let mut vertices = BTreeSet::new();
+    let (mut edges, mut cells, mut entities) = (0, 0, 0);
+    match st.dimension {
+        Some(0) => {
+            for &p in &st.by_dim[0] {
+                let p = &topo.points[p];
+                tags.extend(p.tag);
+                names.extend(p.name.clone());
+                vertices.insert(p.vertex);
+            }
+            entities = st.by_dim[0].len();
+        }
+        Some(1) => {
+            for &c in &st.by_dim[1] {
+                let c = &topo.curves[c];
+                tags.extend(c.tag);
+                names.extend(c.name.clone());
+                for pl in &c.polylines {
+                    vertices.extend(pl.vertices.iter().copied());
+                    edges += pl.num_edges();
+                }
+            }
+            entities = st.by_dim[1].len();
+        }
+        Some(2) => {
+            let mut cell_edges = BTreeSet::new();
+            for &f in &st.by_dim[2] {
+                let f = &topo.faces[f];
+                tags.insert(f.tag);
+                names.extend(f.name.clone());
+                for &c in &f.cells {
+                    let v = topo.surface_cells[c].vertices();
+                    vertices.extend(v.iter().copied());
+                    for j in 0..v.len() {
+                        let (a, b) = (v[j], v[(j + 1) % v.len()]);
+                        cell_edges.insert((a.min(b), a.max(b)));
+                    }
+                }
+                cells += f.cells.len();
+            }
+            edges = cell_edges.len();
+            entities = st.by_dim[2].len();
+        }
+        _ => {}
+    }
+    RegionReport {
+        name: name.to_string(),
+        dimension: st.dimension,
+        tags: tags.into_iter().collect(),
+        entity_names: names.into_iter().collect(),
+        entities,
+        vertices: vertices.len(),
+        edges,
+        cells,
+        used_by,
+    }
+}

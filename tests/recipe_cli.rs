@@ -1,0 +1,131 @@
+//! `smartmesh recipe check` and `smartmesh recipe convert`: exit codes, output, files.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn smartmesh() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_smartmesh"))
+}
+
+fn run(args: &[&str]) -> Output {
+    smartmesh().args(args).output().expect("run smartmesh")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn fixture(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name).to_string_lossy().into_owned()
+}
+
+fn has_cpp() -> bool {
+    let ok = Command::new("cpp").arg("--version").output().is_ok_and(|o| o.status.success());
+    assert!(ok || std::env::var_os("CI").is_none(), "CI must have cpp");
+    ok
+}
+
+const PLAIN: &str = "CREATE_REGIONS = ( { NAME = \"Vane\"; TOPOLOGICAL_ENTITIES = [ 101, 102 ]; } );
+CREATE_DISTANCE_FUNCTIONS = ( { NAME = \"F\"; MINSIZE = 0.1; MAXSIZE = 1.0; MAXDISTANCE = 5.0; EXPONENT = 1.0; } );
+CREATE_ALGORITHMS = ( { TYPE = \"DISTANCE_TO_BORDER\"; PERPENDICULAR_FUNCTION = \"F\"; PARALLEL_FUNCTION = \"F\"; REGIONS = ( \"Vane\" ); } );
+";
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn check_prints_regions_and_algorithms() {
+    if !has_cpp() {
+        return;
+    }
+    let o = run(&["recipe", "check", &fixture("appendix-a.cfg"), &fixture("distributor.msh")]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let s = stdout(&o);
+    assert!(s.contains("StayVane         7 curves: tags 101, 102, 103, 104, 105, 106, 107"), "{s}");
+    assert!(s.contains("Corners          9 points: tags 1, 2, 3, 4, 5, 6, 7, 11, 12"), "{s}");
+    assert!(s.contains("algorithm 3 (DISTANCE_TO_BORDER on \"StayVane\"): 7 curves"), "{s}");
+
+    let o = run(&["recipe", "check", "--json", &fixture("appendix-a.cfg"), &fixture("distributor.msh")]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["regions"].as_array().unwrap().len(), 7);
+    let fluid = v["regions"].as_array().unwrap().iter().find(|r| r["name"] == "Fluid").unwrap();
+    assert_eq!(fluid["dimension"], 2);
+    assert_eq!(fluid["used_by"], serde_json::json!([1, 5]));
+    assert_eq!(v["algorithms"][4]["type"], "DISTANCE_TO_IMAGINARY_POLYLINE");
+    assert_eq!(v["algorithms"][1]["points"], 9);
+}
+
+#[test]
+fn errors_exit_two_with_file_line_and_suggestion() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("distributor.msh");
+    let bad = write(dir.path(), "bad.cfg", &PLAIN.replace("PARALLEL_FUNCTION = \"F\"", "PARALLEL_FUNCTION = \"G\""));
+    let o = run(&["recipe", "check", bad.to_str().unwrap(), &mesh]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("algorithm 1 names function \"G\" at ") && stderr(&o).contains("bad.cfg:3"), "{}", stderr(&o));
+    let absent = write(dir.path(), "absent.cfg", &PLAIN.replace("102 ]", "102, 999 ]"));
+    let o = run(&["recipe", "check", absent.to_str().unwrap(), &mesh]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("names tag 999, which the mesh does not have"), "{}", stderr(&o));
+    let o = run(&["recipe", "check", "no/such/recipe.toml", &mesh]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("no/such/recipe.toml"), "{}", stderr(&o));
+    let odd = write(dir.path(), "recipe.txt", PLAIN);
+    let o = run(&["recipe", "check", odd.to_str().unwrap(), &mesh]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--format"), "{}", stderr(&o));
+    let o = run(&["recipe", "check", "--format", "cfg", odd.to_str().unwrap(), &mesh]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = run(&["recipe", "check"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn a_missing_preprocessor_is_named_only_when_needed() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("distributor.msh");
+    let plain = write(dir.path(), "plain.cfg", &format!("# hash comments need no cpp\n{PLAIN}"));
+    let o = smartmesh().args(["recipe", "check", plain.to_str().unwrap(), &mesh]).env("SMARTMESH_CPP", "/no/such/cpp").output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let with = write(dir.path(), "define.cfg", &format!("\n#define VANE 101, 102\n{}", PLAIN.replace("101, 102", "VANE")));
+    let o = smartmesh().args(["recipe", "check", with.to_str().unwrap(), &mesh]).env("SMARTMESH_CPP", "/no/such/cpp").output().unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("#define") && e.contains("install") && e.contains("define.cfg:2"), "{e}");
+    if has_cpp() {
+        let o = run(&["recipe", "check", with.to_str().unwrap(), &mesh]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+}
+
+#[test]
+fn convert_round_trips_through_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |n: &str| dir.path().join(n).to_string_lossy().into_owned();
+    let src = write(dir.path(), "in.cfg", PLAIN);
+    for (from, to) in [(src.to_string_lossy().into_owned(), d("a.toml")), (d("a.toml"), d("a.json")), (d("a.json"), d("b.cfg")), (d("b.cfg"), d("b.toml"))] {
+        let o = run(&["recipe", "convert", &from, &to]);
+        assert_eq!(o.status.code(), Some(0), "{from} -> {to}: {}", stderr(&o));
+    }
+    assert_eq!(std::fs::read_to_string(d("a.toml")).unwrap(), std::fs::read_to_string(d("b.toml")).unwrap());
+    let o = run(&["recipe", "convert", &d("a.toml"), "-", "--to", "json"]);
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(stdout(&o), std::fs::read_to_string(d("a.json")).unwrap());
+    // A failed conversion writes nothing.
+    let bad = write(dir.path(), "bad.toml", "[regions]\nA = []\n");
+    let o = run(&["recipe", "convert", bad.to_str().unwrap(), &d("out.json")]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("region \"A\" names no entity"), "{}", stderr(&o));
+    assert!(!dir.path().join("out.json").exists());
+    let o = run(&["recipe", "convert", &d("a.toml"), &d("out.xyz")]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--to"), "{}", stderr(&o));
+}
