@@ -12,12 +12,15 @@
 //!   closest points;
 //! - [`recipe`]: sizing recipes (libconfig as in the thesis, TOML, JSON) into one
 //!   validated model, resolved against a mesh into a sizing plan;
+//! - [`export`]: a size field written as a metric for MMG (.sol), Gmsh (.msh, .pos) and
+//!   VTK/ParaView (.vtu, .vtk);
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub use smartmesh_formats as formats;
 
+pub mod export;
 pub mod geometry;
 pub mod mesh_graph;
 pub mod metric;

@@ -108,14 +108,6 @@ print(len(t["triangles"]))
 // MMG
 // -----------------------------------------------------------------------------------------
 
-/// The real `mmg2d_O3` in mmgpy's `bin/` (the one on PATH is a Python wrapper).
-fn mmg2d(py: &str) -> String {
-    let out = run_python(py, "import mmgpy, os; print(os.path.join(os.path.dirname(mmgpy.__file__), 'bin', 'mmg2d_O3'))", &[]);
-    let exe = out.trim().to_string();
-    assert!(Path::new(&exe).exists(), "mmg2d_O3 not found at {exe}");
-    exe
-}
-
 fn run_mmg(exe: &str, input: &Path, sol: &Path, output: &Path) {
     let out = Command::new(exe)
         .arg("-in")
@@ -144,7 +136,7 @@ fn tags_of(m: &TaggedMesh, kind: CellKind) -> BTreeSet<i32> {
 #[test]
 fn mmg2d_adapts_our_mesh_and_metric() {
     let Some(py) = python_with(&["mmgpy"]) else { return };
-    let exe = mmg2d(&py);
+    let exe = common::mmg2d(&py);
     let input = read_file("medit/square_hole_input.mesh");
     assert!(input.point_data.contains_key("metric"));
     for (name, out_name) in [("in.mesh", "out.mesh"), ("in.meshb", "out.meshb")] {

@@ -71,6 +71,14 @@ pub fn run_python(py: &str, script: &str, args: &[&str]) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// The real `mmg2d_O3` in mmgpy's `bin/` (the one on PATH is a Python wrapper).
+pub fn mmg2d(py: &str) -> String {
+    let out = run_python(py, "import mmgpy, os; print(os.path.join(os.path.dirname(mmgpy.__file__), 'bin', 'mmg2d_O3'))", &[]);
+    let exe = out.trim().to_string();
+    assert!(Path::new(&exe).exists(), "mmg2d_O3 not found at {exe}");
+    exe
+}
+
 /// Count of cells per `(kind, physical tag)`, the usual fingerprint of a tagged mesh.
 pub fn counts_per_tag(mesh: &TaggedMesh) -> std::collections::BTreeMap<(String, i32), usize> {
     let mut m = std::collections::BTreeMap::new();
