@@ -3,6 +3,7 @@
 mod convert;
 mod info;
 mod recipe;
+mod size;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -81,6 +82,7 @@ enum Command {
     Info(info::InfoArgs),
     Convert(convert::ConvertArgs),
     Recipe(recipe::RecipeArgs),
+    Size(size::SizeArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -99,6 +101,7 @@ pub fn main() -> ExitCode {
         Command::Info(a) => info::run(a),
         Command::Convert(a) => convert::run(a),
         Command::Recipe(a) => recipe::run(a),
+        Command::Size(a) => size::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),
