@@ -18,8 +18,7 @@ use smartmesh::SizeTensor;
 /// A structured triangulation of the unit square, `n` cells a side, face tag 1 and the
 /// four sides tagged 11..14.
 fn unit_square(n: usize) -> TaggedMesh {
-    let mut m = TaggedMesh::default();
-    m.coordinate_dim = 2;
+    let mut m = TaggedMesh::new();
     for j in 0..=n {
         for i in 0..=n {
             m.points.push([i as f64 / n as f64, j as f64 / n as f64, 0.0]);

@@ -77,8 +77,7 @@ mod tests {
     use smartmesh_formats::CellBlock;
 
     fn square() -> TaggedMesh {
-        let mut m = TaggedMesh::default();
-        m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        let mut m = TaggedMesh { points: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]], ..TaggedMesh::new() };
         let mut b = CellBlock::new(CellKind::Triangle);
         b.push(&[0, 1, 2], 1, 1);
         b.push(&[0, 2, 3], 1, 1);
