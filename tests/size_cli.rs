@@ -147,17 +147,7 @@ fn gmsh_meshes_the_cylinder_with_our_pos_as_background() {
     let dir = tempfile::tempdir().unwrap();
     let pos = dir.path().join("bgm.pos");
     size_to(&pos);
-    // The geometry of fixtures/make_fixtures.py, as a .geo.
-    let geo = dir.path().join("cylinder.geo");
-    std::fs::write(
-        &geo,
-        "Point(1) = {0, 0, 0}; Point(2) = {4, 0, 0}; Point(3) = {4, 1, 0}; Point(4) = {0, 1, 0};\n\
-         Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n\
-         Point(5) = {1, 0.5, 0}; Point(6) = {0.85, 0.5, 0}; Point(7) = {1, 0.35, 0}; Point(8) = {1.15, 0.5, 0}; Point(9) = {1, 0.65, 0};\n\
-         Circle(5) = {6, 5, 7}; Circle(6) = {7, 5, 8}; Circle(7) = {8, 5, 9}; Circle(8) = {9, 5, 6};\n\
-         Curve Loop(1) = {1, 2, 3, 4}; Curve Loop(2) = {5, 6, 7, 8}; Plane Surface(1) = {1, 2};\n",
-    )
-    .unwrap();
+    let geo = bundled("cylinder.geo");
     let out = dir.path().join("bamg.msh");
     let o = Command::new("gmsh")
         .arg(&geo)
@@ -170,4 +160,22 @@ fn gmsh_meshes_the_cylinder_with_our_pos_as_background() {
         .expect("run gmsh");
     assert!(o.status.success(), "gmsh: {}\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
     assert_recipe_followed("gmsh -bgm (BAMG)", &read_path(&out, None).unwrap());
+}
+
+#[test]
+fn appendix_a_recipe_runs_on_the_distributor() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("distributor.sol");
+    let o = smartmesh(&["size", &bundled("distributor.msh"), "--recipe", &bundled("appendix-a.cfg"), "-o", out.to_str().unwrap(), "--json"], None);
+    let json: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
+    let steps: Vec<&str> = json["steps"].as_array().unwrap().iter().map(|s| s["algorithm"].as_str().unwrap()).collect();
+    assert_eq!(steps, ["UNIFORM", "DISTANCE_TO_POINT", "DISTANCE_TO_BORDER", "DISTANCE_TO_BORDER", "DISTANCE_TO_IMAGINARY_POLYLINE"]);
+    // Every step reaches something; the recipe gives no HMAX, so unreached vertices would
+    // get the bounding-box diagonal, with a warning — but UNIFORM on the fluid reaches all.
+    assert!(json["steps"].as_array().unwrap().iter().all(|s| s["vertices_reached"].as_u64().unwrap() > 0), "{json}");
+    assert_eq!(json["vertices_reached"], json["vertices"]);
+    // The smallest size is the corner function's MINSIZE (0.02), the largest UNIFORM's 2.0.
+    assert_eq!(json["smallest_size"].as_f64().unwrap(), 0.02);
+    assert_eq!(json["largest_size"].as_f64().unwrap(), 2.0);
+    assert!(out.exists());
 }
