@@ -14,12 +14,14 @@
 //!   validated model, resolved against a mesh into a sizing plan;
 //! - [`export`]: a size field written as a metric for MMG (.sol), Gmsh (.msh, .pos) and
 //!   VTK/ParaView (.vtu, .vtk);
+//! - [`conformity`]: metric edge lengths and metric quality of a mesh against a field;
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub use smartmesh_formats as formats;
 
+pub mod conformity;
 pub mod export;
 pub mod geometry;
 pub mod mesh_graph;
