@@ -15,6 +15,7 @@
 //! - [`export`]: a size field written as a metric for MMG (.sol), Gmsh (.msh, .pos) and
 //!   VTK/ParaView (.vtu, .vtk);
 //! - [`conformity`]: metric edge lengths and metric quality of a mesh against a field;
+//! - [`history`]: the convergence history of an adaptation run (`history.json`);
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -24,6 +25,7 @@ pub use smartmesh_formats as formats;
 pub mod conformity;
 pub mod export;
 pub mod geometry;
+pub mod history;
 pub mod mesh_graph;
 pub mod metric;
 pub mod quality;
