@@ -144,7 +144,10 @@ class Geometry:
         return triangle.triangulate(data, opts)
 
     def write_msh(self, path, max_area, min_angle=30):
-        t = self.triangulate(max_area, min_angle)
+        return self.write_triangulation(self.triangulate(max_area, min_angle), path)
+
+    def write_triangulation(self, t, path):
+        """Writes a Triangle output `t` of this geometry as MSH 4.1 ASCII."""
         verts = t["vertices"]
         tris = t["triangles"]
         segs = t["segments"]
@@ -495,9 +498,69 @@ def make(name):
     print("%-28s geometry.poly: %d vertices, %d segments; start.msh: %d vertices, %d triangles, %d bytes" % (name, len(g.vertices), len(g.segments), nv, nt, size))
 
 
+def recipe_of(name):
+    folder = EXAMPLES[name][0]
+    d = os.path.join(HERE, folder if not folder.startswith("distributor") else "distributor")
+    for r in ("recipe.toml", "recipe.cfg"):
+        if os.path.exists(os.path.join(d, r)):
+            return os.path.join(d, r)
+    raise SystemExit("%s: no recipe.toml or recipe.cfg in %s" % (name, d))
+
+
+def estimate(name, smartmesh, rounds=6):
+    """Estimates how many triangles a mesh that conforms to the recipe's field has: the
+    starting mesh is refined by Triangle (isotropically) until every triangle is
+    smaller than its vertices' h1 h2 asks, then N = sum of 4 area / (sqrt(3) h1 h2) over
+    the triangles (the metric area over the area of a unit equilateral triangle). An
+    estimate of what `smartmesh adapt` will produce, not a count of an adapted mesh."""
+    import subprocess
+    import tempfile
+    import meshio
+    folder, build, area = EXAMPLES[name]
+    g = build()
+    recipe = recipe_of(name)
+    t = g.triangulate(area)
+    history = []
+    with tempfile.TemporaryDirectory() as tmp:
+        msh, vtu = os.path.join(tmp, "m.msh"), os.path.join(tmp, "f.vtu")
+        for k in range(rounds + 1):
+            g.write_triangulation(t, msh)
+            out = subprocess.run([smartmesh, "size", msh, "--recipe", recipe, "-o", vtu, "--json"], check=True, capture_output=True, text=True)
+            m = meshio.read(vtu)
+            h1, h2 = m.point_data["h1"], m.point_data["h2"]
+            tri = m.cells_dict["triangle"]
+            p = m.points[:, :2]
+            u, w = p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]]
+            a = 0.5 * np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
+            density = (1.0 / (h1 * h2))[tri].mean(axis=1)
+            n_est = float(np.sum(a * density) * 4 / math.sqrt(3))
+            history.append(n_est)
+            if k == rounds:
+                break
+            # Isotropic refinement to edges of about sqrt(h1 h2), enough to integrate
+            # the density 1 / (h1 h2), which varies on the scale of the distance to the
+            # sources, not on the scale of the smaller size.
+            bound = math.sqrt(3) / 4 * (h1 * h2)[tri].min(axis=1)
+            t = triangle.triangulate(dict(t, triangle_max_area=bound.reshape(-1, 1)), "rpq30Aa")
+        keep = os.environ.get("EXAMPLES_KEEP")
+        if keep:   # a folder where to keep the integration mesh and its field
+            import shutil
+            shutil.copy(vtu, os.path.join(keep, name + ".vtu"))
+        import json
+        j = json.loads(out.stdout)
+        print("%-28s %s: estimated %.0f triangles (integration mesh: %d vertices; rounds %s); sizes [%.4g, %.4g], largest anisotropy %.1f"
+              % (name, os.path.relpath(recipe, HERE), n_est, len(p), " ".join("%.0f" % x for x in history), j["smallest_size"], j["largest_size"], j["largest_anisotropy"]))
+
+
 if __name__ == "__main__":
     gmsh.initialize(["-noenv"])
     gmsh.option.setNumber("General.Terminal", 0)
-    for name in sys.argv[1:] or list(EXAMPLES):
-        make(name)
+    args = sys.argv[1:]
+    if args[:1] == ["--estimate"]:
+        exe = os.environ.get("SMARTMESH", os.path.join(HERE, "..", "target", "release", "smartmesh"))
+        for name in args[1:] or list(EXAMPLES):
+            estimate(name, exe)
+    else:
+        for name in args or list(EXAMPLES):
+            make(name)
     gmsh.finalize()
