@@ -5,6 +5,8 @@ Run from the repository root:
 
     python3 examples/make_examples.py            # every example
     python3 examples/make_examples.py u-duct     # some of them (names below)
+    python3 examples/make_examples.py --out DIR  # into DIR instead of examples/
+    python3 examples/make_examples.py --estimate [names]   # expected triangle counts
 
 Needs numpy, PyPI `triangle` (Shewchuk's Triangle 1.6) and PyPI `gmsh` (4.15). The
 output is deterministic: the same versions write the same bytes.
@@ -21,7 +23,8 @@ The tag numbers and names are listed in the comments at the top of each .poly.
 
 The starting meshes (`start.msh`, each < 200 KB) are constrained Delaunay meshes of the
 .poly made by Triangle with `pq30Aa<area>` (minimum angle 30 degrees, regional
-attributes, an area bound): segment markers become physical curves, regional attributes
+attributes, an area bound; the airfoils' then refined with `rpq30Aa` so that their edges
+grow as 0.03 + 0.2 r with the distance r from mid-chord): segment markers become physical curves, regional attributes
 the physical surface, topological points physical points, each named as in the .poly.
 Coordinates are rounded to 10 significant digits so that the files stay small.
 
@@ -143,8 +146,21 @@ class Geometry:
         opts = "pq%gAa%s" % (min_angle, ("%.10f" % max_area).rstrip("0"))
         return triangle.triangulate(data, opts)
 
-    def write_msh(self, path, max_area, min_angle=30):
-        return self.write_triangulation(self.triangulate(max_area, min_angle), path)
+    def write_msh(self, path, max_area, min_angle=30, grade=None):
+        t = self.triangulate(max_area, min_angle)
+        if grade is not None:
+            # Refine until every triangle is below the area of an equilateral triangle
+            # of edge grade(centroid): a mesh that coarsens away from the body.
+            for _ in range(8):
+                c = t["vertices"][t["triangles"]].mean(axis=1)
+                h = np.array([grade(x, y) for x, y in c])
+                bound = math.sqrt(3) / 4 * h * h
+                v = t["vertices"][t["triangles"]]
+                area = 0.5 * np.abs((v[:, 1, 0] - v[:, 0, 0]) * (v[:, 2, 1] - v[:, 0, 1]) - (v[:, 1, 1] - v[:, 0, 1]) * (v[:, 2, 0] - v[:, 0, 0]))
+                if np.all(area <= bound):
+                    break
+                t = triangle.triangulate(dict(t, triangle_max_area=bound.reshape(-1, 1)), "rpq%gAa" % min_angle)
+        return self.write_triangulation(t, path)
 
     def write_triangulation(self, t, path):
         """Writes a Triangle output `t` of this geometry as MSH 4.1 ASCII."""
@@ -477,23 +493,29 @@ def distributor(variant):
 
 # ---------------------------------------------------------------------------------------
 
-# name -> (folder, geometry builder, Triangle area bound of the starting mesh)
+def airfoil_grading(x, y):
+    """Edge length of the airfoils' starting meshes: 0.03 + 0.2 r, r the distance
+    from mid-chord, so that the shocks and the wake have vertices to start from."""
+    return 0.03 + 0.2 * math.hypot(x - 0.5, y)
+
+
+# name -> (folder, geometry builder, Triangle area bound of the starting mesh, grading)
 EXAMPLES = {
-    "naca0012-agard01": ("naca0012-agard01", naca0012_agard01, 40.0),
-    "gamm-a7-viscous": ("gamm-a7-viscous", gamm_a7_viscous, 150.0),
-    "u-duct": ("u-duct", u_duct, 0.01),
+    "naca0012-agard01": ("naca0012-agard01", naca0012_agard01, 40.0, airfoil_grading),
+    "gamm-a7-viscous": ("gamm-a7-viscous", gamm_a7_viscous, 150.0, airfoil_grading),
+    "u-duct": ("u-duct", u_duct, 0.01, None),
 }
 for _v in GV_VARIANTS:
-    EXAMPLES["distributor-" + _v] = (os.path.join("distributor", _v), (lambda v: lambda: distributor(v))(_v), 20.0)
+    EXAMPLES["distributor-" + _v] = (os.path.join("distributor", _v), (lambda v: lambda: distributor(v))(_v), 20.0, None)
 
 
-def make(name):
-    folder, build, area = EXAMPLES[name]
-    d = os.path.join(HERE, folder)
+def make(name, root=HERE):
+    folder, build, area, grade = EXAMPLES[name]
+    d = os.path.join(root, folder)
     os.makedirs(d, exist_ok=True)
     g = build()
     g.write_poly(os.path.join(d, "geometry.poly"))
-    nv, nt = g.write_msh(os.path.join(d, "start.msh"), area)
+    nv, nt = g.write_msh(os.path.join(d, "start.msh"), area, grade=grade)
     size = os.path.getsize(os.path.join(d, "start.msh"))
     print("%-28s geometry.poly: %d vertices, %d segments; start.msh: %d vertices, %d triangles, %d bytes" % (name, len(g.vertices), len(g.segments), nv, nt, size))
 
@@ -516,7 +538,7 @@ def estimate(name, smartmesh, rounds=6):
     import subprocess
     import tempfile
     import meshio
-    folder, build, area = EXAMPLES[name]
+    folder, build, area, _ = EXAMPLES[name]
     g = build()
     recipe = recipe_of(name)
     t = g.triangulate(area)
@@ -561,6 +583,9 @@ if __name__ == "__main__":
         for name in args[1:] or list(EXAMPLES):
             estimate(name, exe)
     else:
+        root = HERE
+        if args[:1] == ["--out"]:   # write elsewhere (the tests compare with the committed files)
+            root, args = args[1], args[2:]
         for name in args or list(EXAMPLES):
-            make(name)
+            make(name, root)
     gmsh.finalize()
