@@ -4,7 +4,9 @@ mesh for each made with PyPI `triangle` and written by PyPI `gmsh` as MSH 4.1 AS
 Run from the repository root:
 
     python3 examples/make_examples.py            # every example
-    python3 examples/make_examples.py u-duct     # some of them (names below)
+    python3 examples/make_examples.py u-duct     # some of them: naca0012-agard01,
+                                                 # gamm-a7-viscous, u-duct, distributor-1-narrow,
+                                                 # distributor-2-thick, distributor-3-s-shaped
     python3 examples/make_examples.py --out DIR  # into DIR instead of examples/
     python3 examples/make_examples.py --estimate [names]   # expected triangle counts
 
@@ -23,17 +25,18 @@ The tag numbers and names are listed in the comments at the top of each .poly.
 
 The starting meshes (`start.msh`, each < 200 KB) are constrained Delaunay meshes of the
 .poly made by Triangle with `pq30Aa<area>` (minimum angle 30 degrees, regional
-attributes, an area bound; the airfoils' then refined with `rpq30Aa` so that their edges
-grow as 0.03 + 0.2 r with the distance r from mid-chord): segment markers become physical curves, regional attributes
-the physical surface, topological points physical points, each named as in the .poly.
+attributes, an area bound; the airfoils' then refined with `rpq30Aa` so that their
+edges grow as 0.03 + 0.2 r with the distance r from mid-chord): segment markers become
+physical curves, regional attributes the physical surface, topological points physical
+points, each named as in the .poly.
 Coordinates are rounded to 10 significant digits so that the files stay small.
 
 Geometries (parameters are the constants below):
 - naca0012-agard01, gamm-a7-viscous: the NACA 0012 airfoil from the analytic NACA
   4-digit thickness formula y = 0.6 (0.2969 sqrt(x) - 0.1260 x - 0.3516 x^2 + 0.2843 x^3
   - 0.1015 x^4), taken to its root x = 1.008930... where y = 0 so that the trailing edge
-  closes (the AGARD definition of the profile, whose chord is 1.00893 as the thesis
-  says in 6.2.4); cosine spacing from the leading edge; a circular far field.
+  closes (hence a chord of 1.00893, as thesis 6.2.4 says of the NACA 0012); cosine
+  spacing from the leading edge; a circular far field.
 - u-duct: a 180-degree bend of a channel of width 1 (thesis 6.1): two straight legs of
   length 4 and a half annulus of inner radius 0.5.
 - distributor: a stay vane and a guide vane in one periodic pitch of a hydraulic turbine
