@@ -9,6 +9,7 @@ Run from the repository root:
                                                  # distributor-2-thick, distributor-3-s-shaped
     python3 examples/make_examples.py --out DIR  # into DIR instead of examples/
     python3 examples/make_examples.py --estimate [names]   # expected triangle counts
+    python3 examples/make_examples.py --mmg [names]        # adapt with mmg2d_O3 (PyPI mmgpy)
 
 Needs numpy, PyPI `triangle` (Shewchuk's Triangle 1.6) and PyPI `gmsh` (4.15). The
 output is deterministic: the same versions write the same bytes.
@@ -577,14 +578,73 @@ def estimate(name, smartmesh, rounds=6):
               % (name, os.path.relpath(recipe, HERE), n_est, len(p), " ".join("%.0f" % x for x in history), j["smallest_size"], j["largest_size"], j["largest_anisotropy"]))
 
 
+def mmg_passes(name, smartmesh, passes=4):
+    """Adapts the example's start.msh to its recipe with MMG: `passes` times, the field
+    of the recipe on the current mesh (`smartmesh size ... -o m.mesh`, Medit mesh and
+    .sol), then `mmg2d_O3 -hgrad -1` (MMG's own gradation off: the recipe has its own).
+    MMG keeps the curve and face references and the vertices where curves meet; the
+    topological points are tagged again by their coordinates after each pass. A check of
+    the recipe's sizes with an external remesher, until `smartmesh adapt` exists."""
+    import json
+    import subprocess
+    import tempfile
+    import time
+    import meshio
+    import mmgpy
+    mmg = os.path.join(os.path.dirname(mmgpy.__file__), "bin", "mmg2d_O3")
+    folder, build, _, _ = EXAMPLES[name]
+    g = build()
+    recipe = recipe_of(name)
+    points = [(i, m) for i, m in enumerate(g.vmarkers) if m]
+    msh = os.path.join(HERE, folder, "start.msh")
+    counts = []
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.time()
+        for k in range(passes):
+            subprocess.run([smartmesh, "size", msh, "--recipe", recipe, "-o", os.path.join(tmp, "m.mesh")], check=True, capture_output=True)
+            o = subprocess.run([mmg, "-in", os.path.join(tmp, "m.mesh"), "-sol", os.path.join(tmp, "m.sol"), "-out", os.path.join(tmp, "a.mesh"), "-v", "0", "-hgrad", "-1"], capture_output=True, text=True)
+            if o.returncode != 0:
+                raise SystemExit("%s: mmg2d_O3 failed: %s%s" % (name, o.stdout, o.stderr))
+            m = meshio.read(os.path.join(tmp, "a.mesh"))
+            tri, lines = m.cells_dict["triangle"], m.cells_dict["line"]
+            tref, lref = m.cell_data_dict["medit:ref"]["triangle"], m.cell_data_dict["medit:ref"]["line"]
+            p = m.points[:, :2]
+            tagged = {}
+            for i, tag in points:
+                x, y = g.vertices[i]
+                j = int(np.argmin(np.hypot(p[:, 0] - x, p[:, 1] - y)))
+                if math.hypot(p[j, 0] - x, p[j, 1] - y) > 1e-8:
+                    raise SystemExit("%s: mmg2d_O3 moved point %d" % (name, tag))
+                tagged[j] = tag
+            # Tagged points first: write_triangulation takes them as the input vertices.
+            order = list(tagged) + [v for v in range(len(p)) if v not in tagged]
+            inv = np.empty(len(p), dtype=int)
+            inv[order] = np.arange(len(p))
+            h = Geometry(g.title)
+            h.names, h.region, h.vmarkers = g.names, g.region, list(tagged.values())
+            msh = os.path.join(tmp, "pass%d.msh" % (k + 1))
+            h.write_triangulation({"vertices": p[order], "triangles": inv[tri], "segments": inv[lines],
+                                   "segment_markers": lref.reshape(-1, 1), "triangle_attributes": tref.reshape(-1, 1).astype(float)}, msh)
+            counts.append(len(tri))
+        elapsed = time.time() - t0
+        keep = os.environ.get("EXAMPLES_KEEP")
+        if keep:
+            import shutil
+            shutil.copy(msh, os.path.join(keep, name + "-mmg.msh"))
+    print("%-28s size + mmg2d_O3, %d passes: %s triangles (%.1f s)" % (name, passes, " ".join(str(c) for c in counts), elapsed))
+
+
 if __name__ == "__main__":
     gmsh.initialize(["-noenv"])
     gmsh.option.setNumber("General.Terminal", 0)
     args = sys.argv[1:]
+    exe = os.environ.get("SMARTMESH", os.path.join(HERE, "..", "target", "release", "smartmesh"))
     if args[:1] == ["--estimate"]:
-        exe = os.environ.get("SMARTMESH", os.path.join(HERE, "..", "target", "release", "smartmesh"))
         for name in args[1:] or list(EXAMPLES):
             estimate(name, exe)
+    elif args[:1] == ["--mmg"]:
+        for name in args[1:] or list(EXAMPLES):
+            mmg_passes(name, exe)
     else:
         root = HERE
         if args[:1] == ["--out"]:   # write elsewhere (the tests compare with the committed files)
