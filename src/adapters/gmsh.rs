@@ -16,6 +16,12 @@
 //!
 //! Extra arguments follow smartmesh's on Gmsh's command line, so `-setnumber` there
 //! overrides the settings above.
+//!
+//! Reproducibility: the same command in the same environment gives the same mesh, but
+//! Gmsh 4.15's result was seen to change slightly with the process environment (the
+//! same run under `env -i` gave another vertex count), which MMG's does not. Each Gmsh
+//! remeshing also starts from the previous mesh's boundary polylines (a discrete
+//! model), so curved boundaries are not brought back to the CAD curve.
 
 use std::path::Path;
 
