@@ -243,6 +243,12 @@ fn a_poly_needs_the_mesher_and_bad_arguments_exit_two() {
 
     let o = run_adapt(&out, &["--adapter", "mmg2d", "--tol-vertices", "-1"], None);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let o = run_adapt(&out, &["--adapter", "gmsh", "--hausd", "0.01"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--hausd is an option of the mmg2d adapter"), "{}", text(&o));
+    let o = run_adapt(Path::new("-"), &["--adapter", "mmg2d"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("not stdout"), "{}", text(&o));
     let o = run_adapt(&dir.path().join("o.unknown"), &["--adapter", "mmg2d"], None);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(String::from_utf8_lossy(&o.stderr).contains("o.unknown"));
@@ -361,6 +367,31 @@ fn mmg2d_adapts_the_cylinder_until_converged() {
     let mesh = read_path(&out, None).unwrap();
     assert_eq!(mesh.points.len(), h.iterations[h.best_iteration].vertices);
     assert_adapted("mmg2d", &cylinder(), &mesh, (1.0, 0.5, 0.15));
+}
+
+#[test]
+fn mmg2d_keeps_every_point_and_curve_of_the_distributor() {
+    if python_with(&["mmgpy"]).is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("distributor.msh");
+    let input = read_path(&bundled("distributor.msh"), None).unwrap();
+    let o = smartmesh(&["adapt", bundled("distributor.msh").to_str().unwrap(), "-r", bundled("appendix-a.cfg").to_str().unwrap(), "-o", out.to_str().unwrap(), "--adapter", "mmg2d", "--max-iterations", "2"], None);
+    assert!(o.status.code() == Some(0), "{}", text(&o));
+    let mesh = read_path(&out, None).unwrap();
+    assert_eq!(physical_tags(&mesh), physical_tags(&input));
+    assert_eq!(mesh.tag_names, input.tag_names);
+    // Every topological point listed as a vertex cell is still at its place, with both tags.
+    let points = |m: &TaggedMesh| -> Vec<(i32, i32, [u64; 2])> {
+        let mut v: Vec<_> = m.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| (c.2, c.3, [m.points[c.1[0]][0].to_bits(), m.points[c.1[0]][1].to_bits()])).collect();
+        v.sort();
+        v
+    };
+    let (a, b) = (points(&input), points(&mesh));
+    assert_eq!(a.len(), 9);
+    assert_eq!(a.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>(), b.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>());
+    assert!(mesh.num_cells_of(CellKind::Triangle) > input.num_cells_of(CellKind::Triangle));
 }
 
 #[cfg(unix)]

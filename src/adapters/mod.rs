@@ -72,6 +72,14 @@ pub enum AdapterError {
     /// The mesh cannot be given to the tool (no triangle, metric of the wrong length).
     #[error("{0}")]
     Input(String),
+    /// An option the chosen remesher does not take.
+    #[error("{option} is an option of the mmg2d adapter; the {adapter} adapter does not take it")]
+    Option {
+        /// The option, as on the command line.
+        option: &'static str,
+        /// The adapter chosen.
+        adapter: &'static str,
+    },
     /// The tool's result lost something the loop needs (a tag, a topological point) or
     /// holds something smartmesh did not give it.
     #[error("{program} output: {what}")]
@@ -125,6 +133,12 @@ pub struct AdapterOptions {
 /// The adapter of `kind`: the program is looked up now, so that a missing tool is said
 /// before any work. The one place that knows which remeshers exist.
 pub fn adapter(kind: AdapterKind, options: AdapterOptions) -> Result<Box<dyn Adapter>, AdapterError> {
+    if kind != AdapterKind::Mmg2d {
+        let mmg_only = [("--hgrad", options.hgrad.is_some()), ("--hausd", options.hausd.is_some()), ("--nosurf", options.nosurf)];
+        if let Some(&(option, _)) = mmg_only.iter().find(|o| o.1) {
+            return Err(AdapterError::Option { option, adapter: kind.name() });
+        }
+    }
     match kind {
         AdapterKind::Native => Err(AdapterError::NotInBuild("native")),
         AdapterKind::Mmg2d => Ok(Box::new(mmg::MmgAdapter::new(options)?)),

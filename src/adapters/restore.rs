@@ -48,8 +48,9 @@ pub fn attach_names(input: &TaggedMesh, output: &mut TaggedMesh) {
 }
 
 /// Puts each vertex cell of `input` on the vertex of `output` at the same place (within
-/// 10⁻⁹ of the bounding-box diagonal: tools print coordinates with 15 digits). A vertex
-/// cell with no vertex there means the tool moved or removed a required point.
+/// 10⁻⁹ of the bounding-box diagonal: tools print coordinates with 15 digits), and gives
+/// that vertex the input's exact coordinates. A vertex cell with no vertex there means
+/// the tool moved or removed a required point.
 pub fn place_point_cells(program: &str, input: &TaggedMesh, output: &mut TaggedMesh) -> Result<(), AdapterError> {
     let cells: Vec<(usize, i32, i32)> = input.cells().filter(|c| c.0 == CellKind::Vertex).map(|(_, n, p, g)| (n[0], p, g)).collect();
     if cells.is_empty() {
@@ -67,7 +68,11 @@ pub fn place_point_cells(program: &str, input: &TaggedMesh, output: &mut TaggedM
             .map(|(i, o)| (i, (o[0] - q[0]).hypot(o[1] - q[1])))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         match nearest {
-            Some((i, d)) if d <= tol => placed.push((i, p, g)),
+            Some((i, d)) if d <= tol => {
+                // Back to the exact input coordinates: no drift over iterations.
+                output.points[i] = q;
+                placed.push((i, p, g))
+            }
             _ => {
                 return Err(AdapterError::Lost {
                     program: program.to_string(),

@@ -130,6 +130,9 @@ struct Progress {
     files: ResultFiles,
     bar: Option<ProgressBar>,
     adapter: String,
+    /// Records already printed above the bar (the last record comes twice: after its
+    /// iteration and when the loop stops).
+    printed: usize,
 }
 
 impl Observer for Progress {
@@ -142,7 +145,8 @@ impl Observer for Progress {
 
     fn record(&mut self, history: &History, new_best: Option<&TaggedMesh>) -> Result<(), smartmesh::formats::Error> {
         self.files.record(history, new_best)?;
-        if let (Some(b), Some(last)) = (&self.bar, history.iterations.last()) {
+        if let (Some(b), Some(last)) = (&self.bar, history.iterations.last().filter(|_| history.iterations.len() > self.printed)) {
+            self.printed = history.iterations.len();
             b.set_position(last.iteration as u64);
             b.println(format!(
                 "iteration {}: {} vertices, {} triangles, {:.1}% conforming, mean quality {:.3}",
@@ -167,12 +171,15 @@ struct AdaptSummary<'a> {
 }
 
 fn adapter_error(e: AdapterError) -> CliError {
-    let status = if matches!(e, AdapterError::NotInBuild(_)) { ExitStatus::Error } else { ExitStatus::Failure };
+    let status = if matches!(e, AdapterError::NotInBuild(_) | AdapterError::Option { .. }) { ExitStatus::Error } else { ExitStatus::Failure };
     CliError { status, message: e.to_string() }
 }
 
 /// Runs `adapt`.
 pub fn run(args: AdaptArgs) -> Result<(), CliError> {
+    if args.output.as_os_str() == "-" {
+        return Err(CliError::usage("adapt rewrites OUT whenever a better mesh comes: name a file, not stdout (the --json summary goes to stdout)"));
+    }
     if Format::from_path(&args.output).is_none() {
         return Err(CliError::usage(format!("{}: no mesh format has this extension (use .msh, .mesh, .vtu, .vtk, .ele, .obj …)", args.output.display())));
     }
@@ -191,7 +198,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         b.set_style(ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]").unwrap_or_else(|_| ProgressStyle::default_bar()));
         b
     });
-    let mut progress = Progress { files: ResultFiles::new(&args.output, args.history.as_deref(), write), bar, adapter: remesher.name().to_string() };
+    let mut progress = Progress { files: ResultFiles::new(&args.output, args.history.as_deref(), write), bar, adapter: remesher.name().to_string(), printed: 0 };
     let input = args.input.display().to_string();
     let recipe_label = args.recipe.display().to_string();
     let result = run_loop(start, &recipe, remesher.as_ref(), &opts, &input, &recipe_label, &mut progress);
