@@ -14,7 +14,7 @@ use std::process::{Command, Output};
 
 use common::python_with;
 use smartmesh::adapt::files::ResultFiles;
-use smartmesh::adapt::{run, AdaptError, AdaptOptions, Tolerances};
+use smartmesh::adapt::{run, AdaptError, AdaptOptions, Observer, Tolerances};
 use smartmesh::adapters::restore::physical_tags;
 use smartmesh::adapters::{Adapter, AdapterError};
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOptions};
@@ -142,6 +142,43 @@ fn best_mesh_is_the_most_conforming_and_stays_when_a_later_iteration_fails() {
     assert_eq!(written.points.len(), h.iterations[expected].vertices);
     let on_disk = History::from_json(&std::fs::read_to_string(dir.path().join("best.history.json")).unwrap()).unwrap();
     assert_eq!(&on_disk, h);
+}
+
+/// Result files that check, after each write, what a reader would find on disk.
+struct Checked {
+    files: ResultFiles,
+    seen: Vec<(usize, usize, bool)>,
+}
+
+impl Observer for Checked {
+    fn record(&mut self, history: &History, new_best: Option<&TaggedMesh>) -> Result<(), smartmesh::formats::Error> {
+        self.files.record(history, new_best)?;
+        let on_disk = History::from_json(&std::fs::read_to_string(&self.files.history).unwrap()).unwrap();
+        assert_eq!(&on_disk, history, "the history on disk is the one just recorded");
+        let mesh = read_path(&self.files.mesh, None).unwrap();
+        assert_eq!(mesh.points.len(), history.iterations[history.best_iteration].vertices, "the mesh on disk is the best one");
+        self.seen.push((history.iterations.len(), history.best_iteration, new_best.is_some()));
+        Ok(())
+    }
+}
+
+#[test]
+fn history_and_best_mesh_are_on_disk_after_every_iteration() {
+    let start = cylinder();
+    let fine = split(&start);
+    let adapter = Scripted { meshes: vec![fine.clone(), fine.clone(), start.clone()], calls: Cell::new(0) };
+    let dir = tempfile::tempdir().unwrap();
+    let mut obs = Checked { files: ResultFiles::new(&dir.path().join("o.msh"), None, WriteOptions::default()), seen: Vec::new() };
+    let opts = AdaptOptions { max_iterations: 3, tolerances: Tolerances { vertices: 0.0, conformity: 0.0 } };
+    let outcome = run(start, &recipe(), &adapter, &opts, "in", "r", &mut obs).unwrap();
+    // Iteration 2 repeats iteration 1 exactly: converged, and the later one is the best
+    // when the split mesh beats the start.
+    assert!(outcome.history.converged, "{}", outcome.history.stopped);
+    let lengths: Vec<usize> = obs.seen.iter().map(|s| s.0).collect();
+    assert_eq!(lengths, [1, 2, 3, 3], "after iterations 0, 1, 2, and once more when the loop stops");
+    assert!(obs.seen[0].2, "the starting mesh is the first best");
+    assert!(!obs.seen[3].2, "the last call writes only the history");
+    assert_eq!(dir.path().join("o.history.json"), obs.files.history);
 }
 
 #[test]

@@ -84,7 +84,9 @@ impl Adapter for GmshAdapter {
     fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
         let prepared = prepare(mesh, metric)?;
         let dir = tempfile::Builder::new().prefix("smartmesh-gmsh-").tempdir().map_err(|source| AdapterError::Io { what: "creating a temporary directory".into(), source })?;
-        let values: Vec<f64> = prepared.metric(metric).iter().flat_map(|m| m.to_row_major_3x3(1.0)).collect();
+        // zz = the larger in-plane eigenvalue (1/h_min²), as `smartmesh size` writes views:
+        // SPD in 3D, and never a size larger than the in-plane ones.
+        let values: Vec<f64> = prepared.metric(metric).iter().flat_map(|m| m.to_row_major_3x3(m.eigen().values[0])).collect();
         let pos = crate::export::pos::write_tensor_view(&prepared.mesh, &DataArray::new(9, values), "metric")?;
         let msh = smartmesh_formats::write_bytes(Format::Gmsh, &prepared.mesh, &WriteOptions::default())?;
         write(dir.path(), "in.msh", &msh.main)?;
