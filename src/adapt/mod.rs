@@ -131,6 +131,9 @@ pub struct Outcome {
     pub best: TaggedMesh,
     /// The failure of a later iteration, if any.
     pub failure: Option<AdaptError>,
+    /// What the sizing engine warned about (each message once, with the first iteration
+    /// that gave it).
+    pub warnings: Vec<String>,
 }
 
 /// A mesh, the recipe's field on it as metrics, and its record.
@@ -138,6 +141,7 @@ struct Measured {
     mesh: TaggedMesh,
     metric: Vec<Sym2>,
     record: IterationRecord,
+    warnings: Vec<String>,
 }
 
 /// Sizes and measures `mesh` as iteration `iteration`; `remesh` is the time already spent
@@ -161,7 +165,7 @@ fn measure(iteration: usize, mesh: TaggedMesh, remesh: f64, recipe: &Recipe, obs
         min_quality: c.min_quality,
         seconds: PhaseTimes { size, remesh, measure: t.elapsed().as_secs_f64() },
     };
-    Ok(Measured { mesh, metric, record })
+    Ok(Measured { mesh, metric, record, warnings: sizing.field.warnings })
 }
 
 /// Runs the loop from `start` with `recipe` and `adapter`. `input` and `recipe_label`
@@ -186,6 +190,8 @@ pub fn run(
         iterations: vec![first.record.clone()],
     };
     observer.record(&history, Some(&first.mesh))?;
+    let mut warnings = Vec::new();
+    note_warnings(&mut warnings, &first);
     let mut best = first.mesh.clone();
     let mut current = first;
     let mut failure = None;
@@ -207,6 +213,7 @@ pub fn run(
                 break;
             }
         };
+        note_warnings(&mut warnings, &next);
         history.iterations.push(next.record.clone());
         let new_best = rules::is_better(&next.record, &history.iterations[history.best_iteration]);
         if new_best {
@@ -230,5 +237,14 @@ pub fn run(
     }
     history.stopped = stopped;
     observer.record(&history, None)?;
-    Ok(Outcome { history, best, failure })
+    Ok(Outcome { history, best, failure, warnings })
+}
+
+/// Adds the sizing warnings of `m` that `all` does not hold yet.
+fn note_warnings(all: &mut Vec<String>, m: &Measured) {
+    for w in &m.warnings {
+        if !all.iter().any(|a| a.ends_with(w.as_str())) {
+            all.push(format!("iteration {}: {w}", m.record.iteration));
+        }
+    }
 }

@@ -210,6 +210,9 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         Err(e @ AdaptError::Start { .. }) => return Err(CliError::usage(format!("{} (input {})", e, args.input.display()))),
         Err(e) => return Err(CliError { status: ExitStatus::Failure, message: e.to_string() }),
     };
+    for w in &outcome.warnings {
+        eprintln!("smartmesh: warning: {w}");
+    }
     for d in &progress.files.dropped {
         eprintln!("smartmesh: warning: not written: {d}");
     }
