@@ -319,6 +319,19 @@ fn a_failing_tool_is_quoted_and_the_start_mesh_is_kept() {
     assert!(h.stopped.contains("input mesh rejected"), "{}", h.stopped);
 }
 
+#[cfg(unix)]
+#[test]
+fn a_gmsh_that_exits_zero_without_a_mesh_is_a_failure() {
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("gmsh");
+    script(&fake, "echo 'Error   : Could not create geometry of discrete curve 3'");
+    let out = dir.path().join("o.msh");
+    let o = run_adapt(&out, &["--adapter", "gmsh", "--adapter-program", fake.to_str().unwrap()], None);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("it wrote no out.msh") && err.contains("Could not create geometry"), "{err}");
+}
+
 // ---------------------------------------------------------------------------------------
 // With MMG and Gmsh
 // ---------------------------------------------------------------------------------------
