@@ -15,6 +15,9 @@
 //! - [`export`]: a size field written as a metric for MMG (.sol), Gmsh (.msh, .pos) and
 //!   VTK/ParaView (.vtu, .vtk);
 //! - [`conformity`]: metric edge lengths and metric quality of a mesh against a field;
+//! - [`adapters`]: remeshers behind one trait (MMG's `mmg2d_O3`, Gmsh's BAMG), tags
+//!   restored on their output;
+//! - [`adapt`]: the adaptation loop (size → remesh → size … until converged);
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
@@ -22,6 +25,8 @@
 
 pub use smartmesh_formats as formats;
 
+pub mod adapt;
+pub mod adapters;
 pub mod conformity;
 pub mod export;
 pub mod geometry;

@@ -1,5 +1,6 @@
 //! Argument parsing, exit codes and error printing; one file per subcommand.
 
+mod adapt;
 mod convert;
 mod info;
 mod recipe;
@@ -83,6 +84,7 @@ enum Command {
     Convert(convert::ConvertArgs),
     Recipe(recipe::RecipeArgs),
     Size(size::SizeArgs),
+    Adapt(adapt::AdaptArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -102,6 +104,7 @@ pub fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a),
         Command::Recipe(a) => recipe::run(a),
         Command::Size(a) => size::run(a),
+        Command::Adapt(a) => adapt::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),

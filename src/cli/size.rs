@@ -9,8 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::export::{export_metric, MetricTarget};
 use smartmesh::formats::{read_path, Format, GmshVersion, WriteOptions};
 use smartmesh::recipe::Recipe;
-use smartmesh::sizing::{compute_size_field, StepEvent, StepReport};
-use smartmesh::{MeshGraph, Topology};
+use smartmesh::sizing::{size_mesh, SizeMeshError, StepEvent, StepReport};
 
 use super::{parse_format, print_stdout, CliError, ExitStatus};
 
@@ -78,24 +77,30 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     let recipe = Recipe::from_path(&args.recipe).map_err(|e| CliError::usage(e.to_string()))?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     let mesh = read_path(&args.mesh, from)?;
-    let topology = Topology::from_mesh(&mesh);
-    let resolved = recipe.resolve(&topology).map_err(|e| CliError::usage(format!("{e} (mesh {})", args.mesh.display())))?;
-    let graph = MeshGraph::from_topology(&topology, &mesh).map_err(|e| CliError::usage(format!("{}: {e}", args.mesh.display())))?;
+    let steps = recipe.algorithms.len() as u64;
 
     let bar = std::io::stderr().is_terminal().then(|| {
-        let b = ProgressBar::new(resolved.plan.steps.len() as u64);
+        let b = ProgressBar::new(steps);
         b.set_style(ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()));
         b
     });
     let mut observe = |event: StepEvent| {
         if let Some(b) = &bar {
             match event {
-                StepEvent::Started { label, .. } => b.set_message(label),
+                StepEvent::Started { label, of, .. } => {
+                    b.set_length(of as u64);
+                    b.set_message(label)
+                }
                 StepEvent::Finished { .. } => b.inc(1),
             }
         }
     };
-    let field = compute_size_field(&graph, &topology, &resolved.plan, &mut observe).map_err(|e| CliError { status: ExitStatus::Error, message: e.to_string() })?;
+    let field = match size_mesh(&mesh, &recipe, &mut observe) {
+        Ok(s) => s.field,
+        Err(SizeMeshError::Resolve(e)) => return Err(CliError::usage(format!("{e} (mesh {})", args.mesh.display()))),
+        Err(SizeMeshError::Graph(e)) => return Err(CliError::usage(format!("{}: {e}", args.mesh.display()))),
+        Err(e @ SizeMeshError::Sizing(_)) => return Err(CliError { status: ExitStatus::Error, message: e.to_string() }),
+    };
     if let Some(b) = bar {
         b.finish_and_clear();
     }

@@ -6,6 +6,7 @@ pub mod algorithms;
 pub mod field;
 pub mod functions;
 pub mod gradation;
+pub mod on_mesh;
 pub mod plan;
 pub mod propagation;
 
@@ -20,6 +21,8 @@ pub use functions::{
 };
 /// Anisotropic size gradation (Alauzet's metric gradation, thesis 7.4.1).
 pub use gradation::{apply_gradation, grow, growth_factor, GradationReport};
+/// A recipe's field on a mesh in one call (topology, resolution, graph, engine).
+pub use on_mesh::{size_mesh, MeshSizing, SizeMeshError};
 pub use plan::{Algorithm, EntitySet, SizingPlan, Step};
 /// Neighbour propagation from a source with exact closest points (thesis 2.2.10.4–5, 4.3.6).
 pub use propagation::{

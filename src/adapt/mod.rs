@@ -1,0 +1,250 @@
+//! The adaptation loop of thesis 5.5 (Algorithm 5.3): size the current mesh with the
+//! recipe, remesh it to that field, and again with the same recipe on the new mesh,
+//! until the mesh stops changing or an iteration limit is reached.
+//!
+//! Iteration 0 is the starting mesh, measured against the recipe's field on it. Each
+//! iteration k ≥ 1 remeshes mesh k−1 to field k−1 with the [`Adapter`], computes field k
+//! on the new mesh, and measures mesh k against field k ([`Conformity`]): the figures of
+//! one [`IterationRecord`]. The loop stops when the vertex count and the conforming share
+//! are both stable ([`rules::converged`]), at the iteration limit, or when an iteration
+//! fails. The best mesh so far ([`rules::is_better`]) is handed to the [`Observer`]
+//! whenever it changes, and the history after every iteration, so that whatever happens
+//! later — a failing tool, a killed run — the best mesh and a readable history are
+//! there ([`files::ResultFiles`] writes both atomically).
+//!
+//! The recipe is resolved afresh on every mesh by its tag names, so the same recipe
+//! serves every geometry variant with the same tags (thesis 6.3.1: the topology stays,
+//! the geometry changes).
+
+pub mod files;
+pub mod rules;
+pub mod start;
+
+use std::time::Instant;
+
+use smartmesh_formats::TaggedMesh;
+
+use crate::adapters::{Adapter, AdapterError};
+use crate::conformity::Conformity;
+use crate::history::{History, IterationRecord, PhaseTimes};
+use crate::metric::Sym2;
+use crate::recipe::Recipe;
+use crate::sizing::{size_mesh, SizeMeshError, StepEvent};
+
+pub use rules::Tolerances;
+pub use start::{starting_mesh, StartError};
+
+/// How long the loop may run and when it has converged.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdaptOptions {
+    /// Remeshing iterations at most (0: only measure the starting mesh).
+    pub max_iterations: usize,
+    /// When to stop before the limit.
+    pub tolerances: Tolerances,
+}
+
+impl Default for AdaptOptions {
+    fn default() -> Self {
+        AdaptOptions { max_iterations: 8, tolerances: Tolerances::default() }
+    }
+}
+
+/// The phases of an iteration, for progress and errors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Computing the recipe's field on the current mesh.
+    Size,
+    /// Remeshing to the field.
+    Remesh,
+    /// Measuring conformity and quality.
+    Measure,
+}
+
+impl std::fmt::Display for Phase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Phase::Size => "sizing",
+            Phase::Remesh => "remeshing",
+            Phase::Measure => "measuring",
+        })
+    }
+}
+
+/// What went wrong in one phase.
+#[derive(Debug, thiserror::Error)]
+pub enum PhaseError {
+    /// The recipe gave no field on the mesh.
+    #[error("{0}")]
+    Sizing(#[from] SizeMeshError),
+    /// The remesher gave no mesh.
+    #[error("{0}")]
+    Remesh(#[from] AdapterError),
+    /// The mesh has no triangle to measure.
+    #[error("the mesh has no triangle")]
+    NoTriangle,
+}
+
+/// Why the loop stopped before its end.
+#[derive(Debug, thiserror::Error)]
+pub enum AdaptError {
+    /// The starting mesh could not be sized or measured: bad input, nothing is written.
+    #[error("the starting mesh ({phase}): {source}")]
+    Start {
+        /// The phase that failed.
+        phase: Phase,
+        /// What failed.
+        source: PhaseError,
+    },
+    /// Iteration `iteration` failed; the best mesh so far has been handed on.
+    #[error("iteration {iteration} failed while {phase}: {source}")]
+    Iteration {
+        /// The iteration, from 1.
+        iteration: usize,
+        /// The phase that failed.
+        phase: Phase,
+        /// What failed.
+        source: PhaseError,
+    },
+    /// The observer could not write the result or the history.
+    #[error("{0}")]
+    Output(#[from] smartmesh_formats::Error),
+}
+
+/// Sees the loop's progress, and keeps its results.
+pub trait Observer {
+    /// `phase` of `iteration` starts (for a progress display).
+    fn phase(&mut self, _iteration: usize, _phase: Phase) {}
+
+    /// Called after every iteration and once more when the loop stops, with the whole
+    /// history so far; `new_best` is the mesh of the iteration just done when it became
+    /// the best. An error stops the loop.
+    fn record(&mut self, history: &History, new_best: Option<&TaggedMesh>) -> Result<(), smartmesh_formats::Error>;
+}
+
+/// How a run ended: the history, the best mesh, and the failure that stopped it early,
+/// if one did (the best mesh is then still the best of the iterations done).
+#[derive(Debug)]
+pub struct Outcome {
+    /// The history as last handed to the observer.
+    pub history: History,
+    /// The best mesh, that of `history.best_iteration`.
+    pub best: TaggedMesh,
+    /// The failure of a later iteration, if any.
+    pub failure: Option<AdaptError>,
+    /// What the sizing engine warned about (each message once, with the first iteration
+    /// that gave it).
+    pub warnings: Vec<String>,
+}
+
+/// A mesh, the recipe's field on it as metrics, and its record.
+struct Measured {
+    mesh: TaggedMesh,
+    metric: Vec<Sym2>,
+    record: IterationRecord,
+    warnings: Vec<String>,
+}
+
+/// Sizes and measures `mesh` as iteration `iteration`; `remesh` is the time already spent
+/// making it.
+fn measure(iteration: usize, mesh: TaggedMesh, remesh: f64, recipe: &Recipe, observer: &mut dyn Observer) -> Result<Measured, (Phase, PhaseError)> {
+    observer.phase(iteration, Phase::Size);
+    let t = Instant::now();
+    let sizing = size_mesh(&mesh, recipe, &mut |_: StepEvent| {}).map_err(|e| (Phase::Size, e.into()))?;
+    let metric: Vec<Sym2> = sizing.field.tensors.iter().map(|t| t.to_metric()).collect();
+    let size = t.elapsed().as_secs_f64();
+    observer.phase(iteration, Phase::Measure);
+    let t = Instant::now();
+    let c = Conformity::of_mesh(&mesh, &metric).ok_or((Phase::Measure, PhaseError::NoTriangle))?;
+    let record = IterationRecord {
+        iteration,
+        vertices: mesh.points.len(),
+        triangles: c.triangles,
+        conforming_share: c.conforming_share,
+        mean_edge_length: c.mean_edge_length,
+        mean_quality: c.mean_quality,
+        min_quality: c.min_quality,
+        seconds: PhaseTimes { size, remesh, measure: t.elapsed().as_secs_f64() },
+    };
+    Ok(Measured { mesh, metric, record, warnings: sizing.field.warnings })
+}
+
+/// Runs the loop from `start` with `recipe` and `adapter`. `input` and `recipe_label`
+/// name the input and the recipe in the history, as the user gave them.
+pub fn run(
+    start: TaggedMesh,
+    recipe: &Recipe,
+    adapter: &dyn Adapter,
+    options: &AdaptOptions,
+    input: &str,
+    recipe_label: &str,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, AdaptError> {
+    let first = measure(0, start, 0.0, recipe, observer).map_err(|(phase, source)| AdaptError::Start { phase, source })?;
+    let mut history = History {
+        input: input.to_string(),
+        recipe: recipe_label.to_string(),
+        adapter: adapter.name().to_string(),
+        converged: false,
+        best_iteration: 0,
+        stopped: "running".to_string(),
+        iterations: vec![first.record.clone()],
+    };
+    observer.record(&history, Some(&first.mesh))?;
+    let mut warnings = Vec::new();
+    note_warnings(&mut warnings, &first);
+    let mut best = first.mesh.clone();
+    let mut current = first;
+    let mut failure = None;
+    let mut stopped = format!("iteration limit ({}) reached", options.max_iterations);
+
+    for k in 1..=options.max_iterations {
+        observer.phase(k, Phase::Remesh);
+        let t = Instant::now();
+        let next = adapter
+            .adapt(&current.mesh, &current.metric)
+            .map_err(|e| (Phase::Remesh, PhaseError::from(e)))
+            .and_then(|mesh| measure(k, mesh, t.elapsed().as_secs_f64(), recipe, observer));
+        let next = match next {
+            Ok(n) => n,
+            Err((phase, source)) => {
+                let e = AdaptError::Iteration { iteration: k, phase, source };
+                stopped = e.to_string();
+                failure = Some(e);
+                break;
+            }
+        };
+        note_warnings(&mut warnings, &next);
+        history.iterations.push(next.record.clone());
+        let new_best = rules::is_better(&next.record, &history.iterations[history.best_iteration]);
+        if new_best {
+            history.best_iteration = k;
+            best = next.mesh.clone();
+        }
+        observer.record(&history, new_best.then_some(&next.mesh))?;
+        if rules::converged(&current.record, &next.record, &options.tolerances) {
+            let (dv, dc) = rules::changes(&current.record, &next.record);
+            history.converged = true;
+            stopped = format!(
+                "converged at iteration {k}: vertex count changed by {:.2}% (tolerance {:.2}%), conforming share by {:.4} (tolerance {:.4})",
+                100.0 * dv,
+                100.0 * options.tolerances.vertices,
+                dc,
+                options.tolerances.conformity
+            );
+            break;
+        }
+        current = next;
+    }
+    history.stopped = stopped;
+    observer.record(&history, None)?;
+    Ok(Outcome { history, best, failure, warnings })
+}
+
+/// Adds the sizing warnings of `m` that `all` does not hold yet.
+fn note_warnings(all: &mut Vec<String>, m: &Measured) {
+    for w in &m.warnings {
+        if !all.iter().any(|a| a.ends_with(w.as_str())) {
+            all.push(format!("iteration {}: {w}", m.record.iteration));
+        }
+    }
+}

@@ -1,0 +1,147 @@
+//! Remeshers the adaptation loop drives: one trait, [`Adapter`], and the external tools
+//! that implement it — MMG's `mmg2d_O3` ([`mmg::MmgAdapter`]) and Gmsh's BAMG on a
+//! background view ([`gmsh::GmshAdapter`]). The native remesher implements it too once
+//! it is part of the build ([`AdapterKind::Native`]).
+//!
+//! Every adapter takes a tagged mesh and a metric per vertex and gives back a new tagged
+//! mesh with the same physical tags, tag names and topological points, so that the same
+//! recipe resolves on it (thesis 5.5: the remesher's output is the next input).
+//!
+//! - [`prepare`]: the mesh as the tools want it (linear triangles, no unused vertices);
+//! - [`restore`]: the checks that the tags came back;
+//! - [`tool`]: finding a program on `PATH` and running it, with its output quoted on
+//!   failure.
+
+pub mod gmsh;
+pub mod mmg;
+pub mod prepare;
+pub mod restore;
+pub mod tool;
+
+use std::path::PathBuf;
+
+use smartmesh_formats::TaggedMesh;
+
+use crate::metric::Sym2;
+
+/// A remesher: a new mesh of the same domain, with the same tags, that follows `metric`
+/// (one SPD tensor per vertex of `mesh`) as well as it can.
+pub trait Adapter {
+    /// The name the history and the messages use (`mmg2d`, `gmsh`, `native`).
+    fn name(&self) -> &str;
+
+    /// Remeshes `mesh` to `metric`.
+    fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError>;
+}
+
+/// Why an adapter gave no mesh.
+#[derive(Debug, thiserror::Error)]
+pub enum AdapterError {
+    /// The remesher is not part of this build.
+    #[error("the {0} remesher is not available in this build; use --adapter mmg2d or --adapter gmsh")]
+    NotInBuild(&'static str),
+    /// The external program is not on `PATH` (nor where the options said).
+    #[error("`{program}` not found on PATH; {hint}")]
+    NotFound {
+        /// The program looked for.
+        program: String,
+        /// How to get it.
+        hint: &'static str,
+    },
+    /// The program ran and failed; its last lines are quoted.
+    #[error("`{program}` failed ({status}):\n{output}")]
+    Failed {
+        /// The command line, shortened to the program's name and its arguments.
+        program: String,
+        /// Its exit status, in words.
+        status: String,
+        /// The end of what it printed on stderr and stdout.
+        output: String,
+    },
+    /// The program could not be started, or its files not written or read.
+    #[error("{what}: {source}")]
+    Io {
+        /// What was being done.
+        what: String,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// A file for the tool could not be written, or its output not read back.
+    #[error("{0}")]
+    Format(#[from] smartmesh_formats::Error),
+    /// The mesh cannot be given to the tool (no triangle, metric of the wrong length).
+    #[error("{0}")]
+    Input(String),
+    /// An option the chosen remesher does not take.
+    #[error("{option} is an option of the mmg2d adapter; the {adapter} adapter does not take it")]
+    Option {
+        /// The option, as on the command line.
+        option: &'static str,
+        /// The adapter chosen.
+        adapter: &'static str,
+    },
+    /// The tool's result lost something the loop needs (a tag, a topological point) or
+    /// holds something smartmesh did not give it.
+    #[error("{program} output: {what}")]
+    Lost {
+        /// The tool.
+        program: String,
+        /// What is missing or unexpected.
+        what: String,
+    },
+}
+
+/// The remeshers `smartmesh adapt --adapter` knows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AdapterKind {
+    /// smartmesh's own anisotropic remesher.
+    Native,
+    /// MMG's `mmg2d_O3`.
+    Mmg2d,
+    /// Gmsh with BAMG on a background view.
+    Gmsh,
+}
+
+impl AdapterKind {
+    /// The name on the command line and in `history.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            AdapterKind::Native => "native",
+            AdapterKind::Mmg2d => "mmg2d",
+            AdapterKind::Gmsh => "gmsh",
+        }
+    }
+}
+
+/// Options of the external adapters; each reads the ones that concern it.
+#[derive(Debug, Clone, Default)]
+pub struct AdapterOptions {
+    /// The program to run instead of the one found on `PATH`.
+    pub program: Option<PathBuf>,
+    /// MMG `-hgrad`: gradation MMG applies to the metric (`-1` turns it off; MMG's
+    /// default, 1.3, when unset).
+    pub hgrad: Option<f64>,
+    /// MMG `-hausd`: largest distance between a curved boundary and its edges (MMG's
+    /// default, 0.01, when unset).
+    pub hausd: Option<f64>,
+    /// MMG `-nosurf`: leave the boundary as it is (no point added or moved there).
+    pub nosurf: bool,
+    /// Further arguments passed to the program as they are.
+    pub extra_args: Vec<String>,
+}
+
+/// The adapter of `kind`: the program is looked up now, so that a missing tool is said
+/// before any work. The one place that knows which remeshers exist.
+pub fn adapter(kind: AdapterKind, options: AdapterOptions) -> Result<Box<dyn Adapter>, AdapterError> {
+    if kind != AdapterKind::Mmg2d {
+        let mmg_only = [("--hgrad", options.hgrad.is_some()), ("--hausd", options.hausd.is_some()), ("--nosurf", options.nosurf)];
+        if let Some(&(option, _)) = mmg_only.iter().find(|o| o.1) {
+            return Err(AdapterError::Option { option, adapter: kind.name() });
+        }
+    }
+    match kind {
+        AdapterKind::Native => Err(AdapterError::NotInBuild("native")),
+        AdapterKind::Mmg2d => Ok(Box::new(mmg::MmgAdapter::new(options)?)),
+        AdapterKind::Gmsh => Ok(Box::new(gmsh::GmshAdapter::new(options)?)),
+    }
+}

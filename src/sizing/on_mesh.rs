@@ -1,0 +1,45 @@
+//! A recipe's size field on one mesh, from the mesh alone: topology, resolution of the
+//! recipe's regions on the mesh's tags, the mesh graph, then the engine. `smartmesh size`
+//! runs it once; the adaptation loop runs it on every new mesh with the same recipe
+//! (thesis 5.5: the same configuration at each iteration), so the sequence lives here once.
+
+use smartmesh_formats::TaggedMesh;
+
+use crate::mesh_graph::{MeshGraph, MeshGraphError};
+use crate::recipe::{Recipe, RecipeError, Resolved};
+use crate::sizing::field::{compute_size_field, SizeField, SizingError, StepEvent};
+use crate::topology::Topology;
+
+/// Why a recipe gave no field on a mesh. Each variant keeps its source's message, so
+/// that a caller can add the mesh's name where it helps.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum SizeMeshError {
+    /// The recipe's regions do not resolve on the mesh's tags (a name the mesh lacks).
+    #[error("{0}")]
+    Resolve(RecipeError),
+    /// The mesh is not a graph the engine can walk.
+    #[error("{0}")]
+    Graph(MeshGraphError),
+    /// The engine refused the plan on this mesh.
+    #[error("{0}")]
+    Sizing(SizingError),
+}
+
+/// The field and how the recipe resolved on the mesh.
+#[derive(Debug, Clone)]
+pub struct MeshSizing {
+    /// The recipe resolved on the mesh (plan and per-region report).
+    pub resolved: Resolved,
+    /// One size tensor per mesh vertex.
+    pub field: SizeField,
+}
+
+/// The size field `recipe` gives on `mesh`; `observer` sees each step start and finish
+/// (for a progress bar).
+pub fn size_mesh(mesh: &TaggedMesh, recipe: &Recipe, observer: &mut dyn FnMut(StepEvent)) -> Result<MeshSizing, SizeMeshError> {
+    let topology = Topology::from_mesh(mesh);
+    let resolved = recipe.resolve(&topology).map_err(SizeMeshError::Resolve)?;
+    let graph = MeshGraph::from_topology(&topology, mesh).map_err(SizeMeshError::Graph)?;
+    let field = compute_size_field(&graph, &topology, &resolved.plan, observer).map_err(SizeMeshError::Sizing)?;
+    Ok(MeshSizing { resolved, field })
+}

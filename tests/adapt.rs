@@ -1,0 +1,519 @@
+//! The adaptation loop: its rules with a scripted remesher (best mesh, ties, a failure
+//! mid-run), and `smartmesh adapt` end to end on the bundled cylinder with MMG and Gmsh —
+//! the loop runs, the history has one record per iteration, the tags survive, the
+//! recipe's refinement shows, conformity rises, the best mesh stays when a later
+//! iteration fails, and one recipe serves a geometry variant. The MMG and Gmsh parts
+//! skip when the tools are missing, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
+
+#[path = "../formats/tests/common/mod.rs"]
+mod common;
+
+use std::cell::Cell;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::python_with;
+use smartmesh::adapt::files::ResultFiles;
+use smartmesh::adapt::{run, AdaptError, AdaptOptions, Observer, Tolerances};
+use smartmesh::adapters::restore::physical_tags;
+use smartmesh::adapters::{Adapter, AdapterError};
+use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOptions};
+use smartmesh::history::History;
+use smartmesh::quality::signed_area;
+use smartmesh::{Recipe, Sym2};
+
+fn bundled(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
+}
+
+fn cylinder() -> TaggedMesh {
+    read_path(&bundled("cylinder.msh"), None).unwrap()
+}
+
+fn recipe() -> Recipe {
+    Recipe::from_path(&bundled("cylinder.toml")).unwrap()
+}
+
+fn smartmesh(args: &[&str], path_env: Option<&str>) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_smartmesh"));
+    c.args(args);
+    if let Some(p) = path_env {
+        c.env("PATH", p);
+    }
+    c.output().expect("run smartmesh")
+}
+
+fn text(o: &Output) -> String {
+    format!("stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+/// Each triangle split in four at its edge midpoints, each line in two, tags kept: a
+/// different mesh of the same domain with the same tags, with no remesher needed.
+fn split(mesh: &TaggedMesh) -> TaggedMesh {
+    let mut out = mesh.clone();
+    out.blocks.clear();
+    let mut mid = std::collections::BTreeMap::new();
+    let mut midpoint = |out: &mut TaggedMesh, a: usize, b: usize| -> usize {
+        *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            let (p, q) = (mesh.points[a], mesh.points[b]);
+            out.points.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.0]);
+            out.points.len() - 1
+        })
+    };
+    for b in &mesh.blocks {
+        let mut nb = CellBlock::new(b.kind);
+        for (i, c) in b.cells().enumerate() {
+            let (p, g) = (b.physical[i], b.geometrical[i]);
+            match b.kind {
+                CellKind::Triangle => {
+                    let [x, y, z] = [c[0], c[1], c[2]];
+                    let (xy, yz, zx) = (midpoint(&mut out, x, y), midpoint(&mut out, y, z), midpoint(&mut out, z, x));
+                    for t in [[x, xy, zx], [xy, y, yz], [zx, yz, z], [xy, yz, zx]] {
+                        nb.push(&t, p, g);
+                    }
+                }
+                CellKind::Line => {
+                    let m = midpoint(&mut out, c[0], c[1]);
+                    nb.push(&[c[0], m], p, g);
+                    nb.push(&[m, c[1]], p, g);
+                }
+                _ => nb.push(c, p, g),
+            }
+        }
+        out.blocks.push(nb);
+    }
+    out
+}
+
+/// A remesher that gives back scripted meshes, call after call, and fails when the
+/// script runs out.
+struct Scripted {
+    meshes: Vec<TaggedMesh>,
+    calls: Cell<usize>,
+}
+
+impl Adapter for Scripted {
+    fn name(&self) -> &str {
+        "scripted"
+    }
+
+    fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
+        assert_eq!(metric.len(), mesh.points.len(), "one metric per vertex of the current mesh");
+        let k = self.calls.get();
+        self.calls.set(k + 1);
+        self.meshes.get(k).cloned().ok_or_else(|| AdapterError::Input(format!("scripted failure at call {}", k + 1)))
+    }
+}
+
+#[test]
+fn best_mesh_is_the_most_conforming_and_stays_when_a_later_iteration_fails() {
+    let start = cylinder();
+    let fine = split(&start);
+    let finer = split(&fine);
+    let adapter = Scripted { meshes: vec![fine.clone(), start.clone(), finer.clone()], calls: Cell::new(0) };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("best.msh");
+    let mut files = ResultFiles::new(&out, None, WriteOptions::default());
+    let opts = AdaptOptions { max_iterations: 6, tolerances: Tolerances { vertices: 0.0, conformity: 0.0 } };
+    let outcome = run(start.clone(), &recipe(), &adapter, &opts, "cylinder.msh", "cylinder.toml", &mut files).unwrap();
+
+    let h = &outcome.history;
+    let numbers: Vec<usize> = h.iterations.iter().map(|r| r.iteration).collect();
+    assert_eq!(numbers, [0, 1, 2, 3], "{}", h.to_json());
+    assert_eq!([h.iterations[1].vertices, h.iterations[2].vertices, h.iterations[3].vertices], [fine.points.len(), start.points.len(), finer.points.len()]);
+    // Iteration 2 is the starting mesh again: the same share as iteration 0.
+    assert_eq!(h.iterations[2].conforming_share, h.iterations[0].conforming_share);
+    // The rule: highest share, ties to the later iteration.
+    let mut expected = 0;
+    for (k, r) in h.iterations.iter().enumerate() {
+        if r.conforming_share >= h.iterations[expected].conforming_share {
+            expected = k;
+        }
+    }
+    assert_ne!(expected, 0, "iteration 2 ties with 0 and is later");
+    assert_eq!(h.best_iteration, expected);
+    assert_eq!(outcome.best.points.len(), h.iterations[expected].vertices);
+
+    // The fourth call fails: the run says so, and the files hold the best mesh.
+    assert!(matches!(outcome.failure, Some(AdaptError::Iteration { iteration: 4, .. })), "{:?}", outcome.failure);
+    assert!(!h.converged);
+    assert!(h.stopped.contains("iteration 4 failed") && h.stopped.contains("scripted failure at call 4"), "{}", h.stopped);
+    let written = read_path(&out, None).unwrap();
+    assert_eq!(written.points.len(), h.iterations[expected].vertices);
+    let on_disk = History::from_json(&std::fs::read_to_string(dir.path().join("best.history.json")).unwrap()).unwrap();
+    assert_eq!(&on_disk, h);
+}
+
+/// Result files that check, after each write, what a reader would find on disk.
+struct Checked {
+    files: ResultFiles,
+    seen: Vec<(usize, usize, bool)>,
+}
+
+impl Observer for Checked {
+    fn record(&mut self, history: &History, new_best: Option<&TaggedMesh>) -> Result<(), smartmesh::formats::Error> {
+        self.files.record(history, new_best)?;
+        let on_disk = History::from_json(&std::fs::read_to_string(&self.files.history).unwrap()).unwrap();
+        assert_eq!(&on_disk, history, "the history on disk is the one just recorded");
+        let mesh = read_path(&self.files.mesh, None).unwrap();
+        assert_eq!(mesh.points.len(), history.iterations[history.best_iteration].vertices, "the mesh on disk is the best one");
+        self.seen.push((history.iterations.len(), history.best_iteration, new_best.is_some()));
+        Ok(())
+    }
+}
+
+#[test]
+fn history_and_best_mesh_are_on_disk_after_every_iteration() {
+    let start = cylinder();
+    let fine = split(&start);
+    let adapter = Scripted { meshes: vec![fine.clone(), fine.clone(), start.clone()], calls: Cell::new(0) };
+    let dir = tempfile::tempdir().unwrap();
+    let mut obs = Checked { files: ResultFiles::new(&dir.path().join("o.msh"), None, WriteOptions::default()), seen: Vec::new() };
+    let opts = AdaptOptions { max_iterations: 3, tolerances: Tolerances { vertices: 0.0, conformity: 0.0 } };
+    let outcome = run(start, &recipe(), &adapter, &opts, "in", "r", &mut obs).unwrap();
+    // Iteration 2 repeats iteration 1 exactly: converged, and the later one is the best
+    // when the split mesh beats the start.
+    assert!(outcome.history.converged, "{}", outcome.history.stopped);
+    let lengths: Vec<usize> = obs.seen.iter().map(|s| s.0).collect();
+    assert_eq!(lengths, [1, 2, 3, 3], "after iterations 0, 1, 2, and once more when the loop stops");
+    assert!(obs.seen[0].2, "the starting mesh is the first best");
+    assert!(!obs.seen[3].2, "the last call writes only the history");
+    assert_eq!(dir.path().join("o.history.json"), obs.files.history);
+}
+
+#[test]
+fn an_unchanged_mesh_converges_and_the_later_iteration_wins_the_tie() {
+    let start = cylinder();
+    let adapter = Scripted { meshes: vec![start.clone()], calls: Cell::new(0) };
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = ResultFiles::new(&dir.path().join("o.vtu"), Some(&dir.path().join("h.json")), WriteOptions::default());
+    let outcome = run(start, &recipe(), &adapter, &AdaptOptions::default(), "in", "r", &mut files).unwrap();
+    let h = &outcome.history;
+    assert!(h.converged, "{}", h.stopped);
+    assert_eq!(h.iterations.len(), 2);
+    assert_eq!(h.best_iteration, 1);
+    assert!(outcome.failure.is_none());
+    assert!(dir.path().join("o.vtu").exists() && dir.path().join("h.json").exists());
+}
+
+#[test]
+fn an_iteration_limit_stops_the_loop_unconverged() {
+    let start = cylinder();
+    let fine = split(&start);
+    let adapter = Scripted { meshes: vec![fine.clone(), start.clone(), fine.clone(), start.clone()], calls: Cell::new(0) };
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = ResultFiles::new(&dir.path().join("o.msh"), None, WriteOptions::default());
+    let opts = AdaptOptions { max_iterations: 3, tolerances: Tolerances::default() };
+    let outcome = run(start, &recipe(), &adapter, &opts, "in", "r", &mut files).unwrap();
+    assert_eq!(outcome.history.iterations.len(), 4);
+    assert!(!outcome.history.converged);
+    assert_eq!(outcome.history.stopped, "iteration limit (3) reached");
+    assert_eq!(adapter.calls.get(), 3);
+}
+
+#[test]
+fn a_recipe_that_does_not_fit_the_start_is_an_input_error() {
+    let mut start = cylinder();
+    start.tag_names.clear();
+    let adapter = Scripted { meshes: vec![], calls: Cell::new(0) };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.msh");
+    let mut files = ResultFiles::new(&out, None, WriteOptions::default());
+    let e = run(start, &recipe(), &adapter, &AdaptOptions::default(), "in", "r", &mut files).unwrap_err();
+    assert!(matches!(e, AdaptError::Start { .. }), "{e}");
+    assert!(e.to_string().contains("Cylinder"), "{e}");
+    assert!(!out.exists(), "nothing written for a bad input");
+}
+
+// ---------------------------------------------------------------------------------------
+// The command line without external tools
+// ---------------------------------------------------------------------------------------
+
+fn adapt_args<'a>(out: &'a str, extra: &[&'a str]) -> Vec<String> {
+    let mut a: Vec<String> = vec!["adapt".into(), bundled("cylinder.msh").display().to_string(), "--recipe".into(), bundled("cylinder.toml").display().to_string(), "-o".into(), out.into()];
+    a.extend(extra.iter().map(|s| s.to_string()));
+    a
+}
+
+fn run_adapt(out: &Path, extra: &[&str], path_env: Option<&str>) -> Output {
+    let args = adapt_args(out.to_str().unwrap(), extra);
+    let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    smartmesh(&refs, path_env)
+}
+
+#[test]
+fn missing_tools_are_named_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.msh");
+    for (adapter, program) in [("mmg2d", "mmg2d_O3"), ("gmsh", "gmsh")] {
+        let o = run_adapt(&out, &["--adapter", adapter], Some(""));
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(&format!("`{program}` not found on PATH")), "{err}");
+        assert!(!out.exists() && !dir.path().join("o.history.json").exists());
+    }
+    let o = run_adapt(&out, &["--adapter", "mmg2d", "--adapter-program", "/nonexistent/mmg2d_O3"], None);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/mmg2d_O3"));
+}
+
+#[test]
+fn the_native_remesher_is_said_to_be_missing_from_this_build() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.msh");
+    let o = run_adapt(&out, &[], None);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("native remesher is not available in this build"), "{}", text(&o));
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_poly_needs_the_mesher_and_bad_arguments_exit_two() {
+    let dir = tempfile::tempdir().unwrap();
+    let poly = dir.path().join("square.poly");
+    std::fs::write(&poly, "4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2 1\n2 2 3 2\n3 3 4 1\n4 4 1 1\n0\n").unwrap();
+    let out = dir.path().join("o.msh");
+    let o = smartmesh(&["adapt", poly.to_str().unwrap(), "-r", bundled("cylinder.toml").to_str().unwrap(), "-o", out.to_str().unwrap(), "--adapter", "mmg2d"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("square.poly") && err.contains("smartmesh mesh"), "{err}");
+
+    let o = run_adapt(&out, &["--adapter", "mmg2d", "--tol-vertices", "-1"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let o = run_adapt(&out, &["--adapter", "gmsh", "--hausd", "0.01"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--hausd is an option of the mmg2d adapter"), "{}", text(&o));
+    let o = run_adapt(Path::new("-"), &["--adapter", "mmg2d"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("not stdout"), "{}", text(&o));
+    let o = run_adapt(&dir.path().join("o.unknown"), &["--adapter", "mmg2d"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("o.unknown"));
+    assert!(!out.exists());
+}
+
+/// An executable shell script at `path`.
+#[cfg(unix)]
+fn script(path: &Path, body: &str) {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::write(path, format!("#!/bin/sh\n{body}\n")).unwrap();
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755)).unwrap();
+}
+
+#[cfg(unix)]
+#[test]
+fn a_failing_tool_is_quoted_and_the_start_mesh_is_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("mmg2d_O3");
+    script(&fake, "echo 'input mesh rejected' >&2\nexit 3");
+    let out = dir.path().join("o.msh");
+    let o = run_adapt(&out, &["--adapter", "mmg2d", "--adapter-program", fake.to_str().unwrap()], None);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("iteration 1 failed while remeshing") && err.contains("exit status 3") && err.contains("input mesh rejected"), "{err}");
+    assert!(err.contains("holds the best mesh, iteration 0"), "{err}");
+    assert_eq!(read_path(&out, None).unwrap().points.len(), cylinder().points.len());
+    let h = History::from_json(&std::fs::read_to_string(dir.path().join("o.history.json")).unwrap()).unwrap();
+    assert_eq!(h.iterations.len(), 1);
+    assert_eq!(h.adapter, "mmg2d");
+    assert!(h.stopped.contains("input mesh rejected"), "{}", h.stopped);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_gmsh_that_exits_zero_without_a_mesh_is_a_failure() {
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("gmsh");
+    script(&fake, "echo 'Error   : Could not create geometry of discrete curve 3'");
+    let out = dir.path().join("o.msh");
+    let o = run_adapt(&out, &["--adapter", "gmsh", "--adapter-program", fake.to_str().unwrap()], None);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("it wrote no out.msh") && err.contains("Could not create geometry"), "{err}");
+}
+
+// ---------------------------------------------------------------------------------------
+// With MMG and Gmsh
+// ---------------------------------------------------------------------------------------
+
+/// Edge lengths of the triangles whose centroid satisfies `inside`: (smallest, mean).
+fn edges_where(mesh: &TaggedMesh, inside: impl Fn(f64, f64) -> bool) -> (f64, f64) {
+    let (mut lo, mut sum, mut n) = (f64::INFINITY, 0.0, 0usize);
+    for (kind, c, _, _) in mesh.cells() {
+        if kind != CellKind::Triangle {
+            continue;
+        }
+        let p: Vec<[f64; 3]> = c.iter().map(|&v| mesh.points[v]).collect();
+        if !inside((p[0][0] + p[1][0] + p[2][0]) / 3.0, (p[0][1] + p[1][1] + p[2][1]) / 3.0) {
+            continue;
+        }
+        for k in 0..3 {
+            let l = (p[k][0] - p[(k + 1) % 3][0]).hypot(p[k][1] - p[(k + 1) % 3][1]);
+            lo = lo.min(l);
+            sum += l;
+            n += 1;
+        }
+    }
+    assert!(n > 0, "no triangle in the zone");
+    (lo, sum / n as f64)
+}
+
+/// What every adapted mesh must be: the input's tags and names, triangles counter-
+/// clockwise, fine at the wall of the cylinder at (cx, cy) with radius r, coarse far away.
+fn assert_adapted(what: &str, input: &TaggedMesh, mesh: &TaggedMesh, (cx, cy, r): (f64, f64, f64)) {
+    assert_eq!(physical_tags(mesh), physical_tags(input), "{what}: tags");
+    for (k, name) in &input.tag_names {
+        assert_eq!(mesh.tag_names.get(k), Some(name), "{what}: name of {k:?}");
+    }
+    let stagnation: Vec<&[usize]> = mesh.cells().filter(|c| c.0 == CellKind::Vertex && c.2 == 20).map(|c| c.1).collect();
+    assert_eq!(stagnation.len(), 1, "{what}: the Stagnation point");
+    let s = mesh.points[stagnation[0][0]];
+    assert!((s[0] - (cx - r)).abs() < 1e-9 && (s[1] - cy).abs() < 1e-9, "{what}: Stagnation moved to {s:?}");
+    for (kind, c, _, _) in mesh.cells() {
+        if kind == CellKind::Triangle {
+            let p = |i: usize| [mesh.points[c[i]][0], mesh.points[c[i]][1]];
+            assert!(signed_area(p(0), p(1), p(2)) > 0.0, "{what}: triangle {c:?} not counter-clockwise");
+        }
+    }
+    let wall = edges_where(mesh, |x, y| ((x - cx).hypot(y - cy) - r).abs() < 0.02);
+    let far = edges_where(mesh, |x, y| x > cx + 1.0 && (y - cy).abs() > 0.35);
+    eprintln!("{what}: smallest edge at the wall {:.5}, far {:.5}; mean {:.4} and {:.4}", wall.0, far.0, wall.1, far.1);
+    assert!(wall.0 < 0.2 * far.0, "{what}: smallest edge at the wall {} not much smaller than far away {}", wall.0, far.0);
+    assert!(wall.1 < 0.5 * far.1, "{what}: mean edge at the wall {} not finer than far away {}", wall.1, far.1);
+}
+
+fn history_of(json: &str) -> (serde_json::Value, History) {
+    let v: serde_json::Value = serde_json::from_str(json).unwrap();
+    let path = v["history_file"].as_str().unwrap().to_string();
+    (v, History::from_json(&std::fs::read_to_string(path).unwrap()).unwrap())
+}
+
+fn assert_history(what: &str, h: &History, adapter: &str) {
+    let numbers: Vec<usize> = h.iterations.iter().map(|r| r.iteration).collect();
+    assert_eq!(numbers, (0..h.iterations.len()).collect::<Vec<_>>(), "{what}: one record per iteration, in order");
+    assert!(h.iterations.len() >= 2, "{what}: at least one remeshing");
+    assert_eq!(h.adapter, adapter);
+    let start = &h.iterations[0];
+    let best = &h.iterations[h.best_iteration];
+    eprintln!("{what}: conforming share {:.3} at the start, {:.3} at the best iteration {}; {}", start.conforming_share, best.conforming_share, h.best_iteration, h.stopped);
+    assert!(best.conforming_share > start.conforming_share + 0.2, "{what}: conformity {} → {}", start.conforming_share, best.conforming_share);
+    assert!(h.iterations.iter().all(|r| r.conforming_share <= best.conforming_share));
+    assert!(h.iterations[1..].iter().all(|r| r.seconds.remesh > 0.0 && r.seconds.size > 0.0 && r.triangles > 0));
+}
+
+#[test]
+fn mmg2d_adapts_the_cylinder_until_converged() {
+    if python_with(&["mmgpy"]).is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cyl.msh");
+    let o = run_adapt(&out, &["--adapter", "mmg2d", "--json"], None);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let (json, h) = history_of(&String::from_utf8_lossy(&o.stdout));
+    assert_eq!(json["iterations"].as_array().unwrap().len(), h.iterations.len());
+    assert_history("mmg2d", &h, "mmg2d");
+    assert!(h.converged, "{}", h.stopped);
+    let mesh = read_path(&out, None).unwrap();
+    assert_eq!(mesh.points.len(), h.iterations[h.best_iteration].vertices);
+    assert_adapted("mmg2d", &cylinder(), &mesh, (1.0, 0.5, 0.15));
+}
+
+#[test]
+fn mmg2d_keeps_every_point_and_curve_of_the_distributor() {
+    if python_with(&["mmgpy"]).is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("distributor.msh");
+    let input = read_path(&bundled("distributor.msh"), None).unwrap();
+    let o = smartmesh(&["adapt", bundled("distributor.msh").to_str().unwrap(), "-r", bundled("appendix-a.cfg").to_str().unwrap(), "-o", out.to_str().unwrap(), "--adapter", "mmg2d", "--max-iterations", "2"], None);
+    assert!(o.status.code() == Some(0), "{}", text(&o));
+    let mesh = read_path(&out, None).unwrap();
+    assert_eq!(physical_tags(&mesh), physical_tags(&input));
+    assert_eq!(mesh.tag_names, input.tag_names);
+    // Every topological point listed as a vertex cell is still at its place, with both tags.
+    let points = |m: &TaggedMesh| -> Vec<(i32, i32, [u64; 2])> {
+        let mut v: Vec<_> = m.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| (c.2, c.3, [m.points[c.1[0]][0].to_bits(), m.points[c.1[0]][1].to_bits()])).collect();
+        v.sort();
+        v
+    };
+    let (a, b) = (points(&input), points(&mesh));
+    assert_eq!(a.len(), 9);
+    assert_eq!(a.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>(), b.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>());
+    assert!(mesh.num_cells_of(CellKind::Triangle) > input.num_cells_of(CellKind::Triangle));
+}
+
+#[cfg(unix)]
+#[test]
+fn a_tool_failing_mid_run_leaves_the_best_mesh() {
+    let Some(py) = python_with(&["mmgpy"]) else { return };
+    let real = common::mmg2d(&py);
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("flaky-mmg2d");
+    let count = dir.path().join("calls");
+    script(&fake, &format!("echo x >> '{}'\nif [ $(wc -l < '{}') -ge 3 ]; then echo 'out of memory (simulated)' >&2; exit 4; fi\nexec '{real}' \"$@\"", count.display(), count.display()));
+    let out = dir.path().join("cyl.vtu");
+    let o = run_adapt(&out, &["--adapter", "mmg2d", "--adapter-program", fake.to_str().unwrap(), "--tol-vertices", "0", "--tol-conformity", "0"], None);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("iteration 3 failed while remeshing") && err.contains("out of memory (simulated)"), "{err}");
+    let h = History::from_json(&std::fs::read_to_string(dir.path().join("cyl.history.json")).unwrap()).unwrap();
+    assert_eq!(h.iterations.len(), 3, "iterations 0, 1, 2 done");
+    assert!(h.best_iteration >= 1);
+    assert!(err.contains(&format!("iteration {}", h.best_iteration)), "{err}");
+    let mesh = read_path(&out, None).unwrap();
+    assert_eq!(mesh.points.len(), h.iterations[h.best_iteration].vertices);
+    assert_adapted("mmg2d, failed later", &cylinder(), &mesh, (1.0, 0.5, 0.15));
+}
+
+/// The cylinder geometry with the cylinder at (cx, cy), radius r, meshed by Gmsh.
+fn variant(dir: &Path, cx: f64, cy: f64, r: f64) -> PathBuf {
+    let geo = std::fs::read_to_string(bundled("cylinder.geo")).unwrap();
+    let moved = geo
+        .replace("Point(5) = {1, 0.5, 0};", &format!("Point(5) = {{{cx}, {cy}, 0}};"))
+        .replace(
+            "Point(6) = {0.85, 0.5, 0}; Point(7) = {1, 0.35, 0}; Point(8) = {1.15, 0.5, 0}; Point(9) = {1, 0.65, 0};",
+            &format!("Point(6) = {{{}, {cy}, 0}}; Point(7) = {{{cx}, {}, 0}}; Point(8) = {{{}, {cy}, 0}}; Point(9) = {{{cx}, {}, 0}};", cx - r, cy - r, cx + r, cy + r),
+        );
+    assert_ne!(moved, geo, "cylinder.geo changed: update the variant");
+    let path = dir.join("variant.geo");
+    std::fs::write(&path, moved).unwrap();
+    let msh = dir.join("variant.msh");
+    let o = Command::new("gmsh").arg(&path).args(["-2", "-v", "2", "-setnumber", "Mesh.MeshSizeMax", "0.08", "-format", "msh41", "-o"]).arg(&msh).output().expect("run gmsh");
+    assert!(o.status.success(), "gmsh: {}", text(&o));
+    msh
+}
+
+#[test]
+fn the_same_recipe_adapts_a_geometry_variant() {
+    if python_with(&["mmgpy", "gmsh"]).is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (cx, cy, r) = (0.8, 0.45, 0.2);
+    let msh = variant(dir.path(), cx, cy, r);
+    let out = dir.path().join("variant-adapted.msh");
+    let o = smartmesh(&["adapt", msh.to_str().unwrap(), "-r", bundled("cylinder.toml").to_str().unwrap(), "-o", out.to_str().unwrap(), "--adapter", "mmg2d", "--json"], None);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
+    assert_history("variant", &h, "mmg2d");
+    let input = read_path(&msh, None).unwrap();
+    assert_adapted("variant", &input, &read_path(&out, None).unwrap(), (cx, cy, r));
+}
+
+#[test]
+fn gmsh_remeshes_to_the_field_with_tags() {
+    if python_with(&["gmsh"]).is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cyl.msh");
+    let o = run_adapt(&out, &["--adapter", "gmsh", "--max-iterations", "3", "--json"], None);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
+    assert_history("gmsh", &h, "gmsh");
+    let mesh = read_path(&out, None).unwrap();
+    assert!(mesh.validate().is_empty(), "{:?}", mesh.validate());
+    assert_adapted("gmsh (BAMG)", &cylinder(), &mesh, (1.0, 0.5, 0.15));
+}
