@@ -66,7 +66,16 @@ fn locate(cdt: &Cdt, p: [f64; 2]) -> Located {
                 Located::Faces([e.face(), e.rev().face()].iter().filter_map(|f| f.as_inner()).map(|f| f.fix()).collect())
             }
         }
-        PositionInTriangulation::OnVertex(_) => Located::OnSegment,
+        PositionInTriangulation::OnVertex(v) => {
+            // A point inserted by refinement may land exactly on a seed; off every
+            // segment, all its faces are in one region.
+            let v = cdt.vertex(v);
+            if v.out_edges().any(|e| e.is_constraint_edge()) {
+                Located::OnSegment
+            } else {
+                Located::Faces(v.out_edges().filter_map(|e| e.face().as_inner()).map(|f| f.fix()).collect())
+            }
+        }
         PositionInTriangulation::OutsideOfConvexHull(_) | PositionInTriangulation::NoTriangulation => Located::OutsideHull,
     }
 }
