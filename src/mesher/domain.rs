@@ -8,7 +8,8 @@
 //!   seed in the same region wins, as in Triangle. For mesh input the seeds are the
 //!   surface cells' centroids, and what no seed reaches is carved.
 //!
-//! Labels are per spade face index (face 0 is spade's outer face). O(triangles).
+//! Labels are per spade face index (face 0 is spade's outer face). O(triangles): the
+//! floods are done as a union-find of the parts that segments separate.
 
 use spade::handles::{FixedFaceHandle, InnerTag};
 use spade::{PositionInTriangulation, Triangulation};
@@ -23,27 +24,55 @@ pub(crate) const CARVED: u32 = u32::MAX;
 /// Label of a triangle of the domain that no region seed reached.
 pub(crate) const NO_REGION: u32 = u32::MAX - 1;
 
-/// Floods from `start` across non-segment edges into faces for which `enter` holds,
-/// setting their label to `label`.
-fn flood(cdt: &Cdt, labels: &mut [u32], start: Face, label: u32, enter: impl Fn(u32) -> bool, stack: &mut Vec<Face>) {
-    if !enter(labels[start.index()]) {
-        return;
-    }
-    labels[start.index()] = label;
-    stack.clear();
-    stack.push(start);
-    while let Some(f) = stack.pop() {
-        for e in cdt.face(f).adjacent_edges() {
+/// The parts of the triangulation that segments separate: faces joined through
+/// non-segment edges, by union-find over spade's edge list (one pass in memory order,
+/// several times faster on a refined mesh than walking face to face), and which parts
+/// touch the convex hull through an edge that is not a segment. A flood fill from any
+/// face fills exactly its part, so labelling parts is labelling floods.
+struct Parts {
+    parent: Vec<u32>,
+    touches_hull: Vec<bool>,
+}
+
+impl Parts {
+    fn new(cdt: &Cdt) -> Parts {
+        let n = cdt.num_all_faces();
+        let mut parts = Parts { parent: (0..n as u32).collect(), touches_hull: vec![false; n] };
+        let mut hull_faces = Vec::new();
+        for e in cdt.undirected_edges() {
             if e.is_constraint_edge() {
                 continue;
             }
-            if let Some(g) = e.rev().face().as_inner() {
-                let gi = g.fix().index();
-                if enter(labels[gi]) {
-                    labels[gi] = label;
-                    stack.push(g.fix());
-                }
+            let d = e.as_directed();
+            match (d.face().as_inner(), d.rev().face().as_inner()) {
+                (Some(a), Some(b)) => parts.union(a.fix().index(), b.fix().index()),
+                (Some(a), None) | (None, Some(a)) => hull_faces.push(a.fix().index()),
+                (None, None) => {}
             }
+        }
+        for f in hull_faces {
+            let r = parts.find(f);
+            parts.touches_hull[r] = true;
+        }
+        parts
+    }
+
+    fn find(&mut self, mut f: usize) -> usize {
+        while self.parent[f] as usize != f {
+            let up = self.parent[self.parent[f] as usize];
+            self.parent[f] = up;
+            f = up as usize;
+        }
+        f
+    }
+
+    fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            // The smaller index becomes the root: deterministic, and shallow enough with
+            // path halving.
+            let (lo, hi) = (ra.min(rb), ra.max(rb));
+            self.parent[hi] = lo as u32;
         }
     }
 }
@@ -83,22 +112,24 @@ fn locate(cdt: &Cdt, p: [f64; 2]) -> Located {
 /// Labels every face of `cdt`: [`CARVED`], [`NO_REGION`] or the index of the seed of
 /// `pslg.seeds` whose region it is in.
 pub(crate) fn classify(cdt: &Cdt, pslg: &Pslg, keep_convex_hull: bool) -> Result<Vec<u32>, MeshError> {
-    let mut labels = vec![NO_REGION; cdt.num_all_faces()];
+    let mut parts = Parts::new(cdt);
+    let n = cdt.num_all_faces();
+    // Labels per part root.
+    let mut labels = vec![NO_REGION; n];
     labels[0] = CARVED;
-    let mut stack = Vec::new();
-    let domain = |l: u32| l != CARVED;
     if !keep_convex_hull {
-        let starts: Vec<Face> =
-            cdt.convex_hull().map(|e| e.rev()).filter(|e| !e.is_constraint_edge()).filter_map(|e| e.face().as_inner().map(|f| f.fix())).collect();
-        for f in starts {
-            flood(cdt, &mut labels, f, CARVED, domain, &mut stack);
+        for f in 1..n {
+            if parts.touches_hull[f] {
+                labels[f] = CARVED;
+            }
         }
     }
     for (k, &h) in pslg.holes.iter().enumerate() {
         match locate(cdt, h) {
             Located::Faces(fs) => {
                 for f in fs {
-                    flood(cdt, &mut labels, f, CARVED, domain, &mut stack);
+                    let r = parts.find(f.index());
+                    labels[r] = CARVED;
                 }
             }
             Located::OnSegment => return Err(MeshError::SeedOnSegment { what: "hole", number: k + 1, point: h }),
@@ -106,7 +137,8 @@ pub(crate) fn classify(cdt: &Cdt, pslg: &Pslg, keep_convex_hull: bool) -> Result
             Located::OutsideHull => {}
         }
     }
-    if labels.iter().all(|&l| l == CARVED) {
+    let roots: Vec<usize> = (1..n).filter(|&f| parts.find(f) == f).collect();
+    if roots.iter().all(|&r| labels[r] == CARVED) {
         return Err(MeshError::NothingToMesh);
     }
     for (k, s) in pslg.seeds.iter().enumerate() {
@@ -119,24 +151,31 @@ pub(crate) fn classify(cdt: &Cdt, pslg: &Pslg, keep_convex_hull: bool) -> Result
             Located::OutsideHull => return Err(MeshError::RegionOutside { region: s.number, point: s.point }),
         };
         for f in faces {
+            let r = parts.find(f.index());
             if derived {
-                flood(cdt, &mut labels, f, k, |l| l == NO_REGION, &mut stack);
-            } else if labels[f.index()] == CARVED {
+                if labels[r] == NO_REGION {
+                    labels[r] = k;
+                }
+            } else if labels[r] == CARVED {
                 return Err(MeshError::RegionOutside { region: s.number, point: s.point });
             } else {
-                flood(cdt, &mut labels, f, k, |l| l != CARVED && l != k, &mut stack);
+                labels[r] = k;
             }
         }
     }
     if pslg.seeded_only {
-        for l in labels.iter_mut() {
-            if *l == NO_REGION {
-                *l = CARVED;
+        for &r in &roots {
+            if labels[r] == NO_REGION {
+                labels[r] = CARVED;
             }
         }
-        if labels.iter().all(|&l| l == CARVED) {
+        if roots.iter().all(|&r| labels[r] == CARVED) {
             return Err(MeshError::NothingToMesh);
         }
     }
-    Ok(labels)
+    let mut out = vec![CARVED; n];
+    for (f, o) in out.iter_mut().enumerate().skip(1) {
+        *o = labels[parts.find(f)];
+    }
+    Ok(out)
 }

@@ -10,10 +10,18 @@
 //! segment markers carried to the pieces of the split segments, and the corners of the
 //! boundary as Vertex cells.
 //!
-//! - [`pslg`] takes the graph out of a mesh and refuses what cannot be meshed;
-//! - [`refine`] builds and refines the triangulation;
-//! - [`domain`] labels triangles outside, in holes, or in a region (flood fills);
-//! - [`assemble`] writes the result as a [`TaggedMesh`].
+//! Inside (private modules, one job each):
+//! - `pslg` takes the graph out of a mesh and refuses what cannot be meshed;
+//! - `refine` builds and refines the triangulation;
+//! - `domain` labels triangles outside, in holes, or in a region (flood fills);
+//! - `assemble` writes the result as a [`TaggedMesh`].
+//!
+//! How a mesh that is not a `.poly` is read as a graph: its Line cells (second-order
+//! lines by their end points) are the segments and its Vertex cells are kept as corners
+//! with their tags; its surface cells are not meshed again, but the centroid of each is a
+//! region seed with the cell's tag, and what no centroid reaches is carved (so the inside
+//! of a cylinder is a hole without a hole point). Only the points these cells use are
+//! vertices of the graph.
 //!
 //! What spade guarantees, and so what we do: every triangle of the domain has its smallest
 //! angle above the bound, except next to input angles too small to be improved (two
@@ -242,7 +250,7 @@ impl MeshError {
 }
 
 /// Meshes the planar straight-line graph of `pslg`: a Triangle `.poly` (segments, holes,
-/// regions) or the Line cells of any mesh (see [`pslg`] for how a mesh is read as a
+/// regions) or the Line cells of any mesh (the module docs say how a mesh is read as a
 /// graph). Returns counter-clockwise triangles tagged with their regional attribute (0
 /// outside every region), each input segment as Line cells with its tags, Vertex cells at
 /// the corners, and the input's tag names (not its holes and region seeds: the triangles'

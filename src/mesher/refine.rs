@@ -73,6 +73,15 @@ fn bound_of(label: u32, global: Option<f64>, pslg: &Pslg) -> Option<f64> {
     }
 }
 
+/// spade's `refine`, with a panic (spade gives up with one when a circumcentre cannot be
+/// inserted for loss of precision) turned into an error.
+fn spade_refine(cdt: &mut Cdt, params: RefinementParameters<f64>) -> Result<spade::RefinementResult, MeshError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| cdt.refine(params))).map_err(|e| {
+        let why = e.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| e.downcast_ref::<String>().cloned()).unwrap_or_default();
+        MeshError::Internal { reason: format!("spade's refinement failed: {why}") }
+    })
+}
+
 /// Refines `cdt` as `opts` asks and returns the final face labels.
 pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<Vec<u32>, MeshError> {
     let initial = classify(cdt, pslg, opts.keep_convex_hull)?;
@@ -83,7 +92,7 @@ pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<V
     }
 
     let exclude = !opts.keep_convex_hull && {
-        let dry = cdt.refine(RefinementParameters::<f64>::new().exclude_outer_faces(true).with_max_additional_vertices(0));
+        let dry = spade_refine(cdt, RefinementParameters::<f64>::new().exclude_outer_faces(true).with_max_additional_vertices(0))?;
         dry.excluded_faces.iter().all(|f| initial[f.index()] == CARVED)
     };
 
@@ -109,7 +118,8 @@ pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<V
         p
     };
 
-    let result = cdt.refine(params(cdt));
+    let p = params(cdt);
+        let result = spade_refine(cdt, p)?;
     if !result.refinement_complete {
         return Err(MeshError::RefinementIncomplete { vertices: cdt.num_vertices() });
     }
@@ -136,7 +146,8 @@ pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<V
         for c in centroids {
             cdt.insert(c).map_err(|e| MeshError::Coordinates { reason: format!("{e:?}") })?;
         }
-        let result = cdt.refine(params(cdt));
+        let p = params(cdt);
+        let result = spade_refine(cdt, p)?;
         if !result.refinement_complete {
             return Err(MeshError::RefinementIncomplete { vertices: cdt.num_vertices() });
         }
