@@ -8,7 +8,7 @@
 #[path = "../formats/tests/common/mod.rs"]
 mod common;
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
 
@@ -51,8 +51,8 @@ fn check_orientation(m: &TaggedMesh) {
 /// inside the other's circumcircle (in-circle determinant, relative tolerance).
 fn check_constrained_delaunay(m: &TaggedMesh) -> usize {
     let key = |a: usize, b: usize| (a.min(b), a.max(b));
-    let constrained: std::collections::HashSet<(usize, usize)> = lines(m).iter().map(|(l, _)| key(l[0], l[1])).collect();
-    let mut sides: HashMap<(usize, usize), Vec<(usize, usize)>> = HashMap::new();
+    let constrained: std::collections::BTreeSet<(usize, usize)> = lines(m).iter().map(|(l, _)| key(l[0], l[1])).collect();
+    let mut sides: BTreeMap<(usize, usize), Vec<(usize, usize)>> = BTreeMap::new();
     let tris = triangles(m);
     for (ti, (t, _)) in tris.iter().enumerate() {
         for k in 0..3 {
@@ -118,10 +118,13 @@ fn check_segment_coverage(input: &TaggedMesh, out: &TaggedMesh) {
     }
 }
 
+/// An input vertex and the segments (as end point pairs) that meet there.
+type Apex = ([f64; 2], Vec<([f64; 2], [f64; 2])>);
+
 /// Input vertices where two segments meet at less than 60 degrees (Ruppert's bound does
 /// not hold next to them), as coordinates with their incident segments.
-fn small_input_angles(input: &TaggedMesh) -> Vec<([f64; 2], Vec<([f64; 2], [f64; 2])>)> {
-    let mut at: HashMap<usize, Vec<usize>> = HashMap::new();
+fn small_input_angles(input: &TaggedMesh) -> Vec<Apex> {
+    let mut at: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
     for (kind, n, _, _) in input.cells() {
         if kind == CellKind::Line {
             at.entry(n[0]).or_default().push(n[1]);

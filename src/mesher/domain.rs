@@ -118,9 +118,9 @@ pub(crate) fn classify(cdt: &Cdt, pslg: &Pslg, keep_convex_hull: bool) -> Result
     let mut labels = vec![NO_REGION; n];
     labels[0] = CARVED;
     if !keep_convex_hull {
-        for f in 1..n {
-            if parts.touches_hull[f] {
-                labels[f] = CARVED;
+        for (l, &touches) in labels.iter_mut().zip(&parts.touches_hull) {
+            if touches {
+                *l = CARVED;
             }
         }
     }
