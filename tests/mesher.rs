@@ -265,6 +265,22 @@ fn airfoil_with_area_bound_and_thirty_degrees() {
     assert!(pts.contains(&[1.0, 0.0]) && pts.contains(&[-2.0, -2.0]) && pts.contains(&[3.0, 2.0]));
 }
 
+/// A region's own area bound on a graph without interfaces (spade excludes the outside
+/// itself there): every triangle of the region within it, the angle bound kept.
+#[test]
+fn region_area_bound_on_the_airfoil() {
+    let mut input = read_fixture("naca0012.poly");
+    input.regions[0].max_area = 0.004;
+    let out = triangulate(&input, &MeshOptions::default()).unwrap();
+    for (t, tag) in triangles(&out) {
+        assert_eq!(tag, 1);
+        assert!(area_of(&out, t) <= 0.004, "area {}", area_of(&out, t));
+    }
+    assert!(triangles(&out).len() as f64 >= 19.9 / 0.004);
+    check_constrained_delaunay(&out);
+    check_min_angle(&input, &out, 20.7);
+}
+
 #[test]
 fn uniform_size_bounds_every_area() {
     let input = read_fixture("square_hole.poly");
