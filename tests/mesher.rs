@@ -443,8 +443,15 @@ fn cli_bad_input_exits_2_naming_the_file_and_leaves_no_output() {
     let o = smartmesh(&["mesh", poly.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("cross.poly") && err.contains("crosses segment"), "{err}");
+    // Segments 5 and 6 are on lines 11 and 12; the error names the line of one of them.
+    assert!((err.contains("cross.poly:11: segment 5") || err.contains("cross.poly:12: segment 6")) && err.contains("crosses segment"), "{err}");
     assert!(!out.exists());
+    let seed = dir.path().join("seed.poly");
+    std::fs::write(&seed, "# square with a region seed outside\n4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n1\n1 2.0 0.5 7 -1\n").unwrap();
+    let o = smartmesh(&["mesh", seed.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("seed.poly:14: region 1's point (2, 0.5) is outside the domain"), "{err}");
     let o = smartmesh(&["mesh", fixture("square_hole.poly").to_str().unwrap(), "-o", out.to_str().unwrap(), "--min-angle", "50"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("minimum angle 50"));

@@ -5,7 +5,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 use smartmesh::formats::{read_path, write_path, Format, GmshVersion, WriteOptions};
-use smartmesh::mesher::{triangulate, MeshOptions};
+use smartmesh::formats::triangle::poly_lines;
+use smartmesh::mesher::{triangulate, MeshError, MeshOptions, Subject};
 use smartmesh::quality::QualitySummary;
 use smartmesh::Topology;
 
@@ -90,6 +91,23 @@ struct MeshSummary<'a> {
     dropped: &'a [String],
 }
 
+/// The line of the `.poly` record a meshing error is about, when the input is a `.poly`
+/// file (not stdin) that lists it.
+fn poly_line(args: &MeshArgs, from: Option<Format>, e: &MeshError) -> Option<u64> {
+    let is_poly = from == Some(Format::Triangle) && args.input.extension().is_some_and(|x| x.eq_ignore_ascii_case("poly"));
+    if !is_poly {
+        return None;
+    }
+    let lines = poly_lines(&std::fs::read(&args.input).ok()?);
+    match e.subject()? {
+        Subject::Point(i) => lines.vertices.get(i),
+        Subject::Segment(k) => lines.segments.get(k.checked_sub(1)?),
+        Subject::Hole(k) => lines.holes.get(k.checked_sub(1)?),
+        Subject::Region(k) => lines.regions.get(k.checked_sub(1)?),
+    }
+    .copied()
+}
+
 /// Runs `mesh`.
 pub fn run(args: MeshArgs) -> Result<(), CliError> {
     if args.output.as_os_str() == "-" && args.json {
@@ -108,7 +126,10 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
     let pslg = read_path(&args.input, from)?;
     let mesh = triangulate(&pslg, &opts).map_err(|e| CliError {
         status: if e.is_input_error() { ExitStatus::Error } else { ExitStatus::Failure },
-        message: format!("{}: {e}", args.input.display()),
+        message: match poly_line(&args, from, &e) {
+            Some(line) => format!("{}:{line}: {e}", args.input.display()),
+            None => format!("{}: {e}", args.input.display()),
+        },
     })?;
     let wopts = WriteOptions { binary: args.binary, gmsh_version: if args.msh2 { GmshVersion::V22 } else { GmshVersion::V41 }, ..WriteOptions::default() };
     let to = args.to.or_else(|| Format::from_path(&args.output));

@@ -242,7 +242,41 @@ pub enum MeshError {
     },
 }
 
+/// The input item a [`MeshError`] is about, so that a caller holding the file can name its
+/// line (see `formats::triangle::poly_lines`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Subject {
+    /// A point, 0-based (the input mesh's point order, the file's vertex order).
+    Point(usize),
+    /// A segment (Line cell), 1-based in file order.
+    Segment(usize),
+    /// A hole, 1-based.
+    Hole(usize),
+    /// A region, 1-based.
+    Region(usize),
+}
+
 impl MeshError {
+    /// The input item the error is about, if it is about one.
+    pub fn subject(&self) -> Option<Subject> {
+        use MeshError::*;
+        Some(match *self {
+            NonFinite { point } | NotPlanar { point, .. } => Subject::Point(point),
+            DuplicatePoint { second, .. } => Subject::Point(second),
+            ZeroLengthSegment { segment, .. } | SegmentsCross { segment, .. } => Subject::Segment(segment),
+            DuplicateSegment { second, .. } | SegmentsOverlap { second, .. } => Subject::Segment(second),
+            RegionOutside { region, .. } | NonIntegerAttribute { region, .. } => Subject::Region(region),
+            SeedOnSegment { what, number, .. } | NonFiniteSeed { what, number } => {
+                if what == "hole" {
+                    Subject::Hole(number)
+                } else {
+                    Subject::Region(number)
+                }
+            }
+            _ => return None,
+        })
+    }
+
     /// Whether the input (or the options) is at fault, rather than the meshing.
     pub fn is_input_error(&self) -> bool {
         !matches!(self, MeshError::RefinementIncomplete { .. } | MeshError::Internal { .. })
