@@ -401,6 +401,11 @@ fn bad_graphs_get_clear_errors() {
     holed.holes.push([0.5, 0.5]);
     assert_eq!(triangulate(&holed, &MeshOptions::default()), Err(MeshError::NothingToMesh));
 
+    let capped = MeshOptions { max_area: Some(0.001), max_vertices: Some(50), ..MeshOptions::default() };
+    let e = triangulate(&pslg(&SQUARE, &LOOP), &capped).unwrap_err();
+    assert!(matches!(e, MeshError::RefinementIncomplete { .. }) && !e.is_input_error(), "{e:?}");
+    assert!(e.to_string().contains("--max-vertices"), "{e}");
+
     for bad in [MeshOptions { min_angle_deg: 40.0, ..MeshOptions::default() }, MeshOptions { max_area: Some(-1.0), ..MeshOptions::default() }, MeshOptions { size: Some(0.0), ..MeshOptions::default() }] {
         assert!(matches!(triangulate(&pslg(&SQUARE, &LOOP), &bad), Err(MeshError::BadOption { .. })));
     }

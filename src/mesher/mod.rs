@@ -229,7 +229,7 @@ pub enum MeshError {
         reason: String,
     },
     /// Refinement reached the vertex budget before meeting the bounds.
-    #[error("refinement stopped at {vertices} vertices before meeting the bounds; lower the minimum angle (20.7 degrees always terminates) or raise the area bound")]
+    #[error("refinement stopped at {vertices} vertices before meeting the bounds; lower the minimum angle (20.7 degrees always terminates), raise the area bound, or allow more vertices (max_vertices, `--max-vertices`)")]
     RefinementIncomplete {
         /// Vertices when it stopped.
         vertices: usize,
