@@ -14,6 +14,8 @@
 //!   validated model, resolved against a mesh into a sizing plan;
 //! - [`export`]: a size field written as a metric for MMG (.sol), Gmsh (.msh, .pos) and
 //!   VTK/ParaView (.vtu, .vtk);
+//! - [`mesher`]: the starting mesh, a constrained Delaunay triangulation with quality
+//!   refinement of a planar straight-line graph (Triangle `.poly` or a mesh's lines);
 //! - [`conformity`]: metric edge lengths and metric quality of a mesh against a field;
 //! - [`adapters`]: remeshers behind one trait (MMG's `mmg2d_O3`, Gmsh's BAMG), tags
 //!   restored on their output;
@@ -32,6 +34,7 @@ pub mod export;
 pub mod geometry;
 pub mod history;
 pub mod mesh_graph;
+pub mod mesher;
 pub mod metric;
 pub mod quality;
 pub mod recipe;

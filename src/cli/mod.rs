@@ -3,6 +3,7 @@
 mod adapt;
 mod convert;
 mod info;
+mod mesh;
 mod recipe;
 mod size;
 
@@ -85,6 +86,7 @@ enum Command {
     Recipe(recipe::RecipeArgs),
     Size(size::SizeArgs),
     Adapt(adapt::AdaptArgs),
+    Mesh(mesh::MeshArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -105,6 +107,7 @@ pub fn main() -> ExitCode {
         Command::Recipe(a) => recipe::run(a),
         Command::Size(a) => size::run(a),
         Command::Adapt(a) => adapt::run(a),
+        Command::Mesh(a) => mesh::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),

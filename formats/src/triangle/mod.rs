@@ -74,6 +74,47 @@ pub fn attribute_name(k: usize) -> String {
     format!("{ATTRIBUTE_PREFIX}{k}")
 }
 
+/// The 1-based line of each record of a self-contained `.poly`, section by section, for
+/// a caller that finds something wrong with an item after reading (the mesher reports
+/// "segment 7 crosses segment 2"; this says on which line segment 7 is). Records are
+/// lines, as Triangle reads them: `#` starts a comment, blank lines are skipped. A `.poly`
+/// with 0 vertices lists none (they are in the `.node`). Stops at the first header it
+/// cannot read, keeping what it found.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct PolyLines {
+    /// Line of vertex `i` (0-based, in file order).
+    pub vertices: Vec<u64>,
+    /// Line of segment `i`.
+    pub segments: Vec<u64>,
+    /// Line of hole `i`.
+    pub holes: Vec<u64>,
+    /// Line of region `i`.
+    pub regions: Vec<u64>,
+}
+
+/// Finds the line of every record of a `.poly` (see [`PolyLines`]).
+pub fn poly_lines(bytes: &[u8]) -> PolyLines {
+    let mut records = bytes.split(|&b| b == b'\n').enumerate().filter_map(|(i, line)| {
+        let line = line.split(|&b| b == b'#').next().unwrap_or_default();
+        let first = line.split(|b| b.is_ascii_whitespace()).find(|t| !t.is_empty())?;
+        Some((i as u64 + 1, first))
+    });
+    let mut out = PolyLines::default();
+    // A header (its first number is the count), then that many records.
+    fn section<'a>(records: &mut impl Iterator<Item = (u64, &'a [u8])>, into: &mut Vec<u64>) -> bool {
+        let Some(n) = records.next().and_then(|(_, t)| std::str::from_utf8(t).ok()?.parse::<usize>().ok()) else {
+            return false;
+        };
+        into.extend(records.take(n).map(|(l, _)| l));
+        true
+    }
+    let _ = section(&mut records, &mut out.vertices)
+        && section(&mut records, &mut out.segments)
+        && section(&mut records, &mut out.holes)
+        && section(&mut records, &mut out.regions);
+    out
+}
+
 /// Which file of the set.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Kind {
@@ -110,4 +151,19 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
 /// Writes a mesh as a Triangle file set (see the module documentation).
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     write::write(mesh, opts)
+}
+
+#[cfg(test)]
+mod poly_lines_tests {
+    use super::*;
+
+    #[test]
+    fn lines_of_records_skip_comments_and_blanks() {
+        let text = "# a square\n4 2 0 1\n1 0 0\n2 1 0\n\n3 1 1 # top\n4 0 1\n4 1\n1 1 2 5\n2 2 3 5\n3 3 4 5\n4 4 1 5\n# holes\n1\n1 0.5 0.5\n0\n";
+        let l = poly_lines(text.as_bytes());
+        assert_eq!(l.vertices, vec![3, 4, 6, 7]);
+        assert_eq!(l.segments, vec![9, 10, 11, 12]);
+        assert_eq!(l.holes, vec![15]);
+        assert!(l.regions.is_empty());
+    }
 }

@@ -1,0 +1,187 @@
+//! The planar straight-line graph a mesh is made from, taken out of a [`TaggedMesh`] and
+//! checked before any triangulation starts.
+//!
+//! Two kinds of input give a PSLG:
+//! - a Triangle `.poly` (no surface cells): every point is a vertex of the graph (isolated
+//!   points too, as Triangle inserts them), the Line cells are the segments, holes and
+//!   region seeds come from the file;
+//! - any other mesh (a `.msh`, a `.mesh`...): only its Line cells (and Vertex cells) and the
+//!   points they use. Its triangles are not meshed again; instead the centroid of every
+//!   surface cell becomes a region seed with the cell's tag, and the parts of the plane
+//!   bounded by segments that hold no surface cell are carved away (a cylinder's inside is a
+//!   hole without anybody saying so).
+//!
+//! The checks are those that the triangulation cannot survive, or would silently get
+//! wrong: non-planar or non-finite coordinates, two points at the same place, zero-length
+//! and repeated segments, non-integer regional attributes. Crossing segments are found
+//! while the constrained triangulation is built (spade reports them), see
+//! [`super::refine`].
+
+use std::collections::HashMap;
+
+use crate::formats::{CellKind, TaggedMesh};
+
+use super::MeshError;
+
+/// One segment of the graph: compact point indices and the tags of its Line cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Segment {
+    pub a: usize,
+    pub b: usize,
+    pub physical: i32,
+    pub geometrical: i32,
+}
+
+/// A region seed with the face tag it gives and its own area bound (`None`: unbounded).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Seed {
+    pub point: [f64; 2],
+    pub tag: i32,
+    pub max_area: Option<f64>,
+    /// 1-based number of the region in the input (for messages); 0 for seeds derived
+    /// from surface cells.
+    pub number: usize,
+}
+
+/// The checked planar straight-line graph.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Pslg {
+    /// Vertex coordinates, compact.
+    pub points: Vec<[f64; 2]>,
+    /// The input point index of each compact vertex.
+    pub source: Vec<usize>,
+    /// Segments in input order.
+    pub segments: Vec<Segment>,
+    /// Input Vertex cells: compact vertex and tags.
+    pub listed: Vec<(usize, i32, i32)>,
+    /// Hole points.
+    pub holes: Vec<[f64; 2]>,
+    /// Region seeds, in input order (a later seed wins where two flood one region).
+    pub seeds: Vec<Seed>,
+    /// Whether parts of the domain reached by no seed are carved (mesh input).
+    pub seeded_only: bool,
+}
+
+/// Takes the graph out of `mesh` and checks it.
+pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
+    let n = mesh.points.len();
+    let has_surface = mesh.blocks.iter().any(|b| b.kind.dim() == 2 && !b.is_empty());
+    let mut compact = vec![usize::MAX; n];
+    let mut source = Vec::new();
+    let mut take = |i: usize, compact: &mut Vec<usize>| -> Result<usize, MeshError> {
+        if i >= n {
+            return Err(MeshError::BadIndex { index: i, points: n });
+        }
+        if compact[i] == usize::MAX {
+            compact[i] = source.len();
+            source.push(i);
+        }
+        Ok(compact[i])
+    };
+    if !has_surface {
+        for i in 0..n {
+            take(i, &mut compact)?;
+        }
+    }
+    let mut segments = Vec::new();
+    let mut listed = Vec::new();
+    for (kind, nodes, physical, geometrical) in mesh.cells() {
+        match kind {
+            CellKind::Line | CellKind::Line3 => {
+                let (a, b) = (take(nodes[0], &mut compact)?, take(nodes[1], &mut compact)?);
+                segments.push(Segment { a, b, physical, geometrical });
+            }
+            CellKind::Vertex => listed.push((take(nodes[0], &mut compact)?, physical, geometrical)),
+            _ => {}
+        }
+    }
+    let mut points = Vec::with_capacity(source.len());
+    for &i in &source {
+        let p = mesh.points[i];
+        if !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()) {
+            return Err(MeshError::NonFinite { point: i });
+        }
+        if p[2] != 0.0 {
+            return Err(MeshError::NotPlanar { point: i, z: p[2] });
+        }
+        points.push([p[0], p[1]]);
+    }
+    check_duplicate_points(&points, &source)?;
+    check_segments(&segments, &source)?;
+
+    let mut seeds = Vec::new();
+    for (k, r) in mesh.regions.iter().enumerate() {
+        let a = r.attribute;
+        if !(a.fract() == 0.0 && a >= i32::MIN as f64 && a <= i32::MAX as f64) {
+            return Err(MeshError::NonIntegerAttribute { region: k + 1, attribute: a });
+        }
+        if !(r.point[0].is_finite() && r.point[1].is_finite()) {
+            return Err(MeshError::NonFiniteSeed { what: "region", number: k + 1 });
+        }
+        let max_area = (r.max_area > 0.0 && r.max_area.is_finite()).then_some(r.max_area);
+        seeds.push(Seed { point: r.point, tag: a as i32, max_area, number: k + 1 });
+    }
+    let seeded_only = has_surface && mesh.regions.is_empty() && mesh.holes.is_empty();
+    if seeded_only {
+        for (kind, nodes, physical, geometrical) in mesh.cells() {
+            if kind.dim() != 2 {
+                continue;
+            }
+            let k = match kind {
+                CellKind::Triangle | CellKind::Triangle6 => 3,
+                _ => 4,
+            };
+            let (mut x, mut y) = (0.0, 0.0);
+            for &v in &nodes[..k] {
+                let p = mesh.points.get(v).ok_or(MeshError::BadIndex { index: v, points: n })?;
+                x += p[0];
+                y += p[1];
+            }
+            let tag = if physical != 0 { physical } else { geometrical };
+            seeds.push(Seed { point: [x / k as f64, y / k as f64], tag, max_area: None, number: 0 });
+        }
+    }
+    for (k, h) in mesh.holes.iter().enumerate() {
+        if !(h[0].is_finite() && h[1].is_finite()) {
+            return Err(MeshError::NonFiniteSeed { what: "hole", number: k + 1 });
+        }
+    }
+    Ok(Pslg { points, source, segments, listed, holes: mesh.holes.clone(), seeds, seeded_only })
+}
+
+/// Two vertices at the same place would be merged by the triangulation and every segment
+/// through one of them would lose its end: refuse them. Sorting finds them in O(n log n).
+fn check_duplicate_points(points: &[[f64; 2]], source: &[usize]) -> Result<(), MeshError> {
+    // `+ 0.0` turns -0.0 into 0.0, so that total_cmp sorts the two together.
+    let key = |i: usize| (points[i][0] + 0.0, points[i][1] + 0.0);
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_unstable_by(|&i, &j| {
+        let (p, q) = (key(i), key(j));
+        p.0.total_cmp(&q.0).then(p.1.total_cmp(&q.1)).then(i.cmp(&j))
+    });
+    for w in order.windows(2) {
+        let (p, q) = (points[w[0]], points[w[1]]);
+        if p[0] == q[0] && p[1] == q[1] {
+            let (a, b) = (source[w[0]].min(source[w[1]]), source[w[0]].max(source[w[1]]));
+            return Err(MeshError::DuplicatePoint { first: a, second: b, at: p });
+        }
+    }
+    Ok(())
+}
+
+/// Zero-length segments have no direction to mesh along, and a segment listed twice
+/// would give two Line cells with possibly different tags on every edge: refuse both.
+fn check_segments(segments: &[Segment], source: &[usize]) -> Result<(), MeshError> {
+    let mut seen: HashMap<(usize, usize), usize> = HashMap::with_capacity(segments.len());
+    for (k, s) in segments.iter().enumerate() {
+        if s.a == s.b {
+            return Err(MeshError::ZeroLengthSegment { segment: k + 1, point: source[s.a] });
+        }
+        let key = (s.a.min(s.b), s.a.max(s.b));
+        if let Some(&first) = seen.get(&key) {
+            return Err(MeshError::DuplicateSegment { first: first + 1, second: k + 1 });
+        }
+        seen.insert(key, k);
+    }
+    Ok(())
+}
