@@ -30,6 +30,7 @@ pub mod mesh_graph;
 pub mod metric;
 pub mod quality;
 pub mod recipe;
+pub mod remesh;
 pub mod sizing;
 pub mod summary;
 pub mod topology;

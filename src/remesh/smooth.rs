@@ -1,0 +1,111 @@
+//! Vertex smoothing: a free vertex moves toward the mean of the points at unit metric
+//! distance from each neighbour (a Laplacian in the metric); a piece vertex slides along
+//! its piece to the parameter that equalises the metric lengths of its two piece edges.
+//! A move is kept only when every triangle of the ball stays strictly counter-clockwise
+//! and the worst of them gets better; the metric at the new place comes from the input
+//! field.
+
+use super::work::{orient, Work, DEAD, FIXED, FREE};
+use crate::metric::Sym2;
+
+/// One sweep over the vertices in index order. Returns the number of moves.
+pub fn smooth_sweep(w: &mut Work) -> usize {
+    let mut n = 0;
+    for v in 0..w.pts.len() as u32 {
+        let p = w.piece[v as usize];
+        if p == FIXED || p == DEAD || w.vtris[v as usize].is_empty() {
+            continue;
+        }
+        if if p == FREE { smooth_free(w, v) } else { smooth_on_piece(w, v) } {
+            n += 1;
+        }
+    }
+    n
+}
+
+fn ball_min_quality(w: &Work, v: u32) -> f64 {
+    w.vtris[v as usize].iter().map(|&t| w.quality(t)).fold(f64::INFINITY, f64::min)
+}
+
+/// The worst quality of `v`'s ball with `v` at `p` carrying `m`, or `None` when a
+/// triangle would not be strictly counter-clockwise.
+fn ball_min_quality_at(w: &Work, v: u32, p: [f64; 2], m: &Sym2) -> Option<f64> {
+    let mut q = f64::INFINITY;
+    for &t in &w.vtris[v as usize] {
+        let tri = w.tris[t as usize];
+        let pts = tri.map(|x| if x == v { p } else { w.pts[x as usize] });
+        if orient(pts[0], pts[1], pts[2]) <= 0.0 {
+            return None;
+        }
+        let ms = tri.map(|x| if x == v { *m } else { w.met[x as usize] });
+        q = q.min(super::work::op_quality(pts, [&ms[0], &ms[1], &ms[2]]));
+    }
+    Some(q)
+}
+
+fn smooth_free(w: &mut Work, v: u32) -> bool {
+    let p = w.pts[v as usize];
+    let nb = w.neighbours(v);
+    let (mut sx, mut sy, mut k) = (0.0, 0.0, 0usize);
+    for &u in &nb {
+        let l = w.length(u, v);
+        if l <= 0.0 || !l.is_finite() {
+            continue;
+        }
+        let q = w.pts[u as usize];
+        sx += q[0] + (p[0] - q[0]) / l;
+        sy += q[1] + (p[1] - q[1]) / l;
+        k += 1;
+    }
+    if k == 0 {
+        return false;
+    }
+    let target = [sx / k as f64, sy / k as f64];
+    let old = ball_min_quality(w, v);
+    for omega in [1.0, 0.5] {
+        let np = [p[0] + omega * (target[0] - p[0]), p[1] + omega * (target[1] - p[1])];
+        let nm = w.bg.metric_at(np);
+        if let Some(q) = ball_min_quality_at(w, v, np, &nm) {
+            if q > old {
+                w.pts[v as usize] = np;
+                w.met[v as usize] = nm;
+                return true;
+            }
+        }
+    }
+    false
+}
+
+fn smooth_on_piece(w: &mut Work, v: u32) -> bool {
+    let Some([(u, su), (x, sx)]) = w.curve_neighbours(v) else { return false };
+    let pid = w.piece[v as usize];
+    let sv = w.s[v as usize];
+    if !(su < sv && sv < sx) {
+        return false;
+    }
+    let (l1, l2) = (w.length(u, v), w.length(v, x));
+    // With the density constant on each side, lengths scale with the parameter: solve
+    // l1·(t − su)/(sv − su) = l2·(sx − t)/(sx − sv).
+    let (ka, kb) = (l1 / (sv - su), l2 / (sx - sv));
+    if !(ka > 0.0 && kb > 0.0) {
+        return false;
+    }
+    let target = (ka * su + kb * sx) / (ka + kb);
+    let old = ball_min_quality(w, v);
+    for omega in [1.0, 0.5] {
+        let t = sv + omega * (target - sv);
+        if !(su < t && t < sx) {
+            continue;
+        }
+        let (np, nm) = w.on_piece(pid, t);
+        if let Some(q) = ball_min_quality_at(w, v, np, &nm) {
+            if q > old && w.bd.chord_clear(pid, su, w.pts[u as usize], t, np) && w.bd.chord_clear(pid, t, np, sx, w.pts[x as usize]) {
+                w.pts[v as usize] = np;
+                w.met[v as usize] = nm;
+                w.s[v as usize] = t;
+                return true;
+            }
+        }
+    }
+    false
+}
