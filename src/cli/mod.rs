@@ -3,6 +3,7 @@
 mod convert;
 mod info;
 mod recipe;
+mod remesh;
 mod size;
 
 use std::io::Write;
@@ -83,6 +84,7 @@ enum Command {
     Convert(convert::ConvertArgs),
     Recipe(recipe::RecipeArgs),
     Size(size::SizeArgs),
+    Remesh(remesh::RemeshArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -102,6 +104,7 @@ pub fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a),
         Command::Recipe(a) => recipe::run(a),
         Command::Size(a) => size::run(a),
+        Command::Remesh(a) => remesh::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),
