@@ -101,6 +101,7 @@ fn bad_metrics_exit_2_naming_file_and_vertex() {
     // Wrong vertex count: the metric file is another mesh.
     let mut m = base.clone();
     m.points.push([9.0, 9.0, 0.0]);
+    m.point_data.retain(|k, _| k == "metric");
     let mut v = m.point_data["metric"].values.clone();
     v.extend_from_slice(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
     m.point_data.insert("metric".into(), DataArray::new(9, v));
