@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::conformity::{metric_field, Conformity};
 use smartmesh::formats::{read_path, write_path, Format, GmshVersion, TaggedMesh, WriteOptions};
 use smartmesh::metric::Sym2;
-use smartmesh::remesh::{remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
+use smartmesh::remesh::{interpolate_metric, remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
 
 use super::{parse_format, print_stdout, CliError};
 
@@ -49,6 +49,10 @@ pub struct RemeshArgs {
     /// Only measure MESH against the metric (share of edges in [1/√2, √2], metric quality).
     #[arg(long)]
     measure: bool,
+    /// With --measure: take the metric from this mesh (the input of a remeshing, with its
+    /// `metric`), interpolated at MESH's vertices, instead of MESH's own.
+    #[arg(long, requires = "measure", conflicts_with = "metric")]
+    background: Option<PathBuf>,
     /// Where boundary vertices go.
     #[arg(long, value_enum, default_value = "polyline")]
     boundary: Boundary,
@@ -90,7 +94,15 @@ fn read_metric(mesh_path: &Path, mesh: &TaggedMesh, metric: Option<&Path>) -> Re
 pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     let mesh = read_path(&args.mesh, from)?;
-    let metric = read_metric(&args.mesh, &mesh, args.metric.as_deref())?;
+    let metric = match &args.background {
+        Some(b) => {
+            let bmesh = read_path(b, None)?;
+            let bmetric = metric_field(&bmesh, "metric").map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?;
+            let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
+            interpolate_metric(&bmesh, &bmetric, &pts).map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?
+        }
+        None => read_metric(&args.mesh, &mesh, args.metric.as_deref())?,
+    };
     if args.measure {
         let c = Conformity::of_mesh(&mesh, &metric).ok_or_else(|| CliError::usage(format!("{}: no triangles to measure", args.mesh.display())))?;
         let text = if args.json {

@@ -225,6 +225,23 @@ pub enum RemeshEvent {
     },
 }
 
+/// The metric of a background mesh (`background` with one tensor per point in
+/// `metric`) at `points`, by the interpolation the remesher uses: Log-Euclidean
+/// barycentric in the triangle holding the point, or at the closest point of the nearest
+/// triangle outside. Measures any mesh (ours, another tool's) against the same field.
+pub fn interpolate_metric(background: &TaggedMesh, metric: &[Sym2], points: &[[f64; 2]]) -> Result<Vec<Sym2>, RemeshError> {
+    if metric.len() != background.points.len() {
+        return Err(RemeshError::MetricCount { items: metric.len(), vertices: background.points.len() });
+    }
+    let pts: Vec<[f64; 2]> = background.points.iter().map(|p| [p[0], p[1]]).collect();
+    let tris: Vec<[usize; 3]> = background.cells().filter(|c| c.0 == crate::formats::CellKind::Triangle).map(|c| [c.1[0], c.1[1], c.1[2]]).collect();
+    if tris.is_empty() {
+        return Err(RemeshError::NoTriangles);
+    }
+    let bg = background::Background::new(&pts, &tris, metric);
+    Ok(points.iter().map(|&p| bg.metric_at(p)).collect())
+}
+
 /// Remeshes `mesh` to `metric` (one SPD tensor per point; [`crate::conformity::metric_field`]
 /// reads and checks one from point data).
 pub fn remesh(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result<Remeshed, RemeshError> {
