@@ -19,17 +19,23 @@ pub fn collapse_sweep(w: &mut Work, lmin: f64, lmax: f64) -> usize {
         if w.piece[a as usize] == DEAD || w.piece[b as usize] == DEAD {
             continue;
         }
-        if collapse(w, a, b, lmax) || collapse(w, b, a, lmax) {
+        if collapse(w, a, b, lmax, false) || collapse(w, b, a, lmax, false) || collapse(w, a, b, lmax, true) {
             n += 1;
         }
     }
     n
 }
 
-/// Merges `a` into `b`; false (nothing changed) when not allowed.
-pub fn collapse(w: &mut Work, a: u32, b: u32, lmax: f64) -> bool {
+/// Merges `a` into `b`; false (nothing changed) when not allowed. With `to_middle`
+/// (both ends free), the merged vertex goes to the edge's metric midpoint instead of
+/// staying at `b`: the new edges are then about half the short edge shorter, which
+/// lets a short edge go where merging onto an end would make too long an edge.
+pub fn collapse(w: &mut Work, a: u32, b: u32, lmax: f64, to_middle: bool) -> bool {
     let pa = w.piece[a as usize];
     if pa == FIXED || pa == DEAD {
+        return false;
+    }
+    if to_middle && (pa != FREE || w.piece[b as usize] != FREE) {
         return false;
     }
     let (ts, k) = w.edge_tris(a, b);
@@ -61,25 +67,34 @@ pub fn collapse(w: &mut Work, a: u32, b: u32, lmax: f64) -> bool {
     if common != opp.len() || opp.iter().any(|x| nb.binary_search(x).is_err()) {
         return false;
     }
-    // The ball after the merge.
-    let pb = w.pts[b as usize];
+    // The balls after the merge, with `b` at `pb` carrying `mb`.
+    let (pb, mb) = if to_middle {
+        let t = super::split::metric_midpoint(w, a, b);
+        let (p, q) = (w.pts[a as usize], w.pts[b as usize]);
+        let m = [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
+        (m, w.bg.metric_at(m))
+    } else {
+        (w.pts[b as usize], w.met[b as usize])
+    };
     let (mut old_min, mut new_min) = (f64::INFINITY, f64::INFINITY);
-    for &t in &w.vtris[a as usize] {
+    let moved: &[u32] = if to_middle { &w.vtris[b as usize] } else { &[] };
+    for &t in w.vtris[a as usize].iter().chain(moved) {
         old_min = old_min.min(w.quality(t));
         if ts.contains(&t) {
             continue;
         }
         let v = w.tris[t as usize].map(|x| if x == a { b } else { x });
-        let p = v.map(|x| w.pts[x as usize]);
+        let p = v.map(|x| if x == b { pb } else { w.pts[x as usize] });
         if orient(p[0], p[1], p[2]) <= 0.0 {
             return false;
         }
-        for x in v {
-            if x != b && w.length(b, x) > lmax {
+        let ms = v.map(|x| if x == b { mb } else { w.met[x as usize] });
+        for (k, &x) in v.iter().enumerate() {
+            if x != b && crate::conformity::metric_edge_length(pb, p[k], &mb, &ms[k]) > lmax {
                 return false;
             }
         }
-        new_min = new_min.min(w.quality_of(v));
+        new_min = new_min.min(super::work::op_quality(p, [&ms[0], &ms[1], &ms[2]]));
     }
     if new_min < old_min.min(0.3) {
         return false;
@@ -113,6 +128,8 @@ pub fn collapse(w: &mut Work, a: u32, b: u32, lmax: f64) -> bool {
         w.vtris[b as usize].push(t);
     }
     w.piece[a as usize] = DEAD;
+    w.pts[b as usize] = pb;
+    w.met[b as usize] = mb;
     w.cons.remove(&key(a, b));
     if let Some(c) = other {
         w.cons.remove(&key(a, c));

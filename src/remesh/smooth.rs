@@ -1,5 +1,5 @@
-//! Vertex smoothing: a free vertex moves toward the mean of the points at unit metric
-//! distance from each neighbour (a Laplacian in the metric); a piece vertex slides along
+//! Vertex smoothing: a free vertex moves toward the mean of the places that would make
+//! each triangle of its ball equilateral in the metric; a piece vertex slides along
 //! its piece to the parameter that equalises the metric lengths of its two piece edges.
 //! A move is kept only when every triangle of the ball stays strictly counter-clockwise
 //! and the worst of them gets better; the metric at the new place comes from the input
@@ -43,18 +43,28 @@ fn ball_min_quality_at(w: &Work, v: u32, p: [f64; 2], m: &Sym2) -> Option<f64> {
     Some(q)
 }
 
+/// The place that makes triangle (·, a, b) equilateral in the metric `m`, on the left of
+/// a→b: the midpoint plus √3/2 of the edge turned by a right angle *in the metric*
+/// (J = adj(M)·R₉₀/√det M turns by 90° and keeps metric lengths).
+fn ideal_apex(a: [f64; 2], b: [f64; 2], m: &Sym2) -> [f64; 2] {
+    let e = [b[0] - a[0], b[1] - a[1]];
+    let k = 0.5 * 3f64.sqrt() / m.det().max(f64::MIN_POSITIVE).sqrt();
+    let je = [(-m.b * e[0] - m.c * e[1]) * k, (m.a * e[0] + m.b * e[1]) * k];
+    [0.5 * (a[0] + b[0]) + je[0], 0.5 * (a[1] + b[1]) + je[1]]
+}
+
 fn smooth_free(w: &mut Work, v: u32) -> bool {
     let p = w.pts[v as usize];
-    let nb = w.neighbours(v);
+    // The mean of the ideal apexes over the ball, each in its triangle's metric.
     let (mut sx, mut sy, mut k) = (0.0, 0.0, 0usize);
-    for &u in &nb {
-        let l = w.length(u, v);
-        if l <= 0.0 || !l.is_finite() {
-            continue;
-        }
-        let q = w.pts[u as usize];
-        sx += q[0] + (p[0] - q[0]) / l;
-        sy += q[1] + (p[1] - q[1]) / l;
+    for &t in &w.vtris[v as usize] {
+        let tri = w.tris[t as usize];
+        let i = tri.iter().position(|&x| x == v).unwrap_or(0);
+        let (a, b) = (tri[(i + 1) % 3], tri[(i + 2) % 3]);
+        let m = (1.0 / 3.0) * (w.met[v as usize] + w.met[a as usize] + w.met[b as usize]);
+        let q = ideal_apex(w.pts[a as usize], w.pts[b as usize], &m);
+        sx += q[0];
+        sy += q[1];
         k += 1;
     }
     if k == 0 {

@@ -1,6 +1,6 @@
-//! Edge splitting: an edge longer than the bound in the metric gets a new vertex, at its
-//! midpoint for an interior edge, at the parameter midpoint on its piece for a
-//! constrained edge (so the vertex lies on the original curve, or on its smooth
+//! Edge splitting: an edge longer than the bound in the metric gets a new vertex where
+//! its metric length is halved: on the segment for an interior edge, at that fraction of
+//! the parameter range on its piece for a constrained edge (so the vertex lies on the original curve, or on its smooth
 //! reconstruction). The metric of the new vertex comes from the input field.
 
 use super::work::{key, orient, Work, FREE};
@@ -26,6 +26,26 @@ pub fn split_sweep(w: &mut Work, lmax: f64) -> usize {
     n
 }
 
+/// The fraction of edge `ab` at which its metric length is halved. With the size
+/// varying geometrically along the edge (the interpolation of
+/// [`crate::conformity::metric_edge_length`]), the length density is la·rˢ with
+/// r = lb/la, so the half-length point is t = ln((1 + r)/2)/ln r (½ when r = 1). Splitting
+/// at the Euclidean midpoint of a graded edge would leave one half short.
+pub fn metric_midpoint(w: &Work, a: u32, b: u32) -> f64 {
+    let (pa, pb) = (w.pts[a as usize], w.pts[b as usize]);
+    let e = [pb[0] - pa[0], pb[1] - pa[1]];
+    let la = w.met[a as usize].quadratic_form(e).max(0.0).sqrt();
+    let lb = w.met[b as usize].quadratic_form(e).max(0.0).sqrt();
+    if !(la > 0.0 && lb > 0.0) {
+        return 0.5;
+    }
+    let r = lb / la;
+    if (r - 1.0).abs() < 1e-6 {
+        return 0.5;
+    }
+    ((0.5 * (1.0 + r)).ln() / r.ln()).clamp(0.1, 0.9)
+}
+
 /// Splits edge `ab` held by triangles `ts`; false (nothing changed) when a new triangle
 /// would not be strictly counter-clockwise or a new boundary edge would cross a curve.
 fn split(w: &mut Work, a: u32, b: u32, ts: &[u32], touched: &mut Vec<bool>) -> bool {
@@ -34,7 +54,7 @@ fn split(w: &mut Work, a: u32, b: u32, ts: &[u32], touched: &mut Vec<bool>) -> b
         Some(p) => {
             let near = if w.piece[a as usize] == p { w.s[a as usize] } else if w.piece[b as usize] == p { w.s[b as usize] } else { 0.0 };
             let (sa, sb) = (w.param_on(a, p, near), w.param_on(b, p, near));
-            let sm = 0.5 * (sa + sb);
+            let sm = sa + metric_midpoint(w, a, b) * (sb - sa);
             let (pm, mm) = w.on_piece(p, sm);
             if w.mode == BoundaryMode::Smooth
                 && !(w.bd.chord_clear(p, sa, w.pts[a as usize], sm, pm) && w.bd.chord_clear(p, sm, pm, sb, w.pts[b as usize]))
@@ -45,7 +65,8 @@ fn split(w: &mut Work, a: u32, b: u32, ts: &[u32], touched: &mut Vec<bool>) -> b
         }
         None => {
             let (pa, pb) = (w.pts[a as usize], w.pts[b as usize]);
-            let pm = [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])];
+            let t = metric_midpoint(w, a, b);
+            let pm = [pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1])];
             (pm, w.bg.metric_at(pm), FREE, 0.0)
         }
     };

@@ -7,25 +7,50 @@ use super::work::{key, orient, Work};
 /// Relative gain a flip must bring (keeps sweeps from flipping back and forth on ties).
 const GAIN: f64 = 1e-6;
 
-/// One sweep over every unconstrained edge, in edge order. Returns the number of flips.
-pub fn swap_sweep(w: &mut Work) -> usize {
+/// Sweeps of flips until none is left or `max_sweeps` ran: the first sweep tries every
+/// unconstrained edge in edge order, the next ones only the edges around the vertices a
+/// flip touched (sorted, so the order is fixed). Returns the number of flips.
+pub fn swap_sweeps(w: &mut Work, max_sweeps: usize) -> usize {
     let mut n = 0;
-    for (a, b) in w.edges() {
-        if w.cons.contains_key(&key(a, b)) {
-            continue;
+    let mut todo = w.edges();
+    let mut touched = vec![false; w.pts.len()];
+    for _ in 0..max_sweeps {
+        let mut hit: Vec<u32> = Vec::new();
+        for &(a, b) in &todo {
+            if w.cons.contains_key(&key(a, b)) {
+                continue;
+            }
+            if let Some([c, d]) = swap(w, a, b) {
+                n += 1;
+                for x in [a, b, c, d] {
+                    if !touched[x as usize] {
+                        touched[x as usize] = true;
+                        hit.push(x);
+                    }
+                }
+            }
         }
-        if swap(w, a, b) {
-            n += 1;
+        if hit.is_empty() {
+            break;
         }
+        todo.clear();
+        for &x in &hit {
+            touched[x as usize] = false;
+            for y in w.neighbours(x) {
+                todo.push(key(x, y));
+            }
+        }
+        todo.sort_unstable();
+        todo.dedup();
     }
     n
 }
 
-/// Flips edge `ab` if allowed and better.
-fn swap(w: &mut Work, a: u32, b: u32) -> bool {
+/// Flips edge `ab` if allowed and better; the new diagonal's ends when it did.
+fn swap(w: &mut Work, a: u32, b: u32) -> Option<[u32; 2]> {
     let (ts, k) = w.edge_tris(a, b);
     if k != 2 {
-        return false;
+        return None;
     }
     // Orient so that t1 = (a, b, c) and t2 = (b, a, d).
     let rot = |v: [u32; 3], x: u32| -> [u32; 3] {
@@ -40,25 +65,25 @@ fn swap(w: &mut Work, a: u32, b: u32) -> bool {
     }
     let v2 = rot(w.tris[t2 as usize], b);
     if v1[1] != b || v2[1] != a {
-        return false;
+        return None;
     }
     let (c, d) = (v1[2], v2[2]);
     if c == d || w.face[t1 as usize] != w.face[t2 as usize] {
-        return false;
+        return None;
     }
     let (n1, n2) = ([c, a, d], [d, b, c]);
     let p = |v: [u32; 3]| v.map(|x| w.pts[x as usize]);
     let (q1, q2) = (p(n1), p(n2));
     if orient(q1[0], q1[1], q1[2]) <= 0.0 || orient(q2[0], q2[1], q2[2]) <= 0.0 {
-        return false;
+        return None;
     }
     let old = w.quality(t1).min(w.quality(t2));
     let new = w.quality_of(n1).min(w.quality_of(n2));
     if new <= old * (1.0 + GAIN) {
-        return false;
+        return None;
     }
     if w.vtris[c as usize].iter().any(|&t| w.tris[t as usize].contains(&d)) {
-        return false; // cd is already an edge
+        return None; // cd is already an edge
     }
     w.tris[t1 as usize] = n1;
     w.tris[t2 as usize] = n2;
@@ -66,5 +91,5 @@ fn swap(w: &mut Work, a: u32, b: u32) -> bool {
     w.vtris[d as usize].push(t1);
     w.detach(a, t2);
     w.vtris[c as usize].push(t2);
-    true
+    Some([c, d])
 }
