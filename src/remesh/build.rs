@@ -36,7 +36,7 @@ pub struct Start {
     /// The pieces.
     pub pieces: Vec<Piece>,
     /// Constrained edges with their piece.
-    pub cons: HashMap<(u32, u32), u32>,
+    pub cons: ahash::AHashMap<(u32, u32), u32>,
     /// Vertex cells of the input: `(vertex, physical, geometrical)`.
     pub vertex_cells: Vec<(u32, i32, i32)>,
     /// What the output will not carry.
@@ -219,7 +219,7 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
     let mut piece = vec![FREE; n];
     let mut s = vec![0.0; n];
     let mut pieces: Vec<Piece> = Vec::new();
-    let mut cons: HashMap<(u32, u32), u32> = HashMap::with_capacity(constrained.len());
+    let mut cons: ahash::AHashMap<(u32, u32), u32> = ahash::AHashMap::with_capacity(constrained.len());
     let mut walk = |start: u32, first: u32, corner: &[bool], visited: &mut Vec<bool>, piece: &mut Vec<u32>, s: &mut Vec<f64>| {
         let pid = pieces.len() as u32;
         let tags = constrained[first as usize].1 .0;

@@ -9,19 +9,29 @@
 
 use super::work::{key, orient, Work, DEAD, FIXED, FREE};
 
-/// One sweep over the edges shorter than `lmin`, shortest first. Returns the number of
-/// collapses.
-pub fn collapse_sweep(w: &mut Work, lmin: f64, lmax: f64) -> usize {
-    let mut cand: Vec<(f64, u32, u32)> = w.edges().into_iter().map(|(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 < lmin).collect();
-    cand.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+/// Sweeps over the edges shorter than `lmin`, shortest first, until none collapses or
+/// `max_sweeps` ran; after the first sweep only the edges around merged vertices are
+/// looked at again (nothing else changed). Returns the number of collapses.
+pub fn collapse_sweeps(w: &mut Work, lmin: f64, lmax: f64, max_sweeps: usize) -> usize {
+    let mut edges = w.edges();
     let mut n = 0;
-    for (_, a, b) in cand {
-        if w.piece[a as usize] == DEAD || w.piece[b as usize] == DEAD {
-            continue;
+    for _ in 0..max_sweeps {
+        let mut cand: Vec<(f64, u32, u32)> = edges.iter().map(|&(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 < lmin).collect();
+        cand.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        let mut hit = Vec::new();
+        for (_, a, b) in cand {
+            if w.piece[a as usize] == DEAD || w.piece[b as usize] == DEAD || w.edge_tris(a, b).1 == 0 {
+                continue;
+            }
+            if collapse(w, a, b, lmax, false) || collapse(w, b, a, lmax, false) || collapse(w, a, b, lmax, true) {
+                n += 1;
+                hit.push(if w.piece[a as usize] == DEAD { b } else { a });
+            }
         }
-        if collapse(w, a, b, lmax, false) || collapse(w, b, a, lmax, false) || collapse(w, a, b, lmax, true) {
-            n += 1;
+        if hit.is_empty() {
+            break;
         }
+        edges = w.edges_around(&hit);
     }
     n
 }
@@ -130,6 +140,7 @@ pub fn collapse(w: &mut Work, a: u32, b: u32, lmax: f64, to_middle: bool) -> boo
     w.piece[a as usize] = DEAD;
     w.pts[b as usize] = pb;
     w.met[b as usize] = mb;
+    w.mark(b);
     w.cons.remove(&key(a, b));
     if let Some(c) = other {
         w.cons.remove(&key(a, c));

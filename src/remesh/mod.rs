@@ -244,19 +244,13 @@ pub fn interpolate_metric(background: &TaggedMesh, metric: &[Sym2], points: &[[f
 
 fn collapse_phase(w: &mut work::Work, opts: &RemeshOptions, lmax_after: f64, ps: &mut PassStats, secs: &mut PhaseSeconds) {
     let t = Instant::now();
-    for _ in 0..4 {
-        let k = collapse::collapse_sweep(w, opts.collapse_below, lmax_after);
-        ps.collapses += k;
-        if k == 0 {
-            break;
-        }
-    }
+    ps.collapses += collapse::collapse_sweeps(w, opts.collapse_below, lmax_after, 4);
     secs.collapse += t.elapsed().as_secs_f64();
 }
 
-fn swap_phase(w: &mut work::Work, ps: &mut PassStats, secs: &mut PhaseSeconds) {
+fn swap_phase(w: &mut work::Work, ps: &mut PassStats, secs: &mut PhaseSeconds, everything: bool) {
     let t = Instant::now();
-    ps.swaps += swap::swap_sweeps(w, 8);
+    ps.swaps += swap::swap_sweeps(w, 8, everything);
     secs.swap += t.elapsed().as_secs_f64();
 }
 
@@ -291,6 +285,8 @@ pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOpt
         tris: st.tris,
         face: st.face,
         alive: vec![true; ntri],
+        dirty: Vec::new(),
+        is_dirty: vec![false; n],
         cons: st.cons,
         bg: &bg,
         bd: &bd,
@@ -316,16 +312,10 @@ pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOpt
     for pass in 0..opts.max_passes {
         let mut ps = PassStats::default();
         let t = Instant::now();
-        loop {
-            let k = split::split_sweep(&mut w, opts.split_above);
-            ps.splits += k;
-            if k == 0 {
-                break;
-            }
-        }
+        ps.splits += split::split_sweeps(&mut w, opts.split_above);
         stats.seconds.split += t.elapsed().as_secs_f64();
         collapse_phase(&mut w, opts, lmax_after, &mut ps, &mut stats.seconds);
-        swap_phase(&mut w, &mut ps, &mut stats.seconds);
+        swap_phase(&mut w, &mut ps, &mut stats.seconds, pass == 0);
         let t = Instant::now();
         for _ in 0..opts.smooth_sweeps {
             ps.moves += smooth::smooth_sweep(&mut w);
@@ -333,7 +323,7 @@ pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOpt
         stats.seconds.smooth += t.elapsed().as_secs_f64();
         // Smoothing moves lengths out of the band again: a last collapse and swap.
         collapse_phase(&mut w, opts, lmax_after, &mut ps, &mut stats.seconds);
-        swap_phase(&mut w, &mut ps, &mut stats.seconds);
+        swap_phase(&mut w, &mut ps, &mut stats.seconds, false);
         ps.triangles = w.alive.iter().filter(|&&a| a).count();
         stats.passes = pass + 1;
         stats.splits += ps.splits;

@@ -8,6 +8,14 @@
 use super::work::{orient, Work, DEAD, FIXED, FREE};
 use crate::metric::Sym2;
 
+/// Relative gain of the worst ball quality a move must bring: smaller gains are not
+/// worth the work they cause (every move re-opens its ball for the swaps).
+const GAIN: f64 = 1e-3;
+
+/// Below this worst ball quality a vertex gets more candidate places (rare, and where
+/// the minimum quality of the mesh is decided).
+const POOR: f64 = 0.8;
+
 /// One sweep over the vertices in index order. Returns the number of moves.
 pub fn smooth_sweep(w: &mut Work) -> usize {
     let mut n = 0;
@@ -18,6 +26,7 @@ pub fn smooth_sweep(w: &mut Work) -> usize {
         }
         if if p == FREE { smooth_free(w, v) } else { smooth_on_piece(w, v) } {
             n += 1;
+            w.mark(v);
         }
     }
     n
@@ -72,16 +81,37 @@ fn smooth_free(w: &mut Work, v: u32) -> bool {
     }
     let target = [sx / k as f64, sy / k as f64];
     let old = ball_min_quality(w, v);
-    for omega in [1.0, 0.5] {
-        let np = [p[0] + omega * (target[0] - p[0]), p[1] + omega * (target[1] - p[1])];
+    let mut cands = vec![target, [0.5 * (p[0] + target[0]), 0.5 * (p[1] + target[1])]];
+    if old < POOR {
+        // A poor ball: also try the place that makes its worst triangle equilateral,
+        // and halfway there; the best of all candidates wins.
+        if let Some(worst) = w.vtris[v as usize].iter().copied().min_by(|&x, &y| w.quality(x).total_cmp(&w.quality(y))) {
+            let tri = w.tris[worst as usize];
+            let i = tri.iter().position(|&x| x == v).unwrap_or(0);
+            let (a, b) = (tri[(i + 1) % 3], tri[(i + 2) % 3]);
+            let m = (1.0 / 3.0) * (w.met[v as usize] + w.met[a as usize] + w.met[b as usize]);
+            let q = ideal_apex(w.pts[a as usize], w.pts[b as usize], &m);
+            cands.push(q);
+            cands.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]);
+            cands.push([0.5 * (target[0] + q[0]), 0.5 * (target[1] + q[1])]);
+        }
+    }
+    let mut best: Option<([f64; 2], Sym2, f64)> = None;
+    for np in cands {
         let nm = w.bg.metric_at(np);
         if let Some(q) = ball_min_quality_at(w, v, np, &nm) {
-            if q > old {
-                w.pts[v as usize] = np;
-                w.met[v as usize] = nm;
-                return true;
+            if q > old * (1.0 + GAIN) && best.as_ref().map_or(true, |b| q > b.2) {
+                best = Some((np, nm, q));
+                if old >= POOR {
+                    break;
+                }
             }
         }
+    }
+    if let Some((np, nm, _)) = best {
+        w.pts[v as usize] = np;
+        w.met[v as usize] = nm;
+        return true;
     }
     false
 }
@@ -102,20 +132,31 @@ fn smooth_on_piece(w: &mut Work, v: u32) -> bool {
     }
     let target = (ka * su + kb * sx) / (ka + kb);
     let old = ball_min_quality(w, v);
-    for omega in [1.0, 0.5] {
-        let t = sv + omega * (target - sv);
+    let mut cands = vec![target, 0.5 * (sv + target)];
+    if old < POOR {
+        // A poor ball: also sample the parameter range between the neighbours.
+        cands.extend((1..8).map(|i| su + (sx - su) * i as f64 / 8.0));
+    }
+    let mut best: Option<(f64, [f64; 2], Sym2, f64)> = None;
+    for t in cands {
         if !(su < t && t < sx) {
             continue;
         }
         let (np, nm) = w.on_piece(pid, t);
         if let Some(q) = ball_min_quality_at(w, v, np, &nm) {
-            if q > old && w.bd.chord_clear(pid, su, w.pts[u as usize], t, np) && w.bd.chord_clear(pid, t, np, sx, w.pts[x as usize]) {
-                w.pts[v as usize] = np;
-                w.met[v as usize] = nm;
-                w.s[v as usize] = t;
-                return true;
+            if q > old * (1.0 + GAIN) && best.as_ref().map_or(true, |b| q > b.3) && w.bd.chord_clear(pid, su, w.pts[u as usize], t, np) && w.bd.chord_clear(pid, t, np, sx, w.pts[x as usize]) {
+                best = Some((t, np, nm, q));
+                if old >= POOR {
+                    break;
+                }
             }
         }
+    }
+    if let Some((t, np, nm, _)) = best {
+        w.pts[v as usize] = np;
+        w.met[v as usize] = nm;
+        w.s[v as usize] = t;
+        return true;
     }
     false
 }

@@ -6,22 +6,43 @@
 use super::work::{key, orient, Work, FREE};
 use super::BoundaryMode;
 
-/// One sweep: every edge longer than `lmax`, longest first, is split unless one of its
-/// triangles was already changed in this sweep (splitting a fresh triangle again in the
-/// same sweep would make slivers). Returns the number of splits.
-pub fn split_sweep(w: &mut Work, lmax: f64) -> usize {
-    let mut cand: Vec<(f64, u32, u32)> = w.edges().into_iter().map(|(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 > lmax).collect();
-    cand.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
-    let mut touched = vec![false; w.tris.len()];
+/// Sweeps until no edge is longer than `lmax`: in each, every edge longer than `lmax`,
+/// longest first, is split unless one of its triangles was already changed in this sweep
+/// (splitting a fresh triangle again in the same sweep would make slivers). After the
+/// first sweep only the edges of changed triangles are looked at again. Returns the
+/// number of splits.
+pub fn split_sweeps(w: &mut Work, lmax: f64) -> usize {
+    let mut edges = w.edges();
     let mut n = 0;
-    for (_, a, b) in cand {
-        let (ts, k) = w.edge_tris(a, b);
-        if k == 0 || k > 2 || ts[..k].iter().any(|&t| touched[t as usize]) {
-            continue;
+    loop {
+        let mut cand: Vec<(f64, u32, u32)> = edges.iter().map(|&(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 > lmax).collect();
+        cand.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        let mut touched = vec![false; w.tris.len()];
+        let mut k_sweep = 0;
+        for (_, a, b) in cand {
+            let (ts, k) = w.edge_tris(a, b);
+            if k == 0 || k > 2 || ts[..k].iter().any(|&t| touched[t as usize]) {
+                continue;
+            }
+            if split(w, a, b, &ts[..k], &mut touched) {
+                k_sweep += 1;
+            }
         }
-        if split(w, a, b, &ts[..k], &mut touched) {
-            n += 1;
+        n += k_sweep;
+        if k_sweep == 0 {
+            break;
         }
+        edges.clear();
+        for (t, &hit) in touched.iter().enumerate() {
+            if hit {
+                let v = w.tris[t];
+                for k in 0..3 {
+                    edges.push(key(v[k], v[(k + 1) % 3]));
+                }
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
     }
     n
 }
@@ -93,7 +114,9 @@ fn split(w: &mut Work, a: u32, b: u32, ts: &[u32], touched: &mut Vec<bool>) -> b
         touched[t as usize] = true;
         touched.resize(t2 as usize + 1, false);
         touched[t2 as usize] = true;
+        w.mark(c);
     }
+    w.mark(m);
     if let Some(p) = piece {
         w.cons.remove(&key(a, b));
         w.cons.insert(key(a, m), p);

@@ -7,12 +7,14 @@ use super::work::{key, orient, Work};
 /// Relative gain a flip must bring (keeps sweeps from flipping back and forth on ties).
 const GAIN: f64 = 1e-6;
 
-/// Sweeps of flips until none is left or `max_sweeps` ran: the first sweep tries every
-/// unconstrained edge in edge order, the next ones only the edges around the vertices a
-/// flip touched (sorted, so the order is fixed). Returns the number of flips.
-pub fn swap_sweeps(w: &mut Work, max_sweeps: usize) -> usize {
+/// Sweeps of flips until none is left or `max_sweeps` ran: the first sweep tries the
+/// edges around every vertex whose ball changed since the last swap phase (all of them
+/// the first time), the next ones only the edges around the vertices a flip touched
+/// (sorted, so the order is fixed). Returns the number of flips.
+pub fn swap_sweeps(w: &mut Work, max_sweeps: usize, everything: bool) -> usize {
     let mut n = 0;
-    let mut todo = w.edges();
+    let dirty = w.take_dirty();
+    let mut todo = if everything { w.edges() } else { w.edges_around(&dirty) };
     let mut touched = vec![false; w.pts.len()];
     for _ in 0..max_sweeps {
         let mut hit: Vec<u32> = Vec::new();
@@ -33,15 +35,10 @@ pub fn swap_sweeps(w: &mut Work, max_sweeps: usize) -> usize {
         if hit.is_empty() {
             break;
         }
-        todo.clear();
         for &x in &hit {
             touched[x as usize] = false;
-            for y in w.neighbours(x) {
-                todo.push(key(x, y));
-            }
         }
-        todo.sort_unstable();
-        todo.dedup();
+        todo = w.edges_around(&hit);
     }
     n
 }

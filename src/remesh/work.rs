@@ -7,7 +7,6 @@
 //! not depend on anything but the input. The constrained-edge map is only ever looked
 //! up, never iterated.
 
-use std::collections::HashMap;
 
 use super::background::Background;
 use super::boundary::Boundary;
@@ -67,7 +66,11 @@ pub struct Work<'a> {
     /// Whether each triangle is still in the mesh.
     pub alive: Vec<bool>,
     /// Constrained edges and their piece.
-    pub cons: HashMap<(u32, u32), u32>,
+    pub cons: ahash::AHashMap<(u32, u32), u32>,
+    /// Vertices whose ball changed since the last swap phase, listed once each.
+    pub dirty: Vec<u32>,
+    /// Whether each vertex is in `dirty`.
+    pub is_dirty: Vec<bool>,
     /// The input field.
     pub bg: &'a Background,
     /// The input curves.
@@ -157,6 +160,25 @@ impl Work<'_> {
         Some([found[0], found[1]])
     }
 
+    /// Notes that the ball of `v` changed (the next swap phase looks there).
+    #[inline]
+    pub fn mark(&mut self, v: u32) {
+        if !self.is_dirty[v as usize] {
+            self.is_dirty[v as usize] = true;
+            self.dirty.push(v);
+        }
+    }
+
+    /// Takes the changed vertices, sorted, and clears the marks.
+    pub fn take_dirty(&mut self) -> Vec<u32> {
+        let mut d = std::mem::take(&mut self.dirty);
+        for &v in &d {
+            self.is_dirty[v as usize] = false;
+        }
+        d.sort_unstable();
+        d
+    }
+
     /// Appends a live triangle.
     pub fn add_tri(&mut self, v: [u32; 3], face: u32) -> u32 {
         let t = self.tris.len() as u32;
@@ -185,18 +207,44 @@ impl Work<'_> {
         self.piece.push(piece);
         self.s.push(s);
         self.vtris.push(Vec::new());
+        self.is_dirty.push(false);
         v
     }
 
-    /// Every live undirected edge once, sorted.
+    /// Every live undirected edge once, in triangle order (an interior edge from the
+    /// triangle that runs along it from the smaller vertex, a boundary edge from its only
+    /// triangle): deterministic, and no global sort.
     pub fn edges(&self) -> Vec<(u32, u32)> {
-        let mut e: Vec<(u32, u32)> = Vec::with_capacity(self.tris.len() * 2);
+        let mut e: Vec<(u32, u32)> = Vec::with_capacity(self.tris.len() * 3 / 2 + 16);
         for (t, v) in self.tris.iter().enumerate() {
             if !self.alive[t] {
                 continue;
             }
             for k in 0..3 {
-                e.push(key(v[k], v[(k + 1) % 3]));
+                let (a, b) = (v[k], v[(k + 1) % 3]);
+                // A boundary edge joins two vertices that are not free; checking that
+                // first spares the adjacency scan for nearly every interior edge.
+                if a < b || (self.piece[a as usize] != FREE && self.piece[b as usize] != FREE && self.edge_tris(a, b).1 == 1) {
+                    e.push(key(a, b));
+                }
+            }
+        }
+        e
+    }
+
+    /// The edges around the vertices in `around` (each once, sorted): where the next
+    /// sweep has work after a sweep that changed only those vertices' balls.
+    pub fn edges_around(&self, around: &[u32]) -> Vec<(u32, u32)> {
+        let mut e: Vec<(u32, u32)> = Vec::new();
+        for &x in around {
+            if self.piece[x as usize] == DEAD {
+                continue;
+            }
+            for &t in &self.vtris[x as usize] {
+                let v = self.tris[t as usize];
+                for k in 0..3 {
+                    e.push(key(v[k], v[(k + 1) % 3]));
+                }
             }
         }
         e.sort_unstable();
