@@ -140,7 +140,7 @@ pub fn collapse(w: &mut Work, a: u32, b: u32, lmax: f64, to_middle: bool) -> boo
     w.piece[a as usize] = DEAD;
     w.pts[b as usize] = pb;
     w.met[b as usize] = mb;
-    w.mark(b);
+    w.mark_ball(b);
     w.cons.remove(&key(a, b));
     if let Some(c) = other {
         w.cons.remove(&key(a, c));

@@ -287,6 +287,7 @@ pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOpt
         alive: vec![true; ntri],
         dirty: Vec::new(),
         is_dirty: vec![false; n],
+        active: vec![true; n],
         cons: st.cons,
         bg: &bg,
         bd: &bd,
@@ -330,9 +331,9 @@ pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOpt
         stats.collapses += ps.collapses;
         stats.swaps += ps.swaps;
         stats.moves += ps.moves;
-        // Settled when the topology barely changes any more (a thousandth of the
+        // Settled when the topology barely changes any more (a fivehundredth of the
         // triangles); what is left is smoothing's business, which the pass just did.
-        let settled = (ps.splits + ps.collapses) * 1000 <= ps.triangles;
+        let settled = (ps.splits + ps.collapses) * 500 <= ps.triangles;
         progress(RemeshEvent::Pass { pass: pass + 1, of: opts.max_passes, triangles: ps.triangles });
         stats.per_pass.push(ps);
         if settled {

@@ -16,17 +16,24 @@ const GAIN: f64 = 1e-3;
 /// the minimum quality of the mesh is decided).
 const POOR: f64 = 0.8;
 
-/// One sweep over the vertices in index order. Returns the number of moves.
+/// One sweep over the active vertices (those whose ball changed since they were last
+/// tried) in index order; a vertex that moves activates its neighbours. Returns the
+/// number of moves.
 pub fn smooth_sweep(w: &mut Work) -> usize {
     let mut n = 0;
     for v in 0..w.pts.len() as u32 {
+        if !w.active[v as usize] {
+            continue;
+        }
+        w.active[v as usize] = false;
         let p = w.piece[v as usize];
         if p == FIXED || p == DEAD || w.vtris[v as usize].is_empty() {
             continue;
         }
         if if p == FREE { smooth_free(w, v) } else { smooth_on_piece(w, v) } {
             n += 1;
-            w.mark(v);
+            w.mark_ball(v);
+            w.active[v as usize] = false;
         }
     }
     n

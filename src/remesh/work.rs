@@ -71,6 +71,9 @@ pub struct Work<'a> {
     pub dirty: Vec<u32>,
     /// Whether each vertex is in `dirty`.
     pub is_dirty: Vec<bool>,
+    /// Whether the next smoothing sweep should try each vertex (its ball changed since
+    /// it was last tried).
+    pub active: Vec<bool>,
     /// The input field.
     pub bg: &'a Background,
     /// The input curves.
@@ -163,9 +166,18 @@ impl Work<'_> {
     /// Notes that the ball of `v` changed (the next swap phase looks there).
     #[inline]
     pub fn mark(&mut self, v: u32) {
+        self.active[v as usize] = true;
         if !self.is_dirty[v as usize] {
             self.is_dirty[v as usize] = true;
             self.dirty.push(v);
+        }
+    }
+
+    /// Marks `v` and every neighbour of it.
+    pub fn mark_ball(&mut self, v: u32) {
+        self.mark(v);
+        for u in self.neighbours(v) {
+            self.mark(u);
         }
     }
 
@@ -208,6 +220,7 @@ impl Work<'_> {
         self.s.push(s);
         self.vtris.push(Vec::new());
         self.is_dirty.push(false);
+        self.active.push(true);
         v
     }
 
