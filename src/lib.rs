@@ -15,6 +15,8 @@
 //! - [`export`]: a size field written as a metric for MMG (.sol), Gmsh (.msh, .pos) and
 //!   VTK/ParaView (.vtu, .vtk);
 //! - [`conformity`]: metric edge lengths and metric quality of a mesh against a field;
+//! - [`remesh`]: the native anisotropic remesher (split, collapse, swap, smooth in the
+//!   metric; boundaries, interfaces, corners and tags kept);
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]

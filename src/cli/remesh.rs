@@ -59,6 +59,9 @@ pub struct RemeshArgs {
     /// Passes of split, collapse, swap and smooth at most.
     #[arg(long, default_value_t = RemeshOptions::default().max_passes)]
     max_passes: usize,
+    /// Smoothing sweeps per pass.
+    #[arg(long, default_value_t = RemeshOptions::default().smooth_sweeps)]
+    smooth_sweeps: usize,
     /// A curve turning by more than this many degrees at a vertex makes it a corner.
     #[arg(long, default_value_t = RemeshOptions::default().ridge_angle_degrees)]
     ridge_angle: f64,
@@ -84,6 +87,19 @@ fn read_metric(mesh_path: &Path, mesh: &TaggedMesh, metric: Option<&Path>) -> Re
             let m = read_path(p, None)?;
             if m.points.len() != mesh.points.len() {
                 return Err(CliError::usage(format!("{}: {} vertices, but {} has {}; the metric must be on the mesh's vertices", p.display(), m.points.len(), mesh_path.display(), mesh.points.len())));
+            }
+            // Same count is not enough: the vertices must be MESH's (up to rounding in a
+            // text file).
+            let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
+            let tol = 1e-9 * (hi[0] - lo[0]).abs().max((hi[1] - lo[1]).abs()).max(1e-300);
+            if let Some(v) = (0..mesh.points.len()).find(|&v| (0..2).any(|k| (m.points[v][k] - mesh.points[v][k]).abs() > tol)) {
+                return Err(CliError::usage(format!(
+                    "{}: vertex {v} (0-based) is at {:?}, but vertex {v} of {} is at {:?}; the metric must be on the mesh's vertices",
+                    p.display(),
+                    &m.points[v][..2],
+                    mesh_path.display(),
+                    &mesh.points[v][..2]
+                )));
             }
             metric_field(&m, "metric").map_err(|e| CliError::usage(format!("{}: {e}", p.display())))
         }
@@ -130,6 +146,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
             Boundary::Smooth => BoundaryMode::Smooth,
         },
         ridge_angle_degrees: args.ridge_angle,
+        smooth_sweeps: args.smooth_sweeps,
         ..RemeshOptions::default()
     };
     let bar = std::io::stderr().is_terminal().then(|| {
