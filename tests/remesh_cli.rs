@@ -108,6 +108,12 @@ fn bad_metrics_exit_2_naming_file_and_vertex() {
     let p = write("count.vtu", &m);
     let err = bad(&smartmesh(&["remesh", &cyl, "--metric", p.to_str().unwrap(), "-o", dir.path().join("x.vtu").to_str().unwrap()], None));
     assert!(err.contains("count.vtu") && err.contains("vertices"), "{err}");
+    // Same count, other vertices.
+    let mut m = base.clone();
+    m.points[3][0] += 0.25;
+    let p = write("moved.vtu", &m);
+    let err = bad(&smartmesh(&["remesh", &cyl, "--metric", p.to_str().unwrap(), "-o", dir.path().join("x.vtu").to_str().unwrap()], None));
+    assert!(err.contains("moved.vtu") && err.contains("vertex 3"), "{err}");
     // No metric at all.
     let err = bad(&smartmesh(&["remesh", &cyl, "-o", dir.path().join("x.vtu").to_str().unwrap()], None));
     assert!(err.contains("cylinder.msh") && err.contains("no point data `metric`"), "{err}");
