@@ -2,7 +2,7 @@
 //! each triangle of its ball equilateral in the metric; a piece vertex slides along
 //! its piece to the parameter that equalises the metric lengths of its two piece edges.
 //! A move is kept only when every triangle of the ball stays strictly counter-clockwise
-//! and the worst of them gets better; the metric at the new place comes from the input
+//! and the worst of them gets better (or stays and the ball's summed quality rises); the metric at the new place comes from the input
 //! field.
 
 use super::work::{orient, Work, DEAD, FIXED, FREE};
@@ -39,14 +39,21 @@ pub fn smooth_sweep(w: &mut Work) -> usize {
     n
 }
 
-fn ball_min_quality(w: &Work, v: u32) -> f64 {
-    w.vtris[v as usize].iter().map(|&t| w.quality(t)).fold(f64::INFINITY, f64::min)
+/// The worst and the summed quality of `v`'s ball.
+fn ball_quality(w: &Work, v: u32) -> (f64, f64) {
+    w.vtris[v as usize].iter().map(|&t| w.quality(t)).fold((f64::INFINITY, 0.0), |(m, s), q| (m.min(q), s + q))
 }
 
-/// The worst quality of `v`'s ball with `v` at `p` carrying `m`, or `None` when a
-/// triangle would not be strictly counter-clockwise.
-fn ball_min_quality_at(w: &Work, v: u32, p: [f64; 2], m: &Sym2) -> Option<f64> {
-    let mut q = f64::INFINITY;
+/// Whether a ball with worst and summed quality `new` is better than `old`: a better
+/// worst triangle, or the same worst (not lower) and a better sum.
+fn better(new: (f64, f64), old: (f64, f64)) -> bool {
+    new.0 > old.0 * (1.0 + GAIN) || (new.0 >= old.0 && new.1 > old.1 * (1.0 + GAIN))
+}
+
+/// The worst and summed quality of `v`'s ball with `v` at `p` carrying `m`, or `None`
+/// when a triangle would not be strictly counter-clockwise.
+fn ball_quality_at(w: &Work, v: u32, p: [f64; 2], m: &Sym2) -> Option<(f64, f64)> {
+    let (mut q, mut sum) = (f64::INFINITY, 0.0);
     for &t in &w.vtris[v as usize] {
         let tri = w.tris[t as usize];
         let pts = tri.map(|x| if x == v { p } else { w.pts[x as usize] });
@@ -54,9 +61,11 @@ fn ball_min_quality_at(w: &Work, v: u32, p: [f64; 2], m: &Sym2) -> Option<f64> {
             return None;
         }
         let ms = tri.map(|x| if x == v { *m } else { w.met[x as usize] });
-        q = q.min(super::work::op_quality(pts, [&ms[0], &ms[1], &ms[2]]));
+        let x = super::work::op_quality(pts, [&ms[0], &ms[1], &ms[2]]);
+        q = q.min(x);
+        sum += x;
     }
-    Some(q)
+    Some((q, sum))
 }
 
 /// The place that makes triangle (·, a, b) equilateral in the metric `m`, on the left of
@@ -87,9 +96,9 @@ fn smooth_free(w: &mut Work, v: u32) -> bool {
         return false;
     }
     let target = [sx / k as f64, sy / k as f64];
-    let old = ball_min_quality(w, v);
+    let old = ball_quality(w, v);
     let mut cands = vec![target, [0.5 * (p[0] + target[0]), 0.5 * (p[1] + target[1])]];
-    if old < POOR {
+    if old.0 < POOR {
         // A poor ball: also try the place that makes its worst triangle equilateral,
         // and halfway there; the best of all candidates wins.
         if let Some(worst) = w.vtris[v as usize].iter().copied().min_by(|&x, &y| w.quality(x).total_cmp(&w.quality(y))) {
@@ -103,13 +112,13 @@ fn smooth_free(w: &mut Work, v: u32) -> bool {
             cands.push([0.5 * (target[0] + q[0]), 0.5 * (target[1] + q[1])]);
         }
     }
-    let mut best: Option<([f64; 2], Sym2, f64)> = None;
+    let mut best: Option<([f64; 2], Sym2, (f64, f64))> = None;
     for np in cands {
         let nm = w.bg.metric_at(np);
-        if let Some(q) = ball_min_quality_at(w, v, np, &nm) {
-            if q > old * (1.0 + GAIN) && best.as_ref().map_or(true, |b| q > b.2) {
+        if let Some(q) = ball_quality_at(w, v, np, &nm) {
+            if better(q, old) && best.as_ref().map_or(true, |b| better(q, b.2)) {
                 best = Some((np, nm, q));
-                if old >= POOR {
+                if old.0 >= POOR {
                     break;
                 }
             }
@@ -138,22 +147,22 @@ fn smooth_on_piece(w: &mut Work, v: u32) -> bool {
         return false;
     }
     let target = (ka * su + kb * sx) / (ka + kb);
-    let old = ball_min_quality(w, v);
+    let old = ball_quality(w, v);
     let mut cands = vec![target, 0.5 * (sv + target)];
-    if old < POOR {
+    if old.0 < POOR {
         // A poor ball: also sample the parameter range between the neighbours.
         cands.extend((1..8).map(|i| su + (sx - su) * i as f64 / 8.0));
     }
-    let mut best: Option<(f64, [f64; 2], Sym2, f64)> = None;
+    let mut best: Option<(f64, [f64; 2], Sym2, (f64, f64))> = None;
     for t in cands {
         if !(su < t && t < sx) {
             continue;
         }
         let (np, nm) = w.on_piece(pid, t);
-        if let Some(q) = ball_min_quality_at(w, v, np, &nm) {
-            if q > old * (1.0 + GAIN) && best.as_ref().map_or(true, |b| q > b.3) && w.bd.chord_clear(pid, su, w.pts[u as usize], t, np) && w.bd.chord_clear(pid, t, np, sx, w.pts[x as usize]) {
+        if let Some(q) = ball_quality_at(w, v, np, &nm) {
+            if better(q, old) && best.as_ref().map_or(true, |b| better(q, b.3)) && w.bd.chord_clear(pid, su, w.pts[u as usize], t, np) && w.bd.chord_clear(pid, t, np, sx, w.pts[x as usize]) {
                 best = Some((t, np, nm, q));
-                if old >= POOR {
+                if old.0 >= POOR {
                     break;
                 }
             }
