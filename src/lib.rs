@@ -20,6 +20,8 @@
 //! - [`adapters`]: remeshers behind one trait (MMG's `mmg2d_O3`, Gmsh's BAMG), tags
 //!   restored on their output;
 //! - [`adapt`]: the adaptation loop (size → remesh → size … until converged);
+//! - [`remesh`]: the native anisotropic remesher (split, collapse, swap, smooth in the
+//!   metric; boundaries, interfaces, corners and tags kept);
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
@@ -38,6 +40,7 @@ pub mod mesher;
 pub mod metric;
 pub mod quality;
 pub mod recipe;
+pub mod remesh;
 pub mod sizing;
 pub mod summary;
 pub mod topology;

@@ -5,6 +5,7 @@ mod convert;
 mod info;
 mod mesh;
 mod recipe;
+mod remesh;
 mod size;
 
 use std::io::Write;
@@ -87,6 +88,7 @@ enum Command {
     Size(size::SizeArgs),
     Adapt(adapt::AdaptArgs),
     Mesh(mesh::MeshArgs),
+    Remesh(remesh::RemeshArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -108,6 +110,7 @@ pub fn main() -> ExitCode {
         Command::Size(a) => size::run(a),
         Command::Adapt(a) => adapt::run(a),
         Command::Mesh(a) => mesh::run(a),
+        Command::Remesh(a) => remesh::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),

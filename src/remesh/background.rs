@@ -1,0 +1,265 @@
+//! The input metric field as a background: every new or moved vertex gets its metric by
+//! locating it in the *input* triangulation and taking the Log-Euclidean barycentric mean
+//! of the three corner metrics, exp(Σ λᵢ log Mᵢ). Interpolating from the input, never
+//! from values already interpolated, keeps the field from drifting over the passes; the
+//! Log-Euclidean mean keeps every tensor SPD and interpolates sizes geometrically
+//! (Arsigny et al. 2006, as [`crate::metric`] does for size tensors).
+//!
+//! Point location uses a uniform bucket grid over the triangles' boxes, written by hand
+//! because the crates that index triangles (rstar) are not among the project's
+//! dependencies and a grid sized to the triangle count answers in O(1) on the coarse
+//! background meshes a remesher receives. A point outside every triangle (a chord of a
+//! curved boundary cutting into a hole) takes the nearest triangle's metric at the
+//! closest point.
+
+use crate::metric::{eigen2, Sym2};
+
+/// The matrix logarithm of an SPD matrix (closed-form eigen-decomposition).
+#[inline]
+pub fn log_spd(m: &Sym2) -> Sym2 {
+    let e = eigen2(*m);
+    Sym2::from_eigen([e.values[0].max(f64::MIN_POSITIVE).ln(), e.values[1].max(f64::MIN_POSITIVE).ln()], e.vector)
+}
+
+/// The matrix exponential of a symmetric matrix: always SPD.
+#[inline]
+pub fn exp_sym(l: &Sym2) -> Sym2 {
+    let e = eigen2(*l);
+    Sym2::from_eigen([e.values[0].exp(), e.values[1].exp()], e.vector)
+}
+
+/// exp(Σ wᵢ Lᵢ) for logarithms `l` and weights `w`.
+#[inline]
+pub fn log_euclidean(w: &[f64], l: &[&Sym2]) -> Sym2 {
+    let mut s = Sym2::new(0.0, 0.0, 0.0);
+    for (wi, li) in w.iter().zip(l) {
+        s = s + *wi * **li;
+    }
+    exp_sym(&s)
+}
+
+/// The input triangulation with the logarithm of its metric at every vertex.
+pub struct Background {
+    points: Vec<[f64; 2]>,
+    tris: Vec<[usize; 3]>,
+    logs: Vec<Sym2>,
+    origin: [f64; 2],
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    /// CSR buckets: triangles of cell `k` are `items[start[k]..start[k + 1]]`.
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Background {
+    /// Indexes `tris` (counter-clockwise) over `points` with metrics `metric`.
+    pub fn new(points: &[[f64; 2]], tris: &[[usize; 3]], metric: &[Sym2]) -> Background {
+        let logs = metric.iter().map(log_spd).collect();
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for t in tris {
+            for &v in t {
+                for k in 0..2 {
+                    lo[k] = lo[k].min(points[v][k]);
+                    hi[k] = hi[k].max(points[v][k]);
+                }
+            }
+        }
+        if tris.is_empty() {
+            lo = [0.0; 2];
+            hi = [1.0; 2];
+        }
+        let (w, h) = ((hi[0] - lo[0]).max(1e-300), (hi[1] - lo[1]).max(1e-300));
+        let cells = (tris.len().max(1)) as f64;
+        let cell = ((w * h) / cells).sqrt().max(w.max(h) / 4096.0);
+        let nx = ((w / cell).ceil() as usize).clamp(1, 4096);
+        let ny = ((h / cell).ceil() as usize).clamp(1, 4096);
+        let mut bg = Background { points: points.to_vec(), tris: tris.to_vec(), logs, origin: lo, cell, nx, ny, start: Vec::new(), items: Vec::new() };
+        let mut count = vec![0u32; nx * ny + 1];
+        for t in tris {
+            let (x0, y0, x1, y1) = bg.cell_range(t);
+            for j in y0..=y1 {
+                for i in x0..=x1 {
+                    count[j * nx + i + 1] += 1;
+                }
+            }
+        }
+        for k in 1..count.len() {
+            count[k] += count[k - 1];
+        }
+        let mut fill = count.clone();
+        let mut items = vec![0u32; count[nx * ny] as usize];
+        for (ti, t) in tris.iter().enumerate() {
+            let (x0, y0, x1, y1) = bg.cell_range(t);
+            for j in y0..=y1 {
+                for i in x0..=x1 {
+                    let k = j * nx + i;
+                    items[fill[k] as usize] = ti as u32;
+                    fill[k] += 1;
+                }
+            }
+        }
+        bg.start = count;
+        bg.items = items;
+        bg
+    }
+
+    fn cell_of(&self, p: [f64; 2]) -> (usize, usize) {
+        let i = ((p[0] - self.origin[0]) / self.cell).floor();
+        let j = ((p[1] - self.origin[1]) / self.cell).floor();
+        (i.clamp(0.0, (self.nx - 1) as f64) as usize, j.clamp(0.0, (self.ny - 1) as f64) as usize)
+    }
+
+    fn cell_range(&self, t: &[usize; 3]) -> (usize, usize, usize, usize) {
+        let p = [self.points[t[0]], self.points[t[1]], self.points[t[2]]];
+        let lo = [p[0][0].min(p[1][0]).min(p[2][0]), p[0][1].min(p[1][1]).min(p[2][1])];
+        let hi = [p[0][0].max(p[1][0]).max(p[2][0]), p[0][1].max(p[1][1]).max(p[2][1])];
+        let (x0, y0) = self.cell_of(lo);
+        let (x1, y1) = self.cell_of(hi);
+        (x0, y0, x1, y1)
+    }
+
+    /// Barycentric coordinates of `p` in triangle `t`.
+    fn barycentric(&self, t: usize, p: [f64; 2]) -> [f64; 3] {
+        let [a, b, c] = self.tris[t].map(|v| self.points[v]);
+        let d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        let l1 = ((b[0] - p[0]) * (c[1] - p[1]) - (b[1] - p[1]) * (c[0] - p[0])) / d;
+        let l2 = ((c[0] - p[0]) * (a[1] - p[1]) - (c[1] - p[1]) * (a[0] - p[0])) / d;
+        [l1, l2, 1.0 - l1 - l2]
+    }
+
+    /// The weights of the closest point of triangle `t` to `p`, and its squared distance.
+    fn closest(&self, t: usize, p: [f64; 2]) -> ([f64; 3], f64) {
+        let l = self.barycentric(t, p);
+        if l.iter().all(|&x| x >= 0.0) {
+            return (l, 0.0);
+        }
+        let v = self.tris[t].map(|v| self.points[v]);
+        let mut best = ([1.0, 0.0, 0.0], f64::INFINITY);
+        for k in 0..3 {
+            let (a, b) = (v[k], v[(k + 1) % 3]);
+            let e = [b[0] - a[0], b[1] - a[1]];
+            let ee = e[0] * e[0] + e[1] * e[1];
+            let s = if ee > 0.0 { (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / ee).clamp(0.0, 1.0) } else { 0.0 };
+            let q = [a[0] + s * e[0], a[1] + s * e[1]];
+            let d2 = (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
+            if d2 < best.1 {
+                let mut w = [0.0; 3];
+                w[k] = 1.0 - s;
+                w[(k + 1) % 3] = s;
+                best = (w, d2);
+            }
+        }
+        best
+    }
+
+    /// The triangle containing `p` (the one `p` is deepest in) or, outside the
+    /// triangulation, the nearest one, with the weights of `p` (or of its closest point).
+    pub fn locate(&self, p: [f64; 2]) -> (usize, [f64; 3]) {
+        let (ci, cj) = self.cell_of(p);
+        let k = cj * self.nx + ci;
+        let mut best: Option<(usize, [f64; 3], f64)> = None;
+        for &t in &self.items[self.start[k] as usize..self.start[k + 1] as usize] {
+            let l = self.barycentric(t as usize, p);
+            let m = l[0].min(l[1]).min(l[2]);
+            if best.as_ref().map_or(true, |b| m > b.2) {
+                best = Some((t as usize, l, m));
+            }
+        }
+        if let Some((t, l, m)) = best {
+            if m >= 0.0 {
+                return (t, l);
+            }
+        }
+        // Outside (or in a cell without a containing triangle): rings of cells around
+        // p until the nearest triangle is certain (a ring r cells out is at least
+        // (r − 1)·cell away).
+        let mut near: Option<(usize, [f64; 3], f64)> = None;
+        let rmax = self.nx.max(self.ny);
+        for r in 0..=rmax {
+            if let Some((_, _, d2)) = near {
+                let bound = (r as f64 - 1.0).max(0.0) * self.cell;
+                if bound * bound > d2 {
+                    break;
+                }
+            }
+            let (i0, i1) = (ci as isize - r as isize, ci as isize + r as isize);
+            let (j0, j1) = (cj as isize - r as isize, cj as isize + r as isize);
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let on_ring = i == i0 || i == i1 || j == j0 || j == j1;
+                    if !on_ring || i < 0 || j < 0 || i >= self.nx as isize || j >= self.ny as isize {
+                        continue;
+                    }
+                    let k = j as usize * self.nx + i as usize;
+                    for &t in &self.items[self.start[k] as usize..self.start[k + 1] as usize] {
+                        let (w, d2) = self.closest(t as usize, p);
+                        if near.as_ref().map_or(true, |n| d2 < n.2 || (d2 == n.2 && (t as usize) < n.0)) {
+                            near = Some((t as usize, w, d2));
+                        }
+                    }
+                }
+            }
+        }
+        near.map(|(t, w, _)| (t, w)).unwrap_or((0, [1.0, 0.0, 0.0]))
+    }
+
+    /// The metric of the input field at `p`.
+    pub fn metric_at(&self, p: [f64; 2]) -> Sym2 {
+        if self.tris.is_empty() {
+            return Sym2::IDENTITY;
+        }
+        let (t, w) = self.locate(p);
+        let v = self.tris[t];
+        log_euclidean(&w, &[&self.logs[v[0]], &self.logs[v[1]], &self.logs[v[2]]])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::metric::SizeTensor;
+
+    #[test]
+    fn log_exp_round_trip_and_geometric_sizes() {
+        let m = SizeTensor::from_angle(0.4, 0.01, 0.3).unwrap().to_metric();
+        let back = exp_sym(&log_spd(&m));
+        assert!((back.a - m.a).abs() < 1e-9 * m.a && (back.b - m.b).abs() < 1e-9 * m.a && (back.c - m.c).abs() < 1e-9 * m.a);
+        let (a, b) = (SizeTensor::isotropic(1.0).to_metric(), SizeTensor::isotropic(4.0).to_metric());
+        let mid = log_euclidean(&[0.5, 0.5], &[&log_spd(&a), &log_spd(&b)]);
+        assert!((mid.a - 0.25).abs() < 1e-14 && mid.b.abs() < 1e-14);
+    }
+
+    /// Brute-force twin of `locate`: every triangle tried.
+    #[test]
+    fn locate_agrees_with_brute_force_inside_and_outside() {
+        // A 6x6 grid of squares on [0,1]² with the middle square removed (a hole).
+        let n = 6;
+        let pts: Vec<[f64; 2]> = (0..=n).flat_map(|j| (0..=n).map(move |i| [i as f64 / n as f64, j as f64 / n as f64])).collect();
+        let mut tris = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                if (i, j) == (2, 2) || (i, j) == (3, 3) {
+                    continue;
+                }
+                let v = j * (n + 1) + i;
+                tris.push([v, v + 1, v + n + 2]);
+                tris.push([v, v + n + 2, v + n + 1]);
+            }
+        }
+        let metric = vec![Sym2::IDENTITY; pts.len()];
+        let bg = Background::new(&pts, &tris, &metric);
+        let mut s = 12345u64;
+        for _ in 0..2000 {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let x = (s >> 11) as f64 / (1u64 << 53) as f64 * 1.4 - 0.2;
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let y = (s >> 11) as f64 / (1u64 << 53) as f64 * 1.4 - 0.2;
+            let p = [x, y];
+            let (t, _) = bg.locate(p);
+            let dist = |t: usize| bg.closest(t, p).1;
+            let best = (0..tris.len()).map(dist).fold(f64::INFINITY, f64::min);
+            assert!(dist(t) <= best + 1e-15, "{p:?}: got {} vs {}", dist(t), best);
+        }
+    }
+}

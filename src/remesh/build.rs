@@ -1,0 +1,283 @@
+//! From a [`TaggedMesh`] and its metric to the remesher's working state: triangles made
+//! counter-clockwise, the constrained edges (boundary edges, edges between triangles of
+//! different tags, edges of line cells), the corners that never move, and the pieces of
+//! curve between corners.
+//!
+//! Corners are the topological points of [`Topology`] (listed vertex cells, curve ends,
+//! junctions), plus the vertices where the tags of the constrained edges change (a Gmsh
+//! physical curve made of several elementary curves), plus the vertices where a curve
+//! turns by more than the ridge angle (MMG's `-ar` convention). A closed curve with no
+//! corner gets its first vertex fixed, so that every piece has two ends.
+
+use std::collections::HashMap;
+
+use super::background::{log_spd, Background};
+use super::boundary::{LineTags, Piece};
+use super::work::{key, orient, FIXED, FREE};
+use super::{RemeshError, RemeshOptions};
+use crate::formats::{CellKind, TaggedMesh};
+use crate::metric::Sym2;
+use crate::topology::Topology;
+
+/// Everything the driver starts from.
+pub struct Start {
+    /// 2D coordinates of the input points.
+    pub pts: Vec<[f64; 2]>,
+    /// Counter-clockwise input triangles.
+    pub tris: Vec<[u32; 3]>,
+    /// Face of each triangle (index into `faces`).
+    pub face: Vec<u32>,
+    /// `(physical, geometrical)` of each face.
+    pub faces: Vec<(i32, i32)>,
+    /// Piece (or [`FREE`]/[`FIXED`]) and parameter of each input vertex.
+    pub piece: Vec<u32>,
+    /// Parameters on the pieces.
+    pub s: Vec<f64>,
+    /// The pieces.
+    pub pieces: Vec<Piece>,
+    /// Constrained edges with their piece.
+    pub cons: ahash::AHashMap<(u32, u32), u32>,
+    /// Vertex cells of the input: `(vertex, physical, geometrical)`.
+    pub vertex_cells: Vec<(u32, i32, i32)>,
+    /// What the output will not carry.
+    pub warnings: Vec<String>,
+}
+
+/// Reads the triangles, constraints and pieces of `mesh`.
+pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result<Start, RemeshError> {
+    let n = mesh.points.len();
+    if metric.len() != n {
+        return Err(RemeshError::MetricCount { items: metric.len(), vertices: n });
+    }
+    if n > u32::MAX as usize / 4 {
+        return Err(RemeshError::TooLarge { vertices: n });
+    }
+    let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
+    for (v, p) in mesh.points.iter().enumerate() {
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            return Err(RemeshError::BadPoint { vertex: v });
+        }
+    }
+    let mut warnings = Vec::new();
+    let mut face_of: std::collections::BTreeMap<(i32, i32), u32> = std::collections::BTreeMap::new();
+    let mut tris = Vec::new();
+    let mut tri_tags = Vec::new();
+    let mut line_tags: HashMap<(u32, u32), (i32, i32)> = HashMap::new();
+    let mut lines_in_order: Vec<((u32, u32), (i32, i32))> = Vec::new();
+    let mut vertex_cells = Vec::new();
+    for (kind, nodes, phys, geo) in mesh.cells() {
+        match kind {
+            CellKind::Triangle => {
+                let t = [nodes[0] as u32, nodes[1] as u32, nodes[2] as u32];
+                let index = tris.len();
+                let o = orient(pts[nodes[0]], pts[nodes[1]], pts[nodes[2]]);
+                if o == 0.0 || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                    return Err(RemeshError::DegenerateTriangle { triangle: index, vertices: [nodes[0], nodes[1], nodes[2]] });
+                }
+                tris.push(if o > 0.0 { t } else { [t[0], t[2], t[1]] });
+                tri_tags.push((phys, geo));
+            }
+            CellKind::Line => {
+                if nodes[0] != nodes[1] {
+                    let k = key(nodes[0] as u32, nodes[1] as u32);
+                    if !line_tags.contains_key(&k) {
+                        line_tags.insert(k, (phys, geo));
+                        lines_in_order.push((k, (phys, geo)));
+                    }
+                }
+            }
+            CellKind::Vertex => vertex_cells.push((nodes[0] as u32, phys, geo)),
+            other => return Err(RemeshError::UnsupportedCell { kind: other.name() }),
+        }
+    }
+    if tris.is_empty() {
+        return Err(RemeshError::NoTriangles);
+    }
+    // Metric: finite and SPD wherever a triangle uses it.
+    let mut used = vec![false; n];
+    for t in &tris {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    for (v, m) in metric.iter().enumerate() {
+        if used[v] && !(m.a.is_finite() && m.b.is_finite() && m.c.is_finite() && m.a > 0.0 && m.c > 0.0 && m.det() > 0.0) {
+            return Err(RemeshError::NotSpd { vertex: v, a: m.a, b: m.b, c: m.c });
+        }
+    }
+    let face: Vec<u32> = tri_tags
+        .iter()
+        .map(|tg| {
+            let next = face_of.len() as u32;
+            *face_of.entry(*tg).or_insert(next)
+        })
+        .collect();
+    let mut faces = vec![(0, 0); face_of.len()];
+    for (tg, &i) in &face_of {
+        faces[i as usize] = *tg;
+    }
+
+    // Edges of the triangles, sorted, with the triangles holding them.
+    let mut occ: Vec<((u32, u32), u32)> = Vec::with_capacity(tris.len() * 3);
+    for (i, t) in tris.iter().enumerate() {
+        for k in 0..3 {
+            occ.push((key(t[k], t[(k + 1) % 3]), i as u32));
+        }
+    }
+    occ.sort_unstable();
+    // Constrained edges with their label: line tags and the pair of faces beside them.
+    type Label = (LineTags, u32, u32);
+    let mut constrained: Vec<((u32, u32), Label)> = Vec::new();
+    let mut i = 0;
+    while i < occ.len() {
+        let mut j = i;
+        while j < occ.len() && occ[j].0 == occ[i].0 {
+            j += 1;
+        }
+        let e = occ[i].0;
+        if j - i > 2 {
+            return Err(RemeshError::NonManifold { edge: [e.0 as usize, e.1 as usize], triangles: j - i });
+        }
+        let f0 = face[occ[i].1 as usize];
+        let f1 = if j - i == 2 { face[occ[i + 1].1 as usize] } else { u32::MAX };
+        let lt = line_tags.get(&e).copied();
+        if j - i == 1 || f0 != f1 || lt.is_some() {
+            constrained.push((e, (lt, f0.min(f1), f0.max(f1))));
+        }
+        i = j;
+    }
+    let dropped_lines = lines_in_order.iter().filter(|(k, _)| constrained.binary_search_by(|c| c.0.cmp(k)).is_err()).count();
+    if dropped_lines > 0 {
+        warnings.push(format!("{dropped_lines} line cells that are not triangle edges are not kept"));
+    }
+    for name in mesh.point_data.keys() {
+        if name != "metric" {
+            warnings.push(format!("point data `{name}` is not carried (only the metric is interpolated)"));
+        }
+    }
+    for name in mesh.cell_data.keys() {
+        warnings.push(format!("cell data `{name}` is not carried"));
+    }
+
+    // Constrained adjacency per vertex (CSR over the sorted edge list).
+    let mut deg = vec![0u32; n + 1];
+    for (e, _) in &constrained {
+        deg[e.0 as usize + 1] += 1;
+        deg[e.1 as usize + 1] += 1;
+    }
+    for v in 0..n {
+        deg[v + 1] += deg[v];
+    }
+    let mut fill = deg.clone();
+    let mut adj = vec![0u32; deg[n] as usize];
+    for (ci, (e, _)) in constrained.iter().enumerate() {
+        for v in [e.0, e.1] {
+            adj[fill[v as usize] as usize] = ci as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    let around = |v: u32| &adj[deg[v as usize] as usize..deg[v as usize + 1] as usize];
+
+    // Corners.
+    let topo = Topology::from_mesh(mesh);
+    let mut corner = vec![false; n];
+    for p in &topo.points {
+        corner[p.vertex] = true;
+    }
+    for &(v, _, _) in &vertex_cells {
+        corner[v as usize] = true;
+    }
+    let cos_ridge = opts.ridge_angle_degrees.to_radians().cos();
+    for v in 0..n as u32 {
+        let es = around(v);
+        if es.is_empty() {
+            continue;
+        }
+        if es.len() != 2 {
+            corner[v as usize] = true;
+            continue;
+        }
+        let (e1, e2) = (&constrained[es[0] as usize], &constrained[es[1] as usize]);
+        if e1.1 != e2.1 {
+            corner[v as usize] = true;
+            continue;
+        }
+        let other = |e: (u32, u32)| if e.0 == v { e.1 } else { e.0 };
+        let (u, w) = (pts[other(e1.0) as usize], pts[other(e2.0) as usize]);
+        let p = pts[v as usize];
+        let (d1, d2) = ([p[0] - u[0], p[1] - u[1]], [w[0] - p[0], w[1] - p[1]]);
+        let c = (d1[0] * d2[0] + d1[1] * d2[1]) / (d1[0].hypot(d1[1]) * d2[0].hypot(d2[1]));
+        if c < cos_ridge {
+            corner[v as usize] = true;
+        }
+    }
+
+    // Pieces: walk from every corner along each unvisited constrained edge to the next
+    // corner; then the loops without corner, from their smallest vertex.
+    let logs: Vec<Sym2> = metric.iter().map(log_spd).collect();
+    let mut visited = vec![false; constrained.len()];
+    let mut piece = vec![FREE; n];
+    let mut s = vec![0.0; n];
+    let mut pieces: Vec<Piece> = Vec::new();
+    let mut cons: ahash::AHashMap<(u32, u32), u32> = ahash::AHashMap::with_capacity(constrained.len());
+    let mut walk = |start: u32, first: u32, corner: &[bool], visited: &mut Vec<bool>, piece: &mut Vec<u32>, s: &mut Vec<f64>| {
+        let pid = pieces.len() as u32;
+        let tags = constrained[first as usize].1 .0;
+        let mut verts = vec![start];
+        let mut e = first;
+        let mut cur = start;
+        loop {
+            visited[e as usize] = true;
+            cons.insert(constrained[e as usize].0, pid);
+            let (a, b) = constrained[e as usize].0;
+            let next = if a == cur { b } else { a };
+            verts.push(next);
+            if corner[next as usize] {
+                break;
+            }
+            let Some(&ne) = around(next).iter().find(|&&x| !visited[x as usize]) else { break };
+            cur = next;
+            e = ne;
+        }
+        let p = Piece::new(verts.iter().map(|&v| pts[v as usize]).collect(), verts.iter().map(|&v| logs[v as usize]).collect(), tags, [verts[0], *verts.last().unwrap_or(&verts[0])]);
+        for (i, &v) in verts.iter().enumerate() {
+            if !corner[v as usize] {
+                piece[v as usize] = pid;
+                s[v as usize] = p.s[i];
+            }
+        }
+        pieces.push(p);
+    };
+    for v in 0..n as u32 {
+        if corner[v as usize] {
+            for &e in around(v) {
+                if !visited[e as usize] {
+                    walk(v, e, &corner, &mut visited, &mut piece, &mut s);
+                }
+            }
+        }
+    }
+    for ci in 0..constrained.len() {
+        if !visited[ci] {
+            let v = constrained[ci].0 .0;
+            corner[v as usize] = true;
+            for &e in around(v) {
+                if !visited[e as usize] {
+                    walk(v, e, &corner, &mut visited, &mut piece, &mut s);
+                }
+            }
+        }
+    }
+    for v in 0..n {
+        if corner[v] || !used[v] {
+            piece[v] = FIXED;
+        }
+    }
+    Ok(Start { pts, tris, face, faces, piece, s, pieces, cons, vertex_cells, warnings })
+}
+
+/// The background field of the input.
+pub fn background(st: &Start, metric: &[Sym2]) -> Background {
+    let tris: Vec<[usize; 3]> = st.tris.iter().map(|t| t.map(|v| v as usize)).collect();
+    Background::new(&st.pts, &tris, metric)
+}
