@@ -16,6 +16,8 @@
 //!   VTK/ParaView (.vtu, .vtk);
 //! - [`conformity`]: metric edge lengths and metric quality of a mesh against a field;
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
+//! - [`metric_input`]: the metric a command is given (`--metric` file or the mesh's own);
+//! - [`report`]: pictures (SVG, PNG) of a mesh, its metric, conformity and history;
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -28,8 +30,10 @@ pub mod geometry;
 pub mod history;
 pub mod mesh_graph;
 pub mod metric;
+pub mod metric_input;
 pub mod quality;
 pub mod recipe;
+pub mod report;
 pub mod sizing;
 pub mod summary;
 pub mod topology;

@@ -3,6 +3,7 @@
 mod convert;
 mod info;
 mod recipe;
+mod report;
 mod size;
 
 use std::io::Write;
@@ -83,6 +84,7 @@ enum Command {
     Convert(convert::ConvertArgs),
     Recipe(recipe::RecipeArgs),
     Size(size::SizeArgs),
+    Report(report::ReportArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -102,6 +104,7 @@ pub fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a),
         Command::Recipe(a) => recipe::run(a),
         Command::Size(a) => size::run(a),
+        Command::Report(a) => report::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),
