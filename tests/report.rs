@@ -254,29 +254,47 @@ fn png_decodes_at_the_requested_width_and_is_not_blank() {
     let height: u32 = doc.root_element().attribute("height").unwrap().parse().unwrap();
     let o = smartmesh(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "--width", "700", "-o", s(&png)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let decoder = png::Decoder::new(std::fs::File::open(&png).unwrap());
+    check_png(&png, 700, height, 1000);
+    // The palette variant: indexed, same size, fewer colours, still a picture.
+    let pal = dir.path().join("p.png");
+    let o = smartmesh(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "--width", "700", "--palette", "-o", s(&pal)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let reader = png::Decoder::new(std::fs::File::open(&pal).unwrap()).read_info().unwrap();
+    assert_eq!(reader.info().color_type, png::ColorType::Indexed);
+    check_png(&pal, 700, height, 50);
+    assert!(std::fs::metadata(&pal).unwrap().len() < std::fs::metadata(&png).unwrap().len());
+}
+
+/// Decodes `path` (palettes expanded) and checks its size, that a fifth of it at least is
+/// drawn on, and that it has more than `colours` colours.
+fn check_png(path: &Path, width: u32, height: u32, colours: usize) {
+    let mut decoder = png::Decoder::new(std::fs::File::open(path).unwrap());
+    decoder.set_transformations(png::Transformations::EXPAND);
     let mut reader = decoder.read_info().unwrap();
     let mut buf = vec![0; reader.output_buffer_size()];
     let info = reader.next_frame(&mut buf).unwrap();
-    assert_eq!((info.width, info.height), (700, height));
+    assert_eq!((info.width, info.height), (width, height));
     let channels = info.color_type.samples();
     let pixels: Vec<&[u8]> = buf[..info.buffer_size()].chunks(channels).collect();
     let non_white = pixels.iter().filter(|p| p[..3] != [255, 255, 255]).count();
     assert!(non_white * 5 > pixels.len(), "only {non_white} of {} pixels are drawn", pixels.len());
-    let mut colours: Vec<[u8; 3]> = pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
-    colours.sort_unstable();
-    colours.dedup();
-    assert!(colours.len() > 50, "{} colours", colours.len());
+    let mut distinct: Vec<[u8; 3]> = pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
+    distinct.sort_unstable();
+    distinct.dedup();
+    assert!(distinct.len() > colours, "{} colours", distinct.len());
 }
 
 #[test]
 fn same_input_gives_the_same_bytes() {
     let dir = tempfile::tempdir().unwrap();
     let cyl = cylinder_with_metric(dir.path());
-    for ext in ["svg", "png"] {
+    let recipe = fixture("cylinder.toml");
+    for (ext, extra) in [("svg", None), ("png", None), ("png", Some("--palette"))] {
         let (a, b) = (dir.path().join(format!("a.{ext}")), dir.path().join(format!("b.{ext}")));
         for out in [&a, &b] {
-            let o = smartmesh(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "-o", s(out)]);
+            let mut args = vec!["report", s(&cyl), "--recipe", s(&recipe), "-o", s(out)];
+            args.extend(extra);
+            let o = smartmesh(&args);
             assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
         }
         assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "{ext} differs between runs");

@@ -58,7 +58,26 @@ impl Scale {
 /// The plotting area of a chart panel: the panel less room for the title and the tick
 /// labels (`right` more on the right for a second axis).
 pub fn plot_area(panel: &Rect, right: bool) -> Rect {
-    Rect::new(panel.x0 + 52.0, panel.y0 + 30.0, panel.x1 - if right { 48.0 } else { 14.0 }, panel.y1 - 40.0)
+    Rect::new(panel.x0 + 52.0, panel.y0 + 46.0, panel.x1 - if right { 48.0 } else { 14.0 }, panel.y1 - 40.0)
+}
+
+/// A chart's heading: a bold title and a line of figures under it, each cut to the
+/// panel's width.
+pub fn heading(svg: &mut Svg, panel: &Rect, title: &str, figures: &str) {
+    let fit = |s: &str, px: f64| {
+        let max = (px / 6.6).floor().max(4.0) as usize;
+        if s.chars().count() <= max {
+            s.to_string()
+        } else {
+            let mut t: String = s.chars().take(max - 1).collect();
+            t.push('…');
+            t
+        }
+    };
+    svg.text(panel.x0 + 8.0, panel.y0 + 17.0, &fit(title, panel.width() - 16.0), &[("font-size", "13"), ("font-weight", "bold")]);
+    if !figures.is_empty() {
+        svg.text(panel.x0 + 8.0, panel.y0 + 33.0, &fit(figures, panel.width() - 16.0), &[("font-size", "11"), ("fill", palette::MUTED), ("class", "figures")]);
+    }
 }
 
 /// Horizontal grid lines and labels of a vertical axis from 0 to `max` (on the left, or

@@ -44,8 +44,13 @@ pub fn fit_factor(candidates: &[(usize, [f64; 2], SizeTensor)], view: &View) -> 
     }
 }
 
+/// How far apart two kept ellipses are, in sums of their radii towards each other. Two
+/// equal ellipses are disjoint exactly when this is at least 1 (|d|_M ≥ 2); unequal
+/// ones may still touch a little at 1, hence the slack.
+const SPACING: f64 = 1.15;
+
 /// Picks the vertices whose ellipses are drawn: candidates in order of their larger size
-/// (then vertex index), each kept when it lies at least `min_gap_px` and 1.05 × the sum of
+/// (then vertex index), each kept when it lies at least `min_gap_px` and 1.15 × the sum of
 /// the two ellipses' radii towards each other away from every vertex kept before. Small
 /// ellipses come first, so that the finest regions are shown; the result is sorted by
 /// vertex index. Cost: O(n · k) for k kept ellipses, bounded by the view's area.
@@ -62,7 +67,7 @@ pub fn pick(candidates: &[(usize, [f64; 2], SizeTensor)], view: &View, factor: f
     for i in order {
         let (_, p, t) = &candidates[i];
         let pi = view.to_px(*p);
-        let reach = (min_gap_px.max(1.05 * (t.h_max() * s + max_r)) / cell).ceil() as i64;
+        let reach = (min_gap_px.max(SPACING * (t.h_max() * s + max_r)) / cell).ceil() as i64;
         let (gx, gy) = ((pi[0] / cell).floor() as i64, (pi[1] / cell).floor() as i64);
         let mut ok = true;
         'search: for dx in -reach..=reach {
@@ -76,7 +81,7 @@ pub fn pick(candidates: &[(usize, [f64; 2], SizeTensor)], view: &View, factor: f
                             ok = false;
                             break 'search;
                         }
-                        let need = 1.05 * s * (t.size_along(d) + u.size_along(d));
+                        let need = SPACING * s * (t.size_along(d) + u.size_along(d));
                         if dist_px < need {
                             ok = false;
                             break 'search;
@@ -124,7 +129,7 @@ mod tests {
         for (a, &i) in kept.iter().enumerate() {
             for &j in &kept[a + 1..] {
                 let (p, q) = (c[i].1, c[j].1);
-                assert!((p[0] - q[0]).hypot(p[1] - q[1]) >= 0.08 * 1.05 - 1e-12);
+                assert!((p[0] - q[0]).hypot(p[1] - q[1]) >= 0.08 * SPACING - 1e-12);
             }
         }
     }

@@ -13,7 +13,8 @@ use super::view::Rect;
 /// What one histogram shows.
 struct Bars<'a> {
     id: &'static str,
-    title: String,
+    title: &'static str,
+    figures: String,
     counts: &'a [usize],
     bin_width: f64,
     x_label: &'static str,
@@ -24,7 +25,7 @@ struct Bars<'a> {
 
 fn draw(svg: &mut Svg, panel: &Rect, b: &Bars<'_>) {
     svg.open("g", &[("id", b.id), ("class", "panel histogram")]);
-    svg.text(panel.x0 + 8.0, panel.y0 + 16.0, &b.title, &[("font-size", "13"), ("font-weight", "bold")]);
+    axes::heading(svg, panel, b.title, &b.figures);
     let area = axes::plot_area(panel, false);
     let n = b.counts.len();
     let x = Scale::new(0.0, n as f64 * b.bin_width, area.x0, area.x1);
@@ -68,8 +69,8 @@ fn draw(svg: &mut Svg, panel: &Rect, b: &Bars<'_>) {
 
 /// The histogram of metric edge lengths.
 pub fn edge_lengths(svg: &mut Svg, panel: &Rect, c: &Conformity) {
-    let title = format!(
-        "Metric edge length: {}% of {} edges in [{}, {}]",
+    let figures = format!(
+        "{}% of {} edges in [{}, {}]",
         num(100.0 * c.conforming_share, 1),
         c.edges,
         num(CONFORMING[0], 2),
@@ -77,10 +78,11 @@ pub fn edge_lengths(svg: &mut Svg, panel: &Rect, c: &Conformity) {
     );
     let bars = Bars {
         id: "hist-length",
-        title,
+        title: "Metric edge length",
+        figures,
         counts: &c.edge_length_histogram,
         bin_width: 0.1,
-        x_label: "metric length (1 = the size the metric asks for); last bar: all longer",
+        x_label: "metric length (1 = as asked; last bar: all longer)",
         x_ticks: (0..=LENGTH_BINS / 5).map(|k| k as f64 * 0.5).collect(),
         band: Some(CONFORMING),
         overflow_last: true,
@@ -90,13 +92,14 @@ pub fn edge_lengths(svg: &mut Svg, panel: &Rect, c: &Conformity) {
 
 /// The histogram of metric triangle quality.
 pub fn quality(svg: &mut Svg, panel: &Rect, c: &Conformity) {
-    let title = format!("Metric quality: mean {}, min {} ({} triangles)", num(c.mean_quality, 3), num(c.min_quality, 3), c.triangles);
+    let figures = format!("mean {}, min {} over {} triangles", num(c.mean_quality, 3), num(c.min_quality, 3), c.triangles);
     let bars = Bars {
         id: "hist-quality",
-        title,
+        title: "Metric quality",
+        figures,
         counts: &c.quality_histogram,
         bin_width: 0.1,
-        x_label: "metric quality (1 = equilateral in the metric; inverted counted at 0)",
+        x_label: "metric quality (1 = equilateral in the metric)",
         x_ticks: (0..=5).map(|k| k as f64 * 0.2).collect(),
         band: None,
         overflow_last: false,

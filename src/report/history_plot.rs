@@ -1,6 +1,7 @@
 //! The convergence history of an adaptation run: vertices per iteration on the left
 //! axis, conforming share and mean metric quality (both in [0, 1]) on the right, the
-//! iteration whose mesh was kept marked by a dashed line.
+//! iteration whose mesh was kept marked by a dashed line. The x axis counts iterations
+//! (the heading says so); the key of the three series takes its label's place.
 
 use crate::history::History;
 
@@ -13,8 +14,8 @@ use super::view::Rect;
 pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
     svg.open("g", &[("id", "history"), ("class", "panel history")]);
     let state = if h.converged { "converged" } else { "not converged" };
-    let title = format!("Adaptation: {} iterations, {state}, best {}", h.iterations.len(), h.best_iteration);
-    svg.text(panel.x0 + 8.0, panel.y0 + 16.0, &title, &[("font-size", "13"), ("font-weight", "bold")]);
+    let figures = format!("{} iterations, {state}, best {}", h.iterations.len(), h.best_iteration);
+    axes::heading(svg, panel, "Adaptation history", &figures);
     let area = axes::plot_area(panel, true);
     let last = h.iterations.iter().map(|r| r.iteration).max().unwrap_or(0).max(1) as f64;
     let x = Scale::new(0.0, last, area.x0 + 6.0, area.x1 - 6.0);
@@ -56,14 +57,15 @@ pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
             svg.element("circle", &[("cx", &cx), ("cy", &cy), ("r", "2.5"), ("fill", colour), ("data-value", &v)]);
         }
         svg.close();
-        let lx = area.x0 + 8.0 + k as f64 * 118.0;
-        svg.element("line", &[("x1", &num(lx, 1)), ("y1", &num(area.y1 - 10.0, 1)), ("x2", &num(lx + 14.0, 1)), ("y2", &num(area.y1 - 10.0, 1)), ("stroke", colour), ("stroke-width", "2")]);
-        svg.text(lx + 18.0, area.y1 - 6.0, name, &[("font-size", "10")]);
+        // The key, in one row under the x axis' label line, spaced by name length.
+        let lx = panel.x0 + 10.0 + series[..k].iter().map(|s| 26.0 + 6.0 * s.0.len() as f64).sum::<f64>();
+        let ly = panel.y1 - 10.0;
+        svg.element("line", &[("x1", &num(lx, 1)), ("y1", &num(ly - 3.5, 1)), ("x2", &num(lx + 14.0, 1)), ("y2", &num(ly - 3.5, 1)), ("stroke", colour), ("stroke-width", "2")]);
+        svg.text(lx + 18.0, ly, name, &[("font-size", "10")]);
     }
     axes::frame(svg, &area);
     let tstep = nice_step(last, 6).max(1.0);
     let ticks: Vec<f64> = (0..).map(|k| k as f64 * tstep).take_while(|&v| v <= last + 1e-9).collect();
     axes::x_axis(svg, &area, &x, &ticks, &|v| num(v, 0));
-    svg.text(0.5 * (area.x0 + area.x1), panel.y1 - 8.0, "iteration", &[("text-anchor", "middle"), ("font-size", "11"), ("fill", palette::MUTED)]);
     svg.close();
 }

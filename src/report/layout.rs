@@ -8,7 +8,7 @@ use super::view::Rect;
 pub const MARGIN: f64 = 16.0;
 /// Height of a panel's caption line.
 pub const CAPTION: f64 = 22.0;
-const TITLE: f64 = 48.0;
+const TITLE: f64 = 62.0;
 const CHART: f64 = 250.0;
 
 /// The panels of one report.

@@ -5,8 +5,8 @@
 //! of its boundary loops (one even-odd path, O(boundary) long) rather than triangle by
 //! triangle, and edges shorter than [`MIN_EDGE_PX`] on screen are not drawn one by one:
 //! their length is summed on a grid of [`DENSITY_CELL_PX`]-pixel cells, and each cell is
-//! shaded with the ink those edges would have put there. The SVG then grows with the
-//! picture's pixel count, not with the mesh.
+//! shaded with the ink those edges would have put there (up to [`MAX_SHADING`]). The SVG
+//! then grows with the picture's pixel count, not with the mesh.
 
 use crate::topology::Topology;
 
@@ -18,6 +18,9 @@ use super::view::{Rect, View};
 pub const MIN_EDGE_PX: f64 = 2.0;
 /// Side of the shading cells, in pixels.
 pub const DENSITY_CELL_PX: f64 = 2.0;
+/// Opacity of the darkest shading: where edges would cover a cell wholly, the face's
+/// colour still shows through, so that a dense region reads as dense rather than black.
+pub const MAX_SHADING: f64 = 0.5;
 
 /// The mesh prepared for drawing: coordinates, face outlines, edges and curves.
 #[derive(Debug, Clone)]
@@ -195,7 +198,7 @@ impl MeshLayers {
             }
             for (l, p) in paths.iter().enumerate() {
                 if !p.is_empty() {
-                    let op = num((l + 1) as f64 / LEVELS as f64, 2);
+                    let op = num(MAX_SHADING * (l + 1) as f64 / LEVELS as f64, 3);
                     svg.element("path", &[("class", "edge-shading"), ("d", p.as_str()), ("fill", palette::EDGE), ("fill-opacity", &op), ("stroke", "none")]);
                 }
             }

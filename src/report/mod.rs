@@ -53,7 +53,7 @@ pub const WIDTH_RANGE: [u32; 2] = [400, 8000];
 /// Zoom windows around the smallest sizes when there is no recipe.
 const SIZE_WINDOWS: usize = 3;
 /// Smallest distance between two ellipse centres, in pixels.
-const ELLIPSE_GAP_PX: f64 = 9.0;
+const ELLIPSE_GAP_PX: f64 = 10.0;
 
 /// What a report is drawn from.
 #[derive(Debug, Clone, Copy)]
@@ -174,12 +174,12 @@ fn draw_marks(svg: &mut Svg, view: &View, marks: &SourceMarks) {
     }
 }
 
-/// A scale bar of a round length at the bottom left of the view, drawn over a white
-/// outline so that it reads on any fill.
-fn scale_bar(svg: &mut Svg, view: &View) {
-    let len = axes::nice_step(0.12 * view.world.width(), 1);
+/// A scale bar of a round length at the bottom left of `content` (the pixels where the
+/// mesh is, within the view), drawn over a white outline so that it reads on any fill.
+fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) {
+    let len = axes::nice_step(0.12 * content.width() / view.scale, 1);
     let px = len * view.scale;
-    let (x, y) = (view.screen.x0 + 10.0, view.screen.y1 - 10.0);
+    let (x, y) = (content.x0 + 10.0, content.y1 - 10.0);
     let d = format!("M{} {}v4h{}v-4", num(x, 1), num(y - 4.0, 1), num(px, 2));
     svg.open("g", &[("class", "scale-bar")]);
     svg.element("path", &[("d", &d), ("fill", "none"), ("stroke", "#ffffff"), ("stroke-width", "4"), ("stroke-opacity", "0.85")]);
@@ -188,9 +188,16 @@ fn scale_bar(svg: &mut Svg, view: &View) {
     svg.close();
 }
 
-/// 11 px text with a white halo (a white-stroked copy beneath), readable over the mesh.
+/// 11 px text on a translucent white box, readable over the mesh. The box is sized for
+/// an estimated 6.3 px per character (text is not measured: that needs the font).
 fn halo_text(svg: &mut Svg, x: f64, y: f64, text: &str, anchor: &str, colour: &str) {
-    svg.text(x, y, text, &[("font-size", "11"), ("text-anchor", anchor), ("fill", "#ffffff"), ("stroke", "#ffffff"), ("stroke-width", "3"), ("stroke-linejoin", "round")]);
+    let w = 6.3 * text.chars().count() as f64 + 6.0;
+    let x0 = match anchor {
+        "end" => x - w + 3.0,
+        "middle" => x - 0.5 * w,
+        _ => x - 3.0,
+    };
+    svg.element("rect", &[("x", &num(x0, 1)), ("y", &num(y - 10.0, 1)), ("width", &num(w, 1)), ("height", "14"), ("fill", "#ffffff"), ("fill-opacity", "0.85")]);
     svg.text(x, y, text, &[("font-size", "11"), ("text-anchor", anchor), ("fill", colour)]);
 }
 
@@ -250,35 +257,47 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let aspect = domain.width().max(1e-300) / domain.height().max(1e-300 + domain.width() * 1e-3);
     let zoom_aspects: Vec<f64> = zooms.iter().map(|z| z.region.width() / z.region.height().max(1e-300)).collect();
     let lay = layout::layout(width, aspect, legend_h, &zoom_aspects, charts);
-    let zoom_views: Vec<View> = zooms.iter().zip(&lay.zooms).map(|(z, r)| View::fit(z.region, zoom_inner(r))).collect();
+    // Each zoom shows its window grown to the panel's aspect, moved inside the domain
+    // where it fits (a window around a corner shows mesh, not the page).
+    let zoom_views: Vec<View> = zooms
+        .iter()
+        .zip(&lay.zooms)
+        .map(|(z, r)| {
+            let inner = zoom_inner(r);
+            let grown = View::fit(z.region, inner).world.shift_inside(&domain);
+            View::fit(grown, inner)
+        })
+        .collect();
     let mut svg = Svg::new(lay.width, lay.height);
 
     // Title.
     let triangles = topo.surface_cells.len();
     svg.open("g", &[("id", "title")]);
     svg.text(lay.title.x0, lay.title.y0 + 18.0, &fit_text(input.name, lay.title.width() * 0.75), &[("font-size", "18"), ("font-weight", "bold")]);
-    let mut line = format!(
+    let counts = format!(
         "{}, {}, {}, {}",
         plural(mesh.points.len(), "vertex", "vertices"),
         plural(triangles, "surface cell", "surface cells"),
         plural(topo.faces.len(), "face", "faces"),
         plural(topo.curves.len(), "curve", "curves")
     );
-    match (input.metric, &conformity) {
-        (Some(m), Some(c)) => line.push_str(&format!(
-            " · metric {}: {}% of edges conforming, mean metric quality {}",
+    let metric_line = match (input.metric, &conformity) {
+        (Some(m), Some(c)) => format!(
+            "metric {}: {}% of edges conforming, mean metric quality {}",
             m.source,
             num(100.0 * c.conforming_share, 1),
             num(c.mean_quality, 3)
-        )),
-        (Some(m), None) => line.push_str(&format!(" · metric {}: no triangle to measure", m.source)),
+        ),
+        (Some(m), None) => format!("metric {}: no triangle to measure", m.source),
         (None, _) => {
             let why = format!("no metric: {} has no point data `metric` and no --metric was given", input.name);
-            line.push_str(&format!(" · {why}"));
-            notes.push(why);
+            notes.push(why.clone());
+            why
         }
+    };
+    for (k, line) in [counts, metric_line].iter().enumerate() {
+        svg.text(lay.title.x0, lay.title.y0 + 37.0 + 16.0 * k as f64, &fit_text(line, lay.title.width() * 1.05), &[("font-size", "13"), ("fill", palette::MUTED)]);
     }
-    svg.text(lay.title.x0, lay.title.y0 + 38.0, &fit_text(&line, lay.title.width() * 1.05), &[("font-size", "13"), ("fill", palette::MUTED)]);
     svg.close();
 
     // Overview.
@@ -292,15 +311,18 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let ov_stats = layers.draw_edges(&mut svg, &ov_view, 0.35);
     layers.draw_curves(&mut svg, &ov_view, 1.8);
     draw_marks(&mut svg, &ov_view, &marks);
-    svg.close();
     for (k, zv) in zoom_views.iter().enumerate() {
         let r = ov_view.rect_to_px(&zv.world);
         let id = (k + 1).to_string();
         svg.element("rect", &[("class", "zoom-frame"), ("data-zoom", &id), ("x", &num(r.x0, 1)), ("y", &num(r.y0, 1)), ("width", &num(r.width(), 1)), ("height", &num(r.height(), 1)), ("fill", "none"), ("stroke", palette::FRAME), ("stroke-width", "1.5")]);
-        svg.element("rect", &[("x", &num(r.x0, 1)), ("y", &num(r.y0 - 15.0, 1)), ("width", "15"), ("height", "15"), ("fill", palette::FRAME)]);
-        svg.text(r.x0 + 7.5, r.y0 - 3.5, &id, &[("font-size", "11"), ("font-weight", "bold"), ("fill", "#ffffff"), ("text-anchor", "middle")]);
+        // The number tab sits on the frame's top-left corner, inside the panel.
+        let (tx, ty) = (r.x0.max(ov_inner.x0), (r.y0 - 15.0).max(ov_inner.y0));
+        svg.element("rect", &[("x", &num(tx, 1)), ("y", &num(ty, 1)), ("width", "15"), ("height", "15"), ("fill", palette::FRAME)]);
+        svg.text(tx + 7.5, ty + 11.5, &id, &[("font-size", "11"), ("font-weight", "bold"), ("fill", "#ffffff"), ("text-anchor", "middle")]);
     }
-    scale_bar(&mut svg, &ov_view);
+    svg.close();
+    let content = ov_view.rect_to_px(&domain).intersect(&ov_inner).unwrap_or(ov_inner);
+    scale_bar(&mut svg, &ov_view, &content);
     svg.text(ov.x0, ov.y0 + 14.0, "Whole mesh", &[("font-size", "13"), ("font-weight", "bold")]);
     if ov_stats.shaded > 0 {
         let s = format!("{} edges shorter than {} px drawn as shading", ov_stats.shaded, mesh_layer::MIN_EDGE_PX);
@@ -378,7 +400,7 @@ fn draw_zoom(svg: &mut Svg, k: usize, z: &ZoomWindow, r: &Rect, view: &View, lay
         ellipse_note = if factor == 1.0 { format!("{} ellipses, true size", kept.len()) } else { format!("{} ellipses ×{}", kept.len(), fmt_sig(factor)) };
     }
     svg.close();
-    scale_bar(svg, &view);
+    scale_bar(svg, &view, &inner);
     panel_border(svg, &inner);
     let caption = format!("{}: {}", k + 1, z.label);
     svg.text(r.x0, r.y0 + 14.0, &fit_text(&caption, r.width()), &[("font-size", "12"), ("font-weight", "bold")]);

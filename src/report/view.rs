@@ -69,6 +69,25 @@ impl Rect {
         (self.x0..=self.x1).contains(&p[0]) && (self.y0..=self.y1).contains(&p[1])
     }
 
+    /// Moved (not resized) to lie inside `outer` along each axis where it fits, and
+    /// centred on `outer` along an axis where it is larger.
+    pub fn shift_inside(&self, outer: &Rect) -> Rect {
+        let shift = |lo: f64, hi: f64, olo: f64, ohi: f64| {
+            if hi - lo >= ohi - olo {
+                0.5 * (olo + ohi) - 0.5 * (lo + hi)
+            } else if lo < olo {
+                olo - lo
+            } else if hi > ohi {
+                ohi - hi
+            } else {
+                0.0
+            }
+        };
+        let dx = shift(self.x0, self.x1, outer.x0, outer.x1);
+        let dy = shift(self.y0, self.y1, outer.y0, outer.y1);
+        Rect { x0: self.x0 + dx, y0: self.y0 + dy, x1: self.x1 + dx, y1: self.y1 + dy }
+    }
+
     /// Grown around its centre along one axis until width / height equals `aspect`.
     pub fn with_aspect(&self, aspect: f64) -> Rect {
         let [cx, cy] = self.centre();
@@ -130,6 +149,15 @@ mod tests {
         assert_eq!(v.to_px([0.0, 0.0]), [10.0, 160.0]);
         assert_eq!(v.to_px([4.0, 1.0]), [410.0, 60.0]);
         assert_eq!(v.world.height(), 2.0);
+    }
+
+    #[test]
+    fn shifting_inside_moves_without_resizing() {
+        let outer = Rect::new(0.0, 0.0, 4.0, 1.0);
+        let r = Rect::new(-0.5, 0.2, 0.5, 0.6).shift_inside(&outer);
+        assert_eq!((r.x0, r.x1, r.y0, r.y1), (0.0, 1.0, 0.2, 0.6));
+        let r = Rect::new(3.0, -1.0, 5.0, 2.0).shift_inside(&outer);
+        assert_eq!((r.x0, r.x1, r.y0, r.y1), (2.0, 4.0, -1.0, 2.0));
     }
 
     #[test]
