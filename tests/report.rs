@@ -171,6 +171,8 @@ fn isotropic_metric_gives_circles_of_radius_h_times_scale_at_their_vertices() {
     let w: Vec<f64> = panel.attribute("data-window").unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
     let (sx, sy, sw, sh) = (attr(&clip, "x"), attr(&clip, "y"), attr(&clip, "width"), attr(&clip, "height"));
     let px_per_unit = (sw / (w[2] - w[0])).min(sh / (w[3] - w[1]));
+    // The window around the corner vertex was moved inside the square.
+    assert!(w[0] >= -1e-9 && w[1] >= -1e-9 && w[2] <= 1.0 + 1e-9 && w[3] <= 1.0 + 1e-9, "window {w:?}");
     let factor: f64 = panel.descendants().find(|n| has_class(n, "ellipses")).unwrap().attribute("data-factor").unwrap().parse().unwrap();
     assert!((scale - px_per_unit * factor).abs() <= 1e-3 * scale, "{scale} vs {px_per_unit} x {factor}");
     for (v, [cx, cy, rx, ry, _]) in list {
@@ -351,6 +353,17 @@ fn a_large_mesh_gives_a_bounded_svg_with_short_edges_shaded() {
     let doc = roxmltree::Document::parse(&text).unwrap();
     let overview = by_id(&doc, "overview").unwrap();
     assert!(overview.descendants().any(|n| has_class(&n, "edge-shading")));
+}
+
+#[test]
+fn stdout_takes_the_kind_from_to() {
+    let o = smartmesh(&["report", s(&fixture("cylinder.msh")), "--to", "svg", "-o", "-"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(roxmltree::Document::parse(&text).is_ok());
+    let o = smartmesh(&["report", s(&fixture("cylinder.msh")), "-o", "-"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--to svg or --to png"), "{}", stderr(&o));
 }
 
 #[test]

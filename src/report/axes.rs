@@ -80,9 +80,23 @@ pub fn heading(svg: &mut Svg, panel: &Rect, title: &str, figures: &str) {
     }
 }
 
-/// Horizontal grid lines and labels of a vertical axis from 0 to `max` (on the left, or
-/// on the right when `right`), coloured `colour`.
-pub fn y_axis(svg: &mut Svg, area: &Rect, y: &Scale, max: f64, step: f64, right: bool, colour: &str, fmt: &dyn Fn(f64) -> String) {
+/// The ticks of a vertical axis: from 0 to `max` by `step`, on the left (with grid lines)
+/// or on the right, labels coloured `colour`.
+#[derive(Debug, Clone, Copy)]
+pub struct Ticks<'a> {
+    /// Last tick.
+    pub max: f64,
+    /// Tick spacing.
+    pub step: f64,
+    /// On the right side (a second axis).
+    pub right: bool,
+    /// Label colour.
+    pub colour: &'a str,
+}
+
+/// Horizontal grid lines and labels of a vertical axis.
+pub fn y_axis(svg: &mut Svg, area: &Rect, y: &Scale, ticks: &Ticks<'_>, fmt: &dyn Fn(f64) -> String) {
+    let Ticks { max, step, right, colour } = *ticks;
     let mut v = 0.0;
     let mut k = 0;
     while v <= max * (1.0 + 1e-9) && k < 50 {

@@ -37,7 +37,7 @@ fn draw(svg: &mut Svg, panel: &Rect, b: &Bars<'_>) {
         let (x0, x1) = (x.at(lo), x.at(hi));
         svg.element("rect", &[("class", "band"), ("x", &num(x0, 2)), ("y", &num(area.y0, 1)), ("width", &num(x1 - x0, 2)), ("height", &num(area.height(), 1)), ("fill", palette::BAND)]);
     }
-    axes::y_axis(svg, &area, &y, ymax, step, false, palette::AXIS, &tick_label);
+    axes::y_axis(svg, &area, &y, &axes::Ticks { max: ymax, step, right: false, colour: palette::AXIS }, &tick_label);
     for (i, &c) in b.counts.iter().enumerate() {
         let (lo, hi) = (i as f64 * b.bin_width, (i + 1) as f64 * b.bin_width);
         let (x0, x1) = (x.at(lo), x.at(hi));

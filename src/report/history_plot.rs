@@ -3,12 +3,15 @@
 //! iteration whose mesh was kept marked by a dashed line. The x axis counts iterations
 //! (the heading says so); the key of the three series takes its label's place.
 
-use crate::history::History;
+use crate::history::{History, IterationRecord};
 
 use super::axes::{self, nice_step, tick_label, Scale};
 use super::palette;
 use super::svg::{num, PathData, Svg};
 use super::view::Rect;
+
+/// One plotted series: name, colour, vertical scale, and the value of a record.
+type Series<'a> = (&'a str, &'a str, &'a Scale, &'a dyn Fn(&IterationRecord) -> f64);
 
 /// Draws `h` into `panel`.
 pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
@@ -24,14 +27,14 @@ pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
     let vtop = (vmax / step).ceil() * step;
     let yv = Scale::new(0.0, vtop, area.y1, area.y0);
     let ys = Scale::new(0.0, 1.0, area.y1, area.y0);
-    axes::y_axis(svg, &area, &yv, vtop, step, false, palette::SERIES_A, &tick_label);
-    axes::y_axis(svg, &area, &ys, 1.0, 0.25, true, palette::SERIES_B, &|v| format!("{}%", num(100.0 * v, 0)));
+    axes::y_axis(svg, &area, &yv, &axes::Ticks { max: vtop, step, right: false, colour: palette::SERIES_A }, &tick_label);
+    axes::y_axis(svg, &area, &ys, &axes::Ticks { max: 1.0, step: 0.25, right: true, colour: palette::SERIES_B }, &|v| format!("{}%", num(100.0 * v, 0)));
     if let Some(best) = h.iterations.iter().find(|r| r.iteration == h.best_iteration) {
         let px = num(x.at(best.iteration as f64), 2);
         svg.element("line", &[("class", "best"), ("data-iteration", &best.iteration.to_string()), ("x1", &px), ("y1", &num(area.y0, 1)), ("x2", &px), ("y2", &num(area.y1, 1)), ("stroke", "#000"), ("stroke-dasharray", "4 3"), ("stroke-width", "1")]);
         svg.text(x.at(best.iteration as f64) + 3.0, area.y0 + 11.0, "best", &[("font-size", "10")]);
     }
-    let series: [(&str, &str, &Scale, &dyn Fn(&crate::history::IterationRecord) -> f64); 3] = [
+    let series: [Series<'_>; 3] = [
         ("vertices", palette::SERIES_A, &yv, &|r| r.vertices as f64),
         ("conforming share", palette::SERIES_B, &ys, &|r| r.conforming_share),
         ("mean quality", palette::SERIES_C, &ys, &|r| r.mean_quality),

@@ -249,6 +249,9 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         (None, Some(s)) => windows::from_sizes(s, topo, &points, &domain, SIZE_WINDOWS),
         (None, None) => Vec::new(),
     };
+    let mut zooms = zooms;
+    // Wide windows get full-width panels after the others; number them in that order.
+    zooms.sort_by_key(|z| z.region.width() > layout::WIDE * z.region.height());
     let marks = source_marks(input.plan, topo, &points);
 
     let entries = legend::entries(topo);
