@@ -30,7 +30,7 @@ fn draw(svg: &mut Svg, panel: &Rect, b: &Bars<'_>) {
     let n = b.counts.len();
     let x = Scale::new(0.0, n as f64 * b.bin_width, area.x0, area.x1);
     let top = b.counts.iter().copied().max().unwrap_or(0).max(1) as f64;
-    let step = nice_step(top, 4);
+    let step = nice_step(top, 4).max(1.0); // counts: whole ticks
     let ymax = (top / step).ceil() * step;
     let y = Scale::new(0.0, ymax, area.y1, area.y0);
     if let Some([lo, hi]) = b.band {

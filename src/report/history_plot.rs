@@ -23,7 +23,7 @@ pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
     let last = h.iterations.iter().map(|r| r.iteration).max().unwrap_or(0).max(1) as f64;
     let x = Scale::new(0.0, last, area.x0 + 6.0, area.x1 - 6.0);
     let vmax = h.iterations.iter().map(|r| r.vertices).max().unwrap_or(0).max(1) as f64;
-    let step = nice_step(vmax, 4);
+    let step = nice_step(vmax, 4).max(1.0); // vertex counts: whole ticks
     let vtop = (vmax / step).ceil() * step;
     let yv = Scale::new(0.0, vtop, area.y1, area.y0);
     let ys = Scale::new(0.0, 1.0, area.y1, area.y0);
