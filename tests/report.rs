@@ -356,6 +356,33 @@ fn a_large_mesh_gives_a_bounded_svg_with_short_edges_shaded() {
 }
 
 #[test]
+fn json_summary_lists_the_zooms_and_the_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let cyl = cylinder_with_metric(dir.path());
+    let out = dir.path().join("c.svg");
+    let o = smartmesh(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "--json", "-o", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let zooms = v["report"]["zooms"].as_array().unwrap();
+    assert_eq!(zooms.len(), 3);
+    assert_eq!(zooms[0]["label"], "distance to border: Cylinder");
+    // The window a panel shows holds the part of its region inside the channel
+    // [0, 4] x [0, 1] (it is moved inside the domain where it fits).
+    for z in zooms {
+        let (r, w) = (&z["region"], &z["shown"]);
+        let f = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap();
+        assert!(f(w, "x0") <= f(r, "x0").max(0.0) + 1e-9 && f(w, "x1") >= f(r, "x1").min(4.0) - 1e-9, "{z}");
+        assert!(f(w, "y0") <= f(r, "y0").max(0.0) + 1e-9 && f(w, "y1") >= f(r, "y1").min(1.0) - 1e-9, "{z}");
+    }
+    let mesh = read_path(&cyl, None).unwrap();
+    let c = Conformity::of_mesh(&mesh, &metric_field(&mesh, "metric").unwrap()).unwrap();
+    assert_eq!(v["report"]["conformity"], serde_json::to_value(&c).unwrap());
+    let text = std::fs::read_to_string(&out).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    assert_eq!(v["report"]["height"].as_f64().unwrap().to_string(), doc.root_element().attribute("height").unwrap());
+}
+
+#[test]
 fn stdout_takes_the_kind_from_to() {
     let o = smartmesh(&["report", s(&fixture("cylinder.msh")), "--to", "svg", "-o", "-"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));

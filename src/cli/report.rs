@@ -57,6 +57,9 @@ pub struct ReportArgs {
     /// PNG with a palette of 256 colours (NeuQuant): about a third of the size.
     #[arg(long)]
     palette: bool,
+    /// Print a JSON summary on stdout: size, zoom windows, conformity figures, notes.
+    #[arg(long)]
+    json: bool,
     /// Input format of MESH, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
@@ -100,12 +103,12 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
     };
     let name = args.mesh.display().to_string();
     let input = ReportInput { name: &name, mesh: &mesh, topology: &topology, metric: metric.as_ref(), plan: plan.as_ref(), history: history.as_ref() };
-    let drawn = report::render(&input, &ReportOptions { width: args.width });
+    let mut drawn = report::render(&input, &ReportOptions { width: args.width });
     for n in &drawn.notes {
         eprintln!("smartmesh: note: {n}");
     }
     let bytes = match kind {
-        ReportFormat::Svg => drawn.svg.into_bytes(),
+        ReportFormat::Svg => std::mem::take(&mut drawn.svg).into_bytes(),
         ReportFormat::Png => {
             let png = report::png::rasterise(&drawn.svg, &report::png::PngOptions { palette: args.palette }).map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
             for n in &png.notes {
@@ -115,6 +118,9 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
         }
     };
     if stdout {
+        if args.json {
+            return Err(CliError::usage("--json prints on stdout: write the picture to a file"));
+        }
         let mut out = std::io::stdout().lock();
         return match out.write_all(&bytes).and_then(|_| out.flush()) {
             Ok(()) => Ok(()),
@@ -123,5 +129,11 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
         };
     }
     write_all_atomically(&[(args.output.clone(), bytes)])?;
+    if args.json {
+        let mut text = serde_json::to_string_pretty(&serde_json::json!({ "output": args.output.display().to_string(), "report": &drawn }))
+            .map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
+        text.push('\n');
+        return super::print_stdout(&text);
+    }
     Ok(())
 }

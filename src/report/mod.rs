@@ -86,9 +86,10 @@ impl Default for ReportOptions {
 }
 
 /// A drawn report.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize)]
 pub struct Report {
     /// The SVG document.
+    #[serde(skip)]
     pub svg: String,
     /// Its size in pixels.
     pub width: u32,
@@ -264,6 +265,9 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         panel_border(&mut svg, r);
     }
 
+    for (z, v) in zooms.iter_mut().zip(&zoom_views) {
+        z.shown = v.world;
+    }
     Report { svg: svg.finish(), width: lay.width as u32, height: lay.height as u32, zooms, conformity, notes }
 }
 

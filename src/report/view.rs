@@ -3,7 +3,7 @@
 //! mesh and down in the picture, the world rectangle centred in the pixel one.
 
 /// An axis-aligned rectangle `[x0, x1] × [y0, y1]`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Rect {
     /// Smallest x.
     pub x0: f64,

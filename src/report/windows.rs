@@ -13,7 +13,7 @@ use super::view::Rect;
 pub const MAX_WINDOWS: usize = 6;
 
 /// One zoom window: the part of the plane it shows and why.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ZoomWindow {
     /// The region of the plane, before it is grown to the panel's aspect.
     pub region: Rect,
@@ -21,6 +21,9 @@ pub struct ZoomWindow {
     pub label: String,
     /// The full labels of the plan steps it shows (empty without a recipe).
     pub steps: Vec<String>,
+    /// What the panel shows: the region grown to the panel's aspect and moved inside
+    /// the domain (set when the report is laid out; the region until then).
+    pub shown: Rect,
 }
 
 fn entity_points(topo: &Topology, points: &[[f64; 2]], set: &EntitySet) -> Vec<[f64; 2]> {
@@ -104,7 +107,7 @@ pub fn from_plan(plan: &SizingPlan, topo: &Topology, points: &[[f64; 2]], domain
             w.label.push_str(&caption);
             w.steps.push(step.label.clone());
         } else if out.len() < MAX_WINDOWS {
-            out.push(ZoomWindow { region, label: caption, steps: vec![step.label.clone()] });
+            out.push(ZoomWindow { region, label: caption, steps: vec![step.label.clone()], shown: region });
         }
     }
     out
@@ -145,7 +148,7 @@ pub fn from_sizes(sizes: &[Option<SizeTensor>], topo: &Topology, points: &[[f64;
         let hmax = sizes[v].map_or(h, |t| t.h_max());
         let half = (8.0 * hmax).clamp(0.02 * diag, 0.15 * diag);
         let region = Rect::new(p[0] - half, p[1] - half, p[0] + half, p[1] + half);
-        out.push(ZoomWindow { region, label: format!("smallest sizes: h = {} at vertex {v}", super::fmt_sig(h)), steps: Vec::new() });
+        out.push(ZoomWindow { region, label: format!("smallest sizes: h = {} at vertex {v}", super::fmt_sig(h)), steps: Vec::new(), shown: region });
     }
     out
 }
