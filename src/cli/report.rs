@@ -27,7 +27,8 @@ share printed) and metric quality; the history of `smartmesh adapt` with --histo
 The metric is the point data `metric` of --metric M (a mesh file on MESH's vertices, as
 `smartmesh size -o M.vtu` writes it), else MESH's own `metric` array; without either the
 report shows the mesh alone and says so. Edges shorter than 2 pixels are drawn as shading,
-so that a mesh of millions of triangles still gives an SVG of a few megabytes.
+so that the SVG grows with the picture, not with the mesh (10^6 triangles at 1200 px: about
+330 KB).
 PNG text uses the system's fonts (DejaVu Sans, Liberation Sans, Arial or any installed).
 
 Examples:
