@@ -23,6 +23,8 @@
 //! - [`remesh`]: the native anisotropic remesher (split, collapse, swap, smooth in the
 //!   metric; boundaries, interfaces, corners and tags kept);
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
+//! - [`metric_input`]: the metric a command is given (`--metric` file or the mesh's own);
+//! - [`report`]: pictures (SVG, PNG) of a mesh, its metric, conformity and history;
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -38,9 +40,11 @@ pub mod history;
 pub mod mesh_graph;
 pub mod mesher;
 pub mod metric;
+pub mod metric_input;
 pub mod quality;
 pub mod recipe;
 pub mod remesh;
+pub mod report;
 pub mod sizing;
 pub mod summary;
 pub mod topology;

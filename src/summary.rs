@@ -31,6 +31,19 @@ pub struct MeshSummary {
     pub cell_data: Vec<FieldSummary>,
     /// Element shape quality, when the mesh has surface cells.
     pub quality: Option<QualitySummary>,
+    /// Conformity to a metric and metric quality, when there is a metric (left out of
+    /// the JSON otherwise, so that the output without a metric stays as it was).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub metric: Option<MetricSummary>,
+}
+
+/// How the mesh conforms to a metric field.
+#[derive(Debug, Clone, Serialize)]
+pub struct MetricSummary {
+    /// Where the metric came from, in words.
+    pub source: String,
+    /// The figures; `None` when the mesh has no triangle or quad to measure.
+    pub conformity: Option<crate::conformity::Conformity>,
 }
 
 /// One physical tag.
@@ -194,6 +207,13 @@ impl MeshSummary {
             point_data: mesh.point_data.iter().map(|(n, a)| field(n, a)).collect(),
             cell_data: mesh.cell_data.iter().map(|(n, a)| field(n, a)).collect(),
             quality: QualitySummary::of(&mesh.points, topo),
+            metric: None,
         }
+    }
+
+    /// Adds the conformity of `mesh` to `metric` (one tensor per vertex), found at `source`.
+    pub fn with_metric(mut self, mesh: &TaggedMesh, metric: &[crate::metric::Sym2], source: String) -> MeshSummary {
+        self.metric = Some(MetricSummary { source, conformity: crate::conformity::Conformity::of_mesh(mesh, metric) });
+        self
     }
 }

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use smartmesh::formats::{read_path, Format};
+use smartmesh::metric_input;
 use smartmesh::summary::MeshSummary;
 use smartmesh::topology::Topology;
 
@@ -16,6 +17,7 @@ use super::{parse_format, print_stdout, CliError};
 #[command(after_help = "Examples:
   smartmesh info naca0012.msh
   smartmesh info --json square.1.ele | jq .topology.curves
+  smartmesh info adapted.msh --metric field.vtu
   cat mesh.vtu | smartmesh info --from vtu -")]
 pub struct InfoArgs {
     /// Mesh file (`-` for stdin, with --from).
@@ -26,13 +28,26 @@ pub struct InfoArgs {
     /// Print a JSON document instead of text.
     #[arg(long)]
     json: bool,
+    /// A mesh file whose point data `metric` lives on FILE's vertices: adds the share of
+    /// edges of metric length in [1/√2, √2] and the metric quality (FILE's own `metric`
+    /// array is used when this is not given).
+    #[arg(long, short = 'm')]
+    metric: Option<PathBuf>,
 }
 
 /// Runs `info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let mesh = read_path(&args.file, args.from)?;
     let topo = Topology::from_mesh(&mesh);
-    let summary = MeshSummary::of(&mesh, &topo);
+    let mut summary = MeshSummary::of(&mesh, &topo);
+    match metric_input::load(&mesh, &args.file, args.metric.as_deref(), None) {
+        Ok(Some(m)) => summary = summary.with_metric(&mesh, &m.field, m.source),
+        Ok(None) => {}
+        // The file's own array is only looked at by the way: a bad one is a warning.
+        Err(e) if args.metric.is_none() => eprintln!("smartmesh: warning: no metric figures: {e}"),
+        Err(metric_input::MetricInputError::Read(e)) => return Err(e.into()),
+        Err(e) => return Err(CliError::usage(e.to_string())),
+    }
     if args.json {
         let mut s = serde_json::to_string_pretty(&summary).map_err(|e| CliError::usage(e.to_string()))?;
         s.push('\n');
@@ -132,6 +147,28 @@ fn render(file: &str, s: &MeshSummary) -> String {
             fmt_g(q.area_range[0]),
             fmt_g(q.area_range[1])
         );
+    }
+    if let Some(m) = &s.metric {
+        match &m.conformity {
+            Some(c) => {
+                let _ = writeln!(
+                    o,
+                    "  metric      {}: {} edges, {:.1}% of metric length in [{:.4}, {:.4}], mean {:.4}, range [{}, {}]",
+                    m.source,
+                    c.edges,
+                    100.0 * c.conforming_share,
+                    smartmesh::conformity::CONFORMING[0],
+                    smartmesh::conformity::CONFORMING[1],
+                    c.mean_edge_length,
+                    fmt_g(c.edge_length_range[0]),
+                    fmt_g(c.edge_length_range[1])
+                );
+                let _ = writeln!(o, "              metric quality over {} triangles: min {:.4}, mean {:.4}", c.triangles, c.min_quality, c.mean_quality);
+            }
+            None => {
+                let _ = writeln!(o, "  metric      {}: no triangle to measure", m.source);
+            }
+        }
     }
     o
 }

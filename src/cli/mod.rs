@@ -6,6 +6,7 @@ mod info;
 mod mesh;
 mod recipe;
 mod remesh;
+mod report;
 mod size;
 
 use std::io::Write;
@@ -89,6 +90,7 @@ enum Command {
     Adapt(adapt::AdaptArgs),
     Mesh(mesh::MeshArgs),
     Remesh(remesh::RemeshArgs),
+    Report(report::ReportArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -111,6 +113,7 @@ pub fn main() -> ExitCode {
         Command::Adapt(a) => adapt::run(a),
         Command::Mesh(a) => mesh::run(a),
         Command::Remesh(a) => remesh::run(a),
+        Command::Report(a) => report::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),

@@ -1,0 +1,273 @@
+//! `smartmesh report`: a picture of a mesh and its metric that a user would rather look
+//! at than read — the whole mesh (faces filled by tag, edges, boundary curves by tag,
+//! with a legend), zoom windows around the recipe's sources (or the smallest metric
+//! sizes), size ellipses in the zooms, histograms of metric edge length and quality, and
+//! the convergence history of an adaptation run.
+//!
+//! - [`svg`]: the SVG writer with deterministic number formatting;
+//! - [`view`]: rectangles and the mesh-to-pixel map;
+//! - [`layout`] and [`legend`]: where the panels and legend entries go;
+//! - [`mesh_layer`]: faces, edges (shaded below 2 px, so big meshes stay small) and curves;
+//! - [`windows`]: the zoom windows;
+//! - [`ellipses`]: size ellipses and the vertices they are drawn at;
+//! - [`panels`]: the zoom panels and what the overview shares with them;
+//! - [`axes`], [`histogram`], [`history_plot`]: the charts;
+//! - [`png`]: rasterising through resvg.
+//!
+//! Everything is a pure function of its input: the same mesh, metric, recipe and history
+//! give the same bytes.
+
+pub mod axes;
+pub mod ellipses;
+pub mod histogram;
+pub mod history_plot;
+pub mod layout;
+pub mod legend;
+pub mod mesh_layer;
+pub mod palette;
+pub mod panels;
+pub mod png;
+pub mod svg;
+pub mod view;
+pub mod windows;
+
+use std::path::Path;
+
+use crate::conformity::Conformity;
+use crate::formats::TaggedMesh;
+use crate::history::History;
+use crate::metric::SizeTensor;
+use crate::metric_input::LoadedMetric;
+use crate::sizing::plan::SizingPlan;
+use crate::topology::Topology;
+
+use self::layout::CAPTION;
+use self::mesh_layer::MeshLayers;
+use self::panels::{clip, draw_marks, draw_zoom, fit_text, panel_border, plural, scale_bar, source_marks, zoom_inner, Scene};
+use self::svg::{num, Svg};
+use self::view::{Rect, View};
+use self::windows::ZoomWindow;
+
+/// Default picture width in pixels.
+pub const DEFAULT_WIDTH: u32 = 1200;
+/// Narrowest and widest pictures accepted.
+pub const WIDTH_RANGE: [u32; 2] = [400, 8000];
+/// Zoom windows around the smallest sizes when there is no recipe.
+const SIZE_WINDOWS: usize = 3;
+
+/// What a report is drawn from.
+#[derive(Debug, Clone, Copy)]
+pub struct ReportInput<'a> {
+    /// The mesh's name for the title (usually its path).
+    pub name: &'a str,
+    /// The mesh.
+    pub mesh: &'a TaggedMesh,
+    /// Its topology.
+    pub topology: &'a Topology,
+    /// The metric on its vertices, if any.
+    pub metric: Option<&'a LoadedMetric>,
+    /// A sizing plan resolved on this mesh, for the zoom windows and source marks.
+    pub plan: Option<&'a SizingPlan>,
+    /// The history of an adaptation run.
+    pub history: Option<&'a History>,
+}
+
+/// How a report is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ReportOptions {
+    /// Picture width in pixels.
+    pub width: u32,
+}
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        ReportOptions { width: DEFAULT_WIDTH }
+    }
+}
+
+/// A drawn report.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Report {
+    /// The SVG document.
+    #[serde(skip)]
+    pub svg: String,
+    /// Its size in pixels.
+    pub width: u32,
+    /// Its height in pixels.
+    pub height: u32,
+    /// The zoom windows drawn.
+    pub zooms: Vec<ZoomWindow>,
+    /// The conformity figures drawn, when there is a metric.
+    pub conformity: Option<Conformity>,
+    /// What the user should know (no metric, shaded edges …).
+    pub notes: Vec<String>,
+}
+
+/// The file kinds a report can be written as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReportFormat {
+    /// SVG text.
+    Svg,
+    /// PNG, rasterised from the SVG.
+    Png,
+}
+
+impl ReportFormat {
+    /// By the extension of `path` (`.svg`, `.png`, any case).
+    pub fn from_path(path: &Path) -> Option<ReportFormat> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "svg" => Some(ReportFormat::Svg),
+            "png" => Some(ReportFormat::Png),
+            _ => None,
+        }
+    }
+}
+
+/// `v` with 4 significant digits, plain between 0.001 and 100 000, else in e-notation.
+pub fn fmt_sig(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return num(v, 0);
+    }
+    let a = v.abs();
+    if (1e-3..1e5).contains(&a) {
+        let decimals = (3 - a.log10().floor() as i64).max(0) as usize;
+        num(v, decimals)
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// Draws the report.
+pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
+    let width = options.width.clamp(WIDTH_RANGE[0], WIDTH_RANGE[1]) as f64;
+    let mesh = input.mesh;
+    let topo = input.topology;
+    let points: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
+    let layers = MeshLayers::new(topo, points.clone());
+    let domain = layers.bounds().or_else(|| Rect::bounding(points.iter().copied())).unwrap_or(Rect::new(0.0, 0.0, 1.0, 1.0));
+    let mut notes = Vec::new();
+
+    let conformity = input.metric.and_then(|m| Conformity::of_mesh(mesh, &m.field));
+    let sizes: Option<Vec<Option<SizeTensor>>> = input.metric.map(|m| m.field.iter().map(|t| SizeTensor::try_from_metric(t).ok()).collect());
+    let zooms = match (input.plan, &sizes) {
+        (Some(plan), _) => windows::from_plan(plan, topo, &points, &domain),
+        (None, Some(s)) => windows::from_sizes(s, topo, &points, &domain, SIZE_WINDOWS),
+        (None, None) => Vec::new(),
+    };
+    let mut zooms = zooms;
+    // Wide windows get full-width panels after the others; number them in that order.
+    zooms.sort_by_key(|z| z.region.width() > layout::WIDE * z.region.height());
+    let marks = source_marks(input.plan, topo, &points);
+
+    let entries = legend::entries(topo);
+    let legend_h = legend::height(&entries, width - 2.0 * layout::MARGIN);
+    let charts = if conformity.is_some() { 2 } else { 0 } + usize::from(input.history.is_some());
+    let aspect = domain.width().max(1e-300) / domain.height().max(1e-300 + domain.width() * 1e-3);
+    let zoom_aspects: Vec<f64> = zooms.iter().map(|z| z.region.width() / z.region.height().max(1e-300)).collect();
+    let lay = layout::layout(width, aspect, legend_h, &zoom_aspects, charts);
+    // Each zoom shows its window grown to the panel's aspect, moved inside the domain
+    // where it fits (a window around a corner shows mesh, not the page).
+    let zoom_views: Vec<View> = zooms
+        .iter()
+        .zip(&lay.zooms)
+        .map(|(z, r)| {
+            let inner = zoom_inner(r);
+            let grown = View::fit(z.region, inner).world.shift_inside(&domain);
+            View::fit(grown, inner)
+        })
+        .collect();
+    let mut svg = Svg::new(lay.width, lay.height);
+
+    // Title.
+    let triangles = topo.surface_cells.len();
+    svg.open("g", &[("id", "title")]);
+    svg.text(lay.title.x0, lay.title.y0 + 18.0, &fit_text(input.name, lay.title.width() * 0.75), &[("font-size", "18"), ("font-weight", "bold")]);
+    let counts = format!(
+        "{}, {}, {}, {}",
+        plural(mesh.points.len(), "vertex", "vertices"),
+        plural(triangles, "surface cell", "surface cells"),
+        plural(topo.faces.len(), "face", "faces"),
+        plural(topo.curves.len(), "curve", "curves")
+    );
+    let metric_line = match (input.metric, &conformity) {
+        (Some(m), Some(c)) => format!(
+            "metric {}: {}% of edges conforming, mean metric quality {}",
+            m.source,
+            num(100.0 * c.conforming_share, 1),
+            num(c.mean_quality, 3)
+        ),
+        (Some(m), None) => format!("metric {}: no triangle to measure", m.source),
+        (None, _) => {
+            let why = format!("no metric: {} has no point data `metric` and no --metric was given", input.name);
+            notes.push(why.clone());
+            why
+        }
+    };
+    for (k, line) in [counts, metric_line].iter().enumerate() {
+        svg.text(lay.title.x0, lay.title.y0 + 37.0 + 16.0 * k as f64, &fit_text(line, lay.title.width() * 1.05), &[("font-size", "13"), ("fill", palette::MUTED)]);
+    }
+    svg.close();
+
+    // Overview.
+    let ov = lay.overview;
+    let ov_inner = Rect::new(ov.x0, ov.y0 + CAPTION, ov.x1, ov.y1);
+    let ov_view = View::fit(domain.inflate(0.01 * domain.diagonal()), ov_inner);
+    svg.open("g", &[("id", "overview"), ("class", "panel overview"), ("data-scale", &num(ov_view.scale, 6))]);
+    clip(&mut svg, "clip-overview", &ov_inner);
+    svg.open("g", &[("clip-path", "url(#clip-overview)")]);
+    layers.draw_faces(&mut svg, &ov_view);
+    let ov_stats = layers.draw_edges(&mut svg, &ov_view, 0.35);
+    layers.draw_curves(&mut svg, &ov_view, 1.8);
+    draw_marks(&mut svg, &ov_view, &marks);
+    for (k, zv) in zoom_views.iter().enumerate() {
+        let r = ov_view.rect_to_px(&zv.world);
+        let id = (k + 1).to_string();
+        svg.element("rect", &[("class", "zoom-frame"), ("data-zoom", &id), ("x", &num(r.x0, 1)), ("y", &num(r.y0, 1)), ("width", &num(r.width(), 1)), ("height", &num(r.height(), 1)), ("fill", "none"), ("stroke", palette::FRAME), ("stroke-width", "1.5")]);
+        // The number tab sits on the frame's top-left corner, inside the panel.
+        let (tx, ty) = (r.x0.max(ov_inner.x0), (r.y0 - 15.0).max(ov_inner.y0));
+        svg.element("rect", &[("x", &num(tx, 1)), ("y", &num(ty, 1)), ("width", "15"), ("height", "15"), ("fill", palette::FRAME)]);
+        svg.text(tx + 7.5, ty + 11.5, &id, &[("font-size", "11"), ("font-weight", "bold"), ("fill", "#ffffff"), ("text-anchor", "middle")]);
+    }
+    svg.close();
+    let content = ov_view.rect_to_px(&domain).intersect(&ov_inner).unwrap_or(ov_inner);
+    scale_bar(&mut svg, &ov_view, &content);
+    svg.text(ov.x0, ov.y0 + 14.0, "Whole mesh", &[("font-size", "13"), ("font-weight", "bold")]);
+    if ov_stats.shaded > 0 {
+        let s = format!("{} edges shorter than {} px drawn as shading", ov_stats.shaded, mesh_layer::MIN_EDGE_PX);
+        svg.text(ov.x1, ov.y0 + 14.0, &s, &[("font-size", "11"), ("fill", palette::MUTED), ("text-anchor", "end")]);
+    }
+    svg.close();
+    legend::draw(&mut svg, &lay.legend, &entries);
+
+    // Zooms.
+    let mut shaded = ov_stats.shaded;
+    for (k, ((z, r), view)) in zooms.iter().zip(&lay.zooms).zip(&zoom_views).enumerate() {
+        let scene = Scene { layers: &layers, topology: topo, sizes: sizes.as_deref(), marks: &marks };
+        let stats = draw_zoom(&mut svg, k, z, r, view, &scene);
+        shaded = shaded.max(stats.shaded);
+    }
+    if shaded > 0 {
+        notes.push(format!("edges shorter than {} px are drawn as shading (up to {shaded} edges in one panel)", mesh_layer::MIN_EDGE_PX));
+    }
+
+    // Charts.
+    let mut chart = lay.charts.iter();
+    if let Some(c) = &conformity {
+        if let (Some(a), Some(b)) = (chart.next(), chart.next()) {
+            histogram::edge_lengths(&mut svg, a, c);
+            histogram::quality(&mut svg, b, c);
+        }
+    }
+    if let (Some(h), Some(r)) = (input.history, chart.next()) {
+        history_plot::draw(&mut svg, r, h);
+    }
+    for r in &lay.charts {
+        panel_border(&mut svg, r);
+    }
+
+    for (z, v) in zooms.iter_mut().zip(&zoom_views) {
+        z.shown = v.world;
+    }
+    Report { svg: svg.finish(), width: lay.width as u32, height: lay.height as u32, zooms, conformity, notes }
+}
+

@@ -1,0 +1,187 @@
+//! The panels of a report that show the mesh: the zoom windows (mesh, source marks and
+//! size ellipses), and what the overview shares with them (source marks, scale bars,
+//! labels on a white box, clip paths, borders).
+
+use crate::metric::SizeTensor;
+use crate::sizing::plan::{Algorithm, SizingPlan};
+use crate::topology::{Classification, Topology};
+
+use super::ellipses::{ellipse_in_view, fit_factor, pick};
+use super::layout::CAPTION;
+use super::mesh_layer::{EdgeStats, MeshLayers};
+use super::svg::{num, PathData, Svg};
+use super::view::{Rect, View};
+use super::windows::ZoomWindow;
+use super::{axes, fmt_sig, palette};
+
+/// Smallest distance between two ellipse centres, in pixels.
+const ELLIPSE_GAP_PX: f64 = 10.0;
+
+/// What every mesh panel draws from.
+pub struct Scene<'a> {
+    /// The mesh as layers.
+    pub layers: &'a MeshLayers,
+    /// Its topology.
+    pub topology: &'a Topology,
+    /// The size tensor of each vertex, when there is a metric (`None` where a tensor is
+    /// out of range).
+    pub sizes: Option<&'a [Option<SizeTensor>]>,
+    /// The plan's source marks.
+    pub marks: &'a SourceMarks,
+}
+
+/// Imaginary polylines and point sources of a plan, in mesh coordinates.
+pub struct SourceMarks {
+    /// The imaginary polylines.
+    pub polylines: Vec<Vec<[f64; 2]>>,
+    /// The point sources.
+    pub points: Vec<[f64; 2]>,
+}
+
+/// The imaginary polylines and point sources of `plan`'s steps, to draw over the mesh.
+pub fn source_marks(plan: Option<&SizingPlan>, topo: &Topology, points: &[[f64; 2]]) -> SourceMarks {
+    let mut m = SourceMarks { polylines: Vec::new(), points: Vec::new() };
+    for step in plan.map(|p| p.steps.as_slice()).unwrap_or_default() {
+        match &step.algorithm {
+            Algorithm::DistanceToImaginaryPolyline { polyline, .. } => m.polylines.push(polyline.clone()),
+            Algorithm::DistanceToPoint { sources, .. } | Algorithm::DistanceToBorder { borders: sources, .. } => {
+                m.points.extend(sources.points.iter().filter_map(|&p| topo.points.get(p)).map(|p| points[p.vertex]));
+            }
+            _ => {}
+        }
+    }
+    m
+}
+
+/// Polylines dashed, point sources as rings.
+pub fn draw_marks(svg: &mut Svg, view: &View, marks: &SourceMarks) {
+    for pl in &marks.polylines {
+        let mut d = PathData::new(1);
+        for (i, &p) in pl.iter().enumerate() {
+            if i == 0 {
+                d.move_to(view.to_px(p));
+            } else {
+                d.line_to(view.to_px(p));
+            }
+        }
+        svg.element("path", &[("class", "source-polyline"), ("d", d.as_str()), ("fill", "none"), ("stroke", "#000"), ("stroke-width", "1.5"), ("stroke-dasharray", "6 4")]);
+    }
+    for &p in &marks.points {
+        let [x, y] = view.to_px(p);
+        svg.element("circle", &[("class", "source-point"), ("cx", &num(x, 1)), ("cy", &num(y, 1)), ("r", "4.5"), ("fill", "none"), ("stroke", "#000"), ("stroke-width", "1.5")]);
+    }
+}
+
+/// A scale bar of a round length at the bottom left of `content` (the pixels where the
+/// mesh is, within the view), drawn over a white outline so that it reads on any fill.
+pub fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) {
+    let len = axes::nice_step(0.12 * content.width() / view.scale, 1);
+    let px = len * view.scale;
+    let (x, y) = (content.x0 + 10.0, content.y1 - 10.0);
+    let d = format!("M{} {}v4h{}v-4", num(x, 1), num(y - 4.0, 1), num(px, 2));
+    svg.open("g", &[("class", "scale-bar")]);
+    svg.element("path", &[("d", &d), ("fill", "none"), ("stroke", "#ffffff"), ("stroke-width", "4"), ("stroke-opacity", "0.85")]);
+    svg.element("path", &[("d", &d), ("fill", "none"), ("stroke", "#000"), ("stroke-width", "1.5")]);
+    halo_text(svg, x + 0.5 * px, y - 8.0, &fmt_sig(len), "middle", "#000");
+    svg.close();
+}
+
+/// 11 px text on a translucent white box, readable over the mesh. The box is sized for
+/// an estimated 6.3 px per character (text is not measured: that needs the font).
+pub fn halo_text(svg: &mut Svg, x: f64, y: f64, text: &str, anchor: &str, colour: &str) {
+    let w = 6.3 * text.chars().count() as f64 + 6.0;
+    let x0 = match anchor {
+        "end" => x - w + 3.0,
+        "middle" => x - 0.5 * w,
+        _ => x - 3.0,
+    };
+    svg.element("rect", &[("x", &num(x0, 1)), ("y", &num(y - 10.0, 1)), ("width", &num(w, 1)), ("height", "14"), ("fill", "#ffffff"), ("fill-opacity", "0.85")]);
+    svg.text(x, y, text, &[("font-size", "11"), ("text-anchor", anchor), ("fill", colour)]);
+}
+
+/// A clip path `id` of rectangle `r`.
+pub fn clip(svg: &mut Svg, id: &str, r: &Rect) {
+    svg.open("clipPath", &[("id", id)]);
+    svg.element("rect", &[("x", &num(r.x0, 1)), ("y", &num(r.y0, 1)), ("width", &num(r.width(), 1)), ("height", &num(r.height(), 1))]);
+    svg.close();
+}
+
+/// A thin grey border around `r`.
+pub fn panel_border(svg: &mut Svg, r: &Rect) {
+    svg.element("rect", &[("class", "border"), ("x", &num(r.x0, 1)), ("y", &num(r.y0, 1)), ("width", &num(r.width(), 1)), ("height", &num(r.height(), 1)), ("fill", "none"), ("stroke", "#bbbbbb"), ("stroke-width", "1")]);
+}
+
+/// The part of a zoom panel below its caption.
+pub fn zoom_inner(r: &Rect) -> Rect {
+    Rect::new(r.x0, r.y0 + CAPTION, r.x1, r.y1)
+}
+
+/// `n` and the word for one or many.
+pub fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// Truncates `s` to about `px` pixels of 12 px text.
+pub fn fit_text(s: &str, px: f64) -> String {
+    let max = (px / 6.9).floor().max(4.0) as usize;
+    if s.chars().count() <= max {
+        s.to_string()
+    } else {
+        let mut t: String = s.chars().take(max - 1).collect();
+        t.push('…');
+        t
+    }
+}
+
+/// Zoom panel `k` (0-based) of window `z` in panel rectangle `r`, showing `view`.
+pub fn draw_zoom(svg: &mut Svg, k: usize, z: &ZoomWindow, r: &Rect, view: &View, scene: &Scene<'_>) -> EdgeStats {
+    let Scene { layers, topology: topo, sizes, marks } = *scene;
+    let view = *view;
+    let inner = view.screen;
+    let w = &view.world;
+    let id = format!("zoom-{}", k + 1);
+    let clip_id = format!("clip-{id}");
+    let window = format!("{} {} {} {}", num(w.x0, 9), num(w.y0, 9), num(w.x1, 9), num(w.y1, 9));
+    svg.open("g", &[("id", &id), ("class", "panel zoom"), ("data-window", &window), ("data-scale", &num(view.scale, 6))]);
+    svg.title(&if z.steps.is_empty() { z.label.clone() } else { z.steps.join("; ") });
+    clip(svg, &clip_id, &inner);
+    svg.open("g", &[("clip-path", &format!("url(#{clip_id})"))]);
+    layers.draw_faces(svg, &view);
+    let stats = layers.draw_edges(svg, &view, 0.6);
+    layers.draw_curves(svg, &view, 2.4);
+    draw_marks(svg, &view, marks);
+    let mut ellipse_note = String::new();
+    if let Some(sizes) = sizes {
+        let candidates: Vec<(usize, [f64; 2], SizeTensor)> = sizes
+            .iter()
+            .enumerate()
+            .filter(|(v, _)| !matches!(topo.vertex_class.get(*v), Some(Classification::Unused) | None))
+            .filter_map(|(v, t)| t.map(|t| (v, layers.points[v], t)))
+            .filter(|(_, p, _)| w.contains(*p))
+            .collect();
+        let factor = fit_factor(&candidates, &view);
+        let kept = pick(&candidates, &view, factor, ELLIPSE_GAP_PX);
+        let s = view.scale * factor;
+        svg.open("g", &[("class", "ellipses"), ("data-scale", &num(s, 6)), ("data-factor", &num(factor, 6)), ("fill", palette::ELLIPSE), ("fill-opacity", "0.12"), ("stroke", palette::ELLIPSE), ("stroke-width", "1")]);
+        let by_vertex: std::collections::BTreeMap<usize, &(usize, [f64; 2], SizeTensor)> = candidates.iter().map(|c| (c.0, c)).collect();
+        for v in &kept {
+            let (_, p, t) = by_vertex[v];
+            let e = ellipse_in_view(t, *p, &view, factor);
+            let (cx, cy) = (num(e.cx, 3), num(e.cy, 3));
+            let rot = format!("rotate({} {cx} {cy})", num(e.angle_deg, 3));
+            svg.element("ellipse", &[("data-vertex", &v.to_string()), ("cx", &cx), ("cy", &cy), ("rx", &num(e.rx, 3)), ("ry", &num(e.ry, 3)), ("transform", &rot)]);
+        }
+        svg.close();
+        ellipse_note = if factor == 1.0 { format!("{} ellipses, true size", kept.len()) } else { format!("{} ellipses ×{}", kept.len(), fmt_sig(factor)) };
+    }
+    svg.close();
+    scale_bar(svg, &view, &inner);
+    panel_border(svg, &inner);
+    let caption = format!("{}: {}", k + 1, z.label);
+    svg.text(r.x0, r.y0 + 14.0, &fit_text(&caption, r.width()), &[("font-size", "12"), ("font-weight", "bold")]);
+    if !ellipse_note.is_empty() {
+        halo_text(svg, inner.x1 - 8.0, inner.y1 - 9.0, &ellipse_note, "end", palette::ELLIPSE);
+    }
+    svg.close();
+    stats
+}

@@ -1,0 +1,154 @@
+//! Where to zoom: one window around the source entities of each step of a sizing plan
+//! (their bounding box grown by the distance over which the step's size function acts),
+//! or, without a recipe, around the vertices where the metric asks for the smallest
+//! sizes.
+
+use crate::metric::SizeTensor;
+use crate::sizing::plan::{Algorithm, EntitySet, SizingPlan};
+use crate::topology::{Classification, Topology};
+
+use super::view::Rect;
+
+/// At most this many zoom windows.
+pub const MAX_WINDOWS: usize = 6;
+
+/// One zoom window: the part of the plane it shows and why.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ZoomWindow {
+    /// The region of the plane, before it is grown to the panel's aspect.
+    pub region: Rect,
+    /// What the window shows (short step captions, or "smallest sizes").
+    pub label: String,
+    /// The full labels of the plan steps it shows (empty without a recipe).
+    pub steps: Vec<String>,
+    /// What the panel shows: the region grown to the panel's aspect and moved inside
+    /// the domain (set when the report is laid out; the region until then).
+    pub shown: Rect,
+}
+
+fn entity_points(topo: &Topology, points: &[[f64; 2]], set: &EntitySet) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    for &p in &set.points {
+        if let Some(tp) = topo.points.get(p) {
+            out.push(points[tp.vertex]);
+        }
+    }
+    for &c in &set.curves {
+        if let Some(tc) = topo.curves.get(c) {
+            out.extend(tc.polylines.iter().flat_map(|pl| pl.vertices.iter().map(|&v| points[v])));
+        }
+    }
+    for &f in &set.faces {
+        if let Some(tf) = topo.faces.get(f) {
+            out.extend(tf.cells.iter().flat_map(|&c| topo.surface_cells[c].vertices().iter().map(|&v| points[v])));
+        }
+    }
+    out
+}
+
+/// The source points of a step and the distance over which it acts; `None` for steps
+/// without a localised source (UNIFORM, which covers whole regions).
+fn step_sources(topo: &Topology, points: &[[f64; 2]], a: &Algorithm) -> Option<(Vec<[f64; 2]>, f64)> {
+    match a {
+        Algorithm::Uniform { .. } => None,
+        Algorithm::DistanceToPoint { function, sources } => Some((entity_points(topo, points, sources), function.max_distance())),
+        Algorithm::DistanceToBorder { perpendicular, borders, .. } => Some((entity_points(topo, points, borders), perpendicular.max_distance())),
+        Algorithm::CurvatureOfBorder { perpendicular, borders, .. } => Some((entity_points(topo, points, borders), perpendicular.max_distance())),
+        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => Some((entity_points(topo, points, &first.union(second)), 0.0)),
+        Algorithm::DistanceToImaginaryPolyline { perpendicular, polyline, .. } => Some((polyline.clone(), perpendicular.max_distance())),
+    }
+}
+
+fn entity_names(topo: &Topology, set: &EntitySet) -> Vec<String> {
+    let name = |tag: Option<i32>, name: &Option<String>| name.clone().or_else(|| tag.map(|t| t.to_string())).unwrap_or_else(|| "untagged".into());
+    let mut v: Vec<String> = set.points.iter().filter_map(|&i| topo.points.get(i)).map(|p| name(p.tag, &p.name)).collect();
+    v.extend(set.curves.iter().filter_map(|&i| topo.curves.get(i)).map(|c| name(c.tag, &c.name)));
+    v.extend(set.faces.iter().filter_map(|&i| topo.faces.get(i)).map(|f| name(Some(f.tag), &f.name)));
+    v
+}
+
+/// A short caption for a step: its keyword in words and its sources, e.g.
+/// "distance to border: Cylinder".
+pub fn describe(a: &Algorithm, topo: &Topology) -> String {
+    let words = a.keyword().to_ascii_lowercase().replace('_', " ").replace("imaginary ", "");
+    let names = match a {
+        Algorithm::Uniform { on, .. } => entity_names(topo, on),
+        Algorithm::DistanceToPoint { sources, .. } => entity_names(topo, sources),
+        Algorithm::DistanceToBorder { borders, .. } | Algorithm::CurvatureOfBorder { borders, .. } => entity_names(topo, borders),
+        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => entity_names(topo, &first.union(second)),
+        Algorithm::DistanceToImaginaryPolyline { polyline, .. } => vec![format!("{} points", polyline.len())],
+    };
+    let mut shown: Vec<String> = names.iter().take(3).cloned().collect();
+    if names.len() > 3 {
+        shown.push(format!("{} more", names.len() - 3));
+    }
+    if shown.is_empty() {
+        words
+    } else {
+        format!("{words}: {}", shown.join(", "))
+    }
+}
+
+/// One window per step of `plan` that has sources: their bounding box grown by the
+/// step's reach (clamped to [2 %, 25 %] of the domain's diagonal) and cut to the domain
+/// grown by 2 %. Steps with the same window share it; at most [`MAX_WINDOWS`].
+pub fn from_plan(plan: &SizingPlan, topo: &Topology, points: &[[f64; 2]], domain: &Rect) -> Vec<ZoomWindow> {
+    let diag = domain.diagonal();
+    let frame = domain.inflate(0.02 * diag);
+    let mut out: Vec<ZoomWindow> = Vec::new();
+    for step in &plan.steps {
+        let Some((pts, reach)) = step_sources(topo, points, &step.algorithm) else { continue };
+        let Some(bb) = Rect::bounding(pts) else { continue };
+        let margin = reach.clamp(0.02 * diag, 0.25 * diag) + 0.05 * bb.width().max(bb.height());
+        let Some(region) = bb.inflate(margin).intersect(&frame) else { continue };
+        let caption = describe(&step.algorithm, topo);
+        if let Some(w) = out.iter_mut().find(|w| same_region(&w.region, &region, diag)) {
+            w.label.push_str("; ");
+            w.label.push_str(&caption);
+            w.steps.push(step.label.clone());
+        } else if out.len() < MAX_WINDOWS {
+            out.push(ZoomWindow { region, label: caption, steps: vec![step.label.clone()], shown: region });
+        }
+    }
+    out
+}
+
+fn same_region(a: &Rect, b: &Rect, diag: f64) -> bool {
+    let tol = 1e-3 * diag;
+    (a.x0 - b.x0).abs() <= tol && (a.x1 - b.x1).abs() <= tol && (a.y0 - b.y0).abs() <= tol && (a.y1 - b.y1).abs() <= tol
+}
+
+/// Up to `max` windows around the vertices with the smallest metric size: the smallest
+/// first (ties by vertex index), each next one outside the windows already chosen and
+/// asking for less than half the median size. A window's half-width is 8 times the
+/// largest size at its vertex, within [2 %, 15 %] of the domain's diagonal. Vertices
+/// that no cell uses are ignored.
+pub fn from_sizes(sizes: &[Option<SizeTensor>], topo: &Topology, points: &[[f64; 2]], domain: &Rect, max: usize) -> Vec<ZoomWindow> {
+    let diag = domain.diagonal();
+    let mut order: Vec<(f64, usize)> = sizes
+        .iter()
+        .enumerate()
+        .filter(|(v, _)| !matches!(topo.vertex_class.get(*v), Some(Classification::Unused) | None))
+        .filter_map(|(v, t)| t.map(|t| (t.h_min(), v)))
+        .collect();
+    if order.is_empty() {
+        return Vec::new();
+    }
+    order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let median = order[order.len() / 2].0;
+    let mut out: Vec<ZoomWindow> = Vec::new();
+    for &(h, v) in &order {
+        if out.len() >= max || (!out.is_empty() && h >= 0.5 * median) {
+            break;
+        }
+        let p = points[v];
+        if out.iter().any(|w| w.region.inflate(0.5 * w.region.width()).contains(p)) {
+            continue;
+        }
+        let hmax = sizes[v].map_or(h, |t| t.h_max());
+        let half = (8.0 * hmax).clamp(0.02 * diag, 0.15 * diag);
+        let region = Rect::new(p[0] - half, p[1] - half, p[0] + half, p[1] + half);
+        out.push(ZoomWindow { region, label: format!("smallest sizes: h = {} at vertex {v}", super::fmt_sig(h)), steps: Vec::new(), shown: region });
+    }
+    out
+}
