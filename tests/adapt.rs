@@ -258,17 +258,56 @@ fn missing_tools_are_named_before_any_work() {
 }
 
 #[test]
-fn the_native_remesher_is_said_to_be_missing_from_this_build() {
+fn the_native_remesher_is_the_default_and_adapts_the_cylinder() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("o.msh");
-    let o = run_adapt(&out, &[], None);
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("native remesher is not available in this build"), "{}", text(&o));
-    assert!(!out.exists());
+    let out = dir.path().join("cyl.msh");
+    let o = run_adapt(&out, &["--json"], None);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
+    assert_history("native", &h, "native");
+    assert!(h.converged, "{}", h.stopped);
+    let best = &h.iterations[h.best_iteration];
+    assert!(best.conforming_share >= 0.9, "native: conforming share {}", best.conforming_share);
+    let mesh = read_path(&out, None).unwrap();
+    assert_eq!(mesh.points.len(), best.vertices);
+    assert_adapted("native", &cylinder(), &mesh, (1.0, 0.5, 0.15));
+    // The result carries the recipe's field on it: measured again, it gives the record.
+    let metric = smartmesh::conformity::metric_field(&mesh, "metric").unwrap();
+    let c = smartmesh::conformity::Conformity::of_mesh(&mesh, &metric).unwrap();
+    assert!((c.conforming_share - best.conforming_share).abs() < 1e-12, "{} vs {}", c.conforming_share, best.conforming_share);
 }
 
 #[test]
-fn a_poly_needs_the_mesher_and_bad_arguments_exit_two() {
+fn a_poly_is_meshed_first_then_adapted() {
+    let dir = tempfile::tempdir().unwrap();
+    let poly = dir.path().join("square.poly");
+    // The unit square, bottom side tagged 1, the others 2; face 7.
+    std::fs::write(&poly, "4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 2\n4 0 1 2\n4 1\n1 1 2 1\n2 2 3 2\n3 3 4 2\n4 4 1 2\n0\n1\n1 0.5 0.5 7 -1\n").unwrap();
+    let recipe = dir.path().join("wall.toml");
+    std::fs::write(
+        &recipe,
+        "[global]\nhmin = 0.001\nhmax = 0.2\n[regions]\nWall = [1]\nAll = [7]\n\
+         [functions.N]\nkind = \"distance\"\nsize_at_source = 0.01\nsize_at_max_distance = 0.1\nmax_distance = 0.3\nexponent = 1.0\n\
+         [functions.T]\nkind = \"distance\"\nsize_at_source = 0.05\nsize_at_max_distance = 0.1\nmax_distance = 0.3\nexponent = 1.0\n\
+         [[algorithms]]\ntype = \"uniform\"\nsize = 0.1\nregions = [\"All\"]\n\
+         [[algorithms]]\ntype = \"distance_to_border\"\nperpendicular = \"N\"\nparallel = \"T\"\nregions = [\"Wall\"]\n",
+    )
+    .unwrap();
+    let out = dir.path().join("square.msh");
+    let o = smartmesh(&["adapt", poly.to_str().unwrap(), "-r", recipe.to_str().unwrap(), "-o", out.to_str().unwrap(), "--json"], None);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
+    assert_history("square", &h, "native");
+    assert!(h.iterations[h.best_iteration].conforming_share >= 0.9, "{:?}", h.iterations);
+    let mesh = read_path(&out, None).unwrap();
+    assert_eq!(physical_tags(&mesh).into_iter().filter(|t| t.0 > 0).collect::<Vec<_>>(), vec![(1, 1), (1, 2), (2, 7)]);
+    let wall = edges_where(&mesh, |_, y| y < 0.02);
+    let top = edges_where(&mesh, |_, y| y > 0.7);
+    assert!(wall.0 < 0.02 && top.0 > 0.04, "edges at the wall {wall:?}, at the top {top:?}");
+}
+
+#[test]
+fn a_recipe_naming_absent_tags_on_a_poly_and_bad_arguments_exit_two() {
     let dir = tempfile::tempdir().unwrap();
     let poly = dir.path().join("square.poly");
     std::fs::write(&poly, "4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2 1\n2 2 3 2\n3 3 4 1\n4 4 1 1\n0\n").unwrap();
@@ -276,7 +315,7 @@ fn a_poly_needs_the_mesher_and_bad_arguments_exit_two() {
     let o = smartmesh(&["adapt", poly.to_str().unwrap(), "-r", bundled("cylinder.toml").to_str().unwrap(), "-o", out.to_str().unwrap(), "--adapter", "mmg2d"], None);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("square.poly") && err.contains("smartmesh mesh"), "{err}");
+    assert!(err.contains("square.poly") && err.contains("does not have"), "{err}");
 
     let o = run_adapt(&out, &["--adapter", "mmg2d", "--tol-vertices", "-1"], None);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));

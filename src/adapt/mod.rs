@@ -152,6 +152,10 @@ fn measure(iteration: usize, mesh: TaggedMesh, remesh: f64, recipe: &Recipe, obs
     let sizing = size_mesh(&mesh, recipe, &mut |_: StepEvent| {}).map_err(|e| (Phase::Size, e.into()))?;
     let metric: Vec<Sym2> = sizing.field.tensors.iter().map(|t| t.to_metric()).collect();
     let size = t.elapsed().as_secs_f64();
+    // The result carries the recipe's field on it (`metric`, `size_tensor`, `h1` …, as
+    // `size` writes them), so that `report`, `info --metric` and ParaView read one file.
+    let mut mesh = mesh;
+    mesh.point_data.extend(crate::export::metric_arrays(&sizing.field.tensors));
     observer.phase(iteration, Phase::Measure);
     let t = Instant::now();
     let c = Conformity::of_mesh(&mesh, &metric).ok_or((Phase::Measure, PhaseError::NoTriangle))?;

@@ -1,11 +1,13 @@
 //! The mesh the adaptation loop starts from. A mesh is taken as it is; a planar
-//! straight-line graph (a Triangle `.poly`, or any file with no surface cell) must be
-//! triangulated first. This is the one place that decides, so that the mesher, once it
-//! is part of the build, is called from here.
+//! straight-line graph (a Triangle `.poly`, or any file with no surface cell) is
+//! triangulated first by [`crate::mesher`] with its default options (Triangle's `-pq`:
+//! quality triangles, no area bound): the loop refines it to the recipe's field.
 
 use std::path::Path;
 
 use smartmesh_formats::{read_path, CellKind, Format, TaggedMesh};
+
+use crate::mesher::{triangulate, MeshOptions};
 
 /// Why there is no starting mesh.
 #[derive(Debug, thiserror::Error)]
@@ -13,13 +15,13 @@ pub enum StartError {
     /// The file could not be read (the error names the file and the line).
     #[error("{0}")]
     Read(#[from] smartmesh_formats::Error),
-    /// The input is a planar straight-line graph, and this build has no mesher.
-    #[error("{path}: a planar straight-line graph ({lines} segments, no triangle) is not a mesh yet; triangulate it first with `smartmesh mesh` (not part of this build), or give the adapt loop a mesh of the domain (.msh, .mesh, .vtu, .ele …)")]
-    NeedsMesher {
+    /// The input is a planar straight-line graph that the mesher could not triangulate.
+    #[error("{path}: {source}")]
+    Mesher {
         /// The input, as given.
         path: String,
-        /// Its segments.
-        lines: usize,
+        /// What the mesher said.
+        source: crate::mesher::MeshError,
     },
 }
 
@@ -34,5 +36,5 @@ pub fn starting_mesh(input: &Path, format: Option<Format>) -> Result<TaggedMesh,
     if has_surface(&mesh) {
         return Ok(mesh);
     }
-    Err(StartError::NeedsMesher { path: input.display().to_string(), lines: mesh.num_cells_of(CellKind::Line) + mesh.num_cells_of(CellKind::Line3) })
+    triangulate(&mesh, &MeshOptions::default()).map_err(|source| StartError::Mesher { path: input.display().to_string(), source })
 }

@@ -1,7 +1,7 @@
 //! Remeshers the adaptation loop drives: one trait, [`Adapter`], and the external tools
 //! that implement it — MMG's `mmg2d_O3` ([`mmg::MmgAdapter`]) and Gmsh's BAMG on a
-//! background view ([`gmsh::GmshAdapter`]). The native remesher implements it too once
-//! it is part of the build ([`AdapterKind::Native`]).
+//! background view ([`gmsh::GmshAdapter`]) — and smartmesh's own remesher
+//! ([`native::NativeAdapter`], the default).
 //!
 //! Every adapter takes a tagged mesh and a metric per vertex and gives back a new tagged
 //! mesh with the same physical tags, tag names and topological points, so that the same
@@ -14,6 +14,7 @@
 
 pub mod gmsh;
 pub mod mmg;
+pub mod native;
 pub mod prepare;
 pub mod restore;
 pub mod tool;
@@ -37,9 +38,6 @@ pub trait Adapter {
 /// Why an adapter gave no mesh.
 #[derive(Debug, thiserror::Error)]
 pub enum AdapterError {
-    /// The remesher is not part of this build.
-    #[error("the {0} remesher is not available in this build; use --adapter mmg2d or --adapter gmsh")]
-    NotInBuild(&'static str),
     /// The external program is not on `PATH` (nor where the options said).
     #[error("`{program}` not found on PATH; {hint}")]
     NotFound {
@@ -140,7 +138,7 @@ pub fn adapter(kind: AdapterKind, options: AdapterOptions) -> Result<Box<dyn Ada
         }
     }
     match kind {
-        AdapterKind::Native => Err(AdapterError::NotInBuild("native")),
+        AdapterKind::Native => Ok(Box::new(native::NativeAdapter::default())),
         AdapterKind::Mmg2d => Ok(Box::new(mmg::MmgAdapter::new(options)?)),
         AdapterKind::Gmsh => Ok(Box::new(gmsh::GmshAdapter::new(options)?)),
     }

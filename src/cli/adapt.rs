@@ -52,7 +52,7 @@ conformity, metric quality and seconds per phase) is rewritten after every itera
 OUT's name with .history.json unless --history says where.
 
 Remeshers:
-  native   smartmesh's remesher (the default; not in this build yet)
+  native   smartmesh's own remesher (the default)
   mmg2d    mmg2d_O3 -in in.mesh -sol in.sol -out out.mesh -v 1 [-hgrad G] [-hausd D] [-nosurf]
            [--adapter-arg ...]; tags go through MMG references, topological points as
            required corners
@@ -171,7 +171,7 @@ struct AdaptSummary<'a> {
 }
 
 fn adapter_error(e: AdapterError) -> CliError {
-    let status = if matches!(e, AdapterError::NotInBuild(_) | AdapterError::Option { .. }) { ExitStatus::Error } else { ExitStatus::Failure };
+    let status = if matches!(e, AdapterError::Option { .. }) { ExitStatus::Error } else { ExitStatus::Failure };
     CliError { status, message: e.to_string() }
 }
 
@@ -186,7 +186,8 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let recipe = Recipe::from_path(&args.recipe).map_err(|e| CliError::usage(e.to_string()))?;
     let start = starting_mesh(&args.input, args.from).map_err(|e| match e {
         StartError::Read(e) => CliError::from(e),
-        e @ StartError::NeedsMesher { .. } => CliError::usage(e.to_string()),
+        StartError::Mesher { ref source, .. } if !source.is_input_error() => CliError { status: ExitStatus::Failure, message: e.to_string() },
+        e @ StartError::Mesher { .. } => CliError::usage(e.to_string()),
     })?;
     let options = AdapterOptions { program: args.adapter_program.clone(), hgrad: args.hgrad, hausd: args.hausd, nosurf: args.nosurf, extra_args: args.adapter_args.clone() };
     let remesher = adapter(args.adapter.into(), options).map_err(adapter_error)?;

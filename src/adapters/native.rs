@@ -1,0 +1,34 @@
+//! smartmesh's own remesher ([`crate::remesh`]) behind the [`Adapter`] trait: the
+//! default of `smartmesh adapt`. It keeps tags, tag names, entities and topological
+//! points by construction; the same [`ensure_tags_kept`] check as the external tools
+//! guards the loop all the same.
+
+use smartmesh_formats::TaggedMesh;
+
+use super::restore::ensure_tags_kept;
+use super::{Adapter, AdapterError};
+use crate::metric::Sym2;
+use crate::remesh::{remesh, RemeshOptions};
+
+/// The native remesher with its options.
+#[derive(Debug, Clone, Default)]
+pub struct NativeAdapter {
+    /// How to remesh.
+    pub options: RemeshOptions,
+}
+
+impl Adapter for NativeAdapter {
+    fn name(&self) -> &str {
+        "native"
+    }
+
+    fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
+        let remeshed = remesh(mesh, metric, &self.options).map_err(|e| AdapterError::Input(e.to_string()))?;
+        let mut out = remeshed.mesh;
+        // The loop sizes each new mesh with the recipe; the interpolated field is not the
+        // next iteration's metric, so it does not travel with the result.
+        out.point_data.remove(crate::export::METRIC);
+        ensure_tags_kept(self.name(), mesh, &out)?;
+        Ok(out)
+    }
+}
