@@ -340,6 +340,23 @@ pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOpt
             break;
         }
     }
+    // A last polish: the final collapses and swaps left some balls unsmoothed.
+    if stats.passes > 0 {
+        let t = Instant::now();
+        let mut moves = 0;
+        for _ in 0..opts.smooth_sweeps {
+            moves += smooth::smooth_sweep(&mut w);
+        }
+        stats.seconds.smooth += t.elapsed().as_secs_f64();
+        let mut ps = PassStats { moves, ..PassStats::default() };
+        swap_phase(&mut w, &mut ps, &mut stats.seconds, false);
+        stats.moves += ps.moves;
+        stats.swaps += ps.swaps;
+        if let Some(last) = stats.per_pass.last_mut() {
+            last.moves += ps.moves;
+            last.swaps += ps.swaps;
+        }
+    }
     debug_assert!(w.all_positive());
     let t = Instant::now();
     let (out, out_metric) = output::assemble(mesh, &w, &st.faces, &st.vertex_cells);
