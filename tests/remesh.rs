@@ -417,3 +417,20 @@ fn thin_gap_never_crossed() {
         }
     }
 }
+
+#[test]
+fn unsupported_and_broken_meshes_are_refused() {
+    let (mut mesh, metric) = with_field(square(2, false), uniform);
+    let mut q = mesh.clone();
+    q.block_mut(CellKind::Quad).push(&[0, 1, 4, 3], 10, 10);
+    let e = remesh(&q, &metric, &RemeshOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("quad"), "{e}");
+    // A third triangle on edge 0-4 (0-based vertices of the 2x2 grid).
+    mesh.block_mut(CellKind::Triangle).push(&[0, 4, 2], 10, 10);
+    let e = remesh(&mesh, &metric, &RemeshOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("shared by 3 triangles"), "{e}");
+    let (mut flat, metric) = with_field(square(2, false), uniform);
+    flat.block_mut(CellKind::Triangle).push(&[0, 1, 2], 10, 10);
+    let e = remesh(&flat, &metric, &RemeshOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("zero area"), "{e}");
+}
