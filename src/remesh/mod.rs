@@ -4,9 +4,11 @@
 //!
 //! Each pass splits the edges longer than √2 in the metric ([`split`]), collapses the
 //! edges shorter than 1/√2 ([`collapse`]), flips diagonals to raise the worse metric
-//! quality of each pair ([`swap`]) and moves vertices toward a metric-equilateral place
-//! ([`smooth`]); the passes stop when no split or collapse is left to do, or after
-//! [`RemeshOptions::max_passes`].
+//! quality of each pair ([`swap`]), moves vertices toward a metric-equilateral place
+//! ([`smooth`]), then collapses and flips once more where smoothing left short edges; the
+//! passes stop when splits and collapses touch fewer than a fivehundredth of the
+//! triangles, or after [`RemeshOptions::max_passes`], and a last smoothing and swap
+//! polish the result.
 //!
 //! What it guarantees, by construction and checked in the tests:
 //! - every triangle strictly counter-clockwise (Shewchuk's exact orientation predicate
