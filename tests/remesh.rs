@@ -343,3 +343,94 @@ fn cylinder_recipe_field() {
     assert!(c.conforming_share >= 0.8, "{c:?}");
     assert!(c.min_quality > 0.0);
 }
+
+/// Two components 0.01 apart: an annulus (r from 0.5 to 0.6, face 10) around a disk
+/// (r = 0.49, face 11), under a coarse isotropic metric (h = 0.3). A chord of the
+/// annulus' inner circle that long bulges ≈ 0.02 into the hole, across the disk's
+/// boundary, and nothing in the annulus' own triangles sees the disk: only the crossing
+/// guard keeps the boundaries apart.
+#[test]
+fn thin_gap_never_crossed() {
+    let nt = 240usize;
+    let mut m = TaggedMesh::new();
+    m.coordinate_dim = 2;
+    // Rings: 0..3 the annulus (0.5, 0.55, 0.6), 3..6 the disk (0.49, 0.35, 0.2), then the centre.
+    for r in [0.5, 0.55, 0.6, 0.49, 0.35, 0.2] {
+        for i in 0..nt {
+            let t = std::f64::consts::TAU * i as f64 / nt as f64;
+            m.points.push([r * t.cos(), r * t.sin(), 0.0]);
+        }
+    }
+    m.points.push([0.0, 0.0, 0.0]);
+    let centre = 6 * nt;
+    let id = |i: usize, j: usize| j * nt + i % nt;
+    let mut tb = CellBlock::new(CellKind::Triangle);
+    let mut lb = CellBlock::new(CellKind::Line);
+    for i in 0..nt {
+        for j in 0..2 {
+            tb.push(&[id(i, j), id(i + 1, j), id(i + 1, j + 1)], 10, 10);
+            tb.push(&[id(i, j), id(i + 1, j + 1), id(i, j + 1)], 10, 10);
+        }
+        for j in [4, 3] {
+            // Disk rings from inside out: 5 -> 4 -> 3.
+            tb.push(&[id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)], 11, 11);
+            tb.push(&[id(i, j + 1), id(i + 1, j), id(i, j)], 11, 11);
+        }
+        tb.push(&[centre, id(i, 5), id(i + 1, 5)], 11, 11);
+        lb.push(&[id(i, 0), id(i + 1, 0)], 2, 2);
+        lb.push(&[id(i, 2), id(i + 1, 2)], 1, 1);
+        lb.push(&[id(i, 3), id(i + 1, 3)], 3, 3);
+    }
+    m.blocks = vec![lb, tb];
+    let (mesh, metric) = with_field(m, |_, _| SizeTensor::isotropic(0.3));
+    for mode in [BoundaryMode::Polyline, BoundaryMode::Smooth] {
+        let out = remesh(&mesh, &metric, &RemeshOptions { boundary: mode, ..RemeshOptions::default() }).unwrap();
+        let o = &out.mesh;
+        let tris = triangles(o);
+        assert!(tris.len() < mesh.num_cells_of(CellKind::Triangle), "{mode:?}: nothing coarsened");
+        for (t, _) in &tris {
+            assert!(cross(xy(o, t[0]), xy(o, t[1]), xy(o, t[2])) > 0.0, "{mode:?}");
+        }
+        // Brute force: no two boundary edges cross or touch away from a shared end.
+        let ls: Vec<([f64; 2], [f64; 2])> = lines(o).into_iter().map(|(l, _)| (xy(o, l[0]), xy(o, l[1]))).collect();
+        for i in 0..ls.len() {
+            for j in i + 1..ls.len() {
+                let (a, b) = ls[i];
+                let (c, d) = ls[j];
+                if a == c || a == d || b == c || b == d {
+                    continue;
+                }
+                let s1 = cross(a, b, c) * cross(a, b, d);
+                let s2 = cross(c, d, a) * cross(c, d, b);
+                assert!(!(s1 <= 0.0 && s2 <= 0.0), "{mode:?}: boundary edges {:?} and {:?} cross", ls[i], ls[j]);
+            }
+        }
+        // Every boundary vertex of the polyline mode on its original circle polygon.
+        if mode == BoundaryMode::Polyline {
+            for (l, tag) in lines(o) {
+                for v in l {
+                    let r = xy(o, v)[0].hypot(xy(o, v)[1]);
+                    let want = [0.0, 0.6, 0.5, 0.49][tag as usize];
+                    assert!(r <= want + 1e-12 && r >= want * (std::f64::consts::PI / nt as f64).cos() - 1e-12, "{mode:?}: vertex at r = {r} on curve {tag}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn unsupported_and_broken_meshes_are_refused() {
+    let (mut mesh, metric) = with_field(square(2, false), uniform);
+    let mut q = mesh.clone();
+    q.block_mut(CellKind::Quad).push(&[0, 1, 4, 3], 10, 10);
+    let e = remesh(&q, &metric, &RemeshOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("quad"), "{e}");
+    // A third triangle on edge 0-4 (0-based vertices of the 2x2 grid).
+    mesh.block_mut(CellKind::Triangle).push(&[0, 4, 2], 10, 10);
+    let e = remesh(&mesh, &metric, &RemeshOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("shared by 3 triangles"), "{e}");
+    let (mut flat, metric) = with_field(square(2, false), uniform);
+    flat.block_mut(CellKind::Triangle).push(&[0, 1, 2], 10, 10);
+    let e = remesh(&flat, &metric, &RemeshOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("zero area"), "{e}");
+}

@@ -227,7 +227,7 @@ mod tests {
     use super::*;
 
     fn arc(n: usize) -> Vec<[f64; 2]> {
-        (0..=n).map(|i| (std::f64::consts::PI * i as f64 / n as f64)).map(|t| [t.cos(), t.sin()]).collect()
+        (0..=n).map(|i| std::f64::consts::PI * i as f64 / n as f64).map(|t| [t.cos(), t.sin()]).collect()
     }
 
     #[test]

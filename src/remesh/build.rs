@@ -80,8 +80,8 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
             CellKind::Line => {
                 if nodes[0] != nodes[1] {
                     let k = key(nodes[0] as u32, nodes[1] as u32);
-                    if !line_tags.contains_key(&k) {
-                        line_tags.insert(k, (phys, geo));
+                    if let std::collections::hash_map::Entry::Vacant(e) = line_tags.entry(k) {
+                        e.insert((phys, geo));
                         lines_in_order.push((k, (phys, geo)));
                     }
                 }

@@ -17,11 +17,11 @@ pub fn assemble(input: &TaggedMesh, w: &Work, faces: &[(i32, i32)], vertex_cells
     mesh.tag_names = input.tag_names.clone();
     mesh.entities = input.entities.clone();
     let mut metric = Vec::new();
-    for v in 0..w.pts.len() {
+    for (v, id) in new_id.iter_mut().enumerate() {
         if w.piece[v] == DEAD {
             continue;
         }
-        new_id[v] = mesh.points.len() as u32;
+        *id = mesh.points.len() as u32;
         mesh.points.push([w.pts[v][0], w.pts[v][1], 0.0]);
         metric.push(w.met[v]);
     }

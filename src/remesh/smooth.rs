@@ -153,7 +153,9 @@ fn smooth_on_piece(w: &mut Work, v: u32) -> bool {
         // A poor ball: also sample the parameter range between the neighbours.
         cands.extend((1..8).map(|i| su + (sx - su) * i as f64 / 8.0));
     }
-    let mut best: Option<(f64, [f64; 2], Sym2, (f64, f64))> = None;
+    // (parameter, place, metric, (worst, summed) quality)
+    type Candidate = (f64, [f64; 2], Sym2, (f64, f64));
+    let mut best: Option<Candidate> = None;
     for t in cands {
         if !(su < t && t < sx) {
             continue;

@@ -276,4 +276,75 @@ impl Work<'_> {
     pub fn all_positive(&self) -> bool {
         self.tris.iter().enumerate().all(|(t, v)| !self.alive[t] || orient(self.pts[v[0] as usize], self.pts[v[1] as usize], self.pts[v[2] as usize]) > 0.0)
     }
+
+    /// Brute-force check of every invariant the operators must keep, for the tests:
+    /// triangles strictly counter-clockwise, adjacency lists exact, no edge with more than
+    /// two triangles, every boundary edge constrained and every constrained edge live,
+    /// piece vertices exactly where their parameter puts them, fixed vertices where the
+    /// input had them.
+    #[cfg(test)]
+    pub fn consistency(&self, input: &[[f64; 2]]) -> Result<(), String> {
+        for (t, v) in self.tris.iter().enumerate() {
+            if !self.alive[t] {
+                continue;
+            }
+            let p = v.map(|x| self.pts[x as usize]);
+            if orient(p[0], p[1], p[2]) <= 0.0 {
+                return Err(format!("triangle {t} {v:?} is not counter-clockwise"));
+            }
+            for &x in v {
+                if self.piece[x as usize] == DEAD || !self.vtris[x as usize].contains(&(t as u32)) {
+                    return Err(format!("triangle {t} missing from the list of vertex {x}"));
+                }
+            }
+        }
+        for (x, list) in self.vtris.iter().enumerate() {
+            let mut l = list.clone();
+            l.sort_unstable();
+            l.dedup();
+            if l.len() != list.len() || list.iter().any(|&t| !self.alive[t as usize] || !self.tris[t as usize].contains(&(x as u32))) {
+                return Err(format!("bad triangle list at vertex {x}"));
+            }
+        }
+        let mut occ: Vec<(u32, u32)> = Vec::new();
+        for (t, v) in self.tris.iter().enumerate() {
+            if self.alive[t] {
+                for k in 0..3 {
+                    occ.push(key(v[k], v[(k + 1) % 3]));
+                }
+            }
+        }
+        occ.sort_unstable();
+        let mut live_constrained = 0;
+        let mut i = 0;
+        while i < occ.len() {
+            let j = occ[i..].iter().position(|e| *e != occ[i]).map_or(occ.len(), |k| i + k);
+            let e = occ[i];
+            if j - i > 2 {
+                return Err(format!("edge {e:?} has {} triangles", j - i));
+            }
+            let c = self.cons.contains_key(&e);
+            if j - i == 1 && !c {
+                return Err(format!("boundary edge {e:?} is not constrained"));
+            }
+            live_constrained += usize::from(c);
+            i = j;
+        }
+        if live_constrained != self.cons.len() {
+            return Err(format!("{} constrained edges, {live_constrained} of them live", self.cons.len()));
+        }
+        for v in 0..self.pts.len() {
+            let p = self.piece[v];
+            if p == FIXED && v < input.len() && self.pts[v] != input[v] {
+                return Err(format!("fixed vertex {v} moved"));
+            }
+            if p != FIXED && p != FREE && p != DEAD {
+                let (q, _) = self.on_piece(p, self.s[v]);
+                if q != self.pts[v] {
+                    return Err(format!("vertex {v} is off its piece {p}: {:?} vs {q:?}", self.pts[v]));
+                }
+            }
+        }
+        Ok(())
+    }
 }
