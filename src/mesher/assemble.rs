@@ -17,6 +17,7 @@ use crate::formats::{CellBlock, CellKind, TaggedMesh};
 
 use super::domain::NO_REGION;
 use super::pslg::Pslg;
+use super::refine::Labelled;
 use super::{Cdt, MeshError, MeshOptions};
 
 /// An output Line cell before renumbering: spade vertices and the segment's tags.
@@ -115,7 +116,7 @@ fn corners(pieces: &[Piece], cdt: &Cdt, corner_angle_deg: f64) -> Vec<usize> {
 
 /// Builds the output mesh from the refined `cdt` and the domain's triangles with their
 /// labels ([`NO_REGION`] or a seed index).
-pub(crate) fn assemble(cdt: &Cdt, domain: &[([usize; 3], u32)], pslg: &Pslg, input: &TaggedMesh, opts: &MeshOptions) -> Result<TaggedMesh, MeshError> {
+pub(crate) fn assemble(cdt: &Cdt, domain: &[Labelled], pslg: &Pslg, input: &TaggedMesh, opts: &MeshOptions) -> Result<TaggedMesh, MeshError> {
     let triangles: Vec<([usize; 3], i32)> = domain.iter().map(|&(t, l)| (t, if l == NO_REGION { 0 } else { pslg.seeds[l as usize].tag })).collect();
     let pieces = segment_pieces(cdt, pslg)?;
     let corner_vertices = corners(&pieces, cdt, opts.corner_angle_deg);

@@ -82,10 +82,13 @@ fn spade_refine(cdt: &mut Cdt, params: RefinementParameters<f64>) -> Result<spad
     })
 }
 
+/// A triangle of the domain (spade vertex indices, counter-clockwise) and its label.
+pub(crate) type Labelled = ([usize; 3], u32);
+
 /// The triangles of the domain, counter-clockwise (spade vertex indices), with their
 /// labels; and the centroids of those larger than their area bound. One pass over the
 /// faces, which [`super::assemble`] reuses when nothing is too large.
-fn domain_triangles(cdt: &Cdt, labels: &[u32], global: Option<f64>, pslg: &Pslg) -> (Vec<([usize; 3], u32)>, Vec<Point2<f64>>) {
+fn domain_triangles(cdt: &Cdt, labels: &[u32], global: Option<f64>, pslg: &Pslg) -> (Vec<Labelled>, Vec<Point2<f64>>) {
     let coords: Vec<[f64; 2]> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
     let mut kept = Vec::with_capacity(cdt.num_inner_faces());
     let mut too_large = Vec::new();
@@ -107,7 +110,7 @@ fn domain_triangles(cdt: &Cdt, labels: &[u32], global: Option<f64>, pslg: &Pslg)
 }
 
 /// Refines `cdt` as `opts` asks and returns the domain's triangles with their labels.
-pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<Vec<([usize; 3], u32)>, MeshError> {
+pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<Vec<Labelled>, MeshError> {
     let initial = classify(cdt, pslg, opts.keep_convex_hull)?;
     let global = opts.area_bound();
     let any_region_bound = pslg.seeds.iter().any(|s| s.max_area.is_some());
