@@ -1,10 +1,13 @@
 """Times Shewchuk's Triangle (PyPI `triangle`) on the graph that benches/mesher.rs
-meshes, with the same switches: minimum angle 30 and the same area bounds (`pq30Aa<area>`),
+meshes, with the same switches: minimum angle 30 and the same area bounds (`pq30Aa<area>a`),
 and prints count, smallest angle, mean quality (4*sqrt(3)*area / sum of squared edges, as
 smartmesh::quality) and the best of three times.
 
 Run after `cargo bench -p smartmesh --bench mesher` (which writes the .poly):
     python3 benches/compare_triangle.py target/bench-meshes/mesher-naca256.poly
+    python3 benches/compare_triangle.py fixtures/square_hole.poly 0.000001
+Area bounds after the file replace the default ones. `A` and a bare `a` make Triangle
+honour regional attributes and regional area bounds, as smartmesh always does.
 """
 import math
 import sys
@@ -56,11 +59,11 @@ def main():
     d = read_poly(sys.argv[1])
     print("| area bound | Triangle triangles | smallest angle | mean quality | time (s) | triangles/s |")
     print("|---|---|---|---|---|---|")
-    for a in AREAS:
+    for a in sys.argv[2:] or AREAS:
         best = math.inf
         for _ in range(3):
             t0 = time.perf_counter()
-            t = triangle.triangulate(d, "pq30Aa" + a)
+            t = triangle.triangulate(d, "pq30Aa" + a + "a")
             best = min(best, time.perf_counter() - t0)
         n, amin, q = stats(t)
         print(f"| {a} | {n} | {amin:.3f} | {q:.4f} | {best:.3f} | {n / best:,.0f} |")

@@ -1,6 +1,6 @@
 //! The mesher on a NACA 0012 airfoil (256 points per side, closed trailing edge) in the
 //! far-field box [-2, 3] x [-2, 2], minimum angle 30°, area bounds 2e-3, 2e-4 and 2e-5
-//! (about 20 000, 160 000 and 1.57 million triangles): Triangle's `-pq30Aa<area>` on the
+//! (about 20 000, 160 000 and 1.57 million triangles): Triangle's `-pq30Aa<area>a` on the
 //! same graph is the baseline, timed by `benches/compare_triangle.py` on the `.poly` this
 //! bench writes to `target/bench-meshes/mesher-naca256.poly`.
 //!
@@ -10,21 +10,29 @@
 //! - `mesher/spade_refine/AREA`: spade alone on the same graph and parameters (bulk load
 //!   and `refine` with outer faces excluded), what the rest is measured against.
 //!
-//! Before timing, each size prints its triangle count, smallest angle and mean quality.
+//! - `mesher/square_hole_triangulate/1e-6` and `mesher/square_hole_spade_refine/1e-6`:
+//!   the same on `fixtures/square_hole.poly` (two regions with an interface and a hole,
+//!   about 1.5 million triangles), where spade's exclusion of outer faces cannot be used
+//!   and both refine the hole too; Triangle's baseline is `-pq30Aa0.000001a`.
+//!
+//! Before timing, each case prints its triangle count, smallest angle and mean quality.
 //!
 //! Run: `cargo bench -p smartmesh --bench mesher`, then
-//! `python3 benches/compare_triangle.py target/bench-meshes/mesher-naca256.poly`.
+//! `python3 benches/compare_triangle.py target/bench-meshes/mesher-naca256.poly` and
+//! `python3 benches/compare_triangle.py fixtures/square_hole.poly 0.000001`.
 
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use smartmesh::formats::{write_path, CellKind, TaggedMesh, WriteOptions};
+use smartmesh::formats::{read_path, write_path, CellKind, TaggedMesh, WriteOptions};
 use smartmesh::mesher::{triangulate, MeshOptions};
 use smartmesh::quality::{min_angle_deg, triangle_quality};
 use spade::{AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation};
 
 const AREAS: [f64; 3] = [2e-3, 2e-4, 2e-5];
 const MIN_ANGLE: f64 = 30.0;
+/// Area bound on `fixtures/square_hole.poly` (about 1.5 million triangles).
+const SQUARE_AREA: f64 = 1e-6;
 
 /// Half thickness of the NACA 0012 with a closed trailing edge (as fixtures/make_poly.py).
 fn naca0012(x: f64) -> f64 {
@@ -56,7 +64,7 @@ fn airfoil(n: usize) -> TaggedMesh {
     mesh
 }
 
-fn spade_only(pslg: &TaggedMesh, area: f64) -> usize {
+fn spade_only(pslg: &TaggedMesh, area: f64, exclude: bool) -> usize {
     let pts: Vec<Point2<f64>> = pslg.points.iter().map(|p| Point2::new(p[0], p[1])).collect();
     let edges: Vec<[usize; 2]> = pslg.cells().filter(|c| c.0 == CellKind::Line).map(|c| [c.1[0], c.1[1]]).collect();
     let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::bulk_load_cdt(pts, edges).unwrap();
@@ -64,10 +72,26 @@ fn spade_only(pslg: &TaggedMesh, area: f64) -> usize {
         RefinementParameters::<f64>::new()
             .with_angle_limit(AngleLimit::from_deg(MIN_ANGLE))
             .with_max_allowed_area(area)
-            .exclude_outer_faces(true)
+            .exclude_outer_faces(exclude)
             .with_max_additional_vertices(usize::MAX / 4),
     );
     cdt.num_inner_faces() - r.excluded_faces.len()
+}
+
+/// Prints count, smallest angle and mean quality of one mesh, and returns the count.
+fn report(label: &str, pslg: &TaggedMesh, opts: &MeshOptions, spade_alone: usize) -> usize {
+    let out = triangulate(pslg, opts).unwrap();
+    let p = |v: usize| [out.points[v][0], out.points[v][1]];
+    let (mut n, mut amin, mut q) = (0usize, f64::INFINITY, 0.0);
+    for (kind, t, _, _) in out.cells() {
+        if kind == CellKind::Triangle {
+            n += 1;
+            amin = amin.min(min_angle_deg(p(t[0]), p(t[1]), p(t[2])));
+            q += triangle_quality(p(t[0]), p(t[1]), p(t[2]));
+        }
+    }
+    eprintln!("{label}: {n} triangles, smallest angle {amin:.3}, mean quality {:.4}, {} points; spade alone {spade_alone} triangles", q / n as f64, out.points.len());
+    n
 }
 
 fn bench(c: &mut Criterion) {
@@ -77,22 +101,22 @@ fn bench(c: &mut Criterion) {
     write_path(&dir.join("mesher-naca256.poly"), &pslg, None, &WriteOptions::default()).unwrap();
     let mut g = c.benchmark_group("mesher");
     g.sample_size(10);
+
+    // A graph with an interface between two regions: spade's exclusion of outer faces
+    // does not apply, holes are refined and carved (see the mesher's refine module).
+    let square = read_path(&Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/square_hole.poly"), None).unwrap();
+    let opts = MeshOptions { min_angle_deg: MIN_ANGLE, max_area: Some(SQUARE_AREA), ..MeshOptions::default() };
+    let n = report(&format!("square_hole, area {SQUARE_AREA:e}"), &square, &opts, spade_only(&square, SQUARE_AREA, false));
+    g.throughput(Throughput::Elements(n as u64));
+    g.bench_with_input(BenchmarkId::new("square_hole_triangulate", SQUARE_AREA), &SQUARE_AREA, |b, _| b.iter(|| triangulate(&square, &opts).unwrap()));
+    g.bench_with_input(BenchmarkId::new("square_hole_spade_refine", SQUARE_AREA), &SQUARE_AREA, |b, &a| b.iter(|| spade_only(&square, a, false)));
+
     for area in AREAS {
         let opts = MeshOptions { min_angle_deg: MIN_ANGLE, max_area: Some(area), ..MeshOptions::default() };
-        let out = triangulate(&pslg, &opts).unwrap();
-        let p = |v: usize| [out.points[v][0], out.points[v][1]];
-        let (mut n, mut amin, mut q) = (0usize, f64::INFINITY, 0.0);
-        for (kind, t, _, _) in out.cells() {
-            if kind == CellKind::Triangle {
-                n += 1;
-                amin = amin.min(min_angle_deg(p(t[0]), p(t[1]), p(t[2])));
-                q += triangle_quality(p(t[0]), p(t[1]), p(t[2]));
-            }
-        }
-        eprintln!("area {area:e}: {n} triangles, smallest angle {amin:.3}, mean quality {:.4}, {} points; spade alone {} triangles", q / n as f64, out.points.len(), spade_only(&pslg, area));
+        let n = report(&format!("naca256, area {area:e}"), &pslg, &opts, spade_only(&pslg, area, true));
         g.throughput(Throughput::Elements(n as u64));
         g.bench_with_input(BenchmarkId::new("triangulate", area), &area, |b, _| b.iter(|| triangulate(&pslg, &opts).unwrap()));
-        g.bench_with_input(BenchmarkId::new("spade_refine", area), &area, |b, &a| b.iter(|| spade_only(&pslg, a)));
+        g.bench_with_input(BenchmarkId::new("spade_refine", area), &area, |b, &a| b.iter(|| spade_only(&pslg, a, true)));
     }
     g.finish();
 }

@@ -15,8 +15,9 @@ use spade::Triangulation;
 
 use crate::formats::{CellBlock, CellKind, TaggedMesh};
 
-use super::domain::{CARVED, NO_REGION};
+use super::domain::NO_REGION;
 use super::pslg::Pslg;
+use super::refine::Labelled;
 use super::{Cdt, MeshError, MeshOptions};
 
 /// An output Line cell before renumbering: spade vertices and the segment's tags.
@@ -113,17 +114,10 @@ fn corners(pieces: &[Piece], cdt: &Cdt, corner_angle_deg: f64) -> Vec<usize> {
         .collect()
 }
 
-/// Builds the output mesh from the refined `cdt` and its face `labels`.
-pub(crate) fn assemble(cdt: &Cdt, labels: &[u32], pslg: &Pslg, input: &TaggedMesh, opts: &MeshOptions) -> Result<TaggedMesh, MeshError> {
-    let mut triangles: Vec<([usize; 3], i32)> = Vec::with_capacity(cdt.num_inner_faces());
-    for f in cdt.inner_faces() {
-        let l = labels[f.fix().index()];
-        if l == CARVED {
-            continue;
-        }
-        let tag = if l == NO_REGION { 0 } else { pslg.seeds[l as usize].tag };
-        triangles.push((f.vertices().map(|v| v.fix().index()), tag));
-    }
+/// Builds the output mesh from the refined `cdt` and the domain's triangles with their
+/// labels ([`NO_REGION`] or a seed index).
+pub(crate) fn assemble(cdt: &Cdt, domain: &[Labelled], pslg: &Pslg, input: &TaggedMesh, opts: &MeshOptions) -> Result<TaggedMesh, MeshError> {
+    let triangles: Vec<([usize; 3], i32)> = domain.iter().map(|&(t, l)| (t, if l == NO_REGION { 0 } else { pslg.seeds[l as usize].tag })).collect();
     let pieces = segment_pieces(cdt, pslg)?;
     let corner_vertices = corners(&pieces, cdt, opts.corner_angle_deg);
 

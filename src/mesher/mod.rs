@@ -294,6 +294,6 @@ pub fn triangulate(pslg: &TaggedMesh, opts: &MeshOptions) -> Result<TaggedMesh, 
     opts.validate()?;
     let graph = pslg::extract(pslg)?;
     let mut cdt = refine::build(&graph)?;
-    let labels = refine::refine(&mut cdt, &graph, opts)?;
-    assemble::assemble(&cdt, &labels, &graph, pslg, opts)
+    let domain = refine::refine(&mut cdt, &graph, opts)?;
+    assemble::assemble(&cdt, &domain, &graph, pslg, opts)
 }

@@ -82,13 +82,40 @@ fn spade_refine(cdt: &mut Cdt, params: RefinementParameters<f64>) -> Result<spad
     })
 }
 
-/// Refines `cdt` as `opts` asks and returns the final face labels.
-pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<Vec<u32>, MeshError> {
+/// A triangle of the domain (spade vertex indices, counter-clockwise) and its label.
+pub(crate) type Labelled = ([usize; 3], u32);
+
+/// The triangles of the domain, counter-clockwise (spade vertex indices), with their
+/// labels; and the centroids of those larger than their area bound. One pass over the
+/// faces, which [`super::assemble`] reuses when nothing is too large.
+fn domain_triangles(cdt: &Cdt, labels: &[u32], global: Option<f64>, pslg: &Pslg) -> (Vec<Labelled>, Vec<Point2<f64>>) {
+    let coords: Vec<[f64; 2]> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
+    let mut kept = Vec::with_capacity(cdt.num_inner_faces());
+    let mut too_large = Vec::new();
+    for f in cdt.inner_faces() {
+        let l = labels[f.fix().index()];
+        if l == CARVED {
+            continue;
+        }
+        let t = f.vertices().map(|v| v.fix().index());
+        if let Some(bound) = bound_of(l, global, pslg) {
+            let (a, b, c) = (coords[t[0]], coords[t[1]], coords[t[2]]);
+            if crate::quality::signed_area(a, b, c) > bound {
+                too_large.push(Point2::new((a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0));
+            }
+        }
+        kept.push((t, l));
+    }
+    (kept, too_large)
+}
+
+/// Refines `cdt` as `opts` asks and returns the domain's triangles with their labels.
+pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<Vec<Labelled>, MeshError> {
     let initial = classify(cdt, pslg, opts.keep_convex_hull)?;
     let global = opts.area_bound();
     let any_region_bound = pslg.seeds.iter().any(|s| s.max_area.is_some());
     if opts.min_angle_deg == 0.0 && global.is_none() && !any_region_bound {
-        return Ok(initial);
+        return Ok(domain_triangles(cdt, &initial, None, pslg).0);
     }
 
     let exclude = !opts.keep_convex_hull && {
@@ -125,20 +152,9 @@ pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<V
     }
     for _ in 0..MAX_ROUNDS {
         let labels = classify(cdt, pslg, opts.keep_convex_hull)?;
-        let mut centroids = Vec::new();
-        for f in cdt.inner_faces() {
-            let l = labels[f.fix().index()];
-            if l == CARVED {
-                continue;
-            }
-            if let Some(bound) = bound_of(l, global, pslg) {
-                if f.area() > bound {
-                    centroids.push(f.center());
-                }
-            }
-        }
+        let (kept, centroids) = domain_triangles(cdt, &labels, global, pslg);
         if centroids.is_empty() {
-            return Ok(labels);
+            return Ok(kept);
         }
         if opts.max_vertices.is_some_and(|m| cdt.num_vertices() + centroids.len() > m) {
             return Err(MeshError::RefinementIncomplete { vertices: cdt.num_vertices() });
