@@ -62,6 +62,45 @@ pub(crate) struct Pslg {
     pub seeded_only: bool,
 }
 
+/// Topological points named by Triangle vertex markers (point data `triangle:marker`) in
+/// a file with no Vertex cell: a vertex whose marker is not 0 and differs from the
+/// markers of all its segments. Triangle itself gives every vertex on a segment that
+/// segment's marker, so such a marker only says "on this boundary"; a marker of its own
+/// names a point (a leading edge, a corner a recipe refines toward, an isolated source
+/// inside the domain) and becomes a Vertex cell with that tag.
+fn marked_points(mesh: &TaggedMesh, compact: &[usize], segments: &[Segment]) -> Vec<(usize, i32, i32)> {
+    let Some(markers) = mesh.point_data.get(smartmesh_formats::triangle::MARKER).filter(|a| a.components == 1 && a.len() == mesh.points.len()) else {
+        return Vec::new();
+    };
+    if mesh.blocks.iter().any(|b| b.kind == CellKind::Vertex && !b.is_empty()) {
+        return Vec::new();
+    }
+    let tag_of = |v: f64| (v != 0.0 && v.fract() == 0.0 && v.abs() <= i32::MAX as f64).then_some(v as i32);
+    // Compact vertices that lie on a segment carrying their own marker.
+    let mut on_own_segment = vec![false; compact.len()];
+    let mut input_of = vec![usize::MAX; compact.iter().filter(|&&c| c != usize::MAX).count()];
+    for (i, &c) in compact.iter().enumerate() {
+        if c != usize::MAX {
+            input_of[c] = i;
+        }
+    }
+    for s in segments {
+        for v in [s.a, s.b] {
+            if tag_of(markers.values[input_of[v]]) == Some(s.physical) {
+                on_own_segment[input_of[v]] = true;
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for (i, &m) in markers.values.iter().enumerate() {
+        match tag_of(m) {
+            Some(tag) if compact[i] != usize::MAX && !on_own_segment[i] => out.push((compact[i], tag, tag)),
+            _ => {}
+        }
+    }
+    out
+}
+
 /// Takes the graph out of `mesh` and checks it.
 pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
     let n = mesh.points.len();
@@ -95,6 +134,7 @@ pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
             _ => {}
         }
     }
+    listed.extend(marked_points(mesh, &compact, &segments));
     let mut points = Vec::with_capacity(source.len());
     for &i in &source {
         let p = mesh.points[i];
