@@ -3,6 +3,8 @@
 //!
 //!   cargo bench -p smartmesh-formats --bench formats
 //!   SMARTMESH_BENCH_N=200 cargo bench ...   # a smaller grid for a quick look
+//!   SMARTMESH_BENCH_ONLY=vtk42_binary,vtu_appended_raw cargo bench ...   # some cases only
+//!     (and only their files written: what a profiler should see)
 //!
 //! The files are also left in `target/bench-meshes/` so that `benches/compare_meshio.py`
 //! times meshio on the very same bytes in the same session (see BENCHMARKS.md).
@@ -100,7 +102,8 @@ fn bench(c: &mut Criterion) {
     let mesh = big_mesh(n);
     let dir = out_dir();
     eprintln!("mesh: {} points, {} triangles", mesh.points.len(), mesh.num_cells_of(CellKind::Triangle));
-    for case in cases() {
+    let only: Option<Vec<String>> = std::env::var("SMARTMESH_BENCH_ONLY").ok().map(|s| s.split(',').map(str::to_string).collect());
+    for case in cases().into_iter().filter(|c| only.as_ref().map_or(true, |o| o.iter().any(|n| n == c.name))) {
         let written = match write_bytes(case.format, &mesh, &case.opts) {
             Ok(w) => w,
             Err(e) => {

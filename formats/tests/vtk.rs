@@ -703,3 +703,78 @@ fn empty_meshes_round_trip() {
         }
     }
 }
+
+/// Four points, two triangles, two lines: in the order `blocks` gives.
+fn mixed_mesh(order: &[CellKind]) -> TaggedMesh {
+    let mut m = TaggedMesh::new();
+    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    for (i, &kind) in order.iter().enumerate() {
+        let mut b = smartmesh_formats::CellBlock::new(kind);
+        let t = i as i32 + 1;
+        match kind {
+            CellKind::Triangle => {
+                b.push(&[0, 1, 2], t, 10 + t);
+                b.push(&[0, 2, 3], t, 10 + t);
+            }
+            _ => {
+                b.push(&[0, 1], t, 10 + t);
+                b.push(&[1, 2], t, 10 + t);
+                b.push(&[2, 3], t, 10 + t);
+            }
+        }
+        m.blocks.push(b);
+    }
+    m
+}
+
+/// The binary readers convert the largest block in place and the others by copy, and
+/// read a cell list whose node counts all agree in one pass: whichever block is the
+/// largest, and wherever it sits, blocks, order and tags come back as written.
+#[test]
+fn binary_blocks_come_back_in_order_whichever_is_largest() {
+    use CellKind::{Line, Triangle};
+    for order in [&[Triangle][..], &[Line], &[Line, Triangle], &[Triangle, Line], &[Triangle, Line, Triangle], &[Line, Triangle, Line]] {
+        let m = mixed_mesh(order);
+        for (label, format, opts) in variants().into_iter().filter(|v| v.2.binary || v.2.vtu_encoding != VtuEncoding::Ascii) {
+            let bytes = write_bytes(format, &m, &opts).unwrap().main;
+            let back = read(format, &bytes).unwrap_or_else(|e| panic!("{label} {order:?}: {e}"));
+            assert_eq!(back.blocks, m.blocks, "{label} {order:?}");
+        }
+    }
+}
+
+/// Big-endian 32-bit words of a legacy binary file.
+fn put_be(bytes: &mut [u8], at: usize, v: i32) {
+    bytes[at..at + 4].copy_from_slice(&v.to_be_bytes());
+}
+
+/// A legacy binary triangle mesh whose cell list is altered: each error names the
+/// byte of the bad word, on the one-pass path (all counts equal) as on the general one.
+#[test]
+fn legacy_binary_cell_list_errors_name_the_byte() {
+    let m = mixed_mesh(&[CellKind::Triangle]);
+    let bytes = write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() }).unwrap().main;
+    let list = memchr::memmem::find(&bytes, b"CELLS 2 8\n").unwrap() + b"CELLS 2 8\n".len();
+    // Second triangle's last node: 3 -> 4 (out of range) and -> -1.
+    for (v, shown) in [(4, 4), (-1, -1)] {
+        let mut bad = bytes.clone();
+        put_be(&mut bad, list + 4 * 7, v);
+        let e = read(Format::VtkLegacy, &bad).unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index, available: 4, .. } if index == shown), "{e}");
+        assert_eq!(e.at, Some(Position::Byte((list + 4 * 7) as u64)), "{e}");
+        assert!(e.to_string().contains("cell 1"), "{e}");
+    }
+    // A node count that differs from the first one: the general loop takes over and
+    // finds the list too short for it.
+    let mut bad = bytes.clone();
+    put_be(&mut bad, list + 4 * 4, 4);
+    let e = read(Format::VtkLegacy, &bad).unwrap_err();
+    assert!(e.to_string().contains("node count for cell 1, at most 3"), "{e}");
+    assert_eq!(e.at, Some(Position::Byte((list + 16) as u64)), "{e}");
+    // Counts 2 and 4 that fill the same list: read, then refused as triangles by type.
+    let mut odd = bytes.clone();
+    put_be(&mut odd, list, 2);
+    put_be(&mut odd, list + 4 * 3, 4);
+    let e = read(Format::VtkLegacy, &odd).unwrap_err();
+    assert!(e.to_string().contains("3 nodes for cell 0"), "{e}");
+}
