@@ -778,3 +778,38 @@ fn legacy_binary_cell_list_errors_name_the_byte() {
     let e = read(Format::VtkLegacy, &odd).unwrap_err();
     assert!(e.to_string().contains("3 nodes for cell 0"), "{e}");
 }
+
+/// Cell types and offsets are decoded straight into their final arrays: a type that
+/// does not fit a byte, a negative offset or one that does not rise is still refused,
+/// with the array's byte offset, in text and in appended raw binary alike.
+#[test]
+fn vtu_types_and_offsets_are_checked_as_decoded() {
+    let e = vtu_err(&VTU.replace("format=\"ascii\">5</DataArray>", "format=\"ascii\">300</DataArray>").replace("UInt8", "Int32"));
+    assert!(e.to_string().contains("a VTK cell type (0 to 255)") && e.to_string().contains("300"), "{e}");
+    let e = vtu_err(&VTU.replace("format=\"ascii\">3</DataArray>", "format=\"ascii\">-3</DataArray>"));
+    assert!(e.to_string().contains("cell end offset") && e.to_string().contains("-3"), "{e}");
+
+    let m = mixed_mesh(&[CellKind::Line, CellKind::Triangle]);
+    let opts = WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: false, ..Default::default() };
+    let bytes = write_bytes(Format::Vtu, &m, &opts).unwrap().main;
+    let back = read(Format::Vtu, &bytes).unwrap();
+    assert_eq!(back.blocks, m.blocks);
+    // The appended block holds the offsets as little-endian Int64 (3 lines, 2 triangles:
+    // 2 4 6 9 12) and the types as UInt8 (3 3 3 5 5); patch them in place.
+    let offsets: Vec<u8> = [2i64, 4, 6, 9, 12].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let at = memchr::memmem::find(&bytes, &offsets).expect("offsets in the appended data");
+    let mut bad = bytes.clone();
+    bad[at + 8..at + 16].copy_from_slice(&(-4i64).to_le_bytes());
+    let e = read(Format::Vtu, &bad).unwrap_err();
+    assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
+    assert!(e.to_string().contains("cell end offset") && e.to_string().contains("value 1") && e.to_string().contains("-4"), "{e}");
+    let mut bad = bytes.clone();
+    bad[at + 16..at + 24].copy_from_slice(&3i64.to_le_bytes());
+    let e = read(Format::Vtu, &bad).unwrap_err();
+    assert!(e.to_string().contains("offsets must rise") && e.to_string().contains("cell 2 ends at 3 after 4"), "{e}");
+    let types = memchr::memmem::find(&bytes, &[3u8, 3, 3, 5, 5]).expect("types in the appended data");
+    let mut bad = bytes.clone();
+    bad[types + 4] = 7;
+    let e = read(Format::Vtu, &bad).unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::Unsupported(_)) && e.to_string().contains("cell 4 has VTK type 7"), "{e}");
+}

@@ -253,6 +253,42 @@ pub(crate) fn decode_i64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
     Ok(())
 }
 
+/// Decodes `n` integers of type `ty` from `bytes` straight into their final type,
+/// appending to `out`: `conv` takes each value and refuses (with `None`) what its
+/// type cannot hold. Saves the `i64` array that [`decode_i64`] would fill for arrays
+/// such as cell types and offsets. Returns the index of the first refused value.
+pub(crate) fn decode_ints_as<T>(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mut Vec<T>, conv: impl Fn(i64) -> Option<T>) -> std::result::Result<(), usize> {
+    let bytes = &bytes[..n * ty.size()];
+    out.reserve(n);
+    macro_rules! conv {
+        ($t:ty, $w:expr) => {{
+            for (i, c) in bytes.chunks_exact($w).enumerate() {
+                let c = c.try_into().expect("chunk");
+                let v = if big { <$t>::from_be_bytes(c) } else { <$t>::from_le_bytes(c) };
+                out.push(i64::try_from(v).ok().and_then(&conv).ok_or(i)?);
+            }
+        }};
+    }
+    match ty {
+        Scalar::I8 => conv!(i8, 1),
+        Scalar::U8 => conv!(u8, 1),
+        Scalar::I16 => conv!(i16, 2),
+        Scalar::U16 => conv!(u16, 2),
+        Scalar::I32 => conv!(i32, 4),
+        Scalar::U32 => conv!(u32, 4),
+        Scalar::I64 => conv!(i64, 8),
+        Scalar::U64 => conv!(u64, 8),
+        Scalar::F32 | Scalar::F64 => {
+            let mut tmp = Vec::new();
+            decode_i64(bytes, ty, big, n, &mut tmp)?;
+            for (i, v) in tmp.into_iter().enumerate() {
+                out.push(conv(v).ok_or(i)?);
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Decodes `n` points (3 values each) straight into `[f64; 3]`, the hot path of
 /// every binary reader. Returns the index of the first non-finite value.
 pub(crate) fn decode_points(bytes: &[u8], ty: Scalar, big: bool, n: usize) -> std::result::Result<Vec<[f64; 3]>, usize> {
