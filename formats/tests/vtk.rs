@@ -813,3 +813,22 @@ fn vtu_types_and_offsets_are_checked_as_decoded() {
     let e = read(Format::Vtu, &bad).unwrap_err();
     assert!(matches!(e.kind, ErrorKind::Unsupported(_)) && e.to_string().contains("cell 4 has VTK type 7"), "{e}");
 }
+
+/// Lines after the optional `OFFSETS` keyword are counted once: `take_word` looks for
+/// it without consuming anything when it is absent (so a 4.2 binary cell list right
+/// after its header's newline is read intact), and the tokenizer's `peek` no longer
+/// counts the newlines before a peeked token twice (commit 7322f20).
+#[test]
+fn lines_after_the_optional_offsets_keyword_are_counted_once() {
+    // 5.1 ASCII: node 7 on line 11.
+    let v51 = "# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 double\n0 0 0 1 0 0 0 1 0\nCELLS 2 3\nOFFSETS vtktypeint64\n0 3\nCONNECTIVITY vtktypeint64\n0 1 7\nCELL_TYPES 1\n5\n";
+    let e = legacy_err(v51);
+    assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index: 7, .. }), "{e}");
+    assert_eq!(e.at, Some(Position::Line(11)), "{e}");
+    // 4.2 ASCII with blank lines before the cell list: node 3 on line 12.
+    let e = legacy_err(&TRI.replace("CELLS 1 4\n3 0 1 2", "CELLS 1 4\n\n\n3 0 1 3"));
+    assert_eq!(e.at, Some(Position::Line(12)), "{e}");
+    // The same, well formed, then an error further on: still the right line.
+    let e = legacy_err(&format!("{}POINT_DATA 3\nSCALARS s double\nLOOKUP_TABLE default\n1 2 x\n", TRI.replace("CELLS 1 4\n", "CELLS 1 4\n\n\n")));
+    assert_eq!(e.at, Some(Position::Line(18)), "{e}");
+}
