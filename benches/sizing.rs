@@ -1,17 +1,21 @@
 //! The six sizing algorithms, each as a one-step plan run by `compute_size_field`, on
 //! O-meshes of 10^4 to 4·10^6 vertices around a wavy closed border, next to the
 //! brute-force twin of their closest-point search. Throughput is in vertex
-//! evaluations (a closest point and a size tensor per reached vertex) per second;
-//! every function reaches as far as the mesh goes, so every algorithm reaches every
-//! vertex (the bench checks it and prints the counts).
+//! evaluations (a closest point and a size tensor per reached vertex) per second.
 //!
-//! - `<algorithm>/N`: one rayon thread (per core), N vertices.
-//! - `distance_to_border_2_threads/N`: DISTANCE_TO_BORDER on two threads.
-//! - `brute_force_<algorithm>/N`: the twin on one thread, on the smaller meshes: every
-//!   source segment scanned for every vertex (`closest_point_brute_force`), then the
-//!   tensor of DISTANCE_TO_BORDER (for DISTANCE_TO_POINT the exact isotropic size);
-//!   for DISTANCE_BETWEEN_TWO_BORDERS both borders are scanned. UNIFORM searches
-//!   nothing, so it has no twin.
+//! - `<algorithm>/N`: one rayon thread (per core), N vertices, every algorithm with the
+//!   same reach on every mesh (ten rings from a border, 0.2 from the point; UNIFORM
+//!   covers the face): the vertices reached stay near 10^5 while N grows 400-fold.
+//! - `brute_force_<algorithm>/10000`: the twin on one thread: every source segment
+//!   scanned for every vertex (`closest_point_brute_force`), then the tensor of
+//!   DISTANCE_TO_BORDER (for DISTANCE_TO_POINT the exact isotropic size); for
+//!   DISTANCE_BETWEEN_TWO_BORDERS both borders are scanned. UNIFORM searches nothing,
+//!   so it has no twin.
+//! - `distance_to_border_full_reach[_2_threads|_cpu_time]/N`, N up to 10^6: every
+//!   vertex reached, on one thread, on two, and on one timed in CPU time of the process
+//!   (`/proc/self/task/*/schedstat`: the per-core figure on a machine that other
+//!   processes share); `brute_force_distance_to_border_full_reach/N` up to 10^5.
+//!   The bench prints the index's work per vertex for these runs.
 //!
 //! Meshes: (around, layers) = (2000, 5), (10^4, 10), (10^4, 100), (10^4, 400): ring j
 //! at r(a) = 1 + 0.1 cos 5a + 0.004 j, angle a = 2π i / around, quads split along a
@@ -32,8 +36,8 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode, Throughput};
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::sizing::{
-    closest_point_brute_force, compute_size_field, Algorithm, CurvatureToSize, DistanceFunction, EntitySet, SizeProjectionFunction, SizingPlan,
-    Source, Step,
+    closest_point_brute_force, compute_size_field, propagate, Algorithm, CurvatureToSize, DistanceFunction, EntitySet, PropagationOptions,
+    SizeProjectionFunction, SizingPlan, Source, Step,
 };
 use smartmesh::{MeshGraph, SizeTensor, Topology};
 
@@ -131,22 +135,32 @@ fn df(s0: f64, s1: f64, dmax: f64, e: f64) -> DistanceFunction {
     DistanceFunction::try_new(s0, s1, dmax, e).unwrap()
 }
 
-/// The border functions (perpendicular, parallel) of DISTANCE_TO_BORDER and its twin.
-fn border_functions(case: &Case) -> (DistanceFunction, DistanceFunction) {
-    let d = case.extent();
+/// The border functions (perpendicular, parallel) of DISTANCE_TO_BORDER and its twin,
+/// reaching `d` from the border.
+fn border_functions(d: f64) -> (DistanceFunction, DistanceFunction) {
     (df(0.001, 0.1, d, 1.5), df(0.01, 0.2, d, 1.0))
 }
 
-/// The six algorithms as `(name, algorithm)`, every one reaching the whole mesh.
-fn algorithms(case: &Case) -> Vec<(&'static str, Algorithm)> {
-    let d = case.extent();
-    let (perpendicular, parallel) = border_functions(case);
+/// How far the sources of the six-algorithm table reach: ten rings from a border
+/// (about 64 border segments of the 10^4-segment border), 0.2 from the point. The same
+/// reach on every mesh, so that the vertices reached stay near 10^5 while the mesh
+/// grows to 4·10^6: the cost must follow the vertices reached, not the mesh.
+const REACH: f64 = 10.0 * SPACING;
+const POINT_REACH: f64 = 0.2;
+
+/// The six algorithms as `(name, algorithm)`, each reaching `reach` from its sources.
+fn algorithms(case: &Case, reach: f64) -> Vec<(&'static str, Algorithm)> {
+    let d = reach;
+    let (perpendicular, parallel) = border_functions(d);
     let projection = SizeProjectionFunction::try_new(0.2, d, 1.0).unwrap();
     vec![
         ("uniform", Algorithm::Uniform { size: 0.05, on: EntitySet { faces: vec![case.face(1)], ..EntitySet::default() } }),
         (
             "distance_to_point",
-            Algorithm::DistanceToPoint { function: df(0.001, 0.1, d, 1.0), sources: EntitySet { points: vec![case.point(5)], ..EntitySet::default() } },
+            Algorithm::DistanceToPoint {
+                function: df(0.001, 0.1, POINT_REACH.max(reach), 1.0),
+                sources: EntitySet { points: vec![case.point(5)], ..EntitySet::default() },
+            },
         ),
         ("distance_to_border", Algorithm::DistanceToBorder { perpendicular, parallel, borders: case.curves(1) }),
         (
@@ -186,8 +200,8 @@ fn twin_sources(case: &Case, name: &str) -> Option<Vec<Source>> {
 
 /// The twin: for every vertex, every segment of every source scanned, then the
 /// tensor of DISTANCE_TO_BORDER at the nearest one.
-fn brute_force(case: &Case, sources: &[Source]) -> Vec<SizeTensor> {
-    let (perp, par) = border_functions(case);
+fn brute_force(case: &Case, sources: &[Source], reach: f64) -> Vec<SizeTensor> {
+    let (perp, par) = border_functions(reach);
     (0..case.graph.num_vertices())
         .map(|v| {
             let p = case.graph.point(v);
@@ -204,6 +218,19 @@ fn brute_force(case: &Case, sources: &[Source]) -> Vec<SizeTensor> {
             SizeTensor::new(n, perp.eval(d), par.eval(d))
         })
         .collect()
+}
+
+/// CPU time of the whole process, every thread summed, from
+/// `/proc/self/task/*/schedstat` (nanoseconds spent on a CPU; `None` where there is no
+/// such file). On a shared, loaded machine wall time also counts the time other
+/// processes held the core; CPU time is what "per core" means.
+fn process_cpu_time() -> Option<Duration> {
+    let mut total = 0u64;
+    for task in std::fs::read_dir("/proc/self/task").ok()? {
+        let stat = std::fs::read_to_string(task.ok()?.path().join("schedstat")).ok()?;
+        total += stat.split_whitespace().next()?.parse::<u64>().ok()?;
+    }
+    Some(Duration::from_nanos(total))
 }
 
 fn dump(case: &Case) {
@@ -225,9 +252,10 @@ fn bench(c: &mut Criterion) {
     let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
     let max_vertices: usize = std::env::var("SMARTMESH_BENCH_MAX_VERTICES").ok().and_then(|s| s.parse().ok()).unwrap_or(4_000_000);
     let mut group = c.benchmark_group("sizing");
-    // Flat sampling: each sample the same number of runs, so that the 4·10^6-vertex
-    // runs take 10 iterations rather than criterion's 55.
+    // Flat sampling: each sample the same number of runs, so that the slow runs take
+    // 10 iterations rather than criterion's 55.
     group.sample_size(10).sampling_mode(SamplingMode::Flat).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
+    let run = |pool: &rayon::ThreadPool, case: &Case, p: &SizingPlan| pool.install(|| compute_size_field(&case.graph, &case.topology, p, &mut |_| {}).unwrap());
     for (around, layers) in [(2000usize, 5usize), (10_000, 10), (10_000, 100), (10_000, 400)] {
         if around * layers > max_vertices {
             continue;
@@ -235,25 +263,61 @@ fn bench(c: &mut Criterion) {
         let case = o_mesh(around, layers);
         dump(&case);
         let n = case.graph.num_vertices();
-        for (name, algorithm) in algorithms(&case) {
+
+        // The six algorithms, the same reach on every mesh.
+        for (name, algorithm) in algorithms(&case, REACH) {
             let p = plan(algorithm);
-            let field = compute_size_field(&case.graph, &case.topology, &p, &mut |_| {}).unwrap();
-            let reached = field.steps[0].vertices_reached;
-            eprintln!("{name}/{n}: {reached} vertices reached, {} source segments (border {around})", twin_sources(&case, name).map_or(0, |s| s.iter().map(|s| s.segments().len()).sum::<usize>()));
-            assert_eq!(reached, n, "{name}: every vertex within reach");
+            let reached = run(&one, &case, &p).steps[0].vertices_reached;
+            let segments = twin_sources(&case, name).map_or(0, |s| s.iter().map(|s| s.segments().len()).sum::<usize>());
+            eprintln!("{name}/{n}: {reached} vertices reached, {segments} source segments");
             group.throughput(Throughput::Elements(reached as u64));
-            group.bench_function(BenchmarkId::new(name, n), |b| b.iter(|| one.install(|| compute_size_field(&case.graph, &case.topology, &p, &mut |_| {}).unwrap())));
-            if name == "distance_to_border" {
-                group.bench_function(BenchmarkId::new("distance_to_border_2_threads", n), |b| {
-                    b.iter(|| two.install(|| compute_size_field(&case.graph, &case.topology, &p, &mut |_| {}).unwrap()))
-                });
+            group.bench_function(BenchmarkId::new(name, n), |b| b.iter(|| run(&one, &case, &p)));
+            // The twin costs vertices × segments: on the 10^4-vertex mesh only.
+            if let Some(sources) = twin_sources(&case, name).filter(|_| n <= 10_000) {
+                group.throughput(Throughput::Elements(n as u64));
+                group.bench_function(BenchmarkId::new(format!("brute_force_{name}"), n), |b| b.iter(|| brute_force(&case, &sources, REACH)));
             }
-            // The twin costs vertices × segments: 10^4 vertices for every algorithm,
-            // 10^5 for DISTANCE_TO_BORDER.
-            let twin_limit = if name == "distance_to_border" { 100_000 } else { 10_000 };
-            if let Some(sources) = twin_sources(&case, name).filter(|_| n <= twin_limit) {
-                group.bench_function(BenchmarkId::new(format!("brute_force_{name}"), n), |b| b.iter(|| brute_force(&case, &sources)));
-            }
+        }
+
+        // DISTANCE_TO_BORDER reaching every vertex, on up to 10^6 vertices (the target
+        // case: a 10^6-vertex mesh, a 10^4-segment border): wall time on one and two
+        // threads, CPU time on one, the twin up to 10^5 vertices.
+        if n > 1_000_000 {
+            continue;
+        }
+        let full = case.extent();
+        let (perpendicular, parallel) = border_functions(full);
+        let p = plan(Algorithm::DistanceToBorder { perpendicular, parallel, borders: case.curves(1) });
+        let source = Source::builder(&case.graph).topology_curve(&case.topology, case.curve(1)).build().unwrap();
+        let reach = propagate(&case.graph, &source, full, &PropagationOptions::new().with_parallel(false));
+        assert_eq!(reach.len(), n, "every vertex within reach");
+        let r = reach.report();
+        eprintln!(
+            "distance_to_border_full_reach/{n}: {} segments, farthest vertex {:.0} segment lengths out, {:.1} boxes and {:.1} segments tested per vertex, {} corrected by the index",
+            source.segments().len(),
+            reach.closest_points().iter().map(|c| c.distance).fold(0.0, f64::max) / (2.0 * PI / around as f64),
+            r.boxes_tested as f64 / r.evaluated as f64,
+            r.segments_tested as f64 / r.evaluated as f64,
+            r.corrected
+        );
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::new("distance_to_border_full_reach", n), |b| b.iter(|| run(&one, &case, &p)));
+        group.bench_function(BenchmarkId::new("distance_to_border_full_reach_2_threads", n), |b| b.iter(|| run(&two, &case, &p)));
+        // The same single-thread runs timed in process CPU time, not wall time.
+        if process_cpu_time().is_some() {
+            group.bench_function(BenchmarkId::new("distance_to_border_full_reach_cpu_time", n), |b| {
+                b.iter_custom(|iters| {
+                    let t0 = process_cpu_time().unwrap_or_default();
+                    for _ in 0..iters {
+                        std::hint::black_box(run(&one, &case, &p));
+                    }
+                    process_cpu_time().unwrap_or_default().saturating_sub(t0)
+                })
+            });
+        }
+        if n <= 100_000 {
+            let sources = [source];
+            group.bench_function(BenchmarkId::new("brute_force_distance_to_border_full_reach", n), |b| b.iter(|| brute_force(&case, &sources, full)));
         }
     }
     group.finish();

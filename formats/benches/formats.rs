@@ -83,6 +83,8 @@ fn cases() -> Vec<Case> {
         Case { name: "vtu_ascii", format: Format::Vtu, ext: "vtu", opts: WriteOptions { vtu_encoding: VtuEncoding::Ascii, compress: false, ..o() } },
         Case { name: "vtk42_ascii", format: Format::VtkLegacy, ext: "vtk", opts: o() },
         Case { name: "vtk42_binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { binary: true, ..o() } },
+        Case { name: "vtk51_ascii", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), ..o() } },
+        Case { name: "vtk51_binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), binary: true, ..o() } },
         Case { name: "medit_ascii", format: Format::Medit, ext: "mesh", opts: o() },
         Case { name: "medit_binary", format: Format::Medit, ext: "meshb", opts: WriteOptions { medit_binary: true, main_name: Some("big.meshb".into()), ..o() } },
         Case { name: "triangle", format: Format::Triangle, ext: "ele", opts: WriteOptions { main_name: Some("big.ele".into()), ..o() } },
