@@ -3,6 +3,10 @@
 //! brute-force twin of their closest-point search. Throughput is in vertex
 //! evaluations (a closest point and a size tensor per reached vertex) per second.
 //!
+//! Single-thread runs are timed in CPU time of the process (`/proc/self/task/*/schedstat`,
+//! summed over its threads; wall time where there is no such file): on a machine that
+//! other processes share, wall time also counts the time they held the core.
+//!
 //! - `<algorithm>/N`: one rayon thread (per core), N vertices, every algorithm with the
 //!   same reach on every mesh (ten rings from a border, 0.2 from the point; UNIFORM
 //!   covers the face): the vertices reached stay near 10^5 while N grows 400-fold.
@@ -12,15 +16,14 @@
 //!   DISTANCE_BETWEEN_TWO_BORDERS both borders are scanned. UNIFORM searches nothing,
 //!   so it has no twin.
 //! - `distance_to_border_full_reach[_2_threads|_cpu_time]/N`, N up to 10^6: every
-//!   vertex reached, on one thread, on two, and on one timed in CPU time of the process
-//!   (`/proc/self/task/*/schedstat`: the per-core figure on a machine that other
-//!   processes share); `brute_force_distance_to_border_full_reach/N` up to 10^5.
+//!   vertex reached, in wall time on one thread and on two, and in CPU time on one;
+//!   `brute_force_distance_to_border_full_reach/N` up to 10^5.
 //!   The bench prints the index's work per vertex for these runs.
 //!
 //! Meshes: (around, layers) = (2000, 5), (10^4, 10), (10^4, 100), (10^4, 400): ring j
 //! at r(a) = 1 + 0.1 cos 5a + 0.004 j, angle a = 2π i / around, quads split along a
 //! seeded random diagonal. Tags: the inner ring is curve 1 (the border, `around`
-//! segments), the outer ring curve 2, the triangles face 1, and a vertex half-way out
+//! segments), ring 8 (or the outer ring of a thinner mesh) curve 2, the triangles face 1, and a vertex half-way out
 //! at angle 0 is topological point 5. The imaginary polyline is a radial wake at angle
 //! π/3 across every ring but the first and the last, 1000 points.
 //!
@@ -116,12 +119,14 @@ fn o_mesh(around: usize, layers: usize) -> Case {
         }
     }
     let mut lines = CellBlock::new(CellKind::Line);
-    let outer = (layers - 1) * around;
+    // Curve 2, the second wall of DISTANCE_BETWEEN_TWO_BORDERS: ring 8 (0.032 out,
+    // inside the reach of the table's runs), or the outer ring of a thinner mesh.
+    let second = (layers - 1).min(8) * around;
     for i in 0..around {
         lines.push(&[i, (i + 1) % around], 1, 1);
     }
     for i in 0..around {
-        lines.push(&[outer + i, outer + (i + 1) % around], 2, 2);
+        lines.push(&[second + i, second + (i + 1) % around], 2, 2);
     }
     let mut point = CellBlock::new(CellKind::Vertex);
     point.push(&[(layers / 2) * around], 5, 5);
@@ -233,6 +238,24 @@ fn process_cpu_time() -> Option<Duration> {
     Some(Duration::from_nanos(total))
 }
 
+/// Benchmarks `f` in process CPU time where `/proc` gives it (wall time otherwise):
+/// the figures of a single-thread run are then per core even on a loaded machine.
+fn bench_cpu<M: criterion::measurement::Measurement<Value = Duration>, R>(g: &mut criterion::BenchmarkGroup<'_, M>, id: BenchmarkId, mut f: impl FnMut() -> R) {
+    if process_cpu_time().is_none() {
+        g.bench_function(id, |b| b.iter(&mut f));
+        return;
+    }
+    g.bench_function(id, |b| {
+        b.iter_custom(|iters| {
+            let t0 = process_cpu_time().unwrap_or_default();
+            for _ in 0..iters {
+                std::hint::black_box(f());
+            }
+            process_cpu_time().unwrap_or_default().saturating_sub(t0)
+        })
+    });
+}
+
 fn dump(case: &Case) {
     let Ok(dir) = std::env::var("SMARTMESH_BENCH_DUMP") else { return };
     let around = case.around;
@@ -271,11 +294,11 @@ fn bench(c: &mut Criterion) {
             let segments = twin_sources(&case, name).map_or(0, |s| s.iter().map(|s| s.segments().len()).sum::<usize>());
             eprintln!("{name}/{n}: {reached} vertices reached, {segments} source segments");
             group.throughput(Throughput::Elements(reached as u64));
-            group.bench_function(BenchmarkId::new(name, n), |b| b.iter(|| run(&one, &case, &p)));
+            bench_cpu(&mut group, BenchmarkId::new(name, n), || run(&one, &case, &p));
             // The twin costs vertices × segments: on the 10^4-vertex mesh only.
             if let Some(sources) = twin_sources(&case, name).filter(|_| n <= 10_000) {
                 group.throughput(Throughput::Elements(n as u64));
-                group.bench_function(BenchmarkId::new(format!("brute_force_{name}"), n), |b| b.iter(|| brute_force(&case, &sources, REACH)));
+                bench_cpu(&mut group, BenchmarkId::new(format!("brute_force_{name}"), n), || brute_force(&case, &sources, REACH));
             }
         }
 
@@ -303,21 +326,10 @@ fn bench(c: &mut Criterion) {
         group.throughput(Throughput::Elements(n as u64));
         group.bench_function(BenchmarkId::new("distance_to_border_full_reach", n), |b| b.iter(|| run(&one, &case, &p)));
         group.bench_function(BenchmarkId::new("distance_to_border_full_reach_2_threads", n), |b| b.iter(|| run(&two, &case, &p)));
-        // The same single-thread runs timed in process CPU time, not wall time.
-        if process_cpu_time().is_some() {
-            group.bench_function(BenchmarkId::new("distance_to_border_full_reach_cpu_time", n), |b| {
-                b.iter_custom(|iters| {
-                    let t0 = process_cpu_time().unwrap_or_default();
-                    for _ in 0..iters {
-                        std::hint::black_box(run(&one, &case, &p));
-                    }
-                    process_cpu_time().unwrap_or_default().saturating_sub(t0)
-                })
-            });
-        }
+        bench_cpu(&mut group, BenchmarkId::new("distance_to_border_full_reach_cpu_time", n), || run(&one, &case, &p));
         if n <= 100_000 {
             let sources = [source];
-            group.bench_function(BenchmarkId::new("brute_force_distance_to_border_full_reach", n), |b| b.iter(|| brute_force(&case, &sources, full)));
+            bench_cpu(&mut group, BenchmarkId::new("brute_force_distance_to_border_full_reach", n), || brute_force(&case, &sources, full));
         }
     }
     group.finish();
