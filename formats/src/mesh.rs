@@ -225,11 +225,7 @@ impl DataArray {
 
     /// Number of items (points or cells) the array covers.
     pub fn len(&self) -> usize {
-        if self.components == 0 {
-            0
-        } else {
-            self.values.len() / self.components
-        }
+        self.values.len().checked_div(self.components).unwrap_or(0)
     }
 
     /// Whether the array covers no item.
