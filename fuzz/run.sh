@@ -1,17 +1,25 @@
 #!/usr/bin/env bash
 # Runs every reader's fuzz target for a fixed time each (default 60 s), seeded with the
 # public fixtures. Not part of CI (slow); run before a release or after touching a reader:
-#   fuzz/run.sh [seconds-per-target]
-# Needs cargo-fuzz (`cargo install cargo-fuzz`). The machine has one stable toolchain:
-# RUSTC_BOOTSTRAP=1 lets it accept the sanitizer flags cargo-fuzz passes.
+#   fuzz/run.sh [seconds-per-target] [target...]   (default: every target)
+# Needs cargo-fuzz (`cargo install cargo-fuzz`). Uses the nightly toolchain when one is
+# installed; otherwise RUSTC_BOOTSTRAP=1 lets stable accept the sanitizer flags cargo-fuzz
+# passes. Each target's libFuzzer log goes to fuzz/logs/<target>.log and the closing
+# summary (runs, seconds) is printed at the end, for fuzz/README.md.
 set -euo pipefail
 cd "$(dirname "$0")"
 secs="${1:-60}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(gmsh vtk_legacy vtu triangle obj medit)
+toolchain=()
+if rustup toolchain list 2>/dev/null | grep -q '^nightly'; then toolchain=(+nightly); fi
+mkdir -p logs
 fixtures="${SMARTMESH_PUBLIC_FIXTURES:-$(cd ../.. && pwd)/shared/fixtures/public}"
 export RUSTC_BOOTSTRAP=1
 declare -A seeds=([gmsh]="gmsh/*.msh" [vtk_legacy]="vtk/*.vtk" [vtu]="vtk/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb")
 status=0
-for target in gmsh vtk_legacy vtu triangle obj medit; do
+for target in "${targets[@]}"; do
     corpus="corpus/$target"
     mkdir -p "$corpus"
     for pattern in ${seeds[$target]}; do
@@ -19,10 +27,22 @@ for target in gmsh vtk_legacy vtu triangle obj medit; do
             [ -f "$f" ] && [ "$(stat -c %s "$f")" -lt 300000 ] && cp -f "$f" "$corpus/"
         done
     done
+    if [ "$target" = triangle ]; then
+        # The triangle target reads `.ele NUL .node [NUL .poly]` as one set.
+        for ele in $fixtures/triangle/*.ele; do
+            base="${ele%.ele}"
+            [ -f "$base.node" ] || continue
+            { cat "$ele"; printf '\0'; cat "$base.node"; if [ -f "$base.poly" ]; then printf '\0'; cat "$base.poly"; fi; } > "$corpus/$(basename "$base").set"
+        done
+    fi
     echo "== $target for ${secs}s"
-    if ! cargo fuzz run "$target" "$corpus" -- -max_total_time="$secs" -rss_limit_mb=2048 -max_len=400000; then
-        echo "!! $target found a crash: see fuzz/artifacts/$target" >&2
+    if ! cargo "${toolchain[@]}" fuzz run "$target" "$corpus" -- -max_total_time="$secs" -rss_limit_mb=2048 -max_len=400000 2>&1 | tee "logs/$target.log"; then
+        echo "!! $target failed: a crash (see fuzz/artifacts/$target) or a build error (see fuzz/logs/$target.log)" >&2
         status=1
     fi
+done
+echo "== summary"
+for target in "${targets[@]}"; do
+    echo "$target: $(grep -E '^Done [0-9]+ runs' "logs/$target.log" || echo 'no summary (crash or build failure)')"
 done
 exit $status

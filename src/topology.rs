@@ -366,7 +366,9 @@ impl Topology {
             .iter()
             .map(|(k, info)| (*k, curve_of_edge.get(k).map_or(Classification::Face(info.faces[0]), |&c| Classification::Curve(c))))
             .collect();
-        // Line cells that bound no surface cell (a lone wake line) are edges too.
+        // Line cells that bound no surface cell (a lone wake line) are edges too. Hash
+        // order does not matter: the list is sorted by edge just below.
+        #[allow(clippy::iter_over_hash_type)]
         for (k, &c) in &curve_of_edge {
             if !edge_map.contains_key(k) {
                 edges.push((*k, Classification::Curve(c)));

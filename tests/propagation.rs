@@ -286,6 +286,39 @@ fn exactness_campaign_on_non_convex_sources() {
     assert_eq!(total.not_bitwise, 0);
 }
 
+/// Work per vertex stays O(1) amortised (thesis 7.3.5): the segment index looks at a
+/// bounded number of boxes and segments per evaluated vertex, and that number does not
+/// grow with the mesh: 10 times more vertices, with the source refined alike (the same
+/// number of segments per mesh edge) or not at all. A scan per vertex would grow with
+/// the segments. Counts, not clocks.
+#[test]
+fn work_per_vertex_does_not_grow_with_the_source_or_the_mesh() {
+    let mut per_vertex = Vec::new();
+    for (n, segments) in [(101usize, 1000usize), (317, 3162), (317, 1000)] {
+        let g = Grid::new(n, n, [0.0, 0.0], 1.0 / (n - 1) as f64, 0.3, 51);
+        let graph = g.graph();
+        let curve: Vec<Point2> = (0..segments)
+            .map(|k| {
+                let a = 2.0 * std::f64::consts::PI * k as f64 / segments as f64;
+                let r = 0.3 + 0.08 * (7.0 * a).cos() + 0.01 * (40.0 * a).sin();
+                [0.5 + r * a.cos(), 0.5 + r * a.sin()]
+            })
+            .collect();
+        let source = Source::builder(&graph).polyline(&curve, true).build().unwrap();
+        let reach = propagate(&graph, &source, f64::INFINITY, &PropagationOptions::new());
+        assert_eq!(reach.len(), n * n, "every vertex reached");
+        let r = reach.report();
+        let (boxes, segs) = (r.boxes_tested as f64 / r.evaluated as f64, r.segments_tested as f64 / r.evaluated as f64);
+        eprintln!("{} vertices, {segments} segments: {boxes:.1} boxes and {segs:.1} segments tested per vertex", n * n);
+        assert!(segs < 0.05 * segments as f64, "{segs} segments per vertex: a scan of the source");
+        per_vertex.push((boxes, segs));
+    }
+    let (b0, s0) = per_vertex[0];
+    for &(b1, s1) in &per_vertex[1..] {
+        assert!(b1 <= 1.5 * b0 + 4.0 && s1 <= 1.5 * s0 + 4.0, "work per vertex grew: {b0:.1} -> {b1:.1} boxes, {s0:.1} -> {s1:.1} segments");
+    }
+}
+
 #[test]
 fn source_from_topology_curves_and_points() {
     // A 40 × 40 jittered grid as a TaggedMesh: a tagged line along a U of mesh edges

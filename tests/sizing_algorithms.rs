@@ -862,6 +862,57 @@ fn same_field_whatever_the_thread_count() {
     assert!(one.steps[0].vertices_reached > 4096, "levels large enough to run in parallel");
 }
 
+/// The six algorithms as one-step plans run side by side on a rayon pool (several
+/// algorithms at once, each also spreading its levels and vertex ranges over the
+/// threads) give, bit for bit, the fields that running them one after the other on
+/// one thread gives; and the plan of all six agrees with itself on 1, 2 and 4 threads.
+#[test]
+fn algorithms_run_side_by_side_give_the_same_bits() {
+    use rayon::prelude::*;
+    // 0.6 wide, so that the two side walls of the gap step are within its reach.
+    let m = grid(161, 161, 0.6 / 160.0, 0.3, 17, 0.3, (80, 120));
+    let mut steps = three_steps(&m);
+    steps.push((
+        "wake",
+        Algorithm::DistanceToImaginaryPolyline {
+            perpendicular: df(0.002, 0.1, 0.3, 1.0),
+            polyline_distance: df(0.01, 0.1, 1.0, 1.0),
+            projection: SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap(),
+            polyline: vec![[0.1, 0.5], [0.5, 0.6], [0.9, 0.4]],
+            within: EntitySet::default(),
+        },
+    ));
+    steps.push((
+        "curvature",
+        Algorithm::CurvatureOfBorder {
+            perpendicular: df(0.002, 0.1, 0.3, 1.0),
+            curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(),
+            projection: SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap(),
+            borders: m.curves(&[11, 12, 13, 14]),
+        },
+    ));
+    let kinds: std::collections::BTreeSet<&str> = steps.iter().map(|(_, a)| a.keyword()).collect();
+    assert_eq!(kinds.len(), 6, "all six algorithms");
+    let plans: Vec<SizingPlan> = steps.iter().map(|s| plan(Some(0.2), vec![s.clone()])).collect();
+    let bits = |f: &SizeField| f.tensors.iter().flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits)).collect::<Vec<u64>>();
+    let pool = |threads: usize| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    let one_by_one: Vec<Vec<u64>> = pool(1).install(|| plans.iter().map(|p| bits(&run(&m, p))).collect());
+    for threads in [2, 4] {
+        let side_by_side: Vec<Vec<u64>> = pool(threads).install(|| plans.par_iter().map(|p| bits(&run(&m, p))).collect());
+        for (i, (a, b)) in one_by_one.iter().zip(&side_by_side).enumerate() {
+            assert!(a == b, "{} on {threads} threads side by side differs from one thread", steps[i].0);
+        }
+    }
+    let all = plan(Some(0.2), steps);
+    let reference = pool(1).install(|| run(&m, &all));
+    assert!(reference.steps.iter().all(|s| s.vertices_reached > 0), "{:?}", reference.steps);
+    for threads in [2, 4] {
+        let f = pool(threads).install(|| run(&m, &all));
+        assert_eq!(bits(&f), bits(&reference), "six steps on {threads} threads");
+        assert_eq!(f.steps, reference.steps);
+    }
+}
+
 #[test]
 fn errors_are_values() {
     let m = grid(11, 11, 0.1, 0.2, 17, 0.5, (5, 5));

@@ -3,6 +3,7 @@ so that smartmesh and meshio are measured on the same bytes in the same session.
 
     cargo bench -p smartmesh-formats --bench formats      # writes the files, times smartmesh
     python3 formats/benches/compare_meshio.py [target/bench-meshes]
+    SMARTMESH_BENCH_ONLY=vtk51_binary,medit_binary python3 formats/benches/compare_meshio.py ...
 
 Prints one line per file: best of `repeat` wall times for meshio read and write (the
 write is of the mesh meshio just read, in the same format and encoding).
@@ -15,6 +16,8 @@ import meshio
 
 DIR = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "..", "target", "bench-meshes")
 REPEAT = int(os.environ.get("REPEAT", "3"))
+# SMARTMESH_BENCH_ONLY=vtk51_ascii,vtk51_binary: some cases only (as in the criterion bench).
+ONLY = [c for c in os.environ.get("SMARTMESH_BENCH_ONLY", "").split(",") if c]
 
 CASES = [
     # file, meshio read format, meshio write kwargs
@@ -27,6 +30,8 @@ CASES = [
     ("vtu_ascii.vtu", "vtu", dict(file_format="vtu", binary=False)),
     ("vtk42_ascii.vtk", "vtk", dict(file_format="vtk42", binary=False)),
     ("vtk42_binary.vtk", "vtk", dict(file_format="vtk42", binary=True)),
+    ("vtk51_ascii.vtk", "vtk", dict(file_format="vtk51", binary=False)),
+    ("vtk51_binary.vtk", "vtk", dict(file_format="vtk51", binary=True)),
     ("medit_ascii.mesh", "medit", dict(file_format="medit")),
     ("obj.obj", "obj", dict(file_format="obj")),
 ]
@@ -46,6 +51,8 @@ def main():
     out = os.path.join(DIR, "meshio_out")
     os.makedirs(out, exist_ok=True)
     for name, fmt, wkw in CASES:
+        if ONLY and os.path.splitext(name)[0] not in ONLY:
+            continue
         path = os.path.join(DIR, name)
         if not os.path.exists(path):
             print(f"{name:24s} missing")

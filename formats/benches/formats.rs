@@ -3,6 +3,8 @@
 //!
 //!   cargo bench -p smartmesh-formats --bench formats
 //!   SMARTMESH_BENCH_N=200 cargo bench ...   # a smaller grid for a quick look
+//!   SMARTMESH_BENCH_ONLY=vtk42_binary,vtu_appended_raw cargo bench ...   # some cases only
+//!     (and only their files written: what a profiler should see)
 //!
 //! The files are also left in `target/bench-meshes/` so that `benches/compare_meshio.py`
 //! times meshio on the very same bytes in the same session (see BENCHMARKS.md).
@@ -11,7 +13,7 @@ use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{criterion_group, criterion_main, Criterion, SamplingMode, Throughput};
 use smartmesh_formats::{
     read_bytes, sym2_to_tensor9, write_bytes, CellBlock, CellKind, DataArray, Format, GmshVersion, MemorySiblings, ReadContext, TaggedMesh,
     VtuEncoding, WriteOptions,
@@ -81,6 +83,8 @@ fn cases() -> Vec<Case> {
         Case { name: "vtu_ascii", format: Format::Vtu, ext: "vtu", opts: WriteOptions { vtu_encoding: VtuEncoding::Ascii, compress: false, ..o() } },
         Case { name: "vtk42_ascii", format: Format::VtkLegacy, ext: "vtk", opts: o() },
         Case { name: "vtk42_binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { binary: true, ..o() } },
+        Case { name: "vtk51_ascii", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), ..o() } },
+        Case { name: "vtk51_binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), binary: true, ..o() } },
         Case { name: "medit_ascii", format: Format::Medit, ext: "mesh", opts: o() },
         Case { name: "medit_binary", format: Format::Medit, ext: "meshb", opts: WriteOptions { medit_binary: true, main_name: Some("big.meshb".into()), ..o() } },
         Case { name: "triangle", format: Format::Triangle, ext: "ele", opts: WriteOptions { main_name: Some("big.ele".into()), ..o() } },
@@ -100,7 +104,8 @@ fn bench(c: &mut Criterion) {
     let mesh = big_mesh(n);
     let dir = out_dir();
     eprintln!("mesh: {} points, {} triangles", mesh.points.len(), mesh.num_cells_of(CellKind::Triangle));
-    for case in cases() {
+    let only: Option<Vec<String>> = std::env::var("SMARTMESH_BENCH_ONLY").ok().map(|s| s.split(',').map(str::to_string).collect());
+    for case in cases().into_iter().filter(|c| only.as_ref().map_or(true, |o| o.iter().any(|n| n == c.name))) {
         let written = match write_bytes(case.format, &mesh, &case.opts) {
             Ok(w) => w,
             Err(e) => {
@@ -116,7 +121,9 @@ fn bench(c: &mut Criterion) {
         let bytes = written.main.len() as u64 + written.siblings.iter().map(|s| s.1.len() as u64).sum::<u64>();
         let sib = MemorySiblings::from_written(&written);
         let mut g = c.benchmark_group(case.name);
-        g.sample_size(10).measurement_time(Duration::from_secs(8)).warm_up_time(Duration::from_secs(1));
+        // Flat sampling: ten runs of a slow ASCII case rather than criterion's 55, so
+        // that the whole bench fits in a few minutes on a shared machine.
+        g.sample_size(10).sampling_mode(SamplingMode::Flat).measurement_time(Duration::from_secs(4)).warm_up_time(Duration::from_secs(1));
         g.throughput(Throughput::Bytes(bytes));
         g.bench_function("memcpy", |b| {
             b.iter(|| {

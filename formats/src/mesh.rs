@@ -225,11 +225,7 @@ impl DataArray {
 
     /// Number of items (points or cells) the array covers.
     pub fn len(&self) -> usize {
-        if self.components == 0 {
-            0
-        } else {
-            self.values.len() / self.components
-        }
+        self.values.len().checked_div(self.components).unwrap_or(0)
     }
 
     /// Whether the array covers no item.
@@ -386,9 +382,13 @@ impl TaggedMesh {
     pub fn validate(&self) -> Vec<MeshProblem> {
         let mut problems = Vec::new();
         let n = self.points.len();
-        for (i, p) in self.points.iter().enumerate() {
-            if !p.iter().all(|c| c.is_finite()) {
-                problems.push(MeshProblem::NonFiniteCoordinate { point: i });
+        // Each check is first one branch-free pass (what a large mesh costs); the
+        // culprits are looked for only when it fails.
+        if !self.points.as_flattened().iter().fold(true, |ok, c| ok & c.is_finite()) {
+            for (i, p) in self.points.iter().enumerate() {
+                if !p.iter().all(|c| c.is_finite()) {
+                    problems.push(MeshProblem::NonFiniteCoordinate { point: i });
+                }
             }
         }
         let mut offset = 0;
@@ -398,9 +398,11 @@ impl TaggedMesh {
                 problems.push(MeshProblem::BlockLengths { block: bi });
                 continue;
             }
-            for (ci, cell) in b.cells().enumerate() {
-                if let Some(&bad) = cell.iter().find(|&&v| v >= n) {
-                    problems.push(MeshProblem::NodeOutOfRange { cell: offset + ci, node: bad });
+            if b.nodes.iter().fold(0, |m, &v| m.max(v)) >= n {
+                for (ci, cell) in b.cells().enumerate() {
+                    if let Some(&bad) = cell.iter().find(|&&v| v >= n) {
+                        problems.push(MeshProblem::NodeOutOfRange { cell: offset + ci, node: bad });
+                    }
                 }
             }
             offset += b.len();

@@ -920,3 +920,42 @@ fn bench_against_mshio() {
         println!("smartmesh: {:?}", read_msh(head.as_bytes()).err().map(|e| e.to_string()));
     }
 }
+
+/// Binary `$NodeData` tables are taken whole and converted in one pass, and a view in
+/// node order becomes the point array as read: a NaN or an unknown node tag is still
+/// refused at its byte, in both versions, and a view in another order is still put in
+/// node order.
+#[test]
+fn binary_node_data_is_checked_value_by_value() {
+    let mut m = small_mesh();
+    m.cell_data.clear();
+    let marker = 1234.5678f64;
+    m.point_data.get_mut("metric").unwrap().values[9 * 3 + 4] = marker;
+    for version in [GmshVersion::V22, GmshVersion::V41] {
+        let bytes = gmsh::write(&m, &opts(version, true)).unwrap().main;
+        let back = read_msh(&bytes).unwrap();
+        assert_data_bitwise(&back.point_data, &m.point_data, &format!("{version:?}"));
+        let at = memchr::memmem::find(&bytes, &marker.to_le_bytes()).unwrap();
+        let mut bad = bytes.clone();
+        bad[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
+        let e = read_msh(&bad).unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{version:?}: {e}");
+        assert_eq!(e.at, Some(Position::Byte(at as u64)), "{version:?}: {e}");
+        // The entry's node tag (4 + 8 * 4 bytes before the value): 4 -> 99.
+        let tag_at = at - 8 * 4 - 4;
+        assert_eq!(bytes[tag_at..tag_at + 4], 4i32.to_le_bytes(), "{version:?}");
+        let mut bad = bytes.clone();
+        bad[tag_at..tag_at + 4].copy_from_slice(&99i32.to_le_bytes());
+        let e = read_msh(&bad).unwrap_err();
+        assert!(e.to_string().contains("node 99, which the mesh does not have"), "{version:?}: {e}");
+        assert_eq!(e.at, Some(Position::Byte(tag_at as u64)), "{version:?}: {e}");
+        // Entries 3 and 4 swapped (tags and values): the array is still in node order.
+        let rec = 4 + 8 * 9;
+        let (a, b) = (tag_at, tag_at + rec);
+        let mut swapped = bytes.clone();
+        swapped[a..a + rec].copy_from_slice(&bytes[b..b + rec]);
+        swapped[b..b + rec].copy_from_slice(&bytes[a..a + rec]);
+        let back = read_msh(&swapped).unwrap();
+        assert_data_bitwise(&back.point_data, &m.point_data, &format!("{version:?} swapped"));
+    }
+}

@@ -703,3 +703,132 @@ fn empty_meshes_round_trip() {
         }
     }
 }
+
+/// Four points, two triangles, two lines: in the order `blocks` gives.
+fn mixed_mesh(order: &[CellKind]) -> TaggedMesh {
+    let mut m = TaggedMesh::new();
+    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    for (i, &kind) in order.iter().enumerate() {
+        let mut b = smartmesh_formats::CellBlock::new(kind);
+        let t = i as i32 + 1;
+        match kind {
+            CellKind::Triangle => {
+                b.push(&[0, 1, 2], t, 10 + t);
+                b.push(&[0, 2, 3], t, 10 + t);
+            }
+            _ => {
+                b.push(&[0, 1], t, 10 + t);
+                b.push(&[1, 2], t, 10 + t);
+                b.push(&[2, 3], t, 10 + t);
+            }
+        }
+        m.blocks.push(b);
+    }
+    m
+}
+
+/// The binary readers convert the largest block in place and the others by copy, and
+/// read a cell list whose node counts all agree in one pass: whichever block is the
+/// largest, and wherever it sits, blocks, order and tags come back as written.
+#[test]
+fn binary_blocks_come_back_in_order_whichever_is_largest() {
+    use CellKind::{Line, Triangle};
+    for order in [&[Triangle][..], &[Line], &[Line, Triangle], &[Triangle, Line], &[Triangle, Line, Triangle], &[Line, Triangle, Line]] {
+        let m = mixed_mesh(order);
+        for (label, format, opts) in variants().into_iter().filter(|v| v.2.binary || v.2.vtu_encoding != VtuEncoding::Ascii) {
+            let bytes = write_bytes(format, &m, &opts).unwrap().main;
+            let back = read(format, &bytes).unwrap_or_else(|e| panic!("{label} {order:?}: {e}"));
+            assert_eq!(back.blocks, m.blocks, "{label} {order:?}");
+        }
+    }
+}
+
+/// Big-endian 32-bit words of a legacy binary file.
+fn put_be(bytes: &mut [u8], at: usize, v: i32) {
+    bytes[at..at + 4].copy_from_slice(&v.to_be_bytes());
+}
+
+/// A legacy binary triangle mesh whose cell list is altered: each error names the
+/// byte of the bad word, on the one-pass path (all counts equal) as on the general one.
+#[test]
+fn legacy_binary_cell_list_errors_name_the_byte() {
+    let m = mixed_mesh(&[CellKind::Triangle]);
+    let bytes = write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() }).unwrap().main;
+    let list = memchr::memmem::find(&bytes, b"CELLS 2 8\n").unwrap() + b"CELLS 2 8\n".len();
+    // Second triangle's last node: 3 -> 4 (out of range) and -> -1.
+    for (v, shown) in [(4, 4), (-1, -1)] {
+        let mut bad = bytes.clone();
+        put_be(&mut bad, list + 4 * 7, v);
+        let e = read(Format::VtkLegacy, &bad).unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index, available: 4, .. } if index == shown), "{e}");
+        assert_eq!(e.at, Some(Position::Byte((list + 4 * 7) as u64)), "{e}");
+        assert!(e.to_string().contains("cell 1"), "{e}");
+    }
+    // A node count that differs from the first one: the general loop takes over and
+    // finds the list too short for it.
+    let mut bad = bytes.clone();
+    put_be(&mut bad, list + 4 * 4, 4);
+    let e = read(Format::VtkLegacy, &bad).unwrap_err();
+    assert!(e.to_string().contains("node count for cell 1, at most 3"), "{e}");
+    assert_eq!(e.at, Some(Position::Byte((list + 16) as u64)), "{e}");
+    // Counts 2 and 4 that fill the same list: read, then refused as triangles by type.
+    let mut odd = bytes.clone();
+    put_be(&mut odd, list, 2);
+    put_be(&mut odd, list + 4 * 3, 4);
+    let e = read(Format::VtkLegacy, &odd).unwrap_err();
+    assert!(e.to_string().contains("3 nodes for cell 0"), "{e}");
+}
+
+/// Cell types and offsets are decoded straight into their final arrays: a type that
+/// does not fit a byte, a negative offset or one that does not rise is still refused,
+/// with the array's byte offset, in text and in appended raw binary alike.
+#[test]
+fn vtu_types_and_offsets_are_checked_as_decoded() {
+    let e = vtu_err(&VTU.replace("format=\"ascii\">5</DataArray>", "format=\"ascii\">300</DataArray>").replace("UInt8", "Int32"));
+    assert!(e.to_string().contains("a VTK cell type (0 to 255)") && e.to_string().contains("300"), "{e}");
+    let e = vtu_err(&VTU.replace("format=\"ascii\">3</DataArray>", "format=\"ascii\">-3</DataArray>"));
+    assert!(e.to_string().contains("cell end offset") && e.to_string().contains("-3"), "{e}");
+
+    let m = mixed_mesh(&[CellKind::Line, CellKind::Triangle]);
+    let opts = WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: false, ..Default::default() };
+    let bytes = write_bytes(Format::Vtu, &m, &opts).unwrap().main;
+    let back = read(Format::Vtu, &bytes).unwrap();
+    assert_eq!(back.blocks, m.blocks);
+    // The appended block holds the offsets as little-endian Int64 (3 lines, 2 triangles:
+    // 2 4 6 9 12) and the types as UInt8 (3 3 3 5 5); patch them in place.
+    let offsets: Vec<u8> = [2i64, 4, 6, 9, 12].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let at = memchr::memmem::find(&bytes, &offsets).expect("offsets in the appended data");
+    let mut bad = bytes.clone();
+    bad[at + 8..at + 16].copy_from_slice(&(-4i64).to_le_bytes());
+    let e = read(Format::Vtu, &bad).unwrap_err();
+    assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
+    assert!(e.to_string().contains("cell end offset") && e.to_string().contains("value 1") && e.to_string().contains("-4"), "{e}");
+    let mut bad = bytes.clone();
+    bad[at + 16..at + 24].copy_from_slice(&3i64.to_le_bytes());
+    let e = read(Format::Vtu, &bad).unwrap_err();
+    assert!(e.to_string().contains("offsets must rise") && e.to_string().contains("cell 2 ends at 3 after 4"), "{e}");
+    let types = memchr::memmem::find(&bytes, &[3u8, 3, 3, 5, 5]).expect("types in the appended data");
+    let mut bad = bytes.clone();
+    bad[types + 4] = 7;
+    let e = read(Format::Vtu, &bad).unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::Unsupported(_)) && e.to_string().contains("cell 4 has VTK type 7"), "{e}");
+}
+
+/// Lines after the optional `OFFSETS` keyword are counted once: `take_word` looks for
+/// it without consuming anything when it is absent (so a 4.2 binary cell list right
+/// after its header's newline is read intact), and the tokenizer's `peek` no longer
+/// counts the newlines before a peeked token twice (commit 7322f20).
+#[test]
+fn lines_after_the_optional_offsets_keyword_are_counted_once() {
+    // 5.1 ASCII: node 7 on line 11.
+    let v51 = "# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 double\n0 0 0 1 0 0 0 1 0\nCELLS 2 3\nOFFSETS vtktypeint64\n0 3\nCONNECTIVITY vtktypeint64\n0 1 7\nCELL_TYPES 1\n5\n";
+    let e = legacy_err(v51);
+    assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index: 7, .. }), "{e}");
+    assert_eq!(e.at, Some(Position::Line(11)), "{e}");
+    // 4.2 ASCII with blank lines before the cell list: node 3 on line 12.
+    let e = legacy_err(&TRI.replace("CELLS 1 4\n3 0 1 2", "CELLS 1 4\n\n\n3 0 1 3"));
+    assert_eq!(e.at, Some(Position::Line(12)), "{e}");
+    // The same, well formed, then an error further on: still the right line.
+    let e = legacy_err(&format!("{}POINT_DATA 3\nSCALARS s double\nLOOKUP_TABLE default\n1 2 x\n", TRI.replace("CELLS 1 4\n", "CELLS 1 4\n\n\n")));
+    assert_eq!(e.at, Some(Position::Line(18)), "{e}");
+}

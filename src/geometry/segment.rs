@@ -66,6 +66,7 @@ impl SegmentGeom {
         let ap = [p[0] - self.a[0], p[1] - self.a[1]];
         let t = (ap[0] * self.d[0] + ap[1] * self.d[1]) * self.inv_len2;
         // `!(t > 0.0)` also catches NaN from non-finite input.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         let (t, foot) = if !(t > 0.0) {
             (0.0, self.a)
         } else if t >= 1.0 {

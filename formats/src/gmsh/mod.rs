@@ -998,7 +998,30 @@ impl<'a> Reader<'a> {
         let unknown = |c: &Cursor, at: Position, tag: i64| {
             c.err_at(at, ErrorKind::Inconsistent(format!("${section} `{name}` gives a value for {what} {tag}, which the mesh does not have")))
         };
-        if self.c.binary {
+        if self.c.binary && kind != ViewKind::ElementNode {
+            // Fixed-size entries (a tag and `ncomp` doubles): the whole table is taken
+            // at once and each value checked as it is converted.
+            self.c.end_text_line()?;
+            let rec = 4 + 8 * ncomp;
+            let p0 = self.c.pos();
+            let table = self.c.take_array(n, rec, "data entries (a 4-byte tag and 8-byte values each)")?;
+            for (e, ch) in table.chunks_exact(rec).enumerate() {
+                let tag = le_i32(ch);
+                let target = u64::try_from(tag).ok().and_then(|t| map.get(t)).ok_or_else(|| unknown(&self.c, Position::Byte((p0 + e * rec) as u64), tag as i64))?;
+                let mut finite = true;
+                values.extend(ch[4..].chunks_exact(8).map(|c| {
+                    let v = le_f64(c);
+                    finite &= v.is_finite();
+                    v
+                }));
+                if !finite {
+                    let j = ch[4..].chunks_exact(8).position(|c| !le_f64(c).is_finite()).unwrap_or(0);
+                    let v = le_f64(&ch[4 + 8 * j..]);
+                    return Err(self.c.byte_err(p0 + e * rec + 4 + 8 * j, ErrorKind::NonFinite { what: format!("a value of `{name}`"), value: v.to_string() }));
+                }
+                targets.push(target);
+            }
+        } else if self.c.binary {
             self.c.end_text_line()?;
             for _ in 0..n {
                 let pos = self.c.pos();
@@ -1209,6 +1232,10 @@ impl<'a> Reader<'a> {
                     values[dst + src.len()..dst + width].fill(f64::NAN);
                 }
                 DataArray::new(width, values)
+            } else if rank.is_none() && v.targets.len() == n && v.targets.iter().enumerate().all(|(i, &t)| i == t) {
+                // One value per item in item order (what Gmsh and smartmesh write):
+                // the values read are the array.
+                DataArray::new(v.ncomp, v.values)
             } else {
                 let k = v.ncomp;
                 let mut values = vec![f64::NAN; n * k];

@@ -100,6 +100,9 @@ fn parametric_count(dim: i32) -> Option<usize> {
 /// further physical group of its entity as one cell.
 struct Collector {
     cur: Option<RawBlock>,
+    /// Elements about to be added (a binary block's count): room is made for them
+    /// once, rather than by repeated growth.
+    hint: usize,
     /// Tag of the element read last (a cell or a copy).
     last_tag: u64,
 }
@@ -139,13 +142,14 @@ impl Collector {
                 r.push_raw(done);
             }
         }
+        let hint = std::mem::take(&mut self.hint);
         let b = self.cur.get_or_insert_with(|| RawBlock {
             kind,
             at,
             tags: super::TagList::new(),
-            nodes: Vec::new(),
-            physical: Vec::new(),
-            geometrical: Vec::new(),
+            nodes: Vec::with_capacity(hint * kind.nodes_per_cell()),
+            physical: Vec::with_capacity(hint),
+            geometrical: Vec::with_capacity(hint),
             entity: None,
         });
         b.tags.push(tag);
@@ -165,7 +169,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
     let binary = r.c.binary;
     let n = r.c.count("number of elements", 8)?;
     let map: TagMap = r.take_node_map()?;
-    let mut col = Collector { cur: None, last_tag: 0 };
+    let mut col = Collector { cur: None, hint: 0, last_tag: 0 };
     let mut nodes = [0usize; 9];
     if binary {
         r.c.end_text_line()?;
@@ -189,6 +193,16 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             let rec = 4 * (1 + ntags + k);
             let p = r.c.pos();
             let data = r.c.take_array(count, rec, "elements")?;
+            // Room for the block's elements: in the block being filled when it has this
+            // kind, in the next one otherwise (the count is bounded by the bytes taken).
+            match &mut col.cur {
+                Some(b) if b.kind == kind => {
+                    b.nodes.reserve(count * k);
+                    b.physical.reserve(count);
+                    b.geometrical.reserve(count);
+                }
+                _ => col.hint = count,
+            }
             for (e, ch) in data.chunks_exact(rec).enumerate() {
                 let at = p + e * rec;
                 let et = le_i32(ch);

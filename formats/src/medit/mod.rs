@@ -295,6 +295,9 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize) -> Result<BTreeMap<String, 
     }
     let sizes: Vec<usize> = sol.types.iter().map(|&t| sol_size(t, dim).unwrap_or(0)).collect();
     let stride: usize = sizes.iter().sum();
+    if sizes.contains(&0) || sol.values.len() != sol.n * stride {
+        return Err(error_at(at, ErrorKind::Inconsistent(format!("SolAtVertices holds {} values, expected {} vertices of {stride}", sol.values.len(), sol.n))));
+    }
     let mut out = BTreeMap::new();
     let mut seen: BTreeMap<&str, usize> = BTreeMap::new();
     let mut offset = 0;
@@ -316,19 +319,19 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize) -> Result<BTreeMap<String, 
         } else {
             9
         };
-        let mut values = Vec::with_capacity(comps * sol.n);
-        for v in 0..sol.n {
-            let s = &sol.values[v * stride + offset..v * stride + offset + size];
-            match (typ, d) {
-                (1, _) => values.push(s[0]),
-                (2, 2) => values.extend_from_slice(&[s[0], s[1], 0.0]),
-                (2, _) => values.extend_from_slice(&s[..3]),
-                (3, 2) => values.extend_from_slice(&sym2_to_tensor9(s[0], s[1], s[2], 1.0)),
-                // libMeshb's 3D order: m11 m12 m22 m13 m23 m33.
-                (3, _) => values.extend_from_slice(&[s[0], s[1], s[3], s[1], s[2], s[4], s[3], s[4], s[5]]),
-                (_, 2) => values.extend_from_slice(&[s[0], s[1], 0.0, s[2], s[3], 0.0, 0.0, 0.0, 1.0]),
-                (_, _) => values.extend_from_slice(&s[..9]),
-            }
+        // The layout is decided once per field, then each vertex's values are written
+        // in place (one pass over the solution, no per-value growth check).
+        let mut values = vec![0.0; comps * sol.n];
+        let items = values.chunks_exact_mut(comps).zip(sol.values.chunks_exact(stride).map(|r| &r[offset..offset + size]));
+        match (typ, d) {
+            (1, _) => items.for_each(|(o, s)| o[0] = s[0]),
+            (2, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[s[0], s[1], 0.0])),
+            (2, _) => items.for_each(|(o, s)| o.copy_from_slice(&s[..3])),
+            (3, 2) => items.for_each(|(o, s)| o.copy_from_slice(&sym2_to_tensor9(s[0], s[1], s[2], 1.0))),
+            // libMeshb's 3D order: m11 m12 m22 m13 m23 m33.
+            (3, _) => items.for_each(|(o, s)| o.copy_from_slice(&[s[0], s[1], s[3], s[1], s[2], s[4], s[3], s[4], s[5]])),
+            (_, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[s[0], s[1], 0.0, s[2], s[3], 0.0, 0.0, 0.0, 1.0])),
+            (_, _) => items.for_each(|(o, s)| o.copy_from_slice(&s[..9])),
         }
         out.insert(name, DataArray::new(comps, values));
         offset += size;

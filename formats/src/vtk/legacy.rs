@@ -310,21 +310,35 @@ impl<'a> Reader<'a> {
                 let bytes = self.binary_bytes(size, Scalar::I32, "cell list")?;
                 let word = |i: usize| i32::from_be_bytes(bytes[4 * i..4 * i + 4].try_into().expect("4 bytes")) as i64;
                 let k0 = if n > 0 { word(0) } else { 0 };
-                let uniform =
-                    n > 0 && (1..=64).contains(&k0) && size == n * (k0 as usize + 1) && bytes.chunks_exact(4 * (k0 as usize + 1)).all(|c| c[..4] == bytes[..4]);
                 let mut p = 0;
-                if uniform {
-                    // Every cell has the same node count (a triangle mesh): one pass.
+                // Largest node index seen on the one-pass path (negative ones wrap to
+                // huge values); `None` when the general loop ran and every index must
+                // be looked at.
+                let mut max_seen = None;
+                if n > 0 && (1..=64).contains(&k0) && size == n * (k0 as usize + 1) {
+                    // Every cell may have the same node count (a triangle mesh): one
+                    // pass converts, checks each count and tracks the largest index.
                     let k = k0 as usize;
+                    let head = &bytes[..4];
+                    let (mut same, mut max) = (true, 0usize);
                     conn.resize(n * k, 0);
                     for (dst, src) in conn.chunks_exact_mut(k).zip(bytes.chunks_exact(4 * (k + 1))) {
+                        same &= src[..4] == *head;
                         for (d, b) in dst.iter_mut().zip(src[4..].chunks_exact(4)) {
-                            *d = i32::from_be_bytes(b.try_into().expect("4 bytes")) as usize;
+                            let v = i32::from_be_bytes(b.try_into().expect("4 bytes")) as usize;
+                            max = max.max(v);
+                            *d = v;
                         }
                     }
-                    offs.extend((1..=n).map(|c| c * k));
-                    left = 0;
+                    if same {
+                        offs.extend((1..=n).map(|c| c * k));
+                        left = 0;
+                        max_seen = Some(max);
+                    } else {
+                        conn.clear();
+                    }
                 }
+                let uniform = max_seen.is_some();
                 for c in 0..if uniform { 0 } else { n } {
                     if left == 0 {
                         return Err(Error::at_byte(
@@ -348,7 +362,7 @@ impl<'a> Reader<'a> {
                     offs.push(conn.len());
                 }
                 let np = self.npoints.unwrap_or(usize::MAX);
-                if let Some(i) = conn.iter().position(|&v| v >= np) {
+                if let Some(i) = conn.iter().position(|&v| v >= np).filter(|_| max_seen.map_or(true, |m| m >= np)) {
                     let c = offs.partition_point(|&o| o <= i) - 1;
                     let at = start + 4 * (i + c + 1);
                     return Err(Error::at_byte(

@@ -65,7 +65,7 @@ mod xml;
 use std::collections::BTreeMap;
 
 use crate::error::Position;
-use crate::{CellKind, DataArray, Error, ErrorKind, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{CellBlock, CellKind, DataArray, Error, ErrorKind, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written};
 
 /// Reads a legacy `.vtk` file (versions 2.0 to 5.1, ASCII or binary).
 pub fn read_legacy(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
@@ -168,12 +168,27 @@ pub(crate) fn decode_f64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
     let bytes = &bytes[..n * ty.size()];
     let start = out.len();
     out.reserve(n);
+    // Floats are checked while they are converted (one pass over the data, which is
+    // what a large tensor array costs): `finite` stays true only if every value is;
+    // the position of the first bad one is looked for only when one was seen.
+    let mut finite = true;
     macro_rules! conv {
         ($t:ty, $w:expr) => {{
             if big {
                 out.extend(bytes.chunks_exact($w).map(|c| <$t>::from_be_bytes(c.try_into().expect("chunk")) as f64));
             } else {
                 out.extend(bytes.chunks_exact($w).map(|c| <$t>::from_le_bytes(c.try_into().expect("chunk")) as f64));
+            }
+        }};
+        (float $t:ty, $w:expr) => {{
+            let mut f = |v: $t| {
+                finite &= v.is_finite();
+                v as f64
+            };
+            if big {
+                out.extend(bytes.chunks_exact($w).map(|c| f(<$t>::from_be_bytes(c.try_into().expect("chunk")))));
+            } else {
+                out.extend(bytes.chunks_exact($w).map(|c| f(<$t>::from_le_bytes(c.try_into().expect("chunk")))));
             }
         }};
     }
@@ -186,13 +201,11 @@ pub(crate) fn decode_f64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
         Scalar::U32 => conv!(u32, 4),
         Scalar::I64 => conv!(i64, 8),
         Scalar::U64 => conv!(u64, 8),
-        Scalar::F32 => conv!(f32, 4),
-        Scalar::F64 => conv!(f64, 8),
+        Scalar::F32 => conv!(float f32, 4),
+        Scalar::F64 => conv!(float f64, 8),
     }
-    if ty.is_float() {
-        if let Some(i) = out[start..].iter().position(|v| !v.is_finite()) {
-            return Err(i);
-        }
+    if !finite {
+        return Err(out[start..].iter().position(|v| !v.is_finite()).unwrap_or(0));
     }
     Ok(())
 }
@@ -234,6 +247,42 @@ pub(crate) fn decode_i64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
                     return Err(i);
                 }
                 out.push(v as i64);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Decodes `n` integers of type `ty` from `bytes` straight into their final type,
+/// appending to `out`: `conv` takes each value and refuses (with `None`) what its
+/// type cannot hold. Saves the `i64` array that [`decode_i64`] would fill for arrays
+/// such as cell types and offsets. Returns the index of the first refused value.
+pub(crate) fn decode_ints_as<T>(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mut Vec<T>, conv: impl Fn(i64) -> Option<T>) -> std::result::Result<(), usize> {
+    let bytes = &bytes[..n * ty.size()];
+    out.reserve(n);
+    macro_rules! conv {
+        ($t:ty, $w:expr) => {{
+            for (i, c) in bytes.chunks_exact($w).enumerate() {
+                let c = c.try_into().expect("chunk");
+                let v = if big { <$t>::from_be_bytes(c) } else { <$t>::from_le_bytes(c) };
+                out.push(i64::try_from(v).ok().and_then(&conv).ok_or(i)?);
+            }
+        }};
+    }
+    match ty {
+        Scalar::I8 => conv!(i8, 1),
+        Scalar::U8 => conv!(u8, 1),
+        Scalar::I16 => conv!(i16, 2),
+        Scalar::U16 => conv!(u16, 2),
+        Scalar::I32 => conv!(i32, 4),
+        Scalar::U32 => conv!(u32, 4),
+        Scalar::I64 => conv!(i64, 8),
+        Scalar::U64 => conv!(u64, 8),
+        Scalar::F32 | Scalar::F64 => {
+            let mut tmp = Vec::new();
+            decode_i64(bytes, ty, big, n, &mut tmp)?;
+            for (i, v) in tmp.into_iter().enumerate() {
+                out.push(conv(v).ok_or(i)?);
             }
         }
     }
@@ -423,10 +472,11 @@ impl Grid {
         // Every reader checks node indices where it reads them, so that the error names
         // the line or byte; `read_bytes` validates the mesh once more.
         debug_assert!(connectivity.iter().all(|&v| v < np), "node index out of range");
-        // Cells go to blocks a run of one type at a time: a whole run is one slice copy
-        // (or no copy at all when the file holds one cell type).
-        let single_run = n > 0 && types.iter().all(|&t| t == types[0]);
-        let mut connectivity = Some(connectivity);
+        // Cells go to blocks a run of one kind at a time. The largest run keeps the
+        // connectivity and tag buffers themselves (moved to their front once every
+        // other run has been copied out), so that a triangle mesh with a few boundary
+        // lines allocates no second connectivity array.
+        let mut runs: Vec<(CellKind, usize, usize)> = Vec::new();
         let mut i = 0;
         while i < n {
             let t = types[i];
@@ -442,32 +492,56 @@ impl Grid {
             let k = kind.nodes_per_cell();
             let mut j = i;
             while j < n && types[j] == t {
-                let (a, b) = (offsets[j], offsets[j + 1]);
-                if b < a || b - a != k {
-                    return Err(at_error(
-                        cells_at,
-                        ErrorKind::Expected { expected: format!("{k} nodes for cell {j} (a {})", kind.name()), found: format!("{}", b as i128 - a as i128) },
-                    ));
-                }
                 j += 1;
             }
-            let (a, b) = (offsets[i], offsets[j]);
-            if b > connectivity.as_ref().map_or(0, Vec::len) {
-                return Err(at_error(cells_at, ErrorKind::Inconsistent(format!("cells {i}..{j} end at node {b}, past the connectivity"))));
+            // Each cell of the run must span k nodes: one comparison per cell, and the
+            // cell named only when one fails.
+            if offsets[i..=j].windows(2).any(|w| w[1].wrapping_sub(w[0]) != k) {
+                let c = i + offsets[i..=j].windows(2).position(|w| w[1].wrapping_sub(w[0]) != k).unwrap_or(0);
+                let (a, b) = (offsets[c], offsets[c + 1]);
+                return Err(at_error(
+                    cells_at,
+                    ErrorKind::Expected { expected: format!("{k} nodes for cell {c} (a {})", kind.name()), found: format!("{}", b as i128 - a as i128) },
+                ));
             }
-            let block = mesh.block_mut(kind);
-            if single_run && block.nodes.is_empty() && a == 0 {
-                let mut conn = connectivity.take().unwrap_or_default();
-                conn.truncate(b);
-                block.nodes = conn;
-                block.physical = std::mem::take(&mut phys);
-                block.geometrical = std::mem::take(&mut geom);
-            } else {
-                block.nodes.extend_from_slice(connectivity.as_ref().map_or(&[][..], |c| &c[a..b]));
-                block.physical.extend_from_slice(&phys[i..j]);
-                block.geometrical.extend_from_slice(&geom[i..j]);
+            if offsets[j] > connectivity.len() {
+                return Err(at_error(cells_at, ErrorKind::Inconsistent(format!("cells {i}..{j} end at node {}, past the connectivity", offsets[j]))));
+            }
+            match runs.last_mut() {
+                // Two VTK types of one kind in a row make one block, as `block_mut` would.
+                Some(last) if last.0 == kind => last.2 = j,
+                _ => runs.push((kind, i, j)),
             }
             i = j;
+        }
+        let big = (0..runs.len()).max_by_key(|&r| (offsets[runs[r].2] - offsets[runs[r].1], std::cmp::Reverse(r)));
+        mesh.blocks = runs
+            .iter()
+            .enumerate()
+            .map(|(r, &(kind, i, j))| {
+                let mut b = CellBlock::new(kind);
+                if Some(r) != big {
+                    b.nodes = connectivity[offsets[i]..offsets[j]].to_vec();
+                    b.physical = phys[i..j].to_vec();
+                    b.geometrical = geom[i..j].to_vec();
+                }
+                b
+            })
+            .collect();
+        if let Some(r) = big {
+            let (_, i, j) = runs[r];
+            let (a, b) = (offsets[i], offsets[j]);
+            let mut conn = connectivity;
+            conn.copy_within(a..b, 0);
+            conn.truncate(b - a);
+            phys.copy_within(i..j, 0);
+            phys.truncate(j - i);
+            geom.copy_within(i..j, 0);
+            geom.truncate(j - i);
+            let block = &mut mesh.blocks[r];
+            block.nodes = conn;
+            block.physical = phys;
+            block.geometrical = geom;
         }
 
         for a in point_arrays {

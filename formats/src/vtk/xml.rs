@@ -28,7 +28,7 @@ use crate::error::Position;
 use crate::text::Tokens;
 use crate::{Error, ErrorKind, Result, TaggedMesh, VtuEncoding, WriteOptions, Written};
 
-use super::{decode_f64, decode_i64, decode_indices, decode_points, offsets, push_num, put, threads, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
+use super::{decode_f64, decode_i64, decode_indices, decode_ints_as, decode_points, offsets, push_num, put, threads, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
 
 /// Standard alphabet, padding optional and accepted where it stands.
 const B64: GeneralPurpose = GeneralPurpose::new(
@@ -663,6 +663,36 @@ impl<'a> Decoder<'a> {
         })
     }
 
+    /// `expected` integers converted by `conv` as they are decoded, appended to `out`;
+    /// `what` says in an error what a refused value should have been.
+    fn ints_into<T>(&self, sp: &Spec, expected: usize, out: &mut Vec<T>, what: &str, conv: impl Fn(i64) -> Option<T>) -> Result<()> {
+        let refused = |i: usize, v: String| err(sp.at, ErrorKind::Expected { expected: format!("{what} for value {i} of `{}`", sp.name), found: v });
+        if sp.format == Format::Ascii {
+            let v = self.ints(sp, expected)?;
+            out.reserve(v.len());
+            for (i, x) in v.into_iter().enumerate() {
+                out.push(conv(x).ok_or_else(|| refused(i, x.to_string()))?);
+            }
+            return Ok(());
+        }
+        let p = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
+        let bytes = p.as_slice();
+        if bytes.len() != expected * sp.ty.size() {
+            return Err(err(sp.at, ErrorKind::Inconsistent(format!("DataArray `{}` has {} values, expected {expected}", sp.name, bytes.len() / sp.ty.size()))));
+        }
+        let start = out.len();
+        decode_ints_as(bytes, sp.ty, self.big, expected, out, &conv).map_err(|i| {
+            // Say what the refused value was (decoded once more, on the error path only).
+            let mut v = Vec::new();
+            let shown = match decode_i64(&bytes[i * sp.ty.size()..(i + 1) * sp.ty.size()], sp.ty, self.big, 1, &mut v) {
+                Ok(()) => v[0].to_string(),
+                Err(_) => "not an integer".into(),
+            };
+            out.truncate(start);
+            refused(i, shown)
+        })
+    }
+
     fn ints(&self, sp: &Spec, expected: usize) -> Result<Vec<i64>> {
         let mut out = Vec::new();
         if sp.format == Format::Ascii {
@@ -827,31 +857,27 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     if nc > 0 || !cells.is_empty() {
         let missing = |n: &str| err(piece_at, ErrorKind::Expected { expected: format!("a `{n}` DataArray in <Cells>"), found: "none".into() });
         let ty = find("types").ok_or_else(|| missing("types"))?;
-        let types = dec.ints(ty, nc)?;
-        if let Some(i) = types.iter().position(|t| !(0..=255).contains(t)) {
-            return Err(err(ty.at, ErrorKind::Expected { expected: format!("a VTK cell type (0 to 255) for cell {i}"), found: types[i].to_string() }));
-        }
-        g.types = types.into_iter().map(|t| t as u8).collect();
+        // Types and offsets are decoded straight into their final arrays.
+        dec.ints_into(ty, nc, &mut g.types, "a VTK cell type (0 to 255)", |t| u8::try_from(t).ok())?;
         g.types_at = at(ty.at);
         let off = find("offsets").ok_or_else(|| missing("offsets"))?;
-        let ends = dec.ints(off, nc)?;
-        let mut prev = 0i64;
         g.offsets = Vec::with_capacity(nc + 1);
         g.offsets.push(0);
-        for (i, &e) in ends.iter().enumerate() {
-            // Each cell smartmesh reads has at most 9 nodes; a larger step is refused
-            // by the cell check, but must not drive an allocation here.
-            if e < prev || e - prev > 64 {
-                return Err(err(
-                    off.at,
-                    ErrorKind::Inconsistent(format!("offsets must rise by the node count of each cell; cell {i} ends at {e} after {prev}")),
-                ));
-            }
-            prev = e;
-            g.offsets.push(e as usize);
+        dec.ints_into(off, nc, &mut g.offsets, "a cell end offset (0 or more)", |e| usize::try_from(e).ok())?;
+        // Each cell smartmesh reads has at most 9 nodes; a larger step is refused by the
+        // cell check, but must not drive an allocation here.
+        let bad_step = |w: &[usize]| w[1] < w[0] || w[1] - w[0] > 64;
+        if g.offsets.windows(2).any(bad_step) {
+            let i = g.offsets.windows(2).position(bad_step).unwrap_or(0);
+            let (prev, e) = (g.offsets[i], g.offsets[i + 1]);
+            return Err(err(
+                off.at,
+                ErrorKind::Inconsistent(format!("offsets must rise by the node count of each cell; cell {i} ends at {e} after {prev}")),
+            ));
         }
+        let prev = *g.offsets.last().unwrap_or(&0);
         let con = find("connectivity").ok_or_else(|| missing("connectivity"))?;
-        g.connectivity = dec.indices(con, prev as usize, np, &g.offsets)?;
+        g.connectivity = dec.indices(con, prev, np, &g.offsets)?;
         g.cells_at = at(con.at);
     } else {
         g.offsets = vec![0];
