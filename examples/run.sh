@@ -5,12 +5,27 @@
 #
 #   bash examples/run.sh            # all examples
 #   bash examples/run.sh u-duct     # one
+#   bash examples/run.sh distributor  # the three variants of the distributor
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --quiet
 bin="$PWD/target/release/smartmesh"
 all=(naca0012-agard01 gamm-a7-viscous u-duct distributor/1-narrow distributor/2-thick distributor/3-s-shaped)
+# A folder of variants (the distributor) stands for each of them.
+requested=()
 for example in "${@:-${all[@]}}"; do
+    example=${example%/}
+    if [ -f "examples/$example/geometry.poly" ]; then
+        requested+=("$example")
+    else
+        for variant in examples/"$example"/*/geometry.poly; do
+            [ -f "$variant" ] || { echo "examples/$example: no geometry.poly here or in its folders" >&2; exit 2; }
+            variant=${variant#examples/}
+            requested+=("${variant%/geometry.poly}")
+        done
+    fi
+done
+for example in "${requested[@]}"; do
     dir="examples/$example"
     # An example's own recipe, else the one its variants share (the distributor's).
     recipe=$(compgen -G "$dir/recipe.*" || compgen -G "$(dirname "$dir")/recipe.*")
