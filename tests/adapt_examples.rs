@@ -3,8 +3,8 @@
 //! planar straight-line graphs with recipes written for them. On each result: the loop
 //! converged; at least 90% of the edges have metric length in [1/√2, √2]; every triangle
 //! is counter-clockwise with a positive area; the ends of every boundary Line cell lie on
-//! input segments with the cell's tag (within [`DRIFT`] of the bounding box's diagonal;
-//! 1e-9 in an ignored test, which the loop does not meet yet) and, along the input
+//! input segments with the cell's tag (within [`DRIFT`], 1e-9 of the bounding box's
+//! diagonal: the `.poly`'s vertices stay vertices of every remeshing) and, along the input
 //! polylines, the arcs between them tile each curve; every topological point of the starting mesh
 //! (Vertex cells: the .poly's own points and the mesher's corners) is there with its tag
 //! at its coordinates; the physical tags and names are those of the starting mesh; the
@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use smartmesh::adapt::files::ResultFiles;
-use smartmesh::adapt::{run, starting_mesh, AdaptOptions};
+use smartmesh::adapt::{run, start as starting_point, AdaptOptions};
 use smartmesh::adapters::restore::physical_tags;
 use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{read_path, write_path, CellKind, TaggedMesh, WriteOptions};
@@ -172,8 +172,9 @@ struct Adapted {
 /// result files; the result is read back from the file.
 fn adapt(poly: &Path, recipe: &Path) -> Adapted {
     let recipe_model = Recipe::from_path(recipe).unwrap_or_else(|e| panic!("{}: {e}", recipe.display()));
-    let start = starting_mesh(poly, None).unwrap_or_else(|e| panic!("{}: {e}", poly.display()));
-    let remesher = adapter(AdapterKind::Native, AdapterOptions::default()).unwrap();
+    let starting = starting_point(poly, None).unwrap_or_else(|e| panic!("{}: {e}", poly.display()));
+    let start = starting.mesh;
+    let remesher = adapter(AdapterKind::Native, AdapterOptions { keep_points: starting.geometry_points, ..Default::default() }).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.msh");
     let mut files = ResultFiles::new(&out, None, WriteOptions::default());
@@ -352,13 +353,10 @@ fn print(what: &str, f: &Figures) {
 }
 
 /// How far (times the bounding box's diagonal) a boundary vertex of the result may be
-/// from the input segments in the tests that run by default. Each iteration of the loop
-/// remeshes the previous iteration's mesh, whose boundary edges are already chords where
-/// the remesher dropped input vertices (at bends under its ridge angle); the next
-/// iteration places its boundary vertices on those chords, so the boundary drifts off the
-/// input polylines by up to about 3e-4 of the diagonal on these cases.
-/// `boundary_stays_on_the_input_segments` (ignored) asks for 1e-9.
-const DRIFT: f64 = 1e-3;
+/// from the input segments: rounding only. The loop keeps the `.poly`'s vertices as
+/// vertices of every remeshing (`AdapterOptions::keep_points`), so every boundary edge
+/// stays on an input segment, and new boundary vertices are placed on those segments.
+const DRIFT: f64 = 1e-9;
 
 fn example(folder: &str, boundary: f64) {
     let recipe = EXAMPLES.iter().find(|e| e.0 == folder).unwrap().1;
@@ -399,23 +397,6 @@ fn distributor_2_thick_adapts() {
 #[test]
 fn distributor_3_s_shaped_adapts() {
     example("distributor/3-s-shaped", DRIFT);
-}
-
-/// The boundary exactly as the input's: every boundary vertex of the result within 1e-9
-/// of the diagonal from an input segment with its tag. Ignored: the loop remeshes each
-/// iteration's mesh against that mesh's own boundary, not the input's, so boundary
-/// vertices drift off the input polylines where the remesher dropped input vertices at
-/// mild bends (up to 2e-3 on the distributor's vanes, 5e-3 on the NACA far field, 9e-4
-/// on random PSLG seed 1); see [`DRIFT`].
-#[test]
-#[ignore = "the loop's boundary drifts off the input polylines (see DRIFT)"]
-fn boundary_stays_on_the_input_segments() {
-    for (folder, _) in EXAMPLES {
-        example(folder, 1e-9);
-    }
-    for seed in 1..=16 {
-        random_case(seed, 1e-9);
-    }
 }
 
 #[test]

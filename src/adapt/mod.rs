@@ -32,7 +32,7 @@ use crate::recipe::Recipe;
 use crate::sizing::{size_mesh, SizeMeshError, StepEvent};
 
 pub use rules::Tolerances;
-pub use start::{starting_mesh, StartError};
+pub use start::{start, starting_mesh, Start, StartError};
 
 /// How long the loop may run and when it has converged.
 #[derive(Debug, Clone, Copy, PartialEq)]

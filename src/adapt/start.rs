@@ -32,9 +32,36 @@ fn has_surface(mesh: &TaggedMesh) -> bool {
 
 /// The starting mesh of `input` (read as `format` when given, else by extension).
 pub fn starting_mesh(input: &Path, format: Option<Format>) -> Result<TaggedMesh, StartError> {
+    Ok(start(input, format)?.mesh)
+}
+
+/// Where the loop starts: the mesh, and the vertices of the geometry that every
+/// remeshing must keep.
+#[derive(Debug, Clone)]
+pub struct Start {
+    /// The starting mesh.
+    pub mesh: TaggedMesh,
+    /// For a planar straight-line graph, the vertices of its segments (the geometry:
+    /// boundaries stay on its segments when these stay vertices); empty for a mesh,
+    /// whose boundary is taken as it is.
+    pub geometry_points: Vec<[f64; 2]>,
+}
+
+/// The starting mesh of `input` and its geometry's vertices (see [`Start`]).
+pub fn start(input: &Path, format: Option<Format>) -> Result<Start, StartError> {
     let mesh = read_path(input, format.or_else(|| Format::from_path(input)))?;
     if has_surface(&mesh) {
-        return Ok(mesh);
+        return Ok(Start { mesh, geometry_points: Vec::new() });
     }
-    triangulate(&mesh, &MeshOptions::default()).map_err(|source| StartError::Mesher { path: input.display().to_string(), source })
+    let triangulated = triangulate(&mesh, &MeshOptions::default()).map_err(|source| StartError::Mesher { path: input.display().to_string(), source })?;
+    let mut on_segment = vec![false; mesh.points.len()];
+    for (kind, nodes, _, _) in mesh.cells() {
+        if kind.dim() == 1 {
+            for &v in nodes {
+                on_segment[v] = true;
+            }
+        }
+    }
+    let geometry_points = mesh.points.iter().zip(&on_segment).filter(|(_, &s)| s).map(|(p, _)| [p[0], p[1]]).collect();
+    Ok(Start { mesh: triangulated, geometry_points })
 }

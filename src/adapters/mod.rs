@@ -126,6 +126,10 @@ pub struct AdapterOptions {
     pub nosurf: bool,
     /// Further arguments passed to the program as they are.
     pub extra_args: Vec<String>,
+    /// Vertices of the input geometry that every remeshing keeps (the native remesher's
+    /// [`RemeshOptions::keep_points`](crate::remesh::RemeshOptions::keep_points)); the
+    /// external tools place boundary points by their own rules and do not read it.
+    pub keep_points: Vec<[f64; 2]>,
 }
 
 /// The adapter of `kind`: the program is looked up now, so that a missing tool is said
@@ -138,7 +142,7 @@ pub fn adapter(kind: AdapterKind, options: AdapterOptions) -> Result<Box<dyn Ada
         }
     }
     match kind {
-        AdapterKind::Native => Ok(Box::new(native::NativeAdapter::default())),
+        AdapterKind::Native => Ok(Box::new(native::NativeAdapter { options: crate::remesh::RemeshOptions { keep_points: options.keep_points, ..Default::default() } })),
         AdapterKind::Mmg2d => Ok(Box::new(mmg::MmgAdapter::new(options)?)),
         AdapterKind::Gmsh => Ok(Box::new(gmsh::GmshAdapter::new(options)?)),
     }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::adapt::files::ResultFiles;
-use smartmesh::adapt::{run as run_loop, starting_mesh, AdaptError, AdaptOptions, Observer, Phase, StartError, Tolerances};
+use smartmesh::adapt::{run as run_loop, start as starting_point, AdaptError, AdaptOptions, Observer, Phase, StartError, Tolerances};
 use smartmesh::adapters::{adapter, AdapterError, AdapterKind, AdapterOptions};
 use smartmesh::formats::{Format, GmshVersion, TaggedMesh, WriteOptions};
 use smartmesh::history::History;
@@ -94,6 +94,13 @@ pub struct AdaptArgs {
     /// The remesher's executable, instead of the one found on PATH.
     #[arg(long)]
     adapter_program: Option<PathBuf>,
+    /// native, with a .poly INPUT: let remeshing remove the .poly's own vertices where the
+    /// field asks for longer boundary edges. By default they stay vertices of every
+    /// remeshing, so that every boundary edge lies on an input segment; with this switch
+    /// curved boundaries are followed by chords, and each iteration takes the previous
+    /// one's chords as its boundary.
+    #[arg(long)]
+    coarsen_geometry: bool,
     /// mmg2d: gradation MMG applies to the metric (-hgrad; -1 turns it off).
     #[arg(long, allow_negative_numbers = true)]
     hgrad: Option<f64>,
@@ -184,12 +191,13 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         return Err(CliError::usage(format!("{}: no mesh format has this extension (use .msh, .mesh, .vtu, .vtk, .ele, .obj …)", args.output.display())));
     }
     let recipe = Recipe::from_path(&args.recipe).map_err(|e| CliError::usage(e.to_string()))?;
-    let start = starting_mesh(&args.input, args.from).map_err(|e| match e {
+    let starting = starting_point(&args.input, args.from).map_err(|e| match e {
         StartError::Read(e) => CliError::from(e),
         StartError::Mesher { ref source, .. } if !source.is_input_error() => CliError { status: ExitStatus::Failure, message: e.to_string() },
         e @ StartError::Mesher { .. } => CliError::usage(e.to_string()),
     })?;
-    let options = AdapterOptions { program: args.adapter_program.clone(), hgrad: args.hgrad, hausd: args.hausd, nosurf: args.nosurf, extra_args: args.adapter_args.clone() };
+    let options = AdapterOptions { program: args.adapter_program.clone(), hgrad: args.hgrad, hausd: args.hausd, nosurf: args.nosurf, extra_args: args.adapter_args.clone(), keep_points: if args.coarsen_geometry { Vec::new() } else { starting.geometry_points } };
+    let start = starting.mesh;
     let remesher = adapter(args.adapter.into(), options).map_err(adapter_error)?;
 
     let write = WriteOptions { binary: args.binary, gmsh_version: if args.msh2 { GmshVersion::V22 } else { GmshVersion::V41 }, ..WriteOptions::default() };

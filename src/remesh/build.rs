@@ -188,9 +188,14 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
         corner[v as usize] = true;
     }
     let cos_ridge = opts.ridge_angle_degrees.to_radians().cos();
+    let kept: std::collections::BTreeSet<[u64; 2]> = opts.keep_points.iter().map(|p| [p[0].to_bits(), p[1].to_bits()]).collect();
     for v in 0..n as u32 {
         let es = around(v);
         if es.is_empty() {
+            continue;
+        }
+        if !kept.is_empty() && kept.contains(&[pts[v as usize][0].to_bits(), pts[v as usize][1].to_bits()]) {
+            corner[v as usize] = true;
             continue;
         }
         if es.len() != 2 {

@@ -69,11 +69,20 @@ pub struct RemeshOptions {
     pub split_above: f64,
     /// Collapse edges shorter than this metric length.
     pub collapse_below: f64,
+    /// Points of the input geometry that stay vertices: a boundary or interface vertex at
+    /// exactly one of these coordinates is a corner (never moved nor removed). The
+    /// adaptation loop passes the vertices of the `.poly` it started from, so that every
+    /// boundary edge stays on an input segment however many times the mesh is remeshed
+    /// (without them, a vertex at a bend milder than the ridge angle may be collapsed, its
+    /// two edges replaced by a chord, and the next remeshing takes the chord as the
+    /// boundary).
+    #[serde(skip)]
+    pub keep_points: Vec<[f64; 2]>,
 }
 
 impl Default for RemeshOptions {
     fn default() -> Self {
-        RemeshOptions { max_passes: 12, smooth_sweeps: 2, boundary: BoundaryMode::Polyline, ridge_angle_degrees: 45.0, split_above: CONFORMING[1], collapse_below: CONFORMING[0] }
+        RemeshOptions { max_passes: 12, smooth_sweeps: 2, boundary: BoundaryMode::Polyline, ridge_angle_degrees: 45.0, split_above: CONFORMING[1], collapse_below: CONFORMING[0], keep_points: Vec::new() }
     }
 }
 
