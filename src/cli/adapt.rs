@@ -9,7 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::{run as run_loop, start as starting_point, AdaptError, AdaptOptions, Observer, Phase, StartError, Tolerances};
 use smartmesh::adapters::{adapter, AdapterError, AdapterKind, AdapterOptions};
-use smartmesh::formats::{Format, GmshVersion, TaggedMesh, WriteOptions};
+use smartmesh::formats::{Format, TaggedMesh};
 use smartmesh::history::History;
 use smartmesh::recipe::Recipe;
 
@@ -113,12 +113,8 @@ pub struct AdaptArgs {
     /// An argument passed to the remesher as it is (repeat for several).
     #[arg(long = "adapter-arg", allow_hyphen_values = true, value_name = "ARG")]
     adapter_args: Vec<String>,
-    /// Write binary variants of OUT (.msh, .vtk).
-    #[arg(long)]
-    binary: bool,
-    /// Write Gmsh MSH 2.2 instead of 4.1.
-    #[arg(long)]
-    msh2: bool,
+    #[command(flatten)]
+    output_format: super::MeshOutputArgs,
     /// Print a JSON summary on stdout.
     #[arg(long)]
     json: bool,
@@ -200,7 +196,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let start = starting.mesh;
     let remesher = adapter(args.adapter.into(), options).map_err(adapter_error)?;
 
-    let write = WriteOptions { binary: args.binary, gmsh_version: if args.msh2 { GmshVersion::V22 } else { GmshVersion::V41 }, ..WriteOptions::default() };
+    let write = args.output_format.write_options();
     let opts = AdaptOptions { max_iterations: args.max_iterations, tolerances: Tolerances { vertices: args.tol_vertices, conformity: args.tol_conformity } };
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = ProgressBar::new(opts.max_iterations as u64);

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use smartmesh::formats::{read_path, write_path, Format, GmshVersion, WriteOptions};
+use smartmesh::formats::{read_path, write_path, Format};
 use smartmesh::formats::triangle::poly_lines;
 use smartmesh::mesher::{triangulate, MeshError, MeshOptions, Subject};
 use smartmesh::quality::QualitySummary;
@@ -64,12 +64,8 @@ pub struct MeshArgs {
     /// Output format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     to: Option<Format>,
-    /// Write binary variants (.msh binary, .vtk binary).
-    #[arg(long)]
-    binary: bool,
-    /// Write Gmsh MSH 2.2 instead of 4.1.
-    #[arg(long)]
-    msh2: bool,
+    #[command(flatten)]
+    output_format: super::MeshOutputArgs,
     /// Print a JSON summary on stdout.
     #[arg(long)]
     json: bool,
@@ -131,7 +127,7 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
             None => format!("{}: {e}", args.input.display()),
         },
     })?;
-    let wopts = WriteOptions { binary: args.binary, gmsh_version: if args.msh2 { GmshVersion::V22 } else { GmshVersion::V41 }, ..WriteOptions::default() };
+    let wopts = args.output_format.write_options();
     let to = args.to.or_else(|| Format::from_path(&args.output));
     let report = write_path(&args.output, &mesh, to, &wopts)?;
     for d in &report.dropped {

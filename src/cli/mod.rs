@@ -140,3 +140,23 @@ pub fn print_stdout(text: &str) -> Result<(), CliError> {
 pub fn parse_format(name: &str) -> Result<smartmesh::formats::Format, String> {
     smartmesh::formats::Format::from_name(name).ok_or_else(|| format!("unknown format `{name}`; known: {}", smartmesh::formats::Format::NAMES))
 }
+
+/// The output switches of the commands that write a mesh (`mesh`, `remesh`, `size`,
+/// `adapt`), flattened into each one's arguments.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct MeshOutputArgs {
+    /// Write binary variants (.msh binary, .vtk binary; .meshb/.solb follow the extension).
+    #[arg(long)]
+    pub binary: bool,
+    /// Write Gmsh MSH 2.2 instead of 4.1.
+    #[arg(long)]
+    pub msh2: bool,
+}
+
+impl MeshOutputArgs {
+    /// The writer options these switches ask for.
+    pub fn write_options(self) -> smartmesh::formats::WriteOptions {
+        use smartmesh::formats::{GmshVersion, WriteOptions};
+        WriteOptions { binary: self.binary, gmsh_version: if self.msh2 { GmshVersion::V22 } else { GmshVersion::V41 }, ..WriteOptions::default() }
+    }
+}

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::conformity::{metric_field, Conformity};
-use smartmesh::formats::{read_path, write_path, Format, GmshVersion, TaggedMesh, WriteOptions};
+use smartmesh::formats::{read_path, write_path, Format, TaggedMesh};
 use smartmesh::metric::Sym2;
 use smartmesh::remesh::{interpolate_metric, remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
 
@@ -68,12 +68,8 @@ pub struct RemeshArgs {
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
-    /// Write binary variants (.msh binary, .vtk binary).
-    #[arg(long)]
-    binary: bool,
-    /// Write Gmsh MSH 2.2 instead of 4.1.
-    #[arg(long)]
-    msh2: bool,
+    #[command(flatten)]
+    output_format: super::MeshOutputArgs,
     /// Print the statistics (or the measure) as JSON on stdout.
     #[arg(long)]
     json: bool,
@@ -167,7 +163,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     for w in &out.stats.warnings {
         eprintln!("smartmesh: warning: {w}");
     }
-    let wopts = WriteOptions { binary: args.binary, gmsh_version: if args.msh2 { GmshVersion::V22 } else { GmshVersion::V41 }, ..WriteOptions::default() };
+    let wopts = args.output_format.write_options();
     let report = write_path(&output, &out.mesh, None, &wopts)?;
     for d in &report.dropped {
         eprintln!("smartmesh: warning: not written: {d}");

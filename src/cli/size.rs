@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::export::{export_metric, MetricTarget};
-use smartmesh::formats::{read_path, Format, GmshVersion, WriteOptions};
+use smartmesh::formats::{read_path, Format};
 use smartmesh::recipe::Recipe;
 use smartmesh::sizing::{size_mesh, SizeMeshError, StepEvent, StepReport};
 
@@ -43,12 +43,8 @@ pub struct SizeArgs {
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
-    /// Write binary variants (.msh binary, .vtk binary; .meshb/.solb follow the extension).
-    #[arg(long)]
-    binary: bool,
-    /// Write Gmsh MSH 2.2 instead of 4.1.
-    #[arg(long)]
-    msh2: bool,
+    #[command(flatten)]
+    output_format: super::MeshOutputArgs,
     /// Print a JSON summary on stdout.
     #[arg(long)]
     json: bool,
@@ -108,7 +104,7 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
         eprintln!("smartmesh: warning: {w}");
     }
 
-    let opts = WriteOptions { binary: args.binary, gmsh_version: if args.msh2 { GmshVersion::V22 } else { GmshVersion::V41 }, ..WriteOptions::default() };
+    let opts = args.output_format.write_options();
     let report = export_metric(&args.output, &mesh, &field.tensors, target, &opts)?;
     for d in &report.dropped {
         eprintln!("smartmesh: warning: not written: {d}");
