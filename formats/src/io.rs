@@ -16,6 +16,11 @@ pub trait SiblingSource {
     fn read_sibling(&self, ext: &str) -> Result<Option<Vec<u8>>>;
     /// How to name the sibling in messages.
     fn describe(&self, ext: &str) -> String;
+    /// [`read_sibling`](Self::read_sibling), borrowed where the bytes are already in
+    /// memory.
+    fn sibling_bytes(&self, ext: &str) -> Result<Option<std::borrow::Cow<'_, [u8]>>> {
+        Ok(self.read_sibling(ext)?.map(std::borrow::Cow::Owned))
+    }
 }
 
 /// No siblings: a stream.
@@ -84,6 +89,9 @@ impl SiblingSource for MemorySiblings {
     }
     fn describe(&self, ext: &str) -> String {
         format!("<memory>.{ext}")
+    }
+    fn sibling_bytes(&self, ext: &str) -> Result<Option<std::borrow::Cow<'_, [u8]>>> {
+        Ok(self.files.get(ext).map(|b| std::borrow::Cow::Borrowed(b.as_slice())))
     }
 }
 

@@ -523,6 +523,102 @@ fn binary_41_with_a_4_byte_size_t() {
     assert_eq!(cell_list(&m), vec![(CellKind::Triangle, vec![0, 1, 2], 0, 1)]);
 }
 
+/// A binary 4.1 file (size_t = 8) with node blocks `(tags, points)` in the order given,
+/// the header announcing `lo..=hi`, one triangle on nodes `tri` and a one-component
+/// `$NodeData` `h` giving each tag in `data` the value 10 * tag; with the ASCII file of
+/// the same content.
+fn bin41_nodes(blocks: &[(&[u64], &[[f64; 3]])], lo: u64, hi: u64, tri: [u64; 3], data: &[u64]) -> (Vec<u8>, String) {
+    let n: usize = blocks.iter().map(|b| b.0.len()).sum();
+    let mut b = b"$MeshFormat\n4.1 1 8\n".to_vec();
+    b.extend_from_slice(&1i32.to_le_bytes());
+    b.extend_from_slice(b"\n$EndMeshFormat\n$Nodes\n");
+    let mut t = format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{} {n} {lo} {hi}\n", blocks.len());
+    for v in [blocks.len() as u64, n as u64, lo, hi] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    for (tags, pts) in blocks {
+        for v in [2i32, 1, 0] {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+        b.extend_from_slice(&(tags.len() as u64).to_le_bytes());
+        t += &format!("2 1 0 {}\n", tags.len());
+        for &tag in tags.iter() {
+            b.extend_from_slice(&tag.to_le_bytes());
+            t += &format!("{tag}\n");
+        }
+        for p in pts.iter() {
+            for c in p {
+                b.extend_from_slice(&c.to_le_bytes());
+            }
+            t += &format!("{} {} {}\n", p[0], p[1], p[2]);
+        }
+    }
+    b.extend_from_slice(b"\n$EndNodes\n$Elements\n");
+    t += &format!("$EndNodes\n$Elements\n1 1 1 1\n2 1 2 1\n1 {} {} {}\n$EndElements\n", tri[0], tri[1], tri[2]);
+    for v in [1u64, 1, 1, 1] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    for v in [2i32, 1, 2] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b.extend_from_slice(&1u64.to_le_bytes());
+    b.extend_from_slice(&1u64.to_le_bytes());
+    for v in tri {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b.extend_from_slice(b"\n$EndElements\n");
+    let head = format!("$NodeData\n1\n\"h\"\n1\n0.0\n3\n0\n1\n{}\n", data.len());
+    b.extend_from_slice(head.as_bytes());
+    t += &head;
+    for &tag in data {
+        b.extend_from_slice(&(tag as i32).to_le_bytes());
+        b.extend_from_slice(&(10.0 * tag as f64).to_le_bytes());
+        t += &format!("{tag} {}\n", 10.0 * tag as f64);
+    }
+    b.extend_from_slice(b"\n$EndNodeData\n");
+    t += "$EndNodeData\n";
+    (b, t)
+}
+
+#[test]
+fn binary_41_node_blocks_out_of_tag_order() {
+    let p = |x: f64| [x, 2.0 * x, 0.0];
+    // Tags 1..=4 over three blocks in another order (as Gmsh writes entities), then tags
+    // that are not a full range, a tag outside the announced range, and data in another
+    // order or with a node left out: each read as its ASCII twin reads.
+    let cases: [(Vec<(&[u64], Vec<[f64; 3]>)>, u64, u64, Vec<u64>); 4] = [
+        (vec![(&[3, 4], vec![p(3.0), p(4.0)]), (&[1], vec![p(1.0)]), (&[2], vec![p(2.0)])], 1, 4, vec![1, 2, 3, 4]),
+        (vec![(&[30, 40], vec![p(3.0), p(4.0)]), (&[10, 20], vec![p(1.0), p(2.0)])], 10, 40, vec![40, 10, 30]),
+        (vec![(&[3, 9], vec![p(3.0), p(9.0)]), (&[1, 2], vec![p(1.0), p(2.0)])], 1, 4, vec![9, 1, 2, 3]),
+        (vec![(&[2, 1], vec![p(2.0), p(1.0)]), (&[4, 3], vec![p(4.0), p(3.0)])], 1, 4, vec![4, 3, 2]),
+    ];
+    for (i, (blocks, lo, hi, data)) in cases.iter().enumerate() {
+        let blocks: Vec<(&[u64], &[[f64; 3]])> = blocks.iter().map(|(t, q)| (*t, q.as_slice())).collect();
+        let tri = [blocks[0].0[0], blocks[1].0[0], blocks[0].0[1]];
+        let (bin, text) = bin41_nodes(&blocks, *lo, *hi, tri, data);
+        let a = read_msh(&bin).unwrap_or_else(|e| panic!("case {i}: {e}"));
+        let b = read_msh(text.as_bytes()).unwrap_or_else(|e| panic!("case {i} (ASCII): {e}"));
+        assert_points_bitwise(&a, &b, &format!("case {i}"));
+        assert_eq!(cell_list(&a), cell_list(&b), "case {i}");
+        assert_data_bitwise(&a.point_data, &b.point_data, &format!("case {i}"));
+        // Points in tag order.
+        assert!(a.points.windows(2).all(|w| w[0][0] < w[1][0]), "case {i}: {:?}", a.points);
+    }
+}
+
+#[test]
+fn binary_41_duplicate_node_tag_across_blocks() {
+    let p = [0.0, 0.0, 0.0];
+    // Three tags announced as 1..=3, but tag 2 twice and 3 never.
+    let (bin, _) = bin41_nodes(&[(&[1, 2], &[p, p]), (&[2], &[p])], 1, 3, [1, 2, 1], &[]);
+    let e = read_msh(&bin).unwrap_err();
+    assert!(e.to_string().contains("node tag 2 is defined twice"), "{e}");
+    // Where the second block starts: after the header line, the 4 size_t of the
+    // section header and the first block (a 20-byte header, 2 tags, 2 points).
+    let nodes = bin.windows(7).position(|w| w == b"$Nodes\n").unwrap() + 7;
+    assert_eq!(e.at, Some(Position::Byte((nodes + 32 + 20 + 16 + 48) as u64)));
+}
+
 // ---------------------------------------------------------------------------------
 // Malformed inputs: each a clear error with its position, never a panic
 

@@ -700,3 +700,27 @@ proptest! {
         let _ = read_sol(&bytes, 4, binary);
     }
 }
+
+#[test]
+fn malformed_solb_value_names_its_byte() {
+    let m = full_mesh();
+    let w = write_bytes(Format::Medit, &m, &opts("x.meshb")).unwrap();
+    let mut solb = w.siblings.iter().find(|s| s.0 == "solb").unwrap().1.clone();
+    // Version 2: the header (8 bytes), Dimension (12), SolAtVertices' code, offset,
+    // count, number of types and type (20): the values start at byte 40.
+    assert_eq!(i32::from_le_bytes(solb[40 - 4..40].try_into().unwrap()), 3, "one type-3 solution");
+    let back = read_with_sol(&w.main, "meshb", "solb", &solb).unwrap();
+    assert_eq!(&back.point_data["metric"], &m.point_data["metric"]);
+    // The last value (m22 of the last vertex) ends just before End (code and offset).
+    let last = solb.len() - 8 - 8;
+    assert_eq!(f64::from_le_bytes(solb[last..last + 8].try_into().unwrap()), 2.0);
+    for (at, v) in [(40 + 8 * 4, f64::NAN), (last, f64::INFINITY)] {
+        let keep = solb[at..at + 8].to_vec();
+        solb[at..at + 8].copy_from_slice(&v.to_le_bytes());
+        let e = read_with_sol(&w.main, "meshb", "solb", &solb).unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
+        assert_eq!(byte_of(&e), at as u64, "{e}");
+        assert!(e.to_string().contains(".solb"), "{e}");
+        solb[at..at + 8].copy_from_slice(&keep);
+    }
+}

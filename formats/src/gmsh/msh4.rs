@@ -69,20 +69,25 @@ pub(super) fn read_entities(r: &mut Reader<'_>) -> Result<()> {
 
 /// The four `size_t` of a `$Nodes` or `$Elements` header: blocks, items, min and max tag.
 fn section_header(r: &mut Reader<'_>, item: &str, min_block: usize, min_item: usize) -> Result<(usize, usize)> {
+    section_header_tags(r, item, min_block, min_item).map(|(blocks, n, _, _)| (blocks, n))
+}
+
+/// [`section_header`] with the smallest and largest tag it announces.
+fn section_header_tags(r: &mut Reader<'_>, item: &str, min_block: usize, min_item: usize) -> Result<(usize, usize, u64, u64)> {
     if r.c.binary {
         let st = r.size_t;
         r.c.end_text_line()?;
         let blocks = r.c.bin_count(st, &format!("number of {item} blocks"), min_block)?;
         let n = r.c.bin_count(st, &format!("number of {item}s"), min_item)?;
-        r.c.bin_size(st, &format!("smallest {item} tag"))?;
-        r.c.bin_size(st, &format!("largest {item} tag"))?;
-        Ok((blocks, n))
+        let lo = r.c.bin_size(st, &format!("smallest {item} tag"))?;
+        let hi = r.c.bin_size(st, &format!("largest {item} tag"))?;
+        Ok((blocks, n, lo, hi))
     } else {
         let blocks = r.c.count(&format!("number of {item} blocks"), min_block)?;
         let n = r.c.count(&format!("number of {item}s"), min_item)?;
-        r.c.u64(&format!("smallest {item} tag"))?;
-        r.c.u64(&format!("largest {item} tag"))?;
-        Ok((blocks, n))
+        let lo = r.c.u64(&format!("smallest {item} tag"))?;
+        let hi = r.c.u64(&format!("largest {item} tag"))?;
+        Ok((blocks, n, lo, hi))
     }
 }
 
@@ -110,6 +115,18 @@ fn block_header(r: &mut Reader<'_>, third: &str, item: &str, min_item: usize) ->
 
 /// `$Nodes`: entity blocks of tags then coordinates (and parametric coordinates, read past).
 pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()> {
+    if r.c.binary && r.points.is_empty() && r.node_tags.is_empty() {
+        let start = r.c.pos();
+        let blocks_before = r.node_blocks.len();
+        if binary_nodes_in_tag_order(r, section_at)? {
+            return Ok(());
+        }
+        // Tags of another kind: the section again, in file order.
+        r.c.seek(start);
+        r.points = Vec::new();
+        r.node_tags = Vec::new();
+        r.node_blocks.truncate(blocks_before);
+    }
     let binary = r.c.binary;
     let st = r.size_t;
     // Smallest node: `1\n0 0 0\n` in ASCII, a size_t and 3 doubles in binary.
@@ -179,6 +196,81 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
     }
     r.nodes_changed();
     r.c.expect_end("Nodes")
+}
+
+/// A binary `$Nodes` section, the first one, whose node tags are exactly the `lo..=hi`
+/// its header announces, one node each (how Gmsh and smartmesh number nodes, whatever
+/// the order of the blocks): every point goes straight to its place in tag order, so that
+/// no copy puts them in order later and tags map to points by a subtraction.
+///
+/// Every check of the general reader is made, in the same order, with the same errors.
+/// `Ok(false)` when the tags are of another kind (a tag outside `lo..=hi`, a tag given
+/// twice, a header that does not announce a full range): the caller then reads the
+/// section again in file order, and reports what that reading reports.
+fn binary_nodes_in_tag_order(r: &mut Reader<'_>, section_at: Position) -> Result<bool> {
+    let st = r.size_t;
+    let min_node = st + 24;
+    let (n_blocks, n_nodes, lo, hi) = section_header_tags(r, "node", 12 + st, min_node)?;
+    if n_nodes == 0 || lo == 0 || hi.checked_sub(lo) != Some(n_nodes as u64 - 1) {
+        return Ok(false);
+    }
+    // The count was checked against the bytes left, so this is at most the file's size.
+    let mut points = vec![[0.0f64; 3]; n_nodes];
+    // Runs of consecutive tags `(first tag, length)`: they must not overlap.
+    let mut runs: Vec<(u64, usize)> = Vec::new();
+    let mut total = 0usize;
+    for _ in 0..n_blocks {
+        let block_at = r.c.mark();
+        let (dim, _tag, parametric, n) = block_header(r, "parametric flag", "node", min_node)?;
+        if parametric != 0 && parametric != 1 {
+            return Err(r.c.err_at(block_at, ErrorKind::Expected { expected: "a parametric flag 0 or 1".into(), found: parametric.to_string() }));
+        }
+        total += n;
+        if total > n_nodes {
+            return Err(r.c.err_at(block_at, ErrorKind::Inconsistent(format!("the node blocks hold more nodes than the $Nodes header announces ({n_nodes})"))));
+        }
+        let width = 3 + if parametric == 1 { dim as usize } else { 0 };
+        r.node_blocks.push((total - n, block_at));
+        let p = r.c.pos();
+        let tags = r.c.take_array(n, st, "node tags")?;
+        for (i, ch) in tags.chunks_exact(st).enumerate() {
+            let t = le_size(ch, st);
+            if t == 0 {
+                return Err(r.c.byte_err(p + i * st, ErrorKind::Expected { expected: "a node tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+            }
+            if t < lo || t > hi {
+                return Ok(false);
+            }
+            match runs.last_mut() {
+                Some(run) if run.0.checked_add(run.1 as u64) == Some(t) => run.1 += 1,
+                _ => runs.push((t, 1)),
+            }
+        }
+        let p = r.c.pos();
+        let rec = 8 * width;
+        let coords = r.c.take_array(n, rec, "node coordinates")?;
+        for (i, (tag, ch)) in tags.chunks_exact(st).zip(coords.chunks_exact(rec)).enumerate() {
+            let xyz = [le_f64(&ch[0..8]), le_f64(&ch[8..16]), le_f64(&ch[16..24])];
+            if !xyz.iter().all(|c| c.is_finite()) {
+                return Err(r.c.byte_err(p + i * rec, ErrorKind::NonFinite { what: "a node coordinate".into(), value: format!("{xyz:?}") }));
+            }
+            // In range: checked with the tags above.
+            points[(le_size(tag, st) - lo) as usize] = xyz;
+        }
+    }
+    if total != n_nodes {
+        return Err(r.c.err_at(section_at, ErrorKind::Inconsistent(format!("$Nodes announces {n_nodes} nodes, but its blocks hold {total}"))));
+    }
+    // `n_nodes` tags in a range of `n_nodes`: each is there once if no two runs overlap.
+    runs.sort_unstable();
+    if runs.windows(2).any(|w| w[0].0.saturating_add(w[0].1 as u64) > w[1].0) {
+        return Ok(false);
+    }
+    r.points = points;
+    r.node_tags = (lo..=hi).collect();
+    r.nodes_changed();
+    r.c.expect_end("Nodes")?;
+    Ok(true)
 }
 
 /// `$Elements`: entity blocks of one element type each.

@@ -244,7 +244,7 @@ fn read_sol(t: &mut Tokens<'_>, p: &mut Parsed, line: u64) -> Result<()> {
             values.push(t.f64("a solution value")?);
         }
     }
-    p.sol = Some(Sol { n, types, values, at: Some(Position::Line(line)) });
+    p.sol = Some(Sol { n, types, values, raw: None, at: Some(Position::Line(line)) });
     Ok(())
 }
 

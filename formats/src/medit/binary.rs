@@ -175,6 +175,18 @@ fn reals<const LE: bool, const R4: bool>(data: &[u8], out: &mut Vec<f64>) -> Res
     Ok(())
 }
 
+/// Checks little-endian doubles for finiteness without decoding them into memory.
+fn finite_reals(data: &[u8]) -> Result<(), Bad> {
+    // A double is finite unless its exponent bits are all ones.
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    let bits = |c: &[u8]| u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]);
+    if data.chunks_exact(8).fold(true, |ok, c| ok & (bits(c) & EXP != EXP)) {
+        return Ok(());
+    }
+    let i = data.chunks_exact(8).position(|c| bits(c) & EXP == EXP).unwrap_or(0);
+    Err(Bad::Coord(i, f64::from_bits(bits(&data[8 * i..]))))
+}
+
 /// Reads the keywords of a binary file.
 pub(super) fn read(b: &[u8]) -> Result<Parsed> {
     let code = scalar(b, 0, 4, true, "the endianness code (1)")?;
@@ -408,16 +420,31 @@ fn read_sol(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) -> Resu
     let stride: usize = types.iter().map(|&ty| sol_size(ty, p.dim).unwrap_or(0)).sum();
     check_count(n.saturating_mul(stride), limit.saturating_sub(at), f.rsz(), "solution values")
         .map_err(|k| Error::at_byte(data as u64, k))?;
-    let mut values = Vec::with_capacity(n * stride);
     let d = &b[at..at + n * stride * f.rsz()];
+    let mut values = Vec::new();
+    let mut raw = None;
     let r = match (f.le, f.real4) {
-        (true, false) => reals::<true, false>(d, &mut values),
-        (true, true) => reals::<true, true>(d, &mut values),
-        (false, false) => reals::<false, false>(d, &mut values),
-        (false, true) => reals::<false, true>(d, &mut values),
+        // Little-endian doubles (what MMG and smartmesh write) stay in the file, checked
+        // here and decoded once, into their arrays.
+        (true, false) => {
+            raw = Some(at);
+            finite_reals(d)
+        }
+        (true, true) => {
+            values.reserve_exact(n * stride);
+            reals::<true, true>(d, &mut values)
+        }
+        (false, false) => {
+            values.reserve_exact(n * stride);
+            reals::<false, false>(d, &mut values)
+        }
+        (false, true) => {
+            values.reserve_exact(n * stride);
+            reals::<false, true>(d, &mut values)
+        }
     };
     r.map_err(|bad| bad_item(bad, at, f.rsz(), "solution value", 0))?;
-    p.sol = Some(Sol { n, types, values, at: Some(Position::Byte(data as u64)) });
+    p.sol = Some(Sol { n, types, values, raw, at: Some(Position::Byte(data as u64)) });
     Ok(())
 }
 

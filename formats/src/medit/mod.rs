@@ -206,8 +206,11 @@ struct Set {
 struct Sol {
     n: usize,
     types: Vec<u32>,
-    /// `n * Σ sol_size(type)` values, vertex-major.
+    /// `n * Σ sol_size(type)` values, vertex-major (empty when `raw` is given).
     values: Vec<f64>,
+    /// Binary little-endian 8-byte values, checked finite but left in the file: where they
+    /// start. They are decoded straight into the arrays.
+    raw: Option<usize>,
     at: Option<Position>,
 }
 
@@ -250,10 +253,10 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     // `.meshb` that is neither gets the binary reader's error about its endianness code.
     let binary = is_binary(bytes) || ctx.extension == "meshb";
     let p = parse(bytes, binary)?;
-    let mut mesh = assemble(p)?;
+    let mut mesh = assemble(p, bytes)?;
     let order: [&str; 2] = if ctx.extension == "meshb" { ["solb", "sol"] } else { ["sol", "solb"] };
     for ext in order {
-        if let Some(sol_bytes) = ctx.siblings.read_sibling(ext)? {
+        if let Some(sol_bytes) = ctx.siblings.sibling_bytes(ext)? {
             let in_sol = |e: Error| e.with_path(ctx.siblings.describe(ext));
             let p = parse(&sol_bytes, is_binary(&sol_bytes)).map_err(in_sol)?;
             let sol = p.sol.unwrap_or_default();
@@ -266,7 +269,7 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                     p.dim, mesh.coordinate_dim
                 )))));
             }
-            for (name, a) in sol_arrays(&sol, p.dim, mesh.points.len()).map_err(in_sol)? {
+            for (name, a) in sol_arrays(&sol, p.dim, mesh.points.len(), &sol_bytes).map_err(in_sol)? {
                 mesh.point_data.insert(name, a);
             }
             break;
@@ -282,20 +285,21 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
 pub fn read_sol(bytes: &[u8], n_vertices: usize, binary: bool) -> Result<BTreeMap<String, DataArray>> {
     let p = parse(bytes, binary)?;
     match p.sol {
-        Some(sol) => sol_arrays(&sol, p.dim, n_vertices),
+        Some(sol) => sol_arrays(&sol, p.dim, n_vertices, bytes),
         None => Ok(BTreeMap::new()),
     }
 }
 
-/// Names and converts the solutions of a `SolAtVertices`.
-fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize) -> Result<BTreeMap<String, DataArray>> {
+/// Names and converts the solutions of a `SolAtVertices` read from `bytes`.
+fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<BTreeMap<String, DataArray>> {
     let at = sol.at.unwrap_or(Position::Line(1));
     if sol.n != n_vertices {
         return Err(error_at(at, ErrorKind::Inconsistent(format!("SolAtVertices gives {} vertices, the mesh has {n_vertices}", sol.n))));
     }
     let sizes: Vec<usize> = sol.types.iter().map(|&t| sol_size(t, dim).unwrap_or(0)).collect();
     let stride: usize = sizes.iter().sum();
-    if sizes.contains(&0) || sol.values.len() != sol.n * stride {
+    let n_values = if sol.raw.is_some() { sol.n * stride } else { sol.values.len() };
+    if sizes.contains(&0) || n_values != sol.n * stride {
         return Err(error_at(at, ErrorKind::Inconsistent(format!("SolAtVertices holds {} values, expected {} vertices of {stride}", sol.values.len(), sol.n))));
     }
     let mut out = BTreeMap::new();
@@ -320,18 +324,15 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize) -> Result<BTreeMap<String, 
             9
         };
         // The layout is decided once per field, then each vertex's values are written
-        // in place (one pass over the solution, no per-value growth check).
+        // in place (one pass over the solution, no per-value growth check), decoded
+        // from the file's bytes when they were left there.
         let mut values = vec![0.0; comps * sol.n];
-        let items = values.chunks_exact_mut(comps).zip(sol.values.chunks_exact(stride).map(|r| &r[offset..offset + size]));
-        match (typ, d) {
-            (1, _) => items.for_each(|(o, s)| o[0] = s[0]),
-            (2, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[s[0], s[1], 0.0])),
-            (2, _) => items.for_each(|(o, s)| o.copy_from_slice(&s[..3])),
-            (3, 2) => items.for_each(|(o, s)| o.copy_from_slice(&sym2_to_tensor9(s[0], s[1], s[2], 1.0))),
-            // libMeshb's 3D order: m11 m12 m22 m13 m23 m33.
-            (3, _) => items.for_each(|(o, s)| o.copy_from_slice(&[s[0], s[1], s[3], s[1], s[2], s[4], s[3], s[4], s[5]])),
-            (_, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[s[0], s[1], 0.0, s[2], s[3], 0.0, 0.0, 0.0, 1.0])),
-            (_, _) => items.for_each(|(o, s)| o.copy_from_slice(&s[..9])),
+        match sol.raw {
+            Some(start) => {
+                let rows = bytes[start..start + sol.n * stride * 8].chunks_exact(stride * 8).map(|r| &r[offset * 8..(offset + size) * 8]);
+                convert(&mut values, comps, rows, |r: &&[u8], j| f64::from_le_bytes(r[8 * j..8 * j + 8].try_into().unwrap_or([0; 8])), typ, d);
+            }
+            None => convert(&mut values, comps, sol.values.chunks_exact(stride).map(|r| &r[offset..offset + size]), |r: &&[f64], j| r[j], typ, d),
         }
         out.insert(name, DataArray::new(comps, values));
         offset += size;
@@ -339,8 +340,32 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize) -> Result<BTreeMap<String, 
     Ok(out)
 }
 
-/// Resolves indices and builds the mesh.
-fn assemble(p: Parsed) -> Result<TaggedMesh> {
+/// One field's values, vertex by vertex (`rows`, value `j` of a row by `get`), in the
+/// layout of its array: `comps` values per vertex.
+#[inline(always)]
+fn convert<T>(out: &mut [f64], comps: usize, rows: impl Iterator<Item = T>, get: impl Fn(&T, usize) -> f64, typ: u32, d: usize) {
+    let items = out.chunks_exact_mut(comps).zip(rows);
+    match (typ, d) {
+        (1, _) => items.for_each(|(o, s)| o[0] = get(&s, 0)),
+        (2, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), 0.0])),
+        (2, _) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), get(&s, 2)])),
+        (3, 2) => items.for_each(|(o, s)| o.copy_from_slice(&sym2_to_tensor9(get(&s, 0), get(&s, 1), get(&s, 2), 1.0))),
+        // libMeshb's 3D order: m11 m12 m22 m13 m23 m33.
+        (3, _) => items.for_each(|(o, s)| {
+            let m: [f64; 6] = std::array::from_fn(|j| get(&s, j));
+            o.copy_from_slice(&[m[0], m[1], m[3], m[1], m[2], m[4], m[3], m[4], m[5]])
+        }),
+        (_, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), 0.0, get(&s, 2), get(&s, 3), 0.0, 0.0, 0.0, 1.0])),
+        (_, _) => items.for_each(|(o, s)| {
+            for (j, v) in o.iter_mut().enumerate() {
+                *v = get(&s, j);
+            }
+        }),
+    }
+}
+
+/// Resolves indices and builds the mesh (`bytes`: the file it was read from).
+fn assemble(p: Parsed, bytes: &[u8]) -> Result<TaggedMesh> {
     let nv = p.points.len();
     if p.dim == 0 && (!p.points.is_empty() || !p.elements.is_empty()) {
         return Err(Error::new(ErrorKind::Expected { expected: "a Dimension keyword".into(), found: "none".into() }));
@@ -410,7 +435,7 @@ fn assemble(p: Parsed) -> Result<TaggedMesh> {
         }
     }
     if let Some(sol) = p.sol {
-        for (name, a) in sol_arrays(&sol, p.dim, nv)? {
+        for (name, a) in sol_arrays(&sol, p.dim, nv, bytes)? {
             mesh.point_data.insert(name, a);
         }
     }
