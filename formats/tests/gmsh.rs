@@ -580,13 +580,16 @@ fn bin41_nodes(blocks: &[(&[u64], &[[f64; 3]])], lo: u64, hi: u64, tri: [u64; 3]
     (b, t)
 }
 
+/// Node blocks (tags, coordinates), the announced tag range, and the tags of a $NodeData.
+type NodeLayout<'a> = (Vec<(&'a [u64], Vec<[f64; 3]>)>, u64, u64, Vec<u64>);
+
 #[test]
 fn binary_41_node_blocks_out_of_tag_order() {
     let p = |x: f64| [x, 2.0 * x, 0.0];
     // Tags 1..=4 over three blocks in another order (as Gmsh writes entities), then tags
     // that are not a full range, a tag outside the announced range, and data in another
     // order or with a node left out: each read as its ASCII twin reads.
-    let cases: [(Vec<(&[u64], Vec<[f64; 3]>)>, u64, u64, Vec<u64>); 4] = [
+    let cases: [NodeLayout; 4] = [
         (vec![(&[3, 4], vec![p(3.0), p(4.0)]), (&[1], vec![p(1.0)]), (&[2], vec![p(2.0)])], 1, 4, vec![1, 2, 3, 4]),
         (vec![(&[30, 40], vec![p(3.0), p(4.0)]), (&[10, 20], vec![p(1.0), p(2.0)])], 10, 40, vec![40, 10, 30]),
         (vec![(&[3, 9], vec![p(3.0), p(9.0)]), (&[1, 2], vec![p(1.0), p(2.0)])], 1, 4, vec![9, 1, 2, 3]),
