@@ -136,16 +136,7 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
     r.node_tags.reserve(n_nodes);
     let mut total = 0usize;
     for _ in 0..n_blocks {
-        let block_at = r.c.mark();
-        let (dim, _tag, parametric, n) = block_header(r, "parametric flag", "node", min_node)?;
-        if parametric != 0 && parametric != 1 {
-            return Err(r.c.err_at(block_at, ErrorKind::Expected { expected: "a parametric flag 0 or 1".into(), found: parametric.to_string() }));
-        }
-        total += n;
-        if total > n_nodes {
-            return Err(r.c.err_at(block_at, ErrorKind::Inconsistent(format!("the node blocks hold more nodes than the $Nodes header announces ({n_nodes})"))));
-        }
-        let width = 3 + if parametric == 1 { dim as usize } else { 0 };
+        let (block_at, n, width) = node_block_header(r, min_node, n_nodes, &mut total)?;
         r.node_blocks.push((r.node_tags.len(), block_at));
         if binary {
             let p = r.c.pos();
@@ -198,6 +189,22 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
     r.c.expect_end("Nodes")
 }
 
+/// The header of the next `$Nodes` block, checked: where it starts, its node count and
+/// the width of one node's record in values (3 coordinates, plus the parametric ones);
+/// `total` counts the nodes of the blocks so far against the section's `n_nodes`.
+fn node_block_header(r: &mut Reader<'_>, min_node: usize, n_nodes: usize, total: &mut usize) -> Result<(Position, usize, usize)> {
+    let block_at = r.c.mark();
+    let (dim, _tag, parametric, n) = block_header(r, "parametric flag", "node", min_node)?;
+    if parametric != 0 && parametric != 1 {
+        return Err(r.c.err_at(block_at, ErrorKind::Expected { expected: "a parametric flag 0 or 1".into(), found: parametric.to_string() }));
+    }
+    *total += n;
+    if *total > n_nodes {
+        return Err(r.c.err_at(block_at, ErrorKind::Inconsistent(format!("the node blocks hold more nodes than the $Nodes header announces ({n_nodes})"))));
+    }
+    Ok((block_at, n, 3 + if parametric == 1 { dim as usize } else { 0 }))
+}
+
 /// A binary `$Nodes` section, the first one, whose node tags are exactly the `lo..=hi`
 /// its header announces, one node each (how Gmsh and smartmesh number nodes, whatever
 /// the order of the blocks): every point goes straight to its place in tag order, so that
@@ -220,16 +227,7 @@ fn binary_nodes_in_tag_order(r: &mut Reader<'_>, section_at: Position) -> Result
     let mut runs: Vec<(u64, usize)> = Vec::new();
     let mut total = 0usize;
     for _ in 0..n_blocks {
-        let block_at = r.c.mark();
-        let (dim, _tag, parametric, n) = block_header(r, "parametric flag", "node", min_node)?;
-        if parametric != 0 && parametric != 1 {
-            return Err(r.c.err_at(block_at, ErrorKind::Expected { expected: "a parametric flag 0 or 1".into(), found: parametric.to_string() }));
-        }
-        total += n;
-        if total > n_nodes {
-            return Err(r.c.err_at(block_at, ErrorKind::Inconsistent(format!("the node blocks hold more nodes than the $Nodes header announces ({n_nodes})"))));
-        }
-        let width = 3 + if parametric == 1 { dim as usize } else { 0 };
+        let (block_at, n, width) = node_block_header(r, min_node, n_nodes, &mut total)?;
         r.node_blocks.push((total - n, block_at));
         let p = r.c.pos();
         let tags = r.c.take_array(n, st, "node tags")?;
