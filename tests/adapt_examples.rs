@@ -12,7 +12,7 @@
 //! do not try are refused with exit status 2 and a message naming the file.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 use smartmesh::adapt::files::ResultFiles;
@@ -24,34 +24,10 @@ use smartmesh::history::History;
 use smartmesh::quality::signed_area;
 use smartmesh::Recipe;
 
-/// Every example: (folder under examples/, recipe under examples/), as in tests/examples.rs.
-const EXAMPLES: &[(&str, &str)] = &[
-    ("naca0012-agard01", "naca0012-agard01/recipe.toml"),
-    ("gamm-a7-viscous", "gamm-a7-viscous/recipe.toml"),
-    ("u-duct", "u-duct/recipe.cfg"),
-    ("distributor/1-narrow", "distributor/recipe.cfg"),
-    ("distributor/2-thick", "distributor/recipe.cfg"),
-    ("distributor/3-s-shaped", "distributor/recipe.cfg"),
-];
+#[path = "support/examples.rs"]
+mod support;
 
-fn examples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")
-}
-
-fn has_cpp() -> bool {
-    Command::new("cpp").arg("--version").output().is_ok_and(|o| o.status.success())
-}
-
-/// The distributor's recipe has a `#define`: it needs cpp. On CI a missing cpp is a
-/// failure, elsewhere the distributor is skipped (as in tests/examples.rs).
-fn cpp_or_skip() -> bool {
-    if has_cpp() {
-        return true;
-    }
-    assert!(std::env::var_os("CI").is_none(), "CI must have cpp to read the distributor's recipe");
-    eprintln!("skipped: no cpp on this machine for examples/distributor/recipe.cfg");
-    false
-}
+use support::{cpp_or_skip, examples, EXAMPLES};
 
 fn xy(m: &TaggedMesh, v: usize) -> [f64; 2] {
     [m.points[v][0], m.points[v][1]]

@@ -1,0 +1,34 @@
+//! The examples of `examples/`, as the tests that run them see them: one list, the
+//! folder, and the rule for the distributor's preprocessed recipe.
+
+use std::path::{Path, PathBuf};
+
+/// Every example: (folder under examples/, recipe under examples/).
+pub const EXAMPLES: &[(&str, &str)] = &[
+    ("naca0012-agard01", "naca0012-agard01/recipe.toml"),
+    ("gamm-a7-viscous", "gamm-a7-viscous/recipe.toml"),
+    ("u-duct", "u-duct/recipe.cfg"),
+    ("distributor/1-narrow", "distributor/recipe.cfg"),
+    ("distributor/2-thick", "distributor/recipe.cfg"),
+    ("distributor/3-s-shaped", "distributor/recipe.cfg"),
+];
+
+/// The `examples/` folder.
+pub fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")
+}
+
+fn has_cpp() -> bool {
+    std::process::Command::new("cpp").arg("--version").output().is_ok_and(|o| o.status.success())
+}
+
+/// The distributor's recipe has a `#define` (as the thesis' appendix A.1.6): it needs
+/// cpp. On CI a missing cpp is a failure, elsewhere the distributor is skipped.
+pub fn cpp_or_skip() -> bool {
+    if has_cpp() {
+        return true;
+    }
+    assert!(std::env::var_os("CI").is_none(), "CI must have cpp to read the distributor's recipe");
+    eprintln!("skipped: no cpp on this machine for examples/distributor/recipe.cfg");
+    false
+}
