@@ -152,3 +152,44 @@ pub fn from_sizes(sizes: &[Option<SizeTensor>], topo: &Topology, points: &[[f64;
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::{CellKind, TaggedMesh};
+
+    /// A strip of `n` unit squares along x, two triangles each.
+    fn strip(n: usize) -> (Topology, Vec<[f64; 2]>) {
+        let mut m = TaggedMesh::new();
+        for i in 0..=n {
+            m.points.push([i as f64, 0.0, 0.0]);
+            m.points.push([i as f64, 1.0, 0.0]);
+        }
+        let b = m.block_mut(CellKind::Triangle);
+        for i in 0..n {
+            let (a, c) = (2 * i, 2 * i + 2);
+            b.push(&[a, c, c + 1], 1, 1);
+            b.push(&[a, c + 1, a + 1], 1, 1);
+        }
+        let pts = m.points.iter().map(|p| [p[0], p[1]]).collect();
+        (Topology::from_mesh(&m), pts)
+    }
+
+    #[test]
+    fn size_windows_start_at_the_smallest_and_skip_ordinary_sizes() {
+        let (topo, pts) = strip(20);
+        let mut sizes: Vec<Option<SizeTensor>> = vec![Some(SizeTensor::isotropic(1.0)); pts.len()];
+        // Two refined spots far apart (vertices 4 and 36), a third one that is not
+        // refined enough (0.6 of the median) to earn a window.
+        sizes[36] = Some(SizeTensor::isotropic(0.01));
+        sizes[4] = Some(SizeTensor::isotropic(0.02));
+        sizes[20] = Some(SizeTensor::isotropic(0.6));
+        let domain = Rect::bounding(pts.iter().copied()).unwrap();
+        let w = from_sizes(&sizes, &topo, &pts, &domain, 3);
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(w[0].region.contains(pts[36]) && w[1].region.contains(pts[4]));
+        assert!(w[0].label.contains("vertex 36"));
+        // Same input, same windows.
+        assert_eq!(w, from_sizes(&sizes, &topo, &pts, &domain, 3));
+    }
+}
