@@ -4,32 +4,14 @@
 //! output (skips unless `mmg2d_O3` is installed or `SMARTMESH_REQUIRE_INTEROP=1`).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 use smartmesh::formats::{read_path, write_path, DataArray, WriteOptions};
 
-fn smartmesh(args: &[&str], threads: Option<&str>) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_smartmesh"));
-    c.args(args);
-    if let Some(t) = threads {
-        c.env("RAYON_NUM_THREADS", t);
-    }
-    c.output().expect("run smartmesh")
-}
+#[path = "support/cli.rs"]
+mod cli;
 
-fn bundled(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name).display().to_string()
-}
-
-fn ok(o: &Output) -> String {
-    assert_eq!(o.status.code(), Some(0), "stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn bad(o: &Output) -> String {
-    assert_eq!(o.status.code(), Some(2), "stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use cli::{bad, bundled, ok, smartmesh};
 
 /// The cylinder's recipe field, written as .vtu (mesh + metric).
 fn field(dir: &Path) -> PathBuf {

@@ -9,28 +9,15 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 use common::python_with;
 use smartmesh::formats::{read_path, CellKind, TaggedMesh};
 
-fn smartmesh(args: &[&str], threads: Option<&str>) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_smartmesh"));
-    c.args(args);
-    if let Some(t) = threads {
-        c.env("RAYON_NUM_THREADS", t);
-    }
-    c.output().expect("run smartmesh")
-}
+#[path = "support/cli.rs"]
+mod cli;
 
-fn bundled(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name).display().to_string()
-}
-
-fn ok(o: &Output) -> String {
-    assert_eq!(o.status.code(), Some(0), "stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
+use cli::{bundled, ok, smartmesh};
 
 fn size_to(out: &Path) -> String {
     ok(&smartmesh(&["size", &bundled("cylinder.msh"), "--recipe", &bundled("cylinder.toml"), "-o", out.to_str().unwrap(), "--json"], None))

@@ -1,0 +1,33 @@
+//! Running the `smartmesh` binary from integration tests: the command, the bundled
+//! fixtures, and the exit-status checks that print both streams when they fail.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// Runs `smartmesh ARGS`, with `RAYON_NUM_THREADS` set when `threads` is given.
+pub fn smartmesh(args: &[&str], threads: Option<&str>) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_smartmesh"));
+    c.args(args);
+    if let Some(t) = threads {
+        c.env("RAYON_NUM_THREADS", t);
+    }
+    c.output().expect("run smartmesh")
+}
+
+/// The path of a bundled fixture (`fixtures/NAME`).
+pub fn bundled(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name).display().to_string()
+}
+
+/// Asserts exit status 0 and returns stdout.
+pub fn ok(o: &Output) -> String {
+    assert_eq!(o.status.code(), Some(0), "stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Asserts exit status 2 (bad usage or input) and returns stderr.
+#[allow(dead_code)] // not every test file checks refusals
+pub fn bad(o: &Output) -> String {
+    assert_eq!(o.status.code(), Some(2), "stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
