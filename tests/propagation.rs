@@ -114,6 +114,8 @@ struct Tally {
     mismatches: usize,
     /// Any field not bit-identical to the brute-force twin.
     not_bitwise: usize,
+    /// Vertices whose answer a clearance certified (no index search).
+    certified: usize,
 }
 
 /// Compares every reached vertex with the brute-force twin.
@@ -162,17 +164,18 @@ fn run_case(name: &str, graph: &MeshGraph, source: &Source, max: f64) -> Tally {
     let t = check_exact(graph, source, &reach);
     let r = reach.report();
     eprintln!(
-        "{name}: {} vertices reached, {} evaluated, {} segments, {} corrected by the index, {:.1} boxes + {:.1} segments per vertex, mismatches {}, not bit-identical {}",
+        "{name}: {} vertices reached, {} evaluated, {} segments, {} certified by a clearance, {} corrected by the index, {:.1} boxes + {:.1} segments per vertex, mismatches {}, not bit-identical {}",
         reach.len(),
         r.evaluated,
         source.segments().len(),
+        r.certified_locally,
         r.corrected,
         r.boxes_tested as f64 / r.evaluated as f64,
         r.segments_tested as f64 / r.evaluated as f64,
         t.mismatches,
         t.not_bitwise
     );
-    t
+    Tally { certified: r.certified_locally, ..t }
 }
 
 /// A cambered airfoil-like closed curve (NACA 4-digit shape), `n` points per side,
@@ -206,6 +209,7 @@ fn exactness_campaign_on_non_convex_sources() {
         total.vertices += t.vertices;
         total.mismatches += t.mismatches;
         total.not_bitwise += t.not_bitwise;
+        total.certified += t.certified;
     };
 
     // 1. Airfoil-like closed curve, free polyline, on a mesh about as coarse as the
@@ -280,10 +284,61 @@ fn exactness_campaign_on_non_convex_sources() {
     let source = Source::builder(&graph).polyline(&star, true).vertex(g.vertex(60, 60)).build().unwrap();
     add(run_case("star with fine wiggles + a point", &graph, &source, f64::INFINITY));
 
-    eprintln!("total: {} vertices, {} mismatches, {} not bit-identical", total.vertices, total.mismatches, total.not_bitwise);
+    eprintln!("total: {} vertices, {} certified by a clearance, {} mismatches, {} not bit-identical", total.vertices, total.certified, total.mismatches, total.not_bitwise);
     assert!(total.vertices >= 100_000);
+    // Most answers come from the clearance certificate, so the campaign tests it, not
+    // only the index search behind it.
+    assert!(total.certified * 2 >= total.vertices, "{} of {} certified by a clearance", total.certified, total.vertices);
     assert_eq!(total.mismatches, 0);
     assert_eq!(total.not_bitwise, 0);
+}
+
+/// The clearance certificate (a closest point decided by the segments around it, no
+/// index search) on random smooth curves, open and closed, with sharp corners and
+/// close passes: every answer is the brute-force one, bit for bit, and most of them
+/// come from the certificate.
+#[test]
+fn clearance_certificates_match_brute_force_on_random_curves() {
+    let mut rng = Rng(77);
+    let mut total = Tally::default();
+    for case in 0..24 {
+        let g = Grid::new(71, 71, [-1.1, -1.1], 2.2 / 70.0, 0.3, 100 + case);
+        let graph = g.graph();
+        let n = 100 + (rng.unit() * 1400.0) as usize;
+        let closed = case % 3 != 0;
+        let modes: Vec<(f64, f64, f64)> = (0..4).map(|m| (rng.unit() * 0.25 / (m + 1) as f64, (m + 2) as f64, rng.unit() * 6.3)).collect();
+        let corner_every = if case % 4 == 1 { 1 + (rng.unit() * 50.0) as usize } else { usize::MAX };
+        let mut pts: Vec<Point2> = (0..n)
+            .map(|k| {
+                let span = if closed { 2.0 * std::f64::consts::PI } else { 4.0 };
+                let a = span * k as f64 / n as f64;
+                let r = 0.6 + modes.iter().map(|&(amp, f, ph)| amp * (f * a + ph).cos()).sum::<f64>();
+                // Every `corner_every`-th point pushed out: a polyline with corners.
+                let r = if k % corner_every == 0 { r * 1.08 } else { r };
+                [r * a.cos(), r * a.sin()]
+            })
+            .collect();
+        if case % 5 == 2 {
+            // A second curve passing close by.
+            pts.truncate(n / 2);
+        }
+        let mut b = Source::builder(&graph);
+        b.polyline(&pts, closed);
+        if case % 5 == 2 {
+            let other: Vec<Point2> = pts.iter().map(|p| [p[0] * 0.97, p[1] * 0.97]).collect();
+            b.polyline(&other, false);
+        }
+        let source = b.build().unwrap();
+        let reach = propagate(&graph, &source, f64::INFINITY, &PropagationOptions::new());
+        let t = check_exact(&graph, &source, &reach);
+        total.vertices += t.vertices;
+        total.mismatches += t.mismatches;
+        total.not_bitwise += t.not_bitwise;
+        total.certified += reach.report().certified_locally;
+    }
+    eprintln!("random curves: {} vertices, {} certified by a clearance, {} mismatches, {} not bit-identical", total.vertices, total.certified, total.mismatches, total.not_bitwise);
+    assert_eq!((total.mismatches, total.not_bitwise), (0, 0));
+    assert!(total.certified * 5 >= total.vertices * 2, "{} of {} certified", total.certified, total.vertices);
 }
 
 /// Work per vertex stays O(1) amortised (thesis 7.3.5): the segment index looks at a

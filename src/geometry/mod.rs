@@ -5,8 +5,10 @@
 //!
 //! Everything here works on plain `[f64; 2]` points and knows nothing of meshes or tags.
 
+pub mod clearance;
 pub mod segment;
 pub mod segment_index;
 
+pub use clearance::Clearance;
 pub use segment::{Point2, Projection, SegmentGeom};
 pub use segment_index::{Nearest, QueryStats, SegmentIndex};

@@ -9,13 +9,18 @@
 //! is a breadth-first search by levels from the source's seed vertices (the vertices of
 //! the source, and for free pieces the corners of every cell they touch, so that a
 //! coarse mesh is still marked). A vertex of the next level takes as guess the closest
-//! segments of its already evaluated neighbours, marches along the polyline while the
-//! foot point sits on a segment end (thesis 4.3.6.3), and then *certifies* the guess
-//! with the segment index ([`SegmentIndex::certify`]): only the boxes nearer than the
-//! guessed distance are opened. Pure neighbour propagation stops in local minima near
-//! the medial axis of non-convex sources on coarse meshes; the certification makes every
-//! answer the exact closest point on the discretised source (ties: smaller segment id),
-//! equal bit for bit to [`closest_point_brute_force`], whatever the order or the guess.
+//! segments of its already evaluated neighbours and moves along the polyline to the
+//! best segment of its *window* (its segment and two either way, or the two either side
+//! of a polyline vertex; thesis 4.3.6.3's march). The answer is then *certified*: by the
+//! clearance of that segment or vertex ([`Clearance`]: how far out the window alone
+//! decides the closest point, computed once per source), or where the vertex lies beyond
+//! it — near the medial axis of a non-convex source, past a sharp corner, where another
+//! curve comes close — by a branch-and-bound search over oriented boxes of runs of
+//! segments ([`Clearance::closest`]) that opens only boxes nearer than the guess. Pure
+//! neighbour propagation stops in local minima near the medial axis of non-convex
+//! sources on coarse meshes; the certification makes every answer the exact closest
+//! point on the discretised source (ties: smaller segment id), equal bit for bit to
+//! [`closest_point_brute_force`], whatever the order or the guess.
 //! Since each answer is exact and depends on nothing else, the result is the same with
 //! any number of threads: levels are evaluated in parallel (rayon) and committed in order.
 //!
@@ -26,15 +31,16 @@
 //! its corners are expanded, and the last one touches the source. Reported are the seeds
 //! and the vertices within `max_distance`; the others are evaluated in transit only.
 //!
-//! Cost: O(1) segment projections per vertex for the guess, plus the certification,
-//! whose box tests are bounded by the depth of the index (O(log m) for m segments, a
-//! few nanoseconds each) and in practice open one or two leaves. Seeding free pieces
-//! scans the cells once (O(cells), with a box test against the source first).
+//! Cost: O(1) segment projections per vertex for the guess and the window, and O(1) for
+//! a clearance certificate; a vertex beyond its clearance costs a box search, O(log m)
+//! boxes for m segments. The clearances cost one bounded search per segment and per
+//! polyline vertex when the propagation starts (O(m log m)). Seeding free pieces scans
+//! the cells once (O(cells), with a box test against the source first).
 
 use rayon::prelude::*;
 
 use crate::geometry::segment::{point_in_polygon, segment_touches_polygon, segments_touch};
-use crate::geometry::{Nearest, Point2, Projection, QueryStats, SegmentGeom, SegmentIndex};
+use crate::geometry::{Clearance, Nearest, Point2, Projection, QueryStats, SegmentGeom, SegmentIndex};
 use crate::mesh_graph::{MeshGraph, NO_CORNER};
 use crate::topology::Topology;
 
@@ -380,6 +386,72 @@ impl Source {
         }
     }
 
+    /// The clearances of the source's segments and vertices for a propagation over
+    /// `graph` up to `max_distance` (see [`Clearance`]).
+    fn clearance(&self, graph: &MeshGraph, max_distance: f64) -> Clearance {
+        let (mut lo, mut hi) = self.index.bounds().unwrap_or(([0.0; 2], [0.0; 2]));
+        let mut longest: f64 = 0.0;
+        for (v, q) in graph.points().iter().enumerate() {
+            for k in 0..2 {
+                lo[k] = lo[k].min(q[k]);
+                hi[k] = hi[k].max(q[k]);
+            }
+            longest = longest.max(graph.longest_edge(v));
+        }
+        let scale = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs());
+        let diagonal = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        // No vertex that propagation evaluates is farther from the source than the
+        // reach plus two edges, nor than the diagonal of the mesh and the source.
+        let cap = 2.0 * (max_distance.min(diagonal) + 2.0 * longest).min(diagonal);
+        let links: Vec<(Option<u32>, Option<u32>)> = self.segments.iter().map(|s| (s.prev, s.next)).collect();
+        Clearance::new(&self.geoms, &links, cap, scale)
+    }
+
+    /// The segments whose closest points must be compared with `best`'s before its
+    /// clearance can decide: [`crate::geometry::clearance::WINDOW`] segments either way
+    /// from its segment when the foot is inside it, the two segments either side of the
+    /// vertex when the foot is a polyline vertex.
+    #[inline]
+    fn window(&self, best: &Nearest) -> [Option<u32>; 4] {
+        let s = best.segment;
+        let link = |x: Option<u32>, forward: bool| x.and_then(|x| if forward { self.segments[x as usize].next } else { self.segments[x as usize].prev });
+        let t = best.projection.t;
+        if t > 0.0 && t < 1.0 {
+            let (p1, n1) = (link(Some(s), false), link(Some(s), true));
+            [p1, link(p1, false), n1, link(n1, true)]
+        } else if t == 0.0 {
+            let p1 = link(Some(s), false);
+            [p1, link(p1, false), link(Some(s), true), None]
+        } else {
+            let n1 = link(Some(s), true);
+            [link(Some(s), false), n1, link(n1, true), None]
+        }
+    }
+
+    /// Whether `best`, the best of its window for `p`, is the closest point of the
+    /// whole source by the clearance of its segment or vertex (half of it, see
+    /// [`Clearance`]).
+    #[inline]
+    fn certified(&self, clearance: &Clearance, p: Point2, best: &Nearest) -> bool {
+        let s = best.segment;
+        let d2 = best.projection.distance_squared;
+        let t = best.projection.t;
+        if t > 0.0 && t < 1.0 {
+            let rho = clearance.segment(s, &self.geoms[s as usize], p);
+            return d2 <= CERTIFIED_SQUARED * rho * rho;
+        }
+        let into = if t == 0.0 { self.segments[s as usize].prev } else { Some(s) };
+        let Some(into) = into else { return false };
+        let cone = clearance.cone(into);
+        if d2.is_nan() || d2 > CERTIFIED_SQUARED * cone.radius * cone.radius {
+            return false;
+        }
+        let r = d2.sqrt();
+        let v = best.projection.foot;
+        let e = [p[0] - v[0] - r * cone.mean[0], p[1] - v[1] - r * cone.mean[1]];
+        e[0] * e[0] + e[1] * e[1] <= cone.kappa_squared * d2
+    }
+
     /// Corners of every cell that a free piece touches (every edge when the graph has
     /// no cell). Near misses within a few ulps count: an extra seed costs one
     /// evaluation, a missing one could leave a crossed cell unmarked.
@@ -499,6 +571,9 @@ pub struct PropagationReport {
     /// Vertices where the neighbours' guess was not the closest segment and the index
     /// found a strictly closer one: the local minima of pure neighbour propagation.
     pub corrected: usize,
+    /// Vertices whose closest point was certified by the clearance of its segment or
+    /// vertex (no index search).
+    pub certified_locally: usize,
     /// Breadth-first levels.
     pub levels: usize,
     /// Index boxes tested.
@@ -563,12 +638,16 @@ const UNSEEN: u32 = u32::MAX;
 const QUEUED: u32 = u32::MAX - 1;
 /// Levels smaller than this are evaluated on the calling thread.
 const PARALLEL_MIN_LEVEL: usize = 2048;
+/// Square of the share of a clearance up to which it certifies a closest point: a
+/// margin far above the rounding of the distances compared (see [`Clearance`]).
+const CERTIFIED_SQUARED: f64 = 0.999 * 0.999;
 /// Steps of the march along the polyline from the neighbours' guess.
 const MARCH_STEPS: usize = 4;
 
 struct Evaluation {
     nearest: Nearest,
     corrected: bool,
+    local: bool,
     stats: QueryStats,
 }
 
@@ -587,15 +666,16 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
         slot[v as usize] = QUEUED;
     }
     report.seeds = frontier.len();
+    let clearance = if frontier.is_empty() { Clearance::default() } else { source.clearance(graph, max) };
     let mut level = 0usize;
     while !frontier.is_empty() {
         let evaluate = |&v: &u32| -> Evaluation {
             if level == 0 {
                 let mut stats = QueryStats::default();
                 let nearest = source.index.closest(graph.point(v as usize), &mut stats).expect("index is not empty");
-                Evaluation { nearest, corrected: false, stats }
+                Evaluation { nearest, corrected: false, local: false, stats }
             } else {
-                evaluate_from_neighbours(graph, source, &slot, &found, v as usize)
+                evaluate_from_neighbours(graph, source, &clearance, &slot, &found, v as usize)
             }
         };
         let evaluations: Vec<Evaluation> = if options.parallel && frontier.len() >= PARALLEL_MIN_LEVEL {
@@ -610,6 +690,7 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
             found.push(e.nearest);
             order.push(v);
             report.corrected += usize::from(e.corrected);
+            report.certified_locally += usize::from(e.local);
             report.boxes_tested += e.stats.boxes;
             report.segments_tested += e.stats.segments;
         }
@@ -645,9 +726,10 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
     Reach { vertices, closest, slot, report }
 }
 
-/// The closest point of vertex `v` from its evaluated neighbours' segments, marched
-/// along the polyline, then certified by the index.
-fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, slot: &[u32], found: &[Nearest], v: usize) -> Evaluation {
+/// The closest point of vertex `v` from its evaluated neighbours' segments, settled
+/// on a local optimum along the polyline, then certified by the clearance of its
+/// segment or vertex, or else by the index.
+fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clearance, slot: &[u32], found: &[Nearest], v: usize) -> Evaluation {
     let p = graph.point(v);
     let mut stats = QueryStats::default();
     let mut tried = [u32::MAX; 8];
@@ -675,28 +757,31 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, slot: &[u32], fo
     let Some(mut best) = best else {
         // Queued vertices always have an evaluated neighbour; stay exact regardless.
         let nearest = source.index.closest(p, &mut stats).expect("index is not empty");
-        return Evaluation { nearest, corrected: false, stats };
+        return Evaluation { nearest, corrected: false, local: false, stats };
     };
-    // March towards the closer neighbour segment while the foot sits on an end.
+    // Move to the best segment of the window until it is the best of its own window
+    // (thesis 4.3.6.3's march along the polyline), then try the clearance.
     for _ in 0..MARCH_STEPS {
-        let s = &source.segments[best.segment as usize];
-        let step = if best.projection.t == 0.0 {
-            s.prev
-        } else if best.projection.t == 1.0 {
-            s.next
-        } else {
-            None
-        };
-        let Some(q) = step else { break };
-        stats.segments += 1;
-        let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
-        if c.beats(&best) {
-            best = c;
-        } else {
+        let window = source.window(&best);
+        let mut moved = false;
+        for q in window.into_iter().flatten() {
+            if q == best.segment {
+                continue;
+            }
+            stats.segments += 1;
+            let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
+            if c.beats(&best) {
+                best = c;
+                moved = true;
+            }
+        }
+        if !moved {
+            if source.certified(clearance, p, &best) {
+                return Evaluation { nearest: best, corrected: false, local: true, stats };
+            }
             break;
         }
     }
-    let guess = best.projection.distance_squared;
-    let nearest = source.index.certify(p, best, &mut stats);
-    Evaluation { nearest, corrected: nearest.projection.distance_squared < guess, stats }
+    let nearest = clearance.closest(&source.geoms, p, best, &mut stats);
+    Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats }
 }

@@ -1,0 +1,563 @@
+//! Clearances of a polyline source: how far from each segment, and from each polyline
+//! vertex, the closest point of the source is decided by the few segments around it,
+//! so that a closest point found among those is exact without a search of the others.
+//!
+//! Segment. Let `p` lie on one side of segment `s = [a, b]` at distance `y`, its foot
+//! strictly inside `s`. The disc of radius `y` around `p` lies in the *stadium* swept by
+//! the discs of radius `y` tangent to `s` on that side, `{z : dist(z, [a, b] + y n) <
+//! y}`. A point `q` at height `y_q > 0` above the line of `s` and at distance `dx` from
+//! `[a, b]` along it lies outside that stadium as long as `y <= F(q) = (dx² + y_q²) /
+//! (2 y_q)` (the radius of the circle tangent to `s` through `q`); points at or below
+//! the line never enter it. So if `y` stays below the smallest `F` over the segments
+//! outside the *window* of `s` (itself and [`WINDOW`] segments either way along its
+//! polyline), none of them is as close to `p` as `s`, and the closest point of the
+//! source is the best of the window's segments.
+//!
+//! Vertex. At a polyline vertex `v` where the polyline turns by θ, the points whose
+//! foot is `v` on both segments form a cone of angle θ on the outer side, of mean
+//! direction `m̄`; every unit vector of the cone is within `κ = 2 sin(θ/4)` of `m̄`. For
+//! `p = v + r m` with `|m - m̄| <= κ`, the disc of radius `r` around `p` lies in the disc
+//! of radius `r (1 + κ)` around `v + r m̄`, which a point `q` stays out of as long as
+//! `r <= G(q) = D / (w + sqrt(w² + c D))` with `D = |q - v|²`, `w = (q - v)·m̄`,
+//! `c = 2κ + κ²` (the positive root of `|q - v - r m̄|² = r² (1 + κ)²`).
+//!
+//! Soundness. Over a box of the segment index or a piece of a segment, `F` and `G` are
+//! bounded from below by their smallest numerator over their largest denominator, so
+//! every clearance is a lower bound of the true one; segments are cut into [`PIECES`]
+//! pieces so that the bound stays tight for the segments just outside a window. A
+//! segment outside the window that comes within [`SEPARATION`] (relative to the
+//! coordinates) of `s` or `v` — another curve meeting it, a polyline touching itself —
+//! leaves no clearance, since there the two distances could tie to rounding. The caller
+//! certifies only up to half the clearance, a margin far above the rounding of the
+//! distances it compares, so that the certified answer is the one a scan of every
+//! segment computes, bit for bit.
+//!
+//! Cost: one branch-and-bound walk of the segment index per segment and per vertex,
+//! seeded with the segments just outside the window, O(m log m) in all.
+
+use rayon::prelude::*;
+
+use super::segment::{Point2, SegmentGeom};
+use super::segment_index::{Nearest, QueryStats};
+
+/// Segments either side of a segment whose closest points a certificate compares.
+pub const WINDOW: usize = 2;
+
+/// Pieces a segment is cut into for its lower bounds.
+pub const PIECES: usize = 8;
+
+/// Distance, relative to the largest coordinate, under which a segment outside a window
+/// counts as touching the segment or vertex of the window.
+pub const SEPARATION: f64 = 1e-9;
+
+/// A node is opened only when its bound is below this fraction of the clearance found
+/// so far, and the clearance kept is that fraction of the smallest value found: still
+/// a lower bound (every node left closed is at least that far), for far fewer nodes
+/// where many parts of the source are about equally close (a circle seen from inside).
+const SETTLE: f64 = 0.75;
+
+/// Segments per rayon task when the clearances are computed in parallel.
+const PARALLEL_MIN: usize = 1024;
+
+/// The cone of directions at a polyline vertex from which the vertex is the foot on
+/// both of its segments, and how far out along it the vertex decides.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cone {
+    /// Mean direction (unit).
+    pub mean: Point2,
+    /// Square of the largest distance between a unit vector of the cone and `mean`
+    /// (with a little slack).
+    pub kappa_squared: f64,
+    /// The clearance (0: none).
+    pub radius: f64,
+}
+
+const NO_CONE: Cone = Cone { mean: [0.0, 0.0], kappa_squared: 0.0, radius: 0.0 };
+
+/// Clearances of every segment (each side) and of every interior polyline vertex.
+#[derive(Debug, Clone, Default)]
+pub struct Clearance {
+    /// `[left, right]` clearance of each segment (0: none).
+    segment: Vec<[f64; 2]>,
+    /// The cone at the end of each segment that has a next one.
+    cone: Vec<Cone>,
+    /// Runs of segments in oriented boxes, for the clearances and for exact queries.
+    tree: ChainTree,
+}
+
+/// Polyline links of a segment: previous and next along its polyline.
+pub type Links = (Option<u32>, Option<u32>);
+
+impl Clearance {
+    /// The clearances of `geoms` (linked by `links`), at most `cap`
+    /// (the largest distance that will be asked about), with `scale` the largest
+    /// coordinate magnitude of the source and the points it will be asked about.
+    pub fn new(geoms: &[SegmentGeom], links: &[Links], cap: f64, scale: f64) -> Clearance {
+        let gap = SEPARATION * scale.max(f64::MIN_POSITIVE);
+        let tree = ChainTree::new(geoms, 16.0 * f64::EPSILON * scale);
+        let ctx = Ctx { geoms, links, tree: &tree, cap, gap };
+        let one = |s: usize| (ctx.segment(s), ctx.cone(s));
+        let pairs: Vec<([f64; 2], Cone)> =
+            if geoms.len() >= PARALLEL_MIN { (0..geoms.len()).into_par_iter().with_min_len(256).map(one).collect() } else { (0..geoms.len()).map(one).collect() };
+        let (segment, cone): (Vec<[f64; 2]>, Vec<Cone>) = pairs.into_iter().unzip();
+        Clearance { segment, cone, tree }
+    }
+
+    /// The exact closest segment to `p`, starting from the guess `seed` (the projection
+    /// of `p` on `seed.segment`): branch and bound over the oriented boxes, nearer child
+    /// first. Ties as [`Nearest::beats`]; the answer does not depend on the guess.
+    pub fn closest(&self, geoms: &[SegmentGeom], p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
+        let mut best = seed;
+        let t = &self.tree;
+        if t.nodes.is_empty() {
+            return best;
+        }
+        let mut stack = [(0u32, 0.0f64); 96];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let (at, lb) = stack[top];
+            if lb > best.projection.distance_squared * SLACK {
+                continue;
+            }
+            let n = &t.nodes[at as usize];
+            if n.left == u32::MAX {
+                stats.segments += u64::from(n.hi - n.lo);
+                for id in n.lo..n.hi {
+                    let g = &geoms[id as usize];
+                    if !g.a.iter().chain(&g.b).all(|c| c.is_finite()) {
+                        continue;
+                    }
+                    let c = Nearest { segment: id, projection: g.project(p) };
+                    if c.beats(&best) {
+                        best = c;
+                    }
+                }
+                continue;
+            }
+            stats.boxes += 2;
+            let (l, r) = (n.left, n.right);
+            let (dl, dr) = (t.nodes[l as usize].distance_squared(p), t.nodes[r as usize].distance_squared(p));
+            let bound = best.projection.distance_squared * SLACK;
+            let (near, far) = if dl <= dr { ((l, dl), (r, dr)) } else { ((r, dr), (l, dl)) };
+            if far.1 <= bound && top < stack.len() {
+                stack[top] = far;
+                top += 1;
+            }
+            if near.1 <= bound && top < stack.len() {
+                stack[top] = near;
+                top += 1;
+            }
+        }
+        best
+    }
+
+    /// The clearance of segment `s` on the side of `p` (the smaller one when `p` lies on
+    /// its line).
+    #[inline]
+    pub fn segment(&self, s: u32, g: &SegmentGeom, p: Point2) -> f64 {
+        let c = self.segment[s as usize];
+        let cr = g.d[0] * (p[1] - g.a[1]) - g.d[1] * (p[0] - g.a[0]);
+        if cr > 0.0 {
+            c[0]
+        } else if cr < 0.0 {
+            c[1]
+        } else {
+            c[0].min(c[1])
+        }
+    }
+
+    /// The cone at the end of segment `s` (where it meets the next one).
+    #[inline]
+    pub fn cone(&self, s: u32) -> &Cone {
+        &self.cone[s as usize]
+    }
+
+    /// Number of segments covered.
+    pub fn len(&self) -> usize {
+        self.segment.len()
+    }
+
+    /// Whether no segment is covered.
+    pub fn is_empty(&self) -> bool {
+        self.segment.is_empty()
+    }
+}
+
+struct Ctx<'a> {
+    geoms: &'a [SegmentGeom],
+    links: &'a [Links],
+    tree: &'a ChainTree,
+    cap: f64,
+    gap: f64,
+}
+
+/// `x` range and `y` range (along and across a segment's frame) of some points.
+#[derive(Clone, Copy)]
+struct Rect {
+    x: [f64; 2],
+    y: [f64; 2],
+}
+
+impl Rect {
+    fn of(points: &[Point2]) -> Rect {
+        let mut r = Rect { x: [f64::INFINITY, f64::NEG_INFINITY], y: [f64::INFINITY, f64::NEG_INFINITY] };
+        for q in points {
+            r.x = [r.x[0].min(q[0]), r.x[1].max(q[0])];
+            r.y = [r.y[0].min(q[1]), r.y[1].max(q[1])];
+        }
+        r
+    }
+}
+
+/// The frame of a segment: origin `a`, unit direction `t`, left normal, length.
+struct Frame {
+    a: Point2,
+    t: Point2,
+    len: f64,
+}
+
+impl Frame {
+    #[inline]
+    fn local(&self, z: Point2) -> Point2 {
+        let (dx, dy) = (z[0] - self.a[0], z[1] - self.a[1]);
+        [dx * self.t[0] + dy * self.t[1], dy * self.t[0] - dx * self.t[1]]
+    }
+
+    /// The range of frame coordinates over a node's box: its centre's coordinates
+    /// plus or minus the box's half extents projected on the frame's axes.
+    #[inline]
+    fn rect_of_box(&self, n: &ChainNode) -> Rect {
+        let hs = 0.5 * (n.s[1] - n.s[0]);
+        let ht = 0.5 * (n.t[1] - n.t[0]);
+        let (ms, mt) = (0.5 * (n.s[0] + n.s[1]), 0.5 * (n.t[0] + n.t[1]));
+        let c = [n.o[0] + ms * n.u[0] - mt * n.u[1], n.o[1] + ms * n.u[1] + mt * n.u[0]];
+        let [cx, cy] = self.local(c);
+        // Axis u and its left normal in the frame: (u·t, u·ν) and (-(u·ν), u·t).
+        let ut = n.u[0] * self.t[0] + n.u[1] * self.t[1];
+        let un = n.u[1] * self.t[0] - n.u[0] * self.t[1];
+        let ex = hs * ut.abs() + ht * un.abs();
+        let ey = hs * un.abs() + ht * ut.abs();
+        // Rounding of the centre and products, well inside the tree's growth.
+        let slack = 4.0 * f64::EPSILON * (cx.abs() + cy.abs() + ex + ey);
+        Rect { x: [cx - ex - slack, cx + ex + slack], y: [cy - ey - slack, cy + ey + slack] }
+    }
+
+    /// Lower bounds of `[F_left, F_right]` over the points of `r` (frame coordinates),
+    /// 0 where they come within `gap` of the segment.
+    #[inline]
+    fn bounds(&self, r: Rect, gap: f64) -> [f64; 2] {
+        let dx = if r.x[1] < 0.0 {
+            -r.x[1]
+        } else if r.x[0] > self.len {
+            r.x[0] - self.len
+        } else {
+            0.0
+        };
+        let y_abs = if r.y[0] > 0.0 {
+            r.y[0]
+        } else if r.y[1] < 0.0 {
+            -r.y[1]
+        } else {
+            0.0
+        };
+        if dx * dx + y_abs * y_abs < gap * gap {
+            return [0.0, 0.0];
+        }
+        let f = |lo: f64, hi: f64| if hi <= 0.0 { f64::INFINITY } else { (dx * dx + lo.max(0.0) * lo.max(0.0)) / (2.0 * hi) };
+        [f(r.y[0], r.y[1]), f(-r.y[1], -r.y[0])]
+    }
+}
+
+/// The sector of unit vectors between `n1` and `n2` (less than a half-turn apart).
+#[derive(Clone, Copy)]
+struct Sector {
+    n1: Point2,
+    n2: Point2,
+}
+
+impl Sector {
+    /// `max (e · m)` over the unit vectors `m` of the sector: `|e|` when `e` points into
+    /// it, else the larger of its two edges' products. A convex function of `e`.
+    #[inline]
+    fn support(&self, e: Point2) -> f64 {
+        let c1 = self.n1[0] * e[1] - self.n1[1] * e[0];
+        let c2 = e[0] * self.n2[1] - e[1] * self.n2[0];
+        let turn = self.n1[0] * self.n2[1] - self.n1[1] * self.n2[0];
+        let inside = if turn >= 0.0 { c1 >= 0.0 && c2 >= 0.0 } else { c1 <= 0.0 && c2 <= 0.0 };
+        let edges = (e[0] * self.n1[0] + e[1] * self.n1[1]).max(e[0] * self.n2[0] + e[1] * self.n2[1]);
+        if inside {
+            e[0].hypot(e[1]).max(edges)
+        } else {
+            edges
+        }
+    }
+}
+
+/// `G >= D / (2 h)` from the smallest squared distance `d2` and the largest support `h`.
+#[inline]
+fn cone_bound(d2: f64, h: f64) -> f64 {
+    if h <= 0.0 {
+        f64::INFINITY
+    } else {
+        d2 / (2.0 * h)
+    }
+}
+
+impl Ctx<'_> {
+    fn next(&self, s: u32) -> Option<u32> {
+        self.links[s as usize].1
+    }
+
+    fn prev(&self, s: u32) -> Option<u32> {
+        self.links[s as usize].0
+    }
+
+    /// The segments `k` steps from `s` along `step`, for k in `from..=to`.
+    fn walk(&self, s: u32, step: impl Fn(u32) -> Option<u32>, from: usize, to: usize) -> Vec<u32> {
+        let mut out = Vec::new();
+        let mut at = s;
+        for k in 1..=to {
+            match step(at) {
+                Some(n) => at = n,
+                None => break,
+            }
+            if k >= from {
+                out.push(at);
+            }
+        }
+        out
+    }
+
+    /// Pieces of segment `id`, as `PIECES + 1` points.
+    fn piece_points(&self, id: u32) -> [Point2; PIECES + 1] {
+        let g = &self.geoms[id as usize];
+        std::array::from_fn(|k| {
+            let t = k as f64 / PIECES as f64;
+            [g.a[0] + t * g.d[0], g.a[1] + t * g.d[1]]
+        })
+    }
+
+    fn segment(&self, s: usize) -> [f64; 2] {
+        let g = &self.geoms[s];
+        let len = g.length();
+        if g.inv_len2 == 0.0 || !len.is_finite() {
+            return [0.0, 0.0];
+        }
+        let frame = Frame { a: g.a, t: [g.d[0] / len, g.d[1] / len], len };
+        let s = s as u32;
+        let mut window = vec![s];
+        window.extend(self.walk(s, |x| self.prev(x), 1, WINDOW));
+        window.extend(self.walk(s, |x| self.next(x), 1, WINDOW));
+        let mut best = [self.cap, self.cap];
+        let value = |id: u32, best: &mut [f64; 2]| {
+            if window.contains(&id) {
+                return;
+            }
+            // The whole segment first: pieces only where it could lower a clearance.
+            let g = &self.geoms[id as usize];
+            let whole = frame.bounds(Rect::of(&[frame.local(g.a), frame.local(g.b)]), self.gap);
+            if whole[0] >= best[0] && whole[1] >= best[1] {
+                return;
+            }
+            let pts = self.piece_points(id).map(|q| frame.local(q));
+            for w in pts.windows(2) {
+                let b = frame.bounds(Rect::of(w), self.gap);
+                best[0] = best[0].min(b[0]);
+                best[1] = best[1].min(b[1]);
+            }
+        };
+        // Seed with the segments just outside the window, then search the rest.
+        for id in self.walk(s, |x| self.prev(x), WINDOW + 1, 2 * WINDOW + 2).into_iter().chain(self.walk(s, |x| self.next(x), WINDOW + 1, 2 * WINDOW + 2)) {
+            value(id, &mut best);
+        }
+        self.tree.search(
+            best,
+            |node| frame.bounds(frame.rect_of_box(node), self.gap),
+            |lb, best| lb[0] < SETTLE * best[0] || lb[1] < SETTLE * best[1],
+            |lb| lb[0].min(lb[1]),
+            value,
+        )
+        .map(|c| SETTLE * c)
+    }
+
+    fn cone(&self, s: usize) -> Cone {
+        let s32 = s as u32;
+        let Some(n) = self.next(s32) else { return NO_CONE };
+        let (g1, g2) = (&self.geoms[s], &self.geoms[n as usize]);
+        let (l1, l2) = (g1.length(), g2.length());
+        if g1.inv_len2 == 0.0 || g2.inv_len2 == 0.0 || !(l1.is_finite() && l2.is_finite()) || g1.b != g2.a {
+            return NO_CONE;
+        }
+        let (d1, d2) = ([g1.d[0] / l1, g1.d[1] / l1], [g2.d[0] / l2, g2.d[1] / l2]);
+        let turn = d1[0] * d2[1] - d1[1] * d2[0];
+        // The outer side of the turn: right of a left turn, left otherwise.
+        let (n1, n2) = if turn > 0.0 { ([d1[1], -d1[0]], [d2[1], -d2[0]]) } else { ([-d1[1], d1[0]], [-d2[1], d2[0]]) };
+        let sum = [n1[0] + n2[0], n1[1] + n2[1]];
+        let norm = sum[0].hypot(sum[1]);
+        // NaN (a fold, or non-finite input) counts as degenerate too.
+        if norm.is_nan() || norm <= 1e-6 {
+            return NO_CONE;
+        }
+        let mean = [sum[0] / norm, sum[1] / norm];
+        let kappa = (n1[0] - mean[0]).hypot(n1[1] - mean[1]) * (1.0 + 1e-6) + 1e-9;
+        let sector = Sector { n1, n2 };
+        let v = g1.b;
+        let window = [self.prev(s32), Some(s32), Some(n), self.next(n)];
+        let mut best = self.cap;
+        let gap2 = self.gap * self.gap;
+        let value = |id: u32, best: &mut f64| {
+            if window.contains(&Some(id)) {
+                return;
+            }
+            let pts = self.piece_points(id);
+            for w in pts.windows(2) {
+                let d2 = SegmentGeom::new(w[0], w[1]).project(v).distance_squared;
+                let h = |q: Point2| sector.support([q[0] - v[0], q[1] - v[1]]);
+                let b = if d2 < gap2 { 0.0 } else { cone_bound(d2, h(w[0]).max(h(w[1]))) };
+                *best = best.min(b);
+            }
+        };
+        for id in self.walk(s32, |x| self.prev(x), 2, WINDOW + 4).into_iter().chain(self.walk(n, |x| self.next(x), 2, WINDOW + 4)) {
+            value(id, &mut best);
+        }
+        let radius = self.tree.search(
+            best,
+            |node| {
+                let d2 = node.distance_squared(v);
+                if d2 < gap2 {
+                    return 0.0;
+                }
+                let h = node.corners.iter().map(|q| sector.support([q[0] - v[0], q[1] - v[1]])).fold(f64::NEG_INFINITY, f64::max);
+                cone_bound(d2, h)
+            },
+            |lb, best| *lb < SETTLE * best,
+            |lb| *lb,
+            value,
+        ) * SETTLE;
+        Cone { mean, kappa_squared: kappa * kappa, radius }
+    }
+}
+
+/// A binary tree over runs of consecutive segments (the order of the slice, in which
+/// each polyline is one run), each node bounded by a box along its chord. Why not the
+/// axis-aligned index: a clearance must rule out the polyline's own segments just
+/// outside the window, which curve away from the segment by a fraction of their
+/// length; a box along the run's chord is about as thin as that bend and separates
+/// them, an axis-aligned one around a slanted run is as wide as the run and does not.
+#[derive(Debug, Clone, Default)]
+struct ChainTree {
+    nodes: Vec<ChainNode>,
+}
+
+#[derive(Debug, Clone)]
+struct ChainNode {
+    /// Corners, in order round the box.
+    corners: [Point2; 4],
+    /// The box's frame: origin, unit axis, extents along and across the axis.
+    o: Point2,
+    u: Point2,
+    s: [f64; 2],
+    t: [f64; 2],
+    /// Segments `lo..hi`.
+    lo: u32,
+    hi: u32,
+    /// Children (`u32::MAX` for a leaf).
+    left: u32,
+    right: u32,
+}
+
+impl ChainNode {
+    /// Squared distance from `p` to the box (0 inside).
+    #[inline]
+    fn distance_squared(&self, p: Point2) -> f64 {
+        let (dx, dy) = (p[0] - self.o[0], p[1] - self.o[1]);
+        let (a, b) = (dx * self.u[0] + dy * self.u[1], dy * self.u[0] - dx * self.u[1]);
+        let da = (self.s[0] - a).max(a - self.s[1]).max(0.0);
+        let db = (self.t[0] - b).max(b - self.t[1]).max(0.0);
+        da * da + db * db
+    }
+}
+
+/// Relative slack on box distances, as in the segment index.
+const SLACK: f64 = 1.0 + 16.0 * f64::EPSILON;
+
+/// Most segments in a leaf of the chain tree.
+const CHAIN_LEAF: usize = 4;
+
+impl ChainTree {
+    fn new(geoms: &[SegmentGeom], grow: f64) -> ChainTree {
+        let mut t = ChainTree { nodes: Vec::with_capacity(2 * geoms.len() / CHAIN_LEAF + 2) };
+        if !geoms.is_empty() {
+            t.build(geoms, 0, geoms.len(), grow);
+        }
+        t
+    }
+
+    fn build(&mut self, geoms: &[SegmentGeom], lo: usize, hi: usize, grow: f64) -> u32 {
+        let run = &geoms[lo..hi];
+        let chord = [run[run.len() - 1].b[0] - run[0].a[0], run[run.len() - 1].b[1] - run[0].a[1]];
+        let n = chord[0].hypot(chord[1]);
+        let u = if n > 0.0 && n.is_finite() { [chord[0] / n, chord[1] / n] } else { [1.0, 0.0] };
+        let o = run[0].a;
+        let (mut s, mut t) = ([f64::INFINITY, f64::NEG_INFINITY], [f64::INFINITY, f64::NEG_INFINITY]);
+        for g in run {
+            for q in [g.a, g.b] {
+                let (dx, dy) = (q[0] - o[0], q[1] - o[1]);
+                let (a, b) = (dx * u[0] + dy * u[1], dy * u[0] - dx * u[1]);
+                s = [s[0].min(a), s[1].max(a)];
+                t = [t[0].min(b), t[1].max(b)];
+            }
+        }
+        let (s, t) = ([s[0] - grow, s[1] + grow], [t[0] - grow, t[1] + grow]);
+        let at = |a: f64, b: f64| [o[0] + a * u[0] - b * u[1], o[1] + a * u[1] + b * u[0]];
+        let corners = [at(s[0], t[0]), at(s[1], t[0]), at(s[1], t[1]), at(s[0], t[1])];
+        let me = self.nodes.len() as u32;
+        self.nodes.push(ChainNode { corners, o, u, s, t, lo: lo as u32, hi: hi as u32, left: u32::MAX, right: u32::MAX });
+        if hi - lo > CHAIN_LEAF {
+            let mid = lo + (hi - lo) / 2;
+            let l = self.build(geoms, lo, mid, grow);
+            let r = self.build(geoms, mid, hi, grow);
+            self.nodes[me as usize].left = l;
+            self.nodes[me as usize].right = r;
+        }
+        me
+    }
+
+    /// Branch and bound: the smallest value over the segments, starting from `best`.
+    /// `bound(node)` bounds the values of a node's segments from below,
+    /// `improves(bound, best)` says whether a node may hold a smaller one, `key` orders
+    /// siblings (smaller first), `value(id, best)` lowers `best` by segment `id`.
+    fn search<B: Copy>(
+        &self,
+        mut best: B,
+        bound: impl Fn(&ChainNode) -> B,
+        improves: impl Fn(&B, &B) -> bool,
+        key: impl Fn(&B) -> f64,
+        mut value: impl FnMut(u32, &mut B),
+    ) -> B {
+        if self.nodes.is_empty() {
+            return best;
+        }
+        let root = bound(&self.nodes[0]);
+        let mut stack: Vec<(u32, B)> = vec![(0, root)];
+        while let Some((at, lb)) = stack.pop() {
+            if !improves(&lb, &best) {
+                continue;
+            }
+            let n = &self.nodes[at as usize];
+            if n.left == u32::MAX {
+                for id in n.lo..n.hi {
+                    value(id, &mut best);
+                }
+                continue;
+            }
+            let (bl, br) = (bound(&self.nodes[n.left as usize]), bound(&self.nodes[n.right as usize]));
+            let (near, far) = if key(&bl) <= key(&br) { ((n.left, bl), (n.right, br)) } else { ((n.right, br), (n.left, bl)) };
+            stack.push(far);
+            stack.push(near);
+        }
+        best
+    }
+}
+
