@@ -35,7 +35,7 @@
 //! Cost: one branch-and-bound walk of the segment index per segment and per vertex,
 //! seeded with the segments just outside the window, O(m log m) in all.
 
-use rayon::prelude::*;
+use std::sync::OnceLock;
 
 use super::segment::{Point2, SegmentGeom};
 use super::segment_index::{Nearest, QueryStats};
@@ -56,31 +56,43 @@ pub const SEPARATION: f64 = 1e-9;
 /// where many parts of the source are about equally close (a circle seen from inside).
 const SETTLE: f64 = 0.75;
 
-/// Segments per rayon task when the clearances are computed in parallel.
-const PARALLEL_MIN: usize = 1024;
 
 /// The cone of directions at a polyline vertex from which the vertex is the foot on
-/// both of its segments, and how far out along it the vertex decides.
+/// both of its segments (the outer side of the turn).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Cone {
+pub struct ConeShape {
     /// Mean direction (unit).
     pub mean: Point2,
     /// Square of the largest distance between a unit vector of the cone and `mean`
     /// (with a little slack).
     pub kappa_squared: f64,
-    /// The clearance (0: none).
-    pub radius: f64,
+    /// Its edges.
+    sector: Sector,
 }
 
-const NO_CONE: Cone = Cone { mean: [0.0, 0.0], kappa_squared: 0.0, radius: 0.0 };
-
-/// Clearances of every segment (each side) and of every interior polyline vertex.
+/// Clearances of the segments (each side) and interior polyline vertices of a source.
+///
+/// Each is computed the first time a propagation asks for it, up to a *tier*: the
+/// searches of tier k stop at `caps[k]` (4 times the previous tier's, from a few
+/// segment lengths up to the largest distance asked about), and a question at distance
+/// d is asked of the first tier that can answer it. A tier's value is a fixed function
+/// of the source (the previous tier's when that one found its clearance below its cap,
+/// else its own search), so the answers do not depend on the order of the questions or
+/// on the thread count; vertices near the source cost only short searches.
 #[derive(Debug, Clone, Default)]
 pub struct Clearance {
-    /// `[left, right]` clearance of each segment (0: none).
-    segment: Vec<[f64; 2]>,
+    geoms: Vec<SegmentGeom>,
+    links: Vec<Links>,
+    gap: f64,
+    /// Search caps, increasing.
+    caps: Vec<f64>,
+    /// Clearance of segment `s`, side `k` (0 left, 1 right), tier `t` at
+    /// `(2 s + k) * tiers + t` (0: none).
+    segment: Vec<OnceLock<f64>>,
     /// The cone at the end of each segment that has a next one.
-    cone: Vec<Cone>,
+    cone: Vec<Option<ConeShape>>,
+    /// Clearance of the cone at the end of segment `s`, tier `t`, at `s * tiers + t`.
+    cone_radius: Vec<OnceLock<f64>>,
     /// Runs of segments in oriented boxes, for the clearances and for exact queries.
     tree: ChainTree,
 }
@@ -88,25 +100,135 @@ pub struct Clearance {
 /// Polyline links of a segment: previous and next along its polyline.
 pub type Links = (Option<u32>, Option<u32>);
 
+/// Share of a clearance up to which it certifies: a margin far above the rounding of the
+/// distances compared (see the module header).
+const CERTIFIED: f64 = 0.999;
+
 impl Clearance {
-    /// The clearances of `geoms` (linked by `links`), at most `cap`
-    /// (the largest distance that will be asked about), with `scale` the largest
-    /// coordinate magnitude of the source and the points it will be asked about.
+    /// The clearances of `geoms` (linked by `links`) for questions up to distance `cap`,
+    /// with `scale` the largest coordinate magnitude of the source and of the points
+    /// that will be asked about.
     pub fn new(geoms: &[SegmentGeom], links: &[Links], cap: f64, scale: f64) -> Clearance {
         let gap = SEPARATION * scale.max(f64::MIN_POSITIVE);
         let tree = ChainTree::new(geoms, 16.0 * f64::EPSILON * scale);
-        let ctx = Ctx { geoms, links, tree: &tree, cap, gap };
-        let one = |s: usize| (ctx.segment(s), ctx.cone(s));
-        let pairs: Vec<([f64; 2], Cone)> =
-            if geoms.len() >= PARALLEL_MIN { (0..geoms.len()).into_par_iter().with_min_len(256).map(one).collect() } else { (0..geoms.len()).map(one).collect() };
-        let (segment, cone): (Vec<[f64; 2]>, Vec<Cone>) = pairs.into_iter().unzip();
-        Clearance { segment, cone, tree }
+        let lengths: Vec<f64> = geoms.iter().filter(|g| g.inv_len2 > 0.0).map(|g| g.length()).filter(|l| l.is_finite()).collect();
+        let mean = if lengths.is_empty() { 0.0 } else { lengths.iter().sum::<f64>() / lengths.len() as f64 };
+        let mut caps = Vec::new();
+        let mut c = 8.0 * mean;
+        while c < cap && caps.len() < 24 && c > 0.0 {
+            caps.push(c);
+            c *= 4.0;
+        }
+        caps.push(if cap.is_finite() { cap } else { f64::MAX });
+        let tiers = caps.len();
+        let mut me = Clearance {
+            geoms: geoms.to_vec(),
+            links: links.to_vec(),
+            gap,
+            caps,
+            segment: (0..2 * geoms.len() * tiers).map(|_| OnceLock::new()).collect(),
+            cone: Vec::new(),
+            cone_radius: (0..geoms.len() * tiers).map(|_| OnceLock::new()).collect(),
+            tree,
+        };
+        me.cone = (0..geoms.len()).map(|s| me.ctx().cone_shape(s)).collect();
+        me
+    }
+
+    fn ctx(&self) -> Ctx<'_> {
+        Ctx { geoms: &self.geoms, links: &self.links, tree: &self.tree, gap: self.gap }
+    }
+
+    /// The tier that answers a question at distance `d`.
+    #[inline]
+    fn tier(&self, need: f64) -> usize {
+        self.caps.iter().position(|&c| SETTLE * c >= need).unwrap_or(self.caps.len() - 1)
+    }
+
+    fn segment_value(&self, s: usize, side: usize, t: usize) -> f64 {
+        let tiers = self.caps.len();
+        *self.segment[(2 * s + side) * tiers + t].get_or_init(|| {
+            if t > 0 {
+                let below = self.segment_value(s, side, t - 1);
+                if below < SETTLE * self.caps[t - 1] {
+                    return below;
+                }
+            }
+            self.ctx().segment(s, side, self.caps[t])
+        })
+    }
+
+    fn cone_value(&self, s: usize, t: usize) -> f64 {
+        let tiers = self.caps.len();
+        *self.cone_radius[s * tiers + t].get_or_init(|| {
+            if t > 0 {
+                let below = self.cone_value(s, t - 1);
+                if below < SETTLE * self.caps[t - 1] {
+                    return below;
+                }
+            }
+            match &self.cone[s] {
+                Some(shape) => self.ctx().cone(s, shape, self.caps[t]),
+                None => 0.0,
+            }
+        })
+    }
+
+    /// Whether the clearance of segment `s` on the side of `p` covers `p` at distance
+    /// `d` (with `p`'s foot strictly inside `s`): then the best of the segment's window
+    /// is the closest point of the whole source.
+    #[inline]
+    pub fn covers_segment(&self, s: u32, p: Point2, d: f64) -> bool {
+        let g = &self.geoms[s as usize];
+        let cr = g.d[0] * (p[1] - g.a[1]) - g.d[1] * (p[0] - g.a[0]);
+        let need = d / CERTIFIED;
+        if need.is_nan() {
+            return false;
+        }
+        let t = self.tier(need);
+        let value = |side: usize| self.segment_value(s as usize, side, t);
+        let c = if cr > 0.0 {
+            value(0)
+        } else if cr < 0.0 {
+            value(1)
+        } else {
+            value(0).min(value(1))
+        };
+        c >= need
+    }
+
+    /// Whether the cone at the end of segment `s` (its end point `v`, where it meets the
+    /// next one) covers `p` at distance `d` from `v`.
+    #[inline]
+    pub fn covers_vertex(&self, s: u32, p: Point2, d: f64) -> bool {
+        let Some(shape) = &self.cone[s as usize] else { return false };
+        let need = d / CERTIFIED;
+        if need.is_nan() {
+            return false;
+        }
+        let v = self.geoms[s as usize].b;
+        let e = [p[0] - v[0] - d * shape.mean[0], p[1] - v[1] - d * shape.mean[1]];
+        if e[0] * e[0] + e[1] * e[1] > shape.kappa_squared * d * d {
+            return false;
+        }
+        self.cone_value(s as usize, self.tier(need)) >= need
+    }
+
+    /// Number of segments covered.
+    pub fn len(&self) -> usize {
+        self.geoms.len()
+    }
+
+    /// Whether no segment is covered.
+    pub fn is_empty(&self) -> bool {
+        self.geoms.is_empty()
     }
 
     /// The exact closest segment to `p`, starting from the guess `seed` (the projection
     /// of `p` on `seed.segment`): branch and bound over the oriented boxes, nearer child
     /// first. Ties as [`Nearest::beats`]; the answer does not depend on the guess.
-    pub fn closest(&self, geoms: &[SegmentGeom], p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
+    pub fn closest(&self, p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
+        let geoms = &self.geoms;
         let mut best = seed;
         let t = &self.tree;
         if t.nodes.is_empty() {
@@ -151,44 +273,12 @@ impl Clearance {
         }
         best
     }
-
-    /// The clearance of segment `s` on the side of `p` (the smaller one when `p` lies on
-    /// its line).
-    #[inline]
-    pub fn segment(&self, s: u32, g: &SegmentGeom, p: Point2) -> f64 {
-        let c = self.segment[s as usize];
-        let cr = g.d[0] * (p[1] - g.a[1]) - g.d[1] * (p[0] - g.a[0]);
-        if cr > 0.0 {
-            c[0]
-        } else if cr < 0.0 {
-            c[1]
-        } else {
-            c[0].min(c[1])
-        }
-    }
-
-    /// The cone at the end of segment `s` (where it meets the next one).
-    #[inline]
-    pub fn cone(&self, s: u32) -> &Cone {
-        &self.cone[s as usize]
-    }
-
-    /// Number of segments covered.
-    pub fn len(&self) -> usize {
-        self.segment.len()
-    }
-
-    /// Whether no segment is covered.
-    pub fn is_empty(&self) -> bool {
-        self.segment.is_empty()
-    }
 }
 
 struct Ctx<'a> {
     geoms: &'a [SegmentGeom],
     links: &'a [Links],
     tree: &'a ChainTree,
-    cap: f64,
     gap: f64,
 }
 
@@ -270,7 +360,7 @@ impl Frame {
 }
 
 /// The sector of unit vectors between `n1` and `n2` (less than a half-turn apart).
-#[derive(Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct Sector {
     n1: Point2,
     n2: Point2,
@@ -313,17 +403,20 @@ impl Ctx<'_> {
         self.links[s as usize].0
     }
 
-    /// The segments `k` steps from `s` along `step`, for k in `from..=to`.
-    fn walk(&self, s: u32, step: impl Fn(u32) -> Option<u32>, from: usize, to: usize) -> Vec<u32> {
-        let mut out = Vec::new();
+    /// The segments `k` steps from `s` along `step`, for k in `from..=to` (at most 8;
+    /// `u32::MAX` where the polyline ends).
+    fn walk(&self, s: u32, step: impl Fn(u32) -> Option<u32>, from: usize, to: usize) -> [u32; 8] {
+        let mut out = [u32::MAX; 8];
         let mut at = s;
+        let mut n = 0;
         for k in 1..=to {
             match step(at) {
-                Some(n) => at = n,
+                Some(next) => at = next,
                 None => break,
             }
-            if k >= from {
-                out.push(at);
+            if k >= from && n < out.len() {
+                out[n] = at;
+                n += 1;
             }
         }
         out
@@ -338,18 +431,21 @@ impl Ctx<'_> {
         })
     }
 
-    fn segment(&self, s: usize) -> [f64; 2] {
+    /// The clearance of segment `s` on side `side` (0 left, 1 right), searched up to
+    /// `cap`.
+    fn segment(&self, s: usize, side: usize, cap: f64) -> f64 {
         let g = &self.geoms[s];
         let len = g.length();
         if g.inv_len2 == 0.0 || !len.is_finite() {
-            return [0.0, 0.0];
+            return 0.0;
         }
         let frame = Frame { a: g.a, t: [g.d[0] / len, g.d[1] / len], len };
         let s = s as u32;
-        let mut window = vec![s];
-        window.extend(self.walk(s, |x| self.prev(x), 1, WINDOW));
-        window.extend(self.walk(s, |x| self.next(x), 1, WINDOW));
-        let mut best = [self.cap, self.cap];
+        let (back, ahead) = (self.walk(s, |x| self.prev(x), 1, WINDOW), self.walk(s, |x| self.next(x), 1, WINDOW));
+        let window = [s, back[0], back[1], ahead[0], ahead[1]];
+        // The other side starts at 0, so that it never asks for a node to be opened.
+        let mut best = [0.0, 0.0];
+        best[side] = cap;
         let value = |id: u32, best: &mut [f64; 2]| {
             if window.contains(&id) {
                 return;
@@ -368,8 +464,10 @@ impl Ctx<'_> {
             }
         };
         // Seed with the segments just outside the window, then search the rest.
-        for id in self.walk(s, |x| self.prev(x), WINDOW + 1, 2 * WINDOW + 2).into_iter().chain(self.walk(s, |x| self.next(x), WINDOW + 1, 2 * WINDOW + 2)) {
-            value(id, &mut best);
+        for id in self.walk(s, |x| self.prev(x), WINDOW + 1, WINDOW + 2).into_iter().chain(self.walk(s, |x| self.next(x), WINDOW + 1, WINDOW + 2)) {
+            if id != u32::MAX {
+                value(id, &mut best);
+            }
         }
         self.tree.search(
             best,
@@ -378,16 +476,16 @@ impl Ctx<'_> {
             |lb| lb[0].min(lb[1]),
             value,
         )
-        .map(|c| SETTLE * c)
+        [side] * SETTLE
     }
 
-    fn cone(&self, s: usize) -> Cone {
+    fn cone_shape(&self, s: usize) -> Option<ConeShape> {
         let s32 = s as u32;
-        let Some(n) = self.next(s32) else { return NO_CONE };
+        let n = self.next(s32)?;
         let (g1, g2) = (&self.geoms[s], &self.geoms[n as usize]);
         let (l1, l2) = (g1.length(), g2.length());
         if g1.inv_len2 == 0.0 || g2.inv_len2 == 0.0 || !(l1.is_finite() && l2.is_finite()) || g1.b != g2.a {
-            return NO_CONE;
+            return None;
         }
         let (d1, d2) = ([g1.d[0] / l1, g1.d[1] / l1], [g2.d[0] / l2, g2.d[1] / l2]);
         let turn = d1[0] * d2[1] - d1[1] * d2[0];
@@ -397,29 +495,43 @@ impl Ctx<'_> {
         let norm = sum[0].hypot(sum[1]);
         // NaN (a fold, or non-finite input) counts as degenerate too.
         if norm.is_nan() || norm <= 1e-6 {
-            return NO_CONE;
+            return None;
         }
         let mean = [sum[0] / norm, sum[1] / norm];
         let kappa = (n1[0] - mean[0]).hypot(n1[1] - mean[1]) * (1.0 + 1e-6) + 1e-9;
-        let sector = Sector { n1, n2 };
-        let v = g1.b;
+        Some(ConeShape { mean, kappa_squared: kappa * kappa, sector: Sector { n1, n2 } })
+    }
+
+    /// The clearance of the cone at the end of segment `s`, searched up to `cap`.
+    fn cone(&self, s: usize, shape: &ConeShape, cap: f64) -> f64 {
+        let s32 = s as u32;
+        let Some(n) = self.next(s32) else { return 0.0 };
+        let sector = shape.sector;
+        let v = self.geoms[s].b;
         let window = [self.prev(s32), Some(s32), Some(n), self.next(n)];
-        let mut best = self.cap;
+        let mut best = cap;
         let gap2 = self.gap * self.gap;
         let value = |id: u32, best: &mut f64| {
             if window.contains(&Some(id)) {
                 return;
             }
+            let g = &self.geoms[id as usize];
+            let h = |q: Point2| sector.support([q[0] - v[0], q[1] - v[1]]);
+            let whole = g.project(v).distance_squared;
+            if whole >= gap2 && cone_bound(whole, h(g.a).max(h(g.b))) >= *best {
+                return;
+            }
             let pts = self.piece_points(id);
             for w in pts.windows(2) {
                 let d2 = SegmentGeom::new(w[0], w[1]).project(v).distance_squared;
-                let h = |q: Point2| sector.support([q[0] - v[0], q[1] - v[1]]);
                 let b = if d2 < gap2 { 0.0 } else { cone_bound(d2, h(w[0]).max(h(w[1]))) };
                 *best = best.min(b);
             }
         };
-        for id in self.walk(s32, |x| self.prev(x), 2, WINDOW + 4).into_iter().chain(self.walk(n, |x| self.next(x), 2, WINDOW + 4)) {
-            value(id, &mut best);
+        for id in self.walk(s32, |x| self.prev(x), 2, 3).into_iter().chain(self.walk(n, |x| self.next(x), 2, 3)) {
+            if id != u32::MAX {
+                value(id, &mut best);
+            }
         }
         let radius = self.tree.search(
             best,
@@ -435,7 +547,7 @@ impl Ctx<'_> {
             |lb| *lb,
             value,
         ) * SETTLE;
-        Cone { mean, kappa_squared: kappa * kappa, radius }
+        radius
     }
 }
 
@@ -540,7 +652,9 @@ impl ChainTree {
             return best;
         }
         let root = bound(&self.nodes[0]);
-        let mut stack: Vec<(u32, B)> = vec![(0, root)];
+        // One pending sibling per level: a tree of 2^32 segments is 31 levels deep.
+        let mut stack: Vec<(u32, B)> = Vec::with_capacity(64);
+        stack.push((0, root));
         while let Some((at, lb)) = stack.pop() {
             if !improves(&lb, &best) {
                 continue;

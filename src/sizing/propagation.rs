@@ -434,22 +434,15 @@ impl Source {
     #[inline]
     fn certified(&self, clearance: &Clearance, p: Point2, best: &Nearest) -> bool {
         let s = best.segment;
-        let d2 = best.projection.distance_squared;
         let t = best.projection.t;
+        let d = best.projection.distance_squared.sqrt();
         if t > 0.0 && t < 1.0 {
-            let rho = clearance.segment(s, &self.geoms[s as usize], p);
-            return d2 <= CERTIFIED_SQUARED * rho * rho;
+            return clearance.covers_segment(s, p, d);
         }
-        let into = if t == 0.0 { self.segments[s as usize].prev } else { Some(s) };
-        let Some(into) = into else { return false };
-        let cone = clearance.cone(into);
-        if d2.is_nan() || d2 > CERTIFIED_SQUARED * cone.radius * cone.radius {
-            return false;
+        match if t == 0.0 { self.segments[s as usize].prev } else { Some(s) } {
+            Some(into) => clearance.covers_vertex(into, p, d),
+            None => false,
         }
-        let r = d2.sqrt();
-        let v = best.projection.foot;
-        let e = [p[0] - v[0] - r * cone.mean[0], p[1] - v[1] - r * cone.mean[1]];
-        e[0] * e[0] + e[1] * e[1] <= cone.kappa_squared * d2
     }
 
     /// Corners of every cell that a free piece touches (every edge when the graph has
@@ -638,9 +631,9 @@ const UNSEEN: u32 = u32::MAX;
 const QUEUED: u32 = u32::MAX - 1;
 /// Levels smaller than this are evaluated on the calling thread.
 const PARALLEL_MIN_LEVEL: usize = 2048;
-/// Square of the share of a clearance up to which it certifies a closest point: a
-/// margin far above the rounding of the distances compared (see [`Clearance`]).
-const CERTIFIED_SQUARED: f64 = 0.999 * 0.999;
+/// Closest points that earlier levels must have put on a segment before its clearance
+/// is used (see [`evaluate_from_neighbours`]).
+const CLEARANCE_AFTER: u32 = 6;
 /// Steps of the march along the polyline from the neighbours' guess.
 const MARCH_STEPS: usize = 4;
 
@@ -667,6 +660,8 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
     }
     report.seeds = frontier.len();
     let clearance = if frontier.is_empty() { Clearance::default() } else { source.clearance(graph, max) };
+    // Closest points committed on each segment so far.
+    let mut feet = vec![0u32; source.segments.len()];
     let mut level = 0usize;
     while !frontier.is_empty() {
         let evaluate = |&v: &u32| -> Evaluation {
@@ -675,7 +670,7 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
                 let nearest = source.index.closest(graph.point(v as usize), &mut stats).expect("index is not empty");
                 Evaluation { nearest, corrected: false, local: false, stats }
             } else {
-                evaluate_from_neighbours(graph, source, &clearance, &slot, &found, v as usize)
+                evaluate_from_neighbours(graph, source, &clearance, &feet, &slot, &found, v as usize)
             }
         };
         let evaluations: Vec<Evaluation> = if options.parallel && frontier.len() >= PARALLEL_MIN_LEVEL {
@@ -688,6 +683,7 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
         for (&v, e) in frontier.iter().zip(&evaluations) {
             slot[v as usize] = found.len() as u32;
             found.push(e.nearest);
+            feet[e.nearest.segment as usize] = feet[e.nearest.segment as usize].saturating_add(1);
             order.push(v);
             report.corrected += usize::from(e.corrected);
             report.certified_locally += usize::from(e.local);
@@ -729,7 +725,7 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
 /// The closest point of vertex `v` from its evaluated neighbours' segments, settled
 /// on a local optimum along the polyline, then certified by the clearance of its
 /// segment or vertex, or else by the index.
-fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clearance, slot: &[u32], found: &[Nearest], v: usize) -> Evaluation {
+fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clearance, feet: &[u32], slot: &[u32], found: &[Nearest], v: usize) -> Evaluation {
     let p = graph.point(v);
     let mut stats = QueryStats::default();
     let mut tried = [u32::MAX; 8];
@@ -776,12 +772,14 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clea
             }
         }
         if !moved {
-            if source.certified(clearance, p, &best) {
+            // A clearance costs a few index searches to compute: it is asked for only
+            // once earlier levels put enough feet on the segment to pay it back.
+            if feet[best.segment as usize] >= CLEARANCE_AFTER && source.certified(clearance, p, &best) {
                 return Evaluation { nearest: best, corrected: false, local: true, stats };
             }
             break;
         }
     }
-    let nearest = clearance.closest(&source.geoms, p, best, &mut stats);
+    let nearest = clearance.closest(p, best, &mut stats);
     Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats }
 }
