@@ -652,8 +652,12 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
     let max = if max_distance >= 0.0 { max_distance } else { 0.0 };
     let mut report = PropagationReport::default();
     let mut slot = vec![UNSEEN; n];
-    let mut order: Vec<u32> = Vec::new();
-    let mut found: Vec<Nearest> = Vec::new();
+    // Room for every vertex up front: pages that are never written are never touched,
+    // and growing by doubling would copy the largest arrays of the propagation.
+    let mut order: Vec<u32> = Vec::with_capacity(n);
+    let mut found: Vec<Nearest> = Vec::with_capacity(n);
+    let mut evaluations: Vec<Evaluation> = Vec::new();
+    let mut next: Vec<u32> = Vec::new();
     let mut frontier: Vec<u32> = if source.index.is_empty() { Vec::new() } else { source.seeds.iter().copied().filter(|&v| (v as usize) < n).collect() };
     for &v in &frontier {
         slot[v as usize] = QUEUED;
@@ -673,13 +677,15 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
                 evaluate_from_neighbours(graph, source, &clearance, &feet, &slot, &found, v as usize)
             }
         };
-        let evaluations: Vec<Evaluation> = if options.parallel && frontier.len() >= PARALLEL_MIN_LEVEL {
-            frontier.par_iter().with_min_len(256).map(evaluate).collect()
+        // One buffer for every level's evaluations, reused.
+        if options.parallel && frontier.len() >= PARALLEL_MIN_LEVEL {
+            frontier.par_iter().with_min_len(256).map(evaluate).collect_into_vec(&mut evaluations);
         } else {
-            frontier.iter().map(evaluate).collect()
-        };
+            evaluations.clear();
+            evaluations.extend(frontier.iter().map(evaluate));
+        }
         // Commit the level, then queue the neighbours of the vertices to expand.
-        let mut next = Vec::new();
+        next.clear();
         for (&v, e) in frontier.iter().zip(&evaluations) {
             slot[v as usize] = found.len() as u32;
             found.push(e.nearest);
@@ -701,15 +707,15 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
                 }
             }
         }
-        frontier = next;
+        std::mem::swap(&mut frontier, &mut next);
         level += 1;
     }
     report.levels = level;
     report.evaluated = order.len();
     // Keep the seeds and the vertices within max_distance; the slot array becomes the
     // lookup of the reported vertices.
-    let mut vertices = Vec::new();
-    let mut closest = Vec::new();
+    let mut vertices = Vec::with_capacity(order.len());
+    let mut closest = Vec::with_capacity(order.len());
     for (i, (&v, nearest)) in order.iter().zip(&found).enumerate() {
         let keep = i < report.seeds || nearest.projection.distance() <= max;
         slot[v as usize] = if keep { vertices.len() as u32 } else { UNSEEN };
