@@ -73,8 +73,8 @@ pub struct ConeShape {
 /// Clearances of the segments (each side) and interior polyline vertices of a source.
 ///
 /// Each is computed the first time a propagation asks for it, up to a *tier*: the
-/// searches of tier k stop at `caps[k]` (4 times the previous tier's, from a few
-/// segment lengths up to the largest distance asked about), and a question at distance
+/// searches of tier k stop at `caps[k]` (8 times the previous tier's, from a few
+/// segment lengths up to a few times the source's extent, then no cap), and a question at distance
 /// d is asked of the first tier that can answer it. A tier's value is a fixed function
 /// of the source (the previous tier's when that one found its clearance below its cap,
 /// else its own search), so the answers do not depend on the order of the questions or
@@ -100,26 +100,29 @@ pub struct Clearance {
 /// Polyline links of a segment: previous and next along its polyline.
 pub type Links = (Option<u32>, Option<u32>);
 
+/// Ratio of the search caps of consecutive tiers.
+const TIER_GROWTH: f64 = 8.0;
+
 /// Share of a clearance up to which it certifies: a margin far above the rounding of the
 /// distances compared (see the module header).
 const CERTIFIED: f64 = 0.999;
 
 impl Clearance {
-    /// The clearances of `geoms` (linked by `links`) for questions up to distance `cap`,
-    /// with `scale` the largest coordinate magnitude of the source and of the points
-    /// that will be asked about.
-    pub fn new(geoms: &[SegmentGeom], links: &[Links], cap: f64, scale: f64) -> Clearance {
+    /// The clearances of `geoms` (linked by `links`), with `scale` the largest
+    /// coordinate magnitude of the source and `horizon` the largest finite search cap
+    /// (past it, a last tier searches without a cap).
+    pub fn new(geoms: &[SegmentGeom], links: &[Links], scale: f64, horizon: f64) -> Clearance {
         let gap = SEPARATION * scale.max(f64::MIN_POSITIVE);
         let tree = ChainTree::new(geoms, 16.0 * f64::EPSILON * scale);
         let lengths: Vec<f64> = geoms.iter().filter(|g| g.inv_len2 > 0.0).map(|g| g.length()).filter(|l| l.is_finite()).collect();
         let mean = if lengths.is_empty() { 0.0 } else { lengths.iter().sum::<f64>() / lengths.len() as f64 };
         let mut caps = Vec::new();
-        let mut c = 8.0 * mean;
-        while c < cap && caps.len() < 24 && c > 0.0 {
+        let mut c = 32.0 * mean;
+        while c < horizon && caps.len() < 16 && c > 0.0 {
             caps.push(c);
-            c *= 4.0;
+            c *= TIER_GROWTH;
         }
-        caps.push(if cap.is_finite() { cap } else { f64::MAX });
+        caps.push(f64::INFINITY);
         let tiers = caps.len();
         let mut me = Clearance {
             geoms: geoms.to_vec(),
@@ -225,17 +228,35 @@ impl Clearance {
     }
 
     /// The exact closest segment to `p`, starting from the guess `seed` (the projection
-    /// of `p` on `seed.segment`): branch and bound over the oriented boxes, nearer child
+    /// of `p` on `seed.segment`): the guess's leaf, then up to the root, opening the
+    /// siblings whose oriented box is not farther than the best so far, nearer child
     /// first. Ties as [`Nearest::beats`]; the answer does not depend on the guess.
     pub fn closest(&self, p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
-        let geoms = &self.geoms;
-        let mut best = seed;
         let t = &self.tree;
-        if t.nodes.is_empty() {
-            return best;
-        }
+        let mut best = seed;
+        let Some(&leaf) = t.leaf_of.get(seed.segment as usize) else { return best };
         let mut stack = [(0u32, 0.0f64); 96];
-        let mut top = 1;
+        stack[0] = (leaf, 0.0);
+        self.descend(p, &mut stack, 1, &mut best, stats);
+        let mut node = leaf;
+        while t.parent[node as usize] != u32::MAX {
+            let par = t.parent[node as usize];
+            let pn = &t.nodes[par as usize];
+            let sib = if pn.left == node { pn.right } else { pn.left };
+            stats.boxes += 1;
+            let d = t.nodes[sib as usize].distance_squared(p);
+            if d <= best.projection.distance_squared * SLACK {
+                stack[0] = (sib, d);
+                self.descend(p, &mut stack, 1, &mut best, stats);
+            }
+            node = par;
+        }
+        best
+    }
+
+    /// Branch and bound below the nodes on `stack[..top]` (each with its box distance).
+    fn descend(&self, p: Point2, stack: &mut [(u32, f64); 96], mut top: usize, best: &mut Nearest, stats: &mut QueryStats) {
+        let t = &self.tree;
         while top > 0 {
             top -= 1;
             let (at, lb) = stack[top];
@@ -246,13 +267,9 @@ impl Clearance {
             if n.left == u32::MAX {
                 stats.segments += u64::from(n.hi - n.lo);
                 for id in n.lo..n.hi {
-                    let g = &geoms[id as usize];
-                    if !g.a.iter().chain(&g.b).all(|c| c.is_finite()) {
-                        continue;
-                    }
-                    let c = Nearest { segment: id, projection: g.project(p) };
-                    if c.beats(&best) {
-                        best = c;
+                    let c = Nearest { segment: id, projection: self.geoms[id as usize].project(p) };
+                    if c.beats(best) {
+                        *best = c;
                     }
                 }
                 continue;
@@ -262,6 +279,7 @@ impl Clearance {
             let (dl, dr) = (t.nodes[l as usize].distance_squared(p), t.nodes[r as usize].distance_squared(p));
             let bound = best.projection.distance_squared * SLACK;
             let (near, far) = if dl <= dr { ((l, dl), (r, dr)) } else { ((r, dr), (l, dl)) };
+            // The stack holds at most one pending sibling per level (< 64 levels).
             if far.1 <= bound && top < stack.len() {
                 stack[top] = far;
                 top += 1;
@@ -271,7 +289,6 @@ impl Clearance {
                 top += 1;
             }
         }
-        best
     }
 }
 
@@ -333,10 +350,10 @@ impl Frame {
         Rect { x: [cx - ex - slack, cx + ex + slack], y: [cy - ey - slack, cy + ey + slack] }
     }
 
-    /// Lower bounds of `[F_left, F_right]` over the points of `r` (frame coordinates),
-    /// 0 where they come within `gap` of the segment.
+    /// Lower bound of `F` on side `side` (0 left, 1 right) over the points of `r`
+    /// (frame coordinates), 0 where they come within `gap` of the segment.
     #[inline]
-    fn bounds(&self, r: Rect, gap: f64) -> [f64; 2] {
+    fn bound(&self, r: Rect, side: usize, gap: f64) -> f64 {
         let dx = if r.x[1] < 0.0 {
             -r.x[1]
         } else if r.x[0] > self.len {
@@ -352,10 +369,14 @@ impl Frame {
             0.0
         };
         if dx * dx + y_abs * y_abs < gap * gap {
-            return [0.0, 0.0];
+            return 0.0;
         }
-        let f = |lo: f64, hi: f64| if hi <= 0.0 { f64::INFINITY } else { (dx * dx + lo.max(0.0) * lo.max(0.0)) / (2.0 * hi) };
-        [f(r.y[0], r.y[1]), f(-r.y[1], -r.y[0])]
+        let (lo, hi) = if side == 0 { (r.y[0], r.y[1]) } else { (-r.y[1], -r.y[0]) };
+        if hi <= 0.0 {
+            f64::INFINITY
+        } else {
+            (dx * dx + lo.max(0.0) * lo.max(0.0)) / (2.0 * hi)
+        }
     }
 }
 
@@ -443,24 +464,19 @@ impl Ctx<'_> {
         let s = s as u32;
         let (back, ahead) = (self.walk(s, |x| self.prev(x), 1, WINDOW), self.walk(s, |x| self.next(x), 1, WINDOW));
         let window = [s, back[0], back[1], ahead[0], ahead[1]];
-        // The other side starts at 0, so that it never asks for a node to be opened.
-        let mut best = [0.0, 0.0];
-        best[side] = cap;
-        let value = |id: u32, best: &mut [f64; 2]| {
+        let mut best = cap;
+        let value = |id: u32, best: &mut f64| {
             if window.contains(&id) {
                 return;
             }
-            // The whole segment first: pieces only where it could lower a clearance.
+            // The whole segment first: pieces only where it could lower the clearance.
             let g = &self.geoms[id as usize];
-            let whole = frame.bounds(Rect::of(&[frame.local(g.a), frame.local(g.b)]), self.gap);
-            if whole[0] >= best[0] && whole[1] >= best[1] {
+            if frame.bound(Rect::of(&[frame.local(g.a), frame.local(g.b)]), side, self.gap) >= *best {
                 return;
             }
             let pts = self.piece_points(id).map(|q| frame.local(q));
             for w in pts.windows(2) {
-                let b = frame.bounds(Rect::of(w), self.gap);
-                best[0] = best[0].min(b[0]);
-                best[1] = best[1].min(b[1]);
+                *best = best.min(frame.bound(Rect::of(w), side, self.gap));
             }
         };
         // Seed with the segments just outside the window, then search the rest.
@@ -469,14 +485,7 @@ impl Ctx<'_> {
                 value(id, &mut best);
             }
         }
-        self.tree.search(
-            best,
-            |node| frame.bounds(frame.rect_of_box(node), self.gap),
-            |lb, best| lb[0] < SETTLE * best[0] || lb[1] < SETTLE * best[1],
-            |lb| lb[0].min(lb[1]),
-            value,
-        )
-        [side] * SETTLE
+        SETTLE * self.tree.search_from(s, best, |node| frame.bound(frame.rect_of_box(node), side, self.gap), value)
     }
 
     fn cone_shape(&self, s: usize) -> Option<ConeShape> {
@@ -533,7 +542,8 @@ impl Ctx<'_> {
                 value(id, &mut best);
             }
         }
-        let radius = self.tree.search(
+        let radius = self.tree.search_from(
+            s32,
             best,
             |node| {
                 let d2 = node.distance_squared(v);
@@ -543,8 +553,6 @@ impl Ctx<'_> {
                 let h = node.corners.iter().map(|q| sector.support([q[0] - v[0], q[1] - v[1]])).fold(f64::NEG_INFINITY, f64::max);
                 cone_bound(d2, h)
             },
-            |lb, best| *lb < SETTLE * best,
-            |lb| *lb,
             value,
         ) * SETTLE;
         radius
@@ -560,6 +568,10 @@ impl Ctx<'_> {
 #[derive(Debug, Clone, Default)]
 struct ChainTree {
     nodes: Vec<ChainNode>,
+    /// Parent of each node (`u32::MAX` for the root).
+    parent: Vec<u32>,
+    /// Leaf of each segment.
+    leaf_of: Vec<u32>,
 }
 
 #[derive(Debug, Clone)]
@@ -599,77 +611,111 @@ const CHAIN_LEAF: usize = 4;
 
 impl ChainTree {
     fn new(geoms: &[SegmentGeom], grow: f64) -> ChainTree {
-        let mut t = ChainTree { nodes: Vec::with_capacity(2 * geoms.len() / CHAIN_LEAF + 2) };
+        let cap = 2 * geoms.len() / CHAIN_LEAF + 2;
+        let mut t = ChainTree { nodes: Vec::with_capacity(cap), parent: Vec::with_capacity(cap), leaf_of: vec![u32::MAX; geoms.len()] };
         if !geoms.is_empty() {
-            t.build(geoms, 0, geoms.len(), grow);
+            t.build(geoms, 0, geoms.len(), grow, u32::MAX);
         }
         t
     }
 
-    fn build(&mut self, geoms: &[SegmentGeom], lo: usize, hi: usize, grow: f64) -> u32 {
+    /// Builds the subtree over segments `lo..hi`; a leaf's box holds its segments' end
+    /// points (grown by `grow` for rounding), an inner node's the corners of its
+    /// children's boxes, so that the build is linear in the segments.
+    fn build(&mut self, geoms: &[SegmentGeom], lo: usize, hi: usize, grow: f64, parent: u32) -> u32 {
+        let me = self.nodes.len() as u32;
         let run = &geoms[lo..hi];
         let chord = [run[run.len() - 1].b[0] - run[0].a[0], run[run.len() - 1].b[1] - run[0].a[1]];
         let n = chord[0].hypot(chord[1]);
         let u = if n > 0.0 && n.is_finite() { [chord[0] / n, chord[1] / n] } else { [1.0, 0.0] };
         let o = run[0].a;
-        let (mut s, mut t) = ([f64::INFINITY, f64::NEG_INFINITY], [f64::INFINITY, f64::NEG_INFINITY]);
-        for g in run {
-            for q in [g.a, g.b] {
-                let (dx, dy) = (q[0] - o[0], q[1] - o[1]);
-                let (a, b) = (dx * u[0] + dy * u[1], dy * u[0] - dx * u[1]);
-                s = [s[0].min(a), s[1].max(a)];
-                t = [t[0].min(b), t[1].max(b)];
-            }
-        }
-        let (s, t) = ([s[0] - grow, s[1] + grow], [t[0] - grow, t[1] + grow]);
-        let at = |a: f64, b: f64| [o[0] + a * u[0] - b * u[1], o[1] + a * u[1] + b * u[0]];
-        let corners = [at(s[0], t[0]), at(s[1], t[0]), at(s[1], t[1]), at(s[0], t[1])];
-        let me = self.nodes.len() as u32;
-        self.nodes.push(ChainNode { corners, o, u, s, t, lo: lo as u32, hi: hi as u32, left: u32::MAX, right: u32::MAX });
-        if hi - lo > CHAIN_LEAF {
+        self.nodes.push(ChainNode { corners: [o; 4], o, u, s: [0.0; 2], t: [0.0; 2], lo: lo as u32, hi: hi as u32, left: u32::MAX, right: u32::MAX });
+        self.parent.push(parent);
+        let mut points: Vec<Point2> = Vec::new();
+        let g = if hi - lo > CHAIN_LEAF {
             let mid = lo + (hi - lo) / 2;
-            let l = self.build(geoms, lo, mid, grow);
-            let r = self.build(geoms, mid, hi, grow);
+            let l = self.build(geoms, lo, mid, grow, me);
+            let r = self.build(geoms, mid, hi, grow, me);
             self.nodes[me as usize].left = l;
             self.nodes[me as usize].right = r;
+            points.extend_from_slice(&self.nodes[l as usize].corners);
+            points.extend_from_slice(&self.nodes[r as usize].corners);
+            // The children's corners were rounded once more than their boxes.
+            4.0 * f64::EPSILON * o[0].abs().max(o[1].abs())
+        } else {
+            for (k, g) in run.iter().enumerate() {
+                self.leaf_of[lo + k] = me;
+                points.push(g.a);
+                points.push(g.b);
+            }
+            grow
+        };
+        let (mut s, mut t) = ([f64::INFINITY, f64::NEG_INFINITY], [f64::INFINITY, f64::NEG_INFINITY]);
+        for q in &points {
+            let (dx, dy) = (q[0] - o[0], q[1] - o[1]);
+            let (a, b) = (dx * u[0] + dy * u[1], dy * u[0] - dx * u[1]);
+            s = [s[0].min(a), s[1].max(a)];
+            t = [t[0].min(b), t[1].max(b)];
         }
+        let (s, t) = ([s[0] - g, s[1] + g], [t[0] - g, t[1] + g]);
+        let at = |a: f64, b: f64| [o[0] + a * u[0] - b * u[1], o[1] + a * u[1] + b * u[0]];
+        let node = &mut self.nodes[me as usize];
+        node.corners = [at(s[0], t[0]), at(s[1], t[0]), at(s[1], t[1]), at(s[0], t[1])];
+        node.s = s;
+        node.t = t;
         me
     }
 
-    /// Branch and bound: the smallest value over the segments, starting from `best`.
-    /// `bound(node)` bounds the values of a node's segments from below,
-    /// `improves(bound, best)` says whether a node may hold a smaller one, `key` orders
-    /// siblings (smaller first), `value(id, best)` lowers `best` by segment `id`.
-    fn search<B: Copy>(
-        &self,
-        mut best: B,
-        bound: impl Fn(&ChainNode) -> B,
-        improves: impl Fn(&B, &B) -> bool,
-        key: impl Fn(&B) -> f64,
-        mut value: impl FnMut(u32, &mut B),
-    ) -> B {
-        if self.nodes.is_empty() {
-            return best;
-        }
-        let root = bound(&self.nodes[0]);
+    /// Branch and bound for the smallest value over the segments, from `best`: the leaf
+    /// of segment `start`, then up to the root, opening a sibling only when
+    /// `bound(node)`, a lower bound of its segments' values, is below [`SETTLE`] times
+    /// the best so far (nearer child first); `value(id, best)` lowers `best` by segment
+    /// `id`. Returns the smallest value found, or `best`.
+    fn search_from(&self, start: u32, mut best: f64, bound: impl Fn(&ChainNode) -> f64, mut value: impl FnMut(u32, &mut f64)) -> f64 {
+        let Some(&leaf) = self.leaf_of.get(start as usize) else { return best };
         // One pending sibling per level: a tree of 2^32 segments is 31 levels deep.
-        let mut stack: Vec<(u32, B)> = Vec::with_capacity(64);
-        stack.push((0, root));
-        while let Some((at, lb)) = stack.pop() {
-            if !improves(&lb, &best) {
-                continue;
-            }
-            let n = &self.nodes[at as usize];
-            if n.left == u32::MAX {
-                for id in n.lo..n.hi {
-                    value(id, &mut best);
+        let mut stack: [(u32, f64); 96] = [(0, 0.0); 96];
+        let mut run = |root: u32, lb: f64, best: &mut f64, stack: &mut [(u32, f64); 96]| {
+            stack[0] = (root, lb);
+            let mut top = 1;
+            while top > 0 {
+                top -= 1;
+                let (at, lb) = stack[top];
+                // NaN bounds open the node.
+                if lb >= SETTLE * *best {
+                    continue;
                 }
-                continue;
+                let n = &self.nodes[at as usize];
+                if n.left == u32::MAX {
+                    for id in n.lo..n.hi {
+                        value(id, best);
+                    }
+                    continue;
+                }
+                let (bl, br) = (bound(&self.nodes[n.left as usize]), bound(&self.nodes[n.right as usize]));
+                let (near, far) = if bl <= br { ((n.left, bl), (n.right, br)) } else { ((n.right, br), (n.left, bl)) };
+                if top + 2 <= stack.len() {
+                    stack[top] = far;
+                    stack[top + 1] = near;
+                    top += 2;
+                } else {
+                    // Deeper than any tree here: no clearance rather than a skipped node.
+                    *best = 0.0;
+                    return;
+                }
             }
-            let (bl, br) = (bound(&self.nodes[n.left as usize]), bound(&self.nodes[n.right as usize]));
-            let (near, far) = if key(&bl) <= key(&br) { ((n.left, bl), (n.right, br)) } else { ((n.right, br), (n.left, bl)) };
-            stack.push(far);
-            stack.push(near);
+        };
+        run(leaf, 0.0, &mut best, &mut stack);
+        let mut node = leaf;
+        while self.parent[node as usize] != u32::MAX {
+            let par = self.parent[node as usize];
+            let pn = &self.nodes[par as usize];
+            let sib = if pn.left == node { pn.right } else { pn.left };
+            let lb = bound(&self.nodes[sib as usize]);
+            if lb < SETTLE * best || lb.is_nan() {
+                run(sib, lb, &mut best, &mut stack);
+            }
+            node = par;
         }
         best
     }

@@ -386,25 +386,14 @@ impl Source {
         }
     }
 
-    /// The clearances of the source's segments and vertices for a propagation over
-    /// `graph` up to `max_distance` (see [`Clearance`]).
-    fn clearance(&self, graph: &MeshGraph, max_distance: f64) -> Clearance {
-        let (mut lo, mut hi) = self.index.bounds().unwrap_or(([0.0; 2], [0.0; 2]));
-        let mut longest: f64 = 0.0;
-        for (v, q) in graph.points().iter().enumerate() {
-            for k in 0..2 {
-                lo[k] = lo[k].min(q[k]);
-                hi[k] = hi[k].max(q[k]);
-            }
-            longest = longest.max(graph.longest_edge(v));
-        }
+    /// The clearances of the source's segments and vertices (see [`Clearance`]),
+    /// computed as propagation asks for them.
+    fn clearance(&self) -> Clearance {
+        let (lo, hi) = self.index.bounds().unwrap_or(([0.0; 2], [0.0; 2]));
         let scale = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs());
-        let diagonal = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
-        // No vertex that propagation evaluates is farther from the source than the
-        // reach plus two edges, nor than the diagonal of the mesh and the source.
-        let cap = 2.0 * (max_distance.min(diagonal) + 2.0 * longest).min(diagonal);
+        let extent = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
         let links: Vec<(Option<u32>, Option<u32>)> = self.segments.iter().map(|s| (s.prev, s.next)).collect();
-        Clearance::new(&self.geoms, &links, cap, scale)
+        Clearance::new(&self.geoms, &links, scale, 4.0 * extent)
     }
 
     /// The segments whose closest points must be compared with `best`'s before its
@@ -655,7 +644,10 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
     // Room for every vertex up front: pages that are never written are never touched,
     // and growing by doubling would copy the largest arrays of the propagation.
     let mut order: Vec<u32> = Vec::with_capacity(n);
-    let mut found: Vec<Nearest> = Vec::with_capacity(n);
+    // The closest segment of each evaluated vertex, in evaluation order; the projection
+    // is computed again for the reported ones (the same bits: one function of the same
+    // inputs), which costs less than keeping it for every vertex.
+    let mut found: Vec<u32> = Vec::with_capacity(n);
     let mut evaluations: Vec<Evaluation> = Vec::new();
     let mut next: Vec<u32> = Vec::new();
     let mut frontier: Vec<u32> = if source.index.is_empty() { Vec::new() } else { source.seeds.iter().copied().filter(|&v| (v as usize) < n).collect() };
@@ -663,7 +655,7 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
         slot[v as usize] = QUEUED;
     }
     report.seeds = frontier.len();
-    let clearance = if frontier.is_empty() { Clearance::default() } else { source.clearance(graph, max) };
+    let clearance = if frontier.is_empty() { Clearance::default() } else { source.clearance() };
     // Closest points committed on each segment so far.
     let mut feet = vec![0u32; source.segments.len()];
     let mut level = 0usize;
@@ -688,7 +680,7 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
         next.clear();
         for (&v, e) in frontier.iter().zip(&evaluations) {
             slot[v as usize] = found.len() as u32;
-            found.push(e.nearest);
+            found.push(e.nearest.segment);
             feet[e.nearest.segment as usize] = feet[e.nearest.segment as usize].saturating_add(1);
             order.push(v);
             report.corrected += usize::from(e.corrected);
@@ -716,12 +708,14 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
     // lookup of the reported vertices.
     let mut vertices = Vec::with_capacity(order.len());
     let mut closest = Vec::with_capacity(order.len());
-    for (i, (&v, nearest)) in order.iter().zip(&found).enumerate() {
+    for (i, (&v, &segment)) in order.iter().zip(&found).enumerate() {
+        let p = graph.point(v as usize);
+        let nearest = Nearest { segment, projection: source.geoms[segment as usize].project(p) };
         let keep = i < report.seeds || nearest.projection.distance() <= max;
         slot[v as usize] = if keep { vertices.len() as u32 } else { UNSEEN };
         if keep {
             vertices.push(v);
-            closest.push(source.describe(graph.point(v as usize), *nearest));
+            closest.push(source.describe(p, nearest));
         }
     }
     report.reached = vertices.len();
@@ -731,7 +725,7 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
 /// The closest point of vertex `v` from its evaluated neighbours' segments, settled
 /// on a local optimum along the polyline, then certified by the clearance of its
 /// segment or vertex, or else by the index.
-fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clearance, feet: &[u32], slot: &[u32], found: &[Nearest], v: usize) -> Evaluation {
+fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clearance, feet: &[u32], slot: &[u32], found: &[u32], v: usize) -> Evaluation {
     let p = graph.point(v);
     let mut stats = QueryStats::default();
     let mut tried = [u32::MAX; 8];
@@ -742,7 +736,7 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clea
         if s >= QUEUED {
             continue;
         }
-        let seg = found[s as usize].segment;
+        let seg = found[s as usize];
         if tried[..num_tried].contains(&seg) {
             continue;
         }

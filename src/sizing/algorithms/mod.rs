@@ -166,26 +166,61 @@ pub(crate) fn reach_of(distances: &[f64]) -> f64 {
 /// Builds one tensor per entry of `reach` that `f` keeps (`Ok(None)` skips the vertex),
 /// in the reach's order, on the rayon pool for large reaches. The first error in that
 /// order wins, so the result does not depend on the thread count.
+///
+/// The tensors are written in place into the contribution's array (no intermediate
+/// array of results): for a reach of 10^6 vertices that is 48 MB of fresh memory less.
 pub(crate) fn assemble<F>(reach: &Reach, f: F) -> Result<Contribution, Failure>
 where
     F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
 {
     let vertices = reach.vertices();
     let closest = reach.closest_points();
-    let eval = |(&v, c): (&u32, &ClosestPoint)| f(v as usize, c);
-    let out: Vec<Result<Option<SizeTensor>, Failure>> = if vertices.len() >= PARALLEL_MIN {
-        vertices.par_iter().zip(closest.par_iter()).with_min_len(1024).map(eval).collect()
-    } else {
-        vertices.iter().zip(closest.iter()).map(eval).collect()
-    };
-    let mut c = Contribution { vertices: Vec::with_capacity(out.len()), tensors: Vec::with_capacity(out.len()), seeds: reach.report().seeds };
-    for (&v, r) in vertices.iter().zip(out) {
-        if let Some(t) = r? {
-            c.vertices.push(v);
-            c.tensors.push(t);
+    let n = vertices.len();
+    let mut tensors = vec![SizeTensor::isotropic(1.0); n];
+    let mut keep = vec![true; n];
+    // For each item: the index of an error, and whether it was skipped.
+    let one = |i: usize, slot: &mut SizeTensor, kept: &mut bool| -> (usize, usize) {
+        match f(vertices[i] as usize, &closest[i]) {
+            Ok(Some(t)) => {
+                *slot = t;
+                (usize::MAX, 0)
+            }
+            Ok(None) => {
+                *kept = false;
+                (usize::MAX, 1)
+            }
+            Err(_) => (i, 0),
         }
+    };
+    let (first_error, skipped) = if n >= PARALLEL_MIN {
+        tensors
+            .par_iter_mut()
+            .zip(keep.par_iter_mut())
+            .enumerate()
+            .with_min_len(1024)
+            .map(|(i, (slot, kept))| one(i, slot, kept))
+            .reduce(|| (usize::MAX, 0), |a, b| (a.0.min(b.0), a.1 + b.1))
+    } else {
+        tensors.iter_mut().zip(keep.iter_mut()).enumerate().map(|(i, (slot, kept))| one(i, slot, kept)).fold((usize::MAX, 0), |a, b| (a.0.min(b.0), a.1 + b.1))
+    };
+    if first_error != usize::MAX {
+        // The smallest index with an error, whatever the threads; its error again.
+        return Err(f(vertices[first_error] as usize, &closest[first_error]).err().unwrap_or(Failure::Degenerate { vertex: vertices[first_error] as usize }));
     }
-    Ok(c)
+    let mut vertices = vertices.to_vec();
+    if skipped > 0 {
+        let mut k = 0;
+        for i in 0..n {
+            if keep[i] {
+                vertices[k] = vertices[i];
+                tensors[k] = tensors[i];
+                k += 1;
+            }
+        }
+        vertices.truncate(k);
+        tensors.truncate(k);
+    }
+    Ok(Contribution { vertices, tensors, seeds: reach.report().seeds })
 }
 
 /// A tensor with `h_normal` along `normal` and `h_tangent` across it; with no normal (a
