@@ -550,7 +550,7 @@ impl Ctx<'_> {
                 if d2 < gap2 {
                     return 0.0;
                 }
-                let h = node.corners.iter().map(|q| sector.support([q[0] - v[0], q[1] - v[1]])).fold(f64::NEG_INFINITY, f64::max);
+                let h = node.corners().iter().map(|q| sector.support([q[0] - v[0], q[1] - v[1]])).fold(f64::NEG_INFINITY, f64::max);
                 cone_bound(d2, h)
             },
             value,
@@ -576,8 +576,6 @@ struct ChainTree {
 
 #[derive(Debug, Clone)]
 struct ChainNode {
-    /// Corners, in order round the box.
-    corners: [Point2; 4],
     /// The box's frame: origin, unit axis, extents along and across the axis.
     o: Point2,
     u: Point2,
@@ -592,6 +590,14 @@ struct ChainNode {
 }
 
 impl ChainNode {
+    /// Corners of the box, in order round it.
+    #[inline]
+    fn corners(&self) -> [Point2; 4] {
+        let (o, u, s, t) = (self.o, self.u, self.s, self.t);
+        let at = |a: f64, b: f64| [o[0] + a * u[0] - b * u[1], o[1] + a * u[1] + b * u[0]];
+        [at(s[0], t[0]), at(s[1], t[0]), at(s[1], t[1]), at(s[0], t[1])]
+    }
+
     /// Squared distance from `p` to the box (0 inside).
     #[inline]
     fn distance_squared(&self, p: Point2) -> f64 {
@@ -629,7 +635,7 @@ impl ChainTree {
         let n = chord[0].hypot(chord[1]);
         let u = if n > 0.0 && n.is_finite() { [chord[0] / n, chord[1] / n] } else { [1.0, 0.0] };
         let o = run[0].a;
-        self.nodes.push(ChainNode { corners: [o; 4], o, u, s: [0.0; 2], t: [0.0; 2], lo: lo as u32, hi: hi as u32, left: u32::MAX, right: u32::MAX });
+        self.nodes.push(ChainNode { o, u, s: [0.0; 2], t: [0.0; 2], lo: lo as u32, hi: hi as u32, left: u32::MAX, right: u32::MAX });
         self.parent.push(parent);
         let mut points: Vec<Point2> = Vec::new();
         let g = if hi - lo > CHAIN_LEAF {
@@ -638,8 +644,8 @@ impl ChainTree {
             let r = self.build(geoms, mid, hi, grow, me);
             self.nodes[me as usize].left = l;
             self.nodes[me as usize].right = r;
-            points.extend_from_slice(&self.nodes[l as usize].corners);
-            points.extend_from_slice(&self.nodes[r as usize].corners);
+            points.extend_from_slice(&self.nodes[l as usize].corners());
+            points.extend_from_slice(&self.nodes[r as usize].corners());
             // The children's corners were rounded once more than their boxes.
             4.0 * f64::EPSILON * o[0].abs().max(o[1].abs())
         } else {
@@ -658,9 +664,7 @@ impl ChainTree {
             t = [t[0].min(b), t[1].max(b)];
         }
         let (s, t) = ([s[0] - g, s[1] + g], [t[0] - g, t[1] + g]);
-        let at = |a: f64, b: f64| [o[0] + a * u[0] - b * u[1], o[1] + a * u[1] + b * u[0]];
         let node = &mut self.nodes[me as usize];
-        node.corners = [at(s[0], t[0]), at(s[1], t[0]), at(s[1], t[1]), at(s[0], t[1])];
         node.s = s;
         node.t = t;
         me

@@ -212,16 +212,21 @@ impl<'g> SourceBuilder<'g> {
         let mut segments = Vec::new();
         let mut polylines = Vec::new();
         let mut seeds: Vec<u32> = Vec::new();
+        // (seed vertex, a segment it lies on) for the vertices of mesh pieces.
+        let mut on_segment: Vec<(u32, u32)> = Vec::new();
         for (piece, pc) in self.pieces.iter().enumerate() {
             let (points, closed, kind): (Vec<Point2>, bool, PieceKind) = match pc {
                 Piece::Error(e) => return Err(e.clone()),
                 Piece::Mesh { vertices, closed } => {
                     let mut pts = Vec::with_capacity(vertices.len());
-                    for &v in vertices {
+                    let first = segments.len() as u32;
+                    let last = first + (vertices.len().saturating_sub(if *closed && vertices.len() >= 2 { 0 } else { 1 })).max(1) as u32 - 1;
+                    for (k, &v) in vertices.iter().enumerate() {
                         if v >= n {
                             return Err(SourceError::VertexOutOfRange { piece, vertex: v, len: n });
                         }
                         seeds.push(v as u32);
+                        on_segment.push((v as u32, (first + k as u32).min(last)));
                         pts.push(self.graph.point(v));
                     }
                     let kind = if vertices.len() == 1 { PieceKind::MeshVertex } else { PieceKind::MeshEdges };
@@ -258,10 +263,27 @@ impl<'g> SourceBuilder<'g> {
         }
         let geoms: Vec<SegmentGeom> = segments.iter().map(|s| SegmentGeom::new(s.a, s.b)).collect();
         let index = SegmentIndex::new(&geoms);
-        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), index };
+        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), seed_guess: Vec::new(), index };
         seeds.extend(source.free_piece_seeds(self.graph));
         seeds.sort_unstable();
         seeds.dedup();
+        // The smallest segment each seed lies on, as the guess of its exact search.
+        on_segment.sort_unstable();
+        on_segment.dedup_by_key(|e| e.0);
+        let mut at = 0;
+        source.seed_guess = seeds
+            .iter()
+            .map(|&v| {
+                while at < on_segment.len() && on_segment[at].0 < v {
+                    at += 1;
+                }
+                if at < on_segment.len() && on_segment[at].0 == v {
+                    on_segment[at].1
+                } else {
+                    u32::MAX
+                }
+            })
+            .collect();
         source.seeds = seeds;
         Ok(source)
     }
@@ -275,6 +297,8 @@ pub struct Source {
     geoms: Vec<SegmentGeom>,
     polylines: Vec<SourcePolyline>,
     seeds: Vec<u32>,
+    /// A segment each seed lies on (`u32::MAX`: none known), parallel to `seeds`.
+    seed_guess: Vec<u32>,
     index: SegmentIndex,
 }
 
@@ -651,6 +675,8 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
     let mut evaluations: Vec<Evaluation> = Vec::new();
     let mut next: Vec<u32> = Vec::new();
     let mut frontier: Vec<u32> = if source.index.is_empty() { Vec::new() } else { source.seeds.iter().copied().filter(|&v| (v as usize) < n).collect() };
+    // The guess of each seed, by vertex, for the first level.
+    let guess_of = |v: u32| source.seeds.binary_search(&v).ok().map_or(u32::MAX, |i| source.seed_guess[i]);
     for &v in &frontier {
         slot[v as usize] = QUEUED;
     }
@@ -663,7 +689,13 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
         let evaluate = |&v: &u32| -> Evaluation {
             if level == 0 {
                 let mut stats = QueryStats::default();
-                let nearest = source.index.closest(graph.point(v as usize), &mut stats).expect("index is not empty");
+                let p = graph.point(v as usize);
+                let g = guess_of(v);
+                let nearest = if (g as usize) < source.geoms.len() {
+                    source.index.certify(p, Nearest { segment: g, projection: source.geoms[g as usize].project(p) }, &mut stats)
+                } else {
+                    source.index.closest(p, &mut stats).expect("index is not empty")
+                };
                 Evaluation { nearest, corrected: false, local: false, stats }
             } else {
                 evaluate_from_neighbours(graph, source, &clearance, &feet, &slot, &found, v as usize)
@@ -755,29 +787,51 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clea
         let nearest = source.index.closest(p, &mut stats).expect("index is not empty");
         return Evaluation { nearest, corrected: false, local: false, stats };
     };
-    // Move to the best segment of the window until it is the best of its own window
-    // (thesis 4.3.6.3's march along the polyline), then try the clearance.
-    for _ in 0..MARCH_STEPS {
-        let window = source.window(&best);
-        let mut moved = false;
-        for q in window.into_iter().flatten() {
-            if q == best.segment {
-                continue;
+    // A clearance costs a few index searches to compute: it is asked for only once
+    // earlier levels put enough feet on the segment to pay it back. Then move to the
+    // best segment of the window until it is the best of its own window, and try the
+    // clearance; else only march along the polyline while the foot sits on a segment
+    // end (thesis 4.3.6.3), and search.
+    if feet[best.segment as usize] >= CLEARANCE_AFTER {
+        for _ in 0..MARCH_STEPS {
+            let window = source.window(&best);
+            let mut moved = false;
+            for q in window.into_iter().flatten() {
+                if q == best.segment {
+                    continue;
+                }
+                stats.segments += 1;
+                let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
+                if c.beats(&best) {
+                    best = c;
+                    moved = true;
+                }
             }
+            if !moved {
+                if source.certified(clearance, p, &best) {
+                    return Evaluation { nearest: best, corrected: false, local: true, stats };
+                }
+                break;
+            }
+        }
+    } else {
+        for _ in 0..MARCH_STEPS {
+            let s = &source.segments[best.segment as usize];
+            let step = if best.projection.t == 0.0 {
+                s.prev
+            } else if best.projection.t == 1.0 {
+                s.next
+            } else {
+                None
+            };
+            let Some(q) = step else { break };
             stats.segments += 1;
             let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
             if c.beats(&best) {
                 best = c;
-                moved = true;
+            } else {
+                break;
             }
-        }
-        if !moved {
-            // A clearance costs a few index searches to compute: it is asked for only
-            // once earlier levels put enough feet on the segment to pay it back.
-            if feet[best.segment as usize] >= CLEARANCE_AFTER && source.certified(clearance, p, &best) {
-                return Evaluation { nearest: best, corrected: false, local: true, stats };
-            }
-            break;
         }
     }
     let nearest = clearance.closest(p, best, &mut stats);
