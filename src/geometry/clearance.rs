@@ -725,3 +725,125 @@ impl ChainTree {
     }
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// splitmix64, as in the other tests.
+    struct Rng(u64);
+
+    impl Rng {
+        fn unit(&mut self) -> f64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// Closed or open polylines as segments with their links.
+    fn polyline(points: &[Point2], closed: bool) -> (Vec<SegmentGeom>, Vec<Links>) {
+        let k = points.len();
+        let count = if closed { k } else { k - 1 };
+        let geoms: Vec<SegmentGeom> = (0..count).map(|i| SegmentGeom::new(points[i], points[(i + 1) % k])).collect();
+        let links = (0..count)
+            .map(|i| {
+                let prev = if i > 0 { Some(i as u32 - 1) } else if closed { Some(count as u32 - 1) } else { None };
+                let next = if i + 1 < count { Some(i as u32 + 1) } else if closed { Some(0) } else { None };
+                (prev, next)
+            })
+            .collect();
+        (geoms, links)
+    }
+
+    fn brute(geoms: &[SegmentGeom], p: Point2) -> Nearest {
+        let mut best = Nearest { segment: 0, projection: geoms[0].project(p) };
+        for (i, g) in geoms.iter().enumerate() {
+            let c = Nearest { segment: i as u32, projection: g.project(p) };
+            if c.beats(&best) {
+                best = c;
+            }
+        }
+        best
+    }
+
+    /// The clearance's promise, checked directly against a scan of every segment: where
+    /// a segment (or a vertex) says it covers a point, no segment outside its window is
+    /// as close as it. Wavy closed curves, open ones with corners and hairpins, and
+    /// points near and far, including past the medial axis.
+    #[test]
+    fn covered_points_have_their_closest_segment_in_the_window() {
+        let mut rng = Rng(5);
+        // Of the pairs where the segment (or vertex) is the closest one: how many covered.
+        let (mut covered, mut asked) = (0usize, 0usize);
+        for case in 0..40 {
+            let n = 20 + (rng.unit() * 300.0) as usize;
+            let closed = case % 2 == 0;
+            let modes: Vec<(f64, f64, f64)> = (0..3).map(|m| (rng.unit() * 0.3 / (m + 1) as f64, (m + 2) as f64, rng.unit() * 6.3)).collect();
+            let points: Vec<Point2> = (0..n)
+                .map(|k| {
+                    let a = if closed { 2.0 * std::f64::consts::PI * k as f64 / n as f64 } else { 5.0 * k as f64 / n as f64 };
+                    let r = 0.6 + modes.iter().map(|&(amp, f, ph)| amp * (f * a + ph).cos()).sum::<f64>();
+                    // Corners: every seventh point of some curves pushed out.
+                    let r = if case % 3 == 1 && k % 7 == 0 { r * 1.1 } else { r };
+                    [r * a.cos(), r * a.sin()]
+                })
+                .collect();
+            let (geoms, links) = polyline(&points, closed);
+            let clearance = Clearance::new(&geoms, &links, 1.0, 8.0);
+            let window_of = |s: u32| -> Vec<u32> {
+                let mut w = vec![s];
+                let (mut b, mut f) = (s, s);
+                for _ in 0..WINDOW {
+                    if let Some(x) = links[b as usize].0 {
+                        b = x;
+                        w.push(x);
+                    }
+                    if let Some(x) = links[f as usize].1 {
+                        f = x;
+                        w.push(x);
+                    }
+                }
+                w
+            };
+            for _ in 0..400 {
+                let p = [3.0 * rng.unit() - 1.5, 3.0 * rng.unit() - 1.5];
+                let want = brute(&geoms, p);
+                for (s, g) in geoms.iter().enumerate() {
+                    let s = s as u32;
+                    let pr = g.project(p);
+                    let d = pr.distance();
+                    let closest = s == want.segment || (want.projection.foot == pr.foot && want.projection.distance_squared == pr.distance_squared);
+                    if pr.t > 0.0 && pr.t < 1.0 {
+                        asked += usize::from(closest);
+                        if clearance.covers_segment(s, p, d) {
+                            covered += usize::from(closest);
+                            // Nothing outside the window is as close as `s`.
+                            for (o, h) in geoms.iter().enumerate() {
+                                if !window_of(s).contains(&(o as u32)) {
+                                    assert!(h.project(p).distance_squared > pr.distance_squared, "case {case}: segment {o} outside the window of {s} is as close to {p:?}");
+                                }
+                            }
+                        }
+                    } else if pr.t == 1.0 && links[s as usize].1.is_some() {
+                        asked += usize::from(closest);
+                        if clearance.covers_vertex(s, p, d) {
+                            covered += usize::from(closest);
+                            let next = links[s as usize].1.unwrap();
+                            let window = [links[s as usize].0, Some(s), Some(next), links[next as usize].1];
+                            for (o, h) in geoms.iter().enumerate() {
+                                if !window.contains(&Some(o as u32)) {
+                                    assert!(h.project(p).distance_squared > pr.distance_squared, "case {case}: segment {o} outside the window of vertex {s} is as close to {p:?}");
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        eprintln!("{covered} of {asked} points covered by the clearance of their closest segment or vertex");
+        assert!(covered * 10 >= asked * 3, "{covered} of {asked} covered: the clearances are too small to be of use");
+    }
+}
