@@ -35,7 +35,7 @@
 //! Cost: one branch-and-bound walk of the segment index per segment and per vertex,
 //! seeded with the segments just outside the window, O(m log m) in all.
 
-use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::segment::{Point2, SegmentGeom};
 use super::segment_index::{Nearest, QueryStats};
@@ -88,13 +88,47 @@ pub struct Clearance {
     caps: Vec<f64>,
     /// Clearance of segment `s`, side `k` (0 left, 1 right), tier `t` at
     /// `(2 s + k) * tiers + t` (0: none).
-    segment: Vec<OnceLock<f64>>,
+    segment: Vec<Memo>,
     /// The cone at the end of each segment that has a next one.
     cone: Vec<Option<ConeShape>>,
     /// Clearance of the cone at the end of segment `s`, tier `t`, at `s * tiers + t`.
-    cone_radius: Vec<OnceLock<f64>>,
+    cone_radius: Vec<Memo>,
     /// Runs of segments in oriented boxes, for the clearances and for exact queries.
     tree: ChainTree,
+}
+
+/// A value computed at most a few times and then read: the bits of an `f64`, or
+/// `u64::MAX` (a NaN no computation here returns) before the first computation. Why not
+/// `OnceLock`: half the memory (8 bytes per tier of every segment side) and a plain load
+/// to read. Two threads may both compute a missing value; it is a fixed function of the
+/// source, so both store the same bits.
+#[derive(Debug)]
+struct Memo(AtomicU64);
+
+impl Default for Memo {
+    fn default() -> Memo {
+        Memo(AtomicU64::new(u64::MAX))
+    }
+}
+
+impl Clone for Memo {
+    fn clone(&self) -> Memo {
+        Memo(AtomicU64::new(self.0.load(Ordering::Relaxed)))
+    }
+}
+
+impl Memo {
+    #[inline]
+    fn get_or_compute(&self, f: impl FnOnce() -> f64) -> f64 {
+        let bits = self.0.load(Ordering::Relaxed);
+        if bits != u64::MAX {
+            return f64::from_bits(bits);
+        }
+        let v = f();
+        let b = v.to_bits();
+        self.0.store(if b == u64::MAX { f64::NAN.to_bits() } else { b }, Ordering::Relaxed);
+        v
+    }
 }
 
 /// Polyline links of a segment: previous and next along its polyline.
@@ -129,9 +163,9 @@ impl Clearance {
             links: links.to_vec(),
             gap,
             caps,
-            segment: (0..2 * geoms.len() * tiers).map(|_| OnceLock::new()).collect(),
+            segment: (0..2 * geoms.len() * tiers).map(|_| Memo::default()).collect(),
             cone: Vec::new(),
-            cone_radius: (0..geoms.len() * tiers).map(|_| OnceLock::new()).collect(),
+            cone_radius: (0..geoms.len() * tiers).map(|_| Memo::default()).collect(),
             tree,
         };
         me.cone = (0..geoms.len()).map(|s| me.ctx().cone_shape(s)).collect();
@@ -150,7 +184,7 @@ impl Clearance {
 
     fn segment_value(&self, s: usize, side: usize, t: usize) -> f64 {
         let tiers = self.caps.len();
-        *self.segment[(2 * s + side) * tiers + t].get_or_init(|| {
+        self.segment[(2 * s + side) * tiers + t].get_or_compute(|| {
             if t > 0 {
                 let below = self.segment_value(s, side, t - 1);
                 if below < SETTLE * self.caps[t - 1] {
@@ -163,7 +197,7 @@ impl Clearance {
 
     fn cone_value(&self, s: usize, t: usize) -> f64 {
         let tiers = self.caps.len();
-        *self.cone_radius[s * tiers + t].get_or_init(|| {
+        self.cone_radius[s * tiers + t].get_or_compute(|| {
             if t > 0 {
                 let below = self.cone_value(s, t - 1);
                 if below < SETTLE * self.caps[t - 1] {
