@@ -763,19 +763,7 @@ impl ChainTree {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// splitmix64, as in the other tests.
-    struct Rng(u64);
-
-    impl Rng {
-        fn unit(&mut self) -> f64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::geometry::test_support::{brute, Rng};
 
     /// Closed or open polylines as segments with their links.
     fn polyline(points: &[Point2], closed: bool) -> (Vec<SegmentGeom>, Vec<Links>) {
@@ -790,17 +778,6 @@ mod tests {
             })
             .collect();
         (geoms, links)
-    }
-
-    fn brute(geoms: &[SegmentGeom], p: Point2) -> Nearest {
-        let mut best = Nearest { segment: 0, projection: geoms[0].project(p) };
-        for (i, g) in geoms.iter().enumerate() {
-            let c = Nearest { segment: i as u32, projection: g.project(p) };
-            if c.beats(&best) {
-                best = c;
-            }
-        }
-        best
     }
 
     /// The clearance's promise, checked directly against a scan of every segment: where

@@ -1,13 +1,16 @@
 //! Plane geometry kernels the sizing algorithms share: the distance from a point to a
 //! segment with its foot point and parameter (thesis 4.3.6.3, "common methods"), the
-//! contact test between a segment and a mesh cell, and a spatial index over a set of
-//! segments that answers exact closest-segment queries.
+//! contact test between a segment and a mesh cell, a spatial index over a set of
+//! segments that answers exact closest-segment queries, and the clearances of a
+//! polyline source, which let most closest points be certified without a search.
 //!
 //! Everything here works on plain `[f64; 2]` points and knows nothing of meshes or tags.
 
 pub mod clearance;
 pub mod segment;
 pub mod segment_index;
+#[cfg(test)]
+mod test_support;
 
 pub use clearance::Clearance;
 pub use segment::{Point2, Projection, SegmentGeom};

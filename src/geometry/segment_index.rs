@@ -326,17 +326,7 @@ fn build(items: &mut [Item], offset: usize, nodes: &mut Vec<Node>, parent: &mut 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn brute(segs: &[SegmentGeom], p: Point2) -> Nearest {
-        let mut best = Nearest { segment: 0, projection: segs[0].project(p) };
-        for (i, s) in segs.iter().enumerate() {
-            let c = Nearest { segment: i as u32, projection: s.project(p) };
-            if c.beats(&best) {
-                best = c;
-            }
-        }
-        best
-    }
+    use crate::geometry::test_support::brute;
 
     #[test]
     fn closest_and_certify_agree_with_scan() {

@@ -37,6 +37,8 @@
 //! polyline vertex when the propagation starts (O(m log m)). Seeding free pieces scans
 //! the cells once (O(cells), with a box test against the source first).
 
+use std::sync::OnceLock;
+
 use rayon::prelude::*;
 
 use crate::geometry::segment::{point_in_polygon, segment_touches_polygon, segments_touch};
@@ -681,7 +683,9 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
         slot[v as usize] = QUEUED;
     }
     report.seeds = frontier.len();
-    let clearance = if frontier.is_empty() { Clearance::default() } else { source.clearance() };
+    // Built the first time a segment earns its clearance: a fixed function of the
+    // source, whichever thread builds it.
+    let clearance: OnceLock<Clearance> = OnceLock::new();
     // Closest points committed on each segment so far.
     let mut feet = vec![0u32; source.segments.len()];
     let mut level = 0usize;
@@ -757,7 +761,7 @@ pub fn propagate(graph: &MeshGraph, source: &Source, max_distance: f64, options:
 /// The closest point of vertex `v` from its evaluated neighbours' segments, settled
 /// on a local optimum along the polyline, then certified by the clearance of its
 /// segment or vertex, or else by the index.
-fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clearance, feet: &[u32], slot: &[u32], found: &[u32], v: usize) -> Evaluation {
+fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &OnceLock<Clearance>, feet: &[u32], slot: &[u32], found: &[u32], v: usize) -> Evaluation {
     let p = graph.point(v);
     let mut stats = QueryStats::default();
     let mut tried = [u32::MAX; 8];
@@ -793,6 +797,7 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clea
     // clearance; else only march along the polyline while the foot sits on a segment
     // end (thesis 4.3.6.3), and search.
     if feet[best.segment as usize] >= CLEARANCE_AFTER {
+        let clearance = clearance.get_or_init(|| source.clearance());
         for _ in 0..MARCH_STEPS {
             let window = source.window(&best);
             let mut moved = false;
@@ -814,6 +819,9 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clea
                 break;
             }
         }
+        // Beyond the clearance, far from the source: the oriented boxes.
+        let nearest = clearance.closest(p, best, &mut stats);
+        return Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats };
     } else {
         for _ in 0..MARCH_STEPS {
             let s = &source.segments[best.segment as usize];
@@ -834,6 +842,7 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Clea
             }
         }
     }
-    let nearest = clearance.closest(p, best, &mut stats);
+    // Near the source: the axis-aligned index around the guess's leaf.
+    let nearest = source.index.certify(p, best, &mut stats);
     Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats }
 }
