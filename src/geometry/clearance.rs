@@ -14,26 +14,29 @@
 //! source is the best of the window's segments.
 //!
 //! Vertex. At a polyline vertex `v` where the polyline turns by θ, the points whose
-//! foot is `v` on both segments form a cone of angle θ on the outer side, of mean
-//! direction `m̄`; every unit vector of the cone is within `κ = 2 sin(θ/4)` of `m̄`. For
-//! `p = v + r m` with `|m - m̄| <= κ`, the disc of radius `r` around `p` lies in the disc
-//! of radius `r (1 + κ)` around `v + r m̄`, which a point `q` stays out of as long as
-//! `r <= G(q) = D / (w + sqrt(w² + c D))` with `D = |q - v|²`, `w = (q - v)·m̄`,
-//! `c = 2κ + κ²` (the positive root of `|q - v - r m̄|² = r² (1 + κ)²`).
+//! foot is `v` on both of its segments form a cone of angle θ on the outer side of the
+//! turn. For `p = v + r m` with `m` in the cone, the disc of radius `r` around `p` is one
+//! of the discs of radius `r` through `v` centred along the cone, and a point `q` stays
+//! out of all of them as long as `r <= G(q) = |q - v|² / (2 h(q))`, `h(q)` the largest
+//! projection of `q - v` on a direction of the cone. The caller asks only when both
+//! segments put the foot on `v` (so `m` is in the cone up to rounding), and checks that
+//! `m` lies within `κ = 2 sin(θ/4)` (with a little slack) of the cone's mean direction.
 //!
-//! Soundness. Over a box of the segment index or a piece of a segment, `F` and `G` are
+//! Soundness. Over a box of the tree below or a piece of a segment, `F` and `G` are
 //! bounded from below by their smallest numerator over their largest denominator, so
 //! every clearance is a lower bound of the true one; segments are cut into [`PIECES`]
 //! pieces so that the bound stays tight for the segments just outside a window. A
 //! segment outside the window that comes within [`SEPARATION`] (relative to the
 //! coordinates) of `s` or `v` — another curve meeting it, a polyline touching itself —
 //! leaves no clearance, since there the two distances could tie to rounding. The caller
-//! certifies only up to half the clearance, a margin far above the rounding of the
-//! distances it compares, so that the certified answer is the one a scan of every
-//! segment computes, bit for bit.
+//! certifies only up to 0.999 of a clearance: with that separation, a margin far above
+//! the rounding of the distances it compares, so that the certified answer is the one a
+//! scan of every segment computes, bit for bit.
 //!
-//! Cost: one branch-and-bound walk of the segment index per segment and per vertex,
-//! seeded with the segments just outside the window, O(m log m) in all.
+//! Cost: a branch-and-bound walk of a tree of oriented boxes over runs of segments, from
+//! the segment's leaf up, per segment side and per vertex that a propagation asks about,
+//! seeded with the segments just outside the window, and stopped at the cap of the tier
+//! asked (see [`Clearance`]); the tree is built in O(m) for m segments.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 

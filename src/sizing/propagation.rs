@@ -444,7 +444,7 @@ impl Source {
     }
 
     /// Whether `best`, the best of its window for `p`, is the closest point of the
-    /// whole source by the clearance of its segment or vertex (half of it, see
+    /// whole source by the clearance of its segment or vertex (within 0.999 of it, see
     /// [`Clearance`]).
     #[inline]
     fn certified(&self, clearance: &Clearance, p: Point2, best: &Nearest) -> bool {
