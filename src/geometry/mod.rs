@@ -6,6 +6,7 @@
 //!
 //! Everything here works on plain `[f64; 2]` points and knows nothing of meshes or tags.
 
+mod chain_tree;
 pub mod clearance;
 pub mod segment;
 pub mod segment_index;
