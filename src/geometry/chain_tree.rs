@@ -11,7 +11,7 @@ use super::segment_index::{Nearest, QueryStats};
 /// outside the window, which curve away from the segment by a fraction of their
 /// length; a box along the run's chord is about as thin as that bend and separates
 /// them, an axis-aligned one around a slanted run is as wide as the run and does not.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug)]
 pub(crate) struct ChainTree {
     pub(crate) nodes: Vec<ChainNode>,
     /// Parent of each node (`u32::MAX` for the root).

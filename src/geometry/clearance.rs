@@ -83,7 +83,7 @@ pub struct ConeShape {
 /// of the source (the previous tier's when that one found its clearance below its cap,
 /// else its own search), so the answers do not depend on the order of the questions or
 /// on the thread count; vertices near the source cost only short searches.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug)]
 pub struct Clearance {
     geoms: Vec<SegmentGeom>,
     links: Vec<Links>,
@@ -112,12 +112,6 @@ struct Memo(AtomicU64);
 impl Default for Memo {
     fn default() -> Memo {
         Memo(AtomicU64::new(u64::MAX))
-    }
-}
-
-impl Clone for Memo {
-    fn clone(&self) -> Memo {
-        Memo(AtomicU64::new(self.0.load(Ordering::Relaxed)))
     }
 }
 
@@ -172,12 +166,8 @@ impl Clearance {
             cone_radius: (0..geoms.len() * tiers).map(|_| Memo::default()).collect(),
             tree,
         };
-        me.cone = (0..geoms.len()).map(|s| me.ctx().cone_shape(s)).collect();
+        me.cone = (0..geoms.len()).map(|s| me.cone_shape(s)).collect();
         me
-    }
-
-    fn ctx(&self) -> Ctx<'_> {
-        Ctx { geoms: &self.geoms, links: &self.links, tree: &self.tree, gap: self.gap }
     }
 
     /// The tier that answers a question at distance `d`.
@@ -195,7 +185,7 @@ impl Clearance {
                     return below;
                 }
             }
-            self.ctx().segment(s, side, self.caps[t])
+            self.search_segment(s, side, self.caps[t])
         })
     }
 
@@ -209,7 +199,7 @@ impl Clearance {
                 }
             }
             match &self.cone[s] {
-                Some(shape) => self.ctx().cone(s, shape, self.caps[t]),
+                Some(shape) => self.search_cone(s, shape, self.caps[t]),
                 None => 0.0,
             }
         })
@@ -255,16 +245,6 @@ impl Clearance {
         self.cone_value(s as usize, self.tier(need)) >= need
     }
 
-    /// Number of segments covered.
-    pub fn len(&self) -> usize {
-        self.geoms.len()
-    }
-
-    /// Whether no segment is covered.
-    pub fn is_empty(&self) -> bool {
-        self.geoms.is_empty()
-    }
-
     /// The exact closest segment to `p`, starting from the guess `seed` (the projection
     /// of `p` on `seed.segment`), searched over the oriented boxes: the guess's leaf,
     /// then up to the root, opening the siblings whose box is not farther than the best
@@ -272,13 +252,6 @@ impl Clearance {
     pub fn closest(&self, p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
         self.tree.closest(&self.geoms, p, seed, stats)
     }
-}
-
-struct Ctx<'a> {
-    geoms: &'a [SegmentGeom],
-    links: &'a [Links],
-    tree: &'a ChainTree,
-    gap: f64,
 }
 
 /// `x` range and `y` range (along and across a segment's frame) of some points.
@@ -397,7 +370,8 @@ fn cone_bound(d2: f64, h: f64) -> f64 {
     }
 }
 
-impl Ctx<'_> {
+/// The searches behind the clearances.
+impl Clearance {
     fn next(&self, s: u32) -> Option<u32> {
         self.links[s as usize].1
     }
@@ -436,7 +410,7 @@ impl Ctx<'_> {
 
     /// The clearance of segment `s` on side `side` (0 left, 1 right), searched up to
     /// `cap`.
-    fn segment(&self, s: usize, side: usize, cap: f64) -> f64 {
+    fn search_segment(&self, s: usize, side: usize, cap: f64) -> f64 {
         let g = &self.geoms[s];
         let len = g.length();
         if g.inv_len2 == 0.0 || !len.is_finite() {
@@ -494,7 +468,7 @@ impl Ctx<'_> {
     }
 
     /// The clearance of the cone at the end of segment `s`, searched up to `cap`.
-    fn cone(&self, s: usize, shape: &ConeShape, cap: f64) -> f64 {
+    fn search_cone(&self, s: usize, shape: &ConeShape, cap: f64) -> f64 {
         let s32 = s as u32;
         let Some(n) = self.next(s32) else { return 0.0 };
         let sector = shape.sector;
