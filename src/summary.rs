@@ -139,9 +139,14 @@ impl MeshSummary {
         }
         let field = |name: &String, a: &smartmesh_formats::DataArray| FieldSummary {
             name: name.clone(),
-            components: a.components,
+            // A packed symmetric tensor is shown as the 9-component one it stands for,
+            // implied zeros and zz = 1 included, so that every format shows one field alike.
+            components: a.expanded_components(),
             shape: a.shape(),
-            range: a.values.iter().fold(None, |r: Option<[f64; 2]>, &v| Some(r.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]))),
+            range: {
+                let implied: &[f64] = if a.layout == smartmesh_formats::Layout::Symmetric2 && !a.is_empty() { &[0.0, 1.0] } else { &[] };
+                a.values.iter().chain(implied).fold(None, |r: Option<[f64; 2]>, &v| Some(r.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)])))
+            },
         };
         let xy = |i: usize| [mesh.points[i][0], mesh.points[i][1]];
         let topology = TopologySummary {

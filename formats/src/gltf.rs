@@ -114,9 +114,9 @@ fn finest_size(t: &[f64]) -> f64 {
 /// The field that colours the vertices, `None` when there is none to use.
 fn colour_field<'a>(mesh: &'a TaggedMesh, opts: &WriteOptions) -> Result<Option<(&'a str, &'a DataArray, Quantity)>> {
     let quantity = |a: &DataArray| match a.components {
+        _ if a.is_tensor() => Some(Quantity::FinestSize),
         1 => Some(Quantity::Value),
         2 | 3 => Some(Quantity::Magnitude),
-        9 => Some(Quantity::FinestSize),
         _ => None,
     };
     match &opts.color_field {
@@ -280,7 +280,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
                 match quantity {
                     Quantity::Value => item[0],
                     Quantity::Magnitude => item.iter().map(|x| x * x).sum::<f64>().sqrt(),
-                    Quantity::FinestSize => finest_size(item),
+                    Quantity::FinestSize => finest_size(&array.tensor9(i)),
                 }
             })
             .collect();

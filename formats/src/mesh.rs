@@ -207,20 +207,44 @@ impl CellBlock {
 /// A named array of values attached to points or cells, `components` values per item.
 ///
 /// Scalars have 1 component, vectors 3 (2D vectors are stored with z = 0), tensors 9
-/// (row-major 3x3). Other counts are kept as they are.
-#[derive(Debug, Clone, PartialEq)]
+/// (row-major 3x3) or, packed, 3 (see [`Layout::Symmetric2`]). Other counts are kept as
+/// they are.
+#[derive(Debug, Clone)]
 pub struct DataArray {
     /// Values per point (or cell).
     pub components: usize,
     /// `components * n` values, item-major.
     pub values: Vec<f64>,
+    /// How an item's values are laid out.
+    pub layout: Layout,
+}
+
+/// How the values of one item of a [`DataArray`] are laid out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Layout {
+    /// The `components` values as the file gives them.
+    #[default]
+    Plain,
+    /// A symmetric 2D tensor packed as `m11 m12 m22` (3 components), standing for the
+    /// row-major 3x3 tensor `[m11 m12 0; m12 m22 0; 0 0 1]`. The Medit reader keeps
+    /// 2D solution tensors so: a third of the memory of the full tensor, which a
+    /// 1.5-million-triangle read would otherwise spend most of its time faulting in.
+    /// Writers of 9-component formats expand it ([`DataArray::expanded`]).
+    Symmetric2,
 }
 
 impl DataArray {
     /// A new array; `values.len()` must be a multiple of `components`.
     pub fn new(components: usize, values: Vec<f64>) -> Self {
         debug_assert!(components > 0 && values.len() % components == 0);
-        DataArray { components, values }
+        DataArray { components, values, layout: Layout::Plain }
+    }
+
+    /// A packed array of symmetric 2D tensors, `m11 m12 m22` per item
+    /// ([`Layout::Symmetric2`]); `values.len()` must be a multiple of 3.
+    pub fn symmetric2(values: Vec<f64>) -> Self {
+        debug_assert!(values.len() % 3 == 0);
+        DataArray { components: 3, values, layout: Layout::Symmetric2 }
     }
 
     /// Number of items (points or cells) the array covers.
@@ -233,19 +257,68 @@ impl DataArray {
         self.values.is_empty()
     }
 
-    /// The values of item `i`.
+    /// The values of item `i`, as stored (packed for [`Layout::Symmetric2`]).
     pub fn item(&self, i: usize) -> &[f64] {
         &self.values[i * self.components..(i + 1) * self.components]
     }
 
     /// What the array looks like to a user: scalar, vector, tensor or other.
     pub fn shape(&self) -> DataShape {
-        match self.components {
-            1 => DataShape::Scalar,
-            2 | 3 => DataShape::Vector,
-            9 => DataShape::Tensor,
+        match (self.layout, self.components) {
+            (Layout::Symmetric2, _) => DataShape::Tensor,
+            (_, 1) => DataShape::Scalar,
+            (_, 2 | 3) => DataShape::Vector,
+            (_, 9) => DataShape::Tensor,
             _ => DataShape::Other,
         }
+    }
+
+    /// Whether the items are tensors (9 components, or packed symmetric 2D ones).
+    pub fn is_tensor(&self) -> bool {
+        self.shape() == DataShape::Tensor
+    }
+
+    /// Item `i` of a tensor array as the row-major 3x3 tensor (see [`Self::is_tensor`]).
+    pub fn tensor9(&self, i: usize) -> [f64; 9] {
+        let t = self.item(i);
+        match self.layout {
+            Layout::Symmetric2 => sym2_to_tensor9(t[0], t[1], t[2], 1.0),
+            Layout::Plain => std::array::from_fn(|j| t[j]),
+        }
+    }
+
+    /// Components per item once expanded ([`Self::expanded`]): 9 for a packed
+    /// symmetric tensor, else `components`.
+    pub fn expanded_components(&self) -> usize {
+        match self.layout {
+            Layout::Symmetric2 => 9,
+            Layout::Plain => self.components,
+        }
+    }
+
+    /// The array with every item as the file formats that store full values hold it: a
+    /// packed [`Layout::Symmetric2`] array becomes 9 components; others are lent as
+    /// they are.
+    pub fn expanded(&self) -> std::borrow::Cow<'_, DataArray> {
+        match self.layout {
+            Layout::Plain => std::borrow::Cow::Borrowed(self),
+            Layout::Symmetric2 => {
+                let values = self.values.chunks_exact(3).flat_map(|t| sym2_to_tensor9(t[0], t[1], t[2], 1.0)).collect();
+                std::borrow::Cow::Owned(DataArray::new(9, values))
+            }
+        }
+    }
+}
+
+/// Arrays are equal when they hold the same values item by item once expanded: a packed
+/// symmetric 2D tensor equals the 9-component tensor it stands for.
+impl PartialEq for DataArray {
+    fn eq(&self, other: &Self) -> bool {
+        if self.layout == other.layout {
+            return self.components == other.components && self.values == other.values;
+        }
+        let (a, b) = (self.expanded(), other.expanded());
+        a.components == b.components && a.values == b.values
     }
 }
 

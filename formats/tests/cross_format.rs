@@ -164,7 +164,7 @@ fn every_fixture_through_every_format() {
                         let same = if caps.point_data == PointData::MetricOnly {
                             // Medit keeps the 2D part m11 m12 m22 of the tensor.
                             (0..orig.len()).all(|i| {
-                                let (x, y) = (orig.item(i), arr.item(i));
+                                let (x, y) = (orig.tensor9(i), arr.tensor9(i));
                                 [0, 1, 4].iter().all(|&c| x[c].to_bits() == y[c].to_bits())
                             })
                         } else {

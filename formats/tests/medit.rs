@@ -10,7 +10,7 @@ use proptest::prelude::*;
 use smartmesh_formats::arbitrary::{arb_tagged_mesh, MeshFeatures};
 use smartmesh_formats::medit::{read_sol, write_sol};
 use smartmesh_formats::{
-    read_bytes, sym2_to_tensor9, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format, MemorySiblings, Position, ReadContext,
+    read_bytes, sym2_to_tensor9, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format, Layout, MemorySiblings, Position, ReadContext,
     TaggedMesh, WriteOptions,
 };
 
@@ -49,10 +49,18 @@ fn square_hole_input_with_metric() {
     assert!(!m.point_data.contains_key("medit:ref"));
     assert!(m.point_sets.is_empty());
     let metric = &m.point_data["metric"];
-    assert_eq!(metric.components, 9);
+    // Kept packed as the file has it: m11 m12 m22.
+    assert_eq!((metric.components, metric.layout), (3, Layout::Symmetric2));
+    assert!(metric.is_tensor());
     assert_eq!(metric.len(), 435);
     // "69.807785718567544 -28.785867635430975 69.80778571856753" is m11 m12 m22.
-    assert_eq!(metric.item(0), &sym2_to_tensor9(69.807785718567544, -28.785867635430975, 69.80778571856753, 1.0));
+    assert_eq!(metric.item(0), &[69.807785718567544, -28.785867635430975, 69.80778571856753]);
+    assert_eq!(metric.tensor9(0), sym2_to_tensor9(69.807785718567544, -28.785867635430975, 69.80778571856753, 1.0));
+    // ... and stands for the 9-component tensor with zz = 1.
+    let full = metric.expanded();
+    assert_eq!((full.components, full.layout, full.len()), (9, Layout::Plain, 435));
+    assert_eq!(full.item(0), &sym2_to_tensor9(69.807785718567544, -28.785867635430975, 69.80778571856753, 1.0));
+    assert_eq!(*metric, *full);
     assert_eq!(m.point_data.len(), 1);
 }
 
@@ -66,7 +74,7 @@ fn square_hole_adapted_by_mmg() {
     let refs = &m.point_data["medit:ref"].values;
     assert_eq!(refs.iter().filter(|&&r| r != 0.0).count(), 1);
     assert_eq!(refs[465], 2.0);
-    assert_eq!(m.point_data["metric"].item(0), &sym2_to_tensor9(73.9024724165296, -24.3655176449654, 74.5873813652242, 1.0));
+    assert_eq!(m.point_data["metric"].tensor9(0), sym2_to_tensor9(73.9024724165296, -24.3655176449654, 74.5873813652242, 1.0));
 }
 
 #[test]
@@ -723,4 +731,52 @@ fn malformed_solb_value_names_its_byte() {
         assert!(e.to_string().contains(".solb"), "{e}");
         solb[at..at + 8].copy_from_slice(&keep);
     }
+}
+
+/// A packed 2D solution tensor goes out to the 9-component formats in full (zz = 1) and
+/// comes back from them equal to what was read; back into Medit it is packed again, with
+/// the file's bits.
+#[test]
+fn packed_metric_through_the_nine_component_formats() {
+    let m = read_file("medit/square_hole_input.mesh");
+    let packed = &m.point_data["metric"];
+    assert_eq!(packed.layout, Layout::Symmetric2);
+    let targets: [(Format, &str, WriteOptions); 4] = [
+        (Format::Gmsh, "msh", WriteOptions { binary: true, ..WriteOptions::default() }),
+        (Format::Gmsh, "msh", WriteOptions { gmsh_version: smartmesh_formats::GmshVersion::V22, ..WriteOptions::default() }),
+        (Format::Vtu, "vtu", WriteOptions::default()),
+        (Format::VtkLegacy, "vtk", WriteOptions { binary: true, ..WriteOptions::default() }),
+    ];
+    for (format, ext, opts) in targets {
+        let (written, back) = roundtrip(format, ext, &m, &opts);
+        assert!(written.report.dropped.is_empty(), "{ext}: {:?}", written.report.dropped);
+        let full = &back.point_data["metric"];
+        assert_eq!((full.components, full.layout, full.len()), (9, Layout::Plain, packed.len()), "{ext}");
+        for i in 0..packed.len() {
+            let (p, f) = (packed.item(i), full.item(i));
+            assert_eq!(f, &sym2_to_tensor9(p[0], p[1], p[2], 1.0), "{ext}, vertex {i}");
+        }
+        assert_eq!(full, packed, "{ext}");
+        // And back to Medit: packed again, bit for bit.
+        let medit = WriteOptions { medit_binary: true, main_name: Some("x.meshb".into()), ..WriteOptions::default() };
+        let (_, again) = roundtrip(Format::Medit, "meshb", &back, &medit);
+        let again = &again.point_data["metric"];
+        assert_eq!(again.layout, Layout::Symmetric2, "{ext}");
+        assert!(again.values.iter().zip(&packed.values).all(|(a, b)| a.to_bits() == b.to_bits()), "{ext}");
+    }
+}
+
+/// Equality looks through the packing: a packed tensor equals the full one it stands
+/// for, not one that differs in a single implied entry.
+#[test]
+fn packed_and_full_tensors_compare_by_what_they_stand_for() {
+    let packed = DataArray::symmetric2(vec![4.0, -1.0, 9.0, 1.0, 0.0, 1.0]);
+    let mut full = DataArray::new(9, [sym2_to_tensor9(4.0, -1.0, 9.0, 1.0), sym2_to_tensor9(1.0, 0.0, 1.0, 1.0)].concat());
+    assert_eq!(packed, full);
+    assert_eq!(full, packed);
+    full.values[8] = 2.0; // zz of vertex 0 is no longer the implied 1
+    assert_ne!(packed, full);
+    // Three plain components are a vector, not a packed tensor.
+    assert_ne!(packed, DataArray::new(3, packed.values.clone()));
+    assert!(!DataArray::new(3, packed.values.clone()).is_tensor());
 }

@@ -149,7 +149,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
 
 fn estimate_size(mesh: &TaggedMesh, binary: bool) -> usize {
     let nodes: usize = mesh.blocks.iter().map(|b| b.nodes.len() + b.len()).sum();
-    let data: usize = mesh.point_data.values().chain(mesh.cell_data.values()).map(|a| a.values.len() + a.len()).sum();
+    let data: usize = mesh.point_data.values().chain(mesh.cell_data.values()).map(|a| a.len() * (a.expanded_components() + 1)).sum();
     if binary {
         mesh.points.len() * 40 + nodes * 8 + data * 8 + 4096
     } else {
@@ -1401,6 +1401,8 @@ pub(super) fn write_views(out: &mut Vec<u8>, mesh: &TaggedMesh, binary: bool, ce
 
 #[allow(clippy::too_many_arguments)]
 fn write_view(out: &mut Vec<u8>, section: &str, what: &str, name: &str, a: &DataArray, binary: bool, tag: &dyn Fn(usize) -> u64, report: &mut WriteReport) {
+    // Gmsh's tensors are 9 components: a packed symmetric one is written in full.
+    let a = &*a.expanded();
     let k = a.components;
     if !matches!(k, 1 | 3 | 9) {
         report.drop(format!(

@@ -33,8 +33,9 @@
 //!   `x.sol` then `x.solb`; for `x.meshb`, `x.solb` then `x.sol`), with any number of
 //!   solutions per vertex: type 1 (scalar) becomes point data `size`, type 2 (vector)
 //!   `vector` (3 components, z = 0 in 2D), type 3 (symmetric tensor, written m11 m12 m22 in
-//!   2D and m11 m12 m22 m13 m23 m33 in 3D, not VTK's order) `metric` (9 components, zz = 1
-//!   in 2D), type 4 (full matrix) `matrix`; a second solution of the same type gets `_2`,
+//!   2D and m11 m12 m22 m13 m23 m33 in 3D, not VTK's order) `metric` (in 2D packed as the
+//!   file has it, `Layout::Symmetric2`: m11 m12 m22, standing for the 9-component tensor
+//!   with zz = 1; in 3D 9 components), type 4 (full matrix) `matrix`; a second solution of the same type gets `_2`,
 //!   and so on.
 //!
 //! # Writing
@@ -61,7 +62,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::error::{Error, ErrorKind, Position, Result};
-use crate::{sym2_to_tensor9, CellBlock, CellKind, DataArray, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{CellBlock, CellKind, DataArray, Layout, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
 
 use keywords::KEYWORDS;
 
@@ -316,9 +317,11 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<BTr
         *k += 1;
         let name = if *k == 1 { base.to_string() } else { format!("{base}_{k}") };
         let d = dim as usize;
+        // A 2D symmetric tensor stays packed as the file has it (m11 m12 m22).
+        let packed = typ == 3 && d == 2;
         let comps = if typ == 1 {
             1
-        } else if typ == 2 {
+        } else if typ == 2 || packed {
             3
         } else {
             9
@@ -334,7 +337,7 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<BTr
             }
             None => convert(&mut values, comps, sol.values.chunks_exact(stride).map(|r| &r[offset..offset + size]), |r: &&[f64], j| r[j], typ, d),
         }
-        out.insert(name, DataArray::new(comps, values));
+        out.insert(name, if packed { DataArray::symmetric2(values) } else { DataArray::new(comps, values) });
         offset += size;
     }
     Ok(out)
@@ -349,7 +352,7 @@ fn convert<T>(out: &mut [f64], comps: usize, rows: impl Iterator<Item = T>, get:
         (1, _) => items.for_each(|(o, s)| o[0] = get(&s, 0)),
         (2, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), 0.0])),
         (2, _) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), get(&s, 2)])),
-        (3, 2) => items.for_each(|(o, s)| o.copy_from_slice(&sym2_to_tensor9(get(&s, 0), get(&s, 1), get(&s, 2), 1.0))),
+        (3, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), get(&s, 2)])),
         // libMeshb's 3D order: m11 m12 m22 m13 m23 m33.
         (3, _) => items.for_each(|(o, s)| {
             let m: [f64; 6] = std::array::from_fn(|j| get(&s, j));
@@ -579,7 +582,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
 
     // The solution MMG reads: the metric, else the size.
-    let metric = mesh.point_data.get("metric").filter(|a| a.components == 9);
+    let metric = mesh.point_data.get("metric").filter(|a| a.is_tensor());
     let size = mesh.point_data.get("size").filter(|a| a.components == 1);
     let chosen = match (metric, size) {
         (Some(m), _) => Some(("metric", m)),
@@ -612,7 +615,8 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
 
 /// Writes a solution file (`.solb` when `binary`, else `.sol`) with one `SolAtVertices`
 /// holding every array in order: 1 component → scalar (type 1), 2 or 3 → vector (type 2),
-/// 9 → symmetric tensor (type 3, m11 m12 m22 in 2D; off-diagonal terms averaged).
+/// 9 or packed symmetric 2D → symmetric tensor (type 3, m11 m12 m22 in 2D; off-diagonal
+/// terms of 9-component ones averaged).
 /// `dim` is 2 or 3; every array must cover the same number of vertices.
 pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result<Vec<u8>> {
     let cannot = |reason: String| Error::new(ErrorKind::CannotWrite { format: "Medit solution", reason });
@@ -629,9 +633,9 @@ pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result
             return Err(cannot(format!("array `{name}` covers {} vertices, `{}` {n}", a.len(), arrays[0].0)));
         }
         types.push(match a.components {
+            _ if a.is_tensor() => 3,
             1 => 1u32,
             2 | 3 => 2,
-            9 => 3,
             c => {
                 return Err(cannot(format!("array `{name}` has {c} components; a solution is a scalar, a vector or a 9-component tensor")))
             }
@@ -643,6 +647,13 @@ pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result
     for v in 0..n {
         for &(_, a) in arrays {
             let s = a.item(v);
+            if a.layout == Layout::Symmetric2 {
+                values.extend_from_slice(s);
+                if d == 3 {
+                    values.extend_from_slice(&[0.0, 0.0, 1.0]);
+                }
+                continue;
+            }
             match (a.components, d) {
                 (1, _) => values.push(s[0]),
                 (2, 2) | (3, 2) => values.extend_from_slice(&s[..2]),

@@ -152,7 +152,7 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
     let nvert = count(CellKind::Vertex);
     let rays = match mesh.cell_data.get(RAY_DIRECTION) {
-        Some(a) if a.components == 3 && main == Kind::Edge => Some(a),
+        Some(a) if a.components == 3 && !a.is_tensor() && main == Kind::Edge => Some(a),
         _ => None,
     };
     if nvert > 0 && rays.is_none() {

@@ -860,7 +860,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         out.extend_from_slice(b" int\n");
         write_ints(&mut out, tags, binary);
     }
-    for &(name, a) in &plan.cell_arrays {
+    for (name, a) in &plan.cell_arrays {
         write_field_array(&mut out, name, a, binary);
     }
 
@@ -871,7 +871,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         crate::text::push_int(&mut out, np);
         out.push(b'\n');
         if let Some(tname) = plan.tensor {
-            let a = &mesh.point_data[tname];
+            let a = &plan.point_arrays.iter().find(|(n, _)| *n == tname).expect("the tensor is one of the point arrays").1;
             out.extend_from_slice(b"TENSORS ");
             encode_name(&mut out, tname);
             out.extend_from_slice(b" double\n");
@@ -882,7 +882,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             out.extend_from_slice(b"FIELD FieldData ");
             crate::text::push_int(&mut out, rest.len());
             out.push(b'\n');
-            for &&(name, a) in &rest {
+            for (name, a) in rest {
                 write_field_array(&mut out, name, a, binary);
             }
         }

@@ -62,6 +62,7 @@
 mod legacy;
 mod xml;
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 use crate::error::Position;
@@ -573,8 +574,9 @@ impl Grid {
 pub(crate) struct Plan<'m> {
     pub physical: Vec<i32>,
     pub geometrical: Vec<i32>,
-    pub cell_arrays: Vec<(&'m str, &'m DataArray)>,
-    pub point_arrays: Vec<(&'m str, &'m DataArray)>,
+    /// The arrays to write, packed tensors expanded to VTK's 9 components.
+    pub cell_arrays: Vec<(&'m str, Cow<'m, DataArray>)>,
+    pub point_arrays: Vec<(&'m str, Cow<'m, DataArray>)>,
     /// The point array written as the active tensor.
     pub tensor: Option<&'m str>,
     /// Tag names as `(name, tag, dim)`, one array each.
@@ -599,10 +601,10 @@ impl<'m> Plan<'m> {
             } else if name.is_empty() {
                 report.drop(format!("a cell data array without a name: {format} needs one"));
             } else {
-                cell_arrays.push((name.as_str(), a));
+                cell_arrays.push((name.as_str(), a.expanded()));
             }
         }
-        let mut point_arrays: Vec<(&str, &DataArray)> = mesh.point_data.iter().map(|(k, v)| (k.as_str(), v)).collect();
+        let mut point_arrays: Vec<(&str, Cow<'_, DataArray>)> = mesh.point_data.iter().map(|(k, v)| (k.as_str(), v.expanded())).collect();
         if point_arrays.iter().any(|(k, _)| k.is_empty()) {
             report.drop(format!("a point data array without a name: {format} needs one"));
             point_arrays.retain(|(k, _)| !k.is_empty());

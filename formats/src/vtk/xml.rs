@@ -1149,7 +1149,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             w.out.push(b'"');
         }
         w.out.extend_from_slice(b">\n");
-        for &(name, a) in &plan.point_arrays {
+        for (name, a) in &plan.point_arrays {
             w.f64_array(name, a.components, &a.values);
         }
         w.out.extend_from_slice(b"      </PointData>\n");
@@ -1157,7 +1157,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     w.out.extend_from_slice(b"      <CellData Scalars=\"gmsh:physical\">\n");
     w.i32_array(PHYSICAL, &plan.physical);
     w.i32_array(GEOMETRICAL, &plan.geometrical);
-    for &(name, a) in &plan.cell_arrays {
+    for (name, a) in &plan.cell_arrays {
         w.f64_array(name, a.components, &a.values);
     }
     w.out.extend_from_slice(b"      </CellData>\n      <Points>\n");
