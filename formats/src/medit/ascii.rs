@@ -380,7 +380,7 @@ pub(super) fn write_mesh(m: &Out<'_>) -> Vec<u8> {
 }
 
 pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
-    let mut out = Vec::with_capacity(s.values.len() * 25 + 128);
+    let mut out = Vec::with_capacity(s.n * s.stride * 25 + 128);
     header(&mut out, s.dim);
     keyword(&mut out, KW_SOL_AT_VERTICES, s.n);
     push_int(&mut out, s.types.len());
@@ -389,8 +389,9 @@ pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
         push_int(&mut out, ty);
     }
     out.push(b'\n');
-    let stride = s.values.len().checked_div(s.n).unwrap_or(0);
-    for row in s.values.chunks(stride.max(1)) {
+    let mut row = Vec::with_capacity(s.stride);
+    for v in 0..s.n {
+        s.row(v, &mut row);
         for (j, v) in row.iter().enumerate() {
             if j > 0 {
                 out.push(b' ');

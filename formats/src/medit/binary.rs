@@ -541,22 +541,36 @@ pub(super) fn write_mesh(m: &Out<'_>) -> Vec<u8> {
     w.header(m.dim);
     let at = w.begin(KW_VERTICES);
     w.int(nv);
-    for (i, p) in m.points.iter().enumerate() {
-        for c in &p[..dim] {
-            w.out.extend_from_slice(&c.to_le_bytes());
+    let refs = m.refs.as_deref();
+    match (ver < 4, dim) {
+        (true, 2) => vertex_records::<2>(&mut w.out, m.points, refs),
+        (true, _) => vertex_records::<3>(&mut w.out, m.points, refs),
+        (false, _) => {
+            for (i, p) in m.points.iter().enumerate() {
+                for c in &p[..dim] {
+                    w.out.extend_from_slice(&c.to_le_bytes());
+                }
+                w.sint(refs.map_or(0, |r| r[i]));
+            }
         }
-        w.sint(m.refs.as_ref().map_or(0, |r| r[i]));
     }
     w.end(at);
     for (code, blocks) in &m.elements {
         let at = w.begin(*code);
         w.int(m.count(*code));
         for b in blocks {
-            for (cell, &r) in b.cells().zip(&b.physical) {
-                for &v in cell {
-                    w.int(v + 1);
+            match (ver < 4, b.kind.nodes_per_cell()) {
+                (true, 2) => element_records::<2>(&mut w.out, b),
+                (true, 3) => element_records::<3>(&mut w.out, b),
+                (true, 4) => element_records::<4>(&mut w.out, b),
+                _ => {
+                    for (cell, &r) in b.cells().zip(&b.physical) {
+                        for &v in cell {
+                            w.int(v + 1);
+                        }
+                        w.sint(r);
+                    }
                 }
-                w.sint(r);
             }
         }
         w.end(at);
@@ -572,8 +586,38 @@ pub(super) fn write_mesh(m: &Out<'_>) -> Vec<u8> {
     w.finish()
 }
 
+/// The vertices of a file with 32-bit integers: `D` reals and a reference per vertex,
+/// each record assembled on the stack and appended whole (one capacity check per
+/// vertex, not per value; this loop and the next are most of a binary write).
+fn vertex_records<const D: usize>(out: &mut Vec<u8>, points: &[[f64; 3]], refs: Option<&[i32]>) {
+    let len = 8 * D + 4;
+    let mut rec = [0u8; 28];
+    for (i, p) in points.iter().enumerate() {
+        for (c, x) in p[..D].iter().enumerate() {
+            rec[8 * c..8 * c + 8].copy_from_slice(&x.to_le_bytes());
+        }
+        rec[8 * D..len].copy_from_slice(&refs.map_or(0, |r| r[i]).to_le_bytes());
+        out.extend_from_slice(&rec[..len]);
+    }
+}
+
+/// The cells of a block of `K`-node elements in a file with 32-bit integers: 1-based
+/// node numbers and the reference, one stack record per cell. Node indices were checked
+/// against the vertex count, which the version choice keeps within `i32`.
+fn element_records<const K: usize>(out: &mut Vec<u8>, b: &CellBlock) {
+    let len = 4 * (K + 1);
+    let mut rec = [0u8; 20];
+    for (cell, &r) in b.nodes.chunks_exact(K).zip(&b.physical) {
+        for (j, &v) in cell.iter().enumerate() {
+            rec[4 * j..4 * j + 4].copy_from_slice(&((v + 1) as i32).to_le_bytes());
+        }
+        rec[4 * K..len].copy_from_slice(&r.to_le_bytes());
+        out.extend_from_slice(&rec[..len]);
+    }
+}
+
 pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
-    let bytes_v2 = 8 + 12 * 3 + 4 + 4 + 4 * s.types.len() as u64 + 8 * s.values.len() as u64;
+    let bytes_v2 = 8 + 12 * 3 + 4 + 4 + 4 * s.types.len() as u64 + 8 * (s.n * s.stride) as u64;
     let ver = version(bytes_v2, s.n as u64);
     let mut w = W::new(ver, bytes_v2 as usize + 16);
     w.header(s.dim);
@@ -583,8 +627,12 @@ pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
     for &ty in s.types {
         w.out.extend_from_slice(&(ty as i32).to_le_bytes());
     }
-    for v in s.values {
-        w.out.extend_from_slice(&v.to_le_bytes());
+    let mut row = Vec::with_capacity(s.stride);
+    for v in 0..s.n {
+        s.row(v, &mut row);
+        for x in &row {
+            w.out.extend_from_slice(&x.to_le_bytes());
+        }
     }
     w.end(at);
     w.finish()

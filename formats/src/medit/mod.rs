@@ -641,37 +641,44 @@ pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result
             }
         });
     }
-    let d = dim as usize;
     let stride: usize = types.iter().map(|&t| sol_size(t, dim).unwrap_or(0)).sum();
-    let mut values = Vec::with_capacity(n * stride);
-    for v in 0..n {
-        for &(_, a) in arrays {
-            let s = a.item(v);
-            if a.layout == Layout::Symmetric2 {
-                values.extend_from_slice(s);
-                if d == 3 {
-                    values.extend_from_slice(&[0.0, 0.0, 1.0]);
-                }
-                continue;
-            }
-            match (a.components, d) {
-                (1, _) => values.push(s[0]),
-                (2, 2) | (3, 2) => values.extend_from_slice(&s[..2]),
-                (2, _) => values.extend_from_slice(&[s[0], s[1], 0.0]),
-                (3, _) => values.extend_from_slice(s),
-                (_, 2) => values.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4]]),
-                (_, _) => values.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4], 0.5 * (s[2] + s[6]), 0.5 * (s[5] + s[7]), s[8]]),
-            }
-        }
-    }
-    let sol = SolOut { dim, n, types: &types, values: &values };
+    let sol = SolOut { dim, n, types: &types, stride, arrays };
     Ok(if binary { binary::write_sol(&sol) } else { ascii::write_sol(&sol) })
 }
 
-/// A `SolAtVertices` to serialise: `values` holds `n * Σ sizes` reals in file order.
+/// A `SolAtVertices` to serialise: `n` vertices of `stride` reals, taken from `arrays`
+/// one vertex row at a time (no intermediate copy of the whole solution).
 struct SolOut<'a> {
     dim: u8,
     n: usize,
     types: &'a [u32],
-    values: &'a [f64],
+    stride: usize,
+    arrays: &'a [(&'a str, &'a DataArray)],
+}
+
+impl SolOut<'_> {
+    /// The file's reals for vertex `v`, in `row` (cleared first).
+    #[inline]
+    fn row(&self, v: usize, row: &mut Vec<f64>) {
+        row.clear();
+        let d = self.dim as usize;
+        for &(_, a) in self.arrays {
+            let s = a.item(v);
+            if a.layout == Layout::Symmetric2 {
+                row.extend_from_slice(s);
+                if d == 3 {
+                    row.extend_from_slice(&[0.0, 0.0, 1.0]);
+                }
+                continue;
+            }
+            match (a.components, d) {
+                (1, _) => row.push(s[0]),
+                (2, 2) | (3, 2) => row.extend_from_slice(&s[..2]),
+                (2, _) => row.extend_from_slice(&[s[0], s[1], 0.0]),
+                (3, _) => row.extend_from_slice(s),
+                (_, 2) => row.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4]]),
+                (_, _) => row.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4], 0.5 * (s[2] + s[6]), 0.5 * (s[5] + s[7]), s[8]]),
+            }
+        }
+    }
 }
