@@ -66,7 +66,7 @@ fn airfoil(n: usize) -> TaggedMesh {
 
 fn spade_only(pslg: &TaggedMesh, area: f64, exclude: bool) -> usize {
     let pts: Vec<Point2<f64>> = pslg.points.iter().map(|p| Point2::new(p[0], p[1])).collect();
-    let edges: Vec<[usize; 2]> = pslg.cells().filter(|c| c.0 == CellKind::Line).map(|c| [c.1[0], c.1[1]]).collect();
+    let edges: Vec<[usize; 2]> = pslg.cells().filter(|c| c.0 == CellKind::Line).map(|c| [c.1[0] as usize, c.1[1] as usize]).collect();
     let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::bulk_load_cdt(pts, edges).unwrap();
     let r = cdt.refine(
         RefinementParameters::<f64>::new()
@@ -81,7 +81,7 @@ fn spade_only(pslg: &TaggedMesh, area: f64, exclude: bool) -> usize {
 /// Prints count, smallest angle and mean quality of one mesh, and returns the count.
 fn report(label: &str, pslg: &TaggedMesh, opts: &MeshOptions, spade_alone: usize) -> usize {
     let out = triangulate(pslg, opts).unwrap();
-    let p = |v: usize| [out.points[v][0], out.points[v][1]];
+    let p = |v: u32| [out.points[v as usize][0], out.points[v as usize][1]];
     let (mut n, mut amin, mut q) = (0usize, f64::INFINITY, 0.0);
     for (kind, t, _, _) in out.cells() {
         if kind == CellKind::Triangle {

@@ -140,7 +140,7 @@ pub fn metric_field(mesh: &TaggedMesh, name: &str) -> Result<Vec<Sym2>, MetricFi
     let mut used = vec![false; mesh.points.len()];
     for (_, nodes, _, _) in mesh.cells() {
         for &n in nodes {
-            if let Some(u) = used.get_mut(n) {
+            if let Some(u) = used.get_mut(n as usize) {
                 *u = true;
             }
         }
@@ -256,10 +256,10 @@ impl Conformity {
         let mut tris = Vec::new();
         for (kind, n, _, _) in mesh.cells() {
             match kind {
-                crate::formats::CellKind::Triangle => tris.push([n[0], n[1], n[2]]),
+                crate::formats::CellKind::Triangle => tris.push([n[0] as usize, n[1] as usize, n[2] as usize]),
                 crate::formats::CellKind::Quad => {
-                    tris.push([n[0], n[1], n[2]]);
-                    tris.push([n[0], n[2], n[3]]);
+                    tris.push([n[0] as usize, n[1] as usize, n[2] as usize]);
+                    tris.push([n[0] as usize, n[2] as usize, n[3] as usize]);
                 }
                 _ => {}
             }

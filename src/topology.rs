@@ -200,7 +200,9 @@ impl Topology {
             if kind.dim() == 2 {
                 let k = corner_count(kind);
                 let mut c = [usize::MAX; 4];
-                c[..k].copy_from_slice(&nodes[..k]);
+                for (slot, &v) in c[..k].iter_mut().zip(&nodes[..k]) {
+                    *slot = v as usize;
+                }
                 let t = cell_tag(p, g);
                 face_index.entry(t).or_insert(0);
                 raw_cells.push((c, t));
@@ -245,8 +247,9 @@ impl Topology {
         let mut on_curve: HashMap<[usize; 2], ()> = HashMap::new();
         for (kind, nodes, p, g) in mesh.cells() {
             if kind.dim() == 1 && nodes[0] != nodes[1] {
-                let k = key(nodes[0], nodes[1]);
-                curve_edges.entry(cell_tag(p, g)).or_default().push([nodes[0], nodes[1]]);
+                let (a, b) = (nodes[0] as usize, nodes[1] as usize);
+                let k = key(a, b);
+                curve_edges.entry(cell_tag(p, g)).or_default().push([a, b]);
                 on_curve.insert(k, ());
             }
         }
@@ -274,13 +277,13 @@ impl Topology {
         let mut points: Vec<TopoPoint> = Vec::new();
         let mut point_of_vertex: HashMap<usize, usize> = HashMap::new();
         for (kind, nodes, p, g) in mesh.cells() {
-            if kind == CellKind::Vertex && !point_of_vertex.contains_key(&nodes[0]) {
+            if kind == CellKind::Vertex && !point_of_vertex.contains_key(&(nodes[0] as usize)) {
                 let t = cell_tag(p, g);
-                point_of_vertex.insert(nodes[0], points.len());
+                point_of_vertex.insert(nodes[0] as usize, points.len());
                 points.push(TopoPoint {
                     tag: Some(t),
                     name: mesh.tag_name(0, t).map(str::to_owned),
-                    vertex: nodes[0],
+                    vertex: nodes[0] as usize,
                     origin: PointOrigin::Listed,
                 });
             }

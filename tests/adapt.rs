@@ -53,11 +53,11 @@ fn split(mesh: &TaggedMesh) -> TaggedMesh {
     let mut out = mesh.clone();
     out.blocks.clear();
     let mut mid = std::collections::BTreeMap::new();
-    let mut midpoint = |out: &mut TaggedMesh, a: usize, b: usize| -> usize {
+    let mut midpoint = |out: &mut TaggedMesh, a: u32, b: u32| -> u32 {
         *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-            let (p, q) = (mesh.points[a], mesh.points[b]);
+            let (p, q) = (mesh.points[a as usize], mesh.points[b as usize]);
             out.points.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.0]);
-            out.points.len() - 1
+            (out.points.len() - 1) as u32
         })
     };
     for b in &mesh.blocks {
@@ -382,7 +382,7 @@ fn edges_where(mesh: &TaggedMesh, inside: impl Fn(f64, f64) -> bool) -> (f64, f6
         if kind != CellKind::Triangle {
             continue;
         }
-        let p: Vec<[f64; 3]> = c.iter().map(|&v| mesh.points[v]).collect();
+        let p: Vec<[f64; 3]> = c.iter().map(|&v| mesh.points[v as usize]).collect();
         if !inside((p[0][0] + p[1][0] + p[2][0]) / 3.0, (p[0][1] + p[1][1] + p[2][1]) / 3.0) {
             continue;
         }
@@ -404,13 +404,13 @@ fn assert_adapted(what: &str, input: &TaggedMesh, mesh: &TaggedMesh, (cx, cy, r)
     for (k, name) in &input.tag_names {
         assert_eq!(mesh.tag_names.get(k), Some(name), "{what}: name of {k:?}");
     }
-    let stagnation: Vec<&[usize]> = mesh.cells().filter(|c| c.0 == CellKind::Vertex && c.2 == 20).map(|c| c.1).collect();
+    let stagnation: Vec<&[u32]> = mesh.cells().filter(|c| c.0 == CellKind::Vertex && c.2 == 20).map(|c| c.1).collect();
     assert_eq!(stagnation.len(), 1, "{what}: the Stagnation point");
-    let s = mesh.points[stagnation[0][0]];
+    let s = mesh.points[stagnation[0][0] as usize];
     assert!((s[0] - (cx - r)).abs() < 1e-9 && (s[1] - cy).abs() < 1e-9, "{what}: Stagnation moved to {s:?}");
     for (kind, c, _, _) in mesh.cells() {
         if kind == CellKind::Triangle {
-            let p = |i: usize| [mesh.points[c[i]][0], mesh.points[c[i]][1]];
+            let p = |i: usize| [mesh.points[c[i] as usize][0], mesh.points[c[i] as usize][1]];
             assert!(signed_area(p(0), p(1), p(2)) > 0.0, "{what}: triangle {c:?} not counter-clockwise");
         }
     }
@@ -473,7 +473,7 @@ fn mmg2d_keeps_every_point_and_curve_of_the_distributor() {
     assert_eq!(mesh.tag_names, input.tag_names);
     // Every topological point listed as a vertex cell is still at its place, with both tags.
     let points = |m: &TaggedMesh| -> Vec<(i32, i32, [u64; 2])> {
-        let mut v: Vec<_> = m.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| (c.2, c.3, [m.points[c.1[0]][0].to_bits(), m.points[c.1[0]][1].to_bits()])).collect();
+        let mut v: Vec<_> = m.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| (c.2, c.3, [m.points[c.1[0] as usize][0].to_bits(), m.points[c.1[0] as usize][1].to_bits()])).collect();
         v.sort();
         v
     };

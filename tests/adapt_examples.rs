@@ -56,7 +56,7 @@ struct Polylines {
 impl Polylines {
     fn new(poly: &TaggedMesh, tag: i32) -> Polylines {
         let points: Vec<[f64; 2]> = (0..poly.points.len()).map(|v| xy(poly, v)).collect();
-        let segments: Vec<[usize; 2]> = poly.cells().filter(|c| c.0 == CellKind::Line && c.2 == tag).map(|c| [c.1[0], c.1[1]]).collect();
+        let segments: Vec<[usize; 2]> = poly.cells().filter(|c| c.0 == CellKind::Line && c.2 == tag).map(|c| [c.1[0] as usize, c.1[1] as usize]).collect();
         let mut next = vec![Vec::new(); points.len()];
         let mut length = 0.0;
         for &[a, b] in &segments {
@@ -185,7 +185,7 @@ fn bbox_diagonal(m: &TaggedMesh) -> f64 {
 
 /// Every edge of the triangles once: (a, b) with a < b.
 fn edges(m: &TaggedMesh) -> Vec<(usize, usize)> {
-    let mut e: Vec<(usize, usize)> = m.cells().filter(|c| c.0 == CellKind::Triangle).flat_map(|(_, n, _, _)| [(n[0], n[1]), (n[1], n[2]), (n[2], n[0])]).map(|(a, b)| (a.min(b), a.max(b))).collect();
+    let mut e: Vec<(usize, usize)> = m.cells().filter(|c| c.0 == CellKind::Triangle).flat_map(|(_, n, _, _)| [(n[0] as usize, n[1] as usize), (n[1] as usize, n[2] as usize), (n[2] as usize, n[0] as usize)]).map(|(a, b)| (a.min(b), a.max(b))).collect();
     e.sort_unstable();
     e.dedup();
     e
@@ -222,7 +222,7 @@ fn check(what: &str, poly_path: &Path, run: &Adapted, boundary: f64) -> Figures 
         assert!(matches!(kind, CellKind::Triangle | CellKind::Line | CellKind::Vertex), "{what}: a {kind:?} cell");
         if kind == CellKind::Triangle {
             triangles += 1;
-            let a = signed_area(xy(mesh, n[0]), xy(mesh, n[1]), xy(mesh, n[2]));
+            let a = signed_area(xy(mesh, n[0] as usize), xy(mesh, n[1] as usize), xy(mesh, n[2] as usize));
             assert!(a > 0.0, "{what}: triangle {n:?} has signed area {a}");
         }
     }
@@ -244,7 +244,7 @@ fn check(what: &str, poly_path: &Path, run: &Adapted, boundary: f64) -> Figures 
             continue;
         }
         lines += 1;
-        let (p, q) = (xy(mesh, n[0]), xy(mesh, n[1]));
+        let (p, q) = (xy(mesh, n[0] as usize), xy(mesh, n[1] as usize));
         let g = graphs.get(&tag).unwrap_or_else(|| panic!("{what}: line {p:?}–{q:?} has tag {tag}, no input segment has"));
         let arc = g.arc(p, q, tol).unwrap_or_else(|| panic!("{what}: line {p:?}–{q:?} (tag {tag}): an end lies on no input segment with tag {tag}"));
         *arcs.entry(tag).or_default() += arc;
@@ -259,7 +259,7 @@ fn check(what: &str, poly_path: &Path, run: &Adapted, boundary: f64) -> Figures 
 
     // Topological points: every Vertex cell of the start, same tags, same coordinates.
     let vertex_cells = |m: &TaggedMesh| -> Vec<(i32, i32, [u64; 2])> {
-        let mut v: Vec<_> = m.cells().filter(|c| c.0 == CellKind::Vertex).map(|(_, n, p, g)| (p, g, [m.points[n[0]][0].to_bits(), m.points[n[0]][1].to_bits()])).collect();
+        let mut v: Vec<_> = m.cells().filter(|c| c.0 == CellKind::Vertex).map(|(_, n, p, g)| (p, g, [m.points[n[0] as usize][0].to_bits(), m.points[n[0] as usize][1].to_bits()])).collect();
         v.sort_unstable();
         v
     };
@@ -587,7 +587,7 @@ fn remesh_refuses_more_bad_metrics_naming_file_and_vertex() {
         let mut m = base.clone();
         m.point_data.retain(|k, _| k == "metric");
         let a = m.point_data.get_mut("metric").unwrap();
-        f(&mut a.values[used * 9..used * 9 + 9]);
+        f(&mut a.values[used as usize * 9..used as usize * 9 + 9]);
         m
     };
     // NaN through Gmsh's $NodeData, a text format that reads it as a number.

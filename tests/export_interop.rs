@@ -66,7 +66,7 @@ fn band_statistics(mesh: &TaggedMesh) -> (usize, f64, f64, usize) {
         if kind != CellKind::Triangle {
             continue;
         }
-        let p: Vec<[f64; 3]> = nodes.iter().map(|&v| mesh.points[v]).collect();
+        let p: Vec<[f64; 3]> = nodes.iter().map(|&v| mesh.points[v as usize]).collect();
         let cy = (p[0][1] + p[1][1] + p[2][1]) / 3.0;
         if (cy - 0.5).abs() < 0.08 {
             inside += 1;

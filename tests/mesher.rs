@@ -31,11 +31,11 @@ fn xy(m: &TaggedMesh, v: usize) -> [f64; 2] {
 }
 
 fn triangles(m: &TaggedMesh) -> Vec<([usize; 3], i32)> {
-    m.cells().filter(|c| c.0 == CellKind::Triangle).map(|(_, n, p, _)| ([n[0], n[1], n[2]], p)).collect()
+    m.cells().filter(|c| c.0 == CellKind::Triangle).map(|(_, n, p, _)| ([n[0] as usize, n[1] as usize, n[2] as usize], p)).collect()
 }
 
 fn lines(m: &TaggedMesh) -> Vec<([usize; 2], i32)> {
-    m.cells().filter(|c| c.0 == CellKind::Line).map(|(_, n, p, _)| ([n[0], n[1]], p)).collect()
+    m.cells().filter(|c| c.0 == CellKind::Line).map(|(_, n, p, _)| ([n[0] as usize, n[1] as usize], p)).collect()
 }
 
 /// Every triangle counter-clockwise with positive area.
@@ -90,7 +90,7 @@ fn check_segment_coverage(input: &TaggedMesh, out: &TaggedMesh) {
         if kind != CellKind::Line {
             continue;
         }
-        let (a, b) = (xy(input, n[0]), xy(input, n[1]));
+        let (a, b) = (xy(input, n[0] as usize), xy(input, n[1] as usize));
         let d = [b[0] - a[0], b[1] - a[1]];
         let len2 = d[0] * d[0] + d[1] * d[1];
         let param = |p: [f64; 2]| ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2;
@@ -127,8 +127,9 @@ fn small_input_angles(input: &TaggedMesh) -> Vec<Apex> {
     let mut at: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
     for (kind, n, _, _) in input.cells() {
         if kind == CellKind::Line {
-            at.entry(n[0]).or_default().push(n[1]);
-            at.entry(n[1]).or_default().push(n[0]);
+            let (a, b) = (n[0] as usize, n[1] as usize);
+            at.entry(a).or_default().push(b);
+            at.entry(b).or_default().push(a);
         }
     }
     let mut out = Vec::new();

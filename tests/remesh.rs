@@ -95,11 +95,11 @@ fn xy(m: &TaggedMesh, v: usize) -> [f64; 2] {
 }
 
 fn triangles(m: &TaggedMesh) -> Vec<([usize; 3], i32)> {
-    m.cells().filter(|c| c.0 == CellKind::Triangle).map(|c| ([c.1[0], c.1[1], c.1[2]], c.2)).collect()
+    m.cells().filter(|c| c.0 == CellKind::Triangle).map(|c| ([c.1[0] as usize, c.1[1] as usize, c.1[2] as usize], c.2)).collect()
 }
 
 fn lines(m: &TaggedMesh) -> Vec<([usize; 2], i32)> {
-    m.cells().filter(|c| c.0 == CellKind::Line).map(|c| ([c.1[0], c.1[1]], c.2)).collect()
+    m.cells().filter(|c| c.0 == CellKind::Line).map(|c| ([c.1[0] as usize, c.1[1] as usize], c.2)).collect()
 }
 
 fn cross(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {

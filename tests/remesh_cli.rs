@@ -72,7 +72,7 @@ fn bad_metrics_exit_2_naming_file_and_vertex() {
     for (name, value, why) in [("nan.vtu", f64::NAN, "finite"), ("neg.vtu", -1.0, "not positive definite")] {
         let mut m = base.clone();
         let a = m.point_data.get_mut("metric").unwrap();
-        a.values[used * 9] = value;
+        a.values[used as usize * 9] = value;
         let p = write(name, &m);
         let err = bad(&smartmesh(&["remesh", &cyl, "--metric", p.to_str().unwrap(), "-o", dir.path().join("x.vtu").to_str().unwrap()], None));
         // The VTU reader refuses a NaN itself (naming the byte); a finite non-SPD tensor

@@ -30,7 +30,7 @@ fn mean_edge(mesh: &TaggedMesh, inside: impl Fn(f64, f64) -> bool) -> (f64, usiz
         if kind != CellKind::Triangle {
             continue;
         }
-        let p: Vec<[f64; 3]> = nodes.iter().map(|&v| mesh.points[v]).collect();
+        let p: Vec<[f64; 3]> = nodes.iter().map(|&v| mesh.points[v as usize]).collect();
         let (cx, cy) = ((p[0][0] + p[1][0] + p[2][0]) / 3.0, (p[0][1] + p[1][1] + p[2][1]) / 3.0);
         if inside(cx, cy) {
             n += 1;

@@ -54,14 +54,14 @@ fn coordinate() -> impl Strategy<Value = f64> {
 /// A random mesh with the given features: 3 to 40 points, a few blocks.
 pub fn arb_tagged_mesh(f: MeshFeatures) -> impl Strategy<Value = TaggedMesh> {
     let tag = if f.negative_tags { (-5i32..20).boxed() } else { (1i32..20).boxed() };
-    (3usize..40).prop_flat_map(move |n| {
-        let points = prop::collection::vec((coordinate(), coordinate()), n);
+    (3u32..40).prop_flat_map(move |n| {
+        let points = prop::collection::vec((coordinate(), coordinate()), n as usize);
         let tri = prop::collection::vec(((0..n, 0..n, 0..n), tag.clone(), 1i32..9), 1..30);
         let quad = prop::collection::vec(((0..n, 0..n, 0..n, 0..n), tag.clone(), 1i32..9), 0..(if f.quads { 10 } else { 1 }));
         let line = prop::collection::vec(((0..n, 0..n), tag.clone(), 1i32..9), 0..(if f.lines { 10 } else { 1 }));
         let vert = prop::collection::vec((0..n, tag.clone(), 1i32..9), 0..(if f.vertices { 4 } else { 1 }));
-        let scal = prop::collection::vec(0.001..10.0f64, n);
-        let tens = prop::collection::vec((0.01..100.0f64, -0.5..0.5f64, 0.01..100.0f64), n);
+        let scal = prop::collection::vec(0.001..10.0f64, n as usize);
+        let tens = prop::collection::vec((0.01..100.0f64, -0.5..0.5f64, 0.01..100.0f64), n as usize);
         (points, tri, quad, line, vert, scal, tens).prop_map(move |(points, tri, quad, line, vert, scal, tens)| {
             let mut m = TaggedMesh::new();
             m.points = points.into_iter().map(|(x, y)| [x, y, 0.0]).collect();

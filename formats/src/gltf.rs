@@ -218,7 +218,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         *counts.entry(b.kind).or_insert(0) += b.len();
         for c in b.cells() {
             let i = |k: usize| -> Result<u32> {
-                c.get(k).copied().filter(|&v| v < n).map(|v| v as u32).ok_or_else(|| cannot(format!("a {} cell refers to a point that does not exist", b.kind.name())))
+                c.get(k).copied().filter(|&v| (v as usize) < n).ok_or_else(|| cannot(format!("a {} cell refers to a point that does not exist", b.kind.name())))
             };
             match b.kind {
                 CellKind::Vertex => {}

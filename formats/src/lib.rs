@@ -37,7 +37,7 @@ pub mod arbitrary;
 
 pub use error::{Error, ErrorKind, Position, Result};
 pub use io::{read_bytes, read_path, write_all_atomically, write_bytes, write_path, MemorySiblings, NoSiblings, PathSiblings, SiblingSource};
-pub use mesh::{sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout, MeshProblem, RegionSeed, TaggedMesh};
+pub use mesh::{sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout, MeshProblem, NodeIndex, RegionSeed, TaggedMesh, MAX_POINTS};
 
 use std::path::Path;
 

@@ -152,14 +152,36 @@ impl CellKind {
     }
 }
 
+/// A point index in a cell's connectivity (see [`CellBlock`]).
+pub type NodeIndex = u32;
+
+/// The largest number of points a mesh's cells can address: indices run below
+/// `NodeIndex::MAX`, which readers keep as a value no range check admits.
+pub const MAX_POINTS: usize = NodeIndex::MAX as usize;
+
+/// `i` as a cell's point index; the error a reader reports when a cell names a point
+/// past [`MAX_POINTS`].
+pub(crate) fn node_index(i: usize) -> Result<NodeIndex, crate::ErrorKind> {
+    NodeIndex::try_from(i).map_err(|_| crate::ErrorKind::ImplausibleCount {
+        what: "point index".into(),
+        count: i as u64,
+        limit: format!("{MAX_POINTS} points (32-bit point indices)"),
+    })
+}
+
 /// Cells of one kind, stored flat: cell `i` is `nodes[i*k .. (i+1)*k]` with
 /// `k = kind.nodes_per_cell()`. `physical[i]` and `geometrical[i]` are its tags.
+///
+/// Point indices are 32-bit ([`NodeIndex`]): a mesh addresses at most 2^32 - 1 points, the
+/// limit of the formats' own 32-bit connectivity (Medit, VTK `int`, Triangle), and the
+/// connectivity takes half the memory of `usize` indices. Readers refuse a file whose
+/// cells name a point past that limit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CellBlock {
     /// The kind of every cell of the block.
     pub kind: CellKind,
     /// Point indices, `kind.nodes_per_cell()` per cell.
-    pub nodes: Vec<usize>,
+    pub nodes: Vec<NodeIndex>,
     /// Physical tag of each cell (Gmsh physical group, Triangle marker or region
     /// attribute, Medit reference, OBJ group); 0 when the file gives none.
     pub physical: Vec<i32>,
@@ -184,22 +206,30 @@ impl CellBlock {
         self.physical.is_empty()
     }
 
-    /// Appends one cell.
-    pub fn push(&mut self, nodes: &[usize], physical: i32, geometrical: i32) {
+    /// Appends one cell. Its point indices may be given in any integer type (`usize`
+    /// from computed indices, `u32` from another block).
+    ///
+    /// # Panics
+    /// If an index is negative or past [`MAX_POINTS`]: the caller's bug, as an index
+    /// out of bounds is; readers check what they read before they push it.
+    pub fn push<T: Copy + TryInto<NodeIndex>>(&mut self, nodes: &[T], physical: i32, geometrical: i32) {
         debug_assert_eq!(nodes.len(), self.kind.nodes_per_cell());
-        self.nodes.extend_from_slice(nodes);
+        self.nodes.extend(nodes.iter().map(|&v| match v.try_into() {
+            Ok(v) if v != NodeIndex::MAX => v,
+            _ => panic!("a point index past the {MAX_POINTS} points a mesh can address"),
+        }));
         self.physical.push(physical);
         self.geometrical.push(geometrical);
     }
 
     /// The nodes of cell `i`.
-    pub fn cell(&self, i: usize) -> &[usize] {
+    pub fn cell(&self, i: usize) -> &[NodeIndex] {
         let k = self.kind.nodes_per_cell();
         &self.nodes[i * k..(i + 1) * k]
     }
 
     /// Iterator over the cells' node slices.
-    pub fn cells(&self) -> std::slice::ChunksExact<'_, usize> {
+    pub fn cells(&self) -> std::slice::ChunksExact<'_, NodeIndex> {
         self.nodes.chunks_exact(self.kind.nodes_per_cell())
     }
 }
@@ -408,7 +438,7 @@ impl TaggedMesh {
     }
 
     /// Iterator over `(kind, nodes, physical, geometrical)` of every cell in block order.
-    pub fn cells(&self) -> impl Iterator<Item = (CellKind, &[usize], i32, i32)> + '_ {
+    pub fn cells(&self) -> impl Iterator<Item = (CellKind, &[NodeIndex], i32, i32)> + '_ {
         self.blocks.iter().flat_map(|b| {
             b.cells().zip(b.physical.iter().zip(&b.geometrical)).map(move |(n, (&p, &g))| (b.kind, n, p, g))
         })
@@ -471,10 +501,10 @@ impl TaggedMesh {
                 problems.push(MeshProblem::BlockLengths { block: bi });
                 continue;
             }
-            if b.nodes.iter().fold(0, |m, &v| m.max(v)) >= n {
+            if b.nodes.iter().fold(0, |m, &v| m.max(v)) as usize >= n {
                 for (ci, cell) in b.cells().enumerate() {
-                    if let Some(&bad) = cell.iter().find(|&&v| v >= n) {
-                        problems.push(MeshProblem::NodeOutOfRange { cell: offset + ci, node: bad });
+                    if let Some(&bad) = cell.iter().find(|&&v| v as usize >= n) {
+                        problems.push(MeshProblem::NodeOutOfRange { cell: offset + ci, node: bad as usize });
                     }
                 }
             }

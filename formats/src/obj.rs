@@ -56,7 +56,7 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use crate::text::{parse_f64, parse_i64, push_f64, push_int, Tokens};
-use crate::{CellKind, Error, ErrorKind, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{CellKind, Error, ErrorKind, NodeIndex, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written};
 
 // ---------------------------------------------------------------------------------
 // Reading
@@ -213,11 +213,11 @@ impl Reader {
 
     /// One vertex reference of an element: its 0-based point index.
     #[inline]
-    fn vertex(&mut self, tok: &[u8], line: u64, form: VertexForm) -> Result<usize> {
+    fn vertex(&mut self, tok: &[u8], line: u64, form: VertexForm) -> Result<NodeIndex> {
         let mut parts = tok.splitn(3, |&c| c == b'/');
         let v = parts.next().unwrap_or_default();
         let vi = parse_i64(v).ok_or_else(|| Error::expected(line, "a vertex index (`v`, `v/vt`, `v//vn` or `v/vt/vn`)", show(tok)))?;
-        let p = self.v.resolve(vi, line)?;
+        let p = crate::mesh::node_index(self.v.resolve(vi, line)?).map_err(|k| Error::at_line(line, k))?;
         if tok.len() == v.len() {
             return Ok(p);
         }
@@ -329,7 +329,7 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                 r.vn.count += 1;
             }
             b"f" => {
-                let mut idx = [0usize; 4];
+                let mut idx = [0 as NodeIndex; 4];
                 let mut k = 0usize;
                 while let Some(a) = arg(&mut t) {
                     if k == 4 {
@@ -355,7 +355,7 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                 mesh.block_mut(kind).push(&idx[..k], tag, tag);
             }
             b"l" => {
-                let mut prev: Option<usize> = None;
+                let mut prev: Option<NodeIndex> = None;
                 let mut k = 0usize;
                 while let Some(a) = arg(&mut t) {
                     let p = r.vertex(a, t.line(), VertexForm::Line)?;

@@ -94,7 +94,7 @@ fn fixtures() -> Vec<String> {
 }
 
 /// The cells as a sorted multiset of (kind, nodes, physical, geometrical-or-0).
-fn cell_multiset(m: &TaggedMesh, caps: Caps) -> Vec<(CellKind, Vec<usize>, i32, i32)> {
+fn cell_multiset(m: &TaggedMesh, caps: Caps) -> Vec<(CellKind, Vec<u32>, i32, i32)> {
     let mut v: Vec<_> = m
         .cells()
         .filter(|(k, ..)| (caps.quads || *k != CellKind::Quad) && (caps.lines || *k != CellKind::Line) && (caps.vertices || *k != CellKind::Vertex))
@@ -105,7 +105,7 @@ fn cell_multiset(m: &TaggedMesh, caps: Caps) -> Vec<(CellKind, Vec<usize>, i32, 
 }
 
 /// Tag names of the tags that cells still carry.
-fn used_names(m: &TaggedMesh, cells: &[(CellKind, Vec<usize>, i32, i32)]) -> BTreeMap<(u8, i32), String> {
+fn used_names(m: &TaggedMesh, cells: &[(CellKind, Vec<u32>, i32, i32)]) -> BTreeMap<(u8, i32), String> {
     let mut out = BTreeMap::new();
     for (k, _, p, _) in cells {
         if let Some(n) = m.tag_name(k.dim(), *p) {

@@ -122,7 +122,7 @@ fn read_back(w: &Written) -> Drawn {
 fn expected_indices(m: &TaggedMesh) -> (Vec<u32>, Vec<u32>) {
     let (mut t, mut l) = (Vec::new(), Vec::new());
     for (k, n, _, _) in m.cells() {
-        let n: Vec<u32> = n.iter().map(|&v| v as u32).collect();
+        let n: Vec<u32> = n.to_vec();
         match k {
             CellKind::Triangle | CellKind::Triangle6 => t.extend_from_slice(&n[..3]),
             CellKind::Quad | CellKind::Quad8 | CellKind::Quad9 => t.extend_from_slice(&[n[0], n[1], n[2], n[0], n[2], n[3]]),

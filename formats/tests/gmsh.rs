@@ -34,7 +34,7 @@ fn assert_points_bitwise(a: &TaggedMesh, b: &TaggedMesh, what: &str) {
 }
 
 /// Cells compared as cells: kind, nodes and tags in order, whatever the block splits.
-fn cell_list(m: &TaggedMesh) -> Vec<(CellKind, Vec<usize>, i32, i32)> {
+fn cell_list(m: &TaggedMesh) -> Vec<(CellKind, Vec<u32>, i32, i32)> {
     m.cells().map(|(k, n, p, g)| (k, n.to_vec(), p, g)).collect()
 }
 

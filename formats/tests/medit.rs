@@ -780,3 +780,19 @@ fn packed_and_full_tensors_compare_by_what_they_stand_for() {
     assert_ne!(packed, DataArray::new(3, packed.values.clone()));
     assert!(!DataArray::new(3, packed.values.clone()).is_tensor());
 }
+
+/// Cells index points with 32 bits: a 64-bit vertex number past that range is refused
+/// with its value, not wrapped onto a vertex that exists (2^32 + 1 would be vertex 1).
+#[test]
+fn malformed_binary_vertex_number_past_32_bits() {
+    let b = handmade(4, true);
+    // Triangles (code 6): code, 8-byte offset, count 1, then the vertex numbers.
+    let at = (8..b.len() - 20).find(|&i| b[i..i + 4] == 6i32.to_le_bytes() && b[i + 12..i + 20] == 1i64.to_le_bytes()).unwrap();
+    let mut bad = b.clone();
+    bad[at + 20..at + 28].copy_from_slice(&((1i64 << 32) + 1).to_le_bytes());
+    let e = read_alone(&bad, "meshb").unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index: 4_294_967_297, .. }), "{e}");
+    assert_eq!(byte_of(&e), at as u64 + 20);
+    // The well-formed file reads.
+    assert_eq!(read_alone(&b, "meshb").unwrap().blocks.iter().map(|b| b.len()).sum::<usize>(), 1);
+}

@@ -29,8 +29,8 @@ fn error_of(s: &str) -> (ErrorKind, u64) {
 }
 
 /// Cells per (kind, physical tag), in order: what OBJ keeps (it regroups cells by tag).
-fn by_tag(m: &TaggedMesh) -> BTreeMap<(CellKind, i32), Vec<Vec<usize>>> {
-    let mut out: BTreeMap<_, Vec<Vec<usize>>> = BTreeMap::new();
+fn by_tag(m: &TaggedMesh) -> BTreeMap<(CellKind, i32), Vec<Vec<u32>>> {
+    let mut out: BTreeMap<_, Vec<Vec<u32>>> = BTreeMap::new();
     for (k, n, p, _) in m.cells() {
         out.entry((k, p)).or_default().push(n.to_vec());
     }
@@ -38,8 +38,8 @@ fn by_tag(m: &TaggedMesh) -> BTreeMap<(CellKind, i32), Vec<Vec<usize>>> {
 }
 
 /// Cells per (kind, group name), in order: `tag<N>` for unnamed tags, "" for tag 0.
-fn by_name(m: &TaggedMesh) -> BTreeMap<(CellKind, String), Vec<Vec<usize>>> {
-    let mut out: BTreeMap<_, Vec<Vec<usize>>> = BTreeMap::new();
+fn by_name(m: &TaggedMesh) -> BTreeMap<(CellKind, String), Vec<Vec<u32>>> {
+    let mut out: BTreeMap<_, Vec<Vec<u32>>> = BTreeMap::new();
     for (k, n, p, _) in m.cells() {
         let name = match (p, m.tag_name(k.dim(), p)) {
             (0, _) => String::new(),
@@ -497,7 +497,7 @@ fn interop_meshio_reads_our_obj() {
                       \x20   for c, gid in zip(b.data, g): print(b.type, int(gid), *[int(i) for i in c])\n";
         let out = common::run_python(&py, script, &[path.to_str().unwrap()]);
         let mut points = Vec::new();
-        let mut cells: BTreeMap<(String, i64), Vec<Vec<usize>>> = BTreeMap::new();
+        let mut cells: BTreeMap<(String, i64), Vec<Vec<u32>>> = BTreeMap::new();
         for line in out.lines() {
             let w: Vec<&str> = line.split_whitespace().collect();
             if w[0] == "v" {
@@ -548,7 +548,7 @@ fn interop_tobj_reads_our_obj() {
         for (c, theirs) in cells.iter().zip(model.mesh.indices.chunks(k)) {
             for (&v, &t) in c.iter().zip(theirs) {
                 let p = &model.mesh.positions[3 * t as usize..3 * t as usize + 3];
-                assert_eq!([p[0], p[1], p[2]], [m.points[v][0] as f32, m.points[v][1] as f32, m.points[v][2] as f32]);
+                assert_eq!([p[0], p[1], p[2]], [m.points[v as usize][0] as f32, m.points[v as usize][1] as f32, m.points[v as usize][2] as f32]);
             }
         }
     }

@@ -832,3 +832,16 @@ fn lines_after_the_optional_offsets_keyword_are_counted_once() {
     let e = legacy_err(&format!("{}POINT_DATA 3\nSCALARS s double\nLOOKUP_TABLE default\n1 2 x\n", TRI.replace("CELLS 1 4\n", "CELLS 1 4\n\n\n")));
     assert_eq!(e.at, Some(Position::Line(18)), "{e}");
 }
+
+/// Cells index points with 32 bits: when CELLS comes before POINTS (so the point count
+/// is not known yet), a node index past that range is refused as it is read, not
+/// wrapped onto a point that exists (2^32 + 1 would be point 1).
+#[test]
+fn node_index_past_32_bits_is_refused_before_points() {
+    let v51 = "# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nCELLS 2 3\nOFFSETS vtktypeint64\n0 3\nCONNECTIVITY vtktypeint64\n0 4294967297 2\nCELL_TYPES 1\n5\nPOINTS 3 double\n0 0 0 1 0 0 0 1 0\n";
+    let e = legacy_err(v51);
+    assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index: 4_294_967_297, .. }), "{e}");
+    // The same file with index 1 reads.
+    let m = read(Format::VtkLegacy, v51.replace("4294967297", "1").as_bytes()).unwrap();
+    assert_eq!(m.blocks[0].nodes, vec![0, 1, 2]);
+}

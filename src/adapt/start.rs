@@ -58,7 +58,7 @@ pub fn start(input: &Path, format: Option<Format>) -> Result<Start, StartError> 
     for (kind, nodes, _, _) in mesh.cells() {
         if kind.dim() == 1 {
             for &v in nodes {
-                on_segment[v] = true;
+                on_segment[v as usize] = true;
             }
         }
     }

@@ -170,13 +170,13 @@ impl Coded {
 /// The vertices MMG must keep: vertex cells, the topological points of the mesh (curve
 /// ends and junctions), and the vertices where the line reference changes, sorted.
 pub fn required_vertices(mesh: &TaggedMesh) -> Vec<usize> {
-    let mut req: Vec<usize> = mesh.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| c.1[0]).collect();
+    let mut req: Vec<usize> = mesh.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| c.1[0] as usize).collect();
     req.extend(Topology::from_mesh(mesh).points.iter().map(|p| p.vertex));
     let mut around: BTreeMap<usize, Vec<(i32, i32)>> = BTreeMap::new();
     for (kind, n, p, g) in mesh.cells() {
         if kind == CellKind::Line {
-            around.entry(n[0]).or_default().push((p, g));
-            around.entry(n[1]).or_default().push((p, g));
+            around.entry(n[0] as usize).or_default().push((p, g));
+            around.entry(n[1] as usize).or_default().push((p, g));
         }
     }
     for (v, pairs) in around {

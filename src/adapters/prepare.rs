@@ -8,7 +8,7 @@
 //! - tags, tag names and Gmsh entities are kept; point and cell data and sets are not
 //!   (the metric is given separately, and a remesher invalidates everything else).
 
-use smartmesh_formats::{CellKind, TaggedMesh};
+use smartmesh_formats::{CellKind, NodeIndex, TaggedMesh};
 
 use super::AdapterError;
 use crate::metric::Sym2;
@@ -45,7 +45,7 @@ pub fn prepare(mesh: &TaggedMesh, metric: &[Sym2]) -> Result<Prepared, AdapterEr
     let mut lines = smartmesh_formats::CellBlock::new(CellKind::Line);
     let mut triangles = smartmesh_formats::CellBlock::new(CellKind::Triangle);
     for (kind, nodes, p, g) in mesh.cells() {
-        if let Some(&bad) = nodes.iter().find(|&&v| v >= n) {
+        if let Some(&bad) = nodes.iter().find(|&&v| v as usize >= n) {
             return Err(AdapterError::Input(format!("a {} cell refers to vertex {bad}; the mesh has {n}", kind.name())));
         }
         match kind {
@@ -62,16 +62,17 @@ pub fn prepare(mesh: &TaggedMesh, metric: &[Sym2]) -> Result<Prepared, AdapterEr
         return Err(AdapterError::Input("the mesh has no triangle or quadrangle to remesh".into()));
     }
     // Renumber the used vertices in their original order.
-    let mut new_index = vec![usize::MAX; n];
+    let mut new_index = vec![NodeIndex::MAX; n];
     for b in [&vertices, &lines, &triangles] {
         for &v in &b.nodes {
-            new_index[v] = 0;
+            new_index[v as usize] = 0;
         }
     }
     let mut original = Vec::with_capacity(n);
     for (v, slot) in new_index.iter_mut().enumerate() {
         if *slot == 0 {
-            *slot = original.len();
+            // Fewer used vertices than the indices of the input can name.
+            *slot = original.len() as NodeIndex;
             original.push(v);
         }
     }
@@ -80,7 +81,7 @@ pub fn prepare(mesh: &TaggedMesh, metric: &[Sym2]) -> Result<Prepared, AdapterEr
             continue;
         }
         for v in &mut b.nodes {
-            *v = new_index[*v];
+            *v = new_index[*v as usize];
         }
         out.blocks.push(b);
     }

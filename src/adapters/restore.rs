@@ -52,7 +52,7 @@ pub fn attach_names(input: &TaggedMesh, output: &mut TaggedMesh) {
 /// that vertex the input's exact coordinates. A vertex cell with no vertex there means
 /// the tool moved or removed a required point.
 pub fn place_point_cells(program: &str, input: &TaggedMesh, output: &mut TaggedMesh) -> Result<(), AdapterError> {
-    let cells: Vec<(usize, i32, i32)> = input.cells().filter(|c| c.0 == CellKind::Vertex).map(|(_, n, p, g)| (n[0], p, g)).collect();
+    let cells: Vec<(usize, i32, i32)> = input.cells().filter(|c| c.0 == CellKind::Vertex).map(|(_, n, p, g)| (n[0] as usize, p, g)).collect();
     if cells.is_empty() {
         return Ok(());
     }
@@ -83,6 +83,8 @@ pub fn place_point_cells(program: &str, input: &TaggedMesh, output: &mut TaggedM
     }
     let mut block = smartmesh_formats::CellBlock::new(CellKind::Vertex);
     for (i, p, g) in placed {
+        let i = smartmesh_formats::NodeIndex::try_from(i)
+            .map_err(|_| AdapterError::Lost { program: program.to_string(), what: format!("vertex {i}: past the 2^32 points a mesh can address") })?;
         block.push(&[i], p, g);
     }
     output.blocks.insert(0, block);

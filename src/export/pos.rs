@@ -39,7 +39,7 @@ pub fn write_tensor_view(mesh: &TaggedMesh, tensor: &DataArray, name: &str) -> R
             out.extend_from_slice(tag);
             out.push(b'(');
             for (k, &v) in cell.iter().enumerate() {
-                for (c, &x) in mesh.points[v].iter().enumerate() {
+                for (c, &x) in mesh.points[v as usize].iter().enumerate() {
                     if k + c > 0 {
                         out.push(b',');
                     }
@@ -48,6 +48,7 @@ pub fn write_tensor_view(mesh: &TaggedMesh, tensor: &DataArray, name: &str) -> R
             }
             out.extend_from_slice(b"){");
             for (k, &v) in cell.iter().enumerate() {
+                let v = v as usize;
                 for (c, &x) in tensor.values[9 * v..9 * v + 9].iter().enumerate() {
                     if k + c > 0 {
                         out.push(b',');

@@ -13,7 +13,7 @@ use std::collections::{BTreeMap, HashMap};
 use spade::handles::FixedVertexHandle;
 use spade::Triangulation;
 
-use crate::formats::{CellBlock, CellKind, TaggedMesh};
+use crate::formats::{CellBlock, CellKind, NodeIndex, TaggedMesh};
 
 use super::domain::NO_REGION;
 use super::pslg::Pslg;
@@ -154,11 +154,12 @@ pub(crate) fn assemble(cdt: &Cdt, domain: &[Labelled], pslg: &Pslg, input: &Tagg
     for c in &vertex_cells {
         used[c.0] = true;
     }
-    let mut new_index = vec![usize::MAX; nv];
+    // spade numbers its vertices with 32-bit handles, so every index fits a NodeIndex.
+    let mut new_index = vec![NodeIndex::MAX; nv];
     let mut points = Vec::new();
     for (v, vertex) in cdt.vertices().enumerate() {
         if used[v] {
-            new_index[v] = points.len();
+            new_index[v] = points.len() as NodeIndex;
             let p = vertex.position();
             points.push([p.x, p.y, 0.0]);
         }

@@ -127,10 +127,10 @@ pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
     for (kind, nodes, physical, geometrical) in mesh.cells() {
         match kind {
             CellKind::Line | CellKind::Line3 => {
-                let (a, b) = (take(nodes[0], &mut compact)?, take(nodes[1], &mut compact)?);
+                let (a, b) = (take(nodes[0] as usize, &mut compact)?, take(nodes[1] as usize, &mut compact)?);
                 segments.push(Segment { a, b, physical, geometrical });
             }
-            CellKind::Vertex => listed.push((take(nodes[0], &mut compact)?, physical, geometrical)),
+            CellKind::Vertex => listed.push((take(nodes[0] as usize, &mut compact)?, physical, geometrical)),
             _ => {}
         }
     }
@@ -173,6 +173,7 @@ pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
             };
             let (mut x, mut y) = (0.0, 0.0);
             for &v in &nodes[..k] {
+                let v = v as usize;
                 let p = mesh.points.get(v).ok_or(MeshError::BadIndex { index: v, points: n })?;
                 x += p[0];
                 y += p[1];

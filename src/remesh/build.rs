@@ -68,25 +68,25 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
     for (kind, nodes, phys, geo) in mesh.cells() {
         match kind {
             CellKind::Triangle => {
-                let t = [nodes[0] as u32, nodes[1] as u32, nodes[2] as u32];
+                let t = [nodes[0], nodes[1], nodes[2]];
                 let index = tris.len();
-                let o = orient(pts[nodes[0]], pts[nodes[1]], pts[nodes[2]]);
+                let o = orient(pts[nodes[0] as usize], pts[nodes[1] as usize], pts[nodes[2] as usize]);
                 if o == 0.0 || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
-                    return Err(RemeshError::DegenerateTriangle { triangle: index, vertices: [nodes[0], nodes[1], nodes[2]] });
+                    return Err(RemeshError::DegenerateTriangle { triangle: index, vertices: [nodes[0] as usize, nodes[1] as usize, nodes[2] as usize] });
                 }
                 tris.push(if o > 0.0 { t } else { [t[0], t[2], t[1]] });
                 tri_tags.push((phys, geo));
             }
             CellKind::Line => {
                 if nodes[0] != nodes[1] {
-                    let k = key(nodes[0] as u32, nodes[1] as u32);
+                    let k = key(nodes[0], nodes[1]);
                     if let std::collections::hash_map::Entry::Vacant(e) = line_tags.entry(k) {
                         e.insert((phys, geo));
                         lines_in_order.push((k, (phys, geo)));
                     }
                 }
             }
-            CellKind::Vertex => vertex_cells.push((nodes[0] as u32, phys, geo)),
+            CellKind::Vertex => vertex_cells.push((nodes[0], phys, geo)),
             other => return Err(RemeshError::UnsupportedCell { kind: other.name() }),
         }
     }

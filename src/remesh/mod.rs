@@ -245,7 +245,7 @@ pub fn interpolate_metric(background: &TaggedMesh, metric: &[Sym2], points: &[[f
         return Err(RemeshError::MetricCount { items: metric.len(), vertices: background.points.len() });
     }
     let pts: Vec<[f64; 2]> = background.points.iter().map(|p| [p[0], p[1]]).collect();
-    let tris: Vec<[usize; 3]> = background.cells().filter(|c| c.0 == crate::formats::CellKind::Triangle).map(|c| [c.1[0], c.1[1], c.1[2]]).collect();
+    let tris: Vec<[usize; 3]> = background.cells().filter(|c| c.0 == crate::formats::CellKind::Triangle).map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize]).collect();
     if tris.is_empty() {
         return Err(RemeshError::NoTriangles);
     }
@@ -378,7 +378,7 @@ pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOpt
     let t = Instant::now();
     let (out, out_metric) = output::assemble(mesh, &w, &st.faces, &st.vertex_cells);
     let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
-    let out_tris: Vec<[usize; 3]> = out.cells().filter(|c| c.0 == crate::formats::CellKind::Triangle).map(|c| [c.1[0], c.1[1], c.1[2]]).collect();
+    let out_tris: Vec<[usize; 3]> = out.cells().filter(|c| c.0 == crate::formats::CellKind::Triangle).map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize]).collect();
     stats.output = [out_pts.len(), out_tris.len()];
     stats.conformity = Conformity::of(&out_pts, &out_tris, &out_metric);
     stats.seconds.output = t.elapsed().as_secs_f64();
@@ -406,7 +406,7 @@ mod tests {
                 m.points.push([i as f64 / n as f64 + dx, j as f64 / n as f64 + dy, 0.0]);
             }
         }
-        let id = |i: usize, j: usize| j * (n + 1) + i;
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
         let mut t = CellBlock::new(CellKind::Triangle);
         let mut l = CellBlock::new(CellKind::Line);
         for j in 0..n {

@@ -25,7 +25,7 @@ pub fn assemble(input: &TaggedMesh, w: &Work, faces: &[(i32, i32)], vertex_cells
         mesh.points.push([w.pts[v][0], w.pts[v][1], 0.0]);
         metric.push(w.met[v]);
     }
-    let id = |v: u32| new_id[v as usize] as usize;
+    let id = |v: u32| new_id[v as usize];
 
     if !vertex_cells.is_empty() {
         let mut b = CellBlock::new(CellKind::Vertex);

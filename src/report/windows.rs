@@ -167,7 +167,7 @@ mod tests {
         }
         let b = m.block_mut(CellKind::Triangle);
         for i in 0..n {
-            let (a, c) = (2 * i, 2 * i + 2);
+            let (a, c) = (2 * i as u32, 2 * i as u32 + 2);
             b.push(&[a, c, c + 1], 1, 1);
             b.push(&[a, c + 1, a + 1], 1, 1);
         }

@@ -80,7 +80,7 @@ mod msh4;
 use std::collections::BTreeMap;
 
 use crate::text::{self, Tokens};
-use crate::{CellKind, DataArray, Error, ErrorKind, GmshVersion, Position, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{CellKind, DataArray, Error, ErrorKind, GmshVersion, NodeIndex, Position, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS};
 
 /// Reads an MSH 2.x or 4.1 file, ASCII or binary.
 pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
@@ -612,6 +612,13 @@ impl TagMap {
         }
     }
 
+    /// The position of node `tag` in a map of node positions, which
+    /// [`Reader::take_node_map`] keeps below `MAX_POINTS`.
+    #[inline]
+    pub fn node(&self, tag: u64) -> Option<NodeIndex> {
+        self.get(tag).map(|v| v as NodeIndex)
+    }
+
     #[inline]
     pub fn get(&self, tag: u64) -> Option<usize> {
         match self {
@@ -707,7 +714,7 @@ pub(super) struct RawBlock {
     pub at: Position,
     pub tags: TagList,
     /// Node positions in file order (indices into `Reader::points`).
-    pub nodes: Vec<usize>,
+    pub nodes: Vec<NodeIndex>,
     /// Per cell; empty for 4.1 blocks until `finish` fills them from the entity.
     pub physical: Vec<i32>,
     pub geometrical: Vec<i32>,
@@ -885,6 +892,15 @@ impl<'a> Reader<'a> {
 
     /// The node tag → node position table, built when first needed after nodes change.
     pub fn take_node_map(&mut self) -> Result<TagMap> {
+        // Cells address points with 32-bit indices: past that, no file is read.
+        if self.points.len() > MAX_POINTS {
+            let at = self.node_blocks.first().map_or(Position::Byte(0), |b| b.1);
+            return Err(Error {
+                path: None,
+                at: Some(at),
+                kind: ErrorKind::ImplausibleCount { what: "nodes".into(), count: self.points.len() as u64, limit: format!("{MAX_POINTS} (32-bit point indices)") },
+            });
+        }
         if let Some(m) = self.node_map.take() {
             return Ok(m);
         }
@@ -1139,7 +1155,7 @@ impl<'a> Reader<'a> {
             }
             if let Some(rank) = &node_rank {
                 for v in &mut b.nodes {
-                    *v = rank[*v];
+                    *v = rank[*v as usize] as NodeIndex;
                 }
             }
         }

@@ -3,7 +3,7 @@
 
 use super::{cell_kind, le_f64, le_i32, write_mesh_format, write_physical_names, write_views, RawBlock, Reader, TagMap};
 use crate::text::{push_f64, push_int};
-use crate::{CellKind, Error, ErrorKind, Position, Result, TaggedMesh, WriteReport};
+use crate::{CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport};
 
 // ---------------------------------------------------------------------------------
 // Reading
@@ -117,7 +117,7 @@ struct Element {
 }
 
 impl Collector {
-    fn add(&mut self, r: &mut Reader<'_>, e: Element, nodes: &[usize]) {
+    fn add(&mut self, r: &mut Reader<'_>, e: Element, nodes: &[NodeIndex]) {
         let Element { at, kind, tag, physical, geometrical } = e;
         let follows = self.last_tag.checked_add(1) == Some(tag);
         self.last_tag = tag;
@@ -170,7 +170,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
     let n = r.c.count("number of elements", 8)?;
     let map: TagMap = r.take_node_map()?;
     let mut col = Collector { cur: None, hint: 0, last_tag: 0 };
-    let mut nodes = [0usize; 9];
+    let mut nodes = [0 as NodeIndex; 9];
     if binary {
         r.c.end_text_line()?;
         let mut done = 0usize;
@@ -214,7 +214,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                 for (j, slot) in nodes[..k].iter_mut().enumerate() {
                     let off = 4 * (1 + ntags + j);
                     let nt = le_i32(&ch[off..]);
-                    *slot = u64::try_from(nt).ok().and_then(|t| map.get(t)).ok_or_else(|| r.c.byte_err(at + off, missing(et as u64, nt as i64)))?;
+                    *slot = u64::try_from(nt).ok().and_then(|t| map.node(t)).ok_or_else(|| r.c.byte_err(at + off, missing(et as u64, nt as i64)))?;
                 }
                 col.add(r, Element { at: Position::Byte(at as u64), kind, tag: et as u64, physical, geometrical }, &nodes[..k]);
             }
@@ -255,7 +255,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             let k = kind.nodes_per_cell();
             for slot in &mut nodes[..k] {
                 let nt = r.c.scan_i64(&mut s, "node number")?;
-                let Some(v) = u64::try_from(nt).ok().and_then(|t| map.get(t)) else {
+                let Some(v) = u64::try_from(nt).ok().and_then(|t| map.node(t)) else {
                     r.c.unscan(&s);
                     return Err(r.c.err(missing(et, nt)));
                 };

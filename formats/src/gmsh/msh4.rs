@@ -317,7 +317,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                 b.tags.push(et);
                 for _ in 0..k {
                     let nt = r.c.scan_u64(&mut s, "node tag")?;
-                    let Some(v) = map.get(nt) else {
+                    let Some(v) = map.node(nt) else {
                         r.c.unscan(&s);
                         return Err(r.c.err(missing(et, nt)));
                     };
@@ -357,7 +357,7 @@ fn binary_elements<const ST: usize>(r: &Reader<'_>, map: &super::TagMap, b: &mut
         b.tags.push(et);
         for (j, t) in ch[ST..].chunks_exact(ST).enumerate() {
             let nt = le_size(t, ST);
-            let Some(v) = map.get(nt) else {
+            let Some(v) = map.node(nt) else {
                 return Err(r.c.byte_err(p + e * rec + (j + 1) * ST, missing(et, nt)));
             };
             b.nodes.push(v);
@@ -584,6 +584,7 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
         let ent = &mut ents[*e as usize];
         for &(bi, i) in &cells[range.clone()] {
             for &v in mesh.blocks[bi as usize].cell(i as usize) {
+                let v = v as usize;
                 if node_ent[v] == UNSET {
                     node_ent[v] = *e;
                 }
@@ -791,7 +792,7 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
             if binary {
                 push_size(out, tag);
                 for &v in cell {
-                    push_size(out, v + 1);
+                    push_size(out, v as usize + 1);
                 }
             } else {
                 push_int(out, tag);

@@ -134,7 +134,8 @@ fn read_elements(t: &mut Tokens<'_>, p: &mut Parsed, kind: CellKind, line: u64) 
     let n = t.count(&format!("number of {name}"), 2 * (k + 1))?;
     // The vertex count is known when Vertices came first, as it does in every file MMG
     // or libMeshb writes; otherwise the numbers are checked at the end.
-    let nv = if p.vertices_read { p.points.len() } else { usize::MAX };
+    // Past MAX_POINTS no cell can name a vertex (32-bit connectivity).
+    let nv = if p.vertices_read { p.points.len() } else { MAX_POINTS }.min(MAX_POINTS);
     let mut e = Elements {
         kind,
         nodes: Vec::with_capacity(n * k),
@@ -158,7 +159,7 @@ fn read_elements(t: &mut Tokens<'_>, p: &mut Parsed, kind: CellKind, line: u64) 
                     available: if p.vertices_read { nv } else { 0 },
                 }));
             }
-            e.nodes.push(v as usize - 1);
+            e.nodes.push((v - 1) as NodeIndex);
         }
         e.refs.push(reference(t, "element reference")?);
         i += 1;
@@ -172,12 +173,12 @@ fn read_elements(t: &mut Tokens<'_>, p: &mut Parsed, kind: CellKind, line: u64) 
 fn fast_elements(t: &mut Tokens<'_>, e: &mut Elements, k: usize, nv: usize, max: usize) -> usize {
     let mut s = Scan::new(t.data(), t.pos());
     let (mut done, mut end) = (0, t.pos());
-    let mut v = [0usize; 9];
+    let mut v = [0 as NodeIndex; 9];
     while done < max {
         for slot in v.iter_mut().take(k) {
             s.ws();
             match s.int() {
-                Some(x) if x >= 1 && x as u64 <= nv as u64 => *slot = x as usize - 1,
+                Some(x) if x >= 1 && x as u64 <= nv as u64 => *slot = (x - 1) as NodeIndex,
                 _ => return finish(t, end, done),
             }
         }

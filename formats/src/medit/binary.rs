@@ -108,20 +108,21 @@ enum Bad {
 /// Decodes `K`-node elements; returns the largest vertex number (0-based) met.
 fn elements<const LE: bool, const I8: bool, const K: usize>(
     data: &[u8],
-    nodes: &mut Vec<usize>,
+    nodes: &mut Vec<NodeIndex>,
     refs: &mut Vec<i32>,
 ) -> Result<usize, Bad> {
     let isz = if I8 { 8 } else { 4 };
     let mut largest = 0;
     for (i, rec) in data.chunks_exact((K + 1) * isz).enumerate() {
-        let mut cell = [0usize; K];
+        let mut cell = [0 as NodeIndex; K];
         for (j, slot) in cell.iter_mut().enumerate() {
             let v = int_at::<LE, I8>(&rec[j * isz..]);
-            if v < 1 || v as u64 > usize::MAX as u64 {
+            // Past MAX_POINTS no cell can name a vertex (32-bit connectivity).
+            if v < 1 || v as u64 > MAX_POINTS as u64 {
                 return Err(Bad::Node(i, v));
             }
-            *slot = v as usize - 1;
-            largest = largest.max(*slot);
+            *slot = (v - 1) as NodeIndex;
+            largest = largest.max(*slot as usize);
         }
         nodes.extend_from_slice(&cell);
         let r = int_at::<LE, I8>(&rec[K * isz..]);
@@ -131,7 +132,7 @@ fn elements<const LE: bool, const I8: bool, const K: usize>(
 }
 
 /// [`elements`] for every byte order, integer size and node count smartmesh reads.
-fn elements_any<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &mut Vec<usize>, refs: &mut Vec<i32>) -> Result<usize, Bad> {
+fn elements_any<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &mut Vec<NodeIndex>, refs: &mut Vec<i32>) -> Result<usize, Bad> {
     match k {
         2 => elements::<LE, I8, 2>(data, nodes, refs),
         3 => elements::<LE, I8, 3>(data, nodes, refs),
@@ -566,7 +567,7 @@ pub(super) fn write_mesh(m: &Out<'_>) -> Vec<u8> {
                 _ => {
                     for (cell, &r) in b.cells().zip(&b.physical) {
                         for &v in cell {
-                            w.int(v + 1);
+                            w.int(v as usize + 1);
                         }
                         w.sint(r);
                     }

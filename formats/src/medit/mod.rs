@@ -62,7 +62,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::error::{Error, ErrorKind, Position, Result};
-use crate::{CellBlock, CellKind, DataArray, Layout, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{CellBlock, CellKind, DataArray, Layout, NodeIndex, MAX_POINTS, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
 
 use keywords::KEYWORDS;
 
@@ -168,7 +168,7 @@ fn sol_size(typ: u32, dim: u8) -> Option<usize> {
 #[derive(Debug)]
 struct Elements {
     kind: CellKind,
-    nodes: Vec<usize>,
+    nodes: Vec<NodeIndex>,
     refs: Vec<i32>,
     /// Where each element is, for errors found after reading.
     at: Locator,
@@ -384,7 +384,7 @@ fn assemble(p: Parsed, bytes: &[u8]) -> Result<TaggedMesh> {
             continue;
         }
         let k = e.kind.nodes_per_cell();
-        if let Some(pos) = e.nodes.iter().position(|&v| v >= nv) {
+        if let Some(pos) = e.nodes.iter().position(|&v| v as usize >= nv) {
             return Err(error_at(
                 e.at.at(pos / k),
                 ErrorKind::IndexOutOfRange {

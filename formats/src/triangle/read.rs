@@ -7,7 +7,7 @@ use std::borrow::Cow;
 use crate::error::{Error, ErrorKind, Result};
 use crate::scan::Scan;
 use crate::text::{check_count, parse_f64, parse_i64, Tokens};
-use crate::{CellBlock, CellKind, DataArray, ReadContext, RegionSeed, TaggedMesh};
+use crate::{CellBlock, CellKind, DataArray, NodeIndex, ReadContext, RegionSeed, TaggedMesh, MAX_POINTS};
 
 use super::{attribute_name, Kind, AREA, MARKER, RAY_DIRECTION};
 
@@ -26,10 +26,10 @@ struct NodeList {
 /// Segments or edges, and the rays of a Voronoi `.edge`.
 #[derive(Debug, Default)]
 struct Lines {
-    nodes: Vec<usize>,
+    nodes: Vec<NodeIndex>,
     tags: Vec<i32>,
     /// `(origin, marker, direction)`.
-    rays: Vec<(usize, i32, [f64; 2])>,
+    rays: Vec<(NodeIndex, i32, [f64; 2])>,
 }
 
 /// What a `.poly` lists besides its vertices.
@@ -44,7 +44,7 @@ struct PolyRest {
 #[derive(Debug)]
 struct Ele {
     kind: CellKind,
-    nodes: Vec<usize>,
+    nodes: Vec<NodeIndex>,
     nattr: usize,
     attrs: Vec<f64>,
 }
@@ -169,10 +169,10 @@ impl<'t, 'a> Rec<'t, 'a> {
 
     /// A vertex index as written, turned into a 0-based index below `n`.
     #[inline]
-    fn index(&mut self, what: &str, base: i64, n: usize) -> Result<usize> {
+    fn index(&mut self, what: &str, base: i64, n: usize) -> Result<NodeIndex> {
         let v = self.int(what)?;
         match v.checked_sub(base) {
-            Some(i) if i >= 0 && (i as u64) < n as u64 => Ok(i as usize),
+            Some(i) if i >= 0 && (i as u64) < n.min(MAX_POINTS) as u64 => Ok(i as NodeIndex),
             _ => Err(Error::at_line(self.line, ErrorKind::IndexOutOfRange { what: self.describe(what), index: v, available: n })),
         }
     }
@@ -217,10 +217,10 @@ impl Scan<'_> {
     }
 
     #[inline(always)]
-    fn next_index(&mut self, base: i64, n: usize) -> Option<usize> {
+    fn next_index(&mut self, base: i64, n: usize) -> Option<NodeIndex> {
         self.blank();
         let v = self.int()?.checked_sub(base)?;
-        (v >= 0 && (v as u64) < n as u64).then_some(v as usize)
+        (v >= 0 && (v as u64) < n.min(MAX_POINTS) as u64).then_some(v as NodeIndex)
     }
 }
 
@@ -269,6 +269,12 @@ fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<NodeList> {
     let mut r = Rec::new(t, line, "header", 0);
     // A vertex record is at least "1 0 0\n".
     let n = r.count("number of vertices", 6)?;
+    if n > MAX_POINTS {
+        return Err(Error::at_line(
+            line,
+            ErrorKind::ImplausibleCount { what: "vertices".into(), count: n as u64, limit: format!("{MAX_POINTS} (32-bit point indices)") },
+        ));
+    }
     let dim = r.opt_int("dimension", 2)?;
     if dim != 2 {
         return Err(Error::expected(line, "dimension 2 (Triangle is two-dimensional)", dim.to_string()));
@@ -365,14 +371,14 @@ fn parse_ele(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Ele> {
     r.end();
     let k = kind.nodes_per_cell();
     let mut ele = Ele { kind, nodes: Vec::with_capacity(n * k), nattr, attrs: Vec::with_capacity(n * nattr) };
-    let mut v = [0usize; 6];
+    let mut v = [0 as NodeIndex; 6];
     let mut i = 0;
     while i < n {
         i += fast(
             t,
             n - i,
             |s| {
-                let mut w = [0usize; 6];
+                let mut w = [0 as NodeIndex; 6];
                 for slot in w.iter_mut().take(k) {
                     *slot = s.next_index(base, nv)?;
                 }

@@ -9,7 +9,7 @@
 
 use crate::error::Position;
 use crate::text::{check_count, Tokens};
-use crate::{Error, ErrorKind, Result, TaggedMesh, WriteOptions, Written};
+use crate::{Error, ErrorKind, NodeIndex, Result, TaggedMesh, WriteOptions, Written, MAX_POINTS};
 
 use super::{decode_f64, decode_i64, decode_indices, decode_points, offsets, push_num, put, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
 
@@ -223,7 +223,7 @@ impl<'a> Reader<'a> {
             self.grid.points = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         }
         self.npoints = Some(n);
-        if self.grid.cells_at.is_some() && self.grid.connectivity.iter().any(|&v| v >= n) {
+        if self.grid.cells_at.is_some() && self.grid.connectivity.iter().any(|&v| v as usize >= n) {
             return Err(Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent("CELLS before POINTS refer to points that do not exist".into()) });
         }
         Ok(())
@@ -232,12 +232,12 @@ impl<'a> Reader<'a> {
     /// Checks that a node index names an existing point (when POINTS came first, as it
     /// does in every file VTK writes).
     #[inline]
-    fn node(&self, v: i64, cell: usize) -> Result<usize> {
-        let max = self.npoints.unwrap_or(usize::MAX);
+    fn node(&self, v: i64, cell: usize) -> Result<NodeIndex> {
+        let max = self.npoints.unwrap_or(MAX_POINTS).min(MAX_POINTS);
         if v < 0 || v as u64 >= max as u64 {
             return Err(self.err(ErrorKind::IndexOutOfRange { what: format!("cell {cell}"), index: v, available: self.npoints.unwrap_or(0) }));
         }
-        Ok(v as usize)
+        Ok(v as NodeIndex)
     }
 
     fn read_cells(&mut self) -> Result<()> {
@@ -320,12 +320,12 @@ impl<'a> Reader<'a> {
                     // pass converts, checks each count and tracks the largest index.
                     let k = k0 as usize;
                     let head = &bytes[..4];
-                    let (mut same, mut max) = (true, 0usize);
+                    let (mut same, mut max) = (true, 0 as NodeIndex);
                     conn.resize(n * k, 0);
                     for (dst, src) in conn.chunks_exact_mut(k).zip(bytes.chunks_exact(4 * (k + 1))) {
                         same &= src[..4] == *head;
                         for (d, b) in dst.iter_mut().zip(src[4..].chunks_exact(4)) {
-                            let v = i32::from_be_bytes(b.try_into().expect("4 bytes")) as usize;
+                            let v = i32::from_be_bytes(b.try_into().expect("4 bytes")) as NodeIndex;
                             max = max.max(v);
                             *d = v;
                         }
@@ -333,7 +333,7 @@ impl<'a> Reader<'a> {
                     if same {
                         offs.extend((1..=n).map(|c| c * k));
                         left = 0;
-                        max_seen = Some(max);
+                        max_seen = Some(max as usize);
                     } else {
                         conn.clear();
                     }
@@ -355,14 +355,16 @@ impl<'a> Reader<'a> {
                         ));
                     }
                     let k = k as usize;
-                    // Negative indices wrap to huge values and fail the range check below.
-                    conn.extend(bytes[4 * (p + 1)..4 * (p + 1 + k)].chunks_exact(4).map(|b| i32::from_be_bytes(b.try_into().expect("4 bytes")) as usize));
+                    // Negative indices wrap to values of 2^31 and more and fail the range
+                    // check below, which admits no index past i32.
+                    conn.extend(bytes[4 * (p + 1)..4 * (p + 1 + k)].chunks_exact(4).map(|b| i32::from_be_bytes(b.try_into().expect("4 bytes")) as NodeIndex));
                     p += 1 + k;
                     left -= k;
                     offs.push(conn.len());
                 }
-                let np = self.npoints.unwrap_or(usize::MAX);
-                if let Some(i) = conn.iter().position(|&v| v >= np).filter(|_| max_seen.map_or(true, |m| m >= np)) {
+                // A 32-bit cell list names no point past i32::MAX.
+                let np = self.npoints.unwrap_or(usize::MAX).min(1 << 31);
+                if let Some(i) = conn.iter().position(|&v| v as usize >= np).filter(|_| max_seen.map_or(true, |m| m >= np)) {
                     let c = offs.partition_point(|&o| o <= i) - 1;
                     let at = start + 4 * (i + c + 1);
                     return Err(Error::at_byte(

@@ -66,7 +66,7 @@ use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 use crate::error::Position;
-use crate::{CellBlock, CellKind, DataArray, Error, ErrorKind, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{CellBlock, CellKind, DataArray, Error, ErrorKind, NodeIndex, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS};
 
 /// Reads a legacy `.vtk` file (versions 2.0 to 5.1, ASCII or binary).
 pub fn read_legacy(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
@@ -310,26 +310,33 @@ pub(crate) fn decode_points(bytes: &[u8], ty: Scalar, big: bool, n: usize) -> st
 
 /// Decodes `n` point indices, each checked to be in `0..limit`; on failure, the
 /// position and value of the first bad one.
-pub(crate) fn decode_indices(bytes: &[u8], ty: Scalar, big: bool, n: usize, limit: usize) -> std::result::Result<Vec<usize>, (usize, i64)> {
+pub(crate) fn decode_indices(bytes: &[u8], ty: Scalar, big: bool, n: usize, limit: usize) -> std::result::Result<Vec<NodeIndex>, (usize, i64)> {
     let bytes = &bytes[..n * ty.size()];
-    let ok = |v: i64| v >= 0 && (v as u64) < limit as u64;
-    let out: Vec<usize> = match (ty, big) {
-        (Scalar::I64, false) => bytes.chunks_exact(8).map(|c| i64::from_le_bytes(c.try_into().expect("8")) as usize).collect(),
-        (Scalar::I64, true) => bytes.chunks_exact(8).map(|c| i64::from_be_bytes(c.try_into().expect("8")) as usize).collect(),
-        (Scalar::I32, false) => bytes.chunks_exact(4).map(|c| i32::from_le_bytes(c.try_into().expect("4")) as usize).collect(),
-        (Scalar::I32, true) => bytes.chunks_exact(4).map(|c| i32::from_be_bytes(c.try_into().expect("4")) as usize).collect(),
+    // Cells address at most MAX_POINTS points. A value that is negative or past
+    // `NodeIndex` saturates to `NodeIndex::MAX`, which no limit admits, so one
+    // comparison per value checks the range; the value is decoded again for the error.
+    let limit = limit.min(MAX_POINTS);
+    let sat = |v: i64| NodeIndex::try_from(v).unwrap_or(NodeIndex::MAX);
+    let out: Vec<NodeIndex> = match (ty, big) {
+        (Scalar::I64, false) => bytes.chunks_exact(8).map(|c| sat(i64::from_le_bytes(c.try_into().expect("8")))).collect(),
+        (Scalar::I64, true) => bytes.chunks_exact(8).map(|c| sat(i64::from_be_bytes(c.try_into().expect("8")))).collect(),
+        (Scalar::I32, false) => bytes.chunks_exact(4).map(|c| sat(i32::from_le_bytes(c.try_into().expect("4")) as i64)).collect(),
+        (Scalar::I32, true) => bytes.chunks_exact(4).map(|c| sat(i32::from_be_bytes(c.try_into().expect("4")) as i64)).collect(),
         _ => {
             let mut v = Vec::new();
             decode_i64(bytes, ty, big, n, &mut v).map_err(|i| (i, -1))?;
-            if let Some(i) = v.iter().position(|&x| !ok(x)) {
+            if let Some(i) = v.iter().position(|&x| x < 0 || x as u64 >= limit as u64) {
                 return Err((i, v[i]));
             }
-            return Ok(v.into_iter().map(|x| x as usize).collect());
+            return Ok(v.into_iter().map(|x| x as NodeIndex).collect());
         }
     };
-    // Negative values wrapped to huge `usize`s: one comparison catches both.
-    match out.iter().position(|&v| v >= limit) {
-        Some(i) => Err((i, out[i] as i64)),
+    match out.iter().position(|&v| v as usize >= limit) {
+        Some(i) => {
+            let mut one = Vec::new();
+            decode_i64(&bytes[i * ty.size()..(i + 1) * ty.size()], ty, big, 1, &mut one).map_err(|_| (i, -1))?;
+            Err((i, one.first().copied().unwrap_or(-1)))
+        }
         None => Ok(out),
     }
 }
@@ -354,7 +361,7 @@ pub(crate) struct Grid {
     pub types_at: Option<Position>,
     /// `offsets[i]..offsets[i + 1]` is cell `i` in `connectivity`; `ncells + 1` entries.
     pub offsets: Vec<usize>,
-    pub connectivity: Vec<usize>,
+    pub connectivity: Vec<NodeIndex>,
     pub cells_at: Option<Position>,
     pub point_arrays: Vec<Named>,
     pub cell_arrays: Vec<Named>,
@@ -472,7 +479,7 @@ impl Grid {
 
         // Every reader checks node indices where it reads them, so that the error names
         // the line or byte; `read_bytes` validates the mesh once more.
-        debug_assert!(connectivity.iter().all(|&v| v < np), "node index out of range");
+        debug_assert!(connectivity.iter().all(|&v| (v as usize) < np), "node index out of range");
         // Cells go to blocks a run of one kind at a time. The largest run keeps the
         // connectivity and tag buffers themselves (moved to their front once every
         // other run has been copied out), so that a triangle mesh with a few boundary

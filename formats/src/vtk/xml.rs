@@ -26,7 +26,7 @@ use flate2::{Compress, Compression, Decompress, FlushCompress, FlushDecompress, 
 
 use crate::error::Position;
 use crate::text::Tokens;
-use crate::{Error, ErrorKind, Result, TaggedMesh, VtuEncoding, WriteOptions, Written};
+use crate::{Error, ErrorKind, NodeIndex, Result, TaggedMesh, VtuEncoding, WriteOptions, Written, MAX_POINTS};
 
 use super::{decode_f64, decode_i64, decode_indices, decode_ints_as, decode_points, offsets, push_num, put, threads, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
 
@@ -641,17 +641,17 @@ impl<'a> Decoder<'a> {
     }
 
     /// `expected` point indices, each below `limit`.
-    fn indices(&self, sp: &Spec, expected: usize, limit: usize, offsets: &[usize]) -> Result<Vec<usize>> {
+    fn indices(&self, sp: &Spec, expected: usize, limit: usize, offsets: &[usize]) -> Result<Vec<NodeIndex>> {
         let bad = |i: usize, v: i64| {
             let c = offsets.partition_point(|&o| o <= i).saturating_sub(1);
             err(sp.at, ErrorKind::IndexOutOfRange { what: format!("cell {c} in `{}`", sp.name), index: v, available: limit })
         };
         if sp.format == Format::Ascii {
             let v = self.ints(sp, expected)?;
-            if let Some(i) = v.iter().position(|&x| x < 0 || x as u64 >= limit as u64) {
+            if let Some(i) = v.iter().position(|&x| x < 0 || x as u64 >= limit.min(MAX_POINTS) as u64) {
                 return Err(bad(i, v[i]));
             }
-            return Ok(v.into_iter().map(|x| x as usize).collect());
+            return Ok(v.into_iter().map(|x| x as NodeIndex).collect());
         }
         let p = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
         decode_indices(p.as_slice(), sp.ty, self.big, expected, limit).map_err(|(i, v)| {
