@@ -585,10 +585,14 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
         for &(bi, i) in &cells[range.clone()] {
             for &v in mesh.blocks[bi as usize].cell(i as usize) {
                 let v = v as usize;
+                // A node first met in this entity has grown its box already: a triangle
+                // mesh shares each node among about six cells, so most grows are skipped.
                 if node_ent[v] == UNSET {
                     node_ent[v] = *e;
+                    ent.grow(&mesh.points[v]);
+                } else if node_ent[v] != *e {
+                    ent.grow(&mesh.points[v]);
                 }
-                ent.grow(&mesh.points[v]);
                 if *kind == CellKind::Vertex && ent.point.is_none() {
                     ent.point = Some(v);
                 }
