@@ -5,6 +5,12 @@
 //!   SMARTMESH_BENCH_N=200 cargo bench ...   # a smaller grid for a quick look
 //!   SMARTMESH_BENCH_ONLY=vtk42_binary,vtu_appended_raw cargo bench ...   # some cases only
 //!     (and only their files written: what a profiler should see)
+//!   GLIBC_TUNABLES=glibc.malloc.mmap_threshold=131072 cargo bench ...   # fresh memory
+//!     for every large buffer, in the copy and in the read alike. By default glibc
+//!     moves its mmap threshold as buffers are freed, so a buffer of a given size is
+//!     fresh pages in one run and reused heap in the next: the binary ratios then
+//!     swing (a Medit read took 30 or 55 ms in alternate runs of one build). A fixed
+//!     threshold makes every run pay what a one-shot `smartmesh convert` pays.
 //!
 //! The files are also left in `target/bench-meshes/` so that `benches/compare_meshio.py`
 //! times meshio on the very same bytes in the same session (see BENCHMARKS.md).
