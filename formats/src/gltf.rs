@@ -331,7 +331,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
                 None if opts.color_field.is_none() => "glTF holds no fields, and only a scalar colours the vertices unless --color-field names another".to_string(),
                 None => "glTF holds no fields".to_string(),
             };
-            report.drop(format!("point data `{name}` ({} components): {why}", a.components));
+            report.drop(format!("point data `{name}` ({} components): {why}", a.expanded_components()));
         }
     }
 

@@ -620,10 +620,10 @@ pub fn write(mesh: &TaggedMesh, _opts: &WriteOptions) -> Result<Written> {
 /// What OBJ cannot hold at all.
 fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
     for (name, a) in &mesh.point_data {
-        report.drop(format!("point data `{name}` ({} components): OBJ holds no fields", a.components));
+        report.drop(format!("point data `{name}` ({} components): OBJ holds no fields", a.expanded_components()));
     }
     for (name, a) in &mesh.cell_data {
-        report.drop(format!("cell data `{name}` ({} components): OBJ holds no fields", a.components));
+        report.drop(format!("cell data `{name}` ({} components): OBJ holds no fields", a.expanded_components()));
     }
     let differ: usize = mesh.blocks.iter().map(|b| b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count()).sum();
     if differ > 0 {

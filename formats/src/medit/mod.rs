@@ -600,7 +600,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         } else {
             "only `metric` (tensor) or `size` (scalar) go to the solution file".into()
         };
-        report.drop(format!("point data `{name}` ({} components): {why}", a.components));
+        report.drop(format!("point data `{name}` ({} components): {why}", a.expanded_components()));
     }
 
     let out = Out { dim, points: &mesh.points, refs, elements, sets };

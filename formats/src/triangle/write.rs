@@ -138,7 +138,7 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         if !kept && name != MARKER {
             report.drop(format!(
                 "point data `{name}` ({} components): Triangle keeps only vertex markers (`{MARKER}`) and scalar attributes (`{ATTRIBUTE_PREFIX}1`, ...)",
-                a.components
+                a.expanded_components()
             ));
         }
     }
