@@ -365,6 +365,10 @@ pub(crate) struct Grid {
     pub cells_at: Option<Position>,
     pub point_arrays: Vec<Named>,
     pub cell_arrays: Vec<Named>,
+    /// Cell tag arrays (`gmsh:physical`, `gmsh:geometrical`, `CellEntityIds`) of 32-bit
+    /// integers, decoded straight into tags by a reader that can (no `f64` copy of
+    /// them); taken before `cell_arrays`, where the same names may also appear.
+    pub cell_tags: Vec<(String, Vec<i32>, Position)>,
     /// Dataset-level field data (tag names).
     pub field_arrays: Vec<Named>,
 }
@@ -417,7 +421,7 @@ impl Grid {
     /// Checks cells against points and types, sorts cell arrays into tags and cell
     /// data, and names tags from the field data.
     pub(crate) fn into_mesh(self) -> Result<TaggedMesh> {
-        let Grid { points, types, types_at, offsets, connectivity, cells_at, point_arrays, cell_arrays, field_arrays } = self;
+        let Grid { points, types, types_at, offsets, connectivity, cells_at, point_arrays, cell_arrays, cell_tags, field_arrays } = self;
         let n = types.len();
         if offsets.len() != n + 1 {
             return Err(at_error(
@@ -432,6 +436,13 @@ impl Grid {
         // Tags first, so that blocks are built in one pass.
         let mut tag_arrays: [Option<Vec<i32>>; 3] = [None, None, None];
         let mut cell_data = BTreeMap::new();
+        for (name, tags, at) in cell_tags {
+            if tags.len() != n {
+                return Err(at_error(Some(at), ErrorKind::Inconsistent(format!("cell array `{name}` has {} values, expected {n} ({n} cells)", tags.len()))));
+            }
+            let slot = [PHYSICAL, GEOMETRICAL, ENTITY_IDS].iter().position(|t| *t == name).expect("readers keep only tag names here");
+            tag_arrays[slot] = Some(tags);
+        }
         for a in cell_arrays {
             if a.values.len() != n * a.components {
                 return Err(at_error(
