@@ -1415,6 +1415,21 @@ pub(super) fn write_views(out: &mut Vec<u8>, mesh: &TaggedMesh, binary: bool, ce
     }
 }
 
+/// The binary entries of a view whose items all have `N` finite values: the 4-byte tag
+/// and the values as one record of known size (one capacity check per item); `true`
+/// once written.
+fn view_records<const N: usize>(out: &mut Vec<u8>, a: &DataArray, tag: &dyn Fn(usize) -> u64) -> bool {
+    let mut rec = [0u8; 76];
+    for (i, v) in a.values.chunks_exact(N).enumerate() {
+        rec[..4].copy_from_slice(&(tag(i) as i32).to_le_bytes());
+        for (j, x) in v.iter().enumerate() {
+            rec[4 + 8 * j..12 + 8 * j].copy_from_slice(&x.to_le_bytes());
+        }
+        out.extend_from_slice(&rec[..4 + 8 * N]);
+    }
+    true
+}
+
 #[allow(clippy::too_many_arguments)]
 fn write_view(out: &mut Vec<u8>, section: &str, what: &str, name: &str, a: &DataArray, binary: bool, tag: &dyn Fn(usize) -> u64, report: &mut WriteReport) {
     // Gmsh's tensors are 9 components: a packed symmetric one is written in full.
@@ -1440,7 +1455,16 @@ fn write_view(out: &mut Vec<u8>, section: &str, what: &str, name: &str, a: &Data
     out.push(b'\n');
     text::push_int(out, n);
     out.push(b'\n');
-    for (i, v) in items.enumerate() {
+    // Every item written: fixed-size records for the common component counts.
+    let recorded = binary
+        && n == a.len()
+        && match k {
+            1 => view_records::<1>(out, a, tag),
+            3 => view_records::<3>(out, a, tag),
+            9 => view_records::<9>(out, a, tag),
+            _ => false,
+        };
+    for (i, v) in items.enumerate().filter(|_| !recorded) {
         if !v.iter().all(|x| x.is_finite()) {
             continue;
         }

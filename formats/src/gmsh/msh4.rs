@@ -790,7 +790,20 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
     for (e, kind, range) in &plan.groups {
         let ent = &plan.ents[*e as usize];
         write_block_header(out, ent.dim, ent.tag, kind.gmsh_type(), range.len(), binary);
-        for &(bi, i) in &plan.cells[range.clone()] {
+        let group = &plan.cells[range.clone()];
+        if binary {
+            match kind.nodes_per_cell() {
+                1 => element_records::<1>(out, mesh, group, &offsets),
+                2 => element_records::<2>(out, mesh, group, &offsets),
+                3 => element_records::<3>(out, mesh, group, &offsets),
+                4 => element_records::<4>(out, mesh, group, &offsets),
+                6 => element_records::<6>(out, mesh, group, &offsets),
+                8 => element_records::<8>(out, mesh, group, &offsets),
+                _ => element_records::<9>(out, mesh, group, &offsets),
+            }
+            continue;
+        }
+        for &(bi, i) in group {
             let tag = offsets[bi as usize] + i as usize + 1;
             let cell = mesh.blocks[bi as usize].cell(i as usize);
             if binary {
@@ -812,6 +825,22 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
         out.push(b'\n');
     }
     out.extend_from_slice(b"$EndElements\n");
+}
+
+/// The binary records of a block of `K`-node elements: the element tag and the node
+/// tags, 8 bytes each, assembled on the stack and appended whole (one capacity check per
+/// element rather than per number; `K` known, so the copy is of a fixed size).
+fn element_records<const K: usize>(out: &mut Vec<u8>, mesh: &TaggedMesh, cells: &[(u32, u32)], offsets: &[usize]) {
+    let mut rec = [0u8; 80];
+    for &(bi, i) in cells {
+        let tag = offsets[bi as usize] + i as usize + 1;
+        let cell = mesh.blocks[bi as usize].cell(i as usize);
+        rec[..8].copy_from_slice(&(tag as u64).to_le_bytes());
+        for (j, &v) in cell[..K].iter().enumerate() {
+            rec[8 + 8 * j..16 + 8 * j].copy_from_slice(&(v as u64 + 1).to_le_bytes());
+        }
+        out.extend_from_slice(&rec[..8 * (K + 1)]);
+    }
 }
 
 /// Writes MSH 4.1.
