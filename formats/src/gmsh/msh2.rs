@@ -286,6 +286,20 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
 
 /// Writes MSH 2.2: nodes tagged index + 1, each cell with its physical and elementary
 /// tag, once more for each further physical group `entities` lists for its entity.
+/// One binary element of `K` nodes: number, two tags and the 1-based nodes, assembled
+/// on the stack and appended whole (a copy of a size known at compile time).
+#[inline(always)]
+fn element_record<const K: usize>(out: &mut Vec<u8>, head: [i32; 3], cell: &[NodeIndex]) {
+    let mut rec = [0u8; 48];
+    for (j, v) in head.into_iter().enumerate() {
+        rec[4 * j..4 * j + 4].copy_from_slice(&v.to_le_bytes());
+    }
+    for (j, &v) in cell[..K].iter().enumerate() {
+        rec[12 + 4 * j..16 + 4 * j].copy_from_slice(&(v as i32 + 1).to_le_bytes());
+    }
+    out.extend_from_slice(&rec[..4 * (3 + K)]);
+}
+
 pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) -> Result<()> {
     write_mesh_format(out, "2.2", binary);
     write_physical_names(out, mesh, report);
@@ -295,10 +309,13 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
     out.push(b'\n');
     for (i, p) in mesh.points.iter().enumerate() {
         if binary {
-            out.extend_from_slice(&(i as i32 + 1).to_le_bytes());
-            for c in p {
-                out.extend_from_slice(&c.to_le_bytes());
+            // One fixed-size record per node (one capacity check, not four).
+            let mut rec = [0u8; 28];
+            rec[..4].copy_from_slice(&(i as i32 + 1).to_le_bytes());
+            for (j, c) in p.iter().enumerate() {
+                rec[4 + 8 * j..12 + 8 * j].copy_from_slice(&c.to_le_bytes());
             }
+            out.extend_from_slice(&rec);
         } else {
             push_int(out, i + 1);
             for &c in p {
@@ -366,11 +383,14 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
             for q in std::iter::once(p).chain(copies(dim, g, p).copied()) {
                 num += 1;
                 if binary {
-                    for v in [num as i32, q, g] {
-                        out.extend_from_slice(&v.to_le_bytes());
-                    }
-                    for &v in cell {
-                        out.extend_from_slice(&(v as i32 + 1).to_le_bytes());
+                    match cell.len() {
+                        1 => element_record::<1>(out, [num as i32, q, g], cell),
+                        2 => element_record::<2>(out, [num as i32, q, g], cell),
+                        3 => element_record::<3>(out, [num as i32, q, g], cell),
+                        4 => element_record::<4>(out, [num as i32, q, g], cell),
+                        6 => element_record::<6>(out, [num as i32, q, g], cell),
+                        8 => element_record::<8>(out, [num as i32, q, g], cell),
+                        _ => element_record::<9>(out, [num as i32, q, g], cell),
                     }
                 } else {
                     push_int(out, num);
