@@ -159,14 +159,19 @@ pub type NodeIndex = u32;
 /// `NodeIndex::MAX`, which readers keep as a value no range check admits.
 pub const MAX_POINTS: usize = NodeIndex::MAX as usize;
 
-/// `i` as a cell's point index; the error a reader reports when a cell names a point
-/// past [`MAX_POINTS`].
+/// The error a reader reports when `count` of `what` (points, or a point index) pass
+/// what 32-bit connectivity can address.
+pub(crate) fn past_max_points(what: &str, count: usize) -> crate::ErrorKind {
+    crate::ErrorKind::ImplausibleCount { what: what.into(), count: count as u64, limit: format!("{MAX_POINTS} points (32-bit point indices)") }
+}
+
+/// `i` as a cell's point index: below [`MAX_POINTS`], else the reader's error.
 pub(crate) fn node_index(i: usize) -> Result<NodeIndex, crate::ErrorKind> {
-    NodeIndex::try_from(i).map_err(|_| crate::ErrorKind::ImplausibleCount {
-        what: "point index".into(),
-        count: i as u64,
-        limit: format!("{MAX_POINTS} points (32-bit point indices)"),
-    })
+    if i < MAX_POINTS {
+        Ok(i as NodeIndex)
+    } else {
+        Err(past_max_points("point index", i))
+    }
 }
 
 /// Cells of one kind, stored flat: cell `i` is `nodes[i*k .. (i+1)*k]` with
@@ -215,7 +220,7 @@ impl CellBlock {
     pub fn push<T: Copy + TryInto<NodeIndex>>(&mut self, nodes: &[T], physical: i32, geometrical: i32) {
         debug_assert_eq!(nodes.len(), self.kind.nodes_per_cell());
         self.nodes.extend(nodes.iter().map(|&v| match v.try_into() {
-            Ok(v) if v != NodeIndex::MAX => v,
+            Ok(v) if (v as usize) < MAX_POINTS => v,
             _ => panic!("a point index past the {MAX_POINTS} points a mesh can address"),
         }));
         self.physical.push(physical);
@@ -332,10 +337,7 @@ impl DataArray {
     pub fn expanded(&self) -> std::borrow::Cow<'_, DataArray> {
         match self.layout {
             Layout::Plain => std::borrow::Cow::Borrowed(self),
-            Layout::Symmetric2 => {
-                let values = self.values.chunks_exact(3).flat_map(|t| sym2_to_tensor9(t[0], t[1], t[2], 1.0)).collect();
-                std::borrow::Cow::Owned(DataArray::new(9, values))
-            }
+            Layout::Symmetric2 => std::borrow::Cow::Owned(DataArray::new(9, (0..self.len()).flat_map(|i| self.tensor9(i)).collect())),
         }
     }
 }

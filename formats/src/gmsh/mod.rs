@@ -895,11 +895,7 @@ impl<'a> Reader<'a> {
         // Cells address points with 32-bit indices: past that, no file is read.
         if self.points.len() > MAX_POINTS {
             let at = self.node_blocks.first().map_or(Position::Byte(0), |b| b.1);
-            return Err(Error {
-                path: None,
-                at: Some(at),
-                kind: ErrorKind::ImplausibleCount { what: "nodes".into(), count: self.points.len() as u64, limit: format!("{MAX_POINTS} (32-bit point indices)") },
-            });
+            return Err(Error { path: None, at: Some(at), kind: crate::mesh::past_max_points("nodes", self.points.len()) });
         }
         if let Some(m) = self.node_map.take() {
             return Ok(m);

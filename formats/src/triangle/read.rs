@@ -270,10 +270,7 @@ fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<NodeList> {
     // A vertex record is at least "1 0 0\n".
     let n = r.count("number of vertices", 6)?;
     if n > MAX_POINTS {
-        return Err(Error::at_line(
-            line,
-            ErrorKind::ImplausibleCount { what: "vertices".into(), count: n as u64, limit: format!("{MAX_POINTS} (32-bit point indices)") },
-        ));
+        return Err(Error::at_line(line, crate::mesh::past_max_points("vertices", n)));
     }
     let dim = r.opt_int("dimension", 2)?;
     if dim != 2 {

@@ -11,7 +11,7 @@ use crate::error::Position;
 use crate::text::{check_count, Tokens};
 use crate::{Error, ErrorKind, NodeIndex, Result, TaggedMesh, WriteOptions, Written, MAX_POINTS};
 
-use super::{decode_f64, decode_i64, decode_indices, decode_points, offsets, push_num, put, Grid, Named, Plan, Scalar, ENTITY_IDS, GEOMETRICAL, PHYSICAL};
+use super::{decode_f64, decode_i64, decode_indices, decode_points, offsets, push_num, put, tag_slot, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
 
 /// Which data section the arrays that follow belong to.
 #[derive(Clone, Copy, PartialEq)]
@@ -516,7 +516,7 @@ impl<'a> Reader<'a> {
             self.end_header();
             // A binary 32-bit cell tag array (how smartmesh and Gmsh write them) goes
             // straight into tags: every i32 is a tag, so there is nothing to check.
-            if self.binary && self.section == Section::Cell && comps == 1 && ty == Scalar::I32 && [PHYSICAL, GEOMETRICAL, ENTITY_IDS].contains(&name.as_str()) {
+            if self.binary && self.section == Section::Cell && comps == 1 && ty == Scalar::I32 && tag_slot(&name).is_some() {
                 let bytes = self.binary_bytes(n, ty, "cell tags")?;
                 let tags = bytes.chunks_exact(4).map(|c| i32::from_be_bytes(c.try_into().expect("4 bytes"))).collect();
                 self.grid.cell_tags.push((name, tags, at));

@@ -96,6 +96,12 @@ pub(crate) const GEOMETRICAL: &str = "gmsh:geometrical";
 /// VTK's name for a per-cell entity id (vtkGmshReader, Exodus, ParaView).
 pub(crate) const ENTITY_IDS: &str = "CellEntityIds";
 
+/// Which of the tag arrays (physical, geometrical, entity ids) a cell array named
+/// `name` is, if it is one.
+pub(crate) fn tag_slot(name: &str) -> Option<usize> {
+    [PHYSICAL, GEOMETRICAL, ENTITY_IDS].iter().position(|t| *t == name)
+}
+
 /// A numeric type of a VTK array.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Scalar {
@@ -440,7 +446,7 @@ impl Grid {
             if tags.len() != n {
                 return Err(at_error(Some(at), ErrorKind::Inconsistent(format!("cell array `{name}` has {} values, expected {n} ({n} cells)", tags.len()))));
             }
-            let slot = [PHYSICAL, GEOMETRICAL, ENTITY_IDS].iter().position(|t| *t == name).expect("readers keep only tag names here");
+            let slot = tag_slot(&name).expect("readers keep only tag names here");
             tag_arrays[slot] = Some(tags);
         }
         for a in cell_arrays {
@@ -450,13 +456,7 @@ impl Grid {
                     ErrorKind::Inconsistent(format!("cell array `{}` has {} values, expected {} ({} cells)", a.name, a.values.len(), n * a.components, n)),
                 ));
             }
-            let slot = match a.name.as_str() {
-                PHYSICAL => Some(0),
-                GEOMETRICAL => Some(1),
-                ENTITY_IDS => Some(2),
-                _ => None,
-            };
-            match slot {
+            match tag_slot(&a.name) {
                 Some(s) if a.components == 1 => {
                     let mut tags = Vec::with_capacity(n);
                     for (i, &v) in a.values.iter().enumerate() {

@@ -28,7 +28,7 @@ use crate::error::Position;
 use crate::text::Tokens;
 use crate::{Error, ErrorKind, NodeIndex, Result, TaggedMesh, VtuEncoding, WriteOptions, Written, MAX_POINTS};
 
-use super::{decode_f64, decode_i64, decode_indices, decode_ints_as, decode_points, offsets, push_num, put, threads, Grid, Named, Plan, Scalar, ENTITY_IDS, GEOMETRICAL, PHYSICAL};
+use super::{decode_f64, decode_i64, decode_indices, decode_ints_as, decode_points, offsets, push_num, put, tag_slot, threads, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
 
 /// Standard alphabet, padding optional and accepted where it stands.
 const B64: GeneralPurpose = GeneralPurpose::new(
@@ -888,7 +888,7 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     }
     for sp in &cell {
         // Integer cell tag arrays go straight into 32-bit tags (no f64 copy of them).
-        if sp.components == 1 && !sp.ty.is_float() && [PHYSICAL, GEOMETRICAL, ENTITY_IDS].contains(&sp.name.as_str()) {
+        if sp.components == 1 && !sp.ty.is_float() && tag_slot(&sp.name).is_some() {
             let mut tags = Vec::new();
             dec.ints_into(sp, values(nc, sp)?, &mut tags, "a 32-bit integer tag", |v| i32::try_from(v).ok())?;
             g.cell_tags.push((sp.name.clone(), tags, Position::Byte(sp.at as u64)));
