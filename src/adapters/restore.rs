@@ -83,8 +83,9 @@ pub fn place_point_cells(program: &str, input: &TaggedMesh, output: &mut TaggedM
     }
     let mut block = smartmesh_formats::CellBlock::new(CellKind::Vertex);
     for (i, p, g) in placed {
-        let i = smartmesh_formats::NodeIndex::try_from(i)
-            .map_err(|_| AdapterError::Lost { program: program.to_string(), what: format!("vertex {i}: past the 2^32 points a mesh can address") })?;
+        if i >= smartmesh_formats::MAX_POINTS {
+            return Err(AdapterError::Lost { program: program.to_string(), what: format!("vertex {i}: past the {} points a mesh can address", smartmesh_formats::MAX_POINTS) });
+        }
         block.push(&[i], p, g);
     }
     output.blocks.insert(0, block);
