@@ -318,7 +318,7 @@ fn bench(c: &mut Criterion) {
         eprintln!(
             "distance_to_border_full_reach/{n}: {} segments, farthest vertex {:.0} segment lengths out, {} of {} vertices certified by a clearance, {:.1} boxes and {:.1} segments tested per vertex, {} corrected by the index",
             source.segments().len(),
-            reach.closest_points().iter().map(|c| c.distance).fold(0.0, f64::max) / (2.0 * PI / around as f64),
+            reach.closest_points().map(|c| c.distance).fold(0.0, f64::max) / (2.0 * PI / around as f64),
             r.certified_locally,
             r.evaluated,
             r.boxes_tested as f64 / r.evaluated as f64,

@@ -124,7 +124,7 @@ fn check_exact(graph: &MeshGraph, source: &Source, reach: &Reach) -> Tally {
     for (v, got) in reach.iter() {
         let want = closest_point_brute_force(source, graph.point(v)).unwrap();
         t.vertices += 1;
-        if *got != want {
+        if got != want {
             t.not_bitwise += 1;
         }
         let rel = (got.distance - want.distance).abs() / want.distance.max(1e-300);
@@ -490,7 +490,7 @@ fn same_output_whatever_the_thread_count() {
         pool.install(|| propagate(&graph, &source, 0.3, &PropagationOptions::new().with_parallel(parallel)))
     };
     let serial = run(1, false);
-    let key = |r: &Reach| (r.vertices().to_vec(), r.closest_points().to_vec(), *r.report());
+    let key = |r: &Reach| (r.vertices().to_vec(), r.closest_points().collect::<Vec<_>>(), *r.report());
     for threads in [1, 2, 4] {
         let r = run(threads, true);
         assert_eq!(key(&r), key(&serial), "{threads} threads");

@@ -139,7 +139,7 @@ pub(crate) fn run(
     let junctions = Junctions::new(&source);
     let curv = SegmentCurvatures::new(&source);
     let reach = propagate(graph, &source, reach_of(&[perpendicular.max_distance(), projection.max_distance()]), options);
-    assemble(&reach, |v, c| border_tensor(&source, &junctions, &curv, perpendicular, curvature, projection, graph.point(v), v, c).map(Some))
+    assemble(reach, |v, c| border_tensor(&source, &junctions, &curv, perpendicular, curvature, projection, graph.point(v), v, c).map(Some))
 }
 
 /// The tensor of a vertex `p` from its closest point `c` on the border.

@@ -45,7 +45,7 @@ pub(crate) fn run(
     let r = reach_of(&[perpendicular.max_distance(), parallel.max_distance()]);
     let reach1 = propagate(graph, &s1, r, options);
     let reach2 = propagate(graph, &s2, r, options);
-    assemble(&reach1, |v, c1| {
+    assemble(reach1, |v, c1| {
         let Some(c2) = reach2.get(v) else { return Ok(None) };
         let thickness = c1.distance + c2.distance;
         // NaN distances (non-finite coordinates) fail this test too.
@@ -53,7 +53,7 @@ pub(crate) fn run(
             return Ok(None);
         }
         let p = graph.point(v);
-        let n = gap_normal(p, (&s1, &j1, c1), (&s2, &j2, c2));
+        let n = gap_normal(p, (&s1, &j1, c1), (&s2, &j2, &c2));
         tensor(v, n, perpendicular.eval(thickness), parallel.eval(thickness)).map(Some)
     })
 }

@@ -32,7 +32,7 @@ pub(crate) fn run(
     let source = border_source(graph, topology, borders, true)?;
     let junctions = Junctions::new(&source);
     let reach = propagate(graph, &source, reach_of(&[perpendicular.max_distance(), parallel.max_distance()]), options);
-    assemble(&reach, |v, c| {
+    assemble(reach, |v, c| {
         let n = normal_at(&source, &junctions, graph.point(v), c);
         tensor(v, n, perpendicular.eval(c.distance), parallel.eval(c.distance)).map(Some)
     })

@@ -54,7 +54,7 @@ pub(crate) fn run(
     let source = SourceBuilder::new(graph).polyline(polyline, false).build()?;
     let junctions = Junctions::new(&source);
     let reach = propagate(graph, &source, reach_of(&[perpendicular.max_distance(), projection.max_distance()]), options);
-    assemble(&reach, |v, c| {
+    assemble(reach, |v, c| {
         if !mask[v] {
             return Ok(None);
         }

@@ -43,7 +43,7 @@ pub(crate) fn run(
         return Err(Failure::NoSource);
     }
     let reach = propagate(graph, &source, function.max_distance(), options);
-    assemble(&reach, |v, c| {
+    assemble(reach, |v, c| {
         let h = function.eval(c.distance);
         SizeTensor::try_new([1.0, 0.0], h, h).map(Some).ok_or(Failure::Degenerate { vertex: v })
     })
