@@ -386,7 +386,6 @@ impl Source {
             let l = g.length();
             [-g.d[1] / l, g.d[0] / l]
         };
-        let mut n = unit_left(g);
         let s = &self.segments[seg];
         let other = if t == 0.0 {
             s.prev
@@ -395,13 +394,15 @@ impl Source {
         } else {
             None
         };
-        if let Some(o) = other {
-            let go = &self.geoms[o as usize];
-            if go.inv_len2 > 0.0 {
-                let m = unit_left(go);
-                n = [n[0] + m[0], n[1] + m[1]];
+        // At a polyline vertex the sum of the two unit normals; elsewhere the segment's
+        // left normal unscaled, since only the sign of the product is wanted.
+        let n = match other.map(|o| &self.geoms[o as usize]).filter(|go| go.inv_len2 > 0.0) {
+            Some(go) => {
+                let (a, b) = (unit_left(g), unit_left(go));
+                [a[0] + b[0], a[1] + b[1]]
             }
-        }
+            None => [-g.d[1], g.d[0]],
+        };
         let dot = (p[0] - foot[0]) * n[0] + (p[1] - foot[1]) * n[1];
         if dot > 0.0 {
             1
@@ -672,6 +673,8 @@ const PARALLEL_MIN_LEVEL: usize = 2048;
 /// Closest points that earlier levels must have put on a segment before its clearance
 /// is used (see [`evaluate_from_neighbours`]).
 const CLEARANCE_AFTER: u32 = 6;
+/// An empty entry of the neighbours' guesses.
+const NOT_TRIED: Nearest = Nearest { segment: u32::MAX, projection: Projection { distance_squared: f64::INFINITY, foot: [0.0; 2], t: 0.0 } };
 /// Steps of the march along the polyline from the neighbours' guess.
 const MARCH_STEPS: usize = 4;
 
@@ -792,7 +795,8 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
 fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &OnceLock<Clearance>, feet: &[u32], slot: &[u32], found: &[u32], v: usize) -> Evaluation {
     let p = graph.point(v);
     let mut stats = QueryStats::default();
-    let mut tried = [u32::MAX; 8];
+    // The neighbours' segments and their projections, which the window reuses.
+    let mut tried = [NOT_TRIED; 8];
     let mut num_tried = 0;
     let mut best: Option<Nearest> = None;
     for &u in graph.neighbours(v) {
@@ -801,15 +805,15 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
             continue;
         }
         let seg = found[s as usize];
-        if tried[..num_tried].contains(&seg) {
+        if tried[..num_tried].iter().any(|t| t.segment == seg) {
             continue;
-        }
-        if num_tried < tried.len() {
-            tried[num_tried] = seg;
-            num_tried += 1;
         }
         stats.segments += 1;
         let c = Nearest { segment: seg, projection: source.geoms[seg as usize].project(p) };
+        if num_tried < tried.len() {
+            tried[num_tried] = c;
+            num_tried += 1;
+        }
         if best.as_ref().map_or(true, |b| c.beats(b)) {
             best = Some(c);
         }
@@ -833,8 +837,13 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
                 if q == best.segment {
                     continue;
                 }
-                stats.segments += 1;
-                let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
+                let c = match tried[..num_tried].iter().find(|t| t.segment == q) {
+                    Some(t) => *t,
+                    None => {
+                        stats.segments += 1;
+                        Nearest { segment: q, projection: source.geoms[q as usize].project(p) }
+                    }
+                };
                 if c.beats(&best) {
                     best = c;
                     moved = true;
