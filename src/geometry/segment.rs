@@ -80,6 +80,13 @@ impl SegmentGeom {
     }
 }
 
+/// Exact orientation of `(a, b, c)` (Shewchuk's adaptive predicate): positive when
+/// counter-clockwise, zero only when the three points are collinear.
+#[inline]
+pub fn orient(a: Point2, b: Point2, c: Point2) -> f64 {
+    robust::orient2d(robust::Coord { x: a[0], y: a[1] }, robust::Coord { x: b[0], y: b[1] }, robust::Coord { x: c[0], y: c[1] })
+}
+
 /// `(b - a) × (c - a)`: positive when `c` lies left of the line from `a` to `b`.
 #[inline]
 pub fn cross(a: Point2, b: Point2, c: Point2) -> f64 {

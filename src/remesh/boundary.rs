@@ -15,6 +15,7 @@
 
 use super::background::log_euclidean;
 use super::BoundaryMode;
+use crate::geometry::segment::orient;
 use crate::geometry::{SegmentGeom, SegmentIndex};
 use crate::metric::Sym2;
 
@@ -190,10 +191,6 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (b[0] - a[0]).hypot(b[1] - a[1])
 }
 
-#[inline]
-fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    robust::orient2d(robust::Coord { x: a[0], y: a[1] }, robust::Coord { x: b[0], y: b[1] }, robust::Coord { x: c[0], y: c[1] })
-}
 
 /// Whether segment `ab` properly crosses an edge of the closed polygon `poly`, or has an
 /// end strictly inside it (ends on a polygon corner do not count: pieces meet there).

@@ -32,11 +32,7 @@ pub fn key(a: u32, b: u32) -> (u32, u32) {
     }
 }
 
-/// Exact orientation of `(a, b, c)`: positive when counter-clockwise.
-#[inline]
-pub fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    robust::orient2d(robust::Coord { x: a[0], y: a[1] }, robust::Coord { x: b[0], y: b[1] }, robust::Coord { x: c[0], y: c[1] })
-}
+pub use crate::geometry::segment::orient;
 
 /// Metric quality used to accept or refuse an operation: the shape quality in the
 /// arithmetic mean of the corner metrics (SPD, and three times cheaper than the

@@ -41,7 +41,8 @@ use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
-use crate::geometry::segment::{point_in_polygon, segment_touches_polygon, segments_touch};
+use crate::geometry::clearance::WINDOW;
+use crate::geometry::segment::{orient, point_in_polygon, segment_touches_polygon, segments_touch};
 use crate::geometry::{Clearance, Nearest, Point2, Projection, QueryStats, SegmentGeom, SegmentIndex};
 use crate::mesh_graph::{MeshGraph, NO_CORNER};
 use crate::topology::Topology;
@@ -265,7 +266,8 @@ impl<'g> SourceBuilder<'g> {
         }
         let geoms: Vec<SegmentGeom> = segments.iter().map(|s| SegmentGeom::new(s.a, s.b)).collect();
         let index = SegmentIndex::new(&geoms);
-        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), seed_guess: Vec::new(), index };
+        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), seed_guess: Vec::new(), index, behind: Vec::new() };
+        source.behind = (0..source.segments.len()).map(|s| source.window_sides_behind(s)).collect();
         seeds.extend(source.free_piece_seeds(self.graph));
         seeds.sort_unstable();
         seeds.dedup();
@@ -302,6 +304,9 @@ pub struct Source {
     /// A segment each seed lies on (`u32::MAX`: none known), parallel to `seeds`.
     seed_guess: Vec<u32>,
     index: SegmentIndex,
+    /// Per segment, bit k set when its window lies behind it as seen from side k (0
+    /// left, 1 right): see [`Source::window_behind`].
+    behind: Vec<u8>,
 }
 
 /// The closest point of a source to a mesh vertex.
@@ -442,6 +447,91 @@ impl Source {
             let n1 = link(Some(s), true);
             [link(Some(s), false), n1, link(n1, true), None]
         }
+    }
+
+    /// The sides of segment `s` (bit 0 left, bit 1 right) behind which the rest of its
+    /// window lies: every other segment of the window on the far side of the line of
+    /// `s` or on it (the exact orientation predicate), and beyond the span of `s` along
+    /// it (the segments after `s` past its end, those before it short of its start).
+    /// Convex sides of a border and straight runs have both; a side into which the
+    /// polyline turns has neither.
+    fn window_sides_behind(&self, s: usize) -> u8 {
+        let g = &self.geoms[s];
+        if g.inv_len2 == 0.0 {
+            return 0;
+        }
+        let (a, b) = (g.a, g.b);
+        // Along the line of s: ahead of b, or before a, clearly (or the shared end itself).
+        let beyond = |q: Point2, from: Point2, sign: f64| {
+            if q == from {
+                return true;
+            }
+            let dot = sign * ((q[0] - from[0]) * g.d[0] + (q[1] - from[1]) * g.d[1]);
+            let scale = ((q[0] - from[0]).abs() + (q[1] - from[1]).abs()) * (g.d[0].abs() + g.d[1].abs());
+            dot > 1e-9 * scale
+        };
+        let mut sides = 3u8;
+        let mut check = |w: u32, forward: bool| {
+            if w as usize == s {
+                return;
+            }
+            let gw = &self.geoms[w as usize];
+            for q in [gw.a, gw.b] {
+                let along = if forward { beyond(q, b, 1.0) } else { beyond(q, a, -1.0) };
+                if !along {
+                    sides = 0;
+                }
+                let o = orient(a, b, q);
+                if o > 0.0 {
+                    sides &= !1;
+                } else if o < 0.0 {
+                    sides &= !2;
+                }
+            }
+        };
+        for forward in [false, true] {
+            let mut at = s as u32;
+            for _ in 0..WINDOW {
+                let step = if forward { self.segments[at as usize].next } else { self.segments[at as usize].prev };
+                match step {
+                    Some(w) => {
+                        check(w, forward);
+                        at = w;
+                    }
+                    None => break,
+                }
+            }
+        }
+        sides
+    }
+
+    /// Whether no other segment of `best`'s window can be as close to `p` as `best`,
+    /// with no projection on them: the foot lies inside the segment, `p` is on a side
+    /// behind which the rest of the window lies ([`Source::window_sides_behind`]), and
+    /// the foot is far enough from both ends. Then every point of those segments is at
+    /// least `sqrt(y² + m²)` from `p`, `y` its distance to the line and `m` the foot's
+    /// distance to the nearer end, and `m² >= 2·10^-12 (d² + len²)` puts that far
+    /// beyond the rounding of any computed distance (a few ulps of `d²`), so a scan
+    /// computes them all larger, as the projections would.
+    #[inline]
+    fn window_behind(&self, p: Point2, best: &Nearest) -> bool {
+        let t = best.projection.t;
+        let bits = self.behind[best.segment as usize];
+        if bits == 0 || !(t > 0.0 && t < 1.0) {
+            return false;
+        }
+        let g = &self.geoms[best.segment as usize];
+        let cr = g.d[0] * (p[1] - g.a[1]) - g.d[1] * (p[0] - g.a[0]);
+        let bit = if cr > 0.0 {
+            1
+        } else if cr < 0.0 {
+            2
+        } else {
+            return false;
+        };
+        let len2 = g.d[0] * g.d[0] + g.d[1] * g.d[1];
+        let m = t.min(1.0 - t);
+        bits & bit != 0 && m * m * len2 >= 2e-12 * (best.projection.distance_squared + len2)
     }
 
     /// Whether `best`, the best of its window for `p`, is the closest point of the
@@ -831,7 +921,7 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
     if feet[best.segment as usize] >= CLEARANCE_AFTER {
         let clearance = clearance.get_or_init(|| source.clearance());
         for _ in 0..MARCH_STEPS {
-            let window = source.window(&best);
+            let window = if source.window_behind(p, &best) { [None; 4] } else { source.window(&best) };
             let mut moved = false;
             for q in window.into_iter().flatten() {
                 if q == best.segment {
