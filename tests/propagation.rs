@@ -342,6 +342,67 @@ fn clearance_certificates_match_brute_force_on_random_curves() {
     assert!(total.certified * 10 >= total.vertices * 3, "{} of {} certified", total.certified, total.vertices);
 }
 
+/// Vertices whose foot lies a hair from a segment end, far out on the side away from
+/// which the polyline turns (or on a straight run of collinear segments): there the
+/// propagation takes the segment without projecting on its neighbours, and the next
+/// segment is as close to within rounding. Columns of vertices at segment ends offset
+/// by 0, ±10^-12, ±10^-9 and ±10^-6 of a segment length, rows from 10^-3 to 10^3
+/// segment lengths out; a straight wall along y = 0 and a convex arc seen from outside.
+/// Every answer must be the brute-force scan's, bit for bit.
+#[test]
+fn feet_next_to_segment_ends_on_convex_sides_and_straight_runs() {
+    let offsets = [-1e-6, -1e-9, -1e-12, 0.0, 1e-12, 1e-9, 1e-6, 0.5];
+    let heights: Vec<f64> = std::iter::once(0.0).chain((0..30).map(|k| 1e-3 * 1.6f64.powi(k))).collect();
+    // Segment ends: uneven lengths about 1 along a line, or angles along an arc of radius 50.
+    let ends: Vec<f64> = (0..=20).scan(0.0, |x, k| {
+        let at = *x;
+        *x += 1.0 + 0.3 * (k as f64).sin();
+        Some(at)
+    }).collect();
+    let mut columns: Vec<f64> = Vec::new();
+    for w in ends.windows(2) {
+        let len = w[1] - w[0];
+        columns.extend(offsets.iter().map(|o| w[0] + o * len).filter(|&x| x >= 0.0));
+    }
+    columns.push(*ends.last().unwrap());
+    columns.sort_by(f64::total_cmp);
+    columns.dedup();
+    let mut total = Tally::default();
+    for arc in [false, true] {
+        let (nx, ny) = (columns.len(), heights.len());
+        let mut g = Grid::new(nx, ny, [0.0, 0.0], 1.0, 0.0, 3);
+        let radius = 50.0;
+        let place = |along: f64, out: f64| -> Point2 {
+            if arc {
+                // Arc length `along` on the circle, `out` beyond it.
+                let a = along / radius;
+                [(radius + out) * a.cos(), (radius + out) * a.sin()]
+            } else {
+                [along, out]
+            }
+        };
+        for (j, &y) in heights.iter().enumerate() {
+            for (i, &x) in columns.iter().enumerate() {
+                g.coords[j * nx + i] = place(x, y);
+            }
+        }
+        let graph = g.graph();
+        let wall: Vec<Point2> = ends.iter().map(|&x| place(x, 0.0)).collect();
+        // Clockwise along the arc's outside is the polyline's right: both sides are tried.
+        for reversed in [false, true] {
+            let pts: Vec<Point2> = if reversed { wall.iter().rev().copied().collect() } else { wall.clone() };
+            let source = Source::builder(&graph).polyline(&pts, false).build().unwrap();
+            let t = run_case(if arc { "convex arc" } else { "straight wall" }, &graph, &source, f64::INFINITY);
+            total.vertices += t.vertices;
+            total.mismatches += t.mismatches;
+            total.not_bitwise += t.not_bitwise;
+            total.certified += t.certified;
+        }
+    }
+    assert_eq!((total.mismatches, total.not_bitwise), (0, 0), "{total:?}");
+    assert!(total.certified * 2 >= total.vertices, "{total:?}: the clearances should certify most of these vertices");
+}
+
 /// Work per vertex stays O(1) amortised (thesis 7.3.5): the segment index looks at a
 /// bounded number of boxes and segments per evaluated vertex, and that number does not
 /// grow with the mesh: 10 times more vertices, with the source refined alike (the same
