@@ -13,7 +13,12 @@
 //! The module knows only connectivity and coordinates; it never reads a metric.
 //! Cost: O(cells) with one hash map of edges.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
+
+// A fast hasher for the edge maps (millions of lookups on a large mesh; SipHash's
+// resistance to chosen keys buys nothing here). Every iteration over them is sorted
+// before use, so the output does not depend on the hash order.
+use ahash::AHashMap as HashMap;
 
 use smartmesh_formats::{CellKind, TaggedMesh};
 
@@ -256,9 +261,11 @@ impl Topology {
         // Derived curves: boundary edges and face interfaces no line cell covers,
         // grouped by the face pair they separate.
         let mut derived: BTreeMap<(usize, usize), Vec<[usize; 2]>> = BTreeMap::new();
-        let mut sorted_edges: Vec<&[usize; 2]> = edge_map.keys().collect();
+        // The keys by value: sorting references would compare through pointers.
+        #[allow(clippy::iter_over_hash_type)]
+        let mut sorted_edges: Vec<[usize; 2]> = edge_map.keys().copied().collect();
         sorted_edges.sort_unstable();
-        for k in sorted_edges {
+        for k in &sorted_edges {
             let e = &edge_map[k];
             let boundary = e.count == 1;
             let interface = e.count >= 2 && e.faces[0] != e.faces[1];
