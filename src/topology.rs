@@ -15,9 +15,10 @@
 
 use std::collections::BTreeMap;
 
-// A fast hasher for the edge maps (millions of lookups on a large mesh; SipHash's
-// resistance to chosen keys buys nothing here). Every iteration over them is sorted
-// before use, so the output does not depend on the hash order.
+// A fast hasher for the maps of curve edges and points (SipHash's resistance to chosen
+// keys buys nothing here). Every iteration over them is sorted before use, so the
+// output does not depend on the hash order. The surface edges, millions on a large
+// mesh, are no map at all: see `surface_edges`.
 use ahash::AHashMap as HashMap;
 
 use smartmesh_formats::{CellKind, TaggedMesh};
@@ -193,6 +194,65 @@ fn key(a: usize, b: usize) -> [usize; 2] {
     }
 }
 
+/// What the surface cells say of one mesh edge.
+struct EdgeInfo {
+    /// Cells that have it.
+    count: u32,
+    /// Its direction in the first of them.
+    forward: [usize; 2],
+    /// The faces of the first two of them (the first twice when only one has it).
+    faces: [usize; 2],
+}
+
+/// The mesh edges of `cells` (on `n` vertices), sorted by key (smaller vertex first),
+/// with what the cells say of each; occurrences count in cell order. Why not a hash map:
+/// on a mesh of millions of cells each insertion is a cache miss in a table of over
+/// 100 MB, where a counting sort by smaller vertex, then a sort of each vertex's few
+/// edges, reads and writes memory in order.
+fn surface_edges(cells: &[SurfaceCell], n: usize) -> Vec<([usize; 2], EdgeInfo)> {
+    let mut start = vec![0u32; n + 1];
+    for sc in cells {
+        let vs = sc.vertices();
+        for i in 0..vs.len() {
+            start[vs[i].min(vs[(i + 1) % vs.len()]) + 1] += 1;
+        }
+    }
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    // (larger vertex, whether it is the edge's end, face), by smaller vertex, in cell order.
+    let mut by_lo: Vec<(u32, bool, u32)> = vec![(0, false, 0); start[n] as usize];
+    let mut fill = start.clone();
+    for sc in cells {
+        let vs = sc.vertices();
+        for i in 0..vs.len() {
+            let (a, b) = (vs[i], vs[(i + 1) % vs.len()]);
+            let lo = a.min(b);
+            by_lo[fill[lo] as usize] = (a.max(b) as u32, a < b, sc.face as u32);
+            fill[lo] += 1;
+        }
+    }
+    let mut out = Vec::with_capacity(by_lo.len() / 2 + 1);
+    for lo in 0..n {
+        let run = &mut by_lo[start[lo] as usize..start[lo + 1] as usize];
+        // Stable: equal edges stay in cell order.
+        run.sort_by_key(|e| e.0);
+        let mut i = 0;
+        while i < run.len() {
+            let hi = run[i].0 as usize;
+            let mut j = i + 1;
+            while j < run.len() && run[j].0 as usize == hi {
+                j += 1;
+            }
+            let (first, second) = (run[i], run[if j - i >= 2 { i + 1 } else { i }]);
+            let forward = if first.1 { [lo, hi] } else { [hi, lo] };
+            out.push(([lo, hi], EdgeInfo { count: (j - i) as u32, forward, faces: [first.2 as usize, second.2 as usize] }));
+            i = j;
+        }
+    }
+    out
+}
+
 impl Topology {
     /// Recovers the topology of `mesh` from its tags.
     pub fn from_mesh(mesh: &TaggedMesh) -> Topology {
@@ -229,23 +289,8 @@ impl Topology {
 
         // Mesh edges of surface cells: the directed occurrence tells the boundary
         // orientation, the set of faces tells interfaces.
-        struct EdgeInfo {
-            count: u32,
-            forward: [usize; 2],
-            faces: [usize; 2],
-        }
-        let mut edge_map: HashMap<[usize; 2], EdgeInfo> = HashMap::with_capacity(surface_cells.len() * 2);
-        for sc in &surface_cells {
-            let vs = sc.vertices();
-            for i in 0..vs.len() {
-                let (a, b) = (vs[i], vs[(i + 1) % vs.len()]);
-                let e = edge_map.entry(key(a, b)).or_insert(EdgeInfo { count: 0, forward: [a, b], faces: [sc.face, sc.face] });
-                if e.count == 1 {
-                    e.faces[1] = sc.face;
-                }
-                e.count += 1;
-            }
-        }
+        let edge_list = surface_edges(&surface_cells, n);
+        let edge_info = |k: &[usize; 2]| edge_list.binary_search_by(|e| e.0.cmp(k)).ok().map(|i| &edge_list[i].1);
 
         // Curves from line cells, by tag.
         let mut curve_edges: BTreeMap<i32, Vec<[usize; 2]>> = BTreeMap::new();
@@ -261,12 +306,7 @@ impl Topology {
         // Derived curves: boundary edges and face interfaces no line cell covers,
         // grouped by the face pair they separate.
         let mut derived: BTreeMap<(usize, usize), Vec<[usize; 2]>> = BTreeMap::new();
-        // The keys by value: sorting references would compare through pointers.
-        #[allow(clippy::iter_over_hash_type)]
-        let mut sorted_edges: Vec<[usize; 2]> = edge_map.keys().copied().collect();
-        sorted_edges.sort_unstable();
-        for k in &sorted_edges {
-            let e = &edge_map[k];
+        for (k, e) in &edge_list {
             let boundary = e.count == 1;
             let interface = e.count >= 2 && e.faces[0] != e.faces[1];
             if (boundary || interface) && !on_curve.contains_key(k) {
@@ -332,12 +372,12 @@ impl Topology {
             .map(|(tag, edges)| {
                 let oriented: Vec<[usize; 2]> = edges
                     .iter()
-                    .map(|&[a, b]| match edge_map.get(&key(a, b)) {
+                    .map(|&[a, b]| match edge_info(&key(a, b)) {
                         Some(info) if info.count == 1 => info.forward,
                         _ => [a, b],
                     })
                     .collect();
-                let on_boundary = edges.iter().all(|&[a, b]| edge_map.get(&key(a, b)).is_some_and(|i| i.count == 1));
+                let on_boundary = edges.iter().all(|&[a, b]| edge_info(&key(a, b)).is_some_and(|i| i.count == 1));
                 TopoCurve {
                     tag: *tag,
                     name: tag.and_then(|t| mesh.tag_name(1, t)).map(str::to_owned),
@@ -372,7 +412,7 @@ impl Topology {
                 }
             }
         }
-        let mut edges: Vec<([usize; 2], Classification)> = edge_map
+        let mut edges: Vec<([usize; 2], Classification)> = edge_list
             .iter()
             .map(|(k, info)| (*k, curve_of_edge.get(k).map_or(Classification::Face(info.faces[0]), |&c| Classification::Curve(c))))
             .collect();
@@ -380,7 +420,7 @@ impl Topology {
         // order does not matter: the list is sorted by edge just below.
         #[allow(clippy::iter_over_hash_type)]
         for (k, &c) in &curve_of_edge {
-            if !edge_map.contains_key(k) {
+            if edge_info(k).is_none() {
                 edges.push((*k, Classification::Curve(c)));
             }
         }
