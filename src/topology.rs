@@ -528,6 +528,47 @@ mod tests {
     use super::*;
     use smartmesh_formats::CellBlock;
 
+    /// `surface_edges` against its twin, a map filled cell by cell in order: random
+    /// triangles and quadrilaterals on 40 vertices (so edges repeat, in both
+    /// directions, across several faces, some degenerate), every key, count,
+    /// direction and face pair the same, in key order.
+    #[test]
+    fn surface_edges_match_a_map_filled_in_cell_order() {
+        let mut state = 12345u64;
+        let mut next = |m: usize| {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((state >> 33) % m as u64) as usize
+        };
+        for _ in 0..50 {
+            let n = 40;
+            let cells: Vec<SurfaceCell> = (0..200)
+                .map(|_| {
+                    let quad = next(3) == 0;
+                    let mut corners = [usize::MAX; 4];
+                    for c in corners.iter_mut().take(if quad { 4 } else { 3 }) {
+                        *c = next(n);
+                    }
+                    SurfaceCell { corners, face: next(3) }
+                })
+                .collect();
+            let mut twin: BTreeMap<[usize; 2], (u32, [usize; 2], [usize; 2])> = BTreeMap::new();
+            for sc in &cells {
+                let vs = sc.vertices();
+                for i in 0..vs.len() {
+                    let (a, b) = (vs[i], vs[(i + 1) % vs.len()]);
+                    let e = twin.entry(key(a, b)).or_insert((0, [a, b], [sc.face, sc.face]));
+                    if e.0 == 1 {
+                        e.2[1] = sc.face;
+                    }
+                    e.0 += 1;
+                }
+            }
+            let got: Vec<([usize; 2], (u32, [usize; 2], [usize; 2]))> = surface_edges(&cells, n).into_iter().map(|(k, e)| (k, (e.count, e.forward, e.faces))).collect();
+            let want: Vec<([usize; 2], (u32, [usize; 2], [usize; 2]))> = twin.into_iter().collect();
+            assert_eq!(got, want);
+        }
+    }
+
     /// A unit square split in two triangles, tagged face 7, with two tagged sides
     /// (bottom tag 1, right tag 2) and no line cells on the top and left.
     fn square() -> TaggedMesh {
