@@ -551,7 +551,9 @@ mod tests {
                     SurfaceCell { corners, face: next(3) }
                 })
                 .collect();
-            let mut twin: BTreeMap<[usize; 2], (u32, [usize; 2], [usize; 2])> = BTreeMap::new();
+            // Key → (count, forward, faces).
+            type Said = (u32, [usize; 2], [usize; 2]);
+            let mut twin: BTreeMap<[usize; 2], Said> = BTreeMap::new();
             for sc in &cells {
                 let vs = sc.vertices();
                 for i in 0..vs.len() {
@@ -563,8 +565,8 @@ mod tests {
                     e.0 += 1;
                 }
             }
-            let got: Vec<([usize; 2], (u32, [usize; 2], [usize; 2]))> = surface_edges(&cells, n).into_iter().map(|(k, e)| (k, (e.count, e.forward, e.faces))).collect();
-            let want: Vec<([usize; 2], (u32, [usize; 2], [usize; 2]))> = twin.into_iter().collect();
+            let got: Vec<([usize; 2], Said)> = surface_edges(&cells, n).into_iter().map(|(k, e)| (k, (e.count, e.forward, e.faces))).collect();
+            let want: Vec<([usize; 2], Said)> = twin.into_iter().collect();
             assert_eq!(got, want);
         }
     }
