@@ -11,7 +11,7 @@
 //! of open curve pieces and the junctions where curves meet.
 //!
 //! The module knows only connectivity and coordinates; it never reads a metric.
-//! Cost: O(cells) with one hash map of edges.
+//! Cost: O(cells): the surface edges by a counting sort on their smaller vertex.
 
 use std::collections::BTreeMap;
 
@@ -210,7 +210,7 @@ struct EdgeInfo {
 /// 100 MB, where a counting sort by smaller vertex, then a sort of each vertex's few
 /// edges, reads and writes memory in order.
 fn surface_edges(cells: &[SurfaceCell], n: usize) -> Vec<([usize; 2], EdgeInfo)> {
-    let mut start = vec![0u32; n + 1];
+    let mut start = vec![0usize; n + 1];
     for sc in cells {
         let vs = sc.vertices();
         for i in 0..vs.len() {
@@ -221,20 +221,20 @@ fn surface_edges(cells: &[SurfaceCell], n: usize) -> Vec<([usize; 2], EdgeInfo)>
         start[v + 1] += start[v];
     }
     // (larger vertex, whether it is the edge's end, face), by smaller vertex, in cell order.
-    let mut by_lo: Vec<(u32, bool, u32)> = vec![(0, false, 0); start[n] as usize];
+    let mut by_lo: Vec<(u32, bool, u32)> = vec![(0, false, 0); start[n]];
     let mut fill = start.clone();
     for sc in cells {
         let vs = sc.vertices();
         for i in 0..vs.len() {
             let (a, b) = (vs[i], vs[(i + 1) % vs.len()]);
             let lo = a.min(b);
-            by_lo[fill[lo] as usize] = (a.max(b) as u32, a < b, sc.face as u32);
+            by_lo[fill[lo]] = (a.max(b) as u32, a < b, sc.face as u32);
             fill[lo] += 1;
         }
     }
     let mut out = Vec::with_capacity(by_lo.len() / 2 + 1);
     for lo in 0..n {
-        let run = &mut by_lo[start[lo] as usize..start[lo + 1] as usize];
+        let run = &mut by_lo[start[lo]..start[lo + 1]];
         // Stable: equal edges stay in cell order.
         run.sort_by_key(|e| e.0);
         let mut i = 0;

@@ -790,7 +790,8 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
     // is computed again for the reported ones (the same bits: one function of the same
     // inputs), which costs less than keeping it for every vertex.
     let mut found: Vec<u32> = Vec::with_capacity(n);
-    // Whether each evaluated vertex is reported: a seed, or within max_distance.
+    // Whether each evaluated vertex is reported: a seed, or within max_distance
+    // (parallel to `order`, pushed where the expansion test computes the distance).
     let mut keep: Vec<bool> = Vec::with_capacity(n);
     let mut evaluations: Vec<Evaluation> = Vec::new();
     let mut next: Vec<u32> = Vec::new();
@@ -835,7 +836,6 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
         for (&v, e) in frontier.iter().zip(&evaluations) {
             slot[v as usize] = found.len() as u32;
             found.push(e.nearest.segment);
-            keep.push(level == 0 || e.nearest.projection.distance() <= max);
             feet[e.nearest.segment as usize] = feet[e.nearest.segment as usize].saturating_add(1);
             order.push(v);
             report.corrected += usize::from(e.corrected);
@@ -845,6 +845,7 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
         }
         for (&v, e) in frontier.iter().zip(&evaluations) {
             let d = e.nearest.projection.distance();
+            keep.push(level == 0 || d <= max);
             if d <= max + graph.longest_edge(v as usize) {
                 for &u in graph.neighbours(v as usize) {
                     if slot[u as usize] == UNSEEN {
