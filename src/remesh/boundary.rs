@@ -191,7 +191,6 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (b[0] - a[0]).hypot(b[1] - a[1])
 }
 
-
 /// Whether segment `ab` properly crosses an edge of the closed polygon `poly`, or has an
 /// end strictly inside it (ends on a polygon corner do not count: pieces meet there).
 fn segment_enters_polygon(a: [f64; 2], b: [f64; 2], poly: &[[f64; 2]]) -> bool {

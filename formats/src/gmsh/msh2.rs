@@ -284,8 +284,6 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
 // ---------------------------------------------------------------------------------
 // Writing
 
-/// Writes MSH 2.2: nodes tagged index + 1, each cell with its physical and elementary
-/// tag, once more for each further physical group `entities` lists for its entity.
 /// One binary element of `K` nodes: number, two tags and the 1-based nodes, assembled
 /// on the stack and appended whole (a copy of a size known at compile time).
 #[inline(always)]
@@ -300,6 +298,8 @@ fn element_record<const K: usize>(out: &mut Vec<u8>, head: [i32; 3], cell: &[Nod
     out.extend_from_slice(&rec[..4 * (3 + K)]);
 }
 
+/// Writes MSH 2.2: nodes tagged index + 1, each cell with its physical and elementary
+/// tag, once more for each further physical group `entities` lists for its entity.
 pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) -> Result<()> {
     write_mesh_format(out, "2.2", binary);
     write_physical_names(out, mesh, report);
