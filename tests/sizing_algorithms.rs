@@ -14,7 +14,7 @@ use std::f64::consts::PI;
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::geometry::Point2;
 use smartmesh::sizing::{
-    compute_size_field, three_point_curvature, Algorithm, CurvatureToSize, DistanceFunction, EntitySet, SizeField, SizeProjectionFunction,
+    compute_size_field, run_algorithm, three_point_curvature, Algorithm, CurvatureToSize, DistanceFunction, EntitySet, SizeField, SizeProjectionFunction,
     SizingError, SizingPlan, Step, StepEvent,
 };
 use smartmesh::{MeshGraph, SizeBounds, SizeTensor, Topology};
@@ -703,6 +703,60 @@ fn three_steps(m: &Model) -> Vec<(&'static str, Algorithm)> {
         ),
         ("uniform", Algorithm::Uniform { size: 0.08, on: EntitySet { faces: vec![m.face(2)], ..EntitySet::default() } }),
     ]
+}
+
+/// The field against its twin made from each step's [`Contribution`] (`run_algorithm`:
+/// the reached vertices in propagation order, a tensor each), merged vertex by vertex in
+/// plan order, then the default size and the clamp: the same bits, on a plan whose steps
+/// reach all of the mesh, part of it (the point, where the field merges in vertex order
+/// or as a list depending on the share reached), vertices skipped inside the reach (the
+/// gap's thickness test), a face (UNIFORM), on 1 and 2 threads.
+#[test]
+fn field_is_the_contributions_merged_in_plan_order() {
+    let m = grid(121, 81, 0.01, 0.3, 21, 0.6, (30, 40));
+    let steps = vec![
+        ("border", Algorithm::DistanceToBorder { perpendicular: df(0.01, 0.2, 0.4, 1.0), parallel: df(0.1, 0.3, 0.4, 1.0), borders: m.curves(&[11, 14]) }),
+        ("small point", Algorithm::DistanceToPoint { function: df(0.005, 0.05, 0.04, 1.0), sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } }),
+        ("gap", Algorithm::DistanceBetweenTwoBorders { perpendicular: df(0.02, 0.2, 0.5, 1.0), parallel: df(0.05, 0.4, 0.5, 1.0), first: m.curves(&[11]), second: m.curves(&[14]) }),
+        ("uniform", Algorithm::Uniform { size: 0.08, on: EntitySet { faces: vec![m.face(2)], ..EntitySet::default() } }),
+    ];
+    let mut p = plan(None, steps);
+    p.h_min = Some(0.012);
+    p.max_aspect_ratio = Some(6.0);
+    let twin = || {
+        let n = m.coords.len();
+        let (mut tensors, mut reached) = (vec![SizeTensor::isotropic(1.0); n], vec![false; n]);
+        let mut counts = Vec::new();
+        for (i, s) in p.steps.iter().enumerate() {
+            let c = run_algorithm(&m.graph, &m.topo, &s.algorithm, i, &s.label).unwrap();
+            for (&v, t) in c.vertices.iter().zip(&c.tensors) {
+                let v = v as usize;
+                tensors[v] = if reached[v] { tensors[v].intersection(t) } else { *t };
+                reached[v] = true;
+            }
+            counts.push((c.len(), c.seeds));
+        }
+        let diagonal = (1.2f64).hypot(0.8);
+        let bounds = SizeBounds::try_new(0.012, SizeTensor::MAX_SIZE, 6.0).unwrap();
+        for (t, r) in tensors.iter_mut().zip(&reached) {
+            let t0 = if *r { *t } else { SizeTensor::isotropic(diagonal) };
+            *t = t0.clamp(&bounds);
+        }
+        (tensors, reached, counts)
+    };
+    let bits = |ts: &[SizeTensor]| ts.iter().flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits)).collect::<Vec<u64>>();
+    let (want, want_reached, counts) = twin();
+    let n = m.coords.len();
+    assert!(counts[0].0 * 8 >= n && counts[2].0 * 8 >= n && counts[1].0 * 8 < n, "steps merged in vertex order and one as a list: {counts:?}");
+    assert!(counts[2].0 < m.graph.num_vertices() / 2, "the gap skips vertices within its reach: {counts:?}");
+    assert!(want_reached.iter().any(|r| !r), "some vertex keeps the default size");
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let f = pool.install(|| run(&m, &p));
+        assert_eq!(bits(&f.tensors), bits(&want), "{threads} threads");
+        assert_eq!(f.reached, want_reached);
+        assert_eq!(f.steps.iter().map(|s| (s.vertices_reached, s.seeds)).collect::<Vec<_>>(), counts);
+    }
 }
 
 #[test]

@@ -21,7 +21,8 @@
 
 use crate::mesh_graph::MeshGraph;
 use crate::metric::{SizeBounds, SizeTensor};
-use crate::sizing::algorithms::{self, Contribution, Failure};
+use crate::sizing::algorithms::{self, merge_in_vertex_order, Collect, Contribution, Failure, Sink};
+use crate::sizing::propagation::{ClosestPoint, Reach};
 use crate::sizing::gradation::{apply_gradation, GradationReport};
 use crate::sizing::plan::{Algorithm, SizingPlan};
 use crate::topology::Topology;
@@ -194,7 +195,51 @@ impl Failure {
 /// The tensors one algorithm asks for on `graph`, before any combination: the vertices
 /// it reaches, each with its tensor (`step` and `label` only name it in errors).
 pub fn run_algorithm(graph: &MeshGraph, topology: &Topology, algorithm: &Algorithm, step: usize, label: &str) -> Result<Contribution, SizingError> {
-    algorithms::run(graph, topology, algorithm).map_err(|f| f.at(step, label))
+    algorithms::run(graph, topology, algorithm, Collect).map_err(|f| f.at(step, label))
+}
+
+/// The driver's sink: each step's tensors are intersected into the field as they come
+/// (the first tensor a vertex gets is taken as it is), never kept as a list when the
+/// step reaches a large share of the mesh.
+struct IntoField<'f> {
+    tensors: &'f mut [SizeTensor],
+    reached: &'f mut [bool],
+}
+
+/// What one step merged into the field.
+struct Merged {
+    vertices: usize,
+    seeds: usize,
+}
+
+/// A reach of at least `1 / DENSE_SHARE` of the mesh is merged in vertex order (one pass
+/// over every vertex, no list of tensors); a smaller one as a list, so that a step costs
+/// what it reaches, not what the mesh has.
+const DENSE_SHARE: usize = 8;
+
+impl Sink for IntoField<'_> {
+    type Output = Merged;
+
+    fn take_reach<F>(self, reach: Reach<'_>, f: F) -> Result<Merged, Failure>
+    where
+        F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
+    {
+        if reach.len() < self.tensors.len() / DENSE_SHARE {
+            return self.take_list(Collect.take_reach(reach, f)?);
+        }
+        let seeds = reach.report().seeds;
+        let vertices = merge_in_vertex_order(&reach, f, self.tensors, self.reached)?;
+        Ok(Merged { vertices, seeds })
+    }
+
+    fn take_list(self, c: Contribution) -> Result<Merged, Failure> {
+        for (&v, t) in c.vertices.iter().zip(&c.tensors) {
+            let v = v as usize;
+            self.tensors[v] = if self.reached[v] { self.tensors[v].intersection(t) } else { *t };
+            self.reached[v] = true;
+        }
+        Ok(Merged { vertices: c.len(), seeds: c.seeds })
+    }
 }
 
 /// The global bounds of `plan`, if it gives any.
@@ -227,17 +272,13 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
     let mut warnings = Vec::new();
     for (index, step) in plan.steps.iter().enumerate() {
         observer(StepEvent::Started { index, label: step.label.clone(), of: plan.steps.len() });
-        let c = run_algorithm(graph, topology, &step.algorithm, index, &step.label)?;
-        for (&v, t) in c.vertices.iter().zip(&c.tensors) {
-            let v = v as usize;
-            tensors[v] = if reached[v] { tensors[v].intersection(t) } else { *t };
-            reached[v] = true;
-        }
-        if c.is_empty() {
+        let sink = IntoField { tensors: &mut tensors, reached: &mut reached };
+        let c = algorithms::run(graph, topology, &step.algorithm, sink).map_err(|f| f.at(index, &step.label))?;
+        if c.vertices == 0 {
             warnings.push(format!("step {index} ({}): reached no vertex", step.label));
         }
-        observer(StepEvent::Finished { index, reached: c.len() });
-        steps.push(StepReport { label: step.label.clone(), algorithm: step.algorithm.keyword(), vertices_reached: c.len(), seeds: c.seeds });
+        observer(StepEvent::Finished { index, reached: c.vertices });
+        steps.push(StepReport { label: step.label.clone(), algorithm: step.algorithm.keyword(), vertices_reached: c.vertices, seeds: c.seeds });
     }
 
     let unreached = reached.iter().filter(|r| !**r).count();
@@ -255,11 +296,13 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
         }
     };
     let default = SizeTensor::try_new([1.0, 0.0], default_size, default_size).ok_or(SizingError::NoDefaultSize(default_size))?;
-    for (t, _) in tensors.iter_mut().zip(&reached).filter(|(_, r)| !**r) {
-        *t = default;
-    }
-    if let Some(b) = &bounds {
-        tensors.iter_mut().for_each(|t| *t = t.clamp(b));
+    // The default size and the clamp in one pass over the field.
+    match &bounds {
+        Some(b) => {
+            let default = default.clamp(b);
+            tensors.iter_mut().zip(&reached).for_each(|(t, &r)| *t = if r { t.clamp(b) } else { default });
+        }
+        None => tensors.iter_mut().zip(&reached).filter(|(_, r)| !**r).for_each(|(t, _)| *t = default),
     }
     let gradation = plan.gradation.map(|g| {
         let report = apply_gradation(graph, &mut tensors, g);

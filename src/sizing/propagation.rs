@@ -745,6 +745,12 @@ impl<'a> Reach<'a> {
         (0..self.len()).map(|i| (self.vertices[i] as usize, self.closest(i)))
     }
 
+    /// The position of each mesh vertex in [`Reach::vertices`], `u32::MAX` for the
+    /// vertices not reached: a lookup by vertex, for a pass in vertex order.
+    pub(crate) fn positions(&self) -> &[u32] {
+        &self.slot
+    }
+
     /// What the propagation did.
     pub fn report(&self) -> &PropagationReport {
         &self.report

@@ -33,7 +33,7 @@
 //! Border points (topological points) have no curvature and are refused as sources.
 //! Reach: the larger maximum distance of the perpendicular and projection functions.
 
-use super::{assemble, border_source, direction, normal_at, on_source, reach_of, tangent_at, tensor, Contribution, Failure, Junctions};
+use super::{border_source, direction, normal_at, on_source, reach_of, tangent_at, tensor, Failure, Junctions, Sink};
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
@@ -126,7 +126,8 @@ impl SegmentCurvatures {
     }
 }
 
-pub(crate) fn run(
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run<S: Sink>(
     graph: &MeshGraph,
     topology: &Topology,
     perpendicular: &DistanceFunction,
@@ -134,12 +135,13 @@ pub(crate) fn run(
     projection: &SizeProjectionFunction,
     borders: &EntitySet,
     options: &PropagationOptions,
-) -> Result<Contribution, Failure> {
+    sink: S,
+) -> Result<S::Output, Failure> {
     let source = border_source(graph, topology, borders, false)?;
     let junctions = Junctions::new(&source);
     let curv = SegmentCurvatures::new(&source);
     let reach = propagate(graph, &source, reach_of(&[perpendicular.max_distance(), projection.max_distance()]), options);
-    assemble(reach, |v, c| border_tensor(&source, &junctions, &curv, perpendicular, curvature, projection, graph.point(v), v, c).map(Some))
+    sink.take_reach(reach, |v, c| border_tensor(&source, &junctions, &curv, perpendicular, curvature, projection, graph.point(v), v, c).map(Some))
 }
 
 /// The tensor of a vertex `p` from its closest point `c` on the border.

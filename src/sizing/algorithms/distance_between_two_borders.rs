@@ -22,7 +22,7 @@
 //!
 //! Reach R: the larger of the two functions' maximum distances (module [`super`]).
 
-use super::{assemble, border_source, normal_at, on_source, reach_of, tensor, unit, Contribution, Failure, Junctions};
+use super::{border_source, normal_at, on_source, reach_of, tensor, unit, Failure, Junctions, Sink};
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::DistanceFunction;
@@ -30,7 +30,8 @@ use crate::sizing::plan::EntitySet;
 use crate::sizing::propagation::{propagate, ClosestPoint, PropagationOptions, Source};
 use crate::topology::Topology;
 
-pub(crate) fn run(
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run<S: Sink>(
     graph: &MeshGraph,
     topology: &Topology,
     perpendicular: &DistanceFunction,
@@ -38,14 +39,15 @@ pub(crate) fn run(
     first: &EntitySet,
     second: &EntitySet,
     options: &PropagationOptions,
-) -> Result<Contribution, Failure> {
+    sink: S,
+) -> Result<S::Output, Failure> {
     let s1 = border_source(graph, topology, first, true)?;
     let s2 = border_source(graph, topology, second, true)?;
     let (j1, j2) = (Junctions::new(&s1), Junctions::new(&s2));
     let r = reach_of(&[perpendicular.max_distance(), parallel.max_distance()]);
     let reach1 = propagate(graph, &s1, r, options);
     let reach2 = propagate(graph, &s2, r, options);
-    assemble(reach1, |v, c1| {
+    sink.take_reach(reach1, |v, c1| {
         let Some(c2) = reach2.get(v) else { return Ok(None) };
         let thickness = c1.distance + c2.distance;
         // NaN distances (non-finite coordinates) fail this test too.

@@ -14,25 +14,26 @@
 //! Reach: the larger of the two functions' maximum distances (see the module
 //! [`super`]).
 
-use super::{assemble, border_source, normal_at, reach_of, tensor, Contribution, Failure, Junctions};
+use super::{border_source, normal_at, reach_of, tensor, Failure, Junctions, Sink};
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::DistanceFunction;
 use crate::sizing::plan::EntitySet;
 use crate::sizing::propagation::{propagate, PropagationOptions};
 use crate::topology::Topology;
 
-pub(crate) fn run(
+pub(crate) fn run<S: Sink>(
     graph: &MeshGraph,
     topology: &Topology,
     perpendicular: &DistanceFunction,
     parallel: &DistanceFunction,
     borders: &EntitySet,
     options: &PropagationOptions,
-) -> Result<Contribution, Failure> {
+    sink: S,
+) -> Result<S::Output, Failure> {
     let source = border_source(graph, topology, borders, true)?;
     let junctions = Junctions::new(&source);
     let reach = propagate(graph, &source, reach_of(&[perpendicular.max_distance(), parallel.max_distance()]), options);
-    assemble(reach, |v, c| {
+    sink.take_reach(reach, |v, c| {
         let n = normal_at(&source, &junctions, graph.point(v), c);
         tensor(v, n, perpendicular.eval(c.distance), parallel.eval(c.distance)).map(Some)
     })

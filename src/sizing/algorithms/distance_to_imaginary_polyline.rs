@@ -22,7 +22,7 @@
 //! Reach: the larger maximum distance of the perpendicular and projection functions
 //! (the abscissa function's maximum distance is along the polyline, not away from it).
 
-use super::{assemble, normal_at, reach_of, tensor, Contribution, Failure, Junctions};
+use super::{normal_at, reach_of, tensor, Failure, Junctions, Sink};
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::{DistanceFunction, SizeProjectionFunction};
@@ -31,7 +31,7 @@ use crate::sizing::propagation::{propagate, PropagationOptions, SourceBuilder};
 use crate::topology::Topology;
 
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn run(
+pub(crate) fn run<S: Sink>(
     graph: &MeshGraph,
     topology: &Topology,
     perpendicular: &DistanceFunction,
@@ -40,7 +40,8 @@ pub(crate) fn run(
     polyline: &[Point2],
     within: &EntitySet,
     options: &PropagationOptions,
-) -> Result<Contribution, Failure> {
+    sink: S,
+) -> Result<S::Output, Failure> {
     if polyline.is_empty() {
         return Err(Failure::EmptyPolyline);
     }
@@ -54,7 +55,7 @@ pub(crate) fn run(
     let source = SourceBuilder::new(graph).polyline(polyline, false).build()?;
     let junctions = Junctions::new(&source);
     let reach = propagate(graph, &source, reach_of(&[perpendicular.max_distance(), projection.max_distance()]), options);
-    assemble(reach, |v, c| {
+    sink.take_reach(reach, |v, c| {
         if !mask[v] {
             return Ok(None);
         }

@@ -8,7 +8,7 @@
 //! as in the other algorithms, rather than one run per point intersected (which differs
 //! only for functions that shrink away from the source, thesis 7.4.3).
 
-use super::{assemble, check_entities, Contribution, Failure};
+use super::{check_entities, Failure, Sink};
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::DistanceFunction;
@@ -16,13 +16,14 @@ use crate::sizing::plan::EntitySet;
 use crate::sizing::propagation::{propagate, PropagationOptions, SourceBuilder};
 use crate::topology::Topology;
 
-pub(crate) fn run(
+pub(crate) fn run<S: Sink>(
     graph: &MeshGraph,
     topology: &Topology,
     function: &DistanceFunction,
     sources: &EntitySet,
     options: &PropagationOptions,
-) -> Result<Contribution, Failure> {
+    sink: S,
+) -> Result<S::Output, Failure> {
     check_entities(topology, sources)?;
     if let Some(&index) = sources.faces.first() {
         return Err(Failure::UnsupportedEntity { what: "face", index });
@@ -43,7 +44,7 @@ pub(crate) fn run(
         return Err(Failure::NoSource);
     }
     let reach = propagate(graph, &source, function.max_distance(), options);
-    assemble(reach, |v, c| {
+    sink.take_reach(reach, |v, c| {
         let h = function.eval(c.distance);
         SizeTensor::try_new([1.0, 0.0], h, h).map(Some).ok_or(Failure::Degenerate { vertex: v })
     })

@@ -99,25 +99,63 @@ impl From<SourceError> for Failure {
     }
 }
 
-/// Runs one algorithm of a plan on a mesh (thesis 4.3.6–4.3.7), without touching any
-/// field: the caller decides how to combine its tensors.
-pub(crate) fn run(graph: &MeshGraph, topology: &Topology, algorithm: &Algorithm) -> Result<Contribution, Failure> {
+/// Runs one algorithm of a plan on a mesh (thesis 4.3.6–4.3.7), handing its tensors to
+/// `sink`: collected into a [`Contribution`] ([`Collect`]), or intersected straight into
+/// a field (the driver's sink).
+pub(crate) fn run<S: Sink>(graph: &MeshGraph, topology: &Topology, algorithm: &Algorithm, sink: S) -> Result<S::Output, Failure> {
     let options = PropagationOptions::new();
     match algorithm {
-        Algorithm::Uniform { size, on } => uniform::run(graph, topology, *size, on),
-        Algorithm::DistanceToPoint { function, sources } => distance_to_point::run(graph, topology, function, sources, &options),
+        Algorithm::Uniform { size, on } => uniform::run(graph, topology, *size, on, sink),
+        Algorithm::DistanceToPoint { function, sources } => distance_to_point::run(graph, topology, function, sources, &options, sink),
         Algorithm::DistanceToBorder { perpendicular, parallel, borders } => {
-            distance_to_border::run(graph, topology, perpendicular, parallel, borders, &options)
+            distance_to_border::run(graph, topology, perpendicular, parallel, borders, &options, sink)
         }
         Algorithm::CurvatureOfBorder { perpendicular, curvature, projection, borders } => {
-            curvature_of_border::run(graph, topology, perpendicular, curvature, projection, borders, &options)
+            curvature_of_border::run(graph, topology, perpendicular, curvature, projection, borders, &options, sink)
         }
         Algorithm::DistanceBetweenTwoBorders { perpendicular, parallel, first, second } => {
-            distance_between_two_borders::run(graph, topology, perpendicular, parallel, first, second, &options)
+            distance_between_two_borders::run(graph, topology, perpendicular, parallel, first, second, &options, sink)
         }
         Algorithm::DistanceToImaginaryPolyline { perpendicular, polyline_distance, projection, polyline, within } => {
-            distance_to_imaginary_polyline::run(graph, topology, perpendicular, polyline_distance, projection, polyline, within, &options)
+            distance_to_imaginary_polyline::run(graph, topology, perpendicular, polyline_distance, projection, polyline, within, &options, sink)
         }
+    }
+}
+
+/// Where an algorithm's tensors go. An algorithm computes one tensor per vertex that it
+/// reaches, from the vertex's closest point ([`Sink::take_reach`]), or one tensor on a
+/// list of vertices (UNIFORM, [`Sink::take_list`]); the sink decides whether they are
+/// kept as a [`Contribution`] or merged into a field at once.
+pub(crate) trait Sink {
+    /// What the algorithm returns.
+    type Output;
+
+    /// The tensors `f` gives the vertices of `reach` (`Ok(None)`: the vertex is left
+    /// out). When `f` fails on some vertices, the error of the first of them in the
+    /// reach's order is returned, whatever the thread count.
+    fn take_reach<F>(self, reach: Reach<'_>, f: F) -> Result<Self::Output, Failure>
+    where
+        F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync;
+
+    /// The tensors of a list of distinct vertices.
+    fn take_list(self, contribution: Contribution) -> Result<Self::Output, Failure>;
+}
+
+/// The sink that keeps an algorithm's tensors as a [`Contribution`].
+pub(crate) struct Collect;
+
+impl Sink for Collect {
+    type Output = Contribution;
+
+    fn take_reach<F>(self, reach: Reach<'_>, f: F) -> Result<Contribution, Failure>
+    where
+        F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
+    {
+        assemble(reach, f)
+    }
+
+    fn take_list(self, contribution: Contribution) -> Result<Contribution, Failure> {
+        Ok(contribution)
     }
 }
 
@@ -222,6 +260,54 @@ where
         tensors.truncate(k);
     }
     Ok(Contribution { vertices, tensors, seeds })
+}
+
+/// Merges the tensors `f` gives the vertices of `reach` straight into a field, in vertex
+/// order: each is intersected into the vertex's tensor, or taken as it is where the
+/// vertex has none yet (`reached`). Returns how many were merged. The same merge as
+/// [`assemble`] followed by one per vertex, without the list of tensors in between:
+/// for a reach of 10^6 vertices, 32 MB of fresh memory and a pass over it less. Every
+/// mesh vertex is looked up, so this pays where the reach covers much of the mesh.
+/// Errors as [`assemble`]'s: the first in the reach's order; the field is then partly
+/// merged and the caller discards it.
+pub(crate) fn merge_in_vertex_order<F>(reach: &Reach<'_>, f: F, tensors: &mut [SizeTensor], reached: &mut [bool]) -> Result<usize, Failure>
+where
+    F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
+{
+    let positions = reach.positions();
+    // For each vertex: the reach position of an error, and whether it merged a tensor.
+    let one = |v: usize, slot: &mut SizeTensor, has: &mut bool| -> (usize, usize) {
+        let i = positions[v];
+        if i == u32::MAX {
+            return (usize::MAX, 0);
+        }
+        match f(v, &reach.closest(i as usize)) {
+            Ok(Some(t)) => {
+                *slot = if *has { slot.intersection(&t) } else { t };
+                *has = true;
+                (usize::MAX, 1)
+            }
+            Ok(None) => (usize::MAX, 0),
+            Err(_) => (i as usize, 0),
+        }
+    };
+    let combine = |a: (usize, usize), b: (usize, usize)| (a.0.min(b.0), a.1 + b.1);
+    let (first_error, merged) = if tensors.len() >= PARALLEL_MIN {
+        tensors
+            .par_iter_mut()
+            .zip(reached.par_iter_mut())
+            .enumerate()
+            .with_min_len(1024)
+            .map(|(v, (slot, has))| one(v, slot, has))
+            .reduce(|| (usize::MAX, 0), combine)
+    } else {
+        tensors.iter_mut().zip(reached.iter_mut()).enumerate().map(|(v, (slot, has))| one(v, slot, has)).fold((usize::MAX, 0), combine)
+    };
+    if first_error != usize::MAX {
+        let v = reach.vertices()[first_error] as usize;
+        return Err(f(v, &reach.closest(first_error)).err().unwrap_or(Failure::Degenerate { vertex: v }));
+    }
+    Ok(merged)
 }
 
 /// A tensor with `h_normal` along `normal` and `h_tangent` across it; with no normal (a

@@ -3,7 +3,7 @@
 //! bounding curves and points too), a curve's polyline vertices, a point's vertex. No
 //! propagation. Vertices are listed once, in increasing index order.
 
-use super::{check_entities, Contribution, Failure};
+use super::{check_entities, Contribution, Failure, Sink};
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::plan::EntitySet;
@@ -44,12 +44,12 @@ pub(crate) fn entity_vertices(graph: &MeshGraph, topology: &Topology, on: &Entit
     Ok((0..n as u32).filter(|&v| mark[v as usize]).collect())
 }
 
-pub(crate) fn run(graph: &MeshGraph, topology: &Topology, size: f64, on: &EntitySet) -> Result<Contribution, Failure> {
+pub(crate) fn run<S: Sink>(graph: &MeshGraph, topology: &Topology, size: f64, on: &EntitySet, sink: S) -> Result<S::Output, Failure> {
     if !(SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&size) {
         return Err(Failure::InvalidSize { size });
     }
     let vertices = entity_vertices(graph, topology, on)?;
     let t = SizeTensor::isotropic(size);
     let tensors = vec![t; vertices.len()];
-    Ok(Contribution { vertices, tensors, seeds: 0 })
+    sink.take_list(Contribution { vertices, tensors, seeds: 0 })
 }
