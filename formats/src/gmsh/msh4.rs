@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use super::{cell_kind, le_f64, le_i32, le_size, write_mesh_format, write_physical_names, write_views, RawBlock, Reader};
 use crate::text::{push_f64, push_int};
-use crate::{CellKind, Error, ErrorKind, Position, Result, TaggedMesh, WriteReport};
+use crate::{CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport};
 
 // ---------------------------------------------------------------------------------
 // Reading
@@ -402,26 +402,45 @@ fn kind_index(k: CellKind) -> usize {
     CellKind::ALL.iter().position(|&x| x == k).unwrap_or(0)
 }
 
+/// Consecutive cells of one mesh block with the same physical and geometrical tag:
+/// `len` cells from `start` in block `block`.
+#[derive(Clone, Copy)]
+struct Run {
+    block: u32,
+    start: u32,
+    len: u32,
+}
+
 /// Where every cell and node goes: entities, element blocks, node blocks.
 struct Plan {
     ents: Vec<Ent>,
-    /// Element blocks `(entity, kind)` with their cells as `(block, index)`.
+    /// Element blocks `(entity, kind)` with their cells as runs (a range of `runs`),
+    /// in mesh order within each.
     groups: Vec<(u32, CellKind, std::ops::Range<usize>)>,
-    cells: Vec<(u32, u32)>,
+    runs: Vec<Run>,
     /// Node blocks `(entity, nodes)`.
     node_groups: Vec<(u32, std::ops::Range<usize>)>,
     nodes: Vec<u32>,
 }
 
 fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
-    // 1. The (dimension, geometrical tag, physical tag) of every cell.
+    // 1. The (dimension, geometrical tag, physical tag) of every cell, by runs of
+    //    consecutive cells that share them (a mesh's cells are mostly grouped so).
     let mut combos: BTreeMap<(u8, i32, i32), u32> = BTreeMap::new();
     let mut first_phys: BTreeMap<(u8, i32), i32> = BTreeMap::new();
-    let mut cell_combo: Vec<u32> = Vec::with_capacity(mesh.num_cells());
+    // `(run, combination)` in mesh order.
+    let mut cell_runs: Vec<(Run, u32)> = Vec::new();
     let mut last: Option<((u8, i32, i32), u32)> = None;
-    for b in &mesh.blocks {
+    for (bi, b) in mesh.blocks.iter().enumerate() {
         let dim = b.kind.dim();
-        for (&p, &g) in b.physical.iter().zip(&b.geometrical) {
+        let (phys, geom) = (&b.physical[..], &b.geometrical[..b.physical.len()]);
+        let mut i = 0;
+        while i < phys.len() {
+            let (p, g) = (phys[i], geom[i]);
+            let mut j = i + 1;
+            while j < phys.len() && phys[j] == p && geom[j] == g {
+                j += 1;
+            }
             let key = (dim, g, p);
             let id = match last {
                 Some((k, id)) if k == key => id,
@@ -433,7 +452,8 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
                     id
                 }
             };
-            cell_combo.push(id);
+            cell_runs.push((Run { block: bi as u32, start: i as u32, len: (j - i) as u32 }, id));
+            i = j;
         }
     }
 
@@ -539,38 +559,27 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
         ents.into_iter().map(|((dim, tag), phys)| Ent { dim, tag, phys, lo: [0.0; 3], hi: [0.0; 3], has_box: false, point: None }).collect();
     let combo_idx: Vec<u32> = combo_ent.iter().map(|k| index[k]).collect();
 
-    // 5. Element blocks by (entity, kind): a counting sort of the cells.
+    // 5. Element blocks by (entity, kind): a counting sort of the runs (stable, so the
+    //    cells of a block keep the mesh's order).
     let nk = CellKind::ALL.len();
     let mut counts = vec![0usize; ents.len() * nk + 1];
-    let mut keys: Vec<u32> = Vec::with_capacity(cell_combo.len());
-    {
-        let mut c = 0;
-        for b in &mesh.blocks {
-            let ki = kind_index(b.kind);
-            for _ in 0..b.len() {
-                let key = combo_idx[cell_combo[c] as usize] as usize * nk + ki;
-                counts[key + 1] += 1;
-                keys.push(key as u32);
-                c += 1;
-            }
-        }
+    let run_key = |&(run, id): &(Run, u32)| combo_idx[id as usize] as usize * nk + kind_index(mesh.blocks[run.block as usize].kind);
+    for cr in &cell_runs {
+        counts[run_key(cr) + 1] += 1;
     }
     for i in 1..counts.len() {
         counts[i] += counts[i - 1];
     }
-    let mut cells = vec![(0u32, 0u32); keys.len()];
+    let mut runs = vec![Run { block: 0, start: 0, len: 0 }; cell_runs.len()];
     {
         let mut fill = counts.clone();
-        let mut c = 0;
-        for (bi, b) in mesh.blocks.iter().enumerate() {
-            for i in 0..b.len() {
-                let key = keys[c] as usize;
-                cells[fill[key]] = (bi as u32, i as u32);
-                fill[key] += 1;
-                c += 1;
-            }
+        for cr in &cell_runs {
+            let key = run_key(cr);
+            runs[fill[key]] = cr.0;
+            fill[key] += 1;
         }
     }
+    drop(cell_runs);
     let mut groups = Vec::new();
     for key in 0..ents.len() * nk {
         if counts[key + 1] > counts[key] {
@@ -582,8 +591,11 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
     let mut node_ent = vec![UNSET; mesh.points.len()];
     for (e, kind, range) in &groups {
         let ent = &mut ents[*e as usize];
-        for &(bi, i) in &cells[range.clone()] {
-            for &v in mesh.blocks[bi as usize].cell(i as usize) {
+        for run in &runs[range.clone()] {
+            let b = &mesh.blocks[run.block as usize];
+            let k = b.kind.nodes_per_cell();
+            let (s, n) = (run.start as usize, run.len as usize);
+            for &v in &b.nodes[s * k..(s + n) * k] {
                 let v = v as usize;
                 // A node first met in this entity has grown its box already: a triangle
                 // mesh shares each node among about six cells, so most grows are skipped.
@@ -628,7 +640,7 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
         fill[e as usize] += 1;
     }
     let node_groups = (0..ents.len()).filter(|&e| ncounts[e + 1] > ncounts[e]).map(|e| (e as u32, ncounts[e]..ncounts[e + 1])).collect();
-    Ok(Plan { ents, groups, cells, node_groups, nodes })
+    Ok(Plan { ents, groups, runs, node_groups, nodes })
 }
 
 /// Appends a `size_t` (8 bytes: the files say so in `$MeshFormat`).
@@ -749,9 +761,12 @@ fn write_nodes(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: bool) 
                 push_size(out, v as usize + 1);
             }
             for &v in nodes {
-                for c in mesh.points[v as usize] {
-                    out.extend_from_slice(&c.to_le_bytes());
+                // One fixed-size record per point (one capacity check, not three).
+                let mut rec = [0u8; 24];
+                for (j, c) in mesh.points[v as usize].iter().enumerate() {
+                    rec[8 * j..8 * j + 8].copy_from_slice(&c.to_le_bytes());
                 }
+                out.extend_from_slice(&rec);
             }
         } else {
             for &v in nodes {
@@ -789,30 +804,30 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
         .collect();
     for (e, kind, range) in &plan.groups {
         let ent = &plan.ents[*e as usize];
-        write_block_header(out, ent.dim, ent.tag, kind.gmsh_type(), range.len(), binary);
-        let group = &plan.cells[range.clone()];
-        if binary {
-            match kind.nodes_per_cell() {
-                1 => element_records::<1>(out, mesh, group, &offsets),
-                2 => element_records::<2>(out, mesh, group, &offsets),
-                3 => element_records::<3>(out, mesh, group, &offsets),
-                4 => element_records::<4>(out, mesh, group, &offsets),
-                6 => element_records::<6>(out, mesh, group, &offsets),
-                8 => element_records::<8>(out, mesh, group, &offsets),
-                _ => element_records::<9>(out, mesh, group, &offsets),
-            }
-            continue;
-        }
-        for &(bi, i) in group {
-            let tag = offsets[bi as usize] + i as usize + 1;
-            let cell = mesh.blocks[bi as usize].cell(i as usize);
+        let runs = &plan.runs[range.clone()];
+        let n: usize = runs.iter().map(|r| r.len as usize).sum();
+        write_block_header(out, ent.dim, ent.tag, kind.gmsh_type(), n, binary);
+        for run in runs {
+            let b = &mesh.blocks[run.block as usize];
+            let k = b.kind.nodes_per_cell();
+            let (s, len) = (run.start as usize, run.len as usize);
+            // Element tags: the cell's index in the mesh + 1, consecutive along a run.
+            let first = offsets[run.block as usize] + s + 1;
+            let nodes = &b.nodes[s * k..(s + len) * k];
             if binary {
-                push_size(out, tag);
-                for &v in cell {
-                    push_size(out, v as usize + 1);
+                match k {
+                    1 => element_records::<1>(out, first, nodes),
+                    2 => element_records::<2>(out, first, nodes),
+                    3 => element_records::<3>(out, first, nodes),
+                    4 => element_records::<4>(out, first, nodes),
+                    6 => element_records::<6>(out, first, nodes),
+                    8 => element_records::<8>(out, first, nodes),
+                    _ => element_records::<9>(out, first, nodes),
                 }
-            } else {
-                push_int(out, tag);
+                continue;
+            }
+            for (j, cell) in nodes.chunks_exact(k).enumerate() {
+                push_int(out, first + j);
                 for &v in cell {
                     out.push(b' ');
                     push_int(out, v + 1);
@@ -827,17 +842,16 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
     out.extend_from_slice(b"$EndElements\n");
 }
 
-/// The binary records of a block of `K`-node elements: the element tag and the node
-/// tags, 8 bytes each, assembled on the stack and appended whole (one capacity check per
-/// element rather than per number; `K` known, so the copy is of a fixed size).
-fn element_records<const K: usize>(out: &mut Vec<u8>, mesh: &TaggedMesh, cells: &[(u32, u32)], offsets: &[usize]) {
+/// The binary records of a run of `K`-node elements numbered from `first`: the element
+/// tag and the node tags, 8 bytes each, assembled on the stack and appended whole (one
+/// capacity check per element rather than per number; `K` known, so the copy is of a
+/// fixed size).
+fn element_records<const K: usize>(out: &mut Vec<u8>, first: usize, nodes: &[NodeIndex]) {
     let mut rec = [0u8; 80];
-    for &(bi, i) in cells {
-        let tag = offsets[bi as usize] + i as usize + 1;
-        let cell = mesh.blocks[bi as usize].cell(i as usize);
-        rec[..8].copy_from_slice(&(tag as u64).to_le_bytes());
-        for (j, &v) in cell[..K].iter().enumerate() {
-            rec[8 + 8 * j..16 + 8 * j].copy_from_slice(&(v as u64 + 1).to_le_bytes());
+    for (j, cell) in nodes.chunks_exact(K).enumerate() {
+        rec[..8].copy_from_slice(&((first + j) as u64).to_le_bytes());
+        for (i, &v) in cell.iter().enumerate() {
+            rec[8 + 8 * i..16 + 8 * i].copy_from_slice(&(v as u64 + 1).to_le_bytes());
         }
         out.extend_from_slice(&rec[..8 * (K + 1)]);
     }
