@@ -121,7 +121,8 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
     }
     match format {
         Format::Triangle => crate::triangle::write(mesh, opts),
-        Format::Gmsh => crate::gmsh::write(mesh, opts),
+        // Validated above, with the error `gmsh::write` would give.
+        Format::Gmsh => crate::gmsh::write_validated(mesh, opts),
         Format::VtkLegacy => crate::vtk::write_legacy(mesh, opts),
         Format::Vtu => crate::vtk::write_vtu(mesh, opts),
         Format::Obj => crate::obj::write(mesh, opts),

@@ -129,10 +129,16 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
 
 /// Writes MSH 4.1 or 2.2 (per `opts.gmsh_version`), ASCII or binary (`opts.binary`).
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
-    let mut report = WriteReport::default();
     if let Some(p) = mesh.validate().into_iter().next() {
         return Err(Error::new(ErrorKind::CannotWrite { format: "Gmsh MSH", reason: p.to_string() }));
     }
+    write_validated(mesh, opts)
+}
+
+/// [`write`] of a mesh that [`TaggedMesh::validate`] found without problems (as
+/// `write_bytes` checks first, with the same error): not checked again.
+pub(crate) fn write_validated(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    let mut report = WriteReport::default();
     // Tags in MSH binary data sections and 2.2 elements are C ints.
     let n_cells = mesh.num_cells();
     if mesh.points.len() >= i32::MAX as usize || n_cells >= (i32::MAX / 2) as usize {
@@ -1404,30 +1410,54 @@ pub(super) fn write_physical_names(out: &mut Vec<u8>, mesh: &TaggedMesh, report:
 /// `$ElementData` (element tag `cell_tag(i)`).
 pub(super) fn write_views(out: &mut Vec<u8>, mesh: &TaggedMesh, binary: bool, cell_tag: &dyn Fn(usize) -> u64, report: &mut WriteReport) {
     for (name, a) in &mesh.point_data {
-        write_view(out, "NodeData", "point data", name, a, binary, &|i| i as u64 + 1, report);
+        write_view(out, "NodeData", "point data", name, a, binary, |i| i as u64 + 1, report);
     }
     for (name, a) in &mesh.cell_data {
         write_view(out, "ElementData", "cell data", name, a, binary, cell_tag, report);
     }
 }
 
-/// The binary entries of a view whose items all have `N` finite values: the 4-byte tag
-/// and the values as one record of known size (one capacity check per item); `true`
-/// once written.
-fn view_records<const N: usize>(out: &mut Vec<u8>, a: &DataArray, tag: &dyn Fn(usize) -> u64) -> bool {
+/// The binary entries of a view of `N` values per item: the 4-byte tag and the values
+/// as one record of known size (one capacity check per item). Every item is written;
+/// `true` when every value was finite.
+fn view_records<const N: usize>(out: &mut Vec<u8>, a: &DataArray, tag: impl Fn(usize) -> u64) -> bool {
     let mut rec = [0u8; 76];
+    let mut finite = true;
     for (i, v) in a.values.chunks_exact(N).enumerate() {
         rec[..4].copy_from_slice(&(tag(i) as i32).to_le_bytes());
         for (j, x) in v.iter().enumerate() {
+            finite &= x.is_finite();
             rec[4 + 8 * j..12 + 8 * j].copy_from_slice(&x.to_le_bytes());
         }
         out.extend_from_slice(&rec[..4 + 8 * N]);
     }
-    true
+    finite
+}
+
+/// A view's section header, up to its number of entries `n`.
+fn view_header(out: &mut Vec<u8>, section: &str, quoted: &str, k: usize, n: usize) {
+    out.extend_from_slice(b"$");
+    out.extend_from_slice(section.as_bytes());
+    out.extend_from_slice(b"\n1\n\"");
+    out.extend_from_slice(quoted.as_bytes());
+    out.extend_from_slice(b"\"\n1\n0\n3\n0\n");
+    text::push_int(out, k);
+    out.push(b'\n');
+    text::push_int(out, n);
+    out.push(b'\n');
+}
+
+fn view_end(out: &mut Vec<u8>, section: &str, binary: bool) {
+    if binary {
+        out.push(b'\n');
+    }
+    out.extend_from_slice(b"$End");
+    out.extend_from_slice(section.as_bytes());
+    out.push(b'\n');
 }
 
 #[allow(clippy::too_many_arguments)]
-fn write_view(out: &mut Vec<u8>, section: &str, what: &str, name: &str, a: &DataArray, binary: bool, tag: &dyn Fn(usize) -> u64, report: &mut WriteReport) {
+fn write_view(out: &mut Vec<u8>, section: &str, what: &str, name: &str, a: &DataArray, binary: bool, tag: impl Fn(usize) -> u64, report: &mut WriteReport) {
     // Gmsh's tensors are 9 components: a packed symmetric one is written in full.
     let a = &*a.expanded();
     let k = a.components;
@@ -1436,31 +1466,34 @@ fn write_view(out: &mut Vec<u8>, section: &str, what: &str, name: &str, a: &Data
             "{what} `{name}` has {k} components: Gmsh draws views of 1, 3 or 9; written as is (Gmsh reads it but may not display it)"
         ));
     }
+    // Binary, of a common width: fixed-size records of every item, the values checked
+    // finite as they are written (one pass). An array with a NaN or an infinity (rare)
+    // is written again below, without those items.
+    if binary && matches!(k, 1 | 3 | 9) {
+        let start = out.len();
+        let mut quoting = WriteReport::default();
+        let q = quote_name(name, what, None, &mut quoting);
+        view_header(out, section, &q, k, a.len());
+        let finite = match k {
+            1 => view_records::<1>(out, a, &tag),
+            3 => view_records::<3>(out, a, &tag),
+            _ => view_records::<9>(out, a, &tag),
+        };
+        if finite {
+            report.dropped.extend(quoting.dropped);
+            view_end(out, section, binary);
+            return;
+        }
+        out.truncate(start);
+    }
     let items = a.values.chunks_exact(k);
     let n = items.clone().filter(|v| v.iter().all(|x| x.is_finite())).count();
     if n < a.len() {
         report.drop(format!("{what} `{name}`: {} item(s) with NaN or infinite values left out (read back as missing)", a.len() - n));
     }
     let q = quote_name(name, what, None, report);
-    out.extend_from_slice(b"$");
-    out.extend_from_slice(section.as_bytes());
-    out.extend_from_slice(b"\n1\n\"");
-    out.extend_from_slice(q.as_bytes());
-    out.extend_from_slice(b"\"\n1\n0\n3\n0\n");
-    text::push_int(out, k);
-    out.push(b'\n');
-    text::push_int(out, n);
-    out.push(b'\n');
-    // Every item written: fixed-size records for the common component counts.
-    let recorded = binary
-        && n == a.len()
-        && match k {
-            1 => view_records::<1>(out, a, tag),
-            3 => view_records::<3>(out, a, tag),
-            9 => view_records::<9>(out, a, tag),
-            _ => false,
-        };
-    for (i, v) in items.enumerate().filter(|_| !recorded) {
+    view_header(out, section, &q, k, n);
+    for (i, v) in items.enumerate() {
         if !v.iter().all(|x| x.is_finite()) {
             continue;
         }
@@ -1478,10 +1511,5 @@ fn write_view(out: &mut Vec<u8>, section: &str, what: &str, name: &str, a: &Data
             out.push(b'\n');
         }
     }
-    if binary {
-        out.push(b'\n');
-    }
-    out.extend_from_slice(b"$End");
-    out.extend_from_slice(section.as_bytes());
-    out.push(b'\n');
+    view_end(out, section, binary);
 }
