@@ -650,8 +650,20 @@ impl TagList {
         TagList::Range { first: 0, len: 0 }
     }
 
-    #[inline]
+    #[inline(always)]
     pub fn push(&mut self, t: u64) {
+        // The next tag of a range (the common case) here, anything else out of line.
+        if let TagList::Range { first, len } = self {
+            if *len > 0 && first.checked_add(*len as u64) == Some(t) {
+                *len += 1;
+                return;
+            }
+        }
+        self.push_other(t);
+    }
+
+    #[inline(never)]
+    fn push_other(&mut self, t: u64) {
         match self {
             TagList::Range { first, len } => {
                 if *len == 0 {
@@ -676,6 +688,25 @@ impl TagList {
         }
     }
 
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Room for `n` more tags once they are a list (a range needs none).
+    pub fn reserve(&mut self, n: usize) {
+        if let TagList::List(v) = self {
+            v.reserve(n);
+        }
+    }
+
+    /// Whether every tag is above the one before it.
+    fn strictly_ascending(&self) -> bool {
+        match self {
+            TagList::Range { .. } => true,
+            TagList::List(v) => v.windows(2).all(|w| w[0] < w[1]),
+        }
+    }
+
     #[inline]
     fn get(&self, i: usize) -> u64 {
         match self {
@@ -684,7 +715,7 @@ impl TagList {
         }
     }
 
-    fn iter(&self) -> impl Iterator<Item = u64> + Clone + '_ {
+    fn iter(&self) -> impl DoubleEndedIterator<Item = u64> + ExactSizeIterator + Clone + '_ {
         (0..self.len()).map(move |i| self.get(i))
     }
 
@@ -745,6 +776,88 @@ impl ViewKind {
     }
 }
 
+/// The targets of a view's entries in file order: `0, 1, 2, ...` as a count while they
+/// are so (a view of every node in node order), a list otherwise.
+struct Targets {
+    identity: usize,
+    /// Every target once they are not `0, 1, 2, ...`; empty until then.
+    list: Vec<usize>,
+    /// Room to make for the list when it is needed.
+    hint: usize,
+}
+
+impl Targets {
+    fn with_capacity(hint: usize) -> Self {
+        Targets { identity: 0, list: Vec::new(), hint }
+    }
+
+    #[inline]
+    fn push(&mut self, t: usize) {
+        if self.list.is_empty() && t == self.identity {
+            self.identity += 1;
+        } else {
+            if self.list.is_empty() {
+                self.list.reserve(self.hint.max(self.identity + 1));
+                self.list.extend(0..self.identity);
+            }
+            self.list.push(t);
+        }
+    }
+
+    fn len(&self) -> usize {
+        if self.list.is_empty() {
+            self.identity
+        } else {
+            self.list.len()
+        }
+    }
+
+    /// Whether the targets are `0, 1, 2, ..., len - 1`.
+    fn is_identity(&self) -> bool {
+        self.list.is_empty() || self.list.iter().enumerate().all(|(i, &t)| i == t)
+    }
+
+    fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.len()).map(move |i| if self.list.is_empty() { i } else { self.list[i] })
+    }
+
+    fn append(&mut self, other: &Targets) {
+        for t in other.iter() {
+            self.push(t);
+        }
+    }
+}
+
+/// Binary view entries of `N` values each (a 4-byte tag, then the values): the values
+/// as one array, made in a single pass over the table, and each entry's target pushed
+/// (a target that `map` lacks is not). Also the first entry whose tag `map` lacks or
+/// whose values are not all finite, for the caller to report.
+fn decode_entries<const N: usize>(table: &[u8], map: &TagMap, targets: &mut Targets) -> (Vec<f64>, Option<usize>) {
+    let rec = 4 + 8 * N;
+    let mut bad = None;
+    let rows: Vec<[f64; N]> = table
+        .chunks_exact(rec)
+        .enumerate()
+        .map(|(e, ch)| {
+            let mut row = [0.0; N];
+            let mut ok = true;
+            for (j, x) in row.iter_mut().enumerate() {
+                *x = le_f64(&ch[4 + 8 * j..12 + 8 * j]);
+                ok &= x.is_finite();
+            }
+            match u64::try_from(le_i32(ch)).ok().and_then(|t| map.get(t)) {
+                Some(t) => targets.push(t),
+                None => ok = false,
+            }
+            if !ok && bad.is_none() {
+                bad = Some(e);
+            }
+            row
+        })
+        .collect();
+    (rows.into_flattened(), bad)
+}
+
 /// One post-processing view as read.
 struct View {
     kind: ViewKind,
@@ -754,7 +867,7 @@ struct View {
     step: i64,
     ncomp: usize,
     /// Node positions (file order) or raw cell ids.
-    targets: Vec<usize>,
+    targets: Targets,
     /// ElementNodeData: where each entry's values start in `values` (one more than
     /// `targets`); empty otherwise, every entry then has `ncomp` values.
     offsets: Vec<usize>,
@@ -767,7 +880,8 @@ pub(super) struct Reader<'a> {
     /// Bytes of a binary `size_t` (4.1).
     pub size_t: usize,
     pub points: Vec<[f64; 3]>,
-    pub node_tags: Vec<u64>,
+    /// Node tags in file order: a range while they count up by one.
+    pub node_tags: TagList,
     /// First node index of each node block and where the block starts.
     pub node_blocks: Vec<(usize, Position)>,
     node_map: Option<TagMap>,
@@ -789,7 +903,7 @@ impl<'a> Reader<'a> {
             v4: true,
             size_t: 8,
             points: Vec::new(),
-            node_tags: Vec::new(),
+            node_tags: TagList::new(),
             node_blocks: Vec::new(),
             node_map: None,
             raw: Vec::new(),
@@ -906,12 +1020,18 @@ impl<'a> Reader<'a> {
         if let Some(m) = self.node_map.take() {
             return Ok(m);
         }
-        TagMap::build(self.node_tags.iter().copied().zip(0..)).map_err(|dup| self.duplicate_node(dup))
+        if let TagList::Range { first, len } = self.node_tags {
+            if len > 0 {
+                // What `build` makes of tags `first, first + 1, ...`, without the pass.
+                return Ok(TagMap::Range { first, len });
+            }
+        }
+        TagMap::build(self.node_tags.iter().zip(0..)).map_err(|dup| self.duplicate_node(dup))
     }
 
     fn duplicate_node(&self, dup: u64) -> Error {
         // Where the second definition is: the block holding its last occurrence.
-        let last = self.node_tags.iter().rposition(|&t| t == dup).unwrap_or(0);
+        let last = self.node_tags.iter().rposition(|t| t == dup).unwrap_or(0);
         let at = self.node_blocks.iter().rev().find(|(start, _)| *start <= last).map_or(Position::Byte(0), |b| b.1);
         Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent(format!("node tag {dup} is defined twice (the second time in the node block here)")) }
     }
@@ -1006,9 +1126,11 @@ impl<'a> Reader<'a> {
             _ => self.take_elem_map()?,
         };
         let what = if kind == ViewKind::Node { "node" } else { "element" };
-        let mut targets = Vec::with_capacity(n);
+        let mut targets = Targets::with_capacity(n);
         let mut offsets = Vec::new();
-        let mut values = Vec::with_capacity(n * ncomp);
+        // Binary entries of 1, 3 or 9 values are decoded into an array of their own.
+        let fixed = self.c.binary && kind != ViewKind::ElementNode && matches!(ncomp, 1 | 3 | 9);
+        let mut values = if fixed { Vec::new() } else { Vec::with_capacity(n * ncomp) };
         if kind == ViewKind::ElementNode {
             offsets.reserve(n + 1);
             offsets.push(0);
@@ -1023,7 +1145,17 @@ impl<'a> Reader<'a> {
             let rec = 4 + 8 * ncomp;
             let p0 = self.c.pos();
             let table = self.c.take_array(n, rec, "data entries (a 4-byte tag and 8-byte values each)")?;
-            for (e, ch) in table.chunks_exact(rec).enumerate() {
+            let mut bad = None;
+            match ncomp {
+                1 => (values, bad) = decode_entries::<1>(table, &map, &mut targets),
+                3 => (values, bad) = decode_entries::<3>(table, &map, &mut targets),
+                9 => (values, bad) = decode_entries::<9>(table, &map, &mut targets),
+                _ => {}
+            }
+            // The first faulty entry, then (when the width is another) every entry checked
+            // and converted one after the other; the errors are the same.
+            let from = if fixed { bad.unwrap_or(n) } else { 0 };
+            for (e, ch) in table.chunks_exact(rec).enumerate().skip(from) {
                 let tag = le_i32(ch);
                 let target = u64::try_from(tag).ok().and_then(|t| map.get(t)).ok_or_else(|| unknown(&self.c, Position::Byte((p0 + e * rec) as u64), tag as i64))?;
                 let mut finite = true;
@@ -1113,7 +1245,7 @@ impl<'a> Reader<'a> {
                     let base = old.values.len();
                     old.offsets.extend(view.offsets[1..].iter().map(|o| o + base));
                 }
-                old.targets.extend(view.targets);
+                old.targets.append(&view.targets);
                 old.values.extend(view.values);
             } else {
                 *old = view;
@@ -1131,12 +1263,12 @@ impl<'a> Reader<'a> {
         mesh.tag_names = std::mem::take(&mut self.tag_names);
 
         // Points in ascending node-tag order; `node_rank[file position]` is the index.
-        let node_rank: Option<Vec<usize>> = if self.node_tags.windows(2).all(|w| w[0] < w[1]) {
+        let node_rank: Option<Vec<usize>> = if self.node_tags.strictly_ascending() {
             mesh.points = std::mem::take(&mut self.points);
             None
         } else {
             let mut runs = Vec::new();
-            runs_of(self.node_tags.iter().copied(), 0, &mut runs);
+            runs_of(self.node_tags.iter(), 0, &mut runs);
             let runs = sorted_runs(runs).map_err(|dup| self.duplicate_node(dup))?;
             let mut rank = vec![0; self.points.len()];
             mesh.points.reserve(self.points.len());
@@ -1243,21 +1375,21 @@ impl<'a> Reader<'a> {
             }
             let array = if v.kind == ViewKind::ElementNode {
                 let mut values = vec![f64::NAN; n * width];
-                for (e, &t) in v.targets.iter().enumerate() {
+                for (e, t) in v.targets.iter().enumerate() {
                     let src = &v.values[v.offsets[e]..v.offsets[e + 1]];
                     let dst = place(t) * width;
                     values[dst..dst + src.len()].copy_from_slice(src);
                     values[dst + src.len()..dst + width].fill(f64::NAN);
                 }
                 DataArray::new(width, values)
-            } else if rank.is_none() && v.targets.len() == n && v.targets.iter().enumerate().all(|(i, &t)| i == t) {
+            } else if rank.is_none() && v.targets.len() == n && v.targets.is_identity() {
                 // One value per item in item order (what Gmsh and smartmesh write):
                 // the values read are the array.
                 DataArray::new(v.ncomp, v.values)
             } else {
                 let k = v.ncomp;
                 let mut values = vec![f64::NAN; n * k];
-                for (e, &t) in v.targets.iter().enumerate() {
+                for (e, t) in v.targets.iter().enumerate() {
                     let dst = place(t) * k;
                     values[dst..dst + k].copy_from_slice(&v.values[e * k..(e + 1) * k]);
                 }

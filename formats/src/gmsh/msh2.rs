@@ -159,6 +159,91 @@ impl Collector {
     }
 }
 
+/// The records of a binary element block of `K`-node elements (`data`, from byte `p`
+/// of the file): what [`Collector::add`] does for each, decoded straight into the block
+/// being filled, with the previous cell kept at hand for the check for Gmsh's copies.
+#[allow(clippy::too_many_arguments)]
+fn binary_block<const K: usize>(r: &mut Reader<'_>, col: &mut Collector, map: &TagMap, kind: CellKind, data: &[u8], p: usize, ntags: usize) -> Result<()> {
+    let rec = 4 * (1 + ntags + K);
+    let off = 4 * (1 + ntags);
+    let count = data.len() / rec;
+    // The block being filled when it has this kind (room made for the new elements),
+    // a new one otherwise, with room for them all (the count is bounded by the bytes).
+    match &mut col.cur {
+        Some(b) if b.kind == kind => {
+            b.nodes.reserve(count * K);
+            b.physical.reserve(count);
+            b.geometrical.reserve(count);
+        }
+        cur => {
+            if let Some(done) = cur.take() {
+                r.push_raw(done);
+            }
+            *cur = Some(RawBlock {
+                kind,
+                at: Position::Byte(p as u64),
+                tags: super::TagList::new(),
+                nodes: Vec::with_capacity(count * K),
+                physical: Vec::with_capacity(count),
+                geometrical: Vec::with_capacity(count),
+                entity: None,
+            });
+        }
+    }
+    let Some(b) = &mut col.cur else { return Ok(()) };
+    // The last cell of the block: its tags and nodes.
+    let mut prev: Option<(i32, i32, [NodeIndex; K])> = b.tags.len().checked_sub(1).map(|i| {
+        let mut nodes = [0 as NodeIndex; K];
+        nodes.copy_from_slice(&b.nodes[i * K..(i + 1) * K]);
+        (b.physical[i], b.geometrical[i], nodes)
+    });
+    let mut last_tag = col.last_tag;
+    let node = |nt: i32| u64::try_from(nt).ok().and_then(|t| map.node(t));
+    for (e, ch) in data.chunks_exact(rec).enumerate() {
+        let at = p + e * rec;
+        let et = le_i32(ch);
+        if et <= 0 {
+            return Err(r.c.byte_err(at, ErrorKind::Expected { expected: "an element number of at least 1".into(), found: et.to_string() }));
+        }
+        let physical = if ntags >= 1 { le_i32(&ch[4..]) } else { 0 };
+        let geometrical = if ntags >= 2 { le_i32(&ch[8..]) } else { 0 };
+        let nb = &ch[off..off + 4 * K];
+        let mut nodes = [0 as NodeIndex; K];
+        for (j, slot) in nodes.iter_mut().enumerate() {
+            let nt = le_i32(&nb[4 * j..4 * j + 4]);
+            let Some(v) = node(nt) else {
+                return Err(r.c.byte_err(at + off + 4 * j, missing(et as u64, nt as i64)));
+            };
+            *slot = v;
+        }
+        let tag = et as u64;
+        let follows = last_tag.checked_add(1) == Some(tag);
+        last_tag = tag;
+        if let Some((p0, g0, n0)) = &prev {
+            if *p0 != physical && follows && *g0 == geometrical && *n0 == nodes {
+                // Same element, same entity, another physical group, the next number:
+                // Gmsh's way of writing an entity in several groups.
+                let original = *p0;
+                r.aliases.push((tag, r.n_raw_cells + b.tags.len() - 1));
+                let list = r.entities.entry((kind.dim(), geometrical)).or_default();
+                for p in [original, physical] {
+                    if !list.contains(&p) {
+                        list.push(p);
+                    }
+                }
+                continue;
+            }
+        }
+        b.tags.push(tag);
+        b.nodes.extend_from_slice(&nodes);
+        b.physical.push(physical);
+        b.geometrical.push(geometrical);
+        prev = Some((physical, geometrical, nodes));
+    }
+    col.last_tag = last_tag;
+    Ok(())
+}
+
 fn missing(et: u64, nt: i64) -> ErrorKind {
     ErrorKind::Inconsistent(format!("element {et} refers to node {nt}, which no $Nodes section defines"))
 }
@@ -193,30 +278,14 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             let rec = 4 * (1 + ntags + k);
             let p = r.c.pos();
             let data = r.c.take_array(count, rec, "elements")?;
-            // Room for the block's elements: in the block being filled when it has this
-            // kind, in the next one otherwise (the count is bounded by the bytes taken).
-            match &mut col.cur {
-                Some(b) if b.kind == kind => {
-                    b.nodes.reserve(count * k);
-                    b.physical.reserve(count);
-                    b.geometrical.reserve(count);
-                }
-                _ => col.hint = count,
-            }
-            for (e, ch) in data.chunks_exact(rec).enumerate() {
-                let at = p + e * rec;
-                let et = le_i32(ch);
-                if et <= 0 {
-                    return Err(r.c.byte_err(at, ErrorKind::Expected { expected: "an element number of at least 1".into(), found: et.to_string() }));
-                }
-                let physical = if ntags >= 1 { le_i32(&ch[4..]) } else { 0 };
-                let geometrical = if ntags >= 2 { le_i32(&ch[8..]) } else { 0 };
-                for (j, slot) in nodes[..k].iter_mut().enumerate() {
-                    let off = 4 * (1 + ntags + j);
-                    let nt = le_i32(&ch[off..]);
-                    *slot = u64::try_from(nt).ok().and_then(|t| map.node(t)).ok_or_else(|| r.c.byte_err(at + off, missing(et as u64, nt as i64)))?;
-                }
-                col.add(r, Element { at: Position::Byte(at as u64), kind, tag: et as u64, physical, geometrical }, &nodes[..k]);
+            match k {
+                1 => binary_block::<1>(r, &mut col, &map, kind, data, p, ntags)?,
+                2 => binary_block::<2>(r, &mut col, &map, kind, data, p, ntags)?,
+                3 => binary_block::<3>(r, &mut col, &map, kind, data, p, ntags)?,
+                4 => binary_block::<4>(r, &mut col, &map, kind, data, p, ntags)?,
+                6 => binary_block::<6>(r, &mut col, &map, kind, data, p, ntags)?,
+                8 => binary_block::<8>(r, &mut col, &map, kind, data, p, ntags)?,
+                _ => binary_block::<9>(r, &mut col, &map, kind, data, p, ntags)?,
             }
             done += count;
         }

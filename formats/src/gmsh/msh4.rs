@@ -124,7 +124,7 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
         // Tags of another kind: the section again, in file order.
         r.c.seek(start);
         r.points = Vec::new();
-        r.node_tags = Vec::new();
+        r.node_tags = super::TagList::new();
         r.node_blocks.truncate(blocks_before);
     }
     let binary = r.c.binary;
@@ -265,7 +265,7 @@ fn binary_nodes_in_tag_order(r: &mut Reader<'_>, section_at: Position) -> Result
         return Ok(false);
     }
     r.points = points;
-    r.node_tags = (lo..=hi).collect();
+    r.node_tags = super::TagList::Range { first: lo, len: n_nodes };
     r.nodes_changed();
     r.c.expect_end("Nodes")?;
     Ok(true)
