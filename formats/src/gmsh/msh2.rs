@@ -3,7 +3,7 @@
 
 use super::{cell_kind, le_f64, le_i32, write_mesh_format, write_physical_names, write_views, RawBlock, Reader, TagMap};
 use crate::text::{push_f64, push_int};
-use crate::{CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport};
+use crate::{CellBlock, CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport};
 
 // ---------------------------------------------------------------------------------
 // Reading
@@ -367,6 +367,28 @@ fn element_record<const K: usize>(out: &mut Vec<u8>, head: [i32; 3], cell: &[Nod
     out.extend_from_slice(&rec[..4 * (3 + K)]);
 }
 
+/// The binary elements of a block of `K`-node cells none of which has copies: what
+/// [`write`] does for each cell, numbering from `num`; each cell's element tag pushed
+/// to `cell_tag` when given.
+fn block_records<const K: usize>(out: &mut Vec<u8>, b: &CellBlock, num: &mut u32, mut cell_tag: Option<&mut Vec<u32>>) {
+    let mut prev: Option<(i32, i32, &[NodeIndex])> = None;
+    for ((cell, &p), &g) in b.nodes.chunks_exact(K).zip(&b.physical).zip(&b.geometrical) {
+        // A cell equal to the one before but for its physical tag: a gap in the
+        // numbering, as in `write`.
+        if let Some((p0, g0, c0)) = prev {
+            if p0 != p && g0 == g && c0 == cell {
+                *num += 1;
+            }
+        }
+        if let Some(t) = &mut cell_tag {
+            t.push(*num + 1);
+        }
+        *num += 1;
+        element_record::<K>(out, [*num as i32, p, g], cell);
+        prev = Some((p, g, cell));
+    }
+}
+
 /// Writes MSH 2.2: nodes tagged index + 1, each cell with its physical and elementary
 /// tag, once more for each further physical group `entities` lists for its entity.
 pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) -> Result<()> {
@@ -407,13 +429,26 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
         }
     };
     let copies = |dim: u8, g: i32, p: i32| extra(dim, g, p).iter().filter(move |&&q| q != p);
+    // Dimensions with an entity in several groups: only their cells can have copies.
+    let mut copied = [false; 4];
+    for (&(d, _), l) in &mesh.entities {
+        if l.len() > 1 {
+            if let Some(c) = copied.get_mut(d as usize) {
+                *c = true;
+            }
+        }
+    }
+    let has_copies = |dim: u8| copied[dim as usize];
     let mut total = 0usize;
     let mut negative = 0usize;
     for b in &mesh.blocks {
-        for (&p, &g) in b.physical.iter().zip(&b.geometrical) {
-            total += 1 + copies(b.kind.dim(), g, p).count();
-            negative += (g < 0) as usize;
+        let dim = b.kind.dim();
+        if has_copies(dim) {
+            total += b.physical.iter().zip(&b.geometrical).map(|(&p, &g)| 1 + copies(dim, g, p).count()).sum::<usize>();
+        } else {
+            total += b.len();
         }
+        negative += b.geometrical.iter().map(|&g| (g < 0) as usize).sum::<usize>();
     }
     if total >= (i32::MAX / 2) as usize {
         return Err(Error::new(ErrorKind::CannotWrite { format: "Gmsh MSH", reason: format!("{total} elements (with the copies for further physical groups) are more than MSH 2.2 can number") }));
@@ -421,7 +456,17 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
     if negative > 0 {
         report.drop(format!("{negative} cell(s) with a negative geometrical tag: written, but Gmsh skips such elements when it reads MSH 2.2"));
     }
-    let in_cells: std::collections::BTreeSet<(u8, i32)> = mesh.blocks.iter().flat_map(|b| b.geometrical.iter().map(move |&g| (b.kind.dim(), g))).collect();
+    // The entities of the cells, a tag looked up once per run of equal tags.
+    let mut in_cells = std::collections::BTreeSet::new();
+    for b in &mesh.blocks {
+        let mut last = None;
+        for &g in &b.geometrical {
+            if last != Some(g) {
+                in_cells.insert((b.kind.dim(), g));
+                last = Some(g);
+            }
+        }
+    }
     let lone = mesh.entities.keys().filter(|k| !in_cells.contains(k)).count();
     if lone > 0 {
         report.drop(format!("{lone} entities without cells (and their physical groups): MSH 2.2 has no entity table"));
@@ -430,16 +475,31 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
     out.extend_from_slice(b"$Elements\n");
     push_int(out, total);
     out.push(b'\n');
-    let mut cell_tag: Vec<u32> = Vec::with_capacity(mesh.num_cells());
+    // The element tag of each cell, for `$ElementData`: only when there is cell data.
+    let keep_tags = !mesh.cell_data.is_empty();
+    let mut cell_tag: Vec<u32> = Vec::with_capacity(if keep_tags { mesh.num_cells() } else { 0 });
     let mut num: u32 = 0;
     for b in &mesh.blocks {
         let dim = b.kind.dim();
         let t = b.kind.gmsh_type();
         if binary && !b.is_empty() {
-            let count: usize = b.physical.iter().zip(&b.geometrical).map(|(&p, &g)| 1 + copies(dim, g, p).count()).sum();
+            let count: usize = if has_copies(dim) { b.physical.iter().zip(&b.geometrical).map(|(&p, &g)| 1 + copies(dim, g, p).count()).sum() } else { b.len() };
             for v in [t, count as i32, 2] {
                 out.extend_from_slice(&v.to_le_bytes());
             }
+        }
+        if binary && !has_copies(dim) {
+            let tags = keep_tags.then_some(&mut cell_tag);
+            match b.kind.nodes_per_cell() {
+                1 => block_records::<1>(out, b, &mut num, tags),
+                2 => block_records::<2>(out, b, &mut num, tags),
+                3 => block_records::<3>(out, b, &mut num, tags),
+                4 => block_records::<4>(out, b, &mut num, tags),
+                6 => block_records::<6>(out, b, &mut num, tags),
+                8 => block_records::<8>(out, b, &mut num, tags),
+                _ => block_records::<9>(out, b, &mut num, tags),
+            }
+            continue;
         }
         for (i, cell) in b.cells().enumerate() {
             let (p, g) = (b.physical[i], b.geometrical[i]);
@@ -448,7 +508,9 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
             if i > 0 && b.geometrical[i - 1] == g && b.physical[i - 1] != p && b.cell(i - 1) == cell {
                 num += 1;
             }
-            cell_tag.push(num + 1);
+            if keep_tags {
+                cell_tag.push(num + 1);
+            }
             for q in std::iter::once(p).chain(copies(dim, g, p).copied()) {
                 num += 1;
                 if binary {
