@@ -889,6 +889,35 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
     Reach { graph, source, vertices: order, segments: found, slot, report }
 }
 
+/// Moves `best` along the polyline while its foot is an end of its segment and the
+/// segment across that end is closer (the projections in `tried` reused).
+#[inline]
+fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, tried: &[Nearest], stats: &mut QueryStats) {
+    for _ in 0..MARCH_STEPS {
+        let s = &source.segments[best.segment as usize];
+        let step = if best.projection.t == 0.0 {
+            s.prev
+        } else if best.projection.t == 1.0 {
+            s.next
+        } else {
+            None
+        };
+        let Some(q) = step else { break };
+        let c = match tried.iter().find(|t| t.segment == q) {
+            Some(t) => *t,
+            None => {
+                stats.segments += 1;
+                Nearest { segment: q, projection: source.geoms[q as usize].project(p) }
+            }
+        };
+        if c.beats(best) {
+            *best = c;
+        } else {
+            break;
+        }
+    }
+}
+
 /// The closest point of vertex `v` from its evaluated neighbours' segments, settled
 /// on a local optimum along the polyline, then certified by the clearance of its
 /// segment or vertex, or else by the index.
@@ -923,11 +952,14 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
         let nearest = source.index.closest(p, &mut stats).expect("index is not empty");
         return Evaluation { nearest, corrected: false, local: false, stats };
     };
-    // A clearance costs a few index searches to compute: it is asked for only once
-    // earlier levels put enough feet on the segment to pay it back. Then move to the
-    // best segment of the window until it is the best of its own window, and try the
-    // clearance; else only march along the polyline while the foot sits on a segment
-    // end (thesis 4.3.6.3), and search.
+    // First march along the polyline while the foot sits on a segment end (thesis
+    // 4.3.6.3): one projection a step, where the window would take three, and the
+    // usual way off a guess, since a neighbour's segment often ends just short of the
+    // vertex's foot. A clearance costs a few index searches to compute: it is asked
+    // for only once earlier levels put enough feet on the segment to pay it back. Then
+    // move to the best segment of the window until it is the best of its own window,
+    // and try the clearance; else search.
+    march_across_ends(source, p, &mut best, &tried[..num_tried], &mut stats);
     if feet[best.segment as usize] >= CLEARANCE_AFTER {
         let clearance = clearance.get_or_init(|| source.clearance());
         for _ in 0..MARCH_STEPS {
@@ -941,7 +973,12 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
                     Some(t) => *t,
                     None => {
                         stats.segments += 1;
-                        Nearest { segment: q, projection: source.geoms[q as usize].project(p) }
+                        let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
+                        if num_tried < tried.len() {
+                            tried[num_tried] = c;
+                            num_tried += 1;
+                        }
+                        c
                     }
                 };
                 if c.beats(&best) {
@@ -959,25 +996,6 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
         // Beyond the clearance, far from the source: the oriented boxes.
         let nearest = clearance.closest(p, best, &mut stats);
         return Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats };
-    } else {
-        for _ in 0..MARCH_STEPS {
-            let s = &source.segments[best.segment as usize];
-            let step = if best.projection.t == 0.0 {
-                s.prev
-            } else if best.projection.t == 1.0 {
-                s.next
-            } else {
-                None
-            };
-            let Some(q) = step else { break };
-            stats.segments += 1;
-            let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
-            if c.beats(&best) {
-                best = c;
-            } else {
-                break;
-            }
-        }
     }
     // Near the source: the axis-aligned index around the guess's leaf.
     let nearest = source.index.certify(p, best, &mut stats);
