@@ -9,9 +9,10 @@
 //! is a breadth-first search by levels from the source's seed vertices (the vertices of
 //! the source, and for free pieces the corners of every cell they touch, so that a
 //! coarse mesh is still marked). A vertex of the next level takes as guess the closest
-//! segments of its already evaluated neighbours and moves along the polyline to the
-//! best segment of its *window* (its segment and two either way, or the two either side
-//! of a polyline vertex; thesis 4.3.6.3's march). The answer is then *certified*: by the
+//! segment of its first evaluated neighbour, steps along the polyline while its foot is
+//! a segment end and the next segment is closer, then moves to the best segment of its
+//! *window* (its segment and two either way, or the two either side of a polyline
+//! vertex; thesis 4.3.6.3's march). The answer is then *certified*: by the
 //! clearance of that segment or vertex ([`Clearance`]: how far out the window alone
 //! decides the closest point, computed once per source), or where the vertex lies beyond
 //! it — near the medial axis of a non-convex source, past a sharp corner, where another
@@ -924,34 +925,25 @@ fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, tried: &[Ne
 fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &OnceLock<Clearance>, feet: &[u32], slot: &[u32], found: &[u32], v: usize) -> Evaluation {
     let p = graph.point(v);
     let mut stats = QueryStats::default();
-    // The neighbours' segments and their projections, which the window reuses.
-    let mut tried = [NOT_TRIED; 8];
-    let mut num_tried = 0;
-    let mut best: Option<Nearest> = None;
-    for &u in graph.neighbours(v) {
+    // The guess: the closest segment of the first evaluated neighbour. Neighbours lie
+    // within an edge of each other, so their segments are the same or a few steps apart
+    // along the polyline, where the march and the window below reach; comparing every
+    // neighbour's segment first costs more projections than it saves steps.
+    let guess = graph.neighbours(v).iter().find_map(|&u| {
         let s = slot[u as usize];
-        if s >= QUEUED {
-            continue;
-        }
-        let seg = found[s as usize];
-        if tried[..num_tried].iter().any(|t| t.segment == seg) {
-            continue;
-        }
-        stats.segments += 1;
-        let c = Nearest { segment: seg, projection: source.geoms[seg as usize].project(p) };
-        if num_tried < tried.len() {
-            tried[num_tried] = c;
-            num_tried += 1;
-        }
-        if best.as_ref().map_or(true, |b| c.beats(b)) {
-            best = Some(c);
-        }
-    }
-    let Some(mut best) = best else {
+        (s < QUEUED).then(|| found[s as usize])
+    });
+    let Some(seg) = guess else {
         // Queued vertices always have an evaluated neighbour; stay exact regardless.
         let nearest = source.index.closest(p, &mut stats).expect("index is not empty");
         return Evaluation { nearest, corrected: false, local: false, stats };
     };
+    stats.segments += 1;
+    let mut best = Nearest { segment: seg, projection: source.geoms[seg as usize].project(p) };
+    // The segments projected so far, which the march and the window reuse.
+    let mut tried = [NOT_TRIED; 8];
+    tried[0] = best;
+    let mut num_tried = 1;
     // First march along the polyline while the foot sits on a segment end (thesis
     // 4.3.6.3): one projection a step, where the window would take three, and the
     // usual way off a guess, since a neighbour's segment often ends just short of the
