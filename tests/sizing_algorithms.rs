@@ -720,12 +720,16 @@ fn field_is_the_contributions_merged_in_plan_order() {
         ("gap", Algorithm::DistanceBetweenTwoBorders { perpendicular: df(0.02, 0.2, 0.5, 1.0), parallel: df(0.05, 0.4, 0.5, 1.0), first: m.curves(&[11]), second: m.curves(&[14]) }),
         ("uniform", Algorithm::Uniform { size: 0.08, on: EntitySet { faces: vec![m.face(2)], ..EntitySet::default() } }),
     ];
-    let mut p = plan(None, steps);
-    p.h_min = Some(0.012);
-    p.max_aspect_ratio = Some(6.0);
-    let twin = || {
-        let n = m.coords.len();
-        let (mut tensors, mut reached) = (vec![SizeTensor::isotropic(1.0); n], vec![false; n]);
+    let bits = |ts: &[SizeTensor]| ts.iter().flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits)).collect::<Vec<u64>>();
+    let n = m.coords.len();
+    // Last steps: UNIFORM (a list), the gap and the border (merged in vertex order, which
+    // finishes the field in the same pass); the default from the bounding box or h_max.
+    for (order, h_max) in [([0, 1, 2, 3], None), ([3, 1, 0, 2], None), ([1, 3, 2, 0], Some(0.5))] {
+        let mut p = plan(h_max, order.iter().map(|&k| steps[k].clone()).collect());
+        p.h_min = Some(0.012);
+        p.max_aspect_ratio = Some(6.0);
+        let mut tensors = vec![SizeTensor::isotropic(1.0); n];
+        let mut reached = vec![false; n];
         let mut counts = Vec::new();
         for (i, s) in p.steps.iter().enumerate() {
             let c = run_algorithm(&m.graph, &m.topo, &s.algorithm, i, &s.label).unwrap();
@@ -734,28 +738,28 @@ fn field_is_the_contributions_merged_in_plan_order() {
                 tensors[v] = if reached[v] { tensors[v].intersection(t) } else { *t };
                 reached[v] = true;
             }
-            counts.push((c.len(), c.seeds));
+            counts.push((s.label.clone(), c.len(), c.seeds));
         }
-        let diagonal = (1.2f64).hypot(0.8);
-        let bounds = SizeBounds::try_new(0.012, SizeTensor::MAX_SIZE, 6.0).unwrap();
+        let default = h_max.unwrap_or((1.2f64).hypot(0.8));
+        let bounds = SizeBounds::try_new(0.012, h_max.unwrap_or(SizeTensor::MAX_SIZE), 6.0).unwrap();
         for (t, r) in tensors.iter_mut().zip(&reached) {
-            let t0 = if *r { *t } else { SizeTensor::isotropic(diagonal) };
+            let t0 = if *r { *t } else { SizeTensor::isotropic(default) };
             *t = t0.clamp(&bounds);
         }
-        (tensors, reached, counts)
-    };
-    let bits = |ts: &[SizeTensor]| ts.iter().flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits)).collect::<Vec<u64>>();
-    let (want, want_reached, counts) = twin();
-    let n = m.coords.len();
-    assert!(counts[0].0 * 8 >= n && counts[2].0 * 8 >= n && counts[1].0 * 8 < n, "steps merged in vertex order and one as a list: {counts:?}");
-    assert!(counts[2].0 < m.graph.num_vertices() / 2, "the gap skips vertices within its reach: {counts:?}");
-    assert!(want_reached.iter().any(|r| !r), "some vertex keeps the default size");
-    for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        let f = pool.install(|| run(&m, &p));
-        assert_eq!(bits(&f.tensors), bits(&want), "{threads} threads");
-        assert_eq!(f.reached, want_reached);
-        assert_eq!(f.steps.iter().map(|s| (s.vertices_reached, s.seeds)).collect::<Vec<_>>(), counts);
+        let count = |label: &str| counts.iter().find(|c| c.0 == label).unwrap().1;
+        assert!(count("border") * 8 >= n && count("gap") * 8 >= n && count("small point") * 8 < n, "steps merged in vertex order and one as a list: {counts:?}");
+        assert!(count("gap") < n / 2, "the gap skips vertices within its reach: {counts:?}");
+        assert!(reached.iter().any(|r| !r), "some vertex keeps the default size");
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let f = pool.install(|| run(&m, &p));
+            let (got, want) = (bits(&f.tensors), bits(&tensors));
+            let differ = (0..n).filter(|&v| got[4 * v..4 * v + 4] != want[4 * v..4 * v + 4]).collect::<Vec<_>>();
+            assert!(differ.is_empty(), "order {order:?}, {threads} threads: {} vertices differ, the first {:?}", differ.len(), differ.first().map(|&v| (v, f.tensors[v], tensors[v])));
+            assert_eq!(f.reached, reached);
+            assert_eq!(f.steps.iter().map(|s| (s.label.clone(), s.vertices_reached, s.seeds)).collect::<Vec<_>>(), counts);
+            assert_eq!(f.default_size, default);
+        }
     }
 }
 

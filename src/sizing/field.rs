@@ -200,16 +200,39 @@ pub fn run_algorithm(graph: &MeshGraph, topology: &Topology, algorithm: &Algorit
 
 /// The driver's sink: each step's tensors are intersected into the field as they come
 /// (the first tensor a vertex gets is taken as it is), never kept as a list when the
-/// step reaches a large share of the mesh.
+/// step reaches a large share of the mesh. For the last step it may also finish the
+/// field in the same pass ([`Finish`]).
 struct IntoField<'f> {
     tensors: &'f mut [SizeTensor],
     reached: &'f mut [bool],
+    finish: Option<Finish>,
+}
+
+/// The field's last pass: the default tensor on the vertices no step reached, the
+/// clamp on the others (the default is clamped already).
+#[derive(Clone, Copy)]
+struct Finish {
+    default: SizeTensor,
+    bounds: Option<SizeBounds>,
+}
+
+impl Finish {
+    #[inline]
+    fn apply(&self, t: &mut SizeTensor, reached: bool) {
+        if !reached {
+            *t = self.default;
+        } else if let Some(b) = &self.bounds {
+            *t = t.clamp(b);
+        }
+    }
 }
 
 /// What one step merged into the field.
 struct Merged {
     vertices: usize,
     seeds: usize,
+    /// Whether the step also finished the field.
+    finished: bool,
 }
 
 /// A reach of at least `1 / DENSE_SHARE` of the mesh is merged in vertex order (one pass
@@ -228,8 +251,11 @@ impl Sink for IntoField<'_> {
             return self.take_list(Collect.take_reach(reach, f)?);
         }
         let seeds = reach.report().seeds;
-        let vertices = merge_in_vertex_order(&reach, f, self.tensors, self.reached)?;
-        Ok(Merged { vertices, seeds })
+        let (vertices, finished) = match self.finish {
+            Some(finish) => (merge_in_vertex_order(&reach, f, self.tensors, self.reached, |t, r| finish.apply(t, r))?, true),
+            None => (merge_in_vertex_order(&reach, f, self.tensors, self.reached, |_, _| {})?, false),
+        };
+        Ok(Merged { vertices, seeds, finished })
     }
 
     fn take_list(self, c: Contribution) -> Result<Merged, Failure> {
@@ -238,7 +264,7 @@ impl Sink for IntoField<'_> {
             self.tensors[v] = if self.reached[v] { self.tensors[v].intersection(t) } else { *t };
             self.reached[v] = true;
         }
-        Ok(Merged { vertices: c.len(), seeds: c.seeds })
+        Ok(Merged { vertices: c.len(), seeds: c.seeds, finished: false })
     }
 }
 
@@ -266,14 +292,25 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
         }
     }
     let n = graph.num_vertices();
+    // The default size, known before any step: h_max, or the bounding-box diagonal
+    // (an error only where some vertex needs it, reported after the steps as before).
+    let diagonal = if plan.h_max.is_none() { bounding_box_diagonal(graph) } else { f64::NAN };
+    let default_size = plan.h_max.unwrap_or_else(|| diagonal.clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
+    let default_tensor = SizeTensor::try_new([1.0, 0.0], default_size, default_size);
+    let diagonal_usable = plan.h_max.is_some() || (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&diagonal);
+    // The last step may finish the field in its own pass when the default is sure.
+    let finish = default_tensor.filter(|_| diagonal_usable).map(|d| Finish { default: bounds.as_ref().map_or(d, |b| d.clamp(b)), bounds });
     let mut tensors: Vec<SizeTensor> = vec![SizeTensor::isotropic(1.0); n];
     let mut reached = vec![false; n];
     let mut steps = Vec::with_capacity(plan.steps.len());
     let mut warnings = Vec::new();
+    let mut finished = false;
     for (index, step) in plan.steps.iter().enumerate() {
         observer(StepEvent::Started { index, label: step.label.clone(), of: plan.steps.len() });
-        let sink = IntoField { tensors: &mut tensors, reached: &mut reached };
+        let last = index + 1 == plan.steps.len();
+        let sink = IntoField { tensors: &mut tensors, reached: &mut reached, finish: finish.filter(|_| last) };
         let c = algorithms::run(graph, topology, &step.algorithm, sink).map_err(|f| f.at(index, &step.label))?;
+        finished = c.finished;
         if c.vertices == 0 {
             warnings.push(format!("step {index} ({}): reached no vertex", step.label));
         }
@@ -282,27 +319,17 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
     }
 
     let unreached = reached.iter().filter(|r| !**r).count();
-    let default_size = match plan.h_max {
-        Some(h) => h,
-        None => {
-            let diagonal = bounding_box_diagonal(graph);
-            if unreached > 0 {
-                if !(SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&diagonal) {
-                    return Err(SizingError::NoDefaultSize(diagonal));
-                }
-                warnings.push(format!("no h_max: {unreached} vertices that no step reaches get the bounding-box diagonal {diagonal} as their size"));
-            }
-            diagonal.clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE)
+    if plan.h_max.is_none() && unreached > 0 {
+        if !diagonal_usable {
+            return Err(SizingError::NoDefaultSize(diagonal));
         }
-    };
-    let default = SizeTensor::try_new([1.0, 0.0], default_size, default_size).ok_or(SizingError::NoDefaultSize(default_size))?;
-    // The default size and the clamp in one pass over the field.
-    match &bounds {
-        Some(b) => {
-            let default = default.clamp(b);
-            tensors.iter_mut().zip(&reached).for_each(|(t, &r)| *t = if r { t.clamp(b) } else { default });
-        }
-        None => tensors.iter_mut().zip(&reached).filter(|(_, r)| !**r).for_each(|(t, _)| *t = default),
+        warnings.push(format!("no h_max: {unreached} vertices that no step reaches get the bounding-box diagonal {diagonal} as their size"));
+    }
+    let default = default_tensor.ok_or(SizingError::NoDefaultSize(default_size))?;
+    if !finished {
+        // The default size and the clamp in one pass over the field.
+        let finish = Finish { default: bounds.as_ref().map_or(default, |b| default.clamp(b)), bounds };
+        tensors.iter_mut().zip(&reached).for_each(|(t, &r)| finish.apply(t, r));
     }
     let gradation = plan.gradation.map(|g| {
         let report = apply_gradation(graph, &mut tensors, g);

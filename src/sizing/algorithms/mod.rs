@@ -270,26 +270,33 @@ where
 /// mesh vertex is looked up, so this pays where the reach covers much of the mesh.
 /// Errors as [`assemble`]'s: the first in the reach's order; the field is then partly
 /// merged and the caller discards it.
-pub(crate) fn merge_in_vertex_order<F>(reach: &Reach<'_>, f: F, tensors: &mut [SizeTensor], reached: &mut [bool]) -> Result<usize, Failure>
+///
+/// `finish` then sees every vertex once, with whether it has a tensor: the field's last
+/// pass (default size, clamp) done in the same one when this is the last step.
+pub(crate) fn merge_in_vertex_order<F, G>(reach: &Reach<'_>, f: F, tensors: &mut [SizeTensor], reached: &mut [bool], finish: G) -> Result<usize, Failure>
 where
     F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
+    G: Fn(&mut SizeTensor, bool) + Sync,
 {
     let positions = reach.positions();
     // For each vertex: the reach position of an error, and whether it merged a tensor.
     let one = |v: usize, slot: &mut SizeTensor, has: &mut bool| -> (usize, usize) {
         let i = positions[v];
-        if i == u32::MAX {
-            return (usize::MAX, 0);
-        }
-        match f(v, &reach.closest(i as usize)) {
-            Ok(Some(t)) => {
-                *slot = if *has { slot.intersection(&t) } else { t };
-                *has = true;
-                (usize::MAX, 1)
+        let outcome = if i == u32::MAX {
+            (usize::MAX, 0)
+        } else {
+            match f(v, &reach.closest(i as usize)) {
+                Ok(Some(t)) => {
+                    *slot = if *has { slot.intersection(&t) } else { t };
+                    *has = true;
+                    (usize::MAX, 1)
+                }
+                Ok(None) => (usize::MAX, 0),
+                Err(_) => (i as usize, 0),
             }
-            Ok(None) => (usize::MAX, 0),
-            Err(_) => (i as usize, 0),
-        }
+        };
+        finish(slot, *has);
+        outcome
     };
     let combine = |a: (usize, usize), b: (usize, usize)| (a.0.min(b.0), a.1 + b.1);
     let (first_error, merged) = if tensors.len() >= PARALLEL_MIN {
