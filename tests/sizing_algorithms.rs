@@ -714,7 +714,7 @@ fn three_steps(m: &Model) -> Vec<(&'static str, Algorithm)> {
 #[test]
 fn field_is_the_contributions_merged_in_plan_order() {
     let m = grid(121, 81, 0.01, 0.3, 21, 0.6, (30, 40));
-    let steps = vec![
+    let steps = [
         ("border", Algorithm::DistanceToBorder { perpendicular: df(0.01, 0.2, 0.4, 1.0), parallel: df(0.1, 0.3, 0.4, 1.0), borders: m.curves(&[11, 14]) }),
         ("small point", Algorithm::DistanceToPoint { function: df(0.005, 0.05, 0.04, 1.0), sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } }),
         ("gap", Algorithm::DistanceBetweenTwoBorders { perpendicular: df(0.02, 0.2, 0.5, 1.0), parallel: df(0.05, 0.4, 0.5, 1.0), first: m.curves(&[11]), second: m.curves(&[14]) }),
