@@ -231,17 +231,7 @@ where
             Err(_) => (i, 0),
         }
     };
-    let (first_error, skipped) = if n >= PARALLEL_MIN {
-        tensors
-            .par_iter_mut()
-            .zip(keep.par_iter_mut())
-            .enumerate()
-            .with_min_len(1024)
-            .map(|(i, (slot, kept))| one(i, slot, kept))
-            .reduce(|| (usize::MAX, 0), |a, b| (a.0.min(b.0), a.1 + b.1))
-    } else {
-        tensors.iter_mut().zip(keep.iter_mut()).enumerate().map(|(i, (slot, kept))| one(i, slot, kept)).fold((usize::MAX, 0), |a, b| (a.0.min(b.0), a.1 + b.1))
-    };
+    let (first_error, skipped) = scan_pairs(&mut tensors, &mut keep, one);
     if first_error != usize::MAX {
         // The smallest index with an error, whatever the threads; its error again.
         return Err(call(first_error).err().unwrap_or(Failure::Degenerate { vertex: reach.vertices()[first_error] as usize }));
@@ -298,23 +288,27 @@ where
         finish(slot, *has);
         outcome
     };
-    let combine = |a: (usize, usize), b: (usize, usize)| (a.0.min(b.0), a.1 + b.1);
-    let (first_error, merged) = if tensors.len() >= PARALLEL_MIN {
-        tensors
-            .par_iter_mut()
-            .zip(reached.par_iter_mut())
-            .enumerate()
-            .with_min_len(1024)
-            .map(|(v, (slot, has))| one(v, slot, has))
-            .reduce(|| (usize::MAX, 0), combine)
-    } else {
-        tensors.iter_mut().zip(reached.iter_mut()).enumerate().map(|(v, (slot, has))| one(v, slot, has)).fold((usize::MAX, 0), combine)
-    };
+    let (first_error, merged) = scan_pairs(tensors, reached, one);
     if first_error != usize::MAX {
         let v = reach.vertices()[first_error] as usize;
         return Err(f(v, &reach.closest(first_error)).err().unwrap_or(Failure::Degenerate { vertex: v }));
     }
     Ok(merged)
+}
+
+/// Runs `one` on every `(index, tensor, flag)` of two parallel slices, on the rayon pool
+/// when they are long, and reduces what it returns, `(error index or usize::MAX, count)`,
+/// to the smallest error index and the sum of the counts: the same whatever the threads.
+fn scan_pairs<F>(tensors: &mut [SizeTensor], flags: &mut [bool], one: F) -> (usize, usize)
+where
+    F: Fn(usize, &mut SizeTensor, &mut bool) -> (usize, usize) + Sync,
+{
+    let combine = |a: (usize, usize), b: (usize, usize)| (a.0.min(b.0), a.1 + b.1);
+    if tensors.len() >= PARALLEL_MIN {
+        tensors.par_iter_mut().zip(flags.par_iter_mut()).enumerate().with_min_len(1024).map(|(i, (t, f))| one(i, t, f)).reduce(|| (usize::MAX, 0), combine)
+    } else {
+        tensors.iter_mut().zip(flags.iter_mut()).enumerate().map(|(i, (t, f))| one(i, t, f)).fold((usize::MAX, 0), combine)
+    }
 }
 
 /// A tensor with `h_normal` along `normal` and `h_tangent` across it; with no normal (a
