@@ -266,8 +266,10 @@ fn dump(case: &Case) {
         [a[0], a[1], b[0], b[1]]
     }));
     let base = format!("{dir}/o_mesh_{around}x{}", case.layers);
-    std::fs::write(format!("{base}.points.f64"), pts).unwrap();
-    std::fs::write(format!("{base}.segments.f64"), segs).unwrap();
+    let written = std::fs::create_dir_all(&dir).and_then(|()| std::fs::write(format!("{base}.points.f64"), pts)).and_then(|()| std::fs::write(format!("{base}.segments.f64"), segs));
+    if let Err(e) = written {
+        panic!("SMARTMESH_BENCH_DUMP: cannot write {base}.*.f64: {e}");
+    }
 }
 
 fn bench(c: &mut Criterion) {
