@@ -773,7 +773,7 @@ const PARALLEL_MIN_LEVEL: usize = 2048;
 /// already repay; at six, the first six rings of a border went through the
 /// axis-aligned index, and a step reaching ten rings was a quarter slower.
 const CLEARANCE_AFTER: u32 = 2;
-/// An empty entry of the neighbours' guesses.
+/// An empty entry of [`Projected`].
 const NOT_TRIED: Nearest = Nearest { segment: u32::MAX, projection: Projection { distance_squared: f64::INFINITY, foot: [0.0; 2], t: 0.0 } };
 /// Steps of the march along the polyline from the neighbours' guess.
 const MARCH_STEPS: usize = 4;
@@ -890,10 +890,35 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
     Reach { graph, source, vertices: order, segments: found, slot, report }
 }
 
+/// The segments a vertex's evaluation has projected on, so that the march and the
+/// window project each at most once (a vertex sees a handful; past eight, projections
+/// are no longer kept).
+struct Projected {
+    items: [Nearest; 8],
+    len: usize,
+}
+
+impl Projected {
+    /// The projection of `p` on segment `q`: the one made before, or a new one (kept).
+    #[inline]
+    fn on(&mut self, source: &Source, p: Point2, q: u32, stats: &mut QueryStats) -> Nearest {
+        if let Some(t) = self.items[..self.len].iter().find(|t| t.segment == q) {
+            return *t;
+        }
+        stats.segments += 1;
+        let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
+        if self.len < self.items.len() {
+            self.items[self.len] = c;
+            self.len += 1;
+        }
+        c
+    }
+}
+
 /// Moves `best` along the polyline while its foot is an end of its segment and the
-/// segment across that end is closer (the projections in `tried` reused).
+/// segment across that end is closer.
 #[inline]
-fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, tried: &[Nearest], stats: &mut QueryStats) {
+fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, projected: &mut Projected, stats: &mut QueryStats) {
     for _ in 0..MARCH_STEPS {
         let s = &source.segments[best.segment as usize];
         let step = if best.projection.t == 0.0 {
@@ -904,13 +929,7 @@ fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, tried: &[Ne
             None
         };
         let Some(q) = step else { break };
-        let c = match tried.iter().find(|t| t.segment == q) {
-            Some(t) => *t,
-            None => {
-                stats.segments += 1;
-                Nearest { segment: q, projection: source.geoms[q as usize].project(p) }
-            }
-        };
+        let c = projected.on(source, p, q, stats);
         if c.beats(best) {
             *best = c;
         } else {
@@ -938,12 +957,8 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
         let nearest = source.index.closest(p, &mut stats).expect("index is not empty");
         return Evaluation { nearest, corrected: false, local: false, stats };
     };
-    stats.segments += 1;
-    let mut best = Nearest { segment: seg, projection: source.geoms[seg as usize].project(p) };
-    // The segments projected so far, which the march and the window reuse.
-    let mut tried = [NOT_TRIED; 8];
-    tried[0] = best;
-    let mut num_tried = 1;
+    let mut projected = Projected { items: [NOT_TRIED; 8], len: 0 };
+    let mut best = projected.on(source, p, seg, &mut stats);
     // First march along the polyline while the foot sits on a segment end (thesis
     // 4.3.6.3): one projection a step, where the window would take three, and the
     // usual way off a guess, since a neighbour's segment often ends just short of the
@@ -951,7 +966,7 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
     // for only once earlier levels put enough feet on the segment to pay it back. Then
     // move to the best segment of the window until it is the best of its own window,
     // and try the clearance; else search.
-    march_across_ends(source, p, &mut best, &tried[..num_tried], &mut stats);
+    march_across_ends(source, p, &mut best, &mut projected, &mut stats);
     if feet[best.segment as usize] >= CLEARANCE_AFTER {
         let clearance = clearance.get_or_init(|| source.clearance());
         for _ in 0..MARCH_STEPS {
@@ -961,18 +976,7 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
                 if q == best.segment {
                     continue;
                 }
-                let c = match tried[..num_tried].iter().find(|t| t.segment == q) {
-                    Some(t) => *t,
-                    None => {
-                        stats.segments += 1;
-                        let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
-                        if num_tried < tried.len() {
-                            tried[num_tried] = c;
-                            num_tried += 1;
-                        }
-                        c
-                    }
-                };
+                let c = projected.on(source, p, q, &mut stats);
                 if c.beats(&best) {
                     best = c;
                     moved = true;
