@@ -21,7 +21,7 @@
 
 use crate::mesh_graph::MeshGraph;
 use crate::metric::{SizeBounds, SizeTensor};
-use crate::sizing::algorithms::{self, merge_in_vertex_order, Collect, Contribution, Failure, Sink};
+use crate::sizing::algorithms::{self, merge, merge_in_vertex_order, Collect, Contribution, Failure, Sink};
 use crate::sizing::propagation::{ClosestPoint, Reach};
 use crate::sizing::gradation::{apply_gradation, GradationReport};
 use crate::sizing::plan::{Algorithm, SizingPlan};
@@ -260,9 +260,7 @@ impl Sink for IntoField<'_> {
 
     fn take_list(self, c: Contribution) -> Result<Merged, Failure> {
         for (&v, t) in c.vertices.iter().zip(&c.tensors) {
-            let v = v as usize;
-            self.tensors[v] = if self.reached[v] { self.tensors[v].intersection(t) } else { *t };
-            self.reached[v] = true;
+            merge(&mut self.tensors[v as usize], &mut self.reached[v as usize], t);
         }
         Ok(Merged { vertices: c.len(), seeds: c.seeds, finished: false })
     }
@@ -296,10 +294,11 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
     // (an error only where some vertex needs it, reported after the steps as before).
     let diagonal = if plan.h_max.is_none() { bounding_box_diagonal(graph) } else { f64::NAN };
     let default_size = plan.h_max.unwrap_or_else(|| diagonal.clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
-    let default_tensor = SizeTensor::try_new([1.0, 0.0], default_size, default_size);
     let diagonal_usable = plan.h_max.is_some() || (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&diagonal);
-    // The last step may finish the field in its own pass when the default is sure.
-    let finish = default_tensor.filter(|_| diagonal_usable).map(|d| Finish { default: bounds.as_ref().map_or(d, |b| d.clamp(b)), bounds });
+    // The field's last pass, with the default clamped once; the last step may do it in
+    // its own pass when the default is sure to be needed as it is.
+    let finish = SizeTensor::try_new([1.0, 0.0], default_size, default_size).map(|d| Finish { default: bounds.as_ref().map_or(d, |b| d.clamp(b)), bounds });
+    let last_step_finish = finish.filter(|_| diagonal_usable);
     let mut tensors: Vec<SizeTensor> = vec![SizeTensor::isotropic(1.0); n];
     let mut reached = vec![false; n];
     let mut steps = Vec::with_capacity(plan.steps.len());
@@ -308,7 +307,7 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
     for (index, step) in plan.steps.iter().enumerate() {
         observer(StepEvent::Started { index, label: step.label.clone(), of: plan.steps.len() });
         let last = index + 1 == plan.steps.len();
-        let sink = IntoField { tensors: &mut tensors, reached: &mut reached, finish: finish.filter(|_| last) };
+        let sink = IntoField { tensors: &mut tensors, reached: &mut reached, finish: last_step_finish.filter(|_| last) };
         let c = algorithms::run(graph, topology, &step.algorithm, sink).map_err(|f| f.at(index, &step.label))?;
         finished = c.finished;
         if c.vertices == 0 {
@@ -325,10 +324,9 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
         }
         warnings.push(format!("no h_max: {unreached} vertices that no step reaches get the bounding-box diagonal {diagonal} as their size"));
     }
-    let default = default_tensor.ok_or(SizingError::NoDefaultSize(default_size))?;
+    let finish = finish.ok_or(SizingError::NoDefaultSize(default_size))?;
     if !finished {
         // The default size and the clamp in one pass over the field.
-        let finish = Finish { default: bounds.as_ref().map_or(default, |b| default.clamp(b)), bounds };
         tensors.iter_mut().zip(&reached).for_each(|(t, &r)| finish.apply(t, r));
     }
     let gradation = plan.gradation.map(|g| {

@@ -252,6 +252,14 @@ where
     Ok(Contribution { vertices, tensors, seeds })
 }
 
+/// Merges tensor `t` into a field's tensor of a vertex: intersected into it (thesis
+/// 3.2.2) when the vertex has one already (`has`), taken as it is otherwise.
+#[inline]
+pub(crate) fn merge(slot: &mut SizeTensor, has: &mut bool, t: &SizeTensor) {
+    *slot = if *has { slot.intersection(t) } else { *t };
+    *has = true;
+}
+
 /// Merges the tensors `f` gives the vertices of `reach` straight into a field, in vertex
 /// order: each is intersected into the vertex's tensor, or taken as it is where the
 /// vertex has none yet (`reached`). Returns how many were merged. The same merge as
@@ -277,8 +285,7 @@ where
         } else {
             match f(v, &reach.closest(i as usize)) {
                 Ok(Some(t)) => {
-                    *slot = if *has { slot.intersection(&t) } else { t };
-                    *has = true;
+                    merge(slot, has, &t);
                     (usize::MAX, 1)
                 }
                 Ok(None) => (usize::MAX, 0),
