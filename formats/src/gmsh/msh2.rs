@@ -100,9 +100,6 @@ fn parametric_count(dim: i32) -> Option<usize> {
 /// further physical group of its entity as one cell.
 struct Collector {
     cur: Option<RawBlock>,
-    /// Elements about to be added (a binary block's count): room is made for them
-    /// once, rather than by repeated growth.
-    hint: usize,
     /// Tag of the element read last (a cell or a copy).
     last_tag: u64,
 }
@@ -128,34 +125,39 @@ impl Collector {
                 if follows && b.geometrical[i] == geometrical && b.physical[i] != physical && b.nodes[i * k..] == *nodes {
                     // Same element, same entity, another physical group, the next
                     // number: Gmsh's way of writing an entity in several groups.
-                    let original = b.physical[i];
-                    r.aliases.push((tag, r.n_raw_cells + i));
-                    let list = r.entities.entry((kind.dim(), geometrical)).or_default();
-                    for p in [original, physical] {
-                        if !list.contains(&p) {
-                            list.push(p);
-                        }
-                    }
+                    copy_of(r, tag, i, (kind.dim(), geometrical), [b.physical[i], physical]);
                     return;
                 }
             } else if let Some(done) = self.cur.take() {
                 r.push_raw(done);
             }
         }
-        let hint = std::mem::take(&mut self.hint);
         let b = self.cur.get_or_insert_with(|| RawBlock {
             kind,
             at,
             tags: super::TagList::new(),
-            nodes: Vec::with_capacity(hint * kind.nodes_per_cell()),
-            physical: Vec::with_capacity(hint),
-            geometrical: Vec::with_capacity(hint),
+            nodes: Vec::new(),
+            physical: Vec::new(),
+            geometrical: Vec::new(),
             entity: None,
         });
         b.tags.push(tag);
         b.nodes.extend_from_slice(nodes);
         b.physical.push(physical);
         b.geometrical.push(geometrical);
+    }
+}
+
+/// Element `tag` is Gmsh's copy of cell `i` of the block being filled for another
+/// physical group of its entity `entity`: the tag reads as that cell, and the entity
+/// lists both groups (`groups`: the cell's, then the copy's).
+fn copy_of(r: &mut Reader<'_>, tag: u64, i: usize, entity: (u8, i32), groups: [i32; 2]) {
+    r.aliases.push((tag, r.n_raw_cells + i));
+    let list = r.entities.entry(entity).or_default();
+    for p in groups {
+        if !list.contains(&p) {
+            list.push(p);
+        }
     }
 }
 
@@ -223,14 +225,7 @@ fn binary_block<const K: usize>(r: &mut Reader<'_>, col: &mut Collector, map: &T
             if *p0 != physical && follows && *g0 == geometrical && *n0 == nodes {
                 // Same element, same entity, another physical group, the next number:
                 // Gmsh's way of writing an entity in several groups.
-                let original = *p0;
-                r.aliases.push((tag, r.n_raw_cells + b.tags.len() - 1));
-                let list = r.entities.entry((kind.dim(), geometrical)).or_default();
-                for p in [original, physical] {
-                    if !list.contains(&p) {
-                        list.push(p);
-                    }
-                }
+                copy_of(r, tag, b.tags.len() - 1, (kind.dim(), geometrical), [*p0, physical]);
                 continue;
             }
         }
@@ -254,7 +249,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
     let binary = r.c.binary;
     let n = r.c.count("number of elements", 8)?;
     let map: TagMap = r.take_node_map()?;
-    let mut col = Collector { cur: None, hint: 0, last_tag: 0 };
+    let mut col = Collector { cur: None, last_tag: 0 };
     let mut nodes = [0 as NodeIndex; 9];
     if binary {
         r.c.end_text_line()?;
@@ -439,15 +434,19 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
         }
     }
     let has_copies = |dim: u8| copied[dim as usize];
+    // Elements a block is written as: its cells and their copies.
+    let elements = |b: &CellBlock| -> usize {
+        let dim = b.kind.dim();
+        if has_copies(dim) {
+            b.physical.iter().zip(&b.geometrical).map(|(&p, &g)| 1 + copies(dim, g, p).count()).sum()
+        } else {
+            b.len()
+        }
+    };
     let mut total = 0usize;
     let mut negative = 0usize;
     for b in &mesh.blocks {
-        let dim = b.kind.dim();
-        if has_copies(dim) {
-            total += b.physical.iter().zip(&b.geometrical).map(|(&p, &g)| 1 + copies(dim, g, p).count()).sum::<usize>();
-        } else {
-            total += b.len();
-        }
+        total += elements(b);
         negative += b.geometrical.iter().map(|&g| (g < 0) as usize).sum::<usize>();
     }
     if total >= (i32::MAX / 2) as usize {
@@ -483,8 +482,7 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
         let dim = b.kind.dim();
         let t = b.kind.gmsh_type();
         if binary && !b.is_empty() {
-            let count: usize = if has_copies(dim) { b.physical.iter().zip(&b.geometrical).map(|(&p, &g)| 1 + copies(dim, g, p).count()).sum() } else { b.len() };
-            for v in [t, count as i32, 2] {
+            for v in [t, elements(b) as i32, 2] {
                 out.extend_from_slice(&v.to_le_bytes());
             }
         }
