@@ -639,6 +639,95 @@ fn malformed_binary_nan() {
     assert_eq!(byte_of(&e), 32);
 }
 
+/// A version-2 `.meshb` (4-byte integers and offsets) of a strip of `n` triangles on
+/// `n + 2` vertices, all references 0, and where its Vertices and Triangles records start.
+fn strip_meshb(n: usize) -> (Vec<u8>, usize, usize) {
+    let mut m = TaggedMesh::new();
+    m.points = (0..n + 2).map(|i| [(i / 2) as f64, (i % 2) as f64, 0.0]).collect();
+    let mut tris = CellBlock::new(CellKind::Triangle);
+    for i in 0..n {
+        tris.push(&[i, i + 1, i + 2], 0, 0);
+    }
+    m.blocks.push(tris);
+    let b = write_bytes(Format::Medit, &m, &opts("s.meshb")).unwrap().main;
+    // Walk the keywords: code, offset of the next one, then the count.
+    let (mut pos, mut vertices, mut triangles) = (8, 0, 0);
+    while pos + 8 <= b.len() {
+        let code = i32::from_le_bytes(b[pos..pos + 4].try_into().unwrap());
+        let next = i32::from_le_bytes(b[pos + 4..pos + 8].try_into().unwrap()) as usize;
+        match code {
+            4 => vertices = pos + 12,
+            6 => triangles = pos + 12,
+            _ => {}
+        }
+        if next == 0 {
+            break;
+        }
+        pos = next;
+    }
+    assert!(vertices > 0 && triangles > 0, "both keywords written");
+    (b, vertices, triangles)
+}
+
+#[test]
+fn malformed_binary_fault_after_many_good_records() {
+    let (b, vertices, triangles) = strip_meshb(100);
+    let m = read_alone(&b, "meshb").unwrap();
+    assert_eq!(m.num_cells(), 100);
+    assert!(!m.point_data.contains_key("medit:ref"), "all references 0: no array");
+    // Triangle 71's second vertex past the vertices (checked once the elements are read).
+    let mut bad = b.clone();
+    let tri = |i: usize| triangles + 16 * (i - 1);
+    bad[tri(71) + 4..tri(71) + 8].copy_from_slice(&500i32.to_le_bytes());
+    let e = read_alone(&bad, "meshb").unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index: 500, available: 102, .. }), "{e}");
+    assert_eq!(byte_of(&e), tri(71) as u64);
+    // A negative number in triangle 90 and a 0 in triangle 95, both refused as they are
+    // decoded: the first is named.
+    let mut bad = b.clone();
+    bad[tri(90)..tri(90) + 4].copy_from_slice(&(-3i32).to_le_bytes());
+    bad[tri(95) + 8..tri(95) + 12].copy_from_slice(&0i32.to_le_bytes());
+    let e = read_alone(&bad, "meshb").unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index: -3, .. }), "{e}");
+    assert_eq!(byte_of(&e), tri(90) as u64);
+    // Vertex 60's y is infinite: the error is at its record.
+    let mut bad = b.clone();
+    let vtx = |i: usize| vertices + 20 * (i - 1);
+    bad[vtx(60) + 8..vtx(60) + 16].copy_from_slice(&f64::INFINITY.to_le_bytes());
+    let e = read_alone(&bad, "meshb").unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
+    assert_eq!(byte_of(&e), vtx(60) as u64);
+    // One reference that is not 0 (vertex 77): every vertex gets its reference.
+    let mut refd = b.clone();
+    refd[vtx(77) + 16..vtx(77) + 20].copy_from_slice(&(-4i32).to_le_bytes());
+    let m = read_alone(&refd, "meshb").unwrap();
+    let refs = &m.point_data["medit:ref"].values;
+    assert_eq!(refs.len(), 102);
+    assert_eq!(refs.iter().enumerate().filter(|(_, &r)| r != 0.0).collect::<Vec<_>>(), vec![(76, &-4.0)]);
+}
+
+#[test]
+fn malformed_binary_references_past_32_bits() {
+    // Version 4: 8-byte integers, so a reference can exceed what a 32-bit tag holds.
+    let b = handmade(4, true);
+    // Vertices at byte 24 + 12 (code, offset) + 8 (count); 24 bytes per vertex.
+    let second_ref = 44 + 24 + 16;
+    let mut bad = b.clone();
+    bad[second_ref..second_ref + 8].copy_from_slice(&(1i64 << 40).to_le_bytes());
+    let e = read_alone(&bad, "meshb").unwrap_err();
+    assert!(e.to_string().contains("the reference of vertex 2 (a 32-bit integer)"), "{e}");
+    assert_eq!(byte_of(&e), second_ref as u64);
+    // The triangle's reference: the last 8 bytes of its record.
+    let at = (8..b.len() - 12).step_by(4).find(|&i| b[i..i + 4] == 6i32.to_le_bytes() && b[i + 12..i + 20] == 1i64.to_le_bytes()).unwrap();
+    let tri_ref = at + 20 + 24;
+    assert_eq!(b[tri_ref..tri_ref + 8], 7i64.to_le_bytes());
+    let mut bad = b.clone();
+    bad[tri_ref..tri_ref + 8].copy_from_slice(&(-(1i64 << 33)).to_le_bytes());
+    let e = read_alone(&bad, "meshb").unwrap_err();
+    assert!(e.to_string().contains("the reference of triangle 1"), "{e}");
+    assert_eq!(byte_of(&e), tri_ref as u64);
+}
+
 #[test]
 fn malformed_binary_huge_count() {
     let mut b = handmade(4, true);

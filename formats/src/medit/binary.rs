@@ -106,33 +106,49 @@ enum Bad {
 }
 
 /// Decodes `K`-node elements; returns the largest vertex number (0-based) met.
-fn elements<const LE: bool, const I8: bool, const K: usize>(
-    data: &[u8],
-    nodes: &mut Vec<NodeIndex>,
-    refs: &mut Vec<i32>,
-) -> Result<usize, Bad> {
+///
+/// The records are decoded into arrays of their final length with no test in the
+/// loop (the range of every number is folded into a minimum and a maximum); the
+/// faulty record is looked for only when those fail.
+fn elements<const LE: bool, const I8: bool, const K: usize>(data: &[u8], nodes: &mut [NodeIndex], refs: &mut [i32]) -> Result<usize, Bad> {
     let isz = if I8 { 8 } else { 4 };
-    let mut largest = 0;
-    for (i, rec) in data.chunks_exact((K + 1) * isz).enumerate() {
-        let mut cell = [0 as NodeIndex; K];
+    let records = data.chunks_exact((K + 1) * isz);
+    let n = records.len();
+    let (mut lo, mut hi) = (i64::MAX, i64::MIN);
+    let (mut ref_lo, mut ref_hi) = (i64::MAX, i64::MIN);
+    for ((rec, cell), r) in records.zip(nodes.chunks_exact_mut(K)).zip(refs.iter_mut()) {
         for (j, slot) in cell.iter_mut().enumerate() {
             let v = int_at::<LE, I8>(&rec[j * isz..]);
-            // Past MAX_POINTS no cell can name a vertex (32-bit connectivity).
-            if v < 1 || v as u64 > MAX_POINTS as u64 {
+            lo = lo.min(v);
+            hi = hi.max(v);
+            *slot = v.wrapping_sub(1) as NodeIndex;
+        }
+        let x = int_at::<LE, I8>(&rec[K * isz..]);
+        ref_lo = ref_lo.min(x);
+        ref_hi = ref_hi.max(x);
+        *r = x as i32;
+    }
+    // Past MAX_POINTS no cell can name a vertex (32-bit connectivity).
+    let node_ok = |v: i64| v >= 1 && v as u64 <= MAX_POINTS as u64;
+    let ref_ok = |x: i64| i32::try_from(x).is_ok();
+    if n > 0 && !(node_ok(lo) && node_ok(hi) && ref_ok(ref_lo) && ref_ok(ref_hi)) {
+        // The first faulty record, and in it the first faulty number, as a loop that
+        // stops there would find them.
+        for (i, rec) in data.chunks_exact((K + 1) * isz).enumerate() {
+            if let Some(v) = (0..K).map(|j| int_at::<LE, I8>(&rec[j * isz..])).find(|&v| !node_ok(v)) {
                 return Err(Bad::Node(i, v));
             }
-            *slot = (v - 1) as NodeIndex;
-            largest = largest.max(*slot as usize);
+            let x = int_at::<LE, I8>(&rec[K * isz..]);
+            if !ref_ok(x) {
+                return Err(Bad::Ref(i, x));
+            }
         }
-        nodes.extend_from_slice(&cell);
-        let r = int_at::<LE, I8>(&rec[K * isz..]);
-        refs.push(i32::try_from(r).map_err(|_| Bad::Ref(i, r))?);
     }
-    Ok(largest)
+    Ok(if n > 0 { (hi - 1) as usize } else { 0 })
 }
 
 /// [`elements`] for every byte order, integer size and node count smartmesh reads.
-fn elements_any<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &mut Vec<NodeIndex>, refs: &mut Vec<i32>) -> Result<usize, Bad> {
+fn elements_any<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &mut [NodeIndex], refs: &mut [i32]) -> Result<usize, Bad> {
     match k {
         2 => elements::<LE, I8, 2>(data, nodes, refs),
         3 => elements::<LE, I8, 3>(data, nodes, refs),
@@ -142,24 +158,40 @@ fn elements_any<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &m
     }
 }
 
-fn vertices<const LE: bool, const I8: bool, const R4: bool>(
-    data: &[u8],
-    dim: usize,
-    points: &mut Vec<[f64; 3]>,
-    refs: &mut Vec<i32>,
-) -> Result<(), Bad> {
+/// Decodes vertices into `points` (of the final length, zeroed). Their references go to
+/// `refs` only when one is not 0: an empty `refs` stands for all 0, what most files
+/// hold, and saves an array of fresh memory.
+fn vertices<const LE: bool, const I8: bool, const R4: bool>(data: &[u8], dim: usize, points: &mut [[f64; 3]], refs: &mut Vec<i32>) -> Result<(), Bad> {
     let (isz, rsz) = (if I8 { 8 } else { 4 }, if R4 { 4 } else { 8 });
-    for (i, rec) in data.chunks_exact(dim * rsz + isz).enumerate() {
-        let mut p = [0.0; 3];
+    let size = dim * rsz + isz;
+    // One pass with no test in the loop: finiteness and the range of the references
+    // are folded, and the faulty record looked for only when they fail.
+    let mut finite = true;
+    let (mut lo, mut hi) = (0i64, 0i64);
+    for (rec, p) in data.chunks_exact(size).zip(points.iter_mut()) {
         for (c, slot) in p.iter_mut().enumerate().take(dim) {
-            *slot = real_at::<LE, R4>(&rec[c * rsz..]);
+            let x = real_at::<LE, R4>(&rec[c * rsz..]);
+            finite &= x.is_finite();
+            *slot = x;
         }
-        if let Some(&c) = p.iter().find(|c| !c.is_finite()) {
-            return Err(Bad::Coord(i, c));
-        }
-        points.push(p);
         let r = int_at::<LE, I8>(&rec[dim * rsz..]);
-        refs.push(i32::try_from(r).map_err(|_| Bad::Ref(i, r))?);
+        lo = lo.min(r);
+        hi = hi.max(r);
+    }
+    let ref_ok = |r: i64| i32::try_from(r).is_ok();
+    if !finite || !ref_ok(lo) || !ref_ok(hi) {
+        for (i, rec) in data.chunks_exact(size).enumerate() {
+            if let Some(x) = (0..dim).map(|c| real_at::<LE, R4>(&rec[c * rsz..])).find(|x| !x.is_finite()) {
+                return Err(Bad::Coord(i, x));
+            }
+            let r = int_at::<LE, I8>(&rec[dim * rsz..]);
+            if !ref_ok(r) {
+                return Err(Bad::Ref(i, r));
+            }
+        }
+    }
+    if lo != 0 || hi != 0 {
+        refs.extend(data.chunks_exact(size).map(|rec| int_at::<LE, I8>(&rec[dim * rsz..]) as i32));
     }
     Ok(())
 }
@@ -304,8 +336,7 @@ fn read_vertices(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) ->
     }
     let size = dim * f.rsz() + f.isz();
     let (n, start) = count(b, data, limit, f, size, "vertices")?;
-    p.points.reserve_exact(n);
-    p.refs.reserve_exact(n);
+    p.points = vec![[0.0; 3]; n];
     let d = &b[start..start + n * size];
     let r = match (f.le, f.isz() == 8, f.real4) {
         (true, false, false) => vertices::<true, false, false>(d, dim, &mut p.points, &mut p.refs),
@@ -343,10 +374,11 @@ fn read_elements(b: &[u8], data: usize, limit: usize, f: Fmt, code: usize, p: &m
     let k = kind.nodes_per_cell();
     let size = (k + 1) * f.isz();
     let (n, start) = count(b, data, limit, f, size, KEYWORDS[code].name)?;
+    // Zeroed arrays of the final length, filled in place: fresh pages, touched once.
     let mut e = Elements {
         kind,
-        nodes: Vec::with_capacity(n * k),
-        refs: Vec::with_capacity(n),
+        nodes: vec![0; n * k],
+        refs: vec![0; n],
         at: Locator::Bytes { start: start as u64, size: size as u64 },
         unchecked: true,
     };

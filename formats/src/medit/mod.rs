@@ -220,6 +220,7 @@ struct Sol {
 struct Parsed {
     dim: u8,
     points: Vec<[f64; 3]>,
+    /// The vertices' references; empty when the binary reader found them all 0.
     refs: Vec<i32>,
     vertices_read: bool,
     elements: Vec<Elements>,
@@ -329,18 +330,35 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<BTr
         // The layout is decided once per field, then each vertex's values are written
         // in place (one pass over the solution, no per-value growth check), decoded
         // from the file's bytes when they were left there.
-        let mut values = vec![0.0; comps * sol.n];
-        match sol.raw {
+        let values = match sol.raw {
+            // A field alone in its rows, kept as the file orders it (a scalar, a packed
+            // 2D tensor, a 3D vector or matrix): the bytes decoded in one pass, into an
+            // array that is written once (no zeroed array first).
+            Some(start) if stride == size && size == comps && identity_layout(typ, d) => {
+                bytes[start..start + sol.n * stride * 8].chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect()
+            }
             Some(start) => {
+                let mut values = vec![0.0; comps * sol.n];
                 let rows = bytes[start..start + sol.n * stride * 8].chunks_exact(stride * 8).map(|r| &r[offset * 8..(offset + size) * 8]);
                 convert(&mut values, comps, rows, |r: &&[u8], j| f64::from_le_bytes(r[8 * j..8 * j + 8].try_into().unwrap_or([0; 8])), typ, d);
+                values
             }
-            None => convert(&mut values, comps, sol.values.chunks_exact(stride).map(|r| &r[offset..offset + size]), |r: &&[f64], j| r[j], typ, d),
-        }
+            None => {
+                let mut values = vec![0.0; comps * sol.n];
+                convert(&mut values, comps, sol.values.chunks_exact(stride).map(|r| &r[offset..offset + size]), |r: &&[f64], j| r[j], typ, d);
+                values
+            }
+        };
         out.insert(name, if packed { DataArray::symmetric2(values) } else { DataArray::new(comps, values) });
         offset += size;
     }
     Ok(out)
+}
+
+/// Whether a solution of `typ` in dimension `d` is kept with the file's values in the
+/// file's order (see [`convert`]).
+fn identity_layout(typ: u32, d: usize) -> bool {
+    matches!((typ, d), (1, _) | (3, 2) | (2, 3) | (4, 3))
 }
 
 /// One field's values, vertex by vertex (`rows`, value `j` of a row by `get`), in the
@@ -348,17 +366,19 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<BTr
 #[inline(always)]
 fn convert<T>(out: &mut [f64], comps: usize, rows: impl Iterator<Item = T>, get: impl Fn(&T, usize) -> f64, typ: u32, d: usize) {
     let items = out.chunks_exact_mut(comps).zip(rows);
+    // Values are stored one by one: `copy_from_slice` of a small array is a call to
+    // `memcpy` per vertex.
+    let put = |o: &mut [f64], v: &[f64]| o.iter_mut().zip(v).for_each(|(o, &v)| *o = v);
     match (typ, d) {
         (1, _) => items.for_each(|(o, s)| o[0] = get(&s, 0)),
-        (2, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), 0.0])),
-        (2, _) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), get(&s, 2)])),
-        (3, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), get(&s, 2)])),
+        (2, 2) => items.for_each(|(o, s)| put(o, &[get(&s, 0), get(&s, 1), 0.0])),
+        (2, _) | (3, 2) => items.for_each(|(o, s)| put(o, &[get(&s, 0), get(&s, 1), get(&s, 2)])),
         // libMeshb's 3D order: m11 m12 m22 m13 m23 m33.
         (3, _) => items.for_each(|(o, s)| {
             let m: [f64; 6] = std::array::from_fn(|j| get(&s, j));
-            o.copy_from_slice(&[m[0], m[1], m[3], m[1], m[2], m[4], m[3], m[4], m[5]])
+            put(o, &[m[0], m[1], m[3], m[1], m[2], m[4], m[3], m[4], m[5]])
         }),
-        (_, 2) => items.for_each(|(o, s)| o.copy_from_slice(&[get(&s, 0), get(&s, 1), 0.0, get(&s, 2), get(&s, 3), 0.0, 0.0, 0.0, 1.0])),
+        (_, 2) => items.for_each(|(o, s)| put(o, &[get(&s, 0), get(&s, 1), 0.0, get(&s, 2), get(&s, 3), 0.0, 0.0, 0.0, 1.0])),
         (_, _) => items.for_each(|(o, s)| {
             for (j, v) in o.iter_mut().enumerate() {
                 *v = get(&s, j);

@@ -489,7 +489,7 @@ impl Grid {
         let mut geom = geom.unwrap_or_else(|| phys.clone());
 
         // Every reader checks node indices where it reads them, so that the error names
-        // the line or byte; `read_bytes` validates the mesh once more.
+        // the line or byte; `read_bytes` relies on it (and checks it in debug builds).
         debug_assert!(connectivity.iter().all(|&v| (v as usize) < np), "node index out of range");
         // Cells go to blocks a run of one kind at a time. The largest run keeps the
         // connectivity and tag buffers themselves (moved to their front once every
