@@ -126,10 +126,20 @@ pub fn read_bytes(format: Format, bytes: &[u8], ctx: &ReadContext<'_>) -> Result
     Ok(mesh)
 }
 
-/// Writes a mesh in `format` to bytes (the main file and its siblings).
+/// The error for writing a mesh that [`TaggedMesh::validate`] refuses, in `format`:
+/// the first problem it finds.
+pub(crate) fn refused(format: Format, mesh: &TaggedMesh) -> Error {
+    let reason = mesh.validate().into_iter().next().map_or_else(|| "the mesh is inconsistent".to_string(), |p| p.to_string());
+    Error::new(ErrorKind::CannotWrite { format: format.name(), reason })
+}
+
+/// Writes a mesh in `format` to bytes (the main file and its siblings). A mesh that
+/// [`TaggedMesh::validate`] refuses is not written.
 pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
-    if let Some(p) = mesh.validate().into_iter().next() {
-        return Err(Error::new(ErrorKind::CannotWrite { format: format.name(), reason: p.to_string() }));
+    // The Medit writer checks coordinates and node numbers in the passes that write
+    // them, with the same error.
+    if format != Format::Medit && !mesh.validate().is_empty() {
+        return Err(refused(format, mesh));
     }
     match format {
         Format::Triangle => crate::triangle::write(mesh, opts),

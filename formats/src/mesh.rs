@@ -196,6 +196,12 @@ pub struct CellBlock {
 }
 
 impl CellBlock {
+    /// Whether the node and tag arrays agree: `nodes_per_cell` nodes and one tag of
+    /// each kind per cell.
+    pub fn lengths_agree(&self) -> bool {
+        self.nodes.len() == self.physical.len() * self.kind.nodes_per_cell() && self.geometrical.len() == self.physical.len()
+    }
+
     /// An empty block of `kind`.
     pub fn new(kind: CellKind) -> Self {
         CellBlock { kind, nodes: Vec::new(), physical: Vec::new(), geometrical: Vec::new() }
@@ -269,6 +275,11 @@ pub enum Layout {
 }
 
 impl DataArray {
+    /// Whether the array holds exactly `items` items (and whole ones).
+    pub fn covers(&self, items: usize) -> bool {
+        self.components != 0 && self.values.len() % self.components == 0 && self.len() == items
+    }
+
     /// A new array; `values.len()` must be a multiple of `components`.
     pub fn new(components: usize, values: Vec<f64>) -> Self {
         debug_assert!(components > 0 && values.len() % components == 0);
@@ -498,8 +509,7 @@ impl TaggedMesh {
         }
         let mut offset = 0;
         for (bi, b) in self.blocks.iter().enumerate() {
-            let k = b.kind.nodes_per_cell();
-            if b.nodes.len() != b.physical.len() * k || b.geometrical.len() != b.physical.len() {
+            if !b.lengths_agree() {
                 problems.push(MeshProblem::BlockLengths { block: bi });
                 continue;
             }
@@ -513,13 +523,13 @@ impl TaggedMesh {
             offset += b.len();
         }
         for (name, a) in &self.point_data {
-            if a.len() != n || a.components == 0 || a.values.len() % a.components != 0 {
+            if !a.covers(n) {
                 problems.push(MeshProblem::DataLength { name: name.clone(), expected: n, found: a.len() });
             }
         }
         let nc = self.num_cells();
         for (name, a) in &self.cell_data {
-            if a.len() != nc || a.components == 0 || a.values.len() % a.components != 0 {
+            if !a.covers(nc) {
                 problems.push(MeshProblem::DataLength { name: name.clone(), expected: nc, found: a.len() });
             }
         }
@@ -534,6 +544,19 @@ impl TaggedMesh {
             }
         }
         problems
+    }
+
+    /// The checks of [`TaggedMesh::validate`] that do not read every point and cell:
+    /// whether block, data and set lengths agree and set items are in range. A writer
+    /// that checks coordinates and node numbers as it writes them calls this first,
+    /// and [`TaggedMesh::validate`] for the message when something fails.
+    pub fn lengths_agree(&self) -> bool {
+        let (n, nc) = (self.points.len(), self.num_cells());
+        self.blocks.iter().all(CellBlock::lengths_agree)
+            && self.point_data.values().all(|a| a.covers(n))
+            && self.cell_data.values().all(|a| a.covers(nc))
+            && self.point_sets.values().all(|s| s.iter().all(|&v| v < n))
+            && self.cell_sets.values().all(|s| s.iter().all(|&v| v < nc))
     }
 }
 

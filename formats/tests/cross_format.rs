@@ -198,3 +198,84 @@ fn every_fixture_through_every_format() {
     assert!(failures.is_empty(), "{} of {checked} round trips failed:\n{}", failures.len(), failures.join("\n"));
     assert!(checked > 150, "only {checked} round trips ran");
 }
+
+/// A mesh `validate` refuses is refused by every writer, with its first problem as the
+/// reason, whether the writer validates first or checks as it writes (Medit).
+#[test]
+fn every_writer_refuses_an_invalid_mesh_with_validates_message() {
+    use smartmesh_formats::{write_bytes, CellBlock, DataArray, ErrorKind};
+    let valid = || {
+        let mut m = TaggedMesh::new();
+        m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        let mut tris = CellBlock::new(CellKind::Triangle);
+        tris.push(&[0, 1, 2], 1, 1);
+        tris.push(&[0, 2, 3], 1, 1);
+        let mut lines = CellBlock::new(CellKind::Line);
+        lines.push(&[0, 1], 2, 2);
+        let mut corners = CellBlock::new(CellKind::Vertex);
+        corners.push(&[3], 3, 3);
+        m.blocks = vec![corners, lines, tris];
+        m.point_data.insert("size".into(), DataArray::new(1, vec![0.1; 4]));
+        m
+    };
+    let broken: Vec<(&str, TaggedMesh)> = vec![
+        ("non-finite coordinate", {
+            let mut m = valid();
+            m.points[2][1] = f64::NAN;
+            m
+        }),
+        ("infinite z", {
+            let mut m = valid();
+            m.points[1][2] = f64::INFINITY;
+            m
+        }),
+        ("triangle node past the points", {
+            let mut m = valid();
+            m.blocks[2].nodes[4] = 9;
+            m
+        }),
+        ("line node past the points", {
+            let mut m = valid();
+            m.blocks[1].nodes[1] = 4;
+            m
+        }),
+        // Medit has no point elements: the block is dropped, yet the mesh is refused.
+        ("vertex node past the points", {
+            let mut m = valid();
+            m.blocks[0].nodes[0] = 7;
+            m
+        }),
+        ("block lengths", {
+            let mut m = valid();
+            m.blocks[2].geometrical.pop();
+            m
+        }),
+        ("short point data", {
+            let mut m = valid();
+            m.point_data.insert("size".into(), DataArray::new(1, vec![0.1; 3]));
+            m
+        }),
+        ("point set past the points", {
+            let mut m = valid();
+            m.point_sets.insert("Corners".into(), vec![0, 4]);
+            m
+        }),
+        ("cell set past the cells", {
+            let mut m = valid();
+            m.cell_sets.insert("Ridges".into(), vec![1, 4]);
+            m
+        }),
+    ];
+    for t in targets() {
+        assert!(write_bytes(t.format, &valid(), &t.opts).is_ok(), "{}: the valid mesh", t.name);
+        for (what, m) in &broken {
+            let problems = m.validate();
+            assert!(!problems.is_empty(), "{what}: validate finds it");
+            let e = write_bytes(t.format, m, &t.opts).expect_err(&format!("{}: {what}", t.name));
+            match &e.kind {
+                ErrorKind::CannotWrite { reason, .. } => assert_eq!(reason, &problems[0].to_string(), "{}: {what}", t.name),
+                other => panic!("{}: {what}: {other:?}", t.name),
+            }
+        }
+    }
+}

@@ -552,7 +552,9 @@ fn version(bytes_v2: u64, largest_number: u64) -> u32 {
     }
 }
 
-pub(super) fn write_mesh(m: &Out<'_>) -> Vec<u8> {
+/// The file's bytes, and one past the largest node index written (0 when none), which
+/// the caller checks against the vertex count.
+pub(super) fn write_mesh(m: &Out<'_>) -> (Vec<u8>, usize) {
     let dim = m.dim as usize;
     let nv = m.points.len();
     let mut ints = 0u64; // integers after the vertices, counts included
@@ -588,23 +590,28 @@ pub(super) fn write_mesh(m: &Out<'_>) -> Vec<u8> {
         }
     }
     w.end(at);
+    let mut bound = 0;
     for (code, blocks) in &m.elements {
         let at = w.begin(*code);
         w.int(m.count(*code));
         for b in blocks {
-            match (ver < 4, b.kind.nodes_per_cell()) {
+            let b_bound = match (ver < 4, b.kind.nodes_per_cell()) {
                 (true, 2) => element_records::<2>(&mut w.out, b),
                 (true, 3) => element_records::<3>(&mut w.out, b),
                 (true, 4) => element_records::<4>(&mut w.out, b),
                 _ => {
+                    let mut b_bound = 0;
                     for (cell, &r) in b.cells().zip(&b.physical) {
                         for &v in cell {
+                            b_bound = b_bound.max(v as usize + 1);
                             w.int(v as usize + 1);
                         }
                         w.sint(r);
                     }
+                    b_bound
                 }
-            }
+            };
+            bound = bound.max(b_bound);
         }
         w.end(at);
     }
@@ -616,7 +623,7 @@ pub(super) fn write_mesh(m: &Out<'_>) -> Vec<u8> {
         }
         w.end(at);
     }
-    w.finish()
+    (w.finish(), bound)
 }
 
 /// The vertices of a file with 32-bit integers: `D` reals and a reference per vertex,
@@ -635,17 +642,25 @@ fn vertex_records<const D: usize>(out: &mut Vec<u8>, points: &[[f64; 3]], refs: 
 }
 
 /// The cells of a block of `K`-node elements in a file with 32-bit integers: 1-based
-/// node numbers and the reference, one stack record per cell. Node indices were checked
-/// against the vertex count, which the version choice keeps within `i32`.
-fn element_records<const K: usize>(out: &mut Vec<u8>, b: &CellBlock) {
+/// node numbers and the reference, one stack record per cell. Returns one past the
+/// largest node index, for the caller to check against the vertex count (whose
+/// version choice keeps the numbers of valid nodes within `i32`).
+fn element_records<const K: usize>(out: &mut Vec<u8>, b: &CellBlock) -> usize {
     let len = 4 * (K + 1);
     let mut rec = [0u8; 20];
+    let mut largest = 0;
     for (cell, &r) in b.nodes.chunks_exact(K).zip(&b.physical) {
         for (j, &v) in cell.iter().enumerate() {
-            rec[4 * j..4 * j + 4].copy_from_slice(&((v + 1) as i32).to_le_bytes());
+            largest = largest.max(v);
+            rec[4 * j..4 * j + 4].copy_from_slice(&(v.wrapping_add(1) as i32).to_le_bytes());
         }
         rec[4 * K..len].copy_from_slice(&r.to_le_bytes());
         out.extend_from_slice(&rec[..len]);
+    }
+    if b.nodes.is_empty() {
+        0
+    } else {
+        largest as usize + 1
     }
 }
 
@@ -660,13 +675,34 @@ pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
     for &ty in s.types {
         w.out.extend_from_slice(&(ty as i32).to_le_bytes());
     }
-    let mut row = Vec::with_capacity(s.stride);
-    for v in 0..s.n {
-        s.row(v, &mut row);
-        for x in &row {
-            w.out.extend_from_slice(&x.to_le_bytes());
+    match s.single() {
+        // One solution (what MMG reads): fixed-size records assembled on the stack.
+        Some(Single::Scalar(a)) => sol_records(&mut w.out, a.values.chunks_exact(1), |v| [v[0]]),
+        Some(Single::Packed(a)) => sol_records(&mut w.out, a.values.chunks_exact(3), |v| [v[0], v[1], v[2]]),
+        Some(Single::Tensor2(a)) => sol_records(&mut w.out, a.values.chunks_exact(9), |v| [v[0], 0.5 * (v[1] + v[3]), v[4]]),
+        None => {
+            let mut row = Vec::with_capacity(s.stride);
+            for v in 0..s.n {
+                s.row(v, &mut row);
+                for x in &row {
+                    w.out.extend_from_slice(&x.to_le_bytes());
+                }
+            }
         }
     }
     w.end(at);
     w.finish()
+}
+
+/// The records of one solution: `R` reals a vertex from each of `items` by `row`, one
+/// capacity check per vertex (a row assembled in a `Vec` costs more than the bytes).
+#[inline(always)]
+fn sol_records<'a, const R: usize>(out: &mut Vec<u8>, items: impl Iterator<Item = &'a [f64]>, row: impl Fn(&[f64]) -> [f64; R]) {
+    let mut rec = [[0u8; 8]; R];
+    for item in items {
+        for (slot, x) in rec.iter_mut().zip(row(item)) {
+            *slot = x.to_le_bytes();
+        }
+        out.extend_from_slice(rec.as_flattened());
+    }
 }

@@ -62,7 +62,8 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::error::{Error, ErrorKind, Position, Result};
-use crate::{CellBlock, CellKind, DataArray, Layout, NodeIndex, MAX_POINTS, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::io::refused;
+use crate::{CellBlock, CellKind, DataArray, Format, Layout, NodeIndex, MAX_POINTS, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
 
 use keywords::KEYWORDS;
 
@@ -502,7 +503,13 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         _ => opts.medit_binary,
     };
     let mut report = WriteReport::default();
-    let dim = if mesh.points.iter().any(|p| p[2] != 0.0) { 3 } else { 2 };
+    // One pass over the points for the dimension and for what `validate` checks of
+    // them; the node numbers are checked where the elements are written.
+    let (has_z, finite) = mesh.points.iter().fold((false, true), |(z, f), p| (z | (p[2] != 0.0), f & p[0].is_finite() & p[1].is_finite() & p[2].is_finite()));
+    if !finite || !mesh.lengths_agree() {
+        return Err(refused(Format::Medit, mesh));
+    }
+    let dim = if has_z { 3 } else { 2 };
 
     let refs = match mesh.point_data.get(REF) {
         Some(a) if a.components == 1 => {
@@ -624,7 +631,19 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
 
     let out = Out { dim, points: &mesh.points, refs, elements, sets };
-    let main = if binary { binary::write_mesh(&out) } else { ascii::write_mesh(&out) };
+    // Node numbers: checked in the pass that writes the binary elements; in a pass of
+    // their own for ASCII and for the blocks Medit does not hold.
+    let bound = |b: &CellBlock| b.nodes.iter().fold(0, |m, &v| m.max(v as usize + 1));
+    let written = |b: &CellBlock| out.elements.iter().any(|(_, list)| list.iter().any(|w| std::ptr::eq(*w, b)));
+    let (main, nodes_bound) = if binary {
+        binary::write_mesh(&out)
+    } else {
+        (ascii::write_mesh(&out), out.elements.iter().flat_map(|(_, list)| list).map(|b| bound(b)).max().unwrap_or(0))
+    };
+    let others_bound = mesh.blocks.iter().filter(|b| !written(b)).map(bound).max().unwrap_or(0);
+    if nodes_bound.max(others_bound) > mesh.points.len() {
+        return Err(refused(Format::Medit, mesh));
+    }
     let mut written = Written { main, siblings: Vec::new(), report };
     if let Some((name, a)) = chosen {
         let sol = write_sol(&[(name, a)], dim, binary)?;
@@ -676,7 +695,31 @@ struct SolOut<'a> {
     arrays: &'a [(&'a str, &'a DataArray)],
 }
 
-impl SolOut<'_> {
+/// A solution file's single array, in a layout with a fixed-size record.
+enum Single<'a> {
+    /// A scalar.
+    Scalar(&'a DataArray),
+    /// A 2D symmetric tensor kept packed (`m11 m12 m22`).
+    Packed(&'a DataArray),
+    /// A 2D metric as a full 9-component tensor (its symmetric part is written).
+    Tensor2(&'a DataArray),
+}
+
+impl<'a> SolOut<'a> {
+    /// The one array of a 2D solution file, when its record has a fixed layout
+    /// ([`SolOut::row`] writes the same reals).
+    fn single(&self) -> Option<Single<'a>> {
+        match self.arrays {
+            [(_, a)] if self.dim == 2 => match (a.layout, a.components) {
+                (Layout::Symmetric2, _) => Some(Single::Packed(a)),
+                (_, 1) => Some(Single::Scalar(a)),
+                (_, 9) => Some(Single::Tensor2(a)),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
     /// The file's reals for vertex `v`, in `row` (cleared first).
     #[inline]
     fn row(&self, v: usize, row: &mut Vec<f64>) {
