@@ -307,7 +307,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         let finite = qmin <= qmax;
         report.drop(format!(
             "point data `{name}` ({} components) written only as vertex colours: its {} through viridis{}",
-            array.components,
+            array.expanded_components(),
             quantity.describe(),
             if finite { format!(" from {qmin} to {qmax} (recorded in the mesh extras)") } else { String::new() }
         ));

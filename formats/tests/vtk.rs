@@ -5,7 +5,7 @@ mod common;
 
 use std::collections::BTreeMap;
 
-use smartmesh_formats::{read_bytes, write_bytes, CellKind, DataArray, ErrorKind, Format, Position, ReadContext, TaggedMesh, VtuEncoding, WriteOptions};
+use smartmesh_formats::{read_bytes, sym2_to_tensor9, write_bytes, CellKind, DataArray, ErrorKind, Format, Layout, Position, ReadContext, TaggedMesh, VtuEncoding, WriteOptions};
 
 const FIXTURES: [&str; 6] = [
     "vtk/naca0012_ascii.vtu",
@@ -64,12 +64,15 @@ fn every_public_fixture_reads_with_the_expected_counts() {
         assert_eq!(common::counts_per_tag(&m), expected, "{rel}");
         // No `gmsh:geometrical` in the files: the physical tag stands for both.
         assert!(m.blocks.iter().all(|b| b.physical == b.geometrical), "{rel}");
-        assert_eq!(m.point_data["metric"].components, 9, "{rel}");
+        // A 2D metric (zz = 1, zero off the xy block): kept packed, whatever the
+        // encoding, and 9 components once expanded.
+        assert_eq!(m.point_data["metric"].layout, Layout::Symmetric2, "{rel}");
+        assert_eq!(m.point_data["metric"].expanded().components, 9, "{rel}");
         assert_eq!(m.point_data["metric"].len(), NPOINTS, "{rel}");
         assert_eq!(m.point_data["hmin"].components, 1, "{rel}");
         assert!(m.cell_data.is_empty(), "{rel}: the tags are not cell data");
         // The metric is a 2D tensor with zz = 1: symmetric, zero off the xy block.
-        for t in m.point_data["metric"].values.chunks(9) {
+        for t in m.point_data["metric"].expanded().values.chunks(9) {
             assert_eq!(t[1], t[3], "{rel}");
             assert_eq!([t[2], t[5], t[6], t[7], t[8]], [0.0, 0.0, 0.0, 0.0, 1.0], "{rel}");
         }
@@ -94,6 +97,7 @@ fn all_six_fixtures_hold_the_same_mesh() {
             assert_eq!(bits(&flat(&m)), bits(&flat(&reference)), "{rel}: points bitwise");
             for name in ["metric", "hmin"] {
                 assert_eq!(bits(&m.point_data[name].values), bits(&reference.point_data[name].values), "{rel}: {name} bitwise");
+                assert_eq!(m.point_data[name].layout, reference.point_data[name].layout, "{rel}: {name}");
             }
         } else {
             // Legacy ASCII as VTK writes it: 11 significant digits.
@@ -131,7 +135,7 @@ fn rich_mesh() -> TaggedMesh {
     m.point_data.insert("velocity".into(), DataArray::new(3, (0..3 * np).map(|i| (i as f64 * 0.37).sin()).collect()));
     m.point_data.insert("uv".into(), DataArray::new(2, (0..2 * np).map(|i| i as f64 * 1e-7).collect()));
     m.point_data.insert("four".into(), DataArray::new(4, (0..4 * np).map(|i| -(i as f64) / 7.0).collect()));
-    m.point_data.insert("size_tensor".into(), DataArray::new(9, m.point_data["metric"].values.iter().map(|v| v.sqrt()).collect()));
+    m.point_data.insert("size_tensor".into(), DataArray::new(9, m.point_data["metric"].expanded().values.iter().map(|v| v.sqrt()).collect()));
     m
 }
 
@@ -749,7 +753,7 @@ fn put_be(bytes: &mut [u8], at: usize, v: i32) {
 }
 
 /// A legacy binary triangle mesh whose cell list is altered: each error names the
-/// byte of the bad word, on the one-pass path (all counts equal) as on the general one.
+/// byte of the bad word.
 #[test]
 fn legacy_binary_cell_list_errors_name_the_byte() {
     let m = mixed_mesh(&[CellKind::Triangle]);
@@ -764,8 +768,7 @@ fn legacy_binary_cell_list_errors_name_the_byte() {
         assert_eq!(e.at, Some(Position::Byte((list + 4 * 7) as u64)), "{e}");
         assert!(e.to_string().contains("cell 1"), "{e}");
     }
-    // A node count that differs from the first one: the general loop takes over and
-    // finds the list too short for it.
+    // A node count that differs from the first one, which the list is too short for.
     let mut bad = bytes.clone();
     put_be(&mut bad, list + 4 * 4, 4);
     let e = read(Format::VtkLegacy, &bad).unwrap_err();
@@ -777,6 +780,25 @@ fn legacy_binary_cell_list_errors_name_the_byte() {
     put_be(&mut odd, list + 4 * 3, 4);
     let e = read(Format::VtkLegacy, &odd).unwrap_err();
     assert!(e.to_string().contains("3 nodes for cell 0"), "{e}");
+    // A first count that takes more nodes than the counts leave room for (7 of 6): the
+    // list then ends before the second cell.
+    let mut long = bytes.clone();
+    put_be(&mut long, list, 7);
+    let e = read(Format::VtkLegacy, &long).unwrap_err();
+    assert!(e.to_string().contains("the list ends before cell 1"), "{e}");
+    assert_eq!(e.at, Some(Position::Byte((list + 32) as u64)), "{e}");
+    // Lines then triangles (counts 2, then 3): a bad node in the last cell is named.
+    let m = mixed_mesh(&[CellKind::Line, CellKind::Triangle]);
+    let bytes = write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() }).unwrap().main;
+    let cells = format!("CELLS {} {}\n", m.num_cells(), m.num_cells() + m.blocks.iter().map(|b| b.nodes.len()).sum::<usize>());
+    let list = memchr::memmem::find(&bytes, cells.as_bytes()).unwrap() + cells.len();
+    let last = list + 4 * (m.num_cells() + m.blocks.iter().map(|b| b.nodes.len()).sum::<usize>() - 1);
+    let mut bad = bytes.clone();
+    put_be(&mut bad, last, -7);
+    let e = read(Format::VtkLegacy, &bad).unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index: -7, .. }), "{e}");
+    assert_eq!(e.at, Some(Position::Byte(last as u64)), "{e}");
+    assert!(e.to_string().contains(&format!("cell {}", m.num_cells() - 1)), "{e}");
 }
 
 /// Cell types and offsets are decoded straight into their final arrays: a type that
@@ -844,4 +866,90 @@ fn node_index_past_32_bits_is_refused_before_points() {
     // The same file with index 1 reads.
     let m = read(Format::VtkLegacy, v51.replace("4294967297", "1").as_bytes()).unwrap();
     assert_eq!(m.blocks[0].nodes, vec![0, 1, 2]);
+}
+
+/// 9-component arrays are read packed ([`Layout::Symmetric2`]) exactly when nothing is
+/// lost: every item a finite 2D symmetric tensor with zz = 1 and zeros (positive, bit for
+/// bit) off the xy block. Otherwise they stay plain, with every value as written; and a
+/// non-finite value is refused as before, wherever it sits.
+#[test]
+fn tensors_are_packed_only_when_nothing_is_lost() {
+    let metric2d = |i: usize| sym2_to_tensor9(1.0 + i as f64, -0.25 * i as f64, 3.0 / (1.0 + i as f64), 1.0);
+    let with = |edit: &dyn Fn(usize, &mut [f64; 9])| {
+        let mut m = mixed_mesh(&[CellKind::Triangle]);
+        let values: Vec<f64> = (0..m.points.len())
+            .flat_map(|i| {
+                let mut t = metric2d(i);
+                edit(i, &mut t);
+                t
+            })
+            .collect();
+        m.point_data.insert("metric".into(), DataArray::new(9, values.clone()));
+        // A second tensor array (written as field data in legacy files).
+        m.point_data.insert("other".into(), DataArray::new(9, values));
+        m
+    };
+    let cases: Vec<(&str, TaggedMesh, Layout)> = vec![
+        ("2D metrics", with(&|_, _| {}), Layout::Symmetric2),
+        ("zz = 2 in the last item", with(&|i, t| if i == 3 { t[8] = 2.0 }), Layout::Plain),
+        ("xz = -0.0", with(&|i, t| if i == 2 { t[2] = -0.0 }), Layout::Plain),
+        ("yz = 1e-300", with(&|i, t| if i == 1 { t[5] = 1e-300 }), Layout::Plain),
+        ("xy and yx differ by an ulp", with(&|i, t| if i == 3 { t[3] = f64::from_bits(t[1].to_bits() + 1) }), Layout::Plain),
+        ("a 3D tensor first", with(&|i, t| if i == 0 { t[8] = 0.5 }), Layout::Plain),
+    ];
+    for (label, format, opts) in variants() {
+        for (what, m, layout) in &cases {
+            let bytes = write_bytes(format, m, &opts).unwrap().main;
+            let back = read(format, &bytes).unwrap_or_else(|e| panic!("{label}, {what}: {e}"));
+            for name in ["metric", "other"] {
+                let a = &back.point_data[name];
+                assert_eq!(a.layout, *layout, "{label}, {what}: {name}");
+                assert_eq!(bits(&a.expanded().values), bits(&m.point_data[name].values), "{label}, {what}: {name}");
+            }
+        }
+        // A NaN in the last item, written finite (writers refuse NaN) and patched where
+        // the file's bytes can be found (raw binary): refused, as by the plain decoder.
+        let patchable = (format == Format::VtkLegacy && label.ends_with("binary")) || label == "vtu Appended";
+        if !patchable {
+            continue;
+        }
+        let mut bytes = write_bytes(format, &with(&|_, _| {}), &opts).unwrap().main;
+        let m22 = metric2d(3)[4];
+        let (pattern, nan) = if format == Format::VtkLegacy { (m22.to_be_bytes(), f64::NAN.to_be_bytes()) } else { (m22.to_le_bytes(), f64::NAN.to_le_bytes()) };
+        let at = memchr::memmem::find(&bytes, &pattern).unwrap_or_else(|| panic!("{label}: m22 in the file"));
+        bytes[at..at + 8].copy_from_slice(&nan);
+        let e = read(format, &bytes).expect_err(&format!("{label}: NaN"));
+        assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{label}: {e}");
+    }
+}
+
+/// 32-bit float tensors pack too, and expand to the values a plain read gives.
+#[test]
+fn float32_tensors_pack() {
+    let t = |m11: f32, m12: f32, m22: f32| [m11, m12, 0.0, m12, m22, 0.0, 0.0, 0.0, 1.0];
+    let items = [t(1.5, -0.25, 2.0), t(0.1, 0.0, 7.0), t(3.0, 1e-3, 0.5)];
+    let mut vtk = b"# vtk DataFile Version 4.2\nt\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 double\n".to_vec();
+    for p in [[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        for c in p {
+            vtk.extend_from_slice(&c.to_be_bytes());
+        }
+    }
+    vtk.extend_from_slice(b"\nCELLS 1 4\n");
+    for v in [3i32, 0, 1, 2] {
+        vtk.extend_from_slice(&v.to_be_bytes());
+    }
+    vtk.extend_from_slice(b"\nCELL_TYPES 1\n");
+    vtk.extend_from_slice(&5i32.to_be_bytes());
+    vtk.extend_from_slice(b"\nPOINT_DATA 3\nTENSORS metric float\n");
+    for item in &items {
+        for v in item {
+            vtk.extend_from_slice(&v.to_be_bytes());
+        }
+    }
+    vtk.push(b'\n');
+    let m = read(Format::VtkLegacy, &vtk).unwrap();
+    let a = &m.point_data["metric"];
+    assert_eq!(a.layout, Layout::Symmetric2);
+    let expected: Vec<f64> = items.iter().flatten().map(|&v| v as f64).collect();
+    assert_eq!(bits(&a.expanded().values), bits(&expected));
 }

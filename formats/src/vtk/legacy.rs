@@ -9,9 +9,9 @@
 
 use crate::error::Position;
 use crate::text::{check_count, Tokens};
-use crate::{Error, ErrorKind, NodeIndex, Result, TaggedMesh, WriteOptions, Written, MAX_POINTS};
+use crate::{Error, ErrorKind, Layout, NodeIndex, Result, TaggedMesh, WriteOptions, Written, MAX_POINTS};
 
-use super::{decode_f64, decode_i64, decode_indices, decode_points, offsets, push_num, put, tag_slot, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
+use super::{decode_f64, decode_i64, decode_indices, decode_items, decode_points, offsets, pack_parsed, push_num, put, tag_slot, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
 
 /// Which data section the arrays that follow belong to.
 #[derive(Clone, Copy, PartialEq)]
@@ -164,9 +164,7 @@ impl<'a> Reader<'a> {
         if self.binary {
             let start = self.pos();
             let bytes = self.binary_bytes(n, ty, what)?;
-            decode_f64(bytes, ty, true, n, out).map_err(|i| {
-                Error::at_byte((start + i * ty.size()) as u64, ErrorKind::NonFinite { what: format!("{what}, value {i}"), value: "NaN or infinity".into() })
-            })
+            decode_f64(bytes, ty, true, n, out).map_err(|i| non_finite(start, i, ty, what))
         } else {
             out.reserve(n);
             for _ in 0..n {
@@ -302,44 +300,21 @@ impl<'a> Reader<'a> {
             }
             self.end_header();
             let mut offs = Vec::with_capacity(n + 1);
-            let mut conn = Vec::with_capacity(size - n);
+            // The nodes of a binary list go into an array of the length the counts
+            // promise (zeroed fresh pages, written once), grown only if a damaged file's
+            // counts overrun it.
+            let mut conn = if self.binary { vec![0 as NodeIndex; size - n] } else { Vec::with_capacity(size - n) };
             offs.push(0usize);
             let mut left = size;
             if self.binary {
                 let start = self.pos();
                 let bytes = self.binary_bytes(size, Scalar::I32, "cell list")?;
                 let word = |i: usize| i32::from_be_bytes(bytes[4 * i..4 * i + 4].try_into().expect("4 bytes")) as i64;
-                let k0 = if n > 0 { word(0) } else { 0 };
-                let mut p = 0;
-                // Largest node index seen on the one-pass path (negative ones wrap to
-                // huge values); `None` when the general loop ran and every index must
-                // be looked at.
-                let mut max_seen = None;
-                if n > 0 && (1..=64).contains(&k0) && size == n * (k0 as usize + 1) {
-                    // Every cell may have the same node count (a triangle mesh): one
-                    // pass converts, checks each count and tracks the largest index.
-                    let k = k0 as usize;
-                    let head = &bytes[..4];
-                    let (mut same, mut max) = (true, 0 as NodeIndex);
-                    conn.resize(n * k, 0);
-                    for (dst, src) in conn.chunks_exact_mut(k).zip(bytes.chunks_exact(4 * (k + 1))) {
-                        same &= src[..4] == *head;
-                        for (d, b) in dst.iter_mut().zip(src[4..].chunks_exact(4)) {
-                            let v = i32::from_be_bytes(b.try_into().expect("4 bytes")) as NodeIndex;
-                            max = max.max(v);
-                            *d = v;
-                        }
-                    }
-                    if same {
-                        offs.extend((1..=n).map(|c| c * k));
-                        left = 0;
-                        max_seen = Some(max as usize);
-                    } else {
-                        conn.clear();
-                    }
-                }
-                let uniform = max_seen.is_some();
-                for c in 0..if uniform { 0 } else { n } {
+                // The largest index is folded in the pass that decodes them, and the
+                // faulty one looked for only when it is out of range. Negative indices
+                // wrap to 2^31 and more, which no point count admits.
+                let (mut p, mut q, mut max) = (0, 0, 0 as NodeIndex);
+                for c in 0..n {
                     if left == 0 {
                         return Err(Error::at_byte(
                             (start + 4 * p) as u64,
@@ -355,16 +330,22 @@ impl<'a> Reader<'a> {
                         ));
                     }
                     let k = k as usize;
-                    // Negative indices wrap to values of 2^31 and more and fail the range
-                    // check below, which admits no index past i32.
-                    conn.extend(bytes[4 * (p + 1)..4 * (p + 1 + k)].chunks_exact(4).map(|b| i32::from_be_bytes(b.try_into().expect("4 bytes")) as NodeIndex));
+                    if q + k > conn.len() {
+                        conn.resize(q + k, 0);
+                    }
+                    for (d, b) in conn[q..q + k].iter_mut().zip(bytes[4 * (p + 1)..4 * (p + 1 + k)].chunks_exact(4)) {
+                        *d = i32::from_be_bytes(b.try_into().expect("4 bytes")) as NodeIndex;
+                        max = max.max(*d);
+                    }
                     p += 1 + k;
+                    q += k;
                     left -= k;
-                    offs.push(conn.len());
+                    offs.push(q);
                 }
+                conn.truncate(q);
                 // A 32-bit cell list names no point past i32::MAX.
                 let np = self.npoints.unwrap_or(usize::MAX).min(1 << 31);
-                if let Some(i) = conn.iter().position(|&v| v as usize >= np).filter(|_| max_seen.map_or(true, |m| m >= np)) {
+                if let Some(i) = (q > 0 && max as usize >= np).then(|| conn.iter().position(|&v| v as usize >= np)).flatten() {
                     let c = offs.partition_point(|&o| o <= i) - 1;
                     let at = start + 4 * (i + c + 1);
                     return Err(Error::at_byte(
@@ -455,7 +436,12 @@ impl<'a> Reader<'a> {
     }
 
     fn push_array(&mut self, name: String, components: usize, values: Vec<f64>, at: Position) {
-        let a = Named { name, components, values, at };
+        self.push_laid_out(name, components, values, Layout::Plain, at);
+    }
+
+    fn push_laid_out(&mut self, name: String, components: usize, values: Vec<f64>, layout: Layout, at: Position) {
+        let components = if layout == Layout::Symmetric2 { 3 } else { components };
+        let a = Named { name, components, values, layout, at };
         match self.section {
             Section::Dataset => self.grid.field_arrays.push(a),
             Section::Point => self.grid.point_arrays.push(a),
@@ -474,9 +460,24 @@ impl<'a> Reader<'a> {
     fn attribute(&mut self, name: String, components: usize, ty: Scalar, at: Position) -> Result<()> {
         let n = self.items.checked_mul(components).ok_or_else(|| self.err(ErrorKind::Inconsistent("array too large".into())))?;
         check_count(n, self.t.remaining().len(), if self.binary { ty.size() } else { 2 }, &name).map_err(|k| self.err(k))?;
-        let mut values = Vec::new();
-        self.floats(n, ty, &format!("value of `{name}`"), &mut values)?;
-        self.push_array(name, components, values, at);
+        self.float_array(name, components, n, ty, at)
+    }
+
+    /// `n` values of an array of `components` floats per item, 9-component binary ones
+    /// packed where they can be ([`decode_items`]), added to the current section.
+    fn float_array(&mut self, name: String, components: usize, n: usize, ty: Scalar, at: Position) -> Result<()> {
+        let what = format!("value of `{name}`");
+        if !self.binary {
+            let mut values = Vec::new();
+            self.floats(n, ty, &what, &mut values)?;
+            let (values, layout) = pack_parsed(values, components);
+            self.push_laid_out(name, components, values, layout, at);
+            return Ok(());
+        }
+        let start = self.pos();
+        let bytes = self.binary_bytes(n, ty, &what)?;
+        let (values, layout) = decode_items(bytes, ty, true, n, components).map_err(|i| non_finite(start, i, ty, &what))?;
+        self.push_laid_out(name, components, values, layout, at);
         Ok(())
     }
 
@@ -522,9 +523,7 @@ impl<'a> Reader<'a> {
                 self.grid.cell_tags.push((name, tags, at));
                 continue;
             }
-            let mut values = Vec::new();
-            self.floats(n, ty, &format!("value of `{name}`"), &mut values)?;
-            self.push_array(name, comps, values, at);
+            self.float_array(name, comps, n, ty, at)?;
         }
         Ok(())
     }
@@ -643,6 +642,11 @@ impl<'a> Reader<'a> {
             })),
         }
     }
+}
+
+/// The error for value `i` of a binary array starting at byte `start`: not finite.
+fn non_finite(start: usize, i: usize, ty: Scalar, what: &str) -> Error {
+    Error::at_byte((start + i * ty.size()) as u64, ErrorKind::NonFinite { what: format!("{what}, value {i}"), value: "NaN or infinity".into() })
 }
 
 /// Reads a legacy file.

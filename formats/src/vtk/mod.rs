@@ -66,7 +66,7 @@ use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 use crate::error::Position;
-use crate::{CellBlock, CellKind, DataArray, Error, ErrorKind, NodeIndex, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS};
+use crate::{CellBlock, CellKind, DataArray, Error, ErrorKind, Layout, NodeIndex, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS};
 
 /// Reads a legacy `.vtk` file (versions 2.0 to 5.1, ASCII or binary).
 pub fn read_legacy(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
@@ -296,6 +296,78 @@ pub(crate) fn decode_ints_as<T>(bytes: &[u8], ty: Scalar, big: bool, n: usize, o
     Ok(())
 }
 
+/// Decodes the `n` values of a binary array of `components` floats per item. An array of
+/// 9-component items that are all 2D symmetric tensors with the implied third row and
+/// column, `[m11 m12 0; m12 m22 0; 0 0 1]` bit for bit (how smartmesh, meshio and Gmsh
+/// carry a 2D metric), is kept packed as [`Layout::Symmetric2`]: a third of the
+/// memory, which a large read would otherwise spend most of its time faulting in, and
+/// the same values once expanded. Returns the values and their layout, or the index of
+/// the first non-finite value.
+pub(crate) fn decode_items(bytes: &[u8], ty: Scalar, big: bool, n: usize, components: usize) -> std::result::Result<(Vec<f64>, Layout), usize> {
+    if components == 9 && n % 9 == 0 {
+        if let Some(packed) = pack_symmetric2(&bytes[..n * ty.size()], ty, big) {
+            return Ok((packed, Layout::Symmetric2));
+        }
+    }
+    let mut out = Vec::new();
+    decode_f64(bytes, ty, big, n, &mut out)?;
+    Ok((out, Layout::Plain))
+}
+
+/// [`decode_items`] for values already parsed (an ASCII array): packed when they fit,
+/// so that a file's tensors have one layout whatever its encoding.
+pub(crate) fn pack_parsed(values: Vec<f64>, components: usize) -> (Vec<f64>, Layout) {
+    if components == 9 && values.len() % 9 == 0 {
+        if let Some(packed) = pack_rows(values.chunks_exact(9), |r, j| r[j]) {
+            return (packed, Layout::Symmetric2);
+        }
+    }
+    (values, Layout::Plain)
+}
+
+/// The packed `m11 m12 m22` of 9-component float items, when every item is a finite 2D
+/// symmetric tensor with the implied third row and column (see [`decode_items`]).
+fn pack_symmetric2(bytes: &[u8], ty: Scalar, big: bool) -> Option<Vec<f64>> {
+    let f64_le = |r: &[u8], j: usize| f64::from_le_bytes(r[8 * j..8 * j + 8].try_into().expect("8 bytes"));
+    let f64_be = |r: &[u8], j: usize| f64::from_be_bytes(r[8 * j..8 * j + 8].try_into().expect("8 bytes"));
+    let f32_le = |r: &[u8], j: usize| f32::from_le_bytes(r[4 * j..4 * j + 4].try_into().expect("4 bytes")) as f64;
+    let f32_be = |r: &[u8], j: usize| f32::from_be_bytes(r[4 * j..4 * j + 4].try_into().expect("4 bytes")) as f64;
+    match (ty, big) {
+        (Scalar::F64, false) => pack_rows(bytes.chunks_exact(72), f64_le),
+        (Scalar::F64, true) => pack_rows(bytes.chunks_exact(72), f64_be),
+        (Scalar::F32, false) => pack_rows(bytes.chunks_exact(36), f32_le),
+        (Scalar::F32, true) => pack_rows(bytes.chunks_exact(36), f32_be),
+        _ => None,
+    }
+}
+
+/// Packs 9-value rows (value `j` of a row by `get`) when every one fits.
+#[inline(always)]
+fn pack_rows<R: Copy>(rows: impl ExactSizeIterator<Item = R> + Clone, get: impl Fn(R, usize) -> f64) -> Option<Vec<f64>> {
+    let item = |r: R| -> ([f64; 3], bool) {
+        let m: [f64; 9] = std::array::from_fn(|j| get(r, j));
+        // Zeros compared by their bits: a -0.0 would not come back from the packing.
+        let zero = |x: f64| x.to_bits() == 0;
+        let fits = m[3].to_bits() == m[1].to_bits() && zero(m[2]) && zero(m[5]) && zero(m[6]) && zero(m[7]) && m[8] == 1.0;
+        ([m[0], m[1], m[4]], fits & m[0].is_finite() & m[1].is_finite() & m[4].is_finite())
+    };
+    // A first item that does not fit (a 3D tensor, a non-finite value, which the plain
+    // decoder reports) costs no allocation.
+    if !item(rows.clone().next()?).1 {
+        return None;
+    }
+    let mut out = vec![0.0; 3 * rows.len()];
+    let mut all = true;
+    for (o, r) in out.chunks_exact_mut(3).zip(rows) {
+        let (v, fits) = item(r);
+        o[0] = v[0];
+        o[1] = v[1];
+        o[2] = v[2];
+        all &= fits;
+    }
+    all.then_some(out)
+}
+
 /// Decodes `n` points (3 values each) straight into `[f64; 3]`, the hot path of
 /// every binary reader. Returns the index of the first non-finite value.
 pub(crate) fn decode_points(bytes: &[u8], ty: Scalar, big: bool, n: usize) -> std::result::Result<Vec<[f64; 3]>, usize> {
@@ -351,8 +423,10 @@ pub(crate) fn decode_indices(bytes: &[u8], ty: Scalar, big: bool, n: usize, limi
 #[derive(Debug)]
 pub(crate) struct Named {
     pub name: String,
+    /// Values per item as stored: 3 for a packed tensor.
     pub components: usize,
     pub values: Vec<f64>,
+    pub layout: Layout,
     /// Where the array starts, for errors found when it is interpreted.
     pub at: Position,
 }
@@ -468,7 +542,7 @@ impl Grid {
                     tag_arrays[s] = Some(tags);
                 }
                 _ => {
-                    cell_data.insert(a.name, DataArray::new(a.components.max(1), a.values));
+                    cell_data.insert(a.name, DataArray { components: a.components.max(1), values: a.values, layout: a.layout });
                 }
             }
         }
@@ -570,7 +644,7 @@ impl Grid {
                     ErrorKind::Inconsistent(format!("point array `{}` has {} values, expected {} ({} points)", a.name, a.values.len(), np * a.components, np)),
                 ));
             }
-            mesh.point_data.insert(a.name, DataArray::new(a.components.max(1), a.values));
+            mesh.point_data.insert(a.name, DataArray { components: a.components.max(1), values: a.values, layout: a.layout });
         }
         mesh.cell_data = cell_data;
 

@@ -26,9 +26,9 @@ use flate2::{Compress, Compression, Decompress, FlushCompress, FlushDecompress, 
 
 use crate::error::Position;
 use crate::text::Tokens;
-use crate::{Error, ErrorKind, NodeIndex, Result, TaggedMesh, VtuEncoding, WriteOptions, Written, MAX_POINTS};
+use crate::{Error, ErrorKind, Layout, NodeIndex, Result, TaggedMesh, VtuEncoding, WriteOptions, Written, MAX_POINTS};
 
-use super::{decode_f64, decode_i64, decode_indices, decode_ints_as, decode_points, offsets, push_num, put, tag_slot, threads, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
+use super::{decode_f64, decode_i64, decode_indices, decode_ints_as, decode_items, decode_points, pack_parsed, offsets, push_num, put, tag_slot, threads, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
 
 /// Standard alphabet, padding optional and accepted where it stands.
 const B64: GeneralPurpose = GeneralPurpose::new(
@@ -630,6 +630,23 @@ impl<'a> Decoder<'a> {
         Ok(out)
     }
 
+    /// The `expected` values of a point or cell array, 9-component binary ones packed
+    /// where they can be ([`decode_items`]).
+    fn items(&self, sp: &Spec, expected: usize) -> Result<(Vec<f64>, Layout)> {
+        if sp.format == Format::Ascii || sp.components != 9 {
+            return Ok(pack_parsed(self.floats(sp, Some(expected))?, sp.components));
+        }
+        let p = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
+        let bytes = p.as_slice();
+        let n = bytes.len() / sp.ty.size();
+        if n != expected {
+            // The plain path's errors, in its order.
+            return Ok((self.floats(sp, Some(expected))?, Layout::Plain));
+        }
+        decode_items(bytes, sp.ty, self.big, n, sp.components)
+            .map_err(|i| err(sp.at, ErrorKind::NonFinite { what: format!("value {i} of `{}`", sp.name), value: "NaN or infinity".into() }))
+    }
+
     fn points(&self, sp: &Spec, n: usize) -> Result<Vec<[f64; 3]>> {
         if sp.format == Format::Ascii {
             let flat = self.floats(sp, Some(3 * n))?;
@@ -883,8 +900,9 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
         g.offsets = vec![0];
     }
     for sp in &point {
-        let values = dec.floats(sp, Some(values(np, sp)?))?;
-        g.point_arrays.push(Named { name: sp.name.clone(), components: sp.components, values, at: Position::Byte(sp.at as u64) });
+        let (values, layout) = dec.items(sp, values(np, sp)?)?;
+        let components = if layout == Layout::Symmetric2 { 3 } else { sp.components };
+        g.point_arrays.push(Named { name: sp.name.clone(), components, values, layout, at: Position::Byte(sp.at as u64) });
     }
     for sp in &cell {
         // Integer cell tag arrays go straight into 32-bit tags (no f64 copy of them).
@@ -894,14 +912,15 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             g.cell_tags.push((sp.name.clone(), tags, Position::Byte(sp.at as u64)));
             continue;
         }
-        let values = dec.floats(sp, Some(values(nc, sp)?))?;
-        g.cell_arrays.push(Named { name: sp.name.clone(), components: sp.components, values, at: Position::Byte(sp.at as u64) });
+        let (values, layout) = dec.items(sp, values(nc, sp)?)?;
+        let components = if layout == Layout::Symmetric2 { 3 } else { sp.components };
+        g.cell_arrays.push(Named { name: sp.name.clone(), components, values, layout, at: Position::Byte(sp.at as u64) });
     }
     for sp in &field {
         // Field arrays other than numbers (strings) are skipped by `spec` refusing
         // them; the tuple count is optional.
         let values = dec.floats(sp, sp.tuples.and_then(|t| t.checked_mul(sp.components)))?;
-        g.field_arrays.push(Named { name: sp.name.clone(), components: sp.components, values, at: Position::Byte(sp.at as u64) });
+        g.field_arrays.push(Named { name: sp.name.clone(), components: sp.components, values, layout: Layout::Plain, at: Position::Byte(sp.at as u64) });
     }
     g.into_mesh()
 }
