@@ -127,7 +127,7 @@ fn write_all(dir: &std::path::Path, m: &TaggedMesh) -> Vec<String> {
         std::fs::write(dir.join(&name), &w.main).unwrap();
         names.push(name);
     }
-    let metric: Vec<u8> = m.point_data["metric"].values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let metric: Vec<u8> = m.point_data["metric"].expanded().values.iter().flat_map(|v| v.to_le_bytes()).collect();
     std::fs::write(dir.join("metric.f64"), metric).unwrap();
     let (p, g) = tags(m);
     std::fs::write(dir.join("physical.i32"), p).unwrap();

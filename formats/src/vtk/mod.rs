@@ -298,8 +298,8 @@ pub(crate) fn decode_ints_as<T>(bytes: &[u8], ty: Scalar, big: bool, n: usize, o
 
 /// Decodes the `n` values of a binary array of `components` floats per item. An array of
 /// 9-component items that are all 2D symmetric tensors with the implied third row and
-/// column, `[m11 m12 0; m12 m22 0; 0 0 1]` bit for bit (how smartmesh, meshio and Gmsh
-/// carry a 2D metric), is kept packed as [`Layout::Symmetric2`]: a third of the
+/// column, `[m11 m12 0; m12 m22 0; 0 0 1]` bit for bit (a 2D metric padded with zz = 1,
+/// as the public VTK fixtures and the Medit solutions written out carry it), is kept packed as [`Layout::Symmetric2`]: a third of the
 /// memory, which a large read would otherwise spend most of its time faulting in, and
 /// the same values once expanded. Returns the values and their layout, or the index of
 /// the first non-finite value.
