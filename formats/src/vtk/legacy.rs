@@ -795,13 +795,17 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         for b in &mesh.blocks {
             let k = b.kind.nodes_per_cell();
             if binary {
-                // `k i1 .. ik` per cell, converted in place as `put` does.
-                let s = out.len();
-                out.resize(s + b.len() * (k + 1) * 4, 0);
-                for (dst, cell) in out[s..].chunks_exact_mut((k + 1) * 4).zip(b.nodes.chunks_exact(k)) {
-                    dst[..4].copy_from_slice(&(k as i32).to_be_bytes());
-                    for (d, &v) in dst[4..].chunks_exact_mut(4).zip(cell) {
-                        d.copy_from_slice(&(v as i32).to_be_bytes());
+                match k {
+                    2 => cell_records::<2, 3>(&mut out, &b.nodes),
+                    3 => cell_records::<3, 4>(&mut out, &b.nodes),
+                    4 => cell_records::<4, 5>(&mut out, &b.nodes),
+                    _ => {
+                        for cell in b.cells() {
+                            out.extend_from_slice(&(k as i32).to_be_bytes());
+                            for &v in cell {
+                                out.extend_from_slice(&(v as i32).to_be_bytes());
+                            }
+                        }
                     }
                 }
                 continue;
@@ -826,7 +830,9 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     for b in &mesh.blocks {
         let t = b.kind.vtk_type() as i32;
         if binary {
-            put(&mut out, &vec![t; b.len()], i32::to_be_bytes);
+            for _ in 0..b.len() {
+                out.extend_from_slice(&t.to_be_bytes());
+            }
         } else {
             for _ in 0..b.len() {
                 crate::text::push_int(&mut out, t);
@@ -903,6 +909,19 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
     let report = std::mem::take(&mut plan.report);
     Ok(Written { main: out, siblings: Vec::new(), report })
+}
+
+/// The binary `K i1 .. iK` records (`R = K + 1` big-endian words) of cells of `K`
+/// nodes, one stack record a cell appended whole (no zeroing pass over the output).
+fn cell_records<const K: usize, const R: usize>(out: &mut Vec<u8>, nodes: &[NodeIndex]) {
+    let mut rec = [[0u8; 4]; R];
+    rec[0] = (K as i32).to_be_bytes();
+    for cell in nodes.chunks_exact(K) {
+        for (w, &v) in rec[1..].iter_mut().zip(cell) {
+            *w = (v as i32).to_be_bytes();
+        }
+        out.extend_from_slice(rec.as_flattened());
+    }
 }
 
 fn write_ints(out: &mut Vec<u8>, v: &[i32], binary: bool) {

@@ -746,10 +746,20 @@ pub(crate) fn push_num(out: &mut Vec<u8>, v: f64) {
 /// converted in place, a loop the compiler turns into plain (or byte-swapping) copies.
 #[inline]
 pub(crate) fn put<T: Copy, const W: usize>(out: &mut Vec<u8>, v: &[T], f: impl Fn(T) -> [u8; W]) {
-    let s = out.len();
-    out.resize(s + v.len() * W, 0);
-    for (c, &x) in out[s..].chunks_exact_mut(W).zip(v) {
-        c.copy_from_slice(&f(x));
+    // Runs of 16 values assembled on the stack and appended whole: one capacity check a
+    // run, and no zeroing pass first (growing the output with zeros, then overwriting
+    // them, wrote every byte of a large array twice).
+    out.reserve(v.len() * W);
+    let mut run = [[0u8; W]; 16];
+    let mut runs = v.chunks_exact(16);
+    for r in &mut runs {
+        for (b, &x) in run.iter_mut().zip(r) {
+            *b = f(x);
+        }
+        out.extend_from_slice(run.as_flattened());
+    }
+    for &x in runs.remainder() {
+        out.extend_from_slice(&f(x));
     }
 }
 
