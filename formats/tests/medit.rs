@@ -384,6 +384,31 @@ fn sol_api_refusals() {
     assert!(e.to_string().contains("gives 2 vertices, the mesh has 3"), "{e}");
 }
 
+/// A binary solution's non-finite value is refused at its byte, whether the solution is
+/// one field decoded straight into its array or several left in the file.
+#[test]
+fn solb_non_finite_value_names_its_byte() {
+    let metric = DataArray::symmetric2((0..30).map(|i| 1.0 + i as f64 / 64.0).collect());
+    let size = DataArray::new(1, (0..10).map(|i| 0.5 + i as f64 / 128.0).collect());
+    for arrays in [vec![("metric", &metric)], vec![("size", &size)], vec![("size", &size), ("metric", &metric)]] {
+        let good = write_sol(&arrays, 2, true).unwrap();
+        let back = read_sol(&good, 10, true).unwrap();
+        for (name, a) in &arrays {
+            assert_eq!(&back[*name], *a, "{name}");
+        }
+        // The last value of the last field (vertex 9's m22, or its size).
+        let last = arrays.last().unwrap().1.values.last().copied().unwrap();
+        let at = memchr::memmem::rfind(&good, &last.to_le_bytes()).unwrap();
+        for bad_value in [f64::NAN, f64::NEG_INFINITY] {
+            let mut bad = good.clone();
+            bad[at..at + 8].copy_from_slice(&bad_value.to_le_bytes());
+            let e = read_sol(&bad, 10, true).unwrap_err();
+            assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
+            assert_eq!(byte_of(&e), at as u64, "{e}");
+        }
+    }
+}
+
 #[test]
 fn solb_beside_mesh_and_fallback() {
     let m = full_mesh();

@@ -108,30 +108,34 @@ enum Bad {
 /// Decodes `K`-node elements; returns the largest vertex number (0-based) met.
 ///
 /// The records are decoded into arrays of their final length with no test in the
-/// loop (the range of every number is folded into a minimum and a maximum); the
-/// faulty record is looked for only when those fail.
+/// loop; the faulty record is looked for only when the folds below say there is one.
+#[inline(never)]
 fn elements<const LE: bool, const I8: bool, const K: usize>(data: &[u8], nodes: &mut [NodeIndex], refs: &mut [i32]) -> Result<usize, Bad> {
     let isz = if I8 { 8 } else { 4 };
     let records = data.chunks_exact((K + 1) * isz);
     let n = records.len();
-    let (mut lo, mut hi) = (i64::MAX, i64::MIN);
-    let (mut ref_lo, mut ref_hi) = (i64::MAX, i64::MIN);
+    // One unsigned maximum checks every number: `v - 1` wraps past MAX_POINTS exactly
+    // when `v` is below 1 or above MAX_POINTS (no cell can name a vertex past 32-bit
+    // connectivity), and is the largest 0-based index otherwise. References need a
+    // check only when they are 8 bytes wide.
+    let mut top = 0u64;
+    let (mut ref_lo, mut ref_hi) = (0i64, 0i64);
     for ((rec, cell), r) in records.zip(nodes.chunks_exact_mut(K)).zip(refs.iter_mut()) {
         for (j, slot) in cell.iter_mut().enumerate() {
-            let v = int_at::<LE, I8>(&rec[j * isz..]);
-            lo = lo.min(v);
-            hi = hi.max(v);
-            *slot = v.wrapping_sub(1) as NodeIndex;
+            let x = int_at::<LE, I8>(&rec[j * isz..]).wrapping_sub(1) as u64;
+            top = top.max(x);
+            *slot = x as NodeIndex;
         }
-        let x = int_at::<LE, I8>(&rec[K * isz..]);
-        ref_lo = ref_lo.min(x);
-        ref_hi = ref_hi.max(x);
-        *r = x as i32;
+        let v = int_at::<LE, I8>(&rec[K * isz..]);
+        if I8 {
+            ref_lo = ref_lo.min(v);
+            ref_hi = ref_hi.max(v);
+        }
+        *r = v as i32;
     }
-    // Past MAX_POINTS no cell can name a vertex (32-bit connectivity).
     let node_ok = |v: i64| v >= 1 && v as u64 <= MAX_POINTS as u64;
     let ref_ok = |x: i64| i32::try_from(x).is_ok();
-    if n > 0 && !(node_ok(lo) && node_ok(hi) && ref_ok(ref_lo) && ref_ok(ref_hi)) {
+    if top >= MAX_POINTS as u64 || !ref_ok(ref_lo) || !ref_ok(ref_hi) {
         // The first faulty record, and in it the first faulty number, as a loop that
         // stops there would find them.
         for (i, rec) in data.chunks_exact((K + 1) * isz).enumerate() {
@@ -144,7 +148,7 @@ fn elements<const LE: bool, const I8: bool, const K: usize>(data: &[u8], nodes: 
             }
         }
     }
-    Ok(if n > 0 { (hi - 1) as usize } else { 0 })
+    Ok(if n > 0 { top as usize } else { 0 })
 }
 
 /// [`elements`] for every byte order, integer size and node count smartmesh reads.
@@ -457,8 +461,27 @@ fn read_sol(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) -> Resu
     let mut values = Vec::new();
     let mut raw = None;
     let r = match (f.le, f.real4) {
-        // Little-endian doubles (what MMG and smartmesh write) stay in the file, checked
-        // here and decoded once, into their arrays.
+        // Little-endian doubles (what MMG and smartmesh write). One field that its array
+        // keeps in the file's order (MMG's metric or size): decoded once, checked as it
+        // is, and moved into the array.
+        (true, false) if types.len() == 1 && identity_layout(types[0], p.dim as usize) => {
+            let mut finite = true;
+            values = d
+                .chunks_exact(8)
+                .map(|c| {
+                    let x = f64::from_le_bytes(c.try_into().unwrap_or([0; 8]));
+                    finite &= x.is_finite();
+                    x
+                })
+                .collect();
+            if finite {
+                Ok(())
+            } else {
+                finite_reals(d)
+            }
+        }
+        // Several fields, or one rearranged: checked here, left in the file and decoded
+        // once, into their arrays.
         (true, false) => {
             raw = Some(at);
             finite_reals(d)

@@ -272,7 +272,7 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                     p.dim, mesh.coordinate_dim
                 )))));
             }
-            for (name, a) in sol_arrays(&sol, p.dim, mesh.points.len(), &sol_bytes).map_err(in_sol)? {
+            for (name, a) in sol_arrays(sol, p.dim, mesh.points.len(), &sol_bytes).map_err(in_sol)? {
                 mesh.point_data.insert(name, a);
             }
             break;
@@ -288,13 +288,13 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
 pub fn read_sol(bytes: &[u8], n_vertices: usize, binary: bool) -> Result<BTreeMap<String, DataArray>> {
     let p = parse(bytes, binary)?;
     match p.sol {
-        Some(sol) => sol_arrays(&sol, p.dim, n_vertices, bytes),
+        Some(sol) => sol_arrays(sol, p.dim, n_vertices, bytes),
         None => Ok(BTreeMap::new()),
     }
 }
 
 /// Names and converts the solutions of a `SolAtVertices` read from `bytes`.
-fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<BTreeMap<String, DataArray>> {
+fn sol_arrays(mut sol: Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<BTreeMap<String, DataArray>> {
     let at = sol.at.unwrap_or(Position::Line(1));
     if sol.n != n_vertices {
         return Err(error_at(at, ErrorKind::Inconsistent(format!("SolAtVertices gives {} vertices, the mesh has {n_vertices}", sol.n))));
@@ -344,6 +344,8 @@ fn sol_arrays(sol: &Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<BTr
                 convert(&mut values, comps, rows, |r: &&[u8], j| f64::from_le_bytes(r[8 * j..8 * j + 8].try_into().unwrap_or([0; 8])), typ, d);
                 values
             }
+            // Decoded already in the file's order, alone in its rows: the array itself.
+            None if stride == size && size == comps && identity_layout(typ, d) => std::mem::take(&mut sol.values),
             None => {
                 let mut values = vec![0.0; comps * sol.n];
                 convert(&mut values, comps, sol.values.chunks_exact(stride).map(|r| &r[offset..offset + size]), |r: &&[f64], j| r[j], typ, d);
@@ -459,7 +461,7 @@ fn assemble(p: Parsed, bytes: &[u8]) -> Result<TaggedMesh> {
         }
     }
     if let Some(sol) = p.sol {
-        for (name, a) in sol_arrays(&sol, p.dim, nv, bytes)? {
+        for (name, a) in sol_arrays(sol, p.dim, nv, bytes)? {
             mesh.point_data.insert(name, a);
         }
     }
