@@ -99,8 +99,8 @@ impl SiblingSource for MemorySiblings {
 /// [`TaggedMesh::validate`] checks: finite coordinates, every cell's points, every data
 /// array's length, every set's items; and names the byte or line of a fault. Validating
 /// its mesh again would cost one more pass over the largest arrays (a tenth of a
-/// binary Medit read). Debug builds (the tests, the fuzz targets) validate anyway and
-/// stop on a mesh such a reader let through.
+/// binary Medit read). Debug builds (the tests) validate anyway and stop on a mesh such
+/// a reader let through; the fuzz targets validate every mesh they are given.
 fn reader_validates(format: Format) -> bool {
     matches!(format, Format::Medit | Format::VtkLegacy | Format::Vtu)
 }
