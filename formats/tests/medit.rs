@@ -409,6 +409,40 @@ fn solb_non_finite_value_names_its_byte() {
     }
 }
 
+/// A big-endian `.solb` (version 2, one scalar field): read, and a non-finite value
+/// refused at its byte.
+#[test]
+fn big_endian_solb_values_and_non_finite_byte() {
+    let sizes = [0.5, 0.25, 2.0, 4.0];
+    let solb = |values: &[f64]| {
+        let mut b = Vec::new();
+        let word = |b: &mut Vec<u8>, v: i32| b.extend_from_slice(&v.to_be_bytes());
+        word(&mut b, 1);
+        word(&mut b, 2);
+        // Dimension 2: code, offset of the next keyword, value.
+        word(&mut b, 3);
+        word(&mut b, 20);
+        word(&mut b, 2);
+        // SolAtVertices: code, next offset, vertices, one type (1: scalar), values.
+        word(&mut b, 62);
+        word(&mut b, 40 + 8 * values.len() as i32);
+        word(&mut b, values.len() as i32);
+        word(&mut b, 1);
+        word(&mut b, 1);
+        for v in values {
+            b.extend_from_slice(&v.to_be_bytes());
+        }
+        word(&mut b, 54);
+        word(&mut b, 0);
+        b
+    };
+    let back = read_sol(&solb(&sizes), 4, true).unwrap();
+    assert_eq!(back["size"], DataArray::new(1, sizes.to_vec()));
+    let e = read_sol(&solb(&[0.5, 0.25, f64::INFINITY, f64::NAN]), 4, true).unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
+    assert_eq!(byte_of(&e), 40 + 16, "{e}");
+}
+
 #[test]
 fn solb_beside_mesh_and_fallback() {
     let m = full_mesh();

@@ -200,16 +200,21 @@ fn vertices<const LE: bool, const I8: bool, const R4: bool>(data: &[u8], dim: us
     Ok(())
 }
 
+/// Decodes reals into `out`, checked finite: one pass with no test in the loop, the
+/// faulty value looked for only when one was seen.
 fn reals<const LE: bool, const R4: bool>(data: &[u8], out: &mut Vec<f64>) -> Result<(), Bad> {
     let rsz = if R4 { 4 } else { 8 };
-    for (i, rec) in data.chunks_exact(rsz).enumerate() {
+    let mut finite = true;
+    out.extend(data.chunks_exact(rsz).map(|rec| {
         let v = real_at::<LE, R4>(rec);
-        if !v.is_finite() {
-            return Err(Bad::Coord(i, v));
-        }
-        out.push(v);
+        finite &= v.is_finite();
+        v
+    }));
+    if finite {
+        return Ok(());
     }
-    Ok(())
+    let i = data.chunks_exact(rsz).position(|rec| !real_at::<LE, R4>(rec).is_finite()).unwrap_or(0);
+    Err(Bad::Coord(i, real_at::<LE, R4>(&data[i * rsz..])))
 }
 
 /// Checks little-endian doubles for finiteness without decoding them into memory.
@@ -465,20 +470,8 @@ fn read_sol(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) -> Resu
         // keeps in the file's order (MMG's metric or size): decoded once, checked as it
         // is, and moved into the array.
         (true, false) if types.len() == 1 && identity_layout(types[0], p.dim as usize) => {
-            let mut finite = true;
-            values = d
-                .chunks_exact(8)
-                .map(|c| {
-                    let x = f64::from_le_bytes(c.try_into().unwrap_or([0; 8]));
-                    finite &= x.is_finite();
-                    x
-                })
-                .collect();
-            if finite {
-                Ok(())
-            } else {
-                finite_reals(d)
-            }
+            values.reserve_exact(n * stride);
+            reals::<true, false>(d, &mut values)
         }
         // Several fields, or one rearranged: checked here, left in the file and decoded
         // once, into their arrays.
@@ -702,7 +695,10 @@ pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
         // One solution (what MMG reads): fixed-size records assembled on the stack.
         Some(Single::Scalar(a)) => sol_records(&mut w.out, a.values.chunks_exact(1), |v| [v[0]]),
         Some(Single::Packed(a)) => sol_records(&mut w.out, a.values.chunks_exact(3), |v| [v[0], v[1], v[2]]),
-        Some(Single::Tensor2(a)) => sol_records(&mut w.out, a.values.chunks_exact(9), |v| [v[0], 0.5 * (v[1] + v[3]), v[4]]),
+        Some(Single::Tensor2(a)) => sol_records(&mut w.out, a.values.chunks_exact(9), |v| {
+            let (m11, m12, m22) = tensor9_to_sym2(v);
+            [m11, m12, m22]
+        }),
         None => {
             let mut row = Vec::with_capacity(s.stride);
             for v in 0..s.n {

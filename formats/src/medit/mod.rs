@@ -63,7 +63,7 @@ use std::path::Path;
 
 use crate::error::{Error, ErrorKind, Position, Result};
 use crate::io::refused;
-use crate::{CellBlock, CellKind, DataArray, Format, Layout, NodeIndex, MAX_POINTS, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{tensor9_to_sym2, CellBlock, CellKind, DataArray, Format, Layout, NodeIndex, MAX_POINTS, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
 
 use keywords::KEYWORDS;
 
@@ -332,19 +332,14 @@ fn sol_arrays(mut sol: Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<
         // in place (one pass over the solution, no per-value growth check), decoded
         // from the file's bytes when they were left there.
         let values = match sol.raw {
-            // A field alone in its rows, kept as the file orders it (a scalar, a packed
-            // 2D tensor, a 3D vector or matrix): the bytes decoded in one pass, into an
-            // array that is written once (no zeroed array first).
-            Some(start) if stride == size && size == comps && identity_layout(typ, d) => {
-                bytes[start..start + sol.n * stride * 8].chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect()
-            }
             Some(start) => {
                 let mut values = vec![0.0; comps * sol.n];
                 let rows = bytes[start..start + sol.n * stride * 8].chunks_exact(stride * 8).map(|r| &r[offset * 8..(offset + size) * 8]);
                 convert(&mut values, comps, rows, |r: &&[u8], j| f64::from_le_bytes(r[8 * j..8 * j + 8].try_into().unwrap_or([0; 8])), typ, d);
                 values
             }
-            // Decoded already in the file's order, alone in its rows: the array itself.
+            // Decoded already in the file's order, alone in its rows (the binary reader
+            // does so for one such field): the array itself.
             None if stride == size && size == comps && identity_layout(typ, d) => std::mem::take(&mut sol.values),
             None => {
                 let mut values = vec![0.0; comps * sol.n];
@@ -636,14 +631,10 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     // Node numbers: checked in the pass that writes the binary elements; in a pass of
     // their own for ASCII and for the blocks Medit does not hold.
     let bound = |b: &CellBlock| b.nodes.iter().fold(0, |m, &v| m.max(v as usize + 1));
-    let written = |b: &CellBlock| out.elements.iter().any(|(_, list)| list.iter().any(|w| std::ptr::eq(*w, b)));
-    let (main, nodes_bound) = if binary {
-        binary::write_mesh(&out)
-    } else {
-        (ascii::write_mesh(&out), out.elements.iter().flat_map(|(_, list)| list).map(|b| bound(b)).max().unwrap_or(0))
-    };
-    let others_bound = mesh.blocks.iter().filter(|b| !written(b)).map(bound).max().unwrap_or(0);
-    if nodes_bound.max(others_bound) > mesh.points.len() {
+    let (main, written_bound) = if binary { binary::write_mesh(&out) } else { (ascii::write_mesh(&out), 0) };
+    let held = |b: &CellBlock| ELEMENTS.iter().any(|(_, k)| *k == b.kind);
+    let rest_bound = mesh.blocks.iter().filter(|b| !binary || !held(b)).map(bound).max().unwrap_or(0);
+    if written_bound.max(rest_bound) > mesh.points.len() {
         return Err(refused(Format::Medit, mesh));
     }
     let mut written = Written { main, siblings: Vec::new(), report };
@@ -741,7 +732,10 @@ impl<'a> SolOut<'a> {
                 (2, 2) | (3, 2) => row.extend_from_slice(&s[..2]),
                 (2, _) => row.extend_from_slice(&[s[0], s[1], 0.0]),
                 (3, _) => row.extend_from_slice(s),
-                (_, 2) => row.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4]]),
+                (_, 2) => {
+                    let (m11, m12, m22) = tensor9_to_sym2(s);
+                    row.extend_from_slice(&[m11, m12, m22]);
+                }
                 (_, _) => row.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4], 0.5 * (s[2] + s[6]), 0.5 * (s[5] + s[7]), s[8]]),
             }
         }

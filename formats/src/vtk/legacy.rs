@@ -440,8 +440,7 @@ impl<'a> Reader<'a> {
     }
 
     fn push_laid_out(&mut self, name: String, components: usize, values: Vec<f64>, layout: Layout, at: Position) {
-        let components = if layout == Layout::Symmetric2 { 3 } else { components };
-        let a = Named { name, components, values, layout, at };
+        let a = Named::new(name, components, values, layout, at);
         match self.section {
             Section::Dataset => self.grid.field_arrays.push(a),
             Section::Point => self.grid.point_arrays.push(a),

@@ -299,9 +299,9 @@ pub(crate) fn decode_ints_as<T>(bytes: &[u8], ty: Scalar, big: bool, n: usize, o
 /// Decodes the `n` values of a binary array of `components` floats per item. An array of
 /// 9-component items that are all 2D symmetric tensors with the implied third row and
 /// column, `[m11 m12 0; m12 m22 0; 0 0 1]` bit for bit (a 2D metric padded with zz = 1,
-/// as the public VTK fixtures and the Medit solutions written out carry it), is kept packed as [`Layout::Symmetric2`]: a third of the
-/// memory, which a large read would otherwise spend most of its time faulting in, and
-/// the same values once expanded. Returns the values and their layout, or the index of
+/// as the public VTK fixtures and the Medit solutions written out carry it), is kept
+/// packed as [`Layout::Symmetric2`]: a third of the memory, which a large read would
+/// otherwise spend most of its time faulting in, and the same values once expanded. Returns the values and their layout, or the index of
 /// the first non-finite value.
 pub(crate) fn decode_items(bytes: &[u8], ty: Scalar, big: bool, n: usize, components: usize) -> std::result::Result<(Vec<f64>, Layout), usize> {
     if components == 9 && n % 9 == 0 {
@@ -429,6 +429,15 @@ pub(crate) struct Named {
     pub layout: Layout,
     /// Where the array starts, for errors found when it is interpreted.
     pub at: Position,
+}
+
+impl Named {
+    /// An array of `components` values per item in the file, laid out as `layout` says
+    /// (a packed tensor keeps 3 of its 9).
+    pub(crate) fn new(name: String, components: usize, values: Vec<f64>, layout: Layout, at: Position) -> Named {
+        let components = if layout == Layout::Symmetric2 { 3 } else { components };
+        Named { name, components, values, layout, at }
+    }
 }
 
 /// What both readers produce: VTK's own layout, checked and turned into a

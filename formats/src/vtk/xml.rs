@@ -901,8 +901,7 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     }
     for sp in &point {
         let (values, layout) = dec.items(sp, values(np, sp)?)?;
-        let components = if layout == Layout::Symmetric2 { 3 } else { sp.components };
-        g.point_arrays.push(Named { name: sp.name.clone(), components, values, layout, at: Position::Byte(sp.at as u64) });
+        g.point_arrays.push(Named::new(sp.name.clone(), sp.components, values, layout, Position::Byte(sp.at as u64)));
     }
     for sp in &cell {
         // Integer cell tag arrays go straight into 32-bit tags (no f64 copy of them).
@@ -913,14 +912,13 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             continue;
         }
         let (values, layout) = dec.items(sp, values(nc, sp)?)?;
-        let components = if layout == Layout::Symmetric2 { 3 } else { sp.components };
-        g.cell_arrays.push(Named { name: sp.name.clone(), components, values, layout, at: Position::Byte(sp.at as u64) });
+        g.cell_arrays.push(Named::new(sp.name.clone(), sp.components, values, layout, Position::Byte(sp.at as u64)));
     }
     for sp in &field {
         // Field arrays other than numbers (strings) are skipped by `spec` refusing
         // them; the tuple count is optional.
         let values = dec.floats(sp, sp.tuples.and_then(|t| t.checked_mul(sp.components)))?;
-        g.field_arrays.push(Named { name: sp.name.clone(), components: sp.components, values, layout: Layout::Plain, at: Position::Byte(sp.at as u64) });
+        g.field_arrays.push(Named::new(sp.name.clone(), sp.components, values, Layout::Plain, Position::Byte(sp.at as u64)));
     }
     g.into_mesh()
 }
