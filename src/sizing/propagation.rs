@@ -40,6 +40,7 @@
 
 use std::sync::OnceLock;
 
+use arrayvec::ArrayVec;
 use rayon::prelude::*;
 
 use crate::geometry::clearance::WINDOW;
@@ -267,7 +268,14 @@ impl<'g> SourceBuilder<'g> {
         }
         let geoms: Vec<SegmentGeom> = segments.iter().map(|s| SegmentGeom::new(s.a, s.b)).collect();
         let index = SegmentIndex::new(&geoms);
-        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), seed_guess: Vec::new(), index, behind: Vec::new() };
+        let unit_left = geoms
+            .iter()
+            .map(|g| {
+                let l = g.length();
+                [-g.d[1] / l, g.d[0] / l]
+            })
+            .collect();
+        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), seed_guess: Vec::new(), index, behind: Vec::new(), unit_left };
         source.behind = (0..source.segments.len()).map(|s| source.window_sides_behind(s)).collect();
         seeds.extend(source.free_piece_seeds(self.graph));
         seeds.sort_unstable();
@@ -308,6 +316,9 @@ pub struct Source {
     /// Per segment, bit k set when its window lies behind it as seen from side k (0
     /// left, 1 right): see [`Source::window_behind`].
     behind: Vec<u8>,
+    /// Per segment, its unit left normal (NaN for a point), for the side of a foot on a
+    /// polyline vertex without two square roots per vertex.
+    unit_left: Vec<Point2>,
 }
 
 /// The closest point of a source to a mesh vertex.
@@ -388,10 +399,6 @@ impl Source {
         if g.inv_len2 == 0.0 {
             return 0;
         }
-        let unit_left = |g: &SegmentGeom| {
-            let l = g.length();
-            [-g.d[1] / l, g.d[0] / l]
-        };
         let s = &self.segments[seg];
         let other = if t == 0.0 {
             s.prev
@@ -402,9 +409,9 @@ impl Source {
         };
         // At a polyline vertex the sum of the two unit normals; elsewhere the segment's
         // left normal unscaled, since only the sign of the product is wanted.
-        let n = match other.map(|o| &self.geoms[o as usize]).filter(|go| go.inv_len2 > 0.0) {
-            Some(go) => {
-                let (a, b) = (unit_left(g), unit_left(go));
+        let n = match other.filter(|&o| self.geoms[o as usize].inv_len2 > 0.0) {
+            Some(o) => {
+                let (a, b) = (self.unit_left[seg], self.unit_left[o as usize]);
                 [a[0] + b[0], a[1] + b[1]]
             }
             None => [-g.d[1], g.d[0]],
@@ -773,8 +780,6 @@ const PARALLEL_MIN_LEVEL: usize = 2048;
 /// already repay; at six, the first six rings of a border went through the
 /// axis-aligned index, and a step reaching ten rings was a quarter slower.
 const CLEARANCE_AFTER: u32 = 2;
-/// An empty entry of [`Projected`].
-const NOT_TRIED: Nearest = Nearest { segment: u32::MAX, projection: Projection { distance_squared: f64::INFINITY, foot: [0.0; 2], t: 0.0 } };
 /// Steps of the march along the polyline from the neighbours' guess.
 const MARCH_STEPS: usize = 4;
 
@@ -892,25 +897,23 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
 
 /// The segments a vertex's evaluation has projected on, so that the march and the
 /// window project each at most once (a vertex sees a handful; past eight, projections
-/// are no longer kept).
+/// are no longer kept). An `ArrayVec` rather than an array of placeholders: filling
+/// eight placeholder entries (320 bytes) for every vertex cost more than the lookups.
 struct Projected {
-    items: [Nearest; 8],
-    len: usize,
+    items: ArrayVec<Nearest, 8>,
 }
 
 impl Projected {
     /// The projection of `p` on segment `q`: the one made before, or a new one (kept).
     #[inline]
     fn on(&mut self, source: &Source, p: Point2, q: u32, stats: &mut QueryStats) -> Nearest {
-        if let Some(t) = self.items[..self.len].iter().find(|t| t.segment == q) {
+        if let Some(t) = self.items.iter().find(|t| t.segment == q) {
             return *t;
         }
         stats.segments += 1;
         let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
-        if self.len < self.items.len() {
-            self.items[self.len] = c;
-            self.len += 1;
-        }
+        // Full: the projection is not kept.
+        let _ = self.items.try_push(c);
         c
     }
 }
@@ -957,7 +960,7 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
         let nearest = source.index.closest(p, &mut stats).expect("index is not empty");
         return Evaluation { nearest, corrected: false, local: false, stats };
     };
-    let mut projected = Projected { items: [NOT_TRIED; 8], len: 0 };
+    let mut projected = Projected { items: ArrayVec::new() };
     let mut best = projected.on(source, p, seg, &mut stats);
     // First march along the polyline while the foot sits on a segment end (thesis
     // 4.3.6.3): one projection a step, where the window would take three, and the
