@@ -39,6 +39,11 @@ pub struct MeshGraph {
     neighbours: Vec<u32>,
     longest_edge: Vec<f64>,
     cells: Vec<[u32; 4]>,
+    /// Connected component of each vertex, numbered from 0 in the order of their
+    /// smallest vertex.
+    component: Vec<u32>,
+    /// Number of connected components.
+    num_components: usize,
 }
 
 impl MeshGraph {
@@ -122,7 +127,8 @@ impl MeshGraph {
             }
             out_cells.push(k);
         }
-        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells })
+        let (component, num_components) = components(&new_offsets, &neighbours);
+        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells, component, num_components })
     }
 
     /// Number of vertices.
@@ -164,12 +170,54 @@ impl MeshGraph {
         &self.cells
     }
 
+    /// The connected component of vertex `v` (components are numbered from 0 in the
+    /// order of their smallest vertex).
+    #[inline]
+    pub fn component(&self, v: usize) -> usize {
+        self.component[v] as usize
+    }
+
+    /// Number of connected components (0 for a graph without vertices).
+    pub fn num_components(&self) -> usize {
+        self.num_components
+    }
+
     /// Iterator over the edges `[a, b]`, `a < b`, in increasing order.
     pub fn edges(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
         (0..self.coords.len()).flat_map(move |a| {
             self.neighbours(a).iter().filter(move |&&b| b as usize > a).map(move |&b| [a as u32, b])
         })
     }
+}
+
+/// The connected components of a CSR graph: a label per vertex, and their number. One
+/// breadth-first sweep from each vertex not yet labelled, in vertex order.
+fn components(offsets: &[u32], neighbours: &[u32]) -> (Vec<u32>, usize) {
+    let n = offsets.len().saturating_sub(1);
+    let mut label = vec![u32::MAX; n];
+    let mut queue: Vec<u32> = Vec::new();
+    let mut count = 0u32;
+    for start in 0..n {
+        if label[start] != u32::MAX {
+            continue;
+        }
+        label[start] = count;
+        queue.clear();
+        queue.push(start as u32);
+        let mut head = 0;
+        while head < queue.len() {
+            let v = queue[head] as usize;
+            head += 1;
+            for &u in &neighbours[offsets[v] as usize..offsets[v + 1] as usize] {
+                if label[u as usize] == u32::MAX {
+                    label[u as usize] = count;
+                    queue.push(u);
+                }
+            }
+        }
+        count += 1;
+    }
+    (label, count as usize)
 }
 
 #[cfg(test)]
@@ -188,6 +236,44 @@ mod tests {
         assert!((g.longest_edge(0) - 2f64.sqrt()).abs() < 1e-15);
         assert_eq!(g.longest_edge(1), 1.0);
         assert_eq!(g.cells()[1], [0, 2, 3, NO_CORNER]);
+    }
+
+    /// Components against a union-find twin on random sparse graphs, isolated
+    /// vertices included.
+    #[test]
+    fn components_agree_with_union_find() {
+        let mut state = 7u64;
+        let mut next = |m: usize| {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((state >> 33) % m as u64) as usize
+        };
+        for case in 0..50 {
+            let n = 1 + next(200);
+            let edges: Vec<[usize; 2]> = (0..next(n + 1) * (case % 3)).map(|_| [next(n), next(n)]).collect();
+            let g = MeshGraph::from_edges(vec![[0.0, 0.0]; n], &edges, &[]).unwrap();
+            let mut root: Vec<usize> = (0..n).collect();
+            fn find(root: &mut [usize], mut v: usize) -> usize {
+                while root[v] != v {
+                    v = root[v];
+                }
+                v
+            }
+            for e in &edges {
+                let (a, b) = (find(&mut root, e[0]), find(&mut root, e[1]));
+                root[a.max(b)] = a.min(b);
+            }
+            let mut seen = std::collections::BTreeSet::new();
+            for v in 0..n {
+                seen.insert(find(&mut root, v));
+                for u in 0..n {
+                    assert_eq!(g.component(u) == g.component(v), find(&mut root, u) == find(&mut root, v), "case {case}: {u} and {v}");
+                }
+            }
+            assert_eq!(g.num_components(), seen.len());
+            // Numbered in the order of their smallest vertex.
+            let firsts: Vec<usize> = (0..n).filter(|&v| (0..v).all(|u| g.component(u) != g.component(v))).map(|v| g.component(v)).collect();
+            assert_eq!(firsts, (0..g.num_components()).collect::<Vec<_>>());
+        }
     }
 
     #[test]

@@ -1017,3 +1017,90 @@ fn observer_hears_every_step() {
         ]
     );
 }
+
+/// A step whose reach covers the whole mesh is evaluated in vertex order and merged as
+/// it goes, with no propagation: the field must be, bit for bit, the step's
+/// contribution (which always propagates, breadth first) merged and finished by hand.
+/// Sources that are hard for a guess taken from the vertex before: a wavy closed
+/// border seen from outside (its lobes put the medial axis inside the mesh), two close
+/// walls of a grid, a wake that doubles back on itself, a point; meshes fine and
+/// coarse (fewer vertices than segments: no clearances), on 1 and 2 threads, and a
+/// mesh in two pieces of which only one holds the source (then the step propagates).
+#[test]
+fn full_reach_in_vertex_order_is_the_propagated_field() {
+    let lobes = |a: f64| {
+        let r = 1.0 + 0.25 * (5.0 * a).cos();
+        [r * a.cos(), r * a.sin()]
+    };
+    let projection = SizeProjectionFunction::try_new(0.2, 50.0, 1.0).unwrap();
+    let far = 50.0;
+    let doubling_back = vec![[0.05, 0.3], [0.5, 0.35], [0.95, 0.3], [0.5, 0.36], [0.06, 0.45], [0.9, 0.5]];
+    let steps = |m: &Model, border: &[i32], with_point: bool| -> Vec<(&'static str, Algorithm)> {
+        let mut s = vec![
+            ("border", Algorithm::DistanceToBorder { perpendicular: df(0.001, 0.1, far, 1.5), parallel: df(0.01, 0.2, far, 1.0), borders: m.curves(border) }),
+            (
+                "curvature",
+                Algorithm::CurvatureOfBorder { perpendicular: df(0.002, 0.1, far, 1.0), curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(), projection, borders: m.curves(border) },
+            ),
+            (
+                "wake",
+                Algorithm::DistanceToImaginaryPolyline {
+                    perpendicular: df(0.002, 0.1, far, 1.0),
+                    polyline_distance: df(0.01, 0.1, 1.0, 1.0),
+                    projection,
+                    polyline: doubling_back.clone(),
+                    within: EntitySet::default(),
+                },
+            ),
+        ];
+        if with_point {
+            s.push(("point", Algorithm::DistanceToPoint { function: df(0.005, 0.05, far, 2.0), sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } }));
+        }
+        s
+    };
+    let bits = |ts: &[SizeTensor]| ts.iter().flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits)).collect::<Vec<u64>>();
+    let grid_walls = grid(61, 41, 0.01, 0.3, 3, 0.3, (30, 20));
+    let cases: Vec<(&str, Model, Vec<i32>, bool)> = vec![
+        ("lobes, fine", o_mesh(400, 30, 0.02, lobes, 4), vec![1], false),
+        ("lobes, coarse", o_mesh(400, 2, 0.3, lobes, 5), vec![1], false),
+        ("grid, two close walls", grid_walls, vec![11, 13], true),
+    ];
+    for (name, m, border, with_point) in &cases {
+        let n = m.coords.len();
+        for (label, algorithm) in steps(m, border, *with_point) {
+            let c = run_algorithm(&m.graph, &m.topo, &algorithm, 0, label).unwrap();
+            assert_eq!(c.len(), n, "{name}, {label}: every vertex within reach");
+            let mut want = vec![SizeTensor::isotropic(1.0); n];
+            for (&v, t) in c.vertices.iter().zip(&c.tensors) {
+                want[v as usize] = t.clamp(&SizeBounds::try_new(SizeTensor::MIN_SIZE, 1.0, f64::INFINITY).unwrap());
+            }
+            for threads in [1, 2] {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                let f = pool.install(|| run(m, &plan(Some(1.0), vec![(label, algorithm.clone())])));
+                let (got, expected) = (bits(&f.tensors), bits(&want));
+                let differ = (0..n).filter(|&v| got[4 * v..4 * v + 4] != expected[4 * v..4 * v + 4]).collect::<Vec<_>>();
+                assert!(differ.is_empty(), "{name}, {label}, {threads} threads: {} vertices differ, the first {:?}", differ.len(), differ.first().map(|&v| (v, f.tensors[v], want[v])));
+                assert!(f.reached.iter().all(|&r| r));
+                assert_eq!((f.steps[0].vertices_reached, f.steps[0].seeds), (c.len(), c.seeds), "{name}, {label}");
+            }
+        }
+    }
+    // Two pieces: the lobes' O-mesh, and a grid far off with no source. The border
+    // reaches the first piece only.
+    let a = o_mesh(200, 10, 0.03, lobes, 6);
+    let b = grid(11, 11, 0.1, 0.2, 7, 0.5, (5, 5));
+    let offset = a.coords.len();
+    let mut coords = a.coords.clone();
+    coords.extend(b.coords.iter().map(|p| [p[0] + 5.0, p[1]]));
+    let mut tris = a.triangles.clone();
+    tris.extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
+    let m = Model::new(coords, tris, |_| 1, &[(1, (0..200).collect(), true)], &[]);
+    let algorithm = Algorithm::DistanceToBorder { perpendicular: df(0.001, 0.1, far, 1.5), parallel: df(0.01, 0.2, far, 1.0), borders: m.curves(&[1]) };
+    let c = run_algorithm(&m.graph, &m.topo, &algorithm, 0, "border").unwrap();
+    assert_eq!(c.len(), offset, "the piece without a source is not reached");
+    let f = run(&m, &plan(Some(1.0), vec![("border", algorithm)]));
+    assert_eq!(f.reached.iter().filter(|&&r| r).count(), offset);
+    for (&v, t) in c.vertices.iter().zip(&c.tensors) {
+        assert_eq!(bits(&[f.tensors[v as usize]]), bits(&[*t]));
+    }
+}

@@ -148,8 +148,6 @@ impl Clearance {
     /// coordinate magnitude of the source and `horizon` the largest finite search cap
     /// (past it, a last tier searches without a cap).
     pub fn new(geoms: &[SegmentGeom], links: &[Links], scale: f64, horizon: f64) -> Clearance {
-        let gap = SEPARATION * scale.max(f64::MIN_POSITIVE);
-        let tree = ChainTree::new(geoms, 16.0 * f64::EPSILON * scale);
         let lengths: Vec<f64> = geoms.iter().filter(|g| g.inv_len2 > 0.0).map(|g| g.length()).filter(|l| l.is_finite()).collect();
         let mean = if lengths.is_empty() { 0.0 } else { lengths.iter().sum::<f64>() / lengths.len() as f64 };
         let mut caps = Vec::new();
@@ -158,6 +156,25 @@ impl Clearance {
             caps.push(c);
             c *= TIER_GROWTH;
         }
+        Clearance::with_caps(geoms, links, scale, caps)
+    }
+
+    /// The clearances of `geoms` for questions no farther than `farthest` from the
+    /// source: one tier that answers them all (its searches capped just past
+    /// `farthest`), then the uncapped one. For a propagation that asks at every
+    /// distance up to `farthest` about most segments, one search per segment side
+    /// where [`Clearance::new`]'s tiers would make one per tier.
+    pub fn up_to(geoms: &[SegmentGeom], links: &[Links], scale: f64, farthest: f64) -> Clearance {
+        let cap = farthest * BY_CERTIFIED / SETTLE * (1.0 + 1e-9);
+        let caps = if cap > 0.0 && cap.is_finite() { vec![cap] } else { Vec::new() };
+        Clearance::with_caps(geoms, links, scale, caps)
+    }
+
+    /// The clearances with the finite search caps `caps` (increasing), then the
+    /// uncapped tier.
+    fn with_caps(geoms: &[SegmentGeom], links: &[Links], scale: f64, mut caps: Vec<f64>) -> Clearance {
+        let gap = SEPARATION * scale.max(f64::MIN_POSITIVE);
+        let tree = ChainTree::new(geoms, 16.0 * f64::EPSILON * scale);
         caps.push(f64::INFINITY);
         let tiers = caps.len();
         let mut me = Clearance {

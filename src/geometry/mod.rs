@@ -11,7 +11,7 @@ pub mod clearance;
 pub mod segment;
 pub mod segment_index;
 #[cfg(test)]
-mod test_support;
+pub(crate) mod test_support;
 
 pub use clearance::Clearance;
 pub use segment::{Point2, Projection, SegmentGeom};

@@ -21,8 +21,8 @@
 
 use crate::mesh_graph::MeshGraph;
 use crate::metric::{SizeBounds, SizeTensor};
-use crate::sizing::algorithms::{self, merge, merge_in_vertex_order, Collect, Contribution, Failure, Sink};
-use crate::sizing::propagation::{ClosestPoint, Reach};
+use crate::sizing::algorithms::{self, merge, merge_closest_in_vertex_order, merge_in_vertex_order, Collect, Contribution, Failure, Sink};
+use crate::sizing::propagation::{propagate, reach_covers_mesh, ClosestPoint, PropagationOptions, Reach, Source};
 use crate::sizing::gradation::{apply_gradation, GradationReport};
 use crate::sizing::plan::{Algorithm, SizingPlan};
 use crate::topology::Topology;
@@ -254,6 +254,24 @@ impl Sink for IntoField<'_> {
         let (vertices, finished) = match self.finish {
             Some(finish) => (merge_in_vertex_order(&reach, f, self.tensors, self.reached, |t, r| finish.apply(t, r))?, true),
             None => (merge_in_vertex_order(&reach, f, self.tensors, self.reached, |_, _| {})?, false),
+        };
+        Ok(Merged { vertices, seeds, finished })
+    }
+
+    /// A step that reaches every vertex is evaluated in vertex order and merged as it
+    /// goes ([`merge_closest_in_vertex_order`]); any other is propagated.
+    fn take_source<F>(self, graph: &MeshGraph, source: &Source, max_distance: f64, options: &PropagationOptions, f: F) -> Result<Merged, Failure>
+    where
+        F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
+    {
+        let Some(farthest) = reach_covers_mesh(graph, source, max_distance) else {
+            return self.take_reach(propagate(graph, source, max_distance, options), f);
+        };
+        let seeds = source.seeds().len();
+        let parallel = options.parallel;
+        let (vertices, finished) = match self.finish {
+            Some(finish) => (merge_closest_in_vertex_order(graph, source, farthest, f, self.tensors, self.reached, |t, r| finish.apply(t, r), parallel)?, true),
+            None => (merge_closest_in_vertex_order(graph, source, farthest, f, self.tensors, self.reached, |_, _| {}, parallel)?, false),
         };
         Ok(Merged { vertices, seeds, finished })
     }

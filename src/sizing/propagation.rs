@@ -43,7 +43,7 @@ use std::sync::OnceLock;
 use arrayvec::ArrayVec;
 use rayon::prelude::*;
 
-use crate::geometry::clearance::WINDOW;
+use crate::geometry::clearance::{Links, WINDOW};
 use crate::geometry::segment::{orient, point_in_polygon, segment_touches_polygon, segments_touch};
 use crate::geometry::{Clearance, Nearest, Point2, Projection, QueryStats, SegmentGeom, SegmentIndex};
 use crate::mesh_graph::{MeshGraph, NO_CORNER};
@@ -429,11 +429,23 @@ impl Source {
     /// The clearances of the source's segments and vertices (see [`Clearance`]),
     /// computed as propagation asks for them.
     fn clearance(&self) -> Clearance {
+        let (scale, extent, links) = self.clearance_inputs();
+        Clearance::new(&self.geoms, &links, scale, 4.0 * extent)
+    }
+
+    /// The clearances for questions no farther than `farthest` from the source
+    /// ([`Clearance::up_to`]).
+    fn clearance_up_to(&self, farthest: f64) -> Clearance {
+        let (scale, _, links) = self.clearance_inputs();
+        Clearance::up_to(&self.geoms, &links, scale, farthest)
+    }
+
+    /// The largest coordinate, the diagonal of the bounding box, the polyline links.
+    fn clearance_inputs(&self) -> (f64, f64, Vec<Links>) {
         let (lo, hi) = self.index.bounds().unwrap_or(([0.0; 2], [0.0; 2]));
         let scale = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs());
         let extent = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
-        let links: Vec<(Option<u32>, Option<u32>)> = self.segments.iter().map(|s| (s.prev, s.next)).collect();
-        Clearance::new(&self.geoms, &links, scale, 4.0 * extent)
+        (scale, extent, self.segments.iter().map(|s| (s.prev, s.next)).collect())
     }
 
     /// The segments whose closest points must be compared with `best`'s before its
@@ -895,6 +907,118 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
     Reach { graph, source, vertices: order, segments: found, slot, report }
 }
 
+/// Vertices in a run of [`VertexOrder::for_each`] as the sizing driver cuts them: the
+/// first vertex of a run is found by the index, every other one from a vertex before it
+/// in the run. A fixed size, so that the work done does not depend on the thread count.
+pub(crate) const VERTEX_RUN: usize = 4096;
+
+/// Cells along each side of the bounding box in [`reach_covers_mesh`].
+const BOUND_CELLS: usize = 16;
+
+/// Source points that [`reach_covers_mesh`] measures the cells against.
+const BOUND_SAMPLES: usize = 64;
+
+/// Whether [`propagate`] from `source` up to `max_distance` reports every vertex of the
+/// mesh, and if so a distance no vertex is farther than from the source. It does when
+/// every connected component of the graph holds a seed and every vertex lies within
+/// `max_distance` of the source: then every vertex is expanded, so the breadth-first
+/// search visits each component of a seed whole and reports all of it.
+///
+/// The distances are bounded from above without a closest-point search: the vertices'
+/// bounding box is cut into 16 × 16 cells, and no point of a cell is farther from the
+/// source than the cell's farthest corner from the nearest of 64 source points spread
+/// along the segments (the distance to a point is convex, so its largest value over a
+/// cell is at a corner). The largest of these bounds, plus a margin for rounding, must
+/// be within `max_distance`; otherwise, or with non-finite coordinates, the answer is
+/// `None` and the caller propagates. Cost: one pass over the coordinates for the box.
+pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance: f64) -> Option<f64> {
+    let n = graph.num_vertices();
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    if n == 0 || source.index.is_empty() || !(max_distance >= 0.0) {
+        return None;
+    }
+    let mut seeded = vec![false; graph.num_components()];
+    for &v in source.seeds.iter().filter(|&&v| (v as usize) < n) {
+        seeded[graph.component(v as usize)] = true;
+    }
+    if !seeded.iter().all(|&s| s) {
+        return None;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in graph.points() {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let m = source.segments.len();
+    let samples: Vec<Point2> = (0..m.min(BOUND_SAMPLES)).map(|i| source.segments[i * m / m.min(BOUND_SAMPLES)].a).collect();
+    let scale = samples.iter().chain([&lo, &hi]).flat_map(|p| [p[0].abs(), p[1].abs()]).fold(0.0, f64::max);
+    if !scale.is_finite() {
+        return None;
+    }
+    // Cell edges from one formula, so that neighbour cells share them exactly.
+    let edge = |k: usize, i: usize| if i == BOUND_CELLS { hi[k] } else { lo[k] + (hi[k] - lo[k]) * (i as f64 / BOUND_CELLS as f64) };
+    let mut farthest2 = 0.0f64;
+    for i in 0..BOUND_CELLS {
+        for j in 0..BOUND_CELLS {
+            let corners = [[edge(0, i), edge(1, j)], [edge(0, i + 1), edge(1, j)], [edge(0, i), edge(1, j + 1)], [edge(0, i + 1), edge(1, j + 1)]];
+            let from = |a: &Point2| corners.iter().map(|c| (c[0] - a[0]).powi(2) + (c[1] - a[1]).powi(2)).fold(0.0, f64::max);
+            farthest2 = farthest2.max(samples.iter().map(from).fold(f64::INFINITY, f64::min));
+        }
+    }
+    // Rounding of the corners, of the differences and of the distances compared.
+    let farthest = farthest2.sqrt() + 64.0 * f64::EPSILON * scale;
+    (farthest <= max_distance).then_some(farthest)
+}
+
+/// Exact closest points in vertex order, for a step that reaches every vertex (see
+/// [`reach_covers_mesh`]): no breadth-first levels, no list of reached vertices, and
+/// each closest point handed on where it is found. A vertex takes as guess the closest
+/// segment of its first neighbour evaluated before it in the same run (else that of
+/// the vertex just before it), and is then settled and certified as in [`propagate`]:
+/// the same exact closest points, bit for bit, in another order.
+pub(crate) struct VertexOrder<'a> {
+    graph: &'a MeshGraph,
+    source: &'a Source,
+    /// Clearances for questions up to the farthest vertex ([`Clearance::up_to`]):
+    /// every vertex is asked about, so the far questions come for most segments, and
+    /// one search per segment side answers them all.
+    clearance: OnceLock<Clearance>,
+    farthest: f64,
+    /// Every vertex is evaluated, on average `n / m` per segment: clearances pay when
+    /// that is at least [`CLEARANCE_AFTER`], the share at which [`propagate`] computes
+    /// a segment's clearance.
+    clearances_pay: bool,
+}
+
+impl<'a> VertexOrder<'a> {
+    /// The evaluator of the vertices of `graph` against `source`, none of them farther
+    /// than `farthest` from it ([`reach_covers_mesh`]).
+    pub(crate) fn new(graph: &'a MeshGraph, source: &'a Source, farthest: f64) -> VertexOrder<'a> {
+        let clearances_pay = graph.num_vertices() >= CLEARANCE_AFTER as usize * source.segments.len();
+        VertexOrder { graph, source, clearance: OnceLock::new(), farthest, clearances_pay }
+    }
+
+    /// Calls `visit` with each vertex of `range` and its closest point, in order.
+    pub(crate) fn for_each(&self, range: std::ops::Range<usize>, mut visit: impl FnMut(usize, &ClosestPoint)) {
+        let (graph, source) = (self.graph, self.source);
+        let lo = range.start;
+        let mut found = vec![u32::MAX; range.len()];
+        for v in range {
+            let p = graph.point(v);
+            let earlier = |u: usize| (lo..v).contains(&u).then(|| found[u - lo]);
+            let guess = graph.neighbours(v).iter().find_map(|&u| earlier(u as usize)).or_else(|| v.checked_sub(1).and_then(earlier));
+            let nearest = match guess {
+                Some(seg) => settle(source, || self.clearance.get_or_init(|| source.clearance_up_to(self.farthest)), p, seg, |_| self.clearances_pay).nearest,
+                None => source.index.closest(p, &mut QueryStats::default()).expect("index is not empty"),
+            };
+            found[v - lo] = nearest.segment;
+            visit(v, &source.describe(p, nearest));
+        }
+    }
+}
+
 /// The segments a vertex's evaluation has projected on, so that the march and the
 /// window project each at most once (a vertex sees a handful; past eight, projections
 /// are no longer kept). An `ArrayVec` rather than an array of placeholders: filling
@@ -946,7 +1070,6 @@ fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, projected: 
 /// segment or vertex, or else by the index.
 fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &OnceLock<Clearance>, feet: &[u32], slot: &[u32], found: &[u32], v: usize) -> Evaluation {
     let p = graph.point(v);
-    let mut stats = QueryStats::default();
     // The guess: the closest segment of the first evaluated neighbour. Neighbours lie
     // within an edge of each other, so their segments are the same or a few steps apart
     // along the polyline, where the march and the window below reach; comparing every
@@ -957,21 +1080,32 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
     });
     let Some(seg) = guess else {
         // Queued vertices always have an evaluated neighbour; stay exact regardless.
+        let mut stats = QueryStats::default();
         let nearest = source.index.closest(p, &mut stats).expect("index is not empty");
         return Evaluation { nearest, corrected: false, local: false, stats };
     };
+    // A clearance costs a few index searches to compute: it is asked for only once
+    // earlier levels put enough feet on the segment to pay it back.
+    settle(source, || clearance.get_or_init(|| source.clearance()), p, seg, |s| feet[s as usize] >= CLEARANCE_AFTER)
+}
+
+/// The exact closest point of `p` from the guess `seg`: settled on a local optimum along
+/// the polyline, then certified by the clearance of its segment or vertex (where
+/// `clearance_pays` says the segment's clearance is worth computing), or else by an
+/// index search.
+#[inline]
+fn settle<'c>(source: &Source, clearance: impl FnOnce() -> &'c Clearance, p: Point2, seg: u32, clearance_pays: impl Fn(u32) -> bool) -> Evaluation {
+    let mut stats = QueryStats::default();
     let mut projected = Projected { items: ArrayVec::new() };
     let mut best = projected.on(source, p, seg, &mut stats);
     // First march along the polyline while the foot sits on a segment end (thesis
     // 4.3.6.3): one projection a step, where the window would take three, and the
     // usual way off a guess, since a neighbour's segment often ends just short of the
-    // vertex's foot. A clearance costs a few index searches to compute: it is asked
-    // for only once earlier levels put enough feet on the segment to pay it back. Then
-    // move to the best segment of the window until it is the best of its own window,
-    // and try the clearance; else search.
+    // vertex's foot. Then move to the best segment of the window until it is the best
+    // of its own window, and try the clearance; else search.
     march_across_ends(source, p, &mut best, &mut projected, &mut stats);
-    if feet[best.segment as usize] >= CLEARANCE_AFTER {
-        let clearance = clearance.get_or_init(|| source.clearance());
+    if clearance_pays(best.segment) {
+        let clearance = clearance();
         for _ in 0..MARCH_STEPS {
             let window = if source.window_behind(p, &best) { [None; 4] } else { source.window(&best) };
             let mut moved = false;
@@ -999,4 +1133,76 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
     // Near the source: the axis-aligned index around the guess's leaf.
     let nearest = source.index.certify(p, best, &mut stats);
     Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::test_support::Rng;
+
+    /// A jittered `k × k` grid on [0, 1]² joined by its grid edges, plus `extra`
+    /// isolated pairs of vertices far off (other components).
+    fn grid(k: usize, rng: &mut Rng, extra: usize) -> MeshGraph {
+        let mut coords = Vec::new();
+        for j in 0..k {
+            for i in 0..k {
+                coords.push([(i as f64 + 0.3 * rng.unit()) / k as f64, (j as f64 + 0.3 * rng.unit()) / k as f64]);
+            }
+        }
+        let mut edges = Vec::new();
+        for j in 0..k {
+            for i in 0..k {
+                if i + 1 < k {
+                    edges.push([j * k + i, j * k + i + 1]);
+                }
+                if j + 1 < k {
+                    edges.push([j * k + i, (j + 1) * k + i]);
+                }
+            }
+        }
+        for e in 0..extra {
+            let v = coords.len();
+            coords.push([3.0 + e as f64, 0.0]);
+            coords.push([3.0 + e as f64, 0.1]);
+            edges.push([v, v + 1]);
+        }
+        MeshGraph::from_edges(coords, &edges, &[]).unwrap()
+    }
+
+    /// The bound of `reach_covers_mesh` against the brute-force distances: never below
+    /// the farthest vertex's distance, so that it says the mesh is covered only when
+    /// `propagate` reports every vertex; it decides for reaches a little beyond the
+    /// farthest vertex; it never decides where a component has no seed.
+    #[test]
+    fn reach_covers_mesh_bounds_the_farthest_vertex() {
+        let mut rng = Rng(11);
+        let mut decided = 0;
+        for case in 0..60 {
+            let graph = grid(12 + case % 7, &mut rng, usize::from(case % 5 == 0));
+            // A free wavy polyline, or a single point, somewhere in the square.
+            let count = if case % 4 == 3 { 1 } else { 2 + (rng.unit() * 40.0) as usize };
+            let (cx, cy, amp) = (rng.unit(), rng.unit(), 0.3 * rng.unit());
+            let points: Vec<Point2> = (0..count).map(|i| [i as f64 / count as f64, cy + amp * (7.0 * i as f64 / count as f64 + cx).sin()]).collect();
+            let source = Source::builder(&graph).polyline(&points, false).build().unwrap();
+            let farthest = (0..graph.num_vertices()).map(|v| closest_point_brute_force(&source, graph.point(v)).unwrap().distance).fold(0.0, f64::max);
+            // Not so where a component holds no seed (or a point off the mesh none).
+            let all = propagate(&graph, &source, f64::INFINITY, &PropagationOptions::new()).len() == graph.num_vertices();
+            for max in [0.5 * farthest, 0.999 * farthest, farthest, 2.0 * farthest, 10.0, f64::INFINITY] {
+                match reach_covers_mesh(&graph, &source, max) {
+                    Some(bound) => {
+                        decided += 1;
+                        assert!(bound >= farthest && bound <= max, "case {case}: bound {bound}, farthest vertex {farthest}, max {max}");
+                        assert_eq!(propagate(&graph, &source, max, &PropagationOptions::new()).len(), graph.num_vertices(), "case {case}");
+                    }
+                    // Undecided: short of twice the farthest distance, or where
+                    // propagation does not report every vertex either.
+                    None => assert!(max < 2.0 * farthest || !all, "case {case}: undecided at {max} (farthest {farthest})"),
+                }
+            }
+            if graph.num_components() > 1 {
+                assert_eq!(reach_covers_mesh(&graph, &source, f64::INFINITY), None, "case {case}: a component without a seed");
+            }
+        }
+        assert!(decided >= 100, "{decided} of 360 reaches decided");
+    }
 }

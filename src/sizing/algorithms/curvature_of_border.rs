@@ -39,7 +39,7 @@ use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
 use crate::sizing::plan::EntitySet;
-use crate::sizing::propagation::{propagate, ClosestPoint, PropagationOptions, Source};
+use crate::sizing::propagation::{ClosestPoint, PropagationOptions, Source};
 use crate::topology::Topology;
 
 /// A polyline vertex where the border turns by more than this (radians) is a corner.
@@ -140,8 +140,8 @@ pub(crate) fn run<S: Sink>(
     let source = border_source(graph, topology, borders, false)?;
     let junctions = Junctions::new(&source);
     let curv = SegmentCurvatures::new(&source);
-    let reach = propagate(graph, &source, reach_of(&[perpendicular.max_distance(), projection.max_distance()]), options);
-    sink.take_reach(reach, |v, c| border_tensor(&source, &junctions, &curv, perpendicular, curvature, projection, graph.point(v), v, c).map(Some))
+    let reach = reach_of(&[perpendicular.max_distance(), projection.max_distance()]);
+    sink.take_source(graph, &source, reach, options, |v, c| border_tensor(&source, &junctions, &curv, perpendicular, curvature, projection, graph.point(v), v, c).map(Some))
 }
 
 /// The tensor of a vertex `p` from its closest point `c` on the border.

@@ -18,7 +18,7 @@ use super::{border_source, normal_at, reach_of, tensor, Failure, Junctions, Sink
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::DistanceFunction;
 use crate::sizing::plan::EntitySet;
-use crate::sizing::propagation::{propagate, PropagationOptions};
+use crate::sizing::propagation::{PropagationOptions};
 use crate::topology::Topology;
 
 pub(crate) fn run<S: Sink>(
@@ -32,8 +32,8 @@ pub(crate) fn run<S: Sink>(
 ) -> Result<S::Output, Failure> {
     let source = border_source(graph, topology, borders, true)?;
     let junctions = Junctions::new(&source);
-    let reach = propagate(graph, &source, reach_of(&[perpendicular.max_distance(), parallel.max_distance()]), options);
-    sink.take_reach(reach, |v, c| {
+    let reach = reach_of(&[perpendicular.max_distance(), parallel.max_distance()]);
+    sink.take_source(graph, &source, reach, options, |v, c| {
         let n = normal_at(&source, &junctions, graph.point(v), c);
         tensor(v, n, perpendicular.eval(c.distance), parallel.eval(c.distance)).map(Some)
     })

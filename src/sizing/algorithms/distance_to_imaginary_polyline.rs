@@ -27,7 +27,7 @@ use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::{DistanceFunction, SizeProjectionFunction};
 use crate::sizing::plan::EntitySet;
-use crate::sizing::propagation::{propagate, PropagationOptions, SourceBuilder};
+use crate::sizing::propagation::{PropagationOptions, SourceBuilder};
 use crate::topology::Topology;
 
 #[allow(clippy::too_many_arguments)]
@@ -54,8 +54,8 @@ pub(crate) fn run<S: Sink>(
     }
     let source = SourceBuilder::new(graph).polyline(polyline, false).build()?;
     let junctions = Junctions::new(&source);
-    let reach = propagate(graph, &source, reach_of(&[perpendicular.max_distance(), projection.max_distance()]), options);
-    sink.take_reach(reach, |v, c| {
+    let reach = reach_of(&[perpendicular.max_distance(), projection.max_distance()]);
+    sink.take_source(graph, &source, reach, options, |v, c| {
         if !mask[v] {
             return Ok(None);
         }

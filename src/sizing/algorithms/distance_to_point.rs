@@ -13,7 +13,7 @@ use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::DistanceFunction;
 use crate::sizing::plan::EntitySet;
-use crate::sizing::propagation::{propagate, PropagationOptions, SourceBuilder};
+use crate::sizing::propagation::{PropagationOptions, SourceBuilder};
 use crate::topology::Topology;
 
 pub(crate) fn run<S: Sink>(
@@ -43,8 +43,7 @@ pub(crate) fn run<S: Sink>(
     if source.segments().is_empty() {
         return Err(Failure::NoSource);
     }
-    let reach = propagate(graph, &source, function.max_distance(), options);
-    sink.take_reach(reach, |v, c| {
+    sink.take_source(graph, &source, function.max_distance(), options, |v, c| {
         let h = function.eval(c.distance);
         SizeTensor::try_new([1.0, 0.0], h, h).map(Some).ok_or(Failure::Degenerate { vertex: v })
     })

@@ -36,7 +36,7 @@ use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::plan::{Algorithm, EntitySet};
-use crate::sizing::propagation::{ClosestPoint, PropagationOptions, Reach, Source, SourceBuilder, SourceError};
+use crate::sizing::propagation::{propagate, ClosestPoint, PropagationOptions, Reach, Source, SourceBuilder, SourceError, VertexOrder, VERTEX_RUN};
 use crate::topology::Topology;
 
 /// Relative distance under which a vertex counts as lying on its source.
@@ -139,6 +139,16 @@ pub(crate) trait Sink {
 
     /// The tensors of a list of distinct vertices.
     fn take_list(self, contribution: Contribution) -> Result<Self::Output, Failure>;
+
+    /// The tensors `f` gives the vertices that a propagation from `source` up to
+    /// `max_distance` reaches: by default [`propagate`], then [`Sink::take_reach`].
+    fn take_source<F>(self, graph: &MeshGraph, source: &Source, max_distance: f64, options: &PropagationOptions, f: F) -> Result<Self::Output, Failure>
+    where
+        Self: Sized,
+        F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
+    {
+        self.take_reach(propagate(graph, source, max_distance, options), f)
+    }
 }
 
 /// The sink that keeps an algorithm's tensors as a [`Contribution`].
@@ -299,6 +309,54 @@ where
     if first_error != usize::MAX {
         let v = reach.vertices()[first_error] as usize;
         return Err(f(v, &reach.closest(first_error)).err().unwrap_or(Failure::Degenerate { vertex: v }));
+    }
+    Ok(merged)
+}
+
+/// Merges the tensors `f` gives every mesh vertex from its closest point on `source`
+/// straight into a field, in vertex order, for a step that reaches every vertex, none
+/// farther than `farthest` ([`crate::sizing::propagation::reach_covers_mesh`]): the closest points come from
+/// [`VertexOrder`] in runs of [`VERTEX_RUN`] vertices, on the rayon pool when
+/// `parallel`, and each tensor is merged where its closest point is found. The same
+/// field as [`merge_in_vertex_order`] after [`propagate`] (the same exact closest
+/// points), without the breadth-first levels, the reach's arrays and a second
+/// projection per vertex. Errors: the first in vertex order. `finish` as in
+/// [`merge_in_vertex_order`]. Returns how many tensors were merged.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn merge_closest_in_vertex_order<F, G>(graph: &MeshGraph, source: &Source, farthest: f64, f: F, tensors: &mut [SizeTensor], reached: &mut [bool], finish: G, parallel: bool) -> Result<usize, Failure>
+where
+    F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
+    G: Fn(&mut SizeTensor, bool) + Sync,
+{
+    let order = VertexOrder::new(graph, source, farthest);
+    // One run: the vertex of its first error (or usize::MAX) and the tensors merged.
+    let run = |(k, (ts, rs)): (usize, (&mut [SizeTensor], &mut [bool]))| -> (usize, usize) {
+        let lo = k * VERTEX_RUN;
+        let (mut error, mut merged) = (usize::MAX, 0);
+        order.for_each(lo..lo + ts.len(), |v, c| {
+            let (slot, has) = (&mut ts[v - lo], &mut rs[v - lo]);
+            match f(v, c) {
+                Ok(Some(t)) => {
+                    merge(slot, has, &t);
+                    merged += 1;
+                }
+                Ok(None) => {}
+                Err(_) => error = error.min(v),
+            }
+            finish(slot, *has);
+        });
+        (error, merged)
+    };
+    let combine = |a: (usize, usize), b: (usize, usize)| (a.0.min(b.0), a.1 + b.1);
+    let (first_error, merged) = if parallel && tensors.len() > VERTEX_RUN {
+        tensors.par_chunks_mut(VERTEX_RUN).zip(reached.par_chunks_mut(VERTEX_RUN)).enumerate().map(run).reduce(|| (usize::MAX, 0), combine)
+    } else {
+        tensors.chunks_mut(VERTEX_RUN).zip(reached.chunks_mut(VERTEX_RUN)).enumerate().map(run).fold((usize::MAX, 0), combine)
+    };
+    if first_error != usize::MAX {
+        let v = first_error;
+        let c = source.closest_point(graph.point(v));
+        return Err(c.and_then(|c| f(v, &c).err()).unwrap_or(Failure::Degenerate { vertex: v }));
     }
     Ok(merged)
 }
