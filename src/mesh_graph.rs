@@ -44,6 +44,9 @@ pub struct MeshGraph {
     component: Vec<u32>,
     /// Number of connected components.
     num_components: usize,
+    /// Bounding box of the coordinates, `None` without vertices or with a non-finite
+    /// coordinate.
+    bounds: Option<(Point2, Point2)>,
 }
 
 impl MeshGraph {
@@ -128,7 +131,8 @@ impl MeshGraph {
             out_cells.push(k);
         }
         let (component, num_components) = components(&new_offsets, &neighbours);
-        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells, component, num_components })
+        let bounds = finite_bounds(&coords);
+        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells, component, num_components, bounds })
     }
 
     /// Number of vertices.
@@ -182,12 +186,32 @@ impl MeshGraph {
         self.num_components
     }
 
+    /// The bounding box of the vertices, `(lo, hi)`: `None` for a graph without
+    /// vertices or with a non-finite coordinate.
+    pub fn bounds(&self) -> Option<(Point2, Point2)> {
+        self.bounds
+    }
+
     /// Iterator over the edges `[a, b]`, `a < b`, in increasing order.
     pub fn edges(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
         (0..self.coords.len()).flat_map(move |a| {
             self.neighbours(a).iter().filter(move |&&b| b as usize > a).map(move |&b| [a as u32, b])
         })
     }
+}
+
+/// The bounding box of `coords`, if there is one and every coordinate is finite.
+fn finite_bounds(coords: &[Point2]) -> Option<(Point2, Point2)> {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    let mut finite = true;
+    for p in coords {
+        finite &= p[0].is_finite() && p[1].is_finite();
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (finite && !coords.is_empty()).then_some((lo, hi))
 }
 
 /// The connected components of a CSR graph: a label per vertex, and their number. One
@@ -236,6 +260,9 @@ mod tests {
         assert!((g.longest_edge(0) - 2f64.sqrt()).abs() < 1e-15);
         assert_eq!(g.longest_edge(1), 1.0);
         assert_eq!(g.cells()[1], [0, 2, 3, NO_CORNER]);
+        assert_eq!(g.bounds(), Some(([0.0, 0.0], [1.0, 1.0])));
+        assert_eq!(MeshGraph::from_edges(vec![[0.0, 0.0], [f64::NAN, 1.0]], &[], &[]).unwrap().bounds(), None);
+        assert_eq!(MeshGraph::from_edges(vec![], &[], &[]).unwrap().bounds(), None);
     }
 
     /// Components against a union-find twin on random sparse graphs, isolated

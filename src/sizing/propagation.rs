@@ -930,7 +930,7 @@ const BOUND_SAMPLES: usize = 64;
 /// along the segments (the distance to a point is convex, so its largest value over a
 /// cell is at a corner). The largest of these bounds, plus a margin for rounding, must
 /// be within `max_distance`; otherwise, or with non-finite coordinates, the answer is
-/// `None` and the caller propagates. Cost: one pass over the coordinates for the box.
+/// `None` and the caller propagates. Cost: 16 × 16 × 64 × 4 squared distances.
 pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance: f64) -> Option<f64> {
     let n = graph.num_vertices();
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -944,13 +944,8 @@ pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance
     if !seeded.iter().all(|&s| s) {
         return None;
     }
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in graph.points() {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    // Non-finite coordinates: propagation would report only some vertices.
+    let (lo, hi) = graph.bounds()?;
     let m = source.segments.len();
     let samples: Vec<Point2> = (0..m.min(BOUND_SAMPLES)).map(|i| source.segments[i * m / m.min(BOUND_SAMPLES)].a).collect();
     let scale = samples.iter().chain([&lo, &hi]).flat_map(|p| [p[0].abs(), p[1].abs()]).fold(0.0, f64::max);
@@ -1005,12 +1000,14 @@ impl<'a> VertexOrder<'a> {
         let (graph, source) = (self.graph, self.source);
         let lo = range.start;
         let mut found = vec![u32::MAX; range.len()];
+        // Every vertex is evaluated: the clearances will be asked for.
+        let clearance = if self.clearances_pay { Some(self.clearance.get_or_init(|| source.clearance_up_to(self.farthest))) } else { None };
         for v in range {
             let p = graph.point(v);
             let earlier = |u: usize| (lo..v).contains(&u).then(|| found[u - lo]);
             let guess = graph.neighbours(v).iter().find_map(|&u| earlier(u as usize)).or_else(|| v.checked_sub(1).and_then(earlier));
             let nearest = match guess {
-                Some(seg) => settle(source, || self.clearance.get_or_init(|| source.clearance_up_to(self.farthest)), p, seg, |_| self.clearances_pay).nearest,
+                Some(seg) => settle(source, p, seg, |_| clearance).nearest,
                 None => source.index.closest(p, &mut QueryStats::default()).expect("index is not empty"),
             };
             found[v - lo] = nearest.segment;
@@ -1086,15 +1083,15 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
     };
     // A clearance costs a few index searches to compute: it is asked for only once
     // earlier levels put enough feet on the segment to pay it back.
-    settle(source, || clearance.get_or_init(|| source.clearance()), p, seg, |s| feet[s as usize] >= CLEARANCE_AFTER)
+    settle(source, p, seg, |s| (feet[s as usize] >= CLEARANCE_AFTER).then(|| clearance.get_or_init(|| source.clearance())))
 }
 
 /// The exact closest point of `p` from the guess `seg`: settled on a local optimum along
 /// the polyline, then certified by the clearance of its segment or vertex (where
-/// `clearance_pays` says the segment's clearance is worth computing), or else by an
+/// `clearance_if_it_pays` gives the clearances for the segment reached), or else by an
 /// index search.
 #[inline]
-fn settle<'c>(source: &Source, clearance: impl FnOnce() -> &'c Clearance, p: Point2, seg: u32, clearance_pays: impl Fn(u32) -> bool) -> Evaluation {
+fn settle<'c>(source: &Source, p: Point2, seg: u32, clearance_if_it_pays: impl FnOnce(u32) -> Option<&'c Clearance>) -> Evaluation {
     let mut stats = QueryStats::default();
     let mut projected = Projected { items: ArrayVec::new() };
     let mut best = projected.on(source, p, seg, &mut stats);
@@ -1104,8 +1101,7 @@ fn settle<'c>(source: &Source, clearance: impl FnOnce() -> &'c Clearance, p: Poi
     // vertex's foot. Then move to the best segment of the window until it is the best
     // of its own window, and try the clearance; else search.
     march_across_ends(source, p, &mut best, &mut projected, &mut stats);
-    if clearance_pays(best.segment) {
-        let clearance = clearance();
+    if let Some(clearance) = clearance_if_it_pays(best.segment) {
         for _ in 0..MARCH_STEPS {
             let window = if source.window_behind(p, &best) { [None; 4] } else { source.window(&best) };
             let mut moved = false;
