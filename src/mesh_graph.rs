@@ -47,6 +47,8 @@ pub struct MeshGraph {
     /// Bounding box of the coordinates, `None` without vertices or with a non-finite
     /// coordinate.
     bounds: Option<(Point2, Point2)>,
+    /// The cells of a grid over the bounding box that hold a vertex.
+    occupied: Vec<(Point2, Point2)>,
 }
 
 impl MeshGraph {
@@ -132,7 +134,8 @@ impl MeshGraph {
         }
         let (component, num_components) = components(&new_offsets, &neighbours);
         let bounds = finite_bounds(&coords);
-        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells, component, num_components, bounds })
+        let occupied = bounds.map_or_else(Vec::new, |b| occupied_cells(&coords, b));
+        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells, component, num_components, bounds, occupied })
     }
 
     /// Number of vertices.
@@ -192,6 +195,13 @@ impl MeshGraph {
         self.bounds
     }
 
+    /// Closed boxes `(lo, hi)` that together hold every vertex: the cells of a grid
+    /// over the bounding box (about 64 vertices a cell, at most 64 × 64 cells) that
+    /// hold a vertex, grown a little for rounding. Empty without a bounding box.
+    pub fn occupied_cells(&self) -> &[(Point2, Point2)] {
+        &self.occupied
+    }
+
     /// Iterator over the edges `[a, b]`, `a < b`, in increasing order.
     pub fn edges(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
         (0..self.coords.len()).flat_map(move |a| {
@@ -212,6 +222,32 @@ fn finite_bounds(coords: &[Point2]) -> Option<(Point2, Point2)> {
         }
     }
     (finite && !coords.is_empty()).then_some((lo, hi))
+}
+
+/// Most cells along a side of the grid of [`MeshGraph::occupied_cells`].
+const OCCUPANCY_GRID: usize = 64;
+
+/// The cells of a `g × g` grid over `bounds` that hold a point of `coords` (`g` such that
+/// a cell holds about 64 points on average, at most [`OCCUPANCY_GRID`]), each grown by
+/// a millionth of the box on every side, so that a point that rounding puts in the
+/// next cell still lies in the one it was counted in.
+fn occupied_cells(coords: &[Point2], (lo, hi): (Point2, Point2)) -> Vec<(Point2, Point2)> {
+    let g = ((coords.len() as f64).sqrt() / 8.0).clamp(1.0, OCCUPANCY_GRID as f64) as usize;
+    let size = [hi[0] - lo[0], hi[1] - lo[1]];
+    let cell = |k: usize, x: f64| if size[k] > 0.0 { (((x - lo[k]) / size[k] * g as f64) as usize).min(g - 1) } else { 0 };
+    let mut hit = vec![false; g * g];
+    for p in coords {
+        hit[cell(1, p[1]) * g + cell(0, p[0])] = true;
+    }
+    let grow = [1e-6 * size[0] + f64::MIN_POSITIVE, 1e-6 * size[1] + f64::MIN_POSITIVE];
+    let edge = |k: usize, i: usize| lo[k] + size[k] * (i as f64 / g as f64);
+    (0..g * g)
+        .filter(|&c| hit[c])
+        .map(|c| {
+            let (i, j) = (c % g, c / g);
+            ([edge(0, i) - grow[0], edge(1, j) - grow[1]], [edge(0, i + 1) + grow[0], edge(1, j + 1) + grow[1]])
+        })
+        .collect()
 }
 
 /// The connected components of a CSR graph: a label per vertex, and their number. One
@@ -263,6 +299,35 @@ mod tests {
         assert_eq!(g.bounds(), Some(([0.0, 0.0], [1.0, 1.0])));
         assert_eq!(MeshGraph::from_edges(vec![[0.0, 0.0], [f64::NAN, 1.0]], &[], &[]).unwrap().bounds(), None);
         assert_eq!(MeshGraph::from_edges(vec![], &[], &[]).unwrap().bounds(), None);
+    }
+
+    /// Every vertex lies in an occupied cell, and every occupied cell holds a vertex, on
+    /// random point sets (flat ones included), up to a grid of 64 × 64.
+    #[test]
+    fn occupied_cells_hold_every_vertex() {
+        let mut state = 3u64;
+        let mut unit = || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..30 {
+            let n = [1, 10, 1000, 40_000][case % 4];
+            let flat = case % 5 == 0;
+            let coords: Vec<Point2> = (0..n).map(|_| [1e3 + unit().powi(3) * 7.0, if flat { 2.0 } else { -unit() * 0.01 }]).collect();
+            let g = MeshGraph::from_edges(coords.clone(), &[], &[]).unwrap();
+            let cells = g.occupied_cells();
+            assert!(cells.len() <= OCCUPANCY_GRID * OCCUPANCY_GRID);
+            let inside = |p: &Point2, c: &(Point2, Point2)| c.0[0] <= p[0] && p[0] <= c.1[0] && c.0[1] <= p[1] && p[1] <= c.1[1];
+            for p in &coords {
+                assert!(cells.iter().any(|c| inside(p, c)), "case {case}: {p:?} in no cell");
+            }
+            for c in cells {
+                assert!(coords.iter().any(|p| inside(p, c)), "case {case}: empty cell {c:?}");
+            }
+        }
+        // The grid's cap: 300 000 points spread over the square fill 64 × 64 cells.
+        let coords: Vec<Point2> = (0..300_000).map(|k| [(k % 547) as f64, (k / 547) as f64]).collect();
+        assert_eq!(MeshGraph::from_edges(coords, &[], &[]).unwrap().occupied_cells().len(), OCCUPANCY_GRID * OCCUPANCY_GRID);
     }
 
     /// Components against a union-find twin on random sparse graphs, isolated

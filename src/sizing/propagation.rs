@@ -912,25 +912,18 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
 /// in the run. A fixed size, so that the work done does not depend on the thread count.
 pub(crate) const VERTEX_RUN: usize = 4096;
 
-/// Cells along each side of the bounding box in [`reach_covers_mesh`].
-const BOUND_CELLS: usize = 16;
-
-/// Source points that [`reach_covers_mesh`] measures the cells against.
-const BOUND_SAMPLES: usize = 64;
-
 /// Whether [`propagate`] from `source` up to `max_distance` reports every vertex of the
 /// mesh, and if so a distance no vertex is farther than from the source. It does when
 /// every connected component of the graph holds a seed and every vertex lies within
 /// `max_distance` of the source: then every vertex is expanded, so the breadth-first
 /// search visits each component of a seed whole and reports all of it.
 ///
-/// The distances are bounded from above without a closest-point search: the vertices'
-/// bounding box is cut into 16 × 16 cells, and no point of a cell is farther from the
-/// source than the cell's farthest corner from the nearest of 64 source points spread
-/// along the segments (the distance to a point is convex, so its largest value over a
-/// cell is at a corner). The largest of these bounds, plus a margin for rounding, must
-/// be within `max_distance`; otherwise, or with non-finite coordinates, the answer is
-/// `None` and the caller propagates. Cost: 16 × 16 × 64 × 4 squared distances.
+/// The distances are bounded from above with one closest-point query per cell of the
+/// graph's occupancy grid ([`MeshGraph::occupied_cells`], about 64 vertices a cell): no
+/// point of a cell is farther from the source than the cell's centre is, plus half its
+/// diagonal. The largest of these bounds, plus a margin for rounding, must be within
+/// `max_distance`; the first cell past it ends the test. Otherwise, or with
+/// non-finite coordinates, the answer is `None` and the caller propagates.
 pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance: f64) -> Option<f64> {
     let n = graph.num_vertices();
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -946,25 +939,26 @@ pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance
     }
     // Non-finite coordinates: propagation would report only some vertices.
     let (lo, hi) = graph.bounds()?;
-    let m = source.segments.len();
-    let samples: Vec<Point2> = (0..m.min(BOUND_SAMPLES)).map(|i| source.segments[i * m / m.min(BOUND_SAMPLES)].a).collect();
-    let scale = samples.iter().chain([&lo, &hi]).flat_map(|p| [p[0].abs(), p[1].abs()]).fold(0.0, f64::max);
+    let (slo, shi) = source.index.bounds()?;
+    let scale = [lo, hi, slo, shi].iter().flat_map(|p| [p[0].abs(), p[1].abs()]).fold(0.0, f64::max);
     if !scale.is_finite() {
         return None;
     }
-    // Cell edges from one formula, so that neighbour cells share them exactly.
-    let edge = |k: usize, i: usize| if i == BOUND_CELLS { hi[k] } else { lo[k] + (hi[k] - lo[k]) * (i as f64 / BOUND_CELLS as f64) };
-    let mut farthest2 = 0.0f64;
-    for i in 0..BOUND_CELLS {
-        for j in 0..BOUND_CELLS {
-            let corners = [[edge(0, i), edge(1, j)], [edge(0, i + 1), edge(1, j)], [edge(0, i), edge(1, j + 1)], [edge(0, i + 1), edge(1, j + 1)]];
-            let from = |a: &Point2| corners.iter().map(|c| (c[0] - a[0]).powi(2) + (c[1] - a[1]).powi(2)).fold(0.0, f64::max);
-            farthest2 = farthest2.max(samples.iter().map(from).fold(f64::INFINITY, f64::min));
+    // Rounding of the centres, of the distances and of the sums.
+    let margin = 64.0 * f64::EPSILON * scale;
+    let mut farthest = 0.0f64;
+    for &(a, b) in graph.occupied_cells() {
+        let centre = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+        let half_diagonal = 0.5 * (b[0] - a[0]).hypot(b[1] - a[1]);
+        let nearest = source.index.closest(centre, &mut QueryStats::default())?;
+        let bound = nearest.projection.distance() + half_diagonal + margin;
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        if !(bound <= max_distance) {
+            return None;
         }
+        farthest = farthest.max(bound);
     }
-    // Rounding of the corners, of the differences and of the distances compared.
-    let farthest = farthest2.sqrt() + 64.0 * f64::EPSILON * scale;
-    (farthest <= max_distance).then_some(farthest)
+    Some(farthest)
 }
 
 /// Exact closest points in vertex order, for a step that reaches every vertex (see
