@@ -1083,6 +1083,28 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
                 assert!(f.reached.iter().all(|&r| r));
                 assert_eq!((f.steps[0].vertices_reached, f.steps[0].seeds), (c.len(), c.seeds), "{name}, {label}");
             }
+            // As the second step, after UNIFORM on the face: intersected into the field
+            // as it goes.
+            let uniform = Algorithm::Uniform { size: 0.02, on: EntitySet { faces: vec![m.face(1)], ..EntitySet::default() } };
+            let u = run_algorithm(&m.graph, &m.topo, &uniform, 0, "uniform").unwrap();
+            let mut want: Vec<Option<SizeTensor>> = vec![None; n];
+            for (&v, t) in u.vertices.iter().zip(&u.tensors) {
+                want[v as usize] = Some(*t);
+            }
+            for (&v, t) in c.vertices.iter().zip(&c.tensors) {
+                let w = &mut want[v as usize];
+                *w = Some(w.map_or(*t, |w| w.intersection(t)));
+            }
+            let bounds = SizeBounds::try_new(SizeTensor::MIN_SIZE, 1.0, f64::INFINITY).unwrap();
+            let want: Vec<SizeTensor> = want.into_iter().map(|t| t.unwrap().clamp(&bounds)).collect();
+            for threads in [1, 2] {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                let f = pool.install(|| run(m, &plan(Some(1.0), vec![("uniform", uniform.clone()), (label, algorithm.clone())])));
+                let (got, expected) = (bits(&f.tensors), bits(&want));
+                let differ = (0..n).filter(|&v| got[4 * v..4 * v + 4] != expected[4 * v..4 * v + 4]).count();
+                assert_eq!(differ, 0, "{name}, uniform then {label}, {threads} threads: vertices differ");
+                assert_eq!(f.steps[1].vertices_reached, n);
+            }
         }
     }
     // Two pieces: the lobes' O-mesh, and a grid far off with no source. The border
