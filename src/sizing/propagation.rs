@@ -32,6 +32,15 @@
 //! its corners are expanded, and the last one touches the source. Reported are the seeds
 //! and the vertices within `max_distance`; the others are evaluated in transit only.
 //!
+//! Whole mesh. When a step's reach is sure to cover every vertex ([`reach_covers_mesh`]:
+//! every connected component holds a seed, and a bound of the distances per occupied
+//! cell of the graph's grid is within the maximum distance), the sizing driver skips
+//! the breadth-first search: [`VertexOrder`] evaluates the vertices in index order, in
+//! runs, each from the closest segment of a neighbour evaluated before it in its run,
+//! settled and certified as above (with one clearance tier capped just past the
+//! farthest vertex, since every vertex asks), and each closest point goes straight to
+//! the step's tensor. The same exact closest points, in another order.
+//!
 //! Cost: O(1) segment projections per vertex for the guess and the window, and O(1) for
 //! a clearance certificate; a vertex beyond its clearance costs a box search, O(log m)
 //! boxes for m segments. The clearances cost one bounded search per segment and per
@@ -562,6 +571,12 @@ impl Source {
         let s = best.segment;
         let t = best.projection.t;
         let d = best.projection.distance_squared.sqrt();
+        // A point on the source: a clearance of 0 (another curve touching there, whose
+        // segments lie outside the window) would still cover it, and a segment of a
+        // smaller id at distance 0 too may lie outside the window. The search decides.
+        if !(d > 0.0) {
+            return false;
+        }
         if t > 0.0 && t < 1.0 {
             return clearance.covers_segment(s, p, d);
         }
@@ -1157,6 +1172,50 @@ mod tests {
             edges.push([v, v + 1]);
         }
         MeshGraph::from_edges(coords, &edges, &[]).unwrap()
+    }
+
+    /// Every closest point of `VertexOrder` against the brute-force scan, bit for bit,
+    /// over whole meshes: a jittered grid with sources along its vertices that meet
+    /// (a comb: a bottom row and columns down onto it, so that three segments meet at
+    /// vertices on the source, the smaller ids outside the row's window), a wavy free
+    /// curve that doubles back, and a point; runs cut anywhere.
+    #[test]
+    fn vertex_order_is_the_brute_force_scan() {
+        let mut rng = Rng(21);
+        let k = 30;
+        let graph = grid(k, &mut rng, 0);
+        let row: Vec<usize> = (0..k).collect();
+        let mut comb = Source::builder(&graph);
+        for col in [3, 11, 12, 20] {
+            comb.mesh_polyline(&(0..k / 2).rev().map(|j| j * k + col).collect::<Vec<_>>(), false);
+        }
+        comb.mesh_polyline(&row, false);
+        let ring: Vec<usize> = (0..k).map(|i| k + i).chain((0..k).rev().map(|i| 5 * k + i)).collect();
+        let wavy: Vec<Point2> = (0..300).map(|i| i as f64 / 299.0).map(|t| [0.5 + 0.45 * (9.0 * t).sin() * t, 0.5 + 0.4 * (5.0 * t).cos() * (1.0 - 0.5 * t)]).collect();
+        let sources = [
+            comb.build().unwrap(),
+            Source::builder(&graph).mesh_polyline(&ring, true).mesh_polyline(&row, false).build().unwrap(),
+            Source::builder(&graph).polyline(&wavy, false).build().unwrap(),
+            Source::builder(&graph).point([0.3, 0.7]).build().unwrap(),
+        ];
+        let n = graph.num_vertices();
+        for (case, source) in sources.iter().enumerate() {
+            for farthest in [2.0, 0.1] {
+                let order = VertexOrder::new(&graph, source, farthest);
+                for start in [0, 7, n / 3] {
+                    let mut v = start;
+                    let mut visited = 0;
+                    order.for_each(start..n, |u, c| {
+                        assert_eq!(u, v);
+                        let want = closest_point_brute_force(source, graph.point(u)).unwrap();
+                        assert_eq!(format!("{c:?}"), format!("{want:?}"), "source {case}, vertex {u}, runs from {start}");
+                        v += 1;
+                        visited += 1;
+                    });
+                    assert_eq!(visited, n - start);
+                }
+            }
+        }
     }
 
     /// The bound of `reach_covers_mesh` against the brute-force distances: never below
