@@ -574,6 +574,7 @@ impl Source {
         // A point on the source: a clearance of 0 (another curve touching there, whose
         // segments lie outside the window) would still cover it, and a segment of a
         // smaller id at distance 0 too may lie outside the window. The search decides.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if !(d > 0.0) {
             return false;
         }
