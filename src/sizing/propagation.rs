@@ -49,7 +49,6 @@
 
 use std::sync::OnceLock;
 
-use arrayvec::ArrayVec;
 use rayon::prelude::*;
 
 use crate::geometry::clearance::{Links, WINDOW};
@@ -460,21 +459,24 @@ impl Source {
     /// The segments whose closest points must be compared with `best`'s before its
     /// clearance can decide: [`crate::geometry::clearance::WINDOW`] segments either way
     /// from its segment when the foot is inside it, the two segments either side of the
-    /// vertex when the foot is a polyline vertex.
+    /// vertex when the foot is a polyline vertex. Past a polyline's end the entry is
+    /// the last segment reached (`best`'s own at worst), so that a caller projects on
+    /// all four with no test: a projection made again changes nothing.
     #[inline]
-    fn window(&self, best: &Nearest) -> [Option<u32>; 4] {
+    fn window(&self, best: &Nearest) -> [u32; 4] {
         let s = best.segment;
-        let link = |x: Option<u32>, forward: bool| x.and_then(|x| if forward { self.segments[x as usize].next } else { self.segments[x as usize].prev });
+        let back = |x: u32| self.segments[x as usize].prev.unwrap_or(x);
+        let ahead = |x: u32| self.segments[x as usize].next.unwrap_or(x);
         let t = best.projection.t;
         if t > 0.0 && t < 1.0 {
-            let (p1, n1) = (link(Some(s), false), link(Some(s), true));
-            [p1, link(p1, false), n1, link(n1, true)]
+            let (p1, n1) = (back(s), ahead(s));
+            [p1, back(p1), n1, ahead(n1)]
         } else if t == 0.0 {
-            let p1 = link(Some(s), false);
-            [p1, link(p1, false), link(Some(s), true), None]
+            let p1 = back(s);
+            [p1, back(p1), ahead(s), s]
         } else {
-            let n1 = link(Some(s), true);
-            [link(Some(s), false), n1, link(n1, true), None]
+            let n1 = ahead(s);
+            [back(s), n1, ahead(n1), s]
         }
     }
 
@@ -1015,7 +1017,16 @@ impl<'a> VertexOrder<'a> {
         for v in range {
             let p = graph.point(v);
             let earlier = |u: usize| (lo..v).contains(&u).then(|| found[u - lo]);
-            let guess = graph.neighbours(v).iter().find_map(|&u| earlier(u as usize)).or_else(|| v.checked_sub(1).and_then(earlier));
+            // The vertex before, when it lies within the vertex's longest edge (as its
+            // neighbours do): the usual case of a mesh numbered with some locality, and
+            // one test, where a scan of the neighbours mispredicts on how many come
+            // before the first evaluated one. Else that first one, else the vertex before.
+            let previous_is_near = v > lo && {
+                let q = graph.point(v - 1);
+                let reach = graph.longest_edge(v);
+                (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) <= reach * reach
+            };
+            let guess = if previous_is_near { Some(found[v - 1 - lo]) } else { graph.neighbours(v).iter().find_map(|&u| earlier(u as usize)).or_else(|| v.checked_sub(1).and_then(earlier)) };
             let nearest = match guess {
                 Some(seg) => settle(source, p, seg, |_| clearance).nearest,
                 None => source.index.closest(p, &mut QueryStats::default()).expect("index is not empty"),
@@ -1026,33 +1037,17 @@ impl<'a> VertexOrder<'a> {
     }
 }
 
-/// The segments a vertex's evaluation has projected on, so that the march and the
-/// window project each at most once (a vertex sees a handful; past eight, projections
-/// are no longer kept). An `ArrayVec` rather than an array of placeholders: filling
-/// eight placeholder entries (320 bytes) for every vertex cost more than the lookups.
-struct Projected {
-    items: ArrayVec<Nearest, 8>,
-}
-
-impl Projected {
-    /// The projection of `p` on segment `q`: the one made before, or a new one (kept).
-    #[inline]
-    fn on(&mut self, source: &Source, p: Point2, q: u32, stats: &mut QueryStats) -> Nearest {
-        if let Some(t) = self.items.iter().find(|t| t.segment == q) {
-            return *t;
-        }
-        stats.segments += 1;
-        let c = Nearest { segment: q, projection: source.geoms[q as usize].project(p) };
-        // Full: the projection is not kept.
-        let _ = self.items.try_push(c);
-        c
-    }
+/// The projection of `p` on segment `q`, counted in `stats`.
+#[inline]
+fn project(source: &Source, p: Point2, q: u32, stats: &mut QueryStats) -> Nearest {
+    stats.segments += 1;
+    Nearest { segment: q, projection: source.geoms[q as usize].project(p) }
 }
 
 /// Moves `best` along the polyline while its foot is an end of its segment and the
 /// segment across that end is closer.
 #[inline]
-fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, projected: &mut Projected, stats: &mut QueryStats) {
+fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, stats: &mut QueryStats) {
     for _ in 0..MARCH_STEPS {
         let s = &source.segments[best.segment as usize];
         let step = if best.projection.t == 0.0 {
@@ -1063,7 +1058,7 @@ fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, projected: 
             None
         };
         let Some(q) = step else { break };
-        let c = projected.on(source, p, q, stats);
+        let c = project(source, p, q, stats);
         if c.beats(best) {
             *best = c;
         } else {
@@ -1103,26 +1098,25 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
 #[inline]
 fn settle<'c>(source: &Source, p: Point2, seg: u32, clearance_if_it_pays: impl FnOnce(u32) -> Option<&'c Clearance>) -> Evaluation {
     let mut stats = QueryStats::default();
-    let mut projected = Projected { items: ArrayVec::new() };
-    let mut best = projected.on(source, p, seg, &mut stats);
+    let mut best = project(source, p, seg, &mut stats);
     // First march along the polyline while the foot sits on a segment end (thesis
     // 4.3.6.3): one projection a step, where the window would take three, and the
     // usual way off a guess, since a neighbour's segment often ends just short of the
     // vertex's foot. Then move to the best segment of the window until it is the best
     // of its own window, and try the clearance; else search.
-    march_across_ends(source, p, &mut best, &mut projected, &mut stats);
+    march_across_ends(source, p, &mut best, &mut stats);
     if let Some(clearance) = clearance_if_it_pays(best.segment) {
         for _ in 0..MARCH_STEPS {
-            let window = if source.window_behind(p, &best) { [None; 4] } else { source.window(&best) };
             let mut moved = false;
-            for q in window.into_iter().flatten() {
-                if q == best.segment {
-                    continue;
-                }
-                let c = projected.on(source, p, q, &mut stats);
-                if c.beats(&best) {
-                    best = c;
-                    moved = true;
+            if !source.window_behind(p, &best) {
+                // All four, with no test of which were projected before (the march's)
+                // or are repeats: the tests mispredicted more than the projections cost.
+                for q in source.window(&best) {
+                    let c = project(source, p, q, &mut stats);
+                    if c.beats(&best) {
+                        best = c;
+                        moved = true;
+                    }
                 }
             }
             if !moved {
