@@ -283,6 +283,7 @@ fn components(offsets: &[u32], neighbours: &[u32]) -> (Vec<u32>, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::test_support::Rng;
 
     #[test]
     fn csr_is_sorted_and_deduplicated() {
@@ -305,11 +306,8 @@ mod tests {
     /// random point sets (flat ones included), up to a grid of 64 × 64.
     #[test]
     fn occupied_cells_hold_every_vertex() {
-        let mut state = 3u64;
-        let mut unit = || {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = Rng(3);
+        let mut unit = || rng.unit();
         for case in 0..30 {
             let n = [1, 10, 1000, 40_000][case % 4];
             let flat = case % 5 == 0;
@@ -334,11 +332,8 @@ mod tests {
     /// vertices included.
     #[test]
     fn components_agree_with_union_find() {
-        let mut state = 7u64;
-        let mut next = |m: usize| {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((state >> 33) % m as u64) as usize
-        };
+        let mut rng = Rng(7);
+        let mut next = |m: usize| ((rng.unit() * m as f64) as usize).min(m - 1);
         for case in 0..50 {
             let n = 1 + next(200);
             let edges: Vec<[usize; 2]> = (0..next(n + 1) * (case % 3)).map(|_| [next(n), next(n)]).collect();

@@ -1,4 +1,5 @@
-//! What the geometry tests share: a seedable generator and the brute-force scan.
+//! What the unit tests of geometry, the mesh graph and propagation share: a seedable
+//! generator and the brute-force scan.
 
 use super::segment::{Point2, SegmentGeom};
 use super::segment_index::Nearest;
