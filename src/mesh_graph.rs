@@ -44,9 +44,11 @@ pub struct MeshGraph {
     component: Vec<u32>,
     /// Number of connected components.
     num_components: usize,
-    /// Bounding box of the coordinates, `None` without vertices or with a non-finite
-    /// coordinate.
-    bounds: Option<(Point2, Point2)>,
+    /// Box of the coordinates as `f64::min` and `max` fold them (a NaN is skipped),
+    /// `None` without vertices.
+    extent: Option<(Point2, Point2)>,
+    /// Whether every coordinate is finite.
+    finite: bool,
     /// The cells of a grid over the bounding box that hold a vertex.
     occupied: Vec<(Point2, Point2)>,
 }
@@ -133,9 +135,9 @@ impl MeshGraph {
             out_cells.push(k);
         }
         let (component, num_components) = components(&new_offsets, &neighbours);
-        let bounds = finite_bounds(&coords);
-        let occupied = bounds.map_or_else(Vec::new, |b| occupied_cells(&coords, b));
-        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells, component, num_components, bounds, occupied })
+        let (extent, finite) = extent(&coords);
+        let occupied = extent.filter(|_| finite).map_or_else(Vec::new, |b| occupied_cells(&coords, b));
+        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells, component, num_components, extent, finite, occupied })
     }
 
     /// Number of vertices.
@@ -192,7 +194,14 @@ impl MeshGraph {
     /// The bounding box of the vertices, `(lo, hi)`: `None` for a graph without
     /// vertices or with a non-finite coordinate.
     pub fn bounds(&self) -> Option<(Point2, Point2)> {
-        self.bounds
+        self.extent.filter(|_| self.finite)
+    }
+
+    /// The box of the vertices as `f64::min` and `max` fold the coordinates: a NaN
+    /// coordinate is skipped, an infinite one kept. `None` for a graph without
+    /// vertices. [`MeshGraph::bounds`] when every coordinate is finite.
+    pub fn extent(&self) -> Option<(Point2, Point2)> {
+        self.extent
     }
 
     /// Closed boxes `(lo, hi)` that together hold every vertex: the cells of a grid
@@ -210,8 +219,9 @@ impl MeshGraph {
     }
 }
 
-/// The bounding box of `coords`, if there is one and every coordinate is finite.
-fn finite_bounds(coords: &[Point2]) -> Option<(Point2, Point2)> {
+/// The box of `coords` as `f64::min` and `max` fold them (`None` without a point), and
+/// whether every coordinate is finite: one pass for both.
+fn extent(coords: &[Point2]) -> (Option<(Point2, Point2)>, bool) {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     let mut finite = true;
     for p in coords {
@@ -221,7 +231,7 @@ fn finite_bounds(coords: &[Point2]) -> Option<(Point2, Point2)> {
             hi[k] = hi[k].max(p[k]);
         }
     }
-    (finite && !coords.is_empty()).then_some((lo, hi))
+    ((!coords.is_empty()).then_some((lo, hi)), finite)
 }
 
 /// Most cells along a side of the grid of [`MeshGraph::occupied_cells`].
@@ -298,8 +308,11 @@ mod tests {
         assert_eq!(g.longest_edge(1), 1.0);
         assert_eq!(g.cells()[1], [0, 2, 3, NO_CORNER]);
         assert_eq!(g.bounds(), Some(([0.0, 0.0], [1.0, 1.0])));
-        assert_eq!(MeshGraph::from_edges(vec![[0.0, 0.0], [f64::NAN, 1.0]], &[], &[]).unwrap().bounds(), None);
+        let with_nan = MeshGraph::from_edges(vec![[0.0, 0.0], [f64::NAN, 1.0]], &[], &[]).unwrap();
+        assert_eq!(with_nan.bounds(), None);
+        assert_eq!(with_nan.extent(), Some(([0.0, 0.0], [0.0, 1.0])));
         assert_eq!(MeshGraph::from_edges(vec![], &[], &[]).unwrap().bounds(), None);
+        assert_eq!(MeshGraph::from_edges(vec![], &[], &[]).unwrap().extent(), None);
     }
 
     /// Every vertex lies in an occupied cell, and every occupied cell holds a vertex, on

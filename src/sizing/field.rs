@@ -360,18 +360,8 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
     Ok(SizeField { tensors, reached, default_size, warnings, steps, gradation })
 }
 
-/// Length of the diagonal of the bounding box of the vertices (0 with none).
+/// Length of the diagonal of the box of the vertices (0 with none), as the graph folded
+/// it when it was built ([`MeshGraph::extent`]).
 fn bounding_box_diagonal(graph: &MeshGraph) -> f64 {
-    let pts = graph.points();
-    if pts.is_empty() {
-        return 0.0;
-    }
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in pts {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+    graph.extent().map_or(0.0, |(lo, hi)| (hi[0] - lo[0]).hypot(hi[1] - lo[1]))
 }
