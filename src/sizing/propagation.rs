@@ -32,11 +32,11 @@
 //! its corners are expanded, and the last one touches the source. Reported are the seeds
 //! and the vertices within `max_distance`; the others are evaluated in transit only.
 //!
-//! Whole mesh. When a step's reach is sure to cover every vertex ([`reach_covers_mesh`]:
+//! Whole mesh. When a step's reach is sure to cover every vertex (`reach_covers_mesh`:
 //! every connected component holds a seed, and a bound of the distances per occupied
 //! cell of the graph's grid is within the maximum distance), the sizing driver skips
-//! the breadth-first search: [`VertexOrder`] evaluates the vertices in index order, in
-//! runs, each from the closest segment of a neighbour evaluated before it in its run,
+//! the breadth-first search: `VertexOrder` evaluates the vertices in index order, in
+//! runs, each from the closest segment of a nearby vertex evaluated before it in its run,
 //! settled and certified as above (with one clearance tier capped just past the
 //! farthest vertex, since every vertex asks), and each closest point goes straight to
 //! the step's tensor. The same exact closest points, in another order.
@@ -982,9 +982,10 @@ pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance
 /// Exact closest points in vertex order, for a step that reaches every vertex (see
 /// [`reach_covers_mesh`]): no breadth-first levels, no list of reached vertices, and
 /// each closest point handed on where it is found. A vertex takes as guess the closest
-/// segment of its first neighbour evaluated before it in the same run (else that of
-/// the vertex just before it), and is then settled and certified as in [`propagate`]:
-/// the same exact closest points, bit for bit, in another order.
+/// segment of the vertex just before it when that one lies within its longest edge,
+/// else of its first neighbour evaluated before it in the same run (else, again, of the
+/// vertex before), and is then settled and certified as in [`propagate`]: the same
+/// exact closest points, bit for bit, in another order.
 pub(crate) struct VertexOrder<'a> {
     graph: &'a MeshGraph,
     source: &'a Source,

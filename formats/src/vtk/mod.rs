@@ -301,8 +301,8 @@ pub(crate) fn decode_ints_as<T>(bytes: &[u8], ty: Scalar, big: bool, n: usize, o
 /// column, `[m11 m12 0; m12 m22 0; 0 0 1]` bit for bit (a 2D metric padded with zz = 1,
 /// as the public VTK fixtures and the Medit solutions written out carry it), is kept
 /// packed as [`Layout::Symmetric2`]: a third of the memory, which a large read would
-/// otherwise spend most of its time faulting in, and the same values once expanded. Returns the values and their layout, or the index of
-/// the first non-finite value.
+/// otherwise spend most of its time faulting in, and the same values once expanded.
+/// Returns the values and their layout, or the index of the first non-finite value.
 pub(crate) fn decode_items(bytes: &[u8], ty: Scalar, big: bool, n: usize, components: usize) -> std::result::Result<(Vec<f64>, Layout), usize> {
     if components == 9 && n % 9 == 0 {
         if let Some(packed) = pack_symmetric2(&bytes[..n * ty.size()], ty, big) {
