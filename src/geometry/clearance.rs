@@ -22,6 +22,19 @@
 //! segments put the foot on `v` (so `m` is in the cone up to rounding), and checks that
 //! `m` lies within `κ = 2 sin(θ/4)` (with a little slack) of the cone's mean direction.
 //!
+//! Vertex from its segments. Let `s` end at `v` and `n` start there, `F_s` and `F_n` on
+//! the outer side of the turn. For `q - v` outside the cone, `h(q)` is the larger of the
+//! heights `y_s`, `y_n` of `q` over the two lines (an arc of less than a half-turn takes
+//! the largest product at an end), and `|q - v|² >= dx² + y²` in either frame (`v` ends
+//! the span of both), so `G(q) >= min(F_s(q), F_n(q))`. For `q - v` inside the cone,
+//! `G(q) = |q - v| / 2`, and the edge within θ/2 of `q - v` has `F <= |q - v| / (2 cos
+//! θ/2)`. So `G >= cos(θ/2) min(F_s, F_n)` everywhere, and the cone's clearance is at
+//! least `cos(θ/2)` times the smaller of the two segments' clearances, except for the
+//! segments of their windows outside the cone's (the second segment back from `s`, the
+//! second ahead of `n`), whose `G` is bounded directly. The segments' clearances are
+//! asked for anyway by the points whose foot lies inside them; the cone's own search
+//! runs only where this bound falls short of a question.
+//!
 //! Soundness. Over a box of the tree below or a piece of a segment, `F` and `G` are
 //! bounded from below by their smallest numerator over their largest denominator, so
 //! every clearance is a lower bound of the true one; segments are cut into [`PIECES`]
@@ -72,6 +85,10 @@ pub struct ConeShape {
     pub kappa_squared: f64,
     /// Its edges.
     sector: Sector,
+    /// `cos(θ/2)`, shaved by a few ulps.
+    half_cos: f64,
+    /// The side (0 left, 1 right) of both segments on which the cone lies.
+    outer: usize,
 }
 
 /// Clearances of the segments (each side) and interior polyline vertices of a source.
@@ -95,7 +112,9 @@ pub struct Clearance {
     segment: Vec<Memo>,
     /// The cone at the end of each segment that has a next one.
     cone: Vec<Option<ConeShape>>,
-    /// Clearance of the cone at the end of segment `s`, tier `t`, at `s * tiers + t`.
+    /// Clearance of the cone at the end of segment `s`, tier `t`, at `s * tiers + t`:
+    /// from the two segments' clearances, and from the cone's own search.
+    cone_derived: Vec<Memo>,
     cone_radius: Vec<Memo>,
     /// Runs of segments in oriented boxes, for the clearances and for exact queries.
     tree: ChainTree,
@@ -184,6 +203,7 @@ impl Clearance {
             caps,
             segment: (0..2 * geoms.len() * tiers).map(|_| Memo::default()).collect(),
             cone: Vec::new(),
+            cone_derived: (0..geoms.len() * tiers).map(|_| Memo::default()).collect(),
             cone_radius: (0..geoms.len() * tiers).map(|_| Memo::default()).collect(),
             tree,
         };
@@ -207,6 +227,17 @@ impl Clearance {
                 }
             }
             self.search_segment(s, side, self.caps[t])
+        })
+    }
+
+    /// The lower bound of the cone's clearance from its segments' (see the module
+    /// header), their tier `t`.
+    fn cone_derived_value(&self, s: usize, shape: &ConeShape, t: usize) -> f64 {
+        let tiers = self.caps.len();
+        self.cone_derived[s * tiers + t].get_or_compute(|| {
+            let Some(n) = self.next(s as u32) else { return 0.0 };
+            let sides = shape.half_cos * self.segment_value(s, shape.outer, t).min(self.segment_value(n as usize, shape.outer, t));
+            self.cone_outside_segment_windows(s, shape, sides)
         })
     }
 
@@ -263,7 +294,8 @@ impl Clearance {
         if e[0] * e[0] + e[1] * e[1] > shape.kappa_squared * d * d {
             return false;
         }
-        self.cone_value(s as usize, self.tier(need)) >= need
+        let t = self.tier(need);
+        self.cone_derived_value(s as usize, shape, t) >= need || self.cone_value(s as usize, t) >= need
     }
 
     /// The exact closest segment to `p`, starting from the guess `seed` (the projection
@@ -420,6 +452,60 @@ impl Clearance {
         out
     }
 
+    /// The window of segment `s`: itself and [`WINDOW`] segments either way along its
+    /// polyline (`u32::MAX` past its ends).
+    fn segment_window(&self, s: u32) -> [u32; 2 * WINDOW + 1] {
+        let (back, ahead) = (self.walk(s, |x| self.prev(x), 1, WINDOW), self.walk(s, |x| self.next(x), 1, WINDOW));
+        [s, back[0], back[1], ahead[0], ahead[1]]
+    }
+
+    /// The window of the cone at the end of segment `s` (which has a next one, `n`):
+    /// the segment before `s`, `s`, `n`, the one after `n`.
+    fn cone_window(&self, s: u32, n: u32) -> [Option<u32>; 4] {
+        [self.prev(s), Some(s), Some(n), self.next(n)]
+    }
+
+    /// Lower bound of `G` (the cone at `v` with edges `sector`) over segment `id`, when
+    /// below `best`; else `best`. The whole segment first, its pieces only where that
+    /// could lower `best`.
+    fn cone_bound_of_segment(&self, id: u32, v: Point2, sector: &Sector, best: f64) -> f64 {
+        let gap2 = self.gap * self.gap;
+        let g = &self.geoms[id as usize];
+        let h = |q: Point2| sector.support([q[0] - v[0], q[1] - v[1]]);
+        let whole = g.project(v).distance_squared;
+        if whole >= gap2 && cone_bound(whole, h(g.a).max(h(g.b))) >= best {
+            return best;
+        }
+        let pts = self.piece_points(id);
+        let mut best = best;
+        for w in pts.windows(2) {
+            let d2 = SegmentGeom::new(w[0], w[1]).project(v).distance_squared;
+            let b = if d2 < gap2 { 0.0 } else { cone_bound(d2, h(w[0]).max(h(w[1]))) };
+            best = best.min(b);
+        }
+        best
+    }
+
+    /// Lower bound of `G` over the segments of the windows of `s` and of its next one
+    /// that lie outside the cone's window (those the two segments' clearances do not
+    /// rule out for the cone), when below `best`; else `best`.
+    fn cone_outside_segment_windows(&self, s: usize, shape: &ConeShape, best: f64) -> f64 {
+        let s32 = s as u32;
+        let Some(n) = self.next(s32) else { return 0.0 };
+        let v = self.geoms[s].b;
+        let cone = self.cone_window(s32, n);
+        let mut best = best;
+        let (ws, wn) = (self.segment_window(s32), self.segment_window(n));
+        for (k, &id) in ws.iter().chain(&wn).enumerate() {
+            // Each segment once, none of the cone's window.
+            let seen = ws.iter().chain(&wn).take(k).any(|&x| x == id);
+            if id != u32::MAX && !seen && !cone.contains(&Some(id)) {
+                best = self.cone_bound_of_segment(id, v, &shape.sector, best);
+            }
+        }
+        best
+    }
+
     /// Pieces of segment `id`, as `PIECES + 1` points.
     fn piece_points(&self, id: u32) -> [Point2; PIECES + 1] {
         let g = &self.geoms[id as usize];
@@ -439,16 +525,17 @@ impl Clearance {
         }
         let frame = Frame { a: g.a, t: [g.d[0] / len, g.d[1] / len], len };
         let s = s as u32;
-        let (back, ahead) = (self.walk(s, |x| self.prev(x), 1, WINDOW), self.walk(s, |x| self.next(x), 1, WINDOW));
-        let window = [s, back[0], back[1], ahead[0], ahead[1]];
+        let window = self.segment_window(s);
         let mut best = cap;
         let value = |id: u32, best: &mut f64| {
             if window.contains(&id) {
                 return;
             }
-            // The whole segment first: pieces only where it could lower the clearance.
+            // The whole segment first: pieces only where it could lower the clearance,
+            // that is, where its bound is below SETTLE times the best so far, as for
+            // the tree's nodes (the value kept is SETTLE times the smallest found).
             let g = &self.geoms[id as usize];
-            if frame.bound(Rect::of(&[frame.local(g.a), frame.local(g.b)]), side, self.gap) >= *best {
+            if frame.bound(Rect::of(&[frame.local(g.a), frame.local(g.b)]), side, self.gap) >= SETTLE * *best {
                 return;
             }
             let pts = self.piece_points(id).map(|q| frame.local(q));
@@ -485,7 +572,10 @@ impl Clearance {
         }
         let mean = [sum[0] / norm, sum[1] / norm];
         let kappa = (n1[0] - mean[0]).hypot(n1[1] - mean[1]) * (1.0 + 1e-6) + 1e-9;
-        Some(ConeShape { mean, kappa_squared: kappa * kappa, sector: Sector { n1, n2 } })
+        // cos(θ/2) = |n1 + n2| / 2, a little less for the rounding of the normals.
+        let half_cos = (0.5 * norm * (1.0 - 1e-9)).min(1.0);
+        let outer = if turn > 0.0 { 1 } else { 0 };
+        Some(ConeShape { mean, kappa_squared: kappa * kappa, sector: Sector { n1, n2 }, half_cos, outer })
     }
 
     /// The clearance of the cone at the end of segment `s`, searched up to `cap`.
@@ -494,24 +584,12 @@ impl Clearance {
         let Some(n) = self.next(s32) else { return 0.0 };
         let sector = shape.sector;
         let v = self.geoms[s].b;
-        let window = [self.prev(s32), Some(s32), Some(n), self.next(n)];
+        let window = self.cone_window(s32, n);
         let mut best = cap;
         let gap2 = self.gap * self.gap;
         let value = |id: u32, best: &mut f64| {
-            if window.contains(&Some(id)) {
-                return;
-            }
-            let g = &self.geoms[id as usize];
-            let h = |q: Point2| sector.support([q[0] - v[0], q[1] - v[1]]);
-            let whole = g.project(v).distance_squared;
-            if whole >= gap2 && cone_bound(whole, h(g.a).max(h(g.b))) >= *best {
-                return;
-            }
-            let pts = self.piece_points(id);
-            for w in pts.windows(2) {
-                let d2 = SegmentGeom::new(w[0], w[1]).project(v).distance_squared;
-                let b = if d2 < gap2 { 0.0 } else { cone_bound(d2, h(w[0]).max(h(w[1]))) };
-                *best = best.min(b);
+            if !window.contains(&Some(id)) {
+                *best = self.cone_bound_of_segment(id, v, &sector, *best);
             }
         };
         for id in self.walk(s32, |x| self.prev(x), 2, 3).into_iter().chain(self.walk(n, |x| self.next(x), 2, 3)) {
@@ -555,6 +633,58 @@ mod tests {
             })
             .collect();
         (geoms, links)
+    }
+
+    /// The cone's clearance from its two segments' (the module header's "vertex from its
+    /// segments") against its definition: never above `G` at 64 points of every
+    /// segment outside the cone's window, on wavy closed curves and open ones with
+    /// corners of up to a half-turn and less, at every tier.
+    #[test]
+    fn cone_bound_from_segments_is_below_g_everywhere() {
+        let mut rng = Rng(11);
+        let (mut checked, mut useful) = (0usize, 0usize);
+        for case in 0..30 {
+            let n = 12 + (rng.unit() * 120.0) as usize;
+            let closed = case % 2 == 0;
+            let points: Vec<Point2> = (0..n)
+                .map(|k| {
+                    let a = if closed { 2.0 * std::f64::consts::PI * k as f64 / n as f64 } else { 4.0 * k as f64 / n as f64 };
+                    let r = 0.6 + 0.2 * (3.0 * a + rng.unit()).cos() + if case % 3 == 1 { 0.15 * rng.unit() } else { 0.0 };
+                    [r * a.cos(), r * a.sin()]
+                })
+                .collect();
+            let (geoms, links) = polyline(&points, closed);
+            let clearance = Clearance::new(&geoms, &links, 1.0, 8.0);
+            for s in 0..geoms.len() {
+                let Some(shape) = clearance.cone[s] else { continue };
+                let next = links[s].1.unwrap();
+                let window = [links[s].0, Some(s as u32), Some(next), links[next as usize].1];
+                let v = geoms[s].b;
+                let mut g_min = f64::INFINITY;
+                for (o, h) in geoms.iter().enumerate() {
+                    if window.contains(&Some(o as u32)) {
+                        continue;
+                    }
+                    for k in 0..=64 {
+                        let t = k as f64 / 64.0;
+                        let q = [h.a[0] + t * h.d[0], h.a[1] + t * h.d[1]];
+                        let e = [q[0] - v[0], q[1] - v[1]];
+                        let support = shape.sector.support(e);
+                        if support > 0.0 {
+                            g_min = g_min.min((e[0] * e[0] + e[1] * e[1]) / (2.0 * support));
+                        }
+                    }
+                }
+                for t in 0..clearance.caps.len() {
+                    let derived = clearance.cone_derived_value(s, &shape, t);
+                    assert!(derived <= g_min, "case {case}, vertex at the end of {s}, tier {t}: {derived} above the smallest G {g_min}");
+                    checked += 1;
+                    useful += usize::from(derived >= 0.5 * clearance.cone_value(s, t));
+                }
+            }
+        }
+        eprintln!("{useful} of {checked} cone bounds from the segments at least half the cone's own search");
+        assert!(checked > 1000 && useful * 2 > checked, "{useful} of {checked}: too few cones, or bounds too weak to be of use");
     }
 
     /// The clearance's promise, checked directly against a scan of every segment: where

@@ -389,6 +389,7 @@ impl Source {
     }
 
     /// Fills in abscissa and side for a projection of `p`.
+    #[inline(always)]
     fn describe(&self, p: Point2, n: Nearest) -> ClosestPoint {
         let s = &self.segments[n.segment as usize];
         let Projection { distance_squared, foot, t } = n.projection;
@@ -402,6 +403,7 @@ impl Source {
         }
     }
 
+    #[inline(always)]
     fn side(&self, p: Point2, seg: usize, foot: Point2, t: f64) -> i8 {
         let g = &self.geoms[seg];
         if g.inv_len2 == 0.0 {

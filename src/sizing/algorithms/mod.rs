@@ -379,6 +379,7 @@ where
 /// A tensor with `h_normal` along `normal` and `h_tangent` across it; with no normal (a
 /// point source seen from the point itself) the isotropic tensor of the smaller size,
 /// the only one that respects both sizes in every orientation.
+#[inline]
 pub(crate) fn tensor(vertex: usize, normal: Option<Point2>, h_normal: f64, h_tangent: f64) -> Result<SizeTensor, Failure> {
     let sizes_ok = (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&h_normal) && (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&h_tangent);
     match normal {
@@ -393,6 +394,7 @@ pub(crate) fn tensor(vertex: usize, normal: Option<Point2>, h_normal: f64, h_tan
 }
 
 /// The unit vector along `v`, if it has a length.
+#[inline]
 pub(crate) fn unit(v: Point2) -> Option<Point2> {
     // A plain square root, not `hypot`: coordinates of a mesh are far from overflow,
     // and this runs once per vertex.
@@ -490,6 +492,7 @@ pub(crate) fn tangent_at(source: &Source, junctions: &Junctions, c: &ClosestPoin
 }
 
 /// Whether a closest point counts as on the source (see [`ON_SOURCE`]).
+#[inline]
 pub(crate) fn on_source(source: &Source, c: &ClosestPoint) -> bool {
     let len = source.segments()[c.segment as usize].length;
     c.distance == 0.0 || c.distance <= ON_SOURCE * len
@@ -499,6 +502,7 @@ pub(crate) fn on_source(source: &Source, c: &ClosestPoint) -> bool {
 /// foot point to `p` off the source (thesis 4.3.7.1, second case; at a foot on a polyline
 /// vertex this is the direction the vertex is seen from the corner), the source's normal
 /// on it. `None` for a point source seen from the point itself.
+#[inline]
 pub(crate) fn normal_at(source: &Source, junctions: &Junctions, p: Point2, c: &ClosestPoint) -> Option<Point2> {
     if on_source(source, c) {
         return tangent_at(source, junctions, c).map(|t| [-t[1], t[0]]);
