@@ -52,9 +52,11 @@
 //! asked (see [`Clearance`]); the tree is built in O(m) for m segments.
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 
 use super::segment::{Point2, SegmentGeom};
-use super::chain_tree::{ChainNode, ChainTree};
+pub(crate) use super::chain_tree::ChainTree;
+use super::chain_tree::ChainNode;
 use super::segment_index::{Nearest, QueryStats};
 
 /// Segments either side of a segment whose closest points a certificate compares.
@@ -116,8 +118,9 @@ pub struct Clearance {
     /// from the two segments' clearances, and from the cone's own search.
     cone_derived: Vec<Memo>,
     cone_radius: Vec<Memo>,
-    /// Runs of segments in oriented boxes, for the clearances and for exact queries.
-    tree: ChainTree,
+    /// Runs of segments in oriented boxes, for the clearances and for exact queries
+    /// (shared with the source that made it).
+    tree: Arc<ChainTree>,
 }
 
 /// A value computed at most a few times and then read: the bits of an `f64`, or
@@ -167,6 +170,11 @@ impl Clearance {
     /// coordinate magnitude of the source and `horizon` the largest finite search cap
     /// (past it, a last tier searches without a cap).
     pub fn new(geoms: &[SegmentGeom], links: &[Links], scale: f64, horizon: f64) -> Clearance {
+        Clearance::new_over(Clearance::tree_of(geoms, scale), geoms, links, scale, horizon)
+    }
+
+    /// [`Clearance::new`] over a tree of `geoms` already built ([`Clearance::tree_of`]).
+    pub(crate) fn new_over(tree: Arc<ChainTree>, geoms: &[SegmentGeom], links: &[Links], scale: f64, horizon: f64) -> Clearance {
         let lengths: Vec<f64> = geoms.iter().filter(|g| g.inv_len2 > 0.0).map(|g| g.length()).filter(|l| l.is_finite()).collect();
         let mean = if lengths.is_empty() { 0.0 } else { lengths.iter().sum::<f64>() / lengths.len() as f64 };
         let mut caps = Vec::new();
@@ -175,7 +183,7 @@ impl Clearance {
             caps.push(c);
             c *= TIER_GROWTH;
         }
-        Clearance::with_caps(geoms, links, scale, caps)
+        Clearance::with_caps(tree, geoms, links, scale, caps)
     }
 
     /// The clearances of `geoms` for questions no farther than `farthest` from the
@@ -184,16 +192,27 @@ impl Clearance {
     /// distance up to `farthest` about most segments, one search per segment side
     /// where [`Clearance::new`]'s tiers would make one per tier.
     pub fn up_to(geoms: &[SegmentGeom], links: &[Links], scale: f64, farthest: f64) -> Clearance {
+        Clearance::up_to_over(Clearance::tree_of(geoms, scale), geoms, links, scale, farthest)
+    }
+
+    /// [`Clearance::up_to`] over a tree of `geoms` already built ([`Clearance::tree_of`]).
+    pub(crate) fn up_to_over(tree: Arc<ChainTree>, geoms: &[SegmentGeom], links: &[Links], scale: f64, farthest: f64) -> Clearance {
         let cap = farthest * BY_CERTIFIED / SETTLE * (1.0 + 1e-9);
         let caps = if cap > 0.0 && cap.is_finite() { vec![cap] } else { Vec::new() };
-        Clearance::with_caps(geoms, links, scale, caps)
+        Clearance::with_caps(tree, geoms, links, scale, caps)
+    }
+
+    /// The tree of oriented boxes the clearances of `geoms` search (`scale` the largest
+    /// coordinate magnitude), which also answers exact closest-segment queries: a
+    /// source builds it once for both.
+    pub(crate) fn tree_of(geoms: &[SegmentGeom], scale: f64) -> Arc<ChainTree> {
+        Arc::new(ChainTree::new(geoms, 16.0 * f64::EPSILON * scale))
     }
 
     /// The clearances with the finite search caps `caps` (increasing), then the
     /// uncapped tier.
-    fn with_caps(geoms: &[SegmentGeom], links: &[Links], scale: f64, mut caps: Vec<f64>) -> Clearance {
+    fn with_caps(tree: Arc<ChainTree>, geoms: &[SegmentGeom], links: &[Links], scale: f64, mut caps: Vec<f64>) -> Clearance {
         let gap = SEPARATION * scale.max(f64::MIN_POSITIVE);
-        let tree = ChainTree::new(geoms, 16.0 * f64::EPSILON * scale);
         caps.push(f64::INFINITY);
         let tiers = caps.len();
         let mut me = Clearance {

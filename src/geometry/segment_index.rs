@@ -148,6 +148,23 @@ impl SegmentIndex {
         self.nodes.first().map(|n| (n.min, n.max))
     }
 
+    /// The box [`SegmentIndex::bounds`] gives for an index of `segments`, without
+    /// building it: the grown boxes of the segments with finite ends, folded.
+    pub fn bounds_of(segments: &[SegmentGeom]) -> Option<(Point2, Point2)> {
+        let (mut min, mut max) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let mut any = false;
+        for g in segments.iter().filter(|g| g.a.iter().chain(&g.b).all(|c| c.is_finite())) {
+            let (lo, hi) = seg_box(g);
+            let (lo, hi) = grown_box(lo, hi);
+            for k in 0..2 {
+                min[k] = min[k].min(lo[k]);
+                max[k] = max[k].max(hi[k]);
+            }
+            any = true;
+        }
+        any.then_some((min, max))
+    }
+
     /// The exact closest segment to `p`, searched from the root.
     pub fn closest(&self, p: Point2, stats: &mut QueryStats) -> Option<Nearest> {
         if self.nodes.is_empty() {
@@ -282,6 +299,15 @@ fn seg_box(g: &SegmentGeom) -> (Point2, Point2) {
     ([g.a[0].min(g.b[0]), g.a[1].min(g.b[1])], [g.a[0].max(g.b[0]), g.a[1].max(g.b[1])])
 }
 
+/// A segment's box `lo..hi` grown by a few ulps of its coordinates: a rounded foot point
+/// may stray that far outside the exact box.
+#[inline]
+fn grown_box(lo: Point2, hi: Point2) -> (Point2, Point2) {
+    let m = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs());
+    let grow = 8.0 * f64::EPSILON * m + f64::MIN_POSITIVE;
+    ([lo[0] - grow, lo[1] - grow], [hi[0] + grow, hi[1] + grow])
+}
+
 /// Builds the subtree over `items[..]` (which start at `offset` in the full item array),
 /// appending nodes depth-first; returns the node index.
 fn build(items: &mut [Item], offset: usize, nodes: &mut Vec<Node>, parent: &mut Vec<u32>, par: u32) -> u32 {
@@ -290,13 +316,10 @@ fn build(items: &mut [Item], offset: usize, nodes: &mut Vec<Node>, parent: &mut 
     let (mut cmin, mut cmax) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for it in items.iter() {
         let (lo, hi) = seg_box(&it.geom);
-        // Grow by a few ulps of the coordinates: a rounded foot point may stray that
-        // far outside the exact box.
-        let m = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs());
-        let grow = 8.0 * f64::EPSILON * m + f64::MIN_POSITIVE;
+        let (glo, ghi) = grown_box(lo, hi);
         for k in 0..2 {
-            min[k] = min[k].min(lo[k] - grow);
-            max[k] = max[k].max(hi[k] + grow);
+            min[k] = min[k].min(glo[k]);
+            max[k] = max[k].max(ghi[k]);
             let c = 0.5 * (lo[k] + hi[k]);
             cmin[k] = cmin[k].min(c);
             cmax[k] = cmax[k].max(c);

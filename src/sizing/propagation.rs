@@ -47,11 +47,11 @@
 //! polyline vertex when the propagation starts (O(m log m)). Seeding free pieces scans
 //! the cells once (O(cells), with a box test against the source first).
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 
-use crate::geometry::clearance::{Links, WINDOW};
+use crate::geometry::clearance::{ChainTree, Links, WINDOW};
 use crate::geometry::segment::{orient, point_in_polygon, segment_touches_polygon, segments_touch};
 use crate::geometry::{Clearance, Nearest, Point2, Projection, QueryStats, SegmentGeom, SegmentIndex};
 use crate::mesh_graph::{MeshGraph, NO_CORNER};
@@ -275,7 +275,7 @@ impl<'g> SourceBuilder<'g> {
             polylines.push(SourcePolyline { first_segment: first, num_segments: count as u32, closed, kind, length: s });
         }
         let geoms: Vec<SegmentGeom> = segments.iter().map(|s| SegmentGeom::new(s.a, s.b)).collect();
-        let index = SegmentIndex::new(&geoms);
+        let bounds = SegmentIndex::bounds_of(&geoms);
         let unit_left = geoms
             .iter()
             .map(|g| {
@@ -283,7 +283,7 @@ impl<'g> SourceBuilder<'g> {
                 [-g.d[1] / l, g.d[0] / l]
             })
             .collect();
-        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), seed_guess: Vec::new(), index, behind: Vec::new(), unit_left };
+        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), seed_guess: Vec::new(), index: OnceLock::new(), bounds, chain: OnceLock::new(), behind: Vec::new(), unit_left };
         source.behind = (0..source.segments.len()).map(|s| source.window_sides_behind(s)).collect();
         seeds.extend(source.free_piece_seeds(self.graph));
         seeds.sort_unstable();
@@ -320,7 +320,15 @@ pub struct Source {
     seeds: Vec<u32>,
     /// A segment each seed lies on (`u32::MAX`: none known), parallel to `seeds`.
     seed_guess: Vec<u32>,
-    index: SegmentIndex,
+    /// The axis-aligned index, built the first time it is asked for: a step evaluated
+    /// in vertex order asks the chain tree instead.
+    index: OnceLock<SegmentIndex>,
+    /// The box the index has ([`SegmentIndex::bounds_of`]), `None` with no finite
+    /// segment.
+    bounds: Option<(Point2, Point2)>,
+    /// The chain tree of the clearances, built the first time it is asked for, and
+    /// shared by the reach test and the clearances.
+    chain: OnceLock<Arc<ChainTree>>,
     /// Per segment, bit k set when its window lies behind it as seen from side k (0
     /// left, 1 right): see [`Source::window_behind`].
     behind: Vec<u8>,
@@ -380,12 +388,29 @@ impl Source {
 
     /// The segment index.
     pub fn index(&self) -> &SegmentIndex {
-        &self.index
+        self.index.get_or_init(|| SegmentIndex::new(&self.geoms))
+    }
+
+    /// Whether some segment has finite ends (the index holds only those).
+    fn has_finite_segment(&self) -> bool {
+        self.bounds.is_some()
+    }
+
+    /// The chain tree over the segments ([`Clearance::tree_of`]).
+    fn chain_tree(&self) -> &Arc<ChainTree> {
+        self.chain.get_or_init(|| Clearance::tree_of(&self.geoms, self.clearance_inputs().0))
+    }
+
+    /// The exact closest segment to `p` from the chain tree, the search started at
+    /// segment `guess` (the answer does not depend on it).
+    fn closest_in_chain(&self, p: Point2, guess: u32, stats: &mut QueryStats) -> Nearest {
+        let seed = Nearest { segment: guess, projection: self.geoms[guess as usize].project(p) };
+        self.chain_tree().closest(&self.geoms, p, seed, stats)
     }
 
     /// The exact closest point of the source to `p`, from the index.
     pub fn closest_point(&self, p: Point2) -> Option<ClosestPoint> {
-        self.index.closest(p, &mut QueryStats::default()).map(|n| self.describe(p, n))
+        self.index().closest(p, &mut QueryStats::default()).map(|n| self.describe(p, n))
     }
 
     /// Fills in abscissa and side for a projection of `p`.
@@ -440,19 +465,19 @@ impl Source {
     /// computed as propagation asks for them.
     fn clearance(&self) -> Clearance {
         let (scale, extent, links) = self.clearance_inputs();
-        Clearance::new(&self.geoms, &links, scale, 4.0 * extent)
+        Clearance::new_over(self.chain_tree().clone(), &self.geoms, &links, scale, 4.0 * extent)
     }
 
     /// The clearances for questions no farther than `farthest` from the source
     /// ([`Clearance::up_to`]).
     fn clearance_up_to(&self, farthest: f64) -> Clearance {
         let (scale, _, links) = self.clearance_inputs();
-        Clearance::up_to(&self.geoms, &links, scale, farthest)
+        Clearance::up_to_over(self.chain_tree().clone(), &self.geoms, &links, scale, farthest)
     }
 
     /// The largest coordinate, the diagonal of the bounding box, the polyline links.
     fn clearance_inputs(&self) -> (f64, f64, Vec<Links>) {
-        let (lo, hi) = self.index.bounds().unwrap_or(([0.0; 2], [0.0; 2]));
+        let (lo, hi) = self.bounds.unwrap_or(([0.0; 2], [0.0; 2]));
         let scale = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs());
         let extent = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
         (scale, extent, self.segments.iter().map(|s| (s.prev, s.next)).collect())
@@ -628,7 +653,7 @@ impl Source {
                 return;
             }
             let mut hit = false;
-            self.index.for_each_overlapping(cl, ch, |id, g| {
+            self.index().for_each_overlapping(cl, ch, |id, g| {
                 if !hit && free[id as usize] {
                     hit = if corners.len() == 2 {
                         segments_touch(g.a, g.b, corners[0], corners[1], tol)
@@ -842,7 +867,7 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
     let mut keep: Vec<bool> = Vec::with_capacity(n);
     let mut evaluations: Vec<Evaluation> = Vec::new();
     let mut next: Vec<u32> = Vec::new();
-    let mut frontier: Vec<u32> = if source.index.is_empty() { Vec::new() } else { source.seeds.iter().copied().filter(|&v| (v as usize) < n).collect() };
+    let mut frontier: Vec<u32> = if !source.has_finite_segment() { Vec::new() } else { source.seeds.iter().copied().filter(|&v| (v as usize) < n).collect() };
     // The guess of each seed, by vertex, for the first level.
     let guess_of = |v: u32| source.seeds.binary_search(&v).ok().map_or(u32::MAX, |i| source.seed_guess[i]);
     for &v in &frontier {
@@ -862,9 +887,9 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
                 let p = graph.point(v as usize);
                 let g = guess_of(v);
                 let nearest = if (g as usize) < source.geoms.len() {
-                    source.index.certify(p, Nearest { segment: g, projection: source.geoms[g as usize].project(p) }, &mut stats)
+                    source.index().certify(p, Nearest { segment: g, projection: source.geoms[g as usize].project(p) }, &mut stats)
                 } else {
-                    source.index.closest(p, &mut stats).expect("index is not empty")
+                    source.index().closest(p, &mut stats).expect("index is not empty")
                 };
                 Evaluation { nearest, corrected: false, local: false, stats }
             } else {
@@ -947,7 +972,7 @@ pub(crate) const VERTEX_RUN: usize = 4096;
 pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance: f64) -> Option<f64> {
     let n = graph.num_vertices();
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    if n == 0 || source.index.is_empty() || !(max_distance >= 0.0) {
+    if n == 0 || !source.has_finite_segment() || !(max_distance >= 0.0) {
         return None;
     }
     let mut seeded = vec![false; graph.num_components()];
@@ -959,7 +984,7 @@ pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance
     }
     // Non-finite coordinates: propagation would report only some vertices.
     let (lo, hi) = graph.bounds()?;
-    let (slo, shi) = source.index.bounds()?;
+    let (slo, shi) = source.bounds?;
     let scale = [lo, hi, slo, shi].iter().flat_map(|p| [p[0].abs(), p[1].abs()]).fold(0.0, f64::max);
     if !scale.is_finite() {
         return None;
@@ -967,10 +992,14 @@ pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance
     // Rounding of the centres, of the distances and of the sums.
     let margin = 64.0 * f64::EPSILON * scale;
     let mut farthest = 0.0f64;
+    // Every coordinate is finite here: the chain tree answers, each search from the
+    // previous cell's closest segment (cells come in grid order).
+    let mut guess = 0;
     for &(a, b) in graph.occupied_cells() {
         let centre = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
         let half_diagonal = 0.5 * (b[0] - a[0]).hypot(b[1] - a[1]);
-        let nearest = source.index.closest(centre, &mut QueryStats::default())?;
+        let nearest = source.closest_in_chain(centre, guess, &mut QueryStats::default());
+        guess = nearest.segment;
         let bound = nearest.projection.distance() + half_diagonal + margin;
         #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if !(bound <= max_distance) {
@@ -1032,7 +1061,7 @@ impl<'a> VertexOrder<'a> {
             let guess = if previous_is_near { Some(found[v - 1 - lo]) } else { graph.neighbours(v).iter().find_map(|&u| earlier(u as usize)).or_else(|| v.checked_sub(1).and_then(earlier)) };
             let nearest = match guess {
                 Some(seg) => settle(source, p, seg, |_| clearance).nearest,
-                None => source.index.closest(p, &mut QueryStats::default()).expect("index is not empty"),
+                None => source.closest_in_chain(p, 0, &mut QueryStats::default()),
             };
             found[v - lo] = nearest.segment;
             visit(v, &source.describe(p, nearest));
@@ -1086,7 +1115,7 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
     let Some(seg) = guess else {
         // Queued vertices always have an evaluated neighbour; stay exact regardless.
         let mut stats = QueryStats::default();
-        let nearest = source.index.closest(p, &mut stats).expect("index is not empty");
+        let nearest = source.index().closest(p, &mut stats).expect("index is not empty");
         return Evaluation { nearest, corrected: false, local: false, stats };
     };
     // A clearance costs a few index searches to compute: it is asked for only once
@@ -1134,7 +1163,7 @@ fn settle<'c>(source: &Source, p: Point2, seg: u32, clearance_if_it_pays: impl F
         return Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats };
     }
     // Near the source: the axis-aligned index around the guess's leaf.
-    let nearest = source.index.certify(p, best, &mut stats);
+    let nearest = source.index().certify(p, best, &mut stats);
     Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats }
 }
 
