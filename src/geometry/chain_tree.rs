@@ -198,6 +198,19 @@ impl ChainTree {
         best
     }
 
+    /// A guess for [`ChainTree::closest`] where none is known: the best segment of the
+    /// leaf reached from the root by always taking the child whose box is nearer to `p`.
+    /// A search from a far guess opens every box nearer than that guess, which around a
+    /// closed curve is most of the tree; from this one, about a path's worth.
+    pub(crate) fn guess_near(&self, geoms: &[SegmentGeom], p: Point2) -> Option<Nearest> {
+        let mut n = self.nodes.first()?;
+        while n.left != u32::MAX {
+            let (l, r) = (&self.nodes[n.left as usize], &self.nodes[n.right as usize]);
+            n = if l.distance_squared(p) <= r.distance_squared(p) { l } else { r };
+        }
+        (n.lo..n.hi).map(|id| Nearest { segment: id, projection: geoms[id as usize].project(p) }).reduce(|a, b| if b.beats(&a) { b } else { a })
+    }
+
     /// Branch and bound below the nodes on `stack[..top]` (each with its box distance).
     fn descend(&self, geoms: &[SegmentGeom], p: Point2, stack: &mut [(u32, f64); 96], mut top: usize, best: &mut Nearest, stats: &mut QueryStats) {
         let t = self;

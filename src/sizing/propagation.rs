@@ -39,13 +39,18 @@
 //! runs, each from the closest segment of a nearby vertex evaluated before it in its run,
 //! settled and certified as above (with one clearance tier capped just past the
 //! farthest vertex, since every vertex asks), and each closest point goes straight to
-//! the step's tensor. The same exact closest points, in another order.
+//! the step's tensor. The same exact closest points, in another order. Its exact
+//! queries (the reach test's, a run's first vertex, the vertices past their clearance)
+//! all go to the clearances' tree of oriented boxes, built once per source, so that
+//! such a step never builds the axis-aligned index, which propagation builds the first
+//! time it asks.
 //!
 //! Cost: O(1) segment projections per vertex for the guess and the window, and O(1) for
 //! a clearance certificate; a vertex beyond its clearance costs a box search, O(log m)
-//! boxes for m segments. The clearances cost one bounded search per segment and per
-//! polyline vertex when the propagation starts (O(m log m)). Seeding free pieces scans
-//! the cells once (O(cells), with a box test against the source first).
+//! boxes for m segments. The clearances cost one bounded search per segment side
+//! asked (O(m log m)); a polyline vertex's clearance comes from its two segments', with
+//! a search of its own only where that falls short. Seeding free pieces scans the cells
+//! once (O(cells), with a box test against the source first).
 
 use std::sync::{Arc, OnceLock};
 
@@ -401,11 +406,18 @@ impl Source {
         self.chain.get_or_init(|| Clearance::tree_of(&self.geoms, self.clearance_inputs().0))
     }
 
-    /// The exact closest segment to `p` from the chain tree, the search started at
-    /// segment `guess` (the answer does not depend on it).
-    fn closest_in_chain(&self, p: Point2, guess: u32, stats: &mut QueryStats) -> Nearest {
-        let seed = Nearest { segment: guess, projection: self.geoms[guess as usize].project(p) };
-        self.chain_tree().closest(&self.geoms, p, seed, stats)
+    /// The exact closest segment to `p` from the chain tree (the answer does not depend
+    /// on the guess): the search starts at segment `guess` when there is one and it is
+    /// nearer than the tree's own guess ([`ChainTree::guess_near`]).
+    fn closest_in_chain(&self, p: Point2, guess: Option<u32>, stats: &mut QueryStats) -> Nearest {
+        let tree = self.chain_tree();
+        let given = guess.map(|g| Nearest { segment: g, projection: self.geoms[g as usize].project(p) });
+        let own = tree.guess_near(&self.geoms, p);
+        let seed = match (given, own) {
+            (Some(a), Some(b)) => if b.beats(&a) { b } else { a },
+            (a, b) => a.or(b).expect("the source has a segment"),
+        };
+        tree.closest(&self.geoms, p, seed, stats)
     }
 
     /// The exact closest point of the source to `p`, from the index.
@@ -994,12 +1006,12 @@ pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance
     let mut farthest = 0.0f64;
     // Every coordinate is finite here: the chain tree answers, each search from the
     // previous cell's closest segment (cells come in grid order).
-    let mut guess = 0;
+    let mut guess = None;
     for &(a, b) in graph.occupied_cells() {
         let centre = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
         let half_diagonal = 0.5 * (b[0] - a[0]).hypot(b[1] - a[1]);
         let nearest = source.closest_in_chain(centre, guess, &mut QueryStats::default());
-        guess = nearest.segment;
+        guess = Some(nearest.segment);
         let bound = nearest.projection.distance() + half_diagonal + margin;
         #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if !(bound <= max_distance) {
@@ -1046,6 +1058,12 @@ impl<'a> VertexOrder<'a> {
         let mut found = vec![u32::MAX; range.len()];
         // Every vertex is evaluated: the clearances will be asked for.
         let clearance = if self.clearances_pay { Some(self.clearance.get_or_init(|| source.clearance_up_to(self.farthest))) } else { None };
+        if range.is_empty() {
+            return;
+        }
+        // The run's first vertex has nothing before it: the tree answers, before the
+        // loop, so that the loop holds only the evaluations from a guess.
+        let first = source.closest_in_chain(graph.point(lo), None, &mut QueryStats::default());
         for v in range {
             let p = graph.point(v);
             let earlier = |u: usize| (lo..v).contains(&u).then(|| found[u - lo]);
@@ -1059,9 +1077,10 @@ impl<'a> VertexOrder<'a> {
                 (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) <= reach * reach
             };
             let guess = if previous_is_near { Some(found[v - 1 - lo]) } else { graph.neighbours(v).iter().find_map(|&u| earlier(u as usize)).or_else(|| v.checked_sub(1).and_then(earlier)) };
+            // Every vertex after the first has a guess (the vertex before, at least).
             let nearest = match guess {
                 Some(seg) => settle(source, p, seg, |_| clearance).nearest,
-                None => source.closest_in_chain(p, 0, &mut QueryStats::default()),
+                None => first,
             };
             found[v - lo] = nearest.segment;
             visit(v, &source.describe(p, nearest));
@@ -1241,6 +1260,50 @@ mod tests {
                     });
                     assert_eq!(visited, n - start);
                 }
+            }
+        }
+    }
+
+    /// The chain tree's exact query against the brute-force scan, bit for bit, from no
+    /// guess (the tree's own), from the farthest segment, and from the closest: points
+    /// near and far around a closed wavy curve with a row beside it, and a point source.
+    #[test]
+    fn closest_in_chain_is_the_brute_force_scan() {
+        let mut rng = Rng(31);
+        let graph = grid(20, &mut rng, 0);
+        let wavy: Vec<Point2> = (0..400).map(|i| 2.0 * std::f64::consts::PI * i as f64 / 400.0).map(|a| [0.5 + (0.3 + 0.1 * (5.0 * a).cos()) * a.cos(), 0.5 + (0.3 + 0.1 * (5.0 * a).cos()) * a.sin()]).collect();
+        let sources = [
+            Source::builder(&graph).polyline(&wavy, true).mesh_polyline(&(0..20).collect::<Vec<_>>(), false).build().unwrap(),
+            Source::builder(&graph).point([0.3, 0.7]).build().unwrap(),
+        ];
+        for (case, source) in sources.iter().enumerate() {
+            // Segments projected from no guess and from the farthest one.
+            let (mut own, mut from_far) = (0u64, 0u64);
+            for _ in 0..400 {
+                let p = [4.0 * rng.unit() - 1.5, 4.0 * rng.unit() - 1.5];
+                let want = closest_point_brute_force(source, p).unwrap();
+                let far = (0..source.segments.len() as u32).max_by(|&a, &b| source.geoms[a as usize].project(p).distance_squared.total_cmp(&source.geoms[b as usize].project(p).distance_squared)).unwrap();
+                for guess in [None, Some(far), Some(want.segment)] {
+                    let mut stats = QueryStats::default();
+                    let got = source.describe(p, source.closest_in_chain(p, guess, &mut stats));
+                    assert_eq!(format!("{got:?}"), format!("{want:?}"), "source {case}, point {p:?}, guess {guess:?}");
+                    if guess.is_none() {
+                        own += stats.segments;
+                    }
+                }
+                // The tree's search itself from the farthest segment: the same answer.
+                let mut stats = QueryStats::default();
+                let seed = Nearest { segment: far, projection: source.geoms[far as usize].project(p) };
+                let got = source.describe(p, source.chain_tree().closest(&source.geoms, p, seed, &mut stats));
+                assert_eq!(format!("{got:?}"), format!("{want:?}"), "source {case}, point {p:?}, from segment {far}");
+                from_far += stats.segments;
+            }
+            // The tree's own guess keeps the search to a few leaves, where a far one
+            // opens much of the tree around a closed curve.
+            eprintln!("source {case}: {own} segments projected from the tree's guess, {from_far} from the farthest segment");
+            assert!(own <= 40 * 400, "source {case}: {own} segments projected for 400 queries");
+            if case == 0 {
+                assert!(2 * own < from_far, "source {case}: {own} from the tree's guess against {from_far} from the farthest segment");
             }
         }
     }
