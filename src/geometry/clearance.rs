@@ -654,6 +654,19 @@ mod tests {
         (geoms, links)
     }
 
+    /// `n` points at angles a round the origin (a turn when closed, `0..open_span` when
+    /// open) at radius `radius(k, a)`, as segments with their links.
+    fn radial_curve(n: usize, closed: bool, open_span: f64, mut radius: impl FnMut(usize, f64) -> f64) -> (Vec<SegmentGeom>, Vec<Links>) {
+        let points: Vec<Point2> = (0..n)
+            .map(|k| {
+                let a = if closed { 2.0 * std::f64::consts::PI * k as f64 / n as f64 } else { open_span * k as f64 / n as f64 };
+                let r = radius(k, a);
+                [r * a.cos(), r * a.sin()]
+            })
+            .collect();
+        polyline(&points, closed)
+    }
+
     /// The cone's clearance from its two segments' (the module header's "vertex from its
     /// segments") against its definition: never above `G` at 65 points of every
     /// segment outside the cone's window, on closed and open curves, smooth or jagged
@@ -666,14 +679,7 @@ mod tests {
         for case in 0..30 {
             let n = 12 + (rng.unit() * 120.0) as usize;
             let closed = case % 2 == 0;
-            let points: Vec<Point2> = (0..n)
-                .map(|k| {
-                    let a = if closed { 2.0 * std::f64::consts::PI * k as f64 / n as f64 } else { 4.0 * k as f64 / n as f64 };
-                    let r = 0.6 + 0.2 * (3.0 * a + rng.unit()).cos() + if case % 3 == 1 { 0.15 * rng.unit() } else { 0.0 };
-                    [r * a.cos(), r * a.sin()]
-                })
-                .collect();
-            let (geoms, links) = polyline(&points, closed);
+            let (geoms, links) = radial_curve(n, closed, 4.0, |_, a| 0.6 + 0.2 * (3.0 * a + rng.unit()).cos() + if case % 3 == 1 { 0.15 * rng.unit() } else { 0.0 });
             let clearance = Clearance::new(&geoms, &links, 1.0, 8.0);
             for s in 0..geoms.len() {
                 let Some(shape) = clearance.cone[s] else { continue };
@@ -720,16 +726,15 @@ mod tests {
             let n = 20 + (rng.unit() * 300.0) as usize;
             let closed = case % 2 == 0;
             let modes: Vec<(f64, f64, f64)> = (0..3).map(|m| (rng.unit() * 0.3 / (m + 1) as f64, (m + 2) as f64, rng.unit() * 6.3)).collect();
-            let points: Vec<Point2> = (0..n)
-                .map(|k| {
-                    let a = if closed { 2.0 * std::f64::consts::PI * k as f64 / n as f64 } else { 5.0 * k as f64 / n as f64 };
-                    let r = 0.6 + modes.iter().map(|&(amp, f, ph)| amp * (f * a + ph).cos()).sum::<f64>();
-                    // Corners: every seventh point of some curves pushed out.
-                    let r = if case % 3 == 1 && k % 7 == 0 { r * 1.1 } else { r };
-                    [r * a.cos(), r * a.sin()]
-                })
-                .collect();
-            let (geoms, links) = polyline(&points, closed);
+            let (geoms, links) = radial_curve(n, closed, 5.0, |k, a| {
+                let r = 0.6 + modes.iter().map(|&(amp, f, ph)| amp * (f * a + ph).cos()).sum::<f64>();
+                // Corners: every seventh point of some curves pushed out.
+                if case % 3 == 1 && k % 7 == 0 {
+                    r * 1.1
+                } else {
+                    r
+                }
+            });
             let clearance = Clearance::new(&geoms, &links, 1.0, 8.0);
             let window_of = |s: u32| -> Vec<u32> {
                 let mut w = vec![s];
