@@ -2,10 +2,10 @@
 //! by local operations, every one measured in the metric (thesis 3.5, the role OORT
 //! plays in the loop of 7.3.2).
 //!
-//! Each pass splits the edges longer than √2 in the metric ([`split`]), collapses the
-//! edges shorter than 1/√2 ([`collapse`]), flips diagonals to raise the worse metric
-//! quality of each pair ([`swap`]), moves vertices toward a metric-equilateral place
-//! ([`smooth`]), then collapses and flips once more where smoothing left short edges; the
+//! Each pass splits the edges longer than √2 in the metric (`split`), collapses the
+//! edges shorter than 1/√2 (`collapse`), flips diagonals to raise the worse metric
+//! quality of each pair (`swap`), moves vertices toward a metric-equilateral place
+//! (`smooth`), then collapses and flips once more where smoothing left short edges; the
 //! passes stop when splits and collapses touch fewer than a fivehundredth of the
 //! triangles, or after [`RemeshOptions::max_passes`], and a last smoothing and swap
 //! polish the result.
@@ -19,7 +19,7 @@
 //! - every triangle keeps the face tags of the input triangle it came from, every
 //!   constrained edge its curve's line tags; vertex cells stay;
 //! - the metric at every new or moved vertex is interpolated from the *input* field
-//!   ([`background`]), Log-Euclidean, so it stays SPD and does not drift;
+//!   (`background`), Log-Euclidean, so it stays SPD and does not drift;
 //! - deterministic: single-threaded sweeps in index order, no hash-order iteration.
 
 mod background;
