@@ -202,12 +202,14 @@ impl ChainTree {
     /// leaf reached from the root by always taking the child whose box is nearer to `p`.
     /// A search from a far guess opens every box nearer than that guess, which around a
     /// closed curve is most of the tree; from this one, about a path's worth.
-    pub(crate) fn guess_near(&self, geoms: &[SegmentGeom], p: Point2) -> Option<Nearest> {
+    pub(crate) fn guess_near(&self, geoms: &[SegmentGeom], p: Point2, stats: &mut QueryStats) -> Option<Nearest> {
         let mut n = self.nodes.first()?;
         while n.left != u32::MAX {
             let (l, r) = (&self.nodes[n.left as usize], &self.nodes[n.right as usize]);
+            stats.boxes += 2;
             n = if l.distance_squared(p) <= r.distance_squared(p) { l } else { r };
         }
+        stats.segments += u64::from(n.hi - n.lo);
         (n.lo..n.hi).map(|id| Nearest { segment: id, projection: geoms[id as usize].project(p) }).reduce(|a, b| if b.beats(&a) { b } else { a })
     }
 

@@ -256,7 +256,7 @@ impl Clearance {
         self.cone_derived[s * tiers + t].get_or_compute(|| {
             let Some(n) = self.next(s as u32) else { return 0.0 };
             let sides = shape.half_cos * self.segment_value(s, shape.outer, t).min(self.segment_value(n as usize, shape.outer, t));
-            self.cone_outside_segment_windows(s, shape, sides)
+            self.cone_outside_segment_windows(s as u32, n, shape, sides)
         })
     }
 
@@ -506,15 +506,13 @@ impl Clearance {
     }
 
     /// Lower bound of `G` over the segments of the windows of `s` and of its next one
-    /// that lie outside the cone's window (those the two segments' clearances do not
+    /// `n` that lie outside the cone's window (those the two segments' clearances do not
     /// rule out for the cone), when below `best`; else `best`.
-    fn cone_outside_segment_windows(&self, s: usize, shape: &ConeShape, best: f64) -> f64 {
-        let s32 = s as u32;
-        let Some(n) = self.next(s32) else { return 0.0 };
-        let v = self.geoms[s].b;
-        let cone = self.cone_window(s32, n);
+    fn cone_outside_segment_windows(&self, s: u32, n: u32, shape: &ConeShape, best: f64) -> f64 {
+        let v = self.geoms[s as usize].b;
+        let cone = self.cone_window(s, n);
         let mut best = best;
-        let (ws, wn) = (self.segment_window(s32), self.segment_window(n));
+        let (ws, wn) = (self.segment_window(s), self.segment_window(n));
         for (k, &id) in ws.iter().chain(&wn).enumerate() {
             // Each segment once, none of the cone's window.
             let seen = ws.iter().chain(&wn).take(k).any(|&x| x == id);

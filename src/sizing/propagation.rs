@@ -403,7 +403,7 @@ impl Source {
 
     /// The chain tree over the segments ([`Clearance::tree_of`]).
     fn chain_tree(&self) -> &Arc<ChainTree> {
-        self.chain.get_or_init(|| Clearance::tree_of(&self.geoms, self.clearance_inputs().0))
+        self.chain.get_or_init(|| Clearance::tree_of(&self.geoms, self.scale_and_extent().0))
     }
 
     /// The exact closest segment to `p` from the chain tree (the answer does not depend
@@ -411,8 +411,11 @@ impl Source {
     /// nearer than the tree's own guess ([`ChainTree::guess_near`]).
     fn closest_in_chain(&self, p: Point2, guess: Option<u32>, stats: &mut QueryStats) -> Nearest {
         let tree = self.chain_tree();
-        let given = guess.map(|g| Nearest { segment: g, projection: self.geoms[g as usize].project(p) });
-        let own = tree.guess_near(&self.geoms, p);
+        let given = guess.map(|g| {
+            stats.segments += 1;
+            Nearest { segment: g, projection: self.geoms[g as usize].project(p) }
+        });
+        let own = tree.guess_near(&self.geoms, p, stats);
         let seed = match (given, own) {
             (Some(a), Some(b)) => if b.beats(&a) { b } else { a },
             (a, b) => a.or(b).expect("the source has a segment"),
@@ -476,23 +479,26 @@ impl Source {
     /// The clearances of the source's segments and vertices (see [`Clearance`]),
     /// computed as propagation asks for them.
     fn clearance(&self) -> Clearance {
-        let (scale, extent, links) = self.clearance_inputs();
-        Clearance::new_over(self.chain_tree().clone(), &self.geoms, &links, scale, 4.0 * extent)
+        let (scale, extent) = self.scale_and_extent();
+        Clearance::new_over(self.chain_tree().clone(), &self.geoms, &self.links(), scale, 4.0 * extent)
     }
 
     /// The clearances for questions no farther than `farthest` from the source
     /// ([`Clearance::up_to`]).
     fn clearance_up_to(&self, farthest: f64) -> Clearance {
-        let (scale, _, links) = self.clearance_inputs();
-        Clearance::up_to_over(self.chain_tree().clone(), &self.geoms, &links, scale, farthest)
+        Clearance::up_to_over(self.chain_tree().clone(), &self.geoms, &self.links(), self.scale_and_extent().0, farthest)
     }
 
-    /// The largest coordinate, the diagonal of the bounding box, the polyline links.
-    fn clearance_inputs(&self) -> (f64, f64, Vec<Links>) {
+    /// The largest coordinate and the diagonal of the bounding box.
+    fn scale_and_extent(&self) -> (f64, f64) {
         let (lo, hi) = self.bounds.unwrap_or(([0.0; 2], [0.0; 2]));
         let scale = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs());
-        let extent = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
-        (scale, extent, self.segments.iter().map(|s| (s.prev, s.next)).collect())
+        (scale, (hi[0] - lo[0]).hypot(hi[1] - lo[1]))
+    }
+
+    /// The polyline links of the segments, as the clearances take them.
+    fn links(&self) -> Vec<Links> {
+        self.segments.iter().map(|s| (s.prev, s.next)).collect()
     }
 
     /// The segments whose closest points must be compared with `best`'s before its
@@ -1292,7 +1298,7 @@ mod tests {
                     }
                 }
                 // The tree's search itself from the farthest segment: the same answer.
-                let mut stats = QueryStats::default();
+                let mut stats = QueryStats { segments: 1, ..QueryStats::default() };
                 let seed = Nearest { segment: far, projection: source.geoms[far as usize].project(p) };
                 let got = source.describe(p, source.chain_tree().closest(&source.geoms, p, seed, &mut stats));
                 assert_eq!(format!("{got:?}"), format!("{want:?}"), "source {case}, point {p:?}, from segment {far}");
