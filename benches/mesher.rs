@@ -27,7 +27,9 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use smartmesh::formats::{read_path, write_path, CellKind, TaggedMesh, WriteOptions};
 use smartmesh::mesher::{triangulate, MeshOptions};
 use smartmesh::quality::{min_angle_deg, triangle_quality};
-use spade::{AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation};
+use spade::{
+    AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
+};
 
 const AREAS: [f64; 3] = [2e-3, 2e-4, 2e-5];
 const MIN_ANGLE: f64 = 30.0;
@@ -36,7 +38,8 @@ const SQUARE_AREA: f64 = 1e-6;
 
 /// Half thickness of the NACA 0012 with a closed trailing edge (as fixtures/make_poly.py).
 fn naca0012(x: f64) -> f64 {
-    0.6 * (0.2969 * x.sqrt() - 0.1260 * x - 0.3516 * x.powi(2) + 0.2843 * x.powi(3) - 0.1036 * x.powi(4))
+    0.6 * (0.2969 * x.sqrt() - 0.1260 * x - 0.3516 * x.powi(2) + 0.2843 * x.powi(3)
+        - 0.1036 * x.powi(4))
 }
 
 /// The graph of `fixtures/make_poly.py`'s `airfoil_poly(n)`, same points in the same order.
@@ -44,7 +47,8 @@ fn airfoil(n: usize) -> TaggedMesh {
     let (x0, x1, y0, y1) = (-2.0, 3.0, -2.0, 2.0);
     let mut pts = vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]];
     let mut segs = vec![(0, 1, 3), (1, 2, 2), (2, 3, 3), (3, 0, 1)];
-    let xs: Vec<f64> = (0..=n).map(|i| 0.5 * (1.0 - (std::f64::consts::PI * i as f64 / n as f64).cos())).collect();
+    let xs: Vec<f64> =
+        (0..=n).map(|i| 0.5 * (1.0 - (std::f64::consts::PI * i as f64 / n as f64).cos())).collect();
     let mut foil = vec![[1.0, 0.0]];
     foil.extend(xs[1..n].iter().rev().map(|&x| [x, naca0012(x)]));
     foil.push([0.0, 0.0]);
@@ -60,14 +64,23 @@ fn airfoil(n: usize) -> TaggedMesh {
         b.push(&[a, c], t, t);
     }
     mesh.holes.push([0.5, 0.0]);
-    mesh.regions.push(smartmesh::formats::RegionSeed { point: [x0 + 0.5, 0.0], attribute: 1.0, max_area: -1.0 });
+    mesh.regions.push(smartmesh::formats::RegionSeed {
+        point: [x0 + 0.5, 0.0],
+        attribute: 1.0,
+        max_area: -1.0,
+    });
     mesh
 }
 
 fn spade_only(pslg: &TaggedMesh, area: f64, exclude: bool) -> usize {
     let pts: Vec<Point2<f64>> = pslg.points.iter().map(|p| Point2::new(p[0], p[1])).collect();
-    let edges: Vec<[usize; 2]> = pslg.cells().filter(|c| c.0 == CellKind::Line).map(|c| [c.1[0] as usize, c.1[1] as usize]).collect();
-    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::bulk_load_cdt(pts, edges).unwrap();
+    let edges: Vec<[usize; 2]> = pslg
+        .cells()
+        .filter(|c| c.0 == CellKind::Line)
+        .map(|c| [c.1[0] as usize, c.1[1] as usize])
+        .collect();
+    let mut cdt =
+        ConstrainedDelaunayTriangulation::<Point2<f64>>::bulk_load_cdt(pts, edges).unwrap();
     let r = cdt.refine(
         RefinementParameters::<f64>::new()
             .with_angle_limit(AngleLimit::from_deg(MIN_ANGLE))
@@ -104,19 +117,47 @@ fn bench(c: &mut Criterion) {
 
     // A graph with an interface between two regions: spade's exclusion of outer faces
     // does not apply, holes are refined and carved (see the mesher's refine module).
-    let square = read_path(&Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/square_hole.poly"), None).unwrap();
-    let opts = MeshOptions { min_angle_deg: MIN_ANGLE, max_area: Some(SQUARE_AREA), ..MeshOptions::default() };
-    let n = report(&format!("square_hole, area {SQUARE_AREA:e}"), &square, &opts, spade_only(&square, SQUARE_AREA, false));
+    let square =
+        read_path(&Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/square_hole.poly"), None)
+            .unwrap();
+    let opts = MeshOptions {
+        min_angle_deg: MIN_ANGLE,
+        max_area: Some(SQUARE_AREA),
+        ..MeshOptions::default()
+    };
+    let n = report(
+        &format!("square_hole, area {SQUARE_AREA:e}"),
+        &square,
+        &opts,
+        spade_only(&square, SQUARE_AREA, false),
+    );
     g.throughput(Throughput::Elements(n as u64));
-    g.bench_with_input(BenchmarkId::new("square_hole_triangulate", SQUARE_AREA), &SQUARE_AREA, |b, _| b.iter(|| triangulate(&square, &opts).unwrap()));
-    g.bench_with_input(BenchmarkId::new("square_hole_spade_refine", SQUARE_AREA), &SQUARE_AREA, |b, &a| b.iter(|| spade_only(&square, a, false)));
+    g.bench_with_input(
+        BenchmarkId::new("square_hole_triangulate", SQUARE_AREA),
+        &SQUARE_AREA,
+        |b, _| b.iter(|| triangulate(&square, &opts).unwrap()),
+    );
+    g.bench_with_input(
+        BenchmarkId::new("square_hole_spade_refine", SQUARE_AREA),
+        &SQUARE_AREA,
+        |b, &a| b.iter(|| spade_only(&square, a, false)),
+    );
 
     for area in AREAS {
-        let opts = MeshOptions { min_angle_deg: MIN_ANGLE, max_area: Some(area), ..MeshOptions::default() };
-        let n = report(&format!("naca256, area {area:e}"), &pslg, &opts, spade_only(&pslg, area, true));
+        let opts = MeshOptions {
+            min_angle_deg: MIN_ANGLE,
+            max_area: Some(area),
+            ..MeshOptions::default()
+        };
+        let n =
+            report(&format!("naca256, area {area:e}"), &pslg, &opts, spade_only(&pslg, area, true));
         g.throughput(Throughput::Elements(n as u64));
-        g.bench_with_input(BenchmarkId::new("triangulate", area), &area, |b, _| b.iter(|| triangulate(&pslg, &opts).unwrap()));
-        g.bench_with_input(BenchmarkId::new("spade_refine", area), &area, |b, &a| b.iter(|| spade_only(&pslg, a, true)));
+        g.bench_with_input(BenchmarkId::new("triangulate", area), &area, |b, _| {
+            b.iter(|| triangulate(&pslg, &opts).unwrap())
+        });
+        g.bench_with_input(BenchmarkId::new("spade_refine", area), &area, |b, &a| {
+            b.iter(|| spade_only(&pslg, a, true))
+        });
     }
     g.finish();
 }

@@ -44,7 +44,8 @@ fn triangulate(coords: Vec<Point2>, nx: usize, ny: usize, wrap: bool, rng: &mut 
         for i in 0..cols {
             let i1 = (i + 1) % nx;
             let (a, b, c, d) = (j * nx + i, j * nx + i1, (j + 1) * nx + i1, (j + 1) * nx + i);
-            let tris = if rng.unit() < 0.5 { [[a, b, c], [a, c, d]] } else { [[a, b, d], [b, c, d]] };
+            let tris =
+                if rng.unit() < 0.5 { [[a, b, c], [a, c, d]] } else { [[a, b, d], [b, c, d]] };
             for t in tris {
                 cells.push([t[0], t[1], t[2], usize::MAX]);
                 for k in 0..3 {
@@ -124,14 +125,21 @@ fn bench(c: &mut Criterion) {
         });
         if n == 1000 {
             let par = PropagationOptions::new();
-            group.bench_function(BenchmarkId::new("free_curve_parallel", graph.num_vertices()), |b| {
-                b.iter(|| propagate(&graph, &source, f64::INFINITY, &par))
-            });
+            group.bench_function(
+                BenchmarkId::new("free_curve_parallel", graph.num_vertices()),
+                |b| b.iter(|| propagate(&graph, &source, f64::INFINITY, &par)),
+            );
         }
         if n <= 317 {
             group.throughput(Throughput::Elements(graph.num_vertices() as u64));
             group.bench_function(BenchmarkId::new("brute_force", graph.num_vertices()), |b| {
-                b.iter(|| (0..graph.num_vertices()).map(|v| closest_point_brute_force(&source, graph.point(v)).unwrap().distance).sum::<f64>())
+                b.iter(|| {
+                    (0..graph.num_vertices())
+                        .map(|v| {
+                            closest_point_brute_force(&source, graph.point(v)).unwrap().distance
+                        })
+                        .sum::<f64>()
+                })
             });
         }
     }
@@ -150,7 +158,9 @@ fn bench(c: &mut Criterion) {
             r.segments_tested as f64 / r.evaluated as f64
         );
         group.throughput(Throughput::Elements(r.evaluated as u64));
-        group.bench_function(BenchmarkId::new("border", graph.num_vertices()), |b| b.iter(|| propagate(&graph, &source, f64::INFINITY, &seq)));
+        group.bench_function(BenchmarkId::new("border", graph.num_vertices()), |b| {
+            b.iter(|| propagate(&graph, &source, f64::INFINITY, &seq))
+        });
     }
     group.finish();
 }

@@ -36,11 +36,14 @@
 use std::f64::consts::PI;
 use std::time::Duration;
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode, Throughput};
+use criterion::{
+    criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode, Throughput,
+};
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::sizing::{
-    closest_point_brute_force, compute_size_field, propagate, Algorithm, CurvatureToSize, DistanceFunction, EntitySet, PropagationOptions,
-    SizeProjectionFunction, SizingPlan, Source, Step,
+    closest_point_brute_force, compute_size_field, propagate, Algorithm, CurvatureToSize,
+    DistanceFunction, EntitySet, PropagationOptions, SizeProjectionFunction, SizingPlan, Source,
+    Step,
 };
 use smartmesh::{MeshGraph, SizeTensor, Topology};
 
@@ -89,7 +92,10 @@ impl Case {
         // from half a ring spacing out to half a spacing inside the outer ring.
         let a = PI / 3.0;
         let (r0, r1) = (1.05 + 0.5 * SPACING, 1.05 + SPACING * (self.layers as f64 - 1.5));
-        (0..1000).map(|k| r0 + (r1 - r0) * k as f64 / 999.0).map(|r| [r * a.cos(), r * a.sin()]).collect()
+        (0..1000)
+            .map(|k| r0 + (r1 - r0) * k as f64 / 999.0)
+            .map(|r| [r * a.cos(), r * a.sin()])
+            .collect()
     }
 }
 
@@ -108,7 +114,8 @@ fn o_mesh(around: usize, layers: usize) -> Case {
     for j in 0..layers - 1 {
         for i in 0..around {
             let i1 = (i + 1) % around;
-            let (a, b, c, d) = (j * around + i, j * around + i1, (j + 1) * around + i1, (j + 1) * around + i);
+            let (a, b, c, d) =
+                (j * around + i, j * around + i1, (j + 1) * around + i1, (j + 1) * around + i);
             if rng.bit() {
                 tris.push(&[a, b, c], 1, 1);
                 tris.push(&[a, c, d], 1, 1);
@@ -159,7 +166,13 @@ fn algorithms(case: &Case, reach: f64) -> Vec<(&'static str, Algorithm)> {
     let (perpendicular, parallel) = border_functions(d);
     let projection = SizeProjectionFunction::try_new(0.2, d, 1.0).unwrap();
     vec![
-        ("uniform", Algorithm::Uniform { size: 0.05, on: EntitySet { faces: vec![case.face(1)], ..EntitySet::default() } }),
+        (
+            "uniform",
+            Algorithm::Uniform {
+                size: 0.05,
+                on: EntitySet { faces: vec![case.face(1)], ..EntitySet::default() },
+            },
+        ),
         (
             "distance_to_point",
             Algorithm::DistanceToPoint {
@@ -167,12 +180,28 @@ fn algorithms(case: &Case, reach: f64) -> Vec<(&'static str, Algorithm)> {
                 sources: EntitySet { points: vec![case.point(5)], ..EntitySet::default() },
             },
         ),
-        ("distance_to_border", Algorithm::DistanceToBorder { perpendicular, parallel, borders: case.curves(1) }),
+        (
+            "distance_to_border",
+            Algorithm::DistanceToBorder { perpendicular, parallel, borders: case.curves(1) },
+        ),
         (
             "curvature_of_border",
-            Algorithm::CurvatureOfBorder { perpendicular, curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(), projection, borders: case.curves(1) },
+            Algorithm::CurvatureOfBorder {
+                perpendicular,
+                curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(),
+                projection,
+                borders: case.curves(1),
+            },
         ),
-        ("distance_between_two_borders", Algorithm::DistanceBetweenTwoBorders { perpendicular, parallel, first: case.curves(1), second: case.curves(2) }),
+        (
+            "distance_between_two_borders",
+            Algorithm::DistanceBetweenTwoBorders {
+                perpendicular,
+                parallel,
+                first: case.curves(1),
+                second: case.curves(2),
+            },
+        ),
         (
             "distance_to_imaginary_polyline",
             Algorithm::DistanceToImaginaryPolyline {
@@ -187,19 +216,33 @@ fn algorithms(case: &Case, reach: f64) -> Vec<(&'static str, Algorithm)> {
 }
 
 fn plan(algorithm: Algorithm) -> SizingPlan {
-    SizingPlan { h_max: Some(1.0), steps: vec![Step { label: "bench".into(), algorithm }], ..SizingPlan::default() }
+    SizingPlan {
+        h_max: Some(1.0),
+        steps: vec![Step { label: "bench".into(), algorithm }],
+        ..SizingPlan::default()
+    }
 }
 
 /// The brute-force twin's sources: the closest-point search of each algorithm made by
 /// scanning every segment (`None`: UNIFORM, which searches nothing).
 fn twin_sources(case: &Case, name: &str) -> Option<Vec<Source>> {
-    let curve = |tag| Source::builder(&case.graph).topology_curve(&case.topology, case.curve(tag)).build().unwrap();
+    let curve = |tag| {
+        Source::builder(&case.graph)
+            .topology_curve(&case.topology, case.curve(tag))
+            .build()
+            .unwrap()
+    };
     match name {
         "uniform" => None,
-        "distance_to_point" => Some(vec![Source::builder(&case.graph).topology_point(&case.topology, case.point(5)).build().unwrap()]),
+        "distance_to_point" => Some(vec![Source::builder(&case.graph)
+            .topology_point(&case.topology, case.point(5))
+            .build()
+            .unwrap()]),
         "distance_to_border" | "curvature_of_border" => Some(vec![curve(1)]),
         "distance_between_two_borders" => Some(vec![curve(1), curve(2)]),
-        _ => Some(vec![Source::builder(&case.graph).polyline(&case.wake(), false).build().unwrap()]),
+        _ => {
+            Some(vec![Source::builder(&case.graph).polyline(&case.wake(), false).build().unwrap()])
+        }
     }
 }
 
@@ -240,7 +283,11 @@ fn process_cpu_time() -> Option<Duration> {
 
 /// Benchmarks `f` in process CPU time where `/proc` gives it (wall time otherwise):
 /// the figures of a single-thread run are then per core even on a loaded machine.
-fn bench_cpu<M: criterion::measurement::Measurement<Value = Duration>, R>(g: &mut criterion::BenchmarkGroup<'_, M>, id: BenchmarkId, mut f: impl FnMut() -> R) {
+fn bench_cpu<M: criterion::measurement::Measurement<Value = Duration>, R>(
+    g: &mut criterion::BenchmarkGroup<'_, M>,
+    id: BenchmarkId,
+    mut f: impl FnMut() -> R,
+) {
     if process_cpu_time().is_none() {
         g.bench_function(id, |b| b.iter(&mut f));
         return;
@@ -259,14 +306,17 @@ fn bench_cpu<M: criterion::measurement::Measurement<Value = Duration>, R>(g: &mu
 fn dump(case: &Case) {
     let Ok(dir) = std::env::var("SMARTMESH_BENCH_DUMP") else { return };
     let around = case.around;
-    let bytes = |v: &mut dyn Iterator<Item = f64>| v.flat_map(f64::to_le_bytes).collect::<Vec<u8>>();
+    let bytes =
+        |v: &mut dyn Iterator<Item = f64>| v.flat_map(f64::to_le_bytes).collect::<Vec<u8>>();
     let pts = bytes(&mut case.mesh.points.iter().flat_map(|p| [p[0], p[1]]));
     let segs = bytes(&mut (0..around).flat_map(|i| {
         let (a, b) = (case.mesh.points[i], case.mesh.points[(i + 1) % around]);
         [a[0], a[1], b[0], b[1]]
     }));
     let base = format!("{dir}/o_mesh_{around}x{}", case.layers);
-    let written = std::fs::create_dir_all(&dir).and_then(|()| std::fs::write(format!("{base}.points.f64"), pts)).and_then(|()| std::fs::write(format!("{base}.segments.f64"), segs));
+    let written = std::fs::create_dir_all(&dir)
+        .and_then(|()| std::fs::write(format!("{base}.points.f64"), pts))
+        .and_then(|()| std::fs::write(format!("{base}.segments.f64"), segs));
     if let Err(e) = written {
         panic!("SMARTMESH_BENCH_DUMP: cannot write {base}.*.f64: {e}");
     }
@@ -275,12 +325,21 @@ fn dump(case: &Case) {
 fn bench(c: &mut Criterion) {
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
-    let max_vertices: usize = std::env::var("SMARTMESH_BENCH_MAX_VERTICES").ok().and_then(|s| s.parse().ok()).unwrap_or(4_000_000);
+    let max_vertices: usize = std::env::var("SMARTMESH_BENCH_MAX_VERTICES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(4_000_000);
     let mut group = c.benchmark_group("sizing");
     // Flat sampling: each sample the same number of runs, so that the slow runs take
     // 10 iterations rather than criterion's 55.
-    group.sample_size(10).sampling_mode(SamplingMode::Flat).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
-    let run = |pool: &rayon::ThreadPool, case: &Case, p: &SizingPlan| pool.install(|| compute_size_field(&case.graph, &case.topology, p, &mut |_| {}).unwrap());
+    group
+        .sample_size(10)
+        .sampling_mode(SamplingMode::Flat)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3));
+    let run = |pool: &rayon::ThreadPool, case: &Case, p: &SizingPlan| {
+        pool.install(|| compute_size_field(&case.graph, &case.topology, p, &mut |_| {}).unwrap())
+    };
     for (around, layers) in [(2000usize, 5usize), (10_000, 10), (10_000, 100), (10_000, 400)] {
         if around * layers > max_vertices {
             continue;
@@ -293,14 +352,17 @@ fn bench(c: &mut Criterion) {
         for (name, algorithm) in algorithms(&case, REACH) {
             let p = plan(algorithm);
             let reached = run(&one, &case, &p).steps[0].vertices_reached;
-            let segments = twin_sources(&case, name).map_or(0, |s| s.iter().map(|s| s.segments().len()).sum::<usize>());
+            let segments = twin_sources(&case, name)
+                .map_or(0, |s| s.iter().map(|s| s.segments().len()).sum::<usize>());
             eprintln!("{name}/{n}: {reached} vertices reached, {segments} source segments");
             group.throughput(Throughput::Elements(reached as u64));
             bench_cpu(&mut group, BenchmarkId::new(name, n), || run(&one, &case, &p));
             // The twin costs vertices × segments: on the 10^4-vertex mesh only.
             if let Some(sources) = twin_sources(&case, name).filter(|_| n <= 10_000) {
                 group.throughput(Throughput::Elements(n as u64));
-                bench_cpu(&mut group, BenchmarkId::new(format!("brute_force_{name}"), n), || brute_force(&case, &sources, REACH));
+                bench_cpu(&mut group, BenchmarkId::new(format!("brute_force_{name}"), n), || {
+                    brute_force(&case, &sources, REACH)
+                });
             }
         }
 
@@ -312,9 +374,14 @@ fn bench(c: &mut Criterion) {
         }
         let full = case.extent();
         let (perpendicular, parallel) = border_functions(full);
-        let p = plan(Algorithm::DistanceToBorder { perpendicular, parallel, borders: case.curves(1) });
-        let source = Source::builder(&case.graph).topology_curve(&case.topology, case.curve(1)).build().unwrap();
-        let reach = propagate(&case.graph, &source, full, &PropagationOptions::new().with_parallel(false));
+        let p =
+            plan(Algorithm::DistanceToBorder { perpendicular, parallel, borders: case.curves(1) });
+        let source = Source::builder(&case.graph)
+            .topology_curve(&case.topology, case.curve(1))
+            .build()
+            .unwrap();
+        let reach =
+            propagate(&case.graph, &source, full, &PropagationOptions::new().with_parallel(false));
         assert_eq!(reach.len(), n, "every vertex within reach");
         let r = reach.report();
         eprintln!(
@@ -328,12 +395,24 @@ fn bench(c: &mut Criterion) {
             r.corrected
         );
         group.throughput(Throughput::Elements(n as u64));
-        group.bench_function(BenchmarkId::new("distance_to_border_full_reach", n), |b| b.iter(|| run(&one, &case, &p)));
-        group.bench_function(BenchmarkId::new("distance_to_border_full_reach_2_threads", n), |b| b.iter(|| run(&two, &case, &p)));
-        bench_cpu(&mut group, BenchmarkId::new("distance_to_border_full_reach_cpu_time", n), || run(&one, &case, &p));
+        group.bench_function(BenchmarkId::new("distance_to_border_full_reach", n), |b| {
+            b.iter(|| run(&one, &case, &p))
+        });
+        group.bench_function(BenchmarkId::new("distance_to_border_full_reach_2_threads", n), |b| {
+            b.iter(|| run(&two, &case, &p))
+        });
+        bench_cpu(
+            &mut group,
+            BenchmarkId::new("distance_to_border_full_reach_cpu_time", n),
+            || run(&one, &case, &p),
+        );
         if n <= 100_000 {
             let sources = [source];
-            bench_cpu(&mut group, BenchmarkId::new("brute_force_distance_to_border_full_reach", n), || brute_force(&case, &sources, full));
+            bench_cpu(
+                &mut group,
+                BenchmarkId::new("brute_force_distance_to_border_full_reach", n),
+                || brute_force(&case, &sources, full),
+            );
         }
     }
     group.finish();

@@ -49,7 +49,8 @@ pub fn geometric_mean_length(la: f64, lb: f64) -> f64 {
 /// The metric at a triangle's centroid: the Log-Euclidean mean of its corners' metrics
 /// (falls back to the arithmetic mean when a corner is not SPD).
 pub fn centroid_metric(m: [&Sym2; 3]) -> Sym2 {
-    let sizes: Option<Vec<SizeTensor>> = m.iter().map(|x| SizeTensor::try_from_metric(x).ok()).collect();
+    let sizes: Option<Vec<SizeTensor>> =
+        m.iter().map(|x| SizeTensor::try_from_metric(x).ok()).collect();
     match sizes.and_then(|s| SizeTensor::log_euclidean_mean(s.iter().map(|t| (1.0 / 3.0, t)))) {
         Some(t) => t.to_metric(),
         None => (1.0 / 3.0) * (*m[0] + *m[1] + *m[2]),
@@ -129,13 +130,24 @@ pub enum MetricFieldError {
 pub fn metric_field(mesh: &TaggedMesh, name: &str) -> Result<Vec<Sym2>, MetricFieldError> {
     let array = mesh.point_data.get(name).ok_or_else(|| MetricFieldError::Missing {
         name: name.to_string(),
-        available: if mesh.point_data.is_empty() { "none".to_string() } else { mesh.point_data.keys().cloned().collect::<Vec<_>>().join(", ") },
+        available: if mesh.point_data.is_empty() {
+            "none".to_string()
+        } else {
+            mesh.point_data.keys().cloned().collect::<Vec<_>>().join(", ")
+        },
     })?;
     if array.components != 9 && array.components != 3 {
-        return Err(MetricFieldError::Shape { name: name.to_string(), components: array.components });
+        return Err(MetricFieldError::Shape {
+            name: name.to_string(),
+            components: array.components,
+        });
     }
     if array.len() != mesh.points.len() {
-        return Err(MetricFieldError::Count { name: name.to_string(), items: array.len(), vertices: mesh.points.len() });
+        return Err(MetricFieldError::Count {
+            name: name.to_string(),
+            items: array.len(),
+            vertices: mesh.points.len(),
+        });
     }
     let mut used = vec![false; mesh.points.len()];
     for (_, nodes, _, _) in mesh.cells() {
@@ -148,7 +160,8 @@ pub fn metric_field(mesh: &TaggedMesh, name: &str) -> Result<Vec<Sym2>, MetricFi
     let mut out = Vec::with_capacity(array.len());
     for (v, &in_use) in used.iter().enumerate() {
         let t = array.item(v);
-        let (a, b, b2, c) = if array.components == 9 { (t[0], t[1], t[3], t[4]) } else { (t[0], t[1], t[1], t[2]) };
+        let (a, b, b2, c) =
+            if array.components == 9 { (t[0], t[1], t[3], t[4]) } else { (t[0], t[1], t[1], t[2]) };
         let why = if ![a, b, b2, c].iter().all(|x| x.is_finite()) {
             Some("not finite")
         } else if (b - b2).abs() > 1e-9 * (a.abs() + c.abs()) {
@@ -161,7 +174,17 @@ pub fn metric_field(mesh: &TaggedMesh, name: &str) -> Result<Vec<Sym2>, MetricFi
         match why {
             None => out.push(Sym2::new(a, 0.5 * (b + b2), c)),
             Some(_) if !in_use => out.push(Sym2::IDENTITY),
-            Some(why) => return Err(MetricFieldError::NotSpd { name: name.to_string(), vertex: v, a, b, b2, c, why }),
+            Some(why) => {
+                return Err(MetricFieldError::NotSpd {
+                    name: name.to_string(),
+                    vertex: v,
+                    a,
+                    b,
+                    b2,
+                    c,
+                    why,
+                })
+            }
         }
     }
     Ok(out)
@@ -256,7 +279,9 @@ impl Conformity {
         let mut tris = Vec::new();
         for (kind, n, _, _) in mesh.cells() {
             match kind {
-                crate::formats::CellKind::Triangle => tris.push([n[0] as usize, n[1] as usize, n[2] as usize]),
+                crate::formats::CellKind::Triangle => {
+                    tris.push([n[0] as usize, n[1] as usize, n[2] as usize])
+                }
                 crate::formats::CellKind::Quad => {
                     tris.push([n[0] as usize, n[1] as usize, n[2] as usize]);
                     tris.push([n[0] as usize, n[2] as usize, n[3] as usize]);
@@ -275,10 +300,17 @@ mod tests {
     /// Brute-force twin: the metric length as a Simpson integral of √(eᵀ M(t) e) along the
     /// edge, with M(t) the Log-Euclidean interpolation of the end metrics.
     fn length_by_quadrature(a: [f64; 2], b: [f64; 2], ma: &Sym2, mb: &Sym2) -> f64 {
-        let (sa, sb) = (SizeTensor::try_from_metric(ma).unwrap(), SizeTensor::try_from_metric(mb).unwrap());
+        let (sa, sb) =
+            (SizeTensor::try_from_metric(ma).unwrap(), SizeTensor::try_from_metric(mb).unwrap());
         let e = [b[0] - a[0], b[1] - a[1]];
         let n = 2000;
-        let f = |t: f64| SizeTensor::log_euclidean_mean([(1.0 - t, &sa), (t, &sb)]).unwrap().to_metric().quadratic_form(e).sqrt();
+        let f = |t: f64| {
+            SizeTensor::log_euclidean_mean([(1.0 - t, &sa), (t, &sb)])
+                .unwrap()
+                .to_metric()
+                .quadratic_form(e)
+                .sqrt()
+        };
         let h = 1.0 / n as f64;
         let mut s = f(0.0) + f(1.0);
         for i in 1..n {

@@ -49,8 +49,8 @@ pub mod sizing;
 pub mod summary;
 pub mod topology;
 
-pub use metric::{SizeBounds, SizeTensor, Sym2};
 pub use mesh_graph::MeshGraph;
+pub use metric::{SizeBounds, SizeTensor, Sym2};
 pub use recipe::{Recipe, RecipeError};
 pub use summary::MeshSummary;
 pub use topology::Topology;

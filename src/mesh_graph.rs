@@ -56,7 +56,10 @@ pub struct MeshGraph {
 impl MeshGraph {
     /// The graph of `mesh`, with the edges and cells its `topology` found. Coordinates
     /// are the x and y of the mesh points.
-    pub fn from_topology(topology: &Topology, mesh: &TaggedMesh) -> Result<MeshGraph, MeshGraphError> {
+    pub fn from_topology(
+        topology: &Topology,
+        mesh: &TaggedMesh,
+    ) -> Result<MeshGraph, MeshGraphError> {
         let coords: Vec<Point2> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
         let edges: Vec<[usize; 2]> = topology.edges.iter().map(|e| e.0).collect();
         let cells: Vec<[usize; 4]> = topology.surface_cells.iter().map(|c| c.corners).collect();
@@ -66,12 +69,22 @@ impl MeshGraph {
     /// The graph of vertices `coords` joined by `edges`; `cells` are the surface cells
     /// (four corners, the fourth `usize::MAX` for a triangle), used to find the cells a
     /// free polyline crosses. Repeated edges and loops are dropped.
-    pub fn from_edges(coords: Vec<Point2>, edges: &[[usize; 2]], cells: &[[usize; 4]]) -> Result<MeshGraph, MeshGraphError> {
+    pub fn from_edges(
+        coords: Vec<Point2>,
+        edges: &[[usize; 2]],
+        cells: &[[usize; 4]],
+    ) -> Result<MeshGraph, MeshGraphError> {
         let n = coords.len();
         if n >= u32::MAX as usize || 2 * edges.len() >= u32::MAX as usize {
             return Err(MeshGraphError::TooLarge(n.max(2 * edges.len())));
         }
-        let check = |v: usize| if v < n { Ok(()) } else { Err(MeshGraphError::VertexOutOfRange { index: v, len: n }) };
+        let check = |v: usize| {
+            if v < n {
+                Ok(())
+            } else {
+                Err(MeshGraphError::VertexOutOfRange { index: v, len: n })
+            }
+        };
         let mut degree = vec![0u32; n + 1];
         for &[a, b] in edges {
             check(a)?;
@@ -136,8 +149,20 @@ impl MeshGraph {
         }
         let (component, num_components) = components(&new_offsets, &neighbours);
         let (extent, finite) = extent(&coords);
-        let occupied = extent.filter(|_| finite).map_or_else(Vec::new, |b| occupied_cells(&coords, b));
-        Ok(MeshGraph { coords, offsets: new_offsets, neighbours, longest_edge, cells: out_cells, component, num_components, extent, finite, occupied })
+        let occupied =
+            extent.filter(|_| finite).map_or_else(Vec::new, |b| occupied_cells(&coords, b));
+        Ok(MeshGraph {
+            coords,
+            offsets: new_offsets,
+            neighbours,
+            longest_edge,
+            cells: out_cells,
+            component,
+            num_components,
+            extent,
+            finite,
+            occupied,
+        })
     }
 
     /// Number of vertices.
@@ -244,7 +269,13 @@ const OCCUPANCY_GRID: usize = 64;
 fn occupied_cells(coords: &[Point2], (lo, hi): (Point2, Point2)) -> Vec<(Point2, Point2)> {
     let g = ((coords.len() as f64).sqrt() / 8.0).clamp(1.0, OCCUPANCY_GRID as f64) as usize;
     let size = [hi[0] - lo[0], hi[1] - lo[1]];
-    let cell = |k: usize, x: f64| if size[k] > 0.0 { (((x - lo[k]) / size[k] * g as f64) as usize).min(g - 1) } else { 0 };
+    let cell = |k: usize, x: f64| {
+        if size[k] > 0.0 {
+            (((x - lo[k]) / size[k] * g as f64) as usize).min(g - 1)
+        } else {
+            0
+        }
+    };
     let mut hit = vec![false; g * g];
     for p in coords {
         hit[cell(1, p[1]) * g + cell(0, p[0])] = true;
@@ -255,7 +286,10 @@ fn occupied_cells(coords: &[Point2], (lo, hi): (Point2, Point2)) -> Vec<(Point2,
         .filter(|&c| hit[c])
         .map(|c| {
             let (i, j) = (c % g, c / g);
-            ([edge(0, i) - grow[0], edge(1, j) - grow[1]], [edge(0, i + 1) + grow[0], edge(1, j + 1) + grow[1]])
+            (
+                [edge(0, i) - grow[0], edge(1, j) - grow[1]],
+                [edge(0, i + 1) + grow[0], edge(1, j + 1) + grow[1]],
+            )
         })
         .collect()
 }
@@ -299,7 +333,9 @@ mod tests {
     fn csr_is_sorted_and_deduplicated() {
         let coords = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
         let edges = [[2, 0], [0, 1], [1, 2], [0, 2], [2, 3], [3, 0], [3, 3]];
-        let g = MeshGraph::from_edges(coords, &edges, &[[0, 1, 2, usize::MAX], [0, 2, 3, usize::MAX]]).unwrap();
+        let g =
+            MeshGraph::from_edges(coords, &edges, &[[0, 1, 2, usize::MAX], [0, 2, 3, usize::MAX]])
+                .unwrap();
         assert_eq!(g.neighbours(0), &[1, 2, 3]);
         assert_eq!(g.neighbours(2), &[0, 1, 3]);
         assert_eq!(g.num_edges(), 5);
@@ -324,11 +360,15 @@ mod tests {
         for case in 0..30 {
             let n = [1, 10, 1000, 40_000][case % 4];
             let flat = case % 5 == 0;
-            let coords: Vec<Point2> = (0..n).map(|_| [1e3 + unit().powi(3) * 7.0, if flat { 2.0 } else { -unit() * 0.01 }]).collect();
+            let coords: Vec<Point2> = (0..n)
+                .map(|_| [1e3 + unit().powi(3) * 7.0, if flat { 2.0 } else { -unit() * 0.01 }])
+                .collect();
             let g = MeshGraph::from_edges(coords.clone(), &[], &[]).unwrap();
             let cells = g.occupied_cells();
             assert!(cells.len() <= OCCUPANCY_GRID * OCCUPANCY_GRID);
-            let inside = |p: &Point2, c: &(Point2, Point2)| c.0[0] <= p[0] && p[0] <= c.1[0] && c.0[1] <= p[1] && p[1] <= c.1[1];
+            let inside = |p: &Point2, c: &(Point2, Point2)| {
+                c.0[0] <= p[0] && p[0] <= c.1[0] && c.0[1] <= p[1] && p[1] <= c.1[1]
+            };
             for p in &coords {
                 assert!(cells.iter().any(|c| inside(p, c)), "case {case}: {p:?} in no cell");
             }
@@ -337,8 +377,12 @@ mod tests {
             }
         }
         // The grid's cap: 300 000 points spread over the square fill 64 × 64 cells.
-        let coords: Vec<Point2> = (0..300_000).map(|k| [(k % 547) as f64, (k / 547) as f64]).collect();
-        assert_eq!(MeshGraph::from_edges(coords, &[], &[]).unwrap().occupied_cells().len(), OCCUPANCY_GRID * OCCUPANCY_GRID);
+        let coords: Vec<Point2> =
+            (0..300_000).map(|k| [(k % 547) as f64, (k / 547) as f64]).collect();
+        assert_eq!(
+            MeshGraph::from_edges(coords, &[], &[]).unwrap().occupied_cells().len(),
+            OCCUPANCY_GRID * OCCUPANCY_GRID
+        );
     }
 
     /// Components against a union-find twin on random sparse graphs, isolated
@@ -349,7 +393,8 @@ mod tests {
         let mut next = |m: usize| ((rng.unit() * m as f64) as usize).min(m - 1);
         for case in 0..50 {
             let n = 1 + next(200);
-            let edges: Vec<[usize; 2]> = (0..next(n + 1) * (case % 3)).map(|_| [next(n), next(n)]).collect();
+            let edges: Vec<[usize; 2]> =
+                (0..next(n + 1) * (case % 3)).map(|_| [next(n), next(n)]).collect();
             let g = MeshGraph::from_edges(vec![[0.0, 0.0]; n], &edges, &[]).unwrap();
             let mut root: Vec<usize> = (0..n).collect();
             fn find(root: &mut [usize], mut v: usize) -> usize {
@@ -366,12 +411,19 @@ mod tests {
             for v in 0..n {
                 seen.insert(find(&mut root, v));
                 for u in 0..n {
-                    assert_eq!(g.component(u) == g.component(v), find(&mut root, u) == find(&mut root, v), "case {case}: {u} and {v}");
+                    assert_eq!(
+                        g.component(u) == g.component(v),
+                        find(&mut root, u) == find(&mut root, v),
+                        "case {case}: {u} and {v}"
+                    );
                 }
             }
             assert_eq!(g.num_components(), seen.len());
             // Numbered in the order of their smallest vertex.
-            let firsts: Vec<usize> = (0..n).filter(|&v| (0..v).all(|u| g.component(u) != g.component(v))).map(|v| g.component(v)).collect();
+            let firsts: Vec<usize> = (0..n)
+                .filter(|&v| (0..v).all(|u| g.component(u) != g.component(v)))
+                .map(|v| g.component(v))
+                .collect();
             assert_eq!(firsts, (0..g.num_components()).collect::<Vec<_>>());
         }
     }

@@ -51,7 +51,12 @@ pub enum MetricInputError {
 
 /// The metric on `mesh` (read from `mesh_path`): from the file `metric_path` when given,
 /// else the mesh's own `metric` array; `Ok(None)` when neither is asked for nor present.
-pub fn load(mesh: &TaggedMesh, mesh_path: &Path, metric_path: Option<&Path>, metric_format: Option<Format>) -> Result<Option<LoadedMetric>, MetricInputError> {
+pub fn load(
+    mesh: &TaggedMesh,
+    mesh_path: &Path,
+    metric_path: Option<&Path>,
+    metric_format: Option<Format>,
+) -> Result<Option<LoadedMetric>, MetricInputError> {
     match metric_path {
         Some(p) => {
             let other = read_path(p, metric_format.or_else(|| Format::from_path(p)))?;
@@ -61,22 +66,40 @@ pub fn load(mesh: &TaggedMesh, mesh_path: &Path, metric_path: Option<&Path>, met
             if !mesh.point_data.contains_key(METRIC) {
                 return Ok(None);
             }
-            let field = metric_field(mesh, METRIC).map_err(|error| MetricInputError::Field { path: mesh_path.display().to_string(), error })?;
-            Ok(Some(LoadedMetric { field, source: format!("`{METRIC}` of {}", mesh_path.display()) }))
+            let field = metric_field(mesh, METRIC).map_err(|error| MetricInputError::Field {
+                path: mesh_path.display().to_string(),
+                error,
+            })?;
+            Ok(Some(LoadedMetric {
+                field,
+                source: format!("`{METRIC}` of {}", mesh_path.display()),
+            }))
         }
     }
 }
 
 /// The `metric` array of `other` (read from `other_path`) as a field on `mesh`'s vertices.
-pub fn from_other(mesh: &TaggedMesh, mesh_path: &Path, other: &TaggedMesh, other_path: &Path) -> Result<LoadedMetric, MetricInputError> {
+pub fn from_other(
+    mesh: &TaggedMesh,
+    mesh_path: &Path,
+    other: &TaggedMesh,
+    other_path: &Path,
+) -> Result<LoadedMetric, MetricInputError> {
     let path = other_path.display().to_string();
     let Some(array) = other.point_data.get(METRIC) else {
         // Let metric_field word the error (it lists the arrays there are).
-        let error = metric_field(other, METRIC).err().unwrap_or(MetricFieldError::Missing { name: METRIC.into(), available: "none".into() });
+        let error = metric_field(other, METRIC)
+            .err()
+            .unwrap_or(MetricFieldError::Missing { name: METRIC.into(), available: "none".into() });
         return Err(MetricInputError::Field { path, error });
     };
     if array.len() != mesh.points.len() {
-        return Err(MetricInputError::Count { path, items: array.len(), mesh: mesh_path.display().to_string(), vertices: mesh.points.len() });
+        return Err(MetricInputError::Count {
+            path,
+            items: array.len(),
+            mesh: mesh_path.display().to_string(),
+            vertices: mesh.points.len(),
+        });
     }
     // Validate against `mesh`'s cells: a vertex that no cell of *this* mesh uses may
     // carry anything.
@@ -84,6 +107,7 @@ pub fn from_other(mesh: &TaggedMesh, mesh_path: &Path, other: &TaggedMesh, other
     carrier.points.clone_from(&mesh.points);
     carrier.blocks.clone_from(&mesh.blocks);
     carrier.point_data.insert(METRIC.to_string(), array.clone());
-    let field = metric_field(&carrier, METRIC).map_err(|error| MetricInputError::Field { path: path.clone(), error })?;
+    let field = metric_field(&carrier, METRIC)
+        .map_err(|error| MetricInputError::Field { path: path.clone(), error })?;
     Ok(LoadedMetric { field, source: format!("`{METRIC}` of {path}") })
 }

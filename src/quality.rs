@@ -119,7 +119,9 @@ mod tests {
     fn equilateral_has_quality_one() {
         let q = triangle_quality([0.0, 0.0], [1.0, 0.0], [0.5, 3f64.sqrt() / 2.0]);
         assert!((q - 1.0).abs() < 1e-12);
-        assert!((min_angle_deg([0.0, 0.0], [1.0, 0.0], [0.5, 3f64.sqrt() / 2.0]) - 60.0).abs() < 1e-9);
+        assert!(
+            (min_angle_deg([0.0, 0.0], [1.0, 0.0], [0.5, 3f64.sqrt() / 2.0]) - 60.0).abs() < 1e-9
+        );
     }
 
     #[test]

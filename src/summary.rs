@@ -144,8 +144,15 @@ impl MeshSummary {
             components: a.expanded_components(),
             shape: a.shape(),
             range: {
-                let implied: &[f64] = if a.layout == smartmesh_formats::Layout::Symmetric2 && !a.is_empty() { &[0.0, 1.0] } else { &[] };
-                a.values.iter().chain(implied).fold(None, |r: Option<[f64; 2]>, &v| Some(r.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)])))
+                let implied: &[f64] =
+                    if a.layout == smartmesh_formats::Layout::Symmetric2 && !a.is_empty() {
+                        &[0.0, 1.0]
+                    } else {
+                        &[]
+                    };
+                a.values.iter().chain(implied).fold(None, |r: Option<[f64; 2]>, &v| {
+                    Some(r.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]))
+                })
             },
         };
         let xy = |i: usize| [mesh.points[i][0], mesh.points[i][1]];
@@ -153,7 +160,12 @@ impl MeshSummary {
             points: topo
                 .points
                 .iter()
-                .map(|p| PointSummary { tag: p.tag, name: p.name.clone(), vertex: p.vertex, origin: p.origin })
+                .map(|p| PointSummary {
+                    tag: p.tag,
+                    name: p.name.clone(),
+                    vertex: p.vertex,
+                    origin: p.origin,
+                })
                 .collect(),
             curves: topo
                 .curves
@@ -200,13 +212,22 @@ impl MeshSummary {
         };
         MeshSummary {
             points: mesh.points.len(),
-            unused_points: topo.vertex_class.iter().filter(|c| **c == Classification::Unused).count(),
+            unused_points: topo
+                .vertex_class
+                .iter()
+                .filter(|c| **c == Classification::Unused)
+                .count(),
             coordinate_dim: mesh.coordinate_dim,
             cells,
             bounding_box: mesh.bounding_box().map(|(lo, hi)| [lo, hi]),
             tags: tags
                 .into_iter()
-                .map(|((dim, tag), n)| TagSummary { dim, tag, name: mesh.tag_name(dim, tag).map(str::to_owned), cells: n })
+                .map(|((dim, tag), n)| TagSummary {
+                    dim,
+                    tag,
+                    name: mesh.tag_name(dim, tag).map(str::to_owned),
+                    cells: n,
+                })
                 .collect(),
             topology,
             point_data: mesh.point_data.iter().map(|(n, a)| field(n, a)).collect(),
@@ -217,8 +238,16 @@ impl MeshSummary {
     }
 
     /// Adds the conformity of `mesh` to `metric` (one tensor per vertex), found at `source`.
-    pub fn with_metric(mut self, mesh: &TaggedMesh, metric: &[crate::metric::Sym2], source: String) -> MeshSummary {
-        self.metric = Some(MetricSummary { source, conformity: crate::conformity::Conformity::of_mesh(mesh, metric) });
+    pub fn with_metric(
+        mut self,
+        mesh: &TaggedMesh,
+        metric: &[crate::metric::Sym2],
+        source: String,
+    ) -> MeshSummary {
+        self.metric = Some(MetricSummary {
+            source,
+            conformity: crate::conformity::Conformity::of_mesh(mesh, metric),
+        });
         self
     }
 }

@@ -246,7 +246,14 @@ fn surface_edges(cells: &[SurfaceCell], n: usize) -> Vec<([usize; 2], EdgeInfo)>
             }
             let (first, second) = (run[i], run[if j - i >= 2 { i + 1 } else { i }]);
             let forward = if first.1 { [lo, hi] } else { [hi, lo] };
-            out.push(([lo, hi], EdgeInfo { count: (j - i) as u32, forward, faces: [first.2 as usize, second.2 as usize] }));
+            out.push((
+                [lo, hi],
+                EdgeInfo {
+                    count: (j - i) as u32,
+                    forward,
+                    faces: [first.2 as usize, second.2 as usize],
+                },
+            ));
             i = j;
         }
     }
@@ -275,7 +282,11 @@ impl Topology {
         }
         let mut faces: Vec<TopoFace> = face_index
             .keys()
-            .map(|&t| TopoFace { tag: t, name: mesh.tag_name(2, t).map(str::to_owned), cells: Vec::new() })
+            .map(|&t| TopoFace {
+                tag: t,
+                name: mesh.tag_name(2, t).map(str::to_owned),
+                cells: Vec::new(),
+            })
             .collect();
         for (i, v) in face_index.values_mut().enumerate() {
             *v = i;
@@ -290,7 +301,9 @@ impl Topology {
         // Mesh edges of surface cells: the directed occurrence tells the boundary
         // orientation, the set of faces tells interfaces.
         let edge_list = surface_edges(&surface_cells, n);
-        let edge_info = |k: &[usize; 2]| edge_list.binary_search_by(|e| e.0.cmp(k)).ok().map(|i| &edge_list[i].1);
+        let edge_info = |k: &[usize; 2]| {
+            edge_list.binary_search_by(|e| e.0.cmp(k)).ok().map(|i| &edge_list[i].1)
+        };
 
         // Curves from line cells, by tag.
         let mut curve_edges: BTreeMap<i32, Vec<[usize; 2]>> = BTreeMap::new();
@@ -310,12 +323,17 @@ impl Topology {
             let boundary = e.count == 1;
             let interface = e.count >= 2 && e.faces[0] != e.faces[1];
             if (boundary || interface) && !on_curve.contains_key(k) {
-                let pair = if boundary { (e.faces[0], usize::MAX) } else { (e.faces[0].min(e.faces[1]), e.faces[0].max(e.faces[1])) };
+                let pair = if boundary {
+                    (e.faces[0], usize::MAX)
+                } else {
+                    (e.faces[0].min(e.faces[1]), e.faces[0].max(e.faces[1]))
+                };
                 derived.entry(pair).or_default().push(e.forward);
             }
         }
 
-        let mut curve_list: Vec<(EntityTag, Vec<[usize; 2]>)> = curve_edges.into_iter().map(|(t, e)| (Some(t), e)).collect();
+        let mut curve_list: Vec<(EntityTag, Vec<[usize; 2]>)> =
+            curve_edges.into_iter().map(|(t, e)| (Some(t), e)).collect();
         curve_list.extend(derived.into_values().map(|e| (None, e)));
 
         // Topological points: listed vertex cells, then ends and junctions. A vertex is a
@@ -377,7 +395,8 @@ impl Topology {
                         _ => [a, b],
                     })
                     .collect();
-                let on_boundary = edges.iter().all(|&[a, b]| edge_info(&key(a, b)).is_some_and(|i| i.count == 1));
+                let on_boundary =
+                    edges.iter().all(|&[a, b]| edge_info(&key(a, b)).is_some_and(|i| i.count == 1));
                 TopoCurve {
                     tag: *tag,
                     name: tag.and_then(|t| mesh.tag_name(1, t)).map(str::to_owned),
@@ -414,7 +433,14 @@ impl Topology {
         }
         let mut edges: Vec<([usize; 2], Classification)> = edge_list
             .iter()
-            .map(|(k, info)| (*k, curve_of_edge.get(k).map_or(Classification::Face(info.faces[0]), |&c| Classification::Curve(c))))
+            .map(|(k, info)| {
+                (
+                    *k,
+                    curve_of_edge
+                        .get(k)
+                        .map_or(Classification::Face(info.faces[0]), |&c| Classification::Curve(c)),
+                )
+            })
             .collect();
         // Line cells that bound no surface cell (a lone wake line) are edges too. Hash
         // order does not matter: the list is sorted by edge just below.
@@ -471,7 +497,10 @@ fn chain_polylines(edges: &[[usize; 2]], is_point: impl Fn(usize) -> bool) -> Ve
                 return Polyline { vertices: verts, closed: false };
             }
             // Continue along an unused edge, preferring one stored as leaving `next`.
-            let cand = adj[&next].iter().filter(|(ei, _)| !used[*ei]).min_by_key(|(ei, _)| (edges[*ei][0] != next, *ei));
+            let cand = adj[&next]
+                .iter()
+                .filter(|(ei, _)| !used[*ei])
+                .min_by_key(|(ei, _)| (edges[*ei][0] != next, *ei));
             match cand {
                 Some(&(ei, _)) => {
                     cur = next;
@@ -484,7 +513,8 @@ fn chain_polylines(edges: &[[usize; 2]], is_point: impl Fn(usize) -> bool) -> Ve
 
     // Open pieces: start at topological points and open ends, along edges leaving them
     // first (keeps orientation), then the rest.
-    let starts: Vec<usize> = adj.keys().copied().filter(|&v| is_point(v) || adj[&v].len() == 1).collect();
+    let starts: Vec<usize> =
+        adj.keys().copied().filter(|&v| is_point(v) || adj[&v].len() == 1).collect();
     for pass in 0..2 {
         for &v in &starts {
             let list = adj[&v].clone();
@@ -565,7 +595,10 @@ mod tests {
                     e.0 += 1;
                 }
             }
-            let got: Vec<([usize; 2], Said)> = surface_edges(&cells, n).into_iter().map(|(k, e)| (k, (e.count, e.forward, e.faces))).collect();
+            let got: Vec<([usize; 2], Said)> = surface_edges(&cells, n)
+                .into_iter()
+                .map(|(k, e)| (k, (e.count, e.forward, e.faces)))
+                .collect();
             let want: Vec<([usize; 2], Said)> = twin.into_iter().collect();
             assert_eq!(got, want);
         }
@@ -617,7 +650,10 @@ mod tests {
         let topo = Topology::from_mesh(&m);
         assert_eq!(topo.curves.len(), 1);
         assert!(topo.points.is_empty());
-        assert_eq!(topo.curves[0].polylines, vec![Polyline { vertices: vec![0, 1, 2, 3], closed: true }]);
+        assert_eq!(
+            topo.curves[0].polylines,
+            vec![Polyline { vertices: vec![0, 1, 2, 3], closed: true }]
+        );
         assert_eq!(topo.closed_polylines(), 1);
     }
 

@@ -44,7 +44,11 @@ fn smartmesh(args: &[&str], path_env: Option<&str>) -> Output {
 }
 
 fn text(o: &Output) -> String {
-    format!("stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+    format!(
+        "stdout:\n{}\nstderr:\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
 }
 
 /// Each triangle split in four at its edge midpoints, each line in two, tags kept: a
@@ -67,7 +71,11 @@ fn split(mesh: &TaggedMesh) -> TaggedMesh {
             match b.kind {
                 CellKind::Triangle => {
                     let [x, y, z] = [c[0], c[1], c[2]];
-                    let (xy, yz, zx) = (midpoint(&mut out, x, y), midpoint(&mut out, y, z), midpoint(&mut out, z, x));
+                    let (xy, yz, zx) = (
+                        midpoint(&mut out, x, y),
+                        midpoint(&mut out, y, z),
+                        midpoint(&mut out, z, x),
+                    );
                     for t in [[x, xy, zx], [xy, y, yz], [zx, yz, z], [xy, yz, zx]] {
                         nb.push(&t, p, g);
                     }
@@ -101,7 +109,10 @@ impl Adapter for Scripted {
         assert_eq!(metric.len(), mesh.points.len(), "one metric per vertex of the current mesh");
         let k = self.calls.get();
         self.calls.set(k + 1);
-        self.meshes.get(k).cloned().ok_or_else(|| AdapterError::Input(format!("scripted failure at call {}", k + 1)))
+        self.meshes
+            .get(k)
+            .cloned()
+            .ok_or_else(|| AdapterError::Input(format!("scripted failure at call {}", k + 1)))
     }
 }
 
@@ -110,17 +121,26 @@ fn best_mesh_is_the_most_conforming_and_stays_when_a_later_iteration_fails() {
     let start = cylinder();
     let fine = split(&start);
     let finer = split(&fine);
-    let adapter = Scripted { meshes: vec![fine.clone(), start.clone(), finer.clone()], calls: Cell::new(0) };
+    let adapter =
+        Scripted { meshes: vec![fine.clone(), start.clone(), finer.clone()], calls: Cell::new(0) };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("best.msh");
     let mut files = ResultFiles::new(&out, None, WriteOptions::default());
-    let opts = AdaptOptions { max_iterations: 6, tolerances: Tolerances { vertices: 0.0, conformity: 0.0 } };
-    let outcome = run(start.clone(), &recipe(), &adapter, &opts, "cylinder.msh", "cylinder.toml", &mut files).unwrap();
+    let opts = AdaptOptions {
+        max_iterations: 6,
+        tolerances: Tolerances { vertices: 0.0, conformity: 0.0 },
+    };
+    let outcome =
+        run(start.clone(), &recipe(), &adapter, &opts, "cylinder.msh", "cylinder.toml", &mut files)
+            .unwrap();
 
     let h = &outcome.history;
     let numbers: Vec<usize> = h.iterations.iter().map(|r| r.iteration).collect();
     assert_eq!(numbers, [0, 1, 2, 3], "{}", h.to_json());
-    assert_eq!([h.iterations[1].vertices, h.iterations[2].vertices, h.iterations[3].vertices], [fine.points.len(), start.points.len(), finer.points.len()]);
+    assert_eq!(
+        [h.iterations[1].vertices, h.iterations[2].vertices, h.iterations[3].vertices],
+        [fine.points.len(), start.points.len(), finer.points.len()]
+    );
     // Iteration 2 is the starting mesh again: the same share as iteration 0.
     assert_eq!(h.iterations[2].conforming_share, h.iterations[0].conforming_share);
     // The rule: highest share, ties to the later iteration.
@@ -135,12 +155,23 @@ fn best_mesh_is_the_most_conforming_and_stays_when_a_later_iteration_fails() {
     assert_eq!(outcome.best.points.len(), h.iterations[expected].vertices);
 
     // The fourth call fails: the run says so, and the files hold the best mesh.
-    assert!(matches!(outcome.failure, Some(AdaptError::Iteration { iteration: 4, .. })), "{:?}", outcome.failure);
+    assert!(
+        matches!(outcome.failure, Some(AdaptError::Iteration { iteration: 4, .. })),
+        "{:?}",
+        outcome.failure
+    );
     assert!(!h.converged);
-    assert!(h.stopped.contains("iteration 4 failed") && h.stopped.contains("scripted failure at call 4"), "{}", h.stopped);
+    assert!(
+        h.stopped.contains("iteration 4 failed")
+            && h.stopped.contains("scripted failure at call 4"),
+        "{}",
+        h.stopped
+    );
     let written = read_path(&out, None).unwrap();
     assert_eq!(written.points.len(), h.iterations[expected].vertices);
-    let on_disk = History::from_json(&std::fs::read_to_string(dir.path().join("best.history.json")).unwrap()).unwrap();
+    let on_disk =
+        History::from_json(&std::fs::read_to_string(dir.path().join("best.history.json")).unwrap())
+            .unwrap();
     assert_eq!(&on_disk, h);
 }
 
@@ -151,12 +182,21 @@ struct Checked {
 }
 
 impl Observer for Checked {
-    fn record(&mut self, history: &History, new_best: Option<&TaggedMesh>) -> Result<(), smartmesh::formats::Error> {
+    fn record(
+        &mut self,
+        history: &History,
+        new_best: Option<&TaggedMesh>,
+    ) -> Result<(), smartmesh::formats::Error> {
         self.files.record(history, new_best)?;
-        let on_disk = History::from_json(&std::fs::read_to_string(&self.files.history).unwrap()).unwrap();
+        let on_disk =
+            History::from_json(&std::fs::read_to_string(&self.files.history).unwrap()).unwrap();
         assert_eq!(&on_disk, history, "the history on disk is the one just recorded");
         let mesh = read_path(&self.files.mesh, None).unwrap();
-        assert_eq!(mesh.points.len(), history.iterations[history.best_iteration].vertices, "the mesh on disk is the best one");
+        assert_eq!(
+            mesh.points.len(),
+            history.iterations[history.best_iteration].vertices,
+            "the mesh on disk is the best one"
+        );
         self.seen.push((history.iterations.len(), history.best_iteration, new_best.is_some()));
         Ok(())
     }
@@ -166,16 +206,27 @@ impl Observer for Checked {
 fn history_and_best_mesh_are_on_disk_after_every_iteration() {
     let start = cylinder();
     let fine = split(&start);
-    let adapter = Scripted { meshes: vec![fine.clone(), fine.clone(), start.clone()], calls: Cell::new(0) };
+    let adapter =
+        Scripted { meshes: vec![fine.clone(), fine.clone(), start.clone()], calls: Cell::new(0) };
     let dir = tempfile::tempdir().unwrap();
-    let mut obs = Checked { files: ResultFiles::new(&dir.path().join("o.msh"), None, WriteOptions::default()), seen: Vec::new() };
-    let opts = AdaptOptions { max_iterations: 3, tolerances: Tolerances { vertices: 0.0, conformity: 0.0 } };
+    let mut obs = Checked {
+        files: ResultFiles::new(&dir.path().join("o.msh"), None, WriteOptions::default()),
+        seen: Vec::new(),
+    };
+    let opts = AdaptOptions {
+        max_iterations: 3,
+        tolerances: Tolerances { vertices: 0.0, conformity: 0.0 },
+    };
     let outcome = run(start, &recipe(), &adapter, &opts, "in", "r", &mut obs).unwrap();
     // Iteration 2 repeats iteration 1 exactly: converged, and the later one is the best
     // when the split mesh beats the start.
     assert!(outcome.history.converged, "{}", outcome.history.stopped);
     let lengths: Vec<usize> = obs.seen.iter().map(|s| s.0).collect();
-    assert_eq!(lengths, [1, 2, 3, 3], "after iterations 0, 1, 2, and once more when the loop stops");
+    assert_eq!(
+        lengths,
+        [1, 2, 3, 3],
+        "after iterations 0, 1, 2, and once more when the loop stops"
+    );
     assert!(obs.seen[0].2, "the starting mesh is the first best");
     assert!(!obs.seen[3].2, "the last call writes only the history");
     assert_eq!(dir.path().join("o.history.json"), obs.files.history);
@@ -186,8 +237,13 @@ fn an_unchanged_mesh_converges_and_the_later_iteration_wins_the_tie() {
     let start = cylinder();
     let adapter = Scripted { meshes: vec![start.clone()], calls: Cell::new(0) };
     let dir = tempfile::tempdir().unwrap();
-    let mut files = ResultFiles::new(&dir.path().join("o.vtu"), Some(&dir.path().join("h.json")), WriteOptions::default());
-    let outcome = run(start, &recipe(), &adapter, &AdaptOptions::default(), "in", "r", &mut files).unwrap();
+    let mut files = ResultFiles::new(
+        &dir.path().join("o.vtu"),
+        Some(&dir.path().join("h.json")),
+        WriteOptions::default(),
+    );
+    let outcome =
+        run(start, &recipe(), &adapter, &AdaptOptions::default(), "in", "r", &mut files).unwrap();
     let h = &outcome.history;
     assert!(h.converged, "{}", h.stopped);
     assert_eq!(h.iterations.len(), 2);
@@ -200,7 +256,10 @@ fn an_unchanged_mesh_converges_and_the_later_iteration_wins_the_tie() {
 fn an_iteration_limit_stops_the_loop_unconverged() {
     let start = cylinder();
     let fine = split(&start);
-    let adapter = Scripted { meshes: vec![fine.clone(), start.clone(), fine.clone(), start.clone()], calls: Cell::new(0) };
+    let adapter = Scripted {
+        meshes: vec![fine.clone(), start.clone(), fine.clone(), start.clone()],
+        calls: Cell::new(0),
+    };
     let dir = tempfile::tempdir().unwrap();
     let mut files = ResultFiles::new(&dir.path().join("o.msh"), None, WriteOptions::default());
     let opts = AdaptOptions { max_iterations: 3, tolerances: Tolerances::default() };
@@ -219,7 +278,8 @@ fn a_recipe_that_does_not_fit_the_start_is_an_input_error() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o.msh");
     let mut files = ResultFiles::new(&out, None, WriteOptions::default());
-    let e = run(start, &recipe(), &adapter, &AdaptOptions::default(), "in", "r", &mut files).unwrap_err();
+    let e = run(start, &recipe(), &adapter, &AdaptOptions::default(), "in", "r", &mut files)
+        .unwrap_err();
     assert!(matches!(e, AdaptError::Start { .. }), "{e}");
     assert!(e.to_string().contains("Cylinder"), "{e}");
     assert!(!out.exists(), "nothing written for a bad input");
@@ -230,7 +290,14 @@ fn a_recipe_that_does_not_fit_the_start_is_an_input_error() {
 // ---------------------------------------------------------------------------------------
 
 fn adapt_args<'a>(out: &'a str, extra: &[&'a str]) -> Vec<String> {
-    let mut a: Vec<String> = vec!["adapt".into(), bundled("cylinder.msh").display().to_string(), "--recipe".into(), bundled("cylinder.toml").display().to_string(), "-o".into(), out.into()];
+    let mut a: Vec<String> = vec![
+        "adapt".into(),
+        bundled("cylinder.msh").display().to_string(),
+        "--recipe".into(),
+        bundled("cylinder.toml").display().to_string(),
+        "-o".into(),
+        out.into(),
+    ];
     a.extend(extra.iter().map(|s| s.to_string()));
     a
 }
@@ -252,7 +319,11 @@ fn missing_tools_are_named_before_any_work() {
         assert!(err.contains(&format!("`{program}` not found on PATH")), "{err}");
         assert!(!out.exists() && !dir.path().join("o.history.json").exists());
     }
-    let o = run_adapt(&out, &["--adapter", "mmg2d", "--adapter-program", "/nonexistent/mmg2d_O3"], None);
+    let o = run_adapt(
+        &out,
+        &["--adapter", "mmg2d", "--adapter-program", "/nonexistent/mmg2d_O3"],
+        None,
+    );
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/mmg2d_O3"));
 }
@@ -274,7 +345,12 @@ fn the_native_remesher_is_the_default_and_adapts_the_cylinder() {
     // The result carries the recipe's field on it: measured again, it gives the record.
     let metric = smartmesh::conformity::metric_field(&mesh, "metric").unwrap();
     let c = smartmesh::conformity::Conformity::of_mesh(&mesh, &metric).unwrap();
-    assert!((c.conforming_share - best.conforming_share).abs() < 1e-12, "{} vs {}", c.conforming_share, best.conforming_share);
+    assert!(
+        (c.conforming_share - best.conforming_share).abs() < 1e-12,
+        "{} vs {}",
+        c.conforming_share,
+        best.conforming_share
+    );
 }
 
 #[test]
@@ -294,13 +370,27 @@ fn a_poly_is_meshed_first_then_adapted() {
     )
     .unwrap();
     let out = dir.path().join("square.msh");
-    let o = smartmesh(&["adapt", poly.to_str().unwrap(), "-r", recipe.to_str().unwrap(), "-o", out.to_str().unwrap(), "--json"], None);
+    let o = smartmesh(
+        &[
+            "adapt",
+            poly.to_str().unwrap(),
+            "-r",
+            recipe.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--json",
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
     assert_history("square", &h, "native");
     assert!(h.iterations[h.best_iteration].conforming_share >= 0.9, "{:?}", h.iterations);
     let mesh = read_path(&out, None).unwrap();
-    assert_eq!(physical_tags(&mesh).into_iter().filter(|t| t.0 > 0).collect::<Vec<_>>(), vec![(1, 1), (1, 2), (2, 7)]);
+    assert_eq!(
+        physical_tags(&mesh).into_iter().filter(|t| t.0 > 0).collect::<Vec<_>>(),
+        vec![(1, 1), (1, 2), (2, 7)]
+    );
     let wall = edges_where(&mesh, |_, y| y < 0.02);
     let top = edges_where(&mesh, |_, y| y > 0.7);
     assert!(wall.0 < 0.02 && top.0 > 0.04, "edges at the wall {wall:?}, at the top {top:?}");
@@ -310,9 +400,25 @@ fn a_poly_is_meshed_first_then_adapted() {
 fn a_recipe_naming_absent_tags_on_a_poly_and_bad_arguments_exit_two() {
     let dir = tempfile::tempdir().unwrap();
     let poly = dir.path().join("square.poly");
-    std::fs::write(&poly, "4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2 1\n2 2 3 2\n3 3 4 1\n4 4 1 1\n0\n").unwrap();
+    std::fs::write(
+        &poly,
+        "4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2 1\n2 2 3 2\n3 3 4 1\n4 4 1 1\n0\n",
+    )
+    .unwrap();
     let out = dir.path().join("o.msh");
-    let o = smartmesh(&["adapt", poly.to_str().unwrap(), "-r", bundled("cylinder.toml").to_str().unwrap(), "-o", out.to_str().unwrap(), "--adapter", "mmg2d"], None);
+    let o = smartmesh(
+        &[
+            "adapt",
+            poly.to_str().unwrap(),
+            "-r",
+            bundled("cylinder.toml").to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--adapter",
+            "mmg2d",
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("square.poly") && err.contains("does not have"), "{err}");
@@ -321,7 +427,11 @@ fn a_recipe_naming_absent_tags_on_a_poly_and_bad_arguments_exit_two() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     let o = run_adapt(&out, &["--adapter", "gmsh", "--hausd", "0.01"], None);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("--hausd is an option of the mmg2d adapter"), "{}", text(&o));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("--hausd is an option of the mmg2d adapter"),
+        "{}",
+        text(&o)
+    );
     let o = run_adapt(Path::new("-"), &["--adapter", "mmg2d"], None);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(String::from_utf8_lossy(&o.stderr).contains("not stdout"), "{}", text(&o));
@@ -346,13 +456,21 @@ fn a_failing_tool_is_quoted_and_the_start_mesh_is_kept() {
     let fake = dir.path().join("mmg2d_O3");
     script(&fake, "echo 'input mesh rejected' >&2\nexit 3");
     let out = dir.path().join("o.msh");
-    let o = run_adapt(&out, &["--adapter", "mmg2d", "--adapter-program", fake.to_str().unwrap()], None);
+    let o =
+        run_adapt(&out, &["--adapter", "mmg2d", "--adapter-program", fake.to_str().unwrap()], None);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("iteration 1 failed while remeshing") && err.contains("exit status 3") && err.contains("input mesh rejected"), "{err}");
+    assert!(
+        err.contains("iteration 1 failed while remeshing")
+            && err.contains("exit status 3")
+            && err.contains("input mesh rejected"),
+        "{err}"
+    );
     assert!(err.contains("holds the best mesh, iteration 0"), "{err}");
     assert_eq!(read_path(&out, None).unwrap().points.len(), cylinder().points.len());
-    let h = History::from_json(&std::fs::read_to_string(dir.path().join("o.history.json")).unwrap()).unwrap();
+    let h =
+        History::from_json(&std::fs::read_to_string(dir.path().join("o.history.json")).unwrap())
+            .unwrap();
     assert_eq!(h.iterations.len(), 1);
     assert_eq!(h.adapter, "mmg2d");
     assert!(h.stopped.contains("input mesh rejected"), "{}", h.stopped);
@@ -365,10 +483,14 @@ fn a_gmsh_that_exits_zero_without_a_mesh_is_a_failure() {
     let fake = dir.path().join("gmsh");
     script(&fake, "echo 'Error   : Could not create geometry of discrete curve 3'");
     let out = dir.path().join("o.msh");
-    let o = run_adapt(&out, &["--adapter", "gmsh", "--adapter-program", fake.to_str().unwrap()], None);
+    let o =
+        run_adapt(&out, &["--adapter", "gmsh", "--adapter-program", fake.to_str().unwrap()], None);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("it wrote no out.msh") && err.contains("Could not create geometry"), "{err}");
+    assert!(
+        err.contains("it wrote no out.msh") && err.contains("Could not create geometry"),
+        "{err}"
+    );
 }
 
 // ---------------------------------------------------------------------------------------
@@ -404,21 +526,41 @@ fn assert_adapted(what: &str, input: &TaggedMesh, mesh: &TaggedMesh, (cx, cy, r)
     for (k, name) in &input.tag_names {
         assert_eq!(mesh.tag_names.get(k), Some(name), "{what}: name of {k:?}");
     }
-    let stagnation: Vec<&[u32]> = mesh.cells().filter(|c| c.0 == CellKind::Vertex && c.2 == 20).map(|c| c.1).collect();
+    let stagnation: Vec<&[u32]> =
+        mesh.cells().filter(|c| c.0 == CellKind::Vertex && c.2 == 20).map(|c| c.1).collect();
     assert_eq!(stagnation.len(), 1, "{what}: the Stagnation point");
     let s = mesh.points[stagnation[0][0] as usize];
-    assert!((s[0] - (cx - r)).abs() < 1e-9 && (s[1] - cy).abs() < 1e-9, "{what}: Stagnation moved to {s:?}");
+    assert!(
+        (s[0] - (cx - r)).abs() < 1e-9 && (s[1] - cy).abs() < 1e-9,
+        "{what}: Stagnation moved to {s:?}"
+    );
     for (kind, c, _, _) in mesh.cells() {
         if kind == CellKind::Triangle {
             let p = |i: usize| [mesh.points[c[i] as usize][0], mesh.points[c[i] as usize][1]];
-            assert!(signed_area(p(0), p(1), p(2)) > 0.0, "{what}: triangle {c:?} not counter-clockwise");
+            assert!(
+                signed_area(p(0), p(1), p(2)) > 0.0,
+                "{what}: triangle {c:?} not counter-clockwise"
+            );
         }
     }
     let wall = edges_where(mesh, |x, y| ((x - cx).hypot(y - cy) - r).abs() < 0.02);
     let far = edges_where(mesh, |x, y| x > cx + 1.0 && (y - cy).abs() > 0.35);
-    eprintln!("{what}: smallest edge at the wall {:.5}, far {:.5}; mean {:.4} and {:.4}", wall.0, far.0, wall.1, far.1);
-    assert!(wall.0 < 0.2 * far.0, "{what}: smallest edge at the wall {} not much smaller than far away {}", wall.0, far.0);
-    assert!(wall.1 < 0.5 * far.1, "{what}: mean edge at the wall {} not finer than far away {}", wall.1, far.1);
+    eprintln!(
+        "{what}: smallest edge at the wall {:.5}, far {:.5}; mean {:.4} and {:.4}",
+        wall.0, far.0, wall.1, far.1
+    );
+    assert!(
+        wall.0 < 0.2 * far.0,
+        "{what}: smallest edge at the wall {} not much smaller than far away {}",
+        wall.0,
+        far.0
+    );
+    assert!(
+        wall.1 < 0.5 * far.1,
+        "{what}: mean edge at the wall {} not finer than far away {}",
+        wall.1,
+        far.1
+    );
 }
 
 fn history_of(json: &str) -> (serde_json::Value, History) {
@@ -429,15 +571,29 @@ fn history_of(json: &str) -> (serde_json::Value, History) {
 
 fn assert_history(what: &str, h: &History, adapter: &str) {
     let numbers: Vec<usize> = h.iterations.iter().map(|r| r.iteration).collect();
-    assert_eq!(numbers, (0..h.iterations.len()).collect::<Vec<_>>(), "{what}: one record per iteration, in order");
+    assert_eq!(
+        numbers,
+        (0..h.iterations.len()).collect::<Vec<_>>(),
+        "{what}: one record per iteration, in order"
+    );
     assert!(h.iterations.len() >= 2, "{what}: at least one remeshing");
     assert_eq!(h.adapter, adapter);
     let start = &h.iterations[0];
     let best = &h.iterations[h.best_iteration];
-    eprintln!("{what}: conforming share {:.3} at the start, {:.3} at the best iteration {}; {}", start.conforming_share, best.conforming_share, h.best_iteration, h.stopped);
-    assert!(best.conforming_share > start.conforming_share + 0.2, "{what}: conformity {} → {}", start.conforming_share, best.conforming_share);
+    eprintln!(
+        "{what}: conforming share {:.3} at the start, {:.3} at the best iteration {}; {}",
+        start.conforming_share, best.conforming_share, h.best_iteration, h.stopped
+    );
+    assert!(
+        best.conforming_share > start.conforming_share + 0.2,
+        "{what}: conformity {} → {}",
+        start.conforming_share,
+        best.conforming_share
+    );
     assert!(h.iterations.iter().all(|r| r.conforming_share <= best.conforming_share));
-    assert!(h.iterations[1..].iter().all(|r| r.seconds.remesh > 0.0 && r.seconds.size > 0.0 && r.triangles > 0));
+    assert!(h.iterations[1..]
+        .iter()
+        .all(|r| r.seconds.remesh > 0.0 && r.seconds.size > 0.0 && r.triangles > 0));
 }
 
 #[test]
@@ -466,20 +622,50 @@ fn mmg2d_keeps_every_point_and_curve_of_the_distributor() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("distributor.msh");
     let input = read_path(&bundled("distributor.msh"), None).unwrap();
-    let o = smartmesh(&["adapt", bundled("distributor.msh").to_str().unwrap(), "-r", bundled("appendix-a.cfg").to_str().unwrap(), "-o", out.to_str().unwrap(), "--adapter", "mmg2d", "--max-iterations", "2"], None);
+    let o = smartmesh(
+        &[
+            "adapt",
+            bundled("distributor.msh").to_str().unwrap(),
+            "-r",
+            bundled("appendix-a.cfg").to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--adapter",
+            "mmg2d",
+            "--max-iterations",
+            "2",
+        ],
+        None,
+    );
     assert!(o.status.code() == Some(0), "{}", text(&o));
     let mesh = read_path(&out, None).unwrap();
     assert_eq!(physical_tags(&mesh), physical_tags(&input));
     assert_eq!(mesh.tag_names, input.tag_names);
     // Every topological point listed as a vertex cell is still at its place, with both tags.
     let points = |m: &TaggedMesh| -> Vec<(i32, i32, [u64; 2])> {
-        let mut v: Vec<_> = m.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| (c.2, c.3, [m.points[c.1[0] as usize][0].to_bits(), m.points[c.1[0] as usize][1].to_bits()])).collect();
+        let mut v: Vec<_> = m
+            .cells()
+            .filter(|c| c.0 == CellKind::Vertex)
+            .map(|c| {
+                (
+                    c.2,
+                    c.3,
+                    [
+                        m.points[c.1[0] as usize][0].to_bits(),
+                        m.points[c.1[0] as usize][1].to_bits(),
+                    ],
+                )
+            })
+            .collect();
         v.sort();
         v
     };
     let (a, b) = (points(&input), points(&mesh));
     assert_eq!(a.len(), 9);
-    assert_eq!(a.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>(), b.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>());
+    assert_eq!(
+        a.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>(),
+        b.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>()
+    );
     assert!(mesh.num_cells_of(CellKind::Triangle) > input.num_cells_of(CellKind::Triangle));
 }
 
@@ -493,11 +679,30 @@ fn a_tool_failing_mid_run_leaves_the_best_mesh() {
     let count = dir.path().join("calls");
     script(&fake, &format!("echo x >> '{}'\nif [ $(wc -l < '{}') -ge 3 ]; then echo 'out of memory (simulated)' >&2; exit 4; fi\nexec '{real}' \"$@\"", count.display(), count.display()));
     let out = dir.path().join("cyl.vtu");
-    let o = run_adapt(&out, &["--adapter", "mmg2d", "--adapter-program", fake.to_str().unwrap(), "--tol-vertices", "0", "--tol-conformity", "0"], None);
+    let o = run_adapt(
+        &out,
+        &[
+            "--adapter",
+            "mmg2d",
+            "--adapter-program",
+            fake.to_str().unwrap(),
+            "--tol-vertices",
+            "0",
+            "--tol-conformity",
+            "0",
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("iteration 3 failed while remeshing") && err.contains("out of memory (simulated)"), "{err}");
-    let h = History::from_json(&std::fs::read_to_string(dir.path().join("cyl.history.json")).unwrap()).unwrap();
+    assert!(
+        err.contains("iteration 3 failed while remeshing")
+            && err.contains("out of memory (simulated)"),
+        "{err}"
+    );
+    let h =
+        History::from_json(&std::fs::read_to_string(dir.path().join("cyl.history.json")).unwrap())
+            .unwrap();
     assert_eq!(h.iterations.len(), 3, "iterations 0, 1, 2 done");
     assert!(h.best_iteration >= 1);
     assert!(err.contains(&format!("iteration {}", h.best_iteration)), "{err}");
@@ -519,7 +724,12 @@ fn variant(dir: &Path, cx: f64, cy: f64, r: f64) -> PathBuf {
     let path = dir.join("variant.geo");
     std::fs::write(&path, moved).unwrap();
     let msh = dir.join("variant.msh");
-    let o = Command::new("gmsh").arg(&path).args(["-2", "-v", "2", "-setnumber", "Mesh.MeshSizeMax", "0.08", "-format", "msh41", "-o"]).arg(&msh).output().expect("run gmsh");
+    let o = Command::new("gmsh")
+        .arg(&path)
+        .args(["-2", "-v", "2", "-setnumber", "Mesh.MeshSizeMax", "0.08", "-format", "msh41", "-o"])
+        .arg(&msh)
+        .output()
+        .expect("run gmsh");
     assert!(o.status.success(), "gmsh: {}", text(&o));
     msh
 }
@@ -533,7 +743,20 @@ fn the_same_recipe_adapts_a_geometry_variant() {
     let (cx, cy, r) = (0.8, 0.45, 0.2);
     let msh = variant(dir.path(), cx, cy, r);
     let out = dir.path().join("variant-adapted.msh");
-    let o = smartmesh(&["adapt", msh.to_str().unwrap(), "-r", bundled("cylinder.toml").to_str().unwrap(), "-o", out.to_str().unwrap(), "--adapter", "mmg2d", "--json"], None);
+    let o = smartmesh(
+        &[
+            "adapt",
+            msh.to_str().unwrap(),
+            "-r",
+            bundled("cylinder.toml").to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--adapter",
+            "mmg2d",
+            "--json",
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
     assert_history("variant", &h, "mmg2d");

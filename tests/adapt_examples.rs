@@ -41,7 +41,11 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
 fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let e = [b[0] - a[0], b[1] - a[1]];
     let len2 = e[0] * e[0] + e[1] * e[1];
-    let u = if len2 > 0.0 { (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let u = if len2 > 0.0 {
+        (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     dist(p, [a[0] + u * e[0], a[1] + u * e[1]])
 }
 
@@ -56,7 +60,11 @@ struct Polylines {
 impl Polylines {
     fn new(poly: &TaggedMesh, tag: i32) -> Polylines {
         let points: Vec<[f64; 2]> = (0..poly.points.len()).map(|v| xy(poly, v)).collect();
-        let segments: Vec<[usize; 2]> = poly.cells().filter(|c| c.0 == CellKind::Line && c.2 == tag).map(|c| [c.1[0] as usize, c.1[1] as usize]).collect();
+        let segments: Vec<[usize; 2]> = poly
+            .cells()
+            .filter(|c| c.0 == CellKind::Line && c.2 == tag)
+            .map(|c| [c.1[0] as usize, c.1[1] as usize])
+            .collect();
         let mut next = vec![Vec::new(); points.len()];
         let mut length = 0.0;
         for &[a, b] in &segments {
@@ -70,7 +78,11 @@ impl Polylines {
 
     /// The segments within `tol` of `p`.
     fn holding(&self, p: [f64; 2], tol: f64) -> Vec<[usize; 2]> {
-        self.segments.iter().copied().filter(|s| to_segment(p, self.points[s[0]], self.points[s[1]]) <= tol).collect()
+        self.segments
+            .iter()
+            .copied()
+            .filter(|s| to_segment(p, self.points[s[0]], self.points[s[1]]) <= tol)
+            .collect()
     }
 
     /// The nearest point to `p` on these segments.
@@ -79,7 +91,8 @@ impl Polylines {
         for s in on {
             let (a, b) = (self.points[s[0]], self.points[s[1]]);
             let e = [b[0] - a[0], b[1] - a[1]];
-            let u = (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / (e[0] * e[0] + e[1] * e[1])).clamp(0.0, 1.0);
+            let u = (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / (e[0] * e[0] + e[1] * e[1]))
+                .clamp(0.0, 1.0);
             let f = [a[0] + u * e[0], a[1] + u * e[1]];
             if dist(p, f) < best.0 {
                 best = (dist(p, f), f);
@@ -111,7 +124,8 @@ impl Polylines {
                 }
             }
         }
-        let to_q: Vec<(usize, f64)> = qs.iter().flat_map(|s| s.iter().map(|&v| (v, dist(self.points[v], q)))).collect();
+        let to_q: Vec<(usize, f64)> =
+            qs.iter().flat_map(|s| s.iter().map(|&v| (v, dist(self.points[v], q)))).collect();
         while let Some((std::cmp::Reverse(bits), v)) = heap.pop() {
             let dv = f64::from_bits(bits);
             if dv > d[v] {
@@ -147,26 +161,58 @@ struct Adapted {
 /// command does it: the starting mesh, the native remesher, the default options, the
 /// result files; the result is read back from the file.
 fn adapt(poly: &Path, recipe: &Path) -> Adapted {
-    let recipe_model = Recipe::from_path(recipe).unwrap_or_else(|e| panic!("{}: {e}", recipe.display()));
+    let recipe_model =
+        Recipe::from_path(recipe).unwrap_or_else(|e| panic!("{}: {e}", recipe.display()));
     let starting = starting_point(poly, None).unwrap_or_else(|e| panic!("{}: {e}", poly.display()));
     let start = starting.mesh;
-    let remesher = adapter(AdapterKind::Native, AdapterOptions { keep_points: starting.geometry_points, ..Default::default() }).unwrap();
+    let remesher = adapter(
+        AdapterKind::Native,
+        AdapterOptions { keep_points: starting.geometry_points, ..Default::default() },
+    )
+    .unwrap();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.msh");
     let mut files = ResultFiles::new(&out, None, WriteOptions::default());
-    let outcome = run(start.clone(), &recipe_model, remesher.as_ref(), &AdaptOptions::default(), &poly.display().to_string(), &recipe.display().to_string(), &mut files)
-        .unwrap_or_else(|e| panic!("{}: {e}", poly.display()));
+    let outcome = run(
+        start.clone(),
+        &recipe_model,
+        remesher.as_ref(),
+        &AdaptOptions::default(),
+        &poly.display().to_string(),
+        &recipe.display().to_string(),
+        &mut files,
+    )
+    .unwrap_or_else(|e| panic!("{}: {e}", poly.display()));
     assert!(outcome.failure.is_none(), "{}: {:?}", poly.display(), outcome.failure);
     let result = read_path(&out, None).unwrap();
     let on_disk = History::from_json(&std::fs::read_to_string(&files.history).unwrap()).unwrap();
     // The history on disk is the run's (its numbers read back to within a few ulps: the
     // JSON reader's float parsing is not always correctly rounded).
     let h = &outcome.history;
-    assert_eq!((on_disk.converged, on_disk.best_iteration, &on_disk.stopped, on_disk.iterations.len()), (h.converged, h.best_iteration, &h.stopped, h.iterations.len()), "{}: the history on disk", poly.display());
+    assert_eq!(
+        (on_disk.converged, on_disk.best_iteration, &on_disk.stopped, on_disk.iterations.len()),
+        (h.converged, h.best_iteration, &h.stopped, h.iterations.len()),
+        "{}: the history on disk",
+        poly.display()
+    );
     for (a, b) in on_disk.iterations.iter().zip(&h.iterations) {
-        assert_eq!((a.iteration, a.vertices, a.triangles), (b.iteration, b.vertices, b.triangles), "{}: the history on disk", poly.display());
-        for (x, y) in [(a.conforming_share, b.conforming_share), (a.mean_quality, b.mean_quality), (a.min_quality, b.min_quality), (a.mean_edge_length, b.mean_edge_length)] {
-            assert!((x - y).abs() <= 1e-14 * y.abs(), "{}: the history on disk has {x}, the run {y}", poly.display());
+        assert_eq!(
+            (a.iteration, a.vertices, a.triangles),
+            (b.iteration, b.vertices, b.triangles),
+            "{}: the history on disk",
+            poly.display()
+        );
+        for (x, y) in [
+            (a.conforming_share, b.conforming_share),
+            (a.mean_quality, b.mean_quality),
+            (a.min_quality, b.min_quality),
+            (a.mean_edge_length, b.mean_edge_length),
+        ] {
+            assert!(
+                (x - y).abs() <= 1e-14 * y.abs(),
+                "{}: the history on disk has {x}, the run {y}",
+                poly.display()
+            );
         }
     }
     Adapted { start, result, history: outcome.history }
@@ -185,7 +231,18 @@ fn bbox_diagonal(m: &TaggedMesh) -> f64 {
 
 /// Every edge of the triangles once: (a, b) with a < b.
 fn edges(m: &TaggedMesh) -> Vec<(usize, usize)> {
-    let mut e: Vec<(usize, usize)> = m.cells().filter(|c| c.0 == CellKind::Triangle).flat_map(|(_, n, _, _)| [(n[0] as usize, n[1] as usize), (n[1] as usize, n[2] as usize), (n[2] as usize, n[0] as usize)]).map(|(a, b)| (a.min(b), a.max(b))).collect();
+    let mut e: Vec<(usize, usize)> = m
+        .cells()
+        .filter(|c| c.0 == CellKind::Triangle)
+        .flat_map(|(_, n, _, _)| {
+            [
+                (n[0] as usize, n[1] as usize),
+                (n[1] as usize, n[2] as usize),
+                (n[2] as usize, n[0] as usize),
+            ]
+        })
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
     e.sort_unstable();
     e.dedup();
     e
@@ -212,17 +269,32 @@ fn check(what: &str, poly_path: &Path, run: &Adapted, boundary: f64) -> Figures 
     assert!(h.converged, "{what}: not converged: {}", h.stopped);
     assert!(h.iterations.len() >= 2, "{what}: no remeshing");
     let best = &h.iterations[h.best_iteration];
-    assert!(best.conforming_share >= 0.9, "{what}: best conforming share {} (iteration {})", best.conforming_share, h.best_iteration);
-    assert!(h.iterations.iter().all(|r| r.conforming_share <= best.conforming_share), "{what}: the best is not the most conforming");
+    assert!(
+        best.conforming_share >= 0.9,
+        "{what}: best conforming share {} (iteration {})",
+        best.conforming_share,
+        h.best_iteration
+    );
+    assert!(
+        h.iterations.iter().all(|r| r.conforming_share <= best.conforming_share),
+        "{what}: the best is not the most conforming"
+    );
     assert_eq!(mesh.points.len(), best.vertices, "{what}: the written mesh is the best");
 
     // Only triangles, lines and points; every triangle counter-clockwise with a positive area.
     let mut triangles = 0;
     for (kind, n, _, _) in mesh.cells() {
-        assert!(matches!(kind, CellKind::Triangle | CellKind::Line | CellKind::Vertex), "{what}: a {kind:?} cell");
+        assert!(
+            matches!(kind, CellKind::Triangle | CellKind::Line | CellKind::Vertex),
+            "{what}: a {kind:?} cell"
+        );
         if kind == CellKind::Triangle {
             triangles += 1;
-            let a = signed_area(xy(mesh, n[0] as usize), xy(mesh, n[1] as usize), xy(mesh, n[2] as usize));
+            let a = signed_area(
+                xy(mesh, n[0] as usize),
+                xy(mesh, n[1] as usize),
+                xy(mesh, n[2] as usize),
+            );
             assert!(a > 0.0, "{what}: triangle {n:?} has signed area {a}");
         }
     }
@@ -238,14 +310,20 @@ fn check(what: &str, poly_path: &Path, run: &Adapted, boundary: f64) -> Figures 
     let tol = boundary * bbox_diagonal(&poly);
     let mut arcs: BTreeMap<i32, f64> = BTreeMap::new();
     let mut lines = 0;
-    let graphs: BTreeMap<i32, Polylines> = physical_tags(&poly).into_iter().filter(|t| t.0 == 1).map(|(_, t)| (t, Polylines::new(&poly, t))).collect();
+    let graphs: BTreeMap<i32, Polylines> = physical_tags(&poly)
+        .into_iter()
+        .filter(|t| t.0 == 1)
+        .map(|(_, t)| (t, Polylines::new(&poly, t)))
+        .collect();
     for (kind, n, tag, _) in mesh.cells() {
         if kind != CellKind::Line {
             continue;
         }
         lines += 1;
         let (p, q) = (xy(mesh, n[0] as usize), xy(mesh, n[1] as usize));
-        let g = graphs.get(&tag).unwrap_or_else(|| panic!("{what}: line {p:?}–{q:?} has tag {tag}, no input segment has"));
+        let g = graphs.get(&tag).unwrap_or_else(|| {
+            panic!("{what}: line {p:?}–{q:?} has tag {tag}, no input segment has")
+        });
         let arc = g.arc(p, q, tol).unwrap_or_else(|| panic!("{what}: line {p:?}–{q:?} (tag {tag}): an end lies on no input segment with tag {tag}"));
         *arcs.entry(tag).or_default() += arc;
     }
@@ -253,20 +331,37 @@ fn check(what: &str, poly_path: &Path, run: &Adapted, boundary: f64) -> Figures 
     assert!(lines > 0, "{what}: no boundary line");
     for (tag, g) in &graphs {
         let covered = arcs.get(tag).copied().unwrap_or(0.0);
-        assert!((covered - g.length).abs() <= boundary.max(1e-9) * g.length, "{what}: curve {tag} of length {}: the arcs of its lines add up to {covered}", g.length);
+        assert!(
+            (covered - g.length).abs() <= boundary.max(1e-9) * g.length,
+            "{what}: curve {tag} of length {}: the arcs of its lines add up to {covered}",
+            g.length
+        );
     }
     eprintln!("{what}: {lines} boundary lines on {segs} input segments");
 
     // Topological points: every Vertex cell of the start, same tags, same coordinates.
     let vertex_cells = |m: &TaggedMesh| -> Vec<(i32, i32, [u64; 2])> {
-        let mut v: Vec<_> = m.cells().filter(|c| c.0 == CellKind::Vertex).map(|(_, n, p, g)| (p, g, [m.points[n[0] as usize][0].to_bits(), m.points[n[0] as usize][1].to_bits()])).collect();
+        let mut v: Vec<_> = m
+            .cells()
+            .filter(|c| c.0 == CellKind::Vertex)
+            .map(|(_, n, p, g)| {
+                (p, g, [m.points[n[0] as usize][0].to_bits(), m.points[n[0] as usize][1].to_bits()])
+            })
+            .collect();
         v.sort_unstable();
         v
     };
     let (before, after) = (vertex_cells(start), vertex_cells(mesh));
     assert!(!before.is_empty(), "{what}: the starting mesh has no Vertex cell");
     for p in &before {
-        assert!(after.binary_search(p).is_ok(), "{what}: point (tags {}, {}) at ({}, {}) lost", p.0, p.1, f64::from_bits(p.2[0]), f64::from_bits(p.2[1]));
+        assert!(
+            after.binary_search(p).is_ok(),
+            "{what}: point (tags {}, {}) at ({}, {}) lost",
+            p.0,
+            p.1,
+            f64::from_bits(p.2[0]),
+            f64::from_bits(p.2[1])
+        );
     }
 
     // Tags and names.
@@ -285,16 +380,25 @@ fn check(what: &str, poly_path: &Path, run: &Adapted, boundary: f64) -> Figures 
     }
     let h_min = |v: usize| hs1.values[v].min(hs2.values[v]);
     let h_max = |v: usize| hs1.values[v].max(hs2.values[v]);
-    let finest = (0..mesh.points.len()).filter(|&v| used[v]).min_by(|&a, &b| h_min(a).total_cmp(&h_min(b))).unwrap();
+    let finest = (0..mesh.points.len())
+        .filter(|&v| used[v])
+        .min_by(|&a, &b| h_min(a).total_cmp(&h_min(b)))
+        .unwrap();
     let coarsest = (0..mesh.points.len()).filter(|&v| used[v]).map(h_min).fold(0.0f64, f64::max);
     let centre = xy(mesh, finest);
     let radius = 3.0 * h_max(finest);
     let smallest_near = e
         .iter()
-        .filter(|&&(a, b)| dist(xy(mesh, a), centre) <= radius || dist(xy(mesh, b), centre) <= radius)
+        .filter(|&&(a, b)| {
+            dist(xy(mesh, a), centre) <= radius || dist(xy(mesh, b), centre) <= radius
+        })
         .map(|&(a, b)| dist(xy(mesh, a), xy(mesh, b)))
         .fold(f64::INFINITY, f64::min);
-    let mut coarse: Vec<f64> = e.iter().filter(|&&(a, b)| h_min(a) >= 0.5 * coarsest && h_min(b) >= 0.5 * coarsest).map(|&(a, b)| dist(xy(mesh, a), xy(mesh, b))).collect();
+    let mut coarse: Vec<f64> = e
+        .iter()
+        .filter(|&&(a, b)| h_min(a) >= 0.5 * coarsest && h_min(b) >= 0.5 * coarsest)
+        .map(|&(a, b)| dist(xy(mesh, a), xy(mesh, b)))
+        .collect();
     assert!(!coarse.is_empty(), "{what}: no edge where the field is coarse");
     coarse.sort_by(f64::total_cmp);
     let median = coarse[coarse.len() / 2];
@@ -336,7 +440,10 @@ const DRIFT: f64 = 1e-9;
 
 fn example(folder: &str, boundary: f64) {
     let recipe = EXAMPLES.iter().find(|e| e.0 == folder).unwrap().1;
-    if recipe.ends_with(".cfg") && std::fs::read_to_string(examples().join(recipe)).unwrap().contains("#define") && !cpp_or_skip() {
+    if recipe.ends_with(".cfg")
+        && std::fs::read_to_string(examples().join(recipe)).unwrap().contains("#define")
+        && !cpp_or_skip()
+    {
         return;
     }
     let poly = examples().join(folder).join("geometry.poly");
@@ -377,10 +484,21 @@ fn distributor_3_s_shaped_adapts() {
 
 #[test]
 fn every_example_has_a_test() {
-    let tested = ["naca0012-agard01", "gamm-a7-viscous", "u-duct", "distributor/1-narrow", "distributor/2-thick", "distributor/3-s-shaped"];
+    let tested = [
+        "naca0012-agard01",
+        "gamm-a7-viscous",
+        "u-duct",
+        "distributor/1-narrow",
+        "distributor/2-thick",
+        "distributor/3-s-shaped",
+    ];
     assert_eq!(EXAMPLES.iter().map(|e| e.0).collect::<Vec<_>>(), tested);
     for (folder, recipe) in EXAMPLES {
-        assert!(examples().join(folder).join("geometry.poly").is_file() && examples().join(recipe).is_file(), "{folder}");
+        assert!(
+            examples().join(folder).join("geometry.poly").is_file()
+                && examples().join(recipe).is_file(),
+            "{folder}"
+        );
     }
 }
 
@@ -448,13 +566,17 @@ fn random_poly(rng: &mut Rng) -> (String, Vec<i32>, usize) {
     let side_tag = |i: usize| starts.iter().rposition(|&s| s <= i).unwrap() as i32 + 1;
     let mut markers: Vec<i32> = vec![0; n];
     markers[0] = CORNER;
-    let mut segs: Vec<(usize, usize, i32)> = (0..n).map(|i| (i, (i + 1) % n, side_tag(i))).collect();
+    let mut segs: Vec<(usize, usize, i32)> =
+        (0..n).map(|i| (i, (i + 1) % n, side_tag(i))).collect();
 
     let holes = rng.int(0, 2);
     let phi = rng.range(0.0, std::f64::consts::TAU);
     let mut hole_points = Vec::new();
     for h in 0..holes {
-        let c = [0.2 * (phi + h as f64 * std::f64::consts::PI).cos(), 0.2 * (phi + h as f64 * std::f64::consts::PI).sin()];
+        let c = [
+            0.2 * (phi + h as f64 * std::f64::consts::PI).cos(),
+            0.2 * (phi + h as f64 * std::f64::consts::PI).sin(),
+        ];
         let k = rng.int(3, 6);
         let r = rng.range(0.08, 0.15);
         let turn = rng.range(0.0, std::f64::consts::TAU);
@@ -518,7 +640,11 @@ fn random_case(seed: u64, boundary: f64) {
     let recipe = dir.path().join(format!("random-{seed}.toml"));
     std::fs::write(&poly, &poly_text).unwrap();
     std::fs::write(&recipe, &recipe_text).unwrap();
-    let what = format!("random PSLG, seed {seed} ({} curve tags, {holes} holes, wall {wall}{})", tags.len(), if point { ", point" } else { "" });
+    let what = format!(
+        "random PSLG, seed {seed} ({} curve tags, {holes} holes, wall {wall}{})",
+        tags.len(),
+        if point { ", point" } else { "" }
+    );
     let run = adapt(&poly, &recipe);
     let f = check(&what, &poly, &run, boundary);
     print(&what, &f);
@@ -557,7 +683,13 @@ fn smartmesh(args: &[&str]) -> Output {
 }
 
 fn bad(o: &Output) -> String {
-    assert_eq!(o.status.code(), Some(2), "stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "stdout:\n{}\nstderr:\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
@@ -572,7 +704,14 @@ fn bundled(name: &str) -> String {
 fn remesh_refuses_more_bad_metrics_naming_file_and_vertex() {
     let dir = tempfile::tempdir().unwrap();
     let field = dir.path().join("field.vtu");
-    let o = smartmesh(&["size", &bundled("cylinder.msh"), "--recipe", &bundled("cylinder.toml"), "-o", field.to_str().unwrap()]);
+    let o = smartmesh(&[
+        "size",
+        &bundled("cylinder.msh"),
+        "--recipe",
+        &bundled("cylinder.toml"),
+        "-o",
+        field.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     let base = read_path(&field, None).unwrap();
     let cyl = bundled("cylinder.msh");
@@ -581,7 +720,14 @@ fn remesh_refuses_more_bad_metrics_naming_file_and_vertex() {
     let remesh = |name: &str, m: &TaggedMesh| -> String {
         let p = dir.path().join(name);
         write_path(&p, m, None, &WriteOptions::default()).unwrap();
-        bad(&smartmesh(&["remesh", &cyl, "--metric", p.to_str().unwrap(), "-o", out.to_str().unwrap()]))
+        bad(&smartmesh(&[
+            "remesh",
+            &cyl,
+            "--metric",
+            p.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]))
     };
     let with = |f: &dyn Fn(&mut [f64])| {
         let mut m = base.clone();
@@ -592,17 +738,35 @@ fn remesh_refuses_more_bad_metrics_naming_file_and_vertex() {
     };
     // NaN through Gmsh's $NodeData, a text format that reads it as a number.
     let err = remesh("nan.msh", &with(&|t| t[4] = f64::NAN));
-    assert!(err.contains("nan.msh") && err.contains(&format!("vertex {used}")) && err.contains("not finite"), "{err}");
+    assert!(
+        err.contains("nan.msh")
+            && err.contains(&format!("vertex {used}"))
+            && err.contains("not finite"),
+        "{err}"
+    );
     // Positive diagonal, determinant < 0.
-    let err = remesh("indefinite.vtu", &with(&|t| {
-        let d = 2.0 * (t[0] * t[4]).sqrt();
-        t[1] = d;
-        t[3] = d;
-    }));
-    assert!(err.contains("indefinite.vtu") && err.contains(&format!("vertex {used}")) && err.contains("not positive definite"), "{err}");
+    let err = remesh(
+        "indefinite.vtu",
+        &with(&|t| {
+            let d = 2.0 * (t[0] * t[4]).sqrt();
+            t[1] = d;
+            t[3] = d;
+        }),
+    );
+    assert!(
+        err.contains("indefinite.vtu")
+            && err.contains(&format!("vertex {used}"))
+            && err.contains("not positive definite"),
+        "{err}"
+    );
     // Unsymmetric.
     let err = remesh("unsymmetric.vtu", &with(&|t| t[1] += 0.5 * t[0]));
-    assert!(err.contains("unsymmetric.vtu") && err.contains(&format!("vertex {used}")) && err.contains("not symmetric"), "{err}");
+    assert!(
+        err.contains("unsymmetric.vtu")
+            && err.contains(&format!("vertex {used}"))
+            && err.contains("not symmetric"),
+        "{err}"
+    );
     assert!(!out.exists(), "no output for a bad metric");
 }
 
@@ -618,14 +782,33 @@ fn adapt_refuses_crossing_segments_and_absent_tags() {
 
     let cross = dir.path().join("cross.poly");
     std::fs::write(&cross, "4 2 0 1\n1 0 0 100\n2 1 0 0\n3 1 1 0\n4 0 1 0\n6 1\n1 1 2 1\n2 2 3 1\n3 3 4 2\n4 4 1 2\n5 1 3 1\n6 2 4 1\n0\n1\n1 0.5 0.25 7 -1\n").unwrap();
-    let err = bad(&smartmesh(&["adapt", cross.to_str().unwrap(), "-r", recipe.to_str().unwrap(), "-o", out.to_str().unwrap()]));
+    let err = bad(&smartmesh(&[
+        "adapt",
+        cross.to_str().unwrap(),
+        "-r",
+        recipe.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]));
     assert!(err.contains("cross.poly") && err.contains("segment 5 crosses segment 6"), "{err}");
     assert!(!out.exists() && !dir.path().join("o.history.json").exists());
 
     // The same square without the diagonals and without point 100.
     let square = dir.path().join("square.poly");
     std::fs::write(&square, "4 2 0 1\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n4 1\n1 1 2 1\n2 2 3 1\n3 3 4 2\n4 4 1 2\n0\n1\n1 0.5 0.25 7 -1\n").unwrap();
-    let err = bad(&smartmesh(&["adapt", square.to_str().unwrap(), "-r", recipe.to_str().unwrap(), "-o", out.to_str().unwrap()]));
-    assert!(err.contains("square.poly") && err.contains("r.toml") && err.contains("tag 100, which the mesh does not have"), "{err}");
+    let err = bad(&smartmesh(&[
+        "adapt",
+        square.to_str().unwrap(),
+        "-r",
+        recipe.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(
+        err.contains("square.poly")
+            && err.contains("r.toml")
+            && err.contains("tag 100, which the mesh does not have"),
+        "{err}"
+    );
     assert!(!out.exists() && !dir.path().join("o.history.json").exists());
 }

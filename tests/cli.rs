@@ -25,9 +25,9 @@ fn bundled(name: &str) -> PathBuf {
 }
 
 fn public(rel: &str) -> PathBuf {
-    let root = std::env::var("SMARTMESH_PUBLIC_FIXTURES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|_| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/fixtures/public"));
+    let root = std::env::var("SMARTMESH_PUBLIC_FIXTURES").map(PathBuf::from).unwrap_or_else(|_| {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/fixtures/public")
+    });
     root.join(rel)
 }
 
@@ -76,7 +76,9 @@ fn info_on_the_bundled_example() {
     let o = run(&["info", bundled("cylinder.msh").to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let s = stdout(&o);
-    for name in ["\"Inlet\"", "\"Outlet\"", "\"Walls\"", "\"Cylinder\"", "\"Fluid\"", "\"Stagnation\""] {
+    for name in
+        ["\"Inlet\"", "\"Outlet\"", "\"Walls\"", "\"Cylinder\"", "\"Fluid\"", "\"Stagnation\""]
+    {
         assert!(s.contains(name), "info should list {name}:\n{s}");
     }
     assert!(s.contains("quality"), "{s}");
@@ -129,7 +131,18 @@ fn convert_chain_keeps_tags_and_names() {
     assert_eq!(before["points"], after["points"]);
     assert_eq!(before["cells"], after["cells"]);
     let tags = |v: &serde_json::Value| -> Vec<(u64, i64, u64)> {
-        v["tags"].as_array().unwrap().iter().map(|t| (t["dim"].as_u64().unwrap(), t["tag"].as_i64().unwrap(), t["cells"].as_u64().unwrap())).collect()
+        v["tags"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| {
+                (
+                    t["dim"].as_u64().unwrap(),
+                    t["tag"].as_i64().unwrap(),
+                    t["cells"].as_u64().unwrap(),
+                )
+            })
+            .collect()
     };
     assert_eq!(tags(&before), tags(&after));
 }
@@ -138,10 +151,19 @@ fn convert_chain_keeps_tags_and_names() {
 fn lossy_conversion_says_what_was_dropped() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("naca.obj");
-    let o = run(&["convert", public("vtk/naca0012_ascii.vtu").to_str().unwrap(), out.to_str().unwrap()]);
+    let o = run(&[
+        "convert",
+        public("vtk/naca0012_ascii.vtu").to_str().unwrap(),
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("metric"), "dropping the metric must be reported: {}", stderr(&o));
-    let o = run(&["convert", "--json", public("vtk/naca0012_ascii.vtu").to_str().unwrap(), out.to_str().unwrap()]);
+    let o = run(&[
+        "convert",
+        "--json",
+        public("vtk/naca0012_ascii.vtu").to_str().unwrap(),
+        out.to_str().unwrap(),
+    ]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(!v["dropped"].as_array().unwrap().is_empty());
 }
@@ -157,7 +179,8 @@ fn malformed_input_exits_two_with_file_and_line() {
     let e = stderr(&o);
     assert!(e.contains("bad.msh:"), "{e}");
     assert!(!out.exists(), "no output may be left behind");
-    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let leftovers: Vec<_> =
+        std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(leftovers.len(), 1, "only the input remains: {leftovers:?}");
 }
 
@@ -195,10 +218,15 @@ fn output_is_deterministic() {
         let a = dir.path().join(format!("a.{ext}"));
         let b = dir.path().join(format!("b.{ext}"));
         for p in [&a, &b] {
-            let o = run(&["convert", bundled("cylinder.msh").to_str().unwrap(), p.to_str().unwrap()]);
+            let o =
+                run(&["convert", bundled("cylinder.msh").to_str().unwrap(), p.to_str().unwrap()]);
             assert_eq!(o.status.code(), Some(0), "{ext}: {}", stderr(&o));
         }
-        assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "{ext} output differs between runs");
+        assert_eq!(
+            std::fs::read(&a).unwrap(),
+            std::fs::read(&b).unwrap(),
+            "{ext} output differs between runs"
+        );
         outputs.push(ext);
     }
     assert_eq!(outputs.len(), 7);

@@ -49,13 +49,20 @@ fn unit_square(n: usize) -> TaggedMesh {
 fn wake_field(mesh: &TaggedMesh) -> Vec<SizeTensor> {
     mesh.points
         .iter()
-        .map(|p| if (p[1] - 0.5).abs() < 0.1 { SizeTensor::new([1.0, 0.0], 0.1, 0.01) } else { SizeTensor::isotropic(0.1) })
+        .map(|p| {
+            if (p[1] - 0.5).abs() < 0.1 {
+                SizeTensor::new([1.0, 0.0], 0.1, 0.01)
+            } else {
+                SizeTensor::isotropic(0.1)
+            }
+        })
         .collect()
 }
 
 fn export(mesh: &TaggedMesh, path: &Path) {
     let target = MetricTarget::from_path(path).unwrap();
-    export_metric(path, mesh, &wake_field(mesh), target, &WriteOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    export_metric(path, mesh, &wake_field(mesh), target, &WriteOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
 }
 
 /// Triangle count, then mean |dx| and mean |dy| of the edges of triangles whose centroid
@@ -90,7 +97,10 @@ fn assert_wake_refined(what: &str, mesh: &TaggedMesh) {
     eprintln!("{what}: {inside} triangles in the band, {outside} outside; mean |dx| {dx:.4}, |dy| {dy:.4}");
     // The field asks for 10x more triangles per area in the band (0.1 x 0.01 against
     // 0.1 x 0.1); demand at least 4x, and edges at least 3x longer along x than across.
-    assert!(density_in > 4.0 * density_out, "{what}: band density {density_in:.0} vs {density_out:.0} outside");
+    assert!(
+        density_in > 4.0 * density_out,
+        "{what}: band density {density_in:.0} vs {density_out:.0} outside"
+    );
     assert!(dx > 3.0 * dy, "{what}: band edges not stretched along x (|dx| {dx}, |dy| {dy})");
 }
 
@@ -131,7 +141,10 @@ for k in range(pd.GetNumberOfArrays()):
             assert_eq!((comps, tuples), (ours.components, mesh.points.len()), "{name} in {path:?}");
             let expect = &ours.values[40 * comps..41 * comps];
             for (a, b) in vals.iter().zip(expect) {
-                assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{name} in {path:?}: VTK reads {vals:?}, we wrote {expect:?}");
+                assert!(
+                    (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                    "{name} in {path:?}: VTK reads {vals:?}, we wrote {expect:?}"
+                );
             }
         }
         assert_eq!(seen, arrays.len(), "{path:?}: VTK found {out}");
@@ -151,14 +164,29 @@ fn gmsh_with_background(bgm: &Path, out: &Path) -> TaggedMesh {
     .unwrap();
     let o = Command::new("gmsh")
         .arg(&geo)
-        .args(["-2", "-v", "2", "-setnumber", "Mesh.Algorithm", "7", "-setnumber", "Mesh.MeshSizeExtendFromBoundary", "0"])
+        .args([
+            "-2",
+            "-v",
+            "2",
+            "-setnumber",
+            "Mesh.Algorithm",
+            "7",
+            "-setnumber",
+            "Mesh.MeshSizeExtendFromBoundary",
+            "0",
+        ])
         .args(["-setnumber", "Mesh.MeshSizeFromPoints", "0", "-bgm"])
         .arg(bgm)
         .arg("-o")
         .arg(out)
         .output()
         .expect("run gmsh");
-    assert!(o.status.success(), "gmsh: {}\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.status.success(),
+        "gmsh: {}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
     read_path(out, None).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -193,8 +221,22 @@ fn mmg2d_adapts_our_mesh_to_our_sol() {
     export(&mesh, &alone);
     for (input, sol) in [(&with_sol, dir.path().join("a.sol")), (&plain, alone.clone())] {
         let out = input.with_extension("o.mesh");
-        let o = Command::new(&exe).arg("-in").arg(input).arg("-sol").arg(&sol).arg("-out").arg(&out).args(["-v", "1"]).output().expect("run mmg2d_O3");
-        assert!(o.status.success(), "mmg2d_O3: {}\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+        let o = Command::new(&exe)
+            .arg("-in")
+            .arg(input)
+            .arg("-sol")
+            .arg(&sol)
+            .arg("-out")
+            .arg(&out)
+            .args(["-v", "1"])
+            .output()
+            .expect("run mmg2d_O3");
+        assert!(
+            o.status.success(),
+            "mmg2d_O3: {}\n{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        );
         let result = read_path(&out, None).unwrap_or_else(|e| panic!("{e}"));
         assert_wake_refined(&format!("mmg2d_O3 on {}", sol.display()), &result);
         // MMG keeps the references: the four sides are still there.
@@ -209,9 +251,19 @@ fn wrong_vertex_count_and_unknown_target_are_errors() {
     let mesh = unit_square(2);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("x.sol");
-    let e = export_metric(&path, &mesh, &[SizeTensor::isotropic(1.0)], MetricTarget::Sol { binary: false }, &WriteOptions::default()).unwrap_err();
+    let e = export_metric(
+        &path,
+        &mesh,
+        &[SizeTensor::isotropic(1.0)],
+        MetricTarget::Sol { binary: false },
+        &WriteOptions::default(),
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("1 size tensors for 9 mesh vertices"), "{e}");
     assert!(!path.exists());
     assert_eq!(MetricTarget::from_path(Path::new("x.obj")), None);
-    assert_eq!(MetricTarget::from_path(Path::new("x.SOLB")), Some(MetricTarget::Sol { binary: true }));
+    assert_eq!(
+        MetricTarget::from_path(Path::new("x.SOLB")),
+        Some(MetricTarget::Sol { binary: true })
+    );
 }

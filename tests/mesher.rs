@@ -12,7 +12,9 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
 
-use smartmesh::formats::{read_path, write_bytes, CellKind, Format, RegionSeed, TaggedMesh, WriteOptions};
+use smartmesh::formats::{
+    read_path, write_bytes, CellKind, Format, RegionSeed, TaggedMesh, WriteOptions,
+};
 use smartmesh::mesher::{size_to_area, triangulate, MeshError, MeshOptions};
 use smartmesh::quality::{min_angle_deg, signed_area, triangle_quality};
 use smartmesh::topology::PointOrigin;
@@ -31,11 +33,17 @@ fn xy(m: &TaggedMesh, v: usize) -> [f64; 2] {
 }
 
 fn triangles(m: &TaggedMesh) -> Vec<([usize; 3], i32)> {
-    m.cells().filter(|c| c.0 == CellKind::Triangle).map(|(_, n, p, _)| ([n[0] as usize, n[1] as usize, n[2] as usize], p)).collect()
+    m.cells()
+        .filter(|c| c.0 == CellKind::Triangle)
+        .map(|(_, n, p, _)| ([n[0] as usize, n[1] as usize, n[2] as usize], p))
+        .collect()
 }
 
 fn lines(m: &TaggedMesh) -> Vec<([usize; 2], i32)> {
-    m.cells().filter(|c| c.0 == CellKind::Line).map(|(_, n, p, _)| ([n[0] as usize, n[1] as usize], p)).collect()
+    m.cells()
+        .filter(|c| c.0 == CellKind::Line)
+        .map(|(_, n, p, _)| ([n[0] as usize, n[1] as usize], p))
+        .collect()
 }
 
 /// Every triangle counter-clockwise with positive area.
@@ -51,7 +59,8 @@ fn check_orientation(m: &TaggedMesh) {
 /// inside the other's circumcircle (in-circle determinant, relative tolerance).
 fn check_constrained_delaunay(m: &TaggedMesh) -> usize {
     let key = |a: usize, b: usize| (a.min(b), a.max(b));
-    let constrained: std::collections::BTreeSet<(usize, usize)> = lines(m).iter().map(|(l, _)| key(l[0], l[1])).collect();
+    let constrained: std::collections::BTreeSet<(usize, usize)> =
+        lines(m).iter().map(|(l, _)| key(l[0], l[1])).collect();
     let mut sides: BTreeMap<(usize, usize), Vec<(usize, usize)>> = BTreeMap::new();
     let tris = triangles(m);
     for (ti, (t, _)) in tris.iter().enumerate() {
@@ -72,7 +81,9 @@ fn check_constrained_delaunay(m: &TaggedMesh) -> usize {
             let r = |p: [f64; 2]| [p[0] - d[0], p[1] - d[1]];
             let (ra, rb, rc) = (r(a), r(b), r(c));
             let n = |p: [f64; 2]| p[0] * p[0] + p[1] * p[1];
-            let det = ra[0] * (rb[1] * n(rc) - n(rb) * rc[1]) - ra[1] * (rb[0] * n(rc) - n(rb) * rc[0]) + n(ra) * (rb[0] * rc[1] - rb[1] * rc[0]);
+            let det = ra[0] * (rb[1] * n(rc) - n(rb) * rc[1])
+                - ra[1] * (rb[0] * n(rc) - n(rb) * rc[0])
+                + n(ra) * (rb[0] * rc[1] - rb[1] * rc[0]);
             let scale = (n(ra) + n(rb) + n(rc)).powi(2);
             assert!(det <= 1e-10 * scale, "edge {e:?}: vertex {} is inside the circumcircle of {t:?} (det {det:e}, scale {scale:e})", s[j].1);
         }
@@ -100,7 +111,11 @@ fn check_segment_coverage(input: &TaggedMesh, out: &TaggedMesh) {
             let (p, q) = (xy(out, l[0]), xy(out, l[1]));
             let (tp, tq) = (param(p), param(q));
             let tol = 1e-9 * len2.sqrt();
-            if off(p) <= tol && off(q) <= tol && (-1e-12..=1.0 + 1e-12).contains(&tp) && (-1e-12..=1.0 + 1e-12).contains(&tq) {
+            if off(p) <= tol
+                && off(q) <= tol
+                && (-1e-12..=1.0 + 1e-12).contains(&tp)
+                && (-1e-12..=1.0 + 1e-12).contains(&tq)
+            {
                 assert_eq!(*ltag, tag, "a Line cell on a segment of tag {tag} has tag {ltag}");
                 used[li] += 1;
                 pieces.push((tp.min(tq), tp.max(tq)));
@@ -108,9 +123,15 @@ fn check_segment_coverage(input: &TaggedMesh, out: &TaggedMesh) {
         }
         pieces.sort_by(|x, y| x.0.total_cmp(&y.0));
         assert!(!pieces.is_empty(), "segment {a:?}-{b:?} has no Line cell");
-        assert!(pieces[0].0.abs() < 1e-12 && (pieces.last().unwrap().1 - 1.0).abs() < 1e-12, "segment {a:?}-{b:?} is not covered to its ends");
+        assert!(
+            pieces[0].0.abs() < 1e-12 && (pieces.last().unwrap().1 - 1.0).abs() < 1e-12,
+            "segment {a:?}-{b:?} is not covered to its ends"
+        );
         for w in pieces.windows(2) {
-            assert!((w[0].1 - w[1].0).abs() < 1e-12, "segment {a:?}-{b:?}: gap or overlap between pieces {w:?}");
+            assert!(
+                (w[0].1 - w[1].0).abs() < 1e-12,
+                "segment {a:?}-{b:?}: gap or overlap between pieces {w:?}"
+            );
         }
     }
     for (li, &u) in used.iter().enumerate() {
@@ -140,7 +161,8 @@ fn small_input_angles(input: &TaggedMesh) -> Vec<Apex> {
             for j in i + 1..nb.len() {
                 let (p, q) = (xy(input, nb[i]), xy(input, nb[j]));
                 let (u, w) = ([p[0] - c[0], p[1] - c[1]], [q[0] - c[0], q[1] - c[1]]);
-                let ang = (u[0] * w[1] - u[1] * w[0]).abs().atan2(u[0] * w[0] + u[1] * w[1]).to_degrees();
+                let ang =
+                    (u[0] * w[1] - u[1] * w[0]).abs().atan2(u[0] * w[0] + u[1] * w[1]).to_degrees();
                 small |= ang < 60.0;
             }
         }
@@ -160,7 +182,8 @@ fn check_min_angle(input: &TaggedMesh, out: &TaggedMesh, bound: f64) -> usize {
         let d = [b[0] - a[0], b[1] - a[1]];
         let l = d[0].hypot(d[1]);
         let t = ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / (l * l);
-        ((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]).abs() / l < 1e-9 * l && (-1e-12..=1.0 + 1e-12).contains(&t)
+        ((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]).abs() / l < 1e-9 * l
+            && (-1e-12..=1.0 + 1e-12).contains(&t)
     };
     let mut exempt = 0;
     for (t, _) in triangles(out) {
@@ -175,8 +198,13 @@ fn check_min_angle(input: &TaggedMesh, out: &TaggedMesh, bound: f64) -> usize {
         };
         let k = (0..3).min_by(|&i, &j| l2(i).total_cmp(&l2(j))).unwrap();
         let (a, b) = (p[k], p[(k + 1) % 3]);
-        let near = apexes.iter().any(|(_, segs)| segs.iter().any(|&s| on(a, s)) && segs.iter().any(|&s| on(b, s)));
-        assert!(near, "triangle {p:?} has smallest angle {ang} < {bound} away from any small input angle");
+        let near = apexes
+            .iter()
+            .any(|(_, segs)| segs.iter().any(|&s| on(a, s)) && segs.iter().any(|&s| on(b, s)));
+        assert!(
+            near,
+            "triangle {p:?} has smallest angle {ang} < {bound} away from any small input angle"
+        );
         exempt += 1;
     }
     exempt
@@ -202,7 +230,10 @@ fn square_with_hole_and_two_regions() {
     let mut area = [0.0; 2];
     for (t, tag) in triangles(&out) {
         let c = centroid(&out, t);
-        assert!(!((0.2..=0.4).contains(&c[0]) && (0.4..=0.6).contains(&c[1])), "triangle {t:?} is in the hole");
+        assert!(
+            !((0.2..=0.4).contains(&c[0]) && (0.4..=0.6).contains(&c[1])),
+            "triangle {t:?} is in the hole"
+        );
         let expected = if c[0] < 0.6 { 10 } else { 20 };
         assert_eq!(tag, expected, "triangle at {c:?}");
         if tag == 20 {
@@ -231,8 +262,14 @@ fn topology_of_the_output_has_the_input_curves_and_corners() {
     corners.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
     let mut expected: Vec<[f64; 2]> = input.points.iter().map(|p| [p[0], p[1]]).collect();
     expected.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    assert_eq!(corners, expected, "every vertex of the .poly is a corner (tag change, junction or right angle)");
-    assert!(topo.points.iter().all(|p| p.origin == PointOrigin::Listed), "corners are listed as Vertex cells");
+    assert_eq!(
+        corners, expected,
+        "every vertex of the .poly is a corner (tag change, junction or right angle)"
+    );
+    assert!(
+        topo.points.iter().all(|p| p.origin == PointOrigin::Listed),
+        "corners are listed as Vertex cells"
+    );
     // The Vertex cells' tags are distinct.
     let mut vt: Vec<i32> = out.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| c.2).collect();
     vt.sort();
@@ -254,7 +291,10 @@ fn airfoil_with_area_bound_and_thirty_degrees() {
         assert!(area_of(&out, t) <= 0.01);
         assert_eq!(tag, 1);
         let c = centroid(&out, t);
-        assert!(!((0.05..0.95).contains(&c[0]) && c[1].abs() < 0.01), "triangle inside the airfoil at {c:?}");
+        assert!(
+            !((0.05..0.95).contains(&c[0]) && c[1].abs() < 0.01),
+            "triangle inside the airfoil at {c:?}"
+        );
     }
     let total: f64 = triangles(&out).iter().map(|t| area_of(&out, t.0)).sum();
     assert!(total < 20.0 && total > 19.9, "box minus airfoil, got {total}");
@@ -286,7 +326,8 @@ fn region_area_bound_on_the_airfoil() {
 fn uniform_size_bounds_every_area() {
     let input = read_fixture("square_hole.poly");
     let h = 0.05;
-    let out = triangulate(&input, &MeshOptions { size: Some(h), ..MeshOptions::default() }).unwrap();
+    let out =
+        triangulate(&input, &MeshOptions { size: Some(h), ..MeshOptions::default() }).unwrap();
     let bound = size_to_area(h);
     assert!((bound - 3f64.sqrt() / 4.0 * h * h).abs() < 1e-18);
     for (t, _) in triangles(&out) {
@@ -313,7 +354,8 @@ fn deterministic() {
 #[test]
 fn a_gmsh_mesh_is_remeshed_from_its_lines() {
     let input = read_fixture("cylinder.msh");
-    let out = triangulate(&input, &MeshOptions { size: Some(0.1), ..MeshOptions::default() }).unwrap();
+    let out =
+        triangulate(&input, &MeshOptions { size: Some(0.1), ..MeshOptions::default() }).unwrap();
     check_orientation(&out);
     check_constrained_delaunay(&out);
     check_segment_coverage(&input, &out);
@@ -330,7 +372,10 @@ fn a_gmsh_mesh_is_remeshed_from_its_lines() {
     for n in ["Inlet", "Outlet", "Walls", "Cylinder"] {
         assert!(named.contains(&n), "curve {n} in {named:?}");
     }
-    assert!(topo.points.iter().any(|p| p.tag == Some(20) && p.name.as_deref() == Some("Stagnation")));
+    assert!(topo
+        .points
+        .iter()
+        .any(|p| p.tag == Some(20) && p.name.as_deref() == Some("Stagnation")));
 }
 
 fn pslg(points: &[[f64; 2]], segments: &[[usize; 2]]) -> TaggedMesh {
@@ -351,7 +396,11 @@ fn keep_convex_hull_meshes_the_hull_of_an_open_graph() {
     // An L-shaped open polyline: carving eats everything, the hull keeps the triangle.
     let m = pslg(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], &[[0, 1], [1, 2]]);
     assert_eq!(triangulate(&m, &MeshOptions::default()), Err(MeshError::NothingToMesh));
-    let out = triangulate(&m, &MeshOptions { keep_convex_hull: true, max_area: Some(0.01), ..MeshOptions::default() }).unwrap();
+    let out = triangulate(
+        &m,
+        &MeshOptions { keep_convex_hull: true, max_area: Some(0.01), ..MeshOptions::default() },
+    )
+    .unwrap();
     let total: f64 = triangles(&out).iter().map(|t| area_of(&out, t.0)).sum();
     assert!((total - 0.5).abs() < 1e-12);
     check_constrained_delaunay(&out);
@@ -361,7 +410,8 @@ fn keep_convex_hull_meshes_the_hull_of_an_open_graph() {
 #[test]
 fn no_refinement_is_the_plain_constrained_triangulation() {
     let m = pslg(&SQUARE, &LOOP);
-    let out = triangulate(&m, &MeshOptions { min_angle_deg: 0.0, ..MeshOptions::default() }).unwrap();
+    let out =
+        triangulate(&m, &MeshOptions { min_angle_deg: 0.0, ..MeshOptions::default() }).unwrap();
     assert_eq!(out.points.len(), 4);
     assert_eq!(triangles(&out).len(), 2);
     assert_eq!(lines(&out).len(), 4);
@@ -374,13 +424,22 @@ fn bad_graphs_get_clear_errors() {
     assert_eq!(e, MeshError::DuplicatePoint { first: 1, second: 4, at: [1.0, 0.0] });
     assert!(e.to_string().contains("points 1 and 4 are both at (1, 0)"), "{e}");
     dup.points[4] = [-0.0, 0.0, 0.0];
-    assert!(matches!(triangulate(&dup, &MeshOptions::default()), Err(MeshError::DuplicatePoint { first: 0, second: 4, .. })));
+    assert!(matches!(
+        triangulate(&dup, &MeshOptions::default()),
+        Err(MeshError::DuplicatePoint { first: 0, second: 4, .. })
+    ));
 
     let zero = pslg(&SQUARE, &[[0, 1], [1, 2], [2, 2], [2, 3], [3, 0]]);
-    assert_eq!(triangulate(&zero, &MeshOptions::default()), Err(MeshError::ZeroLengthSegment { segment: 3, point: 2 }));
+    assert_eq!(
+        triangulate(&zero, &MeshOptions::default()),
+        Err(MeshError::ZeroLengthSegment { segment: 3, point: 2 })
+    );
 
     let twice = pslg(&SQUARE, &[[0, 1], [1, 2], [2, 3], [3, 0], [1, 0]]);
-    assert_eq!(triangulate(&twice, &MeshOptions::default()), Err(MeshError::DuplicateSegment { first: 1, second: 5 }));
+    assert_eq!(
+        triangulate(&twice, &MeshOptions::default()),
+        Err(MeshError::DuplicateSegment { first: 1, second: 5 })
+    );
 
     let crossing = pslg(&SQUARE, &[[0, 1], [1, 2], [2, 3], [3, 0], [0, 2], [1, 3]]);
     let e = triangulate(&crossing, &MeshOptions::default()).unwrap_err();
@@ -390,25 +449,45 @@ fn bad_graphs_get_clear_errors() {
     let mut outside = pslg(&SQUARE, &LOOP);
     outside.points.push([2.0, 2.0, 0.0]);
     outside.regions.push(RegionSeed { point: [2.0, 0.5], attribute: 3.0, max_area: -1.0 });
-    assert_eq!(triangulate(&outside, &MeshOptions::default()), Err(MeshError::RegionOutside { region: 1, point: [2.0, 0.5] }));
+    assert_eq!(
+        triangulate(&outside, &MeshOptions::default()),
+        Err(MeshError::RegionOutside { region: 1, point: [2.0, 0.5] })
+    );
     outside.regions[0].point = [1.5, 1.5];
-    assert_eq!(triangulate(&outside, &MeshOptions::default()), Err(MeshError::RegionOutside { region: 1, point: [1.5, 1.5] }));
+    assert_eq!(
+        triangulate(&outside, &MeshOptions::default()),
+        Err(MeshError::RegionOutside { region: 1, point: [1.5, 1.5] })
+    );
     outside.regions[0].point = [1.0, 0.5];
-    assert!(matches!(triangulate(&outside, &MeshOptions::default()), Err(MeshError::SeedOnSegment { what: "region", number: 1, .. })));
+    assert!(matches!(
+        triangulate(&outside, &MeshOptions::default()),
+        Err(MeshError::SeedOnSegment { what: "region", number: 1, .. })
+    ));
     outside.regions[0] = RegionSeed { point: [0.5, 0.5], attribute: 2.5, max_area: -1.0 };
-    assert_eq!(triangulate(&outside, &MeshOptions::default()), Err(MeshError::NonIntegerAttribute { region: 1, attribute: 2.5 }));
+    assert_eq!(
+        triangulate(&outside, &MeshOptions::default()),
+        Err(MeshError::NonIntegerAttribute { region: 1, attribute: 2.5 })
+    );
 
     let mut holed = pslg(&SQUARE, &LOOP);
     holed.holes.push([0.5, 0.5]);
     assert_eq!(triangulate(&holed, &MeshOptions::default()), Err(MeshError::NothingToMesh));
 
-    let capped = MeshOptions { max_area: Some(0.001), max_vertices: Some(50), ..MeshOptions::default() };
+    let capped =
+        MeshOptions { max_area: Some(0.001), max_vertices: Some(50), ..MeshOptions::default() };
     let e = triangulate(&pslg(&SQUARE, &LOOP), &capped).unwrap_err();
     assert!(matches!(e, MeshError::RefinementIncomplete { .. }) && !e.is_input_error(), "{e:?}");
     assert!(e.to_string().contains("--max-vertices"), "{e}");
 
-    for bad in [MeshOptions { min_angle_deg: 40.0, ..MeshOptions::default() }, MeshOptions { max_area: Some(-1.0), ..MeshOptions::default() }, MeshOptions { size: Some(0.0), ..MeshOptions::default() }] {
-        assert!(matches!(triangulate(&pslg(&SQUARE, &LOOP), &bad), Err(MeshError::BadOption { .. })));
+    for bad in [
+        MeshOptions { min_angle_deg: 40.0, ..MeshOptions::default() },
+        MeshOptions { max_area: Some(-1.0), ..MeshOptions::default() },
+        MeshOptions { size: Some(0.0), ..MeshOptions::default() },
+    ] {
+        assert!(matches!(
+            triangulate(&pslg(&SQUARE, &LOOP), &bad),
+            Err(MeshError::BadOption { .. })
+        ));
     }
 }
 
@@ -416,7 +495,8 @@ fn bad_graphs_get_clear_errors() {
 #[test]
 fn a_vertex_on_a_segment_splits_it() {
     let m = pslg(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.0]], &LOOP);
-    let out = triangulate(&m, &MeshOptions { min_angle_deg: 0.0, ..MeshOptions::default() }).unwrap();
+    let out =
+        triangulate(&m, &MeshOptions { min_angle_deg: 0.0, ..MeshOptions::default() }).unwrap();
     check_segment_coverage(&m, &out);
     assert_eq!(lines(&out).len(), 5);
 }
@@ -429,7 +509,15 @@ fn smartmesh(args: &[&str]) -> std::process::Output {
 fn cli_meshes_and_reports() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("sq.msh");
-    let o = smartmesh(&["mesh", fixture("square_hole.poly").to_str().unwrap(), "-o", out.to_str().unwrap(), "--json", "--max-area", "0.01"]);
+    let o = smartmesh(&[
+        "mesh",
+        fixture("square_hole.poly").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+        "--max-area",
+        "0.01",
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let back = read_path(&out, None).unwrap();
@@ -437,20 +525,36 @@ fn cli_meshes_and_reports() {
     assert_eq!(s["corners"], 10);
     assert_eq!(s["faces"], 2);
     assert!(s["quality"]["min_angle_deg"].as_f64().unwrap() >= 20.7);
-    assert_eq!(back.num_cells_of(CellKind::Line), triangulate(&read_fixture("square_hole.poly"), &MeshOptions { max_area: Some(0.01), ..MeshOptions::default() }).unwrap().num_cells_of(CellKind::Line));
+    assert_eq!(
+        back.num_cells_of(CellKind::Line),
+        triangulate(
+            &read_fixture("square_hole.poly"),
+            &MeshOptions { max_area: Some(0.01), ..MeshOptions::default() }
+        )
+        .unwrap()
+        .num_cells_of(CellKind::Line)
+    );
 }
 
 #[test]
 fn cli_bad_input_exits_2_naming_the_file_and_leaves_no_output() {
     let dir = tempfile::tempdir().unwrap();
     let poly = dir.path().join("cross.poly");
-    std::fs::write(&poly, "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 3\n6 2 4\n0\n").unwrap();
+    std::fs::write(
+        &poly,
+        "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 3\n6 2 4\n0\n",
+    )
+    .unwrap();
     let out = dir.path().join("out.vtu");
     let o = smartmesh(&["mesh", poly.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     // Segments 5 and 6 are on lines 11 and 12; the error names the line of one of them.
-    assert!((err.contains("cross.poly:11: segment 5") || err.contains("cross.poly:12: segment 6")) && err.contains("crosses segment"), "{err}");
+    assert!(
+        (err.contains("cross.poly:11: segment 5") || err.contains("cross.poly:12: segment 6"))
+            && err.contains("crosses segment"),
+        "{err}"
+    );
     assert!(!out.exists());
     let seed = dir.path().join("seed.poly");
     std::fs::write(&seed, "# square with a region seed outside\n4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n1\n1 2.0 0.5 7 -1\n").unwrap();
@@ -458,7 +562,14 @@ fn cli_bad_input_exits_2_naming_the_file_and_leaves_no_output() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("seed.poly:14: region 1's point (2, 0.5) is outside the domain"), "{err}");
-    let o = smartmesh(&["mesh", fixture("square_hole.poly").to_str().unwrap(), "-o", out.to_str().unwrap(), "--min-angle", "50"]);
+    let o = smartmesh(&[
+        "mesh",
+        fixture("square_hole.poly").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--min-angle",
+        "50",
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("minimum angle 50"));
 }
@@ -508,18 +619,41 @@ print(json.dumps(dict(triangles=len(tri), min_angle=min(mins), mean_quality=sum(
 #[test]
 fn compares_with_triangle() {
     let Some(py) = common::python_with(&["triangle", "numpy"]) else { return };
-    for (name, switches, angle, area) in [("square_hole.poly", "pq30Aa0.01a", 30.0, 0.01), ("naca0012.poly", "pq30a0.01", 30.0, 0.01), ("naca0012.poly", "pq20.7a0.001", 20.7, 0.001)] {
-        let theirs: serde_json::Value = serde_json::from_str(&common::run_python(&py, TRIANGLE_SCRIPT, &[fixture(name).to_str().unwrap(), switches])).unwrap();
+    for (name, switches, angle, area) in [
+        ("square_hole.poly", "pq30Aa0.01a", 30.0, 0.01),
+        ("naca0012.poly", "pq30a0.01", 30.0, 0.01),
+        ("naca0012.poly", "pq20.7a0.001", 20.7, 0.001),
+    ] {
+        let theirs: serde_json::Value = serde_json::from_str(&common::run_python(
+            &py,
+            TRIANGLE_SCRIPT,
+            &[fixture(name).to_str().unwrap(), switches],
+        ))
+        .unwrap();
         let input = read_fixture(name);
-        let out = triangulate(&input, &MeshOptions { min_angle_deg: angle, max_area: Some(area), ..MeshOptions::default() }).unwrap();
+        let out = triangulate(
+            &input,
+            &MeshOptions { min_angle_deg: angle, max_area: Some(area), ..MeshOptions::default() },
+        )
+        .unwrap();
         let tris = triangles(&out);
         let ours = tris.len() as f64;
         let n = theirs["triangles"].as_f64().unwrap();
-        let q: f64 = tris.iter().map(|(t, _)| triangle_quality(xy(&out, t[0]), xy(&out, t[1]), xy(&out, t[2]))).sum::<f64>() / ours;
+        let q: f64 = tris
+            .iter()
+            .map(|(t, _)| triangle_quality(xy(&out, t[0]), xy(&out, t[1]), xy(&out, t[2])))
+            .sum::<f64>()
+            / ours;
         let their_q = theirs["mean_quality"].as_f64().unwrap();
         eprintln!("{name} {switches}: smartmesh {ours} triangles, mean quality {q:.4}; Triangle {n} triangles, mean quality {their_q:.4}, min angle {:.2}", theirs["min_angle"]);
-        assert!(ours / n > 0.5 && ours / n < 2.0, "{name}: {ours} triangles against Triangle's {n}");
-        assert!((q - their_q).abs() < 0.05, "{name}: mean quality {q} against Triangle's {their_q}");
+        assert!(
+            ours / n > 0.5 && ours / n < 2.0,
+            "{name}: {ours} triangles against Triangle's {n}"
+        );
+        assert!(
+            (q - their_q).abs() < 0.05,
+            "{name}: mean quality {q} against Triangle's {their_q}"
+        );
         check_min_angle(&input, &out, angle);
     }
 }
@@ -566,14 +700,27 @@ mod random_graphs {
                 if boxed {
                     // A frame around the grid, so that most graphs enclose something.
                     let f = m.points.len();
-                    m.points.extend([[-1.0, -1.0, 0.0], [6.0, -1.0, 0.0], [6.0, 6.0, 0.0], [-1.0, 6.0, 0.0]]);
+                    m.points.extend([
+                        [-1.0, -1.0, 0.0],
+                        [6.0, -1.0, 0.0],
+                        [6.0, 6.0, 0.0],
+                        [-1.0, 6.0, 0.0],
+                    ]);
                     let b = m.block_mut(CellKind::Line);
                     for k in 0..4 {
                         b.push(&[f + k, f + (k + 1) % 4], 9, 9);
                     }
                 }
-                m.holes = holes.iter().map(|&(x, y)| [x as f64 * 0.5 + 0.25, y as f64 * 0.5]).collect();
-                m.regions = regions.iter().map(|&(x, y, a)| RegionSeed { point: [x as f64 * 0.5, y as f64 * 0.5 + 0.25], attribute: a as f64, max_area: 0.5 }).collect();
+                m.holes =
+                    holes.iter().map(|&(x, y)| [x as f64 * 0.5 + 0.25, y as f64 * 0.5]).collect();
+                m.regions = regions
+                    .iter()
+                    .map(|&(x, y, a)| RegionSeed {
+                        point: [x as f64 * 0.5, y as f64 * 0.5 + 0.25],
+                        attribute: a as f64,
+                        max_area: 0.5,
+                    })
+                    .collect();
                 m
             })
     }

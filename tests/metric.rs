@@ -99,9 +99,7 @@ fn excess(inner: &SizeTensor, outer: &SizeTensor, dirs: &[[f64; 2]]) -> f64 {
 
 /// Largest relative difference of the radii of two tensors over the directions.
 fn radius_diff(a: &SizeTensor, b: &SizeTensor, dirs: &[[f64; 2]]) -> f64 {
-    dirs.iter()
-        .map(|&u| (a.size_along(u) / b.size_along(u) - 1.0).abs())
-        .fold(0.0, f64::max)
+    dirs.iter().map(|&u| (a.size_along(u) / b.size_along(u) - 1.0).abs()).fold(0.0, f64::max)
 }
 
 /// Containment tolerance: 1e-12 relative, widened by ε·aspect ratio for the thin
@@ -137,9 +135,7 @@ fn brute_force(a: &SizeTensor, b: &SizeTensor, union: bool) -> Sym2 {
     // off); its 2×2 SVD (Blinn's form) keeps the eigenvectors to ε.
     let svd = c.svd(true, false);
     let q = svd.u.unwrap();
-    let mu = svd
-        .singular_values
-        .map(|m| if union { m.min(1.0) } else { m.max(1.0) });
+    let mu = svd.singular_values.map(|m| if union { m.min(1.0) } else { m.max(1.0) });
     let r = l * q * Matrix2::from_diagonal(&mu) * q.transpose() * l.transpose();
     from_na(&r)
 }
@@ -286,11 +282,7 @@ proptest! {
 /// `power_of_two_scaling_is_exact`).
 #[test]
 fn rebuilding_from_the_parts_is_lossless() {
-    let t = SizeTensor::new(
-        [0.9955197600922155, -0.09455372687492333],
-        156057.05276247373,
-        1.0,
-    );
+    let t = SizeTensor::new([0.9955197600922155, -0.09455372687492333], 156057.05276247373, 1.0);
     assert_eq!(SizeTensor::try_new(t.axis(), t.h1(), t.h2()), Some(t));
     for k in 0..1000 {
         let t = SizeTensor::from_angle(k as f64 * 0.0123, 1.0, 2.0).unwrap();
@@ -305,15 +297,9 @@ fn intersection_of_crossing_thin_ellipses() {
     let a = SizeTensor::new([1.0, 0.0], 1.0, 1e-6);
     let b = SizeTensor::new([0.0, 1.0], 1.0, 1e-6);
     let i = a.intersection(&b);
-    assert!(
-        (i.h1() - 1e-6).abs() < 1e-18 && (i.h2() - 1e-6).abs() < 1e-18,
-        "{i:?}"
-    );
+    assert!((i.h1() - 1e-6).abs() < 1e-18 && (i.h2() - 1e-6).abs() < 1e-18, "{i:?}");
     let u = a.union(&b);
-    assert!(
-        (u.h1() - 1.0).abs() < 1e-12 && (u.h2() - 1.0).abs() < 1e-12,
-        "{u:?}"
-    );
+    assert!((u.h1() - 1.0).abs() < 1e-12 && (u.h2() - 1.0).abs() < 1e-12, "{u:?}");
 }
 
 #[test]
@@ -410,13 +396,8 @@ fn intersection_handles_the_ends_of_the_size_range() {
 
 /// (name, a, b, intersection, union); a tensor as (axis, h1, h2), a result as (smaller
 /// size, larger size, angle of the smaller size's axis in (−π/2, π/2]).
-type Reference = (
-    &'static str,
-    ([f64; 2], f64, f64),
-    ([f64; 2], f64, f64),
-    (f64, f64, f64),
-    (f64, f64, f64),
-);
+type Reference =
+    (&'static str, ([f64; 2], f64, f64), ([f64; 2], f64, f64), (f64, f64, f64), (f64, f64, f64));
 
 // Computed values; one of them happens to be −π/4.
 #[rustfmt::skip]
@@ -477,11 +458,7 @@ fn intersection_and_union_match_60_digit_references() {
             );
             // The orientation where the result is not (nearly) round, to 1e-12 rad.
             if large / small > 1.0 + 1e-6 {
-                let axis = if ours.h1() <= ours.h2() {
-                    ours.axis()
-                } else {
-                    ours.second_axis()
-                };
+                let axis = if ours.h1() <= ours.h2() { ours.axis() } else { ours.second_axis() };
                 let d = (axis[1].atan2(axis[0]) - angle).rem_euclid(std::f64::consts::PI);
                 let d = d.min(std::f64::consts::PI - d);
                 assert!(d <= 1e-12, "{name} {what}: angle off by {d:e}");
@@ -494,11 +471,8 @@ fn intersection_and_union_match_60_digit_references() {
 // Closed-form eigen against nalgebra
 
 fn arb_sym2() -> impl Strategy<Value = Sym2> {
-    let entry = prop_oneof![
-        -1e3..1e3f64,
-        (-300.0..300.0f64).prop_map(|e| 10f64.powf(e)),
-        Just(0.0)
-    ];
+    let entry =
+        prop_oneof![-1e3..1e3f64, (-300.0..300.0f64).prop_map(|e| 10f64.powf(e)), Just(0.0)];
     prop_oneof![
         (entry.clone(), entry.clone(), entry.clone()).prop_map(|(a, b, c)| Sym2::new(a, b, c)),
         // Adversarial: nearly equal diagonal, tiny off-diagonal.
@@ -619,17 +593,8 @@ proptest! {
 fn distance_function_analytic_values() {
     // Fcorners of appendix A.1.6: MINSIZE 0.02, MAXSIZE 0.5, MAXDISTANCE 0.75, EXPONENT 2.
     let f = DistanceFunction::try_new(0.02, 0.5, 0.75, 2.0).unwrap();
-    for (d, s) in [
-        (0.0, 0.02),
-        (0.375, 0.02 + 0.25 * 0.48),
-        (0.75, 0.5),
-        (1.0, 0.5),
-    ] {
-        assert!(
-            (f.eval(d) - s).abs() <= 1e-15,
-            "s({d}) = {} != {s}",
-            f.eval(d)
-        );
+    for (d, s) in [(0.0, 0.02), (0.375, 0.02 + 0.25 * 0.48), (0.75, 0.5), (1.0, 0.5)] {
+        assert!((f.eval(d) - s).abs() <= 1e-15, "s({d}) = {} != {s}", f.eval(d));
     }
     // Square-root growth: fast near the source.
     let f = DistanceFunction::try_new(1.0, 2.0, 4.0, 0.5).unwrap();
@@ -698,13 +663,7 @@ fn parameter_errors_name_the_parameter_and_the_range() {
         assert_eq!(e.to_string(), message);
     }
     let e = CurvatureToSize::try_new(1.0, 0.1, 0.1).unwrap_err();
-    assert_eq!(
-        e,
-        FunctionError::MinAboveMax {
-            min_size: 1.0,
-            max_size: 0.1
-        }
-    );
+    assert_eq!(e, FunctionError::MinAboveMax { min_size: 1.0, max_size: 0.1 });
     assert_eq!(
         e.to_string(),
         "MINSIZE = 1 exceeds MAXSIZE = 0.1: a curvature-to-size function needs MINSIZE <= MAXSIZE"

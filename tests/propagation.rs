@@ -9,7 +9,9 @@
 use proptest::prelude::*;
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::geometry::Point2;
-use smartmesh::sizing::{closest_point_brute_force, propagate, ClosestPoint, PropagationOptions, Reach, Source};
+use smartmesh::sizing::{
+    closest_point_brute_force, propagate, ClosestPoint, PropagationOptions, Reach, Source,
+};
 use smartmesh::{MeshGraph, Topology};
 
 /// splitmix64: small, seedable, good enough to jitter meshes.
@@ -56,7 +58,8 @@ impl Grid {
         let mut triangles = Vec::with_capacity(2 * (nx - 1) * (ny - 1));
         for j in 0..ny - 1 {
             for i in 0..nx - 1 {
-                let (a, b, c, d) = (j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i);
+                let (a, b, c, d) =
+                    (j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i);
                 if rng.next_u64() & 1 == 0 {
                     triangles.push([a, b, c]);
                     triangles.push([a, c, d]);
@@ -83,7 +86,8 @@ impl Grid {
         }
         edges.sort_unstable();
         edges.dedup();
-        let cells: Vec<[usize; 4]> = self.triangles.iter().map(|t| [t[0], t[1], t[2], usize::MAX]).collect();
+        let cells: Vec<[usize; 4]> =
+            self.triangles.iter().map(|t| [t[0], t[1], t[2], usize::MAX]).collect();
         MeshGraph::from_edges(self.coords.clone(), &edges, &cells).unwrap()
     }
 
@@ -128,10 +132,12 @@ fn check_exact(graph: &MeshGraph, source: &Source, reach: &Reach) -> Tally {
             t.not_bitwise += 1;
         }
         let rel = (got.distance - want.distance).abs() / want.distance.max(1e-300);
-        let same_foot = (got.foot[0] - want.foot[0]).hypot(got.foot[1] - want.foot[1]) <= 1e-9 * want.distance.max(1e-12);
+        let same_foot = (got.foot[0] - want.foot[0]).hypot(got.foot[1] - want.foot[1])
+            <= 1e-9 * want.distance.max(1e-12);
         // A tie: the propagated segment is as close as the brute-force one.
         let seg = source.segments()[got.segment as usize];
-        let tie_d = smartmesh::geometry::SegmentGeom::new(seg.a, seg.b).project(graph.point(v)).distance();
+        let tie_d =
+            smartmesh::geometry::SegmentGeom::new(seg.a, seg.b).project(graph.point(v)).distance();
         let tie = (tie_d - want.distance).abs() <= 1e-9 * want.distance.max(1e-300);
         if (rel > 1e-9 && want.distance > 0.0) || (!same_foot && !tie) {
             t.mismatches += 1;
@@ -149,7 +155,10 @@ fn check_cutoff(graph: &MeshGraph, source: &Source, reach: &Reach, max: f64) {
             Some(c) => {
                 assert_eq!(c.distance.to_bits(), d.to_bits());
                 if seeds.contains(&(v as u32)) {
-                    assert!(d <= graph.longest_edge(v) + 1e-12, "seed {v} at {d} is more than one edge from the source");
+                    assert!(
+                        d <= graph.longest_edge(v) + 1e-12,
+                        "seed {v} at {d} is more than one edge from the source"
+                    );
                 } else {
                     assert!(d <= max, "vertex {v} reported at {d} > {max}");
                 }
@@ -182,9 +191,16 @@ fn run_case(name: &str, graph: &MeshGraph, source: &Source, max: f64) -> Tally {
 /// chord 1 from `(0, 0)`, with a thin trailing edge.
 fn airfoil(n: usize, thickness: f64, camber: f64) -> Vec<Point2> {
     let shape = |x: f64| {
-        let yt = 5.0 * thickness * (0.2969 * x.sqrt() - 0.1260 * x - 0.3516 * x * x + 0.2843 * x.powi(3) - 0.1036 * x.powi(4));
+        let yt = 5.0
+            * thickness
+            * (0.2969 * x.sqrt() - 0.1260 * x - 0.3516 * x * x + 0.2843 * x.powi(3)
+                - 0.1036 * x.powi(4));
         let p = 0.4;
-        let yc = if x < p { camber / (p * p) * (2.0 * p * x - x * x) } else { camber / ((1.0 - p) * (1.0 - p)) * ((1.0 - 2.0 * p) + 2.0 * p * x - x * x) };
+        let yc = if x < p {
+            camber / (p * p) * (2.0 * p * x - x * x)
+        } else {
+            camber / ((1.0 - p) * (1.0 - p)) * ((1.0 - 2.0 * p) + 2.0 * p * x - x * x)
+        };
         (yc, yt)
     };
     let mut pts = Vec::new();
@@ -216,7 +232,8 @@ fn exactness_campaign_on_non_convex_sources() {
     //    airfoil is thick near its trailing edge.
     let g = Grid::new(181, 151, [-0.8, -0.75], 0.01, 0.3, 1);
     let graph = g.graph();
-    let foil: Vec<Point2> = airfoil(300, 0.12, 0.04).into_iter().map(|p| [p[0] * 1.2 - 0.2, p[1] * 1.2]).collect();
+    let foil: Vec<Point2> =
+        airfoil(300, 0.12, 0.04).into_iter().map(|p| [p[0] * 1.2 - 0.2, p[1] * 1.2]).collect();
     let source = Source::builder(&graph).polyline(&foil, true).build().unwrap();
     add(run_case("airfoil", &graph, &source, f64::INFINITY));
 
@@ -246,14 +263,26 @@ fn exactness_campaign_on_non_convex_sources() {
     //    between them is not a grid line.
     let g = Grid::new(161, 161, [0.0, 0.0], 0.01, 0.3, 4);
     let graph = g.graph();
-    let wall = |y0: f64| -> Vec<Point2> { (0..=250).map(|k| [0.1 + 1.4 * k as f64 / 250.0, y0 + 0.02 * (9.0 * k as f64 / 250.0).sin()]).collect() };
-    let source = Source::builder(&graph).polyline(&wall(0.8), false).polyline(&wall(0.813), false).build().unwrap();
+    let wall = |y0: f64| -> Vec<Point2> {
+        (0..=250)
+            .map(|k| [0.1 + 1.4 * k as f64 / 250.0, y0 + 0.02 * (9.0 * k as f64 / 250.0).sin()])
+            .collect()
+    };
+    let source = Source::builder(&graph)
+        .polyline(&wall(0.8), false)
+        .polyline(&wall(0.813), false)
+        .build()
+        .unwrap();
     add(run_case("two close walls (free, gap 1.3 edges)", &graph, &source, f64::INFINITY));
 
     // 5. Two walls along mesh rows one edge apart.
     let g = Grid::new(141, 141, [0.0, 0.0], 0.01, 0.3, 5);
     let graph = g.graph();
-    let source = Source::builder(&graph).mesh_polyline(&g.row(70, 10, 130), false).mesh_polyline(&g.row(71, 130, 10), false).build().unwrap();
+    let source = Source::builder(&graph)
+        .mesh_polyline(&g.row(70, 10, 130), false)
+        .mesh_polyline(&g.row(71, 130, 10), false)
+        .build()
+        .unwrap();
     add(run_case("two walls (mesh edges, gap 1 edge)", &graph, &source, f64::INFINITY));
 
     // 6. A polyline that doubles back on itself: hairpins 0.4 edge apart.
@@ -281,14 +310,23 @@ fn exactness_campaign_on_non_convex_sources() {
             [r * a.cos(), r * a.sin()]
         })
         .collect();
-    let source = Source::builder(&graph).polyline(&star, true).vertex(g.vertex(60, 60)).build().unwrap();
+    let source =
+        Source::builder(&graph).polyline(&star, true).vertex(g.vertex(60, 60)).build().unwrap();
     add(run_case("star with fine wiggles + a point", &graph, &source, f64::INFINITY));
 
-    eprintln!("total: {} vertices, {} certified by a clearance, {} mismatches, {} not bit-identical", total.vertices, total.certified, total.mismatches, total.not_bitwise);
+    eprintln!(
+        "total: {} vertices, {} certified by a clearance, {} mismatches, {} not bit-identical",
+        total.vertices, total.certified, total.mismatches, total.not_bitwise
+    );
     assert!(total.vertices >= 100_000);
     // Most answers come from the clearance certificate, so the campaign tests it, not
     // only the index search behind it.
-    assert!(total.certified * 5 >= total.vertices * 2, "{} of {} certified by a clearance", total.certified, total.vertices);
+    assert!(
+        total.certified * 5 >= total.vertices * 2,
+        "{} of {} certified by a clearance",
+        total.certified,
+        total.vertices
+    );
     assert_eq!(total.mismatches, 0);
     assert_eq!(total.not_bitwise, 0);
 }
@@ -307,13 +345,17 @@ fn clearance_certificates_match_brute_force_on_random_curves() {
         // Tens of vertices per segment, so that most segments earn a clearance.
         let n = 60 + (rng.unit() * 340.0) as usize;
         let closed = case % 3 != 0;
-        let modes: Vec<(f64, f64, f64)> = (0..4).map(|m| (rng.unit() * 0.25 / (m + 1) as f64, (m + 2) as f64, rng.unit() * 6.3)).collect();
-        let corner_every = if case % 4 == 1 { 1 + (rng.unit() * 50.0) as usize } else { usize::MAX };
+        let modes: Vec<(f64, f64, f64)> = (0..4)
+            .map(|m| (rng.unit() * 0.25 / (m + 1) as f64, (m + 2) as f64, rng.unit() * 6.3))
+            .collect();
+        let corner_every =
+            if case % 4 == 1 { 1 + (rng.unit() * 50.0) as usize } else { usize::MAX };
         let mut pts: Vec<Point2> = (0..n)
             .map(|k| {
                 let span = if closed { 2.0 * std::f64::consts::PI } else { 4.0 };
                 let a = span * k as f64 / n as f64;
-                let r = 0.6 + modes.iter().map(|&(amp, f, ph)| amp * (f * a + ph).cos()).sum::<f64>();
+                let r =
+                    0.6 + modes.iter().map(|&(amp, f, ph)| amp * (f * a + ph).cos()).sum::<f64>();
                 // Every `corner_every`-th point pushed out: a polyline with corners.
                 let r = if k % corner_every == 0 { r * 1.08 } else { r };
                 [r * a.cos(), r * a.sin()]
@@ -339,7 +381,12 @@ fn clearance_certificates_match_brute_force_on_random_curves() {
     }
     eprintln!("random curves: {} vertices, {} certified by a clearance, {} mismatches, {} not bit-identical", total.vertices, total.certified, total.mismatches, total.not_bitwise);
     assert_eq!((total.mismatches, total.not_bitwise), (0, 0));
-    assert!(total.certified * 10 >= total.vertices * 3, "{} of {} certified", total.certified, total.vertices);
+    assert!(
+        total.certified * 10 >= total.vertices * 3,
+        "{} of {} certified",
+        total.certified,
+        total.vertices
+    );
 }
 
 /// Vertices whose foot lies a hair from a segment end, far out on the side away from
@@ -352,13 +399,16 @@ fn clearance_certificates_match_brute_force_on_random_curves() {
 #[test]
 fn feet_next_to_segment_ends_on_convex_sides_and_straight_runs() {
     let offsets = [-1e-6, -1e-9, -1e-12, 0.0, 1e-12, 1e-9, 1e-6, 0.5];
-    let heights: Vec<f64> = std::iter::once(0.0).chain((0..30).map(|k| 1e-3 * 1.6f64.powi(k))).collect();
+    let heights: Vec<f64> =
+        std::iter::once(0.0).chain((0..30).map(|k| 1e-3 * 1.6f64.powi(k))).collect();
     // Segment ends: uneven lengths about 1 along a line, or angles along an arc of radius 50.
-    let ends: Vec<f64> = (0..=20).scan(0.0, |x, k| {
-        let at = *x;
-        *x += 1.0 + 0.3 * (k as f64).sin();
-        Some(at)
-    }).collect();
+    let ends: Vec<f64> = (0..=20)
+        .scan(0.0, |x, k| {
+            let at = *x;
+            *x += 1.0 + 0.3 * (k as f64).sin();
+            Some(at)
+        })
+        .collect();
     let mut columns: Vec<f64> = Vec::new();
     for w in ends.windows(2) {
         let len = w[1] - w[0];
@@ -390,9 +440,15 @@ fn feet_next_to_segment_ends_on_convex_sides_and_straight_runs() {
         let wall: Vec<Point2> = ends.iter().map(|&x| place(x, 0.0)).collect();
         // Clockwise along the arc's outside is the polyline's right: both sides are tried.
         for reversed in [false, true] {
-            let pts: Vec<Point2> = if reversed { wall.iter().rev().copied().collect() } else { wall.clone() };
+            let pts: Vec<Point2> =
+                if reversed { wall.iter().rev().copied().collect() } else { wall.clone() };
             let source = Source::builder(&graph).polyline(&pts, false).build().unwrap();
-            let t = run_case(if arc { "convex arc" } else { "straight wall" }, &graph, &source, f64::INFINITY);
+            let t = run_case(
+                if arc { "convex arc" } else { "straight wall" },
+                &graph,
+                &source,
+                f64::INFINITY,
+            );
             total.vertices += t.vertices;
             total.mismatches += t.mismatches;
             total.not_bitwise += t.not_bitwise;
@@ -400,7 +456,10 @@ fn feet_next_to_segment_ends_on_convex_sides_and_straight_runs() {
         }
     }
     assert_eq!((total.mismatches, total.not_bitwise), (0, 0), "{total:?}");
-    assert!(total.certified * 2 >= total.vertices, "{total:?}: the clearances should certify most of these vertices");
+    assert!(
+        total.certified * 2 >= total.vertices,
+        "{total:?}: the clearances should certify most of these vertices"
+    );
 }
 
 /// Work per vertex stays O(1) amortised (thesis 7.3.5): the segment index looks at a
@@ -425,14 +484,20 @@ fn work_per_vertex_does_not_grow_with_the_source_or_the_mesh() {
         let reach = propagate(&graph, &source, f64::INFINITY, &PropagationOptions::new());
         assert_eq!(reach.len(), n * n, "every vertex reached");
         let r = reach.report();
-        let (boxes, segs) = (r.boxes_tested as f64 / r.evaluated as f64, r.segments_tested as f64 / r.evaluated as f64);
+        let (boxes, segs) = (
+            r.boxes_tested as f64 / r.evaluated as f64,
+            r.segments_tested as f64 / r.evaluated as f64,
+        );
         eprintln!("{} vertices, {segments} segments: {boxes:.1} boxes and {segs:.1} segments tested per vertex", n * n);
         assert!(segs < 0.05 * segments as f64, "{segs} segments per vertex: a scan of the source");
         per_vertex.push((boxes, segs));
     }
     let (b0, s0) = per_vertex[0];
     for &(b1, s1) in &per_vertex[1..] {
-        assert!(b1 <= 1.5 * b0 + 4.0 && s1 <= 1.5 * s0 + 4.0, "work per vertex grew: {b0:.1} -> {b1:.1} boxes, {s0:.1} -> {s1:.1} segments");
+        assert!(
+            b1 <= 1.5 * b0 + 4.0 && s1 <= 1.5 * s0 + 4.0,
+            "work per vertex grew: {b0:.1} -> {b1:.1} boxes, {s0:.1} -> {s1:.1} segments"
+        );
     }
 }
 
@@ -461,7 +526,11 @@ fn source_from_topology_curves_and_points() {
     let graph = MeshGraph::from_topology(&topo, &mesh).unwrap();
     let curve = topo.curves.iter().position(|c| c.tag == Some(5)).unwrap();
     let point = topo.points.iter().position(|p| p.tag == Some(9)).unwrap();
-    let source = Source::builder(&graph).topology_curve(&topo, curve).topology_point(&topo, point).build().unwrap();
+    let source = Source::builder(&graph)
+        .topology_curve(&topo, curve)
+        .topology_point(&topo, point)
+        .build()
+        .unwrap();
     let reach = propagate(&graph, &source, 0.7, &PropagationOptions::new());
     let t = check_exact(&graph, &source, &reach);
     assert_eq!((t.mismatches, t.not_bitwise), (0, 0));
@@ -481,7 +550,8 @@ fn source_from_topology_curves_and_points() {
 fn max_distance_cut_off() {
     let g = Grid::new(90, 90, [0.0, 0.0], 0.02, 0.3, 21);
     let graph = g.graph();
-    let foil: Vec<Point2> = airfoil(80, 0.12, 0.02).into_iter().map(|p| [p[0] + 0.4, p[1] + 0.9]).collect();
+    let foil: Vec<Point2> =
+        airfoil(80, 0.12, 0.02).into_iter().map(|p| [p[0] + 0.4, p[1] + 0.9]).collect();
     let mut u = g.row(20, 10, 70);
     u.extend(g.column(70, 20, 22).into_iter().skip(1));
     u.extend(g.row(22, 70, 10).into_iter().skip(1));
@@ -504,22 +574,27 @@ fn max_distance_cut_off() {
 fn coarse_mesh_wake_marks_every_crossed_triangle() {
     let g = Grid::new(11, 11, [0.0, 0.0], 1.0, 0.25, 31);
     let graph = g.graph();
-    let wake: Vec<Point2> = (0..=20).map(|k| [2.3 + 0.3 * k as f64, 4.6 + 0.04 * k as f64 + 0.5 * (0.5 * k as f64).sin()]).collect();
+    let wake: Vec<Point2> = (0..=20)
+        .map(|k| [2.3 + 0.3 * k as f64, 4.6 + 0.04 * k as f64 + 0.5 * (0.5 * k as f64).sin()])
+        .collect();
     let source = Source::builder(&graph).polyline(&wake, false).build().unwrap();
     let reach = propagate(&graph, &source, 0.05, &PropagationOptions::new());
     // Independent oracle: triangles that contain a point of the wake sampled every 1e-3.
     let inside = |t: &[usize; 3], p: Point2| {
-        let c = |a: Point2, b: Point2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+        let c =
+            |a: Point2, b: Point2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
         let [a, b, cc] = t.map(|v| g.coords[v]);
         let (s1, s2, s3) = (c(a, b), c(b, cc), c(cc, a));
         (s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0) || (s1 <= 0.0 && s2 <= 0.0 && s3 <= 0.0)
     };
     let mut crossed = 0;
     for t in &g.triangles {
-        let hit = wake.windows(2).any(|w| (0..=1000).any(|k| {
-            let s = k as f64 / 1000.0;
-            inside(t, [w[0][0] + s * (w[1][0] - w[0][0]), w[0][1] + s * (w[1][1] - w[0][1])])
-        }));
+        let hit = wake.windows(2).any(|w| {
+            (0..=1000).any(|k| {
+                let s = k as f64 / 1000.0;
+                inside(t, [w[0][0] + s * (w[1][0] - w[0][0]), w[0][1] + s * (w[1][1] - w[0][1])])
+            })
+        });
         if hit {
             crossed += 1;
             for &v in t {
@@ -543,15 +618,20 @@ fn same_output_whatever_the_thread_count() {
     for j in (5..200).step_by(12) {
         b.mesh_polyline(&g.row(j, 3, 196), false);
     }
-    let s: Vec<Point2> = (0..=300).map(|k| [0.1 + 1.8 * k as f64 / 300.0, 1.0 + 0.3 * (k as f64 / 20.0).sin()]).collect();
+    let s: Vec<Point2> = (0..=300)
+        .map(|k| [0.1 + 1.8 * k as f64 / 300.0, 1.0 + 0.3 * (k as f64 / 20.0).sin()])
+        .collect();
     b.polyline(&s, false);
     let source = b.build().unwrap();
     let run = |threads: usize, parallel: bool| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| propagate(&graph, &source, 0.3, &PropagationOptions::new().with_parallel(parallel)))
+        pool.install(|| {
+            propagate(&graph, &source, 0.3, &PropagationOptions::new().with_parallel(parallel))
+        })
     };
     let serial = run(1, false);
-    let key = |r: &Reach| (r.vertices().to_vec(), r.closest_points().collect::<Vec<_>>(), *r.report());
+    let key =
+        |r: &Reach| (r.vertices().to_vec(), r.closest_points().collect::<Vec<_>>(), *r.report());
     for threads in [1, 2, 4] {
         let r = run(threads, true);
         assert_eq!(key(&r), key(&serial), "{threads} threads");

@@ -4,7 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh};
-use smartmesh::recipe::{AlgorithmSpec, EntityRef, FunctionSpec, Recipe, RecipeError, RecipeErrorKind, RecipeFormat};
+use smartmesh::recipe::{
+    AlgorithmSpec, EntityRef, FunctionSpec, Recipe, RecipeError, RecipeErrorKind, RecipeFormat,
+};
 use smartmesh::sizing::{Algorithm, DistanceFunction, EntitySet, SizeProjectionFunction};
 use smartmesh::topology::Topology;
 
@@ -54,9 +56,14 @@ fn curves(v: Vec<usize>) -> EntitySet {
 
 #[test]
 fn appendix_example_parses_and_resolves_on_the_distributor() {
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/appendix-a-example.cfg");
+    let shared =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/appendix-a-example.cfg");
     if let Ok(text) = std::fs::read_to_string(&shared) {
-        assert_eq!(text, std::fs::read_to_string(fixture("appendix-a.cfg")).unwrap(), "fixtures/appendix-a.cfg is a copy of the reference example");
+        assert_eq!(
+            text,
+            std::fs::read_to_string(fixture("appendix-a.cfg")).unwrap(),
+            "fixtures/appendix-a.cfg is a copy of the reference example"
+        );
     }
     if !cpp_or_skip() {
         return;
@@ -64,13 +71,23 @@ fn appendix_example_parses_and_resolves_on_the_distributor() {
     let r = Recipe::from_path(&fixture("appendix-a.cfg")).unwrap();
     assert_eq!(r.regions.len(), 7);
     assert_eq!(r.functions.len(), 12);
-    assert_eq!(r.regions["Corners"], [11, 12, 1, 2, 3, 4, 5, 6, 7].map(EntityRef::Tag).to_vec(), "the #define expands");
-    assert_eq!(r.polylines["POLYLINE1"], vec![[-50.0, -12.8], [-48.0, -13.5], [-46.0, -13.5], [-44.0, -13.0]]);
+    assert_eq!(
+        r.regions["Corners"],
+        [11, 12, 1, 2, 3, 4, 5, 6, 7].map(EntityRef::Tag).to_vec(),
+        "the #define expands"
+    );
+    assert_eq!(
+        r.polylines["POLYLINE1"],
+        vec![[-50.0, -12.8], [-48.0, -13.5], [-46.0, -13.5], [-44.0, -13.0]]
+    );
 
     let topo = distributor();
     let resolved = r.resolve(&topo).unwrap();
     let plan = &resolved.plan;
-    assert_eq!((plan.h_min, plan.h_max, plan.max_aspect_ratio, plan.gradation), (None, None, None, None));
+    assert_eq!(
+        (plan.h_min, plan.h_max, plan.max_aspect_ratio, plan.gradation),
+        (None, None, None, None)
+    );
     let labels: Vec<&str> = plan.steps.iter().map(|s| s.label.as_str()).collect();
     assert_eq!(
         labels,
@@ -89,7 +106,10 @@ fn appendix_example_parses_and_resolves_on_the_distributor() {
     assert_eq!(corners.len(), 9);
     assert_eq!(
         plan.steps[1].algorithm,
-        Algorithm::DistanceToPoint { function: DistanceFunction::try_new(0.02, 0.5, 0.75, 2.0).unwrap(), sources: EntitySet { points: corners, ..Default::default() } }
+        Algorithm::DistanceToPoint {
+            function: DistanceFunction::try_new(0.02, 0.5, 0.75, 2.0).unwrap(),
+            sources: EntitySet { points: corners, ..Default::default() }
+        }
     );
     let stay = by_tags(&topo, 1, &[101, 102, 103, 104, 105, 106, 107]);
     assert_eq!(stay.len(), 7);
@@ -102,7 +122,9 @@ fn appendix_example_parses_and_resolves_on_the_distributor() {
         }
     );
     match &plan.steps[3].algorithm {
-        Algorithm::DistanceToBorder { borders, .. } => assert_eq!(*borders, curves(by_tags(&topo, 1, &[201, 202, 203]))),
+        Algorithm::DistanceToBorder { borders, .. } => {
+            assert_eq!(*borders, curves(by_tags(&topo, 1, &[201, 202, 203])))
+        }
         other => panic!("{other:?}"),
     }
     assert_eq!(
@@ -118,13 +140,28 @@ fn appendix_example_parses_and_resolves_on_the_distributor() {
     // Region reports: dimension, tags, names and mesh counts against the topology.
     let report = |n: &str| resolved.regions.iter().find(|r| r.name == n).unwrap();
     let periodic = report("Periodic");
-    assert_eq!((periodic.dimension, periodic.tags.clone(), periodic.used_by.clone()), (Some(1), vec![302, 303, 304, 306, 307, 308], vec![]));
-    let edges: usize = by_tags(&topo, 1, &periodic.tags).iter().map(|&c| topo.curves[c].polylines.iter().map(|p| p.num_edges()).sum::<usize>()).sum();
+    assert_eq!(
+        (periodic.dimension, periodic.tags.clone(), periodic.used_by.clone()),
+        (Some(1), vec![302, 303, 304, 306, 307, 308], vec![])
+    );
+    let edges: usize = by_tags(&topo, 1, &periodic.tags)
+        .iter()
+        .map(|&c| topo.curves[c].polylines.iter().map(|p| p.num_edges()).sum::<usize>())
+        .sum();
     assert_eq!(periodic.edges, edges);
     let f = report("Fluid");
-    assert_eq!((f.dimension, f.entity_names.clone(), f.used_by.clone()), (Some(2), vec!["Fluid".to_string()], vec![1, 5]));
+    assert_eq!(
+        (f.dimension, f.entity_names.clone(), f.used_by.clone()),
+        (Some(2), vec!["Fluid".to_string()], vec![1, 5])
+    );
     assert_eq!(f.cells, topo.surface_cells.len());
-    assert_eq!(f.vertices, topo.vertex_class.iter().filter(|c| !matches!(c, smartmesh::topology::Classification::Unused)).count());
+    assert_eq!(
+        f.vertices,
+        topo.vertex_class
+            .iter()
+            .filter(|c| !matches!(c, smartmesh::topology::Classification::Unused))
+            .count()
+    );
     assert_eq!(report("Inlet").entity_names, ["Inlet"]);
 }
 
@@ -145,11 +182,33 @@ fn libconfig_syntax_cases() {
         CREATE_ALGORITHMS = ( { TYPE = "UNIFORM"; SIZE = 1; REGIONS = "Walls"; }, );
     "#;
     let r = cfg(text).unwrap();
-    assert_eq!((r.global.h_min, r.global.h_max, r.global.max_aspect_ratio), (Some(0.01), Some(2.0), Some(1000.0)));
-    assert_eq!(r.regions["Walls"], vec![EntityRef::Tag(1), EntityRef::Tag(2), EntityRef::Tag(3), EntityRef::Name("Plate".into())]);
+    assert_eq!(
+        (r.global.h_min, r.global.h_max, r.global.max_aspect_ratio),
+        (Some(0.01), Some(2.0), Some(1000.0))
+    );
+    assert_eq!(
+        r.regions["Walls"],
+        vec![
+            EntityRef::Tag(1),
+            EntityRef::Tag(2),
+            EntityRef::Tag(3),
+            EntityRef::Name("Plate".into())
+        ]
+    );
     assert!(r.regions.contains_key("Plate!"));
-    assert_eq!(r.functions["F"], FunctionSpec::Distance { size_at_source: 1.0, size_at_max_distance: 2.0, max_distance: 0.5, exponent: 1.0 });
-    assert_eq!(r.algorithms, vec![AlgorithmSpec::Uniform { size: 1.0, regions: vec!["Walls".into()] }]);
+    assert_eq!(
+        r.functions["F"],
+        FunctionSpec::Distance {
+            size_at_source: 1.0,
+            size_at_max_distance: 2.0,
+            max_distance: 0.5,
+            exponent: 1.0
+        }
+    );
+    assert_eq!(
+        r.algorithms,
+        vec![AlgorithmSpec::Uniform { size: 1.0, regions: vec!["Walls".into()] }]
+    );
 
     let err = |text: &str| cfg(text).unwrap_err();
     let e = err("HMIN = 0.1;\nCREATE_REGIONS = [ { NAME = \"A\"; } ];");
@@ -158,7 +217,17 @@ fn libconfig_syntax_cases() {
     let e = err("CREATE_REGIONS = (\n { NAME = \"A\"; TOPOLOGICAL_ENTITIES = [ 1, 2 ] }\n { NAME = \"B\"; }\n);");
     assert_eq!(e.line, Some(3), "a missing comma between groups: {e}");
     let e = err("HMIN = 0.1;\n\nHMAX = \"big\";");
-    assert_eq!((e.line, *e.kind.clone()), (Some(3), RecipeErrorKind::WrongType { key: "HMAX".into(), expected: "a number".into(), found: "a string".into() }));
+    assert_eq!(
+        (e.line, *e.kind.clone()),
+        (
+            Some(3),
+            RecipeErrorKind::WrongType {
+                key: "HMAX".into(),
+                expected: "a number".into(),
+                found: "a string".into()
+            }
+        )
+    );
     let e = err("CREATE_REGIONS = (\n  { NAME = \"A\"; TOPOLOGICAL_ENTITIES = [ 1 ];\n");
     assert!(e.to_string().contains("never closed"), "{e}");
     let e = err("NAME = \"unterminated;\n");
@@ -168,7 +237,10 @@ fn libconfig_syntax_cases() {
     let e = err("HMIN = 1;\nHMIN = 2;");
     assert!(e.to_string().contains("twice") && e.line == Some(2), "{e}");
     let e = err("CREATE_REGIONS = ( { NAME = \"A\"; TOPOLOGICAL_ENTITIES = [ 1 ]; },\n { NAME = \"A\"; TOPOLOGICAL_ENTITIES = [ 2 ]; } );");
-    assert_eq!((e.line, *e.kind.clone()), (Some(2), RecipeErrorKind::DuplicateName { what: "region", name: "A".into() }));
+    assert_eq!(
+        (e.line, *e.kind.clone()),
+        (Some(2), RecipeErrorKind::DuplicateName { what: "region", name: "A".into() })
+    );
 }
 
 #[test]
@@ -184,14 +256,23 @@ fn cpp_define_include_and_if0() {
     let r = Recipe::from_path(&dir.path().join("main.cfg")).unwrap();
     assert_eq!(r.regions["W"], vec![EntityRef::Tag(1), EntityRef::Tag(2)]);
     assert_eq!(r.global.h_min, Some(0.01));
-    assert_eq!(r.functions["F"], FunctionSpec::Distance { size_at_source: 0.01, size_at_max_distance: 1.0, max_distance: 1.0, exponent: 1.0 });
+    assert_eq!(
+        r.functions["F"],
+        FunctionSpec::Distance {
+            size_at_source: 0.01,
+            size_at_max_distance: 1.0,
+            max_distance: 1.0,
+            exponent: 1.0
+        }
+    );
 
     // Errors point into the original files and lines, through cpp's line markers.
     std::fs::write(dir.path().join("inc/common.h"), "#define WALLS 1, 2\n#define SMALL 0.01\nCREATE_DISTANCE_FUNCTIONS = ( { NAME = \"F\"; MINSIZ = 1; } );\n").unwrap();
     let e = Recipe::from_path(&dir.path().join("main.cfg")).unwrap_err();
     assert!(e.file.as_ref().unwrap().ends_with("inc/common.h"), "{e}");
     assert_eq!((e.line, e.suggestion.as_deref()), (Some(3), Some("MINSIZE")), "{e}");
-    std::fs::write(dir.path().join("inc/common.h"), "#define WALLS 1, 2\n#define SMALL 0.01\n").unwrap();
+    std::fs::write(dir.path().join("inc/common.h"), "#define WALLS 1, 2\n#define SMALL 0.01\n")
+        .unwrap();
     std::fs::write(dir.path().join("main.cfg"), format!("{main}\n\nCREATE_ALGORITHMS = ( {{ TYPE = \"UNIFORM\"; SIZE = 1; REGIONS = \"V\"; }} );\n")).unwrap();
     let e = Recipe::from_path(&dir.path().join("main.cfg")).unwrap_err();
     assert!(e.file.as_ref().unwrap().ends_with("main.cfg"), "{e}");
@@ -199,16 +280,27 @@ fn cpp_define_include_and_if0() {
     // A preprocessor error is reported with its message.
     std::fs::write(dir.path().join("main.cfg"), "#include \"missing.h\"\n").unwrap();
     let e = Recipe::from_path(&dir.path().join("main.cfg")).unwrap_err();
-    assert!(matches!(*e.kind, RecipeErrorKind::Preprocessor(_)) && e.to_string().contains("missing.h"), "{e}");
+    assert!(
+        matches!(*e.kind, RecipeErrorKind::Preprocessor(_)) && e.to_string().contains("missing.h"),
+        "{e}"
+    );
 }
 
 #[test]
 fn libconfig_include_is_relative_to_the_including_file() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir(dir.path().join("parts")).unwrap();
-    std::fs::write(dir.path().join("parts/regions.cfg"), "CREATE_REGIONS = ( { NAME = \"A\"; ENTITIES = [ 1 ]; } );\n@include \"more.cfg\"\n").unwrap();
+    std::fs::write(
+        dir.path().join("parts/regions.cfg"),
+        "CREATE_REGIONS = ( { NAME = \"A\"; ENTITIES = [ 1 ]; } );\n@include \"more.cfg\"\n",
+    )
+    .unwrap();
     std::fs::write(dir.path().join("parts/more.cfg"), "HMIN = 0.5;\nHMAX = x;\n").unwrap();
-    std::fs::write(dir.path().join("main.cfg"), "// main\n@include \"parts/regions.cfg\"\nGRADATION = 1.5;\n").unwrap();
+    std::fs::write(
+        dir.path().join("main.cfg"),
+        "// main\n@include \"parts/regions.cfg\"\nGRADATION = 1.5;\n",
+    )
+    .unwrap();
     let e = Recipe::from_path(&dir.path().join("main.cfg")).unwrap_err();
     assert!(e.file.as_ref().unwrap().ends_with("parts/more.cfg") && e.line == Some(2), "{e}");
     std::fs::write(dir.path().join("parts/more.cfg"), "HMIN = 0.5;\n").unwrap();
@@ -243,14 +335,26 @@ fn every_spelling_variant_gives_the_same_model() {
         ("NAME = \"D1\"; MINSIZE", "NAME = \"D1\"; SIZE_AT_BORDER"),
         ("NAME = \"D1\"; MINSIZE", "NAME = \"D1\"; SIZE_AT_TOPOLOGICAL_VERTEX"),
         ("0.1; MAXSIZE = 1.0; MAXDISTANCE = 2.0", "0.1; MAX_SIZE = 1.0; MAXDISTANCE = 2.0"),
-        ("0.1; MAXSIZE = 1.0; MAXDISTANCE = 2.0", "0.1; SIZE_AT_MAX_DISTANCE = 1.0; MAXDISTANCE = 2.0"),
+        (
+            "0.1; MAXSIZE = 1.0; MAXDISTANCE = 2.0",
+            "0.1; SIZE_AT_MAX_DISTANCE = 1.0; MAXDISTANCE = 2.0",
+        ),
         ("0.1; MAXSIZE = 1.0; MAXDISTANCE = 2.0", "0.1; MAXSIZE = 1.0; MAX_DISTANCE = 2.0"),
         ("NAME = \"P\"; MAXSIZE", "NAME = \"P\"; MAX_SIZE"),
         ("NAME = \"P\"; MAXSIZE = 2.0; MAXDISTANCE", "NAME = \"P\"; MAXSIZE = 2.0; MAX_DISTANCE"),
         ("NAME = \"C\"; MINSIZE = 0.1; MAXSIZE", "NAME = \"C\"; MIN_SIZE = 0.1; MAX_SIZE"),
-        ("CURVATURE_TO_SIZE_FUNCTION = \"C\"; PROJECTION_FUNCTION", "CURVATURE_TO_SIZE_FUNCTION = \"C\"; PARALLEL_PROJECTION_FUNCTION"),
-        ("POLYLINE_DISTANCE_FUNCTION = \"D2\"; PARALLEL_PROJECTION_FUNCTION", "PARALLEL_FUNCTION = \"D2\"; PROJECTION_FUNCTION"),
-        ("REGIONS = ( \"Wall\" ); REGIONS2 = ( \"Other\" )", "REGIONS = \"Wall\"; REGIONS2 = [ \"Other\" ]"),
+        (
+            "CURVATURE_TO_SIZE_FUNCTION = \"C\"; PROJECTION_FUNCTION",
+            "CURVATURE_TO_SIZE_FUNCTION = \"C\"; PARALLEL_PROJECTION_FUNCTION",
+        ),
+        (
+            "POLYLINE_DISTANCE_FUNCTION = \"D2\"; PARALLEL_PROJECTION_FUNCTION",
+            "PARALLEL_FUNCTION = \"D2\"; PROJECTION_FUNCTION",
+        ),
+        (
+            "REGIONS = ( \"Wall\" ); REGIONS2 = ( \"Other\" )",
+            "REGIONS = \"Wall\"; REGIONS2 = [ \"Other\" ]",
+        ),
         ("TYPE = \"CURVATURE_OF_BORDER\"", "TYPE = \"curvature_of_border\""),
     ];
     for (from, to) in variants {
@@ -260,55 +364,92 @@ fn every_spelling_variant_gives_the_same_model() {
         assert_eq!(r, canonical, "{to}");
     }
     // Two spellings of one key are an error, not a silent choice.
-    let e = cfg(&CANONICAL.replacen("MINSIZE = 0.1; MAXSIZE = 1.0; MAXDISTANCE", "MINSIZE = 0.1; SIZE_AT_BORDER = 0.2; MAXSIZE = 1.0; MAXDISTANCE", 1)).unwrap_err();
-    assert_eq!(*e.kind, RecipeErrorKind::DuplicateKey { key: "SIZE_AT_BORDER".into(), other: "MINSIZE".into() });
+    let e = cfg(&CANONICAL.replacen(
+        "MINSIZE = 0.1; MAXSIZE = 1.0; MAXDISTANCE",
+        "MINSIZE = 0.1; SIZE_AT_BORDER = 0.2; MAXSIZE = 1.0; MAXDISTANCE",
+        1,
+    ))
+    .unwrap_err();
+    assert_eq!(
+        *e.kind,
+        RecipeErrorKind::DuplicateKey { key: "SIZE_AT_BORDER".into(), other: "MINSIZE".into() }
+    );
     // A projection function has no size at the source (thesis 4.3.5.2).
-    let e = cfg(&CANONICAL.replacen("NAME = \"P\"; MAXSIZE", "NAME = \"P\"; MIN_SIZE = 0.1; MAXSIZE", 1)).unwrap_err();
+    let e = cfg(&CANONICAL.replacen(
+        "NAME = \"P\"; MAXSIZE",
+        "NAME = \"P\"; MIN_SIZE = 0.1; MAXSIZE",
+        1,
+    ))
+    .unwrap_err();
     assert!(e.to_string().contains("MIN_SIZE is not a parameter of a projection function"), "{e}");
 }
 
 #[test]
 fn misspelt_keys_and_names_get_suggestions_with_lines() {
-    let e = cfg("HMIN = 1;\nCREATE_DISTANCE_FUNCTIONS = (\n { NAME = \"F\";\n   MINSIZ = 0.1; } );").unwrap_err();
+    let e =
+        cfg("HMIN = 1;\nCREATE_DISTANCE_FUNCTIONS = (\n { NAME = \"F\";\n   MINSIZ = 0.1; } );")
+            .unwrap_err();
     assert_eq!(e.to_string(), "unknown key MINSIZ at recipe.cfg:4 (in CREATE_DISTANCE_FUNCTIONS entry 1), did you mean MINSIZE?");
     let e = cfg("CREATE_REGION = ();").unwrap_err();
     assert_eq!(e.suggestion.as_deref(), Some("CREATE_REGIONS"));
     let e = cfg("CREATE_ALGORITHMS = ( { TYPE = \"UNIFORM\"; SIZE = 1; REGIONS = \"A\"; FUNCTION = \"F\"; } );").unwrap_err();
-    assert!(matches!(&*e.kind, RecipeErrorKind::UnknownKey { key } if key == "FUNCTION"), "a key of another algorithm type: {e}");
+    assert!(
+        matches!(&*e.kind, RecipeErrorKind::UnknownKey { key } if key == "FUNCTION"),
+        "a key of another algorithm type: {e}"
+    );
     let e = cfg("CREATE_ALGORITHMS = ( { TYPE = \"DISTANCE_TO_BOARDER\"; } );").unwrap_err();
     assert_eq!(e.suggestion.as_deref(), Some("\"DISTANCE_TO_BORDER\""));
 
-    let text = CANONICAL.replace("PERPENDICULAR_FUNCTION = \"D1\"; PARALLEL_FUNCTION = \"D2\"", "PERPENDICULAR_FUNCTION = \"D1\"; PARALLEL_FUNCTION = \"D3\"");
+    let text = CANONICAL.replace(
+        "PERPENDICULAR_FUNCTION = \"D1\"; PARALLEL_FUNCTION = \"D2\"",
+        "PERPENDICULAR_FUNCTION = \"D1\"; PARALLEL_FUNCTION = \"D3\"",
+    );
     let e = cfg(&text).unwrap_err();
     assert_eq!(
         e.to_string(),
         "algorithm 2 names function \"D3\" at recipe.cfg:12 (in CREATE_ALGORITHMS entry 2, DISTANCE_BETWEEN_TWO_BORDERS), did you mean \"D1\"?"
     );
-    let e = cfg(&CANONICAL.replace("REGIONS2 = ( \"Other\" )", "REGIONS2 = ( \"Otter\" )")).unwrap_err();
+    let e = cfg(&CANONICAL.replace("REGIONS2 = ( \"Other\" )", "REGIONS2 = ( \"Otter\" )"))
+        .unwrap_err();
     assert_eq!((e.line, e.suggestion.as_deref()), (Some(12), Some("\"Other\"")), "{e}");
     let e = cfg(&CANONICAL.replace("COORDINATES = \"Wake\"", "COORDINATES = \"Wak\"")).unwrap_err();
     assert_eq!(e.suggestion.as_deref(), Some("\"Wake\""), "{e}");
     // A function of the wrong kind.
-    let e = cfg(&CANONICAL.replace("CURVATURE_TO_SIZE_FUNCTION = \"C\"", "CURVATURE_TO_SIZE_FUNCTION = \"D2\"")).unwrap_err();
+    let e = cfg(&CANONICAL
+        .replace("CURVATURE_TO_SIZE_FUNCTION = \"C\"", "CURVATURE_TO_SIZE_FUNCTION = \"D2\""))
+    .unwrap_err();
     assert_eq!(e.to_string().split(" at ").next().unwrap(), "algorithm 1: CURVATURE_TO_SIZE_FUNCTION names \"D2\", a distance function; expected a curvature-to-size function");
     // A parameter out of range names the function, key, file and line.
     let e = cfg(&CANONICAL.replace("MAXDISTANCE = 3.0", "MAXDISTANCE = -3.0")).unwrap_err();
     assert_eq!(e.line, Some(7));
-    assert!(e.to_string().starts_with("function \"D2\": MAXDISTANCE (maximal distance) = -3 is out of range"), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("function \"D2\": MAXDISTANCE (maximal distance) = -3 is out of range"),
+        "{e}"
+    );
 
     let e = toml("[functions.F]\nkind = \"distance\"\nsize_at_source = 0.1\nsize_at_max_distance = 1.0\nmax_distance = 0\nexponent = 1\n").unwrap_err();
     assert_eq!(
         e.to_string(),
         "function \"F\": MAXDISTANCE (maximal distance) = 0 is out of range: expected a finite number > 0 at recipe.toml:5 (in key max_distance of function \"F\")"
     );
-    let t = "[functions.F]\nkind = \"distance\"\nsize_at_source = 0.1\nsize_at_max_distnace = 1.0\n";
+    let t =
+        "[functions.F]\nkind = \"distance\"\nsize_at_source = 0.1\nsize_at_max_distnace = 1.0\n";
     let e = toml(t).unwrap_err();
-    assert_eq!(e.to_string(), "unknown key size_at_max_distnace at recipe.toml:4, did you mean size_at_max_distance?");
+    assert_eq!(
+        e.to_string(),
+        "unknown key size_at_max_distnace at recipe.toml:4, did you mean size_at_max_distance?"
+    );
     let e = toml("[[algorithms]]\ntype = \"distance_to_boarder\"\n").unwrap_err();
     assert_eq!((e.line, e.suggestion.as_deref()), (Some(2), Some("\"distance_to_border\"")), "{e}");
     let e = toml("[global]\nhmin = 0.1\nhmaks = 2\n").unwrap_err();
     assert_eq!((e.line, e.suggestion.as_deref()), (Some(3), Some("hmax")), "{e}");
-    let e = Recipe::from_str("{\"global\": {\"hmin\": 0.1,\n \"gradaton\": 1.2}}", RecipeFormat::Json, Path::new("r.json")).unwrap_err();
+    let e = Recipe::from_str(
+        "{\"global\": {\"hmin\": 0.1,\n \"gradaton\": 1.2}}",
+        RecipeFormat::Json,
+        Path::new("r.json"),
+    )
+    .unwrap_err();
     assert_eq!((e.line, e.suggestion.as_deref()), (Some(2), Some("gradation")), "{e}");
 }
 
@@ -396,7 +537,10 @@ fn toml_and_json_equivalents_and_round_trips() {
     }
     // Mixed tag numbers and names, odd names and exact floats survive libconfig writing.
     let mut odd = toml(TOML_OF_CANONICAL).unwrap();
-    odd.regions.insert("we\"ird\\ name\t".into(), vec![EntityRef::Tag(-3), EntityRef::Name("Wall \"A\"".into())]);
+    odd.regions.insert(
+        "we\"ird\\ name\t".into(),
+        vec![EntityRef::Tag(-3), EntityRef::Name("Wall \"A\"".into())],
+    );
     odd.polylines.insert("P2".into(), vec![[0.1 + 0.2, 1e-300], [-7.0, 1.0 / 3.0]]);
     assert_eq!(cfg(&odd.to_libconfig()).unwrap(), odd);
     assert_eq!(toml(&odd.to_toml()).unwrap(), odd);
@@ -458,40 +602,70 @@ fn a_tag_in_several_dimensions_takes_the_dimension_the_algorithm_expects() {
 
     let plan = |ents: &str, alg: &str| with_algorithms(&region(ents), alg).resolve(&topo);
     assert_eq!(on(&plan("1", BORDER).unwrap().plan, 0), curves(curve1.clone()));
-    assert_eq!(on(&plan("1", UNIFORM).unwrap().plan, 0), EntitySet { faces: face1.clone(), ..Default::default() });
-    assert_eq!(on(&plan("1", POLYLINE).unwrap().plan, 0), EntitySet { faces: face1.clone(), ..Default::default() });
-    assert_eq!(on(&plan("2", TO_POINT).unwrap().plan, 0), EntitySet { points: point2.clone(), ..Default::default() });
+    assert_eq!(
+        on(&plan("1", UNIFORM).unwrap().plan, 0),
+        EntitySet { faces: face1.clone(), ..Default::default() }
+    );
+    assert_eq!(
+        on(&plan("1", POLYLINE).unwrap().plan, 0),
+        EntitySet { faces: face1.clone(), ..Default::default() }
+    );
+    assert_eq!(
+        on(&plan("2", TO_POINT).unwrap().plan, 0),
+        EntitySet { points: point2.clone(), ..Default::default() }
+    );
     assert_eq!(on(&plan("2", BORDER).unwrap().plan, 0), curves(curve2.clone()));
     // A name that exists in one dimension settles a clashing number.
     let both = plan("1, \"Bottom\"", UNIFORM).unwrap();
     assert_eq!(on(&both.plan, 0), curves(curve1.clone()));
     assert_eq!(both.regions[0].entity_names, ["Bottom"]);
     // Unused and ambiguous: reported without a dimension, no error.
-    let unused = with_algorithms(&format!("{}, {{ NAME = \"U\"; ENTITIES = [ 1 ]; }}", region("2")), TO_POINT).resolve(&topo).unwrap();
+    let unused = with_algorithms(
+        &format!("{}, {{ NAME = \"U\"; ENTITIES = [ 1 ]; }}", region("2")),
+        TO_POINT,
+    )
+    .resolve(&topo)
+    .unwrap();
     let u = unused.regions.iter().find(|r| r.name == "U").unwrap();
     assert_eq!((u.dimension, u.used_by.clone()), (None, vec![]));
 
     // Two algorithms wanting different dimensions of one region: ambiguous.
     let e = plan("1", &format!("{UNIFORM}, {BORDER}")).unwrap_err();
-    assert!(matches!(&*e.kind, RecipeErrorKind::Dimension { region, detail } if region == "R" && detail.contains("ambiguous") && detail.contains("tag 1 is in curves and faces")), "{e}");
+    assert!(
+        matches!(&*e.kind, RecipeErrorKind::Dimension { region, detail } if region == "R" && detail.contains("ambiguous") && detail.contains("tag 1 is in curves and faces")),
+        "{e}"
+    );
     assert_eq!(e.line, Some(1));
     // Entities of different dimensions in one region.
     let e = plan("1, 5", UNIFORM).unwrap_err();
     assert!(e.to_string().contains("different dimensions"), "{e}");
     // A dimension the algorithm cannot use.
     let e = plan("\"Corner\"", POLYLINE).unwrap_err();
-    assert!(e.to_string().contains("holds points, but DISTANCE_TO_IMAGINARY_POLYLINE takes faces"), "{e}");
+    assert!(
+        e.to_string().contains("holds points, but DISTANCE_TO_IMAGINARY_POLYLINE takes faces"),
+        "{e}"
+    );
 }
 
 #[test]
 fn absent_tags_and_names_are_errors() {
     let topo = clashing_tags();
-    let e = with_algorithms("{ NAME = \"R\";\n ENTITIES = [ 1,\n 77 ]; }", UNIFORM).resolve(&topo).unwrap_err();
-    assert!(matches!(&*e.kind, RecipeErrorKind::AbsentEntity { region, entity, .. } if region == "R" && entity == "tag 77"), "{e}");
+    let e = with_algorithms("{ NAME = \"R\";\n ENTITIES = [ 1,\n 77 ]; }", UNIFORM)
+        .resolve(&topo)
+        .unwrap_err();
+    assert!(
+        matches!(&*e.kind, RecipeErrorKind::AbsentEntity { region, entity, .. } if region == "R" && entity == "tag 77"),
+        "{e}"
+    );
     assert_eq!(e.line, Some(3), "the line of the entity itself");
     assert!(e.to_string().contains("curve tags 1, 2"), "{e}");
     // Unused regions are checked too.
-    let e = with_algorithms("{ NAME = \"R\"; ENTITIES = [ 1 ]; }, { NAME = \"S\"; ENTITIES = [ \"Botom\" ]; }", UNIFORM).resolve(&topo).unwrap_err();
+    let e = with_algorithms(
+        "{ NAME = \"R\"; ENTITIES = [ 1 ]; }, { NAME = \"S\"; ENTITIES = [ \"Botom\" ]; }",
+        UNIFORM,
+    )
+    .resolve(&topo)
+    .unwrap_err();
     assert_eq!(e.suggestion.as_deref(), Some("\"Bottom\""), "{e}");
     // The distributor has no tag 3055.
     let r = toml("[regions]\nOutlet = [3055]\n").unwrap();

@@ -52,7 +52,13 @@ fn check_prints_regions_and_algorithms() {
     assert!(s.contains("Corners          9 points: tags 1, 2, 3, 4, 5, 6, 7, 11, 12"), "{s}");
     assert!(s.contains("algorithm 3 (DISTANCE_TO_BORDER on \"StayVane\"): 7 curves"), "{s}");
 
-    let o = run(&["recipe", "check", "--json", &fixture("appendix-a.cfg"), &fixture("distributor.msh")]);
+    let o = run(&[
+        "recipe",
+        "check",
+        "--json",
+        &fixture("appendix-a.cfg"),
+        &fixture("distributor.msh"),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(v["regions"].as_array().unwrap().len(), 7);
@@ -67,10 +73,19 @@ fn check_prints_regions_and_algorithms() {
 fn errors_exit_two_with_file_line_and_suggestion() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = fixture("distributor.msh");
-    let bad = write(dir.path(), "bad.cfg", &PLAIN.replace("PARALLEL_FUNCTION = \"F\"", "PARALLEL_FUNCTION = \"G\""));
+    let bad = write(
+        dir.path(),
+        "bad.cfg",
+        &PLAIN.replace("PARALLEL_FUNCTION = \"F\"", "PARALLEL_FUNCTION = \"G\""),
+    );
     let o = run(&["recipe", "check", bad.to_str().unwrap(), &mesh]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("algorithm 1 names function \"G\" at ") && stderr(&o).contains("bad.cfg:3"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("algorithm 1 names function \"G\" at ")
+            && stderr(&o).contains("bad.cfg:3"),
+        "{}",
+        stderr(&o)
+    );
     let absent = write(dir.path(), "absent.cfg", &PLAIN.replace("102 ]", "102, 999 ]"));
     let o = run(&["recipe", "check", absent.to_str().unwrap(), &mesh]);
     assert_eq!(o.status.code(), Some(2));
@@ -93,10 +108,22 @@ fn a_missing_preprocessor_is_named_only_when_needed() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = fixture("distributor.msh");
     let plain = write(dir.path(), "plain.cfg", &format!("# hash comments need no cpp\n{PLAIN}"));
-    let o = smartmesh().args(["recipe", "check", plain.to_str().unwrap(), &mesh]).env("SMARTMESH_CPP", "/no/such/cpp").output().unwrap();
+    let o = smartmesh()
+        .args(["recipe", "check", plain.to_str().unwrap(), &mesh])
+        .env("SMARTMESH_CPP", "/no/such/cpp")
+        .output()
+        .unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let with = write(dir.path(), "define.cfg", &format!("\n#define VANE 101, 102\n{}", PLAIN.replace("101, 102", "VANE")));
-    let o = smartmesh().args(["recipe", "check", with.to_str().unwrap(), &mesh]).env("SMARTMESH_CPP", "/no/such/cpp").output().unwrap();
+    let with = write(
+        dir.path(),
+        "define.cfg",
+        &format!("\n#define VANE 101, 102\n{}", PLAIN.replace("101, 102", "VANE")),
+    );
+    let o = smartmesh()
+        .args(["recipe", "check", with.to_str().unwrap(), &mesh])
+        .env("SMARTMESH_CPP", "/no/such/cpp")
+        .output()
+        .unwrap();
     assert_eq!(o.status.code(), Some(2));
     let e = stderr(&o);
     assert!(e.contains("#define") && e.contains("install") && e.contains("define.cfg:2"), "{e}");
@@ -111,11 +138,19 @@ fn convert_round_trips_through_every_format() {
     let dir = tempfile::tempdir().unwrap();
     let d = |n: &str| dir.path().join(n).to_string_lossy().into_owned();
     let src = write(dir.path(), "in.cfg", PLAIN);
-    for (from, to) in [(src.to_string_lossy().into_owned(), d("a.toml")), (d("a.toml"), d("a.json")), (d("a.json"), d("b.cfg")), (d("b.cfg"), d("b.toml"))] {
+    for (from, to) in [
+        (src.to_string_lossy().into_owned(), d("a.toml")),
+        (d("a.toml"), d("a.json")),
+        (d("a.json"), d("b.cfg")),
+        (d("b.cfg"), d("b.toml")),
+    ] {
         let o = run(&["recipe", "convert", &from, &to]);
         assert_eq!(o.status.code(), Some(0), "{from} -> {to}: {}", stderr(&o));
     }
-    assert_eq!(std::fs::read_to_string(d("a.toml")).unwrap(), std::fs::read_to_string(d("b.toml")).unwrap());
+    assert_eq!(
+        std::fs::read_to_string(d("a.toml")).unwrap(),
+        std::fs::read_to_string(d("b.toml")).unwrap()
+    );
     let o = run(&["recipe", "convert", &d("a.toml"), "-", "--to", "json"]);
     assert_eq!(o.status.code(), Some(0));
     assert_eq!(stdout(&o), std::fs::read_to_string(d("a.json")).unwrap());

@@ -95,11 +95,17 @@ fn xy(m: &TaggedMesh, v: usize) -> [f64; 2] {
 }
 
 fn triangles(m: &TaggedMesh) -> Vec<([usize; 3], i32)> {
-    m.cells().filter(|c| c.0 == CellKind::Triangle).map(|c| ([c.1[0] as usize, c.1[1] as usize, c.1[2] as usize], c.2)).collect()
+    m.cells()
+        .filter(|c| c.0 == CellKind::Triangle)
+        .map(|c| ([c.1[0] as usize, c.1[1] as usize, c.1[2] as usize], c.2))
+        .collect()
 }
 
 fn lines(m: &TaggedMesh) -> Vec<([usize; 2], i32)> {
-    m.cells().filter(|c| c.0 == CellKind::Line).map(|c| ([c.1[0] as usize, c.1[1] as usize], c.2)).collect()
+    m.cells()
+        .filter(|c| c.0 == CellKind::Line)
+        .map(|c| ([c.1[0] as usize, c.1[1] as usize], c.2))
+        .collect()
 }
 
 fn cross(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
@@ -119,11 +125,22 @@ fn containing(m: &TaggedMesh, p: [f64; 2]) -> ([usize; 3], i32, [f64; 3]) {
     triangles(m)
         .into_iter()
         .map(|(t, tag)| (t, tag, bary(m, t, p)))
-        .max_by(|x, y| x.2.iter().cloned().fold(f64::INFINITY, f64::min).total_cmp(&y.2.iter().cloned().fold(f64::INFINITY, f64::min)))
+        .max_by(|x, y| {
+            x.2.iter()
+                .cloned()
+                .fold(f64::INFINITY, f64::min)
+                .total_cmp(&y.2.iter().cloned().fold(f64::INFINITY, f64::min))
+        })
         .unwrap()
 }
 
-fn assert_valid_square(what: &str, input: &TaggedMesh, input_metric: &[Sym2], out: &Remeshed, two_faces: bool) {
+fn assert_valid_square(
+    what: &str,
+    input: &TaggedMesh,
+    input_metric: &[Sym2],
+    out: &Remeshed,
+    two_faces: bool,
+) {
     let m = &out.mesh;
     let tris = triangles(m);
     assert!(!tris.is_empty(), "{what}: no triangle");
@@ -142,7 +159,8 @@ fn assert_valid_square(what: &str, input: &TaggedMesh, input_metric: &[Sym2], ou
     }
     let boundary: Vec<(usize, usize)> = count.iter().filter(|e| *e.1 == 1).map(|e| *e.0).collect();
     let ls = lines(m);
-    let line_set: std::collections::BTreeMap<(usize, usize), i32> = ls.iter().map(|(l, tag)| ((l[0].min(l[1]), l[0].max(l[1])), *tag)).collect();
+    let line_set: std::collections::BTreeMap<(usize, usize), i32> =
+        ls.iter().map(|(l, tag)| ((l[0].min(l[1]), l[0].max(l[1])), *tag)).collect();
     for e in &boundary {
         assert!(line_set.contains_key(e), "{what}: boundary edge {e:?} has no line cell");
     }
@@ -157,7 +175,8 @@ fn assert_valid_square(what: &str, input: &TaggedMesh, input_metric: &[Sym2], ou
             _ => Box::new(|p: [f64; 2]| (p[0] == 0.5).then_some(p[1])),
         }
     };
-    let tags: &[i32] = if two_faces { &[WALL, RIGHT, TOP, LEFT, INTERFACE] } else { &[WALL, RIGHT, TOP, LEFT] };
+    let tags: &[i32] =
+        if two_faces { &[WALL, RIGHT, TOP, LEFT, INTERFACE] } else { &[WALL, RIGHT, TOP, LEFT] };
     for &tag in tags {
         let on = side(tag);
         let mut spans: Vec<(f64, f64)> = Vec::new();
@@ -166,7 +185,13 @@ fn assert_valid_square(what: &str, input: &TaggedMesh, input_metric: &[Sym2], ou
                 continue;
             }
             let (a, b) = (on(xy(m, l[0])), on(xy(m, l[1])));
-            let (Some(a), Some(b)) = (a, b) else { panic!("{what}: line {l:?} of curve {tag} is off its side: {:?} {:?}", xy(m, l[0]), xy(m, l[1])) };
+            let (Some(a), Some(b)) = (a, b) else {
+                panic!(
+                    "{what}: line {l:?} of curve {tag} is off its side: {:?} {:?}",
+                    xy(m, l[0]),
+                    xy(m, l[1])
+                )
+            };
             spans.push((a.min(b), a.max(b)));
         }
         spans.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -174,13 +199,22 @@ fn assert_valid_square(what: &str, input: &TaggedMesh, input_metric: &[Sym2], ou
         assert_eq!(spans[0].0, 0.0, "{what}: curve {tag} does not start at its corner");
         assert_eq!(spans.last().unwrap().1, 1.0, "{what}: curve {tag} does not end at its corner");
         for k in 1..spans.len() {
-            assert_eq!(spans[k].0, spans[k - 1].1, "{what}: curve {tag} has a gap or an overlap at {}", spans[k].0);
+            assert_eq!(
+                spans[k].0,
+                spans[k - 1].1,
+                "{what}: curve {tag} has a gap or an overlap at {}",
+                spans[k].0
+            );
         }
         if tag == INTERFACE {
             // Interface edges are shared by two triangles, one of each face.
             for (l, t) in &ls {
                 if *t == INTERFACE {
-                    assert_eq!(count[&(l[0].min(l[1]), l[0].max(l[1]))], 2, "{what}: interface edge {l:?}");
+                    assert_eq!(
+                        count[&(l[0].min(l[1]), l[0].max(l[1]))],
+                        2,
+                        "{what}: interface edge {l:?}"
+                    );
                 }
             }
         }
@@ -210,7 +244,11 @@ fn assert_valid_square(what: &str, input: &TaggedMesh, input_metric: &[Sym2], ou
         let want = exp_sym(&l);
         let scale = want.a.abs().max(want.c.abs());
         let err = (got.a - want.a).abs().max((got.b - want.b).abs()).max((got.c - want.c).abs());
-        assert!(err <= 1e-8 * scale, "{what}: metric at vertex {v} {:?}: {got:?} vs {want:?}", xy(m, v));
+        assert!(
+            err <= 1e-8 * scale,
+            "{what}: metric at vertex {v} {:?}: {got:?} vs {want:?}",
+            xy(m, v)
+        );
     }
     // The written metric and the stats agree with a fresh measurement.
     let field = metric_field(m, "metric").unwrap();
@@ -218,12 +256,23 @@ fn assert_valid_square(what: &str, input: &TaggedMesh, input_metric: &[Sym2], ou
     assert_eq!(Some(&c), out.stats.conformity.as_ref());
 }
 
-fn run(what: &str, mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions, two_faces: bool) -> Remeshed {
+fn run(
+    what: &str,
+    mesh: &TaggedMesh,
+    metric: &[Sym2],
+    opts: &RemeshOptions,
+    two_faces: bool,
+) -> Remeshed {
     let out = remesh(mesh, metric, opts).unwrap_or_else(|e| panic!("{what}: {e}"));
     let c = out.stats.conformity.as_ref().unwrap();
     eprintln!(
         "{what}: {} -> {} triangles in {} passes; in band {:.3}, mean q {:.3}, min q {:.3}",
-        out.stats.input[1], out.stats.output[1], out.stats.passes, c.conforming_share, c.mean_quality, c.min_quality
+        out.stats.input[1],
+        out.stats.output[1],
+        out.stats.passes,
+        c.conforming_share,
+        c.mean_quality,
+        c.min_quality
     );
     assert_valid_square(what, mesh, metric, &out, two_faces);
     out
@@ -301,7 +350,15 @@ fn cylinder_recipe_field() {
     let metric: Vec<Sym2> = field.tensors.iter().map(|t| t.to_metric()).collect();
     let out = remesh(&mesh, &metric, &RemeshOptions::default()).unwrap();
     let c = out.stats.conformity.clone().unwrap();
-    eprintln!("cylinder: {:?} -> {:?}, {} passes, in band {:.3}, mean q {:.3}, min q {:.3}", out.stats.input, out.stats.output, out.stats.passes, c.conforming_share, c.mean_quality, c.min_quality);
+    eprintln!(
+        "cylinder: {:?} -> {:?}, {} passes, in band {:.3}, mean q {:.3}, min q {:.3}",
+        out.stats.input,
+        out.stats.output,
+        out.stats.passes,
+        c.conforming_share,
+        c.mean_quality,
+        c.min_quality
+    );
     let m = &out.mesh;
     for (t, _) in triangles(m) {
         assert!(cross(xy(m, t[0]), xy(m, t[1]), xy(m, t[2])) > 0.0);
@@ -310,11 +367,15 @@ fn cylinder_recipe_field() {
     let in_topo = Topology::from_mesh(&mesh);
     for p in &in_topo.points {
         let q = xy(&mesh, p.vertex);
-        assert!(m.points.iter().any(|r| r[0] == q[0] && r[1] == q[1]), "topological point {q:?} lost");
+        assert!(
+            m.points.iter().any(|r| r[0] == q[0] && r[1] == q[1]),
+            "topological point {q:?} lost"
+        );
     }
     assert_eq!(m.num_cells_of(CellKind::Vertex), mesh.num_cells_of(CellKind::Vertex));
     // Every line vertex on an original line segment of the same tag.
-    let segs: Vec<([f64; 2], [f64; 2], i32)> = lines(&mesh).into_iter().map(|(l, t)| (xy(&mesh, l[0]), xy(&mesh, l[1]), t)).collect();
+    let segs: Vec<([f64; 2], [f64; 2], i32)> =
+        lines(&mesh).into_iter().map(|(l, t)| (xy(&mesh, l[0]), xy(&mesh, l[1]), t)).collect();
     for (l, tag) in lines(m) {
         for v in l {
             let p = xy(m, v);
@@ -323,7 +384,9 @@ fn cylinder_recipe_field() {
                 .filter(|s| s.2 == tag)
                 .map(|(a, b, _)| {
                     let e = [b[0] - a[0], b[1] - a[1]];
-                    let t = (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / (e[0] * e[0] + e[1] * e[1])).clamp(0.0, 1.0);
+                    let t = (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1])
+                        / (e[0] * e[0] + e[1] * e[1]))
+                        .clamp(0.0, 1.0);
                     (a[0] + t * e[0] - p[0]).hypot(a[1] + t * e[1] - p[1])
                 })
                 .fold(f64::INFINITY, f64::min);
@@ -335,10 +398,20 @@ fn cylinder_recipe_field() {
     tags.sort_unstable();
     tags.dedup();
     for tag in tags {
-        let len = |pts: &[([f64; 2], [f64; 2])]| pts.iter().map(|(a, b)| (b[0] - a[0]).hypot(b[1] - a[1])).sum::<f64>();
-        let before = len(&segs.iter().filter(|s| s.2 == tag).map(|s| (s.0, s.1)).collect::<Vec<_>>());
-        let after = len(&lines(m).into_iter().filter(|l| l.1 == tag).map(|(l, _)| (xy(m, l[0]), xy(m, l[1]))).collect::<Vec<_>>());
-        assert!(after <= before * (1.0 + 1e-12) && after >= 0.98 * before, "curve {tag}: {after} vs {before}");
+        let len = |pts: &[([f64; 2], [f64; 2])]| {
+            pts.iter().map(|(a, b)| (b[0] - a[0]).hypot(b[1] - a[1])).sum::<f64>()
+        };
+        let before =
+            len(&segs.iter().filter(|s| s.2 == tag).map(|s| (s.0, s.1)).collect::<Vec<_>>());
+        let after = len(&lines(m)
+            .into_iter()
+            .filter(|l| l.1 == tag)
+            .map(|(l, _)| (xy(m, l[0]), xy(m, l[1])))
+            .collect::<Vec<_>>());
+        assert!(
+            after <= before * (1.0 + 1e-12) && after >= 0.98 * before,
+            "curve {tag}: {after} vs {before}"
+        );
     }
     assert!(c.conforming_share >= 0.8, "{c:?}");
     assert!(c.min_quality > 0.0);
@@ -384,7 +457,9 @@ fn thin_gap_never_crossed() {
     m.blocks = vec![lb, tb];
     let (mesh, metric) = with_field(m, |_, _| SizeTensor::isotropic(0.3));
     for mode in [BoundaryMode::Polyline, BoundaryMode::Smooth] {
-        let out = remesh(&mesh, &metric, &RemeshOptions { boundary: mode, ..RemeshOptions::default() }).unwrap();
+        let out =
+            remesh(&mesh, &metric, &RemeshOptions { boundary: mode, ..RemeshOptions::default() })
+                .unwrap();
         let o = &out.mesh;
         let tris = triangles(o);
         assert!(tris.len() < mesh.num_cells_of(CellKind::Triangle), "{mode:?}: nothing coarsened");
@@ -392,7 +467,8 @@ fn thin_gap_never_crossed() {
             assert!(cross(xy(o, t[0]), xy(o, t[1]), xy(o, t[2])) > 0.0, "{mode:?}");
         }
         // Brute force: no two boundary edges cross or touch away from a shared end.
-        let ls: Vec<([f64; 2], [f64; 2])> = lines(o).into_iter().map(|(l, _)| (xy(o, l[0]), xy(o, l[1]))).collect();
+        let ls: Vec<([f64; 2], [f64; 2])> =
+            lines(o).into_iter().map(|(l, _)| (xy(o, l[0]), xy(o, l[1]))).collect();
         for i in 0..ls.len() {
             for j in i + 1..ls.len() {
                 let (a, b) = ls[i];
@@ -402,7 +478,12 @@ fn thin_gap_never_crossed() {
                 }
                 let s1 = cross(a, b, c) * cross(a, b, d);
                 let s2 = cross(c, d, a) * cross(c, d, b);
-                assert!(!(s1 <= 0.0 && s2 <= 0.0), "{mode:?}: boundary edges {:?} and {:?} cross", ls[i], ls[j]);
+                assert!(
+                    !(s1 <= 0.0 && s2 <= 0.0),
+                    "{mode:?}: boundary edges {:?} and {:?} cross",
+                    ls[i],
+                    ls[j]
+                );
             }
         }
         // Every boundary vertex of the polyline mode on its original circle polygon.
@@ -411,7 +492,11 @@ fn thin_gap_never_crossed() {
                 for v in l {
                     let r = xy(o, v)[0].hypot(xy(o, v)[1]);
                     let want = [0.0, 0.6, 0.5, 0.49][tag as usize];
-                    assert!(r <= want + 1e-12 && r >= want * (std::f64::consts::PI / nt as f64).cos() - 1e-12, "{mode:?}: vertex at r = {r} on curve {tag}");
+                    assert!(
+                        r <= want + 1e-12
+                            && r >= want * (std::f64::consts::PI / nt as f64).cos() - 1e-12,
+                        "{mode:?}: vertex at r = {r} on curve {tag}"
+                    );
                 }
             }
         }

@@ -16,7 +16,17 @@ use cli::{bad, bundled, ok, smartmesh};
 /// The cylinder's recipe field, written as .vtu (mesh + metric).
 fn field(dir: &Path) -> PathBuf {
     let f = dir.join("field.vtu");
-    ok(&smartmesh(&["size", &bundled("cylinder.msh"), "--recipe", &bundled("cylinder.toml"), "-o", f.to_str().unwrap()], None));
+    ok(&smartmesh(
+        &[
+            "size",
+            &bundled("cylinder.msh"),
+            "--recipe",
+            &bundled("cylinder.toml"),
+            "-o",
+            f.to_str().unwrap(),
+        ],
+        None,
+    ));
     f
 }
 
@@ -25,7 +35,19 @@ fn remesh_writes_a_conforming_mesh_and_json_stats() {
     let dir = tempfile::tempdir().unwrap();
     let f = field(dir.path());
     let out = dir.path().join("out.vtu");
-    let json: serde_json::Value = serde_json::from_str(&ok(&smartmesh(&["remesh", &bundled("cylinder.msh"), "--metric", f.to_str().unwrap(), "-o", out.to_str().unwrap(), "--json"], None))).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&ok(&smartmesh(
+        &[
+            "remesh",
+            &bundled("cylinder.msh"),
+            "--metric",
+            f.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--json",
+        ],
+        None,
+    )))
+    .unwrap();
     assert!(json["conformity"]["conforming_share"].as_f64().unwrap() >= 0.9, "{json}");
     assert!(json["conformity"]["min_quality"].as_f64().unwrap() > 0.0);
     assert!(json["passes"].as_u64().unwrap() >= 1);
@@ -36,7 +58,11 @@ fn remesh_writes_a_conforming_mesh_and_json_stats() {
     assert_eq!(mesh.point_data["metric"].components, 9);
     assert_eq!(mesh.points.len() as u64, json["output"][0].as_u64().unwrap());
     // --measure on the output agrees with the stats.
-    let m: serde_json::Value = serde_json::from_str(&ok(&smartmesh(&["remesh", out.to_str().unwrap(), "--measure", "--json"], None))).unwrap();
+    let m: serde_json::Value = serde_json::from_str(&ok(&smartmesh(
+        &["remesh", out.to_str().unwrap(), "--measure", "--json"],
+        None,
+    )))
+    .unwrap();
     assert_eq!(m["edges"], json["conformity"]["edges"]);
     assert_eq!(m["conforming_share"], json["conformity"]["conforming_share"]);
     // The metric can come with the mesh itself (the .vtu of `size`).
@@ -51,8 +77,23 @@ fn output_bytes_do_not_depend_on_threads_or_runs() {
     let mut outs = Vec::new();
     for (i, threads) in ["1", "2", "2"].iter().enumerate() {
         let out = dir.path().join(format!("out{i}.mesh"));
-        ok(&smartmesh(&["remesh", &bundled("cylinder.msh"), "--metric", f.to_str().unwrap(), "-o", out.to_str().unwrap(), "--boundary", "smooth"], Some(threads)));
-        outs.push((std::fs::read(&out).unwrap(), std::fs::read(out.with_extension("sol")).unwrap()));
+        ok(&smartmesh(
+            &[
+                "remesh",
+                &bundled("cylinder.msh"),
+                "--metric",
+                f.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+                "--boundary",
+                "smooth",
+            ],
+            Some(threads),
+        ));
+        outs.push((
+            std::fs::read(&out).unwrap(),
+            std::fs::read(out.with_extension("sol")).unwrap(),
+        ));
     }
     assert!(outs[0] == outs[1] && outs[1] == outs[2]);
 }
@@ -69,15 +110,28 @@ fn bad_metrics_exit_2_naming_file_and_vertex() {
         p
     };
     let used = base.cells().find(|c| c.0 == smartmesh::formats::CellKind::Triangle).unwrap().1[0];
-    for (name, value, why) in [("nan.vtu", f64::NAN, "finite"), ("neg.vtu", -1.0, "not positive definite")] {
+    for (name, value, why) in
+        [("nan.vtu", f64::NAN, "finite"), ("neg.vtu", -1.0, "not positive definite")]
+    {
         let mut m = base.clone();
         let a = m.point_data.get_mut("metric").unwrap();
         a.values[used as usize * 9] = value;
         let p = write(name, &m);
-        let err = bad(&smartmesh(&["remesh", &cyl, "--metric", p.to_str().unwrap(), "-o", dir.path().join("x.vtu").to_str().unwrap()], None));
+        let err = bad(&smartmesh(
+            &[
+                "remesh",
+                &cyl,
+                "--metric",
+                p.to_str().unwrap(),
+                "-o",
+                dir.path().join("x.vtu").to_str().unwrap(),
+            ],
+            None,
+        ));
         // The VTU reader refuses a NaN itself (naming the byte); a finite non-SPD tensor
         // gets through and metric_field names the vertex.
-        let named = err.contains(&format!("vertex {used}")) || (value.is_nan() && err.contains("byte"));
+        let named =
+            err.contains(&format!("vertex {used}")) || (value.is_nan() && err.contains("byte"));
         assert!(err.contains(name) && named && err.contains(why), "{err}");
     }
     // Wrong vertex count: the metric file is another mesh.
@@ -88,16 +142,37 @@ fn bad_metrics_exit_2_naming_file_and_vertex() {
     v.extend_from_slice(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
     m.point_data.insert("metric".into(), DataArray::new(9, v));
     let p = write("count.vtu", &m);
-    let err = bad(&smartmesh(&["remesh", &cyl, "--metric", p.to_str().unwrap(), "-o", dir.path().join("x.vtu").to_str().unwrap()], None));
+    let err = bad(&smartmesh(
+        &[
+            "remesh",
+            &cyl,
+            "--metric",
+            p.to_str().unwrap(),
+            "-o",
+            dir.path().join("x.vtu").to_str().unwrap(),
+        ],
+        None,
+    ));
     assert!(err.contains("count.vtu") && err.contains("vertices"), "{err}");
     // Same count, other vertices.
     let mut m = base.clone();
     m.points[3][0] += 0.25;
     let p = write("moved.vtu", &m);
-    let err = bad(&smartmesh(&["remesh", &cyl, "--metric", p.to_str().unwrap(), "-o", dir.path().join("x.vtu").to_str().unwrap()], None));
+    let err = bad(&smartmesh(
+        &[
+            "remesh",
+            &cyl,
+            "--metric",
+            p.to_str().unwrap(),
+            "-o",
+            dir.path().join("x.vtu").to_str().unwrap(),
+        ],
+        None,
+    ));
     assert!(err.contains("moved.vtu") && err.contains("vertex 3"), "{err}");
     // No metric at all.
-    let err = bad(&smartmesh(&["remesh", &cyl, "-o", dir.path().join("x.vtu").to_str().unwrap()], None));
+    let err =
+        bad(&smartmesh(&["remesh", &cyl, "-o", dir.path().join("x.vtu").to_str().unwrap()], None));
     assert!(err.contains("cylinder.msh") && err.contains("no point data `metric`"), "{err}");
     assert!(!dir.path().join("x.vtu").exists());
 }
@@ -105,7 +180,11 @@ fn bad_metrics_exit_2_naming_file_and_vertex() {
 #[test]
 fn mmg_reads_our_output() {
     let dir = tempfile::tempdir().unwrap();
-    let have = Command::new("mmg2d_O3").arg("-h").output().map(|o| o.status.success() || !o.stdout.is_empty()).unwrap_or(false);
+    let have = Command::new("mmg2d_O3")
+        .arg("-h")
+        .output()
+        .map(|o| o.status.success() || !o.stdout.is_empty())
+        .unwrap_or(false);
     if !have {
         if std::env::var("SMARTMESH_REQUIRE_INTEROP").as_deref() == Ok("1") {
             panic!("mmg2d_O3 is needed (SMARTMESH_REQUIRE_INTEROP=1)");
@@ -115,11 +194,36 @@ fn mmg_reads_our_output() {
     }
     let f = field(dir.path());
     let out = dir.path().join("ours.mesh");
-    ok(&smartmesh(&["remesh", &bundled("cylinder.msh"), "--metric", f.to_str().unwrap(), "-o", out.to_str().unwrap()], None));
+    ok(&smartmesh(
+        &[
+            "remesh",
+            &bundled("cylinder.msh"),
+            "--metric",
+            f.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    ));
     let adapted = dir.path().join("mmg.mesh");
-    let o = Command::new("mmg2d_O3").args([out.to_str().unwrap(), "-sol", out.with_extension("sol").to_str().unwrap(), "-out", adapted.to_str().unwrap(), "-v", "0"]).output().unwrap();
+    let o = Command::new("mmg2d_O3")
+        .args([
+            out.to_str().unwrap(),
+            "-sol",
+            out.with_extension("sol").to_str().unwrap(),
+            "-out",
+            adapted.to_str().unwrap(),
+            "-v",
+            "0",
+        ])
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     // Our output already conforms, so MMG has little to do: the measure stays in band.
-    let m: serde_json::Value = serde_json::from_str(&ok(&smartmesh(&["remesh", adapted.to_str().unwrap(), "--measure", "--json"], None))).unwrap();
+    let m: serde_json::Value = serde_json::from_str(&ok(&smartmesh(
+        &["remesh", adapted.to_str().unwrap(), "--measure", "--json"],
+        None,
+    )))
+    .unwrap();
     assert!(m["conforming_share"].as_f64().unwrap() > 0.8, "{m}");
 }

@@ -73,7 +73,14 @@ fn write(dir: &Path, name: &str, mesh: &TaggedMesh) -> PathBuf {
 /// needs it.
 fn cylinder_with_metric(dir: &Path) -> PathBuf {
     let out = dir.join("cyl.vtu");
-    let o = smartmesh(&["size", s(&fixture("cylinder.msh")), "--recipe", s(&fixture("cylinder.toml")), "-o", s(&out)]);
+    let o = smartmesh(&[
+        "size",
+        s(&fixture("cylinder.msh")),
+        "--recipe",
+        s(&fixture("cylinder.toml")),
+        "-o",
+        s(&out),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     out
 }
@@ -90,7 +97,10 @@ fn by_id<'a>(doc: &'a roxmltree::Document<'a>, id: &str) -> Option<roxmltree::No
 }
 
 fn attr(n: &roxmltree::Node<'_, '_>, name: &str) -> f64 {
-    n.attribute(name).unwrap_or_else(|| panic!("no {name} on {n:?}")).parse().unwrap_or_else(|e| panic!("{name}: {e}"))
+    n.attribute(name)
+        .unwrap_or_else(|| panic!("no {name} on {n:?}"))
+        .parse()
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
 fn has_class(n: &roxmltree::Node<'_, '_>, class: &str) -> bool {
@@ -108,8 +118,12 @@ fn ellipses(doc: &roxmltree::Document<'_>, zoom: &str) -> (Vec<(usize, [f64; 5])
         .filter(|n| n.has_tag_name("ellipse"))
         .map(|e| {
             let rot = e.attribute("transform").expect("transform");
-            let angle: f64 = rot.trim_start_matches("rotate(").split(' ').next().unwrap().parse().unwrap();
-            (e.attribute("data-vertex").unwrap().parse().unwrap(), [attr(&e, "cx"), attr(&e, "cy"), attr(&e, "rx"), attr(&e, "ry"), angle])
+            let angle: f64 =
+                rot.trim_start_matches("rotate(").split(' ').next().unwrap().parse().unwrap();
+            (
+                e.attribute("data-vertex").unwrap().parse().unwrap(),
+                [attr(&e, "cx"), attr(&e, "cy"), attr(&e, "rx"), attr(&e, "ry"), angle],
+            )
         })
         .collect();
     (list, scale)
@@ -120,7 +134,8 @@ fn svg_is_well_formed_with_the_expected_panels() {
     let dir = tempfile::tempdir().unwrap();
     let cyl = cylinder_with_metric(dir.path());
     let out = dir.path().join("cyl.svg");
-    let text = report(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "-o", s(&out)]);
+    let text =
+        report(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "-o", s(&out)]);
     let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
     assert_eq!(doc.root_element().tag_name().name(), "svg");
     for id in ["title", "overview", "legend", "hist-length", "hist-quality"] {
@@ -133,8 +148,20 @@ fn svg_is_well_formed_with_the_expected_panels() {
     assert_eq!(zooms.len(), 3);
     let overview = by_id(&doc, "overview").unwrap();
     assert_eq!(overview.descendants().filter(|n| has_class(n, "zoom-frame")).count(), 3);
-    let titles: Vec<String> = zooms.iter().map(|z| z.children().find(|c| c.has_tag_name("title")).and_then(|t| t.text()).unwrap_or("").to_string()).collect();
-    assert!(titles[0].contains("DISTANCE_TO_BORDER") && titles[0].contains("Cylinder"), "{titles:?}");
+    let titles: Vec<String> = zooms
+        .iter()
+        .map(|z| {
+            z.children()
+                .find(|c| c.has_tag_name("title"))
+                .and_then(|t| t.text())
+                .unwrap_or("")
+                .to_string()
+        })
+        .collect();
+    assert!(
+        titles[0].contains("DISTANCE_TO_BORDER") && titles[0].contains("Cylinder"),
+        "{titles:?}"
+    );
     assert!(titles[1].contains("DISTANCE_TO_POINT"), "{titles:?}");
     assert!(titles[2].contains("DISTANCE_TO_IMAGINARY_POLYLINE"), "{titles:?}");
     for z in ["zoom-1", "zoom-2", "zoom-3"] {
@@ -144,11 +171,17 @@ fn svg_is_well_formed_with_the_expected_panels() {
     assert_eq!(overview.descendants().filter(|n| has_class(n, "face")).count(), 1);
     assert_eq!(overview.descendants().filter(|n| has_class(n, "curve")).count(), 4);
     assert!(overview.descendants().any(|n| has_class(&n, "edges")));
-    let legend: Vec<&str> = by_id(&doc, "legend").unwrap().descendants().filter(|n| n.has_tag_name("text")).filter_map(|n| n.text()).collect();
+    let legend: Vec<&str> = by_id(&doc, "legend")
+        .unwrap()
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .collect();
     for entry in ["face 10 Fluid", "curve 1 Inlet", "curve 4 Cylinder"] {
         assert!(legend.contains(&entry), "legend {legend:?} lacks {entry}");
     }
-    let title: String = by_id(&doc, "title").unwrap().descendants().filter_map(|n| n.text()).collect();
+    let title: String =
+        by_id(&doc, "title").unwrap().descendants().filter_map(|n| n.text()).collect();
     assert!(title.contains("1148 vertices") && title.contains("2134 surface cells"), "{title}");
 }
 
@@ -167,20 +200,43 @@ fn isotropic_metric_gives_circles_of_radius_h_times_scale_at_their_vertices() {
     assert!(list.len() >= 3, "{} ellipses", list.len());
     // The panel's own geometry gives the same scale: its clip rectangle over its window.
     let panel = by_id(&doc, "zoom-1").unwrap();
-    let clip = by_id(&doc, "clip-zoom-1").unwrap().children().find(|n| n.has_tag_name("rect")).unwrap();
-    let w: Vec<f64> = panel.attribute("data-window").unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
-    let (sx, sy, sw, sh) = (attr(&clip, "x"), attr(&clip, "y"), attr(&clip, "width"), attr(&clip, "height"));
+    let clip =
+        by_id(&doc, "clip-zoom-1").unwrap().children().find(|n| n.has_tag_name("rect")).unwrap();
+    let w: Vec<f64> =
+        panel.attribute("data-window").unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
+    let (sx, sy, sw, sh) =
+        (attr(&clip, "x"), attr(&clip, "y"), attr(&clip, "width"), attr(&clip, "height"));
     let px_per_unit = (sw / (w[2] - w[0])).min(sh / (w[3] - w[1]));
     // The window around the corner vertex was moved inside the square.
-    assert!(w[0] >= -1e-9 && w[1] >= -1e-9 && w[2] <= 1.0 + 1e-9 && w[3] <= 1.0 + 1e-9, "window {w:?}");
-    let factor: f64 = panel.descendants().find(|n| has_class(n, "ellipses")).unwrap().attribute("data-factor").unwrap().parse().unwrap();
-    assert!((scale - px_per_unit * factor).abs() <= 1e-3 * scale, "{scale} vs {px_per_unit} x {factor}");
+    assert!(
+        w[0] >= -1e-9 && w[1] >= -1e-9 && w[2] <= 1.0 + 1e-9 && w[3] <= 1.0 + 1e-9,
+        "window {w:?}"
+    );
+    let factor: f64 = panel
+        .descendants()
+        .find(|n| has_class(n, "ellipses"))
+        .unwrap()
+        .attribute("data-factor")
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        (scale - px_per_unit * factor).abs() <= 1e-3 * scale,
+        "{scale} vs {px_per_unit} x {factor}"
+    );
     for (v, [cx, cy, rx, ry, _]) in list {
-        assert!((rx - h * scale).abs() < 2e-3 && (ry - h * scale).abs() < 2e-3, "vertex {v}: {rx} {ry} vs {}", h * scale);
+        assert!(
+            (rx - h * scale).abs() < 2e-3 && (ry - h * scale).abs() < 2e-3,
+            "vertex {v}: {rx} {ry} vs {}",
+            h * scale
+        );
         let p = mesh.points[v];
         let ex = sx + 0.5 * sw + px_per_unit * (p[0] - 0.5 * (w[0] + w[2]));
         let ey = sy + 0.5 * sh - px_per_unit * (p[1] - 0.5 * (w[1] + w[3]));
-        assert!((cx - ex).abs() < 0.05 && (cy - ey).abs() < 0.05, "vertex {v} at ({cx}, {cy}), expected ({ex}, {ey})");
+        assert!(
+            (cx - ex).abs() < 0.05 && (cy - ey).abs() < 0.05,
+            "vertex {v} at ({cx}, {cy}), expected ({ex}, {ey})"
+        );
     }
 }
 
@@ -197,7 +253,10 @@ fn anisotropic_ellipses_have_their_major_axis_along_the_tensor_axis() {
     assert!(!list.is_empty());
     for (v, [_, _, rx, ry, rot]) in list {
         let (big, small) = (rx.max(ry), rx.min(ry));
-        assert!((big - major * scale).abs() < 2e-3 && (small - minor * scale).abs() < 2e-3, "vertex {v}: {rx} x {ry}");
+        assert!(
+            (big - major * scale).abs() < 2e-3 && (small - minor * scale).abs() < 2e-3,
+            "vertex {v}: {rx} x {ry}"
+        );
         // The picture's y points down: a mesh angle θ is drawn as rotate(−θ).
         let major_on_screen = if rx >= ry { rot } else { rot + 90.0 };
         let mesh_angle = (-major_on_screen).rem_euclid(180.0);
@@ -206,7 +265,12 @@ fn anisotropic_ellipses_have_their_major_axis_along_the_tensor_axis() {
 }
 
 fn bars(doc: &roxmltree::Document<'_>, id: &str) -> Vec<usize> {
-    by_id(doc, id).unwrap().descendants().filter(|n| has_class(n, "bar")).map(|n| n.attribute("data-count").unwrap().parse().unwrap()).collect()
+    by_id(doc, id)
+        .unwrap()
+        .descendants()
+        .filter(|n| has_class(n, "bar"))
+        .map(|n| n.attribute("data-count").unwrap().parse().unwrap())
+        .collect()
 }
 
 #[test]
@@ -223,8 +287,12 @@ fn histograms_are_conformitys_counts_and_info_prints_its_figures() {
     assert_eq!(bars(&doc, "hist-quality"), c.quality_histogram.to_vec());
     let band = by_id(&doc, "hist-length").unwrap().descendants().find(|n| has_class(n, "band"));
     assert!(band.is_some(), "the conforming band is shaded");
-    let heading: String = by_id(&doc, "hist-length").unwrap().descendants().filter_map(|n| n.text()).collect();
-    assert!(heading.contains(&format!("{:.1}% of {} edges", 100.0 * c.conforming_share, c.edges)), "{heading}");
+    let heading: String =
+        by_id(&doc, "hist-length").unwrap().descendants().filter_map(|n| n.text()).collect();
+    assert!(
+        heading.contains(&format!("{:.1}% of {} edges", 100.0 * c.conforming_share, c.edges)),
+        "{heading}"
+    );
 
     // info --json: the same figures, exactly.
     let o = smartmesh(&["info", "--json", s(&fixture("cylinder.msh")), "--metric", s(&cyl)]);
@@ -238,8 +306,18 @@ fn histograms_are_conformitys_counts_and_info_prints_its_figures() {
     // And the text names the share and the quality.
     let o = smartmesh(&["info", s(&fixture("cylinder.msh")), "--metric", s(&cyl)]);
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(text.contains(&format!("{} edges, {:.1}% of metric length", c.edges, 100.0 * c.conforming_share)), "{text}");
-    assert!(text.contains(&format!("min {:.4}, mean {:.4}", c.min_quality, c.mean_quality)), "{text}");
+    assert!(
+        text.contains(&format!(
+            "{} edges, {:.1}% of metric length",
+            c.edges,
+            100.0 * c.conforming_share
+        )),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!("min {:.4}, mean {:.4}", c.min_quality, c.mean_quality)),
+        "{text}"
+    );
     // Without a metric, no metric key at all (the output stays as it was).
     let o = smartmesh(&["info", "--json", s(&fixture("cylinder.msh"))]);
     let plain: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
@@ -251,15 +329,43 @@ fn png_decodes_at_the_requested_width_and_is_not_blank() {
     let dir = tempfile::tempdir().unwrap();
     let cyl = cylinder_with_metric(dir.path());
     let (svg, png) = (dir.path().join("c.svg"), dir.path().join("c.png"));
-    let text = report(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "--width", "700", "-o", s(&svg)]);
+    let text = report(&[
+        "report",
+        s(&cyl),
+        "--recipe",
+        s(&fixture("cylinder.toml")),
+        "--width",
+        "700",
+        "-o",
+        s(&svg),
+    ]);
     let doc = roxmltree::Document::parse(&text).unwrap();
     let height: u32 = doc.root_element().attribute("height").unwrap().parse().unwrap();
-    let o = smartmesh(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "--width", "700", "-o", s(&png)]);
+    let o = smartmesh(&[
+        "report",
+        s(&cyl),
+        "--recipe",
+        s(&fixture("cylinder.toml")),
+        "--width",
+        "700",
+        "-o",
+        s(&png),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     check_png(&png, 700, height, 1000);
     // The palette variant: indexed, same size, fewer colours, still a picture.
     let pal = dir.path().join("p.png");
-    let o = smartmesh(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "--width", "700", "--palette", "-o", s(&pal)]);
+    let o = smartmesh(&[
+        "report",
+        s(&cyl),
+        "--recipe",
+        s(&fixture("cylinder.toml")),
+        "--width",
+        "700",
+        "--palette",
+        "-o",
+        s(&pal),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let reader = png::Decoder::new(std::fs::File::open(&pal).unwrap()).read_info().unwrap();
     assert_eq!(reader.info().color_type, png::ColorType::Indexed);
@@ -299,7 +405,11 @@ fn same_input_gives_the_same_bytes() {
             let o = smartmesh(&args);
             assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
         }
-        assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "{ext} differs between runs");
+        assert_eq!(
+            std::fs::read(&a).unwrap(),
+            std::fs::read(&b).unwrap(),
+            "{ext} differs between runs"
+        );
     }
 }
 
@@ -336,9 +446,17 @@ fn history_is_drawn_with_its_best_iteration() {
     assert_eq!(best.attribute("data-iteration"), Some("2"));
     let series: Vec<_> = panel.descendants().filter(|n| has_class(n, "series")).collect();
     assert_eq!(series.len(), 3);
-    let vertices: Vec<f64> = series[0].descendants().filter(|n| n.has_tag_name("circle")).map(|c| attr(&c, "data-value")).collect();
+    let vertices: Vec<f64> = series[0]
+        .descendants()
+        .filter(|n| n.has_tag_name("circle"))
+        .map(|c| attr(&c, "data-value"))
+        .collect();
     assert_eq!(vertices, vec![121.0, 400.0, 450.0, 452.0]);
-    let shares: Vec<f64> = series[1].descendants().filter(|n| n.has_tag_name("circle")).map(|c| attr(&c, "data-value")).collect();
+    let shares: Vec<f64> = series[1]
+        .descendants()
+        .filter(|n| n.has_tag_name("circle"))
+        .map(|c| attr(&c, "data-value"))
+        .collect();
     assert_eq!(shares, vec![0.3, 0.7, 0.9, 0.89]);
 }
 
@@ -360,7 +478,15 @@ fn json_summary_lists_the_zooms_and_the_figures() {
     let dir = tempfile::tempdir().unwrap();
     let cyl = cylinder_with_metric(dir.path());
     let out = dir.path().join("c.svg");
-    let o = smartmesh(&["report", s(&cyl), "--recipe", s(&fixture("cylinder.toml")), "--json", "-o", s(&out)]);
+    let o = smartmesh(&[
+        "report",
+        s(&cyl),
+        "--recipe",
+        s(&fixture("cylinder.toml")),
+        "--json",
+        "-o",
+        s(&out),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let zooms = v["report"]["zooms"].as_array().unwrap();
@@ -371,15 +497,24 @@ fn json_summary_lists_the_zooms_and_the_figures() {
     for z in zooms {
         let (r, w) = (&z["region"], &z["shown"]);
         let f = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap();
-        assert!(f(w, "x0") <= f(r, "x0").max(0.0) + 1e-9 && f(w, "x1") >= f(r, "x1").min(4.0) - 1e-9, "{z}");
-        assert!(f(w, "y0") <= f(r, "y0").max(0.0) + 1e-9 && f(w, "y1") >= f(r, "y1").min(1.0) - 1e-9, "{z}");
+        assert!(
+            f(w, "x0") <= f(r, "x0").max(0.0) + 1e-9 && f(w, "x1") >= f(r, "x1").min(4.0) - 1e-9,
+            "{z}"
+        );
+        assert!(
+            f(w, "y0") <= f(r, "y0").max(0.0) + 1e-9 && f(w, "y1") >= f(r, "y1").min(1.0) - 1e-9,
+            "{z}"
+        );
     }
     let mesh = read_path(&cyl, None).unwrap();
     let c = Conformity::of_mesh(&mesh, &metric_field(&mesh, "metric").unwrap()).unwrap();
     assert_eq!(v["report"]["conformity"], serde_json::to_value(&c).unwrap());
     let text = std::fs::read_to_string(&out).unwrap();
     let doc = roxmltree::Document::parse(&text).unwrap();
-    assert_eq!(v["report"]["height"].as_f64().unwrap().to_string(), doc.root_element().attribute("height").unwrap());
+    assert_eq!(
+        v["report"]["height"].as_f64().unwrap().to_string(),
+        doc.root_element().attribute("height").unwrap()
+    );
 }
 
 #[test]
@@ -424,34 +559,78 @@ fn bad_metrics_and_histories_exit_two_with_a_clear_message() {
     let out = d.join("out.svg");
     // Wrong vertex count.
     let other = write(d, "other.vtu", &grid(7, Some(SizeTensor::isotropic(0.1))));
-    assert_refused(&["report", s(&mesh), "--metric", s(&other), "-o", s(&out)], &out, &[s(&other), "49 items", "36 vertices"]);
+    assert_refused(
+        &["report", s(&mesh), "--metric", s(&other), "-o", s(&out)],
+        &out,
+        &[s(&other), "49 items", "36 vertices"],
+    );
     assert_refused(&["info", s(&mesh), "--metric", s(&other)], &out, &["49 items", "36 vertices"]);
     // A NaN: the VTU reader itself refuses it, naming the byte and the array.
     let mut nan = grid(6, Some(SizeTensor::isotropic(0.1)));
     nan.point_data.get_mut("metric").unwrap().values[9 * 7] = f64::NAN;
     let nan = write(d, "nan.vtu", &nan);
-    assert_refused(&["report", s(&nan), "-o", s(&out)], &out, &[s(&nan), "`metric`", "not a finite number"]);
-    assert_refused(&["report", s(&mesh), "--metric", s(&nan), "-o", s(&out)], &out, &[s(&nan), "not a finite number"]);
-    assert_refused(&["info", s(&mesh), "--metric", s(&nan)], &out, &[s(&nan), "not a finite number"]);
+    assert_refused(
+        &["report", s(&nan), "-o", s(&out)],
+        &out,
+        &[s(&nan), "`metric`", "not a finite number"],
+    );
+    assert_refused(
+        &["report", s(&mesh), "--metric", s(&nan), "-o", s(&out)],
+        &out,
+        &[s(&nan), "not a finite number"],
+    );
+    assert_refused(
+        &["info", s(&mesh), "--metric", s(&nan)],
+        &out,
+        &[s(&nan), "not a finite number"],
+    );
     // A tensor that is finite but not positive definite: the metric check names the vertex.
     let mut neg = grid(6, Some(SizeTensor::isotropic(0.1)));
     neg.point_data.get_mut("metric").unwrap().values[9 * 7] = -1.0;
     let neg = write(d, "neg.vtu", &neg);
-    assert_refused(&["report", s(&neg), "-o", s(&out)], &out, &[s(&neg), "vertex 7", "not positive definite"]);
-    assert_refused(&["report", s(&mesh), "--metric", s(&neg), "-o", s(&out)], &out, &[s(&neg), "vertex 7", "not positive definite"]);
-    assert_refused(&["info", s(&mesh), "--metric", s(&neg)], &out, &["vertex 7", "not positive definite"]);
+    assert_refused(
+        &["report", s(&neg), "-o", s(&out)],
+        &out,
+        &[s(&neg), "vertex 7", "not positive definite"],
+    );
+    assert_refused(
+        &["report", s(&mesh), "--metric", s(&neg), "-o", s(&out)],
+        &out,
+        &[s(&neg), "vertex 7", "not positive definite"],
+    );
+    assert_refused(
+        &["info", s(&mesh), "--metric", s(&neg)],
+        &out,
+        &["vertex 7", "not positive definite"],
+    );
     // The file's own bad array is only a warning for info, which still prints the rest.
     let o = smartmesh(&["info", s(&neg)]);
     assert_eq!(o.status.code(), Some(0));
-    assert!(stderr(&o).contains("warning: no metric figures") && stderr(&o).contains("vertex 7"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: no metric figures") && stderr(&o).contains("vertex 7"),
+        "{}",
+        stderr(&o)
+    );
     // No `metric` array in the metric file.
-    assert_refused(&["report", s(&mesh), "--metric", s(&mesh), "-o", s(&out)], &out, &[s(&mesh), "no point data `metric`"]);
+    assert_refused(
+        &["report", s(&mesh), "--metric", s(&mesh), "-o", s(&out)],
+        &out,
+        &[s(&mesh), "no point data `metric`"],
+    );
     // A history that is not one.
     let bad = d.join("history.json");
     std::fs::write(&bad, "{\"input\": \"a\",\n \"iterations\": 3}\n").unwrap();
-    assert_refused(&["report", s(&mesh), "--history", s(&bad), "-o", s(&out)], &out, &[s(&bad), "line 2"]);
+    assert_refused(
+        &["report", s(&mesh), "--history", s(&bad), "-o", s(&out)],
+        &out,
+        &[s(&bad), "line 2"],
+    );
     let missing = d.join("none.json");
-    assert_refused(&["report", s(&mesh), "--history", s(&missing), "-o", s(&out)], &out, &[s(&missing), "cannot read"]);
+    assert_refused(
+        &["report", s(&mesh), "--history", s(&missing), "-o", s(&out)],
+        &out,
+        &[s(&missing), "cannot read"],
+    );
     // An output that is neither SVG nor PNG, and a width out of range.
     let pdf = d.join("out.pdf");
     assert_refused(&["report", s(&mesh), "-o", s(&pdf)], &pdf, &[".svg or .png"]);

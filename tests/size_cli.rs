@@ -20,7 +20,18 @@ mod cli;
 use cli::{bundled, ok, smartmesh};
 
 fn size_to(out: &Path) -> String {
-    ok(&smartmesh(&["size", &bundled("cylinder.msh"), "--recipe", &bundled("cylinder.toml"), "-o", out.to_str().unwrap(), "--json"], None))
+    ok(&smartmesh(
+        &[
+            "size",
+            &bundled("cylinder.msh"),
+            "--recipe",
+            &bundled("cylinder.toml"),
+            "-o",
+            out.to_str().unwrap(),
+            "--json",
+        ],
+        None,
+    ))
 }
 
 /// Mean edge length of the triangles whose centroid satisfies `inside`, and their count.
@@ -35,7 +46,9 @@ fn mean_edge(mesh: &TaggedMesh, inside: impl Fn(f64, f64) -> bool) -> (f64, usiz
         if inside(cx, cy) {
             n += 1;
             for k in 0..3 {
-                sum += ((p[k][0] - p[(k + 1) % 3][0]).powi(2) + (p[k][1] - p[(k + 1) % 3][1]).powi(2)).sqrt();
+                sum += ((p[k][0] - p[(k + 1) % 3][0]).powi(2)
+                    + (p[k][1] - p[(k + 1) % 3][1]).powi(2))
+                .sqrt();
             }
         }
     }
@@ -46,10 +59,15 @@ fn mean_edge(mesh: &TaggedMesh, inside: impl Fn(f64, f64) -> bool) -> (f64, usiz
 /// wall (within 0.03 of the circle), mid-size ones along the wake centre line, coarse far
 /// from both (the top and bottom of the channel, away from the cylinder).
 fn assert_recipe_followed(what: &str, mesh: &TaggedMesh) {
-    let wall = mean_edge(mesh, |x, y| (((x - 1.0).powi(2) + (y - 0.5).powi(2)).sqrt() - 0.15).abs() < 0.03);
+    let wall = mean_edge(mesh, |x, y| {
+        (((x - 1.0).powi(2) + (y - 0.5).powi(2)).sqrt() - 0.15).abs() < 0.03
+    });
     let wake = mean_edge(mesh, |x, y| x > 1.6 && x < 2.6 && (y - 0.5).abs() < 0.02);
     let far = mean_edge(mesh, |x, y| x > 2.0 && (y - 0.5).abs() > 0.4);
-    eprintln!("{what}: mean edge at the wall {:.4} ({}), wake {:.4} ({}), far {:.4} ({})", wall.0, wall.1, wake.0, wake.1, far.0, far.1);
+    eprintln!(
+        "{what}: mean edge at the wall {:.4} ({}), wake {:.4} ({}), far {:.4} ({})",
+        wall.0, wall.1, wake.0, wake.1, far.0, far.1
+    );
     assert!(wall.1 > 0 && wake.1 > 0 && far.1 > 0, "{what}: empty zone");
     assert!(wall.0 < 0.5 * far.0, "{what}: wall {} not finer than far field {}", wall.0, far.0);
     assert!(wake.0 < 0.7 * far.0, "{what}: wake {} not finer than far field {}", wake.0, far.0);
@@ -82,7 +100,17 @@ fn same_bytes_whatever_the_thread_count() {
     let mut outputs = Vec::new();
     for t in ["1", "2", "3"] {
         let out: PathBuf = dir.path().join(format!("field-{t}.sol"));
-        ok(&smartmesh(&["size", &bundled("cylinder.msh"), "--recipe", &bundled("cylinder.toml"), "-o", out.to_str().unwrap()], Some(t)));
+        ok(&smartmesh(
+            &[
+                "size",
+                &bundled("cylinder.msh"),
+                "--recipe",
+                &bundled("cylinder.toml"),
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            Some(t),
+        ));
         outputs.push(std::fs::read(&out).unwrap());
     }
     assert!(outputs.windows(2).all(|w| w[0] == w[1]));
@@ -92,16 +120,38 @@ fn same_bytes_whatever_the_thread_count() {
 fn bad_targets_and_recipes_exit_two_without_output() {
     let dir = tempfile::tempdir().unwrap();
     let obj = dir.path().join("x.obj");
-    let o = smartmesh(&["size", &bundled("cylinder.msh"), "--recipe", &bundled("cylinder.toml"), "-o", obj.to_str().unwrap()], None);
+    let o = smartmesh(
+        &[
+            "size",
+            &bundled("cylinder.msh"),
+            "--recipe",
+            &bundled("cylinder.toml"),
+            "-o",
+            obj.to_str().unwrap(),
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("cannot hold a metric"));
     assert!(!obj.exists());
 
     let recipe = dir.path().join("bad.toml");
-    let text = std::fs::read_to_string(bundled("cylinder.toml")).unwrap().replace("Cylinder = [\"Cylinder\"]", "Cylinder = [\"Cylindre\"]");
+    let text = std::fs::read_to_string(bundled("cylinder.toml"))
+        .unwrap()
+        .replace("Cylinder = [\"Cylinder\"]", "Cylinder = [\"Cylindre\"]");
     std::fs::write(&recipe, text).unwrap();
     let sol = dir.path().join("x.sol");
-    let o = smartmesh(&["size", &bundled("cylinder.msh"), "--recipe", recipe.to_str().unwrap(), "-o", sol.to_str().unwrap()], None);
+    let o = smartmesh(
+        &[
+            "size",
+            &bundled("cylinder.msh"),
+            "--recipe",
+            recipe.to_str().unwrap(),
+            "-o",
+            sol.to_str().unwrap(),
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("Cylindre"), "{err}");
@@ -116,8 +166,22 @@ fn mmg2d_adapts_the_cylinder_to_our_field() {
     let mesh = dir.path().join("cyl.mesh");
     size_to(&mesh);
     let out = dir.path().join("adapted.mesh");
-    let o = Command::new(&exe).arg("-in").arg(&mesh).arg("-sol").arg(mesh.with_extension("sol")).arg("-out").arg(&out).args(["-v", "1"]).output().expect("run mmg2d_O3");
-    assert!(o.status.success(), "mmg2d_O3: {}\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    let o = Command::new(&exe)
+        .arg("-in")
+        .arg(&mesh)
+        .arg("-sol")
+        .arg(mesh.with_extension("sol"))
+        .arg("-out")
+        .arg(&out)
+        .args(["-v", "1"])
+        .output()
+        .expect("run mmg2d_O3");
+    assert!(
+        o.status.success(),
+        "mmg2d_O3: {}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
     let adapted = read_path(&out, None).unwrap();
     assert_recipe_followed("mmg2d_O3", &adapted);
     // The curve references survive: Inlet 1, Outlet 2, Walls 3, Cylinder 4.
@@ -138,14 +202,29 @@ fn gmsh_meshes_the_cylinder_with_our_pos_as_background() {
     let out = dir.path().join("bamg.msh");
     let o = Command::new("gmsh")
         .arg(&geo)
-        .args(["-2", "-v", "2", "-setnumber", "Mesh.Algorithm", "7", "-setnumber", "Mesh.MeshSizeExtendFromBoundary", "0"])
+        .args([
+            "-2",
+            "-v",
+            "2",
+            "-setnumber",
+            "Mesh.Algorithm",
+            "7",
+            "-setnumber",
+            "Mesh.MeshSizeExtendFromBoundary",
+            "0",
+        ])
         .args(["-setnumber", "Mesh.MeshSizeFromPoints", "0", "-bgm"])
         .arg(&pos)
         .arg("-o")
         .arg(&out)
         .output()
         .expect("run gmsh");
-    assert!(o.status.success(), "gmsh: {}\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.status.success(),
+        "gmsh: {}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
     assert_recipe_followed("gmsh -bgm (BAMG)", &read_path(&out, None).unwrap());
 }
 
@@ -153,13 +232,45 @@ fn gmsh_meshes_the_cylinder_with_our_pos_as_background() {
 fn appendix_a_recipe_runs_on_the_distributor() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("distributor.sol");
-    let o = smartmesh(&["size", &bundled("distributor.msh"), "--recipe", &bundled("appendix-a.cfg"), "-o", out.to_str().unwrap(), "--json"], None);
+    let o = smartmesh(
+        &[
+            "size",
+            &bundled("distributor.msh"),
+            "--recipe",
+            &bundled("appendix-a.cfg"),
+            "-o",
+            out.to_str().unwrap(),
+            "--json",
+        ],
+        None,
+    );
     let json: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
-    let steps: Vec<&str> = json["steps"].as_array().unwrap().iter().map(|s| s["algorithm"].as_str().unwrap()).collect();
-    assert_eq!(steps, ["UNIFORM", "DISTANCE_TO_POINT", "DISTANCE_TO_BORDER", "DISTANCE_TO_BORDER", "DISTANCE_TO_IMAGINARY_POLYLINE"]);
+    let steps: Vec<&str> = json["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["algorithm"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        steps,
+        [
+            "UNIFORM",
+            "DISTANCE_TO_POINT",
+            "DISTANCE_TO_BORDER",
+            "DISTANCE_TO_BORDER",
+            "DISTANCE_TO_IMAGINARY_POLYLINE"
+        ]
+    );
     // Every step reaches something; the recipe gives no HMAX, so unreached vertices would
     // get the bounding-box diagonal, with a warning — but UNIFORM on the fluid reaches all.
-    assert!(json["steps"].as_array().unwrap().iter().all(|s| s["vertices_reached"].as_u64().unwrap() > 0), "{json}");
+    assert!(
+        json["steps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|s| s["vertices_reached"].as_u64().unwrap() > 0),
+        "{json}"
+    );
     assert_eq!(json["vertices_reached"], json["vertices"]);
     // The smallest size is the corner function's MINSIZE (0.02), the largest UNIFORM's 2.0.
     assert_eq!(json["smallest_size"].as_f64().unwrap(), 0.02);

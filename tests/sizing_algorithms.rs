@@ -14,8 +14,9 @@ use std::f64::consts::PI;
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::geometry::Point2;
 use smartmesh::sizing::{
-    compute_size_field, run_algorithm, three_point_curvature, Algorithm, CurvatureToSize, DistanceFunction, EntitySet, SizeField, SizeProjectionFunction,
-    SizingError, SizingPlan, Step, StepEvent,
+    compute_size_field, run_algorithm, three_point_curvature, Algorithm, CurvatureToSize,
+    DistanceFunction, EntitySet, SizeField, SizeProjectionFunction, SizingError, SizingPlan, Step,
+    StepEvent,
 };
 use smartmesh::{MeshGraph, SizeBounds, SizeTensor, Topology};
 
@@ -49,12 +50,21 @@ struct Model {
 impl Model {
     /// `lines`: (tag, polyline vertices, closed); `points`: (tag, vertex); `face_tag`
     /// gives each triangle its face tag.
-    fn new(coords: Vec<Point2>, triangles: Vec<[usize; 3]>, face_tag: impl Fn(Point2) -> i32, lines: &[(i32, Vec<usize>, bool)], points: &[(i32, usize)]) -> Model {
+    fn new(
+        coords: Vec<Point2>,
+        triangles: Vec<[usize; 3]>,
+        face_tag: impl Fn(Point2) -> i32,
+        lines: &[(i32, Vec<usize>, bool)],
+        points: &[(i32, usize)],
+    ) -> Model {
         let mut mesh = TaggedMesh::new();
         mesh.points = coords.iter().map(|p| [p[0], p[1], 0.0]).collect();
         let mut tris = CellBlock::new(CellKind::Triangle);
         for t in &triangles {
-            let c = [(coords[t[0]][0] + coords[t[1]][0] + coords[t[2]][0]) / 3.0, (coords[t[0]][1] + coords[t[1]][1] + coords[t[2]][1]) / 3.0];
+            let c = [
+                (coords[t[0]][0] + coords[t[1]][0] + coords[t[2]][0]) / 3.0,
+                (coords[t[0]][1] + coords[t[1]][1] + coords[t[2]][1]) / 3.0,
+            ];
             let tag = face_tag(c);
             tris.push(t, tag, tag);
         }
@@ -78,7 +88,11 @@ impl Model {
     }
 
     fn curve(&self, tag: i32) -> usize {
-        self.topo.curves.iter().position(|c| c.tag == Some(tag)).unwrap_or_else(|| panic!("no curve {tag}"))
+        self.topo
+            .curves
+            .iter()
+            .position(|c| c.tag == Some(tag))
+            .unwrap_or_else(|| panic!("no curve {tag}"))
     }
     fn point(&self, tag: i32) -> usize {
         self.topo.points.iter().position(|p| p.tag == Some(tag)).unwrap()
@@ -113,7 +127,15 @@ fn triangulate(nx: usize, ny: usize, wrap: bool, rng: &mut Rng) -> Vec<[usize; 3
 /// A jittered grid of `nx × ny` vertices, spacing `h`, from the origin. Boundary lines:
 /// bottom 11 (left to right), right 12, top 13, left 14. Faces: 1 left of `x_split`,
 /// 2 right of it. Point 20 at vertex `point`.
-fn grid(nx: usize, ny: usize, h: f64, jitter: f64, seed: u64, x_split: f64, point: (usize, usize)) -> Model {
+fn grid(
+    nx: usize,
+    ny: usize,
+    h: f64,
+    jitter: f64,
+    seed: u64,
+    x_split: f64,
+    point: (usize, usize),
+) -> Model {
     let mut rng = Rng(seed);
     let mut coords = Vec::new();
     for j in 0..ny {
@@ -136,7 +158,13 @@ fn grid(nx: usize, ny: usize, h: f64, jitter: f64, seed: u64, x_split: f64, poin
         (13, (0..nx).rev().map(|i| v(i, ny - 1)).collect(), false),
         (14, (0..ny).rev().map(|j| v(0, j)).collect(), false),
     ];
-    Model::new(coords, tris, |c| if c[0] < x_split { 1 } else { 2 }, &lines, &[(20, v(point.0, point.1))])
+    Model::new(
+        coords,
+        tris,
+        |c| if c[0] < x_split { 1 } else { 2 },
+        &lines,
+        &[(20, v(point.0, point.1))],
+    )
 }
 
 /// An O-mesh outside the closed curve `border(a)`, `n` points around, `layers` rings
@@ -172,7 +200,11 @@ struct Brute {
 fn project(p: Point2, a: Point2, b: Point2) -> (f64, Point2, f64) {
     let d = [b[0] - a[0], b[1] - a[1]];
     let l2 = d[0] * d[0] + d[1] * d[1];
-    let t = if l2 > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if l2 > 0.0 {
+        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let f = if t == 0.0 {
         a
     } else if t == 1.0 {
@@ -193,7 +225,9 @@ fn brute(p: Point2, segs: &[[Point2; 2]]) -> Brute {
     }
     for s in segs {
         let (d, f, _) = project(p, s[0], s[1]);
-        if (d - best.d).abs() <= 1e-9 * best.d.max(1e-12) && (f[0] - best.foot[0]).hypot(f[1] - best.foot[1]) > 1e-9 {
+        if (d - best.d).abs() <= 1e-9 * best.d.max(1e-12)
+            && (f[0] - best.foot[0]).hypot(f[1] - best.foot[1]) > 1e-9
+        {
             best.ambiguous = true;
         }
     }
@@ -230,7 +264,14 @@ fn df(s0: f64, s1: f64, dmax: f64, e: f64) -> DistanceFunction {
 }
 
 fn plan(h_max: Option<f64>, steps: Vec<(&str, Algorithm)>) -> SizingPlan {
-    SizingPlan { h_max, steps: steps.into_iter().map(|(l, a)| Step { label: l.to_string(), algorithm: a }).collect(), ..SizingPlan::default() }
+    SizingPlan {
+        h_max,
+        steps: steps
+            .into_iter()
+            .map(|(l, a)| Step { label: l.to_string(), algorithm: a })
+            .collect(),
+        ..SizingPlan::default()
+    }
 }
 
 fn run(m: &Model, p: &SizingPlan) -> SizeField {
@@ -246,9 +287,21 @@ fn uniform_is_exact_on_faces_curves_and_points() {
     let p = plan(
         Some(1.0),
         vec![
-            ("left face", Algorithm::Uniform { size: 0.3, on: EntitySet { faces: vec![m.face(1)], ..EntitySet::default() } }),
+            (
+                "left face",
+                Algorithm::Uniform {
+                    size: 0.3,
+                    on: EntitySet { faces: vec![m.face(1)], ..EntitySet::default() },
+                },
+            ),
             ("bottom", Algorithm::Uniform { size: 0.1, on: m.curves(&[11]) }),
-            ("point", Algorithm::Uniform { size: 0.05, on: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } }),
+            (
+                "point",
+                Algorithm::Uniform {
+                    size: 0.05,
+                    on: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
+                },
+            ),
         ],
     );
     let f = run(&m, &p);
@@ -281,7 +334,19 @@ fn distance_to_point_matches_euclidean_distance() {
     let m = grid(41, 41, 0.025, 0.3, 2, 2.0, (20, 15));
     let fun = df(0.02, 0.3, 0.4, 2.0);
     let pt = m.coords[15 * 41 + 20];
-    let f = run(&m, &plan(Some(1.0), vec![("p", Algorithm::DistanceToPoint { function: fun, sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } })]));
+    let f = run(
+        &m,
+        &plan(
+            Some(1.0),
+            vec![(
+                "p",
+                Algorithm::DistanceToPoint {
+                    function: fun,
+                    sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
+                },
+            )],
+        ),
+    );
     let mut inside = 0;
     for (v, p) in m.coords.iter().enumerate() {
         let d = (p[0] - pt[0]).hypot(p[1] - pt[1]);
@@ -289,7 +354,10 @@ fn distance_to_point_matches_euclidean_distance() {
             inside += 1;
             let h = fun.eval(d);
             assert!(f.reached[v]);
-            assert!(rel(f.tensors[v].h1(), h) < 1e-12 && rel(f.tensors[v].h2(), h) < 1e-12, "vertex {v}");
+            assert!(
+                rel(f.tensors[v].h1(), h) < 1e-12 && rel(f.tensors[v].h2(), h) < 1e-12,
+                "vertex {v}"
+            );
         } else {
             assert!(!f.reached[v], "vertex {v} at {d} beyond 0.4 reached");
             assert_eq!(f.tensors[v].sizes(), [1.0, 1.0]);
@@ -299,9 +367,17 @@ fn distance_to_point_matches_euclidean_distance() {
 
     // A curve as source: its vertices are points (not its segments).
     let fun = df(0.01, 0.2, 0.15, 1.0);
-    let f = run(&m, &plan(Some(1.0), vec![("curve", Algorithm::DistanceToPoint { function: fun, sources: m.curves(&[11]) })]));
+    let f = run(
+        &m,
+        &plan(
+            Some(1.0),
+            vec![("curve", Algorithm::DistanceToPoint { function: fun, sources: m.curves(&[11]) })],
+        ),
+    );
     for (v, p) in m.coords.iter().enumerate() {
-        let d = (0..41).map(|i| (p[0] - m.coords[i][0]).hypot(p[1] - m.coords[i][1])).fold(f64::INFINITY, f64::min);
+        let d = (0..41)
+            .map(|i| (p[0] - m.coords[i][0]).hypot(p[1] - m.coords[i][1]))
+            .fold(f64::INFINITY, f64::min);
         assert_eq!(f.reached[v], d <= 0.15, "vertex {v}");
         if d <= 0.15 {
             assert!(rel(f.tensors[v].h1(), fun.eval(d)) < 1e-12);
@@ -325,9 +401,21 @@ fn border_frame(p: Point2, segs: &[[Point2; 2]], closed: bool) -> Option<(Point2
         let mut t = dir(&segs[b.seg]);
         let k = segs.len();
         let other = if b.t == 0.0 {
-            if b.seg > 0 { Some(b.seg - 1) } else if closed { Some(k - 1) } else { None }
+            if b.seg > 0 {
+                Some(b.seg - 1)
+            } else if closed {
+                Some(k - 1)
+            } else {
+                None
+            }
         } else if b.t == 1.0 {
-            if b.seg + 1 < k { Some(b.seg + 1) } else if closed { Some(0) } else { None }
+            if b.seg + 1 < k {
+                Some(b.seg + 1)
+            } else if closed {
+                Some(0)
+            } else {
+                None
+            }
         } else {
             None
         };
@@ -352,7 +440,20 @@ fn distance_to_border_matches_brute_force_on_a_non_convex_curve() {
     let segs = segments(&m.coords, &(0..300).collect::<Vec<_>>(), true);
     let perp = df(0.005, 0.1, 0.25, 1.5);
     let par = df(0.03, 0.2, 0.35, 1.0);
-    let f = run(&m, &plan(Some(1.0), vec![("wall", Algorithm::DistanceToBorder { perpendicular: perp, parallel: par, borders: m.curves(&[1]) })]));
+    let f = run(
+        &m,
+        &plan(
+            Some(1.0),
+            vec![(
+                "wall",
+                Algorithm::DistanceToBorder {
+                    perpendicular: perp,
+                    parallel: par,
+                    borders: m.curves(&[1]),
+                },
+            )],
+        ),
+    );
     let (mut checked, mut corner_feet, mut within) = (0, 0, 0);
     for (v, &p) in m.coords.iter().enumerate() {
         let b = brute(p, &segs);
@@ -365,11 +466,21 @@ fn distance_to_border_matches_brute_force_on_a_non_convex_curve() {
             continue;
         }
         corner_feet += usize::from(d > 0.0 && (b.t == 0.0 || b.t == 1.0));
-        assert_frame(&f.tensors[v], n, perp.eval(d), par.eval(d), 1e-9, &format!("vertex {v} at d = {d}"));
+        assert_frame(
+            &f.tensors[v],
+            n,
+            perp.eval(d),
+            par.eval(d),
+            1e-9,
+            &format!("vertex {v} at d = {d}"),
+        );
         checked += 1;
     }
     assert_eq!(f.steps[0].vertices_reached, within);
-    assert!(checked > 5000 && corner_feet > 100, "checked {checked}, feet on corners {corner_feet}");
+    assert!(
+        checked > 5000 && corner_feet > 100,
+        "checked {checked}, feet on corners {corner_feet}"
+    );
 }
 
 #[test]
@@ -379,7 +490,20 @@ fn distance_to_border_on_a_circle_is_radial() {
     let segs = segments(&m.coords, &(0..256).collect::<Vec<_>>(), true);
     let perp = df(0.002, 0.05, 0.2, 1.0);
     let par = df(0.02, 0.1, 0.2, 1.0);
-    let f = run(&m, &plan(Some(1.0), vec![("c", Algorithm::DistanceToBorder { perpendicular: perp, parallel: par, borders: m.curves(&[1]) })]));
+    let f = run(
+        &m,
+        &plan(
+            Some(1.0),
+            vec![(
+                "c",
+                Algorithm::DistanceToBorder {
+                    perpendicular: perp,
+                    parallel: par,
+                    borders: m.curves(&[1]),
+                },
+            )],
+        ),
+    );
     for (v, &p) in m.coords.iter().enumerate() {
         let (n, d) = border_frame(p, &segs, true).unwrap();
         // Rings 0.2 away from the circle sit at 0.2 from the polygon to rounding: skip.
@@ -403,14 +527,35 @@ fn curvature_of_a_circle_is_one_over_r() {
     let perp = df(0.005, 0.1, 0.3, 1.0);
     let curv = CurvatureToSize::try_new(0.001, 0.5, 0.001).unwrap();
     let proj = SizeProjectionFunction::try_new(0.2, 0.25, 1.0).unwrap();
-    let f = run(&m, &plan(Some(1.0), vec![("c", Algorithm::CurvatureOfBorder { perpendicular: perp, curvature: curv, projection: proj, borders: m.curves(&[1]) })]));
+    let f = run(
+        &m,
+        &plan(
+            Some(1.0),
+            vec![(
+                "c",
+                Algorithm::CurvatureOfBorder {
+                    perpendicular: perp,
+                    curvature: curv,
+                    projection: proj,
+                    borders: m.curves(&[1]),
+                },
+            )],
+        ),
+    );
     let h_border = curv.eval(1.0 / r0);
     assert!((h_border - 2.0 * (0.001f64 * 0.999).sqrt()).abs() < 1e-12);
     let mut n_checked = 0;
     for (v, &p) in m.coords.iter().enumerate() {
         let (n, d) = border_frame(p, &segs, true).unwrap();
         if d <= 0.3 {
-            assert_frame(&f.tensors[v], n, perp.eval(d), proj.eval(d, h_border), 1e-9, &format!("vertex {v} at {d}"));
+            assert_frame(
+                &f.tensors[v],
+                n,
+                perp.eval(d),
+                proj.eval(d, h_border),
+                1e-9,
+                &format!("vertex {v} at {d}"),
+            );
             n_checked += 1;
         }
     }
@@ -425,7 +570,21 @@ fn curvature_of_an_ellipse_follows_the_analytic_curvature() {
     let perp = df(0.005, 0.1, 0.1, 1.0);
     let curv = CurvatureToSize::try_new(0.001, 1.0, 0.0005).unwrap();
     let proj = SizeProjectionFunction::try_new(0.2, 0.1, 1.0).unwrap();
-    let f = run(&m, &plan(Some(1.0), vec![("e", Algorithm::CurvatureOfBorder { perpendicular: perp, curvature: curv, projection: proj, borders: m.curves(&[1]) })]));
+    let f = run(
+        &m,
+        &plan(
+            Some(1.0),
+            vec![(
+                "e",
+                Algorithm::CurvatureOfBorder {
+                    perpendicular: perp,
+                    curvature: curv,
+                    projection: proj,
+                    borders: m.curves(&[1]),
+                },
+            )],
+        ),
+    );
     let mut worst: f64 = 0.0;
     for i in 0..n {
         let t = 2.0 * PI * i as f64 / n as f64;
@@ -437,12 +596,24 @@ fn curvature_of_an_ellipse_follows_the_analytic_curvature() {
         worst = worst.max(rel(h_t, curv.eval(kappa)));
         // Exact twin: the three-point circle written out here.
         let (p0, p1, p2) = (m.coords[(i + n - 1) % n], m.coords[i], m.coords[(i + 1) % n]);
-        let (ab, bc, ac) = ([p1[0] - p0[0], p1[1] - p0[1]], [p2[0] - p1[0], p2[1] - p1[1]], [p2[0] - p0[0], p2[1] - p0[1]]);
-        let k3 = 2.0 * (ab[0] * bc[1] - ab[1] * bc[0]).abs() / (ab[0].hypot(ab[1]) * bc[0].hypot(bc[1]) * ac[0].hypot(ac[1]));
+        let (ab, bc, ac) = (
+            [p1[0] - p0[0], p1[1] - p0[1]],
+            [p2[0] - p1[0], p2[1] - p1[1]],
+            [p2[0] - p0[0], p2[1] - p0[1]],
+        );
+        let k3 = 2.0 * (ab[0] * bc[1] - ab[1] * bc[0]).abs()
+            / (ab[0].hypot(ab[1]) * bc[0].hypot(bc[1]) * ac[0].hypot(ac[1]));
         let chord_t = unit([p2[0] - p0[0], p2[1] - p0[1]]);
         let avg_t = unit([unit(ab)[0] + unit(bc)[0], unit(ab)[1] + unit(bc)[1]]);
         assert!((avg_t[0] * chord_t[0] + avg_t[1] * chord_t[1]).abs() > 0.999);
-        assert_frame(tensor, [-avg_t[1], avg_t[0]], perp.eval(0.0), curv.eval(k3), 1e-9, &format!("border vertex {i}"));
+        assert_frame(
+            tensor,
+            [-avg_t[1], avg_t[0]],
+            perp.eval(0.0),
+            curv.eval(k3),
+            1e-9,
+            &format!("border vertex {i}"),
+        );
     }
     assert!(worst < 2e-3, "tangent size vs analytic curvature: worst relative error {worst}");
 }
@@ -475,7 +646,13 @@ fn curvature_at_corners_of_a_square_with_a_rounded_side() {
     ring.extend(&arc[1..]);
     ring.extend(&left[1..left.len() - 1]);
     let one_curve = Model::new(coords.clone(), tris.clone(), |_| 1, &[(1, ring, true)], &[]);
-    let four_curves = Model::new(coords.clone(), tris, |_| 1, &[(1, bottom, false), (2, right, false), (3, arc, false), (4, left, false)], &[]);
+    let four_curves = Model::new(
+        coords.clone(),
+        tris,
+        |_| 1,
+        &[(1, bottom, false), (2, right, false), (3, arc, false), (4, left, false)],
+        &[],
+    );
 
     let perp = df(0.002, 0.05, 0.2, 1.0);
     let curv = CurvatureToSize::try_new(0.001, 0.5, 0.001).unwrap();
@@ -485,29 +662,56 @@ fn curvature_at_corners_of_a_square_with_a_rounded_side() {
     assert_eq!(h_straight, 0.5);
     // What averaging across the corner would give: a three-point circle of radius about
     // one edge, so a size about 7 times finer than the arc's.
-    let smeared = curv.eval(three_point_curvature(coords[v(nx - 1, ny - 2)], coords[v(nx - 1, ny - 1)], coords[v(nx - 2, ny - 1)]));
+    let smeared = curv.eval(three_point_curvature(
+        coords[v(nx - 1, ny - 2)],
+        coords[v(nx - 1, ny - 1)],
+        coords[v(nx - 2, ny - 1)],
+    ));
     assert!(smeared < 0.2 * h_arc, "{smeared} vs {h_arc}");
 
-    for (name, m, tags) in [("one closed curve", &one_curve, vec![1]), ("four curves", &four_curves, vec![1, 2, 3, 4])] {
-        let f = run(m, &plan(Some(1.0), vec![("c", Algorithm::CurvatureOfBorder { perpendicular: perp, curvature: curv, projection: proj, borders: m.curves(&tags) })]));
+    for (name, m, tags) in
+        [("one closed curve", &one_curve, vec![1]), ("four curves", &four_curves, vec![1, 2, 3, 4])]
+    {
+        let f = run(
+            m,
+            &plan(
+                Some(1.0),
+                vec![(
+                    "c",
+                    Algorithm::CurvatureOfBorder {
+                        perpendicular: perp,
+                        curvature: curv,
+                        projection: proj,
+                        borders: m.curves(&tags),
+                    },
+                )],
+            ),
+        );
         let t = |i, j| f.tensors[v(i, j)];
         // Bottom corners (90° between straight sides): the intersection of the two
         // sides' tensors, i.e. isotropic perpendicular(0).
         for (i, j) in [(0, 0), (nx - 1, 0)] {
             let s = t(i, j).sizes();
-            assert!(rel(s[0], perp.eval(0.0)) < 1e-12 && rel(s[1], perp.eval(0.0)) < 1e-12, "{name}: bottom corner ({i}, {j}): {s:?}");
+            assert!(
+                rel(s[0], perp.eval(0.0)) < 1e-12 && rel(s[1], perp.eval(0.0)) < 1e-12,
+                "{name}: bottom corner ({i}, {j}): {s:?}"
+            );
         }
         // Top-right corner (60° turn): the intersection of the right side's tensor
         // (tangent up, size C(0)) and the arc's (tangent along the arc, size C(1/R)).
         let c = coords[v(nx - 1, ny - 1)];
-        let arc_dir = unit([coords[v(nx - 2, ny - 1)][0] - c[0], coords[v(nx - 2, ny - 1)][1] - c[1]]);
+        let arc_dir =
+            unit([coords[v(nx - 2, ny - 1)][0] - c[0], coords[v(nx - 2, ny - 1)][1] - c[1]]);
         let side_up = SizeTensor::new([1.0, 0.0], perp.eval(0.0), h_straight);
         let side_arc = SizeTensor::new([-arc_dir[1], arc_dir[0]], perp.eval(0.0), h_arc);
         let want = side_up.intersection(&side_arc);
         for k in 0..16 {
             let a = PI * k as f64 / 16.0;
             let u = [a.cos(), a.sin()];
-            assert!(rel(t(nx - 1, ny - 1).size_along(u), want.size_along(u)) < 1e-9, "{name}: top corner along {u:?}");
+            assert!(
+                rel(t(nx - 1, ny - 1).size_along(u), want.size_along(u)) < 1e-9,
+                "{name}: top corner along {u:?}"
+            );
         }
         // Next to the corner, each side keeps its own curvature: the arc vertex has the
         // arc's size C(1/R) along the arc, the side vertex the straight size C(0).
@@ -515,8 +719,18 @@ fn curvature_at_corners_of_a_square_with_a_rounded_side() {
         let qn = coords[v(nx - 3, ny - 1)];
         let (u1, u2) = (unit([q[0] - qn[0], q[1] - qn[1]]), unit([c[0] - q[0], c[1] - q[1]]));
         let tan = unit([u1[0] + u2[0], u1[1] + u2[1]]);
-        assert_frame(&t(nx - 2, ny - 1), [-tan[1], tan[0]], perp.eval(0.0), h_arc, 1e-9, &format!("{name}: arc vertex next to the corner"));
-        assert!(rel(t(nx - 1, ny - 2).size_along([0.0, 1.0]), h_straight) < 1e-12, "{name}: side vertex next to the corner");
+        assert_frame(
+            &t(nx - 2, ny - 1),
+            [-tan[1], tan[0]],
+            perp.eval(0.0),
+            h_arc,
+            1e-9,
+            &format!("{name}: arc vertex next to the corner"),
+        );
+        assert!(
+            rel(t(nx - 1, ny - 2).size_along([0.0, 1.0]), h_straight) < 1e-12,
+            "{name}: side vertex next to the corner"
+        );
         // Nowhere off the corners is a tangent size finer than the arc's: the corner's
         // three-point curvature is smeared on no vertex.
         let corners = [v(0, 0), v(nx - 1, 0), v(nx - 1, ny - 1), v(0, ny - 1)];
@@ -555,10 +769,31 @@ fn two_parallel_walls_give_a_constant_thickness() {
     let m = grid(201, 11, 0.01, 0.3, 8, 9.0, (5, 5));
     let perp = df(0.005, 0.05, 0.3, 1.0);
     let par = df(0.05, 0.2, 0.3, 1.0);
-    let f = run(&m, &plan(Some(1.0), vec![("gap", Algorithm::DistanceBetweenTwoBorders { perpendicular: perp, parallel: par, first: m.curves(&[11]), second: m.curves(&[13]) })]));
+    let f = run(
+        &m,
+        &plan(
+            Some(1.0),
+            vec![(
+                "gap",
+                Algorithm::DistanceBetweenTwoBorders {
+                    perpendicular: perp,
+                    parallel: par,
+                    first: m.curves(&[11]),
+                    second: m.curves(&[13]),
+                },
+            )],
+        ),
+    );
     for v in 0..m.coords.len() {
         assert!(f.reached[v]);
-        assert_frame(&f.tensors[v], [0.0, 1.0], perp.eval(gap), par.eval(gap), 1e-9, &format!("vertex {v}"));
+        assert_frame(
+            &f.tensors[v],
+            [0.0, 1.0],
+            perp.eval(gap),
+            par.eval(gap),
+            1e-9,
+            &format!("vertex {v}"),
+        );
     }
     assert_eq!(f.steps[0].vertices_reached, m.coords.len());
     assert_eq!(f.steps[0].seeds, 201);
@@ -572,18 +807,39 @@ fn two_borders_in_a_wedge() {
     let mut coords = Vec::new();
     for j in 0..nt {
         for i in 0..nr {
-            let (r, th) = (0.2 + 0.8 * i as f64 / (nr - 1) as f64, alpha * j as f64 / (nt - 1) as f64);
+            let (r, th) =
+                (0.2 + 0.8 * i as f64 / (nr - 1) as f64, alpha * j as f64 / (nt - 1) as f64);
             coords.push(if j == 0 { [r, 0.0] } else { [r * th.cos(), r * th.sin()] });
         }
     }
     let tris = triangulate(nr, nt, false, &mut Rng(9));
     let wall1: Vec<usize> = (0..nr).collect();
     let wall2: Vec<usize> = (0..nr).map(|i| (nt - 1) * nr + i).collect();
-    let m = Model::new(coords.clone(), tris, |_| 1, &[(1, wall1.clone(), false), (2, wall2.clone(), false)], &[]);
+    let m = Model::new(
+        coords.clone(),
+        tris,
+        |_| 1,
+        &[(1, wall1.clone(), false), (2, wall2.clone(), false)],
+        &[],
+    );
     let (s1, s2) = (segments(&coords, &wall1, false), segments(&coords, &wall2, false));
     let perp = df(0.005, 0.08, 0.3, 1.0);
     let par = df(0.02, 0.2, 0.25, 2.0);
-    let f = run(&m, &plan(Some(1.0), vec![("wedge", Algorithm::DistanceBetweenTwoBorders { perpendicular: perp, parallel: par, first: m.curves(&[1]), second: m.curves(&[2]) })]));
+    let f = run(
+        &m,
+        &plan(
+            Some(1.0),
+            vec![(
+                "wedge",
+                Algorithm::DistanceBetweenTwoBorders {
+                    perpendicular: perp,
+                    parallel: par,
+                    first: m.curves(&[1]),
+                    second: m.curves(&[2]),
+                },
+            )],
+        ),
+    );
     let (mut checked, mut analytic) = (0, 0);
     for (v, &p) in coords.iter().enumerate() {
         let (b1, b2) = (brute(p, &s1), brute(p, &s2));
@@ -614,7 +870,13 @@ fn straight_wake_has_the_analytic_abscissa_and_respects_within() {
     let perp = df(0.005, 0.1, 0.2, 1.0);
     let along = df(0.01, 0.05, 1.0, 1.0);
     let proj = SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap();
-    let alg = |within: EntitySet| Algorithm::DistanceToImaginaryPolyline { perpendicular: perp, polyline_distance: along, projection: proj, polyline: wake.clone(), within };
+    let alg = |within: EntitySet| Algorithm::DistanceToImaginaryPolyline {
+        perpendicular: perp,
+        polyline_distance: along,
+        projection: proj,
+        polyline: wake.clone(),
+        within,
+    };
     let f = run(&m, &plan(Some(1.0), vec![("wake", alg(EntitySet::default()))]));
     let segs = vec![[wake[0], wake[1]], [wake[1], wake[2]]];
     let mut n_inner = 0;
@@ -627,18 +889,38 @@ fn straight_wake_has_the_analytic_abscissa_and_respects_within() {
         if p[0] > 0.5 && p[0] < 1.5 {
             // Analytic: d = |y - 0.5|, abscissa x - 0.5, axes y and x.
             let d = (p[1] - 0.5).abs();
-            assert_frame(&f.tensors[v], [0.0, 1.0], perp.eval(d), proj.eval(d, along.eval(p[0] - 0.5)), 1e-9, &format!("vertex {v}"));
+            assert_frame(
+                &f.tensors[v],
+                [0.0, 1.0],
+                perp.eval(d),
+                proj.eval(d, along.eval(p[0] - 0.5)),
+                1e-9,
+                &format!("vertex {v}"),
+            );
             n_inner += 1;
         } else {
             // Beyond an end: radial from the end point.
             let s = if p[0] <= 0.5 { 0.0 } else { 1.0 };
-            assert_frame(&f.tensors[v], unit([p[0] - b.foot[0], p[1] - b.foot[1]]), perp.eval(b.d), proj.eval(b.d, along.eval(s)), 1e-9, "cap");
+            assert_frame(
+                &f.tensors[v],
+                unit([p[0] - b.foot[0], p[1] - b.foot[1]]),
+                perp.eval(b.d),
+                proj.eval(b.d, along.eval(s)),
+                1e-9,
+                "cap",
+            );
         }
     }
     assert!(n_inner > 500);
 
     // Restricted to the left face (cells with centroid x < 1): other vertices untouched.
-    let f2 = run(&m, &plan(Some(1.0), vec![("wake", alg(EntitySet { faces: vec![m.face(1)], ..EntitySet::default() }))]));
+    let f2 = run(
+        &m,
+        &plan(
+            Some(1.0),
+            vec![("wake", alg(EntitySet { faces: vec![m.face(1)], ..EntitySet::default() }))],
+        ),
+    );
     let mut in_face = vec![false; m.coords.len()];
     for t in &m.triangles {
         if (m.coords[t[0]][0] + m.coords[t[1]][0] + m.coords[t[2]][0]) / 3.0 < 1.0 {
@@ -658,15 +940,24 @@ fn straight_wake_has_the_analytic_abscissa_and_respects_within() {
 #[test]
 fn coarse_mesh_wake_marks_every_crossed_triangle() {
     let m = grid(11, 11, 1.0, 0.25, 31, 99.0, (5, 5));
-    let wake: Vec<Point2> = (0..=20).map(|k| [2.3 + 0.3 * k as f64, 4.6 + 0.04 * k as f64 + 0.5 * (0.5 * k as f64).sin()]).collect();
+    let wake: Vec<Point2> = (0..=20)
+        .map(|k| [2.3 + 0.3 * k as f64, 4.6 + 0.04 * k as f64 + 0.5 * (0.5 * k as f64).sin()])
+        .collect();
     let perp = df(0.01, 0.2, 0.05, 1.0);
     let along = df(0.01, 0.2, 6.0, 1.0);
     let proj = SizeProjectionFunction::try_new(0.2, 0.05, 1.0).unwrap();
-    let alg = Algorithm::DistanceToImaginaryPolyline { perpendicular: perp, polyline_distance: along, projection: proj, polyline: wake.clone(), within: EntitySet::default() };
+    let alg = Algorithm::DistanceToImaginaryPolyline {
+        perpendicular: perp,
+        polyline_distance: along,
+        projection: proj,
+        polyline: wake.clone(),
+        within: EntitySet::default(),
+    };
     let f = run(&m, &plan(Some(1.0), vec![("wake", alg)]));
     // Oracle: triangles containing a point of the wake sampled every 1e-3.
     let inside = |t: &[usize; 3], p: Point2| {
-        let c = |a: Point2, b: Point2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+        let c =
+            |a: Point2, b: Point2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
         let [a, b, cc] = t.map(|v| m.coords[v]);
         let (s1, s2, s3) = (c(a, b), c(b, cc), c(cc, a));
         (s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0) || (s1 <= 0.0 && s2 <= 0.0 && s3 <= 0.0)
@@ -682,7 +973,11 @@ fn coarse_mesh_wake_marks_every_crossed_triangle() {
         if hit {
             crossed += 1;
             for &v in t {
-                assert!(f.reached[v] && f.tensors[v].h_max() < 1.0, "vertex {v} of a crossed triangle keeps the default size: {:?}", f.tensors[v]);
+                assert!(
+                    f.reached[v] && f.tensors[v].h_max() < 1.0,
+                    "vertex {v} of a crossed triangle keeps the default size: {:?}",
+                    f.tensors[v]
+                );
             }
         }
     }
@@ -695,13 +990,37 @@ fn coarse_mesh_wake_marks_every_crossed_triangle() {
 
 fn three_steps(m: &Model) -> Vec<(&'static str, Algorithm)> {
     vec![
-        ("border", Algorithm::DistanceToBorder { perpendicular: df(0.01, 0.2, 0.4, 1.0), parallel: df(0.1, 0.3, 0.4, 1.0), borders: m.curves(&[11, 14]) }),
-        ("point", Algorithm::DistanceToPoint { function: df(0.02, 0.3, 0.5, 1.0), sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } }),
+        (
+            "border",
+            Algorithm::DistanceToBorder {
+                perpendicular: df(0.01, 0.2, 0.4, 1.0),
+                parallel: df(0.1, 0.3, 0.4, 1.0),
+                borders: m.curves(&[11, 14]),
+            },
+        ),
+        (
+            "point",
+            Algorithm::DistanceToPoint {
+                function: df(0.02, 0.3, 0.5, 1.0),
+                sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
+            },
+        ),
         (
             "gap",
-            Algorithm::DistanceBetweenTwoBorders { perpendicular: df(0.02, 0.2, 0.8, 1.0), parallel: df(0.05, 0.4, 0.8, 1.0), first: m.curves(&[12]), second: m.curves(&[14]) },
+            Algorithm::DistanceBetweenTwoBorders {
+                perpendicular: df(0.02, 0.2, 0.8, 1.0),
+                parallel: df(0.05, 0.4, 0.8, 1.0),
+                first: m.curves(&[12]),
+                second: m.curves(&[14]),
+            },
         ),
-        ("uniform", Algorithm::Uniform { size: 0.08, on: EntitySet { faces: vec![m.face(2)], ..EntitySet::default() } }),
+        (
+            "uniform",
+            Algorithm::Uniform {
+                size: 0.08,
+                on: EntitySet { faces: vec![m.face(2)], ..EntitySet::default() },
+            },
+        ),
     ]
 }
 
@@ -715,12 +1034,43 @@ fn three_steps(m: &Model) -> Vec<(&'static str, Algorithm)> {
 fn field_is_the_contributions_merged_in_plan_order() {
     let m = grid(121, 81, 0.01, 0.3, 21, 0.6, (30, 40));
     let steps = [
-        ("border", Algorithm::DistanceToBorder { perpendicular: df(0.01, 0.2, 0.4, 1.0), parallel: df(0.1, 0.3, 0.4, 1.0), borders: m.curves(&[11, 14]) }),
-        ("small point", Algorithm::DistanceToPoint { function: df(0.005, 0.05, 0.04, 1.0), sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } }),
-        ("gap", Algorithm::DistanceBetweenTwoBorders { perpendicular: df(0.02, 0.2, 0.5, 1.0), parallel: df(0.05, 0.4, 0.5, 1.0), first: m.curves(&[11]), second: m.curves(&[14]) }),
-        ("uniform", Algorithm::Uniform { size: 0.08, on: EntitySet { faces: vec![m.face(2)], ..EntitySet::default() } }),
+        (
+            "border",
+            Algorithm::DistanceToBorder {
+                perpendicular: df(0.01, 0.2, 0.4, 1.0),
+                parallel: df(0.1, 0.3, 0.4, 1.0),
+                borders: m.curves(&[11, 14]),
+            },
+        ),
+        (
+            "small point",
+            Algorithm::DistanceToPoint {
+                function: df(0.005, 0.05, 0.04, 1.0),
+                sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
+            },
+        ),
+        (
+            "gap",
+            Algorithm::DistanceBetweenTwoBorders {
+                perpendicular: df(0.02, 0.2, 0.5, 1.0),
+                parallel: df(0.05, 0.4, 0.5, 1.0),
+                first: m.curves(&[11]),
+                second: m.curves(&[14]),
+            },
+        ),
+        (
+            "uniform",
+            Algorithm::Uniform {
+                size: 0.08,
+                on: EntitySet { faces: vec![m.face(2)], ..EntitySet::default() },
+            },
+        ),
     ];
-    let bits = |ts: &[SizeTensor]| ts.iter().flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits)).collect::<Vec<u64>>();
+    let bits = |ts: &[SizeTensor]| {
+        ts.iter()
+            .flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits))
+            .collect::<Vec<u64>>()
+    };
     let n = m.coords.len();
     // Last steps: UNIFORM (a list), the gap and the border (merged in vertex order, which
     // finishes the field in the same pass); the default from the bounding box or h_max.
@@ -741,23 +1091,40 @@ fn field_is_the_contributions_merged_in_plan_order() {
             counts.push((s.label.clone(), c.len(), c.seeds));
         }
         let default = h_max.unwrap_or((1.2f64).hypot(0.8));
-        let bounds = SizeBounds::try_new(0.012, h_max.unwrap_or(SizeTensor::MAX_SIZE), 6.0).unwrap();
+        let bounds =
+            SizeBounds::try_new(0.012, h_max.unwrap_or(SizeTensor::MAX_SIZE), 6.0).unwrap();
         for (t, r) in tensors.iter_mut().zip(&reached) {
             let t0 = if *r { *t } else { SizeTensor::isotropic(default) };
             *t = t0.clamp(&bounds);
         }
         let count = |label: &str| counts.iter().find(|c| c.0 == label).unwrap().1;
-        assert!(count("border") * 8 >= n && count("gap") * 8 >= n && count("small point") * 8 < n, "steps merged in vertex order and one as a list: {counts:?}");
+        assert!(
+            count("border") * 8 >= n && count("gap") * 8 >= n && count("small point") * 8 < n,
+            "steps merged in vertex order and one as a list: {counts:?}"
+        );
         assert!(count("gap") < n / 2, "the gap skips vertices within its reach: {counts:?}");
         assert!(reached.iter().any(|r| !r), "some vertex keeps the default size");
         for threads in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let f = pool.install(|| run(&m, &p));
             let (got, want) = (bits(&f.tensors), bits(&tensors));
-            let differ = (0..n).filter(|&v| got[4 * v..4 * v + 4] != want[4 * v..4 * v + 4]).collect::<Vec<_>>();
-            assert!(differ.is_empty(), "order {order:?}, {threads} threads: {} vertices differ, the first {:?}", differ.len(), differ.first().map(|&v| (v, f.tensors[v], tensors[v])));
+            let differ = (0..n)
+                .filter(|&v| got[4 * v..4 * v + 4] != want[4 * v..4 * v + 4])
+                .collect::<Vec<_>>();
+            assert!(
+                differ.is_empty(),
+                "order {order:?}, {threads} threads: {} vertices differ, the first {:?}",
+                differ.len(),
+                differ.first().map(|&v| (v, f.tensors[v], tensors[v]))
+            );
             assert_eq!(f.reached, reached);
-            assert_eq!(f.steps.iter().map(|s| (s.label.clone(), s.vertices_reached, s.seeds)).collect::<Vec<_>>(), counts);
+            assert_eq!(
+                f.steps
+                    .iter()
+                    .map(|s| (s.label.clone(), s.vertices_reached, s.seeds))
+                    .collect::<Vec<_>>(),
+                counts
+            );
             assert_eq!(f.default_size, default);
         }
     }
@@ -768,7 +1135,8 @@ fn tensors_are_intersected_in_plan_order() {
     let m = grid(31, 31, 1.0 / 30.0, 0.3, 12, 0.6, (12, 18));
     let steps = three_steps(&m);
     let all = run(&m, &plan(Some(1.0), steps.clone()));
-    let singles: Vec<SizeField> = steps.iter().map(|s| run(&m, &plan(Some(1.0), vec![s.clone()]))).collect();
+    let singles: Vec<SizeField> =
+        steps.iter().map(|s| run(&m, &plan(Some(1.0), vec![s.clone()]))).collect();
     let mut overlaps = 0;
     for v in 0..m.coords.len() {
         let mut want: Option<SizeTensor> = None;
@@ -787,13 +1155,22 @@ fn tensors_are_intersected_in_plan_order() {
     }
     assert!(overlaps > 50, "{overlaps} vertices reached by two steps or more");
     // Each report keeps its step's label and keyword.
-    assert_eq!(all.steps.iter().map(|s| s.algorithm).collect::<Vec<_>>(), ["DISTANCE_TO_BORDER", "DISTANCE_TO_POINT", "DISTANCE_BETWEEN_TWO_BORDERS", "UNIFORM"]);
+    assert_eq!(
+        all.steps.iter().map(|s| s.algorithm).collect::<Vec<_>>(),
+        ["DISTANCE_TO_BORDER", "DISTANCE_TO_POINT", "DISTANCE_BETWEEN_TWO_BORDERS", "UNIFORM"]
+    );
 }
 
 #[test]
 fn default_size_and_its_warning() {
     let m = grid(21, 11, 0.1, 0.2, 13, 9.0, (4, 4));
-    let step = ("point", Algorithm::DistanceToPoint { function: df(0.02, 0.2, 0.3, 1.0), sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } });
+    let step = (
+        "point",
+        Algorithm::DistanceToPoint {
+            function: df(0.02, 0.2, 0.3, 1.0),
+            sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
+        },
+    );
     let f = run(&m, &plan(None, vec![step.clone()]));
     let diag = (2.0f64).hypot(1.0);
     assert!(rel(f.default_size, diag) < 1e-15);
@@ -816,9 +1193,14 @@ fn global_bounds_clamp_every_tensor() {
     let f = run(&m, &p);
     let b = SizeBounds::try_new(0.02, 0.15, 3.0).unwrap();
     for v in 0..m.coords.len() {
-        let want = if raw.reached[v] { raw.tensors[v].clamp(&b) } else { SizeTensor::isotropic(0.15) };
+        let want =
+            if raw.reached[v] { raw.tensors[v].clamp(&b) } else { SizeTensor::isotropic(0.15) };
         assert_eq!(f.tensors[v], want);
-        assert!(f.tensors[v].h_min() >= 0.02 && f.tensors[v].h_max() <= 0.15 && f.tensors[v].aspect_ratio() <= 3.0 * (1.0 + 1e-15));
+        assert!(
+            f.tensors[v].h_min() >= 0.02
+                && f.tensors[v].h_max() <= 0.15
+                && f.tensors[v].aspect_ratio() <= 3.0 * (1.0 + 1e-15)
+        );
     }
 }
 
@@ -849,8 +1231,21 @@ fn gradation_bounds_growth_on_every_edge_and_never_grows_a_size() {
     let m = grid(61, 61, 1.0 / 60.0, 0.3, 15, 0.5, (20, 40));
     let g = 1.3;
     let steps = vec![
-        ("border", Algorithm::DistanceToBorder { perpendicular: df(0.002, 0.05, 0.15, 1.0), parallel: df(0.02, 0.1, 0.15, 1.0), borders: m.curves(&[11]) }),
-        ("point", Algorithm::DistanceToPoint { function: df(0.003, 0.02, 0.05, 1.0), sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } }),
+        (
+            "border",
+            Algorithm::DistanceToBorder {
+                perpendicular: df(0.002, 0.05, 0.15, 1.0),
+                parallel: df(0.02, 0.1, 0.15, 1.0),
+                borders: m.curves(&[11]),
+            },
+        ),
+        (
+            "point",
+            Algorithm::DistanceToPoint {
+                function: df(0.003, 0.02, 0.05, 1.0),
+                sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
+            },
+        ),
     ];
     let before = run(&m, &plan(Some(0.5), steps.clone()));
     let mut p = plan(Some(0.5), steps);
@@ -863,9 +1258,13 @@ fn gradation_bounds_growth_on_every_edge_and_never_grows_a_size() {
         assert!(inside(&after.tensors[a], &before.tensors[a], 1e-12), "vertex {a} grew");
         for &b in m.graph.neighbours(a) {
             let (tp, tq) = (&after.tensors[a], &after.tensors[b as usize]);
-            let e = [m.coords[b as usize][0] - m.coords[a][0], m.coords[b as usize][1] - m.coords[a][1]];
+            let e = [
+                m.coords[b as usize][0] - m.coords[a][0],
+                m.coords[b as usize][1] - m.coords[a][1],
+            ];
             let mp = metric(tp);
-            let ell = (mp[0] * e[0] * e[0] + 2.0 * mp[1] * e[0] * e[1] + mp[2] * e[1] * e[1]).sqrt();
+            let ell =
+                (mp[0] * e[0] * e[0] + 2.0 * mp[1] * e[0] * e[1] + mp[2] * e[1] * e[1]).sqrt();
             let eta = g.powf(ell);
             let grown = SizeTensor::new(tp.axis(), tp.h1() * eta, tp.h2() * eta);
             assert!(inside(tq, &grown, 1e-8), "edge {a}-{b}: {tq:?} not inside {grown:?}");
@@ -877,9 +1276,16 @@ fn gradation_bounds_growth_on_every_edge_and_never_grows_a_size() {
     let broken = (0..m.coords.len()).any(|a| {
         m.graph.neighbours(a).iter().any(|&b| {
             let tp = &before.tensors[a];
-            let e = [m.coords[b as usize][0] - m.coords[a][0], m.coords[b as usize][1] - m.coords[a][1]];
+            let e = [
+                m.coords[b as usize][0] - m.coords[a][0],
+                m.coords[b as usize][1] - m.coords[a][1],
+            ];
             let eta = g.powf(tp.metric_length(e));
-            !inside(&before.tensors[b as usize], &SizeTensor::new(tp.axis(), tp.h1() * eta, tp.h2() * eta), 1e-8)
+            !inside(
+                &before.tensors[b as usize],
+                &SizeTensor::new(tp.axis(), tp.h1() * eta, tp.h2() * eta),
+                1e-8,
+            )
         })
     });
     assert!(broken);
@@ -914,7 +1320,12 @@ fn same_field_whatever_the_thread_count() {
         pool.install(|| run(&m, &p))
     };
     let (one, two) = (run_in(1), run_in(2));
-    let bits = |f: &SizeField| f.tensors.iter().flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits)).collect::<Vec<u64>>();
+    let bits = |f: &SizeField| {
+        f.tensors
+            .iter()
+            .flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits))
+            .collect::<Vec<u64>>()
+    };
     assert_eq!(bits(&one), bits(&two));
     assert_eq!(one.steps, two.steps);
     assert!(one.steps[0].vertices_reached > 4096, "levels large enough to run in parallel");
@@ -952,13 +1363,25 @@ fn algorithms_run_side_by_side_give_the_same_bits() {
     let kinds: std::collections::BTreeSet<&str> = steps.iter().map(|(_, a)| a.keyword()).collect();
     assert_eq!(kinds.len(), 6, "all six algorithms");
     let plans: Vec<SizingPlan> = steps.iter().map(|s| plan(Some(0.2), vec![s.clone()])).collect();
-    let bits = |f: &SizeField| f.tensors.iter().flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits)).collect::<Vec<u64>>();
-    let pool = |threads: usize| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-    let one_by_one: Vec<Vec<u64>> = pool(1).install(|| plans.iter().map(|p| bits(&run(&m, p))).collect());
+    let bits = |f: &SizeField| {
+        f.tensors
+            .iter()
+            .flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits))
+            .collect::<Vec<u64>>()
+    };
+    let pool =
+        |threads: usize| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    let one_by_one: Vec<Vec<u64>> =
+        pool(1).install(|| plans.iter().map(|p| bits(&run(&m, p))).collect());
     for threads in [2, 4] {
-        let side_by_side: Vec<Vec<u64>> = pool(threads).install(|| plans.par_iter().map(|p| bits(&run(&m, p))).collect());
+        let side_by_side: Vec<Vec<u64>> =
+            pool(threads).install(|| plans.par_iter().map(|p| bits(&run(&m, p))).collect());
         for (i, (a, b)) in one_by_one.iter().zip(&side_by_side).enumerate() {
-            assert!(a == b, "{} on {threads} threads side by side differs from one thread", steps[i].0);
+            assert!(
+                a == b,
+                "{} on {threads} threads side by side differs from one thread",
+                steps[i].0
+            );
         }
     }
     let all = plan(Some(0.2), steps);
@@ -976,19 +1399,66 @@ fn errors_are_values() {
     let m = grid(11, 11, 0.1, 0.2, 17, 0.5, (5, 5));
     let go = |p: &SizingPlan| compute_size_field(&m.graph, &m.topo, p, &mut |_| {});
     let perp = df(0.01, 0.1, 0.2, 1.0);
-    let e = go(&plan(None, vec![("u", Algorithm::Uniform { size: 0.1, on: EntitySet { curves: vec![999], ..EntitySet::default() } })])).unwrap_err();
-    assert!(matches!(e, SizingError::EntityOutOfRange { step: 0, what: "curve", index: 999, .. }), "{e:?}");
+    let e = go(&plan(
+        None,
+        vec![(
+            "u",
+            Algorithm::Uniform {
+                size: 0.1,
+                on: EntitySet { curves: vec![999], ..EntitySet::default() },
+            },
+        )],
+    ))
+    .unwrap_err();
+    assert!(
+        matches!(e, SizingError::EntityOutOfRange { step: 0, what: "curve", index: 999, .. }),
+        "{e:?}"
+    );
     assert!(e.to_string().contains("step 0 (u)"));
-    let e = go(&plan(None, vec![("b", Algorithm::DistanceToBorder { perpendicular: perp, parallel: perp, borders: EntitySet::default() })])).unwrap_err();
+    let e = go(&plan(
+        None,
+        vec![(
+            "b",
+            Algorithm::DistanceToBorder {
+                perpendicular: perp,
+                parallel: perp,
+                borders: EntitySet::default(),
+            },
+        )],
+    ))
+    .unwrap_err();
     assert!(matches!(e, SizingError::NoSource { .. }), "{e:?}");
     let faces = EntitySet { faces: vec![0], ..EntitySet::default() };
-    let e = go(&plan(None, vec![("b", Algorithm::DistanceToBorder { perpendicular: perp, parallel: perp, borders: faces })])).unwrap_err();
+    let e = go(&plan(
+        None,
+        vec![(
+            "b",
+            Algorithm::DistanceToBorder { perpendicular: perp, parallel: perp, borders: faces },
+        )],
+    ))
+    .unwrap_err();
     assert!(matches!(e, SizingError::UnsupportedEntity { what: "face", .. }), "{e:?}");
     let proj = SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap();
-    let wake = |polyline: Vec<Point2>| Algorithm::DistanceToImaginaryPolyline { perpendicular: perp, polyline_distance: perp, projection: proj, polyline, within: EntitySet::default() };
-    assert!(matches!(go(&plan(None, vec![("w", wake(vec![]))])).unwrap_err(), SizingError::EmptyPolyline { .. }));
-    assert!(matches!(go(&plan(None, vec![("w", wake(vec![[0.0, f64::NAN]]))])).unwrap_err(), SizingError::NonFinitePoint { point: 0, .. }));
-    assert!(matches!(go(&plan(None, vec![("u", Algorithm::Uniform { size: 0.0, on: EntitySet::default() })])).unwrap_err(), SizingError::InvalidSize { .. }));
+    let wake = |polyline: Vec<Point2>| Algorithm::DistanceToImaginaryPolyline {
+        perpendicular: perp,
+        polyline_distance: perp,
+        projection: proj,
+        polyline,
+        within: EntitySet::default(),
+    };
+    assert!(matches!(
+        go(&plan(None, vec![("w", wake(vec![]))])).unwrap_err(),
+        SizingError::EmptyPolyline { .. }
+    ));
+    assert!(matches!(
+        go(&plan(None, vec![("w", wake(vec![[0.0, f64::NAN]]))])).unwrap_err(),
+        SizingError::NonFinitePoint { point: 0, .. }
+    ));
+    assert!(matches!(
+        go(&plan(None, vec![("u", Algorithm::Uniform { size: 0.0, on: EntitySet::default() })]))
+            .unwrap_err(),
+        SizingError::InvalidSize { .. }
+    ));
     let mut p = plan(Some(0.1), vec![]);
     p.h_min = Some(0.5);
     assert!(matches!(go(&p).unwrap_err(), SizingError::InvalidBounds { .. }));
@@ -998,13 +1468,21 @@ fn errors_are_values() {
     // A single point of a wake is a point source; the empty plan gives the default.
     assert!(go(&plan(Some(0.3), vec![("w", wake(vec![[0.5, 0.5]]))])).is_ok());
     let f = go(&plan(Some(0.3), vec![])).unwrap();
-    assert!(f.tensors.iter().all(|t| *t == SizeTensor::isotropic(0.3)) && !f.reached.iter().any(|r| *r));
+    assert!(
+        f.tensors.iter().all(|t| *t == SizeTensor::isotropic(0.3)) && !f.reached.iter().any(|r| *r)
+    );
 }
 
 #[test]
 fn observer_hears_every_step() {
     let m = grid(11, 11, 0.1, 0.2, 18, 0.5, (5, 5));
-    let p = plan(Some(1.0), vec![("a", Algorithm::Uniform { size: 0.1, on: m.curves(&[11]) }), ("b", Algorithm::Uniform { size: 0.2, on: m.curves(&[12]) })]);
+    let p = plan(
+        Some(1.0),
+        vec![
+            ("a", Algorithm::Uniform { size: 0.1, on: m.curves(&[11]) }),
+            ("b", Algorithm::Uniform { size: 0.2, on: m.curves(&[12]) }),
+        ],
+    );
     let mut events = Vec::new();
     compute_size_field(&m.graph, &m.topo, &p, &mut |e| events.push(e)).unwrap();
     assert_eq!(
@@ -1034,13 +1512,26 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
     };
     let projection = SizeProjectionFunction::try_new(0.2, 50.0, 1.0).unwrap();
     let far = 50.0;
-    let doubling_back = vec![[0.05, 0.3], [0.5, 0.35], [0.95, 0.3], [0.5, 0.36], [0.06, 0.45], [0.9, 0.5]];
+    let doubling_back =
+        vec![[0.05, 0.3], [0.5, 0.35], [0.95, 0.3], [0.5, 0.36], [0.06, 0.45], [0.9, 0.5]];
     let steps = |m: &Model, border: &[i32], with_point: bool| -> Vec<(&'static str, Algorithm)> {
         let mut s = vec![
-            ("border", Algorithm::DistanceToBorder { perpendicular: df(0.001, 0.1, far, 1.5), parallel: df(0.01, 0.2, far, 1.0), borders: m.curves(border) }),
+            (
+                "border",
+                Algorithm::DistanceToBorder {
+                    perpendicular: df(0.001, 0.1, far, 1.5),
+                    parallel: df(0.01, 0.2, far, 1.0),
+                    borders: m.curves(border),
+                },
+            ),
             (
                 "curvature",
-                Algorithm::CurvatureOfBorder { perpendicular: df(0.002, 0.1, far, 1.0), curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(), projection, borders: m.curves(border) },
+                Algorithm::CurvatureOfBorder {
+                    perpendicular: df(0.002, 0.1, far, 1.0),
+                    curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(),
+                    projection,
+                    borders: m.curves(border),
+                },
             ),
             (
                 "wake",
@@ -1054,11 +1545,21 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
             ),
         ];
         if with_point {
-            s.push(("point", Algorithm::DistanceToPoint { function: df(0.005, 0.05, far, 2.0), sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() } }));
+            s.push((
+                "point",
+                Algorithm::DistanceToPoint {
+                    function: df(0.005, 0.05, far, 2.0),
+                    sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
+                },
+            ));
         }
         s
     };
-    let bits = |ts: &[SizeTensor]| ts.iter().flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits)).collect::<Vec<u64>>();
+    let bits = |ts: &[SizeTensor]| {
+        ts.iter()
+            .flat_map(|t| [t.axis()[0], t.axis()[1], t.h1(), t.h2()].map(f64::to_bits))
+            .collect::<Vec<u64>>()
+    };
     let grid_walls = grid(61, 41, 0.01, 0.3, 3, 0.3, (30, 20));
     let cases: Vec<(&str, Model, Vec<i32>, bool)> = vec![
         ("lobes, fine", o_mesh(400, 30, 0.02, lobes, 4), vec![1], false),
@@ -1072,20 +1573,35 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
             assert_eq!(c.len(), n, "{name}, {label}: every vertex within reach");
             let mut want = vec![SizeTensor::isotropic(1.0); n];
             for (&v, t) in c.vertices.iter().zip(&c.tensors) {
-                want[v as usize] = t.clamp(&SizeBounds::try_new(SizeTensor::MIN_SIZE, 1.0, f64::INFINITY).unwrap());
+                want[v as usize] = t
+                    .clamp(&SizeBounds::try_new(SizeTensor::MIN_SIZE, 1.0, f64::INFINITY).unwrap());
             }
             for threads in [1, 2] {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
                 let f = pool.install(|| run(m, &plan(Some(1.0), vec![(label, algorithm.clone())])));
                 let (got, expected) = (bits(&f.tensors), bits(&want));
-                let differ = (0..n).filter(|&v| got[4 * v..4 * v + 4] != expected[4 * v..4 * v + 4]).collect::<Vec<_>>();
-                assert!(differ.is_empty(), "{name}, {label}, {threads} threads: {} vertices differ, the first {:?}", differ.len(), differ.first().map(|&v| (v, f.tensors[v], want[v])));
+                let differ = (0..n)
+                    .filter(|&v| got[4 * v..4 * v + 4] != expected[4 * v..4 * v + 4])
+                    .collect::<Vec<_>>();
+                assert!(
+                    differ.is_empty(),
+                    "{name}, {label}, {threads} threads: {} vertices differ, the first {:?}",
+                    differ.len(),
+                    differ.first().map(|&v| (v, f.tensors[v], want[v]))
+                );
                 assert!(f.reached.iter().all(|&r| r));
-                assert_eq!((f.steps[0].vertices_reached, f.steps[0].seeds), (c.len(), c.seeds), "{name}, {label}");
+                assert_eq!(
+                    (f.steps[0].vertices_reached, f.steps[0].seeds),
+                    (c.len(), c.seeds),
+                    "{name}, {label}"
+                );
             }
             // As the second step, after UNIFORM on the face: intersected into the field
             // as it goes.
-            let uniform = Algorithm::Uniform { size: 0.02, on: EntitySet { faces: vec![m.face(1)], ..EntitySet::default() } };
+            let uniform = Algorithm::Uniform {
+                size: 0.02,
+                on: EntitySet { faces: vec![m.face(1)], ..EntitySet::default() },
+            };
             let u = run_algorithm(&m.graph, &m.topo, &uniform, 0, "uniform").unwrap();
             let mut want: Vec<Option<SizeTensor>> = vec![None; n];
             for (&v, t) in u.vertices.iter().zip(&u.tensors) {
@@ -1096,13 +1612,26 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
                 *w = Some(w.map_or(*t, |w| w.intersection(t)));
             }
             let bounds = SizeBounds::try_new(SizeTensor::MIN_SIZE, 1.0, f64::INFINITY).unwrap();
-            let want: Vec<SizeTensor> = want.into_iter().map(|t| t.unwrap().clamp(&bounds)).collect();
+            let want: Vec<SizeTensor> =
+                want.into_iter().map(|t| t.unwrap().clamp(&bounds)).collect();
             for threads in [1, 2] {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-                let f = pool.install(|| run(m, &plan(Some(1.0), vec![("uniform", uniform.clone()), (label, algorithm.clone())])));
+                let f = pool.install(|| {
+                    run(
+                        m,
+                        &plan(
+                            Some(1.0),
+                            vec![("uniform", uniform.clone()), (label, algorithm.clone())],
+                        ),
+                    )
+                });
                 let (got, expected) = (bits(&f.tensors), bits(&want));
-                let differ = (0..n).filter(|&v| got[4 * v..4 * v + 4] != expected[4 * v..4 * v + 4]).count();
-                assert_eq!(differ, 0, "{name}, uniform then {label}, {threads} threads: vertices differ");
+                let differ =
+                    (0..n).filter(|&v| got[4 * v..4 * v + 4] != expected[4 * v..4 * v + 4]).count();
+                assert_eq!(
+                    differ, 0,
+                    "{name}, uniform then {label}, {threads} threads: vertices differ"
+                );
                 assert_eq!(f.steps[1].vertices_reached, n);
             }
         }
@@ -1117,7 +1646,11 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
     let mut tris = a.triangles.clone();
     tris.extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
     let m = Model::new(coords, tris, |_| 1, &[(1, (0..200).collect(), true)], &[]);
-    let algorithm = Algorithm::DistanceToBorder { perpendicular: df(0.001, 0.1, far, 1.5), parallel: df(0.01, 0.2, far, 1.0), borders: m.curves(&[1]) };
+    let algorithm = Algorithm::DistanceToBorder {
+        perpendicular: df(0.001, 0.1, far, 1.5),
+        parallel: df(0.01, 0.2, far, 1.0),
+        borders: m.curves(&[1]),
+    };
     let c = run_algorithm(&m.graph, &m.topo, &algorithm, 0, "border").unwrap();
     assert_eq!(c.len(), offset, "the piece without a source is not reached");
     let f = run(&m, &plan(Some(1.0), vec![("border", algorithm)]));

@@ -21,8 +21,8 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion, SamplingMode, Throughput};
 use smartmesh_formats::{
-    read_bytes, sym2_to_tensor9, write_bytes, CellBlock, CellKind, DataArray, Format, GmshVersion, MemorySiblings, ReadContext, TaggedMesh,
-    VtuEncoding, WriteOptions,
+    read_bytes, sym2_to_tensor9, write_bytes, CellBlock, CellKind, DataArray, Format, GmshVersion,
+    MemorySiblings, ReadContext, TaggedMesh, VtuEncoding, WriteOptions,
 };
 
 /// A structured grid of (n-1)^2 * 2 triangles on [0,1]^2 with jittered coordinates,
@@ -33,8 +33,10 @@ fn big_mesh(n: usize) -> TaggedMesh {
     for j in 0..n {
         for i in 0..n {
             // Irrational-looking jitter so the decimals are not short.
-            let jx = if i > 0 && i < n - 1 { 0.2 * h * ((i * 7 + j * 13) as f64).sin() } else { 0.0 };
-            let jy = if j > 0 && j < n - 1 { 0.2 * h * ((i * 11 + j * 5) as f64).cos() } else { 0.0 };
+            let jx =
+                if i > 0 && i < n - 1 { 0.2 * h * ((i * 7 + j * 13) as f64).sin() } else { 0.0 };
+            let jy =
+                if j > 0 && j < n - 1 { 0.2 * h * ((i * 11 + j * 5) as f64).cos() } else { 0.0 };
             m.points.push([i as f64 * h + jx, j as f64 * h + jy, 0.0]);
         }
     }
@@ -80,38 +82,110 @@ struct Case {
 fn cases() -> Vec<Case> {
     let o = WriteOptions::default;
     vec![
-        Case { name: "gmsh41_ascii", format: Format::Gmsh, ext: "msh", opts: WriteOptions { gmsh_version: GmshVersion::V41, ..o() } },
-        Case { name: "gmsh41_binary", format: Format::Gmsh, ext: "msh", opts: WriteOptions { gmsh_version: GmshVersion::V41, binary: true, ..o() } },
-        Case { name: "gmsh22_ascii", format: Format::Gmsh, ext: "msh", opts: WriteOptions { gmsh_version: GmshVersion::V22, ..o() } },
-        Case { name: "gmsh22_binary", format: Format::Gmsh, ext: "msh", opts: WriteOptions { gmsh_version: GmshVersion::V22, binary: true, ..o() } },
-        Case { name: "vtu_zlib", format: Format::Vtu, ext: "vtu", opts: WriteOptions { vtu_encoding: VtuEncoding::Binary, compress: true, ..o() } },
-        Case { name: "vtu_appended_raw", format: Format::Vtu, ext: "vtu", opts: WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: false, ..o() } },
-        Case { name: "vtu_ascii", format: Format::Vtu, ext: "vtu", opts: WriteOptions { vtu_encoding: VtuEncoding::Ascii, compress: false, ..o() } },
+        Case {
+            name: "gmsh41_ascii",
+            format: Format::Gmsh,
+            ext: "msh",
+            opts: WriteOptions { gmsh_version: GmshVersion::V41, ..o() },
+        },
+        Case {
+            name: "gmsh41_binary",
+            format: Format::Gmsh,
+            ext: "msh",
+            opts: WriteOptions { gmsh_version: GmshVersion::V41, binary: true, ..o() },
+        },
+        Case {
+            name: "gmsh22_ascii",
+            format: Format::Gmsh,
+            ext: "msh",
+            opts: WriteOptions { gmsh_version: GmshVersion::V22, ..o() },
+        },
+        Case {
+            name: "gmsh22_binary",
+            format: Format::Gmsh,
+            ext: "msh",
+            opts: WriteOptions { gmsh_version: GmshVersion::V22, binary: true, ..o() },
+        },
+        Case {
+            name: "vtu_zlib",
+            format: Format::Vtu,
+            ext: "vtu",
+            opts: WriteOptions { vtu_encoding: VtuEncoding::Binary, compress: true, ..o() },
+        },
+        Case {
+            name: "vtu_appended_raw",
+            format: Format::Vtu,
+            ext: "vtu",
+            opts: WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: false, ..o() },
+        },
+        Case {
+            name: "vtu_ascii",
+            format: Format::Vtu,
+            ext: "vtu",
+            opts: WriteOptions { vtu_encoding: VtuEncoding::Ascii, compress: false, ..o() },
+        },
         Case { name: "vtk42_ascii", format: Format::VtkLegacy, ext: "vtk", opts: o() },
-        Case { name: "vtk42_binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { binary: true, ..o() } },
-        Case { name: "vtk51_ascii", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), ..o() } },
-        Case { name: "vtk51_binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), binary: true, ..o() } },
+        Case {
+            name: "vtk42_binary",
+            format: Format::VtkLegacy,
+            ext: "vtk",
+            opts: WriteOptions { binary: true, ..o() },
+        },
+        Case {
+            name: "vtk51_ascii",
+            format: Format::VtkLegacy,
+            ext: "vtk",
+            opts: WriteOptions { vtk_legacy_version: (5, 1), ..o() },
+        },
+        Case {
+            name: "vtk51_binary",
+            format: Format::VtkLegacy,
+            ext: "vtk",
+            opts: WriteOptions { vtk_legacy_version: (5, 1), binary: true, ..o() },
+        },
         Case { name: "medit_ascii", format: Format::Medit, ext: "mesh", opts: o() },
-        Case { name: "medit_binary", format: Format::Medit, ext: "meshb", opts: WriteOptions { medit_binary: true, main_name: Some("big.meshb".into()), ..o() } },
-        Case { name: "triangle", format: Format::Triangle, ext: "ele", opts: WriteOptions { main_name: Some("big.ele".into()), ..o() } },
+        Case {
+            name: "medit_binary",
+            format: Format::Medit,
+            ext: "meshb",
+            opts: WriteOptions { medit_binary: true, main_name: Some("big.meshb".into()), ..o() },
+        },
+        Case {
+            name: "triangle",
+            format: Format::Triangle,
+            ext: "ele",
+            opts: WriteOptions { main_name: Some("big.ele".into()), ..o() },
+        },
         Case { name: "obj", format: Format::Obj, ext: "obj", opts: o() },
     ]
 }
 
 fn out_dir() -> PathBuf {
-    let target = std::env::var("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|_| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target"));
+    let target = std::env::var("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target"));
     let d = target.join("bench-meshes");
     std::fs::create_dir_all(&d).unwrap();
     d
 }
 
 fn bench(c: &mut Criterion) {
-    let n: usize = std::env::var("SMARTMESH_BENCH_N").ok().and_then(|s| s.parse().ok()).unwrap_or(867);
+    let n: usize =
+        std::env::var("SMARTMESH_BENCH_N").ok().and_then(|s| s.parse().ok()).unwrap_or(867);
     let mesh = big_mesh(n);
     let dir = out_dir();
-    eprintln!("mesh: {} points, {} triangles", mesh.points.len(), mesh.num_cells_of(CellKind::Triangle));
-    let only: Option<Vec<String>> = std::env::var("SMARTMESH_BENCH_ONLY").ok().map(|s| s.split(',').map(str::to_string).collect());
-    for case in cases().into_iter().filter(|c| only.as_ref().map_or(true, |o| o.iter().any(|n| n == c.name))) {
+    eprintln!(
+        "mesh: {} points, {} triangles",
+        mesh.points.len(),
+        mesh.num_cells_of(CellKind::Triangle)
+    );
+    let only: Option<Vec<String>> = std::env::var("SMARTMESH_BENCH_ONLY")
+        .ok()
+        .map(|s| s.split(',').map(str::to_string).collect());
+    for case in cases()
+        .into_iter()
+        .filter(|c| only.as_ref().map_or(true, |o| o.iter().any(|n| n == c.name)))
+    {
         let written = match write_bytes(case.format, &mesh, &case.opts) {
             Ok(w) => w,
             Err(e) => {
@@ -124,12 +198,16 @@ fn bench(c: &mut Criterion) {
         for (ext, b) in &written.siblings {
             std::fs::write(dir.join(format!("{}.{ext}", case.name)), b).unwrap();
         }
-        let bytes = written.main.len() as u64 + written.siblings.iter().map(|s| s.1.len() as u64).sum::<u64>();
+        let bytes = written.main.len() as u64
+            + written.siblings.iter().map(|s| s.1.len() as u64).sum::<u64>();
         let sib = MemorySiblings::from_written(&written);
         let mut g = c.benchmark_group(case.name);
         // Flat sampling: ten runs of a slow ASCII case rather than criterion's 55, so
         // that the whole bench fits in a few minutes on a shared machine.
-        g.sample_size(10).sampling_mode(SamplingMode::Flat).measurement_time(Duration::from_secs(4)).warm_up_time(Duration::from_secs(1));
+        g.sample_size(10)
+            .sampling_mode(SamplingMode::Flat)
+            .measurement_time(Duration::from_secs(4))
+            .warm_up_time(Duration::from_secs(1));
         g.throughput(Throughput::Bytes(bytes));
         g.bench_function("memcpy", |b| {
             b.iter(|| {
@@ -144,7 +222,9 @@ fn bench(c: &mut Criterion) {
                 black_box(read_bytes(case.format, black_box(&written.main), &ctx).unwrap())
             })
         });
-        g.bench_function("write", |b| b.iter(|| black_box(write_bytes(case.format, black_box(&mesh), &case.opts).unwrap())));
+        g.bench_function("write", |b| {
+            b.iter(|| black_box(write_bytes(case.format, black_box(&mesh), &case.opts).unwrap()))
+        });
         g.finish();
     }
 }

@@ -57,72 +57,88 @@ pub fn arb_tagged_mesh(f: MeshFeatures) -> impl Strategy<Value = TaggedMesh> {
     (3u32..40).prop_flat_map(move |n| {
         let points = prop::collection::vec((coordinate(), coordinate()), n as usize);
         let tri = prop::collection::vec(((0..n, 0..n, 0..n), tag.clone(), 1i32..9), 1..30);
-        let quad = prop::collection::vec(((0..n, 0..n, 0..n, 0..n), tag.clone(), 1i32..9), 0..(if f.quads { 10 } else { 1 }));
-        let line = prop::collection::vec(((0..n, 0..n), tag.clone(), 1i32..9), 0..(if f.lines { 10 } else { 1 }));
-        let vert = prop::collection::vec((0..n, tag.clone(), 1i32..9), 0..(if f.vertices { 4 } else { 1 }));
+        let quad = prop::collection::vec(
+            ((0..n, 0..n, 0..n, 0..n), tag.clone(), 1i32..9),
+            0..(if f.quads { 10 } else { 1 }),
+        );
+        let line = prop::collection::vec(
+            ((0..n, 0..n), tag.clone(), 1i32..9),
+            0..(if f.lines { 10 } else { 1 }),
+        );
+        let vert = prop::collection::vec(
+            (0..n, tag.clone(), 1i32..9),
+            0..(if f.vertices { 4 } else { 1 }),
+        );
         let scal = prop::collection::vec(0.001..10.0f64, n as usize);
-        let tens = prop::collection::vec((0.01..100.0f64, -0.5..0.5f64, 0.01..100.0f64), n as usize);
-        (points, tri, quad, line, vert, scal, tens).prop_map(move |(points, tri, quad, line, vert, scal, tens)| {
-            let mut m = TaggedMesh::new();
-            m.points = points.into_iter().map(|(x, y)| [x, y, 0.0]).collect();
-            let g = |p: i32, g: i32| if f.geometrical { g } else { p };
-            if f.vertices {
-                let mut b = CellBlock::new(CellKind::Vertex);
-                for (v, p, e) in &vert {
-                    b.push(&[*v], *p, g(*p, *e));
-                }
-                if !b.is_empty() {
-                    m.blocks.push(b);
-                }
-            }
-            if f.lines {
-                let mut b = CellBlock::new(CellKind::Line);
-                for ((a, c), p, e) in &line {
-                    b.push(&[*a, *c], *p, g(*p, *e));
-                }
-                if !b.is_empty() {
-                    m.blocks.push(b);
-                }
-            }
-            let mut b = CellBlock::new(CellKind::Triangle);
-            for ((a, c, d), p, e) in &tri {
-                b.push(&[*a, *c, *d], *p, g(*p, *e));
-            }
-            m.blocks.push(b);
-            if f.quads {
-                let mut b = CellBlock::new(CellKind::Quad);
-                for ((a, c, d, e4), p, e) in &quad {
-                    b.push(&[*a, *c, *d, *e4], *p, g(*p, *e));
-                }
-                if !b.is_empty() {
-                    m.blocks.push(b);
-                }
-            }
-            if f.names {
-                let mut dims: Vec<(u8, i32)> = m.blocks.iter().flat_map(|b| b.physical.iter().map(move |&p| (b.kind.dim(), p))).collect();
-                dims.sort_unstable();
-                dims.dedup();
-                for (d, p) in dims {
-                    if p != 0 {
-                        m.tag_names.insert((d, p), format!("Group_{d}_{p}"));
+        let tens =
+            prop::collection::vec((0.01..100.0f64, -0.5..0.5f64, 0.01..100.0f64), n as usize);
+        (points, tri, quad, line, vert, scal, tens).prop_map(
+            move |(points, tri, quad, line, vert, scal, tens)| {
+                let mut m = TaggedMesh::new();
+                m.points = points.into_iter().map(|(x, y)| [x, y, 0.0]).collect();
+                let g = |p: i32, g: i32| if f.geometrical { g } else { p };
+                if f.vertices {
+                    let mut b = CellBlock::new(CellKind::Vertex);
+                    for (v, p, e) in &vert {
+                        b.push(&[*v], *p, g(*p, *e));
+                    }
+                    if !b.is_empty() {
+                        m.blocks.push(b);
                     }
                 }
-            }
-            if f.point_scalar {
-                m.point_data.insert("size".into(), DataArray::new(1, scal));
-            }
-            if f.point_tensor {
-                // A random SPD 2D tensor: diagonal dominance guarantees it.
-                let v: Vec<f64> = tens
-                    .iter()
-                    .flat_map(|&(a, s, c)| {
-                        let b = s * (a * c).sqrt();
-                        sym2_to_tensor9(a, b, c, 1.0)
-                    })
-                    .collect();
-                m.point_data.insert("metric".into(), DataArray::new(9, v));
-            }
-            m
-        })
+                if f.lines {
+                    let mut b = CellBlock::new(CellKind::Line);
+                    for ((a, c), p, e) in &line {
+                        b.push(&[*a, *c], *p, g(*p, *e));
+                    }
+                    if !b.is_empty() {
+                        m.blocks.push(b);
+                    }
+                }
+                let mut b = CellBlock::new(CellKind::Triangle);
+                for ((a, c, d), p, e) in &tri {
+                    b.push(&[*a, *c, *d], *p, g(*p, *e));
+                }
+                m.blocks.push(b);
+                if f.quads {
+                    let mut b = CellBlock::new(CellKind::Quad);
+                    for ((a, c, d, e4), p, e) in &quad {
+                        b.push(&[*a, *c, *d, *e4], *p, g(*p, *e));
+                    }
+                    if !b.is_empty() {
+                        m.blocks.push(b);
+                    }
+                }
+                if f.names {
+                    let mut dims: Vec<(u8, i32)> = m
+                        .blocks
+                        .iter()
+                        .flat_map(|b| b.physical.iter().map(move |&p| (b.kind.dim(), p)))
+                        .collect();
+                    dims.sort_unstable();
+                    dims.dedup();
+                    for (d, p) in dims {
+                        if p != 0 {
+                            m.tag_names.insert((d, p), format!("Group_{d}_{p}"));
+                        }
+                    }
+                }
+                if f.point_scalar {
+                    m.point_data.insert("size".into(), DataArray::new(1, scal));
+                }
+                if f.point_tensor {
+                    // A random SPD 2D tensor: diagonal dominance guarantees it.
+                    let v: Vec<f64> = tens
+                        .iter()
+                        .flat_map(|&(a, s, c)| {
+                            let b = s * (a * c).sqrt();
+                            sym2_to_tensor9(a, b, c, 1.0)
+                        })
+                        .collect();
+                    m.point_data.insert("metric".into(), DataArray::new(9, v));
+                }
+                m
+            },
+        )
     })
 }

@@ -39,7 +39,10 @@ use base64::Engine as _;
 use gltf_json as json;
 use json::validation::{Checked, USize64};
 
-use crate::{mesh::DataArray, tensor9_to_sym2, CellKind, Error, ErrorKind, Result, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{
+    mesh::DataArray, tensor9_to_sym2, CellKind, Error, ErrorKind, Result, TaggedMesh, WriteOptions,
+    WriteReport, Written,
+};
 
 /// Viridis (matplotlib's default colour map, perceptually uniform), sampled at
 /// 0, 1/8, ..., 1 from matplotlib's table; sRGB in [0, 1].
@@ -112,7 +115,10 @@ fn finest_size(t: &[f64]) -> f64 {
 }
 
 /// The field that colours the vertices, `None` when there is none to use.
-fn colour_field<'a>(mesh: &'a TaggedMesh, opts: &WriteOptions) -> Result<Option<(&'a str, &'a DataArray, Quantity)>> {
+fn colour_field<'a>(
+    mesh: &'a TaggedMesh,
+    opts: &WriteOptions,
+) -> Result<Option<(&'a str, &'a DataArray, Quantity)>> {
     let quantity = |a: &DataArray| match a.components {
         _ if a.is_tensor() => Some(Quantity::FinestSize),
         1 => Some(Quantity::Value),
@@ -121,10 +127,15 @@ fn colour_field<'a>(mesh: &'a TaggedMesh, opts: &WriteOptions) -> Result<Option<
     };
     match &opts.color_field {
         Some(name) => {
-            let cannot = |reason: String| Error::new(ErrorKind::CannotWrite { format: "glTF", reason });
+            let cannot =
+                |reason: String| Error::new(ErrorKind::CannotWrite { format: "glTF", reason });
             let Some((key, a)) = mesh.point_data.get_key_value(name.as_str()) else {
                 let known: Vec<&str> = mesh.point_data.keys().map(String::as_str).collect();
-                let also = if mesh.cell_data.contains_key(name) { " (it is cell data; glTF colours vertices)" } else { "" };
+                let also = if mesh.cell_data.contains_key(name) {
+                    " (it is cell data; glTF colours vertices)"
+                } else {
+                    ""
+                };
                 return Err(cannot(format!(
                     "no point field `{name}` to colour by{also}; point fields: {}",
                     if known.is_empty() { "none".to_string() } else { known.join(", ") }
@@ -138,7 +149,11 @@ fn colour_field<'a>(mesh: &'a TaggedMesh, opts: &WriteOptions) -> Result<Option<
                 ))),
             }
         }
-        None => Ok(mesh.point_data.iter().find(|(_, a)| a.components == 1).map(|(k, a)| (k.as_str(), a, Quantity::Value))),
+        None => Ok(mesh
+            .point_data
+            .iter()
+            .find(|(_, a)| a.components == 1)
+            .map(|(k, a)| (k.as_str(), a, Quantity::Value))),
     }
 }
 
@@ -211,19 +226,28 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
 
     // Cells → triangle and line index lists.
-    let mut tris: Vec<u32> = Vec::with_capacity(3 * (mesh.num_cells_of(CellKind::Triangle) + 2 * mesh.num_cells_of(CellKind::Quad)));
+    let mut tris: Vec<u32> = Vec::with_capacity(
+        3 * (mesh.num_cells_of(CellKind::Triangle) + 2 * mesh.num_cells_of(CellKind::Quad)),
+    );
     let mut lines: Vec<u32> = Vec::with_capacity(2 * mesh.num_cells_of(CellKind::Line));
     let mut counts: BTreeMap<CellKind, usize> = BTreeMap::new();
     for b in &mesh.blocks {
         *counts.entry(b.kind).or_insert(0) += b.len();
         for c in b.cells() {
             let i = |k: usize| -> Result<u32> {
-                c.get(k).copied().filter(|&v| (v as usize) < n).ok_or_else(|| cannot(format!("a {} cell refers to a point that does not exist", b.kind.name())))
+                c.get(k).copied().filter(|&v| (v as usize) < n).ok_or_else(|| {
+                    cannot(format!(
+                        "a {} cell refers to a point that does not exist",
+                        b.kind.name()
+                    ))
+                })
             };
             match b.kind {
                 CellKind::Vertex => {}
                 CellKind::Line | CellKind::Line3 => lines.extend_from_slice(&[i(0)?, i(1)?]),
-                CellKind::Triangle | CellKind::Triangle6 => tris.extend_from_slice(&[i(0)?, i(1)?, i(2)?]),
+                CellKind::Triangle | CellKind::Triangle6 => {
+                    tris.extend_from_slice(&[i(0)?, i(1)?, i(2)?])
+                }
                 CellKind::Quad | CellKind::Quad8 | CellKind::Quad9 => {
                     let (a, b1, c1, d) = (i(0)?, i(1)?, i(2)?, i(3)?);
                     tris.extend_from_slice(&[a, b1, c1, a, c1, d]);
@@ -236,8 +260,12 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
     for (&kind, &count) in &counts {
         match kind {
-            CellKind::Quad if count > 0 => report.drop(format!("{count} quad cells split into 2 triangles each (glTF draws triangles)")),
-            CellKind::Vertex if count > 0 => report.drop(format!("{count} vertex cells not drawn (the glTF writer draws triangles and lines)")),
+            CellKind::Quad if count > 0 => report.drop(format!(
+                "{count} quad cells split into 2 triangles each (glTF draws triangles)"
+            )),
+            CellKind::Vertex if count > 0 => report.drop(format!(
+                "{count} vertex cells not drawn (the glTF writer draws triangles and lines)"
+            )),
             k if k.is_second_order() && count > 0 => report.drop(format!(
                 "{count} {} cells drawn by their corners{}: glTF has no second-order elements",
                 k.name(),
@@ -256,7 +284,10 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         for k in 0..3 {
             let v = p[k] as f32;
             if !v.is_finite() {
-                return Err(cannot(format!("point {pi} has coordinate {} that is not a finite 32-bit float", p[k])));
+                return Err(cannot(format!(
+                    "point {pi} has coordinate {} that is not a finite 32-bit float",
+                    p[k]
+                )));
             }
             largest_change = largest_change.max((v as f64 - p[k]).abs());
             lo[k] = lo[k].min(v);
@@ -312,9 +343,13 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             if finite { format!(" from {qmin} to {qmax} (recorded in the mesh extras)") } else { String::new() }
         ));
         if bad > 0 {
-            report.drop(format!("{bad} vertices of `{name}` have no finite {} and are drawn grey", quantity.describe()));
+            report.drop(format!(
+                "{bad} vertices of `{name}` have no finite {} and are drawn grey",
+                quantity.describe()
+            ));
         }
-        let num = |v: f64| if finite { serde_json::Value::from(v) } else { serde_json::Value::Null };
+        let num =
+            |v: f64| if finite { serde_json::Value::from(v) } else { serde_json::Value::Null };
         let value = serde_json::json!({
             "color_field": name,
             "color_quantity": quantity.describe(),
@@ -322,7 +357,10 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             "color_max": num(qmax),
             "colormap": "viridis",
         });
-        extras = Some(json::extras::RawValue::from_string(value.to_string()).map_err(|e| cannot(e.to_string()))?);
+        extras = Some(
+            json::extras::RawValue::from_string(value.to_string())
+                .map_err(|e| cannot(e.to_string()))?,
+        );
     }
     for (name, a) in &mesh.point_data {
         if field.map(|f| f.0) != Some(name.as_str()) {
@@ -331,7 +369,10 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
                 None if opts.color_field.is_none() => "glTF holds no fields, and only a scalar colours the vertices unless --color-field names another".to_string(),
                 None => "glTF holds no fields".to_string(),
             };
-            report.drop(format!("point data `{name}` ({} components): {why}", a.expanded_components()));
+            report.drop(format!(
+                "point data `{name}` ({} components): {why}",
+                a.expanded_components()
+            ));
         }
     }
 
@@ -348,7 +389,8 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     // The JSON document.
     use json::accessor::{ComponentType, Type};
     use json::buffer::Target;
-    let glb = opts.glb || opts.main_name.as_deref().is_some_and(|m| m.to_ascii_lowercase().ends_with(".glb"));
+    let glb = opts.glb
+        || opts.main_name.as_deref().is_some_and(|m| m.to_ascii_lowercase().ends_with(".glb"));
     let mut root = json::Root {
         asset: json::Asset {
             copyright: None,
@@ -365,27 +407,69 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     } else {
         match &opts.main_name {
             Some(main) => {
-                let stem = std::path::Path::new(main).file_stem().and_then(|s| s.to_str()).unwrap_or("mesh");
+                let stem = std::path::Path::new(main)
+                    .file_stem()
+                    .and_then(|s| s.to_str())
+                    .unwrap_or("mesh");
                 Some(uri_encode(&format!("{stem}.bin")))
             }
-            None => Some(format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&buffer))),
+            None => Some(format!(
+                "data:application/octet-stream;base64,{}",
+                base64::engine::general_purpose::STANDARD.encode(&buffer)
+            )),
         }
     };
-    root.push(json::Buffer { byte_length: USize64::from(buffer.len()), name: None, uri, extensions: None, extras: Default::default() });
-    let bounds = |a: [f32; 3]| serde_json::Value::from(a.iter().map(|&x| f64::from(x)).collect::<Vec<f64>>());
-    let position = accessor(&mut root, pos_range, Target::ArrayBuffer, n, ComponentType::F32, Type::Vec3, Some((bounds(lo), bounds(hi))), "POSITION");
-    let colour = colour_range.map(|r| accessor(&mut root, r, Target::ArrayBuffer, n, ComponentType::F32, Type::Vec3, None, "COLOR_0"));
+    root.push(json::Buffer {
+        byte_length: USize64::from(buffer.len()),
+        name: None,
+        uri,
+        extensions: None,
+        extras: Default::default(),
+    });
+    let bounds = |a: [f32; 3]| {
+        serde_json::Value::from(a.iter().map(|&x| f64::from(x)).collect::<Vec<f64>>())
+    };
+    let position = accessor(
+        &mut root,
+        pos_range,
+        Target::ArrayBuffer,
+        n,
+        ComponentType::F32,
+        Type::Vec3,
+        Some((bounds(lo), bounds(hi))),
+        "POSITION",
+    );
+    let colour = colour_range.map(|r| {
+        accessor(
+            &mut root,
+            r,
+            Target::ArrayBuffer,
+            n,
+            ComponentType::F32,
+            Type::Vec3,
+            None,
+            "COLOR_0",
+        )
+    });
     let material = {
-        let mut m = json::Material { double_sided: true, name: Some(if colour.is_some() { "colour map (unlit)" } else { "grey" }.into()), ..Default::default() };
+        let mut m = json::Material {
+            double_sided: true,
+            name: Some(if colour.is_some() { "colour map (unlit)" } else { "grey" }.into()),
+            ..Default::default()
+        };
         m.pbr_metallic_roughness.metallic_factor = json::material::StrengthFactor(0.0);
         if colour.is_some() {
             // The extension struct's fields depend on which gltf-json features are on.
             #[allow(clippy::needless_update)]
-            let unlit = json::extensions::material::Material { unlit: Some(json::extensions::material::Unlit {}), ..Default::default() };
+            let unlit = json::extensions::material::Material {
+                unlit: Some(json::extensions::material::Unlit {}),
+                ..Default::default()
+            };
             m.extensions = Some(unlit);
             root.extensions_used.push("KHR_materials_unlit".into());
         } else {
-            m.pbr_metallic_roughness.base_color_factor = json::material::PbrBaseColorFactor([0.6, 0.6, 0.6, 1.0]);
+            m.pbr_metallic_roughness.base_color_factor =
+                json::material::PbrBaseColorFactor([0.6, 0.6, 0.6, 1.0]);
         }
         root.push(m)
     };
@@ -395,11 +479,23 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         attributes.insert(Checked::Valid(json::mesh::Semantic::Colors(0)), c);
     }
     let mut primitives = Vec::new();
-    for (indices, range, mode, name) in [(&tris, tri_range, json::mesh::Mode::Triangles, "triangles"), (&lines, line_range, json::mesh::Mode::Lines, "lines")] {
+    for (indices, range, mode, name) in [
+        (&tris, tri_range, json::mesh::Mode::Triangles, "triangles"),
+        (&lines, line_range, json::mesh::Mode::Lines, "lines"),
+    ] {
         if indices.is_empty() {
             continue;
         }
-        let acc = accessor(&mut root, range, Target::ElementArrayBuffer, indices.len(), ComponentType::U32, Type::Scalar, None, name);
+        let acc = accessor(
+            &mut root,
+            range,
+            Target::ElementArrayBuffer,
+            indices.len(),
+            ComponentType::U32,
+            Type::Scalar,
+            None,
+            name,
+        );
         primitives.push(json::mesh::Primitive {
             attributes: attributes.clone(),
             extensions: None,
@@ -410,9 +506,24 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             targets: None,
         });
     }
-    let mesh_index = root.push(json::Mesh { extensions: None, extras, name: Some("smartmesh".into()), primitives, weights: None });
-    let node = root.push(json::Node { mesh: Some(mesh_index), name: Some("smartmesh".into()), ..Default::default() });
-    let scene = root.push(json::Scene { extensions: None, extras: Default::default(), name: None, nodes: vec![node] });
+    let mesh_index = root.push(json::Mesh {
+        extensions: None,
+        extras,
+        name: Some("smartmesh".into()),
+        primitives,
+        weights: None,
+    });
+    let node = root.push(json::Node {
+        mesh: Some(mesh_index),
+        name: Some("smartmesh".into()),
+        ..Default::default()
+    });
+    let scene = root.push(json::Scene {
+        extensions: None,
+        extras: Default::default(),
+        name: None,
+        nodes: vec![node],
+    });
     root.scene = Some(scene);
 
     if glb {
@@ -431,14 +542,21 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     } else {
         let mut main = root.to_vec_pretty().map_err(|e| cannot(e.to_string()))?;
         main.push(b'\n');
-        let siblings = if opts.main_name.is_some() { vec![("bin".to_string(), buffer)] } else { Vec::new() };
+        let siblings =
+            if opts.main_name.is_some() { vec![("bin".to_string(), buffer)] } else { Vec::new() };
         Ok(Written { main, siblings, report })
     }
 }
 
 /// What glTF cannot hold at all.
 fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
-    let tagged: usize = mesh.blocks.iter().map(|b| b.physical.iter().zip(&b.geometrical).filter(|(p, g)| **p != 0 || **g != 0).count()).sum();
+    let tagged: usize = mesh
+        .blocks
+        .iter()
+        .map(|b| {
+            b.physical.iter().zip(&b.geometrical).filter(|(p, g)| **p != 0 || **g != 0).count()
+        })
+        .sum();
     if tagged > 0 {
         report.drop(format!("physical and geometrical tags of {tagged} cells: glTF holds no tags"));
     }
@@ -447,7 +565,10 @@ fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
         report.drop(format!("tag names ({}): glTF holds no tags", names.join(", ")));
     }
     for (name, a) in &mesh.cell_data {
-        report.drop(format!("cell data `{name}` ({} components): glTF holds no fields", a.components));
+        report.drop(format!(
+            "cell data `{name}` ({} components): glTF holds no fields",
+            a.components
+        ));
     }
     if !mesh.entities.is_empty() {
         report.drop(format!("the entity table ({} entities): glTF has none", mesh.entities.len()));
@@ -480,7 +601,13 @@ mod tests {
                 1.055 * c.powf(1.0 / 2.4) - 0.055
             }
         };
-        for (t, stop) in [(0.0, VIRIDIS[0]), (0.5, VIRIDIS[4]), (1.0, VIRIDIS[8]), (-3.0, VIRIDIS[0]), (7.0, VIRIDIS[8])] {
+        for (t, stop) in [
+            (0.0, VIRIDIS[0]),
+            (0.5, VIRIDIS[4]),
+            (1.0, VIRIDIS[8]),
+            (-3.0, VIRIDIS[0]),
+            (7.0, VIRIDIS[8]),
+        ] {
             let c = viridis_linear(t);
             for k in 0..3 {
                 assert!((to_srgb(c[k]) - stop[k]).abs() < 1e-6, "t={t}");

@@ -116,10 +116,19 @@ pub fn read_bytes(format: Format, bytes: &[u8], ctx: &ReadContext<'_>) -> Result
         Format::Vtu => crate::vtk::read_vtu(bytes, ctx)?,
         Format::Obj => crate::obj::read(bytes, ctx)?,
         Format::Medit => crate::medit::read(bytes, ctx)?,
-        Format::Gltf => return Err(Error::new(ErrorKind::Unsupported("reading glTF (smartmesh writes it for viewers)".into()))),
+        Format::Gltf => {
+            return Err(Error::new(ErrorKind::Unsupported(
+                "reading glTF (smartmesh writes it for viewers)".into(),
+            )))
+        }
     };
     if reader_validates(format) {
-        debug_assert_eq!(mesh.validate(), Vec::new(), "the {} reader let an invalid mesh through", format.name());
+        debug_assert_eq!(
+            mesh.validate(),
+            Vec::new(),
+            "the {} reader let an invalid mesh through",
+            format.name()
+        );
     } else if let Some(p) = mesh.validate().into_iter().next() {
         return Err(Error::new(ErrorKind::Inconsistent(p.to_string())));
     }
@@ -129,7 +138,11 @@ pub fn read_bytes(format: Format, bytes: &[u8], ctx: &ReadContext<'_>) -> Result
 /// The error for writing a mesh that [`TaggedMesh::validate`] refuses, in `format`:
 /// the first problem it finds.
 pub(crate) fn refused(format: Format, mesh: &TaggedMesh) -> Error {
-    let reason = mesh.validate().into_iter().next().map_or_else(|| "the mesh is inconsistent".to_string(), |p| p.to_string());
+    let reason = mesh
+        .validate()
+        .into_iter()
+        .next()
+        .map_or_else(|| "the mesh is inconsistent".to_string(), |p| p.to_string());
     Error::new(ErrorKind::CannotWrite { format: format.name(), reason })
 }
 
@@ -156,7 +169,8 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
 fn resolve_format(path: &Path, format: Option<Format>) -> Result<Format> {
     match format {
         Some(f) => Ok(f),
-        None => Format::from_path(path).ok_or_else(|| Error::new(ErrorKind::UnknownFormat(path.display().to_string()))),
+        None => Format::from_path(path)
+            .ok_or_else(|| Error::new(ErrorKind::UnknownFormat(path.display().to_string()))),
     }
 }
 
@@ -185,7 +199,12 @@ pub fn read_path(path: &Path, format: Option<Format>) -> Result<TaggedMesh> {
 /// Writes a mesh to a path (`-` for stdout, which needs `format` and a format without
 /// siblings). Every file goes to a temporary name beside its target first and is
 /// renamed only when all are complete.
-pub fn write_path(path: &Path, mesh: &TaggedMesh, format: Option<Format>, opts: &WriteOptions) -> Result<WriteReport> {
+pub fn write_path(
+    path: &Path,
+    mesh: &TaggedMesh,
+    format: Option<Format>,
+    opts: &WriteOptions,
+) -> Result<WriteReport> {
     if is_stdio(path) {
         let format = format.ok_or_else(|| Error::new(ErrorKind::UnknownFormat("-".into())))?;
         let mut opts = opts.clone();
@@ -195,7 +214,10 @@ pub fn write_path(path: &Path, mesh: &TaggedMesh, format: Option<Format>, opts: 
             let exts: Vec<_> = written.siblings.iter().map(|(e, _)| format!(".{e}")).collect();
             return Err(Error::new(ErrorKind::CannotWrite {
                 format: format.name(),
-                reason: format!("it needs sibling files ({}), which stdout cannot hold; name an output file", exts.join(", ")),
+                reason: format!(
+                    "it needs sibling files ({}), which stdout cannot hold; name an output file",
+                    exts.join(", ")
+                ),
             }));
         }
         let mut out = std::io::stdout().lock();

@@ -36,8 +36,14 @@ pub mod vtk;
 pub mod arbitrary;
 
 pub use error::{Error, ErrorKind, Position, Result};
-pub use io::{read_bytes, read_path, write_all_atomically, write_bytes, write_path, MemorySiblings, NoSiblings, PathSiblings, SiblingSource};
-pub use mesh::{sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout, MeshProblem, NodeIndex, RegionSeed, TaggedMesh, MAX_POINTS};
+pub use io::{
+    read_bytes, read_path, write_all_atomically, write_bytes, write_path, MemorySiblings,
+    NoSiblings, PathSiblings, SiblingSource,
+};
+pub use mesh::{
+    sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout,
+    MeshProblem, NodeIndex, RegionSeed, TaggedMesh, MAX_POINTS,
+};
 
 use std::path::Path;
 
@@ -123,7 +129,8 @@ impl Format {
     }
 
     /// The names accepted by [`Format::from_name`], for help texts.
-    pub const NAMES: &'static str = "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb";
+    pub const NAMES: &'static str =
+        "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb";
 }
 
 /// Gmsh MSH file format version to write.

@@ -162,7 +162,11 @@ pub const MAX_POINTS: usize = NodeIndex::MAX as usize;
 /// The error a reader reports when `count` of `what` (points, or a point index) pass
 /// what 32-bit connectivity can address.
 pub(crate) fn past_max_points(what: &str, count: usize) -> crate::ErrorKind {
-    crate::ErrorKind::ImplausibleCount { what: what.into(), count: count as u64, limit: format!("{MAX_POINTS} points (32-bit point indices)") }
+    crate::ErrorKind::ImplausibleCount {
+        what: what.into(),
+        count: count as u64,
+        limit: format!("{MAX_POINTS} points (32-bit point indices)"),
+    }
 }
 
 /// `i` as a cell's point index: below [`MAX_POINTS`], else the reader's error.
@@ -199,7 +203,8 @@ impl CellBlock {
     /// Whether the node and tag arrays agree: `nodes_per_cell` nodes and one tag of
     /// each kind per cell.
     pub fn lengths_agree(&self) -> bool {
-        self.nodes.len() == self.physical.len() * self.kind.nodes_per_cell() && self.geometrical.len() == self.physical.len()
+        self.nodes.len() == self.physical.len() * self.kind.nodes_per_cell()
+            && self.geometrical.len() == self.physical.len()
     }
 
     /// An empty block of `kind`.
@@ -223,7 +228,12 @@ impl CellBlock {
     /// # Panics
     /// If an index is negative or past [`MAX_POINTS`]: the caller's bug, as an index
     /// out of bounds is; readers check what they read before they push it.
-    pub fn push<T: Copy + TryInto<NodeIndex>>(&mut self, nodes: &[T], physical: i32, geometrical: i32) {
+    pub fn push<T: Copy + TryInto<NodeIndex>>(
+        &mut self,
+        nodes: &[T],
+        physical: i32,
+        geometrical: i32,
+    ) {
         debug_assert_eq!(nodes.len(), self.kind.nodes_per_cell());
         self.nodes.extend(nodes.iter().map(|&v| match v.try_into() {
             Ok(v) if (v as usize) < MAX_POINTS => v,
@@ -348,7 +358,10 @@ impl DataArray {
     pub fn expanded(&self) -> std::borrow::Cow<'_, DataArray> {
         match self.layout {
             Layout::Plain => std::borrow::Cow::Borrowed(self),
-            Layout::Symmetric2 => std::borrow::Cow::Owned(DataArray::new(9, (0..self.len()).flat_map(|i| self.tensor9(i)).collect())),
+            Layout::Symmetric2 => std::borrow::Cow::Owned(DataArray::new(
+                9,
+                (0..self.len()).flat_map(|i| self.tensor9(i)).collect(),
+            )),
         }
     }
 }
@@ -453,7 +466,9 @@ impl TaggedMesh {
     /// Iterator over `(kind, nodes, physical, geometrical)` of every cell in block order.
     pub fn cells(&self) -> impl Iterator<Item = (CellKind, &[NodeIndex], i32, i32)> + '_ {
         self.blocks.iter().flat_map(|b| {
-            b.cells().zip(b.physical.iter().zip(&b.geometrical)).map(move |(n, (&p, &g))| (b.kind, n, p, g))
+            b.cells()
+                .zip(b.physical.iter().zip(&b.geometrical))
+                .map(move |(n, (&p, &g))| (b.kind, n, p, g))
         })
     }
 
@@ -516,7 +531,10 @@ impl TaggedMesh {
             if b.nodes.iter().fold(0, |m, &v| m.max(v)) as usize >= n {
                 for (ci, cell) in b.cells().enumerate() {
                     if let Some(&bad) = cell.iter().find(|&&v| v as usize >= n) {
-                        problems.push(MeshProblem::NodeOutOfRange { cell: offset + ci, node: bad as usize });
+                        problems.push(MeshProblem::NodeOutOfRange {
+                            cell: offset + ci,
+                            node: bad as usize,
+                        });
                     }
                 }
             }
@@ -524,13 +542,21 @@ impl TaggedMesh {
         }
         for (name, a) in &self.point_data {
             if !a.covers(n) {
-                problems.push(MeshProblem::DataLength { name: name.clone(), expected: n, found: a.len() });
+                problems.push(MeshProblem::DataLength {
+                    name: name.clone(),
+                    expected: n,
+                    found: a.len(),
+                });
             }
         }
         let nc = self.num_cells();
         for (name, a) in &self.cell_data {
             if !a.covers(nc) {
-                problems.push(MeshProblem::DataLength { name: name.clone(), expected: nc, found: a.len() });
+                problems.push(MeshProblem::DataLength {
+                    name: name.clone(),
+                    expected: nc,
+                    found: a.len(),
+                });
             }
         }
         for (name, set) in &self.point_sets {

@@ -56,7 +56,10 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use crate::text::{parse_f64, parse_i64, push_f64, push_int, Tokens};
-use crate::{CellKind, Error, ErrorKind, NodeIndex, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{
+    CellKind, Error, ErrorKind, NodeIndex, ReadContext, Result, TaggedMesh, WriteOptions,
+    WriteReport, Written,
+};
 
 // ---------------------------------------------------------------------------------
 // Reading
@@ -103,7 +106,9 @@ fn show(tok: &[u8]) -> String {
 fn coordinate(tok: &[u8], line: u64, what: &str) -> Result<f64> {
     match parse_f64(tok) {
         Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => Err(Error::at_line(line, ErrorKind::NonFinite { what: what.into(), value: show(tok) })),
+        Ok(_) => {
+            Err(Error::at_line(line, ErrorKind::NonFinite { what: what.into(), value: show(tok) }))
+        }
         Err(()) => Err(Error::expected(line, what, show(tok))),
     }
 }
@@ -141,18 +146,31 @@ impl IndexSpace {
                 Err(self.out_of_range(idx, line, self.count))
             }
         } else {
-            Err(Error::expected(line, format!("a {} index (1-based, or negative to count back)", self.what), "`0`"))
+            Err(Error::expected(
+                line,
+                format!("a {} index (1-based, or negative to count back)", self.what),
+                "`0`",
+            ))
         }
     }
 
     fn out_of_range(&self, idx: i64, line: u64, available: usize) -> Error {
-        Error::at_line(line, ErrorKind::IndexOutOfRange { what: format!("{} index", self.what), index: idx, available })
+        Error::at_line(
+            line,
+            ErrorKind::IndexOutOfRange {
+                what: format!("{} index", self.what),
+                index: idx,
+                available,
+            },
+        )
     }
 
     /// Checks the forward references once every item is known.
     fn finish(&self) -> Result<()> {
         match self.forward {
-            Some((idx, line)) if idx as u64 > self.count as u64 => Err(self.out_of_range(idx, line, self.count)),
+            Some((idx, line)) if idx as u64 > self.count as u64 => {
+                Err(self.out_of_range(idx, line, self.count))
+            }
             _ => Ok(()),
         }
     }
@@ -216,8 +234,11 @@ impl Reader {
     fn vertex(&mut self, tok: &[u8], line: u64, form: VertexForm) -> Result<NodeIndex> {
         let mut parts = tok.splitn(3, |&c| c == b'/');
         let v = parts.next().unwrap_or_default();
-        let vi = parse_i64(v).ok_or_else(|| Error::expected(line, "a vertex index (`v`, `v/vt`, `v//vn` or `v/vt/vn`)", show(tok)))?;
-        let p = crate::mesh::node_index(self.v.resolve(vi, line)?).map_err(|k| Error::at_line(line, k))?;
+        let vi = parse_i64(v).ok_or_else(|| {
+            Error::expected(line, "a vertex index (`v`, `v/vt`, `v//vn` or `v/vt/vn`)", show(tok))
+        })?;
+        let p = crate::mesh::node_index(self.v.resolve(vi, line)?)
+            .map_err(|k| Error::at_line(line, k))?;
         if tok.len() == v.len() {
             return Ok(p);
         }
@@ -237,11 +258,15 @@ impl Reader {
             return Err(Error::expected(line, expected, show(tok)));
         }
         if !vt.is_empty() {
-            let i = parse_i64(vt).ok_or_else(|| Error::expected(line, "a texture vertex index after `/`", show(tok)))?;
+            let i = parse_i64(vt).ok_or_else(|| {
+                Error::expected(line, "a texture vertex index after `/`", show(tok))
+            })?;
             self.vt.resolve(i, line)?;
         }
         if let Some(vn) = vn.filter(|s| !s.is_empty()) {
-            let i = parse_i64(vn).ok_or_else(|| Error::expected(line, "a normal index after `//` or the second `/`", show(tok)))?;
+            let i = parse_i64(vn).ok_or_else(|| {
+                Error::expected(line, "a normal index after `//` or the second `/`", show(tok))
+            })?;
             self.vn.resolve(i, line)?;
         }
         Ok(p)
@@ -275,14 +300,29 @@ fn default_tag_number(name: &[u8]) -> Option<i32> {
 
 /// Statements of the spec that carry nothing for a polygonal mesh.
 const IGNORED: &[&[u8]] = &[
-    b"vp", b"s", b"mg", b"usemtl", b"mtllib", b"lod", b"bevel", b"c_interp", b"d_interp", b"shadow_obj", b"trace_obj", b"maplib", b"usemap",
-    b"ctech", b"stech",
+    b"vp",
+    b"s",
+    b"mg",
+    b"usemtl",
+    b"mtllib",
+    b"lod",
+    b"bevel",
+    b"c_interp",
+    b"d_interp",
+    b"shadow_obj",
+    b"trace_obj",
+    b"maplib",
+    b"usemap",
+    b"ctech",
+    b"stech",
 ];
 
 /// Statements of the spec smartmesh does not read: free-form geometry, and the general
 /// statements that would read another file or run a command.
-const UNSUPPORTED: &[&[u8]] =
-    &[b"cstype", b"deg", b"bmat", b"step", b"curv", b"curv2", b"surf", b"parm", b"trim", b"hole", b"scrv", b"sp", b"end", b"con", b"call", b"csh"];
+const UNSUPPORTED: &[&[u8]] = &[
+    b"cstype", b"deg", b"bmat", b"step", b"curv", b"curv2", b"surf", b"parm", b"trim", b"hole",
+    b"scrv", b"sp", b"end", b"con", b"call", b"csh",
+];
 
 /// Reads a mesh.
 pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
@@ -306,7 +346,15 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                 let mut c = [0.0f64; 3];
                 let mut n = 0usize;
                 while let Some(a) = arg(&mut t) {
-                    const WHAT: [&str; 7] = ["x coordinate", "y coordinate", "z coordinate", "w weight or red", "green", "blue", "value"];
+                    const WHAT: [&str; 7] = [
+                        "x coordinate",
+                        "y coordinate",
+                        "z coordinate",
+                        "w weight or red",
+                        "green",
+                        "blue",
+                        "value",
+                    ];
                     let val = coordinate(a, t.line(), WHAT[n.min(6)])?;
                     if n < 3 {
                         c[n] = val;
@@ -314,7 +362,11 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                     n += 1;
                 }
                 if !matches!(n, 2..=4 | 6) {
-                    return Err(Error::expected(t.line(), "2 to 4 numbers after `v` (x y [z [w]]), or x y z r g b", format!("{n}")));
+                    return Err(Error::expected(
+                        t.line(),
+                        "2 to 4 numbers after `v` (x y [z [w]]), or x y z r g b",
+                        format!("{n}"),
+                    ));
                 }
                 any_z |= c[2] != 0.0;
                 mesh.points.push(c);
@@ -349,7 +401,13 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                 let kind = match k {
                     3 => CellKind::Triangle,
                     4 => CellKind::Quad,
-                    _ => return Err(Error::expected(line, "a face of 3 or 4 vertices", format!("{k} vertices"))),
+                    _ => {
+                        return Err(Error::expected(
+                            line,
+                            "a face of 3 or 4 vertices",
+                            format!("{k} vertices"),
+                        ))
+                    }
                 };
                 let tag = r.tag(2);
                 mesh.block_mut(kind).push(&idx[..k], tag, tag);
@@ -367,7 +425,11 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                     k += 1;
                 }
                 if k < 2 {
-                    return Err(Error::expected(line, "a line element of at least 2 vertices", format!("{k}")));
+                    return Err(Error::expected(
+                        line,
+                        "a line element of at least 2 vertices",
+                        format!("{k}"),
+                    ));
                 }
             }
             b"p" => {
@@ -379,7 +441,11 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                     k += 1;
                 }
                 if k == 0 {
-                    return Err(Error::expected(line, "at least one vertex index after `p`", "none"));
+                    return Err(Error::expected(
+                        line,
+                        "at least one vertex index after `p`",
+                        "none",
+                    ));
                 }
             }
             b"g" => {
@@ -400,7 +466,13 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                     )),
                 ));
             }
-            _ => return Err(Error::expected(line, "an OBJ statement (v, vt, vn, f, l, p, g, o, s, usemtl, mtllib, ...)", show(kw))),
+            _ => {
+                return Err(Error::expected(
+                    line,
+                    "an OBJ statement (v, vt, vn, f, l, p, g, o, s, usemtl, mtllib, ...)",
+                    show(kw),
+                ))
+            }
         }
     }
     r.v.finish()?;
@@ -455,7 +527,10 @@ fn number_groups(mesh: &mut TaggedMesh, names: &[Vec<u8>], dims: &[u8]) {
 /// A group name OBJ can hold: one line, no comment marker, no continuation, single
 /// spaces (the reader joins a `g` statement's names with one space).
 fn sanitize_name(name: &str) -> String {
-    let cleaned: String = name.chars().map(|c| if c == '#' || c == '\\' || c.is_control() { '_' } else { c }).collect();
+    let cleaned: String = name
+        .chars()
+        .map(|c| if c == '#' || c == '\\' || c.is_control() { '_' } else { c })
+        .collect();
     cleaned.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
@@ -557,13 +632,17 @@ pub fn write(mesh: &TaggedMesh, _opts: &WriteOptions) -> Result<Written> {
 
     // Pre-size: a coordinate is at most ~24 bytes, an index at most ~8 in practice.
     let node_count: usize = mesh.blocks.iter().map(|b| b.nodes.len()).sum();
-    let mut out: Vec<u8> = Vec::with_capacity(64 + mesh.points.len() * 60 + total * 4 + node_count * 8);
+    let mut out: Vec<u8> =
+        Vec::with_capacity(64 + mesh.points.len() * 60 + total * 4 + node_count * 8);
     out.extend_from_slice(b"# written by smartmesh-formats ");
     out.extend_from_slice(env!("CARGO_PKG_VERSION").as_bytes());
     out.extend_from_slice(b" (Wavefront OBJ)\n");
     for (i, p) in mesh.points.iter().enumerate() {
         if !p.iter().all(|c| c.is_finite()) {
-            return Err(Error::new(ErrorKind::CannotWrite { format: "OBJ", reason: format!("point {i} has a non-finite coordinate") }));
+            return Err(Error::new(ErrorKind::CannotWrite {
+                format: "OBJ",
+                reason: format!("point {i} has a non-finite coordinate"),
+            }));
         }
         out.extend_from_slice(b"v ");
         push_f64(&mut out, p[0]);
@@ -620,17 +699,30 @@ pub fn write(mesh: &TaggedMesh, _opts: &WriteOptions) -> Result<Written> {
 /// What OBJ cannot hold at all.
 fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
     for (name, a) in &mesh.point_data {
-        report.drop(format!("point data `{name}` ({} components): OBJ holds no fields", a.expanded_components()));
+        report.drop(format!(
+            "point data `{name}` ({} components): OBJ holds no fields",
+            a.expanded_components()
+        ));
     }
     for (name, a) in &mesh.cell_data {
-        report.drop(format!("cell data `{name}` ({} components): OBJ holds no fields", a.expanded_components()));
+        report.drop(format!(
+            "cell data `{name}` ({} components): OBJ holds no fields",
+            a.expanded_components()
+        ));
     }
-    let differ: usize = mesh.blocks.iter().map(|b| b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count()).sum();
+    let differ: usize = mesh
+        .blocks
+        .iter()
+        .map(|b| b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count())
+        .sum();
     if differ > 0 {
         report.drop(format!("geometrical tags of {differ} cells differ from their physical tags: OBJ keeps one group per cell, the physical tag"));
     }
     if !mesh.entities.is_empty() {
-        report.drop(format!("the entity table ({} entities with their physical groups): OBJ has none", mesh.entities.len()));
+        report.drop(format!(
+            "the entity table ({} entities with their physical groups): OBJ has none",
+            mesh.entities.len()
+        ));
     }
     for name in mesh.point_sets.keys() {
         report.drop(format!("point set `{name}`: OBJ holds no sets"));
@@ -649,7 +741,8 @@ fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
 /// Says which tags will not read back with the same number: the reader numbers named
 /// groups 1, 2, ... in order of appearance, around the numbers of `tag<N>` groups.
 fn report_numbering(groups: &[String], group_tags: &[Vec<(i32, u8)>], report: &mut WriteReport) {
-    let taken: BTreeSet<i32> = groups.iter().filter_map(|g| default_tag_number(g.as_bytes())).collect();
+    let taken: BTreeSet<i32> =
+        groups.iter().filter_map(|g| default_tag_number(g.as_bytes())).collect();
     let mut next = 1;
     for (g, tags) in groups.iter().zip(group_tags) {
         if g.is_empty() {
@@ -667,8 +760,12 @@ fn report_numbering(groups: &[String], group_tags: &[Vec<(i32, u8)>], report: &m
         };
         let distinct: BTreeSet<i32> = tags.iter().map(|t| t.0).collect();
         if distinct.len() > 1 {
-            let list: Vec<String> = tags.iter().map(|(p, d)| format!("{p} (dimension {d})")).collect();
-            report.drop(format!("tags {} share the group name `{g}`: OBJ reads them back as one tag, {read_back}", list.join(", ")));
+            let list: Vec<String> =
+                tags.iter().map(|(p, d)| format!("{p} (dimension {d})")).collect();
+            report.drop(format!(
+                "tags {} share the group name `{g}`: OBJ reads them back as one tag, {read_back}",
+                list.join(", ")
+            ));
         } else if let Some(&p) = distinct.first() {
             if p != read_back {
                 report.drop(format!("tag {p} (group `{g}`) reads back as tag {read_back}: OBJ numbers named groups by order of appearance"));

@@ -112,7 +112,9 @@ impl<'a> Tokens<'a> {
         self.skip_space();
         let d = self.data;
         let start = self.pos;
-        while self.pos < d.len() && !matches!(d[self.pos], b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c) {
+        while self.pos < d.len()
+            && !matches!(d[self.pos], b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c)
+        {
             if Some(d[self.pos]) == self.comment {
                 break;
             }
@@ -138,7 +140,10 @@ impl<'a> Tokens<'a> {
     pub fn token(&mut self, what: &str) -> Result<&'a [u8]> {
         match self.next() {
             Some(t) => Ok(t),
-            None => Err(Error::at_line(self.line, ErrorKind::UnexpectedEof { context: format!("expected {what}") })),
+            None => Err(Error::at_line(
+                self.line,
+                ErrorKind::UnexpectedEof { context: format!("expected {what}") },
+            )),
         }
     }
 
@@ -146,7 +151,11 @@ impl<'a> Tokens<'a> {
     /// `ignore_case`).
     pub fn expect(&mut self, word: &str, ignore_case: bool) -> Result<()> {
         let t = self.token(&format!("`{word}`"))?;
-        let ok = if ignore_case { t.eq_ignore_ascii_case(word.as_bytes()) } else { t == word.as_bytes() };
+        let ok = if ignore_case {
+            t.eq_ignore_ascii_case(word.as_bytes())
+        } else {
+            t == word.as_bytes()
+        };
         if ok {
             Ok(())
         } else {
@@ -177,7 +186,10 @@ impl<'a> Tokens<'a> {
             if v.is_finite() {
                 Ok(v)
             } else {
-                Err(Error::at_line(self.line, ErrorKind::NonFinite { what: what.into(), value: show(t) }))
+                Err(Error::at_line(
+                    self.line,
+                    ErrorKind::NonFinite { what: what.into(), value: show(t) },
+                ))
             }
         })
     }
@@ -194,7 +206,13 @@ impl<'a> Tokens<'a> {
     pub fn i32(&mut self, what: &str) -> Result<i32> {
         let line = self.line;
         let v = self.i64(what)?;
-        i32::try_from(v).map_err(|_| Error::expected(line.max(self.line), format!("{what} (a 32-bit integer)"), v.to_string()))
+        i32::try_from(v).map_err(|_| {
+            Error::expected(
+                line.max(self.line),
+                format!("{what} (a 32-bit integer)"),
+                v.to_string(),
+            )
+        })
     }
 
     /// Parses the next token as a non-negative integer.
@@ -203,7 +221,9 @@ impl<'a> Tokens<'a> {
         let t = self.token(what)?;
         match parse_i64(t) {
             Some(v) if v >= 0 => Ok(v as usize),
-            _ => Err(Error::expected(self.line, format!("{what} (a non-negative integer)"), show(t))),
+            _ => {
+                Err(Error::expected(self.line, format!("{what} (a non-negative integer)"), show(t)))
+            }
         }
     }
 
@@ -212,7 +232,8 @@ impl<'a> Tokens<'a> {
     /// 10^15 nodes is refused before anything is allocated.
     pub fn count(&mut self, what: &str, min_bytes_per_item: usize) -> Result<usize> {
         let n = self.usize(what)?;
-        check_count(n, self.data.len() - self.pos, min_bytes_per_item, what).map_err(|k| Error::at_line(self.line, k))
+        check_count(n, self.data.len() - self.pos, min_bytes_per_item, what)
+            .map_err(|k| Error::at_line(self.line, k))
     }
 
     /// An error at the current line.
@@ -228,12 +249,19 @@ impl<'a> Tokens<'a> {
 
 /// Checks that `n` items of at least `min_bytes_per_item` bytes each fit in
 /// `bytes_left` bytes.
-pub fn check_count(n: usize, bytes_left: usize, min_bytes_per_item: usize, what: &str) -> std::result::Result<usize, ErrorKind> {
+pub fn check_count(
+    n: usize,
+    bytes_left: usize,
+    min_bytes_per_item: usize,
+    what: &str,
+) -> std::result::Result<usize, ErrorKind> {
     if (n as u128) * (min_bytes_per_item.max(1) as u128) > bytes_left as u128 {
         Err(ErrorKind::ImplausibleCount {
             what: what.into(),
             count: n as u64,
-            limit: format!("{bytes_left} bytes remain, at least {min_bytes_per_item} needed per item"),
+            limit: format!(
+                "{bytes_left} bytes remain, at least {min_bytes_per_item} needed per item"
+            ),
         })
     } else {
         Ok(n)
@@ -261,7 +289,8 @@ pub fn parse_f64(t: &[u8]) -> std::result::Result<f64, ()> {
         Ok(v) => Ok(v),
         Err(_) => {
             if t.iter().any(|&c| c == b'd' || c == b'D') {
-                let s: Vec<u8> = t.iter().map(|&c| if c == b'd' || c == b'D' { b'e' } else { c }).collect();
+                let s: Vec<u8> =
+                    t.iter().map(|&c| if c == b'd' || c == b'D' { b'e' } else { c }).collect();
                 fast_float2::parse::<f64, _>(&s).map_err(|_| ())
             } else {
                 Err(())

@@ -41,28 +41,142 @@ struct Target {
 
 fn targets() -> Vec<Target> {
     let o = WriteOptions::default;
-    let full = Caps { quads: true, lines: true, vertices: true, geometrical: true, names: true, point_data: PointData::All, cell_data: true, z: true };
+    let full = Caps {
+        quads: true,
+        lines: true,
+        vertices: true,
+        geometrical: true,
+        names: true,
+        point_data: PointData::All,
+        cell_data: true,
+        z: true,
+    };
     let vtk = Caps { ..full };
-    let medit = Caps { quads: true, lines: true, vertices: false, geometrical: false, names: false, point_data: PointData::MetricOnly, cell_data: false, z: false };
-    let obj = Caps { quads: true, lines: true, vertices: true, geometrical: false, names: true, point_data: PointData::None, cell_data: false, z: true };
-    let triangle = Caps { quads: false, lines: true, vertices: false, geometrical: false, names: false, point_data: PointData::None, cell_data: false, z: false };
+    let medit = Caps {
+        quads: true,
+        lines: true,
+        vertices: false,
+        geometrical: false,
+        names: false,
+        point_data: PointData::MetricOnly,
+        cell_data: false,
+        z: false,
+    };
+    let obj = Caps {
+        quads: true,
+        lines: true,
+        vertices: true,
+        geometrical: false,
+        names: true,
+        point_data: PointData::None,
+        cell_data: false,
+        z: true,
+    };
+    let triangle = Caps {
+        quads: false,
+        lines: true,
+        vertices: false,
+        geometrical: false,
+        names: false,
+        point_data: PointData::None,
+        cell_data: false,
+        z: false,
+    };
     vec![
-        Target { name: "gmsh 2.2 ascii", format: Format::Gmsh, ext: "msh", opts: WriteOptions { gmsh_version: GmshVersion::V22, ..o() }, caps: full },
-        Target { name: "gmsh 2.2 binary", format: Format::Gmsh, ext: "msh", opts: WriteOptions { gmsh_version: GmshVersion::V22, binary: true, ..o() }, caps: full },
+        Target {
+            name: "gmsh 2.2 ascii",
+            format: Format::Gmsh,
+            ext: "msh",
+            opts: WriteOptions { gmsh_version: GmshVersion::V22, ..o() },
+            caps: full,
+        },
+        Target {
+            name: "gmsh 2.2 binary",
+            format: Format::Gmsh,
+            ext: "msh",
+            opts: WriteOptions { gmsh_version: GmshVersion::V22, binary: true, ..o() },
+            caps: full,
+        },
         Target { name: "gmsh 4.1 ascii", format: Format::Gmsh, ext: "msh", opts: o(), caps: full },
-        Target { name: "gmsh 4.1 binary", format: Format::Gmsh, ext: "msh", opts: WriteOptions { binary: true, ..o() }, caps: full },
-        Target { name: "vtk 4.2 ascii", format: Format::VtkLegacy, ext: "vtk", opts: o(), caps: vtk },
-        Target { name: "vtk 4.2 binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { binary: true, ..o() }, caps: vtk },
-        Target { name: "vtk 5.1 ascii", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), ..o() }, caps: vtk },
-        Target { name: "vtk 5.1 binary", format: Format::VtkLegacy, ext: "vtk", opts: WriteOptions { vtk_legacy_version: (5, 1), binary: true, ..o() }, caps: vtk },
-        Target { name: "vtu ascii", format: Format::Vtu, ext: "vtu", opts: WriteOptions { vtu_encoding: VtuEncoding::Ascii, ..o() }, caps: vtk },
-        Target { name: "vtu binary", format: Format::Vtu, ext: "vtu", opts: WriteOptions { compress: false, ..o() }, caps: vtk },
+        Target {
+            name: "gmsh 4.1 binary",
+            format: Format::Gmsh,
+            ext: "msh",
+            opts: WriteOptions { binary: true, ..o() },
+            caps: full,
+        },
+        Target {
+            name: "vtk 4.2 ascii",
+            format: Format::VtkLegacy,
+            ext: "vtk",
+            opts: o(),
+            caps: vtk,
+        },
+        Target {
+            name: "vtk 4.2 binary",
+            format: Format::VtkLegacy,
+            ext: "vtk",
+            opts: WriteOptions { binary: true, ..o() },
+            caps: vtk,
+        },
+        Target {
+            name: "vtk 5.1 ascii",
+            format: Format::VtkLegacy,
+            ext: "vtk",
+            opts: WriteOptions { vtk_legacy_version: (5, 1), ..o() },
+            caps: vtk,
+        },
+        Target {
+            name: "vtk 5.1 binary",
+            format: Format::VtkLegacy,
+            ext: "vtk",
+            opts: WriteOptions { vtk_legacy_version: (5, 1), binary: true, ..o() },
+            caps: vtk,
+        },
+        Target {
+            name: "vtu ascii",
+            format: Format::Vtu,
+            ext: "vtu",
+            opts: WriteOptions { vtu_encoding: VtuEncoding::Ascii, ..o() },
+            caps: vtk,
+        },
+        Target {
+            name: "vtu binary",
+            format: Format::Vtu,
+            ext: "vtu",
+            opts: WriteOptions { compress: false, ..o() },
+            caps: vtk,
+        },
         Target { name: "vtu zlib", format: Format::Vtu, ext: "vtu", opts: o(), caps: vtk },
-        Target { name: "vtu appended", format: Format::Vtu, ext: "vtu", opts: WriteOptions { vtu_encoding: VtuEncoding::Appended, ..o() }, caps: vtk },
-        Target { name: "medit ascii", format: Format::Medit, ext: "mesh", opts: WriteOptions { main_name: Some("x.mesh".into()), ..o() }, caps: medit },
-        Target { name: "medit binary", format: Format::Medit, ext: "meshb", opts: WriteOptions { medit_binary: true, main_name: Some("x.meshb".into()), ..o() }, caps: medit },
+        Target {
+            name: "vtu appended",
+            format: Format::Vtu,
+            ext: "vtu",
+            opts: WriteOptions { vtu_encoding: VtuEncoding::Appended, ..o() },
+            caps: vtk,
+        },
+        Target {
+            name: "medit ascii",
+            format: Format::Medit,
+            ext: "mesh",
+            opts: WriteOptions { main_name: Some("x.mesh".into()), ..o() },
+            caps: medit,
+        },
+        Target {
+            name: "medit binary",
+            format: Format::Medit,
+            ext: "meshb",
+            opts: WriteOptions { medit_binary: true, main_name: Some("x.meshb".into()), ..o() },
+            caps: medit,
+        },
         Target { name: "obj", format: Format::Obj, ext: "obj", opts: o(), caps: obj },
-        Target { name: "triangle", format: Format::Triangle, ext: "ele", opts: WriteOptions { main_name: Some("x.ele".into()), ..o() }, caps: triangle },
+        Target {
+            name: "triangle",
+            format: Format::Triangle,
+            ext: "ele",
+            opts: WriteOptions { main_name: Some("x.ele".into()), ..o() },
+            caps: triangle,
+        },
     ]
 }
 
@@ -82,7 +196,13 @@ fn fixtures() -> Vec<String> {
                 let stem = n.rsplit_once('.').unwrap().0.to_string();
                 let has = |e: &str| root.join(dir).join(format!("{stem}.{e}")).exists();
                 let ext = n.rsplit_once('.').unwrap().1;
-                let main = if has("ele") { "ele" } else if has("poly") { "poly" } else { "node" };
+                let main = if has("ele") {
+                    "ele"
+                } else if has("poly") {
+                    "poly"
+                } else {
+                    "node"
+                };
                 if ext != main {
                     continue;
                 }
@@ -97,7 +217,11 @@ fn fixtures() -> Vec<String> {
 fn cell_multiset(m: &TaggedMesh, caps: Caps) -> Vec<(CellKind, Vec<u32>, i32, i32)> {
     let mut v: Vec<_> = m
         .cells()
-        .filter(|(k, ..)| (caps.quads || *k != CellKind::Quad) && (caps.lines || *k != CellKind::Line) && (caps.vertices || *k != CellKind::Vertex))
+        .filter(|(k, ..)| {
+            (caps.quads || *k != CellKind::Quad)
+                && (caps.lines || *k != CellKind::Line)
+                && (caps.vertices || *k != CellKind::Vertex)
+        })
         .map(|(k, n, p, g)| (k, n.to_vec(), p, if caps.geometrical { g } else { 0 }))
         .collect();
     v.sort();
@@ -105,7 +229,10 @@ fn cell_multiset(m: &TaggedMesh, caps: Caps) -> Vec<(CellKind, Vec<u32>, i32, i3
 }
 
 /// Tag names of the tags that cells still carry.
-fn used_names(m: &TaggedMesh, cells: &[(CellKind, Vec<u32>, i32, i32)]) -> BTreeMap<(u8, i32), String> {
+fn used_names(
+    m: &TaggedMesh,
+    cells: &[(CellKind, Vec<u32>, i32, i32)],
+) -> BTreeMap<(u8, i32), String> {
     let mut out = BTreeMap::new();
     for (k, _, p, _) in cells {
         if let Some(n) = m.tag_name(k.dim(), *p) {
@@ -131,11 +258,20 @@ fn every_fixture_through_every_format() {
             let (written, back) = common::roundtrip(t.format, t.ext, &mesh, &t.opts);
             let mut problems = Vec::new();
             if back.points.len() != mesh.points.len() {
-                problems.push(format!("{} points, expected {}", back.points.len(), mesh.points.len()));
+                problems.push(format!(
+                    "{} points, expected {}",
+                    back.points.len(),
+                    mesh.points.len()
+                ));
             } else {
                 let dims = if caps.z { 3 } else { 2 };
-                if let Some(i) = (0..mesh.points.len()).find(|&i| (0..dims).any(|k| back.points[i][k].to_bits() != mesh.points[i][k].to_bits())) {
-                    problems.push(format!("point {i} is {:?}, expected {:?}", back.points[i], mesh.points[i]));
+                if let Some(i) = (0..mesh.points.len()).find(|&i| {
+                    (0..dims).any(|k| back.points[i][k].to_bits() != mesh.points[i][k].to_bits())
+                }) {
+                    problems.push(format!(
+                        "point {i} is {:?}, expected {:?}",
+                        back.points[i], mesh.points[i]
+                    ));
                 }
             }
             // Gmsh 4.1 entity tags are strictly positive: cells without one are placed on
@@ -149,11 +285,17 @@ fn every_fixture_through_every_format() {
                 problems.push(format!("cells differ ({} vs {})", a.len(), b.len()));
             }
             if caps.names && used_names(&mesh, &a) != used_names(&back, &b) {
-                problems.push(format!("names differ: {:?} vs {:?}", used_names(&mesh, &a), used_names(&back, &b)));
+                problems.push(format!(
+                    "names differ: {:?} vs {:?}",
+                    used_names(&mesh, &a),
+                    used_names(&back, &b)
+                ));
             }
             let expected_pd: Vec<&String> = match caps.point_data {
                 PointData::All => mesh.point_data.keys().collect(),
-                PointData::MetricOnly => mesh.point_data.keys().filter(|k| *k == "metric").take(1).collect(),
+                PointData::MetricOnly => {
+                    mesh.point_data.keys().filter(|k| *k == "metric").take(1).collect()
+                }
                 PointData::None => vec![],
             };
             for k in &expected_pd {
@@ -178,13 +320,17 @@ fn every_fixture_through_every_format() {
             }
             // Nothing lost in silence: arrays that did not survive are in the report.
             for k in mesh.point_data.keys() {
-                if !back.point_data.contains_key(k) && !written.report.dropped.iter().any(|d| d.contains(k.as_str())) {
+                if !back.point_data.contains_key(k)
+                    && !written.report.dropped.iter().any(|d| d.contains(k.as_str()))
+                {
                     problems.push(format!("point data `{k}` dropped without a word in the report"));
                 }
             }
             if caps.cell_data {
                 for (k, arr) in &mesh.cell_data {
-                    if back.cell_data.get(k) != Some(arr) && !written.report.dropped.iter().any(|d| d.contains(k.as_str())) {
+                    if back.cell_data.get(k) != Some(arr)
+                        && !written.report.dropped.iter().any(|d| d.contains(k.as_str()))
+                    {
                         problems.push(format!("cell data `{k}` changed or lost"));
                     }
                 }
@@ -195,7 +341,12 @@ fn every_fixture_through_every_format() {
             checked += 1;
         }
     }
-    assert!(failures.is_empty(), "{} of {checked} round trips failed:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {checked} round trips failed:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
     assert!(checked > 150, "only {checked} round trips ran");
 }
 
@@ -273,7 +424,9 @@ fn every_writer_refuses_an_invalid_mesh_with_validates_message() {
             assert!(!problems.is_empty(), "{what}: validate finds it");
             let e = write_bytes(t.format, m, &t.opts).expect_err(&format!("{}: {what}", t.name));
             match &e.kind {
-                ErrorKind::CannotWrite { reason, .. } => assert_eq!(reason, &problems[0].to_string(), "{}: {what}", t.name),
+                ErrorKind::CannotWrite { reason, .. } => {
+                    assert_eq!(reason, &problems[0].to_string(), "{}: {what}", t.name)
+                }
                 other => panic!("{}: {what}: {other:?}", t.name),
             }
         }

@@ -10,14 +10,22 @@ use std::process::Command;
 use base64::Engine as _;
 use proptest::prelude::*;
 use smartmesh_formats::arbitrary::{arb_tagged_mesh, MeshFeatures};
-use smartmesh_formats::{sym2_to_tensor9, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format, TaggedMesh, WriteOptions, Written};
+use smartmesh_formats::{
+    sym2_to_tensor9, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format, TaggedMesh,
+    WriteOptions, Written,
+};
 
 /// The two-domain OBJ fixture (119 quads, 248 triangles), a few boundary lines, and
 /// point fields: `size` (scalar), `velocity` (3-vector), `metric` (tensor whose finest
 /// size is known in closed form: diag(1/hx², 1/hy²) has h = min(hx, hy)).
 fn fixture_mesh() -> TaggedMesh {
     let mut m = common::read_file("obj/two_domains_mixed.obj");
-    m.blocks.push(CellBlock { kind: CellKind::Line, nodes: vec![0, 6, 6, 7, 7, 8], physical: vec![5; 3], geometrical: vec![5; 3] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Line,
+        nodes: vec![0, 6, 6, 7, 7, 8],
+        physical: vec![5; 3],
+        geometrical: vec![5; 3],
+    });
     let size: Vec<f64> = m.points.iter().map(|p| 0.1 + p[0] * p[0] + 0.5 * p[1]).collect();
     let velocity: Vec<f64> = m.points.iter().flat_map(|p| [p[1], -p[0], 0.0]).collect();
     let metric: Vec<f64> = m.points.iter().flat_map(metric_at).collect();
@@ -37,7 +45,11 @@ fn metric_at(p: &[f64; 3]) -> [f64; 9] {
 }
 
 fn opts(main: Option<&str>, field: Option<&str>) -> WriteOptions {
-    WriteOptions { main_name: main.map(str::to_string), color_field: field.map(str::to_string), ..Default::default() }
+    WriteOptions {
+        main_name: main.map(str::to_string),
+        color_field: field.map(str::to_string),
+        ..Default::default()
+    }
 }
 
 fn write(mesh: &TaggedMesh, o: &WriteOptions) -> Written {
@@ -58,20 +70,31 @@ struct Drawn {
 /// Reads our output with the `gltf` crate (which validates the JSON): the buffer comes
 /// from the GLB chunk, the `bin` sibling or the data URI.
 fn read_back(w: &Written) -> Drawn {
-    let g = gltf::Gltf::from_slice(&w.main).unwrap_or_else(|e| panic!("gltf crate refuses our file: {e}"));
+    let g = gltf::Gltf::from_slice(&w.main)
+        .unwrap_or_else(|e| panic!("gltf crate refuses our file: {e}"));
     let buffer = g.buffers().next().expect("one buffer");
     let bytes: Vec<u8> = match buffer.source() {
         gltf::buffer::Source::Bin => g.blob.clone().expect("GLB BIN chunk"),
-        gltf::buffer::Source::Uri(uri) => match uri.strip_prefix("data:application/octet-stream;base64,") {
-            Some(b64) => base64::engine::general_purpose::STANDARD.decode(b64).unwrap(),
-            None => {
-                assert!(!uri.contains(':') && !uri.contains('/'), "relative file URI expected, got {uri}");
-                w.siblings.iter().find(|(e, _)| e == "bin").expect("bin sibling").1.clone()
+        gltf::buffer::Source::Uri(uri) => {
+            match uri.strip_prefix("data:application/octet-stream;base64,") {
+                Some(b64) => base64::engine::general_purpose::STANDARD.decode(b64).unwrap(),
+                None => {
+                    assert!(
+                        !uri.contains(':') && !uri.contains('/'),
+                        "relative file URI expected, got {uri}"
+                    );
+                    w.siblings.iter().find(|(e, _)| e == "bin").expect("bin sibling").1.clone()
+                }
             }
-        },
+        }
     };
     // byteLength exact (a GLB chunk may only add up to 3 bytes of padding).
-    assert!(bytes.len() >= buffer.length() && bytes.len() - buffer.length() < 4, "{} vs {}", bytes.len(), buffer.length());
+    assert!(
+        bytes.len() >= buffer.length() && bytes.len() - buffer.length() < 4,
+        "{} vs {}",
+        bytes.len(),
+        buffer.length()
+    );
     assert_eq!(g.meshes().count(), 1);
     let mesh = g.meshes().next().unwrap();
     let mut d = Drawn {
@@ -87,7 +110,8 @@ fn read_back(w: &Written) -> Drawn {
         let positions: Vec<[f32; 3]> = r.read_positions().expect("POSITION").collect();
         let pos_acc = prim.get(&gltf::Semantic::Positions).unwrap();
         assert_eq!(pos_acc.data_type(), gltf::accessor::DataType::F32);
-        let (min, max) = (pos_acc.min().expect("POSITION min"), pos_acc.max().expect("POSITION max"));
+        let (min, max) =
+            (pos_acc.min().expect("POSITION min"), pos_acc.max().expect("POSITION max"));
         for k in 0..3 {
             let lo = positions.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min);
             let hi = positions.iter().map(|p| p[k]).fold(f32::NEG_INFINITY, f32::max);
@@ -125,7 +149,9 @@ fn expected_indices(m: &TaggedMesh) -> (Vec<u32>, Vec<u32>) {
         let n: Vec<u32> = n.to_vec();
         match k {
             CellKind::Triangle | CellKind::Triangle6 => t.extend_from_slice(&n[..3]),
-            CellKind::Quad | CellKind::Quad8 | CellKind::Quad9 => t.extend_from_slice(&[n[0], n[1], n[2], n[0], n[2], n[3]]),
+            CellKind::Quad | CellKind::Quad8 | CellKind::Quad9 => {
+                t.extend_from_slice(&[n[0], n[1], n[2], n[0], n[2], n[3]])
+            }
             CellKind::Line | CellKind::Line3 => l.extend_from_slice(&n[..2]),
             CellKind::Vertex => {}
         }
@@ -145,7 +171,10 @@ fn check_colours(values: &[f64], colours: &[[f32; 3]]) {
     order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
     for w in order.windows(2) {
         if values[w[1]] > values[w[0]] {
-            assert!(luminance(&colours[w[1]]) >= luminance(&colours[w[0]]) - 1e-6, "colour not monotone in value");
+            assert!(
+                luminance(&colours[w[1]]) >= luminance(&colours[w[0]]) - 1e-6,
+                "colour not monotone in value"
+            );
         }
     }
     // matplotlib's viridis(0) = (0.267004, 0.004874, 0.329415), viridis(1) =
@@ -153,7 +182,11 @@ fn check_colours(values: &[f64], colours: &[[f32; 3]]) {
     let lin = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
     let close = |c: &[f32; 3], s: [f64; 3]| (0..3).all(|k| (c[k] as f64 - lin(s[k])).abs() < 1e-5);
     assert!(close(&colours[order[0]], [0.267004, 0.004874, 0.329415]), "{:?}", colours[order[0]]);
-    assert!(close(&colours[*order.last().unwrap()], [0.993248, 0.906157, 0.143936]), "{:?}", colours[*order.last().unwrap()]);
+    assert!(
+        close(&colours[*order.last().unwrap()], [0.993248, 0.906157, 0.143936]),
+        "{:?}",
+        colours[*order.last().unwrap()]
+    );
     for c in colours {
         assert!(c.iter().all(|x| (0.0..=1.0).contains(x)));
     }
@@ -161,7 +194,11 @@ fn check_colours(values: &[f64], colours: &[[f32; 3]]) {
 
 fn extras_range(d: &Drawn) -> (String, f64, f64) {
     let e = d.extras.as_ref().expect("extras");
-    (e["color_field"].as_str().unwrap().to_string(), e["color_min"].as_f64().unwrap(), e["color_max"].as_f64().unwrap())
+    (
+        e["color_field"].as_str().unwrap().to_string(),
+        e["color_min"].as_f64().unwrap(),
+        e["color_max"].as_f64().unwrap(),
+    )
 }
 
 #[test]
@@ -169,7 +206,8 @@ fn positions_indices_and_colours_read_back() {
     let m = fixture_mesh();
     let w = write(&m, &opts(Some("out.gltf"), None));
     let d = read_back(&w);
-    let expect_pos: Vec<[f32; 3]> = m.points.iter().map(|p| [p[0] as f32, p[1] as f32, p[2] as f32]).collect();
+    let expect_pos: Vec<[f32; 3]> =
+        m.points.iter().map(|p| [p[0] as f32, p[1] as f32, p[2] as f32]).collect();
     assert_eq!(d.positions, expect_pos);
     let (t, l) = expected_indices(&m);
     assert_eq!(d.triangles, t);
@@ -193,8 +231,14 @@ fn tensor_fields_colour_by_finest_size() {
     check_colours(&h, d.colours.as_ref().unwrap());
     let (name, lo, hi) = extras_range(&d);
     assert_eq!(name, "metric");
-    let (elo, ehi) = (h.iter().copied().fold(f64::INFINITY, f64::min), h.iter().copied().fold(f64::NEG_INFINITY, f64::max));
-    assert!((lo - elo).abs() <= 1e-12 * elo && (hi - ehi).abs() <= 1e-12 * ehi, "{lo} {hi} vs {elo} {ehi}");
+    let (elo, ehi) = (
+        h.iter().copied().fold(f64::INFINITY, f64::min),
+        h.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    assert!(
+        (lo - elo).abs() <= 1e-12 * elo && (hi - ehi).abs() <= 1e-12 * ehi,
+        "{lo} {hi} vs {elo} {ehi}"
+    );
     assert!(d.extras.as_ref().unwrap()["color_quantity"].as_str().unwrap().contains("finest size"));
 }
 
@@ -214,7 +258,8 @@ fn glb_and_gltf_carry_the_same_data() {
     let m = fixture_mesh();
     let gltf_file = write(&m, &opts(Some("mesh.gltf"), Some("metric")));
     let glb_file = write(&m, &opts(Some("mesh.glb"), Some("metric")));
-    let glb_flag = write(&m, &WriteOptions { glb: true, ..opts(Some("mesh.gltf"), Some("metric")) });
+    let glb_flag =
+        write(&m, &WriteOptions { glb: true, ..opts(Some("mesh.gltf"), Some("metric")) });
     let stdout = write(&m, &opts(None, Some("metric")));
     assert!(glb_file.siblings.is_empty() && stdout.siblings.is_empty());
     assert_eq!(glb_file.main[..4], *b"glTF");
@@ -273,12 +318,21 @@ fn gltf_names_its_bin_after_the_main_file() {
     assert_eq!(doc["buffers"][0]["byteLength"].as_u64().unwrap() as usize, w.siblings[0].1.len());
     // Through the file API: the .bin lands beside the .gltf under that name.
     let dir = tempfile::tempdir().unwrap();
-    smartmesh_formats::write_path(&dir.path().join("naca 0012.v2.gltf"), &m, None, &WriteOptions::default()).unwrap();
+    smartmesh_formats::write_path(
+        &dir.path().join("naca 0012.v2.gltf"),
+        &m,
+        None,
+        &WriteOptions::default(),
+    )
+    .unwrap();
     assert!(dir.path().join("naca 0012.v2.bin").exists());
     // Stdout: one file with the buffer inside.
     let w = write(&m, &opts(None, None));
     let doc: serde_json::Value = serde_json::from_slice(&w.main).unwrap();
-    assert!(doc["buffers"][0]["uri"].as_str().unwrap().starts_with("data:application/octet-stream;base64,"));
+    assert!(doc["buffers"][0]["uri"]
+        .as_str()
+        .unwrap()
+        .starts_with("data:application/octet-stream;base64,"));
 }
 
 #[test]
@@ -300,11 +354,21 @@ fn no_field_no_colour() {
 fn lines_only_and_nothing_to_draw() {
     let mut m = TaggedMesh::new();
     m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]];
-    m.blocks.push(CellBlock { kind: CellKind::Line, nodes: vec![0, 1, 1, 2], physical: vec![0, 0], geometrical: vec![0, 0] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Line,
+        nodes: vec![0, 1, 1, 2],
+        physical: vec![0, 0],
+        geometrical: vec![0, 0],
+    });
     let d = read_back(&write(&m, &opts(None, None)));
     assert!(d.triangles.is_empty());
     assert_eq!(d.lines, vec![0, 1, 1, 2]);
-    m.blocks[0] = CellBlock { kind: CellKind::Vertex, nodes: vec![0], physical: vec![0], geometrical: vec![0] };
+    m.blocks[0] = CellBlock {
+        kind: CellKind::Vertex,
+        nodes: vec![0],
+        physical: vec![0],
+        geometrical: vec![0],
+    };
     let e = write_bytes(Format::Gltf, &m, &WriteOptions::default()).unwrap_err();
     assert!(matches!(e.kind, ErrorKind::CannotWrite { .. }), "{e}");
 }
@@ -314,9 +378,14 @@ fn colour_field_errors() {
     let mut m = fixture_mesh();
     m.cell_data.insert("quality".into(), DataArray::new(1, vec![1.0; m.num_cells()]));
     m.point_data.insert("pair".into(), DataArray::new(4, vec![0.0; 4 * m.points.len()]));
-    for (field, needle) in [("nope", "no point field `nope`"), ("quality", "cell data"), ("pair", "4 components")] {
+    for (field, needle) in
+        [("nope", "no point field `nope`"), ("quality", "cell data"), ("pair", "4 components")]
+    {
         let e = write_bytes(Format::Gltf, &m, &opts(None, Some(field))).unwrap_err();
-        assert!(matches!(e.kind, ErrorKind::CannotWrite { .. }) && e.to_string().contains(needle), "{field}: {e}");
+        assert!(
+            matches!(e.kind, ErrorKind::CannotWrite { .. }) && e.to_string().contains(needle),
+            "{field}: {e}"
+        );
     }
 }
 
@@ -329,15 +398,29 @@ fn values_without_a_colour_are_grey() {
     let d = read_back(&w);
     let c = d.colours.unwrap()[0];
     assert!(c[0] == c[1] && c[1] == c[2], "grey expected, got {c:?}");
-    assert!(w.report.dropped.iter().any(|l| l.starts_with("1 vertices of `metric`")), "{:?}", w.report.dropped);
+    assert!(
+        w.report.dropped.iter().any(|l| l.starts_with("1 vertices of `metric`")),
+        "{:?}",
+        w.report.dropped
+    );
 }
 
 #[test]
 fn report_lists_what_gltf_cannot_hold() {
     let mut m = fixture_mesh();
     m.points[1][0] = 0.1; // not a float32
-    m.blocks.push(CellBlock { kind: CellKind::Vertex, nodes: vec![2], physical: vec![9], geometrical: vec![9] });
-    m.blocks.push(CellBlock { kind: CellKind::Triangle6, nodes: vec![0, 1, 2, 3, 4, 5], physical: vec![1], geometrical: vec![1] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Vertex,
+        nodes: vec![2],
+        physical: vec![9],
+        geometrical: vec![9],
+    });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Triangle6,
+        nodes: vec![0, 1, 2, 3, 4, 5],
+        physical: vec![1],
+        geometrical: vec![1],
+    });
     m.cell_data.insert("quality".into(), DataArray::new(1, vec![1.0; m.num_cells()]));
     let w = write(&m, &opts(None, Some("metric")));
     let all = w.report.dropped.join("\n");
@@ -358,7 +441,12 @@ fn report_lists_what_gltf_cannot_hold() {
     // An exactly representable mesh says nothing about rounding.
     let mut m = TaggedMesh::new();
     m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.25, 0.0]];
-    m.blocks.push(CellBlock { kind: CellKind::Triangle, nodes: vec![0, 1, 2], physical: vec![0], geometrical: vec![0] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Triangle,
+        nodes: vec![0, 1, 2],
+        physical: vec![0],
+        geometrical: vec![0],
+    });
     assert!(write(&m, &opts(None, None)).report.dropped.is_empty());
 }
 
@@ -403,10 +491,19 @@ fn gltf_validator() -> Option<PathBuf> {
     let package = prefix.join("node_modules/gltf-validator");
     if !package.join("package.json").exists() {
         std::fs::create_dir_all(&prefix).unwrap();
-        let out = Command::new("npm").args(["install", "--no-audit", "--no-fund", "--silent", "--prefix"]).arg(&prefix).arg("gltf-validator").output();
+        let out = Command::new("npm")
+            .args(["install", "--no-audit", "--no-fund", "--silent", "--prefix"])
+            .arg(&prefix)
+            .arg("gltf-validator")
+            .output();
         match out {
             Ok(o) if o.status.success() && package.join("package.json").exists() => {}
-            Ok(o) => return give_up(format!("npm install gltf-validator failed: {}", String::from_utf8_lossy(&o.stderr))),
+            Ok(o) => {
+                return give_up(format!(
+                    "npm install gltf-validator failed: {}",
+                    String::from_utf8_lossy(&o.stderr)
+                ))
+            }
             Err(e) => return give_up(format!("npm is not available: {e}")),
         }
     }
@@ -436,7 +533,12 @@ fn interop_khronos_validator_finds_no_errors() {
     let dir = tempfile::tempdir().unwrap();
     let m = fixture_mesh();
     let mut files = Vec::new();
-    for (name, field) in [("coloured.gltf", Some("metric")), ("coloured.glb", Some("metric")), ("plain mesh.gltf", None), ("plain.glb", None)] {
+    for (name, field) in [
+        ("coloured.gltf", Some("metric")),
+        ("coloured.glb", Some("metric")),
+        ("plain mesh.gltf", None),
+        ("plain.glb", None),
+    ] {
         let path = dir.path().join(name);
         smartmesh_formats::write_path(&path, &m, None, &opts(None, field)).unwrap();
         files.push(path);
@@ -446,10 +548,12 @@ fn interop_khronos_validator_finds_no_errors() {
     files.push(embedded);
     let script = dir.path().join("validate.js");
     std::fs::write(&script, VALIDATE_JS).unwrap();
-    let out = Command::new("node").arg(&script).arg(&validator).args(&files).output().expect("run node");
+    let out =
+        Command::new("node").arg(&script).arg(&validator).args(&files).output().expect("run node");
     assert!(out.status.success(), "validator failed: {}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8_lossy(&out.stdout);
-    let reports: Vec<serde_json::Value> = text.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let reports: Vec<serde_json::Value> =
+        text.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
     assert_eq!(reports.len(), files.len());
     for r in &reports {
         assert_eq!(r["errors"], 0, "{r}");

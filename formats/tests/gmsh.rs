@@ -6,7 +6,8 @@ mod common;
 use std::collections::BTreeMap;
 
 use smartmesh_formats::{
-    gmsh, CellBlock, CellKind, DataArray, ErrorKind, Format, GmshVersion, Position, ReadContext, TaggedMesh, WriteOptions,
+    gmsh, CellBlock, CellKind, DataArray, ErrorKind, Format, GmshVersion, Position, ReadContext,
+    TaggedMesh, WriteOptions,
 };
 
 const ENCODINGS: [&str; 4] = ["v22_ascii", "v22_binary", "v41_ascii", "v41_binary"];
@@ -20,7 +21,12 @@ fn opts(version: GmshVersion, binary: bool) -> WriteOptions {
 }
 
 fn all_options() -> [(GmshVersion, bool); 4] {
-    [(GmshVersion::V22, false), (GmshVersion::V22, true), (GmshVersion::V41, false), (GmshVersion::V41, true)]
+    [
+        (GmshVersion::V22, false),
+        (GmshVersion::V22, true),
+        (GmshVersion::V41, false),
+        (GmshVersion::V41, true),
+    ]
 }
 
 /// Points compared bit for bit.
@@ -28,7 +34,11 @@ fn assert_points_bitwise(a: &TaggedMesh, b: &TaggedMesh, what: &str) {
     assert_eq!(a.points.len(), b.points.len(), "{what}: point count");
     for (i, (p, q)) in a.points.iter().zip(&b.points).enumerate() {
         for k in 0..3 {
-            assert_eq!(p[k].to_bits(), q[k].to_bits(), "{what}: point {i} coordinate {k}: {p:?} vs {q:?}");
+            assert_eq!(
+                p[k].to_bits(),
+                q[k].to_bits(),
+                "{what}: point {i} coordinate {k}: {p:?} vs {q:?}"
+            );
         }
     }
 }
@@ -38,14 +48,21 @@ fn cell_list(m: &TaggedMesh) -> Vec<(CellKind, Vec<u32>, i32, i32)> {
     m.cells().map(|(k, n, p, g)| (k, n.to_vec(), p, g)).collect()
 }
 
-fn assert_data_bitwise(a: &BTreeMap<String, DataArray>, b: &BTreeMap<String, DataArray>, what: &str) {
+fn assert_data_bitwise(
+    a: &BTreeMap<String, DataArray>,
+    b: &BTreeMap<String, DataArray>,
+    what: &str,
+) {
     assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>(), "{what}: array names");
     for (name, x) in a {
         let y = &b[name];
         assert_eq!(x.components, y.components, "{what}: `{name}` components");
         assert_eq!(x.values.len(), y.values.len(), "{what}: `{name}` length");
         for (i, (u, v)) in x.values.iter().zip(&y.values).enumerate() {
-            assert!(u.to_bits() == v.to_bits() || (u.is_nan() && v.is_nan()), "{what}: `{name}` value {i}: {u} vs {v}");
+            assert!(
+                u.to_bits() == v.to_bits() || (u.is_nan() && v.is_nan()),
+                "{what}: `{name}` value {i}: {u} vs {v}"
+            );
         }
     }
 }
@@ -89,28 +106,55 @@ fn expected() -> Vec<Expected> {
             model: "naca0012",
             nodes: 1904,
             entities_41: 123 + 4 + 1,
-            counts: counts(&[("vertex", 4, 1), ("vertex", 5, 1), ("line", 1, 104), ("line", 2, 64), ("triangle", 3, 3640)]),
-            names: names(&[(0, 4, "LeadingEdge"), (0, 5, "TrailingEdge"), (1, 1, "Airfoil"), (1, 2, "Farfield"), (2, 3, "Fluid")]),
+            counts: counts(&[
+                ("vertex", 4, 1),
+                ("vertex", 5, 1),
+                ("line", 1, 104),
+                ("line", 2, 64),
+                ("triangle", 3, 3640),
+            ]),
+            names: names(&[
+                (0, 4, "LeadingEdge"),
+                (0, 5, "TrailingEdge"),
+                (1, 1, "Airfoil"),
+                (1, 2, "Farfield"),
+                (2, 3, "Fluid"),
+            ]),
         },
         Expected {
             model: "square_hole",
             nodes: 435,
             entities_41: 9 + 8 + 1,
-            counts: counts(&[("vertex", 4, 4), ("line", 1, 52), ("line", 2, 44), ("triangle", 3, 774)]),
+            counts: counts(&[
+                ("vertex", 4, 4),
+                ("line", 1, 52),
+                ("line", 2, 44),
+                ("triangle", 3, 774),
+            ]),
             names: names(&[(0, 4, "Corners"), (1, 1, "Walls"), (1, 2, "Hole"), (2, 3, "Domain")]),
         },
         Expected {
             model: "two_domains",
             nodes: 276,
             entities_41: 6 + 7 + 2,
-            counts: counts(&[("line", 1, 10), ("line", 2, 60), ("triangle", 3, 242), ("triangle", 4, 248)]),
+            counts: counts(&[
+                ("line", 1, 10),
+                ("line", 2, 60),
+                ("triangle", 3, 242),
+                ("triangle", 4, 248),
+            ]),
             names: names(&[(1, 1, "Interface"), (1, 2, "Outer"), (2, 3, "Left"), (2, 4, "Right")]),
         },
         Expected {
             model: "two_domains_quads",
             nodes: 274,
             entities_41: 6 + 7 + 2,
-            counts: counts(&[("line", 1, 10), ("line", 2, 60), ("quad", 3, 119), ("triangle", 4, 248)]),
+            counts: counts(&[
+                ("line", 1, 10),
+                ("line", 2, 60),
+                ("quad", 3, 119),
+                ("triangle", 4, 248),
+            ]),
             names: names(&[(1, 1, "Interface"), (1, 2, "Outer"), (2, 3, "Left"), (2, 4, "Right")]),
         },
     ]
@@ -135,7 +179,11 @@ fn fixtures_have_the_expected_counts_per_tag() {
                 assert_eq!(m.entities.len(), e.entities_41, "{what}: entities");
                 // Every cell's physical tag is its entity's first group.
                 for (k, _, p, g) in m.cells() {
-                    assert_eq!(m.entities[&(k.dim(), g)].first().copied().unwrap_or(0), p, "{what}");
+                    assert_eq!(
+                        m.entities[&(k.dim(), g)].first().copied().unwrap_or(0),
+                        p,
+                        "{what}"
+                    );
                 }
             } else {
                 // No entity of these models is in two groups: no copies to merge.
@@ -155,7 +203,8 @@ fn naca_entities_and_geometrical_tags() {
     assert_eq!(m.entities[&(0, 3)], Vec::<i32>::new());
     // The surface is entity 1000 (`1000 -19.5 ... 1 3 4 3 4 -2 -1`).
     assert_eq!(m.entities[&(2, 1000)], vec![3]);
-    let geo: std::collections::BTreeSet<(u8, i32)> = m.cells().map(|(k, _, _, g)| (k.dim(), g)).collect();
+    let geo: std::collections::BTreeSet<(u8, i32)> =
+        m.cells().map(|(k, _, _, g)| (k.dim(), g)).collect();
     assert!(geo.contains(&(2, 1000)) && geo.contains(&(0, 1)) && geo.contains(&(0, 2)));
 }
 
@@ -176,7 +225,8 @@ fn the_four_encodings_of_a_model_read_the_same() {
     //   order, so the two versions give the same cells, in the same order for
     //   two_domains_quads only up to that.
     for e in expected() {
-        let meshes: Vec<(&str, TaggedMesh)> = ENCODINGS.iter().map(|enc| (*enc, fixture(e.model, enc))).collect();
+        let meshes: Vec<(&str, TaggedMesh)> =
+            ENCODINGS.iter().map(|enc| (*enc, fixture(e.model, enc))).collect();
         let mut differ = 0;
         for (ea, a) in &meshes {
             for (eb, b) in &meshes {
@@ -204,7 +254,11 @@ fn the_four_encodings_of_a_model_read_the_same() {
                 }
             }
         }
-        eprintln!("{}: {} coordinates differ in their last bits between ASCII and binary", e.model, differ / 8);
+        eprintln!(
+            "{}: {} coordinates differ in their last bits between ASCII and binary",
+            e.model,
+            differ / 8
+        );
     }
 }
 
@@ -221,7 +275,11 @@ fn fixtures_written_in_each_encoding_read_back_identical() {
                 assert!(w.report.dropped.is_empty(), "{what}: {:?}", w.report.dropped);
             } else {
                 // 2.2 has no entity table: the point entities without nodes are lost.
-                assert!(w.report.dropped.iter().any(|d| d.contains("no entity table")), "{what}: {:?}", w.report.dropped);
+                assert!(
+                    w.report.dropped.iter().any(|d| d.contains("no entity table")),
+                    "{what}: {:?}",
+                    w.report.dropped
+                );
             }
             // Same mesh, same bytes.
             let again = gmsh::write(&src, &opts(v, bin)).unwrap();
@@ -245,7 +303,14 @@ fn writing_what_was_read_gives_the_same_bytes() {
 
 fn small_mesh() -> TaggedMesh {
     let mut m = TaggedMesh::new();
-    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0], [0.1, 0.1, 0.0]];
+    m.points = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.1, 0.1, 0.0],
+    ];
     let mut t = CellBlock::new(CellKind::Triangle);
     t.push(&[0, 1, 4], 7, 1);
     t.push(&[1, 2, 4], 7, 1);
@@ -257,7 +322,9 @@ fn small_mesh() -> TaggedMesh {
     m.blocks = vec![t, l];
     m.tag_names.insert((2, 7), "Domain".into());
     m.tag_names.insert((1, 2), "Wall".into());
-    let metric: Vec<f64> = (0..6).flat_map(|i| smartmesh_formats::sym2_to_tensor9(1.0 + i as f64, 0.25, 2.0, 1.0)).collect();
+    let metric: Vec<f64> = (0..6)
+        .flat_map(|i| smartmesh_formats::sym2_to_tensor9(1.0 + i as f64, 0.25, 2.0, 1.0))
+        .collect();
     m.point_data.insert("metric".into(), DataArray::new(9, metric));
     m.cell_data.insert("quality".into(), DataArray::new(1, vec![0.1, 0.2, 0.3, 0.4, 0.5, 0.6]));
     m
@@ -308,7 +375,14 @@ fn cells_of_one_entity_in_two_groups_are_split_in_41_and_reported() {
     let mut m = small_mesh();
     m.blocks[0].physical[3] = 9;
     let w = gmsh::write(&m, &opts(GmshVersion::V41, false)).unwrap();
-    assert!(w.report.dropped.iter().any(|d| d.contains("2D entity 1 holds cells of several physical groups")), "{:?}", w.report.dropped);
+    assert!(
+        w.report
+            .dropped
+            .iter()
+            .any(|d| d.contains("2D entity 1 holds cells of several physical groups")),
+        "{:?}",
+        w.report.dropped
+    );
     let back = read_msh(&w.main).unwrap();
     assert_points_bitwise(&m, &back, "split");
     let phys: Vec<i32> = back.cells().map(|c| c.2).collect();
@@ -333,7 +407,13 @@ fn what_msh_cannot_hold_is_reported() {
     m.cell_data.insert("quality".into(), q);
     let w = gmsh::write(&m, &opts(GmshVersion::V41, false)).unwrap();
     let all = w.report.dropped.join("\n");
-    for needle in ["point set `corners`", "hole point", "double quotes", "`uv` has 2 components", "1 item(s) with NaN"] {
+    for needle in [
+        "point set `corners`",
+        "hole point",
+        "double quotes",
+        "`uv` has 2 components",
+        "1 item(s) with NaN",
+    ] {
         assert!(all.contains(needle), "missing `{needle}` in:\n{all}");
     }
     let back = read_msh(&w.main).unwrap();
@@ -371,7 +451,10 @@ fn reads_a_minimal_41_file_with_an_unused_node() {
     let m = read_msh(format!("{HEAD41}{SQUARE41}").as_bytes()).unwrap();
     assert_eq!(m.points.len(), 5);
     assert_eq!(m.points[4], [0.5, 0.5, 0.0]);
-    assert_eq!(cell_list(&m), vec![(CellKind::Triangle, vec![0, 1, 2], 5, 1), (CellKind::Triangle, vec![0, 2, 3], 5, 1)]);
+    assert_eq!(
+        cell_list(&m),
+        vec![(CellKind::Triangle, vec![0, 1, 2], 5, 1), (CellKind::Triangle, vec![0, 2, 3], 5, 1)]
+    );
 }
 
 #[test]
@@ -440,7 +523,8 @@ fn identical_cells_in_two_groups_are_not_taken_for_gmsh_copies() {
         let (_, back) = common::roundtrip(Format::Gmsh, "msh", &m, &opts(GmshVersion::V22, bin));
         assert_same_mesh(&m, &back, "2.2");
     }
-    let text = String::from_utf8(gmsh::write(&m, &opts(GmshVersion::V22, false)).unwrap().main).unwrap();
+    let text =
+        String::from_utf8(gmsh::write(&m, &opts(GmshVersion::V22, false)).unwrap().main).unwrap();
     assert!(text.contains("\n1 2 2 7 1 1 2 5\n3 2 2 9 1 1 2 5\n"), "{text}");
 }
 
@@ -453,7 +537,9 @@ fn extra_partition_tags_are_read_past() {
 
 #[test]
 fn the_last_time_step_of_a_view_is_kept() {
-    let view = |step: i32, v: f64| format!("$NodeData\n1\n\"T\"\n1\n{step}.0\n3\n{step}\n1\n5\n1 {v}\n2 {v}\n3 {v}\n4 {v}\n5 {v}\n$EndNodeData\n");
+    let view = |step: i32, v: f64| {
+        format!("$NodeData\n1\n\"T\"\n1\n{step}.0\n3\n{step}\n1\n5\n1 {v}\n2 {v}\n3 {v}\n4 {v}\n5 {v}\n$EndNodeData\n")
+    };
     let file = format!("{HEAD41}{SQUARE41}{}{}", view(0, 1.0), view(1, 2.0));
     let m = read_msh(file.as_bytes()).unwrap();
     assert_eq!(m.point_data["T"].values, vec![2.0; 5]);
@@ -527,12 +613,19 @@ fn binary_41_with_a_4_byte_size_t() {
 /// the header announcing `lo..=hi`, one triangle on nodes `tri` and a one-component
 /// `$NodeData` `h` giving each tag in `data` the value 10 * tag; with the ASCII file of
 /// the same content.
-fn bin41_nodes(blocks: &[(&[u64], &[[f64; 3]])], lo: u64, hi: u64, tri: [u64; 3], data: &[u64]) -> (Vec<u8>, String) {
+fn bin41_nodes(
+    blocks: &[(&[u64], &[[f64; 3]])],
+    lo: u64,
+    hi: u64,
+    tri: [u64; 3],
+    data: &[u64],
+) -> (Vec<u8>, String) {
     let n: usize = blocks.iter().map(|b| b.0.len()).sum();
     let mut b = b"$MeshFormat\n4.1 1 8\n".to_vec();
     b.extend_from_slice(&1i32.to_le_bytes());
     b.extend_from_slice(b"\n$EndMeshFormat\n$Nodes\n");
-    let mut t = format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{} {n} {lo} {hi}\n", blocks.len());
+    let mut t =
+        format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{} {n} {lo} {hi}\n", blocks.len());
     for v in [blocks.len() as u64, n as u64, lo, hi] {
         b.extend_from_slice(&v.to_le_bytes());
     }
@@ -554,7 +647,10 @@ fn bin41_nodes(blocks: &[(&[u64], &[[f64; 3]])], lo: u64, hi: u64, tri: [u64; 3]
         }
     }
     b.extend_from_slice(b"\n$EndNodes\n$Elements\n");
-    t += &format!("$EndNodes\n$Elements\n1 1 1 1\n2 1 2 1\n1 {} {} {}\n$EndElements\n", tri[0], tri[1], tri[2]);
+    t += &format!(
+        "$EndNodes\n$Elements\n1 1 1 1\n2 1 2 1\n1 {} {} {}\n$EndElements\n",
+        tri[0], tri[1], tri[2]
+    );
     for v in [1u64, 1, 1, 1] {
         b.extend_from_slice(&v.to_le_bytes());
     }
@@ -590,13 +686,34 @@ fn binary_41_node_blocks_out_of_tag_order() {
     // that are not a full range, a tag outside the announced range, and data in another
     // order or with a node left out: each read as its ASCII twin reads.
     let cases: [NodeLayout; 4] = [
-        (vec![(&[3, 4], vec![p(3.0), p(4.0)]), (&[1], vec![p(1.0)]), (&[2], vec![p(2.0)])], 1, 4, vec![1, 2, 3, 4]),
-        (vec![(&[30, 40], vec![p(3.0), p(4.0)]), (&[10, 20], vec![p(1.0), p(2.0)])], 10, 40, vec![40, 10, 30]),
-        (vec![(&[3, 9], vec![p(3.0), p(9.0)]), (&[1, 2], vec![p(1.0), p(2.0)])], 1, 4, vec![9, 1, 2, 3]),
-        (vec![(&[2, 1], vec![p(2.0), p(1.0)]), (&[4, 3], vec![p(4.0), p(3.0)])], 1, 4, vec![4, 3, 2]),
+        (
+            vec![(&[3, 4], vec![p(3.0), p(4.0)]), (&[1], vec![p(1.0)]), (&[2], vec![p(2.0)])],
+            1,
+            4,
+            vec![1, 2, 3, 4],
+        ),
+        (
+            vec![(&[30, 40], vec![p(3.0), p(4.0)]), (&[10, 20], vec![p(1.0), p(2.0)])],
+            10,
+            40,
+            vec![40, 10, 30],
+        ),
+        (
+            vec![(&[3, 9], vec![p(3.0), p(9.0)]), (&[1, 2], vec![p(1.0), p(2.0)])],
+            1,
+            4,
+            vec![9, 1, 2, 3],
+        ),
+        (
+            vec![(&[2, 1], vec![p(2.0), p(1.0)]), (&[4, 3], vec![p(4.0), p(3.0)])],
+            1,
+            4,
+            vec![4, 3, 2],
+        ),
     ];
     for (i, (blocks, lo, hi, data)) in cases.iter().enumerate() {
-        let blocks: Vec<(&[u64], &[[f64; 3]])> = blocks.iter().map(|(t, q)| (*t, q.as_slice())).collect();
+        let blocks: Vec<(&[u64], &[[f64; 3]])> =
+            blocks.iter().map(|(t, q)| (*t, q.as_slice())).collect();
         let tri = [blocks[0].0[0], blocks[1].0[0], blocks[0].0[1]];
         let (bin, text) = bin41_nodes(&blocks, *lo, *hi, tri, data);
         let a = read_msh(&bin).unwrap_or_else(|e| panic!("case {i}: {e}"));
@@ -711,7 +828,8 @@ fn malformed_nan_coordinate_binary() {
 
 #[test]
 fn malformed_huge_node_count() {
-    let e = err_text(&format!("{HEAD41}$Nodes\n1 1000000000000000 1 1000000000000000\n$EndNodes\n"));
+    let e =
+        err_text(&format!("{HEAD41}$Nodes\n1 1000000000000000 1 1000000000000000\n$EndNodes\n"));
     assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. }), "{e}");
     let e = err_text(&format!("{HEAD22}$Nodes\n1000000000000000\n1 0 0 0\n$EndNodes\n"));
     assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. }), "{e}");
@@ -781,7 +899,10 @@ fn malformed_duplicate_element_tag() {
 
 #[test]
 fn malformed_zero_tags() {
-    let e = err_text(&format!("{HEAD41}{}", SQUARE41.replace("\n1\n2\n3\n4\n5\n", "\n1\n2\n0\n4\n5\n")));
+    let e = err_text(&format!(
+        "{HEAD41}{}",
+        SQUARE41.replace("\n1\n2\n3\n4\n5\n", "\n1\n2\n0\n4\n5\n")
+    ));
     assert!(e.to_string().contains("0 is reserved"), "{e}");
     let e = err_text(&format!("{HEAD41}{}", SQUARE41.replace("1 1 2 3\n", "0 1 2 3\n")));
     assert!(e.to_string().contains("0 is reserved"), "{e}");
@@ -818,26 +939,34 @@ fn malformed_physical_name_without_quotes() {
 
 #[test]
 fn malformed_node_data_for_an_unknown_node() {
-    let e = err_text(&format!("{HEAD41}{SQUARE41}$NodeData\n1\n\"T\"\n1\n0\n3\n0\n1\n1\n9 1.0\n$EndNodeData\n"));
+    let e = err_text(&format!(
+        "{HEAD41}{SQUARE41}$NodeData\n1\n\"T\"\n1\n0\n3\n0\n1\n1\n9 1.0\n$EndNodeData\n"
+    ));
     assert!(e.to_string().contains("node 9, which the mesh does not have"), "{e}");
     assert_eq!(e.at, Some(Position::Line(37)));
 }
 
 #[test]
 fn malformed_node_data_without_its_integer_tags() {
-    let e = err_text(&format!("{HEAD41}{SQUARE41}$NodeData\n1\n\"T\"\n1\n0\n1\n0\n1 1.0\n$EndNodeData\n"));
+    let e = err_text(&format!(
+        "{HEAD41}{SQUARE41}$NodeData\n1\n\"T\"\n1\n0\n1\n0\n1 1.0\n$EndNodeData\n"
+    ));
     assert!(e.to_string().contains("at least 3 integer tags"), "{e}");
 }
 
 #[test]
 fn malformed_node_data_with_too_few_values() {
-    let e = err_text(&format!("{HEAD41}{SQUARE41}$NodeData\n1\n\"T\"\n1\n0\n3\n0\n3\n2\n1 1 2 3\n2 1 2\n$EndNodeData\n"));
+    let e = err_text(&format!(
+        "{HEAD41}{SQUARE41}$NodeData\n1\n\"T\"\n1\n0\n3\n0\n3\n2\n1 1 2 3\n2 1 2\n$EndNodeData\n"
+    ));
     assert!(e.to_string().contains("data value"), "{e}");
 }
 
 #[test]
 fn malformed_view_with_a_huge_number_of_components() {
-    let e = err_text(&format!("{HEAD41}{SQUARE41}$ElementData\n1\n\"q\"\n1\n0\n3\n0\n1000000000000\n0\n$EndElementData\n"));
+    let e = err_text(&format!(
+        "{HEAD41}{SQUARE41}$ElementData\n1\n\"q\"\n1\n0\n3\n0\n1000000000000\n0\n$EndElementData\n"
+    ));
     assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. }), "{e}");
     assert_eq!(e.at, Some(Position::Line(35)), "{e}");
 }
@@ -865,7 +994,8 @@ fn damaged_fixtures_give_errors_not_panics() {
     // replaced, or the file cut there.
     for model in ["square_hole", "two_domains_quads"] {
         for enc in ENCODINGS {
-            let bytes = std::fs::read(common::public_fixture(&format!("gmsh/{model}.{enc}.msh"))).unwrap();
+            let bytes =
+                std::fs::read(common::public_fixture(&format!("gmsh/{model}.{enc}.msh"))).unwrap();
             let step = (bytes.len() / 80).max(1);
             for i in (0..bytes.len()).step_by(step) {
                 for b in [b'9', 0xff, b'\n'] {
@@ -992,7 +1122,10 @@ fn bench_against_mshio() {
             let c = bytes.clone();
             std::hint::black_box(c);
         });
-        println!("{v:?} binary={bin}: {:.1} MB, write {tw:.3} s, read {tr:.3} s, memory copy {tc:.3} s", bytes.len() as f64 / 1e6);
+        println!(
+            "{v:?} binary={bin}: {:.1} MB, write {tw:.3} s, read {tr:.3} s, memory copy {tc:.3} s",
+            bytes.len() as f64 / 1e6
+        );
         if v == GmshVersion::V41 {
             let tm = best(&mut || {
                 let f = mshio::parse_msh_bytes(&bytes).map_err(|e| format!("{e}")).unwrap();
@@ -1001,7 +1134,11 @@ fn bench_against_mshio() {
             println!("    mshio 0.4 parse of the same bytes: {tm:.3} s");
         }
         if let Some(d) = &dir {
-            let name = format!("{d}/bench_{}_{}.msh", if v == GmshVersion::V41 { "41" } else { "22" }, if bin { "bin" } else { "ascii" });
+            let name = format!(
+                "{d}/bench_{}_{}.msh",
+                if v == GmshVersion::V41 { "41" } else { "22" },
+                if bin { "bin" } else { "ascii" }
+            );
             std::fs::write(name, &bytes).unwrap();
         }
     }
@@ -1010,10 +1147,16 @@ fn bench_against_mshio() {
     let mut bad = bytes.clone();
     let at = bad.windows(4).position(|w| w == b"\n5\n6").unwrap() + 1;
     bad[at] = b'x';
-    println!("mshio error:     {}", mshio::parse_msh_bytes(&bad).map(|_| ()).map_err(|e| format!("{e}")).unwrap_err());
+    println!(
+        "mshio error:     {}",
+        mshio::parse_msh_bytes(&bad).map(|_| ()).map_err(|e| format!("{e}")).unwrap_err()
+    );
     println!("smartmesh error: {}", read_msh(&bad).unwrap_err());
     // And on headers with an odd data size.
-    for head in ["$MeshFormat\n4.1 0 300\n$EndMeshFormat\n", "$MeshFormat\n4.1 1 3\n\x01\x00\x00\x00\n$EndMeshFormat\n"] {
+    for head in [
+        "$MeshFormat\n4.1 0 300\n$EndMeshFormat\n",
+        "$MeshFormat\n4.1 1 3\n\x01\x00\x00\x00\n$EndMeshFormat\n",
+    ] {
         let r = std::panic::catch_unwind(|| mshio::parse_msh_bytes(head.as_bytes()).is_ok());
         println!("mshio on {head:?}: {}", if r.is_err() { "panicked" } else { "returned" });
         println!("smartmesh: {:?}", read_msh(head.as_bytes()).err().map(|e| e.to_string()));
@@ -1046,7 +1189,10 @@ fn binary_node_data_is_checked_value_by_value() {
         let mut bad = bytes.clone();
         bad[tag_at..tag_at + 4].copy_from_slice(&99i32.to_le_bytes());
         let e = read_msh(&bad).unwrap_err();
-        assert!(e.to_string().contains("node 99, which the mesh does not have"), "{version:?}: {e}");
+        assert!(
+            e.to_string().contains("node 99, which the mesh does not have"),
+            "{version:?}: {e}"
+        );
         assert_eq!(e.at, Some(Position::Byte(tag_at as u64)), "{version:?}: {e}");
         // Entries 3 and 4 swapped (tags and values): the array is still in node order.
         let rec = 4 + 8 * 9;

@@ -55,7 +55,11 @@ print(json.dumps(out))
 "#;
 
 fn with_metric(mut m: TaggedMesh) -> TaggedMesh {
-    let v: Vec<f64> = m.points.iter().flat_map(|p| sym2_to_tensor9(1.0 + p[0] * p[0], 0.1, 2.0 + p[1] * p[1], 1.0)).collect();
+    let v: Vec<f64> = m
+        .points
+        .iter()
+        .flat_map(|p| sym2_to_tensor9(1.0 + p[0] * p[0], 0.1, 2.0 + p[1] * p[1], 1.0))
+        .collect();
     m.point_data.insert("metric".into(), DataArray::new(9, v));
     m
 }
@@ -79,12 +83,17 @@ fn gmsh_reads_what_smartmesh_writes() {
         for (version, v) in [(GmshVersion::V22, "v22"), (GmshVersion::V41, "v41")] {
             for binary in [false, true] {
                 let enc = if binary { "binary" } else { "ascii" };
-                let opts = WriteOptions { gmsh_version: version, binary, ..WriteOptions::default() };
+                let opts =
+                    WriteOptions { gmsh_version: version, binary, ..WriteOptions::default() };
                 let written = gmsh::write(&src, &opts).unwrap();
                 let path = dir.path().join(format!("{model}.{v}_{enc}.msh"));
                 std::fs::write(&path, &written.main).unwrap();
                 let fixture = common::public_fixture(&format!("gmsh/{model}.{v}_{enc}.msh"));
-                let s = summaries(&py, GMSH_SUMMARY, &[fixture.display().to_string(), path.display().to_string()]);
+                let s = summaries(
+                    &py,
+                    GMSH_SUMMARY,
+                    &[fixture.display().to_string(), path.display().to_string()],
+                );
                 let (theirs, ours) = (&s[0], &s[1]);
                 let what = format!("{model} {v} {enc}");
                 assert_eq!(ours["groups"], theirs["groups"], "{what}: physical groups");
@@ -94,7 +103,11 @@ fn gmsh_reads_what_smartmesh_writes() {
                 // The metric: a 9-component node view over every node.
                 let views = ours["views"].as_array().unwrap();
                 assert_eq!(views.len(), 1, "{what}: {views:?}");
-                assert_eq!(views[0], serde_json::json!(["metric", "NodeData", 9, src.points.len()]), "{what}");
+                assert_eq!(
+                    views[0],
+                    serde_json::json!(["metric", "NodeData", 9, src.points.len()]),
+                    "{what}"
+                );
             }
         }
     }
@@ -107,7 +120,8 @@ fn gmsh_keeps_unused_nodes_and_split_entities() {
     // A square of two triangles in two physical groups on one geometrical entity, and
     // a node no cell uses.
     let mut m = TaggedMesh::new();
-    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0]];
+    m.points =
+        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0]];
     let mut t = smartmesh_formats::CellBlock::new(smartmesh_formats::CellKind::Triangle);
     t.push(&[0, 1, 2], 1, 1);
     t.push(&[0, 2, 3], 2, 1);
@@ -116,7 +130,8 @@ fn gmsh_keeps_unused_nodes_and_split_entities() {
     m.tag_names.insert((2, 2), "B".into());
     let mut paths = Vec::new();
     for binary in [false, true] {
-        let opts = WriteOptions { gmsh_version: GmshVersion::V41, binary, ..WriteOptions::default() };
+        let opts =
+            WriteOptions { gmsh_version: GmshVersion::V41, binary, ..WriteOptions::default() };
         let path = dir.path().join(format!("split{binary}.msh"));
         std::fs::write(&path, gmsh::write(&m, &opts).unwrap().main).unwrap();
         paths.push(path.display().to_string());
@@ -138,21 +153,30 @@ fn meshio_reads_what_smartmesh_writes() {
         let mut paths = Vec::new();
         for version in [GmshVersion::V22, GmshVersion::V41] {
             for binary in [false, true] {
-                let opts = WriteOptions { gmsh_version: version, binary, ..WriteOptions::default() };
+                let opts =
+                    WriteOptions { gmsh_version: version, binary, ..WriteOptions::default() };
                 let path = dir.path().join(format!("{model}_{version:?}_{binary}.msh"));
                 std::fs::write(&path, gmsh::write(&src, &opts).unwrap().main).unwrap();
                 paths.push(path.display().to_string());
             }
         }
-        let expected_cells: serde_json::Map<String, serde_json::Value> = [("vertex", smartmesh_formats::CellKind::Vertex), ("line", smartmesh_formats::CellKind::Line), ("triangle", smartmesh_formats::CellKind::Triangle)]
-            .iter()
-            .filter(|(_, k)| src.num_cells_of(*k) > 0)
-            .map(|(n, k)| (n.to_string(), serde_json::json!(src.num_cells_of(*k))))
-            .collect();
+        let expected_cells: serde_json::Map<String, serde_json::Value> = [
+            ("vertex", smartmesh_formats::CellKind::Vertex),
+            ("line", smartmesh_formats::CellKind::Line),
+            ("triangle", smartmesh_formats::CellKind::Triangle),
+        ]
+        .iter()
+        .filter(|(_, k)| src.num_cells_of(*k) > 0)
+        .map(|(n, k)| (n.to_string(), serde_json::json!(src.num_cells_of(*k))))
+        .collect();
         for (path, s) in paths.iter().zip(summaries(&py, MESHIO_SUMMARY, &paths)) {
             assert_eq!(s["points"], src.points.len(), "{path}");
             assert_eq!(s["cells"], serde_json::Value::Object(expected_cells.clone()), "{path}");
-            assert_eq!(s["point_data"], serde_json::json!([["metric", [src.points.len(), 9]]]), "{path}");
+            assert_eq!(
+                s["point_data"],
+                serde_json::json!([["metric", [src.points.len(), 9]]]),
+                "{path}"
+            );
         }
     }
 }

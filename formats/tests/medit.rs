@@ -10,8 +10,8 @@ use proptest::prelude::*;
 use smartmesh_formats::arbitrary::{arb_tagged_mesh, MeshFeatures};
 use smartmesh_formats::medit::{read_sol, write_sol};
 use smartmesh_formats::{
-    read_bytes, sym2_to_tensor9, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format, Layout, MemorySiblings, Position, ReadContext,
-    TaggedMesh, WriteOptions,
+    read_bytes, sym2_to_tensor9, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format,
+    Layout, MemorySiblings, Position, ReadContext, TaggedMesh, WriteOptions,
 };
 
 fn opts(main: &str) -> WriteOptions {
@@ -26,7 +26,12 @@ fn read_alone(bytes: &[u8], ext: &str) -> smartmesh_formats::Result<TaggedMesh> 
     read_bytes(Format::Medit, bytes, &ReadContext::alone(ext))
 }
 
-fn read_with_sol(mesh: &[u8], ext: &str, sol_ext: &str, sol: &[u8]) -> smartmesh_formats::Result<TaggedMesh> {
+fn read_with_sol(
+    mesh: &[u8],
+    ext: &str,
+    sol_ext: &str,
+    sol: &[u8],
+) -> smartmesh_formats::Result<TaggedMesh> {
     let sib = MemorySiblings { files: BTreeMap::from([(sol_ext.to_string(), sol.to_vec())]) };
     read_bytes(Format::Medit, mesh, &ReadContext { siblings: &sib, extension: ext.into() })
 }
@@ -44,7 +49,10 @@ fn square_hole_input_with_metric() {
     let m = read_file("medit/square_hole_input.mesh");
     assert_eq!(m.coordinate_dim, 2);
     assert_eq!(m.points.len(), 435);
-    assert_eq!(counts_per_tag(&m), counts(&[("line", 1, 52), ("line", 2, 44), ("triangle", 3, 774)]));
+    assert_eq!(
+        counts_per_tag(&m),
+        counts(&[("line", 1, 52), ("line", 2, 44), ("triangle", 3, 774)])
+    );
     // Every vertex reference is 0: no `medit:ref` array.
     assert!(!m.point_data.contains_key("medit:ref"));
     assert!(m.point_sets.is_empty());
@@ -55,11 +63,17 @@ fn square_hole_input_with_metric() {
     assert_eq!(metric.len(), 435);
     // "69.807785718567544 -28.785867635430975 69.80778571856753" is m11 m12 m22.
     assert_eq!(metric.item(0), &[69.807785718567544, -28.785867635430975, 69.80778571856753]);
-    assert_eq!(metric.tensor9(0), sym2_to_tensor9(69.807785718567544, -28.785867635430975, 69.80778571856753, 1.0));
+    assert_eq!(
+        metric.tensor9(0),
+        sym2_to_tensor9(69.807785718567544, -28.785867635430975, 69.80778571856753, 1.0)
+    );
     // ... and stands for the 9-component tensor with zz = 1.
     let full = metric.expanded();
     assert_eq!((full.components, full.layout, full.len()), (9, Layout::Plain, 435));
-    assert_eq!(full.item(0), &sym2_to_tensor9(69.807785718567544, -28.785867635430975, 69.80778571856753, 1.0));
+    assert_eq!(
+        full.item(0),
+        &sym2_to_tensor9(69.807785718567544, -28.785867635430975, 69.80778571856753, 1.0)
+    );
     assert_eq!(*metric, *full);
     assert_eq!(m.point_data.len(), 1);
 }
@@ -68,13 +82,19 @@ fn square_hole_input_with_metric() {
 fn square_hole_adapted_by_mmg() {
     let m = read_file("medit/square_hole_mmg.mesh");
     assert_eq!(m.points.len(), 466);
-    assert_eq!(counts_per_tag(&m), counts(&[("line", 1, 48), ("line", 2, 40), ("triangle", 3, 844)]));
+    assert_eq!(
+        counts_per_tag(&m),
+        counts(&[("line", 1, 48), ("line", 2, 40), ("triangle", 3, 844)])
+    );
     assert_eq!(m.point_sets["Corners"], vec![0, 1, 2, 3]);
     // One vertex (the last) has reference 2.
     let refs = &m.point_data["medit:ref"].values;
     assert_eq!(refs.iter().filter(|&&r| r != 0.0).count(), 1);
     assert_eq!(refs[465], 2.0);
-    assert_eq!(m.point_data["metric"].tensor9(0), sym2_to_tensor9(73.9024724165296, -24.3655176449654, 74.5873813652242, 1.0));
+    assert_eq!(
+        m.point_data["metric"].tensor9(0),
+        sym2_to_tensor9(73.9024724165296, -24.3655176449654, 74.5873813652242, 1.0)
+    );
 }
 
 #[test]
@@ -101,17 +121,35 @@ fn square_hole_mesh_and_meshb_agree() {
 
 fn full_mesh() -> TaggedMesh {
     let mut m = TaggedMesh::new();
-    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0], [0.1, 1e-300, 0.0]];
+    m.points = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.1, 1e-300, 0.0],
+    ];
     m.blocks.push(CellBlock {
         kind: CellKind::Line,
         nodes: vec![0, 1, 1, 2, 2, 3, 3, 0],
         physical: vec![1, 2, -3, 4],
         geometrical: vec![1, 2, -3, 4],
     });
-    m.blocks.push(CellBlock { kind: CellKind::Triangle, nodes: vec![0, 1, 4, 1, 2, 4], physical: vec![7, 8], geometrical: vec![7, 8] });
-    m.blocks.push(CellBlock { kind: CellKind::Quad, nodes: vec![2, 3, 0, 4], physical: vec![9], geometrical: vec![9] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Triangle,
+        nodes: vec![0, 1, 4, 1, 2, 4],
+        physical: vec![7, 8],
+        geometrical: vec![7, 8],
+    });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Quad,
+        nodes: vec![2, 3, 0, 4],
+        physical: vec![9],
+        geometrical: vec![9],
+    });
     m.point_data.insert("medit:ref".into(), DataArray::new(1, vec![1.0, 2.0, 3.0, 4.0, 0.0, -5.0]));
-    let metric: Vec<f64> = (0..6).flat_map(|i| sym2_to_tensor9(1.0 + i as f64, 0.1 / 3.0, 2.0, 1.0)).collect();
+    let metric: Vec<f64> =
+        (0..6).flat_map(|i| sym2_to_tensor9(1.0 + i as f64, 0.1 / 3.0, 2.0, 1.0)).collect();
     m.point_data.insert("metric".into(), DataArray::new(9, metric));
     m.point_sets.insert("Corners".into(), vec![0, 1, 2, 3]);
     m.point_sets.insert("RequiredVertices".into(), vec![5]);
@@ -144,7 +182,8 @@ fn binary_option_without_a_name() {
     assert_eq!(&w.main[..8], &[1, 0, 0, 0, 2, 0, 0, 0]);
     assert_eq!(w.siblings[0].0, "solb");
     // The extension wins over the option: MMG reads `.mesh` as text.
-    let o = WriteOptions { medit_binary: true, main_name: Some("x.mesh".into()), ..Default::default() };
+    let o =
+        WriteOptions { medit_binary: true, main_name: Some("x.mesh".into()), ..Default::default() };
     let w = write_bytes(Format::Medit, &full_mesh(), &o).unwrap();
     assert!(w.main.starts_with(b"MeshVersionFormatted 2\n"));
 }
@@ -155,7 +194,10 @@ fn ascii_layout() {
     m.point_data.remove("metric");
     let w = write_bytes(Format::Medit, &m, &opts("x.mesh")).unwrap();
     let text = String::from_utf8(w.main).unwrap();
-    assert!(text.starts_with("MeshVersionFormatted 2\n\nDimension 2\n\nVertices\n6\n0.0 0.0 1\n"), "{text}");
+    assert!(
+        text.starts_with("MeshVersionFormatted 2\n\nDimension 2\n\nVertices\n6\n0.0 0.0 1\n"),
+        "{text}"
+    );
     assert!(text.contains("\nEdges\n4\n1 2 1\n"), "{text}");
     assert!(text.contains("\nRequiredEdges\n2\n1\n4\n"), "{text}");
     assert!(text.ends_with("\nEnd\n"));
@@ -189,9 +231,24 @@ fn size_when_there_is_no_metric() {
 fn second_order_elements_round_trip() {
     let mut m = TaggedMesh::new();
     m.points = (0..9).map(|i| [i as f64, (i % 3) as f64, 0.0]).collect();
-    m.blocks.push(CellBlock { kind: CellKind::Line3, nodes: vec![0, 1, 2], physical: vec![1], geometrical: vec![1] });
-    m.blocks.push(CellBlock { kind: CellKind::Triangle6, nodes: vec![0, 1, 2, 3, 4, 5], physical: vec![2], geometrical: vec![2] });
-    m.blocks.push(CellBlock { kind: CellKind::Quad9, nodes: (0..9).collect(), physical: vec![3], geometrical: vec![3] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Line3,
+        nodes: vec![0, 1, 2],
+        physical: vec![1],
+        geometrical: vec![1],
+    });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Triangle6,
+        nodes: vec![0, 1, 2, 3, 4, 5],
+        physical: vec![2],
+        geometrical: vec![2],
+    });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Quad9,
+        nodes: (0..9).collect(),
+        physical: vec![3],
+        geometrical: vec![3],
+    });
     for main in ["p2.mesh", "p2.meshb"] {
         let ext = main.rsplit_once('.').unwrap().1;
         let (w, back) = roundtrip(Format::Medit, ext, &m, &opts(main));
@@ -203,7 +260,12 @@ fn second_order_elements_round_trip() {
 #[test]
 fn what_medit_cannot_hold_is_reported() {
     let mut m = full_mesh();
-    m.blocks.push(CellBlock { kind: CellKind::Vertex, nodes: vec![4], physical: vec![1], geometrical: vec![1] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Vertex,
+        nodes: vec![4],
+        physical: vec![1],
+        geometrical: vec![1],
+    });
     m.blocks[1].geometrical[0] = 70;
     m.point_data.insert("size".into(), DataArray::new(1, vec![1.0; 6]));
     m.point_data.insert("size_tensor".into(), DataArray::new(9, vec![1.0; 54]));
@@ -261,13 +323,23 @@ fn handmade(version: u32, le: bool) -> Vec<u8> {
         if version >= 4 {
             out.extend_from_slice(&if le { v.to_le_bytes() } else { v.to_be_bytes() });
         } else {
-            out.extend_from_slice(&if le { (v as i32).to_le_bytes() } else { (v as i32).to_be_bytes() });
+            out.extend_from_slice(&if le {
+                (v as i32).to_le_bytes()
+            } else {
+                (v as i32).to_be_bytes()
+            });
         }
     };
-    let word = |v: i32, out: &mut Vec<u8>| out.extend_from_slice(&if le { v.to_le_bytes() } else { v.to_be_bytes() });
+    let word = |v: i32, out: &mut Vec<u8>| {
+        out.extend_from_slice(&if le { v.to_le_bytes() } else { v.to_be_bytes() })
+    };
     let real = |v: f64, out: &mut Vec<u8>| {
         if version == 1 {
-            out.extend_from_slice(&if le { (v as f32).to_le_bytes() } else { (v as f32).to_be_bytes() });
+            out.extend_from_slice(&if le {
+                (v as f32).to_le_bytes()
+            } else {
+                (v as f32).to_be_bytes()
+            });
         } else {
             out.extend_from_slice(&if le { v.to_le_bytes() } else { v.to_be_bytes() });
         }
@@ -325,11 +397,21 @@ fn binary_versions_and_byte_orders() {
     for version in 1..=4 {
         for le in [true, false] {
             let bytes = handmade(version, le);
-            let m = read_alone(&bytes, "meshb").unwrap_or_else(|e| panic!("v{version} le={le}: {e}"));
-            assert_eq!(m.points, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.5, 0.0]], "v{version} le={le}");
+            let m =
+                read_alone(&bytes, "meshb").unwrap_or_else(|e| panic!("v{version} le={le}: {e}"));
+            assert_eq!(
+                m.points,
+                vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.5, 0.0]],
+                "v{version} le={le}"
+            );
             assert_eq!(
                 m.blocks,
-                vec![CellBlock { kind: CellKind::Triangle, nodes: vec![0, 1, 2], physical: vec![7], geometrical: vec![7] }]
+                vec![CellBlock {
+                    kind: CellKind::Triangle,
+                    nodes: vec![0, 1, 2],
+                    physical: vec![7],
+                    geometrical: vec![7]
+                }]
             );
             assert_eq!(m.point_data["medit:ref"].values, vec![0.0, 1.0, 2.0]);
             assert_eq!(m.point_sets["Corners"], vec![0, 2]);
@@ -345,12 +427,23 @@ fn binary_versions_and_byte_orders() {
 fn sol_api_several_solutions() {
     let size = DataArray::new(1, vec![0.5, 0.25]);
     let vector = DataArray::new(3, vec![1.0, 2.0, 0.0, 3.0, 4.0, 0.0]);
-    let metric = DataArray::new(9, [sym2_to_tensor9(4.0, 0.5, 9.0, 1.0), sym2_to_tensor9(1.0, 0.0, 1.0, 1.0)].concat());
+    let metric = DataArray::new(
+        9,
+        [sym2_to_tensor9(4.0, 0.5, 9.0, 1.0), sym2_to_tensor9(1.0, 0.0, 1.0, 1.0)].concat(),
+    );
     for binary in [false, true] {
-        let bytes = write_sol(&[("size", &size), ("metric", &metric), ("vector", &vector), ("size", &size)], 2, binary).unwrap();
+        let bytes = write_sol(
+            &[("size", &size), ("metric", &metric), ("vector", &vector), ("size", &size)],
+            2,
+            binary,
+        )
+        .unwrap();
         if !binary {
             let text = String::from_utf8(bytes.clone()).unwrap();
-            assert!(text.contains("SolAtVertices\n2\n4 1 3 2 1\n0.5 4.0 0.5 9.0 1.0 2.0 0.5\n"), "{text}");
+            assert!(
+                text.contains("SolAtVertices\n2\n4 1 3 2 1\n0.5 4.0 0.5 9.0 1.0 2.0 0.5\n"),
+                "{text}"
+            );
         }
         let back = read_sol(&bytes, 2, binary).unwrap();
         assert_eq!(back.keys().collect::<Vec<_>>(), ["metric", "size", "size_2", "vector"]);
@@ -380,7 +473,12 @@ fn sol_api_refusals() {
     assert!(write_sol(&[("a", &a), ("b", &b)], 2, false).is_err());
     assert!(write_sol(&[("c", &c)], 2, false).is_err());
     assert!(write_sol(&[("a", &a)], 4, false).is_err());
-    let e = read_sol(b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n2\n1 1\n1\n2\nEnd\n", 3, false).unwrap_err();
+    let e = read_sol(
+        b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n2\n1 1\n1\n2\nEnd\n",
+        3,
+        false,
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("gives 2 vertices, the mesh has 3"), "{e}");
 }
 
@@ -390,7 +488,11 @@ fn sol_api_refusals() {
 fn solb_non_finite_value_names_its_byte() {
     let metric = DataArray::symmetric2((0..30).map(|i| 1.0 + i as f64 / 64.0).collect());
     let size = DataArray::new(1, (0..10).map(|i| 0.5 + i as f64 / 128.0).collect());
-    for arrays in [vec![("metric", &metric)], vec![("size", &size)], vec![("size", &size), ("metric", &metric)]] {
+    for arrays in [
+        vec![("metric", &metric)],
+        vec![("size", &size)],
+        vec![("size", &size), ("metric", &metric)],
+    ] {
         let good = write_sol(&arrays, 2, true).unwrap();
         let back = read_sol(&good, 10, true).unwrap();
         for (name, a) in &arrays {
@@ -527,7 +629,8 @@ fn malformed_truncated_ascii() {
 #[test]
 fn malformed_wrong_counts_ascii() {
     // Two triangles announced, one given, then End: `End` is not a vertex number.
-    let e = ascii_err(&format!("{SQUARE}Triangles\n2\n1 2 3 0\nEnd\n# comments count as bytes left\n"));
+    let e =
+        ascii_err(&format!("{SQUARE}Triangles\n2\n1 2 3 0\nEnd\n# comments count as bytes left\n"));
     assert_eq!(line_of(&e), 12, "{e}");
     assert!(e.to_string().contains("found `End`"), "{e}");
 }
@@ -570,7 +673,10 @@ fn malformed_huge_count_ascii() {
 #[test]
 fn malformed_unknown_keyword() {
     let e = ascii_err("Vertexes\n1\n0 0 0\n");
-    assert!(e.to_string().contains("expected a keyword of libMeshb's table, found `Vertexes`"), "{e}");
+    assert!(
+        e.to_string().contains("expected a keyword of libMeshb's table, found `Vertexes`"),
+        "{e}"
+    );
     assert_eq!(line_of(&e), 3);
 }
 
@@ -639,7 +745,10 @@ fn malformed_truncated_binary() {
     // Cut inside the vertices: the count no longer fits in what is left.
     let cut = &b[..40];
     let e = read_alone(cut, "meshb").unwrap_err();
-    assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. } | ErrorKind::Inconsistent(_)), "{e}");
+    assert!(
+        matches!(e.kind, ErrorKind::ImplausibleCount { .. } | ErrorKind::Inconsistent(_)),
+        "{e}"
+    );
     byte_of(&e);
     // Cut inside a keyword header.
     let e = read_alone(&b[..10], "meshb").unwrap_err();
@@ -676,7 +785,10 @@ fn malformed_binary_wrong_count() {
 fn malformed_binary_index_out_of_range() {
     let b = handmade(2, true);
     // The triangle's third vertex number: find the Triangles keyword (code 6).
-    let at = (8..b.len() - 4).step_by(4).find(|&i| b[i..i + 4] == 6i32.to_le_bytes() && b[i + 8..i + 12] == 1i32.to_le_bytes()).unwrap();
+    let at = (8..b.len() - 4)
+        .step_by(4)
+        .find(|&i| b[i..i + 4] == 6i32.to_le_bytes() && b[i + 8..i + 12] == 1i32.to_le_bytes())
+        .unwrap();
     let mut bad = b.clone();
     bad[at + 20..at + 24].copy_from_slice(&9i32.to_le_bytes());
     let e = read_alone(&bad, "meshb").unwrap_err();
@@ -762,7 +874,10 @@ fn malformed_binary_fault_after_many_good_records() {
     let m = read_alone(&refd, "meshb").unwrap();
     let refs = &m.point_data["medit:ref"].values;
     assert_eq!(refs.len(), 102);
-    assert_eq!(refs.iter().enumerate().filter(|(_, &r)| r != 0.0).collect::<Vec<_>>(), vec![(76, &-4.0)]);
+    assert_eq!(
+        refs.iter().enumerate().filter(|(_, &r)| r != 0.0).collect::<Vec<_>>(),
+        vec![(76, &-4.0)]
+    );
 }
 
 #[test]
@@ -777,7 +892,10 @@ fn malformed_binary_references_past_32_bits() {
     assert!(e.to_string().contains("the reference of vertex 2 (a 32-bit integer)"), "{e}");
     assert_eq!(byte_of(&e), second_ref as u64);
     // The triangle's reference: the last 8 bytes of its record.
-    let at = (8..b.len() - 12).step_by(4).find(|&i| b[i..i + 4] == 6i32.to_le_bytes() && b[i + 12..i + 20] == 1i64.to_le_bytes()).unwrap();
+    let at = (8..b.len() - 12)
+        .step_by(4)
+        .find(|&i| b[i..i + 4] == 6i32.to_le_bytes() && b[i + 12..i + 20] == 1i64.to_le_bytes())
+        .unwrap();
     let tri_ref = at + 20 + 24;
     assert_eq!(b[tri_ref..tri_ref + 8], 7i64.to_le_bytes());
     let mut bad = b.clone();
@@ -800,14 +918,29 @@ fn malformed_binary_huge_count() {
 #[test]
 fn malformed_sol_beside_mesh() {
     let mesh = format!("{HEAD}{SQUARE}End\n");
-    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 1\n1\n2\n3\nEnd\n")
-        .unwrap_err();
+    let e = read_with_sol(
+        mesh.as_bytes(),
+        "mesh",
+        "sol",
+        b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 1\n1\n2\n3\nEnd\n",
+    )
+    .unwrap_err();
     assert!(e.to_string().starts_with("<memory>.sol:3:"), "{e}");
-    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n4\n1 1\n1\n2\n3\n4\nEnd\n")
-        .unwrap_err();
+    let e = read_with_sol(
+        mesh.as_bytes(),
+        "mesh",
+        "sol",
+        b"MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n4\n1 1\n1\n2\n3\n4\nEnd\n",
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("the solution is 3D but the mesh is 2D"), "{e}");
-    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n4\n1 7\n1\n2\n3\n4\nEnd\n")
-        .unwrap_err();
+    let e = read_with_sol(
+        mesh.as_bytes(),
+        "mesh",
+        "sol",
+        b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n4\n1 7\n1\n2\n3\n4\nEnd\n",
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("solution type 1 (scalar)"), "{e}");
     assert_eq!(line_of(&e), 5);
 }
@@ -836,7 +969,11 @@ fn records_mixing_fast_and_general_paths() {
 
 #[test]
 fn malformed_dimension_changes() {
-    let e = read_alone(b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n1\n1 3\n1 2 3\nDimension 3\n", "mesh").unwrap_err();
+    let e = read_alone(
+        b"MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n1\n1 3\n1 2 3\nDimension 3\n",
+        "mesh",
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("Dimension 3 after Dimension 2"), "{e}");
     assert_eq!(line_of(&e), 7);
 }
@@ -890,11 +1027,37 @@ fn packed_metric_through_the_nine_component_formats() {
     let packed = &m.point_data["metric"];
     assert_eq!(packed.layout, Layout::Symmetric2);
     let targets: [(Format, &str, WriteOptions, Layout); 5] = [
-        (Format::Gmsh, "msh", WriteOptions { binary: true, ..WriteOptions::default() }, Layout::Plain),
-        (Format::Gmsh, "msh", WriteOptions { gmsh_version: smartmesh_formats::GmshVersion::V22, ..WriteOptions::default() }, Layout::Plain),
+        (
+            Format::Gmsh,
+            "msh",
+            WriteOptions { binary: true, ..WriteOptions::default() },
+            Layout::Plain,
+        ),
+        (
+            Format::Gmsh,
+            "msh",
+            WriteOptions {
+                gmsh_version: smartmesh_formats::GmshVersion::V22,
+                ..WriteOptions::default()
+            },
+            Layout::Plain,
+        ),
         (Format::Vtu, "vtu", WriteOptions::default(), Layout::Symmetric2),
-        (Format::Vtu, "vtu", WriteOptions { vtu_encoding: smartmesh_formats::VtuEncoding::Ascii, ..WriteOptions::default() }, Layout::Symmetric2),
-        (Format::VtkLegacy, "vtk", WriteOptions { binary: true, ..WriteOptions::default() }, Layout::Symmetric2),
+        (
+            Format::Vtu,
+            "vtu",
+            WriteOptions {
+                vtu_encoding: smartmesh_formats::VtuEncoding::Ascii,
+                ..WriteOptions::default()
+            },
+            Layout::Symmetric2,
+        ),
+        (
+            Format::VtkLegacy,
+            "vtk",
+            WriteOptions { binary: true, ..WriteOptions::default() },
+            Layout::Symmetric2,
+        ),
     ];
     for (format, ext, opts, layout) in targets {
         let (written, back) = roundtrip(format, ext, &m, &opts);
@@ -910,11 +1073,18 @@ fn packed_metric_through_the_nine_component_formats() {
         let full = read;
         assert_eq!(full, packed, "{ext}");
         // And back to Medit: packed again, bit for bit.
-        let medit = WriteOptions { medit_binary: true, main_name: Some("x.meshb".into()), ..WriteOptions::default() };
+        let medit = WriteOptions {
+            medit_binary: true,
+            main_name: Some("x.meshb".into()),
+            ..WriteOptions::default()
+        };
         let (_, again) = roundtrip(Format::Medit, "meshb", &back, &medit);
         let again = &again.point_data["metric"];
         assert_eq!(again.layout, Layout::Symmetric2, "{ext}");
-        assert!(again.values.iter().zip(&packed.values).all(|(a, b)| a.to_bits() == b.to_bits()), "{ext}");
+        assert!(
+            again.values.iter().zip(&packed.values).all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{ext}"
+        );
     }
 }
 
@@ -923,7 +1093,10 @@ fn packed_metric_through_the_nine_component_formats() {
 #[test]
 fn packed_and_full_tensors_compare_by_what_they_stand_for() {
     let packed = DataArray::symmetric2(vec![4.0, -1.0, 9.0, 1.0, 0.0, 1.0]);
-    let mut full = DataArray::new(9, [sym2_to_tensor9(4.0, -1.0, 9.0, 1.0), sym2_to_tensor9(1.0, 0.0, 1.0, 1.0)].concat());
+    let mut full = DataArray::new(
+        9,
+        [sym2_to_tensor9(4.0, -1.0, 9.0, 1.0), sym2_to_tensor9(1.0, 0.0, 1.0, 1.0)].concat(),
+    );
     assert_eq!(packed, full);
     assert_eq!(full, packed);
     full.values[8] = 2.0; // zz of vertex 0 is no longer the implied 1
@@ -939,7 +1112,9 @@ fn packed_and_full_tensors_compare_by_what_they_stand_for() {
 fn malformed_binary_vertex_number_past_32_bits() {
     let b = handmade(4, true);
     // Triangles (code 6): code, 8-byte offset, count 1, then the vertex numbers.
-    let at = (8..b.len() - 20).find(|&i| b[i..i + 4] == 6i32.to_le_bytes() && b[i + 12..i + 20] == 1i64.to_le_bytes()).unwrap();
+    let at = (8..b.len() - 20)
+        .find(|&i| b[i..i + 4] == 6i32.to_le_bytes() && b[i + 12..i + 20] == 1i64.to_le_bytes())
+        .unwrap();
     let mut bad = b.clone();
     bad[at + 20..at + 28].copy_from_slice(&((1i64 << 32) + 1).to_le_bytes());
     let e = read_alone(&bad, "meshb").unwrap_err();

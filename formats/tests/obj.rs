@@ -8,7 +8,8 @@ use std::collections::BTreeMap;
 use proptest::prelude::*;
 use smartmesh_formats::arbitrary::{arb_tagged_mesh, MeshFeatures};
 use smartmesh_formats::{
-    read_bytes, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format, Position, ReadContext, RegionSeed, TaggedMesh, WriteOptions,
+    read_bytes, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format, Position,
+    ReadContext, RegionSeed, TaggedMesh, WriteOptions,
 };
 
 fn read_str(s: &str) -> smartmesh_formats::Result<TaggedMesh> {
@@ -54,7 +55,10 @@ fn by_name(m: &TaggedMesh) -> BTreeMap<(CellKind, String), Vec<Vec<u32>>> {
 fn assert_points_bitwise(a: &TaggedMesh, b: &TaggedMesh) {
     assert_eq!(a.points.len(), b.points.len());
     for (i, (p, q)) in a.points.iter().zip(&b.points).enumerate() {
-        assert!(p.iter().zip(q).all(|(x, y)| x.to_bits() == y.to_bits()), "point {i}: {p:?} vs {q:?}");
+        assert!(
+            p.iter().zip(q).all(|(x, y)| x.to_bits() == y.to_bits()),
+            "point {i}: {p:?} vs {q:?}"
+        );
     }
 }
 
@@ -71,10 +75,17 @@ fn fixture_square_hole_groups() {
     assert_eq!(m.coordinate_dim, 2);
     // Groups in order of first use: Domain (faces), Walls, Hole (line elements).
     let expected: BTreeMap<(String, i32), usize> =
-        [(("triangle".into(), 1), 774), (("line".into(), 2), 52), (("line".into(), 3), 44)].into_iter().collect();
+        [(("triangle".into(), 1), 774), (("line".into(), 2), 52), (("line".into(), 3), 44)]
+            .into_iter()
+            .collect();
     assert_eq!(common::counts_per_tag(&m), expected);
-    let names: BTreeMap<(u8, i32), String> =
-        [((2, 1), "Domain".to_string()), ((1, 2), "Walls".to_string()), ((1, 3), "Hole".to_string())].into_iter().collect();
+    let names: BTreeMap<(u8, i32), String> = [
+        ((2, 1), "Domain".to_string()),
+        ((1, 2), "Walls".to_string()),
+        ((1, 3), "Hole".to_string()),
+    ]
+    .into_iter()
+    .collect();
     assert_eq!(m.tag_names, names);
     assert!(m.blocks.iter().all(|b| b.physical == b.geometrical));
     // `l 1 9` is the first line element: 0-based 0 and 8.
@@ -87,7 +98,8 @@ fn fixture_square_hole_vtn_negative() {
     let m = common::read_file("obj/square_hole_vtn_negative.obj");
     assert_eq!(m.points.len(), 435);
     assert_eq!(m.coordinate_dim, 2);
-    let expected: BTreeMap<(String, i32), usize> = [(("triangle".into(), 1), 774)].into_iter().collect();
+    let expected: BTreeMap<(String, i32), usize> =
+        [(("triangle".into(), 1), 774)].into_iter().collect();
     assert_eq!(common::counts_per_tag(&m), expected);
     assert_eq!(m.tag_name(2, 1), Some("Domain"));
     // The same triangles as the file with positive indices: negative indices resolved
@@ -102,7 +114,8 @@ fn fixture_two_domains_mixed() {
     let m = common::read_file("obj/two_domains_mixed.obj");
     assert_eq!(m.points.len(), 274);
     assert_eq!(m.coordinate_dim, 2);
-    let expected: BTreeMap<(String, i32), usize> = [(("quad".into(), 1), 119), (("triangle".into(), 2), 248)].into_iter().collect();
+    let expected: BTreeMap<(String, i32), usize> =
+        [(("quad".into(), 1), 119), (("triangle".into(), 2), 248)].into_iter().collect();
     assert_eq!(common::counts_per_tag(&m), expected);
     assert_eq!(m.tag_name(2, 1), Some("Left"));
     assert_eq!(m.tag_name(2, 2), Some("Right"));
@@ -110,7 +123,11 @@ fn fixture_two_domains_mixed() {
 
 #[test]
 fn fixtures_write_read_identity() {
-    for rel in ["obj/square_hole_groups.obj", "obj/square_hole_vtn_negative.obj", "obj/two_domains_mixed.obj"] {
+    for rel in [
+        "obj/square_hole_groups.obj",
+        "obj/square_hole_vtn_negative.obj",
+        "obj/two_domains_mixed.obj",
+    ] {
         let m = common::read_file(rel);
         let (written, back) = common::roundtrip(Format::Obj, "obj", &m, &WriteOptions::default());
         assert!(written.report.dropped.is_empty(), "{rel}: {:?}", written.report.dropped);
@@ -129,9 +146,24 @@ fn fixtures_write_read_identity() {
 fn small_mesh() -> TaggedMesh {
     let mut m = TaggedMesh::new();
     m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.1]];
-    m.blocks.push(CellBlock { kind: CellKind::Triangle, nodes: vec![0, 1, 2, 0, 2, 3], physical: vec![2, 0], geometrical: vec![2, 0] });
-    m.blocks.push(CellBlock { kind: CellKind::Line, nodes: vec![0, 1, 1, 2], physical: vec![1, 1], geometrical: vec![1, 1] });
-    m.blocks.push(CellBlock { kind: CellKind::Vertex, nodes: vec![3], physical: vec![2], geometrical: vec![2] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Triangle,
+        nodes: vec![0, 1, 2, 0, 2, 3],
+        physical: vec![2, 0],
+        geometrical: vec![2, 0],
+    });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Line,
+        nodes: vec![0, 1, 1, 2],
+        physical: vec![1, 1],
+        geometrical: vec![1, 1],
+    });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Vertex,
+        nodes: vec![3],
+        physical: vec![2],
+        geometrical: vec![2],
+    });
     m.tag_names.insert((1, 1), "Walls".into());
     m
 }
@@ -158,7 +190,12 @@ fn report_lists_what_obj_cannot_hold() {
     let mut m = small_mesh();
     m.point_data.insert("metric".into(), DataArray::new(9, vec![1.0; 36]));
     m.blocks[0].geometrical = vec![7, 0];
-    m.blocks.push(CellBlock { kind: CellKind::Triangle6, nodes: vec![0, 1, 2, 0, 1, 2], physical: vec![2], geometrical: vec![2] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Triangle6,
+        nodes: vec![0, 1, 2, 0, 1, 2],
+        physical: vec![2],
+        geometrical: vec![2],
+    });
     m.cell_data.insert("quality".into(), DataArray::new(1, vec![1.0; 6]));
     m.point_sets.insert("Corners".into(), vec![0]);
     m.cell_sets.insert("Ridges".into(), vec![0]);
@@ -168,7 +205,18 @@ fn report_lists_what_obj_cannot_hold() {
     m.tag_names.insert((2, 9), "Nobody".into());
     let w = write(&m);
     let all = w.report.dropped.join("\n");
-    for needle in ["`metric` (9 components)", "`quality`", "geometrical tags of 1 cells", "1 triangle6 cells written by their 3 corner", "`Corners`", "`Ridges`", "1 hole", "1 region", "entity table", "`Nobody`"] {
+    for needle in [
+        "`metric` (9 components)",
+        "`quality`",
+        "geometrical tags of 1 cells",
+        "1 triangle6 cells written by their 3 corner",
+        "`Corners`",
+        "`Ridges`",
+        "1 hole",
+        "1 region",
+        "entity table",
+        "`Nobody`",
+    ] {
         assert!(all.contains(needle), "report lacks {needle}:\n{all}");
     }
     // The second-order triangle is still there, by its corners.
@@ -180,10 +228,19 @@ fn report_lists_what_obj_cannot_hold() {
 fn report_says_when_named_tags_are_renumbered() {
     let mut m = TaggedMesh::new();
     m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-    m.blocks.push(CellBlock { kind: CellKind::Triangle, nodes: vec![0, 1, 2], physical: vec![100], geometrical: vec![100] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Triangle,
+        nodes: vec![0, 1, 2],
+        physical: vec![100],
+        geometrical: vec![100],
+    });
     m.tag_names.insert((2, 100), "Fluid".into());
     let w = write(&m);
-    assert!(w.report.dropped.iter().any(|d| d.contains("tag 100") && d.contains("reads back as tag 1")), "{:?}", w.report.dropped);
+    assert!(
+        w.report.dropped.iter().any(|d| d.contains("tag 100") && d.contains("reads back as tag 1")),
+        "{:?}",
+        w.report.dropped
+    );
     let back = read_str(std::str::from_utf8(&w.main).unwrap()).unwrap();
     assert_eq!(back.tag_name(2, 1), Some("Fluid"));
     // Unnamed tags keep their numbers through `tag<N>`.
@@ -199,12 +256,21 @@ fn report_says_when_named_tags_are_renumbered() {
 fn names_obj_cannot_hold_are_cleaned_and_reported() {
     let mut m = TaggedMesh::new();
     m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-    m.blocks.push(CellBlock { kind: CellKind::Triangle, nodes: vec![0, 1, 2], physical: vec![1], geometrical: vec![1] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Triangle,
+        nodes: vec![0, 1, 2],
+        physical: vec![1],
+        geometrical: vec![1],
+    });
     m.tag_names.insert((2, 1), "left  part #2\nx".into());
     let w = write(&m);
     let back = read_str(std::str::from_utf8(&w.main).unwrap()).unwrap();
     assert_eq!(back.tag_name(2, 1), Some("left part _2_x"));
-    assert!(w.report.dropped.iter().any(|d| d.contains("written as `left part _2_x`")), "{:?}", w.report.dropped);
+    assert!(
+        w.report.dropped.iter().any(|d| d.contains("written as `left part _2_x`")),
+        "{:?}",
+        w.report.dropped
+    );
 }
 
 // ---------------------------------------------------------------------------------
@@ -225,9 +291,13 @@ fn face_vertex_forms_v_vt_vn() {
 
 #[test]
 fn polylines_become_segments_and_points_vertices() {
-    let m = read_str("v 0 0\nv 1 0\nv 1 1\nv 0 1\nl 1 2 3 4 1\np 1 3\nl 2/1 4/1\nvt 0 0\n").unwrap();
+    let m =
+        read_str("v 0 0\nv 1 0\nv 1 1\nv 0 1\nl 1 2 3 4 1\np 1 3\nl 2/1 4/1\nvt 0 0\n").unwrap();
     let b = by_tag(&m);
-    assert_eq!(b[&(CellKind::Line, 0)], vec![vec![0, 1], vec![1, 2], vec![2, 3], vec![3, 0], vec![1, 3]]);
+    assert_eq!(
+        b[&(CellKind::Line, 0)],
+        vec![vec![0, 1], vec![1, 2], vec![2, 3], vec![3, 0], vec![1, 3]]
+    );
     assert_eq!(b[&(CellKind::Vertex, 0)], vec![vec![0], vec![2]]);
 }
 
@@ -256,7 +326,10 @@ fn groups_objects_and_the_default_group() {
     let tags: Vec<i32> = m.cells().map(|c| c.2).collect();
     assert_eq!(tags, vec![0, 1, 2, 2, 0, 0, 1, 3]);
     let names: BTreeMap<(u8, i32), String> =
-        [((2, 1), "body"), ((2, 2), "wing left"), ((1, 2), "wing left"), ((0, 3), "other")].into_iter().map(|(k, v)| (k, v.to_string())).collect();
+        [((2, 1), "body"), ((2, 2), "wing left"), ((1, 2), "wing left"), ((0, 3), "other")]
+            .into_iter()
+            .map(|(k, v)| (k, v.to_string()))
+            .collect();
     assert_eq!(m.tag_names, names);
 }
 
@@ -501,11 +574,17 @@ fn interop_meshio_reads_our_obj() {
         for line in out.lines() {
             let w: Vec<&str> = line.split_whitespace().collect();
             if w[0] == "v" {
-                let p: Vec<f64> = w[1..].iter().map(|s| smartmesh_formats::text::parse_f64(s.as_bytes()).unwrap()).collect();
+                let p: Vec<f64> = w[1..]
+                    .iter()
+                    .map(|s| smartmesh_formats::text::parse_f64(s.as_bytes()).unwrap())
+                    .collect();
                 points.push([p[0], p[1], p[2]]);
             } else {
                 let gid: i64 = w[1].parse().unwrap();
-                cells.entry((w[0].to_string(), gid)).or_default().push(w[2..].iter().map(|s| s.parse().unwrap()).collect());
+                cells
+                    .entry((w[0].to_string(), gid))
+                    .or_default()
+                    .push(w[2..].iter().map(|s| s.parse().unwrap()).collect());
             }
         }
         let theirs = TaggedMesh { points, ..TaggedMesh::new() };
@@ -526,7 +605,11 @@ fn interop_meshio_reads_our_obj() {
             assert_eq!(&ours[&(kind, tag)], list, "{rel}: meshio group {gid}");
         }
         let faces: usize = cells.values().map(Vec::len).sum();
-        assert_eq!(faces, m.num_cells_of(CellKind::Triangle) + m.num_cells_of(CellKind::Quad), "{rel}");
+        assert_eq!(
+            faces,
+            m.num_cells_of(CellKind::Triangle) + m.num_cells_of(CellKind::Quad),
+            "{rel}"
+        );
     }
 }
 
@@ -536,8 +619,15 @@ fn interop_tobj_reads_our_obj() {
     // through its indices, in f32 as tobj stores them.
     let m = common::read_file("obj/two_domains_mixed.obj");
     let w = write(&m);
-    let opts = tobj::LoadOptions { single_index: true, triangulate: false, ignore_points: true, ignore_lines: true };
-    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(&w.main), &opts, |_| Ok(Default::default())).unwrap();
+    let opts = tobj::LoadOptions {
+        single_index: true,
+        triangulate: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let (models, _) =
+        tobj::load_obj_buf(&mut std::io::Cursor::new(&w.main), &opts, |_| Ok(Default::default()))
+            .unwrap();
     let names: Vec<&str> = models.iter().map(|x| x.name.as_str()).collect();
     assert_eq!(names, ["Left", "Right"]);
     let ours = by_tag(&m);
@@ -548,7 +638,14 @@ fn interop_tobj_reads_our_obj() {
         for (c, theirs) in cells.iter().zip(model.mesh.indices.chunks(k)) {
             for (&v, &t) in c.iter().zip(theirs) {
                 let p = &model.mesh.positions[3 * t as usize..3 * t as usize + 3];
-                assert_eq!([p[0], p[1], p[2]], [m.points[v as usize][0] as f32, m.points[v as usize][1] as f32, m.points[v as usize][2] as f32]);
+                assert_eq!(
+                    [p[0], p[1], p[2]],
+                    [
+                        m.points[v as usize][0] as f32,
+                        m.points[v as usize][1] as f32,
+                        m.points[v as usize][2] as f32
+                    ]
+                );
             }
         }
     }

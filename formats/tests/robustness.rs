@@ -28,7 +28,8 @@ fn fixtures() -> Vec<(Format, String, Vec<u8>)> {
     let root = common::public_fixtures();
     let mut out = Vec::new();
     for dir in ["gmsh", "vtk", "medit", "obj", "triangle"] {
-        let mut entries: Vec<_> = std::fs::read_dir(root.join(dir)).unwrap().map(|e| e.unwrap().path()).collect();
+        let mut entries: Vec<_> =
+            std::fs::read_dir(root.join(dir)).unwrap().map(|e| e.unwrap().path()).collect();
         entries.sort();
         for p in entries {
             let Some(format) = Format::from_path(&p) else { continue };
@@ -114,7 +115,11 @@ fn damaged_fixtures_never_panic() {
                     let msg = e.to_string();
                     assert!(!msg.is_empty());
                 }
-                Err(_) => panic!("{} reader panicked on a damaged copy of a .{ext} fixture ({} bytes)", format.name(), damaged.len()),
+                Err(_) => panic!(
+                    "{} reader panicked on a damaged copy of a .{ext} fixture ({} bytes)",
+                    format.name(),
+                    damaged.len()
+                ),
             }
         }
     }

@@ -9,8 +9,8 @@ use common::{counts_per_tag, public_fixture, public_fixtures, read_file, roundtr
 use proptest::prelude::*;
 use smartmesh_formats::arbitrary::{arb_tagged_mesh, MeshFeatures};
 use smartmesh_formats::{
-    read_bytes, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format, MemorySiblings, NoSiblings, ReadContext, RegionSeed,
-    TaggedMesh, WriteOptions,
+    read_bytes, write_bytes, CellBlock, CellKind, DataArray, ErrorKind, Format, MemorySiblings,
+    NoSiblings, ReadContext, RegionSeed, TaggedMesh, WriteOptions,
 };
 
 fn opts(main: &str) -> WriteOptions {
@@ -30,8 +30,14 @@ fn histogram(a: &DataArray) -> BTreeMap<i64, usize> {
     m
 }
 
-fn read_mem(main_ext: &str, main: &str, siblings: &[(&str, &str)]) -> smartmesh_formats::Result<TaggedMesh> {
-    let sib = MemorySiblings { files: siblings.iter().map(|(e, s)| (e.to_string(), s.as_bytes().to_vec())).collect() };
+fn read_mem(
+    main_ext: &str,
+    main: &str,
+    siblings: &[(&str, &str)],
+) -> smartmesh_formats::Result<TaggedMesh> {
+    let sib = MemorySiblings {
+        files: siblings.iter().map(|(e, s)| (e.to_string(), s.as_bytes().to_vec())).collect(),
+    };
     let ctx = ReadContext { siblings: &sib, extension: main_ext.into() };
     read_bytes(Format::Triangle, main.as_bytes(), &ctx)
 }
@@ -78,7 +84,10 @@ fn box_meshes_from_every_main_file() {
 #[test]
 fn box_4_vertex_markers() {
     let m = read_file("triangle/box.4.ele");
-    assert_eq!(histogram(&m.point_data["triangle:marker"]), BTreeMap::from([(0, 461), (1, 49), (5, 16), (10, 4), (33, 1)]));
+    assert_eq!(
+        histogram(&m.point_data["triangle:marker"]),
+        BTreeMap::from([(0, 461), (1, 49), (5, 16), (10, 4), (33, 1)])
+    );
 }
 
 #[test]
@@ -109,7 +118,10 @@ fn bbox_area_constraints() {
     // Triangle 3 has bound 0.02, the others -1.
     assert_eq!(area[2], 0.02);
     assert_eq!(area.iter().filter(|&&a| a == -1.0).count(), 11);
-    assert_eq!(histogram(&m.point_data["triangle:marker"]), BTreeMap::from([(1, 6), (5, 3), (10, 2), (33, 1)]));
+    assert_eq!(
+        histogram(&m.point_data["triangle:marker"]),
+        BTreeMap::from([(1, 6), (5, 3), (10, 2), (33, 1)])
+    );
     assert_eq!(read_file("triangle/bbox.1.node"), m);
 }
 
@@ -120,7 +132,9 @@ fn double_hex_family() {
     assert_eq!(m.points.len(), 96);
     assert_eq!(counts_per_tag(&m), counts(&lines));
     assert_eq!(m.holes.len(), 2);
-    for (base, np, ntri) in [("double_hex.1", 96, 98), ("double_hex.2", 525, 956), ("double_hex3.1", 531, 968)] {
+    for (base, np, ntri) in
+        [("double_hex.1", 96, 98), ("double_hex.2", 525, 956), ("double_hex3.1", 531, 968)]
+    {
         let m = read_file(&format!("triangle/{base}.ele"));
         let mut c = lines.to_vec();
         c.push(("triangle", 0, ntri));
@@ -133,7 +147,11 @@ fn double_hex_family() {
     for (base, ntri) in [("double_hex2.1", 50), ("double_hex2.2", 236)] {
         let mut c = small.to_vec();
         c.push(("triangle", 0, ntri));
-        assert_eq!(counts_per_tag(&read_file(&format!("triangle/{base}.node"))), counts(&c), "{base}");
+        assert_eq!(
+            counts_per_tag(&read_file(&format!("triangle/{base}.node"))),
+            counts(&c),
+            "{base}"
+        );
     }
 }
 
@@ -143,7 +161,10 @@ fn double_hex3_node_and_poly_agree() {
     let from_poly = read_file("triangle/double_hex3.poly");
     let from_node = read_file("triangle/double_hex3.node");
     assert_eq!(from_poly.points, from_node.points);
-    assert_eq!(counts_per_tag(&from_node), counts(&[("line", 1, 4), ("line", 2, 6), ("line", 3, 6)]));
+    assert_eq!(
+        counts_per_tag(&from_node),
+        counts(&[("line", 1, 4), ("line", 2, 6), ("line", 3, 6)])
+    );
     assert_eq!(from_node.holes.len(), 2);
 }
 
@@ -214,7 +235,10 @@ fn point_sets_and_plain_meshes() {
         assert_eq!(m.points.len(), np, "{file}");
         assert_eq!(counts_per_tag(&m), counts(&[("triangle", 0, ntri)]), "{file}");
     }
-    assert_eq!(histogram(&read_file("triangle/ell.node").point_data["triangle:marker"]), BTreeMap::from([(0, 6), (1, 15)]));
+    assert_eq!(
+        histogram(&read_file("triangle/ell.node").point_data["triangle:marker"]),
+        BTreeMap::from([(0, 6), (1, 15)])
+    );
     let m = read_file("triangle/square_circle_hole.poly");
     assert_eq!(m.points.len(), 826);
     assert_eq!(counts_per_tag(&m), counts(&[("line", 1, 112), ("line", 2, 23)]));
@@ -252,7 +276,10 @@ fn greenland() {
 fn every_public_file_reads() {
     let dir = public_fixtures().join("triangle");
     let mut by_base: BTreeMap<String, TaggedMesh> = BTreeMap::new();
-    let mut names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
     names.sort();
     assert!(names.len() >= 69, "{} files", names.len());
     for name in names {
@@ -275,7 +302,14 @@ fn every_public_file_reads() {
 /// A tagged mesh with everything Triangle holds.
 fn full_mesh() -> TaggedMesh {
     let mut m = TaggedMesh::new();
-    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0], [0.1, 1e-7, 0.0]];
+    m.points = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.1, 1e-7, 0.0],
+    ];
     m.blocks.push(CellBlock {
         kind: CellKind::Line,
         nodes: vec![0, 1, 1, 2, 2, 3, 3, 0],
@@ -288,12 +322,25 @@ fn full_mesh() -> TaggedMesh {
         physical: vec![7, 7, 8, 8],
         geometrical: vec![7, 7, 8, 8],
     });
-    m.point_data.insert("triangle:marker".into(), DataArray::new(1, vec![1.0, 2.0, 2.0, 4.0, 0.0, 0.0]));
-    m.point_data.insert("triangle:attribute1".into(), DataArray::new(1, vec![0.5, 1.5, 2.5, 3.5, 4.5, 1.0 / 3.0]));
+    m.point_data
+        .insert("triangle:marker".into(), DataArray::new(1, vec![1.0, 2.0, 2.0, 4.0, 0.0, 0.0]));
+    m.point_data.insert(
+        "triangle:attribute1".into(),
+        DataArray::new(1, vec![0.5, 1.5, 2.5, 3.5, 4.5, 1.0 / 3.0]),
+    );
     // Cell data covers the lines too; they carry 0 attributes and no area bound.
-    m.cell_data.insert("triangle:attribute1".into(), DataArray::new(1, vec![0.0, 0.0, 0.0, 0.0, 7.0, 7.0, 8.0, 8.0]));
-    m.cell_data.insert("triangle:attribute2".into(), DataArray::new(1, vec![0.0, 0.0, 0.0, 0.0, 0.25, -1.5, 1e300, 0.0]));
-    m.cell_data.insert("triangle:area".into(), DataArray::new(1, vec![-1.0, -1.0, -1.0, -1.0, 0.01, -1.0, 0.5, -1.0]));
+    m.cell_data.insert(
+        "triangle:attribute1".into(),
+        DataArray::new(1, vec![0.0, 0.0, 0.0, 0.0, 7.0, 7.0, 8.0, 8.0]),
+    );
+    m.cell_data.insert(
+        "triangle:attribute2".into(),
+        DataArray::new(1, vec![0.0, 0.0, 0.0, 0.0, 0.25, -1.5, 1e300, 0.0]),
+    );
+    m.cell_data.insert(
+        "triangle:area".into(),
+        DataArray::new(1, vec![-1.0, -1.0, -1.0, -1.0, 0.01, -1.0, 0.5, -1.0]),
+    );
     m.holes = vec![[0.25, 0.75]];
     m.regions = vec![
         RegionSeed { point: [0.5, 0.25], attribute: 7.0, max_area: 0.1 },
@@ -328,8 +375,12 @@ fn written_files_look_like_triangle_output() {
     let poly = &w.siblings.iter().find(|(e, _)| e == "poly").unwrap().1;
     let poly = String::from_utf8(poly.clone()).unwrap();
     assert!(poly.starts_with("0 2 1 1\n4 1\n1 1 2 1\n"), "{poly}");
-    assert!(poly.ends_with("1\n1 0.25 0.75\n2\n1 0.5 0.25 7.0 0.1\n2 0.5 0.75 8.0 -1.0\n"), "{poly}");
-    let ele = String::from_utf8(w.siblings.iter().find(|(e, _)| e == "ele").unwrap().1.clone()).unwrap();
+    assert!(
+        poly.ends_with("1\n1 0.25 0.75\n2\n1 0.5 0.25 7.0 0.1\n2 0.5 0.75 8.0 -1.0\n"),
+        "{poly}"
+    );
+    let ele =
+        String::from_utf8(w.siblings.iter().find(|(e, _)| e == "ele").unwrap().1.clone()).unwrap();
     assert!(ele.starts_with("4 3 2\n1 1 2 5 7 0.25\n"), "{ele}");
 }
 
@@ -343,10 +394,20 @@ fn self_contained_pslg() {
         let w = write_bytes(Format::Triangle, &m, &o).unwrap();
         assert!(w.siblings.is_empty(), "{main:?}");
         assert!(w.report.dropped.is_empty());
-        let back = read_bytes(Format::Triangle, &w.main, &ReadContext { siblings: &NoSiblings, extension: "poly".into() }).unwrap();
+        let back = read_bytes(
+            Format::Triangle,
+            &w.main,
+            &ReadContext { siblings: &NoSiblings, extension: "poly".into() },
+        )
+        .unwrap();
         assert_eq!(back, m);
         // A stream without extension reads the same.
-        let back = read_bytes(Format::Triangle, &w.main, &ReadContext { siblings: &NoSiblings, extension: String::new() }).unwrap();
+        let back = read_bytes(
+            Format::Triangle,
+            &w.main,
+            &ReadContext { siblings: &NoSiblings, extension: String::new() },
+        )
+        .unwrap();
         assert_eq!(back, m);
     }
 }
@@ -357,8 +418,13 @@ fn mesh_to_stdout_needs_siblings() {
     assert!(String::from_utf8_lossy(&w.main).starts_with("6 2 1 1\n"));
     assert!(!w.siblings.is_empty());
     // write_path refuses stdout for a set of files, saying why.
-    let e = smartmesh_formats::write_path(std::path::Path::new("-"), &full_mesh(), Some(Format::Triangle), &WriteOptions::default())
-        .unwrap_err();
+    let e = smartmesh_formats::write_path(
+        std::path::Path::new("-"),
+        &full_mesh(),
+        Some(Format::Triangle),
+        &WriteOptions::default(),
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("sibling files"), "{e}");
 }
 
@@ -376,7 +442,11 @@ fn voronoi_rays_round_trip_through_edge() {
     assert_eq!(back, m);
     // As a .node set the rays cannot be kept, and the report says so.
     let w = write_bytes(Format::Triangle, &m, &opts("dots.node")).unwrap();
-    assert!(w.report.dropped.iter().any(|d| d.contains("11 vertex cells")), "{:?}", w.report.dropped);
+    assert!(
+        w.report.dropped.iter().any(|d| d.contains("11 vertex cells")),
+        "{:?}",
+        w.report.dropped
+    );
 }
 
 #[test]
@@ -388,17 +458,30 @@ fn edges_as_main_file() {
     assert!(w.report.dropped.is_empty(), "{:?}", w.report.dropped);
     assert_eq!(back, m);
     let w = write_bytes(Format::Triangle, &full_mesh(), &opts("x.edge")).unwrap();
-    assert!(w.report.dropped.iter().any(|d| d.contains("1 holes and 2 regions")), "{:?}", w.report.dropped);
+    assert!(
+        w.report.dropped.iter().any(|d| d.contains("1 holes and 2 regions")),
+        "{:?}",
+        w.report.dropped
+    );
 }
 
 #[test]
 fn second_order_triangles_round_trip() {
     let mut m = TaggedMesh::new();
     m.points = (0..6).map(|i| [i as f64, (i * i) as f64, 0.0]).collect();
-    m.blocks.push(CellBlock { kind: CellKind::Triangle6, nodes: vec![0, 1, 2, 3, 4, 5], physical: vec![3], geometrical: vec![3] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Triangle6,
+        nodes: vec![0, 1, 2, 3, 4, 5],
+        physical: vec![3],
+        geometrical: vec![3],
+    });
     let (w, back) = roundtrip(Format::Triangle, "ele", &m, &opts("p2.ele"));
     // Triangle's order: the 4th node lies opposite the 1st corner (our edge 2-3 node).
-    assert!(String::from_utf8_lossy(&w.main).contains("\n1 1 2 3 5 6 4 3\n"), "{}", String::from_utf8_lossy(&w.main));
+    assert!(
+        String::from_utf8_lossy(&w.main).contains("\n1 1 2 3 5 6 4 3\n"),
+        "{}",
+        String::from_utf8_lossy(&w.main)
+    );
     assert_eq!(back.blocks, m.blocks);
 }
 
@@ -406,7 +489,12 @@ fn second_order_triangles_round_trip() {
 fn what_triangle_cannot_hold_is_reported() {
     let mut m = full_mesh();
     m.points[0][2] = 1.0;
-    m.blocks.push(CellBlock { kind: CellKind::Quad, nodes: vec![0, 1, 2, 3], physical: vec![1], geometrical: vec![2] });
+    m.blocks.push(CellBlock {
+        kind: CellKind::Quad,
+        nodes: vec![0, 1, 2, 3],
+        physical: vec![1],
+        geometrical: vec![2],
+    });
     m.blocks[1].geometrical[0] = 99;
     m.point_data.insert("metric".into(), DataArray::new(9, vec![1.0; 54]));
     m.cell_data.insert("quality".into(), DataArray::new(1, vec![1.0; 9]));
@@ -554,7 +642,10 @@ fn malformed_index_out_of_range() {
 #[test]
 fn malformed_error_in_sibling_names_it() {
     let e = err("ele", "1 3 0\n1 1 2 3\n", &[("node", "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0\n")]);
-    assert_eq!(e.to_string(), "<memory>.node:5: expected y coordinate of vertex 4, found end of line");
+    assert_eq!(
+        e.to_string(),
+        "<memory>.node:5: expected y coordinate of vertex 4, found end of line"
+    );
 }
 
 #[test]

@@ -15,13 +15,16 @@ use common::{counts_per_tag, public_fixture, python_with, read_file, run_python}
 use smartmesh_formats::{read_path, write_path, CellKind, Format, TaggedMesh, WriteOptions};
 
 fn write(mesh: &TaggedMesh, path: &Path) {
-    let report = write_path(path, mesh, None, &WriteOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let report =
+        write_path(path, mesh, None, &WriteOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     assert!(report.dropped.is_empty(), "{}: {:?}", path.display(), report.dropped);
 }
 
 /// Parses the whitespace-separated numbers of one output line.
 fn numbers(line: &str) -> Vec<f64> {
-    line.split_whitespace().map(|t| t.parse().unwrap_or_else(|_| panic!("not a number: {t}"))).collect()
+    line.split_whitespace()
+        .map(|t| t.parse().unwrap_or_else(|_| panic!("not a number: {t}")))
+        .collect()
 }
 
 // -----------------------------------------------------------------------------------------
@@ -47,11 +50,19 @@ fn check_triangle_load(py: &str, dir: &Path, name: &str, m: &TaggedMesh) {
     assert_eq!(lines.len(), 7, "{out}");
     let xy: Vec<f64> = m.points.iter().flat_map(|p| [p[0], p[1]]).collect();
     // Bitwise: Python prints the shortest repr, which reads back exactly.
-    assert_eq!(numbers(lines[0]).iter().map(|v| v.to_bits()).collect::<Vec<_>>(), xy.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+    assert_eq!(
+        numbers(lines[0]).iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+        xy.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    );
     if let Some(mk) = m.point_data.get("triangle:marker") {
         assert_eq!(numbers(lines[1]), mk.values);
     }
-    let tri: Vec<f64> = m.blocks.iter().filter(|b| b.kind == CellKind::Triangle).flat_map(|b| b.nodes.iter().map(|&v| v as f64)).collect();
+    let tri: Vec<f64> = m
+        .blocks
+        .iter()
+        .filter(|b| b.kind == CellKind::Triangle)
+        .flat_map(|b| b.nodes.iter().map(|&v| v as f64))
+        .collect();
     assert_eq!(numbers(lines[2]), tri);
     let seg = m.blocks.iter().find(|b| b.kind == CellKind::Line).expect("segments");
     assert_eq!(numbers(lines[3]), seg.nodes.iter().map(|&v| v as f64).collect::<Vec<_>>());
@@ -186,12 +197,14 @@ fn meshio_reads_our_mesh() {
         let mut seen = Vec::new();
         for line in lines {
             let mut f = line.split_whitespace();
-            let (kind, n) = (f.next().unwrap().to_string(), f.next().unwrap().parse::<usize>().unwrap());
+            let (kind, n) =
+                (f.next().unwrap().to_string(), f.next().unwrap().parse::<usize>().unwrap());
             let refs: Vec<i32> = f.map(|t| t.parse().unwrap()).collect();
             assert_eq!(refs.len(), n);
             seen.push((kind, refs));
         }
-        let ours: Vec<(String, Vec<i32>)> = m.blocks.iter().map(|b| (b.kind.name().to_string(), b.physical.clone())).collect();
+        let ours: Vec<(String, Vec<i32>)> =
+            m.blocks.iter().map(|b| (b.kind.name().to_string(), b.physical.clone())).collect();
         assert_eq!(seen, ours, "{name}");
     }
     // What meshio writes, we read: the same counts per tag.

@@ -5,7 +5,10 @@ mod common;
 
 use std::collections::BTreeMap;
 
-use smartmesh_formats::{read_bytes, sym2_to_tensor9, write_bytes, CellKind, DataArray, ErrorKind, Format, Layout, Position, ReadContext, TaggedMesh, VtuEncoding, WriteOptions};
+use smartmesh_formats::{
+    read_bytes, sym2_to_tensor9, write_bytes, CellKind, DataArray, ErrorKind, Format, Layout,
+    Position, ReadContext, TaggedMesh, VtuEncoding, WriteOptions,
+};
 
 const FIXTURES: [&str; 6] = [
     "vtk/naca0012_ascii.vtu",
@@ -18,10 +21,19 @@ const FIXTURES: [&str; 6] = [
 
 /// Encodings that store doubles exactly (VTK's legacy ASCII writer rounds to 11
 /// significant digits).
-const EXACT: [&str; 4] = ["vtk/naca0012_ascii.vtu", "vtk/naca0012_binary_zlib.vtu", "vtk/naca0012_appended_raw.vtu", "vtk/naca0012_legacy_binary.vtk"];
+const EXACT: [&str; 4] = [
+    "vtk/naca0012_ascii.vtu",
+    "vtk/naca0012_binary_zlib.vtu",
+    "vtk/naca0012_appended_raw.vtu",
+    "vtk/naca0012_legacy_binary.vtk",
+];
 
 fn read(format: Format, bytes: &[u8]) -> smartmesh_formats::Result<TaggedMesh> {
-    read_bytes(format, bytes, &ReadContext::alone(if format == Format::Vtu { "vtu" } else { "vtk" }))
+    read_bytes(
+        format,
+        bytes,
+        &ReadContext::alone(if format == Format::Vtu { "vtu" } else { "vtk" }),
+    )
 }
 
 /// Every variant the writers offer: (label, format, options).
@@ -30,7 +42,16 @@ fn variants() -> Vec<(String, Format, WriteOptions)> {
     for version in [(4, 2), (5, 1)] {
         for binary in [false, true] {
             let o = WriteOptions { vtk_legacy_version: version, binary, ..WriteOptions::default() };
-            v.push((format!("legacy {}.{} {}", version.0, version.1, if binary { "binary" } else { "ascii" }), Format::VtkLegacy, o));
+            v.push((
+                format!(
+                    "legacy {}.{} {}",
+                    version.0,
+                    version.1,
+                    if binary { "binary" } else { "ascii" }
+                ),
+                Format::VtkLegacy,
+                o,
+            ));
         }
     }
     for enc in [VtuEncoding::Ascii, VtuEncoding::Binary, VtuEncoding::Appended] {
@@ -60,7 +81,8 @@ fn every_public_fixture_reads_with_the_expected_counts() {
         let m = common::read_file(rel);
         assert_eq!(m.points.len(), NPOINTS, "{rel}");
         assert_eq!(m.coordinate_dim, 2, "{rel}: every z is 0");
-        let expected: BTreeMap<(String, i32), usize> = [(("triangle".to_string(), FLUID), NTRIANGLES)].into();
+        let expected: BTreeMap<(String, i32), usize> =
+            [(("triangle".to_string(), FLUID), NTRIANGLES)].into();
         assert_eq!(common::counts_per_tag(&m), expected, "{rel}");
         // No `gmsh:geometrical` in the files: the physical tag stands for both.
         assert!(m.blocks.iter().all(|b| b.physical == b.geometrical), "{rel}");
@@ -96,15 +118,28 @@ fn all_six_fixtures_hold_the_same_mesh() {
         if EXACT.contains(&rel) {
             assert_eq!(bits(&flat(&m)), bits(&flat(&reference)), "{rel}: points bitwise");
             for name in ["metric", "hmin"] {
-                assert_eq!(bits(&m.point_data[name].values), bits(&reference.point_data[name].values), "{rel}: {name} bitwise");
-                assert_eq!(m.point_data[name].layout, reference.point_data[name].layout, "{rel}: {name}");
+                assert_eq!(
+                    bits(&m.point_data[name].values),
+                    bits(&reference.point_data[name].values),
+                    "{rel}: {name} bitwise"
+                );
+                assert_eq!(
+                    m.point_data[name].layout, reference.point_data[name].layout,
+                    "{rel}: {name}"
+                );
             }
         } else {
             // Legacy ASCII as VTK writes it: 11 significant digits.
-            let close = |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-10 * x.abs().max(y.abs()));
+            let close = |a: &[f64], b: &[f64]| {
+                a.len() == b.len()
+                    && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-10 * x.abs().max(y.abs()))
+            };
             assert!(close(&flat(&m), &flat(&reference)), "{rel}: points");
             for name in ["metric", "hmin"] {
-                assert!(close(&m.point_data[name].values, &reference.point_data[name].values), "{rel}: {name}");
+                assert!(
+                    close(&m.point_data[name].values, &reference.point_data[name].values),
+                    "{rel}: {name}"
+                );
             }
         }
     }
@@ -130,12 +165,29 @@ fn rich_mesh() -> TaggedMesh {
     m.blocks.push(verts);
     let nc = m.num_cells();
     let np = m.points.len();
-    m.cell_data.insert("quality".into(), DataArray::new(1, (0..nc).map(|i| 1.0 / (i as f64 + 3.0)).collect()));
-    m.cell_data.insert("centroid".into(), DataArray::new(3, (0..3 * nc).map(|i| (i as f64).sqrt()).collect()));
-    m.point_data.insert("velocity".into(), DataArray::new(3, (0..3 * np).map(|i| (i as f64 * 0.37).sin()).collect()));
-    m.point_data.insert("uv".into(), DataArray::new(2, (0..2 * np).map(|i| i as f64 * 1e-7).collect()));
-    m.point_data.insert("four".into(), DataArray::new(4, (0..4 * np).map(|i| -(i as f64) / 7.0).collect()));
-    m.point_data.insert("size_tensor".into(), DataArray::new(9, m.point_data["metric"].expanded().values.iter().map(|v| v.sqrt()).collect()));
+    m.cell_data.insert(
+        "quality".into(),
+        DataArray::new(1, (0..nc).map(|i| 1.0 / (i as f64 + 3.0)).collect()),
+    );
+    m.cell_data.insert(
+        "centroid".into(),
+        DataArray::new(3, (0..3 * nc).map(|i| (i as f64).sqrt()).collect()),
+    );
+    m.point_data.insert(
+        "velocity".into(),
+        DataArray::new(3, (0..3 * np).map(|i| (i as f64 * 0.37).sin()).collect()),
+    );
+    m.point_data
+        .insert("uv".into(), DataArray::new(2, (0..2 * np).map(|i| i as f64 * 1e-7).collect()));
+    m.point_data
+        .insert("four".into(), DataArray::new(4, (0..4 * np).map(|i| -(i as f64) / 7.0).collect()));
+    m.point_data.insert(
+        "size_tensor".into(),
+        DataArray::new(
+            9,
+            m.point_data["metric"].expanded().values.iter().map(|v| v.sqrt()).collect(),
+        ),
+    );
     m
 }
 
@@ -143,7 +195,8 @@ fn rich_mesh() -> TaggedMesh {
 fn every_variant_reads_back_identically() {
     let m = rich_mesh();
     for (label, format, opts) in variants() {
-        let (written, back) = common::roundtrip(format, if format == Format::Vtu { "vtu" } else { "vtk" }, &m, &opts);
+        let (written, back) =
+            common::roundtrip(format, if format == Format::Vtu { "vtu" } else { "vtk" }, &m, &opts);
         assert!(written.report.dropped.is_empty(), "{label}: {:?}", written.report.dropped);
         assert_eq!(bits(&flat(&back)), bits(&flat(&m)), "{label}: points");
         assert_eq!(back, m, "{label}");
@@ -191,7 +244,12 @@ fn what_vtk_cannot_hold_is_reported() {
     for (label, format, opts) in variants() {
         let w = write_bytes(format, &m, &opts).unwrap();
         let d = w.report.dropped.join("\n");
-        for needle in ["point set `Corners`", "entity table", "cell data `gmsh:physical`", "tag name `Fluid` of (2, 99)"] {
+        for needle in [
+            "point set `Corners`",
+            "entity table",
+            "cell data `gmsh:physical`",
+            "tag name `Fluid` of (2, 99)",
+        ] {
             assert!(d.contains(needle), "{label}: {needle} not in\n{d}");
         }
     }
@@ -208,7 +266,12 @@ fn legacy_files_put_the_tensor_where_paraview_looks() {
     assert!(text.contains("\ngmsh:physical 1 3643 int\n"));
     assert!(text.contains("\ngmsh:geometrical 1 3643 int\n"));
     assert!(text.contains("\nfar%20field 1 2 int\n7 1\n"));
-    let w = write_bytes(Format::Vtu, &m, &WriteOptions { compress: false, vtu_encoding: VtuEncoding::Ascii, ..Default::default() }).unwrap();
+    let w = write_bytes(
+        Format::Vtu,
+        &m,
+        &WriteOptions { compress: false, vtu_encoding: VtuEncoding::Ascii, ..Default::default() },
+    )
+    .unwrap();
     let text = String::from_utf8(w.main).unwrap();
     assert!(text.contains("<PointData Tensors=\"size_tensor\">"));
     assert!(text.contains("Name=\"metric\" NumberOfComponents=\"9\""));
@@ -251,12 +314,33 @@ fn big_endian_vtu(appended_base64: bool, compress: bool) -> Vec<u8> {
     use base64::Engine;
     let b64 = |b: &[u8]| base64::engine::general_purpose::STANDARD.encode(b);
     let arrays: Vec<(&str, &str, usize, Vec<u8>, &str)> = vec![
-        ("Points", "Float32", 3, [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0].iter().flat_map(|v| v.to_be_bytes()).collect(), "Points"),
-        ("connectivity", "Int32", 1, [0i32, 1, 2].iter().flat_map(|v| v.to_be_bytes()).collect(), "Cells"),
+        (
+            "Points",
+            "Float32",
+            3,
+            [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+                .iter()
+                .flat_map(|v| v.to_be_bytes())
+                .collect(),
+            "Points",
+        ),
+        (
+            "connectivity",
+            "Int32",
+            1,
+            [0i32, 1, 2].iter().flat_map(|v| v.to_be_bytes()).collect(),
+            "Cells",
+        ),
         ("offsets", "Int32", 1, 3i32.to_be_bytes().to_vec(), "Cells"),
         ("types", "UInt8", 1, vec![5u8], "Cells"),
         ("gmsh:physical", "Int16", 1, 6i16.to_be_bytes().to_vec(), "CellData"),
-        ("h", "Float64", 1, [0.5f64, 0.25, 0.125].iter().flat_map(|v| v.to_be_bytes()).collect(), "PointData"),
+        (
+            "h",
+            "Float64",
+            1,
+            [0.5f64, 0.25, 0.125].iter().flat_map(|v| v.to_be_bytes()).collect(),
+            "PointData",
+        ),
     ];
     let encode = |raw: &[u8]| -> (Vec<u8>, Vec<u8>) {
         if compress {
@@ -306,7 +390,9 @@ fn big_endian_vtu(appended_base64: bool, compress: bool) -> Vec<u8> {
     }
     xml.push_str("</Piece>\n</UnstructuredGrid>\n");
     if appended_base64 {
-        xml.push_str(&format!("<AppendedData encoding=\"base64\">\n  _{appended}\n</AppendedData>\n"));
+        xml.push_str(&format!(
+            "<AppendedData encoding=\"base64\">\n  _{appended}\n</AppendedData>\n"
+        ));
     }
     xml.push_str("</VTKFile>\n");
     xml.into_bytes()
@@ -316,7 +402,8 @@ fn big_endian_vtu(appended_base64: bool, compress: bool) -> Vec<u8> {
 fn big_endian_uint32_vtu_in_binary_and_appended_base64() {
     for appended in [false, true] {
         for compress in [false, true] {
-            let m = read(Format::Vtu, &big_endian_vtu(appended, compress)).unwrap_or_else(|e| panic!("appended {appended} zlib {compress}: {e}"));
+            let m = read(Format::Vtu, &big_endian_vtu(appended, compress))
+                .unwrap_or_else(|e| panic!("appended {appended} zlib {compress}: {e}"));
             assert_eq!(m.points, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
             assert_eq!(m.blocks[0].nodes, [0, 1, 2]);
             assert_eq!(m.blocks[0].physical, [6]);
@@ -373,14 +460,20 @@ fn legacy_err(text: &str) -> smartmesh_formats::Error {
 #[test]
 fn legacy_truncated_points() {
     let e = legacy_err("# vtk DataFile Version 4.2\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 double\n0 0 0\n1 0");
-    assert!(matches!(e.kind, ErrorKind::UnexpectedEof { .. } | ErrorKind::ImplausibleCount { .. }), "{e}");
+    assert!(
+        matches!(e.kind, ErrorKind::UnexpectedEof { .. } | ErrorKind::ImplausibleCount { .. }),
+        "{e}"
+    );
     assert!(matches!(e.at, Some(Position::Line(5..=7))), "{e}");
 }
 
 #[test]
 fn legacy_truncated_binary() {
     let m = common::read_file("vtk/naca0012_legacy_binary.vtk");
-    let bytes = write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() }).unwrap().main;
+    let bytes =
+        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
+            .unwrap()
+            .main;
     let e = read(Format::VtkLegacy, &bytes[..bytes.len() / 2]).unwrap_err();
     assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
     assert!(e.to_string().contains("byte"), "{e}");
@@ -403,7 +496,10 @@ fn legacy_cell_list_runs_out() {
     m.points = vec![[0.0; 3]; 3];
     m.blocks.push(smartmesh_formats::CellBlock::new(CellKind::Triangle));
     m.blocks[0].push(&[0, 1, 2], 1, 1);
-    let bytes = write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() }).unwrap().main;
+    let bytes =
+        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
+            .unwrap()
+            .main;
     let i = memchr::memmem::find(&bytes, b"CELLS 1 4").unwrap();
     let mut bad = bytes.clone();
     bad[i..i + 9].copy_from_slice(b"CELLS 2 4");
@@ -419,7 +515,11 @@ fn vtu_string_field_data_is_skipped() {
         "<UnstructuredGrid>\n<FieldData><DataArray type=\"String\" Name=\"note\" NumberOfTuples=\"1\" format=\"ascii\">104 105 0</DataArray></FieldData>\n",
     );
     assert!(read(Format::Vtu, text.as_bytes()).is_ok());
-    let e = vtu_err(&VTU.replace("type=\"Int64\" Name=\"connectivity\"", "type=\"String\" Name=\"connectivity\""));
+    let e =
+        vtu_err(&VTU.replace(
+            "type=\"Int64\" Name=\"connectivity\"",
+            "type=\"String\" Name=\"connectivity\"",
+        ));
     assert!(matches!(e.kind, ErrorKind::Unsupported(_)), "{e}");
 }
 
@@ -456,7 +556,10 @@ fn legacy_nan_coordinate() {
 fn legacy_nan_in_binary_data() {
     let mut m = common::read_file("vtk/naca0012_legacy_binary.vtk");
     m.point_data.get_mut("hmin").unwrap().values[5] = f64::NAN;
-    let bytes = write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() }).unwrap().main;
+    let bytes =
+        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
+            .unwrap()
+            .main;
     let e = read(Format::VtkLegacy, &bytes).unwrap_err();
     assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
     assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
@@ -548,7 +651,17 @@ fn vtu_truncated() {
     let e = vtu_err(&VTU[..VTU.find("<Cells>").unwrap() + 20]);
     assert!(matches!(e.kind, ErrorKind::UnexpectedEof { .. } | ErrorKind::Expected { .. }), "{e}");
     let m = rich_mesh();
-    let bytes = write_bytes(Format::Vtu, &m, &WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: false, ..Default::default() }).unwrap().main;
+    let bytes = write_bytes(
+        Format::Vtu,
+        &m,
+        &WriteOptions {
+            vtu_encoding: VtuEncoding::Appended,
+            compress: false,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .main;
     let e = read(Format::Vtu, &bytes[..bytes.len() - 5000]).unwrap_err();
     assert!(matches!(e.kind, ErrorKind::UnexpectedEof { .. }), "{e}");
 }
@@ -589,7 +702,13 @@ fn vtu_nan() {
 #[test]
 fn vtu_bad_base64() {
     let m = rich_mesh();
-    let bytes = write_bytes(Format::Vtu, &m, &WriteOptions { vtu_encoding: VtuEncoding::Binary, compress: false, ..Default::default() }).unwrap().main;
+    let bytes = write_bytes(
+        Format::Vtu,
+        &m,
+        &WriteOptions { vtu_encoding: VtuEncoding::Binary, compress: false, ..Default::default() },
+    )
+    .unwrap()
+    .main;
     let text = String::from_utf8(bytes).unwrap();
     let i = text.find("format=\"binary\">").unwrap() + 40;
     let mut bad = text.into_bytes();
@@ -602,7 +721,13 @@ fn vtu_bad_base64() {
 #[test]
 fn vtu_bad_zlib() {
     let m = rich_mesh();
-    let bytes = write_bytes(Format::Vtu, &m, &WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: true, ..Default::default() }).unwrap().main;
+    let bytes = write_bytes(
+        Format::Vtu,
+        &m,
+        &WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: true, ..Default::default() },
+    )
+    .unwrap()
+    .main;
     let base = memchr::memmem::find(&bytes, b"   _").unwrap() + 4;
     let mut bad = bytes.clone();
     // Inside the first array's first compressed block (after a 4-block header at most).
@@ -624,7 +749,10 @@ fn vtu_zlib_header_claims_too_much() {
     use base64::Engine;
     let b = base64::engine::general_purpose::STANDARD.encode(&h);
     let text = VTU
-        .replace("version=\"0.1\"", "version=\"1.0\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"")
+        .replace(
+            "version=\"0.1\"",
+            "version=\"1.0\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"",
+        )
         .replace("format=\"ascii\">0 0 0 1 0 0 0 1 0<", &format!("format=\"binary\">{b}<"));
     let e = vtu_err(&text);
     assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. }), "{e}");
@@ -636,7 +764,10 @@ fn vtu_unsupported_compressor_and_type() {
     assert!(e.to_string().contains("vtkLZ4DataCompressor"), "{e}");
     let e = vtu_err(&VTU.replace("UnstructuredGrid\" version", "PolyData\" version"));
     assert!(matches!(e.kind, ErrorKind::Unsupported(_)), "{e}");
-    let e = vtu_err(&VTU.replace("UInt8\" Name=\"types\" format=\"ascii\">5", "UInt8\" Name=\"types\" format=\"ascii\">10"));
+    let e = vtu_err(&VTU.replace(
+        "UInt8\" Name=\"types\" format=\"ascii\">5",
+        "UInt8\" Name=\"types\" format=\"ascii\">10",
+    ));
     assert!(e.to_string().contains("tetra"), "{e}");
     let e = vtu_err(&VTU.replace("LittleEndian", "MiddleEndian"));
     assert!(e.to_string().contains("byte_order"), "{e}");
@@ -644,7 +775,10 @@ fn vtu_unsupported_compressor_and_type() {
 
 #[test]
 fn vtu_missing_appended_data() {
-    let e = vtu_err(&VTU.replace("format=\"ascii\">0 0 0 1 0 0 0 1 0</DataArray>", "format=\"appended\" offset=\"0\"/>"));
+    let e = vtu_err(&VTU.replace(
+        "format=\"ascii\">0 0 0 1 0 0 0 1 0</DataArray>",
+        "format=\"appended\" offset=\"0\"/>",
+    ));
     assert!(e.to_string().contains("AppendedData"), "{e}");
 }
 
@@ -654,14 +788,21 @@ fn vtu_malformed_xml() {
     assert!(matches!(e.kind, ErrorKind::Expected { .. } | ErrorKind::UnexpectedEof { .. }), "{e}");
     let e = vtu_err(&VTU.replace("NumberOfCells=\"1\"", "NumberOfCells=1"));
     assert!(e.to_string().contains("quoted value"), "{e}");
-    let e = vtu_err("<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid></UnstructuredGrid></VTKFile>");
+    let e = vtu_err(
+        "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid></UnstructuredGrid></VTKFile>",
+    );
     assert!(e.to_string().contains("Piece"), "{e}");
 }
 
 #[test]
 fn writer_refuses_other_legacy_versions() {
     let m = rich_mesh();
-    let e = write_bytes(Format::VtkLegacy, &m, &WriteOptions { vtk_legacy_version: (3, 0), ..Default::default() }).unwrap_err();
+    let e = write_bytes(
+        Format::VtkLegacy,
+        &m,
+        &WriteOptions { vtk_legacy_version: (3, 0), ..Default::default() },
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("4.2 and 5.1"), "{e}");
 }
 
@@ -737,9 +878,18 @@ fn mixed_mesh(order: &[CellKind]) -> TaggedMesh {
 #[test]
 fn binary_blocks_come_back_in_order_whichever_is_largest() {
     use CellKind::{Line, Triangle};
-    for order in [&[Triangle][..], &[Line], &[Line, Triangle], &[Triangle, Line], &[Triangle, Line, Triangle], &[Line, Triangle, Line]] {
+    for order in [
+        &[Triangle][..],
+        &[Line],
+        &[Line, Triangle],
+        &[Triangle, Line],
+        &[Triangle, Line, Triangle],
+        &[Line, Triangle, Line],
+    ] {
         let m = mixed_mesh(order);
-        for (label, format, opts) in variants().into_iter().filter(|v| v.2.binary || v.2.vtu_encoding != VtuEncoding::Ascii) {
+        for (label, format, opts) in
+            variants().into_iter().filter(|v| v.2.binary || v.2.vtu_encoding != VtuEncoding::Ascii)
+        {
             let bytes = write_bytes(format, &m, &opts).unwrap().main;
             let back = read(format, &bytes).unwrap_or_else(|e| panic!("{label} {order:?}: {e}"));
             assert_eq!(back.blocks, m.blocks, "{label} {order:?}");
@@ -757,14 +907,20 @@ fn put_be(bytes: &mut [u8], at: usize, v: i32) {
 #[test]
 fn legacy_binary_cell_list_errors_name_the_byte() {
     let m = mixed_mesh(&[CellKind::Triangle]);
-    let bytes = write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() }).unwrap().main;
+    let bytes =
+        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
+            .unwrap()
+            .main;
     let list = memchr::memmem::find(&bytes, b"CELLS 2 8\n").unwrap() + b"CELLS 2 8\n".len();
     // Second triangle's last node: 3 -> 4 (out of range) and -> -1.
     for (v, shown) in [(4, 4), (-1, -1)] {
         let mut bad = bytes.clone();
         put_be(&mut bad, list + 4 * 7, v);
         let e = read(Format::VtkLegacy, &bad).unwrap_err();
-        assert!(matches!(e.kind, ErrorKind::IndexOutOfRange { index, available: 4, .. } if index == shown), "{e}");
+        assert!(
+            matches!(e.kind, ErrorKind::IndexOutOfRange { index, available: 4, .. } if index == shown),
+            "{e}"
+        );
         assert_eq!(e.at, Some(Position::Byte((list + 4 * 7) as u64)), "{e}");
         assert!(e.to_string().contains("cell 1"), "{e}");
     }
@@ -789,10 +945,18 @@ fn legacy_binary_cell_list_errors_name_the_byte() {
     assert_eq!(e.at, Some(Position::Byte((list + 32) as u64)), "{e}");
     // Lines then triangles (counts 2, then 3): a bad node in the last cell is named.
     let m = mixed_mesh(&[CellKind::Line, CellKind::Triangle]);
-    let bytes = write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() }).unwrap().main;
-    let cells = format!("CELLS {} {}\n", m.num_cells(), m.num_cells() + m.blocks.iter().map(|b| b.nodes.len()).sum::<usize>());
+    let bytes =
+        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
+            .unwrap()
+            .main;
+    let cells = format!(
+        "CELLS {} {}\n",
+        m.num_cells(),
+        m.num_cells() + m.blocks.iter().map(|b| b.nodes.len()).sum::<usize>()
+    );
     let list = memchr::memmem::find(&bytes, cells.as_bytes()).unwrap() + cells.len();
-    let last = list + 4 * (m.num_cells() + m.blocks.iter().map(|b| b.nodes.len()).sum::<usize>() - 1);
+    let last =
+        list + 4 * (m.num_cells() + m.blocks.iter().map(|b| b.nodes.len()).sum::<usize>() - 1);
     let mut bad = bytes.clone();
     put_be(&mut bad, last, -7);
     let e = read(Format::VtkLegacy, &bad).unwrap_err();
@@ -806,13 +970,21 @@ fn legacy_binary_cell_list_errors_name_the_byte() {
 /// with the array's byte offset, in text and in appended raw binary alike.
 #[test]
 fn vtu_types_and_offsets_are_checked_as_decoded() {
-    let e = vtu_err(&VTU.replace("format=\"ascii\">5</DataArray>", "format=\"ascii\">300</DataArray>").replace("UInt8", "Int32"));
-    assert!(e.to_string().contains("a VTK cell type (0 to 255)") && e.to_string().contains("300"), "{e}");
-    let e = vtu_err(&VTU.replace("format=\"ascii\">3</DataArray>", "format=\"ascii\">-3</DataArray>"));
+    let e = vtu_err(
+        &VTU.replace("format=\"ascii\">5</DataArray>", "format=\"ascii\">300</DataArray>")
+            .replace("UInt8", "Int32"),
+    );
+    assert!(
+        e.to_string().contains("a VTK cell type (0 to 255)") && e.to_string().contains("300"),
+        "{e}"
+    );
+    let e =
+        vtu_err(&VTU.replace("format=\"ascii\">3</DataArray>", "format=\"ascii\">-3</DataArray>"));
     assert!(e.to_string().contains("cell end offset") && e.to_string().contains("-3"), "{e}");
 
     let m = mixed_mesh(&[CellKind::Line, CellKind::Triangle]);
-    let opts = WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: false, ..Default::default() };
+    let opts =
+        WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: false, ..Default::default() };
     let bytes = write_bytes(Format::Vtu, &m, &opts).unwrap().main;
     let back = read(Format::Vtu, &bytes).unwrap();
     assert_eq!(back.blocks, m.blocks);
@@ -824,16 +996,30 @@ fn vtu_types_and_offsets_are_checked_as_decoded() {
     bad[at + 8..at + 16].copy_from_slice(&(-4i64).to_le_bytes());
     let e = read(Format::Vtu, &bad).unwrap_err();
     assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
-    assert!(e.to_string().contains("cell end offset") && e.to_string().contains("value 1") && e.to_string().contains("-4"), "{e}");
+    assert!(
+        e.to_string().contains("cell end offset")
+            && e.to_string().contains("value 1")
+            && e.to_string().contains("-4"),
+        "{e}"
+    );
     let mut bad = bytes.clone();
     bad[at + 16..at + 24].copy_from_slice(&3i64.to_le_bytes());
     let e = read(Format::Vtu, &bad).unwrap_err();
-    assert!(e.to_string().contains("offsets must rise") && e.to_string().contains("cell 2 ends at 3 after 4"), "{e}");
-    let types = memchr::memmem::find(&bytes, &[3u8, 3, 3, 5, 5]).expect("types in the appended data");
+    assert!(
+        e.to_string().contains("offsets must rise")
+            && e.to_string().contains("cell 2 ends at 3 after 4"),
+        "{e}"
+    );
+    let types =
+        memchr::memmem::find(&bytes, &[3u8, 3, 3, 5, 5]).expect("types in the appended data");
     let mut bad = bytes.clone();
     bad[types + 4] = 7;
     let e = read(Format::Vtu, &bad).unwrap_err();
-    assert!(matches!(e.kind, ErrorKind::Unsupported(_)) && e.to_string().contains("cell 4 has VTK type 7"), "{e}");
+    assert!(
+        matches!(e.kind, ErrorKind::Unsupported(_))
+            && e.to_string().contains("cell 4 has VTK type 7"),
+        "{e}"
+    );
 }
 
 /// Lines after the optional `OFFSETS` keyword are counted once: `take_word` looks for
@@ -851,7 +1037,10 @@ fn lines_after_the_optional_offsets_keyword_are_counted_once() {
     let e = legacy_err(&TRI.replace("CELLS 1 4\n3 0 1 2", "CELLS 1 4\n\n\n3 0 1 3"));
     assert_eq!(e.at, Some(Position::Line(12)), "{e}");
     // The same, well formed, then an error further on: still the right line.
-    let e = legacy_err(&format!("{}POINT_DATA 3\nSCALARS s double\nLOOKUP_TABLE default\n1 2 x\n", TRI.replace("CELLS 1 4\n", "CELLS 1 4\n\n\n")));
+    let e = legacy_err(&format!(
+        "{}POINT_DATA 3\nSCALARS s double\nLOOKUP_TABLE default\n1 2 x\n",
+        TRI.replace("CELLS 1 4\n", "CELLS 1 4\n\n\n")
+    ));
     assert_eq!(e.at, Some(Position::Line(18)), "{e}");
 }
 
@@ -874,7 +1063,8 @@ fn node_index_past_32_bits_is_refused_before_points() {
 /// non-finite value is refused as before, wherever it sits.
 #[test]
 fn tensors_are_packed_only_when_nothing_is_lost() {
-    let metric2d = |i: usize| sym2_to_tensor9(1.0 + i as f64, -0.25 * i as f64, 3.0 / (1.0 + i as f64), 1.0);
+    let metric2d =
+        |i: usize| sym2_to_tensor9(1.0 + i as f64, -0.25 * i as f64, 3.0 / (1.0 + i as f64), 1.0);
     let with = |edit: &dyn Fn(usize, &mut [f64; 9])| {
         let mut m = mixed_mesh(&[CellKind::Triangle]);
         let values: Vec<f64> = (0..m.points.len())
@@ -891,11 +1081,51 @@ fn tensors_are_packed_only_when_nothing_is_lost() {
     };
     let cases: Vec<(&str, TaggedMesh, Layout)> = vec![
         ("2D metrics", with(&|_, _| {}), Layout::Symmetric2),
-        ("zz = 2 in the last item", with(&|i, t| if i == 3 { t[8] = 2.0 }), Layout::Plain),
-        ("xz = -0.0", with(&|i, t| if i == 2 { t[2] = -0.0 }), Layout::Plain),
-        ("yz = 1e-300", with(&|i, t| if i == 1 { t[5] = 1e-300 }), Layout::Plain),
-        ("xy and yx differ by an ulp", with(&|i, t| if i == 3 { t[3] = f64::from_bits(t[1].to_bits() + 1) }), Layout::Plain),
-        ("a 3D tensor first", with(&|i, t| if i == 0 { t[8] = 0.5 }), Layout::Plain),
+        (
+            "zz = 2 in the last item",
+            with(&|i, t| {
+                if i == 3 {
+                    t[8] = 2.0
+                }
+            }),
+            Layout::Plain,
+        ),
+        (
+            "xz = -0.0",
+            with(&|i, t| {
+                if i == 2 {
+                    t[2] = -0.0
+                }
+            }),
+            Layout::Plain,
+        ),
+        (
+            "yz = 1e-300",
+            with(&|i, t| {
+                if i == 1 {
+                    t[5] = 1e-300
+                }
+            }),
+            Layout::Plain,
+        ),
+        (
+            "xy and yx differ by an ulp",
+            with(&|i, t| {
+                if i == 3 {
+                    t[3] = f64::from_bits(t[1].to_bits() + 1)
+                }
+            }),
+            Layout::Plain,
+        ),
+        (
+            "a 3D tensor first",
+            with(&|i, t| {
+                if i == 0 {
+                    t[8] = 0.5
+                }
+            }),
+            Layout::Plain,
+        ),
     ];
     for (label, format, opts) in variants() {
         for (what, m, layout) in &cases {
@@ -904,19 +1134,29 @@ fn tensors_are_packed_only_when_nothing_is_lost() {
             for name in ["metric", "other"] {
                 let a = &back.point_data[name];
                 assert_eq!(a.layout, *layout, "{label}, {what}: {name}");
-                assert_eq!(bits(&a.expanded().values), bits(&m.point_data[name].values), "{label}, {what}: {name}");
+                assert_eq!(
+                    bits(&a.expanded().values),
+                    bits(&m.point_data[name].values),
+                    "{label}, {what}: {name}"
+                );
             }
         }
         // A NaN in the last item, written finite (writers refuse NaN) and patched where
         // the file's bytes can be found (raw binary): refused, as by the plain decoder.
-        let patchable = (format == Format::VtkLegacy && label.ends_with("binary")) || label == "vtu Appended";
+        let patchable =
+            (format == Format::VtkLegacy && label.ends_with("binary")) || label == "vtu Appended";
         if !patchable {
             continue;
         }
         let mut bytes = write_bytes(format, &with(&|_, _| {}), &opts).unwrap().main;
         let m22 = metric2d(3)[4];
-        let (pattern, nan) = if format == Format::VtkLegacy { (m22.to_be_bytes(), f64::NAN.to_be_bytes()) } else { (m22.to_le_bytes(), f64::NAN.to_le_bytes()) };
-        let at = memchr::memmem::find(&bytes, &pattern).unwrap_or_else(|| panic!("{label}: m22 in the file"));
+        let (pattern, nan) = if format == Format::VtkLegacy {
+            (m22.to_be_bytes(), f64::NAN.to_be_bytes())
+        } else {
+            (m22.to_le_bytes(), f64::NAN.to_le_bytes())
+        };
+        let at = memchr::memmem::find(&bytes, &pattern)
+            .unwrap_or_else(|| panic!("{label}: m22 in the file"));
         bytes[at..at + 8].copy_from_slice(&nan);
         let e = read(format, &bytes).expect_err(&format!("{label}: NaN"));
         assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{label}: {e}");
@@ -928,7 +1168,9 @@ fn tensors_are_packed_only_when_nothing_is_lost() {
 fn float32_tensors_pack() {
     let t = |m11: f32, m12: f32, m22: f32| [m11, m12, 0.0, m12, m22, 0.0, 0.0, 0.0, 1.0];
     let items = [t(1.5, -0.25, 2.0), t(0.1, 0.0, 7.0), t(3.0, 1e-3, 0.5)];
-    let mut vtk = b"# vtk DataFile Version 4.2\nt\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 double\n".to_vec();
+    let mut vtk =
+        b"# vtk DataFile Version 4.2\nt\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 double\n"
+            .to_vec();
     for p in [[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
         for c in p {
             vtk.extend_from_slice(&c.to_be_bytes());

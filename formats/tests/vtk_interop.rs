@@ -4,7 +4,10 @@
 
 mod common;
 
-use smartmesh_formats::{read_bytes, write_bytes, CellBlock, CellKind, DataArray, Format, ReadContext, TaggedMesh, VtuEncoding, WriteOptions};
+use smartmesh_formats::{
+    read_bytes, write_bytes, CellBlock, CellKind, DataArray, Format, ReadContext, TaggedMesh,
+    VtuEncoding, WriteOptions,
+};
 
 /// Every variant the writers offer: (file name, format, options).
 fn variants() -> Vec<(String, Format, WriteOptions)> {
@@ -12,7 +15,16 @@ fn variants() -> Vec<(String, Format, WriteOptions)> {
     for version in [(4, 2), (5, 1)] {
         for binary in [false, true] {
             let o = WriteOptions { vtk_legacy_version: version, binary, ..WriteOptions::default() };
-            v.push((format!("legacy{}{}_{}.vtk", version.0, version.1, if binary { "binary" } else { "ascii" }), Format::VtkLegacy, o));
+            v.push((
+                format!(
+                    "legacy{}{}_{}.vtk",
+                    version.0,
+                    version.1,
+                    if binary { "binary" } else { "ascii" }
+                ),
+                Format::VtkLegacy,
+                o,
+            ));
         }
     }
     for enc in [VtuEncoding::Ascii, VtuEncoding::Binary, VtuEncoding::Appended] {
@@ -21,7 +33,15 @@ fn variants() -> Vec<(String, Format, WriteOptions)> {
                 continue;
             }
             let o = WriteOptions { vtu_encoding: enc, compress, ..WriteOptions::default() };
-            v.push((format!("{}{}.vtu", format!("{enc:?}").to_lowercase(), if compress { "_zlib" } else { "" }), Format::Vtu, o));
+            v.push((
+                format!(
+                    "{}{}.vtu",
+                    format!("{enc:?}").to_lowercase(),
+                    if compress { "_zlib" } else { "" }
+                ),
+                Format::Vtu,
+                o,
+            ));
         }
     }
     v
@@ -41,15 +61,23 @@ fn mesh() -> TaggedMesh {
     m.blocks.push(verts);
     let nc = m.num_cells();
     let np = m.points.len();
-    m.cell_data.insert("quality".into(), DataArray::new(1, (0..nc).map(|i| 1.0 / (i as f64 + 3.0)).collect()));
-    m.point_data.insert("velocity".into(), DataArray::new(3, (0..3 * np).map(|i| (i as f64 * 0.37).sin()).collect()));
-    m.point_data.insert("four".into(), DataArray::new(4, (0..4 * np).map(|i| -(i as f64) / 7.0).collect()));
+    m.cell_data.insert(
+        "quality".into(),
+        DataArray::new(1, (0..nc).map(|i| 1.0 / (i as f64 + 3.0)).collect()),
+    );
+    m.point_data.insert(
+        "velocity".into(),
+        DataArray::new(3, (0..3 * np).map(|i| (i as f64 * 0.37).sin()).collect()),
+    );
+    m.point_data
+        .insert("four".into(), DataArray::new(4, (0..4 * np).map(|i| -(i as f64) / 7.0).collect()));
     m
 }
 
 fn tags(m: &TaggedMesh) -> (Vec<u8>, Vec<u8>) {
     let p = m.blocks.iter().flat_map(|b| b.physical.iter()).flat_map(|v| v.to_le_bytes()).collect();
-    let g = m.blocks.iter().flat_map(|b| b.geometrical.iter()).flat_map(|v| v.to_le_bytes()).collect();
+    let g =
+        m.blocks.iter().flat_map(|b| b.geometrical.iter()).flat_map(|v| v.to_le_bytes()).collect();
     (p, g)
 }
 
@@ -127,7 +155,8 @@ fn write_all(dir: &std::path::Path, m: &TaggedMesh) -> Vec<String> {
         std::fs::write(dir.join(&name), &w.main).unwrap();
         names.push(name);
     }
-    let metric: Vec<u8> = m.point_data["metric"].expanded().values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let metric: Vec<u8> =
+        m.point_data["metric"].expanded().values.iter().flat_map(|v| v.to_le_bytes()).collect();
     std::fs::write(dir.join("metric.f64"), metric).unwrap();
     let (p, g) = tags(m);
     std::fs::write(dir.join("physical.i32"), p).unwrap();
@@ -143,7 +172,8 @@ fn vtk_reads_every_variant_we_write() {
     let names = write_all(dir.path(), &m);
     let mut args = vec![dir.path().to_str().unwrap()];
     args.extend(names.iter().map(String::as_str));
-    let out: serde_json::Value = serde_json::from_str(&common::run_python(&py, VTK_READS, &args)).unwrap();
+    let out: serde_json::Value =
+        serde_json::from_str(&common::run_python(&py, VTK_READS, &args)).unwrap();
     for name in &names {
         let r = &out[name];
         assert_eq!(r["log"], "", "{name}: VTK complained");
@@ -173,10 +203,15 @@ fn meshio_reads_every_variant_we_write() {
     names.retain(|n| n != "legacy51_binary.vtk");
     let mut args = vec![dir.path().to_str().unwrap()];
     args.extend(names.iter().map(String::as_str));
-    let out: serde_json::Value = serde_json::from_str(&common::run_python(&py, MESHIO_READS, &args)).unwrap();
+    let out: serde_json::Value =
+        serde_json::from_str(&common::run_python(&py, MESHIO_READS, &args)).unwrap();
     for name in &names {
         let r = &out[name];
-        assert!(r["error"].is_null(), "{name}: meshio failed: {}", r["error"].as_str().unwrap_or(""));
+        assert!(
+            r["error"].is_null(),
+            "{name}: meshio failed: {}",
+            r["error"].as_str().unwrap_or("")
+        );
         assert_eq!(r["points"], 1904, "{name}");
         assert_eq!(r["cells"], m.num_cells(), "{name}");
         assert_eq!(r["metric_equal"], true, "{name}: metric values");
@@ -241,22 +276,30 @@ fn we_read_every_encoding_vtk_writes() {
     let dir = tempfile::tempdir().unwrap();
     let m = mesh();
     let src = dir.path().join("source.vtu");
-    std::fs::write(&src, write_bytes(Format::Vtu, &m, &WriteOptions::default()).unwrap().main).unwrap();
-    let listing = common::run_python(&py, VTK_WRITES, &[src.to_str().unwrap(), dir.path().to_str().unwrap()]);
+    std::fs::write(&src, write_bytes(Format::Vtu, &m, &WriteOptions::default()).unwrap().main)
+        .unwrap();
+    let listing =
+        common::run_python(&py, VTK_WRITES, &[src.to_str().unwrap(), dir.path().to_str().unwrap()]);
     let names: Vec<&str> = listing.lines().collect();
     assert_eq!(names.len(), 32);
     for name in names {
         let bytes = std::fs::read(dir.path().join(name)).unwrap();
         let format = if name.ends_with(".vtu") { Format::Vtu } else { Format::VtkLegacy };
-        let back = read_bytes(format, &bytes, &ReadContext::alone("vtk")).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let back = read_bytes(format, &bytes, &ReadContext::alone("vtk"))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(back.blocks, m.blocks, "{name}: cells and tags");
         assert_eq!(back.tag_names, m.tag_names, "{name}: names");
-        let keys = |a: &std::collections::BTreeMap<String, DataArray>| a.keys().cloned().collect::<Vec<_>>();
+        let keys = |a: &std::collections::BTreeMap<String, DataArray>| {
+            a.keys().cloned().collect::<Vec<_>>()
+        };
         assert_eq!(keys(&back.point_data), keys(&m.point_data), "{name}");
         assert_eq!(keys(&back.cell_data), keys(&m.cell_data), "{name}");
         if name.contains("legacy") && name.contains("ascii") {
             // VTK's legacy ASCII writer keeps 11 significant digits.
-            let close = |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-10 * x.abs().max(y.abs()));
+            let close = |a: &[f64], b: &[f64]| {
+                a.len() == b.len()
+                    && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-10 * x.abs().max(y.abs()))
+            };
             let flat = |m: &TaggedMesh| m.points.iter().flatten().copied().collect::<Vec<_>>();
             assert!(close(&flat(&back), &flat(&m)), "{name}: points");
             for (k, a) in &m.point_data {

@@ -21,6 +21,10 @@ fuzz_target!(|data: &[u8]| {
             let _ = read_bytes(Format::Triangle, main, &ReadContext::alone(ext));
         }
     } else {
-        let _ = read_bytes(Format::Triangle, main, &ReadContext { siblings: &siblings, extension: "ele".into() });
+        let _ = read_bytes(
+            Format::Triangle,
+            main,
+            &ReadContext { siblings: &siblings, extension: "ele".into() },
+        );
     }
 });

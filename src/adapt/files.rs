@@ -27,21 +27,32 @@ impl ResultFiles {
     /// Results written to `mesh`, with the history at `history` or, when `None`, beside
     /// the mesh ([`default_history_path`]).
     pub fn new(mesh: &Path, history: Option<&Path>, options: WriteOptions) -> ResultFiles {
-        ResultFiles { mesh: mesh.to_path_buf(), history: history.map_or_else(|| default_history_path(mesh), Path::to_path_buf), options, dropped: Vec::new() }
+        ResultFiles {
+            mesh: mesh.to_path_buf(),
+            history: history.map_or_else(|| default_history_path(mesh), Path::to_path_buf),
+            options,
+            dropped: Vec::new(),
+        }
     }
 }
 
 /// `DIR/NAME.history.json` for the output `DIR/NAME.EXT`: beside the mesh, and one per
 /// output, so that runs on several geometry variants in one directory keep theirs.
 pub fn default_history_path(mesh: &Path) -> PathBuf {
-    let stem = mesh.file_stem().map_or_else(|| "adapt".to_string(), |s| s.to_string_lossy().into_owned());
+    let stem =
+        mesh.file_stem().map_or_else(|| "adapt".to_string(), |s| s.to_string_lossy().into_owned());
     mesh.with_file_name(format!("{stem}.history.json"))
 }
 
 impl Observer for ResultFiles {
-    fn record(&mut self, history: &History, new_best: Option<&TaggedMesh>) -> Result<(), smartmesh_formats::Error> {
+    fn record(
+        &mut self,
+        history: &History,
+        new_best: Option<&TaggedMesh>,
+    ) -> Result<(), smartmesh_formats::Error> {
         if let Some(mesh) = new_best {
-            let report = write_path(&self.mesh, mesh, Format::from_path(&self.mesh), &self.options)?;
+            let report =
+                write_path(&self.mesh, mesh, Format::from_path(&self.mesh), &self.options)?;
             for d in report.dropped {
                 if !self.dropped.contains(&d) {
                     self.dropped.push(d);

@@ -118,7 +118,11 @@ pub trait Observer {
     /// Called after every iteration and once more when the loop stops, with the whole
     /// history so far; `new_best` is the mesh of the iteration just done when it became
     /// the best. An error stops the loop.
-    fn record(&mut self, history: &History, new_best: Option<&TaggedMesh>) -> Result<(), smartmesh_formats::Error>;
+    fn record(
+        &mut self,
+        history: &History,
+        new_best: Option<&TaggedMesh>,
+    ) -> Result<(), smartmesh_formats::Error>;
 }
 
 /// How a run ended: the history, the best mesh, and the failure that stopped it early,
@@ -146,10 +150,17 @@ struct Measured {
 
 /// Sizes and measures `mesh` as iteration `iteration`; `remesh` is the time already spent
 /// making it.
-fn measure(iteration: usize, mesh: TaggedMesh, remesh: f64, recipe: &Recipe, observer: &mut dyn Observer) -> Result<Measured, (Phase, PhaseError)> {
+fn measure(
+    iteration: usize,
+    mesh: TaggedMesh,
+    remesh: f64,
+    recipe: &Recipe,
+    observer: &mut dyn Observer,
+) -> Result<Measured, (Phase, PhaseError)> {
     observer.phase(iteration, Phase::Size);
     let t = Instant::now();
-    let sizing = size_mesh(&mesh, recipe, &mut |_: StepEvent| {}).map_err(|e| (Phase::Size, e.into()))?;
+    let sizing =
+        size_mesh(&mesh, recipe, &mut |_: StepEvent| {}).map_err(|e| (Phase::Size, e.into()))?;
     let metric: Vec<Sym2> = sizing.field.tensors.iter().map(|t| t.to_metric()).collect();
     let size = t.elapsed().as_secs_f64();
     // The result carries the recipe's field on it (`metric`, `size_tensor`, `h1` …, as
@@ -183,7 +194,8 @@ pub fn run(
     recipe_label: &str,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdaptError> {
-    let first = measure(0, start, 0.0, recipe, observer).map_err(|(phase, source)| AdaptError::Start { phase, source })?;
+    let first = measure(0, start, 0.0, recipe, observer)
+        .map_err(|(phase, source)| AdaptError::Start { phase, source })?;
     let mut history = History {
         input: input.to_string(),
         recipe: recipe_label.to_string(),

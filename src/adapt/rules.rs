@@ -21,7 +21,8 @@ impl Default for Tolerances {
 
 /// The changes between two records: relative vertex count, conforming share.
 pub fn changes(previous: &IterationRecord, current: &IterationRecord) -> (f64, f64) {
-    let dv = (current.vertices as f64 - previous.vertices as f64).abs() / (current.vertices.max(1) as f64);
+    let dv = (current.vertices as f64 - previous.vertices as f64).abs()
+        / (current.vertices.max(1) as f64);
     let dc = (current.conforming_share - previous.conforming_share).abs();
     (dv, dc)
 }
@@ -69,7 +70,10 @@ mod tests {
         let t = Tolerances { vertices: 0.05, conformity: 0.02 };
         assert!(converged(&rec(1, 1000, 0.70), &rec(2, 1040, 0.71), &t));
         assert!(!converged(&rec(1, 1000, 0.70), &rec(2, 1100, 0.71), &t), "10% more vertices");
-        assert!(!converged(&rec(1, 1000, 0.70), &rec(2, 1000, 0.75), &t), "conformity moved by 0.05");
+        assert!(
+            !converged(&rec(1, 1000, 0.70), &rec(2, 1000, 0.75), &t),
+            "conformity moved by 0.05"
+        );
         // Relative to the current count: 1000 → 950 is 5.3%.
         assert!(!converged(&rec(1, 1000, 0.70), &rec(2, 950, 0.70), &t));
     }

@@ -27,7 +27,16 @@ pub enum StartError {
 
 /// Whether `mesh` has cells the loop can size and remesh.
 fn has_surface(mesh: &TaggedMesh) -> bool {
-    mesh.cells().any(|c| matches!(c.0, CellKind::Triangle | CellKind::Triangle6 | CellKind::Quad | CellKind::Quad8 | CellKind::Quad9))
+    mesh.cells().any(|c| {
+        matches!(
+            c.0,
+            CellKind::Triangle
+                | CellKind::Triangle6
+                | CellKind::Quad
+                | CellKind::Quad8
+                | CellKind::Quad9
+        )
+    })
 }
 
 /// The starting mesh of `input` (read as `format` when given, else by extension).
@@ -53,7 +62,8 @@ pub fn start(input: &Path, format: Option<Format>) -> Result<Start, StartError> 
     if has_surface(&mesh) {
         return Ok(Start { mesh, geometry_points: Vec::new() });
     }
-    let triangulated = triangulate(&mesh, &MeshOptions::default()).map_err(|source| StartError::Mesher { path: input.display().to_string(), source })?;
+    let triangulated = triangulate(&mesh, &MeshOptions::default())
+        .map_err(|source| StartError::Mesher { path: input.display().to_string(), source })?;
     let mut on_segment = vec![false; mesh.points.len()];
     for (kind, nodes, _, _) in mesh.cells() {
         if kind.dim() == 1 {
@@ -62,6 +72,12 @@ pub fn start(input: &Path, format: Option<Format>) -> Result<Start, StartError> 
             }
         }
     }
-    let geometry_points = mesh.points.iter().zip(&on_segment).filter(|(_, &s)| s).map(|(p, _)| [p[0], p[1]]).collect();
+    let geometry_points = mesh
+        .points
+        .iter()
+        .zip(&on_segment)
+        .filter(|(_, &s)| s)
+        .map(|(p, _)| [p[0], p[1]])
+        .collect();
     Ok(Start { mesh: triangulated, geometry_points })
 }

@@ -39,7 +39,8 @@ pub const PROGRAM: &str = "gmsh";
 const HINT: &str = "install Gmsh (`pip install gmsh` puts gmsh on PATH) or name the executable with --adapter-program";
 
 /// The script Gmsh runs.
-pub const SCRIPT: &str = "// Written by smartmesh: remesh in.msh to the background view bgm.pos with BAMG.
+pub const SCRIPT: &str =
+    "// Written by smartmesh: remesh in.msh to the background view bgm.pos with BAMG.
 Merge \"in.msh\";
 CreateTopology;
 CreateGeometry;
@@ -67,7 +68,12 @@ impl GmshAdapter {
     /// The whole command line after the program.
     fn args(&self) -> Vec<String> {
         let mut a = vec!["remesh.geo".to_string()];
-        for (name, value) in [("Mesh.Algorithm", "7"), ("Mesh.MeshSizeExtendFromBoundary", "0"), ("Mesh.MeshSizeFromPoints", "0"), ("Mesh.MeshSizeFromCurvature", "0")] {
+        for (name, value) in [
+            ("Mesh.Algorithm", "7"),
+            ("Mesh.MeshSizeExtendFromBoundary", "0"),
+            ("Mesh.MeshSizeFromPoints", "0"),
+            ("Mesh.MeshSizeFromCurvature", "0"),
+        ] {
             a.extend(["-setnumber".to_string(), name.to_string(), value.to_string()]);
         }
         a.extend(self.options.extra_args.iter().cloned());
@@ -83,12 +89,24 @@ impl Adapter for GmshAdapter {
 
     fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
         let prepared = prepare(mesh, metric)?;
-        let dir = tempfile::Builder::new().prefix("smartmesh-gmsh-").tempdir().map_err(|source| AdapterError::Io { what: "creating a temporary directory".into(), source })?;
+        let dir =
+            tempfile::Builder::new().prefix("smartmesh-gmsh-").tempdir().map_err(|source| {
+                AdapterError::Io { what: "creating a temporary directory".into(), source }
+            })?;
         // zz = the larger in-plane eigenvalue (1/h_min²), as `smartmesh size` writes views:
         // SPD in 3D, and never a size larger than the in-plane ones.
-        let values: Vec<f64> = prepared.metric(metric).iter().flat_map(|m| m.to_row_major_3x3(m.eigen().values[0])).collect();
-        let pos = crate::export::pos::write_tensor_view(&prepared.mesh, &DataArray::new(9, values), "metric")?;
-        let msh = smartmesh_formats::write_bytes(Format::Gmsh, &prepared.mesh, &WriteOptions::default())?;
+        let values: Vec<f64> = prepared
+            .metric(metric)
+            .iter()
+            .flat_map(|m| m.to_row_major_3x3(m.eigen().values[0]))
+            .collect();
+        let pos = crate::export::pos::write_tensor_view(
+            &prepared.mesh,
+            &DataArray::new(9, values),
+            "metric",
+        )?;
+        let msh =
+            smartmesh_formats::write_bytes(Format::Gmsh, &prepared.mesh, &WriteOptions::default())?;
         write(dir.path(), "in.msh", &msh.main)?;
         write(dir.path(), "bgm.pos", &pos)?;
         write(dir.path(), "remesh.geo", SCRIPT.as_bytes())?;
@@ -96,7 +114,11 @@ impl Adapter for GmshAdapter {
         let out_path = dir.path().join("out.msh");
         // Gmsh may report an error and still exit with 0: no file, or no triangle, is a
         // failure quoted the same way as an exit status.
-        let failed = |why: &str| AdapterError::Failed { program: format!("{PROGRAM} remesh.geo"), status: why.to_string(), output: quote(&output) };
+        let failed = |why: &str| AdapterError::Failed {
+            program: format!("{PROGRAM} remesh.geo"),
+            status: why.to_string(),
+            output: quote(&output),
+        };
         if !out_path.exists() {
             return Err(failed("it wrote no out.msh"));
         }
@@ -117,5 +139,8 @@ impl Adapter for GmshAdapter {
 }
 
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), AdapterError> {
-    std::fs::write(dir.join(name), bytes).map_err(|source| AdapterError::Io { what: format!("writing {name} in {}", dir.display()), source })
+    std::fs::write(dir.join(name), bytes).map_err(|source| AdapterError::Io {
+        what: format!("writing {name} in {}", dir.display()),
+        source,
+    })
 }

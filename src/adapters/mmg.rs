@@ -23,7 +23,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use smartmesh_formats::{read_path, CellBlock, CellKind, DataArray, Format, TaggedMesh, WriteOptions};
+use smartmesh_formats::{
+    read_path, CellBlock, CellKind, DataArray, Format, TaggedMesh, WriteOptions,
+};
 
 use super::prepare::{prepare, Prepared};
 use super::restore::{attach_names, ensure_tags_kept, place_point_cells};
@@ -76,9 +78,15 @@ impl Adapter for MmgAdapter {
     fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
         let prepared = prepare(mesh, metric)?;
         let coded = Coded::new(&prepared.mesh);
-        let dir = tempfile::Builder::new().prefix("smartmesh-mmg2d-").tempdir().map_err(|source| AdapterError::Io { what: "creating a temporary directory".into(), source })?;
+        let dir =
+            tempfile::Builder::new().prefix("smartmesh-mmg2d-").tempdir().map_err(|source| {
+                AdapterError::Io { what: "creating a temporary directory".into(), source }
+            })?;
         write_input(dir.path(), &prepared, &coded, metric)?;
-        let mut args: Vec<String> = ["-in", "in.mesh", "-sol", "in.sol", "-out", "out.mesh"].iter().map(|s| s.to_string()).collect();
+        let mut args: Vec<String> = ["-in", "in.mesh", "-sol", "in.sol", "-out", "out.mesh"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
         args.extend(self.option_args());
         run(&self.program, &args, dir.path())?;
         let out = read_path(&dir.path().join("out.mesh"), Some(Format::Medit))?;
@@ -106,7 +114,8 @@ impl Coded {
     /// Numbers the tag pairs of `mesh`'s lines and triangles in sorted order.
     pub fn new(mesh: &TaggedMesh) -> Coded {
         let pairs = |kind: CellKind| -> Vec<(i32, i32)> {
-            let set: std::collections::BTreeSet<(i32, i32)> = mesh.cells().filter(|c| c.0 == kind).map(|c| (c.2, c.3)).collect();
+            let set: std::collections::BTreeSet<(i32, i32)> =
+                mesh.cells().filter(|c| c.0 == kind).map(|c| (c.2, c.3)).collect();
             set.into_iter().collect()
         };
         Coded { lines: pairs(CellKind::Line), triangles: pairs(CellKind::Triangle) }
@@ -148,14 +157,28 @@ impl Coded {
             let (table, block) = match kind {
                 CellKind::Line => (&self.lines, &mut lines),
                 CellKind::Triangle => (&self.triangles, &mut triangles),
-                other => return Err(AdapterError::Lost { program: program.into(), what: format!("{} cells, which smartmesh did not give it", other.name()) }),
+                other => {
+                    return Err(AdapterError::Lost {
+                        program: program.into(),
+                        what: format!("{} cells, which smartmesh did not give it", other.name()),
+                    })
+                }
             };
             if kind == CellKind::Line && r == 0 {
                 continue;
             }
-            match usize::try_from(r).ok().and_then(|r| r.checked_sub(1)).and_then(|i| table.get(i)) {
+            match usize::try_from(r).ok().and_then(|r| r.checked_sub(1)).and_then(|i| table.get(i))
+            {
                 Some(&(p, g)) => block.push(nodes, p, g),
-                None => return Err(AdapterError::Lost { program: program.into(), what: format!("a {} with reference {r}, which smartmesh did not write", kind.name()) }),
+                None => {
+                    return Err(AdapterError::Lost {
+                        program: program.into(),
+                        what: format!(
+                            "a {} with reference {r}, which smartmesh did not write",
+                            kind.name()
+                        ),
+                    })
+                }
             }
         }
         for b in [lines, triangles] {
@@ -170,7 +193,8 @@ impl Coded {
 /// The vertices MMG must keep: vertex cells, the topological points of the mesh (curve
 /// ends and junctions), and the vertices where the line reference changes, sorted.
 pub fn required_vertices(mesh: &TaggedMesh) -> Vec<usize> {
-    let mut req: Vec<usize> = mesh.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| c.1[0] as usize).collect();
+    let mut req: Vec<usize> =
+        mesh.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| c.1[0] as usize).collect();
     req.extend(Topology::from_mesh(mesh).points.iter().map(|p| p.vertex));
     let mut around: BTreeMap<usize, Vec<(i32, i32)>> = BTreeMap::new();
     for (kind, n, p, g) in mesh.cells() {
@@ -189,15 +213,29 @@ pub fn required_vertices(mesh: &TaggedMesh) -> Vec<usize> {
     req
 }
 
-fn write_input(dir: &Path, prepared: &Prepared, coded: &Coded, metric: &[Sym2]) -> Result<(), AdapterError> {
+fn write_input(
+    dir: &Path,
+    prepared: &Prepared,
+    coded: &Coded,
+    metric: &[Sym2],
+) -> Result<(), AdapterError> {
     let mut medit = coded.encode(&prepared.mesh);
     let required = required_vertices(&prepared.mesh);
     medit.point_sets.insert("Corners".into(), required.clone());
     medit.point_sets.insert("RequiredVertices".into(), required);
-    let values: Vec<f64> = prepared.metric(metric).iter().flat_map(|m| m.to_row_major_3x3(1.0)).collect();
-    let sol = smartmesh_formats::medit::write_sol(&[("metric", &DataArray::new(9, values))], 2, false)?;
-    let written = smartmesh_formats::write_bytes(Format::Medit, &medit, &WriteOptions { main_name: Some("in.mesh".into()), ..WriteOptions::default() })?;
-    let io = |what: &str, source| AdapterError::Io { what: format!("writing {what} in {}", dir.display()), source };
+    let values: Vec<f64> =
+        prepared.metric(metric).iter().flat_map(|m| m.to_row_major_3x3(1.0)).collect();
+    let sol =
+        smartmesh_formats::medit::write_sol(&[("metric", &DataArray::new(9, values))], 2, false)?;
+    let written = smartmesh_formats::write_bytes(
+        Format::Medit,
+        &medit,
+        &WriteOptions { main_name: Some("in.mesh".into()), ..WriteOptions::default() },
+    )?;
+    let io = |what: &str, source| AdapterError::Io {
+        what: format!("writing {what} in {}", dir.display()),
+        source,
+    };
     std::fs::write(dir.join("in.mesh"), &written.main).map_err(|e| io("in.mesh", e))?;
     std::fs::write(dir.join("in.sol"), &sol).map_err(|e| io("in.sol", e))?;
     Ok(())

@@ -134,15 +134,27 @@ pub struct AdapterOptions {
 
 /// The adapter of `kind`: the program is looked up now, so that a missing tool is said
 /// before any work. The one place that knows which remeshers exist.
-pub fn adapter(kind: AdapterKind, options: AdapterOptions) -> Result<Box<dyn Adapter>, AdapterError> {
+pub fn adapter(
+    kind: AdapterKind,
+    options: AdapterOptions,
+) -> Result<Box<dyn Adapter>, AdapterError> {
     if kind != AdapterKind::Mmg2d {
-        let mmg_only = [("--hgrad", options.hgrad.is_some()), ("--hausd", options.hausd.is_some()), ("--nosurf", options.nosurf)];
+        let mmg_only = [
+            ("--hgrad", options.hgrad.is_some()),
+            ("--hausd", options.hausd.is_some()),
+            ("--nosurf", options.nosurf),
+        ];
         if let Some(&(option, _)) = mmg_only.iter().find(|o| o.1) {
             return Err(AdapterError::Option { option, adapter: kind.name() });
         }
     }
     match kind {
-        AdapterKind::Native => Ok(Box::new(native::NativeAdapter { options: crate::remesh::RemeshOptions { keep_points: options.keep_points, ..Default::default() } })),
+        AdapterKind::Native => Ok(Box::new(native::NativeAdapter {
+            options: crate::remesh::RemeshOptions {
+                keep_points: options.keep_points,
+                ..Default::default()
+            },
+        })),
         AdapterKind::Mmg2d => Ok(Box::new(mmg::MmgAdapter::new(options)?)),
         AdapterKind::Gmsh => Ok(Box::new(gmsh::GmshAdapter::new(options)?)),
     }

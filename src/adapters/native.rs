@@ -23,7 +23,8 @@ impl Adapter for NativeAdapter {
     }
 
     fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
-        let remeshed = remesh(mesh, metric, &self.options).map_err(|e| AdapterError::Input(e.to_string()))?;
+        let remeshed =
+            remesh(mesh, metric, &self.options).map_err(|e| AdapterError::Input(e.to_string()))?;
         let mut out = remeshed.mesh;
         // The loop sizes each new mesh with the recipe; the interpolated field is not the
         // next iteration's metric, so it does not travel with the result.

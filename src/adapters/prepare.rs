@@ -32,7 +32,11 @@ impl Prepared {
 /// Prepares `mesh`, whose `metric` must have one tensor per vertex.
 pub fn prepare(mesh: &TaggedMesh, metric: &[Sym2]) -> Result<Prepared, AdapterError> {
     if metric.len() != mesh.points.len() {
-        return Err(AdapterError::Input(format!("{} metric tensors for {} mesh vertices", metric.len(), mesh.points.len())));
+        return Err(AdapterError::Input(format!(
+            "{} metric tensors for {} mesh vertices",
+            metric.len(),
+            mesh.points.len()
+        )));
     }
     let n = mesh.points.len();
     let mut out = TaggedMesh::new();
@@ -46,7 +50,10 @@ pub fn prepare(mesh: &TaggedMesh, metric: &[Sym2]) -> Result<Prepared, AdapterEr
     let mut triangles = smartmesh_formats::CellBlock::new(CellKind::Triangle);
     for (kind, nodes, p, g) in mesh.cells() {
         if let Some(&bad) = nodes.iter().find(|&&v| v as usize >= n) {
-            return Err(AdapterError::Input(format!("a {} cell refers to vertex {bad}; the mesh has {n}", kind.name())));
+            return Err(AdapterError::Input(format!(
+                "a {} cell refers to vertex {bad}; the mesh has {n}",
+                kind.name()
+            )));
         }
         match kind {
             CellKind::Vertex => vertices.push(nodes, p, g),
@@ -96,7 +103,13 @@ mod tests {
     #[test]
     fn splits_quads_drops_unused_vertices_and_reindexes_the_metric() {
         let mut m = TaggedMesh::new();
-        m.points = vec![[9.0, 9.0, 0.0], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        m.points = vec![
+            [9.0, 9.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
         m.block_mut(CellKind::Quad).push(&[1, 2, 3, 4], 7, 1);
         m.block_mut(CellKind::Line).push(&[1, 2], 3, 2);
         let metric: Vec<Sym2> = (0..5).map(|i| Sym2::new(i as f64 + 1.0, 0.0, 1.0)).collect();

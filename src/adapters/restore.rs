@@ -24,7 +24,11 @@ pub fn physical_tags(mesh: &TaggedMesh) -> BTreeSet<(u8, i32)> {
 }
 
 /// Fails, naming them, when physical tags of `input` have no cell in `output`.
-pub fn ensure_tags_kept(program: &str, input: &TaggedMesh, output: &TaggedMesh) -> Result<(), AdapterError> {
+pub fn ensure_tags_kept(
+    program: &str,
+    input: &TaggedMesh,
+    output: &TaggedMesh,
+) -> Result<(), AdapterError> {
     let have = physical_tags(output);
     let lost: Vec<String> = physical_tags(input)
         .difference(&have)
@@ -36,7 +40,10 @@ pub fn ensure_tags_kept(program: &str, input: &TaggedMesh, output: &TaggedMesh) 
     if lost.is_empty() {
         Ok(())
     } else {
-        Err(AdapterError::Lost { program: program.to_string(), what: format!("no cell carries {}", lost.join(", ")) })
+        Err(AdapterError::Lost {
+            program: program.to_string(),
+            what: format!("no cell carries {}", lost.join(", ")),
+        })
     }
 }
 
@@ -51,12 +58,22 @@ pub fn attach_names(input: &TaggedMesh, output: &mut TaggedMesh) {
 /// 10⁻⁹ of the bounding-box diagonal: tools print coordinates with 15 digits), and gives
 /// that vertex the input's exact coordinates. A vertex cell with no vertex there means
 /// the tool moved or removed a required point.
-pub fn place_point_cells(program: &str, input: &TaggedMesh, output: &mut TaggedMesh) -> Result<(), AdapterError> {
-    let cells: Vec<(usize, i32, i32)> = input.cells().filter(|c| c.0 == CellKind::Vertex).map(|(_, n, p, g)| (n[0] as usize, p, g)).collect();
+pub fn place_point_cells(
+    program: &str,
+    input: &TaggedMesh,
+    output: &mut TaggedMesh,
+) -> Result<(), AdapterError> {
+    let cells: Vec<(usize, i32, i32)> = input
+        .cells()
+        .filter(|c| c.0 == CellKind::Vertex)
+        .map(|(_, n, p, g)| (n[0] as usize, p, g))
+        .collect();
     if cells.is_empty() {
         return Ok(());
     }
-    let diag = input.bounding_box().map_or(1.0, |(lo, hi)| ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt());
+    let diag = input
+        .bounding_box()
+        .map_or(1.0, |(lo, hi)| ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt());
     let tol = 1e-9 * diag.max(f64::MIN_POSITIVE);
     let mut placed = Vec::with_capacity(cells.len());
     for (v, p, g) in cells {
@@ -73,18 +90,25 @@ pub fn place_point_cells(program: &str, input: &TaggedMesh, output: &mut TaggedM
                 output.points[i] = q;
                 placed.push((i, p, g))
             }
-            _ => {
-                return Err(AdapterError::Lost {
-                    program: program.to_string(),
-                    what: format!("no vertex at ({}, {}), the topological point of 0D tag {p} (it was required)", q[0], q[1]),
-                })
-            }
+            _ => return Err(AdapterError::Lost {
+                program: program.to_string(),
+                what: format!(
+                    "no vertex at ({}, {}), the topological point of 0D tag {p} (it was required)",
+                    q[0], q[1]
+                ),
+            }),
         }
     }
     let mut block = smartmesh_formats::CellBlock::new(CellKind::Vertex);
     for (i, p, g) in placed {
         if i >= smartmesh_formats::MAX_POINTS {
-            return Err(AdapterError::Lost { program: program.to_string(), what: format!("vertex {i}: past the {} points a mesh can address", smartmesh_formats::MAX_POINTS) });
+            return Err(AdapterError::Lost {
+                program: program.to_string(),
+                what: format!(
+                    "vertex {i}: past the {} points a mesh can address",
+                    smartmesh_formats::MAX_POINTS
+                ),
+            });
         }
         block.push(&[i], p, g);
     }

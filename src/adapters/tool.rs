@@ -13,9 +13,17 @@ const QUOTED_LINES: usize = 20;
 
 /// `explicit` when given (it must exist), else the first executable file called `name` in
 /// the directories of `PATH`. `hint` says how to get the program.
-pub fn find_program(name: &str, explicit: Option<&Path>, hint: &'static str) -> Result<PathBuf, AdapterError> {
+pub fn find_program(
+    name: &str,
+    explicit: Option<&Path>,
+    hint: &'static str,
+) -> Result<PathBuf, AdapterError> {
     if let Some(p) = explicit {
-        return if is_executable(p) { Ok(p.to_path_buf()) } else { Err(AdapterError::NotFound { program: p.display().to_string(), hint }) };
+        return if is_executable(p) {
+            Ok(p.to_path_buf())
+        } else {
+            Err(AdapterError::NotFound { program: p.display().to_string(), hint })
+        };
     }
     let path = std::env::var_os("PATH").unwrap_or_default();
     std::env::split_paths(&path)
@@ -28,7 +36,9 @@ pub fn find_program(name: &str, explicit: Option<&Path>, hint: &'static str) -> 
 #[cfg(unix)]
 fn is_executable(p: &Path) -> bool {
     use std::os::unix::fs::PermissionsExt;
-    std::fs::metadata(p).map(|m| m.is_file() && m.permissions().mode() & 0o111 != 0).unwrap_or(false)
+    std::fs::metadata(p)
+        .map(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+        .unwrap_or(false)
 }
 
 #[cfg(not(unix))]
@@ -39,12 +49,12 @@ fn is_executable(p: &Path) -> bool {
 /// Runs `program args…` in `dir` and returns its output when it exits with 0; otherwise
 /// an [`AdapterError::Failed`] quoting the end of what it printed.
 pub fn run(program: &Path, args: &[impl AsRef<OsStr>], dir: &Path) -> Result<Output, AdapterError> {
-    let name = program.file_name().map_or_else(|| program.display().to_string(), |n| n.to_string_lossy().into_owned());
-    let out = Command::new(program)
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .map_err(|source| AdapterError::Io { what: format!("starting {}", program.display()), source })?;
+    let name = program
+        .file_name()
+        .map_or_else(|| program.display().to_string(), |n| n.to_string_lossy().into_owned());
+    let out = Command::new(program).args(args).current_dir(dir).output().map_err(|source| {
+        AdapterError::Io { what: format!("starting {}", program.display()), source }
+    })?;
     if out.status.success() {
         return Ok(out);
     }
@@ -52,7 +62,10 @@ pub fn run(program: &Path, args: &[impl AsRef<OsStr>], dir: &Path) -> Result<Out
         Some(c) => format!("exit status {c}"),
         None => "killed by a signal".to_string(),
     };
-    let command = std::iter::once(name).chain(args.iter().map(|a| a.as_ref().to_string_lossy().into_owned())).collect::<Vec<_>>().join(" ");
+    let command = std::iter::once(name)
+        .chain(args.iter().map(|a| a.as_ref().to_string_lossy().into_owned()))
+        .collect::<Vec<_>>()
+        .join(" ");
     Err(AdapterError::Failed { program: command, status, output: quote(&out) })
 }
 
@@ -78,7 +91,8 @@ mod tests {
 
     #[test]
     fn explicit_program_must_exist() {
-        let e = find_program("x", Some(Path::new("/nonexistent/mmg2d_O3")), "install it").unwrap_err();
+        let e =
+            find_program("x", Some(Path::new("/nonexistent/mmg2d_O3")), "install it").unwrap_err();
         assert!(e.to_string().contains("/nonexistent/mmg2d_O3"), "{e}");
     }
 
@@ -86,8 +100,16 @@ mod tests {
     #[test]
     fn a_failing_program_is_quoted() {
         let dir = tempfile::tempdir().unwrap();
-        let e = run(Path::new("/bin/sh"), &["-c", "echo first; echo 'bad thing' >&2; exit 3"], dir.path()).unwrap_err();
+        let e = run(
+            Path::new("/bin/sh"),
+            &["-c", "echo first; echo 'bad thing' >&2; exit 3"],
+            dir.path(),
+        )
+        .unwrap_err();
         let text = e.to_string();
-        assert!(text.contains("exit status 3") && text.contains("bad thing") && text.contains("first"), "{text}");
+        assert!(
+            text.contains("exit status 3") && text.contains("bad thing") && text.contains("first"),
+            "{text}"
+        );
     }
 }

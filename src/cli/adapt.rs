@@ -7,7 +7,10 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::adapt::files::ResultFiles;
-use smartmesh::adapt::{run as run_loop, start as starting_point, AdaptError, AdaptOptions, Observer, Phase, StartError, Tolerances};
+use smartmesh::adapt::{
+    run as run_loop, start as starting_point, AdaptError, AdaptOptions, Observer, Phase,
+    StartError, Tolerances,
+};
 use smartmesh::adapters::{adapter, AdapterError, AdapterKind, AdapterOptions};
 use smartmesh::formats::{Format, TaggedMesh};
 use smartmesh::history::History;
@@ -38,7 +41,8 @@ impl From<AdapterArg> for AdapterKind {
 
 /// Adapt a mesh to a recipe: size, remesh, size again … until the mesh stops changing.
 #[derive(Debug, Args)]
-#[command(after_help = "Each iteration computes the recipe's field on the current mesh and remeshes to it; the \
+#[command(
+    after_help = "Each iteration computes the recipe's field on the current mesh and remeshes to it; the \
 next iteration sizes the new mesh with the same recipe (the recipe's regions are found again by \
 their tag names, so one recipe serves every geometry variant with the same tags). Iteration 0 \
 is the input mesh. The loop stops when both the vertex count (|dV|/V <= --tol-vertices) and the \
@@ -63,7 +67,8 @@ Remeshers:
 Examples:
   smartmesh adapt fixtures/cylinder.msh --recipe fixtures/cylinder.toml -o cyl.msh --adapter mmg2d
   smartmesh adapt blade-2.msh --recipe distributor.cfg -o blade-2-adapted.msh --adapter mmg2d --hausd 0.001
-  smartmesh adapt square.msh -r wake.toml -o out.vtu --adapter gmsh --max-iterations 4 --json")]
+  smartmesh adapt square.msh -r wake.toml -o out.vtu --adapter gmsh --max-iterations 4 --json"
+)]
 pub struct AdaptArgs {
     /// Starting mesh (any readable format with triangles or quadrangles).
     input: PathBuf,
@@ -141,14 +146,25 @@ struct Progress {
 impl Observer for Progress {
     fn phase(&mut self, iteration: usize, phase: Phase) {
         if let Some(b) = &self.bar {
-            let what = if phase == Phase::Remesh { format!("{phase} ({})", self.adapter) } else { phase.to_string() };
+            let what = if phase == Phase::Remesh {
+                format!("{phase} ({})", self.adapter)
+            } else {
+                phase.to_string()
+            };
             b.set_message(format!("iteration {iteration}: {what}"));
         }
     }
 
-    fn record(&mut self, history: &History, new_best: Option<&TaggedMesh>) -> Result<(), smartmesh::formats::Error> {
+    fn record(
+        &mut self,
+        history: &History,
+        new_best: Option<&TaggedMesh>,
+    ) -> Result<(), smartmesh::formats::Error> {
         self.files.record(history, new_best)?;
-        if let (Some(b), Some(last)) = (&self.bar, history.iterations.last().filter(|_| history.iterations.len() > self.printed)) {
+        if let (Some(b), Some(last)) = (
+            &self.bar,
+            history.iterations.last().filter(|_| history.iterations.len() > self.printed),
+        ) {
             self.printed = history.iterations.len();
             b.set_position(last.iteration as u64);
             b.println(format!(
@@ -174,7 +190,11 @@ struct AdaptSummary<'a> {
 }
 
 fn adapter_error(e: AdapterError) -> CliError {
-    let status = if matches!(e, AdapterError::Option { .. }) { ExitStatus::Error } else { ExitStatus::Failure };
+    let status = if matches!(e, AdapterError::Option { .. }) {
+        ExitStatus::Error
+    } else {
+        ExitStatus::Failure
+    };
     CliError { status, message: e.to_string() }
 }
 
@@ -184,35 +204,61 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         return Err(CliError::usage("adapt rewrites OUT whenever a better mesh comes: name a file, not stdout (the --json summary goes to stdout)"));
     }
     if Format::from_path(&args.output).is_none() {
-        return Err(CliError::usage(format!("{}: no mesh format has this extension (use .msh, .mesh, .vtu, .vtk, .ele, .obj …)", args.output.display())));
+        return Err(CliError::usage(format!(
+            "{}: no mesh format has this extension (use .msh, .mesh, .vtu, .vtk, .ele, .obj …)",
+            args.output.display()
+        )));
     }
     let recipe = Recipe::from_path(&args.recipe).map_err(|e| CliError::usage(e.to_string()))?;
     let starting = starting_point(&args.input, args.from).map_err(|e| match e {
         StartError::Read(e) => CliError::from(e),
-        StartError::Mesher { ref source, .. } if !source.is_input_error() => CliError { status: ExitStatus::Failure, message: e.to_string() },
+        StartError::Mesher { ref source, .. } if !source.is_input_error() => {
+            CliError { status: ExitStatus::Failure, message: e.to_string() }
+        }
         e @ StartError::Mesher { .. } => CliError::usage(e.to_string()),
     })?;
-    let options = AdapterOptions { program: args.adapter_program.clone(), hgrad: args.hgrad, hausd: args.hausd, nosurf: args.nosurf, extra_args: args.adapter_args.clone(), keep_points: if args.coarsen_geometry { Vec::new() } else { starting.geometry_points } };
+    let options = AdapterOptions {
+        program: args.adapter_program.clone(),
+        hgrad: args.hgrad,
+        hausd: args.hausd,
+        nosurf: args.nosurf,
+        extra_args: args.adapter_args.clone(),
+        keep_points: if args.coarsen_geometry { Vec::new() } else { starting.geometry_points },
+    };
     let start = starting.mesh;
     let remesher = adapter(args.adapter.into(), options).map_err(adapter_error)?;
 
     let write = args.output_format.write_options();
-    let opts = AdaptOptions { max_iterations: args.max_iterations, tolerances: Tolerances { vertices: args.tol_vertices, conformity: args.tol_conformity } };
+    let opts = AdaptOptions {
+        max_iterations: args.max_iterations,
+        tolerances: Tolerances { vertices: args.tol_vertices, conformity: args.tol_conformity },
+    };
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = ProgressBar::new(opts.max_iterations as u64);
-        b.set_style(ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]").unwrap_or_else(|_| ProgressStyle::default_bar()));
+        b.set_style(
+            ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
         b
     });
-    let mut progress = Progress { files: ResultFiles::new(&args.output, args.history.as_deref(), write), bar, adapter: remesher.name().to_string(), printed: 0 };
+    let mut progress = Progress {
+        files: ResultFiles::new(&args.output, args.history.as_deref(), write),
+        bar,
+        adapter: remesher.name().to_string(),
+        printed: 0,
+    };
     let input = args.input.display().to_string();
     let recipe_label = args.recipe.display().to_string();
-    let result = run_loop(start, &recipe, remesher.as_ref(), &opts, &input, &recipe_label, &mut progress);
+    let result =
+        run_loop(start, &recipe, remesher.as_ref(), &opts, &input, &recipe_label, &mut progress);
     if let Some(b) = &progress.bar {
         b.finish_and_clear();
     }
     let outcome = match result {
         Ok(o) => o,
-        Err(e @ AdaptError::Start { .. }) => return Err(CliError::usage(format!("{} (input {})", e, args.input.display()))),
+        Err(e @ AdaptError::Start { .. }) => {
+            return Err(CliError::usage(format!("{} (input {})", e, args.input.display())))
+        }
         Err(e) => return Err(CliError { status: ExitStatus::Failure, message: e.to_string() }),
     };
     for w in &outcome.warnings {
@@ -224,8 +270,14 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let h = &outcome.history;
     let best = &h.iterations[h.best_iteration];
     if args.json {
-        let s = AdaptSummary { output: args.output.display().to_string(), history_file: progress.files.history.display().to_string(), dropped: &progress.files.dropped, history: h };
-        let mut text = serde_json::to_string_pretty(&s).map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
+        let s = AdaptSummary {
+            output: args.output.display().to_string(),
+            history_file: progress.files.history.display().to_string(),
+            dropped: &progress.files.dropped,
+            history: h,
+        };
+        let mut text = serde_json::to_string_pretty(&s)
+            .map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
         text.push('\n');
         print_stdout(&text)?;
     }

@@ -33,7 +33,8 @@ enum VtuEncodingArg {
 
 /// Convert a mesh between formats, keeping tags, tag names and fields.
 #[derive(Debug, Args)]
-#[command(after_help = "Formats come from the extensions: .node .ele .poly .edge (Triangle), .msh (Gmsh), \
+#[command(
+    after_help = "Formats come from the extensions: .node .ele .poly .edge (Triangle), .msh (Gmsh), \
 .vtk .vtu (VTK), .obj, .mesh .meshb (Medit/MMG; a .sol/.solb beside them carries the metric), \
 .gltf .glb (glTF, write only).
 
@@ -42,7 +43,8 @@ Examples:
   smartmesh convert box.1.ele box.msh --gmsh-version 2.2 --binary
   smartmesh convert square.msh square.mesh          # writes square.mesh and square.sol
   gmsh -2 -o - model.geo | smartmesh convert --from msh - out.vtu
-  smartmesh convert adapted.vtu view.glb --color-field hmin")]
+  smartmesh convert adapted.vtu view.glb --color-field hmin"
+)]
 pub struct ConvertArgs {
     /// Input mesh (`-` for stdin, with --from).
     input: PathBuf,
@@ -94,7 +96,9 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
     let from = args.from.or_else(|| Format::from_path(&args.input));
     let to = args.to.or_else(|| Format::from_path(&args.output));
     if args.output.as_os_str() == "-" && args.json {
-        return Err(CliError::usage("--json prints on stdout, which `-` already uses for the mesh"));
+        return Err(CliError::usage(
+            "--json prints on stdout, which `-` already uses for the mesh",
+        ));
     }
     let mesh = read_path(&args.input, from)?;
     let opts = WriteOptions {
@@ -121,7 +125,10 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
     if let Some(name) = &args.color_field {
         if !mesh.point_data.contains_key(name) {
             let known: Vec<&str> = mesh.point_data.keys().map(String::as_str).collect();
-            return Err(CliError::usage(format!("--color-field: no point field `{name}` (the mesh has: {})", known.join(", "))));
+            return Err(CliError::usage(format!(
+                "--color-field: no point field `{name}` (the mesh has: {})",
+                known.join(", ")
+            )));
         }
     }
     let report = write_path(&args.output, &mesh, to, &opts)?;
@@ -138,7 +145,8 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
             cells: mesh.num_cells(),
             dropped: &report.dropped,
         };
-        let mut text = serde_json::to_string_pretty(&s).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut text =
+            serde_json::to_string_pretty(&s).map_err(|e| CliError::usage(e.to_string()))?;
         text.push('\n');
         print_stdout(&text)?;
     }

@@ -49,7 +49,8 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Err(e) => return Err(CliError::usage(e.to_string())),
     }
     if args.json {
-        let mut s = serde_json::to_string_pretty(&summary).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut s =
+            serde_json::to_string_pretty(&summary).map_err(|e| CliError::usage(e.to_string()))?;
         s.push('\n');
         return print_stdout(&s);
     }
@@ -82,7 +83,11 @@ fn render(file: &str, s: &MeshSummary) -> String {
     }
     let _ = writeln!(o, ", {}D coordinates", s.coordinate_dim);
     let cells: Vec<String> = s.cells.iter().map(|(k, n)| format!("{n} {k}")).collect();
-    let _ = writeln!(o, "  cells       {}", if cells.is_empty() { "none".into() } else { cells.join(", ") });
+    let _ = writeln!(
+        o,
+        "  cells       {}",
+        if cells.is_empty() { "none".into() } else { cells.join(", ") }
+    );
     if let Some([lo, hi]) = s.bounding_box {
         let _ = writeln!(
             o,
@@ -91,22 +96,49 @@ fn render(file: &str, s: &MeshSummary) -> String {
             fmt_g(hi[0]),
             fmt_g(lo[1]),
             fmt_g(hi[1]),
-            if lo[2] != hi[2] { format!("  z [{}, {}]", fmt_g(lo[2]), fmt_g(hi[2])) } else { String::new() }
+            if lo[2] != hi[2] {
+                format!("  z [{}, {}]", fmt_g(lo[2]), fmt_g(hi[2]))
+            } else {
+                String::new()
+            }
         );
     }
     if !s.tags.is_empty() {
         let _ = writeln!(o, "  tags (dimension, tag, name: cells)");
         for t in &s.tags {
-            let _ = writeln!(o, "    {}D {:>6} {:<20} {}", t.dim, t.tag, t.name.as_deref().map(|n| format!("\"{n}\"")).unwrap_or_default(), t.cells);
+            let _ = writeln!(
+                o,
+                "    {}D {:>6} {:<20} {}",
+                t.dim,
+                t.tag,
+                t.name.as_deref().map(|n| format!("\"{n}\"")).unwrap_or_default(),
+                t.cells
+            );
         }
     }
     let topo = &s.topology;
-    let _ = writeln!(o, "  topology    {} points, {} curves, {} faces", topo.points.len(), topo.curves.len(), topo.faces.len());
+    let _ = writeln!(
+        o,
+        "  topology    {} points, {} curves, {} faces",
+        topo.points.len(),
+        topo.curves.len(),
+        topo.faces.len()
+    );
     for f in &topo.faces {
-        let _ = writeln!(o, "    face  {:<24} {} cells, area {}", named(Some(f.tag), &f.name), f.cells, fmt_g(f.area));
+        let _ = writeln!(
+            o,
+            "    face  {:<24} {} cells, area {}",
+            named(Some(f.tag), &f.name),
+            f.cells,
+            fmt_g(f.area)
+        );
     }
     for c in &topo.curves {
-        let closed = if c.closed_pieces > 0 { format!(", {} closed", c.closed_pieces) } else { String::new() };
+        let closed = if c.closed_pieces > 0 {
+            format!(", {} closed", c.closed_pieces)
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             o,
             "    curve {:<24} {} edges in {} piece{}{}, length {}, {}",
@@ -129,8 +161,17 @@ fn render(file: &str, s: &MeshSummary) -> String {
     }
     for (label, fields) in [("point data", &s.point_data), ("cell data", &s.cell_data)] {
         for f in fields.iter() {
-            let range = f.range.map(|[a, b]| format!(" in [{}, {}]", fmt_g(a), fmt_g(b))).unwrap_or_default();
-            let _ = writeln!(o, "  {label:<11} {} ({} component{}){range}", f.name, f.components, if f.components == 1 { "" } else { "s" });
+            let range = f
+                .range
+                .map(|[a, b]| format!(" in [{}, {}]", fmt_g(a), fmt_g(b)))
+                .unwrap_or_default();
+            let _ = writeln!(
+                o,
+                "  {label:<11} {} ({} component{}){range}",
+                f.name,
+                f.components,
+                if f.components == 1 { "" } else { "s" }
+            );
         }
     }
     if let Some(q) = &s.quality {
@@ -163,7 +204,11 @@ fn render(file: &str, s: &MeshSummary) -> String {
                     fmt_g(c.edge_length_range[0]),
                     fmt_g(c.edge_length_range[1])
                 );
-                let _ = writeln!(o, "              metric quality over {} triangles: min {:.4}, mean {:.4}", c.triangles, c.min_quality, c.mean_quality);
+                let _ = writeln!(
+                    o,
+                    "              metric quality over {} triangles: min {:.4}, mean {:.4}",
+                    c.triangles, c.min_quality, c.mean_quality
+                );
             }
             None => {
                 let _ = writeln!(o, "  metric      {}: no triangle to measure", m.source);

@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use smartmesh::formats::{read_path, write_path, Format};
 use smartmesh::formats::triangle::poly_lines;
+use smartmesh::formats::{read_path, write_path, Format};
 use smartmesh::mesher::{triangulate, MeshError, MeshOptions, Subject};
 use smartmesh::quality::QualitySummary;
 use smartmesh::Topology;
@@ -15,7 +15,8 @@ use super::{parse_format, print_stdout, CliError, ExitStatus};
 /// Mesh a planar straight-line graph: constrained Delaunay triangulation with quality
 /// refinement (Triangle's `-pq`, by spade).
 #[derive(Debug, Args)]
-#[command(after_help = "IN is a Triangle .poly (segments with boundary markers, holes, regions with \
+#[command(
+    after_help = "IN is a Triangle .poly (segments with boundary markers, holes, regions with \
 attributes and area bounds) or any mesh whose Line cells are the boundary (its triangles are not \
 meshed again: their centroids say which parts are inside and which face tag they get; what they do \
 not reach is carved, as a hole).
@@ -33,7 +34,8 @@ Examples:
   smartmesh mesh fixtures/square_hole.poly -o square.msh
   smartmesh mesh fixtures/naca0012.poly -o naca.vtu --min-angle 30 --max-area 0.001
   smartmesh mesh fixtures/cylinder.msh -o remeshed.mesh --size 0.02 --json
-  smartmesh mesh box.poly -o box.1.node --keep-convex-hull      # Triangle's -pqc")]
+  smartmesh mesh box.poly -o box.1.node --keep-convex-hull      # Triangle's -pqc"
+)]
 pub struct MeshArgs {
     /// Input graph: a .poly, or any mesh with Line cells (`-` for stdin, with --from).
     input: PathBuf,
@@ -90,7 +92,8 @@ struct MeshSummary<'a> {
 /// The line of the `.poly` record a meshing error is about, when the input is a `.poly`
 /// file (not stdin) that lists it.
 fn poly_line(args: &MeshArgs, from: Option<Format>, e: &MeshError) -> Option<u64> {
-    let is_poly = from == Some(Format::Triangle) && args.input.extension().is_some_and(|x| x.eq_ignore_ascii_case("poly"));
+    let is_poly = from == Some(Format::Triangle)
+        && args.input.extension().is_some_and(|x| x.eq_ignore_ascii_case("poly"));
     if !is_poly {
         return None;
     }
@@ -107,7 +110,9 @@ fn poly_line(args: &MeshArgs, from: Option<Format>, e: &MeshError) -> Option<u64
 /// Runs `mesh`.
 pub fn run(args: MeshArgs) -> Result<(), CliError> {
     if args.output.as_os_str() == "-" && args.json {
-        return Err(CliError::usage("--json prints on stdout, which `-` already uses for the mesh"));
+        return Err(CliError::usage(
+            "--json prints on stdout, which `-` already uses for the mesh",
+        ));
     }
     let opts = MeshOptions {
         min_angle_deg: args.min_angle,
@@ -150,7 +155,8 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
             quality: QualitySummary::of(&mesh.points, &topo),
             dropped: &report.dropped,
         };
-        let mut text = serde_json::to_string_pretty(&s).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut text =
+            serde_json::to_string_pretty(&s).map_err(|e| CliError::usage(e.to_string()))?;
         text.push('\n');
         print_stdout(&text)?;
     }

@@ -51,7 +51,9 @@ impl From<smartmesh::formats::Error> for CliError {
         CliError {
             status: if broken_pipe {
                 ExitStatus::Success
-            } else if e.is_input_error() || matches!(&e.kind, smartmesh::formats::ErrorKind::Io(io) if io.kind() == std::io::ErrorKind::NotFound) {
+            } else if e.is_input_error()
+                || matches!(&e.kind, smartmesh::formats::ErrorKind::Io(io) if io.kind() == std::io::ErrorKind::NotFound)
+            {
                 ExitStatus::Error
             } else {
                 ExitStatus::Failure
@@ -100,7 +102,9 @@ pub fn main() -> ExitCode {
         Err(e) => {
             let _ = e.print();
             return match e.kind() {
-                clap::error::ErrorKind::DisplayHelp | clap::error::ErrorKind::DisplayVersion => ExitCode::from(0),
+                clap::error::ErrorKind::DisplayHelp | clap::error::ErrorKind::DisplayVersion => {
+                    ExitCode::from(0)
+                }
                 _ => ExitCode::from(2),
             };
         }
@@ -132,13 +136,18 @@ pub fn print_stdout(text: &str) -> Result<(), CliError> {
     match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(CliError { status: ExitStatus::Failure, message: format!("writing to stdout: {e}") }),
+        Err(e) => Err(CliError {
+            status: ExitStatus::Failure,
+            message: format!("writing to stdout: {e}"),
+        }),
     }
 }
 
 /// Parses a `--from`/`--to` format name.
 pub fn parse_format(name: &str) -> Result<smartmesh::formats::Format, String> {
-    smartmesh::formats::Format::from_name(name).ok_or_else(|| format!("unknown format `{name}`; known: {}", smartmesh::formats::Format::NAMES))
+    smartmesh::formats::Format::from_name(name).ok_or_else(|| {
+        format!("unknown format `{name}`; known: {}", smartmesh::formats::Format::NAMES)
+    })
 }
 
 /// The output switches of the commands that write a mesh (`mesh`, `remesh`, `size`,
@@ -157,6 +166,10 @@ impl MeshOutputArgs {
     /// The writer options these switches ask for.
     pub fn write_options(self) -> smartmesh::formats::WriteOptions {
         use smartmesh::formats::{GmshVersion, WriteOptions};
-        WriteOptions { binary: self.binary, gmsh_version: if self.msh2 { GmshVersion::V22 } else { GmshVersion::V41 }, ..WriteOptions::default() }
+        WriteOptions {
+            binary: self.binary,
+            gmsh_version: if self.msh2 { GmshVersion::V22 } else { GmshVersion::V41 },
+            ..WriteOptions::default()
+        }
     }
 }

@@ -26,20 +26,24 @@ enum RecipeCommand {
 }
 
 fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
-    RecipeFormat::from_name(name).ok_or_else(|| format!("unknown recipe format `{name}`; known: libconfig (cfg), toml, json"))
+    RecipeFormat::from_name(name).ok_or_else(|| {
+        format!("unknown recipe format `{name}`; known: libconfig (cfg), toml, json")
+    })
 }
 
 /// Read a recipe, resolve it against a mesh and print how each region and algorithm
 /// resolved: the topological entities, their tags and names, the mesh vertices and
 /// edges they hold. Exit status 0 when the recipe is valid for the mesh, 2 otherwise.
 #[derive(Debug, Args)]
-#[command(after_help = "Recipe formats come from the extension: .cfg .conf .libconfig (libconfig, thesis \
+#[command(
+    after_help = "Recipe formats come from the extension: .cfg .conf .libconfig (libconfig, thesis \
 appendix A; run through the C preprocessor `cpp` when it holds #define, #include or #if), \
 .toml, .json.
 
 Examples:
   smartmesh recipe check distributor.cfg distributor.msh
-  smartmesh recipe check --json wing.toml wing.msh | jq '.regions[] | {name, dimension}'")]
+  smartmesh recipe check --json wing.toml wing.msh | jq '.regions[] | {name, dimension}'"
+)]
 pub struct CheckArgs {
     /// Recipe file (`-` for stdin, with --format).
     recipe: PathBuf,
@@ -77,7 +81,10 @@ pub struct ConvertArgs {
 
 impl From<RecipeError> for CliError {
     fn from(e: RecipeError) -> CliError {
-        CliError { status: if e.is_input_error() { ExitStatus::Error } else { ExitStatus::Failure }, message: e.to_string() }
+        CliError {
+            status: if e.is_input_error() { ExitStatus::Error } else { ExitStatus::Failure },
+            message: e.to_string(),
+        }
     }
 }
 
@@ -91,9 +98,15 @@ pub fn run(args: RecipeArgs) -> Result<(), CliError> {
 
 fn read_recipe(path: &Path, format: Option<RecipeFormat>) -> Result<Recipe, CliError> {
     if path.as_os_str() == "-" {
-        let format = format.ok_or_else(|| CliError::usage("reading a recipe from stdin needs --format (or --from): libconfig, toml or json"))?;
+        let format = format.ok_or_else(|| {
+            CliError::usage(
+                "reading a recipe from stdin needs --format (or --from): libconfig, toml or json",
+            )
+        })?;
         let mut text = String::new();
-        std::io::stdin().read_to_string(&mut text).map_err(|e| CliError::usage(format!("reading the recipe from stdin: {e}")))?;
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|e| CliError::usage(format!("reading the recipe from stdin: {e}")))?;
         return Ok(Recipe::from_str(&text, format, Path::new("<stdin>"))?);
     }
     match format {
@@ -136,7 +149,8 @@ fn entities(a: &Algorithm) -> EntitySet {
     match a {
         Algorithm::Uniform { on, .. } => on.clone(),
         Algorithm::DistanceToPoint { sources, .. } => sources.clone(),
-        Algorithm::DistanceToBorder { borders, .. } | Algorithm::CurvatureOfBorder { borders, .. } => borders.clone(),
+        Algorithm::DistanceToBorder { borders, .. }
+        | Algorithm::CurvatureOfBorder { borders, .. } => borders.clone(),
         Algorithm::DistanceBetweenTwoBorders { first, second, .. } => first.union(second),
         Algorithm::DistanceToImaginaryPolyline { within, .. } => within.clone(),
     }
@@ -157,7 +171,13 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         .iter()
         .map(|s| {
             let e = entities(&s.algorithm);
-            StepSummary { label: &s.label, keyword: s.algorithm.keyword(), points: e.points.len(), curves: e.curves.len(), faces: e.faces.len() }
+            StepSummary {
+                label: &s.label,
+                keyword: s.algorithm.keyword(),
+                points: e.points.len(),
+                curves: e.curves.len(),
+                faces: e.faces.len(),
+            }
         })
         .collect();
     if args.json {
@@ -171,19 +191,33 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
             regions: &resolved.regions,
             algorithms: steps,
         };
-        let mut s = serde_json::to_string_pretty(&summary).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut s =
+            serde_json::to_string_pretty(&summary).map_err(|e| CliError::usage(e.to_string()))?;
         s.push('\n');
         return print_stdout(&s);
     }
     let mut o = String::new();
     let _ = writeln!(o, "{} on {}: valid", args.recipe.display(), args.mesh.display());
     let mut global = Vec::new();
-    for (k, v) in [("hmin", plan.h_min), ("hmax", plan.h_max), ("max aspect ratio", plan.max_aspect_ratio), ("gradation", plan.gradation)] {
+    for (k, v) in [
+        ("hmin", plan.h_min),
+        ("hmax", plan.h_max),
+        ("max aspect ratio", plan.max_aspect_ratio),
+        ("gradation", plan.gradation),
+    ] {
         if let Some(v) = v {
             global.push(format!("{k} {v}"));
         }
     }
-    let _ = writeln!(o, "  global      {}", if global.is_empty() { "no bounds (vertices no algorithm reaches get the bounding-box diagonal)".into() } else { global.join(", ") });
+    let _ = writeln!(
+        o,
+        "  global      {}",
+        if global.is_empty() {
+            "no bounds (vertices no algorithm reaches get the bounding-box diagonal)".into()
+        } else {
+            global.join(", ")
+        }
+    );
     let _ = writeln!(o, "  regions");
     const DIM: [&str; 3] = ["points", "curves", "faces"];
     for r in &resolved.regions {
@@ -193,7 +227,14 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
             None => "ambiguous dimension".into(),
         };
         let tags: Vec<String> = r.tags.iter().map(i32::to_string).collect();
-        let names = if r.entity_names.is_empty() { String::new() } else { format!(" ({})", r.entity_names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")) };
+        let names = if r.entity_names.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " ({})",
+                r.entity_names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")
+            )
+        };
         let mut counts = vec![plural(r.vertices, "vertex", "vertices")];
         if r.dimension.is_some_and(|d| d > 0) {
             counts.push(plural(r.edges, "edge", "edges"));
@@ -201,13 +242,30 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         if r.dimension == Some(2) {
             counts.push(plural(r.cells, "cell", "cells"));
         }
-        let used = if r.used_by.is_empty() { "unused".to_string() } else { format!("used by {}", r.used_by.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")) };
-        let _ = writeln!(o, "    {:<16} {what}: tags {}{names}; {}; {used}", r.name, tags.join(", "), counts.join(", "));
+        let used = if r.used_by.is_empty() {
+            "unused".to_string()
+        } else {
+            format!(
+                "used by {}",
+                r.used_by.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
+            )
+        };
+        let _ = writeln!(
+            o,
+            "    {:<16} {what}: tags {}{names}; {}; {used}",
+            r.name,
+            tags.join(", "),
+            counts.join(", ")
+        );
     }
     let _ = writeln!(o, "  algorithms");
     for s in &steps {
         let mut parts = Vec::new();
-        for (n, one, many) in [(s.points, "point", "points"), (s.curves, "curve", "curves"), (s.faces, "face", "faces")] {
+        for (n, one, many) in [
+            (s.points, "point", "points"),
+            (s.curves, "curve", "curves"),
+            (s.faces, "face", "faces"),
+        ] {
             if n > 0 {
                 parts.push(plural(n, one, many));
             }
@@ -219,10 +277,14 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
 }
 
 fn convert(args: ConvertArgs) -> Result<(), CliError> {
-    let to = match args.to.or_else(|| RecipeFormat::from_path(&args.output)) {
-        Some(f) => f,
-        None => return Err(CliError::usage(format!("{}: the extension tells no recipe format (.cfg, .toml, .json); give it with --to", args.output.display()))),
-    };
+    let to =
+        match args.to.or_else(|| RecipeFormat::from_path(&args.output)) {
+            Some(f) => f,
+            None => return Err(CliError::usage(format!(
+                "{}: the extension tells no recipe format (.cfg, .toml, .json); give it with --to",
+                args.output.display()
+            ))),
+        };
     let recipe = read_recipe(&args.input, args.from)?;
     let text = recipe.to_format(to);
     if args.output.as_os_str() == "-" {

@@ -10,7 +10,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::conformity::{metric_field, Conformity};
 use smartmesh::formats::{read_path, write_path, Format, TaggedMesh};
 use smartmesh::metric::Sym2;
-use smartmesh::remesh::{interpolate_metric, remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
+use smartmesh::remesh::{
+    interpolate_metric, remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions,
+};
 
 use super::{parse_format, print_stdout, CliError};
 
@@ -25,7 +27,8 @@ enum Boundary {
 
 /// Adapt a triangle mesh to a metric field (split, collapse, swap, smooth in the metric).
 #[derive(Debug, Args)]
-#[command(after_help = "The metric is a 9-component (or 3-component m11 m12 m22) point array `metric` on \
+#[command(
+    after_help = "The metric is a 9-component (or 3-component m11 m12 m22) point array `metric` on \
 MESH's vertices: in the file given with --metric (a .vtu or .msh written by `smartmesh size`, or a .mesh \
 with its .sol beside it), or in MESH itself when --metric is left out.
 
@@ -36,7 +39,8 @@ carries the interpolated `metric` (a .mesh output writes it to the .sol beside i
 Examples:
   smartmesh size fixtures/cylinder.msh --recipe fixtures/cylinder.toml -o field.vtu
   smartmesh remesh fixtures/cylinder.msh --metric field.vtu -o adapted.vtu --json
-  smartmesh remesh adapted.mesh --measure --json      # conformity of a mesh to its own .sol")]
+  smartmesh remesh adapted.mesh --measure --json      # conformity of a mesh to its own .sol"
+)]
 pub struct RemeshArgs {
     /// Input mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
@@ -76,19 +80,32 @@ pub struct RemeshArgs {
 }
 
 /// The metric for `mesh`: from `--metric` or from the mesh itself.
-fn read_metric(mesh_path: &Path, mesh: &TaggedMesh, metric: Option<&Path>) -> Result<Vec<Sym2>, CliError> {
+fn read_metric(
+    mesh_path: &Path,
+    mesh: &TaggedMesh,
+    metric: Option<&Path>,
+) -> Result<Vec<Sym2>, CliError> {
     match metric {
-        None => metric_field(mesh, "metric").map_err(|e| CliError::usage(format!("{}: {e}", mesh_path.display()))),
+        None => metric_field(mesh, "metric")
+            .map_err(|e| CliError::usage(format!("{}: {e}", mesh_path.display()))),
         Some(p) => {
             let m = read_path(p, None)?;
             if m.points.len() != mesh.points.len() {
-                return Err(CliError::usage(format!("{}: {} vertices, but {} has {}; the metric must be on the mesh's vertices", p.display(), m.points.len(), mesh_path.display(), mesh.points.len())));
+                return Err(CliError::usage(format!(
+                    "{}: {} vertices, but {} has {}; the metric must be on the mesh's vertices",
+                    p.display(),
+                    m.points.len(),
+                    mesh_path.display(),
+                    mesh.points.len()
+                )));
             }
             // Same count is not enough: the vertices must be MESH's (up to rounding in a
             // text file).
             let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
             let tol = 1e-9 * (hi[0] - lo[0]).abs().max((hi[1] - lo[1]).abs()).max(1e-300);
-            if let Some(v) = (0..mesh.points.len()).find(|&v| (0..2).any(|k| (m.points[v][k] - mesh.points[v][k]).abs() > tol)) {
+            if let Some(v) = (0..mesh.points.len())
+                .find(|&v| (0..2).any(|k| (m.points[v][k] - mesh.points[v][k]).abs() > tol))
+            {
                 return Err(CliError::usage(format!(
                     "{}: vertex {v} (0-based) is at {:?}, but vertex {v} of {} is at {:?}; the metric must be on the mesh's vertices",
                     p.display(),
@@ -109,14 +126,18 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     let metric = match &args.background {
         Some(b) => {
             let bmesh = read_path(b, None)?;
-            let bmetric = metric_field(&bmesh, "metric").map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?;
+            let bmetric = metric_field(&bmesh, "metric")
+                .map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?;
             let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-            interpolate_metric(&bmesh, &bmetric, &pts).map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?
+            interpolate_metric(&bmesh, &bmetric, &pts)
+                .map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?
         }
         None => read_metric(&args.mesh, &mesh, args.metric.as_deref())?,
     };
     if args.measure {
-        let c = Conformity::of_mesh(&mesh, &metric).ok_or_else(|| CliError::usage(format!("{}: no triangles to measure", args.mesh.display())))?;
+        let c = Conformity::of_mesh(&mesh, &metric).ok_or_else(|| {
+            CliError::usage(format!("{}: no triangles to measure", args.mesh.display()))
+        })?;
         let text = if args.json {
             serde_json::to_string_pretty(&c).map_err(|e| CliError::usage(e.to_string()))? + "\n"
         } else {
@@ -134,7 +155,9 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         };
         return print_stdout(&text);
     }
-    let Some(output) = args.output else { return Err(CliError::usage("-o OUT is required unless --measure")) };
+    let Some(output) = args.output else {
+        return Err(CliError::usage("-o OUT is required unless --measure"));
+    };
     let opts = RemeshOptions {
         max_passes: args.max_passes,
         boundary: match args.boundary {
@@ -147,7 +170,10 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     };
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = ProgressBar::new(opts.max_passes as u64);
-        b.set_style(ProgressStyle::with_template("{bar:30} pass {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+        b.set_style(
+            ProgressStyle::with_template("{bar:30} pass {pos}/{len} {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
         b
     });
     let mut observe = |e: RemeshEvent| {
@@ -156,7 +182,8 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
             b.set_message(format!("{triangles} triangles"));
         }
     };
-    let out = remesh_with_progress(&mesh, &metric, &opts, &mut observe).map_err(|e| CliError::usage(format!("{}: {e}", args.mesh.display())))?;
+    let out = remesh_with_progress(&mesh, &metric, &opts, &mut observe)
+        .map_err(|e| CliError::usage(format!("{}: {e}", args.mesh.display())))?;
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -169,7 +196,8 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         eprintln!("smartmesh: warning: not written: {d}");
     }
     if args.json {
-        let mut text = serde_json::to_string_pretty(&out.stats).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut text =
+            serde_json::to_string_pretty(&out.stats).map_err(|e| CliError::usage(e.to_string()))?;
         text.push('\n');
         print_stdout(&text)?;
     }

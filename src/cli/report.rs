@@ -17,7 +17,8 @@ use super::{parse_format, CliError, ExitStatus};
 /// Draw a mesh and its metric: the whole mesh, zooms around the recipe's sources with
 /// size ellipses, histograms of metric edge length and quality, the convergence history.
 #[derive(Debug, Args)]
-#[command(after_help = "Panels: the whole mesh (faces filled by tag, edges, boundary curves coloured by tag,
+#[command(
+    after_help = "Panels: the whole mesh (faces filled by tag, edges, boundary curves coloured by tag,
 a legend of the tag names, the zoom windows framed); one zoom per recipe step with sources
 (their bounding box grown by the step's reach), or without a recipe around the smallest
 metric sizes, with size ellipses (semi-axes h1, h2 along the metric's axes, at true scale
@@ -33,7 +34,8 @@ PNG text uses the system's fonts (DejaVu Sans, Liberation Sans, Arial or any ins
 
 Examples:
   smartmesh size cyl.msh --recipe cyl.toml -o cyl.vtu && smartmesh report cyl.vtu --recipe cyl.toml -o cyl.png
-  smartmesh report adapted.msh --metric field.vtu --history history.json -o run.svg")]
+  smartmesh report adapted.msh --metric field.vtu --history history.json -o run.svg"
+)]
 pub struct ReportArgs {
     /// The mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
@@ -73,37 +75,71 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
         (Some(t), _) => match t.to_ascii_lowercase().as_str() {
             "svg" => ReportFormat::Svg,
             "png" => ReportFormat::Png,
-            _ => return Err(CliError::usage(format!("unknown report kind `{t}`; known: svg, png"))),
+            _ => {
+                return Err(CliError::usage(format!("unknown report kind `{t}`; known: svg, png")))
+            }
         },
-        (None, true) => return Err(CliError::usage("writing to stdout needs --to svg or --to png")),
-        (None, false) => ReportFormat::from_path(&args.output)
-            .ok_or_else(|| CliError::usage(format!("{}: a report is written as .svg or .png", args.output.display())))?,
+        (None, true) => {
+            return Err(CliError::usage("writing to stdout needs --to svg or --to png"))
+        }
+        (None, false) => ReportFormat::from_path(&args.output).ok_or_else(|| {
+            CliError::usage(format!(
+                "{}: a report is written as .svg or .png",
+                args.output.display()
+            ))
+        })?,
     };
     if !(report::WIDTH_RANGE[0]..=report::WIDTH_RANGE[1]).contains(&args.width) {
-        return Err(CliError::usage(format!("--width {}: expected {} to {} pixels", args.width, report::WIDTH_RANGE[0], report::WIDTH_RANGE[1])));
+        return Err(CliError::usage(format!(
+            "--width {}: expected {} to {} pixels",
+            args.width,
+            report::WIDTH_RANGE[0],
+            report::WIDTH_RANGE[1]
+        )));
     }
     let mesh = read_path(&args.mesh, args.from.or_else(|| Format::from_path(&args.mesh)))?;
     let topology = Topology::from_mesh(&mesh);
-    let metric = metric_input::load(&mesh, &args.mesh, args.metric.as_deref(), None).map_err(|e| match e {
-        metric_input::MetricInputError::Read(e) => CliError::from(e),
-        e => CliError::usage(e.to_string()),
-    })?;
+    let metric = metric_input::load(&mesh, &args.mesh, args.metric.as_deref(), None).map_err(
+        |e| match e {
+            metric_input::MetricInputError::Read(e) => CliError::from(e),
+            e => CliError::usage(e.to_string()),
+        },
+    )?;
     let plan = match &args.recipe {
         Some(r) => {
             let recipe = Recipe::from_path(r).map_err(|e| CliError::usage(e.to_string()))?;
-            Some(recipe.resolve(&topology).map_err(|e| CliError::usage(format!("{e} (mesh {})", args.mesh.display())))?.plan)
+            Some(
+                recipe
+                    .resolve(&topology)
+                    .map_err(|e| CliError::usage(format!("{e} (mesh {})", args.mesh.display())))?
+                    .plan,
+            )
         }
         None => None,
     };
     let history = match &args.history {
         Some(h) => {
-            let text = std::fs::read_to_string(h).map_err(|e| CliError::usage(format!("{}: cannot read the history: {e}", h.display())))?;
-            Some(History::from_json(&text).map_err(|e| CliError::usage(format!("{}: not a history.json of `smartmesh adapt`: {e}", h.display())))?)
+            let text = std::fs::read_to_string(h).map_err(|e| {
+                CliError::usage(format!("{}: cannot read the history: {e}", h.display()))
+            })?;
+            Some(History::from_json(&text).map_err(|e| {
+                CliError::usage(format!(
+                    "{}: not a history.json of `smartmesh adapt`: {e}",
+                    h.display()
+                ))
+            })?)
         }
         None => None,
     };
     let name = args.mesh.display().to_string();
-    let input = ReportInput { name: &name, mesh: &mesh, topology: &topology, metric: metric.as_ref(), plan: plan.as_ref(), history: history.as_ref() };
+    let input = ReportInput {
+        name: &name,
+        mesh: &mesh,
+        topology: &topology,
+        metric: metric.as_ref(),
+        plan: plan.as_ref(),
+        history: history.as_ref(),
+    };
     let mut drawn = report::render(&input, &ReportOptions { width: args.width });
     for n in &drawn.notes {
         eprintln!("smartmesh: note: {n}");
@@ -111,7 +147,11 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
     let bytes = match kind {
         ReportFormat::Svg => std::mem::take(&mut drawn.svg).into_bytes(),
         ReportFormat::Png => {
-            let png = report::png::rasterise(&drawn.svg, &report::png::PngOptions { palette: args.palette }).map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
+            let png = report::png::rasterise(
+                &drawn.svg,
+                &report::png::PngOptions { palette: args.palette },
+            )
+            .map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
             for n in &png.notes {
                 eprintln!("smartmesh: note: {n}");
             }
@@ -126,13 +166,18 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
         return match out.write_all(&bytes).and_then(|_| out.flush()) {
             Ok(()) => Ok(()),
             Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-            Err(e) => Err(CliError { status: ExitStatus::Failure, message: format!("writing to stdout: {e}") }),
+            Err(e) => Err(CliError {
+                status: ExitStatus::Failure,
+                message: format!("writing to stdout: {e}"),
+            }),
         };
     }
     write_all_atomically(&[(args.output.clone(), bytes)])?;
     if args.json {
-        let mut text = serde_json::to_string_pretty(&serde_json::json!({ "output": args.output.display().to_string(), "report": &drawn }))
-            .map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
+        let mut text = serde_json::to_string_pretty(
+            &serde_json::json!({ "output": args.output.display().to_string(), "report": &drawn }),
+        )
+        .map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
         text.push('\n');
         return super::print_stdout(&text);
     }

@@ -15,7 +15,8 @@ use super::{parse_format, print_stdout, CliError, ExitStatus};
 
 /// Compute the metric field a recipe asks for on a mesh, and write it.
 #[derive(Debug, Args)]
-#[command(after_help = "The recipe is libconfig (.cfg, run through the C preprocessor as in the thesis), \
+#[command(
+    after_help = "The recipe is libconfig (.cfg, run through the C preprocessor as in the thesis), \
 TOML (.toml) or JSON (.json); `smartmesh recipe check RECIPE MESH` shows how its regions resolve.
 
 The output's extension chooses what is written:
@@ -30,7 +31,8 @@ Gmsh honours an anisotropic background mesh only with BAMG: `-setnumber Mesh.Alg
 Examples:
   smartmesh size naca.msh --recipe agard01.toml -o naca.sol
   smartmesh size distributor.msh --recipe distributor.cfg -o field.vtu
-  smartmesh size square.msh --recipe wake.toml -o bgm.pos && gmsh square.geo -2 -bgm bgm.pos -setnumber Mesh.Algorithm 7")]
+  smartmesh size square.msh --recipe wake.toml -o bgm.pos && gmsh square.geo -2 -bgm bgm.pos -setnumber Mesh.Algorithm 7"
+)]
 pub struct SizeArgs {
     /// Input mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
@@ -68,8 +70,13 @@ struct SizeSummary<'a> {
 
 /// Runs `size`.
 pub fn run(args: SizeArgs) -> Result<(), CliError> {
-    let target = MetricTarget::from_path(&args.output)
-        .ok_or_else(|| CliError::usage(format!("{}: cannot hold a metric; use one of {}", args.output.display(), MetricTarget::EXTENSIONS)))?;
+    let target = MetricTarget::from_path(&args.output).ok_or_else(|| {
+        CliError::usage(format!(
+            "{}: cannot hold a metric; use one of {}",
+            args.output.display(),
+            MetricTarget::EXTENSIONS
+        ))
+    })?;
     let recipe = Recipe::from_path(&args.recipe).map_err(|e| CliError::usage(e.to_string()))?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     let mesh = read_path(&args.mesh, from)?;
@@ -77,7 +84,10 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
 
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = ProgressBar::new(steps);
-        b.set_style(ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+        b.set_style(
+            ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
         b
     });
     let mut observe = |event: StepEvent| {
@@ -93,9 +103,15 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     };
     let field = match size_mesh(&mesh, &recipe, &mut observe) {
         Ok(s) => s.field,
-        Err(SizeMeshError::Resolve(e)) => return Err(CliError::usage(format!("{e} (mesh {})", args.mesh.display()))),
-        Err(SizeMeshError::Graph(e)) => return Err(CliError::usage(format!("{}: {e}", args.mesh.display()))),
-        Err(e @ SizeMeshError::Sizing(_)) => return Err(CliError { status: ExitStatus::Error, message: e.to_string() }),
+        Err(SizeMeshError::Resolve(e)) => {
+            return Err(CliError::usage(format!("{e} (mesh {})", args.mesh.display())))
+        }
+        Err(SizeMeshError::Graph(e)) => {
+            return Err(CliError::usage(format!("{}: {e}", args.mesh.display())))
+        }
+        Err(e @ SizeMeshError::Sizing(_)) => {
+            return Err(CliError { status: ExitStatus::Error, message: e.to_string() })
+        }
     };
     if let Some(b) = bar {
         b.finish_and_clear();
@@ -130,7 +146,8 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             warnings: &field.warnings,
             dropped: &report.dropped,
         };
-        let mut text = serde_json::to_string_pretty(&s).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut text =
+            serde_json::to_string_pretty(&s).map_err(|e| CliError::usage(e.to_string()))?;
         text.push('\n');
         print_stdout(&text)?;
     }

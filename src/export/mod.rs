@@ -22,7 +22,10 @@ pub mod pos;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use smartmesh_formats::{sym2_to_tensor9, write_all_atomically, write_path, DataArray, Error, ErrorKind, Format, TaggedMesh, WriteOptions, WriteReport};
+use smartmesh_formats::{
+    sym2_to_tensor9, write_all_atomically, write_path, DataArray, Error, ErrorKind, Format,
+    TaggedMesh, WriteOptions, WriteReport,
+};
 
 use crate::metric::SizeTensor;
 
@@ -55,7 +58,9 @@ impl MetricTarget {
             "solb" => Some(MetricTarget::Sol { binary: true }),
             "pos" => Some(MetricTarget::Pos),
             _ => match Format::from_path(path)? {
-                f @ (Format::Gmsh | Format::Vtu | Format::VtkLegacy | Format::Medit) => Some(MetricTarget::Mesh(f)),
+                f @ (Format::Gmsh | Format::Vtu | Format::VtkLegacy | Format::Medit) => {
+                    Some(MetricTarget::Mesh(f))
+                }
                 _ => None,
             },
         }
@@ -71,7 +76,8 @@ pub fn metric_arrays(tensors: &[SizeTensor]) -> BTreeMap<String, DataArray> {
     let n = tensors.len();
     let mut metric = Vec::with_capacity(9 * n);
     let mut size = Vec::with_capacity(9 * n);
-    let (mut h1, mut h2, mut aniso) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+    let (mut h1, mut h2, mut aniso) =
+        (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
     let (mut ax1, mut ax2) = (Vec::with_capacity(3 * n), Vec::with_capacity(3 * n));
     for t in tensors {
         let m = t.to_metric();
@@ -116,19 +122,33 @@ pub struct ExportReport {
 /// Writes the field `tensors` (one per vertex of `mesh`) to `path` as `target` wants,
 /// atomically (no half-written file on failure). `opts` chooses the binary/version
 /// variants of mesh targets.
-pub fn export_metric(path: &Path, mesh: &TaggedMesh, tensors: &[SizeTensor], target: MetricTarget, opts: &WriteOptions) -> Result<ExportReport, Error> {
+pub fn export_metric(
+    path: &Path,
+    mesh: &TaggedMesh,
+    tensors: &[SizeTensor],
+    target: MetricTarget,
+    opts: &WriteOptions,
+) -> Result<ExportReport, Error> {
     if tensors.len() != mesh.points.len() {
-        return Err(Error::new(ErrorKind::Inconsistent(format!("{} size tensors for {} mesh vertices", tensors.len(), mesh.points.len()))).with_path(path));
+        return Err(Error::new(ErrorKind::Inconsistent(format!(
+            "{} size tensors for {} mesh vertices",
+            tensors.len(),
+            mesh.points.len()
+        )))
+        .with_path(path));
     }
     let arrays = metric_arrays(tensors);
     match target {
         MetricTarget::Sol { binary } => {
-            let bytes = smartmesh_formats::medit::write_sol(&[(METRIC, &arrays[METRIC])], 2, binary).map_err(|e| e.with_path(path))?;
+            let bytes =
+                smartmesh_formats::medit::write_sol(&[(METRIC, &arrays[METRIC])], 2, binary)
+                    .map_err(|e| e.with_path(path))?;
             write_all_atomically(&[(path.to_path_buf(), bytes)])?;
             Ok(ExportReport { files: vec![path.to_path_buf()], dropped: Vec::new() })
         }
         MetricTarget::Pos => {
-            let bytes = pos::write_tensor_view(mesh, &arrays[METRIC], METRIC).map_err(|e| e.with_path(path))?;
+            let bytes = pos::write_tensor_view(mesh, &arrays[METRIC], METRIC)
+                .map_err(|e| e.with_path(path))?;
             write_all_atomically(&[(path.to_path_buf(), bytes)])?;
             Ok(ExportReport { files: vec![path.to_path_buf()], dropped: Vec::new() })
         }
@@ -139,11 +159,17 @@ pub fn export_metric(path: &Path, mesh: &TaggedMesh, tensors: &[SizeTensor], tar
                 // `gmsh -bgm` takes the last view of the file and MMG reads one solution:
                 // the metric goes alone, and the mesh's own fields are left out (said).
                 Format::Gmsh | Format::Medit => {
-                    for name in std::mem::take(&mut out.point_data).into_keys().filter(|k| k != METRIC) {
-                        dropped.push(format!("point data `{name}`: left out so that the metric is the only field"));
+                    for name in
+                        std::mem::take(&mut out.point_data).into_keys().filter(|k| k != METRIC)
+                    {
+                        dropped.push(format!(
+                            "point data `{name}`: left out so that the metric is the only field"
+                        ));
                     }
                     for name in out.cell_data.keys().filter(|k| !is_tag_array(k)) {
-                        dropped.push(format!("cell data `{name}`: left out so that the metric is the only field"));
+                        dropped.push(format!(
+                            "cell data `{name}`: left out so that the metric is the only field"
+                        ));
                     }
                     out.cell_data.retain(|k, _| is_tag_array(k));
                     out.point_data.insert(METRIC.to_string(), arrays[METRIC].clone());

@@ -15,10 +15,20 @@ use smartmesh_formats::{CellKind, DataArray, Error, ErrorKind, TaggedMesh};
 
 /// The bytes of a `.pos` file holding one view `name` of the 9-component point array
 /// `tensor` on the triangles and quadrangles of `mesh`.
-pub fn write_tensor_view(mesh: &TaggedMesh, tensor: &DataArray, name: &str) -> Result<Vec<u8>, Error> {
-    let cannot = |reason: String| Error::new(ErrorKind::CannotWrite { format: "Gmsh post-processing view", reason });
+pub fn write_tensor_view(
+    mesh: &TaggedMesh,
+    tensor: &DataArray,
+    name: &str,
+) -> Result<Vec<u8>, Error> {
+    let cannot = |reason: String| {
+        Error::new(ErrorKind::CannotWrite { format: "Gmsh post-processing view", reason })
+    };
     if tensor.components != 9 || tensor.values.len() != 9 * mesh.points.len() {
-        return Err(cannot(format!("a view needs 9 components per mesh vertex ({} vertices, {} values)", mesh.points.len(), tensor.values.len())));
+        return Err(cannot(format!(
+            "a view needs 9 components per mesh vertex ({} vertices, {} values)",
+            mesh.points.len(),
+            tensor.values.len()
+        )));
     }
     if name.contains('"') || name.contains('\n') {
         return Err(cannot(format!("view name {name:?} holds a quote or a newline")));
@@ -78,7 +88,10 @@ mod tests {
     use smartmesh_formats::CellBlock;
 
     fn square() -> TaggedMesh {
-        let mut m = TaggedMesh { points: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]], ..TaggedMesh::new() };
+        let mut m = TaggedMesh {
+            points: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            ..TaggedMesh::new()
+        };
         let mut b = CellBlock::new(CellKind::Triangle);
         b.push(&[0, 1, 2], 1, 1);
         b.push(&[0, 2, 3], 1, 1);
@@ -101,7 +114,10 @@ mod tests {
         let values = lines[2].split('{').nth(1).unwrap().trim_end_matches("};");
         let v: Vec<f64> = values.split(',').map(|s| s.parse().unwrap()).collect();
         // Nodes 0, 2, 3 of the second triangle.
-        let expect: Vec<f64> = [0usize, 2, 3].iter().flat_map(|&n| (9 * n..9 * n + 9).map(|k| k as f64 / 4.0)).collect();
+        let expect: Vec<f64> = [0usize, 2, 3]
+            .iter()
+            .flat_map(|&n| (9 * n..9 * n + 9).map(|k| k as f64 / 4.0))
+            .collect();
         assert_eq!(v, expect);
         assert_eq!(lines[3], "};");
     }

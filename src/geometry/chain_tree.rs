@@ -65,7 +65,11 @@ impl ChainTree {
     /// The tree over `geoms` in their order, boxes grown by `grow` for rounding.
     pub(crate) fn new(geoms: &[SegmentGeom], grow: f64) -> ChainTree {
         let cap = 2 * geoms.len() / CHAIN_LEAF + 2;
-        let mut t = ChainTree { nodes: Vec::with_capacity(cap), parent: Vec::with_capacity(cap), leaf_of: vec![u32::MAX; geoms.len()] };
+        let mut t = ChainTree {
+            nodes: Vec::with_capacity(cap),
+            parent: Vec::with_capacity(cap),
+            leaf_of: vec![u32::MAX; geoms.len()],
+        };
         if !geoms.is_empty() {
             t.build(geoms, 0, geoms.len(), grow, u32::MAX);
         }
@@ -75,14 +79,30 @@ impl ChainTree {
     /// Builds the subtree over segments `lo..hi`; a leaf's box holds its segments' end
     /// points (grown by `grow` for rounding), an inner node's the corners of its
     /// children's boxes, so that the build is linear in the segments.
-    fn build(&mut self, geoms: &[SegmentGeom], lo: usize, hi: usize, grow: f64, parent: u32) -> u32 {
+    fn build(
+        &mut self,
+        geoms: &[SegmentGeom],
+        lo: usize,
+        hi: usize,
+        grow: f64,
+        parent: u32,
+    ) -> u32 {
         let me = self.nodes.len() as u32;
         let run = &geoms[lo..hi];
         let chord = [run[run.len() - 1].b[0] - run[0].a[0], run[run.len() - 1].b[1] - run[0].a[1]];
         let n = chord[0].hypot(chord[1]);
         let u = if n > 0.0 && n.is_finite() { [chord[0] / n, chord[1] / n] } else { [1.0, 0.0] };
         let o = run[0].a;
-        self.nodes.push(ChainNode { o, u, s: [0.0; 2], t: [0.0; 2], lo: lo as u32, hi: hi as u32, left: u32::MAX, right: u32::MAX });
+        self.nodes.push(ChainNode {
+            o,
+            u,
+            s: [0.0; 2],
+            t: [0.0; 2],
+            lo: lo as u32,
+            hi: hi as u32,
+            left: u32::MAX,
+            right: u32::MAX,
+        });
         self.parent.push(parent);
         let mut points: Vec<Point2> = Vec::new();
         let g = if hi - lo > CHAIN_LEAF {
@@ -103,7 +123,8 @@ impl ChainTree {
             }
             grow
         };
-        let (mut s, mut t) = ([f64::INFINITY, f64::NEG_INFINITY], [f64::INFINITY, f64::NEG_INFINITY]);
+        let (mut s, mut t) =
+            ([f64::INFINITY, f64::NEG_INFINITY], [f64::INFINITY, f64::NEG_INFINITY]);
         for q in &points {
             let (dx, dy) = (q[0] - o[0], q[1] - o[1]);
             let (a, b) = (dx * u[0] + dy * u[1], dy * u[0] - dx * u[1]);
@@ -122,7 +143,14 @@ impl ChainTree {
     /// `bound(node)`, a lower bound of its segments' values, is below `settle` times
     /// the best so far (nearer child first); `value(id, best)` lowers `best` by segment
     /// `id`. Returns the smallest value found, or `best`.
-    pub(crate) fn search_from(&self, start: u32, mut best: f64, settle: f64, bound: impl Fn(&ChainNode) -> f64, mut value: impl FnMut(u32, &mut f64)) -> f64 {
+    pub(crate) fn search_from(
+        &self,
+        start: u32,
+        mut best: f64,
+        settle: f64,
+        bound: impl Fn(&ChainNode) -> f64,
+        mut value: impl FnMut(u32, &mut f64),
+    ) -> f64 {
         let Some(&leaf) = self.leaf_of.get(start as usize) else { return best };
         // One pending sibling per level: a tree of 2^32 segments is 31 levels deep.
         let mut stack: [(u32, f64); 96] = [(0, 0.0); 96];
@@ -143,8 +171,13 @@ impl ChainTree {
                     }
                     continue;
                 }
-                let (bl, br) = (bound(&self.nodes[n.left as usize]), bound(&self.nodes[n.right as usize]));
-                let (near, far) = if bl <= br { ((n.left, bl), (n.right, br)) } else { ((n.right, br), (n.left, bl)) };
+                let (bl, br) =
+                    (bound(&self.nodes[n.left as usize]), bound(&self.nodes[n.right as usize]));
+                let (near, far) = if bl <= br {
+                    ((n.left, bl), (n.right, br))
+                } else {
+                    ((n.right, br), (n.left, bl))
+                };
                 if top + 2 <= stack.len() {
                     stack[top] = far;
                     stack[top + 1] = near;
@@ -175,7 +208,13 @@ impl ChainTree {
     /// from the guess `seed` (the projection of `p` on `seed.segment`): the guess's leaf, then up to the root, opening the
     /// siblings whose oriented box is not farther than the best so far, nearer child
     /// first. Ties as [`Nearest::beats`]; the answer does not depend on the guess.
-    pub(crate) fn closest(&self, geoms: &[SegmentGeom], p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
+    pub(crate) fn closest(
+        &self,
+        geoms: &[SegmentGeom],
+        p: Point2,
+        seed: Nearest,
+        stats: &mut QueryStats,
+    ) -> Nearest {
         let t = self;
         let mut best = seed;
         let Some(&leaf) = t.leaf_of.get(seed.segment as usize) else { return best };
@@ -202,7 +241,12 @@ impl ChainTree {
     /// leaf reached from the root by always taking the child whose box is nearer to `p`.
     /// A search from a far guess opens every box nearer than that guess, which around a
     /// closed curve is most of the tree; from this one, about a path's worth.
-    pub(crate) fn guess_near(&self, geoms: &[SegmentGeom], p: Point2, stats: &mut QueryStats) -> Option<Nearest> {
+    pub(crate) fn guess_near(
+        &self,
+        geoms: &[SegmentGeom],
+        p: Point2,
+        stats: &mut QueryStats,
+    ) -> Option<Nearest> {
         let mut n = self.nodes.first()?;
         while n.left != u32::MAX {
             let (l, r) = (&self.nodes[n.left as usize], &self.nodes[n.right as usize]);
@@ -210,11 +254,21 @@ impl ChainTree {
             n = if l.distance_squared(p) <= r.distance_squared(p) { l } else { r };
         }
         stats.segments += u64::from(n.hi - n.lo);
-        (n.lo..n.hi).map(|id| Nearest { segment: id, projection: geoms[id as usize].project(p) }).reduce(|a, b| if b.beats(&a) { b } else { a })
+        (n.lo..n.hi)
+            .map(|id| Nearest { segment: id, projection: geoms[id as usize].project(p) })
+            .reduce(|a, b| if b.beats(&a) { b } else { a })
     }
 
     /// Branch and bound below the nodes on `stack[..top]` (each with its box distance).
-    fn descend(&self, geoms: &[SegmentGeom], p: Point2, stack: &mut [(u32, f64); 96], mut top: usize, best: &mut Nearest, stats: &mut QueryStats) {
+    fn descend(
+        &self,
+        geoms: &[SegmentGeom],
+        p: Point2,
+        stack: &mut [(u32, f64); 96],
+        mut top: usize,
+        best: &mut Nearest,
+        stats: &mut QueryStats,
+    ) {
         let t = self;
         while top > 0 {
             top -= 1;
@@ -235,7 +289,8 @@ impl ChainTree {
             }
             stats.boxes += 2;
             let (l, r) = (n.left, n.right);
-            let (dl, dr) = (t.nodes[l as usize].distance_squared(p), t.nodes[r as usize].distance_squared(p));
+            let (dl, dr) =
+                (t.nodes[l as usize].distance_squared(p), t.nodes[r as usize].distance_squared(p));
             let bound = best.projection.distance_squared * SLACK;
             let (near, far) = if dl <= dr { ((l, dl), (r, dr)) } else { ((r, dr), (l, dl)) };
             // The stack holds at most one pending sibling per level (< 64 levels).

@@ -54,9 +54,9 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
-use super::segment::{Point2, SegmentGeom};
-pub(crate) use super::chain_tree::ChainTree;
 use super::chain_tree::ChainNode;
+pub(crate) use super::chain_tree::ChainTree;
+use super::segment::{Point2, SegmentGeom};
 use super::segment_index::{Nearest, QueryStats};
 
 /// Segments either side of a segment whose closest points a certificate compares.
@@ -74,7 +74,6 @@ pub const SEPARATION: f64 = 1e-9;
 /// a lower bound (every node left closed is at least that far), for far fewer nodes
 /// where many parts of the source are about equally close (a circle seen from inside).
 const SETTLE: f64 = 0.75;
-
 
 /// The cone of directions at a polyline vertex from which the vertex is the foot on
 /// both of its segments (the outer side of the turn).
@@ -174,9 +173,24 @@ impl Clearance {
     }
 
     /// [`Clearance::new`] over a tree of `geoms` already built ([`Clearance::tree_of`]).
-    pub(crate) fn new_over(tree: Arc<ChainTree>, geoms: &[SegmentGeom], links: &[Links], scale: f64, horizon: f64) -> Clearance {
-        let lengths: Vec<f64> = geoms.iter().filter(|g| g.inv_len2 > 0.0).map(|g| g.length()).filter(|l| l.is_finite()).collect();
-        let mean = if lengths.is_empty() { 0.0 } else { lengths.iter().sum::<f64>() / lengths.len() as f64 };
+    pub(crate) fn new_over(
+        tree: Arc<ChainTree>,
+        geoms: &[SegmentGeom],
+        links: &[Links],
+        scale: f64,
+        horizon: f64,
+    ) -> Clearance {
+        let lengths: Vec<f64> = geoms
+            .iter()
+            .filter(|g| g.inv_len2 > 0.0)
+            .map(|g| g.length())
+            .filter(|l| l.is_finite())
+            .collect();
+        let mean = if lengths.is_empty() {
+            0.0
+        } else {
+            lengths.iter().sum::<f64>() / lengths.len() as f64
+        };
         let mut caps = Vec::new();
         let mut c = 32.0 * mean;
         while c < horizon && caps.len() < 16 && c > 0.0 {
@@ -196,7 +210,13 @@ impl Clearance {
     }
 
     /// [`Clearance::up_to`] over a tree of `geoms` already built ([`Clearance::tree_of`]).
-    pub(crate) fn up_to_over(tree: Arc<ChainTree>, geoms: &[SegmentGeom], links: &[Links], scale: f64, farthest: f64) -> Clearance {
+    pub(crate) fn up_to_over(
+        tree: Arc<ChainTree>,
+        geoms: &[SegmentGeom],
+        links: &[Links],
+        scale: f64,
+        farthest: f64,
+    ) -> Clearance {
         let cap = farthest * BY_CERTIFIED / SETTLE * (1.0 + 1e-9);
         let caps = if cap > 0.0 && cap.is_finite() { vec![cap] } else { Vec::new() };
         Clearance::with_caps(tree, geoms, links, scale, caps)
@@ -211,7 +231,13 @@ impl Clearance {
 
     /// The clearances with the finite search caps `caps` (increasing), then the
     /// uncapped tier.
-    fn with_caps(tree: Arc<ChainTree>, geoms: &[SegmentGeom], links: &[Links], scale: f64, mut caps: Vec<f64>) -> Clearance {
+    fn with_caps(
+        tree: Arc<ChainTree>,
+        geoms: &[SegmentGeom],
+        links: &[Links],
+        scale: f64,
+        mut caps: Vec<f64>,
+    ) -> Clearance {
         let gap = SEPARATION * scale.max(f64::MIN_POSITIVE);
         caps.push(f64::INFINITY);
         let tiers = caps.len();
@@ -255,7 +281,12 @@ impl Clearance {
         let tiers = self.caps.len();
         self.cone_derived[s * tiers + t].get_or_compute(|| {
             let Some(n) = self.next(s as u32) else { return 0.0 };
-            let sides = shape.half_cos * self.segment_value(s, shape.outer, t).min(self.segment_value(n as usize, shape.outer, t));
+            let sides = shape.half_cos
+                * self.segment_value(s, shape.outer, t).min(self.segment_value(
+                    n as usize,
+                    shape.outer,
+                    t,
+                ));
             self.cone_outside_segment_windows(s as u32, n, shape, sides)
         })
     }
@@ -314,7 +345,8 @@ impl Clearance {
             return false;
         }
         let t = self.tier(need);
-        self.cone_derived_value(s as usize, shape, t) >= need || self.cone_value(s as usize, t) >= need
+        self.cone_derived_value(s as usize, shape, t) >= need
+            || self.cone_value(s as usize, t) >= need
     }
 
     /// The exact closest segment to `p`, starting from the guess `seed` (the projection
@@ -335,7 +367,8 @@ struct Rect {
 
 impl Rect {
     fn of(points: &[Point2]) -> Rect {
-        let mut r = Rect { x: [f64::INFINITY, f64::NEG_INFINITY], y: [f64::INFINITY, f64::NEG_INFINITY] };
+        let mut r =
+            Rect { x: [f64::INFINITY, f64::NEG_INFINITY], y: [f64::INFINITY, f64::NEG_INFINITY] };
         for q in points {
             r.x = [r.x[0].min(q[0]), r.x[1].max(q[0])];
             r.y = [r.y[0].min(q[1]), r.y[1].max(q[1])];
@@ -423,7 +456,8 @@ impl Sector {
         let c2 = e[0] * self.n2[1] - e[1] * self.n2[0];
         let turn = self.n1[0] * self.n2[1] - self.n1[1] * self.n2[0];
         let inside = if turn >= 0.0 { c1 >= 0.0 && c2 >= 0.0 } else { c1 <= 0.0 && c2 <= 0.0 };
-        let edges = (e[0] * self.n1[0] + e[1] * self.n1[1]).max(e[0] * self.n2[0] + e[1] * self.n2[1]);
+        let edges =
+            (e[0] * self.n1[0] + e[1] * self.n1[1]).max(e[0] * self.n2[0] + e[1] * self.n2[1]);
         if inside {
             e[0].hypot(e[1]).max(edges)
         } else {
@@ -474,7 +508,8 @@ impl Clearance {
     /// The window of segment `s`: itself and [`WINDOW`] segments either way along its
     /// polyline (`u32::MAX` past its ends).
     fn segment_window(&self, s: u32) -> [u32; 2 * WINDOW + 1] {
-        let (back, ahead) = (self.walk(s, |x| self.prev(x), 1, WINDOW), self.walk(s, |x| self.next(x), 1, WINDOW));
+        let (back, ahead) =
+            (self.walk(s, |x| self.prev(x), 1, WINDOW), self.walk(s, |x| self.next(x), 1, WINDOW));
         [s, back[0], back[1], ahead[0], ahead[1]]
     }
 
@@ -552,7 +587,9 @@ impl Clearance {
             // that is, where its bound is below SETTLE times the best so far, as for
             // the tree's nodes (the value kept is SETTLE times the smallest found).
             let g = &self.geoms[id as usize];
-            if frame.bound(Rect::of(&[frame.local(g.a), frame.local(g.b)]), side, self.gap) >= SETTLE * *best {
+            if frame.bound(Rect::of(&[frame.local(g.a), frame.local(g.b)]), side, self.gap)
+                >= SETTLE * *best
+            {
                 return;
             }
             let pts = self.piece_points(id).map(|q| frame.local(q));
@@ -561,12 +598,23 @@ impl Clearance {
             }
         };
         // Seed with the segments just outside the window, then search the rest.
-        for id in self.walk(s, |x| self.prev(x), WINDOW + 1, WINDOW + 2).into_iter().chain(self.walk(s, |x| self.next(x), WINDOW + 1, WINDOW + 2)) {
+        for id in self
+            .walk(s, |x| self.prev(x), WINDOW + 1, WINDOW + 2)
+            .into_iter()
+            .chain(self.walk(s, |x| self.next(x), WINDOW + 1, WINDOW + 2))
+        {
             if id != u32::MAX {
                 value(id, &mut best);
             }
         }
-        SETTLE * self.tree.search_from(s, best, SETTLE, |node| frame.bound(frame.rect_of_box(node), side, self.gap), value)
+        SETTLE
+            * self.tree.search_from(
+                s,
+                best,
+                SETTLE,
+                |node| frame.bound(frame.rect_of_box(node), side, self.gap),
+                value,
+            )
     }
 
     fn cone_shape(&self, s: usize) -> Option<ConeShape> {
@@ -574,13 +622,21 @@ impl Clearance {
         let n = self.next(s32)?;
         let (g1, g2) = (&self.geoms[s], &self.geoms[n as usize]);
         let (l1, l2) = (g1.length(), g2.length());
-        if g1.inv_len2 == 0.0 || g2.inv_len2 == 0.0 || !(l1.is_finite() && l2.is_finite()) || g1.b != g2.a {
+        if g1.inv_len2 == 0.0
+            || g2.inv_len2 == 0.0
+            || !(l1.is_finite() && l2.is_finite())
+            || g1.b != g2.a
+        {
             return None;
         }
         let (d1, d2) = ([g1.d[0] / l1, g1.d[1] / l1], [g2.d[0] / l2, g2.d[1] / l2]);
         let turn = d1[0] * d2[1] - d1[1] * d2[0];
         // The outer side of the turn: right of a left turn, left otherwise.
-        let (n1, n2) = if turn > 0.0 { ([d1[1], -d1[0]], [d2[1], -d2[0]]) } else { ([-d1[1], d1[0]], [-d2[1], d2[0]]) };
+        let (n1, n2) = if turn > 0.0 {
+            ([d1[1], -d1[0]], [d2[1], -d2[0]])
+        } else {
+            ([-d1[1], d1[0]], [-d2[1], d2[0]])
+        };
         let sum = [n1[0] + n2[0], n1[1] + n2[1]];
         let norm = sum[0].hypot(sum[1]);
         // NaN (a fold, or non-finite input) counts as degenerate too.
@@ -592,7 +648,13 @@ impl Clearance {
         // cos(θ/2) = |n1 + n2| / 2, a little less for the rounding of the normals.
         let half_cos = (0.5 * norm * (1.0 - 1e-9)).min(1.0);
         let outer = if turn > 0.0 { 1 } else { 0 };
-        Some(ConeShape { mean, kappa_squared: kappa * kappa, sector: Sector { n1, n2 }, half_cos, outer })
+        Some(ConeShape {
+            mean,
+            kappa_squared: kappa * kappa,
+            sector: Sector { n1, n2 },
+            half_cos,
+            outer,
+        })
     }
 
     /// The clearance of the cone at the end of segment `s`, searched up to `cap`.
@@ -609,7 +671,12 @@ impl Clearance {
                 *best = self.cone_bound_of_segment(id, v, &sector, *best);
             }
         };
-        for id in self.walk(s32, |x| self.prev(x), 2, 3).into_iter().chain(self.walk(n, |x| self.next(x), 2, 3)) {
+        for id in self.walk(s32, |x| self.prev(x), 2, 3).into_iter().chain(self.walk(
+            n,
+            |x| self.next(x),
+            2,
+            3,
+        )) {
             if id != u32::MAX {
                 value(id, &mut best);
             }
@@ -623,7 +690,11 @@ impl Clearance {
                 if d2 < gap2 {
                     return 0.0;
                 }
-                let h = node.corners().iter().map(|q| sector.support([q[0] - v[0], q[1] - v[1]])).fold(f64::NEG_INFINITY, f64::max);
+                let h = node
+                    .corners()
+                    .iter()
+                    .map(|q| sector.support([q[0] - v[0], q[1] - v[1]]))
+                    .fold(f64::NEG_INFINITY, f64::max);
                 cone_bound(d2, h)
             },
             value,
@@ -641,11 +712,24 @@ mod tests {
     fn polyline(points: &[Point2], closed: bool) -> (Vec<SegmentGeom>, Vec<Links>) {
         let k = points.len();
         let count = if closed { k } else { k - 1 };
-        let geoms: Vec<SegmentGeom> = (0..count).map(|i| SegmentGeom::new(points[i], points[(i + 1) % k])).collect();
+        let geoms: Vec<SegmentGeom> =
+            (0..count).map(|i| SegmentGeom::new(points[i], points[(i + 1) % k])).collect();
         let links = (0..count)
             .map(|i| {
-                let prev = if i > 0 { Some(i as u32 - 1) } else if closed { Some(count as u32 - 1) } else { None };
-                let next = if i + 1 < count { Some(i as u32 + 1) } else if closed { Some(0) } else { None };
+                let prev = if i > 0 {
+                    Some(i as u32 - 1)
+                } else if closed {
+                    Some(count as u32 - 1)
+                } else {
+                    None
+                };
+                let next = if i + 1 < count {
+                    Some(i as u32 + 1)
+                } else if closed {
+                    Some(0)
+                } else {
+                    None
+                };
                 (prev, next)
             })
             .collect();
@@ -654,10 +738,19 @@ mod tests {
 
     /// `n` points at angles a round the origin (a turn when closed, `0..open_span` when
     /// open) at radius `radius(k, a)`, as segments with their links.
-    fn radial_curve(n: usize, closed: bool, open_span: f64, mut radius: impl FnMut(usize, f64) -> f64) -> (Vec<SegmentGeom>, Vec<Links>) {
+    fn radial_curve(
+        n: usize,
+        closed: bool,
+        open_span: f64,
+        mut radius: impl FnMut(usize, f64) -> f64,
+    ) -> (Vec<SegmentGeom>, Vec<Links>) {
         let points: Vec<Point2> = (0..n)
             .map(|k| {
-                let a = if closed { 2.0 * std::f64::consts::PI * k as f64 / n as f64 } else { open_span * k as f64 / n as f64 };
+                let a = if closed {
+                    2.0 * std::f64::consts::PI * k as f64 / n as f64
+                } else {
+                    open_span * k as f64 / n as f64
+                };
                 let r = radius(k, a);
                 [r * a.cos(), r * a.sin()]
             })
@@ -677,7 +770,10 @@ mod tests {
         for case in 0..30 {
             let n = 12 + (rng.unit() * 120.0) as usize;
             let closed = case % 2 == 0;
-            let (geoms, links) = radial_curve(n, closed, 4.0, |_, a| 0.6 + 0.2 * (3.0 * a + rng.unit()).cos() + if case % 3 == 1 { 0.15 * rng.unit() } else { 0.0 });
+            let (geoms, links) = radial_curve(n, closed, 4.0, |_, a| {
+                0.6 + 0.2 * (3.0 * a + rng.unit()).cos()
+                    + if case % 3 == 1 { 0.15 * rng.unit() } else { 0.0 }
+            });
             let clearance = Clearance::new(&geoms, &links, 1.0, 8.0);
             for s in 0..geoms.len() {
                 let Some(shape) = clearance.cone[s] else { continue };
@@ -708,7 +804,10 @@ mod tests {
             }
         }
         eprintln!("{useful} of {checked} cone bounds from the segments at least half the cone's own search");
-        assert!(checked > 1000 && useful * 2 > checked, "{useful} of {checked}: too few cones, or bounds too weak to be of use");
+        assert!(
+            checked > 1000 && useful * 2 > checked,
+            "{useful} of {checked}: too few cones, or bounds too weak to be of use"
+        );
     }
 
     /// The clearance's promise, checked directly against a scan of every segment: where
@@ -723,9 +822,12 @@ mod tests {
         for case in 0..40 {
             let n = 20 + (rng.unit() * 300.0) as usize;
             let closed = case % 2 == 0;
-            let modes: Vec<(f64, f64, f64)> = (0..3).map(|m| (rng.unit() * 0.3 / (m + 1) as f64, (m + 2) as f64, rng.unit() * 6.3)).collect();
+            let modes: Vec<(f64, f64, f64)> = (0..3)
+                .map(|m| (rng.unit() * 0.3 / (m + 1) as f64, (m + 2) as f64, rng.unit() * 6.3))
+                .collect();
             let (geoms, links) = radial_curve(n, closed, 5.0, |k, a| {
-                let r = 0.6 + modes.iter().map(|&(amp, f, ph)| amp * (f * a + ph).cos()).sum::<f64>();
+                let r =
+                    0.6 + modes.iter().map(|&(amp, f, ph)| amp * (f * a + ph).cos()).sum::<f64>();
                 // Corners: every seventh point of some curves pushed out.
                 if case % 3 == 1 && k % 7 == 0 {
                     r * 1.1
@@ -756,7 +858,9 @@ mod tests {
                     let s = s as u32;
                     let pr = g.project(p);
                     let d = pr.distance();
-                    let closest = s == want.segment || (want.projection.foot == pr.foot && want.projection.distance_squared == pr.distance_squared);
+                    let closest = s == want.segment
+                        || (want.projection.foot == pr.foot
+                            && want.projection.distance_squared == pr.distance_squared);
                     if pr.t > 0.0 && pr.t < 1.0 {
                         asked += usize::from(closest);
                         if clearance.covers_segment(s, p, d) {
@@ -773,7 +877,8 @@ mod tests {
                         if clearance.covers_vertex(s, p, d) {
                             covered += usize::from(closest);
                             let next = links[s as usize].1.unwrap();
-                            let window = [links[s as usize].0, Some(s), Some(next), links[next as usize].1];
+                            let window =
+                                [links[s as usize].0, Some(s), Some(next), links[next as usize].1];
                             for (o, h) in geoms.iter().enumerate() {
                                 if !window.contains(&Some(o as u32)) {
                                     assert!(h.project(p).distance_squared > pr.distance_squared, "case {case}: segment {o} outside the window of vertex {s} is as close to {p:?}");
@@ -785,6 +890,9 @@ mod tests {
             }
         }
         eprintln!("{covered} of {asked} points covered by the clearance of their closest segment or vertex");
-        assert!(covered * 10 >= asked * 3, "{covered} of {asked} covered: the clearances are too small to be of use");
+        assert!(
+            covered * 10 >= asked * 3,
+            "{covered} of {asked} covered: the clearances are too small to be of use"
+        );
     }
 }

@@ -84,7 +84,11 @@ impl SegmentGeom {
 /// counter-clockwise, zero only when the three points are collinear.
 #[inline]
 pub fn orient(a: Point2, b: Point2, c: Point2) -> f64 {
-    robust::orient2d(robust::Coord { x: a[0], y: a[1] }, robust::Coord { x: b[0], y: b[1] }, robust::Coord { x: c[0], y: c[1] })
+    robust::orient2d(
+        robust::Coord { x: a[0], y: a[1] },
+        robust::Coord { x: b[0], y: b[1] },
+        robust::Coord { x: c[0], y: c[1] },
+    )
 }
 
 /// `(b - a) × (c - a)`: positive when `c` lies left of the line from `a` to `b`.
@@ -101,7 +105,9 @@ pub fn segments_touch(p: Point2, q: Point2, r: Point2, s: Point2, tol: f64) -> b
     let d2 = cross(p, q, s);
     let d3 = cross(r, s, p);
     let d4 = cross(r, s, q);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
         return true;
     }
     // Not a proper crossing: they touch iff an end of one lies (within tol) on the other.

@@ -109,7 +109,9 @@ impl SegmentIndex {
         let mut leaf_of = vec![NONE; segments.len()];
         for (n, node) in nodes.iter().enumerate() {
             if node.count > 0 {
-                for it in &items[node.start_or_right as usize..(node.start_or_right + node.count) as usize] {
+                for it in &items
+                    [node.start_or_right as usize..(node.start_or_right + node.count) as usize]
+                {
                     leaf_of[it.id as usize] = n as u32;
                 }
             }
@@ -195,9 +197,12 @@ impl SegmentIndex {
         let mut node = leaf;
         while self.parent[node as usize] != NONE {
             let par = self.parent[node as usize];
-            let sib = if node == par + 1 { self.nodes[par as usize].start_or_right } else { par + 1 };
+            let sib =
+                if node == par + 1 { self.nodes[par as usize].start_or_right } else { par + 1 };
             stats.boxes += 1;
-            if self.box_distance_squared(sib as usize, p) <= best.projection.distance_squared * SLACK {
+            if self.box_distance_squared(sib as usize, p)
+                <= best.projection.distance_squared * SLACK
+            {
                 self.descend(sib as usize, p, &mut best, stats);
             }
             node = par;
@@ -206,7 +211,12 @@ impl SegmentIndex {
     }
 
     /// Calls `f` with the id of every segment whose box overlaps the box `[min, max]`.
-    pub fn for_each_overlapping(&self, min: Point2, max: Point2, mut f: impl FnMut(u32, &SegmentGeom)) {
+    pub fn for_each_overlapping(
+        &self,
+        min: Point2,
+        max: Point2,
+        mut f: impl FnMut(u32, &SegmentGeom),
+    ) {
         if self.nodes.is_empty() {
             return;
         }
@@ -220,7 +230,9 @@ impl SegmentIndex {
                 continue;
             }
             if n.count > 0 {
-                for it in &self.items[n.start_or_right as usize..(n.start_or_right + n.count) as usize] {
+                for it in
+                    &self.items[n.start_or_right as usize..(n.start_or_right + n.count) as usize]
+                {
                     let g = &it.geom;
                     let (lo, hi) = seg_box(g);
                     if !(lo[0] > max[0] || hi[0] < min[0] || lo[1] > max[1] || hi[1] < min[1]) {
@@ -246,7 +258,8 @@ impl SegmentIndex {
     #[inline]
     fn scan_leaf(&self, n: usize, p: Point2, best: &mut Nearest, stats: &mut QueryStats) {
         let node = &self.nodes[n];
-        let items = &self.items[node.start_or_right as usize..(node.start_or_right + node.count) as usize];
+        let items =
+            &self.items[node.start_or_right as usize..(node.start_or_right + node.count) as usize];
         stats.segments += items.len() as u64;
         for it in items {
             let c = Nearest { segment: it.id, projection: it.geom.project(p) };
@@ -310,7 +323,13 @@ fn grown_box(lo: Point2, hi: Point2) -> (Point2, Point2) {
 
 /// Builds the subtree over `items[..]` (which start at `offset` in the full item array),
 /// appending nodes depth-first; returns the node index.
-fn build(items: &mut [Item], offset: usize, nodes: &mut Vec<Node>, parent: &mut Vec<u32>, par: u32) -> u32 {
+fn build(
+    items: &mut [Item],
+    offset: usize,
+    nodes: &mut Vec<Node>,
+    parent: &mut Vec<u32>,
+    par: u32,
+) -> u32 {
     let me = nodes.len() as u32;
     let (mut min, mut max) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     let (mut cmin, mut cmax) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -354,7 +373,8 @@ mod tests {
     #[test]
     fn closest_and_certify_agree_with_scan() {
         // A zigzag of 200 segments.
-        let pts: Vec<Point2> = (0..=200).map(|i| [i as f64 * 0.1, if i % 2 == 0 { 0.0 } else { 0.3 }]).collect();
+        let pts: Vec<Point2> =
+            (0..=200).map(|i| [i as f64 * 0.1, if i % 2 == 0 { 0.0 } else { 0.3 }]).collect();
         let segs: Vec<SegmentGeom> = pts.windows(2).map(|w| SegmentGeom::new(w[0], w[1])).collect();
         let idx = SegmentIndex::new(&segs);
         assert_eq!(idx.len(), 200);
@@ -372,7 +392,8 @@ mod tests {
 
     #[test]
     fn overlap_walk_finds_every_box() {
-        let segs: Vec<SegmentGeom> = (0..50).map(|i| SegmentGeom::new([i as f64, 0.0], [i as f64 + 0.5, 1.0])).collect();
+        let segs: Vec<SegmentGeom> =
+            (0..50).map(|i| SegmentGeom::new([i as f64, 0.0], [i as f64 + 0.5, 1.0])).collect();
         let idx = SegmentIndex::new(&segs);
         let mut found = Vec::new();
         idx.for_each_overlapping([10.2, 0.4], [12.1, 0.6], |id, _| found.push(id));

@@ -61,7 +61,14 @@ fn segment_pieces(cdt: &Cdt, pslg: &Pslg) -> Result<Vec<Piece>, MeshError> {
             }
             let w = match best {
                 Some((cos, w)) if cos > 0.999 => w,
-                _ => return Err(MeshError::Internal { reason: format!("lost the way along segment {} after {steps} pieces", k + 1) }),
+                _ => {
+                    return Err(MeshError::Internal {
+                        reason: format!(
+                            "lost the way along segment {} after {steps} pieces",
+                            k + 1
+                        ),
+                    })
+                }
             };
             if let Some(j) = claimed.insert((v.min(w), v.max(w)), k) {
                 return Err(MeshError::SegmentsOverlap { first: j + 1, second: k + 1 });
@@ -71,7 +78,9 @@ fn segment_pieces(cdt: &Cdt, pslg: &Pslg) -> Result<Vec<Piece>, MeshError> {
             v = w;
             steps += 1;
             if steps > limit {
-                return Err(MeshError::Internal { reason: format!("segment {} does not reach its end", k + 1) });
+                return Err(MeshError::Internal {
+                    reason: format!("segment {} does not reach its end", k + 1),
+                });
             }
         }
     }
@@ -116,8 +125,17 @@ fn corners(pieces: &[Piece], cdt: &Cdt, corner_angle_deg: f64) -> Vec<usize> {
 
 /// Builds the output mesh from the refined `cdt` and the domain's triangles with their
 /// labels ([`NO_REGION`] or a seed index).
-pub(crate) fn assemble(cdt: &Cdt, domain: &[Labelled], pslg: &Pslg, input: &TaggedMesh, opts: &MeshOptions) -> Result<TaggedMesh, MeshError> {
-    let triangles: Vec<([usize; 3], i32)> = domain.iter().map(|&(t, l)| (t, if l == NO_REGION { 0 } else { pslg.seeds[l as usize].tag })).collect();
+pub(crate) fn assemble(
+    cdt: &Cdt,
+    domain: &[Labelled],
+    pslg: &Pslg,
+    input: &TaggedMesh,
+    opts: &MeshOptions,
+) -> Result<TaggedMesh, MeshError> {
+    let triangles: Vec<([usize; 3], i32)> = domain
+        .iter()
+        .map(|&(t, l)| (t, if l == NO_REGION { 0 } else { pslg.seeds[l as usize].tag }))
+        .collect();
     let pieces = segment_pieces(cdt, pslg)?;
     let corner_vertices = corners(&pieces, cdt, opts.corner_angle_deg);
 

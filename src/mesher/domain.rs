@@ -92,7 +92,13 @@ fn locate(cdt: &Cdt, p: [f64; 2]) -> Located {
             if e.is_constraint_edge() {
                 Located::OnSegment
             } else {
-                Located::Faces([e.face(), e.rev().face()].iter().filter_map(|f| f.as_inner()).map(|f| f.fix()).collect())
+                Located::Faces(
+                    [e.face(), e.rev().face()]
+                        .iter()
+                        .filter_map(|f| f.as_inner())
+                        .map(|f| f.fix())
+                        .collect(),
+                )
             }
         }
         PositionInTriangulation::OnVertex(v) => {
@@ -102,16 +108,23 @@ fn locate(cdt: &Cdt, p: [f64; 2]) -> Located {
             if v.out_edges().any(|e| e.is_constraint_edge()) {
                 Located::OnSegment
             } else {
-                Located::Faces(v.out_edges().filter_map(|e| e.face().as_inner()).map(|f| f.fix()).collect())
+                Located::Faces(
+                    v.out_edges().filter_map(|e| e.face().as_inner()).map(|f| f.fix()).collect(),
+                )
             }
         }
-        PositionInTriangulation::OutsideOfConvexHull(_) | PositionInTriangulation::NoTriangulation => Located::OutsideHull,
+        PositionInTriangulation::OutsideOfConvexHull(_)
+        | PositionInTriangulation::NoTriangulation => Located::OutsideHull,
     }
 }
 
 /// Labels every face of `cdt`: [`CARVED`], [`NO_REGION`] or the index of the seed of
 /// `pslg.seeds` whose region it is in.
-pub(crate) fn classify(cdt: &Cdt, pslg: &Pslg, keep_convex_hull: bool) -> Result<Vec<u32>, MeshError> {
+pub(crate) fn classify(
+    cdt: &Cdt,
+    pslg: &Pslg,
+    keep_convex_hull: bool,
+) -> Result<Vec<u32>, MeshError> {
     let mut parts = Parts::new(cdt);
     let n = cdt.num_all_faces();
     // Labels per part root.
@@ -132,7 +145,9 @@ pub(crate) fn classify(cdt: &Cdt, pslg: &Pslg, keep_convex_hull: bool) -> Result
                     labels[r] = CARVED;
                 }
             }
-            Located::OnSegment => return Err(MeshError::SeedOnSegment { what: "hole", number: k + 1, point: h }),
+            Located::OnSegment => {
+                return Err(MeshError::SeedOnSegment { what: "hole", number: k + 1, point: h })
+            }
             // Triangle ignores holes outside the triangulation; so do we.
             Located::OutsideHull => {}
         }
@@ -147,8 +162,16 @@ pub(crate) fn classify(cdt: &Cdt, pslg: &Pslg, keep_convex_hull: bool) -> Result
         let faces = match locate(cdt, s.point) {
             Located::Faces(fs) => fs,
             _ if derived => continue,
-            Located::OnSegment => return Err(MeshError::SeedOnSegment { what: "region", number: s.number, point: s.point }),
-            Located::OutsideHull => return Err(MeshError::RegionOutside { region: s.number, point: s.point }),
+            Located::OnSegment => {
+                return Err(MeshError::SeedOnSegment {
+                    what: "region",
+                    number: s.number,
+                    point: s.point,
+                })
+            }
+            Located::OutsideHull => {
+                return Err(MeshError::RegionOutside { region: s.number, point: s.point })
+            }
         };
         for f in faces {
             let r = parts.find(f.index());

@@ -68,7 +68,14 @@ pub struct MeshOptions {
 
 impl Default for MeshOptions {
     fn default() -> Self {
-        MeshOptions { min_angle_deg: 20.7, max_area: None, size: None, keep_convex_hull: false, corner_angle_deg: 30.0, max_vertices: None }
+        MeshOptions {
+            min_angle_deg: 20.7,
+            max_area: None,
+            size: None,
+            keep_convex_hull: false,
+            corner_angle_deg: 30.0,
+            max_vertices: None,
+        }
     }
 }
 
@@ -85,20 +92,28 @@ impl MeshOptions {
     /// Refuses angles outside [0, 34], and area bounds or sizes that are not positive.
     pub fn validate(&self) -> Result<(), MeshError> {
         if !(0.0..=34.0).contains(&self.min_angle_deg) {
-            return Err(MeshError::BadOption { what: format!("minimum angle {} (expected 0 to 34 degrees)", self.min_angle_deg) });
+            return Err(MeshError::BadOption {
+                what: format!("minimum angle {} (expected 0 to 34 degrees)", self.min_angle_deg),
+            });
         }
         if let Some(a) = self.max_area {
             if !(a > 0.0 && a.is_finite()) {
-                return Err(MeshError::BadOption { what: format!("maximum area {a} (expected a positive number)") });
+                return Err(MeshError::BadOption {
+                    what: format!("maximum area {a} (expected a positive number)"),
+                });
             }
         }
         if let Some(h) = self.size {
             if !(h > 0.0 && h.is_finite()) {
-                return Err(MeshError::BadOption { what: format!("size {h} (expected a positive edge length)") });
+                return Err(MeshError::BadOption {
+                    what: format!("size {h} (expected a positive edge length)"),
+                });
             }
         }
         if !(0.0..180.0).contains(&self.corner_angle_deg) {
-            return Err(MeshError::BadOption { what: format!("corner angle {} (expected 0 to 180 degrees)", self.corner_angle_deg) });
+            return Err(MeshError::BadOption {
+                what: format!("corner angle {} (expected 0 to 180 degrees)", self.corner_angle_deg),
+            });
         }
         Ok(())
     }
@@ -154,7 +169,9 @@ pub enum MeshError {
         at: [f64; 2],
     },
     /// A segment from a point to itself.
-    #[error("segment {segment} starts and ends at point {point}; expected two distinct end points")]
+    #[error(
+        "segment {segment} starts and ends at point {point}; expected two distinct end points"
+    )]
     ZeroLengthSegment {
         /// The segment.
         segment: usize,
@@ -263,9 +280,15 @@ impl MeshError {
         Some(match *self {
             NonFinite { point } | NotPlanar { point, .. } => Subject::Point(point),
             DuplicatePoint { second, .. } => Subject::Point(second),
-            ZeroLengthSegment { segment, .. } | SegmentsCross { segment, .. } => Subject::Segment(segment),
-            DuplicateSegment { second, .. } | SegmentsOverlap { second, .. } => Subject::Segment(second),
-            RegionOutside { region, .. } | NonIntegerAttribute { region, .. } => Subject::Region(region),
+            ZeroLengthSegment { segment, .. } | SegmentsCross { segment, .. } => {
+                Subject::Segment(segment)
+            }
+            DuplicateSegment { second, .. } | SegmentsOverlap { second, .. } => {
+                Subject::Segment(second)
+            }
+            RegionOutside { region, .. } | NonIntegerAttribute { region, .. } => {
+                Subject::Region(region)
+            }
             SeedOnSegment { what, number, .. } | NonFiniteSeed { what, number } => {
                 if what == "hole" {
                     Subject::Hole(number)

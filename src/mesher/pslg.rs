@@ -68,14 +68,23 @@ pub(crate) struct Pslg {
 /// segment's marker, so such a marker only says "on this boundary"; a marker of its own
 /// names a point (a leading edge, a corner a recipe refines toward, an isolated source
 /// inside the domain) and becomes a Vertex cell with that tag.
-fn marked_points(mesh: &TaggedMesh, compact: &[usize], segments: &[Segment]) -> Vec<(usize, i32, i32)> {
-    let Some(markers) = mesh.point_data.get(smartmesh_formats::triangle::MARKER).filter(|a| a.components == 1 && a.len() == mesh.points.len()) else {
+fn marked_points(
+    mesh: &TaggedMesh,
+    compact: &[usize],
+    segments: &[Segment],
+) -> Vec<(usize, i32, i32)> {
+    let Some(markers) = mesh
+        .point_data
+        .get(smartmesh_formats::triangle::MARKER)
+        .filter(|a| a.components == 1 && a.len() == mesh.points.len())
+    else {
         return Vec::new();
     };
     if mesh.blocks.iter().any(|b| b.kind == CellKind::Vertex && !b.is_empty()) {
         return Vec::new();
     }
-    let tag_of = |v: f64| (v != 0.0 && v.fract() == 0.0 && v.abs() <= i32::MAX as f64).then_some(v as i32);
+    let tag_of =
+        |v: f64| (v != 0.0 && v.fract() == 0.0 && v.abs() <= i32::MAX as f64).then_some(v as i32);
     // Compact vertices that lie on a segment carrying their own marker.
     let mut on_own_segment = vec![false; compact.len()];
     let mut input_of = vec![usize::MAX; compact.iter().filter(|&&c| c != usize::MAX).count()];
@@ -94,7 +103,9 @@ fn marked_points(mesh: &TaggedMesh, compact: &[usize], segments: &[Segment]) -> 
     let mut out = Vec::new();
     for (i, &m) in markers.values.iter().enumerate() {
         match tag_of(m) {
-            Some(tag) if compact[i] != usize::MAX && !on_own_segment[i] => out.push((compact[i], tag, tag)),
+            Some(tag) if compact[i] != usize::MAX && !on_own_segment[i] => {
+                out.push((compact[i], tag, tag))
+            }
             _ => {}
         }
     }
@@ -127,10 +138,15 @@ pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
     for (kind, nodes, physical, geometrical) in mesh.cells() {
         match kind {
             CellKind::Line | CellKind::Line3 => {
-                let (a, b) = (take(nodes[0] as usize, &mut compact)?, take(nodes[1] as usize, &mut compact)?);
+                let (a, b) = (
+                    take(nodes[0] as usize, &mut compact)?,
+                    take(nodes[1] as usize, &mut compact)?,
+                );
                 segments.push(Segment { a, b, physical, geometrical });
             }
-            CellKind::Vertex => listed.push((take(nodes[0] as usize, &mut compact)?, physical, geometrical)),
+            CellKind::Vertex => {
+                listed.push((take(nodes[0] as usize, &mut compact)?, physical, geometrical))
+            }
             _ => {}
         }
     }
@@ -179,7 +195,12 @@ pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
                 y += p[1];
             }
             let tag = if physical != 0 { physical } else { geometrical };
-            seeds.push(Seed { point: [x / k as f64, y / k as f64], tag, max_area: None, number: 0 });
+            seeds.push(Seed {
+                point: [x / k as f64, y / k as f64],
+                tag,
+                max_area: None,
+                number: 0,
+            });
         }
     }
     for (k, h) in mesh.holes.iter().enumerate() {

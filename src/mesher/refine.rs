@@ -32,14 +32,19 @@ pub(crate) fn build(pslg: &Pslg) -> Result<Cdt, MeshError> {
     let vertices: Vec<Point2<f64>> = pslg.points.iter().map(|p| Point2::new(p[0], p[1])).collect();
     let edges: Vec<[usize; 2]> = pslg.segments.iter().map(|s| [s.a, s.b]).collect();
     let mut conflicts: Vec<[usize; 2]> = Vec::new();
-    let cdt = Cdt::try_bulk_load_cdt(vertices, edges, |e| conflicts.push(e)).map_err(|e| MeshError::Coordinates { reason: format!("{e:?}") })?;
+    let cdt = Cdt::try_bulk_load_cdt(vertices, edges, |e| conflicts.push(e))
+        .map_err(|e| MeshError::Coordinates { reason: format!("{e:?}") })?;
     if cdt.num_vertices() != pslg.points.len() {
         // Exact duplicates were refused before; spade merging others means coordinates
         // it cannot tell apart.
         return Err(MeshError::Coordinates { reason: "spade merged vertices that differ".into() });
     }
     if let Some(&[a, b]) = conflicts.iter().min() {
-        let segment = pslg.segments.iter().position(|s| (s.a, s.b) == (a, b) || (s.a, s.b) == (b, a)).unwrap_or(0);
+        let segment = pslg
+            .segments
+            .iter()
+            .position(|s| (s.a, s.b) == (a, b) || (s.a, s.b) == (b, a))
+            .unwrap_or(0);
         let other = crossing_partner(pslg, segment);
         return Err(MeshError::SegmentsCross { segment: segment + 1, other: other.map(|o| o + 1) });
     }
@@ -50,7 +55,9 @@ pub(crate) fn build(pslg: &Pslg) -> Result<Cdt, MeshError> {
 /// once, on the way out).
 fn crossing_partner(pslg: &Pslg, k: usize) -> Option<usize> {
     let p = |i: usize| pslg.points[i];
-    let orient = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let orient = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
     let s = pslg.segments[k];
     let (a, b) = (p(s.a), p(s.b));
     pslg.segments.iter().enumerate().position(|(j, t)| {
@@ -75,9 +82,16 @@ fn bound_of(label: u32, global: Option<f64>, pslg: &Pslg) -> Option<f64> {
 
 /// spade's `refine`, with a panic (spade gives up with one when a circumcentre cannot be
 /// inserted for loss of precision) turned into an error.
-fn spade_refine(cdt: &mut Cdt, params: RefinementParameters<f64>) -> Result<spade::RefinementResult, MeshError> {
+fn spade_refine(
+    cdt: &mut Cdt,
+    params: RefinementParameters<f64>,
+) -> Result<spade::RefinementResult, MeshError> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| cdt.refine(params))).map_err(|e| {
-        let why = e.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| e.downcast_ref::<String>().cloned()).unwrap_or_default();
+        let why = e
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| e.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
         MeshError::Internal { reason: format!("spade's refinement failed: {why}") }
     })
 }
@@ -88,7 +102,12 @@ pub(crate) type Labelled = ([usize; 3], u32);
 /// The triangles of the domain, counter-clockwise (spade vertex indices), with their
 /// labels; and the centroids of those larger than their area bound. One pass over the
 /// faces, which [`super::assemble`] reuses when nothing is too large.
-fn domain_triangles(cdt: &Cdt, labels: &[u32], global: Option<f64>, pslg: &Pslg) -> (Vec<Labelled>, Vec<Point2<f64>>) {
+fn domain_triangles(
+    cdt: &Cdt,
+    labels: &[u32],
+    global: Option<f64>,
+    pslg: &Pslg,
+) -> (Vec<Labelled>, Vec<Point2<f64>>) {
     let coords: Vec<[f64; 2]> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
     let mut kept = Vec::with_capacity(cdt.num_inner_faces());
     let mut too_large = Vec::new();
@@ -110,7 +129,11 @@ fn domain_triangles(cdt: &Cdt, labels: &[u32], global: Option<f64>, pslg: &Pslg)
 }
 
 /// Refines `cdt` as `opts` asks and returns the domain's triangles with their labels.
-pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<Vec<Labelled>, MeshError> {
+pub(crate) fn refine(
+    cdt: &mut Cdt,
+    pslg: &Pslg,
+    opts: &MeshOptions,
+) -> Result<Vec<Labelled>, MeshError> {
     let initial = classify(cdt, pslg, opts.keep_convex_hull)?;
     let global = opts.area_bound();
     let any_region_bound = pslg.seeds.iter().any(|s| s.max_area.is_some());
@@ -119,17 +142,27 @@ pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<V
     }
 
     let exclude = !opts.keep_convex_hull && {
-        let dry = spade_refine(cdt, RefinementParameters::<f64>::new().exclude_outer_faces(true).with_max_additional_vertices(0))?;
+        let dry = spade_refine(
+            cdt,
+            RefinementParameters::<f64>::new()
+                .exclude_outer_faces(true)
+                .with_max_additional_vertices(0),
+        )?;
         dry.excluded_faces.iter().all(|f| initial[f.index()] == CARVED)
     };
 
     let hull_area: f64 = cdt.inner_faces().map(|f| f.area()).sum();
-    let smallest_bound = pslg.seeds.iter().filter_map(|s| s.max_area).chain(global).fold(f64::INFINITY, f64::min);
+    let smallest_bound =
+        pslg.seeds.iter().filter_map(|s| s.max_area).chain(global).fold(f64::INFINITY, f64::min);
     let budget = |cdt: &Cdt| -> usize {
         match opts.max_vertices {
             Some(m) => m.saturating_sub(cdt.num_vertices()),
             None => {
-                let by_area = if smallest_bound.is_finite() { (4.0 * hull_area / smallest_bound).min(1e12) as usize } else { 0 };
+                let by_area = if smallest_bound.is_finite() {
+                    (4.0 * hull_area / smallest_bound).min(1e12) as usize
+                } else {
+                    0
+                };
                 10 * cdt.num_vertices() + by_area + 10_000
             }
         }
@@ -146,7 +179,7 @@ pub(crate) fn refine(cdt: &mut Cdt, pslg: &Pslg, opts: &MeshOptions) -> Result<V
     };
 
     let p = params(cdt);
-        let result = spade_refine(cdt, p)?;
+    let result = spade_refine(cdt, p)?;
     if !result.refinement_complete {
         return Err(MeshError::RefinementIncomplete { vertices: cdt.num_vertices() });
     }

@@ -83,10 +83,7 @@ mod tests {
     fn residual(m: Sym2, e: &Eigen2) -> f64 {
         let [x, y] = e.vector;
         let p = [-y, x];
-        let r1 = [
-            m.a * x + m.b * y - e.values[0] * x,
-            m.b * x + m.c * y - e.values[0] * y,
-        ];
+        let r1 = [m.a * x + m.b * y - e.values[0] * x, m.b * x + m.c * y - e.values[0] * y];
         let r2 = [
             m.a * p[0] + m.b * p[1] - e.values[1] * p[0],
             m.b * p[0] + m.c * p[1] - e.values[1] * p[1],

@@ -147,15 +147,9 @@ mod tests {
         let a = SizeTensor::new([1.0, 0.0], 4.0, 1.0);
         let b = SizeTensor::new([1.0, 0.0], 1.0, 4.0);
         let i = a.intersection(&b);
-        assert!(
-            (i.h1() - 1.0).abs() < 1e-15 && (i.h2() - 1.0).abs() < 1e-15,
-            "{i:?}"
-        );
+        assert!((i.h1() - 1.0).abs() < 1e-15 && (i.h2() - 1.0).abs() < 1e-15, "{i:?}");
         let u = a.union(&b);
-        assert!(
-            (u.h_min() - 4.0).abs() < 1e-14 && (u.h_max() - 4.0).abs() < 1e-14,
-            "{u:?}"
-        );
+        assert!((u.h_min() - 4.0).abs() < 1e-14 && (u.h_max() - 4.0).abs() < 1e-14, "{u:?}");
         let c = SizeTensor::new([1.0, 0.0], 2.0, 0.5);
         let i = c.intersection(&SizeTensor::isotropic(1.0));
         assert!((i.size_along([1.0, 0.0]) - 1.0).abs() < 1e-15, "{i:?}");

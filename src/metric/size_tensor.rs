@@ -108,10 +108,7 @@ impl SizeTensor {
         } else {
             axis
         };
-        SizeTensor {
-            axis,
-            h: [clamp_size(h[0]), clamp_size(h[1])],
-        }
+        SizeTensor { axis, h: [clamp_size(h[0]), clamp_size(h[1])] }
     }
 
     /// Unit vector of the first axis.
@@ -178,10 +175,7 @@ impl SizeTensor {
     /// The metric tensor M = R diag(1/h1², 1/h2²) Rᵀ (thesis 3.1.6), what files carry.
     pub fn to_metric(&self) -> Sym2 {
         Sym2::from_eigen(
-            [
-                (self.h[0] * self.h[0]).recip(),
-                (self.h[1] * self.h[1]).recip(),
-            ],
+            [(self.h[0] * self.h[0]).recip(), (self.h[1] * self.h[1]).recip()],
             self.axis,
         )
     }
@@ -207,11 +201,8 @@ impl SizeTensor {
                 return Err(TensorError::SizeOutOfRange { size });
             }
         }
-        let axis = canonical_axis(e.vector).ok_or(TensorError::NotFinite {
-            a: m.a,
-            b: m.b,
-            c: m.c,
-        })?;
+        let axis =
+            canonical_axis(e.vector).ok_or(TensorError::NotFinite { a: m.a, b: m.b, c: m.c })?;
         Ok(SizeTensor { axis, h })
     }
 
@@ -252,11 +243,7 @@ impl SizeBounds {
     /// (`f64::INFINITY` for no limit); `None` otherwise.
     pub fn try_new(h_min: f64, h_max: f64, max_aspect_ratio: f64) -> Option<SizeBounds> {
         let ok = in_range(h_min) && in_range(h_max) && h_min <= h_max && max_aspect_ratio >= 1.0;
-        ok.then_some(SizeBounds {
-            h_min,
-            h_max,
-            max_aspect_ratio,
-        })
+        ok.then_some(SizeBounds { h_min, h_max, max_aspect_ratio })
     }
 
     /// The smallest size allowed.
@@ -291,16 +278,8 @@ fn canonical_axis(v: [f64; 2]) -> Option<[f64; 2]> {
     }
     // A vector that is unit to rounding is kept as it is, so that rebuilding a tensor from
     // `axis()` gives back the same bits.
-    let u = if (n - 1.0).abs() <= 2.0 * f64::EPSILON {
-        v
-    } else {
-        [v[0] / n, v[1] / n]
-    };
-    Some(if u[0] < 0.0 || (u[0] == 0.0 && u[1] < 0.0) {
-        [-u[0], -u[1]]
-    } else {
-        u
-    })
+    let u = if (n - 1.0).abs() <= 2.0 * f64::EPSILON { v } else { [v[0] / n, v[1] / n] };
+    Some(if u[0] < 0.0 || (u[0] == 0.0 && u[1] < 0.0) { [-u[0], -u[1]] } else { u })
 }
 
 #[cfg(test)]

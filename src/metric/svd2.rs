@@ -56,10 +56,7 @@ pub(crate) fn right_singular(alpha: [f64; 2], rotation: [f64; 2], beta: [f64; 2]
     let det = a1 * a2 * b1 * b2 * (cc + ss);
     let s2 = if s1 > 0.0 { (det / s1).min(s1) } else { 0.0 };
     let k = ka * kb;
-    Singular {
-        vector: e.vector,
-        sigma: [s1 * k, s2 * k],
-    }
+    Singular { vector: e.vector, sigma: [s1 * k, s2 * k] }
 }
 
 #[cfg(test)]
@@ -85,14 +82,8 @@ mod tests {
         let mp = [-m[0][0] * vy + m[0][1] * vx, -m[1][0] * vy + m[1][1] * vx];
         let along = (mv[0] * left.vector[0] + mv[1] * left.vector[1]).abs();
         let across = (-mp[0] * left.vector[1] + mp[1] * left.vector[0]).abs();
-        assert!(
-            (along / d.sigma[0] - 1.0).abs() < 1e-14,
-            "{alpha:?} {rot:?} {beta:?}: {d:?}"
-        );
-        assert!(
-            (across / d.sigma[1] - 1.0).abs() < 1e-10,
-            "{alpha:?} {rot:?} {beta:?}: {d:?}"
-        );
+        assert!((along / d.sigma[0] - 1.0).abs() < 1e-14, "{alpha:?} {rot:?} {beta:?}: {d:?}");
+        assert!((across / d.sigma[1] - 1.0).abs() < 1e-10, "{alpha:?} {rot:?} {beta:?}: {d:?}");
         assert!(d.sigma[0] >= d.sigma[1]);
     }
 

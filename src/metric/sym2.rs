@@ -22,11 +22,7 @@ pub struct Sym2 {
 
 impl Sym2 {
     /// The identity matrix.
-    pub const IDENTITY: Sym2 = Sym2 {
-        a: 1.0,
-        b: 0.0,
-        c: 1.0,
-    };
+    pub const IDENTITY: Sym2 = Sym2 { a: 1.0, b: 0.0, c: 1.0 };
 
     /// The matrix `[[a, b], [b, c]]`.
     pub const fn new(a: f64, b: f64, c: f64) -> Sym2 {
@@ -38,11 +34,7 @@ impl Sym2 {
     pub fn from_eigen(values: [f64; 2], axis: [f64; 2]) -> Sym2 {
         let [x, y] = axis;
         let [l1, l2] = values;
-        Sym2 {
-            a: l1 * x * x + l2 * y * y,
-            b: (l1 - l2) * x * y,
-            c: l1 * y * y + l2 * x * x,
-        }
+        Sym2 { a: l1 * x * x + l2 * y * y, b: (l1 - l2) * x * y, c: l1 * y * y + l2 * x * x }
     }
 
     /// The determinant a c − b².
@@ -70,19 +62,13 @@ impl Sym2 {
     /// (thesis 3.1.3): finite entries and both eigenvalues strictly positive.
     pub fn check_spd(&self) -> Result<(), TensorError> {
         if !(self.a.is_finite() && self.b.is_finite() && self.c.is_finite()) {
-            return Err(TensorError::NotFinite {
-                a: self.a,
-                b: self.b,
-                c: self.c,
-            });
+            return Err(TensorError::NotFinite { a: self.a, b: self.b, c: self.c });
         }
         let smallest = self.eigen().values[1];
         if smallest > 0.0 {
             Ok(())
         } else {
-            Err(TensorError::NotPositiveDefinite {
-                smallest_eigenvalue: smallest,
-            })
+            Err(TensorError::NotPositiveDefinite { smallest_eigenvalue: smallest })
         }
     }
 
@@ -97,32 +83,20 @@ impl Sym2 {
     /// [`Sym2::to_row_major_3x3`]). The xy and yx components are averaged, so a slightly
     /// unsymmetric tensor from a file gives its symmetric part; z components are ignored.
     pub fn from_row_major_3x3(m: &[f64; 9]) -> Sym2 {
-        Sym2 {
-            a: m[0],
-            b: 0.5 * m[1] + 0.5 * m[3],
-            c: m[4],
-        }
+        Sym2 { a: m[0], b: 0.5 * m[1] + 0.5 * m[3], c: m[4] }
     }
 }
 
 impl Add for Sym2 {
     type Output = Sym2;
     fn add(self, other: Sym2) -> Sym2 {
-        Sym2 {
-            a: self.a + other.a,
-            b: self.b + other.b,
-            c: self.c + other.c,
-        }
+        Sym2 { a: self.a + other.a, b: self.b + other.b, c: self.c + other.c }
     }
 }
 
 impl Mul<Sym2> for f64 {
     type Output = Sym2;
     fn mul(self, m: Sym2) -> Sym2 {
-        Sym2 {
-            a: self * m.a,
-            b: self * m.b,
-            c: self * m.c,
-        }
+        Sym2 { a: self * m.a, b: self * m.b, c: self * m.c }
     }
 }

@@ -55,7 +55,8 @@ const REGIONS: Key = req("regions", &["REGIONS"]);
 const PERP: Key = req("perpendicular", &["PERPENDICULAR_FUNCTION"]);
 const PARA: Key = req("parallel", &["PARALLEL_FUNCTION"]);
 const MIN_SIZE: &[&str] = &["MINSIZE", "MIN_SIZE"];
-const SIZE_AT_SOURCE: &[&str] = &["MINSIZE", "MIN_SIZE", "SIZE_AT_BORDER", "SIZE_AT_TOPOLOGICAL_VERTEX"];
+const SIZE_AT_SOURCE: &[&str] =
+    &["MINSIZE", "MIN_SIZE", "SIZE_AT_BORDER", "SIZE_AT_TOPOLOGICAL_VERTEX"];
 const MAX_SIZE: &[&str] = &["MAXSIZE", "MAX_SIZE", "SIZE_AT_MAX_DISTANCE"];
 const MAX_DISTANCE: &[&str] = &["MAXDISTANCE", "MAX_DISTANCE"];
 
@@ -80,16 +81,34 @@ const DISTANCE: &[Key] = &[
     req("max_distance", MAX_DISTANCE),
     req("exponent", &["EXPONENT"]),
 ];
-const PROJECTION: &[Key] = &[NAME, req("size_at_max_distance", MAX_SIZE), req("max_distance", MAX_DISTANCE), req("exponent", &["EXPONENT"])];
-const CURVATURE: &[Key] = &[NAME, req("min_size", MIN_SIZE), req("max_size", MAX_SIZE), req("size_of_error", &["SIZE_OF_ERROR"])];
+const PROJECTION: &[Key] = &[
+    NAME,
+    req("size_at_max_distance", MAX_SIZE),
+    req("max_distance", MAX_DISTANCE),
+    req("exponent", &["EXPONENT"]),
+];
+const CURVATURE: &[Key] = &[
+    NAME,
+    req("min_size", MIN_SIZE),
+    req("max_size", MAX_SIZE),
+    req("size_of_error", &["SIZE_OF_ERROR"]),
+];
 
-const TYPES: &[&str] = &["UNIFORM", "DISTANCE_TO_POINT", "DISTANCE_TO_BORDER", "CURVATURE_OF_BORDER", "DISTANCE_BETWEEN_TWO_BORDERS", "DISTANCE_TO_IMAGINARY_POLYLINE"];
+const TYPES: &[&str] = &[
+    "UNIFORM",
+    "DISTANCE_TO_POINT",
+    "DISTANCE_TO_BORDER",
+    "CURVATURE_OF_BORDER",
+    "DISTANCE_BETWEEN_TWO_BORDERS",
+    "DISTANCE_TO_IMAGINARY_POLYLINE",
+];
 
 const PROJ: Key = req("projection", &["PROJECTION_FUNCTION", "PARALLEL_PROJECTION_FUNCTION"]);
 const UNIFORM: &[Key] = &[TYPE, req("size", &["SIZE"]), REGIONS];
 const TO_POINT: &[Key] = &[TYPE, req("function", &["FUNCTION"]), REGIONS];
 const TO_BORDER: &[Key] = &[TYPE, PERP, PARA, REGIONS];
-const CURVATURE_OF_BORDER: &[Key] = &[TYPE, PERP, req("curvature_to_size", &["CURVATURE_TO_SIZE_FUNCTION"]), PROJ, REGIONS];
+const CURVATURE_OF_BORDER: &[Key] =
+    &[TYPE, PERP, req("curvature_to_size", &["CURVATURE_TO_SIZE_FUNCTION"]), PROJ, REGIONS];
 const TWO_BORDERS: &[Key] = &[TYPE, PERP, PARA, REGIONS, req("second_regions", &["REGIONS2"])];
 const TO_POLYLINE: &[Key] = &[
     TYPE,
@@ -157,28 +176,52 @@ impl Reader<'_> {
 
     /// Matches the settings of a group against `keys`: unknown keys (with a suggestion),
     /// two spellings of one key, missing required keys.
-    fn fields<'s>(&self, settings: &'s [Setting], keys: &[Key], group_line: usize, context: &str) -> Result<Found<'s>, RecipeError> {
+    fn fields<'s>(
+        &self,
+        settings: &'s [Setting],
+        keys: &[Key],
+        group_line: usize,
+        context: &str,
+    ) -> Result<Found<'s>, RecipeError> {
         let mut found: Vec<Option<&'s Setting>> = vec![None; keys.len()];
         for s in settings {
             let Some(i) = keys.iter().position(|k| k.spellings.contains(&s.name.as_str())) else {
                 let all = keys.iter().flat_map(|k| k.spellings.iter().copied());
-                return Err(self.error(s.at, RecipeErrorKind::UnknownKey { key: s.name.clone() }, context).suggest(nearest(&s.name, all).map(String::from)));
+                return Err(self
+                    .error(s.at, RecipeErrorKind::UnknownKey { key: s.name.clone() }, context)
+                    .suggest(nearest(&s.name, all).map(String::from)));
             };
             if let Some(prev) = found[i] {
-                return Err(self.error(s.at, RecipeErrorKind::DuplicateKey { key: s.name.clone(), other: prev.name.clone() }, context));
+                return Err(self.error(
+                    s.at,
+                    RecipeErrorKind::DuplicateKey { key: s.name.clone(), other: prev.name.clone() },
+                    context,
+                ));
             }
             found[i] = Some(s);
         }
         for (k, f) in keys.iter().zip(&found) {
             if k.required && f.is_none() {
-                return Err(self.error(group_line, RecipeErrorKind::MissingKey { key: k.spellings[0].to_string() }, context));
+                return Err(self.error(
+                    group_line,
+                    RecipeErrorKind::MissingKey { key: k.spellings[0].to_string() },
+                    context,
+                ));
             }
         }
         Ok(Found { settings: found })
     }
 
     fn wrong(&self, s: &Setting, node: &Node, expected: &str, context: &str) -> RecipeError {
-        self.error(node.at, RecipeErrorKind::WrongType { key: s.name.clone(), expected: expected.into(), found: node.value.describe().into() }, context)
+        self.error(
+            node.at,
+            RecipeErrorKind::WrongType {
+                key: s.name.clone(),
+                expected: expected.into(),
+                found: node.value.describe().into(),
+            },
+            context,
+        )
     }
 
     fn number(&self, s: &Setting, context: &str) -> Result<f64, RecipeError> {
@@ -198,11 +241,26 @@ impl Reader<'_> {
 
     /// One name, or a list or array of names (nested lists flattened).
     fn names(&self, s: &Setting, context: &str) -> Result<Vec<String>, RecipeError> {
-        fn walk(r: &Reader, s: &Setting, n: &Node, out: &mut Vec<String>, context: &str) -> Result<(), RecipeError> {
+        fn walk(
+            r: &Reader,
+            s: &Setting,
+            n: &Node,
+            out: &mut Vec<String>,
+            context: &str,
+        ) -> Result<(), RecipeError> {
             match &n.value {
                 Value::Str(t) => out.push(t.clone()),
-                Value::List(items) | Value::Array(items) => items.iter().try_for_each(|i| walk(r, s, i, out, context))?,
-                _ => return Err(r.wrong(s, n, "a region name in quotes, or a list of them", context)),
+                Value::List(items) | Value::Array(items) => {
+                    items.iter().try_for_each(|i| walk(r, s, i, out, context))?
+                }
+                _ => {
+                    return Err(r.wrong(
+                        s,
+                        n,
+                        "a region name in quotes, or a list of them",
+                        context,
+                    ))
+                }
             }
             Ok(())
         }
@@ -213,14 +271,31 @@ impl Reader<'_> {
 
     /// Tag numbers and names, nested lists flattened, each with its line.
     fn entities(&self, s: &Setting, context: &str) -> Result<Vec<(EntityRef, usize)>, RecipeError> {
-        fn walk(r: &Reader, s: &Setting, n: &Node, out: &mut Vec<(EntityRef, usize)>, context: &str) -> Result<(), RecipeError> {
+        fn walk(
+            r: &Reader,
+            s: &Setting,
+            n: &Node,
+            out: &mut Vec<(EntityRef, usize)>,
+            context: &str,
+        ) -> Result<(), RecipeError> {
             match &n.value {
                 Value::Int(i) => match i32::try_from(*i) {
                     Ok(t) => out.push((EntityRef::Tag(t), n.at)),
-                    Err(_) => return Err(r.error(n.at, RecipeErrorKind::Invalid(format!("tag {i} in {} does not fit a 32-bit tag", s.name)), context)),
+                    Err(_) => {
+                        return Err(r.error(
+                            n.at,
+                            RecipeErrorKind::Invalid(format!(
+                                "tag {i} in {} does not fit a 32-bit tag",
+                                s.name
+                            )),
+                            context,
+                        ))
+                    }
                 },
                 Value::Str(t) => out.push((EntityRef::Name(t.clone()), n.at)),
-                Value::List(items) | Value::Array(items) => items.iter().try_for_each(|i| walk(r, s, i, out, context))?,
+                Value::List(items) | Value::Array(items) => {
+                    items.iter().try_for_each(|i| walk(r, s, i, out, context))?
+                }
                 _ => return Err(r.wrong(s, n, "tag numbers or tag names", context)),
             }
             Ok(())
@@ -263,7 +338,12 @@ impl Reader<'_> {
 
     fn read_top(&mut self, settings: &[Setting], recipe: &mut Recipe) -> Result<(), RecipeError> {
         let top = self.fields(settings, TOP, 0, "")?;
-        for (field, slot) in [("hmin", &mut recipe.global.h_min), ("hmax", &mut recipe.global.h_max), ("max_aspect_ratio", &mut recipe.global.max_aspect_ratio), ("gradation", &mut recipe.global.gradation)] {
+        for (field, slot) in [
+            ("hmin", &mut recipe.global.h_min),
+            ("hmax", &mut recipe.global.h_max),
+            ("max_aspect_ratio", &mut recipe.global.max_aspect_ratio),
+            ("gradation", &mut recipe.global.gradation),
+        ] {
             if let Some(s) = top.get(TOP, field) {
                 *slot = Some(self.number(s, "")?);
                 self.place(format!("global.{field}"), s.at, &s.name, "");
@@ -279,7 +359,11 @@ impl Reader<'_> {
                 let entities = self.entities(ent_s, &ctx)?;
                 let ctx = format!("region \"{name}\"");
                 if recipe.regions.contains_key(&name) {
-                    return Err(self.error(name_s.at, RecipeErrorKind::DuplicateName { what: "region", name }, ""));
+                    return Err(self.error(
+                        name_s.at,
+                        RecipeErrorKind::DuplicateName { what: "region", name },
+                        "",
+                    ));
                 }
                 self.place(format!("regions.{name}"), line, &s.name, &ctx);
                 for (k, (_, at)) in entities.iter().enumerate() {
@@ -298,21 +382,44 @@ impl Reader<'_> {
                 let ys_s = f.get(POLYLINE, "y").expect("required");
                 let (xs, ys) = (self.numbers(xs_s, &ctx)?, self.numbers(ys_s, &ctx)?);
                 if xs.len() != ys.len() {
-                    return Err(self.error(ys_s.at, RecipeErrorKind::Invalid(format!("polyline \"{name}\": {} X_COORDS but {} Y_COORDS", xs.len(), ys.len())), &ctx));
+                    return Err(self.error(
+                        ys_s.at,
+                        RecipeErrorKind::Invalid(format!(
+                            "polyline \"{name}\": {} X_COORDS but {} Y_COORDS",
+                            xs.len(),
+                            ys.len()
+                        )),
+                        &ctx,
+                    ));
                 }
                 if recipe.polylines.contains_key(&name) {
-                    return Err(self.error(name_s.at, RecipeErrorKind::DuplicateName { what: "polyline", name }, ""));
+                    return Err(self.error(
+                        name_s.at,
+                        RecipeErrorKind::DuplicateName { what: "polyline", name },
+                        "",
+                    ));
                 }
-                self.place(format!("polylines.{name}"), line, &s.name, &format!("polyline \"{name}\""));
-                recipe.polylines.insert(name, xs.into_iter().zip(ys).map(|(x, y)| [x, y]).collect());
+                self.place(
+                    format!("polylines.{name}"),
+                    line,
+                    &s.name,
+                    &format!("polyline \"{name}\""),
+                );
+                recipe
+                    .polylines
+                    .insert(name, xs.into_iter().zip(ys).map(|(x, y)| [x, y]).collect());
             }
         }
-        for (list, keys) in [("distance", DISTANCE), ("projection", PROJECTION), ("curvature", CURVATURE)] {
+        for (list, keys) in
+            [("distance", DISTANCE), ("projection", PROJECTION), ("curvature", CURVATURE)]
+        {
             if let Some(s) = top.get(TOP, list) {
                 for (i, (g, line)) in self.groups(s)?.into_iter().enumerate() {
                     let ctx = format!("{} entry {}", s.name, i + 1);
                     if list == "projection" {
-                        if let Some(m) = g.iter().find(|m| SIZE_AT_SOURCE.contains(&m.name.as_str())) {
+                        if let Some(m) =
+                            g.iter().find(|m| SIZE_AT_SOURCE.contains(&m.name.as_str()))
+                        {
                             return Err(self.error(
                                 m.at,
                                 RecipeErrorKind::Invalid(format!(
@@ -339,8 +446,16 @@ impl Reader<'_> {
                             max_distance: v("max_distance")?,
                             exponent: v("exponent")?,
                         },
-                        "projection" => FunctionSpec::Projection { size_at_max_distance: v("size_at_max_distance")?, max_distance: v("max_distance")?, exponent: v("exponent")? },
-                        _ => FunctionSpec::CurvatureToSize { min_size: v("min_size")?, max_size: v("max_size")?, size_of_error: v("size_of_error")? },
+                        "projection" => FunctionSpec::Projection {
+                            size_at_max_distance: v("size_at_max_distance")?,
+                            max_distance: v("max_distance")?,
+                            exponent: v("exponent")?,
+                        },
+                        _ => FunctionSpec::CurvatureToSize {
+                            min_size: v("min_size")?,
+                            max_size: v("max_size")?,
+                            size_of_error: v("size_of_error")?,
+                        },
                     };
                     if let Some(prev) = recipe.functions.get(&name) {
                         return Err(self.error(name_s.at, RecipeErrorKind::Invalid(format!("function \"{name}\" is defined twice (already a {} function); function names are shared by the three lists", prev.kind_name())), ""));
@@ -359,7 +474,13 @@ impl Reader<'_> {
         Ok(())
     }
 
-    fn read_algorithm(&mut self, list: &str, i: usize, g: &[Setting], line: usize) -> Result<AlgorithmSpec, RecipeError> {
+    fn read_algorithm(
+        &mut self,
+        list: &str,
+        i: usize,
+        g: &[Setting],
+        line: usize,
+    ) -> Result<AlgorithmSpec, RecipeError> {
         let ctx = format!("{list} entry {}", i + 1);
         let Some(type_s) = g.iter().find(|s| s.name == "TYPE") else {
             return Err(self.error(line, RecipeErrorKind::MissingKey { key: "TYPE".into() }, &ctx));
@@ -367,8 +488,18 @@ impl Reader<'_> {
         let written = self.string(type_s, &ctx)?;
         let upper = written.to_ascii_uppercase();
         let Some(t) = TYPES.iter().copied().find(|t| *t == upper) else {
-            let e = self.error(type_s.at, RecipeErrorKind::UnknownName { referrer: format!("algorithm {}", i + 1), what: "algorithm type", name: written.clone() }, "");
-            return Err(e.suggest(nearest(&written, TYPES.iter().copied()).map(|s| format!("\"{s}\""))));
+            let e = self.error(
+                type_s.at,
+                RecipeErrorKind::UnknownName {
+                    referrer: format!("algorithm {}", i + 1),
+                    what: "algorithm type",
+                    name: written.clone(),
+                },
+                "",
+            );
+            return Err(
+                e.suggest(nearest(&written, TYPES.iter().copied()).map(|s| format!("\"{s}\"")))
+            );
         };
         let ctx = format!("{list} entry {}, {t}", i + 1);
         let keys = algorithm_keys(t);
@@ -380,7 +511,9 @@ impl Reader<'_> {
                 self.place(format!("{base}.{}", k.field), s.at, &s.name, &ctx);
             }
         }
-        let name = |field: &str| -> Result<String, RecipeError> { self.string(f.get(keys, field).expect("required"), &ctx) };
+        let name = |field: &str| -> Result<String, RecipeError> {
+            self.string(f.get(keys, field).expect("required"), &ctx)
+        };
         let regions = |field: &str| -> Result<Vec<String>, RecipeError> {
             match f.get(keys, field) {
                 Some(s) => self.names(s, &ctx),
@@ -388,9 +521,19 @@ impl Reader<'_> {
             }
         };
         Ok(match t {
-            "UNIFORM" => AlgorithmSpec::Uniform { size: self.number(f.get(keys, "size").expect("required"), &ctx)?, regions: regions("regions")? },
-            "DISTANCE_TO_POINT" => AlgorithmSpec::DistanceToPoint { function: name("function")?, regions: regions("regions")? },
-            "DISTANCE_TO_BORDER" => AlgorithmSpec::DistanceToBorder { perpendicular: name("perpendicular")?, parallel: name("parallel")?, regions: regions("regions")? },
+            "UNIFORM" => AlgorithmSpec::Uniform {
+                size: self.number(f.get(keys, "size").expect("required"), &ctx)?,
+                regions: regions("regions")?,
+            },
+            "DISTANCE_TO_POINT" => AlgorithmSpec::DistanceToPoint {
+                function: name("function")?,
+                regions: regions("regions")?,
+            },
+            "DISTANCE_TO_BORDER" => AlgorithmSpec::DistanceToBorder {
+                perpendicular: name("perpendicular")?,
+                parallel: name("parallel")?,
+                regions: regions("regions")?,
+            },
             "CURVATURE_OF_BORDER" => AlgorithmSpec::CurvatureOfBorder {
                 perpendicular: name("perpendicular")?,
                 curvature_to_size: name("curvature_to_size")?,
@@ -450,7 +593,12 @@ fn name_list(names: &[String]) -> String {
 pub fn write(r: &Recipe) -> String {
     let mut o = String::from("// smartmesh sizing recipe (libconfig, thesis appendix A)\n");
     let g = &r.global;
-    for (key, v) in [("HMIN", g.h_min), ("HMAX", g.h_max), ("MAX_ASPECT_RATIO", g.max_aspect_ratio), ("GRADATION", g.gradation)] {
+    for (key, v) in [
+        ("HMIN", g.h_min),
+        ("HMAX", g.h_max),
+        ("MAX_ASPECT_RATIO", g.max_aspect_ratio),
+        ("GRADATION", g.gradation),
+    ] {
         if let Some(v) = v {
             let _ = writeln!(o, "{key} = {};", float(v));
         }
@@ -477,7 +625,11 @@ pub fn write(r: &Recipe) -> String {
                     .collect();
                 // An array holds one scalar type; a mixed region needs a list.
                 let (open, close) = if all_tags || all_names { ("[", "]") } else { ("(", ")") };
-                format!("    {{ NAME = {}; TOPOLOGICAL_ENTITIES = {open} {} {close}; }}", quote(name), items.join(", "))
+                format!(
+                    "    {{ NAME = {}; TOPOLOGICAL_ENTITIES = {open} {} {close}; }}",
+                    quote(name),
+                    items.join(", ")
+                )
             })
             .collect(),
     );
@@ -489,7 +641,12 @@ pub fn write(r: &Recipe) -> String {
             .map(|(name, pts)| {
                 let xs: Vec<String> = pts.iter().map(|p| float(p[0])).collect();
                 let ys: Vec<String> = pts.iter().map(|p| float(p[1])).collect();
-                format!("    {{ NAME = {};\n      X_COORDS = [ {} ];\n      Y_COORDS = [ {} ]; }}", quote(name), xs.join(", "), ys.join(", "))
+                format!(
+                    "    {{ NAME = {};\n      X_COORDS = [ {} ];\n      Y_COORDS = [ {} ]; }}",
+                    quote(name),
+                    xs.join(", "),
+                    ys.join(", ")
+                )
             })
             .collect(),
     );
@@ -499,7 +656,12 @@ pub fn write(r: &Recipe) -> String {
             .filter(|(_, f)| f.kind_name() == kind)
             .map(|(name, f)| {
                 let body = match *f {
-                    FunctionSpec::Distance { size_at_source, size_at_max_distance, max_distance, exponent } => format!(
+                    FunctionSpec::Distance {
+                        size_at_source,
+                        size_at_max_distance,
+                        max_distance,
+                        exponent,
+                    } => format!(
                         "MINSIZE = {}; MAXSIZE = {}; MAXDISTANCE = {}; EXPONENT = {};",
                         float(size_at_source),
                         float(size_at_max_distance),
@@ -507,10 +669,20 @@ pub fn write(r: &Recipe) -> String {
                         float(exponent)
                     ),
                     FunctionSpec::Projection { size_at_max_distance, max_distance, exponent } => {
-                        format!("MAXSIZE = {}; MAXDISTANCE = {}; EXPONENT = {};", float(size_at_max_distance), float(max_distance), float(exponent))
+                        format!(
+                            "MAXSIZE = {}; MAXDISTANCE = {}; EXPONENT = {};",
+                            float(size_at_max_distance),
+                            float(max_distance),
+                            float(exponent)
+                        )
                     }
                     FunctionSpec::CurvatureToSize { min_size, max_size, size_of_error } => {
-                        format!("MINSIZE = {}; MAXSIZE = {}; SIZE_OF_ERROR = {};", float(min_size), float(max_size), float(size_of_error))
+                        format!(
+                            "MINSIZE = {}; MAXSIZE = {}; SIZE_OF_ERROR = {};",
+                            float(min_size),
+                            float(max_size),
+                            float(size_of_error)
+                        )
                     }
                 };
                 format!("    {{ NAME = {}; {body} }}", quote(name))

@@ -76,7 +76,9 @@ pub enum RecipeErrorKind {
         name: String,
     },
     /// A function of the wrong kind for the key that names it.
-    #[error("{referrer}: {key} names \"{name}\", a {found} function; expected a {expected} function")]
+    #[error(
+        "{referrer}: {key} names \"{name}\", a {found} function; expected a {expected} function"
+    )]
     WrongFunctionKind {
         /// Who refers.
         referrer: String,
@@ -136,7 +138,13 @@ pub struct RecipeError {
 impl RecipeError {
     /// An error without a place yet.
     pub fn new(kind: RecipeErrorKind) -> RecipeError {
-        RecipeError { kind: Box::new(kind), file: None, line: None, context: None, suggestion: None }
+        RecipeError {
+            kind: Box::new(kind),
+            file: None,
+            line: None,
+            context: None,
+            suggestion: None,
+        }
     }
 
     /// Sets the place.

@@ -146,7 +146,13 @@ impl<'a> Lexer<'a> {
                     self.pos += 2;
                     loop {
                         match self.src.get(self.pos) {
-                            None => return Err(self.err(source, start, "comment /* is never closed".into())),
+                            None => {
+                                return Err(self.err(
+                                    source,
+                                    start,
+                                    "comment /* is never closed".into(),
+                                ))
+                            }
                             Some(b'*') if self.src.get(self.pos + 1) == Some(&b'/') => {
                                 self.pos += 2;
                                 break;
@@ -233,12 +239,22 @@ impl<'a> Lexer<'a> {
         let mut bytes = Vec::new();
         loop {
             let Some(&c) = self.src.get(self.pos) else {
-                return Err(self.err(source, start_line, "string is never closed (missing \")".into()));
+                return Err(self.err(
+                    source,
+                    start_line,
+                    "string is never closed (missing \")".into(),
+                ));
             };
             self.pos += 1;
             match c {
                 b'"' => break,
-                b'\n' => return Err(self.err(source, start_line, "string runs past the end of the line (missing \")".into())),
+                b'\n' => {
+                    return Err(self.err(
+                        source,
+                        start_line,
+                        "string runs past the end of the line (missing \")".into(),
+                    ))
+                }
                 b'\\' => {
                     let e = self.src.get(self.pos).copied();
                     self.pos += 1;
@@ -250,20 +266,35 @@ impl<'a> Lexer<'a> {
                         Some(b't') => bytes.push(b'\t'),
                         Some(b'f') => bytes.push(0x0c),
                         Some(b'x') => {
-                            let hex = self.text.get(self.pos..self.pos + 2).and_then(|h| u8::from_str_radix(h, 16).ok());
+                            let hex = self
+                                .text
+                                .get(self.pos..self.pos + 2)
+                                .and_then(|h| u8::from_str_radix(h, 16).ok());
                             let Some(b) = hex else {
-                                return Err(self.err(source, self.line, "\\x needs two hexadecimal digits".into()));
+                                return Err(self.err(
+                                    source,
+                                    self.line,
+                                    "\\x needs two hexadecimal digits".into(),
+                                ));
                             };
                             self.pos += 2;
                             bytes.push(b);
                         }
-                        _ => return Err(self.err(source, self.line, "unknown escape in string (known: \\\\ \\\" \\n \\r \\t \\f \\xNN)".into())),
+                        _ => {
+                            return Err(self.err(
+                                source,
+                                self.line,
+                                "unknown escape in string (known: \\\\ \\\" \\n \\r \\t \\f \\xNN)"
+                                    .into(),
+                            ))
+                        }
                     }
                 }
                 c => bytes.push(c),
             }
         }
-        String::from_utf8(bytes).map_err(|_| self.err(source, start_line, "string is not valid UTF-8".into()))
+        String::from_utf8(bytes)
+            .map_err(|_| self.err(source, start_line, "string is not valid UTF-8".into()))
     }
 
     fn number(&mut self, source: &Source) -> Result<Tok, RecipeError> {
@@ -283,7 +314,13 @@ impl<'a> Lexer<'a> {
             let digits = &self.text[digits_start..q];
             self.pos = q;
             self.skip_long_suffix();
-            let v = u64::from_str_radix(digits, 16).map_err(|_| self.err(source, line, format!("bad hexadecimal number {}", &self.text[start..self.pos])))?;
+            let v = u64::from_str_radix(digits, 16).map_err(|_| {
+                self.err(
+                    source,
+                    line,
+                    format!("bad hexadecimal number {}", &self.text[start..self.pos]),
+                )
+            })?;
             let v = v as i64; // libconfig's hex64 keeps the bit pattern
             return Ok(Tok::Int(if self.src[start] == b'-' { v.wrapping_neg() } else { v }));
         }
@@ -308,11 +345,15 @@ impl<'a> Lexer<'a> {
         let lexeme = &self.text[start..p];
         self.pos = p;
         if is_float {
-            let v: f64 = lexeme.parse().map_err(|_| self.err(source, line, format!("bad number {lexeme}")))?;
+            let v: f64 = lexeme
+                .parse()
+                .map_err(|_| self.err(source, line, format!("bad number {lexeme}")))?;
             Ok(Tok::Float(v))
         } else {
             self.skip_long_suffix();
-            let v: i64 = lexeme.parse().map_err(|_| self.err(source, line, format!("bad integer {lexeme} (out of range, or no digits)")))?;
+            let v: i64 = lexeme.parse().map_err(|_| {
+                self.err(source, line, format!("bad integer {lexeme} (out of range, or no digits)"))
+            })?;
             Ok(Tok::Int(v))
         }
     }
@@ -335,7 +376,11 @@ struct Parser<'a> {
 
 /// Parses a whole configuration (its top-level settings).
 pub fn parse(source: &Source) -> Result<Vec<Setting>, RecipeError> {
-    let mut p = Parser { lexer: Lexer { src: source.text.as_bytes(), text: &source.text, pos: 0, line: 0 }, source, peeked: None };
+    let mut p = Parser {
+        lexer: Lexer { src: source.text.as_bytes(), text: &source.text, pos: 0, line: 0 },
+        source,
+        peeked: None,
+    };
     let settings = p.settings(None)?;
     Ok(settings)
 }
@@ -371,7 +416,10 @@ impl Parser<'_> {
                         None => Ok(out),
                         Some((c, open_line)) => {
                             let (_, l) = self.source.place(open_line);
-                            Err(self.err(line, format!("group opened at line {l} is never closed with '{c}'")))
+                            Err(self.err(
+                                line,
+                                format!("group opened at line {l} is never closed with '{c}'"),
+                            ))
                         }
                     }
                 }
@@ -379,7 +427,10 @@ impl Parser<'_> {
                 Tok::Name(name) => {
                     let (t, l) = self.bump()?;
                     if t != Tok::Assign {
-                        return Err(self.err(l, format!("expected '=' or ':' after {name}, found {}", describe_tok(&t))));
+                        return Err(self.err(
+                            l,
+                            format!("expected '=' or ':' after {name}, found {}", describe_tok(&t)),
+                        ));
                     }
                     let value = self.value(&name)?;
                     if matches!(self.peek()?.0, Tok::Semi | Tok::Comma) {
@@ -392,8 +443,11 @@ impl Parser<'_> {
                     out.push(Setting { name, at: line, value });
                 }
                 t => {
-                    let what = if close.is_some() { "a setting name or '}'" } else { "a setting name" };
-                    return Err(self.err(line, format!("expected {what}, found {}", describe_tok(&t))));
+                    let what =
+                        if close.is_some() { "a setting name or '}'" } else { "a setting name" };
+                    return Err(
+                        self.err(line, format!("expected {what}, found {}", describe_tok(&t)))
+                    );
                 }
             }
         }
@@ -434,7 +488,12 @@ impl Parser<'_> {
         Ok(Node { value, at: line })
     }
 
-    fn sequence(&mut self, close: char, open_line: usize, setting: &str) -> Result<Vec<Node>, RecipeError> {
+    fn sequence(
+        &mut self,
+        close: char,
+        open_line: usize,
+        setting: &str,
+    ) -> Result<Vec<Node>, RecipeError> {
         let mut items = Vec::new();
         loop {
             match self.peek()? {
@@ -445,7 +504,13 @@ impl Parser<'_> {
                 (Tok::End, line) => {
                     let line = *line;
                     let (_, l) = self.source.place(open_line);
-                    return Err(self.err(line, format!("'{}' opened at line {l} for {setting} is never closed with '{close}'", if close == ')' { '(' } else { '[' })));
+                    return Err(self.err(
+                        line,
+                        format!(
+                            "'{}' opened at line {l} for {setting} is never closed with '{close}'",
+                            if close == ')' { '(' } else { '[' }
+                        ),
+                    ));
                 }
                 _ => {}
             }
@@ -454,7 +519,15 @@ impl Parser<'_> {
             match t {
                 Tok::Comma => {}
                 Tok::Close(c) if c == close => return Ok(items),
-                t => return Err(self.err(line, format!("expected ',' or '{close}' in {setting}, found {}", describe_tok(&t)))),
+                t => {
+                    return Err(self.err(
+                        line,
+                        format!(
+                            "expected ',' or '{close}' in {setting}, found {}",
+                            describe_tok(&t)
+                        ),
+                    ))
+                }
             }
         }
     }
@@ -473,7 +546,18 @@ mod tests {
     fn scalars_and_comments() {
         let s = parse_text("a = 1; b : -2.5e1, c = 0x1F; d = 12L; e = TRUE; # x\nf = \"x\\ty\" /* c */ \"z\"; // end\ng = .5;").unwrap();
         let v: Vec<&Value> = s.iter().map(|s| &s.value.value).collect();
-        assert_eq!(v, [&Value::Int(1), &Value::Float(-25.0), &Value::Int(31), &Value::Int(12), &Value::Bool(true), &Value::Str("x\tyz".into()), &Value::Float(0.5)]);
+        assert_eq!(
+            v,
+            [
+                &Value::Int(1),
+                &Value::Float(-25.0),
+                &Value::Int(31),
+                &Value::Int(12),
+                &Value::Bool(true),
+                &Value::Str("x\tyz".into()),
+                &Value::Float(0.5)
+            ]
+        );
         assert_eq!(s[5].at, 1);
     }
 

@@ -23,5 +23,7 @@ pub mod serde_io;
 pub mod suggest;
 
 pub use error::{RecipeError, RecipeErrorKind};
-pub use model::{AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, Recipe, RecipeFormat};
+pub use model::{
+    AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, Recipe, RecipeFormat,
+};
 pub use resolve::{RegionReport, Resolved};

@@ -149,9 +149,17 @@ impl FunctionSpec {
     /// Builds a distance function.
     pub fn distance(&self) -> Option<Result<DistanceFunction, FunctionError>> {
         match *self {
-            FunctionSpec::Distance { size_at_source, size_at_max_distance, max_distance, exponent } => {
-                Some(DistanceFunction::try_new(size_at_source, size_at_max_distance, max_distance, exponent))
-            }
+            FunctionSpec::Distance {
+                size_at_source,
+                size_at_max_distance,
+                max_distance,
+                exponent,
+            } => Some(DistanceFunction::try_new(
+                size_at_source,
+                size_at_max_distance,
+                max_distance,
+                exponent,
+            )),
             _ => None,
         }
     }
@@ -159,7 +167,9 @@ impl FunctionSpec {
     /// Builds a projection function.
     pub fn projection(&self) -> Option<Result<SizeProjectionFunction, FunctionError>> {
         match *self {
-            FunctionSpec::Projection { size_at_max_distance, max_distance, exponent } => Some(SizeProjectionFunction::try_new(size_at_max_distance, max_distance, exponent)),
+            FunctionSpec::Projection { size_at_max_distance, max_distance, exponent } => {
+                Some(SizeProjectionFunction::try_new(size_at_max_distance, max_distance, exponent))
+            }
             _ => None,
         }
     }
@@ -167,7 +177,9 @@ impl FunctionSpec {
     /// Builds a curvature-to-size function.
     pub fn curvature(&self) -> Option<Result<CurvatureToSize, FunctionError>> {
         match *self {
-            FunctionSpec::CurvatureToSize { min_size, max_size, size_of_error } => Some(CurvatureToSize::try_new(min_size, max_size, size_of_error)),
+            FunctionSpec::CurvatureToSize { min_size, max_size, size_of_error } => {
+                Some(CurvatureToSize::try_new(min_size, max_size, size_of_error))
+            }
             _ => None,
         }
     }
@@ -274,8 +286,12 @@ impl AlgorithmSpec {
             | AlgorithmSpec::DistanceToPoint { regions, .. }
             | AlgorithmSpec::DistanceToBorder { regions, .. }
             | AlgorithmSpec::CurvatureOfBorder { regions, .. }
-            | AlgorithmSpec::DistanceToImaginaryPolyline { regions, .. } => vec![("regions", regions)],
-            AlgorithmSpec::DistanceBetweenTwoBorders { regions, second_regions, .. } => vec![("regions", regions), ("second_regions", second_regions)],
+            | AlgorithmSpec::DistanceToImaginaryPolyline { regions, .. } => {
+                vec![("regions", regions)]
+            }
+            AlgorithmSpec::DistanceBetweenTwoBorders { regions, second_regions, .. } => {
+                vec![("regions", regions), ("second_regions", second_regions)]
+            }
         }
     }
 
@@ -284,15 +300,36 @@ impl AlgorithmSpec {
         use FunctionKind::*;
         match self {
             AlgorithmSpec::Uniform { .. } => vec![],
-            AlgorithmSpec::DistanceToPoint { function, .. } => vec![("function", function, Distance)],
-            AlgorithmSpec::DistanceToBorder { perpendicular, parallel, .. } | AlgorithmSpec::DistanceBetweenTwoBorders { perpendicular, parallel, .. } => {
+            AlgorithmSpec::DistanceToPoint { function, .. } => {
+                vec![("function", function, Distance)]
+            }
+            AlgorithmSpec::DistanceToBorder { perpendicular, parallel, .. }
+            | AlgorithmSpec::DistanceBetweenTwoBorders { perpendicular, parallel, .. } => {
                 vec![("perpendicular", perpendicular, Distance), ("parallel", parallel, Distance)]
             }
-            AlgorithmSpec::CurvatureOfBorder { perpendicular, curvature_to_size, projection, .. } => {
-                vec![("perpendicular", perpendicular, Distance), ("curvature_to_size", curvature_to_size, Curvature), ("projection", projection, Projection)]
+            AlgorithmSpec::CurvatureOfBorder {
+                perpendicular,
+                curvature_to_size,
+                projection,
+                ..
+            } => {
+                vec![
+                    ("perpendicular", perpendicular, Distance),
+                    ("curvature_to_size", curvature_to_size, Curvature),
+                    ("projection", projection, Projection),
+                ]
             }
-            AlgorithmSpec::DistanceToImaginaryPolyline { perpendicular, polyline_distance, projection, .. } => {
-                vec![("perpendicular", perpendicular, Distance), ("polyline_distance", polyline_distance, Distance), ("projection", projection, Projection)]
+            AlgorithmSpec::DistanceToImaginaryPolyline {
+                perpendicular,
+                polyline_distance,
+                projection,
+                ..
+            } => {
+                vec![
+                    ("perpendicular", perpendicular, Distance),
+                    ("polyline_distance", polyline_distance, Distance),
+                    ("projection", projection, Projection),
+                ]
             }
         }
     }
@@ -367,7 +404,8 @@ impl Places {
 
     pub fn insert(&mut self, path: String, file: &Path, line: usize, key: &str, context: &str) {
         let file = self.file_index(file);
-        self.by_path.insert(path, Place { file, line, key: key.to_string(), context: context.to_string() });
+        self.by_path
+            .insert(path, Place { file, line, key: key.to_string(), context: context.to_string() });
     }
 
     /// The place of `path`, or of its nearest enclosing item.
@@ -435,7 +473,11 @@ pub struct Recipe {
 
 impl PartialEq for Recipe {
     fn eq(&self, other: &Recipe) -> bool {
-        self.global == other.global && self.regions == other.regions && self.polylines == other.polylines && self.functions == other.functions && self.algorithms == other.algorithms
+        self.global == other.global
+            && self.regions == other.regions
+            && self.polylines == other.polylines
+            && self.functions == other.functions
+            && self.algorithms == other.algorithms
     }
 }
 
@@ -448,15 +490,21 @@ impl Recipe {
     /// Reads a recipe; the format comes from the extension (`.cfg`, `.conf`,
     /// `.libconfig`: libconfig through cpp when it holds directives; `.toml`; `.json`).
     pub fn from_path(path: &Path) -> Result<Recipe, RecipeError> {
-        let format = RecipeFormat::from_path(path).ok_or_else(|| RecipeError::new(RecipeErrorKind::UnknownFormat).in_file(path))?;
-        let text = std::fs::read_to_string(path).map_err(|e| RecipeError::new(RecipeErrorKind::Io(e.to_string())).in_file(path))?;
+        let format = RecipeFormat::from_path(path)
+            .ok_or_else(|| RecipeError::new(RecipeErrorKind::UnknownFormat).in_file(path))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| RecipeError::new(RecipeErrorKind::Io(e.to_string())).in_file(path))?;
         Recipe::from_str(&text, format, path)
     }
 
     /// Reads a recipe from text; `origin` names it in errors and anchors relative
     /// `#include` and `@include` paths.
     #[allow(clippy::should_implement_trait)]
-    pub fn from_str(text: &str, format: RecipeFormat, origin: &Path) -> Result<Recipe, RecipeError> {
+    pub fn from_str(
+        text: &str,
+        format: RecipeFormat,
+        origin: &Path,
+    ) -> Result<Recipe, RecipeError> {
         let recipe = match format {
             RecipeFormat::Libconfig => super::appendix::read(text, origin)?,
             RecipeFormat::Toml => super::serde_io::read_toml(text, origin)?,
@@ -507,43 +555,78 @@ impl Recipe {
             if let Some(v) = value {
                 if !(SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&v) {
                     let key = self.written_key(&format!("global.{field}"), field).to_string();
-                    return Err(self.error_at(RecipeErrorKind::Invalid(format!("{key} = {v} is out of range: expected a size in [1e-30, 1e30]")), &format!("global.{field}")));
+                    return Err(self.error_at(
+                        RecipeErrorKind::Invalid(format!(
+                            "{key} = {v} is out of range: expected a size in [1e-30, 1e30]"
+                        )),
+                        &format!("global.{field}"),
+                    ));
                 }
             }
         }
         if let (Some(lo), Some(hi)) = (g.h_min, g.h_max) {
             if lo > hi {
-                return Err(self.error_at(RecipeErrorKind::Invalid(format!("the smallest size ({lo}) exceeds the largest ({hi})")), "global.hmin"));
+                return Err(self.error_at(
+                    RecipeErrorKind::Invalid(format!(
+                        "the smallest size ({lo}) exceeds the largest ({hi})"
+                    )),
+                    "global.hmin",
+                ));
             }
         }
         if let Some(r) = g.max_aspect_ratio {
             if !(r.is_finite() && r >= 1.0) {
-                let key = self.written_key("global.max_aspect_ratio", "max_aspect_ratio").to_string();
-                return Err(self.error_at(RecipeErrorKind::Invalid(format!("{key} = {r} is out of range: expected a finite number >= 1")), "global.max_aspect_ratio"));
+                let key =
+                    self.written_key("global.max_aspect_ratio", "max_aspect_ratio").to_string();
+                return Err(self.error_at(
+                    RecipeErrorKind::Invalid(format!(
+                        "{key} = {r} is out of range: expected a finite number >= 1"
+                    )),
+                    "global.max_aspect_ratio",
+                ));
             }
         }
         if let Some(r) = g.gradation {
             if !(r.is_finite() && r >= 1.0) {
                 let key = self.written_key("global.gradation", "gradation").to_string();
-                return Err(self.error_at(RecipeErrorKind::Invalid(format!("{key} = {r} is out of range: expected a finite number >= 1")), "global.gradation"));
+                return Err(self.error_at(
+                    RecipeErrorKind::Invalid(format!(
+                        "{key} = {r} is out of range: expected a finite number >= 1"
+                    )),
+                    "global.gradation",
+                ));
             }
         }
         for (name, entities) in &self.regions {
             let path = format!("regions.{name}");
             if name.is_empty() {
-                return Err(self.error_at(RecipeErrorKind::Invalid("a region needs a non-empty name".into()), &path));
+                return Err(self.error_at(
+                    RecipeErrorKind::Invalid("a region needs a non-empty name".into()),
+                    &path,
+                ));
             }
             if entities.is_empty() {
-                return Err(self.error_at(RecipeErrorKind::Invalid(format!("region \"{name}\" names no entity")), &path));
+                return Err(self.error_at(
+                    RecipeErrorKind::Invalid(format!("region \"{name}\" names no entity")),
+                    &path,
+                ));
             }
         }
         for (name, points) in &self.polylines {
             let path = format!("polylines.{name}");
             if points.is_empty() {
-                return Err(self.error_at(RecipeErrorKind::Invalid(format!("polyline \"{name}\" has no point")), &path));
+                return Err(self.error_at(
+                    RecipeErrorKind::Invalid(format!("polyline \"{name}\" has no point")),
+                    &path,
+                ));
             }
             if let Some(p) = points.iter().find(|p| !p[0].is_finite() || !p[1].is_finite()) {
-                return Err(self.error_at(RecipeErrorKind::Invalid(format!("polyline \"{name}\" has a point that is not finite: {p:?}")), &path));
+                return Err(self.error_at(
+                    RecipeErrorKind::Invalid(format!(
+                        "polyline \"{name}\" has a point that is not finite: {p:?}"
+                    )),
+                    &path,
+                ));
             }
             if let Some(i) = points.windows(2).position(|w| w[0] == w[1]) {
                 return Err(self.error_at(RecipeErrorKind::Invalid(format!("polyline \"{name}\" repeats point {} ({:?}) at once: consecutive points must differ", i + 1, points[i])), &path));
@@ -552,12 +635,15 @@ impl Recipe {
         for (name, f) in &self.functions {
             if let Err(e) = f.check() {
                 let (key, shown) = match &e {
-                    FunctionError::OutOfRange { parameter, .. } => (model_field(*parameter), parameter.recipe_key()),
+                    FunctionError::OutOfRange { parameter, .. } => {
+                        (model_field(*parameter), parameter.recipe_key())
+                    }
                     FunctionError::MinAboveMax { .. } => ("min_size", "MINSIZE"),
                 };
                 let path = format!("functions.{name}.{key}");
                 let written = self.written_key(&path, key).to_string();
-                let mut err = self.error_at(RecipeErrorKind::Function { name: name.clone(), source: e }, &path);
+                let mut err = self
+                    .error_at(RecipeErrorKind::Function { name: name.clone(), source: e }, &path);
                 // The message names the appendix keyword; say so when the file spelt it otherwise.
                 if written != shown {
                     err.context = Some(format!("key {written} of function \"{name}\""));
@@ -570,7 +656,12 @@ impl Recipe {
             if let AlgorithmSpec::Uniform { size, .. } = a {
                 if !(SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(size) {
                     let key = self.written_key(&format!("{base}.size"), "size").to_string();
-                    return Err(self.error_at(RecipeErrorKind::Invalid(format!("{key} = {size} is out of range: expected a size in [1e-30, 1e30]")), &format!("{base}.size")));
+                    return Err(self.error_at(
+                        RecipeErrorKind::Invalid(format!(
+                            "{key} = {size} is out of range: expected a size in [1e-30, 1e30]"
+                        )),
+                        &format!("{base}.size"),
+                    ));
                 }
             }
             for (field, name, kind) in a.function_refs() {
@@ -578,15 +669,32 @@ impl Recipe {
                 let key = self.written_key(&path, field).to_string();
                 match self.functions.get(name) {
                     None => {
-                        let e = self.error_at(RecipeErrorKind::UnknownName { referrer: referrer(i), what: "function", name: name.to_string() }, &path);
-                        let same_kind = self.functions.iter().filter(|(_, f)| kind.accepts(f)).map(|(n, _)| n.as_str());
+                        let e = self.error_at(
+                            RecipeErrorKind::UnknownName {
+                                referrer: referrer(i),
+                                what: "function",
+                                name: name.to_string(),
+                            },
+                            &path,
+                        );
+                        let same_kind = self
+                            .functions
+                            .iter()
+                            .filter(|(_, f)| kind.accepts(f))
+                            .map(|(n, _)| n.as_str());
                         let any = self.functions.keys().map(String::as_str);
                         let s = nearest(name, same_kind).or_else(|| nearest(name, any));
                         return Err(e.suggest(s.map(|s| format!("\"{s}\""))));
                     }
                     Some(f) if !kind.accepts(f) => {
                         return Err(self.error_at(
-                            RecipeErrorKind::WrongFunctionKind { referrer: referrer(i), key, name: name.to_string(), found: f.kind_name(), expected: kind.name() },
+                            RecipeErrorKind::WrongFunctionKind {
+                                referrer: referrer(i),
+                                key,
+                                name: name.to_string(),
+                                found: f.kind_name(),
+                                expected: kind.name(),
+                            },
                             &path,
                         ))
                     }
@@ -598,11 +706,21 @@ impl Recipe {
                 let optional = matches!(a, AlgorithmSpec::DistanceToImaginaryPolyline { .. });
                 if list.is_empty() && !optional {
                     let key = self.written_key(&path, field).to_string();
-                    return Err(self.error_at(RecipeErrorKind::Invalid(format!("{} {key} names no region", a.keyword())), &path));
+                    return Err(self.error_at(
+                        RecipeErrorKind::Invalid(format!("{} {key} names no region", a.keyword())),
+                        &path,
+                    ));
                 }
                 for name in list {
                     if !self.regions.contains_key(name) {
-                        let e = self.error_at(RecipeErrorKind::UnknownName { referrer: referrer(i), what: "region", name: name.clone() }, &path);
+                        let e = self.error_at(
+                            RecipeErrorKind::UnknownName {
+                                referrer: referrer(i),
+                                what: "region",
+                                name: name.clone(),
+                            },
+                            &path,
+                        );
                         let s = nearest(name, self.regions.keys().map(String::as_str));
                         return Err(e.suggest(s.map(|s| format!("\"{s}\""))));
                     }
@@ -611,7 +729,14 @@ impl Recipe {
             if let AlgorithmSpec::DistanceToImaginaryPolyline { polyline, .. } = a {
                 if !self.polylines.contains_key(polyline) {
                     let path = format!("{base}.polyline");
-                    let e = self.error_at(RecipeErrorKind::UnknownName { referrer: referrer(i), what: "polyline", name: polyline.clone() }, &path);
+                    let e = self.error_at(
+                        RecipeErrorKind::UnknownName {
+                            referrer: referrer(i),
+                            what: "polyline",
+                            name: polyline.clone(),
+                        },
+                        &path,
+                    );
                     let s = nearest(polyline, self.polylines.keys().map(String::as_str));
                     return Err(e.suggest(s.map(|s| format!("\"{s}\""))));
                 }

@@ -27,8 +27,22 @@ const MAX_INCLUDE_DEPTH: usize = 16;
 
 /// Directives that make a recipe go through cpp.
 const DIRECTIVES: &[&str] = &[
-    "define", "undef", "include", "include_next", "if", "ifdef", "ifndef", "elif", "elifdef", "elifndef", "else", "endif", "error", "warning",
-    "pragma", "line",
+    "define",
+    "undef",
+    "include",
+    "include_next",
+    "if",
+    "ifdef",
+    "ifndef",
+    "elif",
+    "elifdef",
+    "elifndef",
+    "else",
+    "endif",
+    "error",
+    "warning",
+    "pragma",
+    "line",
 ];
 
 /// Text ready for the libconfig parser, with the origin of each of its lines.
@@ -75,7 +89,8 @@ pub fn first_directive(text: &str) -> Option<(usize, String)> {
 
 fn directive(line: &str) -> Option<&'static str> {
     let rest = line.trim_start().strip_prefix('#')?.trim_start();
-    let word: &str = &rest[..rest.find(|c: char| !c.is_ascii_alphanumeric() && c != '_').unwrap_or(rest.len())];
+    let word: &str =
+        &rest[..rest.find(|c: char| !c.is_ascii_alphanumeric() && c != '_').unwrap_or(rest.len())];
     DIRECTIVES.iter().copied().find(|d| *d == word)
 }
 
@@ -88,20 +103,35 @@ pub fn load(text: &str, origin: &Path) -> Result<Source, RecipeError> {
 }
 
 fn expand(text: &str, origin: &Path, out: &mut Source, depth: usize) -> Result<(), RecipeError> {
-    let pre = if let Some((line, d)) = first_directive(text) { run_cpp(text, origin, line, &d)? } else { identity(text, origin) };
+    let pre = if let Some((line, d)) = first_directive(text) {
+        run_cpp(text, origin, line, &d)?
+    } else {
+        identity(text, origin)
+    };
     for (i, l) in pre.text.lines().enumerate() {
         let (file, line) = pre.place(i);
         let (file, line) = (file.to_path_buf(), line);
         if let Some(rest) = l.trim_start().strip_prefix("@include") {
             let name = parse_include_name(rest).ok_or_else(|| {
-                RecipeError::new(RecipeErrorKind::Syntax("@include needs a file name in double quotes".into())).at(&file, line)
+                RecipeError::new(RecipeErrorKind::Syntax(
+                    "@include needs a file name in double quotes".into(),
+                ))
+                .at(&file, line)
             })?;
             if depth >= MAX_INCLUDE_DEPTH {
-                return Err(RecipeError::new(RecipeErrorKind::Syntax(format!("@include nested deeper than {MAX_INCLUDE_DEPTH} files (a cycle?)"))).at(&file, line));
+                return Err(RecipeError::new(RecipeErrorKind::Syntax(format!(
+                    "@include nested deeper than {MAX_INCLUDE_DEPTH} files (a cycle?)"
+                )))
+                .at(&file, line));
             }
             let target = file.parent().unwrap_or(Path::new("")).join(&name);
-            let included = std::fs::read_to_string(&target)
-                .map_err(|e| RecipeError::new(RecipeErrorKind::Io(format!("@include \"{name}\": {}: {e}", target.display()))).at(&file, line))?;
+            let included = std::fs::read_to_string(&target).map_err(|e| {
+                RecipeError::new(RecipeErrorKind::Io(format!(
+                    "@include \"{name}\": {}: {e}",
+                    target.display()
+                )))
+                .at(&file, line)
+            })?;
             expand(&included, &target, out, depth + 1)?;
             // The @include line itself stays, empty, so that line counts hold.
             let f = out.file_index(&file);
@@ -153,11 +183,23 @@ fn candidates() -> Vec<Vec<String>> {
             return vec![words];
         }
     }
-    [&["cpp"][..], &["gcc", "-E"], &["clang", "-E"], &["cc", "-E"]].iter().map(|c| c.iter().map(|s| s.to_string()).collect()).collect()
+    [&["cpp"][..], &["gcc", "-E"], &["clang", "-E"], &["cc", "-E"]]
+        .iter()
+        .map(|c| c.iter().map(|s| s.to_string()).collect())
+        .collect()
 }
 
-fn run_cpp(text: &str, origin: &Path, directive_line: usize, directive: &str) -> Result<Source, RecipeError> {
-    let dir = origin.parent().filter(|d| !d.as_os_str().is_empty()).map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."));
+fn run_cpp(
+    text: &str,
+    origin: &Path,
+    directive_line: usize,
+    directive: &str,
+) -> Result<Source, RecipeError> {
+    let dir = origin
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
     let input = protect_hash_comments(text);
     let mut tried = Vec::new();
     for cmd in candidates() {
@@ -174,20 +216,32 @@ fn run_cpp(text: &str, origin: &Path, directive_line: usize, directive: &str) ->
                 continue;
             }
             Err(e) => {
-                return Err(RecipeError::new(RecipeErrorKind::Preprocessor(format!("cannot run the C preprocessor `{}`: {e}", cmd.join(" ")))).in_file(origin))
+                return Err(RecipeError::new(RecipeErrorKind::Preprocessor(format!(
+                    "cannot run the C preprocessor `{}`: {e}",
+                    cmd.join(" ")
+                )))
+                .in_file(origin))
             }
         };
         // Write on another thread: a large output could fill the pipe while we write.
         let mut stdin = child.stdin.take().expect("stdin was piped");
         let writer = std::thread::spawn(move || stdin.write_all(input.as_bytes()));
-        let output = child
-            .wait_with_output()
-            .map_err(|e| RecipeError::new(RecipeErrorKind::Preprocessor(format!("cannot run the C preprocessor `{}`: {e}", cmd.join(" ")))).in_file(origin))?;
+        let output = child.wait_with_output().map_err(|e| {
+            RecipeError::new(RecipeErrorKind::Preprocessor(format!(
+                "cannot run the C preprocessor `{}`: {e}",
+                cmd.join(" ")
+            )))
+            .in_file(origin)
+        })?;
         let _ = writer.join();
         let origin_name = origin.display().to_string();
         if !output.status.success() {
             let msg = String::from_utf8_lossy(&output.stderr).replace("<stdin>", &origin_name);
-            return Err(RecipeError::new(RecipeErrorKind::Preprocessor(format!("the C preprocessor `{}` failed:\n{}", cmd.join(" "), msg.trim_end()))));
+            return Err(RecipeError::new(RecipeErrorKind::Preprocessor(format!(
+                "the C preprocessor `{}` failed:\n{}",
+                cmd.join(" "),
+                msg.trim_end()
+            ))));
         }
         return Ok(read_line_markers(&String::from_utf8_lossy(&output.stdout), origin, &dir));
     }
@@ -207,7 +261,9 @@ fn read_line_markers(out: &str, origin: &Path, dir: &Path) -> Source {
         if let Some((n, name)) = line_marker(l) {
             let path = match name.as_str() {
                 "<stdin>" | "-" => origin.to_path_buf(),
-                other if Path::new(other).is_relative() && !other.starts_with('<') => dir.join(other),
+                other if Path::new(other).is_relative() && !other.starts_with('<') => {
+                    dir.join(other)
+                }
                 other => PathBuf::from(other),
             };
             file = s.file_index(&path);
@@ -243,7 +299,10 @@ mod tests {
 
     #[test]
     fn directives_are_told_from_hash_comments() {
-        assert_eq!(first_directive("a = 1;\n# a comment\n  #define X 3\n"), Some((3, "#define".into())));
+        assert_eq!(
+            first_directive("a = 1;\n# a comment\n  #define X 3\n"),
+            Some((3, "#define".into()))
+        );
         assert_eq!(first_directive("# a comment\n#defined_not\n"), None);
         assert_eq!(protect_hash_comments("# note\n#if 0\n"), "//# note\n#if 0\n");
     }

@@ -72,7 +72,8 @@ fn expected(a: &AlgorithmSpec) -> &'static [usize] {
     match a {
         AlgorithmSpec::Uniform { .. } => &[2, 1, 0],
         AlgorithmSpec::DistanceToPoint { .. } => &[0, 1],
-        AlgorithmSpec::DistanceToBorder { .. } | AlgorithmSpec::DistanceBetweenTwoBorders { .. } => &[1, 0],
+        AlgorithmSpec::DistanceToBorder { .. }
+        | AlgorithmSpec::DistanceBetweenTwoBorders { .. } => &[1, 0],
         AlgorithmSpec::CurvatureOfBorder { .. } => &[1],
         AlgorithmSpec::DistanceToImaginaryPolyline { .. } => &[2],
     }
@@ -85,15 +86,31 @@ fn lookup(topo: &Topology, e: &EntityRef) -> [Vec<usize>; 3] {
         EntityRef::Name(n) => name.as_deref() == Some(n.as_str()),
     };
     [
-        topo.points.iter().enumerate().filter(|(_, p)| hit_tag(p.tag, &p.name)).map(|(i, _)| i).collect(),
-        topo.curves.iter().enumerate().filter(|(_, c)| hit_tag(c.tag, &c.name)).map(|(i, _)| i).collect(),
-        topo.faces.iter().enumerate().filter(|(_, f)| hit_tag(Some(f.tag), &f.name)).map(|(i, _)| i).collect(),
+        topo.points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| hit_tag(p.tag, &p.name))
+            .map(|(i, _)| i)
+            .collect(),
+        topo.curves
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| hit_tag(c.tag, &c.name))
+            .map(|(i, _)| i)
+            .collect(),
+        topo.faces
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| hit_tag(Some(f.tag), &f.name))
+            .map(|(i, _)| i)
+            .collect(),
     ]
 }
 
 fn list_tags(tags: BTreeSet<i32>) -> String {
     let v: Vec<String> = tags.iter().take(24).map(i32::to_string).collect();
-    let more = if tags.len() > 24 { format!(" and {} more", tags.len() - 24) } else { String::new() };
+    let more =
+        if tags.len() > 24 { format!(" and {} more", tags.len() - 24) } else { String::new() };
     format!("{}{more}", v.join(", "))
 }
 
@@ -159,11 +176,30 @@ impl Recipe {
                         EntityRef::Name(n) => {
                             let all = entity_names(topology);
                             let s = nearest(n, all.iter().copied()).map(|s| format!("\"{s}\""));
-                            let list = if all.is_empty() { "; the mesh names no entity".to_string() } else { format!("; the mesh names {}", all.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")) };
+                            let list = if all.is_empty() {
+                                "; the mesh names no entity".to_string()
+                            } else {
+                                format!(
+                                    "; the mesh names {}",
+                                    all.iter()
+                                        .map(|n| format!("\"{n}\""))
+                                        .collect::<Vec<_>>()
+                                        .join(", ")
+                                )
+                            };
                             (list, s)
                         }
                     };
-                    return Err(self.error_at(RecipeErrorKind::AbsentEntity { region: name.clone(), entity: e.to_string(), available }, &path).suggest(suggestion));
+                    return Err(self
+                        .error_at(
+                            RecipeErrorKind::AbsentEntity {
+                                region: name.clone(),
+                                entity: e.to_string(),
+                                available,
+                            },
+                            &path,
+                        )
+                        .suggest(suggestion));
                 }
                 for d in &dims {
                     by_dim[*d].extend(hits[*d].iter().copied());
@@ -176,10 +212,18 @@ impl Recipe {
                     "its entities are of different dimensions ({}); a region holds entities of one dimension",
                     entity_dims.iter().map(|(e, d)| format!("{e}: {}", d.iter().map(|&d| DIM_NAMES[d]).collect::<Vec<_>>().join(" or "))).collect::<Vec<_>>().join(", ")
                 );
-                return Err(self.error_at(RecipeErrorKind::Dimension { region: name.clone(), detail }, &format!("regions.{name}")));
+                return Err(self.error_at(
+                    RecipeErrorKind::Dimension { region: name.clone(), detail },
+                    &format!("regions.{name}"),
+                ));
             }
             let dimension = (candidates.len() == 1).then(|| candidates[0]);
-            states.push(RegionState { by_dim: by_dim.map(|s| s.into_iter().collect()), candidates, entity_dims, dimension });
+            states.push(RegionState {
+                by_dim: by_dim.map(|s| s.into_iter().collect()),
+                candidates,
+                entity_dims,
+                dimension,
+            });
         }
 
         // Ambiguous regions: the algorithms that use them vote with the dimension they
@@ -201,7 +245,9 @@ impl Recipe {
             }
             let mut votes: BTreeSet<usize> = BTreeSet::new();
             for &i in &used_by[k] {
-                if let Some(&d) = expected(&self.algorithms[i - 1]).iter().find(|d| st.candidates.contains(d)) {
+                if let Some(&d) =
+                    expected(&self.algorithms[i - 1]).iter().find(|d| st.candidates.contains(d))
+                {
                     votes.insert(d);
                 }
             }
@@ -212,15 +258,26 @@ impl Recipe {
                     .entity_dims
                     .iter()
                     .filter(|(_, d)| d.len() > 1)
-                    .map(|(e, d)| format!("{e} is in {}", d.iter().map(|&d| DIM_NAMES[d]).collect::<Vec<_>>().join(" and ")))
+                    .map(|(e, d)| {
+                        format!(
+                            "{e} is in {}",
+                            d.iter().map(|&d| DIM_NAMES[d]).collect::<Vec<_>>().join(" and ")
+                        )
+                    })
                     .collect();
-                let users: Vec<String> = used_by[k].iter().map(|&i| format!("{} ({})", referrer(i - 1), self.algorithms[i - 1].keyword())).collect();
+                let users: Vec<String> = used_by[k]
+                    .iter()
+                    .map(|&i| format!("{} ({})", referrer(i - 1), self.algorithms[i - 1].keyword()))
+                    .collect();
                 let detail = format!(
                     "ambiguous: {}, and {} cannot tell which is meant; use tag names, or split the region",
                     shared.join(", "),
                     users.join(", ")
                 );
-                return Err(self.error_at(RecipeErrorKind::Dimension { region: names[k].clone(), detail }, &format!("regions.{}", names[k])));
+                return Err(self.error_at(
+                    RecipeErrorKind::Dimension { region: names[k].clone(), detail },
+                    &format!("regions.{}", names[k]),
+                ));
             }
         }
 
@@ -247,10 +304,18 @@ impl Recipe {
                     let k = names.binary_search(&r).expect("validated: the region exists");
                     let d = states[k].dimension.expect("a used region has a dimension");
                     if !expected(a).contains(&d) {
-                        let accepted: Vec<&str> = expected(a).iter().map(|&d| DIM_NAMES[d]).collect();
+                        let accepted: Vec<&str> =
+                            expected(a).iter().map(|&d| DIM_NAMES[d]).collect();
                         let key = self.written_key(&format!("{base}.{field}"), field).to_string();
                         return Err(self.error_at(
-                            RecipeErrorKind::Invalid(format!("{} {}: {key} \"{r}\" holds {}, but {} takes {}", referrer(i), a.keyword(), DIM_NAMES[d], a.keyword(), accepted.join(" or "))),
+                            RecipeErrorKind::Invalid(format!(
+                                "{} {}: {key} \"{r}\" holds {}, but {} takes {}",
+                                referrer(i),
+                                a.keyword(),
+                                DIM_NAMES[d],
+                                a.keyword(),
+                                accepted.join(" or ")
+                            )),
                             &format!("{base}.{field}"),
                         ));
                     }
@@ -259,12 +324,26 @@ impl Recipe {
                 sets.push(set);
             }
             let algorithm = match a {
-                AlgorithmSpec::Uniform { size, .. } => Algorithm::Uniform { size: *size, on: sets.remove(0) },
-                AlgorithmSpec::DistanceToPoint { function, .. } => Algorithm::DistanceToPoint { function: self.distance(function)?, sources: sets.remove(0) },
-                AlgorithmSpec::DistanceToBorder { perpendicular, parallel, .. } => {
-                    Algorithm::DistanceToBorder { perpendicular: self.distance(perpendicular)?, parallel: self.distance(parallel)?, borders: sets.remove(0) }
+                AlgorithmSpec::Uniform { size, .. } => {
+                    Algorithm::Uniform { size: *size, on: sets.remove(0) }
                 }
-                AlgorithmSpec::CurvatureOfBorder { perpendicular, curvature_to_size, projection, .. } => Algorithm::CurvatureOfBorder {
+                AlgorithmSpec::DistanceToPoint { function, .. } => Algorithm::DistanceToPoint {
+                    function: self.distance(function)?,
+                    sources: sets.remove(0),
+                },
+                AlgorithmSpec::DistanceToBorder { perpendicular, parallel, .. } => {
+                    Algorithm::DistanceToBorder {
+                        perpendicular: self.distance(perpendicular)?,
+                        parallel: self.distance(parallel)?,
+                        borders: sets.remove(0),
+                    }
+                }
+                AlgorithmSpec::CurvatureOfBorder {
+                    perpendicular,
+                    curvature_to_size,
+                    projection,
+                    ..
+                } => Algorithm::CurvatureOfBorder {
                     perpendicular: self.distance(perpendicular)?,
                     curvature: self.curvature(curvature_to_size)?,
                     projection: self.projection(projection)?,
@@ -272,13 +351,28 @@ impl Recipe {
                 },
                 AlgorithmSpec::DistanceBetweenTwoBorders { perpendicular, parallel, .. } => {
                     let second = sets.remove(1);
-                    Algorithm::DistanceBetweenTwoBorders { perpendicular: self.distance(perpendicular)?, parallel: self.distance(parallel)?, first: sets.remove(0), second }
+                    Algorithm::DistanceBetweenTwoBorders {
+                        perpendicular: self.distance(perpendicular)?,
+                        parallel: self.distance(parallel)?,
+                        first: sets.remove(0),
+                        second,
+                    }
                 }
-                AlgorithmSpec::DistanceToImaginaryPolyline { perpendicular, polyline_distance, projection, polyline, .. } => Algorithm::DistanceToImaginaryPolyline {
+                AlgorithmSpec::DistanceToImaginaryPolyline {
+                    perpendicular,
+                    polyline_distance,
+                    projection,
+                    polyline,
+                    ..
+                } => Algorithm::DistanceToImaginaryPolyline {
                     perpendicular: self.distance(perpendicular)?,
                     polyline_distance: self.distance(polyline_distance)?,
                     projection: self.projection(projection)?,
-                    polyline: self.polylines.get(polyline).cloned().expect("validated: the polyline exists"),
+                    polyline: self
+                        .polylines
+                        .get(polyline)
+                        .cloned()
+                        .expect("validated: the polyline exists"),
                     within: sets.remove(0),
                 },
             };
@@ -291,32 +385,50 @@ impl Recipe {
             .map(|(k, st)| report(topology, names[k], st, used_by[k].clone()))
             .collect();
         let g = &self.global;
-        let plan = SizingPlan { h_min: g.h_min, h_max: g.h_max, max_aspect_ratio: g.max_aspect_ratio, gradation: g.gradation, steps };
+        let plan = SizingPlan {
+            h_min: g.h_min,
+            h_max: g.h_max,
+            max_aspect_ratio: g.max_aspect_ratio,
+            gradation: g.gradation,
+            steps,
+        };
         Ok(Resolved { plan, regions })
     }
 
     fn function_error(&self, name: &str, e: crate::sizing::FunctionError) -> RecipeError {
-        self.error_at(RecipeErrorKind::Function { name: name.to_string(), source: e }, &format!("functions.{name}"))
+        self.error_at(
+            RecipeErrorKind::Function { name: name.to_string(), source: e },
+            &format!("functions.{name}"),
+        )
     }
 
     fn distance(&self, name: &str) -> Result<DistanceFunction, RecipeError> {
         match self.functions.get(name).and_then(FunctionSpec::distance) {
             Some(r) => r.map_err(|e| self.function_error(name, e)),
-            None => Err(self.error_at(RecipeErrorKind::Invalid(format!("\"{name}\" is not a distance function")), &format!("functions.{name}"))),
+            None => Err(self.error_at(
+                RecipeErrorKind::Invalid(format!("\"{name}\" is not a distance function")),
+                &format!("functions.{name}"),
+            )),
         }
     }
 
     fn projection(&self, name: &str) -> Result<SizeProjectionFunction, RecipeError> {
         match self.functions.get(name).and_then(FunctionSpec::projection) {
             Some(r) => r.map_err(|e| self.function_error(name, e)),
-            None => Err(self.error_at(RecipeErrorKind::Invalid(format!("\"{name}\" is not a projection function")), &format!("functions.{name}"))),
+            None => Err(self.error_at(
+                RecipeErrorKind::Invalid(format!("\"{name}\" is not a projection function")),
+                &format!("functions.{name}"),
+            )),
         }
     }
 
     fn curvature(&self, name: &str) -> Result<CurvatureToSize, RecipeError> {
         match self.functions.get(name).and_then(FunctionSpec::curvature) {
             Some(r) => r.map_err(|e| self.function_error(name, e)),
-            None => Err(self.error_at(RecipeErrorKind::Invalid(format!("\"{name}\" is not a curvature-to-size function")), &format!("functions.{name}"))),
+            None => Err(self.error_at(
+                RecipeErrorKind::Invalid(format!("\"{name}\" is not a curvature-to-size function")),
+                &format!("functions.{name}"),
+            )),
         }
     }
 }
@@ -328,9 +440,17 @@ fn quoted(names: &[String]) -> String {
 /// `algorithm 3 (DISTANCE_TO_BORDER on "StayVane")`.
 fn label(i: usize, a: &AlgorithmSpec) -> String {
     let what = match a {
-        AlgorithmSpec::DistanceBetweenTwoBorders { regions, second_regions, .. } => format!("between {} and {}", quoted(regions), quoted(second_regions)),
-        AlgorithmSpec::DistanceToImaginaryPolyline { polyline, regions, .. } if regions.is_empty() => format!("along \"{polyline}\""),
-        AlgorithmSpec::DistanceToImaginaryPolyline { polyline, regions, .. } => format!("along \"{polyline}\" within {}", quoted(regions)),
+        AlgorithmSpec::DistanceBetweenTwoBorders { regions, second_regions, .. } => {
+            format!("between {} and {}", quoted(regions), quoted(second_regions))
+        }
+        AlgorithmSpec::DistanceToImaginaryPolyline { polyline, regions, .. }
+            if regions.is_empty() =>
+        {
+            format!("along \"{polyline}\"")
+        }
+        AlgorithmSpec::DistanceToImaginaryPolyline { polyline, regions, .. } => {
+            format!("along \"{polyline}\" within {}", quoted(regions))
+        }
         other => format!("on {}", quoted(other.region_lists()[0].1)),
     };
     format!("{} ({} {what})", referrer(i), a.keyword())

@@ -58,16 +58,24 @@ fn classify(message: &str) -> RecipeError {
         let expected: Vec<&str> = rest[end + 1..].split('`').skip(1).step_by(2).collect();
         let s = nearest(word, expected.iter().copied());
         return if is_field {
-            RecipeError::new(RecipeErrorKind::UnknownKey { key: word.to_string() }).suggest(s.map(String::from))
+            RecipeError::new(RecipeErrorKind::UnknownKey { key: word.to_string() })
+                .suggest(s.map(String::from))
         } else {
             // The model also accepts the appendix's upper-case keywords: list each once.
-            let mut known: Vec<&str> = expected.iter().copied().filter(|e| !e.chars().any(|c| c.is_ascii_uppercase())).collect();
+            let mut known: Vec<&str> = expected
+                .iter()
+                .copied()
+                .filter(|e| !e.chars().any(|c| c.is_ascii_uppercase()))
+                .collect();
             if known.is_empty() {
                 known = expected.clone();
             }
             let text = match s {
                 Some(_) => format!("unknown value \"{word}\""),
-                None => format!("unknown value \"{word}\", expected one of {}", known.iter().map(|k| format!("\"{k}\"")).collect::<Vec<_>>().join(", ")),
+                None => format!(
+                    "unknown value \"{word}\", expected one of {}",
+                    known.iter().map(|k| format!("\"{k}\"")).collect::<Vec<_>>().join(", ")
+                ),
             };
             RecipeError::new(RecipeErrorKind::Syntax(text)).suggest(s.map(|s| format!("\"{s}\"")))
         };
@@ -132,12 +140,14 @@ pub fn read_json(text: &str, origin: &Path) -> Result<Recipe, RecipeError> {
 pub fn write_toml(recipe: &Recipe) -> String {
     // The model has string keys, no missing values and finite numbers (validated), all of
     // which TOML can hold; a failure here would be a bug in the model, reported in the text.
-    toml::to_string(recipe).unwrap_or_else(|e| format!("# smartmesh could not write this recipe as TOML: {e}\n"))
+    toml::to_string(recipe)
+        .unwrap_or_else(|e| format!("# smartmesh could not write this recipe as TOML: {e}\n"))
 }
 
 /// The model as pretty JSON.
 pub fn write_json(recipe: &Recipe) -> String {
-    let mut s = serde_json::to_string_pretty(recipe).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+    let mut s =
+        serde_json::to_string_pretty(recipe).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
     s.push('\n');
     s
 }
@@ -161,7 +171,13 @@ fn toml_places(text: &str, origin: &Path) -> Places {
         match (section_name, value.get_ref()) {
             ("global" | "mesh", DeValue::Table(t)) => {
                 for (k, v) in t.iter() {
-                    places.insert(format!("global.{}", canonical(k.get_ref())), origin, line(v.span()), k.get_ref(), &format!("[{section_name}]"));
+                    places.insert(
+                        format!("global.{}", canonical(k.get_ref())),
+                        origin,
+                        line(v.span()),
+                        k.get_ref(),
+                        &format!("[{section_name}]"),
+                    );
                 }
             }
             ("regions", DeValue::Table(t)) => {
@@ -171,7 +187,13 @@ fn toml_places(text: &str, origin: &Path) -> Places {
                     places.insert(format!("regions.{name}"), origin, line(k.span()), name, &ctx);
                     if let DeValue::Array(items) = v.get_ref() {
                         for (i, item) in items.iter().enumerate() {
-                            places.insert(format!("regions.{name}[{i}]"), origin, line(item.span()), name, &ctx);
+                            places.insert(
+                                format!("regions.{name}[{i}]"),
+                                origin,
+                                line(item.span()),
+                                name,
+                                &ctx,
+                            );
                         }
                     }
                 }
@@ -179,7 +201,13 @@ fn toml_places(text: &str, origin: &Path) -> Places {
             ("polylines", DeValue::Table(t)) => {
                 for (k, _) in t.iter() {
                     let name: &str = k.get_ref();
-                    places.insert(format!("polylines.{name}"), origin, line(k.span()), name, &format!("polyline \"{name}\""));
+                    places.insert(
+                        format!("polylines.{name}"),
+                        origin,
+                        line(k.span()),
+                        name,
+                        &format!("polyline \"{name}\""),
+                    );
                 }
             }
             ("functions", DeValue::Table(t)) => {
@@ -189,7 +217,13 @@ fn toml_places(text: &str, origin: &Path) -> Places {
                     places.insert(format!("functions.{name}"), origin, line(k.span()), name, &ctx);
                     if let DeValue::Table(f) = v.get_ref() {
                         for (fk, fv) in f.iter() {
-                            places.insert(format!("functions.{name}.{}", canonical(fk.get_ref())), origin, line(fv.span()), fk.get_ref(), &ctx);
+                            places.insert(
+                                format!("functions.{name}.{}", canonical(fk.get_ref())),
+                                origin,
+                                line(fv.span()),
+                                fk.get_ref(),
+                                &ctx,
+                            );
                         }
                     }
                 }
@@ -200,10 +234,20 @@ fn toml_places(text: &str, origin: &Path) -> Places {
                     let DeValue::Table(a) = item.get_ref() else { continue };
                     // An array-of-tables element spans its keys; take the first key's line
                     // when the element itself has no useful span.
-                    let first = a.iter().map(|(k, _)| line(k.span())).min().unwrap_or_else(|| line(item.span()));
+                    let first = a
+                        .iter()
+                        .map(|(k, _)| line(k.span()))
+                        .min()
+                        .unwrap_or_else(|| line(item.span()));
                     places.insert(format!("algorithms[{i}]"), origin, first, "algorithms", &ctx);
                     for (k, v) in a.iter() {
-                        places.insert(format!("algorithms[{i}].{}", canonical(k.get_ref())), origin, line(v.span()), k.get_ref(), &ctx);
+                        places.insert(
+                            format!("algorithms[{i}].{}", canonical(k.get_ref())),
+                            origin,
+                            line(v.span()),
+                            k.get_ref(),
+                            &ctx,
+                        );
                     }
                 }
             }

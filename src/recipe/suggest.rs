@@ -42,7 +42,10 @@ mod tests {
         assert_eq!(nearest("MINSIZ", keys), Some("MINSIZE"));
         assert_eq!(nearest("minsize", keys), Some("MINSIZE"));
         assert_eq!(nearest("MAXDISTNACE", keys), Some("MAXDISTANCE"));
-        assert_eq!(nearest("FStayVanePrep", ["FStayVanePara", "FStayVanePerp"]), Some("FStayVanePerp"));
+        assert_eq!(
+            nearest("FStayVanePrep", ["FStayVanePara", "FStayVanePerp"]),
+            Some("FStayVanePerp")
+        );
         assert_eq!(nearest("COLOUR", keys), None);
         assert_eq!(nearest("X", ["Y"]), Some("Y"));
         assert_eq!(nearest("X", ["YZ"]), None);

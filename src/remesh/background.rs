@@ -18,7 +18,10 @@ use crate::metric::{eigen2, Sym2};
 #[inline]
 pub fn log_spd(m: &Sym2) -> Sym2 {
     let e = eigen2(*m);
-    Sym2::from_eigen([e.values[0].max(f64::MIN_POSITIVE).ln(), e.values[1].max(f64::MIN_POSITIVE).ln()], e.vector)
+    Sym2::from_eigen(
+        [e.values[0].max(f64::MIN_POSITIVE).ln(), e.values[1].max(f64::MIN_POSITIVE).ln()],
+        e.vector,
+    )
 }
 
 /// The matrix exponential of a symmetric matrix: always SPD.
@@ -74,7 +77,17 @@ impl Background {
         let cell = ((w * h) / cells).sqrt().max(w.max(h) / 4096.0);
         let nx = ((w / cell).ceil() as usize).clamp(1, 4096);
         let ny = ((h / cell).ceil() as usize).clamp(1, 4096);
-        let mut bg = Background { points: points.to_vec(), tris: tris.to_vec(), logs, origin: lo, cell, nx, ny, start: Vec::new(), items: Vec::new() };
+        let mut bg = Background {
+            points: points.to_vec(),
+            tris: tris.to_vec(),
+            logs,
+            origin: lo,
+            cell,
+            nx,
+            ny,
+            start: Vec::new(),
+            items: Vec::new(),
+        };
         let mut count = vec![0u32; nx * ny + 1];
         for t in tris {
             let (x0, y0, x1, y1) = bg.cell_range(t);
@@ -140,7 +153,11 @@ impl Background {
             let (a, b) = (v[k], v[(k + 1) % 3]);
             let e = [b[0] - a[0], b[1] - a[1]];
             let ee = e[0] * e[0] + e[1] * e[1];
-            let s = if ee > 0.0 { (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / ee).clamp(0.0, 1.0) } else { 0.0 };
+            let s = if ee > 0.0 {
+                (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / ee).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             let q = [a[0] + s * e[0], a[1] + s * e[1]];
             let d2 = (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
             if d2 < best.1 {
@@ -188,13 +205,17 @@ impl Background {
             for j in j0..=j1 {
                 for i in i0..=i1 {
                     let on_ring = i == i0 || i == i1 || j == j0 || j == j1;
-                    if !on_ring || i < 0 || j < 0 || i >= self.nx as isize || j >= self.ny as isize {
+                    if !on_ring || i < 0 || j < 0 || i >= self.nx as isize || j >= self.ny as isize
+                    {
                         continue;
                     }
                     let k = j as usize * self.nx + i as usize;
                     for &t in &self.items[self.start[k] as usize..self.start[k + 1] as usize] {
                         let (w, d2) = self.closest(t as usize, p);
-                        if near.as_ref().map_or(true, |n| d2 < n.2 || (d2 == n.2 && (t as usize) < n.0)) {
+                        if near
+                            .as_ref()
+                            .map_or(true, |n| d2 < n.2 || (d2 == n.2 && (t as usize) < n.0))
+                        {
                             near = Some((t as usize, w, d2));
                         }
                     }
@@ -224,8 +245,13 @@ mod tests {
     fn log_exp_round_trip_and_geometric_sizes() {
         let m = SizeTensor::from_angle(0.4, 0.01, 0.3).unwrap().to_metric();
         let back = exp_sym(&log_spd(&m));
-        assert!((back.a - m.a).abs() < 1e-9 * m.a && (back.b - m.b).abs() < 1e-9 * m.a && (back.c - m.c).abs() < 1e-9 * m.a);
-        let (a, b) = (SizeTensor::isotropic(1.0).to_metric(), SizeTensor::isotropic(4.0).to_metric());
+        assert!(
+            (back.a - m.a).abs() < 1e-9 * m.a
+                && (back.b - m.b).abs() < 1e-9 * m.a
+                && (back.c - m.c).abs() < 1e-9 * m.a
+        );
+        let (a, b) =
+            (SizeTensor::isotropic(1.0).to_metric(), SizeTensor::isotropic(4.0).to_metric());
         let mid = log_euclidean(&[0.5, 0.5], &[&log_spd(&a), &log_spd(&b)]);
         assert!((mid.a - 0.25).abs() < 1e-14 && mid.b.abs() < 1e-14);
     }
@@ -235,7 +261,9 @@ mod tests {
     fn locate_agrees_with_brute_force_inside_and_outside() {
         // A 6x6 grid of squares on [0,1]² with the middle square removed (a hole).
         let n = 6;
-        let pts: Vec<[f64; 2]> = (0..=n).flat_map(|j| (0..=n).map(move |i| [i as f64 / n as f64, j as f64 / n as f64])).collect();
+        let pts: Vec<[f64; 2]> = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| [i as f64 / n as f64, j as f64 / n as f64]))
+            .collect();
         let mut tris = Vec::new();
         for j in 0..n {
             for i in 0..n {

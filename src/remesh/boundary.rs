@@ -211,7 +211,12 @@ fn strictly_inside(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
     let n = poly.len();
     for i in 0..n {
         let (c, d) = (poly[i], poly[(i + 1) % n]);
-        if orient(c, d, p) == 0.0 && p[0] >= c[0].min(d[0]) && p[0] <= c[0].max(d[0]) && p[1] >= c[1].min(d[1]) && p[1] <= c[1].max(d[1]) {
+        if orient(c, d, p) == 0.0
+            && p[0] >= c[0].min(d[0])
+            && p[0] <= c[0].max(d[0])
+            && p[1] >= c[1].min(d[1])
+            && p[1] <= c[1].max(d[1])
+        {
             return false;
         }
     }
@@ -223,7 +228,10 @@ mod tests {
     use super::*;
 
     fn arc(n: usize) -> Vec<[f64; 2]> {
-        (0..=n).map(|i| std::f64::consts::PI * i as f64 / n as f64).map(|t| [t.cos(), t.sin()]).collect()
+        (0..=n)
+            .map(|i| std::f64::consts::PI * i as f64 / n as f64)
+            .map(|t| [t.cos(), t.sin()])
+            .collect()
     }
 
     #[test]
@@ -244,7 +252,10 @@ mod tests {
         let c = Piece::new(pts, vec![Sym2::new(0.0, 0.0, 0.0); n], None, [0, 1]);
         let s = 0.5 * (c.s[3] + c.s[4]);
         let r = |q: [f64; 2]| q[0].hypot(q[1]);
-        assert!((r(c.point(s, BoundaryMode::Smooth)) - 1.0).abs() < 0.1 * (1.0 - r(c.point(s, BoundaryMode::Polyline))));
+        assert!(
+            (r(c.point(s, BoundaryMode::Smooth)) - 1.0).abs()
+                < 0.1 * (1.0 - r(c.point(s, BoundaryMode::Polyline)))
+        );
     }
 
     #[test]
@@ -255,7 +266,10 @@ mod tests {
         let wall = vec![[-0.3, 0.9], [0.3, 0.9]];
         let z = |n| vec![Sym2::new(0.0, 0.0, 0.0); n];
         let n = top.len();
-        let b = Boundary::new(vec![Piece::new(top.clone(), z(n), None, [0, 1]), Piece::new(wall, z(2), None, [2, 3])]);
+        let b = Boundary::new(vec![
+            Piece::new(top.clone(), z(n), None, [0, 1]),
+            Piece::new(wall, z(2), None, [2, 3]),
+        ]);
         let p0 = &b.pieces[0];
         // Short chord near the end: clear. Chord over the top: the wall is inside.
         assert!(b.chord_clear(0, p0.s[0], top[0], p0.s[2], top[2]));

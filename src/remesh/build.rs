@@ -44,7 +44,11 @@ pub struct Start {
 }
 
 /// Reads the triangles, constraints and pieces of `mesh`.
-pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result<Start, RemeshError> {
+pub fn start(
+    mesh: &TaggedMesh,
+    metric: &[Sym2],
+    opts: &RemeshOptions,
+) -> Result<Start, RemeshError> {
     let n = mesh.points.len();
     if metric.len() != n {
         return Err(RemeshError::MetricCount { items: metric.len(), vertices: n });
@@ -59,7 +63,8 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
         }
     }
     let mut warnings = Vec::new();
-    let mut face_of: std::collections::BTreeMap<(i32, i32), u32> = std::collections::BTreeMap::new();
+    let mut face_of: std::collections::BTreeMap<(i32, i32), u32> =
+        std::collections::BTreeMap::new();
     let mut tris = Vec::new();
     let mut tri_tags = Vec::new();
     let mut line_tags: HashMap<(u32, u32), (i32, i32)> = HashMap::new();
@@ -70,9 +75,13 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
             CellKind::Triangle => {
                 let t = [nodes[0], nodes[1], nodes[2]];
                 let index = tris.len();
-                let o = orient(pts[nodes[0] as usize], pts[nodes[1] as usize], pts[nodes[2] as usize]);
+                let o =
+                    orient(pts[nodes[0] as usize], pts[nodes[1] as usize], pts[nodes[2] as usize]);
                 if o == 0.0 || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
-                    return Err(RemeshError::DegenerateTriangle { triangle: index, vertices: [nodes[0] as usize, nodes[1] as usize, nodes[2] as usize] });
+                    return Err(RemeshError::DegenerateTriangle {
+                        triangle: index,
+                        vertices: [nodes[0] as usize, nodes[1] as usize, nodes[2] as usize],
+                    });
                 }
                 tris.push(if o > 0.0 { t } else { [t[0], t[2], t[1]] });
                 tri_tags.push((phys, geo));
@@ -101,7 +110,14 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
         }
     }
     for (v, m) in metric.iter().enumerate() {
-        if used[v] && !(m.a.is_finite() && m.b.is_finite() && m.c.is_finite() && m.a > 0.0 && m.c > 0.0 && m.det() > 0.0) {
+        if used[v]
+            && !(m.a.is_finite()
+                && m.b.is_finite()
+                && m.c.is_finite()
+                && m.a > 0.0
+                && m.c > 0.0
+                && m.det() > 0.0)
+        {
             return Err(RemeshError::NotSpd { vertex: v, a: m.a, b: m.b, c: m.c });
         }
     }
@@ -136,7 +152,10 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
         }
         let e = occ[i].0;
         if j - i > 2 {
-            return Err(RemeshError::NonManifold { edge: [e.0 as usize, e.1 as usize], triangles: j - i });
+            return Err(RemeshError::NonManifold {
+                edge: [e.0 as usize, e.1 as usize],
+                triangles: j - i,
+            });
         }
         let f0 = face[occ[i].1 as usize];
         let f1 = if j - i == 2 { face[occ[i + 1].1 as usize] } else { u32::MAX };
@@ -146,13 +165,19 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
         }
         i = j;
     }
-    let dropped_lines = lines_in_order.iter().filter(|(k, _)| constrained.binary_search_by(|c| c.0.cmp(k)).is_err()).count();
+    let dropped_lines = lines_in_order
+        .iter()
+        .filter(|(k, _)| constrained.binary_search_by(|c| c.0.cmp(k)).is_err())
+        .count();
     if dropped_lines > 0 {
-        warnings.push(format!("{dropped_lines} line cells that are not triangle edges are not kept"));
+        warnings
+            .push(format!("{dropped_lines} line cells that are not triangle edges are not kept"));
     }
     for name in mesh.point_data.keys() {
         if name != "metric" {
-            warnings.push(format!("point data `{name}` is not carried (only the metric is interpolated)"));
+            warnings.push(format!(
+                "point data `{name}` is not carried (only the metric is interpolated)"
+            ));
         }
     }
     for name in mesh.cell_data.keys() {
@@ -188,13 +213,16 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
         corner[v as usize] = true;
     }
     let cos_ridge = opts.ridge_angle_degrees.to_radians().cos();
-    let kept: std::collections::BTreeSet<[u64; 2]> = opts.keep_points.iter().map(|p| [p[0].to_bits(), p[1].to_bits()]).collect();
+    let kept: std::collections::BTreeSet<[u64; 2]> =
+        opts.keep_points.iter().map(|p| [p[0].to_bits(), p[1].to_bits()]).collect();
     for v in 0..n as u32 {
         let es = around(v);
         if es.is_empty() {
             continue;
         }
-        if !kept.is_empty() && kept.contains(&[pts[v as usize][0].to_bits(), pts[v as usize][1].to_bits()]) {
+        if !kept.is_empty()
+            && kept.contains(&[pts[v as usize][0].to_bits(), pts[v as usize][1].to_bits()])
+        {
             corner[v as usize] = true;
             continue;
         }
@@ -224,8 +252,14 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
     let mut piece = vec![FREE; n];
     let mut s = vec![0.0; n];
     let mut pieces: Vec<Piece> = Vec::new();
-    let mut cons: ahash::AHashMap<(u32, u32), u32> = ahash::AHashMap::with_capacity(constrained.len());
-    let mut walk = |start: u32, first: u32, corner: &[bool], visited: &mut Vec<bool>, piece: &mut Vec<u32>, s: &mut Vec<f64>| {
+    let mut cons: ahash::AHashMap<(u32, u32), u32> =
+        ahash::AHashMap::with_capacity(constrained.len());
+    let mut walk = |start: u32,
+                    first: u32,
+                    corner: &[bool],
+                    visited: &mut Vec<bool>,
+                    piece: &mut Vec<u32>,
+                    s: &mut Vec<f64>| {
         let pid = pieces.len() as u32;
         let tags = constrained[first as usize].1 .0;
         let mut verts = vec![start];
@@ -244,7 +278,12 @@ pub fn start(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result
             cur = next;
             e = ne;
         }
-        let p = Piece::new(verts.iter().map(|&v| pts[v as usize]).collect(), verts.iter().map(|&v| logs[v as usize]).collect(), tags, [verts[0], *verts.last().unwrap_or(&verts[0])]);
+        let p = Piece::new(
+            verts.iter().map(|&v| pts[v as usize]).collect(),
+            verts.iter().map(|&v| logs[v as usize]).collect(),
+            tags,
+            [verts[0], *verts.last().unwrap_or(&verts[0])],
+        );
         for (i, &v) in verts.iter().enumerate() {
             if !corner[v as usize] {
                 piece[v as usize] = pid;

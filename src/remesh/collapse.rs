@@ -16,14 +16,21 @@ pub fn collapse_sweeps(w: &mut Work, lmin: f64, lmax: f64, max_sweeps: usize) ->
     let mut edges = w.edges();
     let mut n = 0;
     for _ in 0..max_sweeps {
-        let mut cand: Vec<(f64, u32, u32)> = edges.iter().map(|&(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 < lmin).collect();
+        let mut cand: Vec<(f64, u32, u32)> =
+            edges.iter().map(|&(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 < lmin).collect();
         cand.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let mut hit = Vec::new();
         for (_, a, b) in cand {
-            if w.piece[a as usize] == DEAD || w.piece[b as usize] == DEAD || w.edge_tris(a, b).1 == 0 {
+            if w.piece[a as usize] == DEAD
+                || w.piece[b as usize] == DEAD
+                || w.edge_tris(a, b).1 == 0
+            {
                 continue;
             }
-            if collapse(w, a, b, lmax, false) || collapse(w, b, a, lmax, false) || collapse(w, a, b, lmax, true) {
+            if collapse(w, a, b, lmax, false)
+                || collapse(w, b, a, lmax, false)
+                || collapse(w, a, b, lmax, true)
+            {
                 n += 1;
                 hit.push(if w.piece[a as usize] == DEAD { b } else { a });
             }
@@ -61,7 +68,13 @@ pub fn collapse(w: &mut Work, a: u32, b: u32, lmax: f64, to_middle: bool) -> boo
             return false;
         }
         let Some(nb) = w.curve_neighbours(a) else { return false };
-        let c = if nb[0].0 == b { nb[1].0 } else if nb[1].0 == b { nb[0].0 } else { return false };
+        let c = if nb[0].0 == b {
+            nb[1].0
+        } else if nb[1].0 == b {
+            nb[0].0
+        } else {
+            return false;
+        };
         if c == b {
             return false;
         }
@@ -70,7 +83,10 @@ pub fn collapse(w: &mut Work, a: u32, b: u32, lmax: f64, to_middle: bool) -> boo
         return false;
     }
     // Link condition.
-    let opp: Vec<u32> = ts.iter().map(|&t| w.tris[t as usize].into_iter().find(|&x| x != a && x != b).unwrap_or(a)).collect();
+    let opp: Vec<u32> = ts
+        .iter()
+        .map(|&t| w.tris[t as usize].into_iter().find(|&x| x != a && x != b).unwrap_or(a))
+        .collect();
     let na = w.neighbours(a);
     let nb = w.neighbours(b);
     let common = na.iter().filter(|x| nb.binary_search(x).is_ok()).count();

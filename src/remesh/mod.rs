@@ -82,7 +82,15 @@ pub struct RemeshOptions {
 
 impl Default for RemeshOptions {
     fn default() -> Self {
-        RemeshOptions { max_passes: 12, smooth_sweeps: 2, boundary: BoundaryMode::Polyline, ridge_angle_degrees: 45.0, split_above: CONFORMING[1], collapse_below: CONFORMING[0], keep_points: Vec::new() }
+        RemeshOptions {
+            max_passes: 12,
+            smooth_sweeps: 2,
+            boundary: BoundaryMode::Polyline,
+            ridge_angle_degrees: 45.0,
+            split_above: CONFORMING[1],
+            collapse_below: CONFORMING[0],
+            keep_points: Vec::new(),
+        }
     }
 }
 
@@ -207,7 +215,9 @@ pub enum RemeshError {
         vertices: [usize; 3],
     },
     /// An edge shared by more than two triangles.
-    #[error("edge {edge:?} is shared by {triangles} triangles; the remesher needs a manifold mesh")]
+    #[error(
+        "edge {edge:?} is shared by {triangles} triangles; the remesher needs a manifold mesh"
+    )]
     NonManifold {
         /// The edge.
         edge: [usize; 2],
@@ -240,12 +250,23 @@ pub enum RemeshEvent {
 /// `metric`) at `points`, by the interpolation the remesher uses: Log-Euclidean
 /// barycentric in the triangle holding the point, or at the closest point of the nearest
 /// triangle outside. Measures any mesh (ours, another tool's) against the same field.
-pub fn interpolate_metric(background: &TaggedMesh, metric: &[Sym2], points: &[[f64; 2]]) -> Result<Vec<Sym2>, RemeshError> {
+pub fn interpolate_metric(
+    background: &TaggedMesh,
+    metric: &[Sym2],
+    points: &[[f64; 2]],
+) -> Result<Vec<Sym2>, RemeshError> {
     if metric.len() != background.points.len() {
-        return Err(RemeshError::MetricCount { items: metric.len(), vertices: background.points.len() });
+        return Err(RemeshError::MetricCount {
+            items: metric.len(),
+            vertices: background.points.len(),
+        });
     }
     let pts: Vec<[f64; 2]> = background.points.iter().map(|p| [p[0], p[1]]).collect();
-    let tris: Vec<[usize; 3]> = background.cells().filter(|c| c.0 == crate::formats::CellKind::Triangle).map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize]).collect();
+    let tris: Vec<[usize; 3]> = background
+        .cells()
+        .filter(|c| c.0 == crate::formats::CellKind::Triangle)
+        .map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize])
+        .collect();
     if tris.is_empty() {
         return Err(RemeshError::NoTriangles);
     }
@@ -253,7 +274,13 @@ pub fn interpolate_metric(background: &TaggedMesh, metric: &[Sym2], points: &[[f
     Ok(points.iter().map(|&p| bg.metric_at(p)).collect())
 }
 
-fn collapse_phase(w: &mut work::Work, opts: &RemeshOptions, lmax_after: f64, ps: &mut PassStats, secs: &mut PhaseSeconds) {
+fn collapse_phase(
+    w: &mut work::Work,
+    opts: &RemeshOptions,
+    lmax_after: f64,
+    ps: &mut PassStats,
+    secs: &mut PhaseSeconds,
+) {
     let t = Instant::now();
     ps.collapses += collapse::collapse_sweeps(w, opts.collapse_below, lmax_after, 4);
     secs.collapse += t.elapsed().as_secs_f64();
@@ -267,12 +294,21 @@ fn swap_phase(w: &mut work::Work, ps: &mut PassStats, secs: &mut PhaseSeconds, e
 
 /// Remeshes `mesh` to `metric` (one SPD tensor per point; [`crate::conformity::metric_field`]
 /// reads and checks one from point data).
-pub fn remesh(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions) -> Result<Remeshed, RemeshError> {
+pub fn remesh(
+    mesh: &TaggedMesh,
+    metric: &[Sym2],
+    opts: &RemeshOptions,
+) -> Result<Remeshed, RemeshError> {
     remesh_with_progress(mesh, metric, opts, &mut |_| {})
 }
 
 /// [`remesh`], reporting each pass to `progress`.
-pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOptions, progress: &mut dyn FnMut(RemeshEvent)) -> Result<Remeshed, RemeshError> {
+pub fn remesh_with_progress(
+    mesh: &TaggedMesh,
+    metric: &[Sym2],
+    opts: &RemeshOptions,
+    progress: &mut dyn FnMut(RemeshEvent),
+) -> Result<Remeshed, RemeshError> {
     let t0 = Instant::now();
     let st = build::start(mesh, metric, opts)?;
     let bg = build::background(&st, metric);
@@ -347,7 +383,11 @@ pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOpt
         // Settled when the topology barely changes any more (a fivehundredth of the
         // triangles); what is left is smoothing's business, which the pass just did.
         let settled = (ps.splits + ps.collapses) * 500 <= ps.triangles;
-        progress(RemeshEvent::Pass { pass: pass + 1, of: opts.max_passes, triangles: ps.triangles });
+        progress(RemeshEvent::Pass {
+            pass: pass + 1,
+            of: opts.max_passes,
+            triangles: ps.triangles,
+        });
         stats.per_pass.push(ps);
         if settled {
             break;
@@ -378,7 +418,11 @@ pub fn remesh_with_progress(mesh: &TaggedMesh, metric: &[Sym2], opts: &RemeshOpt
     let t = Instant::now();
     let (out, out_metric) = output::assemble(mesh, &w, &st.faces, &st.vertex_cells);
     let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
-    let out_tris: Vec<[usize; 3]> = out.cells().filter(|c| c.0 == crate::formats::CellKind::Triangle).map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize]).collect();
+    let out_tris: Vec<[usize; 3]> = out
+        .cells()
+        .filter(|c| c.0 == crate::formats::CellKind::Triangle)
+        .map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize])
+        .collect();
     stats.output = [out_pts.len(), out_tris.len()];
     stats.conformity = Conformity::of(&out_pts, &out_tris, &out_metric);
     stats.seconds.output = t.elapsed().as_secs_f64();
@@ -402,7 +446,11 @@ mod tests {
         for j in 0..=n {
             for i in 0..=n {
                 let inner = i > 0 && i < n && j > 0 && j < n;
-                let (dx, dy) = if inner { (0.3 * rnd() / n as f64, 0.3 * rnd() / n as f64) } else { (0.0, 0.0) };
+                let (dx, dy) = if inner {
+                    (0.3 * rnd() / n as f64, 0.3 * rnd() / n as f64)
+                } else {
+                    (0.0, 0.0)
+                };
                 m.points.push([i as f64 / n as f64 + dx, j as f64 / n as f64 + dy, 0.0]);
             }
         }
@@ -433,12 +481,24 @@ mod tests {
         let fields: [&dyn Fn(f64, f64) -> SizeTensor; 3] = [
             &|x, y| SizeTensor::from_angle(6.0 * (x + y), 0.08, 0.01 + 0.02 * x).unwrap(),
             &|_, _| SizeTensor::isotropic(0.4),
-            &|x, y| SizeTensor::from_angle(0.0, 0.05, 0.003 + 0.1 * (y - 0.5 - 0.2 * (6.0 * x).sin()).abs()).unwrap(),
+            &|x, y| {
+                SizeTensor::from_angle(
+                    0.0,
+                    0.05,
+                    0.003 + 0.1 * (y - 0.5 - 0.2 * (6.0 * x).sin()).abs(),
+                )
+                .unwrap()
+            },
         ];
         for (k, f) in fields.iter().enumerate() {
             let metric: Vec<Sym2> = mesh.points.iter().map(|p| f(p[0], p[1]).to_metric()).collect();
             for mode in [BoundaryMode::Polyline, BoundaryMode::Smooth] {
-                let out = remesh(&mesh, &metric, &RemeshOptions { boundary: mode, ..RemeshOptions::default() }).unwrap();
+                let out = remesh(
+                    &mesh,
+                    &metric,
+                    &RemeshOptions { boundary: mode, ..RemeshOptions::default() },
+                )
+                .unwrap();
                 assert!(out.stats.output[1] > 0, "field {k}");
             }
         }

@@ -10,7 +10,12 @@ use crate::formats::{sym2_to_tensor9, CellBlock, CellKind, DataArray, TaggedMesh
 use crate::metric::Sym2;
 
 /// The output mesh and its metric.
-pub fn assemble(input: &TaggedMesh, w: &Work, faces: &[(i32, i32)], vertex_cells: &[(u32, i32, i32)]) -> (TaggedMesh, Vec<Sym2>) {
+pub fn assemble(
+    input: &TaggedMesh,
+    w: &Work,
+    faces: &[(i32, i32)],
+    vertex_cells: &[(u32, i32, i32)],
+) -> (TaggedMesh, Vec<Sym2>) {
     let mut new_id = vec![u32::MAX; w.pts.len()];
     let mut mesh = TaggedMesh::new();
     mesh.coordinate_dim = input.coordinate_dim;
@@ -47,7 +52,8 @@ pub fn assemble(input: &TaggedMesh, w: &Work, faces: &[(i32, i32)], vertex_cells
             on_piece.push((p, sa.min(sb), u, v));
         }
     }
-    on_piece.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then((x.2, x.3).cmp(&(y.2, y.3))));
+    on_piece
+        .sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then((x.2, x.3).cmp(&(y.2, y.3))));
     if !on_piece.is_empty() {
         let mut b = CellBlock::new(CellKind::Line);
         for &(p, _, u, v) in &on_piece {

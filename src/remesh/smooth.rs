@@ -41,7 +41,10 @@ pub fn smooth_sweep(w: &mut Work) -> usize {
 
 /// The worst and the summed quality of `v`'s ball.
 fn ball_quality(w: &Work, v: u32) -> (f64, f64) {
-    w.vtris[v as usize].iter().map(|&t| w.quality(t)).fold((f64::INFINITY, 0.0), |(m, s), q| (m.min(q), s + q))
+    w.vtris[v as usize]
+        .iter()
+        .map(|&t| w.quality(t))
+        .fold((f64::INFINITY, 0.0), |(m, s), q| (m.min(q), s + q))
 }
 
 /// Whether a ball with worst and summed quality `new` is better than `old`: a better
@@ -101,7 +104,11 @@ fn smooth_free(w: &mut Work, v: u32) -> bool {
     if old.0 < POOR {
         // A poor ball: also try the place that makes its worst triangle equilateral,
         // and halfway there; the best of all candidates wins.
-        if let Some(worst) = w.vtris[v as usize].iter().copied().min_by(|&x, &y| w.quality(x).total_cmp(&w.quality(y))) {
+        if let Some(worst) = w.vtris[v as usize]
+            .iter()
+            .copied()
+            .min_by(|&x, &y| w.quality(x).total_cmp(&w.quality(y)))
+        {
             let tri = w.tris[worst as usize];
             let i = tri.iter().position(|&x| x == v).unwrap_or(0);
             let (a, b) = (tri[(i + 1) % 3], tri[(i + 2) % 3]);
@@ -162,7 +169,11 @@ fn smooth_on_piece(w: &mut Work, v: u32) -> bool {
         }
         let (np, nm) = w.on_piece(pid, t);
         if let Some(q) = ball_quality_at(w, v, np, &nm) {
-            if better(q, old) && best.as_ref().map_or(true, |b| better(q, b.3)) && w.bd.chord_clear(pid, su, w.pts[u as usize], t, np) && w.bd.chord_clear(pid, t, np, sx, w.pts[x as usize]) {
+            if better(q, old)
+                && best.as_ref().map_or(true, |b| better(q, b.3))
+                && w.bd.chord_clear(pid, su, w.pts[u as usize], t, np)
+                && w.bd.chord_clear(pid, t, np, sx, w.pts[x as usize])
+            {
                 best = Some((t, np, nm, q));
                 if old.0 >= POOR {
                     break;

@@ -15,7 +15,8 @@ pub fn split_sweeps(w: &mut Work, lmax: f64) -> usize {
     let mut edges = w.edges();
     let mut n = 0;
     loop {
-        let mut cand: Vec<(f64, u32, u32)> = edges.iter().map(|&(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 > lmax).collect();
+        let mut cand: Vec<(f64, u32, u32)> =
+            edges.iter().map(|&(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 > lmax).collect();
         cand.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let mut touched = vec![false; w.tris.len()];
         let mut k_sweep = 0;
@@ -73,12 +74,19 @@ fn split(w: &mut Work, a: u32, b: u32, ts: &[u32], touched: &mut Vec<bool>) -> b
     let piece = w.cons.get(&key(a, b)).copied();
     let (pm, mm, pid, sm) = match piece {
         Some(p) => {
-            let near = if w.piece[a as usize] == p { w.s[a as usize] } else if w.piece[b as usize] == p { w.s[b as usize] } else { 0.0 };
+            let near = if w.piece[a as usize] == p {
+                w.s[a as usize]
+            } else if w.piece[b as usize] == p {
+                w.s[b as usize]
+            } else {
+                0.0
+            };
             let (sa, sb) = (w.param_on(a, p, near), w.param_on(b, p, near));
             let sm = sa + metric_midpoint(w, a, b) * (sb - sa);
             let (pm, mm) = w.on_piece(p, sm);
             if w.mode == BoundaryMode::Smooth
-                && !(w.bd.chord_clear(p, sa, w.pts[a as usize], sm, pm) && w.bd.chord_clear(p, sm, pm, sb, w.pts[b as usize]))
+                && !(w.bd.chord_clear(p, sa, w.pts[a as usize], sm, pm)
+                    && w.bd.chord_clear(p, sm, pm, sb, w.pts[b as usize]))
             {
                 return false;
             }
@@ -95,7 +103,8 @@ fn split(w: &mut Work, a: u32, b: u32, ts: &[u32], touched: &mut Vec<bool>) -> b
     let mut plan: Vec<(u32, [u32; 3])> = Vec::with_capacity(2);
     for &t in ts {
         let v = w.tris[t as usize];
-        let i = (0..3).find(|&i| (v[i] == a && v[(i + 1) % 3] == b) || (v[i] == b && v[(i + 1) % 3] == a));
+        let i = (0..3)
+            .find(|&i| (v[i] == a && v[(i + 1) % 3] == b) || (v[i] == b && v[(i + 1) % 3] == a));
         let Some(i) = i else { return false };
         let (x, y, c) = (v[i], v[(i + 1) % 3], v[(i + 2) % 3]);
         let (px, py, pc) = (w.pts[x as usize], w.pts[y as usize], w.pts[c as usize]);

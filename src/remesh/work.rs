@@ -7,7 +7,6 @@
 //! not depend on anything but the input. The constrained-edge map is only ever looked
 //! up, never iterated.
 
-
 use super::background::Background;
 use super::boundary::Boundary;
 use super::BoundaryMode;
@@ -82,7 +81,12 @@ impl Work<'_> {
     /// Metric length of edge `ab`.
     #[inline]
     pub fn length(&self, a: u32, b: u32) -> f64 {
-        metric_edge_length(self.pts[a as usize], self.pts[b as usize], &self.met[a as usize], &self.met[b as usize])
+        metric_edge_length(
+            self.pts[a as usize],
+            self.pts[b as usize],
+            &self.met[a as usize],
+            &self.met[b as usize],
+        )
     }
 
     /// Operation quality of triangle `t`.
@@ -95,7 +99,10 @@ impl Work<'_> {
     /// Operation quality of the triangle with corners `v`.
     #[inline]
     pub fn quality_of(&self, v: [u32; 3]) -> f64 {
-        op_quality(v.map(|i| self.pts[i as usize]), [&self.met[v[0] as usize], &self.met[v[1] as usize], &self.met[v[2] as usize]])
+        op_quality(
+            v.map(|i| self.pts[i as usize]),
+            [&self.met[v[0] as usize], &self.met[v[1] as usize], &self.met[v[2] as usize]],
+        )
     }
 
     /// The (one or two) live triangles holding edge `ab`.
@@ -115,7 +122,11 @@ impl Work<'_> {
 
     /// The vertices joined to `v`, sorted.
     pub fn neighbours(&self, v: u32) -> Vec<u32> {
-        let mut n: Vec<u32> = self.vtris[v as usize].iter().flat_map(|&t| self.tris[t as usize]).filter(|&x| x != v).collect();
+        let mut n: Vec<u32> = self.vtris[v as usize]
+            .iter()
+            .flat_map(|&t| self.tris[t as usize])
+            .filter(|&x| x != v)
+            .collect();
         n.sort_unstable();
         n.dedup();
         n
@@ -233,7 +244,11 @@ impl Work<'_> {
                 let (a, b) = (v[k], v[(k + 1) % 3]);
                 // A boundary edge joins two vertices that are not free; checking that
                 // first spares the adjacency scan for nearly every interior edge.
-                if a < b || (self.piece[a as usize] != FREE && self.piece[b as usize] != FREE && self.edge_tris(a, b).1 == 1) {
+                if a < b
+                    || (self.piece[a as usize] != FREE
+                        && self.piece[b as usize] != FREE
+                        && self.edge_tris(a, b).1 == 1)
+                {
                     e.push(key(a, b));
                 }
             }
@@ -270,7 +285,11 @@ impl Work<'_> {
     /// Whether every live triangle is counter-clockwise with positive area (checked
     /// exactly).
     pub fn all_positive(&self) -> bool {
-        self.tris.iter().enumerate().all(|(t, v)| !self.alive[t] || orient(self.pts[v[0] as usize], self.pts[v[1] as usize], self.pts[v[2] as usize]) > 0.0)
+        self.tris.iter().enumerate().all(|(t, v)| {
+            !self.alive[t]
+                || orient(self.pts[v[0] as usize], self.pts[v[1] as usize], self.pts[v[2] as usize])
+                    > 0.0
+        })
     }
 
     /// Brute-force check of every invariant the operators must keep, for the tests:
@@ -298,7 +317,11 @@ impl Work<'_> {
             let mut l = list.clone();
             l.sort_unstable();
             l.dedup();
-            if l.len() != list.len() || list.iter().any(|&t| !self.alive[t as usize] || !self.tris[t as usize].contains(&(x as u32))) {
+            if l.len() != list.len()
+                || list.iter().any(|&t| {
+                    !self.alive[t as usize] || !self.tris[t as usize].contains(&(x as u32))
+                })
+            {
                 return Err(format!("bad triangle list at vertex {x}"));
             }
         }
@@ -327,7 +350,10 @@ impl Work<'_> {
             i = j;
         }
         if live_constrained != self.cons.len() {
-            return Err(format!("{} constrained edges, {live_constrained} of them live", self.cons.len()));
+            return Err(format!(
+                "{} constrained edges, {live_constrained} of them live",
+                self.cons.len()
+            ));
         }
         for v in 0..self.pts.len() {
             let p = self.piece[v];
@@ -337,7 +363,10 @@ impl Work<'_> {
             if p != FIXED && p != FREE && p != DEAD {
                 let (q, _) = self.on_piece(p, self.s[v]);
                 if q != self.pts[v] {
-                    return Err(format!("vertex {v} is off its piece {p}: {:?} vs {q:?}", self.pts[v]));
+                    return Err(format!(
+                        "vertex {v} is off its piece {p}: {:?} vs {q:?}",
+                        self.pts[v]
+                    ));
                 }
             }
         }

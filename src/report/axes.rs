@@ -58,7 +58,12 @@ impl Scale {
 /// The plotting area of a chart panel: the panel less room for the title and the tick
 /// labels (`right` more on the right for a second axis).
 pub fn plot_area(panel: &Rect, right: bool) -> Rect {
-    Rect::new(panel.x0 + 52.0, panel.y0 + 46.0, panel.x1 - if right { 48.0 } else { 14.0 }, panel.y1 - 40.0)
+    Rect::new(
+        panel.x0 + 52.0,
+        panel.y0 + 46.0,
+        panel.x1 - if right { 48.0 } else { 14.0 },
+        panel.y1 - 40.0,
+    )
 }
 
 /// A chart's heading: a bold title and a line of figures under it, each cut to the
@@ -74,9 +79,19 @@ pub fn heading(svg: &mut Svg, panel: &Rect, title: &str, figures: &str) {
             t
         }
     };
-    svg.text(panel.x0 + 8.0, panel.y0 + 17.0, &fit(title, panel.width() - 16.0), &[("font-size", "13"), ("font-weight", "bold")]);
+    svg.text(
+        panel.x0 + 8.0,
+        panel.y0 + 17.0,
+        &fit(title, panel.width() - 16.0),
+        &[("font-size", "13"), ("font-weight", "bold")],
+    );
     if !figures.is_empty() {
-        svg.text(panel.x0 + 8.0, panel.y0 + 33.0, &fit(figures, panel.width() - 16.0), &[("font-size", "11"), ("fill", palette::MUTED), ("class", "figures")]);
+        svg.text(
+            panel.x0 + 8.0,
+            panel.y0 + 33.0,
+            &fit(figures, panel.width() - 16.0),
+            &[("font-size", "11"), ("fill", palette::MUTED), ("class", "figures")],
+        );
     }
 }
 
@@ -95,17 +110,38 @@ pub struct Ticks<'a> {
 }
 
 /// Horizontal grid lines and labels of a vertical axis.
-pub fn y_axis(svg: &mut Svg, area: &Rect, y: &Scale, ticks: &Ticks<'_>, fmt: &dyn Fn(f64) -> String) {
+pub fn y_axis(
+    svg: &mut Svg,
+    area: &Rect,
+    y: &Scale,
+    ticks: &Ticks<'_>,
+    fmt: &dyn Fn(f64) -> String,
+) {
     let Ticks { max, step, right, colour } = *ticks;
     let mut v = 0.0;
     let mut k = 0;
     while v <= max * (1.0 + 1e-9) && k < 50 {
         let py = y.at(v);
         if !right {
-            svg.element("line", &[("x1", &num(area.x0, 1)), ("y1", &num(py, 1)), ("x2", &num(area.x1, 1)), ("y2", &num(py, 1)), ("stroke", "#e6e6e6"), ("stroke-width", "1")]);
+            svg.element(
+                "line",
+                &[
+                    ("x1", &num(area.x0, 1)),
+                    ("y1", &num(py, 1)),
+                    ("x2", &num(area.x1, 1)),
+                    ("y2", &num(py, 1)),
+                    ("stroke", "#e6e6e6"),
+                    ("stroke-width", "1"),
+                ],
+            );
         }
         let (x, anchor) = if right { (area.x1 + 5.0, "start") } else { (area.x0 - 5.0, "end") };
-        svg.text(x, py + 4.0, &fmt(v), &[("text-anchor", anchor), ("font-size", "10"), ("fill", colour)]);
+        svg.text(
+            x,
+            py + 4.0,
+            &fmt(v),
+            &[("text-anchor", anchor), ("font-size", "10"), ("fill", colour)],
+        );
         k += 1;
         v = k as f64 * step;
     }
@@ -115,8 +151,23 @@ pub fn y_axis(svg: &mut Svg, area: &Rect, y: &Scale, ticks: &Ticks<'_>, fmt: &dy
 pub fn x_axis(svg: &mut Svg, area: &Rect, x: &Scale, values: &[f64], fmt: &dyn Fn(f64) -> String) {
     for &v in values {
         let px = x.at(v);
-        svg.element("line", &[("x1", &num(px, 1)), ("y1", &num(area.y1, 1)), ("x2", &num(px, 1)), ("y2", &num(area.y1 + 4.0, 1)), ("stroke", palette::AXIS), ("stroke-width", "1")]);
-        svg.text(px, area.y1 + 15.0, &fmt(v), &[("text-anchor", "middle"), ("font-size", "10"), ("fill", palette::AXIS)]);
+        svg.element(
+            "line",
+            &[
+                ("x1", &num(px, 1)),
+                ("y1", &num(area.y1, 1)),
+                ("x2", &num(px, 1)),
+                ("y2", &num(area.y1 + 4.0, 1)),
+                ("stroke", palette::AXIS),
+                ("stroke-width", "1"),
+            ],
+        );
+        svg.text(
+            px,
+            area.y1 + 15.0,
+            &fmt(v),
+            &[("text-anchor", "middle"), ("font-size", "10"), ("fill", palette::AXIS)],
+        );
     }
 }
 
@@ -124,7 +175,15 @@ pub fn x_axis(svg: &mut Svg, area: &Rect, x: &Scale, values: &[f64], fmt: &dyn F
 pub fn frame(svg: &mut Svg, area: &Rect) {
     svg.element(
         "rect",
-        &[("x", &num(area.x0, 1)), ("y", &num(area.y0, 1)), ("width", &num(area.width(), 1)), ("height", &num(area.height(), 1)), ("fill", "none"), ("stroke", palette::AXIS), ("stroke-width", "1")],
+        &[
+            ("x", &num(area.x0, 1)),
+            ("y", &num(area.y0, 1)),
+            ("width", &num(area.width(), 1)),
+            ("height", &num(area.height(), 1)),
+            ("fill", "none"),
+            ("stroke", palette::AXIS),
+            ("stroke-width", "1"),
+        ],
     );
 }
 

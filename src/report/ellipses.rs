@@ -54,14 +54,26 @@ const SPACING: f64 = 1.15;
 /// the two ellipses' radii towards each other away from every vertex kept before. Small
 /// ellipses come first, so that the finest regions are shown; the result is sorted by
 /// vertex index. Cost: O(n · k) for k kept ellipses, bounded by the view's area.
-pub fn pick(candidates: &[(usize, [f64; 2], SizeTensor)], view: &View, factor: f64, min_gap_px: f64) -> Vec<usize> {
+pub fn pick(
+    candidates: &[(usize, [f64; 2], SizeTensor)],
+    view: &View,
+    factor: f64,
+    min_gap_px: f64,
+) -> Vec<usize> {
     let mut order: Vec<usize> = (0..candidates.len()).collect();
-    order.sort_by(|&a, &b| candidates[a].2.h_max().total_cmp(&candidates[b].2.h_max()).then(candidates[a].0.cmp(&candidates[b].0)));
+    order.sort_by(|&a, &b| {
+        candidates[a]
+            .2
+            .h_max()
+            .total_cmp(&candidates[b].2.h_max())
+            .then(candidates[a].0.cmp(&candidates[b].0))
+    });
     let s = view.scale * factor;
     // Kept ellipses in a grid of cells of `cell` pixels, to look only at near ones (a
     // hash map: only looked up, never iterated, so its order cannot reach the output).
     let cell = (2.0 * min_gap_px).max(1.0);
-    let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = std::collections::HashMap::new();
+    let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> =
+        std::collections::HashMap::new();
     let mut kept: Vec<usize> = Vec::new();
     let max_r = candidates.iter().map(|c| c.2.h_max()).fold(0.0, f64::max) * s;
     for i in order {
@@ -121,7 +133,11 @@ mod tests {
         let mut c = Vec::new();
         for j in 0..21 {
             for i in 0..21 {
-                c.push((j * 21 + i, [i as f64 / 20.0, j as f64 / 20.0], SizeTensor::isotropic(0.04)));
+                c.push((
+                    j * 21 + i,
+                    [i as f64 / 20.0, j as f64 / 20.0],
+                    SizeTensor::isotropic(0.04),
+                ));
             }
         }
         let kept = pick(&c, &view, 1.0, 4.0);

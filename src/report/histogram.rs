@@ -35,9 +35,25 @@ fn draw(svg: &mut Svg, panel: &Rect, b: &Bars<'_>) {
     let y = Scale::new(0.0, ymax, area.y1, area.y0);
     if let Some([lo, hi]) = b.band {
         let (x0, x1) = (x.at(lo), x.at(hi));
-        svg.element("rect", &[("class", "band"), ("x", &num(x0, 2)), ("y", &num(area.y0, 1)), ("width", &num(x1 - x0, 2)), ("height", &num(area.height(), 1)), ("fill", palette::BAND)]);
+        svg.element(
+            "rect",
+            &[
+                ("class", "band"),
+                ("x", &num(x0, 2)),
+                ("y", &num(area.y0, 1)),
+                ("width", &num(x1 - x0, 2)),
+                ("height", &num(area.height(), 1)),
+                ("fill", palette::BAND),
+            ],
+        );
     }
-    axes::y_axis(svg, &area, &y, &axes::Ticks { max: ymax, step, right: false, colour: palette::AXIS }, &tick_label);
+    axes::y_axis(
+        svg,
+        &area,
+        &y,
+        &axes::Ticks { max: ymax, step, right: false, colour: palette::AXIS },
+        &tick_label,
+    );
     for (i, &c) in b.counts.iter().enumerate() {
         let (lo, hi) = (i as f64 * b.bin_width, (i + 1) as f64 * b.bin_width);
         let (x0, x1) = (x.at(lo), x.at(hi));
@@ -61,9 +77,20 @@ fn draw(svg: &mut Svg, panel: &Rect, b: &Bars<'_>) {
         );
     }
     axes::frame(svg, &area);
-    let fmt = |v: f64| if b.overflow_last && (v - n as f64 * b.bin_width).abs() < 1e-9 { format!("≥{}", num(v - b.bin_width, 1)) } else { num(v, 2) };
+    let fmt = |v: f64| {
+        if b.overflow_last && (v - n as f64 * b.bin_width).abs() < 1e-9 {
+            format!("≥{}", num(v - b.bin_width, 1))
+        } else {
+            num(v, 2)
+        }
+    };
     axes::x_axis(svg, &area, &x, &b.x_ticks, &fmt);
-    svg.text(0.5 * (area.x0 + area.x1), panel.y1 - 8.0, b.x_label, &[("text-anchor", "middle"), ("font-size", "11"), ("fill", palette::MUTED)]);
+    svg.text(
+        0.5 * (area.x0 + area.x1),
+        panel.y1 - 8.0,
+        b.x_label,
+        &[("text-anchor", "middle"), ("font-size", "11"), ("fill", palette::MUTED)],
+    );
     svg.close();
 }
 
@@ -92,7 +119,12 @@ pub fn edge_lengths(svg: &mut Svg, panel: &Rect, c: &Conformity) {
 
 /// The histogram of metric triangle quality.
 pub fn quality(svg: &mut Svg, panel: &Rect, c: &Conformity) {
-    let figures = format!("mean {}, min {} over {} triangles", num(c.mean_quality, 3), num(c.min_quality, 3), c.triangles);
+    let figures = format!(
+        "mean {}, min {} over {} triangles",
+        num(c.mean_quality, 3),
+        num(c.min_quality, 3),
+        c.triangles
+    );
     let bars = Bars {
         id: "hist-quality",
         title: "Metric quality",

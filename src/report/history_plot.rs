@@ -27,11 +27,36 @@ pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
     let vtop = (vmax / step).ceil() * step;
     let yv = Scale::new(0.0, vtop, area.y1, area.y0);
     let ys = Scale::new(0.0, 1.0, area.y1, area.y0);
-    axes::y_axis(svg, &area, &yv, &axes::Ticks { max: vtop, step, right: false, colour: palette::SERIES_A }, &tick_label);
-    axes::y_axis(svg, &area, &ys, &axes::Ticks { max: 1.0, step: 0.25, right: true, colour: palette::SERIES_B }, &|v| format!("{}%", num(100.0 * v, 0)));
+    axes::y_axis(
+        svg,
+        &area,
+        &yv,
+        &axes::Ticks { max: vtop, step, right: false, colour: palette::SERIES_A },
+        &tick_label,
+    );
+    axes::y_axis(
+        svg,
+        &area,
+        &ys,
+        &axes::Ticks { max: 1.0, step: 0.25, right: true, colour: palette::SERIES_B },
+        &|v| format!("{}%", num(100.0 * v, 0)),
+    );
     if let Some(best) = h.iterations.iter().find(|r| r.iteration == h.best_iteration) {
         let px = num(x.at(best.iteration as f64), 2);
-        svg.element("line", &[("class", "best"), ("data-iteration", &best.iteration.to_string()), ("x1", &px), ("y1", &num(area.y0, 1)), ("x2", &px), ("y2", &num(area.y1, 1)), ("stroke", "#000"), ("stroke-dasharray", "4 3"), ("stroke-width", "1")]);
+        svg.element(
+            "line",
+            &[
+                ("class", "best"),
+                ("data-iteration", &best.iteration.to_string()),
+                ("x1", &px),
+                ("y1", &num(area.y0, 1)),
+                ("x2", &px),
+                ("y2", &num(area.y1, 1)),
+                ("stroke", "#000"),
+                ("stroke-dasharray", "4 3"),
+                ("stroke-width", "1"),
+            ],
+        );
         svg.text(x.at(best.iteration as f64) + 3.0, area.y0 + 11.0, "best", &[("font-size", "10")]);
     }
     let series: [Series<'_>; 3] = [
@@ -52,23 +77,42 @@ pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
         let class = format!("series series-{k}");
         svg.open("g", &[("class", &class), ("data-name", name)]);
         if !d.is_empty() {
-            svg.element("path", &[("d", d.as_str()), ("fill", "none"), ("stroke", colour), ("stroke-width", "1.8")]);
+            svg.element(
+                "path",
+                &[("d", d.as_str()), ("fill", "none"), ("stroke", colour), ("stroke-width", "1.8")],
+            );
         }
         for r in &h.iterations {
             let (cx, cy) = (num(x.at(r.iteration as f64), 2), num(y.at(value(r)), 2));
             let v = num(value(r), 6);
-            svg.element("circle", &[("cx", &cx), ("cy", &cy), ("r", "2.5"), ("fill", colour), ("data-value", &v)]);
+            svg.element(
+                "circle",
+                &[("cx", &cx), ("cy", &cy), ("r", "2.5"), ("fill", colour), ("data-value", &v)],
+            );
         }
         svg.close();
         // The key, in one row under the x axis' label line, spaced by name length.
-        let lx = panel.x0 + 10.0 + series[..k].iter().map(|s| 26.0 + 6.0 * s.0.len() as f64).sum::<f64>();
+        let lx = panel.x0
+            + 10.0
+            + series[..k].iter().map(|s| 26.0 + 6.0 * s.0.len() as f64).sum::<f64>();
         let ly = panel.y1 - 10.0;
-        svg.element("line", &[("x1", &num(lx, 1)), ("y1", &num(ly - 3.5, 1)), ("x2", &num(lx + 14.0, 1)), ("y2", &num(ly - 3.5, 1)), ("stroke", colour), ("stroke-width", "2")]);
+        svg.element(
+            "line",
+            &[
+                ("x1", &num(lx, 1)),
+                ("y1", &num(ly - 3.5, 1)),
+                ("x2", &num(lx + 14.0, 1)),
+                ("y2", &num(ly - 3.5, 1)),
+                ("stroke", colour),
+                ("stroke-width", "2"),
+            ],
+        );
         svg.text(lx + 18.0, ly, name, &[("font-size", "10")]);
     }
     axes::frame(svg, &area);
     let tstep = nice_step(last, 6).max(1.0);
-    let ticks: Vec<f64> = (0..).map(|k| k as f64 * tstep).take_while(|&v| v <= last + 1e-9).collect();
+    let ticks: Vec<f64> =
+        (0..).map(|k| k as f64 * tstep).take_while(|&v| v <= last + 1e-9).collect();
     axes::x_axis(svg, &area, &x, &ticks, &|v| num(v, 0));
     svg.close();
 }

@@ -48,7 +48,8 @@ pub fn layout(width: f64, aspect: f64, legend_height: f64, zooms: &[f64], charts
     let legend = Rect::new(MARGIN, y + 4.0, width - MARGIN, y + 4.0 + legend_height);
     y = legend.y1 + MARGIN;
     let mut zoom_rects = vec![Rect::new(0.0, 0.0, 0.0, 0.0); zooms.len()];
-    let normal: Vec<usize> = (0..zooms.len()).filter(|&k| zooms[k] <= WIDE || zooms[k].is_nan()).collect();
+    let normal: Vec<usize> =
+        (0..zooms.len()).filter(|&k| zooms[k] <= WIDE || zooms[k].is_nan()).collect();
     let wide: Vec<usize> = (0..zooms.len()).filter(|&k| zooms[k] > WIDE).collect();
     if !normal.is_empty() {
         let cols = normal.len().min(3);
@@ -76,7 +77,15 @@ pub fn layout(width: f64, aspect: f64, legend_height: f64, zooms: &[f64], charts
         }
         y += CHART + MARGIN;
     }
-    Layout { width, height: y.ceil(), title, overview, legend, zooms: zoom_rects, charts: chart_rects }
+    Layout {
+        width,
+        height: y.ceil(),
+        title,
+        overview,
+        legend,
+        zooms: zoom_rects,
+        charts: chart_rects,
+    }
 }
 
 #[cfg(test)]

@@ -36,8 +36,16 @@ fn name(tag: Option<i32>, name: &Option<String>) -> String {
 
 /// The entries of `topo`: faces, then curves, in topology order.
 pub fn entries(topo: &Topology) -> Vec<Entry> {
-    let faces = topo.faces.iter().enumerate().map(|(i, f)| Entry { face: true, colour: palette::face(i), label: format!("face {}", name(Some(f.tag), &f.name)) });
-    let curves = topo.curves.iter().enumerate().map(|(i, c)| Entry { face: false, colour: palette::curve(i), label: format!("curve {}", name(c.tag, &c.name)) });
+    let faces = topo.faces.iter().enumerate().map(|(i, f)| Entry {
+        face: true,
+        colour: palette::face(i),
+        label: format!("face {}", name(Some(f.tag), &f.name)),
+    });
+    let curves = topo.curves.iter().enumerate().map(|(i, c)| Entry {
+        face: false,
+        colour: palette::curve(i),
+        label: format!("curve {}", name(c.tag, &c.name)),
+    });
     faces.chain(curves).collect()
 }
 
@@ -65,16 +73,41 @@ pub fn height(entries: &[Entry], width: f64) -> f64 {
 pub fn draw(svg: &mut Svg, rect: &Rect, entries: &[Entry]) {
     let mut shown: Vec<Entry> = entries.iter().take(MAX_ENTRIES).cloned().collect();
     if entries.len() > MAX_ENTRIES {
-        shown.push(Entry { face: true, colour: "#ffffff", label: format!("and {} more", entries.len() - MAX_ENTRIES) });
+        shown.push(Entry {
+            face: true,
+            colour: "#ffffff",
+            label: format!("and {} more", entries.len() - MAX_ENTRIES),
+        });
     }
     let (pos, _) = positions(&shown, rect.width());
     svg.open("g", &[("id", "legend")]);
     for (e, (dx, dy)) in shown.iter().zip(pos) {
         let (x, y) = (rect.x0 + dx, rect.y0 + dy);
         if e.face {
-            svg.element("rect", &[("x", &num(x, 1)), ("y", &num(y + 3.0, 1)), ("width", "20"), ("height", "11"), ("fill", e.colour), ("stroke", "#999"), ("stroke-width", "0.5")]);
+            svg.element(
+                "rect",
+                &[
+                    ("x", &num(x, 1)),
+                    ("y", &num(y + 3.0, 1)),
+                    ("width", "20"),
+                    ("height", "11"),
+                    ("fill", e.colour),
+                    ("stroke", "#999"),
+                    ("stroke-width", "0.5"),
+                ],
+            );
         } else {
-            svg.element("line", &[("x1", &num(x, 1)), ("y1", &num(y + 8.5, 1)), ("x2", &num(x + 20.0, 1)), ("y2", &num(y + 8.5, 1)), ("stroke", e.colour), ("stroke-width", "3")]);
+            svg.element(
+                "line",
+                &[
+                    ("x1", &num(x, 1)),
+                    ("y1", &num(y + 8.5, 1)),
+                    ("x2", &num(x + 20.0, 1)),
+                    ("y2", &num(y + 8.5, 1)),
+                    ("stroke", e.colour),
+                    ("stroke-width", "3"),
+                ],
+            );
         }
         let label: String = e.label.chars().take(40).collect();
         svg.text(x + 26.0, y + 13.0, &label, &[("font-size", "11"), ("class", "legend-entry")]);

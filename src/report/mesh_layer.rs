@@ -67,7 +67,8 @@ pub fn boundary_loops<'a>(cells: impl Iterator<Item = &'a [usize]>) -> Vec<Vec<u
         }
         i = j;
     }
-    let mut inc: Vec<(usize, usize)> = bnd.iter().enumerate().flat_map(|(k, e)| [(e[0], k), (e[1], k)]).collect();
+    let mut inc: Vec<(usize, usize)> =
+        bnd.iter().enumerate().flat_map(|(k, e)| [(e[0], k), (e[1], k)]).collect();
     inc.sort_unstable();
     let mut used = vec![false; bnd.len()];
     let mut loops = Vec::new();
@@ -81,7 +82,11 @@ pub fn boundary_loops<'a>(cells: impl Iterator<Item = &'a [usize]>) -> Vec<Vec<u
         while cur != first {
             lp.push(cur);
             let from = inc.partition_point(|&(v, _)| v < cur);
-            let next = inc[from..].iter().take_while(|&&(v, _)| v == cur).map(|&(_, k)| k).find(|&k| !used[k]);
+            let next = inc[from..]
+                .iter()
+                .take_while(|&&(v, _)| v == cur)
+                .map(|&(_, k)| k)
+                .find(|&k| !used[k]);
             match next {
                 Some(k) => {
                     used[k] = true;
@@ -99,16 +104,29 @@ impl MeshLayers {
     /// Prepares `topology`'s mesh, whose vertices are `points`.
     pub fn new(topology: &Topology, points: Vec<[f64; 2]>) -> MeshLayers {
         let face_loops = (0..topology.faces.len())
-            .map(|f| boundary_loops(topology.faces[f].cells.iter().map(|&c| topology.surface_cells[c].vertices())))
+            .map(|f| {
+                boundary_loops(
+                    topology.faces[f].cells.iter().map(|&c| topology.surface_cells[c].vertices()),
+                )
+            })
             .collect();
         let edges = topology.edges.iter().map(|(e, _)| *e).collect();
-        let curves = topology.curves.iter().map(|c| c.polylines.iter().map(|p| (p.vertices.clone(), p.closed)).collect()).collect();
+        let curves = topology
+            .curves
+            .iter()
+            .map(|c| c.polylines.iter().map(|p| (p.vertices.clone(), p.closed)).collect())
+            .collect();
         MeshLayers { points, face_loops, edges, curves }
     }
 
     /// The bounding box of the vertices that faces or curves use.
     pub fn bounds(&self) -> Option<Rect> {
-        let used = self.face_loops.iter().flatten().flatten().chain(self.curves.iter().flatten().flat_map(|(v, _)| v.iter()));
+        let used = self
+            .face_loops
+            .iter()
+            .flatten()
+            .flatten()
+            .chain(self.curves.iter().flatten().flat_map(|(v, _)| v.iter()));
         Rect::bounding(used.map(|&v| self.points[v]))
     }
 
@@ -129,7 +147,16 @@ impl MeshLayers {
             }
             if !d.is_empty() {
                 let class = format!("face face-{f}");
-                svg.element("path", &[("class", &class), ("d", d.as_str()), ("fill", palette::face(f)), ("fill-rule", "evenodd"), ("stroke", "none")]);
+                svg.element(
+                    "path",
+                    &[
+                        ("class", &class),
+                        ("d", d.as_str()),
+                        ("fill", palette::face(f)),
+                        ("fill-rule", "evenodd"),
+                        ("stroke", "none"),
+                    ],
+                );
             }
         }
     }
@@ -165,7 +192,17 @@ impl MeshLayers {
         }
         let sw = num(stroke_px, 2);
         if !d.is_empty() {
-            svg.element("path", &[("class", "edges"), ("d", d.as_str()), ("fill", "none"), ("stroke", palette::EDGE), ("stroke-width", &sw), ("stroke-linecap", "round")]);
+            svg.element(
+                "path",
+                &[
+                    ("class", "edges"),
+                    ("d", d.as_str()),
+                    ("fill", "none"),
+                    ("stroke", palette::EDGE),
+                    ("stroke-width", &sw),
+                    ("stroke-linecap", "round"),
+                ],
+            );
         }
         if stats.shaded > 0 {
             // Four levels of shading, each one path of row runs.
@@ -199,7 +236,16 @@ impl MeshLayers {
             for (l, p) in paths.iter().enumerate() {
                 if !p.is_empty() {
                     let op = num(MAX_SHADING * (l + 1) as f64 / LEVELS as f64, 3);
-                    svg.element("path", &[("class", "edge-shading"), ("d", p.as_str()), ("fill", palette::EDGE), ("fill-opacity", &op), ("stroke", "none")]);
+                    svg.element(
+                        "path",
+                        &[
+                            ("class", "edge-shading"),
+                            ("d", p.as_str()),
+                            ("fill", palette::EDGE),
+                            ("fill-opacity", &op),
+                            ("stroke", "none"),
+                        ],
+                    );
                 }
             }
         }
@@ -218,7 +264,11 @@ impl MeshLayers {
                     let p = view.to_px(self.points[v]);
                     match last {
                         None => d.move_to(p),
-                        Some(q) if i + 1 < verts.len() && (p[0] - q[0]).hypot(p[1] - q[1]) < 0.5 => continue,
+                        Some(q)
+                            if i + 1 < verts.len() && (p[0] - q[0]).hypot(p[1] - q[1]) < 0.5 =>
+                        {
+                            continue
+                        }
                         Some(_) => d.line_to(p),
                     }
                     last = Some(p);
@@ -229,7 +279,18 @@ impl MeshLayers {
             }
             if !d.is_empty() {
                 let class = format!("curve curve-{ci}");
-                svg.element("path", &[("class", &class), ("d", d.as_str()), ("fill", "none"), ("stroke", palette::curve(ci)), ("stroke-width", &w), ("stroke-linejoin", "round"), ("stroke-linecap", "round")]);
+                svg.element(
+                    "path",
+                    &[
+                        ("class", &class),
+                        ("d", d.as_str()),
+                        ("fill", "none"),
+                        ("stroke", palette::curve(ci)),
+                        ("stroke-width", &w),
+                        ("stroke-linejoin", "round"),
+                        ("stroke-linecap", "round"),
+                    ],
+                );
             }
         }
     }

@@ -43,7 +43,10 @@ use crate::topology::Topology;
 
 use self::layout::CAPTION;
 use self::mesh_layer::MeshLayers;
-use self::panels::{clip, draw_marks, draw_zoom, fit_text, panel_border, plural, scale_bar, source_marks, zoom_inner, Scene};
+use self::panels::{
+    clip, draw_marks, draw_zoom, fit_text, panel_border, plural, scale_bar, source_marks,
+    zoom_inner, Scene,
+};
 use self::svg::{num, Svg};
 use self::view::{Rect, View};
 use self::windows::ZoomWindow;
@@ -144,11 +147,15 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let topo = input.topology;
     let points: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
     let layers = MeshLayers::new(topo, points.clone());
-    let domain = layers.bounds().or_else(|| Rect::bounding(points.iter().copied())).unwrap_or(Rect::new(0.0, 0.0, 1.0, 1.0));
+    let domain = layers
+        .bounds()
+        .or_else(|| Rect::bounding(points.iter().copied()))
+        .unwrap_or(Rect::new(0.0, 0.0, 1.0, 1.0));
     let mut notes = Vec::new();
 
     let conformity = input.metric.and_then(|m| Conformity::of_mesh(mesh, &m.field));
-    let sizes: Option<Vec<Option<SizeTensor>>> = input.metric.map(|m| m.field.iter().map(|t| SizeTensor::try_from_metric(t).ok()).collect());
+    let sizes: Option<Vec<Option<SizeTensor>>> =
+        input.metric.map(|m| m.field.iter().map(|t| SizeTensor::try_from_metric(t).ok()).collect());
     let zooms = match (input.plan, &sizes) {
         (Some(plan), _) => windows::from_plan(plan, topo, &points, &domain),
         (None, Some(s)) => windows::from_sizes(s, topo, &points, &domain, SIZE_WINDOWS),
@@ -163,7 +170,8 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let legend_h = legend::height(&entries, width - 2.0 * layout::MARGIN);
     let charts = if conformity.is_some() { 2 } else { 0 } + usize::from(input.history.is_some());
     let aspect = domain.width().max(1e-300) / domain.height().max(1e-300 + domain.width() * 1e-3);
-    let zoom_aspects: Vec<f64> = zooms.iter().map(|z| z.region.width() / z.region.height().max(1e-300)).collect();
+    let zoom_aspects: Vec<f64> =
+        zooms.iter().map(|z| z.region.width() / z.region.height().max(1e-300)).collect();
     let lay = layout::layout(width, aspect, legend_h, &zoom_aspects, charts);
     // Each zoom shows its window grown to the panel's aspect, moved inside the domain
     // where it fits (a window around a corner shows mesh, not the page).
@@ -181,7 +189,12 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     // Title.
     let triangles = topo.surface_cells.len();
     svg.open("g", &[("id", "title")]);
-    svg.text(lay.title.x0, lay.title.y0 + 18.0, &fit_text(input.name, lay.title.width() * 0.75), &[("font-size", "18"), ("font-weight", "bold")]);
+    svg.text(
+        lay.title.x0,
+        lay.title.y0 + 18.0,
+        &fit_text(input.name, lay.title.width() * 0.75),
+        &[("font-size", "18"), ("font-weight", "bold")],
+    );
     let counts = format!(
         "{}, {}, {}, {}",
         plural(mesh.points.len(), "vertex", "vertices"),
@@ -198,13 +211,21 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         ),
         (Some(m), None) => format!("metric {}: no triangle to measure", m.source),
         (None, _) => {
-            let why = format!("no metric: {} has no point data `metric` and no --metric was given", input.name);
+            let why = format!(
+                "no metric: {} has no point data `metric` and no --metric was given",
+                input.name
+            );
             notes.push(why.clone());
             why
         }
     };
     for (k, line) in [counts, metric_line].iter().enumerate() {
-        svg.text(lay.title.x0, lay.title.y0 + 37.0 + 16.0 * k as f64, &fit_text(line, lay.title.width() * 1.05), &[("font-size", "13"), ("fill", palette::MUTED)]);
+        svg.text(
+            lay.title.x0,
+            lay.title.y0 + 37.0 + 16.0 * k as f64,
+            &fit_text(line, lay.title.width() * 1.05),
+            &[("font-size", "13"), ("fill", palette::MUTED)],
+        );
     }
     svg.close();
 
@@ -212,7 +233,10 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let ov = lay.overview;
     let ov_inner = Rect::new(ov.x0, ov.y0 + CAPTION, ov.x1, ov.y1);
     let ov_view = View::fit(domain.inflate(0.01 * domain.diagonal()), ov_inner);
-    svg.open("g", &[("id", "overview"), ("class", "panel overview"), ("data-scale", &num(ov_view.scale, 6))]);
+    svg.open(
+        "g",
+        &[("id", "overview"), ("class", "panel overview"), ("data-scale", &num(ov_view.scale, 6))],
+    );
     clip(&mut svg, "clip-overview", &ov_inner);
     svg.open("g", &[("clip-path", "url(#clip-overview)")]);
     layers.draw_faces(&mut svg, &ov_view);
@@ -222,19 +246,60 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     for (k, zv) in zoom_views.iter().enumerate() {
         let r = ov_view.rect_to_px(&zv.world);
         let id = (k + 1).to_string();
-        svg.element("rect", &[("class", "zoom-frame"), ("data-zoom", &id), ("x", &num(r.x0, 1)), ("y", &num(r.y0, 1)), ("width", &num(r.width(), 1)), ("height", &num(r.height(), 1)), ("fill", "none"), ("stroke", palette::FRAME), ("stroke-width", "1.5")]);
+        svg.element(
+            "rect",
+            &[
+                ("class", "zoom-frame"),
+                ("data-zoom", &id),
+                ("x", &num(r.x0, 1)),
+                ("y", &num(r.y0, 1)),
+                ("width", &num(r.width(), 1)),
+                ("height", &num(r.height(), 1)),
+                ("fill", "none"),
+                ("stroke", palette::FRAME),
+                ("stroke-width", "1.5"),
+            ],
+        );
         // The number tab sits on the frame's top-left corner, inside the panel.
         let (tx, ty) = (r.x0.max(ov_inner.x0), (r.y0 - 15.0).max(ov_inner.y0));
-        svg.element("rect", &[("x", &num(tx, 1)), ("y", &num(ty, 1)), ("width", "15"), ("height", "15"), ("fill", palette::FRAME)]);
-        svg.text(tx + 7.5, ty + 11.5, &id, &[("font-size", "11"), ("font-weight", "bold"), ("fill", "#ffffff"), ("text-anchor", "middle")]);
+        svg.element(
+            "rect",
+            &[
+                ("x", &num(tx, 1)),
+                ("y", &num(ty, 1)),
+                ("width", "15"),
+                ("height", "15"),
+                ("fill", palette::FRAME),
+            ],
+        );
+        svg.text(
+            tx + 7.5,
+            ty + 11.5,
+            &id,
+            &[
+                ("font-size", "11"),
+                ("font-weight", "bold"),
+                ("fill", "#ffffff"),
+                ("text-anchor", "middle"),
+            ],
+        );
     }
     svg.close();
     let content = ov_view.rect_to_px(&domain).intersect(&ov_inner).unwrap_or(ov_inner);
     scale_bar(&mut svg, &ov_view, &content);
     svg.text(ov.x0, ov.y0 + 14.0, "Whole mesh", &[("font-size", "13"), ("font-weight", "bold")]);
     if ov_stats.shaded > 0 {
-        let s = format!("{} edges shorter than {} px drawn as shading", ov_stats.shaded, mesh_layer::MIN_EDGE_PX);
-        svg.text(ov.x1, ov.y0 + 14.0, &s, &[("font-size", "11"), ("fill", palette::MUTED), ("text-anchor", "end")]);
+        let s = format!(
+            "{} edges shorter than {} px drawn as shading",
+            ov_stats.shaded,
+            mesh_layer::MIN_EDGE_PX
+        );
+        svg.text(
+            ov.x1,
+            ov.y0 + 14.0,
+            &s,
+            &[("font-size", "11"), ("fill", palette::MUTED), ("text-anchor", "end")],
+        );
     }
     svg.close();
     legend::draw(&mut svg, &lay.legend, &entries);
@@ -242,12 +307,16 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     // Zooms.
     let mut shaded = ov_stats.shaded;
     for (k, ((z, r), view)) in zooms.iter().zip(&lay.zooms).zip(&zoom_views).enumerate() {
-        let scene = Scene { layers: &layers, topology: topo, sizes: sizes.as_deref(), marks: &marks };
+        let scene =
+            Scene { layers: &layers, topology: topo, sizes: sizes.as_deref(), marks: &marks };
         let stats = draw_zoom(&mut svg, k, z, r, view, &scene);
         shaded = shaded.max(stats.shaded);
     }
     if shaded > 0 {
-        notes.push(format!("edges shorter than {} px are drawn as shading (up to {shaded} edges in one panel)", mesh_layer::MIN_EDGE_PX));
+        notes.push(format!(
+            "edges shorter than {} px are drawn as shading (up to {shaded} edges in one panel)",
+            mesh_layer::MIN_EDGE_PX
+        ));
     }
 
     // Charts.
@@ -268,6 +337,12 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     for (z, v) in zooms.iter_mut().zip(&zoom_views) {
         z.shown = v.world;
     }
-    Report { svg: svg.finish(), width: lay.width as u32, height: lay.height as u32, zooms, conformity, notes }
+    Report {
+        svg: svg.finish(),
+        width: lay.width as u32,
+        height: lay.height as u32,
+        zooms,
+        conformity,
+        notes,
+    }
 }
-

@@ -3,8 +3,12 @@
 //! inks of edges, ellipses, bands and plot lines. Colours go by entity index, so the same
 //! mesh always gets the same colours.
 
-const FACES: [&str; 8] = ["#cfe3f7", "#fbe3c8", "#d6efd0", "#e8dcf4", "#fbf0bf", "#d2eef0", "#f6d6e2", "#e2e2e2"];
-const CURVES: [&str; 10] = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2", "#bcbd22", "#7f7f7f"];
+const FACES: [&str; 8] =
+    ["#cfe3f7", "#fbe3c8", "#d6efd0", "#e8dcf4", "#fbf0bf", "#d2eef0", "#f6d6e2", "#e2e2e2"];
+const CURVES: [&str; 10] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
+    "#bcbd22", "#7f7f7f",
+];
 
 /// Fill of topological face `i`.
 pub fn face(i: usize) -> &'static str {

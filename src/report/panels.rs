@@ -39,13 +39,26 @@ pub struct SourceMarks {
 }
 
 /// The imaginary polylines and point sources of `plan`'s steps, to draw over the mesh.
-pub fn source_marks(plan: Option<&SizingPlan>, topo: &Topology, points: &[[f64; 2]]) -> SourceMarks {
+pub fn source_marks(
+    plan: Option<&SizingPlan>,
+    topo: &Topology,
+    points: &[[f64; 2]],
+) -> SourceMarks {
     let mut m = SourceMarks { polylines: Vec::new(), points: Vec::new() };
     for step in plan.map(|p| p.steps.as_slice()).unwrap_or_default() {
         match &step.algorithm {
-            Algorithm::DistanceToImaginaryPolyline { polyline, .. } => m.polylines.push(polyline.clone()),
-            Algorithm::DistanceToPoint { sources, .. } | Algorithm::DistanceToBorder { borders: sources, .. } => {
-                m.points.extend(sources.points.iter().filter_map(|&p| topo.points.get(p)).map(|p| points[p.vertex]));
+            Algorithm::DistanceToImaginaryPolyline { polyline, .. } => {
+                m.polylines.push(polyline.clone())
+            }
+            Algorithm::DistanceToPoint { sources, .. }
+            | Algorithm::DistanceToBorder { borders: sources, .. } => {
+                m.points.extend(
+                    sources
+                        .points
+                        .iter()
+                        .filter_map(|&p| topo.points.get(p))
+                        .map(|p| points[p.vertex]),
+                );
             }
             _ => {}
         }
@@ -64,11 +77,32 @@ pub fn draw_marks(svg: &mut Svg, view: &View, marks: &SourceMarks) {
                 d.line_to(view.to_px(p));
             }
         }
-        svg.element("path", &[("class", "source-polyline"), ("d", d.as_str()), ("fill", "none"), ("stroke", "#000"), ("stroke-width", "1.5"), ("stroke-dasharray", "6 4")]);
+        svg.element(
+            "path",
+            &[
+                ("class", "source-polyline"),
+                ("d", d.as_str()),
+                ("fill", "none"),
+                ("stroke", "#000"),
+                ("stroke-width", "1.5"),
+                ("stroke-dasharray", "6 4"),
+            ],
+        );
     }
     for &p in &marks.points {
         let [x, y] = view.to_px(p);
-        svg.element("circle", &[("class", "source-point"), ("cx", &num(x, 1)), ("cy", &num(y, 1)), ("r", "4.5"), ("fill", "none"), ("stroke", "#000"), ("stroke-width", "1.5")]);
+        svg.element(
+            "circle",
+            &[
+                ("class", "source-point"),
+                ("cx", &num(x, 1)),
+                ("cy", &num(y, 1)),
+                ("r", "4.5"),
+                ("fill", "none"),
+                ("stroke", "#000"),
+                ("stroke-width", "1.5"),
+            ],
+        );
     }
 }
 
@@ -80,8 +114,20 @@ pub fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) {
     let (x, y) = (content.x0 + 10.0, content.y1 - 10.0);
     let d = format!("M{} {}v4h{}v-4", num(x, 1), num(y - 4.0, 1), num(px, 2));
     svg.open("g", &[("class", "scale-bar")]);
-    svg.element("path", &[("d", &d), ("fill", "none"), ("stroke", "#ffffff"), ("stroke-width", "4"), ("stroke-opacity", "0.85")]);
-    svg.element("path", &[("d", &d), ("fill", "none"), ("stroke", "#000"), ("stroke-width", "1.5")]);
+    svg.element(
+        "path",
+        &[
+            ("d", &d),
+            ("fill", "none"),
+            ("stroke", "#ffffff"),
+            ("stroke-width", "4"),
+            ("stroke-opacity", "0.85"),
+        ],
+    );
+    svg.element(
+        "path",
+        &[("d", &d), ("fill", "none"), ("stroke", "#000"), ("stroke-width", "1.5")],
+    );
     halo_text(svg, x + 0.5 * px, y - 8.0, &fmt_sig(len), "middle", "#000");
     svg.close();
 }
@@ -95,20 +141,50 @@ pub fn halo_text(svg: &mut Svg, x: f64, y: f64, text: &str, anchor: &str, colour
         "middle" => x - 0.5 * w,
         _ => x - 3.0,
     };
-    svg.element("rect", &[("x", &num(x0, 1)), ("y", &num(y - 10.0, 1)), ("width", &num(w, 1)), ("height", "14"), ("fill", "#ffffff"), ("fill-opacity", "0.85")]);
+    svg.element(
+        "rect",
+        &[
+            ("x", &num(x0, 1)),
+            ("y", &num(y - 10.0, 1)),
+            ("width", &num(w, 1)),
+            ("height", "14"),
+            ("fill", "#ffffff"),
+            ("fill-opacity", "0.85"),
+        ],
+    );
     svg.text(x, y, text, &[("font-size", "11"), ("text-anchor", anchor), ("fill", colour)]);
 }
 
 /// A clip path `id` of rectangle `r`.
 pub fn clip(svg: &mut Svg, id: &str, r: &Rect) {
     svg.open("clipPath", &[("id", id)]);
-    svg.element("rect", &[("x", &num(r.x0, 1)), ("y", &num(r.y0, 1)), ("width", &num(r.width(), 1)), ("height", &num(r.height(), 1))]);
+    svg.element(
+        "rect",
+        &[
+            ("x", &num(r.x0, 1)),
+            ("y", &num(r.y0, 1)),
+            ("width", &num(r.width(), 1)),
+            ("height", &num(r.height(), 1)),
+        ],
+    );
     svg.close();
 }
 
 /// A thin grey border around `r`.
 pub fn panel_border(svg: &mut Svg, r: &Rect) {
-    svg.element("rect", &[("class", "border"), ("x", &num(r.x0, 1)), ("y", &num(r.y0, 1)), ("width", &num(r.width(), 1)), ("height", &num(r.height(), 1)), ("fill", "none"), ("stroke", "#bbbbbb"), ("stroke-width", "1")]);
+    svg.element(
+        "rect",
+        &[
+            ("class", "border"),
+            ("x", &num(r.x0, 1)),
+            ("y", &num(r.y0, 1)),
+            ("width", &num(r.width(), 1)),
+            ("height", &num(r.height(), 1)),
+            ("fill", "none"),
+            ("stroke", "#bbbbbb"),
+            ("stroke-width", "1"),
+        ],
+    );
 }
 
 /// The part of a zoom panel below its caption.
@@ -134,7 +210,14 @@ pub fn fit_text(s: &str, px: f64) -> String {
 }
 
 /// Zoom panel `k` (0-based) of window `z` in panel rectangle `r`, showing `view`.
-pub fn draw_zoom(svg: &mut Svg, k: usize, z: &ZoomWindow, r: &Rect, view: &View, scene: &Scene<'_>) -> EdgeStats {
+pub fn draw_zoom(
+    svg: &mut Svg,
+    k: usize,
+    z: &ZoomWindow,
+    r: &Rect,
+    view: &View,
+    scene: &Scene<'_>,
+) -> EdgeStats {
     let Scene { layers, topology: topo, sizes, marks } = *scene;
     let view = *view;
     let inner = view.screen;
@@ -142,7 +225,15 @@ pub fn draw_zoom(svg: &mut Svg, k: usize, z: &ZoomWindow, r: &Rect, view: &View,
     let id = format!("zoom-{}", k + 1);
     let clip_id = format!("clip-{id}");
     let window = format!("{} {} {} {}", num(w.x0, 9), num(w.y0, 9), num(w.x1, 9), num(w.y1, 9));
-    svg.open("g", &[("id", &id), ("class", "panel zoom"), ("data-window", &window), ("data-scale", &num(view.scale, 6))]);
+    svg.open(
+        "g",
+        &[
+            ("id", &id),
+            ("class", "panel zoom"),
+            ("data-window", &window),
+            ("data-scale", &num(view.scale, 6)),
+        ],
+    );
     svg.title(&if z.steps.is_empty() { z.label.clone() } else { z.steps.join("; ") });
     clip(svg, &clip_id, &inner);
     svg.open("g", &[("clip-path", &format!("url(#{clip_id})"))]);
@@ -155,30 +246,63 @@ pub fn draw_zoom(svg: &mut Svg, k: usize, z: &ZoomWindow, r: &Rect, view: &View,
         let candidates: Vec<(usize, [f64; 2], SizeTensor)> = sizes
             .iter()
             .enumerate()
-            .filter(|(v, _)| !matches!(topo.vertex_class.get(*v), Some(Classification::Unused) | None))
+            .filter(|(v, _)| {
+                !matches!(topo.vertex_class.get(*v), Some(Classification::Unused) | None)
+            })
             .filter_map(|(v, t)| t.map(|t| (v, layers.points[v], t)))
             .filter(|(_, p, _)| w.contains(*p))
             .collect();
         let factor = fit_factor(&candidates, &view);
         let kept = pick(&candidates, &view, factor, ELLIPSE_GAP_PX);
         let s = view.scale * factor;
-        svg.open("g", &[("class", "ellipses"), ("data-scale", &num(s, 6)), ("data-factor", &num(factor, 6)), ("fill", palette::ELLIPSE), ("fill-opacity", "0.12"), ("stroke", palette::ELLIPSE), ("stroke-width", "1")]);
-        let by_vertex: std::collections::BTreeMap<usize, &(usize, [f64; 2], SizeTensor)> = candidates.iter().map(|c| (c.0, c)).collect();
+        svg.open(
+            "g",
+            &[
+                ("class", "ellipses"),
+                ("data-scale", &num(s, 6)),
+                ("data-factor", &num(factor, 6)),
+                ("fill", palette::ELLIPSE),
+                ("fill-opacity", "0.12"),
+                ("stroke", palette::ELLIPSE),
+                ("stroke-width", "1"),
+            ],
+        );
+        let by_vertex: std::collections::BTreeMap<usize, &(usize, [f64; 2], SizeTensor)> =
+            candidates.iter().map(|c| (c.0, c)).collect();
         for v in &kept {
             let (_, p, t) = by_vertex[v];
             let e = ellipse_in_view(t, *p, &view, factor);
             let (cx, cy) = (num(e.cx, 3), num(e.cy, 3));
             let rot = format!("rotate({} {cx} {cy})", num(e.angle_deg, 3));
-            svg.element("ellipse", &[("data-vertex", &v.to_string()), ("cx", &cx), ("cy", &cy), ("rx", &num(e.rx, 3)), ("ry", &num(e.ry, 3)), ("transform", &rot)]);
+            svg.element(
+                "ellipse",
+                &[
+                    ("data-vertex", &v.to_string()),
+                    ("cx", &cx),
+                    ("cy", &cy),
+                    ("rx", &num(e.rx, 3)),
+                    ("ry", &num(e.ry, 3)),
+                    ("transform", &rot),
+                ],
+            );
         }
         svg.close();
-        ellipse_note = if factor == 1.0 { format!("{} ellipses, true size", kept.len()) } else { format!("{} ellipses ×{}", kept.len(), fmt_sig(factor)) };
+        ellipse_note = if factor == 1.0 {
+            format!("{} ellipses, true size", kept.len())
+        } else {
+            format!("{} ellipses ×{}", kept.len(), fmt_sig(factor))
+        };
     }
     svg.close();
     scale_bar(svg, &view, &inner);
     panel_border(svg, &inner);
     let caption = format!("{}: {}", k + 1, z.label);
-    svg.text(r.x0, r.y0 + 14.0, &fit_text(&caption, r.width()), &[("font-size", "12"), ("font-weight", "bold")]);
+    svg.text(
+        r.x0,
+        r.y0 + 14.0,
+        &fit_text(&caption, r.width()),
+        &[("font-size", "12"), ("font-weight", "bold")],
+    );
     if !ellipse_note.is_empty() {
         halo_text(svg, inner.x1 - 8.0, inner.y1 - 9.0, &ellipse_note, "end", palette::ELLIPSE);
     }

@@ -49,10 +49,15 @@ pub fn rasterise(svg: &str, options: &PngOptions) -> Result<Png, PngError> {
     {
         let db = opt.fontdb_mut();
         db.load_system_fonts();
-        let mut families: Vec<String> = db.faces().flat_map(|f| f.families.iter().map(|(n, _)| n.clone())).collect();
+        let mut families: Vec<String> =
+            db.faces().flat_map(|f| f.families.iter().map(|(n, _)| n.clone())).collect();
         families.sort();
         families.dedup();
-        let chosen = PREFERRED.iter().map(|s| s.to_string()).find(|p| families.contains(p)).or_else(|| families.first().cloned());
+        let chosen = PREFERRED
+            .iter()
+            .map(|s| s.to_string())
+            .find(|p| families.contains(p))
+            .or_else(|| families.first().cloned());
         match chosen {
             Some(f) => {
                 db.set_sans_serif_family(f.clone());
@@ -63,9 +68,11 @@ pub fn rasterise(svg: &str, options: &PngOptions) -> Result<Png, PngError> {
     }
     let tree = usvg::Tree::from_str(svg, &opt).map_err(|e| PngError::Parse(e.to_string()))?;
     let size = tree.size().to_int_size();
-    let mut pixmap = tiny_skia::Pixmap::new(size.width(), size.height()).ok_or(PngError::Size(size.width(), size.height()))?;
+    let mut pixmap = tiny_skia::Pixmap::new(size.width(), size.height())
+        .ok_or(PngError::Size(size.width(), size.height()))?;
     resvg::render(&tree, tiny_skia::Transform::identity(), &mut pixmap.as_mut());
-    let bytes = if options.palette { encode_indexed(&pixmap) } else { encode(&pixmap) }.map_err(|e| PngError::Encode(e.to_string()))?;
+    let bytes = if options.palette { encode_indexed(&pixmap) } else { encode(&pixmap) }
+        .map_err(|e| PngError::Encode(e.to_string()))?;
     Ok(Png { bytes, notes })
 }
 

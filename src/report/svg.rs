@@ -62,7 +62,10 @@ impl Svg {
             "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"DejaVu Sans, Liberation Sans, Arial, Helvetica, sans-serif\" font-size=\"12\">"
         );
         s.open.push("svg");
-        s.element("rect", &[("x", "0"), ("y", "0"), ("width", &w), ("height", &h), ("fill", "#ffffff")]);
+        s.element(
+            "rect",
+            &[("x", "0"), ("y", "0"), ("width", &w), ("height", &h), ("fill", "#ffffff")],
+        );
         s
     }
 
@@ -104,7 +107,12 @@ impl Svg {
 
     /// A `<title>` child (a tooltip in browsers, a name for tests).
     pub fn title(&mut self, content: &str) {
-        let _ = writeln!(self.buf, "{}<title>{}</title>", "  ".repeat(self.open.len().min(8)), escape(content));
+        let _ = writeln!(
+            self.buf,
+            "{}<title>{}</title>",
+            "  ".repeat(self.open.len().min(8)),
+            escape(content)
+        );
     }
 
     /// Closes every open element and returns the document.

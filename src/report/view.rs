@@ -27,7 +27,12 @@ impl Rect {
         for p in points {
             r = Some(match r {
                 None => Rect { x0: p[0], y0: p[1], x1: p[0], y1: p[1] },
-                Some(r) => Rect { x0: r.x0.min(p[0]), y0: r.y0.min(p[1]), x1: r.x1.max(p[0]), y1: r.y1.max(p[1]) },
+                Some(r) => Rect {
+                    x0: r.x0.min(p[0]),
+                    y0: r.y0.min(p[1]),
+                    x1: r.x1.max(p[0]),
+                    y1: r.y1.max(p[1]),
+                },
             });
         }
         r
@@ -60,7 +65,12 @@ impl Rect {
 
     /// The common part of two rectangles, `None` when they do not overlap.
     pub fn intersect(&self, o: &Rect) -> Option<Rect> {
-        let r = Rect { x0: self.x0.max(o.x0), y0: self.y0.max(o.y0), x1: self.x1.min(o.x1), y1: self.y1.min(o.y1) };
+        let r = Rect {
+            x0: self.x0.max(o.x0),
+            y0: self.y0.max(o.y0),
+            x1: self.x1.min(o.x1),
+            y1: self.y1.min(o.y1),
+        };
         (r.x0 <= r.x1 && r.y0 <= r.y1).then_some(r)
     }
 

@@ -40,7 +40,11 @@ fn entity_points(topo: &Topology, points: &[[f64; 2]], set: &EntitySet) -> Vec<[
     }
     for &f in &set.faces {
         if let Some(tf) = topo.faces.get(f) {
-            out.extend(tf.cells.iter().flat_map(|&c| topo.surface_cells[c].vertices().iter().map(|&v| points[v])));
+            out.extend(
+                tf.cells
+                    .iter()
+                    .flat_map(|&c| topo.surface_cells[c].vertices().iter().map(|&v| points[v])),
+            );
         }
     }
     out
@@ -48,22 +52,45 @@ fn entity_points(topo: &Topology, points: &[[f64; 2]], set: &EntitySet) -> Vec<[
 
 /// The source points of a step and the distance over which it acts; `None` for steps
 /// without a localised source (UNIFORM, which covers whole regions).
-fn step_sources(topo: &Topology, points: &[[f64; 2]], a: &Algorithm) -> Option<(Vec<[f64; 2]>, f64)> {
+fn step_sources(
+    topo: &Topology,
+    points: &[[f64; 2]],
+    a: &Algorithm,
+) -> Option<(Vec<[f64; 2]>, f64)> {
     match a {
         Algorithm::Uniform { .. } => None,
-        Algorithm::DistanceToPoint { function, sources } => Some((entity_points(topo, points, sources), function.max_distance())),
-        Algorithm::DistanceToBorder { perpendicular, borders, .. } => Some((entity_points(topo, points, borders), perpendicular.max_distance())),
-        Algorithm::CurvatureOfBorder { perpendicular, borders, .. } => Some((entity_points(topo, points, borders), perpendicular.max_distance())),
-        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => Some((entity_points(topo, points, &first.union(second)), 0.0)),
-        Algorithm::DistanceToImaginaryPolyline { perpendicular, polyline, .. } => Some((polyline.clone(), perpendicular.max_distance())),
+        Algorithm::DistanceToPoint { function, sources } => {
+            Some((entity_points(topo, points, sources), function.max_distance()))
+        }
+        Algorithm::DistanceToBorder { perpendicular, borders, .. } => {
+            Some((entity_points(topo, points, borders), perpendicular.max_distance()))
+        }
+        Algorithm::CurvatureOfBorder { perpendicular, borders, .. } => {
+            Some((entity_points(topo, points, borders), perpendicular.max_distance()))
+        }
+        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => {
+            Some((entity_points(topo, points, &first.union(second)), 0.0))
+        }
+        Algorithm::DistanceToImaginaryPolyline { perpendicular, polyline, .. } => {
+            Some((polyline.clone(), perpendicular.max_distance()))
+        }
     }
 }
 
 fn entity_names(topo: &Topology, set: &EntitySet) -> Vec<String> {
-    let name = |tag: Option<i32>, name: &Option<String>| name.clone().or_else(|| tag.map(|t| t.to_string())).unwrap_or_else(|| "untagged".into());
-    let mut v: Vec<String> = set.points.iter().filter_map(|&i| topo.points.get(i)).map(|p| name(p.tag, &p.name)).collect();
+    let name = |tag: Option<i32>, name: &Option<String>| {
+        name.clone().or_else(|| tag.map(|t| t.to_string())).unwrap_or_else(|| "untagged".into())
+    };
+    let mut v: Vec<String> = set
+        .points
+        .iter()
+        .filter_map(|&i| topo.points.get(i))
+        .map(|p| name(p.tag, &p.name))
+        .collect();
     v.extend(set.curves.iter().filter_map(|&i| topo.curves.get(i)).map(|c| name(c.tag, &c.name)));
-    v.extend(set.faces.iter().filter_map(|&i| topo.faces.get(i)).map(|f| name(Some(f.tag), &f.name)));
+    v.extend(
+        set.faces.iter().filter_map(|&i| topo.faces.get(i)).map(|f| name(Some(f.tag), &f.name)),
+    );
     v
 }
 
@@ -74,9 +101,14 @@ pub fn describe(a: &Algorithm, topo: &Topology) -> String {
     let names = match a {
         Algorithm::Uniform { on, .. } => entity_names(topo, on),
         Algorithm::DistanceToPoint { sources, .. } => entity_names(topo, sources),
-        Algorithm::DistanceToBorder { borders, .. } | Algorithm::CurvatureOfBorder { borders, .. } => entity_names(topo, borders),
-        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => entity_names(topo, &first.union(second)),
-        Algorithm::DistanceToImaginaryPolyline { polyline, .. } => vec![format!("{} points", polyline.len())],
+        Algorithm::DistanceToBorder { borders, .. }
+        | Algorithm::CurvatureOfBorder { borders, .. } => entity_names(topo, borders),
+        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => {
+            entity_names(topo, &first.union(second))
+        }
+        Algorithm::DistanceToImaginaryPolyline { polyline, .. } => {
+            vec![format!("{} points", polyline.len())]
+        }
     };
     let mut shown: Vec<String> = names.iter().take(3).cloned().collect();
     if names.len() > 3 {
@@ -92,7 +124,12 @@ pub fn describe(a: &Algorithm, topo: &Topology) -> String {
 /// One window per step of `plan` that has sources: their bounding box grown by the
 /// step's reach (clamped to [2 %, 25 %] of the domain's diagonal) and cut to the domain
 /// grown by 2 %. Steps with the same window share it; at most [`MAX_WINDOWS`].
-pub fn from_plan(plan: &SizingPlan, topo: &Topology, points: &[[f64; 2]], domain: &Rect) -> Vec<ZoomWindow> {
+pub fn from_plan(
+    plan: &SizingPlan,
+    topo: &Topology,
+    points: &[[f64; 2]],
+    domain: &Rect,
+) -> Vec<ZoomWindow> {
     let diag = domain.diagonal();
     let frame = domain.inflate(0.02 * diag);
     let mut out: Vec<ZoomWindow> = Vec::new();
@@ -107,7 +144,12 @@ pub fn from_plan(plan: &SizingPlan, topo: &Topology, points: &[[f64; 2]], domain
             w.label.push_str(&caption);
             w.steps.push(step.label.clone());
         } else if out.len() < MAX_WINDOWS {
-            out.push(ZoomWindow { region, label: caption, steps: vec![step.label.clone()], shown: region });
+            out.push(ZoomWindow {
+                region,
+                label: caption,
+                steps: vec![step.label.clone()],
+                shown: region,
+            });
         }
     }
     out
@@ -115,7 +157,10 @@ pub fn from_plan(plan: &SizingPlan, topo: &Topology, points: &[[f64; 2]], domain
 
 fn same_region(a: &Rect, b: &Rect, diag: f64) -> bool {
     let tol = 1e-3 * diag;
-    (a.x0 - b.x0).abs() <= tol && (a.x1 - b.x1).abs() <= tol && (a.y0 - b.y0).abs() <= tol && (a.y1 - b.y1).abs() <= tol
+    (a.x0 - b.x0).abs() <= tol
+        && (a.x1 - b.x1).abs() <= tol
+        && (a.y0 - b.y0).abs() <= tol
+        && (a.y1 - b.y1).abs() <= tol
 }
 
 /// Up to `max` windows around the vertices with the smallest metric size: the smallest
@@ -123,7 +168,13 @@ fn same_region(a: &Rect, b: &Rect, diag: f64) -> bool {
 /// asking for less than half the median size. A window's half-width is 8 times the
 /// largest size at its vertex, within [2 %, 15 %] of the domain's diagonal. Vertices
 /// that no cell uses are ignored.
-pub fn from_sizes(sizes: &[Option<SizeTensor>], topo: &Topology, points: &[[f64; 2]], domain: &Rect, max: usize) -> Vec<ZoomWindow> {
+pub fn from_sizes(
+    sizes: &[Option<SizeTensor>],
+    topo: &Topology,
+    points: &[[f64; 2]],
+    domain: &Rect,
+    max: usize,
+) -> Vec<ZoomWindow> {
     let diag = domain.diagonal();
     let mut order: Vec<(f64, usize)> = sizes
         .iter()
@@ -148,7 +199,12 @@ pub fn from_sizes(sizes: &[Option<SizeTensor>], topo: &Topology, points: &[[f64;
         let hmax = sizes[v].map_or(h, |t| t.h_max());
         let half = (8.0 * hmax).clamp(0.02 * diag, 0.15 * diag);
         let region = Rect::new(p[0] - half, p[1] - half, p[0] + half, p[1] + half);
-        out.push(ZoomWindow { region, label: format!("smallest sizes: h = {} at vertex {v}", super::fmt_sig(h)), steps: Vec::new(), shown: region });
+        out.push(ZoomWindow {
+            region,
+            label: format!("smallest sizes: h = {} at vertex {v}", super::fmt_sig(h)),
+            steps: Vec::new(),
+            shown: region,
+        });
     }
     out
 }

@@ -21,10 +21,15 @@
 
 use crate::mesh_graph::MeshGraph;
 use crate::metric::{SizeBounds, SizeTensor};
-use crate::sizing::algorithms::{self, merge, merge_closest_in_vertex_order, merge_in_vertex_order, Collect, Contribution, Failure, Sink};
-use crate::sizing::propagation::{propagate, reach_covers_mesh, ClosestPoint, PropagationOptions, Reach, Source};
+use crate::sizing::algorithms::{
+    self, merge, merge_closest_in_vertex_order, merge_in_vertex_order, Collect, Contribution,
+    Failure, Sink,
+};
 use crate::sizing::gradation::{apply_gradation, GradationReport};
 use crate::sizing::plan::{Algorithm, SizingPlan};
+use crate::sizing::propagation::{
+    propagate, reach_covers_mesh, ClosestPoint, PropagationOptions, Reach, Source,
+};
 use crate::topology::Topology;
 
 /// Progress of [`compute_size_field`], for a progress bar.
@@ -137,7 +142,9 @@ pub enum SizingError {
         point: usize,
     },
     /// A size outside [1e-30, 1e30] (e.g. a UNIFORM size of 0).
-    #[error("step {step} ({label}): size {size} is out of range: expected a size in [1e-30, 1e30]")]
+    #[error(
+        "step {step} ({label}): size {size} is out of range: expected a size in [1e-30, 1e30]"
+    )]
     InvalidSize {
         /// The step.
         step: usize,
@@ -147,7 +154,9 @@ pub enum SizingError {
         size: f64,
     },
     /// No tensor could be formed at a vertex: its coordinates are not finite.
-    #[error("step {step} ({label}): no size tensor at vertex {vertex} (are its coordinates finite?)")]
+    #[error(
+        "step {step} ({label}): no size tensor at vertex {vertex} (are its coordinates finite?)"
+    )]
     Degenerate {
         /// The step.
         step: usize,
@@ -181,8 +190,12 @@ impl Failure {
     fn at(self, step: usize, label: &str) -> SizingError {
         let label = label.to_string();
         match self {
-            Failure::EntityOutOfRange { what, index, len } => SizingError::EntityOutOfRange { step, label, what, index, len },
-            Failure::UnsupportedEntity { what, index } => SizingError::UnsupportedEntity { step, label, what, index },
+            Failure::EntityOutOfRange { what, index, len } => {
+                SizingError::EntityOutOfRange { step, label, what, index, len }
+            }
+            Failure::UnsupportedEntity { what, index } => {
+                SizingError::UnsupportedEntity { step, label, what, index }
+            }
             Failure::NoSource => SizingError::NoSource { step, label },
             Failure::EmptyPolyline => SizingError::EmptyPolyline { step, label },
             Failure::NonFinitePoint { point } => SizingError::NonFinitePoint { step, label, point },
@@ -194,7 +207,13 @@ impl Failure {
 
 /// The tensors one algorithm asks for on `graph`, before any combination: the vertices
 /// it reaches, each with its tensor (`step` and `label` only name it in errors).
-pub fn run_algorithm(graph: &MeshGraph, topology: &Topology, algorithm: &Algorithm, step: usize, label: &str) -> Result<Contribution, SizingError> {
+pub fn run_algorithm(
+    graph: &MeshGraph,
+    topology: &Topology,
+    algorithm: &Algorithm,
+    step: usize,
+    label: &str,
+) -> Result<Contribution, SizingError> {
     algorithms::run(graph, topology, algorithm, Collect).map_err(|f| f.at(step, label))
 }
 
@@ -252,15 +271,29 @@ impl Sink for IntoField<'_> {
         }
         let seeds = reach.report().seeds;
         let (vertices, finished) = match self.finish {
-            Some(finish) => (merge_in_vertex_order(&reach, f, self.tensors, self.reached, |t, r| finish.apply(t, r))?, true),
-            None => (merge_in_vertex_order(&reach, f, self.tensors, self.reached, |_, _| {})?, false),
+            Some(finish) => (
+                merge_in_vertex_order(&reach, f, self.tensors, self.reached, |t, r| {
+                    finish.apply(t, r)
+                })?,
+                true,
+            ),
+            None => {
+                (merge_in_vertex_order(&reach, f, self.tensors, self.reached, |_, _| {})?, false)
+            }
         };
         Ok(Merged { vertices, seeds, finished })
     }
 
     /// A step that reaches every vertex is evaluated in vertex order and merged as it
     /// goes ([`merge_closest_in_vertex_order`]); any other is propagated.
-    fn take_source<F>(self, graph: &MeshGraph, source: &Source, max_distance: f64, options: &PropagationOptions, f: F) -> Result<Merged, Failure>
+    fn take_source<F>(
+        self,
+        graph: &MeshGraph,
+        source: &Source,
+        max_distance: f64,
+        options: &PropagationOptions,
+        f: F,
+    ) -> Result<Merged, Failure>
     where
         F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
     {
@@ -270,8 +303,32 @@ impl Sink for IntoField<'_> {
         let seeds = source.seeds().len();
         let parallel = options.parallel;
         let (vertices, finished) = match self.finish {
-            Some(finish) => (merge_closest_in_vertex_order(graph, source, farthest, f, self.tensors, self.reached, |t, r| finish.apply(t, r), parallel)?, true),
-            None => (merge_closest_in_vertex_order(graph, source, farthest, f, self.tensors, self.reached, |_, _| {}, parallel)?, false),
+            Some(finish) => (
+                merge_closest_in_vertex_order(
+                    graph,
+                    source,
+                    farthest,
+                    f,
+                    self.tensors,
+                    self.reached,
+                    |t, r| finish.apply(t, r),
+                    parallel,
+                )?,
+                true,
+            ),
+            None => (
+                merge_closest_in_vertex_order(
+                    graph,
+                    source,
+                    farthest,
+                    f,
+                    self.tensors,
+                    self.reached,
+                    |_, _| {},
+                    parallel,
+                )?,
+                false,
+            ),
         };
         Ok(Merged { vertices, seeds, finished })
     }
@@ -295,12 +352,21 @@ pub fn plan_bounds(plan: &SizingPlan) -> Result<Option<SizeBounds>, SizingError>
         plan.max_aspect_ratio.unwrap_or(f64::INFINITY),
     )
     .map(Some)
-    .ok_or(SizingError::InvalidBounds { h_min: plan.h_min, h_max: plan.h_max, max_aspect_ratio: plan.max_aspect_ratio })
+    .ok_or(SizingError::InvalidBounds {
+        h_min: plan.h_min,
+        h_max: plan.h_max,
+        max_aspect_ratio: plan.max_aspect_ratio,
+    })
 }
 
 /// Runs `plan` on the mesh of `graph` and `topology` (see the module header);
 /// `observer` hears each step start and finish.
-pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingPlan, observer: &mut dyn FnMut(StepEvent)) -> Result<SizeField, SizingError> {
+pub fn compute_size_field(
+    graph: &MeshGraph,
+    topology: &Topology,
+    plan: &SizingPlan,
+    observer: &mut dyn FnMut(StepEvent),
+) -> Result<SizeField, SizingError> {
     let bounds = plan_bounds(plan)?;
     if let Some(g) = plan.gradation {
         if !(g >= 1.0 && g.is_finite()) {
@@ -311,11 +377,14 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
     // The default size, known before any step: h_max, or the bounding-box diagonal
     // (an error only where some vertex needs it, reported after the steps as before).
     let diagonal = if plan.h_max.is_none() { bounding_box_diagonal(graph) } else { f64::NAN };
-    let default_size = plan.h_max.unwrap_or_else(|| diagonal.clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
-    let diagonal_usable = plan.h_max.is_some() || (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&diagonal);
+    let default_size =
+        plan.h_max.unwrap_or_else(|| diagonal.clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
+    let diagonal_usable =
+        plan.h_max.is_some() || (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&diagonal);
     // The field's last pass, with the default clamped once; the last step may do it in
     // its own pass when the default is sure to be needed as it is.
-    let finish = SizeTensor::try_new([1.0, 0.0], default_size, default_size).map(|d| Finish { default: bounds.as_ref().map_or(d, |b| d.clamp(b)), bounds });
+    let finish = SizeTensor::try_new([1.0, 0.0], default_size, default_size)
+        .map(|d| Finish { default: bounds.as_ref().map_or(d, |b| d.clamp(b)), bounds });
     let last_step_finish = finish.filter(|_| diagonal_usable);
     let mut tensors: Vec<SizeTensor> = vec![SizeTensor::isotropic(1.0); n];
     let mut reached = vec![false; n];
@@ -325,14 +394,24 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
     for (index, step) in plan.steps.iter().enumerate() {
         observer(StepEvent::Started { index, label: step.label.clone(), of: plan.steps.len() });
         let last = index + 1 == plan.steps.len();
-        let sink = IntoField { tensors: &mut tensors, reached: &mut reached, finish: last_step_finish.filter(|_| last) };
-        let c = algorithms::run(graph, topology, &step.algorithm, sink).map_err(|f| f.at(index, &step.label))?;
+        let sink = IntoField {
+            tensors: &mut tensors,
+            reached: &mut reached,
+            finish: last_step_finish.filter(|_| last),
+        };
+        let c = algorithms::run(graph, topology, &step.algorithm, sink)
+            .map_err(|f| f.at(index, &step.label))?;
         finished = c.finished;
         if c.vertices == 0 {
             warnings.push(format!("step {index} ({}): reached no vertex", step.label));
         }
         observer(StepEvent::Finished { index, reached: c.vertices });
-        steps.push(StepReport { label: step.label.clone(), algorithm: step.algorithm.keyword(), vertices_reached: c.vertices, seeds: c.seeds });
+        steps.push(StepReport {
+            label: step.label.clone(),
+            algorithm: step.algorithm.keyword(),
+            vertices_reached: c.vertices,
+            seeds: c.seeds,
+        });
     }
 
     let unreached = reached.iter().filter(|r| !**r).count();
@@ -353,7 +432,10 @@ pub fn compute_size_field(graph: &MeshGraph, topology: &Topology, plan: &SizingP
             tensors.iter_mut().for_each(|t| *t = t.clamp(b));
         }
         if !report.converged {
-            warnings.push(format!("gradation stopped after {} updates before reaching its fixed point", report.updates));
+            warnings.push(format!(
+                "gradation stopped after {} updates before reaching its fixed point",
+                report.updates
+            ));
         }
         report
     });

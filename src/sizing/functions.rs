@@ -106,11 +106,7 @@ fn check_size(parameter: Parameter, value: f64) -> Result<f64, FunctionError> {
     if (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&value) {
         Ok(value)
     } else {
-        Err(FunctionError::OutOfRange {
-            parameter,
-            value,
-            expected: SIZE_RANGE,
-        })
+        Err(FunctionError::OutOfRange { parameter, value, expected: SIZE_RANGE })
     }
 }
 
@@ -118,11 +114,7 @@ fn check_positive(parameter: Parameter, value: f64) -> Result<f64, FunctionError
     if value > 0.0 && value.is_finite() {
         Ok(value)
     } else {
-        Err(FunctionError::OutOfRange {
-            parameter,
-            value,
-            expected: POSITIVE,
-        })
+        Err(FunctionError::OutOfRange { parameter, value, expected: POSITIVE })
     }
 }
 
@@ -210,13 +202,7 @@ impl DistanceFunction {
 
     /// The size at distance `d` (NaN gives NaN).
     pub fn eval(&self, d: f64) -> f64 {
-        graded(
-            self.size_at_source,
-            self.size_at_max_distance,
-            d,
-            self.max_distance,
-            self.exponent,
-        )
+        graded(self.size_at_source, self.size_at_max_distance, d, self.max_distance, self.exponent)
     }
 
     /// The size at distance 0 (`MINSIZE` / `SIZE_AT_BORDER`).
@@ -272,13 +258,7 @@ impl SizeProjectionFunction {
 
     /// The size at distance `d` from a source point whose size is `size_at_source`.
     pub fn eval(&self, d: f64, size_at_source: f64) -> f64 {
-        graded(
-            size_at_source,
-            self.size_at_max_distance,
-            d,
-            self.max_distance,
-            self.exponent,
-        )
+        graded(size_at_source, self.size_at_max_distance, d, self.max_distance, self.exponent)
     }
 
     /// The size at the maximal distance (`MAXSIZE` / `SIZE_AT_MAX_DISTANCE`).
@@ -328,11 +308,7 @@ impl CurvatureToSize {
             return Err(FunctionError::MinAboveMax { min_size, max_size });
         }
         let size_of_error = check_positive(Parameter::SizeOfError, size_of_error)?;
-        Ok(CurvatureToSize {
-            min_size,
-            max_size,
-            size_of_error,
-        })
+        Ok(CurvatureToSize { min_size, max_size, size_of_error })
     }
 
     /// The size for curvature `curvature` (1/length; NaN gives NaN).
@@ -344,11 +320,7 @@ impl CurvatureToSize {
     pub fn eval_radius(&self, radius: f64) -> f64 {
         let r = radius.abs();
         let delta = self.size_of_error;
-        let h = if r > delta {
-            2.0 * (delta * (2.0 * r - delta)).sqrt()
-        } else {
-            2.0 * r
-        };
+        let h = if r > delta { 2.0 * (delta * (2.0 * r - delta)).sqrt() } else { 2.0 * r };
         h.clamp(self.min_size, self.max_size)
     }
 
@@ -408,7 +380,10 @@ mod tests {
             assert_eq!(power(t, 1.0).to_bits(), t.to_bits());
             for e in [2.0, 0.5, 1.5] {
                 let (fast, slow) = (power(t, e), t.powf(e));
-                assert!((fast - slow).abs() <= ulp(slow), "t = {t:e}, e = {e}: {fast:e} against {slow:e}");
+                assert!(
+                    (fast - slow).abs() <= ulp(slow),
+                    "t = {t:e}, e = {e}: {fast:e} against {slow:e}"
+                );
             }
             assert_eq!(power(t, 0.5).to_bits(), t.sqrt().to_bits());
         }
@@ -428,13 +403,30 @@ mod tests {
             (s0 + power(t, e) * (s1 - s0)).clamp(s0.min(s1), s0.max(s1))
         };
         let mut ds: Vec<f64> = (0..2_000).map(|k| (k as f64 / 1_000.0 - 0.5) * 3.0).collect();
-        ds.extend([0.0, -0.0, 1.0, 1.0 - f64::EPSILON, 1.0 + f64::EPSILON, f64::INFINITY, f64::NEG_INFINITY, f64::NAN, 1e-300]);
-        for (s0, s1) in [(0.001, 0.1), (0.1, 0.001), (0.3, 0.3), (1e-30, 1e30), (0.7, 0.7000000000000001)] {
+        ds.extend([
+            0.0,
+            -0.0,
+            1.0,
+            1.0 - f64::EPSILON,
+            1.0 + f64::EPSILON,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            1e-300,
+        ]);
+        for (s0, s1) in
+            [(0.001, 0.1), (0.1, 0.001), (0.3, 0.3), (1e-30, 1e30), (0.7, 0.7000000000000001)]
+        {
             for m in [1.0, 0.37, 1e-6] {
                 for e in [1.0, 2.0, 0.5, 1.5, 3.0, 0.25] {
                     for &d in &ds {
-                        let (fast, slow) = (graded(s0, s1, d * m, m, e), by_definition(s0, s1, d * m, m, e));
-                        assert!(fast.to_bits() == slow.to_bits() || (fast.is_nan() && slow.is_nan()), "s0 {s0}, s1 {s1}, d {}, m {m}, e {e}: {fast:e} against {slow:e}", d * m);
+                        let (fast, slow) =
+                            (graded(s0, s1, d * m, m, e), by_definition(s0, s1, d * m, m, e));
+                        assert!(
+                            fast.to_bits() == slow.to_bits() || (fast.is_nan() && slow.is_nan()),
+                            "s0 {s0}, s1 {s1}, d {}, m {m}, e {e}: {fast:e} against {slow:e}",
+                            d * m
+                        );
                     }
                 }
             }

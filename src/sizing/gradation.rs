@@ -66,7 +66,11 @@ pub fn growth_factor(from: &SizeTensor, edge: [f64; 2], gradation: f64) -> f64 {
 
 /// Runs the gradation pass on `tensors` (one per vertex of `graph`) with gradation
 /// `gradation` (>= 1; 1 allows no growth at all).
-pub fn apply_gradation(graph: &MeshGraph, tensors: &mut [SizeTensor], gradation: f64) -> GradationReport {
+pub fn apply_gradation(
+    graph: &MeshGraph,
+    tensors: &mut [SizeTensor],
+    gradation: f64,
+) -> GradationReport {
     let n = graph.num_vertices().min(tensors.len());
     let mut report = GradationReport { converged: true, ..GradationReport::default() };
     let mut queued = vec![true; n];

@@ -10,12 +10,14 @@ pub mod on_mesh;
 pub mod plan;
 pub mod propagation;
 
-/// What one algorithm gives: reached vertices with one tensor each.
-pub use algorithms::Contribution;
 /// Three-point (Menger) curvature and the corner angle of CURVATURE_OF_BORDER (thesis 4.3.7.2).
 pub use algorithms::curvature_of_border::{three_point_curvature, CORNER_ANGLE};
+/// What one algorithm gives: reached vertices with one tensor each.
+pub use algorithms::Contribution;
 /// The sizing engine: a plan run on a mesh into one size tensor per vertex (thesis 4.3.6).
-pub use field::{compute_size_field, plan_bounds, run_algorithm, SizeField, SizingError, StepEvent, StepReport};
+pub use field::{
+    compute_size_field, plan_bounds, run_algorithm, SizeField, SizingError, StepEvent, StepReport,
+};
 pub use functions::{
     CurvatureToSize, DistanceFunction, FunctionError, Parameter, SizeProjectionFunction,
 };
@@ -26,6 +28,6 @@ pub use on_mesh::{size_mesh, MeshSizing, SizeMeshError};
 pub use plan::{Algorithm, EntitySet, SizingPlan, Step};
 /// Neighbour propagation from a source with exact closest points (thesis 2.2.10.4–5, 4.3.6).
 pub use propagation::{
-    closest_point_brute_force, propagate, ClosestPoint, PieceKind, PropagationOptions, PropagationReport, Reach, Source, SourceBuilder,
-    SourceError, SourcePolyline, SourceSegment,
+    closest_point_brute_force, propagate, ClosestPoint, PieceKind, PropagationOptions,
+    PropagationReport, Reach, Source, SourceBuilder, SourceError, SourcePolyline, SourceSegment,
 };

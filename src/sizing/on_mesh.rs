@@ -36,10 +36,15 @@ pub struct MeshSizing {
 
 /// The size field `recipe` gives on `mesh`; `observer` sees each step start and finish
 /// (for a progress bar).
-pub fn size_mesh(mesh: &TaggedMesh, recipe: &Recipe, observer: &mut dyn FnMut(StepEvent)) -> Result<MeshSizing, SizeMeshError> {
+pub fn size_mesh(
+    mesh: &TaggedMesh,
+    recipe: &Recipe,
+    observer: &mut dyn FnMut(StepEvent),
+) -> Result<MeshSizing, SizeMeshError> {
     let topology = Topology::from_mesh(mesh);
     let resolved = recipe.resolve(&topology).map_err(SizeMeshError::Resolve)?;
     let graph = MeshGraph::from_topology(&topology, mesh).map_err(SizeMeshError::Graph)?;
-    let field = compute_size_field(&graph, &topology, &resolved.plan, observer).map_err(SizeMeshError::Sizing)?;
+    let field = compute_size_field(&graph, &topology, &resolved.plan, observer)
+        .map_err(SizeMeshError::Sizing)?;
     Ok(MeshSizing { resolved, field })
 }

@@ -39,7 +39,11 @@ impl EntitySet {
             v.dedup();
             v
         };
-        EntitySet { points: merge(&self.points, &other.points), curves: merge(&self.curves, &other.curves), faces: merge(&self.faces, &other.faces) }
+        EntitySet {
+            points: merge(&self.points, &other.points),
+            curves: merge(&self.curves, &other.curves),
+            faces: merge(&self.faces, &other.faces),
+        }
     }
 }
 

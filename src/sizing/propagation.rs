@@ -58,7 +58,9 @@ use rayon::prelude::*;
 
 use crate::geometry::clearance::{ChainTree, Links, WINDOW};
 use crate::geometry::segment::{orient, point_in_polygon, segment_touches_polygon, segments_touch};
-use crate::geometry::{Clearance, Nearest, Point2, Projection, QueryStats, SegmentGeom, SegmentIndex};
+use crate::geometry::{
+    Clearance, Nearest, Point2, Projection, QueryStats, SegmentGeom, SegmentIndex,
+};
 use crate::mesh_graph::{MeshGraph, NO_CORNER};
 use crate::topology::Topology;
 
@@ -188,7 +190,12 @@ impl<'g> SourceBuilder<'g> {
                 }
             }
             None => {
-                let e = SourceError::EntityOutOfRange { piece: self.pieces.len(), what: "curve", index: curve, len: topology.curves.len() };
+                let e = SourceError::EntityOutOfRange {
+                    piece: self.pieces.len(),
+                    what: "curve",
+                    index: curve,
+                    len: topology.curves.len(),
+                };
                 self.pieces.push(Piece::Error(e));
             }
         }
@@ -200,7 +207,12 @@ impl<'g> SourceBuilder<'g> {
         match topology.points.get(point) {
             Some(p) => self.mesh_polyline(&[p.vertex], false),
             None => {
-                let e = SourceError::EntityOutOfRange { piece: self.pieces.len(), what: "point", index: point, len: topology.points.len() };
+                let e = SourceError::EntityOutOfRange {
+                    piece: self.pieces.len(),
+                    what: "point",
+                    index: point,
+                    len: topology.points.len(),
+                };
                 self.pieces.push(Piece::Error(e));
                 self
             }
@@ -238,7 +250,14 @@ impl<'g> SourceBuilder<'g> {
                 Piece::Mesh { vertices, closed } => {
                     let mut pts = Vec::with_capacity(vertices.len());
                     let first = segments.len() as u32;
-                    let last = first + (vertices.len().saturating_sub(if *closed && vertices.len() >= 2 { 0 } else { 1 })).max(1) as u32 - 1;
+                    let last = first
+                        + (vertices.len().saturating_sub(if *closed && vertices.len() >= 2 {
+                            0
+                        } else {
+                            1
+                        }))
+                        .max(1) as u32
+                        - 1;
                     for (k, &v) in vertices.iter().enumerate() {
                         if v >= n {
                             return Err(SourceError::VertexOutOfRange { piece, vertex: v, len: n });
@@ -247,14 +266,21 @@ impl<'g> SourceBuilder<'g> {
                         on_segment.push((v as u32, (first + k as u32).min(last)));
                         pts.push(self.graph.point(v));
                     }
-                    let kind = if vertices.len() == 1 { PieceKind::MeshVertex } else { PieceKind::MeshEdges };
+                    let kind = if vertices.len() == 1 {
+                        PieceKind::MeshVertex
+                    } else {
+                        PieceKind::MeshEdges
+                    };
                     (pts, *closed, kind)
                 }
                 Piece::Free { points, closed } => {
-                    if let Some(i) = points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+                    if let Some(i) =
+                        points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite()))
+                    {
                         return Err(SourceError::NonFinite { piece, point: i });
                     }
-                    let kind = if points.len() == 1 { PieceKind::FreePoint } else { PieceKind::Free };
+                    let kind =
+                        if points.len() == 1 { PieceKind::FreePoint } else { PieceKind::Free };
                     (points.clone(), *closed, kind)
                 }
             };
@@ -265,19 +291,51 @@ impl<'g> SourceBuilder<'g> {
             let first = segments.len() as u32;
             let closed = closed && points.len() >= 2;
             let k = points.len();
-            let count = if k == 1 { 1 } else if closed { k } else { k - 1 };
+            let count = if k == 1 {
+                1
+            } else if closed {
+                k
+            } else {
+                k - 1
+            };
             let mut s = 0.0;
             for i in 0..count {
                 let a = points[i];
                 let b = if k == 1 { a } else { points[(i + 1) % k] };
                 let length = SegmentGeom::new(a, b).length();
                 let id = first + i as u32;
-                let prev = if i > 0 { Some(id - 1) } else if closed { Some(first + count as u32 - 1) } else { None };
-                let next = if i + 1 < count { Some(id + 1) } else if closed { Some(first) } else { None };
-                segments.push(SourceSegment { a, b, polyline: pl, prev, next, abscissa: s, length });
+                let prev = if i > 0 {
+                    Some(id - 1)
+                } else if closed {
+                    Some(first + count as u32 - 1)
+                } else {
+                    None
+                };
+                let next = if i + 1 < count {
+                    Some(id + 1)
+                } else if closed {
+                    Some(first)
+                } else {
+                    None
+                };
+                segments.push(SourceSegment {
+                    a,
+                    b,
+                    polyline: pl,
+                    prev,
+                    next,
+                    abscissa: s,
+                    length,
+                });
                 s += length;
             }
-            polylines.push(SourcePolyline { first_segment: first, num_segments: count as u32, closed, kind, length: s });
+            polylines.push(SourcePolyline {
+                first_segment: first,
+                num_segments: count as u32,
+                closed,
+                kind,
+                length: s,
+            });
         }
         let geoms: Vec<SegmentGeom> = segments.iter().map(|s| SegmentGeom::new(s.a, s.b)).collect();
         let bounds = SegmentIndex::bounds_of(&geoms);
@@ -288,7 +346,18 @@ impl<'g> SourceBuilder<'g> {
                 [-g.d[1] / l, g.d[0] / l]
             })
             .collect();
-        let mut source = Source { segments, geoms, polylines, seeds: Vec::new(), seed_guess: Vec::new(), index: OnceLock::new(), bounds, chain: OnceLock::new(), behind: Vec::new(), unit_left };
+        let mut source = Source {
+            segments,
+            geoms,
+            polylines,
+            seeds: Vec::new(),
+            seed_guess: Vec::new(),
+            index: OnceLock::new(),
+            bounds,
+            chain: OnceLock::new(),
+            behind: Vec::new(),
+            unit_left,
+        };
         source.behind = (0..source.segments.len()).map(|s| source.window_sides_behind(s)).collect();
         seeds.extend(source.free_piece_seeds(self.graph));
         seeds.sort_unstable();
@@ -417,7 +486,13 @@ impl Source {
         });
         let own = tree.guess_near(&self.geoms, p, stats);
         let seed = match (given, own) {
-            (Some(a), Some(b)) => if b.beats(&a) { b } else { a },
+            (Some(a), Some(b)) => {
+                if b.beats(&a) {
+                    b
+                } else {
+                    a
+                }
+            }
             (a, b) => a.or(b).expect("the source has a segment"),
         };
         tree.closest(&self.geoms, p, seed, stats)
@@ -480,13 +555,25 @@ impl Source {
     /// computed as propagation asks for them.
     fn clearance(&self) -> Clearance {
         let (scale, extent) = self.scale_and_extent();
-        Clearance::new_over(self.chain_tree().clone(), &self.geoms, &self.links(), scale, 4.0 * extent)
+        Clearance::new_over(
+            self.chain_tree().clone(),
+            &self.geoms,
+            &self.links(),
+            scale,
+            4.0 * extent,
+        )
     }
 
     /// The clearances for questions no farther than `farthest` from the source
     /// ([`Clearance::up_to`]).
     fn clearance_up_to(&self, farthest: f64) -> Clearance {
-        Clearance::up_to_over(self.chain_tree().clone(), &self.geoms, &self.links(), self.scale_and_extent().0, farthest)
+        Clearance::up_to_over(
+            self.chain_tree().clone(),
+            &self.geoms,
+            &self.links(),
+            self.scale_and_extent().0,
+            farthest,
+        )
     }
 
     /// The largest coordinate and the diagonal of the bounding box.
@@ -543,7 +630,8 @@ impl Source {
                 return true;
             }
             let dot = sign * ((q[0] - from[0]) * g.d[0] + (q[1] - from[1]) * g.d[1]);
-            let scale = ((q[0] - from[0]).abs() + (q[1] - from[1]).abs()) * (g.d[0].abs() + g.d[1].abs());
+            let scale =
+                ((q[0] - from[0]).abs() + (q[1] - from[1]).abs()) * (g.d[0].abs() + g.d[1].abs());
             dot > 1e-9 * scale
         };
         let mut sides = 3u8;
@@ -568,7 +656,11 @@ impl Source {
         for forward in [false, true] {
             let mut at = s as u32;
             for _ in 0..WINDOW {
-                let step = if forward { self.segments[at as usize].next } else { self.segments[at as usize].prev };
+                let step = if forward {
+                    self.segments[at as usize].next
+                } else {
+                    self.segments[at as usize].prev
+                };
                 match step {
                     Some(w) => {
                         check(w, forward);
@@ -641,15 +733,27 @@ impl Source {
         let free: Vec<bool> = self
             .segments
             .iter()
-            .map(|s| matches!(self.polylines[s.polyline as usize].kind, PieceKind::Free | PieceKind::FreePoint))
+            .map(|s| {
+                matches!(
+                    self.polylines[s.polyline as usize].kind,
+                    PieceKind::Free | PieceKind::FreePoint
+                )
+            })
             .collect();
-        let Some((mut lo, mut hi)) = free.iter().zip(&self.segments).filter(|(f, _)| **f).fold(None, |acc: Option<(Point2, Point2)>, (_, s)| {
-            let (l, h) = acc.unwrap_or(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]));
-            Some(([l[0].min(s.a[0]).min(s.b[0]), l[1].min(s.a[1]).min(s.b[1])], [h[0].max(s.a[0]).max(s.b[0]), h[1].max(s.a[1]).max(s.b[1])]))
-        }) else {
+        let Some((mut lo, mut hi)) = free.iter().zip(&self.segments).filter(|(f, _)| **f).fold(
+            None,
+            |acc: Option<(Point2, Point2)>, (_, s)| {
+                let (l, h) = acc.unwrap_or(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]));
+                Some((
+                    [l[0].min(s.a[0]).min(s.b[0]), l[1].min(s.a[1]).min(s.b[1])],
+                    [h[0].max(s.a[0]).max(s.b[0]), h[1].max(s.a[1]).max(s.b[1])],
+                ))
+            },
+        ) else {
             return Vec::new();
         };
-        let scale = lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs()).max(f64::MIN_POSITIVE);
+        let scale =
+            lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs()).max(f64::MIN_POSITIVE);
         let tol = 64.0 * f64::EPSILON * scale;
         for k in 0..2 {
             lo[k] -= tol;
@@ -676,7 +780,8 @@ impl Source {
                     hit = if corners.len() == 2 {
                         segments_touch(g.a, g.b, corners[0], corners[1], tol)
                     } else {
-                        segment_touches_polygon(g.a, g.b, &corners, tol) || point_in_polygon(g.b, &corners)
+                        segment_touches_polygon(g.a, g.b, &corners, tol)
+                            || point_in_polygon(g.b, &corners)
                     };
                 }
             });
@@ -807,7 +912,10 @@ impl<'a> Reach<'a> {
     pub fn closest(&self, i: usize) -> ClosestPoint {
         let p = self.graph.point(self.vertices[i] as usize);
         let segment = self.segments[i];
-        self.source.describe(p, Nearest { segment, projection: self.source.geoms[segment as usize].project(p) })
+        self.source.describe(
+            p,
+            Nearest { segment, projection: self.source.geoms[segment as usize].project(p) },
+        )
     }
 
     /// Closest points, in the order of [`Reach::vertices`].
@@ -868,7 +976,12 @@ struct Evaluation {
 /// Propagates from `source` over `graph` up to `max_distance` (thesis Algorithms 4.2–4.5,
 /// with exact closest points). A negative or NaN `max_distance` reaches the seeds only;
 /// an infinite one reaches the seeds' connected components.
-pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64, options: &PropagationOptions) -> Reach<'a> {
+pub fn propagate<'a>(
+    graph: &'a MeshGraph,
+    source: &'a Source,
+    max_distance: f64,
+    options: &PropagationOptions,
+) -> Reach<'a> {
     let n = graph.num_vertices();
     let max = if max_distance >= 0.0 { max_distance } else { 0.0 };
     let mut report = PropagationReport::default();
@@ -885,9 +998,14 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
     let mut keep: Vec<bool> = Vec::with_capacity(n);
     let mut evaluations: Vec<Evaluation> = Vec::new();
     let mut next: Vec<u32> = Vec::new();
-    let mut frontier: Vec<u32> = if !source.has_finite_segment() { Vec::new() } else { source.seeds.iter().copied().filter(|&v| (v as usize) < n).collect() };
+    let mut frontier: Vec<u32> = if !source.has_finite_segment() {
+        Vec::new()
+    } else {
+        source.seeds.iter().copied().filter(|&v| (v as usize) < n).collect()
+    };
     // The guess of each seed, by vertex, for the first level.
-    let guess_of = |v: u32| source.seeds.binary_search(&v).ok().map_or(u32::MAX, |i| source.seed_guess[i]);
+    let guess_of =
+        |v: u32| source.seeds.binary_search(&v).ok().map_or(u32::MAX, |i| source.seed_guess[i]);
     for &v in &frontier {
         slot[v as usize] = QUEUED;
     }
@@ -905,13 +1023,19 @@ pub fn propagate<'a>(graph: &'a MeshGraph, source: &'a Source, max_distance: f64
                 let p = graph.point(v as usize);
                 let g = guess_of(v);
                 let nearest = if (g as usize) < source.geoms.len() {
-                    source.index().certify(p, Nearest { segment: g, projection: source.geoms[g as usize].project(p) }, &mut stats)
+                    source.index().certify(
+                        p,
+                        Nearest { segment: g, projection: source.geoms[g as usize].project(p) },
+                        &mut stats,
+                    )
                 } else {
                     source.index().closest(p, &mut stats).expect("index is not empty")
                 };
                 Evaluation { nearest, corrected: false, local: false, stats }
             } else {
-                evaluate_from_neighbours(graph, source, &clearance, &feet, &slot, &found, v as usize)
+                evaluate_from_neighbours(
+                    graph, source, &clearance, &feet, &slot, &found, v as usize,
+                )
             }
         };
         // One buffer for every level's evaluations, reused.
@@ -987,7 +1111,11 @@ pub(crate) const VERTEX_RUN: usize = 4096;
 /// diagonal. The largest of these bounds, plus a margin for rounding, must be within
 /// `max_distance`; the first cell past it ends the test. Otherwise, or with
 /// non-finite coordinates, the answer is `None` and the caller propagates.
-pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance: f64) -> Option<f64> {
+pub(crate) fn reach_covers_mesh(
+    graph: &MeshGraph,
+    source: &Source,
+    max_distance: f64,
+) -> Option<f64> {
     let n = graph.num_vertices();
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     if n == 0 || !source.has_finite_segment() || !(max_distance >= 0.0) {
@@ -1003,7 +1131,8 @@ pub(crate) fn reach_covers_mesh(graph: &MeshGraph, source: &Source, max_distance
     // Non-finite coordinates: propagation would report only some vertices.
     let (lo, hi) = graph.bounds()?;
     let (slo, shi) = source.bounds?;
-    let scale = [lo, hi, slo, shi].iter().flat_map(|p| [p[0].abs(), p[1].abs()]).fold(0.0, f64::max);
+    let scale =
+        [lo, hi, slo, shi].iter().flat_map(|p| [p[0].abs(), p[1].abs()]).fold(0.0, f64::max);
     if !scale.is_finite() {
         return None;
     }
@@ -1053,17 +1182,26 @@ impl<'a> VertexOrder<'a> {
     /// The evaluator of the vertices of `graph` against `source`, none of them farther
     /// than `farthest` from it ([`reach_covers_mesh`]).
     pub(crate) fn new(graph: &'a MeshGraph, source: &'a Source, farthest: f64) -> VertexOrder<'a> {
-        let clearances_pay = graph.num_vertices() >= CLEARANCE_AFTER as usize * source.segments.len();
+        let clearances_pay =
+            graph.num_vertices() >= CLEARANCE_AFTER as usize * source.segments.len();
         VertexOrder { graph, source, clearance: OnceLock::new(), farthest, clearances_pay }
     }
 
     /// Calls `visit` with each vertex of `range` and its closest point, in order.
-    pub(crate) fn for_each(&self, range: std::ops::Range<usize>, mut visit: impl FnMut(usize, &ClosestPoint)) {
+    pub(crate) fn for_each(
+        &self,
+        range: std::ops::Range<usize>,
+        mut visit: impl FnMut(usize, &ClosestPoint),
+    ) {
         let (graph, source) = (self.graph, self.source);
         let lo = range.start;
         let mut found = vec![u32::MAX; range.len()];
         // Every vertex is evaluated: the clearances will be asked for.
-        let clearance = if self.clearances_pay { Some(self.clearance.get_or_init(|| source.clearance_up_to(self.farthest))) } else { None };
+        let clearance = if self.clearances_pay {
+            Some(self.clearance.get_or_init(|| source.clearance_up_to(self.farthest)))
+        } else {
+            None
+        };
         if range.is_empty() {
             return;
         }
@@ -1082,7 +1220,15 @@ impl<'a> VertexOrder<'a> {
                 let reach = graph.longest_edge(v);
                 (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) <= reach * reach
             };
-            let guess = if previous_is_near { Some(found[v - 1 - lo]) } else { graph.neighbours(v).iter().find_map(|&u| earlier(u as usize)).or_else(|| v.checked_sub(1).and_then(earlier)) };
+            let guess = if previous_is_near {
+                Some(found[v - 1 - lo])
+            } else {
+                graph
+                    .neighbours(v)
+                    .iter()
+                    .find_map(|&u| earlier(u as usize))
+                    .or_else(|| v.checked_sub(1).and_then(earlier))
+            };
             // Every vertex after the first has a guess (the vertex before, at least).
             let nearest = match guess {
                 Some(seg) => settle(source, p, seg, |_| clearance).nearest,
@@ -1127,7 +1273,15 @@ fn march_across_ends(source: &Source, p: Point2, best: &mut Nearest, stats: &mut
 /// The closest point of vertex `v` from its evaluated neighbours' segments, settled
 /// on a local optimum along the polyline, then certified by the clearance of its
 /// segment or vertex, or else by the index.
-fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &OnceLock<Clearance>, feet: &[u32], slot: &[u32], found: &[u32], v: usize) -> Evaluation {
+fn evaluate_from_neighbours(
+    graph: &MeshGraph,
+    source: &Source,
+    clearance: &OnceLock<Clearance>,
+    feet: &[u32],
+    slot: &[u32],
+    found: &[u32],
+    v: usize,
+) -> Evaluation {
     let p = graph.point(v);
     // The guess: the closest segment of the first evaluated neighbour. Neighbours lie
     // within an edge of each other, so their segments are the same or a few steps apart
@@ -1145,7 +1299,9 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
     };
     // A clearance costs a few index searches to compute: it is asked for only once
     // earlier levels put enough feet on the segment to pay it back.
-    settle(source, p, seg, |s| (feet[s as usize] >= CLEARANCE_AFTER).then(|| clearance.get_or_init(|| source.clearance())))
+    settle(source, p, seg, |s| {
+        (feet[s as usize] >= CLEARANCE_AFTER).then(|| clearance.get_or_init(|| source.clearance()))
+    })
 }
 
 /// The exact closest point of `p` from the guess `seg`: settled on a local optimum along
@@ -1153,7 +1309,12 @@ fn evaluate_from_neighbours(graph: &MeshGraph, source: &Source, clearance: &Once
 /// `clearance_if_it_pays` gives the clearances for the segment reached), or else by an
 /// index search.
 #[inline]
-fn settle<'c>(source: &Source, p: Point2, seg: u32, clearance_if_it_pays: impl FnOnce(u32) -> Option<&'c Clearance>) -> Evaluation {
+fn settle<'c>(
+    source: &Source,
+    p: Point2,
+    seg: u32,
+    clearance_if_it_pays: impl FnOnce(u32) -> Option<&'c Clearance>,
+) -> Evaluation {
     let mut stats = QueryStats::default();
     let mut best = project(source, p, seg, &mut stats);
     // First march along the polyline while the foot sits on a segment end (thesis
@@ -1185,11 +1346,21 @@ fn settle<'c>(source: &Source, p: Point2, seg: u32, clearance_if_it_pays: impl F
         }
         // Beyond the clearance, far from the source: the oriented boxes.
         let nearest = clearance.closest(p, best, &mut stats);
-        return Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats };
+        return Evaluation {
+            nearest,
+            corrected: nearest.projection.distance_squared < best.projection.distance_squared,
+            local: false,
+            stats,
+        };
     }
     // Near the source: the axis-aligned index around the guess's leaf.
     let nearest = source.index().certify(p, best, &mut stats);
-    Evaluation { nearest, corrected: nearest.projection.distance_squared < best.projection.distance_squared, local: false, stats }
+    Evaluation {
+        nearest,
+        corrected: nearest.projection.distance_squared < best.projection.distance_squared,
+        local: false,
+        stats,
+    }
 }
 
 #[cfg(test)]
@@ -1203,7 +1374,10 @@ mod tests {
         let mut coords = Vec::new();
         for j in 0..k {
             for i in 0..k {
-                coords.push([(i as f64 + 0.3 * rng.unit()) / k as f64, (j as f64 + 0.3 * rng.unit()) / k as f64]);
+                coords.push([
+                    (i as f64 + 0.3 * rng.unit()) / k as f64,
+                    (j as f64 + 0.3 * rng.unit()) / k as f64,
+                ]);
             }
         }
         let mut edges = Vec::new();
@@ -1242,11 +1416,21 @@ mod tests {
             comb.mesh_polyline(&(0..k / 2).rev().map(|j| j * k + col).collect::<Vec<_>>(), false);
         }
         comb.mesh_polyline(&row, false);
-        let ring: Vec<usize> = (0..k).map(|i| k + i).chain((0..k).rev().map(|i| 5 * k + i)).collect();
-        let wavy: Vec<Point2> = (0..300).map(|i| i as f64 / 299.0).map(|t| [0.5 + 0.45 * (9.0 * t).sin() * t, 0.5 + 0.4 * (5.0 * t).cos() * (1.0 - 0.5 * t)]).collect();
+        let ring: Vec<usize> =
+            (0..k).map(|i| k + i).chain((0..k).rev().map(|i| 5 * k + i)).collect();
+        let wavy: Vec<Point2> = (0..300)
+            .map(|i| i as f64 / 299.0)
+            .map(|t| {
+                [0.5 + 0.45 * (9.0 * t).sin() * t, 0.5 + 0.4 * (5.0 * t).cos() * (1.0 - 0.5 * t)]
+            })
+            .collect();
         let sources = [
             comb.build().unwrap(),
-            Source::builder(&graph).mesh_polyline(&ring, true).mesh_polyline(&row, false).build().unwrap(),
+            Source::builder(&graph)
+                .mesh_polyline(&ring, true)
+                .mesh_polyline(&row, false)
+                .build()
+                .unwrap(),
             Source::builder(&graph).polyline(&wavy, false).build().unwrap(),
             Source::builder(&graph).point([0.3, 0.7]).build().unwrap(),
         ];
@@ -1260,7 +1444,11 @@ mod tests {
                     order.for_each(start..n, |u, c| {
                         assert_eq!(u, v);
                         let want = closest_point_brute_force(source, graph.point(u)).unwrap();
-                        assert_eq!(format!("{c:?}"), format!("{want:?}"), "source {case}, vertex {u}, runs from {start}");
+                        assert_eq!(
+                            format!("{c:?}"),
+                            format!("{want:?}"),
+                            "source {case}, vertex {u}, runs from {start}"
+                        );
                         v += 1;
                         visited += 1;
                     });
@@ -1277,9 +1465,21 @@ mod tests {
     fn closest_in_chain_is_the_brute_force_scan() {
         let mut rng = Rng(31);
         let graph = grid(20, &mut rng, 0);
-        let wavy: Vec<Point2> = (0..400).map(|i| 2.0 * std::f64::consts::PI * i as f64 / 400.0).map(|a| [0.5 + (0.3 + 0.1 * (5.0 * a).cos()) * a.cos(), 0.5 + (0.3 + 0.1 * (5.0 * a).cos()) * a.sin()]).collect();
+        let wavy: Vec<Point2> = (0..400)
+            .map(|i| 2.0 * std::f64::consts::PI * i as f64 / 400.0)
+            .map(|a| {
+                [
+                    0.5 + (0.3 + 0.1 * (5.0 * a).cos()) * a.cos(),
+                    0.5 + (0.3 + 0.1 * (5.0 * a).cos()) * a.sin(),
+                ]
+            })
+            .collect();
         let sources = [
-            Source::builder(&graph).polyline(&wavy, true).mesh_polyline(&(0..20).collect::<Vec<_>>(), false).build().unwrap(),
+            Source::builder(&graph)
+                .polyline(&wavy, true)
+                .mesh_polyline(&(0..20).collect::<Vec<_>>(), false)
+                .build()
+                .unwrap(),
             Source::builder(&graph).point([0.3, 0.7]).build().unwrap(),
         ];
         for (case, source) in sources.iter().enumerate() {
@@ -1288,20 +1488,37 @@ mod tests {
             for _ in 0..400 {
                 let p = [4.0 * rng.unit() - 1.5, 4.0 * rng.unit() - 1.5];
                 let want = closest_point_brute_force(source, p).unwrap();
-                let far = (0..source.segments.len() as u32).max_by(|&a, &b| source.geoms[a as usize].project(p).distance_squared.total_cmp(&source.geoms[b as usize].project(p).distance_squared)).unwrap();
+                let far = (0..source.segments.len() as u32)
+                    .max_by(|&a, &b| {
+                        source.geoms[a as usize]
+                            .project(p)
+                            .distance_squared
+                            .total_cmp(&source.geoms[b as usize].project(p).distance_squared)
+                    })
+                    .unwrap();
                 for guess in [None, Some(far), Some(want.segment)] {
                     let mut stats = QueryStats::default();
                     let got = source.describe(p, source.closest_in_chain(p, guess, &mut stats));
-                    assert_eq!(format!("{got:?}"), format!("{want:?}"), "source {case}, point {p:?}, guess {guess:?}");
+                    assert_eq!(
+                        format!("{got:?}"),
+                        format!("{want:?}"),
+                        "source {case}, point {p:?}, guess {guess:?}"
+                    );
                     if guess.is_none() {
                         own += stats.segments;
                     }
                 }
                 // The tree's search itself from the farthest segment: the same answer.
                 let mut stats = QueryStats { segments: 1, ..QueryStats::default() };
-                let seed = Nearest { segment: far, projection: source.geoms[far as usize].project(p) };
-                let got = source.describe(p, source.chain_tree().closest(&source.geoms, p, seed, &mut stats));
-                assert_eq!(format!("{got:?}"), format!("{want:?}"), "source {case}, point {p:?}, from segment {far}");
+                let seed =
+                    Nearest { segment: far, projection: source.geoms[far as usize].project(p) };
+                let got = source
+                    .describe(p, source.chain_tree().closest(&source.geoms, p, seed, &mut stats));
+                assert_eq!(
+                    format!("{got:?}"),
+                    format!("{want:?}"),
+                    "source {case}, point {p:?}, from segment {far}"
+                );
                 from_far += stats.segments;
             }
             // The tree's own guess keeps the search to a few leaves, where a far one
@@ -1327,25 +1544,48 @@ mod tests {
             // A free wavy polyline, or a single point, somewhere in the square.
             let count = if case % 4 == 3 { 1 } else { 2 + (rng.unit() * 40.0) as usize };
             let (cx, cy, amp) = (rng.unit(), rng.unit(), 0.3 * rng.unit());
-            let points: Vec<Point2> = (0..count).map(|i| [i as f64 / count as f64, cy + amp * (7.0 * i as f64 / count as f64 + cx).sin()]).collect();
+            let points: Vec<Point2> = (0..count)
+                .map(|i| {
+                    [i as f64 / count as f64, cy + amp * (7.0 * i as f64 / count as f64 + cx).sin()]
+                })
+                .collect();
             let source = Source::builder(&graph).polyline(&points, false).build().unwrap();
-            let farthest = (0..graph.num_vertices()).map(|v| closest_point_brute_force(&source, graph.point(v)).unwrap().distance).fold(0.0, f64::max);
+            let farthest = (0..graph.num_vertices())
+                .map(|v| closest_point_brute_force(&source, graph.point(v)).unwrap().distance)
+                .fold(0.0, f64::max);
             // Not so where a component holds no seed (or a point off the mesh none).
-            let all = propagate(&graph, &source, f64::INFINITY, &PropagationOptions::new()).len() == graph.num_vertices();
-            for max in [0.5 * farthest, 0.999 * farthest, farthest, 2.0 * farthest, 10.0, f64::INFINITY] {
+            let all = propagate(&graph, &source, f64::INFINITY, &PropagationOptions::new()).len()
+                == graph.num_vertices();
+            for max in
+                [0.5 * farthest, 0.999 * farthest, farthest, 2.0 * farthest, 10.0, f64::INFINITY]
+            {
                 match reach_covers_mesh(&graph, &source, max) {
                     Some(bound) => {
                         decided += 1;
-                        assert!(bound >= farthest && bound <= max, "case {case}: bound {bound}, farthest vertex {farthest}, max {max}");
-                        assert_eq!(propagate(&graph, &source, max, &PropagationOptions::new()).len(), graph.num_vertices(), "case {case}");
+                        assert!(
+                            bound >= farthest && bound <= max,
+                            "case {case}: bound {bound}, farthest vertex {farthest}, max {max}"
+                        );
+                        assert_eq!(
+                            propagate(&graph, &source, max, &PropagationOptions::new()).len(),
+                            graph.num_vertices(),
+                            "case {case}"
+                        );
                     }
                     // Undecided: short of twice the farthest distance, or where
                     // propagation does not report every vertex either.
-                    None => assert!(max < 2.0 * farthest || !all, "case {case}: undecided at {max} (farthest {farthest})"),
+                    None => assert!(
+                        max < 2.0 * farthest || !all,
+                        "case {case}: undecided at {max} (farthest {farthest})"
+                    ),
                 }
             }
             if graph.num_components() > 1 {
-                assert_eq!(reach_covers_mesh(&graph, &source, f64::INFINITY), None, "case {case}: a component without a seed");
+                assert_eq!(
+                    reach_covers_mesh(&graph, &source, f64::INFINITY),
+                    None,
+                    "case {case}: a component without a seed"
+                );
             }
         }
         assert!(decided >= 100, "{decided} of 360 reaches decided");

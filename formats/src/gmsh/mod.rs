@@ -80,7 +80,10 @@ mod msh4;
 use std::collections::BTreeMap;
 
 use crate::text::{self, Tokens};
-use crate::{CellKind, DataArray, Error, ErrorKind, GmshVersion, NodeIndex, Position, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS};
+use crate::{
+    CellKind, DataArray, Error, ErrorKind, GmshVersion, NodeIndex, Position, ReadContext, Result,
+    TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS,
+};
 
 /// Reads an MSH 2.x or 4.1 file, ASCII or binary.
 pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
@@ -89,7 +92,14 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     while let Some(tok) = r.c.t.next() {
         let at = r.c.here_before(tok.len());
         if tok.first() != Some(&b'$') || tok.len() < 2 {
-            return Err(Error { path: None, at: Some(at), kind: ErrorKind::Expected { expected: "a section header such as `$Nodes`".into(), found: show(tok) } });
+            return Err(Error {
+                path: None,
+                at: Some(at),
+                kind: ErrorKind::Expected {
+                    expected: "a section header such as `$Nodes`".into(),
+                    found: show(tok),
+                },
+            });
         }
         let name = &tok[1..];
         match name {
@@ -105,10 +115,22 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
             b"ElementNodeData" => r.read_view(ViewKind::ElementNode)?,
             // Sections Gmsh defines that carry nothing a TaggedMesh holds. A 2.x file may
             // hold MSH3-style `$Entities` (Gmsh's Mesh.SaveTopology).
-            b"Comments" | b"Periodic" | b"GhostElements" | b"Parametrizations" | b"PartitionedEntities" | b"InterpolationScheme" | b"Edges" | b"Faces" | b"Entities" => {
-                r.skip_section(name, at)?
+            b"Comments"
+            | b"Periodic"
+            | b"GhostElements"
+            | b"Parametrizations"
+            | b"PartitionedEntities"
+            | b"InterpolationScheme"
+            | b"Edges"
+            | b"Faces"
+            | b"Entities" => r.skip_section(name, at)?,
+            b"MeshFormat" => {
+                return Err(Error {
+                    path: None,
+                    at: Some(at),
+                    kind: ErrorKind::Inconsistent("a second $MeshFormat section".into()),
+                })
             }
-            b"MeshFormat" => return Err(Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent("a second $MeshFormat section".into()) }),
             _ => {
                 let n = String::from_utf8_lossy(name);
                 let known = if r.v4 {
@@ -119,7 +141,10 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                 return Err(Error {
                     path: None,
                     at: Some(at),
-                    kind: ErrorKind::Unsupported(format!("section `${n}` is not one that MSH {} defines ({known})", if r.v4 { "4.1" } else { "2.2" })),
+                    kind: ErrorKind::Unsupported(format!(
+                        "section `${n}` is not one that MSH {} defines ({known})",
+                        if r.v4 { "4.1" } else { "2.2" }
+                    )),
                 });
             }
         }
@@ -130,7 +155,10 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
 /// Writes MSH 4.1 or 2.2 (per `opts.gmsh_version`), ASCII or binary (`opts.binary`).
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     if let Some(p) = mesh.validate().into_iter().next() {
-        return Err(Error::new(ErrorKind::CannotWrite { format: "Gmsh MSH", reason: p.to_string() }));
+        return Err(Error::new(ErrorKind::CannotWrite {
+            format: "Gmsh MSH",
+            reason: p.to_string(),
+        }));
     }
     write_validated(mesh, opts)
 }
@@ -142,7 +170,10 @@ pub(crate) fn write_validated(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<
     // Tags in MSH binary data sections and 2.2 elements are C ints.
     let n_cells = mesh.num_cells();
     if mesh.points.len() >= i32::MAX as usize || n_cells >= (i32::MAX / 2) as usize {
-        return Err(Error::new(ErrorKind::CannotWrite { format: "Gmsh MSH", reason: "more nodes or elements than MSH's 32-bit tags can number".into() }));
+        return Err(Error::new(ErrorKind::CannotWrite {
+            format: "Gmsh MSH",
+            reason: "more nodes or elements than MSH's 32-bit tags can number".into(),
+        }));
     }
     let mut out = Vec::with_capacity(estimate_size(mesh, opts.binary));
     match opts.gmsh_version {
@@ -155,7 +186,12 @@ pub(crate) fn write_validated(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<
 
 fn estimate_size(mesh: &TaggedMesh, binary: bool) -> usize {
     let nodes: usize = mesh.blocks.iter().map(|b| b.nodes.len() + b.len()).sum();
-    let data: usize = mesh.point_data.values().chain(mesh.cell_data.values()).map(|a| a.len() * (a.expanded_components() + 1)).sum();
+    let data: usize = mesh
+        .point_data
+        .values()
+        .chain(mesh.cell_data.values())
+        .map(|a| a.len() * (a.expanded_components() + 1))
+        .sum();
     if binary {
         mesh.points.len() * 40 + nodes * 8 + data * 8 + 4096
     } else {
@@ -166,16 +202,23 @@ fn estimate_size(mesh: &TaggedMesh, binary: bool) -> usize {
 /// What MSH has no place for.
 fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
     for (name, set) in &mesh.point_sets {
-        report.drop(format!("point set `{name}` ({} points): Gmsh MSH has no point sets", set.len()));
+        report
+            .drop(format!("point set `{name}` ({} points): Gmsh MSH has no point sets", set.len()));
     }
     for (name, set) in &mesh.cell_sets {
         report.drop(format!("cell set `{name}` ({} cells): Gmsh MSH has no cell sets", set.len()));
     }
     if !mesh.holes.is_empty() {
-        report.drop(format!("{} hole point(s) of the planar straight-line graph: Gmsh MSH holds none", mesh.holes.len()));
+        report.drop(format!(
+            "{} hole point(s) of the planar straight-line graph: Gmsh MSH holds none",
+            mesh.holes.len()
+        ));
     }
     if !mesh.regions.is_empty() {
-        report.drop(format!("{} region seed(s) of the planar straight-line graph: Gmsh MSH holds none", mesh.regions.len()));
+        report.drop(format!(
+            "{} region seed(s) of the planar straight-line graph: Gmsh MSH holds none",
+            mesh.regions.len()
+        ));
     }
 }
 
@@ -326,9 +369,17 @@ impl<'a> Cursor<'a> {
             Some(tok) if tok == end.as_bytes() => Ok(()),
             Some(tok) => {
                 let at = self.here_before(tok.len());
-                Err(self.err_at(at, ErrorKind::Expected { expected: format!("`{end}` (or fewer items than the section holds)"), found: show(tok) }))
+                Err(self.err_at(
+                    at,
+                    ErrorKind::Expected {
+                        expected: format!("`{end}` (or fewer items than the section holds)"),
+                        found: show(tok),
+                    },
+                ))
             }
-            None => Err(self.err(ErrorKind::UnexpectedEof { context: format!("expected `{end}`") })),
+            None => {
+                Err(self.err(ErrorKind::UnexpectedEof { context: format!("expected `{end}`") }))
+            }
         }
     }
 
@@ -340,7 +391,13 @@ impl<'a> Cursor<'a> {
         if rest.is_empty() {
             Ok(())
         } else {
-            Err(self.err_at(at, ErrorKind::Expected { expected: "the end of the line before binary data".into(), found: show(rest) }))
+            Err(self.err_at(
+                at,
+                ErrorKind::Expected {
+                    expected: "the end of the line before binary data".into(),
+                    found: show(rest),
+                },
+            ))
         }
     }
 
@@ -350,7 +407,12 @@ impl<'a> Cursor<'a> {
         let pos = self.pos();
         let data = self.full;
         if data.len() - pos < n {
-            return Err(self.byte_err(pos, ErrorKind::UnexpectedEof { context: format!("{what}: {n} bytes needed, {} left", data.len() - pos) }));
+            return Err(self.byte_err(
+                pos,
+                ErrorKind::UnexpectedEof {
+                    context: format!("{what}: {n} bytes needed, {} left", data.len() - pos),
+                },
+            ));
         }
         self.seek(pos + n);
         Ok(&data[pos..pos + n])
@@ -360,7 +422,14 @@ impl<'a> Cursor<'a> {
     pub fn take_array(&mut self, n: usize, size: usize, what: &str) -> Result<&'a [u8]> {
         let pos = self.pos();
         let total = n.checked_mul(size).ok_or_else(|| {
-            self.byte_err(pos, ErrorKind::ImplausibleCount { what: what.into(), count: n as u64, limit: "the byte count overflows".into() })
+            self.byte_err(
+                pos,
+                ErrorKind::ImplausibleCount {
+                    what: what.into(),
+                    count: n as u64,
+                    limit: "the byte count overflows".into(),
+                },
+            )
         })?;
         self.take(total, what)
     }
@@ -394,7 +463,8 @@ impl<'a> Cursor<'a> {
         if v.is_finite() {
             Ok(v)
         } else {
-            Err(self.byte_err(pos, ErrorKind::NonFinite { what: what.into(), value: v.to_string() }))
+            Err(self
+                .byte_err(pos, ErrorKind::NonFinite { what: what.into(), value: v.to_string() }))
         }
     }
 }
@@ -588,7 +658,9 @@ pub(super) enum TagMap {
 
 impl TagMap {
     /// The map of `(tag, value)` pairs; `Err(tag)` names a tag given twice.
-    fn build<I: Iterator<Item = (u64, usize)> + Clone>(items: I) -> std::result::Result<TagMap, u64> {
+    fn build<I: Iterator<Item = (u64, usize)> + Clone>(
+        items: I,
+    ) -> std::result::Result<TagMap, u64> {
         let mut first = None;
         let (count, max, range) = items.clone().fold((0usize, 0u64, true), |(c, m, r), (t, v)| {
             let f = *first.get_or_insert(t);
@@ -628,12 +700,13 @@ impl TagMap {
     #[inline]
     pub fn get(&self, tag: u64) -> Option<usize> {
         match self {
-            TagMap::Range { first, len } => tag.checked_sub(*first).filter(|&d| d < *len as u64).map(|d| d as usize),
+            TagMap::Range { first, len } => {
+                tag.checked_sub(*first).filter(|&d| d < *len as u64).map(|d| d as usize)
+            }
             TagMap::Dense(t) => t.get(usize::try_from(tag).ok()?).copied().filter(|&v| v != NONE),
             TagMap::Sparse(v) => v.binary_search_by_key(&tag, |&(t, _)| t).ok().map(|i| v[i].1),
         }
     }
-
 }
 
 // ---------------------------------------------------------------------------------
@@ -832,7 +905,11 @@ impl Targets {
 /// as one array, made in a single pass over the table, and each entry's target pushed
 /// (a target that `map` lacks is not). Also the first entry whose tag `map` lacks or
 /// whose values are not all finite, for the caller to report.
-fn decode_entries<const N: usize>(table: &[u8], map: &TagMap, targets: &mut Targets) -> (Vec<f64>, Option<usize>) {
+fn decode_entries<const N: usize>(
+    table: &[u8],
+    map: &TagMap,
+    targets: &mut Targets,
+) -> (Vec<f64>, Option<usize>) {
     let rec = 4 + 8 * N;
     let mut bad = None;
     let rows: Vec<[f64; N]> = table
@@ -928,7 +1005,12 @@ impl<'a> Reader<'a> {
             None => return Err(self.c.err(ErrorKind::UnexpectedEof { context: "expected `$MeshFormat`; the file is empty".into() })),
         }
         let vtok = self.c.token("the MSH version number")?;
-        let version = text::parse_f64(vtok).map_err(|_| self.c.err(ErrorKind::Expected { expected: "the MSH version number".into(), found: show(vtok) }))?;
+        let version = text::parse_f64(vtok).map_err(|_| {
+            self.c.err(ErrorKind::Expected {
+                expected: "the MSH version number".into(),
+                found: show(vtok),
+            })
+        })?;
         self.v4 = if (version - 4.1).abs() < 1e-9 {
             true
         } else if (2.0..3.0).contains(&version) {
@@ -939,19 +1021,29 @@ impl<'a> Reader<'a> {
                 String::from_utf8_lossy(vtok)
             ))));
         } else {
-            return Err(self.c.err(ErrorKind::Unsupported(format!("MSH version {} (smartmesh reads 2.2 and 4.1)", String::from_utf8_lossy(vtok)))));
+            return Err(self.c.err(ErrorKind::Unsupported(format!(
+                "MSH version {} (smartmesh reads 2.2 and 4.1)",
+                String::from_utf8_lossy(vtok)
+            ))));
         };
         let file_type = self.c.i64("the file type (0 for ASCII, 1 for binary)")?;
         if file_type != 0 && file_type != 1 {
-            return Err(self.c.err(ErrorKind::Expected { expected: "the file type 0 (ASCII) or 1 (binary)".into(), found: format!("`{file_type}`") }));
+            return Err(self.c.err(ErrorKind::Expected {
+                expected: "the file type 0 (ASCII) or 1 (binary)".into(),
+                found: format!("`{file_type}`"),
+            }));
         }
         let data_size = self.c.i64("the data size")?;
         if file_type == 1 {
             if self.v4 && data_size != 8 && data_size != 4 {
-                return Err(self.c.err(ErrorKind::Unsupported(format!("binary MSH 4.1 with a size_t of {data_size} bytes (4 or 8 expected)"))));
+                return Err(self.c.err(ErrorKind::Unsupported(format!(
+                    "binary MSH 4.1 with a size_t of {data_size} bytes (4 or 8 expected)"
+                ))));
             }
             if !self.v4 && data_size != 8 {
-                return Err(self.c.err(ErrorKind::Unsupported(format!("binary MSH 2 with data size {data_size} (only 8, sizeof(double), is defined)"))));
+                return Err(self.c.err(ErrorKind::Unsupported(format!(
+                    "binary MSH 2 with data size {data_size} (only 8, sizeof(double), is defined)"
+                ))));
             }
             self.size_t = data_size as usize;
             self.c.end_text_line()?;
@@ -963,7 +1055,10 @@ impl<'a> Reader<'a> {
                 let kind = if i32::from_be_bytes([b[0], b[1], b[2], b[3]]) == 1 {
                     ErrorKind::Unsupported("a big-endian binary file (the endianness marker, the integer 1, is byte-swapped); smartmesh reads little-endian MSH files: convert it with Gmsh on a little-endian machine".into())
                 } else {
-                    ErrorKind::Expected { expected: "the endianness marker, the integer 1 as 4 binary bytes".into(), found: format!("bytes {:02x} {:02x} {:02x} {:02x}", b[0], b[1], b[2], b[3]) }
+                    ErrorKind::Expected {
+                        expected: "the endianness marker, the integer 1 as 4 binary bytes".into(),
+                        found: format!("bytes {:02x} {:02x} {:02x} {:02x}", b[0], b[1], b[2], b[3]),
+                    }
                 };
                 return Err(self.c.byte_err(pos, kind));
             }
@@ -976,12 +1071,23 @@ impl<'a> Reader<'a> {
         for _ in 0..n {
             let dim = self.c.i32("physical group dimension")?;
             if !(0..=3).contains(&dim) {
-                return Err(self.c.err(ErrorKind::Expected { expected: "a physical group dimension 0 to 3".into(), found: format!("`{dim}`") }));
+                return Err(self.c.err(ErrorKind::Expected {
+                    expected: "a physical group dimension 0 to 3".into(),
+                    found: format!("`{dim}`"),
+                }));
             }
             let tag = self.c.i32("physical tag")?;
             let at = self.c.here();
             let rest = self.c.t.rest_of_line();
-            let name = quoted(rest).ok_or_else(|| self.c.err_at(at, ErrorKind::Expected { expected: "a name in double quotes".into(), found: show(rest) }))?;
+            let name = quoted(rest).ok_or_else(|| {
+                self.c.err_at(
+                    at,
+                    ErrorKind::Expected {
+                        expected: "a name in double quotes".into(),
+                        found: show(rest),
+                    },
+                )
+            })?;
             self.tag_names.insert((dim as u8, tag), String::from_utf8_lossy(name).into_owned());
         }
         self.c.expect_end("PhysicalNames")
@@ -996,7 +1102,12 @@ impl<'a> Reader<'a> {
         loop {
             let Some(i) = memchr::memmem::find(&rest[from..], &end) else {
                 let n = String::from_utf8_lossy(name);
-                return Err(self.c.err_at(at, ErrorKind::UnexpectedEof { context: format!("section `${n}` has no `$End{n}` line") }));
+                return Err(self.c.err_at(
+                    at,
+                    ErrorKind::UnexpectedEof {
+                        context: format!("section `${n}` has no `$End{n}` line"),
+                    },
+                ));
             };
             let after = from + i + end.len();
             // The marker must be the whole token (`$EndComments`, not `$EndCommentsX`).
@@ -1015,7 +1126,11 @@ impl<'a> Reader<'a> {
         // Cells address points with 32-bit indices: past that, no file is read.
         if self.points.len() > MAX_POINTS {
             let at = self.node_blocks.first().map_or(Position::Byte(0), |b| b.1);
-            return Err(Error { path: None, at: Some(at), kind: crate::mesh::past_max_points("nodes", self.points.len()) });
+            return Err(Error {
+                path: None,
+                at: Some(at),
+                kind: crate::mesh::past_max_points("nodes", self.points.len()),
+            });
         }
         if let Some(m) = self.node_map.take() {
             return Ok(m);
@@ -1032,8 +1147,19 @@ impl<'a> Reader<'a> {
     fn duplicate_node(&self, dup: u64) -> Error {
         // Where the second definition is: the block holding its last occurrence.
         let last = self.node_tags.iter().rposition(|t| t == dup).unwrap_or(0);
-        let at = self.node_blocks.iter().rev().find(|(start, _)| *start <= last).map_or(Position::Byte(0), |b| b.1);
-        Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent(format!("node tag {dup} is defined twice (the second time in the node block here)")) }
+        let at = self
+            .node_blocks
+            .iter()
+            .rev()
+            .find(|(start, _)| *start <= last)
+            .map_or(Position::Byte(0), |b| b.1);
+        Error {
+            path: None,
+            at: Some(at),
+            kind: ErrorKind::Inconsistent(format!(
+                "node tag {dup} is defined twice (the second time in the node block here)"
+            )),
+        }
     }
 
     pub fn put_node_map(&mut self, m: TagMap) {
@@ -1062,8 +1188,19 @@ impl<'a> Reader<'a> {
     }
 
     fn duplicate_element(&self, dup: u64) -> Error {
-        let at = self.raw.iter().rev().find(|b| b.tags.contains(dup)).map_or(Position::Byte(0), |b| b.at);
-        Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent(format!("element tag {dup} is used twice (the second time in the element block here)")) }
+        let at = self
+            .raw
+            .iter()
+            .rev()
+            .find(|b| b.tags.contains(dup))
+            .map_or(Position::Byte(0), |b| b.at);
+        Error {
+            path: None,
+            at: Some(at),
+            kind: ErrorKind::Inconsistent(format!(
+                "element tag {dup} is used twice (the second time in the element block here)"
+            )),
+        }
     }
 
     /// `$NodeData`, `$ElementData`, `$ElementNodeData` (same layout in 2.2 and 4.1).
@@ -1079,7 +1216,12 @@ impl<'a> Reader<'a> {
             let at = self.c.here();
             let line = self.c.t.rest_of_line();
             if line.is_empty() {
-                return Err(self.c.err_at(at, ErrorKind::UnexpectedEof { context: format!("expected string tag {} of ${section}", i + 1) }));
+                return Err(self.c.err_at(
+                    at,
+                    ErrorKind::UnexpectedEof {
+                        context: format!("expected string tag {} of ${section}", i + 1),
+                    },
+                ));
             }
             if i == 0 {
                 let s = quoted(line).unwrap_or(line);
@@ -1105,11 +1247,22 @@ impl<'a> Reader<'a> {
         let step = self.c.i64("time step (integer tag 1)")?;
         let ncomp = self.c.usize("number of components (integer tag 2)")?;
         if ncomp == 0 {
-            return Err(self.c.err(ErrorKind::Expected { expected: "a number of components of at least 1 (1, 3 or 9)".into(), found: "0".into() }));
+            return Err(self.c.err(ErrorKind::Expected {
+                expected: "a number of components of at least 1 (1, 3 or 9)".into(),
+                found: "0".into(),
+            }));
         }
         // Smallest entry: a tag and its values, `1 0\n` in ASCII.
-        let min_entry = if self.c.binary { ncomp.saturating_mul(8).saturating_add(4) } else { ncomp.saturating_mul(2).saturating_add(2) };
-        let min_entry = if kind == ViewKind::ElementNode { min_entry.saturating_add(if self.c.binary { 4 } else { 2 }) } else { min_entry };
+        let min_entry = if self.c.binary {
+            ncomp.saturating_mul(8).saturating_add(4)
+        } else {
+            ncomp.saturating_mul(2).saturating_add(2)
+        };
+        let min_entry = if kind == ViewKind::ElementNode {
+            min_entry.saturating_add(if self.c.binary { 4 } else { 2 })
+        } else {
+            min_entry
+        };
         if ncomp > self.c.remaining().len() {
             return Err(self.c.err(ErrorKind::ImplausibleCount {
                 what: format!("${section} number of components"),
@@ -1144,7 +1297,8 @@ impl<'a> Reader<'a> {
             self.c.end_text_line()?;
             let rec = 4 + 8 * ncomp;
             let p0 = self.c.pos();
-            let table = self.c.take_array(n, rec, "data entries (a 4-byte tag and 8-byte values each)")?;
+            let table =
+                self.c.take_array(n, rec, "data entries (a 4-byte tag and 8-byte values each)")?;
             let mut bad = None;
             match ncomp {
                 1 => (values, bad) = decode_entries::<1>(table, &map, &mut targets),
@@ -1157,7 +1311,9 @@ impl<'a> Reader<'a> {
             let from = if fixed { bad.unwrap_or(n) } else { 0 };
             for (e, ch) in table.chunks_exact(rec).enumerate().skip(from) {
                 let tag = le_i32(ch);
-                let target = u64::try_from(tag).ok().and_then(|t| map.get(t)).ok_or_else(|| unknown(&self.c, Position::Byte((p0 + e * rec) as u64), tag as i64))?;
+                let target = u64::try_from(tag).ok().and_then(|t| map.get(t)).ok_or_else(|| {
+                    unknown(&self.c, Position::Byte((p0 + e * rec) as u64), tag as i64)
+                })?;
                 let mut finite = true;
                 values.extend(ch[4..].chunks_exact(8).map(|c| {
                     let v = le_f64(c);
@@ -1165,9 +1321,16 @@ impl<'a> Reader<'a> {
                     v
                 }));
                 if !finite {
-                    let j = ch[4..].chunks_exact(8).position(|c| !le_f64(c).is_finite()).unwrap_or(0);
+                    let j =
+                        ch[4..].chunks_exact(8).position(|c| !le_f64(c).is_finite()).unwrap_or(0);
                     let v = le_f64(&ch[4 + 8 * j..]);
-                    return Err(self.c.byte_err(p0 + e * rec + 4 + 8 * j, ErrorKind::NonFinite { what: format!("a value of `{name}`"), value: v.to_string() }));
+                    return Err(self.c.byte_err(
+                        p0 + e * rec + 4 + 8 * j,
+                        ErrorKind::NonFinite {
+                            what: format!("a value of `{name}`"),
+                            value: v.to_string(),
+                        },
+                    ));
                 }
                 targets.push(target);
             }
@@ -1176,11 +1339,22 @@ impl<'a> Reader<'a> {
             for _ in 0..n {
                 let pos = self.c.pos();
                 let tag = self.c.bin_i32("the tag of a data entry")?;
-                let target = u64::try_from(tag).ok().and_then(|t| map.get(t)).ok_or_else(|| unknown(&self.c, Position::Byte(pos as u64), tag as i64))?;
+                let target = u64::try_from(tag)
+                    .ok()
+                    .and_then(|t| map.get(t))
+                    .ok_or_else(|| unknown(&self.c, Position::Byte(pos as u64), tag as i64))?;
                 let mult = if kind == ViewKind::ElementNode {
                     let p = self.c.pos();
                     let m = self.c.bin_i32("the number of nodes of an entry")?;
-                    positive_mult(m as i64).ok_or_else(|| self.c.byte_err(p, ErrorKind::Expected { expected: "a positive number of nodes per element".into(), found: m.to_string() }))?
+                    positive_mult(m as i64).ok_or_else(|| {
+                        self.c.byte_err(
+                            p,
+                            ErrorKind::Expected {
+                                expected: "a positive number of nodes per element".into(),
+                                found: m.to_string(),
+                            },
+                        )
+                    })?
                 } else {
                     1
                 };
@@ -1190,7 +1364,13 @@ impl<'a> Reader<'a> {
                 for (j, ch) in b.chunks_exact(8).enumerate() {
                     let v = le_f64(ch);
                     if !v.is_finite() {
-                        return Err(self.c.byte_err(p + 8 * j, ErrorKind::NonFinite { what: format!("a value of `{name}`"), value: v.to_string() }));
+                        return Err(self.c.byte_err(
+                            p + 8 * j,
+                            ErrorKind::NonFinite {
+                                what: format!("a value of `{name}`"),
+                                value: v.to_string(),
+                            },
+                        ));
                     }
                     values.push(v);
                 }
@@ -1204,16 +1384,32 @@ impl<'a> Reader<'a> {
             for _ in 0..n {
                 let tag = self.c.scan_i64(&mut s, "the tag of a data entry")?;
                 let line = Position::Line(s.line());
-                let target = u64::try_from(tag).ok().and_then(|t| map.get(t)).ok_or_else(|| unknown(&self.c, line, tag))?;
+                let target = u64::try_from(tag)
+                    .ok()
+                    .and_then(|t| map.get(t))
+                    .ok_or_else(|| unknown(&self.c, line, tag))?;
                 let mult = if kind == ViewKind::ElementNode {
                     let m = self.c.scan_i64(&mut s, "the number of nodes of an entry")?;
-                    positive_mult(m).ok_or_else(|| self.c.err_at(line, ErrorKind::Expected { expected: "a positive number of nodes per element".into(), found: m.to_string() }))?
+                    positive_mult(m).ok_or_else(|| {
+                        self.c.err_at(
+                            line,
+                            ErrorKind::Expected {
+                                expected: "a positive number of nodes per element".into(),
+                                found: m.to_string(),
+                            },
+                        )
+                    })?
                 } else {
                     1
                 };
                 let k = ncomp * mult;
                 if k > s.bytes_left() / 2 + 1 {
-                    return Err(self.c.err_at(line, ErrorKind::UnexpectedEof { context: format!("entry of `{name}` with {k} values") }));
+                    return Err(self.c.err_at(
+                        line,
+                        ErrorKind::UnexpectedEof {
+                            context: format!("entry of `{name}` with {k} values"),
+                        },
+                    ));
                 }
                 for _ in 0..k {
                     values.push(self.c.scan_f64(&mut s, "a data value")?);
@@ -1295,7 +1491,8 @@ impl<'a> Reader<'a> {
         }
 
         // Cells in ascending element-tag order; `cell_rank[raw id]` is the index.
-        let ascending = self.raw.iter().try_fold(0u64, |prev, b| b.tags.ascending_after(prev)).is_some();
+        let ascending =
+            self.raw.iter().try_fold(0u64, |prev, b| b.tags.ascending_after(prev)).is_some();
         let cell_rank: Option<Vec<usize>> = if ascending {
             for b in std::mem::take(&mut self.raw) {
                 match mesh.blocks.last_mut() {
@@ -1304,7 +1501,12 @@ impl<'a> Reader<'a> {
                         last.physical.extend_from_slice(&b.physical);
                         last.geometrical.extend_from_slice(&b.geometrical);
                     }
-                    _ => mesh.blocks.push(crate::CellBlock { kind: b.kind, nodes: b.nodes, physical: b.physical, geometrical: b.geometrical }),
+                    _ => mesh.blocks.push(crate::CellBlock {
+                        kind: b.kind,
+                        nodes: b.nodes,
+                        physical: b.physical,
+                        geometrical: b.geometrical,
+                    }),
                 }
             }
             None
@@ -1324,16 +1526,32 @@ impl<'a> Reader<'a> {
             }
             let runs = sorted_runs(runs).map_err(|dup| self.duplicate_element(dup))?;
             // The rank of each cell is needed only to place element data.
-            let mut rank = if self.views.iter().any(|v| v.kind != ViewKind::Node) { vec![0; id] } else { Vec::new() };
+            let mut rank = if self.views.iter().any(|v| v.kind != ViewKind::Node) {
+                vec![0; id]
+            } else {
+                Vec::new()
+            };
             let mut out = 0;
             for &(_, id, len) in &runs {
                 let bi = starts.partition_point(|&s| s <= id) - 1;
                 let b = &mut self.raw[bi];
                 let (i, k) = (id - starts[bi], b.kind.nodes_per_cell());
-                if i == 0 && len == b.tags.len() && mesh.blocks.last().map(|l| l.kind) != Some(b.kind) {
+                if i == 0
+                    && len == b.tags.len()
+                    && mesh.blocks.last().map(|l| l.kind) != Some(b.kind)
+                {
                     // A whole block in place: moved, not copied.
-                    let (nodes, physical, geometrical) = (std::mem::take(&mut b.nodes), std::mem::take(&mut b.physical), std::mem::take(&mut b.geometrical));
-                    mesh.blocks.push(crate::CellBlock { kind: b.kind, nodes, physical, geometrical });
+                    let (nodes, physical, geometrical) = (
+                        std::mem::take(&mut b.nodes),
+                        std::mem::take(&mut b.physical),
+                        std::mem::take(&mut b.geometrical),
+                    );
+                    mesh.blocks.push(crate::CellBlock {
+                        kind: b.kind,
+                        nodes,
+                        physical,
+                        geometrical,
+                    });
                 } else {
                     let dst = mesh.block_mut(b.kind);
                     dst.nodes.extend_from_slice(&b.nodes[i * k..(i + len) * k]);
@@ -1359,7 +1577,11 @@ impl<'a> Reader<'a> {
                 _ => (&cell_rank, n_cells),
             };
             let place = |t: usize| rank.as_ref().map_or(t, |r| r[t]);
-            let width = if v.kind == ViewKind::ElementNode { v.offsets.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(v.ncomp) } else { v.ncomp };
+            let width = if v.kind == ViewKind::ElementNode {
+                v.offsets.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(v.ncomp)
+            } else {
+                v.ncomp
+            };
             // A view covering few items with many components must not make the array
             // of every item huge: at most about the file's size in values.
             let limit = self.c.full.len() + (1 << 20);
@@ -1369,7 +1591,10 @@ impl<'a> Reader<'a> {
                     ErrorKind::ImplausibleCount {
                         what: format!("view `{}` ({width} values for each of {n} items)", v.name),
                         count: (n as u64).saturating_mul(width as u64),
-                        limit: format!("more values than the file's {} bytes justify", self.c.full.len()),
+                        limit: format!(
+                            "more values than the file's {} bytes justify",
+                            self.c.full.len()
+                        ),
                     },
                 ));
             }
@@ -1426,7 +1651,9 @@ fn runs_of(tags: impl Iterator<Item = u64>, pos0: usize, out: &mut Vec<(u64, usi
 }
 
 /// Runs in tag order; `Err(tag)` names a tag two runs share.
-fn sorted_runs(mut runs: Vec<(u64, usize, usize)>) -> std::result::Result<Vec<(u64, usize, usize)>, u64> {
+fn sorted_runs(
+    mut runs: Vec<(u64, usize, usize)>,
+) -> std::result::Result<Vec<(u64, usize, usize)>, u64> {
     runs.sort_unstable();
     match runs.windows(2).find(|w| w[0].0.saturating_add(w[0].2 as u64) > w[1].0) {
         Some(w) => Err(w[1].0),
@@ -1496,7 +1723,18 @@ pub(super) fn write_mesh_format(out: &mut Vec<u8>, version: &str, binary: bool) 
 /// A name as a quoted MSH string: Gmsh's reader stops at the next quote and at the end
 /// of the line, and keeps 127 characters of a physical name.
 fn quote_name(name: &str, what: &str, max_len: Option<usize>, report: &mut WriteReport) -> String {
-    let mut s: String = name.chars().map(|c| if c == '"' { '\'' } else if c == '\n' || c == '\r' { ' ' } else { c }).collect();
+    let mut s: String = name
+        .chars()
+        .map(|c| {
+            if c == '"' {
+                '\''
+            } else if c == '\n' || c == '\r' {
+                ' '
+            } else {
+                c
+            }
+        })
+        .collect();
     if s != name {
         report.drop(format!("{what} `{name}`: double quotes and line breaks cannot stand in an MSH name; written as `{s}`"));
     }
@@ -1517,7 +1755,9 @@ pub(super) fn write_physical_names(out: &mut Vec<u8>, mesh: &TaggedMesh, report:
     let names: Vec<_> = mesh.tag_names.iter().filter(|((d, _), _)| *d <= 3).collect();
     for ((d, t), n) in &mesh.tag_names {
         if *d > 3 {
-            report.drop(format!("name `{n}` of tag {t} of dimension {d}: MSH physical groups have dimension 0 to 3"));
+            report.drop(format!(
+                "name `{n}` of tag {t} of dimension {d}: MSH physical groups have dimension 0 to 3"
+            ));
         }
     }
     if names.is_empty() {
@@ -1540,7 +1780,13 @@ pub(super) fn write_physical_names(out: &mut Vec<u8>, mesh: &TaggedMesh, report:
 
 /// Every point array as `$NodeData` (node tag = index + 1) and every cell array as
 /// `$ElementData` (element tag `cell_tag(i)`).
-pub(super) fn write_views(out: &mut Vec<u8>, mesh: &TaggedMesh, binary: bool, cell_tag: &dyn Fn(usize) -> u64, report: &mut WriteReport) {
+pub(super) fn write_views(
+    out: &mut Vec<u8>,
+    mesh: &TaggedMesh,
+    binary: bool,
+    cell_tag: &dyn Fn(usize) -> u64,
+    report: &mut WriteReport,
+) {
     for (name, a) in &mesh.point_data {
         write_view(out, "NodeData", "point data", name, a, binary, |i| i as u64 + 1, report);
     }
@@ -1552,7 +1798,11 @@ pub(super) fn write_views(out: &mut Vec<u8>, mesh: &TaggedMesh, binary: bool, ce
 /// The binary entries of a view of `N` values per item: the 4-byte tag and the values
 /// as one record of known size (one capacity check per item). Every item is written;
 /// `true` when every value was finite.
-fn view_records<const N: usize>(out: &mut Vec<u8>, a: &DataArray, tag: impl Fn(usize) -> u64) -> bool {
+fn view_records<const N: usize>(
+    out: &mut Vec<u8>,
+    a: &DataArray,
+    tag: impl Fn(usize) -> u64,
+) -> bool {
     let mut rec = [0u8; 76];
     let mut finite = true;
     for (i, v) in a.values.chunks_exact(N).enumerate() {
@@ -1589,7 +1839,16 @@ fn view_end(out: &mut Vec<u8>, section: &str, binary: bool) {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn write_view(out: &mut Vec<u8>, section: &str, what: &str, name: &str, a: &DataArray, binary: bool, tag: impl Fn(usize) -> u64, report: &mut WriteReport) {
+fn write_view(
+    out: &mut Vec<u8>,
+    section: &str,
+    what: &str,
+    name: &str,
+    a: &DataArray,
+    binary: bool,
+    tag: impl Fn(usize) -> u64,
+    report: &mut WriteReport,
+) {
     // Gmsh's tensors are 9 components: a packed symmetric one is written in full.
     let a = &*a.expanded();
     let k = a.components;

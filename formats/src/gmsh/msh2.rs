@@ -1,9 +1,14 @@
 //! MSH 2.2: `$Nodes` (and `$ParametricNodes`) and `$Elements` with per-element tags
 //! (reference manual, "MSH file format version 2 (Legacy)"), and the 2.2 writer.
 
-use super::{cell_kind, le_f64, le_i32, write_mesh_format, write_physical_names, write_views, RawBlock, Reader, TagMap};
+use super::{
+    cell_kind, le_f64, le_i32, write_mesh_format, write_physical_names, write_views, RawBlock,
+    Reader, TagMap,
+};
 use crate::text::{push_f64, push_int};
-use crate::{CellBlock, CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport};
+use crate::{
+    CellBlock, CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport,
+};
 
 // ---------------------------------------------------------------------------------
 // Reading
@@ -17,7 +22,10 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position, parametric: b
     r.node_blocks.push((r.node_tags.len(), section_at));
     r.points.reserve(n);
     r.node_tags.reserve(n);
-    let bad_tag = |t: i64| ErrorKind::Expected { expected: "a node number of at least 1".into(), found: t.to_string() };
+    let bad_tag = |t: i64| ErrorKind::Expected {
+        expected: "a node number of at least 1".into(),
+        found: t.to_string(),
+    };
     if binary {
         r.c.end_text_line()?;
         if !parametric {
@@ -30,7 +38,13 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position, parametric: b
                 }
                 let xyz = [le_f64(&ch[4..12]), le_f64(&ch[12..20]), le_f64(&ch[20..28])];
                 if !xyz.iter().all(|c| c.is_finite()) {
-                    return Err(r.c.byte_err(p + i * 28 + 4, ErrorKind::NonFinite { what: format!("a coordinate of node {t}"), value: format!("{xyz:?}") }));
+                    return Err(r.c.byte_err(
+                        p + i * 28 + 4,
+                        ErrorKind::NonFinite {
+                            what: format!("a coordinate of node {t}"),
+                            value: format!("{xyz:?}"),
+                        },
+                    ));
                 }
                 r.node_tags.push(t as u64);
                 r.points.push(xyz);
@@ -42,11 +56,23 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position, parametric: b
                 if t <= 0 {
                     return Err(r.c.byte_err(p, bad_tag(t as i64)));
                 }
-                let xyz = [r.c.bin_f64("x coordinate")?, r.c.bin_f64("y coordinate")?, r.c.bin_f64("z coordinate")?];
+                let xyz = [
+                    r.c.bin_f64("x coordinate")?,
+                    r.c.bin_f64("y coordinate")?,
+                    r.c.bin_f64("z coordinate")?,
+                ];
                 let dp = r.c.pos();
                 let dim = r.c.bin_i32("dimension of the classifying entity")?;
                 r.c.bin_i32("tag of the classifying entity")?;
-                let extra = parametric_count(dim).ok_or_else(|| r.c.byte_err(dp, ErrorKind::Expected { expected: "an entity dimension 0 to 3".into(), found: dim.to_string() }))?;
+                let extra = parametric_count(dim).ok_or_else(|| {
+                    r.c.byte_err(
+                        dp,
+                        ErrorKind::Expected {
+                            expected: "an entity dimension 0 to 3".into(),
+                            found: dim.to_string(),
+                        },
+                    )
+                })?;
                 r.c.take(8 * extra, "parametric coordinates")?;
                 r.node_tags.push(t as u64);
                 r.points.push(xyz);
@@ -61,20 +87,39 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position, parametric: b
                 r.c.unscan(&s);
                 return Err(r.c.err(bad_tag(0)));
             }
-            let xyz = [r.c.scan_f64(&mut s, "x coordinate")?, r.c.scan_f64(&mut s, "y coordinate")?, r.c.scan_f64(&mut s, "z coordinate")?];
+            let xyz = [
+                r.c.scan_f64(&mut s, "x coordinate")?,
+                r.c.scan_f64(&mut s, "y coordinate")?,
+                r.c.scan_f64(&mut s, "z coordinate")?,
+            ];
             if parametric {
                 r.c.unscan(&s);
                 let dim = r.c.i32("dimension of the classifying entity")?;
                 r.c.i32("tag of the classifying entity")?;
-                let extra = parametric_count(dim).ok_or_else(|| r.c.err(ErrorKind::Expected { expected: "an entity dimension 0 to 3".into(), found: dim.to_string() }))?;
+                let extra = parametric_count(dim).ok_or_else(|| {
+                    r.c.err(ErrorKind::Expected {
+                        expected: "an entity dimension 0 to 3".into(),
+                        found: dim.to_string(),
+                    })
+                })?;
                 for _ in 0..extra {
                     r.c.f64("parametric coordinate")?;
                 }
                 s = r.c.scan();
             }
             if s.line() != line || !s.at_line_end() {
-                let expected = if parametric { "a node number, 3 coordinates, an entity and its parametric coordinates on one line" } else { "a node number and 3 coordinates on one line" };
-                return Err(r.c.err_at(Position::Line(line), ErrorKind::Expected { expected: expected.into(), found: "another number of values".into() }));
+                let expected = if parametric {
+                    "a node number, 3 coordinates, an entity and its parametric coordinates on one line"
+                } else {
+                    "a node number and 3 coordinates on one line"
+                };
+                return Err(r.c.err_at(
+                    Position::Line(line),
+                    ErrorKind::Expected {
+                        expected: expected.into(),
+                        found: "another number of values".into(),
+                    },
+                ));
             }
             r.node_tags.push(t);
             r.points.push(xyz);
@@ -122,7 +167,11 @@ impl Collector {
             if b.kind == kind {
                 let k = kind.nodes_per_cell();
                 let i = b.tags.len() - 1;
-                if follows && b.geometrical[i] == geometrical && b.physical[i] != physical && b.nodes[i * k..] == *nodes {
+                if follows
+                    && b.geometrical[i] == geometrical
+                    && b.physical[i] != physical
+                    && b.nodes[i * k..] == *nodes
+                {
                     // Same element, same entity, another physical group, the next
                     // number: Gmsh's way of writing an entity in several groups.
                     copy_of(r, tag, i, (kind.dim(), geometrical), [b.physical[i], physical]);
@@ -165,7 +214,15 @@ fn copy_of(r: &mut Reader<'_>, tag: u64, i: usize, entity: (u8, i32), groups: [i
 /// of the file): what [`Collector::add`] does for each, decoded straight into the block
 /// being filled, with the previous cell kept at hand for the check for Gmsh's copies.
 #[allow(clippy::too_many_arguments)]
-fn binary_block<const K: usize>(r: &mut Reader<'_>, col: &mut Collector, map: &TagMap, kind: CellKind, data: &[u8], p: usize, ntags: usize) -> Result<()> {
+fn binary_block<const K: usize>(
+    r: &mut Reader<'_>,
+    col: &mut Collector,
+    map: &TagMap,
+    kind: CellKind,
+    data: &[u8],
+    p: usize,
+    ntags: usize,
+) -> Result<()> {
     let rec = 4 * (1 + ntags + K);
     let off = 4 * (1 + ntags);
     let count = data.len() / rec;
@@ -205,7 +262,13 @@ fn binary_block<const K: usize>(r: &mut Reader<'_>, col: &mut Collector, map: &T
         let at = p + e * rec;
         let et = le_i32(ch);
         if et <= 0 {
-            return Err(r.c.byte_err(at, ErrorKind::Expected { expected: "an element number of at least 1".into(), found: et.to_string() }));
+            return Err(r.c.byte_err(
+                at,
+                ErrorKind::Expected {
+                    expected: "an element number of at least 1".into(),
+                    found: et.to_string(),
+                },
+            ));
         }
         let physical = if ntags >= 1 { le_i32(&ch[4..]) } else { 0 };
         let geometrical = if ntags >= 2 { le_i32(&ch[8..]) } else { 0 };
@@ -240,7 +303,9 @@ fn binary_block<const K: usize>(r: &mut Reader<'_>, col: &mut Collector, map: &T
 }
 
 fn missing(et: u64, nt: i64) -> ErrorKind {
-    ErrorKind::Inconsistent(format!("element {et} refers to node {nt}, which no $Nodes section defines"))
+    ErrorKind::Inconsistent(format!(
+        "element {et} refers to node {nt}, which no $Nodes section defines"
+    ))
 }
 
 /// `$Elements`: `number type ntags tags... nodes...` per element (ASCII), or blocks of
@@ -267,7 +332,13 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                 ));
             }
             if ntags < 0 {
-                return Err(r.c.byte_err(hp + 8, ErrorKind::Expected { expected: "a number of tags of at least 0".into(), found: ntags.to_string() }));
+                return Err(r.c.byte_err(
+                    hp + 8,
+                    ErrorKind::Expected {
+                        expected: "a number of tags of at least 0".into(),
+                        found: ntags.to_string(),
+                    },
+                ));
             }
             let (count, ntags, k) = (count as usize, ntags as usize, kind.nodes_per_cell());
             let rec = 4 * (1 + ntags + k);
@@ -291,10 +362,19 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             let line = s.line();
             if et == 0 {
                 r.c.unscan(&s);
-                return Err(r.c.err(ErrorKind::Expected { expected: "an element number of at least 1".into(), found: "0".into() }));
+                return Err(r.c.err(ErrorKind::Expected {
+                    expected: "an element number of at least 1".into(),
+                    found: "0".into(),
+                }));
             }
             let etype = r.c.scan_i64(&mut s, "element type")?;
-            let kind = match i32::try_from(etype).map_err(|_| ErrorKind::Expected { expected: "an element type".into(), found: etype.to_string() }).and_then(cell_kind) {
+            let kind = match i32::try_from(etype)
+                .map_err(|_| ErrorKind::Expected {
+                    expected: "an element type".into(),
+                    found: etype.to_string(),
+                })
+                .and_then(cell_kind)
+            {
                 Ok(k) => k,
                 Err(k) => {
                     r.c.unscan(&s);
@@ -308,7 +388,10 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                 let v = r.c.scan_i64(&mut s, "element tag")?;
                 let Ok(v) = i32::try_from(v) else {
                     r.c.unscan(&s);
-                    return Err(r.c.err(ErrorKind::Expected { expected: "an element tag (a 32-bit integer)".into(), found: v.to_string() }));
+                    return Err(r.c.err(ErrorKind::Expected {
+                        expected: "an element tag (a 32-bit integer)".into(),
+                        found: v.to_string(),
+                    }));
                 };
                 match j {
                     0 => physical = v,
@@ -334,7 +417,11 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                     },
                 ));
             }
-            col.add(r, Element { at: Position::Line(line), kind, tag: et, physical, geometrical }, &nodes[..k]);
+            col.add(
+                r,
+                Element { at: Position::Line(line), kind, tag: et, physical, geometrical },
+                &nodes[..k],
+            );
         }
         r.c.unscan(&s);
     }
@@ -365,7 +452,12 @@ fn element_record<const K: usize>(out: &mut Vec<u8>, head: [i32; 3], cell: &[Nod
 /// The binary elements of a block of `K`-node cells none of which has copies: what
 /// [`write`] does for each cell, numbering from `num`; each cell's element tag pushed
 /// to `cell_tag` when given.
-fn block_records<const K: usize>(out: &mut Vec<u8>, b: &CellBlock, num: &mut u32, mut cell_tag: Option<&mut Vec<u32>>) {
+fn block_records<const K: usize>(
+    out: &mut Vec<u8>,
+    b: &CellBlock,
+    num: &mut u32,
+    mut cell_tag: Option<&mut Vec<u32>>,
+) {
     let mut prev: Option<(i32, i32, &[NodeIndex])> = None;
     for ((cell, &p), &g) in b.nodes.chunks_exact(K).zip(&b.physical).zip(&b.geometrical) {
         // A cell equal to the one before but for its physical tag: a gap in the
@@ -386,7 +478,12 @@ fn block_records<const K: usize>(out: &mut Vec<u8>, b: &CellBlock, num: &mut u32
 
 /// Writes MSH 2.2: nodes tagged index + 1, each cell with its physical and elementary
 /// tag, once more for each further physical group `entities` lists for its entity.
-pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) -> Result<()> {
+pub(super) fn write(
+    mesh: &TaggedMesh,
+    binary: bool,
+    out: &mut Vec<u8>,
+    report: &mut WriteReport,
+) -> Result<()> {
     write_mesh_format(out, "2.2", binary);
     write_physical_names(out, mesh, report);
 
@@ -438,7 +535,11 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
     let elements = |b: &CellBlock| -> usize {
         let dim = b.kind.dim();
         if has_copies(dim) {
-            b.physical.iter().zip(&b.geometrical).map(|(&p, &g)| 1 + copies(dim, g, p).count()).sum()
+            b.physical
+                .iter()
+                .zip(&b.geometrical)
+                .map(|(&p, &g)| 1 + copies(dim, g, p).count())
+                .sum()
         } else {
             b.len()
         }
@@ -503,7 +604,8 @@ pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: 
             let (p, g) = (b.physical[i], b.geometrical[i]);
             // A cell equal to the one before but for its physical tag would read as
             // Gmsh's copy of it: a gap in the numbering keeps it a cell of its own.
-            if i > 0 && b.geometrical[i - 1] == g && b.physical[i - 1] != p && b.cell(i - 1) == cell {
+            if i > 0 && b.geometrical[i - 1] == g && b.physical[i - 1] != p && b.cell(i - 1) == cell
+            {
                 num += 1;
             }
             if keep_tags {

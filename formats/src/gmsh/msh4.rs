@@ -3,7 +3,10 @@
 
 use std::collections::BTreeMap;
 
-use super::{cell_kind, le_f64, le_i32, le_size, write_mesh_format, write_physical_names, write_views, RawBlock, Reader};
+use super::{
+    cell_kind, le_f64, le_i32, le_size, write_mesh_format, write_physical_names, write_views,
+    RawBlock, Reader,
+};
 use crate::text::{push_f64, push_int};
 use crate::{CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport};
 
@@ -24,7 +27,8 @@ pub(super) fn read_entities(r: &mut Reader<'_>) -> Result<()> {
         }
     } else {
         for d in 0..4 {
-            counts[d] = r.c.count(&format!("number of {}", names[d]), if d == 0 { 10 } else { 18 })?;
+            counts[d] =
+                r.c.count(&format!("number of {}", names[d]), if d == 0 { 10 } else { 18 })?;
         }
     }
     for (dim, &count) in counts.iter().enumerate() {
@@ -60,7 +64,13 @@ pub(super) fn read_entities(r: &mut Reader<'_>) -> Result<()> {
                 }
             }
             if r.entities.insert((dim as u8, tag), phys).is_some() {
-                return Err(r.c.err_at(at, ErrorKind::Inconsistent(format!("{} {tag} is defined twice in $Entities", &names[dim][..names[dim].len() - 1]))));
+                return Err(r.c.err_at(
+                    at,
+                    ErrorKind::Inconsistent(format!(
+                        "{} {tag} is defined twice in $Entities",
+                        &names[dim][..names[dim].len() - 1]
+                    )),
+                ));
             }
         }
     }
@@ -68,12 +78,22 @@ pub(super) fn read_entities(r: &mut Reader<'_>) -> Result<()> {
 }
 
 /// The four `size_t` of a `$Nodes` or `$Elements` header: blocks, items, min and max tag.
-fn section_header(r: &mut Reader<'_>, item: &str, min_block: usize, min_item: usize) -> Result<(usize, usize)> {
+fn section_header(
+    r: &mut Reader<'_>,
+    item: &str,
+    min_block: usize,
+    min_item: usize,
+) -> Result<(usize, usize)> {
     section_header_tags(r, item, min_block, min_item).map(|(blocks, n, _, _)| (blocks, n))
 }
 
 /// [`section_header`] with the smallest and largest tag it announces.
-fn section_header_tags(r: &mut Reader<'_>, item: &str, min_block: usize, min_item: usize) -> Result<(usize, usize, u64, u64)> {
+fn section_header_tags(
+    r: &mut Reader<'_>,
+    item: &str,
+    min_block: usize,
+    min_item: usize,
+) -> Result<(usize, usize, u64, u64)> {
     if r.c.binary {
         let st = r.size_t;
         r.c.end_text_line()?;
@@ -92,7 +112,12 @@ fn section_header_tags(r: &mut Reader<'_>, item: &str, min_block: usize, min_ite
 }
 
 /// The `entityDim entityTag x n` header of a block.
-fn block_header(r: &mut Reader<'_>, third: &str, item: &str, min_item: usize) -> Result<(i32, i32, i32, usize)> {
+fn block_header(
+    r: &mut Reader<'_>,
+    third: &str,
+    item: &str,
+    min_item: usize,
+) -> Result<(i32, i32, i32, usize)> {
     let at = r.c.mark();
     let (dim, tag, x, n) = if r.c.binary {
         let dim = r.c.bin_i32("entity dimension")?;
@@ -108,7 +133,13 @@ fn block_header(r: &mut Reader<'_>, third: &str, item: &str, min_item: usize) ->
         (dim, tag, x, n)
     };
     if !(0..=3).contains(&dim) {
-        return Err(r.c.err_at(at, ErrorKind::Expected { expected: "an entity dimension 0 to 3".into(), found: dim.to_string() }));
+        return Err(r.c.err_at(
+            at,
+            ErrorKind::Expected {
+                expected: "an entity dimension 0 to 3".into(),
+                found: dim.to_string(),
+            },
+        ));
     }
     Ok((dim, tag, x, n))
 }
@@ -131,7 +162,8 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
     let st = r.size_t;
     // Smallest node: `1\n0 0 0\n` in ASCII, a size_t and 3 doubles in binary.
     let min_node = if binary { st + 24 } else { 8 };
-    let (n_blocks, n_nodes) = section_header(r, "node", if binary { 12 + st } else { 8 }, min_node)?;
+    let (n_blocks, n_nodes) =
+        section_header(r, "node", if binary { 12 + st } else { 8 }, min_node)?;
     r.points.reserve(n_nodes);
     r.node_tags.reserve(n_nodes);
     let mut total = 0usize;
@@ -144,7 +176,13 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
             for (i, ch) in tags.chunks_exact(st).enumerate() {
                 let t = le_size(ch, st);
                 if t == 0 {
-                    return Err(r.c.byte_err(p + i * st, ErrorKind::Expected { expected: "a node tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+                    return Err(r.c.byte_err(
+                        p + i * st,
+                        ErrorKind::Expected {
+                            expected: "a node tag of at least 1 (0 is reserved)".into(),
+                            found: "0".into(),
+                        },
+                    ));
                 }
                 r.node_tags.push(t);
             }
@@ -153,7 +191,13 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
             for (i, ch) in coords.chunks_exact(8 * width).enumerate() {
                 let xyz = [le_f64(&ch[0..8]), le_f64(&ch[8..16]), le_f64(&ch[16..24])];
                 if !xyz.iter().all(|c| c.is_finite()) {
-                    return Err(r.c.byte_err(p + i * 8 * width, ErrorKind::NonFinite { what: "a node coordinate".into(), value: format!("{xyz:?}") }));
+                    return Err(r.c.byte_err(
+                        p + i * 8 * width,
+                        ErrorKind::NonFinite {
+                            what: "a node coordinate".into(),
+                            value: format!("{xyz:?}"),
+                        },
+                    ));
                 }
                 r.points.push(xyz);
             }
@@ -163,19 +207,32 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
                 let t = r.c.scan_u64(&mut s, "node tag")?;
                 if t == 0 {
                     r.c.unscan(&s);
-                    return Err(r.c.err(ErrorKind::Expected { expected: "a node tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+                    return Err(r.c.err(ErrorKind::Expected {
+                        expected: "a node tag of at least 1 (0 is reserved)".into(),
+                        found: "0".into(),
+                    }));
                 }
                 r.node_tags.push(t);
             }
             for _ in 0..n {
                 let x = r.c.scan_f64(&mut s, "x coordinate")?;
                 let line = s.line();
-                let xyz = [x, r.c.scan_f64(&mut s, "y coordinate")?, r.c.scan_f64(&mut s, "z coordinate")?];
+                let xyz = [
+                    x,
+                    r.c.scan_f64(&mut s, "y coordinate")?,
+                    r.c.scan_f64(&mut s, "z coordinate")?,
+                ];
                 for _ in 3..width {
                     r.c.scan_f64(&mut s, "parametric coordinate")?;
                 }
                 if s.line() != line {
-                    return Err(r.c.err_at(Position::Line(line), ErrorKind::Expected { expected: format!("{width} coordinates on the line"), found: "fewer".into() }));
+                    return Err(r.c.err_at(
+                        Position::Line(line),
+                        ErrorKind::Expected {
+                            expected: format!("{width} coordinates on the line"),
+                            found: "fewer".into(),
+                        },
+                    ));
                 }
                 r.points.push(xyz);
             }
@@ -183,7 +240,12 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
         }
     }
     if total != n_nodes {
-        return Err(r.c.err_at(section_at, ErrorKind::Inconsistent(format!("$Nodes announces {n_nodes} nodes, but its blocks hold {total}"))));
+        return Err(r.c.err_at(
+            section_at,
+            ErrorKind::Inconsistent(format!(
+                "$Nodes announces {n_nodes} nodes, but its blocks hold {total}"
+            )),
+        ));
     }
     r.nodes_changed();
     r.c.expect_end("Nodes")
@@ -192,15 +254,31 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
 /// The header of the next `$Nodes` block, checked: where it starts, its node count and
 /// the width of one node's record in values (3 coordinates, plus the parametric ones);
 /// `total` counts the nodes of the blocks so far against the section's `n_nodes`.
-fn node_block_header(r: &mut Reader<'_>, min_node: usize, n_nodes: usize, total: &mut usize) -> Result<(Position, usize, usize)> {
+fn node_block_header(
+    r: &mut Reader<'_>,
+    min_node: usize,
+    n_nodes: usize,
+    total: &mut usize,
+) -> Result<(Position, usize, usize)> {
     let block_at = r.c.mark();
     let (dim, _tag, parametric, n) = block_header(r, "parametric flag", "node", min_node)?;
     if parametric != 0 && parametric != 1 {
-        return Err(r.c.err_at(block_at, ErrorKind::Expected { expected: "a parametric flag 0 or 1".into(), found: parametric.to_string() }));
+        return Err(r.c.err_at(
+            block_at,
+            ErrorKind::Expected {
+                expected: "a parametric flag 0 or 1".into(),
+                found: parametric.to_string(),
+            },
+        ));
     }
     *total += n;
     if *total > n_nodes {
-        return Err(r.c.err_at(block_at, ErrorKind::Inconsistent(format!("the node blocks hold more nodes than the $Nodes header announces ({n_nodes})"))));
+        return Err(r.c.err_at(
+            block_at,
+            ErrorKind::Inconsistent(format!(
+                "the node blocks hold more nodes than the $Nodes header announces ({n_nodes})"
+            )),
+        ));
     }
     Ok((block_at, n, 3 + if parametric == 1 { dim as usize } else { 0 }))
 }
@@ -234,7 +312,13 @@ fn binary_nodes_in_tag_order(r: &mut Reader<'_>, section_at: Position) -> Result
         for (i, ch) in tags.chunks_exact(st).enumerate() {
             let t = le_size(ch, st);
             if t == 0 {
-                return Err(r.c.byte_err(p + i * st, ErrorKind::Expected { expected: "a node tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+                return Err(r.c.byte_err(
+                    p + i * st,
+                    ErrorKind::Expected {
+                        expected: "a node tag of at least 1 (0 is reserved)".into(),
+                        found: "0".into(),
+                    },
+                ));
             }
             if t < lo || t > hi {
                 return Ok(false);
@@ -250,14 +334,25 @@ fn binary_nodes_in_tag_order(r: &mut Reader<'_>, section_at: Position) -> Result
         for (i, (tag, ch)) in tags.chunks_exact(st).zip(coords.chunks_exact(rec)).enumerate() {
             let xyz = [le_f64(&ch[0..8]), le_f64(&ch[8..16]), le_f64(&ch[16..24])];
             if !xyz.iter().all(|c| c.is_finite()) {
-                return Err(r.c.byte_err(p + i * rec, ErrorKind::NonFinite { what: "a node coordinate".into(), value: format!("{xyz:?}") }));
+                return Err(r.c.byte_err(
+                    p + i * rec,
+                    ErrorKind::NonFinite {
+                        what: "a node coordinate".into(),
+                        value: format!("{xyz:?}"),
+                    },
+                ));
             }
             // In range: checked with the tags above.
             points[(le_size(tag, st) - lo) as usize] = xyz;
         }
     }
     if total != n_nodes {
-        return Err(r.c.err_at(section_at, ErrorKind::Inconsistent(format!("$Nodes announces {n_nodes} nodes, but its blocks hold {total}"))));
+        return Err(r.c.err_at(
+            section_at,
+            ErrorKind::Inconsistent(format!(
+                "$Nodes announces {n_nodes} nodes, but its blocks hold {total}"
+            )),
+        ));
     }
     // `n_nodes` tags in a range of `n_nodes`: each is there once if no two runs overlap.
     runs.sort_unstable();
@@ -276,12 +371,18 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
     let section_at = r.c.mark();
     let binary = r.c.binary;
     let st = r.size_t;
-    let (n_blocks, n_elems) = section_header(r, "element", if binary { 12 + st } else { 8 }, if binary { 2 * st } else { 4 })?;
+    let (n_blocks, n_elems) = section_header(
+        r,
+        "element",
+        if binary { 12 + st } else { 8 },
+        if binary { 2 * st } else { 4 },
+    )?;
     let map = r.take_node_map()?;
     let mut total = 0usize;
     for _ in 0..n_blocks {
         let block_at = r.c.mark();
-        let (dim, tag, etype, n) = block_header(r, "element type", "element", if binary { 2 * st } else { 4 })?;
+        let (dim, tag, etype, n) =
+            block_header(r, "element type", "element", if binary { 2 * st } else { 4 })?;
         let kind = cell_kind(etype).map_err(|k| r.c.err_at(block_at, k))?;
         let k = kind.nodes_per_cell();
         total += n;
@@ -312,7 +413,10 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                 let line = s.line();
                 if et == 0 {
                     r.c.unscan(&s);
-                    return Err(r.c.err(ErrorKind::Expected { expected: "an element tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+                    return Err(r.c.err(ErrorKind::Expected {
+                        expected: "an element tag of at least 1 (0 is reserved)".into(),
+                        found: "0".into(),
+                    }));
                 }
                 b.tags.push(et);
                 for _ in 0..k {
@@ -326,7 +430,13 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                 if s.line() != line || !s.at_line_end() {
                     return Err(r.c.err_at(
                         Position::Line(line),
-                        ErrorKind::Expected { expected: format!("{k} node tags after element {et} (a {})", kind.name()), found: "another number of values on the line".into() },
+                        ErrorKind::Expected {
+                            expected: format!(
+                                "{k} node tags after element {et} (a {})",
+                                kind.name()
+                            ),
+                            found: "another number of values on the line".into(),
+                        },
                     ));
                 }
             }
@@ -335,24 +445,43 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
         r.push_raw(b);
     }
     if total != n_elems {
-        return Err(r.c.err_at(section_at, ErrorKind::Inconsistent(format!("$Elements announces {n_elems} elements, but its blocks hold {total}"))));
+        return Err(r.c.err_at(
+            section_at,
+            ErrorKind::Inconsistent(format!(
+                "$Elements announces {n_elems} elements, but its blocks hold {total}"
+            )),
+        ));
     }
     r.put_node_map(map);
     r.c.expect_end("Elements")
 }
 
 fn missing(et: u64, nt: u64) -> ErrorKind {
-    ErrorKind::Inconsistent(format!("element {et} refers to node {nt}, which no $Nodes section defines"))
+    ErrorKind::Inconsistent(format!(
+        "element {et} refers to node {nt}, which no $Nodes section defines"
+    ))
 }
 
 /// Binary element records of `ST`-byte `size_t`s: a tag then the node tags.
-fn binary_elements<const ST: usize>(r: &Reader<'_>, map: &super::TagMap, b: &mut RawBlock, data: &[u8], p: usize) -> Result<()> {
+fn binary_elements<const ST: usize>(
+    r: &Reader<'_>,
+    map: &super::TagMap,
+    b: &mut RawBlock,
+    data: &[u8],
+    p: usize,
+) -> Result<()> {
     let k = b.kind.nodes_per_cell();
     let rec = (1 + k) * ST;
     for (e, ch) in data.chunks_exact(rec).enumerate() {
         let et = le_size(ch, ST);
         if et == 0 {
-            return Err(r.c.byte_err(p + e * rec, ErrorKind::Expected { expected: "an element tag of at least 1 (0 is reserved)".into(), found: "0".into() }));
+            return Err(r.c.byte_err(
+                p + e * rec,
+                ErrorKind::Expected {
+                    expected: "an element tag of at least 1 (0 is reserved)".into(),
+                    found: "0".into(),
+                },
+            ));
         }
         b.tags.push(et);
         for (j, t) in ch[ST..].chunks_exact(ST).enumerate() {
@@ -470,7 +599,12 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
     let mut alloc = |d: u8| -> Result<i32> {
         let t = next_free[d as usize];
         next_free[d as usize] += 1;
-        i32::try_from(t).map_err(|_| Error::new(ErrorKind::CannotWrite { format: "Gmsh MSH", reason: format!("no free {d}D entity tag is left above the largest one in use") }))
+        i32::try_from(t).map_err(|_| {
+            Error::new(ErrorKind::CannotWrite {
+                format: "Gmsh MSH",
+                reason: format!("no free {d}D entity tag is left above the largest one in use"),
+            })
+        })
     };
 
     // 3. An entity per (dimension, geometrical tag); cells of other physical tags than
@@ -502,12 +636,18 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
             _ => first_phys.get(&(d, g)).copied().unwrap_or(0),
         };
         let tags = match listed {
-            Some(l) if l.contains(&home) => std::iter::once(home).chain(l.iter().copied().filter(|&p| p != home)).collect(),
+            Some(l) if l.contains(&home) => {
+                std::iter::once(home).chain(l.iter().copied().filter(|&p| p != home)).collect()
+            }
             Some(l) => {
                 report.drop(format!(
                     "{d}D entity {g}: its physical groups {l:?} do not include its cells' group {home}; written with group {home} only"
                 ));
-                if home != 0 { vec![home] } else { vec![] }
+                if home != 0 {
+                    vec![home]
+                } else {
+                    vec![]
+                }
             }
             None if home != 0 => vec![home],
             None => vec![],
@@ -539,7 +679,9 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
     // Entities without cells keep their groups.
     for (&(d, t), list) in &mesh.entities {
         if d > 3 || t <= 0 {
-            report.drop(format!("entity ({d}, {t}): Gmsh entities have a dimension 0 to 3 and a positive tag"));
+            report.drop(format!(
+                "entity ({d}, {t}): Gmsh entities have a dimension 0 to 3 and a positive tag"
+            ));
         } else {
             ents.entry((d, t)).or_insert_with(|| list.clone());
         }
@@ -554,16 +696,29 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
     };
 
     // 4. Entities in (dimension, tag) order.
-    let index: BTreeMap<(u8, i32), u32> = ents.keys().enumerate().map(|(i, &k)| (k, i as u32)).collect();
-    let mut ents: Vec<Ent> =
-        ents.into_iter().map(|((dim, tag), phys)| Ent { dim, tag, phys, lo: [0.0; 3], hi: [0.0; 3], has_box: false, point: None }).collect();
+    let index: BTreeMap<(u8, i32), u32> =
+        ents.keys().enumerate().map(|(i, &k)| (k, i as u32)).collect();
+    let mut ents: Vec<Ent> = ents
+        .into_iter()
+        .map(|((dim, tag), phys)| Ent {
+            dim,
+            tag,
+            phys,
+            lo: [0.0; 3],
+            hi: [0.0; 3],
+            has_box: false,
+            point: None,
+        })
+        .collect();
     let combo_idx: Vec<u32> = combo_ent.iter().map(|k| index[k]).collect();
 
     // 5. Element blocks by (entity, kind): a counting sort of the runs (stable, so the
     //    cells of a block keep the mesh's order).
     let nk = CellKind::ALL.len();
     let mut counts = vec![0usize; ents.len() * nk + 1];
-    let run_key = |&(run, id): &(Run, u32)| combo_idx[id as usize] as usize * nk + kind_index(mesh.blocks[run.block as usize].kind);
+    let run_key = |&(run, id): &(Run, u32)| {
+        combo_idx[id as usize] as usize * nk + kind_index(mesh.blocks[run.block as usize].kind)
+    };
     for cr in &cell_runs {
         counts[run_key(cr) + 1] += 1;
     }
@@ -614,7 +769,10 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
     // Nodes no cell uses: on the first entity of the highest dimension with cells.
     let host = match host_key {
         Some(k) => Some(index[&k]),
-        None => groups.iter().map(|g| g.0).max_by_key(|&e| (ents[e as usize].dim, std::cmp::Reverse(ents[e as usize].tag))),
+        None => groups
+            .iter()
+            .map(|g| g.0)
+            .max_by_key(|&e| (ents[e as usize].dim, std::cmp::Reverse(ents[e as usize].tag))),
     };
     if let Some(h) = host {
         for (v, e) in node_ent.iter_mut().enumerate() {
@@ -639,7 +797,10 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
         nodes[fill[e as usize]] = v as u32;
         fill[e as usize] += 1;
     }
-    let node_groups = (0..ents.len()).filter(|&e| ncounts[e + 1] > ncounts[e]).map(|e| (e as u32, ncounts[e]..ncounts[e + 1])).collect();
+    let node_groups = (0..ents.len())
+        .filter(|&e| ncounts[e + 1] > ncounts[e])
+        .map(|e| (e as u32, ncounts[e]..ncounts[e + 1]))
+        .collect();
     Ok(Plan { ents, groups, runs, node_groups, nodes })
 }
 
@@ -676,7 +837,8 @@ fn write_entities(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
             out.push(if i < 3 { b' ' } else { b'\n' });
         }
     }
-    let first_node: BTreeMap<u32, usize> = plan.node_groups.iter().map(|(e, r)| (*e, plan.nodes[r.start] as usize)).collect();
+    let first_node: BTreeMap<u32, usize> =
+        plan.node_groups.iter().map(|(e, r)| (*e, plan.nodes[r.start] as usize)).collect();
     for (ei, e) in plan.ents.iter().enumerate() {
         if binary {
             out.extend_from_slice(&e.tag.to_le_bytes());
@@ -684,7 +846,10 @@ fn write_entities(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
             push_int(out, e.tag);
         }
         if e.dim == 0 {
-            let p = e.point.or_else(|| first_node.get(&(ei as u32)).copied()).map_or([0.0; 3], |v| mesh.points[v]);
+            let p = e
+                .point
+                .or_else(|| first_node.get(&(ei as u32)).copied())
+                .map_or([0.0; 3], |v| mesh.points[v]);
             push_f64s(out, &p, binary);
         } else {
             push_f64s(out, &e.lo, binary);
@@ -858,7 +1023,12 @@ fn element_records<const K: usize>(out: &mut Vec<u8>, first: usize, nodes: &[Nod
 }
 
 /// Writes MSH 4.1.
-pub(super) fn write(mesh: &TaggedMesh, binary: bool, out: &mut Vec<u8>, report: &mut WriteReport) -> Result<()> {
+pub(super) fn write(
+    mesh: &TaggedMesh,
+    binary: bool,
+    out: &mut Vec<u8>,
+    report: &mut WriteReport,
+) -> Result<()> {
     let plan = plan(mesh, report)?;
     write_mesh_format(out, "4.1", binary);
     write_physical_names(out, mesh, report);

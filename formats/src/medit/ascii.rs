@@ -15,7 +15,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<Parsed> {
     while let Some(tok) = t.next() {
         let line = t.line();
         let Some(code) = lookup(tok) else {
-            let what = if tok[0].is_ascii_alphabetic() { "a keyword of libMeshb's table" } else { "a keyword" };
+            let what = if tok[0].is_ascii_alphabetic() {
+                "a keyword of libMeshb's table"
+            } else {
+                "a keyword"
+            };
             return Err(t.expected(what, tok));
         };
         match code {
@@ -23,7 +27,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<Parsed> {
             KW_VERSION => {
                 let v = t.i64("the version after MeshVersionFormatted")?;
                 if !(1..=4).contains(&v) {
-                    return Err(Error::expected(t.line(), "MeshVersionFormatted 1, 2, 3 or 4", v.to_string()));
+                    return Err(Error::expected(
+                        t.line(),
+                        "MeshVersionFormatted 1, 2, 3 or 4",
+                        v.to_string(),
+                    ));
                 }
             }
             KW_DIMENSION => {
@@ -33,7 +41,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<Parsed> {
                 }
                 // Everything read so far was laid out with the first one.
                 if p.dim != 0 && p.dim != d as u8 {
-                    return Err(Error::at_line(t.line(), ErrorKind::Inconsistent(format!("Dimension {d} after Dimension {}", p.dim))));
+                    return Err(Error::at_line(
+                        t.line(),
+                        ErrorKind::Inconsistent(format!("Dimension {d} after Dimension {}", p.dim)),
+                    ));
                 }
                 p.dim = d as u8;
             }
@@ -49,7 +60,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<Parsed> {
                     if n > 0 && is_volume(code) {
                         return Err(Error::at_line(
                             line,
-                            ErrorKind::Unsupported(format!("{n} {}: smartmesh reads 2D meshes (no volume elements)", KEYWORDS[code].name)),
+                            ErrorKind::Unsupported(format!(
+                                "{n} {}: smartmesh reads 2D meshes (no volume elements)",
+                                KEYWORDS[code].name
+                            )),
                         ));
                     }
                 }
@@ -70,13 +84,17 @@ fn need_dim(p: &Parsed, line: u64, what: &str) -> Result<usize> {
 #[inline]
 fn reference(t: &mut Tokens<'_>, what: &str) -> Result<i32> {
     let v = t.i64(what)?;
-    i32::try_from(v).map_err(|_| Error::expected(t.line(), format!("{what} (a 32-bit integer)"), v.to_string()))
+    i32::try_from(v)
+        .map_err(|_| Error::expected(t.line(), format!("{what} (a 32-bit integer)"), v.to_string()))
 }
 
 fn read_vertices(t: &mut Tokens<'_>, p: &mut Parsed, line: u64) -> Result<()> {
     let dim = need_dim(p, line, "Vertices")?;
     if p.vertices_read {
-        return Err(Error::at_line(line, ErrorKind::Inconsistent("a second Vertices keyword".into())));
+        return Err(Error::at_line(
+            line,
+            ErrorKind::Inconsistent("a second Vertices keyword".into()),
+        ));
     }
     let n = t.count("number of vertices", 2 * (dim + 1))?;
     p.points.reserve_exact(n);
@@ -114,7 +132,9 @@ fn fast_vertices(t: &mut Tokens<'_>, p: &mut Parsed, dim: usize, max: usize) -> 
             }
         }
         s.ws();
-        let Some(r) = s.int().and_then(|r| i32::try_from(r).ok()) else { return finish(t, end, done) };
+        let Some(r) = s.int().and_then(|r| i32::try_from(r).ok()) else {
+            return finish(t, end, done);
+        };
         p.points.push(c);
         p.refs.push(r);
         done += 1;
@@ -183,7 +203,9 @@ fn fast_elements(t: &mut Tokens<'_>, e: &mut Elements, k: usize, nv: usize, max:
             }
         }
         s.ws();
-        let Some(r) = s.int().and_then(|r| i32::try_from(r).ok()) else { return finish(t, end, done) };
+        let Some(r) = s.int().and_then(|r| i32::try_from(r).ok()) else {
+            return finish(t, end, done);
+        };
         e.nodes.extend_from_slice(&v[..k]);
         e.refs.push(r);
         done += 1;
@@ -237,7 +259,8 @@ fn read_sol(t: &mut Tokens<'_>, p: &mut Parsed, line: u64) -> Result<()> {
     let n = t.count("number of vertices of SolAtVertices", 2)?;
     let types = sol_types(t, p.dim, "SolAtVertices")?;
     let stride: usize = types.iter().map(|&ty| sol_size(ty, p.dim).unwrap_or(0)).sum();
-    crate::text::check_count(n.saturating_mul(stride), t.remaining().len(), 2, "solution values").map_err(|k| Error::at_line(line, k))?;
+    crate::text::check_count(n.saturating_mul(stride), t.remaining().len(), 2, "solution values")
+        .map_err(|k| Error::at_line(line, k))?;
     let mut values = Vec::with_capacity(n * stride);
     while values.len() < n * stride {
         fast_reals(t, &mut values, n * stride);
@@ -269,7 +292,10 @@ fn skip(t: &mut Tokens<'_>, kw: &Keyword, dim: u8, line: u64) -> Result<usize> {
     let unknown = || {
         Error::at_line(
             line,
-            ErrorKind::Unsupported(format!("keyword {} (layout `{}`, which smartmesh cannot skip in ASCII)", kw.name, kw.layout)),
+            ErrorKind::Unsupported(format!(
+                "keyword {} (layout `{}`, which smartmesh cannot skip in ASCII)",
+                kw.name, kw.layout
+            )),
         )
     };
     let layout = kw.layout.as_bytes();
@@ -311,7 +337,8 @@ fn skip(t: &mut Tokens<'_>, kw: &Keyword, dim: u8, line: u64) -> Result<usize> {
         }
     }
     let (numbers, strings) = fields(sol)?;
-    crate::text::check_count(n.saturating_mul(numbers), t.remaining().len(), 2, kw.name).map_err(|k| Error::at_line(line, k))?;
+    crate::text::check_count(n.saturating_mul(numbers), t.remaining().len(), 2, kw.name)
+        .map_err(|k| Error::at_line(line, k))?;
     for _ in 0..n {
         for _ in 0..numbers {
             t.token("a number")?;
@@ -342,7 +369,12 @@ fn keyword(out: &mut Vec<u8>, code: usize, n: usize) {
 }
 
 pub(super) fn write_mesh(m: &Out<'_>) -> Vec<u8> {
-    let ncells: usize = m.elements.iter().flat_map(|(_, b)| b.iter()).map(|b| b.physical.len() * (b.kind.nodes_per_cell() + 1)).sum();
+    let ncells: usize = m
+        .elements
+        .iter()
+        .flat_map(|(_, b)| b.iter())
+        .map(|b| b.physical.len() * (b.kind.nodes_per_cell() + 1))
+        .sum();
     let mut out = Vec::with_capacity(m.points.len() * (26 * m.dim as usize + 4) + ncells * 9 + 256);
     header(&mut out, m.dim);
     keyword(&mut out, KW_VERTICES, m.points.len());

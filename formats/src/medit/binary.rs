@@ -110,7 +110,11 @@ enum Bad {
 /// The records are decoded into arrays of their final length with no test in the
 /// loop; the faulty record is looked for only when the folds below say there is one.
 #[inline(never)]
-fn elements<const LE: bool, const I8: bool, const K: usize>(data: &[u8], nodes: &mut [NodeIndex], refs: &mut [i32]) -> Result<usize, Bad> {
+fn elements<const LE: bool, const I8: bool, const K: usize>(
+    data: &[u8],
+    nodes: &mut [NodeIndex],
+    refs: &mut [i32],
+) -> Result<usize, Bad> {
     let isz = if I8 { 8 } else { 4 };
     let records = data.chunks_exact((K + 1) * isz);
     let n = records.len();
@@ -139,7 +143,9 @@ fn elements<const LE: bool, const I8: bool, const K: usize>(data: &[u8], nodes: 
         // The first faulty record, and in it the first faulty number, as a loop that
         // stops there would find them.
         for (i, rec) in data.chunks_exact((K + 1) * isz).enumerate() {
-            if let Some(v) = (0..K).map(|j| int_at::<LE, I8>(&rec[j * isz..])).find(|&v| !node_ok(v)) {
+            if let Some(v) =
+                (0..K).map(|j| int_at::<LE, I8>(&rec[j * isz..])).find(|&v| !node_ok(v))
+            {
                 return Err(Bad::Node(i, v));
             }
             let x = int_at::<LE, I8>(&rec[K * isz..]);
@@ -152,7 +158,12 @@ fn elements<const LE: bool, const I8: bool, const K: usize>(data: &[u8], nodes: 
 }
 
 /// [`elements`] for every byte order, integer size and node count smartmesh reads.
-fn elements_any<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &mut [NodeIndex], refs: &mut [i32]) -> Result<usize, Bad> {
+fn elements_any<const LE: bool, const I8: bool>(
+    data: &[u8],
+    k: usize,
+    nodes: &mut [NodeIndex],
+    refs: &mut [i32],
+) -> Result<usize, Bad> {
     match k {
         2 => elements::<LE, I8, 2>(data, nodes, refs),
         3 => elements::<LE, I8, 3>(data, nodes, refs),
@@ -165,7 +176,12 @@ fn elements_any<const LE: bool, const I8: bool>(data: &[u8], k: usize, nodes: &m
 /// Decodes vertices into `points` (of the final length, zeroed). Their references go to
 /// `refs` only when one is not 0: an empty `refs` stands for all 0, what most files
 /// hold, and saves an array of fresh memory.
-fn vertices<const LE: bool, const I8: bool, const R4: bool>(data: &[u8], dim: usize, points: &mut [[f64; 3]], refs: &mut Vec<i32>) -> Result<(), Bad> {
+fn vertices<const LE: bool, const I8: bool, const R4: bool>(
+    data: &[u8],
+    dim: usize,
+    points: &mut [[f64; 3]],
+    refs: &mut Vec<i32>,
+) -> Result<(), Bad> {
     let (isz, rsz) = (if I8 { 8 } else { 4 }, if R4 { 4 } else { 8 });
     let size = dim * rsz + isz;
     // One pass with no test in the loop: finiteness and the range of the references
@@ -185,7 +201,9 @@ fn vertices<const LE: bool, const I8: bool, const R4: bool>(data: &[u8], dim: us
     let ref_ok = |r: i64| i32::try_from(r).is_ok();
     if !finite || !ref_ok(lo) || !ref_ok(hi) {
         for (i, rec) in data.chunks_exact(size).enumerate() {
-            if let Some(x) = (0..dim).map(|c| real_at::<LE, R4>(&rec[c * rsz..])).find(|x| !x.is_finite()) {
+            if let Some(x) =
+                (0..dim).map(|c| real_at::<LE, R4>(&rec[c * rsz..])).find(|x| !x.is_finite())
+            {
                 return Err(Bad::Coord(i, x));
             }
             let r = int_at::<LE, I8>(&rec[dim * rsz..]);
@@ -232,22 +250,26 @@ fn finite_reals(data: &[u8]) -> Result<(), Bad> {
 /// Reads the keywords of a binary file.
 pub(super) fn read(b: &[u8]) -> Result<Parsed> {
     let code = scalar(b, 0, 4, true, "the endianness code (1)")?;
-    let le = match code {
-        1 => true,
-        16777216 => false,
-        _ => {
-            return Err(Error::at_byte(
+    let le =
+        match code {
+            1 => true,
+            16777216 => false,
+            _ => return Err(Error::at_byte(
                 0,
                 ErrorKind::Expected {
-                    expected: "the endianness code 1 (or 16777216, byte-swapped) of a binary Medit file".into(),
+                    expected:
+                        "the endianness code 1 (or 16777216, byte-swapped) of a binary Medit file"
+                            .into(),
                     found: code.to_string(),
                 },
-            ))
-        }
-    };
+            )),
+        };
     let ver = scalar(b, 4, 4, le, "the version")?;
     if !(1..=4).contains(&ver) {
-        return Err(Error::at_byte(4, ErrorKind::Expected { expected: "version 1, 2, 3 or 4".into(), found: ver.to_string() }));
+        return Err(Error::at_byte(
+            4,
+            ErrorKind::Expected { expected: "version 1, 2, 3 or 4".into(), found: ver.to_string() },
+        ));
     }
     let mut f = Fmt { le, ver: ver as u32, real4: ver == 1 };
     let mut p = Parsed::default();
@@ -278,12 +300,18 @@ pub(super) fn read(b: &[u8]) -> Result<Parsed> {
                 if d != 2 && d != 3 {
                     return Err(Error::at_byte(
                         data as u64,
-                        ErrorKind::Expected { expected: "Dimension 2 or 3".into(), found: d.to_string() },
+                        ErrorKind::Expected {
+                            expected: "Dimension 2 or 3".into(),
+                            found: d.to_string(),
+                        },
                     ));
                 }
                 // Everything read so far was laid out with the first one.
                 if p.dim != 0 && p.dim != d as u8 {
-                    return Err(Error::at_byte(data as u64, ErrorKind::Inconsistent(format!("Dimension {d} after Dimension {}", p.dim))));
+                    return Err(Error::at_byte(
+                        data as u64,
+                        ErrorKind::Inconsistent(format!("Dimension {d} after Dimension {}", p.dim)),
+                    ));
                 }
                 p.dim = d as u8;
             }
@@ -302,7 +330,10 @@ pub(super) fn read(b: &[u8]) -> Result<Parsed> {
                 if n > 0 {
                     return Err(Error::at_byte(
                         pos as u64,
-                        ErrorKind::Unsupported(format!("{n} {}: smartmesh reads 2D meshes (no volume elements)", KEYWORDS[c].name)),
+                        ErrorKind::Unsupported(format!(
+                            "{n} {}: smartmesh reads 2D meshes (no volume elements)",
+                            KEYWORDS[c].name
+                        )),
                     ));
                 }
             }
@@ -320,12 +351,25 @@ pub(super) fn read(b: &[u8]) -> Result<Parsed> {
 }
 
 /// The count after a keyword, checked against the bytes before `limit`.
-fn count(b: &[u8], data: usize, limit: usize, f: Fmt, item_bytes: usize, what: &str) -> Result<(usize, usize)> {
+fn count(
+    b: &[u8],
+    data: usize,
+    limit: usize,
+    f: Fmt,
+    item_bytes: usize,
+    what: &str,
+) -> Result<(usize, usize)> {
     let n = scalar(b, data, f.isz(), f.le, &format!("the number of {what}"))?;
     let start = data + f.isz();
     let left = limit.saturating_sub(start);
     let n = usize::try_from(n).map_err(|_| {
-        Error::at_byte(data as u64, ErrorKind::Expected { expected: format!("the number of {what} (non-negative)"), found: n.to_string() })
+        Error::at_byte(
+            data as u64,
+            ErrorKind::Expected {
+                expected: format!("the number of {what} (non-negative)"),
+                found: n.to_string(),
+            },
+        )
     })?;
     check_count(n, left, item_bytes, what).map_err(|k| Error::at_byte(data as u64, k))?;
     Ok((n, start))
@@ -333,7 +377,13 @@ fn count(b: &[u8], data: usize, limit: usize, f: Fmt, item_bytes: usize, what: &
 
 fn need_dim(p: &Parsed, at: usize, what: &str) -> Result<usize> {
     if p.dim == 0 {
-        return Err(Error::at_byte(at as u64, ErrorKind::Expected { expected: format!("Dimension before {what}"), found: what.into() }));
+        return Err(Error::at_byte(
+            at as u64,
+            ErrorKind::Expected {
+                expected: format!("Dimension before {what}"),
+                found: what.into(),
+            },
+        ));
     }
     Ok(p.dim as usize)
 }
@@ -341,7 +391,10 @@ fn need_dim(p: &Parsed, at: usize, what: &str) -> Result<usize> {
 fn read_vertices(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) -> Result<()> {
     let dim = need_dim(p, data, "Vertices")?;
     if p.vertices_read {
-        return Err(Error::at_byte(data as u64, ErrorKind::Inconsistent("a second Vertices keyword".into())));
+        return Err(Error::at_byte(
+            data as u64,
+            ErrorKind::Inconsistent("a second Vertices keyword".into()),
+        ));
     }
     let size = dim * f.rsz() + f.isz();
     let (n, start) = count(b, data, limit, f, size, "vertices")?;
@@ -352,7 +405,9 @@ fn read_vertices(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) ->
         (true, false, true) => vertices::<true, false, true>(d, dim, &mut p.points, &mut p.refs),
         (true, true, false) => vertices::<true, true, false>(d, dim, &mut p.points, &mut p.refs),
         (true, true, true) => vertices::<true, true, true>(d, dim, &mut p.points, &mut p.refs),
-        (false, false, false) => vertices::<false, false, false>(d, dim, &mut p.points, &mut p.refs),
+        (false, false, false) => {
+            vertices::<false, false, false>(d, dim, &mut p.points, &mut p.refs)
+        }
         (false, false, true) => vertices::<false, false, true>(d, dim, &mut p.points, &mut p.refs),
         (false, true, false) => vertices::<false, true, false>(d, dim, &mut p.points, &mut p.refs),
         (false, true, true) => vertices::<false, true, true>(d, dim, &mut p.points, &mut p.refs),
@@ -367,18 +422,39 @@ fn read_vertices(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) ->
 fn bad_item(bad: Bad, start: usize, size: usize, item: &str, ref_offset: usize) -> Error {
     let at = |i: usize| (start + i * size) as u64;
     match bad {
-        Bad::Node(i, v) => Error::at_byte(at(i), ErrorKind::IndexOutOfRange { what: format!("{item} {}", i + 1), index: v, available: 0 }),
+        Bad::Node(i, v) => Error::at_byte(
+            at(i),
+            ErrorKind::IndexOutOfRange {
+                what: format!("{item} {}", i + 1),
+                index: v,
+                available: 0,
+            },
+        ),
         Bad::Ref(i, v) => Error::at_byte(
             at(i) + ref_offset as u64,
-            ErrorKind::Expected { expected: format!("the reference of {item} {} (a 32-bit integer)", i + 1), found: v.to_string() },
+            ErrorKind::Expected {
+                expected: format!("the reference of {item} {} (a 32-bit integer)", i + 1),
+                found: v.to_string(),
+            },
         ),
-        Bad::Coord(i, v) => {
-            Error::at_byte(at(i), ErrorKind::NonFinite { what: format!("a real of {item} {}", i + 1), value: v.to_string() })
-        }
+        Bad::Coord(i, v) => Error::at_byte(
+            at(i),
+            ErrorKind::NonFinite {
+                what: format!("a real of {item} {}", i + 1),
+                value: v.to_string(),
+            },
+        ),
     }
 }
 
-fn read_elements(b: &[u8], data: usize, limit: usize, f: Fmt, code: usize, p: &mut Parsed) -> Result<()> {
+fn read_elements(
+    b: &[u8],
+    data: usize,
+    limit: usize,
+    f: Fmt,
+    code: usize,
+    p: &mut Parsed,
+) -> Result<()> {
     let Some(kind) = element_kind(code) else { return Ok(()) };
     let k = kind.nodes_per_cell();
     let size = (k + 1) * f.isz();
@@ -406,7 +482,14 @@ fn read_elements(b: &[u8], data: usize, limit: usize, f: Fmt, code: usize, p: &m
     Ok(())
 }
 
-fn read_set(b: &[u8], data: usize, limit: usize, f: Fmt, code: usize, p: &mut Parsed) -> Result<()> {
+fn read_set(
+    b: &[u8],
+    data: usize,
+    limit: usize,
+    f: Fmt,
+    code: usize,
+    p: &mut Parsed,
+) -> Result<()> {
     let size = f.isz();
     let name = KEYWORDS[code].name;
     let (n, start) = count(b, data, limit, f, size, name)?;
@@ -417,7 +500,11 @@ fn read_set(b: &[u8], data: usize, limit: usize, f: Fmt, code: usize, p: &mut Pa
         if v < 1 {
             return Err(Error::at_byte(
                 at as u64,
-                ErrorKind::IndexOutOfRange { what: format!("{name} entry {}", i + 1), index: v, available: 0 },
+                ErrorKind::IndexOutOfRange {
+                    what: format!("{name} entry {}", i + 1),
+                    index: v,
+                    available: 0,
+                },
             ));
         }
         s.items.push(usize::try_from(v - 1).unwrap_or(usize::MAX));
@@ -431,31 +518,43 @@ fn read_sol(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) -> Resu
     need_dim(p, data, "SolAtVertices")?;
     let n = scalar(b, data, f.isz(), f.le, "the number of vertices of SolAtVertices")?;
     let n = usize::try_from(n).map_err(|_| {
-        Error::at_byte(data as u64, ErrorKind::Expected { expected: "a non-negative number of vertices".into(), found: n.to_string() })
+        Error::at_byte(
+            data as u64,
+            ErrorKind::Expected {
+                expected: "a non-negative number of vertices".into(),
+                found: n.to_string(),
+            },
+        )
     })?;
     let mut at = data + f.isz();
     let nt = scalar(b, at, 4, f.le, "the number of solution types")?;
-    let nt = usize::try_from(nt).ok().filter(|&nt| nt <= limit.saturating_sub(at) / 4).ok_or_else(|| {
-        Error::at_byte(
-            at as u64,
-            ErrorKind::ImplausibleCount { what: "solution types".into(), count: nt as u64, limit: "more than the keyword's bytes".into() },
-        )
-    })?;
+    let nt = usize::try_from(nt).ok().filter(|&nt| nt <= limit.saturating_sub(at) / 4).ok_or_else(
+        || {
+            Error::at_byte(
+                at as u64,
+                ErrorKind::ImplausibleCount {
+                    what: "solution types".into(),
+                    count: nt as u64,
+                    limit: "more than the keyword's bytes".into(),
+                },
+            )
+        },
+    )?;
     at += 4;
     let mut types = Vec::with_capacity(nt);
     for _ in 0..nt {
         let ty = scalar(b, at, 4, f.le, "a solution type")?;
         match u32::try_from(ty).ok().filter(|&ty| sol_size(ty, p.dim).is_some()) {
             Some(ty) => types.push(ty),
-            None => {
-                return Err(Error::at_byte(
-                    at as u64,
-                    ErrorKind::Expected {
-                        expected: "solution type 1 (scalar), 2 (vector), 3 (symmetric tensor) or 4 (matrix)".into(),
-                        found: ty.to_string(),
-                    },
-                ))
-            }
+            None => return Err(Error::at_byte(
+                at as u64,
+                ErrorKind::Expected {
+                    expected:
+                        "solution type 1 (scalar), 2 (vector), 3 (symmetric tensor) or 4 (matrix)"
+                            .into(),
+                    found: ty.to_string(),
+                },
+            )),
         }
         at += 4;
     }
@@ -694,7 +793,9 @@ pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
     match s.single() {
         // One solution (what MMG reads): fixed-size records assembled on the stack.
         Some(Single::Scalar(a)) => sol_records(&mut w.out, a.values.chunks_exact(1), |v| [v[0]]),
-        Some(Single::Packed(a)) => sol_records(&mut w.out, a.values.chunks_exact(3), |v| [v[0], v[1], v[2]]),
+        Some(Single::Packed(a)) => {
+            sol_records(&mut w.out, a.values.chunks_exact(3), |v| [v[0], v[1], v[2]])
+        }
         Some(Single::Tensor2(a)) => sol_records(&mut w.out, a.values.chunks_exact(9), |v| {
             let (m11, m12, m22) = tensor9_to_sym2(v);
             [m11, m12, m22]
@@ -716,7 +817,11 @@ pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
 /// The records of one solution: `R` reals a vertex from each of `items` by `row`, one
 /// capacity check per vertex (a row assembled in a `Vec` costs more than the bytes).
 #[inline(always)]
-fn sol_records<'a, const R: usize>(out: &mut Vec<u8>, items: impl Iterator<Item = &'a [f64]>, row: impl Fn(&[f64]) -> [f64; R]) {
+fn sol_records<'a, const R: usize>(
+    out: &mut Vec<u8>,
+    items: impl Iterator<Item = &'a [f64]>,
+    row: impl Fn(&[f64]) -> [f64; R],
+) {
     let mut rec = [[0u8; 8]; R];
     for item in items {
         for (slot, x) in rec.iter_mut().zip(row(item)) {

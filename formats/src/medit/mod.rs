@@ -63,7 +63,10 @@ use std::path::Path;
 
 use crate::error::{Error, ErrorKind, Position, Result};
 use crate::io::refused;
-use crate::{tensor9_to_sym2, CellBlock, CellKind, DataArray, Format, Layout, NodeIndex, MAX_POINTS, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{
+    tensor9_to_sym2, CellBlock, CellKind, DataArray, Format, Layout, NodeIndex, ReadContext,
+    TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS,
+};
 
 use keywords::KEYWORDS;
 
@@ -272,7 +275,9 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                     p.dim, mesh.coordinate_dim
                 )))));
             }
-            for (name, a) in sol_arrays(sol, p.dim, mesh.points.len(), &sol_bytes).map_err(in_sol)? {
+            for (name, a) in
+                sol_arrays(sol, p.dim, mesh.points.len(), &sol_bytes).map_err(in_sol)?
+            {
                 mesh.point_data.insert(name, a);
             }
             break;
@@ -285,7 +290,11 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
 /// `SolAtVertices` must cover `n_vertices` vertices. Returns the arrays named as in the
 /// module documentation (`size`, `vector`, `metric`, `matrix`); an empty map when the
 /// file has no solution at vertices.
-pub fn read_sol(bytes: &[u8], n_vertices: usize, binary: bool) -> Result<BTreeMap<String, DataArray>> {
+pub fn read_sol(
+    bytes: &[u8],
+    n_vertices: usize,
+    binary: bool,
+) -> Result<BTreeMap<String, DataArray>> {
     let p = parse(bytes, binary)?;
     match p.sol {
         Some(sol) => sol_arrays(sol, p.dim, n_vertices, bytes),
@@ -294,16 +303,34 @@ pub fn read_sol(bytes: &[u8], n_vertices: usize, binary: bool) -> Result<BTreeMa
 }
 
 /// Names and converts the solutions of a `SolAtVertices` read from `bytes`.
-fn sol_arrays(mut sol: Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<BTreeMap<String, DataArray>> {
+fn sol_arrays(
+    mut sol: Sol,
+    dim: u8,
+    n_vertices: usize,
+    bytes: &[u8],
+) -> Result<BTreeMap<String, DataArray>> {
     let at = sol.at.unwrap_or(Position::Line(1));
     if sol.n != n_vertices {
-        return Err(error_at(at, ErrorKind::Inconsistent(format!("SolAtVertices gives {} vertices, the mesh has {n_vertices}", sol.n))));
+        return Err(error_at(
+            at,
+            ErrorKind::Inconsistent(format!(
+                "SolAtVertices gives {} vertices, the mesh has {n_vertices}",
+                sol.n
+            )),
+        ));
     }
     let sizes: Vec<usize> = sol.types.iter().map(|&t| sol_size(t, dim).unwrap_or(0)).collect();
     let stride: usize = sizes.iter().sum();
     let n_values = if sol.raw.is_some() { sol.n * stride } else { sol.values.len() };
     if sizes.contains(&0) || n_values != sol.n * stride {
-        return Err(error_at(at, ErrorKind::Inconsistent(format!("SolAtVertices holds {} values, expected {} vertices of {stride}", sol.values.len(), sol.n))));
+        return Err(error_at(
+            at,
+            ErrorKind::Inconsistent(format!(
+                "SolAtVertices holds {} values, expected {} vertices of {stride}",
+                sol.values.len(),
+                sol.n
+            )),
+        ));
     }
     let mut out = BTreeMap::new();
     let mut seen: BTreeMap<&str, usize> = BTreeMap::new();
@@ -334,20 +361,43 @@ fn sol_arrays(mut sol: Sol, dim: u8, n_vertices: usize, bytes: &[u8]) -> Result<
         let values = match sol.raw {
             Some(start) => {
                 let mut values = vec![0.0; comps * sol.n];
-                let rows = bytes[start..start + sol.n * stride * 8].chunks_exact(stride * 8).map(|r| &r[offset * 8..(offset + size) * 8]);
-                convert(&mut values, comps, rows, |r: &&[u8], j| f64::from_le_bytes(r[8 * j..8 * j + 8].try_into().unwrap_or([0; 8])), typ, d);
+                let rows = bytes[start..start + sol.n * stride * 8]
+                    .chunks_exact(stride * 8)
+                    .map(|r| &r[offset * 8..(offset + size) * 8]);
+                convert(
+                    &mut values,
+                    comps,
+                    rows,
+                    |r: &&[u8], j| {
+                        f64::from_le_bytes(r[8 * j..8 * j + 8].try_into().unwrap_or([0; 8]))
+                    },
+                    typ,
+                    d,
+                );
                 values
             }
             // Decoded already in the file's order, alone in its rows (the binary reader
             // does so for one such field): the array itself.
-            None if stride == size && size == comps && identity_layout(typ, d) => std::mem::take(&mut sol.values),
+            None if stride == size && size == comps && identity_layout(typ, d) => {
+                std::mem::take(&mut sol.values)
+            }
             None => {
                 let mut values = vec![0.0; comps * sol.n];
-                convert(&mut values, comps, sol.values.chunks_exact(stride).map(|r| &r[offset..offset + size]), |r: &&[f64], j| r[j], typ, d);
+                convert(
+                    &mut values,
+                    comps,
+                    sol.values.chunks_exact(stride).map(|r| &r[offset..offset + size]),
+                    |r: &&[f64], j| r[j],
+                    typ,
+                    d,
+                );
                 values
             }
         };
-        out.insert(name, if packed { DataArray::symmetric2(values) } else { DataArray::new(comps, values) });
+        out.insert(
+            name,
+            if packed { DataArray::symmetric2(values) } else { DataArray::new(comps, values) },
+        );
         offset += size;
     }
     Ok(out)
@@ -362,7 +412,14 @@ fn identity_layout(typ: u32, d: usize) -> bool {
 /// One field's values, vertex by vertex (`rows`, value `j` of a row by `get`), in the
 /// layout of its array: `comps` values per vertex.
 #[inline(always)]
-fn convert<T>(out: &mut [f64], comps: usize, rows: impl Iterator<Item = T>, get: impl Fn(&T, usize) -> f64, typ: u32, d: usize) {
+fn convert<T>(
+    out: &mut [f64],
+    comps: usize,
+    rows: impl Iterator<Item = T>,
+    get: impl Fn(&T, usize) -> f64,
+    typ: u32,
+    d: usize,
+) {
     let items = out.chunks_exact_mut(comps).zip(rows);
     // Values are stored one by one: `copy_from_slice` of a small array is a call to
     // `memcpy` per vertex.
@@ -376,7 +433,9 @@ fn convert<T>(out: &mut [f64], comps: usize, rows: impl Iterator<Item = T>, get:
             let m: [f64; 6] = std::array::from_fn(|j| get(&s, j));
             put(o, &[m[0], m[1], m[3], m[1], m[2], m[4], m[3], m[4], m[5]])
         }),
-        (_, 2) => items.for_each(|(o, s)| put(o, &[get(&s, 0), get(&s, 1), 0.0, get(&s, 2), get(&s, 3), 0.0, 0.0, 0.0, 1.0])),
+        (_, 2) => items.for_each(|(o, s)| {
+            put(o, &[get(&s, 0), get(&s, 1), 0.0, get(&s, 2), get(&s, 3), 0.0, 0.0, 0.0, 1.0])
+        }),
         (_, _) => items.for_each(|(o, s)| {
             for (j, v) in o.iter_mut().enumerate() {
                 *v = get(&s, j);
@@ -389,13 +448,17 @@ fn convert<T>(out: &mut [f64], comps: usize, rows: impl Iterator<Item = T>, get:
 fn assemble(p: Parsed, bytes: &[u8]) -> Result<TaggedMesh> {
     let nv = p.points.len();
     if p.dim == 0 && (!p.points.is_empty() || !p.elements.is_empty()) {
-        return Err(Error::new(ErrorKind::Expected { expected: "a Dimension keyword".into(), found: "none".into() }));
+        return Err(Error::new(ErrorKind::Expected {
+            expected: "a Dimension keyword".into(),
+            found: "none".into(),
+        }));
     }
     let mut mesh = TaggedMesh::new();
     mesh.coordinate_dim = if p.dim == 3 { 3 } else { 2 };
     mesh.points = p.points;
     if p.refs.iter().any(|&r| r != 0) {
-        mesh.point_data.insert(REF.into(), DataArray::new(1, p.refs.iter().map(|&r| r as f64).collect()));
+        mesh.point_data
+            .insert(REF.into(), DataArray::new(1, p.refs.iter().map(|&r| r as f64).collect()));
     }
     for e in &p.elements {
         if !e.unchecked || e.nodes.is_empty() {
@@ -406,7 +469,12 @@ fn assemble(p: Parsed, bytes: &[u8]) -> Result<TaggedMesh> {
             return Err(error_at(
                 e.at.at(pos / k),
                 ErrorKind::IndexOutOfRange {
-                    what: format!("{} {} ({})", e.kind.name(), pos / k + 1, KEYWORDS[element_code(e.kind)].name),
+                    what: format!(
+                        "{} {} ({})",
+                        e.kind.name(),
+                        pos / k + 1,
+                        KEYWORDS[element_code(e.kind)].name
+                    ),
                     index: e.nodes[pos] as i64 + 1,
                     available: nv,
                 },
@@ -446,7 +514,11 @@ fn assemble(p: Parsed, bytes: &[u8]) -> Result<TaggedMesh> {
         if let Some(i) = s.items.iter().position(|&v| v >= available) {
             return Err(error_at(
                 s.at[i],
-                ErrorKind::IndexOutOfRange { what: format!("{name} entry {}", i + 1), index: s.items[i] as i64 + 1, available },
+                ErrorKind::IndexOutOfRange {
+                    what: format!("{name} entry {}", i + 1),
+                    index: s.items[i] as i64 + 1,
+                    available,
+                },
             ));
         }
         let indices = s.items.iter().map(|&v| v + offset);
@@ -484,7 +556,12 @@ struct Out<'m> {
 
 impl Out<'_> {
     fn count(&self, code: usize) -> usize {
-        self.elements.iter().filter(|(c, _)| *c == code).flat_map(|(_, b)| b.iter()).map(|b| b.len()).sum()
+        self.elements
+            .iter()
+            .filter(|(c, _)| *c == code)
+            .flat_map(|(_, b)| b.iter())
+            .map(|b| b.len())
+            .sum()
     }
 }
 
@@ -494,7 +571,12 @@ fn integral_i32(v: f64) -> Option<i32> {
 
 /// Writes a mesh as Medit, with its solution file beside it (see the module documentation).
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
-    let binary = match opts.main_name.as_deref().and_then(|n| Path::new(n).extension()).and_then(|e| e.to_str()) {
+    let binary = match opts
+        .main_name
+        .as_deref()
+        .and_then(|n| Path::new(n).extension())
+        .and_then(|e| e.to_str())
+    {
         Some(e) if e.eq_ignore_ascii_case("meshb") => true,
         Some(e) if e.eq_ignore_ascii_case("mesh") => false,
         _ => opts.medit_binary,
@@ -502,7 +584,9 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut report = WriteReport::default();
     // One pass over the points for the dimension and for what `validate` checks of
     // them; the node numbers are checked where the elements are written.
-    let (has_z, finite) = mesh.points.iter().fold((false, true), |(z, f), p| (z | (p[2] != 0.0), f & p[0].is_finite() & p[1].is_finite() & p[2].is_finite()));
+    let (has_z, finite) = mesh.points.iter().fold((false, true), |(z, f), p| {
+        (z | (p[2] != 0.0), f & p[0].is_finite() & p[1].is_finite() & p[2].is_finite())
+    });
     if !finite || !mesh.lengths_agree() {
         return Err(refused(Format::Medit, mesh));
     }
@@ -517,7 +601,10 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             r
         }
         Some(a) => {
-            report.drop(format!("point data `{REF}` ({} components): a vertex has one reference", a.components));
+            report.drop(format!(
+                "point data `{REF}` ({} components): a vertex has one reference",
+                a.components
+            ));
             None
         }
         None => None,
@@ -538,7 +625,9 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             geo_differs += b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count();
         } else if !b.is_empty() {
             let why = match b.kind {
-                CellKind::Vertex => "Medit has no point elements (Corners and RequiredVertices are point sets)",
+                CellKind::Vertex => {
+                    "Medit has no point elements (Corners and RequiredVertices are point sets)"
+                }
                 _ => "Medit has no 8-node quadrilaterals",
             };
             report.drop(format!("{} {} cells: {why}", b.len(), b.kind.name()));
@@ -558,11 +647,14 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     for (name, items) in &mesh.point_sets {
         match lookup(name.as_bytes()).filter(|&c| set_target(c) == Some(None)) {
             Some(code) => sets.push((code, items.iter().map(|&v| v + 1).collect())),
-            None => report.drop(format!("point set `{name}`: Medit keeps only Corners and RequiredVertices")),
+            None => report
+                .drop(format!("point set `{name}`: Medit keeps only Corners and RequiredVertices")),
         }
     }
     for (name, items) in &mesh.cell_sets {
-        let Some((code, kind)) = lookup(name.as_bytes()).and_then(|c| set_target(c).flatten().map(|k| (c, k))) else {
+        let Some((code, kind)) =
+            lookup(name.as_bytes()).and_then(|c| set_target(c).flatten().map(|k| (c, k)))
+        else {
             report.drop(format!("cell set `{name}`: Medit keeps only Ridges, RequiredEdges, RequiredTriangles and RequiredQuadrilaterals"));
             continue;
         };
@@ -586,7 +678,10 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             }
         }
         if lost > 0 {
-            report.drop(format!("{lost} entries of cell set `{name}`: they are not {} cells", kind.name()));
+            report.drop(format!(
+                "{lost} entries of cell set `{name}`: they are not {} cells",
+                kind.name()
+            ));
         }
         sets.push((code, numbers));
     }
@@ -599,7 +694,11 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         report.drop(format!("{} Gmsh entities: Medit has none", mesh.entities.len()));
     }
     if !mesh.holes.is_empty() || !mesh.regions.is_empty() {
-        report.drop(format!("{} holes and {} regions: Medit meshes have no PSLG seeds", mesh.holes.len(), mesh.regions.len()));
+        report.drop(format!(
+            "{} holes and {} regions: Medit meshes have no PSLG seeds",
+            mesh.holes.len(),
+            mesh.regions.len()
+        ));
     }
     for (name, a) in &mesh.cell_data {
         report.drop(format!("cell data `{name}` ({} components): the Medit writer keeps point data only (SolAtVertices)", a.components));
@@ -631,9 +730,11 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     // Node numbers: checked in the pass that writes the binary elements; in a pass of
     // their own for ASCII and for the blocks Medit does not hold.
     let bound = |b: &CellBlock| b.nodes.iter().fold(0, |m, &v| m.max(v as usize + 1));
-    let (main, written_bound) = if binary { binary::write_mesh(&out) } else { (ascii::write_mesh(&out), 0) };
+    let (main, written_bound) =
+        if binary { binary::write_mesh(&out) } else { (ascii::write_mesh(&out), 0) };
     let held = |b: &CellBlock| ELEMENTS.iter().any(|(_, k)| *k == b.kind);
-    let rest_bound = mesh.blocks.iter().filter(|b| !binary || !held(b)).map(bound).max().unwrap_or(0);
+    let rest_bound =
+        mesh.blocks.iter().filter(|b| !binary || !held(b)).map(bound).max().unwrap_or(0);
     if written_bound.max(rest_bound) > mesh.points.len() {
         return Err(refused(Format::Medit, mesh));
     }
@@ -651,7 +752,8 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
 /// terms of 9-component ones averaged).
 /// `dim` is 2 or 3; every array must cover the same number of vertices.
 pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result<Vec<u8>> {
-    let cannot = |reason: String| Error::new(ErrorKind::CannotWrite { format: "Medit solution", reason });
+    let cannot =
+        |reason: String| Error::new(ErrorKind::CannotWrite { format: "Medit solution", reason });
     if dim != 2 && dim != 3 {
         return Err(cannot(format!("dimension {dim}: Medit solutions are 2D or 3D")));
     }
@@ -662,7 +764,11 @@ pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result
     let mut types = Vec::with_capacity(arrays.len());
     for &(name, a) in arrays {
         if a.len() != n {
-            return Err(cannot(format!("array `{name}` covers {} vertices, `{}` {n}", a.len(), arrays[0].0)));
+            return Err(cannot(format!(
+                "array `{name}` covers {} vertices, `{}` {n}",
+                a.len(),
+                arrays[0].0
+            )));
         }
         types.push(match a.components {
             _ if a.is_tensor() => 3,
@@ -736,7 +842,14 @@ impl<'a> SolOut<'a> {
                     let (m11, m12, m22) = tensor9_to_sym2(s);
                     row.extend_from_slice(&[m11, m12, m22]);
                 }
-                (_, _) => row.extend_from_slice(&[s[0], 0.5 * (s[1] + s[3]), s[4], 0.5 * (s[2] + s[6]), 0.5 * (s[5] + s[7]), s[8]]),
+                (_, _) => row.extend_from_slice(&[
+                    s[0],
+                    0.5 * (s[1] + s[3]),
+                    s[4],
+                    0.5 * (s[2] + s[6]),
+                    0.5 * (s[5] + s[7]),
+                    s[8],
+                ]),
             }
         }
     }

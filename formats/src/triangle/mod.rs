@@ -101,8 +101,13 @@ pub fn poly_lines(bytes: &[u8]) -> PolyLines {
     });
     let mut out = PolyLines::default();
     // A header (its first number is the count), then that many records.
-    fn section<'a>(records: &mut impl Iterator<Item = (u64, &'a [u8])>, into: &mut Vec<u64>) -> bool {
-        let Some(n) = records.next().and_then(|(_, t)| std::str::from_utf8(t).ok()?.parse::<usize>().ok()) else {
+    fn section<'a>(
+        records: &mut impl Iterator<Item = (u64, &'a [u8])>,
+        into: &mut Vec<u64>,
+    ) -> bool {
+        let Some(n) =
+            records.next().and_then(|(_, t)| std::str::from_utf8(t).ok()?.parse::<usize>().ok())
+        else {
             return false;
         };
         into.extend(records.take(n).map(|(l, _)| l));

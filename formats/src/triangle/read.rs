@@ -7,7 +7,9 @@ use std::borrow::Cow;
 use crate::error::{Error, ErrorKind, Result};
 use crate::scan::Scan;
 use crate::text::{check_count, parse_f64, parse_i64, Tokens};
-use crate::{CellBlock, CellKind, DataArray, NodeIndex, ReadContext, RegionSeed, TaggedMesh, MAX_POINTS};
+use crate::{
+    CellBlock, CellKind, DataArray, NodeIndex, ReadContext, RegionSeed, TaggedMesh, MAX_POINTS,
+};
 
 use super::{attribute_name, Kind, AREA, MARKER, RAY_DIRECTION};
 
@@ -116,7 +118,10 @@ impl<'t, 'a> Rec<'t, 'a> {
             Ok(v) if v.is_finite() => Ok(v),
             Ok(_) => Err(Error::at_line(
                 self.line,
-                ErrorKind::NonFinite { what: self.describe(what), value: String::from_utf8_lossy(tok).into_owned() },
+                ErrorKind::NonFinite {
+                    what: self.describe(what),
+                    value: String::from_utf8_lossy(tok).into_owned(),
+                },
             )),
             Err(()) => Err(self.bad(what, tok)),
         }
@@ -150,7 +155,13 @@ impl<'t, 'a> Rec<'t, 'a> {
     #[inline]
     fn opt_marker(&mut self) -> Result<i32> {
         let v = self.opt_int("boundary marker", 0)?;
-        i32::try_from(v).map_err(|_| Error::expected(self.line, self.describe("boundary marker (a 32-bit integer)"), v.to_string()))
+        i32::try_from(v).map_err(|_| {
+            Error::expected(
+                self.line,
+                self.describe("boundary marker (a 32-bit integer)"),
+                v.to_string(),
+            )
+        })
     }
 
     /// A count of items that need at least `min_bytes` bytes each in what remains.
@@ -161,10 +172,15 @@ impl<'t, 'a> Rec<'t, 'a> {
 
     fn check_count(&self, what: &str, v: i64, min_bytes: usize) -> Result<usize> {
         if v < 0 {
-            return Err(Error::expected(self.line, format!("{what} (a non-negative integer)"), v.to_string()));
+            return Err(Error::expected(
+                self.line,
+                format!("{what} (a non-negative integer)"),
+                v.to_string(),
+            ));
         }
         let n = usize::try_from(v).unwrap_or(usize::MAX);
-        check_count(n, self.t.remaining().len(), min_bytes, what).map_err(|k| Error::at_line(self.line, k))
+        check_count(n, self.t.remaining().len(), min_bytes, what)
+            .map_err(|k| Error::at_line(self.line, k))
     }
 
     /// A vertex index as written, turned into a 0-based index below `n`.
@@ -173,7 +189,10 @@ impl<'t, 'a> Rec<'t, 'a> {
         let v = self.int(what)?;
         match v.checked_sub(base) {
             Some(i) if i >= 0 && (i as u64) < n.min(MAX_POINTS) as u64 => Ok(i as NodeIndex),
-            _ => Err(Error::at_line(self.line, ErrorKind::IndexOutOfRange { what: self.describe(what), index: v, available: n })),
+            _ => Err(Error::at_line(
+                self.line,
+                ErrorKind::IndexOutOfRange { what: self.describe(what), index: v, available: n },
+            )),
         }
     }
 
@@ -265,7 +284,11 @@ fn fast<R>(
 
 /// The vertex list: `<n> [<dim> [<#attributes> [<#markers>]]]`, then one vertex a line.
 fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<NodeList> {
-    let line = start(t, || format!("the header of the {file} file (number of vertices, dimension, attributes, markers)"))?;
+    let line = start(t, || {
+        format!(
+            "the header of the {file} file (number of vertices, dimension, attributes, markers)"
+        )
+    })?;
     let mut r = Rec::new(t, line, "header", 0);
     // A vertex record is at least "1 0 0\n".
     let n = r.count("number of vertices", 6)?;
@@ -274,13 +297,18 @@ fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<NodeList> {
     }
     let dim = r.opt_int("dimension", 2)?;
     if dim != 2 {
-        return Err(Error::expected(line, "dimension 2 (Triangle is two-dimensional)", dim.to_string()));
+        return Err(Error::expected(
+            line,
+            "dimension 2 (Triangle is two-dimensional)",
+            dim.to_string(),
+        ));
     }
     let nattr = r.opt_int("number of attributes", 0)?;
     // Attributes may be left out of the records (they are then 0), so the check is that
     // the file could be this big at all, not that each record holds them.
     let nattr = r.check_count("number of attributes", nattr, 1)?;
-    check_count(n.saturating_mul(nattr), r.t.remaining().len(), 1, "vertex attributes").map_err(|k| Error::at_line(line, k))?;
+    check_count(n.saturating_mul(nattr), r.t.remaining().len(), 1, "vertex attributes")
+        .map_err(|k| Error::at_line(line, k))?;
     let nmarkers = r.opt_int("number of boundary markers", 0)?;
     if !(0..=1).contains(&nmarkers) {
         return Err(Error::expected(line, "0 or 1 boundary markers", nmarkers.to_string()));
@@ -327,7 +355,13 @@ fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<NodeList> {
         if i == 0 {
             list.base = match number {
                 0 | 1 => number,
-                _ => return Err(Error::expected(line, "0 or 1 as the number of the first vertex", number.to_string())),
+                _ => {
+                    return Err(Error::expected(
+                        line,
+                        "0 or 1 as the number of the first vertex",
+                        number.to_string(),
+                    ))
+                }
             };
         }
         let x = r.f64("x coordinate")?;
@@ -348,7 +382,9 @@ fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<NodeList> {
 
 /// The triangles: `<n> [<nodes per triangle> [<#attributes>]]`, then one triangle a line.
 fn parse_ele(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Ele> {
-    let line = start(t, || "the header of the .ele file (number of triangles, nodes per triangle, attributes)".into())?;
+    let line = start(t, || {
+        "the header of the .ele file (number of triangles, nodes per triangle, attributes)".into()
+    })?;
     let mut r = Rec::new(t, line, "header", 0);
     let n = r.count("number of triangles", 8)?;
     let corners = r.opt_int("nodes per triangle", 3)?;
@@ -358,16 +394,20 @@ fn parse_ele(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Ele> {
         _ => {
             return Err(Error::at_line(
                 line,
-                ErrorKind::Unsupported(format!("triangles with {corners} nodes (Triangle writes 3, or 6 with -o2)")),
+                ErrorKind::Unsupported(format!(
+                    "triangles with {corners} nodes (Triangle writes 3, or 6 with -o2)"
+                )),
             ))
         }
     };
     let nattr = r.opt_int("number of attributes", 0)?;
     let nattr = r.check_count("number of attributes", nattr, 1)?;
-    check_count(n.saturating_mul(nattr), r.t.remaining().len(), 1, "triangle attributes").map_err(|k| Error::at_line(line, k))?;
+    check_count(n.saturating_mul(nattr), r.t.remaining().len(), 1, "triangle attributes")
+        .map_err(|k| Error::at_line(line, k))?;
     r.end();
     let k = kind.nodes_per_cell();
-    let mut ele = Ele { kind, nodes: Vec::with_capacity(n * k), nattr, attrs: Vec::with_capacity(n * nattr) };
+    let mut ele =
+        Ele { kind, nodes: Vec::with_capacity(n * k), nattr, attrs: Vec::with_capacity(n * nattr) };
     let mut v = [0 as NodeIndex; 6];
     let mut i = 0;
     while i < n {
@@ -423,7 +463,9 @@ fn parse_ele(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Ele> {
 
 /// Segments: `<n> [<#markers>]`, then `<#> <end> <end> [marker]`.
 fn parse_segments(t: &mut Tokens<'_>, nv: usize, base: i64, file: &str) -> Result<Lines> {
-    let line = start(t, || format!("the segment header of the {file} file (number of segments, markers)"))?;
+    let line = start(t, || {
+        format!("the segment header of the {file} file (number of segments, markers)")
+    })?;
     let mut r = Rec::new(t, line, "segment header", 0);
     let n = r.count("number of segments", 6)?;
     let nmarkers = r.opt_int("number of boundary markers", 0)?;
@@ -431,7 +473,8 @@ fn parse_segments(t: &mut Tokens<'_>, nv: usize, base: i64, file: &str) -> Resul
         return Err(Error::expected(line, "0 or 1 boundary markers", nmarkers.to_string()));
     }
     r.end();
-    let mut lines = Lines { nodes: Vec::with_capacity(2 * n), tags: Vec::with_capacity(n), rays: Vec::new() };
+    let mut lines =
+        Lines { nodes: Vec::with_capacity(2 * n), tags: Vec::with_capacity(n), rays: Vec::new() };
     let mut i = 0;
     while i < n {
         i += fast(
@@ -530,7 +573,8 @@ fn parse_edges(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Lines> {
         return Err(Error::expected(line, "0 or 1 boundary markers", nmarkers.to_string()));
     }
     r.end();
-    let mut lines = Lines { nodes: Vec::with_capacity(2 * n), tags: Vec::with_capacity(n), rays: Vec::new() };
+    let mut lines =
+        Lines { nodes: Vec::with_capacity(2 * n), tags: Vec::with_capacity(n), rays: Vec::new() };
     let mut i = 0;
     while i < n {
         // Rays (second endpoint -1) are left to the general path.
@@ -584,7 +628,12 @@ fn parse_area(t: &mut Tokens<'_>, ntri: usize) -> Result<Vec<f64>> {
     let mut r = Rec::new(t, line, "header", 0);
     let n = r.count("number of triangles", 4)?;
     if n != ntri {
-        return Err(Error::at_line(line, ErrorKind::Inconsistent(format!("the .area file lists {n} triangles, the .ele file {ntri}"))));
+        return Err(Error::at_line(
+            line,
+            ErrorKind::Inconsistent(format!(
+                "the .area file lists {n} triangles, the .ele file {ntri}"
+            )),
+        ));
     }
     r.end();
     let mut areas = Vec::with_capacity(n);
@@ -627,7 +676,9 @@ pub(super) fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     };
     // Errors in a sibling name the sibling; those in the main file get its path from the
     // caller.
-    let in_file = |k: Kind| move |e: Error| if k == main { e } else { e.with_path(ctx.siblings.describe(k.ext())) };
+    let in_file = |k: Kind| {
+        move |e: Error| if k == main { e } else { e.with_path(ctx.siblings.describe(k.ext())) }
+    };
 
     let node_bytes = load(Kind::Node)?;
     let node = match &node_bytes {
@@ -645,7 +696,9 @@ pub(super) fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
         let (nv, base) = if !own.xy.is_empty() {
             if let Some(node) = &node {
                 if node.xy.len() != own.xy.len()
-                    || node.xy.iter().zip(&own.xy).any(|(a, b)| a[0].to_bits() != b[0].to_bits() || a[1].to_bits() != b[1].to_bits())
+                    || node.xy.iter().zip(&own.xy).any(|(a, b)| {
+                        a[0].to_bits() != b[0].to_bits() || a[1].to_bits() != b[1].to_bits()
+                    })
                 {
                     return Err(Error::new(ErrorKind::Inconsistent(format!(
                         "{} lists its own {} vertices, which differ from the {} of {}; read one of the two files without the other",
@@ -698,7 +751,8 @@ pub(super) fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     let mut lines = None;
     if use_edge {
         if let Some(b) = load(Kind::Edge)? {
-            lines = Some(parse_edges(&mut tokens(&b), nv, verts.base).map_err(in_file(Kind::Edge))?);
+            lines =
+                Some(parse_edges(&mut tokens(&b), nv, verts.base).map_err(in_file(Kind::Edge))?);
         }
     }
     let (segments, holes, regions) = match poly_rest {
@@ -757,7 +811,8 @@ fn assemble(
     let nv = verts.xy.len();
     mesh.points = verts.xy.iter().map(|&[x, y]| [x, y, 0.0]).collect();
     if let Some(m) = &verts.markers {
-        mesh.point_data.insert(MARKER.into(), DataArray::new(1, m.iter().map(|&v| v as f64).collect()));
+        mesh.point_data
+            .insert(MARKER.into(), DataArray::new(1, m.iter().map(|&v| v as f64).collect()));
     }
     for k in 0..verts.nattr {
         let values = (0..nv).map(|i| verts.attrs[i * verts.nattr + k]).collect();
@@ -775,7 +830,12 @@ fn assemble(
         mesh.blocks.push(b);
     }
     if nlines > 0 {
-        mesh.blocks.push(CellBlock { kind: CellKind::Line, nodes: lines.nodes, physical: lines.tags.clone(), geometrical: lines.tags });
+        mesh.blocks.push(CellBlock {
+            kind: CellKind::Line,
+            nodes: lines.nodes,
+            physical: lines.tags.clone(),
+            geometrical: lines.tags,
+        });
     }
     let before = nrays + nlines;
     let ntri = ele.as_ref().map_or(0, Ele::len);
@@ -797,7 +857,11 @@ fn assemble(
                 let a = ele.attrs[i * ele.nattr];
                 a.fract() == 0.0 && a >= i32::MIN as f64 && a <= i32::MAX as f64
             });
-        let tags: Vec<i32> = if first_is_tag { (0..ntri).map(|i| ele.attrs[i * ele.nattr] as i32).collect() } else { vec![0; ntri] };
+        let tags: Vec<i32> = if first_is_tag {
+            (0..ntri).map(|i| ele.attrs[i * ele.nattr] as i32).collect()
+        } else {
+            vec![0; ntri]
+        };
         for k in 0..ele.nattr {
             let mut values = vec![0.0; total];
             for i in 0..ntri {
@@ -811,7 +875,12 @@ fn assemble(
             mesh.cell_data.insert(AREA.into(), DataArray::new(1, values));
         }
         if ntri > 0 {
-            mesh.blocks.push(CellBlock { kind: ele.kind, nodes: ele.nodes, physical: tags.clone(), geometrical: tags });
+            mesh.blocks.push(CellBlock {
+                kind: ele.kind,
+                nodes: ele.nodes,
+                physical: tags.clone(),
+                geometrical: tags,
+            });
         }
     }
     mesh.holes = holes;
@@ -829,7 +898,9 @@ mod tests {
     }
 
     fn set(files: &[(&str, &str)]) -> MemorySiblings {
-        MemorySiblings { files: files.iter().map(|(e, s)| (e.to_string(), s.as_bytes().to_vec())).collect() }
+        MemorySiblings {
+            files: files.iter().map(|(e, s)| (e.to_string(), s.as_bytes().to_vec())).collect(),
+        }
     }
 
     #[test]
@@ -844,8 +915,12 @@ mod tests {
     #[test]
     fn region_without_area_takes_its_attribute() {
         let sib = set(&[]);
-        let m = read(b"3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n0 0\n0\n1\n1 0.2 0.2 5\n", &ctx(&sib, "poly")).unwrap();
-        assert_eq!(m.regions, vec![RegionSeed { point: [0.2, 0.2], attribute: 5.0, max_area: 5.0 }]);
+        let m = read(b"3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n0 0\n0\n1\n1 0.2 0.2 5\n", &ctx(&sib, "poly"))
+            .unwrap();
+        assert_eq!(
+            m.regions,
+            vec![RegionSeed { point: [0.2, 0.2], attribute: 5.0, max_area: 5.0 }]
+        );
     }
 
     #[test]

@@ -23,12 +23,22 @@ fn as_markers(a: &DataArray) -> Option<Vec<i32>> {
     if a.components != 1 {
         return None;
     }
-    a.values.iter().map(|&v| (v.fract() == 0.0 && v >= i32::MIN as f64 && v <= i32::MAX as f64).then_some(v as i32)).collect()
+    a.values
+        .iter()
+        .map(|&v| {
+            (v.fract() == 0.0 && v >= i32::MIN as f64 && v <= i32::MAX as f64).then_some(v as i32)
+        })
+        .collect()
 }
 
 /// The vertex list: header and one vertex a line (shared by `.node` and a self-contained
 /// `.poly`).
-fn push_vertices(out: &mut Vec<u8>, mesh: &TaggedMesh, attrs: &[&DataArray], markers: Option<&[i32]>) {
+fn push_vertices(
+    out: &mut Vec<u8>,
+    mesh: &TaggedMesh,
+    attrs: &[&DataArray],
+    markers: Option<&[i32]>,
+) {
     push_int(out, mesh.points.len());
     out.extend_from_slice(b" 2 ");
     push_int(out, attrs.len());
@@ -97,7 +107,8 @@ fn push_poly_rest(out: &mut Vec<u8>, mesh: &TaggedMesh, nseg: usize) {
 pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut report = WriteReport::default();
     let count = |k: CellKind| mesh.num_cells_of(k);
-    let (ntri3, ntri6, nseg) = (count(CellKind::Triangle), count(CellKind::Triangle6), count(CellKind::Line));
+    let (ntri3, ntri6, nseg) =
+        (count(CellKind::Triangle), count(CellKind::Triangle6), count(CellKind::Line));
     let ntri = ntri3 + ntri6;
     let pslg = nseg > 0 || !mesh.holes.is_empty() || !mesh.regions.is_empty();
 
@@ -125,7 +136,9 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         Some(a) => {
             let m = as_markers(a);
             if m.is_none() {
-                report.drop(format!("point data `{MARKER}`: not one integer per point, so not boundary markers"));
+                report.drop(format!(
+                    "point data `{MARKER}`: not one integer per point, so not boundary markers"
+                ));
             }
             m
         }
@@ -134,7 +147,10 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let pattrs = attribute_arrays(&mesh.point_data);
     for (name, a) in &mesh.point_data {
         let kept = (name == MARKER && markers.is_some())
-            || name.strip_prefix(ATTRIBUTE_PREFIX).and_then(|k| k.parse::<usize>().ok()).is_some_and(|k| k >= 1 && k <= pattrs.len());
+            || name
+                .strip_prefix(ATTRIBUTE_PREFIX)
+                .and_then(|k| k.parse::<usize>().ok())
+                .is_some_and(|k| k >= 1 && k <= pattrs.len());
         if !kept && name != MARKER {
             report.drop(format!(
                 "point data `{name}` ({} components): Triangle keeps only vertex markers (`{MARKER}`) and scalar attributes (`{ATTRIBUTE_PREFIX}1`, ...)",
@@ -147,7 +163,10 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     for kind in [CellKind::Quad, CellKind::Quad8, CellKind::Quad9, CellKind::Line3] {
         let n = count(kind);
         if n > 0 {
-            report.drop(format!("{n} {} cells: Triangle holds triangles and segments only", kind.name()));
+            report.drop(format!(
+                "{n} {} cells: Triangle holds triangles and segments only",
+                kind.name()
+            ));
         }
     }
     let nvert = count(CellKind::Vertex);
@@ -171,7 +190,9 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let tri_nodes = if ntri3 == 0 && ntri6 > 0 { 6 } else { 3 };
 
     // --- tags and cell data
-    let tri_blocks = || mesh.blocks.iter().filter(|b| matches!(b.kind, CellKind::Triangle | CellKind::Triangle6));
+    let tri_blocks = || {
+        mesh.blocks.iter().filter(|b| matches!(b.kind, CellKind::Triangle | CellKind::Triangle6))
+    };
     let use_tags = tri_blocks().any(|b| b.physical.iter().any(|&p| p != 0));
     let cattrs = attribute_arrays(&mesh.cell_data);
     let ncols = if use_tags { cattrs.len().max(1) } else { cattrs.len() };
@@ -193,7 +214,10 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             if p != g {
                 geo_differs[slot] += 1;
             }
-            if slot == 1 && use_tags && cattrs.first().is_some_and(|a| a.values[off + i] != p as f64) {
+            if slot == 1
+                && use_tags
+                && cattrs.first().is_some_and(|a| a.values[off + i] != p as f64)
+            {
                 attr1_differs += 1;
             }
         }
@@ -214,15 +238,21 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let area = match mesh.cell_data.get(AREA) {
         Some(a) if a.components == 1 && ntri > 0 => Some(a),
         Some(_) => {
-            report.drop(format!("cell data `{AREA}`: {}", if ntri == 0 { "there are no triangles" } else { "not one scalar per cell" }));
+            report.drop(format!(
+                "cell data `{AREA}`: {}",
+                if ntri == 0 { "there are no triangles" } else { "not one scalar per cell" }
+            ));
             None
         }
         None => None,
     };
     for (name, a) in &mesh.cell_data {
-        let is_attr =
-            name.strip_prefix(ATTRIBUTE_PREFIX).and_then(|k| k.parse::<usize>().ok()).is_some_and(|k| k >= 1 && k <= cattrs.len());
-        let kept = (is_attr && ntri > 0) || name == AREA || (name == RAY_DIRECTION && rays.is_some());
+        let is_attr = name
+            .strip_prefix(ATTRIBUTE_PREFIX)
+            .and_then(|k| k.parse::<usize>().ok())
+            .is_some_and(|k| k >= 1 && k <= cattrs.len());
+        let kept =
+            (is_attr && ntri > 0) || name == AREA || (name == RAY_DIRECTION && rays.is_some());
         // Ray directions without rays were reported with the vertex cells.
         if !(kept || name == RAY_DIRECTION && nvert > 0) {
             report.drop(format!(
@@ -255,7 +285,8 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut files: Vec<(Kind, Vec<u8>)> = Vec::new();
     if main == Kind::Poly && ntri == 0 {
         // A self-contained planar straight-line graph.
-        let mut out = Vec::with_capacity(mesh.points.len() * (56 + 24 * pattrs.len()) + nseg * 40 + 64);
+        let mut out =
+            Vec::with_capacity(mesh.points.len() * (56 + 24 * pattrs.len()) + nseg * 40 + 64);
         push_vertices(&mut out, mesh, &pattrs, markers.as_deref());
         push_poly_rest(&mut out, mesh, nseg);
         files.push((Kind::Poly, out));
@@ -281,7 +312,8 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
                     k += 1;
                     push_int(&mut ele, k);
                     // Back to Triangle's order: mid-edge nodes opposite corners 1, 2, 3.
-                    let order: &[usize] = if tri_nodes == 6 { &[0, 1, 2, 4, 5, 3] } else { &[0, 1, 2] };
+                    let order: &[usize] =
+                        if tri_nodes == 6 { &[0, 1, 2, 4, 5, 3] } else { &[0, 1, 2] };
                     for &j in order {
                         ele.push(b' ');
                         push_int(&mut ele, cell[j] + 1);
@@ -343,7 +375,8 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             files.push((Kind::Edge, edge));
         } else if main == Kind::Poly || pslg {
             // The vertices are in the .node, as in the .poly files Triangle writes.
-            let mut poly = Vec::with_capacity(nseg * 40 + (mesh.holes.len() + mesh.regions.len()) * 100 + 64);
+            let mut poly =
+                Vec::with_capacity(nseg * 40 + (mesh.holes.len() + mesh.regions.len()) * 100 + 64);
             poly.extend_from_slice(b"0 2 ");
             push_int(&mut poly, pattrs.len());
             poly.extend_from_slice(if markers.is_some() { b" 1\n" } else { b" 0\n" });

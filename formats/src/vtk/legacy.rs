@@ -9,9 +9,14 @@
 
 use crate::error::Position;
 use crate::text::{check_count, Tokens};
-use crate::{Error, ErrorKind, Layout, NodeIndex, Result, TaggedMesh, WriteOptions, Written, MAX_POINTS};
+use crate::{
+    Error, ErrorKind, Layout, NodeIndex, Result, TaggedMesh, WriteOptions, Written, MAX_POINTS,
+};
 
-use super::{decode_f64, decode_i64, decode_indices, decode_items, decode_points, offsets, pack_parsed, push_num, put, tag_slot, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
+use super::{
+    decode_f64, decode_i64, decode_indices, decode_items, decode_points, offsets, pack_parsed,
+    push_num, put, tag_slot, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL,
+};
 
 /// Which data section the arrays that follow belong to.
 #[derive(Clone, Copy, PartialEq)]
@@ -44,7 +49,9 @@ fn decode_name(raw: &[u8]) -> String {
     let mut i = 0;
     while i < raw.len() {
         if raw[i] == b'%' && i + 2 < raw.len() {
-            let h = std::str::from_utf8(&raw[i + 1..i + 3]).ok().and_then(|s| u8::from_str_radix(s, 16).ok());
+            let h = std::str::from_utf8(&raw[i + 1..i + 3])
+                .ok()
+                .and_then(|s| u8::from_str_radix(s, 16).ok());
             if let Some(b) = h {
                 out.push(b);
                 i += 3;
@@ -150,10 +157,15 @@ impl<'a> Reader<'a> {
     /// The `n * ty.size()` bytes of a binary array, the cursor moved past them.
     fn binary_bytes(&mut self, n: usize, ty: Scalar, what: &str) -> Result<&'a [u8]> {
         let rem = self.t.remaining();
-        let need = n
-            .checked_mul(ty.size())
-            .filter(|&b| b <= rem.len())
-            .ok_or_else(|| self.err(ErrorKind::UnexpectedEof { context: format!("{what}: {n} values of {} bytes, {} bytes left", ty.size(), rem.len()) }))?;
+        let need = n.checked_mul(ty.size()).filter(|&b| b <= rem.len()).ok_or_else(|| {
+            self.err(ErrorKind::UnexpectedEof {
+                context: format!(
+                    "{what}: {n} values of {} bytes, {} bytes left",
+                    ty.size(),
+                    rem.len()
+                ),
+            })
+        })?;
         self.base = self.pos() + need;
         self.t = Tokens::new(&self.data[self.base..]);
         Ok(&rem[..need])
@@ -180,7 +192,13 @@ impl<'a> Reader<'a> {
             let start = self.pos();
             let bytes = self.binary_bytes(n, ty, what)?;
             decode_i64(bytes, ty, true, n, out).map_err(|i| {
-                Error::at_byte((start + i * ty.size()) as u64, ErrorKind::Expected { expected: format!("{what}: an integer"), found: format!("value {i}") })
+                Error::at_byte(
+                    (start + i * ty.size()) as u64,
+                    ErrorKind::Expected {
+                        expected: format!("{what}: an integer"),
+                        found: format!("value {i}"),
+                    },
+                )
             })
         } else {
             out.reserve(n);
@@ -212,7 +230,10 @@ impl<'a> Reader<'a> {
             self.grid.points = decode_points(bytes, ty, true, n).map_err(|i| {
                 Error::at_byte(
                     (start + i * ty.size()) as u64,
-                    ErrorKind::NonFinite { what: format!("coordinate {} of point {}", i % 3, i / 3), value: "NaN or infinity".into() },
+                    ErrorKind::NonFinite {
+                        what: format!("coordinate {} of point {}", i % 3, i / 3),
+                        value: "NaN or infinity".into(),
+                    },
                 )
             })?;
         } else {
@@ -222,7 +243,13 @@ impl<'a> Reader<'a> {
         }
         self.npoints = Some(n);
         if self.grid.cells_at.is_some() && self.grid.connectivity.iter().any(|&v| v as usize >= n) {
-            return Err(Error { path: None, at: Some(at), kind: ErrorKind::Inconsistent("CELLS before POINTS refer to points that do not exist".into()) });
+            return Err(Error {
+                path: None,
+                at: Some(at),
+                kind: ErrorKind::Inconsistent(
+                    "CELLS before POINTS refer to points that do not exist".into(),
+                ),
+            });
         }
         Ok(())
     }
@@ -233,7 +260,11 @@ impl<'a> Reader<'a> {
     fn node(&self, v: i64, cell: usize) -> Result<NodeIndex> {
         let max = self.npoints.unwrap_or(MAX_POINTS).min(MAX_POINTS);
         if v < 0 || v as u64 >= max as u64 {
-            return Err(self.err(ErrorKind::IndexOutOfRange { what: format!("cell {cell}"), index: v, available: self.npoints.unwrap_or(0) }));
+            return Err(self.err(ErrorKind::IndexOutOfRange {
+                what: format!("cell {cell}"),
+                index: v,
+                available: self.npoints.unwrap_or(0),
+            }));
         }
         Ok(v as NodeIndex)
     }
@@ -250,18 +281,28 @@ impl<'a> Reader<'a> {
             self.ints(n, oty, "cell offset", &mut offs)?;
             let ncells = n.saturating_sub(1);
             if offs.first().is_some_and(|&o| o != 0) || n == 0 {
-                return Err(self.err(ErrorKind::Expected { expected: "OFFSETS starting at 0".into(), found: format!("{:?}", offs.first()) }));
+                return Err(self.err(ErrorKind::Expected {
+                    expected: "OFFSETS starting at 0".into(),
+                    found: format!("{:?}", offs.first()),
+                }));
             }
-            if offs.windows(2).any(|w| w[1] < w[0]) || offs.last().is_some_and(|&o| o as u64 != size as u64) {
+            if offs.windows(2).any(|w| w[1] < w[0])
+                || offs.last().is_some_and(|&o| o as u64 != size as u64)
+            {
                 return Err(Error {
                     path: None,
                     at: Some(at),
-                    kind: ErrorKind::Inconsistent(format!("OFFSETS must rise from 0 to the connectivity size {size}")),
+                    kind: ErrorKind::Inconsistent(format!(
+                        "OFFSETS must rise from 0 to the connectivity size {size}"
+                    )),
                 });
             }
             let w = self.word("`CONNECTIVITY`")?;
             if !w.eq_ignore_ascii_case(b"CONNECTIVITY") {
-                return Err(self.err(ErrorKind::Expected { expected: "`CONNECTIVITY`".into(), found: show(w) }));
+                return Err(self.err(ErrorKind::Expected {
+                    expected: "`CONNECTIVITY`".into(),
+                    found: show(w),
+                }));
             }
             let cty = self.scalar()?;
             self.end_header();
@@ -269,15 +310,18 @@ impl<'a> Reader<'a> {
                 let start = self.pos();
                 let bytes = self.binary_bytes(size, cty, "cell nodes")?;
                 let np = self.npoints.unwrap_or(usize::MAX);
-                self.grid.connectivity = decode_indices(bytes, cty, true, size, np).map_err(|(i, v)| {
-                    let cell = offs.partition_point(|&o| o as usize <= i).saturating_sub(1);
-                    let mut e = self
-                        .node(v, cell)
-                        .err()
-                        .unwrap_or_else(|| self.err(ErrorKind::Expected { expected: "an integer node index".into(), found: v.to_string() }));
-                    e.at = Some(Position::Byte((start + i * cty.size()) as u64));
-                    e
-                })?;
+                self.grid.connectivity =
+                    decode_indices(bytes, cty, true, size, np).map_err(|(i, v)| {
+                        let cell = offs.partition_point(|&o| o as usize <= i).saturating_sub(1);
+                        let mut e = self.node(v, cell).err().unwrap_or_else(|| {
+                            self.err(ErrorKind::Expected {
+                                expected: "an integer node index".into(),
+                                found: v.to_string(),
+                            })
+                        });
+                        e.at = Some(Position::Byte((start + i * cty.size()) as u64));
+                        e
+                    })?;
             } else {
                 let mut out = Vec::with_capacity(size);
                 for c in 0..ncells {
@@ -295,7 +339,9 @@ impl<'a> Reader<'a> {
                 return Err(Error {
                     path: None,
                     at: Some(at),
-                    kind: ErrorKind::Inconsistent(format!("CELLS {n} {size}: the list size must count one node count per cell")),
+                    kind: ErrorKind::Inconsistent(format!(
+                        "CELLS {n} {size}: the list size must count one node count per cell"
+                    )),
                 });
             }
             self.end_header();
@@ -303,13 +349,19 @@ impl<'a> Reader<'a> {
             // The nodes of a binary list go into an array of the length the counts
             // promise (zeroed fresh pages, written once), grown only if a damaged file's
             // counts overrun it.
-            let mut conn = if self.binary { vec![0 as NodeIndex; size - n] } else { Vec::with_capacity(size - n) };
+            let mut conn = if self.binary {
+                vec![0 as NodeIndex; size - n]
+            } else {
+                Vec::with_capacity(size - n)
+            };
             offs.push(0usize);
             let mut left = size;
             if self.binary {
                 let start = self.pos();
                 let bytes = self.binary_bytes(size, Scalar::I32, "cell list")?;
-                let word = |i: usize| i32::from_be_bytes(bytes[4 * i..4 * i + 4].try_into().expect("4 bytes")) as i64;
+                let word = |i: usize| {
+                    i32::from_be_bytes(bytes[4 * i..4 * i + 4].try_into().expect("4 bytes")) as i64
+                };
                 // The largest index is folded in the pass that decodes them, and the
                 // faulty one looked for only when it is out of range. Negative indices
                 // wrap to 2^31 and more, which no point count admits.
@@ -318,7 +370,9 @@ impl<'a> Reader<'a> {
                     if left == 0 {
                         return Err(Error::at_byte(
                             (start + 4 * p) as u64,
-                            ErrorKind::Inconsistent(format!("CELLS {n} {size}: the list ends before cell {c}")),
+                            ErrorKind::Inconsistent(format!(
+                                "CELLS {n} {size}: the list ends before cell {c}"
+                            )),
                         ));
                     }
                     let k = word(p);
@@ -326,14 +380,20 @@ impl<'a> Reader<'a> {
                     if k < 0 || k as usize > left {
                         return Err(Error::at_byte(
                             (start + 4 * p) as u64,
-                            ErrorKind::Expected { expected: format!("a node count for cell {c}, at most {left}"), found: k.to_string() },
+                            ErrorKind::Expected {
+                                expected: format!("a node count for cell {c}, at most {left}"),
+                                found: k.to_string(),
+                            },
                         ));
                     }
                     let k = k as usize;
                     if q + k > conn.len() {
                         conn.resize(q + k, 0);
                     }
-                    for (d, b) in conn[q..q + k].iter_mut().zip(bytes[4 * (p + 1)..4 * (p + 1 + k)].chunks_exact(4)) {
+                    for (d, b) in conn[q..q + k]
+                        .iter_mut()
+                        .zip(bytes[4 * (p + 1)..4 * (p + 1 + k)].chunks_exact(4))
+                    {
                         *d = i32::from_be_bytes(b.try_into().expect("4 bytes")) as NodeIndex;
                         max = max.max(*d);
                     }
@@ -345,23 +405,35 @@ impl<'a> Reader<'a> {
                 conn.truncate(q);
                 // A 32-bit cell list names no point past i32::MAX.
                 let np = self.npoints.unwrap_or(usize::MAX).min(1 << 31);
-                if let Some(i) = (q > 0 && max as usize >= np).then(|| conn.iter().position(|&v| v as usize >= np)).flatten() {
+                if let Some(i) = (q > 0 && max as usize >= np)
+                    .then(|| conn.iter().position(|&v| v as usize >= np))
+                    .flatten()
+                {
                     let c = offs.partition_point(|&o| o <= i) - 1;
                     let at = start + 4 * (i + c + 1);
                     return Err(Error::at_byte(
                         at as u64,
-                        ErrorKind::IndexOutOfRange { what: format!("cell {c}"), index: conn[i] as i32 as i64, available: np },
+                        ErrorKind::IndexOutOfRange {
+                            what: format!("cell {c}"),
+                            index: conn[i] as i32 as i64,
+                            available: np,
+                        },
                     ));
                 }
             } else {
                 for c in 0..n {
                     if left == 0 {
-                        return Err(self.err(ErrorKind::Inconsistent(format!("CELLS {n} {size}: the list ends before cell {c}"))));
+                        return Err(self.err(ErrorKind::Inconsistent(format!(
+                            "CELLS {n} {size}: the list ends before cell {c}"
+                        ))));
                     }
                     let k = self.t.i64("node count")?;
                     left -= 1;
                     if k < 0 || k as usize > left {
-                        return Err(self.err(ErrorKind::Expected { expected: format!("a node count for cell {c}, at most {left}"), found: k.to_string() }));
+                        return Err(self.err(ErrorKind::Expected {
+                            expected: format!("a node count for cell {c}, at most {left}"),
+                            found: k.to_string(),
+                        }));
                     }
                     for _ in 0..k {
                         let v = self.t.i64("cell node")?;
@@ -375,7 +447,10 @@ impl<'a> Reader<'a> {
                 return Err(Error {
                     path: None,
                     at: Some(at),
-                    kind: ErrorKind::Inconsistent(format!("CELLS announces a list of {size} integers but its {n} cells use {}", size - left)),
+                    kind: ErrorKind::Inconsistent(format!(
+                        "CELLS announces a list of {size} integers but its {n} cells use {}",
+                        size - left
+                    )),
                 });
             }
             self.grid.offsets = offs;
@@ -391,17 +466,25 @@ impl<'a> Reader<'a> {
         let n = self.count("cell types", 2, 4)?;
         if let Some(nc) = self.ncells {
             if n != nc {
-                return Err(self.err(ErrorKind::Inconsistent(format!("CELL_TYPES {n} after CELLS with {nc} cells"))));
+                return Err(self.err(ErrorKind::Inconsistent(format!(
+                    "CELL_TYPES {n} after CELLS with {nc} cells"
+                ))));
             }
         }
         self.end_header();
-        let bad = |i: usize, t: i64| ErrorKind::Expected { expected: format!("a VTK cell type (0 to 255) for cell {i}"), found: t.to_string() };
+        let bad = |i: usize, t: i64| ErrorKind::Expected {
+            expected: format!("a VTK cell type (0 to 255) for cell {i}"),
+            found: t.to_string(),
+        };
         if self.binary {
             let start = self.pos();
             let bytes = self.binary_bytes(n, Scalar::I32, "cell types")?;
             let word = |c: &[u8]| i32::from_be_bytes(c.try_into().expect("4 bytes"));
             if let Some(i) = bytes.chunks_exact(4).position(|c| !(0..=255).contains(&word(c))) {
-                return Err(Error::at_byte((start + 4 * i) as u64, bad(i, word(&bytes[4 * i..4 * i + 4]) as i64)));
+                return Err(Error::at_byte(
+                    (start + 4 * i) as u64,
+                    bad(i, word(&bytes[4 * i..4 * i + 4]) as i64),
+                ));
             }
             self.grid.types = bytes.chunks_exact(4).map(|c| c[3]).collect();
         } else {
@@ -426,8 +509,16 @@ impl<'a> Reader<'a> {
         let expected = if section == Section::Point { self.npoints } else { self.ncells };
         let what = if section == Section::Point { "POINT_DATA" } else { "CELL_DATA" };
         match expected {
-            Some(e) if e != n => return Err(self.err(ErrorKind::Inconsistent(format!("{what} {n}, but the dataset has {e}")))),
-            None => return Err(self.err(ErrorKind::Expected { expected: format!("POINTS and CELLS before {what}"), found: format!("`{what}`") })),
+            Some(e) if e != n => {
+                return Err(self
+                    .err(ErrorKind::Inconsistent(format!("{what} {n}, but the dataset has {e}"))))
+            }
+            None => {
+                return Err(self.err(ErrorKind::Expected {
+                    expected: format!("POINTS and CELLS before {what}"),
+                    found: format!("`{what}`"),
+                }))
+            }
             _ => {}
         }
         self.section = section;
@@ -439,7 +530,14 @@ impl<'a> Reader<'a> {
         self.push_laid_out(name, components, values, Layout::Plain, at);
     }
 
-    fn push_laid_out(&mut self, name: String, components: usize, values: Vec<f64>, layout: Layout, at: Position) {
+    fn push_laid_out(
+        &mut self,
+        name: String,
+        components: usize,
+        values: Vec<f64>,
+        layout: Layout,
+        at: Position,
+    ) {
         let a = Named::new(name, components, values, layout, at);
         match self.section {
             Section::Dataset => self.grid.field_arrays.push(a),
@@ -450,21 +548,41 @@ impl<'a> Reader<'a> {
 
     fn need_section(&self, key: &[u8]) -> Result<()> {
         if self.section == Section::Dataset {
-            return Err(self.err(ErrorKind::Expected { expected: "POINT_DATA or CELL_DATA before a data attribute".into(), found: show(key) }));
+            return Err(self.err(ErrorKind::Expected {
+                expected: "POINT_DATA or CELL_DATA before a data attribute".into(),
+                found: show(key),
+            }));
         }
         Ok(())
     }
 
     /// An attribute array: `components` values per item of the current section.
-    fn attribute(&mut self, name: String, components: usize, ty: Scalar, at: Position) -> Result<()> {
-        let n = self.items.checked_mul(components).ok_or_else(|| self.err(ErrorKind::Inconsistent("array too large".into())))?;
-        check_count(n, self.t.remaining().len(), if self.binary { ty.size() } else { 2 }, &name).map_err(|k| self.err(k))?;
+    fn attribute(
+        &mut self,
+        name: String,
+        components: usize,
+        ty: Scalar,
+        at: Position,
+    ) -> Result<()> {
+        let n = self
+            .items
+            .checked_mul(components)
+            .ok_or_else(|| self.err(ErrorKind::Inconsistent("array too large".into())))?;
+        check_count(n, self.t.remaining().len(), if self.binary { ty.size() } else { 2 }, &name)
+            .map_err(|k| self.err(k))?;
         self.float_array(name, components, n, ty, at)
     }
 
     /// `n` values of an array of `components` floats per item, 9-component binary ones
     /// packed where they can be ([`decode_items`]), added to the current section.
-    fn float_array(&mut self, name: String, components: usize, n: usize, ty: Scalar, at: Position) -> Result<()> {
+    fn float_array(
+        &mut self,
+        name: String,
+        components: usize,
+        n: usize,
+        ty: Scalar,
+        at: Position,
+    ) -> Result<()> {
         let what = format!("value of `{name}`");
         if !self.binary {
             let mut values = Vec::new();
@@ -475,7 +593,8 @@ impl<'a> Reader<'a> {
         }
         let start = self.pos();
         let bytes = self.binary_bytes(n, ty, &what)?;
-        let (values, layout) = decode_items(bytes, ty, true, n, components).map_err(|i| non_finite(start, i, ty, &what))?;
+        let (values, layout) = decode_items(bytes, ty, true, n, components)
+            .map_err(|i| non_finite(start, i, ty, &what))?;
         self.push_laid_out(name, components, values, layout, at);
         Ok(())
     }
@@ -500,25 +619,50 @@ impl<'a> Reader<'a> {
             let tuples = self.usize("a tuple count")?;
             let tyw = self.word("a data type")?;
             let Some(ty) = Scalar::from_legacy(tyw) else {
-                return Err(self.err(ErrorKind::Unsupported(format!("field array `{name}` of type {}: smartmesh reads numeric arrays", show(tyw)))));
+                return Err(self.err(ErrorKind::Unsupported(format!(
+                    "field array `{name}` of type {}: smartmesh reads numeric arrays",
+                    show(tyw)
+                ))));
             };
             if comps == 0 {
-                return Err(self.err(ErrorKind::Expected { expected: format!("at least one component in `{name}`"), found: "0".into() }));
+                return Err(self.err(ErrorKind::Expected {
+                    expected: format!("at least one component in `{name}`"),
+                    found: "0".into(),
+                }));
             }
             match self.section {
                 Section::Point | Section::Cell if tuples != self.items => {
-                    return Err(self.err(ErrorKind::Inconsistent(format!("field array `{name}` has {tuples} tuples in a section of {}", self.items))));
+                    return Err(self.err(ErrorKind::Inconsistent(format!(
+                        "field array `{name}` has {tuples} tuples in a section of {}",
+                        self.items
+                    ))));
                 }
                 _ => {}
             }
-            let n = comps.checked_mul(tuples).ok_or_else(|| self.err(ErrorKind::Inconsistent("array too large".into())))?;
-            check_count(n, self.t.remaining().len(), if self.binary { ty.size() } else { 2 }, &name).map_err(|k| self.err(k))?;
+            let n = comps
+                .checked_mul(tuples)
+                .ok_or_else(|| self.err(ErrorKind::Inconsistent("array too large".into())))?;
+            check_count(
+                n,
+                self.t.remaining().len(),
+                if self.binary { ty.size() } else { 2 },
+                &name,
+            )
+            .map_err(|k| self.err(k))?;
             self.end_header();
             // A binary 32-bit cell tag array (how smartmesh and Gmsh write them) goes
             // straight into tags: every i32 is a tag, so there is nothing to check.
-            if self.binary && self.section == Section::Cell && comps == 1 && ty == Scalar::I32 && tag_slot(&name).is_some() {
+            if self.binary
+                && self.section == Section::Cell
+                && comps == 1
+                && ty == Scalar::I32
+                && tag_slot(&name).is_some()
+            {
                 let bytes = self.binary_bytes(n, ty, "cell tags")?;
-                let tags = bytes.chunks_exact(4).map(|c| i32::from_be_bytes(c.try_into().expect("4 bytes"))).collect();
+                let tags = bytes
+                    .chunks_exact(4)
+                    .map(|c| i32::from_be_bytes(c.try_into().expect("4 bytes")))
+                    .collect();
                 self.grid.cell_tags.push((name, tags, at));
                 continue;
             }
@@ -645,7 +789,13 @@ impl<'a> Reader<'a> {
 
 /// The error for value `i` of a binary array starting at byte `start`: not finite.
 fn non_finite(start: usize, i: usize, ty: Scalar, what: &str) -> Error {
-    Error::at_byte((start + i * ty.size()) as u64, ErrorKind::NonFinite { what: format!("{what}, value {i}"), value: "NaN or infinity".into() })
+    Error::at_byte(
+        (start + i * ty.size()) as u64,
+        ErrorKind::NonFinite {
+            what: format!("{what}, value {i}"),
+            value: "NaN or infinity".into(),
+        },
+    )
 }
 
 /// Reads a legacy file.
@@ -665,7 +815,17 @@ pub(crate) fn read(bytes: &[u8]) -> Result<TaggedMesh> {
     } else {
         return Err(t.expected("ASCII or BINARY", kind));
     };
-    let mut r = Reader { data: bytes, base: 0, t, binary, npoints: None, ncells: None, section: Section::Dataset, items: 0, grid: Grid::default() };
+    let mut r = Reader {
+        data: bytes,
+        base: 0,
+        t,
+        binary,
+        npoints: None,
+        ncells: None,
+        section: Section::Dataset,
+        items: 0,
+        grid: Grid::default(),
+    };
     let mut dataset = false;
     while let Some(key) = r.t.next() {
         let k = key.to_ascii_uppercase();
@@ -673,13 +833,21 @@ pub(crate) fn read(bytes: &[u8]) -> Result<TaggedMesh> {
             b"DATASET" => {
                 let ty = r.word("a dataset type")?;
                 if !ty.eq_ignore_ascii_case(b"UNSTRUCTURED_GRID") {
-                    return Err(r.err(ErrorKind::Unsupported(format!("legacy dataset {}: smartmesh reads UNSTRUCTURED_GRID", show(ty)))));
+                    return Err(r.err(ErrorKind::Unsupported(format!(
+                        "legacy dataset {}: smartmesh reads UNSTRUCTURED_GRID",
+                        show(ty)
+                    ))));
                 }
                 dataset = true;
             }
             b"METADATA" => r.skip_metadata(),
             b"FIELD" => r.read_field()?,
-            _ if !dataset => return Err(r.err(ErrorKind::Expected { expected: "`DATASET UNSTRUCTURED_GRID`".into(), found: show(key) })),
+            _ if !dataset => {
+                return Err(r.err(ErrorKind::Expected {
+                    expected: "`DATASET UNSTRUCTURED_GRID`".into(),
+                    found: show(key),
+                }))
+            }
             b"POINTS" => r.read_points()?,
             b"CELLS" => r.read_cells()?,
             b"CELL_TYPES" => r.read_cell_types()?,
@@ -689,17 +857,23 @@ pub(crate) fn read(bytes: &[u8]) -> Result<TaggedMesh> {
         }
     }
     if !dataset {
-        return Err(r.err(ErrorKind::UnexpectedEof { context: "expected `DATASET UNSTRUCTURED_GRID`".into() }));
+        return Err(r.err(ErrorKind::UnexpectedEof {
+            context: "expected `DATASET UNSTRUCTURED_GRID`".into(),
+        }));
     }
     if r.npoints.is_none() {
         return Err(r.err(ErrorKind::UnexpectedEof { context: "expected POINTS".into() }));
     }
     if r.grid.types_at.is_none() && r.grid.cells_at.is_some() {
-        return Err(r.err(ErrorKind::UnexpectedEof { context: "expected CELL_TYPES after CELLS".into() }));
+        return Err(
+            r.err(ErrorKind::UnexpectedEof { context: "expected CELL_TYPES after CELLS".into() })
+        );
     }
     if r.grid.cells_at.is_none() {
         if r.grid.types_at.is_some() {
-            return Err(r.err(ErrorKind::UnexpectedEof { context: "expected CELLS before CELL_TYPES".into() }));
+            return Err(r.err(ErrorKind::UnexpectedEof {
+                context: "expected CELLS before CELL_TYPES".into(),
+            }));
         }
         r.grid.offsets = vec![0];
     }
@@ -712,7 +886,10 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         (4, 2) => false,
         (5, 1) => true,
         (a, b) => {
-            return Err(Error::new(ErrorKind::CannotWrite { format: "VTK legacy", reason: format!("file version {a}.{b}: smartmesh writes 4.2 and 5.1") }))
+            return Err(Error::new(ErrorKind::CannotWrite {
+                format: "VTK legacy",
+                reason: format!("file version {a}.{b}: smartmesh writes 4.2 and 5.1"),
+            }))
         }
     };
     let binary = opts.binary;
@@ -721,14 +898,23 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let nc = mesh.num_cells();
     let nconn: usize = mesh.blocks.iter().map(|b| b.nodes.len()).sum();
     if !v51 && nconn + nc > i32::MAX as usize {
-        return Err(Error::new(ErrorKind::CannotWrite { format: "VTK legacy 4.2", reason: "more than 2^31 cell list entries; write version 5.1".into() }));
+        return Err(Error::new(ErrorKind::CannotWrite {
+            format: "VTK legacy 4.2",
+            reason: "more than 2^31 cell list entries; write version 5.1".into(),
+        }));
     }
-    let data_values =
-        plan.point_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>() + plan.cell_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>();
+    let data_values = plan.point_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>()
+        + plan.cell_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>();
     let per_value = if binary { 8 } else { 20 };
-    let mut out = Vec::with_capacity(512 + np * 3 * per_value + (nconn + nc) * 8 + nc * 24 + data_values * per_value);
+    let mut out = Vec::with_capacity(
+        512 + np * 3 * per_value + (nconn + nc) * 8 + nc * 24 + data_values * per_value,
+    );
 
-    out.extend_from_slice(if v51 { b"# vtk DataFile Version 5.1\n" } else { b"# vtk DataFile Version 4.2\n" });
+    out.extend_from_slice(if v51 {
+        b"# vtk DataFile Version 5.1\n"
+    } else {
+        b"# vtk DataFile Version 4.2\n"
+    });
     out.extend_from_slice(b"written by smartmesh\n");
     out.extend_from_slice(if binary { b"BINARY\n" } else { b"ASCII\n" });
     out.extend_from_slice(b"DATASET UNSTRUCTURED_GRID\n");
@@ -890,13 +1076,19 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         crate::text::push_int(&mut out, np);
         out.push(b'\n');
         if let Some(tname) = plan.tensor {
-            let a = &plan.point_arrays.iter().find(|(n, _)| *n == tname).expect("the tensor is one of the point arrays").1;
+            let a = &plan
+                .point_arrays
+                .iter()
+                .find(|(n, _)| *n == tname)
+                .expect("the tensor is one of the point arrays")
+                .1;
             out.extend_from_slice(b"TENSORS ");
             encode_name(&mut out, tname);
             out.extend_from_slice(b" double\n");
             write_floats(&mut out, &a.values, 9, binary);
         }
-        let rest: Vec<_> = plan.point_arrays.iter().filter(|(n, _)| Some(*n) != plan.tensor).collect();
+        let rest: Vec<_> =
+            plan.point_arrays.iter().filter(|(n, _)| Some(*n) != plan.tensor).collect();
         if !rest.is_empty() {
             out.extend_from_slice(b"FIELD FieldData ");
             crate::text::push_int(&mut out, rest.len());

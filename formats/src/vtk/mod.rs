@@ -66,7 +66,10 @@ use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 use crate::error::Position;
-use crate::{CellBlock, CellKind, DataArray, Error, ErrorKind, Layout, NodeIndex, ReadContext, Result, TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS};
+use crate::{
+    CellBlock, CellKind, DataArray, Error, ErrorKind, Layout, NodeIndex, ReadContext, Result,
+    TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS,
+};
 
 /// Reads a legacy `.vtk` file (versions 2.0 to 5.1, ASCII or binary).
 pub fn read_legacy(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
@@ -171,7 +174,13 @@ impl Scalar {
 /// Decodes `n` values of type `ty` from `bytes` (which holds at least `n * ty.size()`
 /// bytes) as `f64`, appending to `out`. Integers wider than 53 bits lose precision as
 /// any reader of doubles would. Returns the index of the first non-finite value.
-pub(crate) fn decode_f64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mut Vec<f64>) -> std::result::Result<(), usize> {
+pub(crate) fn decode_f64(
+    bytes: &[u8],
+    ty: Scalar,
+    big: bool,
+    n: usize,
+    out: &mut Vec<f64>,
+) -> std::result::Result<(), usize> {
     let bytes = &bytes[..n * ty.size()];
     let start = out.len();
     out.reserve(n);
@@ -182,9 +191,17 @@ pub(crate) fn decode_f64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
     macro_rules! conv {
         ($t:ty, $w:expr) => {{
             if big {
-                out.extend(bytes.chunks_exact($w).map(|c| <$t>::from_be_bytes(c.try_into().expect("chunk")) as f64));
+                out.extend(
+                    bytes
+                        .chunks_exact($w)
+                        .map(|c| <$t>::from_be_bytes(c.try_into().expect("chunk")) as f64),
+                );
             } else {
-                out.extend(bytes.chunks_exact($w).map(|c| <$t>::from_le_bytes(c.try_into().expect("chunk")) as f64));
+                out.extend(
+                    bytes
+                        .chunks_exact($w)
+                        .map(|c| <$t>::from_le_bytes(c.try_into().expect("chunk")) as f64),
+                );
             }
         }};
         (float $t:ty, $w:expr) => {{
@@ -193,9 +210,17 @@ pub(crate) fn decode_f64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
                 v as f64
             };
             if big {
-                out.extend(bytes.chunks_exact($w).map(|c| f(<$t>::from_be_bytes(c.try_into().expect("chunk")))));
+                out.extend(
+                    bytes
+                        .chunks_exact($w)
+                        .map(|c| f(<$t>::from_be_bytes(c.try_into().expect("chunk")))),
+                );
             } else {
-                out.extend(bytes.chunks_exact($w).map(|c| f(<$t>::from_le_bytes(c.try_into().expect("chunk")))));
+                out.extend(
+                    bytes
+                        .chunks_exact($w)
+                        .map(|c| f(<$t>::from_le_bytes(c.try_into().expect("chunk")))),
+                );
             }
         }};
     }
@@ -220,15 +245,29 @@ pub(crate) fn decode_f64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
 /// Decodes `n` integers of type `ty` from `bytes`, appending to `out`. Floating-point
 /// arrays are accepted when every value is integral (some writers store ids as
 /// doubles); otherwise the index of the first bad value is returned.
-pub(crate) fn decode_i64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mut Vec<i64>) -> std::result::Result<(), usize> {
+pub(crate) fn decode_i64(
+    bytes: &[u8],
+    ty: Scalar,
+    big: bool,
+    n: usize,
+    out: &mut Vec<i64>,
+) -> std::result::Result<(), usize> {
     let bytes = &bytes[..n * ty.size()];
     out.reserve(n);
     macro_rules! conv {
         ($t:ty, $w:expr) => {{
             if big {
-                out.extend(bytes.chunks_exact($w).map(|c| <$t>::from_be_bytes(c.try_into().expect("chunk")) as i64));
+                out.extend(
+                    bytes
+                        .chunks_exact($w)
+                        .map(|c| <$t>::from_be_bytes(c.try_into().expect("chunk")) as i64),
+                );
             } else {
-                out.extend(bytes.chunks_exact($w).map(|c| <$t>::from_le_bytes(c.try_into().expect("chunk")) as i64));
+                out.extend(
+                    bytes
+                        .chunks_exact($w)
+                        .map(|c| <$t>::from_le_bytes(c.try_into().expect("chunk")) as i64),
+                );
             }
         }};
     }
@@ -242,7 +281,11 @@ pub(crate) fn decode_i64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
         Scalar::I64 => conv!(i64, 8),
         Scalar::U64 => {
             for (i, c) in bytes.chunks_exact(8).enumerate() {
-                let v = if big { u64::from_be_bytes(c.try_into().expect("chunk")) } else { u64::from_le_bytes(c.try_into().expect("chunk")) };
+                let v = if big {
+                    u64::from_be_bytes(c.try_into().expect("chunk"))
+                } else {
+                    u64::from_le_bytes(c.try_into().expect("chunk"))
+                };
                 out.push(i64::try_from(v).map_err(|_| i)?);
             }
         }
@@ -264,7 +307,14 @@ pub(crate) fn decode_i64(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mu
 /// appending to `out`: `conv` takes each value and refuses (with `None`) what its
 /// type cannot hold. Saves the `i64` array that [`decode_i64`] would fill for arrays
 /// such as cell types and offsets. Returns the index of the first refused value.
-pub(crate) fn decode_ints_as<T>(bytes: &[u8], ty: Scalar, big: bool, n: usize, out: &mut Vec<T>, conv: impl Fn(i64) -> Option<T>) -> std::result::Result<(), usize> {
+pub(crate) fn decode_ints_as<T>(
+    bytes: &[u8],
+    ty: Scalar,
+    big: bool,
+    n: usize,
+    out: &mut Vec<T>,
+    conv: impl Fn(i64) -> Option<T>,
+) -> std::result::Result<(), usize> {
     let bytes = &bytes[..n * ty.size()];
     out.reserve(n);
     macro_rules! conv {
@@ -303,7 +353,13 @@ pub(crate) fn decode_ints_as<T>(bytes: &[u8], ty: Scalar, big: bool, n: usize, o
 /// packed as [`Layout::Symmetric2`]: a third of the memory, which a large read would
 /// otherwise spend most of its time faulting in, and the same values once expanded.
 /// Returns the values and their layout, or the index of the first non-finite value.
-pub(crate) fn decode_items(bytes: &[u8], ty: Scalar, big: bool, n: usize, components: usize) -> std::result::Result<(Vec<f64>, Layout), usize> {
+pub(crate) fn decode_items(
+    bytes: &[u8],
+    ty: Scalar,
+    big: bool,
+    n: usize,
+    components: usize,
+) -> std::result::Result<(Vec<f64>, Layout), usize> {
     if components == 9 && n % 9 == 0 {
         if let Some(packed) = pack_symmetric2(&bytes[..n * ty.size()], ty, big) {
             return Ok((packed, Layout::Symmetric2));
@@ -328,10 +384,16 @@ pub(crate) fn pack_parsed(values: Vec<f64>, components: usize) -> (Vec<f64>, Lay
 /// The packed `m11 m12 m22` of 9-component float items, when every item is a finite 2D
 /// symmetric tensor with the implied third row and column (see [`decode_items`]).
 fn pack_symmetric2(bytes: &[u8], ty: Scalar, big: bool) -> Option<Vec<f64>> {
-    let f64_le = |r: &[u8], j: usize| f64::from_le_bytes(r[8 * j..8 * j + 8].try_into().expect("8 bytes"));
-    let f64_be = |r: &[u8], j: usize| f64::from_be_bytes(r[8 * j..8 * j + 8].try_into().expect("8 bytes"));
-    let f32_le = |r: &[u8], j: usize| f32::from_le_bytes(r[4 * j..4 * j + 4].try_into().expect("4 bytes")) as f64;
-    let f32_be = |r: &[u8], j: usize| f32::from_be_bytes(r[4 * j..4 * j + 4].try_into().expect("4 bytes")) as f64;
+    let f64_le =
+        |r: &[u8], j: usize| f64::from_le_bytes(r[8 * j..8 * j + 8].try_into().expect("8 bytes"));
+    let f64_be =
+        |r: &[u8], j: usize| f64::from_be_bytes(r[8 * j..8 * j + 8].try_into().expect("8 bytes"));
+    let f32_le = |r: &[u8], j: usize| {
+        f32::from_le_bytes(r[4 * j..4 * j + 4].try_into().expect("4 bytes")) as f64
+    };
+    let f32_be = |r: &[u8], j: usize| {
+        f32::from_be_bytes(r[4 * j..4 * j + 4].try_into().expect("4 bytes")) as f64
+    };
     match (ty, big) {
         (Scalar::F64, false) => pack_rows(bytes.chunks_exact(72), f64_le),
         (Scalar::F64, true) => pack_rows(bytes.chunks_exact(72), f64_be),
@@ -343,12 +405,20 @@ fn pack_symmetric2(bytes: &[u8], ty: Scalar, big: bool) -> Option<Vec<f64>> {
 
 /// Packs 9-value rows (value `j` of a row by `get`) when every one fits.
 #[inline(always)]
-fn pack_rows<R: Copy>(rows: impl ExactSizeIterator<Item = R> + Clone, get: impl Fn(R, usize) -> f64) -> Option<Vec<f64>> {
+fn pack_rows<R: Copy>(
+    rows: impl ExactSizeIterator<Item = R> + Clone,
+    get: impl Fn(R, usize) -> f64,
+) -> Option<Vec<f64>> {
     let item = |r: R| -> ([f64; 3], bool) {
         let m: [f64; 9] = std::array::from_fn(|j| get(r, j));
         // Zeros compared by their bits: a -0.0 would not come back from the packing.
         let zero = |x: f64| x.to_bits() == 0;
-        let fits = m[3].to_bits() == m[1].to_bits() && zero(m[2]) && zero(m[5]) && zero(m[6]) && zero(m[7]) && m[8] == 1.0;
+        let fits = m[3].to_bits() == m[1].to_bits()
+            && zero(m[2])
+            && zero(m[5])
+            && zero(m[6])
+            && zero(m[7])
+            && m[8] == 1.0;
         ([m[0], m[1], m[4]], fits & m[0].is_finite() & m[1].is_finite() & m[4].is_finite())
     };
     // A first item that does not fit (a 3D tensor, a non-finite value, which the plain
@@ -370,10 +440,21 @@ fn pack_rows<R: Copy>(rows: impl ExactSizeIterator<Item = R> + Clone, get: impl 
 
 /// Decodes `n` points (3 values each) straight into `[f64; 3]`, the hot path of
 /// every binary reader. Returns the index of the first non-finite value.
-pub(crate) fn decode_points(bytes: &[u8], ty: Scalar, big: bool, n: usize) -> std::result::Result<Vec<[f64; 3]>, usize> {
+pub(crate) fn decode_points(
+    bytes: &[u8],
+    ty: Scalar,
+    big: bool,
+    n: usize,
+) -> std::result::Result<Vec<[f64; 3]>, usize> {
     let bytes = &bytes[..3 * n * ty.size()];
     let pts: Vec<[f64; 3]> = if ty == Scalar::F64 {
-        let f = |c: &[u8]| if big { f64::from_be_bytes(c.try_into().expect("8")) } else { f64::from_le_bytes(c.try_into().expect("8")) };
+        let f = |c: &[u8]| {
+            if big {
+                f64::from_be_bytes(c.try_into().expect("8"))
+            } else {
+                f64::from_le_bytes(c.try_into().expect("8"))
+            }
+        };
         bytes.chunks_exact(24).map(|c| [f(&c[..8]), f(&c[8..16]), f(&c[16..])]).collect()
     } else {
         let mut flat = Vec::new();
@@ -388,7 +469,13 @@ pub(crate) fn decode_points(bytes: &[u8], ty: Scalar, big: bool, n: usize) -> st
 
 /// Decodes `n` point indices, each checked to be in `0..limit`; on failure, the
 /// position and value of the first bad one.
-pub(crate) fn decode_indices(bytes: &[u8], ty: Scalar, big: bool, n: usize, limit: usize) -> std::result::Result<Vec<NodeIndex>, (usize, i64)> {
+pub(crate) fn decode_indices(
+    bytes: &[u8],
+    ty: Scalar,
+    big: bool,
+    n: usize,
+    limit: usize,
+) -> std::result::Result<Vec<NodeIndex>, (usize, i64)> {
     let bytes = &bytes[..n * ty.size()];
     // Cells address at most MAX_POINTS points. A value that is negative or past
     // `NodeIndex` saturates to `NodeIndex::MAX`, which no limit admits, so one
@@ -396,10 +483,22 @@ pub(crate) fn decode_indices(bytes: &[u8], ty: Scalar, big: bool, n: usize, limi
     let limit = limit.min(MAX_POINTS);
     let sat = |v: i64| NodeIndex::try_from(v).unwrap_or(NodeIndex::MAX);
     let out: Vec<NodeIndex> = match (ty, big) {
-        (Scalar::I64, false) => bytes.chunks_exact(8).map(|c| sat(i64::from_le_bytes(c.try_into().expect("8")))).collect(),
-        (Scalar::I64, true) => bytes.chunks_exact(8).map(|c| sat(i64::from_be_bytes(c.try_into().expect("8")))).collect(),
-        (Scalar::I32, false) => bytes.chunks_exact(4).map(|c| sat(i32::from_le_bytes(c.try_into().expect("4")) as i64)).collect(),
-        (Scalar::I32, true) => bytes.chunks_exact(4).map(|c| sat(i32::from_be_bytes(c.try_into().expect("4")) as i64)).collect(),
+        (Scalar::I64, false) => bytes
+            .chunks_exact(8)
+            .map(|c| sat(i64::from_le_bytes(c.try_into().expect("8"))))
+            .collect(),
+        (Scalar::I64, true) => bytes
+            .chunks_exact(8)
+            .map(|c| sat(i64::from_be_bytes(c.try_into().expect("8"))))
+            .collect(),
+        (Scalar::I32, false) => bytes
+            .chunks_exact(4)
+            .map(|c| sat(i32::from_le_bytes(c.try_into().expect("4")) as i64))
+            .collect(),
+        (Scalar::I32, true) => bytes
+            .chunks_exact(4)
+            .map(|c| sat(i32::from_be_bytes(c.try_into().expect("4")) as i64))
+            .collect(),
         _ => {
             let mut v = Vec::new();
             decode_i64(bytes, ty, big, n, &mut v).map_err(|i| (i, -1))?;
@@ -412,7 +511,8 @@ pub(crate) fn decode_indices(bytes: &[u8], ty: Scalar, big: bool, n: usize, limi
     match out.iter().position(|&v| v as usize >= limit) {
         Some(i) => {
             let mut one = Vec::new();
-            decode_i64(&bytes[i * ty.size()..(i + 1) * ty.size()], ty, big, 1, &mut one).map_err(|_| (i, -1))?;
+            decode_i64(&bytes[i * ty.size()..(i + 1) * ty.size()], ty, big, 1, &mut one)
+                .map_err(|_| (i, -1))?;
             Err((i, one.first().copied().unwrap_or(-1)))
         }
         None => Ok(out),
@@ -434,7 +534,13 @@ pub(crate) struct Named {
 impl Named {
     /// An array of `components` values per item in the file, laid out as `layout` says
     /// (a packed tensor keeps 3 of its 9).
-    pub(crate) fn new(name: String, components: usize, values: Vec<f64>, layout: Layout, at: Position) -> Named {
+    pub(crate) fn new(
+        name: String,
+        components: usize,
+        values: Vec<f64>,
+        layout: Layout,
+        at: Position,
+    ) -> Named {
         let components = if layout == Layout::Symmetric2 { 3 } else { components };
         Named { name, components, values, layout, at }
     }
@@ -510,12 +616,27 @@ impl Grid {
     /// Checks cells against points and types, sorts cell arrays into tags and cell
     /// data, and names tags from the field data.
     pub(crate) fn into_mesh(self) -> Result<TaggedMesh> {
-        let Grid { points, types, types_at, offsets, connectivity, cells_at, point_arrays, cell_arrays, cell_tags, field_arrays } = self;
+        let Grid {
+            points,
+            types,
+            types_at,
+            offsets,
+            connectivity,
+            cells_at,
+            point_arrays,
+            cell_arrays,
+            cell_tags,
+            field_arrays,
+        } = self;
         let n = types.len();
         if offsets.len() != n + 1 {
             return Err(at_error(
                 cells_at.or(types_at),
-                ErrorKind::Inconsistent(format!("{} cells have types but {} have nodes", n, offsets.len().saturating_sub(1))),
+                ErrorKind::Inconsistent(format!(
+                    "{} cells have types but {} have nodes",
+                    n,
+                    offsets.len().saturating_sub(1)
+                )),
             ));
         }
         let np = points.len();
@@ -527,7 +648,13 @@ impl Grid {
         let mut cell_data = BTreeMap::new();
         for (name, tags, at) in cell_tags {
             if tags.len() != n {
-                return Err(at_error(Some(at), ErrorKind::Inconsistent(format!("cell array `{name}` has {} values, expected {n} ({n} cells)", tags.len()))));
+                return Err(at_error(
+                    Some(at),
+                    ErrorKind::Inconsistent(format!(
+                        "cell array `{name}` has {} values, expected {n} ({n} cells)",
+                        tags.len()
+                    )),
+                ));
             }
             let slot = tag_slot(&name).expect("readers keep only tag names here");
             tag_arrays[slot] = Some(tags);
@@ -536,7 +663,13 @@ impl Grid {
             if a.values.len() != n * a.components {
                 return Err(at_error(
                     Some(a.at),
-                    ErrorKind::Inconsistent(format!("cell array `{}` has {} values, expected {} ({} cells)", a.name, a.values.len(), n * a.components, n)),
+                    ErrorKind::Inconsistent(format!(
+                        "cell array `{}` has {} values, expected {} ({} cells)",
+                        a.name,
+                        a.values.len(),
+                        n * a.components,
+                        n
+                    )),
                 ));
             }
             match tag_slot(&a.name) {
@@ -544,14 +677,30 @@ impl Grid {
                     let mut tags = Vec::with_capacity(n);
                     for (i, &v) in a.values.iter().enumerate() {
                         let t = tag_value(v).ok_or_else(|| {
-                            at_error(Some(a.at), ErrorKind::Expected { expected: format!("an integer tag in `{}` for cell {i}", a.name), found: v.to_string() })
+                            at_error(
+                                Some(a.at),
+                                ErrorKind::Expected {
+                                    expected: format!(
+                                        "an integer tag in `{}` for cell {i}",
+                                        a.name
+                                    ),
+                                    found: v.to_string(),
+                                },
+                            )
                         })?;
                         tags.push(t);
                     }
                     tag_arrays[s] = Some(tags);
                 }
                 _ => {
-                    cell_data.insert(a.name, DataArray { components: a.components.max(1), values: a.values, layout: a.layout });
+                    cell_data.insert(
+                        a.name,
+                        DataArray {
+                            components: a.components.max(1),
+                            values: a.values,
+                            layout: a.layout,
+                        },
+                    );
                 }
             }
         }
@@ -562,7 +711,10 @@ impl Grid {
             (None, None, Some(ids)) => (Some(ids.clone()), Some(ids)),
             (p, g, ids) => {
                 if let Some(ids) = ids {
-                    cell_data.insert(ENTITY_IDS.to_string(), DataArray::new(1, ids.into_iter().map(f64::from).collect()));
+                    cell_data.insert(
+                        ENTITY_IDS.to_string(),
+                        DataArray::new(1, ids.into_iter().map(f64::from).collect()),
+                    );
                 }
                 let g = g.or_else(|| p.clone());
                 (p, g)
@@ -599,15 +751,27 @@ impl Grid {
             // Each cell of the run must span k nodes: one comparison per cell, and the
             // cell named only when one fails.
             if offsets[i..=j].windows(2).any(|w| w[1].wrapping_sub(w[0]) != k) {
-                let c = i + offsets[i..=j].windows(2).position(|w| w[1].wrapping_sub(w[0]) != k).unwrap_or(0);
+                let c = i + offsets[i..=j]
+                    .windows(2)
+                    .position(|w| w[1].wrapping_sub(w[0]) != k)
+                    .unwrap_or(0);
                 let (a, b) = (offsets[c], offsets[c + 1]);
                 return Err(at_error(
                     cells_at,
-                    ErrorKind::Expected { expected: format!("{k} nodes for cell {c} (a {})", kind.name()), found: format!("{}", b as i128 - a as i128) },
+                    ErrorKind::Expected {
+                        expected: format!("{k} nodes for cell {c} (a {})", kind.name()),
+                        found: format!("{}", b as i128 - a as i128),
+                    },
                 ));
             }
             if offsets[j] > connectivity.len() {
-                return Err(at_error(cells_at, ErrorKind::Inconsistent(format!("cells {i}..{j} end at node {}, past the connectivity", offsets[j]))));
+                return Err(at_error(
+                    cells_at,
+                    ErrorKind::Inconsistent(format!(
+                        "cells {i}..{j} end at node {}, past the connectivity",
+                        offsets[j]
+                    )),
+                ));
             }
             match runs.last_mut() {
                 // Two VTK types of one kind in a row make one block, as `block_mut` would.
@@ -616,7 +780,8 @@ impl Grid {
             }
             i = j;
         }
-        let big = (0..runs.len()).max_by_key(|&r| (offsets[runs[r].2] - offsets[runs[r].1], std::cmp::Reverse(r)));
+        let big = (0..runs.len())
+            .max_by_key(|&r| (offsets[runs[r].2] - offsets[runs[r].1], std::cmp::Reverse(r)));
         mesh.blocks = runs
             .iter()
             .enumerate()
@@ -650,10 +815,19 @@ impl Grid {
             if a.values.len() != np * a.components {
                 return Err(at_error(
                     Some(a.at),
-                    ErrorKind::Inconsistent(format!("point array `{}` has {} values, expected {} ({} points)", a.name, a.values.len(), np * a.components, np)),
+                    ErrorKind::Inconsistent(format!(
+                        "point array `{}` has {} values, expected {} ({} points)",
+                        a.name,
+                        a.values.len(),
+                        np * a.components,
+                        np
+                    )),
                 ));
             }
-            mesh.point_data.insert(a.name, DataArray { components: a.components.max(1), values: a.values, layout: a.layout });
+            mesh.point_data.insert(
+                a.name,
+                DataArray { components: a.components.max(1), values: a.values, layout: a.layout },
+            );
         }
         mesh.cell_data = cell_data;
 
@@ -698,20 +872,27 @@ impl<'m> Plan<'m> {
         let mut cell_arrays = Vec::new();
         for (name, a) in &mesh.cell_data {
             if name == PHYSICAL || name == GEOMETRICAL {
-                report.drop(format!("cell data `{name}`: {format} stores the cell tags under that name"));
+                report.drop(format!(
+                    "cell data `{name}`: {format} stores the cell tags under that name"
+                ));
             } else if name.is_empty() {
                 report.drop(format!("a cell data array without a name: {format} needs one"));
             } else {
                 cell_arrays.push((name.as_str(), a.expanded()));
             }
         }
-        let mut point_arrays: Vec<(&str, Cow<'_, DataArray>)> = mesh.point_data.iter().map(|(k, v)| (k.as_str(), v.expanded())).collect();
+        let mut point_arrays: Vec<(&str, Cow<'_, DataArray>)> =
+            mesh.point_data.iter().map(|(k, v)| (k.as_str(), v.expanded())).collect();
         if point_arrays.iter().any(|(k, _)| k.is_empty()) {
             report.drop(format!("a point data array without a name: {format} needs one"));
             point_arrays.retain(|(k, _)| !k.is_empty());
         }
-        let tensors: Vec<&str> = point_arrays.iter().filter(|(_, a)| a.components == 9).map(|(k, _)| *k).collect();
-        let tensor = ["size_tensor", "metric"].into_iter().find(|n| tensors.contains(n)).or(tensors.first().copied());
+        let tensors: Vec<&str> =
+            point_arrays.iter().filter(|(_, a)| a.components == 9).map(|(k, _)| *k).collect();
+        let tensor = ["size_tensor", "metric"]
+            .into_iter()
+            .find(|n| tensors.contains(n))
+            .or(tensors.first().copied());
         let mut names = Vec::new();
         let mut seen = std::collections::BTreeSet::new();
         for (&(dim, tag), name) in &mesh.tag_names {
@@ -724,16 +905,29 @@ impl<'m> Plan<'m> {
             }
         }
         if !mesh.entities.is_empty() {
-            report.drop(format!("entity table ({} entities): {format} has no place for it", mesh.entities.len()));
+            report.drop(format!(
+                "entity table ({} entities): {format} has no place for it",
+                mesh.entities.len()
+            ));
         }
         for (name, set) in &mesh.point_sets {
-            report.drop(format!("point set `{name}` ({} points): {format} has no point sets", set.len()));
+            report.drop(format!(
+                "point set `{name}` ({} points): {format} has no point sets",
+                set.len()
+            ));
         }
         for (name, set) in &mesh.cell_sets {
-            report.drop(format!("cell set `{name}` ({} cells): {format} has no cell sets", set.len()));
+            report.drop(format!(
+                "cell set `{name}` ({} cells): {format} has no cell sets",
+                set.len()
+            ));
         }
         if !mesh.holes.is_empty() || !mesh.regions.is_empty() {
-            report.drop(format!("{} holes and {} region seeds: {format} has no place for them", mesh.holes.len(), mesh.regions.len()));
+            report.drop(format!(
+                "{} holes and {} region seeds: {format} has no place for them",
+                mesh.holes.len(),
+                mesh.regions.len()
+            ));
         }
         Plan { physical, geometrical, cell_arrays, point_arrays, tensor, names, report }
     }

@@ -26,14 +26,23 @@ use flate2::{Compress, Compression, Decompress, FlushCompress, FlushDecompress, 
 
 use crate::error::Position;
 use crate::text::Tokens;
-use crate::{Error, ErrorKind, Layout, NodeIndex, Result, TaggedMesh, VtuEncoding, WriteOptions, Written, MAX_POINTS};
+use crate::{
+    Error, ErrorKind, Layout, NodeIndex, Result, TaggedMesh, VtuEncoding, WriteOptions, Written,
+    MAX_POINTS,
+};
 
-use super::{decode_f64, decode_i64, decode_indices, decode_ints_as, decode_items, decode_points, pack_parsed, offsets, push_num, put, tag_slot, threads, Grid, Named, Plan, Scalar, GEOMETRICAL, PHYSICAL};
+use super::{
+    decode_f64, decode_i64, decode_indices, decode_ints_as, decode_items, decode_points, offsets,
+    pack_parsed, push_num, put, tag_slot, threads, Grid, Named, Plan, Scalar, GEOMETRICAL,
+    PHYSICAL,
+};
 
 /// Standard alphabet, padding optional and accepted where it stands.
 const B64: GeneralPurpose = GeneralPurpose::new(
     &base64::alphabet::STANDARD,
-    GeneralPurposeConfig::new().with_decode_padding_mode(DecodePaddingMode::Indifferent).with_decode_allow_trailing_bits(true),
+    GeneralPurposeConfig::new()
+        .with_decode_padding_mode(DecodePaddingMode::Indifferent)
+        .with_decode_allow_trailing_bits(true),
 );
 
 /// VTK's default block size for compressed arrays (`vtkXMLWriter::BlockSize`).
@@ -83,7 +92,13 @@ impl<'a> Tag<'a> {
             None => Ok(None),
             Some(v) => match crate::text::parse_i64(crate::text::trim(v)) {
                 Some(n) if n >= 0 => Ok(Some(n as usize)),
-                _ => Err(err(self.at, ErrorKind::Expected { expected: format!("a non-negative integer in {name}="), found: show(v) })),
+                _ => Err(err(
+                    self.at,
+                    ErrorKind::Expected {
+                        expected: format!("a non-negative integer in {name}="),
+                        found: show(v),
+                    },
+                )),
             },
         }
     }
@@ -114,9 +129,9 @@ impl<'a> Scan<'a> {
             let start = self.pos + lt;
             let rest = &self.d[start..];
             let skip_to = |close: &[u8], what: &str| -> Result<usize> {
-                find(rest, close)
-                    .map(|i| start + i + close.len())
-                    .ok_or_else(|| err(start, ErrorKind::UnexpectedEof { context: format!("unterminated {what}") }))
+                find(rest, close).map(|i| start + i + close.len()).ok_or_else(|| {
+                    err(start, ErrorKind::UnexpectedEof { context: format!("unterminated {what}") })
+                })
             };
             if rest.starts_with(b"<?") {
                 self.pos = skip_to(b"?>", "processing instruction")?;
@@ -149,7 +164,13 @@ impl<'a> Scan<'a> {
         }
         let name = &d[start + 1..i];
         if name.is_empty() {
-            return Err(err(start, ErrorKind::Expected { expected: "an element name after `<`".into(), found: show(&d[start..(start + 20).min(d.len())]) }));
+            return Err(err(
+                start,
+                ErrorKind::Expected {
+                    expected: "an element name after `<`".into(),
+                    found: show(&d[start..(start + 20).min(d.len())]),
+                },
+            ));
         }
         let mut attrs = Vec::new();
         loop {
@@ -157,7 +178,14 @@ impl<'a> Scan<'a> {
                 i += 1;
             }
             match d.get(i) {
-                None => return Err(err(start, ErrorKind::UnexpectedEof { context: format!("in the start tag <{}", String::from_utf8_lossy(name)) })),
+                None => {
+                    return Err(err(
+                        start,
+                        ErrorKind::UnexpectedEof {
+                            context: format!("in the start tag <{}", String::from_utf8_lossy(name)),
+                        },
+                    ))
+                }
                 Some(b'>') => {
                     self.pos = i + 1;
                     return Ok(Tag { name, attrs, empty: false, at: start, end: i + 1 });
@@ -179,7 +207,10 @@ impl<'a> Scan<'a> {
             if d.get(i) != Some(&b'=') {
                 return Err(err(
                     k0,
-                    ErrorKind::Expected { expected: format!("`=` after attribute {}", show(key)), found: show(&d[i.min(d.len())..(i + 10).min(d.len())]) },
+                    ErrorKind::Expected {
+                        expected: format!("`=` after attribute {}", show(key)),
+                        found: show(&d[i.min(d.len())..(i + 10).min(d.len())]),
+                    },
                 ));
             }
             i += 1;
@@ -200,7 +231,12 @@ impl<'a> Scan<'a> {
             };
             let v0 = i + 1;
             let Some(len) = memchr::memchr(q, &d[v0..]) else {
-                return Err(err(i, ErrorKind::UnexpectedEof { context: format!("in the value of attribute {}", show(key)) }));
+                return Err(err(
+                    i,
+                    ErrorKind::UnexpectedEof {
+                        context: format!("in the value of attribute {}", show(key)),
+                    },
+                ));
             };
             attrs.push((key, &d[v0..v0 + len]));
             i = v0 + len + 1;
@@ -224,7 +260,15 @@ impl<'a> Scan<'a> {
                     }
                 }
                 Ev::Eof => {
-                    return Err(err(tag.at, ErrorKind::UnexpectedEof { context: format!("element <{}> is not closed", String::from_utf8_lossy(tag.name)) }))
+                    return Err(err(
+                        tag.at,
+                        ErrorKind::UnexpectedEof {
+                            context: format!(
+                                "element <{}> is not closed",
+                                String::from_utf8_lossy(tag.name)
+                            ),
+                        },
+                    ))
                 }
             }
         }
@@ -250,7 +294,9 @@ fn unescape(v: &[u8]) -> String {
             "gt" => Some('>'),
             "quot" => Some('"'),
             "apos" => Some('\''),
-            _ if ent.starts_with("#x") || ent.starts_with("#X") => u32::from_str_radix(&ent[2..], 16).ok().and_then(char::from_u32),
+            _ if ent.starts_with("#x") || ent.starts_with("#X") => {
+                u32::from_str_radix(&ent[2..], 16).ok().and_then(char::from_u32)
+            }
             _ if ent.starts_with('#') => ent[1..].parse().ok().and_then(char::from_u32),
             _ => None,
         };
@@ -369,7 +415,15 @@ fn read_array_specs<'a>(s: &mut Scan<'a>, container: &Tag<'a>, out: &mut Vec<Spe
                 ))
             }
             Ev::Eof => {
-                return Err(err(container.at, ErrorKind::UnexpectedEof { context: format!("<{}> is not closed", String::from_utf8_lossy(container.name)) }))
+                return Err(err(
+                    container.at,
+                    ErrorKind::UnexpectedEof {
+                        context: format!(
+                            "<{}> is not closed",
+                            String::from_utf8_lossy(container.name)
+                        ),
+                    },
+                ))
             }
         }
     }
@@ -377,15 +431,27 @@ fn read_array_specs<'a>(s: &mut Scan<'a>, container: &Tag<'a>, out: &mut Vec<Spe
 
 fn spec(t: &Tag<'_>, d: &[u8]) -> Result<Spec> {
     let name = t.attr_str("Name").unwrap_or_default();
-    let ty_name = t
-        .attr_str("type")
-        .ok_or_else(|| err(t.at, ErrorKind::Expected { expected: format!("a type= attribute on DataArray `{name}`"), found: "none".into() }))?;
+    let ty_name = t.attr_str("type").ok_or_else(|| {
+        err(
+            t.at,
+            ErrorKind::Expected {
+                expected: format!("a type= attribute on DataArray `{name}`"),
+                found: "none".into(),
+            },
+        )
+    })?;
     let ty = Scalar::from_xml(&ty_name).ok_or_else(|| {
         err(t.at, ErrorKind::Unsupported(format!("DataArray `{name}` of type {ty_name}: smartmesh reads Int8..Int64, UInt8..UInt64, Float32 and Float64")))
     })?;
     let components = t.attr_usize("NumberOfComponents")?.unwrap_or(1);
     if components == 0 {
-        return Err(err(t.at, ErrorKind::Expected { expected: format!("NumberOfComponents of `{name}` at least 1"), found: "0".into() }));
+        return Err(err(
+            t.at,
+            ErrorKind::Expected {
+                expected: format!("NumberOfComponents of `{name}` at least 1"),
+                found: "0".into(),
+            },
+        ));
     }
     let format = match t.attr("format") {
         Some(b"ascii") => Format::Ascii,
@@ -394,13 +460,22 @@ fn spec(t: &Tag<'_>, d: &[u8]) -> Result<Spec> {
         other => {
             return Err(err(
                 t.at,
-                ErrorKind::Expected { expected: format!("format=\"ascii\", \"binary\" or \"appended\" on `{name}`"), found: show(other.unwrap_or(b"nothing")) },
+                ErrorKind::Expected {
+                    expected: format!("format=\"ascii\", \"binary\" or \"appended\" on `{name}`"),
+                    found: show(other.unwrap_or(b"nothing")),
+                },
             ))
         }
     };
     let offset = t.attr_usize("offset")?.unwrap_or(0);
     if format == Format::Appended && t.attr("offset").is_none() {
-        return Err(err(t.at, ErrorKind::Expected { expected: format!("an offset= attribute on appended DataArray `{name}`"), found: "none".into() }));
+        return Err(err(
+            t.at,
+            ErrorKind::Expected {
+                expected: format!("an offset= attribute on appended DataArray `{name}`"),
+                found: "none".into(),
+            },
+        ));
     }
     let tuples = t.attr_usize("NumberOfTuples")?;
     let text = if t.empty {
@@ -431,7 +506,13 @@ fn base64_decode(text: &[u8], at: usize, name: &str) -> Result<Vec<u8>> {
             None => clean.len(),
         };
         B64.decode_vec(&clean[s..end], &mut out).map_err(|e| {
-            err(at, ErrorKind::Expected { expected: format!("base64 data in DataArray `{name}`"), found: format!("{e} (in run starting at character {s})") })
+            err(
+                at,
+                ErrorKind::Expected {
+                    expected: format!("base64 data in DataArray `{name}`"),
+                    found: format!("{e} (in run starting at character {s})"),
+                },
+            )
         })?;
         s = end;
     }
@@ -441,14 +522,24 @@ fn base64_decode(text: &[u8], at: usize, name: &str) -> Result<Vec<u8>> {
 /// Inflates one block into exactly `out.len()` bytes.
 fn inflate(input: &[u8], out: &mut [u8]) -> bool {
     let mut z = Decompress::new(true);
-    matches!(z.decompress(input, out, FlushDecompress::Finish), Ok(Status::StreamEnd)) && z.total_out() as usize == out.len()
+    matches!(z.decompress(input, out, FlushDecompress::Finish), Ok(Status::StreamEnd))
+        && z.total_out() as usize == out.len()
 }
 
 /// Inflates independent blocks into consecutive `block`-sized slices of `out`, on
 /// several threads when it pays. Returns the index of a block that failed.
-fn inflate_blocks(blocks: &[&[u8]], out: &mut [u8], block: usize) -> std::result::Result<(), usize> {
+fn inflate_blocks(
+    blocks: &[&[u8]],
+    out: &mut [u8],
+    block: usize,
+) -> std::result::Result<(), usize> {
     let total = out.len();
-    let mut jobs: Vec<(usize, &[u8], &mut [u8])> = blocks.iter().zip(out.chunks_mut(block.max(1))).enumerate().map(|(i, (b, o))| (i, *b, o)).collect();
+    let mut jobs: Vec<(usize, &[u8], &mut [u8])> = blocks
+        .iter()
+        .zip(out.chunks_mut(block.max(1)))
+        .enumerate()
+        .map(|(i, (b, o))| (i, *b, o))
+        .collect();
     let nt = threads().min(jobs.len());
     let run = |group: &mut [(usize, &[u8], &mut [u8])]| -> std::result::Result<(), usize> {
         for (i, input, output) in group.iter_mut() {
@@ -489,10 +580,22 @@ impl<'a> Decoder<'a> {
     /// `expected` bytes when that is known.
     fn payload(&self, sp: &Spec, expected: Option<usize>) -> Result<Payload<'a>> {
         let (src, at0): (Cow<'a, [u8]>, usize) = match sp.format {
-            Format::Binary => (Cow::Owned(base64_decode(&self.d[sp.text.0..sp.text.1], sp.text.0, &sp.name)?), sp.text.0),
+            Format::Binary => (
+                Cow::Owned(base64_decode(&self.d[sp.text.0..sp.text.1], sp.text.0, &sp.name)?),
+                sp.text.0,
+            ),
             Format::Appended => {
                 let ap = self.appended.as_ref().ok_or_else(|| {
-                    err(sp.at, ErrorKind::Expected { expected: format!("an <AppendedData> element for appended array `{}`", sp.name), found: "none".into() })
+                    err(
+                        sp.at,
+                        ErrorKind::Expected {
+                            expected: format!(
+                                "an <AppendedData> element for appended array `{}`",
+                                sp.name
+                            ),
+                            found: "none".into(),
+                        },
+                    )
                 })?;
                 let start = ap.base.checked_add(sp.offset).filter(|&s| s <= ap.end).ok_or_else(|| {
                     err(
@@ -510,14 +613,24 @@ impl<'a> Decoder<'a> {
                 if ap.raw {
                     (Cow::Borrowed(&self.d[start..ap.end]), start)
                 } else {
-                    let next = self.app_offsets.iter().copied().find(|&o| o > sp.offset).map_or(ap.end, |o| (ap.base + o).min(ap.end));
+                    let next = self
+                        .app_offsets
+                        .iter()
+                        .copied()
+                        .find(|&o| o > sp.offset)
+                        .map_or(ap.end, |o| (ap.base + o).min(ap.end));
                     (Cow::Owned(base64_decode(&self.d[start..next], start, &sp.name)?), start)
                 }
             }
             Format::Ascii => unreachable!("ascii arrays are parsed as text"),
         };
         let hs = self.hsize;
-        let short = |what: &str| err(at0, ErrorKind::UnexpectedEof { context: format!("{what} of DataArray `{}`", sp.name) });
+        let short = |what: &str| {
+            err(
+                at0,
+                ErrorKind::UnexpectedEof { context: format!("{what} of DataArray `{}`", sp.name) },
+            )
+        };
         if src.len() < hs {
             return Err(short("header"));
         }
@@ -525,11 +638,26 @@ impl<'a> Decoder<'a> {
             let n = self.word(&src);
             if let Some(e) = expected {
                 if n != e as u64 {
-                    return Err(err(at0, ErrorKind::Inconsistent(format!("DataArray `{}` holds {n} bytes, expected {e}", sp.name))));
+                    return Err(err(
+                        at0,
+                        ErrorKind::Inconsistent(format!(
+                            "DataArray `{}` holds {n} bytes, expected {e}",
+                            sp.name
+                        )),
+                    ));
                 }
             }
             if n > (src.len() - hs) as u64 {
-                return Err(err(at0, ErrorKind::UnexpectedEof { context: format!("DataArray `{}` announces {n} bytes, {} remain", sp.name, src.len() - hs) }));
+                return Err(err(
+                    at0,
+                    ErrorKind::UnexpectedEof {
+                        context: format!(
+                            "DataArray `{}` announces {n} bytes, {} remain",
+                            sp.name,
+                            src.len() - hs
+                        ),
+                    },
+                ));
             }
             return Ok(Payload { bytes: src, start: hs, len: n as usize });
         }
@@ -540,12 +668,20 @@ impl<'a> Decoder<'a> {
         let nb = self.word(&src);
         let bs = self.word(&src[hs..]);
         let last = self.word(&src[2 * hs..]);
-        let hlen = nb.checked_add(3).and_then(|k| k.checked_mul(hs as u64)).filter(|&l| l <= src.len() as u64).ok_or_else(|| {
-            err(
-                at0,
-                ErrorKind::ImplausibleCount { what: format!("compressed blocks of `{}`", sp.name), count: nb, limit: format!("{} bytes of data", src.len()) },
-            )
-        })? as usize;
+        let hlen = nb
+            .checked_add(3)
+            .and_then(|k| k.checked_mul(hs as u64))
+            .filter(|&l| l <= src.len() as u64)
+            .ok_or_else(|| {
+                err(
+                    at0,
+                    ErrorKind::ImplausibleCount {
+                        what: format!("compressed blocks of `{}`", sp.name),
+                        count: nb,
+                        limit: format!("{} bytes of data", src.len()),
+                    },
+                )
+            })? as usize;
         let mut csizes = Vec::with_capacity(nb as usize);
         let mut csum = 0u64;
         for i in 0..nb as usize {
@@ -556,11 +692,23 @@ impl<'a> Decoder<'a> {
         if csum > (src.len() - hlen) as u64 {
             return Err(err(
                 at0,
-                ErrorKind::UnexpectedEof { context: format!("compressed blocks of `{}` need {csum} bytes, {} remain", sp.name, src.len() - hlen) },
+                ErrorKind::UnexpectedEof {
+                    context: format!(
+                        "compressed blocks of `{}` need {csum} bytes, {} remain",
+                        sp.name,
+                        src.len() - hlen
+                    ),
+                },
             ));
         }
         if last > bs || (nb > 0 && bs == 0) {
-            return Err(err(at0, ErrorKind::Inconsistent(format!("compression header of `{}`: last block of {last} bytes, blocks of {bs}", sp.name))));
+            return Err(err(
+                at0,
+                ErrorKind::Inconsistent(format!(
+                    "compression header of `{}`: last block of {last} bytes, blocks of {bs}",
+                    sp.name
+                )),
+            ));
         }
         let total = match nb {
             0 => 0u128,
@@ -579,7 +727,13 @@ impl<'a> Decoder<'a> {
         }
         if let Some(e) = expected {
             if total != e as u128 {
-                return Err(err(at0, ErrorKind::Inconsistent(format!("DataArray `{}` holds {total} bytes, expected {e}", sp.name))));
+                return Err(err(
+                    at0,
+                    ErrorKind::Inconsistent(format!(
+                        "DataArray `{}` holds {total} bytes, expected {e}",
+                        sp.name
+                    )),
+                ));
             }
         }
         let total = total as usize;
@@ -591,7 +745,13 @@ impl<'a> Decoder<'a> {
         }
         let mut out = vec![0u8; total];
         inflate_blocks(&blocks, &mut out, bs as usize).map_err(|i| {
-            err(at0, ErrorKind::Expected { expected: format!("zlib data in block {i} of `{}`", sp.name), found: "a corrupt or short stream".into() })
+            err(
+                at0,
+                ErrorKind::Expected {
+                    expected: format!("zlib data in block {i} of `{}`", sp.name),
+                    found: "a corrupt or short stream".into(),
+                },
+            )
         })?;
         Ok(Payload { bytes: Cow::Owned(out), start: 0, len: total })
     }
@@ -602,16 +762,30 @@ impl<'a> Decoder<'a> {
         if sp.format == Format::Ascii {
             let text = &self.d[sp.text.0..sp.text.1];
             if let Some(e) = expected {
-                crate::text::check_count(e, text.len() + 1, 2, &format!("DataArray `{}`", sp.name)).map_err(|k| err(sp.text.0, k))?;
+                crate::text::check_count(e, text.len() + 1, 2, &format!("DataArray `{}`", sp.name))
+                    .map_err(|k| err(sp.text.0, k))?;
                 out.reserve(e);
             }
             let mut t = Tokens::new(text);
             while let Some(tok) = t.next() {
                 let pos = sp.text.0 + t.pos() - tok.len();
-                let v = crate::text::parse_f64(tok)
-                    .map_err(|_| err(pos, ErrorKind::Expected { expected: format!("a number in DataArray `{}`", sp.name), found: show(tok) }))?;
+                let v = crate::text::parse_f64(tok).map_err(|_| {
+                    err(
+                        pos,
+                        ErrorKind::Expected {
+                            expected: format!("a number in DataArray `{}`", sp.name),
+                            found: show(tok),
+                        },
+                    )
+                })?;
                 if !v.is_finite() {
-                    return Err(err(pos, ErrorKind::NonFinite { what: format!("value {} of `{}`", out.len(), sp.name), value: show(tok) }));
+                    return Err(err(
+                        pos,
+                        ErrorKind::NonFinite {
+                            what: format!("value {} of `{}`", out.len(), sp.name),
+                            value: show(tok),
+                        },
+                    ));
                 }
                 out.push(v);
             }
@@ -619,12 +793,26 @@ impl<'a> Decoder<'a> {
             let p = self.payload(sp, expected.and_then(|e| e.checked_mul(sp.ty.size())))?;
             let bytes = p.as_slice();
             let n = bytes.len() / sp.ty.size();
-            decode_f64(bytes, sp.ty, self.big, n, &mut out)
-                .map_err(|i| err(sp.at, ErrorKind::NonFinite { what: format!("value {i} of `{}`", sp.name), value: "NaN or infinity".into() }))?;
+            decode_f64(bytes, sp.ty, self.big, n, &mut out).map_err(|i| {
+                err(
+                    sp.at,
+                    ErrorKind::NonFinite {
+                        what: format!("value {i} of `{}`", sp.name),
+                        value: "NaN or infinity".into(),
+                    },
+                )
+            })?;
         }
         if let Some(e) = expected {
             if out.len() != e {
-                return Err(err(sp.at, ErrorKind::Inconsistent(format!("DataArray `{}` has {} values, expected {e}", sp.name, out.len()))));
+                return Err(err(
+                    sp.at,
+                    ErrorKind::Inconsistent(format!(
+                        "DataArray `{}` has {} values, expected {e}",
+                        sp.name,
+                        out.len()
+                    )),
+                ));
             }
         }
         Ok(out)
@@ -643,8 +831,15 @@ impl<'a> Decoder<'a> {
             // The plain path's errors, in its order.
             return Ok((self.floats(sp, Some(expected))?, Layout::Plain));
         }
-        decode_items(bytes, sp.ty, self.big, n, sp.components)
-            .map_err(|i| err(sp.at, ErrorKind::NonFinite { what: format!("value {i} of `{}`", sp.name), value: "NaN or infinity".into() }))
+        decode_items(bytes, sp.ty, self.big, n, sp.components).map_err(|i| {
+            err(
+                sp.at,
+                ErrorKind::NonFinite {
+                    what: format!("value {i} of `{}`", sp.name),
+                    value: "NaN or infinity".into(),
+                },
+            )
+        })
     }
 
     fn points(&self, sp: &Spec, n: usize) -> Result<Vec<[f64; 3]>> {
@@ -653,19 +848,41 @@ impl<'a> Decoder<'a> {
             return Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
         }
         let p = self.payload(sp, (3 * n).checked_mul(sp.ty.size()))?;
-        decode_points(p.as_slice(), sp.ty, self.big, n)
-            .map_err(|i| err(sp.at, ErrorKind::NonFinite { what: format!("coordinate {} of point {}", i % 3, i / 3), value: "NaN or infinity".into() }))
+        decode_points(p.as_slice(), sp.ty, self.big, n).map_err(|i| {
+            err(
+                sp.at,
+                ErrorKind::NonFinite {
+                    what: format!("coordinate {} of point {}", i % 3, i / 3),
+                    value: "NaN or infinity".into(),
+                },
+            )
+        })
     }
 
     /// `expected` point indices, each below `limit`.
-    fn indices(&self, sp: &Spec, expected: usize, limit: usize, offsets: &[usize]) -> Result<Vec<NodeIndex>> {
+    fn indices(
+        &self,
+        sp: &Spec,
+        expected: usize,
+        limit: usize,
+        offsets: &[usize],
+    ) -> Result<Vec<NodeIndex>> {
         let bad = |i: usize, v: i64| {
             let c = offsets.partition_point(|&o| o <= i).saturating_sub(1);
-            err(sp.at, ErrorKind::IndexOutOfRange { what: format!("cell {c} in `{}`", sp.name), index: v, available: limit })
+            err(
+                sp.at,
+                ErrorKind::IndexOutOfRange {
+                    what: format!("cell {c} in `{}`", sp.name),
+                    index: v,
+                    available: limit,
+                },
+            )
         };
         if sp.format == Format::Ascii {
             let v = self.ints(sp, expected)?;
-            if let Some(i) = v.iter().position(|&x| x < 0 || x as u64 >= limit.min(MAX_POINTS) as u64) {
+            if let Some(i) =
+                v.iter().position(|&x| x < 0 || x as u64 >= limit.min(MAX_POINTS) as u64)
+            {
                 return Err(bad(i, v[i]));
             }
             return Ok(v.into_iter().map(|x| x as NodeIndex).collect());
@@ -673,7 +890,13 @@ impl<'a> Decoder<'a> {
         let p = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
         decode_indices(p.as_slice(), sp.ty, self.big, expected, limit).map_err(|(i, v)| {
             if v == -1 && sp.ty.is_float() {
-                err(sp.at, ErrorKind::Expected { expected: format!("integers in `{}`", sp.name), found: format!("value {i} is not one") })
+                err(
+                    sp.at,
+                    ErrorKind::Expected {
+                        expected: format!("integers in `{}`", sp.name),
+                        found: format!("value {i} is not one"),
+                    },
+                )
             } else {
                 bad(i, v)
             }
@@ -682,8 +905,23 @@ impl<'a> Decoder<'a> {
 
     /// `expected` integers converted by `conv` as they are decoded, appended to `out`;
     /// `what` says in an error what a refused value should have been.
-    fn ints_into<T>(&self, sp: &Spec, expected: usize, out: &mut Vec<T>, what: &str, conv: impl Fn(i64) -> Option<T>) -> Result<()> {
-        let refused = |i: usize, v: String| err(sp.at, ErrorKind::Expected { expected: format!("{what} for value {i} of `{}`", sp.name), found: v });
+    fn ints_into<T>(
+        &self,
+        sp: &Spec,
+        expected: usize,
+        out: &mut Vec<T>,
+        what: &str,
+        conv: impl Fn(i64) -> Option<T>,
+    ) -> Result<()> {
+        let refused = |i: usize, v: String| {
+            err(
+                sp.at,
+                ErrorKind::Expected {
+                    expected: format!("{what} for value {i} of `{}`", sp.name),
+                    found: v,
+                },
+            )
+        };
         if sp.format == Format::Ascii {
             let v = self.ints(sp, expected)?;
             out.reserve(v.len());
@@ -695,13 +933,26 @@ impl<'a> Decoder<'a> {
         let p = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
         let bytes = p.as_slice();
         if bytes.len() != expected * sp.ty.size() {
-            return Err(err(sp.at, ErrorKind::Inconsistent(format!("DataArray `{}` has {} values, expected {expected}", sp.name, bytes.len() / sp.ty.size()))));
+            return Err(err(
+                sp.at,
+                ErrorKind::Inconsistent(format!(
+                    "DataArray `{}` has {} values, expected {expected}",
+                    sp.name,
+                    bytes.len() / sp.ty.size()
+                )),
+            ));
         }
         let start = out.len();
         decode_ints_as(bytes, sp.ty, self.big, expected, out, &conv).map_err(|i| {
             // Say what the refused value was (decoded once more, on the error path only).
             let mut v = Vec::new();
-            let shown = match decode_i64(&bytes[i * sp.ty.size()..(i + 1) * sp.ty.size()], sp.ty, self.big, 1, &mut v) {
+            let shown = match decode_i64(
+                &bytes[i * sp.ty.size()..(i + 1) * sp.ty.size()],
+                sp.ty,
+                self.big,
+                1,
+                &mut v,
+            ) {
                 Ok(()) => v[0].to_string(),
                 Err(_) => "not an integer".into(),
             };
@@ -714,12 +965,24 @@ impl<'a> Decoder<'a> {
         let mut out = Vec::new();
         if sp.format == Format::Ascii {
             let text = &self.d[sp.text.0..sp.text.1];
-            crate::text::check_count(expected, text.len() + 1, 2, &format!("DataArray `{}`", sp.name)).map_err(|k| err(sp.text.0, k))?;
+            crate::text::check_count(
+                expected,
+                text.len() + 1,
+                2,
+                &format!("DataArray `{}`", sp.name),
+            )
+            .map_err(|k| err(sp.text.0, k))?;
             out.reserve(expected);
             let mut t = Tokens::new(text);
             while let Some(tok) = t.next() {
                 let v = crate::text::parse_i64(tok).ok_or_else(|| {
-                    err(sp.text.0 + t.pos() - tok.len(), ErrorKind::Expected { expected: format!("an integer in DataArray `{}`", sp.name), found: show(tok) })
+                    err(
+                        sp.text.0 + t.pos() - tok.len(),
+                        ErrorKind::Expected {
+                            expected: format!("an integer in DataArray `{}`", sp.name),
+                            found: show(tok),
+                        },
+                    )
                 })?;
                 out.push(v);
             }
@@ -727,11 +990,25 @@ impl<'a> Decoder<'a> {
             let p = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
             let bytes = p.as_slice();
             let n = bytes.len() / sp.ty.size();
-            decode_i64(bytes, sp.ty, self.big, n, &mut out)
-                .map_err(|i| err(sp.at, ErrorKind::Expected { expected: format!("integers in `{}`", sp.name), found: format!("value {i} is not one") }))?;
+            decode_i64(bytes, sp.ty, self.big, n, &mut out).map_err(|i| {
+                err(
+                    sp.at,
+                    ErrorKind::Expected {
+                        expected: format!("integers in `{}`", sp.name),
+                        found: format!("value {i} is not one"),
+                    },
+                )
+            })?;
         }
         if out.len() != expected {
-            return Err(err(sp.at, ErrorKind::Inconsistent(format!("DataArray `{}` has {} values, expected {expected}", sp.name, out.len()))));
+            return Err(err(
+                sp.at,
+                ErrorKind::Inconsistent(format!(
+                    "DataArray `{}` has {} values, expected {expected}",
+                    sp.name,
+                    out.len()
+                )),
+            ));
         }
         Ok(out)
     }
@@ -742,38 +1019,82 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     let mut s = Scan { d, pos: 0 };
     let root = match s.next()? {
         Ev::Start(t) => t,
-        Ev::End(_, p) => return Err(err(p, ErrorKind::Expected { expected: "<VTKFile>".into(), found: "an end tag".into() })),
-        Ev::Eof => return Err(err(d.len(), ErrorKind::UnexpectedEof { context: "expected <VTKFile>".into() })),
+        Ev::End(_, p) => {
+            return Err(err(
+                p,
+                ErrorKind::Expected { expected: "<VTKFile>".into(), found: "an end tag".into() },
+            ))
+        }
+        Ev::Eof => {
+            return Err(err(
+                d.len(),
+                ErrorKind::UnexpectedEof { context: "expected <VTKFile>".into() },
+            ))
+        }
     };
     if root.name != b"VTKFile" {
-        return Err(err(root.at, ErrorKind::Expected { expected: "<VTKFile>".into(), found: format!("<{}>", String::from_utf8_lossy(root.name)) }));
+        return Err(err(
+            root.at,
+            ErrorKind::Expected {
+                expected: "<VTKFile>".into(),
+                found: format!("<{}>", String::from_utf8_lossy(root.name)),
+            },
+        ));
     }
     match root.attr("type") {
         Some(b"UnstructuredGrid") => {}
         other => {
             return Err(err(
                 root.at,
-                ErrorKind::Unsupported(format!("VTK XML type {}: smartmesh reads UnstructuredGrid (.vtu)", show(other.unwrap_or(b"(none)")))),
+                ErrorKind::Unsupported(format!(
+                    "VTK XML type {}: smartmesh reads UnstructuredGrid (.vtu)",
+                    show(other.unwrap_or(b"(none)"))
+                )),
             ))
         }
     }
     let big = match root.attr("byte_order") {
         None | Some(b"LittleEndian") => false,
         Some(b"BigEndian") => true,
-        Some(o) => return Err(err(root.at, ErrorKind::Expected { expected: "byte_order=\"LittleEndian\" or \"BigEndian\"".into(), found: show(o) })),
+        Some(o) => {
+            return Err(err(
+                root.at,
+                ErrorKind::Expected {
+                    expected: "byte_order=\"LittleEndian\" or \"BigEndian\"".into(),
+                    found: show(o),
+                },
+            ))
+        }
     };
     let hsize = match root.attr("header_type") {
         None | Some(b"UInt32") => 4,
         Some(b"UInt64") => 8,
-        Some(o) => return Err(err(root.at, ErrorKind::Expected { expected: "header_type=\"UInt32\" or \"UInt64\"".into(), found: show(o) })),
+        Some(o) => {
+            return Err(err(
+                root.at,
+                ErrorKind::Expected {
+                    expected: "header_type=\"UInt32\" or \"UInt64\"".into(),
+                    found: show(o),
+                },
+            ))
+        }
     };
     let zlib = match root.attr("compressor") {
         None | Some(b"") => false,
         Some(b"vtkZLibDataCompressor") => true,
-        Some(o) => return Err(err(root.at, ErrorKind::Unsupported(format!("compressor {}: smartmesh reads zlib (vtkZLibDataCompressor) only", show(o))))),
+        Some(o) => {
+            return Err(err(
+                root.at,
+                ErrorKind::Unsupported(format!(
+                    "compressor {}: smartmesh reads zlib (vtkZLibDataCompressor) only",
+                    show(o)
+                )),
+            ))
+        }
     };
 
-    let (mut field, mut point, mut cell, mut pts, mut cells) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut field, mut point, mut cell, mut pts, mut cells) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut piece: Option<(usize, usize, usize)> = None;
     let mut appended = None;
     loop {
@@ -782,7 +1103,12 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             Ev::Start(t) if t.name == b"FieldData" => read_array_specs(&mut s, &t, &mut field)?,
             Ev::Start(t) if t.name == b"Piece" => {
                 if piece.is_some() {
-                    return Err(err(t.at, ErrorKind::Unsupported("several <Piece> elements: smartmesh reads one-piece .vtu files".into())));
+                    return Err(err(
+                        t.at,
+                        ErrorKind::Unsupported(
+                            "several <Piece> elements: smartmesh reads one-piece .vtu files".into(),
+                        ),
+                    ));
                 }
                 let np = t.attr_usize("NumberOfPoints")?.unwrap_or(0);
                 let nc = t.attr_usize("NumberOfCells")?.unwrap_or(0);
@@ -801,9 +1127,22 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
                         },
                         Ev::End(b"Piece", _) => break,
                         Ev::End(n, p) => {
-                            return Err(err(p, ErrorKind::Expected { expected: "</Piece>".into(), found: format!("</{}>", String::from_utf8_lossy(n)) }))
+                            return Err(err(
+                                p,
+                                ErrorKind::Expected {
+                                    expected: "</Piece>".into(),
+                                    found: format!("</{}>", String::from_utf8_lossy(n)),
+                                },
+                            ))
                         }
-                        Ev::Eof => return Err(err(t.at, ErrorKind::UnexpectedEof { context: "<Piece> is not closed".into() })),
+                        Ev::Eof => {
+                            return Err(err(
+                                t.at,
+                                ErrorKind::UnexpectedEof {
+                                    context: "<Piece> is not closed".into(),
+                                },
+                            ))
+                        }
                     }
                 }
             }
@@ -811,15 +1150,30 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
                 let raw = match t.attr("encoding") {
                     Some(b"raw") => true,
                     Some(b"base64") | None => false,
-                    Some(o) => return Err(err(t.at, ErrorKind::Expected { expected: "encoding=\"raw\" or \"base64\"".into(), found: show(o) })),
+                    Some(o) => {
+                        return Err(err(
+                            t.at,
+                            ErrorKind::Expected {
+                                expected: "encoding=\"raw\" or \"base64\"".into(),
+                                found: show(o),
+                            },
+                        ))
+                    }
                 };
                 // The data starts after `_`; raw bytes may contain anything, so the
                 // scan stops here.
-                let us = memchr::memchr(b'_', &d[t.end..])
-                    .map(|i| t.end + i)
-                    .ok_or_else(|| err(t.end, ErrorKind::Expected { expected: "`_` before the appended data".into(), found: "none".into() }))?;
+                let us = memchr::memchr(b'_', &d[t.end..]).map(|i| t.end + i).ok_or_else(|| {
+                    err(
+                        t.end,
+                        ErrorKind::Expected {
+                            expected: "`_` before the appended data".into(),
+                            found: "none".into(),
+                        },
+                    )
+                })?;
                 let base = us + 1;
-                let end = memchr::memmem::rfind(&d[base..], b"</AppendedData>").map_or(d.len(), |i| base + i);
+                let end = memchr::memmem::rfind(&d[base..], b"</AppendedData>")
+                    .map_or(d.len(), |i| base + i);
                 let end = if raw { end } else { base + crate::text::trim(&d[base..end]).len() };
                 appended = Some(Appended { base, end, raw });
                 break;
@@ -830,57 +1184,113 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             Ev::End(n, p) => {
                 return Err(err(
                     p,
-                    ErrorKind::Expected { expected: "</UnstructuredGrid> or </VTKFile>".into(), found: format!("</{}>", String::from_utf8_lossy(n)) },
+                    ErrorKind::Expected {
+                        expected: "</UnstructuredGrid> or </VTKFile>".into(),
+                        found: format!("</{}>", String::from_utf8_lossy(n)),
+                    },
                 ))
             }
         }
     }
     let Some((np, nc, piece_at)) = piece else {
-        return Err(err(root.at, ErrorKind::Expected { expected: "a <Piece> in <UnstructuredGrid>".into(), found: "none".into() }));
+        return Err(err(
+            root.at,
+            ErrorKind::Expected {
+                expected: "a <Piece> in <UnstructuredGrid>".into(),
+                found: "none".into(),
+            },
+        ));
     };
     // Piece sizes are attacker-controlled: each array is checked against its bytes
     // before it is allocated, and an empty file cannot claim a billion points.
-    crate::text::check_count(np, d.len().saturating_mul(MAX_INFLATE_RATIO), 3, "points").map_err(|k| err(piece_at, k))?;
-    crate::text::check_count(nc, d.len().saturating_mul(MAX_INFLATE_RATIO), 1, "cells").map_err(|k| err(piece_at, k))?;
+    crate::text::check_count(np, d.len().saturating_mul(MAX_INFLATE_RATIO), 3, "points")
+        .map_err(|k| err(piece_at, k))?;
+    crate::text::check_count(nc, d.len().saturating_mul(MAX_INFLATE_RATIO), 1, "cells")
+        .map_err(|k| err(piece_at, k))?;
 
-    let mut app_offsets: Vec<usize> =
-        field.iter().chain(&point).chain(&cell).chain(&pts).chain(&cells).filter(|s| s.format == Format::Appended).map(|s| s.offset).collect();
+    let mut app_offsets: Vec<usize> = field
+        .iter()
+        .chain(&point)
+        .chain(&cell)
+        .chain(&pts)
+        .chain(&cells)
+        .filter(|s| s.format == Format::Appended)
+        .map(|s| s.offset)
+        .collect();
     app_offsets.sort_unstable();
     app_offsets.dedup();
     let dec = Decoder { d, big, hsize, zlib, appended, app_offsets };
 
     let mut g = Grid::default();
-    let empty_points =
-        Spec { name: "Points".into(), ty: Scalar::F64, components: 3, format: Format::Ascii, offset: 0, tuples: None, text: (0, 0), at: piece_at };
+    let empty_points = Spec {
+        name: "Points".into(),
+        ty: Scalar::F64,
+        components: 3,
+        format: Format::Ascii,
+        offset: 0,
+        tuples: None,
+        text: (0, 0),
+        at: piece_at,
+    };
     let p = match pts.first() {
         Some(p) => p,
         None if np == 0 => &empty_points,
-        None => return Err(err(piece_at, ErrorKind::Expected { expected: "a <Points> DataArray".into(), found: "none".into() })),
+        None => {
+            return Err(err(
+                piece_at,
+                ErrorKind::Expected {
+                    expected: "a <Points> DataArray".into(),
+                    found: "none".into(),
+                },
+            ))
+        }
     };
     if p.components != 3 && np > 0 {
-        return Err(err(p.at, ErrorKind::Expected { expected: "3 components in Points".into(), found: p.components.to_string() }));
+        return Err(err(
+            p.at,
+            ErrorKind::Expected {
+                expected: "3 components in Points".into(),
+                found: p.components.to_string(),
+            },
+        ));
     }
     g.points = dec.points(p, np)?;
     let values = |n: usize, sp: &Spec| {
         n.checked_mul(sp.components).ok_or_else(|| {
             err(
                 sp.at,
-                ErrorKind::ImplausibleCount { what: format!("values of `{}`", sp.name), count: sp.components as u64, limit: "too many components".into() },
+                ErrorKind::ImplausibleCount {
+                    what: format!("values of `{}`", sp.name),
+                    count: sp.components as u64,
+                    limit: "too many components".into(),
+                },
             )
         })
     };
 
     let find = |name: &str| cells.iter().find(|s| s.name == name);
     if nc > 0 || !cells.is_empty() {
-        let missing = |n: &str| err(piece_at, ErrorKind::Expected { expected: format!("a `{n}` DataArray in <Cells>"), found: "none".into() });
+        let missing = |n: &str| {
+            err(
+                piece_at,
+                ErrorKind::Expected {
+                    expected: format!("a `{n}` DataArray in <Cells>"),
+                    found: "none".into(),
+                },
+            )
+        };
         let ty = find("types").ok_or_else(|| missing("types"))?;
         // Types and offsets are decoded straight into their final arrays.
-        dec.ints_into(ty, nc, &mut g.types, "a VTK cell type (0 to 255)", |t| u8::try_from(t).ok())?;
+        dec.ints_into(ty, nc, &mut g.types, "a VTK cell type (0 to 255)", |t| {
+            u8::try_from(t).ok()
+        })?;
         g.types_at = at(ty.at);
         let off = find("offsets").ok_or_else(|| missing("offsets"))?;
         g.offsets = Vec::with_capacity(nc + 1);
         g.offsets.push(0);
-        dec.ints_into(off, nc, &mut g.offsets, "a cell end offset (0 or more)", |e| usize::try_from(e).ok())?;
+        dec.ints_into(off, nc, &mut g.offsets, "a cell end offset (0 or more)", |e| {
+            usize::try_from(e).ok()
+        })?;
         // Each cell smartmesh reads has at most 9 nodes; a larger step is refused by the
         // cell check, but must not drive an allocation here.
         let bad_step = |w: &[usize]| w[1] < w[0] || w[1] - w[0] > 64;
@@ -901,24 +1311,44 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     }
     for sp in &point {
         let (values, layout) = dec.items(sp, values(np, sp)?)?;
-        g.point_arrays.push(Named::new(sp.name.clone(), sp.components, values, layout, Position::Byte(sp.at as u64)));
+        g.point_arrays.push(Named::new(
+            sp.name.clone(),
+            sp.components,
+            values,
+            layout,
+            Position::Byte(sp.at as u64),
+        ));
     }
     for sp in &cell {
         // Integer cell tag arrays go straight into 32-bit tags (no f64 copy of them).
         if sp.components == 1 && !sp.ty.is_float() && tag_slot(&sp.name).is_some() {
             let mut tags = Vec::new();
-            dec.ints_into(sp, values(nc, sp)?, &mut tags, "a 32-bit integer tag", |v| i32::try_from(v).ok())?;
+            dec.ints_into(sp, values(nc, sp)?, &mut tags, "a 32-bit integer tag", |v| {
+                i32::try_from(v).ok()
+            })?;
             g.cell_tags.push((sp.name.clone(), tags, Position::Byte(sp.at as u64)));
             continue;
         }
         let (values, layout) = dec.items(sp, values(nc, sp)?)?;
-        g.cell_arrays.push(Named::new(sp.name.clone(), sp.components, values, layout, Position::Byte(sp.at as u64)));
+        g.cell_arrays.push(Named::new(
+            sp.name.clone(),
+            sp.components,
+            values,
+            layout,
+            Position::Byte(sp.at as u64),
+        ));
     }
     for sp in &field {
         // Field arrays other than numbers (strings) are skipped by `spec` refusing
         // them; the tuple count is optional.
         let values = dec.floats(sp, sp.tuples.and_then(|t| t.checked_mul(sp.components)))?;
-        g.field_arrays.push(Named::new(sp.name.clone(), sp.components, values, Layout::Plain, Position::Byte(sp.at as u64)));
+        g.field_arrays.push(Named::new(
+            sp.name.clone(),
+            sp.components,
+            values,
+            Layout::Plain,
+            Position::Byte(sp.at as u64),
+        ));
     }
     g.into_mesh()
 }
@@ -935,7 +1365,8 @@ fn deflate_blocks(data: &[u8]) -> Vec<Vec<u8>> {
         let mut out = Vec::with_capacity(chunk.len() + chunk.len() / 8 + 64);
         loop {
             let before = z.total_in() as usize;
-            let st = z.compress_vec(&chunk[before.min(chunk.len())..], &mut out, FlushCompress::Finish);
+            let st =
+                z.compress_vec(&chunk[before.min(chunk.len())..], &mut out, FlushCompress::Finish);
             match st {
                 Ok(Status::StreamEnd) => return out,
                 _ => out.reserve(out.capacity().max(64)),
@@ -949,7 +1380,10 @@ fn deflate_blocks(data: &[u8]) -> Vec<Vec<u8>> {
     }
     let per = chunks.len().div_ceil(nt);
     std::thread::scope(|s| {
-        let handles: Vec<_> = chunks.chunks(per).map(|g| s.spawn(move || g.iter().map(|c| one(c)).collect::<Vec<_>>())).collect();
+        let handles: Vec<_> = chunks
+            .chunks(per)
+            .map(|g| s.spawn(move || g.iter().map(|c| one(c)).collect::<Vec<_>>()))
+            .collect();
         // A compression thread cannot fail; a panic would be a bug in flate2.
         handles.into_iter().flat_map(|h| h.join().expect("compression thread")).collect()
     })
@@ -1009,7 +1443,15 @@ impl<'a> Writer<'a> {
 
     /// One `<DataArray>`: `ascii` writes the values as text, `raw` as `nbytes`
     /// little-endian bytes.
-    fn array(&mut self, ty: &str, name: &str, components: usize, nbytes: usize, ascii: impl FnOnce(&mut Vec<u8>), raw: impl FnOnce(&mut Vec<u8>) + 'a) {
+    fn array(
+        &mut self,
+        ty: &str,
+        name: &str,
+        components: usize,
+        nbytes: usize,
+        ascii: impl FnOnce(&mut Vec<u8>),
+        raw: impl FnOnce(&mut Vec<u8>) + 'a,
+    ) {
         let o = &mut self.out;
         o.extend_from_slice(b"        <DataArray type=\"");
         o.extend_from_slice(ty.as_bytes());
@@ -1113,7 +1555,9 @@ fn push_base64(out: &mut Vec<u8>, data: &[u8]) {
     let start = out.len();
     let n = base64::encoded_len(data.len(), true).unwrap_or(0);
     out.resize(start + n, 0);
-    let written = base64::engine::general_purpose::STANDARD.encode_slice(data, &mut out[start..]).unwrap_or(0);
+    let written = base64::engine::general_purpose::STANDARD
+        .encode_slice(data, &mut out[start..])
+        .unwrap_or(0);
     out.truncate(start + written);
 }
 
@@ -1125,8 +1569,8 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let np = mesh.points.len();
     let nc = mesh.num_cells();
     let nconn: usize = mesh.blocks.iter().map(|b| b.nodes.len()).sum();
-    let data_values =
-        plan.point_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>() + plan.cell_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>();
+    let data_values = plan.point_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>()
+        + plan.cell_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>();
     let raw_bytes = np * 24 + nconn * 8 + nc * 17 + data_values * 8;
     let cap = match (enc, compress) {
         (VtuEncoding::Ascii, _) => raw_bytes * 2,
@@ -1136,7 +1580,14 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     };
     // Declared before the writer, which borrows it until the appended data is out.
     let offs = offsets(mesh);
-    let mut w = Writer { out: Vec::with_capacity(cap), enc, compress, app: Vec::new(), app_len: 0, deferred: Vec::new() };
+    let mut w = Writer {
+        out: Vec::with_capacity(cap),
+        enc,
+        compress,
+        app: Vec::new(),
+        app_len: 0,
+        deferred: Vec::new(),
+    };
 
     let o = &mut w.out;
     o.extend_from_slice(b"<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"");

@@ -4,7 +4,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use smartmesh_formats::{read_bytes, write_bytes, Format, MemorySiblings, ReadContext, TaggedMesh, WriteOptions, Written};
+use smartmesh_formats::{
+    read_bytes, write_bytes, Format, MemorySiblings, ReadContext, TaggedMesh, WriteOptions, Written,
+};
 
 /// The public sample meshes written by other tools (`../shared/fixtures/public`), or
 /// `$SMARTMESH_PUBLIC_FIXTURES`.
@@ -29,11 +31,17 @@ pub fn read_file(rel: &str) -> TaggedMesh {
 }
 
 /// Writes `mesh` in `format` and reads it back, through memory.
-pub fn roundtrip(format: Format, ext: &str, mesh: &TaggedMesh, opts: &WriteOptions) -> (Written, TaggedMesh) {
+pub fn roundtrip(
+    format: Format,
+    ext: &str,
+    mesh: &TaggedMesh,
+    opts: &WriteOptions,
+) -> (Written, TaggedMesh) {
     let written = write_bytes(format, mesh, opts).unwrap_or_else(|e| panic!("write {ext}: {e}"));
     let sib = MemorySiblings::from_written(&written);
     let ctx = ReadContext { siblings: &sib, extension: ext.to_string() };
-    let back = read_bytes(format, &written.main, &ctx).unwrap_or_else(|e| panic!("read back {ext}: {e}"));
+    let back =
+        read_bytes(format, &written.main, &ctx).unwrap_or_else(|e| panic!("read back {ext}: {e}"));
     (written, back)
 }
 
@@ -48,7 +56,8 @@ pub fn interop_required() -> bool {
 pub fn python_with(modules: &[&str]) -> Option<String> {
     let py = std::env::var("SMARTMESH_PYTHON").unwrap_or_else(|_| "python3".into());
     let code = modules.iter().map(|m| format!("import {m}")).collect::<Vec<_>>().join("; ");
-    let ok = Command::new(&py).args(["-c", &code]).output().map(|o| o.status.success()).unwrap_or(false);
+    let ok =
+        Command::new(&py).args(["-c", &code]).output().map(|o| o.status.success()).unwrap_or(false);
     if ok {
         Some(py)
     } else if interop_required() {
@@ -73,7 +82,11 @@ pub fn run_python(py: &str, script: &str, args: &[&str]) -> String {
 
 /// The real `mmg2d_O3` in mmgpy's `bin/` (the one on PATH is a Python wrapper).
 pub fn mmg2d(py: &str) -> String {
-    let out = run_python(py, "import mmgpy, os; print(os.path.join(os.path.dirname(mmgpy.__file__), 'bin', 'mmg2d_O3'))", &[]);
+    let out = run_python(
+        py,
+        "import mmgpy, os; print(os.path.join(os.path.dirname(mmgpy.__file__), 'bin', 'mmg2d_O3'))",
+        &[],
+    );
     let exe = out.trim().to_string();
     assert!(Path::new(&exe).exists(), "mmg2d_O3 not found at {exe}");
     exe

@@ -33,7 +33,10 @@
 //! Border points (topological points) have no curvature and are refused as sources.
 //! Reach: the larger maximum distance of the perpendicular and projection functions.
 
-use super::{border_source, direction, normal_at, on_source, reach_of, tangent_at, tensor, Failure, Junctions, Sink};
+use super::{
+    border_source, direction, normal_at, on_source, reach_of, tangent_at, tensor, Failure,
+    Junctions, Sink,
+};
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
@@ -97,7 +100,11 @@ impl SegmentCurvatures {
                 if let (Some(u), Some(w)) = (dir(prev), dir(next)) {
                     if u[0] * w[0] + u[1] * w[1] >= cos_corner {
                         vertex_smooth[k] = true;
-                        vertex_kappa[k] = three_point_curvature(point((k + npts - 1) % npts), point(k), point((k + 1) % npts));
+                        vertex_kappa[k] = three_point_curvature(
+                            point((k + npts - 1) % npts),
+                            point(k),
+                            point((k + 1) % npts),
+                        );
                     }
                 }
             }
@@ -141,7 +148,20 @@ pub(crate) fn run<S: Sink>(
     let junctions = Junctions::new(&source);
     let curv = SegmentCurvatures::new(&source);
     let reach = reach_of(&[perpendicular.max_distance(), projection.max_distance()]);
-    sink.take_source(graph, &source, reach, options, |v, c| border_tensor(&source, &junctions, &curv, perpendicular, curvature, projection, graph.point(v), v, c).map(Some))
+    sink.take_source(graph, &source, reach, options, |v, c| {
+        border_tensor(
+            &source,
+            &junctions,
+            &curv,
+            perpendicular,
+            curvature,
+            projection,
+            graph.point(v),
+            v,
+            c,
+        )
+        .map(Some)
+    })
 }
 
 /// The tensor of a vertex `p` from its closest point `c` on the border.
@@ -162,14 +182,24 @@ fn border_tensor(
     let node = junctions.node(source, c);
     let Some(node) = node else {
         let h_border = curvature.eval(curv.at(c.segment, c.parameter));
-        return tensor(v, normal_at(source, junctions, p, c), h_normal, projection.eval(d, h_border));
+        return tensor(
+            v,
+            normal_at(source, junctions, p, c),
+            h_normal,
+            projection.eval(d, h_border),
+        );
     };
     let sides = junctions.sides(node);
     let side_size = |&(s, end): &(u32, u8)| curvature.eval(curv.kappa[s as usize][end as usize]);
-    let smooth = sides.len() == 2 && sides.iter().all(|&(s, end)| curv.smooth[s as usize][end as usize]);
+    let smooth =
+        sides.len() == 2 && sides.iter().all(|&(s, end)| curv.smooth[s as usize][end as usize]);
     if !on_source(source, c) || smooth {
         let h_border = sides.iter().map(side_size).fold(f64::INFINITY, f64::min);
-        let normal = if smooth && on_source(source, c) { tangent_at(source, junctions, c).map(|t| [-t[1], t[0]]) } else { normal_at(source, junctions, p, c) };
+        let normal = if smooth && on_source(source, c) {
+            tangent_at(source, junctions, c).map(|t| [-t[1], t[0]])
+        } else {
+            normal_at(source, junctions, p, c)
+        };
         return tensor(v, normal, h_normal, projection.eval(d, h_border));
     }
     // A corner, a junction or an open end, on the border: every side's tensor at once.

@@ -22,7 +22,9 @@
 //!
 //! Reach R: the larger of the two functions' maximum distances (module [`super`]).
 
-use super::{border_source, normal_at, on_source, reach_of, tensor, unit, Failure, Junctions, Sink};
+use super::{
+    border_source, normal_at, on_source, reach_of, tensor, unit, Failure, Junctions, Sink,
+};
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::DistanceFunction;
@@ -61,7 +63,11 @@ pub(crate) fn run<S: Sink>(
 }
 
 /// The weighted normal of thesis Fig. 4.6 (see the module header).
-fn gap_normal(p: Point2, first: (&Source, &Junctions, &ClosestPoint), second: (&Source, &Junctions, &ClosestPoint)) -> Option<Point2> {
+fn gap_normal(
+    p: Point2,
+    first: (&Source, &Junctions, &ClosestPoint),
+    second: (&Source, &Junctions, &ClosestPoint),
+) -> Option<Point2> {
     let (s1, j1, c1) = first;
     let (s2, j2, c2) = second;
     if on_source(s1, c1) {

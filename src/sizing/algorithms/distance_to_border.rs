@@ -16,9 +16,9 @@
 
 use super::{border_source, normal_at, reach_of, tensor, Failure, Junctions, Sink};
 use crate::mesh_graph::MeshGraph;
+use crate::metric::SizeTensor;
 use crate::sizing::functions::DistanceFunction;
 use crate::sizing::plan::EntitySet;
-use crate::metric::SizeTensor;
 use crate::sizing::propagation::{ClosestPoint, PropagationOptions, Source};
 use crate::topology::Topology;
 
@@ -34,14 +34,24 @@ pub(crate) fn run<S: Sink>(
     let source = border_source(graph, topology, borders, true)?;
     let junctions = Junctions::new(&source);
     let reach = reach_of(&[perpendicular.max_distance(), parallel.max_distance()]);
-    sink.take_source(graph, &source, reach, options, |v, c| border_tensor(graph, &source, &junctions, perpendicular, parallel, v, c))
+    sink.take_source(graph, &source, reach, options, |v, c| {
+        border_tensor(graph, &source, &junctions, perpendicular, parallel, v, c)
+    })
 }
 
 /// The tensor of vertex `v` from its closest point `c`. Always inlined, so that a sink
 /// that evaluates every vertex in one loop has it there, with what `c` holds that it
 /// does not read (side, abscissa) left uncomputed.
 #[inline(always)]
-fn border_tensor(graph: &MeshGraph, source: &Source, junctions: &Junctions, perpendicular: &DistanceFunction, parallel: &DistanceFunction, v: usize, c: &ClosestPoint) -> Result<Option<SizeTensor>, Failure> {
+fn border_tensor(
+    graph: &MeshGraph,
+    source: &Source,
+    junctions: &Junctions,
+    perpendicular: &DistanceFunction,
+    parallel: &DistanceFunction,
+    v: usize,
+    c: &ClosestPoint,
+) -> Result<Option<SizeTensor>, Failure> {
     let n = normal_at(source, junctions, graph.point(v), c);
     tensor(v, n, perpendicular.eval(c.distance), parallel.eval(c.distance)).map(Some)
 }

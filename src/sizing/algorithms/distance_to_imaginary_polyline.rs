@@ -45,7 +45,11 @@ pub(crate) fn run<S: Sink>(
     if polyline.is_empty() {
         return Err(Failure::EmptyPolyline);
     }
-    let inside = if within.is_empty() { None } else { Some(super::uniform::entity_vertices(graph, topology, within)?) };
+    let inside = if within.is_empty() {
+        None
+    } else {
+        Some(super::uniform::entity_vertices(graph, topology, within)?)
+    };
     let mut mask = vec![inside.is_none(); graph.num_vertices()];
     if let Some(vs) = &inside {
         for &v in vs {

@@ -36,7 +36,10 @@ use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::plan::{Algorithm, EntitySet};
-use crate::sizing::propagation::{propagate, ClosestPoint, PropagationOptions, Reach, Source, SourceBuilder, SourceError, VertexOrder, VERTEX_RUN};
+use crate::sizing::propagation::{
+    propagate, ClosestPoint, PropagationOptions, Reach, Source, SourceBuilder, SourceError,
+    VertexOrder, VERTEX_RUN,
+};
 use crate::topology::Topology;
 
 /// Relative distance under which a vertex counts as lying on its source.
@@ -91,8 +94,12 @@ pub(crate) enum Failure {
 impl From<SourceError> for Failure {
     fn from(e: SourceError) -> Failure {
         match e {
-            SourceError::VertexOutOfRange { vertex, len, .. } => Failure::EntityOutOfRange { what: "mesh vertex", index: vertex, len },
-            SourceError::EntityOutOfRange { what, index, len, .. } => Failure::EntityOutOfRange { what, index, len },
+            SourceError::VertexOutOfRange { vertex, len, .. } => {
+                Failure::EntityOutOfRange { what: "mesh vertex", index: vertex, len }
+            }
+            SourceError::EntityOutOfRange { what, index, len, .. } => {
+                Failure::EntityOutOfRange { what, index, len }
+            }
             SourceError::EmptyPiece { .. } => Failure::EmptyPolyline,
             SourceError::NonFinite { point, .. } => Failure::NonFinitePoint { point },
         }
@@ -102,23 +109,70 @@ impl From<SourceError> for Failure {
 /// Runs one algorithm of a plan on a mesh (thesis 4.3.6–4.3.7), handing its tensors to
 /// `sink`: collected into a [`Contribution`] ([`Collect`]), or intersected straight into
 /// a field (the driver's sink).
-pub(crate) fn run<S: Sink>(graph: &MeshGraph, topology: &Topology, algorithm: &Algorithm, sink: S) -> Result<S::Output, Failure> {
+pub(crate) fn run<S: Sink>(
+    graph: &MeshGraph,
+    topology: &Topology,
+    algorithm: &Algorithm,
+    sink: S,
+) -> Result<S::Output, Failure> {
     let options = PropagationOptions::new();
     match algorithm {
         Algorithm::Uniform { size, on } => uniform::run(graph, topology, *size, on, sink),
-        Algorithm::DistanceToPoint { function, sources } => distance_to_point::run(graph, topology, function, sources, &options, sink),
+        Algorithm::DistanceToPoint { function, sources } => {
+            distance_to_point::run(graph, topology, function, sources, &options, sink)
+        }
         Algorithm::DistanceToBorder { perpendicular, parallel, borders } => {
-            distance_to_border::run(graph, topology, perpendicular, parallel, borders, &options, sink)
+            distance_to_border::run(
+                graph,
+                topology,
+                perpendicular,
+                parallel,
+                borders,
+                &options,
+                sink,
+            )
         }
         Algorithm::CurvatureOfBorder { perpendicular, curvature, projection, borders } => {
-            curvature_of_border::run(graph, topology, perpendicular, curvature, projection, borders, &options, sink)
+            curvature_of_border::run(
+                graph,
+                topology,
+                perpendicular,
+                curvature,
+                projection,
+                borders,
+                &options,
+                sink,
+            )
         }
         Algorithm::DistanceBetweenTwoBorders { perpendicular, parallel, first, second } => {
-            distance_between_two_borders::run(graph, topology, perpendicular, parallel, first, second, &options, sink)
+            distance_between_two_borders::run(
+                graph,
+                topology,
+                perpendicular,
+                parallel,
+                first,
+                second,
+                &options,
+                sink,
+            )
         }
-        Algorithm::DistanceToImaginaryPolyline { perpendicular, polyline_distance, projection, polyline, within } => {
-            distance_to_imaginary_polyline::run(graph, topology, perpendicular, polyline_distance, projection, polyline, within, &options, sink)
-        }
+        Algorithm::DistanceToImaginaryPolyline {
+            perpendicular,
+            polyline_distance,
+            projection,
+            polyline,
+            within,
+        } => distance_to_imaginary_polyline::run(
+            graph,
+            topology,
+            perpendicular,
+            polyline_distance,
+            projection,
+            polyline,
+            within,
+            &options,
+            sink,
+        ),
     }
 }
 
@@ -142,7 +196,14 @@ pub(crate) trait Sink {
 
     /// The tensors `f` gives the vertices that a propagation from `source` up to
     /// `max_distance` reaches: by default [`propagate`], then [`Sink::take_reach`].
-    fn take_source<F>(self, graph: &MeshGraph, source: &Source, max_distance: f64, options: &PropagationOptions, f: F) -> Result<Self::Output, Failure>
+    fn take_source<F>(
+        self,
+        graph: &MeshGraph,
+        source: &Source,
+        max_distance: f64,
+        options: &PropagationOptions,
+        f: F,
+    ) -> Result<Self::Output, Failure>
     where
         Self: Sized,
         F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
@@ -171,10 +232,11 @@ impl Sink for Collect {
 
 /// Checks the indices of `set` against `topology`.
 pub(crate) fn check_entities(topology: &Topology, set: &EntitySet) -> Result<(), Failure> {
-    let check = |what: &'static str, list: &[usize], len: usize| match list.iter().find(|&&i| i >= len) {
-        Some(&index) => Err(Failure::EntityOutOfRange { what, index, len }),
-        None => Ok(()),
-    };
+    let check =
+        |what: &'static str, list: &[usize], len: usize| match list.iter().find(|&&i| i >= len) {
+            Some(&index) => Err(Failure::EntityOutOfRange { what, index, len }),
+            None => Ok(()),
+        };
     check("point", &set.points, topology.points.len())?;
     check("curve", &set.curves, topology.curves.len())?;
     check("face", &set.faces, topology.faces.len())
@@ -182,7 +244,12 @@ pub(crate) fn check_entities(topology: &Topology, set: &EntitySet) -> Result<(),
 
 /// A border source: every polyline of the curves of `set`, and its points as point
 /// sources when `points_allowed`. Faces are not borders.
-pub(crate) fn border_source(graph: &MeshGraph, topology: &Topology, set: &EntitySet, points_allowed: bool) -> Result<Source, Failure> {
+pub(crate) fn border_source(
+    graph: &MeshGraph,
+    topology: &Topology,
+    set: &EntitySet,
+    points_allowed: bool,
+) -> Result<Source, Failure> {
     check_entities(topology, set)?;
     if let Some(&index) = set.faces.first() {
         return Err(Failure::UnsupportedEntity { what: "face", index });
@@ -244,7 +311,9 @@ where
     let (first_error, skipped) = scan_pairs(&mut tensors, &mut keep, one);
     if first_error != usize::MAX {
         // The smallest index with an error, whatever the threads; its error again.
-        return Err(call(first_error).err().unwrap_or(Failure::Degenerate { vertex: reach.vertices()[first_error] as usize }));
+        return Err(call(first_error)
+            .err()
+            .unwrap_or(Failure::Degenerate { vertex: reach.vertices()[first_error] as usize }));
     }
     let mut vertices = reach.into_vertices();
     if skipped > 0 {
@@ -281,7 +350,13 @@ pub(crate) fn merge(slot: &mut SizeTensor, has: &mut bool, t: &SizeTensor) {
 ///
 /// `finish` then sees every vertex once, with whether it has a tensor: the field's last
 /// pass (default size, clamp) done in the same one when this is the last step.
-pub(crate) fn merge_in_vertex_order<F, G>(reach: &Reach<'_>, f: F, tensors: &mut [SizeTensor], reached: &mut [bool], finish: G) -> Result<usize, Failure>
+pub(crate) fn merge_in_vertex_order<F, G>(
+    reach: &Reach<'_>,
+    f: F,
+    tensors: &mut [SizeTensor],
+    reached: &mut [bool],
+    finish: G,
+) -> Result<usize, Failure>
 where
     F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
     G: Fn(&mut SizeTensor, bool) + Sync,
@@ -308,7 +383,9 @@ where
     let (first_error, merged) = scan_pairs(tensors, reached, one);
     if first_error != usize::MAX {
         let v = reach.vertices()[first_error] as usize;
-        return Err(f(v, &reach.closest(first_error)).err().unwrap_or(Failure::Degenerate { vertex: v }));
+        return Err(f(v, &reach.closest(first_error))
+            .err()
+            .unwrap_or(Failure::Degenerate { vertex: v }));
     }
     Ok(merged)
 }
@@ -323,7 +400,16 @@ where
 /// projection per vertex. Errors: the first in vertex order. `finish` as in
 /// [`merge_in_vertex_order`]. Returns how many tensors were merged.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn merge_closest_in_vertex_order<F, G>(graph: &MeshGraph, source: &Source, farthest: f64, f: F, tensors: &mut [SizeTensor], reached: &mut [bool], finish: G, parallel: bool) -> Result<usize, Failure>
+pub(crate) fn merge_closest_in_vertex_order<F, G>(
+    graph: &MeshGraph,
+    source: &Source,
+    farthest: f64,
+    f: F,
+    tensors: &mut [SizeTensor],
+    reached: &mut [bool],
+    finish: G,
+    parallel: bool,
+) -> Result<usize, Failure>
 where
     F: Fn(usize, &ClosestPoint) -> Result<Option<SizeTensor>, Failure> + Sync,
     G: Fn(&mut SizeTensor, bool) + Sync,
@@ -349,9 +435,19 @@ where
     };
     let combine = |a: (usize, usize), b: (usize, usize)| (a.0.min(b.0), a.1 + b.1);
     let (first_error, merged) = if parallel && tensors.len() > VERTEX_RUN {
-        tensors.par_chunks_mut(VERTEX_RUN).zip(reached.par_chunks_mut(VERTEX_RUN)).enumerate().map(run).reduce(|| (usize::MAX, 0), combine)
+        tensors
+            .par_chunks_mut(VERTEX_RUN)
+            .zip(reached.par_chunks_mut(VERTEX_RUN))
+            .enumerate()
+            .map(run)
+            .reduce(|| (usize::MAX, 0), combine)
     } else {
-        tensors.chunks_mut(VERTEX_RUN).zip(reached.chunks_mut(VERTEX_RUN)).enumerate().map(run).fold((usize::MAX, 0), combine)
+        tensors
+            .chunks_mut(VERTEX_RUN)
+            .zip(reached.chunks_mut(VERTEX_RUN))
+            .enumerate()
+            .map(run)
+            .fold((usize::MAX, 0), combine)
     };
     if first_error != usize::MAX {
         let v = first_error;
@@ -370,9 +466,20 @@ where
 {
     let combine = |a: (usize, usize), b: (usize, usize)| (a.0.min(b.0), a.1 + b.1);
     if tensors.len() >= PARALLEL_MIN {
-        tensors.par_iter_mut().zip(flags.par_iter_mut()).enumerate().with_min_len(1024).map(|(i, (t, f))| one(i, t, f)).reduce(|| (usize::MAX, 0), combine)
+        tensors
+            .par_iter_mut()
+            .zip(flags.par_iter_mut())
+            .enumerate()
+            .with_min_len(1024)
+            .map(|(i, (t, f))| one(i, t, f))
+            .reduce(|| (usize::MAX, 0), combine)
     } else {
-        tensors.iter_mut().zip(flags.iter_mut()).enumerate().map(|(i, (t, f))| one(i, t, f)).fold((usize::MAX, 0), combine)
+        tensors
+            .iter_mut()
+            .zip(flags.iter_mut())
+            .enumerate()
+            .map(|(i, (t, f))| one(i, t, f))
+            .fold((usize::MAX, 0), combine)
     }
 }
 
@@ -380,11 +487,19 @@ where
 /// point source seen from the point itself) the isotropic tensor of the smaller size,
 /// the only one that respects both sizes in every orientation.
 #[inline]
-pub(crate) fn tensor(vertex: usize, normal: Option<Point2>, h_normal: f64, h_tangent: f64) -> Result<SizeTensor, Failure> {
-    let sizes_ok = (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&h_normal) && (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&h_tangent);
+pub(crate) fn tensor(
+    vertex: usize,
+    normal: Option<Point2>,
+    h_normal: f64,
+    h_tangent: f64,
+) -> Result<SizeTensor, Failure> {
+    let sizes_ok = (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&h_normal)
+        && (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&h_tangent);
     match normal {
         // `unit` gave a finite unit vector: no second normalisation.
-        Some(n) if sizes_ok && n[0].is_finite() && n[1].is_finite() => Ok(SizeTensor::from_parts(n, [h_normal, h_tangent])),
+        Some(n) if sizes_ok && n[0].is_finite() && n[1].is_finite() => {
+            Ok(SizeTensor::from_parts(n, [h_normal, h_tangent]))
+        }
         None if sizes_ok => {
             let h = h_normal.min(h_tangent);
             Ok(SizeTensor::from_parts([1.0, 0.0], [h, h]))
@@ -477,7 +592,11 @@ pub(crate) fn direction(source: &Source, s: u32) -> Option<Point2> {
 /// the segments meeting there (thesis 4.3.7.1's "orientation of the mesh edge", averaged
 /// over the neighbour segments), or the segment's own direction when they cancel.
 /// `None` for a point source.
-pub(crate) fn tangent_at(source: &Source, junctions: &Junctions, c: &ClosestPoint) -> Option<Point2> {
+pub(crate) fn tangent_at(
+    source: &Source,
+    junctions: &Junctions,
+    c: &ClosestPoint,
+) -> Option<Point2> {
     let own = direction(source, c.segment)?;
     let Some(node) = junctions.node(source, c) else { return Some(own) };
     let mut sum = [0.0, 0.0];
@@ -503,9 +622,15 @@ pub(crate) fn on_source(source: &Source, c: &ClosestPoint) -> bool {
 /// vertex this is the direction the vertex is seen from the corner), the source's normal
 /// on it. `None` for a point source seen from the point itself.
 #[inline]
-pub(crate) fn normal_at(source: &Source, junctions: &Junctions, p: Point2, c: &ClosestPoint) -> Option<Point2> {
+pub(crate) fn normal_at(
+    source: &Source,
+    junctions: &Junctions,
+    p: Point2,
+    c: &ClosestPoint,
+) -> Option<Point2> {
     if on_source(source, c) {
         return tangent_at(source, junctions, c).map(|t| [-t[1], t[0]]);
     }
-    unit([p[0] - c.foot[0], p[1] - c.foot[1]]).or_else(|| tangent_at(source, junctions, c).map(|t| [-t[1], t[0]]))
+    unit([p[0] - c.foot[0], p[1] - c.foot[1]])
+        .or_else(|| tangent_at(source, junctions, c).map(|t| [-t[1], t[0]]))
 }

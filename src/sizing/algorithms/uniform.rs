@@ -10,7 +10,11 @@ use crate::sizing::plan::EntitySet;
 use crate::topology::Topology;
 
 /// The vertices of `on`, sorted, each once; an error for an index out of range.
-pub(crate) fn entity_vertices(graph: &MeshGraph, topology: &Topology, on: &EntitySet) -> Result<Vec<u32>, Failure> {
+pub(crate) fn entity_vertices(
+    graph: &MeshGraph,
+    topology: &Topology,
+    on: &EntitySet,
+) -> Result<Vec<u32>, Failure> {
     check_entities(topology, on)?;
     let n = graph.num_vertices();
     let mut mark = vec![false; n];
@@ -25,7 +29,11 @@ pub(crate) fn entity_vertices(graph: &MeshGraph, topology: &Topology, on: &Entit
     };
     for &f in &on.faces {
         for &c in &topology.faces[f].cells {
-            let cell = topology.surface_cells.get(c).ok_or(Failure::EntityOutOfRange { what: "surface cell", index: c, len: topology.surface_cells.len() })?;
+            let cell = topology.surface_cells.get(c).ok_or(Failure::EntityOutOfRange {
+                what: "surface cell",
+                index: c,
+                len: topology.surface_cells.len(),
+            })?;
             for &v in cell.vertices() {
                 put(v)?;
             }
@@ -44,7 +52,13 @@ pub(crate) fn entity_vertices(graph: &MeshGraph, topology: &Topology, on: &Entit
     Ok((0..n as u32).filter(|&v| mark[v as usize]).collect())
 }
 
-pub(crate) fn run<S: Sink>(graph: &MeshGraph, topology: &Topology, size: f64, on: &EntitySet, sink: S) -> Result<S::Output, Failure> {
+pub(crate) fn run<S: Sink>(
+    graph: &MeshGraph,
+    topology: &Topology,
+    size: f64,
+    on: &EntitySet,
+    sink: S,
+) -> Result<S::Output, Failure> {
     if !(SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&size) {
         return Err(Failure::InvalidSize { size });
     }
