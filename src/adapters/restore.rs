@@ -90,13 +90,15 @@ pub fn place_point_cells(
                 output.points[i] = q;
                 placed.push((i, p, g))
             }
-            _ => return Err(AdapterError::Lost {
-                program: program.to_string(),
-                what: format!(
+            _ => {
+                return Err(AdapterError::Lost {
+                    program: program.to_string(),
+                    what: format!(
                     "no vertex at ({}, {}), the topological point of 0D tag {p} (it was required)",
                     q[0], q[1]
                 ),
-            }),
+                })
+            }
         }
     }
     let mut block = smartmesh_formats::CellBlock::new(CellKind::Vertex);

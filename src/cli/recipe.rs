@@ -277,14 +277,15 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
 }
 
 fn convert(args: ConvertArgs) -> Result<(), CliError> {
-    let to =
-        match args.to.or_else(|| RecipeFormat::from_path(&args.output)) {
-            Some(f) => f,
-            None => return Err(CliError::usage(format!(
+    let to = match args.to.or_else(|| RecipeFormat::from_path(&args.output)) {
+        Some(f) => f,
+        None => {
+            return Err(CliError::usage(format!(
                 "{}: the extension tells no recipe format (.cfg, .toml, .json); give it with --to",
                 args.output.display()
-            ))),
-        };
+            )))
+        }
+    };
     let recipe = read_recipe(&args.input, args.from)?;
     let text = recipe.to_format(to);
     if args.output.as_os_str() == "-" {
