@@ -47,18 +47,7 @@ use smartmesh::sizing::{
 };
 use smartmesh::{MeshGraph, SizeTensor, Topology};
 
-/// splitmix64, as in the tests.
-struct Rng(u64);
-
-impl Rng {
-    fn bit(&mut self) -> bool {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        (z ^ (z >> 31)) & 1 == 0
-    }
-}
+use smartmesh_test_support::{Generator, SplitMix64 as Rng};
 
 const SPACING: f64 = 0.004;
 

@@ -506,31 +506,7 @@ fn every_example_has_a_test() {
 // Random planar straight-line graphs
 // ---------------------------------------------------------------------------------------
 
-/// xorshift64*: a small deterministic generator.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    /// Uniform in lo..=hi.
-    fn int(&mut self, lo: usize, hi: usize) -> usize {
-        lo + (self.next() % (hi - lo + 1) as u64) as usize
-    }
-}
+use smartmesh_test_support::{Generator, XorShift64Star as Rng};
 
 /// The face tag, the tag of the outer polygon's first vertex (a topological point of
 /// its own), and the first tag of the holes' curves.
@@ -630,7 +606,7 @@ fn random_recipe(rng: &mut Rng, wall: i32, point: bool) -> String {
 
 fn random_case(seed: u64, boundary: f64) {
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ seed.wrapping_mul(0x1000_0000_01b3));
-    rng.next();
+    rng.next_u64();
     let (poly_text, tags, holes) = random_poly(&mut rng);
     let wall = tags[rng.int(0, tags.len() - 1)];
     let point = rng.unit() < 0.5;
@@ -665,7 +641,7 @@ fn the_random_generator_varies_its_cases() {
     let mut holes = std::collections::BTreeSet::new();
     for seed in 1..=16u64 {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ seed.wrapping_mul(0x1000_0000_01b3));
-        rng.next();
+        rng.next_u64();
         let (text, tags, h) = random_poly(&mut rng);
         seen.insert((text.lines().next().unwrap().to_string(), tags.len()));
         holes.insert(h);

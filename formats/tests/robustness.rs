@@ -9,20 +9,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use smartmesh_formats::{read_bytes, Format, MemorySiblings, ReadContext};
 
-/// xorshift64*: a fixed-seed generator, so every run damages the files the same way.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+/// xorshift64*, fixed seed: every run damages the files the same way.
+use smartmesh_test_support::{Generator, XorShift64Star as Rng};
 
 fn fixtures() -> Vec<(Format, String, Vec<u8>)> {
     let root = common::public_fixtures();

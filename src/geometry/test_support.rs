@@ -1,20 +1,22 @@
 //! What the unit tests of geometry, the mesh graph and propagation share: a seedable
 //! generator and the brute-force scan.
 
+use smartmesh_test_support::{Generator, SplitMix64};
+
 use super::segment::{Point2, SegmentGeom};
 use super::segment_index::Nearest;
 
-/// splitmix64: small, seedable, good enough for test points.
+/// The tests' splitmix64 (`smartmesh_test_support`), with `unit` callable without the
+/// crate's trait in scope.
 pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
     /// Uniform in [0, 1).
     pub(crate) fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        let mut g = SplitMix64(self.0);
+        let u = g.unit();
+        self.0 = g.0;
+        u
     }
 }
 
