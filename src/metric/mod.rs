@@ -9,7 +9,8 @@
 //! - [`SizeTensor::intersection`] / [`SizeTensor::union`]: the robust size-tensor
 //!   intersection of thesis 3.2.2 and its dual, by simultaneous reduction.
 //! - [`SizeTensor::clamp`] with [`SizeBounds`]: global h_min, h_max and aspect-ratio limits.
-//! - [`SizeTensor::log_euclidean_mean`]: weighted interpolation that keeps tensors SPD.
+//! - [`SizeTensor::log_euclidean_mean`] and, on metrics, [`log_spd`], [`exp_sym`],
+//!   [`log_euclidean`]: the one weighted Log-Euclidean interpolation, which keeps tensors SPD.
 
 mod eigen2;
 mod interpolation;
@@ -19,5 +20,6 @@ mod svd2;
 mod sym2;
 
 pub use eigen2::{eigen2, Eigen2};
+pub use interpolation::{exp_sym, log_euclidean, log_spd};
 pub use size_tensor::{SizeBounds, SizeTensor, TensorError};
 pub use sym2::Sym2;

@@ -3,7 +3,7 @@
 //! of the three corner metrics, exp(Σ λᵢ log Mᵢ). Interpolating from the input, never
 //! from values already interpolated, keeps the field from drifting over the passes; the
 //! Log-Euclidean mean keeps every tensor SPD and interpolates sizes geometrically
-//! (Arsigny et al. 2006, as [`crate::metric`] does for size tensors).
+//! (Arsigny et al. 2006; the one implementation is [`crate::metric::log_euclidean`]).
 //!
 //! Point location uses a uniform bucket grid over the triangles' boxes, written by hand
 //! because the crates that index triangles (rstar) are not among the project's
@@ -12,34 +12,9 @@
 //! curved boundary cutting into a hole) takes the nearest triangle's metric at the
 //! closest point.
 
-use crate::metric::{eigen2, Sym2};
-
-/// The matrix logarithm of an SPD matrix (closed-form eigen-decomposition).
-#[inline]
-pub fn log_spd(m: &Sym2) -> Sym2 {
-    let e = eigen2(*m);
-    Sym2::from_eigen(
-        [e.values[0].max(f64::MIN_POSITIVE).ln(), e.values[1].max(f64::MIN_POSITIVE).ln()],
-        e.vector,
-    )
-}
-
-/// The matrix exponential of a symmetric matrix: always SPD.
-#[inline]
-pub fn exp_sym(l: &Sym2) -> Sym2 {
-    let e = eigen2(*l);
-    Sym2::from_eigen([e.values[0].exp(), e.values[1].exp()], e.vector)
-}
-
-/// exp(Σ wᵢ Lᵢ) for logarithms `l` and weights `w`.
-#[inline]
-pub fn log_euclidean(w: &[f64], l: &[&Sym2]) -> Sym2 {
-    let mut s = Sym2::new(0.0, 0.0, 0.0);
-    for (wi, li) in w.iter().zip(l) {
-        s = s + *wi * **li;
-    }
-    exp_sym(&s)
-}
+use crate::metric::Sym2;
+// The Log-Euclidean mean is the metric module's; the remesher's other files reach it here.
+pub use crate::metric::{exp_sym, log_euclidean, log_spd};
 
 /// The input triangulation with the logarithm of its metric at every vertex.
 pub struct Background {
@@ -239,22 +214,6 @@ impl Background {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::metric::SizeTensor;
-
-    #[test]
-    fn log_exp_round_trip_and_geometric_sizes() {
-        let m = SizeTensor::from_angle(0.4, 0.01, 0.3).unwrap().to_metric();
-        let back = exp_sym(&log_spd(&m));
-        assert!(
-            (back.a - m.a).abs() < 1e-9 * m.a
-                && (back.b - m.b).abs() < 1e-9 * m.a
-                && (back.c - m.c).abs() < 1e-9 * m.a
-        );
-        let (a, b) =
-            (SizeTensor::isotropic(1.0).to_metric(), SizeTensor::isotropic(4.0).to_metric());
-        let mid = log_euclidean(&[0.5, 0.5], &[&log_spd(&a), &log_spd(&b)]);
-        assert!((mid.a - 0.25).abs() < 1e-14 && mid.b.abs() < 1e-14);
-    }
 
     /// Brute-force twin of `locate`: every triangle tried.
     #[test]
