@@ -16,6 +16,7 @@ use serde::Serialize;
 
 use crate::formats::TaggedMesh;
 use crate::metric::{SizeTensor, Sym2};
+use crate::metric_field::MetricField;
 
 /// The band of metric edge lengths that counts as conforming: [1/√2, √2].
 pub const CONFORMING: [f64; 2] = [std::f64::consts::FRAC_1_SQRT_2, std::f64::consts::SQRT_2];
@@ -75,119 +76,14 @@ pub fn metric_triangle_quality(p: [[f64; 2]; 3], m: [&Sym2; 3]) -> f64 {
     quality_in_metric(p[0], p[1], p[2], &centroid_metric(m))
 }
 
-/// Why a mesh's point data cannot serve as a metric field.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum MetricFieldError {
-    /// No point array of that name.
-    #[error("no point data `{name}` (the arrays are: {available})")]
-    Missing {
-        /// The name looked for.
-        name: String,
-        /// The arrays the mesh has.
-        available: String,
-    },
-    /// The array is not a tensor (9 components) or a 2D symmetric tensor (3 components).
-    #[error("point data `{name}` has {components} components; a metric has 9 (3x3 row-major) or 3 (m11 m12 m22)")]
-    Shape {
-        /// The array's name.
-        name: String,
-        /// Its number of components.
-        components: usize,
-    },
-    /// One item per vertex is needed.
-    #[error("point data `{name}` has {items} items for {vertices} vertices")]
-    Count {
-        /// The array's name.
-        name: String,
-        /// Items in the array.
-        items: usize,
-        /// Vertices of the mesh.
-        vertices: usize,
-    },
-    /// A tensor that is not finite, not symmetric or not positive definite.
-    #[error("point data `{name}` at vertex {vertex} (0-based) is not a metric: [[{a}, {b}], [{b2}, {c}]] is {why}")]
-    NotSpd {
-        /// The array's name.
-        name: String,
-        /// The vertex index.
-        vertex: usize,
-        /// m11.
-        a: f64,
-        /// m12.
-        b: f64,
-        /// m21.
-        b2: f64,
-        /// m22.
-        c: f64,
-        /// What is wrong.
-        why: &'static str,
-    },
-}
+pub use crate::metric_field::MetricFieldError;
 
-/// Reads the metric field named `name` (usually `metric`) from a mesh's point data, one
-/// SPD tensor per vertex. Vertices that no cell uses may carry any value (Gmsh keeps such
-/// nodes); they get the identity rather than an error.
+/// The metric field named `name` (usually [`crate::metric_field::METRIC`]) of a mesh's
+/// point data, one SPD tensor per vertex: [`MetricField::from_point_data`], whose checks
+/// every reader of a metric shares. Vertices that no cell uses may carry any value (Gmsh
+/// keeps such nodes); they get the identity rather than an error.
 pub fn metric_field(mesh: &TaggedMesh, name: &str) -> Result<Vec<Sym2>, MetricFieldError> {
-    let array = mesh.point_data.get(name).ok_or_else(|| MetricFieldError::Missing {
-        name: name.to_string(),
-        available: if mesh.point_data.is_empty() {
-            "none".to_string()
-        } else {
-            mesh.point_data.keys().cloned().collect::<Vec<_>>().join(", ")
-        },
-    })?;
-    if array.components != 9 && array.components != 3 {
-        return Err(MetricFieldError::Shape {
-            name: name.to_string(),
-            components: array.components,
-        });
-    }
-    if array.len() != mesh.points.len() {
-        return Err(MetricFieldError::Count {
-            name: name.to_string(),
-            items: array.len(),
-            vertices: mesh.points.len(),
-        });
-    }
-    let mut used = vec![false; mesh.points.len()];
-    for (_, nodes, _, _) in mesh.cells() {
-        for &n in nodes {
-            if let Some(u) = used.get_mut(n as usize) {
-                *u = true;
-            }
-        }
-    }
-    let mut out = Vec::with_capacity(array.len());
-    for (v, &in_use) in used.iter().enumerate() {
-        let t = array.item(v);
-        let (a, b, b2, c) =
-            if array.components == 9 { (t[0], t[1], t[3], t[4]) } else { (t[0], t[1], t[1], t[2]) };
-        let why = if ![a, b, b2, c].iter().all(|x| x.is_finite()) {
-            Some("not finite")
-        } else if (b - b2).abs() > 1e-9 * (a.abs() + c.abs()) {
-            Some("not symmetric")
-        } else if !(a > 0.0 && c > 0.0 && a * c - b * b > 0.0) {
-            Some("not positive definite")
-        } else {
-            None
-        };
-        match why {
-            None => out.push(Sym2::new(a, 0.5 * (b + b2), c)),
-            Some(_) if !in_use => out.push(Sym2::IDENTITY),
-            Some(why) => {
-                return Err(MetricFieldError::NotSpd {
-                    name: name.to_string(),
-                    vertex: v,
-                    a,
-                    b,
-                    b2,
-                    c,
-                    why,
-                })
-            }
-        }
-    }
-    Ok(out)
+    MetricField::from_point_data(mesh, name).map(MetricField::into_tensors)
 }
 
 /// How a triangle mesh conforms to a metric: the figures of issue-level quality bars.

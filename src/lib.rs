@@ -23,7 +23,8 @@
 //! - [`remesh`]: the native anisotropic remesher (split, collapse, swap, smooth in the
 //!   metric; boundaries, interfaces, corners and tags kept);
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
-//! - [`metric_input`]: the metric a command is given (`--metric` file or the mesh's own);
+//! - [`metric_field`]: a metric field on a mesh, read from point data, a `.sol`, a `.pos`
+//!   or a mesh file, checked, and interpolated elsewhere;
 //! - [`report`]: pictures (SVG, PNG) of a mesh, its metric, conformity and history;
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
@@ -40,7 +41,7 @@ pub mod history;
 pub mod mesh_graph;
 pub mod mesher;
 pub mod metric;
-pub mod metric_input;
+pub mod metric_field;
 pub mod quality;
 pub mod recipe;
 pub mod remesh;

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use smartmesh::formats::{read_path, Format};
-use smartmesh::metric_input;
+use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::summary::MeshSummary;
 use smartmesh::topology::Topology;
 
@@ -28,7 +28,8 @@ pub struct InfoArgs {
     /// Print a JSON document instead of text.
     #[arg(long)]
     json: bool,
-    /// A mesh file whose point data `metric` lives on FILE's vertices: adds the share of
+    /// A metric on FILE's vertices (a mesh file with point data `metric`, a .sol/.solb in
+    /// FILE's vertex order, or a .pos view): adds the share of
     /// edges of metric length in [1/√2, √2] and the metric quality (FILE's own `metric`
     /// array is used when this is not given).
     #[arg(long, short = 'm')]
@@ -40,12 +41,12 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let mesh = read_path(&args.file, args.from)?;
     let topo = Topology::from_mesh(&mesh);
     let mut summary = MeshSummary::of(&mesh, &topo);
-    match metric_input::load(&mesh, &args.file, args.metric.as_deref(), None) {
-        Ok(Some(m)) => summary = summary.with_metric(&mesh, &m.field, m.source),
+    match MetricField::load(&mesh, &args.file, args.metric.as_deref()) {
+        Ok(Some(m)) => summary = summary.with_metric(&mesh, m.tensors(), m.source().to_string()),
         Ok(None) => {}
         // The file's own array is only looked at by the way: a bad one is a warning.
         Err(e) if args.metric.is_none() => eprintln!("smartmesh: warning: no metric figures: {e}"),
-        Err(metric_input::MetricInputError::Read(e)) => return Err(e.into()),
+        Err(MetricError::Read(e)) => return Err(e.into()),
         Err(e) => return Err(CliError::usage(e.to_string())),
     }
     if args.json {

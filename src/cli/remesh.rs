@@ -3,16 +3,14 @@
 //! measure for our output and another tool's).
 
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use smartmesh::conformity::{metric_field, Conformity};
-use smartmesh::formats::{read_path, write_path, Format, TaggedMesh};
-use smartmesh::metric::Sym2;
-use smartmesh::remesh::{
-    interpolate_metric, remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions,
-};
+use smartmesh::conformity::Conformity;
+use smartmesh::formats::{read_path, write_path, Format};
+use smartmesh::metric_field::{MetricError, MetricField};
+use smartmesh::remesh::{remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
 
 use super::{parse_format, print_stdout, CliError};
 
@@ -29,8 +27,9 @@ enum Boundary {
 #[derive(Debug, Args)]
 #[command(
     after_help = "The metric is a 9-component (or 3-component m11 m12 m22) point array `metric` on \
-MESH's vertices: in the file given with --metric (a .vtu or .msh written by `smartmesh size`, or a .mesh \
-with its .sol beside it), or in MESH itself when --metric is left out.
+MESH's vertices: in the file given with --metric (any file `smartmesh size` writes: a .vtu or .msh, \
+a .mesh with its .sol beside it, a .sol/.solb alone in MESH's vertex order as mmg2d_O3 -sol takes it, \
+or a Gmsh .pos view, taken at MESH's vertices), or in MESH itself when --metric is left out.
 
 Boundary and interface vertices slide along their own curve, corners (topological points, and curve \
 vertices turning by more than --ridge-angle) never move; face and curve tags are kept. The output \
@@ -44,7 +43,8 @@ Examples:
 pub struct RemeshArgs {
     /// Input mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
-    /// A file holding point data `metric` on the same vertices as MESH.
+    /// A metric on MESH's vertices: a mesh file with point data `metric`, a .sol/.solb,
+    /// or a .pos view.
     #[arg(long, short = 'm')]
     metric: Option<PathBuf>,
     /// Output mesh (any writable format); required unless --measure.
@@ -54,7 +54,8 @@ pub struct RemeshArgs {
     #[arg(long)]
     measure: bool,
     /// With --measure: take the metric from this mesh (the input of a remeshing, with its
-    /// `metric`), interpolated at MESH's vertices, instead of MESH's own.
+    /// `metric`; a .pos view; a .sol beside its .mesh), interpolated at MESH's vertices,
+    /// instead of MESH's own.
     #[arg(long, requires = "measure", conflicts_with = "metric")]
     background: Option<PathBuf>,
     /// Where boundary vertices go.
@@ -79,43 +80,12 @@ pub struct RemeshArgs {
     json: bool,
 }
 
-/// The metric for `mesh`: from `--metric` or from the mesh itself.
-fn read_metric(
-    mesh_path: &Path,
-    mesh: &TaggedMesh,
-    metric: Option<&Path>,
-) -> Result<Vec<Sym2>, CliError> {
-    match metric {
-        None => metric_field(mesh, "metric")
-            .map_err(|e| CliError::usage(format!("{}: {e}", mesh_path.display()))),
-        Some(p) => {
-            let m = read_path(p, None)?;
-            if m.points.len() != mesh.points.len() {
-                return Err(CliError::usage(format!(
-                    "{}: {} vertices, but {} has {}; the metric must be on the mesh's vertices",
-                    p.display(),
-                    m.points.len(),
-                    mesh_path.display(),
-                    mesh.points.len()
-                )));
-            }
-            // Same count is not enough: the vertices must be MESH's (up to rounding in a
-            // text file).
-            let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
-            let tol = 1e-9 * (hi[0] - lo[0]).abs().max((hi[1] - lo[1]).abs()).max(1e-300);
-            if let Some(v) = (0..mesh.points.len())
-                .find(|&v| (0..2).any(|k| (m.points[v][k] - mesh.points[v][k]).abs() > tol))
-            {
-                return Err(CliError::usage(format!(
-                    "{}: vertex {v} (0-based) is at {:?}, but vertex {v} of {} is at {:?}; the metric must be on the mesh's vertices",
-                    p.display(),
-                    &m.points[v][..2],
-                    mesh_path.display(),
-                    &mesh.points[v][..2]
-                )));
-            }
-            metric_field(&m, "metric").map_err(|e| CliError::usage(format!("{}: {e}", p.display())))
-        }
+/// A metric that could not be had: an unreadable file keeps its own exit code, every
+/// other fault is bad input (exit 2).
+fn metric_error(e: MetricError) -> CliError {
+    match e {
+        MetricError::Read(e) => CliError::from(e),
+        e => CliError::usage(e.to_string()),
     }
 }
 
@@ -125,15 +95,19 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     let mesh = read_path(&args.mesh, from)?;
     let metric = match &args.background {
         Some(b) => {
-            let bmesh = read_path(b, None)?;
-            let bmetric = metric_field(&bmesh, "metric")
-                .map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?;
+            let (bmesh, bfield) = MetricField::read_background(b).map_err(metric_error)?;
             let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-            interpolate_metric(&bmesh, &bmetric, &pts)
+            bfield
+                .interpolate(&bmesh, &pts)
                 .map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?
         }
-        None => read_metric(&args.mesh, &mesh, args.metric.as_deref())?,
-    };
+        None => match args.metric.as_deref() {
+            Some(p) => MetricField::read(p, None, &mesh, &args.mesh),
+            None => MetricField::own(&mesh, &args.mesh),
+        }
+        .map_err(metric_error)?,
+    }
+    .into_tensors();
     if args.measure {
         let c = Conformity::of_mesh(&mesh, &metric).ok_or_else(|| {
             CliError::usage(format!("{}: no triangles to measure", args.mesh.display()))

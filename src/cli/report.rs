@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 use smartmesh::formats::{read_path, write_all_atomically, Format};
 use smartmesh::history::History;
-use smartmesh::metric_input;
+use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::recipe::Recipe;
 use smartmesh::report::{self, ReportFormat, ReportInput, ReportOptions};
 use smartmesh::Topology;
@@ -26,7 +26,8 @@ unless the panel says a factor); histograms of metric edge length (band [1/√2,
 share printed) and metric quality; the history of `smartmesh adapt` with --history.
 
 The metric is the point data `metric` of --metric M (a mesh file on MESH's vertices, as
-`smartmesh size -o M.vtu` writes it), else MESH's own `metric` array; without either the
+`smartmesh size -o M.vtu` writes it, a .sol/.solb in MESH's vertex order, or a .pos view),
+else MESH's own `metric` array; without either the
 report shows the mesh alone and says so. Edges shorter than 2 pixels are drawn as shading,
 so that the SVG grows with the picture, not with the mesh (10^6 triangles at 1200 px: about
 330 KB).
@@ -39,7 +40,8 @@ Examples:
 pub struct ReportArgs {
     /// The mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
-    /// A mesh file whose point data `metric` lives on MESH's vertices.
+    /// A metric on MESH's vertices: a mesh file with point data `metric`, a .sol/.solb,
+    /// or a .pos view.
     #[arg(long, short = 'm')]
     metric: Option<PathBuf>,
     /// A recipe (.cfg, .toml, .json): zoom windows around its sources.
@@ -99,12 +101,11 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
     }
     let mesh = read_path(&args.mesh, args.from.or_else(|| Format::from_path(&args.mesh)))?;
     let topology = Topology::from_mesh(&mesh);
-    let metric = metric_input::load(&mesh, &args.mesh, args.metric.as_deref(), None).map_err(
-        |e| match e {
-            metric_input::MetricInputError::Read(e) => CliError::from(e),
+    let metric =
+        MetricField::load(&mesh, &args.mesh, args.metric.as_deref()).map_err(|e| match e {
+            MetricError::Read(e) => CliError::from(e),
             e => CliError::usage(e.to_string()),
-        },
-    )?;
+        })?;
     let plan = match &args.recipe {
         Some(r) => {
             let recipe = Recipe::from_path(r).map_err(|e| CliError::usage(e.to_string()))?;

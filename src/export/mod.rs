@@ -29,8 +29,7 @@ use smartmesh_formats::{
 
 use crate::metric::SizeTensor;
 
-/// Name of the metric point field, as every reader of this crate names it.
-pub const METRIC: &str = "metric";
+pub use crate::metric_field::METRIC;
 
 /// Where a metric goes, told by the output's extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

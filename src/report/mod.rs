@@ -37,7 +37,7 @@ use crate::conformity::Conformity;
 use crate::formats::TaggedMesh;
 use crate::history::History;
 use crate::metric::SizeTensor;
-use crate::metric_input::LoadedMetric;
+use crate::metric_field::MetricField;
 use crate::sizing::plan::SizingPlan;
 use crate::topology::Topology;
 
@@ -68,7 +68,7 @@ pub struct ReportInput<'a> {
     /// Its topology.
     pub topology: &'a Topology,
     /// The metric on its vertices, if any.
-    pub metric: Option<&'a LoadedMetric>,
+    pub metric: Option<&'a MetricField>,
     /// A sizing plan resolved on this mesh, for the zoom windows and source marks.
     pub plan: Option<&'a SizingPlan>,
     /// The history of an adaptation run.
@@ -153,9 +153,10 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         .unwrap_or(Rect::new(0.0, 0.0, 1.0, 1.0));
     let mut notes = Vec::new();
 
-    let conformity = input.metric.and_then(|m| Conformity::of_mesh(mesh, &m.field));
-    let sizes: Option<Vec<Option<SizeTensor>>> =
-        input.metric.map(|m| m.field.iter().map(|t| SizeTensor::try_from_metric(t).ok()).collect());
+    let conformity = input.metric.and_then(|m| Conformity::of_mesh(mesh, m.tensors()));
+    let sizes: Option<Vec<Option<SizeTensor>>> = input
+        .metric
+        .map(|m| m.tensors().iter().map(|t| SizeTensor::try_from_metric(t).ok()).collect());
     let zooms = match (input.plan, &sizes) {
         (Some(plan), _) => windows::from_plan(plan, topo, &points, &domain),
         (None, Some(s)) => windows::from_sizes(s, topo, &points, &domain, SIZE_WINDOWS),
@@ -205,11 +206,11 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let metric_line = match (input.metric, &conformity) {
         (Some(m), Some(c)) => format!(
             "metric {}: {}% of edges conforming, mean metric quality {}",
-            m.source,
+            m.source(),
             num(100.0 * c.conforming_share, 1),
             num(c.mean_quality, 3)
         ),
-        (Some(m), None) => format!("metric {}: no triangle to measure", m.source),
+        (Some(m), None) => format!("metric {}: no triangle to measure", m.source()),
         (None, _) => {
             let why = format!(
                 "no metric: {} has no point data `metric` and no --metric was given",

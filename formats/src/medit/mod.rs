@@ -302,6 +302,21 @@ pub fn read_sol(
     }
 }
 
+/// Reads a solution file given without its mesh (ASCII or binary, told by its first
+/// bytes, as [`read`] tells a sibling's): the number of vertices its `SolAtVertices`
+/// covers and the arrays of [`read_sol`] for that number, `None` when the file has no
+/// solution at vertices. The caller compares the count with its mesh's.
+pub fn read_sol_alone(bytes: &[u8]) -> Result<Option<(usize, BTreeMap<String, DataArray>)>> {
+    let p = parse(bytes, is_binary(bytes))?;
+    match p.sol {
+        Some(sol) if !sol.types.is_empty() => {
+            let n = sol.n;
+            Ok(Some((n, sol_arrays(sol, p.dim, n, bytes)?)))
+        }
+        _ => Ok(None),
+    }
+}
+
 /// Names and converts the solutions of a `SolAtVertices` read from `bytes`.
 fn sol_arrays(
     mut sol: Sol,

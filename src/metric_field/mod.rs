@@ -1,0 +1,460 @@
+//! A metric field on a mesh: one SPD tensor per vertex, and the one place that reads,
+//! checks and interpolates it, so that every command accepts the same files and refuses
+//! them with the same messages.
+//!
+//! Where a field comes from ([`MetricField::read`], [`MetricField::load`]):
+//!
+//! | given | read as | checked |
+//! | --- | --- | --- |
+//! | the mesh itself | its point data [`METRIC`] | SPD and finite at every vertex a cell uses |
+//! | a mesh file (`.vtu`, `.vtk`, `.msh` with `$NodeData`, `.mesh` with its `.sol`) | its point data [`METRIC`] on the mesh's own vertices | the same count, the same positions (up to 1e-9 of the mesh's extent), SPD |
+//! | a Medit `.sol`/`.solb` alone | its type-3 `SolAtVertices`, in the mesh's vertex order, as `mmg2d_O3 MESH -sol X.sol` takes it | the same count, SPD |
+//! | a Gmsh `.pos` view | the tensor (`TT`, `TQ`) records of its last view, as `gmsh -bgm` takes it, at the mesh's vertices ([`pos_view`]) | SPD at every view node |
+//!
+//! A field is the metric M = R diag(1/h1², 1/h2²) Rᵀ (files carry metrics, not sizes);
+//! only the xy block of a 9-component tensor is read. A vertex that no cell uses may carry
+//! anything (Gmsh keeps such nodes) and gets the identity.
+//!
+//! At positions that are not the field's vertices ([`MetricField::interpolate`]) the field
+//! is the Log-Euclidean barycentric mean of the corners of the triangle that holds the
+//! position, or, outside every triangle, of the nearest triangle at its closest point: the
+//! interpolation the remesher uses ([`crate::metric::log_euclidean`]).
+//!
+//! Writing a field is [`crate::export`]'s job (one writer per target file kind).
+
+pub mod pos_view;
+
+use std::path::Path;
+
+use crate::formats::{read_path, DataArray, Format, TaggedMesh};
+use crate::metric::Sym2;
+
+/// The name of the point-data array (and of the Gmsh view) that carries a metric, as
+/// every reader and writer of smartmesh names it.
+pub const METRIC: &str = "metric";
+
+/// A metric field: one SPD tensor per vertex of a mesh, and where it was found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MetricField {
+    tensors: Vec<Sym2>,
+    source: String,
+}
+
+/// Why a mesh's point data cannot serve as a metric field.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MetricFieldError {
+    /// No point array of that name.
+    #[error("no point data `{name}` (the arrays are: {available})")]
+    Missing {
+        /// The name looked for.
+        name: String,
+        /// The arrays the mesh has.
+        available: String,
+    },
+    /// The array is not a tensor (9 components) or a 2D symmetric tensor (3 components).
+    #[error("point data `{name}` has {components} components; a metric has 9 (3x3 row-major) or 3 (m11 m12 m22)")]
+    Shape {
+        /// The array's name.
+        name: String,
+        /// Its number of components.
+        components: usize,
+    },
+    /// One item per vertex is needed.
+    #[error("point data `{name}` has {items} items for {vertices} vertices")]
+    Count {
+        /// The array's name.
+        name: String,
+        /// Items in the array.
+        items: usize,
+        /// Vertices of the mesh.
+        vertices: usize,
+    },
+    /// A tensor that is not finite, not symmetric or not positive definite.
+    #[error("point data `{name}` at vertex {vertex} (0-based) is not a metric: [[{a}, {b}], [{b2}, {c}]] is {why}")]
+    NotSpd {
+        /// The array's name.
+        name: String,
+        /// The vertex index.
+        vertex: usize,
+        /// m11.
+        a: f64,
+        /// m12.
+        b: f64,
+        /// m21.
+        b2: f64,
+        /// m22.
+        c: f64,
+        /// What is wrong.
+        why: &'static str,
+    },
+}
+
+/// Why no metric field could be had from a file.
+#[derive(Debug, thiserror::Error)]
+pub enum MetricError {
+    /// The metric file could not be read.
+    #[error(transparent)]
+    Read(#[from] crate::formats::Error),
+    /// The array is missing, of the wrong shape, or holds a tensor that is not a metric.
+    #[error("{path}: {error}")]
+    Field {
+        /// The file that holds (or lacks) the array.
+        path: String,
+        /// What is wrong with it.
+        error: MetricFieldError,
+    },
+    /// The metric file has another number of vertices than the mesh.
+    #[error("{path}: {what} has {items} items, but {mesh} has {vertices} vertices (the metric must live on the mesh's own vertices)")]
+    Count {
+        /// The metric file.
+        path: String,
+        /// What in it was counted.
+        what: &'static str,
+        /// Its items.
+        items: usize,
+        /// The mesh file.
+        mesh: String,
+        /// The mesh's vertices.
+        vertices: usize,
+    },
+    /// The metric file has the mesh's number of vertices, but not at the same places.
+    #[error("{path}: vertex {vertex} (0-based) is at {at:?}, but vertex {vertex} of {mesh} is at {expected:?}; the metric must live on the mesh's own vertices")]
+    Moved {
+        /// The metric file.
+        path: String,
+        /// The first vertex that differs.
+        vertex: usize,
+        /// Where the metric file has it.
+        at: [f64; 2],
+        /// The mesh file.
+        mesh: String,
+        /// Where the mesh has it.
+        expected: [f64; 2],
+    },
+    /// A file that holds no metric in a form smartmesh reads as one.
+    #[error("{path}: {why}")]
+    NotAMetric {
+        /// The file.
+        path: String,
+        /// What it lacks.
+        why: String,
+    },
+}
+
+/// What a metric file is, told by its extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// A Medit solution alone.
+    Sol,
+    /// A Gmsh post-processing view.
+    Pos,
+    /// A mesh file with point data.
+    Mesh,
+}
+
+impl Kind {
+    fn of(path: &Path, format: Option<Format>) -> Kind {
+        if format.is_some() {
+            return Kind::Mesh;
+        }
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        match ext.as_str() {
+            "sol" | "solb" => Kind::Sol,
+            "pos" => Kind::Pos,
+            _ => Kind::Mesh,
+        }
+    }
+}
+
+impl MetricField {
+    /// A field from its tensors (one per vertex, each SPD) and a description of where it
+    /// came from.
+    pub fn new(tensors: Vec<Sym2>, source: impl Into<String>) -> MetricField {
+        MetricField { tensors, source: source.into() }
+    }
+
+    /// The tensors, one per vertex.
+    pub fn tensors(&self) -> &[Sym2] {
+        &self.tensors
+    }
+
+    /// The tensors, one per vertex.
+    pub fn into_tensors(self) -> Vec<Sym2> {
+        self.tensors
+    }
+
+    /// Where the field came from, in words: "`metric` of FILE".
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// The field named `name` in `mesh`'s point data, one SPD tensor per vertex: a
+    /// 9-component tensor (its xy block) or a packed 2D one (m11 m12 m22). Vertices that no
+    /// cell uses may carry any value (Gmsh keeps such nodes); they get the identity.
+    pub fn from_point_data(mesh: &TaggedMesh, name: &str) -> Result<MetricField, MetricFieldError> {
+        let array = mesh.point_data.get(name).ok_or_else(|| MetricFieldError::Missing {
+            name: name.to_string(),
+            available: if mesh.point_data.is_empty() {
+                "none".to_string()
+            } else {
+                mesh.point_data.keys().cloned().collect::<Vec<_>>().join(", ")
+            },
+        })?;
+        let tensors = validate(array, mesh, name)?;
+        Ok(MetricField { tensors, source: format!("`{name}`") })
+    }
+
+    /// The mesh's own [`METRIC`] array (`mesh` read from `mesh_path`).
+    pub fn own(mesh: &TaggedMesh, mesh_path: &Path) -> Result<MetricField, MetricError> {
+        let path = mesh_path.display().to_string();
+        let field = MetricField::from_point_data(mesh, METRIC)
+            .map_err(|error| MetricError::Field { path: path.clone(), error })?;
+        Ok(MetricField { tensors: field.tensors, source: format!("`{METRIC}` of {path}") })
+    }
+
+    /// The metric on `mesh` (read from `mesh_path`): from the file `metric_path` when
+    /// given ([`MetricField::read`]), else the mesh's own [`METRIC`] array; `Ok(None)` when
+    /// neither is asked for nor present.
+    pub fn load(
+        mesh: &TaggedMesh,
+        mesh_path: &Path,
+        metric_path: Option<&Path>,
+    ) -> Result<Option<MetricField>, MetricError> {
+        match metric_path {
+            Some(p) => MetricField::read(p, None, mesh, mesh_path).map(Some),
+            None if !mesh.point_data.contains_key(METRIC) => Ok(None),
+            None => MetricField::own(mesh, mesh_path).map(Some),
+        }
+    }
+
+    /// The metric file `path` (of `format` when given, else told by its extension) as a
+    /// field on `mesh`'s vertices (`mesh` read from `mesh_path`); see the module
+    /// documentation for the kinds of file and their checks.
+    pub fn read(
+        path: &Path,
+        format: Option<Format>,
+        mesh: &TaggedMesh,
+        mesh_path: &Path,
+    ) -> Result<MetricField, MetricError> {
+        match Kind::of(path, format) {
+            Kind::Sol => read_sol(path, mesh, mesh_path),
+            Kind::Pos => {
+                let view = pos_view::read_path(path)?;
+                let points: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
+                let tensors = view.at(&points);
+                Ok(MetricField {
+                    tensors,
+                    source: format!("view `{}` of {}", view.name(), path.display()),
+                })
+            }
+            Kind::Mesh => {
+                let other = read_path(path, format.or_else(|| Format::from_path(path)))?;
+                on_same_vertices(mesh, mesh_path, &other, path)
+            }
+        }
+    }
+
+    /// A field with the mesh it lives on, to be interpolated elsewhere (the input of a
+    /// remeshing, for `remesh --measure --background`): a mesh file with its [`METRIC`]
+    /// array, a `.pos` view (its records are the triangles), or a `.sol`/`.solb` with the
+    /// Medit mesh of the same name beside it (`x.mesh`, else `x.meshb`), as MMG pairs them.
+    pub fn read_background(path: &Path) -> Result<(TaggedMesh, MetricField), MetricError> {
+        match Kind::of(path, None) {
+            Kind::Pos => {
+                let view = pos_view::read_path(path)?;
+                let (mesh, tensors) = view.into_mesh();
+                let source = format!("view of {}", path.display());
+                Ok((mesh, MetricField { tensors, source }))
+            }
+            Kind::Sol => {
+                let mesh_path = ["mesh", "meshb"]
+                    .iter()
+                    .map(|e| path.with_extension(e))
+                    .find(|p| p.is_file())
+                    .ok_or_else(|| MetricError::NotAMetric {
+                        path: path.display().to_string(),
+                        why: format!(
+                            "a solution holds values at vertices, not their positions: a background needs its mesh ({} beside it), or give a .pos, .vtu or .msh",
+                            path.with_extension("mesh").display()
+                        ),
+                    })?;
+                let bytes = std::fs::read(&mesh_path)
+                    .map_err(|e| crate::formats::Error::from(e).with_path(&mesh_path))?;
+                let ext = mesh_path.extension().and_then(|e| e.to_str()).unwrap_or("mesh");
+                let mesh = crate::formats::read_bytes(
+                    Format::Medit,
+                    &bytes,
+                    &crate::formats::ReadContext::alone(ext),
+                )
+                .map_err(|e| e.with_path(&mesh_path))?;
+                let field = read_sol(path, &mesh, &mesh_path)?;
+                Ok((mesh, field))
+            }
+            Kind::Mesh => {
+                let mesh = read_path(path, None)?;
+                let field = MetricField::own(&mesh, path)?;
+                Ok((mesh, field))
+            }
+        }
+    }
+
+    /// This field (on the vertices of `mesh`) at `points`, by the interpolation the
+    /// remesher uses (see the module documentation). Measures any mesh, ours or another
+    /// tool's, against the same field.
+    pub fn interpolate(
+        &self,
+        mesh: &TaggedMesh,
+        points: &[[f64; 2]],
+    ) -> Result<MetricField, crate::remesh::RemeshError> {
+        let tensors = crate::remesh::interpolate_metric(mesh, &self.tensors, points)?;
+        Ok(MetricField { tensors, source: format!("{}, interpolated", self.source) })
+    }
+}
+
+/// The tensors of `array` (point data `name` of `mesh`), checked: the shape, one item per
+/// vertex, SPD and finite at every vertex a cell of `mesh` uses.
+fn validate(
+    array: &DataArray,
+    mesh: &TaggedMesh,
+    name: &str,
+) -> Result<Vec<Sym2>, MetricFieldError> {
+    if array.components != 9 && array.components != 3 {
+        return Err(MetricFieldError::Shape {
+            name: name.to_string(),
+            components: array.components,
+        });
+    }
+    if array.len() != mesh.points.len() {
+        return Err(MetricFieldError::Count {
+            name: name.to_string(),
+            items: array.len(),
+            vertices: mesh.points.len(),
+        });
+    }
+    let mut used = vec![false; mesh.points.len()];
+    for (_, nodes, _, _) in mesh.cells() {
+        for &n in nodes {
+            if let Some(u) = used.get_mut(n as usize) {
+                *u = true;
+            }
+        }
+    }
+    let mut out = Vec::with_capacity(array.len());
+    for (v, &in_use) in used.iter().enumerate() {
+        let t = array.item(v);
+        let (a, b, b2, c) =
+            if array.components == 9 { (t[0], t[1], t[3], t[4]) } else { (t[0], t[1], t[1], t[2]) };
+        match not_a_metric(a, b, b2, c) {
+            None => out.push(Sym2::new(a, 0.5 * (b + b2), c)),
+            Some(_) if !in_use => out.push(Sym2::IDENTITY),
+            Some(why) => {
+                return Err(MetricFieldError::NotSpd {
+                    name: name.to_string(),
+                    vertex: v,
+                    a,
+                    b,
+                    b2,
+                    c,
+                    why,
+                })
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Why [[a, b], [b2, c]] is not a metric, `None` when it is one.
+pub(crate) fn not_a_metric(a: f64, b: f64, b2: f64, c: f64) -> Option<&'static str> {
+    if ![a, b, b2, c].iter().all(|x| x.is_finite()) {
+        Some("not finite")
+    } else if (b - b2).abs() > 1e-9 * (a.abs() + c.abs()) {
+        Some("not symmetric")
+    } else if !(a > 0.0 && c > 0.0 && a * c - b * b > 0.0) {
+        Some("not positive definite")
+    } else {
+        None
+    }
+}
+
+/// `array` (point data [`METRIC`] of the file `path`) validated against `mesh`'s cells: a
+/// vertex that no cell of *this* mesh uses may carry anything.
+fn on_mesh(mesh: &TaggedMesh, array: &DataArray, path: &str) -> Result<Vec<Sym2>, MetricError> {
+    validate(array, mesh, METRIC)
+        .map_err(|error| MetricError::Field { path: path.to_string(), error })
+}
+
+/// A Medit solution file alone, in `mesh`'s vertex order.
+fn read_sol(path: &Path, mesh: &TaggedMesh, mesh_path: &Path) -> Result<MetricField, MetricError> {
+    let shown = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| crate::formats::Error::from(e).with_path(path))?;
+    let Some((items, arrays)) =
+        crate::formats::medit::read_sol_alone(&bytes).map_err(|e| e.with_path(path))?
+    else {
+        return Err(MetricError::NotAMetric {
+            path: shown,
+            why: "no SolAtVertices: the file holds no solution at vertices".into(),
+        });
+    };
+    if items != mesh.points.len() {
+        return Err(MetricError::Count {
+            path: shown,
+            what: "SolAtVertices",
+            items,
+            mesh: mesh_path.display().to_string(),
+            vertices: mesh.points.len(),
+        });
+    }
+    let Some(array) = arrays.get(METRIC) else {
+        let available = arrays.keys().cloned().collect::<Vec<_>>().join(", ");
+        return Err(MetricError::Field {
+            path: shown,
+            error: MetricFieldError::Missing { name: METRIC.into(), available },
+        });
+    };
+    let tensors = on_mesh(mesh, array, &shown)?;
+    Ok(MetricField { tensors, source: format!("`{METRIC}` of {shown}") })
+}
+
+/// The [`METRIC`] array of `other` (read from `other_path`) as a field on `mesh`'s
+/// vertices: the same count, the same positions.
+fn on_same_vertices(
+    mesh: &TaggedMesh,
+    mesh_path: &Path,
+    other: &TaggedMesh,
+    other_path: &Path,
+) -> Result<MetricField, MetricError> {
+    let path = other_path.display().to_string();
+    let Some(array) = other.point_data.get(METRIC) else {
+        // Let from_point_data word the error (it lists the arrays there are).
+        let error = MetricField::from_point_data(other, METRIC)
+            .err()
+            .unwrap_or(MetricFieldError::Missing { name: METRIC.into(), available: "none".into() });
+        return Err(MetricError::Field { path, error });
+    };
+    if array.len() != mesh.points.len() {
+        return Err(MetricError::Count {
+            path,
+            what: "point data `metric`",
+            items: array.len(),
+            mesh: mesh_path.display().to_string(),
+            vertices: mesh.points.len(),
+        });
+    }
+    // Same count is not enough: the vertices must be the mesh's (up to rounding in a
+    // text file).
+    let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
+    let tol = 1e-9 * (hi[0] - lo[0]).abs().max((hi[1] - lo[1]).abs()).max(1e-300);
+    if let Some(v) = (0..mesh.points.len())
+        .find(|&v| (0..2).any(|k| (other.points[v][k] - mesh.points[v][k]).abs() > tol))
+    {
+        return Err(MetricError::Moved {
+            path,
+            vertex: v,
+            at: [other.points[v][0], other.points[v][1]],
+            mesh: mesh_path.display().to_string(),
+            expected: [mesh.points[v][0], mesh.points[v][1]],
+        });
+    }
+    let tensors = on_mesh(mesh, array, &path)?;
+    Ok(MetricField { tensors, source: format!("`{METRIC}` of {path}") })
+}
