@@ -103,7 +103,7 @@ impl Adapter for GmshAdapter {
         let pos = crate::export::pos::write_tensor_view(
             &prepared.mesh,
             &DataArray::new(9, values),
-            "metric",
+            crate::metric_field::METRIC,
         )?;
         let msh =
             smartmesh_formats::write_bytes(Format::Gmsh, &prepared.mesh, &WriteOptions::default())?;

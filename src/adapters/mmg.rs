@@ -225,8 +225,11 @@ fn write_input(
     medit.point_sets.insert("RequiredVertices".into(), required);
     let values: Vec<f64> =
         prepared.metric(metric).iter().flat_map(|m| m.to_row_major_3x3(1.0)).collect();
-    let sol =
-        smartmesh_formats::medit::write_sol(&[("metric", &DataArray::new(9, values))], 2, false)?;
+    let sol = smartmesh_formats::medit::write_sol(
+        &[(crate::metric_field::METRIC, &DataArray::new(9, values))],
+        2,
+        false,
+    )?;
     let written = smartmesh_formats::write_bytes(
         Format::Medit,
         &medit,

@@ -174,7 +174,7 @@ pub fn start(
             .push(format!("{dropped_lines} line cells that are not triangle edges are not kept"));
     }
     for name in mesh.point_data.keys() {
-        if name != "metric" {
+        if name != crate::metric_field::METRIC {
             warnings.push(format!(
                 "point data `{name}` is not carried (only the metric is interpolated)"
             ));

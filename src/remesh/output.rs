@@ -74,6 +74,6 @@ pub fn assemble(
     for m in &metric {
         values.extend_from_slice(&sym2_to_tensor9(m.a, m.b, m.c, m.eigen().values[0]));
     }
-    mesh.point_data.insert("metric".into(), DataArray::new(9, values));
+    mesh.point_data.insert(crate::metric_field::METRIC.into(), DataArray::new(9, values));
     (mesh, metric)
 }
