@@ -11,8 +11,7 @@
 
 use crate::sizing::functions::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
 
-/// A point of the plane.
-pub type Point2 = [f64; 2];
+pub use crate::geometry::Point2;
 
 /// Topological entities of one mesh, by index into [`crate::Topology`].
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
