@@ -262,8 +262,8 @@ impl MetricField {
         match Kind::of(path, None) {
             Kind::Pos => {
                 let view = pos_view::read_path(path)?;
+                let source = format!("view `{}` of {}", view.name(), path.display());
                 let (mesh, tensors) = view.into_mesh();
-                let source = format!("view of {}", path.display());
                 Ok((mesh, MetricField { tensors, source }))
             }
             Kind::Sol => {
@@ -457,4 +457,70 @@ fn on_same_vertices(
     }
     let tensors = on_mesh(mesh, array, &path)?;
     Ok(MetricField { tensors, source: format!("`{METRIC}` of {path}") })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::CellKind;
+
+    /// A triangle and a fourth vertex that no cell uses.
+    fn triangle() -> TaggedMesh {
+        let mut mesh = TaggedMesh::new();
+        mesh.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [5.0, 5.0, 0.0]];
+        mesh.block_mut(CellKind::Triangle).push(&[0, 1, 2], 1, 1);
+        mesh
+    }
+
+    fn write_sol(dir: &Path, name: &str, rows: &[&str]) -> std::path::PathBuf {
+        let p = dir.join(name);
+        let text = format!(
+            "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n{}\n1 3\n{}\nEnd\n",
+            rows.len(),
+            rows.join("\n")
+        );
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    #[test]
+    fn a_solution_alone_is_taken_in_vertex_order_checked_where_cells_use_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let mesh = triangle();
+        let mesh_path = dir.path().join("t.vtu");
+        let good = write_sol(dir.path(), "a.sol", &["4 0 4", "4 1 4", "9 0 1", "-1 0 -1"]);
+        let f = MetricField::read(&good, None, &mesh, &mesh_path).unwrap();
+        assert_eq!(
+            f.tensors(),
+            [
+                Sym2::new(4.0, 0.0, 4.0),
+                Sym2::new(4.0, 1.0, 4.0),
+                Sym2::new(9.0, 0.0, 1.0),
+                Sym2::IDENTITY
+            ]
+        );
+        assert!(f.source().contains("a.sol"));
+        let bad = write_sol(dir.path(), "b.sol", &["4 0 4", "1 2 1", "9 0 1", "1 0 1"]);
+        let e = MetricField::read(&bad, None, &mesh, &mesh_path).unwrap_err().to_string();
+        assert!(
+            e.contains("b.sol") && e.contains("vertex 1") && e.contains("positive definite"),
+            "{e}"
+        );
+        let short = write_sol(dir.path(), "c.sol", &["4 0 4", "1 0 1", "9 0 1"]);
+        let e = MetricField::read(&short, None, &mesh, &mesh_path).unwrap_err();
+        assert!(matches!(e, MetricError::Count { items: 3, vertices: 4, .. }), "{e}");
+        let empty = dir.path().join("d.sol");
+        std::fs::write(&empty, "MeshVersionFormatted 2\nDimension 2\nEnd\n").unwrap();
+        let e = MetricField::read(&empty, None, &mesh, &mesh_path).unwrap_err().to_string();
+        assert!(e.contains("d.sol") && e.contains("no SolAtVertices"), "{e}");
+    }
+
+    #[test]
+    fn the_extension_tells_the_kind_unless_a_format_is_named() {
+        assert_eq!(Kind::of(Path::new("x.SOL"), None), Kind::Sol);
+        assert_eq!(Kind::of(Path::new("x.solb"), None), Kind::Sol);
+        assert_eq!(Kind::of(Path::new("x.pos"), None), Kind::Pos);
+        assert_eq!(Kind::of(Path::new("x.vtu"), None), Kind::Mesh);
+        assert_eq!(Kind::of(Path::new("x.pos"), Some(Format::Vtu)), Kind::Mesh);
+    }
 }
