@@ -540,17 +540,11 @@ mod tests {
 
     #[test]
     fn arbitrary_bytes_never_panic() {
-        let mut s = 0x9e3779b97f4a7c15u64;
+        use smartmesh_test_support::{Generator, SplitMix64};
+        let mut g = SplitMix64(17);
         let alphabet = b"View\"{}(),;TQST0123456789.-e/* \n";
         for len in 0..400 {
-            let bytes: Vec<u8> = (0..len)
-                .map(|_| {
-                    s ^= s << 13;
-                    s ^= s >> 7;
-                    s ^= s << 17;
-                    alphabet[(s % alphabet.len() as u64) as usize]
-                })
-                .collect();
+            let bytes: Vec<u8> = (0..len).map(|_| alphabet[g.below(alphabet.len())]).collect();
             let _ = parse(&bytes);
         }
         for cut in 0..SQUARE.len() {
