@@ -4,10 +4,14 @@
 use std::path::{Path, PathBuf};
 
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh};
+use smartmesh::recipe::model::SpecValue;
 use smartmesh::recipe::{
     AlgorithmSpec, EntityRef, FunctionSpec, Recipe, RecipeError, RecipeErrorKind, RecipeFormat,
 };
-use smartmesh::sizing::{Algorithm, DistanceFunction, EntitySet, SizeProjectionFunction};
+use smartmesh::sizing::{
+    Algorithm, DistanceFunction, DistanceToBorder, DistanceToImaginaryPolyline, DistanceToPoint,
+    EntitySet, SizeProjectionFunction, Uniform,
+};
 use smartmesh::topology::Topology;
 
 fn fixture(name: &str) -> PathBuf {
@@ -99,43 +103,53 @@ fn appendix_example_parses_and_resolves_on_the_distributor() {
             "algorithm 5 (DISTANCE_TO_IMAGINARY_POLYLINE along \"POLYLINE1\" within \"Fluid\")",
         ]
     );
+    // The recipe's names of what each step works on, for captions: its polyline, else
+    // its regions.
+    let names: Vec<Vec<String>> = plan.steps.iter().map(|s| s.names.clone()).collect();
+    assert_eq!(
+        names,
+        [vec!["Fluid"], vec!["Corners"], vec!["StayVane"], vec!["GuideVane"], vec!["POLYLINE1"]]
+    );
     let fluid = EntitySet { faces: by_tags(&topo, 2, &[1000]), ..Default::default() };
     assert_eq!(fluid.faces.len(), 1);
-    assert_eq!(plan.steps[0].algorithm, Algorithm::Uniform { size: 2.0, on: fluid.clone() });
+    assert_eq!(
+        plan.steps[0].algorithm,
+        Algorithm::Uniform(Uniform { size: 2.0, on: fluid.clone() })
+    );
     let corners = by_tags(&topo, 0, &[11, 12, 1, 2, 3, 4, 5, 6, 7]);
     assert_eq!(corners.len(), 9);
     assert_eq!(
         plan.steps[1].algorithm,
-        Algorithm::DistanceToPoint {
+        Algorithm::DistanceToPoint(DistanceToPoint {
             function: DistanceFunction::try_new(0.02, 0.5, 0.75, 2.0).unwrap(),
             sources: EntitySet { points: corners, ..Default::default() }
-        }
+        })
     );
     let stay = by_tags(&topo, 1, &[101, 102, 103, 104, 105, 106, 107]);
     assert_eq!(stay.len(), 7);
     assert_eq!(
         plan.steps[2].algorithm,
-        Algorithm::DistanceToBorder {
+        Algorithm::DistanceToBorder(DistanceToBorder {
             perpendicular: DistanceFunction::try_new(0.1, 1.0, 5.0, 1.0).unwrap(),
             parallel: DistanceFunction::try_new(1.0, 2.0, 5.0, 1.0).unwrap(),
             borders: curves(stay),
-        }
+        })
     );
     match &plan.steps[3].algorithm {
-        Algorithm::DistanceToBorder { borders, .. } => {
+        Algorithm::DistanceToBorder(DistanceToBorder { borders, .. }) => {
             assert_eq!(*borders, curves(by_tags(&topo, 1, &[201, 202, 203])))
         }
         other => panic!("{other:?}"),
     }
     assert_eq!(
         plan.steps[4].algorithm,
-        Algorithm::DistanceToImaginaryPolyline {
+        Algorithm::DistanceToImaginaryPolyline(DistanceToImaginaryPolyline {
             perpendicular: DistanceFunction::try_new(0.03, 0.5, 2.0, 1.0).unwrap(),
             polyline_distance: DistanceFunction::try_new(0.03, 1.0, 2.0, 1.0).unwrap(),
             projection: SizeProjectionFunction::try_new(2.0, 1.0, 1.0).unwrap(),
             polyline: vec![[-50.0, -12.8], [-48.0, -13.5], [-46.0, -13.5], [-44.0, -13.0]],
             within: fluid,
-        }
+        })
     );
     // Region reports: dimension, tags, names and mesh counts against the topology.
     let report = |n: &str| resolved.regions.iter().find(|r| r.name == n).unwrap();
@@ -207,7 +221,11 @@ fn libconfig_syntax_cases() {
     );
     assert_eq!(
         r.algorithms,
-        vec![AlgorithmSpec::Uniform { size: 1.0, regions: vec!["Walls".into()] }]
+        vec![AlgorithmSpec::new(
+            "UNIFORM",
+            [("size", SpecValue::Size(1.0)), ("regions", SpecValue::Names(vec!["Walls".into()]))]
+        )
+        .unwrap()]
     );
 
     let err = |text: &str| cfg(text).unwrap_err();
@@ -582,10 +600,12 @@ const POLYLINE: &str = "{ TYPE = \"DISTANCE_TO_IMAGINARY_POLYLINE\"; PERPENDICUL
 
 fn on(plan: &smartmesh::sizing::SizingPlan, i: usize) -> EntitySet {
     match &plan.steps[i].algorithm {
-        Algorithm::Uniform { on, .. } => on.clone(),
-        Algorithm::DistanceToPoint { sources, .. } => sources.clone(),
-        Algorithm::DistanceToBorder { borders, .. } => borders.clone(),
-        Algorithm::DistanceToImaginaryPolyline { within, .. } => within.clone(),
+        Algorithm::Uniform(Uniform { on, .. }) => on.clone(),
+        Algorithm::DistanceToPoint(DistanceToPoint { sources, .. }) => sources.clone(),
+        Algorithm::DistanceToBorder(DistanceToBorder { borders, .. }) => borders.clone(),
+        Algorithm::DistanceToImaginaryPolyline(DistanceToImaginaryPolyline { within, .. }) => {
+            within.clone()
+        }
         other => panic!("{other:?}"),
     }
 }

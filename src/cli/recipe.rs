@@ -146,13 +146,10 @@ struct CheckSummary<'a> {
 
 /// The entities an algorithm works on, all its sets together.
 fn entities(a: &Algorithm) -> EntitySet {
-    match a {
-        Algorithm::Uniform { on, .. } => on.clone(),
-        Algorithm::DistanceToPoint { sources, .. } => sources.clone(),
-        Algorithm::DistanceToBorder { borders, .. }
-        | Algorithm::CurvatureOfBorder { borders, .. } => borders.clone(),
-        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => first.union(second),
-        Algorithm::DistanceToImaginaryPolyline { within, .. } => within.clone(),
+    match a.entity_sets().as_slice() {
+        [] => EntitySet::default(),
+        [one] => (*one).clone(),
+        [first, rest @ ..] => rest.iter().fold((*first).clone(), |all, s| all.union(s)),
     }
 }
 
@@ -277,14 +274,15 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
 }
 
 fn convert(args: ConvertArgs) -> Result<(), CliError> {
-    let to =
-        match args.to.or_else(|| RecipeFormat::from_path(&args.output)) {
-            Some(f) => f,
-            None => return Err(CliError::usage(format!(
+    let to = match args.to.or_else(|| RecipeFormat::from_path(&args.output)) {
+        Some(f) => f,
+        None => {
+            return Err(CliError::usage(format!(
                 "{}: the extension tells no recipe format (.cfg, .toml, .json); give it with --to",
                 args.output.display()
-            ))),
-        };
+            )))
+        }
+    };
     let recipe = read_recipe(&args.input, args.from)?;
     let text = recipe.to_format(to);
     if args.output.as_os_str() == "-" {

@@ -2,6 +2,8 @@
 
 use super::*;
 use crate::geometry::test_support::Rng;
+use crate::geometry::{Nearest, Point2, QueryStats};
+use crate::mesh_graph::MeshGraph;
 
 /// A jittered `k × k` grid on [0, 1]² joined by its grid edges, plus `extra`
 /// isolated pairs of vertices far off (other components).
