@@ -692,3 +692,55 @@ fn absent_tags_and_names_are_errors() {
     let e = r.resolve(&distributor()).unwrap_err();
     assert_eq!(e.line, Some(2), "{e}");
 }
+
+/// Every algorithm of the table, whatever it declares, goes through libconfig, TOML and
+/// JSON and comes back equal: the readers and writers know the algorithms only by their
+/// declarations, so a new one is covered without a line here.
+#[test]
+fn every_algorithm_of_the_table_round_trips_in_every_format() {
+    use smartmesh::sizing::algorithms::{FunctionKind, ParameterKind, TABLE};
+    let mut r = Recipe::default();
+    r.regions.insert("R".into(), vec![EntityRef::Tag(1)]);
+    r.polylines.insert("L".into(), vec![[0.0, 0.0], [1.0, 0.5]]);
+    r.functions.insert(
+        "D".into(),
+        FunctionSpec::Distance {
+            size_at_source: 0.1,
+            size_at_max_distance: 1.0,
+            max_distance: 2.0,
+            exponent: 1.0,
+        },
+    );
+    r.functions.insert(
+        "P".into(),
+        FunctionSpec::Projection { size_at_max_distance: 1.0, max_distance: 2.0, exponent: 1.0 },
+    );
+    r.functions.insert(
+        "C".into(),
+        FunctionSpec::CurvatureToSize { min_size: 0.01, max_size: 1.0, size_of_error: 0.001 },
+    );
+    for entry in TABLE {
+        let d = entry.declaration;
+        let values = d.parameters.iter().map(|p| {
+            let v = match p.kind {
+                ParameterKind::Size => SpecValue::Size(0.25),
+                ParameterKind::Function(FunctionKind::Distance) => SpecValue::Name("D".into()),
+                ParameterKind::Function(FunctionKind::Projection) => SpecValue::Name("P".into()),
+                ParameterKind::Function(FunctionKind::Curvature) => SpecValue::Name("C".into()),
+                ParameterKind::Regions { .. } => SpecValue::Names(vec!["R".into()]),
+                ParameterKind::Polyline => SpecValue::Name("L".into()),
+            };
+            (p.field, v)
+        });
+        r.algorithms.push(AlgorithmSpec::new(d.keyword, values).unwrap());
+    }
+    r.validate().unwrap();
+    for format in [RecipeFormat::Libconfig, RecipeFormat::Toml, RecipeFormat::Json] {
+        let text = r.to_format(format);
+        let back = Recipe::from_str(&text, format, Path::new("all")).unwrap();
+        assert_eq!(back, r, "{format:?}:\n{text}");
+        for (a, entry) in back.algorithms.iter().zip(TABLE) {
+            assert_eq!(a.keyword(), entry.declaration.keyword);
+        }
+    }
+}

@@ -2,7 +2,9 @@
 //! from (libconfig as in thesis appendix A, TOML or JSON).
 //!
 //! The model is the serde form: TOML and JSON map onto it field by field, the libconfig
-//! reader ([`super::appendix`]) translates the appendix keywords into it. Names are kept
+//! reader ([`super::appendix`]) translates the appendix keywords into it. An algorithm
+//! is a line of the algorithm table ([`crate::sizing::algorithms::TABLE`]) with a value
+//! per parameter its declaration lists: nothing here names an algorithm. Names are kept
 //! (regions, polylines, functions are looked up by name); tags are not yet looked up:
 //! [`super::resolve`] does that against one mesh. Beside the model, a table of places
 //! remembers the file and line of every item and key, so that errors found later (a

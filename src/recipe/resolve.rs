@@ -10,14 +10,19 @@
 //! 2. a region holds entities of one dimension (appendix A.1.1): the dimensions where
 //!    *every* entity of the region exists are its candidates; none is an error;
 //! 3. one candidate: that is the region's dimension. Several: the algorithms that use
-//!    the region decide by the dimension they expect — points for DISTANCE_TO_POINT,
-//!    curves for the border algorithms, faces for UNIFORM and for the `REGIONS` of
+//!    the region decide by the dimension they expect — each region parameter declares
+//!    the dimensions it accepts, preferred first (`ParameterKind::Regions` in the
+//!    algorithm's declaration): points for DISTANCE_TO_POINT, curves for the border
+//!    algorithms, faces for UNIFORM and for the `REGIONS` of
 //!    DISTANCE_TO_IMAGINARY_POLYLINE. If they expect different candidates, or none of
 //!    the candidates, the region is ambiguous: an error that says which tags are where;
-//! 4. each algorithm then checks it can use that dimension: UNIFORM takes any,
-//!    DISTANCE_TO_POINT points or curves (their vertices are point sources),
-//!    DISTANCE_TO_BORDER and DISTANCE_BETWEEN_TWO_BORDERS curves or points,
+//! 4. each algorithm then checks it can use that dimension, by the same declaration:
+//!    UNIFORM takes any, DISTANCE_TO_POINT points or curves (their vertices are point
+//!    sources), DISTANCE_TO_BORDER and DISTANCE_BETWEEN_TWO_BORDERS curves or points,
 //!    CURVATURE_OF_BORDER curves, DISTANCE_TO_IMAGINARY_POLYLINE faces.
+//!
+//! Every algorithm is then built from its table line
+//! ([`crate::sizing::algorithms::TABLE`]) with its arguments in declaration order.
 //!
 //! A region that no algorithm uses and whose dimension stays ambiguous is reported with
 //! no dimension rather than refused: it has no effect on the plan.

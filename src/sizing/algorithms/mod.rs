@@ -328,3 +328,39 @@ impl From<SourceError> for Failure {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::TABLE;
+
+    /// The table's declarations are what the recipe readers rely on: unique keywords,
+    /// the TOML/JSON type the keyword in lower case, and within each algorithm unique
+    /// fields and libconfig keys, every parameter with a key to write.
+    #[test]
+    fn declarations_are_consistent() {
+        let mut keywords: Vec<&str> = TABLE.iter().map(|e| e.declaration.keyword).collect();
+        keywords.sort_unstable();
+        keywords.dedup();
+        assert_eq!(keywords.len(), TABLE.len());
+        for e in TABLE {
+            let d = e.declaration;
+            assert_eq!(d.name, d.keyword.to_ascii_lowercase(), "{}", d.keyword);
+            assert!(!d.doc.is_empty(), "{}", d.keyword);
+            let mut fields: Vec<&str> = d
+                .parameters
+                .iter()
+                .flat_map(|p| p.aliases.iter().copied().chain([p.field]))
+                .collect();
+            let mut keys: Vec<&str> =
+                d.parameters.iter().flat_map(|p| p.keys.iter().copied()).collect();
+            let (nf, nk) = (fields.len(), keys.len());
+            fields.sort_unstable();
+            fields.dedup();
+            keys.sort_unstable();
+            keys.dedup();
+            assert_eq!((fields.len(), keys.len()), (nf, nk), "{}", d.keyword);
+            assert!(d.parameters.iter().all(|p| !p.keys.is_empty()), "{}", d.keyword);
+            assert!(!fields.contains(&"type") && !keys.contains(&"TYPE"), "{}", d.keyword);
+        }
+    }
+}
