@@ -41,9 +41,10 @@ use criterion::{
 };
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::sizing::{
-    closest_point_brute_force, compute_size_field, propagate, Algorithm, CurvatureToSize,
-    DistanceFunction, EntitySet, PropagationOptions, SizeProjectionFunction, SizingPlan, Source,
-    Step,
+    closest_point_brute_force, compute_size_field, propagate, Algorithm, CurvatureOfBorder,
+    CurvatureToSize, DistanceBetweenTwoBorders, DistanceFunction, DistanceToBorder,
+    DistanceToImaginaryPolyline, DistanceToPoint, EntitySet, PropagationOptions,
+    SizeProjectionFunction, SizingPlan, Source, Step, Uniform,
 };
 use smartmesh::{MeshGraph, SizeTensor, Topology};
 
@@ -157,49 +158,53 @@ fn algorithms(case: &Case, reach: f64) -> Vec<(&'static str, Algorithm)> {
     vec![
         (
             "uniform",
-            Algorithm::Uniform {
+            Algorithm::Uniform(Uniform {
                 size: 0.05,
                 on: EntitySet { faces: vec![case.face(1)], ..EntitySet::default() },
-            },
+            }),
         ),
         (
             "distance_to_point",
-            Algorithm::DistanceToPoint {
+            Algorithm::DistanceToPoint(DistanceToPoint {
                 function: df(0.001, 0.1, POINT_REACH.max(reach), 1.0),
                 sources: EntitySet { points: vec![case.point(5)], ..EntitySet::default() },
-            },
+            }),
         ),
         (
             "distance_to_border",
-            Algorithm::DistanceToBorder { perpendicular, parallel, borders: case.curves(1) },
+            Algorithm::DistanceToBorder(DistanceToBorder {
+                perpendicular,
+                parallel,
+                borders: case.curves(1),
+            }),
         ),
         (
             "curvature_of_border",
-            Algorithm::CurvatureOfBorder {
+            Algorithm::CurvatureOfBorder(CurvatureOfBorder {
                 perpendicular,
                 curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(),
                 projection,
                 borders: case.curves(1),
-            },
+            }),
         ),
         (
             "distance_between_two_borders",
-            Algorithm::DistanceBetweenTwoBorders {
+            Algorithm::DistanceBetweenTwoBorders(DistanceBetweenTwoBorders {
                 perpendicular,
                 parallel,
                 first: case.curves(1),
                 second: case.curves(2),
-            },
+            }),
         ),
         (
             "distance_to_imaginary_polyline",
-            Algorithm::DistanceToImaginaryPolyline {
+            Algorithm::DistanceToImaginaryPolyline(DistanceToImaginaryPolyline {
                 perpendicular: df(0.002, 0.1, d, 1.0),
                 polyline_distance: df(0.01, 0.1, d, 1.0),
                 projection,
                 polyline: case.wake(),
                 within: EntitySet::default(),
-            },
+            }),
         ),
     ]
 }
@@ -207,7 +212,7 @@ fn algorithms(case: &Case, reach: f64) -> Vec<(&'static str, Algorithm)> {
 fn plan(algorithm: Algorithm) -> SizingPlan {
     SizingPlan {
         h_max: Some(1.0),
-        steps: vec![Step { label: "bench".into(), algorithm }],
+        steps: vec![Step { label: "bench".into(), algorithm, names: Vec::new() }],
         ..SizingPlan::default()
     }
 }
@@ -363,8 +368,11 @@ fn bench(c: &mut Criterion) {
         }
         let full = case.extent();
         let (perpendicular, parallel) = border_functions(full);
-        let p =
-            plan(Algorithm::DistanceToBorder { perpendicular, parallel, borders: case.curves(1) });
+        let p = plan(Algorithm::DistanceToBorder(DistanceToBorder {
+            perpendicular,
+            parallel,
+            borders: case.curves(1),
+        }));
         let source = Source::builder(&case.graph)
             .topology_curve(&case.topology, case.curve(1))
             .build()

@@ -14,9 +14,10 @@ use std::f64::consts::PI;
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::geometry::Point2;
 use smartmesh::sizing::{
-    compute_size_field, run_algorithm, three_point_curvature, Algorithm, CurvatureToSize,
-    DistanceFunction, EntitySet, SizeField, SizeProjectionFunction, SizingError, SizingPlan, Step,
-    StepEvent,
+    compute_size_field, run_algorithm, three_point_curvature, Algorithm, CurvatureOfBorder,
+    CurvatureToSize, DistanceBetweenTwoBorders, DistanceFunction, DistanceToBorder,
+    DistanceToImaginaryPolyline, DistanceToPoint, EntitySet, SizeField, SizeProjectionFunction,
+    SizingError, SizingPlan, Step, StepEvent, Uniform,
 };
 use smartmesh::{MeshGraph, SizeBounds, SizeTensor, Topology};
 
@@ -254,7 +255,7 @@ fn plan(h_max: Option<f64>, steps: Vec<(&str, Algorithm)>) -> SizingPlan {
         h_max,
         steps: steps
             .into_iter()
-            .map(|(l, a)| Step { label: l.to_string(), algorithm: a })
+            .map(|(l, a)| Step { label: l.to_string(), algorithm: a, names: Vec::new() })
             .collect(),
         ..SizingPlan::default()
     }
@@ -275,18 +276,18 @@ fn uniform_is_exact_on_faces_curves_and_points() {
         vec![
             (
                 "left face",
-                Algorithm::Uniform {
+                Algorithm::Uniform(Uniform {
                     size: 0.3,
                     on: EntitySet { faces: vec![m.face(1)], ..EntitySet::default() },
-                },
+                }),
             ),
-            ("bottom", Algorithm::Uniform { size: 0.1, on: m.curves(&[11]) }),
+            ("bottom", Algorithm::Uniform(Uniform { size: 0.1, on: m.curves(&[11]) })),
             (
                 "point",
-                Algorithm::Uniform {
+                Algorithm::Uniform(Uniform {
                     size: 0.05,
                     on: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
-                },
+                }),
             ),
         ],
     );
@@ -326,10 +327,10 @@ fn distance_to_point_matches_euclidean_distance() {
             Some(1.0),
             vec![(
                 "p",
-                Algorithm::DistanceToPoint {
+                Algorithm::DistanceToPoint(DistanceToPoint {
                     function: fun,
                     sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
-                },
+                }),
             )],
         ),
     );
@@ -357,7 +358,13 @@ fn distance_to_point_matches_euclidean_distance() {
         &m,
         &plan(
             Some(1.0),
-            vec![("curve", Algorithm::DistanceToPoint { function: fun, sources: m.curves(&[11]) })],
+            vec![(
+                "curve",
+                Algorithm::DistanceToPoint(DistanceToPoint {
+                    function: fun,
+                    sources: m.curves(&[11]),
+                }),
+            )],
         ),
     );
     for (v, p) in m.coords.iter().enumerate() {
@@ -432,11 +439,11 @@ fn distance_to_border_matches_brute_force_on_a_non_convex_curve() {
             Some(1.0),
             vec![(
                 "wall",
-                Algorithm::DistanceToBorder {
+                Algorithm::DistanceToBorder(DistanceToBorder {
                     perpendicular: perp,
                     parallel: par,
                     borders: m.curves(&[1]),
-                },
+                }),
             )],
         ),
     );
@@ -482,11 +489,11 @@ fn distance_to_border_on_a_circle_is_radial() {
             Some(1.0),
             vec![(
                 "c",
-                Algorithm::DistanceToBorder {
+                Algorithm::DistanceToBorder(DistanceToBorder {
                     perpendicular: perp,
                     parallel: par,
                     borders: m.curves(&[1]),
-                },
+                }),
             )],
         ),
     );
@@ -519,12 +526,12 @@ fn curvature_of_a_circle_is_one_over_r() {
             Some(1.0),
             vec![(
                 "c",
-                Algorithm::CurvatureOfBorder {
+                Algorithm::CurvatureOfBorder(CurvatureOfBorder {
                     perpendicular: perp,
                     curvature: curv,
                     projection: proj,
                     borders: m.curves(&[1]),
-                },
+                }),
             )],
         ),
     );
@@ -562,12 +569,12 @@ fn curvature_of_an_ellipse_follows_the_analytic_curvature() {
             Some(1.0),
             vec![(
                 "e",
-                Algorithm::CurvatureOfBorder {
+                Algorithm::CurvatureOfBorder(CurvatureOfBorder {
                     perpendicular: perp,
                     curvature: curv,
                     projection: proj,
                     borders: m.curves(&[1]),
-                },
+                }),
             )],
         ),
     );
@@ -664,12 +671,12 @@ fn curvature_at_corners_of_a_square_with_a_rounded_side() {
                 Some(1.0),
                 vec![(
                     "c",
-                    Algorithm::CurvatureOfBorder {
+                    Algorithm::CurvatureOfBorder(CurvatureOfBorder {
                         perpendicular: perp,
                         curvature: curv,
                         projection: proj,
                         borders: m.curves(&tags),
-                    },
+                    }),
                 )],
             ),
         );
@@ -761,12 +768,12 @@ fn two_parallel_walls_give_a_constant_thickness() {
             Some(1.0),
             vec![(
                 "gap",
-                Algorithm::DistanceBetweenTwoBorders {
+                Algorithm::DistanceBetweenTwoBorders(DistanceBetweenTwoBorders {
                     perpendicular: perp,
                     parallel: par,
                     first: m.curves(&[11]),
                     second: m.curves(&[13]),
-                },
+                }),
             )],
         ),
     );
@@ -817,12 +824,12 @@ fn two_borders_in_a_wedge() {
             Some(1.0),
             vec![(
                 "wedge",
-                Algorithm::DistanceBetweenTwoBorders {
+                Algorithm::DistanceBetweenTwoBorders(DistanceBetweenTwoBorders {
                     perpendicular: perp,
                     parallel: par,
                     first: m.curves(&[1]),
                     second: m.curves(&[2]),
-                },
+                }),
             )],
         ),
     );
@@ -856,12 +863,14 @@ fn straight_wake_has_the_analytic_abscissa_and_respects_within() {
     let perp = df(0.005, 0.1, 0.2, 1.0);
     let along = df(0.01, 0.05, 1.0, 1.0);
     let proj = SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap();
-    let alg = |within: EntitySet| Algorithm::DistanceToImaginaryPolyline {
-        perpendicular: perp,
-        polyline_distance: along,
-        projection: proj,
-        polyline: wake.clone(),
-        within,
+    let alg = |within: EntitySet| {
+        Algorithm::DistanceToImaginaryPolyline(DistanceToImaginaryPolyline {
+            perpendicular: perp,
+            polyline_distance: along,
+            projection: proj,
+            polyline: wake.clone(),
+            within,
+        })
     };
     let f = run(&m, &plan(Some(1.0), vec![("wake", alg(EntitySet::default()))]));
     let segs = vec![[wake[0], wake[1]], [wake[1], wake[2]]];
@@ -932,13 +941,13 @@ fn coarse_mesh_wake_marks_every_crossed_triangle() {
     let perp = df(0.01, 0.2, 0.05, 1.0);
     let along = df(0.01, 0.2, 6.0, 1.0);
     let proj = SizeProjectionFunction::try_new(0.2, 0.05, 1.0).unwrap();
-    let alg = Algorithm::DistanceToImaginaryPolyline {
+    let alg = Algorithm::DistanceToImaginaryPolyline(DistanceToImaginaryPolyline {
         perpendicular: perp,
         polyline_distance: along,
         projection: proj,
         polyline: wake.clone(),
         within: EntitySet::default(),
-    };
+    });
     let f = run(&m, &plan(Some(1.0), vec![("wake", alg)]));
     // Oracle: triangles containing a point of the wake sampled every 1e-3.
     let inside = |t: &[usize; 3], p: Point2| {
@@ -978,34 +987,34 @@ fn three_steps(m: &Model) -> Vec<(&'static str, Algorithm)> {
     vec![
         (
             "border",
-            Algorithm::DistanceToBorder {
+            Algorithm::DistanceToBorder(DistanceToBorder {
                 perpendicular: df(0.01, 0.2, 0.4, 1.0),
                 parallel: df(0.1, 0.3, 0.4, 1.0),
                 borders: m.curves(&[11, 14]),
-            },
+            }),
         ),
         (
             "point",
-            Algorithm::DistanceToPoint {
+            Algorithm::DistanceToPoint(DistanceToPoint {
                 function: df(0.02, 0.3, 0.5, 1.0),
                 sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
-            },
+            }),
         ),
         (
             "gap",
-            Algorithm::DistanceBetweenTwoBorders {
+            Algorithm::DistanceBetweenTwoBorders(DistanceBetweenTwoBorders {
                 perpendicular: df(0.02, 0.2, 0.8, 1.0),
                 parallel: df(0.05, 0.4, 0.8, 1.0),
                 first: m.curves(&[12]),
                 second: m.curves(&[14]),
-            },
+            }),
         ),
         (
             "uniform",
-            Algorithm::Uniform {
+            Algorithm::Uniform(Uniform {
                 size: 0.08,
                 on: EntitySet { faces: vec![m.face(2)], ..EntitySet::default() },
-            },
+            }),
         ),
     ]
 }
@@ -1022,34 +1031,34 @@ fn field_is_the_contributions_merged_in_plan_order() {
     let steps = [
         (
             "border",
-            Algorithm::DistanceToBorder {
+            Algorithm::DistanceToBorder(DistanceToBorder {
                 perpendicular: df(0.01, 0.2, 0.4, 1.0),
                 parallel: df(0.1, 0.3, 0.4, 1.0),
                 borders: m.curves(&[11, 14]),
-            },
+            }),
         ),
         (
             "small point",
-            Algorithm::DistanceToPoint {
+            Algorithm::DistanceToPoint(DistanceToPoint {
                 function: df(0.005, 0.05, 0.04, 1.0),
                 sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
-            },
+            }),
         ),
         (
             "gap",
-            Algorithm::DistanceBetweenTwoBorders {
+            Algorithm::DistanceBetweenTwoBorders(DistanceBetweenTwoBorders {
                 perpendicular: df(0.02, 0.2, 0.5, 1.0),
                 parallel: df(0.05, 0.4, 0.5, 1.0),
                 first: m.curves(&[11]),
                 second: m.curves(&[14]),
-            },
+            }),
         ),
         (
             "uniform",
-            Algorithm::Uniform {
+            Algorithm::Uniform(Uniform {
                 size: 0.08,
                 on: EntitySet { faces: vec![m.face(2)], ..EntitySet::default() },
-            },
+            }),
         ),
     ];
     let bits = |ts: &[SizeTensor]| {
@@ -1152,10 +1161,10 @@ fn default_size_and_its_warning() {
     let m = grid(21, 11, 0.1, 0.2, 13, 9.0, (4, 4));
     let step = (
         "point",
-        Algorithm::DistanceToPoint {
+        Algorithm::DistanceToPoint(DistanceToPoint {
             function: df(0.02, 0.2, 0.3, 1.0),
             sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
-        },
+        }),
     );
     let f = run(&m, &plan(None, vec![step.clone()]));
     let diag = (2.0f64).hypot(1.0);
@@ -1219,18 +1228,18 @@ fn gradation_bounds_growth_on_every_edge_and_never_grows_a_size() {
     let steps = vec![
         (
             "border",
-            Algorithm::DistanceToBorder {
+            Algorithm::DistanceToBorder(DistanceToBorder {
                 perpendicular: df(0.002, 0.05, 0.15, 1.0),
                 parallel: df(0.02, 0.1, 0.15, 1.0),
                 borders: m.curves(&[11]),
-            },
+            }),
         ),
         (
             "point",
-            Algorithm::DistanceToPoint {
+            Algorithm::DistanceToPoint(DistanceToPoint {
                 function: df(0.003, 0.02, 0.05, 1.0),
                 sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
-            },
+            }),
         ),
     ];
     let before = run(&m, &plan(Some(0.5), steps.clone()));
@@ -1283,22 +1292,24 @@ fn same_field_whatever_the_thread_count() {
     let mut p = plan(Some(0.2), three_steps(&m));
     p.steps.push(Step {
         label: "wake".into(),
-        algorithm: Algorithm::DistanceToImaginaryPolyline {
+        algorithm: Algorithm::DistanceToImaginaryPolyline(DistanceToImaginaryPolyline {
             perpendicular: df(0.002, 0.1, 0.3, 1.0),
             polyline_distance: df(0.01, 0.1, 1.0, 1.0),
             projection: SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap(),
             polyline: vec![[0.1, 0.5], [0.5, 0.6], [0.9, 0.4]],
             within: EntitySet::default(),
-        },
+        }),
+        names: Vec::new(),
     });
     p.steps.push(Step {
         label: "curvature".into(),
-        algorithm: Algorithm::CurvatureOfBorder {
+        algorithm: Algorithm::CurvatureOfBorder(CurvatureOfBorder {
             perpendicular: df(0.002, 0.1, 0.3, 1.0),
             curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(),
             projection: SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap(),
             borders: m.curves(&[11, 12, 13, 14]),
-        },
+        }),
+        names: Vec::new(),
     });
     p.gradation = Some(1.5);
     let run_in = |threads: usize| {
@@ -1329,22 +1340,22 @@ fn algorithms_run_side_by_side_give_the_same_bits() {
     let mut steps = three_steps(&m);
     steps.push((
         "wake",
-        Algorithm::DistanceToImaginaryPolyline {
+        Algorithm::DistanceToImaginaryPolyline(DistanceToImaginaryPolyline {
             perpendicular: df(0.002, 0.1, 0.3, 1.0),
             polyline_distance: df(0.01, 0.1, 1.0, 1.0),
             projection: SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap(),
             polyline: vec![[0.1, 0.5], [0.5, 0.6], [0.9, 0.4]],
             within: EntitySet::default(),
-        },
+        }),
     ));
     steps.push((
         "curvature",
-        Algorithm::CurvatureOfBorder {
+        Algorithm::CurvatureOfBorder(CurvatureOfBorder {
             perpendicular: df(0.002, 0.1, 0.3, 1.0),
             curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(),
             projection: SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap(),
             borders: m.curves(&[11, 12, 13, 14]),
-        },
+        }),
     ));
     let kinds: std::collections::BTreeSet<&str> = steps.iter().map(|(_, a)| a.keyword()).collect();
     assert_eq!(kinds.len(), 6, "all six algorithms");
@@ -1389,10 +1400,10 @@ fn errors_are_values() {
         None,
         vec![(
             "u",
-            Algorithm::Uniform {
+            Algorithm::Uniform(Uniform {
                 size: 0.1,
                 on: EntitySet { curves: vec![999], ..EntitySet::default() },
-            },
+            }),
         )],
     ))
     .unwrap_err();
@@ -1405,11 +1416,11 @@ fn errors_are_values() {
         None,
         vec![(
             "b",
-            Algorithm::DistanceToBorder {
+            Algorithm::DistanceToBorder(DistanceToBorder {
                 perpendicular: perp,
                 parallel: perp,
                 borders: EntitySet::default(),
-            },
+            }),
         )],
     ))
     .unwrap_err();
@@ -1419,18 +1430,24 @@ fn errors_are_values() {
         None,
         vec![(
             "b",
-            Algorithm::DistanceToBorder { perpendicular: perp, parallel: perp, borders: faces },
+            Algorithm::DistanceToBorder(DistanceToBorder {
+                perpendicular: perp,
+                parallel: perp,
+                borders: faces,
+            }),
         )],
     ))
     .unwrap_err();
     assert!(matches!(e, SizingError::UnsupportedEntity { what: "face", .. }), "{e:?}");
     let proj = SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap();
-    let wake = |polyline: Vec<Point2>| Algorithm::DistanceToImaginaryPolyline {
-        perpendicular: perp,
-        polyline_distance: perp,
-        projection: proj,
-        polyline,
-        within: EntitySet::default(),
+    let wake = |polyline: Vec<Point2>| {
+        Algorithm::DistanceToImaginaryPolyline(DistanceToImaginaryPolyline {
+            perpendicular: perp,
+            polyline_distance: perp,
+            projection: proj,
+            polyline,
+            within: EntitySet::default(),
+        })
     };
     assert!(matches!(
         go(&plan(None, vec![("w", wake(vec![]))])).unwrap_err(),
@@ -1441,8 +1458,11 @@ fn errors_are_values() {
         SizingError::NonFinitePoint { point: 0, .. }
     ));
     assert!(matches!(
-        go(&plan(None, vec![("u", Algorithm::Uniform { size: 0.0, on: EntitySet::default() })]))
-            .unwrap_err(),
+        go(&plan(
+            None,
+            vec![("u", Algorithm::Uniform(Uniform { size: 0.0, on: EntitySet::default() }))]
+        ))
+        .unwrap_err(),
         SizingError::InvalidSize { .. }
     ));
     let mut p = plan(Some(0.1), vec![]);
@@ -1465,8 +1485,8 @@ fn observer_hears_every_step() {
     let p = plan(
         Some(1.0),
         vec![
-            ("a", Algorithm::Uniform { size: 0.1, on: m.curves(&[11]) }),
-            ("b", Algorithm::Uniform { size: 0.2, on: m.curves(&[12]) }),
+            ("a", Algorithm::Uniform(Uniform { size: 0.1, on: m.curves(&[11]) })),
+            ("b", Algorithm::Uniform(Uniform { size: 0.2, on: m.curves(&[12]) })),
         ],
     );
     let mut events = Vec::new();
@@ -1504,39 +1524,39 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
         let mut s = vec![
             (
                 "border",
-                Algorithm::DistanceToBorder {
+                Algorithm::DistanceToBorder(DistanceToBorder {
                     perpendicular: df(0.001, 0.1, far, 1.5),
                     parallel: df(0.01, 0.2, far, 1.0),
                     borders: m.curves(border),
-                },
+                }),
             ),
             (
                 "curvature",
-                Algorithm::CurvatureOfBorder {
+                Algorithm::CurvatureOfBorder(CurvatureOfBorder {
                     perpendicular: df(0.002, 0.1, far, 1.0),
                     curvature: CurvatureToSize::try_new(0.001, 0.2, 0.001).unwrap(),
                     projection,
                     borders: m.curves(border),
-                },
+                }),
             ),
             (
                 "wake",
-                Algorithm::DistanceToImaginaryPolyline {
+                Algorithm::DistanceToImaginaryPolyline(DistanceToImaginaryPolyline {
                     perpendicular: df(0.002, 0.1, far, 1.0),
                     polyline_distance: df(0.01, 0.1, 1.0, 1.0),
                     projection,
                     polyline: doubling_back.clone(),
                     within: EntitySet::default(),
-                },
+                }),
             ),
         ];
         if with_point {
             s.push((
                 "point",
-                Algorithm::DistanceToPoint {
+                Algorithm::DistanceToPoint(DistanceToPoint {
                     function: df(0.005, 0.05, far, 2.0),
                     sources: EntitySet { points: vec![m.point(20)], ..EntitySet::default() },
-                },
+                }),
             ));
         }
         s
@@ -1584,10 +1604,10 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
             }
             // As the second step, after UNIFORM on the face: intersected into the field
             // as it goes.
-            let uniform = Algorithm::Uniform {
+            let uniform = Algorithm::Uniform(Uniform {
                 size: 0.02,
                 on: EntitySet { faces: vec![m.face(1)], ..EntitySet::default() },
-            };
+            });
             let u = run_algorithm(&m.graph, &m.topo, &uniform, 0, "uniform").unwrap();
             let mut want: Vec<Option<SizeTensor>> = vec![None; n];
             for (&v, t) in u.vertices.iter().zip(&u.tensors) {
@@ -1632,11 +1652,11 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
     let mut tris = a.triangles.clone();
     tris.extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
     let m = Model::new(coords, tris, |_| 1, &[(1, (0..200).collect(), true)], &[]);
-    let algorithm = Algorithm::DistanceToBorder {
+    let algorithm = Algorithm::DistanceToBorder(DistanceToBorder {
         perpendicular: df(0.001, 0.1, far, 1.5),
         parallel: df(0.01, 0.2, far, 1.0),
         borders: m.curves(&[1]),
-    };
+    });
     let c = run_algorithm(&m.graph, &m.topo, &algorithm, 0, "border").unwrap();
     assert_eq!(c.len(), offset, "the piece without a source is not reached");
     let f = run(&m, &plan(Some(1.0), vec![("border", algorithm)]));

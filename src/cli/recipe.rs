@@ -146,13 +146,10 @@ struct CheckSummary<'a> {
 
 /// The entities an algorithm works on, all its sets together.
 fn entities(a: &Algorithm) -> EntitySet {
-    match a {
-        Algorithm::Uniform { on, .. } => on.clone(),
-        Algorithm::DistanceToPoint { sources, .. } => sources.clone(),
-        Algorithm::DistanceToBorder { borders, .. }
-        | Algorithm::CurvatureOfBorder { borders, .. } => borders.clone(),
-        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => first.union(second),
-        Algorithm::DistanceToImaginaryPolyline { within, .. } => within.clone(),
+    match a.entity_sets().as_slice() {
+        [] => EntitySet::default(),
+        [one] => (*one).clone(),
+        [first, rest @ ..] => rest.iter().fold((*first).clone(), |all, s| all.union(s)),
     }
 }
 

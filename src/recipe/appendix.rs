@@ -30,9 +30,10 @@ use std::fmt::Write as _;
 
 use super::error::{RecipeError, RecipeErrorKind};
 use super::libconfig::{self, Node, Setting, Value};
-use super::model::{AlgorithmSpec, EntityRef, FunctionSpec, Places, Recipe};
+use super::model::{AlgorithmSpec, EntityRef, FunctionSpec, Places, Recipe, SpecValue};
 use super::preprocess::{self, Source};
 use super::suggest::nearest;
+use crate::sizing::algorithms::{Entry, ParameterKind, TABLE};
 
 /// A key of an item: the model field and the spellings accepted (the first is written).
 struct Key {
@@ -51,9 +52,6 @@ const fn opt(field: &'static str, spellings: &'static [&'static str]) -> Key {
 
 const NAME: Key = req("name", &["NAME"]);
 const TYPE: Key = req("type", &["TYPE"]);
-const REGIONS: Key = req("regions", &["REGIONS"]);
-const PERP: Key = req("perpendicular", &["PERPENDICULAR_FUNCTION"]);
-const PARA: Key = req("parallel", &["PARALLEL_FUNCTION"]);
 const MIN_SIZE: &[&str] = &["MINSIZE", "MIN_SIZE"];
 const SIZE_AT_SOURCE: &[&str] =
     &["MINSIZE", "MIN_SIZE", "SIZE_AT_BORDER", "SIZE_AT_TOPOLOGICAL_VERTEX"];
@@ -94,40 +92,15 @@ const CURVATURE: &[Key] = &[
     req("size_of_error", &["SIZE_OF_ERROR"]),
 ];
 
-const TYPES: &[&str] = &[
-    "UNIFORM",
-    "DISTANCE_TO_POINT",
-    "DISTANCE_TO_BORDER",
-    "CURVATURE_OF_BORDER",
-    "DISTANCE_BETWEEN_TWO_BORDERS",
-    "DISTANCE_TO_IMAGINARY_POLYLINE",
-];
-
-const PROJ: Key = req("projection", &["PROJECTION_FUNCTION", "PARALLEL_PROJECTION_FUNCTION"]);
-const UNIFORM: &[Key] = &[TYPE, req("size", &["SIZE"]), REGIONS];
-const TO_POINT: &[Key] = &[TYPE, req("function", &["FUNCTION"]), REGIONS];
-const TO_BORDER: &[Key] = &[TYPE, PERP, PARA, REGIONS];
-const CURVATURE_OF_BORDER: &[Key] =
-    &[TYPE, PERP, req("curvature_to_size", &["CURVATURE_TO_SIZE_FUNCTION"]), PROJ, REGIONS];
-const TWO_BORDERS: &[Key] = &[TYPE, PERP, PARA, REGIONS, req("second_regions", &["REGIONS2"])];
-const TO_POLYLINE: &[Key] = &[
-    TYPE,
-    PERP,
-    req("polyline_distance", &["POLYLINE_DISTANCE_FUNCTION", "PARALLEL_FUNCTION"]),
-    req("projection", &["PARALLEL_PROJECTION_FUNCTION", "PROJECTION_FUNCTION"]),
-    req("polyline", &["COORDINATES"]),
-    opt("regions", &["REGIONS"]),
-];
-
-fn algorithm_keys(t: &str) -> &'static [Key] {
-    match t {
-        "UNIFORM" => UNIFORM,
-        "DISTANCE_TO_POINT" => TO_POINT,
-        "DISTANCE_TO_BORDER" => TO_BORDER,
-        "CURVATURE_OF_BORDER" => CURVATURE_OF_BORDER,
-        "DISTANCE_BETWEEN_TWO_BORDERS" => TWO_BORDERS,
-        _ => TO_POLYLINE,
-    }
+/// The keys of an algorithm's group: `TYPE`, then each declared parameter.
+fn algorithm_keys(entry: &Entry) -> Vec<Key> {
+    std::iter::once(TYPE)
+        .chain(entry.declaration.parameters.iter().map(|p| Key {
+            field: p.field,
+            spellings: p.keys,
+            required: !p.kind.is_optional(),
+        }))
+        .collect()
 }
 
 struct Reader<'a> {
@@ -487,7 +460,7 @@ impl Reader<'_> {
         };
         let written = self.string(type_s, &ctx)?;
         let upper = written.to_ascii_uppercase();
-        let Some(t) = TYPES.iter().copied().find(|t| *t == upper) else {
+        let Some(entry) = TABLE.iter().find(|e| e.declaration.keyword == upper) else {
             let e = self.error(
                 type_s.at,
                 RecipeErrorKind::UnknownName {
@@ -497,13 +470,13 @@ impl Reader<'_> {
                 },
                 "",
             );
-            return Err(
-                e.suggest(nearest(&written, TYPES.iter().copied()).map(|s| format!("\"{s}\"")))
-            );
+            let types = TABLE.iter().map(|e| e.declaration.keyword);
+            return Err(e.suggest(nearest(&written, types).map(|s| format!("\"{s}\""))));
         };
+        let t = entry.declaration.keyword;
         let ctx = format!("{list} entry {}, {t}", i + 1);
-        let keys = algorithm_keys(t);
-        let f = self.fields(g, keys, line, &ctx)?;
+        let keys = algorithm_keys(entry);
+        let f = self.fields(g, &keys, line, &ctx)?;
         let base = format!("algorithms[{i}]");
         self.place(base.clone(), line, list, &ctx);
         for (k, s) in keys.iter().zip(&f.settings) {
@@ -511,48 +484,35 @@ impl Reader<'_> {
                 self.place(format!("{base}.{}", k.field), s.at, &s.name, &ctx);
             }
         }
-        let name = |field: &str| -> Result<String, RecipeError> {
-            self.string(f.get(keys, field).expect("required"), &ctx)
-        };
-        let regions = |field: &str| -> Result<Vec<String>, RecipeError> {
-            match f.get(keys, field) {
-                Some(s) => self.names(s, &ctx),
-                None => Ok(Vec::new()),
-            }
-        };
-        Ok(match t {
-            "UNIFORM" => AlgorithmSpec::Uniform {
-                size: self.number(f.get(keys, "size").expect("required"), &ctx)?,
-                regions: regions("regions")?,
-            },
-            "DISTANCE_TO_POINT" => AlgorithmSpec::DistanceToPoint {
-                function: name("function")?,
-                regions: regions("regions")?,
-            },
-            "DISTANCE_TO_BORDER" => AlgorithmSpec::DistanceToBorder {
-                perpendicular: name("perpendicular")?,
-                parallel: name("parallel")?,
-                regions: regions("regions")?,
-            },
-            "CURVATURE_OF_BORDER" => AlgorithmSpec::CurvatureOfBorder {
-                perpendicular: name("perpendicular")?,
-                curvature_to_size: name("curvature_to_size")?,
-                projection: name("projection")?,
-                regions: regions("regions")?,
-            },
-            "DISTANCE_BETWEEN_TWO_BORDERS" => AlgorithmSpec::DistanceBetweenTwoBorders {
-                perpendicular: name("perpendicular")?,
-                parallel: name("parallel")?,
-                regions: regions("regions")?,
-                second_regions: regions("second_regions")?,
-            },
-            _ => AlgorithmSpec::DistanceToImaginaryPolyline {
-                perpendicular: name("perpendicular")?,
-                polyline_distance: name("polyline_distance")?,
-                projection: name("projection")?,
-                polyline: name("polyline")?,
-                regions: regions("regions")?,
-            },
+        let mut values = Vec::new();
+        for p in entry.declaration.parameters {
+            let setting = f.get(&keys, p.field);
+            let value = match (p.kind, setting) {
+                (ParameterKind::Regions { .. }, Some(s)) => SpecValue::Names(self.names(s, &ctx)?),
+                (ParameterKind::Regions { .. }, None) => SpecValue::Names(Vec::new()),
+                (ParameterKind::Size, Some(s)) => SpecValue::Size(self.number(s, &ctx)?),
+                (ParameterKind::Function(_) | ParameterKind::Polyline, Some(s)) => {
+                    SpecValue::Name(self.string(s, &ctx)?)
+                }
+                // `fields` has refused a group without a required key.
+                (_, None) => {
+                    return Err(self.error(
+                        line,
+                        RecipeErrorKind::MissingKey { key: p.keys[0].to_string() },
+                        &ctx,
+                    ))
+                }
+            };
+            values.push((p.field, value));
+        }
+        AlgorithmSpec::new(t, values).ok_or_else(|| {
+            self.error(
+                line,
+                RecipeErrorKind::Invalid(format!(
+                    "{t}: parameters that do not match its declaration"
+                )),
+                &ctx,
+            )
         })
     }
 }
@@ -698,40 +658,25 @@ pub fn write(r: &Recipe) -> String {
         r.algorithms
             .iter()
             .map(|a| {
-                let body = match a {
-                    AlgorithmSpec::Uniform { size, regions } => format!("SIZE = {}; REGIONS = {};", float(*size), name_list(regions)),
-                    AlgorithmSpec::DistanceToPoint { function, regions } => format!("FUNCTION = {}; REGIONS = {};", quote(function), name_list(regions)),
-                    AlgorithmSpec::DistanceToBorder { perpendicular, parallel, regions } => {
-                        format!("PERPENDICULAR_FUNCTION = {};\n      PARALLEL_FUNCTION = {}; REGIONS = {};", quote(perpendicular), quote(parallel), name_list(regions))
+                let mut body = String::new();
+                let mut new_line = true;
+                for (p, v) in a.arguments() {
+                    let value = match v {
+                        SpecValue::Names(n) if n.is_empty() && p.kind.is_optional() => continue,
+                        SpecValue::Names(n) => name_list(n),
+                        SpecValue::Name(n) => quote(n),
+                        SpecValue::Size(x) => float(*x),
+                    };
+                    if !new_line {
+                        body.push(' ');
                     }
-                    AlgorithmSpec::CurvatureOfBorder { perpendicular, curvature_to_size, projection, regions } => format!(
-                        "PERPENDICULAR_FUNCTION = {};\n      CURVATURE_TO_SIZE_FUNCTION = {}; PROJECTION_FUNCTION = {}; REGIONS = {};",
-                        quote(perpendicular),
-                        quote(curvature_to_size),
-                        quote(projection),
-                        name_list(regions)
-                    ),
-                    AlgorithmSpec::DistanceBetweenTwoBorders { perpendicular, parallel, regions, second_regions } => format!(
-                        "PERPENDICULAR_FUNCTION = {};\n      PARALLEL_FUNCTION = {}; REGIONS = {}; REGIONS2 = {};",
-                        quote(perpendicular),
-                        quote(parallel),
-                        name_list(regions),
-                        name_list(second_regions)
-                    ),
-                    AlgorithmSpec::DistanceToImaginaryPolyline { perpendicular, polyline_distance, projection, polyline, regions } => {
-                        let mut s = format!(
-                            "PERPENDICULAR_FUNCTION = {};\n      POLYLINE_DISTANCE_FUNCTION = {};\n      PARALLEL_PROJECTION_FUNCTION = {};\n      COORDINATES = {};",
-                            quote(perpendicular),
-                            quote(polyline_distance),
-                            quote(projection),
-                            quote(polyline)
-                        );
-                        if !regions.is_empty() {
-                            let _ = write!(s, " REGIONS = {};", name_list(regions));
-                        }
-                        s
+                    let _ = write!(body, "{} = {value};", p.keys[0]);
+                    new_line = p.line_break_after;
+                    if new_line {
+                        body.push_str("\n      ");
                     }
-                };
+                }
+                let body = body.trim_end();
                 format!("    {{ TYPE = \"{}\"; {body} }}", a.keyword())
             })
             .collect(),

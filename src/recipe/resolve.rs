@@ -10,14 +10,19 @@
 //! 2. a region holds entities of one dimension (appendix A.1.1): the dimensions where
 //!    *every* entity of the region exists are its candidates; none is an error;
 //! 3. one candidate: that is the region's dimension. Several: the algorithms that use
-//!    the region decide by the dimension they expect — points for DISTANCE_TO_POINT,
-//!    curves for the border algorithms, faces for UNIFORM and for the `REGIONS` of
+//!    the region decide by the dimension they expect — each region parameter declares
+//!    the dimensions it accepts, preferred first (`ParameterKind::Regions` in the
+//!    algorithm's declaration): points for DISTANCE_TO_POINT, curves for the border
+//!    algorithms, faces for UNIFORM and for the `REGIONS` of
 //!    DISTANCE_TO_IMAGINARY_POLYLINE. If they expect different candidates, or none of
 //!    the candidates, the region is ambiguous: an error that says which tags are where;
-//! 4. each algorithm then checks it can use that dimension: UNIFORM takes any,
-//!    DISTANCE_TO_POINT points or curves (their vertices are point sources),
-//!    DISTANCE_TO_BORDER and DISTANCE_BETWEEN_TWO_BORDERS curves or points,
+//! 4. each algorithm then checks it can use that dimension, by the same declaration:
+//!    UNIFORM takes any, DISTANCE_TO_POINT points or curves (their vertices are point
+//!    sources), DISTANCE_TO_BORDER and DISTANCE_BETWEEN_TWO_BORDERS curves or points,
 //!    CURVATURE_OF_BORDER curves, DISTANCE_TO_IMAGINARY_POLYLINE faces.
+//!
+//! Every algorithm is then built from its table line
+//! ([`crate::sizing::algorithms::TABLE`]) with its arguments in declaration order.
 //!
 //! A region that no algorithm uses and whose dimension stays ambiguous is reported with
 //! no dimension rather than refused: it has no effect on the plan.
@@ -27,9 +32,10 @@ use std::collections::BTreeSet;
 use serde::Serialize;
 
 use super::error::{RecipeError, RecipeErrorKind};
-use super::model::{referrer, AlgorithmSpec, EntityRef, FunctionSpec, Recipe};
+use super::model::{referrer, AlgorithmSpec, EntityRef, FunctionSpec, Recipe, SpecValue};
 use super::suggest::nearest;
-use crate::sizing::plan::{Algorithm, EntitySet, SizingPlan, Step};
+use crate::sizing::algorithms::{Argument, Arguments, FunctionKind, ParameterKind};
+use crate::sizing::plan::{EntitySet, SizingPlan, Step};
 use crate::sizing::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
 use crate::topology::Topology;
 
@@ -67,16 +73,16 @@ pub struct Resolved {
     pub regions: Vec<RegionReport>,
 }
 
-/// Which dimensions an algorithm's region list accepts, the one it prefers first.
-fn expected(a: &AlgorithmSpec) -> &'static [usize] {
-    match a {
-        AlgorithmSpec::Uniform { .. } => &[2, 1, 0],
-        AlgorithmSpec::DistanceToPoint { .. } => &[0, 1],
-        AlgorithmSpec::DistanceToBorder { .. }
-        | AlgorithmSpec::DistanceBetweenTwoBorders { .. } => &[1, 0],
-        AlgorithmSpec::CurvatureOfBorder { .. } => &[1],
-        AlgorithmSpec::DistanceToImaginaryPolyline { .. } => &[2],
-    }
+/// Which dimensions region list `field` of `a` accepts, the one it prefers first (its
+/// declaration's).
+fn expected(a: &AlgorithmSpec, field: &str) -> &'static [usize] {
+    a.parameters()
+        .iter()
+        .find_map(|p| match p.kind {
+            ParameterKind::Regions { dimensions, .. } if p.field == field => Some(dimensions),
+            _ => None,
+        })
+        .unwrap_or(&[])
 }
 
 /// Indices of the entities matching `e` in each dimension.
@@ -245,10 +251,15 @@ impl Recipe {
             }
             let mut votes: BTreeSet<usize> = BTreeSet::new();
             for &i in &used_by[k] {
-                if let Some(&d) =
-                    expected(&self.algorithms[i - 1]).iter().find(|d| st.candidates.contains(d))
-                {
-                    votes.insert(d);
+                let a = &self.algorithms[i - 1];
+                for (field, list) in a.region_lists() {
+                    if !list.contains(names[k]) {
+                        continue;
+                    }
+                    if let Some(&d) = expected(a, field).iter().find(|d| st.candidates.contains(d))
+                    {
+                        votes.insert(d);
+                    }
                 }
             }
             if votes.len() == 1 {
@@ -303,9 +314,9 @@ impl Recipe {
                 for r in list {
                     let k = names.binary_search(&r).expect("validated: the region exists");
                     let d = states[k].dimension.expect("a used region has a dimension");
-                    if !expected(a).contains(&d) {
+                    if !expected(a, field).contains(&d) {
                         let accepted: Vec<&str> =
-                            expected(a).iter().map(|&d| DIM_NAMES[d]).collect();
+                            expected(a, field).iter().map(|&d| DIM_NAMES[d]).collect();
                         let key = self.written_key(&format!("{base}.{field}"), field).to_string();
                         return Err(self.error_at(
                             RecipeErrorKind::Invalid(format!(
@@ -323,60 +334,29 @@ impl Recipe {
                 }
                 sets.push(set);
             }
-            let algorithm = match a {
-                AlgorithmSpec::Uniform { size, .. } => {
-                    Algorithm::Uniform { size: *size, on: sets.remove(0) }
-                }
-                AlgorithmSpec::DistanceToPoint { function, .. } => Algorithm::DistanceToPoint {
-                    function: self.distance(function)?,
-                    sources: sets.remove(0),
-                },
-                AlgorithmSpec::DistanceToBorder { perpendicular, parallel, .. } => {
-                    Algorithm::DistanceToBorder {
-                        perpendicular: self.distance(perpendicular)?,
-                        parallel: self.distance(parallel)?,
-                        borders: sets.remove(0),
+            // The arguments in declaration order, then the algorithm from its table line.
+            let mut sets = sets.into_iter();
+            let mut arguments = Arguments::new();
+            for (p, value) in a.arguments() {
+                let argument = match (p.kind, value) {
+                    (ParameterKind::Size, SpecValue::Size(x)) => Argument::Size(*x),
+                    (ParameterKind::Function(kind), SpecValue::Name(name)) => match kind {
+                        FunctionKind::Distance => Argument::Distance(self.distance(name)?),
+                        FunctionKind::Projection => Argument::Projection(self.projection(name)?),
+                        FunctionKind::Curvature => Argument::Curvature(self.curvature(name)?),
+                    },
+                    (ParameterKind::Regions { .. }, SpecValue::Names(_)) => {
+                        Argument::Entities(sets.next().unwrap_or_default())
                     }
-                }
-                AlgorithmSpec::CurvatureOfBorder {
-                    perpendicular,
-                    curvature_to_size,
-                    projection,
-                    ..
-                } => Algorithm::CurvatureOfBorder {
-                    perpendicular: self.distance(perpendicular)?,
-                    curvature: self.curvature(curvature_to_size)?,
-                    projection: self.projection(projection)?,
-                    borders: sets.remove(0),
-                },
-                AlgorithmSpec::DistanceBetweenTwoBorders { perpendicular, parallel, .. } => {
-                    let second = sets.remove(1);
-                    Algorithm::DistanceBetweenTwoBorders {
-                        perpendicular: self.distance(perpendicular)?,
-                        parallel: self.distance(parallel)?,
-                        first: sets.remove(0),
-                        second,
-                    }
-                }
-                AlgorithmSpec::DistanceToImaginaryPolyline {
-                    perpendicular,
-                    polyline_distance,
-                    projection,
-                    polyline,
-                    ..
-                } => Algorithm::DistanceToImaginaryPolyline {
-                    perpendicular: self.distance(perpendicular)?,
-                    polyline_distance: self.distance(polyline_distance)?,
-                    projection: self.projection(projection)?,
-                    polyline: self
-                        .polylines
-                        .get(polyline)
-                        .cloned()
-                        .expect("validated: the polyline exists"),
-                    within: sets.remove(0),
-                },
-            };
-            steps.push(Step { label: label(i, a), algorithm });
+                    (ParameterKind::Polyline, SpecValue::Name(name)) => Argument::Polyline(
+                        self.polylines.get(name).cloned().expect("validated: the polyline exists"),
+                    ),
+                    _ => return Err(self.mismatch(i, a)),
+                };
+                arguments.push(p.field, argument);
+            }
+            let algorithm = (a.entry().build)(&mut arguments).ok_or_else(|| self.mismatch(i, a))?;
+            steps.push(Step { label: label(i, a), algorithm, names: step_names(a) });
         }
 
         let regions = states
@@ -393,6 +373,18 @@ impl Recipe {
             steps,
         };
         Ok(Resolved { plan, regions })
+    }
+
+    /// An algorithm whose values do not match its declaration (a recipe built in code).
+    fn mismatch(&self, i: usize, a: &AlgorithmSpec) -> RecipeError {
+        self.error_at(
+            RecipeErrorKind::Invalid(format!(
+                "{} {}: its values do not match the parameters it declares",
+                referrer(i),
+                a.keyword()
+            )),
+            &format!("algorithms[{i}]"),
+        )
     }
 
     fn function_error(&self, name: &str, e: crate::sizing::FunctionError) -> RecipeError {
@@ -437,23 +429,34 @@ fn quoted(names: &[String]) -> String {
     names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")
 }
 
-/// `algorithm 3 (DISTANCE_TO_BORDER on "StayVane")`.
+/// `algorithm 3 (DISTANCE_TO_BORDER on "StayVane")`: along its polyline (within its
+/// regions) when it takes one, between its two region lists, or on its regions.
 fn label(i: usize, a: &AlgorithmSpec) -> String {
-    let what = match a {
-        AlgorithmSpec::DistanceBetweenTwoBorders { regions, second_regions, .. } => {
-            format!("between {} and {}", quoted(regions), quoted(second_regions))
+    let lists = a.region_lists();
+    let what = match (a.polyline(), lists.as_slice()) {
+        (Some((_, polyline)), lists) => {
+            let within: Vec<String> = lists.iter().flat_map(|(_, l)| l.iter().cloned()).collect();
+            if within.is_empty() {
+                format!("along \"{polyline}\"")
+            } else {
+                format!("along \"{polyline}\" within {}", quoted(&within))
+            }
         }
-        AlgorithmSpec::DistanceToImaginaryPolyline { polyline, regions, .. }
-            if regions.is_empty() =>
-        {
-            format!("along \"{polyline}\"")
+        (None, [(_, first), (_, second), ..]) => {
+            format!("between {} and {}", quoted(first), quoted(second))
         }
-        AlgorithmSpec::DistanceToImaginaryPolyline { polyline, regions, .. } => {
-            format!("along \"{polyline}\" within {}", quoted(regions))
-        }
-        other => format!("on {}", quoted(other.region_lists()[0].1)),
+        (None, lists) => format!("on {}", quoted(lists.first().map_or(&[][..], |l| l.1))),
     };
     format!("{} ({} {what})", referrer(i), a.keyword())
+}
+
+/// The recipe's names of what a step works on, for captions: its polyline, else its
+/// regions.
+fn step_names(a: &AlgorithmSpec) -> Vec<String> {
+    match a.polyline() {
+        Some((_, polyline)) => vec![polyline.to_string()],
+        None => a.region_lists().iter().flat_map(|(_, l)| l.iter().cloned()).collect(),
+    }
 }
 
 fn report(topo: &Topology, name: &str, st: &RegionState, used_by: Vec<usize>) -> RegionReport {

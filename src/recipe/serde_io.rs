@@ -42,6 +42,7 @@ use std::path::Path;
 use super::error::{RecipeError, RecipeErrorKind};
 use super::model::{Places, Recipe};
 use super::suggest::nearest;
+use crate::sizing::algorithms::TABLE;
 
 fn line_of(text: &str, offset: usize) -> usize {
     text.as_bytes()[..offset.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
@@ -158,12 +159,18 @@ fn toml_places(text: &str, origin: &Path) -> Places {
     let mut places = Places::new(origin);
     let Ok(doc) = DeTable::parse(text) else { return places };
     let line = |span: std::ops::Range<usize>| line_of(text, span.start);
+    // The model's name of a key written under an alias: the global bounds', and the
+    // algorithm parameters' as their declarations give them.
     let canonical = |k: &str| -> String {
         match k {
             "h_min" => "hmin".into(),
             "h_max" => "hmax".into(),
-            "regions2" => "second_regions".into(),
-            other => other.into(),
+            other => TABLE
+                .iter()
+                .flat_map(|e| e.declaration.parameters)
+                .find(|p| p.aliases.contains(&other))
+                .map_or(other, |p| p.field)
+                .into(),
         }
     };
     for (section, value) in doc.get_ref().iter() {

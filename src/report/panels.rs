@@ -3,7 +3,7 @@
 //! labels on a white box, clip paths, borders).
 
 use crate::metric::SizeTensor;
-use crate::sizing::plan::{Algorithm, SizingPlan};
+use crate::sizing::plan::SizingPlan;
 use crate::topology::{Classification, Topology};
 
 use super::ellipses::{ellipse_in_view, fit_factor, pick};
@@ -46,22 +46,13 @@ pub fn source_marks(
 ) -> SourceMarks {
     let mut m = SourceMarks { polylines: Vec::new(), points: Vec::new() };
     for step in plan.map(|p| p.steps.as_slice()).unwrap_or_default() {
-        match &step.algorithm {
-            Algorithm::DistanceToImaginaryPolyline { polyline, .. } => {
-                m.polylines.push(polyline.clone())
-            }
-            Algorithm::DistanceToPoint { sources, .. }
-            | Algorithm::DistanceToBorder { borders: sources, .. } => {
-                m.points.extend(
-                    sources
-                        .points
-                        .iter()
-                        .filter_map(|&p| topo.points.get(p))
-                        .map(|p| points[p.vertex]),
-                );
-            }
-            _ => {}
+        let marks = step.algorithm.marks();
+        if let Some(polyline) = marks.polyline {
+            m.polylines.push(polyline.to_vec());
         }
+        m.points.extend(
+            marks.points.iter().filter_map(|&p| topo.points.get(p)).map(|p| points[p.vertex]),
+        );
     }
     m
 }

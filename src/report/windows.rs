@@ -4,7 +4,8 @@
 //! sizes.
 
 use crate::metric::SizeTensor;
-use crate::sizing::plan::{Algorithm, EntitySet, SizingPlan};
+use crate::sizing::algorithms::Around;
+use crate::sizing::plan::{Algorithm, EntitySet, SizingPlan, Step};
 use crate::topology::{Classification, Topology};
 
 use super::view::Rect;
@@ -57,24 +58,12 @@ fn step_sources(
     points: &[[f64; 2]],
     a: &Algorithm,
 ) -> Option<(Vec<[f64; 2]>, f64)> {
-    match a {
-        Algorithm::Uniform { .. } => None,
-        Algorithm::DistanceToPoint { function, sources } => {
-            Some((entity_points(topo, points, sources), function.max_distance()))
-        }
-        Algorithm::DistanceToBorder { perpendicular, borders, .. } => {
-            Some((entity_points(topo, points, borders), perpendicular.max_distance()))
-        }
-        Algorithm::CurvatureOfBorder { perpendicular, borders, .. } => {
-            Some((entity_points(topo, points, borders), perpendicular.max_distance()))
-        }
-        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => {
-            Some((entity_points(topo, points, &first.union(second)), 0.0))
-        }
-        Algorithm::DistanceToImaginaryPolyline { perpendicular, polyline, .. } => {
-            Some((polyline.clone(), perpendicular.max_distance()))
-        }
-    }
+    let (around, reach) = a.zoom()?;
+    let pts = match around {
+        Around::Entities(set) => entity_points(topo, points, &set),
+        Around::Points(p) => p.to_vec(),
+    };
+    Some((pts, reach))
 }
 
 fn entity_names(topo: &Topology, set: &EntitySet) -> Vec<String> {
@@ -94,20 +83,19 @@ fn entity_names(topo: &Topology, set: &EntitySet) -> Vec<String> {
     v
 }
 
-/// A short caption for a step: its keyword in words and its sources, e.g.
-/// "distance to border: Cylinder".
-pub fn describe(a: &Algorithm, topo: &Topology) -> String {
+/// A short caption for a step: its keyword in words and its sources by the recipe's
+/// names, e.g. "distance to border: Airfoil, Wake"; for a plan made in code, by the
+/// names (or tags) of its entities, or the number of points of its polyline.
+pub fn describe(step: &Step, topo: &Topology) -> String {
+    let a = &step.algorithm;
     let words = a.keyword().to_ascii_lowercase().replace('_', " ").replace("imaginary ", "");
-    let names = match a {
-        Algorithm::Uniform { on, .. } => entity_names(topo, on),
-        Algorithm::DistanceToPoint { sources, .. } => entity_names(topo, sources),
-        Algorithm::DistanceToBorder { borders, .. }
-        | Algorithm::CurvatureOfBorder { borders, .. } => entity_names(topo, borders),
-        Algorithm::DistanceBetweenTwoBorders { first, second, .. } => {
-            entity_names(topo, &first.union(second))
-        }
-        Algorithm::DistanceToImaginaryPolyline { polyline, .. } => {
-            vec![format!("{} points", polyline.len())]
+    let names = if !step.names.is_empty() {
+        step.names.clone()
+    } else {
+        match a.zoom() {
+            Some((Around::Points(p), _)) => vec![format!("{} points", p.len())],
+            Some((Around::Entities(set), _)) => entity_names(topo, &set),
+            None => a.entity_sets().into_iter().flat_map(|s| entity_names(topo, s)).collect(),
         }
     };
     let mut shown: Vec<String> = names.iter().take(3).cloned().collect();
@@ -138,7 +126,7 @@ pub fn from_plan(
         let Some(bb) = Rect::bounding(pts) else { continue };
         let margin = reach.clamp(0.02 * diag, 0.25 * diag) + 0.05 * bb.width().max(bb.height());
         let Some(region) = bb.inflate(margin).intersect(&frame) else { continue };
-        let caption = describe(&step.algorithm, topo);
+        let caption = describe(step, topo);
         if let Some(w) = out.iter_mut().find(|w| same_region(&w.region, &region, diag)) {
             w.label.push_str("; ");
             w.label.push_str(&caption);
@@ -229,6 +217,32 @@ mod tests {
         }
         let pts = m.points.iter().map(|p| [p[0], p[1]]).collect();
         (Topology::from_mesh(&m), pts)
+    }
+
+    #[test]
+    fn captions_use_the_recipe_names_of_a_step() {
+        use crate::sizing::{DistanceFunction, DistanceToBorder};
+        let mut m = TaggedMesh::new();
+        for p in [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]] {
+            m.points.push([p[0], p[1], 0.0]);
+        }
+        m.block_mut(CellKind::Triangle).push(&[0, 1, 2], 1, 1);
+        m.block_mut(CellKind::Line).push(&[0, 1], 7, 7);
+        m.block_mut(CellKind::Line).push(&[1, 2], 8, 8);
+        let topo = Topology::from_mesh(&m);
+        let f = DistanceFunction::try_new(0.1, 1.0, 1.0, 1.0).unwrap();
+        let curves = EntitySet { curves: vec![0, 1], ..EntitySet::default() };
+        let algorithm = Algorithm::DistanceToBorder(DistanceToBorder {
+            perpendicular: f,
+            parallel: f,
+            borders: curves,
+        });
+        let mut step = Step { label: "border".into(), algorithm, names: Vec::new() };
+        // Without a recipe: the tags of the entities.
+        assert_eq!(describe(&step, &topo), "distance to border: 7, 8");
+        // From a recipe: its region names.
+        step.names = vec!["Airfoil".into(), "Wake".into()];
+        assert_eq!(describe(&step, &topo), "distance to border: Airfoil, Wake");
     }
 
     #[test]

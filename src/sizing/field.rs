@@ -3,7 +3,7 @@
 //!
 //! Order of work:
 //! 1. each step of the plan, in plan order, computes its tensors on the vertices it
-//!    reaches ([`crate::sizing::algorithms`]); each is *intersected* into the vertex's
+//!    reaches ([`crate::sizing::algorithms`], evaluated by [`crate::sizing::evaluate`]); each is *intersected* into the vertex's
 //!    current tensor (thesis 3.2.2; the first one a vertex gets is taken as it is). The
 //!    intersection is not associative, so the order is the plan's, always;
 //! 2. vertices no step reaches take the default size: the plan's h_max, or the
@@ -21,9 +21,9 @@
 
 use crate::mesh_graph::MeshGraph;
 use crate::metric::{SizeBounds, SizeTensor};
-use crate::sizing::algorithms::{
-    self, merge, merge_closest_in_vertex_order, merge_in_vertex_order, Collect, Contribution,
-    Failure, Sink,
+use crate::sizing::algorithms::{Contribution, Failure};
+use crate::sizing::evaluate::{
+    self, merge, merge_closest_in_vertex_order, merge_in_vertex_order, Collect, Sink,
 };
 use crate::sizing::gradation::{apply_gradation, GradationReport};
 use crate::sizing::plan::{Algorithm, SizingPlan};
@@ -214,7 +214,7 @@ pub fn run_algorithm(
     step: usize,
     label: &str,
 ) -> Result<Contribution, SizingError> {
-    algorithms::run(graph, topology, algorithm, Collect).map_err(|f| f.at(step, label))
+    evaluate::run(graph, topology, algorithm, Collect).map_err(|f| f.at(step, label))
 }
 
 /// The driver's sink: each step's tensors are intersected into the field as they come
@@ -399,7 +399,7 @@ pub fn compute_size_field(
             reached: &mut reached,
             finish: last_step_finish.filter(|_| last),
         };
-        let c = algorithms::run(graph, topology, &step.algorithm, sink)
+        let c = evaluate::run(graph, topology, &step.algorithm, sink)
             .map_err(|f| f.at(index, &step.label))?;
         finished = c.finished;
         if c.vertices == 0 {

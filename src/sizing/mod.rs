@@ -3,6 +3,7 @@
 //! a plan into a size field, and the gradation pass (thesis 7.4.1).
 
 pub mod algorithms;
+mod evaluate;
 pub mod field;
 pub mod functions;
 pub mod gradation;
@@ -14,6 +15,10 @@ pub mod propagation;
 pub use algorithms::curvature_of_border::{three_point_curvature, CORNER_ANGLE};
 /// What one algorithm gives: reached vertices with one tensor each.
 pub use algorithms::Contribution;
+pub use algorithms::{
+    Algorithm, CurvatureOfBorder, DistanceBetweenTwoBorders, DistanceToBorder,
+    DistanceToImaginaryPolyline, DistanceToPoint, Uniform,
+};
 /// The sizing engine: a plan run on a mesh into one size tensor per vertex (thesis 4.3.6).
 pub use field::{
     compute_size_field, plan_bounds, run_algorithm, SizeField, SizingError, StepEvent, StepReport,
@@ -25,7 +30,7 @@ pub use functions::{
 pub use gradation::{apply_gradation, grow, growth_factor, GradationReport};
 /// A recipe's field on a mesh in one call (topology, resolution, graph, engine).
 pub use on_mesh::{size_mesh, MeshSizing, SizeMeshError};
-pub use plan::{Algorithm, EntitySet, SizingPlan, Step};
+pub use plan::{EntitySet, SizingPlan, Step};
 /// Neighbour propagation from a source with exact closest points (thesis 2.2.10.4–5, 4.3.6).
 pub use propagation::{
     closest_point_brute_force, propagate, ClosestPoint, PieceKind, PropagationOptions,

@@ -34,15 +34,16 @@
 //! Reach: the larger maximum distance of the perpendicular and projection functions.
 
 use super::{
-    border_source, direction, normal_at, on_source, reach_of, tangent_at, tensor, Failure,
-    Junctions, Sink,
+    border_source, direction, normal_at, on_source, reach_of, tangent_at, tensor, Around,
+    Arguments, Declaration, Failure, FunctionKind, Junctions, Parameter, ParameterKind,
+    SizingAlgorithm, Tensor, Work,
 };
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
 use crate::sizing::plan::EntitySet;
-use crate::sizing::propagation::{ClosestPoint, PropagationOptions, Source};
+use crate::sizing::propagation::{ClosestPoint, Source};
 use crate::topology::Topology;
 
 /// A polyline vertex where the border turns by more than this (radians) is a corner.
@@ -133,35 +134,125 @@ impl SegmentCurvatures {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn run<S: Sink>(
-    graph: &MeshGraph,
-    topology: &Topology,
-    perpendicular: &DistanceFunction,
-    curvature: &CurvatureToSize,
-    projection: &SizeProjectionFunction,
-    borders: &EntitySet,
-    options: &PropagationOptions,
-    sink: S,
-) -> Result<S::Output, Failure> {
-    let source = border_source(graph, topology, borders, false)?;
-    let junctions = Junctions::new(&source);
-    let curv = SegmentCurvatures::new(&source);
-    let reach = reach_of(&[perpendicular.max_distance(), projection.max_distance()]);
-    sink.take_source(graph, &source, reach, options, |v, c| {
+/// CURVATURE_OF_BORDER: tangent size from the border's curvature through
+/// `curvature`, carried inward with `projection`; normal size `perpendicular(distance)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurvatureOfBorder {
+    /// Size normal to the border against distance.
+    pub perpendicular: DistanceFunction,
+    /// Tangent size on the border against curvature.
+    pub curvature: CurvatureToSize,
+    /// How the tangent size on the border grows with distance.
+    pub projection: SizeProjectionFunction,
+    /// The border curves.
+    pub borders: EntitySet,
+}
+
+impl SizingAlgorithm for CurvatureOfBorder {
+    const DECLARATION: Declaration = Declaration {
+        keyword: "CURVATURE_OF_BORDER",
+        name: "curvature_of_border",
+        doc: "The tangent size on the border from its curvature \
+              (CURVATURE_TO_SIZE_FUNCTION), carried inward by PROJECTION_FUNCTION; the \
+              normal size PERPENDICULAR_FUNCTION(d) (thesis 4.3.7.2).",
+        parameters: &[
+            Parameter {
+                field: "perpendicular",
+                aliases: &[],
+                keys: &["PERPENDICULAR_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Distance),
+                line_break_after: true,
+                doc: "Size normal to the border against distance.",
+            },
+            Parameter {
+                field: "curvature_to_size",
+                aliases: &[],
+                keys: &["CURVATURE_TO_SIZE_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Curvature),
+                line_break_after: false,
+                doc: "Tangent size on the border against curvature.",
+            },
+            Parameter {
+                field: "projection",
+                aliases: &[],
+                keys: &["PROJECTION_FUNCTION", "PARALLEL_PROJECTION_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Projection),
+                line_break_after: false,
+                doc: "How the tangent size on the border grows with distance.",
+            },
+            Parameter {
+                field: "regions",
+                aliases: &[],
+                keys: &["REGIONS"],
+                kind: ParameterKind::Regions { dimensions: &[1], optional: false },
+                line_break_after: false,
+                doc: "The border curves.",
+            },
+        ],
+    };
+
+    type Tensor<'a> = CurvatureTensor<'a>;
+
+    fn from_arguments(arguments: &mut Arguments) -> Option<CurvatureOfBorder> {
+        Some(CurvatureOfBorder {
+            perpendicular: arguments.distance("perpendicular")?,
+            curvature: arguments.curvature("curvature_to_size")?,
+            projection: arguments.projection("projection")?,
+            borders: arguments.entities("regions")?,
+        })
+    }
+
+    fn entity_sets(&self) -> Vec<&EntitySet> {
+        vec![&self.borders]
+    }
+
+    fn zoom(&self) -> Option<(Around<'_>, f64)> {
+        Some((Around::Entities(self.borders.clone()), self.perpendicular.max_distance()))
+    }
+
+    fn work<'a>(
+        &'a self,
+        graph: &'a MeshGraph,
+        topology: &'a Topology,
+    ) -> Result<Work<CurvatureTensor<'a>>, Failure> {
+        let source = border_source(graph, topology, &self.borders, false)?;
+        let junctions = Junctions::new(&source);
+        let curvatures = SegmentCurvatures::new(&source);
+        let reach = reach_of(&[self.perpendicular.max_distance(), self.projection.max_distance()]);
+        let tensor = CurvatureTensor { algorithm: self, graph, junctions, curvatures };
+        Ok(Work::FromSource { source, reach, tensor })
+    }
+}
+
+/// The tensor of CURVATURE_OF_BORDER.
+pub(crate) struct CurvatureTensor<'a> {
+    algorithm: &'a CurvatureOfBorder,
+    graph: &'a MeshGraph,
+    junctions: Junctions,
+    curvatures: SegmentCurvatures,
+}
+
+impl Tensor for CurvatureTensor<'_> {
+    fn tensor(
+        &self,
+        sources: &[Source],
+        v: usize,
+        closest: &[ClosestPoint],
+    ) -> Result<Option<SizeTensor>, Failure> {
+        let a = self.algorithm;
         border_tensor(
-            &source,
-            &junctions,
-            &curv,
-            perpendicular,
-            curvature,
-            projection,
-            graph.point(v),
+            &sources[0],
+            &self.junctions,
+            &self.curvatures,
+            &a.perpendicular,
+            &a.curvature,
+            &a.projection,
+            self.graph.point(v),
             v,
-            c,
+            &closest[0],
         )
         .map(Some)
-    })
+    }
 }
 
 /// The tensor of a vertex `p` from its closest point `c` on the border.

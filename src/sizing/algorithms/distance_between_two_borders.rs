@@ -23,43 +23,134 @@
 //! Reach R: the larger of the two functions' maximum distances (module [`super`]).
 
 use super::{
-    border_source, normal_at, on_source, reach_of, tensor, unit, Failure, Junctions, Sink,
+    border_source, normal_at, on_source, reach_of, tensor, unit, Around, Arguments, Declaration,
+    Failure, FunctionKind, Junctions, Parameter, ParameterKind, SizingAlgorithm, Tensor, Work,
 };
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::DistanceFunction;
 use crate::sizing::plan::EntitySet;
-use crate::sizing::propagation::{propagate, ClosestPoint, PropagationOptions, Source};
+use crate::metric::SizeTensor;
+use crate::sizing::propagation::{ClosestPoint, Source};
 use crate::topology::Topology;
 
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn run<S: Sink>(
-    graph: &MeshGraph,
-    topology: &Topology,
-    perpendicular: &DistanceFunction,
-    parallel: &DistanceFunction,
-    first: &EntitySet,
-    second: &EntitySet,
-    options: &PropagationOptions,
-    sink: S,
-) -> Result<S::Output, Failure> {
-    let s1 = border_source(graph, topology, first, true)?;
-    let s2 = border_source(graph, topology, second, true)?;
-    let (j1, j2) = (Junctions::new(&s1), Junctions::new(&s2));
-    let r = reach_of(&[perpendicular.max_distance(), parallel.max_distance()]);
-    let reach1 = propagate(graph, &s1, r, options);
-    let reach2 = propagate(graph, &s2, r, options);
-    sink.take_reach(reach1, |v, c1| {
-        let Some(c2) = reach2.get(v) else { return Ok(None) };
+/// DISTANCE_BETWEEN_TWO_BORDERS: sizes from the local thickness d1 + d2 between
+/// `first` and `second` (thesis figure 4.6).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DistanceBetweenTwoBorders {
+    /// Size normal to the gap against thickness.
+    pub perpendicular: DistanceFunction,
+    /// Size along the gap against thickness.
+    pub parallel: DistanceFunction,
+    /// The first border (REGIONS).
+    pub first: EntitySet,
+    /// The second border (REGIONS2).
+    pub second: EntitySet,
+}
+
+impl SizingAlgorithm for DistanceBetweenTwoBorders {
+    const DECLARATION: Declaration = Declaration {
+        keyword: "DISTANCE_BETWEEN_TWO_BORDERS",
+        name: "distance_between_two_borders",
+        doc: "Sizes from the local thickness d = d1 + d2 of the gap between two borders: \
+              PERPENDICULAR_FUNCTION(d) across it, PARALLEL_FUNCTION(d) along it (thesis \
+              4.3.6.4).",
+        parameters: &[
+            Parameter {
+                field: "perpendicular",
+                aliases: &[],
+                keys: &["PERPENDICULAR_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Distance),
+                line_break_after: true,
+                doc: "Size normal to the gap against thickness.",
+            },
+            Parameter {
+                field: "parallel",
+                aliases: &[],
+                keys: &["PARALLEL_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Distance),
+                line_break_after: false,
+                doc: "Size along the gap against thickness.",
+            },
+            Parameter {
+                field: "regions",
+                aliases: &[],
+                keys: &["REGIONS"],
+                kind: ParameterKind::Regions { dimensions: &[1, 0], optional: false },
+                line_break_after: false,
+                doc: "The first border.",
+            },
+            Parameter {
+                field: "second_regions",
+                aliases: &["regions2"],
+                keys: &["REGIONS2"],
+                kind: ParameterKind::Regions { dimensions: &[1, 0], optional: false },
+                line_break_after: false,
+                doc: "The second border.",
+            },
+        ],
+    };
+
+    type Tensor<'a> = GapTensor<'a>;
+
+    fn from_arguments(arguments: &mut Arguments) -> Option<DistanceBetweenTwoBorders> {
+        Some(DistanceBetweenTwoBorders {
+            perpendicular: arguments.distance("perpendicular")?,
+            parallel: arguments.distance("parallel")?,
+            first: arguments.entities("regions")?,
+            second: arguments.entities("second_regions")?,
+        })
+    }
+
+    fn entity_sets(&self) -> Vec<&EntitySet> {
+        vec![&self.first, &self.second]
+    }
+
+    fn zoom(&self) -> Option<(Around<'_>, f64)> {
+        Some((Around::Entities(self.first.union(&self.second)), 0.0))
+    }
+
+    fn work<'a>(
+        &'a self,
+        graph: &'a MeshGraph,
+        topology: &'a Topology,
+    ) -> Result<Work<GapTensor<'a>>, Failure> {
+        let s1 = border_source(graph, topology, &self.first, true)?;
+        let s2 = border_source(graph, topology, &self.second, true)?;
+        let junctions = [Junctions::new(&s1), Junctions::new(&s2)];
+        let reach = reach_of(&[self.perpendicular.max_distance(), self.parallel.max_distance()]);
+        let tensor = GapTensor { algorithm: self, graph, junctions, reach };
+        Ok(Work::FromTwoSources { sources: [s1, s2], reach, tensor })
+    }
+}
+
+/// The tensor of DISTANCE_BETWEEN_TWO_BORDERS.
+pub(crate) struct GapTensor<'a> {
+    algorithm: &'a DistanceBetweenTwoBorders,
+    graph: &'a MeshGraph,
+    junctions: [Junctions; 2],
+    reach: f64,
+}
+
+impl Tensor for GapTensor<'_> {
+    fn tensor(
+        &self,
+        sources: &[Source],
+        v: usize,
+        closest: &[ClosestPoint],
+    ) -> Result<Option<SizeTensor>, Failure> {
+        let (c1, c2) = (&closest[0], &closest[1]);
         let thickness = c1.distance + c2.distance;
         // NaN distances (non-finite coordinates) fail this test too.
-        if thickness.is_nan() || thickness > r {
+        if thickness.is_nan() || thickness > self.reach {
             return Ok(None);
         }
-        let p = graph.point(v);
-        let n = gap_normal(p, (&s1, &j1, c1), (&s2, &j2, &c2));
-        tensor(v, n, perpendicular.eval(thickness), parallel.eval(thickness)).map(Some)
-    })
+        let p = self.graph.point(v);
+        let [j1, j2] = &self.junctions;
+        let n = gap_normal(p, (&sources[0], j1, c1), (&sources[1], j2, c2));
+        let a = self.algorithm;
+        tensor(v, n, a.perpendicular.eval(thickness), a.parallel.eval(thickness)).map(Some)
+    }
 }
 
 /// The weighted normal of thesis Fig. 4.6 (see the module header).

@@ -14,44 +14,120 @@
 //! Reach: the larger of the two functions' maximum distances (see the module
 //! [`super`]).
 
-use super::{border_source, normal_at, reach_of, tensor, Failure, Junctions, Sink};
+use super::{
+    border_source, normal_at, reach_of, tensor, Around, Arguments, Declaration, Failure,
+    FunctionKind, Junctions, Marks, Parameter, ParameterKind, SizingAlgorithm, Tensor, Work,
+};
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::DistanceFunction;
 use crate::sizing::plan::EntitySet;
-use crate::sizing::propagation::{ClosestPoint, PropagationOptions, Source};
+use crate::sizing::propagation::{ClosestPoint, Source};
 use crate::topology::Topology;
 
-pub(crate) fn run<S: Sink>(
-    graph: &MeshGraph,
-    topology: &Topology,
-    perpendicular: &DistanceFunction,
-    parallel: &DistanceFunction,
-    borders: &EntitySet,
-    options: &PropagationOptions,
-    sink: S,
-) -> Result<S::Output, Failure> {
-    let source = border_source(graph, topology, borders, true)?;
-    let junctions = Junctions::new(&source);
-    let reach = reach_of(&[perpendicular.max_distance(), parallel.max_distance()]);
-    sink.take_source(graph, &source, reach, options, |v, c| {
-        border_tensor(graph, &source, &junctions, perpendicular, parallel, v, c)
-    })
+/// DISTANCE_TO_BORDER: anisotropic; normal size `perpendicular(distance)`, tangent
+/// size `parallel(distance)`, axes normal and tangent to the border at the closest
+/// point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DistanceToBorder {
+    /// Size normal to the border against distance.
+    pub perpendicular: DistanceFunction,
+    /// Size tangent to the border against distance.
+    pub parallel: DistanceFunction,
+    /// The border curves (points are point sources).
+    pub borders: EntitySet,
 }
 
-/// The tensor of vertex `v` from its closest point `c`. Always inlined, so that a sink
-/// that evaluates every vertex in one loop has it there, with what `c` holds that it
-/// does not read (side, abscissa) left uncomputed.
-#[inline(always)]
-fn border_tensor(
-    graph: &MeshGraph,
-    source: &Source,
-    junctions: &Junctions,
-    perpendicular: &DistanceFunction,
-    parallel: &DistanceFunction,
-    v: usize,
-    c: &ClosestPoint,
-) -> Result<Option<SizeTensor>, Failure> {
-    let n = normal_at(source, junctions, graph.point(v), c);
-    tensor(v, n, perpendicular.eval(c.distance), parallel.eval(c.distance)).map(Some)
+impl SizingAlgorithm for DistanceToBorder {
+    const DECLARATION: Declaration = Declaration {
+        keyword: "DISTANCE_TO_BORDER",
+        name: "distance_to_border",
+        doc: "Anisotropic sizes from the distance d to the border curves: \
+              PERPENDICULAR_FUNCTION(d) along the normal, PARALLEL_FUNCTION(d) along the \
+              tangent at the closest point (thesis 4.3.7.1).",
+        parameters: &[
+            Parameter {
+                field: "perpendicular",
+                aliases: &[],
+                keys: &["PERPENDICULAR_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Distance),
+                line_break_after: true,
+                doc: "Size normal to the border against distance.",
+            },
+            Parameter {
+                field: "parallel",
+                aliases: &[],
+                keys: &["PARALLEL_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Distance),
+                line_break_after: false,
+                doc: "Size tangent to the border against distance.",
+            },
+            Parameter {
+                field: "regions",
+                aliases: &[],
+                keys: &["REGIONS"],
+                kind: ParameterKind::Regions { dimensions: &[1, 0], optional: false },
+                line_break_after: false,
+                doc: "The border: curves, or points as point sources.",
+            },
+        ],
+    };
+
+    type Tensor<'a> = BorderTensor<'a>;
+
+    fn from_arguments(arguments: &mut Arguments) -> Option<DistanceToBorder> {
+        Some(DistanceToBorder {
+            perpendicular: arguments.distance("perpendicular")?,
+            parallel: arguments.distance("parallel")?,
+            borders: arguments.entities("regions")?,
+        })
+    }
+
+    fn entity_sets(&self) -> Vec<&EntitySet> {
+        vec![&self.borders]
+    }
+
+    fn zoom(&self) -> Option<(Around<'_>, f64)> {
+        Some((Around::Entities(self.borders.clone()), self.perpendicular.max_distance()))
+    }
+
+    fn marks(&self) -> Marks<'_> {
+        Marks { polyline: None, points: &self.borders.points }
+    }
+
+    fn work<'a>(
+        &'a self,
+        graph: &'a MeshGraph,
+        topology: &'a Topology,
+    ) -> Result<Work<BorderTensor<'a>>, Failure> {
+        let source = border_source(graph, topology, &self.borders, true)?;
+        let junctions = Junctions::new(&source);
+        let reach = reach_of(&[self.perpendicular.max_distance(), self.parallel.max_distance()]);
+        Ok(Work::FromSource { source, reach, tensor: BorderTensor { algorithm: self, graph, junctions } })
+    }
+}
+
+/// The tensor of DISTANCE_TO_BORDER.
+pub(crate) struct BorderTensor<'a> {
+    algorithm: &'a DistanceToBorder,
+    graph: &'a MeshGraph,
+    junctions: Junctions,
+}
+
+impl Tensor for BorderTensor<'_> {
+    /// Always inlined, so that a driver that evaluates every vertex in one loop has it
+    /// there, with what the closest point holds that it does not read (side, abscissa)
+    /// left uncomputed.
+    #[inline(always)]
+    fn tensor(
+        &self,
+        sources: &[Source],
+        v: usize,
+        closest: &[ClosestPoint],
+    ) -> Result<Option<SizeTensor>, Failure> {
+        let (source, c) = (&sources[0], &closest[0]);
+        let a = self.algorithm;
+        let n = normal_at(source, &self.junctions, self.graph.point(v), c);
+        tensor(v, n, a.perpendicular.eval(c.distance), a.parallel.eval(c.distance)).map(Some)
+    }
 }

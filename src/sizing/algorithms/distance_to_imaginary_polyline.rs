@@ -22,49 +22,163 @@
 //! Reach: the larger maximum distance of the perpendicular and projection functions
 //! (the abscissa function's maximum distance is along the polyline, not away from it).
 
-use super::{normal_at, reach_of, tensor, Failure, Junctions, Sink};
+use super::{
+    normal_at, reach_of, tensor, Around, Arguments, Declaration, Failure, FunctionKind, Junctions,
+    Marks, Parameter, ParameterKind, SizingAlgorithm, Tensor, Work,
+};
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::{DistanceFunction, SizeProjectionFunction};
 use crate::sizing::plan::EntitySet;
-use crate::sizing::propagation::{PropagationOptions, SourceBuilder};
+use crate::metric::SizeTensor;
+use crate::sizing::propagation::{ClosestPoint, Source, SourceBuilder};
 use crate::topology::Topology;
 
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn run<S: Sink>(
-    graph: &MeshGraph,
-    topology: &Topology,
-    perpendicular: &DistanceFunction,
-    polyline_distance: &DistanceFunction,
-    projection: &SizeProjectionFunction,
-    polyline: &[Point2],
-    within: &EntitySet,
-    options: &PropagationOptions,
-    sink: S,
-) -> Result<S::Output, Failure> {
-    if polyline.is_empty() {
-        return Err(Failure::EmptyPolyline);
-    }
-    let inside = if within.is_empty() {
-        None
-    } else {
-        Some(super::uniform::entity_vertices(graph, topology, within)?)
+/// DISTANCE_TO_IMAGINARY_POLYLINE: a user polyline (wake, shock); normal size
+/// `perpendicular(distance)`, tangent size `polyline_distance(abscissa)` projected with
+/// `projection`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DistanceToImaginaryPolyline {
+    /// Size normal to the polyline against distance.
+    pub perpendicular: DistanceFunction,
+    /// Tangent size on the polyline against curvilinear abscissa from its first point.
+    pub polyline_distance: DistanceFunction,
+    /// How the tangent size grows away from the polyline.
+    pub projection: SizeProjectionFunction,
+    /// The polyline, at least one point; consecutive points distinct.
+    pub polyline: Vec<Point2>,
+    /// Where the algorithm applies (faces); empty means everywhere.
+    pub within: EntitySet,
+}
+
+impl SizingAlgorithm for DistanceToImaginaryPolyline {
+    const DECLARATION: Declaration = Declaration {
+        keyword: "DISTANCE_TO_IMAGINARY_POLYLINE",
+        name: "distance_to_imaginary_polyline",
+        doc: "A polyline given by coordinates (a wake, a shock): normal size \
+              PERPENDICULAR_FUNCTION(d), tangent size POLYLINE_DISTANCE_FUNCTION(s') carried \
+              away by the projection function, s' the abscissa of the closest point \
+              (thesis 4.3.6.5).",
+        parameters: &[
+            Parameter {
+                field: "perpendicular",
+                aliases: &[],
+                keys: &["PERPENDICULAR_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Distance),
+                line_break_after: true,
+                doc: "Size normal to the polyline against distance.",
+            },
+            Parameter {
+                field: "polyline_distance",
+                aliases: &[],
+                keys: &["POLYLINE_DISTANCE_FUNCTION", "PARALLEL_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Distance),
+                line_break_after: true,
+                doc: "Tangent size on the polyline against its curvilinear abscissa.",
+            },
+            Parameter {
+                field: "projection",
+                aliases: &[],
+                keys: &["PARALLEL_PROJECTION_FUNCTION", "PROJECTION_FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Projection),
+                line_break_after: true,
+                doc: "How the tangent size grows away from the polyline.",
+            },
+            Parameter {
+                field: "polyline",
+                aliases: &[],
+                keys: &["COORDINATES"],
+                kind: ParameterKind::Polyline,
+                line_break_after: false,
+                doc: "The name of a polyline of the recipe.",
+            },
+            Parameter {
+                field: "regions",
+                aliases: &[],
+                keys: &["REGIONS"],
+                kind: ParameterKind::Regions { dimensions: &[2], optional: true },
+                line_break_after: false,
+                doc: "The faces where it applies; everywhere when left out.",
+            },
+        ],
     };
-    let mut mask = vec![inside.is_none(); graph.num_vertices()];
-    if let Some(vs) = &inside {
-        for &v in vs {
-            mask[v as usize] = true;
-        }
+
+    type Tensor<'a> = PolylineTensor<'a>;
+
+    fn from_arguments(arguments: &mut Arguments) -> Option<DistanceToImaginaryPolyline> {
+        Some(DistanceToImaginaryPolyline {
+            perpendicular: arguments.distance("perpendicular")?,
+            polyline_distance: arguments.distance("polyline_distance")?,
+            projection: arguments.projection("projection")?,
+            polyline: arguments.polyline("polyline")?,
+            within: arguments.entities("regions")?,
+        })
     }
-    let source = SourceBuilder::new(graph).polyline(polyline, false).build()?;
-    let junctions = Junctions::new(&source);
-    let reach = reach_of(&[perpendicular.max_distance(), projection.max_distance()]);
-    sink.take_source(graph, &source, reach, options, |v, c| {
-        if !mask[v] {
+
+    fn entity_sets(&self) -> Vec<&EntitySet> {
+        vec![&self.within]
+    }
+
+    fn zoom(&self) -> Option<(Around<'_>, f64)> {
+        Some((Around::Points(&self.polyline), self.perpendicular.max_distance()))
+    }
+
+    fn marks(&self) -> Marks<'_> {
+        Marks { polyline: Some(&self.polyline), points: &[] }
+    }
+
+    fn work<'a>(
+        &'a self,
+        graph: &'a MeshGraph,
+        topology: &'a Topology,
+    ) -> Result<Work<PolylineTensor<'a>>, Failure> {
+        if self.polyline.is_empty() {
+            return Err(Failure::EmptyPolyline);
+        }
+        let within = &self.within;
+        let inside = if within.is_empty() {
+            None
+        } else {
+            Some(super::uniform::entity_vertices(graph, topology, within)?)
+        };
+        let mut mask = vec![inside.is_none(); graph.num_vertices()];
+        if let Some(vs) = &inside {
+            for &v in vs {
+                mask[v as usize] = true;
+            }
+        }
+        let source = SourceBuilder::new(graph).polyline(&self.polyline, false).build()?;
+        let junctions = Junctions::new(&source);
+        let reach = reach_of(&[self.perpendicular.max_distance(), self.projection.max_distance()]);
+        let tensor = PolylineTensor { algorithm: self, graph, junctions, mask };
+        Ok(Work::FromSource { source, reach, tensor })
+    }
+}
+
+/// The tensor of DISTANCE_TO_IMAGINARY_POLYLINE.
+pub(crate) struct PolylineTensor<'a> {
+    algorithm: &'a DistanceToImaginaryPolyline,
+    graph: &'a MeshGraph,
+    junctions: Junctions,
+    /// Whether each mesh vertex lies where the algorithm applies.
+    mask: Vec<bool>,
+}
+
+impl Tensor for PolylineTensor<'_> {
+    fn tensor(
+        &self,
+        sources: &[Source],
+        v: usize,
+        closest: &[ClosestPoint],
+    ) -> Result<Option<SizeTensor>, Failure> {
+        if !self.mask[v] {
             return Ok(None);
         }
-        let n = normal_at(&source, &junctions, graph.point(v), c);
-        let h_line = polyline_distance.eval(c.abscissa);
-        tensor(v, n, perpendicular.eval(c.distance), projection.eval(c.distance, h_line)).map(Some)
-    })
+        let (source, c) = (&sources[0], &closest[0]);
+        let a = self.algorithm;
+        let n = normal_at(source, &self.junctions, self.graph.point(v), c);
+        let h_line = a.polyline_distance.eval(c.abscissa);
+        let h_tangent = a.projection.eval(c.distance, h_line);
+        tensor(v, n, a.perpendicular.eval(c.distance), h_tangent).map(Some)
+    }
 }

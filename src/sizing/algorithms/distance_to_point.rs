@@ -8,43 +8,116 @@
 //! as in the other algorithms, rather than one run per point intersected (which differs
 //! only for functions that shrink away from the source, thesis 7.4.3).
 
-use super::{check_entities, Failure, Sink};
+use super::{
+    check_entities, Around, Arguments, Declaration, Failure, FunctionKind, Marks, Parameter,
+    ParameterKind, SizingAlgorithm, Tensor, Work,
+};
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::DistanceFunction;
 use crate::sizing::plan::EntitySet;
-use crate::sizing::propagation::{PropagationOptions, SourceBuilder};
+use crate::sizing::propagation::{ClosestPoint, Source, SourceBuilder};
 use crate::topology::Topology;
 
-pub(crate) fn run<S: Sink>(
-    graph: &MeshGraph,
-    topology: &Topology,
-    function: &DistanceFunction,
-    sources: &EntitySet,
-    options: &PropagationOptions,
-    sink: S,
-) -> Result<S::Output, Failure> {
-    check_entities(topology, sources)?;
-    if let Some(&index) = sources.faces.first() {
-        return Err(Failure::UnsupportedEntity { what: "face", index });
+/// DISTANCE_TO_POINT: isotropic size `function(distance)` from the sources' vertices
+/// (topological points; a curve given here contributes its vertices).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DistanceToPoint {
+    /// Size against distance.
+    pub function: DistanceFunction,
+    /// The sources.
+    pub sources: EntitySet,
+}
+
+impl SizingAlgorithm for DistanceToPoint {
+    const DECLARATION: Declaration = Declaration {
+        keyword: "DISTANCE_TO_POINT",
+        name: "distance_to_point",
+        doc: "The isotropic size FUNCTION(d), d the distance to the nearest source point \
+              (thesis 4.3.6.2).",
+        parameters: &[
+            Parameter {
+                field: "function",
+                aliases: &[],
+                keys: &["FUNCTION"],
+                kind: ParameterKind::Function(FunctionKind::Distance),
+                line_break_after: false,
+                doc: "Size against distance.",
+            },
+            Parameter {
+                field: "regions",
+                aliases: &[],
+                keys: &["REGIONS"],
+                kind: ParameterKind::Regions { dimensions: &[0, 1], optional: false },
+                line_break_after: false,
+                doc: "The sources: points, or curves whose vertices are point sources.",
+            },
+        ],
+    };
+
+    type Tensor<'a> = PointTensor<'a>;
+
+    fn from_arguments(arguments: &mut Arguments) -> Option<DistanceToPoint> {
+        Some(DistanceToPoint {
+            function: arguments.distance("function")?,
+            sources: arguments.entities("regions")?,
+        })
     }
-    let mut b = SourceBuilder::new(graph);
-    for &p in &sources.points {
-        b.topology_point(topology, p);
+
+    fn entity_sets(&self) -> Vec<&EntitySet> {
+        vec![&self.sources]
     }
-    for &c in &sources.curves {
-        for pl in &topology.curves[c].polylines {
-            for &v in &pl.vertices {
-                b.vertex(v);
+
+    fn zoom(&self) -> Option<(Around<'_>, f64)> {
+        Some((Around::Entities(self.sources.clone()), self.function.max_distance()))
+    }
+
+    fn marks(&self) -> Marks<'_> {
+        Marks { polyline: None, points: &self.sources.points }
+    }
+
+    fn work<'a>(
+        &'a self,
+        graph: &'a MeshGraph,
+        topology: &'a Topology,
+    ) -> Result<Work<PointTensor<'a>>, Failure> {
+        let sources = &self.sources;
+        check_entities(topology, sources)?;
+        if let Some(&index) = sources.faces.first() {
+            return Err(Failure::UnsupportedEntity { what: "face", index });
+        }
+        let mut b = SourceBuilder::new(graph);
+        for &p in &sources.points {
+            b.topology_point(topology, p);
+        }
+        for &c in &sources.curves {
+            for pl in &topology.curves[c].polylines {
+                for &v in &pl.vertices {
+                    b.vertex(v);
+                }
             }
         }
+        let source = b.build()?;
+        if source.segments().is_empty() {
+            return Err(Failure::NoSource);
+        }
+        let reach = self.function.max_distance();
+        Ok(Work::FromSource { source, reach, tensor: PointTensor(&self.function) })
     }
-    let source = b.build()?;
-    if source.segments().is_empty() {
-        return Err(Failure::NoSource);
-    }
-    sink.take_source(graph, &source, function.max_distance(), options, |v, c| {
-        let h = function.eval(c.distance);
+}
+
+/// The tensor of DISTANCE_TO_POINT.
+pub(crate) struct PointTensor<'a>(&'a DistanceFunction);
+
+impl Tensor for PointTensor<'_> {
+    #[inline(always)]
+    fn tensor(
+        &self,
+        _: &[Source],
+        v: usize,
+        closest: &[ClosestPoint],
+    ) -> Result<Option<SizeTensor>, Failure> {
+        let h = self.0.eval(closest[0].distance);
         SizeTensor::try_new([1.0, 0.0], h, h).map(Some).ok_or(Failure::Degenerate { vertex: v })
-    })
+    }
 }

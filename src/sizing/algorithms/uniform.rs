@@ -3,7 +3,10 @@
 //! bounding curves and points too), a curve's polyline vertices, a point's vertex. No
 //! propagation. Vertices are listed once, in increasing index order.
 
-use super::{check_entities, Contribution, Failure, Sink};
+use super::{
+    check_entities, Around, Arguments, Contribution, Declaration, Failure, Parameter, ParameterKind,
+    SizingAlgorithm, Work,
+};
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::plan::EntitySet;
@@ -52,18 +55,67 @@ pub(crate) fn entity_vertices(
     Ok((0..n as u32).filter(|&v| mark[v as usize]).collect())
 }
 
-pub(crate) fn run<S: Sink>(
-    graph: &MeshGraph,
-    topology: &Topology,
-    size: f64,
-    on: &EntitySet,
-    sink: S,
-) -> Result<S::Output, Failure> {
-    if !(SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&size) {
-        return Err(Failure::InvalidSize { size });
+/// UNIFORM: isotropic `size` on every vertex of the entities (a face's vertices include
+/// those of its bounding curves and points).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Uniform {
+    /// The size.
+    pub size: f64,
+    /// Where it applies.
+    pub on: EntitySet,
+}
+
+impl SizingAlgorithm for Uniform {
+    const DECLARATION: Declaration = Declaration {
+        keyword: "UNIFORM",
+        name: "uniform",
+        doc: "The isotropic size SIZE on every mesh vertex of the regions (thesis 4.3.6.1).",
+        parameters: &[
+            Parameter {
+                field: "size",
+                aliases: &[],
+                keys: &["SIZE"],
+                kind: ParameterKind::Size,
+                line_break_after: false,
+                doc: "The size.",
+            },
+            Parameter {
+                field: "regions",
+                aliases: &[],
+                keys: &["REGIONS"],
+                kind: ParameterKind::Regions { dimensions: &[2, 1, 0], optional: false },
+                line_break_after: false,
+                doc: "Where it applies: faces, curves or points.",
+            },
+        ],
+    };
+
+    type Tensor<'a> = std::convert::Infallible;
+
+    fn from_arguments(arguments: &mut Arguments) -> Option<Uniform> {
+        Some(Uniform { size: arguments.size("size")?, on: arguments.entities("regions")? })
     }
-    let vertices = entity_vertices(graph, topology, on)?;
-    let t = SizeTensor::isotropic(size);
-    let tensors = vec![t; vertices.len()];
-    sink.take_list(Contribution { vertices, tensors, seeds: 0 })
+
+    fn entity_sets(&self) -> Vec<&EntitySet> {
+        vec![&self.on]
+    }
+
+    fn zoom(&self) -> Option<(Around<'_>, f64)> {
+        None
+    }
+
+    fn work<'a>(
+        &'a self,
+        graph: &'a MeshGraph,
+        topology: &'a Topology,
+    ) -> Result<Work<Self::Tensor<'a>>, Failure> {
+        let size = self.size;
+        if !(SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&size) {
+            return Err(Failure::InvalidSize { size });
+        }
+        let vertices = entity_vertices(graph, topology, &self.on)?;
+        let t = SizeTensor::isotropic(size);
+        let tensors = vec![t; vertices.len()];
+        Ok(Work::Listed(Contribution { vertices, tensors, seeds: 0 }))
+    }
 }

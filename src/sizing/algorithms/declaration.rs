@@ -1,0 +1,196 @@
+//! What an algorithm declares to the recipe: its keyword, its documentation and its
+//! parameters (the functions, regions, sizes and polylines it takes), and the resolved
+//! arguments it is built from.
+//!
+//! The recipe model, its libconfig, TOML and JSON readers and writers, resolution
+//! against a mesh and `recipe check` read these declarations only: no part of the recipe
+//! names an algorithm. A parameter's `field` is its name in the model and in TOML/JSON;
+//! `keys` are its libconfig spellings (thesis appendix A), the first one written.
+
+use crate::geometry::Point2;
+use crate::sizing::functions::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
+use crate::sizing::plan::EntitySet;
+
+/// An algorithm as recipes know it.
+#[derive(Debug, PartialEq)]
+pub struct Declaration {
+    /// The appendix keyword (`DISTANCE_TO_BORDER`); its lower case is the TOML/JSON
+    /// `type`.
+    pub keyword: &'static str,
+    /// The TOML/JSON `type` (the keyword in lower case).
+    pub name: &'static str,
+    /// One paragraph for `recipe` documentation.
+    pub doc: &'static str,
+    /// Its parameters, in the order recipes write them.
+    pub parameters: &'static [Parameter],
+}
+
+/// One parameter of an algorithm in a recipe.
+#[derive(Debug, PartialEq)]
+pub struct Parameter {
+    /// The model field and TOML/JSON key (`perpendicular`).
+    pub field: &'static str,
+    /// Other TOML/JSON keys accepted for it (`regions2`).
+    pub aliases: &'static [&'static str],
+    /// The libconfig keys accepted (`PERPENDICULAR_FUNCTION`), the first one written.
+    pub keys: &'static [&'static str],
+    /// What it takes.
+    pub kind: ParameterKind,
+    /// Whether the libconfig writer starts a new line after it.
+    pub line_break_after: bool,
+    /// What it is for.
+    pub doc: &'static str,
+}
+
+/// What a parameter takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParameterKind {
+    /// A size (a number in [1e-30, 1e30]).
+    Size,
+    /// The name of a function of this kind.
+    Function(FunctionKind),
+    /// Region names. `dimensions`: the entity dimensions accepted (0 points, 1 curves,
+    /// 2 faces), the one preferred first when a region's dimension is ambiguous.
+    /// `optional`: may be left out or empty (then the set is empty).
+    Regions {
+        /// Accepted dimensions, preferred first.
+        dimensions: &'static [usize],
+        /// Whether it may be empty.
+        optional: bool,
+    },
+    /// The name of a polyline of the recipe.
+    Polyline,
+}
+
+impl ParameterKind {
+    /// Whether the parameter is a list of names (regions) rather than one value.
+    pub fn is_list(self) -> bool {
+        matches!(self, ParameterKind::Regions { .. })
+    }
+
+    /// Whether it may be left out.
+    pub fn is_optional(self) -> bool {
+        matches!(self, ParameterKind::Regions { optional: true, .. })
+    }
+}
+
+/// The kind of function a parameter needs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FunctionKind {
+    /// A distance function.
+    Distance,
+    /// A projection function.
+    Projection,
+    /// A curvature-to-size function.
+    Curvature,
+}
+
+impl FunctionKind {
+    /// `distance`, `projection` or `curvature-to-size`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FunctionKind::Distance => "distance",
+            FunctionKind::Projection => "projection",
+            FunctionKind::Curvature => "curvature-to-size",
+        }
+    }
+}
+
+/// One resolved argument: a parameter's value with its functions built and its regions
+/// turned into topological entities of one mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Argument {
+    /// A size.
+    Size(f64),
+    /// A distance function.
+    Distance(DistanceFunction),
+    /// A projection function.
+    Projection(SizeProjectionFunction),
+    /// A curvature-to-size function.
+    Curvature(CurvatureToSize),
+    /// The entities of a region list.
+    Entities(EntitySet),
+    /// A polyline's points.
+    Polyline(Vec<Point2>),
+}
+
+/// The resolved arguments of one algorithm, by parameter field, in declaration order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Arguments {
+    values: Vec<(&'static str, Argument)>,
+}
+
+impl Arguments {
+    /// No argument yet.
+    pub fn new() -> Arguments {
+        Arguments::default()
+    }
+
+    /// Adds the argument of parameter `field`.
+    pub fn push(&mut self, field: &'static str, value: Argument) {
+        self.values.push((field, value));
+    }
+
+    fn take(&mut self, field: &str) -> Option<Argument> {
+        let i = self.values.iter().position(|(f, _)| *f == field)?;
+        Some(self.values.remove(i).1)
+    }
+
+    /// The size of `field`.
+    pub fn size(&mut self, field: &str) -> Option<f64> {
+        match self.take(field)? {
+            Argument::Size(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// The distance function of `field`.
+    pub fn distance(&mut self, field: &str) -> Option<DistanceFunction> {
+        match self.take(field)? {
+            Argument::Distance(f) => Some(f),
+            _ => None,
+        }
+    }
+
+    /// The projection function of `field`.
+    pub fn projection(&mut self, field: &str) -> Option<SizeProjectionFunction> {
+        match self.take(field)? {
+            Argument::Projection(f) => Some(f),
+            _ => None,
+        }
+    }
+
+    /// The curvature-to-size function of `field`.
+    pub fn curvature(&mut self, field: &str) -> Option<CurvatureToSize> {
+        match self.take(field)? {
+            Argument::Curvature(f) => Some(f),
+            _ => None,
+        }
+    }
+
+    /// The entities of `field`.
+    pub fn entities(&mut self, field: &str) -> Option<EntitySet> {
+        match self.take(field)? {
+            Argument::Entities(e) => Some(e),
+            _ => None,
+        }
+    }
+
+    /// The polyline of `field`.
+    pub fn polyline(&mut self, field: &str) -> Option<Vec<Point2>> {
+        match self.take(field)? {
+            Argument::Polyline(p) => Some(p),
+            _ => None,
+        }
+    }
+}
+
+/// What a report marks over the mesh for a step: an imaginary polyline, point sources
+/// (indices into `Topology::points`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Marks<'a> {
+    /// A polyline drawn dashed.
+    pub polyline: Option<&'a [Point2]>,
+    /// Topological points drawn as rings.
+    pub points: &'a [usize],
+}

@@ -1,0 +1,56 @@
+//! The sources algorithms propagate from: entity sets checked against a topology and
+//! turned into a [`Source`], and the reach of a set of functions.
+
+use super::Failure;
+use crate::mesh_graph::MeshGraph;
+use crate::sizing::plan::EntitySet;
+use crate::sizing::propagation::{Source, SourceBuilder};
+use crate::topology::Topology;
+
+/// Checks the indices of `set` against `topology`.
+pub(crate) fn check_entities(topology: &Topology, set: &EntitySet) -> Result<(), Failure> {
+    let check =
+        |what: &'static str, list: &[usize], len: usize| match list.iter().find(|&&i| i >= len) {
+            Some(&index) => Err(Failure::EntityOutOfRange { what, index, len }),
+            None => Ok(()),
+        };
+    check("point", &set.points, topology.points.len())?;
+    check("curve", &set.curves, topology.curves.len())?;
+    check("face", &set.faces, topology.faces.len())
+}
+
+/// A border source: every polyline of the curves of `set`, and its points as point
+/// sources when `points_allowed`. Faces are not borders.
+pub(crate) fn border_source(
+    graph: &MeshGraph,
+    topology: &Topology,
+    set: &EntitySet,
+    points_allowed: bool,
+) -> Result<Source, Failure> {
+    check_entities(topology, set)?;
+    if let Some(&index) = set.faces.first() {
+        return Err(Failure::UnsupportedEntity { what: "face", index });
+    }
+    if !points_allowed {
+        if let Some(&index) = set.points.first() {
+            return Err(Failure::UnsupportedEntity { what: "point", index });
+        }
+    }
+    let mut b = SourceBuilder::new(graph);
+    for &c in &set.curves {
+        b.topology_curve(topology, c);
+    }
+    for &p in &set.points {
+        b.topology_point(topology, p);
+    }
+    let source = b.build()?;
+    if source.segments().is_empty() {
+        return Err(Failure::NoSource);
+    }
+    Ok(source)
+}
+
+/// The largest of the maximum distances.
+pub(crate) fn reach_of(distances: &[f64]) -> f64 {
+    distances.iter().copied().fold(0.0, f64::max)
+}
