@@ -859,9 +859,39 @@ fn malformed_byte_swapped_endianness_marker() {
 
 #[test]
 fn malformed_unknown_section() {
-    let e = err_text(&format!("{HEAD41}$Nodez\n0 0 0 0\n$EndNodez\n"));
+    // Skipped as Gmsh skips it, but only up to its `$End` line, which must be there.
+    let e = err_text(&format!("{HEAD41}$Nodez\n0 0 0 0\n$EndNodes\n"));
     assert_eq!(e.at, Some(Position::Line(4)));
     assert!(e.to_string().contains("`$Nodez`"), "{e}");
+}
+
+#[test]
+fn malformed_end_line_without_its_section() {
+    let e = err_text(&format!("{HEAD41}{SQUARE41}$EndNodes\n"));
+    assert_eq!(e.at, Some(Position::Line(28)));
+    assert!(e.to_string().contains("`$EndNodes`, which closes no open section"), "{e}");
+}
+
+/// Gmsh's format documentation: "any section with an unrecognized header is simply
+/// ignored" (so `$Comment`, or a tool's own section, in any version and encoding).
+#[test]
+fn unknown_sections_are_skipped_as_gmsh_does() {
+    let extra = "$Comment\nwritten by hand\n$EndComment\n$Foo\n1 2 3 $Nodes\n$EndFoox\n$EndFoo\n";
+    let m = read_msh(format!("{HEAD41}{extra}{SQUARE41}{extra}").as_bytes()).unwrap();
+    assert_eq!(m, read_msh(format!("{HEAD41}{SQUARE41}").as_bytes()).unwrap());
+    let v22 = "$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 2 7 7 1 2 3\n$EndElements\n";
+    let m = read_msh(format!("{HEAD22}{extra}{v22}{extra}").as_bytes()).unwrap();
+    assert_eq!(m, read_msh(format!("{HEAD22}{v22}").as_bytes()).unwrap());
+    // Binary files, with binary bytes inside the unknown section.
+    for (version, binary) in all_options().into_iter().filter(|o| o.1) {
+        let bytes = gmsh::write(&small_mesh(), &opts(version, binary)).unwrap().main;
+        let end = b"$EndMeshFormat\n";
+        let at = bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len();
+        let mut with = bytes[..at].to_vec();
+        with.extend_from_slice(b"$Blob\n\x00\x01\xff$EndBlo\n\x07\n$EndBlob\n");
+        with.extend_from_slice(&bytes[at..]);
+        assert_eq!(read_msh(&with).unwrap(), read_msh(&bytes).unwrap(), "{version:?}");
+    }
 }
 
 #[test]

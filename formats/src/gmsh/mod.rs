@@ -43,8 +43,10 @@
 //!   time steps, the last section in the file wins; sections of the same step (a
 //!   partitioned view) are merged. Items a view does not cover are NaN;
 //! - `$Comments`, `$Periodic`, `$GhostElements`, `$Parametrizations`,
-//!   `$PartitionedEntities`, `$InterpolationScheme` (and Gmsh's `$Edges`/`$Faces`) are
-//!   skipped up to their `$End` line, which must be there. Any other section is an error.
+//!   `$PartitionedEntities`, `$InterpolationScheme`, Gmsh's `$Edges`/`$Faces`, and any
+//!   section the format does not define (`$Comment`, `$Foo`: Gmsh's documentation says
+//!   readers ignore them, and Gmsh and meshio do) are skipped up to their `$End` line,
+//!   which must be there.
 //!
 //! Writing ([`crate::WriteOptions::gmsh_version`], [`crate::WriteOptions::binary`]):
 //! - 4.1: `$PhysicalNames`, `$Entities` (one entity per dimension and geometrical tag,
@@ -131,22 +133,19 @@ pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                     kind: ErrorKind::Inconsistent("a second $MeshFormat section".into()),
                 })
             }
-            _ => {
-                let n = String::from_utf8_lossy(name);
-                let known = if r.v4 {
-                    "$PhysicalNames, $Entities, $Nodes, $Elements, $NodeData, $ElementData, $ElementNodeData, $Periodic, $GhostElements, $Parametrizations, $PartitionedEntities, $InterpolationScheme, $Comments"
-                } else {
-                    "$PhysicalNames, $Nodes, $ParametricNodes, $Elements, $NodeData, $ElementData, $ElementNodeData, $Periodic, $InterpolationScheme, $Comments"
-                };
+            _ if name.starts_with(b"End") => {
                 return Err(Error {
                     path: None,
                     at: Some(at),
-                    kind: ErrorKind::Unsupported(format!(
-                        "section `${n}` is not one that MSH {} defines ({known})",
-                        if r.v4 { "4.1" } else { "2.2" }
-                    )),
-                });
+                    kind: ErrorKind::Expected {
+                        expected: "a section header such as `$Nodes`".into(),
+                        found: format!("{}, which closes no open section", show(tok)),
+                    },
+                })
             }
+            // Gmsh's format documentation: "any section with an unrecognized header is
+            // simply ignored" (`$Comment`, a tool's own section); Gmsh and meshio skip it.
+            _ => r.skip_section(name, at)?,
         }
     }
     r.finish()
@@ -1093,7 +1092,7 @@ impl<'a> Reader<'a> {
         self.c.expect_end("PhysicalNames")
     }
 
-    /// Skips a section Gmsh defines but smartmesh does not hold, up to its `$End` line.
+    /// Skips a section smartmesh does not hold (or does not know), up to its `$End` line.
     fn skip_section(&mut self, name: &[u8], at: Position) -> Result<()> {
         let mut end = b"\n$End".to_vec();
         end.extend_from_slice(name);
