@@ -395,6 +395,54 @@ fn cells_of_one_entity_in_two_groups_are_split_in_41_and_reported() {
     assert_same_mesh(&m, &back, "2.2");
 }
 
+/// Lines in a physical group, triangles without one (Triangle's `A.1.ele`, a `.poly`
+/// without regional attributes): Gmsh would drop the triangles when it saves the file,
+/// and meshio refuses a 4.1 file whose blocks are not all in a group. The triangles go
+/// to a group of their own, named `smartmesh:untagged`, one above the largest 2D tag,
+/// and come back untagged.
+#[test]
+fn untagged_cells_beside_tagged_ones_get_a_group_of_their_own() {
+    let mut m = TaggedMesh::new();
+    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    let mut t = CellBlock::new(CellKind::Triangle);
+    t.push(&[0, 1, 2], 0, 1);
+    t.push(&[0, 2, 3], 0, 1);
+    let mut l = CellBlock::new(CellKind::Line);
+    l.push(&[0, 1], 2, 3);
+    l.push(&[1, 2], 0, 3);
+    m.blocks = vec![t, l];
+    m.tag_names.insert((2, 4), "Unused".into());
+    for (version, binary) in all_options() {
+        let w = gmsh::write(&m, &opts(version, binary)).unwrap();
+        let text = String::from_utf8_lossy(&w.main);
+        // 2D: above the named tag 4; 1D: above the lines' tag 2.
+        assert!(text.contains("2 5 \"smartmesh:untagged\""), "{version:?} {binary}:\n{text}");
+        assert!(text.contains("1 3 \"smartmesh:untagged\""), "{version:?} {binary}:\n{text}");
+        let said: Vec<_> =
+            w.report.dropped.iter().filter(|l| l.contains("without a physical tag")).collect();
+        assert_eq!(said.len(), 2, "{:?}", w.report.dropped);
+        assert!(said[0].contains("1 1D cell(s) without a physical tag written as physical group 3 `smartmesh:untagged`"), "{said:?}");
+        assert!(said[1].contains("2 2D cell(s)"), "{said:?}");
+        let back = read_msh(&w.main).unwrap();
+        let untag = |m: &TaggedMesh| -> Vec<_> {
+            cell_list(m).into_iter().map(|(k, n, p, _)| (k, n, p)).collect()
+        };
+        assert_eq!(untag(&back), untag(&m), "{version:?} {binary}");
+        assert_eq!(back.tag_names, m.tag_names, "{version:?} {binary}");
+        assert!(back.entities.values().all(|l| !l.contains(&5) && !l.contains(&3)));
+    }
+    // Without any physical tag, nothing is added: Gmsh keeps every element then.
+    for b in &mut m.blocks {
+        b.physical.fill(0);
+    }
+    m.tag_names.clear();
+    for (version, binary) in all_options() {
+        let w = gmsh::write(&m, &opts(version, binary)).unwrap();
+        assert!(!String::from_utf8_lossy(&w.main).contains("$PhysicalNames"));
+        assert!(w.report.dropped.iter().all(|l| !l.contains("physical tag")), "{:?}", w.report);
+    }
+}
+
 #[test]
 fn what_msh_cannot_hold_is_reported() {
     let mut m = small_mesh();

@@ -24,7 +24,8 @@
 //! - 4.1 `$Entities` → [`TaggedMesh::entities`] (every entity, with its physical tags);
 //!   the physical tag of a cell is the first physical tag of its entity (0 when none
 //!   or without `$Entities`, as for Gmsh: such a file has no groups), its geometrical
-//!   tag the entity tag;
+//!   tag the entity tag; the cells of a group named [`UNTAGGED`] are read as untagged
+//!   (tag 0, see below);
 //! - `$Nodes` (and 2.x `$ParametricNodes`): parametric coordinates are read past;
 //!   nodes no element uses are kept. Points are ordered by node tag (the file's order
 //!   when tags ascend, as Gmsh writes them); tags may be sparse: they are looked up in
@@ -58,6 +59,10 @@
 //!   tags = index + 1;
 //! - 2.2: the same with a physical and an elementary tag on each element, written once
 //!   per physical group where `entities` lists several, as Gmsh does;
+//! - in both, when some cells have a physical tag, the cells of dimension `d` without
+//!   one are written in a group of their own, numbered one above the largest physical
+//!   tag of dimension `d` and named [`UNTAGGED`] (`untagged.rs`: Gmsh keeps only the
+//!   cells of physical groups, meshio needs a group on every block); the report says so;
 //! - each point array as `$NodeData`, each cell array as `$ElementData` (tensors as 9
 //!   row-major components, Gmsh's layout); non-finite items are left out (read back as
 //!   missing, NaN). What MSH cannot hold (point and cell sets, PSLG holes and regions,
@@ -78,6 +83,9 @@
 
 mod msh2;
 mod msh4;
+mod untagged;
+
+pub use untagged::UNTAGGED;
 
 use std::collections::BTreeMap;
 
@@ -174,10 +182,11 @@ pub(crate) fn write_validated(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<
             reason: "more nodes or elements than MSH's 32-bit tags can number".into(),
         }));
     }
+    let grouped = untagged::grouped(mesh, &mut report);
     let mut out = Vec::with_capacity(estimate_size(mesh, opts.binary));
     match opts.gmsh_version {
-        GmshVersion::V41 => msh4::write(mesh, opts.binary, &mut out, &mut report)?,
-        GmshVersion::V22 => msh2::write(mesh, opts.binary, &mut out, &mut report)?,
+        GmshVersion::V41 => msh4::write(&grouped, opts.binary, &mut out, &mut report)?,
+        GmshVersion::V22 => msh2::write(&grouped, opts.binary, &mut out, &mut report)?,
     }
     report_unheld(mesh, &mut report);
     Ok(Written { main: out, siblings: Vec::new(), report })
@@ -1628,6 +1637,7 @@ impl<'a> Reader<'a> {
         // MSH always stores z; a mesh is 2D when every z is 0 (the convention of the
         // other readers).
         mesh.coordinate_dim = if mesh.points.iter().all(|p| p[2] == 0.0) { 2 } else { 3 };
+        untagged::ungroup(&mut mesh);
         Ok(mesh)
     }
 }
