@@ -1,7 +1,8 @@
 //! Every `.msh` smartmesh writes in normal use — `convert`, `mesh`, `size`, `remesh`,
 //! `adapt` with the native remesher and with Gmsh — read whole by meshio and saved again
 //! by Gmsh without losing an element, on Triangle's own samples without regional
-//! attributes (their faces have no tag while their segments have markers). Skips when
+//! attributes (their faces have no tag while their segments have markers); and a
+//! second-order Gmsh mesh read as linear by `info` and `adapt`. Skips when
 //! gmsh or meshio is missing for `python3`, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
 
 #[path = "../formats/tests/common/mod.rs"]
@@ -167,4 +168,61 @@ fn a_gmsh_output_without_triangles_names_the_likely_cause() {
         err.contains("has no triangle (Gmsh saves only the elements of physical groups"),
         "{err}"
     );
+}
+
+/// A second-order mesh from `gmsh -2 -order 2`: read as the linear mesh of its corners,
+/// so `info` finds no node left without a cell and `adapt` remeshes it.
+#[test]
+fn a_second_order_gmsh_mesh_is_read_as_linear() {
+    let Some(py) = common::python_with(&["gmsh"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let p2 = dir.path().join("p2.msh").display().to_string();
+    let make = r#"
+import sys, gmsh
+gmsh.initialize()
+gmsh.option.setNumber("General.Terminal", 0)
+gmsh.model.occ.addRectangle(0, 0, 0, 1, 1)
+gmsh.model.occ.synchronize()
+gmsh.model.addPhysicalGroup(2, [1], 1, "Fluid")
+gmsh.model.addPhysicalGroup(1, [1, 2, 3, 4], 2, "Wall")
+gmsh.model.addPhysicalGroup(0, [1], 3, "Corner")
+gmsh.option.setNumber("Mesh.MeshSizeMax", 0.2)
+gmsh.model.mesh.generate(2)
+gmsh.model.mesh.setOrder(2)
+gmsh.write(sys.argv[1])
+corners, triangles = set(), 0
+for ty, nodes in zip(*gmsh.model.mesh.getElements()[::2]):
+    k = gmsh.model.mesh.getElementProperties(ty)[3]
+    c = {15: 1, 8: 2, 9: 3}[ty]
+    corners.update(n for i, n in enumerate(nodes) if i % k < c)
+    triangles += len(nodes) // k if ty == 9 else 0
+print(len(corners), triangles)
+gmsh.finalize()
+"#;
+    let out = common::run_python(&py, make, &[&p2]);
+    let counts: Vec<usize> =
+        out.lines().last().unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
+    let info = ok(&smartmesh(&["info", &p2], None));
+    assert!(!info.contains("used by no cell"), "{info}");
+    assert!(info.contains(&format!("points      {},", counts[0])), "{info}");
+    assert!(
+        info.contains(&format!("{} triangle", counts[1])) && !info.contains("triangle6"),
+        "{info}"
+    );
+    let recipe = dir.path().join("r.toml");
+    std::fs::write(&recipe, RECIPE.replace("[1]", "[\"Corner\"]")).unwrap();
+    let adapted = dir.path().join("a.msh").display().to_string();
+    ok(&smartmesh(
+        &[
+            "adapt",
+            &p2,
+            "--recipe",
+            recipe.to_str().unwrap(),
+            "-o",
+            &adapted,
+            "--max-iterations",
+            "1",
+        ],
+        None,
+    ));
 }

@@ -511,6 +511,53 @@ fn without_entities_a_41_file_has_no_groups() {
     assert_eq!(cell_list(&m), vec![(CellKind::Triangle, vec![0, 1, 2], 0, 4)]);
 }
 
+/// A square of two 6-node triangles and a 3-node line (as `gmsh -2 -order 2` writes
+/// them: corners first), a node no cell uses, and a node view.
+const SECOND_ORDER_NODES: &str = "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n9 0.5 0.5 0\n10 2 2 0\n";
+
+/// Second-order cells are read as the linear cells of their corners; the mid-edge
+/// nodes are dropped with their point data, the node no cell uses is kept.
+#[test]
+fn second_order_cells_are_read_as_linear_ones() {
+    let view = "$NodeData\n1\n\"s\"\n1\n0\n3\n0\n1\n10\n1 1\n2 2\n3 3\n4 4\n5 5\n6 6\n7 7\n8 8\n9 9\n10 10\n$EndNodeData\n";
+    let coords: String = SECOND_ORDER_NODES
+        .lines()
+        .map(|l| format!("{}\n", &l[l.find(' ').unwrap() + 1..]))
+        .collect();
+    let v41 = format!(
+        "{HEAD41}$Entities\n0 1 1 0\n1 0 0 0 1 0 0 1 2 0\n1 0 0 0 1 1 0 1 5 0\n$EndEntities\n\
+$Nodes\n1 10 1 10\n2 1 0 10\n1\n2\n3\n4\n5\n6\n7\n8\n9\n10\n{coords}$EndNodes\n\
+$Elements\n2 3 1 3\n1 1 8 1\n1 1 2 5\n2 1 9 2\n2 1 2 3 5 6 9\n3 1 3 4 9 7 8\n$EndElements\n{view}"
+    );
+    let v22 = format!(
+        "{HEAD22}$Nodes\n10\n{SECOND_ORDER_NODES}$EndNodes\n\
+$Elements\n3\n1 8 2 2 1 1 2 5\n2 9 2 5 1 1 2 3 5 6 9\n3 9 2 5 1 1 3 4 9 7 8\n$EndElements\n{view}"
+    );
+    for file in [v41, v22] {
+        let m = read_msh(file.as_bytes()).unwrap();
+        assert_eq!(
+            m.points,
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [2.0, 2.0, 0.0]
+            ]
+        );
+        assert_eq!(
+            cell_list(&m),
+            vec![
+                (CellKind::Line, vec![0, 1], 2, 1),
+                (CellKind::Triangle, vec![0, 1, 2], 5, 1),
+                (CellKind::Triangle, vec![0, 2, 3], 5, 1),
+            ]
+        );
+        assert_eq!(m.point_data["s"].values, vec![1.0, 2.0, 3.0, 4.0, 10.0]);
+        assert!(m.blocks.iter().all(|b| !b.kind.is_second_order()));
+    }
+}
+
 #[test]
 fn sparse_node_tags_are_mapped_without_a_table_of_the_largest_tag() {
     let file = format!(

@@ -37,7 +37,10 @@
 //!   and elementary tags; further (partition) tags are read past. Gmsh 2.2 writes an
 //!   element once per physical group of its entity: such consecutive copies are read
 //!   as one cell, and their groups listed in `entities[(dim, elementary)]` (the only
-//!   entries a 2.x file gives that table);
+//!   entries a 2.x file gives that table) second-order cells (`gmsh -2 -order 2`) are read as
+//!   the linear cells of their corners, and the nodes only they use beyond their corners
+//!   (mid-edge, mid-face) are dropped with their point data (`linear.rs`: smartmesh is a
+//!   linear tool);
 //! - `$NodeData`, `$ElementData` (→ point and cell data named after the view's first
 //!   string tag) and `$ElementNodeData` (→ cell data with components × nodes values per
 //!   cell, padded with NaN for cells with fewer nodes). When a view appears with several
@@ -81,6 +84,7 @@
 //! binary arrays through `chunks_exact` + `from_le_bytes`. Writing fills one pre-sized
 //! buffer with `text::push_f64` / `push_int` numbers.
 
+mod linear;
 mod msh2;
 mod msh4;
 mod untagged;
@@ -1638,6 +1642,7 @@ impl<'a> Reader<'a> {
         // other readers).
         mesh.coordinate_dim = if mesh.points.iter().all(|p| p[2] == 0.0) { 2 } else { 3 };
         untagged::ungroup(&mut mesh);
+        linear::reduce(&mut mesh);
         Ok(mesh)
     }
 }
