@@ -395,6 +395,19 @@ fn cells_of_one_entity_in_two_groups_are_split_in_41_and_reported() {
     assert_same_mesh(&m, &back, "2.2");
 }
 
+/// Cells moved to new entities are written, with another geometrical tag: the report
+/// says "written as", not that something was left out.
+#[test]
+fn cells_moved_to_new_entities_are_reported_as_written() {
+    let mut m = small_mesh();
+    m.blocks[0].physical[3] = 9;
+    m.blocks[1].geometrical[1] = 0;
+    let w = gmsh::write(&m, &opts(GmshVersion::V41, false)).unwrap();
+    let moved: Vec<_> = w.report.dropped.iter().filter(|d| d.contains("new entit")).collect();
+    assert_eq!(moved.len(), 2, "{:?}", w.report.dropped);
+    assert!(moved.iter().all(|d| d.contains("written as cells of")), "{moved:?}");
+}
+
 /// Lines in a physical group, triangles without one (Triangle's `A.1.ele`, a `.poly`
 /// without regional attributes): Gmsh would drop the triangles when it saves the file,
 /// and meshio refuses a 4.1 file whose blocks are not all in a group. The triangles go

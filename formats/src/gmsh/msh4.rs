@@ -666,14 +666,14 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> {
         }
         if !moved.is_empty() {
             report.drop(format!(
-                "{d}D entity {g} holds cells of several physical groups; MSH 4.1 gives groups to entities, not cells, so cells were moved to new entities ({}), changing their geometrical tag",
+                "{d}D entity {g} holds cells of several physical groups; MSH 4.1 gives groups to entities, not cells, so those of the other groups are written as cells of new entities ({}), with another geometrical tag",
                 moved.join(", ")
             ));
         }
     }
     if untagged > 0 {
         report.drop(format!(
-            "cells without a positive geometrical tag placed on {untagged} new entities (Gmsh entity tags are strictly positive)"
+            "cells without a positive geometrical tag written as cells of {untagged} new entities (Gmsh entity tags are strictly positive)"
         ));
     }
     // Entities without cells keep their groups.
