@@ -3,10 +3,10 @@
 
 use std::collections::BTreeMap;
 
-use super::{
-    cell_kind, le_f64, le_i32, le_size, write_mesh_format, write_physical_names, write_views,
-    RawBlock, Reader,
-};
+use super::cursor::{le_f64, le_i32, le_size};
+use super::header::{write_mesh_format, write_physical_names};
+use super::reader::{cell_kind, RawBlock, Reader};
+use super::views::write_views;
 use crate::text::{push_f64, push_int};
 use crate::{CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport};
 
@@ -155,7 +155,7 @@ pub(super) fn read_nodes(r: &mut Reader<'_>, section_at: Position) -> Result<()>
         // Tags of another kind: the section again, in file order.
         r.c.seek(start);
         r.points = Vec::new();
-        r.node_tags = super::TagList::new();
+        r.node_tags = super::tags::TagList::new();
         r.node_blocks.truncate(blocks_before);
     }
     let binary = r.c.binary;
@@ -360,7 +360,7 @@ fn binary_nodes_in_tag_order(r: &mut Reader<'_>, section_at: Position) -> Result
         return Ok(false);
     }
     r.points = points;
-    r.node_tags = super::TagList::Range { first: lo, len: n_nodes };
+    r.node_tags = super::tags::TagList::Range { first: lo, len: n_nodes };
     r.nodes_changed();
     r.c.expect_end("Nodes")?;
     Ok(true)
@@ -392,7 +392,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
         let mut b = RawBlock {
             kind,
             at: block_at,
-            tags: super::TagList::new(),
+            tags: super::tags::TagList::new(),
             nodes: Vec::with_capacity(n * k),
             physical: Vec::new(),
             geometrical: vec![tag; n],
@@ -465,7 +465,7 @@ fn missing(et: u64, nt: u64) -> ErrorKind {
 /// Binary element records of `ST`-byte `size_t`s: a tag then the node tags.
 fn binary_elements<const ST: usize>(
     r: &Reader<'_>,
-    map: &super::TagMap,
+    map: &super::tags::TagMap,
     b: &mut RawBlock,
     data: &[u8],
     p: usize,
