@@ -395,6 +395,67 @@ fn cells_of_one_entity_in_two_groups_are_split_in_41_and_reported() {
     assert_same_mesh(&m, &back, "2.2");
 }
 
+/// Cells moved to new entities are written, with another geometrical tag: the report
+/// says "written as", not that something was left out.
+#[test]
+fn cells_moved_to_new_entities_are_reported_as_written() {
+    let mut m = small_mesh();
+    m.blocks[0].physical[3] = 9;
+    m.blocks[1].geometrical[1] = 0;
+    let w = gmsh::write(&m, &opts(GmshVersion::V41, false)).unwrap();
+    let moved: Vec<_> = w.report.dropped.iter().filter(|d| d.contains("new entit")).collect();
+    assert_eq!(moved.len(), 2, "{:?}", w.report.dropped);
+    assert!(moved.iter().all(|d| d.contains("written as cells of")), "{moved:?}");
+}
+
+/// Lines in a physical group, triangles without one (Triangle's `A.1.ele`, a `.poly`
+/// without regional attributes): Gmsh would drop the triangles when it saves the file,
+/// and meshio refuses a 4.1 file whose blocks are not all in a group. The triangles go
+/// to a group of their own, named `smartmesh:untagged`, one above the largest 2D tag,
+/// and come back untagged.
+#[test]
+fn untagged_cells_beside_tagged_ones_get_a_group_of_their_own() {
+    let mut m = TaggedMesh::new();
+    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    let mut t = CellBlock::new(CellKind::Triangle);
+    t.push(&[0, 1, 2], 0, 1);
+    t.push(&[0, 2, 3], 0, 1);
+    let mut l = CellBlock::new(CellKind::Line);
+    l.push(&[0, 1], 2, 3);
+    l.push(&[1, 2], 0, 3);
+    m.blocks = vec![t, l];
+    m.tag_names.insert((2, 4), "Unused".into());
+    for (version, binary) in all_options() {
+        let w = gmsh::write(&m, &opts(version, binary)).unwrap();
+        let text = String::from_utf8_lossy(&w.main);
+        // 2D: above the named tag 4; 1D: above the lines' tag 2.
+        assert!(text.contains("2 5 \"smartmesh:untagged\""), "{version:?} {binary}:\n{text}");
+        assert!(text.contains("1 3 \"smartmesh:untagged\""), "{version:?} {binary}:\n{text}");
+        let said: Vec<_> =
+            w.report.dropped.iter().filter(|l| l.contains("without a physical tag")).collect();
+        assert_eq!(said.len(), 2, "{:?}", w.report.dropped);
+        assert!(said[0].contains("1 1D cell(s) without a physical tag written as physical group 3 `smartmesh:untagged`"), "{said:?}");
+        assert!(said[1].contains("2 2D cell(s)"), "{said:?}");
+        let back = read_msh(&w.main).unwrap();
+        let untag = |m: &TaggedMesh| -> Vec<_> {
+            cell_list(m).into_iter().map(|(k, n, p, _)| (k, n, p)).collect()
+        };
+        assert_eq!(untag(&back), untag(&m), "{version:?} {binary}");
+        assert_eq!(back.tag_names, m.tag_names, "{version:?} {binary}");
+        assert!(back.entities.values().all(|l| !l.contains(&5) && !l.contains(&3)));
+    }
+    // Without any physical tag, nothing is added: Gmsh keeps every element then.
+    for b in &mut m.blocks {
+        b.physical.fill(0);
+    }
+    m.tag_names.clear();
+    for (version, binary) in all_options() {
+        let w = gmsh::write(&m, &opts(version, binary)).unwrap();
+        assert!(!String::from_utf8_lossy(&w.main).contains("$PhysicalNames"));
+        assert!(w.report.dropped.iter().all(|l| !l.contains("physical tag")), "{:?}", w.report);
+    }
+}
+
 #[test]
 fn what_msh_cannot_hold_is_reported() {
     let mut m = small_mesh();
@@ -461,6 +522,53 @@ fn reads_a_minimal_41_file_with_an_unused_node() {
 fn without_entities_a_41_file_has_no_groups() {
     let m = read_msh(format!("{HEAD41}$Nodes\n1 3 1 3\n2 4 0 3\n1\n2\n3\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n$Elements\n1 1 1 1\n2 4 2 1\n1 1 2 3\n$EndElements\n").as_bytes()).unwrap();
     assert_eq!(cell_list(&m), vec![(CellKind::Triangle, vec![0, 1, 2], 0, 4)]);
+}
+
+/// A square of two 6-node triangles and a 3-node line (as `gmsh -2 -order 2` writes
+/// them: corners first), a node no cell uses, and a node view.
+const SECOND_ORDER_NODES: &str = "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n9 0.5 0.5 0\n10 2 2 0\n";
+
+/// Second-order cells are read as the linear cells of their corners; the mid-edge
+/// nodes are dropped with their point data, the node no cell uses is kept.
+#[test]
+fn second_order_cells_are_read_as_linear_ones() {
+    let view = "$NodeData\n1\n\"s\"\n1\n0\n3\n0\n1\n10\n1 1\n2 2\n3 3\n4 4\n5 5\n6 6\n7 7\n8 8\n9 9\n10 10\n$EndNodeData\n";
+    let coords: String = SECOND_ORDER_NODES
+        .lines()
+        .map(|l| format!("{}\n", &l[l.find(' ').unwrap() + 1..]))
+        .collect();
+    let v41 = format!(
+        "{HEAD41}$Entities\n0 1 1 0\n1 0 0 0 1 0 0 1 2 0\n1 0 0 0 1 1 0 1 5 0\n$EndEntities\n\
+$Nodes\n1 10 1 10\n2 1 0 10\n1\n2\n3\n4\n5\n6\n7\n8\n9\n10\n{coords}$EndNodes\n\
+$Elements\n2 3 1 3\n1 1 8 1\n1 1 2 5\n2 1 9 2\n2 1 2 3 5 6 9\n3 1 3 4 9 7 8\n$EndElements\n{view}"
+    );
+    let v22 = format!(
+        "{HEAD22}$Nodes\n10\n{SECOND_ORDER_NODES}$EndNodes\n\
+$Elements\n3\n1 8 2 2 1 1 2 5\n2 9 2 5 1 1 2 3 5 6 9\n3 9 2 5 1 1 3 4 9 7 8\n$EndElements\n{view}"
+    );
+    for file in [v41, v22] {
+        let m = read_msh(file.as_bytes()).unwrap();
+        assert_eq!(
+            m.points,
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [2.0, 2.0, 0.0]
+            ]
+        );
+        assert_eq!(
+            cell_list(&m),
+            vec![
+                (CellKind::Line, vec![0, 1], 2, 1),
+                (CellKind::Triangle, vec![0, 1, 2], 5, 1),
+                (CellKind::Triangle, vec![0, 2, 3], 5, 1),
+            ]
+        );
+        assert_eq!(m.point_data["s"].values, vec![1.0, 2.0, 3.0, 4.0, 10.0]);
+        assert!(m.blocks.iter().all(|b| !b.kind.is_second_order()));
+    }
 }
 
 #[test]
@@ -859,9 +967,39 @@ fn malformed_byte_swapped_endianness_marker() {
 
 #[test]
 fn malformed_unknown_section() {
-    let e = err_text(&format!("{HEAD41}$Nodez\n0 0 0 0\n$EndNodez\n"));
+    // Skipped as Gmsh skips it, but only up to its `$End` line, which must be there.
+    let e = err_text(&format!("{HEAD41}$Nodez\n0 0 0 0\n$EndNodes\n"));
     assert_eq!(e.at, Some(Position::Line(4)));
     assert!(e.to_string().contains("`$Nodez`"), "{e}");
+}
+
+#[test]
+fn malformed_end_line_without_its_section() {
+    let e = err_text(&format!("{HEAD41}{SQUARE41}$EndNodes\n"));
+    assert_eq!(e.at, Some(Position::Line(28)));
+    assert!(e.to_string().contains("`$EndNodes`, which closes no open section"), "{e}");
+}
+
+/// Gmsh's format documentation: "any section with an unrecognized header is simply
+/// ignored" (so `$Comment`, or a tool's own section, in any version and encoding).
+#[test]
+fn unknown_sections_are_skipped_as_gmsh_does() {
+    let extra = "$Comment\nwritten by hand\n$EndComment\n$Foo\n1 2 3 $Nodes\n$EndFoox\n$EndFoo\n";
+    let m = read_msh(format!("{HEAD41}{extra}{SQUARE41}{extra}").as_bytes()).unwrap();
+    assert_eq!(m, read_msh(format!("{HEAD41}{SQUARE41}").as_bytes()).unwrap());
+    let v22 = "$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 2 7 7 1 2 3\n$EndElements\n";
+    let m = read_msh(format!("{HEAD22}{extra}{v22}{extra}").as_bytes()).unwrap();
+    assert_eq!(m, read_msh(format!("{HEAD22}{v22}").as_bytes()).unwrap());
+    // Binary files, with binary bytes inside the unknown section.
+    for (version, binary) in all_options().into_iter().filter(|o| o.1) {
+        let bytes = gmsh::write(&small_mesh(), &opts(version, binary)).unwrap().main;
+        let end = b"$EndMeshFormat\n";
+        let at = bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len();
+        let mut with = bytes[..at].to_vec();
+        with.extend_from_slice(b"$Blob\n\x00\x01\xff$EndBlo\n\x07\n$EndBlob\n");
+        with.extend_from_slice(&bytes[at..]);
+        assert_eq!(read_msh(&with).unwrap(), read_msh(&bytes).unwrap(), "{version:?}");
+    }
 }
 
 #[test]

@@ -3,11 +3,14 @@
 //! The oracle for Gmsh is Gmsh's own reading of the public fixture of the same model
 //! and version: the file smartmesh writes must give Gmsh the same physical groups
 //! (dimension, tag, name), the same number of entities of each dimension, the same
-//! node count and the same element count of each type.
+//! node count and the same element count of each type. Every file smartmesh writes is
+//! read by meshio as a whole, and saved again by Gmsh without losing an element.
 
 mod common;
 
-use smartmesh_formats::{gmsh, sym2_to_tensor9, DataArray, GmshVersion, TaggedMesh, WriteOptions};
+use smartmesh_formats::{
+    gmsh, sym2_to_tensor9, CellBlock, CellKind, DataArray, GmshVersion, TaggedMesh, WriteOptions,
+};
 
 const GMSH_SUMMARY: &str = r#"
 import sys, json, gmsh
@@ -179,4 +182,57 @@ fn meshio_reads_what_smartmesh_writes() {
             );
         }
     }
+}
+
+/// For each file: the cells meshio reads (or its error), and the elements of each type
+/// Gmsh reads before and after saving the file again in its version.
+const READ_AND_RESAVE: &str = include_str!("common/read_and_resave.py");
+
+/// Asserts that meshio reads all `cells` of each file and that Gmsh keeps every element
+/// when it saves the file again.
+fn assert_read_and_resaved(py: &str, files: &[(String, usize)]) {
+    let paths: Vec<String> = files.iter().map(|(p, _)| p.clone()).collect();
+    for ((path, cells), s) in files.iter().zip(summaries(py, READ_AND_RESAVE, &paths)) {
+        assert_eq!(s["meshio"], *cells, "{path}: meshio");
+        let total: u64 = s["before"].as_object().unwrap().values().filter_map(|v| v.as_u64()).sum();
+        assert_eq!(total as usize, *cells, "{path}: Gmsh reads {}", s["before"]);
+        assert_eq!(s["after"], s["before"], "{path}: Gmsh saved it again");
+    }
+}
+
+/// Triangle's `A.1.ele` (boundary markers on its segments, no regional attribute) and a
+/// mesh whose vertex and line cells are partly untagged, in each version and encoding:
+/// meshio reads every cell ("Incompatible cell data 'gmsh:physical'" before) and Gmsh
+/// saves every element again (it kept only those of physical groups).
+#[test]
+fn meshio_and_gmsh_read_meshes_with_untagged_cells_whole() {
+    let Some(py) = common::python_with(&["gmsh", "meshio"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let a = common::read_file("triangle/A.1.ele");
+    let mut partly = TaggedMesh::new();
+    partly.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    let mut t = CellBlock::new(CellKind::Triangle);
+    t.push(&[0, 1, 2], 1, 1);
+    t.push(&[0, 2, 3], 1, 1);
+    let mut l = CellBlock::new(CellKind::Line);
+    l.push(&[0, 1], 0, 1);
+    l.push(&[1, 2], 5, 2);
+    let mut v = CellBlock::new(CellKind::Vertex);
+    v.push(&[0], 0, 0);
+    partly.blocks = vec![t, l, v];
+    let mut files = Vec::new();
+    for (name, mesh) in [("A", &a), ("partly", &partly)] {
+        for (version, binary) in [
+            (GmshVersion::V22, false),
+            (GmshVersion::V22, true),
+            (GmshVersion::V41, false),
+            (GmshVersion::V41, true),
+        ] {
+            let opts = WriteOptions { gmsh_version: version, binary, ..WriteOptions::default() };
+            let path = dir.path().join(format!("{name}_{version:?}_{binary}.msh"));
+            std::fs::write(&path, gmsh::write(mesh, &opts).unwrap().main).unwrap();
+            files.push((path.display().to_string(), mesh.num_cells()));
+        }
+    }
+    assert_read_and_resaved(&py, &files);
 }

@@ -11,8 +11,10 @@
 //!    runs the script below, which merges the mesh, rebuilds the topology and a
 //!    geometry from it (`CreateTopology; CreateGeometry;`: Gmsh's discrete entities
 //!    keep their physical groups), takes the view as background mesh and meshes in 2D;
-//! 3. `out.msh` is read back. Gmsh writes the cells of physical groups, so the tags
-//!    come back as they were and only cells without a physical group are not kept.
+//! 3. `out.msh` is read back. Gmsh writes only the cells of physical groups; cells
+//!    without a physical tag travel in a group of their own (`smartmesh:untagged`, see
+//!    the formats crate's `gmsh` writer) and come back untagged, so every tag comes
+//!    back as it was.
 //!
 //! Extra arguments follow smartmesh's on Gmsh's command line, so `-setnumber` there
 //! overrides the settings above.
@@ -124,7 +126,9 @@ impl Adapter for GmshAdapter {
         }
         let mut result = read_path(&out_path, Some(Format::Gmsh))?;
         if result.num_cells_of(CellKind::Triangle) == 0 {
-            return Err(failed("its mesh has no triangle"));
+            return Err(failed(
+                "its out.msh has no triangle (Gmsh saves only the elements of physical groups; its output says whether meshing failed)",
+            ));
         }
         result.point_data.clear();
         result.cell_data.clear();

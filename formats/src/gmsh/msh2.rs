@@ -1,10 +1,11 @@
 //! MSH 2.2: `$Nodes` (and `$ParametricNodes`) and `$Elements` with per-element tags
 //! (reference manual, "MSH file format version 2 (Legacy)"), and the 2.2 writer.
 
-use super::{
-    cell_kind, le_f64, le_i32, write_mesh_format, write_physical_names, write_views, RawBlock,
-    Reader, TagMap,
-};
+use super::cursor::{le_f64, le_i32};
+use super::header::{write_mesh_format, write_physical_names};
+use super::reader::{cell_kind, RawBlock, Reader};
+use super::tags::TagMap;
+use super::views::write_views;
 use crate::text::{push_f64, push_int};
 use crate::{
     CellBlock, CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport,
@@ -184,7 +185,7 @@ impl Collector {
         let b = self.cur.get_or_insert_with(|| RawBlock {
             kind,
             at,
-            tags: super::TagList::new(),
+            tags: super::tags::TagList::new(),
             nodes: Vec::new(),
             physical: Vec::new(),
             geometrical: Vec::new(),
@@ -241,7 +242,7 @@ fn binary_block<const K: usize>(
             *cur = Some(RawBlock {
                 kind,
                 at: Position::Byte(p as u64),
-                tags: super::TagList::new(),
+                tags: super::tags::TagList::new(),
                 nodes: Vec::with_capacity(count * K),
                 physical: Vec::with_capacity(count),
                 geometrical: Vec::with_capacity(count),
