@@ -91,6 +91,8 @@ fn measure_background_takes_a_view_and_a_solution_beside_its_mesh() {
         json(&["remesh", s(&out), "--measure", "--background", s(background), "--json"])
     };
     let want = measure(&vtu);
+    // The same mesh and field as a .msh: the same triangles, the same numbers.
+    assert_eq!(measure(&field(d, "msh")), want, "--background field.msh");
     // A `.sol` beside the `.mesh` it belongs to, and a `.solb` beside its `.meshb`.
     for (mesh, sol) in [("g.mesh", "g.sol"), ("h.meshb", "h.solb")] {
         ok(&smartmesh(
