@@ -46,6 +46,7 @@ pub mod quality;
 pub mod recipe;
 pub mod remesh;
 pub mod report;
+pub mod size_controls;
 pub mod sizing;
 pub mod summary;
 pub mod topology;

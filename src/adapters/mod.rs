@@ -46,6 +46,16 @@ pub enum AdapterError {
         /// How to get it.
         hint: &'static str,
     },
+    /// The program named with `--adapter-program` is not there, or cannot be run.
+    #[error("`{program}` {why}; {hint}")]
+    Unusable {
+        /// The path given.
+        program: String,
+        /// `does not exist`, `is not an executable file`.
+        why: &'static str,
+        /// How to get the program.
+        hint: &'static str,
+    },
     /// The program ran and failed; its last lines are quoted.
     #[error("`{program}` failed ({status}):\n{output}")]
     Failed {
@@ -139,13 +149,16 @@ pub fn adapter(
     options: AdapterOptions,
 ) -> Result<Box<dyn Adapter>, AdapterError> {
     if kind != AdapterKind::Mmg2d {
-        let mmg_only = [
-            ("--hgrad", options.hgrad.is_some()),
-            ("--hausd", options.hausd.is_some()),
-            ("--nosurf", options.nosurf),
-        ];
+        // --hausd is every remesher's (below); MMG's own gradation and -nosurf are not.
+        let mmg_only = [("--hgrad", options.hgrad.is_some()), ("--nosurf", options.nosurf)];
         if let Some(&(option, _)) = mmg_only.iter().find(|o| o.1) {
             return Err(AdapterError::Option { option, adapter: kind.name() });
+        }
+        if let Some(hausd) = options.hausd {
+            let controls =
+                crate::size_controls::SizeControls { hausd: Some(hausd), ..Default::default() };
+            let inner = adapter(kind, AdapterOptions { hausd: None, ..options })?;
+            return Ok(Box::new(crate::size_controls::Controlled { inner, controls }));
         }
     }
     match kind {

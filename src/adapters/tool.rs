@@ -19,11 +19,14 @@ pub fn find_program(
     hint: &'static str,
 ) -> Result<PathBuf, AdapterError> {
     if let Some(p) = explicit {
-        return if is_executable(p) {
-            Ok(p.to_path_buf())
+        let why = if is_executable(p) {
+            return Ok(p.to_path_buf());
+        } else if p.exists() {
+            "is not an executable file"
         } else {
-            Err(AdapterError::NotFound { program: p.display().to_string(), hint })
+            "does not exist"
         };
+        return Err(AdapterError::Unusable { program: p.display().to_string(), why, hint });
     }
     let path = std::env::var_os("PATH").unwrap_or_default();
     std::env::split_paths(&path)
