@@ -1,11 +1,17 @@
 //! The loop's results on disk: the best mesh, rewritten whenever a better one comes, and
-//! `history.json`, rewritten after every iteration. Both are written to a temporary file
-//! and renamed, the mesh before the history, so that the history never names a best
-//! iteration whose mesh is not on disk, and a stopped run leaves whole files.
+//! `history.json`, rewritten after every iteration. A new best mesh and the history that
+//! names it are one set: every file is written whole to a temporary name first, and the
+//! renames follow one another only once all are complete, so that a failed write leaves
+//! the previous files and the history on disk names the best iteration of the mesh on disk. (Only a
+//! kill between two of those renames, SIGKILL or a power cut, can separate them; a
+//! Ctrl-C is handled by the caller between iterations, never during a write.)
 
 use std::path::{Path, PathBuf};
 
-use smartmesh_formats::{write_all_atomically, write_path, Format, TaggedMesh, WriteOptions};
+use smartmesh_formats::{
+    write_all_atomically, write_bytes, Error, ErrorKind, Format, PathSiblings, TaggedMesh,
+    WriteOptions,
+};
 
 use super::Observer;
 use crate::history::History;
@@ -50,15 +56,28 @@ impl Observer for ResultFiles {
         history: &History,
         new_best: Option<&TaggedMesh>,
     ) -> Result<(), smartmesh_formats::Error> {
+        let mut targets = Vec::new();
         if let Some(mesh) = new_best {
-            let report =
-                write_path(&self.mesh, mesh, Format::from_path(&self.mesh), &self.options)?;
-            for d in report.dropped {
+            let format = Format::from_path(&self.mesh).ok_or_else(|| {
+                Error::new(ErrorKind::UnknownFormat(self.mesh.display().to_string()))
+            })?;
+            let mut options = self.options.clone();
+            options.main_name = self.mesh.file_name().and_then(|n| n.to_str()).map(str::to_owned);
+            let written =
+                write_bytes(format, mesh, &options).map_err(|e| e.with_path(&self.mesh))?;
+            for d in written.report.dropped {
                 if !self.dropped.contains(&d) {
                     self.dropped.push(d);
                 }
             }
+            let siblings = PathSiblings::new(&self.mesh);
+            targets.push((self.mesh.clone(), written.main));
+            for (ext, bytes) in written.siblings {
+                targets.push((siblings.path(&ext), bytes));
+            }
         }
-        write_all_atomically(&[(self.history.clone(), history.to_json().into_bytes())])
+        // The history last: renamed after the mesh it names.
+        targets.push((self.history.clone(), history.to_json().into_bytes()));
+        write_all_atomically(&targets)
     }
 }

@@ -32,6 +32,9 @@ use crate::recipe::Recipe;
 use crate::sizing::{size_mesh, SizeMeshError, StepEvent};
 
 pub use rules::Tolerances;
+
+/// `History::stopped` of a run the user stopped ([`Observer::interrupted`]).
+pub const INTERRUPTED: &str = "interrupted";
 pub use start::{start, starting_mesh, Start, StartError};
 
 /// How long the loop may run and when it has converged.
@@ -114,6 +117,14 @@ pub enum AdaptError {
 pub trait Observer {
     /// `phase` of `iteration` starts (for a progress display).
     fn phase(&mut self, _iteration: usize, _phase: Phase) {}
+
+    /// Whether the user asked the run to stop (Ctrl-C). Asked before each remeshing and
+    /// after it: the loop then stops with `stopped` = [`INTERRUPTED`], keeping the best
+    /// mesh and the history of the iterations done (a remeshing under way is discarded:
+    /// an external tool gets the signal too).
+    fn interrupted(&mut self) -> bool {
+        false
+    }
 
     /// Called after every iteration and once more when the loop stops, with the whole
     /// history so far; `new_best` is the mesh of the iteration just done when it became
@@ -214,10 +225,18 @@ pub fn run(
     let mut stopped = format!("iteration limit ({}) reached", options.max_iterations);
 
     for k in 1..=options.max_iterations {
+        if observer.interrupted() {
+            stopped = INTERRUPTED.to_string();
+            break;
+        }
         observer.phase(k, Phase::Remesh);
         let t = Instant::now();
-        let next = adapter
-            .adapt(&current.mesh, &current.metric)
+        let remeshed = adapter.adapt(&current.mesh, &current.metric);
+        if observer.interrupted() {
+            stopped = INTERRUPTED.to_string();
+            break;
+        }
+        let next = remeshed
             .map_err(|e| (Phase::Remesh, PhaseError::from(e)))
             .and_then(|mesh| measure(k, mesh, t.elapsed().as_secs_f64(), recipe, observer));
         let next = match next {
