@@ -425,10 +425,11 @@ fn a_recipe_naming_absent_tags_on_a_poly_and_bad_arguments_exit_two() {
 
     let o = run_adapt(&out, &["--adapter", "mmg2d", "--tol-vertices", "-1"], None);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-    let o = run_adapt(&out, &["--adapter", "gmsh", "--hausd", "0.01"], None);
+    // --hausd is every remesher's; -nosurf is MMG's alone.
+    let o = run_adapt(&out, &["--adapter", "gmsh", "--nosurf"], None);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(
-        String::from_utf8_lossy(&o.stderr).contains("--hausd is an option of the mmg2d adapter"),
+        String::from_utf8_lossy(&o.stderr).contains("--nosurf is an option of the mmg2d adapter"),
         "{}",
         text(&o)
     );

@@ -1,22 +1,24 @@
 //! `smartmesh adapt INPUT --recipe R -o OUT`: the adaptation loop (size → remesh → size …)
 //! with a remesher, writing the best mesh and the convergence history.
 
-use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::{
-    run as run_loop, start as starting_point, AdaptError, AdaptOptions, Observer, Phase,
-    StartError, Tolerances,
+    run as run_loop, start as starting_point, AdaptOptions, Observer, Phase, Tolerances,
 };
-use smartmesh::adapters::{adapter, AdapterError, AdapterKind, AdapterOptions};
+use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{Format, TaggedMesh};
 use smartmesh::history::History;
-use smartmesh::recipe::Recipe;
+use smartmesh::Topology;
 
-use super::{parse_format, print_stdout, CliError, ExitStatus};
+use super::output::{check_output_dir, is_stdio, positive_size, SizeControls};
+use super::{parse_format, print_stdout, ui, CliError, ExitStatus, RecipeInput};
 
 /// The remeshers on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -53,7 +55,17 @@ OUT holds the best mesh: the iteration with the highest conforming share, ties t
 It is rewritten whenever a better mesh comes, so it is there even when a later iteration \
 fails (exit status 1) or the run is stopped. The history (per-iteration vertices, triangles, \
 conformity, metric quality and seconds per phase) is rewritten after every iteration, as \
-OUT's name with .history.json unless --history says where.
+OUT's name with .history.json unless --history says where; a new best mesh and the history \
+naming it are written as one set. With `-o -` (and --to) the best mesh goes to stdout once the \
+loop ends, and --history FILE is required.
+
+Ctrl-C (or SIGTERM, SIGHUP) stops the run after the current phase: the history says \
+\"stopped\": \"interrupted\", OUT keeps the best mesh, and the exit status is 130. A second \
+Ctrl-C stops at once, between two writes, leaving the same agreeing files.
+
+--hmin, --hmax and --hgrad replace the recipe's global hmin, hmax and gradation (with mmg2d, \
+--hgrad is also MMG's own -hgrad). --hausd bounds the sizes along curved boundaries by their \
+curvature: MMG's -hausd for mmg2d, the same rule applied to the metric for native and gmsh.
 
 Remeshers:
   native   smartmesh's own remesher (the default)
@@ -70,12 +82,12 @@ Examples:
   smartmesh adapt square.msh -r wake.toml -o out.vtu --adapter gmsh --max-iterations 4 --json"
 )]
 pub struct AdaptArgs {
-    /// Starting mesh (any readable format with triangles or quadrangles).
+    /// Starting mesh (any readable format with triangles or quadrangles), or a .poly.
     input: PathBuf,
-    /// The recipe (.cfg libconfig, .toml, .json), used unchanged at every iteration.
-    #[arg(long, short = 'r')]
-    recipe: PathBuf,
-    /// Output mesh (its extension chooses the format).
+    #[command(flatten)]
+    recipe: RecipeInput,
+    /// Output mesh (its extension chooses the format; `-` for stdout, with --to and
+    /// --history).
     #[arg(long, short = 'o')]
     output: PathBuf,
     /// The remesher.
@@ -106,11 +118,11 @@ pub struct AdaptArgs {
     /// one's chords as its boundary.
     #[arg(long)]
     coarsen_geometry: bool,
-    /// mmg2d: gradation MMG applies to the metric (-hgrad; -1 turns it off).
-    #[arg(long, allow_negative_numbers = true)]
-    hgrad: Option<f64>,
-    /// mmg2d: Hausdorff distance of curved boundaries (-hausd).
-    #[arg(long)]
+    #[command(flatten)]
+    controls: SizeControls,
+    /// Largest distance between a curved boundary and its edges (MMG's -hausd; for native
+    /// and gmsh the same bound applied to the metric).
+    #[arg(long, value_parser = positive_size, help_heading = "Size controls")]
     hausd: Option<f64>,
     /// mmg2d: leave the boundary unchanged (-nosurf).
     #[arg(long)]
@@ -133,9 +145,45 @@ fn non_negative(s: &str) -> Result<f64, String> {
     }
 }
 
+/// Ctrl-C presses so far (the handler counts; the loop reads).
+static INTERRUPTS: AtomicUsize = AtomicUsize::new(0);
+/// Held while the result files are written: a second Ctrl-C exits only between writes.
+static WRITING: Mutex<()> = Mutex::new(());
+/// Whether the handler is installed (once per process).
+static HANDLER: AtomicBool = AtomicBool::new(false);
+
+/// Installs the Ctrl-C (SIGINT, SIGTERM, SIGHUP) handler: the first asks the loop to stop
+/// after the current phase; the second exits with 130 at once, but never during a write
+/// of the result files, so that they stay whole and agree.
+fn handle_interrupts() {
+    if HANDLER.swap(true, Ordering::SeqCst) {
+        return;
+    }
+    let installed = ctrlc::set_handler(|| {
+        if INTERRUPTS.fetch_add(1, Ordering::SeqCst) == 0 {
+            if ui::level() >= ui::Level::Normal {
+                eprintln!(
+                    "\nsmartmesh: adapt: stopping after the current phase (Ctrl-C again to stop now)"
+                );
+            }
+        } else {
+            let _writing = WRITING.lock();
+            eprintln!(
+                "\nsmartmesh: adapt: stopped; the result files are as the last iteration left them"
+            );
+            std::process::exit(130);
+        }
+    });
+    if let Err(e) = installed {
+        ui::warn(&format!("Ctrl-C will not save the run: {e}"));
+    }
+}
+
 /// The result files, with a progress bar on a terminal.
 struct Progress {
     files: ResultFiles,
+    /// Whether the best mesh goes to stdout at the end instead of to a file.
+    to_stdout: bool,
     bar: Option<ProgressBar>,
     adapter: String,
     /// Records already printed above the bar (the last record comes twice: after its
@@ -155,12 +203,19 @@ impl Observer for Progress {
         }
     }
 
+    fn interrupted(&mut self) -> bool {
+        INTERRUPTS.load(Ordering::SeqCst) > 0
+    }
+
     fn record(
         &mut self,
         history: &History,
         new_best: Option<&TaggedMesh>,
     ) -> Result<(), smartmesh::formats::Error> {
-        self.files.record(history, new_best)?;
+        {
+            let _writing = WRITING.lock();
+            self.files.record(history, if self.to_stdout { None } else { new_best })?;
+        }
         if let (Some(b), Some(last)) = (
             &self.bar,
             history.iterations.last().filter(|_| history.iterations.len() > self.printed),
@@ -189,110 +244,145 @@ struct AdaptSummary<'a> {
     history: &'a History,
 }
 
-fn adapter_error(e: AdapterError) -> CliError {
-    let status = if matches!(e, AdapterError::Option { .. }) {
-        ExitStatus::Error
-    } else {
-        ExitStatus::Failure
-    };
-    CliError { status, message: e.to_string() }
+/// The output format, checked with the history's place before any work.
+fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
+    if is_stdio(&args.output) {
+        if args.json {
+            return Err(CliError::usage(
+                "--json prints on stdout, which `-o -` already uses for the mesh",
+            ));
+        }
+        if args.history.as_deref().map_or(true, is_stdio) {
+            return Err(CliError::usage(
+                "with `-o -` the history has no file to go beside: name one with --history FILE (not stdout)",
+            ));
+        }
+    }
+    let format = args.output_format.mesh_format(&args.output)?;
+    check_output_dir(&args.output)?;
+    if let Some(h) = &args.history {
+        check_output_dir(h)?;
+    }
+    Ok(format)
 }
 
 /// Runs `adapt`.
 pub fn run(args: AdaptArgs) -> Result<(), CliError> {
-    if args.output.as_os_str() == "-" {
-        return Err(CliError::usage("adapt rewrites OUT whenever a better mesh comes: name a file, not stdout (the --json summary goes to stdout)"));
+    let t0 = Instant::now();
+    let format = check_outputs(&args)?;
+    if is_stdio(&args.input) && is_stdio(&args.recipe.recipe) {
+        return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
-    if Format::from_path(&args.output).is_none() {
-        return Err(CliError::usage(format!(
-            "{}: no mesh format has this extension (use .msh, .mesh, .vtu, .vtk, .ele, .obj …)",
-            args.output.display()
-        )));
-    }
-    let recipe = Recipe::from_path(&args.recipe).map_err(|e| CliError::usage(e.to_string()))?;
-    let starting = starting_point(&args.input, args.from).map_err(|e| match e {
-        StartError::Read(e) => CliError::from(e),
-        StartError::Mesher { ref source, .. } if !source.is_input_error() => {
-            CliError { status: ExitStatus::Failure, message: e.to_string() }
-        }
-        e @ StartError::Mesher { .. } => CliError::usage(e.to_string()),
-    })?;
+    let mut recipe = args.recipe.read()?;
+    args.controls.apply_to(&mut recipe)?;
+    let starting = starting_point(&args.input, args.from)?;
+    // The input is checked whole before any tool is looked for: a recipe that names tags
+    // the mesh does not have is bad input (2) whether or not the remesher is installed.
+    recipe
+        .resolve(&Topology::from_mesh(&starting.mesh))
+        .map_err(|e| CliError::context(format!("{e} (input {})", args.input.display()), e))?;
+    let mmg = args.adapter == AdapterArg::Mmg2d;
     let options = AdapterOptions {
         program: args.adapter_program.clone(),
-        hgrad: args.hgrad,
+        hgrad: args.controls.hgrad.filter(|_| mmg),
         hausd: args.hausd,
         nosurf: args.nosurf,
         extra_args: args.adapter_args.clone(),
         keep_points: if args.coarsen_geometry { Vec::new() } else { starting.geometry_points },
     };
     let start = starting.mesh;
-    let remesher = adapter(args.adapter.into(), options).map_err(adapter_error)?;
+    let remesher = adapter(args.adapter.into(), options)?;
 
-    let write = args.output_format.write_options();
     let opts = AdaptOptions {
         max_iterations: args.max_iterations,
         tolerances: Tolerances { vertices: args.tol_vertices, conformity: args.tol_conformity },
     };
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let b = ProgressBar::new(opts.max_iterations as u64);
-        b.set_style(
-            ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b
-    });
+    let to_stdout = is_stdio(&args.output);
+    let mesh_file = if to_stdout { Path::new("stdout.msh") } else { args.output.as_path() };
     let mut progress = Progress {
-        files: ResultFiles::new(&args.output, args.history.as_deref(), write),
-        bar,
+        files: ResultFiles::new(
+            mesh_file,
+            args.history.as_deref(),
+            args.output_format.write_options(&args.output),
+        ),
+        to_stdout,
+        bar: ui::progress_bar(opts.max_iterations as u64, "{bar:30} {pos}/{len} {msg} [{elapsed}]"),
         adapter: remesher.name().to_string(),
         printed: 0,
     };
+    handle_interrupts();
     let input = args.input.display().to_string();
-    let recipe_label = args.recipe.display().to_string();
-    let result =
-        run_loop(start, &recipe, remesher.as_ref(), &opts, &input, &recipe_label, &mut progress);
+    let result = run_loop(
+        start,
+        &recipe,
+        remesher.as_ref(),
+        &opts,
+        &input,
+        &args.recipe.label(),
+        &mut progress,
+    );
     if let Some(b) = &progress.bar {
         b.finish_and_clear();
     }
-    let outcome = match result {
-        Ok(o) => o,
-        Err(e @ AdaptError::Start { .. }) => {
-            return Err(CliError::usage(format!("{} (input {})", e, args.input.display())))
+    let outcome = result.map_err(|e| match e {
+        e @ smartmesh::adapt::AdaptError::Start { .. } => {
+            CliError::context(format!("{e} (input {})", args.input.display()), e)
         }
-        Err(e) => return Err(CliError { status: ExitStatus::Failure, message: e.to_string() }),
-    };
+        e => e.into(),
+    })?;
+    let _writing = WRITING.lock();
     for w in &outcome.warnings {
-        eprintln!("smartmesh: warning: {w}");
-    }
-    for d in &progress.files.dropped {
-        eprintln!("smartmesh: warning: not written: {d}");
+        ui::warn(w);
     }
     let h = &outcome.history;
     let best = &h.iterations[h.best_iteration];
+    let mut dropped = progress.files.dropped.clone();
+    if to_stdout {
+        dropped = args.output_format.write(&args.output, &outcome.best, format)?.dropped;
+    } else {
+        ui::write_notes(&args.output.display().to_string(), &dropped);
+    }
     if args.json {
         let s = AdaptSummary {
             output: args.output.display().to_string(),
             history_file: progress.files.history.display().to_string(),
-            dropped: &progress.files.dropped,
+            dropped: &dropped,
             history: h,
         };
-        let mut text = serde_json::to_string_pretty(&s)
-            .map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
+        let mut text = serde_json::to_string_pretty(&s)?;
         text.push('\n');
         print_stdout(&text)?;
     }
     let kept = format!(
-        "{} holds the best mesh, iteration {} ({} vertices, {:.1}% of edges conforming)",
-        args.output.display(),
+        "{} holds the best mesh, iteration {} ({} vertices, {:.1}% of edges conforming); history in {}",
+        if to_stdout { "stdout".into() } else { args.output.display().to_string() },
         h.best_iteration,
         best.vertices,
-        100.0 * best.conforming_share
+        100.0 * best.conforming_share,
+        progress.files.history.display()
     );
     if let Some(e) = outcome.failure {
-        return Err(CliError { status: ExitStatus::Failure, message: format!("{e}\n{kept}") });
+        return Err(CliError::context(format!("{e}\n{kept}"), e));
+    }
+    if h.stopped == smartmesh::adapt::INTERRUPTED {
+        return Err(CliError {
+            status: ExitStatus::Interrupted,
+            message: format!("interrupted after iteration {}; {kept}", h.iterations.len() - 1),
+            source: None,
+        });
     }
     if !h.converged {
-        eprintln!("smartmesh: warning: not converged: {}; {kept}", h.stopped);
+        ui::warn(&format!("not converged: {}; {kept}", h.stopped));
     }
+    ui::done(
+        "adapt",
+        &format!(
+            "{} after {} iteration{}: {kept}; {}",
+            if h.converged { "converged" } else { "stopped" },
+            h.iterations.len() - 1,
+            if h.iterations.len() == 2 { "" } else { "s" },
+            ui::seconds(t0.elapsed())
+        ),
+    );
     Ok(())
 }

@@ -2,34 +2,13 @@
 //! fields carried; what the output format cannot hold is listed on stderr.
 
 use std::path::PathBuf;
+use std::time::Instant;
 
-use clap::{Args, ValueEnum};
-use smartmesh::formats::{read_path, write_path, Format, GmshVersion, VtuEncoding, WriteOptions};
+use clap::Args;
+use smartmesh::formats::{read_path, write_path, Format};
 
-use super::{parse_format, print_stdout, CliError};
-
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum GmshVersionArg {
-    #[value(name = "2.2")]
-    V22,
-    #[value(name = "4.1")]
-    V41,
-}
-
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum VtkVersionArg {
-    #[value(name = "4.2")]
-    V42,
-    #[value(name = "5.1")]
-    V51,
-}
-
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum VtuEncodingArg {
-    Ascii,
-    Binary,
-    Appended,
-}
+use super::output::{check_output_dir, label, shown};
+use super::{parse_format, print_stdout, ui, CliError, MeshOutputArgs};
 
 /// Convert a mesh between formats, keeping tags, tag names and fields.
 #[derive(Debug, Args)]
@@ -54,30 +33,14 @@ pub struct ConvertArgs {
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
-    /// Output format, when the extension does not tell.
-    #[arg(long, value_parser = parse_format)]
-    to: Option<Format>,
-    /// Write the binary variant (Gmsh, VTK legacy, Medit .meshb).
-    #[arg(long)]
-    binary: bool,
-    /// Gmsh MSH version to write.
-    #[arg(long, value_enum, default_value = "4.1")]
-    gmsh_version: GmshVersionArg,
-    /// VTK legacy file version to write.
-    #[arg(long, value_enum, default_value = "4.2")]
-    vtk_version: VtkVersionArg,
-    /// VTK XML (.vtu) data encoding.
-    #[arg(long, value_enum, default_value = "binary")]
-    vtu_encoding: VtuEncodingArg,
-    /// Do not zlib-compress .vtu binary or appended data.
-    #[arg(long)]
-    no_compress: bool,
     /// glTF: the point field that colours the vertices (default: the first scalar).
     #[arg(long)]
     color_field: Option<String>,
     /// Print a JSON summary (formats, counts, dropped items) on stdout.
     #[arg(long)]
     json: bool,
+    #[command(flatten)]
+    output_format: MeshOutputArgs,
 }
 
 #[derive(serde::Serialize)]
@@ -93,35 +56,21 @@ struct ConvertSummary<'a> {
 
 /// Runs `convert`.
 pub fn run(args: ConvertArgs) -> Result<(), CliError> {
+    let t0 = Instant::now();
     let from = args.from.or_else(|| Format::from_path(&args.input));
-    let to = args.to.or_else(|| Format::from_path(&args.output));
     if args.output.as_os_str() == "-" && args.json {
         return Err(CliError::usage(
             "--json prints on stdout, which `-` already uses for the mesh",
         ));
     }
-    let mesh = read_path(&args.input, from)?;
-    let opts = WriteOptions {
-        binary: args.binary,
-        gmsh_version: match args.gmsh_version {
-            GmshVersionArg::V22 => GmshVersion::V22,
-            GmshVersionArg::V41 => GmshVersion::V41,
-        },
-        vtk_legacy_version: match args.vtk_version {
-            VtkVersionArg::V42 => (4, 2),
-            VtkVersionArg::V51 => (5, 1),
-        },
-        vtu_encoding: match args.vtu_encoding {
-            VtuEncodingArg::Ascii => VtuEncoding::Ascii,
-            VtuEncodingArg::Binary => VtuEncoding::Binary,
-            VtuEncodingArg::Appended => VtuEncoding::Appended,
-        },
-        compress: !args.no_compress,
-        medit_binary: args.binary,
-        color_field: args.color_field.clone(),
-        glb: args.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb")),
-        main_name: None,
+    let to = match &args.output_format.to {
+        Some(_) => Some(args.output_format.mesh_format(&args.output)?),
+        None => Format::from_path(&args.output),
     };
+    check_output_dir(&args.output)?;
+    let mesh = read_path(&args.input, from)?;
+    let mut opts = args.output_format.write_options(&args.output);
+    opts.color_field = args.color_field.clone();
     if let Some(name) = &args.color_field {
         if !mesh.point_data.contains_key(name) {
             let known: Vec<&str> = mesh.point_data.keys().map(String::as_str).collect();
@@ -131,10 +80,8 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
             )));
         }
     }
-    let report = write_path(&args.output, &mesh, to, &opts)?;
-    for d in &report.dropped {
-        eprintln!("smartmesh: warning: not written: {d}");
-    }
+    let report = write_path(&args.output, &mesh, to, &opts).map_err(|e| label(e, &args.output))?;
+    ui::write_notes(&shown(&args.output), &report.dropped);
     if args.json {
         let s = ConvertSummary {
             input: args.input.display().to_string(),
@@ -145,10 +92,19 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
             cells: mesh.num_cells(),
             dropped: &report.dropped,
         };
-        let mut text =
-            serde_json::to_string_pretty(&s).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut text = serde_json::to_string_pretty(&s)?;
         text.push('\n');
         print_stdout(&text)?;
     }
+    ui::done(
+        "convert",
+        &format!(
+            "wrote {} ({} points, {} cells) in {}",
+            shown(&args.output),
+            mesh.points.len(),
+            mesh.num_cells(),
+            ui::seconds(t0.elapsed())
+        ),
+    );
     Ok(())
 }

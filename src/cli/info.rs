@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use smartmesh::formats::{read_path, Format};
-use smartmesh::metric_field::{MetricError, MetricField};
+use smartmesh::metric_field::MetricField;
 use smartmesh::summary::MeshSummary;
 use smartmesh::topology::Topology;
 
@@ -46,12 +46,10 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Ok(None) => {}
         // The file's own array is only looked at by the way: a bad one is a warning.
         Err(e) if args.metric.is_none() => eprintln!("smartmesh: warning: no metric figures: {e}"),
-        Err(MetricError::Read(e)) => return Err(e.into()),
-        Err(e) => return Err(CliError::usage(e.to_string())),
+        Err(e) => return Err(e.into()),
     }
     if args.json {
-        let mut s =
-            serde_json::to_string_pretty(&summary).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut s = serde_json::to_string_pretty(&summary)?;
         s.push('\n');
         return print_stdout(&s);
     }

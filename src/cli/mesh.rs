@@ -2,15 +2,17 @@
 //! (constrained Delaunay triangulation with quality refinement), written in any format.
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use clap::Args;
 use smartmesh::formats::triangle::poly_lines;
-use smartmesh::formats::{read_path, write_path, Format};
+use smartmesh::formats::{read_path, Format};
 use smartmesh::mesher::{triangulate, MeshError, MeshOptions, Subject};
 use smartmesh::quality::QualitySummary;
 use smartmesh::Topology;
 
-use super::{parse_format, print_stdout, CliError, ExitStatus};
+use super::output::{check_output_dir, shown};
+use super::{parse_format, print_stdout, ui, CliError};
 
 /// Mesh a planar straight-line graph: constrained Delaunay triangulation with quality
 /// refinement (Triangle's `-pq`, by spade).
@@ -42,14 +44,15 @@ pub struct MeshArgs {
     /// Output mesh, any writable format (`-` for stdout, with --to).
     #[arg(long, short = 'o')]
     output: PathBuf,
-    /// Smallest angle of every triangle, degrees (0 to 34; 0: no angle refinement).
-    #[arg(long, default_value_t = 20.7)]
+    /// Smallest angle of every triangle, degrees (0 to 34; 0: no angle refinement;
+    /// Triangle's `q`).
+    #[arg(long, visible_alias = "quality", default_value_t = 20.7)]
     min_angle: f64,
     /// Largest triangle area (Triangle's `a`).
-    #[arg(long)]
+    #[arg(long, visible_alias = "area")]
     max_area: Option<f64>,
-    /// Uniform target edge length H (area bound sqrt(3)/4*H^2).
-    #[arg(long)]
+    /// Uniform target edge length H, the largest size (area bound sqrt(3)/4*H^2).
+    #[arg(long, visible_alias = "hmax")]
     size: Option<f64>,
     /// Keep the whole convex hull instead of carving outside the segments (Triangle's `c`).
     #[arg(long)]
@@ -63,9 +66,6 @@ pub struct MeshArgs {
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
-    /// Output format, when the extension does not tell.
-    #[arg(long, value_parser = parse_format)]
-    to: Option<Format>,
     #[command(flatten)]
     output_format: super::MeshOutputArgs,
     /// Print a JSON summary on stdout.
@@ -109,6 +109,7 @@ fn poly_line(args: &MeshArgs, from: Option<Format>, e: &MeshError) -> Option<u64
 
 /// Runs `mesh`.
 pub fn run(args: MeshArgs) -> Result<(), CliError> {
+    let t0 = Instant::now();
     if args.output.as_os_str() == "-" && args.json {
         return Err(CliError::usage(
             "--json prints on stdout, which `-` already uses for the mesh",
@@ -123,24 +124,28 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
         max_vertices: args.max_vertices,
     };
     opts.validate().map_err(|e| CliError::usage(e.to_string()))?;
+    let to = args.output_format.mesh_format(&args.output)?;
+    check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.input));
     let pslg = read_path(&args.input, from)?;
-    let mesh = triangulate(&pslg, &opts).map_err(|e| CliError {
-        status: if e.is_input_error() { ExitStatus::Error } else { ExitStatus::Failure },
-        message: match poly_line(&args, from, &e) {
-            Some(line) => format!("{}:{line}: {e}", args.input.display()),
-            None => format!("{}: {e}", args.input.display()),
-        },
+    let mesh = triangulate(&pslg, &opts).map_err(|e| {
+        let at = match poly_line(&args, from, &e) {
+            Some(line) => format!("{}:{line}", args.input.display()),
+            None => args.input.display().to_string(),
+        };
+        // The library names its option; the command line has a switch for it.
+        let hint = if matches!(e, MeshError::NothingToMesh) {
+            " (on the command line: --keep-convex-hull)"
+        } else {
+            ""
+        };
+        CliError::context(format!("{at}: {e}{hint}"), e)
     })?;
-    let wopts = args.output_format.write_options();
-    let to = args.to.or_else(|| Format::from_path(&args.output));
-    let report = write_path(&args.output, &mesh, to, &wopts)?;
-    for d in &report.dropped {
-        eprintln!("smartmesh: warning: not written: {d}");
-    }
+    let report = args.output_format.write(&args.output, &mesh, to)?;
+    let topo = Topology::from_mesh(&mesh);
+    let quality = QualitySummary::of(&mesh.points, &topo);
+    let count = |k| mesh.num_cells_of(k);
     if args.json {
-        let topo = Topology::from_mesh(&mesh);
-        let count = |k| mesh.num_cells_of(k);
         let s = MeshSummary {
             input: args.input.display().to_string(),
             output: args.output.display().to_string(),
@@ -152,13 +157,24 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
             faces: topo.faces.len(),
             area_bound: opts.area_bound(),
             min_angle_bound: opts.min_angle_deg,
-            quality: QualitySummary::of(&mesh.points, &topo),
+            quality: quality.clone(),
             dropped: &report.dropped,
         };
-        let mut text =
-            serde_json::to_string_pretty(&s).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut text = serde_json::to_string_pretty(&s)?;
         text.push('\n');
         print_stdout(&text)?;
     }
+    let angle =
+        quality.map(|q| format!(", smallest angle {:.1} deg", q.min_angle_deg)).unwrap_or_default();
+    ui::done(
+        "mesh",
+        &format!(
+            "wrote {} ({} points, {} triangles{angle}) in {}",
+            shown(&args.output),
+            mesh.points.len(),
+            count(smartmesh::formats::CellKind::Triangle),
+            ui::seconds(t0.elapsed())
+        ),
+    );
     Ok(())
 }

@@ -2,73 +2,24 @@
 
 mod adapt;
 mod convert;
+mod error;
 mod info;
 mod mesh;
+mod output;
 mod recipe;
 mod remesh;
 mod report;
 mod size;
+mod spelling;
+pub mod ui;
 
 use std::io::Write;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
-/// How a run ended (ruff's `ExitStatus`): 0 success, 1 the work failed, 2 bad usage or
-/// input.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ExitStatus {
-    /// Everything done.
-    Success,
-    /// The work itself failed (I/O error, a tool that failed).
-    Failure,
-    /// Bad usage or bad input.
-    Error,
-}
-
-impl From<ExitStatus> for ExitCode {
-    fn from(s: ExitStatus) -> ExitCode {
-        match s {
-            ExitStatus::Success => ExitCode::from(0),
-            ExitStatus::Failure => ExitCode::from(1),
-            ExitStatus::Error => ExitCode::from(2),
-        }
-    }
-}
-
-/// An error the CLI prints: the message and the exit status it maps to.
-#[derive(Debug)]
-pub struct CliError {
-    /// Exit status.
-    pub status: ExitStatus,
-    /// What to print after `smartmesh: error: `.
-    pub message: String,
-}
-
-impl From<smartmesh::formats::Error> for CliError {
-    fn from(e: smartmesh::formats::Error) -> Self {
-        let broken_pipe = matches!(&e.kind, smartmesh::formats::ErrorKind::Io(io) if io.kind() == std::io::ErrorKind::BrokenPipe);
-        CliError {
-            status: if broken_pipe {
-                ExitStatus::Success
-            } else if e.is_input_error()
-                || matches!(&e.kind, smartmesh::formats::ErrorKind::Io(io) if io.kind() == std::io::ErrorKind::NotFound)
-            {
-                ExitStatus::Error
-            } else {
-                ExitStatus::Failure
-            },
-            message: e.to_string(),
-        }
-    }
-}
-
-impl CliError {
-    /// A usage or input error (exit 2).
-    pub fn usage(message: impl Into<String>) -> Self {
-        CliError { status: ExitStatus::Error, message: message.into() }
-    }
-}
+pub use error::{CliError, ExitStatus};
+pub use output::{MeshOutputArgs, RecipeInput};
 
 const ABOUT: &str = "Anisotropic metric fields from geometry, and the glue between meshing tools.
 
@@ -81,6 +32,13 @@ and glTF (.gltf/.glb, write only), keeping topology tags and fields.";
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Print errors only: no warning, note, progress bar or summary line.
+    #[arg(long, short = 'q', global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Print more: the notes about bookkeeping a format does not keep (Gmsh's entity
+    /// table in a .vtu, …).
+    #[arg(long, short = 'v', global = true)]
+    verbose: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -97,7 +55,12 @@ enum Command {
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
 pub fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if let Some(message) = spelling::single_dash_option(&Cli::command(), &args) {
+        let _ = writeln!(std::io::stderr(), "smartmesh: error: {message}");
+        return ExitStatus::Error.into();
+    }
+    let cli = match Cli::try_parse_from(&args) {
         Ok(c) => c,
         Err(e) => {
             let _ = e.print();
@@ -109,6 +72,13 @@ pub fn main() -> ExitCode {
             };
         }
     };
+    ui::set_level(if cli.quiet {
+        ui::Level::Quiet
+    } else if cli.verbose {
+        ui::Level::Verbose
+    } else {
+        ui::Level::Normal
+    });
     let result = match cli.command {
         Command::Info(a) => info::run(a),
         Command::Convert(a) => convert::run(a),
@@ -123,7 +93,7 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitStatus::Success.into(),
         Err(e) => {
             if e.status != ExitStatus::Success {
-                let _ = writeln!(std::io::stderr(), "smartmesh: error: {}", e.message);
+                let _ = writeln!(std::io::stderr(), "smartmesh: error: {}", e.render());
             }
             e.status.into()
         }
@@ -132,15 +102,15 @@ pub fn main() -> ExitCode {
 
 /// Writes to stdout; a closed pipe (`smartmesh info x | head`) is not an error.
 pub fn print_stdout(text: &str) -> Result<(), CliError> {
+    write_stdout(text.as_bytes())
+}
+
+/// Writes bytes to stdout; a closed pipe ends the run quietly ([`error::io_status`]).
+pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
     let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(CliError {
-            status: ExitStatus::Failure,
-            message: format!("writing to stdout: {e}"),
-        }),
-    }
+    out.write_all(bytes)
+        .and_then(|_| out.flush())
+        .map_err(|e| CliError::context("writing to stdout", e))
 }
 
 /// Parses a `--from`/`--to` format name.
@@ -148,28 +118,4 @@ pub fn parse_format(name: &str) -> Result<smartmesh::formats::Format, String> {
     smartmesh::formats::Format::from_name(name).ok_or_else(|| {
         format!("unknown format `{name}`; known: {}", smartmesh::formats::Format::NAMES)
     })
-}
-
-/// The output switches of the commands that write a mesh (`mesh`, `remesh`, `size`,
-/// `adapt`), flattened into each one's arguments.
-#[derive(Debug, Clone, Copy, clap::Args)]
-pub struct MeshOutputArgs {
-    /// Write binary variants (.msh binary, .vtk binary; .meshb/.solb follow the extension).
-    #[arg(long)]
-    pub binary: bool,
-    /// Write Gmsh MSH 2.2 instead of 4.1.
-    #[arg(long)]
-    pub msh2: bool,
-}
-
-impl MeshOutputArgs {
-    /// The writer options these switches ask for.
-    pub fn write_options(self) -> smartmesh::formats::WriteOptions {
-        use smartmesh::formats::{GmshVersion, WriteOptions};
-        WriteOptions {
-            binary: self.binary,
-            gmsh_version: if self.msh2 { GmshVersion::V22 } else { GmshVersion::V41 },
-            ..WriteOptions::default()
-        }
-    }
 }

@@ -5,12 +5,13 @@ use std::io::Read as _;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
-use smartmesh::formats::{read_path, write_all_atomically, Format};
-use smartmesh::recipe::{Recipe, RecipeError, RecipeFormat, RegionReport};
+use smartmesh::adapt::starting_mesh;
+use smartmesh::formats::{write_all_atomically, Format};
+use smartmesh::recipe::{Recipe, RecipeFormat, RegionReport};
 use smartmesh::sizing::{Algorithm, EntitySet};
 use smartmesh::topology::Topology;
 
-use super::{parse_format, print_stdout, CliError, ExitStatus};
+use super::{parse_format, print_stdout, CliError};
 
 /// Sizing recipes: check one against a mesh, or convert it between libconfig, TOML and JSON.
 #[derive(Debug, Args)]
@@ -77,15 +78,6 @@ pub struct ConvertArgs {
     /// Output format, when the extension does not tell.
     #[arg(long, value_parser = parse_recipe_format)]
     to: Option<RecipeFormat>,
-}
-
-impl From<RecipeError> for CliError {
-    fn from(e: RecipeError) -> CliError {
-        CliError {
-            status: if e.is_input_error() { ExitStatus::Error } else { ExitStatus::Failure },
-            message: e.to_string(),
-        }
-    }
 }
 
 /// Runs `recipe …`.
@@ -159,7 +151,9 @@ fn plural(n: usize, one: &str, many: &str) -> String {
 
 fn check(args: CheckArgs) -> Result<(), CliError> {
     let recipe = read_recipe(&args.recipe, args.format)?;
-    let mesh = read_path(&args.mesh, args.from)?;
+    // A .poly (or any graph without surface cells) is meshed first, as `adapt` does: the
+    // recipe may name the face tags that only meshing gives.
+    let mesh = starting_mesh(&args.mesh, args.from)?;
     let topo = Topology::from_mesh(&mesh);
     let resolved = recipe.resolve(&topo)?;
     let plan = &resolved.plan;
@@ -188,8 +182,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
             regions: &resolved.regions,
             algorithms: steps,
         };
-        let mut s =
-            serde_json::to_string_pretty(&summary).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut s = serde_json::to_string_pretty(&summary)?;
         s.push('\n');
         return print_stdout(&s);
     }

@@ -2,17 +2,18 @@
 //! `--measure` to report how a mesh conforms to a metric without remeshing it (the same
 //! measure for our output and another tool's).
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::conformity::Conformity;
-use smartmesh::formats::{read_path, write_path, Format};
+use smartmesh::formats::{read_path, Format};
 use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::remesh::{remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
+use smartmesh::size_controls::SizeControls as MetricControls;
 
-use super::{parse_format, print_stdout, CliError};
+use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
+use super::{parse_format, print_stdout, ui, CliError};
 
 /// Boundary placement, as the command line names it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -47,7 +48,8 @@ pub struct RemeshArgs {
     /// or a .pos view.
     #[arg(long, short = 'm')]
     metric: Option<PathBuf>,
-    /// Output mesh (any writable format); required unless --measure.
+    /// Output mesh (any writable format; `-` for stdout, with --to); required unless
+    /// --measure.
     #[arg(long, short = 'o', required_unless_present = "measure")]
     output: Option<PathBuf>,
     /// Only measure MESH against the metric (share of edges in [1/√2, √2], metric quality).
@@ -74,6 +76,12 @@ pub struct RemeshArgs {
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
     #[command(flatten)]
+    controls: SizeControls,
+    /// Largest distance between a curved boundary and its edges: limits the sizes along
+    /// boundary curves by their curvature, as MMG's -hausd.
+    #[arg(long, value_parser = positive_size, help_heading = "Size controls")]
+    hausd: Option<f64>,
+    #[command(flatten)]
     output_format: super::MeshOutputArgs,
     /// Print the statistics (or the measure) as JSON on stdout.
     #[arg(long)]
@@ -83,17 +91,28 @@ pub struct RemeshArgs {
 /// A metric that could not be had: an unreadable file keeps its own exit code, every
 /// other fault is bad input (exit 2).
 fn metric_error(e: MetricError) -> CliError {
-    match e {
-        MetricError::Read(e) => CliError::from(e),
-        e => CliError::usage(e.to_string()),
-    }
+    e.into()
 }
 
 /// Runs `remesh`.
 pub fn run(args: RemeshArgs) -> Result<(), CliError> {
+    let t0 = Instant::now();
+    let to = match &args.output {
+        Some(o) if !args.measure => {
+            if is_stdio(o) && args.json {
+                return Err(CliError::usage(
+                    "--json prints on stdout, which `-o -` already uses for the mesh",
+                ));
+            }
+            let to = args.output_format.mesh_format(o)?;
+            check_output_dir(o)?;
+            Some(to)
+        }
+        _ => None,
+    };
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     let mesh = read_path(&args.mesh, from)?;
-    let metric = match &args.background {
+    let mut metric = match &args.background {
         Some(b) => {
             let (bmesh, bfield) = MetricField::read_background(b).map_err(metric_error)?;
             let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
@@ -108,12 +127,21 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         .map_err(metric_error)?,
     }
     .into_tensors();
+    let controls = MetricControls {
+        h_min: args.controls.hmin,
+        h_max: args.controls.hmax,
+        gradation: args.controls.hgrad.filter(|&g| g >= 1.0),
+        hausd: args.hausd,
+    };
+    controls.apply(&mesh, &mut metric).map_err(|e| {
+        CliError::context(format!("{}: applying the size controls: {e}", args.mesh.display()), e)
+    })?;
     if args.measure {
         let c = Conformity::of_mesh(&mesh, &metric).ok_or_else(|| {
             CliError::usage(format!("{}: no triangles to measure", args.mesh.display()))
         })?;
         let text = if args.json {
-            serde_json::to_string_pretty(&c).map_err(|e| CliError::usage(e.to_string()))? + "\n"
+            serde_json::to_string_pretty(&c)? + "\n"
         } else {
             format!(
                 "{} edges, {:.1}% in [1/√2, √2], metric length {:.3} to {:.3} (mean {:.3}); {} triangles, metric quality mean {:.3}, min {:.3}\n",
@@ -129,7 +157,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         };
         return print_stdout(&text);
     }
-    let Some(output) = args.output else {
+    let (Some(output), Some(to)) = (args.output.as_deref(), to) else {
         return Err(CliError::usage("-o OUT is required unless --measure"));
     };
     let opts = RemeshOptions {
@@ -142,38 +170,40 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         smooth_sweeps: args.smooth_sweeps,
         ..RemeshOptions::default()
     };
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let b = ProgressBar::new(opts.max_passes as u64);
-        b.set_style(
-            ProgressStyle::with_template("{bar:30} pass {pos}/{len} {msg}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b
-    });
+    let bar =
+        ui::progress_bar(opts.max_passes as u64, "{bar:30} pass {pos}/{len} {msg} [{elapsed}]");
     let mut observe = |e: RemeshEvent| {
         if let (Some(b), RemeshEvent::Pass { pass, triangles, .. }) = (&bar, e) {
             b.set_position(pass as u64);
             b.set_message(format!("{triangles} triangles"));
         }
     };
-    let out = remesh_with_progress(&mesh, &metric, &opts, &mut observe)
-        .map_err(|e| CliError::usage(format!("{}: {e}", args.mesh.display())))?;
+    let remeshed = remesh_with_progress(&mesh, &metric, &opts, &mut observe);
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    let out =
+        remeshed.map_err(|e| CliError::context(format!("{}: {e}", args.mesh.display()), e))?;
     for w in &out.stats.warnings {
-        eprintln!("smartmesh: warning: {w}");
+        ui::warn(w);
     }
-    let wopts = args.output_format.write_options();
-    let report = write_path(&output, &out.mesh, None, &wopts)?;
-    for d in &report.dropped {
-        eprintln!("smartmesh: warning: not written: {d}");
-    }
+    args.output_format.write(output, &out.mesh, to)?;
     if args.json {
-        let mut text =
-            serde_json::to_string_pretty(&out.stats).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut text = serde_json::to_string_pretty(&out.stats)?;
         text.push('\n');
         print_stdout(&text)?;
     }
+    ui::done(
+        "remesh",
+        &format!(
+            "wrote {} ({} points, {} triangles, from {} points, {} triangles) in {}",
+            shown(output),
+            out.mesh.points.len(),
+            out.mesh.num_cells_of(smartmesh::formats::CellKind::Triangle),
+            mesh.points.len(),
+            mesh.num_cells_of(smartmesh::formats::CellKind::Triangle),
+            ui::seconds(t0.elapsed())
+        ),
+    );
     Ok(())
 }

@@ -1,7 +1,6 @@
 //! `smartmesh report MESH -o FILE.svg|FILE.png`: a picture of a mesh, its metric, its
 //! conformity and an adaptation history.
 
-use std::io::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
@@ -12,7 +11,7 @@ use smartmesh::recipe::Recipe;
 use smartmesh::report::{self, ReportFormat, ReportInput, ReportOptions};
 use smartmesh::Topology;
 
-use super::{parse_format, CliError, ExitStatus};
+use super::{parse_format, CliError};
 
 /// Draw a mesh and its metric: the whole mesh, zooms around the recipe's sources with
 /// size ellipses, histograms of metric edge length and quality, the convergence history.
@@ -108,7 +107,7 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
         })?;
     let plan = match &args.recipe {
         Some(r) => {
-            let recipe = Recipe::from_path(r).map_err(|e| CliError::usage(e.to_string()))?;
+            let recipe = Recipe::from_path(r)?;
             Some(
                 recipe
                     .resolve(&topology)
@@ -151,8 +150,7 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
             let png = report::png::rasterise(
                 &drawn.svg,
                 &report::png::PngOptions { palette: args.palette },
-            )
-            .map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
+            )?;
             for n in &png.notes {
                 eprintln!("smartmesh: note: {n}");
             }
@@ -163,22 +161,13 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
         if args.json {
             return Err(CliError::usage("--json prints on stdout: write the picture to a file"));
         }
-        let mut out = std::io::stdout().lock();
-        return match out.write_all(&bytes).and_then(|_| out.flush()) {
-            Ok(()) => Ok(()),
-            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-            Err(e) => Err(CliError {
-                status: ExitStatus::Failure,
-                message: format!("writing to stdout: {e}"),
-            }),
-        };
+        return super::write_stdout(&bytes);
     }
     write_all_atomically(&[(args.output.clone(), bytes)])?;
     if args.json {
         let mut text = serde_json::to_string_pretty(
             &serde_json::json!({ "output": args.output.display().to_string(), "report": &drawn }),
-        )
-        .map_err(|e| CliError { status: ExitStatus::Failure, message: e.to_string() })?;
+        )?;
         text.push('\n');
         return super::print_stdout(&text);
     }

@@ -1,17 +1,16 @@
 //! `smartmesh size MESH --recipe R -o OUT`: the metric field of a recipe on a mesh's
 //! vertices, written for MMG, Gmsh or ParaView.
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::time::Instant;
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use smartmesh::export::{export_metric, MetricTarget};
 use smartmesh::formats::{read_path, Format};
-use smartmesh::recipe::Recipe;
 use smartmesh::sizing::{size_mesh, SizeMeshError, StepEvent, StepReport};
 
-use super::{parse_format, print_stdout, CliError, ExitStatus};
+use super::output::{check_output_dir, is_stdio, label, shown, SizeControls};
+use super::{parse_format, print_stdout, ui, write_stdout, CliError, RecipeInput};
 
 /// Compute the metric field a recipe asks for on a mesh, and write it.
 #[derive(Debug, Args)]
@@ -31,20 +30,22 @@ Gmsh honours an anisotropic background mesh only with BAMG: `-setnumber Mesh.Alg
 Examples:
   smartmesh size naca.msh --recipe agard01.toml -o naca.sol
   smartmesh size distributor.msh --recipe distributor.cfg -o field.vtu
-  smartmesh size square.msh --recipe wake.toml -o bgm.pos && gmsh square.geo -2 -bgm bgm.pos -setnumber Mesh.Algorithm 7"
+  smartmesh size square.msh --recipe wake.toml -o bgm.pos && gmsh square.geo -2 -bgm bgm.pos -setnumber Mesh.Algorithm 7
+  smartmesh size naca.msh -r agard01.toml --hmin 1e-4 -o - --to sol > naca.sol"
 )]
 pub struct SizeArgs {
     /// Input mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
-    /// The recipe (.cfg libconfig, .toml, .json).
-    #[arg(long, short = 'r')]
-    recipe: PathBuf,
-    /// Output: .sol .solb .mesh .meshb .msh .pos .vtu .vtk.
+    #[command(flatten)]
+    recipe: RecipeInput,
+    /// Output: .sol .solb .mesh .meshb .msh .pos .vtu .vtk (`-` for stdout, with --to).
     #[arg(long, short = 'o')]
     output: PathBuf,
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
+    #[command(flatten)]
+    controls: SizeControls,
     #[command(flatten)]
     output_format: super::MeshOutputArgs,
     /// Print a JSON summary on stdout.
@@ -68,28 +69,61 @@ struct SizeSummary<'a> {
     dropped: &'a [String],
 }
 
-/// Runs `size`.
-pub fn run(args: SizeArgs) -> Result<(), CliError> {
-    let target = MetricTarget::from_path(&args.output).ok_or_else(|| {
+/// Where the field goes: `output`, or for `-` a file of a temporary directory that is
+/// copied to stdout once written (the metric writers name files).
+struct Target {
+    kind: MetricTarget,
+    path: PathBuf,
+    _dir: Option<tempfile::TempDir>,
+}
+
+fn target(args: &SizeArgs) -> Result<Target, CliError> {
+    let stdout = is_stdio(&args.output);
+    let named = match (&args.output_format.to, stdout) {
+        (Some(t), _) => PathBuf::from(format!("field.{t}")),
+        (None, true) => {
+            return Err(CliError::usage(format!(
+                "writing to stdout (`-o -`) needs --to, one of {}",
+                MetricTarget::EXTENSIONS
+            )))
+        }
+        (None, false) => args.output.clone(),
+    };
+    let kind = MetricTarget::from_path(&named).ok_or_else(|| {
         CliError::usage(format!(
             "{}: cannot hold a metric; use one of {}",
-            args.output.display(),
+            if args.output_format.to.is_some() { named.display() } else { args.output.display() },
             MetricTarget::EXTENSIONS
         ))
     })?;
-    let recipe = Recipe::from_path(&args.recipe).map_err(|e| CliError::usage(e.to_string()))?;
+    if !stdout {
+        check_output_dir(&args.output)?;
+        return Ok(Target { kind, path: args.output.clone(), _dir: None });
+    }
+    let dir =
+        tempfile::tempdir().map_err(|e| CliError::context("creating a temporary directory", e))?;
+    Ok(Target { kind, path: dir.path().join(named), _dir: Some(dir) })
+}
+
+/// Runs `size`.
+pub fn run(args: SizeArgs) -> Result<(), CliError> {
+    let t0 = Instant::now();
+    if is_stdio(&args.mesh) && is_stdio(&args.recipe.recipe) {
+        return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
+    }
+    if is_stdio(&args.output) && args.json {
+        return Err(CliError::usage(
+            "--json prints on stdout, which `-o -` already uses for the field",
+        ));
+    }
+    let target = target(&args)?;
+    let mut recipe = args.recipe.read()?;
+    args.controls.apply_to(&mut recipe)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     let mesh = read_path(&args.mesh, from)?;
     let steps = recipe.algorithms.len() as u64;
 
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let b = ProgressBar::new(steps);
-        b.set_style(
-            ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b
-    });
+    let bar = ui::progress_bar(steps, "{bar:30} {pos}/{len} {msg} [{elapsed}]");
     let mut observe = |event: StepEvent| {
         if let Some(b) = &bar {
             match event {
@@ -101,40 +135,49 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             }
         }
     };
-    let field = match size_mesh(&mesh, &recipe, &mut observe) {
-        Ok(s) => s.field,
-        Err(SizeMeshError::Resolve(e)) => {
-            return Err(CliError::usage(format!("{e} (mesh {})", args.mesh.display())))
-        }
-        Err(SizeMeshError::Graph(e)) => {
-            return Err(CliError::usage(format!("{}: {e}", args.mesh.display())))
-        }
-        Err(e @ SizeMeshError::Sizing(_)) => {
-            return Err(CliError { status: ExitStatus::Error, message: e.to_string() })
-        }
-    };
+    let sized = size_mesh(&mesh, &recipe, &mut observe);
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    let field = match sized {
+        Ok(s) => s.field,
+        Err(e @ SizeMeshError::Resolve(_)) => {
+            return Err(CliError::context(format!("{e} (mesh {})", args.mesh.display()), e))
+        }
+        Err(e @ SizeMeshError::Graph(_)) => {
+            return Err(CliError::context(format!("{}: {e}", args.mesh.display()), e))
+        }
+        Err(e) => return Err(e.into()),
+    };
     for w in &field.warnings {
-        eprintln!("smartmesh: warning: {w}");
+        ui::warn(w);
     }
 
-    let opts = args.output_format.write_options();
-    let report = export_metric(&args.output, &mesh, &field.tensors, target, &opts)?;
-    for d in &report.dropped {
-        eprintln!("smartmesh: warning: not written: {d}");
+    let opts = args.output_format.write_options(&target.path);
+    let report = export_metric(&target.path, &mesh, &field.tensors, target.kind, &opts)
+        .map_err(|e| label(e, &args.output))?;
+    ui::write_notes(&args.output.display().to_string(), &report.dropped);
+    if target._dir.is_some() {
+        if report.files.len() > 1 {
+            return Err(CliError::usage(format!(
+                "--to {}: the field needs sibling files, which stdout cannot hold; name an output file",
+                args.output_format.to.as_deref().unwrap_or_default()
+            )));
+        }
+        let bytes = std::fs::read(&target.path)
+            .map_err(|e| CliError::context("reading back the field for stdout", e))?;
+        write_stdout(&bytes)?;
+    }
+    let (mut lo, mut hi, mut aniso) = (f64::INFINITY, 0.0f64, 1.0f64);
+    for t in &field.tensors {
+        lo = lo.min(t.h_min());
+        hi = hi.max(t.h_max());
+        aniso = aniso.max(t.aspect_ratio());
     }
     if args.json {
-        let (mut lo, mut hi, mut aniso) = (f64::INFINITY, 0.0f64, 1.0f64);
-        for t in &field.tensors {
-            lo = lo.min(t.h_min());
-            hi = hi.max(t.h_max());
-            aniso = aniso.max(t.aspect_ratio());
-        }
         let s = SizeSummary {
             mesh: args.mesh.display().to_string(),
-            recipe: args.recipe.display().to_string(),
+            recipe: args.recipe.label(),
             files: report.files.iter().map(|p| p.display().to_string()).collect(),
             vertices: mesh.points.len(),
             vertices_reached: field.reached.iter().filter(|&&r| r).count(),
@@ -146,10 +189,21 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             warnings: &field.warnings,
             dropped: &report.dropped,
         };
-        let mut text =
-            serde_json::to_string_pretty(&s).map_err(|e| CliError::usage(e.to_string()))?;
+        let mut text = serde_json::to_string_pretty(&s)?;
         text.push('\n');
         print_stdout(&text)?;
     }
+    ui::done(
+        "size",
+        &format!(
+            "wrote {} ({} vertices, sizes {} to {}, anisotropy up to {}) in {}",
+            shown(&args.output),
+            mesh.points.len(),
+            ui::sig(lo),
+            ui::sig(hi),
+            ui::sig(aniso),
+            ui::seconds(t0.elapsed())
+        ),
+    );
     Ok(())
 }

@@ -43,3 +43,22 @@ pub fn bad(o: &Output) -> String {
     );
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
+
+/// A `smartmesh` command to finish by hand (environment, stdin, spawn).
+#[allow(dead_code)] // not every test file needs more than `smartmesh`
+pub fn command(args: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_smartmesh"));
+    c.args(args);
+    c
+}
+
+/// Both streams, for assertion messages.
+#[allow(dead_code)]
+pub fn streams(o: &Output) -> String {
+    format!(
+        "status {:?}\nstdout:\n{}\nstderr:\n{}",
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}

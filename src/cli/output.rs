@@ -1,0 +1,297 @@
+//! The options every command that writes a mesh shares (one clap struct, flattened into
+//! `convert`, `mesh`, `remesh`, `size` and `adapt`), the writing of a mesh to a file or
+//! stdout with the writer's notes, and the reading of a recipe from a file or stdin.
+
+use std::io::Read as _;
+use std::path::{Path, PathBuf};
+
+use clap::{Args, ValueEnum};
+use smartmesh::formats::{
+    write_path, Error as FormatError, Format, GmshVersion, TaggedMesh, VtuEncoding, WriteOptions,
+    WriteReport,
+};
+use smartmesh::recipe::{Recipe, RecipeFormat};
+
+use super::{parse_format, ui, CliError};
+
+/// Gmsh MSH versions on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum GmshVersionArg {
+    /// MSH 2.2.
+    #[value(name = "2.2")]
+    V22,
+    /// MSH 4.1 (Gmsh's own default).
+    #[value(name = "4.1")]
+    V41,
+}
+
+/// VTK legacy versions on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VtkVersionArg {
+    /// 4.2, read by every VTK and meshio.
+    #[value(name = "4.2")]
+    V42,
+    /// 5.1 (offsets and connectivity arrays).
+    #[value(name = "5.1")]
+    V51,
+}
+
+/// VTK XML encodings on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VtuEncodingArg {
+    /// Numbers as text.
+    Ascii,
+    /// Base64 inline binary.
+    Binary,
+    /// Raw appended binary.
+    Appended,
+}
+
+/// Output switches of every command that writes a mesh.
+#[derive(Debug, Clone, Args)]
+pub struct MeshOutputArgs {
+    /// Output format when the extension does not tell (needed with `-o -`): a format name
+    /// or extension (msh, vtu, vtk, mesh, obj, node, gltf, glb; `size` also sol, solb, pos).
+    #[arg(long, value_name = "FORMAT", help_heading = "Output")]
+    pub to: Option<String>,
+    /// Write binary variants (.msh binary, .vtk binary, .meshb/.solb).
+    #[arg(long, help_heading = "Output")]
+    pub binary: bool,
+    /// Gmsh MSH version to write.
+    #[arg(long, value_enum, default_value = "4.1", help_heading = "Output")]
+    pub gmsh_version: GmshVersionArg,
+    /// Same as --gmsh-version 2.2.
+    #[arg(long, conflicts_with = "gmsh_version", help_heading = "Output")]
+    pub msh2: bool,
+    /// VTK legacy file version to write.
+    #[arg(long, value_enum, default_value = "4.2", help_heading = "Output")]
+    pub vtk_version: VtkVersionArg,
+    /// VTK XML (.vtu) data encoding.
+    #[arg(long, value_enum, default_value = "binary", help_heading = "Output")]
+    pub vtu_encoding: VtuEncodingArg,
+    /// Do not zlib-compress .vtu binary or appended data.
+    #[arg(long, help_heading = "Output")]
+    pub no_compress: bool,
+}
+
+impl MeshOutputArgs {
+    /// The writer options these switches ask for, for the output `path`.
+    pub fn write_options(&self, path: &Path) -> WriteOptions {
+        WriteOptions {
+            binary: self.binary,
+            gmsh_version: if self.msh2 || self.gmsh_version == GmshVersionArg::V22 {
+                GmshVersion::V22
+            } else {
+                GmshVersion::V41
+            },
+            vtk_legacy_version: match self.vtk_version {
+                VtkVersionArg::V42 => (4, 2),
+                VtkVersionArg::V51 => (5, 1),
+            },
+            vtu_encoding: match self.vtu_encoding {
+                VtuEncodingArg::Ascii => VtuEncoding::Ascii,
+                VtuEncodingArg::Binary => VtuEncoding::Binary,
+                VtuEncodingArg::Appended => VtuEncoding::Appended,
+            },
+            compress: !self.no_compress,
+            medit_binary: self.binary,
+            glb: path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"))
+                || self.to.as_deref().is_some_and(|t| t.eq_ignore_ascii_case("glb")),
+            ..WriteOptions::default()
+        }
+    }
+
+    /// The mesh format of `output`: `--to`, else its extension; a usage error when
+    /// neither tells (and before any work is done).
+    pub fn mesh_format(&self, output: &Path) -> Result<Format, CliError> {
+        if let Some(t) = &self.to {
+            return parse_format(t).map_err(|e| CliError::usage(format!("--to: {e}")));
+        }
+        Format::from_path(output).ok_or_else(|| {
+            if is_stdio(output) {
+                CliError::usage("writing to stdout (`-`) needs --to FORMAT")
+            } else {
+                CliError::usage(format!(
+                    "{}: no mesh format has this extension; use one of {} or name it with --to",
+                    output.display(),
+                    Format::NAMES
+                ))
+            }
+        })
+    }
+
+    /// Writes `mesh` to `output` (`-`: stdout) in `format`, and prints the writer's notes.
+    pub fn write(
+        &self,
+        output: &Path,
+        mesh: &TaggedMesh,
+        format: Format,
+    ) -> Result<WriteReport, CliError> {
+        let opts = self.write_options(output);
+        let report = write_path(output, mesh, Some(format), &opts).map_err(|e| label(e, output))?;
+        ui::write_notes(&shown(output), &report.dropped);
+        Ok(report)
+    }
+}
+
+/// `path` as messages name it: `stdout` for `-`.
+pub fn shown(path: &Path) -> String {
+    if is_stdio(path) {
+        "stdout".into()
+    } else {
+        path.display().to_string()
+    }
+}
+
+/// Whether `path` is `-` (stdin or stdout).
+pub fn is_stdio(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// A write error that names `output` (`<stdout>` for `-`, which the formats crate leaves
+/// unnamed).
+pub fn label(e: FormatError, output: &Path) -> FormatError {
+    if is_stdio(output) {
+        e.with_path("<stdout>")
+    } else {
+        e.with_path(output)
+    }
+}
+
+/// Refuses, before any work, an output whose directory does not exist or is not a
+/// directory (exit 2, as every bad path the user names).
+pub fn check_output_dir(output: &Path) -> Result<(), CliError> {
+    if is_stdio(output) {
+        return Ok(());
+    }
+    let dir = match output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if dir.is_dir() {
+        return Ok(());
+    }
+    let what = if dir.exists() { "is not a directory" } else { "does not exist" };
+    Err(CliError::usage(format!(
+        "{}: cannot write there: {} {what}",
+        output.display(),
+        dir.display()
+    )))
+}
+
+/// The recipe file of `size` and `adapt`: a path, or `-` for stdin with its format.
+#[derive(Debug, Clone, Args)]
+pub struct RecipeInput {
+    /// The recipe (.cfg libconfig, .toml, .json; `-` for stdin, with --recipe-format).
+    #[arg(long, short = 'r')]
+    pub recipe: PathBuf,
+    /// Recipe format when the extension does not tell (libconfig, toml, json).
+    #[arg(long, value_parser = parse_recipe_format, value_name = "FORMAT")]
+    pub recipe_format: Option<RecipeFormat>,
+}
+
+fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
+    RecipeFormat::from_name(name).ok_or_else(|| {
+        format!("unknown recipe format `{name}`; known: libconfig (cfg), toml, json")
+    })
+}
+
+impl RecipeInput {
+    /// Reads and checks the recipe.
+    pub fn read(&self) -> Result<Recipe, CliError> {
+        let path = &self.recipe;
+        if is_stdio(path) {
+            let format = self.recipe_format.ok_or_else(|| {
+                CliError::usage(
+                    "reading the recipe from stdin (`-r -`) needs --recipe-format libconfig, toml or json",
+                )
+            })?;
+            let mut text = String::new();
+            std::io::stdin()
+                .read_to_string(&mut text)
+                .map_err(|e| CliError::context("reading the recipe from stdin", e))?;
+            return Ok(Recipe::from_str(&text, format, Path::new("<stdin>"))?);
+        }
+        match self.recipe_format {
+            Some(f) => {
+                let text = std::fs::read_to_string(path).map_err(|e| {
+                    CliError::context(format!("{}: cannot read the recipe", path.display()), e)
+                })?;
+                Ok(Recipe::from_str(&text, f, path)?)
+            }
+            None => Ok(Recipe::from_path(path)?),
+        }
+    }
+
+    /// The recipe as the history and summaries name it.
+    pub fn label(&self) -> String {
+        if is_stdio(&self.recipe) {
+            "<stdin>".into()
+        } else {
+            self.recipe.display().to_string()
+        }
+    }
+}
+
+/// The size controls a user of MMG and Gmsh expects on the command line. For `size` and
+/// `adapt` they override the recipe's global bounds and gradation; for `remesh` they act
+/// on the metric read.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct SizeControls {
+    /// Smallest size anywhere (overrides the recipe's hmin).
+    #[arg(long, value_parser = positive_size, help_heading = "Size controls")]
+    pub hmin: Option<f64>,
+    /// Largest size anywhere (overrides the recipe's hmax).
+    #[arg(long, value_parser = positive_size, help_heading = "Size controls")]
+    pub hmax: Option<f64>,
+    /// Gradation: how fast sizes may grow from a vertex to its neighbours, a factor >= 1
+    /// per unit of metric length (overrides the recipe's gradation; -1 turns it off).
+    #[arg(long, allow_negative_numbers = true, value_parser = gradation, help_heading = "Size controls")]
+    pub hgrad: Option<f64>,
+}
+
+pub fn positive_size(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v)
+            if (smartmesh::SizeTensor::MIN_SIZE..=smartmesh::SizeTensor::MAX_SIZE).contains(&v) =>
+        {
+            Ok(v)
+        }
+        Ok(v) => Err(format!("{v} is not a size (expected a number in [1e-30, 1e30])")),
+        Err(e) => Err(format!("`{s}`: {e}")),
+    }
+}
+
+fn gradation(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v == -1.0 || (v.is_finite() && v >= 1.0) => Ok(v),
+        Ok(v) => Err(format!("{v} is not a gradation (expected a factor >= 1, or -1 for none)")),
+        Err(e) => Err(format!("`{s}`: {e}")),
+    }
+}
+
+impl SizeControls {
+    /// `recipe` with these controls in place of its global bounds and gradation.
+    pub fn apply_to(&self, recipe: &mut Recipe) -> Result<(), CliError> {
+        let g = &mut recipe.global;
+        if let Some(h) = self.hmin {
+            g.h_min = Some(h);
+        }
+        if let Some(h) = self.hmax {
+            g.h_max = Some(h);
+        }
+        match self.hgrad {
+            Some(v) if v < 0.0 => g.gradation = None,
+            Some(v) => g.gradation = Some(v),
+            None => {}
+        }
+        if let (Some(lo), Some(hi)) = (g.h_min, g.h_max) {
+            if lo > hi && (self.hmin.is_some() || self.hmax.is_some()) {
+                return Err(CliError::usage(format!(
+                    "hmin {lo} exceeds hmax {hi} (--hmin and --hmax override the recipe's)"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
