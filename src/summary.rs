@@ -6,7 +6,7 @@ use serde::Serialize;
 use smartmesh_formats::{DataShape, TaggedMesh};
 
 use crate::quality::QualitySummary;
-use crate::topology::{Classification, PointOrigin, Topology};
+use crate::topology::{cell_tag, Classification, PointOrigin, Topology};
 
 /// Counts, bounding box, tags, topology, fields and quality of a mesh.
 #[derive(Debug, Clone, Serialize)]
@@ -35,6 +35,34 @@ pub struct MeshSummary {
     /// the JSON otherwise, so that the output without a metric stays as it was).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub metric: Option<MetricSummary>,
+    /// The bin edges of the histograms above.
+    pub histogram_bins: HistogramBins,
+}
+
+/// The edges of the bins of the histograms a summary holds: bin `i` counts the values in
+/// `[edges[i], edges[i + 1])` (the last quality bin includes 1). A JSON reader needs them
+/// to draw or compare the counts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HistogramBins {
+    /// Shape quality and metric quality: 11 edges, 0, 0.1, … 1.
+    pub quality: Vec<f64>,
+    /// Metric edge length: 31 edges, 0, 0.1, … 3, the last bin open (everything from 2.9
+    /// on), so the last edge is `null` in JSON (infinite).
+    pub metric_edge_length: Vec<f64>,
+}
+
+impl HistogramBins {
+    /// The bins of [`QualitySummary::histogram`], [`crate::conformity::Conformity`]'s
+    /// `quality_histogram` and `edge_length_histogram`.
+    pub fn standard() -> HistogramBins {
+        let n = crate::conformity::LENGTH_BINS;
+        let mut length: Vec<f64> = (0..n).map(|i| i as f64 / 10.0).collect();
+        length.push(f64::INFINITY);
+        HistogramBins {
+            quality: (0..=10).map(|i| i as f64 / 10.0).collect(),
+            metric_edge_length: length,
+        }
+    }
 }
 
 /// How the mesh conforms to a metric field.
@@ -46,13 +74,16 @@ pub struct MetricSummary {
     pub conformity: Option<crate::conformity::Conformity>,
 }
 
-/// One physical tag.
+/// One tag, as the topology and the recipes know it ([`crate::topology::cell_tag`]).
 #[derive(Debug, Clone, Serialize)]
 pub struct TagSummary {
     /// Topological dimension of the cells carrying it.
     pub dim: u8,
-    /// The tag.
+    /// The tag: the physical tag, or the geometrical (elementary) one of cells that have
+    /// no physical tag, so that the tag listed is the one a recipe names.
     pub tag: i32,
+    /// Whether `tag` is the cells' geometrical tag because they have no physical one.
+    pub elementary: bool,
     /// Its name, if the file names it.
     pub name: Option<String>,
     /// Number of cells carrying it.
@@ -109,8 +140,9 @@ pub struct CurveSummary {
     pub pieces: usize,
     /// Closed pieces.
     pub closed_pieces: usize,
-    /// Whether every edge is a boundary edge.
-    pub on_boundary: bool,
+    /// Whether every edge is a boundary edge; `None` when the mesh has no surface cell
+    /// (a `.poly`, a set of lines), where boundary and interior are not told yet.
+    pub on_boundary: Option<bool>,
     /// Length of the curve.
     pub length: f64,
 }
@@ -132,10 +164,10 @@ impl MeshSummary {
     /// Summarises `mesh`, whose topology is `topo`.
     pub fn of(mesh: &TaggedMesh, topo: &Topology) -> MeshSummary {
         let mut cells = BTreeMap::new();
-        let mut tags: BTreeMap<(u8, i32), usize> = BTreeMap::new();
-        for (kind, _, p, _) in mesh.cells() {
+        let mut tags: BTreeMap<(u8, i32, bool), usize> = BTreeMap::new();
+        for (kind, _, p, g) in mesh.cells() {
             *cells.entry(kind.name().to_string()).or_insert(0) += 1;
-            *tags.entry((kind.dim(), p)).or_insert(0) += 1;
+            *tags.entry((kind.dim(), cell_tag(p, g), p == 0 && g != 0)).or_insert(0) += 1;
         }
         let field = |name: &String, a: &smartmesh_formats::DataArray| FieldSummary {
             name: name.clone(),
@@ -176,7 +208,7 @@ impl MeshSummary {
                     edges: c.polylines.iter().map(|p| p.num_edges()).sum(),
                     pieces: c.polylines.len(),
                     closed_pieces: c.polylines.iter().filter(|p| p.closed).count(),
-                    on_boundary: c.on_boundary,
+                    on_boundary: (!topo.faces.is_empty()).then_some(c.on_boundary),
                     length: c
                         .polylines
                         .iter()
@@ -222,9 +254,10 @@ impl MeshSummary {
             bounding_box: mesh.bounding_box().map(|(lo, hi)| [lo, hi]),
             tags: tags
                 .into_iter()
-                .map(|((dim, tag), n)| TagSummary {
+                .map(|((dim, tag, elementary), n)| TagSummary {
                     dim,
                     tag,
+                    elementary,
                     name: mesh.tag_name(dim, tag).map(str::to_owned),
                     cells: n,
                 })
@@ -233,6 +266,7 @@ impl MeshSummary {
             point_data: mesh.point_data.iter().map(|(n, a)| field(n, a)).collect(),
             cell_data: mesh.cell_data.iter().map(|(n, a)| field(n, a)).collect(),
             quality: QualitySummary::of(&mesh.points, topo),
+            histogram_bins: HistogramBins::standard(),
             metric: None,
         }
     }

@@ -168,7 +168,9 @@ pub struct Topology {
     pub edges: Vec<([usize; 2], Classification)>,
 }
 
-fn cell_tag(physical: i32, geometrical: i32) -> i32 {
+/// The tag of a cell as the topology (and so every recipe) knows it: its physical tag, or
+/// its geometrical (elementary) tag when it has no physical one (0).
+pub fn cell_tag(physical: i32, geometrical: i32) -> i32 {
     if physical != 0 {
         physical
     } else {

@@ -107,11 +107,12 @@ fn render(file: &str, s: &MeshSummary) -> String {
         for t in &s.tags {
             let _ = writeln!(
                 o,
-                "    {}D {:>6} {:<20} {}",
+                "    {}D {:>6} {:<20} {}{}",
                 t.dim,
                 t.tag,
                 t.name.as_deref().map(|n| format!("\"{n}\"")).unwrap_or_default(),
-                t.cells
+                t.cells,
+                if t.elementary { " (elementary tag: no physical tag)" } else { "" }
             );
         }
     }
@@ -147,7 +148,11 @@ fn render(file: &str, s: &MeshSummary) -> String {
             if c.pieces == 1 { "" } else { "s" },
             closed,
             fmt_g(c.length),
-            if c.on_boundary { "boundary" } else { "interior" }
+            match c.on_boundary {
+                Some(true) => "boundary",
+                Some(false) => "interior",
+                None => "segments (no faces yet: mesh them to see the boundary)",
+            }
         );
     }
     let listed: Vec<&_> = topo.points.iter().filter(|p| p.tag.is_some()).collect();
@@ -193,13 +198,13 @@ fn render(file: &str, s: &MeshSummary) -> String {
             Some(c) => {
                 let _ = writeln!(
                     o,
-                    "  metric      {}: {} edges, {:.1}% of metric length in [{:.4}, {:.4}], mean {:.4}, range [{}, {}]",
+                    "  metric      {}: {} edges, {:.1}% of metric length in [{:.4}, {:.4}], mean {}, range [{}, {}]",
                     m.source,
                     c.edges,
                     100.0 * c.conforming_share,
                     smartmesh::conformity::CONFORMING[0],
                     smartmesh::conformity::CONFORMING[1],
-                    c.mean_edge_length,
+                    fmt_g(c.mean_edge_length),
                     fmt_g(c.edge_length_range[0]),
                     fmt_g(c.edge_length_range[1])
                 );

@@ -11,6 +11,7 @@ use smartmesh::formats::{read_path, Format};
 use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::remesh::{remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
 use smartmesh::size_controls::SizeControls as MetricControls;
+use smartmesh::summary::HistogramBins;
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
 use super::{parse_format, print_stdout, ui, CliError};
@@ -94,6 +95,26 @@ fn metric_error(e: MetricError) -> CliError {
     e.into()
 }
 
+/// `--measure --json`: the figures and the edges of their histograms' bins.
+#[derive(serde::Serialize)]
+struct MeasureJson<'a> {
+    #[serde(flatten)]
+    conformity: &'a Conformity,
+    histogram_bins: HistogramBins,
+}
+
+/// The remesher's statistics as JSON, its `[vertices, triangles]` pairs named.
+fn stats_json(stats: &smartmesh::remesh::RemeshStats) -> Result<serde_json::Value, CliError> {
+    let mut v = serde_json::to_value(stats)?;
+    for key in ["input", "output"] {
+        if let Some(pair) = v.get(key).and_then(|p| p.as_array()).filter(|p| p.len() == 2) {
+            let named = serde_json::json!({ "vertices": pair[0], "triangles": pair[1] });
+            v[key] = named;
+        }
+    }
+    Ok(v)
+}
+
 /// Runs `remesh`.
 pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
@@ -141,15 +162,18 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
             CliError::usage(format!("{}: no triangles to measure", args.mesh.display()))
         })?;
         let text = if args.json {
-            serde_json::to_string_pretty(&c)? + "\n"
+            serde_json::to_string_pretty(&MeasureJson {
+                conformity: &c,
+                histogram_bins: HistogramBins::standard(),
+            })? + "\n"
         } else {
             format!(
-                "{} edges, {:.1}% in [1/√2, √2], metric length {:.3} to {:.3} (mean {:.3}); {} triangles, metric quality mean {:.3}, min {:.3}\n",
+                "{} edges, {:.1}% in [1/√2, √2], metric length {} to {} (mean {}); {} triangles, metric quality mean {:.3}, min {:.3}\n",
                 c.edges,
                 100.0 * c.conforming_share,
-                c.edge_length_range[0],
-                c.edge_length_range[1],
-                c.mean_edge_length,
+                ui::sig(c.edge_length_range[0]),
+                ui::sig(c.edge_length_range[1]),
+                ui::sig(c.mean_edge_length),
                 c.triangles,
                 c.mean_quality,
                 c.min_quality
@@ -189,7 +213,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     }
     args.output_format.write(output, &out.mesh, to)?;
     if args.json {
-        let mut text = serde_json::to_string_pretty(&out.stats)?;
+        let mut text = serde_json::to_string_pretty(&stats_json(&out.stats)?)?;
         text.push('\n');
         print_stdout(&text)?;
     }
