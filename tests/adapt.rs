@@ -13,6 +13,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use common::python_with;
+
+#[path = "support/cli.rs"]
+#[allow(dead_code)]
+mod support;
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::{run, AdaptError, AdaptOptions, Observer, Tolerances};
 use smartmesh::adapters::restore::physical_tags;
@@ -21,6 +25,7 @@ use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOption
 use smartmesh::history::History;
 use smartmesh::quality::signed_area;
 use smartmesh::{Recipe, Sym2};
+use support::program;
 
 fn bundled(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
@@ -599,7 +604,7 @@ fn assert_history(what: &str, h: &History, adapter: &str) {
 
 #[test]
 fn mmg2d_adapts_the_cylinder_until_converged() {
-    if python_with(&["mmgpy"]).is_none() {
+    if python_with(&["mmgpy"]).is_none() || program("mmg2d_O3").is_none() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -617,7 +622,7 @@ fn mmg2d_adapts_the_cylinder_until_converged() {
 
 #[test]
 fn mmg2d_keeps_every_point_and_curve_of_the_distributor() {
-    if python_with(&["mmgpy"]).is_none() {
+    if python_with(&["mmgpy"]).is_none() || program("mmg2d_O3").is_none() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -737,7 +742,10 @@ fn variant(dir: &Path, cx: f64, cy: f64, r: f64) -> PathBuf {
 
 #[test]
 fn the_same_recipe_adapts_a_geometry_variant() {
-    if python_with(&["mmgpy", "gmsh"]).is_none() {
+    if python_with(&["mmgpy", "gmsh"]).is_none()
+        || program("mmg2d_O3").is_none()
+        || program("gmsh").is_none()
+    {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -767,7 +775,7 @@ fn the_same_recipe_adapts_a_geometry_variant() {
 
 #[test]
 fn gmsh_remeshes_to_the_field_with_tags() {
-    if python_with(&["gmsh"]).is_none() {
+    if python_with(&["gmsh"]).is_none() || program("gmsh").is_none() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

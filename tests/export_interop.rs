@@ -11,6 +11,10 @@ use std::path::Path;
 use std::process::Command;
 
 use common::{python_with, run_python};
+
+#[path = "support/cli.rs"]
+#[allow(dead_code)]
+mod support;
 use smartmesh::export::{export_metric, metric_arrays, MetricTarget};
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOptions};
 use smartmesh::SizeTensor;
@@ -193,7 +197,7 @@ fn gmsh_with_background(bgm: &Path, out: &Path) -> TaggedMesh {
 #[test]
 fn gmsh_meshes_with_our_pos_and_msh_as_background() {
     // PyPI `gmsh` puts the `gmsh` command on PATH.
-    if python_with(&["gmsh"]).is_none() {
+    if python_with(&["gmsh"]).is_none() || support::program("gmsh").is_none() {
         return;
     }
     let mesh = unit_square(20);

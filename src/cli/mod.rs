@@ -29,7 +29,7 @@ and glTF (.gltf/.glb, write only), keeping topology tags and fields.";
 
 #[derive(Debug, Parser)]
 #[command(name = "smartmesh", version, about = ABOUT, propagate_version = true, max_term_width = 100)]
-struct Cli {
+pub(crate) struct Cli {
     #[command(subcommand)]
     command: Command,
     /// Print errors only: no warning, note, progress bar or summary line.

@@ -91,3 +91,41 @@ fn subcommands_with(cmd: &Command, name: &str) -> Vec<String> {
     }
     found
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    use super::*;
+
+    fn check(args: &[&str]) -> Option<String> {
+        let args: Vec<OsString> =
+            std::iter::once("smartmesh").chain(args.iter().copied()).map(OsString::from).collect();
+        single_dash_option(&crate::cli::Cli::command(), &args)
+    }
+
+    #[test]
+    fn values_and_glued_short_options_pass() {
+        // A value of an option, even one that looks like an MMG option.
+        assert_eq!(
+            check(&["adapt", "m.msh", "-r", "r.toml", "-o", "o.msh", "--adapter-arg", "-hausd"]),
+            None
+        );
+        assert_eq!(
+            check(&["adapt", "m.msh", "--adapter-arg=-hausd", "-r", "r.toml", "-o", "o.msh"]),
+            None
+        );
+        // A short option with its value glued on, a negative number, stdin.
+        assert_eq!(check(&["size", "-", "-rr.toml", "-oout.sol", "--hgrad", "-1"]), None);
+        // Everything after `--`.
+        assert_eq!(check(&["info", "--", "-hmin"]), None);
+    }
+
+    #[test]
+    fn one_dash_option_names_are_caught() {
+        let m = check(&["adapt", "m.msh", "-nosurf"]).unwrap();
+        assert!(m.contains("did you mean `--nosurf`"), "{m}");
+        let m = check(&["recipe", "check", "-hmin"]).unwrap();
+        assert!(m.contains("`smartmesh recipe check`") && m.contains("`size`"), "{m}");
+    }
+}

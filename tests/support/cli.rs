@@ -62,3 +62,23 @@ pub fn streams(o: &Output) -> String {
         String::from_utf8_lossy(&o.stderr)
     )
 }
+
+/// The executable `name` found on `PATH`, or `None` after saying on stderr that the test
+/// skips; with `SMARTMESH_REQUIRE_INTEROP=1` (CI) a missing program fails the test
+/// instead. A Python module being importable is not enough: the command a test runs is
+/// looked up on `PATH`.
+#[allow(dead_code)]
+pub fn program(name: &str) -> Option<std::path::PathBuf> {
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let found = std::env::split_paths(&path)
+        .filter(|d| !d.as_os_str().is_empty())
+        .map(|d| d.join(name))
+        .find(|p| p.is_file());
+    if found.is_none() {
+        if std::env::var("SMARTMESH_REQUIRE_INTEROP").as_deref() == Ok("1") {
+            panic!("`{name}` is needed on PATH (SMARTMESH_REQUIRE_INTEROP=1)");
+        }
+        eprintln!("skipping: `{name}` is not on PATH");
+    }
+    found
+}
