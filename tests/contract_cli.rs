@@ -358,3 +358,39 @@ fn ctrl_c_stops_adapt_with_the_history_and_best_mesh_agreeing() {
     assert!(names.iter().all(|n| !n.ends_with(".tmp")), "temporaries left: {names:?}");
     assert!(String::from_utf8_lossy(&o.stderr).contains("interrupted"), "{}", streams(&o));
 }
+
+#[cfg(unix)]
+#[test]
+fn the_adapt_progress_bar_ticks_during_a_long_phase() {
+    use std::os::unix::fs::PermissionsExt;
+    // util-linux `script` runs the command on a pseudo-terminal: the bar is drawn.
+    if cli::program("script").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    // A remesher that takes 4 s and fails: one long phase with nothing else to redraw.
+    let tool = dir.path().join("slow-mmg2d");
+    std::fs::write(&tool, "#!/bin/sh\nsleep 4\nexit 3\n").unwrap();
+    std::fs::set_permissions(&tool, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let out = dir.path().join("cyl.msh");
+    let command = format!(
+        "'{}' adapt '{}' -r '{}' -o '{}' --adapter mmg2d --adapter-program '{}'",
+        env!("CARGO_BIN_EXE_smartmesh"),
+        cyl(),
+        recipe(),
+        p(&out),
+        p(&tool)
+    );
+    let o = std::process::Command::new("script")
+        .args(["-qfec", &command, "/dev/null"])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let screen = String::from_utf8_lossy(&o.stdout).replace('\r', "\n");
+    let drawn = |s: u64| screen.contains(&format!("remeshing (mmg2d) [{s}s]"));
+    let start = (0..60).find(|&s| drawn(s)).unwrap_or_else(|| panic!("no bar:\n{screen}"));
+    // A bar redrawn only when a phase starts shows the phase's first second alone.
+    for s in start..start + 3 {
+        assert!(drawn(s), "second {s} of the remeshing not drawn:\n{screen}");
+    }
+}
