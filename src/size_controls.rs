@@ -214,6 +214,35 @@ mod tests {
         assert_eq!(metric[0], Sym2::new(1.0, 0.0, 1.0));
     }
 
+    /// A remesher that returns its input and keeps the metric it was given.
+    struct Recorder(std::rc::Rc<std::cell::RefCell<Vec<Sym2>>>);
+
+    impl Adapter for Recorder {
+        fn name(&self) -> &str {
+            "recorder"
+        }
+
+        fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
+            *self.0.borrow_mut() = metric.to_vec();
+            Ok(mesh.clone())
+        }
+    }
+
+    #[test]
+    fn a_controlled_remesher_is_given_the_bounded_metric() {
+        let mesh = polygon(64, 2.0);
+        let metric = vec![Sym2::new(1.0, 0.0, 1.0); mesh.points.len()];
+        let seen = std::rc::Rc::new(std::cell::RefCell::new(Vec::new()));
+        let controls = SizeControls { hausd: Some(1e-3), ..Default::default() };
+        let controlled = Controlled { inner: Box::new(Recorder(seen.clone())), controls };
+        assert_eq!(controlled.name(), "recorder");
+        controlled.adapt(&mesh, &metric).unwrap();
+        let mut expected = metric.clone();
+        controls.apply(&mesh, &mut expected).unwrap();
+        assert_ne!(expected, metric);
+        assert_eq!(*seen.borrow(), expected);
+    }
+
     #[test]
     fn bounds_clamp_and_gradation_only_shrinks() {
         let mesh = polygon(16, 1.0);

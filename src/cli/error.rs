@@ -136,7 +136,12 @@ pub fn status_of(error: &(dyn StdError + 'static)) -> ExitStatus {
 fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
     use ExitStatus::{Error, Failure};
     if let Some(e) = e.downcast_ref::<FormatError>() {
-        return Some(match &e.kind {
+        return decides(&e.kind);
+    }
+    // Also reached on its own below a `#[error(transparent)]` wrapper, whose source is
+    // the wrapped error's source.
+    if let Some(kind) = e.downcast_ref::<FormatKind>() {
+        return Some(match kind {
             FormatKind::Io(io) => io_status(io),
             _ => Error,
         });
@@ -174,7 +179,7 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
     }
     if let Some(e) = e.downcast_ref::<MetricError>() {
         return match e {
-            MetricError::Read(_) => None,
+            MetricError::Read(read) => decides(read),
             _ => Some(Error),
         };
     }
@@ -228,6 +233,12 @@ mod tests {
         // The loop's output error passes the decision on to the write error inside.
         let nodir = FormatError::from(std::io::Error::from(IoKind::NotFound));
         assert_eq!(CliError::from(AdaptError::Output(nodir)).status, ExitStatus::Error);
+        // A transparent wrapper: its source is the wrapped error's source.
+        let nan = FormatError::at_line(
+            3,
+            FormatKind::NonFinite { what: "x".into(), value: "nan".into() },
+        );
+        assert_eq!(CliError::from(MetricError::Read(nan)).status, ExitStatus::Error);
         let option = AdapterError::Option { option: "--nosurf", adapter: "gmsh" };
         assert_eq!(CliError::from(option).status, ExitStatus::Error);
         let failed = AdapterError::Failed {

@@ -45,7 +45,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Ok(Some(m)) => summary = summary.with_metric(&mesh, m.tensors(), m.source().to_string()),
         Ok(None) => {}
         // The file's own array is only looked at by the way: a bad one is a warning.
-        Err(e) if args.metric.is_none() => eprintln!("smartmesh: warning: no metric figures: {e}"),
+        Err(e) if args.metric.is_none() => super::ui::warn(&format!("no metric figures: {e}")),
         Err(e) => return Err(e.into()),
     }
     if args.json {

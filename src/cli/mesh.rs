@@ -123,7 +123,7 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
         corner_angle_deg: args.corner_angle,
         max_vertices: args.max_vertices,
     };
-    opts.validate().map_err(|e| CliError::usage(e.to_string()))?;
+    opts.validate().map_err(|e| CliError::context(e.to_string(), e))?;
     let to = args.output_format.mesh_format(&args.output)?;
     check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.input));

@@ -103,7 +103,8 @@ fn read_recipe(path: &Path, format: Option<RecipeFormat>) -> Result<Recipe, CliE
     }
     match format {
         Some(f) => {
-            let text = std::fs::read_to_string(path).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?;
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| CliError::context(format!("{}: {e}", path.display()), e))?;
             Ok(Recipe::from_str(&text, f, path)?)
         }
         None if RecipeFormat::from_path(path).is_none() => Err(CliError::usage(format!(

@@ -111,7 +111,9 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
             Some(
                 recipe
                     .resolve(&topology)
-                    .map_err(|e| CliError::usage(format!("{e} (mesh {})", args.mesh.display())))?
+                    .map_err(|e| {
+                        CliError::context(format!("{e} (mesh {})", args.mesh.display()), e)
+                    })?
                     .plan,
             )
         }
@@ -142,7 +144,7 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
     };
     let mut drawn = report::render(&input, &ReportOptions { width: args.width });
     for n in &drawn.notes {
-        eprintln!("smartmesh: note: {n}");
+        super::ui::note(n);
     }
     let bytes = match kind {
         ReportFormat::Svg => std::mem::take(&mut drawn.svg).into_bytes(),
@@ -152,7 +154,7 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
                 &report::png::PngOptions { palette: args.palette },
             )?;
             for n in &png.notes {
-                eprintln!("smartmesh: note: {n}");
+                super::ui::note(n);
             }
             png.bytes
         }
