@@ -238,14 +238,17 @@ impl RecipeInput {
 /// on the metric read.
 #[derive(Debug, Clone, Copy, Args)]
 pub struct SizeControls {
-    /// Smallest size anywhere (overrides the recipe's hmin).
+    /// Smallest size anywhere (size, adapt: replaces the recipe's hmin; remesh: clamps
+    /// the metric).
     #[arg(long, value_parser = positive_size, help_heading = "Size controls")]
     pub hmin: Option<f64>,
-    /// Largest size anywhere (overrides the recipe's hmax).
+    /// Largest size anywhere (size, adapt: replaces the recipe's hmax; remesh: clamps the
+    /// metric).
     #[arg(long, value_parser = positive_size, help_heading = "Size controls")]
     pub hmax: Option<f64>,
     /// Gradation: how fast sizes may grow from a vertex to its neighbours, a factor >= 1
-    /// per unit of metric length (overrides the recipe's gradation; -1 turns it off).
+    /// per unit of metric length (size, adapt: replaces the recipe's gradation; remesh:
+    /// grades the metric; -1: none).
     #[arg(long, allow_negative_numbers = true, value_parser = gradation, help_heading = "Size controls")]
     pub hgrad: Option<f64>,
 }
