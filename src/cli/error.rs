@@ -18,6 +18,7 @@ use smartmesh::mesher::MeshError;
 use smartmesh::metric_field::MetricError;
 use smartmesh::recipe::RecipeError;
 use smartmesh::remesh::RemeshError;
+use smartmesh::size_controls::ControlError;
 use smartmesh::sizing::{SizeMeshError, SizingError};
 
 /// How a run ended (ruff's `ExitStatus`): 0 success, 1 the work failed, 2 bad usage or
@@ -186,7 +187,8 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
     let input = e.is::<SizeMeshError>()
         || e.is::<SizingError>()
         || e.is::<MeshGraphError>()
-        || e.is::<RemeshError>();
+        || e.is::<RemeshError>()
+        || e.is::<ControlError>();
     input.then_some(Error)
 }
 
@@ -239,6 +241,8 @@ mod tests {
             FormatKind::NonFinite { what: "x".into(), value: "nan".into() },
         );
         assert_eq!(CliError::from(MetricError::Read(nan)).status, ExitStatus::Error);
+        let control = ControlError::NotSpd { vertex: 3 };
+        assert_eq!(CliError::from(control).status, ExitStatus::Error);
         let option = AdapterError::Option { option: "--nosurf", adapter: "gmsh" };
         assert_eq!(CliError::from(option).status, ExitStatus::Error);
         let failed = AdapterError::Failed {
