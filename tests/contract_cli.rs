@@ -394,3 +394,21 @@ fn the_adapt_progress_bar_ticks_during_a_long_phase() {
         assert!(drawn(s), "second {s} of the remeshing not drawn:\n{screen}");
     }
 }
+
+#[test]
+fn hausd_is_an_option_of_every_remesher() {
+    let dir = tempfile::tempdir().unwrap();
+    let vertices = |extra: &[&str]| -> u64 {
+        let out = dir.path().join("a.msh");
+        let mut args = vec!["adapt", cyl(), "-r", recipe(), "-o", p(&out), "--max-iterations", "1"];
+        args.extend(extra);
+        args.push("--json");
+        let v: serde_json::Value = serde_json::from_str(&ok(&smartmesh(&args, None))).unwrap();
+        v["iterations"][1]["vertices"].as_u64().unwrap()
+    };
+    // The native remesher: a tight bound along the cylinder (radius 0.15) asks for more
+    // vertices there than the recipe does.
+    let plain = vertices(&[]);
+    let tight = vertices(&["--hausd", "1e-6"]);
+    assert!(tight > plain, "--hausd 1e-6: {tight} vertices, {plain} without");
+}
