@@ -93,6 +93,11 @@ pub struct AdaptArgs {
     /// Where to write the history (default: OUT's name with .history.json).
     #[arg(long)]
     history: Option<PathBuf>,
+    /// Most vertices a remeshing may be asked for: before each remeshing the field's
+    /// complexity (the vertex count it asks for) is compared with this, and the run stops
+    /// with exit status 2 above it (about 0.6 KB of memory per vertex).
+    #[arg(long, default_value_t = smartmesh::remesh::DEFAULT_MAX_VERTICES)]
+    max_vertices: usize,
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
@@ -224,6 +229,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         nosurf: args.nosurf,
         extra_args: args.adapter_args.clone(),
         keep_points: if args.coarsen_geometry { Vec::new() } else { starting.geometry_points },
+        max_vertices: Some(args.max_vertices),
     };
     let start = starting.mesh;
     let remesher = adapter(args.adapter.into(), options).map_err(adapter_error)?;
@@ -232,6 +238,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let opts = AdaptOptions {
         max_iterations: args.max_iterations,
         tolerances: Tolerances { vertices: args.tol_vertices, conformity: args.tol_conformity },
+        max_vertices: Some(args.max_vertices),
     };
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = ProgressBar::new(opts.max_iterations as u64);
@@ -289,7 +296,9 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         100.0 * best.conforming_share
     );
     if let Some(e) = outcome.failure {
-        return Err(CliError { status: ExitStatus::Failure, message: format!("{e}\n{kept}") });
+        // A vertex limit is the user's to raise: bad usage, not a failure of the work.
+        let status = if e.is_limit() { ExitStatus::Error } else { ExitStatus::Failure };
+        return Err(CliError { status, message: format!("{e}\n{kept}") });
     }
     if !h.converged {
         eprintln!("smartmesh: warning: not converged: {}; {kept}", h.stopped);
