@@ -124,5 +124,10 @@ mod tests {
         };
         assert_eq!(History::from_json(&h.to_json()).unwrap(), h);
         assert!(History::from_json("{\"input\": 3}").is_err());
+        // Seconds are arbitrary floats: each must come back exactly (serde_json's default
+        // parser read 1.3374001039999999 back as 1.337400104).
+        let mut odd = h.clone();
+        odd.iterations[0].seconds.size = 1.3374001039999999;
+        assert_eq!(History::from_json(&odd.to_json()).unwrap(), odd);
     }
 }
