@@ -3,9 +3,13 @@
 //!
 //! One record per iteration, in order; iteration 0 is the starting mesh measured against
 //! the recipe's first field. The file is rewritten whole (atomically) after each
-//! iteration, so that a run stopped half-way still leaves a readable history.
+//! iteration, so that a run stopped half-way still leaves a readable history. Each record
+//! after the first also says what the remeshing that made its mesh was asked for and did
+//! ([`RemeshingRecord`]).
 
 use serde::{Deserialize, Serialize};
+
+use crate::remesh::RemeshCounts;
 
 /// Seconds spent in each phase of one iteration.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -38,6 +42,22 @@ pub struct IterationRecord {
     pub min_quality: f64,
     /// Time per phase.
     pub seconds: PhaseTimes,
+    /// The remeshing that made this mesh (none for iteration 0, the starting mesh).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub remeshing: Option<RemeshingRecord>,
+}
+
+/// What one remeshing of the loop was asked for and did.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RemeshingRecord {
+    /// The vertices the previous iteration's field asked for, its complexity
+    /// ([`crate::remesh::expected_vertices`]), checked against the vertex limit before the
+    /// remesher ran.
+    pub expected_vertices: f64,
+    /// The remesher's passes and per-pass counts of splits, collapses, swaps and moves
+    /// (the native remesher; external tools report none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub remesher: Option<RemeshCounts>,
 }
 
 /// The whole history of a run.
@@ -96,9 +116,18 @@ mod tests {
                 mean_quality: 0.7,
                 min_quality: 0.1,
                 seconds: PhaseTimes { size: 0.01, remesh: 0.0, measure: 0.001 },
+                remeshing: Some(RemeshingRecord {
+                    expected_vertices: 11.5,
+                    remesher: Some(RemeshCounts { passes: 2, splits: 3, ..Default::default() }),
+                }),
             }],
         };
         assert_eq!(History::from_json(&h.to_json()).unwrap(), h);
         assert!(History::from_json("{\"input\": 3}").is_err());
+        // Seconds are arbitrary floats: each must come back exactly (serde_json's default
+        // parser read 1.3374001039999999 back as 1.337400104).
+        let mut odd = h.clone();
+        odd.iterations[0].seconds.size = 1.3374001039999999;
+        assert_eq!(History::from_json(&odd.to_json()).unwrap(), odd);
     }
 }

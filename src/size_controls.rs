@@ -17,7 +17,7 @@
 
 use smartmesh_formats::TaggedMesh;
 
-use crate::adapters::{Adapter, AdapterError};
+use crate::adapters::{Adapted, Adapter, AdapterError};
 use crate::mesh_graph::{MeshGraph, MeshGraphError};
 use crate::metric::{SizeBounds, SizeTensor, Sym2};
 use crate::sizing::gradation::apply_gradation;
@@ -127,12 +127,17 @@ impl Adapter for Controlled {
         self.inner.name()
     }
 
-    fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
+    fn adapt(
+        &self,
+        mesh: &TaggedMesh,
+        topology: &Topology,
+        metric: &[Sym2],
+    ) -> Result<Adapted, AdapterError> {
         let mut metric = metric.to_vec();
         self.controls
             .apply(mesh, &mut metric)
             .map_err(|e| AdapterError::Input(format!("applying --hausd: {e}")))?;
-        self.inner.adapt(mesh, &metric)
+        self.inner.adapt(mesh, topology, &metric)
     }
 }
 
@@ -222,9 +227,14 @@ mod tests {
             "recorder"
         }
 
-        fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
+        fn adapt(
+            &self,
+            mesh: &TaggedMesh,
+            _topology: &Topology,
+            metric: &[Sym2],
+        ) -> Result<Adapted, AdapterError> {
             *self.0.borrow_mut() = metric.to_vec();
-            Ok(mesh.clone())
+            Ok(Adapted { mesh: mesh.clone(), stats: None })
         }
     }
 
@@ -236,7 +246,8 @@ mod tests {
         let controls = SizeControls { hausd: Some(1e-3), ..Default::default() };
         let controlled = Controlled { inner: Box::new(Recorder(seen.clone())), controls };
         assert_eq!(controlled.name(), "recorder");
-        controlled.adapt(&mesh, &metric).unwrap();
+        let topology = Topology::from_mesh(&mesh);
+        controlled.adapt(&mesh, &topology, &metric).unwrap();
         let mut expected = metric.clone();
         controls.apply(&mesh, &mut expected).unwrap();
         assert_ne!(expected, metric);

@@ -20,11 +20,11 @@ mod support;
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::{run, AdaptError, AdaptOptions, Observer, Tolerances};
 use smartmesh::adapters::restore::physical_tags;
-use smartmesh::adapters::{Adapter, AdapterError};
+use smartmesh::adapters::{Adapted, Adapter, AdapterError};
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOptions};
 use smartmesh::history::History;
 use smartmesh::quality::signed_area;
-use smartmesh::{Recipe, Sym2};
+use smartmesh::{Recipe, Sym2, Topology};
 use support::program;
 
 fn bundled(name: &str) -> PathBuf {
@@ -110,13 +110,19 @@ impl Adapter for Scripted {
         "scripted"
     }
 
-    fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
+    fn adapt(
+        &self,
+        mesh: &TaggedMesh,
+        _topology: &Topology,
+        metric: &[Sym2],
+    ) -> Result<Adapted, AdapterError> {
         assert_eq!(metric.len(), mesh.points.len(), "one metric per vertex of the current mesh");
         let k = self.calls.get();
         self.calls.set(k + 1);
         self.meshes
             .get(k)
             .cloned()
+            .map(|mesh| Adapted { mesh, stats: None })
             .ok_or_else(|| AdapterError::Input(format!("scripted failure at call {}", k + 1)))
     }
 }
@@ -134,6 +140,7 @@ fn best_mesh_is_the_most_conforming_and_stays_when_a_later_iteration_fails() {
     let opts = AdaptOptions {
         max_iterations: 6,
         tolerances: Tolerances { vertices: 0.0, conformity: 0.0 },
+        ..AdaptOptions::default()
     };
     let outcome =
         run(start.clone(), &recipe(), &adapter, &opts, "cylinder.msh", "cylinder.toml", &mut files)
@@ -221,6 +228,7 @@ fn history_and_best_mesh_are_on_disk_after_every_iteration() {
     let opts = AdaptOptions {
         max_iterations: 3,
         tolerances: Tolerances { vertices: 0.0, conformity: 0.0 },
+        ..AdaptOptions::default()
     };
     let outcome = run(start, &recipe(), &adapter, &opts, "in", "r", &mut obs).unwrap();
     // Iteration 2 repeats iteration 1 exactly: converged, and the later one is the best
@@ -267,7 +275,7 @@ fn an_iteration_limit_stops_the_loop_unconverged() {
     };
     let dir = tempfile::tempdir().unwrap();
     let mut files = ResultFiles::new(&dir.path().join("o.msh"), None, WriteOptions::default());
-    let opts = AdaptOptions { max_iterations: 3, tolerances: Tolerances::default() };
+    let opts = AdaptOptions { max_iterations: 3, ..AdaptOptions::default() };
     let outcome = run(start, &recipe(), &adapter, &opts, "in", "r", &mut files).unwrap();
     assert_eq!(outcome.history.iterations.len(), 4);
     assert!(!outcome.history.converged);
@@ -787,4 +795,91 @@ fn gmsh_remeshes_to_the_field_with_tags() {
     let mesh = read_path(&out, None).unwrap();
     assert!(mesh.validate().is_empty(), "{:?}", mesh.validate());
     assert_adapted("gmsh (BAMG)", &cylinder(), &mesh, (1.0, 0.5, 0.15));
+}
+
+/// The history keeps, for each remeshing, the vertices the field asked for and the
+/// native remesher's passes with their counts; the starting mesh has none.
+#[test]
+fn the_history_records_what_each_remeshing_did() {
+    use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
+    let native = adapter(AdapterKind::Native, AdapterOptions::default()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = ResultFiles::new(&dir.path().join("c.msh"), None, WriteOptions::default());
+    let opts = AdaptOptions { max_iterations: 2, ..AdaptOptions::default() };
+    let outcome = run(cylinder(), &recipe(), native.as_ref(), &opts, "c", "r", &mut files).unwrap();
+    let h = &outcome.history;
+    assert!(h.iterations[0].remeshing.is_none());
+    assert!(h.iterations.len() >= 2, "{}", h.to_json());
+    for r in &h.iterations[1..] {
+        let rm = r.remeshing.as_ref().unwrap_or_else(|| panic!("{}", h.to_json()));
+        let ratio = r.vertices as f64 / rm.expected_vertices;
+        assert!(
+            (0.8..1.25).contains(&ratio),
+            "{} made for {} asked",
+            r.vertices,
+            rm.expected_vertices
+        );
+        let c = rm.remesher.as_ref().unwrap();
+        assert!(c.passes >= 1 && c.per_pass.len() == c.passes, "{c:?}");
+        assert_eq!(c.splits, c.per_pass.iter().map(|p| p.splits).sum::<usize>());
+        assert_eq!(c.collapses, c.per_pass.iter().map(|p| p.collapses).sum::<usize>());
+        assert_eq!(c.per_pass.last().unwrap().triangles, r.triangles);
+    }
+    // On disk the same counts, read back (decimal floats come back within a ulp).
+    let on_disk =
+        History::from_json(&std::fs::read_to_string(dir.path().join("c.history.json")).unwrap())
+            .unwrap();
+    for (d, r) in on_disk.iterations.iter().zip(&h.iterations) {
+        let (d, r) = (d.remeshing.as_ref(), r.remeshing.as_ref());
+        assert_eq!(d.is_some(), r.is_some());
+        if let (Some(d), Some(r)) = (d, r) {
+            assert!((d.expected_vertices / r.expected_vertices - 1.0).abs() < 1e-12);
+            let per_pass = |x: &smartmesh::history::RemeshingRecord| {
+                x.remesher.as_ref().map(|c| (c.passes, c.splits, c.per_pass.clone()))
+            };
+            assert_eq!(per_pass(d), per_pass(r));
+        }
+    }
+}
+
+/// The cylinder recipe with hmin = 1e-9 and a uniform size of 1e-9 asks for about 10¹⁸
+/// vertices: the first remeshing is refused at once (exit 2, the estimate and the option
+/// named), the starting mesh stays the result and the history says why.
+#[test]
+fn a_recipe_asking_for_too_many_vertices_stops_before_remeshing() {
+    let dir = tempfile::tempdir().unwrap();
+    let original = std::fs::read_to_string(bundled("cylinder.toml")).unwrap();
+    let tiny =
+        original.replace("hmin = 0.002", "hmin = 1e-9").replace("size = 0.1\n", "size = 1e-9\n");
+    assert_ne!(tiny, original);
+    let recipe = dir.path().join("tiny.toml");
+    std::fs::write(&recipe, tiny).unwrap();
+    let out = dir.path().join("o.msh");
+    let started = std::time::Instant::now();
+    let o = smartmesh(
+        &[
+            "adapt",
+            bundled("cylinder.msh").to_str().unwrap(),
+            "--recipe",
+            recipe.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("iteration 1 refused") && err.contains("--max-vertices"), "{err}");
+    assert!(started.elapsed().as_secs_f64() < 60.0);
+    let h =
+        History::from_json(&std::fs::read_to_string(dir.path().join("o.history.json")).unwrap())
+            .unwrap();
+    assert_eq!((h.iterations.len(), h.best_iteration), (1, 0));
+    assert!(h.stopped.contains("refused"), "{}", h.stopped);
+    assert_eq!(read_path(&out, None).unwrap().points.len(), cylinder().points.len());
+    // A limit under what the real recipe asks for stops it the same way; raised, it runs.
+    let o = run_adapt(&out, &["--max-vertices", "100", "--max-iterations", "1"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let o = run_adapt(&out, &["--max-vertices", "100000", "--max-iterations", "1"], None);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
 }

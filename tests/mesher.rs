@@ -746,3 +746,61 @@ mod random_graphs {
         }
     }
 }
+
+/// A size far below the domain's (`--size 0.0001` on square_hole.poly, about 10⁸
+/// vertices) is refused before refining, with the estimate and the option to raise,
+/// exit 2 and no output; the library says the same, fast, and a size the limit allows
+/// still meshes.
+#[test]
+fn sizes_asking_for_too_many_vertices_are_refused_before_refining() {
+    let started = std::time::Instant::now();
+    let opts = MeshOptions { size: Some(1e-4), ..MeshOptions::default() };
+    let e = triangulate(&read_fixture("square_hole.poly"), &opts).unwrap_err();
+    assert!(matches!(e, MeshError::TooManyVertices { .. }) && e.is_input_error(), "{e:?}");
+    assert!(e.to_string().contains("--max-vertices"), "{e}");
+    // A limit raised above the estimate would let it through; one under the default
+    // cannot lower the guard below it (it is the refinement's budget instead).
+    let MeshError::TooManyVertices { estimate, limit } = e else { unreachable!() };
+    assert!(estimate > 1e7 && estimate < 1e9 && limit == 5_000_000, "{estimate} {limit}");
+    assert!(started.elapsed().as_secs_f64() < 5.0);
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fine.msh");
+    let poly = fixture("square_hole.poly");
+    let o = smartmesh(&[
+        "mesh",
+        poly.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "0.0001",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("vertices") && err.contains("--max-vertices"), "{err}");
+    assert!(!out.exists());
+}
+
+/// The estimate of the area bounds is close to what refinement makes.
+#[test]
+fn the_area_bound_estimate_is_close_to_the_mesh() {
+    for h in [0.05, 0.02] {
+        let opts = MeshOptions { size: Some(h), ..MeshOptions::default() };
+        let m = triangulate(&read_fixture("square_hole.poly"), &opts).unwrap();
+        let small = MeshOptions { max_vertices: Some(10), ..opts.clone() };
+        // A budget of 10 under the estimate: refinement stops at it, and says so.
+        let e = triangulate(&read_fixture("square_hole.poly"), &small).unwrap_err();
+        assert!(matches!(e, MeshError::RefinementIncomplete { .. }), "{e:?}");
+        let estimate =
+            smartmesh::mesher::expected_vertices(&read_fixture("square_hole.poly"), &opts)
+                .unwrap()
+                .unwrap();
+        let ratio = m.points.len() as f64 / estimate;
+        eprintln!("h = {h}: estimate {estimate:.0}, made {} ({ratio:.3})", m.points.len());
+        assert!(
+            (0.7..1.4).contains(&ratio),
+            "h = {h}: estimate {estimate:.0}, made {}",
+            m.points.len()
+        );
+    }
+}

@@ -519,3 +519,57 @@ fn unsupported_and_broken_meshes_are_refused() {
     let e = remesh(&flat, &metric, &RemeshOptions::default()).unwrap_err().to_string();
     assert!(e.contains("zero area"), "{e}");
 }
+
+/// The expected vertex count (the metric's complexity) is what the remesher makes, give
+/// or take the boundary: within 25 % on refining, graded and anisotropic fields.
+#[test]
+fn expected_vertices_predict_the_output() {
+    use smartmesh::remesh::expected_vertices;
+    for (name, f) in [
+        ("uniform", uniform as fn(f64, f64) -> SizeTensor),
+        ("boundary layer", boundary_layer),
+        ("shock", shock),
+    ] {
+        let (mesh, metric) = with_field(square(10, false), f);
+        let expected = expected_vertices(&mesh, &metric);
+        let made = remesh(&mesh, &metric, &RemeshOptions::default()).unwrap().stats.output[0];
+        let ratio = made as f64 / expected;
+        eprintln!("{name}: expected {expected:.0}, made {made} ({ratio:.3})");
+        assert!((0.8..1.25).contains(&ratio), "{name}: expected {expected:.0}, made {made}");
+    }
+}
+
+/// Valid but extreme metrics are refused before any work, with the estimate and the
+/// option to raise (one vertex asking for h = 1e-6, entries of 1e300, h = 1e-4
+/// everywhere); a raised limit or `hmin` lets the same input through.
+#[test]
+fn metrics_asking_for_too_many_vertices_are_refused_at_once() {
+    let (mesh, metric) = with_field(square(4, false), uniform);
+    let started = std::time::Instant::now();
+    let mut tiny = metric.clone();
+    tiny[12] = SizeTensor::isotropic(1e-6).to_metric();
+    let mut huge = metric.clone();
+    huge[12] = Sym2::new(1e300, 0.0, 1e300);
+    let fine = vec![SizeTensor::isotropic(1e-4).to_metric(); metric.len()];
+    for (name, m) in [("h = 1e-6 at one vertex", &tiny), ("1e300", &huge), ("h = 1e-4", &fine)] {
+        let e = remesh(&mesh, m, &RemeshOptions::default()).unwrap_err();
+        assert!(e.is_limit(), "{name}: {e}");
+        let text = e.to_string();
+        assert!(text.contains("--max-vertices") && text.contains("5000000"), "{name}: {text}");
+    }
+    assert!(started.elapsed().as_secs_f64() < 5.0, "refused before any work");
+    // The estimate is in the message: 2/√3 · 10⁸ for h = 1e-4 on the unit square.
+    let e = remesh(&mesh, &fine, &RemeshOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("1.15e8"), "{e}");
+    // A limit under what the field asks for refuses a plain run too; none lets it run.
+    let low = RemeshOptions { max_vertices: Some(100), ..RemeshOptions::default() };
+    assert!(remesh(&mesh, &metric, &low).unwrap_err().is_limit());
+    let unlimited = RemeshOptions { max_vertices: None, ..RemeshOptions::default() };
+    assert!(remesh(&mesh, &metric, &unlimited).is_ok());
+    // hmin bounds the tiny size: the run goes through, and no edge is much below hmin.
+    let bounded = RemeshOptions { hmin: Some(0.02), ..RemeshOptions::default() };
+    let out = remesh(&mesh, &tiny, &bounded).unwrap();
+    assert!(out.stats.output[0] < 20_000, "{:?}", out.stats.output);
+    let bad = RemeshOptions { hmin: Some(0.1), hmax: Some(0.01), ..RemeshOptions::default() };
+    assert!(remesh(&mesh, &metric, &bad).unwrap_err().to_string().contains("hmin"));
+}

@@ -227,3 +227,47 @@ fn mmg_reads_our_output() {
     .unwrap();
     assert!(m["conforming_share"].as_f64().unwrap() > 0.8, "{m}");
 }
+
+/// The reproductions of valid but extreme metrics: one vertex of the cylinder's field at
+/// h = 1e-6, or with 1e300 in its matrix, made `remesh` allocate until it aborted; now
+/// exit 2 at once, with the estimate and the option, and no output. `--max-vertices`
+/// raises the limit (here it lowers it under the plain field's count).
+#[test]
+fn extreme_metrics_are_refused_with_the_estimate_and_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = field(dir.path());
+    let base = read_path(&f, None).unwrap();
+    let cyl = bundled("cylinder.msh");
+    let out = dir.path().join("x.vtu");
+    let used = base.cells().find(|c| c.0 == smartmesh::formats::CellKind::Triangle).unwrap().1[0];
+    for (name, m11) in [("tiny.vtu", 1e12), ("huge.vtu", 1e300)] {
+        let mut m = base.clone();
+        let a = m.point_data.get_mut("metric").unwrap();
+        let v = used as usize * 9;
+        a.values[v..v + 9].copy_from_slice(&[m11, 0.0, 0.0, 0.0, m11, 0.0, 0.0, 0.0, m11]);
+        let p = dir.path().join(name);
+        write_path(&p, &m, None, &WriteOptions::default()).unwrap();
+        let started = std::time::Instant::now();
+        let err = bad(&smartmesh(
+            &["remesh", &cyl, "--metric", p.to_str().unwrap(), "-o", out.to_str().unwrap()],
+            None,
+        ));
+        assert!(started.elapsed().as_secs_f64() < 30.0, "{name}: refused before any work");
+        assert!(err.contains("asks for about") && err.contains("--max-vertices"), "{err}");
+        assert!(!out.exists());
+    }
+    let err = bad(&smartmesh(
+        &[
+            "remesh",
+            &cyl,
+            "--metric",
+            f.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--max-vertices",
+            "100",
+        ],
+        None,
+    ));
+    assert!(err.contains("more than the limit of 100"), "{err}");
+}

@@ -426,6 +426,7 @@ fn history_is_drawn_with_its_best_iteration() {
         mean_quality: 0.8,
         min_quality: 0.2,
         seconds: PhaseTimes::default(),
+        remeshing: None,
     };
     let h = History {
         input: "g.poly".into(),

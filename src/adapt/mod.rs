@@ -12,6 +12,13 @@
 //! later — a failing tool, a killed run — the best mesh and a readable history are
 //! there ([`files::ResultFiles`] writes both atomically).
 //!
+//! Each mesh's topology is built once, for its sizing and for the remeshing that
+//! follows, and each mesh is measured once, against the recipe's field on it (the native
+//! remesher is asked not to measure). Before each remeshing the field's complexity
+//! ([`crate::remesh::expected_vertices`]) is compared with [`AdaptOptions::max_vertices`],
+//! whatever the remesher: a recipe asking for 10¹² vertices stops the loop at once
+//! ([`AdaptError::TooManyVertices`]) instead of filling the memory.
+//!
 //! The recipe is resolved afresh on every mesh by its tag names, so the same recipe
 //! serves every geometry variant with the same tags (thesis 6.3.1: the topology stays,
 //! the geometry changes).
@@ -26,10 +33,13 @@ use smartmesh_formats::TaggedMesh;
 
 use crate::adapters::{Adapter, AdapterError};
 use crate::conformity::Conformity;
-use crate::history::{History, IterationRecord, PhaseTimes};
+use crate::history::{History, IterationRecord, PhaseTimes, RemeshingRecord};
 use crate::metric::Sym2;
 use crate::recipe::Recipe;
-use crate::sizing::{size_mesh, SizeMeshError, StepEvent};
+use crate::remesh::estimate::{exceeds, format_count};
+use crate::remesh::{expected_vertices, DEFAULT_MAX_VERTICES};
+use crate::sizing::{size_mesh_with_topology, SizeMeshError, StepEvent};
+use crate::topology::Topology;
 
 pub use rules::Tolerances;
 
@@ -44,11 +54,18 @@ pub struct AdaptOptions {
     pub max_iterations: usize,
     /// When to stop before the limit.
     pub tolerances: Tolerances,
+    /// Most vertices a remeshing may be asked for (the field's complexity); `None`: no
+    /// limit.
+    pub max_vertices: Option<usize>,
 }
 
 impl Default for AdaptOptions {
     fn default() -> Self {
-        AdaptOptions { max_iterations: 8, tolerances: Tolerances::default() }
+        AdaptOptions {
+            max_iterations: 8,
+            tolerances: Tolerances::default(),
+            max_vertices: Some(DEFAULT_MAX_VERTICES),
+        }
     }
 }
 
@@ -108,9 +125,32 @@ pub enum AdaptError {
         /// What failed.
         source: PhaseError,
     },
+    /// The field on the current mesh asks for more vertices than the limit: iteration
+    /// `iteration` was not run; the best mesh so far has been handed on.
+    #[error("iteration {iteration} refused: the recipe's field on the mesh of iteration {} asks for about {} vertices (its complexity), more than the limit of {limit}; raise it with --max-vertices, or raise the recipe's hmin", iteration - 1, format_count(*estimate))]
+    TooManyVertices {
+        /// The iteration refused, from 1.
+        iteration: usize,
+        /// The vertices the field asks for.
+        estimate: f64,
+        /// The limit.
+        limit: usize,
+    },
     /// The observer could not write the result or the history.
     #[error("{0}")]
     Output(#[from] smartmesh_formats::Error),
+}
+
+impl AdaptError {
+    /// Whether a vertex limit stopped the loop (valid input that asks for more than the
+    /// user allowed), rather than a failure of the work.
+    pub fn is_limit(&self) -> bool {
+        matches!(
+            self,
+            AdaptError::TooManyVertices { .. }
+                | AdaptError::Iteration { source: PhaseError::Remesh(AdapterError::Limit(_)), .. }
+        )
+    }
 }
 
 /// Sees the loop's progress, and keeps its results.
@@ -151,27 +191,30 @@ pub struct Outcome {
     pub warnings: Vec<String>,
 }
 
-/// A mesh, the recipe's field on it as metrics, and its record.
+/// A mesh, its topology, the recipe's field on it as metrics, and its record.
 struct Measured {
     mesh: TaggedMesh,
+    topology: Topology,
     metric: Vec<Sym2>,
     record: IterationRecord,
     warnings: Vec<String>,
 }
 
 /// Sizes and measures `mesh` as iteration `iteration`; `remesh` is the time already spent
-/// making it.
+/// making it, `remeshing` what that remeshing did.
 fn measure(
     iteration: usize,
     mesh: TaggedMesh,
     remesh: f64,
+    remeshing: Option<RemeshingRecord>,
     recipe: &Recipe,
     observer: &mut dyn Observer,
 ) -> Result<Measured, (Phase, PhaseError)> {
     observer.phase(iteration, Phase::Size);
     let t = Instant::now();
-    let sizing =
-        size_mesh(&mesh, recipe, &mut |_: StepEvent| {}).map_err(|e| (Phase::Size, e.into()))?;
+    let topology = Topology::from_mesh(&mesh);
+    let sizing = size_mesh_with_topology(&mesh, &topology, recipe, &mut |_: StepEvent| {})
+        .map_err(|e| (Phase::Size, e.into()))?;
     let metric: Vec<Sym2> = sizing.field.tensors.iter().map(|t| t.to_metric()).collect();
     let size = t.elapsed().as_secs_f64();
     // The result carries the recipe's field on it (`metric`, `size_tensor`, `h1` …, as
@@ -190,8 +233,9 @@ fn measure(
         mean_quality: c.mean_quality,
         min_quality: c.min_quality,
         seconds: PhaseTimes { size, remesh, measure: t.elapsed().as_secs_f64() },
+        remeshing,
     };
-    Ok(Measured { mesh, metric, record, warnings: sizing.field.warnings })
+    Ok(Measured { mesh, topology, metric, record, warnings: sizing.field.warnings })
 }
 
 /// Runs the loop from `start` with `recipe` and `adapter`. `input` and `recipe_label`
@@ -205,7 +249,7 @@ pub fn run(
     recipe_label: &str,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdaptError> {
-    let first = measure(0, start, 0.0, recipe, observer)
+    let first = measure(0, start, 0.0, None, recipe, observer)
         .map_err(|(phase, source)| AdaptError::Start { phase, source })?;
     let mut history = History {
         input: input.to_string(),
@@ -229,16 +273,28 @@ pub fn run(
             stopped = INTERRUPTED.to_string();
             break;
         }
+        let expected = expected_vertices(&current.mesh, &current.metric);
+        if let Some(limit) = options.max_vertices {
+            if exceeds(expected, limit) {
+                let e = AdaptError::TooManyVertices { iteration: k, estimate: expected, limit };
+                stopped = e.to_string();
+                failure = Some(e);
+                break;
+            }
+        }
         observer.phase(k, Phase::Remesh);
         let t = Instant::now();
-        let remeshed = adapter.adapt(&current.mesh, &current.metric);
+        let remeshed = adapter.adapt(&current.mesh, &current.topology, &current.metric);
         if observer.interrupted() {
             stopped = INTERRUPTED.to_string();
             break;
         }
-        let next = remeshed
-            .map_err(|e| (Phase::Remesh, PhaseError::from(e)))
-            .and_then(|mesh| measure(k, mesh, t.elapsed().as_secs_f64(), recipe, observer));
+        let next = remeshed.map_err(|e| (Phase::Remesh, PhaseError::from(e))).and_then(|adapted| {
+            let remeshing =
+                RemeshingRecord { expected_vertices: expected, remesher: adapted.stats };
+            let seconds = t.elapsed().as_secs_f64();
+            measure(k, adapted.mesh, seconds, Some(remeshing), recipe, observer)
+        });
         let next = match next {
             Ok(n) => n,
             Err((phase, source)) => {

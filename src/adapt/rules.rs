@@ -55,6 +55,7 @@ mod tests {
             mean_quality: 0.8,
             min_quality: 0.1,
             seconds: PhaseTimes::default(),
+            remeshing: None,
         }
     }
 

@@ -32,8 +32,9 @@ use smartmesh_formats::{read_path, CellKind, DataArray, Format, TaggedMesh, Writ
 use super::prepare::prepare;
 use super::restore::{attach_names, ensure_tags_kept};
 use super::tool::{find_program, quote, run};
-use super::{Adapter, AdapterError, AdapterOptions};
+use super::{Adapted, Adapter, AdapterError, AdapterOptions};
 use crate::metric::Sym2;
+use crate::topology::Topology;
 
 /// The program looked up on `PATH`.
 pub const PROGRAM: &str = "gmsh";
@@ -89,7 +90,12 @@ impl Adapter for GmshAdapter {
         "gmsh"
     }
 
-    fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
+    fn adapt(
+        &self,
+        mesh: &TaggedMesh,
+        _topology: &Topology,
+        metric: &[Sym2],
+    ) -> Result<Adapted, AdapterError> {
         let prepared = prepare(mesh, metric)?;
         let dir =
             tempfile::Builder::new().prefix("smartmesh-gmsh-").tempdir().map_err(|source| {
@@ -138,7 +144,7 @@ impl Adapter for GmshAdapter {
         result.coordinate_dim = 2;
         attach_names(&prepared.mesh, &mut result);
         ensure_tags_kept(self.name(), &prepared.mesh, &result)?;
-        Ok(result)
+        Ok(Adapted { mesh: result, stats: None })
     }
 }
 

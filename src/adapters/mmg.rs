@@ -30,7 +30,7 @@ use smartmesh_formats::{
 use super::prepare::{prepare, Prepared};
 use super::restore::{attach_names, ensure_tags_kept, place_point_cells};
 use super::tool::{find_program, run};
-use super::{Adapter, AdapterError, AdapterOptions};
+use super::{Adapted, Adapter, AdapterError, AdapterOptions};
 use crate::metric::Sym2;
 use crate::topology::Topology;
 
@@ -75,7 +75,12 @@ impl Adapter for MmgAdapter {
         "mmg2d"
     }
 
-    fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
+    fn adapt(
+        &self,
+        mesh: &TaggedMesh,
+        _topology: &Topology,
+        metric: &[Sym2],
+    ) -> Result<Adapted, AdapterError> {
         let prepared = prepare(mesh, metric)?;
         let coded = Coded::new(&prepared.mesh);
         let dir =
@@ -97,7 +102,7 @@ impl Adapter for MmgAdapter {
         result.holes = prepared.mesh.holes.clone();
         result.regions = prepared.mesh.regions.clone();
         ensure_tags_kept(self.name(), &prepared.mesh, &result)?;
-        Ok(result)
+        Ok(Adapted { mesh: result, stats: None })
     }
 }
 

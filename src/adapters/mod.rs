@@ -24,6 +24,8 @@ use std::path::PathBuf;
 use smartmesh_formats::TaggedMesh;
 
 use crate::metric::Sym2;
+use crate::remesh::RemeshCounts;
+use crate::topology::Topology;
 
 /// A remesher: a new mesh of the same domain, with the same tags, that follows `metric`
 /// (one SPD tensor per vertex of `mesh`) as well as it can.
@@ -31,8 +33,23 @@ pub trait Adapter {
     /// The name the history and the messages use (`mmg2d`, `gmsh`, `native`).
     fn name(&self) -> &str;
 
-    /// Remeshes `mesh` to `metric`.
-    fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError>;
+    /// Remeshes `mesh`, whose topology the caller has built (`topology`), to `metric`.
+    fn adapt(
+        &self,
+        mesh: &TaggedMesh,
+        topology: &Topology,
+        metric: &[Sym2],
+    ) -> Result<Adapted, AdapterError>;
+}
+
+/// What a remesher gives back: the new mesh, and what it did when it says (the native
+/// remesher's per-pass counts; the external tools report none).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Adapted {
+    /// The new mesh.
+    pub mesh: TaggedMesh,
+    /// The remesher's counts, which `history.json` records.
+    pub stats: Option<RemeshCounts>,
 }
 
 /// Why an adapter gave no mesh.
@@ -80,6 +97,9 @@ pub enum AdapterError {
     /// The mesh cannot be given to the tool (no triangle, metric of the wrong length).
     #[error("{0}")]
     Input(String),
+    /// The metric asks for more vertices than the limit allows (valid input, refused).
+    #[error("{0}")]
+    Limit(String),
     /// An option the chosen remesher does not take.
     #[error("{option} is an option of the mmg2d adapter; the {adapter} adapter does not take it")]
     Option {
@@ -140,6 +160,10 @@ pub struct AdapterOptions {
     /// [`RemeshOptions::keep_points`](crate::remesh::RemeshOptions::keep_points)); the
     /// external tools place boundary points by their own rules and do not read it.
     pub keep_points: Vec<[f64; 2]>,
+    /// The native remesher's [`RemeshOptions::max_vertices`](crate::remesh::RemeshOptions::max_vertices)
+    /// (the adaptation loop checks the same limit before every remeshing, whatever the
+    /// remesher).
+    pub max_vertices: Option<usize>,
 }
 
 /// The adapter of `kind`: the program is looked up now, so that a missing tool is said
@@ -165,6 +189,9 @@ pub fn adapter(
         AdapterKind::Native => Ok(Box::new(native::NativeAdapter {
             options: crate::remesh::RemeshOptions {
                 keep_points: options.keep_points,
+                max_vertices: options.max_vertices,
+                // The loop measures every mesh against the recipe's own field.
+                measure: false,
                 ..Default::default()
             },
         })),

@@ -6,9 +6,10 @@
 use smartmesh_formats::TaggedMesh;
 
 use super::restore::ensure_tags_kept;
-use super::{Adapter, AdapterError};
+use super::{Adapted, Adapter, AdapterError};
 use crate::metric::Sym2;
-use crate::remesh::{remesh, RemeshOptions};
+use crate::remesh::{remesh_with_topology, RemeshOptions};
+use crate::topology::Topology;
 
 /// The native remesher with its options.
 #[derive(Debug, Clone, Default)]
@@ -22,14 +23,26 @@ impl Adapter for NativeAdapter {
         "native"
     }
 
-    fn adapt(&self, mesh: &TaggedMesh, metric: &[Sym2]) -> Result<TaggedMesh, AdapterError> {
-        let remeshed =
-            remesh(mesh, metric, &self.options).map_err(|e| AdapterError::Input(e.to_string()))?;
+    fn adapt(
+        &self,
+        mesh: &TaggedMesh,
+        topology: &Topology,
+        metric: &[Sym2],
+    ) -> Result<Adapted, AdapterError> {
+        let remeshed = remesh_with_topology(mesh, topology, metric, &self.options, &mut |_| {})
+            .map_err(|e| {
+                if e.is_limit() {
+                    AdapterError::Limit(e.to_string())
+                } else {
+                    AdapterError::Input(e.to_string())
+                }
+            })?;
+        let stats = Some(remeshed.stats.counts());
         let mut out = remeshed.mesh;
         // The loop sizes each new mesh with the recipe; the interpolated field is not the
         // next iteration's metric, so it does not travel with the result.
         out.point_data.remove(crate::export::METRIC);
         ensure_tags_kept(self.name(), mesh, &out)?;
-        Ok(out)
+        Ok(Adapted { mesh: out, stats })
     }
 }

@@ -105,6 +105,11 @@ pub struct AdaptArgs {
     /// Where to write the history (default: OUT's name with .history.json).
     #[arg(long)]
     history: Option<PathBuf>,
+    /// Most vertices a remeshing may be asked for: before each remeshing the field's
+    /// complexity (the vertex count it asks for) is compared with this, and the run stops
+    /// with exit status 2 above it (about 0.6 KB of memory per vertex).
+    #[arg(long, default_value_t = smartmesh::remesh::DEFAULT_MAX_VERTICES)]
+    max_vertices: usize,
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
@@ -289,6 +294,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         nosurf: args.nosurf,
         extra_args: args.adapter_args.clone(),
         keep_points: if args.coarsen_geometry { Vec::new() } else { starting.geometry_points },
+        max_vertices: Some(args.max_vertices),
     };
     let start = starting.mesh;
     let remesher = adapter(args.adapter.into(), options)?;
@@ -296,6 +302,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let opts = AdaptOptions {
         max_iterations: args.max_iterations,
         tolerances: Tolerances { vertices: args.tol_vertices, conformity: args.tol_conformity },
+        max_vertices: Some(args.max_vertices),
     };
     let to_stdout = is_stdio(&args.output);
     let mesh_file = if to_stdout { Path::new("stdout.msh") } else { args.output.as_path() };
@@ -362,7 +369,13 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         progress.files.history.display()
     );
     if let Some(e) = outcome.failure {
-        return Err(CliError::context(format!("{e}\n{kept}"), e));
+        // A vertex limit is the user's to raise: bad usage, not a failure of the work.
+        let limit = e.is_limit();
+        let mut err = CliError::context(format!("{e}\n{kept}"), e);
+        if limit {
+            err.status = ExitStatus::Error;
+        }
+        return Err(err);
     }
     if h.stopped == smartmesh::adapt::INTERRUPTED {
         return Err(CliError {

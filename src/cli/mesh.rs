@@ -60,7 +60,9 @@ pub struct MeshArgs {
     /// A boundary vertex where the boundary turns by more than this (degrees) is a corner.
     #[arg(long, default_value_t = 30.0)]
     corner_angle: f64,
-    /// Most vertices refinement may create before it stops with an error.
+    /// Most vertices refinement may create before it stops with an error (exit 1).
+    /// Area bounds asking for more than the larger of this and 5000000 vertices are
+    /// refused before refining (exit 2, with the estimate).
     #[arg(long)]
     max_vertices: Option<usize>,
     /// Input format, when the extension does not tell.

@@ -73,6 +73,11 @@ pub struct RemeshArgs {
     /// A curve turning by more than this many degrees at a vertex makes it a corner.
     #[arg(long, default_value_t = RemeshOptions::default().ridge_angle_degrees)]
     ridge_angle: f64,
+    /// Most vertices the output may have: the metric's complexity (the vertex count it
+    /// asks for) is compared with this before any work, and the run is refused with exit
+    /// status 2 above it (about 0.6 KB of memory per vertex).
+    #[arg(long, default_value_t = smartmesh::remesh::DEFAULT_MAX_VERTICES)]
+    max_vertices: usize,
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
@@ -192,6 +197,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         },
         ridge_angle_degrees: args.ridge_angle,
         smooth_sweeps: args.smooth_sweeps,
+        max_vertices: Some(args.max_vertices),
         ..RemeshOptions::default()
     };
     let bar =

@@ -16,12 +16,18 @@
 //!   region's bound gets its centroid inserted (inside that triangle, so inside its
 //!   region), and spade refines again for angles; this repeats until no triangle is too
 //!   large. The same pass also catches any triangle spade left above the global bound.
+//!
+//! Before any of that, the vertices the area bounds ask for are estimated from the
+//! unrefined triangulation (each domain triangle's area over its bound,
+//! [`expected_vertices`]) and a graph asking for more than the limit is refused
+//! ([`MeshError::TooManyVertices`]): `--size 1e-4` on a unit square would otherwise
+//! insert 10⁸ vertices before failing.
 
 use spade::{AngleLimit, Point2, RefinementParameters, Triangulation};
 
 use super::domain::{classify, CARVED};
 use super::pslg::Pslg;
-use super::{Cdt, MeshError, MeshOptions};
+use super::{Cdt, MeshError, MeshOptions, DEFAULT_MAX_VERTICES};
 
 /// Rounds of the region-bound pass before giving up (each round at least thirds the
 /// area of every triangle that is too large, so 60 rounds cover a factor of 3^60).
@@ -128,6 +134,34 @@ fn domain_triangles(
     (kept, too_large)
 }
 
+/// Vertices per unit of area over area bound in a refined mesh (measured on the
+/// fixtures: refinement to an area bound leaves triangles of about half the bound, two
+/// triangles per vertex).
+const VERTICES_PER_BOUND: f64 = 1.0;
+
+/// The vertices the area bounds ask for: the area of each domain triangle of the
+/// unrefined triangulation over its bound, summed (`None` when no bound applies).
+pub(crate) fn expected_vertices(
+    cdt: &Cdt,
+    labels: &[u32],
+    global: Option<f64>,
+    pslg: &Pslg,
+) -> Option<f64> {
+    let mut sum = 0.0;
+    let mut any = false;
+    for f in cdt.inner_faces() {
+        let l = labels[f.fix().index()];
+        if l == CARVED {
+            continue;
+        }
+        if let Some(bound) = bound_of(l, global, pslg) {
+            any = true;
+            sum += f.area() / bound;
+        }
+    }
+    any.then_some(VERTICES_PER_BOUND * sum + cdt.num_vertices() as f64)
+}
+
 /// Refines `cdt` as `opts` asks and returns the domain's triangles with their labels.
 pub(crate) fn refine(
     cdt: &mut Cdt,
@@ -136,6 +170,14 @@ pub(crate) fn refine(
 ) -> Result<Vec<Labelled>, MeshError> {
     let initial = classify(cdt, pslg, opts.keep_convex_hull)?;
     let global = opts.area_bound();
+    // The memory guard: the default limit, or the caller's when higher (a lower one is a
+    // budget that refinement stops at, below).
+    let limit = opts.max_vertices.map_or(DEFAULT_MAX_VERTICES, |m| m.max(DEFAULT_MAX_VERTICES));
+    if let Some(estimate) = expected_vertices(cdt, &initial, global, pslg) {
+        if crate::remesh::estimate::exceeds(estimate, limit) {
+            return Err(MeshError::TooManyVertices { estimate, limit });
+        }
+    }
     let any_region_bound = pslg.seeds.iter().any(|s| s.max_area.is_some());
     if opts.min_angle_deg == 0.0 && global.is_none() && !any_region_bound {
         return Ok(domain_triangles(cdt, &initial, None, pslg).0);
@@ -163,7 +205,7 @@ pub(crate) fn refine(
                 } else {
                     0
                 };
-                10 * cdt.num_vertices() + by_area + 10_000
+                (10 * cdt.num_vertices() + by_area + 10_000).min(DEFAULT_MAX_VERTICES)
             }
         }
     };

@@ -14,7 +14,7 @@
 //! boundary or interface segment.
 
 use super::background::log_euclidean;
-use super::BoundaryMode;
+use super::options::BoundaryMode;
 use crate::geometry::segment::orient;
 use crate::geometry::{SegmentGeom, SegmentIndex};
 use crate::metric::Sym2;

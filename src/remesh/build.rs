@@ -11,10 +11,11 @@
 
 use std::collections::HashMap;
 
-use super::background::{log_spd, Background};
+use super::background::log_spd;
 use super::boundary::{LineTags, Piece};
-use super::work::{key, orient, FIXED, FREE};
-use super::{RemeshError, RemeshOptions};
+use super::error::RemeshError;
+use super::options::RemeshOptions;
+use super::work::{key, orient, Role};
 use crate::formats::{CellKind, TaggedMesh};
 use crate::metric::Sym2;
 use crate::topology::Topology;
@@ -29,10 +30,8 @@ pub struct Start {
     pub face: Vec<u32>,
     /// `(physical, geometrical)` of each face.
     pub faces: Vec<(i32, i32)>,
-    /// Piece (or [`FREE`]/[`FIXED`]) and parameter of each input vertex.
-    pub piece: Vec<u32>,
-    /// Parameters on the pieces.
-    pub s: Vec<f64>,
+    /// What each input vertex may do.
+    pub role: Vec<Role>,
     /// The pieces.
     pub pieces: Vec<Piece>,
     /// Constrained edges with their piece.
@@ -43,9 +42,11 @@ pub struct Start {
     pub warnings: Vec<String>,
 }
 
-/// Reads the triangles, constraints and pieces of `mesh`.
+/// Reads the triangles, constraints and pieces of `mesh`, whose topological points
+/// `topology` lists.
 pub fn start(
     mesh: &TaggedMesh,
+    topology: &Topology,
     metric: &[Sym2],
     opts: &RemeshOptions,
 ) -> Result<Start, RemeshError> {
@@ -204,9 +205,8 @@ pub fn start(
     let around = |v: u32| &adj[deg[v as usize] as usize..deg[v as usize + 1] as usize];
 
     // Corners.
-    let topo = Topology::from_mesh(mesh);
     let mut corner = vec![false; n];
-    for p in &topo.points {
+    for p in &topology.points {
         corner[p.vertex] = true;
     }
     for &(v, _, _) in &vertex_cells {
@@ -249,54 +249,48 @@ pub fn start(
     // corner; then the loops without corner, from their smallest vertex.
     let logs: Vec<Sym2> = metric.iter().map(log_spd).collect();
     let mut visited = vec![false; constrained.len()];
-    let mut piece = vec![FREE; n];
-    let mut s = vec![0.0; n];
+    let mut role = vec![Role::Free; n];
     let mut pieces: Vec<Piece> = Vec::new();
     let mut cons: ahash::AHashMap<(u32, u32), u32> =
         ahash::AHashMap::with_capacity(constrained.len());
-    let mut walk = |start: u32,
-                    first: u32,
-                    corner: &[bool],
-                    visited: &mut Vec<bool>,
-                    piece: &mut Vec<u32>,
-                    s: &mut Vec<f64>| {
-        let pid = pieces.len() as u32;
-        let tags = constrained[first as usize].1 .0;
-        let mut verts = vec![start];
-        let mut e = first;
-        let mut cur = start;
-        loop {
-            visited[e as usize] = true;
-            cons.insert(constrained[e as usize].0, pid);
-            let (a, b) = constrained[e as usize].0;
-            let next = if a == cur { b } else { a };
-            verts.push(next);
-            if corner[next as usize] {
-                break;
+    let mut walk =
+        |start: u32, first: u32, corner: &[bool], visited: &mut Vec<bool>, role: &mut Vec<Role>| {
+            let pid = pieces.len() as u32;
+            let tags = constrained[first as usize].1 .0;
+            let mut verts = vec![start];
+            let mut e = first;
+            let mut cur = start;
+            loop {
+                visited[e as usize] = true;
+                cons.insert(constrained[e as usize].0, pid);
+                let (a, b) = constrained[e as usize].0;
+                let next = if a == cur { b } else { a };
+                verts.push(next);
+                if corner[next as usize] {
+                    break;
+                }
+                let Some(&ne) = around(next).iter().find(|&&x| !visited[x as usize]) else { break };
+                cur = next;
+                e = ne;
             }
-            let Some(&ne) = around(next).iter().find(|&&x| !visited[x as usize]) else { break };
-            cur = next;
-            e = ne;
-        }
-        let p = Piece::new(
-            verts.iter().map(|&v| pts[v as usize]).collect(),
-            verts.iter().map(|&v| logs[v as usize]).collect(),
-            tags,
-            [verts[0], *verts.last().unwrap_or(&verts[0])],
-        );
-        for (i, &v) in verts.iter().enumerate() {
-            if !corner[v as usize] {
-                piece[v as usize] = pid;
-                s[v as usize] = p.s[i];
+            let p = Piece::new(
+                verts.iter().map(|&v| pts[v as usize]).collect(),
+                verts.iter().map(|&v| logs[v as usize]).collect(),
+                tags,
+                [verts[0], *verts.last().unwrap_or(&verts[0])],
+            );
+            for (i, &v) in verts.iter().enumerate() {
+                if !corner[v as usize] {
+                    role[v as usize] = Role::Slides { piece: pid, s: p.s[i] };
+                }
             }
-        }
-        pieces.push(p);
-    };
+            pieces.push(p);
+        };
     for v in 0..n as u32 {
         if corner[v as usize] {
             for &e in around(v) {
                 if !visited[e as usize] {
-                    walk(v, e, &corner, &mut visited, &mut piece, &mut s);
+                    walk(v, e, &corner, &mut visited, &mut role);
                 }
             }
         }
@@ -307,21 +301,15 @@ pub fn start(
             corner[v as usize] = true;
             for &e in around(v) {
                 if !visited[e as usize] {
-                    walk(v, e, &corner, &mut visited, &mut piece, &mut s);
+                    walk(v, e, &corner, &mut visited, &mut role);
                 }
             }
         }
     }
     for v in 0..n {
         if corner[v] || !used[v] {
-            piece[v] = FIXED;
+            role[v] = Role::Fixed;
         }
     }
-    Ok(Start { pts, tris, face, faces, piece, s, pieces, cons, vertex_cells, warnings })
-}
-
-/// The background field of the input.
-pub fn background(st: &Start, metric: &[Sym2]) -> Background {
-    let tris: Vec<[usize; 3]> = st.tris.iter().map(|t| t.map(|v| v as usize)).collect();
-    Background::new(&st.pts, &tris, metric)
+    Ok(Start { pts, tris, face, faces, role, pieces, cons, vertex_cells, warnings })
 }

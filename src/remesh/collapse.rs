@@ -6,33 +6,64 @@
 //! longer than the split bound (no split–collapse cycles), when the worst triangle would
 //! get worse than the quality floor allows, or when the new boundary edge would cross a
 //! curve.
+//!
+//! As MMG's `chkcol`/`colver`, the operator is a pair: [`check`] reads the mesh and
+//! returns a [`CollapsePlan`] (or `None`, having changed nothing); [`apply`] carries a
+//! plan out and checks nothing.
 
-use super::work::{key, orient, Work, DEAD, FIXED, FREE};
+use super::options::RemeshOptions;
+use super::split::metric_midpoint;
+use super::work::{op_quality, orient, Role, Work};
+use crate::conformity::metric_edge_length;
+use crate::metric::Sym2;
 
-/// Sweeps over the edges shorter than `lmin`, shortest first, until none collapses or
-/// `max_sweeps` ran; after the first sweep only the edges around merged vertices are
-/// looked at again (nothing else changed). Returns the number of collapses.
-pub fn collapse_sweeps(w: &mut Work, lmin: f64, lmax: f64, max_sweeps: usize) -> usize {
+/// A collapse that [`check`] accepted.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CollapsePlan {
+    /// The vertex that goes.
+    a: u32,
+    /// The vertex that stays (and maybe moves).
+    b: u32,
+    /// The one or two triangles of edge `ab`, which disappear.
+    killed: [u32; 2],
+    /// How many of `killed` there are.
+    nkilled: usize,
+    /// Where `b` ends up, and its metric there.
+    at: [f64; 2],
+    metric: Sym2,
+    /// For a piece vertex `a`: its other neighbour `c` along the piece and the piece;
+    /// `bc` becomes the constrained edge in place of `ac`.
+    relink: Option<(u32, u32)>,
+}
+
+/// Sweeps over the edges shorter than `opts.collapse_below`, shortest first, until none
+/// collapses or `opts.collapse_sweeps` ran; after the first sweep only the edges around
+/// merged vertices are looked at again (nothing else changed). New edges may be no longer
+/// than `lmax`. Returns the number of collapses.
+pub fn collapse_sweeps(w: &mut Work, lmax: f64, opts: &RemeshOptions) -> usize {
     let mut edges = w.edges();
     let mut n = 0;
-    for _ in 0..max_sweeps {
-        let mut cand: Vec<(f64, u32, u32)> =
-            edges.iter().map(|&(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 < lmin).collect();
+    for _ in 0..opts.collapse_sweeps {
+        let mut cand: Vec<(f64, u32, u32)> = edges
+            .iter()
+            .map(|&(a, b)| (w.length(a, b), a, b))
+            .filter(|c| c.0 < opts.collapse_below)
+            .collect();
         cand.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let mut hit = Vec::new();
         for (_, a, b) in cand {
-            if w.piece[a as usize] == DEAD
-                || w.piece[b as usize] == DEAD
-                || w.edge_tris(a, b).1 == 0
-            {
+            if w.is_dead(a) || w.is_dead(b) || w.edge_tris(a, b).1 == 0 {
                 continue;
             }
-            if collapse(w, a, b, lmax, false)
-                || collapse(w, b, a, lmax, false)
-                || collapse(w, a, b, lmax, true)
-            {
+            let floor = opts.quality_floor;
+            let plan = check(w, a, b, lmax, false, floor)
+                .or_else(|| check(w, b, a, lmax, false, floor))
+                .or_else(|| check(w, a, b, lmax, true, floor));
+            if let Some(plan) = plan {
+                let kept = plan.b;
+                apply(w, &plan);
                 n += 1;
-                hit.push(if w.piece[a as usize] == DEAD { b } else { a });
+                hit.push(kept);
             }
         }
         if hit.is_empty() {
@@ -43,124 +74,120 @@ pub fn collapse_sweeps(w: &mut Work, lmin: f64, lmax: f64, max_sweeps: usize) ->
     n
 }
 
-/// Merges `a` into `b`; false (nothing changed) when not allowed. With `to_middle`
-/// (both ends free), the merged vertex goes to the edge's metric midpoint instead of
-/// staying at `b`: the new edges are then about half the short edge shorter, which
-/// lets a short edge go where merging onto an end would make too long an edge.
-pub fn collapse(w: &mut Work, a: u32, b: u32, lmax: f64, to_middle: bool) -> bool {
-    let pa = w.piece[a as usize];
-    if pa == FIXED || pa == DEAD {
-        return false;
+/// Whether `a` may be merged into `b`, and how. With `to_middle` (both ends free), the
+/// merged vertex goes to the edge's metric midpoint instead of staying at `b`: the new
+/// edges are then about half the short edge shorter, which lets a short edge go where
+/// merging onto an end would make too long an edge. New edges may be no longer than
+/// `lmax`; the worst triangle of the ball may not drop below the smaller of its worst
+/// before and `floor`.
+pub fn check(
+    w: &Work,
+    a: u32,
+    b: u32,
+    lmax: f64,
+    to_middle: bool,
+    floor: f64,
+) -> Option<CollapsePlan> {
+    let ra = w.role(a);
+    if matches!(ra, Role::Fixed | Role::Dead) {
+        return None;
     }
-    if to_middle && (pa != FREE || w.piece[b as usize] != FREE) {
-        return false;
+    if to_middle && (ra != Role::Free || w.role(b) != Role::Free) {
+        return None;
     }
-    let (ts, k) = w.edge_tris(a, b);
-    if k == 0 || k > 2 {
-        return false;
+    let (killed, nkilled) = w.edge_tris(a, b);
+    if nkilled == 0 || nkilled > 2 {
+        return None;
     }
-    let ts = &ts[..k];
-    let along = w.cons.get(&key(a, b)).copied();
+    let ts = &killed[..nkilled];
+    let along = w.constraint(a, b);
     // The other end of `a`'s piece edge, for a piece vertex.
-    let mut other: Option<u32> = None;
-    if pa != FREE {
+    let mut relink: Option<(u32, u32)> = None;
+    if let Role::Slides { piece: pa, .. } = ra {
         if along != Some(pa) {
-            return false;
+            return None;
         }
-        let Some(nb) = w.curve_neighbours(a) else { return false };
+        let nb = w.curve_neighbours(a)?;
         let c = if nb[0].0 == b {
             nb[1].0
         } else if nb[1].0 == b {
             nb[0].0
         } else {
-            return false;
+            return None;
         };
         if c == b {
-            return false;
+            return None;
         }
-        other = Some(c);
+        relink = Some((c, pa));
     } else if along.is_some() {
-        return false;
+        return None;
     }
     // Link condition.
-    let opp: Vec<u32> = ts
-        .iter()
-        .map(|&t| w.tris[t as usize].into_iter().find(|&x| x != a && x != b).unwrap_or(a))
-        .collect();
+    let opp: Vec<u32> =
+        ts.iter().map(|&t| w.tri(t).into_iter().find(|&x| x != a && x != b).unwrap_or(a)).collect();
     let na = w.neighbours(a);
     let nb = w.neighbours(b);
     let common = na.iter().filter(|x| nb.binary_search(x).is_ok()).count();
     if common != opp.len() || opp.iter().any(|x| nb.binary_search(x).is_err()) {
-        return false;
+        return None;
     }
     // The balls after the merge, with `b` at `pb` carrying `mb`.
     let (pb, mb) = if to_middle {
-        let t = super::split::metric_midpoint(w, a, b);
-        let (p, q) = (w.pts[a as usize], w.pts[b as usize]);
+        let t = metric_midpoint(w, a, b);
+        let (p, q) = (w.point(a), w.point(b));
         let m = [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
-        (m, w.bg.metric_at(m))
+        (m, w.background().metric_at(m))
     } else {
-        (w.pts[b as usize], w.met[b as usize])
+        (w.point(b), w.metric(b))
     };
     let (mut old_min, mut new_min) = (f64::INFINITY, f64::INFINITY);
-    let moved: &[u32] = if to_middle { &w.vtris[b as usize] } else { &[] };
-    for &t in w.vtris[a as usize].iter().chain(moved) {
+    let moved: &[u32] = if to_middle { w.ball(b) } else { &[] };
+    for &t in w.ball(a).iter().chain(moved) {
         old_min = old_min.min(w.quality(t));
         if ts.contains(&t) {
             continue;
         }
-        let v = w.tris[t as usize].map(|x| if x == a { b } else { x });
-        let p = v.map(|x| if x == b { pb } else { w.pts[x as usize] });
+        let v = w.tri(t).map(|x| if x == a { b } else { x });
+        let p = v.map(|x| if x == b { pb } else { w.point(x) });
         if orient(p[0], p[1], p[2]) <= 0.0 {
-            return false;
+            return None;
         }
-        let ms = v.map(|x| if x == b { mb } else { w.met[x as usize] });
+        let ms = v.map(|x| if x == b { mb } else { w.metric(x) });
         for (k, &x) in v.iter().enumerate() {
-            if x != b && crate::conformity::metric_edge_length(pb, p[k], &mb, &ms[k]) > lmax {
-                return false;
+            if x != b && metric_edge_length(pb, p[k], &mb, &ms[k]) > lmax {
+                return None;
             }
         }
-        new_min = new_min.min(super::work::op_quality(p, [&ms[0], &ms[1], &ms[2]]));
+        new_min = new_min.min(op_quality(p, [&ms[0], &ms[1], &ms[2]]));
     }
-    if new_min < old_min.min(0.3) {
-        return false;
+    if new_min < old_min.min(floor) {
+        return None;
     }
-    if let Some(c) = other {
-        let sa = w.s[a as usize];
+    if let (Some((c, pa)), Role::Slides { s: sa, .. }) = (relink, ra) {
         let (sb, sc) = (w.param_on(b, pa, sa), w.param_on(c, pa, sa));
-        if !w.bd.chord_clear(pa, sb, pb, sc, w.pts[c as usize]) {
-            return false;
+        if !w.boundary().chord_clear(pa, sb, pb, sc, w.point(c)) {
+            return None;
         }
     }
-    // Apply.
-    for &t in ts {
-        w.alive[t as usize] = false;
-        for x in w.tris[t as usize] {
-            if x != a {
-                w.detach(x, t);
-            }
-        }
+    Some(CollapsePlan { a, b, killed, nkilled, at: pb, metric: mb, relink })
+}
+
+/// Carries out a plan of [`check`] on the mesh it was made on.
+pub fn apply(w: &mut Work, plan: &CollapsePlan) {
+    let CollapsePlan { a, b, .. } = *plan;
+    for &t in &plan.killed[..plan.nkilled] {
+        w.kill_tri(t);
     }
-    let ball = std::mem::take(&mut w.vtris[a as usize]);
-    for t in ball {
-        if ts.contains(&t) {
-            continue;
-        }
-        for x in w.tris[t as usize].iter_mut() {
-            if *x == a {
-                *x = b;
-            }
-        }
-        w.vtris[b as usize].push(t);
+    for t in w.ball(a).to_vec() {
+        let v = w.tri(t).map(|x| if x == a { b } else { x });
+        w.set_tri(t, v);
     }
-    w.piece[a as usize] = DEAD;
-    w.pts[b as usize] = pb;
-    w.met[b as usize] = mb;
+    w.kill_vertex(a);
+    w.place(b, plan.at, plan.metric, w.role(b));
     w.mark_ball(b);
-    w.cons.remove(&key(a, b));
-    if let Some(c) = other {
-        w.cons.remove(&key(a, c));
-        w.cons.insert(key(b, c), pa);
+    w.unconstrain(a, b);
+    if let Some((c, piece)) = plan.relink {
+        w.unconstrain(a, c);
+        w.constrain(b, c, piece);
     }
-    true
 }

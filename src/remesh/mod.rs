@@ -6,9 +6,19 @@
 //! edges shorter than 1/√2 (`collapse`), flips diagonals to raise the worse metric
 //! quality of each pair (`swap`), moves vertices toward a metric-equilateral place
 //! (`smooth`), then collapses and flips once more where smoothing left short edges; the
-//! passes stop when splits and collapses touch fewer than a fivehundredth of the
-//! triangles, or after [`RemeshOptions::max_passes`], and a last smoothing and swap
-//! polish the result.
+//! passes stop when splits and collapses touch fewer than one triangle in
+//! [`RemeshOptions::settle_ratio`], or after [`RemeshOptions::max_passes`], and a last
+//! smoothing and swap polish the result.
+//!
+//! Each operator is a pair, as MMG's `chkcol`/`colver`: a `check` that only reads the
+//! working mesh (`work`) and returns a plan or nothing, and an `apply` that carries the
+//! plan out through the working mesh's few edits, which keep its adjacency exact. The
+//! tuning of the operators (quality floor, sweep counts, gains, the settling rule) is in
+//! [`RemeshOptions`].
+//!
+//! Before any work the expected output size, the metric's complexity (`estimate`), is
+//! compared with [`RemeshOptions::max_vertices`]: a metric asking for 10¹² vertices is
+//! refused in milliseconds instead of filling the memory.
 //!
 //! What it guarantees, by construction and checked in the tests:
 //! - every triangle strictly counter-clockwise (Shewchuk's exact orientation predicate
@@ -26,134 +36,28 @@ mod background;
 pub mod boundary;
 mod build;
 mod collapse;
+mod error;
+pub mod estimate;
+mod options;
 mod output;
 mod smooth;
 mod split;
+mod stats;
 mod swap;
 mod work;
 
+use std::borrow::Cow;
 use std::time::Instant;
 
-use serde::Serialize;
-
-use crate::conformity::{Conformity, CONFORMING};
+use crate::conformity::Conformity;
 use crate::formats::TaggedMesh;
 use crate::metric::Sym2;
+use crate::topology::Topology;
 
 pub use background::{exp_sym, log_spd};
-
-/// Where vertices on boundaries and interfaces are placed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum BoundaryMode {
-    /// On the original polyline (the boundary never changes shape).
-    #[default]
-    Polyline,
-    /// On a C¹ cubic reconstruction through the original boundary vertices (curved
-    /// boundaries get rounder as they are refined; straight runs stay straight).
-    Smooth,
-}
-
-/// How to remesh.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RemeshOptions {
-    /// Passes of split, collapse, swap and smooth at most.
-    pub max_passes: usize,
-    /// Smoothing sweeps per pass.
-    pub smooth_sweeps: usize,
-    /// Placement of boundary and interface vertices.
-    pub boundary: BoundaryMode,
-    /// A curve vertex where the curve turns by more than this angle is a corner (fixed).
-    pub ridge_angle_degrees: f64,
-    /// Split edges longer than this metric length.
-    pub split_above: f64,
-    /// Collapse edges shorter than this metric length.
-    pub collapse_below: f64,
-    /// Points of the input geometry that stay vertices: a boundary or interface vertex at
-    /// exactly one of these coordinates is a corner (never moved nor removed). The
-    /// adaptation loop passes the vertices of the `.poly` it started from, so that every
-    /// boundary edge stays on an input segment however many times the mesh is remeshed
-    /// (without them, a vertex at a bend milder than the ridge angle may be collapsed, its
-    /// two edges replaced by a chord, and the next remeshing takes the chord as the
-    /// boundary).
-    #[serde(skip)]
-    pub keep_points: Vec<[f64; 2]>,
-}
-
-impl Default for RemeshOptions {
-    fn default() -> Self {
-        RemeshOptions {
-            max_passes: 12,
-            smooth_sweeps: 2,
-            boundary: BoundaryMode::Polyline,
-            ridge_angle_degrees: 45.0,
-            split_above: CONFORMING[1],
-            collapse_below: CONFORMING[0],
-            keep_points: Vec::new(),
-        }
-    }
-}
-
-/// What one pass did.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct PassStats {
-    /// Edges split.
-    pub splits: usize,
-    /// Edges collapsed.
-    pub collapses: usize,
-    /// Diagonals flipped.
-    pub swaps: usize,
-    /// Vertices moved.
-    pub moves: usize,
-    /// Triangles at the end of the pass.
-    pub triangles: usize,
-}
-
-/// Seconds spent in each phase.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct PhaseSeconds {
-    /// Reading the input: constraints, pieces, background index.
-    pub setup: f64,
-    /// Splitting.
-    pub split: f64,
-    /// Collapsing.
-    pub collapse: f64,
-    /// Swapping.
-    pub swap: f64,
-    /// Smoothing.
-    pub smooth: f64,
-    /// Building the output mesh and measuring it.
-    pub output: f64,
-}
-
-/// What a run did and how the result conforms.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RemeshStats {
-    /// Passes run.
-    pub passes: usize,
-    /// Edges split, in all.
-    pub splits: usize,
-    /// Edges collapsed.
-    pub collapses: usize,
-    /// Diagonals flipped.
-    pub swaps: usize,
-    /// Vertices moved.
-    pub moves: usize,
-    /// Each pass.
-    pub per_pass: Vec<PassStats>,
-    /// Seconds per phase.
-    pub seconds: PhaseSeconds,
-    /// Input vertices and triangles.
-    pub input: [usize; 2],
-    /// Output vertices and triangles.
-    pub output: [usize; 2],
-    /// Conformity of the input mesh to the metric.
-    pub initial: Option<Conformity>,
-    /// Conformity of the output mesh to its metric.
-    pub conformity: Option<Conformity>,
-    /// What the output does not carry.
-    pub warnings: Vec<String>,
-}
+pub use error::RemeshError;
+pub use options::{BoundaryMode, RemeshOptions, DEFAULT_MAX_VERTICES};
+pub use stats::{PassStats, PhaseSeconds, RemeshCounts, RemeshStats};
 
 /// The remeshed mesh, its metric and what was done.
 #[derive(Debug, Clone, PartialEq)]
@@ -166,70 +70,6 @@ pub struct Remeshed {
     pub metric: Vec<Sym2>,
     /// What was done.
     pub stats: RemeshStats,
-}
-
-/// Why a mesh cannot be remeshed.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum RemeshError {
-    /// The metric does not have one tensor per point.
-    #[error("the metric has {items} tensors for {vertices} vertices")]
-    MetricCount {
-        /// Tensors given.
-        items: usize,
-        /// Points of the mesh.
-        vertices: usize,
-    },
-    /// A vertex used by a triangle has a metric that is not finite and SPD.
-    #[error("the metric at vertex {vertex} (0-based), [[{a}, {b}], [{b}, {c}]], is not finite and positive definite")]
-    NotSpd {
-        /// The vertex.
-        vertex: usize,
-        /// m11.
-        a: f64,
-        /// m12.
-        b: f64,
-        /// m22.
-        c: f64,
-    },
-    /// A point with a non-finite coordinate.
-    #[error("vertex {vertex} (0-based) has a coordinate that is not finite")]
-    BadPoint {
-        /// The vertex.
-        vertex: usize,
-    },
-    /// A cell kind the remesher does not handle.
-    #[error("the remesher handles triangles, lines and vertex cells; the mesh has {kind} cells (convert or split them first)")]
-    UnsupportedCell {
-        /// The kind's name.
-        kind: &'static str,
-    },
-    /// No triangle at all.
-    #[error("the mesh has no triangles")]
-    NoTriangles,
-    /// A triangle with zero area or a repeated vertex.
-    #[error("triangle {triangle} (0-based, vertices {vertices:?}) has zero area")]
-    DegenerateTriangle {
-        /// The triangle.
-        triangle: usize,
-        /// Its vertices.
-        vertices: [usize; 3],
-    },
-    /// An edge shared by more than two triangles.
-    #[error(
-        "edge {edge:?} is shared by {triangles} triangles; the remesher needs a manifold mesh"
-    )]
-    NonManifold {
-        /// The edge.
-        edge: [usize; 2],
-        /// How many triangles hold it.
-        triangles: usize,
-    },
-    /// More vertices than the remesher's 32-bit indices allow.
-    #[error("{vertices} vertices is more than the remesher handles")]
-    TooLarge {
-        /// Points of the mesh.
-        vertices: usize,
-    },
 }
 
 /// Progress of a run, for a progress bar.
@@ -262,16 +102,78 @@ pub fn interpolate_metric(
         });
     }
     let pts: Vec<[f64; 2]> = background.points.iter().map(|p| [p[0], p[1]]).collect();
-    let tris: Vec<[usize; 3]> = background
-        .cells()
-        .filter(|c| c.0 == crate::formats::CellKind::Triangle)
-        .map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize])
-        .collect();
+    let tris = triangles(background);
     if tris.is_empty() {
         return Err(RemeshError::NoTriangles);
     }
     let bg = background::Background::new(&pts, &tris, metric);
     Ok(points.iter().map(|&p| bg.metric_at(p)).collect())
+}
+
+/// The triangle cells of `mesh`.
+fn triangles(mesh: &TaggedMesh) -> Vec<[usize; 3]> {
+    mesh.cells()
+        .filter(|c| c.0 == crate::formats::CellKind::Triangle)
+        .map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize])
+        .collect()
+}
+
+/// The expected vertex count of a remeshing of `mesh` to `metric` (one tensor per point):
+/// the metric's complexity over its triangles and quadrangles ([`estimate`]). What
+/// [`RemeshOptions::max_vertices`] is compared with, and what the adaptation loop checks
+/// before every remeshing, whatever the remesher.
+pub fn expected_vertices(mesh: &TaggedMesh, metric: &[Sym2]) -> f64 {
+    let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
+    let mut tris = Vec::new();
+    for (kind, n, _, _) in mesh.cells() {
+        let n: Vec<usize> = n.iter().map(|&v| v as usize).collect();
+        match kind {
+            crate::formats::CellKind::Triangle | crate::formats::CellKind::Triangle6 => {
+                tris.push([n[0], n[1], n[2]])
+            }
+            crate::formats::CellKind::Quad
+            | crate::formats::CellKind::Quad8
+            | crate::formats::CellKind::Quad9 => {
+                tris.push([n[0], n[1], n[2]]);
+                tris.push([n[0], n[2], n[3]]);
+            }
+            _ => {}
+        }
+    }
+    if metric.len() != pts.len() || tris.iter().flatten().any(|&v| v >= pts.len()) {
+        return 0.0;
+    }
+    estimate::expected_vertices(&pts, &tris, metric)
+}
+
+/// The metric with its sizes bounded by `hmin` and `hmax` (eigenvalues clamped to
+/// [1/hmax², 1/hmin²]); borrowed unchanged when neither is set.
+fn bounded_sizes<'m>(
+    metric: &'m [Sym2],
+    opts: &RemeshOptions,
+) -> Result<Cow<'m, [Sym2]>, RemeshError> {
+    let (hmin, hmax) = (opts.hmin, opts.hmax);
+    if hmin.is_none() && hmax.is_none() {
+        return Ok(Cow::Borrowed(metric));
+    }
+    let ok = |h: Option<f64>| h.map_or(true, |h| h > 0.0 && h.is_finite());
+    if !ok(hmin) || !ok(hmax) || matches!((hmin, hmax), (Some(a), Some(b)) if a > b) {
+        return Err(RemeshError::BadSizeBounds { hmin, hmax });
+    }
+    let (lo, hi) =
+        (hmax.map_or(0.0, |h| 1.0 / (h * h)), hmin.map_or(f64::INFINITY, |h| 1.0 / (h * h)));
+    Ok(Cow::Owned(
+        metric
+            .iter()
+            .map(|m| {
+                let e = m.eigen();
+                if !(e.values[0].is_finite() && e.values[1].is_finite()) {
+                    return *m;
+                }
+                Sym2::from_eigen([e.values[0].clamp(lo, hi), e.values[1].clamp(lo, hi)], e.vector)
+            })
+            .collect(),
+    ))
 }
 
 fn collapse_phase(
@@ -282,14 +184,30 @@ fn collapse_phase(
     secs: &mut PhaseSeconds,
 ) {
     let t = Instant::now();
-    ps.collapses += collapse::collapse_sweeps(w, opts.collapse_below, lmax_after, 4);
+    ps.collapses += collapse::collapse_sweeps(w, lmax_after, opts);
     secs.collapse += t.elapsed().as_secs_f64();
 }
 
-fn swap_phase(w: &mut work::Work, ps: &mut PassStats, secs: &mut PhaseSeconds, everything: bool) {
+fn swap_phase(
+    w: &mut work::Work,
+    opts: &RemeshOptions,
+    ps: &mut PassStats,
+    secs: &mut PhaseSeconds,
+    everything: bool,
+) {
     let t = Instant::now();
-    ps.swaps += swap::swap_sweeps(w, 8, everything);
+    ps.swaps += swap::swap_sweeps(w, opts, everything);
     secs.swap += t.elapsed().as_secs_f64();
+}
+
+fn smooth_phase(w: &mut work::Work, opts: &RemeshOptions, secs: &mut PhaseSeconds) -> usize {
+    let t = Instant::now();
+    let mut moves = 0;
+    for _ in 0..opts.smooth_sweeps {
+        moves += smooth::smooth_sweep(w, opts);
+    }
+    secs.smooth += t.elapsed().as_secs_f64();
+    moves
 }
 
 /// Remeshes `mesh` to `metric` (one SPD tensor per point; [`crate::conformity::metric_field`]
@@ -309,39 +227,51 @@ pub fn remesh_with_progress(
     opts: &RemeshOptions,
     progress: &mut dyn FnMut(RemeshEvent),
 ) -> Result<Remeshed, RemeshError> {
+    remesh_with_topology(mesh, &Topology::from_mesh(mesh), metric, opts, progress)
+}
+
+/// [`remesh_with_progress`] for a caller that has `mesh`'s [`Topology`] already (the
+/// adaptation loop builds it once per mesh, for the sizing and the remeshing).
+pub fn remesh_with_topology(
+    mesh: &TaggedMesh,
+    topology: &Topology,
+    metric: &[Sym2],
+    opts: &RemeshOptions,
+    progress: &mut dyn FnMut(RemeshEvent),
+) -> Result<Remeshed, RemeshError> {
     let t0 = Instant::now();
-    let st = build::start(mesh, metric, opts)?;
-    let bg = build::background(&st, metric);
+    let metric = bounded_sizes(metric, opts)?;
+    let metric: &[Sym2] = &metric;
+    let st = build::start(mesh, topology, metric, opts)?;
     let input_tris: Vec<[usize; 3]> = st.tris.iter().map(|t| t.map(|v| v as usize)).collect();
-    let initial = Conformity::of(&st.pts, &input_tris, metric);
+    let estimate = estimate::expected_vertices(&st.pts, &input_tris, metric);
+    if let Some(limit) = opts.max_vertices {
+        if estimate::exceeds(estimate, limit) {
+            return Err(RemeshError::TooManyVertices { estimate, limit });
+        }
+    }
+    // Past this many vertices the splits stop: twice the limit, and never near the end
+    // of the 32-bit indices.
+    let cap = opts
+        .max_vertices
+        .map_or(u32::MAX as usize / 2, |l| l.saturating_mul(2).min(u32::MAX as usize / 2));
+    let bg = background::Background::new(&st.pts, &input_tris, metric);
+    let initial = if opts.measure { Conformity::of(&st.pts, &input_tris, metric) } else { None };
+    drop(input_tris);
     let bd = boundary::Boundary::new(st.pieces);
     #[cfg(test)]
     let input_points = st.pts.clone();
-    let n = st.pts.len();
-    let mut vtris = vec![Vec::new(); n];
-    for (i, t) in st.tris.iter().enumerate() {
-        for &v in t {
-            vtris[v as usize].push(i as u32);
-        }
-    }
-    let ntri = st.tris.len();
-    let mut w = work::Work {
+    let (n, ntri) = (st.pts.len(), st.tris.len());
+    let parts = work::Parts {
         pts: st.pts,
         met: metric.to_vec(),
-        piece: st.piece,
-        s: st.s,
-        vtris,
+        role: st.role,
         tris: st.tris,
         face: st.face,
-        alive: vec![true; ntri],
-        dirty: Vec::new(),
-        is_dirty: vec![false; n],
-        active: vec![true; n],
         cons: st.cons,
-        bg: &bg,
-        bd: &bd,
-        mode: opts.boundary,
     };
+    let context = work::Context { background: &bg, boundary: &bd, mode: opts.boundary };
+    let mut w = work::Work::new(parts, context);
     let mut stats = RemeshStats {
         passes: 0,
         splits: 0,
@@ -356,33 +286,34 @@ pub fn remesh_with_progress(
         conformity: None,
         warnings: st.warnings,
     };
-    // Collapses may not create edges longer than this: a little under the split bound,
-    // so that a collapse never hands the next split sweep work.
+    // Collapses may not create edges longer than this: the split bound, so that a
+    // collapse never hands the next split sweep work.
     let lmax_after = opts.split_above;
     for pass in 0..opts.max_passes {
         let mut ps = PassStats::default();
         let t = Instant::now();
-        ps.splits += split::split_sweeps(&mut w, opts.split_above);
+        ps.splits +=
+            split::split_sweeps(&mut w, opts.split_above, cap).map_err(|_| RemeshError::Grew {
+                vertices: w.num_vertices(),
+                limit: opts.max_vertices.unwrap_or(cap),
+                estimate,
+            })?;
         stats.seconds.split += t.elapsed().as_secs_f64();
         collapse_phase(&mut w, opts, lmax_after, &mut ps, &mut stats.seconds);
-        swap_phase(&mut w, &mut ps, &mut stats.seconds, pass == 0);
-        let t = Instant::now();
-        for _ in 0..opts.smooth_sweeps {
-            ps.moves += smooth::smooth_sweep(&mut w);
-        }
-        stats.seconds.smooth += t.elapsed().as_secs_f64();
+        swap_phase(&mut w, opts, &mut ps, &mut stats.seconds, pass == 0);
+        ps.moves += smooth_phase(&mut w, opts, &mut stats.seconds);
         // Smoothing moves lengths out of the band again: a last collapse and swap.
         collapse_phase(&mut w, opts, lmax_after, &mut ps, &mut stats.seconds);
-        swap_phase(&mut w, &mut ps, &mut stats.seconds, false);
-        ps.triangles = w.alive.iter().filter(|&&a| a).count();
+        swap_phase(&mut w, opts, &mut ps, &mut stats.seconds, false);
+        ps.triangles = w.live_triangles();
         stats.passes = pass + 1;
         stats.splits += ps.splits;
         stats.collapses += ps.collapses;
         stats.swaps += ps.swaps;
         stats.moves += ps.moves;
-        // Settled when the topology barely changes any more (a fivehundredth of the
-        // triangles); what is left is smoothing's business, which the pass just did.
-        let settled = (ps.splits + ps.collapses) * 500 <= ps.triangles;
+        // Settled when the topology barely changes any more; what is left is smoothing's
+        // business, which the pass just did.
+        let settled = (ps.splits + ps.collapses).saturating_mul(opts.settle_ratio) <= ps.triangles;
         progress(RemeshEvent::Pass {
             pass: pass + 1,
             of: opts.max_passes,
@@ -395,14 +326,9 @@ pub fn remesh_with_progress(
     }
     // A last polish: the final collapses and swaps left some balls unsmoothed.
     if stats.passes > 0 {
-        let t = Instant::now();
-        let mut moves = 0;
-        for _ in 0..opts.smooth_sweeps {
-            moves += smooth::smooth_sweep(&mut w);
-        }
-        stats.seconds.smooth += t.elapsed().as_secs_f64();
+        let moves = smooth_phase(&mut w, opts, &mut stats.seconds);
         let mut ps = PassStats { moves, ..PassStats::default() };
-        swap_phase(&mut w, &mut ps, &mut stats.seconds, false);
+        swap_phase(&mut w, opts, &mut ps, &mut stats.seconds, false);
         stats.moves += ps.moves;
         stats.swaps += ps.swaps;
         if let Some(last) = stats.per_pass.last_mut() {
@@ -418,13 +344,11 @@ pub fn remesh_with_progress(
     let t = Instant::now();
     let (out, out_metric) = output::assemble(mesh, &w, &st.faces, &st.vertex_cells);
     let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
-    let out_tris: Vec<[usize; 3]> = out
-        .cells()
-        .filter(|c| c.0 == crate::formats::CellKind::Triangle)
-        .map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize])
-        .collect();
+    let out_tris = triangles(&out);
     stats.output = [out_pts.len(), out_tris.len()];
-    stats.conformity = Conformity::of(&out_pts, &out_tris, &out_metric);
+    if opts.measure {
+        stats.conformity = Conformity::of(&out_pts, &out_tris, &out_metric);
+    }
     stats.seconds.output = t.elapsed().as_secs_f64();
     Ok(Remeshed { mesh: out, metric: out_metric, stats })
 }

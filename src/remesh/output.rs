@@ -5,7 +5,7 @@
 //! point data `metric` (9 components, z entry the largest eigenvalue, as
 //! [`crate::export`] writes it).
 
-use super::work::{Work, DEAD};
+use super::work::Work;
 use crate::formats::{sym2_to_tensor9, CellBlock, CellKind, DataArray, TaggedMesh};
 use crate::metric::Sym2;
 
@@ -16,19 +16,21 @@ pub fn assemble(
     faces: &[(i32, i32)],
     vertex_cells: &[(u32, i32, i32)],
 ) -> (TaggedMesh, Vec<Sym2>) {
-    let mut new_id = vec![u32::MAX; w.pts.len()];
+    let mut new_id = vec![u32::MAX; w.num_vertices()];
     let mut mesh = TaggedMesh::new();
     mesh.coordinate_dim = input.coordinate_dim;
     mesh.tag_names = input.tag_names.clone();
     mesh.entities = input.entities.clone();
     let mut metric = Vec::new();
     for (v, id) in new_id.iter_mut().enumerate() {
-        if w.piece[v] == DEAD {
+        let v = v as u32;
+        if w.is_dead(v) {
             continue;
         }
         *id = mesh.points.len() as u32;
-        mesh.points.push([w.pts[v][0], w.pts[v][1], 0.0]);
-        metric.push(w.met[v]);
+        let p = w.point(v);
+        mesh.points.push([p[0], p[1], 0.0]);
+        metric.push(w.metric(v));
     }
     let id = |v: u32| new_id[v as usize];
 
@@ -40,32 +42,22 @@ pub fn assemble(
         mesh.blocks.push(b);
     }
     // Constrained edges by piece, in parameter order.
-    let mut on_piece: Vec<(u32, f64, u32, u32)> = Vec::new();
-    for (a, b) in w.edges() {
-        if let Some(&p) = w.cons.get(&(a, b)) {
-            if w.bd.pieces[p as usize].tags.is_none() {
-                continue;
-            }
-            let near = if w.piece[a as usize] == p { w.s[a as usize] } else { w.s[b as usize] };
-            let (sa, sb) = (w.param_on(a, p, near), w.param_on(b, p, near));
-            let (u, v) = if sa <= sb { (a, b) } else { (b, a) };
-            on_piece.push((p, sa.min(sb), u, v));
-        }
-    }
+    let mut on_piece = w.piece_edges();
     on_piece
         .sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then((x.2, x.3).cmp(&(y.2, y.3))));
     if !on_piece.is_empty() {
         let mut b = CellBlock::new(CellKind::Line);
         for &(p, _, u, v) in &on_piece {
-            let (ph, g) = w.bd.pieces[p as usize].tags.unwrap_or((0, 0));
+            let (ph, g) = w.boundary().pieces[p as usize].tags.unwrap_or((0, 0));
             b.push(&[id(u), id(v)], ph, g);
         }
         mesh.blocks.push(b);
     }
     let mut tb = CellBlock::new(CellKind::Triangle);
-    for (t, v) in w.tris.iter().enumerate() {
-        if w.alive[t] {
-            let (p, g) = faces[w.face[t] as usize];
+    for t in 0..w.num_slots() as u32 {
+        if w.is_alive(t) {
+            let v = w.tri(t);
+            let (p, g) = faces[w.face(t) as usize];
             tb.push(&[id(v[0]), id(v[1]), id(v[2])], p, g);
         }
     }

@@ -1,30 +1,43 @@
 //! Edge swapping: the diagonal of two triangles that share an unconstrained edge is
 //! flipped when that raises the worse of their two metric qualities. Constrained edges
 //! (boundaries, interfaces) never flip, so face tags never mix.
+//!
+//! [`check`] returns a [`SwapPlan`] or `None`; [`apply`] flips.
 
-use super::work::{key, orient, Work};
+use super::options::RemeshOptions;
+use super::work::{orient, Work};
 
-/// Relative gain a flip must bring (keeps sweeps from flipping back and forth on ties).
-const GAIN: f64 = 1e-6;
+/// A flip that [`check`] accepted: triangles `t1 = (a, b, c)` and `t2 = (b, a, d)`
+/// become `(c, a, d)` and `(d, b, c)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SwapPlan {
+    t1: u32,
+    t2: u32,
+    n1: [u32; 3],
+    n2: [u32; 3],
+    /// The four corners, `[a, b, c, d]`.
+    corners: [u32; 4],
+}
 
-/// Sweeps of flips until none is left or `max_sweeps` ran: the first sweep tries the
-/// edges around every vertex whose ball changed since the last swap phase (all of them
-/// the first time), the next ones only the edges around the vertices a flip touched
-/// (sorted, so the order is fixed). Returns the number of flips.
-pub fn swap_sweeps(w: &mut Work, max_sweeps: usize, everything: bool) -> usize {
+/// Sweeps of flips until none is left or `opts.swap_sweeps` ran: the first sweep tries
+/// the edges around every vertex whose ball changed since the last swap phase (every
+/// edge when `everything`), the next ones only the edges around the vertices a flip
+/// touched (sorted, so the order is fixed). Returns the number of flips.
+pub fn swap_sweeps(w: &mut Work, opts: &RemeshOptions, everything: bool) -> usize {
     let mut n = 0;
     let dirty = w.take_dirty();
     let mut todo = if everything { w.edges() } else { w.edges_around(&dirty) };
-    let mut touched = vec![false; w.pts.len()];
-    for _ in 0..max_sweeps {
+    let mut touched = vec![false; w.num_vertices()];
+    for _ in 0..opts.swap_sweeps {
         let mut hit: Vec<u32> = Vec::new();
         for &(a, b) in &todo {
-            if w.cons.contains_key(&key(a, b)) {
+            if w.constraint(a, b).is_some() {
                 continue;
             }
-            if let Some([c, d]) = swap(w, a, b) {
+            if let Some(plan) = check(w, a, b, opts.swap_gain) {
+                apply(w, &plan);
                 n += 1;
-                for x in [a, b, c, d] {
+                for x in plan.corners {
                     if !touched[x as usize] {
                         touched[x as usize] = true;
                         hit.push(x);
@@ -43,8 +56,9 @@ pub fn swap_sweeps(w: &mut Work, max_sweeps: usize, everything: bool) -> usize {
     n
 }
 
-/// Flips edge `ab` if allowed and better; the new diagonal's ends when it did.
-fn swap(w: &mut Work, a: u32, b: u32) -> Option<[u32; 2]> {
+/// Whether flipping edge `ab` is allowed and raises the worse quality of the pair by
+/// more than the relative `gain`.
+pub fn check(w: &Work, a: u32, b: u32, gain: f64) -> Option<SwapPlan> {
     let (ts, k) = w.edge_tris(a, b);
     if k != 2 {
         return None;
@@ -55,38 +69,38 @@ fn swap(w: &mut Work, a: u32, b: u32) -> Option<[u32; 2]> {
         [v[i], v[(i + 1) % 3], v[(i + 2) % 3]]
     };
     let (mut t1, mut t2) = (ts[0], ts[1]);
-    let mut v1 = rot(w.tris[t1 as usize], a);
+    let mut v1 = rot(w.tri(t1), a);
     if v1[1] != b {
         std::mem::swap(&mut t1, &mut t2);
-        v1 = rot(w.tris[t1 as usize], a);
+        v1 = rot(w.tri(t1), a);
     }
-    let v2 = rot(w.tris[t2 as usize], b);
+    let v2 = rot(w.tri(t2), b);
     if v1[1] != b || v2[1] != a {
         return None;
     }
     let (c, d) = (v1[2], v2[2]);
-    if c == d || w.face[t1 as usize] != w.face[t2 as usize] {
+    if c == d || w.face(t1) != w.face(t2) {
         return None;
     }
     let (n1, n2) = ([c, a, d], [d, b, c]);
-    let p = |v: [u32; 3]| v.map(|x| w.pts[x as usize]);
+    let p = |v: [u32; 3]| v.map(|x| w.point(x));
     let (q1, q2) = (p(n1), p(n2));
     if orient(q1[0], q1[1], q1[2]) <= 0.0 || orient(q2[0], q2[1], q2[2]) <= 0.0 {
         return None;
     }
     let old = w.quality(t1).min(w.quality(t2));
     let new = w.quality_of(n1).min(w.quality_of(n2));
-    if new <= old * (1.0 + GAIN) {
+    if new <= old * (1.0 + gain) {
         return None;
     }
-    if w.vtris[c as usize].iter().any(|&t| w.tris[t as usize].contains(&d)) {
+    if w.ball(c).iter().any(|&t| w.tri(t).contains(&d)) {
         return None; // cd is already an edge
     }
-    w.tris[t1 as usize] = n1;
-    w.tris[t2 as usize] = n2;
-    w.detach(b, t1);
-    w.vtris[d as usize].push(t1);
-    w.detach(a, t2);
-    w.vtris[c as usize].push(t2);
-    Some([c, d])
+    Some(SwapPlan { t1, t2, n1, n2, corners: [a, b, c, d] })
+}
+
+/// Carries out a plan of [`check`].
+pub fn apply(w: &mut Work, plan: &SwapPlan) {
+    w.set_tri(plan.t1, plan.n1);
+    w.set_tri(plan.t2, plan.n2);
 }

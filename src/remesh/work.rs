@@ -1,25 +1,52 @@
-//! The mutable triangle mesh the operators edit: coordinates, metrics, what each vertex
-//! may do (free, on a piece at parameter `s`, fixed), counter-clockwise triangles with
-//! their face, vertex → triangle adjacency, and the constrained edges with their piece.
+//! The mutable triangle mesh the operators edit: coordinates, metrics, the [`Role`] of
+//! each vertex, counter-clockwise triangles with their face, vertex → triangle adjacency,
+//! and the constrained edges with their piece.
+//!
+//! The fields are private: the operators read through accessors and change the mesh only
+//! through the few edits below ([`Work::add_vertex`], [`Work::add_tri`],
+//! [`Work::set_tri`], [`Work::kill_tri`], [`Work::place`], …), each of which keeps the
+//! adjacency exact (a triangle is in the list of each of its corners, and only there).
 //!
 //! Triangles are never reused or reordered while remeshing (dead ones are flagged and
-//! dropped at the end) and every sweep walks vectors in index order, so the result does
-//! not depend on anything but the input. The constrained-edge map is only ever looked
-//! up, never iterated.
+//! dropped at the end), adjacency lists change only by removing an entry in place or
+//! appending one, and every sweep walks vectors in index order, so the result does not
+//! depend on anything but the input. The constrained-edge map is only ever looked up,
+//! never iterated.
 
 use super::background::Background;
 use super::boundary::Boundary;
-use super::BoundaryMode;
+use super::options::BoundaryMode;
 use crate::conformity::{metric_edge_length, quality_in_metric};
 use crate::metric::Sym2;
 
-/// `piece` value of a vertex free to move in its face.
-pub const FREE: u32 = u32::MAX;
-/// `piece` value of a vertex that never moves nor vanishes (corner, topological point,
-/// a node no triangle uses).
-pub const FIXED: u32 = u32::MAX - 1;
-/// `piece` value of a vertex removed by a collapse.
-pub const DEAD: u32 = u32::MAX - 2;
+/// What a vertex may do.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Role {
+    /// Free to move in its face.
+    Free,
+    /// Slides along piece `piece` of the boundary, at arc-length parameter `s`.
+    Slides {
+        /// The piece.
+        piece: u32,
+        /// The parameter on it.
+        s: f64,
+    },
+    /// Never moves nor vanishes: a corner, a topological point, a node no triangle uses.
+    Fixed,
+    /// Removed by a collapse.
+    Dead,
+}
+
+impl Role {
+    /// The piece of a sliding vertex.
+    #[inline]
+    pub fn piece(self) -> Option<u32> {
+        match self {
+            Role::Slides { piece, .. } => Some(piece),
+            _ => None,
+        }
+    }
+}
 
 /// Key of the undirected edge `ab`.
 #[inline]
@@ -45,39 +72,183 @@ pub fn op_quality(p: [[f64; 2]; 3], m: [&Sym2; 3]) -> f64 {
 /// The mesh under edit.
 pub struct Work<'a> {
     /// Coordinates.
-    pub pts: Vec<[f64; 2]>,
+    pts: Vec<[f64; 2]>,
     /// Metric at each vertex (interpolated from the input field).
-    pub met: Vec<Sym2>,
-    /// Piece of a vertex sliding on a curve, or [`FREE`], [`FIXED`], [`DEAD`].
-    pub piece: Vec<u32>,
-    /// Arc-length parameter on its piece.
-    pub s: Vec<f64>,
+    met: Vec<Sym2>,
+    /// What each vertex may do.
+    role: Vec<Role>,
     /// Triangles using each vertex.
-    pub vtris: Vec<Vec<u32>>,
+    vtris: Vec<Vec<u32>>,
     /// Counter-clockwise triangles.
-    pub tris: Vec<[u32; 3]>,
+    tris: Vec<[u32; 3]>,
     /// Face (index into the face tag table) of each triangle.
-    pub face: Vec<u32>,
+    face: Vec<u32>,
     /// Whether each triangle is still in the mesh.
-    pub alive: Vec<bool>,
+    alive: Vec<bool>,
     /// Constrained edges and their piece.
-    pub cons: ahash::AHashMap<(u32, u32), u32>,
+    cons: ahash::AHashMap<(u32, u32), u32>,
     /// Vertices whose ball changed since the last swap phase, listed once each.
-    pub dirty: Vec<u32>,
+    dirty: Vec<u32>,
     /// Whether each vertex is in `dirty`.
-    pub is_dirty: Vec<bool>,
+    is_dirty: Vec<bool>,
     /// Whether the next smoothing sweep should try each vertex (its ball changed since
     /// it was last tried).
-    pub active: Vec<bool>,
+    active: Vec<bool>,
     /// The input field.
-    pub bg: &'a Background,
+    bg: &'a Background,
     /// The input curves.
-    pub bd: &'a Boundary,
+    bd: &'a Boundary,
+    /// Where piece vertices are placed.
+    mode: BoundaryMode,
+}
+
+/// The mesh a [`Work`] starts from.
+pub struct Parts {
+    /// Coordinates.
+    pub pts: Vec<[f64; 2]>,
+    /// Metric at each vertex.
+    pub met: Vec<Sym2>,
+    /// What each vertex may do.
+    pub role: Vec<Role>,
+    /// Counter-clockwise triangles.
+    pub tris: Vec<[u32; 3]>,
+    /// Face of each triangle.
+    pub face: Vec<u32>,
+    /// Constrained edges and their piece.
+    pub cons: ahash::AHashMap<(u32, u32), u32>,
+}
+
+/// What the operators read besides the mesh: the input field and curves, and where
+/// piece vertices are placed.
+#[derive(Clone, Copy)]
+pub struct Context<'a> {
+    /// The input field.
+    pub background: &'a Background,
+    /// The input curves.
+    pub boundary: &'a Boundary,
     /// Where piece vertices are placed.
     pub mode: BoundaryMode,
 }
 
-impl Work<'_> {
+impl<'a> Work<'a> {
+    /// The mesh `parts` ready for editing in `context`.
+    pub fn new(parts: Parts, context: Context<'a>) -> Work<'a> {
+        let Parts { pts, met, role, tris, face, cons } = parts;
+        let n = pts.len();
+        let mut vtris = vec![Vec::new(); n];
+        for (i, t) in tris.iter().enumerate() {
+            for &v in t {
+                vtris[v as usize].push(i as u32);
+            }
+        }
+        let ntri = tris.len();
+        Work {
+            pts,
+            met,
+            role,
+            vtris,
+            tris,
+            face,
+            alive: vec![true; ntri],
+            cons,
+            dirty: Vec::new(),
+            is_dirty: vec![false; n],
+            active: vec![true; n],
+            bg: context.background,
+            bd: context.boundary,
+            mode: context.mode,
+        }
+    }
+
+    /// Vertices made so far, dead ones included.
+    #[inline]
+    pub fn num_vertices(&self) -> usize {
+        self.pts.len()
+    }
+
+    /// Triangles made so far, dead ones included.
+    #[inline]
+    pub fn num_slots(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// Live triangles.
+    pub fn live_triangles(&self) -> usize {
+        self.alive.iter().filter(|&&a| a).count()
+    }
+
+    /// Position of `v`.
+    #[inline]
+    pub fn point(&self, v: u32) -> [f64; 2] {
+        self.pts[v as usize]
+    }
+
+    /// Metric at `v`.
+    #[inline]
+    pub fn metric(&self, v: u32) -> Sym2 {
+        self.met[v as usize]
+    }
+
+    /// What `v` may do.
+    #[inline]
+    pub fn role(&self, v: u32) -> Role {
+        self.role[v as usize]
+    }
+
+    /// Whether `v` was removed.
+    #[inline]
+    pub fn is_dead(&self, v: u32) -> bool {
+        self.role[v as usize] == Role::Dead
+    }
+
+    /// Corners of triangle `t`.
+    #[inline]
+    pub fn tri(&self, t: u32) -> [u32; 3] {
+        self.tris[t as usize]
+    }
+
+    /// Face of triangle `t`.
+    #[inline]
+    pub fn face(&self, t: u32) -> u32 {
+        self.face[t as usize]
+    }
+
+    /// Whether triangle `t` is in the mesh.
+    #[inline]
+    pub fn is_alive(&self, t: u32) -> bool {
+        self.alive[t as usize]
+    }
+
+    /// The live triangles around `v`.
+    #[inline]
+    pub fn ball(&self, v: u32) -> &[u32] {
+        &self.vtris[v as usize]
+    }
+
+    /// The piece of constrained edge `ab`, or `None` for a free edge.
+    #[inline]
+    pub fn constraint(&self, a: u32, b: u32) -> Option<u32> {
+        self.cons.get(&key(a, b)).copied()
+    }
+
+    /// The input field.
+    #[inline]
+    pub fn background(&self) -> &'a Background {
+        self.bg
+    }
+
+    /// The input curves.
+    #[inline]
+    pub fn boundary(&self) -> &'a Boundary {
+        self.bd
+    }
+
+    /// Where piece vertices are placed.
+    #[inline]
+    pub fn mode(&self) -> BoundaryMode {
+        self.mode
+    }
+
     /// Metric length of edge `ab`.
     #[inline]
     pub fn length(&self, a: u32, b: u32) -> f64 {
@@ -132,10 +303,13 @@ impl Work<'_> {
         n
     }
 
-    /// Parameter of `v` on piece `p`; `near` chooses the end of a loop with one corner.
+    /// Parameter of `v` on piece `p`: its own when it slides on `p`, else that of the
+    /// piece's end it is; `near` chooses the end of a loop with one corner.
     pub fn param_on(&self, v: u32, p: u32, near: f64) -> f64 {
-        if self.piece[v as usize] == p {
-            return self.s[v as usize];
+        if let Role::Slides { piece, s } = self.role[v as usize] {
+            if piece == p {
+                return s;
+            }
         }
         let piece = &self.bd.pieces[p as usize];
         let len = piece.length();
@@ -152,11 +326,20 @@ impl Work<'_> {
         }
     }
 
+    /// The parameter of `v` when it slides on `p`, the `near` hint for the other end of an
+    /// edge on `p` otherwise.
+    #[inline]
+    pub fn param_or(&self, v: u32, p: u32, otherwise: f64) -> f64 {
+        match self.role[v as usize] {
+            Role::Slides { piece, s } if piece == p => s,
+            _ => otherwise,
+        }
+    }
+
     /// The two neighbours of piece vertex `v` along its piece, as `(vertex, parameter)`,
     /// the one with the smaller parameter first.
     pub fn curve_neighbours(&self, v: u32) -> Option<[(u32, f64); 2]> {
-        let p = self.piece[v as usize];
-        let sv = self.s[v as usize];
+        let Role::Slides { piece: p, s: sv } = self.role[v as usize] else { return None };
         let mut found: Vec<(u32, f64)> = Vec::with_capacity(2);
         for u in self.neighbours(v) {
             if self.cons.get(&key(u, v)) == Some(&p) {
@@ -188,6 +371,12 @@ impl Work<'_> {
         }
     }
 
+    /// Whether the next smoothing sweep should try `v`; clears the mark.
+    #[inline]
+    pub fn take_active(&mut self, v: u32) -> bool {
+        std::mem::replace(&mut self.active[v as usize], false)
+    }
+
     /// Takes the changed vertices, sorted, and clears the marks.
     pub fn take_dirty(&mut self) -> Vec<u32> {
         let mut d = std::mem::take(&mut self.dirty);
@@ -210,8 +399,33 @@ impl Work<'_> {
         t
     }
 
+    /// Gives live triangle `t` the corners `v`: it leaves the lists of the corners it
+    /// loses and joins those of the corners it gains, in corner order.
+    pub fn set_tri(&mut self, t: u32, v: [u32; 3]) {
+        let old = self.tris[t as usize];
+        self.tris[t as usize] = v;
+        for x in old {
+            if !v.contains(&x) {
+                self.detach(x, t);
+            }
+        }
+        for x in v {
+            if !old.contains(&x) {
+                self.vtris[x as usize].push(t);
+            }
+        }
+    }
+
+    /// Removes triangle `t` from the mesh.
+    pub fn kill_tri(&mut self, t: u32) {
+        self.alive[t as usize] = false;
+        for x in self.tris[t as usize] {
+            self.detach(x, t);
+        }
+    }
+
     /// Removes `t` from the adjacency of `v`.
-    pub fn detach(&mut self, v: u32, t: u32) {
+    fn detach(&mut self, v: u32, t: u32) {
         let list = &mut self.vtris[v as usize];
         if let Some(i) = list.iter().position(|&x| x == t) {
             list.remove(i);
@@ -219,16 +433,39 @@ impl Work<'_> {
     }
 
     /// Appends a vertex.
-    pub fn add_vertex(&mut self, p: [f64; 2], m: Sym2, piece: u32, s: f64) -> u32 {
+    pub fn add_vertex(&mut self, p: [f64; 2], m: Sym2, role: Role) -> u32 {
         let v = self.pts.len() as u32;
         self.pts.push(p);
         self.met.push(m);
-        self.piece.push(piece);
-        self.s.push(s);
+        self.role.push(role);
         self.vtris.push(Vec::new());
         self.is_dirty.push(false);
         self.active.push(true);
         v
+    }
+
+    /// Puts `v` at `p` with metric `m` and role `role` (a sliding vertex with its new
+    /// parameter).
+    pub fn place(&mut self, v: u32, p: [f64; 2], m: Sym2, role: Role) {
+        self.pts[v as usize] = p;
+        self.met[v as usize] = m;
+        self.role[v as usize] = role;
+    }
+
+    /// Marks `v` removed; no live triangle may use it any more.
+    pub fn kill_vertex(&mut self, v: u32) {
+        debug_assert!(self.vtris[v as usize].is_empty());
+        self.role[v as usize] = Role::Dead;
+    }
+
+    /// Makes `ab` a constrained edge of piece `p`.
+    pub fn constrain(&mut self, a: u32, b: u32, p: u32) {
+        self.cons.insert(key(a, b), p);
+    }
+
+    /// Makes `ab` free (it left the mesh).
+    pub fn unconstrain(&mut self, a: u32, b: u32) {
+        self.cons.remove(&key(a, b));
     }
 
     /// Every live undirected edge once, in triangle order (an interior edge from the
@@ -245,8 +482,8 @@ impl Work<'_> {
                 // A boundary edge joins two vertices that are not free; checking that
                 // first spares the adjacency scan for nearly every interior edge.
                 if a < b
-                    || (self.piece[a as usize] != FREE
-                        && self.piece[b as usize] != FREE
+                    || (self.role[a as usize] != Role::Free
+                        && self.role[b as usize] != Role::Free
                         && self.edge_tris(a, b).1 == 1)
                 {
                     e.push(key(a, b));
@@ -261,7 +498,7 @@ impl Work<'_> {
     pub fn edges_around(&self, around: &[u32]) -> Vec<(u32, u32)> {
         let mut e: Vec<(u32, u32)> = Vec::new();
         for &x in around {
-            if self.piece[x as usize] == DEAD {
+            if self.is_dead(x) {
                 continue;
             }
             for &t in &self.vtris[x as usize] {
@@ -274,6 +511,24 @@ impl Work<'_> {
         e.sort_unstable();
         e.dedup();
         e
+    }
+
+    /// The constrained edges of live triangles on pieces that carry line tags, each as
+    /// `(piece, smaller parameter, start, end)` oriented by increasing parameter.
+    pub fn piece_edges(&self) -> Vec<(u32, f64, u32, u32)> {
+        let mut on_piece = Vec::new();
+        for (a, b) in self.edges() {
+            if let Some(&p) = self.cons.get(&(a, b)) {
+                if self.bd.pieces[p as usize].tags.is_none() {
+                    continue;
+                }
+                let near = self.param_or(a, p, self.param_or(b, p, 0.0));
+                let (sa, sb) = (self.param_on(a, p, near), self.param_on(b, p, near));
+                let (u, v) = if sa <= sb { (a, b) } else { (b, a) };
+                on_piece.push((p, sa.min(sb), u, v));
+            }
+        }
+        on_piece
     }
 
     /// Position and metric of a point at parameter `s` on piece `p`.
@@ -308,7 +563,7 @@ impl Work<'_> {
                 return Err(format!("triangle {t} {v:?} is not counter-clockwise"));
             }
             for &x in v {
-                if self.piece[x as usize] == DEAD || !self.vtris[x as usize].contains(&(t as u32)) {
+                if self.is_dead(x) || !self.vtris[x as usize].contains(&(t as u32)) {
                     return Err(format!("triangle {t} missing from the list of vertex {x}"));
                 }
             }
@@ -356,18 +611,20 @@ impl Work<'_> {
             ));
         }
         for v in 0..self.pts.len() {
-            let p = self.piece[v];
-            if p == FIXED && v < input.len() && self.pts[v] != input[v] {
-                return Err(format!("fixed vertex {v} moved"));
-            }
-            if p != FIXED && p != FREE && p != DEAD {
-                let (q, _) = self.on_piece(p, self.s[v]);
-                if q != self.pts[v] {
-                    return Err(format!(
-                        "vertex {v} is off its piece {p}: {:?} vs {q:?}",
-                        self.pts[v]
-                    ));
+            match self.role[v] {
+                Role::Fixed if v < input.len() && self.pts[v] != input[v] => {
+                    return Err(format!("fixed vertex {v} moved"));
                 }
+                Role::Slides { piece, s } => {
+                    let (q, _) = self.on_piece(piece, s);
+                    if q != self.pts[v] {
+                        return Err(format!(
+                            "vertex {v} is off its piece {piece}: {:?} vs {q:?}",
+                            self.pts[v]
+                        ));
+                    }
+                }
+                _ => {}
             }
         }
         Ok(())

@@ -41,10 +41,20 @@ pub fn size_mesh(
     recipe: &Recipe,
     observer: &mut dyn FnMut(StepEvent),
 ) -> Result<MeshSizing, SizeMeshError> {
-    let topology = Topology::from_mesh(mesh);
-    let resolved = recipe.resolve(&topology).map_err(SizeMeshError::Resolve)?;
-    let graph = MeshGraph::from_topology(&topology, mesh).map_err(SizeMeshError::Graph)?;
-    let field = compute_size_field(&graph, &topology, &resolved.plan, observer)
+    size_mesh_with_topology(mesh, &Topology::from_mesh(mesh), recipe, observer)
+}
+
+/// [`size_mesh`] for a caller that has `mesh`'s topology already (the adaptation loop
+/// builds it once per mesh, for the sizing and the remeshing).
+pub fn size_mesh_with_topology(
+    mesh: &TaggedMesh,
+    topology: &Topology,
+    recipe: &Recipe,
+    observer: &mut dyn FnMut(StepEvent),
+) -> Result<MeshSizing, SizeMeshError> {
+    let resolved = recipe.resolve(topology).map_err(SizeMeshError::Resolve)?;
+    let graph = MeshGraph::from_topology(topology, mesh).map_err(SizeMeshError::Graph)?;
+    let field = compute_size_field(&graph, topology, &resolved.plan, observer)
         .map_err(SizeMeshError::Sizing)?;
     Ok(MeshSizing { resolved, field })
 }

@@ -1,0 +1,102 @@
+//! Why a mesh cannot be remeshed.
+
+/// Why a mesh cannot be remeshed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RemeshError {
+    /// The metric does not have one tensor per point.
+    #[error("the metric has {items} tensors for {vertices} vertices")]
+    MetricCount {
+        /// Tensors given.
+        items: usize,
+        /// Points of the mesh.
+        vertices: usize,
+    },
+    /// A vertex used by a triangle has a metric that is not finite and SPD.
+    #[error("the metric at vertex {vertex} (0-based), [[{a}, {b}], [{b}, {c}]], is not finite and positive definite")]
+    NotSpd {
+        /// The vertex.
+        vertex: usize,
+        /// m11.
+        a: f64,
+        /// m12.
+        b: f64,
+        /// m22.
+        c: f64,
+    },
+    /// A point with a non-finite coordinate.
+    #[error("vertex {vertex} (0-based) has a coordinate that is not finite")]
+    BadPoint {
+        /// The vertex.
+        vertex: usize,
+    },
+    /// A cell kind the remesher does not handle.
+    #[error("the remesher handles triangles, lines and vertex cells; the mesh has {kind} cells (convert or split them first)")]
+    UnsupportedCell {
+        /// The kind's name.
+        kind: &'static str,
+    },
+    /// No triangle at all.
+    #[error("the mesh has no triangles")]
+    NoTriangles,
+    /// A triangle with zero area or a repeated vertex.
+    #[error("triangle {triangle} (0-based, vertices {vertices:?}) has zero area")]
+    DegenerateTriangle {
+        /// The triangle.
+        triangle: usize,
+        /// Its vertices.
+        vertices: [usize; 3],
+    },
+    /// An edge shared by more than two triangles.
+    #[error(
+        "edge {edge:?} is shared by {triangles} triangles; the remesher needs a manifold mesh"
+    )]
+    NonManifold {
+        /// The edge.
+        edge: [usize; 2],
+        /// How many triangles hold it.
+        triangles: usize,
+    },
+    /// More vertices than the remesher's 32-bit indices allow.
+    #[error("{vertices} vertices is more than the remesher handles")]
+    TooLarge {
+        /// Points of the mesh.
+        vertices: usize,
+    },
+    /// The metric asks for more vertices than the limit allows: refused before any work.
+    #[error("the metric asks for about {} vertices (its complexity), more than the limit of {limit}; raise it with --max-vertices, or bound the sizes (hmin)", super::estimate::format_count(*estimate))]
+    TooManyVertices {
+        /// Expected output vertices.
+        estimate: f64,
+        /// The limit.
+        limit: usize,
+    },
+    /// The splits made more vertices than twice the limit (the estimate was wrong): the
+    /// run stopped rather than grow without bound.
+    #[error("remeshing passed {vertices} vertices, more than twice the limit of {limit} (the metric's complexity promised about {}); raise it with --max-vertices", super::estimate::format_count(*estimate))]
+    Grew {
+        /// Vertices when it stopped.
+        vertices: usize,
+        /// The limit.
+        limit: usize,
+        /// What the estimate said.
+        estimate: f64,
+    },
+    /// `hmin` or `hmax` is not a positive size, or `hmin` exceeds `hmax`.
+    #[error(
+        "bad size bounds: hmin {hmin:?}, hmax {hmax:?} (expected positive sizes, hmin <= hmax)"
+    )]
+    BadSizeBounds {
+        /// hmin.
+        hmin: Option<f64>,
+        /// hmax.
+        hmax: Option<f64>,
+    },
+}
+
+impl RemeshError {
+    /// Whether the limit on the output's size refused the run (the input is valid, but
+    /// asks for more than the user allowed).
+    pub fn is_limit(&self) -> bool {
+        matches!(self, RemeshError::TooManyVertices { .. } | RemeshError::Grew { .. })
+    }
+}

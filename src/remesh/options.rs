@@ -1,0 +1,110 @@
+//! How to remesh: the user's choices (passes, boundary placement, ridge angle, the
+//! conforming band, the size and vertex limits) and the tuning of the operators (quality
+//! floor, sweep counts, gains, the settling rule), all in one [`RemeshOptions`] whose
+//! defaults are the values the benchmarks and the tests were measured with.
+
+use serde::Serialize;
+
+use crate::conformity::CONFORMING;
+
+/// Where vertices on boundaries and interfaces are placed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BoundaryMode {
+    /// On the original polyline (the boundary never changes shape).
+    #[default]
+    Polyline,
+    /// On a C¹ cubic reconstruction through the original boundary vertices (curved
+    /// boundaries get rounder as they are refined; straight runs stay straight).
+    Smooth,
+}
+
+/// Vertices a remeshing may make unless the caller allows more: 5·10⁶, about 10⁷
+/// triangles. The peak memory of `smartmesh remesh` grows by about 0.55 KB per output
+/// vertex (measured with `/usr/bin/time -f %M` on a uniform metric over the unit square,
+/// 13 000 → 52 000 output vertices: 24 → 45 MB), so the default keeps a run near 3 GB,
+/// and the refusal comes before the work starts ([`RemeshOptions::max_vertices`]).
+pub const DEFAULT_MAX_VERTICES: usize = 5_000_000;
+
+/// How to remesh.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RemeshOptions {
+    /// Passes of split, collapse, swap and smooth at most.
+    pub max_passes: usize,
+    /// Smoothing sweeps per pass.
+    pub smooth_sweeps: usize,
+    /// Placement of boundary and interface vertices.
+    pub boundary: BoundaryMode,
+    /// A curve vertex where the curve turns by more than this angle is a corner (fixed).
+    pub ridge_angle_degrees: f64,
+    /// Split edges longer than this metric length.
+    pub split_above: f64,
+    /// Collapse edges shorter than this metric length.
+    pub collapse_below: f64,
+    /// Points of the input geometry that stay vertices: a boundary or interface vertex at
+    /// exactly one of these coordinates is a corner (never moved nor removed). The
+    /// adaptation loop passes the vertices of the `.poly` it started from, so that every
+    /// boundary edge stays on an input segment however many times the mesh is remeshed
+    /// (without them, a vertex at a bend milder than the ridge angle may be collapsed, its
+    /// two edges replaced by a chord, and the next remeshing takes the chord as the
+    /// boundary).
+    #[serde(skip)]
+    pub keep_points: Vec<[f64; 2]>,
+    /// Smallest size the metric may ask for: every input tensor's sizes are raised to at
+    /// least this before remeshing (MMG's `-hmin`). `None`: the metric as given.
+    pub hmin: Option<f64>,
+    /// Largest size the metric may ask for (MMG's `-hmax`). `None`: the metric as given.
+    pub hmax: Option<f64>,
+    /// Most vertices the output may have. The expected count (the metric's complexity,
+    /// [`super::estimate`]) is compared with it before any work, and the run is refused
+    /// ([`super::RemeshError::TooManyVertices`]) when above; the splits stop at twice it,
+    /// should the estimate be wrong. `None`: no limit.
+    pub max_vertices: Option<usize>,
+    /// Whether to measure the input's and the output's conformity to the metric
+    /// ([`super::RemeshStats::initial`], [`super::RemeshStats::conformity`]); the
+    /// adaptation loop measures each mesh against the recipe's own field and turns it off.
+    pub measure: bool,
+    /// A collapse may not leave the worst triangle of the ball below the smaller of its
+    /// worst before and this metric quality.
+    pub quality_floor: f64,
+    /// Collapse sweeps per collapse phase at most (each sweep looks again only around the
+    /// vertices the previous one merged).
+    pub collapse_sweeps: usize,
+    /// Swap sweeps per swap phase at most.
+    pub swap_sweeps: usize,
+    /// Relative gain of the worse quality of the pair that a flip must bring (keeps sweeps
+    /// from flipping back and forth on ties).
+    pub swap_gain: f64,
+    /// Relative gain of the worst ball quality that a smoothing move must bring.
+    pub smooth_gain: f64,
+    /// Below this worst ball quality a smoothed vertex gets more candidate places.
+    pub smooth_poor: f64,
+    /// The passes have settled when `(splits + collapses) × settle_ratio` is at most the
+    /// triangle count (one change per `settle_ratio` triangles).
+    pub settle_ratio: usize,
+}
+
+impl Default for RemeshOptions {
+    fn default() -> Self {
+        RemeshOptions {
+            max_passes: 12,
+            smooth_sweeps: 2,
+            boundary: BoundaryMode::Polyline,
+            ridge_angle_degrees: 45.0,
+            split_above: CONFORMING[1],
+            collapse_below: CONFORMING[0],
+            keep_points: Vec::new(),
+            hmin: None,
+            hmax: None,
+            max_vertices: Some(DEFAULT_MAX_VERTICES),
+            measure: true,
+            quality_floor: 0.3,
+            collapse_sweeps: 4,
+            swap_sweeps: 8,
+            swap_gain: 1e-6,
+            smooth_gain: 1e-3,
+            smooth_poor: 0.8,
+            settle_ratio: 500,
+        }
+    }
+}

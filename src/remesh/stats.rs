@@ -1,0 +1,103 @@
+//! What a run did: per-pass counts of each operator, seconds per phase, the sizes and the
+//! conformity of input and output. [`RemeshCounts`] is the part the adaptation loop keeps
+//! in `history.json` for every iteration.
+
+use serde::{Deserialize, Serialize};
+
+use crate::conformity::Conformity;
+
+/// What one pass did.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct PassStats {
+    /// Edges split.
+    pub splits: usize,
+    /// Edges collapsed.
+    pub collapses: usize,
+    /// Diagonals flipped.
+    pub swaps: usize,
+    /// Vertices moved.
+    pub moves: usize,
+    /// Triangles at the end of the pass.
+    pub triangles: usize,
+}
+
+/// Seconds spent in each phase.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct PhaseSeconds {
+    /// Reading the input: constraints, pieces, background index.
+    pub setup: f64,
+    /// Splitting.
+    pub split: f64,
+    /// Collapsing.
+    pub collapse: f64,
+    /// Swapping.
+    pub swap: f64,
+    /// Smoothing.
+    pub smooth: f64,
+    /// Building the output mesh and measuring it.
+    pub output: f64,
+}
+
+/// What a run did and how the result conforms.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RemeshStats {
+    /// Passes run.
+    pub passes: usize,
+    /// Edges split, in all.
+    pub splits: usize,
+    /// Edges collapsed.
+    pub collapses: usize,
+    /// Diagonals flipped.
+    pub swaps: usize,
+    /// Vertices moved.
+    pub moves: usize,
+    /// Each pass.
+    pub per_pass: Vec<PassStats>,
+    /// Seconds per phase.
+    pub seconds: PhaseSeconds,
+    /// Input vertices and triangles.
+    pub input: [usize; 2],
+    /// Output vertices and triangles.
+    pub output: [usize; 2],
+    /// Conformity of the input mesh to the metric.
+    pub initial: Option<Conformity>,
+    /// Conformity of the output mesh to its metric.
+    pub conformity: Option<Conformity>,
+    /// What the output does not carry.
+    pub warnings: Vec<String>,
+}
+
+/// What the operators did in a run, without the measures: what `history.json` records
+/// for each remeshing (the external tools report none).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct RemeshCounts {
+    /// Passes run.
+    pub passes: usize,
+    /// Edges split, in all.
+    pub splits: usize,
+    /// Edges collapsed.
+    pub collapses: usize,
+    /// Diagonals flipped.
+    pub swaps: usize,
+    /// Vertices moved.
+    pub moves: usize,
+    /// Each pass.
+    pub per_pass: Vec<PassStats>,
+    /// Seconds per phase.
+    pub seconds: PhaseSeconds,
+}
+
+impl RemeshStats {
+    /// The operators' counts and times.
+    pub fn counts(&self) -> RemeshCounts {
+        RemeshCounts {
+            passes: self.passes,
+            splits: self.splits,
+            collapses: self.collapses,
+            swaps: self.swaps,
+            moves: self.moves,
+            per_pass: self.per_pass.clone(),
+            seconds: self.seconds.clone(),
+        }
+    }
+}
