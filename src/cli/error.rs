@@ -158,7 +158,7 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
     }
     if let Some(e) = e.downcast_ref::<AdaptError>() {
         return match e {
-            AdaptError::Start { .. } => Some(Error),
+            AdaptError::Start { .. } | AdaptError::TooManyVertices { .. } => Some(Error),
             AdaptError::Iteration { .. } => Some(Failure),
             AdaptError::Output(_) => None,
         };
