@@ -11,8 +11,9 @@
 //!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only);
 //! - [`Format::from_path`], a static extension table;
 //! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
-//!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written to
-//!   a temporary file and renamed, so a failed write never leaves half a file;
+//!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written as a
+//!   set, all or nothing ([`write_all_atomically`]: temporaries, then renames; links
+//!   written through, read-only files refused);
 //! - errors that name the file, the line or byte offset, and what was expected.
 //!
 //! This crate sizes nothing and knows no topology: those are the `smartmesh` crate's.
@@ -22,6 +23,7 @@
 mod error;
 mod io;
 mod mesh;
+mod output;
 mod scan;
 pub mod text;
 
@@ -37,13 +39,14 @@ pub mod arbitrary;
 
 pub use error::{Error, ErrorKind, Position, Result};
 pub use io::{
-    read_bytes, read_path, write_all_atomically, write_bytes, write_path, MemorySiblings,
-    NoSiblings, PathSiblings, SiblingSource,
+    read_bytes, read_path, write_bytes, write_path, MemorySiblings, NoSiblings, PathSiblings,
+    SiblingSource,
 };
 pub use mesh::{
     sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout,
     MeshProblem, NodeIndex, RegionSeed, TaggedMesh, MAX_POINTS,
 };
+pub use output::write_all_atomically;
 
 use std::path::Path;
 
@@ -121,6 +124,11 @@ impl Format {
             Format::Medit => "Medit",
             Format::Gltf => "glTF",
         }
+    }
+
+    /// Every extension of the table, for messages: `.node, .ele, …, .glb`.
+    pub fn known_extensions() -> String {
+        EXTENSIONS.iter().map(|(e, _)| format!(".{e}")).collect::<Vec<_>>().join(", ")
     }
 
     /// Whether smartmesh reads this format.
