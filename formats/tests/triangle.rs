@@ -755,3 +755,28 @@ proptest! {
         let _ = read_bytes(Format::Triangle, &main, &ReadContext { siblings: &NoSiblings, extension: String::new() });
     }
 }
+
+#[test]
+fn a_two_million_digit_coordinate_gives_a_short_error() {
+    let huge = format!("1{}", "0".repeat(2_000_000));
+    let e = err("node", &format!("1 2 0 0\n1 {huge} 0\n"), &[]);
+    assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
+    assert!(e.to_string().len() < 200, "{} bytes of message", e.to_string().len());
+    assert!(e.to_string().contains("…"), "{e}");
+}
+
+#[test]
+fn a_cr_only_set_reads_as_its_lines() {
+    let node = "# square\r4 2 0 1\r1 0 0 1\r2 1 0 1\r3 1 1 1\r4 0 1 1\r";
+    let ele = "2 3 0\r1 1 2 3\r2 1 3 4\r";
+    let m = read_mem("ele", ele, &[("node", node)]).unwrap();
+    assert_eq!(m.points.len(), 4);
+    assert_eq!(m.num_cells_of(CellKind::Triangle), 2);
+}
+
+#[test]
+fn a_vertex_number_below_the_first_says_how_the_set_counts() {
+    let e = err("ele", "1 3 0\n1 0 2 3\n", &[("node", NODE)]);
+    let s = e.to_string();
+    assert!(s.contains("numbered from 1") && s.contains("refers to 0"), "{s}");
+}

@@ -232,6 +232,13 @@ struct Parsed {
     sol: Option<Sol>,
 }
 
+/// The error for a vertex or item number that names nothing: below 1 (Medit numbers from
+/// 1, which the message says), or past the `available` items (the vertices read so far).
+fn bad_number(what: String, v: i64, available: usize) -> ErrorKind {
+    let what = if v < 1 { format!("{what}, numbered from 1,") } else { what };
+    ErrorKind::IndexOutOfRange { what, index: v, available }
+}
+
 fn error_at(at: Position, kind: ErrorKind) -> Error {
     Error { path: None, at: Some(at), kind }
 }
@@ -259,11 +266,27 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     // `.meshb` that is neither gets the binary reader's error about its endianness code.
     let binary = is_binary(bytes) || ctx.extension == "meshb";
     let p = parse(bytes, binary)?;
+    // A mesh has vertices: an empty file (or one of comments) is not a mesh of 0 points.
+    if !p.vertices_read {
+        let missing =
+            if p.dim == 0 { "Dimension and Vertices keywords" } else { "a Vertices keyword" };
+        return Err(Error::new(ErrorKind::Expected {
+            expected: format!("{missing} (a Medit mesh lists its vertices)"),
+            found: if bytes.is_empty() { "an empty file".into() } else { "none".into() },
+        }));
+    }
     let mut mesh = assemble(p, bytes)?;
     let order: [&str; 2] = if ctx.extension == "meshb" { ["solb", "sol"] } else { ["sol", "solb"] };
     for ext in order {
         if let Some(sol_bytes) = ctx.siblings.sibling_bytes(ext)? {
             let in_sol = |e: Error| e.with_path(ctx.siblings.describe(ext));
+            // A solution file of 0 bytes is a write that failed, not "no solution".
+            if sol_bytes.is_empty() {
+                return Err(in_sol(Error::new(ErrorKind::Expected {
+                    expected: "a solution file beside the mesh (SolAtVertices)".into(),
+                    found: "an empty file; write it again or remove it".into(),
+                })));
+            }
             let p = parse(&sol_bytes, is_binary(&sol_bytes)).map_err(in_sol)?;
             let sol = p.sol.unwrap_or_default();
             if sol.types.is_empty() {
