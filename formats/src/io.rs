@@ -156,8 +156,12 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
     }
     match format {
         Format::Triangle => crate::triangle::write(mesh, opts),
-        // Validated above, with the error `gmsh::write` would give.
-        Format::Gmsh => crate::gmsh::write_validated(mesh, opts),
+        // Validated above, with the error `gmsh::write` would give. Point sets become
+        // named groups of point elements, which MSH holds.
+        Format::Gmsh => match crate::point_sets::as_vertex_cells(mesh) {
+            Some(lowered) => crate::gmsh::write_validated(&lowered, opts),
+            None => crate::gmsh::write_validated(mesh, opts),
+        },
         Format::VtkLegacy => crate::vtk::write_legacy(mesh, opts),
         Format::Vtu => crate::vtk::write_vtu(mesh, opts),
         Format::Obj => crate::obj::write(mesh, opts),

@@ -24,6 +24,7 @@ mod error;
 mod io;
 mod mesh;
 mod output;
+mod point_sets;
 mod scan;
 pub mod text;
 

@@ -277,7 +277,7 @@ fn what_medit_cannot_hold_is_reported() {
     let w = write_bytes(Format::Medit, &m, &opts("x.mesh")).unwrap();
     let d = w.report.dropped.join("\n");
     for needle in [
-        "1 vertex cells",
+        "the tags of 1 point cells",
         "geometrical tags of 1 cells",
         "point data `size` (1 components): MMG reads one solution, `metric` was written",
         "point data `size_tensor`",
@@ -1163,4 +1163,24 @@ fn numbers_below_one_say_that_medit_counts_from_one() {
     let s = ascii_err(&format!("{SQUARE}Edges\n1\n0 1 0\nEnd\n")).to_string();
     assert!(s.contains("numbered from 1") && s.contains("refers to 0"), "{s}");
     assert!(!s.contains("only"), "{s}");
+}
+
+#[test]
+fn point_cells_are_written_as_corners_and_required_vertices() {
+    let mut m = full_mesh();
+    m.blocks.push(CellBlock {
+        kind: CellKind::Vertex,
+        nodes: vec![4, 1],
+        physical: vec![0, 0],
+        geometrical: vec![0, 0],
+    });
+    m.point_sets.insert("Corners".into(), vec![2, 4]);
+    for main in ["c.mesh", "c.meshb"] {
+        let ext = main.rsplit('.').next().unwrap();
+        let (w, back) = roundtrip(Format::Medit, ext, &m, &opts(main));
+        assert!(w.report.dropped.is_empty(), "{:?}", w.report.dropped);
+        assert_eq!(back.point_sets["Corners"], vec![1, 2, 4], "{main}");
+        // full_mesh lists vertex 5 as required already.
+        assert_eq!(back.point_sets["RequiredVertices"], vec![1, 4, 5], "{main}");
+    }
 }
