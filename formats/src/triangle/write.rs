@@ -5,7 +5,7 @@ use std::path::Path;
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::text::{push_f64, push_int};
-use crate::{CellKind, DataArray, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{CellKind, DataArray, RegionSeed, TaggedMesh, WriteOptions, WriteReport, Written};
 
 use super::{attribute_name, Kind, AREA, ATTRIBUTE_PREFIX, MARKER, RAY_DIRECTION};
 
@@ -62,7 +62,13 @@ fn push_vertices(
 }
 
 /// The sections of a `.poly` after its vertex list.
-fn push_poly_rest(out: &mut Vec<u8>, mesh: &TaggedMesh, nseg: usize) {
+fn push_poly_rest(
+    out: &mut Vec<u8>,
+    mesh: &TaggedMesh,
+    nseg: usize,
+    holes: &[[f64; 2]],
+    regions: &[RegionSeed],
+) {
     push_int(out, nseg);
     out.extend_from_slice(b" 1\n");
     let mut k = 0;
@@ -79,9 +85,9 @@ fn push_poly_rest(out: &mut Vec<u8>, mesh: &TaggedMesh, nseg: usize) {
             out.push(b'\n');
         }
     }
-    push_int(out, mesh.holes.len());
+    push_int(out, holes.len());
     out.push(b'\n');
-    for (i, h) in mesh.holes.iter().enumerate() {
+    for (i, h) in holes.iter().enumerate() {
         push_int(out, i + 1);
         out.push(b' ');
         push_f64(out, h[0]);
@@ -90,10 +96,10 @@ fn push_poly_rest(out: &mut Vec<u8>, mesh: &TaggedMesh, nseg: usize) {
         out.push(b'\n');
     }
     // Triangle's own writer leaves the optional section out when it is empty.
-    if !mesh.regions.is_empty() {
-        push_int(out, mesh.regions.len());
+    if !regions.is_empty() {
+        push_int(out, regions.len());
         out.push(b'\n');
-        for (i, r) in mesh.regions.iter().enumerate() {
+        for (i, r) in regions.iter().enumerate() {
             push_int(out, i + 1);
             for v in [r.point[0], r.point[1], r.attribute, r.max_area] {
                 out.push(b' ');
@@ -288,7 +294,7 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         let mut out =
             Vec::with_capacity(mesh.points.len() * (56 + 24 * pattrs.len()) + nseg * 40 + 64);
         push_vertices(&mut out, mesh, &pattrs, markers.as_deref());
-        push_poly_rest(&mut out, mesh, nseg);
+        push_poly_rest(&mut out, mesh, nseg, &mesh.holes, &mesh.regions);
         files.push((Kind::Poly, out));
     } else {
         let mut node = Vec::with_capacity(mesh.points.len() * (56 + 24 * pattrs.len()) + 32);
@@ -380,7 +386,16 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             poly.extend_from_slice(b"0 2 ");
             push_int(&mut poly, pattrs.len());
             poly.extend_from_slice(if markers.is_some() { b" 1\n" } else { b" 0\n" });
-            push_poly_rest(&mut poly, mesh, nseg);
+            // A mesh that does not say where its holes and regions are (one read from
+            // any format but Triangle) gets them from its triangles.
+            let derived =
+                (ntri > 0 && nseg > 0 && mesh.holes.is_empty() && mesh.regions.is_empty())
+                    .then(|| super::seeds::derive(mesh));
+            let (holes, regions) = match &derived {
+                Some((h, r)) => (h.as_slice(), r.as_slice()),
+                None => (mesh.holes.as_slice(), mesh.regions.as_slice()),
+            };
+            push_poly_rest(&mut poly, mesh, nseg, holes, regions);
             files.push((Kind::Poly, poly));
         }
 
