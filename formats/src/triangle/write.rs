@@ -267,25 +267,7 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             ));
         }
     }
-    if main == Kind::Edge && (!mesh.holes.is_empty() || !mesh.regions.is_empty()) {
-        report.drop(format!(
-            "{} holes and {} regions: they need a .poly, which would take the place of the .edge when read back; write a .node or .poly instead",
-            mesh.holes.len(),
-            mesh.regions.len()
-        ));
-    }
-    if !mesh.tag_names.is_empty() {
-        report.drop(format!("{} tag names: Triangle has no names", mesh.tag_names.len()));
-    }
-    if !mesh.entities.is_empty() {
-        report.drop(format!("{} Gmsh entities: Triangle has none", mesh.entities.len()));
-    }
-    for (name, s) in &mesh.point_sets {
-        report.drop(format!("point set `{name}` ({} points): Triangle has no point sets", s.len()));
-    }
-    for (name, s) in &mesh.cell_sets {
-        report.drop(format!("cell set `{name}` ({} cells): Triangle has no cell sets", s.len()));
-    }
+    report_unheld(mesh, main, &mut report);
 
     // --- files
     let mut files: Vec<(Kind, Vec<u8>)> = Vec::new();
@@ -302,83 +284,12 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         files.push((Kind::Node, node));
 
         if ntri > 0 || main == Kind::Ele || main == Kind::Area {
-            let mut ele = Vec::with_capacity(ntri * (8 + 8 * tri_nodes + 24 * ncols) + 32);
-            push_int(&mut ele, ntri);
-            ele.push(b' ');
-            push_int(&mut ele, tri_nodes);
-            ele.push(b' ');
-            push_int(&mut ele, ncols);
-            ele.push(b'\n');
-            let mut k = 0;
-            for (b, &off) in mesh.blocks.iter().zip(&offsets) {
-                if !matches!(b.kind, CellKind::Triangle | CellKind::Triangle6) {
-                    continue;
-                }
-                for (i, cell) in b.cells().enumerate() {
-                    k += 1;
-                    push_int(&mut ele, k);
-                    // Back to Triangle's order: mid-edge nodes opposite corners 1, 2, 3.
-                    let order: &[usize] =
-                        if tri_nodes == 6 { &[0, 1, 2, 4, 5, 3] } else { &[0, 1, 2] };
-                    for &j in order {
-                        ele.push(b' ');
-                        push_int(&mut ele, cell[j] + 1);
-                    }
-                    if use_tags {
-                        ele.push(b' ');
-                        push_int(&mut ele, b.physical[i]);
-                    }
-                    // With tags, they take the place of `triangle:attribute1`.
-                    for a in cattrs.iter().skip(usize::from(use_tags)) {
-                        ele.push(b' ');
-                        push_f64(&mut ele, a.values[off + i]);
-                    }
-                    ele.push(b'\n');
-                }
-            }
-            files.push((Kind::Ele, ele));
+            let cols = Columns { tri_nodes, ncols, use_tags, attrs: &cattrs };
+            files.push((Kind::Ele, ele_file(mesh, &offsets, ntri, &cols)));
         }
 
         if main == Kind::Edge {
-            let nrays = if rays.is_some() { nvert } else { 0 };
-            let any_tag = mesh
-                .blocks
-                .iter()
-                .filter(|b| b.kind == CellKind::Line || (b.kind == CellKind::Vertex && nrays > 0))
-                .any(|b| b.physical.iter().any(|&p| p != 0));
-            // Voronoi .edge files have no markers; keep them when there is something to keep.
-            let with_markers = nrays == 0 || any_tag;
-            let mut edge = Vec::with_capacity((nseg + nrays) * 64 + 16);
-            push_int(&mut edge, nseg + nrays);
-            edge.extend_from_slice(if with_markers { b" 1\n" } else { b" 0\n" });
-            let mut k = 0;
-            for (b, &off) in mesh.blocks.iter().zip(&offsets) {
-                let is_ray = b.kind == CellKind::Vertex && nrays > 0;
-                if b.kind != CellKind::Line && !is_ray {
-                    continue;
-                }
-                for (i, cell) in b.cells().enumerate() {
-                    k += 1;
-                    push_int(&mut edge, k);
-                    edge.push(b' ');
-                    push_int(&mut edge, cell[0] + 1);
-                    if let (true, Some(dir)) = (is_ray, rays) {
-                        edge.extend_from_slice(b" -1 ");
-                        push_f64(&mut edge, dir.values[3 * (off + i)]);
-                        edge.push(b' ');
-                        push_f64(&mut edge, dir.values[3 * (off + i) + 1]);
-                    } else {
-                        edge.push(b' ');
-                        push_int(&mut edge, cell[1] + 1);
-                    }
-                    if with_markers {
-                        edge.push(b' ');
-                        push_int(&mut edge, b.physical[i]);
-                    }
-                    edge.push(b'\n');
-                }
-            }
-            files.push((Kind::Edge, edge));
+            files.push((Kind::Edge, edge_file(mesh, &offsets, nseg, nvert, rays)));
         } else if main == Kind::Poly || pslg {
             // The vertices are in the .node, as in the .poly files Triangle writes.
             let mut poly =
@@ -400,23 +311,7 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         }
 
         if area.is_some() || (main == Kind::Area) {
-            let mut out = Vec::with_capacity(ntri * 32 + 16);
-            push_int(&mut out, ntri);
-            out.push(b'\n');
-            let mut k = 0;
-            for (b, &off) in mesh.blocks.iter().zip(&offsets) {
-                if !matches!(b.kind, CellKind::Triangle | CellKind::Triangle6) {
-                    continue;
-                }
-                for i in 0..b.len() {
-                    k += 1;
-                    push_int(&mut out, k);
-                    out.push(b' ');
-                    push_f64(&mut out, area.map_or(-1.0, |a| a.values[off + i]));
-                    out.push(b'\n');
-                }
-            }
-            files.push((Kind::Area, out));
+            files.push((Kind::Area, area_file(mesh, &offsets, ntri, area)));
         }
     }
 
@@ -429,4 +324,155 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         }
     }
     Ok(written)
+}
+
+/// What a `.ele` record holds besides its number.
+struct Columns<'a> {
+    /// 3 or 6.
+    tri_nodes: usize,
+    /// Attributes per triangle.
+    ncols: usize,
+    /// Whether the physical tag is the first attribute.
+    use_tags: bool,
+    /// The `triangle:attribute<k>` arrays.
+    attrs: &'a [&'a DataArray],
+}
+
+/// The `.ele` file: `ntri` triangles (`offsets`: first global cell of each block).
+fn ele_file(mesh: &TaggedMesh, offsets: &[usize], ntri: usize, c: &Columns<'_>) -> Vec<u8> {
+    let (tri_nodes, ncols, use_tags, cattrs) = (c.tri_nodes, c.ncols, c.use_tags, c.attrs);
+    let mut ele = Vec::with_capacity(ntri * (8 + 8 * tri_nodes + 24 * ncols) + 32);
+    push_int(&mut ele, ntri);
+    ele.push(b' ');
+    push_int(&mut ele, tri_nodes);
+    ele.push(b' ');
+    push_int(&mut ele, ncols);
+    ele.push(b'\n');
+    let mut k = 0;
+    for (b, &off) in mesh.blocks.iter().zip(offsets) {
+        if !matches!(b.kind, CellKind::Triangle | CellKind::Triangle6) {
+            continue;
+        }
+        for (i, cell) in b.cells().enumerate() {
+            k += 1;
+            push_int(&mut ele, k);
+            // Back to Triangle's order: mid-edge nodes opposite corners 1, 2, 3.
+            let order: &[usize] = if tri_nodes == 6 { &[0, 1, 2, 4, 5, 3] } else { &[0, 1, 2] };
+            for &j in order {
+                ele.push(b' ');
+                push_int(&mut ele, cell[j] + 1);
+            }
+            if use_tags {
+                ele.push(b' ');
+                push_int(&mut ele, b.physical[i]);
+            }
+            // With tags, they take the place of `triangle:attribute1`.
+            for a in cattrs.iter().skip(usize::from(use_tags)) {
+                ele.push(b' ');
+                push_f64(&mut ele, a.values[off + i]);
+            }
+            ele.push(b'\n');
+        }
+    }
+    ele
+}
+
+/// The `.edge` file: the Line cells, and the Vertex cells as Voronoi rays when `rays`
+/// gives their directions.
+fn edge_file(
+    mesh: &TaggedMesh,
+    offsets: &[usize],
+    nseg: usize,
+    nvert: usize,
+    rays: Option<&DataArray>,
+) -> Vec<u8> {
+    let nrays = if rays.is_some() { nvert } else { 0 };
+    let any_tag = mesh
+        .blocks
+        .iter()
+        .filter(|b| b.kind == CellKind::Line || (b.kind == CellKind::Vertex && nrays > 0))
+        .any(|b| b.physical.iter().any(|&p| p != 0));
+    // Voronoi .edge files have no markers; keep them when there is something to keep.
+    let with_markers = nrays == 0 || any_tag;
+    let mut edge = Vec::with_capacity((nseg + nrays) * 64 + 16);
+    push_int(&mut edge, nseg + nrays);
+    edge.extend_from_slice(if with_markers { b" 1\n" } else { b" 0\n" });
+    let mut k = 0;
+    for (b, &off) in mesh.blocks.iter().zip(offsets) {
+        let is_ray = b.kind == CellKind::Vertex && nrays > 0;
+        if b.kind != CellKind::Line && !is_ray {
+            continue;
+        }
+        for (i, cell) in b.cells().enumerate() {
+            k += 1;
+            push_int(&mut edge, k);
+            edge.push(b' ');
+            push_int(&mut edge, cell[0] + 1);
+            if let (true, Some(dir)) = (is_ray, rays) {
+                edge.extend_from_slice(b" -1 ");
+                push_f64(&mut edge, dir.values[3 * (off + i)]);
+                edge.push(b' ');
+                push_f64(&mut edge, dir.values[3 * (off + i) + 1]);
+            } else {
+                edge.push(b' ');
+                push_int(&mut edge, cell[1] + 1);
+            }
+            if with_markers {
+                edge.push(b' ');
+                push_int(&mut edge, b.physical[i]);
+            }
+            edge.push(b'\n');
+        }
+    }
+    edge
+}
+
+/// The `.area` file: each triangle's bound from `area`, -1 (none) without it.
+fn area_file(
+    mesh: &TaggedMesh,
+    offsets: &[usize],
+    ntri: usize,
+    area: Option<&DataArray>,
+) -> Vec<u8> {
+    let mut out = Vec::with_capacity(ntri * 32 + 16);
+    push_int(&mut out, ntri);
+    out.push(b'\n');
+    let mut k = 0;
+    for (b, &off) in mesh.blocks.iter().zip(offsets) {
+        if !matches!(b.kind, CellKind::Triangle | CellKind::Triangle6) {
+            continue;
+        }
+        for i in 0..b.len() {
+            k += 1;
+            push_int(&mut out, k);
+            out.push(b' ');
+            push_f64(&mut out, area.map_or(-1.0, |a| a.values[off + i]));
+            out.push(b'\n');
+        }
+    }
+    out
+}
+
+/// What no file of the set holds: names, entities, sets, and the seeds an `.edge` main
+/// file cannot carry.
+fn report_unheld(mesh: &TaggedMesh, main: Kind, report: &mut WriteReport) {
+    if main == Kind::Edge && (!mesh.holes.is_empty() || !mesh.regions.is_empty()) {
+        report.drop(format!(
+            "{} holes and {} regions: they need a .poly, which would take the place of the .edge when read back; write a .node or .poly instead",
+            mesh.holes.len(),
+            mesh.regions.len()
+        ));
+    }
+    if !mesh.tag_names.is_empty() {
+        report.drop(format!("{} tag names: Triangle has no names", mesh.tag_names.len()));
+    }
+    if !mesh.entities.is_empty() {
+        report.drop(format!("{} Gmsh entities: Triangle has none", mesh.entities.len()));
+    }
+    for (name, s) in &mesh.point_sets {
+        report.drop(format!("point set `{name}` ({} points): Triangle has no point sets", s.len()));
+    }
+    for (name, s) in &mesh.cell_sets {
+        report.drop(format!("cell set `{name}` ({} cells): Triangle has no cell sets", s.len()));
+    }
 }
