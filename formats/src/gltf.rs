@@ -216,6 +216,9 @@ fn cannot(reason: impl Into<String>) -> Error {
     Error::new(ErrorKind::CannotWrite { format: "glTF", reason: reason.into() })
 }
 
+/// glTF is written only; its writer leaves validation to `write_bytes`.
+pub(crate) const CHECKS: crate::Checks = crate::Checks::NONE;
+
 /// Writes a mesh.
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut report = WriteReport::default();

@@ -95,16 +95,6 @@ impl SiblingSource for MemorySiblings {
     }
 }
 
-/// Whether the reader of `format` checks, as it reads, everything that
-/// [`TaggedMesh::validate`] checks: finite coordinates, every cell's points, every data
-/// array's length, every set's items; and names the byte or line of a fault. Validating
-/// its mesh again would cost one more pass over the largest arrays (a tenth of a
-/// binary Medit read). Debug builds (the tests) validate anyway and stop on a mesh such
-/// a reader let through; the fuzz targets validate every mesh they are given.
-fn reader_validates(format: Format) -> bool {
-    matches!(format, Format::Medit | Format::VtkLegacy | Format::Vtu)
-}
-
 /// Reads a mesh in `format` from bytes. The result is valid ([`TaggedMesh::validate`]
 /// finds no problem), so whatever a reader let through, no cell refers to a missing
 /// point and no data array has the wrong length.
@@ -122,7 +112,7 @@ pub fn read_bytes(format: Format, bytes: &[u8], ctx: &ReadContext<'_>) -> Result
             )))
         }
     };
-    if reader_validates(format) {
+    if format.checks().reader_validates {
         debug_assert_eq!(
             mesh.validate(),
             Vec::new(),
@@ -149,9 +139,7 @@ pub(crate) fn refused(format: Format, mesh: &TaggedMesh) -> Error {
 /// Writes a mesh in `format` to bytes (the main file and its siblings). A mesh that
 /// [`TaggedMesh::validate`] refuses is not written.
 pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
-    // The Medit writer checks coordinates and node numbers in the passes that write
-    // them, with the same error.
-    if format != Format::Medit && !mesh.validate().is_empty() {
+    if !format.checks().writer_validates && !mesh.validate().is_empty() {
         return Err(refused(format, mesh));
     }
     match format {

@@ -142,6 +142,43 @@ impl Format {
         "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb";
 }
 
+/// Which of [`TaggedMesh::validate`]'s checks a format's reader and writer make
+/// themselves, declared by each format module (`CHECKS`), so that reading and writing
+/// validate only where they do not: finite coordinates, every cell's points, every
+/// data array's length, every set's items, each fault named by its byte or line.
+/// Validating again would cost one more pass over the largest arrays (a tenth of a
+/// binary Medit read).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Checks {
+    /// The reader refuses every mesh `validate` would refuse. Debug builds (the tests)
+    /// validate anyway and stop on a mesh such a reader let through; the fuzz targets
+    /// validate every mesh they are given.
+    pub reader_validates: bool,
+    /// The writer refuses, with [`io::refused`]'s error, every mesh `validate` would
+    /// refuse, in the passes that write it.
+    pub writer_validates: bool,
+}
+
+impl Checks {
+    /// Neither reader nor writer checks: `read_bytes`/`write_bytes` validate.
+    pub(crate) const NONE: Checks = Checks { reader_validates: false, writer_validates: false };
+}
+
+impl Format {
+    /// What the format's own code checks (see [`Checks`]).
+    pub(crate) fn checks(self) -> Checks {
+        match self {
+            Format::Triangle => triangle::CHECKS,
+            // Not declared by the Gmsh module: its meshes are validated here.
+            Format::Gmsh => Checks::NONE,
+            Format::VtkLegacy | Format::Vtu => vtk::CHECKS,
+            Format::Obj => obj::CHECKS,
+            Format::Medit => medit::CHECKS,
+            Format::Gltf => gltf::CHECKS,
+        }
+    }
+}
+
 /// Gmsh MSH file format version to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum GmshVersion {

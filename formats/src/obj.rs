@@ -317,6 +317,10 @@ const UNSUPPORTED: &[&[u8]] = &[
     b"scrv", b"sp", b"end", b"con", b"call", b"csh",
 ];
 
+/// The OBJ reader checks indices as it reads, but `validate` runs after it; its writer
+/// leaves it to `write_bytes` too.
+pub(crate) const CHECKS: crate::Checks = crate::Checks::NONE;
+
 /// Reads a mesh.
 pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     let bytes = crate::text::lone_cr_as_newline(bytes);

@@ -73,6 +73,12 @@ use crate::{
 
 use keywords::KEYWORDS;
 
+/// The Medit reader checks coordinates, node numbers, set items and solution lengths as
+/// it reads them; its writer checks coordinates and node numbers in the passes that
+/// write them, with the error of [`crate::io::refused`].
+pub(crate) const CHECKS: crate::Checks =
+    crate::Checks { reader_validates: true, writer_validates: true };
+
 /// Point data holding the reference of each vertex.
 pub const REF: &str = "medit:ref";
 
