@@ -463,11 +463,14 @@ fn bad_graphs_get_clear_errors() {
         triangulate(&outside, &MeshOptions::default()),
         Err(MeshError::SeedOnSegment { what: "region", number: 1, .. })
     ));
+    // A real regional attribute (Triangle's are reals) is no tag: it travels as a field.
     outside.regions[0] = RegionSeed { point: [0.5, 0.5], attribute: 2.5, max_area: -1.0 };
-    assert_eq!(
-        triangulate(&outside, &MeshOptions::default()),
-        Err(MeshError::NonIntegerAttribute { region: 1, attribute: 2.5 })
-    );
+    let real = triangulate(&outside, &MeshOptions::default()).unwrap();
+    assert!(triangles(&real).iter().all(|&(_, tag)| tag == 0));
+    let field = &real.cell_data["triangle:attribute1"].values;
+    let ntri = triangles(&real).len();
+    assert!(field[field.len() - ntri..].iter().all(|&a| a == 2.5));
+    assert!(field[..field.len() - ntri].iter().all(|&a| a == 0.0));
 
     let mut holed = pslg(&SQUARE, &LOOP);
     holed.holes.push([0.5, 0.5]);

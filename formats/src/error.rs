@@ -58,9 +58,18 @@ impl Error {
         self
     }
 
-    /// Whether the error is about the input (exit code 2) rather than the system (I/O).
+    /// Whether the error is about what the user gave (exit code 2): the input's content,
+    /// an input that cannot be read, an output that cannot be written where it was
+    /// named; rather than the work failing (other I/O errors: a full disk, a closed
+    /// stream).
     pub fn is_input_error(&self) -> bool {
         !matches!(self.kind, ErrorKind::Io(_))
+    }
+
+    /// An error while writing standard output: named so in messages.
+    pub fn on_stdout(mut self) -> Self {
+        self.path = Some(PathBuf::from("<stdout>"));
+        self
     }
 }
 
@@ -85,6 +94,20 @@ pub enum ErrorKind {
     /// The operating system failed to read or write. Check the path and permissions.
     #[error("{0}")]
     Io(#[from] std::io::Error),
+    /// The input file cannot be read: it does not exist, is a directory, or its
+    /// permissions forbid it. Check the path.
+    #[error("cannot read it: {0}")]
+    Unreadable(std::io::Error),
+    /// The output cannot be written where it was named: its directory does not exist or
+    /// is not writable, or it is a directory. Check the path.
+    #[error("cannot write it: {0}")]
+    Unwritable(std::io::Error),
+    /// The output exists and is read-only. smartmesh does not replace a read-only file
+    /// (as `cp` refuses to); make it writable or remove it first.
+    #[error(
+        "the file is read-only; smartmesh does not replace it (make it writable or remove it)"
+    )]
+    ReadOnly,
     /// The file does not have the expected syntax at this point.
     #[error("expected {expected}, found {found}")]
     Expected {
@@ -111,7 +134,7 @@ pub enum ErrorKind {
         limit: String,
     },
     /// A cell or set refers to a point (or cell) that does not exist.
-    #[error("{what} refers to {index}, but only {available} exist")]
+    #[error("{what} refers to {index}{}", out_of_range(*.index, *.available))]
     IndexOutOfRange {
         /// The referring item.
         what: String,
@@ -134,8 +157,9 @@ pub enum ErrorKind {
     /// The file is inconsistent with itself (counts that disagree, a duplicate id).
     #[error("{0}")]
     Inconsistent(String),
-    /// The format cannot be determined from the path; name it with --from/--to.
-    #[error("cannot tell the format of `{0}`; name it with --from/--to")]
+    /// The format cannot be determined from the path's extension (the extension, empty
+    /// when there is none or the file is a stream); name it with --from/--to.
+    #[error("cannot tell the format {}; smartmesh knows {}; name it with --from/--to", unknown_extension(.0), crate::Format::known_extensions())]
     UnknownFormat(String),
     /// The mesh cannot be written in this format at all.
     #[error("cannot write this mesh as {format}: {reason}")]
@@ -145,6 +169,25 @@ pub enum ErrorKind {
         /// Why not.
         reason: String,
     },
+}
+
+/// Why an index names nothing: a negative one never does; otherwise there are too few.
+fn out_of_range(index: i64, available: usize) -> String {
+    if index < 0 {
+        ", a negative number".into()
+    } else if index as u64 >= available as u64 {
+        format!(", but only {available} exist")
+    } else {
+        String::new()
+    }
+}
+
+fn unknown_extension(ext: &str) -> String {
+    if ext.is_empty() {
+        "without an extension".into()
+    } else {
+        format!("from the extension `.{}`", crate::text::quote_prefix(ext.as_bytes()))
+    }
 }
 
 /// `Result` with this crate's [`Error`].

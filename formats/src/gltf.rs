@@ -216,6 +216,9 @@ fn cannot(reason: impl Into<String>) -> Error {
     Error::new(ErrorKind::CannotWrite { format: "glTF", reason: reason.into() })
 }
 
+/// glTF is written only; its writer leaves validation to `write_bytes`.
+pub(crate) const CHECKS: crate::Checks = crate::Checks::NONE;
+
 /// Writes a mesh.
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut report = WriteReport::default();
@@ -225,156 +228,15 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         return Err(cannot(format!("{n} points: glTF UNSIGNED_INT indices reach 4294967294")));
     }
 
-    // Cells → triangle and line index lists.
-    let mut tris: Vec<u32> = Vec::with_capacity(
-        3 * (mesh.num_cells_of(CellKind::Triangle) + 2 * mesh.num_cells_of(CellKind::Quad)),
-    );
-    let mut lines: Vec<u32> = Vec::with_capacity(2 * mesh.num_cells_of(CellKind::Line));
-    let mut counts: BTreeMap<CellKind, usize> = BTreeMap::new();
-    for b in &mesh.blocks {
-        *counts.entry(b.kind).or_insert(0) += b.len();
-        for c in b.cells() {
-            let i = |k: usize| -> Result<u32> {
-                c.get(k).copied().filter(|&v| (v as usize) < n).ok_or_else(|| {
-                    cannot(format!(
-                        "a {} cell refers to a point that does not exist",
-                        b.kind.name()
-                    ))
-                })
-            };
-            match b.kind {
-                CellKind::Vertex => {}
-                CellKind::Line | CellKind::Line3 => lines.extend_from_slice(&[i(0)?, i(1)?]),
-                CellKind::Triangle | CellKind::Triangle6 => {
-                    tris.extend_from_slice(&[i(0)?, i(1)?, i(2)?])
-                }
-                CellKind::Quad | CellKind::Quad8 | CellKind::Quad9 => {
-                    let (a, b1, c1, d) = (i(0)?, i(1)?, i(2)?, i(3)?);
-                    tris.extend_from_slice(&[a, b1, c1, a, c1, d]);
-                }
-            }
-        }
-    }
-    if tris.is_empty() && lines.is_empty() {
-        return Err(cannot("the mesh has no triangles, quads or lines to draw"));
-    }
-    for (&kind, &count) in &counts {
-        match kind {
-            CellKind::Quad if count > 0 => report.drop(format!(
-                "{count} quad cells split into 2 triangles each (glTF draws triangles)"
-            )),
-            CellKind::Vertex if count > 0 => report.drop(format!(
-                "{count} vertex cells not drawn (the glTF writer draws triangles and lines)"
-            )),
-            k if k.is_second_order() && count > 0 => report.drop(format!(
-                "{count} {} cells drawn by their corners{}: glTF has no second-order elements",
-                k.name(),
-                if k.dim() == 2 && k != CellKind::Triangle6 { ", as 2 triangles each" } else { "" }
-            )),
-            _ => {}
-        }
-    }
+    let (tris, lines) = indices(mesh, &mut report)?;
     report_unheld(mesh, &mut report);
 
     // Positions, rounded to f32, with their exact bounds.
     let mut buffer: Vec<u8> = Vec::with_capacity(n * 24 + 4 * (tris.len() + lines.len()));
-    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    let mut largest_change = 0.0f64;
-    for (pi, p) in mesh.points.iter().enumerate() {
-        for k in 0..3 {
-            let v = p[k] as f32;
-            if !v.is_finite() {
-                return Err(cannot(format!(
-                    "point {pi} has coordinate {} that is not a finite 32-bit float",
-                    p[k]
-                )));
-            }
-            largest_change = largest_change.max((v as f64 - p[k]).abs());
-            lo[k] = lo[k].min(v);
-            hi[k] = hi[k].max(v);
-            buffer.extend_from_slice(&v.to_le_bytes());
-        }
-    }
-    if largest_change > 0.0 {
-        report.drop(format!("coordinates rounded to 32-bit floats (glTF POSITION is FLOAT); largest change {largest_change:.3e}"));
-    }
+    let (lo, hi) = push_positions(mesh, &mut buffer, &mut report)?;
     let pos_range = 0..buffer.len();
 
-    // Colours.
-    let field = colour_field(mesh, opts)?;
-    let mut extras = None;
-    let mut colour_range = None;
-    if let Some((name, array, quantity)) = field {
-        let q: Vec<f64> = (0..n)
-            .map(|i| {
-                let item = array.item(i);
-                match quantity {
-                    Quantity::Value => item[0],
-                    Quantity::Magnitude => item.iter().map(|x| x * x).sum::<f64>().sqrt(),
-                    Quantity::FinestSize => finest_size(&array.tensor9(i)),
-                }
-            })
-            .collect();
-        let (mut qmin, mut qmax) = (f64::INFINITY, f64::NEG_INFINITY);
-        for &v in q.iter().filter(|v| v.is_finite()) {
-            qmin = qmin.min(v);
-            qmax = qmax.max(v);
-        }
-        let bad = q.iter().filter(|v| !v.is_finite()).count();
-        let start = buffer.len();
-        for &v in &q {
-            let c = if !v.is_finite() {
-                NO_VALUE
-            } else if qmax > qmin {
-                viridis_linear((v - qmin) / (qmax - qmin))
-            } else {
-                viridis_linear(0.5)
-            };
-            for x in c {
-                buffer.extend_from_slice(&x.to_le_bytes());
-            }
-        }
-        colour_range = Some(start..buffer.len());
-        let finite = qmin <= qmax;
-        report.drop(format!(
-            "point data `{name}` ({} components) written only as vertex colours: its {} through viridis{}",
-            array.expanded_components(),
-            quantity.describe(),
-            if finite { format!(" from {qmin} to {qmax} (recorded in the mesh extras)") } else { String::new() }
-        ));
-        if bad > 0 {
-            report.drop(format!(
-                "{bad} vertices of `{name}` have no finite {} and are drawn grey",
-                quantity.describe()
-            ));
-        }
-        let num =
-            |v: f64| if finite { serde_json::Value::from(v) } else { serde_json::Value::Null };
-        let value = serde_json::json!({
-            "color_field": name,
-            "color_quantity": quantity.describe(),
-            "color_min": num(qmin),
-            "color_max": num(qmax),
-            "colormap": "viridis",
-        });
-        extras = Some(
-            json::extras::RawValue::from_string(value.to_string())
-                .map_err(|e| cannot(e.to_string()))?,
-        );
-    }
-    for (name, a) in &mesh.point_data {
-        if field.map(|f| f.0) != Some(name.as_str()) {
-            let why = match field {
-                Some((f, _, _)) => format!("the vertices are coloured by `{f}` alone"),
-                None if opts.color_field.is_none() => "glTF holds no fields, and only a scalar colours the vertices unless --color-field names another".to_string(),
-                None => "glTF holds no fields".to_string(),
-            };
-            report.drop(format!(
-                "point data `{name}` ({} components): {why}",
-                a.expanded_components()
-            ));
-        }
-    }
+    let (colour_range, extras) = push_colours(mesh, opts, &mut buffer, &mut report)?;
 
     let tri_range = buffer.len()..buffer.len() + 4 * tris.len();
     for v in &tris {
@@ -585,6 +447,179 @@ fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
     if !mesh.regions.is_empty() {
         report.drop(format!("{} region seeds: glTF holds none", mesh.regions.len()));
     }
+}
+
+/// The cells as triangle and line index lists (quads as two triangles, second-order
+/// cells by their corners), and what that changes in the report.
+fn indices(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<(Vec<u32>, Vec<u32>)> {
+    let n = mesh.points.len();
+    let mut tris: Vec<u32> = Vec::with_capacity(
+        3 * (mesh.num_cells_of(CellKind::Triangle) + 2 * mesh.num_cells_of(CellKind::Quad)),
+    );
+    let mut lines: Vec<u32> = Vec::with_capacity(2 * mesh.num_cells_of(CellKind::Line));
+    let mut counts: BTreeMap<CellKind, usize> = BTreeMap::new();
+    for b in &mesh.blocks {
+        *counts.entry(b.kind).or_insert(0) += b.len();
+        for c in b.cells() {
+            let i = |k: usize| -> Result<u32> {
+                c.get(k).copied().filter(|&v| (v as usize) < n).ok_or_else(|| {
+                    cannot(format!(
+                        "a {} cell refers to a point that does not exist",
+                        b.kind.name()
+                    ))
+                })
+            };
+            match b.kind {
+                CellKind::Vertex => {}
+                CellKind::Line | CellKind::Line3 => lines.extend_from_slice(&[i(0)?, i(1)?]),
+                CellKind::Triangle | CellKind::Triangle6 => {
+                    tris.extend_from_slice(&[i(0)?, i(1)?, i(2)?])
+                }
+                CellKind::Quad | CellKind::Quad8 | CellKind::Quad9 => {
+                    let (a, b1, c1, d) = (i(0)?, i(1)?, i(2)?, i(3)?);
+                    tris.extend_from_slice(&[a, b1, c1, a, c1, d]);
+                }
+            }
+        }
+    }
+    if tris.is_empty() && lines.is_empty() {
+        return Err(cannot("the mesh has no triangles, quads or lines to draw"));
+    }
+    for (&kind, &count) in &counts {
+        match kind {
+            CellKind::Quad if count > 0 => report.drop(format!(
+                "{count} quad cells split into 2 triangles each (glTF draws triangles)"
+            )),
+            CellKind::Vertex if count > 0 => report.drop(format!(
+                "{count} vertex cells not drawn (the glTF writer draws triangles and lines)"
+            )),
+            k if k.is_second_order() && count > 0 => report.drop(format!(
+                "{count} {} cells drawn by their corners{}: glTF has no second-order elements",
+                k.name(),
+                if k.dim() == 2 && k != CellKind::Triangle6 { ", as 2 triangles each" } else { "" }
+            )),
+            _ => {}
+        }
+    }
+    Ok((tris, lines))
+}
+
+/// Appends the positions, rounded to f32, to `buffer`; returns their exact bounds.
+fn push_positions(
+    mesh: &TaggedMesh,
+    buffer: &mut Vec<u8>,
+    report: &mut WriteReport,
+) -> Result<([f32; 3], [f32; 3])> {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    let mut largest_change = 0.0f64;
+    for (pi, p) in mesh.points.iter().enumerate() {
+        for k in 0..3 {
+            let v = p[k] as f32;
+            if !v.is_finite() {
+                return Err(cannot(format!(
+                    "point {pi} has coordinate {} that is not a finite 32-bit float",
+                    p[k]
+                )));
+            }
+            largest_change = largest_change.max((v as f64 - p[k]).abs());
+            lo[k] = lo[k].min(v);
+            hi[k] = hi[k].max(v);
+            buffer.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    if largest_change > 0.0 {
+        report.drop(format!("coordinates rounded to 32-bit floats (glTF POSITION is FLOAT); largest change {largest_change:.3e}"));
+    }
+    Ok((lo, hi))
+}
+
+/// Where the vertex colours are in the buffer, and the mesh extras that name their field.
+type Colours = (Option<std::ops::Range<usize>>, Option<Box<json::extras::RawValue>>);
+
+/// Appends the vertex colours of the colour field (if any) to `buffer`; returns where
+/// they are and the mesh extras that record the field and its range.
+fn push_colours(
+    mesh: &TaggedMesh,
+    opts: &WriteOptions,
+    buffer: &mut Vec<u8>,
+    report: &mut WriteReport,
+) -> Result<Colours> {
+    let n = mesh.points.len();
+    let field = colour_field(mesh, opts)?;
+    let mut extras = None;
+    let mut colour_range = None;
+    if let Some((name, array, quantity)) = field {
+        let q: Vec<f64> = (0..n)
+            .map(|i| {
+                let item = array.item(i);
+                match quantity {
+                    Quantity::Value => item[0],
+                    Quantity::Magnitude => item.iter().map(|x| x * x).sum::<f64>().sqrt(),
+                    Quantity::FinestSize => finest_size(&array.tensor9(i)),
+                }
+            })
+            .collect();
+        let (mut qmin, mut qmax) = (f64::INFINITY, f64::NEG_INFINITY);
+        for &v in q.iter().filter(|v| v.is_finite()) {
+            qmin = qmin.min(v);
+            qmax = qmax.max(v);
+        }
+        let bad = q.iter().filter(|v| !v.is_finite()).count();
+        let start = buffer.len();
+        for &v in &q {
+            let c = if !v.is_finite() {
+                NO_VALUE
+            } else if qmax > qmin {
+                viridis_linear((v - qmin) / (qmax - qmin))
+            } else {
+                viridis_linear(0.5)
+            };
+            for x in c {
+                buffer.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        colour_range = Some(start..buffer.len());
+        let finite = qmin <= qmax;
+        report.drop(format!(
+            "point data `{name}` ({} components) written only as vertex colours: its {} through viridis{}",
+            array.expanded_components(),
+            quantity.describe(),
+            if finite { format!(" from {qmin} to {qmax} (recorded in the mesh extras)") } else { String::new() }
+        ));
+        if bad > 0 {
+            report.drop(format!(
+                "{bad} vertices of `{name}` have no finite {} and are drawn grey",
+                quantity.describe()
+            ));
+        }
+        let num =
+            |v: f64| if finite { serde_json::Value::from(v) } else { serde_json::Value::Null };
+        let value = serde_json::json!({
+            "color_field": name,
+            "color_quantity": quantity.describe(),
+            "color_min": num(qmin),
+            "color_max": num(qmax),
+            "colormap": "viridis",
+        });
+        extras = Some(
+            json::extras::RawValue::from_string(value.to_string())
+                .map_err(|e| cannot(e.to_string()))?,
+        );
+    }
+    for (name, a) in &mesh.point_data {
+        if field.map(|f| f.0) != Some(name.as_str()) {
+            let why = match field {
+                Some((f, _, _)) => format!("the vertices are coloured by `{f}` alone"),
+                None if opts.color_field.is_none() => "glTF holds no fields, and only a scalar colours the vertices unless --color-field names another".to_string(),
+                None => "glTF holds no fields".to_string(),
+            };
+            report.drop(format!(
+                "point data `{name}` ({} components): {why}",
+                a.expanded_components()
+            ));
+        }
+    }
+    Ok((colour_range, extras))
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
-//! Files, streams and siblings: dispatch to the format modules, stdin/stdout for `-`,
-//! and atomic writes (temporary file, then rename).
+//! Files, streams and siblings: dispatch to the format modules, stdin/stdout for `-`;
+//! files are written through [`crate::output`] (all or nothing).
 
 use std::collections::BTreeMap;
 use std::io::{Read, Write};
@@ -61,7 +61,7 @@ impl SiblingSource for PathSiblings {
         match std::fs::read(&p) {
             Ok(b) => Ok(Some(b)),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-            Err(e) => Err(Error::from(e).with_path(p)),
+            Err(e) => Err(Error::new(ErrorKind::Unreadable(e)).with_path(p)),
         }
     }
     fn describe(&self, ext: &str) -> String {
@@ -95,16 +95,6 @@ impl SiblingSource for MemorySiblings {
     }
 }
 
-/// Whether the reader of `format` checks, as it reads, everything that
-/// [`TaggedMesh::validate`] checks: finite coordinates, every cell's points, every data
-/// array's length, every set's items; and names the byte or line of a fault. Validating
-/// its mesh again would cost one more pass over the largest arrays (a tenth of a
-/// binary Medit read). Debug builds (the tests) validate anyway and stop on a mesh such
-/// a reader let through; the fuzz targets validate every mesh they are given.
-fn reader_validates(format: Format) -> bool {
-    matches!(format, Format::Medit | Format::VtkLegacy | Format::Vtu)
-}
-
 /// Reads a mesh in `format` from bytes. The result is valid ([`TaggedMesh::validate`]
 /// finds no problem), so whatever a reader let through, no cell refers to a missing
 /// point and no data array has the wrong length.
@@ -122,7 +112,7 @@ pub fn read_bytes(format: Format, bytes: &[u8], ctx: &ReadContext<'_>) -> Result
             )))
         }
     };
-    if reader_validates(format) {
+    if format.checks().reader_validates {
         debug_assert_eq!(
             mesh.validate(),
             Vec::new(),
@@ -149,15 +139,17 @@ pub(crate) fn refused(format: Format, mesh: &TaggedMesh) -> Error {
 /// Writes a mesh in `format` to bytes (the main file and its siblings). A mesh that
 /// [`TaggedMesh::validate`] refuses is not written.
 pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
-    // The Medit writer checks coordinates and node numbers in the passes that write
-    // them, with the same error.
-    if format != Format::Medit && !mesh.validate().is_empty() {
+    if !format.checks().writer_validates && !mesh.validate().is_empty() {
         return Err(refused(format, mesh));
     }
     match format {
         Format::Triangle => crate::triangle::write(mesh, opts),
-        // Validated above, with the error `gmsh::write` would give.
-        Format::Gmsh => crate::gmsh::write_validated(mesh, opts),
+        // Validated above, with the error `gmsh::write` would give. Point sets become
+        // named groups of point elements, which MSH holds.
+        Format::Gmsh => match crate::point_sets::as_vertex_cells(mesh) {
+            Some(lowered) => crate::gmsh::write_validated(&lowered, opts),
+            None => crate::gmsh::write_validated(mesh, opts),
+        },
         Format::VtkLegacy => crate::vtk::write_legacy(mesh, opts),
         Format::Vtu => crate::vtk::write_vtu(mesh, opts),
         Format::Obj => crate::obj::write(mesh, opts),
@@ -169,9 +161,14 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
 fn resolve_format(path: &Path, format: Option<Format>) -> Result<Format> {
     match format {
         Some(f) => Ok(f),
-        None => Format::from_path(path)
-            .ok_or_else(|| Error::new(ErrorKind::UnknownFormat(path.display().to_string()))),
+        None => Format::from_path(path).ok_or_else(|| unknown_format(path)),
     }
+}
+
+/// The error for a path whose extension names no format, naming the path.
+fn unknown_format(path: &Path) -> Error {
+    let ext = path.extension().map(|e| e.to_string_lossy().into_owned());
+    Error::new(ErrorKind::UnknownFormat(ext.unwrap_or_default())).with_path(path)
 }
 
 fn is_stdio(path: &Path) -> bool {
@@ -182,14 +179,15 @@ fn is_stdio(path: &Path) -> bool {
 /// looked up beside the path. Errors carry the path.
 pub fn read_path(path: &Path, format: Option<Format>) -> Result<TaggedMesh> {
     if is_stdio(path) {
-        let format = format.ok_or_else(|| Error::new(ErrorKind::UnknownFormat("-".into())))?;
+        let format = format.ok_or_else(|| Error::new(ErrorKind::UnknownFormat(String::new())))?;
         let mut bytes = Vec::new();
         std::io::stdin().lock().read_to_end(&mut bytes)?;
         let ctx = ReadContext { siblings: &NoSiblings, extension: String::new() };
         return read_bytes(format, &bytes, &ctx);
     }
     let format = resolve_format(path, format)?;
-    let bytes = std::fs::read(path).map_err(|e| Error::from(e).with_path(path))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| Error::new(ErrorKind::Unreadable(e)).with_path(path))?;
     let siblings = PathSiblings::new(path);
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let ctx = ReadContext { siblings: &siblings, extension: ext };
@@ -206,7 +204,8 @@ pub fn write_path(
     opts: &WriteOptions,
 ) -> Result<WriteReport> {
     if is_stdio(path) {
-        let format = format.ok_or_else(|| Error::new(ErrorKind::UnknownFormat("-".into())))?;
+        let format = format
+            .ok_or_else(|| Error::new(ErrorKind::UnknownFormat(String::new())).on_stdout())?;
         let mut opts = opts.clone();
         opts.main_name = None;
         let written = write_bytes(format, mesh, &opts)?;
@@ -220,9 +219,7 @@ pub fn write_path(
                 ),
             }));
         }
-        let mut out = std::io::stdout().lock();
-        out.write_all(&written.main)?;
-        out.flush()?;
+        write_stream(&mut std::io::stdout().lock(), &written.main)?;
         return Ok(written.report);
     }
     let format = resolve_format(path, format)?;
@@ -234,38 +231,35 @@ pub fn write_path(
     for (ext, bytes) in written.siblings {
         targets.push((siblings.path(&ext), bytes));
     }
-    write_all_atomically(&targets)?;
+    crate::output::write_all_atomically(&targets)?;
     Ok(written.report)
 }
 
-/// Writes every `(path, bytes)` to a temporary file beside `path`, then renames them
-/// all. On failure the temporary files are removed and no target is touched.
-pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
-    let mut temps: Vec<(PathBuf, &Path)> = Vec::new();
-    let cleanup = |temps: &[(PathBuf, &Path)]| {
-        for (t, _) in temps {
-            let _ = std::fs::remove_file(t);
+/// Writes `bytes` to standard output (`out`); errors name it.
+fn write_stream(out: &mut impl Write, bytes: &[u8]) -> Result<()> {
+    out.write_all(bytes).and_then(|()| out.flush()).map_err(|e| Error::from(e).on_stdout())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A stream on a full disk.
+    struct Full;
+
+    impl Write for Full {
+        fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+            Err(std::io::Error::from_raw_os_error(28))
         }
-    };
-    for (target, bytes) in targets {
-        let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let tmp = target.with_file_name(format!(".{name}.smartmesh-{}.tmp", std::process::id()));
-        let res = std::fs::File::create(&tmp).and_then(|mut f| {
-            f.write_all(bytes)?;
-            f.flush()
-        });
-        if let Err(e) = res {
-            let _ = std::fs::remove_file(&tmp);
-            cleanup(&temps);
-            return Err(Error::from(e).with_path(target));
-        }
-        temps.push((tmp, target));
-    }
-    for (tmp, target) in &temps {
-        if let Err(e) = std::fs::rename(tmp, target) {
-            cleanup(&temps);
-            return Err(Error::from(e).with_path(target));
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
         }
     }
-    Ok(())
+
+    #[test]
+    fn a_failing_stdout_is_named_as_the_output() {
+        let e = write_stream(&mut Full, b"x").unwrap_err();
+        assert!(e.to_string().starts_with("<stdout>: "), "{e}");
+        assert!(!e.is_input_error());
+    }
 }

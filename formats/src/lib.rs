@@ -11,8 +11,9 @@
 //!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only);
 //! - [`Format::from_path`], a static extension table;
 //! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
-//!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written to
-//!   a temporary file and renamed, so a failed write never leaves half a file;
+//!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written as a
+//!   set, all or nothing ([`write_all_atomically`]: temporaries, then renames; links
+//!   written through, read-only files refused);
 //! - errors that name the file, the line or byte offset, and what was expected.
 //!
 //! This crate sizes nothing and knows no topology: those are the `smartmesh` crate's.
@@ -22,6 +23,8 @@
 mod error;
 mod io;
 mod mesh;
+mod output;
+mod point_sets;
 mod scan;
 pub mod text;
 
@@ -37,13 +40,14 @@ pub mod arbitrary;
 
 pub use error::{Error, ErrorKind, Position, Result};
 pub use io::{
-    read_bytes, read_path, write_all_atomically, write_bytes, write_path, MemorySiblings,
-    NoSiblings, PathSiblings, SiblingSource,
+    read_bytes, read_path, write_bytes, write_path, MemorySiblings, NoSiblings, PathSiblings,
+    SiblingSource,
 };
 pub use mesh::{
     sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout,
     MeshProblem, NodeIndex, RegionSeed, TaggedMesh, MAX_POINTS,
 };
+pub use output::write_all_atomically;
 
 use std::path::Path;
 
@@ -123,6 +127,11 @@ impl Format {
         }
     }
 
+    /// Every extension of the table, for messages: `.node, .ele, …, .glb`.
+    pub fn known_extensions() -> String {
+        EXTENSIONS.iter().map(|(e, _)| format!(".{e}")).collect::<Vec<_>>().join(", ")
+    }
+
     /// Whether smartmesh reads this format.
     pub fn can_read(self) -> bool {
         !matches!(self, Format::Gltf)
@@ -131,6 +140,43 @@ impl Format {
     /// The names accepted by [`Format::from_name`], for help texts.
     pub const NAMES: &'static str =
         "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb";
+}
+
+/// Which of [`TaggedMesh::validate`]'s checks a format's reader and writer make
+/// themselves, declared by each format module (`CHECKS`), so that reading and writing
+/// validate only where they do not: finite coordinates, every cell's points, every
+/// data array's length, every set's items, each fault named by its byte or line.
+/// Validating again would cost one more pass over the largest arrays (a tenth of a
+/// binary Medit read).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Checks {
+    /// The reader refuses every mesh `validate` would refuse. Debug builds (the tests)
+    /// validate anyway and stop on a mesh such a reader let through; the fuzz targets
+    /// validate every mesh they are given.
+    pub reader_validates: bool,
+    /// The writer refuses, with [`io::refused`]'s error, every mesh `validate` would
+    /// refuse, in the passes that write it.
+    pub writer_validates: bool,
+}
+
+impl Checks {
+    /// Neither reader nor writer checks: `read_bytes`/`write_bytes` validate.
+    pub(crate) const NONE: Checks = Checks { reader_validates: false, writer_validates: false };
+}
+
+impl Format {
+    /// What the format's own code checks (see [`Checks`]).
+    pub(crate) fn checks(self) -> Checks {
+        match self {
+            Format::Triangle => triangle::CHECKS,
+            // Not declared by the Gmsh module: its meshes are validated here.
+            Format::Gmsh => Checks::NONE,
+            Format::VtkLegacy | Format::Vtu => vtk::CHECKS,
+            Format::Obj => obj::CHECKS,
+            Format::Medit => medit::CHECKS,
+            Format::Gltf => gltf::CHECKS,
+        }
+    }
 }
 
 /// Gmsh MSH file format version to write.

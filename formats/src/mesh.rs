@@ -399,7 +399,8 @@ pub enum DataShape {
 pub struct RegionSeed {
     /// A point strictly inside the region.
     pub point: [f64; 2],
-    /// The regional attribute, which becomes the face tag of the region's triangles.
+    /// The regional attribute, a real as in Triangle: the face tag of the region's
+    /// triangles when every region's attribute is an integer.
     pub attribute: f64,
     /// Maximum triangle area in the region; negative when unconstrained.
     pub max_area: f64,

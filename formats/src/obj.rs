@@ -92,14 +92,7 @@ fn skip_statement(t: &mut Tokens<'_>) {
     while arg(t).is_some() {}
 }
 
-fn show(tok: &[u8]) -> String {
-    let s = String::from_utf8_lossy(&tok[..tok.len().min(40)]).into_owned();
-    if tok.len() > 40 {
-        format!("`{s}…`")
-    } else {
-        format!("`{s}`")
-    }
-}
+use crate::text::show;
 
 /// A coordinate: finite decimal.
 #[inline]
@@ -324,9 +317,14 @@ const UNSUPPORTED: &[&[u8]] = &[
     b"scrv", b"sp", b"end", b"con", b"call", b"csh",
 ];
 
+/// The OBJ reader checks indices as it reads, but `validate` runs after it; its writer
+/// leaves it to `write_bytes` too.
+pub(crate) const CHECKS: crate::Checks = crate::Checks::NONE;
+
 /// Reads a mesh.
 pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
-    let mut t = Tokens::with_comments(bytes, b'#');
+    let bytes = crate::text::lone_cr_as_newline(bytes);
+    let mut t = Tokens::with_comments(&bytes, b'#');
     let mut mesh = TaggedMesh::new();
     let mut r = Reader {
         v: IndexSpace::new("vertex"),

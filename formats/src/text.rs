@@ -19,13 +19,52 @@ pub struct Tokens<'a> {
     comment: Option<u8>,
 }
 
-fn show(tok: &[u8]) -> String {
-    let s = String::from_utf8_lossy(&tok[..tok.len().min(40)]).into_owned();
-    if tok.len() > 40 {
-        format!("`{s}…`")
-    } else {
-        format!("`{s}`")
+/// At most this many bytes of a token are quoted in a message, so that a 2-million-digit
+/// number gives a short error.
+const QUOTE_MAX: usize = 40;
+
+/// Characters that make a token look right but read wrong, and what to call them.
+const INVISIBLE: [(&str, &str); 6] = [
+    ("\u{feff}", "a byte order mark (U+FEFF)"),
+    ("\u{a0}", "a no-break space (U+00A0)"),
+    ("\u{202f}", "a narrow no-break space (U+202F)"),
+    ("\u{200b}", "a zero-width space (U+200B)"),
+    ("\u{2009}", "a thin space (U+2009)"),
+    ("\u{3000}", "an ideographic space (U+3000)"),
+];
+
+/// At most the first [`QUOTE_MAX`] bytes of `tok` (cut at a character boundary), with
+/// `…` when cut.
+pub(crate) fn quote_prefix(tok: &[u8]) -> String {
+    let s = String::from_utf8_lossy(&tok[..tok.len().min(QUOTE_MAX + 4)]);
+    let mut cut: String = s
+        .chars()
+        .scan(0, |n, c| {
+            *n += c.len_utf8();
+            (*n <= QUOTE_MAX).then_some(c)
+        })
+        .collect();
+    if cut.len() < tok.len() {
+        cut.push('…');
     }
+    cut
+}
+
+/// A token as messages quote it: a bounded prefix in backticks, followed by the
+/// invisible characters it holds, named (a byte order mark, a no-break space, a control
+/// byte), since the quote alone shows nothing wrong.
+pub(crate) fn show(tok: &[u8]) -> String {
+    let mut out = format!("`{}`", quote_prefix(tok));
+    let text = String::from_utf8_lossy(tok);
+    let mut named: Vec<&str> =
+        INVISIBLE.iter().filter(|(c, _)| text.contains(c)).map(|&(_, n)| n).collect();
+    if tok.iter().any(|&b| b < 0x20 || b == 0x7f) {
+        named.push("a control character");
+    }
+    if !named.is_empty() {
+        out.push_str(&format!(" (it holds {})", named.join(" and ")));
+    }
+    out
 }
 
 impl<'a> Tokens<'a> {
@@ -244,6 +283,26 @@ impl<'a> Tokens<'a> {
     /// A syntax error at the current line.
     pub fn expected(&self, expected: impl Into<String>, found: &[u8]) -> Error {
         Error::expected(self.line, expected, show(found))
+    }
+}
+
+/// `data` with every lone carriage return (old Mac line ends, not followed by `\n`) made
+/// a newline, as tobj and most readers take it; borrowed when there is none. Readers of
+/// line-based formats call it first, so that a CR-only file is not one long line (or one
+/// long comment).
+pub(crate) fn lone_cr_as_newline(data: &[u8]) -> std::borrow::Cow<'_, [u8]> {
+    let lone = |i: usize| data.get(i + 1) != Some(&b'\n');
+    match memchr::memchr_iter(b'\r', data).find(|&i| lone(i)) {
+        None => std::borrow::Cow::Borrowed(data),
+        Some(first) => {
+            let mut out = data.to_vec();
+            for i in memchr::memchr_iter(b'\r', &data[first..]).map(|i| i + first) {
+                if lone(i) {
+                    out[i] = b'\n';
+                }
+            }
+            std::borrow::Cow::Owned(out)
+        }
     }
 }
 

@@ -277,7 +277,7 @@ fn what_medit_cannot_hold_is_reported() {
     let w = write_bytes(Format::Medit, &m, &opts("x.mesh")).unwrap();
     let d = w.report.dropped.join("\n");
     for needle in [
-        "1 vertex cells",
+        "the tags of 1 point cells",
         "geometrical tags of 1 cells",
         "point data `size` (1 components): MMG reads one solution, `metric` was written",
         "point data `size_tensor`",
@@ -1122,4 +1122,65 @@ fn malformed_binary_vertex_number_past_32_bits() {
     assert_eq!(byte_of(&e), at as u64 + 20);
     // The well-formed file reads.
     assert_eq!(read_alone(&b, "meshb").unwrap().blocks.iter().map(|b| b.len()).sum::<usize>(), 1);
+}
+
+#[test]
+fn an_empty_file_is_not_a_mesh() {
+    for text in ["", "# only a comment\n", "MeshVersionFormatted 2\nDimension 2\nEnd\n"] {
+        let e = read_alone(text.as_bytes(), "mesh").unwrap_err();
+        assert!(e.to_string().contains("Vertices"), "{text:?}: {e}");
+        assert!(e.is_input_error());
+    }
+    // A mesh of 0 vertices that says so is one.
+    assert!(read_alone(b"MeshVersionFormatted 2\nDimension 2\nVertices\n0\nEnd\n", "mesh").is_ok());
+}
+
+#[test]
+fn an_empty_solution_beside_a_mesh_is_an_error() {
+    let mesh = format!("{HEAD}{SQUARE}End\n");
+    let e = read_with_sol(mesh.as_bytes(), "mesh", "sol", b"").unwrap_err();
+    assert!(e.to_string().starts_with("<memory>.sol: "), "{e}");
+    assert!(e.to_string().contains("empty"), "{e}");
+}
+
+#[test]
+fn a_cr_only_file_reads_as_its_lines() {
+    let text = format!("# written on an old Mac\n{HEAD}{SQUARE}Triangles\n1\n1 2 3 7\nEnd\n")
+        .replace('\n', "\r");
+    let m = read_alone(text.as_bytes(), "mesh").unwrap();
+    assert_eq!(m.points.len(), 4);
+    assert_eq!(m.blocks[0].physical, vec![7]);
+}
+
+#[test]
+fn numbers_below_one_say_that_medit_counts_from_one() {
+    let (b, _, triangles) = strip_meshb(4);
+    let mut bad = b.clone();
+    bad[triangles..triangles + 4].copy_from_slice(&(-4i32).to_le_bytes());
+    let s = read_alone(&bad, "meshb").unwrap_err().to_string();
+    assert!(s.contains("numbered from 1") && s.contains("-4, a negative number"), "{s}");
+    assert!(!s.contains("only 0 exist"), "{s}");
+    let s = ascii_err(&format!("{SQUARE}Edges\n1\n0 1 0\nEnd\n")).to_string();
+    assert!(s.contains("numbered from 1") && s.contains("refers to 0"), "{s}");
+    assert!(!s.contains("only"), "{s}");
+}
+
+#[test]
+fn point_cells_are_written_as_corners_and_required_vertices() {
+    let mut m = full_mesh();
+    m.blocks.push(CellBlock {
+        kind: CellKind::Vertex,
+        nodes: vec![4, 1],
+        physical: vec![0, 0],
+        geometrical: vec![0, 0],
+    });
+    m.point_sets.insert("Corners".into(), vec![2, 4]);
+    for main in ["c.mesh", "c.meshb"] {
+        let ext = main.rsplit('.').next().unwrap();
+        let (w, back) = roundtrip(Format::Medit, ext, &m, &opts(main));
+        assert!(w.report.dropped.is_empty(), "{:?}", w.report.dropped);
+        assert_eq!(back.point_sets["Corners"], vec![1, 2, 4], "{main}");
+        // full_mesh lists vertex 5 as required already.
+        assert_eq!(back.point_sets["RequiredVertices"], vec![1, 4, 5], "{main}");
+    }
 }

@@ -650,3 +650,23 @@ fn interop_tobj_reads_our_obj() {
         }
     }
 }
+
+#[test]
+fn a_cr_only_file_reads_as_its_lines() {
+    // Old Mac line ends: a lone CR ends a line (and a comment), as tobj reads it.
+    let text = "# a triangle\rv 0 0 0\rv 1 0 0\rv 0 1 0\rg Domain\rf 1 2 3\r";
+    let m = read_str(text).unwrap();
+    assert_eq!(m.points.len(), 3);
+    assert_eq!(m.num_cells_of(CellKind::Triangle), 1);
+    // Lines are counted at the CRs.
+    let (_, line) = error_of("v 0 0 0\rv 1 0 0\rf 1 2 9\r");
+    assert_eq!(line, 3);
+}
+
+#[test]
+fn invisible_characters_are_named_in_errors() {
+    let e = read_str("v 0\u{a0}0 0\n").unwrap_err();
+    assert!(e.to_string().contains("no-break space (U+00A0)"), "{e}");
+    let e = read_str("\u{feff}v 0 0 0\n").unwrap_err();
+    assert!(e.to_string().contains("byte order mark (U+FEFF)"), "{e}");
+}

@@ -554,6 +554,12 @@ proptest! {
             Some(attr) => prop_assert_eq!(attr.values, expected),
             None => prop_assert!(expected.iter().all(|&v| v == 0.0)),
         }
+        // Holes and regions the mesh lacks are derived from its triangles for the .poly
+        // (`holes_and_regions_are_derived_for_the_poly_beside_an_ele` checks them).
+        if m.holes.is_empty() && m.regions.is_empty() {
+            back.holes.clear();
+            back.regions.clear();
+        }
         prop_assert_eq!(&back, &m);
         for (a, b) in back.points.iter().zip(&m.points) {
             prop_assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
@@ -754,4 +760,74 @@ proptest! {
         let _ = read_bytes(Format::Triangle, &main, &ReadContext { siblings: &sib, extension: ext.into() });
         let _ = read_bytes(Format::Triangle, &main, &ReadContext { siblings: &NoSiblings, extension: String::new() });
     }
+}
+
+#[test]
+fn a_two_million_digit_coordinate_gives_a_short_error() {
+    let huge = format!("1{}", "0".repeat(2_000_000));
+    let e = err("node", &format!("1 2 0 0\n1 {huge} 0\n"), &[]);
+    assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
+    assert!(e.to_string().len() < 200, "{} bytes of message", e.to_string().len());
+    assert!(e.to_string().contains("…"), "{e}");
+}
+
+#[test]
+fn a_cr_only_set_reads_as_its_lines() {
+    let node = "# square\r4 2 0 1\r1 0 0 1\r2 1 0 1\r3 1 1 1\r4 0 1 1\r";
+    let ele = "2 3 0\r1 1 2 3\r2 1 3 4\r";
+    let m = read_mem("ele", ele, &[("node", node)]).unwrap();
+    assert_eq!(m.points.len(), 4);
+    assert_eq!(m.num_cells_of(CellKind::Triangle), 2);
+}
+
+#[test]
+fn a_vertex_number_below_the_first_says_how_the_set_counts() {
+    let e = err("ele", "1 3 0\n1 0 2 3\n", &[("node", NODE)]);
+    let s = e.to_string();
+    assert!(s.contains("numbered from 1") && s.contains("refers to 0"), "{s}");
+}
+
+/// Whether `p` is inside (or on) triangle `t` of `m`.
+fn in_triangle(m: &TaggedMesh, t: &[u32], p: [f64; 2]) -> bool {
+    let q = |k: usize| m.points[t[k] as usize];
+    let side =
+        |a: [f64; 3], b: [f64; 3]| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+    let s = [side(q(0), q(1)), side(q(1), q(2)), side(q(2), q(0))];
+    s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
+}
+
+#[test]
+fn holes_and_regions_are_derived_for_the_poly_beside_an_ele() {
+    // The bundled channel with a cylinder (Gmsh): no holes nor regions of its own.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/cylinder.msh");
+    let mut m = smartmesh_formats::read_path(&path, None).unwrap();
+    m.blocks.retain(|b| matches!(b.kind, CellKind::Line | CellKind::Triangle));
+    assert!(m.holes.is_empty() && m.regions.is_empty());
+    let w = write_bytes(Format::Triangle, &m, &opts("cyl.ele")).unwrap();
+    let sib = MemorySiblings::from_written(&w);
+    let back = read_bytes(
+        Format::Triangle,
+        &w.main,
+        &ReadContext { siblings: &sib, extension: "ele".into() },
+    )
+    .unwrap();
+    let tris: Vec<&[u32]> = m.cells().filter(|c| c.0 == CellKind::Triangle).map(|c| c.1).collect();
+    // The cylinder's inside is a hole: one point in no triangle, within the cylinder's
+    // bounding box; the outer loop's point is outside the channel.
+    let inside: Vec<_> = back
+        .holes
+        .iter()
+        .filter(|h| (0.8..1.2).contains(&h[0]) && (0.3..0.7).contains(&h[1]))
+        .collect();
+    assert_eq!(inside.len(), 1, "{:?}", back.holes);
+    for h in &back.holes {
+        assert!(!tris.iter().any(|t| in_triangle(&m, t, *h)), "hole {h:?} in a triangle");
+    }
+    // One region, the fluid (tag 10), seeded inside a triangle.
+    assert_eq!(back.regions.len(), 1, "{:?}", back.regions);
+    assert_eq!(back.regions[0].attribute, 10.0);
+    assert!(tris.iter().any(|t| in_triangle(&m, t, back.regions[0].point)));
+    // A mesh that has holes and regions of its own keeps them.
+    let (_, again) = roundtrip(Format::Triangle, "ele", &full_mesh(), &opts("x.ele"));
+    assert_eq!(again.holes, full_mesh().holes);
 }

@@ -219,3 +219,142 @@ fn meshio_reads_our_mesh() {
     let theirs = read_path(&back, Some(Format::Medit)).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(counts_per_tag(&theirs), counts_per_tag(&m));
 }
+
+/// Point cells of `m` (their coordinates) that `out` has no vertex at, exactly.
+fn lost_points(m: &TaggedMesh, out: &TaggedMesh) -> Vec<[f64; 3]> {
+    let have: BTreeSet<[u64; 2]> =
+        out.points.iter().map(|p| [p[0].to_bits(), p[1].to_bits()]).collect();
+    m.cells()
+        .filter(|c| c.0 == CellKind::Vertex)
+        .map(|c| m.points[c.1[0] as usize])
+        .filter(|p| !have.contains(&[p[0].to_bits(), p[1].to_bits()]))
+        .collect()
+}
+
+#[test]
+fn mmg2d_keeps_the_topological_points_of_our_mesh() {
+    let Some(py) = python_with(&["mmgpy"]) else { return };
+    let exe = common::mmg2d(&py);
+    // The bundled cylinder: its stagnation point is a point cell in the middle of the
+    // cylinder's curve, which MMG would move as it remeshes the curve.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/cylinder.msh");
+    let mut m = read_path(&path, None).unwrap();
+    assert!(m.num_cells_of(CellKind::Vertex) > 0);
+    m.point_data
+        .insert("size".into(), smartmesh_formats::DataArray::new(1, vec![0.021; m.points.len()]));
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cyl.mesh");
+    let report = write_path(&input, &m, None, &WriteOptions::default()).unwrap();
+    assert!(!report.dropped.iter().any(|d| d.contains("vertex cells")), "{:?}", report.dropped);
+    let out_path = dir.path().join("out.mesh");
+    run_mmg(&exe, &input, &dir.path().join("cyl.sol"), &out_path);
+    let out = read_path(&out_path, None).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(lost_points(&m, &out), Vec::<[f64; 3]>::new());
+}
+
+#[test]
+fn medit_corners_become_a_named_group_of_points_in_msh() {
+    // MMG's output lists 4 Corners; Gmsh holds them as the physical points "Corners".
+    let m = read_file("medit/square_hole_mmg.mesh");
+    let corners = m.point_sets["Corners"].clone();
+    assert_eq!(corners.len(), 4);
+    let dir = tempfile::tempdir().unwrap();
+    for (name, opts) in [
+        ("x41.msh", WriteOptions::default()),
+        (
+            "x22.msh",
+            WriteOptions {
+                gmsh_version: smartmesh_formats::GmshVersion::V22,
+                ..Default::default()
+            },
+        ),
+    ] {
+        let path = dir.path().join(name);
+        let report = write_path(&path, &m, None, &opts).unwrap();
+        assert!(!report.dropped.iter().any(|d| d.contains("Corners")), "{:?}", report.dropped);
+        let back = read_path(&path, None).unwrap();
+        let tag = back
+            .tag_names
+            .iter()
+            .find(|(k, v)| k.0 == 0 && v.as_str() == "Corners")
+            .map(|(k, _)| k.1)
+            .unwrap_or_else(|| panic!("{name}: no 0D group Corners in {:?}", back.tag_names));
+        let mut at: Vec<usize> = back
+            .cells()
+            .filter(|c| c.0 == CellKind::Vertex && c.2 == tag)
+            .map(|c| c.1[0] as usize)
+            .collect();
+        at.sort_unstable();
+        assert_eq!(at, corners, "{name}");
+    }
+    // And Gmsh itself sees the group with its four points.
+    let Some(py) = python_with(&["gmsh"]) else { return };
+    let out = common::run_python(
+        &py,
+        r#"
+import sys, gmsh
+gmsh.initialize(["-v", "0"])
+gmsh.open(sys.argv[1])
+for dim, tag in gmsh.model.getPhysicalGroups(0):
+    nodes, _ = gmsh.model.mesh.getNodesForPhysicalGroup(dim, tag)
+    print(gmsh.model.getPhysicalName(dim, tag), len(nodes))
+gmsh.finalize()
+"#,
+        &[dir.path().join("x41.msh").to_str().unwrap()],
+    );
+    assert!(out.lines().any(|l| l.trim() == "Corners 4"), "{out}");
+}
+
+/// Meshes `<dir>/<name>.node` + `.poly` with Triangle `-pA` and prints the area of its
+/// triangles by regional attribute: `attribute area` lines.
+const TRIANGLE_PA: &str = r##"
+import sys, triangle, numpy as np
+d = triangle.load(sys.argv[1], sys.argv[2])
+pslg = {k: d[k] for k in ["vertices", "segments", "holes"] if k in d}
+# triangle.load reads a region's attribute as its area bound: read them here.
+tok = " ".join(l.split("#")[0] for l in open(sys.argv[1] + "/" + sys.argv[2] + ".poly")).split()
+nv, _, na, nm = map(int, tok[:4]); i = 4 + nv * (3 + na + nm)
+ns, sm = map(int, tok[i:i + 2]); i += 2 + ns * (3 + sm)
+nh = int(tok[i]); i += 1 + 3 * nh
+nr = int(tok[i]) if i < len(tok) else 0
+if nr:
+    pslg["regions"] = np.array(tok[i + 1:i + 1 + 5 * nr], dtype=float).reshape(-1, 5)[:, 1:]
+t = triangle.triangulate(pslg, "pA")
+v, tri = t["vertices"], t["triangles"]
+a, b, c = v[tri[:, 0]], v[tri[:, 1]], v[tri[:, 2]]
+area = 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+attr = t["triangle_attributes"][:, 0] if "triangle_attributes" in t else np.zeros(len(tri))
+for k in sorted(set(attr)):
+    print(repr(float(k)), repr(float(area[attr == k].sum())))
+"##;
+
+#[test]
+fn triangle_meshes_the_same_domain_from_the_poly_beside_our_ele() {
+    let Some(py) = python_with(&["triangle", "numpy"]) else { return };
+    // Gmsh's channel with a cylinder: its inside must stay a hole, its fluid tag 10.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/cylinder.msh");
+    let mut m = read_path(&path, None).unwrap();
+    m.blocks.retain(|b| matches!(b.kind, CellKind::Line | CellKind::Triangle));
+    let dir = tempfile::tempdir().unwrap();
+    write_path(&dir.path().join("cyl.ele"), &m, None, &WriteOptions::default()).unwrap();
+    let out = run_python(&py, TRIANGLE_PA, &[dir.path().to_str().unwrap(), "cyl"]);
+    let mut ours = std::collections::BTreeMap::<i32, f64>::new();
+    for c in m.cells().filter(|c| c.0 == CellKind::Triangle) {
+        let p = |k: usize| m.points[c.1[k] as usize];
+        let (a, b, q) = (p(0), p(1), p(2));
+        let area = 0.5 * ((b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0])).abs();
+        *ours.entry(c.2).or_default() += area;
+    }
+    let theirs: Vec<(f64, f64)> = out
+        .lines()
+        .map(|l| {
+            let v = numbers(l);
+            (v[0], v[1])
+        })
+        .collect();
+    assert_eq!(theirs.len(), ours.len(), "Triangle: {out}\nours: {ours:?}");
+    for ((attr, area), (tag, our)) in theirs.iter().zip(&ours) {
+        assert_eq!(*attr, *tag as f64, "{out}");
+        assert!((area - our).abs() <= 1e-9 * our, "tag {tag}: Triangle {area}, ours {our}");
+    }
+}

@@ -669,7 +669,7 @@ fn vtu_truncated() {
 #[test]
 fn vtu_bad_counts() {
     let e = vtu_err(&VTU.replace("NumberOfPoints=\"3\"", "NumberOfPoints=\"4\""));
-    assert!(e.to_string().contains("DataArray `` announces 12 items"), "{e}");
+    assert!(e.to_string().contains("DataArray `Points` announces 12 items"), "{e}");
     let e = vtu_err(&VTU.replace("NumberOfPoints=\"3\"", "NumberOfPoints=\"2\""));
     assert!(e.to_string().contains("has 9 values, expected 6"), "{e}");
     let e = vtu_err(&VTU.replace(">3</DataArray>", ">4</DataArray>"));
@@ -1194,4 +1194,81 @@ fn float32_tensors_pack() {
     assert_eq!(a.layout, Layout::Symmetric2);
     let expected: Vec<f64> = items.iter().flatten().map(|&v| v as f64).collect();
     assert_eq!(bits(&a.expanded().values), bits(&expected));
+}
+
+/// A zlib `.vtu` whose Points array is given by `header` (UInt64 words) and `data`.
+fn zlib_points_vtu(points: usize, header: &[u64], data: &[u8]) -> String {
+    use base64::Engine;
+    let mut h = Vec::new();
+    for w in header {
+        h.extend_from_slice(&w.to_le_bytes());
+    }
+    h.extend_from_slice(data);
+    let b = base64::engine::general_purpose::STANDARD.encode(&h);
+    VTU.replace(
+        "version=\"0.1\"",
+        "version=\"1.0\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"",
+    )
+    .replace("NumberOfPoints=\"3\"", &format!("NumberOfPoints=\"{points}\""))
+    .replace("format=\"ascii\">0 0 0 1 0 0 0 1 0<", &format!("format=\"binary\">{b}<"))
+}
+
+#[test]
+fn vtu_zlib_blocks_of_no_compressed_bytes_claim_nothing() {
+    // 4096 blocks of 32 KiB (the Points of 2^22 points) from 0 compressed bytes each: a
+    // 45 KB header that used to be inflated into 128 MiB before zlib said no.
+    let nb = 4096u64;
+    let mut header = vec![nb, 32768, 32768];
+    header.extend(std::iter::repeat(0).take(nb as usize));
+    let e = vtu_err(&zlib_points_vtu(1 << 22, &header, &[]));
+    assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. }), "{e}");
+    assert!(e.to_string().contains("block 1 of `Points`"), "{e}");
+}
+
+#[test]
+fn vtu_piece_counts_are_refused_with_the_file_size() {
+    let text = VTU.replace("NumberOfPoints=\"3\"", "NumberOfPoints=\"100000000000000\"");
+    let e = vtu_err(&text);
+    let s = e.to_string();
+    assert!(s.contains(&format!("a file of {} bytes", text.len())), "{s}");
+}
+
+#[test]
+fn vtu_uncounted_field_data_is_not_inflated() {
+    use base64::Engine;
+    // A FieldData array without NumberOfTuples claiming 2^30 bytes from one block: it
+    // cannot name a tag, so it is skipped rather than inflated.
+    let mut h = Vec::new();
+    for w in [1u64, 1 << 30, 1 << 30, 1 << 20] {
+        h.extend_from_slice(&w.to_le_bytes());
+    }
+    h.extend_from_slice(&vec![0u8; 1 << 20]);
+    let b = base64::engine::general_purpose::STANDARD.encode(&h);
+    let text = VTU
+        .replace(
+            "version=\"0.1\"",
+            "version=\"1.0\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"",
+        )
+        .replace(
+            "<UnstructuredGrid>\n",
+            &format!("<UnstructuredGrid>\n<FieldData><DataArray type=\"Float64\" Name=\"big\" format=\"binary\">{b}</DataArray></FieldData>\n"),
+        );
+    let m = read(Format::Vtu, text.as_bytes()).unwrap();
+    assert_eq!(m.points.len(), 3);
+}
+
+#[test]
+fn vtu_unnamed_points_are_named_in_messages() {
+    let e = vtu_err(&VTU.replace("0 0 0 1 0 0", "0 0 0 1 NaN 0"));
+    assert!(e.to_string().contains("`Points`"), "{e}");
+    assert!(!e.to_string().contains("``"), "{e}");
+}
+
+#[test]
+fn legacy_51_offsets_not_from_zero_are_named_plainly() {
+    let text = "# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 double\n0 0 0 1 0 0 0 1 0\nCELLS 2 3\nOFFSETS vtktypeint64\n3 3\nCONNECTIVITY vtktypeint64\n0 1 2\nCELL_TYPES 1\n5\n";
+    let e = legacy_err(text);
+    let s = e.to_string();
+    assert!(s.contains("a first offset of 3"), "{s}");
+    assert!(!s.contains("Some("), "{s}");
 }

@@ -132,10 +132,9 @@ pub(crate) fn assemble(
     input: &TaggedMesh,
     opts: &MeshOptions,
 ) -> Result<TaggedMesh, MeshError> {
-    let triangles: Vec<([usize; 3], i32)> = domain
-        .iter()
-        .map(|&(t, l)| (t, if l == NO_REGION { 0 } else { pslg.seeds[l as usize].tag }))
-        .collect();
+    let seed = |l: u32| (l != NO_REGION).then(|| &pslg.seeds[l as usize]);
+    let triangles: Vec<([usize; 3], i32)> =
+        domain.iter().map(|&(t, l)| (t, seed(l).map_or(0, |s| s.tag))).collect();
     let pieces = segment_pieces(cdt, pslg)?;
     let corner_vertices = corners(&pieces, cdt, opts.corner_angle_deg);
 
@@ -197,6 +196,16 @@ pub(crate) fn assemble(
     }
     let mut out = TaggedMesh::new();
     out.points = points;
+    if pslg.real_attributes {
+        // One value per cell in block order: Vertex and Line cells first, with 0.
+        let before = vb.len() + lb.len();
+        let mut values = vec![0.0; before];
+        values.extend(domain.iter().map(|&(_, l)| seed(l).map_or(0.0, |s| s.attribute)));
+        out.cell_data.insert(
+            crate::formats::triangle::attribute_name(1),
+            crate::formats::DataArray::new(1, values),
+        );
+    }
     out.blocks = [vb, lb, tb].into_iter().filter(|b| !b.is_empty()).collect();
     out.tag_names = input.tag_names.clone();
     Ok(out)

@@ -229,21 +229,14 @@ pub enum MeshError {
         /// Its point.
         point: [f64; 2],
     },
-    /// A hole or region point with a NaN or infinite coordinate.
-    #[error("{what} {number} has a non-finite coordinate")]
+    /// A hole or region point with a NaN or infinite coordinate (or a region with such an
+    /// attribute).
+    #[error("{what} {number} has a non-finite coordinate or attribute")]
     NonFiniteSeed {
         /// `hole` or `region`.
         what: &'static str,
         /// Its number.
         number: usize,
-    },
-    /// A regional attribute that cannot be a face tag.
-    #[error("region {region}'s attribute {attribute} is not an integer; face tags are integers")]
-    NonIntegerAttribute {
-        /// The region.
-        region: usize,
-        /// The attribute.
-        attribute: f64,
     },
     /// Nothing is left once the outside and the holes are carved.
     #[error("nothing to mesh: the segments enclose no area outside the holes (an open graph needs keep_convex_hull, Triangle's `c`)")]
@@ -303,9 +296,7 @@ impl MeshError {
             DuplicateSegment { second, .. } | SegmentsOverlap { second, .. } => {
                 Subject::Segment(second)
             }
-            RegionOutside { region, .. } | NonIntegerAttribute { region, .. } => {
-                Subject::Region(region)
-            }
+            RegionOutside { region, .. } => Subject::Region(region),
             SeedOnSegment { what, number, .. } | NonFiniteSeed { what, number } => {
                 if what == "hole" {
                     Subject::Hole(number)
@@ -326,7 +317,9 @@ impl MeshError {
 /// Meshes the planar straight-line graph of `pslg`: a Triangle `.poly` (segments, holes,
 /// regions) or the Line cells of any mesh (the module docs say how a mesh is read as a
 /// graph). Returns counter-clockwise triangles tagged with their regional attribute (0
-/// outside every region), each input segment as Line cells with its tags, Vertex cells at
+/// outside every region; when the attributes are reals that are not all integers, as
+/// Triangle allows, every tag is 0 and the attributes are cell data
+/// `triangle:attribute1`, 0 outside every region and on Line and Vertex cells), each input segment as Line cells with its tags, Vertex cells at
 /// the corners, and the input's tag names (not its holes and region seeds: the triangles'
 /// tags say where the regions are). Deterministic: the same input
 /// and options give the same mesh.

@@ -13,7 +13,7 @@
 //!
 //! The checks are those that the triangulation cannot survive, or would silently get
 //! wrong: non-planar or non-finite coordinates, two points at the same place, zero-length
-//! and repeated segments, non-integer regional attributes. Crossing segments are found
+//! and repeated segments. Crossing segments are found
 //! while the constrained triangulation is built (spade reports them), see
 //! [`super::refine`].
 
@@ -32,11 +32,14 @@ pub(crate) struct Segment {
     pub geometrical: i32,
 }
 
-/// A region seed with the face tag it gives and its own area bound (`None`: unbounded).
+/// A region seed with the face tag it gives, its regional attribute and its own area
+/// bound (`None`: unbounded).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Seed {
     pub point: [f64; 2],
     pub tag: i32,
+    /// Triangle's regional attribute, a real (the tag when every attribute is an integer).
+    pub attribute: f64,
     pub max_area: Option<f64>,
     /// 1-based number of the region in the input (for messages); 0 for seeds derived
     /// from surface cells.
@@ -60,6 +63,10 @@ pub(crate) struct Pslg {
     pub seeds: Vec<Seed>,
     /// Whether parts of the domain reached by no seed are carved (mesh input).
     pub seeded_only: bool,
+    /// Whether the regional attributes are reals that are not all integers: then they
+    /// are no face tags (every tag is 0) and travel as a cell field instead, as the
+    /// Triangle reader treats the attributes of an `.ele`.
+    pub real_attributes: bool,
 }
 
 /// Topological points named by Triangle vertex markers (point data `triangle:marker`) in
@@ -165,17 +172,19 @@ pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
     check_duplicate_points(&points, &source)?;
     check_segments(&segments, &source)?;
 
+    // Triangle's regional attributes are reals (`la.poly` has 0.05); they are face tags
+    // only when all are integers.
+    let integral = |a: f64| a.fract() == 0.0 && a >= i32::MIN as f64 && a <= i32::MAX as f64;
+    let real_attributes = !mesh.regions.iter().all(|r| integral(r.attribute));
     let mut seeds = Vec::new();
     for (k, r) in mesh.regions.iter().enumerate() {
         let a = r.attribute;
-        if !(a.fract() == 0.0 && a >= i32::MIN as f64 && a <= i32::MAX as f64) {
-            return Err(MeshError::NonIntegerAttribute { region: k + 1, attribute: a });
-        }
-        if !(r.point[0].is_finite() && r.point[1].is_finite()) {
+        if !(r.point[0].is_finite() && r.point[1].is_finite() && a.is_finite()) {
             return Err(MeshError::NonFiniteSeed { what: "region", number: k + 1 });
         }
         let max_area = (r.max_area > 0.0 && r.max_area.is_finite()).then_some(r.max_area);
-        seeds.push(Seed { point: r.point, tag: a as i32, max_area, number: k + 1 });
+        let tag = if real_attributes { 0 } else { a as i32 };
+        seeds.push(Seed { point: r.point, tag, attribute: a, max_area, number: k + 1 });
     }
     let seeded_only = has_surface && mesh.regions.is_empty() && mesh.holes.is_empty();
     if seeded_only {
@@ -198,6 +207,7 @@ pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
             seeds.push(Seed {
                 point: [x / k as f64, y / k as f64],
                 tag,
+                attribute: tag as f64,
                 max_area: None,
                 number: 0,
             });
@@ -208,7 +218,16 @@ pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
             return Err(MeshError::NonFiniteSeed { what: "hole", number: k + 1 });
         }
     }
-    Ok(Pslg { points, source, segments, listed, holes: mesh.holes.clone(), seeds, seeded_only })
+    Ok(Pslg {
+        points,
+        source,
+        segments,
+        listed,
+        holes: mesh.holes.clone(),
+        seeds,
+        seeded_only,
+        real_attributes,
+    })
 }
 
 /// Two vertices at the same place would be merged by the triangulation and every segment

@@ -10,7 +10,8 @@ use super::*;
 
 /// Reads the keywords of an ASCII file.
 pub(super) fn read(bytes: &[u8]) -> Result<Parsed> {
-    let mut t = Tokens::with_comments(bytes, b'#');
+    let bytes = crate::text::lone_cr_as_newline(bytes);
+    let mut t = Tokens::with_comments(&bytes, b'#');
     let mut p = Parsed::default();
     while let Some(tok) = t.next() {
         let line = t.line();
@@ -173,11 +174,11 @@ fn read_elements(t: &mut Tokens<'_>, p: &mut Parsed, kind: CellKind, line: u64) 
         for _ in 0..k {
             let v = t.i64("vertex number")?;
             if v < 1 || v as u64 > nv as u64 {
-                return Err(t.error(ErrorKind::IndexOutOfRange {
-                    what: format!("{} {} ({name})", kind.name(), i + 1),
-                    index: v,
-                    available: if p.vertices_read { nv } else { 0 },
-                }));
+                return Err(t.error(super::bad_number(
+                    format!("{} {} ({name})", kind.name(), i + 1),
+                    v,
+                    if p.vertices_read { nv } else { 0 },
+                )));
             }
             e.nodes.push((v - 1) as NodeIndex);
         }
@@ -221,11 +222,11 @@ fn read_set(t: &mut Tokens<'_>, p: &mut Parsed, code: usize) -> Result<()> {
     for _ in 0..n {
         let v = t.i64("a number in a set keyword")?;
         if v < 1 {
-            return Err(t.error(ErrorKind::IndexOutOfRange {
-                what: format!("{name} entry {}", s.items.len() + 1),
-                index: v,
-                available: 0,
-            }));
+            return Err(t.error(super::bad_number(
+                format!("{name} entry {}", s.items.len() + 1),
+                v,
+                p.points.len(),
+            )));
         }
         s.items.push(usize::try_from(v - 1).unwrap_or(usize::MAX));
         s.at.push(Position::Line(t.line()));

@@ -412,24 +412,26 @@ fn read_vertices(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) ->
         (false, true, false) => vertices::<false, true, false>(d, dim, &mut p.points, &mut p.refs),
         (false, true, true) => vertices::<false, true, true>(d, dim, &mut p.points, &mut p.refs),
     };
-    r.map_err(|bad| bad_item(bad, start, size, "vertex", dim * f.rsz()))?;
+    r.map_err(|bad| bad_item(bad, start, size, "vertex", dim * f.rsz(), 0))?;
     p.vertices_read = true;
     Ok(())
 }
 
 /// The error for a bad item of an array at `start`, `size` bytes per item; `ref_offset`
 /// is where the reference sits in an item.
-fn bad_item(bad: Bad, start: usize, size: usize, item: &str, ref_offset: usize) -> Error {
+fn bad_item(
+    bad: Bad,
+    start: usize,
+    size: usize,
+    item: &str,
+    ref_offset: usize,
+    available: usize,
+) -> Error {
     let at = |i: usize| (start + i * size) as u64;
     match bad {
-        Bad::Node(i, v) => Error::at_byte(
-            at(i),
-            ErrorKind::IndexOutOfRange {
-                what: format!("{item} {}", i + 1),
-                index: v,
-                available: 0,
-            },
-        ),
+        Bad::Node(i, v) => {
+            Error::at_byte(at(i), super::bad_number(format!("{item} {}", i + 1), v, available))
+        }
         Bad::Ref(i, v) => Error::at_byte(
             at(i) + ref_offset as u64,
             ErrorKind::Expected {
@@ -474,7 +476,8 @@ fn read_elements(
         (false, false) => elements_any::<false, false>(d, k, &mut e.nodes, &mut e.refs),
         (false, true) => elements_any::<false, true>(d, k, &mut e.nodes, &mut e.refs),
     };
-    let largest = r.map_err(|bad| bad_item(bad, start, size, kind.name(), k * f.isz()))?;
+    let largest =
+        r.map_err(|bad| bad_item(bad, start, size, kind.name(), k * f.isz(), p.points.len()))?;
     // With the vertices known, one comparison settles the upper bound; the full check at
     // the end (which names the element) runs only when it fails or they come later.
     e.unchecked = !p.vertices_read || largest >= p.points.len();
@@ -500,11 +503,7 @@ fn read_set(
         if v < 1 {
             return Err(Error::at_byte(
                 at as u64,
-                ErrorKind::IndexOutOfRange {
-                    what: format!("{name} entry {}", i + 1),
-                    index: v,
-                    available: 0,
-                },
+                super::bad_number(format!("{name} entry {}", i + 1), v, p.points.len()),
             ));
         }
         s.items.push(usize::try_from(v - 1).unwrap_or(usize::MAX));
@@ -591,7 +590,7 @@ fn read_sol(b: &[u8], data: usize, limit: usize, f: Fmt, p: &mut Parsed) -> Resu
             reals::<false, true>(d, &mut values)
         }
     };
-    r.map_err(|bad| bad_item(bad, at, f.rsz(), "solution value", 0))?;
+    r.map_err(|bad| bad_item(bad, at, f.rsz(), "solution value", 0, 0))?;
     p.sol = Some(Sol { n, types, values, raw, at: Some(Position::Byte(data as u64)) });
     Ok(())
 }

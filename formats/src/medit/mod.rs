@@ -48,8 +48,11 @@
 //! a scalar when there is no metric: MMG reads one solution. (The `mmg2d_O3` command looks
 //! for `x.sol` beside `x.meshb` unless told `-sol x.solb`; it writes `.sol` itself.)
 //! Everything else is reported as dropped: other point and cell data, geometrical tags
-//! that differ from the physical ones, tag names, Gmsh entities, point cells, 8-node
-//! quadrilaterals, holes and regions, and point or cell sets other than the six above.
+//! that differ from the physical ones, tag names, Gmsh entities, the tags of point
+//! cells, 8-node quadrilaterals, holes and regions, and point or cell sets other than
+//! the six above. Point cells (topological points) are written as `Corners` and
+//! `RequiredVertices` entries (joined with those point sets, sorted), so that MMG keeps
+//! them where they are, as the mmg2d adapter does.
 //!
 //! [`read_sol`] and [`write_sol`] read and write a solution file alone, for the sizing
 //! engine that writes metrics.
@@ -69,6 +72,12 @@ use crate::{
 };
 
 use keywords::KEYWORDS;
+
+/// The Medit reader checks coordinates, node numbers, set items and solution lengths as
+/// it reads them; its writer checks coordinates and node numbers in the passes that
+/// write them, with the error of [`crate::io::refused`].
+pub(crate) const CHECKS: crate::Checks =
+    crate::Checks { reader_validates: true, writer_validates: true };
 
 /// Point data holding the reference of each vertex.
 pub const REF: &str = "medit:ref";
@@ -232,6 +241,13 @@ struct Parsed {
     sol: Option<Sol>,
 }
 
+/// The error for a vertex or item number that names nothing: below 1 (Medit numbers from
+/// 1, which the message says), or past the `available` items (the vertices read so far).
+fn bad_number(what: String, v: i64, available: usize) -> ErrorKind {
+    let what = if v < 1 { format!("{what}, numbered from 1,") } else { what };
+    ErrorKind::IndexOutOfRange { what, index: v, available }
+}
+
 fn error_at(at: Position, kind: ErrorKind) -> Error {
     Error { path: None, at: Some(at), kind }
 }
@@ -259,11 +275,27 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     // `.meshb` that is neither gets the binary reader's error about its endianness code.
     let binary = is_binary(bytes) || ctx.extension == "meshb";
     let p = parse(bytes, binary)?;
+    // A mesh has vertices: an empty file (or one of comments) is not a mesh of 0 points.
+    if !p.vertices_read {
+        let missing =
+            if p.dim == 0 { "Dimension and Vertices keywords" } else { "a Vertices keyword" };
+        return Err(Error::new(ErrorKind::Expected {
+            expected: format!("{missing} (a Medit mesh lists its vertices)"),
+            found: if bytes.is_empty() { "an empty file".into() } else { "none".into() },
+        }));
+    }
     let mut mesh = assemble(p, bytes)?;
     let order: [&str; 2] = if ctx.extension == "meshb" { ["solb", "sol"] } else { ["sol", "solb"] };
     for ext in order {
         if let Some(sol_bytes) = ctx.siblings.sibling_bytes(ext)? {
             let in_sol = |e: Error| e.with_path(ctx.siblings.describe(ext));
+            // A solution file of 0 bytes is a write that failed, not "no solution".
+            if sol_bytes.is_empty() {
+                return Err(in_sol(Error::new(ErrorKind::Expected {
+                    expected: "a solution file beside the mesh (SolAtVertices)".into(),
+                    found: "an empty file; write it again or remove it".into(),
+                })));
+            }
             let p = parse(&sol_bytes, is_binary(&sol_bytes)).map_err(in_sol)?;
             let sol = p.sol.unwrap_or_default();
             if sol.types.is_empty() {
@@ -630,6 +662,8 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut number: BTreeMap<CellKind, Vec<(usize, usize)>> = BTreeMap::new(); // kind → [(first global, len)]
     let mut offset = 0;
     let mut geo_differs = 0;
+    let mut topological: Vec<usize> = Vec::new();
+    let mut point_tags = 0;
     for b in &mesh.blocks {
         if let Some(&(code, _)) = ELEMENTS.iter().find(|(_, k)| *k == b.kind) {
             match elements.iter_mut().find(|(c, _): &&mut (usize, Vec<&CellBlock>)| *c == code) {
@@ -638,14 +672,17 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             }
             number.entry(b.kind).or_default().push((offset, b.len()));
             geo_differs += b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count();
+        } else if b.kind == CellKind::Vertex {
+            // Topological points: MMG keeps them where they are as corners and required
+            // vertices (what the mmg2d adapter writes too).
+            topological.extend(b.nodes.iter().map(|&v| v as usize));
+            point_tags += b.physical.iter().filter(|&&t| t != 0).count();
         } else if !b.is_empty() {
-            let why = match b.kind {
-                CellKind::Vertex => {
-                    "Medit has no point elements (Corners and RequiredVertices are point sets)"
-                }
-                _ => "Medit has no 8-node quadrilaterals",
-            };
-            report.drop(format!("{} {} cells: {why}", b.len(), b.kind.name()));
+            report.drop(format!(
+                "{} {} cells: Medit has no 8-node quadrilaterals",
+                b.len(),
+                b.kind.name()
+            ));
         }
         offset += b.len();
     }
@@ -657,11 +694,32 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         ));
     }
 
-    // Sets.
+    if point_tags > 0 {
+        report.drop(format!(
+            "the tags of {point_tags} point cells: written as Corners and RequiredVertices, which have no references"
+        ));
+    }
+
+    // Sets; the Vertex cells' points join Corners and RequiredVertices.
     let mut sets = Vec::new();
+    let mut point_sets: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+    if !topological.is_empty() {
+        for name in ["Corners", "RequiredVertices"] {
+            point_sets.insert(name, topological.clone());
+        }
+    }
     for (name, items) in &mesh.point_sets {
+        point_sets.entry(name.as_str()).or_default().extend(items);
+    }
+    for (name, mut items) in point_sets {
         match lookup(name.as_bytes()).filter(|&c| set_target(c) == Some(None)) {
-            Some(code) => sets.push((code, items.iter().map(|&v| v + 1).collect())),
+            Some(code) => {
+                if !topological.is_empty() {
+                    items.sort_unstable();
+                    items.dedup();
+                }
+                sets.push((code, items.iter().map(|&v| v + 1).collect()))
+            }
             None => report
                 .drop(format!("point set `{name}`: Medit keeps only Corners and RequiredVertices")),
         }

@@ -39,6 +39,10 @@
 //!   `.area`), `.poly` with 0 vertices when there are segments, holes or regions (as
 //!   Triangle's own output `.poly` files are), `.area` when there is cell data
 //!   `triangle:area` (or when it is the main file; -1, no bound, for every triangle).
+//!   A mesh with triangles and segments but no holes and regions of its own (one read
+//!   from another format) gets them from its triangles in that `.poly` (a point in each
+//!   hole, a seed with its tag in each part the segments separate; `seeds`), so that
+//!   Triangle `-pA` on the `.poly` meshes the same domain with the same attributes.
 //! - `.poly`: with triangles, the same set with the `.poly` as main file; without
 //!   triangles, one self-contained PSLG (vertices, segments, holes, regions).
 //! - `.edge`: `.edge` (Line cells and Voronoi rays) beside `.node` and `.ele`; holes and
@@ -56,6 +60,7 @@
 //! not one of the `triangle:` arrays above.
 
 mod read;
+mod seeds;
 mod write;
 
 use crate::{ReadContext, Result, TaggedMesh, WriteOptions, Written};
@@ -147,6 +152,9 @@ impl Kind {
         Kind::ALL.into_iter().find(|k| k.ext().eq_ignore_ascii_case(ext))
     }
 }
+
+/// Triangle's reader leaves node numbers of lines and data lengths to `validate`.
+pub(crate) const CHECKS: crate::Checks = crate::Checks::NONE;
 
 /// Reads a Triangle file and the files of its set beside it (see the module documentation).
 pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {

@@ -118,10 +118,7 @@ impl<'t, 'a> Rec<'t, 'a> {
             Ok(v) if v.is_finite() => Ok(v),
             Ok(_) => Err(Error::at_line(
                 self.line,
-                ErrorKind::NonFinite {
-                    what: self.describe(what),
-                    value: String::from_utf8_lossy(tok).into_owned(),
-                },
+                ErrorKind::NonFinite { what: self.describe(what), value: crate::text::show(tok) },
             )),
             Err(()) => Err(self.bad(what, tok)),
         }
@@ -189,10 +186,16 @@ impl<'t, 'a> Rec<'t, 'a> {
         let v = self.int(what)?;
         match v.checked_sub(base) {
             Some(i) if i >= 0 && (i as u64) < n.min(MAX_POINTS) as u64 => Ok(i as NodeIndex),
-            _ => Err(Error::at_line(
-                self.line,
-                ErrorKind::IndexOutOfRange { what: self.describe(what), index: v, available: n },
-            )),
+            _ => {
+                let mut what = self.describe(what);
+                if v < base {
+                    what.push_str(&format!(", numbered from {base} as the first vertex is,"));
+                }
+                Err(Error::at_line(
+                    self.line,
+                    ErrorKind::IndexOutOfRange { what, index: v, available: n },
+                ))
+            }
         }
     }
 
@@ -204,8 +207,7 @@ impl<'t, 'a> Rec<'t, 'a> {
     }
 
     fn bad(&self, what: &str, tok: &[u8]) -> Error {
-        let s = String::from_utf8_lossy(&tok[..tok.len().min(40)]).into_owned();
-        Error::expected(self.line, self.describe(what), format!("`{s}`"))
+        Error::expected(self.line, self.describe(what), crate::text::show(tok))
     }
 
     /// Skips whatever else is on the line.
@@ -663,6 +665,8 @@ fn tokens(bytes: &[u8]) -> Tokens<'_> {
 
 /// Reads the main file and the set beside it.
 pub(super) fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
+    // Records are lines: a lone carriage return ends one too.
+    let bytes = &*crate::text::lone_cr_as_newline(bytes);
     let Some(main) = Kind::from_ext(&ctx.extension) else {
         return read_stream(bytes);
     };
@@ -671,7 +675,12 @@ pub(super) fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
         if k == main {
             Ok(Some(Cow::Borrowed(bytes)))
         } else {
-            Ok(ctx.siblings.read_sibling(k.ext())?.map(Cow::Owned))
+            Ok(ctx.siblings.read_sibling(k.ext())?.map(|b| {
+                match crate::text::lone_cr_as_newline(&b) {
+                    Cow::Owned(fixed) => Cow::Owned(fixed),
+                    Cow::Borrowed(_) => Cow::Owned(b),
+                }
+            }))
         }
     };
     // Errors in a sibling name the sibling; those in the main file get its path from the

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::text::{push_f64, push_int};
-use crate::{CellKind, DataArray, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{CellKind, DataArray, RegionSeed, TaggedMesh, WriteOptions, WriteReport, Written};
 
 use super::{attribute_name, Kind, AREA, ATTRIBUTE_PREFIX, MARKER, RAY_DIRECTION};
 
@@ -62,7 +62,13 @@ fn push_vertices(
 }
 
 /// The sections of a `.poly` after its vertex list.
-fn push_poly_rest(out: &mut Vec<u8>, mesh: &TaggedMesh, nseg: usize) {
+fn push_poly_rest(
+    out: &mut Vec<u8>,
+    mesh: &TaggedMesh,
+    nseg: usize,
+    holes: &[[f64; 2]],
+    regions: &[RegionSeed],
+) {
     push_int(out, nseg);
     out.extend_from_slice(b" 1\n");
     let mut k = 0;
@@ -79,9 +85,9 @@ fn push_poly_rest(out: &mut Vec<u8>, mesh: &TaggedMesh, nseg: usize) {
             out.push(b'\n');
         }
     }
-    push_int(out, mesh.holes.len());
+    push_int(out, holes.len());
     out.push(b'\n');
-    for (i, h) in mesh.holes.iter().enumerate() {
+    for (i, h) in holes.iter().enumerate() {
         push_int(out, i + 1);
         out.push(b' ');
         push_f64(out, h[0]);
@@ -90,10 +96,10 @@ fn push_poly_rest(out: &mut Vec<u8>, mesh: &TaggedMesh, nseg: usize) {
         out.push(b'\n');
     }
     // Triangle's own writer leaves the optional section out when it is empty.
-    if !mesh.regions.is_empty() {
-        push_int(out, mesh.regions.len());
+    if !regions.is_empty() {
+        push_int(out, regions.len());
         out.push(b'\n');
-        for (i, r) in mesh.regions.iter().enumerate() {
+        for (i, r) in regions.iter().enumerate() {
             push_int(out, i + 1);
             for v in [r.point[0], r.point[1], r.attribute, r.max_area] {
                 out.push(b' ');
@@ -261,6 +267,195 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             ));
         }
     }
+    report_unheld(mesh, main, &mut report);
+
+    // --- files
+    let mut files: Vec<(Kind, Vec<u8>)> = Vec::new();
+    if main == Kind::Poly && ntri == 0 {
+        // A self-contained planar straight-line graph.
+        let mut out =
+            Vec::with_capacity(mesh.points.len() * (56 + 24 * pattrs.len()) + nseg * 40 + 64);
+        push_vertices(&mut out, mesh, &pattrs, markers.as_deref());
+        push_poly_rest(&mut out, mesh, nseg, &mesh.holes, &mesh.regions);
+        files.push((Kind::Poly, out));
+    } else {
+        let mut node = Vec::with_capacity(mesh.points.len() * (56 + 24 * pattrs.len()) + 32);
+        push_vertices(&mut node, mesh, &pattrs, markers.as_deref());
+        files.push((Kind::Node, node));
+
+        if ntri > 0 || main == Kind::Ele || main == Kind::Area {
+            let cols = Columns { tri_nodes, ncols, use_tags, attrs: &cattrs };
+            files.push((Kind::Ele, ele_file(mesh, &offsets, ntri, &cols)));
+        }
+
+        if main == Kind::Edge {
+            files.push((Kind::Edge, edge_file(mesh, &offsets, nseg, nvert, rays)));
+        } else if main == Kind::Poly || pslg {
+            // The vertices are in the .node, as in the .poly files Triangle writes.
+            let mut poly =
+                Vec::with_capacity(nseg * 40 + (mesh.holes.len() + mesh.regions.len()) * 100 + 64);
+            poly.extend_from_slice(b"0 2 ");
+            push_int(&mut poly, pattrs.len());
+            poly.extend_from_slice(if markers.is_some() { b" 1\n" } else { b" 0\n" });
+            // A mesh that does not say where its holes and regions are (one read from
+            // any format but Triangle) gets them from its triangles.
+            let derived =
+                (ntri > 0 && nseg > 0 && mesh.holes.is_empty() && mesh.regions.is_empty())
+                    .then(|| super::seeds::derive(mesh));
+            let (holes, regions) = match &derived {
+                Some((h, r)) => (h.as_slice(), r.as_slice()),
+                None => (mesh.holes.as_slice(), mesh.regions.as_slice()),
+            };
+            push_poly_rest(&mut poly, mesh, nseg, holes, regions);
+            files.push((Kind::Poly, poly));
+        }
+
+        if area.is_some() || (main == Kind::Area) {
+            files.push((Kind::Area, area_file(mesh, &offsets, ntri, area)));
+        }
+    }
+
+    let mut written = Written { report, ..Default::default() };
+    for (kind, bytes) in files {
+        if kind == main {
+            written.main = bytes;
+        } else {
+            written.siblings.push((kind.ext().to_string(), bytes));
+        }
+    }
+    Ok(written)
+}
+
+/// What a `.ele` record holds besides its number.
+struct Columns<'a> {
+    /// 3 or 6.
+    tri_nodes: usize,
+    /// Attributes per triangle.
+    ncols: usize,
+    /// Whether the physical tag is the first attribute.
+    use_tags: bool,
+    /// The `triangle:attribute<k>` arrays.
+    attrs: &'a [&'a DataArray],
+}
+
+/// The `.ele` file: `ntri` triangles (`offsets`: first global cell of each block).
+fn ele_file(mesh: &TaggedMesh, offsets: &[usize], ntri: usize, c: &Columns<'_>) -> Vec<u8> {
+    let (tri_nodes, ncols, use_tags, cattrs) = (c.tri_nodes, c.ncols, c.use_tags, c.attrs);
+    let mut ele = Vec::with_capacity(ntri * (8 + 8 * tri_nodes + 24 * ncols) + 32);
+    push_int(&mut ele, ntri);
+    ele.push(b' ');
+    push_int(&mut ele, tri_nodes);
+    ele.push(b' ');
+    push_int(&mut ele, ncols);
+    ele.push(b'\n');
+    let mut k = 0;
+    for (b, &off) in mesh.blocks.iter().zip(offsets) {
+        if !matches!(b.kind, CellKind::Triangle | CellKind::Triangle6) {
+            continue;
+        }
+        for (i, cell) in b.cells().enumerate() {
+            k += 1;
+            push_int(&mut ele, k);
+            // Back to Triangle's order: mid-edge nodes opposite corners 1, 2, 3.
+            let order: &[usize] = if tri_nodes == 6 { &[0, 1, 2, 4, 5, 3] } else { &[0, 1, 2] };
+            for &j in order {
+                ele.push(b' ');
+                push_int(&mut ele, cell[j] + 1);
+            }
+            if use_tags {
+                ele.push(b' ');
+                push_int(&mut ele, b.physical[i]);
+            }
+            // With tags, they take the place of `triangle:attribute1`.
+            for a in cattrs.iter().skip(usize::from(use_tags)) {
+                ele.push(b' ');
+                push_f64(&mut ele, a.values[off + i]);
+            }
+            ele.push(b'\n');
+        }
+    }
+    ele
+}
+
+/// The `.edge` file: the Line cells, and the Vertex cells as Voronoi rays when `rays`
+/// gives their directions.
+fn edge_file(
+    mesh: &TaggedMesh,
+    offsets: &[usize],
+    nseg: usize,
+    nvert: usize,
+    rays: Option<&DataArray>,
+) -> Vec<u8> {
+    let nrays = if rays.is_some() { nvert } else { 0 };
+    let any_tag = mesh
+        .blocks
+        .iter()
+        .filter(|b| b.kind == CellKind::Line || (b.kind == CellKind::Vertex && nrays > 0))
+        .any(|b| b.physical.iter().any(|&p| p != 0));
+    // Voronoi .edge files have no markers; keep them when there is something to keep.
+    let with_markers = nrays == 0 || any_tag;
+    let mut edge = Vec::with_capacity((nseg + nrays) * 64 + 16);
+    push_int(&mut edge, nseg + nrays);
+    edge.extend_from_slice(if with_markers { b" 1\n" } else { b" 0\n" });
+    let mut k = 0;
+    for (b, &off) in mesh.blocks.iter().zip(offsets) {
+        let is_ray = b.kind == CellKind::Vertex && nrays > 0;
+        if b.kind != CellKind::Line && !is_ray {
+            continue;
+        }
+        for (i, cell) in b.cells().enumerate() {
+            k += 1;
+            push_int(&mut edge, k);
+            edge.push(b' ');
+            push_int(&mut edge, cell[0] + 1);
+            if let (true, Some(dir)) = (is_ray, rays) {
+                edge.extend_from_slice(b" -1 ");
+                push_f64(&mut edge, dir.values[3 * (off + i)]);
+                edge.push(b' ');
+                push_f64(&mut edge, dir.values[3 * (off + i) + 1]);
+            } else {
+                edge.push(b' ');
+                push_int(&mut edge, cell[1] + 1);
+            }
+            if with_markers {
+                edge.push(b' ');
+                push_int(&mut edge, b.physical[i]);
+            }
+            edge.push(b'\n');
+        }
+    }
+    edge
+}
+
+/// The `.area` file: each triangle's bound from `area`, -1 (none) without it.
+fn area_file(
+    mesh: &TaggedMesh,
+    offsets: &[usize],
+    ntri: usize,
+    area: Option<&DataArray>,
+) -> Vec<u8> {
+    let mut out = Vec::with_capacity(ntri * 32 + 16);
+    push_int(&mut out, ntri);
+    out.push(b'\n');
+    let mut k = 0;
+    for (b, &off) in mesh.blocks.iter().zip(offsets) {
+        if !matches!(b.kind, CellKind::Triangle | CellKind::Triangle6) {
+            continue;
+        }
+        for i in 0..b.len() {
+            k += 1;
+            push_int(&mut out, k);
+            out.push(b' ');
+            push_f64(&mut out, area.map_or(-1.0, |a| a.values[off + i]));
+            out.push(b'\n');
+        }
+    }
+    out
+}
+
+/// What no file of the set holds: names, entities, sets, and the seeds an `.edge` main
+/// file cannot carry.
+fn report_unheld(mesh: &TaggedMesh, main: Kind, report: &mut WriteReport) {
     if main == Kind::Edge && (!mesh.holes.is_empty() || !mesh.regions.is_empty()) {
         report.drop(format!(
             "{} holes and {} regions: they need a .poly, which would take the place of the .edge when read back; write a .node or .poly instead",
@@ -280,138 +475,4 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     for (name, s) in &mesh.cell_sets {
         report.drop(format!("cell set `{name}` ({} cells): Triangle has no cell sets", s.len()));
     }
-
-    // --- files
-    let mut files: Vec<(Kind, Vec<u8>)> = Vec::new();
-    if main == Kind::Poly && ntri == 0 {
-        // A self-contained planar straight-line graph.
-        let mut out =
-            Vec::with_capacity(mesh.points.len() * (56 + 24 * pattrs.len()) + nseg * 40 + 64);
-        push_vertices(&mut out, mesh, &pattrs, markers.as_deref());
-        push_poly_rest(&mut out, mesh, nseg);
-        files.push((Kind::Poly, out));
-    } else {
-        let mut node = Vec::with_capacity(mesh.points.len() * (56 + 24 * pattrs.len()) + 32);
-        push_vertices(&mut node, mesh, &pattrs, markers.as_deref());
-        files.push((Kind::Node, node));
-
-        if ntri > 0 || main == Kind::Ele || main == Kind::Area {
-            let mut ele = Vec::with_capacity(ntri * (8 + 8 * tri_nodes + 24 * ncols) + 32);
-            push_int(&mut ele, ntri);
-            ele.push(b' ');
-            push_int(&mut ele, tri_nodes);
-            ele.push(b' ');
-            push_int(&mut ele, ncols);
-            ele.push(b'\n');
-            let mut k = 0;
-            for (b, &off) in mesh.blocks.iter().zip(&offsets) {
-                if !matches!(b.kind, CellKind::Triangle | CellKind::Triangle6) {
-                    continue;
-                }
-                for (i, cell) in b.cells().enumerate() {
-                    k += 1;
-                    push_int(&mut ele, k);
-                    // Back to Triangle's order: mid-edge nodes opposite corners 1, 2, 3.
-                    let order: &[usize] =
-                        if tri_nodes == 6 { &[0, 1, 2, 4, 5, 3] } else { &[0, 1, 2] };
-                    for &j in order {
-                        ele.push(b' ');
-                        push_int(&mut ele, cell[j] + 1);
-                    }
-                    if use_tags {
-                        ele.push(b' ');
-                        push_int(&mut ele, b.physical[i]);
-                    }
-                    // With tags, they take the place of `triangle:attribute1`.
-                    for a in cattrs.iter().skip(usize::from(use_tags)) {
-                        ele.push(b' ');
-                        push_f64(&mut ele, a.values[off + i]);
-                    }
-                    ele.push(b'\n');
-                }
-            }
-            files.push((Kind::Ele, ele));
-        }
-
-        if main == Kind::Edge {
-            let nrays = if rays.is_some() { nvert } else { 0 };
-            let any_tag = mesh
-                .blocks
-                .iter()
-                .filter(|b| b.kind == CellKind::Line || (b.kind == CellKind::Vertex && nrays > 0))
-                .any(|b| b.physical.iter().any(|&p| p != 0));
-            // Voronoi .edge files have no markers; keep them when there is something to keep.
-            let with_markers = nrays == 0 || any_tag;
-            let mut edge = Vec::with_capacity((nseg + nrays) * 64 + 16);
-            push_int(&mut edge, nseg + nrays);
-            edge.extend_from_slice(if with_markers { b" 1\n" } else { b" 0\n" });
-            let mut k = 0;
-            for (b, &off) in mesh.blocks.iter().zip(&offsets) {
-                let is_ray = b.kind == CellKind::Vertex && nrays > 0;
-                if b.kind != CellKind::Line && !is_ray {
-                    continue;
-                }
-                for (i, cell) in b.cells().enumerate() {
-                    k += 1;
-                    push_int(&mut edge, k);
-                    edge.push(b' ');
-                    push_int(&mut edge, cell[0] + 1);
-                    if let (true, Some(dir)) = (is_ray, rays) {
-                        edge.extend_from_slice(b" -1 ");
-                        push_f64(&mut edge, dir.values[3 * (off + i)]);
-                        edge.push(b' ');
-                        push_f64(&mut edge, dir.values[3 * (off + i) + 1]);
-                    } else {
-                        edge.push(b' ');
-                        push_int(&mut edge, cell[1] + 1);
-                    }
-                    if with_markers {
-                        edge.push(b' ');
-                        push_int(&mut edge, b.physical[i]);
-                    }
-                    edge.push(b'\n');
-                }
-            }
-            files.push((Kind::Edge, edge));
-        } else if main == Kind::Poly || pslg {
-            // The vertices are in the .node, as in the .poly files Triangle writes.
-            let mut poly =
-                Vec::with_capacity(nseg * 40 + (mesh.holes.len() + mesh.regions.len()) * 100 + 64);
-            poly.extend_from_slice(b"0 2 ");
-            push_int(&mut poly, pattrs.len());
-            poly.extend_from_slice(if markers.is_some() { b" 1\n" } else { b" 0\n" });
-            push_poly_rest(&mut poly, mesh, nseg);
-            files.push((Kind::Poly, poly));
-        }
-
-        if area.is_some() || (main == Kind::Area) {
-            let mut out = Vec::with_capacity(ntri * 32 + 16);
-            push_int(&mut out, ntri);
-            out.push(b'\n');
-            let mut k = 0;
-            for (b, &off) in mesh.blocks.iter().zip(&offsets) {
-                if !matches!(b.kind, CellKind::Triangle | CellKind::Triangle6) {
-                    continue;
-                }
-                for i in 0..b.len() {
-                    k += 1;
-                    push_int(&mut out, k);
-                    out.push(b' ');
-                    push_f64(&mut out, area.map_or(-1.0, |a| a.values[off + i]));
-                    out.push(b'\n');
-                }
-            }
-            files.push((Kind::Area, out));
-        }
-    }
-
-    let mut written = Written { report, ..Default::default() };
-    for (kind, bytes) in files {
-        if kind == main {
-            written.main = bytes;
-        } else {
-            written.siblings.push((kind.ext().to_string(), bytes));
-        }
-    }
-    Ok(written)
 }

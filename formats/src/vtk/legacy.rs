@@ -77,10 +77,7 @@ fn encode_name(out: &mut Vec<u8>, name: &str) {
     }
 }
 
-fn show(tok: &[u8]) -> String {
-    let s = String::from_utf8_lossy(&tok[..tok.len().min(40)]).into_owned();
-    format!("`{s}`")
-}
+use crate::text::show;
 
 impl<'a> Reader<'a> {
     fn pos(&self) -> usize {
@@ -282,8 +279,12 @@ impl<'a> Reader<'a> {
             let ncells = n.saturating_sub(1);
             if offs.first().is_some_and(|&o| o != 0) || n == 0 {
                 return Err(self.err(ErrorKind::Expected {
-                    expected: "OFFSETS starting at 0".into(),
-                    found: format!("{:?}", offs.first()),
+                    expected: "OFFSETS starting at 0 (CELLS gives one offset more than cells)"
+                        .into(),
+                    found: match offs.first() {
+                        Some(o) => format!("a first offset of {o}"),
+                        None => "no offset (CELLS 0)".into(),
+                    },
                 }));
             }
             if offs.windows(2).any(|w| w[1] < w[0])

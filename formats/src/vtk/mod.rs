@@ -71,6 +71,11 @@ use crate::{
     TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS,
 };
 
+/// Both VTK readers check coordinates, connectivity and array lengths as they read
+/// them (`Grid::into_mesh`); the writers leave validation to `write_bytes`.
+pub(crate) const CHECKS: crate::Checks =
+    crate::Checks { reader_validates: true, writer_validates: false };
+
 /// Reads a legacy `.vtk` file (versions 2.0 to 5.1, ASCII or binary).
 pub fn read_legacy(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     legacy::read(bytes)

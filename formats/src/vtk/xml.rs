@@ -48,9 +48,14 @@ const B64: GeneralPurpose = GeneralPurpose::new(
 /// VTK's default block size for compressed arrays (`vtkXMLWriter::BlockSize`).
 const BLOCK: usize = 32768;
 
-/// zlib cannot expand data more than about 1032:1; a header that claims more than
-/// this per compressed byte is lying, and is refused before anything is allocated.
-const MAX_INFLATE_RATIO: usize = 1100;
+/// Deflate cannot expand data more than 1032:1 (a 258-byte match in two bits is its
+/// best); a block whose header claims more than this per compressed byte is lying, and
+/// is refused before anything is allocated.
+const MAX_INFLATE_RATIO: usize = 1032;
+
+/// Most bytes read for an array whose size no count gives (a `<FieldData>` array
+/// without `NumberOfTuples`): the arrays smartmesh reads there hold two numbers.
+const UNCOUNTED_MAX: usize = 1 << 16;
 
 fn at(pos: usize) -> Option<Position> {
     Some(Position::Byte(pos as u64))
@@ -60,9 +65,7 @@ fn err(pos: usize, kind: ErrorKind) -> Error {
     Error::at_byte(pos as u64, kind)
 }
 
-fn show(s: &[u8]) -> String {
-    format!("`{}`", String::from_utf8_lossy(&s[..s.len().min(60)]))
-}
+use crate::text::show;
 
 // ---------------------------------------------------------------------------------
 // A minimal XML scanner.
@@ -576,8 +579,32 @@ impl<'a> Decoder<'a> {
         }
     }
 
+    /// Refuses an array whose size no count gives (`expected` is `None`) when it
+    /// announces more than [`UNCOUNTED_MAX`] bytes, before anything is allocated.
+    fn within_uncounted(
+        &self,
+        sp: &Spec,
+        expected: Option<usize>,
+        total: u128,
+        at0: usize,
+    ) -> Result<()> {
+        if expected.is_none() && total > UNCOUNTED_MAX as u128 {
+            return Err(err(
+                at0,
+                ErrorKind::ImplausibleCount {
+                    what: format!("DataArray `{}` (bytes, without NumberOfTuples)", sp.name),
+                    count: total.min(u64::MAX as u128) as u64,
+                    limit: format!(
+                        "an array whose size no count gives is read up to {UNCOUNTED_MAX} bytes; give its NumberOfTuples"
+                    ),
+                },
+            ));
+        }
+        Ok(())
+    }
+
     /// The bytes of a binary or appended array, decoded and inflated, checked to be
-    /// `expected` bytes when that is known.
+    /// `expected` bytes when that is known (at most [`UNCOUNTED_MAX`] when not).
     fn payload(&self, sp: &Spec, expected: Option<usize>) -> Result<Payload<'a>> {
         let (src, at0): (Cow<'a, [u8]>, usize) = match sp.format {
             Format::Binary => (
@@ -636,6 +663,7 @@ impl<'a> Decoder<'a> {
         }
         if !self.zlib {
             let n = self.word(&src);
+            self.within_uncounted(sp, expected, n as u128, at0)?;
             if let Some(e) = expected {
                 if n != e as u64 {
                     return Err(err(
@@ -715,16 +743,25 @@ impl<'a> Decoder<'a> {
             _ if last == 0 => nb as u128 * bs as u128,
             _ => (nb as u128 - 1) * bs as u128 + last as u128,
         };
-        if total > (csum as u128 + 64 * nb as u128) * MAX_INFLATE_RATIO as u128 {
-            return Err(err(
-                at0,
-                ErrorKind::ImplausibleCount {
-                    what: format!("uncompressed bytes of `{}`", sp.name),
-                    count: total.min(u64::MAX as u128) as u64,
-                    limit: format!("zlib cannot expand {csum} bytes that far"),
-                },
-            ));
+        // Each block on its own: a block of `c` compressed bytes inflates to at most
+        // `MAX_INFLATE_RATIO * c` (no slack, so a header of empty blocks claims nothing).
+        for (i, &c) in csizes.iter().enumerate() {
+            let size = if i + 1 == csizes.len() && last != 0 { last } else { bs };
+            if size as u128 > c as u128 * MAX_INFLATE_RATIO as u128 {
+                return Err(err(
+                    at0,
+                    ErrorKind::ImplausibleCount {
+                        what: format!("uncompressed bytes of block {} of `{}`", i + 1, sp.name),
+                        count: size,
+                        limit: format!(
+                            "zlib expands {c} compressed bytes to {} at most",
+                            c as u128 * MAX_INFLATE_RATIO as u128
+                        ),
+                    },
+                ));
+            }
         }
+        self.within_uncounted(sp, expected, total, at0)?;
         if let Some(e) = expected {
             if total != e as u128 {
                 return Err(err(
@@ -1121,7 +1158,13 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
                         Ev::Start(c) => match c.name {
                             b"PointData" => read_array_specs(&mut s, &c, &mut point)?,
                             b"CellData" => read_array_specs(&mut s, &c, &mut cell)?,
-                            b"Points" => read_array_specs(&mut s, &c, &mut pts)?,
+                            b"Points" => {
+                                read_array_specs(&mut s, &c, &mut pts)?;
+                                // VTK leaves the coordinates unnamed; messages name them.
+                                for sp in pts.iter_mut().filter(|sp| sp.name.is_empty()) {
+                                    sp.name = "Points".into();
+                                }
+                            }
                             b"Cells" => read_array_specs(&mut s, &c, &mut cells)?,
                             _ => s.skip_subtree(&c)?,
                         },
@@ -1203,10 +1246,23 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     };
     // Piece sizes are attacker-controlled: each array is checked against its bytes
     // before it is allocated, and an empty file cannot claim a billion points.
-    crate::text::check_count(np, d.len().saturating_mul(MAX_INFLATE_RATIO), 3, "points")
-        .map_err(|k| err(piece_at, k))?;
-    crate::text::check_count(nc, d.len().saturating_mul(MAX_INFLATE_RATIO), 1, "cells")
-        .map_err(|k| err(piece_at, k))?;
+    // A point needs 3 bytes of data and a cell 1 even at zlib's best ratio.
+    for (n, what, per) in [(np, "NumberOfPoints", 3), (nc, "NumberOfCells", 1)] {
+        let most = d.len().saturating_mul(MAX_INFLATE_RATIO) / per;
+        if n > most {
+            return Err(err(
+                piece_at,
+                ErrorKind::ImplausibleCount {
+                    what: what.into(),
+                    count: n as u64,
+                    limit: format!(
+                        "a file of {} bytes holds at most {most}, even compressed at zlib's 1032:1",
+                        d.len()
+                    ),
+                },
+            ));
+        }
+    }
 
     let mut app_offsets: Vec<usize> = field
         .iter()
@@ -1340,8 +1396,20 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     }
     for sp in &field {
         // Field arrays other than numbers (strings) are skipped by `spec` refusing
-        // them; the tuple count is optional.
-        let values = dec.floats(sp, sp.tuples.and_then(|t| t.checked_mul(sp.components)))?;
+        // them; the tuple count is optional. Only arrays of two values can name a tag
+        // (`into_mesh`), so the others are not decoded at all.
+        // Without a count, one that announces more than `UNCOUNTED_MAX` bytes is
+        // skipped before anything is allocated.
+        let count = sp.tuples.and_then(|t| t.checked_mul(sp.components));
+        if count.is_some_and(|n| n != 2) {
+            continue;
+        }
+        let values = match dec.floats(sp, count) {
+            Err(e) if count.is_none() && matches!(e.kind, ErrorKind::ImplausibleCount { .. }) => {
+                continue
+            }
+            r => r?,
+        };
         g.field_arrays.push(Named::new(
             sp.name.clone(),
             sp.components,
