@@ -744,3 +744,74 @@ fn every_algorithm_of_the_table_round_trips_in_every_format() {
         }
     }
 }
+
+#[test]
+fn values_nested_past_the_limit_are_an_error_not_a_stack_overflow() {
+    let deep = |open: &str, close: &str, n: usize| {
+        format!("// nested\nA = {}{};\n", open.repeat(n), close.repeat(n))
+    };
+    for (open, close) in [("[", "]"), ("(", ")"), ("{ a = ", "}")] {
+        let e = cfg(&deep(open, close, 20_000)).unwrap_err();
+        assert!(
+            matches!(&*e.kind, RecipeErrorKind::Limit(m) if m.contains("nested deeper than 64")),
+            "{e}"
+        );
+        assert_eq!((e.file.as_deref(), e.line), (Some(Path::new("recipe.cfg")), Some(2)), "{e}");
+    }
+    // At the limit the text parses, and is then refused for what it says.
+    let e = cfg(&deep("(", ")", 64)).unwrap_err();
+    assert!(matches!(&*e.kind, RecipeErrorKind::UnknownKey { key } if key == "A"), "{e}");
+    let e = cfg(&deep("(", ")", 65)).unwrap_err();
+    assert!(matches!(&*e.kind, RecipeErrorKind::Limit(_)), "{e}");
+}
+
+/// Sizes where the quadratic versions took minutes (10^5 settings in one group: 5·10^9
+/// name comparisons; 10^4 TOML regions: a newline count over the text per key, 24 s of
+/// CPU; 10^4 regions of a 2 000-cell face: the face measured per region, 79 s) and the
+/// linear ones a fraction of a second, in debug builds.
+#[test]
+fn many_keys_and_regions_are_read_and_resolved_without_quadratic_work() {
+    // libconfig: 10^5 settings in one group, the last a duplicate of the first (found by
+    // a map, not by comparing each setting with all before it).
+    const SETTINGS: usize = 100_000;
+    let mut text = String::from("CREATE_REGIONS = ( {\n");
+    for i in 0..SETTINGS {
+        text.push_str(&format!("K{i} = {i};\n"));
+    }
+    text.push_str("K0 = 0; } );\n");
+    let e = cfg(&text).unwrap_err();
+    assert!(
+        e.to_string().contains("setting K0 appears twice in the same group (first at line 2)"),
+        "{e}"
+    );
+    assert_eq!(e.line, Some(SETTINGS + 2));
+
+    // TOML: 10^4 regions of the distributor's face, one used; each line found by a
+    // search of the line starts, the entities by an index, each set of entities measured
+    // once.
+    const REGIONS: usize = 10_000;
+    let topo = distributor();
+    let mut text = String::from("[regions]\n");
+    for i in 0..REGIONS {
+        text.push_str(&format!("R{i} = [1000]\n"));
+    }
+    let algorithm = "[[algorithms]]\ntype = \"uniform\"\nsize = 1.0\nregions = [\"R7\"]\n";
+    let resolved = toml(&format!("{text}{algorithm}")).unwrap().resolve(&topo).unwrap();
+    assert_eq!(resolved.regions.len(), REGIONS);
+    let used = resolved.regions.iter().find(|r| r.name == "R7").unwrap();
+    assert_eq!(
+        (used.dimension, used.entities, used.cells, used.used_by.clone()),
+        (Some(2), 1, 1988, vec![1])
+    );
+    // Unused regions are resolved and measured too.
+    for r in &resolved.regions {
+        assert_eq!(
+            (r.dimension, &r.tags, r.vertices, r.edges, r.cells),
+            (Some(2), &vec![1000], used.vertices, used.edges, 1988)
+        );
+    }
+    // An absent tag in the last region: its line, through the line index.
+    let last = format!("{text}R{REGIONS} = [1000, 4242]\n{algorithm}");
+    let e = toml(&last).unwrap().resolve(&topo).unwrap_err();
+    assert_eq!(e.line, Some(REGIONS + 2), "{e}");
+}
