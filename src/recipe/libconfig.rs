@@ -577,7 +577,8 @@ mod tests {
     use std::path::Path;
 
     fn parse_text(t: &str) -> Result<Vec<Setting>, RecipeError> {
-        parse(&crate::recipe::preprocess::load(t, Path::new("t.cfg")).unwrap())
+        let options = crate::recipe::ReadOptions::default();
+        parse(&crate::recipe::preprocess::load(t, Path::new("t.cfg"), &options).unwrap())
     }
 
     #[test]
