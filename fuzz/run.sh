@@ -11,13 +11,13 @@ cd "$(dirname "$0")"
 secs="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(gmsh vtk_legacy vtu triangle obj medit)
+[ ${#targets[@]} -gt 0 ] || targets=(gmsh vtk_legacy vtu triangle obj medit recipe_libconfig recipe_resolve)
 toolchain=()
 if rustup toolchain list 2>/dev/null | grep -q '^nightly'; then toolchain=(+nightly); fi
 mkdir -p logs
 fixtures="${SMARTMESH_PUBLIC_FIXTURES:-$(cd ../.. && pwd)/shared/fixtures/public}"
 export RUSTC_BOOTSTRAP=1
-declare -A seeds=([gmsh]="gmsh/*.msh" [vtk_legacy]="vtk/*.vtk" [vtu]="vtk/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb")
+declare -A seeds=([gmsh]="gmsh/*.msh" [vtk_legacy]="vtk/*.vtk" [vtu]="vtk/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb" [recipe_libconfig]="" [recipe_resolve]="")
 status=0
 for target in "${targets[@]}"; do
     corpus="corpus/$target"
@@ -33,6 +33,21 @@ for target in "${targets[@]}"; do
             base="${ele%.ele}"
             [ -f "$base.node" ] || continue
             { cat "$ele"; printf '\0'; cat "$base.node"; if [ -f "$base.poly" ]; then printf '\0'; cat "$base.poly"; fi; } > "$corpus/$(basename "$base").set"
+        done
+    fi
+    if [ "$target" = recipe_libconfig ]; then
+        # The project's own recipes (without their cpp directives, which the target refuses).
+        for r in ../fixtures/*.cfg ../examples/*/recipe.cfg; do
+            grep -v '^[[:space:]]*#[[:space:]]*[a-z]' "$r" > "$corpus/$(basename "$(dirname "$r")")-$(basename "$r")" || true
+        done
+    fi
+    if [ "$target" = recipe_resolve ]; then
+        # The first byte chooses the format: '0' libconfig, '1' TOML, '2' JSON.
+        for r in ../fixtures/*.cfg ../examples/*/recipe.cfg; do
+            { printf 0; grep -v '^[[:space:]]*#[[:space:]]*[a-z]' "$r" || true; } > "$corpus/$(basename "$(dirname "$r")")-$(basename "$r")"
+        done
+        for r in ../fixtures/*.toml ../examples/*/recipe.toml; do
+            { printf 1; cat "$r"; } > "$corpus/$(basename "$(dirname "$r")")-$(basename "$r")"
         done
     fi
     echo "== $target for ${secs}s"

@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh};
 use smartmesh::recipe::model::SpecValue;
 use smartmesh::recipe::{
-    AlgorithmSpec, EntityRef, FunctionSpec, Recipe, RecipeError, RecipeErrorKind, RecipeFormat,
+    AlgorithmSpec, EntityRef, FunctionSpec, ReadOptions, Recipe, RecipeError, RecipeErrorKind,
+    RecipeFormat,
 };
 use smartmesh::sizing::{
     Algorithm, DistanceFunction, DistanceToBorder, DistanceToImaginaryPolyline, DistanceToPoint,
@@ -743,4 +744,244 @@ fn every_algorithm_of_the_table_round_trips_in_every_format() {
             assert_eq!(a.keyword(), entry.declaration.keyword);
         }
     }
+}
+
+#[test]
+fn values_nested_past_the_limit_are_an_error_not_a_stack_overflow() {
+    let deep = |open: &str, close: &str, n: usize| {
+        format!("// nested\nA = {}{};\n", open.repeat(n), close.repeat(n))
+    };
+    for (open, close) in [("[", "]"), ("(", ")"), ("{ a = ", "}")] {
+        let e = cfg(&deep(open, close, 20_000)).unwrap_err();
+        assert!(
+            matches!(&*e.kind, RecipeErrorKind::Limit(m) if m.contains("nested deeper than 64")),
+            "{e}"
+        );
+        assert_eq!((e.file.as_deref(), e.line), (Some(Path::new("recipe.cfg")), Some(2)), "{e}");
+    }
+    // At the limit the text parses, and is then refused for what it says.
+    let e = cfg(&deep("(", ")", 64)).unwrap_err();
+    assert!(matches!(&*e.kind, RecipeErrorKind::UnknownKey { key } if key == "A"), "{e}");
+    let e = cfg(&deep("(", ")", 65)).unwrap_err();
+    assert!(matches!(&*e.kind, RecipeErrorKind::Limit(_)), "{e}");
+}
+
+/// Reading options with a byte budget of `max_bytes`.
+fn budget(max_bytes: usize) -> ReadOptions {
+    ReadOptions { max_bytes, ..ReadOptions::default() }
+}
+
+#[cfg(unix)]
+#[test]
+fn a_recipe_reads_only_regular_files_within_its_budget() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = |name: &str, text: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let not_regular = |e: &RecipeError, name: &str, line: usize| {
+        assert!(
+            matches!(&*e.kind, RecipeErrorKind::Io(m) if m.contains("/dev/zero is not a regular file")),
+            "{e}"
+        );
+        assert!(e.file.as_ref().unwrap().ends_with(name) && e.line == Some(line), "{e}");
+    };
+    // libconfig's @include and cpp's #include of a device: refused at their line, before
+    // anything is read (the #include before cpp runs, so no cpp is needed here).
+    let at = file("at.cfg", "HMIN = 1;\n@include \"/dev/zero\"\n");
+    not_regular(&Recipe::from_path(&at).unwrap_err(), "at.cfg", 2);
+    let hash = file("hash.cfg", "#define X 1\n#include </dev/zero>\nHMIN = X;\n");
+    not_regular(&Recipe::from_path(&hash).unwrap_err(), "hash.cfg", 2);
+    // Also when an included header includes it.
+    file("dev.h", "#define Y 2\n\n#include \"/dev/zero\"\n");
+    let nested = file("nested.cfg", "#include \"dev.h\"\nHMIN = Y;\n");
+    not_regular(&Recipe::from_path(&nested).unwrap_err(), "dev.h", 3);
+    // The recipe itself behind a symbolic link.
+    let link = dir.path().join("link.cfg");
+    std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+    let e = Recipe::from_path(&link).unwrap_err();
+    assert!(e.to_string().contains("is not a regular file"), "{e}");
+    // A pipe would block the reader: refused without opening it.
+    if std::process::Command::new("mkfifo").arg(dir.path().join("pipe")).status().is_ok() {
+        let e = Recipe::from_path(&file("pipe.cfg", "@include \"pipe\"\n")).unwrap_err();
+        assert!(e.to_string().contains("pipe is not a regular file"), "{e}");
+    }
+
+    // The byte budget: the recipe, each include and their sum.
+    let comment = format!("// {}\n", "x".repeat(97)); // 100 bytes
+    let e =
+        Recipe::from_path_with(&file("big.cfg", &comment.repeat(11)), &budget(1000)).unwrap_err();
+    assert!(matches!(&*e.kind, RecipeErrorKind::Limit(m) if m.contains("big.cfg")), "{e}");
+    file("part.cfg", &comment.repeat(4));
+    let twice = file("twice.cfg", "@include \"part.cfg\"\n@include \"part.cfg\"\nHMIN = 1;\n");
+    assert_eq!(Recipe::from_path_with(&twice, &budget(1000)).unwrap().global.h_min, Some(1.0));
+    let thrice = file(
+        "thrice.cfg",
+        "@include \"part.cfg\"\n@include \"part.cfg\"\n@include \"part.cfg\"\nHMIN = 1;\n",
+    );
+    let e = Recipe::from_path_with(&thrice, &budget(1000)).unwrap_err();
+    assert!(
+        matches!(&*e.kind, RecipeErrorKind::Limit(m) if m.contains("@include \"part.cfg\"")),
+        "{e}"
+    );
+    assert!(e.file.as_ref().unwrap().ends_with("thrice.cfg") && e.line == Some(3), "{e}");
+    let e = Recipe::from_str_with(
+        &comment.repeat(11),
+        RecipeFormat::Libconfig,
+        Path::new("r.cfg"),
+        &budget(1000),
+    )
+    .unwrap_err();
+    assert!(matches!(&*e.kind, RecipeErrorKind::Limit(_)), "{e}");
+}
+
+/// An executable shell script in `dir` standing for the C preprocessor.
+#[cfg(unix)]
+fn fake_cpp(dir: &Path, body: &str) -> Vec<String> {
+    use std::os::unix::fs::PermissionsExt as _;
+    let p = dir.join("fake-cpp");
+    std::fs::write(&p, format!("#!/bin/sh\n{body}\n")).unwrap();
+    std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755)).unwrap();
+    vec![p.to_string_lossy().into_owned()]
+}
+
+#[cfg(unix)]
+#[test]
+fn the_preprocessor_is_stopped_past_its_output_and_time_limits() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "#define X 1\nHMIN = X;\n";
+    let read = |options: &ReadOptions| {
+        Recipe::from_str_with(text, RecipeFormat::Libconfig, &dir.path().join("r.cfg"), options)
+    };
+    // Endless output: stopped when it passes the budget.
+    let options = ReadOptions {
+        cpp_command: Some(fake_cpp(dir.path(), "exec yes 'HMIN = 1;'")),
+        ..budget(100_000)
+    };
+    let e = read(&options).unwrap_err();
+    assert!(
+        matches!(&*e.kind, RecipeErrorKind::Limit(m) if m.contains("output passed the 100 kB")),
+        "{e}"
+    );
+    // No output and no end (an #include of a pipe, say): stopped at the deadline, with
+    // what it started (cpp runs cc1; here the shell runs a sleep of its own).
+    let pid_file = dir.path().join("pid");
+    let options = ReadOptions {
+        cpp_command: Some(fake_cpp(
+            dir.path(),
+            &format!("sleep 60 &\necho $! > '{}'\nwait", pid_file.display()),
+        )),
+        cpp_time_limit: std::time::Duration::from_millis(500),
+        ..ReadOptions::default()
+    };
+    let e = read(&options).unwrap_err();
+    assert!(
+        matches!(&*e.kind, RecipeErrorKind::Limit(m) if m.contains("time limit of 0.500 s")),
+        "{e}"
+    );
+    if cfg!(target_os = "linux") {
+        let pid = std::fs::read_to_string(&pid_file).unwrap();
+        let stat = format!("/proc/{}/stat", pid.trim());
+        // Killed: gone, or a zombie until its new parent reaps it.
+        let alive = |s: String| s.rsplit(')').next().is_some_and(|r| !r.trim().starts_with('Z'));
+        assert!(
+            (0..100).any(|_| {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+                !std::fs::read_to_string(&stat).is_ok_and(alive)
+            }),
+            "the preprocessor's child {pid} still runs"
+        );
+    }
+    // A real cpp on a macro bomb (10^8 values from 400 bytes): stopped by the budget.
+    if cpp_or_skip() {
+        let bomb = "#define A0 1,1,1,1,1,1,1,1,1,1\n#define A1 A0,A0,A0,A0,A0,A0,A0,A0,A0,A0\n#define A2 A1,A1,A1,A1,A1,A1,A1,A1,A1,A1\n#define A3 A2,A2,A2,A2,A2,A2,A2,A2,A2,A2\n#define A4 A3,A3,A3,A3,A3,A3,A3,A3,A3,A3\n#define A5 A4,A4,A4,A4,A4,A4,A4,A4,A4,A4\n#define A6 A5,A5,A5,A5,A5,A5,A5,A5,A5,A5\n#define A7 A6,A6,A6,A6,A6,A6,A6,A6,A6,A6\nX = [ A7 ];\n";
+        let e = Recipe::from_str_with(
+            bomb,
+            RecipeFormat::Libconfig,
+            Path::new("bomb.cfg"),
+            &budget(100_000),
+        )
+        .unwrap_err();
+        assert!(matches!(&*e.kind, RecipeErrorKind::Limit(m) if m.contains("output")), "{e}");
+    }
+}
+
+#[test]
+fn untrusted_recipes_run_no_preprocessor_and_include_nothing() {
+    let untrusted = |text: &str| {
+        Recipe::from_str_with(
+            text,
+            RecipeFormat::Libconfig,
+            Path::new("u.cfg"),
+            &ReadOptions::untrusted(),
+        )
+    };
+    for (text, what, line) in [
+        ("HMIN = 1;\n#include \"/etc/passwd\"\n", "#include", 2),
+        ("#define X 1\nHMIN = X;\n", "#define", 1),
+        ("HMIN = 1;\n\n@include \"/etc/passwd\"\n", "@include", 3),
+    ] {
+        let e = untrusted(text).unwrap_err();
+        assert!(
+            matches!(&*e.kind, RecipeErrorKind::NotAllowed(m) if m.contains(what) && m.contains("--no-preprocess")),
+            "{e}"
+        );
+        assert_eq!(e.line, Some(line), "{e}");
+        assert!(!e.to_string().contains("root:"), "{e}");
+    }
+    // Hash comments are libconfig's own: still read.
+    let r = untrusted("# a comment\nHMIN = 1; # another\n").unwrap();
+    assert_eq!(r.global.h_min, Some(1.0));
+}
+
+/// Sizes where the quadratic versions took minutes (10^5 settings in one group: 5·10^9
+/// name comparisons; 10^4 TOML regions: a newline count over the text per key, 24 s of
+/// CPU; 10^4 regions of a 2 000-cell face: the face measured per region, 79 s) and the
+/// linear ones a fraction of a second, in debug builds.
+#[test]
+fn many_keys_and_regions_are_read_and_resolved_without_quadratic_work() {
+    // libconfig: 10^5 settings in one group, the last a duplicate of the first (found by
+    // a map, not by comparing each setting with all before it).
+    const SETTINGS: usize = 100_000;
+    let mut text = String::from("CREATE_REGIONS = ( {\n");
+    for i in 0..SETTINGS {
+        text.push_str(&format!("K{i} = {i};\n"));
+    }
+    text.push_str("K0 = 0; } );\n");
+    let e = cfg(&text).unwrap_err();
+    assert!(
+        e.to_string().contains("setting K0 appears twice in the same group (first at line 2)"),
+        "{e}"
+    );
+    assert_eq!(e.line, Some(SETTINGS + 2));
+
+    // TOML: 10^4 regions of the distributor's face, one used; each line found by a
+    // search of the line starts, the entities by an index, each set of entities measured
+    // once.
+    const REGIONS: usize = 10_000;
+    let topo = distributor();
+    let mut text = String::from("[regions]\n");
+    for i in 0..REGIONS {
+        text.push_str(&format!("R{i} = [1000]\n"));
+    }
+    let algorithm = "[[algorithms]]\ntype = \"uniform\"\nsize = 1.0\nregions = [\"R7\"]\n";
+    let resolved = toml(&format!("{text}{algorithm}")).unwrap().resolve(&topo).unwrap();
+    assert_eq!(resolved.regions.len(), REGIONS);
+    let used = resolved.regions.iter().find(|r| r.name == "R7").unwrap();
+    assert_eq!(
+        (used.dimension, used.entities, used.cells, used.used_by.clone()),
+        (Some(2), 1, 1988, vec![1])
+    );
+    // Unused regions are resolved and measured too.
+    for r in &resolved.regions {
+        assert_eq!(
+            (r.dimension, &r.tags, r.vertices, r.edges, r.cells),
+            (Some(2), &vec![1000], used.vertices, used.edges, 1988)
+        );
+    }
+    // An absent tag in the last region: its line, through the line index.
+    let last = format!("{text}R{REGIONS} = [1000, 4242]\n{algorithm}");
+    let e = toml(&last).unwrap().resolve(&topo).unwrap_err();
+    assert_eq!(e.line, Some(REGIONS + 2), "{e}");
 }

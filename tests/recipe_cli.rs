@@ -164,3 +164,85 @@ fn convert_round_trips_through_every_format() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--to"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_deeply_nested_recipe_exits_two_in_every_command_that_reads_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("distributor.msh");
+    let deep = write(
+        dir.path(),
+        "deep.cfg",
+        &format!("\nA = {}{};\n", "[".repeat(20_000), "]".repeat(20_000)),
+    );
+    let deep = deep.to_str().unwrap();
+    let out = |n: &str| dir.path().join(n).to_string_lossy().into_owned();
+    for args in [
+        vec!["recipe", "convert", deep, "-", "--to", "json"],
+        vec!["recipe", "check", deep, &mesh],
+        vec!["size", &mesh, "--recipe", deep, "-o", &out("f.sol")],
+        vec!["adapt", &mesh, "--recipe", deep, "-o", &out("a.msh")],
+    ] {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains("nested deeper than 64") && e.contains("deep.cfg:2"), "{args:?}: {e}");
+    }
+}
+
+#[test]
+fn no_preprocess_reads_nothing_but_the_recipe() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("distributor.msh");
+    let plain = write(dir.path(), "plain.cfg", &format!("# a hash comment\n{PLAIN}"));
+    let plain = plain.to_str().unwrap();
+    let out = |n: &str| dir.path().join(n).to_string_lossy().into_owned();
+    // Every command that reads a recipe takes the flag; a plain recipe reads as before.
+    for args in [
+        vec!["recipe", "convert", "--no-preprocess", plain, "-", "--to", "json"],
+        vec!["recipe", "check", "--no-preprocess", plain, &mesh],
+        vec!["size", &mesh, "--recipe", plain, "--no-preprocess", "-o", &out("f.sol")],
+    ] {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+    }
+    for (name, text, what) in [
+        ("hash.cfg", format!("#include \"/etc/passwd\"\n{PLAIN}"), "#include"),
+        ("at.cfg", format!("{PLAIN}@include \"/etc/passwd\"\n"), "@include"),
+    ] {
+        let r = write(dir.path(), name, &text);
+        let r = r.to_str().unwrap();
+        for args in [
+            vec!["recipe", "check", "--no-preprocess", r, &mesh],
+            vec!["recipe", "convert", "--no-preprocess", r, "-", "--to", "toml"],
+            vec!["size", &mesh, "-r", r, "--no-preprocess", "-o", &out("g.sol")],
+            vec!["adapt", &mesh, "-r", r, "--no-preprocess", "-o", &out("g.msh")],
+            vec!["report", &mesh, "-r", r, "--no-preprocess", "-o", &out("g.svg")],
+        ] {
+            let o = run(&args);
+            let e = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+            assert!(e.contains(what) && e.contains("--no-preprocess") && e.contains(name), "{e}");
+            assert!(!e.contains("root:"), "{e}");
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn devices_are_refused_at_the_line_that_names_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("distributor.msh");
+    for (name, text) in [
+        ("hash.cfg", format!("{PLAIN}#include </dev/zero>\n")),
+        ("at.cfg", format!("{PLAIN}@include \"/dev/zero\"\n")),
+    ] {
+        let r = write(dir.path(), name, &text);
+        let o = run(&["recipe", "check", r.to_str().unwrap(), &mesh]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert!(
+            e.contains("/dev/zero is not a regular file") && e.contains(&format!("{name}:4")),
+            "{e}"
+        );
+    }
+}

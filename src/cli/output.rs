@@ -188,6 +188,8 @@ pub struct RecipeInput {
     /// Recipe format when the extension does not tell (libconfig, toml, json).
     #[arg(long, value_parser = parse_recipe_format, value_name = "FORMAT")]
     pub recipe_format: Option<RecipeFormat>,
+    #[command(flatten)]
+    pub read: super::recipe::RecipeReadArgs,
 }
 
 fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
@@ -200,6 +202,7 @@ impl RecipeInput {
     /// Reads and checks the recipe.
     pub fn read(&self) -> Result<Recipe, CliError> {
         let path = &self.recipe;
+        let options = self.read.options();
         if is_stdio(path) {
             let format = self.recipe_format.ok_or_else(|| {
                 CliError::usage(
@@ -208,18 +211,21 @@ impl RecipeInput {
             })?;
             let mut text = String::new();
             std::io::stdin()
+                .take(options.max_bytes as u64 + 1)
                 .read_to_string(&mut text)
                 .map_err(|e| CliError::context("reading the recipe from stdin", e))?;
-            return Ok(Recipe::from_str(&text, format, Path::new("<stdin>"))?);
+            return Ok(Recipe::from_str_with(&text, format, Path::new("<stdin>"), &options)?);
         }
         match self.recipe_format {
             Some(f) => {
-                let text = std::fs::read_to_string(path).map_err(|e| {
-                    CliError::context(format!("{}: cannot read the recipe", path.display()), e)
-                })?;
-                Ok(Recipe::from_str(&text, f, path)?)
+                let text = smartmesh::recipe::preprocess::read_file(
+                    path,
+                    options.max_bytes,
+                    options.max_bytes,
+                )?;
+                Ok(Recipe::from_str_with(&text, f, path, &options)?)
             }
-            None => Ok(Recipe::from_path(path)?),
+            None => Ok(Recipe::from_path_with(path, &options)?),
         }
     }
 

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 use smartmesh::adapt::starting_mesh;
 use smartmesh::formats::{write_all_atomically, Format};
-use smartmesh::recipe::{Recipe, RecipeFormat, RegionReport};
+use smartmesh::recipe::{ReadOptions, Recipe, RecipeError, RecipeFormat, RegionReport};
 use smartmesh::sizing::{Algorithm, EntitySet};
 use smartmesh::topology::Topology;
 
@@ -32,6 +32,32 @@ fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
     })
 }
 
+/// How a command reads its recipe (flattened into every command that takes one).
+#[derive(Debug, Clone, Copy, Args)]
+pub struct RecipeReadArgs {
+    /// Read the recipe as data, for one you did not write: no C preprocessor and no
+    /// @include (both read any file the recipe names); a directive or an @include is then
+    /// an error.
+    #[arg(long)]
+    no_preprocess: bool,
+}
+
+impl RecipeReadArgs {
+    /// The library's reading options.
+    pub fn options(self) -> ReadOptions {
+        if self.no_preprocess {
+            ReadOptions::untrusted()
+        } else {
+            ReadOptions::default()
+        }
+    }
+
+    /// Reads the recipe at `path` (its extension tells the format).
+    pub fn read(self, path: &Path) -> Result<Recipe, RecipeError> {
+        Recipe::from_path_with(path, &self.options())
+    }
+}
+
 /// Read a recipe, resolve it against a mesh and print how each region and algorithm
 /// resolved: the topological entities, their tags and names, the mesh vertices and
 /// edges they hold. Exit status 0 when the recipe is valid for the mesh, 2 otherwise.
@@ -53,6 +79,8 @@ pub struct CheckArgs {
     /// Recipe format, when the extension does not tell (libconfig, toml, json).
     #[arg(long, value_parser = parse_recipe_format)]
     format: Option<RecipeFormat>,
+    #[command(flatten)]
+    read: RecipeReadArgs,
     /// Mesh format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
@@ -78,6 +106,8 @@ pub struct ConvertArgs {
     /// Output format, when the extension does not tell.
     #[arg(long, value_parser = parse_recipe_format)]
     to: Option<RecipeFormat>,
+    #[command(flatten)]
+    read: RecipeReadArgs,
 }
 
 /// Runs `recipe …`.
@@ -88,7 +118,12 @@ pub fn run(args: RecipeArgs) -> Result<(), CliError> {
     }
 }
 
-fn read_recipe(path: &Path, format: Option<RecipeFormat>) -> Result<Recipe, CliError> {
+fn read_recipe(
+    path: &Path,
+    format: Option<RecipeFormat>,
+    read: RecipeReadArgs,
+) -> Result<Recipe, CliError> {
+    let options = read.options();
     if path.as_os_str() == "-" {
         let format = format.ok_or_else(|| {
             CliError::usage(
@@ -97,21 +132,25 @@ fn read_recipe(path: &Path, format: Option<RecipeFormat>) -> Result<Recipe, CliE
         })?;
         let mut text = String::new();
         std::io::stdin()
+            .take(options.max_bytes as u64 + 1)
             .read_to_string(&mut text)
             .map_err(|e| CliError::usage(format!("reading the recipe from stdin: {e}")))?;
-        return Ok(Recipe::from_str(&text, format, Path::new("<stdin>"))?);
+        return Ok(Recipe::from_str_with(&text, format, Path::new("<stdin>"), &options)?);
     }
     match format {
         Some(f) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| CliError::context(format!("{}: {e}", path.display()), e))?;
-            Ok(Recipe::from_str(&text, f, path)?)
+            let text = smartmesh::recipe::preprocess::read_file(
+                path,
+                options.max_bytes,
+                options.max_bytes,
+            )?;
+            Ok(Recipe::from_str_with(&text, f, path, &options)?)
         }
         None if RecipeFormat::from_path(path).is_none() => Err(CliError::usage(format!(
             "{}: the extension tells no recipe format (.cfg, .conf, .libconfig, .toml, .json); give it with --format/--from",
             path.display()
         ))),
-        None => Ok(Recipe::from_path(path)?),
+        None => Ok(Recipe::from_path_with(path, &options)?),
     }
 }
 
@@ -151,7 +190,7 @@ fn plural(n: usize, one: &str, many: &str) -> String {
 }
 
 fn check(args: CheckArgs) -> Result<(), CliError> {
-    let recipe = read_recipe(&args.recipe, args.format)?;
+    let recipe = read_recipe(&args.recipe, args.format, args.read)?;
     // A .poly (or any graph without surface cells) is meshed first, as `adapt` does: the
     // recipe may name the face tags that only meshing gives.
     let mesh = starting_mesh(&args.mesh, args.from)?;
@@ -277,7 +316,7 @@ fn convert(args: ConvertArgs) -> Result<(), CliError> {
             )))
         }
     };
-    let recipe = read_recipe(&args.input, args.from)?;
+    let recipe = read_recipe(&args.input, args.from, args.read)?;
     let text = recipe.to_format(to);
     if args.output.as_os_str() == "-" {
         return print_stdout(&text);

@@ -7,7 +7,6 @@ use clap::Args;
 use smartmesh::formats::{read_path, write_all_atomically, Format};
 use smartmesh::history::History;
 use smartmesh::metric_field::{MetricError, MetricField};
-use smartmesh::recipe::Recipe;
 use smartmesh::report::{self, ReportFormat, ReportInput, ReportOptions};
 use smartmesh::Topology;
 
@@ -46,6 +45,8 @@ pub struct ReportArgs {
     /// A recipe (.cfg, .toml, .json): zoom windows around its sources.
     #[arg(long, short = 'r')]
     recipe: Option<PathBuf>,
+    #[command(flatten)]
+    recipe_read: super::recipe::RecipeReadArgs,
     /// The history.json of an adaptation run.
     #[arg(long)]
     history: Option<PathBuf>,
@@ -107,7 +108,7 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
         })?;
     let plan = match &args.recipe {
         Some(r) => {
-            let recipe = Recipe::from_path(r)?;
+            let recipe = args.recipe_read.read(r)?;
             Some(
                 recipe
                     .resolve(&topology)

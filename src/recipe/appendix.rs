@@ -119,9 +119,14 @@ impl<'s> Found<'s> {
     }
 }
 
-/// Reads libconfig text (preprocessed when it holds directives) into an unvalidated model.
-pub fn read(text: &str, origin: &std::path::Path) -> Result<Recipe, RecipeError> {
-    let source = preprocess::load(text, origin)?;
+/// Reads libconfig text (preprocessed when it holds directives, as `options` allow) into
+/// an unvalidated model.
+pub fn read(
+    text: &str,
+    origin: &std::path::Path,
+    options: &preprocess::ReadOptions,
+) -> Result<Recipe, RecipeError> {
+    let source = preprocess::load(text, origin, options)?;
     let settings = libconfig::parse(&source)?;
     let mut reader = Reader { source: &source, places: Places::new(origin) };
     let mut recipe = Recipe::default();

@@ -24,6 +24,14 @@ pub enum RecipeErrorKind {
     /// The C preprocessor is missing or failed.
     #[error("{0}")]
     Preprocessor(String),
+    /// The recipe passes a limit on what it may pull in or how deep it nests (its
+    /// text with includes and cpp's output, cpp's time, nesting of values).
+    #[error("{0}")]
+    Limit(String),
+    /// The recipe asks for something its reading options turn off (a directive or an
+    /// `@include` under `--no-preprocess`).
+    #[error("{0}")]
+    NotAllowed(String),
     /// A key the recipe does not know.
     #[error("unknown key {key}")]
     UnknownKey {

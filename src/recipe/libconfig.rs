@@ -22,9 +22,21 @@
 //! both lenient: an array may mix integers and floats (coordinates such as `[-50, -48.5]`
 //! are natural), and a trailing comma is allowed in lists and arrays. `@include` is
 //! handled before parsing, in [`super::preprocess`].
+//!
+//! Values nest at most [`MAX_NESTING`] deep: the parser recurses once per level (and so
+//! do the readers of its tree and its destructor), so an unbounded depth would let a
+//! recipe of `[[[[…` overflow the stack. Names within one group are checked for
+//! duplicates through a map, so a group of n settings costs O(n log n).
+
+use std::collections::BTreeMap;
 
 use super::error::{RecipeError, RecipeErrorKind};
 use super::preprocess::Source;
+
+/// How deeply groups, lists and arrays may nest. Recipes of the thesis nest four
+/// levels (a list of groups holding lists of arrays); this leaves room for any
+/// hand-written recipe and keeps the recursion a few hundred kilobytes of stack.
+pub const MAX_NESTING: usize = 64;
 
 /// A libconfig value with the 0-based line of the source text where it starts.
 #[derive(Debug, Clone, PartialEq)]
@@ -372,6 +384,8 @@ struct Parser<'a> {
     lexer: Lexer<'a>,
     source: &'a Source,
     peeked: Option<(Tok, usize)>,
+    /// Groups, lists and arrays open around the current token (at most [`MAX_NESTING`]).
+    depth: usize,
 }
 
 /// Parses a whole configuration (its top-level settings).
@@ -380,6 +394,7 @@ pub fn parse(source: &Source) -> Result<Vec<Setting>, RecipeError> {
         lexer: Lexer { src: source.text.as_bytes(), text: &source.text, pos: 0, line: 0 },
         source,
         peeked: None,
+        depth: 0,
     };
     let settings = p.settings(None)?;
     Ok(settings)
@@ -408,6 +423,8 @@ impl Parser<'_> {
     /// Settings until `close` (or the end of the file when `None`).
     fn settings(&mut self, close: Option<(char, usize)>) -> Result<Vec<Setting>, RecipeError> {
         let mut out: Vec<Setting> = Vec::new();
+        // Name -> index in `out`, for the duplicate check.
+        let mut seen: BTreeMap<String, usize> = BTreeMap::new();
         loop {
             let (tok, line) = self.bump()?;
             match tok {
@@ -436,10 +453,11 @@ impl Parser<'_> {
                     if matches!(self.peek()?.0, Tok::Semi | Tok::Comma) {
                         self.bump()?;
                     }
-                    if let Some(prev) = out.iter().find(|s| s.name == name) {
-                        let (_, pl) = self.source.place(prev.at);
+                    if let Some(&prev) = seen.get(&name) {
+                        let (_, pl) = self.source.place(out[prev].at);
                         return Err(self.err(line, format!("setting {name} appears twice in the same group (first at line {pl})")));
                     }
+                    seen.insert(name.clone(), out.len());
                     out.push(Setting { name, at: line, value });
                 }
                 t => {
@@ -455,6 +473,26 @@ impl Parser<'_> {
 
     fn value(&mut self, setting: &str) -> Result<Node, RecipeError> {
         let (tok, line) = self.bump()?;
+        let opens = matches!(tok, Tok::Open(_));
+        if opens {
+            if self.depth >= MAX_NESTING {
+                let (f, l) = self.source.place(line);
+                return Err(RecipeError::new(RecipeErrorKind::Limit(format!(
+                    "{setting}: values nested deeper than {MAX_NESTING} levels of {{ }}, ( ) and [ ]"
+                )))
+                .at(f, l));
+            }
+            self.depth += 1;
+        }
+        let value = self.open_value(tok, line, setting);
+        if opens {
+            self.depth -= 1;
+        }
+        Ok(Node { value: value?, at: line })
+    }
+
+    /// The value that starts with `tok` (its nesting already counted when it opens one).
+    fn open_value(&mut self, tok: Tok, line: usize, setting: &str) -> Result<Value, RecipeError> {
         let value = match tok {
             Tok::Bool(b) => Value::Bool(b),
             Tok::Int(i) => Value::Int(i),
@@ -485,7 +523,7 @@ impl Parser<'_> {
             Tok::Name(n) => return Err(self.err(line, format!("expected a value for {setting}, found the bare name {n} (a string needs quotes; a macro needs its #define)"))),
             t => return Err(self.err(line, format!("expected a value for {setting}, found {}", describe_tok(&t)))),
         };
-        Ok(Node { value, at: line })
+        Ok(value)
     }
 
     fn sequence(
@@ -539,7 +577,8 @@ mod tests {
     use std::path::Path;
 
     fn parse_text(t: &str) -> Result<Vec<Setting>, RecipeError> {
-        parse(&crate::recipe::preprocess::load(t, Path::new("t.cfg")).unwrap())
+        let options = crate::recipe::ReadOptions::default();
+        parse(&crate::recipe::preprocess::load(t, Path::new("t.cfg"), &options).unwrap())
     }
 
     #[test]

@@ -26,4 +26,5 @@ pub use error::{RecipeError, RecipeErrorKind};
 pub use model::{
     AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, Recipe, RecipeFormat,
 };
+pub use preprocess::ReadOptions;
 pub use resolve::{RegionReport, Resolved};

@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::error::{RecipeError, RecipeErrorKind};
+use super::preprocess::ReadOptions;
 use super::suggest::nearest;
 use crate::metric::SizeTensor;
 pub use crate::sizing::algorithms::FunctionKind;
@@ -741,11 +742,17 @@ impl Recipe {
     /// Reads a recipe; the format comes from the extension (`.cfg`, `.conf`,
     /// `.libconfig`: libconfig through cpp when it holds directives; `.toml`; `.json`).
     pub fn from_path(path: &Path) -> Result<Recipe, RecipeError> {
+        Recipe::from_path_with(path, &ReadOptions::default())
+    }
+
+    /// [`Recipe::from_path`] with what reading may do and pull in (a regular file of
+    /// at most `options.max_bytes`; cpp and `@include` only when `options.preprocess`).
+    pub fn from_path_with(path: &Path, options: &ReadOptions) -> Result<Recipe, RecipeError> {
         let format = RecipeFormat::from_path(path)
             .ok_or_else(|| RecipeError::new(RecipeErrorKind::UnknownFormat).in_file(path))?;
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| RecipeError::new(RecipeErrorKind::Io(e.to_string())).in_file(path))?;
-        Recipe::from_str(&text, format, path)
+        let text = super::preprocess::read_file(path, options.max_bytes, options.max_bytes)
+            .map_err(|e| e.in_file(path))?;
+        Recipe::from_str_with(&text, format, path, options)
     }
 
     /// Reads a recipe from text; `origin` names it in errors and anchors relative
@@ -756,8 +763,18 @@ impl Recipe {
         format: RecipeFormat,
         origin: &Path,
     ) -> Result<Recipe, RecipeError> {
+        Recipe::from_str_with(text, format, origin, &ReadOptions::default())
+    }
+
+    /// [`Recipe::from_str`] with what reading may do and pull in.
+    pub fn from_str_with(
+        text: &str,
+        format: RecipeFormat,
+        origin: &Path,
+        options: &ReadOptions,
+    ) -> Result<Recipe, RecipeError> {
         let recipe = match format {
-            RecipeFormat::Libconfig => super::appendix::read(text, origin)?,
+            RecipeFormat::Libconfig => super::appendix::read(text, origin, options)?,
             RecipeFormat::Toml => super::serde_io::read_toml(text, origin)?,
             RecipeFormat::Json => super::serde_io::read_json(text, origin)?,
         };

@@ -26,8 +26,12 @@
 //!
 //! A region that no algorithm uses and whose dimension stays ambiguous is reported with
 //! no dimension rather than refused: it has no effect on the plan.
+//!
+//! Entities are looked up in an index of the topology built once, and regions of the
+//! same entities are measured (vertices, edges, cells) once: a recipe of many regions
+//! costs the mesh once plus its own size times a logarithm, not the mesh per region.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use serde::Serialize;
 
@@ -85,32 +89,42 @@ fn expected(a: &AlgorithmSpec, field: &str) -> &'static [usize] {
         .unwrap_or(&[])
 }
 
-/// Indices of the entities matching `e` in each dimension.
-fn lookup(topo: &Topology, e: &EntityRef) -> [Vec<usize>; 3] {
-    let hit_tag = |tag: Option<i32>, name: &Option<String>| match e {
-        EntityRef::Tag(t) => tag == Some(*t),
-        EntityRef::Name(n) => name.as_deref() == Some(n.as_str()),
-    };
-    [
-        topo.points
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| hit_tag(p.tag, &p.name))
-            .map(|(i, _)| i)
-            .collect(),
-        topo.curves
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| hit_tag(c.tag, &c.name))
-            .map(|(i, _)| i)
-            .collect(),
-        topo.faces
-            .iter()
-            .enumerate()
-            .filter(|(_, f)| hit_tag(Some(f.tag), &f.name))
-            .map(|(i, _)| i)
-            .collect(),
-    ]
+/// The topology's entities by tag and by name: per dimension, their indices in order.
+#[derive(Default)]
+struct EntityIndex<'t> {
+    tags: BTreeMap<i32, [Vec<usize>; 3]>,
+    names: BTreeMap<&'t str, [Vec<usize>; 3]>,
+}
+
+impl<'t> EntityIndex<'t> {
+    fn new(topo: &'t Topology) -> EntityIndex<'t> {
+        let mut index = EntityIndex::default();
+        let points = topo.points.iter().map(|p| (p.tag, p.name.as_deref()));
+        let curves = topo.curves.iter().map(|c| (c.tag, c.name.as_deref()));
+        let faces = topo.faces.iter().map(|f| (Some(f.tag), f.name.as_deref()));
+        let dims: [Box<dyn Iterator<Item = _>>; 3] =
+            [Box::new(points), Box::new(curves), Box::new(faces)];
+        for (d, entities) in dims.into_iter().enumerate() {
+            for (i, (tag, name)) in entities.enumerate() {
+                if let Some(t) = tag {
+                    index.tags.entry(t).or_default()[d].push(i);
+                }
+                if let Some(n) = name {
+                    index.names.entry(n).or_default()[d].push(i);
+                }
+            }
+        }
+        index
+    }
+
+    /// Indices of the entities matching `e` in each dimension.
+    fn lookup(&self, e: &EntityRef) -> [Vec<usize>; 3] {
+        let hits = match e {
+            EntityRef::Tag(t) => self.tags.get(t),
+            EntityRef::Name(n) => self.names.get(n.as_str()),
+        };
+        hits.cloned().unwrap_or_default()
+    }
 }
 
 fn list_tags(tags: BTreeSet<i32>) -> String {
@@ -167,13 +181,14 @@ impl Recipe {
         // The fields are public: a recipe built in code may never have been checked.
         self.validate()?;
         let names: Vec<&String> = self.regions.keys().collect();
+        let index = EntityIndex::new(topology);
         let mut states: Vec<RegionState> = Vec::with_capacity(names.len());
         for (name, entities) in &self.regions {
             let mut by_dim: [BTreeSet<usize>; 3] = Default::default();
             let mut candidates: Vec<usize> = vec![0, 1, 2];
             let mut entity_dims = Vec::new();
             for (k, e) in entities.iter().enumerate() {
-                let hits = lookup(topology, e);
+                let hits = index.lookup(e);
                 let dims: Vec<usize> = (0..3).filter(|&d| !hits[d].is_empty()).collect();
                 if dims.is_empty() {
                     let path = format!("regions.{name}[{k}]");
@@ -359,10 +374,11 @@ impl Recipe {
             steps.push(Step { label: label(i, a), algorithm, names: step_names(a) });
         }
 
+        let mut measured = BTreeMap::new();
         let regions = states
             .iter()
             .enumerate()
-            .map(|(k, st)| report(topology, names[k], st, used_by[k].clone()))
+            .map(|(k, st)| report(topology, names[k], st, used_by[k].clone(), &mut measured))
             .collect();
         let g = &self.global;
         let plan = SizingPlan {
@@ -459,39 +475,79 @@ fn step_names(a: &AlgorithmSpec) -> Vec<String> {
     }
 }
 
-fn report(topo: &Topology, name: &str, st: &RegionState, used_by: Vec<usize>) -> RegionReport {
+/// A region's vertex, edge and cell counts, by dimension and entity indices.
+type Measures = BTreeMap<(usize, Vec<usize>), [usize; 3]>;
+
+/// The report of one region; its counts are taken from `measured`, or measured and kept
+/// there for the next region of the same entities.
+fn report(
+    topo: &Topology,
+    name: &str,
+    st: &RegionState,
+    used_by: Vec<usize>,
+    measured: &mut Measures,
+) -> RegionReport {
     let mut tags = BTreeSet::new();
     let mut names = BTreeSet::new();
-    let mut vertices = BTreeSet::new();
-    let (mut edges, mut cells, mut entities) = (0, 0, 0);
+    let entities = st.dimension.map_or(0, |d| st.by_dim[d].len());
     match st.dimension {
         Some(0) => {
             for &p in &st.by_dim[0] {
-                let p = &topo.points[p];
-                tags.extend(p.tag);
-                names.extend(p.name.clone());
-                vertices.insert(p.vertex);
+                tags.extend(topo.points[p].tag);
+                names.extend(topo.points[p].name.clone());
             }
-            entities = st.by_dim[0].len();
         }
         Some(1) => {
             for &c in &st.by_dim[1] {
-                let c = &topo.curves[c];
-                tags.extend(c.tag);
-                names.extend(c.name.clone());
-                for pl in &c.polylines {
+                tags.extend(topo.curves[c].tag);
+                names.extend(topo.curves[c].name.clone());
+            }
+        }
+        Some(2) => {
+            for &f in &st.by_dim[2] {
+                tags.insert(topo.faces[f].tag);
+                names.extend(topo.faces[f].name.clone());
+            }
+        }
+        _ => {}
+    }
+    let [vertices, edges, cells] = match st.dimension {
+        Some(d) => *measured
+            .entry((d, st.by_dim[d].clone()))
+            .or_insert_with(|| measure(topo, d, &st.by_dim[d])),
+        None => [0; 3],
+    };
+    RegionReport {
+        name: name.to_string(),
+        dimension: st.dimension,
+        tags: tags.into_iter().collect(),
+        entity_names: names.into_iter().collect(),
+        entities,
+        vertices,
+        edges,
+        cells,
+        used_by,
+    }
+}
+
+/// Mesh vertices, edges and cells on the entities `of` of dimension `dim`.
+fn measure(topo: &Topology, dim: usize, of: &[usize]) -> [usize; 3] {
+    let mut vertices = BTreeSet::new();
+    let (mut edges, mut cells) = (0, 0);
+    match dim {
+        0 => vertices.extend(of.iter().map(|&p| topo.points[p].vertex)),
+        1 => {
+            for &c in of {
+                for pl in &topo.curves[c].polylines {
                     vertices.extend(pl.vertices.iter().copied());
                     edges += pl.num_edges();
                 }
             }
-            entities = st.by_dim[1].len();
         }
-        Some(2) => {
+        _ => {
             let mut cell_edges = BTreeSet::new();
-            for &f in &st.by_dim[2] {
+            for &f in of {
                 let f = &topo.faces[f];
-                tags.insert(f.tag);
-                names.extend(f.name.clone());
                 for &c in &f.cells {
                     let v = topo.surface_cells[c].vertices();
                     vertices.extend(v.iter().copied());
@@ -503,19 +559,7 @@ fn report(topo: &Topology, name: &str, st: &RegionState, used_by: Vec<usize>) ->
                 cells += f.cells.len();
             }
             edges = cell_edges.len();
-            entities = st.by_dim[2].len();
         }
-        _ => {}
     }
-    RegionReport {
-        name: name.to_string(),
-        dimension: st.dimension,
-        tags: tags.into_iter().collect(),
-        entity_names: names.into_iter().collect(),
-        entities,
-        vertices: vertices.len(),
-        edges,
-        cells,
-        used_by,
-    }
+    [vertices.len(), edges, cells]
 }
