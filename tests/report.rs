@@ -207,11 +207,11 @@ fn isotropic_metric_gives_circles_of_radius_h_times_scale_at_their_vertices() {
     let (sx, sy, sw, sh) =
         (attr(&clip, "x"), attr(&clip, "y"), attr(&clip, "width"), attr(&clip, "height"));
     let px_per_unit = (sw / (w[2] - w[0])).min(sh / (w[3] - w[1]));
-    // The window around the corner vertex was moved inside the square.
-    assert!(
-        w[0] >= -1e-9 && w[1] >= -1e-9 && w[2] <= 1.0 + 1e-9 && w[3] <= 1.0 + 1e-9,
-        "window {w:?}"
-    );
+    // The window around the corner vertex was moved inside the square, less a margin of
+    // 4 % of the window so that the boundary is not drawn on the panel's border.
+    let pad = 0.04 * (w[2] - w[0]).min(w[3] - w[1]) + 1e-9;
+    assert!(w[0] >= -pad && w[1] >= -pad && w[2] <= 1.0 + pad && w[3] <= 1.0 + pad, "window {w:?}");
+    assert!(w[0] < 0.0 || w[1] < 0.0, "the margin shows beyond the square: {w:?}");
     let factor: f64 = panel
         .descendants()
         .find(|n| has_class(n, "ellipses"))
@@ -636,4 +636,361 @@ fn bad_metrics_and_histories_exit_two_with_a_clear_message() {
     let pdf = d.join("out.pdf");
     assert_refused(&["report", s(&mesh), "-o", s(&pdf)], &pdf, &[".svg or .png"]);
     assert_refused(&["report", s(&mesh), "--width", "5", "-o", s(&out)], &out, &["--width 5"]);
+}
+
+/// A history of four iterations whose best is the last (so that its label would meet the
+/// right axis), written to `dir`.
+fn history_ending_on_its_best(dir: &Path) -> PathBuf {
+    let rec = |i: usize, v: usize, share: f64| IterationRecord {
+        iteration: i,
+        vertices: v,
+        triangles: 2 * v,
+        conforming_share: share,
+        mean_edge_length: 1.0,
+        mean_quality: 0.95,
+        min_quality: 0.4,
+        seconds: PhaseTimes::default(),
+    };
+    let h = History {
+        input: "geometry.poly".into(),
+        recipe: "recipe.cfg".into(),
+        adapter: "native".into(),
+        converged: true,
+        best_iteration: 3,
+        stopped: "stable".into(),
+        iterations: vec![
+            rec(0, 1148, 0.6),
+            rec(1, 6200, 0.97),
+            rec(2, 5500, 0.985),
+            rec(3, 5467, 0.996),
+        ],
+    };
+    let p = dir.join("history.json");
+    std::fs::write(&p, h.to_json()).unwrap();
+    p
+}
+
+/// The examples' U-duct starting mesh with the field of its recipe, as `.vtu`.
+fn u_duct_with_metric(dir: &Path) -> (PathBuf, PathBuf) {
+    let ex = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/u-duct");
+    let out = dir.join("u.vtu");
+    let recipe = ex.join("recipe.cfg");
+    let o = smartmesh(&["size", s(&ex.join("start.msh")), "--recipe", s(&recipe), "-o", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    (out, recipe)
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Box2 {
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+}
+
+impl Box2 {
+    fn inside(&self, o: &Box2, tol: f64) -> bool {
+        self.x0 >= o.x0 - tol
+            && self.y0 >= o.y0 - tol
+            && self.x1 <= o.x1 + tol
+            && self.y1 <= o.y1 + tol
+    }
+    fn overlaps(&self, o: &Box2) -> bool {
+        self.x0 < o.x1 && o.x0 < self.x1 && self.y0 < o.y1 && o.y0 < self.y1
+    }
+    fn area(&self) -> f64 {
+        (self.x1 - self.x0) * (self.y1 - self.y0)
+    }
+}
+
+fn data_box(n: &roxmltree::Node<'_, '_>) -> Option<Box2> {
+    let v: Vec<f64> =
+        n.attribute("data-box")?.split(' ').map(|x| x.parse().expect("a number")).collect();
+    Some(Box2 { x0: v[0], y0: v[1], x1: v[2], y1: v[3] })
+}
+
+/// An attribute of `n` or of its nearest ancestor that has it.
+fn inherited<'a>(n: &roxmltree::Node<'a, '_>, name: &str) -> Option<&'a str> {
+    n.ancestors().find_map(|a| a.attribute(name))
+}
+
+/// The box a `<text>` takes: its advance width from the report's own table of the
+/// font (which the test below checks against the installed font), from the ascent above
+/// its baseline to the descent below.
+fn text_box(n: &roxmltree::Node<'_, '_>) -> Box2 {
+    use smartmesh::report::text::{Font, ASCENT, DESCENT};
+    let size: f64 = inherited(n, "font-size").unwrap_or("12").parse().unwrap();
+    let bold = inherited(n, "font-weight") == Some("bold");
+    let w = Font { size, bold }.width(n.text().unwrap_or(""));
+    let (x, y) = (attr(n, "x"), attr(n, "y"));
+    let x0 = match n.attribute("text-anchor") {
+        Some("end") => x - w,
+        Some("middle") => x - 0.5 * w,
+        _ => x,
+    };
+    Box2 { x0, y0: y - ASCENT * size, x1: x0 + w, y1: y + DESCENT * size }
+}
+
+/// The bounding box of the coordinates of an `M x yL x y…` path.
+fn path_box(d: &str) -> Option<Box2> {
+    let nums: Vec<f64> = d
+        .split(|c: char| c.is_ascii_alphabetic() || c == ' ')
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().expect("a number"))
+        .collect();
+    let fold = |skip: usize| {
+        nums.iter()
+            .skip(skip)
+            .step_by(2)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)))
+    };
+    let ((x0, x1), (y0, y1)) = (fold(0), fold(1));
+    (x0 <= x1).then_some(Box2 { x0, y0, x1, y1 })
+}
+
+/// Checks a report's layout: every panel inside the picture and apart from the others;
+/// every text whole (not cut with an ellipsis) and inside its panel, apart from every other text of its panel (labels drawn
+/// over the mesh excepted: they sit on white boxes); every zoom frame on the overview
+/// inside the mesh's box and smaller than 60 % of it. Returns what it checked, to print.
+fn check_layout(text: &str, what: &str) -> String {
+    let doc = roxmltree::Document::parse(text).unwrap();
+    let root = doc.root_element();
+    let page = Box2 { x0: 0.0, y0: 0.0, x1: attr(&root, "width"), y1: attr(&root, "height") };
+    let panels: Vec<(roxmltree::Node<'_, '_>, Box2)> =
+        doc.descendants().filter_map(|n| data_box(&n).map(|b| (n, b))).collect();
+    for id in ["title", "overview", "legend"] {
+        assert!(panels.iter().any(|(n, _)| n.attribute("id") == Some(id)), "{what}: no {id}");
+    }
+    for (i, (n, b)) in panels.iter().enumerate() {
+        assert!(
+            b.inside(&page, 0.0),
+            "{what}: panel {:?} {b:?} leaves the picture",
+            n.attribute("id")
+        );
+        for (m, c) in &panels[i + 1..] {
+            assert!(
+                !b.overlaps(c),
+                "{what}: panels {:?} and {:?} overlap",
+                n.attribute("id"),
+                m.attribute("id")
+            );
+        }
+    }
+    let mut texts = 0;
+    let mut placed: Vec<(roxmltree::NodeId, Box2, String, bool)> = Vec::new();
+    for t in doc.descendants().filter(|n| n.has_tag_name("text")) {
+        let panel = t
+            .ancestors()
+            .find(|a| a.attribute("data-box").is_some())
+            .unwrap_or_else(|| panic!("{what}: text {:?} is in no panel", t.text()));
+        let pb = data_box(&panel).unwrap();
+        let tb = text_box(&t);
+        let content = t.text().unwrap_or("").to_string();
+        assert!(
+            tb.inside(&pb, 0.5),
+            "{what}: `{content}` {tb:?} overflows panel {:?} {pb:?}",
+            panel.attribute("id")
+        );
+        assert!(!content.ends_with('…'), "{what}: `{content}` is cut");
+        placed.push((panel.id(), tb, content, has_class(&t, "on-mesh")));
+        texts += 1;
+    }
+    for (i, a) in placed.iter().enumerate() {
+        for b in &placed[i + 1..] {
+            if a.0 == b.0 && !a.3 && !b.3 {
+                assert!(!a.1.overlaps(&b.1), "{what}: `{}` and `{}` overlap", a.2, b.2);
+            }
+        }
+    }
+    // Frames: inside the box of the mesh as the overview draws it (its faces' outlines).
+    let overview = by_id(&doc, "overview").unwrap();
+    let mesh_box = overview
+        .descendants()
+        .filter(|n| has_class(n, "face"))
+        .filter_map(|n| path_box(n.attribute("d").unwrap()))
+        .reduce(|a, b| Box2 {
+            x0: a.x0.min(b.x0),
+            y0: a.y0.min(b.y0),
+            x1: a.x1.max(b.x1),
+            y1: a.y1.max(b.y1),
+        })
+        .expect("the overview draws faces");
+    let mut frames = 0;
+    for f in overview.descendants().filter(|n| has_class(n, "zoom-frame")) {
+        let (x, y) = (attr(&f, "x"), attr(&f, "y"));
+        let fb = Box2 { x0: x, y0: y, x1: x + attr(&f, "width"), y1: y + attr(&f, "height") };
+        assert!(fb.inside(&mesh_box, 0.2), "{what}: frame {fb:?} runs off the mesh {mesh_box:?}");
+        assert!(
+            fb.area() < 0.6 * mesh_box.area(),
+            "{what}: frame {} shows most of the domain",
+            f.attribute("data-zoom").unwrap()
+        );
+        frames += 1;
+    }
+    format!("{what}: {} panels, {texts} texts, {frames} frames", panels.len())
+}
+
+#[test]
+fn text_stays_in_its_panel_and_frames_on_the_mesh_at_600_900_1200_px() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let history = history_ending_on_its_best(d);
+    let cyl = cylinder_with_metric(d);
+    let cyl_recipe = fixture("cylinder.toml");
+    let (duct, duct_recipe) = u_duct_with_metric(d);
+    for (mesh, recipe) in [(&cyl, &cyl_recipe), (&duct, &duct_recipe)] {
+        for width in ["600", "900", "1200"] {
+            let out = d.join(format!("r{width}.svg"));
+            let text = report(&[
+                "report",
+                s(mesh),
+                "--recipe",
+                s(recipe),
+                "--history",
+                s(&history),
+                "--width",
+                width,
+                "-o",
+                s(&out),
+            ]);
+            let what = format!("{} at {width} px", mesh.file_name().unwrap().to_string_lossy());
+            println!("{}", check_layout(&text, &what));
+            for id in ["hist-length", "hist-quality", "history"] {
+                assert!(text.contains(&format!("id=\"{id}\"")), "{what}: no {id}");
+            }
+        }
+    }
+}
+
+#[test]
+fn tagged_points_and_the_shading_scale_are_in_the_legend() {
+    let dir = tempfile::tempdir().unwrap();
+    let (duct, recipe) = u_duct_with_metric(dir.path());
+    let out = dir.path().join("u.svg");
+    let text =
+        report(&["report", s(&duct), "--recipe", s(&recipe), "--width", "900", "-o", s(&out)]);
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let legend = by_id(&doc, "legend").unwrap();
+    let labels: Vec<&str> =
+        legend.descendants().filter(|n| n.has_tag_name("text")).filter_map(|n| n.text()).collect();
+    for entry in [
+        "point 1 InletOuterCorner",
+        "point 4 OutletInnerCorner",
+        "curve 13 OuterWall",
+        "point source of the recipe",
+        "imaginary polyline of the recipe",
+    ] {
+        assert!(labels.contains(&entry), "legend {labels:?} lacks {entry}");
+    }
+    // Each tagged point is drawn on the overview, in its legend colour.
+    let overview = by_id(&doc, "overview").unwrap();
+    let drawn: Vec<&str> = overview
+        .descendants()
+        .filter(|n| has_class(n, "topo-point"))
+        .map(|n| n.attribute("fill").unwrap())
+        .collect();
+    let swatches: Vec<&str> = legend
+        .descendants()
+        .filter(|n| has_class(n, "point-swatch"))
+        .map(|n| n.attribute("fill").unwrap())
+        .collect();
+    assert_eq!(drawn.len(), 4);
+    assert_eq!(drawn, swatches);
+    // Nothing is shaded at this width: no scale of shading either.
+    assert!(!overview.descendants().any(|n| has_class(&n, "edge-shading")));
+    assert!(!legend.descendants().any(|n| has_class(&n, "colour-scale")));
+}
+
+#[test]
+fn shaded_edges_have_their_colour_scale_in_the_legend() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "big.vtu", &grid(200, Some(SizeTensor::isotropic(0.01))));
+    let out = dir.path().join("big.svg");
+    let text = report(&["report", s(&mesh), "--width", "600", "-o", s(&out)]);
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let (overview, legend) = (by_id(&doc, "overview").unwrap(), by_id(&doc, "legend").unwrap());
+    // One swatch per level, in the opacities the shading uses, lightest first.
+    let used: Vec<f64> = overview
+        .descendants()
+        .filter(|n| has_class(n, "edge-shading"))
+        .map(|n| attr(&n, "fill-opacity"))
+        .collect();
+    assert!(!used.is_empty(), "the overview shades edges");
+    let scale = legend.descendants().find(|n| has_class(n, "colour-scale")).expect("a scale");
+    let levels: Vec<f64> = scale
+        .children()
+        .filter(|n| n.has_tag_name("rect"))
+        .map(|n| attr(&n, "fill-opacity"))
+        .collect();
+    assert!(levels.len() >= used.len() && levels.windows(2).all(|w| w[0] < w[1]), "{levels:?}");
+    for u in used {
+        assert!(levels.contains(&u), "shading opacity {u} is not on the scale {levels:?}");
+    }
+    println!("{}", check_layout(&text, "the large grid at 600 px"));
+}
+
+/// Every string of a report, laid out by usvg with the installed font, lies inside the
+/// box that the report's table of advances gives it: the SVG's layout holds in the PNG.
+#[test]
+fn the_font_table_holds_every_string_as_the_installed_font_draws_it() {
+    use resvg::usvg;
+    let mut opt = usvg::Options::default();
+    opt.fontdb_mut().load_system_fonts();
+    let has_dejavu = opt.fontdb.faces().any(|f| f.families.iter().any(|(n, _)| n == "DejaVu Sans"));
+    if !has_dejavu {
+        eprintln!("skipped: DejaVu Sans is not installed (the font the report's table measures)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let history = history_ending_on_its_best(d);
+    let (duct, recipe) = u_duct_with_metric(d);
+    let out = d.join("u.svg");
+    let text = report(&[
+        "report",
+        s(&duct),
+        "--recipe",
+        s(&recipe),
+        "--history",
+        s(&history),
+        "--width",
+        "900",
+        "-o",
+        s(&out),
+    ]);
+    // Our boxes, in document order.
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let ours: Vec<(String, Box2)> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| (n.text().unwrap_or("").to_string(), text_box(&n)))
+        .collect();
+    // usvg's, in document order too.
+    let tree = usvg::Tree::from_str(&text, &opt).unwrap();
+    let mut drawn: Vec<(String, usvg::Rect)> = Vec::new();
+    fn walk(g: &usvg::Group, out: &mut Vec<(String, usvg::Rect)>) {
+        for n in g.children() {
+            match n {
+                usvg::Node::Group(g) => walk(g, out),
+                usvg::Node::Text(t) => {
+                    let s: String = t.chunks().iter().map(|c| c.text()).collect();
+                    out.push((s, t.abs_bounding_box()));
+                }
+                _ => {}
+            }
+        }
+    }
+    walk(tree.root(), &mut drawn);
+    let ours: Vec<&(String, Box2)> = ours.iter().filter(|(s, _)| !s.trim().is_empty()).collect();
+    assert_eq!(ours.len(), drawn.len(), "usvg laid out another number of texts");
+    for ((s, b), (t, r)) in ours.iter().zip(&drawn) {
+        assert_eq!(s, t);
+        let ink = Box2 {
+            x0: r.left() as f64,
+            y0: r.top() as f64,
+            x1: r.right() as f64,
+            y1: r.bottom() as f64,
+        };
+        assert!(ink.inside(b, 0.5), "`{s}`: drawn {ink:?}, measured {b:?}");
+    }
 }

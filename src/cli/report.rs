@@ -17,9 +17,10 @@ use super::{parse_format, CliError};
 #[derive(Debug, Args)]
 #[command(
     after_help = "Panels: the whole mesh (faces filled by tag, edges, boundary curves coloured by tag,
-a legend of the tag names, the zoom windows framed); one zoom per recipe step with sources
-(their bounding box grown by the step's reach), or without a recipe around the smallest
-metric sizes, with size ellipses (semi-axes h1, h2 along the metric's axes, at true scale
+tagged points, a legend of the tag names, the zoom windows framed); one zoom per recipe step
+with sources (their bounding box grown by the step's reach; for a source as large as the
+domain, around where that step asks for its finest sizes), or without a recipe around the
+smallest metric sizes, with size ellipses (semi-axes h1, h2 along the metric's axes, at true scale
 unless the panel says a factor); histograms of metric edge length (band [1/√2, √2] shaded,
 share printed) and metric quality; the history of `smartmesh adapt` with --history.
 

@@ -3,6 +3,7 @@
 
 use super::palette;
 use super::svg::{num, Svg};
+use super::text::Font;
 use super::view::Rect;
 
 /// A round step (1, 2 or 5 × 10^k) giving about `n` ticks from 0 to `max`.
@@ -55,44 +56,51 @@ impl Scale {
     }
 }
 
-/// The plotting area of a chart panel: the panel less room for the title and the tick
-/// labels (`right` more on the right for a second axis).
-pub fn plot_area(panel: &Rect, right: bool) -> Rect {
+/// The font of a chart's title.
+pub const TITLE_FONT: Font = Font::bold(13.0);
+/// The font of a chart's figures and axis labels.
+pub const LABEL_FONT: Font = Font::regular(11.0);
+/// The font of tick labels.
+pub const TICK_FONT: Font = Font::regular(10.0);
+/// Line height of the figures under a chart's title.
+const FIGURE_LINE: f64 = 14.0;
+
+/// The plotting area of a chart panel: the panel less `top` pixels for the heading, room
+/// for the tick labels (`right` more on the right for a second axis) and `bottom` pixels
+/// under the axis for its tick labels and what goes under them.
+pub fn plot_area(panel: &Rect, right: bool, top: f64, bottom: f64) -> Rect {
     Rect::new(
         panel.x0 + 52.0,
-        panel.y0 + 46.0,
+        panel.y0 + top,
         panel.x1 - if right { 48.0 } else { 14.0 },
-        panel.y1 - 40.0,
+        panel.y1 - bottom,
     )
 }
 
-/// A chart's heading: a bold title and a line of figures under it, each cut to the
-/// panel's width.
-pub fn heading(svg: &mut Svg, panel: &Rect, title: &str, figures: &str) {
-    let fit = |s: &str, px: f64| {
-        let max = (px / 6.6).floor().max(4.0) as usize;
-        if s.chars().count() <= max {
-            s.to_string()
-        } else {
-            let mut t: String = s.chars().take(max - 1).collect();
-            t.push('…');
-            t
-        }
-    };
+/// A chart's heading: a bold title cut to the panel's width and the figures under it,
+/// wrapped over up to two lines. Returns the room it takes from the panel's top, plus
+/// the room the top tick label needs.
+pub fn heading(svg: &mut Svg, panel: &Rect, title: &str, figures: &str) -> f64 {
+    let room = panel.width() - 16.0;
     svg.text(
         panel.x0 + 8.0,
         panel.y0 + 17.0,
-        &fit(title, panel.width() - 16.0),
+        &TITLE_FONT.fit(title, room),
         &[("font-size", "13"), ("font-weight", "bold")],
     );
+    let mut baseline = panel.y0 + 17.0;
     if !figures.is_empty() {
-        svg.text(
-            panel.x0 + 8.0,
-            panel.y0 + 33.0,
-            &fit(figures, panel.width() - 16.0),
-            &[("font-size", "11"), ("fill", palette::MUTED), ("class", "figures")],
-        );
+        for line in LABEL_FONT.wrap(figures, room, 2) {
+            baseline += if baseline == panel.y0 + 17.0 { 16.0 } else { FIGURE_LINE };
+            svg.text(
+                panel.x0 + 8.0,
+                baseline,
+                &line,
+                &[("font-size", "11"), ("fill", palette::MUTED), ("class", "figures")],
+            );
+        }
     }
+    baseline + 13.0 - panel.y0
 }
 
 /// The ticks of a vertical axis: from 0 to `max` by `step`, on the left (with grid lines)

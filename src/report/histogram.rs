@@ -17,16 +17,18 @@ struct Bars<'a> {
     figures: String,
     counts: &'a [usize],
     bin_width: f64,
-    x_label: &'static str,
+    /// The x axis' label, longest first: the first that fits is drawn.
+    x_label: &'static [&'static str],
     x_ticks: Vec<f64>,
     band: Option<[f64; 2]>,
     overflow_last: bool,
 }
 
 fn draw(svg: &mut Svg, panel: &Rect, b: &Bars<'_>) {
-    svg.open("g", &[("id", b.id), ("class", "panel histogram")]);
-    axes::heading(svg, panel, b.title, &b.figures);
-    let area = axes::plot_area(panel, false);
+    let bx = super::layout::data_box(panel);
+    svg.open("g", &[("id", b.id), ("class", "panel histogram"), ("data-box", &bx)]);
+    let top = axes::heading(svg, panel, b.title, &b.figures);
+    let area = axes::plot_area(panel, false, top, 40.0);
     let n = b.counts.len();
     let x = Scale::new(0.0, n as f64 * b.bin_width, area.x0, area.x1);
     let top = b.counts.iter().copied().max().unwrap_or(0).max(1) as f64;
@@ -86,9 +88,9 @@ fn draw(svg: &mut Svg, panel: &Rect, b: &Bars<'_>) {
     };
     axes::x_axis(svg, &area, &x, &b.x_ticks, &fmt);
     svg.text(
-        0.5 * (area.x0 + area.x1),
+        0.5 * (panel.x0 + panel.x1),
         panel.y1 - 8.0,
-        b.x_label,
+        &axes::LABEL_FONT.first_fitting(b.x_label, panel.width() - 16.0),
         &[("text-anchor", "middle"), ("font-size", "11"), ("fill", palette::MUTED)],
     );
     svg.close();
@@ -109,7 +111,11 @@ pub fn edge_lengths(svg: &mut Svg, panel: &Rect, c: &Conformity) {
         figures,
         counts: &c.edge_length_histogram,
         bin_width: 0.1,
-        x_label: "metric length (1 = as asked; last bar: all longer)",
+        x_label: &[
+            "metric length (1 = as asked; last bar: all longer)",
+            "metric length (last bar: all longer)",
+            "metric length",
+        ],
         x_ticks: (0..=LENGTH_BINS / 5).map(|k| k as f64 * 0.5).collect(),
         band: Some(CONFORMING),
         overflow_last: true,
@@ -131,7 +137,11 @@ pub fn quality(svg: &mut Svg, panel: &Rect, c: &Conformity) {
         figures,
         counts: &c.quality_histogram,
         bin_width: 0.1,
-        x_label: "metric quality (1 = equilateral in the metric)",
+        x_label: &[
+            "metric quality (1 = equilateral in the metric)",
+            "metric quality (1 = equilateral)",
+            "metric quality",
+        ],
         x_ticks: (0..=5).map(|k| k as f64 * 0.2).collect(),
         band: None,
         overflow_last: false,

@@ -13,13 +13,37 @@ use super::view::Rect;
 /// One plotted series: name, colour, vertical scale, and the value of a record.
 type Series<'a> = (&'a str, &'a str, &'a Scale, &'a dyn Fn(&IterationRecord) -> f64);
 
+/// Height of a row of the key.
+const KEY_ROW: f64 = 14.0;
+
+/// The key's entries (a 14 px line, then the name): each one's x offset and row, in
+/// rows of at most `width` pixels.
+fn key_positions(names: &[&str], width: f64) -> Vec<(f64, usize)> {
+    let (mut x, mut row) = (0.0, 0);
+    let mut out = Vec::new();
+    for name in names {
+        let w = 18.0 + axes::TICK_FONT.width(name);
+        if x > 0.0 && x + w > width {
+            x = 0.0;
+            row += 1;
+        }
+        out.push((x, row));
+        x += w + 12.0;
+    }
+    out
+}
+
 /// Draws `h` into `panel`.
 pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
-    svg.open("g", &[("id", "history"), ("class", "panel history")]);
+    let bx = super::layout::data_box(panel);
+    svg.open("g", &[("id", "history"), ("class", "panel history"), ("data-box", &bx)]);
     let state = if h.converged { "converged" } else { "not converged" };
     let figures = format!("{} iterations, {state}, best {}", h.iterations.len(), h.best_iteration);
-    axes::heading(svg, panel, "Adaptation history", &figures);
-    let area = axes::plot_area(panel, true);
+    let top = axes::heading(svg, panel, "Adaptation history", &figures);
+    let names = ["vertices", "conforming share", "mean quality"];
+    let key = key_positions(&names, panel.width() - 20.0);
+    let rows = key.last().map_or(1, |k| k.1 + 1);
+    let area = axes::plot_area(panel, true, top, 26.0 + KEY_ROW * rows as f64);
     let last = h.iterations.iter().map(|r| r.iteration).max().unwrap_or(0).max(1) as f64;
     let x = Scale::new(0.0, last, area.x0 + 6.0, area.x1 - 6.0);
     let vmax = h.iterations.iter().map(|r| r.vertices).max().unwrap_or(0).max(1) as f64;
@@ -57,7 +81,19 @@ pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
                 ("stroke-width", "1"),
             ],
         );
-        svg.text(x.at(best.iteration as f64) + 3.0, area.y0 + 11.0, "best", &[("font-size", "10")]);
+        // On the side of the line where it fits inside the plotting area.
+        let bx = x.at(best.iteration as f64);
+        let (lx, anchor) = if bx + 3.0 + axes::TICK_FONT.width("best") <= area.x1 - 2.0 {
+            (bx + 3.0, "start")
+        } else {
+            (bx - 3.0, "end")
+        };
+        svg.text(
+            lx,
+            area.y0 + 11.0,
+            "best",
+            &[("font-size", "10"), ("text-anchor", anchor), ("class", "best-label")],
+        );
     }
     let series: [Series<'_>; 3] = [
         ("vertices", palette::SERIES_A, &yv, &|r| r.vertices as f64),
@@ -91,11 +127,10 @@ pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
             );
         }
         svg.close();
-        // The key, in one row under the x axis' label line, spaced by name length.
-        let lx = panel.x0
-            + 10.0
-            + series[..k].iter().map(|s| 26.0 + 6.0 * s.0.len() as f64).sum::<f64>();
-        let ly = panel.y1 - 10.0;
+        // The key, under the x axis' tick labels, in as many rows as it needs.
+        let (kx, row) = key[k];
+        let lx = panel.x0 + 10.0 + kx;
+        let ly = panel.y1 - 10.0 - KEY_ROW * (rows - 1 - row) as f64;
         svg.element(
             "line",
             &[

@@ -21,6 +21,8 @@ pub const DENSITY_CELL_PX: f64 = 2.0;
 /// Opacity of the darkest shading: where edges would cover a cell wholly, the face's
 /// colour still shows through, so that a dense region reads as dense rather than black.
 pub const MAX_SHADING: f64 = 0.5;
+/// Levels of shading, from a quarter of [`MAX_SHADING`] to all of it.
+pub const SHADING_LEVELS: usize = 4;
 
 /// The mesh prepared for drawing: coordinates, face outlines, edges and curves.
 #[derive(Debug, Clone)]
@@ -33,6 +35,8 @@ pub struct MeshLayers {
     pub edges: Vec<[usize; 2]>,
     /// Per topological curve, its polylines: vertices and whether closed.
     pub curves: Vec<Vec<(Vec<usize>, bool)>>,
+    /// The tagged topological points: their index in the topology and their vertex.
+    pub points_0d: Vec<(usize, usize)>,
 }
 
 /// How many edges a panel drew, and how many it shaded.
@@ -116,7 +120,14 @@ impl MeshLayers {
             .iter()
             .map(|c| c.polylines.iter().map(|p| (p.vertices.clone(), p.closed)).collect())
             .collect();
-        MeshLayers { points, face_loops, edges, curves }
+        let points_0d = topology
+            .points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.tag.is_some() && p.vertex < points.len())
+            .map(|(i, p)| (i, p.vertex))
+            .collect();
+        MeshLayers { points, face_loops, edges, curves, points_0d }
     }
 
     /// The bounding box of the vertices that faces or curves use.
@@ -205,8 +216,8 @@ impl MeshLayers {
             );
         }
         if stats.shaded > 0 {
-            // Four levels of shading, each one path of row runs.
-            const LEVELS: usize = 4;
+            // The levels of shading, each one path of row runs.
+            const LEVELS: usize = SHADING_LEVELS;
             let area = DENSITY_CELL_PX * DENSITY_CELL_PX;
             let mut paths: Vec<PathData> = (0..LEVELS).map(|_| PathData::new(1)).collect();
             for r in 0..rows {
@@ -250,6 +261,38 @@ impl MeshLayers {
             }
         }
         stats
+    }
+
+    /// Whether some edge is shorter than [`MIN_EDGE_PX`] at `scale` pixels per unit, so
+    /// that a view of the whole mesh at that scale shades it.
+    pub fn has_short_edges(&self, scale: f64) -> bool {
+        self.edges.iter().any(|&[a, b]| {
+            let (p, q) = (self.points[a], self.points[b]);
+            (p[0] - q[0]).hypot(p[1] - q[1]) * scale < MIN_EDGE_PX
+        })
+    }
+
+    /// The tagged topological points as diamonds of half-diagonal `r` pixels, coloured by
+    /// the point's index (the legend's markers).
+    pub fn draw_points(&self, svg: &mut Svg, view: &View, r: f64) {
+        let reach = view.screen.inflate(r);
+        for &(i, v) in &self.points_0d {
+            let [x, y] = view.to_px(self.points[v]);
+            if !reach.contains([x, y]) {
+                continue;
+            }
+            let class = format!("topo-point topo-point-{i}");
+            svg.element(
+                "path",
+                &[
+                    ("class", &class),
+                    ("d", &super::legend::diamond(x, y, r)),
+                    ("fill", palette::point(i)),
+                    ("stroke", "#000"),
+                    ("stroke-width", "0.8"),
+                ],
+            );
+        }
     }
 
     /// The topological curves, one path per curve, coloured by the curve's index; points

@@ -12,6 +12,7 @@
 //! - [`ellipses`]: size ellipses and the vertices they are drawn at;
 //! - [`panels`]: the zoom panels and what the overview shares with them;
 //! - [`axes`], [`histogram`], [`history_plot`]: the charts;
+//! - [`text`]: text measured (a table of the font's advances) and fitted to its panel;
 //! - [`png`]: rasterising through resvg.
 //!
 //! Everything is a pure function of its input: the same mesh, metric, recipe and history
@@ -28,6 +29,7 @@ pub mod palette;
 pub mod panels;
 pub mod png;
 pub mod svg;
+pub mod text;
 pub mod view;
 pub mod windows;
 
@@ -44,9 +46,16 @@ use crate::topology::Topology;
 use self::layout::CAPTION;
 use self::mesh_layer::MeshLayers;
 use self::panels::{
-    clip, draw_marks, draw_zoom, fit_text, panel_border, plural, scale_bar, source_marks,
-    zoom_inner, Scene,
+    clip, draw_marks, draw_zoom, panel_border, plural, scale_bar, source_marks, zoom_inner, Scene,
 };
+use self::text::Font;
+use crate::mesh_graph::MeshGraph;
+use crate::sizing::field::run_algorithm;
+
+/// The font of the report's title (the mesh's name).
+const TITLE_FONT: Font = Font::bold(18.0);
+/// The font of the lines under it.
+const TITLE_INFO_FONT: Font = Font::regular(13.0);
 use self::svg::{num, Svg};
 use self::view::{Rect, View};
 use self::windows::ZoomWindow;
@@ -157,8 +166,18 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let sizes: Option<Vec<Option<SizeTensor>>> = input
         .metric
         .map(|m| m.tensors().iter().map(|t| SizeTensor::try_from_metric(t).ok()).collect());
+    // The mesh graph, built only when a step's source is as large as the domain and its
+    // window is framed where the step asks for its finest sizes.
+    let mut graph: Option<Option<MeshGraph>> = None;
+    let mut focus = |k: usize| {
+        let plan = input.plan?;
+        let step = plan.steps.get(k)?;
+        let g = graph.get_or_insert_with(|| MeshGraph::from_topology(topo, mesh).ok()).as_ref()?;
+        let c = run_algorithm(g, topo, &step.algorithm, k, &step.label).ok()?;
+        windows::finest(&c, &points)
+    };
     let zooms = match (input.plan, &sizes) {
-        (Some(plan), _) => windows::from_plan(plan, topo, &points, &domain),
+        (Some(plan), _) => windows::from_plan(plan, topo, &points, &domain, &mut focus),
         (None, Some(s)) => windows::from_sizes(s, topo, &points, &domain, SIZE_WINDOWS),
         (None, None) => Vec::new(),
     };
@@ -167,41 +186,41 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     zooms.sort_by_key(|z| z.region.width() > layout::WIDE * z.region.height());
     let marks = source_marks(input.plan, topo, &points);
 
-    let entries = legend::entries(topo);
-    let legend_h = legend::height(&entries, width - 2.0 * layout::MARGIN);
-    let charts = if conformity.is_some() { 2 } else { 0 } + usize::from(input.history.is_some());
+    let inner_width = width - 2.0 * layout::MARGIN;
     let aspect = domain.width().max(1e-300) / domain.height().max(1e-300 + domain.width() * 1e-3);
+    let ov_world = domain.inflate(0.01 * domain.diagonal());
+    // The overview's scale does not depend on where it is placed: whether it shades
+    // edges is known before the layout, for the legend's colour scale.
+    let ov_scale = View::fit(
+        ov_world,
+        Rect::new(0.0, 0.0, inner_width, layout::overview_height(width, aspect)),
+    )
+    .scale;
+    let extras = legend::Extras {
+        source_points: !marks.points.is_empty(),
+        source_polylines: !marks.polylines.is_empty(),
+        shading: layers.has_short_edges(ov_scale),
+    };
+    let entries = legend::entries(topo, extras);
+    let charts = if conformity.is_some() { 2 } else { 0 } + usize::from(input.history.is_some());
     let zoom_aspects: Vec<f64> =
         zooms.iter().map(|z| z.region.width() / z.region.height().max(1e-300)).collect();
-    let lay = layout::layout(width, aspect, legend_h, &zoom_aspects, charts);
-    // Each zoom shows its window grown to the panel's aspect, moved inside the domain
-    // where it fits (a window around a corner shows mesh, not the page).
-    let zoom_views: Vec<View> = zooms
-        .iter()
-        .zip(&lay.zooms)
-        .map(|(z, r)| {
-            let inner = zoom_inner(r);
-            let grown = View::fit(z.region, inner).world.shift_inside(&domain);
-            View::fit(grown, inner)
-        })
-        .collect();
-    let mut svg = Svg::new(lay.width, lay.height);
+    let zoom_captions: Vec<String> =
+        zooms.iter().enumerate().map(|(k, z)| format!("{}: {}", k + 1, z.label)).collect();
 
-    // Title.
+    // Title lines, wrapped to the width.
     let triangles = topo.surface_cells.len();
-    svg.open("g", &[("id", "title")]);
-    svg.text(
-        lay.title.x0,
-        lay.title.y0 + 18.0,
-        &fit_text(input.name, lay.title.width() * 0.75),
-        &[("font-size", "18"), ("font-weight", "bold")],
-    );
     let counts = format!(
-        "{}, {}, {}, {}",
+        "{}, {}, {}, {}, {}",
         plural(mesh.points.len(), "vertex", "vertices"),
         plural(triangles, "surface cell", "surface cells"),
         plural(topo.faces.len(), "face", "faces"),
-        plural(topo.curves.len(), "curve", "curves")
+        plural(topo.curves.len(), "curve", "curves"),
+        plural(
+            topo.points.iter().filter(|p| p.tag.is_some()).count(),
+            "tagged point",
+            "tagged points"
+        )
     );
     let metric_line = match (input.metric, &conformity) {
         (Some(m), Some(c)) => format!(
@@ -220,11 +239,51 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
             why
         }
     };
-    for (k, line) in [counts, metric_line].iter().enumerate() {
+    let info_lines: Vec<String> = [counts, metric_line]
+        .iter()
+        .flat_map(|l| TITLE_INFO_FONT.wrap(l, inner_width, 2))
+        .collect();
+    let title_height = 46.0 + 16.0 * (info_lines.len() - 1) as f64;
+
+    let lay = layout::layout(&layout::Request {
+        width,
+        aspect,
+        title_height,
+        legend_height: &|w| legend::height(&entries, w),
+        zooms: &zoom_aspects,
+        caption_lines: &|k, w| panels::caption_lines(&zoom_captions[k], w).len(),
+        charts,
+    });
+    // Each zoom shows its window grown to the panel's aspect, moved inside the domain
+    // where it fits (a window around a corner shows mesh, not the page), less a margin of
+    // 4 % of the window, so that a boundary at its edge is not drawn on the panel's border.
+    let zoom_views: Vec<View> = zooms
+        .iter()
+        .zip(&lay.zooms)
+        .zip(&lay.zoom_captions)
+        .map(|((z, r), &cap)| {
+            let inner = zoom_inner(r, cap);
+            let world = View::fit(z.region, inner).world;
+            let pad = 0.04 * world.width().min(world.height());
+            let grown = world.shift_inside(&domain.inflate(pad));
+            View::fit(grown, inner)
+        })
+        .collect();
+    let mut svg = Svg::new(lay.width, lay.height);
+
+    // Title.
+    svg.open("g", &[("id", "title"), ("data-box", &layout::data_box(&lay.title))]);
+    svg.text(
+        lay.title.x0,
+        lay.title.y0 + 18.0,
+        &TITLE_FONT.fit(input.name, lay.title.width()),
+        &[("font-size", "18"), ("font-weight", "bold")],
+    );
+    for (k, line) in info_lines.iter().enumerate() {
         svg.text(
             lay.title.x0,
             lay.title.y0 + 37.0 + 16.0 * k as f64,
-            &fit_text(line, lay.title.width() * 1.05),
+            line,
             &[("font-size", "13"), ("fill", palette::MUTED)],
         );
     }
@@ -233,19 +292,27 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     // Overview.
     let ov = lay.overview;
     let ov_inner = Rect::new(ov.x0, ov.y0 + CAPTION, ov.x1, ov.y1);
-    let ov_view = View::fit(domain.inflate(0.01 * domain.diagonal()), ov_inner);
+    let ov_view = View::fit(ov_world, ov_inner);
     svg.open(
         "g",
-        &[("id", "overview"), ("class", "panel overview"), ("data-scale", &num(ov_view.scale, 6))],
+        &[
+            ("id", "overview"),
+            ("class", "panel overview"),
+            ("data-scale", &num(ov_view.scale, 6)),
+            ("data-box", &layout::data_box(&ov)),
+        ],
     );
     clip(&mut svg, "clip-overview", &ov_inner);
     svg.open("g", &[("clip-path", "url(#clip-overview)")]);
     layers.draw_faces(&mut svg, &ov_view);
     let ov_stats = layers.draw_edges(&mut svg, &ov_view, 0.35);
     layers.draw_curves(&mut svg, &ov_view, 1.8);
+    layers.draw_points(&mut svg, &ov_view, 4.0);
     draw_marks(&mut svg, &ov_view, &marks);
     for (k, zv) in zoom_views.iter().enumerate() {
-        let r = ov_view.rect_to_px(&zv.world);
+        // A window wider or taller than the domain is framed where the mesh is.
+        let shown = zv.world.intersect(&domain).unwrap_or(domain);
+        let r = ov_view.rect_to_px(&shown);
         let id = (k + 1).to_string();
         svg.element(
             "rect",
@@ -262,7 +329,8 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
             ],
         );
         // The number tab sits on the frame's top-left corner, inside the panel.
-        let (tx, ty) = (r.x0.max(ov_inner.x0), (r.y0 - 15.0).max(ov_inner.y0));
+        let (tx, ty) =
+            (r.x0.clamp(ov_inner.x0, ov_inner.x1 - 15.0), (r.y0 - 15.0).max(ov_inner.y0));
         svg.element(
             "rect",
             &[
@@ -282,6 +350,7 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
                 ("font-weight", "bold"),
                 ("fill", "#ffffff"),
                 ("text-anchor", "middle"),
+                ("class", "on-mesh"),
             ],
         );
     }
@@ -290,11 +359,14 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     scale_bar(&mut svg, &ov_view, &content);
     svg.text(ov.x0, ov.y0 + 14.0, "Whole mesh", &[("font-size", "13"), ("font-weight", "bold")]);
     if ov_stats.shaded > 0 {
-        let s = format!(
-            "{} edges shorter than {} px drawn as shading",
-            ov_stats.shaded,
-            mesh_layer::MIN_EDGE_PX
+        let n = ov_stats.shaded;
+        let long = format!(
+            "{n} edges shorter than {} px drawn as shading",
+            num(mesh_layer::MIN_EDGE_PX, 0)
         );
+        let short = format!("{n} edges shaded");
+        let room = ov.width() - Font::bold(13.0).width("Whole mesh") - 16.0;
+        let s = Font::regular(11.0).first_fitting(&[&long, &short], room);
         svg.text(
             ov.x1,
             ov.y0 + 14.0,

@@ -20,6 +20,12 @@ pub fn curve(i: usize) -> &'static str {
     CURVES[i % CURVES.len()]
 }
 
+/// Marker of tagged topological point `i`: the curves' hues, shifted so that a corner
+/// and the curves meeting there seldom share one (the marker's shape tells them apart).
+pub fn point(i: usize) -> &'static str {
+    CURVES[(i + 4) % CURVES.len()]
+}
+
 /// Mesh edges.
 pub const EDGE: &str = "#3a3a3a";
 /// Size ellipses.

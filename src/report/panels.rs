@@ -7,9 +7,10 @@ use crate::sizing::plan::SizingPlan;
 use crate::topology::{Classification, Topology};
 
 use super::ellipses::{ellipse_in_view, fit_factor, pick};
-use super::layout::CAPTION;
+use super::layout::CAPTION_LINE;
 use super::mesh_layer::{EdgeStats, MeshLayers};
 use super::svg::{num, PathData, Svg};
+use super::text::Font;
 use super::view::{Rect, View};
 use super::windows::ZoomWindow;
 use super::{axes, fmt_sig, palette};
@@ -99,7 +100,8 @@ pub fn draw_marks(svg: &mut Svg, view: &View, marks: &SourceMarks) {
 
 /// A scale bar of a round length at the bottom left of `content` (the pixels where the
 /// mesh is, within the view), drawn over a white outline so that it reads on any fill.
-pub fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) {
+/// Returns the box of its label.
+pub fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) -> Rect {
     let len = axes::nice_step(0.12 * content.width() / view.scale, 1);
     let px = len * view.scale;
     let (x, y) = (content.x0 + 10.0, content.y1 - 10.0);
@@ -119,31 +121,48 @@ pub fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) {
         "path",
         &[("d", &d), ("fill", "none"), ("stroke", "#000"), ("stroke-width", "1.5")],
     );
-    halo_text(svg, x + 0.5 * px, y - 8.0, &fmt_sig(len), "middle", "#000");
+    let label = fmt_sig(len);
+    halo_text(svg, x + 0.5 * px, y - 8.0, &label, "middle", "#000");
     svg.close();
+    halo_box(x + 0.5 * px, y - 8.0, &label, "middle")
 }
 
-/// 11 px text on a translucent white box, readable over the mesh. The box is sized for
-/// an estimated 6.3 px per character (text is not measured: that needs the font).
-pub fn halo_text(svg: &mut Svg, x: f64, y: f64, text: &str, anchor: &str, colour: &str) {
-    let w = 6.3 * text.chars().count() as f64 + 6.0;
+/// The font of labels over the mesh.
+pub const HALO_FONT: Font = Font::regular(11.0);
+
+/// The box of 11 px text at `(x, y)` anchored `anchor`, with 3 px of padding: what
+/// [`halo_text`] paints white.
+pub fn halo_box(x: f64, y: f64, text: &str, anchor: &str) -> Rect {
+    let w = HALO_FONT.width(text) + 6.0;
     let x0 = match anchor {
         "end" => x - w + 3.0,
         "middle" => x - 0.5 * w,
         _ => x - 3.0,
     };
+    Rect::new(x0, y - 10.0, x0 + w, y + 4.0)
+}
+
+/// 11 px text on a translucent white box (measured, see [`super::text`]), readable over
+/// the mesh.
+pub fn halo_text(svg: &mut Svg, x: f64, y: f64, text: &str, anchor: &str, colour: &str) {
+    let b = halo_box(x, y, text, anchor);
     svg.element(
         "rect",
         &[
-            ("x", &num(x0, 1)),
-            ("y", &num(y - 10.0, 1)),
-            ("width", &num(w, 1)),
-            ("height", "14"),
+            ("x", &num(b.x0, 1)),
+            ("y", &num(b.y0, 1)),
+            ("width", &num(b.width(), 1)),
+            ("height", &num(b.height(), 1)),
             ("fill", "#ffffff"),
             ("fill-opacity", "0.85"),
         ],
     );
-    svg.text(x, y, text, &[("font-size", "11"), ("text-anchor", anchor), ("fill", colour)]);
+    svg.text(
+        x,
+        y,
+        text,
+        &[("font-size", "11"), ("text-anchor", anchor), ("fill", colour), ("class", "on-mesh")],
+    );
 }
 
 /// A clip path `id` of rectangle `r`.
@@ -178,26 +197,24 @@ pub fn panel_border(svg: &mut Svg, r: &Rect) {
     );
 }
 
-/// The part of a zoom panel below its caption.
-pub fn zoom_inner(r: &Rect) -> Rect {
-    Rect::new(r.x0, r.y0 + CAPTION, r.x1, r.y1)
+/// The part of a zoom panel below its caption of `caption` pixels.
+pub fn zoom_inner(r: &Rect, caption: f64) -> Rect {
+    Rect::new(r.x0, r.y0 + caption, r.x1, r.y1)
+}
+
+/// The font of zoom captions.
+pub const CAPTION_FONT: Font = Font::bold(12.0);
+/// Lines a zoom caption may take.
+pub const CAPTION_LINES: usize = 2;
+
+/// The lines of zoom caption `caption` in a panel `width` pixels wide.
+pub fn caption_lines(caption: &str, width: f64) -> Vec<String> {
+    CAPTION_FONT.wrap(caption, width, CAPTION_LINES)
 }
 
 /// `n` and the word for one or many.
 pub fn plural(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
-}
-
-/// Truncates `s` to about `px` pixels of 12 px text.
-pub fn fit_text(s: &str, px: f64) -> String {
-    let max = (px / 6.9).floor().max(4.0) as usize;
-    if s.chars().count() <= max {
-        s.to_string()
-    } else {
-        let mut t: String = s.chars().take(max - 1).collect();
-        t.push('…');
-        t
-    }
 }
 
 /// Zoom panel `k` (0-based) of window `z` in panel rectangle `r`, showing `view`.
@@ -223,6 +240,7 @@ pub fn draw_zoom(
             ("class", "panel zoom"),
             ("data-window", &window),
             ("data-scale", &num(view.scale, 6)),
+            ("data-box", &super::layout::data_box(r)),
         ],
     );
     svg.title(&if z.steps.is_empty() { z.label.clone() } else { z.steps.join("; ") });
@@ -231,6 +249,7 @@ pub fn draw_zoom(
     layers.draw_faces(svg, &view);
     let stats = layers.draw_edges(svg, &view, 0.6);
     layers.draw_curves(svg, &view, 2.4);
+    layers.draw_points(svg, &view, 5.0);
     draw_marks(svg, &view, marks);
     let mut ellipse_note = String::new();
     if let Some(sizes) = sizes {
@@ -285,17 +304,25 @@ pub fn draw_zoom(
         };
     }
     svg.close();
-    scale_bar(svg, &view, &inner);
+    let bar = scale_bar(svg, &view, &inner);
     panel_border(svg, &inner);
     let caption = format!("{}: {}", k + 1, z.label);
-    svg.text(
-        r.x0,
-        r.y0 + 14.0,
-        &fit_text(&caption, r.width()),
-        &[("font-size", "12"), ("font-weight", "bold")],
-    );
+    for (i, line) in caption_lines(&caption, r.width()).iter().enumerate() {
+        svg.text(
+            r.x0,
+            r.y0 + 14.0 + CAPTION_LINE * i as f64,
+            line,
+            &[("font-size", "12"), ("font-weight", "bold")],
+        );
+    }
     if !ellipse_note.is_empty() {
-        halo_text(svg, inner.x1 - 8.0, inner.y1 - 9.0, &ellipse_note, "end", palette::ELLIPSE);
+        // Bottom right, beside the scale bar's label; top right where they would meet.
+        let (x, mut y) = (inner.x1 - 8.0, inner.y1 - 9.0);
+        if halo_box(x, y, &ellipse_note, "end").x0 < bar.x1 + 4.0 {
+            y = inner.y0 + 16.0;
+        }
+        let note = HALO_FONT.fit(&ellipse_note, inner.width() - 22.0);
+        halo_text(svg, x, y, &note, "end", palette::ELLIPSE);
     }
     svg.close();
     stats

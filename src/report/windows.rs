@@ -1,11 +1,13 @@
 //! Where to zoom: one window around the source entities of each step of a sizing plan
-//! (their bounding box grown by the distance over which the step's size function acts),
-//! or, without a recipe, around the vertices where the metric asks for the smallest
-//! sizes.
+//! (their bounding box grown by the distance over which the step's size function acts,
+//! or, for a source as large as the domain, a window around where the step asks for its
+//! finest sizes), or, without a recipe, around the vertices where the metric asks for the
+//! smallest sizes.
 
 use crate::metric::SizeTensor;
 use crate::sizing::algorithms::Around;
 use crate::sizing::plan::{Algorithm, EntitySet, SizingPlan, Step};
+use crate::sizing::Contribution;
 use crate::topology::{Classification, Topology};
 
 use super::view::Rect;
@@ -109,23 +111,61 @@ pub fn describe(step: &Step, topo: &Topology) -> String {
     }
 }
 
+/// How far a window reaches beyond its sources: the step's reach, within [2 %, 10 %] of
+/// the domain's diagonal.
+fn margin(reach: f64, diag: f64) -> f64 {
+    reach.clamp(0.02 * diag, 0.1 * diag)
+}
+
+/// Whether `region`, grown to the aspect of the panel it would get (4:3, or up to 5:1
+/// for a wide one), shows at least three quarters of the domain both ways: no zoom.
+pub fn is_whole_domain(region: &Rect, domain: &Rect) -> bool {
+    let aspect = region.width() / region.height().max(1e-300);
+    let target = if aspect > super::layout::WIDE { aspect.min(5.0) } else { 4.0 / 3.0 };
+    let shown = region.with_aspect(target);
+    shown.width() >= 0.75 * domain.width() && shown.height() >= 0.75 * domain.height()
+}
+
 /// One window per step of `plan` that has sources: their bounding box grown by the
-/// step's reach (clamped to [2 %, 25 %] of the domain's diagonal) and cut to the domain
-/// grown by 2 %. Steps with the same window share it; at most [`MAX_WINDOWS`].
+/// step's reach (within [2 %, 10 %] of the domain's diagonal) and cut to the domain grown
+/// by 2 %. A source so large that this window would show the whole domain (a wall around
+/// it, a wake down its length) is framed instead around the point `focus(step)` gives
+/// (where the step asks for its finest sizes), twice the reach each way (within [2 %,
+/// 12 %] of the diagonal); without one, around the source point nearest the sources'
+/// centre. Steps with the same window share it; at most [`MAX_WINDOWS`].
 pub fn from_plan(
     plan: &SizingPlan,
     topo: &Topology,
     points: &[[f64; 2]],
     domain: &Rect,
+    focus: &mut dyn FnMut(usize) -> Option<[f64; 2]>,
 ) -> Vec<ZoomWindow> {
     let diag = domain.diagonal();
     let frame = domain.inflate(0.02 * diag);
     let mut out: Vec<ZoomWindow> = Vec::new();
-    for step in &plan.steps {
+    for (k, step) in plan.steps.iter().enumerate() {
         let Some((pts, reach)) = step_sources(topo, points, &step.algorithm) else { continue };
-        let Some(bb) = Rect::bounding(pts) else { continue };
-        let margin = reach.clamp(0.02 * diag, 0.25 * diag) + 0.05 * bb.width().max(bb.height());
-        let Some(region) = bb.inflate(margin).intersect(&frame) else { continue };
+        let Some(bb) = Rect::bounding(pts.iter().copied()) else { continue };
+        let Some(mut region) = bb.inflate(margin(reach, diag)).intersect(&frame) else {
+            continue;
+        };
+        if is_whole_domain(&region, domain) {
+            let c = bb.centre();
+            let nearest = || {
+                pts.iter().copied().min_by(|a, b| {
+                    let da = (a[0] - c[0]).hypot(a[1] - c[1]);
+                    let db = (b[0] - c[0]).hypot(b[1] - c[1]);
+                    da.total_cmp(&db)
+                })
+            };
+            if let Some(p) = focus(k).or_else(nearest) {
+                let half = (2.0 * reach).clamp(0.02 * diag, 0.12 * diag);
+                let square = Rect::new(p[0] - half, p[1] - half, p[0] + half, p[1] + half);
+                if let Some(r) = square.intersect(&frame) {
+                    region = r;
+                }
+            }
+        }
         let caption = describe(step, topo);
         if let Some(w) = out.iter_mut().find(|w| same_region(&w.region, &region, diag)) {
             w.label.push_str("; ");
@@ -141,6 +181,20 @@ pub fn from_plan(
         }
     }
     out
+}
+
+/// Where a step asks for its finest sizes: the vertex of its contribution whose size
+/// ellipse is smallest (h1 · h2; ties to the lower vertex index), e.g. the tightest bend
+/// of a wall for CURVATURE_OF_BORDER, the start of a wake.
+pub fn finest(contribution: &Contribution, points: &[[f64; 2]]) -> Option<[f64; 2]> {
+    contribution
+        .vertices
+        .iter()
+        .zip(&contribution.tensors)
+        .map(|(&v, t)| (t.h1() * t.h2(), v as usize))
+        .filter(|(a, v)| a.is_finite() && *v < points.len())
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        .map(|(_, v)| points[v])
 }
 
 fn same_region(a: &Rect, b: &Rect, diag: f64) -> bool {
