@@ -59,7 +59,9 @@ pub(crate) use super::chain_tree::ChainTree;
 use super::segment::{Point2, SegmentGeom};
 use super::segment_index::{Nearest, QueryStats};
 
-/// Segments either side of a segment whose closest points a certificate compares.
+/// Segments either side of a segment whose closest points a certificate compares: the
+/// one definition of the window, which the propagation's window of a closest point
+/// (`sizing::propagation`, `Source::window`) is built from.
 pub const WINDOW: usize = 2;
 
 /// Pieces a segment is cut into for its lower bounds.
