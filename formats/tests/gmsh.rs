@@ -974,6 +974,13 @@ fn malformed_unknown_section() {
 }
 
 #[test]
+fn malformed_byte_order_mark_is_named() {
+    let e = err_text(&format!("\u{feff}{HEAD41}"));
+    assert_eq!(e.at, Some(Position::Line(1)));
+    assert!(e.to_string().contains("a byte order mark (U+FEFF)"), "{e}");
+}
+
+#[test]
 fn malformed_end_line_without_its_section() {
     let e = err_text(&format!("{HEAD41}{SQUARE41}$EndNodes\n"));
     assert_eq!(e.at, Some(Position::Line(28)));

@@ -74,6 +74,8 @@ impl<'a> Reader<'a> {
             Some(tok) if tok.starts_with(b"$NOD") || tok.starts_with(b"$NOE") => {
                 return Err(self.c.err(ErrorKind::Unsupported("MSH version 1 (a file without $MeshFormat); save it as MSH 2.2 or 4.1 with Gmsh".into())))
             }
+            // Invisible in a quote: named (Gmsh and meshio do not read such a file either).
+            Some(tok) if tok.starts_with("\u{feff}".as_bytes()) => return Err(self.c.err(ErrorKind::Expected { expected: "`$MeshFormat` (a Gmsh MSH file starts with it)".into(), found: "a byte order mark (U+FEFF) before it; remove it (Gmsh does not read such a file either)".into() })),
             Some(tok) => return Err(self.c.err(ErrorKind::Expected { expected: "`$MeshFormat` (a Gmsh MSH file starts with it)".into(), found: show(tok) })),
             None => return Err(self.c.err(ErrorKind::UnexpectedEof { context: "expected `$MeshFormat`; the file is empty".into() })),
         }
