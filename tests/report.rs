@@ -650,6 +650,7 @@ fn history_ending_on_its_best(dir: &Path) -> PathBuf {
         mean_quality: 0.95,
         min_quality: 0.4,
         seconds: PhaseTimes::default(),
+        remeshing: None,
     };
     let h = History {
         input: "geometry.poly".into(),
