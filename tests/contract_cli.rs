@@ -412,3 +412,52 @@ fn hausd_is_an_option_of_every_remesher() {
     let tight = vertices(&["--hausd", "1e-6"]);
     assert!(tight > plain, "--hausd 1e-6: {tight} vertices, {plain} without");
 }
+
+#[test]
+fn every_command_reads_a_recipe_alike_and_names_its_own_format_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let sol = dir.path().join("o.sol");
+    let odd = dir.path().join("recipe.txt");
+    std::fs::copy(recipe(), &odd).unwrap();
+    let out = dir.path().join("r.toml");
+    // (arguments before the recipe, the recipe's place holder, arguments after, flag)
+    let commands: [(&[&str], &[&str], &str); 3] = [
+        (&["size", cyl(), "-o", p(&sol), "-r"], &[], "--recipe-format"),
+        (&["recipe", "check"], &[cyl()], "--format"),
+        (&["recipe", "convert"], &[p(&out)], "--from"),
+    ];
+    let with = |pre: &[&str], recipe: &str, post: &[&str], extra: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = pre.iter().map(|s| s.to_string()).collect();
+        a.push(recipe.into());
+        a.extend(post.iter().map(|s| s.to_string()));
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let run = |args: &[String], stdin: &[u8]| {
+        let mut child = command(&args.iter().map(String::as_str).collect::<Vec<_>>())
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        {
+            use std::io::Write;
+            let _ = child.stdin.take().unwrap().write_all(stdin);
+        }
+        child.wait_with_output().unwrap()
+    };
+    for (pre, post, flag) in commands {
+        // An extension that tells no format: refused, naming this command's flag.
+        let err = bad(&run(&with(pre, p(&odd), post, &[]), b""));
+        assert!(err.contains("recipe.txt") && err.contains(flag), "{pre:?}: {err}");
+        // stdin without a format.
+        let err = bad(&run(&with(pre, "-", post, &[]), b""));
+        assert!(err.contains("stdin") && err.contains(flag), "{pre:?}: {err}");
+        // stdin that is not text: bad input (2) for every command.
+        let err = bad(&run(&with(pre, "-", post, &[flag, "toml"]), b"a = \"\xff\xfe\"\n"));
+        assert!(err.contains("<stdin>") && err.contains("not UTF-8"), "{pre:?}: {err}");
+        // The flag forces a format on the odd extension.
+        let o = run(&with(pre, p(&odd), post, &[flag, "toml"]), b"");
+        assert_eq!(o.status.code(), Some(0), "{pre:?}: {}", streams(&o));
+    }
+}

@@ -2,7 +2,6 @@
 //! `convert`, `mesh`, `remesh`, `size` and `adapt`), the writing of a mesh to a file or
 //! stdout with the writer's notes, and the reading of a recipe from a file or stdin.
 
-use std::io::Read as _;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
@@ -201,32 +200,7 @@ fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
 impl RecipeInput {
     /// Reads and checks the recipe.
     pub fn read(&self) -> Result<Recipe, CliError> {
-        let path = &self.recipe;
-        let options = self.read.options();
-        if is_stdio(path) {
-            let format = self.recipe_format.ok_or_else(|| {
-                CliError::usage(
-                    "reading the recipe from stdin (`-r -`) needs --recipe-format libconfig, toml or json",
-                )
-            })?;
-            let mut text = String::new();
-            std::io::stdin()
-                .take(options.max_bytes as u64 + 1)
-                .read_to_string(&mut text)
-                .map_err(|e| CliError::context("reading the recipe from stdin", e))?;
-            return Ok(Recipe::from_str_with(&text, format, Path::new("<stdin>"), &options)?);
-        }
-        match self.recipe_format {
-            Some(f) => {
-                let text = smartmesh::recipe::preprocess::read_file(
-                    path,
-                    options.max_bytes,
-                    options.max_bytes,
-                )?;
-                Ok(Recipe::from_str_with(&text, f, path, &options)?)
-            }
-            None => Ok(Recipe::from_path_with(path, &options)?),
-        }
+        super::recipe::read_recipe(&self.recipe, self.recipe_format, "--recipe-format", self.read)
     }
 
     /// The recipe as the history and summaries name it.
