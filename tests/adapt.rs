@@ -337,7 +337,7 @@ fn missing_tools_are_named_before_any_work() {
         &["--adapter", "mmg2d", "--adapter-program", "/nonexistent/mmg2d_O3"],
         None,
     );
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/mmg2d_O3"));
 }
 

@@ -240,11 +240,45 @@ fn tool_and_switch_names_in_messages_are_the_ones_to_type() {
         ],
         None,
     );
-    let err = String::from_utf8_lossy(&o.stderr);
+    // A program the user names that is missing or cannot be run is bad input (2).
+    let err = bad(&o);
     assert!(
         err.contains("`/nonexistent/mmg` does not exist") && !err.contains("not found"),
         "{err}"
     );
+    let plain = dir.path().join("plain-mmg");
+    std::fs::write(&plain, "not a program\n").unwrap();
+    let adapt_with = |program: &str, cwd: &Path| {
+        command(&[
+            "adapt",
+            cyl(),
+            "-r",
+            recipe(),
+            "-o",
+            p(&out),
+            "--adapter",
+            "mmg2d",
+            "--adapter-program",
+            program,
+        ])
+        .current_dir(cwd)
+        .output()
+        .unwrap()
+    };
+    let err = bad(&adapt_with(p(&plain), dir.path()));
+    assert!(err.contains("is not an executable file"), "{err}");
+    // `./tool.sh` is the one in the current directory, not in the adapter's temporary one:
+    // it runs (and fails, saying so in its own words).
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let tool = dir.path().join("tool.sh");
+        std::fs::write(&tool, "#!/bin/sh\necho 'tool.sh ran' >&2\nexit 3\n").unwrap();
+        std::fs::set_permissions(&tool, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let o = adapt_with("./tool.sh", dir.path());
+        assert_eq!(o.status.code(), Some(1), "{}", streams(&o));
+        assert!(String::from_utf8_lossy(&o.stderr).contains("tool.sh ran"), "{}", streams(&o));
+    }
     let dots = dir.path().join("dots.node");
     std::fs::write(&dots, "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n").unwrap();
     let err = bad(&smartmesh(&["mesh", p(&dots), "-o", p(&out)], None));
