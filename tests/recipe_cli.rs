@@ -50,6 +50,10 @@ fn check_prints_regions_and_algorithms() {
     let s = stdout(&o);
     assert!(s.contains("StayVane         7 curves: tags 101, 102, 103, 104, 105, 106, 107"), "{s}");
     assert!(s.contains("Corners          9 points: tags 1, 2, 3, 4, 5, 6, 7, 11, 12"), "{s}");
+    assert!(
+        s.contains("Inlet            1 curve: tags 301 (\"Inlet\"); unused (no algorithm"),
+        "{s}"
+    );
     assert!(s.contains("algorithm 3 (DISTANCE_TO_BORDER on \"StayVane\"): 7 curves"), "{s}");
 
     let o = run(&[
@@ -65,6 +69,13 @@ fn check_prints_regions_and_algorithms() {
     let fluid = v["regions"].as_array().unwrap().iter().find(|r| r["name"] == "Fluid").unwrap();
     assert_eq!(fluid["dimension"], 2);
     assert_eq!(fluid["used_by"], serde_json::json!([1, 5]));
+    assert_eq!(fluid["cells"], 1988);
+    // A region no algorithm uses is looked up, not measured.
+    let inlet = v["regions"].as_array().unwrap().iter().find(|r| r["name"] == "Inlet").unwrap();
+    assert_eq!(
+        (inlet["dimension"].clone(), inlet["vertices"].clone()),
+        (1.into(), serde_json::Value::Null)
+    );
     assert_eq!(v["algorithms"][4]["type"], "DISTANCE_TO_IMAGINARY_POLYLINE");
     assert_eq!(v["algorithms"][1]["points"], 9);
 }

@@ -272,15 +272,18 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
                 r.entity_names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")
             )
         };
-        let mut counts = vec![plural(r.vertices, "vertex", "vertices")];
-        if r.dimension.is_some_and(|d| d > 0) {
-            counts.push(plural(r.edges, "edge", "edges"));
+        let mut counts = Vec::new();
+        if let Some(v) = r.vertices {
+            counts.push(plural(v, "vertex", "vertices"));
         }
-        if r.dimension == Some(2) {
-            counts.push(plural(r.cells, "cell", "cells"));
+        if let Some(e) = r.edges.filter(|_| r.dimension.is_some_and(|d| d > 0)) {
+            counts.push(plural(e, "edge", "edges"));
+        }
+        if let Some(c) = r.cells.filter(|_| r.dimension == Some(2)) {
+            counts.push(plural(c, "cell", "cells"));
         }
         let used = if r.used_by.is_empty() {
-            "unused".to_string()
+            "unused (no algorithm names it: its entities exist, nothing is measured)".to_string()
         } else {
             format!(
                 "used by {}",
@@ -289,10 +292,10 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         };
         let _ = writeln!(
             o,
-            "    {:<16} {what}: tags {}{names}; {}; {used}",
+            "    {:<16} {what}: tags {}{names}; {}{used}",
             r.name,
             tags.join(", "),
-            counts.join(", ")
+            if counts.is_empty() { String::new() } else { format!("{}; ", counts.join(", ")) }
         );
     }
     let _ = writeln!(o, "  algorithms");
