@@ -495,3 +495,69 @@ fn every_command_reads_a_recipe_alike_and_names_its_own_format_flag() {
         assert_eq!(o.status.code(), Some(0), "{pre:?}: {}", streams(&o));
     }
 }
+
+/// Whether the report of `mesh` with `history` says the two do not belong together.
+fn report_says_mismatch(mesh: &Path, history: &Path, dir: &Path) -> bool {
+    let svg = dir.join("r.svg");
+    let o = smartmesh(&["report", p(mesh), "--history", p(history), "-o", p(&svg)], None);
+    ok(&o);
+    String::from_utf8_lossy(&o.stderr).contains("is not the mesh this history describes")
+}
+
+#[cfg(unix)]
+#[test]
+fn a_killed_adapt_leaves_a_history_that_knows_its_mesh_and_no_temporaries() {
+    use smartmesh::history::{History, WrittenFile};
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cyl.msh");
+    let history = dir.path().join("cyl.history.json");
+    let adapt = || {
+        command(&[
+            "adapt",
+            cyl(),
+            "-r",
+            recipe(),
+            "-o",
+            p(&out),
+            "--max-iterations",
+            "6",
+            "--tol-vertices",
+            "0",
+            "-q",
+        ])
+    };
+    // SIGKILL at moments spread over a run (about 0.4 s), from a fixed seed.
+    let mut seed: u64 = 0x5eed;
+    for _ in 0..6 {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let delay = std::time::Duration::from_millis(30 + (seed >> 33) % 400);
+        let mut child = adapt().spawn().unwrap();
+        std::thread::sleep(delay);
+        let _ = child.kill();
+        child.wait().unwrap();
+        let (Ok(bytes), Some(text)) = (std::fs::read(&out), std::fs::read_to_string(&history).ok())
+        else {
+            continue;
+        };
+        let h = History::from_json(&text).unwrap();
+        let agree = h.best_mesh == [WrittenFile::of("cyl.msh", &bytes)];
+        // The history names the mesh beside it, or the report says it does not.
+        assert_eq!(report_says_mismatch(&out, &history, dir.path()), !agree, "after {delay:?}");
+        if agree {
+            let mesh = read_path(&out, None).unwrap();
+            assert_eq!(mesh.points.len(), h.iterations[h.best_iteration].vertices);
+        }
+    }
+    // A run to the end in the same directory removes what the killed ones left.
+    ok(&adapt().output().unwrap());
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.ends_with(".tmp")), "temporaries left: {names:?}");
+    assert!(!report_says_mismatch(&out, &history, dir.path()));
+    // A mesh that is not the one described (the history of a later run beside an earlier
+    // mesh) is told.
+    std::fs::copy(cyl(), &out).unwrap();
+    assert!(report_says_mismatch(&out, &history, dir.path()));
+}

@@ -135,6 +135,9 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
         }
         None => None,
     };
+    if let Some(why) = history.as_ref().and_then(|h| h.mismatch(&args.mesh)) {
+        super::ui::warn(&why);
+    }
     let name = args.mesh.display().to_string();
     let input = ReportInput {
         name: &name,
