@@ -281,6 +281,9 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let mut recipe = args.recipe.read()?;
     args.controls.apply_to(&mut recipe)?;
     let starting = starting_point(&args.input, args.from)?;
+    for n in &starting.notes {
+        ui::note(&format!("{}: {n}", args.input.display()));
+    }
     // The input is checked whole before any tool is looked for: a recipe that names tags
     // the mesh does not have is bad input (2) whether or not the remesher is installed.
     recipe

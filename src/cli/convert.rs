@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use smartmesh::formats::{read_path, write_path, Format};
+use smartmesh::formats::{write_path, Format};
 
 use super::output::{check_output_dir, label, shown};
 use super::{parse_format, print_stdout, ui, CliError, MeshOutputArgs};
@@ -68,7 +68,7 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
         None => Format::from_path(&args.output),
     };
     check_output_dir(&args.output)?;
-    let mesh = read_path(&args.input, from)?;
+    let mesh = super::read_mesh(&args.input, from)?;
     let mut opts = args.output_format.write_options(&args.output);
     opts.color_field = args.color_field.clone();
     if let Some(name) = &args.color_field {

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
-use smartmesh::formats::{read_path, Format};
+use smartmesh::formats::Format;
 use smartmesh::metric_field::MetricField;
 use smartmesh::summary::MeshSummary;
 use smartmesh::topology::Topology;
@@ -38,7 +38,7 @@ pub struct InfoArgs {
 
 /// Runs `info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
-    let mesh = read_path(&args.file, args.from)?;
+    let mesh = super::read_mesh(&args.file, args.from)?;
     let topo = Topology::from_mesh(&mesh);
     let mut summary = MeshSummary::of(&mesh, &topo);
     match MetricField::load(&mesh, &args.file, args.metric.as_deref()) {

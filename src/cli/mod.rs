@@ -113,6 +113,20 @@ pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
         .map_err(|e| CliError::context("writing to stdout", e))
 }
 
+/// Reads a mesh (`-` for stdin, with `format`) and prints as notes what the reader
+/// changed in it (a second-order mesh read as linear), unless quiet.
+pub fn read_mesh(
+    path: &std::path::Path,
+    format: Option<smartmesh::formats::Format>,
+) -> Result<smartmesh::formats::TaggedMesh, CliError> {
+    let (mesh, report) = smartmesh::formats::read_path_reported(path, format)?;
+    let name = if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
+    for n in &report.notes {
+        ui::note(&format!("{name}: {n}"));
+    }
+    Ok(mesh)
+}
+
 /// Parses a `--from`/`--to` format name.
 pub fn parse_format(name: &str) -> Result<smartmesh::formats::Format, String> {
     smartmesh::formats::Format::from_name(name).ok_or_else(|| {

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use smartmesh::conformity::Conformity;
-use smartmesh::formats::{read_path, Format};
+use smartmesh::formats::Format;
 use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::remesh::{remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
 use smartmesh::size_controls::SizeControls as MetricControls;
@@ -137,7 +137,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         _ => None,
     };
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mesh = read_path(&args.mesh, from)?;
+    let mesh = super::read_mesh(&args.mesh, from)?;
     let mut metric = match &args.background {
         Some(b) => {
             let (bmesh, bfield) = MetricField::read_background(b).map_err(metric_error)?;

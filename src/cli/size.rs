@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use clap::Args;
 use smartmesh::export::{export_metric, MetricTarget};
-use smartmesh::formats::{read_path, Format};
+use smartmesh::formats::Format;
 use smartmesh::sizing::{size_mesh, SizeMeshError, StepEvent, StepReport};
 
 use super::output::{check_output_dir, is_stdio, label, shown, SizeControls};
@@ -120,7 +120,7 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     let mut recipe = args.recipe.read()?;
     args.controls.apply_to(&mut recipe)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mesh = read_path(&args.mesh, from)?;
+    let mesh = super::read_mesh(&args.mesh, from)?;
     let steps = recipe.algorithms.len() as u64;
 
     let bar = ui::progress_bar(steps, "{bar:30} {pos}/{len} {msg} [{elapsed}]");

@@ -6,12 +6,12 @@ use super::reader::Reader;
 use super::tags::TagList;
 use super::views::ViewKind;
 use super::{linear, untagged};
-use crate::{DataArray, ErrorKind, NodeIndex, Result, TaggedMesh};
+use crate::{DataArray, ErrorKind, NodeIndex, ReadReport, Result, TaggedMesh};
 
 impl Reader<'_> {
     /// Puts points in node-tag order and cells in element-tag order, resolves 4.1
     /// physical tags and builds the data arrays.
-    pub(super) fn finish(mut self) -> Result<TaggedMesh> {
+    pub(super) fn finish(mut self) -> Result<(TaggedMesh, ReadReport)> {
         let mut mesh = TaggedMesh::new();
         mesh.tag_names = std::mem::take(&mut self.tag_names);
 
@@ -187,8 +187,11 @@ impl Reader<'_> {
         // other readers).
         mesh.coordinate_dim = if mesh.points.iter().all(|p| p[2] == 0.0) { 2 } else { 3 };
         untagged::ungroup(&mut mesh);
-        linear::reduce(&mut mesh);
-        Ok(mesh)
+        let mut report = ReadReport::default();
+        if let Some(note) = linear::reduce(&mut mesh) {
+            report.note(note);
+        }
+        Ok((mesh, report))
     }
 }
 
