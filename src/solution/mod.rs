@@ -1,0 +1,10 @@
+//! Metrics from a computed field (a solution): the scalar point field's gradient and
+//! Hessian recovered on the mesh ([`recovery`]), the Lp-optimal metric of the continuous
+//! mesh framework normalised to a complexity or an error ([`lp`]).
+
+pub mod recovery;
+
+pub use recovery::{recover, Derivatives, Method, P1Mesh, RecoveryError};
+
+#[cfg(test)]
+pub(crate) mod test_meshes;
