@@ -1,9 +1,11 @@
 //! Metrics from a computed field (a solution): the scalar point field's gradient and
 //! Hessian recovered on the mesh ([`recovery`]), the Lp-optimal metric of the continuous
-//! mesh framework normalised to a complexity or an error ([`lp`]).
+//! mesh framework normalised to a vertex count or an error ([`lp`]).
 
+pub mod lp;
 pub mod recovery;
 
+pub use lp::{intersect_all, lp_metric, vertices_of, LpError, LpMetric, LpOptions, Target};
 pub use recovery::{recover, Derivatives, Method, P1Mesh, RecoveryError};
 
 #[cfg(test)]
