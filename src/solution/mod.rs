@@ -1,7 +1,10 @@
 //! Metrics from a computed field (a solution): the scalar point field's gradient and
 //! Hessian recovered on the mesh ([`recovery`]), the Lp-optimal metric of the continuous
-//! mesh framework normalised to a vertex count or an error ([`lp`]).
+//! mesh framework normalised to a vertex count or an error ([`lp`]), and the field read
+//! from a mesh or a solver's file on the same vertices ([`input`]). The sizing algorithm
+//! SOLUTION_HESSIAN ([`crate::sizing::SolutionHessian`]) puts them in a recipe.
 
+pub mod input;
 pub mod lp;
 pub mod recovery;
 
