@@ -26,6 +26,7 @@
 //! - [`metric_field`]: a metric field on a mesh, read from point data, a `.sol`, a `.pos`
 //!   or a mesh file, checked, and interpolated elsewhere;
 //! - [`report`]: pictures (SVG, PNG) of a mesh, its metric, conformity and history;
+//! - [`solution`]: metrics from a computed scalar field (Hessian recovery, Lp metric);
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -48,6 +49,7 @@ pub mod remesh;
 pub mod report;
 pub mod size_controls;
 pub mod sizing;
+pub mod solution;
 pub mod summary;
 pub mod topology;
 

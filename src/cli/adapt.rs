@@ -275,7 +275,7 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
 pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     let format = check_outputs(&args)?;
-    if is_stdio(&args.input) && is_stdio(&args.recipe.recipe) {
+    if is_stdio(&args.input) && args.recipe.is_stdin() {
         return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
     let mut recipe = args.recipe.read()?;

@@ -190,7 +190,8 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
         || e.is::<SizingError>()
         || e.is::<MeshGraphError>()
         || e.is::<RemeshError>()
-        || e.is::<ControlError>();
+        || e.is::<ControlError>()
+        || e.is::<smartmesh::solution::input::FieldError>();
     input.then_some(Error)
 }
 

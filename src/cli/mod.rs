@@ -10,6 +10,7 @@ mod recipe;
 mod remesh;
 mod report;
 mod size;
+mod solution;
 mod spelling;
 pub mod ui;
 

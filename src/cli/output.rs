@@ -182,8 +182,9 @@ pub fn check_output_dir(output: &Path) -> Result<(), CliError> {
 #[derive(Debug, Clone, Args)]
 pub struct RecipeInput {
     /// The recipe (.cfg libconfig, .toml, .json; `-` for stdin, with --recipe-format).
+    /// Optional only with a solution field (`size --field`, `adapt --solver`).
     #[arg(long, short = 'r')]
-    pub recipe: PathBuf,
+    pub recipe: Option<PathBuf>,
     /// Recipe format when the extension does not tell (libconfig, toml, json).
     #[arg(long, value_parser = parse_recipe_format, value_name = "FORMAT")]
     pub recipe_format: Option<RecipeFormat>,
@@ -198,17 +199,35 @@ fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
 }
 
 impl RecipeInput {
+    /// Whether the recipe comes from stdin.
+    pub fn is_stdin(&self) -> bool {
+        self.recipe.as_deref().is_some_and(is_stdio)
+    }
+
+    /// Reads and checks the recipe; an empty one when none is given and `optional`
+    /// (`why` says when it may be left out, for the error otherwise).
+    pub fn read_or_empty(&self, optional: bool, why: &str) -> Result<Recipe, CliError> {
+        match &self.recipe {
+            Some(_) => self.read(),
+            None if optional => Ok(Recipe::default()),
+            None => Err(CliError::usage(format!("missing --recipe (it may be left out {why})"))),
+        }
+    }
+
     /// Reads and checks the recipe.
     pub fn read(&self) -> Result<Recipe, CliError> {
-        super::recipe::read_recipe(&self.recipe, self.recipe_format, "--recipe-format", self.read)
+        let Some(path) = &self.recipe else {
+            return Err(CliError::usage("missing --recipe"));
+        };
+        super::recipe::read_recipe(path, self.recipe_format, "--recipe-format", self.read)
     }
 
     /// The recipe as the history and summaries name it.
     pub fn label(&self) -> String {
-        if is_stdio(&self.recipe) {
-            "<stdin>".into()
-        } else {
-            self.recipe.display().to_string()
+        match &self.recipe {
+            None => "none".into(),
+            Some(p) if is_stdio(p) => "<stdin>".into(),
+            Some(p) => p.display().to_string(),
         }
     }
 }

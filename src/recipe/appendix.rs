@@ -496,9 +496,10 @@ impl Reader<'_> {
                 (ParameterKind::Regions { .. }, Some(s)) => SpecValue::Names(self.names(s, &ctx)?),
                 (ParameterKind::Regions { .. }, None) => SpecValue::Names(Vec::new()),
                 (ParameterKind::Size, Some(s)) => SpecValue::Size(self.number(s, &ctx)?),
-                (ParameterKind::Function(_) | ParameterKind::Polyline, Some(s)) => {
-                    SpecValue::Name(self.string(s, &ctx)?)
-                }
+                (
+                    ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData,
+                    Some(s),
+                ) => SpecValue::Name(self.string(s, &ctx)?),
                 // `fields` has refused a group without a required key.
                 (_, None) => {
                     return Err(self.error(

@@ -227,7 +227,10 @@ impl SpecValue {
         matches!(
             (self, kind),
             (SpecValue::Size(_), ParameterKind::Size)
-                | (SpecValue::Name(_), ParameterKind::Function(_) | ParameterKind::Polyline)
+                | (
+                    SpecValue::Name(_),
+                    ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData
+                )
                 | (SpecValue::Names(_), ParameterKind::Regions { .. })
         )
     }
@@ -236,7 +239,9 @@ impl SpecValue {
         match kind {
             ParameterKind::Size => SpecValue::Size(0.0),
             ParameterKind::Regions { .. } => SpecValue::Names(Vec::new()),
-            ParameterKind::Function(_) | ParameterKind::Polyline => SpecValue::Name(String::new()),
+            ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData => {
+                SpecValue::Name(String::new())
+            }
         }
     }
 }
@@ -445,7 +450,7 @@ impl Raw {
                 Raw::Unsigned(u) => Ok(SpecValue::Size(u as f64)),
                 other => Err(E::invalid_type(other.unexpected(), &"f64")),
             },
-            ParameterKind::Function(_) | ParameterKind::Polyline => {
+            ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData => {
                 self.string().map(SpecValue::Name)
             }
             ParameterKind::Regions { .. } => match self {

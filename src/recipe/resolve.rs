@@ -367,6 +367,9 @@ impl Recipe {
                     (ParameterKind::Regions { .. }, SpecValue::Names(_)) => {
                         Argument::Entities(sets.next().unwrap_or_default())
                     }
+                    (ParameterKind::PointData, SpecValue::Name(name)) => {
+                        Argument::Name(name.clone())
+                    }
                     (ParameterKind::Polyline, SpecValue::Name(name)) => Argument::Polyline(
                         self.polylines.get(name).cloned().expect("validated: the polyline exists"),
                     ),
@@ -465,6 +468,13 @@ fn label(i: usize, a: &AlgorithmSpec) -> String {
         (None, [(_, first), (_, second), ..]) => {
             format!("between {} and {}", quoted(first), quoted(second))
         }
+        (None, []) => a
+            .arguments()
+            .find_map(|(p, v)| match (p.kind, v) {
+                (ParameterKind::PointData, SpecValue::Name(n)) => Some(format!("of \"{n}\"")),
+                _ => None,
+            })
+            .unwrap_or_else(|| "on the whole mesh".to_string()),
         (None, lists) => format!("on {}", quoted(lists.first().map_or(&[][..], |l| l.1))),
     };
     format!("{} ({} {what})", referrer(i), a.keyword())
