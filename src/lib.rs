@@ -20,6 +20,8 @@
 //! - [`adapters`]: remeshers behind one trait (MMG's `mmg2d_O3`, Gmsh's BAMG), tags
 //!   restored on their output;
 //! - [`adapt`]: the adaptation loop (size → remesh → size … until converged);
+//! - [`batch`]: manifests of geometry variants, their content hashes and result records
+//!   (`smartmesh batch`);
 //! - [`remesh`]: the native anisotropic remesher (split, collapse, swap, smooth in the
 //!   metric; boundaries, interfaces, corners and tags kept);
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
@@ -35,6 +37,7 @@ pub use smartmesh_formats as formats;
 
 pub mod adapt;
 pub mod adapters;
+pub mod batch;
 pub mod conformity;
 pub mod export;
 pub mod geometry;

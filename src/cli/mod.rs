@@ -1,6 +1,7 @@
 //! Argument parsing, exit codes and error printing; one file per subcommand.
 
 mod adapt;
+mod batch;
 mod convert;
 mod error;
 mod info;
@@ -49,6 +50,7 @@ enum Command {
     Recipe(recipe::RecipeArgs),
     Size(size::SizeArgs),
     Adapt(adapt::AdaptArgs),
+    Batch(batch::BatchArgs),
     Mesh(mesh::MeshArgs),
     Remesh(remesh::RemeshArgs),
     Report(report::ReportArgs),
@@ -86,6 +88,7 @@ pub fn main() -> ExitCode {
         Command::Recipe(a) => recipe::run(a),
         Command::Size(a) => size::run(a),
         Command::Adapt(a) => adapt::run(a),
+        Command::Batch(a) => batch::run(a),
         Command::Mesh(a) => mesh::run(a),
         Command::Remesh(a) => remesh::run(a),
         Command::Report(a) => report::run(a),
