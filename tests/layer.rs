@@ -262,7 +262,7 @@ fn split_writes_two_triangles_per_quad() {
         quads.mesh.num_cells_of(CellKind::Triangle) + 2 * quads.report.quads
     );
     let mut again = quads.mesh.clone();
-    assert_eq!(smartmesh::layer::split_quads(&mut again), quads.report.quads);
+    assert_eq!(again.split_quads(), quads.report.quads);
     assert!(check_mesh(&again).is_valid());
     assert!((area(&again) - 2.0).abs() < 1e-12);
 }
@@ -276,4 +276,197 @@ fn bad_requests_are_refused_clearly() {
     let layered = insert(&input, &opts(&["Cylinder"], g)).unwrap();
     let e = insert(&layered.mesh, &opts(&["Cylinder"], g)).unwrap_err();
     assert!(e.to_string().contains("quads"), "{e}");
+}
+
+#[path = "../formats/tests/common/mod.rs"]
+mod common;
+
+#[path = "support/cli.rs"]
+#[allow(dead_code)]
+mod cli;
+
+/// Cells per (kind, physical tag).
+fn census(m: &TaggedMesh) -> BTreeMap<(CellKind, i32), usize> {
+    let mut c = BTreeMap::new();
+    for (k, _, p, _) in m.cells() {
+        *c.entry((k, p)).or_insert(0) += 1;
+    }
+    c
+}
+
+#[test]
+fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |n: &str| dir.path().join(n).display().to_string();
+    let cyl = cli::bundled("cylinder.msh");
+    let json = cli::ok(&cli::smartmesh(
+        &[
+            "layer",
+            &cyl,
+            "--curves",
+            "Cylinder,3",
+            "--first-height",
+            "0.002",
+            "--ratio",
+            "1.2",
+            "--layers",
+            "6",
+            "-o",
+            &out("skin.msh"),
+            "--json",
+            "--tag",
+            "77",
+        ],
+        None,
+    ));
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["report"]["layers"], 6);
+    let quads = v["report"]["quads"].as_u64().unwrap() as usize;
+    assert!(quads > 36 * 6);
+    assert_eq!(v["quality"]["layers"].as_array().unwrap().len(), 6);
+    let skin = smartmesh::formats::read_path(std::path::Path::new(&out("skin.msh")), None).unwrap();
+    assert_eq!(skin.num_cells_of(CellKind::Quad), quads);
+    assert!(check_mesh(&skin).is_valid());
+    assert!(skin
+        .blocks
+        .iter()
+        .filter(|b| b.kind == CellKind::Quad)
+        .all(|b| b.geometrical.iter().all(|&g| g == 77)));
+    let want = census(&skin);
+    // Every format that holds quads reads back the same cells and tags.
+    for ext in ["vtk", "vtu", "mesh", "obj"] {
+        let f = out(&format!("skin.{ext}"));
+        cli::ok(&cli::smartmesh(&["convert", &out("skin.msh"), &f], None));
+        let back = smartmesh::formats::read_path(std::path::Path::new(&f), None).unwrap();
+        let got = census(&back);
+        for kind in [CellKind::Quad, CellKind::Triangle] {
+            let of = |c: &BTreeMap<(CellKind, i32), usize>| -> usize {
+                c.iter().filter(|e| e.0 .0 == kind).map(|e| e.1).sum()
+            };
+            assert_eq!(of(&got), of(&want), "{ext}: {kind:?}");
+        }
+        if ext != "obj" {
+            assert_eq!(
+                got.get(&(CellKind::Quad, 10)),
+                want.get(&(CellKind::Quad, 10)),
+                "{ext}: quads keep the face tag"
+            );
+        }
+    }
+    // Triangle splits them, saying so; `convert --split-quads` does it for any format.
+    let o = cli::smartmesh(&["convert", &out("skin.msh"), &out("skin.node")], None);
+    cli::ok(&o);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("quad cells: written as"));
+    let node =
+        smartmesh::formats::read_path(std::path::Path::new(&out("skin.node")), None).unwrap();
+    assert_eq!(
+        node.num_cells_of(CellKind::Triangle),
+        skin.num_cells_of(CellKind::Triangle) + 2 * quads
+    );
+    cli::ok(&cli::smartmesh(
+        &["convert", &out("skin.msh"), &out("split.vtu"), "--split-quads"],
+        None,
+    ));
+    let split =
+        smartmesh::formats::read_path(std::path::Path::new(&out("split.vtu")), None).unwrap();
+    assert_eq!(split.num_cells_of(CellKind::Quad), 0);
+    assert!(check_mesh(&split).is_valid());
+    assert!((check_mesh(&split).area - check_mesh(&skin).area).abs() < 1e-12);
+
+    // Gmsh, meshio and VTK read the files with the same cells.
+    let Some(py) = common::python_with(&["gmsh", "meshio", "vtk"]) else { return };
+    let script = r#"
+import sys, json, gmsh, meshio, vtk
+res = {}
+for f in sys.argv[1:]:
+    m = meshio.read(f)
+    res["meshio " + f.rsplit(".", 1)[1]] = {b.type: 0 for b in m.cells}
+    for b in m.cells:
+        res["meshio " + f.rsplit(".", 1)[1]][b.type] += len(b.data)
+gmsh.initialize()
+gmsh.option.setNumber("General.Terminal", 0)
+gmsh.open(sys.argv[1])
+c = {}
+for d, t in gmsh.model.getEntities(2):
+    types, etags, _ = gmsh.model.mesh.getElements(d, t)
+    for ty, e in zip(types, etags):
+        c[str(int(ty))] = c.get(str(int(ty)), 0) + len(e)
+res["gmsh"] = c
+for f in sys.argv[2:4]:
+    r = vtk.vtkXMLUnstructuredGridReader() if f.endswith("vtu") else vtk.vtkUnstructuredGridReader()
+    r.SetFileName(f)
+    r.Update()
+    g = r.GetOutput()
+    n = {}
+    for i in range(g.GetNumberOfCells()):
+        t = str(g.GetCellType(i))
+        n[t] = n.get(t, 0) + 1
+    res["vtk " + f.rsplit(".", 1)[1]] = n
+print(json.dumps(res))
+"#;
+    let files = [out("skin.msh"), out("skin.vtu"), out("skin.vtk"), out("skin.mesh")];
+    let args: Vec<&str> = files.iter().map(String::as_str).collect();
+    let text = common::run_python(&py, script, &args);
+    let r: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    let tris = skin.num_cells_of(CellKind::Triangle) as u64;
+    assert_eq!(r["gmsh"]["3"], quads as u64, "{r}");
+    assert_eq!(r["gmsh"]["2"], tris, "{r}");
+    for k in ["vtk vtu", "vtk vtk"] {
+        assert_eq!(r[k]["9"], quads as u64, "{k}: {r}");
+        assert_eq!(r[k]["5"], tris, "{k}: {r}");
+    }
+    for k in ["meshio msh", "meshio vtu", "meshio vtk", "meshio mesh"] {
+        assert_eq!(r[k]["quad"], quads as u64, "{k}: {r}");
+        assert_eq!(r[k]["triangle"], tris, "{k}: {r}");
+    }
+}
+
+#[test]
+fn cli_refuses_bad_layer_requests_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("x.msh").display().to_string();
+    let cyl = cli::bundled("cylinder.msh");
+    let e = cli::bad(&cli::smartmesh(
+        &["layer", &cyl, "--curves", "Nope", "--first-height", "0.01", "--layers", "3", "-o", &o],
+        None,
+    ));
+    assert!(e.contains("no curve `Nope`") && e.contains("Cylinder"), "{e}");
+    let e = cli::bad(&cli::smartmesh(
+        &["layer", &cyl, "--curves", "4", "--ratio", "1.1", "-o", &o],
+        None,
+    ));
+    assert!(e.contains("first height"), "{e}");
+    let e = cli::bad(&cli::smartmesh(
+        &["layer", &cyl, "--curves", "4", "--first-height=-1", "--layers", "3", "-o", &o],
+        None,
+    ));
+    assert!(e.contains("positive"), "{e}");
+    assert!(!std::path::Path::new(&o).exists(), "no half-written output");
+    // y+ gives the first height: Re 5000, L 1, y+ 1 -> 2.9185e-3.
+    let json = cli::ok(&cli::smartmesh(
+        &[
+            "layer",
+            &cyl,
+            "--curves",
+            "4",
+            "--y-plus",
+            "1",
+            "--reynolds",
+            "5000",
+            "--ref-length",
+            "1",
+            "--layers",
+            "4",
+            "-o",
+            &o,
+            "--json",
+            "--split",
+        ],
+        None,
+    ));
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let h0 = v["growth"][0][1]["first_height"].as_f64().unwrap();
+    assert!((h0 - 2.9185e-3).abs() < 1e-6, "{h0}");
+    assert_eq!(v["report"]["quads"], 0);
+    assert_eq!(v["report"]["skin_triangles"], 36 * 4 * 2);
 }

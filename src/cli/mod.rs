@@ -4,6 +4,7 @@ mod adapt;
 mod convert;
 mod error;
 mod info;
+mod layer;
 mod mesh;
 mod output;
 mod recipe;
@@ -51,6 +52,7 @@ enum Command {
     Mesh(mesh::MeshArgs),
     Remesh(remesh::RemeshArgs),
     Report(report::ReportArgs),
+    Layer(layer::LayerArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -88,6 +90,7 @@ pub fn main() -> ExitCode {
         Command::Mesh(a) => mesh::run(a),
         Command::Remesh(a) => remesh::run(a),
         Command::Report(a) => report::run(a),
+        Command::Layer(a) => layer::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),

@@ -309,22 +309,6 @@ fn assemble(
             if c.len() == 3 {
                 tris.push(([c[0], c[1], c[2]], tags));
                 skin_triangles += 1;
-            } else if opts.split {
-                let pts = |i: usize| sk.pts[c[i]];
-                // The diagonal whose two triangles have the better worst shape.
-                let q = |a: usize, b: usize, d: usize| {
-                    crate::quality::triangle_quality(pts(a), pts(b), pts(d))
-                };
-                let first = q(0, 1, 2).min(q(0, 2, 3));
-                let second = q(0, 1, 3).min(q(1, 2, 3));
-                if first >= second {
-                    tris.push(([c[0], c[1], c[2]], tags));
-                    tris.push(([c[0], c[2], c[3]], tags));
-                } else {
-                    tris.push(([c[0], c[1], c[3]], tags));
-                    tris.push(([c[1], c[2], c[3]], tags));
-                }
-                skin_triangles += 2;
             } else {
                 quads.push(([c[0], c[1], c[2], c[3]], tags));
                 nquads += 1;
@@ -432,6 +416,11 @@ fn assemble(
     }
     out.holes = mesh.holes.clone();
     out.regions = mesh.regions.clone();
+    if opts.split {
+        let n = out.split_quads();
+        skin_triangles += 2 * n;
+        nquads = 0;
+    }
     let report = LayerReport {
         wall_vertices: sk.wall.iter().filter(|&&w| w).count(),
         columns: sk.columns.len(),
@@ -445,41 +434,4 @@ fn assemble(
     };
     let _ = cell_tag;
     (out, report)
-}
-
-/// Splits every quad of `mesh` into two triangles (the diagonal giving the better worst
-/// triangle), keeping tags; returns how many quads were split. Cell data is dropped when
-/// there were quads (the cell count changes).
-pub fn split_quads(mesh: &mut TaggedMesh) -> usize {
-    let mut count = 0;
-    for b in &mut mesh.blocks {
-        if b.kind != CellKind::Quad {
-            continue;
-        }
-        let mut t = smartmesh_formats::CellBlock::new(CellKind::Triangle);
-        for (i, c) in b.cells().enumerate() {
-            let p = |k: usize| {
-                let q = mesh.points[c[k] as usize];
-                [q[0], q[1]]
-            };
-            let q =
-                |a: usize, b: usize, d: usize| crate::quality::triangle_quality(p(a), p(b), p(d));
-            let (ph, ge) = (b.physical[i], b.geometrical[i]);
-            if q(0, 1, 2).min(q(0, 2, 3)) >= q(0, 1, 3).min(q(1, 2, 3)) {
-                t.push(&[c[0], c[1], c[2]], ph, ge);
-                t.push(&[c[0], c[2], c[3]], ph, ge);
-            } else {
-                t.push(&[c[0], c[1], c[3]], ph, ge);
-                t.push(&[c[1], c[2], c[3]], ph, ge);
-            }
-            count += 1;
-        }
-        *b = t;
-    }
-    if count > 0 {
-        mesh.cell_data.clear();
-        mesh.cell_sets.clear();
-        mesh.merge_adjacent_blocks();
-    }
-    count
 }
