@@ -332,6 +332,15 @@ fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
         .iter()
         .filter(|b| b.kind == CellKind::Quad)
         .all(|b| b.geometrical.iter().all(|&g| g == 77)));
+    // `info` reports the layers and the validity.
+    let info = cli::ok(&cli::smartmesh(&["info", &out("skin.msh"), "--json"], None));
+    let i: serde_json::Value = serde_json::from_str(&info).unwrap();
+    assert_eq!(i["quads"]["quality"]["layers"].as_array().unwrap().len(), 6);
+    assert_eq!(i["quads"]["validity"]["overlaps"].as_array().unwrap().len(), 0);
+    let h1 = i["quads"]["quality"]["layers"][1]["height"][1].as_f64().unwrap();
+    assert!((h1 - 0.0024).abs() < 1e-4, "{h1}");
+    let text = cli::ok(&cli::smartmesh(&["info", &out("skin.msh")], None));
+    assert!(text.contains("validity    valid") && text.contains("layer 6"), "{text}");
     let want = census(&skin);
     // Every format that holds quads reads back the same cells and tags.
     for ext in ["vtk", "vtu", "mesh", "obj"] {
