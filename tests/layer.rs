@@ -382,6 +382,38 @@ fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
     assert!(check_mesh(&split).is_valid());
     assert!((check_mesh(&split).area - check_mesh(&skin).area).abs() < 1e-12);
 
+    // The native remesher refuses the quads unless asked to split them.
+    cli::ok(&cli::smartmesh(
+        &[
+            "size",
+            &out("skin.msh"),
+            "--recipe",
+            &cli::bundled("cylinder.toml"),
+            "-o",
+            &out("f.vtu"),
+        ],
+        None,
+    ));
+    let e = cli::bad(&cli::smartmesh(
+        &["remesh", &out("skin.msh"), "--metric", &out("f.vtu"), "-o", &out("rm.msh")],
+        None,
+    ));
+    assert!(e.contains("--split-quads"), "{e}");
+    cli::ok(&cli::smartmesh(
+        &[
+            "remesh",
+            &out("skin.msh"),
+            "--metric",
+            &out("f.vtu"),
+            "-o",
+            &out("rm.msh"),
+            "--split-quads",
+        ],
+        None,
+    ));
+    let rm = smartmesh::formats::read_path(std::path::Path::new(&out("rm.msh")), None).unwrap();
+    assert!(check_mesh(&rm).is_valid());
+
     // Gmsh, meshio and VTK read the files with the same cells.
     let Some(py) = common::python_with(&["gmsh", "meshio", "vtk"]) else { return };
     let script = r#"
