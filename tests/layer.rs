@@ -511,3 +511,87 @@ fn cli_refuses_bad_layer_requests_with_exit_2() {
     assert_eq!(v["report"]["quads"], 0);
     assert_eq!(v["report"]["skin_triangles"], 36 * 4 * 2);
 }
+
+const LAYER_SECTION: &str = r#"
+[layer]
+curves = ["Cylinder", 3]
+first_height = 0.002
+ratio = 1.2
+layers = 6
+tag = 77
+per_curve = [{ curve = 3, first_height = 0.004 }]
+"#;
+
+#[test]
+fn recipe_layer_section_converts_between_the_three_syntaxes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |n: &str| dir.path().join(n).display().to_string();
+    let base = std::fs::read_to_string(cli::bundled("cylinder.toml")).unwrap();
+    std::fs::write(out("r.toml"), format!("{base}{LAYER_SECTION}")).unwrap();
+    cli::ok(&cli::smartmesh(&["recipe", "convert", &out("r.toml"), &out("r.cfg")], None));
+    cli::ok(&cli::smartmesh(&["recipe", "convert", &out("r.cfg"), &out("r.json")], None));
+    cli::ok(&cli::smartmesh(&["recipe", "convert", &out("r.json"), &out("back.toml")], None));
+    let read = |f: &str| smartmesh::Recipe::from_path(std::path::Path::new(&out(f))).unwrap();
+    let first = read("r.toml");
+    let l = first.layer.as_ref().expect("the section is read");
+    assert_eq!(l.layers, Some(6));
+    assert_eq!(l.per_curve.len(), 1);
+    for f in ["r.cfg", "r.json", "back.toml"] {
+        assert_eq!(read(f), first, "{f}");
+    }
+    let cfg = std::fs::read_to_string(out("r.cfg")).unwrap();
+    assert!(cfg.contains("LAYER =") && cfg.contains("PER_CURVE"), "{cfg}");
+    // A section that cannot fix the heights is refused with the line of LAYER.
+    std::fs::write(
+        out("bad.cfg"),
+        "HMAX = 0.1;\nLAYER = { CURVES = [4]; FIRST_HEIGHT = 0.01; };\n",
+    )
+    .unwrap();
+    let e =
+        cli::bad(&cli::smartmesh(&["recipe", "convert", &out("bad.cfg"), &out("x.toml")], None));
+    assert!(e.contains("layer count") && e.contains("bad.cfg:2"), "{e}");
+}
+
+#[test]
+fn adapt_inserts_the_recipe_skin_after_the_loop() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |n: &str| dir.path().join(n).display().to_string();
+    let base = std::fs::read_to_string(cli::bundled("cylinder.toml")).unwrap();
+    std::fs::write(out("r.toml"), format!("{base}{LAYER_SECTION}")).unwrap();
+    let cyl = cli::bundled("cylinder.msh");
+    let args = ["adapt", &cyl, "--recipe", &out("r.toml"), "--max-iterations", "2", "-o"];
+    let mut a: Vec<&str> = args.to_vec();
+    let skin_path = out("skin.msh");
+    a.push(&skin_path);
+    cli::ok(&cli::smartmesh(&a, None));
+    let skin = smartmesh::formats::read_path(std::path::Path::new(&skin_path), None).unwrap();
+    assert!(check_mesh(&skin).is_valid());
+    let q = quad_quality(&skin).expect("the skin is there");
+    assert_eq!(q.layers.len(), 6);
+    // Each curve its own first height.
+    assert!(
+        (q.layers[0].height[0] - 0.002).abs() < 1e-9
+            && (q.layers[0].height[2] - 0.004).abs() < 1e-9
+    );
+    let plain_path = out("plain.msh");
+    let mut a: Vec<&str> = args.to_vec();
+    a.push(&plain_path);
+    a.push("--no-layer");
+    cli::ok(&cli::smartmesh(&a, None));
+    let plain = smartmesh::formats::read_path(std::path::Path::new(&plain_path), None).unwrap();
+    assert_eq!(plain.num_cells_of(CellKind::Quad), 0);
+    // --layer insists on a section.
+    let e = cli::bad(&cli::smartmesh(
+        &[
+            "adapt",
+            &cyl,
+            "--recipe",
+            &cli::bundled("cylinder.toml"),
+            "--layer",
+            "-o",
+            &out("x.msh"),
+        ],
+        None,
+    ));
+    assert!(e.contains("no LAYER section"), "{e}");
+}
