@@ -595,3 +595,29 @@ fn adapt_inserts_the_recipe_skin_after_the_loop() {
     ));
     assert!(e.contains("no LAYER section"), "{e}");
 }
+
+#[test]
+fn concave_curved_wall_keeps_every_cell_positive() {
+    // The inside of a disk: columns converge. A moderate skin, then one asking for most
+    // of the radius (thinned where the fronts would cross).
+    let n = 64;
+    let pts: Vec<[f64; 2]> = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            [a.cos(), a.sin()]
+        })
+        .collect();
+    let segs: Vec<([usize; 2], i32)> = (0..n).map(|i| ([i, (i + 1) % n], 1)).collect();
+    let input = mesh_of(&pts, &segs, 0.12);
+    for (t, thinned) in [(0.3, false), (0.9, true)] {
+        let g = Growth::solve(Some(0.01), None, Some(8), Some(t)).unwrap();
+        let out = layered(&input, &opts(&["1"], g), false);
+        assert!((area(&out.mesh) - area(&input)).abs() < 1e-10);
+        let q = quad_quality(&out.mesh).unwrap();
+        assert!(q.min_scaled_jacobian > 0.5, "{t}: {}", q.min_scaled_jacobian);
+        assert_eq!(out.report.thinned.is_empty(), !thinned, "{t}: {:?}", out.report.thinned.len());
+        for th in &out.report.thinned {
+            assert!(th.thickness <= 0.4 * 2.0 + 1e-9);
+        }
+    }
+}
