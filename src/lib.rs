@@ -24,6 +24,8 @@
 //!   (`smartmesh batch`);
 //! - [`remesh`]: the native anisotropic remesher (split, collapse, swap, smooth in the
 //!   metric; boundaries, interfaces, corners and tags kept);
+//! - [`layer`]: the structured boundary-layer skin (thesis 5.4.2): quads along chosen
+//!   curves, the triangles pushed away, and the validity and quality of mixed meshes;
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
 //! - [`metric_field`]: a metric field on a mesh, read from point data, a `.sol`, a `.pos`
 //!   or a mesh file, checked, and interpolated elsewhere;
@@ -42,6 +44,7 @@ pub mod conformity;
 pub mod export;
 pub mod geometry;
 pub mod history;
+pub mod layer;
 pub mod mesh_graph;
 pub mod mesher;
 pub mod metric;

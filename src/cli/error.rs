@@ -153,6 +153,9 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
     if let Some(e) = e.downcast_ref::<RecipeError>() {
         return Some(if e.is_input_error() { Error } else { Failure });
     }
+    if let Some(e) = e.downcast_ref::<smartmesh::layer::LayerError>() {
+        return Some(if e.is_input_error() { Error } else { Failure });
+    }
     if let Some(e) = e.downcast_ref::<MeshError>() {
         return Some(if e.is_input_error() { Error } else { Failure });
     }

@@ -5,6 +5,7 @@ mod batch;
 mod convert;
 mod error;
 mod info;
+mod layer;
 mod mesh;
 mod output;
 mod recipe;
@@ -54,6 +55,7 @@ enum Command {
     Mesh(mesh::MeshArgs),
     Remesh(remesh::RemeshArgs),
     Report(report::ReportArgs),
+    Layer(layer::LayerArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -92,6 +94,7 @@ pub fn main() -> ExitCode {
         Command::Mesh(a) => mesh::run(a),
         Command::Remesh(a) => remesh::run(a),
         Command::Report(a) => report::run(a),
+        Command::Layer(a) => layer::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),

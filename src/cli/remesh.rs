@@ -53,6 +53,10 @@ pub struct RemeshArgs {
     /// --measure.
     #[arg(long, short = 'o', required_unless_present = "measure")]
     output: Option<PathBuf>,
+    /// Split every quad of MESH into two triangles first (a mesh with a skin of quads is
+    /// otherwise refused).
+    #[arg(long)]
+    split_quads: bool,
     /// Only measure MESH against the metric (share of edges in [1/√2, √2], metric quality).
     #[arg(long)]
     measure: bool,
@@ -137,7 +141,11 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         _ => None,
     };
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mesh = super::read_mesh(&args.mesh, from)?;
+    let mut mesh = super::read_mesh(&args.mesh, from)?;
+    if args.split_quads {
+        let n = mesh.split_quads();
+        ui::note(&format!("split {n} quads into {} triangles", 2 * n));
+    }
     let mut metric = match &args.background {
         Some(b) => {
             let (bmesh, bfield) = MetricField::read_background(b).map_err(metric_error)?;

@@ -724,6 +724,9 @@ pub struct Recipe {
     /// The algorithms, in the order they run.
     #[serde(default)]
     pub algorithms: Vec<AlgorithmSpec>,
+    /// The boundary-layer skin `adapt` inserts after the loop ([`super::LayerSpec`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<super::LayerSpec>,
     #[serde(skip)]
     pub(crate) places: Places,
 }
@@ -735,6 +738,7 @@ impl PartialEq for Recipe {
             && self.polylines == other.polylines
             && self.functions == other.functions
             && self.algorithms == other.algorithms
+            && self.layer == other.layer
     }
 }
 
@@ -823,6 +827,11 @@ impl Recipe {
 
     /// Checks names, kinds and ranges.
     pub fn validate(&self) -> Result<(), RecipeError> {
+        if let Some(l) = &self.layer {
+            if let Err(e) = l.options() {
+                return Err(self.error_at(RecipeErrorKind::Invalid(e.to_string()), "layer"));
+            }
+        }
         let g = &self.global;
         for (field, value) in [("hmin", g.h_min), ("hmax", g.h_max)] {
             if let Some(v) = value {
