@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use smartmesh::export::{export_metric, MetricTarget};
 use smartmesh::formats::{read_path, Format};
+use smartmesh::metric_field::{MetricField, MetricTarget};
 use smartmesh::sizing::{size_mesh, SizeMeshError, StepEvent, StepReport};
 
 use super::output::{check_output_dir, is_stdio, label, shown, SizeControls};
@@ -154,7 +154,8 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     }
 
     let opts = args.output_format.write_options(&target.path);
-    let report = export_metric(&target.path, &mesh, &field.tensors, target.kind, &opts)
+    let report = MetricField::from_sizes(&field.tensors, "the recipe's field")
+        .write(&target.path, &mesh, target.kind, &opts)
         .map_err(|e| label(e, &args.output))?;
     ui::write_notes(&args.output.display().to_string(), &report.dropped);
     if target._dir.is_some() {
