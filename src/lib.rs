@@ -12,8 +12,6 @@
 //!   closest points;
 //! - [`recipe`]: sizing recipes (libconfig as in the thesis, TOML, JSON) into one
 //!   validated model, resolved against a mesh into a sizing plan;
-//! - [`export`]: a size field written as a metric for MMG (.sol), Gmsh (.msh, .pos) and
-//!   VTK/ParaView (.vtu, .vtk);
 //! - [`mesher`]: the starting mesh, a constrained Delaunay triangulation with quality
 //!   refinement of a planar straight-line graph (Triangle `.poly` or a mesh's lines);
 //! - [`conformity`]: metric edge lengths and metric quality of a mesh against a field;
@@ -28,7 +26,8 @@
 //!   curves, the triangles pushed away, and the validity and quality of mixed meshes;
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
 //! - [`metric_field`]: a metric field on a mesh, read from point data, a `.sol`, a `.pos`
-//!   or a mesh file, checked, and interpolated elsewhere;
+//!   or a mesh file, checked, interpolated elsewhere, and written for MMG (.sol), Gmsh
+//!   (.msh, .pos) and VTK/ParaView (.vtu, .vtk);
 //! - [`report`]: pictures (SVG, PNG) of a mesh, its metric, conformity and history;
 //! - [`solution`]: metrics from a computed scalar field (Hessian recovery, Lp metric);
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
@@ -41,7 +40,6 @@ pub mod adapt;
 pub mod adapters;
 pub mod batch;
 pub mod conformity;
-pub mod export;
 pub mod geometry;
 pub mod history;
 pub mod layer;

@@ -15,8 +15,8 @@ use common::{python_with, run_python};
 #[path = "support/cli.rs"]
 #[allow(dead_code)]
 mod support;
-use smartmesh::export::{export_metric, metric_arrays, MetricTarget};
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOptions};
+use smartmesh::metric_field::{MetricField, MetricTarget};
 use smartmesh::SizeTensor;
 
 /// A structured triangulation of the unit square, `n` cells a side, face tag 1 and the
@@ -65,7 +65,8 @@ fn wake_field(mesh: &TaggedMesh) -> Vec<SizeTensor> {
 
 fn export(mesh: &TaggedMesh, path: &Path) {
     let target = MetricTarget::from_path(path).unwrap();
-    export_metric(path, mesh, &wake_field(mesh), target, &WriteOptions::default())
+    MetricField::from_sizes(&wake_field(mesh), "the wake")
+        .write(path, mesh, target, &WriteOptions::default())
         .unwrap_or_else(|e| panic!("{e}"));
 }
 
@@ -114,7 +115,7 @@ fn vtk_reads_our_tensor_arrays() {
     let mesh = unit_square(8);
     let dir = tempfile::tempdir().unwrap();
     let field = wake_field(&mesh);
-    let arrays = metric_arrays(&field);
+    let arrays = MetricField::from_sizes(&field, "the wake").arrays();
     for name in ["m.vtu", "m.vtk"] {
         let path = dir.path().join(name);
         export(&mesh, &path);
@@ -255,14 +256,9 @@ fn wrong_vertex_count_and_unknown_target_are_errors() {
     let mesh = unit_square(2);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("x.sol");
-    let e = export_metric(
-        &path,
-        &mesh,
-        &[SizeTensor::isotropic(1.0)],
-        MetricTarget::Sol { binary: false },
-        &WriteOptions::default(),
-    )
-    .unwrap_err();
+    let e = MetricField::from_sizes(&[SizeTensor::isotropic(1.0)], "one tensor")
+        .write(&path, &mesh, MetricTarget::Sol { binary: false }, &WriteOptions::default())
+        .unwrap_err();
     assert!(e.to_string().contains("1 size tensors for 9 mesh vertices"), "{e}");
     assert!(!path.exists());
     assert_eq!(MetricTarget::from_path(Path::new("x.obj")), None);

@@ -10,8 +10,9 @@ use std::path::Path;
 
 use smartmesh::conformity::{metric_field, Conformity};
 use smartmesh::formats::{sym2_to_tensor9, CellBlock, CellKind, DataArray, TaggedMesh};
+use smartmesh::metric::{exp_sym, log_spd};
 use smartmesh::metric::{SizeTensor, Sym2};
-use smartmesh::remesh::{exp_sym, log_spd, remesh, BoundaryMode, RemeshOptions, Remeshed};
+use smartmesh::remesh::{remesh, BoundaryMode, RemeshOptions, Remeshed};
 
 const WALL: i32 = 1; // y = 0
 const RIGHT: i32 = 2;

@@ -35,6 +35,7 @@ use crate::adapters::{Adapter, AdapterError};
 use crate::conformity::Conformity;
 use crate::history::{History, IterationRecord, PhaseTimes, RemeshingRecord};
 use crate::metric::Sym2;
+use crate::metric_field::MetricField;
 use crate::recipe::Recipe;
 use crate::remesh::estimate::{exceeds, format_count};
 use crate::remesh::{expected_vertices, DEFAULT_MAX_VERTICES};
@@ -220,7 +221,8 @@ fn measure(
     // The result carries the recipe's field on it (`metric`, `size_tensor`, `h1` …, as
     // `size` writes them), so that `report`, `info --metric` and ParaView read one file.
     let mut mesh = mesh;
-    mesh.point_data.extend(crate::export::metric_arrays(&sizing.field.tensors));
+    mesh.point_data
+        .extend(MetricField::from_sizes(&sizing.field.tensors, "the recipe's field").arrays());
     observer.phase(iteration, Phase::Measure);
     let t = Instant::now();
     let c = Conformity::of_mesh(&mesh, &metric).ok_or((Phase::Measure, PhaseError::NoTriangle))?;

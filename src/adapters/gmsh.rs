@@ -27,13 +27,14 @@
 
 use std::path::Path;
 
-use smartmesh_formats::{read_path, CellKind, DataArray, Format, TaggedMesh, WriteOptions};
+use smartmesh_formats::{read_path, CellKind, Format, TaggedMesh, WriteOptions};
 
 use super::prepare::prepare;
 use super::restore::{attach_names, ensure_tags_kept};
 use super::tool::{find_program, quote, run};
 use super::{Adapted, Adapter, AdapterError, AdapterOptions};
 use crate::metric::Sym2;
+use crate::metric_field::MetricField;
 use crate::topology::Topology;
 
 /// The program looked up on `PATH`.
@@ -103,16 +104,8 @@ impl Adapter for GmshAdapter {
             })?;
         // zz = the larger in-plane eigenvalue (1/h_min²), as `smartmesh size` writes views:
         // SPD in 3D, and never a size larger than the in-plane ones.
-        let values: Vec<f64> = prepared
-            .metric(metric)
-            .iter()
-            .flat_map(|m| m.to_row_major_3x3(m.eigen().values[0]))
-            .collect();
-        let pos = crate::export::pos::write_tensor_view(
-            &prepared.mesh,
-            &DataArray::new(9, values),
-            crate::metric_field::METRIC,
-        )?;
+        let pos =
+            MetricField::new(prepared.metric(metric), "the metric").pos_bytes(&prepared.mesh)?;
         let msh =
             smartmesh_formats::write_bytes(Format::Gmsh, &prepared.mesh, &WriteOptions::default())?;
         write(dir.path(), "in.msh", &msh.main)?;

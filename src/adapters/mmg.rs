@@ -23,15 +23,14 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use smartmesh_formats::{
-    read_path, CellBlock, CellKind, DataArray, Format, TaggedMesh, WriteOptions,
-};
+use smartmesh_formats::{read_path, CellBlock, CellKind, Format, TaggedMesh, WriteOptions};
 
 use super::prepare::{prepare, Prepared};
 use super::restore::{attach_names, ensure_tags_kept, place_point_cells};
 use super::tool::{find_program, run};
 use super::{Adapted, Adapter, AdapterError, AdapterOptions};
 use crate::metric::Sym2;
+use crate::metric_field::MetricField;
 use crate::topology::Topology;
 
 /// The program looked up on `PATH`.
@@ -228,13 +227,7 @@ fn write_input(
     let required = required_vertices(&prepared.mesh);
     medit.point_sets.insert("Corners".into(), required.clone());
     medit.point_sets.insert("RequiredVertices".into(), required);
-    let values: Vec<f64> =
-        prepared.metric(metric).iter().flat_map(|m| m.to_row_major_3x3(1.0)).collect();
-    let sol = smartmesh_formats::medit::write_sol(
-        &[(crate::metric_field::METRIC, &DataArray::new(9, values))],
-        2,
-        false,
-    )?;
+    let sol = MetricField::new(prepared.metric(metric), "the metric").sol_bytes(false)?;
     let written = smartmesh_formats::write_bytes(
         Format::Medit,
         &medit,

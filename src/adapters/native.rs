@@ -41,7 +41,7 @@ impl Adapter for NativeAdapter {
         let mut out = remeshed.mesh;
         // The loop sizes each new mesh with the recipe; the interpolated field is not the
         // next iteration's metric, so it does not travel with the result.
-        out.point_data.remove(crate::export::METRIC);
+        out.point_data.remove(crate::metric_field::METRIC);
         ensure_tags_kept(self.name(), mesh, &out)?;
         Ok(Adapted { mesh: out, stats })
     }

@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use smartmesh::export::{export_metric, MetricTarget};
 use smartmesh::formats::Format;
+use smartmesh::metric_field::{MetricField, MetricTarget};
 use smartmesh::remesh::expected_vertices;
 use smartmesh::sizing::{size_mesh_with_steps, SizeMeshError, StepEvent, StepReport};
 use smartmesh::solution::input::{attach, field_name};
@@ -204,7 +204,8 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     }
 
     let opts = args.output_format.write_options(&target.path);
-    let report = export_metric(&target.path, &mesh, &field.tensors, target.kind, &opts)
+    let report = MetricField::from_sizes(&field.tensors, "the recipe's field")
+        .write(&target.path, &mesh, target.kind, &opts)
         .map_err(|e| label(e, &args.output))?;
     ui::write_notes(&args.output.display().to_string(), &report.dropped);
     if target._dir.is_some() {

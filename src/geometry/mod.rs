@@ -2,17 +2,20 @@
 //! segment with its foot point and parameter (thesis 4.3.6.3, "common methods"), the
 //! contact test between a segment and a mesh cell, a spatial index over a set of
 //! segments that answers exact closest-segment queries, and the clearances of a
-//! polyline source, which let most closest points be certified without a search.
+//! polyline source, which let most closest points be certified without a search; and
+//! point location in a triangulation (the triangle holding a point, or the nearest).
 //!
 //! Everything here works on plain `[f64; 2]` points and knows nothing of meshes or tags.
 
 mod chain_tree;
 pub mod clearance;
+pub mod locate;
 pub mod segment;
 pub mod segment_index;
 #[cfg(test)]
 pub(crate) mod test_support;
 
 pub use clearance::Clearance;
+pub use locate::TriangleLocator;
 pub use segment::{Point2, Projection, SegmentGeom};
 pub use segment_index::{Nearest, QueryStats, SegmentIndex};

@@ -18,16 +18,28 @@
 //! At positions that are not the field's vertices ([`MetricField::interpolate`]) the field
 //! is the Log-Euclidean barycentric mean of the corners of the triangle that holds the
 //! position, or, outside every triangle, of the nearest triangle at its closest point: the
-//! interpolation the remesher uses ([`crate::metric::log_euclidean`]).
+//! interpolation the remesher uses ([`interpolate`]).
 //!
-//! Writing a field is [`crate::export`]'s job (one writer per target file kind).
+//! Where a field goes ([`MetricField::write`], [`write`]): a `.sol`/`.solb`, a `.pos`
+//! view, or a mesh file with the field as point data; the remesher's output and the
+//! files the adapters hand to MMG and Gmsh are written by the same functions.
+//!
+//! Who knows what: this module reads and writes files through the formats crate, locates
+//! points through [`crate::geometry::TriangleLocator`] and takes the mean from
+//! [`crate::metric`]; it knows nothing of the remesher, which uses its [`Interpolator`].
 
+pub mod interpolate;
 pub mod pos_view;
+pub mod pos_write;
+pub mod write;
+
+pub use interpolate::{InterpolationError, Interpolator};
+pub use write::{MetricTarget, Written};
 
 use std::path::Path;
 
 use crate::formats::{read_path, DataArray, Format, TaggedMesh};
-use crate::metric::Sym2;
+use crate::metric::{SizeTensor, Sym2};
 
 /// The name of the point-data array (and of the Gmsh view) that carries a metric, as
 /// every reader and writer of smartmesh names it.
@@ -37,6 +49,9 @@ pub const METRIC: &str = "metric";
 #[derive(Debug, Clone, PartialEq)]
 pub struct MetricField {
     tensors: Vec<Sym2>,
+    /// The size tensors the field was made from ([`MetricField::from_sizes`]), kept for
+    /// what is written beside the metric.
+    sizes: Option<Vec<SizeTensor>>,
     source: String,
 }
 
@@ -170,7 +185,7 @@ impl MetricField {
     /// A field from its tensors (one per vertex, each SPD) and a description of where it
     /// came from.
     pub fn new(tensors: Vec<Sym2>, source: impl Into<String>) -> MetricField {
-        MetricField { tensors, source: source.into() }
+        MetricField { tensors, sizes: None, source: source.into() }
     }
 
     /// The tensors, one per vertex.
@@ -201,7 +216,7 @@ impl MetricField {
             },
         })?;
         let tensors = validate(array, mesh, name)?;
-        Ok(MetricField { tensors, source: format!("`{name}`") })
+        Ok(MetricField { tensors, sizes: None, source: format!("`{name}`") })
     }
 
     /// The mesh's own [`METRIC`] array (`mesh` read from `mesh_path`).
@@ -209,7 +224,7 @@ impl MetricField {
         let path = mesh_path.display().to_string();
         let field = MetricField::from_point_data(mesh, METRIC)
             .map_err(|error| MetricError::Field { path: path.clone(), error })?;
-        Ok(MetricField { tensors: field.tensors, source: format!("`{METRIC}` of {path}") })
+        Ok(MetricField { source: format!("`{METRIC}` of {path}"), ..field })
     }
 
     /// The metric on `mesh` (read from `mesh_path`): from the file `metric_path` when
@@ -244,6 +259,7 @@ impl MetricField {
                 let tensors = view.at(&points);
                 Ok(MetricField {
                     tensors,
+                    sizes: None,
                     source: format!("view `{}` of {}", view.name(), path.display()),
                 })
             }
@@ -264,7 +280,7 @@ impl MetricField {
                 let view = pos_view::read_path(path)?;
                 let source = format!("view `{}` of {}", view.name(), path.display());
                 let (mesh, tensors) = view.into_mesh();
-                Ok((mesh, MetricField { tensors, source }))
+                Ok((mesh, MetricField { tensors, sizes: None, source }))
             }
             Kind::Sol => {
                 let mesh_path = ["mesh", "meshb"]
@@ -305,9 +321,9 @@ impl MetricField {
         &self,
         mesh: &TaggedMesh,
         points: &[[f64; 2]],
-    ) -> Result<MetricField, crate::remesh::RemeshError> {
-        let tensors = crate::remesh::interpolate_metric(mesh, &self.tensors, points)?;
-        Ok(MetricField { tensors, source: format!("{}, interpolated", self.source) })
+    ) -> Result<MetricField, InterpolationError> {
+        let tensors = interpolate::interpolate(mesh, &self.tensors, points)?;
+        Ok(MetricField { tensors, sizes: None, source: format!("{}, interpolated", self.source) })
     }
 }
 
@@ -412,7 +428,7 @@ fn read_sol(path: &Path, mesh: &TaggedMesh, mesh_path: &Path) -> Result<MetricFi
         });
     };
     let tensors = on_mesh(mesh, array, &shown)?;
-    Ok(MetricField { tensors, source: format!("`{METRIC}` of {shown}") })
+    Ok(MetricField { tensors, sizes: None, source: format!("`{METRIC}` of {shown}") })
 }
 
 /// The [`METRIC`] array of `other` (read from `other_path`) as a field on `mesh`'s
@@ -456,7 +472,7 @@ fn on_same_vertices(
         });
     }
     let tensors = on_mesh(mesh, array, &path)?;
-    Ok(MetricField { tensors, source: format!("`{METRIC}` of {path}") })
+    Ok(MetricField { tensors, sizes: None, source: format!("`{METRIC}` of {path}") })
 }
 
 #[cfg(test)]

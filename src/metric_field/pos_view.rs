@@ -76,7 +76,7 @@ impl View {
             let at: Vec<[f64; 2]> = missing.iter().map(|&i| points[i]).collect();
             // The view has one tensor per point and at least one triangle (`parse`
             // refuses it otherwise), the two things the interpolation can refuse.
-            if let Ok(values) = crate::remesh::interpolate_metric(&mesh, &self.tensors, &at) {
+            if let Ok(values) = super::interpolate::interpolate(&mesh, &self.tensors, &at) {
                 for (&i, m) in missing.iter().zip(values) {
                     out[i] = m;
                 }

@@ -13,10 +13,10 @@
 //! the edge and the original arc, and that region must not hold any other original
 //! boundary or interface segment.
 
-use super::background::log_euclidean;
 use super::options::BoundaryMode;
 use crate::geometry::segment::orient;
 use crate::geometry::{SegmentGeom, SegmentIndex};
+use crate::metric::log_euclidean;
 use crate::metric::Sym2;
 
 /// The tags of the line cells of a piece: `(physical, geometrical)`, or `None` when the

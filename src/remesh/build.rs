@@ -11,12 +11,12 @@
 
 use std::collections::HashMap;
 
-use super::background::log_spd;
 use super::boundary::{LineTags, Piece};
 use super::error::RemeshError;
 use super::options::RemeshOptions;
 use super::work::{key, orient, Role};
 use crate::formats::{CellKind, TaggedMesh};
+use crate::metric::log_spd;
 use crate::metric::Sym2;
 use crate::topology::Topology;
 

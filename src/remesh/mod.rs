@@ -29,10 +29,9 @@
 //! - every triangle keeps the face tags of the input triangle it came from, every
 //!   constrained edge its curve's line tags; vertex cells stay;
 //! - the metric at every new or moved vertex is interpolated from the *input* field
-//!   (`background`), Log-Euclidean, so it stays SPD and does not drift;
+//!   ([`crate::metric_field::Interpolator`]), Log-Euclidean, so it stays SPD and does not drift;
 //! - deterministic: single-threaded sweeps in index order, no hash-order iteration.
 
-mod background;
 pub mod boundary;
 mod build;
 mod collapse;
@@ -52,9 +51,9 @@ use std::time::Instant;
 use crate::conformity::Conformity;
 use crate::formats::TaggedMesh;
 use crate::metric::Sym2;
+use crate::metric_field::Interpolator;
 use crate::topology::Topology;
 
-pub use background::{exp_sym, log_spd};
 pub use error::RemeshError;
 pub use options::{BoundaryMode, RemeshOptions, DEFAULT_MAX_VERTICES};
 pub use stats::{PassStats, PhaseSeconds, RemeshCounts, RemeshStats};
@@ -84,30 +83,6 @@ pub enum RemeshEvent {
         /// Triangles now.
         triangles: usize,
     },
-}
-
-/// The metric of a background mesh (`background` with one tensor per point in
-/// `metric`) at `points`, by the interpolation the remesher uses: Log-Euclidean
-/// barycentric in the triangle holding the point, or at the closest point of the nearest
-/// triangle outside. Measures any mesh (ours, another tool's) against the same field.
-pub fn interpolate_metric(
-    background: &TaggedMesh,
-    metric: &[Sym2],
-    points: &[[f64; 2]],
-) -> Result<Vec<Sym2>, RemeshError> {
-    if metric.len() != background.points.len() {
-        return Err(RemeshError::MetricCount {
-            items: metric.len(),
-            vertices: background.points.len(),
-        });
-    }
-    let pts: Vec<[f64; 2]> = background.points.iter().map(|p| [p[0], p[1]]).collect();
-    let tris = triangles(background);
-    if tris.is_empty() {
-        return Err(RemeshError::NoTriangles);
-    }
-    let bg = background::Background::new(&pts, &tris, metric);
-    Ok(points.iter().map(|&p| bg.metric_at(p)).collect())
 }
 
 /// The triangle cells of `mesh`.
@@ -255,7 +230,7 @@ pub fn remesh_with_topology(
     let cap = opts
         .max_vertices
         .map_or(u32::MAX as usize / 2, |l| l.saturating_mul(2).min(u32::MAX as usize / 2));
-    let bg = background::Background::new(&st.pts, &input_tris, metric);
+    let bg = Interpolator::new(&st.pts, &input_tris, metric);
     let initial = if opts.measure { Conformity::of(&st.pts, &input_tris, metric) } else { None };
     drop(input_tris);
     let bd = boundary::Boundary::new(st.pieces);

@@ -2,12 +2,12 @@
 //! vertices keep their relative order, nodes no triangle used included), vertex cells of
 //! the input, line cells along every piece the input had line cells on (in curve order,
 //! with its tags), live triangles with their face tags, tag names and entities, and the
-//! point data `metric` (9 components, z entry the largest eigenvalue, as
-//! [`crate::export`] writes it).
+//! point data `metric` (written by [`MetricField::to_array`], as every metric is).
 
 use super::work::Work;
-use crate::formats::{sym2_to_tensor9, CellBlock, CellKind, DataArray, TaggedMesh};
+use crate::formats::{CellBlock, CellKind, TaggedMesh};
 use crate::metric::Sym2;
+use crate::metric_field::{MetricField, METRIC};
 
 /// The output mesh and its metric.
 pub fn assemble(
@@ -62,10 +62,7 @@ pub fn assemble(
         }
     }
     mesh.blocks.push(tb);
-    let mut values = Vec::with_capacity(metric.len() * 9);
-    for m in &metric {
-        values.extend_from_slice(&sym2_to_tensor9(m.a, m.b, m.c, m.eigen().values[0]));
-    }
-    mesh.point_data.insert(crate::metric_field::METRIC.into(), DataArray::new(9, values));
-    (mesh, metric)
+    let field = MetricField::new(metric, "the remeshed field");
+    mesh.point_data.insert(METRIC.into(), field.to_array());
+    (mesh, field.into_tensors())
 }

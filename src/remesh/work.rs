@@ -13,11 +13,11 @@
 //! depend on anything but the input. The constrained-edge map is only ever looked up,
 //! never iterated.
 
-use super::background::Background;
 use super::boundary::Boundary;
 use super::options::BoundaryMode;
 use crate::conformity::{metric_edge_length, quality_in_metric};
 use crate::metric::Sym2;
+use crate::metric_field::Interpolator;
 
 /// What a vertex may do.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,7 +95,7 @@ pub struct Work<'a> {
     /// it was last tried).
     active: Vec<bool>,
     /// The input field.
-    bg: &'a Background,
+    bg: &'a Interpolator,
     /// The input curves.
     bd: &'a Boundary,
     /// Where piece vertices are placed.
@@ -123,7 +123,7 @@ pub struct Parts {
 #[derive(Clone, Copy)]
 pub struct Context<'a> {
     /// The input field.
-    pub background: &'a Background,
+    pub background: &'a Interpolator,
     /// The input curves.
     pub boundary: &'a Boundary,
     /// Where piece vertices are placed.
@@ -233,7 +233,7 @@ impl<'a> Work<'a> {
 
     /// The input field.
     #[inline]
-    pub fn background(&self) -> &'a Background {
+    pub fn background(&self) -> &'a Interpolator {
         self.bg
     }
 

@@ -1,26 +1,23 @@
-//! The input metric field as a background: every new or moved vertex gets its metric by
-//! locating it in the *input* triangulation and taking the Log-Euclidean barycentric mean
-//! of the three corner metrics, exp(Σ λᵢ log Mᵢ). Interpolating from the input, never
-//! from values already interpolated, keeps the field from drifting over the passes; the
-//! Log-Euclidean mean keeps every tensor SPD and interpolates sizes geometrically
-//! (Arsigny et al. 2006; the one implementation is [`crate::metric::log_euclidean`]).
+//! Point location in a triangulation: the triangle that holds a point, with the point's
+//! barycentric weights, or, for a point outside every triangle, the nearest triangle and
+//! the weights of its closest point.
 //!
-//! Point location uses a uniform bucket grid over the triangles' boxes, written by hand
-//! because the crates that index triangles (rstar) are not among the project's
-//! dependencies and a grid sized to the triangle count answers in O(1) on the coarse
-//! background meshes a remesher receives. A point outside every triangle (a chord of a
-//! curved boundary cutting into a hole) takes the nearest triangle's metric at the
-//! closest point.
+//! A uniform bucket grid over the triangles' bounding boxes, about one cell per triangle
+//! (at most 4096 cells a side), in CSR form: a cell lists every triangle whose box
+//! touches it. A point inside the triangulation is answered from its own cell (the
+//! triangle it lies deepest in, so a point on a shared edge gets one answer); outside,
+//! rings of cells are searched outwards until the nearest triangle is certain (a ring
+//! r cells out is at least (r − 1)·cell away), ties going to the lower triangle index.
+//! Written by hand because a grid sized to the triangle count answers in O(1) on the
+//! coarse meshes it serves, and the crates that index triangles are not dependencies.
+//!
+//! Invariants: deterministic (no hashing, cells and triangles scanned in index order);
+//! weights sum to 1 and are all ≥ 0 for a returned closest point outside.
 
-use crate::metric::Sym2;
-// The Log-Euclidean mean is the metric module's; the remesher's other files reach it here.
-pub use crate::metric::{exp_sym, log_euclidean, log_spd};
-
-/// The input triangulation with the logarithm of its metric at every vertex.
-pub struct Background {
+/// Triangles (counter-clockwise, over their points) indexed for point location.
+pub struct TriangleLocator {
     points: Vec<[f64; 2]>,
     tris: Vec<[usize; 3]>,
-    logs: Vec<Sym2>,
     origin: [f64; 2],
     cell: f64,
     nx: usize,
@@ -30,10 +27,9 @@ pub struct Background {
     items: Vec<u32>,
 }
 
-impl Background {
-    /// Indexes `tris` (counter-clockwise) over `points` with metrics `metric`.
-    pub fn new(points: &[[f64; 2]], tris: &[[usize; 3]], metric: &[Sym2]) -> Background {
-        let logs = metric.iter().map(log_spd).collect();
+impl TriangleLocator {
+    /// Indexes `tris` (counter-clockwise) over `points`.
+    pub fn new(points: &[[f64; 2]], tris: &[[usize; 3]]) -> TriangleLocator {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for t in tris {
             for &v in t {
@@ -52,10 +48,9 @@ impl Background {
         let cell = ((w * h) / cells).sqrt().max(w.max(h) / 4096.0);
         let nx = ((w / cell).ceil() as usize).clamp(1, 4096);
         let ny = ((h / cell).ceil() as usize).clamp(1, 4096);
-        let mut bg = Background {
+        let mut loc = TriangleLocator {
             points: points.to_vec(),
             tris: tris.to_vec(),
-            logs,
             origin: lo,
             cell,
             nx,
@@ -65,7 +60,7 @@ impl Background {
         };
         let mut count = vec![0u32; nx * ny + 1];
         for t in tris {
-            let (x0, y0, x1, y1) = bg.cell_range(t);
+            let (x0, y0, x1, y1) = loc.cell_range(t);
             for j in y0..=y1 {
                 for i in x0..=x1 {
                     count[j * nx + i + 1] += 1;
@@ -78,7 +73,7 @@ impl Background {
         let mut fill = count.clone();
         let mut items = vec![0u32; count[nx * ny] as usize];
         for (ti, t) in tris.iter().enumerate() {
-            let (x0, y0, x1, y1) = bg.cell_range(t);
+            let (x0, y0, x1, y1) = loc.cell_range(t);
             for j in y0..=y1 {
                 for i in x0..=x1 {
                     let k = j * nx + i;
@@ -87,9 +82,19 @@ impl Background {
                 }
             }
         }
-        bg.start = count;
-        bg.items = items;
-        bg
+        loc.start = count;
+        loc.items = items;
+        loc
+    }
+
+    /// The triangles, as given.
+    pub fn triangles(&self) -> &[[usize; 3]] {
+        &self.tris
+    }
+
+    /// Whether there is no triangle to locate in.
+    pub fn is_empty(&self) -> bool {
+        self.tris.is_empty()
     }
 
     fn cell_of(&self, p: [f64; 2]) -> (usize, usize) {
@@ -117,7 +122,7 @@ impl Background {
     }
 
     /// The weights of the closest point of triangle `t` to `p`, and its squared distance.
-    fn closest(&self, t: usize, p: [f64; 2]) -> ([f64; 3], f64) {
+    pub fn closest(&self, t: usize, p: [f64; 2]) -> ([f64; 3], f64) {
         let l = self.barycentric(t, p);
         if l.iter().all(|&x| x >= 0.0) {
             return (l, 0.0);
@@ -147,6 +152,8 @@ impl Background {
 
     /// The triangle containing `p` (the one `p` is deepest in) or, outside the
     /// triangulation, the nearest one, with the weights of `p` (or of its closest point).
+    /// With no triangle at all: triangle 0 and weights (1, 0, 0), which callers check
+    /// with [`TriangleLocator::is_empty`] first.
     pub fn locate(&self, p: [f64; 2]) -> (usize, [f64; 3]) {
         let (ci, cj) = self.cell_of(p);
         let k = cj * self.nx + ci;
@@ -199,16 +206,6 @@ impl Background {
         }
         near.map(|(t, w, _)| (t, w)).unwrap_or((0, [1.0, 0.0, 0.0]))
     }
-
-    /// The metric of the input field at `p`.
-    pub fn metric_at(&self, p: [f64; 2]) -> Sym2 {
-        if self.tris.is_empty() {
-            return Sym2::IDENTITY;
-        }
-        let (t, w) = self.locate(p);
-        let v = self.tris[t];
-        log_euclidean(&w, &[&self.logs[v[0]], &self.logs[v[1]], &self.logs[v[2]]])
-    }
 }
 
 #[cfg(test)]
@@ -234,8 +231,7 @@ mod tests {
                 tris.push([v, v + n + 2, v + n + 1]);
             }
         }
-        let metric = vec![Sym2::IDENTITY; pts.len()];
-        let bg = Background::new(&pts, &tris, &metric);
+        let loc = TriangleLocator::new(&pts, &tris);
         let mut s = 12345u64;
         for _ in 0..2000 {
             s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -243,8 +239,8 @@ mod tests {
             s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             let y = (s >> 11) as f64 / (1u64 << 53) as f64 * 1.4 - 0.2;
             let p = [x, y];
-            let (t, _) = bg.locate(p);
-            let dist = |t: usize| bg.closest(t, p).1;
+            let (t, _) = loc.locate(p);
+            let dist = |t: usize| loc.closest(t, p).1;
             let best = (0..tris.len()).map(dist).fold(f64::INFINITY, f64::min);
             assert!(dist(t) <= best + 1e-15, "{p:?}: got {} vs {}", dist(t), best);
         }

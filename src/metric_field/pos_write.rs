@@ -1,5 +1,6 @@
-//! Gmsh's parsed post-processing format (`.pos`): one view of tensor records, the form
-//! `gmsh -bgm` and the Gmsh GUI read.
+//! A metric field written as Gmsh's parsed post-processing format (`.pos`): one view of
+//! tensor records, the form `gmsh -bgm` and the Gmsh GUI read ([`super::pos_view`] reads
+//! it back).
 //!
 //! Format (Gmsh reference manual, "Post-processing scripting / parsed format"): a view is
 //! `View "name" { ... };` holding one record per element, `TT(x1,y1,z1,x2,y2,z2,x3,y3,z3)
