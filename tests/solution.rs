@@ -300,3 +300,68 @@ fn a_failing_solver_or_a_bad_solution_stops_the_loop_and_keeps_the_best_mesh() {
         assert_eq!(best.points.len() as u64, h["iterations"][1]["vertices"].as_u64().unwrap());
     }
 }
+
+/// examples/solution-poisson, light: a scikit-fem solver in the loop finds the circular
+/// layer the recipe does not know (the edges across it are much shorter than elsewhere).
+#[test]
+fn the_poisson_example_finds_the_layer_the_recipe_does_not_know() {
+    let Some(py) = common::python_with(&["skfem", "meshio"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/solution-poisson");
+    let start = dir.path().join("start.vtu");
+    let out = dir.path().join("adapted.vtu");
+    let (s, o) = (start.to_str().unwrap(), out.to_str().unwrap());
+    ok(&smartmesh(
+        &["mesh", example.join("geometry.poly").to_str().unwrap(), "--size", "0.1", "-o", s],
+        None,
+    ));
+    let solver = format!("{py} {} {{mesh}} {{solution}}", example.join("solve.py").display());
+    let recipe = example.join("recipe.toml");
+    ok(&smartmesh(
+        &[
+            "adapt",
+            s,
+            "-r",
+            recipe.to_str().unwrap(),
+            "--solver",
+            &solver,
+            "--field",
+            "u",
+            "--complexity-start",
+            "400",
+            "--complexity-growth",
+            "2",
+            "--complexity",
+            "1600",
+            "--max-iterations",
+            "5",
+            "-o",
+            o,
+        ],
+        None,
+    ));
+    let mesh = read_path(&out, None).unwrap();
+    let (mut near, mut far) = ((0.0, 0), (0.0, 0));
+    for (kind, nodes, _, _) in mesh.cells() {
+        if kind != smartmesh::formats::CellKind::Triangle {
+            continue;
+        }
+        let p: Vec<[f64; 3]> = nodes.iter().map(|&v| mesh.points[v as usize]).collect();
+        let c = [(p[0][0] + p[1][0] + p[2][0]) / 3.0, (p[0][1] + p[1][1] + p[2][1]) / 3.0];
+        let r = (c[0] + 0.05).hypot(c[1] + 0.05);
+        let shortest = (0..3)
+            .map(|k| (p[k][0] - p[(k + 1) % 3][0]).hypot(p[k][1] - p[(k + 1) % 3][1]))
+            .fold(f64::INFINITY, f64::min);
+        let bin = if (r - 0.7).abs() < 0.02 {
+            &mut near
+        } else if (r - 0.7).abs() > 0.2 {
+            &mut far
+        } else {
+            continue;
+        };
+        bin.0 += shortest;
+        bin.1 += 1;
+    }
+    let (near, far) = (near.0 / near.1 as f64, far.0 / far.1 as f64);
+    assert!(near < 0.25 * far, "shortest edges: {near} across the layer, {far} away from it");
+}
