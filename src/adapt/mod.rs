@@ -52,7 +52,7 @@ pub use rules::Tolerances;
 
 /// `History::stopped` of a run the user stopped ([`Observer::interrupted`]).
 pub const INTERRUPTED: &str = "interrupted";
-pub use start::{start, starting_mesh, Start, StartError};
+pub use start::{start, start_sized, starting_mesh, Start, StartError};
 
 /// How long the loop may run and when it has converged.
 #[derive(Debug, Clone, Copy, PartialEq)]

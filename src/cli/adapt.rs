@@ -11,7 +11,7 @@ use indicatif::ProgressBar;
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::solver::{readable_extension, Goal, Schedule, SolverLoop};
 use smartmesh::adapt::{
-    run_with_solver as run_loop, start as starting_point, AdaptOptions, Observer, Phase, Tolerances,
+    run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Phase, Tolerances,
 };
 use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{Format, TaggedMesh};
@@ -92,7 +92,8 @@ the current directory; it must write the solution on the same vertices to {solut
 (--field, else its only one) gives a metric: the Hessian recovered (--recovery), the \
 Lp-optimal metric (--p) normalised to the schedule's vertex count, start * growth^K up to \
 --complexity (or to --error), intersected into the recipe's field after its steps. The \
-recipe may then be left out. A failing solver is quoted and stops the loop; the best mesh \
+recipe may then be left out, and a .poly INPUT is meshed uniformly to about the \
+schedule's first vertex count. A failing solver is quoted and stops the loop; the best mesh \
 stays. The history records per iteration the solver's seconds and the complexity asked \
 and obtained."
 )]
@@ -393,7 +394,10 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     }
     let mut recipe = args.recipe.read_or_empty(args.solver.is_some(), "with --solver")?;
     args.controls.apply_to(&mut recipe)?;
-    let starting = starting_point(&args.input, args.from)?;
+    // A solver's first solution needs a mesh that resolves something: a .poly is meshed
+    // to about the schedule's first vertex count.
+    let first = args.solver.as_ref().and(args.complexity_start.or(args.solution.complexity));
+    let starting = start_sized(&args.input, args.from, first)?;
     let solver = solver_loop(&args, &starting.mesh, &recipe)?;
     // The input is checked whole before any tool is looked for: a recipe that names tags
     // the mesh does not have is bad input (2) whether or not the remesher is installed.
