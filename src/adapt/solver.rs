@@ -20,13 +20,13 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::time::Instant;
 
-use smartmesh_formats::{read_path, write_path, Format, TaggedMesh, WriteOptions};
+use smartmesh_formats::{write_path, Format, TaggedMesh, WriteOptions};
 
 use crate::adapters::tool::quote;
 use crate::metric::SizeBounds;
 use crate::sizing::plan::Step;
 use crate::sizing::{Algorithm, SolutionHessian};
-use crate::solution::input::{attach, field_name, FieldError};
+use crate::solution::input::{attach, field_name, read_solution, FieldError};
 use crate::solution::{Method, Target};
 
 /// The vertex count asked at each iteration.
@@ -181,7 +181,7 @@ impl SolverLoop {
                 path: solution_path.display().to_string(),
             });
         }
-        let other = read_path(&solution_path, None).map_err(SolverError::Read)?;
+        let other = read_solution(&solution_path, mesh).map_err(SolverError::Read)?;
         let name = field_name(&other, &solution_path, self.field.as_deref())?;
         attach(mesh, &mesh_path, &other, &solution_path, &name)?;
         let complexity_asked = match self.goal {
@@ -211,9 +211,11 @@ impl SolverLoop {
     }
 }
 
-/// Whether `ext` names a format smartmesh reads (for the solution file).
+/// Whether `ext` names a format smartmesh reads (for the solution file; a Medit `.sol`
+/// or `.solb` alone too, in the mesh's vertex order).
 pub fn readable_extension(ext: &str) -> bool {
-    Format::from_extension(ext).is_some_and(|f| f.can_read())
+    matches!(ext.to_ascii_lowercase().as_str(), "sol" | "solb")
+        || Format::from_extension(ext).is_some_and(|f| f.can_read())
 }
 
 #[cfg(test)]

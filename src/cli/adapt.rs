@@ -219,16 +219,19 @@ fn solver_loop(
             return Err(CliError::usage("--solver needs --complexity N (or --error E)"))
         }
     };
-    for (what, ext) in [
-        ("--solver-mesh-format", &args.solver_mesh_format),
-        ("--solution-format", &args.solution_format),
-    ] {
-        if !readable_extension(ext) {
-            return Err(CliError::usage(format!(
-                "{what} {ext}: not a mesh format smartmesh reads and writes ({})",
-                Format::known_extensions()
-            )));
-        }
+    let mesh_ext = &args.solver_mesh_format;
+    if !Format::from_extension(mesh_ext).is_some_and(|f| f.can_read()) {
+        return Err(CliError::usage(format!(
+            "--solver-mesh-format {mesh_ext}: not a mesh format smartmesh reads and writes ({})",
+            Format::known_extensions()
+        )));
+    }
+    let ext = &args.solution_format;
+    if !readable_extension(ext) {
+        return Err(CliError::usage(format!(
+            "--solution-format {ext}: not a format smartmesh reads ({}, or a Medit .sol alone)",
+            Format::known_extensions()
+        )));
     }
     let dir = match &args.solver_dir {
         Some(d) => d.clone(),
