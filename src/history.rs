@@ -45,6 +45,26 @@ pub struct IterationRecord {
     /// The remeshing that made this mesh (none for iteration 0, the starting mesh).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub remeshing: Option<RemeshingRecord>,
+    /// The solver run on this mesh (`adapt --solver`), and the metric made from its
+    /// solution.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<SolverRecord>,
+}
+
+/// What the solver of the loop did on one mesh, and what its solution's metric asked.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SolverRecord {
+    /// The solver's wall-clock seconds.
+    pub seconds: f64,
+    /// The solution field taken.
+    pub field: String,
+    /// The vertex count asked of the solution's metric at this iteration (the schedule's
+    /// value; absent for an error target).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub complexity_asked: Option<f64>,
+    /// The vertex count the whole field on this mesh (recipe and solution, clamped and
+    /// graded) asks for: what the next remeshing is asked to make.
+    pub complexity_obtained: f64,
 }
 
 /// What one remeshing of the loop was asked for and did.
@@ -169,6 +189,12 @@ mod tests {
                 remeshing: Some(RemeshingRecord {
                     expected_vertices: 11.5,
                     remesher: Some(RemeshCounts { passes: 2, splits: 3, ..Default::default() }),
+                }),
+                solver: Some(SolverRecord {
+                    seconds: 0.25,
+                    field: "u".into(),
+                    complexity_asked: Some(500.0),
+                    complexity_obtained: 612.5,
                 }),
             }],
             best_mesh: vec![WrittenFile::of("a.msh", b"123456789")],

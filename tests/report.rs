@@ -427,6 +427,7 @@ fn history_is_drawn_with_its_best_iteration() {
         min_quality: 0.2,
         seconds: PhaseTimes::default(),
         remeshing: None,
+        solver: None,
     };
     let h = History {
         input: "g.poly".into(),
@@ -652,6 +653,7 @@ fn history_ending_on_its_best(dir: &Path) -> PathBuf {
         min_quality: 0.4,
         seconds: PhaseTimes::default(),
         remeshing: None,
+        solver: None,
     };
     let h = History {
         input: "geometry.poly".into(),

@@ -178,3 +178,190 @@ fn size_field_writes_a_metric_of_the_asked_complexity_and_refuses_bad_solutions(
     // that hold NaN).
     assert!(e.contains("nan.vtu") && e.contains("value 7 of `u` is not a finite number"), "{e}");
 }
+
+#[path = "../formats/tests/common/mod.rs"]
+mod common;
+
+/// A solver for the loop: u = tanh(30 (x − 0.5 − 0.15 sin 2πy)) on the mesh it is given,
+/// or, from iteration `AT` on (the K of `mesh-K.vtu`), the failure `MODE` asks for.
+const SOLVER: &str = r#"
+import re, sys, meshio, numpy as np
+mode, at, mesh_path, out = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
+k = int(re.search(r"mesh-(\d+)\.", mesh_path).group(1))
+m = meshio.read(mesh_path)
+x, y = m.points[:, 0], m.points[:, 1]
+u = np.tanh(30 * (x - 0.5 - 0.15 * np.sin(2 * np.pi * y)))
+if k >= at:
+    if mode == "fail":
+        print("solver: the linear system did not converge", file=sys.stderr)
+        sys.exit(3)
+    if mode == "missing":
+        sys.exit(0)
+    if mode == "count":
+        meshio.write(out, meshio.Mesh(m.points[:-1], [], point_data={"u": u[:-1]}))
+        sys.exit(0)
+meshio.write(out, meshio.Mesh(m.points, m.cells, point_data={"u": u}))
+"#;
+
+/// `adapt --solver` on the unit square from a coarse mesh, with a failure from
+/// iteration `at` on (`mode` "ok" never fails).
+fn adapt_with(dir: &Path, py: &str, mode: &str, at: usize) -> std::process::Output {
+    let script = dir.join("solver.py");
+    std::fs::write(&script, SOLVER).unwrap();
+    let poly = dir.join("square.poly");
+    std::fs::write(
+        &poly,
+        "4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2 1\n2 2 3 2\n3 3 4 3\n4 4 1 4\n0\n",
+    )
+    .unwrap();
+    let start = dir.join("start.vtu");
+    ok(&smartmesh(
+        &["mesh", poly.to_str().unwrap(), "--size", "0.1", "-o", start.to_str().unwrap()],
+        None,
+    ));
+    let command = format!("{py} {} {mode} {at} {{mesh}} {{solution}}", script.display());
+    let out = dir.join("adapted.vtu");
+    smartmesh(
+        &[
+            "adapt",
+            start.to_str().unwrap(),
+            "--solver",
+            &command,
+            "--complexity-start",
+            "150",
+            "--complexity-growth",
+            "2",
+            "--complexity",
+            "600",
+            "--max-iterations",
+            "7",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    )
+}
+
+fn history(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("adapted.history.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+#[test]
+fn the_solver_loop_converges_and_records_the_solver() {
+    let Some(py) = common::python_with(&["meshio", "numpy"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    ok(&adapt_with(dir.path(), &py, "ok", usize::MAX));
+    let h = history(dir.path());
+    assert_eq!(h["converged"], true, "{h}");
+    let its = h["iterations"].as_array().unwrap();
+    let asked: Vec<f64> =
+        its.iter().map(|r| r["solver"]["complexity_asked"].as_f64().unwrap()).collect();
+    assert_eq!(&asked[..4], [150.0, 300.0, 600.0, 600.0]);
+    for r in its {
+        let s = &r["solver"];
+        assert!(s["seconds"].as_f64().unwrap() > 0.0 && s["field"] == "u", "{r}");
+        // No recipe: the whole field is the solution's, so it asks what was asked.
+        let (a, o) =
+            (s["complexity_asked"].as_f64().unwrap(), s["complexity_obtained"].as_f64().unwrap());
+        assert!((o / a - 1.0).abs() < 0.01, "{r}");
+    }
+    // The meshes follow the schedule, and the last ones conform to their field.
+    let last = its.last().unwrap();
+    let v = last["vertices"].as_f64().unwrap();
+    assert!((400.0..800.0).contains(&v), "{last}");
+    assert!(last["conforming_share"].as_f64().unwrap() > 0.8, "{last}");
+    // The best mesh carries the solution and its field; the solver's files stay.
+    let mesh = read_path(&dir.path().join("adapted.vtu"), None).unwrap();
+    assert!(mesh.point_data.contains_key("u") && mesh.point_data.contains_key("metric"));
+    assert!(dir.path().join("adapted.solver/solution-0.vtu").is_file());
+}
+
+#[test]
+fn a_failing_solver_or_a_bad_solution_stops_the_loop_and_keeps_the_best_mesh() {
+    let Some(py) = common::python_with(&["meshio", "numpy"]) else { return };
+    for (mode, says) in [
+        ("fail", vec!["exit status 3", "the linear system did not converge"]),
+        ("missing", vec!["exited with 0 but wrote no", "solution-2.vtu"]),
+        ("count", vec!["solution-2.vtu", "values of `u` for the"]),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = adapt_with(dir.path(), &py, mode, 2);
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(1), "{mode}: {stderr}");
+        assert!(stderr.contains("iteration 2 failed while solving"), "{mode}: {stderr}");
+        for s in says {
+            assert!(stderr.contains(s), "{mode}: `{s}` not in {stderr}");
+        }
+        assert!(stderr.contains("holds the best mesh, iteration 1"), "{mode}: {stderr}");
+        let h = history(dir.path());
+        assert_eq!(h["iterations"].as_array().unwrap().len(), 2, "{mode}: {h}");
+        let best = read_path(&dir.path().join("adapted.vtu"), None).unwrap();
+        assert_eq!(best.points.len() as u64, h["iterations"][1]["vertices"].as_u64().unwrap());
+    }
+}
+
+/// examples/solution-poisson, light: a scikit-fem solver in the loop finds the circular
+/// layer the recipe does not know (the edges across it are much shorter than elsewhere).
+#[test]
+fn the_poisson_example_finds_the_layer_the_recipe_does_not_know() {
+    let Some(py) = common::python_with(&["skfem", "meshio"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/solution-poisson");
+    let start = dir.path().join("start.vtu");
+    let out = dir.path().join("adapted.vtu");
+    let (s, o) = (start.to_str().unwrap(), out.to_str().unwrap());
+    ok(&smartmesh(
+        &["mesh", example.join("geometry.poly").to_str().unwrap(), "--size", "0.1", "-o", s],
+        None,
+    ));
+    let solver = format!("{py} {} {{mesh}} {{solution}}", example.join("solve.py").display());
+    let recipe = example.join("recipe.toml");
+    ok(&smartmesh(
+        &[
+            "adapt",
+            s,
+            "-r",
+            recipe.to_str().unwrap(),
+            "--solver",
+            &solver,
+            "--field",
+            "u",
+            "--complexity-start",
+            "400",
+            "--complexity-growth",
+            "2",
+            "--complexity",
+            "1600",
+            "--max-iterations",
+            "5",
+            "-o",
+            o,
+        ],
+        None,
+    ));
+    let mesh = read_path(&out, None).unwrap();
+    let (mut near, mut far) = ((0.0, 0), (0.0, 0));
+    for (kind, nodes, _, _) in mesh.cells() {
+        if kind != smartmesh::formats::CellKind::Triangle {
+            continue;
+        }
+        let p: Vec<[f64; 3]> = nodes.iter().map(|&v| mesh.points[v as usize]).collect();
+        let c = [(p[0][0] + p[1][0] + p[2][0]) / 3.0, (p[0][1] + p[1][1] + p[2][1]) / 3.0];
+        let r = (c[0] + 0.05).hypot(c[1] + 0.05);
+        let shortest = (0..3)
+            .map(|k| (p[k][0] - p[(k + 1) % 3][0]).hypot(p[k][1] - p[(k + 1) % 3][1]))
+            .fold(f64::INFINITY, f64::min);
+        let bin = if (r - 0.7).abs() < 0.02 {
+            &mut near
+        } else if (r - 0.7).abs() > 0.2 {
+            &mut far
+        } else {
+            continue;
+        };
+        bin.0 += shortest;
+        bin.1 += 1;
+    }
+    let (near, far) = (near.0 / near.1 as f64, far.0 / far.1 as f64);
+    assert!(near < 0.25 * far, "shortest edges: {near} across the layer, {far} away from it");
+}

@@ -22,9 +22,15 @@
 //! The recipe is resolved afresh on every mesh by its tag names, so the same recipe
 //! serves every geometry variant with the same tags (thesis 6.3.1: the topology stays,
 //! the geometry changes).
+//!
+//! With a solver ([`run_with_solver`], [`solver`]), each mesh is first handed to it, and
+//! the metric of the solution it computes is intersected into the recipe's field on that
+//! mesh (after the recipe's steps); a failing solver or a bad solution fails the
+//! iteration like a failing remesher, and the best mesh so far stays.
 
 pub mod files;
 pub mod rules;
+pub mod solver;
 pub mod start;
 
 use std::time::Instant;
@@ -33,20 +39,21 @@ use smartmesh_formats::TaggedMesh;
 
 use crate::adapters::{Adapter, AdapterError};
 use crate::conformity::Conformity;
-use crate::history::{History, IterationRecord, PhaseTimes, RemeshingRecord};
+use crate::history::{History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord};
 use crate::metric::Sym2;
 use crate::metric_field::MetricField;
 use crate::recipe::Recipe;
 use crate::remesh::estimate::{exceeds, format_count};
 use crate::remesh::{expected_vertices, DEFAULT_MAX_VERTICES};
-use crate::sizing::{size_mesh_with_topology, SizeMeshError, StepEvent};
+use crate::sizing::{size_mesh_with_steps, SizeMeshError, StepEvent};
 use crate::topology::Topology;
+use solver::{SolverError, SolverLoop};
 
 pub use rules::Tolerances;
 
 /// `History::stopped` of a run the user stopped ([`Observer::interrupted`]).
 pub const INTERRUPTED: &str = "interrupted";
-pub use start::{start, starting_mesh, Start, StartError};
+pub use start::{start, start_sized, starting_mesh, Start, StartError};
 
 /// How long the loop may run and when it has converged.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,6 +80,8 @@ impl Default for AdaptOptions {
 /// The phases of an iteration, for progress and errors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Phase {
+    /// Running the solver on the current mesh.
+    Solve,
     /// Computing the recipe's field on the current mesh.
     Size,
     /// Remeshing to the field.
@@ -84,6 +93,7 @@ pub enum Phase {
 impl std::fmt::Display for Phase {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
+            Phase::Solve => "solving",
             Phase::Size => "sizing",
             Phase::Remesh => "remeshing",
             Phase::Measure => "measuring",
@@ -100,6 +110,9 @@ pub enum PhaseError {
     /// The remesher gave no mesh.
     #[error("{0}")]
     Remesh(#[from] AdapterError),
+    /// The solver gave no usable solution.
+    #[error("{0}")]
+    Solver(#[from] SolverError),
     /// The mesh has no triangle to measure.
     #[error("the mesh has no triangle")]
     NoTriangle,
@@ -209,15 +222,31 @@ fn measure(
     remesh: f64,
     remeshing: Option<RemeshingRecord>,
     recipe: &Recipe,
+    solver: Option<&SolverLoop>,
     observer: &mut dyn Observer,
 ) -> Result<Measured, (Phase, PhaseError)> {
+    let mut mesh = mesh;
+    let mut solved = None;
+    let mut extra = Vec::new();
+    if let Some(s) = solver {
+        observer.phase(iteration, Phase::Solve);
+        let done = s.solve(iteration, &mut mesh).map_err(|e| (Phase::Solve, e.into()))?;
+        extra.push(s.step(iteration, &done.field));
+        solved = Some(done);
+    }
     observer.phase(iteration, Phase::Size);
     let t = Instant::now();
     let topology = Topology::from_mesh(&mesh);
-    let sizing = size_mesh_with_topology(&mesh, &topology, recipe, &mut |_: StepEvent| {})
+    let sizing = size_mesh_with_steps(&mesh, &topology, recipe, &extra, &mut |_: StepEvent| {})
         .map_err(|e| (Phase::Size, e.into()))?;
     let metric: Vec<Sym2> = sizing.field.tensors.iter().map(|t| t.to_metric()).collect();
     let size = t.elapsed().as_secs_f64();
+    let solver = solved.map(|d| SolverRecord {
+        seconds: d.seconds,
+        field: d.field,
+        complexity_asked: d.complexity_asked,
+        complexity_obtained: expected_vertices(&mesh, &metric),
+    });
     // The result carries the recipe's field on it (`metric`, `size_tensor`, `h1` …, as
     // `size` writes them), so that `report`, `info --metric` and ParaView read one file.
     let mut mesh = mesh;
@@ -236,6 +265,7 @@ fn measure(
         min_quality: c.min_quality,
         seconds: PhaseTimes { size, remesh, measure: t.elapsed().as_secs_f64() },
         remeshing,
+        solver,
     };
     Ok(Measured { mesh, topology, metric, record, warnings: sizing.field.warnings })
 }
@@ -251,7 +281,23 @@ pub fn run(
     recipe_label: &str,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdaptError> {
-    let first = measure(0, start, 0.0, None, recipe, observer)
+    run_with_solver(start, recipe, None, adapter, options, input, recipe_label, observer)
+}
+
+/// [`run`] with a solver: each mesh is solved on, and its solution's metric intersected
+/// into the recipe's field (see the module documentation).
+#[allow(clippy::too_many_arguments)]
+pub fn run_with_solver(
+    start: TaggedMesh,
+    recipe: &Recipe,
+    solver: Option<&SolverLoop>,
+    adapter: &dyn Adapter,
+    options: &AdaptOptions,
+    input: &str,
+    recipe_label: &str,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, AdaptError> {
+    let first = measure(0, start, 0.0, None, recipe, solver, observer)
         .map_err(|(phase, source)| AdaptError::Start { phase, source })?;
     let mut history = History {
         input: input.to_string(),
@@ -296,7 +342,7 @@ pub fn run(
             let remeshing =
                 RemeshingRecord { expected_vertices: expected, remesher: adapted.stats };
             let seconds = t.elapsed().as_secs_f64();
-            measure(k, adapted.mesh, seconds, Some(remeshing), recipe, observer)
+            measure(k, adapted.mesh, seconds, Some(remeshing), recipe, solver, observer)
         });
         let next = match next {
             Ok(n) => n,

@@ -56,6 +56,7 @@ mod tests {
             min_quality: 0.1,
             seconds: PhaseTimes::default(),
             remeshing: None,
+            solver: None,
         }
     }
 

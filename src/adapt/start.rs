@@ -60,12 +60,30 @@ pub struct Start {
 
 /// The starting mesh of `input` and its geometry's vertices (see [`Start`]).
 pub fn start(input: &Path, format: Option<Format>) -> Result<Start, StartError> {
+    start_sized(input, format, None)
+}
+
+/// [`start`], a planar straight-line graph meshed uniformly to about `vertices`
+/// vertices when given (edge length from the area of its bounding box: a solver's first
+/// solution needs a mesh that resolves something), else with the mesher's defaults.
+pub fn start_sized(
+    input: &Path,
+    format: Option<Format>,
+    vertices: Option<f64>,
+) -> Result<Start, StartError> {
     let (mesh, report) = read_path_reported(input, format.or_else(|| Format::from_path(input)))?;
     let notes = report.notes;
     if has_surface(&mesh) {
         return Ok(Start { mesh, geometry_points: Vec::new(), notes });
     }
-    let triangulated = triangulate(&mesh, &MeshOptions::default())
+    let mut options = MeshOptions::default();
+    if let (Some(n), Some((lo, hi))) = (vertices, mesh.bounding_box()) {
+        // A mesh of equilateral triangles of edge h has about 2A/(√3 h²) vertices.
+        let area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+        let h = (2.0 * area / (3f64.sqrt() * n.max(1.0))).sqrt();
+        options.size = Some(h).filter(|h| h.is_finite() && *h > 0.0);
+    }
+    let triangulated = triangulate(&mesh, &options)
         .map_err(|source| StartError::Mesher { path: input.display().to_string(), source })?;
     let mut on_segment = vec![false; mesh.points.len()];
     for (kind, nodes, _, _) in mesh.cells() {

@@ -9,8 +9,9 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use smartmesh::adapt::files::ResultFiles;
+use smartmesh::adapt::solver::{readable_extension, Goal, Schedule, SolverLoop};
 use smartmesh::adapt::{
-    run as run_loop, start as starting_point, AdaptOptions, Observer, Phase, Tolerances,
+    run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Phase, Tolerances,
 };
 use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{Format, TaggedMesh};
@@ -18,6 +19,7 @@ use smartmesh::history::History;
 use smartmesh::Topology;
 
 use super::output::{check_output_dir, is_stdio, positive_size, SizeControls};
+use super::solution::SolutionArgs;
 use super::{parse_format, print_stdout, ui, CliError, ExitStatus, RecipeInput};
 
 /// The remeshers on the command line.
@@ -79,7 +81,21 @@ Remeshers:
 Examples:
   smartmesh adapt fixtures/cylinder.msh --recipe fixtures/cylinder.toml -o cyl.msh --adapter mmg2d
   smartmesh adapt blade-2.msh --recipe distributor.cfg -o blade-2-adapted.msh --adapter mmg2d --hausd 0.001
-  smartmesh adapt square.msh -r wake.toml -o out.vtu --adapter gmsh --max-iterations 4 --json"
+  smartmesh adapt square.msh -r wake.toml -o out.vtu --adapter gmsh --max-iterations 4 --json
+  smartmesh adapt square.poly --solver 'python3 solve.py {mesh} {solution}' --field u \\
+      --complexity-start 400 --complexity-growth 1.6 --complexity 4000 -o adapted.vtu
+
+With --solver, each mesh is first written to {mesh} (mesh-K.vtu in the solver directory, \
+--solver-dir, by default OUT's name with .solver for its extension) and the command runs through `sh -c` in \
+the current directory; it must write the solution on the same vertices to {solution} \
+(solution-K.vtu; --solution-format names another readable format). Its scalar point field \
+(--field, else its only one) gives a metric: the Hessian recovered (--recovery), the \
+Lp-optimal metric (--p) normalised to the schedule's vertex count, start * growth^K up to \
+--complexity (or to --error), intersected into the recipe's field after its steps. The \
+recipe may then be left out, and a .poly INPUT is meshed uniformly to about the \
+schedule's first vertex count. A failing solver is quoted and stops the loop; the best mesh \
+stays. The history records per iteration the solver's seconds and the complexity asked \
+and obtained."
 )]
 pub struct AdaptArgs {
     /// Starting mesh (any readable format with triangles or quadrangles), or a .poly.
@@ -125,6 +141,29 @@ pub struct AdaptArgs {
     coarsen_geometry: bool,
     #[command(flatten)]
     controls: SizeControls,
+    #[command(flatten)]
+    solution: SolutionArgs,
+    /// A solver run on every mesh: a shell command with {mesh} (the mesh it reads) and
+    /// {solution} (the file it writes the solution to).
+    #[arg(long, value_name = "COMMAND", help_heading = "Solution")]
+    solver: Option<String>,
+    /// The vertex count asked of the solution's metric at iteration 0 (default: the
+    /// target, --complexity).
+    #[arg(long, value_name = "N", value_parser = positive_size, help_heading = "Solution")]
+    complexity_start: Option<f64>,
+    /// The factor the vertex count asked grows by at each iteration, up to --complexity.
+    #[arg(long, value_name = "F", default_value_t = 1.5, value_parser = growth, help_heading = "Solution")]
+    complexity_growth: f64,
+    /// The extension (format) of the mesh written for the solver.
+    #[arg(long, value_name = "EXT", default_value = "vtu", help_heading = "Solution")]
+    solver_mesh_format: String,
+    /// The extension (format) of the solution file the solver writes.
+    #[arg(long, value_name = "EXT", default_value = "vtu", help_heading = "Solution")]
+    solution_format: String,
+    /// Where the solver's meshes and solutions go (default: OUT's name with .solver for its
+    /// extension).
+    #[arg(long, value_name = "DIR", help_heading = "Solution")]
+    solver_dir: Option<PathBuf>,
     /// Largest distance between a curved boundary and its edges (MMG's -hausd; for native
     /// and gmsh the same bound applied to the metric).
     #[arg(long, value_parser = positive_size, help_heading = "Size controls")]
@@ -148,6 +187,84 @@ pub struct AdaptArgs {
     /// Print a JSON summary on stdout.
     #[arg(long)]
     json: bool,
+}
+
+fn growth(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v >= 1.0 && v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("{v} is not a growth factor (expected a finite number >= 1)")),
+        Err(e) => Err(format!("`{s}`: {e}")),
+    }
+}
+
+/// The solver of `--solver`, checked before any work.
+fn solver_loop(
+    args: &AdaptArgs,
+    mesh: &TaggedMesh,
+    recipe: &smartmesh::Recipe,
+) -> Result<Option<SolverLoop>, CliError> {
+    let Some(command) = &args.solver else {
+        if args.solution.field.is_some() || args.complexity_start.is_some() {
+            return Err(CliError::usage("--field and --complexity-start need --solver"));
+        }
+        return Ok(None);
+    };
+    for p in ["{mesh}", "{solution}"] {
+        if !command.contains(p) {
+            return Err(CliError::usage(format!(
+                "--solver `{command}` has no {p}: the command must read the mesh from {{mesh}} and write its solution to {{solution}}"
+            )));
+        }
+    }
+    let goal = match (args.solution.complexity, args.solution.error) {
+        (Some(target), _) => Goal::Vertices(Schedule {
+            start: args.complexity_start.unwrap_or(target).min(target),
+            growth: args.complexity_growth,
+            target,
+        }),
+        (None, Some(e)) => Goal::Error(e),
+        (None, None) => {
+            return Err(CliError::usage("--solver needs --complexity N (or --error E)"))
+        }
+    };
+    let mesh_ext = &args.solver_mesh_format;
+    if !Format::from_extension(mesh_ext).is_some_and(|f| f.can_read()) {
+        return Err(CliError::usage(format!(
+            "--solver-mesh-format {mesh_ext}: not a mesh format smartmesh reads and writes ({})",
+            Format::known_extensions()
+        )));
+    }
+    let ext = &args.solution_format;
+    if !readable_extension(ext) {
+        return Err(CliError::usage(format!(
+            "--solution-format {ext}: not a format smartmesh reads ({}, or a Medit .sol alone)",
+            Format::known_extensions()
+        )));
+    }
+    let dir = match &args.solver_dir {
+        Some(d) => d.clone(),
+        None if is_stdio(&args.output) => {
+            return Err(CliError::usage(
+                "with `-o -` and --solver, name the solver's directory with --solver-dir",
+            ))
+        }
+        None => {
+            let mut name = args.output.file_stem().unwrap_or_default().to_os_string();
+            name.push(".solver");
+            args.output.with_file_name(name)
+        }
+    };
+    Ok(Some(SolverLoop {
+        command: command.clone(),
+        dir,
+        mesh_extension: args.solver_mesh_format.to_ascii_lowercase(),
+        solution_extension: args.solution_format.to_ascii_lowercase(),
+        field: args.solution.field.clone(),
+        goal,
+        p: args.solution.p,
+        method: args.solution.recovery,
+        bounds: args.solution.bounds(mesh, recipe, &args.controls)?,
+    }))
 }
 
 fn non_negative(s: &str) -> Result<f64, String> {
@@ -286,12 +403,16 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     if is_stdio(&args.input) && args.recipe.is_stdin() {
         return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
-    let mut recipe = args.recipe.read()?;
+    let mut recipe = args.recipe.read_or_empty(args.solver.is_some(), "with --solver")?;
     args.controls.apply_to(&mut recipe)?;
-    let starting = starting_point(&args.input, args.from)?;
+    // A solver's first solution needs a mesh that resolves something: a .poly is meshed
+    // to about the schedule's first vertex count.
+    let first = args.solver.as_ref().and(args.complexity_start.or(args.solution.complexity));
+    let starting = start_sized(&args.input, args.from, first)?;
     for n in &starting.notes {
         ui::note(&format!("{}: {n}", args.input.display()));
     }
+    let solver = solver_loop(&args, &starting.mesh, &recipe)?;
     // The input is checked whole before any tool is looked for: a recipe that names tags
     // the mesh does not have is bad input (2) whether or not the remesher is installed.
     recipe
@@ -353,6 +474,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let result = run_loop(
         start,
         &recipe,
+        solver.as_ref(),
         remesher.as_ref(),
         &opts,
         &input,

@@ -11,7 +11,7 @@ use smartmesh::formats::Format;
 use smartmesh::metric_field::{MetricField, MetricTarget};
 use smartmesh::remesh::expected_vertices;
 use smartmesh::sizing::{size_mesh_with_steps, SizeMeshError, StepEvent, StepReport};
-use smartmesh::solution::input::{attach, field_name};
+use smartmesh::solution::input::{attach, field_name, read_solution};
 use smartmesh::Topology;
 
 use super::output::{check_output_dir, is_stdio, label, shown, SizeControls};
@@ -57,7 +57,8 @@ pub struct SizeArgs {
     #[command(flatten)]
     solution: SolutionArgs,
     /// A file holding the solution field on the mesh's own vertices (a solver's .vtu,
-    /// .msh …), instead of the mesh's point data.
+    /// .msh …, or a Medit .sol alone in the mesh's vertex order), instead of the mesh's
+    /// point data.
     #[arg(long, value_name = "FILE", help_heading = "Solution")]
     solution_file: Option<PathBuf>,
     #[command(flatten)]
@@ -160,7 +161,7 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
         })?;
         let name = match &args.solution_file {
             Some(file) => {
-                let other = super::read_mesh(file, None)?;
+                let other = read_solution(file, &mesh)?;
                 let name = field_name(&other, file, args.solution.field.as_deref())?;
                 attach(&mut mesh, &args.mesh, &other, file, &name)?;
                 name

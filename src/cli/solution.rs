@@ -72,16 +72,14 @@ impl SolutionArgs {
         }
     }
 
-    /// The sizing step of field `name` on `mesh` normalised to `target`, bounded by the
-    /// command line's sizes, else the recipe's, else defaults from the mesh's extent.
-    pub fn step(
+    /// The bounds of the solution's metric on `mesh`: the command line's sizes, else the
+    /// recipe's, else defaults from the mesh's extent.
+    pub fn bounds(
         &self,
-        name: &str,
-        target: Target,
         mesh: &TaggedMesh,
         recipe: &Recipe,
         controls: &SizeControls,
-    ) -> Result<Step, CliError> {
+    ) -> Result<SizeBounds, CliError> {
         let diagonal = mesh
             .bounding_box()
             .map(|(lo, hi)| (hi[0] - lo[0]).hypot(hi[1] - lo[1]))
@@ -94,15 +92,28 @@ impl SolutionArgs {
         let h_min = controls.hmin.or(g.h_min).unwrap_or(default.h_min());
         let h_max = controls.hmax.or(g.h_max).unwrap_or(default.h_max()).max(h_min);
         let r = self.max_aspect.or(g.max_aspect_ratio).unwrap_or(default.max_aspect_ratio());
-        let bounds = SizeBounds::try_new(h_min, h_max, r).ok_or_else(|| {
+        SizeBounds::try_new(h_min, h_max, r).ok_or_else(|| {
             CliError::usage(format!(
                 "bounds hmin {h_min}, hmax {h_max}, aspect ratio {r} are out of range"
             ))
-        })?;
+        })
+    }
+
+    /// The sizing step of field `name` on `mesh` normalised to `target`, within
+    /// [`SolutionArgs::bounds`].
+    pub fn step(
+        &self,
+        name: &str,
+        target: Target,
+        mesh: &TaggedMesh,
+        recipe: &Recipe,
+        controls: &SizeControls,
+    ) -> Result<Step, CliError> {
+        let bounds = self.bounds(mesh, recipe, controls)?;
         let algorithm = SolutionHessian {
             field: name.to_string(),
             target,
-            p: if self.p.is_infinite() { f64::INFINITY } else { self.p },
+            p: self.p,
             method: self.recovery,
             bounds: Some(bounds),
         };

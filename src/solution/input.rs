@@ -3,13 +3,40 @@
 //! the file's only scalar point array, checked and attached to the mesh under its name so
 //! that the sizing step (SOLUTION_HESSIAN) reads it from there.
 //!
+//! A Medit solution alone (`.sol`, `.solb`, as MMG pairs it with its mesh) is taken in
+//! the mesh's vertex order: its scalar arrays are named `size`, `size_2`, … as the Medit
+//! reader names them ([`read_solution`]).
+//!
 //! Checks: the other file has the mesh's vertex count and its vertices at the same
 //! positions (up to 1e-9 of the mesh's extent, what a text file's rounding leaves); the
 //! array has one component and one item per vertex, and its values are finite.
 
 use std::path::Path;
 
-use crate::formats::TaggedMesh;
+use crate::formats::{read_path, ErrorKind, TaggedMesh};
+
+/// The solution file `path` as a mesh to take a field from: a mesh file as read; a Medit
+/// `.sol`/`.solb` alone as `mesh`'s vertices (when it has as many) with its arrays.
+pub fn read_solution(path: &Path, mesh: &TaggedMesh) -> Result<TaggedMesh, crate::formats::Error> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    if ext != "sol" && ext != "solb" {
+        return read_path(path, None);
+    }
+    let bytes = std::fs::read(path).map_err(|e| crate::formats::Error::from(e).with_path(path))?;
+    let Some((n, arrays)) =
+        crate::formats::medit::read_sol_alone(&bytes).map_err(|e| e.with_path(path))?
+    else {
+        return Err(crate::formats::Error::new(ErrorKind::Inconsistent(
+            "no SolAtVertices: the file holds no solution at vertices".into(),
+        ))
+        .with_path(path));
+    };
+    let mut other = TaggedMesh::new();
+    // Another count keeps its own, so that `attach` names both.
+    other.points = if n == mesh.points.len() { mesh.points.clone() } else { vec![[0.0; 3]; n] };
+    other.point_data = arrays;
+    Ok(other)
+}
 
 /// Why a solution field could not be had.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -195,6 +222,32 @@ mod tests {
         m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         m.block_mut(CellKind::Triangle).push(&[0, 1, 2], 1, 1);
         m
+    }
+
+    #[test]
+    fn a_medit_solution_alone_is_read_in_the_mesh_vertex_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let sol = dir.path().join("u.sol");
+        let text = |rows: &[&str]| {
+            format!(
+                "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n{}\n1 1\n{}\nEnd\n",
+                rows.len(),
+                rows.join("\n")
+            )
+        };
+        std::fs::write(&sol, text(&["1.5", "2.5", "3.5"])).unwrap();
+        let other = read_solution(&sol, &mesh()).unwrap();
+        assert_eq!(field_name(&other, &sol, None).unwrap(), "size");
+        let mut m = mesh();
+        attach(&mut m, Path::new("m.mesh"), &other, &sol, "size").unwrap();
+        assert_eq!(m.point_data["size"].values, vec![1.5, 2.5, 3.5]);
+        std::fs::write(&sol, text(&["1.5", "2.5"])).unwrap();
+        let other = read_solution(&sol, &mesh()).unwrap();
+        let e = attach(&mut mesh(), Path::new("m.mesh"), &other, &sol, "size").unwrap_err();
+        assert!(e.to_string().contains("2 values of `size` for the 3 vertices"), "{e}");
+        std::fs::write(&sol, "MeshVersionFormatted 2\nDimension 2\nEnd\n").unwrap();
+        let e = read_solution(&sol, &mesh()).unwrap_err().to_string();
+        assert!(e.contains("u.sol") && e.contains("no SolAtVertices"), "{e}");
     }
 
     #[test]

@@ -1,0 +1,237 @@
+//! A solver in the adaptation loop (`adapt --solver 'COMMAND {mesh} {solution}'`): before
+//! each mesh is sized, it is written to `{mesh}`, the command runs (through `sh -c`, in
+//! the current directory, with `{mesh}` and `{solution}` replaced by the quoted paths),
+//! and the scalar field it wrote to `{solution}` (a mesh file on the same vertices; the
+//! extension names its format) is attached to the mesh. The mesh is then sized with the
+//! recipe followed by a SOLUTION_HESSIAN step of that field, so the solution's metric is
+//! intersected into the recipe's field, as in `size --field`.
+//!
+//! The vertex count asked of the solution's metric follows a schedule, as pyrefine's:
+//! `start · growth^k` at iteration k, up to `target`, so that early iterations, on
+//! meshes the solution has not shaped yet, stay cheap. An error target is used as it is.
+//!
+//! Files: `mesh-K.EXT` and `solution-K.EXT` in the loop's directory, kept after the run
+//! (the last ones show what the solver saw). A failing command is quoted (the end of its
+//! stderr and stdout); a missing solution file, one on other vertices, a field that is
+//! absent, not scalar or not finite are errors naming the file: the loop stops there and
+//! keeps its best mesh.
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::Instant;
+
+use smartmesh_formats::{write_path, Format, TaggedMesh, WriteOptions};
+
+use crate::adapters::tool::quote;
+use crate::metric::SizeBounds;
+use crate::sizing::plan::Step;
+use crate::sizing::{Algorithm, SolutionHessian};
+use crate::solution::input::{attach, field_name, read_solution, FieldError};
+use crate::solution::{Method, Target};
+
+/// The vertex count asked at each iteration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Schedule {
+    /// At iteration 0.
+    pub start: f64,
+    /// Factor per iteration (≥ 1).
+    pub growth: f64,
+    /// The largest.
+    pub target: f64,
+}
+
+impl Schedule {
+    /// The vertex count asked at iteration `k`.
+    pub fn at(&self, k: usize) -> f64 {
+        (self.start * self.growth.powi(k.min(1000) as i32)).min(self.target)
+    }
+}
+
+/// What the solution's metric is normalised to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Goal {
+    /// A vertex count per iteration.
+    Vertices(Schedule),
+    /// An Lp error.
+    Error(f64),
+}
+
+/// The solver and how its solution becomes a metric.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverLoop {
+    /// The command, with `{mesh}` and `{solution}`.
+    pub command: String,
+    /// Where the meshes and solutions go.
+    pub dir: PathBuf,
+    /// The extension of the mesh file (its format).
+    pub mesh_extension: String,
+    /// The extension of the solution file (its format).
+    pub solution_extension: String,
+    /// The field, else the solution file's only scalar point array.
+    pub field: Option<String>,
+    /// The normalisation.
+    pub goal: Goal,
+    /// The norm.
+    pub p: f64,
+    /// The Hessian recovery.
+    pub method: Method,
+    /// h_min, h_max, aspect ratio of the solution's metric.
+    pub bounds: SizeBounds,
+}
+
+/// Why the solver gave no usable solution.
+#[derive(Debug, thiserror::Error)]
+pub enum SolverError {
+    /// The mesh could not be written for it.
+    #[error("writing the mesh for the solver: {0}")]
+    Write(smartmesh_formats::Error),
+    /// The command could not be started.
+    #[error("starting the solver `{command}`: {source}")]
+    Start {
+        /// The command run.
+        command: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The command failed.
+    #[error("the solver `{command}` failed ({status}):\n{output}")]
+    Failed {
+        /// The command run.
+        command: String,
+        /// Its exit status in words.
+        status: String,
+        /// The end of its stderr and stdout.
+        output: String,
+    },
+    /// It exited with 0 but wrote no solution.
+    #[error("the solver `{command}` exited with 0 but wrote no {path}")]
+    Missing {
+        /// The command run.
+        command: String,
+        /// The solution file expected.
+        path: String,
+    },
+    /// The solution file could not be read.
+    #[error("reading the solver's solution: {0}")]
+    Read(smartmesh_formats::Error),
+    /// The field is missing, on other vertices, not scalar or not finite.
+    #[error("{0}")]
+    Field(#[from] FieldError),
+}
+
+/// What the solver did at one iteration, for the history.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solved {
+    /// Its wall-clock seconds.
+    pub seconds: f64,
+    /// The field taken.
+    pub field: String,
+    /// The vertex count asked of the solution's metric (`None` for an error target).
+    pub complexity_asked: Option<f64>,
+}
+
+/// `s` quoted for `sh`.
+fn shell_quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
+}
+
+impl SolverLoop {
+    /// The command of iteration `k` and its two files.
+    fn files(&self, k: usize) -> (PathBuf, PathBuf) {
+        (
+            self.dir.join(format!("mesh-{k}.{}", self.mesh_extension)),
+            self.dir.join(format!("solution-{k}.{}", self.solution_extension)),
+        )
+    }
+
+    /// Runs the solver on `mesh` (iteration `k`) and attaches its field to `mesh`.
+    pub fn solve(&self, k: usize, mesh: &mut TaggedMesh) -> Result<Solved, SolverError> {
+        std::fs::create_dir_all(&self.dir).map_err(|e| {
+            SolverError::Write(smartmesh_formats::Error::from(e).with_path(&self.dir))
+        })?;
+        let (mesh_path, solution_path) = self.files(k);
+        // A stale solution of an earlier run must not pass for this one's.
+        let _ = std::fs::remove_file(&solution_path);
+        // The solver sees the mesh alone: no metric or field of an earlier iteration.
+        let mut plain = mesh.clone();
+        plain.point_data.clear();
+        write_path(&mesh_path, &plain, None, &WriteOptions::default())
+            .map_err(SolverError::Write)?;
+        let command = self
+            .command
+            .replace("{mesh}", &shell_quote(&mesh_path.display().to_string()))
+            .replace("{solution}", &shell_quote(&solution_path.display().to_string()));
+        let t = Instant::now();
+        let out = Command::new("sh")
+            .arg("-c")
+            .arg(&command)
+            .output()
+            .map_err(|source| SolverError::Start { command: command.clone(), source })?;
+        let seconds = t.elapsed().as_secs_f64();
+        if !out.status.success() {
+            let status = match out.status.code() {
+                Some(c) => format!("exit status {c}"),
+                None => "killed by a signal".to_string(),
+            };
+            return Err(SolverError::Failed { command, status, output: quote(&out) });
+        }
+        if !solution_path.is_file() {
+            return Err(SolverError::Missing {
+                command,
+                path: solution_path.display().to_string(),
+            });
+        }
+        let other = read_solution(&solution_path, mesh).map_err(SolverError::Read)?;
+        let name = field_name(&other, &solution_path, self.field.as_deref())?;
+        attach(mesh, &mesh_path, &other, &solution_path, &name)?;
+        let complexity_asked = match self.goal {
+            Goal::Vertices(s) => Some(s.at(k)),
+            Goal::Error(_) => None,
+        };
+        Ok(Solved { seconds, field: name, complexity_asked })
+    }
+
+    /// The sizing step of field `name` at iteration `k`.
+    pub fn step(&self, k: usize, name: &str) -> Step {
+        let target = match self.goal {
+            Goal::Vertices(s) => Target::Vertices(s.at(k)),
+            Goal::Error(e) => Target::Error(e),
+        };
+        Step {
+            label: format!("solution `{name}` (SOLUTION_HESSIAN, {})", self.method.name()),
+            algorithm: Algorithm::SolutionHessian(SolutionHessian {
+                field: name.to_string(),
+                target,
+                p: self.p,
+                method: self.method,
+                bounds: Some(self.bounds),
+            }),
+            names: vec![name.to_string()],
+        }
+    }
+}
+
+/// Whether `ext` names a format smartmesh reads (for the solution file; a Medit `.sol`
+/// or `.solb` alone too, in the mesh's vertex order).
+pub fn readable_extension(ext: &str) -> bool {
+    matches!(ext.to_ascii_lowercase().as_str(), "sol" | "solb")
+        || Format::from_extension(ext).is_some_and(|f| f.can_read())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_schedule_grows_to_its_target() {
+        let s = Schedule { start: 500.0, growth: 2.0, target: 3000.0 };
+        let v: Vec<f64> = (0..5).map(|k| s.at(k)).collect();
+        assert_eq!(v, [500.0, 1000.0, 2000.0, 3000.0, 3000.0]);
+        assert_eq!(s.at(usize::MAX), 3000.0);
+    }
+
+    #[test]
+    fn paths_are_quoted_for_the_shell() {
+        assert_eq!(shell_quote("a b/it's.vtu"), "'a b/it'\\''s.vtu'");
+    }
+}
