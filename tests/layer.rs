@@ -213,8 +213,28 @@ fn concave_corner_columns_do_not_cross() {
 #[test]
 fn thin_gap_thins_the_layers_and_reports_it() {
     // A slot 0.05 wide between two walls (1 below, 3 above), layers asked 0.06 thick.
-    let pts = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.05], [0.0, 0.05]];
-    let segs = [([0, 1], 1), ([1, 2], 2), ([2, 3], 3), ([3, 0], 4)];
+    // The short sides have vertices inside, which both skins' sides replace.
+    let third = 0.05 / 3.0;
+    let pts = [
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [1.0, third],
+        [1.0, 2.0 * third],
+        [1.0, 0.05],
+        [0.0, 0.05],
+        [0.0, 2.0 * third],
+        [0.0, third],
+    ];
+    let segs = [
+        ([0, 1], 1),
+        ([1, 2], 2),
+        ([2, 3], 2),
+        ([3, 4], 2),
+        ([4, 5], 3),
+        ([5, 6], 4),
+        ([6, 7], 4),
+        ([7, 0], 4),
+    ];
     let input = mesh_of(&pts, &segs, 0.02);
     let g = Growth::solve(Some(0.002), None, Some(5), Some(0.06)).unwrap();
     let out = layered(&input, &opts(&["1", "3"], g), true);
