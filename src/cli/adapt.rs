@@ -143,6 +143,10 @@ pub struct AdaptArgs {
     /// Do not insert the recipe's LAYER skin.
     #[arg(long)]
     no_layer: bool,
+    /// Split the quads of the starting mesh into two triangles each (the native remesher
+    /// takes triangles; a mixed mesh is otherwise refused at its first remeshing).
+    #[arg(long)]
+    split_quads: bool,
     #[command(flatten)]
     output_format: super::MeshOutputArgs,
     /// Print a JSON summary on stdout.
@@ -288,7 +292,18 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     }
     let mut recipe = args.recipe.read()?;
     args.controls.apply_to(&mut recipe)?;
-    let starting = starting_point(&args.input, args.from)?;
+    let mut starting = starting_point(&args.input, args.from)?;
+    if args.split_quads {
+        let n = starting.mesh.split_quads();
+        ui::note(&format!("split {n} quads of the starting mesh into {} triangles", 2 * n));
+    } else if args.adapter == AdapterArg::Native
+        && starting.mesh.num_cells_of(smartmesh::formats::CellKind::Quad) > 0
+    {
+        return Err(CliError::usage(format!(
+            "{}: the native remesher takes triangles; split the mesh's quads with --split-quads",
+            args.input.display()
+        )));
+    }
     // The input is checked whole before any tool is looked for: a recipe that names tags
     // the mesh does not have is bad input (2) whether or not the remesher is installed.
     recipe
