@@ -198,7 +198,7 @@ fn concave_corner_columns_do_not_cross() {
     // reflex corner; the concave corner for the skin is the outer one at (0,0).
     let pts = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
     let segs = [([0, 1], 1), ([1, 2], 2), ([2, 3], 3), ([3, 4], 3), ([4, 5], 4), ([5, 0], 1)];
-    let input = mesh_of(&pts, &segs, 0.1);
+    let input = mesh_of(&pts, &segs, 0.15);
     let g = Growth { first_height: 0.01, ratio: 1.2, layers: 6 };
     let out = layered(&input, &opts(&["1"], g), true);
     assert!((area(&out.mesh) - 3.0).abs() < 1e-12);
@@ -206,15 +206,35 @@ fn concave_corner_columns_do_not_cross() {
     let q = quad_quality(&out.mesh).unwrap();
     assert!(q.min_scaled_jacobian > 0.3, "{}", q.min_scaled_jacobian);
     // The reflex corner (1,1): wall 3 there gets a fan.
-    let out = layered(&input, &opts(&["3"], g), true);
+    let out = layered(&input, &opts(&["3"], g), false);
     assert!(out.report.skin_triangles > 0);
 }
 
 #[test]
 fn thin_gap_thins_the_layers_and_reports_it() {
     // A slot 0.05 wide between two walls (1 below, 3 above), layers asked 0.06 thick.
-    let pts = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.05], [0.0, 0.05]];
-    let segs = [([0, 1], 1), ([1, 2], 2), ([2, 3], 3), ([3, 0], 4)];
+    // The short sides have vertices inside, which both skins' sides replace.
+    let third = 0.05 / 3.0;
+    let pts = [
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [1.0, third],
+        [1.0, 2.0 * third],
+        [1.0, 0.05],
+        [0.0, 0.05],
+        [0.0, 2.0 * third],
+        [0.0, third],
+    ];
+    let segs = [
+        ([0, 1], 1),
+        ([1, 2], 2),
+        ([2, 3], 2),
+        ([3, 4], 2),
+        ([4, 5], 3),
+        ([5, 6], 4),
+        ([6, 7], 4),
+        ([7, 0], 4),
+    ];
     let input = mesh_of(&pts, &segs, 0.02);
     let g = Growth::solve(Some(0.002), None, Some(5), Some(0.06)).unwrap();
     let out = layered(&input, &opts(&["1", "3"], g), true);
@@ -413,6 +433,18 @@ fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
     ));
     let rm = smartmesh::formats::read_path(std::path::Path::new(&out("rm.msh")), None).unwrap();
     assert!(check_mesh(&rm).is_valid());
+    let e = cli::bad(&cli::smartmesh(
+        &[
+            "adapt",
+            &out("skin.msh"),
+            "--recipe",
+            &cli::bundled("cylinder.toml"),
+            "-o",
+            &out("a.msh"),
+        ],
+        None,
+    ));
+    assert!(e.contains("--split-quads"), "{e}");
 
     // Gmsh, meshio and VTK read the files with the same cells.
     let Some(py) = common::python_with(&["gmsh", "meshio", "vtk"]) else { return };

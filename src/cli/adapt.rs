@@ -182,6 +182,10 @@ pub struct AdaptArgs {
     /// Do not insert the recipe's LAYER skin.
     #[arg(long)]
     no_layer: bool,
+    /// Split the quads of the starting mesh into two triangles each (the native remesher
+    /// takes triangles; a mixed mesh is otherwise refused at its first remeshing).
+    #[arg(long)]
+    split_quads: bool,
     #[command(flatten)]
     output_format: super::MeshOutputArgs,
     /// Print a JSON summary on stdout.
@@ -408,9 +412,20 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     // A solver's first solution needs a mesh that resolves something: a .poly is meshed
     // to about the schedule's first vertex count.
     let first = args.solver.as_ref().and(args.complexity_start.or(args.solution.complexity));
-    let starting = start_sized(&args.input, args.from, first)?;
+    let mut starting = start_sized(&args.input, args.from, first)?;
     for n in &starting.notes {
         ui::note(&format!("{}: {n}", args.input.display()));
+    }
+    if args.split_quads {
+        let n = starting.mesh.split_quads();
+        ui::note(&format!("split {n} quads of the starting mesh into {} triangles", 2 * n));
+    } else if args.adapter == AdapterArg::Native
+        && starting.mesh.num_cells_of(smartmesh::formats::CellKind::Quad) > 0
+    {
+        return Err(CliError::usage(format!(
+            "{}: the native remesher takes triangles; split the mesh's quads with --split-quads",
+            args.input.display()
+        )));
     }
     let solver = solver_loop(&args, &starting.mesh, &recipe)?;
     // The input is checked whole before any tool is looked for: a recipe that names tags

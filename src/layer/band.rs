@@ -60,39 +60,67 @@ pub fn build(
     let mut lines = Vec::new();
     let mut bridges: Vec<[usize; 2]> = Vec::new();
     let mut side_edges = BTreeSet::new();
+    // First what every side replaces, then where each side's last point joins the kept
+    // boundary: the first vertex past it that no side replaces, or, when two sides share
+    // one boundary run between two walls, the other side's last point.
     for col in &skin.columns {
         let Some(side) = &col.side else { continue };
         let top = col.ids[n];
         let reach = norm(sub(pts[top], pts[col.base]));
         let last_h = norm(sub(pts[top], pts[col.ids[n - 1]]));
-        let mut first_kept = None;
         for (i, &v) in side.path.iter().enumerate().skip(1) {
             let stop = matches!(topo.vertex_class[v], Classification::Point(_)) || skin.wall[v];
             if side.arc[i] < reach + 0.5 * last_h && !stop && i + 1 < side.path.len() {
                 side_removed.insert(v);
             } else {
-                first_kept = Some(v);
                 break;
             }
         }
-        if let Some(q) = first_kept {
-            for w in side.path.windows(2) {
-                side_edges.insert(key(w[0], w[1]));
-                if w[1] == q {
-                    break;
-                }
+    }
+    for (c, col) in skin.columns.iter().enumerate() {
+        let Some(side) = &col.side else { continue };
+        let top = col.ids[n];
+        let Some(&q) = side.path.iter().skip(1).find(|v| !side_removed.contains(v)) else {
+            continue;
+        };
+        for w in side.path.windows(2) {
+            side_edges.insert(key(w[0], w[1]));
+            if w[1] == q {
+                break;
             }
         }
+        // The other side of the same run, if `q` is its wall vertex.
+        let facing = skin.columns.iter().enumerate().find(|(o, oc)| {
+            *o != c && oc.base == q && oc.side.as_ref().is_some_and(|s| s.path.contains(&col.base))
+        });
+        let end = match facing {
+            Some((o, _)) if o < c => continue,
+            Some((_, oc)) => oc.ids[n],
+            None => q,
+        };
         if let Some(tags) = side.tags {
             for k in 0..n {
                 lines.push(([col.ids[k], col.ids[k + 1]], tags));
             }
-            if let Some(q) = first_kept {
-                lines.push(([top, q], tags));
-            }
+            lines.push(([top, end], tags));
         }
-        if let Some(q) = first_kept {
-            bridges.push([top, q]);
+        bridges.push([top, end]);
+    }
+    // The facing sides' own lines (skipped above with their shared bridge).
+    for (c, col) in skin.columns.iter().enumerate() {
+        let Some(side) = &col.side else { continue };
+        let Some(&q) = side.path.iter().skip(1).find(|v| !side_removed.contains(v)) else {
+            continue;
+        };
+        let facing_first = skin.columns.iter().enumerate().any(|(o, oc)| {
+            o < c && oc.base == q && oc.side.as_ref().is_some_and(|s| s.path.contains(&col.base))
+        });
+        if facing_first {
+            if let Some(tags) = side.tags {
+                for k in 0..n {
+                    lines.push(([col.ids[k], col.ids[k + 1]], tags));
+                }
+            }
         }
     }
     // The skin's cells as polygons.
