@@ -1014,3 +1014,18 @@ fn an_entity_of_the_wrong_type_says_what_an_entity_is() {
     assert!(e.to_string().contains("tag 99999999999 is out of range"), "{e}");
     assert_eq!(toml("[regions]\nA = [3, \"Wall\"]\n").unwrap().regions["A"].len(), 2);
 }
+
+#[test]
+fn invisible_characters_are_named_and_a_byte_order_mark_is_skipped() {
+    let e = toml("[regions]\nA\u{a0}= [1]\n").unwrap_err();
+    assert!(
+        e.to_string().contains("column 2 holds an invisible character, U+00A0 NO-BREAK SPACE"),
+        "{e}"
+    );
+    assert_eq!(e.line, Some(2));
+    let e = cfg("HMIN = 1;\nHMAX\u{200b} = 2;\n").unwrap_err();
+    assert!(e.to_string().contains("U+200B ZERO WIDTH SPACE"), "{e}");
+    assert_eq!(e.line, Some(2));
+    assert_eq!(cfg("\u{feff}HMIN = 1;\n").unwrap().global.h_min, Some(1.0));
+    assert_eq!(toml("\u{feff}[global]\nhmin = 1.0\n").unwrap().global.h_min, Some(1.0));
+}

@@ -87,6 +87,30 @@ impl Global {
     }
 }
 
+/// Refuses the characters that look like a space or like nothing (pasted from a web
+/// page or a word processor), naming the character and its line: a parser would quote
+/// them invisibly, or not at all.
+fn invisible_characters(text: &str, origin: &Path) -> Result<(), RecipeError> {
+    const NAMES: [(char, &str); 6] = [
+        ('\u{a0}', "U+00A0 NO-BREAK SPACE"),
+        ('\u{200b}', "U+200B ZERO WIDTH SPACE"),
+        ('\u{200c}', "U+200C ZERO WIDTH NON-JOINER"),
+        ('\u{200d}', "U+200D ZERO WIDTH JOINER"),
+        ('\u{2060}', "U+2060 WORD JOINER"),
+        ('\u{feff}', "U+FEFF BYTE ORDER MARK (ZERO WIDTH NO-BREAK SPACE)"),
+    ];
+    for (i, line) in text.lines().enumerate() {
+        if let Some((c, name)) = NAMES.iter().find(|(c, _)| line.contains(*c)) {
+            let column = line[..line.find(*c).unwrap_or(0)].chars().count() + 1;
+            return Err(RecipeError::new(RecipeErrorKind::Syntax(format!(
+                "column {column} holds an invisible character, {name} (pasted from a web page or a word processor?): replace it with a plain space or remove it"
+            )))
+            .at(origin, i + 1));
+        }
+    }
+    Ok(())
+}
+
 /// A topological entity as a recipe names it: a tag number or a tag name.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 #[serde(untagged)]
@@ -803,6 +827,10 @@ impl Recipe {
         origin: &Path,
         options: &ReadOptions,
     ) -> Result<Recipe, RecipeError> {
+        // A byte-order mark opens many files saved on Windows: skipped, as Python's
+        // `utf-8-sig` does.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        invisible_characters(text, origin)?;
         let recipe = match format {
             RecipeFormat::Libconfig => super::appendix::read(text, origin, options)?,
             RecipeFormat::Toml => super::serde_io::read_toml(text, origin)?,
