@@ -993,3 +993,40 @@ fn many_keys_and_regions_are_read_and_resolved_without_quadratic_work() {
     let e = toml(&last).unwrap().resolve(&topo).unwrap_err();
     assert_eq!(e.line, Some(REGIONS + 2), "{e}");
 }
+
+#[test]
+fn an_entity_of_the_wrong_type_says_what_an_entity_is() {
+    for (text, found) in [
+        ("[regions]\nA = [{ x = 1 }]\n", "invalid type: map"),
+        ("[regions]\nA = [1.5]\n", "floating point `1.5`"),
+        ("[regions]\nA = [true]\n", "boolean `true`"),
+    ] {
+        let e = toml(text).unwrap_err();
+        let m = e.to_string();
+        assert!(
+            m.contains(found)
+                && m.contains("a tag number (an integer) or a tag name (a string)")
+                && !m.contains("untagged enum"),
+            "{m}"
+        );
+        assert_eq!(e.line, Some(2), "{m}");
+    }
+    let e = toml("[regions]\nA = [99999999999]\n").unwrap_err();
+    assert!(e.to_string().contains("tag 99999999999 is out of range"), "{e}");
+    assert_eq!(toml("[regions]\nA = [3, \"Wall\"]\n").unwrap().regions["A"].len(), 2);
+}
+
+#[test]
+fn invisible_characters_are_named_and_a_byte_order_mark_is_skipped() {
+    let e = toml("[regions]\nA\u{a0}= [1]\n").unwrap_err();
+    assert!(
+        e.to_string().contains("column 2 holds an invisible character, U+00A0 NO-BREAK SPACE"),
+        "{e}"
+    );
+    assert_eq!(e.line, Some(2));
+    let e = cfg("HMIN = 1;\nHMAX\u{200b} = 2;\n").unwrap_err();
+    assert!(e.to_string().contains("U+200B ZERO WIDTH SPACE"), "{e}");
+    assert_eq!(e.line, Some(2));
+    assert_eq!(cfg("\u{feff}HMIN = 1;\n").unwrap().global.h_min, Some(1.0));
+    assert_eq!(toml("\u{feff}[global]\nhmin = 1.0\n").unwrap().global.h_min, Some(1.0));
+}

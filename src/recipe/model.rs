@@ -87,14 +87,68 @@ impl Global {
     }
 }
 
+/// Refuses the characters that look like a space or like nothing (pasted from a web
+/// page or a word processor), naming the character and its line: a parser would quote
+/// them invisibly, or not at all.
+fn invisible_characters(text: &str, origin: &Path) -> Result<(), RecipeError> {
+    const NAMES: [(char, &str); 6] = [
+        ('\u{a0}', "U+00A0 NO-BREAK SPACE"),
+        ('\u{200b}', "U+200B ZERO WIDTH SPACE"),
+        ('\u{200c}', "U+200C ZERO WIDTH NON-JOINER"),
+        ('\u{200d}', "U+200D ZERO WIDTH JOINER"),
+        ('\u{2060}', "U+2060 WORD JOINER"),
+        ('\u{feff}', "U+FEFF BYTE ORDER MARK (ZERO WIDTH NO-BREAK SPACE)"),
+    ];
+    for (i, line) in text.lines().enumerate() {
+        if let Some((c, name)) = NAMES.iter().find(|(c, _)| line.contains(*c)) {
+            let column = line[..line.find(*c).unwrap_or(0)].chars().count() + 1;
+            return Err(RecipeError::new(RecipeErrorKind::Syntax(format!(
+                "column {column} holds an invisible character, {name} (pasted from a web page or a word processor?): replace it with a plain space or remove it"
+            )))
+            .at(origin, i + 1));
+        }
+    }
+    Ok(())
+}
+
 /// A topological entity as a recipe names it: a tag number or a tag name.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 #[serde(untagged)]
 pub enum EntityRef {
     /// A tag number (Gmsh physical or elementary tag, Triangle marker…).
     Tag(i32),
     /// A tag name (Gmsh physical name, OBJ group…).
     Name(String),
+}
+
+/// Read by hand rather than derived (`#[serde(untagged)]`), whose only error is "data did
+/// not match any variant of untagged enum EntityRef": this one says what was found and
+/// what is expected.
+impl<'de> Deserialize<'de> for EntityRef {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<EntityRef, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = EntityRef;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("an entity: a tag number (an integer) or a tag name (a string)")
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<EntityRef, E> {
+                i32::try_from(v).map(EntityRef::Tag).map_err(|_| {
+                    E::custom(format!(
+                        "tag {v} is out of range (a tag is a 32-bit integer, at most {})",
+                        i32::MAX
+                    ))
+                })
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<EntityRef, E> {
+                self.visit_i64(i64::try_from(v).unwrap_or(i64::MAX))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<EntityRef, E> {
+                Ok(EntityRef::Name(v.to_string()))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 impl std::fmt::Display for EntityRef {
@@ -782,6 +836,10 @@ impl Recipe {
         origin: &Path,
         options: &ReadOptions,
     ) -> Result<Recipe, RecipeError> {
+        // A byte-order mark opens many files saved on Windows: skipped, as Python's
+        // `utf-8-sig` does.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        invisible_characters(text, origin)?;
         let recipe = match format {
             RecipeFormat::Libconfig => super::appendix::read(text, origin, options)?,
             RecipeFormat::Toml => super::serde_io::read_toml(text, origin)?,
