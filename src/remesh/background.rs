@@ -5,12 +5,15 @@
 //! Log-Euclidean mean keeps every tensor SPD and interpolates sizes geometrically
 //! (Arsigny et al. 2006; the one implementation is [`crate::metric::log_euclidean`]).
 //!
-//! Point location uses a uniform bucket grid over the triangles' boxes, written by hand
-//! because the crates that index triangles (rstar) are not among the project's
-//! dependencies and a grid sized to the triangle count answers in O(1) on the coarse
-//! background meshes a remesher receives. A point outside every triangle (a chord of a
-//! curved boundary cutting into a hole) takes the nearest triangle's metric at the
-//! closest point.
+//! Point location first scans the leaf of a quadtree of the triangles' boxes
+//! ([`super::box_tree`], which follows the grading of an adapted background); a point
+//! that no triangle of the leaf contains goes to a uniform bucket grid over the boxes
+//! (written by hand: the crates that index triangles, rstar, are not among the project's
+//! dependencies), which finds the nearest triangle by rings of cells. A point outside
+//! every triangle (a chord of a curved boundary cutting into a hole) takes the nearest
+//! triangle's metric at the closest point. Both scans take the triangle `p` is deepest
+//! in, the lowest index on ties, over sets holding every triangle that contains `p`, so
+//! they agree.
 
 use crate::metric::Sym2;
 // The Log-Euclidean mean is the metric module's; the remesher's other files reach it here.
@@ -28,6 +31,8 @@ pub struct Background {
     /// CSR buckets: triangles of cell `k` are `items[start[k]..start[k + 1]]`.
     start: Vec<u32>,
     items: Vec<u32>,
+    /// The quadtree of the triangles' boxes.
+    tree: super::box_tree::BoxTree,
 }
 
 impl Background {
@@ -62,6 +67,7 @@ impl Background {
             ny,
             start: Vec::new(),
             items: Vec::new(),
+            tree: super::box_tree::BoxTree::new(&[]),
         };
         let mut count = vec![0u32; nx * ny + 1];
         for t in tris {
@@ -89,6 +95,17 @@ impl Background {
         }
         bg.start = count;
         bg.items = items;
+        let boxes: Vec<([f64; 2], [f64; 2])> = tris
+            .iter()
+            .map(|t| {
+                let p = t.map(|v| points[v]);
+                (
+                    [p[0][0].min(p[1][0]).min(p[2][0]), p[0][1].min(p[1][1]).min(p[2][1])],
+                    [p[0][0].max(p[1][0]).max(p[2][0]), p[0][1].max(p[1][1]).max(p[2][1])],
+                )
+            })
+            .collect();
+        bg.tree = super::box_tree::BoxTree::new(&boxes);
         bg
     }
 
@@ -148,6 +165,9 @@ impl Background {
     /// The triangle containing `p` (the one `p` is deepest in) or, outside the
     /// triangulation, the nearest one, with the weights of `p` (or of its closest point).
     pub fn locate(&self, p: [f64; 2]) -> (usize, [f64; 3]) {
+        if let Some(found) = self.deepest(self.tree.candidates(p), p) {
+            return found;
+        }
         let (ci, cj) = self.cell_of(p);
         let k = cj * self.nx + ci;
         let mut best: Option<(usize, [f64; 3], f64)> = None;
@@ -198,6 +218,20 @@ impl Background {
             }
         }
         near.map(|(t, w, _)| (t, w)).unwrap_or((0, [1.0, 0.0, 0.0]))
+    }
+
+    /// The triangle of `candidates` that `p` is deepest in (the first on ties), if `p` is
+    /// in one of them.
+    fn deepest(&self, candidates: &[u32], p: [f64; 2]) -> Option<(usize, [f64; 3])> {
+        let mut best: Option<(usize, [f64; 3], f64)> = None;
+        for &t in candidates {
+            let l = self.barycentric(t as usize, p);
+            let m = l[0].min(l[1]).min(l[2]);
+            if best.as_ref().map_or(true, |b| m > b.2) {
+                best = Some((t as usize, l, m));
+            }
+        }
+        best.filter(|b| b.2 >= 0.0).map(|(t, l, _)| (t, l))
     }
 
     /// The metric of the input field at `p`.

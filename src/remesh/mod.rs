@@ -34,6 +34,7 @@
 
 mod background;
 pub mod boundary;
+mod box_tree;
 mod build;
 mod collapse;
 mod error;
