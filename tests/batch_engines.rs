@@ -135,10 +135,12 @@ fn a_hyperqueue_job_killed_mid_run_is_completed_by_resume() {
     // (recording their variant) before the resume, which would run them a second time.
     wait_for_processes_naming(&m, Duration::from_secs(300));
     let before = records(&out);
-    assert!(before.len() >= 4 && before.len() < n, "{} records at the kill", before.len());
+    // A task told to stop by its dying worker records its variant as interrupted.
     for r in &before {
-        assert_eq!(r["status"], "ok", "{r}");
+        assert!(r["status"] == "ok" || r["status"] == "interrupted", "{r}");
     }
+    let done = before.iter().filter(|r| r["status"] == "ok").count();
+    assert!(done >= 4 && done < n, "{done} variants done at the kill");
 
     // --resume runs what the cluster did not finish, and only that.
     let o = smartmesh(
@@ -147,11 +149,8 @@ fn a_hyperqueue_job_killed_mid_run_is_completed_by_resume() {
     );
     assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.contains(&format!("{n} of {n} variants done ({} already recorded)", before.len())),
-        "{err}"
-    );
-    assert_eq!(records(&out).len(), n);
+    assert!(err.contains(&format!("{n} of {n} variants done ({done} already recorded)")), "{err}");
+    assert_eq!(records(&out).len(), before.len() + n - done);
     check_complete(&out, n);
 }
 
@@ -179,6 +178,15 @@ fn a_slurm_array_of_shards_runs_the_whole_manifest() {
         eprintln!("skipping: `sbatch` is not on PATH (tests/engines/slurm-single-node.sh sets up Slurm on one machine)");
         return;
     };
+    // Installed is not running: a node must answer (slurmctld and slurmd up).
+    let up = Command::new("sinfo").args(["-h", "-o", "%T"]).output().is_ok_and(|o| {
+        let states = String::from_utf8_lossy(&o.stdout);
+        o.status.success() && ["idle", "mixed", "allocated"].iter().any(|s| states.contains(s))
+    });
+    if !up {
+        eprintln!("skipping: `sbatch` is there but no Slurm node answers `sinfo` (tests/engines/slurm-single-node.sh starts one)");
+        return;
+    }
     let n = 6;
     let d = tempfile::tempdir().unwrap();
     let m = manifest(d.path(), n);
