@@ -74,6 +74,11 @@ pub struct RemeshingRecord {
     /// ([`crate::remesh::expected_vertices`]), checked against the vertex limit before the
     /// remesher ran.
     pub expected_vertices: f64,
+    /// The vertices the remesher was asked for when the field was scaled down to limit the
+    /// growth of one iteration ([`crate::adapt::rules::growth_scale`]); absent when the
+    /// field was given as it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub growth_limited_to: Option<f64>,
     /// The remesher's passes and per-pass counts of splits, collapses, swaps and moves
     /// (the native remesher; external tools report none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -188,6 +193,7 @@ mod tests {
                 seconds: PhaseTimes { size: 0.01, remesh: 0.0, measure: 0.001 },
                 remeshing: Some(RemeshingRecord {
                     expected_vertices: 11.5,
+                    growth_limited_to: None,
                     remesher: Some(RemeshCounts { passes: 2, splits: 3, ..Default::default() }),
                 }),
                 solver: Some(SolverRecord {

@@ -19,6 +19,13 @@
 //! whatever the remesher: a recipe asking for 10¹² vertices stops the loop at once
 //! ([`AdaptError::TooManyVertices`]) instead of filling the memory.
 //!
+//! Before each remeshing the field's complexity is also compared with the current vertex
+//! count: above [`AdaptOptions::max_growth`] times that count, the remesher is given the
+//! field scaled down to that many vertices ([`rules::growth_scale`]), so that a coarse
+//! starting mesh grows by steps the next sizing resolves instead of overshooting the
+//! final count several times over. An iteration remeshed to a scaled field is never the
+//! one the loop stops at as converged (its mesh answers another field).
+//!
 //! The recipe is resolved afresh on every mesh by its tag names, so the same recipe
 //! serves every geometry variant with the same tags (thesis 6.3.1: the topology stays,
 //! the geometry changes).
@@ -65,7 +72,13 @@ pub struct AdaptOptions {
     /// Most vertices a remeshing may be asked for (the field's complexity); `None`: no
     /// limit.
     pub max_vertices: Option<usize>,
+    /// Largest growth of the vertex count in one remeshing ([`rules::growth_scale`]);
+    /// `None`: the field as it is.
+    pub max_growth: Option<f64>,
 }
+
+/// The default [`AdaptOptions::max_growth`].
+pub const DEFAULT_MAX_GROWTH: f64 = 4.0;
 
 impl Default for AdaptOptions {
     fn default() -> Self {
@@ -73,6 +86,7 @@ impl Default for AdaptOptions {
             max_iterations: 8,
             tolerances: Tolerances::default(),
             max_vertices: Some(DEFAULT_MAX_VERTICES),
+            max_growth: Some(DEFAULT_MAX_GROWTH),
         }
     }
 }
@@ -331,16 +345,26 @@ pub fn run_with_solver(
                 break;
             }
         }
+        let scale = rules::growth_scale(expected, current.mesh.points.len(), options.max_growth);
+        let scaled: Option<Vec<Sym2>> =
+            scale.map(|s| current.metric.iter().map(|&m| s * m).collect());
         observer.phase(k, Phase::Remesh);
         let t = Instant::now();
-        let remeshed = adapter.adapt(&current.mesh, &current.topology, &current.metric);
+        let remeshed = adapter.adapt(
+            &current.mesh,
+            &current.topology,
+            scaled.as_deref().unwrap_or(&current.metric),
+        );
         if observer.interrupted() {
             stopped = INTERRUPTED.to_string();
             break;
         }
         let next = remeshed.map_err(|e| (Phase::Remesh, PhaseError::from(e))).and_then(|adapted| {
-            let remeshing =
-                RemeshingRecord { expected_vertices: expected, remesher: adapted.stats };
+            let remeshing = RemeshingRecord {
+                expected_vertices: expected,
+                growth_limited_to: scale.map(|s| s * expected),
+                remesher: adapted.stats,
+            };
             let seconds = t.elapsed().as_secs_f64();
             measure(k, adapted.mesh, seconds, Some(remeshing), recipe, solver, observer)
         });
@@ -361,7 +385,7 @@ pub fn run_with_solver(
             best = next.mesh.clone();
         }
         observer.record(&history, new_best.then_some(&next.mesh))?;
-        if rules::converged(&current.record, &next.record, &options.tolerances) {
+        if scale.is_none() && rules::converged(&current.record, &next.record, &options.tolerances) {
             let (dv, dc) = rules::changes(&current.record, &next.record);
             history.converged = true;
             stopped = format!(

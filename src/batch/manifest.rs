@@ -40,6 +40,7 @@ pub const OPTIONS: &[(&str, &str, OptionKind)] = &[
     ("tol_vertices", "--tol-vertices", OptionKind::Number),
     ("tol_conformity", "--tol-conformity", OptionKind::Number),
     ("max_vertices", "--max-vertices", OptionKind::Count),
+    ("max_growth", "--max-growth", OptionKind::Number),
     ("hmin", "--hmin", OptionKind::Number),
     ("hmax", "--hmax", OptionKind::Number),
     ("hgrad", "--hgrad", OptionKind::Number),

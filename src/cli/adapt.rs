@@ -126,6 +126,12 @@ pub struct AdaptArgs {
     /// with exit status 2 above it (about 0.6 KB of memory per vertex).
     #[arg(long, default_value_t = smartmesh::remesh::DEFAULT_MAX_VERTICES)]
     max_vertices: usize,
+    /// Largest growth of the vertex count in one iteration: where the field asks for more
+    /// than this many times the current mesh's vertices (a coarse start), the remesher gets
+    /// the field scaled down to that count, and the next iterations refine further (0: no
+    /// limit).
+    #[arg(long, default_value_t = smartmesh::adapt::DEFAULT_MAX_GROWTH, value_parser = non_negative)]
+    max_growth: f64,
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
@@ -470,6 +476,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         max_iterations: args.max_iterations,
         tolerances: Tolerances { vertices: args.tol_vertices, conformity: args.tol_conformity },
         max_vertices: Some(args.max_vertices),
+        max_growth: (args.max_growth > 0.0).then_some(args.max_growth),
     };
     let to_stdout = is_stdio(&args.output);
     let mesh_file = if to_stdout { Path::new("stdout.msh") } else { args.output.as_path() };

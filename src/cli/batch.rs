@@ -32,7 +32,7 @@ use super::{ui, CliError, ExitStatus};
 name names the outputs (letters, digits, . _ -; unique); input and recipe are absolute or \
 relative to the manifest's folder; options are adapt's options with underscores (adapter, \
 adapter_program, adapter_args [list], max_iterations, tol_vertices, tol_conformity, \
-max_vertices, hmin, hmax, hgrad, hausd, coarsen_geometry, nosurf, no_preprocess, \
+max_vertices, max_growth, hmin, hmax, hgrad, hausd, coarsen_geometry, nosurf, no_preprocess, \
 recipe_format, from, binary, gmsh_version, vtk_version, vtu_encoding, no_compress) and format, \
 the output's extension (msh unless said). A bad line stops the batch before any run (exit 2, \
 naming the file and the line).
@@ -226,6 +226,10 @@ fn run_one(
     let (status, error) = match status.code() {
         Some(0) => (Status::Ok, None),
         Some(130) => (Status::Interrupted, Some("interrupted".to_string())),
+        // Told to stop by this batch's own Ctrl-C (or SIGTERM), before its handler was up.
+        None if STOP.load(Ordering::SeqCst) => {
+            (Status::Interrupted, Some(format!("interrupted ({status})")))
+        }
         code => {
             let why = error_of(&log_path).unwrap_or_else(|| match code {
                 Some(c) => format!("exit status {c}, no error message (see {})", v.log_name()),

@@ -13,6 +13,12 @@
 //!
 //! Invariants: deterministic (no hashing, cells and triangles scanned in index order);
 //! weights sum to 1 and are all ≥ 0 for a returned closest point outside.
+//!
+//! A point is first looked for in the leaf of a quadtree of the triangles' boxes
+//! ([`super::box_tree`], which follows the grading of an adapted mesh, where the uniform
+//! grid piles many triangles into a few cells); a point that no triangle of the leaf
+//! contains goes to the grid. Both scans take the triangle `p` is deepest in, the lowest
+//! index on ties, over sets holding every triangle that contains `p`, so they agree.
 
 /// Triangles (counter-clockwise, over their points) indexed for point location.
 pub struct TriangleLocator {
@@ -25,6 +31,8 @@ pub struct TriangleLocator {
     /// CSR buckets: triangles of cell `k` are `items[start[k]..start[k + 1]]`.
     start: Vec<u32>,
     items: Vec<u32>,
+    /// The quadtree of the triangles' boxes.
+    tree: super::box_tree::BoxTree,
 }
 
 impl TriangleLocator {
@@ -57,6 +65,7 @@ impl TriangleLocator {
             ny,
             start: Vec::new(),
             items: Vec::new(),
+            tree: super::box_tree::BoxTree::new(&[]),
         };
         let mut count = vec![0u32; nx * ny + 1];
         for t in tris {
@@ -84,6 +93,17 @@ impl TriangleLocator {
         }
         loc.start = count;
         loc.items = items;
+        let boxes: Vec<([f64; 2], [f64; 2])> = tris
+            .iter()
+            .map(|t| {
+                let p = t.map(|v| points[v]);
+                (
+                    [p[0][0].min(p[1][0]).min(p[2][0]), p[0][1].min(p[1][1]).min(p[2][1])],
+                    [p[0][0].max(p[1][0]).max(p[2][0]), p[0][1].max(p[1][1]).max(p[2][1])],
+                )
+            })
+            .collect();
+        loc.tree = super::box_tree::BoxTree::new(&boxes);
         loc
     }
 
@@ -155,6 +175,9 @@ impl TriangleLocator {
     /// With no triangle at all: triangle 0 and weights (1, 0, 0), which callers check
     /// with [`TriangleLocator::is_empty`] first.
     pub fn locate(&self, p: [f64; 2]) -> (usize, [f64; 3]) {
+        if let Some(found) = self.deepest(self.tree.candidates(p), p) {
+            return found;
+        }
         let (ci, cj) = self.cell_of(p);
         let k = cj * self.nx + ci;
         let mut best: Option<(usize, [f64; 3], f64)> = None;
@@ -205,6 +228,20 @@ impl TriangleLocator {
             }
         }
         near.map(|(t, w, _)| (t, w)).unwrap_or((0, [1.0, 0.0, 0.0]))
+    }
+
+    /// The triangle of `candidates` that `p` is deepest in (the first on ties), if `p` is
+    /// in one of them.
+    fn deepest(&self, candidates: &[u32], p: [f64; 2]) -> Option<(usize, [f64; 3])> {
+        let mut best: Option<(usize, [f64; 3], f64)> = None;
+        for &t in candidates {
+            let l = self.barycentric(t as usize, p);
+            let m = l[0].min(l[1]).min(l[2]);
+            if best.as_ref().map_or(true, |b| m > b.2) {
+                best = Some((t as usize, l, m));
+            }
+        }
+        best.filter(|b| b.2 >= 0.0).map(|(t, l, _)| (t, l))
     }
 }
 

@@ -7,6 +7,7 @@
 //!
 //! Everything here works on plain `[f64; 2]` points and knows nothing of meshes or tags.
 
+mod box_tree;
 mod chain_tree;
 pub mod clearance;
 pub mod locate;

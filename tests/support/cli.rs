@@ -82,3 +82,14 @@ pub fn program(name: &str) -> Option<std::path::PathBuf> {
     }
     found
 }
+
+/// The executable `name` found on `PATH`, if any (no message: for engines a test may
+/// well not find, and says so itself).
+#[allow(dead_code)]
+pub fn program_quiet(name: &str) -> Option<std::path::PathBuf> {
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&path)
+        .filter(|d| !d.as_os_str().is_empty())
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+}
