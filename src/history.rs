@@ -78,12 +78,62 @@ pub struct History {
     pub stopped: String,
     /// One record per iteration, in order.
     pub iterations: Vec<IterationRecord>,
+    /// The files of the mesh of `best_iteration` as they were written (name, size,
+    /// CRC-32): the history and the mesh are two files renamed one after the other, and a
+    /// run killed between the two renames leaves a new mesh beside the previous history.
+    /// With these a reader tells whether the mesh it has is the one described
+    /// ([`History::mismatch`]). Empty when the mesh went to stdout.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub best_mesh: Vec<WrittenFile>,
+}
+
+/// One file as it was written: enough to recognise it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WrittenFile {
+    /// Its file name (no directory: the mesh may be read from elsewhere).
+    pub name: String,
+    /// Its size in bytes.
+    pub bytes: u64,
+    /// The CRC-32 (IEEE) of its bytes, 8 hexadecimal digits.
+    pub crc32: String,
+}
+
+impl WrittenFile {
+    /// The record of `bytes` written as the file `name`.
+    pub fn of(name: &str, bytes: &[u8]) -> WrittenFile {
+        WrittenFile {
+            name: name.to_string(),
+            bytes: bytes.len() as u64,
+            crc32: format!("{:08x}", crc32fast::hash(bytes)),
+        }
+    }
 }
 
 impl History {
     /// Reads a history from JSON text; the error says what serde found and where.
     pub fn from_json(text: &str) -> Result<History, serde_json::Error> {
         serde_json::from_str(text)
+    }
+
+    /// Why the mesh file at `mesh` is not the mesh of the best iteration this history
+    /// describes, or `None` when it is, or when the history does not name a file of that
+    /// name (another mesh, or a history without the record) and so cannot tell.
+    pub fn mismatch(&self, mesh: &std::path::Path) -> Option<String> {
+        let name = mesh.file_name()?.to_string_lossy();
+        let recorded = self.best_mesh.iter().find(|f| f.name == name)?;
+        let bytes = std::fs::read(mesh).ok()?;
+        let found = WrittenFile::of(&recorded.name, &bytes);
+        (found != *recorded).then(|| {
+            format!(
+                "{} is not the mesh this history describes as iteration {} ({} bytes, CRC-32 {}; the file has {} bytes, CRC-32 {}): the run was stopped between writing the two, or the file was changed since",
+                mesh.display(),
+                self.best_iteration,
+                recorded.bytes,
+                recorded.crc32,
+                found.bytes,
+                found.crc32
+            )
+        })
     }
 
     /// The history as pretty-printed JSON with a final newline.
@@ -121,8 +171,11 @@ mod tests {
                     remesher: Some(RemeshCounts { passes: 2, splits: 3, ..Default::default() }),
                 }),
             }],
+            best_mesh: vec![WrittenFile::of("a.msh", b"123456789")],
         };
         assert_eq!(History::from_json(&h.to_json()).unwrap(), h);
+        // The CRC-32 check value of the IEEE polynomial.
+        assert_eq!(h.best_mesh[0].crc32, "cbf43926");
         assert!(History::from_json("{\"input\": 3}").is_err());
         // Seconds are arbitrary floats: each must come back exactly (serde_json's default
         // parser read 1.3374001039999999 back as 1.337400104).

@@ -18,13 +18,18 @@
 //! - [`adapters`]: remeshers behind one trait (MMG's `mmg2d_O3`, Gmsh's BAMG), tags
 //!   restored on their output;
 //! - [`adapt`]: the adaptation loop (size → remesh → size … until converged);
+//! - [`batch`]: manifests of geometry variants, their content hashes and result records
+//!   (`smartmesh batch`);
 //! - [`remesh`]: the native anisotropic remesher (split, collapse, swap, smooth in the
 //!   metric; boundaries, interfaces, corners and tags kept);
+//! - [`layer`]: the structured boundary-layer skin (thesis 5.4.2): quads along chosen
+//!   curves, the triangles pushed away, and the validity and quality of mixed meshes;
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
 //! - [`metric_field`]: a metric field on a mesh, read from point data, a `.sol`, a `.pos`
 //!   or a mesh file, checked, interpolated elsewhere, and written for MMG (.sol), Gmsh
 //!   (.msh, .pos) and VTK/ParaView (.vtu, .vtk);
 //! - [`report`]: pictures (SVG, PNG) of a mesh, its metric, conformity and history;
+//! - [`solution`]: metrics from a computed scalar field (Hessian recovery, Lp metric);
 //! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -33,9 +38,11 @@ pub use smartmesh_formats as formats;
 
 pub mod adapt;
 pub mod adapters;
+pub mod batch;
 pub mod conformity;
 pub mod geometry;
 pub mod history;
+pub mod layer;
 pub mod mesh_graph;
 pub mod mesher;
 pub mod metric;
@@ -46,6 +53,7 @@ pub mod remesh;
 pub mod report;
 pub mod size_controls;
 pub mod sizing;
+pub mod solution;
 pub mod summary;
 pub mod topology;
 

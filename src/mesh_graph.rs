@@ -1,10 +1,14 @@
 //! The mesh as a graph for neighbour propagation (thesis 2.2.5, 4.3.1.3): vertex
 //! adjacency in compressed sparse row form, 2D coordinates, the corners of the surface
-//! cells, and for each vertex the length of its longest incident mesh edge.
+//! cells, and for each vertex the length of its longest incident mesh edge; and, built
+//! from a mesh, its point-data arrays (scalars by value), for the algorithms that size
+//! from a computed field.
 //!
 //! Built from [`Topology::edges`] (every mesh edge once, sorted) so that the neighbour
 //! lists, and so every propagation order, are deterministic: each list is sorted by
 //! vertex index. Cost: O(vertices + edges) time and memory; indices are `u32`.
+
+use std::collections::BTreeMap;
 
 use smartmesh_formats::TaggedMesh;
 
@@ -51,6 +55,22 @@ pub struct MeshGraph {
     finite: bool,
     /// The cells of a grid over the bounding box that hold a vertex.
     occupied: Vec<(Point2, Point2)>,
+    /// The mesh's point-data arrays, by name.
+    point_data: BTreeMap<String, PointValues>,
+}
+
+/// A point-data array of the mesh a graph was built from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PointValues {
+    /// One value per vertex.
+    Scalar(Vec<f64>),
+    /// Anything else: its components per item and its items.
+    Other {
+        /// Components per item.
+        components: usize,
+        /// Items.
+        items: usize,
+    },
 }
 
 impl MeshGraph {
@@ -63,7 +83,20 @@ impl MeshGraph {
         let coords: Vec<Point2> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
         let edges: Vec<[usize; 2]> = topology.edges.iter().map(|e| e.0).collect();
         let cells: Vec<[usize; 4]> = topology.surface_cells.iter().map(|c| c.corners).collect();
-        MeshGraph::from_edges(coords, &edges, &cells)
+        let mut graph = MeshGraph::from_edges(coords, &edges, &cells)?;
+        graph.point_data = mesh
+            .point_data
+            .iter()
+            .map(|(name, a)| {
+                let values = if a.components == 1 && a.covers(mesh.points.len()) {
+                    PointValues::Scalar(a.values.clone())
+                } else {
+                    PointValues::Other { components: a.components, items: a.len() }
+                };
+                (name.clone(), values)
+            })
+            .collect();
+        Ok(graph)
     }
 
     /// The graph of vertices `coords` joined by `edges`; `cells` are the surface cells
@@ -162,7 +195,14 @@ impl MeshGraph {
             extent,
             finite,
             occupied,
+            point_data: BTreeMap::new(),
         })
+    }
+
+    /// The point-data arrays of the mesh the graph was built from (none for a graph
+    /// built from edges).
+    pub fn point_data(&self) -> &BTreeMap<String, PointValues> {
+        &self.point_data
     }
 
     /// Number of vertices.

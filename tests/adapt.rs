@@ -22,7 +22,7 @@ use smartmesh::adapt::{run, AdaptError, AdaptOptions, Observer, Tolerances};
 use smartmesh::adapters::restore::physical_tags;
 use smartmesh::adapters::{Adapted, Adapter, AdapterError};
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOptions};
-use smartmesh::history::History;
+use smartmesh::history::{History, WrittenFile};
 use smartmesh::quality::signed_area;
 use smartmesh::{Recipe, Sym2, Topology};
 use support::program;
@@ -181,10 +181,13 @@ fn best_mesh_is_the_most_conforming_and_stays_when_a_later_iteration_fails() {
     );
     let written = read_path(&out, None).unwrap();
     assert_eq!(written.points.len(), h.iterations[expected].vertices);
-    let on_disk =
+    let mut on_disk =
         History::from_json(&std::fs::read_to_string(dir.path().join("best.history.json")).unwrap())
             .unwrap();
+    let described = std::mem::take(&mut on_disk.best_mesh);
     assert_eq!(&on_disk, h);
+    let name = out.file_name().unwrap().to_str().unwrap();
+    assert_eq!(described, [WrittenFile::of(name, &std::fs::read(&out).unwrap())]);
 }
 
 /// Result files that check, after each write, what a reader would find on disk.
@@ -200,9 +203,13 @@ impl Observer for Checked {
         new_best: Option<&TaggedMesh>,
     ) -> Result<(), smartmesh::formats::Error> {
         self.files.record(history, new_best)?;
-        let on_disk =
+        let mut on_disk =
             History::from_json(&std::fs::read_to_string(&self.files.history).unwrap()).unwrap();
+        let described = std::mem::take(&mut on_disk.best_mesh);
         assert_eq!(&on_disk, history, "the history on disk is the one just recorded");
+        let name = self.files.mesh.file_name().unwrap().to_str().unwrap();
+        let bytes = std::fs::read(&self.files.mesh).unwrap();
+        assert_eq!(described, [WrittenFile::of(name, &bytes)], "it names the mesh on disk");
         let mesh = read_path(&self.files.mesh, None).unwrap();
         assert_eq!(
             mesh.points.len(),
@@ -337,7 +344,7 @@ fn missing_tools_are_named_before_any_work() {
         &["--adapter", "mmg2d", "--adapter-program", "/nonexistent/mmg2d_O3"],
         None,
     );
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/mmg2d_O3"));
 }
 

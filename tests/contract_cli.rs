@@ -240,11 +240,45 @@ fn tool_and_switch_names_in_messages_are_the_ones_to_type() {
         ],
         None,
     );
-    let err = String::from_utf8_lossy(&o.stderr);
+    // A program the user names that is missing or cannot be run is bad input (2).
+    let err = bad(&o);
     assert!(
         err.contains("`/nonexistent/mmg` does not exist") && !err.contains("not found"),
         "{err}"
     );
+    let plain = dir.path().join("plain-mmg");
+    std::fs::write(&plain, "not a program\n").unwrap();
+    let adapt_with = |program: &str, cwd: &Path| {
+        command(&[
+            "adapt",
+            cyl(),
+            "-r",
+            recipe(),
+            "-o",
+            p(&out),
+            "--adapter",
+            "mmg2d",
+            "--adapter-program",
+            program,
+        ])
+        .current_dir(cwd)
+        .output()
+        .unwrap()
+    };
+    let err = bad(&adapt_with(p(&plain), dir.path()));
+    assert!(err.contains("is not an executable file"), "{err}");
+    // `./tool.sh` is the one in the current directory, not in the adapter's temporary one:
+    // it runs (and fails, saying so in its own words).
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let tool = dir.path().join("tool.sh");
+        std::fs::write(&tool, "#!/bin/sh\necho 'tool.sh ran' >&2\nexit 3\n").unwrap();
+        std::fs::set_permissions(&tool, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let o = adapt_with("./tool.sh", dir.path());
+        assert_eq!(o.status.code(), Some(1), "{}", streams(&o));
+        assert!(String::from_utf8_lossy(&o.stderr).contains("tool.sh ran"), "{}", streams(&o));
+    }
     let dots = dir.path().join("dots.node");
     std::fs::write(&dots, "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n").unwrap();
     let err = bad(&smartmesh(&["mesh", p(&dots), "-o", p(&out)], None));
@@ -411,4 +445,119 @@ fn hausd_is_an_option_of_every_remesher() {
     let plain = vertices(&[]);
     let tight = vertices(&["--hausd", "1e-6"]);
     assert!(tight > plain, "--hausd 1e-6: {tight} vertices, {plain} without");
+}
+
+#[test]
+fn every_command_reads_a_recipe_alike_and_names_its_own_format_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let sol = dir.path().join("o.sol");
+    let odd = dir.path().join("recipe.txt");
+    std::fs::copy(recipe(), &odd).unwrap();
+    let out = dir.path().join("r.toml");
+    // (arguments before the recipe, the recipe's place holder, arguments after, flag)
+    let commands: [(&[&str], &[&str], &str); 3] = [
+        (&["size", cyl(), "-o", p(&sol), "-r"], &[], "--recipe-format"),
+        (&["recipe", "check"], &[cyl()], "--format"),
+        (&["recipe", "convert"], &[p(&out)], "--from"),
+    ];
+    let with = |pre: &[&str], recipe: &str, post: &[&str], extra: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = pre.iter().map(|s| s.to_string()).collect();
+        a.push(recipe.into());
+        a.extend(post.iter().map(|s| s.to_string()));
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let run = |args: &[String], stdin: &[u8]| {
+        let mut child = command(&args.iter().map(String::as_str).collect::<Vec<_>>())
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        {
+            use std::io::Write;
+            let _ = child.stdin.take().unwrap().write_all(stdin);
+        }
+        child.wait_with_output().unwrap()
+    };
+    for (pre, post, flag) in commands {
+        // An extension that tells no format: refused, naming this command's flag.
+        let err = bad(&run(&with(pre, p(&odd), post, &[]), b""));
+        assert!(err.contains("recipe.txt") && err.contains(flag), "{pre:?}: {err}");
+        // stdin without a format.
+        let err = bad(&run(&with(pre, "-", post, &[]), b""));
+        assert!(err.contains("stdin") && err.contains(flag), "{pre:?}: {err}");
+        // stdin that is not text: bad input (2) for every command.
+        let err = bad(&run(&with(pre, "-", post, &[flag, "toml"]), b"a = \"\xff\xfe\"\n"));
+        assert!(err.contains("<stdin>") && err.contains("not UTF-8"), "{pre:?}: {err}");
+        // The flag forces a format on the odd extension.
+        let o = run(&with(pre, p(&odd), post, &[flag, "toml"]), b"");
+        assert_eq!(o.status.code(), Some(0), "{pre:?}: {}", streams(&o));
+    }
+}
+
+/// Whether the report of `mesh` with `history` says the two do not belong together.
+fn report_says_mismatch(mesh: &Path, history: &Path, dir: &Path) -> bool {
+    let svg = dir.join("r.svg");
+    let o = smartmesh(&["report", p(mesh), "--history", p(history), "-o", p(&svg)], None);
+    ok(&o);
+    String::from_utf8_lossy(&o.stderr).contains("is not the mesh this history describes")
+}
+
+#[cfg(unix)]
+#[test]
+fn a_killed_adapt_leaves_a_history_that_knows_its_mesh_and_no_temporaries() {
+    use smartmesh::history::{History, WrittenFile};
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cyl.msh");
+    let history = dir.path().join("cyl.history.json");
+    let adapt = || {
+        command(&[
+            "adapt",
+            cyl(),
+            "-r",
+            recipe(),
+            "-o",
+            p(&out),
+            "--max-iterations",
+            "6",
+            "--tol-vertices",
+            "0",
+            "-q",
+        ])
+    };
+    // SIGKILL at moments spread over a run (about 0.4 s), from a fixed seed.
+    let mut seed: u64 = 0x5eed;
+    for _ in 0..6 {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let delay = std::time::Duration::from_millis(30 + (seed >> 33) % 400);
+        let mut child = adapt().spawn().unwrap();
+        std::thread::sleep(delay);
+        let _ = child.kill();
+        child.wait().unwrap();
+        let (Ok(bytes), Some(text)) = (std::fs::read(&out), std::fs::read_to_string(&history).ok())
+        else {
+            continue;
+        };
+        let h = History::from_json(&text).unwrap();
+        let agree = h.best_mesh == [WrittenFile::of("cyl.msh", &bytes)];
+        // The history names the mesh beside it, or the report says it does not.
+        assert_eq!(report_says_mismatch(&out, &history, dir.path()), !agree, "after {delay:?}");
+        if agree {
+            let mesh = read_path(&out, None).unwrap();
+            assert_eq!(mesh.points.len(), h.iterations[h.best_iteration].vertices);
+        }
+    }
+    // A run to the end in the same directory removes what the killed ones left.
+    ok(&adapt().output().unwrap());
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.ends_with(".tmp")), "temporaries left: {names:?}");
+    assert!(!report_says_mismatch(&out, &history, dir.path()));
+    // A mesh that is not the one described (the history of a later run beside an earlier
+    // mesh) is told.
+    std::fs::copy(cyl(), &out).unwrap();
+    assert!(report_says_mismatch(&out, &history, dir.path()));
 }

@@ -190,20 +190,36 @@ gmsh.option.setNumber("Mesh.MeshSizeMax", 0.2)
 gmsh.model.mesh.generate(2)
 gmsh.model.mesh.setOrder(2)
 gmsh.write(sys.argv[1])
-corners, triangles = set(), 0
+corners, used, triangles, lines = set(), set(), 0, 0
 for ty, nodes in zip(*gmsh.model.mesh.getElements()[::2]):
     k = gmsh.model.mesh.getElementProperties(ty)[3]
     c = {15: 1, 8: 2, 9: 3}[ty]
     corners.update(n for i, n in enumerate(nodes) if i % k < c)
+    used.update(nodes)
     triangles += len(nodes) // k if ty == 9 else 0
-print(len(corners), triangles)
+    lines += len(nodes) // k if ty == 8 else 0
+print(len(corners), triangles, lines, len(used - corners))
 gmsh.finalize()
 "#;
     let out = common::run_python(&py, make, &[&p2]);
     let counts: Vec<usize> =
         out.lines().last().unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
-    let info = ok(&smartmesh(&["info", &p2], None));
+    let o = smartmesh(&["info", &p2], None);
+    let info = ok(&o);
     assert!(!info.contains("used by no cell"), "{info}");
+    // What was reduced is said on stderr, and nothing under -q.
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("note: ")
+            && err.contains("second-order cells read as linear")
+            && err.contains(&format!("{} 6-node triangles as 3-node", counts[1]))
+            && err.contains(&format!("{} 3-node lines as 2-node", counts[2]))
+            && err.contains(&format!("; {} mid-edge nodes dropped", counts[3])),
+        "{err}"
+    );
+    let quiet = smartmesh(&["info", &p2, "-q"], None);
+    ok(&quiet);
+    assert!(quiet.stderr.is_empty(), "{}", String::from_utf8_lossy(&quiet.stderr));
     assert!(info.contains(&format!("points      {},", counts[0])), "{info}");
     assert!(
         info.contains(&format!("{} triangle", counts[1])) && !info.contains("triangle6"),

@@ -145,8 +145,11 @@ fn smartmesh_outputs(args: &[&str]) -> Result<Vec<Write>, String> {
             out.push(Write { path: o.to_string(), why: "convert's output" })
         }
         [sub, ..]
-            if ["info", "recipe", "size", "mesh", "remesh", "adapt", "report", "convert"]
-                .contains(sub) => {}
+            if [
+                "info", "recipe", "size", "mesh", "remesh", "adapt", "batch", "report", "convert",
+                "layer",
+            ]
+            .contains(sub) => {}
         _ => return Err(format!("smartmesh {args:?}: not a subcommand this test knows")),
     }
     Ok(out)

@@ -50,6 +50,10 @@ fn check_prints_regions_and_algorithms() {
     let s = stdout(&o);
     assert!(s.contains("StayVane         7 curves: tags 101, 102, 103, 104, 105, 106, 107"), "{s}");
     assert!(s.contains("Corners          9 points: tags 1, 2, 3, 4, 5, 6, 7, 11, 12"), "{s}");
+    assert!(
+        s.contains("Inlet            1 curve: tags 301 (\"Inlet\"); unused (no algorithm"),
+        "{s}"
+    );
     assert!(s.contains("algorithm 3 (DISTANCE_TO_BORDER on \"StayVane\"): 7 curves"), "{s}");
 
     let o = run(&[
@@ -65,6 +69,13 @@ fn check_prints_regions_and_algorithms() {
     let fluid = v["regions"].as_array().unwrap().iter().find(|r| r["name"] == "Fluid").unwrap();
     assert_eq!(fluid["dimension"], 2);
     assert_eq!(fluid["used_by"], serde_json::json!([1, 5]));
+    assert_eq!(fluid["cells"], 1988);
+    // A region no algorithm uses is looked up, not measured.
+    let inlet = v["regions"].as_array().unwrap().iter().find(|r| r["name"] == "Inlet").unwrap();
+    assert_eq!(
+        (inlet["dimension"].clone(), inlet["vertices"].clone()),
+        (1.into(), serde_json::Value::Null)
+    );
     assert_eq!(v["algorithms"][4]["type"], "DISTANCE_TO_IMAGINARY_POLYLINE");
     assert_eq!(v["algorithms"][1]["points"], 9);
 }
@@ -245,4 +256,83 @@ fn devices_are_refused_at_the_line_that_names_them() {
             "{e}"
         );
     }
+}
+
+/// `(ppid, pgrp)` of every process, from `/proc/PID/stat`.
+#[cfg(target_os = "linux")]
+fn processes() -> Vec<(u32, u32, u32)> {
+    let mut all = Vec::new();
+    for e in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(pid) = e.file_name().to_string_lossy().parse::<u32>() else { continue };
+        let Ok(stat) = std::fs::read_to_string(e.path().join("stat")) else { continue };
+        // pid (comm) state ppid pgrp …; comm may hold spaces and parentheses.
+        let Some(rest) = stat.rfind(')').map(|i| &stat[i + 1..]) else { continue };
+        let f: Vec<&str> = rest.split_whitespace().collect();
+        if let (Some(ppid), Some(pgrp)) = (f.get(1), f.get(2)) {
+            all.push((pid, ppid.parse().unwrap_or(0), pgrp.parse().unwrap_or(0)));
+        }
+    }
+    all
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_killed_smartmesh_leaves_no_preprocessor_behind() {
+    if !has_cpp() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("endless");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    // A computed #include is not checked before cpp runs: cpp (its cc1) blocks on the
+    // fifo, which nobody writes.
+    let recipe = write(
+        dir.path(),
+        "slow.cfg",
+        &format!("#define SLOW \"{}\"\n#include SLOW\n{PLAIN}", fifo.display()),
+    );
+    for signal in ["KILL", "TERM"] {
+        killed_while_cpp_blocks(&recipe, signal);
+    }
+}
+
+#[cfg(target_os = "linux")]
+fn killed_while_cpp_blocks(recipe: &Path, signal: &str) {
+    use std::time::{Duration, Instant};
+    let mut child = smartmesh()
+        .args(["recipe", "check", recipe.to_str().unwrap(), &fixture("distributor.msh")])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let parent = child.id();
+    let start = Instant::now();
+    // The preprocessor's group: the group of smartmesh's child, once it holds two
+    // processes (cpp and the cc1 it starts).
+    let group = loop {
+        let all = processes();
+        let found = all.iter().find(|p| p.1 == parent && p.2 == p.0).map(|p| p.2);
+        if let Some(g) = found.filter(|&g| all.iter().filter(|p| p.2 == g).count() >= 2) {
+            break g;
+        }
+        assert!(start.elapsed() < Duration::from_secs(8), "cpp never started");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    std::thread::sleep(Duration::from_millis(200));
+    let sent = Command::new("kill").args([&format!("-{signal}"), &parent.to_string()]).status();
+    assert!(sent.unwrap().success());
+    child.wait().unwrap();
+    let killed = Instant::now();
+    let left = loop {
+        let left: Vec<u32> = processes().iter().filter(|p| p.2 == group).map(|p| p.0).collect();
+        if left.is_empty() || killed.elapsed() > Duration::from_secs(3) {
+            break left;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    if !left.is_empty() {
+        // Clean up before failing.
+        let _ = Command::new("kill").args(["-KILL", "--", &format!("-{group}")]).status();
+    }
+    assert!(left.is_empty(), "SIG{signal}: the preprocessor's group still runs: {left:?}");
 }

@@ -6,7 +6,7 @@ use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, ErrorKind, Result};
-use crate::{Format, ReadContext, TaggedMesh, WriteOptions, WriteReport, Written};
+use crate::{Format, ReadContext, ReadReport, TaggedMesh, WriteOptions, WriteReport, Written};
 
 /// Where a reader finds the files beside the main one (Triangle's `.node` beside its
 /// `.ele`, Medit's `.sol` beside its `.mesh`).
@@ -99,9 +99,24 @@ impl SiblingSource for MemorySiblings {
 /// finds no problem), so whatever a reader let through, no cell refers to a missing
 /// point and no data array has the wrong length.
 pub fn read_bytes(format: Format, bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
+    read_bytes_reported(format, bytes, ctx).map(|(mesh, _)| mesh)
+}
+
+/// [`read_bytes`], with what the reader changed on the way ([`ReadReport`]: a
+/// second-order Gmsh mesh read as linear).
+pub fn read_bytes_reported(
+    format: Format,
+    bytes: &[u8],
+    ctx: &ReadContext<'_>,
+) -> Result<(TaggedMesh, ReadReport)> {
+    let mut report = ReadReport::default();
     let mesh = match format {
         Format::Triangle => crate::triangle::read(bytes, ctx)?,
-        Format::Gmsh => crate::gmsh::read(bytes, ctx)?,
+        Format::Gmsh => {
+            let (mesh, r) = crate::gmsh::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::VtkLegacy => crate::vtk::read_legacy(bytes, ctx)?,
         Format::Vtu => crate::vtk::read_vtu(bytes, ctx)?,
         Format::Obj => crate::obj::read(bytes, ctx)?,
@@ -122,7 +137,7 @@ pub fn read_bytes(format: Format, bytes: &[u8], ctx: &ReadContext<'_>) -> Result
     } else if let Some(p) = mesh.validate().into_iter().next() {
         return Err(Error::new(ErrorKind::Inconsistent(p.to_string())));
     }
-    Ok(mesh)
+    Ok((mesh, report))
 }
 
 /// The error for writing a mesh that [`TaggedMesh::validate`] refuses, in `format`:
@@ -190,12 +205,17 @@ fn is_stdio(path: &Path) -> bool {
 /// # Ok::<(), smartmesh_formats::Error>(())
 /// ```
 pub fn read_path(path: &Path, format: Option<Format>) -> Result<TaggedMesh> {
+    read_path_reported(path, format).map(|(mesh, _)| mesh)
+}
+
+/// [`read_path`], with what the reader changed on the way ([`ReadReport`]).
+pub fn read_path_reported(path: &Path, format: Option<Format>) -> Result<(TaggedMesh, ReadReport)> {
     if is_stdio(path) {
         let format = format.ok_or_else(|| Error::new(ErrorKind::UnknownFormat(String::new())))?;
         let mut bytes = Vec::new();
         std::io::stdin().lock().read_to_end(&mut bytes)?;
         let ctx = ReadContext { siblings: &NoSiblings, extension: String::new() };
-        return read_bytes(format, &bytes, &ctx);
+        return read_bytes_reported(format, &bytes, &ctx);
     }
     let format = resolve_format(path, format)?;
     let bytes =
@@ -203,7 +223,7 @@ pub fn read_path(path: &Path, format: Option<Format>) -> Result<TaggedMesh> {
     let siblings = PathSiblings::new(path);
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let ctx = ReadContext { siblings: &siblings, extension: ext };
-    read_bytes(format, &bytes, &ctx).map_err(|e| e.with_path(path))
+    read_bytes_reported(format, &bytes, &ctx).map_err(|e| e.with_path(path))
 }
 
 /// Writes a mesh to a path (`-` for stdout, which needs `format` and a format without

@@ -40,8 +40,8 @@ pub mod arbitrary;
 
 pub use error::{Error, ErrorKind, Position, Result};
 pub use io::{
-    read_bytes, read_path, write_bytes, write_path, MemorySiblings, NoSiblings, PathSiblings,
-    SiblingSource,
+    read_bytes, read_bytes_reported, read_path, read_path_reported, write_bytes, write_path,
+    MemorySiblings, NoSiblings, PathSiblings, SiblingSource,
 };
 pub use mesh::{
     sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout,
@@ -283,5 +283,21 @@ impl WriteReport {
     /// Records a dropped item.
     pub fn drop(&mut self, what: impl Into<String>) {
         self.dropped.push(what.into());
+    }
+}
+
+/// What a reader changed in what it read so that the mesh fits the model (a
+/// second-order Gmsh mesh read as linear), one line each, for the user to read: the CLI
+/// prints them as notes on stderr. Empty when the mesh is the file's as it stands.
+#[derive(Debug, Default, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct ReadReport {
+    /// One human-readable line per change.
+    pub notes: Vec<String>,
+}
+
+impl ReadReport {
+    /// Records a change.
+    pub fn note(&mut self, what: impl Into<String>) {
+        self.notes.push(what.into());
     }
 }

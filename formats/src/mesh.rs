@@ -489,6 +489,84 @@ impl TaggedMesh {
         self.blocks = merged;
     }
 
+    /// Splits every 4-node quad into two triangles, in place: the diagonal whose two
+    /// triangles have the better worst shape (the shorter one on a square), each triangle
+    /// with the quad's tags and a copy of its cell data; cell sets name both halves.
+    /// Returns how many quads were split. For writers of formats without quads and for
+    /// callers that need triangles only.
+    pub fn split_quads(&mut self) -> usize {
+        let quads = self.num_cells_of(CellKind::Quad);
+        if quads == 0 {
+            return 0;
+        }
+        let shape = |p: [[f64; 3]; 3]| -> f64 {
+            let l2 = |a: [f64; 3], b: [f64; 3]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
+            let s = l2(p[0], p[1]) + l2(p[1], p[2]) + l2(p[2], p[0]);
+            let area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+            if s > 0.0 {
+                area / s
+            } else {
+                0.0
+            }
+        };
+        // Old global cell index -> new indices (one or two).
+        let mut new_of: Vec<(usize, Option<usize>)> = Vec::with_capacity(self.num_cells());
+        let mut next = 0;
+        for b in &mut self.blocks {
+            if b.kind != CellKind::Quad {
+                for _ in 0..b.len() {
+                    new_of.push((next, None));
+                    next += 1;
+                }
+                continue;
+            }
+            let mut t = CellBlock::new(CellKind::Triangle);
+            let points = &self.points;
+            for (i, c) in b.cells().enumerate() {
+                let p = |k: usize| points[c[k] as usize];
+                let first = shape([p(0), p(1), p(2)]).min(shape([p(0), p(2), p(3)]));
+                let second = shape([p(0), p(1), p(3)]).min(shape([p(1), p(2), p(3)]));
+                let (ph, ge) = (b.physical[i], b.geometrical[i]);
+                if first >= second {
+                    t.push(&[c[0], c[1], c[2]], ph, ge);
+                    t.push(&[c[0], c[2], c[3]], ph, ge);
+                } else {
+                    t.push(&[c[0], c[1], c[3]], ph, ge);
+                    t.push(&[c[1], c[2], c[3]], ph, ge);
+                }
+                new_of.push((next, Some(next + 1)));
+                next += 2;
+            }
+            *b = t;
+        }
+        for a in self.cell_data.values_mut() {
+            if a.len() != new_of.len() {
+                continue;
+            }
+            let k = a.components;
+            let mut v = Vec::with_capacity(next * k);
+            for (i, &(_, second)) in new_of.iter().enumerate() {
+                v.extend_from_slice(&a.values[i * k..(i + 1) * k]);
+                if second.is_some() {
+                    v.extend_from_slice(&a.values[i * k..(i + 1) * k]);
+                }
+            }
+            a.values = v;
+        }
+        for set in self.cell_sets.values_mut() {
+            let mut out = Vec::with_capacity(set.len());
+            for &c in set.iter() {
+                if let Some(&(a, b)) = new_of.get(c) {
+                    out.push(a);
+                    out.extend(b);
+                }
+            }
+            *set = out;
+        }
+        quads
+    }
+
     /// The name of physical tag `tag` of dimension `dim`, if the file named it.
     pub fn tag_name(&self, dim: u8, tag: i32) -> Option<&str> {
         self.tag_names.get(&(dim, tag)).map(String::as_str)

@@ -15,11 +15,17 @@
 //!
 //! Temporary files are created exclusively (`O_EXCL` with a random name, by the `tempfile`
 //! crate), so a file or link planted under a predictable name is never followed; they
-//! are synced before the renames and removed when anything fails.
+//! are synced before the renames and removed when anything fails. Their names say whose
+//! they are, `.NAME.smartmesh-PID.RANDOM.tmp`: a process killed before it could remove
+//! its own (SIGKILL, a power cut) leaves them behind, and the next write into that
+//! directory removes those of processes that are gone — only regular files of that exact
+//! pattern, owned by the writing user, whose PID no longer runs (Unix; elsewhere nothing
+//! is removed).
 
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use tempfile::NamedTempFile;
 
@@ -112,6 +118,65 @@ fn directory_of(path: &Path) -> &Path {
     }
 }
 
+/// What follows the target's name in a temporary's: `.smartmesh-PID.RANDOM.tmp`.
+const TEMP_TAG: &str = ".smartmesh-";
+const TEMP_SUFFIX: &str = ".tmp";
+
+/// The PID in the name of a temporary file of ours (`.NAME.smartmesh-PID.RANDOM.tmp`),
+/// `None` for any other name.
+fn temporary_pid(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix('.')?.strip_suffix(TEMP_SUFFIX)?;
+    let at = rest.rfind(TEMP_TAG)?;
+    let (pid, random) = rest[at + TEMP_TAG.len()..].split_once('.')?;
+    let ours = at > 0
+        && !pid.is_empty()
+        && pid.bytes().all(|b| b.is_ascii_digit())
+        && !random.is_empty()
+        && random.bytes().all(|b| b.is_ascii_alphanumeric());
+    ours.then(|| pid.parse().ok()).flatten()
+}
+
+/// Whether no process `pid` runs (a process of another user runs: we may not signal it,
+/// but it is there).
+#[cfg(unix)]
+fn is_gone(pid: u32) -> bool {
+    let Some(pid) = i32::try_from(pid).ok().and_then(rustix::process::Pid::from_raw) else {
+        return false;
+    };
+    rustix::process::test_kill_process(pid) == Err(rustix::io::Errno::SRCH)
+}
+
+/// Directories already cleaned by this process.
+static CLEANED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes from `dir` the temporary files that processes now gone left behind (see the
+/// module documentation), once per directory and process. Best effort: what cannot be
+/// read or removed is left.
+fn remove_stale_temporaries(dir: &Path) {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let mut cleaned = CLEANED.lock().unwrap_or_else(|e| e.into_inner());
+        if cleaned.iter().any(|d| d == dir) {
+            return;
+        }
+        cleaned.push(dir.to_path_buf());
+        let Ok(entries) = std::fs::read_dir(dir) else { return };
+        let me = rustix::process::getuid().as_raw();
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let Some(pid) = name.to_str().and_then(temporary_pid) else { continue };
+            // symlink_metadata: a link is never ours, and never followed.
+            let Ok(m) = std::fs::symlink_metadata(entry.path()) else { continue };
+            if m.is_file() && m.uid() == me && pid != std::process::id() && is_gone(pid) {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = (dir, &CLEANED);
+}
+
 /// Writes `bytes` to a new temporary file beside `path`, with the permissions the
 /// target must end with, synced to disk.
 fn write_temporary(
@@ -120,9 +185,9 @@ fn write_temporary(
     bytes: &[u8],
 ) -> std::io::Result<NamedTempFile> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let prefix = format!(".{name}.");
+    let prefix = format!(".{name}{TEMP_TAG}{}.", std::process::id());
     let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".smartmesh.tmp");
+    builder.prefix(&prefix).suffix(TEMP_SUFFIX);
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
@@ -154,6 +219,11 @@ pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
     let mut plan = Vec::with_capacity(targets.len());
     for (target, bytes) in targets {
         plan.push((target, destination(target)?, bytes));
+    }
+    for (_, dest, _) in &plan {
+        if let Destination::Replace { path, .. } = dest {
+            remove_stale_temporaries(directory_of(path));
+        }
     }
     // Dropping a `NamedTempFile` removes it, so an early return cleans up.
     let mut temps = Vec::new();
@@ -189,4 +259,53 @@ pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_our_temporary_names_give_a_pid() {
+        assert_eq!(temporary_pid(".out.msh.smartmesh-1234.AbC123.tmp"), Some(1234));
+        assert_eq!(temporary_pid(".a.smartmesh-1.x.smartmesh-77.q1.tmp"), Some(77));
+        for other in [
+            "out.msh.smartmesh-1234.AbC123.tmp",
+            ".out.msh.smartmesh-1234.tmp",
+            ".smartmesh-1234.AbC123.tmp",
+            ".out.msh.smartmesh-+12.AbC123.tmp",
+            ".out.msh.smartmesh-12.Ab-C.tmp",
+            ".out.msh.AbC123.smartmesh.tmp",
+            ".out.msh.smartmesh-1234.AbC123.tmpx",
+        ] {
+            assert_eq!(temporary_pid(other), None, "{other}");
+        }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn temporaries_of_gone_processes_are_removed_by_the_next_write() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let gone = child.id();
+        child.wait().unwrap();
+        assert!(is_gone(gone));
+        let stale = dir.path().join(format!(".out.msh.smartmesh-{gone}.AbC123.tmp"));
+        // Kept: a live process's (ours), another pattern, a link.
+        let live = dir.path().join(format!(".out.msh.smartmesh-{}.XyZ789.tmp", std::process::id()));
+        let other = dir.path().join(format!(".out.msh.smartmesh-{gone}.tmp"));
+        let link = dir.path().join(format!(".l.smartmesh-{gone}.Lnk000.tmp"));
+        for p in [&stale, &live, &other] {
+            std::fs::write(p, b"partial").unwrap();
+        }
+        std::os::unix::fs::symlink(&other, &link).unwrap();
+        write_all_atomically(&[(dir.path().join("out.msh"), b"mesh".to_vec())]).unwrap();
+        assert!(!stale.exists(), "the stale temporary stays");
+        assert!(live.exists() && other.exists() && link.symlink_metadata().is_ok());
+        let names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names.len(), 4, "{names:?}");
+    }
 }

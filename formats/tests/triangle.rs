@@ -508,12 +508,13 @@ fn what_triangle_cannot_hold_is_reported() {
     let d = w.report.dropped.join("\n");
     for needle in [
         "z coordinates of 1 points",
-        "1 quad cells",
+        "1 quad cells: written as 2 triangles",
         "point data `metric` (9 components)",
         "cell data `quality`",
         "1 tag names",
         "point set `Corners`",
-        "geometrical tags of 1 triangles",
+        // The triangle of tag 99 and the two halves of the quad (geometrical tag 2).
+        "geometrical tags of 3 triangles",
     ] {
         assert!(d.contains(needle), "missing `{needle}` in:\n{d}");
     }

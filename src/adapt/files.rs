@@ -4,7 +4,10 @@
 //! renames follow one another only once all are complete, so that a failed write leaves
 //! the previous files and the history on disk names the best iteration of the mesh on disk. (Only a
 //! kill between two of those renames, SIGKILL or a power cut, can separate them; a
-//! Ctrl-C is handled by the caller between iterations, never during a write.)
+//! Ctrl-C is handled by the caller between iterations, never during a write.) The history
+//! records the size and CRC-32 of every file of the mesh it describes
+//! ([`History::best_mesh`]), so that even then a reader tells a mesh the history does not
+//! describe ([`History::mismatch`]) instead of taking one for the other.
 
 use std::path::{Path, PathBuf};
 
@@ -14,7 +17,7 @@ use smartmesh_formats::{
 };
 
 use super::Observer;
-use crate::history::History;
+use crate::history::{History, WrittenFile};
 
 /// Writes the best mesh to `mesh` and the history to `history`.
 #[derive(Debug, Clone)]
@@ -27,6 +30,8 @@ pub struct ResultFiles {
     pub options: WriteOptions,
     /// What the mesh format could not hold, once per message.
     pub dropped: Vec<String>,
+    /// The files of the best mesh as last written, which every history names.
+    written: Vec<WrittenFile>,
 }
 
 impl ResultFiles {
@@ -38,6 +43,7 @@ impl ResultFiles {
             history: history.map_or_else(|| default_history_path(mesh), Path::to_path_buf),
             options,
             dropped: Vec::new(),
+            written: Vec::new(),
         }
     }
 }
@@ -76,8 +82,24 @@ impl Observer for ResultFiles {
                 targets.push((siblings.path(&ext), bytes));
             }
         }
+        let written: Vec<WrittenFile> = if new_best.is_some() {
+            targets
+                .iter()
+                .map(|(path, bytes)| {
+                    let name = path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default();
+                    WrittenFile::of(&name, bytes)
+                })
+                .collect()
+        } else {
+            self.written.clone()
+        };
+        let mut described = history.clone();
+        described.best_mesh = written.clone();
         // The history last: renamed after the mesh it names.
-        targets.push((self.history.clone(), history.to_json().into_bytes()));
-        write_all_atomically(&targets)
+        targets.push((self.history.clone(), described.to_json().into_bytes()));
+        write_all_atomically(&targets)?;
+        // A set that failed left the previous files, which the previous record names.
+        self.written = written;
+        Ok(())
     }
 }

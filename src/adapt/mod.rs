@@ -261,6 +261,7 @@ pub fn run(
         best_iteration: 0,
         stopped: "running".to_string(),
         iterations: vec![first.record.clone()],
+        best_mesh: Vec::new(),
     };
     observer.record(&history, Some(&first.mesh))?;
     let mut warnings = Vec::new();

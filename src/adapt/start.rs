@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use smartmesh_formats::{read_path, CellKind, Format, TaggedMesh};
+use smartmesh_formats::{read_path_reported, CellKind, Format, TaggedMesh};
 
 use crate::mesher::{triangulate, MeshOptions};
 
@@ -54,13 +54,16 @@ pub struct Start {
     /// boundaries stay on its segments when these stay vertices); empty for a mesh,
     /// whose boundary is taken as it is.
     pub geometry_points: Vec<[f64; 2]>,
+    /// What the reader changed in the input (a second-order mesh read as linear).
+    pub notes: Vec<String>,
 }
 
 /// The starting mesh of `input` and its geometry's vertices (see [`Start`]).
 pub fn start(input: &Path, format: Option<Format>) -> Result<Start, StartError> {
-    let mesh = read_path(input, format.or_else(|| Format::from_path(input)))?;
+    let (mesh, report) = read_path_reported(input, format.or_else(|| Format::from_path(input)))?;
+    let notes = report.notes;
     if has_surface(&mesh) {
-        return Ok(Start { mesh, geometry_points: Vec::new() });
+        return Ok(Start { mesh, geometry_points: Vec::new(), notes });
     }
     let triangulated = triangulate(&mesh, &MeshOptions::default())
         .map_err(|source| StartError::Mesher { path: input.display().to_string(), source })?;
@@ -79,5 +82,5 @@ pub fn start(input: &Path, format: Option<Format>) -> Result<Start, StartError> 
         .filter(|(_, &s)| s)
         .map(|(p, _)| [p[0], p[1]])
         .collect();
-    Ok(Start { mesh: triangulated, geometry_points })
+    Ok(Start { mesh: triangulated, geometry_points, notes })
 }

@@ -12,7 +12,9 @@ use super::AdapterError;
 const QUOTED_LINES: usize = 20;
 
 /// `explicit` when given (it must exist), else the first executable file called `name` in
-/// the directories of `PATH`. `hint` says how to get the program.
+/// the directories of `PATH`. `hint` says how to get the program. The path returned is
+/// absolute: the tool runs in a temporary directory, and a relative `./tool.sh` means
+/// the one in the current directory.
 pub fn find_program(
     name: &str,
     explicit: Option<&Path>,
@@ -20,7 +22,10 @@ pub fn find_program(
 ) -> Result<PathBuf, AdapterError> {
     if let Some(p) = explicit {
         let why = if is_executable(p) {
-            return Ok(p.to_path_buf());
+            return std::path::absolute(p).map_err(|source| AdapterError::Io {
+                what: format!("finding {}", p.display()),
+                source,
+            });
         } else if p.exists() {
             "is not an executable file"
         } else {

@@ -135,6 +135,14 @@ pub struct AdaptArgs {
     /// An argument passed to the remesher as it is (repeat for several).
     #[arg(long = "adapter-arg", allow_hyphen_values = true, value_name = "ARG")]
     adapter_args: Vec<String>,
+    /// Insert the recipe's LAYER skin into the best mesh once the loop has stopped (the
+    /// thesis's Layer step); a recipe with a LAYER section does it without this switch,
+    /// which then only insists that there is one.
+    #[arg(long, conflicts_with = "no_layer")]
+    layer: bool,
+    /// Do not insert the recipe's LAYER skin.
+    #[arg(long)]
+    no_layer: bool,
     #[command(flatten)]
     output_format: super::MeshOutputArgs,
     /// Print a JSON summary on stdout.
@@ -275,17 +283,40 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
 pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     let format = check_outputs(&args)?;
-    if is_stdio(&args.input) && is_stdio(&args.recipe.recipe) {
+    if is_stdio(&args.input) && args.recipe.is_stdin() {
         return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
     let mut recipe = args.recipe.read()?;
     args.controls.apply_to(&mut recipe)?;
     let starting = starting_point(&args.input, args.from)?;
+    for n in &starting.notes {
+        ui::note(&format!("{}: {n}", args.input.display()));
+    }
     // The input is checked whole before any tool is looked for: a recipe that names tags
     // the mesh does not have is bad input (2) whether or not the remesher is installed.
     recipe
         .resolve(&Topology::from_mesh(&starting.mesh))
         .map_err(|e| CliError::context(format!("{e} (input {})", args.input.display()), e))?;
+    let layer = match (&recipe.layer, args.layer, args.no_layer) {
+        (_, _, true) => None,
+        (None, true, _) => {
+            return Err(CliError::usage(format!(
+                "--layer: the recipe {} has no LAYER section",
+                args.recipe.label()
+            )))
+        }
+        (Some(l), _, _) => {
+            let o = l.options().map_err(|e| CliError::context(e.to_string(), e))?;
+            let topo = Topology::from_mesh(&starting.mesh);
+            for c in &o.curves {
+                smartmesh::layer::resolve_curve(&topo, &c.curve).map_err(|e| {
+                    CliError::context(format!("LAYER: {e} (input {})", args.input.display()), e)
+                })?;
+            }
+            Some(o)
+        }
+        (None, false, _) => None,
+    };
     let mmg = args.adapter == AdapterArg::Mmg2d;
     let options = AdapterOptions {
         program: args.adapter_program.clone(),
@@ -344,8 +375,31 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let h = &outcome.history;
     let best = &h.iterations[h.best_iteration];
     let mut dropped = progress.files.dropped.clone();
+    // The Layer step, on the best mesh, once the loop has stopped of itself.
+    let skinned = match &layer {
+        Some(o) if outcome.failure.is_none() && h.stopped != smartmesh::adapt::INTERRUPTED => {
+            let l = smartmesh::layer::insert(&outcome.best, o)
+                .map_err(|e| CliError::context(format!("LAYER: {e}"), e))?;
+            if !l.report.thinned.is_empty() {
+                ui::warn(&format!(
+                    "LAYER: thinned {} of {} columns (smartmesh info shows the layers)",
+                    l.report.thinned.len(),
+                    l.report.columns
+                ));
+            }
+            ui::note(&format!(
+                "LAYER: {} layers, {} quads, {} skin triangles inserted",
+                l.report.layers, l.report.quads, l.report.skin_triangles
+            ));
+            Some(l.mesh)
+        }
+        _ => None,
+    };
     if to_stdout {
-        dropped = args.output_format.write(&args.output, &outcome.best, format)?.dropped;
+        let m = skinned.as_ref().unwrap_or(&outcome.best);
+        dropped = args.output_format.write(&args.output, m, format)?.dropped;
+    } else if let Some(m) = &skinned {
+        dropped = args.output_format.write(&args.output, m, format)?.dropped;
     } else {
         ui::write_notes(&args.output.display().to_string(), &dropped);
     }

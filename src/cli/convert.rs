@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use smartmesh::formats::{read_path, write_path, Format};
+use smartmesh::formats::{write_path, Format};
 
 use super::output::{check_output_dir, label, shown};
 use super::{parse_format, print_stdout, ui, CliError, MeshOutputArgs};
@@ -22,7 +22,8 @@ Examples:
   smartmesh convert box.1.ele box.msh --gmsh-version 2.2 --binary
   smartmesh convert square.msh square.mesh          # writes square.mesh and square.sol
   gmsh -2 -o - model.geo | smartmesh convert --from msh - out.vtu
-  smartmesh convert adapted.vtu view.glb --color-field hmin"
+  smartmesh convert adapted.vtu view.glb --color-field hmin
+  smartmesh convert skin.msh skin-triangles.msh --split-quads"
 )]
 pub struct ConvertArgs {
     /// Input mesh (`-` for stdin, with --from).
@@ -36,6 +37,10 @@ pub struct ConvertArgs {
     /// glTF: the point field that colours the vertices (default: the first scalar).
     #[arg(long)]
     color_field: Option<String>,
+    /// Write each quad as two triangles (the diagonal giving the better worst triangle;
+    /// tags and cell data kept).
+    #[arg(long)]
+    split_quads: bool,
     /// Print a JSON summary (formats, counts, dropped items) on stdout.
     #[arg(long)]
     json: bool,
@@ -68,7 +73,11 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
         None => Format::from_path(&args.output),
     };
     check_output_dir(&args.output)?;
-    let mesh = read_path(&args.input, from)?;
+    let mut mesh = super::read_mesh(&args.input, from)?;
+    if args.split_quads {
+        let n = mesh.split_quads();
+        ui::note(&format!("split {n} quads into {} triangles", 2 * n));
+    }
     let mut opts = args.output_format.write_options(&args.output);
     opts.color_field = args.color_field.clone();
     if let Some(name) = &args.color_field {

@@ -153,6 +153,9 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
     if let Some(e) = e.downcast_ref::<RecipeError>() {
         return Some(if e.is_input_error() { Error } else { Failure });
     }
+    if let Some(e) = e.downcast_ref::<smartmesh::layer::LayerError>() {
+        return Some(if e.is_input_error() { Error } else { Failure });
+    }
     if let Some(e) = e.downcast_ref::<MeshError>() {
         return Some(if e.is_input_error() { Error } else { Failure });
     }
@@ -173,7 +176,9 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
     }
     if let Some(e) = e.downcast_ref::<AdapterError>() {
         return match e {
-            AdapterError::Option { .. } => Some(Error),
+            // A program the user named with --adapter-program that is missing or not
+            // executable is bad input; a tool missing from PATH is not the input's fault.
+            AdapterError::Option { .. } | AdapterError::Unusable { .. } => Some(Error),
             AdapterError::Format(_) => None,
             _ => Some(Failure),
         };
@@ -188,7 +193,8 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
         || e.is::<SizingError>()
         || e.is::<MeshGraphError>()
         || e.is::<RemeshError>()
-        || e.is::<ControlError>();
+        || e.is::<ControlError>()
+        || e.is::<smartmesh::solution::input::FieldError>();
     input.then_some(Error)
 }
 
@@ -245,6 +251,14 @@ mod tests {
         assert_eq!(CliError::from(control).status, ExitStatus::Error);
         let option = AdapterError::Option { option: "--nosurf", adapter: "gmsh" };
         assert_eq!(CliError::from(option).status, ExitStatus::Error);
+        let unusable = AdapterError::Unusable {
+            program: "/nonexistent/mmg".into(),
+            why: "does not exist",
+            hint: "install it",
+        };
+        assert_eq!(CliError::from(unusable).status, ExitStatus::Error);
+        let missing = AdapterError::NotFound { program: "mmg2d_O3".into(), hint: "install it" };
+        assert_eq!(CliError::from(missing).status, ExitStatus::Failure);
         let failed = AdapterError::Failed {
             program: "mmg2d_O3".into(),
             status: "exit status 3".into(),

@@ -1,10 +1,13 @@
-//! `smartmesh info FILE`: counts, bounding box, tags, topology, fields, quality.
+//! `smartmesh info FILE`: counts, bounding box, tags, topology, fields, quality; for a mesh
+//! with quads, their quality, the layers of a skin and the validity of the mixed mesh.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
-use smartmesh::formats::{read_path, Format};
+use smartmesh::formats::Format;
+use smartmesh::layer::check::{check_mesh, Validity};
+use smartmesh::layer::stats::{quad_quality, QuadQuality};
 use smartmesh::metric_field::MetricField;
 use smartmesh::summary::MeshSummary;
 use smartmesh::topology::Topology;
@@ -38,7 +41,7 @@ pub struct InfoArgs {
 
 /// Runs `info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
-    let mesh = read_path(&args.file, args.from)?;
+    let mesh = super::read_mesh(&args.file, args.from)?;
     let topo = Topology::from_mesh(&mesh);
     let mut summary = MeshSummary::of(&mesh, &topo);
     match MetricField::load(&mesh, &args.file, args.metric.as_deref()) {
@@ -48,12 +51,90 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Err(e) if args.metric.is_none() => super::ui::warn(&format!("no metric figures: {e}")),
         Err(e) => return Err(e.into()),
     }
+    let quads = QuadReport::of(&mesh);
     if args.json {
-        let mut s = serde_json::to_string_pretty(&summary)?;
+        let j = InfoJson { summary: &summary, quads: quads.as_ref() };
+        let mut s = serde_json::to_string_pretty(&j)?;
         s.push('\n');
         return print_stdout(&s);
     }
-    print_stdout(&render(&args.file.display().to_string(), &summary))
+    let mut text = render(&args.file.display().to_string(), &summary);
+    if let Some(q) = &quads {
+        text.push_str(&render_quads(q));
+    }
+    print_stdout(&text)
+}
+
+/// The JSON `info` prints: the summary, and the quads' figures when there are quads.
+#[derive(serde::Serialize)]
+struct InfoJson<'a> {
+    #[serde(flatten)]
+    summary: &'a MeshSummary,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    quads: Option<&'a QuadReport>,
+}
+
+/// What `info` says of a mesh with quads: their quality, the skin's layers, and whether
+/// the mixed mesh is valid.
+#[derive(serde::Serialize)]
+struct QuadReport {
+    quality: QuadQuality,
+    validity: Validity,
+}
+
+impl QuadReport {
+    fn of(mesh: &smartmesh::formats::TaggedMesh) -> Option<QuadReport> {
+        let quality = quad_quality(mesh)?;
+        Some(QuadReport { quality, validity: check_mesh(mesh) })
+    }
+}
+
+fn render_quads(r: &QuadReport) -> String {
+    let mut o = String::new();
+    let q = &r.quality;
+    let _ = writeln!(
+        o,
+        "  quads       {}: scaled Jacobian min {:.4}, skewness max {:.4}, aspect ratio [{}, {}] mean {}",
+        q.quads,
+        q.min_scaled_jacobian,
+        q.max_skewness,
+        fmt_g(q.aspect_ratio[0]),
+        fmt_g(q.aspect_ratio[2]),
+        fmt_g(q.aspect_ratio[1])
+    );
+    let in_layers: usize = q.layers.iter().map(|l| l.quads).sum();
+    if !q.layers.is_empty() {
+        let _ = writeln!(
+            o,
+            "  layers      {} from the walls ({in_layers} quads; height mean [min, max], ratio to the layer below)",
+            q.layers.len()
+        );
+        for (k, l) in q.layers.iter().enumerate() {
+            let ratio = l
+                .ratio
+                .map(|r| format!(", ratio {} [{}, {}]", fmt_g(r[1]), fmt_g(r[0]), fmt_g(r[2])))
+                .unwrap_or_default();
+            let _ = writeln!(
+                o,
+                "    layer {:<4} {} quads, height {} [{}, {}]{ratio}",
+                k + 1,
+                l.quads,
+                fmt_g(l.height[1]),
+                fmt_g(l.height[0]),
+                fmt_g(l.height[2])
+            );
+        }
+    }
+    let v = &r.validity;
+    if v.is_valid() {
+        let _ = writeln!(
+            o,
+            "  validity    valid: every cell positive at its corners, no overlap, no hanging vertex"
+        );
+    } else {
+        let _ = writeln!(o, "  validity    NOT VALID: {}", v.problems().join("; "));
+    }
+    o
 }
 
 fn fmt_g(v: f64) -> String {

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use clap::Args;
 use smartmesh::formats::triangle::poly_lines;
-use smartmesh::formats::{read_path, Format};
+use smartmesh::formats::Format;
 use smartmesh::mesher::{triangulate, MeshError, MeshOptions, Subject};
 use smartmesh::quality::QualitySummary;
 use smartmesh::Topology;
@@ -129,7 +129,7 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
     let to = args.output_format.mesh_format(&args.output)?;
     check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.input));
-    let pslg = read_path(&args.input, from)?;
+    let pslg = super::read_mesh(&args.input, from)?;
     let mesh = triangulate(&pslg, &opts).map_err(|e| {
         let at = match poly_line(&args, from, &e) {
             Some(line) => format!("{}:{line}", args.input.display()),

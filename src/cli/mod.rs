@@ -1,15 +1,18 @@
 //! Argument parsing, exit codes and error printing; one file per subcommand.
 
 mod adapt;
+mod batch;
 mod convert;
 mod error;
 mod info;
+mod layer;
 mod mesh;
 mod output;
 mod recipe;
 mod remesh;
 mod report;
 mod size;
+mod solution;
 mod spelling;
 pub mod ui;
 
@@ -48,9 +51,11 @@ enum Command {
     Recipe(recipe::RecipeArgs),
     Size(size::SizeArgs),
     Adapt(adapt::AdaptArgs),
+    Batch(batch::BatchArgs),
     Mesh(mesh::MeshArgs),
     Remesh(remesh::RemeshArgs),
     Report(report::ReportArgs),
+    Layer(layer::LayerArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -85,9 +90,11 @@ pub fn main() -> ExitCode {
         Command::Recipe(a) => recipe::run(a),
         Command::Size(a) => size::run(a),
         Command::Adapt(a) => adapt::run(a),
+        Command::Batch(a) => batch::run(a),
         Command::Mesh(a) => mesh::run(a),
         Command::Remesh(a) => remesh::run(a),
         Command::Report(a) => report::run(a),
+        Command::Layer(a) => layer::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),
@@ -111,6 +118,20 @@ pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
     out.write_all(bytes)
         .and_then(|_| out.flush())
         .map_err(|e| CliError::context("writing to stdout", e))
+}
+
+/// Reads a mesh (`-` for stdin, with `format`) and prints as notes what the reader
+/// changed in it (a second-order mesh read as linear), unless quiet.
+pub fn read_mesh(
+    path: &std::path::Path,
+    format: Option<smartmesh::formats::Format>,
+) -> Result<smartmesh::formats::TaggedMesh, CliError> {
+    let (mesh, report) = smartmesh::formats::read_path_reported(path, format)?;
+    let name = if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
+    for n in &report.notes {
+        ui::note(&format!("{name}: {n}"));
+    }
+    Ok(mesh)
 }
 
 /// Parses a `--from`/`--to` format name.

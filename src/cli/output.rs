@@ -2,7 +2,6 @@
 //! `convert`, `mesh`, `remesh`, `size` and `adapt`), the writing of a mesh to a file or
 //! stdout with the writer's notes, and the reading of a recipe from a file or stdin.
 
-use std::io::Read as _;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
@@ -183,8 +182,9 @@ pub fn check_output_dir(output: &Path) -> Result<(), CliError> {
 #[derive(Debug, Clone, Args)]
 pub struct RecipeInput {
     /// The recipe (.cfg libconfig, .toml, .json; `-` for stdin, with --recipe-format).
+    /// Optional only with a solution field (`size --field`, `adapt --solver`).
     #[arg(long, short = 'r')]
-    pub recipe: PathBuf,
+    pub recipe: Option<PathBuf>,
     /// Recipe format when the extension does not tell (libconfig, toml, json).
     #[arg(long, value_parser = parse_recipe_format, value_name = "FORMAT")]
     pub recipe_format: Option<RecipeFormat>,
@@ -199,42 +199,35 @@ fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
 }
 
 impl RecipeInput {
+    /// Whether the recipe comes from stdin.
+    pub fn is_stdin(&self) -> bool {
+        self.recipe.as_deref().is_some_and(is_stdio)
+    }
+
+    /// Reads and checks the recipe; an empty one when none is given and `optional`
+    /// (`why` says when it may be left out, for the error otherwise).
+    pub fn read_or_empty(&self, optional: bool, why: &str) -> Result<Recipe, CliError> {
+        match &self.recipe {
+            Some(_) => self.read(),
+            None if optional => Ok(Recipe::default()),
+            None => Err(CliError::usage(format!("missing --recipe (it may be left out {why})"))),
+        }
+    }
+
     /// Reads and checks the recipe.
     pub fn read(&self) -> Result<Recipe, CliError> {
-        let path = &self.recipe;
-        let options = self.read.options();
-        if is_stdio(path) {
-            let format = self.recipe_format.ok_or_else(|| {
-                CliError::usage(
-                    "reading the recipe from stdin (`-r -`) needs --recipe-format libconfig, toml or json",
-                )
-            })?;
-            let mut text = String::new();
-            std::io::stdin()
-                .take(options.max_bytes as u64 + 1)
-                .read_to_string(&mut text)
-                .map_err(|e| CliError::context("reading the recipe from stdin", e))?;
-            return Ok(Recipe::from_str_with(&text, format, Path::new("<stdin>"), &options)?);
-        }
-        match self.recipe_format {
-            Some(f) => {
-                let text = smartmesh::recipe::preprocess::read_file(
-                    path,
-                    options.max_bytes,
-                    options.max_bytes,
-                )?;
-                Ok(Recipe::from_str_with(&text, f, path, &options)?)
-            }
-            None => Ok(Recipe::from_path_with(path, &options)?),
-        }
+        let Some(path) = &self.recipe else {
+            return Err(CliError::usage("missing --recipe"));
+        };
+        super::recipe::read_recipe(path, self.recipe_format, "--recipe-format", self.read)
     }
 
     /// The recipe as the history and summaries name it.
     pub fn label(&self) -> String {
-        if is_stdio(&self.recipe) {
-            "<stdin>".into()
-        } else {
-            self.recipe.display().to_string()
+        match &self.recipe {
+            None => "none".into(),
+            Some(p) if is_stdio(p) => "<stdin>".into(),
+            Some(p) => p.display().to_string(),
         }
     }
 }

@@ -118,40 +118,47 @@ pub fn run(args: RecipeArgs) -> Result<(), CliError> {
     }
 }
 
-fn read_recipe(
+/// Reads a recipe the user named: `-` for stdin (whose format `flag` must give), a file
+/// whose format `flag` forces, or a file whose extension tells it; within the read budget
+/// of `read` in every case. The one reader of every command that takes a recipe, so that
+/// each refuses the same things with the same exit status: a missing format and a text
+/// that is not UTF-8 are bad input (2); a failed read of stdin has the status of its I/O
+/// error.
+pub fn read_recipe(
     path: &Path,
     format: Option<RecipeFormat>,
+    flag: &str,
     read: RecipeReadArgs,
 ) -> Result<Recipe, CliError> {
     let options = read.options();
     if path.as_os_str() == "-" {
         let format = format.ok_or_else(|| {
-            CliError::usage(
-                "reading a recipe from stdin needs --format (or --from): libconfig, toml or json",
-            )
+            CliError::usage(format!(
+                "reading a recipe from stdin (`-`) needs {flag} libconfig, toml or json"
+            ))
         })?;
-        let mut text = String::new();
+        let mut bytes = Vec::new();
         std::io::stdin()
             .take(options.max_bytes as u64 + 1)
-            .read_to_string(&mut text)
-            .map_err(|e| CliError::usage(format!("reading the recipe from stdin: {e}")))?;
+            .read_to_end(&mut bytes)
+            .map_err(|e| CliError::context("reading the recipe from stdin", e))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            CliError::usage(format!(
+                "<stdin>: the recipe is not UTF-8 text (byte {} is not valid UTF-8)",
+                e.utf8_error().valid_up_to()
+            ))
+        })?;
         return Ok(Recipe::from_str_with(&text, format, Path::new("<stdin>"), &options)?);
     }
-    match format {
-        Some(f) => {
-            let text = smartmesh::recipe::preprocess::read_file(
-                path,
-                options.max_bytes,
-                options.max_bytes,
-            )?;
-            Ok(Recipe::from_str_with(&text, f, path, &options)?)
-        }
-        None if RecipeFormat::from_path(path).is_none() => Err(CliError::usage(format!(
-            "{}: the extension tells no recipe format (.cfg, .conf, .libconfig, .toml, .json); give it with --format/--from",
+    let Some(format) = format.or_else(|| RecipeFormat::from_path(path)) else {
+        return Err(CliError::usage(format!(
+            "{}: the extension tells no recipe format (.cfg, .conf, .libconfig, .toml, .json); give it with {flag}",
             path.display()
-        ))),
-        None => Ok(Recipe::from_path_with(path, &options)?),
-    }
+        )));
+    };
+    let text = smartmesh::recipe::preprocess::read_file(path, options.max_bytes, options.max_bytes)
+        .map_err(|e| e.in_file(path))?;
+    Ok(Recipe::from_str_with(&text, format, path, &options)?)
 }
 
 #[derive(serde::Serialize)]
@@ -190,7 +197,7 @@ fn plural(n: usize, one: &str, many: &str) -> String {
 }
 
 fn check(args: CheckArgs) -> Result<(), CliError> {
-    let recipe = read_recipe(&args.recipe, args.format, args.read)?;
+    let recipe = read_recipe(&args.recipe, args.format, "--format", args.read)?;
     // A .poly (or any graph without surface cells) is meshed first, as `adapt` does: the
     // recipe may name the face tags that only meshing gives.
     let mesh = starting_mesh(&args.mesh, args.from)?;
@@ -265,15 +272,18 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
                 r.entity_names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")
             )
         };
-        let mut counts = vec![plural(r.vertices, "vertex", "vertices")];
-        if r.dimension.is_some_and(|d| d > 0) {
-            counts.push(plural(r.edges, "edge", "edges"));
+        let mut counts = Vec::new();
+        if let Some(v) = r.vertices {
+            counts.push(plural(v, "vertex", "vertices"));
         }
-        if r.dimension == Some(2) {
-            counts.push(plural(r.cells, "cell", "cells"));
+        if let Some(e) = r.edges.filter(|_| r.dimension.is_some_and(|d| d > 0)) {
+            counts.push(plural(e, "edge", "edges"));
+        }
+        if let Some(c) = r.cells.filter(|_| r.dimension == Some(2)) {
+            counts.push(plural(c, "cell", "cells"));
         }
         let used = if r.used_by.is_empty() {
-            "unused".to_string()
+            "unused (no algorithm names it: its entities exist, nothing is measured)".to_string()
         } else {
             format!(
                 "used by {}",
@@ -282,10 +292,10 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         };
         let _ = writeln!(
             o,
-            "    {:<16} {what}: tags {}{names}; {}; {used}",
+            "    {:<16} {what}: tags {}{names}; {}{used}",
             r.name,
             tags.join(", "),
-            counts.join(", ")
+            if counts.is_empty() { String::new() } else { format!("{}; ", counts.join(", ")) }
         );
     }
     let _ = writeln!(o, "  algorithms");
@@ -316,7 +326,7 @@ fn convert(args: ConvertArgs) -> Result<(), CliError> {
             )))
         }
     };
-    let recipe = read_recipe(&args.input, args.from, args.read)?;
+    let recipe = read_recipe(&args.input, args.from, "--from", args.read)?;
     let text = recipe.to_format(to);
     if args.output.as_os_str() == "-" {
         return print_stdout(&text);

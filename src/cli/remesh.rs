@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use smartmesh::conformity::Conformity;
-use smartmesh::formats::{read_path, Format};
+use smartmesh::formats::Format;
 use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::remesh::{remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
 use smartmesh::size_controls::SizeControls as MetricControls;
@@ -53,6 +53,10 @@ pub struct RemeshArgs {
     /// --measure.
     #[arg(long, short = 'o', required_unless_present = "measure")]
     output: Option<PathBuf>,
+    /// Split every quad of MESH into two triangles first (a mesh with a skin of quads is
+    /// otherwise refused).
+    #[arg(long)]
+    split_quads: bool,
     /// Only measure MESH against the metric (share of edges in [1/√2, √2], metric quality).
     #[arg(long)]
     measure: bool,
@@ -137,7 +141,11 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         _ => None,
     };
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mesh = read_path(&args.mesh, from)?;
+    let mut mesh = super::read_mesh(&args.mesh, from)?;
+    if args.split_quads {
+        let n = mesh.split_quads();
+        ui::note(&format!("split {n} quads into {} triangles", 2 * n));
+    }
     let mut metric = match &args.background {
         Some(b) => {
             match MetricField::read_background(b, &mesh, &args.mesh).map_err(metric_error)? {

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use smartmesh::formats::{read_path, write_all_atomically, Format};
+use smartmesh::formats::{write_all_atomically, Format};
 use smartmesh::history::History;
 use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::report::{self, ReportFormat, ReportInput, ReportOptions};
@@ -100,7 +100,7 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
             report::WIDTH_RANGE[1]
         )));
     }
-    let mesh = read_path(&args.mesh, args.from.or_else(|| Format::from_path(&args.mesh)))?;
+    let mesh = super::read_mesh(&args.mesh, args.from.or_else(|| Format::from_path(&args.mesh)))?;
     let topology = Topology::from_mesh(&mesh);
     let metric =
         MetricField::load(&mesh, &args.mesh, args.metric.as_deref()).map_err(|e| match e {
@@ -135,6 +135,9 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
         }
         None => None,
     };
+    if let Some(why) = history.as_ref().and_then(|h| h.mismatch(&args.mesh)) {
+        super::ui::warn(&why);
+    }
     let name = args.mesh.display().to_string();
     let input = ReportInput {
         name: &name,

@@ -1,15 +1,21 @@
 //! `smartmesh size MESH --recipe R -o OUT`: the metric field of a recipe on a mesh's
-//! vertices, written for MMG, Gmsh or ParaView.
+//! vertices, written for MMG, Gmsh or ParaView; with `--field u --complexity N` the
+//! Lp-optimal metric of a solution field too, intersected after the recipe's steps (or
+//! alone, without a recipe).
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use smartmesh::formats::{read_path, Format};
+use smartmesh::formats::Format;
 use smartmesh::metric_field::{MetricField, MetricTarget};
-use smartmesh::sizing::{size_mesh, SizeMeshError, StepEvent, StepReport};
+use smartmesh::remesh::expected_vertices;
+use smartmesh::sizing::{size_mesh_with_steps, SizeMeshError, StepEvent, StepReport};
+use smartmesh::solution::input::{attach, field_name};
+use smartmesh::Topology;
 
 use super::output::{check_output_dir, is_stdio, label, shown, SizeControls};
+use super::solution::SolutionArgs;
 use super::{parse_format, print_stdout, ui, write_stdout, CliError, RecipeInput};
 
 /// Compute the metric field a recipe asks for on a mesh, and write it.
@@ -31,7 +37,9 @@ Examples:
   smartmesh size naca.msh --recipe agard01.toml -o naca.sol
   smartmesh size distributor.msh --recipe distributor.cfg -o field.vtu
   smartmesh size square.msh --recipe wake.toml -o bgm.pos && gmsh square.geo -2 -bgm bgm.pos -setnumber Mesh.Algorithm 7
-  smartmesh size naca.msh -r agard01.toml --hmin 1e-4 -o - --to sol > naca.sol"
+  smartmesh size naca.msh -r agard01.toml --hmin 1e-4 -o - --to sol > naca.sol
+  smartmesh size flow.vtu --field u --complexity 4000 -o flow.sol
+  smartmesh size naca.msh -r agard01.toml --solution-file flow.vtu --field mach --complexity 20000 -o both.sol"
 )]
 pub struct SizeArgs {
     /// Input mesh (any readable format; `-` for stdin, with --from).
@@ -46,6 +54,12 @@ pub struct SizeArgs {
     from: Option<Format>,
     #[command(flatten)]
     controls: SizeControls,
+    #[command(flatten)]
+    solution: SolutionArgs,
+    /// A file holding the solution field on the mesh's own vertices (a solver's .vtu,
+    /// .msh …), instead of the mesh's point data.
+    #[arg(long, value_name = "FILE", help_heading = "Solution")]
+    solution_file: Option<PathBuf>,
     #[command(flatten)]
     output_format: super::MeshOutputArgs,
     /// Print a JSON summary on stdout.
@@ -67,6 +81,22 @@ struct SizeSummary<'a> {
     steps: &'a [StepReport],
     warnings: &'a [String],
     dropped: &'a [String],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    solution: Option<SolutionSummary>,
+}
+
+/// What the solution's metric was asked and what the whole field asks.
+#[derive(serde::Serialize)]
+struct SolutionSummary {
+    field: String,
+    /// The vertex count asked of the solution's metric, when one was.
+    complexity: Option<f64>,
+    /// The error asked, when one was.
+    error: Option<f64>,
+    p: f64,
+    recovery: &'static str,
+    /// The vertices a mesh conforming to the whole field (recipe and solution) has.
+    expected_vertices: f64,
 }
 
 /// Where the field goes: `output`, or for `-` a file of a temporary directory that is
@@ -108,7 +138,7 @@ fn target(args: &SizeArgs) -> Result<Target, CliError> {
 /// Runs `size`.
 pub fn run(args: SizeArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
-    if is_stdio(&args.mesh) && is_stdio(&args.recipe.recipe) {
+    if is_stdio(&args.mesh) && args.recipe.is_stdin() {
         return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
     if is_stdio(&args.output) && args.json {
@@ -117,11 +147,30 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
         ));
     }
     let target = target(&args)?;
-    let mut recipe = args.recipe.read()?;
+    let solving = args.solution.field.is_some() || args.solution_file.is_some();
+    let mut recipe = args.recipe.read_or_empty(solving, "with --field or --solution-file")?;
     args.controls.apply_to(&mut recipe)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mesh = read_path(&args.mesh, from)?;
-    let steps = recipe.algorithms.len() as u64;
+    let mut mesh = super::read_mesh(&args.mesh, from)?;
+    let mut extra = Vec::new();
+    let mut solution = None;
+    if solving {
+        let goal = args.solution.target().ok_or_else(|| {
+            CliError::usage("a metric from a solution needs --complexity N or --error E")
+        })?;
+        let name = match &args.solution_file {
+            Some(file) => {
+                let other = super::read_mesh(file, None)?;
+                let name = field_name(&other, file, args.solution.field.as_deref())?;
+                attach(&mut mesh, &args.mesh, &other, file, &name)?;
+                name
+            }
+            None => field_name(&mesh, &args.mesh, args.solution.field.as_deref())?,
+        };
+        extra.push(args.solution.step(&name, goal, &mesh, &recipe, &args.controls)?);
+        solution = Some(name);
+    }
+    let steps = (recipe.algorithms.len() + extra.len()) as u64;
 
     let bar = ui::progress_bar(steps, "{bar:30} {pos}/{len} {msg} [{elapsed}]");
     let mut observe = |event: StepEvent| {
@@ -135,7 +184,8 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             }
         }
     };
-    let sized = size_mesh(&mesh, &recipe, &mut observe);
+    let sized =
+        size_mesh_with_steps(&mesh, &Topology::from_mesh(&mesh), &recipe, &extra, &mut observe);
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -169,6 +219,10 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::context("reading back the field for stdout", e))?;
         write_stdout(&bytes)?;
     }
+    let expected = solution.as_ref().map(|_| {
+        let metric: Vec<_> = field.tensors.iter().map(|t| t.to_metric()).collect();
+        expected_vertices(&mesh, &metric)
+    });
     let (mut lo, mut hi, mut aniso) = (f64::INFINITY, 0.0f64, 1.0f64);
     for t in &field.tensors {
         lo = lo.min(t.h_min());
@@ -189,6 +243,14 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             steps: &field.steps,
             warnings: &field.warnings,
             dropped: &report.dropped,
+            solution: solution.as_ref().map(|name| SolutionSummary {
+                field: name.clone(),
+                complexity: args.solution.complexity,
+                error: args.solution.error.filter(|_| args.solution.complexity.is_none()),
+                p: args.solution.p,
+                recovery: args.solution.recovery.name(),
+                expected_vertices: expected.unwrap_or(f64::NAN),
+            }),
         };
         let mut text = serde_json::to_string_pretty(&s)?;
         text.push('\n');
@@ -197,12 +259,16 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     ui::done(
         "size",
         &format!(
-            "wrote {} ({} vertices, sizes {} to {}, anisotropy up to {}) in {}",
+            "wrote {} ({} vertices, sizes {} to {}, anisotropy up to {}{}) in {}",
             shown(&args.output),
             mesh.points.len(),
             ui::sig(lo),
             ui::sig(hi),
             ui::sig(aniso),
+            expected.map_or(String::new(), |v| format!(
+                "; a conforming mesh has about {} vertices",
+                smartmesh::remesh::estimate::format_count(v)
+            )),
             ui::seconds(t0.elapsed())
         ),
     );

@@ -11,6 +11,7 @@
 //! | `CREATE_PROJECTION_FUNCTIONS` | `functions` (projection) | `{ NAME; MAXSIZE; MAXDISTANCE; EXPONENT }` |
 //! | `CREATE_CURVATURE_TO_SIZE_FUNCTIONS` | `functions` (curvature) | `{ NAME; MINSIZE; MAXSIZE; SIZE_OF_ERROR }` |
 //! | `CREATE_ALGORITHMS` | `algorithms` | list of `{ TYPE; … }` in the order they run |
+//! | `LAYER` | `layer` | `{ CURVES; FIRST_HEIGHT; RATIO; LAYERS; THICKNESS; … }` (see [`super::layer`]) |
 //!
 //! Spellings found in the thesis, all accepted: `MINSIZE`/`MIN_SIZE` (and, for distance
 //! functions, `SIZE_AT_BORDER`/`SIZE_AT_TOPOLOGICAL_VERTEX`, thesis 7.4.3),
@@ -29,6 +30,7 @@
 use std::fmt::Write as _;
 
 use super::error::{RecipeError, RecipeErrorKind};
+use super::layer::{CurveValues, LayerSpec};
 use super::libconfig::{self, Node, Setting, Value};
 use super::model::{AlgorithmSpec, EntityRef, FunctionSpec, Places, Recipe, SpecValue};
 use super::preprocess::{self, Source};
@@ -69,7 +71,25 @@ const TOP: &[Key] = &[
     opt("projection", &["CREATE_PROJECTION_FUNCTIONS"]),
     opt("curvature", &["CREATE_CURVATURE_TO_SIZE_FUNCTIONS"]),
     opt("algorithms", &["CREATE_ALGORITHMS"]),
+    opt("layer", &["LAYER"]),
 ];
+const LAYER: &[Key] = &[
+    req("curves", &["CURVES"]),
+    opt("first_height", &["FIRST_HEIGHT"]),
+    opt("ratio", &["RATIO", "GROWTH_RATIO"]),
+    opt("layers", &["LAYERS", "NUMBER_OF_LAYERS"]),
+    opt("thickness", &["THICKNESS"]),
+    opt("y_plus", &["Y_PLUS"]),
+    opt("reynolds", &["REYNOLDS"]),
+    opt("ref_length", &["REF_LENGTH", "REFERENCE_LENGTH"]),
+    opt("split", &["SPLIT"]),
+    opt("tag", &["TAG"]),
+    opt("fan_angle", &["FAN_ANGLE"]),
+    opt("gap_ratio", &["GAP_RATIO"]),
+    opt("per_curve", &["PER_CURVE"]),
+];
+const CURVE_VALUES: &[Key] =
+    &[req("curve", &["CURVE"]), opt("first_height", &["FIRST_HEIGHT"]), opt("ratio", &["RATIO"])];
 const REGION: &[Key] = &[NAME, req("entities", &["TOPOLOGICAL_ENTITIES", "ENTITIES"])];
 const POLYLINE: &[Key] = &[NAME, req("x", &["X_COORDS"]), req("y", &["Y_COORDS"])];
 const DISTANCE: &[Key] = &[
@@ -449,7 +469,93 @@ impl Reader<'_> {
                 recipe.algorithms.push(a);
             }
         }
+        if let Some(s) = top.get(TOP, "layer") {
+            recipe.layer = Some(self.read_layer(s)?);
+        }
         Ok(())
+    }
+
+    /// An integer setting in `range`.
+    fn integer(
+        &self,
+        s: &Setting,
+        range: std::ops::RangeInclusive<i64>,
+        context: &str,
+    ) -> Result<i64, RecipeError> {
+        match s.value.value {
+            Value::Int(i) if range.contains(&i) => Ok(i),
+            _ => Err(self.wrong(
+                s,
+                &s.value,
+                &format!("an integer from {} to {}", range.start(), range.end()),
+                context,
+            )),
+        }
+    }
+
+    /// The `LAYER = { … }` group.
+    fn read_layer(&mut self, s: &Setting) -> Result<LayerSpec, RecipeError> {
+        let ctx = s.name.clone();
+        let groups = self.groups(s)?;
+        let [(g, line)] = groups.as_slice() else {
+            return Err(self.wrong(s, &s.value, "one group { CURVES = …; … }", ""));
+        };
+        let f = self.fields(g, LAYER, *line, &ctx)?;
+        let mut spec = LayerSpec {
+            curves: self
+                .entities(f.get(LAYER, "curves").expect("required"), &ctx)?
+                .into_iter()
+                .map(|e| e.0)
+                .collect(),
+            ..LayerSpec::default()
+        };
+        for (field, slot) in [
+            ("first_height", &mut spec.first_height),
+            ("ratio", &mut spec.ratio),
+            ("thickness", &mut spec.thickness),
+            ("y_plus", &mut spec.y_plus),
+            ("reynolds", &mut spec.reynolds),
+            ("ref_length", &mut spec.ref_length),
+            ("fan_angle", &mut spec.fan_angle),
+            ("gap_ratio", &mut spec.gap_ratio),
+        ] {
+            if let Some(st) = f.get(LAYER, field) {
+                *slot = Some(self.number(st, &ctx)?);
+            }
+        }
+        if let Some(st) = f.get(LAYER, "layers") {
+            spec.layers = Some(self.integer(st, 1..=1000, &ctx)? as usize);
+        }
+        if let Some(st) = f.get(LAYER, "tag") {
+            spec.tag = Some(self.integer(st, i32::MIN as i64..=i32::MAX as i64, &ctx)? as i32);
+        }
+        if let Some(st) = f.get(LAYER, "split") {
+            spec.split = match st.value.value {
+                Value::Bool(b) => b,
+                _ => return Err(self.wrong(st, &st.value, "true or false", &ctx)),
+            };
+        }
+        if let Some(st) = f.get(LAYER, "per_curve") {
+            for (i, (pg, pline)) in self.groups(st)?.into_iter().enumerate() {
+                let pctx = format!("{} entry {}", st.name, i + 1);
+                let pf = self.fields(pg, CURVE_VALUES, pline, &pctx)?;
+                let cs = pf.get(CURVE_VALUES, "curve").expect("required");
+                let mut curve = self.entities(cs, &pctx)?;
+                if curve.len() != 1 {
+                    return Err(self.wrong(cs, &cs.value, "one curve tag or name", &pctx));
+                }
+                let num = |k: &str| -> Result<Option<f64>, RecipeError> {
+                    pf.get(CURVE_VALUES, k).map(|x| self.number(x, &pctx)).transpose()
+                };
+                spec.per_curve.push(CurveValues {
+                    curve: curve.remove(0).0,
+                    first_height: num("first_height")?,
+                    ratio: num("ratio")?,
+                });
+            }
+        }
+        self.place("layer".into(), *line, &s.name, &ctx);
+        Ok(spec)
     }
 
     fn read_algorithm(
@@ -496,9 +602,10 @@ impl Reader<'_> {
                 (ParameterKind::Regions { .. }, Some(s)) => SpecValue::Names(self.names(s, &ctx)?),
                 (ParameterKind::Regions { .. }, None) => SpecValue::Names(Vec::new()),
                 (ParameterKind::Size, Some(s)) => SpecValue::Size(self.number(s, &ctx)?),
-                (ParameterKind::Function(_) | ParameterKind::Polyline, Some(s)) => {
-                    SpecValue::Name(self.string(s, &ctx)?)
-                }
+                (
+                    ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData,
+                    Some(s),
+                ) => SpecValue::Name(self.string(s, &ctx)?),
                 // `fields` has refused a group without a required key.
                 (_, None) => {
                     return Err(self.error(
@@ -686,5 +793,58 @@ pub fn write(r: &Recipe) -> String {
             })
             .collect(),
     );
+    if let Some(l) = &r.layer {
+        let ent = |e: &EntityRef| match e {
+            EntityRef::Tag(t) => t.to_string(),
+            EntityRef::Name(n) => quote(n),
+        };
+        let all_tags = l.curves.iter().all(|e| matches!(e, EntityRef::Tag(_)));
+        let all_names = l.curves.iter().all(|e| matches!(e, EntityRef::Name(_)));
+        let (open, close) = if all_tags || all_names { ("[", "]") } else { ("(", ")") };
+        let items: Vec<String> = l.curves.iter().map(ent).collect();
+        let _ = write!(o, "\nLAYER =\n{{\n    CURVES = {open} {} {close};\n", items.join(", "));
+        for (key, v) in [
+            ("FIRST_HEIGHT", l.first_height),
+            ("RATIO", l.ratio),
+            ("THICKNESS", l.thickness),
+            ("Y_PLUS", l.y_plus),
+            ("REYNOLDS", l.reynolds),
+            ("REF_LENGTH", l.ref_length),
+            ("FAN_ANGLE", l.fan_angle),
+            ("GAP_RATIO", l.gap_ratio),
+        ] {
+            if let Some(v) = v {
+                let _ = writeln!(o, "    {key} = {};", float(v));
+            }
+        }
+        if let Some(n) = l.layers {
+            let _ = writeln!(o, "    LAYERS = {n};");
+        }
+        if let Some(t) = l.tag {
+            let _ = writeln!(o, "    TAG = {t};");
+        }
+        if l.split {
+            let _ = writeln!(o, "    SPLIT = true;");
+        }
+        if !l.per_curve.is_empty() {
+            let items: Vec<String> = l
+                .per_curve
+                .iter()
+                .map(|p| {
+                    let mut g = format!("        {{ CURVE = {};", ent(&p.curve));
+                    if let Some(h) = p.first_height {
+                        let _ = write!(g, " FIRST_HEIGHT = {};", float(h));
+                    }
+                    if let Some(r) = p.ratio {
+                        let _ = write!(g, " RATIO = {};", float(r));
+                    }
+                    g.push_str(" }");
+                    g
+                })
+                .collect();
+            let _ = writeln!(o, "    PER_CURVE =\n    (\n{}\n    );", items.join(",\n"));
+        }
+        o.push_str("};\n");
+    }
     o
 }

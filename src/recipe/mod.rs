@@ -15,6 +15,7 @@
 
 pub mod appendix;
 pub mod error;
+pub mod layer;
 pub mod libconfig;
 pub mod model;
 pub mod preprocess;
@@ -23,6 +24,7 @@ pub mod serde_io;
 pub mod suggest;
 
 pub use error::{RecipeError, RecipeErrorKind};
+pub use layer::{CurveValues, LayerSpec};
 pub use model::{
     AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, Recipe, RecipeFormat,
 };

@@ -227,7 +227,10 @@ impl SpecValue {
         matches!(
             (self, kind),
             (SpecValue::Size(_), ParameterKind::Size)
-                | (SpecValue::Name(_), ParameterKind::Function(_) | ParameterKind::Polyline)
+                | (
+                    SpecValue::Name(_),
+                    ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData
+                )
                 | (SpecValue::Names(_), ParameterKind::Regions { .. })
         )
     }
@@ -236,7 +239,9 @@ impl SpecValue {
         match kind {
             ParameterKind::Size => SpecValue::Size(0.0),
             ParameterKind::Regions { .. } => SpecValue::Names(Vec::new()),
-            ParameterKind::Function(_) | ParameterKind::Polyline => SpecValue::Name(String::new()),
+            ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData => {
+                SpecValue::Name(String::new())
+            }
         }
     }
 }
@@ -445,7 +450,7 @@ impl Raw {
                 Raw::Unsigned(u) => Ok(SpecValue::Size(u as f64)),
                 other => Err(E::invalid_type(other.unexpected(), &"f64")),
             },
-            ParameterKind::Function(_) | ParameterKind::Polyline => {
+            ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData => {
                 self.string().map(SpecValue::Name)
             }
             ParameterKind::Regions { .. } => match self {
@@ -719,6 +724,9 @@ pub struct Recipe {
     /// The algorithms, in the order they run.
     #[serde(default)]
     pub algorithms: Vec<AlgorithmSpec>,
+    /// The boundary-layer skin `adapt` inserts after the loop ([`super::LayerSpec`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<super::LayerSpec>,
     #[serde(skip)]
     pub(crate) places: Places,
 }
@@ -730,6 +738,7 @@ impl PartialEq for Recipe {
             && self.polylines == other.polylines
             && self.functions == other.functions
             && self.algorithms == other.algorithms
+            && self.layer == other.layer
     }
 }
 
@@ -818,6 +827,11 @@ impl Recipe {
 
     /// Checks names, kinds and ranges.
     pub fn validate(&self) -> Result<(), RecipeError> {
+        if let Some(l) = &self.layer {
+            if let Err(e) = l.options() {
+                return Err(self.error_at(RecipeErrorKind::Invalid(e.to_string()), "layer"));
+            }
+        }
         let g = &self.global;
         for (field, value) in [("hmin", g.h_min), ("hmax", g.h_max)] {
             if let Some(v) = value {

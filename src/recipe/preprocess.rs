@@ -17,7 +17,11 @@
 //! anything but a regular file (`/dev/zero`, a pipe); the text after includes and cpp
 //! may not exceed [`MAX_RECIPE_BYTES`]; cpp runs in a process group of its own that is
 //! killed when its output passes what is left of that budget or when it runs past
-//! [`CPP_TIME_LIMIT`] (one deadline for every cpp run of a recipe). Before cpp runs, the
+//! [`CPP_TIME_LIMIT`] (one deadline for every cpp run of a recipe). On Unix cpp also dies
+//! with us, however we end (SIGKILL included): it is started through a small `sh` guard
+//! ([`GUARD`]) whose watcher, in cpp's group, kills the group once our process is gone.
+//! (`PR_SET_PDEATHSIG` would need `unsafe` in `pre_exec`, which the crate forbids, and
+//! would reach cpp alone, not the `cc1` it starts.) Before cpp runs, the
 //! files its literal `#include`s name are checked the same way, so `#include
 //! </dev/zero>` is an error at its line rather than a timeout. [`ReadOptions::untrusted`]
 //! (the CLI's `--no-preprocess`) turns cpp and `@include` off: the recipe then reads no
@@ -433,6 +437,55 @@ enum Outcome {
     Failed(std::io::Error),
 }
 
+/// The `sh -c` script cpp is started through on Unix (`sh -c GUARD sh PARENT CPP ARGS…`):
+/// a watcher in the background, its streams on `/dev/null` so that cpp's pipes close when
+/// cpp is done, polls every 0.2 s that our process (`PARENT`) and cpp are alive; when
+/// either is gone it kills the whole group (cpp, its `cc1`, itself). The script then
+/// becomes cpp (`exec`), keeping its pid, which leads the group.
+pub const GUARD: &str = "parent=$1; shift; \
+( while kill -0 \"$parent\" 2>/dev/null && kill -0 $$ 2>/dev/null; do \
+sleep 0.2 2>/dev/null || sleep 1; done; kill -KILL 0 ) </dev/null >/dev/null 2>&1 & \
+exec \"$@\"";
+
+/// `program` as the guard must run it: a path, found on `PATH` when it is a bare name;
+/// `None` when there is no such executable.
+#[cfg(unix)]
+fn locate(program: &str) -> Option<PathBuf> {
+    use std::os::unix::fs::PermissionsExt;
+    let runnable = |p: &Path| {
+        std::fs::metadata(p).is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+    };
+    if program.contains('/') {
+        let p = PathBuf::from(program);
+        return runnable(&p).then_some(p);
+    }
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&path)
+        .filter(|d| !d.as_os_str().is_empty())
+        .map(|d| d.join(program))
+        .find(|p| runnable(p))
+}
+
+/// The command that runs `cmd` (program and arguments): through [`GUARD`] in a process
+/// group of its own on Unix; `None` when the program is not found.
+fn preprocessor_command(cmd: &[String]) -> Option<Command> {
+    #[cfg(unix)]
+    {
+        let program = locate(&cmd[0])?;
+        let mut c = Command::new("/bin/sh");
+        c.arg("-c").arg(GUARD).arg("sh").arg(std::process::id().to_string());
+        c.arg(program).args(&cmd[1..]);
+        std::os::unix::process::CommandExt::process_group(&mut c, 0);
+        Some(c)
+    }
+    #[cfg(not(unix))]
+    {
+        let mut c = Command::new(&cmd[0]);
+        c.args(&cmd[1..]);
+        Some(c)
+    }
+}
+
 /// Kills cpp and whatever it started (`cpp` runs `cc1`): on Unix the child leads a
 /// process group of its own, which is killed whole.
 fn stop(child: &mut Child) {
@@ -520,13 +573,14 @@ impl Loader<'_> {
             .unwrap_or_else(|| PathBuf::from("."));
         let mut tried = Vec::new();
         for cmd in candidates(self.options) {
-            let mut c = Command::new(&cmd[0]);
-            c.args(&cmd[1..]).args(["-x", "c", "-undef", "-nostdinc", "-w", "-"]);
+            let Some(mut c) = preprocessor_command(&cmd) else {
+                tried.push(cmd.join(" "));
+                continue;
+            };
+            c.args(["-x", "c", "-undef", "-nostdinc", "-w", "-"]);
             if dir.is_dir() {
                 c.current_dir(&dir);
             }
-            #[cfg(unix)]
-            std::os::unix::process::CommandExt::process_group(&mut c, 0);
             let child =
                 c.stdin(Stdio::piped()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn();
             let child = match child {

@@ -24,12 +24,15 @@
 //! Every algorithm is then built from its table line
 //! ([`crate::sizing::algorithms::TABLE`]) with its arguments in declaration order.
 //!
-//! A region that no algorithm uses and whose dimension stays ambiguous is reported with
-//! no dimension rather than refused: it has no effect on the plan.
+//! A region that no algorithm uses has no effect on the plan: its entities are looked up
+//! (an absent one is still an error, rule 1, so that a typo is found before the region
+//! is put to use), but it is not measured, and it is reported with no counts — and with
+//! no dimension when its dimension stays ambiguous, rather than refused.
 //!
-//! Entities are looked up in an index of the topology built once, and regions of the
-//! same entities are measured (vertices, edges, cells) once: a recipe of many regions
-//! costs the mesh once plus its own size times a logarithm, not the mesh per region.
+//! Entities are looked up in an index of the topology built once, and used regions of
+//! the same entities are measured (vertices, edges, cells) once: a recipe of many
+//! regions costs the mesh once plus its own size times a logarithm, not the mesh per
+//! region, and regions that nothing uses cost only their lookups.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -58,12 +61,13 @@ pub struct RegionReport {
     pub entity_names: Vec<String>,
     /// Number of topological entities.
     pub entities: usize,
-    /// Mesh vertices on them (a face's include its boundary).
-    pub vertices: usize,
-    /// Mesh edges on them (a face's: the edges of its cells).
-    pub edges: usize,
-    /// Mesh cells (faces only).
-    pub cells: usize,
+    /// Mesh vertices on them (a face's include its boundary); `None` when no algorithm
+    /// uses the region (it is not measured).
+    pub vertices: Option<usize>,
+    /// Mesh edges on them (a face's: the edges of its cells); `None` when unused.
+    pub edges: Option<usize>,
+    /// Mesh cells (faces only); `None` when unused.
+    pub cells: Option<usize>,
     /// The algorithms that use it, numbered from 1.
     pub used_by: Vec<usize>,
 }
@@ -363,6 +367,9 @@ impl Recipe {
                     (ParameterKind::Regions { .. }, SpecValue::Names(_)) => {
                         Argument::Entities(sets.next().unwrap_or_default())
                     }
+                    (ParameterKind::PointData, SpecValue::Name(name)) => {
+                        Argument::Name(name.clone())
+                    }
                     (ParameterKind::Polyline, SpecValue::Name(name)) => Argument::Polyline(
                         self.polylines.get(name).cloned().expect("validated: the polyline exists"),
                     ),
@@ -461,6 +468,13 @@ fn label(i: usize, a: &AlgorithmSpec) -> String {
         (None, [(_, first), (_, second), ..]) => {
             format!("between {} and {}", quoted(first), quoted(second))
         }
+        (None, []) => a
+            .arguments()
+            .find_map(|(p, v)| match (p.kind, v) {
+                (ParameterKind::PointData, SpecValue::Name(n)) => Some(format!("of \"{n}\"")),
+                _ => None,
+            })
+            .unwrap_or_else(|| "on the whole mesh".to_string()),
         (None, lists) => format!("on {}", quoted(lists.first().map_or(&[][..], |l| l.1))),
     };
     format!("{} ({} {what})", referrer(i), a.keyword())
@@ -478,8 +492,8 @@ fn step_names(a: &AlgorithmSpec) -> Vec<String> {
 /// A region's vertex, edge and cell counts, by dimension and entity indices.
 type Measures = BTreeMap<(usize, Vec<usize>), [usize; 3]>;
 
-/// The report of one region; its counts are taken from `measured`, or measured and kept
-/// there for the next region of the same entities.
+/// The report of one region; a used region's counts are taken from `measured`, or
+/// measured and kept there for the next region of the same entities.
 fn report(
     topo: &Topology,
     name: &str,
@@ -512,10 +526,11 @@ fn report(
         _ => {}
     }
     let [vertices, edges, cells] = match st.dimension {
-        Some(d) => *measured
+        Some(d) if !used_by.is_empty() => measured
             .entry((d, st.by_dim[d].clone()))
-            .or_insert_with(|| measure(topo, d, &st.by_dim[d])),
-        None => [0; 3],
+            .or_insert_with(|| measure(topo, d, &st.by_dim[d]))
+            .map(Some),
+        _ => [None; 3],
     };
     RegionReport {
         name: name.to_string(),

@@ -30,7 +30,7 @@ pub enum RemeshError {
         vertex: usize,
     },
     /// A cell kind the remesher does not handle.
-    #[error("the remesher handles triangles, lines and vertex cells; the mesh has {kind} cells (convert or split them first)")]
+    #[error("the remesher handles triangles, lines and vertex cells; the mesh has {kind} cells (split quads with `remesh --split-quads` or `convert --split-quads`)")]
     UnsupportedCell {
         /// The kind's name.
         kind: &'static str,

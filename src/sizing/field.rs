@@ -165,6 +165,17 @@ pub enum SizingError {
         /// The vertex.
         vertex: usize,
     },
+    /// The field a step sizes from (SOLUTION_HESSIAN's point data) is missing or
+    /// unusable: the message says which array and why.
+    #[error("step {step} ({label}): {why}")]
+    Field {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+        /// What is wrong.
+        why: String,
+    },
     /// The global bounds contradict each other or are out of range: need
     /// 1e-30 <= h_min <= h_max <= 1e30 and max_aspect_ratio >= 1.
     #[error("invalid global bounds: h_min = {h_min:?}, h_max = {h_max:?}, max_aspect_ratio = {max_aspect_ratio:?} (need 1e-30 <= h_min <= h_max <= 1e30, aspect ratio >= 1)")]
@@ -201,6 +212,7 @@ impl Failure {
             Failure::NonFinitePoint { point } => SizingError::NonFinitePoint { step, label, point },
             Failure::InvalidSize { size } => SizingError::InvalidSize { step, label, size },
             Failure::Degenerate { vertex } => SizingError::Degenerate { step, label, vertex },
+            Failure::Field { why } => SizingError::Field { step, label, why },
         }
     }
 }

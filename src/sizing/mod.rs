@@ -17,7 +17,7 @@ pub use algorithms::curvature_of_border::{three_point_curvature, CORNER_ANGLE};
 pub use algorithms::Contribution;
 pub use algorithms::{
     Algorithm, CurvatureOfBorder, DistanceBetweenTwoBorders, DistanceToBorder,
-    DistanceToImaginaryPolyline, DistanceToPoint, Uniform,
+    DistanceToImaginaryPolyline, DistanceToPoint, SolutionHessian, Uniform,
 };
 /// The sizing engine: a plan run on a mesh into one size tensor per vertex (thesis 4.3.6).
 pub use field::{
@@ -29,7 +29,9 @@ pub use functions::{
 /// Anisotropic size gradation (Alauzet's metric gradation, thesis 7.4.1).
 pub use gradation::{apply_gradation, grow, growth_factor, GradationReport};
 /// A recipe's field on a mesh in one call (topology, resolution, graph, engine).
-pub use on_mesh::{size_mesh, size_mesh_with_topology, MeshSizing, SizeMeshError};
+pub use on_mesh::{
+    size_mesh, size_mesh_with_steps, size_mesh_with_topology, MeshSizing, SizeMeshError,
+};
 pub use plan::{EntitySet, SizingPlan, Step};
 /// Neighbour propagation from a source with exact closest points (thesis 2.2.10.4–5, 4.3.6).
 pub use propagation::{

@@ -8,6 +8,7 @@ use smartmesh_formats::TaggedMesh;
 use crate::mesh_graph::{MeshGraph, MeshGraphError};
 use crate::recipe::{Recipe, RecipeError, Resolved};
 use crate::sizing::field::{compute_size_field, SizeField, SizingError, StepEvent};
+use crate::sizing::plan::Step;
 use crate::topology::Topology;
 
 /// Why a recipe gave no field on a mesh. Each variant keeps its source's message, so
@@ -68,7 +69,20 @@ pub fn size_mesh_with_topology(
     recipe: &Recipe,
     observer: &mut dyn FnMut(StepEvent),
 ) -> Result<MeshSizing, SizeMeshError> {
-    let resolved = recipe.resolve(topology).map_err(SizeMeshError::Resolve)?;
+    size_mesh_with_steps(mesh, topology, recipe, &[], observer)
+}
+
+/// [`size_mesh_with_topology`] with `extra` steps after the recipe's (a solution's
+/// metric from the command line), intersected in that order.
+pub fn size_mesh_with_steps(
+    mesh: &TaggedMesh,
+    topology: &Topology,
+    recipe: &Recipe,
+    extra: &[Step],
+    observer: &mut dyn FnMut(StepEvent),
+) -> Result<MeshSizing, SizeMeshError> {
+    let mut resolved = recipe.resolve(topology).map_err(SizeMeshError::Resolve)?;
+    resolved.plan.steps.extend_from_slice(extra);
     let graph = MeshGraph::from_topology(topology, mesh).map_err(SizeMeshError::Graph)?;
     let field = compute_size_field(&graph, topology, &resolved.plan, observer)
         .map_err(SizeMeshError::Sizing)?;

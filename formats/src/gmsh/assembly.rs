@@ -6,7 +6,7 @@ use super::reader::Reader;
 use super::tags::TagList;
 use super::views::ViewKind;
 use super::{linear, untagged};
-use crate::{DataArray, ErrorKind, NodeIndex, Result, TaggedMesh};
+use crate::{DataArray, ErrorKind, NodeIndex, ReadReport, Result, TaggedMesh};
 
 impl Reader<'_> {
     /// The node views of a data-only file: item t − 1 of each array is node tag t's
@@ -56,7 +56,7 @@ impl Reader<'_> {
 
     /// Puts points in node-tag order and cells in element-tag order, resolves 4.1
     /// physical tags and builds the data arrays.
-    pub(super) fn finish(mut self) -> Result<TaggedMesh> {
+    pub(super) fn finish(mut self) -> Result<(TaggedMesh, ReadReport)> {
         let mut mesh = TaggedMesh::new();
         mesh.tag_names = std::mem::take(&mut self.tag_names);
 
@@ -232,8 +232,11 @@ impl Reader<'_> {
         // other readers).
         mesh.coordinate_dim = if mesh.points.iter().all(|p| p[2] == 0.0) { 2 } else { 3 };
         untagged::ungroup(&mut mesh);
-        linear::reduce(&mut mesh);
-        Ok(mesh)
+        let mut report = ReadReport::default();
+        if let Some(note) = linear::reduce(&mut mesh) {
+            report.note(note);
+        }
+        Ok((mesh, report))
     }
 }
 

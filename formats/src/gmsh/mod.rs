@@ -106,15 +106,20 @@ mod views;
 pub use untagged::UNTAGGED;
 
 use crate::{
-    DataArray, Error, ErrorKind, GmshVersion, ReadContext, Result, TaggedMesh, WriteOptions,
-    WriteReport, Written,
+    DataArray, Error, ErrorKind, GmshVersion, ReadContext, ReadReport, Result, TaggedMesh,
+    WriteOptions, WriteReport, Written,
 };
 use cursor::show;
 use reader::Reader;
 use views::ViewKind;
 
 /// Reads an MSH 2.x or 4.1 file, ASCII or binary.
-pub fn read(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
+pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
+    read_reported(bytes, ctx).map(|(mesh, _)| mesh)
+}
+
+/// [`read`], with what was changed on the way (second-order cells read as linear).
+pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh, ReadReport)> {
     let mut r = Reader::new(bytes);
     read_sections(&mut r)?;
     r.finish()
@@ -154,7 +159,7 @@ pub fn read_mesh_or_data(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<MshCont
     if r.data_only {
         r.finish_node_data().map(MshContent::NodeData)
     } else {
-        r.finish().map(MshContent::Mesh)
+        r.finish().map(|(mesh, _)| MshContent::Mesh(mesh))
     }
 }
 

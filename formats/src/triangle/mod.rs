@@ -54,8 +54,9 @@
 //! The first triangle attribute is the physical tag (when any triangle has one), followed
 //! by cell data `triangle:attribute2`...; without tags, the `triangle:attribute<k>`
 //! arrays are written as they are. Numbering is 1-based, as Triangle writes by default.
-//! Everything Triangle cannot hold is listed in the report: z coordinates, quadrilaterals,
-//! second-order lines, point cells, geometrical tags that differ from the physical ones,
+//! Quads are written as two triangles each (said in the report). Everything Triangle
+//! cannot hold is listed in the report: z coordinates, second-order quadrilaterals and
+//! lines, point cells, geometrical tags that differ from the physical ones,
 //! tag names, Gmsh entities, point and cell sets, and every point or cell array that is
 //! not one of the `triangle:` arrays above.
 

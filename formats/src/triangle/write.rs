@@ -112,6 +112,20 @@ fn push_poly_rest(
 
 pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut report = WriteReport::default();
+    // Quads go as two triangles each (a skin of boundary-layer cells stays a mesh).
+    let split;
+    let mesh = if mesh.num_cells_of(CellKind::Quad) > 0 {
+        let mut m = mesh.clone();
+        let n = m.split_quads();
+        report.drop(format!(
+            "{n} quad cells: written as {} triangles (Triangle holds triangles only)",
+            2 * n
+        ));
+        split = m;
+        &split
+    } else {
+        mesh
+    };
     let count = |k: CellKind| mesh.num_cells_of(k);
     let (ntri3, ntri6, nseg) =
         (count(CellKind::Triangle), count(CellKind::Triangle6), count(CellKind::Line));
@@ -166,7 +180,7 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
 
     // --- cells Triangle cannot hold
-    for kind in [CellKind::Quad, CellKind::Quad8, CellKind::Quad9, CellKind::Line3] {
+    for kind in [CellKind::Quad8, CellKind::Quad9, CellKind::Line3] {
         let n = count(kind);
         if n > 0 {
             report.drop(format!(

@@ -14,7 +14,14 @@ pub fn public_fixtures() -> PathBuf {
     if let Ok(p) = std::env::var("SMARTMESH_PUBLIC_FIXTURES") {
         return PathBuf::from(p);
     }
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/public")
+    // This module is shared by the formats crate's tests (one level below the repository)
+    // and the root crate's: `shared/` sits beside the repository in both cases.
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    ["../shared/fixtures/public", "../../shared/fixtures/public"]
+        .iter()
+        .map(|rel| manifest.join(rel))
+        .find(|p| p.is_dir())
+        .unwrap_or_else(|| manifest.join("../shared/fixtures/public"))
 }
 
 /// One public fixture by relative path (`gmsh/naca0012.v41_ascii.msh`).

@@ -60,6 +60,9 @@ pub enum ParameterKind {
     },
     /// The name of a polyline of the recipe.
     Polyline,
+    /// The name of a scalar point-data array of the mesh being sized (a solution field),
+    /// looked up when the step runs.
+    PointData,
 }
 
 impl ParameterKind {
@@ -112,6 +115,8 @@ pub enum Argument {
     Entities(EntitySet),
     /// A polyline's points.
     Polyline(Vec<Point2>),
+    /// A name passed as it is (a point-data array).
+    Name(String),
 }
 
 /// The resolved arguments of one algorithm, by parameter field, in declaration order.
@@ -180,6 +185,14 @@ impl Arguments {
     pub fn polyline(&mut self, field: &str) -> Option<Vec<Point2>> {
         match self.take(field)? {
             Argument::Polyline(p) => Some(p),
+            _ => None,
+        }
+    }
+
+    /// The name of `field`.
+    pub fn name(&mut self, field: &str) -> Option<String> {
+        match self.take(field)? {
+            Argument::Name(n) => Some(n),
             _ => None,
         }
     }

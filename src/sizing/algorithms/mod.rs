@@ -136,6 +136,7 @@ algorithms! {
     curvature_of_border::CurvatureOfBorder,
     distance_between_two_borders::DistanceBetweenTwoBorders,
     distance_to_imaginary_polyline::DistanceToImaginaryPolyline,
+    solution_hessian::SolutionHessian,
 }
 
 /// One line of [`TABLE`].
@@ -312,6 +313,8 @@ pub(crate) enum Failure {
     InvalidSize { size: f64 },
     /// A vertex whose tensor could not be formed (non-finite coordinates).
     Degenerate { vertex: usize },
+    /// The field an algorithm sizes from is missing or unusable: why, in words.
+    Field { why: String },
 }
 
 impl From<SourceError> for Failure {

@@ -1,0 +1,115 @@
+//! The options of a metric from a solution field, shared by `size --field` and
+//! `adapt --solver`: the field, the normalisation (a vertex count or an error), the
+//! norm, the recovery method and the anisotropy bound; and the sizing step they make.
+
+use clap::Args;
+use smartmesh::formats::TaggedMesh;
+use smartmesh::recipe::Recipe;
+use smartmesh::sizing::plan::Step;
+use smartmesh::sizing::{Algorithm, SolutionHessian};
+use smartmesh::solution::{Method, Target};
+use smartmesh::SizeBounds;
+
+use super::output::{positive_size, SizeControls};
+use super::CliError;
+
+/// How a solution field becomes a metric.
+#[derive(Debug, Clone, Args)]
+pub struct SolutionArgs {
+    /// The scalar point-data array of the solution (size: of the mesh, or of --solution;
+    /// adapt: of the solver's output, whose only scalar array is taken when not named).
+    #[arg(long, value_name = "NAME", help_heading = "Solution")]
+    pub field: Option<String>,
+    /// The vertex count the solution's metric asks for (its complexity); adapt: the
+    /// last value of the schedule.
+    #[arg(long, value_name = "N", value_parser = positive_size, conflicts_with = "error", help_heading = "Solution")]
+    pub complexity: Option<f64>,
+    /// Normalise the metric to this Lp norm of the interpolation error instead.
+    #[arg(long, value_name = "E", value_parser = positive_size, help_heading = "Solution")]
+    pub error: Option<f64>,
+    /// The Lp norm the metric minimises the interpolation error in (>= 1; `inf`).
+    #[arg(long, default_value_t = 2.0, value_parser = norm, help_heading = "Solution")]
+    pub p: f64,
+    /// How the Hessian is recovered: quadratic-fit (exact on quadratics, any mesh) or
+    /// l2-projection (the P1 gradient projected twice; for structured meshes).
+    #[arg(long, default_value = "quadratic-fit", value_parser = method, help_heading = "Solution")]
+    pub recovery: Method,
+    /// Largest aspect ratio of the solution's metric (default: the recipe's, else 1e4).
+    #[arg(long, value_name = "R", value_parser = aspect, help_heading = "Solution")]
+    pub max_aspect: Option<f64>,
+}
+
+fn norm(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(p) if p >= 1.0 => Ok(p),
+        Ok(p) => Err(format!("{p} is not a norm (expected a number >= 1, or inf)")),
+        Err(e) => Err(format!("`{s}`: {e}")),
+    }
+}
+
+fn aspect(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(r) if r.is_finite() && r >= 1.0 => Ok(r),
+        Ok(r) => Err(format!("{r} is not an aspect ratio (expected a finite number >= 1)")),
+        Err(e) => Err(format!("`{s}`: {e}")),
+    }
+}
+
+fn method(s: &str) -> Result<Method, String> {
+    Method::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+        format!("unknown recovery `{s}`; known: {}", names.join(", "))
+    })
+}
+
+impl SolutionArgs {
+    /// The target given: the vertex count or the error; `None` without either.
+    pub fn target(&self) -> Option<Target> {
+        match (self.complexity, self.error) {
+            (Some(n), _) => Some(Target::Vertices(n)),
+            (None, Some(e)) => Some(Target::Error(e)),
+            (None, None) => None,
+        }
+    }
+
+    /// The sizing step of field `name` on `mesh` normalised to `target`, bounded by the
+    /// command line's sizes, else the recipe's, else defaults from the mesh's extent.
+    pub fn step(
+        &self,
+        name: &str,
+        target: Target,
+        mesh: &TaggedMesh,
+        recipe: &Recipe,
+        controls: &SizeControls,
+    ) -> Result<Step, CliError> {
+        let diagonal = mesh
+            .bounding_box()
+            .map(|(lo, hi)| (hi[0] - lo[0]).hypot(hi[1] - lo[1]))
+            .filter(|d| d.is_finite() && *d > 0.0)
+            .ok_or_else(|| CliError::usage("the mesh has no extent: no metric from a field"))?;
+        let default = SolutionHessian::default_bounds(diagonal).ok_or_else(|| {
+            CliError::usage(format!("the mesh's extent {diagonal} is out of range"))
+        })?;
+        let g = &recipe.global;
+        let h_min = controls.hmin.or(g.h_min).unwrap_or(default.h_min());
+        let h_max = controls.hmax.or(g.h_max).unwrap_or(default.h_max()).max(h_min);
+        let r = self.max_aspect.or(g.max_aspect_ratio).unwrap_or(default.max_aspect_ratio());
+        let bounds = SizeBounds::try_new(h_min, h_max, r).ok_or_else(|| {
+            CliError::usage(format!(
+                "bounds hmin {h_min}, hmax {h_max}, aspect ratio {r} are out of range"
+            ))
+        })?;
+        let algorithm = SolutionHessian {
+            field: name.to_string(),
+            target,
+            p: if self.p.is_infinite() { f64::INFINITY } else { self.p },
+            method: self.recovery,
+            bounds: Some(bounds),
+        };
+        Ok(Step {
+            label: format!("solution `{name}` (SOLUTION_HESSIAN, {})", self.recovery.name()),
+            algorithm: Algorithm::SolutionHessian(algorithm),
+            names: vec![name.to_string()],
+        })
+    }
+}

@@ -1,0 +1,233 @@
+//! The solution field of a mesh: a scalar point-data array, of the mesh itself or of
+//! another file on the same vertices (a solver's output), found by name or, unnamed, as
+//! the file's only scalar point array, checked and attached to the mesh under its name so
+//! that the sizing step (SOLUTION_HESSIAN) reads it from there.
+//!
+//! Checks: the other file has the mesh's vertex count and its vertices at the same
+//! positions (up to 1e-9 of the mesh's extent, what a text file's rounding leaves); the
+//! array has one component and one item per vertex, and its values are finite.
+
+use std::path::Path;
+
+use crate::formats::TaggedMesh;
+
+/// Why a solution field could not be had.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FieldError {
+    /// No array of that name.
+    #[error("{path}: no point data `{name}` (its point arrays: {available})")]
+    Missing {
+        /// The file.
+        path: String,
+        /// The name asked for.
+        name: String,
+        /// The arrays it has.
+        available: String,
+    },
+    /// No name was given and the file has no scalar point array, or several.
+    #[error("{path}: {why}; name the field with --field")]
+    Ambiguous {
+        /// The file.
+        path: String,
+        /// What it holds.
+        why: String,
+    },
+    /// The array is not a scalar.
+    #[error(
+        "{path}: point data `{name}` has {components} components; a solution field is a scalar (1)"
+    )]
+    NotScalar {
+        /// The file.
+        path: String,
+        /// The array.
+        name: String,
+        /// Its components.
+        components: usize,
+    },
+    /// Another vertex count than the mesh.
+    #[error("{path}: {items} values of `{name}` for the {vertices} vertices of {mesh} (the solution must live on the mesh's own vertices)")]
+    Count {
+        /// The file.
+        path: String,
+        /// The array.
+        name: String,
+        /// Its items (or the file's points).
+        items: usize,
+        /// The mesh.
+        mesh: String,
+        /// The mesh's vertices.
+        vertices: usize,
+    },
+    /// The same count, other positions.
+    #[error("{path}: vertex {vertex} (0-based) is at {at:?}, but vertex {vertex} of {mesh} is at {expected:?}; the solution must live on the mesh's own vertices")]
+    Moved {
+        /// The file.
+        path: String,
+        /// The first vertex that differs.
+        vertex: usize,
+        /// Where the file has it.
+        at: [f64; 2],
+        /// The mesh.
+        mesh: String,
+        /// Where the mesh has it.
+        expected: [f64; 2],
+    },
+    /// A NaN or infinite value.
+    #[error("{path}: `{name}` at vertex {vertex} (0-based) is {value}, not a finite number")]
+    NotFinite {
+        /// The file.
+        path: String,
+        /// The array.
+        name: String,
+        /// The vertex.
+        vertex: usize,
+        /// The value.
+        value: f64,
+    },
+}
+
+/// The name of the field to take from `other` (read from `path`): `name` when given and
+/// present, else its only scalar point array.
+pub fn field_name(
+    other: &TaggedMesh,
+    path: &Path,
+    name: Option<&str>,
+) -> Result<String, FieldError> {
+    let shown = path.display().to_string();
+    let list = |m: &TaggedMesh| {
+        if m.point_data.is_empty() {
+            "none".to_string()
+        } else {
+            m.point_data.keys().cloned().collect::<Vec<_>>().join(", ")
+        }
+    };
+    if let Some(name) = name {
+        return if other.point_data.contains_key(name) {
+            Ok(name.to_string())
+        } else {
+            Err(FieldError::Missing { path: shown, name: name.into(), available: list(other) })
+        };
+    }
+    let scalars: Vec<&String> =
+        other.point_data.iter().filter(|(_, a)| a.components == 1).map(|(n, _)| n).collect();
+    match scalars.as_slice() {
+        [one] => Ok((*one).clone()),
+        [] => Err(FieldError::Ambiguous {
+            path: shown,
+            why: format!("no scalar point data (its point arrays: {})", list(other)),
+        }),
+        many => Err(FieldError::Ambiguous {
+            path: shown,
+            why: format!(
+                "several scalar point arrays ({})",
+                many.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+            ),
+        }),
+    }
+}
+
+/// Attaches field `name` of `other` (read from `other_path`) to `mesh` (read from
+/// `mesh_path`) under the same name, after the checks of the module documentation.
+/// `other` may be `mesh` itself (pass a clone), then only the array is checked.
+pub fn attach(
+    mesh: &mut TaggedMesh,
+    mesh_path: &Path,
+    other: &TaggedMesh,
+    other_path: &Path,
+    name: &str,
+) -> Result<(), FieldError> {
+    let path = other_path.display().to_string();
+    let mesh_shown = mesh_path.display().to_string();
+    let Some(array) = other.point_data.get(name) else {
+        return Err(field_name(other, other_path, Some(name)).unwrap_err());
+    };
+    if array.components != 1 {
+        return Err(FieldError::NotScalar {
+            path,
+            name: name.into(),
+            components: array.components,
+        });
+    }
+    let n = mesh.points.len();
+    for items in [other.points.len(), array.len()] {
+        if items != n {
+            return Err(FieldError::Count {
+                path,
+                name: name.into(),
+                items,
+                mesh: mesh_shown,
+                vertices: n,
+            });
+        }
+    }
+    let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
+    let tol = 1e-9 * (hi[0] - lo[0]).abs().max((hi[1] - lo[1]).abs()).max(1e-300);
+    if let Some(v) =
+        (0..n).find(|&v| (0..2).any(|k| (other.points[v][k] - mesh.points[v][k]).abs() > tol))
+    {
+        return Err(FieldError::Moved {
+            path,
+            vertex: v,
+            at: [other.points[v][0], other.points[v][1]],
+            mesh: mesh_shown,
+            expected: [mesh.points[v][0], mesh.points[v][1]],
+        });
+    }
+    if let Some(v) = array.values.iter().position(|x| !x.is_finite()) {
+        return Err(FieldError::NotFinite {
+            path,
+            name: name.into(),
+            vertex: v,
+            value: array.values[v],
+        });
+    }
+    mesh.point_data.insert(name.to_string(), array.clone());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::{CellKind, DataArray};
+
+    fn mesh() -> TaggedMesh {
+        let mut m = TaggedMesh::new();
+        m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        m.block_mut(CellKind::Triangle).push(&[0, 1, 2], 1, 1);
+        m
+    }
+
+    #[test]
+    fn a_field_is_found_checked_and_attached() {
+        let (mp, sp) = (Path::new("m.msh"), Path::new("s.vtu"));
+        let mut other = mesh();
+        other.point_data.insert("u".into(), DataArray::new(1, vec![1.0, 2.0, 3.0]));
+        other.point_data.insert("v".into(), DataArray::new(3, vec![0.0; 9]));
+        assert_eq!(field_name(&other, sp, None).unwrap(), "u");
+        let e = field_name(&other, sp, Some("w")).unwrap_err().to_string();
+        assert!(e.contains("s.vtu") && e.contains("`w`") && e.contains("u, v"), "{e}");
+        let mut m = mesh();
+        attach(&mut m, mp, &other, sp, "u").unwrap();
+        assert_eq!(m.point_data["u"].values, vec![1.0, 2.0, 3.0]);
+        let e = attach(&mut mesh(), mp, &other, sp, "v").unwrap_err();
+        assert!(matches!(e, FieldError::NotScalar { components: 3, .. }), "{e}");
+
+        other.point_data.insert("t".into(), DataArray::new(1, vec![0.0, f64::NAN, 0.0]));
+        let e = field_name(&other, sp, None).unwrap_err().to_string();
+        assert!(e.contains("several scalar point arrays (t, u)") && e.contains("--field"), "{e}");
+        let e = attach(&mut mesh(), mp, &other, sp, "t").unwrap_err();
+        assert!(matches!(e, FieldError::NotFinite { vertex: 1, .. }), "{e}");
+
+        let mut moved = other.clone();
+        moved.points[2][0] = 0.5;
+        let e = attach(&mut mesh(), mp, &moved, sp, "u").unwrap_err();
+        assert!(matches!(e, FieldError::Moved { vertex: 2, .. }), "{e}");
+        let mut short = other.clone();
+        short.points.pop();
+        short.point_data.insert("u".into(), DataArray::new(1, vec![1.0, 2.0]));
+        let e = attach(&mut mesh(), mp, &short, sp, "u").unwrap_err().to_string();
+        assert!(e.contains("2 values of `u` for the 3 vertices of m.msh"), "{e}");
+        let e = field_name(&mesh(), sp, None).unwrap_err().to_string();
+        assert!(e.contains("no scalar point data (its point arrays: none)"), "{e}");
+    }
+}

@@ -1,0 +1,318 @@
+//! The Lp-optimal metric of the continuous mesh framework (Loseille & Alauzet, 2011):
+//! the metric that minimises the Lp norm of the P1 interpolation error of a field of
+//! Hessian H among metrics of a given complexity is, in 2D,
+//!
+//! M = D · det(|H|)^(−1/(2p+2)) · |H|,
+//!
+//! |H| the Hessian with its eigenvalues made absolute. The global factor D is the one
+//! degree of freedom left; it is set by a target:
+//!
+//! - a vertex count N ([`Target::Vertices`]): the complexity C = ∫ √det M is what the
+//!   remesher's estimate reads ([`crate::remesh::estimate`]: a mesh conforming to M has
+//!   about 2C/√3 vertices), computed exactly for the Log-Euclidean interpolation of the
+//!   vertex metrics. Without bounds C is linear in D, so D is exact at once; with bounds
+//!   (the clamp is monotone in D) D is found by bisection on ln D to 1e-4 relative;
+//! - an interpolation error ε in the Lp norm ([`Target::Error`]): over a triangle whose
+//!   edges have unit length in M, the mean of |u − Πu| for a quadratic u is
+//!   tr(M^(−1/2) |H| M^(−1/2)) / 16 (the mean of λᵢλⱼ is 1/12 and Σ eeᵀ = (3/2) M⁻¹ for
+//!   the three edges e), so the Lp error of the optimal metric is
+//!   (1/(8D)) (∫ det|H|^(p/(2p+2)))^(1/p) and D follows in closed form. The bounds are
+//!   applied after, and change the error a little where they act.
+//!
+//! Degenerate Hessians: each eigenvalue of |H| is floored at the larger of 1e-12 of the
+//! largest over the mesh and λ_max/r² at its own vertex (r the maximum aspect ratio), so
+//! det|H| > 0 and the anisotropy of M is at most r before the clamp. A field whose Hessian
+//! is zero everywhere (a linear field: P1 interpolates it exactly) gets the identity, i.e.
+//! a uniform mesh of the target's size.
+//!
+//! Bounds: sizes clamped to [h_min, h_max] and the aspect ratio to r
+//! ([`SizeTensor::clamp`]). p is a real ≥ 1 or infinite (L∞: M = D |H|).
+
+use crate::metric::{SizeBounds, SizeTensor, Sym2};
+use crate::remesh::estimate::{complexity, vertices_of_complexity};
+use crate::solution::P1Mesh;
+
+/// What the metric is normalised to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Target {
+    /// About this many vertices in a mesh that conforms to it.
+    Vertices(f64),
+    /// This Lp norm of the interpolation error.
+    Error(f64),
+}
+
+/// How the metric is made.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LpOptions {
+    /// The norm, ≥ 1 or infinite; 2 by default in the CLI.
+    pub p: f64,
+    /// The normalisation.
+    pub target: Target,
+    /// h_min, h_max and the largest aspect ratio.
+    pub bounds: SizeBounds,
+}
+
+/// The metric and how it came out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LpMetric {
+    /// One size tensor per vertex.
+    pub tensors: Vec<SizeTensor>,
+    /// The global factor D.
+    pub scale: f64,
+    /// The vertices a mesh conforming to `tensors` has (2C/√3, C exact).
+    pub vertices: f64,
+    /// The predicted Lp interpolation error of the metric before the bounds act.
+    pub predicted_error: f64,
+    /// Whether the Hessian was zero everywhere (the metric is uniform).
+    pub linear: bool,
+}
+
+/// Why no metric could be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LpError {
+    /// p must be at least 1.
+    #[error("p = {0} is out of range: expected a number >= 1 (or infinity)")]
+    P(f64),
+    /// The target must be a finite positive number.
+    #[error("the target {what} {value} is out of range: expected a finite number > 0")]
+    Target {
+        /// "vertex count" or "error".
+        what: &'static str,
+        /// As given.
+        value: f64,
+    },
+    /// One Hessian per vertex is needed.
+    #[error("{hessians} Hessians for {vertices} vertices")]
+    Count {
+        /// Hessians given.
+        hessians: usize,
+        /// Vertices of the mesh.
+        vertices: usize,
+    },
+    /// A Hessian with a NaN or infinite entry.
+    #[error("the Hessian at vertex {0} (0-based) is not finite")]
+    NotFinite(usize),
+    /// The mesh has no area.
+    #[error("the mesh has no triangle of positive area")]
+    NoArea,
+}
+
+/// Per vertex: the axis of the larger |eigenvalue|, ln of the floored |eigenvalues|, and
+/// ln det|H|^(−1/(2p+2)).
+struct Prepared {
+    axis: Vec<[f64; 2]>,
+    ln_l: Vec<[f64; 2]>,
+    ln_g: Vec<f64>,
+    used: Vec<bool>,
+}
+
+/// The Lp-optimal metric of `hessians` (one per vertex of `mesh`); see the module
+/// documentation.
+pub fn lp_metric(
+    mesh: &P1Mesh<'_>,
+    hessians: &[Sym2],
+    options: &LpOptions,
+) -> Result<LpMetric, LpError> {
+    let p = options.p;
+    if p.is_nan() || p < 1.0 {
+        return Err(LpError::P(p));
+    }
+    let (what, value) = match options.target {
+        Target::Vertices(n) => ("vertex count", n),
+        Target::Error(e) => ("error", e),
+    };
+    if !(value.is_finite() && value > 0.0) {
+        return Err(LpError::Target { what, value });
+    }
+    let n = mesh.points().len();
+    if hessians.len() != n {
+        return Err(LpError::Count { hessians: hessians.len(), vertices: n });
+    }
+    if let Some(v) =
+        hessians.iter().position(|h| !(h.a.is_finite() && h.b.is_finite() && h.c.is_finite()))
+    {
+        return Err(LpError::NotFinite(v));
+    }
+    let tris: Vec<[usize; 3]> = mesh.triangles().iter().map(|t| t.map(|v| v as usize)).collect();
+    let points = mesh.points();
+    let area = complexity(points, &tris, &vec![0.0; n]);
+    if area.is_nan() || area <= 0.0 {
+        return Err(LpError::NoArea);
+    }
+    let prepared = prepare(mesh, hessians, p, options.bounds.max_aspect_ratio());
+    let field = |ln_d: f64| -> (Vec<SizeTensor>, f64) {
+        let tensors = tensors_at(&prepared, ln_d, &options.bounds);
+        let f: Vec<f64> =
+            tensors.iter().map(|t| -t.sizes().iter().map(|h| h.ln()).sum::<f64>()).collect();
+        let v = vertices_of_complexity(complexity(points, &tris, &f));
+        (tensors, v)
+    };
+    // ∫ det|H|^(p/(2p+2)): the complexity of the unbounded metric at D = 1.
+    let f1: Vec<f64> = (0..n)
+        .map(|i| 0.5 * (2.0 * prepared.ln_g[i] + prepared.ln_l[i][0] + prepared.ln_l[i][1]))
+        .collect();
+    let integral = complexity(points, &tris, &f1);
+    let error_of = |ln_d: f64| {
+        let root = if p.is_infinite() { 1.0 } else { integral.powf(1.0 / p) };
+        root / (8.0 * ln_d.exp())
+    };
+    let ln_d = match options.target {
+        Target::Error(e) => {
+            let root_ln = if p.is_infinite() { 0.0 } else { integral.ln() / p };
+            root_ln - (8.0 * e).ln()
+        }
+        Target::Vertices(target) => {
+            let unbounded = vertices_of_complexity(integral);
+            let guess = (target / unbounded).ln();
+            solve(guess, target, |x| field(x).1)
+        }
+    };
+    let (tensors, vertices) = field(ln_d);
+    Ok(LpMetric {
+        tensors,
+        scale: ln_d.exp(),
+        vertices,
+        predicted_error: error_of(ln_d),
+        linear: is_linear(hessians, mesh),
+    })
+}
+
+fn is_linear(hessians: &[Sym2], mesh: &P1Mesh<'_>) -> bool {
+    (0..hessians.len()).filter(|&v| mesh.is_used(v)).all(|v| {
+        let h = hessians[v];
+        h.a == 0.0 && h.b == 0.0 && h.c == 0.0
+    })
+}
+
+fn prepare(mesh: &P1Mesh<'_>, hessians: &[Sym2], p: f64, max_aspect: f64) -> Prepared {
+    let n = hessians.len();
+    let used: Vec<bool> = (0..n).map(|v| mesh.is_used(v)).collect();
+    let eig: Vec<([f64; 2], [f64; 2])> = hessians
+        .iter()
+        .map(|h| {
+            let e = h.eigen();
+            let (a0, a1) = (e.values[0].abs(), e.values[1].abs());
+            if a0 >= a1 {
+                ([a0, a1], e.vector)
+            } else {
+                ([a1, a0], [-e.vector[1], e.vector[0]])
+            }
+        })
+        .collect();
+    let largest = (0..n).filter(|&v| used[v]).map(|v| eig[v].0[0]).fold(0.0f64, f64::max);
+    let global_floor = if largest > 0.0 { 1e-12 * largest } else { 1.0 };
+    let aspect2 = if max_aspect.is_finite() { max_aspect * max_aspect } else { f64::INFINITY };
+    let exponent = if p.is_infinite() { 0.0 } else { 1.0 / (2.0 * p + 2.0) };
+    let mut axis = Vec::with_capacity(n);
+    let mut ln_l = Vec::with_capacity(n);
+    let mut ln_g = Vec::with_capacity(n);
+    for (values, vector) in eig {
+        let l0 = values[0].max(global_floor);
+        let l1 = values[1].max(global_floor).max(l0 / aspect2);
+        let (a, b) = (l0.ln(), l1.ln());
+        axis.push(vector);
+        ln_l.push([a, b]);
+        ln_g.push(-exponent * (a + b));
+    }
+    Prepared { axis, ln_l, ln_g, used }
+}
+
+/// The bounded tensors at D = exp(`ln_d`).
+fn tensors_at(prepared: &Prepared, ln_d: f64, bounds: &SizeBounds) -> Vec<SizeTensor> {
+    let outside = SizeTensor::isotropic(bounds.h_max());
+    (0..prepared.axis.len())
+        .map(|v| {
+            if !prepared.used[v] {
+                return outside;
+            }
+            let base = ln_d + prepared.ln_g[v];
+            let h = prepared.ln_l[v].map(|l| {
+                (-0.5 * (base + l)).exp().clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE)
+            });
+            SizeTensor::try_new(prepared.axis[v], h[0], h[1]).unwrap_or(outside).clamp(bounds)
+        })
+        .collect()
+}
+
+/// The ln D at which the nondecreasing `vertices` reaches `target`, from `guess`: a
+/// bracket grown by factors of 4, then bisection to 1e-4 relative. When the bounds keep
+/// the count from reaching the target, the end of the range nearest to it.
+fn solve(guess: f64, target: f64, vertices: impl Fn(f64) -> f64) -> f64 {
+    let step = 4f64.ln();
+    let at = vertices(guess);
+    if (at / target - 1.0).abs() < 1e-4 {
+        return guess;
+    }
+    let (mut lo, mut hi) = (guess, guess);
+    if at < target {
+        let mut prev = at;
+        loop {
+            lo = hi;
+            hi += step;
+            let v = vertices(hi);
+            if v >= target {
+                break;
+            }
+            if v <= prev * (1.0 + 1e-12) && hi > guess + 40.0 * step {
+                return hi;
+            }
+            prev = v;
+        }
+    } else {
+        let mut prev = at;
+        loop {
+            hi = lo;
+            lo -= step;
+            let v = vertices(lo);
+            if v <= target {
+                break;
+            }
+            if v >= prev * (1.0 - 1e-12) && lo < guess - 40.0 * step {
+                return lo;
+            }
+            prev = v;
+        }
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        let v = vertices(mid);
+        if (v / target - 1.0).abs() < 1e-4 {
+            return mid;
+        }
+        if v < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The vertices a mesh conforming to `tensors` (one per vertex of `mesh`) has, 2C/√3
+/// with C the exact complexity of their Log-Euclidean interpolation.
+pub fn vertices_of(mesh: &P1Mesh<'_>, tensors: &[SizeTensor]) -> f64 {
+    let tris: Vec<[usize; 3]> = mesh.triangles().iter().map(|t| t.map(|v| v as usize)).collect();
+    let f: Vec<f64> =
+        tensors.iter().map(|t| -t.sizes().iter().map(|h| h.ln()).sum::<f64>()).collect();
+    vertices_of_complexity(complexity(mesh.points(), &tris, &f))
+}
+
+/// `fields` combined in order by intersection (thesis 3.2.2): at each vertex the
+/// largest ellipse inside all of them, so in every direction no larger than the smallest
+/// size asked there. `None` for no field or fields of different lengths.
+pub fn intersect_all(fields: &[Vec<SizeTensor>]) -> Option<Vec<SizeTensor>> {
+    let (first, rest) = fields.split_first()?;
+    if rest.iter().any(|f| f.len() != first.len()) {
+        return None;
+    }
+    let mut out = first.clone();
+    for f in rest {
+        for (o, t) in out.iter_mut().zip(f) {
+            *o = o.intersection(t);
+        }
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,15 @@
+//! Metrics from a computed field (a solution): the scalar point field's gradient and
+//! Hessian recovered on the mesh ([`recovery`]), the Lp-optimal metric of the continuous
+//! mesh framework normalised to a vertex count or an error ([`lp`]), and the field read
+//! from a mesh or a solver's file on the same vertices ([`input`]). The sizing algorithm
+//! SOLUTION_HESSIAN ([`crate::sizing::SolutionHessian`]) puts them in a recipe.
+
+pub mod input;
+pub mod lp;
+pub mod recovery;
+
+pub use lp::{intersect_all, lp_metric, vertices_of, LpError, LpMetric, LpOptions, Target};
+pub use recovery::{recover, Derivatives, Method, P1Mesh, RecoveryError};
+
+#[cfg(test)]
+pub(crate) mod test_meshes;

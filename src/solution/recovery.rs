@@ -1,0 +1,465 @@
+//! Gradient and Hessian recovery of a scalar P1 field: one value per vertex, linear on
+//! each triangle, whose own second derivatives are zero. Two methods:
+//!
+//! - [`Method::L2Projection`]: the element gradients (constant per triangle) projected
+//!   onto P1 with the lumped mass matrix, i.e. each vertex takes the area-weighted mean of
+//!   the gradients of its triangles; then the same projection of the gradients of that P1
+//!   gradient gives the Hessian (symmetrised). Exact for a quadratic field at the
+//!   vertices of a *structured* mesh (a grid of congruent triangles whose vertex patches
+//!   are point-symmetric) whose patch and neighbours' patches lie inside the domain: the
+//!   first projection is exact where the patch's triangle centroids average to the vertex,
+//!   the second where the first was exact on the whole patch. It is not exact at the
+//!   boundary (one-sided patches) nor on unstructured meshes. On smooth images of a grid
+//!   ("mildly structured" meshes) it converges (at second order in the tests); on
+//!   Delaunay meshes of scattered points its Hessian does not converge at all: the
+//!   averaged gradient is consistent to O(h) only, which a second derivative divides by
+//!   h, and the error stays of the order of the Hessian whatever the mesh size. Use the
+//!   quadratic fit on such meshes.
+//! - [`Method::QuadraticFit`]: at each vertex the quadratic
+//!   u(x) = u_v + g·d + ½ dᵀ H d (d = x − x_v) that fits the values of the vertex's patch
+//!   in the least-squares sense (Householder QR on coordinates scaled by the patch's
+//!   radius). The patch is the vertices within k edges, k = 1 first, grown one ring at a
+//!   time until the fit is determined: at least six other vertices (one more than the
+//!   five unknowns, which keeps the fit from interpolating a thin patch) and a triangular
+//!   factor whose smallest diagonal is no less than 1e-7 of its largest. Boundary
+//!   vertices, whose first ring is short and one-sided, so get two or more rings. Exact
+//!   (to rounding) on quadratic fields at every vertex, interior and boundary, on any
+//!   mesh.
+//!
+//! Quadrangles are split along their 0–2 diagonal. Triangles of zero area are skipped.
+//! A vertex that no cell uses gets a zero gradient and Hessian. Results are a function of
+//! the mesh and values only, whatever the thread count.
+
+use rayon::prelude::*;
+
+use crate::geometry::Point2;
+use crate::metric::Sym2;
+
+/// How derivatives are recovered (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// The P1 gradient's L2 projection (lumped mass), applied twice.
+    L2Projection,
+    /// A least-squares quadratic on each vertex's patch.
+    #[default]
+    QuadraticFit,
+}
+
+impl Method {
+    /// Every method, in the order the CLI lists them.
+    pub const ALL: [Method; 2] = [Method::QuadraticFit, Method::L2Projection];
+
+    /// Its name on the command line and in recipes: `quadratic-fit`, `l2-projection`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::L2Projection => "l2-projection",
+            Method::QuadraticFit => "quadratic-fit",
+        }
+    }
+
+    /// The method named `name`.
+    pub fn from_name(name: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+/// Recovered first and second derivatives, one of each per vertex.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Derivatives {
+    /// The gradient at each vertex.
+    pub gradient: Vec<[f64; 2]>,
+    /// The Hessian at each vertex.
+    pub hessian: Vec<Sym2>,
+}
+
+/// Why derivatives could not be recovered.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RecoveryError {
+    /// The field has another number of values than the mesh has vertices.
+    #[error("the field has {values} values for {vertices} vertices")]
+    Count {
+        /// Values given.
+        values: usize,
+        /// Vertices of the mesh.
+        vertices: usize,
+    },
+    /// A value (at a vertex some cell uses) that is NaN or infinite.
+    #[error("the field's value at vertex {vertex} (0-based) is {value}, not a finite number")]
+    NotFinite {
+        /// The vertex.
+        vertex: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// A coordinate that is NaN or infinite.
+    #[error("vertex {vertex} (0-based) has a coordinate that is not finite")]
+    NonFiniteVertex {
+        /// The vertex.
+        vertex: usize,
+    },
+    /// A cell corner past the vertices.
+    #[error("cell {cell} names vertex {vertex}, but the mesh has {len}")]
+    CornerOutOfRange {
+        /// The cell.
+        cell: usize,
+        /// The corner's vertex.
+        vertex: usize,
+        /// The number of vertices.
+        len: usize,
+    },
+    /// No quadratic can be fitted around a vertex: its connected part of the mesh has
+    /// fewer than six vertices, or they all lie on a conic through it.
+    #[error("no quadratic fits the field around vertex {vertex} (0-based): its part of the mesh has {patch} other vertices, on no determined patch (a quadratic needs five, not on one conic)")]
+    Undetermined {
+        /// The vertex.
+        vertex: usize,
+        /// Vertices of its largest patch.
+        patch: usize,
+    },
+}
+
+/// A P1 mesh as recovery sees it: points, triangles, and the vertex adjacency of the cell
+/// edges.
+#[derive(Debug, Clone)]
+pub struct P1Mesh<'a> {
+    points: &'a [Point2],
+    triangles: Vec<[u32; 3]>,
+    offsets: Vec<u32>,
+    neighbours: Vec<u32>,
+}
+
+impl<'a> P1Mesh<'a> {
+    /// The mesh of `points` and `cells` (four corners each, the fourth `u32::MAX` for a
+    /// triangle; a quadrangle is split along its 0–2 diagonal, its four sides kept as
+    /// edges).
+    pub fn new(points: &'a [Point2], cells: &[[u32; 4]]) -> Result<P1Mesh<'a>, RecoveryError> {
+        let n = points.len();
+        if let Some(vertex) = points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+            return Err(RecoveryError::NonFiniteVertex { vertex });
+        }
+        let mut triangles = Vec::with_capacity(cells.len());
+        let mut edges: Vec<[u32; 2]> = Vec::with_capacity(3 * cells.len());
+        for (i, c) in cells.iter().enumerate() {
+            let k = if c[3] == u32::MAX { 3 } else { 4 };
+            for &v in &c[..k] {
+                if v as usize >= n {
+                    return Err(RecoveryError::CornerOutOfRange {
+                        cell: i,
+                        vertex: v as usize,
+                        len: n,
+                    });
+                }
+            }
+            triangles.push([c[0], c[1], c[2]]);
+            if k == 4 {
+                triangles.push([c[0], c[2], c[3]]);
+            }
+            for j in 0..k {
+                let (a, b) = (c[j], c[(j + 1) % k]);
+                if a != b {
+                    edges.push([a.min(b), a.max(b)]);
+                }
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        let mut offsets = vec![0u32; n + 1];
+        for &[a, b] in &edges {
+            offsets[a as usize + 1] += 1;
+            offsets[b as usize + 1] += 1;
+        }
+        for v in 0..n {
+            offsets[v + 1] += offsets[v];
+        }
+        let mut fill = offsets[..n].to_vec();
+        let mut neighbours = vec![0u32; offsets[n] as usize];
+        for &[a, b] in &edges {
+            neighbours[fill[a as usize] as usize] = b;
+            fill[a as usize] += 1;
+            neighbours[fill[b as usize] as usize] = a;
+            fill[b as usize] += 1;
+        }
+        for v in 0..n {
+            neighbours[offsets[v] as usize..offsets[v + 1] as usize].sort_unstable();
+        }
+        Ok(P1Mesh { points, triangles, offsets, neighbours })
+    }
+
+    /// The mesh of `points` and `triangles`.
+    pub fn from_triangles(
+        points: &'a [Point2],
+        triangles: &[[u32; 3]],
+    ) -> Result<P1Mesh<'a>, RecoveryError> {
+        let cells: Vec<[u32; 4]> = triangles.iter().map(|t| [t[0], t[1], t[2], u32::MAX]).collect();
+        P1Mesh::new(points, &cells)
+    }
+
+    /// The points.
+    pub fn points(&self) -> &[Point2] {
+        self.points
+    }
+
+    /// The triangles (quadrangles split).
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// The neighbours of `v` along cell edges, sorted.
+    pub fn neighbours(&self, v: usize) -> &[u32] {
+        &self.neighbours[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+    }
+
+    /// Whether some cell uses `v`.
+    pub fn is_used(&self, v: usize) -> bool {
+        self.offsets[v + 1] > self.offsets[v]
+    }
+}
+
+/// The gradient and Hessian of the P1 field `values` on `mesh` by `method`.
+pub fn recover(
+    mesh: &P1Mesh<'_>,
+    values: &[f64],
+    method: Method,
+) -> Result<Derivatives, RecoveryError> {
+    let n = mesh.points.len();
+    if values.len() != n {
+        return Err(RecoveryError::Count { values: values.len(), vertices: n });
+    }
+    if let Some(vertex) = (0..n).find(|&v| mesh.is_used(v) && !values[v].is_finite()) {
+        return Err(RecoveryError::NotFinite { vertex, value: values[vertex] });
+    }
+    match method {
+        Method::L2Projection => Ok(double_projection(mesh, values)),
+        Method::QuadraticFit => quadratic_fit(mesh, values),
+    }
+}
+
+/// Twice the signed area of triangle `t` and the gradient of the P1 function with
+/// corner values `f` on it (`None` for a triangle of zero area).
+fn p1_gradient(points: &[Point2], t: [u32; 3], f: [f64; 3]) -> Option<(f64, [f64; 2])> {
+    let [p0, p1, p2] = t.map(|v| points[v as usize]);
+    let (x1, y1) = (p1[0] - p0[0], p1[1] - p0[1]);
+    let (x2, y2) = (p2[0] - p0[0], p2[1] - p0[1]);
+    let area2 = x1 * y2 - y1 * x2;
+    if area2 == 0.0 {
+        return None;
+    }
+    let (d1, d2) = (f[1] - f[0], f[2] - f[0]);
+    Some((area2, [(d1 * y2 - d2 * y1) / area2, (d2 * x1 - d1 * x2) / area2]))
+}
+
+/// The lumped-mass L2 projection onto P1 of the element gradients of each of the `k`
+/// P1 fields `fields` (vertex-major, `k` values per vertex): `2k` values per vertex,
+/// field-major (∂x f0, ∂y f0, ∂x f1, …).
+fn project_gradients<const K: usize>(mesh: &P1Mesh<'_>, fields: &[[f64; K]]) -> Vec<[[f64; 2]; K]> {
+    let n = mesh.points.len();
+    let mut sum = vec![[[0.0; 2]; K]; n];
+    let mut weight = vec![0.0; n];
+    for &t in &mesh.triangles {
+        let mut grads = [[0.0; 2]; K];
+        let mut area = 0.0;
+        for (j, g) in grads.iter_mut().enumerate() {
+            let f = t.map(|v| fields[v as usize][j]);
+            match p1_gradient(mesh.points, t, f) {
+                Some((a2, gr)) => {
+                    area = 0.5 * a2.abs();
+                    *g = gr;
+                }
+                None => area = 0.0,
+            }
+        }
+        if area == 0.0 {
+            continue;
+        }
+        for v in t {
+            let v = v as usize;
+            weight[v] += area;
+            for j in 0..K {
+                sum[v][j][0] += area * grads[j][0];
+                sum[v][j][1] += area * grads[j][1];
+            }
+        }
+    }
+    for (s, &w) in sum.iter_mut().zip(&weight) {
+        if w > 0.0 {
+            for g in s.iter_mut() {
+                g[0] /= w;
+                g[1] /= w;
+            }
+        }
+    }
+    sum
+}
+
+fn double_projection(mesh: &P1Mesh<'_>, values: &[f64]) -> Derivatives {
+    let scalar: Vec<[f64; 1]> = values.iter().map(|&v| [v]).collect();
+    let gradient: Vec<[f64; 2]> =
+        project_gradients(mesh, &scalar).into_iter().map(|g| g[0]).collect();
+    let second = project_gradients(mesh, &gradient);
+    let hessian =
+        second.into_iter().map(|[gx, gy]| Sym2::new(gx[0], 0.5 * (gx[1] + gy[0]), gy[1])).collect();
+    Derivatives { gradient, hessian }
+}
+
+/// Fewest other vertices a fit takes.
+const MIN_PATCH: usize = 6;
+
+/// Columns of the fit: gx, gy, hxx, hxy, hyy.
+const COLS: usize = 5;
+
+/// Smallest ratio of the triangular factor's diagonal entries for a determined fit.
+const DETERMINED: f64 = 1e-7;
+
+fn quadratic_fit(mesh: &P1Mesh<'_>, values: &[f64]) -> Result<Derivatives, RecoveryError> {
+    let n = mesh.points.len();
+    let fits: Vec<Result<([f64; 2], Sym2), RecoveryError>> = (0..n)
+        .into_par_iter()
+        .map_init(
+            || Patch { stamp: vec![0; n], round: 0, ring: Vec::new(), all: Vec::new() },
+            |patch, v| {
+                if !mesh.is_used(v) {
+                    return Ok(([0.0; 2], Sym2::new(0.0, 0.0, 0.0)));
+                }
+                fit_at(mesh, values, v, patch)
+            },
+        )
+        .collect();
+    let mut gradient = Vec::with_capacity(n);
+    let mut hessian = Vec::with_capacity(n);
+    for f in fits {
+        let (g, h) = f?;
+        gradient.push(g);
+        hessian.push(h);
+    }
+    Ok(Derivatives { gradient, hessian })
+}
+
+/// Scratch of one thread: a visit stamp per vertex, the last ring and the whole patch.
+struct Patch {
+    stamp: Vec<u32>,
+    round: u32,
+    ring: Vec<u32>,
+    all: Vec<u32>,
+}
+
+fn fit_at(
+    mesh: &P1Mesh<'_>,
+    values: &[f64],
+    v: usize,
+    patch: &mut Patch,
+) -> Result<([f64; 2], Sym2), RecoveryError> {
+    patch.round = patch.round.wrapping_add(1);
+    if patch.round == 0 {
+        patch.stamp.iter_mut().for_each(|s| *s = 0);
+        patch.round = 1;
+    }
+    let round = patch.round;
+    patch.stamp[v] = round;
+    patch.ring.clear();
+    patch.ring.push(v as u32);
+    patch.all.clear();
+    let mut next = Vec::new();
+    loop {
+        next.clear();
+        for &u in &patch.ring {
+            for &w in mesh.neighbours(u as usize) {
+                if patch.stamp[w as usize] != round {
+                    patch.stamp[w as usize] = round;
+                    next.push(w);
+                }
+            }
+        }
+        if next.is_empty() {
+            return Err(RecoveryError::Undetermined { vertex: v, patch: patch.all.len() });
+        }
+        patch.all.extend_from_slice(&next);
+        std::mem::swap(&mut patch.ring, &mut next);
+        if patch.all.len() >= MIN_PATCH {
+            if let Some(fit) = solve_fit(mesh.points, values, v, &patch.all) {
+                return Ok(fit);
+            }
+        }
+    }
+}
+
+/// The least-squares quadratic at `v` through the values at `others`, `None` when it is
+/// not determined.
+fn solve_fit(
+    points: &[Point2],
+    values: &[f64],
+    v: usize,
+    others: &[u32],
+) -> Option<([f64; 2], Sym2)> {
+    let p = points[v];
+    let scale = others
+        .iter()
+        .map(|&u| {
+            let q = points[u as usize];
+            (q[0] - p[0]).hypot(q[1] - p[1])
+        })
+        .fold(0.0, f64::max);
+    if scale.is_nan() || scale <= 0.0 {
+        return None;
+    }
+    let m = others.len();
+    let mut a = vec![[0.0; COLS]; m];
+    let mut b = vec![0.0; m];
+    for (i, &u) in others.iter().enumerate() {
+        let q = points[u as usize];
+        let (x, y) = ((q[0] - p[0]) / scale, (q[1] - p[1]) / scale);
+        a[i] = [x, y, 0.5 * x * x, x * y, 0.5 * y * y];
+        b[i] = values[u as usize] - values[v];
+    }
+    let c = least_squares(&mut a, &mut b)?;
+    let s2 = scale * scale;
+    Some(([c[0] / scale, c[1] / scale], Sym2::new(c[2] / s2, c[3] / s2, c[4] / s2)))
+}
+
+/// The least-squares solution of `a x = b` (a: m × 5, m ≥ 5) by Householder QR;
+/// `None` when the triangular factor's smallest diagonal entry is below
+/// [`DETERMINED`] times its largest. Overwrites `a` and `b`.
+fn least_squares(a: &mut [[f64; COLS]], b: &mut [f64]) -> Option<[f64; COLS]> {
+    let m = a.len();
+    if m < COLS {
+        return None;
+    }
+    let mut diag = [0.0; COLS];
+    for k in 0..COLS {
+        let norm = (k..m).map(|i| a[i][k] * a[i][k]).sum::<f64>().sqrt();
+        if norm == 0.0 {
+            return None;
+        }
+        let alpha = if a[k][k] > 0.0 { -norm } else { norm };
+        // v = a[k..][k] - alpha e1, stored in place.
+        a[k][k] -= alpha;
+        let vnorm2: f64 = (k..m).map(|i| a[i][k] * a[i][k]).sum();
+        if vnorm2 > 0.0 {
+            for j in k + 1..COLS {
+                let dot: f64 = (k..m).map(|i| a[i][k] * a[i][j]).sum();
+                let f = 2.0 * dot / vnorm2;
+                for row in &mut a[k..] {
+                    row[j] -= f * row[k];
+                }
+            }
+            let dot: f64 = (k..m).map(|i| a[i][k] * b[i]).sum();
+            let f = 2.0 * dot / vnorm2;
+            for i in k..m {
+                b[i] -= f * a[i][k];
+            }
+        }
+        diag[k] = alpha;
+    }
+    let largest = diag.iter().fold(0.0f64, |x, d| x.max(d.abs()));
+    if diag.iter().any(|d| d.abs() < DETERMINED * largest || d.is_nan()) {
+        return None;
+    }
+    let mut x = [0.0; COLS];
+    for k in (0..COLS).rev() {
+        let s: f64 = (k + 1..COLS).map(|j| a[k][j] * x[j]).sum();
+        x[k] = (b[k] - s) / diag[k];
+    }
+    Some(x)
+}
+
+#[cfg(test)]
+mod tests;

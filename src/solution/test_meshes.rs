@@ -1,0 +1,110 @@
+//! Meshes for the tests of this module: structured grids and Delaunay triangulations of
+//! scattered points (spade), both deterministic.
+
+use crate::geometry::Point2;
+use spade::Triangulation;
+
+/// Points and triangles.
+pub struct Mesh {
+    pub points: Vec<Point2>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// Whether each vertex lies on a boundary edge (an edge of one triangle).
+    pub fn boundary(&self) -> Vec<bool> {
+        let mut edges: Vec<[u32; 2]> = self
+            .triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |i| [t[i].min(t[(i + 1) % 3]), t[i].max(t[(i + 1) % 3])]))
+            .collect();
+        edges.sort_unstable();
+        let mut on = vec![false; self.points.len()];
+        let mut i = 0;
+        while i < edges.len() {
+            let mut j = i;
+            while j < edges.len() && edges[j] == edges[i] {
+                j += 1;
+            }
+            if j - i == 1 {
+                on[edges[i][0] as usize] = true;
+                on[edges[i][1] as usize] = true;
+            }
+            i = j;
+        }
+        on
+    }
+}
+
+/// An `nx` × `ny` grid of rectangles of sides `step` from `origin`, each split along the
+/// same diagonal; vertex (i, j) is `j (nx + 1) + i`.
+pub fn grid(nx: usize, ny: usize, origin: Point2, step: [f64; 2]) -> Mesh {
+    let mut points = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            points.push([origin[0] + i as f64 * step[0], origin[1] + j as f64 * step[1]]);
+        }
+    }
+    let mut triangles = Vec::new();
+    let w = (nx + 1) as u32;
+    for j in 0..ny as u32 {
+        for i in 0..nx as u32 {
+            let v = j * w + i;
+            triangles.push([v, v + 1, v + w + 1]);
+            triangles.push([v, v + w + 1, v + w]);
+        }
+    }
+    Mesh { points, triangles }
+}
+
+/// The Delaunay triangulation of about `n` points in the square of side `size` at
+/// `origin`: its boundary sampled at the mean spacing, the inside by a seeded generator
+/// (`seed`), kept a third of the spacing apart from each other and the boundary.
+pub fn scattered(n: usize, seed: u64, origin: Point2, size: f64) -> Mesh {
+    let h = size / (n as f64).sqrt();
+    let k = (size / h).round() as usize;
+    let mut pts: Vec<Point2> = Vec::new();
+    for i in 0..k {
+        let t = i as f64 * size / k as f64;
+        pts.push([t, 0.0]);
+        pts.push([size, t]);
+        pts.push([size - t, size]);
+        pts.push([0.0, size - t]);
+    }
+    let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut next = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut tries = 0;
+    while pts.len() < n && tries < 100 * n {
+        tries += 1;
+        let p = [next() * size, next() * size];
+        let near_boundary = p.iter().any(|&x| x < h / 3.0 || x > size - h / 3.0);
+        if near_boundary || pts.iter().any(|q| (q[0] - p[0]).hypot(q[1] - p[1]) < h / 3.0) {
+            continue;
+        }
+        pts.push(p);
+    }
+    let mut t = spade::DelaunayTriangulation::<spade::Point2<f64>>::new();
+    for p in &pts {
+        t.insert(spade::Point2::new(p[0], p[1])).unwrap();
+    }
+    let points: Vec<Point2> =
+        t.vertices().map(|v| [origin[0] + v.position().x, origin[1] + v.position().y]).collect();
+    let triangles = t.inner_faces().map(|f| f.vertices().map(|v| v.fix().index() as u32)).collect();
+    Mesh { points, triangles }
+}
+
+/// [`grid`] of the unit square (`n` × `n`) moved by a smooth map that fixes its
+/// boundary: an irregular mesh whose patches become point-symmetric as it is refined
+/// ("mildly structured").
+pub fn mapped_grid(n: usize) -> Mesh {
+    let mut m = grid(n, n, [0.0, 0.0], [1.0 / n as f64; 2]);
+    for p in &mut m.points {
+        let [x, y] = *p;
+        let bump = (std::f64::consts::PI * x).sin() * (std::f64::consts::PI * y).sin();
+        *p = [x + 0.12 * bump * (2.0 * y).cos(), y + 0.1 * bump];
+    }
+    m
+}
