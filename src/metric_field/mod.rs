@@ -21,7 +21,7 @@
 //! position, or, outside every triangle, of the nearest triangle at its closest point: the
 //! interpolation the remesher uses ([`interpolate`]).
 //!
-//! Where a field goes ([`MetricField::write`], [`write`]): a `.sol`/`.solb`, a `.pos`
+//! Where a field goes ([`MetricField::write`], [`write`](mod@write)): a `.sol`/`.solb`, a `.pos`
 //! view, or a mesh file with the field as point data; the remesher's output and the
 //! files the adapters hand to MMG and Gmsh are written by the same functions.
 //!
