@@ -5,8 +5,6 @@
 //!   [`formats::TaggedMesh`] (the `smartmesh-formats` crate, usable on its own);
 //! - [`topology`]: topological points, curves and faces recovered from the tags, every
 //!   mesh vertex and edge classified on one of them;
-//! - [`mesh_graph`]: the mesh as a graph (CSR vertex adjacency) for neighbour propagation;
-//! - [`geometry`]: point–segment projection and an exact closest-segment index;
 //! - [`metric`]: size tensors and metric algebra (intersection, union, clamping);
 //! - [`sizing`]: size functions, and neighbour propagation from sources with exact
 //!   closest points;
@@ -17,10 +15,10 @@
 //! - [`conformity`]: metric edge lengths and metric quality of a mesh against a field;
 //! - [`adapters`]: remeshers behind one trait (MMG's `mmg2d_O3`, Gmsh's BAMG), tags
 //!   restored on their output;
-//! - [`adapt`]: the adaptation loop (size → remesh → size … until converged);
+//! - [`adapt`](mod@adapt): the adaptation loop (size → remesh → size … until converged);
 //! - [`batch`]: manifests of geometry variants, their content hashes and result records
 //!   (`smartmesh batch`);
-//! - [`remesh`]: the native anisotropic remesher (split, collapse, swap, smooth in the
+//! - [`remesh`](mod@remesh): the native anisotropic remesher (split, collapse, swap, smooth in the
 //!   metric; boundaries, interfaces, corners and tags kept);
 //! - [`layer`]: the structured boundary-layer skin (thesis 5.4.2): quads along chosen
 //!   curves, the triangles pushed away, and the validity and quality of mixed meshes;
@@ -30,7 +28,8 @@
 //!   (.msh, .pos) and VTK/ParaView (.vtu, .vtk);
 //! - [`report`]: pictures (SVG, PNG) of a mesh, its metric, conformity and history;
 //! - [`solution`]: metrics from a computed scalar field (Hessian recovery, Lp metric);
-//! - [`quality`] and [`summary`]: element quality and the report `smartmesh info` prints.
+//! - the entry points at the root: [`read_path`], [`size_mesh`], [`remesh()`], [`adapt()`],
+//!   [`MetricField`], with the types they take and give.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
@@ -40,25 +39,39 @@ pub mod adapt;
 pub mod adapters;
 pub mod batch;
 pub mod conformity;
+#[doc(hidden)]
 pub mod geometry;
 pub mod history;
 pub mod layer;
+#[doc(hidden)]
 pub mod mesh_graph;
 pub mod mesher;
 pub mod metric;
 pub mod metric_field;
+#[doc(hidden)]
 pub mod quality;
 pub mod recipe;
 pub mod remesh;
 pub mod report;
+#[doc(hidden)]
 pub mod size_controls;
 pub mod sizing;
 pub mod solution;
+#[doc(hidden)]
 pub mod summary;
 pub mod topology;
 
+// The curated surface: what a user of the library needs, at the root. The modules
+// marked `doc(hidden)` below stay public only for the binary, the tests and the benches.
+pub use adapt::{run as adapt, AdaptError, AdaptOptions, Observer, Outcome, Tolerances};
+pub use adapters::{adapter, Adapter, AdapterKind, AdapterOptions};
+pub use conformity::Conformity;
+pub use formats::{read_path, write_path, Format, TaggedMesh, WriteOptions};
 pub use mesh_graph::MeshGraph;
 pub use metric::{SizeBounds, SizeTensor, Sym2};
+pub use metric_field::{MetricError, MetricField, MetricTarget, METRIC};
 pub use recipe::{Recipe, RecipeError};
+pub use remesh::{remesh, RemeshError, RemeshOptions, Remeshed};
+pub use sizing::{size_mesh, MeshSizing, SizeField, SizeMeshError};
 pub use summary::MeshSummary;
 pub use topology::Topology;

@@ -4,8 +4,14 @@
 //! takes it) and a Gmsh `.pos` view (as `gmsh -bgm` takes it) all give the same field,
 //! so `size -o X.sol` then `remesh --metric X.sol` gives the bytes `--metric X.vtu` gives;
 //! a file for another mesh is refused with exit 2, naming both files and both counts.
+//! Gmsh's data-only `.msh` (views without a mesh, written here by the gmsh Python API)
+//! is a metric too, on the vertices of the mesh it goes with.
+
+#[path = "../formats/tests/common/mod.rs"]
+mod common;
 
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use serde_json::Value;
 
@@ -189,4 +195,91 @@ fn a_solution_for_another_mesh_is_refused_by_every_command() {
         None,
     ));
     assert!(err.contains("s.sol") && err.contains("no point data `metric`"), "{err}");
+}
+
+/// `gmsh.view.write` of the last view of `src` with `PostProcessing.SaveMesh = 0`: the
+/// views alone, no `$Nodes` nor `$Elements` (binary when `binary`).
+const DATA_ONLY: &str = r#"
+import sys, gmsh
+src, out, binary = sys.argv[1], sys.argv[2], int(sys.argv[3])
+gmsh.initialize(["-v", "0"])
+gmsh.merge(src)
+view = gmsh.view.getTags()[-1]
+gmsh.option.setNumber("PostProcessing.SaveMesh", 0)
+gmsh.option.setNumber("Mesh.Binary", binary)
+gmsh.view.write(view, out)
+gmsh.finalize()
+"#;
+
+#[test]
+fn a_gmsh_data_only_file_is_a_metric_wherever_one_is_read() {
+    let Some(py) = common::python_with(&["gmsh"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let msh = field(d, "msh");
+    let data_only = |name: &str, binary: bool| {
+        let out = d.join(name);
+        let o = Command::new(&py)
+            .args(["-c", DATA_ONLY, s(&msh), s(&out), if binary { "1" } else { "0" }])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "gmsh: {}", String::from_utf8_lossy(&o.stderr));
+        let bytes = std::fs::read(&out).unwrap();
+        let has = |section: &[u8]| bytes.windows(section.len()).any(|w| w == section);
+        assert!(has(b"$NodeData") && !has(b"$Nodes\n") && !has(b"$Elements"), "{name}");
+        out
+    };
+    let (binary, ascii) = (data_only("b.msh", true), data_only("a.msh", false));
+    let cyl = bundled("cylinder.msh");
+
+    // remesh --metric: the binary view carries the exact tensors, so the bytes of
+    // `--metric field.msh`; the ASCII one (16 digits) is accepted.
+    let remesh = |metric: &Path, out: &str| {
+        let out = d.join(out);
+        ok(&smartmesh(&["remesh", &cyl, "--metric", s(metric), "-o", s(&out)], None));
+        std::fs::read(out).unwrap()
+    };
+    assert!(remesh(&binary, "b.vtu") == remesh(&msh, "m.vtu"), "--metric b.msh");
+    remesh(&ascii, "a.vtu");
+
+    // info, report and --measure --background measure what the mesh file's view gives.
+    for (args, key) in [
+        (vec!["info", "--json", cyl.as_str(), "--metric"], "metric"),
+        (vec!["report", cyl.as_str(), "--json", "-o", s(&d.join("r.svg")), "--metric"], "report"),
+    ] {
+        let with = |m: &Path| {
+            let mut a = args.clone();
+            a.push(s(m));
+            json(&a)[key]["conformity"].clone()
+        };
+        let want = with(&msh);
+        assert!(want.is_object(), "{args:?}: {want}");
+        assert_eq!(with(&binary), want, "{args:?} b.msh");
+    }
+    let measure =
+        |args: &[&str]| json(&[&["remesh", cyl.as_str(), "--measure", "--json"], args].concat());
+    assert_eq!(measure(&["--background", s(&binary)]), measure(&["--metric", s(&msh)]));
+
+    // Another mesh's vertex count: exit 2 naming both files and both counts, nothing
+    // written.
+    let other = d.join("other.vtu");
+    ok(&smartmesh(&["remesh", &cyl, "--metric", s(&msh), "-o", s(&other)], None));
+    let n = smartmesh::formats::read_path(&other, None).unwrap().points.len();
+    assert_ne!(n, 1148);
+    let (x, svg) = (d.join("x.vtu"), d.join("x.svg"));
+    for args in [
+        vec!["remesh", s(&other), "--metric", s(&binary), "-o", s(&x)],
+        vec!["info", s(&other), "--metric", s(&binary)],
+        vec!["report", s(&other), "--metric", s(&binary), "-o", s(&svg)],
+        vec!["remesh", s(&other), "--measure", "--background", s(&binary)],
+    ] {
+        let err = bad(&smartmesh(&args, None));
+        for want in [s(&binary), s(&other), "1148 items", &format!("{n} vertices")] {
+            assert!(err.contains(want), "{args:?}: `{err}` lacks `{want}`");
+        }
+        assert!(!x.exists() && !svg.exists());
+    }
+    // As a mesh, a data-only file is refused, saying what it is.
+    let err = bad(&smartmesh(&["convert", s(&ascii), s(&d.join("c.vtu"))], None));
+    assert!(err.contains("a.msh") && err.contains("data-only"), "{err}");
 }

@@ -192,6 +192,18 @@ fn is_stdio(path: &Path) -> bool {
 
 /// Reads a mesh from a path (`-` for stdin, which needs `format`). Siblings are
 /// looked up beside the path. Errors carry the path.
+///
+/// ```
+/// use std::path::Path;
+/// use smartmesh_formats::{read_path, CellKind};
+///
+/// let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/cylinder.msh");
+/// let mesh = read_path(&path, None)?; // the format told by the extension
+/// assert_eq!(mesh.points.len(), 1148);
+/// assert_eq!(mesh.num_cells_of(CellKind::Triangle), 2134);
+/// assert_eq!(mesh.tag_name(2, 10), Some("Fluid"));
+/// # Ok::<(), smartmesh_formats::Error>(())
+/// ```
 pub fn read_path(path: &Path, format: Option<Format>) -> Result<TaggedMesh> {
     read_path_reported(path, format).map(|(mesh, _)| mesh)
 }

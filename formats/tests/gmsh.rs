@@ -1156,6 +1156,43 @@ fn damaged_fixtures_give_errors_not_panics() {
     }
 }
 
+#[test]
+fn a_data_only_file_is_its_node_views_indexed_by_tag() {
+    // Gmsh's data-only file: views, no mesh; node tags out of order and one missing.
+    let text = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$InterpolationScheme\n\"I\"\n1\n1 1\n0\n$EndInterpolationScheme\n$NodeData\n1\n\"h\"\n1\n0.0\n3\n0\n1\n3\n3 0.3\n1 0.1\n4 0.4\n$EndNodeData\n";
+    let ctx = ReadContext::alone("msh");
+    let gmsh::MshContent::NodeData(data) = gmsh::read_mesh_or_data(text.as_bytes(), &ctx).unwrap()
+    else {
+        panic!("read as a mesh")
+    };
+    let h = &data.arrays["h"];
+    assert_eq!(h.len(), 4);
+    assert_eq!(h.values[0], 0.1);
+    assert!(h.values[1].is_nan());
+    assert_eq!((h.values[2], h.values[3]), (0.3, 0.4));
+    assert_eq!(data.entries["h"], 3);
+    // As a mesh it is refused, saying what it is.
+    let e = read_msh(text.as_bytes()).unwrap_err().to_string();
+    assert!(e.contains("data-only"), "{e}");
+    // A mesh section after the views: neither a mesh nor a data-only file.
+    let both = format!("{text}$Nodes\n0 0 0 0\n$EndNodes\n");
+    let e = gmsh::read_mesh_or_data(both.as_bytes(), &ctx).unwrap_err().to_string();
+    assert!(e.contains("$Nodes section after $NodeData"), "{e}");
+    // A tag far beyond the entries does not make a huge array.
+    let far = text.replace("4 0.4", "4000000000 0.4");
+    let e = gmsh::read_mesh_or_data(far.as_bytes(), &ctx).unwrap_err().to_string();
+    assert!(e.contains("view `h`"), "{e}");
+    // A file with a mesh reads as the mesh, as `read` does.
+    let mut m = TaggedMesh::new();
+    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    m.block_mut(CellKind::Triangle).push(&[0, 1, 2], 1, 1);
+    let bytes = smartmesh_formats::write_bytes(Format::Gmsh, &m, &WriteOptions::default()).unwrap();
+    let gmsh::MshContent::Mesh(back) = gmsh::read_mesh_or_data(&bytes.main, &ctx).unwrap() else {
+        panic!("read as data")
+    };
+    assert_eq!(back, read_msh(&bytes.main).unwrap());
+}
+
 // ---------------------------------------------------------------------------------
 // Properties
 

@@ -148,11 +148,16 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     }
     let mut metric = match &args.background {
         Some(b) => {
-            let (bmesh, bfield) = MetricField::read_background(b).map_err(metric_error)?;
-            let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-            bfield
-                .interpolate(&bmesh, &pts)
-                .map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?
+            match MetricField::read_background(b, &mesh, &args.mesh).map_err(metric_error)? {
+                (Some(bmesh), bfield) => {
+                    let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
+                    bfield
+                        .interpolate(&bmesh, &pts)
+                        .map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?
+                }
+                // A data-only file: already on the mesh's vertices.
+                (None, field) => field,
+            }
         }
         None => match args.metric.as_deref() {
             Some(p) => MetricField::read(p, None, &mesh, &args.mesh),

@@ -9,6 +9,7 @@
 //! | the mesh itself | its point data [`METRIC`] | SPD and finite at every vertex a cell uses |
 //! | a mesh file (`.vtu`, `.vtk`, `.msh` with `$NodeData`, `.mesh` with its `.sol`) | its point data [`METRIC`] on the mesh's own vertices | the same count, the same positions (up to 1e-9 of the mesh's extent), SPD |
 //! | a Medit `.sol`/`.solb` alone | its type-3 `SolAtVertices`, in the mesh's vertex order, as `mmg2d_O3 MESH -sol X.sol` takes it | the same count, SPD |
+//! | a Gmsh data-only `.msh` (`$NodeData` without `$Nodes`/`$Elements`, as `gmsh.view.write` or a solver writes it beside the mesh) | its view `metric` (or its only view), node tag t at vertex t − 1, as the mesh file numbers its nodes | one entry per vertex and no tag beyond them, SPD |
 //! | a Gmsh `.pos` view | the tensor (`TT`, `TQ`) records of its last view, as `gmsh -bgm` takes it, at the mesh's vertices ([`pos_view`]) | SPD at every view node |
 //!
 //! A field is the metric M = R diag(1/h1², 1/h2²) Rᵀ (files carry metrics, not sizes);
@@ -20,7 +21,7 @@
 //! position, or, outside every triangle, of the nearest triangle at its closest point: the
 //! interpolation the remesher uses ([`interpolate`]).
 //!
-//! Where a field goes ([`MetricField::write`], [`write`]): a `.sol`/`.solb`, a `.pos`
+//! Where a field goes ([`MetricField::write`], [`write`](mod@write)): a `.sol`/`.solb`, a `.pos`
 //! view, or a mesh file with the field as point data; the remesher's output and the
 //! files the adapters hand to MMG and Gmsh are written by the same functions.
 //!
@@ -38,6 +39,7 @@ pub use write::{MetricTarget, Written};
 
 use std::path::Path;
 
+use crate::formats::gmsh::{MshContent, NodeData};
 use crate::formats::{read_path, DataArray, Format, TaggedMesh};
 use crate::metric::{SizeTensor, Sym2};
 
@@ -263,10 +265,10 @@ impl MetricField {
                     source: format!("view `{}` of {}", view.name(), path.display()),
                 })
             }
-            Kind::Mesh => {
-                let other = read_path(path, format.or_else(|| Format::from_path(path)))?;
-                on_same_vertices(mesh, mesh_path, &other, path)
-            }
+            Kind::Mesh => match read_mesh_or_data(path, format)? {
+                MshContent::Mesh(other) => on_same_vertices(mesh, mesh_path, &other, path),
+                MshContent::NodeData(data) => on_node_data(mesh, mesh_path, data, path),
+            },
         }
     }
 
@@ -274,13 +276,20 @@ impl MetricField {
     /// remeshing, for `remesh --measure --background`): a mesh file with its [`METRIC`]
     /// array, a `.pos` view (its records are the triangles), or a `.sol`/`.solb` with the
     /// Medit mesh of the same name beside it (`x.mesh`, else `x.meshb`), as MMG pairs them.
-    pub fn read_background(path: &Path) -> Result<(TaggedMesh, MetricField), MetricError> {
+    /// A Gmsh data-only `.msh` has no positions: it is read as a field on `mesh`'s own
+    /// vertices (`mesh` read from `mesh_path`, checked as [`MetricField::read`] does), and
+    /// no background mesh is returned.
+    pub fn read_background(
+        path: &Path,
+        mesh: &TaggedMesh,
+        mesh_path: &Path,
+    ) -> Result<(Option<TaggedMesh>, MetricField), MetricError> {
         match Kind::of(path, None) {
             Kind::Pos => {
                 let view = pos_view::read_path(path)?;
                 let source = format!("view `{}` of {}", view.name(), path.display());
                 let (mesh, tensors) = view.into_mesh();
-                Ok((mesh, MetricField { tensors, sizes: None, source }))
+                Ok((Some(mesh), MetricField { tensors, sizes: None, source }))
             }
             Kind::Sol => {
                 let mesh_path = ["mesh", "meshb"]
@@ -304,13 +313,17 @@ impl MetricField {
                 )
                 .map_err(|e| e.with_path(&mesh_path))?;
                 let field = read_sol(path, &mesh, &mesh_path)?;
-                Ok((mesh, field))
+                Ok((Some(mesh), field))
             }
-            Kind::Mesh => {
-                let mesh = read_path(path, None)?;
-                let field = MetricField::own(&mesh, path)?;
-                Ok((mesh, field))
-            }
+            Kind::Mesh => match read_mesh_or_data(path, None)? {
+                MshContent::Mesh(background) => {
+                    let field = MetricField::own(&background, path)?;
+                    Ok((Some(background), field))
+                }
+                MshContent::NodeData(data) => {
+                    Ok((None, on_node_data(mesh, mesh_path, data, path)?))
+                }
+            },
         }
     }
 
@@ -429,6 +442,63 @@ fn read_sol(path: &Path, mesh: &TaggedMesh, mesh_path: &Path) -> Result<MetricFi
     };
     let tensors = on_mesh(mesh, array, &shown)?;
     Ok(MetricField { tensors, sizes: None, source: format!("`{METRIC}` of {shown}") })
+}
+
+/// The file `path` (of `format` when given, else told by its extension) as a mesh, or,
+/// for a Gmsh data-only file, as its node views.
+fn read_mesh_or_data(path: &Path, format: Option<Format>) -> Result<MshContent, MetricError> {
+    let format = format.or_else(|| Format::from_path(path));
+    if format != Some(Format::Gmsh) || path.as_os_str() == "-" {
+        return Ok(MshContent::Mesh(read_path(path, format)?));
+    }
+    let bytes = std::fs::read(path).map_err(|e| crate::formats::Error::from(e).with_path(path))?;
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("msh").to_ascii_lowercase();
+    Ok(crate::formats::gmsh::read_mesh_or_data(&bytes, &crate::formats::ReadContext::alone(&ext))
+        .map_err(|e| e.with_path(path))?)
+}
+
+/// The view [`METRIC`] (or the only view) of a Gmsh data-only file `path` as a field on
+/// `mesh`'s vertices: one entry per vertex, node tag t at vertex t − 1.
+fn on_node_data(
+    mesh: &TaggedMesh,
+    mesh_path: &Path,
+    data: NodeData,
+    path: &Path,
+) -> Result<MetricField, MetricError> {
+    let shown = path.display().to_string();
+    let name = if data.arrays.contains_key(METRIC) || data.arrays.len() != 1 {
+        METRIC.to_string()
+    } else {
+        data.arrays.keys().next().cloned().unwrap_or_default()
+    };
+    let Some(array) = data.arrays.get(&name) else {
+        let available = if data.arrays.is_empty() {
+            "none".to_string()
+        } else {
+            data.arrays.keys().cloned().collect::<Vec<_>>().join(", ")
+        };
+        return Err(MetricError::Field {
+            path: shown,
+            error: MetricFieldError::Missing { name, available },
+        });
+    };
+    let entries = data.entries.get(&name).copied().unwrap_or(0);
+    let count = |what: &'static str, items: usize| MetricError::Count {
+        path: shown.clone(),
+        what,
+        items,
+        mesh: mesh_path.display().to_string(),
+        vertices: mesh.points.len(),
+    };
+    if entries != mesh.points.len() {
+        return Err(count("$NodeData (a data-only file, node tag t at vertex t - 1)", entries));
+    }
+    if array.len() != mesh.points.len() {
+        return Err(count("$NodeData (node tags up to the largest it gives)", array.len()));
+    }
+    let tensors = validate(array, mesh, &name)
+        .map_err(|error| MetricError::Field { path: shown.clone(), error })?;
+    Ok(MetricField { tensors, sizes: None, source: format!("view `{name}` of {shown}") })
 }
 
 /// The [`METRIC`] array of `other` (read from `other_path`) as a field on `mesh`'s

@@ -187,6 +187,26 @@ fn smooth_phase(w: &mut work::Work, opts: &RemeshOptions, secs: &mut PhaseSecond
 
 /// Remeshes `mesh` to `metric` (one SPD tensor per point; [`crate::conformity::metric_field`]
 /// reads and checks one from point data).
+///
+/// ```
+/// use std::path::Path;
+/// use smartmesh::formats::{read_path, CellKind};
+/// use smartmesh::metric_field::{MetricField, METRIC};
+/// use smartmesh::remesh::{remesh, RemeshOptions};
+///
+/// let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+/// let mesh = read_path(&dir.join("cylinder.msh"), None)?;
+/// let text = std::fs::read_to_string(dir.join("cylinder.toml"))?;
+/// let recipe = smartmesh::recipe::serde_io::read_toml(&text, &dir.join("cylinder.toml"))?;
+/// let sized = smartmesh::sizing::size_mesh(&mesh, &recipe, &mut |_| {})?;
+/// let metric = MetricField::from_sizes(&sized.field.tensors, "the recipe's field");
+/// let out = remesh(&mesh, metric.tensors(), &RemeshOptions::default())?;
+/// // Refined where the recipe asks, tags kept, the field carried as point data.
+/// assert!(out.mesh.num_cells_of(CellKind::Triangle) > mesh.num_cells_of(CellKind::Triangle));
+/// assert_eq!(out.mesh.tag_name(2, 10), Some("Fluid"));
+/// assert_eq!(out.mesh.point_data[METRIC].len(), out.mesh.points.len());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn remesh(
     mesh: &TaggedMesh,
     metric: &[Sym2],

@@ -37,6 +37,22 @@ pub struct MeshSizing {
 
 /// The size field `recipe` gives on `mesh`; `observer` sees each step start and finish
 /// (for a progress bar).
+///
+/// ```
+/// use std::path::Path;
+/// use smartmesh::formats::read_path;
+///
+/// let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+/// let mesh = read_path(&dir.join("cylinder.msh"), None)?;
+/// let text = std::fs::read_to_string(dir.join("cylinder.toml"))?;
+/// let recipe = smartmesh::recipe::serde_io::read_toml(&text, &dir.join("cylinder.toml"))?;
+/// let sized = smartmesh::sizing::size_mesh(&mesh, &recipe, &mut |_| {})?;
+/// // One size tensor per vertex, finest on the cylinder wall.
+/// assert_eq!(sized.field.tensors.len(), mesh.points.len());
+/// let finest = sized.field.tensors.iter().map(|t| t.h_min()).fold(f64::INFINITY, f64::min);
+/// assert!(finest < 0.01, "{finest}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn size_mesh(
     mesh: &TaggedMesh,
     recipe: &Recipe,

@@ -4,10 +4,12 @@
 //!
 //! Hand-written rather than `rand`: the tests pin exact sequences (a failing case is
 //! reported by its seed), and a dependency's generator may change its stream between
-//! versions. The CLI helpers stay in `tests/support/` because they name the binary that
-//! Cargo builds for the integration tests of the `smartmesh` package.
+//! versions. The CLI helpers ([`cli`]) take the binary as an argument: only the
+//! integration tests of the `smartmesh` package can name it.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+
+pub mod cli;
 
 /// What a seedable test generator offers; each generator gives [`Generator::next_u64`].
 pub trait Generator {

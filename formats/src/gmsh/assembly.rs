@@ -9,6 +9,51 @@ use super::{linear, untagged};
 use crate::{DataArray, ErrorKind, NodeIndex, ReadReport, Result, TaggedMesh};
 
 impl Reader<'_> {
+    /// The node views of a data-only file: item t − 1 of each array is node tag t's
+    /// value, NaN where the view gives none, up to the largest tag it gives.
+    pub(super) fn finish_node_data(mut self) -> Result<super::NodeData> {
+        let mut out = super::NodeData::default();
+        for v in std::mem::take(&mut self.views) {
+            if v.kind != ViewKind::Node {
+                // Element views of a file without elements: only empty ones get here.
+                continue;
+            }
+            let n = v.targets.iter().max().map_or(0, |t| t + 1);
+            // Tags far beyond the entries must not make a huge array: at most about the
+            // file's size in values, as for a mesh's views.
+            let limit = self.c.full.len() + (1 << 20);
+            if n.checked_mul(v.ncomp).map_or(true, |t| t > limit) {
+                return Err(self.c.err_at(
+                    v.at,
+                    ErrorKind::ImplausibleCount {
+                        what: format!(
+                            "view `{}` ({} values for each node tag up to {n})",
+                            v.name, v.ncomp
+                        ),
+                        count: (n as u64).saturating_mul(v.ncomp as u64),
+                        limit: format!(
+                            "more values than the file's {} bytes justify",
+                            self.c.full.len()
+                        ),
+                    },
+                ));
+            }
+            let k = v.ncomp;
+            let array = if v.targets.is_identity() {
+                DataArray::new(k, v.values)
+            } else {
+                let mut values = vec![f64::NAN; n * k];
+                for (e, t) in v.targets.iter().enumerate() {
+                    values[t * k..(t + 1) * k].copy_from_slice(&v.values[e * k..(e + 1) * k]);
+                }
+                DataArray::new(k, values)
+            };
+            out.entries.insert(v.name.clone(), v.targets.len());
+            out.arrays.insert(v.name, array);
+        }
+        Ok(out)
+    }
+
     /// Puts points in node-tag order and cells in element-tag order, resolves 4.1
     /// physical tags and builds the data arrays.
     pub(super) fn finish(mut self) -> Result<(TaggedMesh, ReadReport)> {

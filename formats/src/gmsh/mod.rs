@@ -46,6 +46,9 @@
 //!   cell, padded with NaN for cells with fewer nodes). When a view appears with several
 //!   time steps, the last section in the file wins; sections of the same step (a
 //!   partitioned view) are merged. Items a view does not cover are NaN;
+//! - a file of views alone (Gmsh's data-only file: `$NodeData` before any `$Nodes` or
+//!   `$Elements`) is refused by [`read`], with a hint, and read by [`read_mesh_or_data`]
+//!   as [`NodeData`] (node tag t = vertex t − 1 of the mesh it goes with);
 //! - `$Comments`, `$Periodic`, `$GhostElements`, `$Parametrizations`,
 //!   `$PartitionedEntities`, `$InterpolationScheme`, Gmsh's `$Edges`/`$Faces`, and any
 //!   section the format does not define (`$Comment`, `$Foo`: Gmsh's documentation says
@@ -103,8 +106,8 @@ mod views;
 pub use untagged::UNTAGGED;
 
 use crate::{
-    Error, ErrorKind, GmshVersion, ReadContext, ReadReport, Result, TaggedMesh, WriteOptions,
-    WriteReport, Written,
+    DataArray, Error, ErrorKind, GmshVersion, ReadContext, ReadReport, Result, TaggedMesh,
+    WriteOptions, WriteReport, Written,
 };
 use cursor::show;
 use reader::Reader;
@@ -118,6 +121,50 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
 /// [`read`], with what was changed on the way (second-order cells read as linear).
 pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh, ReadReport)> {
     let mut r = Reader::new(bytes);
+    read_sections(&mut r)?;
+    r.finish()
+}
+
+/// What an MSH file holds: a mesh, or (Gmsh's data-only file) node views alone.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MshContent {
+    /// A mesh, with its data views as point and cell data ([`read`]).
+    Mesh(TaggedMesh),
+    /// Node views without a mesh.
+    NodeData(NodeData),
+}
+
+/// The node views of a data-only MSH file: `$MeshFormat` and `$NodeData` sections (and
+/// sections skipped, such as the `$InterpolationScheme` Gmsh writes), no `$Nodes` nor
+/// `$Elements` — what `gmsh.view.write` writes with `PostProcessing.SaveMesh = 0`, or a
+/// solver beside the mesh it read. Node tag t stands for vertex t − 1 of that mesh (the
+/// numbering of the mesh file when its tags are 1, 2, …, as Gmsh and smartmesh write
+/// them).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct NodeData {
+    /// Each view, named as in [`read`], with one item per node tag from 1 to the largest
+    /// tag the view gives (NaN where it gives none).
+    pub arrays: std::collections::BTreeMap<String, DataArray>,
+    /// The number of entries each view gives.
+    pub entries: std::collections::BTreeMap<String, usize>,
+}
+
+/// Reads an MSH file that is either a mesh ([`read`]) or a data-only file of node views
+/// ([`NodeData`]): a `$NodeData` section before any `$Nodes` or `$Elements` makes it the
+/// latter, and a mesh section after that is then an error.
+pub fn read_mesh_or_data(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<MshContent> {
+    let mut r = Reader::new(bytes);
+    r.allow_data_only = true;
+    read_sections(&mut r)?;
+    if r.data_only {
+        r.finish_node_data().map(MshContent::NodeData)
+    } else {
+        r.finish().map(|(mesh, _)| MshContent::Mesh(mesh))
+    }
+}
+
+/// `$MeshFormat`, then every section up to the end of the file.
+fn read_sections(r: &mut Reader<'_>) -> Result<()> {
     r.read_mesh_format()?;
     while let Some(tok) = r.c.t.next() {
         let at = r.c.here_before(tok.len());
@@ -132,14 +179,27 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
             });
         }
         let name = &tok[1..];
+        if matches!(name, b"Nodes" | b"ParametricNodes" | b"Elements") {
+            if r.data_only {
+                return Err(Error {
+                    path: None,
+                    at: Some(at),
+                    kind: ErrorKind::Inconsistent(format!(
+                        "a ${} section after $NodeData that came before any mesh: a file is a mesh or a data-only file of views, not both",
+                        String::from_utf8_lossy(name)
+                    )),
+                });
+            }
+            r.saw_mesh = true;
+        }
         match name {
             b"PhysicalNames" => r.read_physical_names()?,
-            b"Entities" if r.v4 => msh4::read_entities(&mut r)?,
-            b"Nodes" if r.v4 => msh4::read_nodes(&mut r, at)?,
-            b"Elements" if r.v4 => msh4::read_elements(&mut r)?,
-            b"Nodes" => msh2::read_nodes(&mut r, at, false)?,
-            b"ParametricNodes" if !r.v4 => msh2::read_nodes(&mut r, at, true)?,
-            b"Elements" => msh2::read_elements(&mut r)?,
+            b"Entities" if r.v4 => msh4::read_entities(r)?,
+            b"Nodes" if r.v4 => msh4::read_nodes(r, at)?,
+            b"Elements" if r.v4 => msh4::read_elements(r)?,
+            b"Nodes" => msh2::read_nodes(r, at, false)?,
+            b"ParametricNodes" if !r.v4 => msh2::read_nodes(r, at, true)?,
+            b"Elements" => msh2::read_elements(r)?,
             b"NodeData" => r.read_view(ViewKind::Node)?,
             b"ElementData" => r.read_view(ViewKind::Element)?,
             b"ElementNodeData" => r.read_view(ViewKind::ElementNode)?,
@@ -176,7 +236,7 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
             _ => r.skip_section(name, at)?,
         }
     }
-    r.finish()
+    Ok(())
 }
 
 /// Writes MSH 4.1 or 2.2 (per `opts.gmsh_version`), ASCII or binary (`opts.binary`).

@@ -44,6 +44,13 @@ pub(super) struct Reader<'a> {
     pub entities: BTreeMap<(u8, i32), Vec<i32>>,
     pub(super) views: Vec<View>,
     pub(super) view_count: usize,
+    /// Whether a `$NodeData` before any `$Nodes`/`$Elements` is read as a data-only
+    /// file's (node tag t = vertex t − 1) rather than refused ([`super::read_mesh_or_data`]).
+    pub(super) allow_data_only: bool,
+    /// Whether a `$Nodes`, `$ParametricNodes` or `$Elements` section was read.
+    pub(super) saw_mesh: bool,
+    /// Whether node views were read as a data-only file's.
+    pub(super) data_only: bool,
 }
 
 impl<'a> Reader<'a> {
@@ -64,6 +71,9 @@ impl<'a> Reader<'a> {
             entities: BTreeMap::new(),
             views: Vec::new(),
             view_count: 0,
+            allow_data_only: false,
+            saw_mesh: false,
+            data_only: false,
         }
     }
 

@@ -200,9 +200,19 @@ impl Reader<'_> {
         for _ in 3..n_int {
             self.c.i64("integer tag")?;
         }
+        // A view before any mesh section: a data-only file's when that is allowed
+        // (node tag t is vertex t − 1 of the mesh it goes with), else refused entry by entry.
+        let data_only = kind == ViewKind::Node && !self.saw_mesh && self.allow_data_only;
+        self.data_only |= data_only;
         let map = match kind {
+            _ if data_only => TagMap::Range { first: 1, len: crate::MAX_POINTS },
             ViewKind::Node => self.take_node_map()?,
             _ => self.take_elem_map()?,
+        };
+        let hint = if self.saw_mesh {
+            ""
+        } else {
+            " (the file has no mesh before its views: a data-only file, which smartmesh reads as a metric beside its mesh)"
         };
         let what = if kind == ViewKind::Node { "node" } else { "element" };
         let mut targets = Targets::with_capacity(n);
@@ -215,7 +225,7 @@ impl Reader<'_> {
             offsets.push(0);
         }
         let unknown = |c: &Cursor, at: Position, tag: i64| {
-            c.err_at(at, ErrorKind::Inconsistent(format!("${section} `{name}` gives a value for {what} {tag}, which the mesh does not have")))
+            c.err_at(at, ErrorKind::Inconsistent(format!("${section} `{name}` gives a value for {what} {tag}, which the mesh does not have{hint}")))
         };
         if self.c.binary && kind != ViewKind::ElementNode {
             // Fixed-size entries (a tag and `ncomp` doubles): the whole table is taken
