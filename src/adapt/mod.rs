@@ -263,7 +263,6 @@ fn measure(
     });
     // The result carries the recipe's field on it (`metric`, `size_tensor`, `h1` …, as
     // `size` writes them), so that `report`, `info --metric` and ParaView read one file.
-    let mut mesh = mesh;
     mesh.point_data
         .extend(MetricField::from_sizes(&sizing.field.tensors, "the recipe's field").arrays());
     observer.phase(iteration, Phase::Measure);
