@@ -526,13 +526,8 @@ fn on_same_vertices(
             vertices: mesh.points.len(),
         });
     }
-    // Same count is not enough: the vertices must be the mesh's (up to rounding in a
-    // text file).
-    let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
-    let tol = 1e-9 * (hi[0] - lo[0]).abs().max((hi[1] - lo[1]).abs()).max(1e-300);
-    if let Some(v) = (0..mesh.points.len())
-        .find(|&v| (0..2).any(|k| (other.points[v][k] - mesh.points[v][k]).abs() > tol))
-    {
+    // Same count is not enough: the vertices must be the mesh's.
+    if let Some(v) = first_moved_vertex(mesh, other) {
         return Err(MetricError::Moved {
             path,
             vertex: v,
@@ -543,6 +538,17 @@ fn on_same_vertices(
     }
     let tensors = on_mesh(mesh, array, &path)?;
     Ok(MetricField { tensors, sizes: None, source: format!("`{METRIC}` of {path}") })
+}
+
+/// The first vertex of `mesh` that `other` does not have at the same place, up to
+/// rounding in a text file (1e-9 of the mesh's extent); `other` holds at least as many
+/// points as `mesh`. A field read from another file lives on the mesh only if there is
+/// none.
+pub(crate) fn first_moved_vertex(mesh: &TaggedMesh, other: &TaggedMesh) -> Option<usize> {
+    let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
+    let tol = 1e-9 * (hi[0] - lo[0]).abs().max((hi[1] - lo[1]).abs()).max(1e-300);
+    (0..mesh.points.len())
+        .find(|&v| (0..2).any(|k| (other.points[v][k] - mesh.points[v][k]).abs() > tol))
 }
 
 #[cfg(test)]

@@ -187,11 +187,7 @@ pub fn attach(
             });
         }
     }
-    let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
-    let tol = 1e-9 * (hi[0] - lo[0]).abs().max((hi[1] - lo[1]).abs()).max(1e-300);
-    if let Some(v) =
-        (0..n).find(|&v| (0..2).any(|k| (other.points[v][k] - mesh.points[v][k]).abs() > tol))
-    {
+    if let Some(v) = crate::metric_field::first_moved_vertex(mesh, other) {
         return Err(FieldError::Moved {
             path,
             vertex: v,
