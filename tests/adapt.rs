@@ -5,8 +5,7 @@
 //! iteration fails, and one recipe serves a geometry variant. The MMG and Gmsh parts
 //! skip when the tools are missing, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
@@ -25,35 +24,23 @@ use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOption
 use smartmesh::history::{History, WrittenFile};
 use smartmesh::quality::signed_area;
 use smartmesh::{Recipe, Sym2, Topology};
-use support::program;
-
-fn bundled(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
-}
+use support::{fixture, program, streams};
 
 fn cylinder() -> TaggedMesh {
-    read_path(&bundled("cylinder.msh"), None).unwrap()
+    read_path(&fixture("cylinder.msh"), None).unwrap()
 }
 
 fn recipe() -> Recipe {
-    Recipe::from_path(&bundled("cylinder.toml")).unwrap()
+    Recipe::from_path(&fixture("cylinder.toml")).unwrap()
 }
 
+/// Runs `smartmesh ARGS`, with `PATH` replaced when `path_env` is given.
 fn smartmesh(args: &[&str], path_env: Option<&str>) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_smartmesh"));
-    c.args(args);
+    let mut c = support::command(args);
     if let Some(p) = path_env {
         c.env("PATH", p);
     }
     c.output().expect("run smartmesh")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "stdout:\n{}\nstderr:\n{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
 }
 
 /// Each triangle split in four at its edge midpoints, each line in two, tags kept: a
@@ -312,9 +299,9 @@ fn a_recipe_that_does_not_fit_the_start_is_an_input_error() {
 fn adapt_args<'a>(out: &'a str, extra: &[&'a str]) -> Vec<String> {
     let mut a: Vec<String> = vec![
         "adapt".into(),
-        bundled("cylinder.msh").display().to_string(),
+        fixture("cylinder.msh").display().to_string(),
         "--recipe".into(),
-        bundled("cylinder.toml").display().to_string(),
+        fixture("cylinder.toml").display().to_string(),
         "-o".into(),
         out.into(),
     ];
@@ -334,7 +321,7 @@ fn missing_tools_are_named_before_any_work() {
     let out = dir.path().join("o.msh");
     for (adapter, program) in [("mmg2d", "mmg2d_O3"), ("gmsh", "gmsh")] {
         let o = run_adapt(&out, &["--adapter", adapter], Some(""));
-        assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+        assert_eq!(o.status.code(), Some(1), "{}", streams(&o));
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains(&format!("`{program}` not found on PATH")), "{err}");
         assert!(!out.exists() && !dir.path().join("o.history.json").exists());
@@ -344,7 +331,7 @@ fn missing_tools_are_named_before_any_work() {
         &["--adapter", "mmg2d", "--adapter-program", "/nonexistent/mmg2d_O3"],
         None,
     );
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/mmg2d_O3"));
 }
 
@@ -353,7 +340,7 @@ fn the_native_remesher_is_the_default_and_adapts_the_cylinder() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cyl.msh");
     let o = run_adapt(&out, &["--json"], None);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
     let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
     assert_history("native", &h, "native");
     assert!(h.converged, "{}", h.stopped);
@@ -402,7 +389,7 @@ fn a_poly_is_meshed_first_then_adapted() {
         ],
         None,
     );
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
     let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
     assert_history("square", &h, "native");
     assert!(h.iterations[h.best_iteration].conforming_share >= 0.9, "{:?}", h.iterations);
@@ -431,7 +418,7 @@ fn a_recipe_naming_absent_tags_on_a_poly_and_bad_arguments_exit_two() {
             "adapt",
             poly.to_str().unwrap(),
             "-r",
-            bundled("cylinder.toml").to_str().unwrap(),
+            fixture("cylinder.toml").to_str().unwrap(),
             "-o",
             out.to_str().unwrap(),
             "--adapter",
@@ -439,25 +426,25 @@ fn a_recipe_naming_absent_tags_on_a_poly_and_bad_arguments_exit_two() {
         ],
         None,
     );
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("square.poly") && err.contains("does not have"), "{err}");
 
     let o = run_adapt(&out, &["--adapter", "mmg2d", "--tol-vertices", "-1"], None);
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
     // --hausd is every remesher's; -nosurf is MMG's alone.
     let o = run_adapt(&out, &["--adapter", "gmsh", "--nosurf"], None);
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
     assert!(
         String::from_utf8_lossy(&o.stderr).contains("--nosurf is an option of the mmg2d adapter"),
         "{}",
-        text(&o)
+        streams(&o)
     );
     let o = run_adapt(Path::new("-"), &["--adapter", "mmg2d"], None);
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("not stdout"), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("not stdout"), "{}", streams(&o));
     let o = run_adapt(&dir.path().join("o.unknown"), &["--adapter", "mmg2d"], None);
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
     assert!(String::from_utf8_lossy(&o.stderr).contains("o.unknown"));
     assert!(!out.exists());
 }
@@ -479,7 +466,7 @@ fn a_failing_tool_is_quoted_and_the_start_mesh_is_kept() {
     let out = dir.path().join("o.msh");
     let o =
         run_adapt(&out, &["--adapter", "mmg2d", "--adapter-program", fake.to_str().unwrap()], None);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", streams(&o));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
         err.contains("iteration 1 failed while remeshing")
@@ -506,7 +493,7 @@ fn a_gmsh_that_exits_zero_without_a_mesh_is_a_failure() {
     let out = dir.path().join("o.msh");
     let o =
         run_adapt(&out, &["--adapter", "gmsh", "--adapter-program", fake.to_str().unwrap()], None);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", streams(&o));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
         err.contains("it wrote no out.msh") && err.contains("Could not create geometry"),
@@ -625,7 +612,7 @@ fn mmg2d_adapts_the_cylinder_until_converged() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cyl.msh");
     let o = run_adapt(&out, &["--adapter", "mmg2d", "--json"], None);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
     let (json, h) = history_of(&String::from_utf8_lossy(&o.stdout));
     assert_eq!(json["iterations"].as_array().unwrap().len(), h.iterations.len());
     assert_history("mmg2d", &h, "mmg2d");
@@ -642,13 +629,13 @@ fn mmg2d_keeps_every_point_and_curve_of_the_distributor() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("distributor.msh");
-    let input = read_path(&bundled("distributor.msh"), None).unwrap();
+    let input = read_path(&fixture("distributor.msh"), None).unwrap();
     let o = smartmesh(
         &[
             "adapt",
-            bundled("distributor.msh").to_str().unwrap(),
+            fixture("distributor.msh").to_str().unwrap(),
             "-r",
-            bundled("appendix-a.cfg").to_str().unwrap(),
+            fixture("appendix-a.cfg").to_str().unwrap(),
             "-o",
             out.to_str().unwrap(),
             "--adapter",
@@ -658,7 +645,7 @@ fn mmg2d_keeps_every_point_and_curve_of_the_distributor() {
         ],
         None,
     );
-    assert!(o.status.code() == Some(0), "{}", text(&o));
+    assert!(o.status.code() == Some(0), "{}", streams(&o));
     let mesh = read_path(&out, None).unwrap();
     assert_eq!(physical_tags(&mesh), physical_tags(&input));
     assert_eq!(mesh.tag_names, input.tag_names);
@@ -714,7 +701,7 @@ fn a_tool_failing_mid_run_leaves_the_best_mesh() {
         ],
         None,
     );
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", streams(&o));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
         err.contains("iteration 3 failed while remeshing")
@@ -734,7 +721,7 @@ fn a_tool_failing_mid_run_leaves_the_best_mesh() {
 
 /// The cylinder geometry with the cylinder at (cx, cy), radius r, meshed by Gmsh.
 fn variant(dir: &Path, cx: f64, cy: f64, r: f64) -> PathBuf {
-    let geo = std::fs::read_to_string(bundled("cylinder.geo")).unwrap();
+    let geo = std::fs::read_to_string(fixture("cylinder.geo")).unwrap();
     let moved = geo
         .replace("Point(5) = {1, 0.5, 0};", &format!("Point(5) = {{{cx}, {cy}, 0}};"))
         .replace(
@@ -751,7 +738,7 @@ fn variant(dir: &Path, cx: f64, cy: f64, r: f64) -> PathBuf {
         .arg(&msh)
         .output()
         .expect("run gmsh");
-    assert!(o.status.success(), "gmsh: {}", text(&o));
+    assert!(o.status.success(), "gmsh: {}", streams(&o));
     msh
 }
 
@@ -772,7 +759,7 @@ fn the_same_recipe_adapts_a_geometry_variant() {
             "adapt",
             msh.to_str().unwrap(),
             "-r",
-            bundled("cylinder.toml").to_str().unwrap(),
+            fixture("cylinder.toml").to_str().unwrap(),
             "-o",
             out.to_str().unwrap(),
             "--adapter",
@@ -781,7 +768,7 @@ fn the_same_recipe_adapts_a_geometry_variant() {
         ],
         None,
     );
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
     let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
     assert_history("variant", &h, "mmg2d");
     let input = read_path(&msh, None).unwrap();
@@ -796,7 +783,7 @@ fn gmsh_remeshes_to_the_field_with_tags() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cyl.msh");
     let o = run_adapt(&out, &["--adapter", "gmsh", "--max-iterations", "3", "--json"], None);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
     let (_, h) = history_of(&String::from_utf8_lossy(&o.stdout));
     assert_history("gmsh", &h, "gmsh");
     let mesh = read_path(&out, None).unwrap();
@@ -855,7 +842,7 @@ fn the_history_records_what_each_remeshing_did() {
 #[test]
 fn a_recipe_asking_for_too_many_vertices_stops_before_remeshing() {
     let dir = tempfile::tempdir().unwrap();
-    let original = std::fs::read_to_string(bundled("cylinder.toml")).unwrap();
+    let original = std::fs::read_to_string(fixture("cylinder.toml")).unwrap();
     let tiny =
         original.replace("hmin = 0.002", "hmin = 1e-9").replace("size = 0.1\n", "size = 1e-9\n");
     assert_ne!(tiny, original);
@@ -866,7 +853,7 @@ fn a_recipe_asking_for_too_many_vertices_stops_before_remeshing() {
     let o = smartmesh(
         &[
             "adapt",
-            bundled("cylinder.msh").to_str().unwrap(),
+            fixture("cylinder.msh").to_str().unwrap(),
             "--recipe",
             recipe.to_str().unwrap(),
             "-o",
@@ -874,7 +861,7 @@ fn a_recipe_asking_for_too_many_vertices_stops_before_remeshing() {
         ],
         None,
     );
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("iteration 1 refused") && err.contains("--max-vertices"), "{err}");
     assert!(started.elapsed().as_secs_f64() < 60.0);
@@ -886,7 +873,7 @@ fn a_recipe_asking_for_too_many_vertices_stops_before_remeshing() {
     assert_eq!(read_path(&out, None).unwrap().points.len(), cylinder().points.len());
     // A limit under what the real recipe asks for stops it the same way; raised, it runs.
     let o = run_adapt(&out, &["--max-vertices", "100", "--max-iterations", "1"], None);
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
     let o = run_adapt(&out, &["--max-vertices", "100000", "--max-iterations", "1"], None);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
 }

@@ -13,7 +13,6 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::{Command, Output};
 
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::{run, start as starting_point, AdaptOptions};
@@ -28,6 +27,10 @@ use smartmesh::Recipe;
 mod support;
 
 use support::{cpp_or_skip, examples, EXAMPLES};
+
+#[path = "support/cli.rs"]
+mod cli;
+use cli::{bad, bundled};
 
 fn xy(m: &TaggedMesh, v: usize) -> [f64; 2] {
     [m.points[v][0], m.points[v][1]]
@@ -661,25 +664,6 @@ fn the_random_generator_varies_its_cases() {
 // Malformed inputs and metrics on the command line
 // ---------------------------------------------------------------------------------------
 
-fn smartmesh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_smartmesh")).args(args).output().expect("run smartmesh")
-}
-
-fn bad(o: &Output) -> String {
-    assert_eq!(
-        o.status.code(),
-        Some(2),
-        "stdout:\n{}\nstderr:\n{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    );
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn bundled(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name).display().to_string()
-}
-
 /// Metrics that tests/remesh_cli.rs does not try: NaN in a format that reads it (the
 /// vertex is named), a symmetric tensor with positive diagonal but negative determinant,
 /// and an unsymmetric one.
@@ -687,7 +671,7 @@ fn bundled(name: &str) -> String {
 fn remesh_refuses_more_bad_metrics_naming_file_and_vertex() {
     let dir = tempfile::tempdir().unwrap();
     let field = dir.path().join("field.vtu");
-    let o = smartmesh(&[
+    let o = cli::run(&[
         "size",
         &bundled("cylinder.msh"),
         "--recipe",
@@ -703,7 +687,7 @@ fn remesh_refuses_more_bad_metrics_naming_file_and_vertex() {
     let remesh = |name: &str, m: &TaggedMesh| -> String {
         let p = dir.path().join(name);
         write_path(&p, m, None, &WriteOptions::default()).unwrap();
-        bad(&smartmesh(&[
+        bad(&cli::run(&[
             "remesh",
             &cyl,
             "--metric",
@@ -765,7 +749,7 @@ fn adapt_refuses_crossing_segments_and_absent_tags() {
 
     let cross = dir.path().join("cross.poly");
     std::fs::write(&cross, "4 2 0 1\n1 0 0 100\n2 1 0 0\n3 1 1 0\n4 0 1 0\n6 1\n1 1 2 1\n2 2 3 1\n3 3 4 2\n4 4 1 2\n5 1 3 1\n6 2 4 1\n0\n1\n1 0.5 0.25 7 -1\n").unwrap();
-    let err = bad(&smartmesh(&[
+    let err = bad(&cli::run(&[
         "adapt",
         cross.to_str().unwrap(),
         "-r",
@@ -779,7 +763,7 @@ fn adapt_refuses_crossing_segments_and_absent_tags() {
     // The same square without the diagonals and without point 100.
     let square = dir.path().join("square.poly");
     std::fs::write(&square, "4 2 0 1\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n4 1\n1 1 2 1\n2 2 3 1\n3 3 4 2\n4 4 1 2\n0\n1\n1 0.5 0.25 7 -1\n").unwrap();
-    let err = bad(&smartmesh(&[
+    let err = bad(&cli::run(&[
         "adapt",
         square.to_str().unwrap(),
         "-r",

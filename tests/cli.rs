@@ -1,34 +1,15 @@
 //! The command-line contract: exit codes, what goes to stdout and stderr, files
 //! written or not written.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::Stdio;
 
-fn smartmesh() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_smartmesh"))
-}
+#[path = "support/cli.rs"]
+mod cli;
+use cli::{fixture, run, stderr, stdout};
+use smartmesh_test_support::formats::public_fixtures;
 
-fn run(args: &[&str]) -> Output {
-    smartmesh().args(args).output().expect("run smartmesh")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn bundled(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
-}
-
-fn public(rel: &str) -> PathBuf {
-    let root = std::env::var("SMARTMESH_PUBLIC_FIXTURES").map(PathBuf::from).unwrap_or_else(|_| {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/fixtures/public")
-    });
-    root.join(rel)
+fn public(rel: &str) -> std::path::PathBuf {
+    public_fixtures().join(rel)
 }
 
 #[test]
@@ -73,7 +54,7 @@ fn unknown_extension_asks_for_from() {
 
 #[test]
 fn info_on_the_bundled_example() {
-    let o = run(&["info", bundled("cylinder.msh").to_str().unwrap()]);
+    let o = run(&["info", fixture("cylinder.msh").to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let s = stdout(&o);
     for name in
@@ -86,7 +67,7 @@ fn info_on_the_bundled_example() {
 
 #[test]
 fn info_json_is_machine_readable() {
-    let o = run(&["info", "--json", bundled("cylinder.msh").to_str().unwrap()]);
+    let o = run(&["info", "--json", fixture("cylinder.msh").to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("valid JSON");
     assert!(v["points"].as_u64().unwrap() > 100);
@@ -107,7 +88,7 @@ fn info_json_is_machine_readable() {
 #[test]
 fn convert_chain_keeps_tags_and_names() {
     let dir = tempfile::tempdir().unwrap();
-    let src = bundled("cylinder.msh");
+    let src = fixture("cylinder.msh");
     let mut prev = src.clone();
     // Gmsh -> VTU -> legacy VTK -> Gmsh 2.2 binary -> Medit -> Gmsh 4.1: the face and
     // curve cell counts per tag must survive every hop that can hold them.
@@ -186,9 +167,8 @@ fn malformed_input_exits_two_with_file_and_line() {
 
 #[test]
 fn stdin_to_stdout() {
-    let bytes = std::fs::read(bundled("cylinder.msh")).unwrap();
-    let mut child = smartmesh()
-        .args(["convert", "--from", "msh", "--to", "vtk", "-", "-"])
+    let bytes = std::fs::read(fixture("cylinder.msh")).unwrap();
+    let mut child = cli::command(&["convert", "--from", "msh", "--to", "vtk", "-", "-"])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -205,7 +185,7 @@ fn stdin_to_stdout() {
 
 #[test]
 fn stdout_needs_a_format() {
-    let o = run(&["convert", bundled("cylinder.msh").to_str().unwrap(), "-"]);
+    let o = run(&["convert", fixture("cylinder.msh").to_str().unwrap(), "-"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--from/--to"), "{}", stderr(&o));
 }
@@ -219,7 +199,7 @@ fn output_is_deterministic() {
         let b = dir.path().join(format!("b.{ext}"));
         for p in [&a, &b] {
             let o =
-                run(&["convert", bundled("cylinder.msh").to_str().unwrap(), p.to_str().unwrap()]);
+                run(&["convert", fixture("cylinder.msh").to_str().unwrap(), p.to_str().unwrap()]);
             assert_eq!(o.status.code(), Some(0), "{ext}: {}", stderr(&o));
         }
         assert_eq!(

@@ -9,8 +9,7 @@
 //! the starting meshes stay under 200 KB, and (when Python has numpy, triangle and gmsh)
 //! the generator still writes the committed `.poly` files byte for byte.
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeSet;
 

@@ -4,8 +4,7 @@
 //! `mmg2d_O3` adapts our mesh to our `.sol` with the same outcome. Each test skips when
 //! its Python modules are missing, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::path::Path;
 use std::process::Command;
@@ -15,38 +14,10 @@ use common::{python_with, run_python};
 #[path = "support/cli.rs"]
 #[allow(dead_code)]
 mod support;
-use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOptions};
+use smartmesh::formats::{read_path, CellKind, TaggedMesh, WriteOptions};
 use smartmesh::metric_field::{MetricField, MetricTarget};
 use smartmesh::SizeTensor;
-
-/// A structured triangulation of the unit square, `n` cells a side, face tag 1 and the
-/// four sides tagged 11..14.
-fn unit_square(n: usize) -> TaggedMesh {
-    let mut m = TaggedMesh::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            m.points.push([i as f64 / n as f64, j as f64 / n as f64, 0.0]);
-        }
-    }
-    let id = |i: usize, j: usize| j * (n + 1) + i;
-    let mut tri = CellBlock::new(CellKind::Triangle);
-    for j in 0..n {
-        for i in 0..n {
-            tri.push(&[id(i, j), id(i + 1, j), id(i + 1, j + 1)], 1, 1);
-            tri.push(&[id(i, j), id(i + 1, j + 1), id(i, j + 1)], 1, 1);
-        }
-    }
-    let mut lines = CellBlock::new(CellKind::Line);
-    for k in 0..n {
-        lines.push(&[id(k, 0), id(k + 1, 0)], 11, 11);
-        lines.push(&[id(n, k), id(n, k + 1)], 12, 12);
-        lines.push(&[id(k + 1, n), id(k, n)], 13, 13);
-        lines.push(&[id(0, k + 1), id(0, k)], 14, 14);
-    }
-    m.blocks.push(tri);
-    m.blocks.push(lines);
-    m
-}
+use smartmesh_test_support::grid::unit_square;
 
 /// The test field: in the band `0.4 < y < 0.6`, edges of 0.1 along x and 0.01 across
 /// (a wake); elsewhere isotropic 0.1.

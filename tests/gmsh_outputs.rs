@@ -5,8 +5,7 @@
 //! second-order Gmsh mesh read as linear by `info` and `adapt`. Skips when
 //! gmsh or meshio is missing for `python3`, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 use smartmesh::formats::read_path;
 
@@ -15,8 +14,6 @@ use smartmesh::formats::read_path;
 mod cli;
 
 use cli::{ok, smartmesh};
-
-const READ_AND_RESAVE: &str = include_str!("../formats/tests/common/read_and_resave.py");
 
 /// A recipe for Triangle's `A.poly`: finer around its point 1.
 const RECIPE: &str = r#"
@@ -117,7 +114,7 @@ fn meshio_and_gmsh_read_every_msh_smartmesh_writes_whole() {
         files.push((what.clone(), path.to_string(), cells));
     }
     let paths: Vec<&str> = files.iter().map(|f| f.1.as_str()).collect();
-    let text = common::run_python(&py, READ_AND_RESAVE, &paths);
+    let text = common::run_python(&py, common::READ_AND_RESAVE, &paths);
     let summaries: Vec<serde_json::Value> = serde_json::from_str(text.lines().last().unwrap_or(""))
         .unwrap_or_else(|e| panic!("{e}: {text}"));
     for ((what, _, cells), s) in files.iter().zip(&summaries) {

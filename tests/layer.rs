@@ -28,7 +28,7 @@ fn mesh_of(points: &[[f64; 2]], segments: &[([usize; 2], i32)], size: f64) -> Ta
 }
 
 fn fixture(name: &str) -> TaggedMesh {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name);
+    let p = smartmesh_test_support::cli::fixture(name);
     smartmesh::formats::read_path(&p, None).expect("fixture reads")
 }
 
@@ -298,8 +298,7 @@ fn bad_requests_are_refused_clearly() {
     assert!(e.to_string().contains("quads"), "{e}");
 }
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 #[path = "support/cli.rs"]
 #[allow(dead_code)]

@@ -5,12 +5,9 @@
 //! itself (PyPI `triangle`) on the same `.poly`, skipped when it is not installed unless
 //! `SMARTMESH_REQUIRE_INTEROP=1`.
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
-use std::path::Path;
-use std::process::Command;
 
 use smartmesh::formats::{
     read_path, write_bytes, CellKind, Format, RegionSeed, TaggedMesh, WriteOptions,
@@ -20,9 +17,9 @@ use smartmesh::quality::{min_angle_deg, signed_area, triangle_quality};
 use smartmesh::topology::PointOrigin;
 use smartmesh::Topology;
 
-fn fixture(name: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
-}
+#[path = "support/cli.rs"]
+mod cli;
+use cli::{fixture, run};
 
 fn read_fixture(name: &str) -> TaggedMesh {
     read_path(&fixture(name), None).unwrap_or_else(|e| panic!("{e}"))
@@ -504,15 +501,11 @@ fn a_vertex_on_a_segment_splits_it() {
     assert_eq!(lines(&out).len(), 5);
 }
 
-fn smartmesh(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_smartmesh")).args(args).output().expect("run smartmesh")
-}
-
 #[test]
 fn cli_meshes_and_reports() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("sq.msh");
-    let o = smartmesh(&[
+    let o = run(&[
         "mesh",
         fixture("square_hole.poly").to_str().unwrap(),
         "-o",
@@ -549,7 +542,7 @@ fn cli_bad_input_exits_2_naming_the_file_and_leaves_no_output() {
     )
     .unwrap();
     let out = dir.path().join("out.vtu");
-    let o = smartmesh(&["mesh", poly.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = run(&["mesh", poly.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     // Segments 5 and 6 are on lines 11 and 12; the error names the line of one of them.
@@ -561,11 +554,11 @@ fn cli_bad_input_exits_2_naming_the_file_and_leaves_no_output() {
     assert!(!out.exists());
     let seed = dir.path().join("seed.poly");
     std::fs::write(&seed, "# square with a region seed outside\n4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n1\n1 2.0 0.5 7 -1\n").unwrap();
-    let o = smartmesh(&["mesh", seed.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = run(&["mesh", seed.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("seed.poly:14: region 1's point (2, 0.5) is outside the domain"), "{err}");
-    let o = smartmesh(&[
+    let o = run(&[
         "mesh",
         fixture("square_hole.poly").to_str().unwrap(),
         "-o",
@@ -770,14 +763,7 @@ fn sizes_asking_for_too_many_vertices_are_refused_before_refining() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("fine.msh");
     let poly = fixture("square_hole.poly");
-    let o = smartmesh(&[
-        "mesh",
-        poly.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--size",
-        "0.0001",
-    ]);
+    let o = run(&["mesh", poly.to_str().unwrap(), "-o", out.to_str().unwrap(), "--size", "0.0001"]);
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("vertices") && err.contains("--max-vertices"), "{err}");

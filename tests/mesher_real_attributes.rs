@@ -3,8 +3,7 @@
 //! the mesher meshes it, keeps each region's attribute as the cell field
 //! `triangle:attribute1` and bounds each region's triangles by it.
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 use smartmesh::formats::{read_path, CellKind};
 use smartmesh::mesher::{triangulate, MeshOptions};

@@ -7,8 +7,7 @@
 //! Gmsh's data-only `.msh` (views without a mesh, written here by the gmsh Python API)
 //! is a metric too, on the vertices of the mesh it goes with.
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -14,53 +14,15 @@ use smartmesh::sizing::{
 };
 use smartmesh::{MeshGraph, Topology};
 
+use smartmesh_test_support::grid::{triangles_crossed_by, JitteredGrid as Grid};
 use smartmesh_test_support::{Generator, SplitMix64 as Rng};
 
-/// A jittered structured triangulation: `nx × ny` vertices from `origin` with spacing
-/// `h`; vertex `(i, j)` has index `j * nx + i`. Boundary vertices stay on the rectangle.
-struct Grid {
-    nx: usize,
-    coords: Vec<Point2>,
-    triangles: Vec<[usize; 3]>,
+/// The mesh graph of a grid.
+trait GraphOf {
+    fn graph(&self) -> MeshGraph;
 }
 
-impl Grid {
-    fn new(nx: usize, ny: usize, origin: Point2, h: f64, jitter: f64, seed: u64) -> Grid {
-        let mut rng = Rng(seed);
-        let mut coords = Vec::with_capacity(nx * ny);
-        for j in 0..ny {
-            for i in 0..nx {
-                let mut p = [origin[0] + i as f64 * h, origin[1] + j as f64 * h];
-                if i > 0 && i + 1 < nx {
-                    p[0] += (2.0 * rng.unit() - 1.0) * jitter * h;
-                }
-                if j > 0 && j + 1 < ny {
-                    p[1] += (2.0 * rng.unit() - 1.0) * jitter * h;
-                }
-                coords.push(p);
-            }
-        }
-        let mut triangles = Vec::with_capacity(2 * (nx - 1) * (ny - 1));
-        for j in 0..ny - 1 {
-            for i in 0..nx - 1 {
-                let (a, b, c, d) =
-                    (j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i);
-                if rng.next_u64() & 1 == 0 {
-                    triangles.push([a, b, c]);
-                    triangles.push([a, c, d]);
-                } else {
-                    triangles.push([a, b, d]);
-                    triangles.push([b, c, d]);
-                }
-            }
-        }
-        Grid { nx, coords, triangles }
-    }
-
-    fn vertex(&self, i: usize, j: usize) -> usize {
-        j * self.nx + i
-    }
-
+impl GraphOf for Grid {
     fn graph(&self) -> MeshGraph {
         let mut edges = Vec::with_capacity(3 * self.triangles.len());
         for t in &self.triangles {
@@ -74,25 +36,6 @@ impl Grid {
         let cells: Vec<[usize; 4]> =
             self.triangles.iter().map(|t| [t[0], t[1], t[2], usize::MAX]).collect();
         MeshGraph::from_edges(self.coords.clone(), &edges, &cells).unwrap()
-    }
-
-    /// Vertices along grid row `j` from column `i0` to `i1` (either direction): a path
-    /// of mesh edges.
-    fn row(&self, j: usize, i0: usize, i1: usize) -> Vec<usize> {
-        if i0 <= i1 {
-            (i0..=i1).map(|i| self.vertex(i, j)).collect()
-        } else {
-            (i1..=i0).rev().map(|i| self.vertex(i, j)).collect()
-        }
-    }
-
-    /// Vertices along grid column `i` from row `j0` to `j1`.
-    fn column(&self, i: usize, j0: usize, j1: usize) -> Vec<usize> {
-        if j0 <= j1 {
-            (j0..=j1).map(|j| self.vertex(i, j)).collect()
-        } else {
-            (j1..=j0).rev().map(|j| self.vertex(i, j)).collect()
-        }
     }
 }
 
@@ -565,28 +508,13 @@ fn coarse_mesh_wake_marks_every_crossed_triangle() {
     let source = Source::builder(&graph).polyline(&wake, false).build().unwrap();
     let reach = propagate(&graph, &source, 0.05, &PropagationOptions::new());
     // Independent oracle: triangles that contain a point of the wake sampled every 1e-3.
-    let inside = |t: &[usize; 3], p: Point2| {
-        let c =
-            |a: Point2, b: Point2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-        let [a, b, cc] = t.map(|v| g.coords[v]);
-        let (s1, s2, s3) = (c(a, b), c(b, cc), c(cc, a));
-        (s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0) || (s1 <= 0.0 && s2 <= 0.0 && s3 <= 0.0)
-    };
-    let mut crossed = 0;
-    for t in &g.triangles {
-        let hit = wake.windows(2).any(|w| {
-            (0..=1000).any(|k| {
-                let s = k as f64 / 1000.0;
-                inside(t, [w[0][0] + s * (w[1][0] - w[0][0]), w[0][1] + s * (w[1][1] - w[0][1])])
-            })
-        });
-        if hit {
-            crossed += 1;
-            for &v in t {
-                assert!(reach.get(v).is_some(), "vertex {v} of a crossed triangle is not marked");
-            }
+    let crossed = triangles_crossed_by(&g.coords, &g.triangles, &wake);
+    for &t in &crossed {
+        for &v in &g.triangles[t] {
+            assert!(reach.get(v).is_some(), "vertex {v} of a crossed triangle is not marked");
         }
     }
+    let crossed = crossed.len();
     assert!(crossed >= 8, "the wake should cross several triangles, crossed {crossed}");
     let t = check_exact(&graph, &source, &reach);
     assert_eq!((t.mismatches, t.not_bitwise), (0, 0));

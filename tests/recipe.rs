@@ -1,7 +1,7 @@
 //! Recipes: the libconfig syntax, cpp, the spelling variants of the thesis, TOML and
 //! JSON, suggestions, resolution against a mesh and its dimension rule, round trips.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh};
 use smartmesh::recipe::model::SpecValue;
@@ -15,9 +15,7 @@ use smartmesh::sizing::{
 };
 use smartmesh::topology::Topology;
 
-fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
-}
+use smartmesh_test_support::cli::fixture;
 
 fn distributor() -> Topology {
     Topology::from_mesh(&read_path(&fixture("distributor.msh"), None).unwrap())
@@ -31,18 +29,9 @@ fn toml(text: &str) -> Result<Recipe, RecipeError> {
     Recipe::from_str(text, RecipeFormat::Toml, Path::new("recipe.toml"))
 }
 
-fn has_cpp() -> bool {
-    std::process::Command::new("cpp").arg("--version").output().is_ok_and(|o| o.status.success())
-}
-
 /// On CI (which has gcc) a missing cpp is a failure, elsewhere a skipped test.
 fn cpp_or_skip() -> bool {
-    if has_cpp() {
-        return true;
-    }
-    assert!(std::env::var_os("CI").is_none(), "CI must have cpp to run the preprocessor tests");
-    eprintln!("skipped: no cpp on this machine");
-    false
+    smartmesh_test_support::cli::cpp_or_skip("the preprocessor tests")
 }
 
 /// Indices of the topology entities with one of `tags`, by brute force.
@@ -547,7 +536,7 @@ fn toml_and_json_equivalents_and_round_trips() {
     assert_eq!(from_json, from_cfg);
     // cfg -> toml -> json -> cfg -> model, and the appendix example too when cpp is here.
     let mut models = vec![from_cfg];
-    if has_cpp() {
+    if cpp_or_skip() {
         models.push(Recipe::from_path(&fixture("appendix-a.cfg")).unwrap());
     }
     for m in models {

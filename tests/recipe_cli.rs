@@ -1,32 +1,14 @@
 //! `smartmesh recipe check` and `smartmesh recipe convert`: exit codes, output, files.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
-fn smartmesh() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_smartmesh"))
-}
-
-fn run(args: &[&str]) -> Output {
-    smartmesh().args(args).output().expect("run smartmesh")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn fixture(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name).to_string_lossy().into_owned()
-}
+#[path = "support/cli.rs"]
+mod cli;
+use cli::{bundled, run, stderr, stdout};
 
 fn has_cpp() -> bool {
-    let ok = Command::new("cpp").arg("--version").output().is_ok_and(|o| o.status.success());
-    assert!(ok || std::env::var_os("CI").is_none(), "CI must have cpp");
-    ok
+    cli::cpp_or_skip("a recipe with #define")
 }
 
 const PLAIN: &str = "CREATE_REGIONS = ( { NAME = \"Vane\"; TOPOLOGICAL_ENTITIES = [ 101, 102 ]; } );
@@ -45,7 +27,7 @@ fn check_prints_regions_and_algorithms() {
     if !has_cpp() {
         return;
     }
-    let o = run(&["recipe", "check", &fixture("appendix-a.cfg"), &fixture("distributor.msh")]);
+    let o = run(&["recipe", "check", &bundled("appendix-a.cfg"), &bundled("distributor.msh")]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let s = stdout(&o);
     assert!(s.contains("StayVane         7 curves: tags 101, 102, 103, 104, 105, 106, 107"), "{s}");
@@ -60,8 +42,8 @@ fn check_prints_regions_and_algorithms() {
         "recipe",
         "check",
         "--json",
-        &fixture("appendix-a.cfg"),
-        &fixture("distributor.msh"),
+        &bundled("appendix-a.cfg"),
+        &bundled("distributor.msh"),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
@@ -83,7 +65,7 @@ fn check_prints_regions_and_algorithms() {
 #[test]
 fn errors_exit_two_with_file_line_and_suggestion() {
     let dir = tempfile::tempdir().unwrap();
-    let mesh = fixture("distributor.msh");
+    let mesh = bundled("distributor.msh");
     let bad = write(
         dir.path(),
         "bad.cfg",
@@ -117,10 +99,9 @@ fn errors_exit_two_with_file_line_and_suggestion() {
 #[test]
 fn a_missing_preprocessor_is_named_only_when_needed() {
     let dir = tempfile::tempdir().unwrap();
-    let mesh = fixture("distributor.msh");
+    let mesh = bundled("distributor.msh");
     let plain = write(dir.path(), "plain.cfg", &format!("# hash comments need no cpp\n{PLAIN}"));
-    let o = smartmesh()
-        .args(["recipe", "check", plain.to_str().unwrap(), &mesh])
+    let o = cli::command(&["recipe", "check", plain.to_str().unwrap(), &mesh])
         .env("SMARTMESH_CPP", "/no/such/cpp")
         .output()
         .unwrap();
@@ -130,8 +111,7 @@ fn a_missing_preprocessor_is_named_only_when_needed() {
         "define.cfg",
         &format!("\n#define VANE 101, 102\n{}", PLAIN.replace("101, 102", "VANE")),
     );
-    let o = smartmesh()
-        .args(["recipe", "check", with.to_str().unwrap(), &mesh])
+    let o = cli::command(&["recipe", "check", with.to_str().unwrap(), &mesh])
         .env("SMARTMESH_CPP", "/no/such/cpp")
         .output()
         .unwrap();
@@ -179,7 +159,7 @@ fn convert_round_trips_through_every_format() {
 #[test]
 fn a_deeply_nested_recipe_exits_two_in_every_command_that_reads_one() {
     let dir = tempfile::tempdir().unwrap();
-    let mesh = fixture("distributor.msh");
+    let mesh = bundled("distributor.msh");
     let deep = write(
         dir.path(),
         "deep.cfg",
@@ -203,7 +183,7 @@ fn a_deeply_nested_recipe_exits_two_in_every_command_that_reads_one() {
 #[test]
 fn no_preprocess_reads_nothing_but_the_recipe() {
     let dir = tempfile::tempdir().unwrap();
-    let mesh = fixture("distributor.msh");
+    let mesh = bundled("distributor.msh");
     let plain = write(dir.path(), "plain.cfg", &format!("# a hash comment\n{PLAIN}"));
     let plain = plain.to_str().unwrap();
     let out = |n: &str| dir.path().join(n).to_string_lossy().into_owned();
@@ -242,7 +222,7 @@ fn no_preprocess_reads_nothing_but_the_recipe() {
 #[test]
 fn devices_are_refused_at_the_line_that_names_them() {
     let dir = tempfile::tempdir().unwrap();
-    let mesh = fixture("distributor.msh");
+    let mesh = bundled("distributor.msh");
     for (name, text) in [
         ("hash.cfg", format!("{PLAIN}#include </dev/zero>\n")),
         ("at.cfg", format!("{PLAIN}@include \"/dev/zero\"\n")),
@@ -299,12 +279,12 @@ fn a_killed_smartmesh_leaves_no_preprocessor_behind() {
 #[cfg(target_os = "linux")]
 fn killed_while_cpp_blocks(recipe: &Path, signal: &str) {
     use std::time::{Duration, Instant};
-    let mut child = smartmesh()
-        .args(["recipe", "check", recipe.to_str().unwrap(), &fixture("distributor.msh")])
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut child =
+        cli::command(&["recipe", "check", recipe.to_str().unwrap(), &bundled("distributor.msh")])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
     let parent = child.id();
     let start = Instant::now();
     // The preprocessor's group: the group of smartmesh's child, once it holds two

@@ -13,6 +13,7 @@ use smartmesh::formats::{sym2_to_tensor9, CellBlock, CellKind, DataArray, Tagged
 use smartmesh::metric::{exp_sym, log_spd};
 use smartmesh::metric::{SizeTensor, Sym2};
 use smartmesh::remesh::{remesh, BoundaryMode, RemeshOptions, Remeshed};
+use smartmesh_test_support::grid::SquareGrid;
 
 const WALL: i32 = 1; // y = 0
 const RIGHT: i32 = 2;
@@ -23,39 +24,16 @@ const INTERFACE: i32 = 5; // x = 0.5, between faces 10 and 11
 /// A structured n×n grid on [0,1]² with alternating diagonals, tagged sides, and
 /// optionally two faces (x < 0.5: 10, x > 0.5: 11) with an interface line tag 5.
 fn square(n: usize, two_faces: bool) -> TaggedMesh {
-    let mut m = TaggedMesh::new();
+    let mut m = SquareGrid {
+        n,
+        sides: [WALL, RIGHT, TOP, LEFT],
+        faces: if two_faces { [10, 11] } else { [10, 10] },
+        interface: two_faces.then_some(INTERFACE),
+        alternate: true,
+    }
+    .build();
     m.coordinate_dim = 2;
-    for j in 0..=n {
-        for i in 0..=n {
-            m.points.push([i as f64 / n as f64, j as f64 / n as f64, 0.0]);
-        }
-    }
-    let id = |i: usize, j: usize| j * (n + 1) + i;
-    let mut t = CellBlock::new(CellKind::Triangle);
-    for j in 0..n {
-        for i in 0..n {
-            let tag = if two_faces && 2 * i >= n { 11 } else { 10 };
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (i + j) % 2 == 0 {
-                t.push(&[a, b, c], tag, tag);
-                t.push(&[a, c, d], tag, tag);
-            } else {
-                t.push(&[a, b, d], tag, tag);
-                t.push(&[b, c, d], tag, tag);
-            }
-        }
-    }
-    let mut l = CellBlock::new(CellKind::Line);
-    for k in 0..n {
-        l.push(&[id(k, 0), id(k + 1, 0)], WALL, WALL);
-        l.push(&[id(n, k), id(n, k + 1)], RIGHT, RIGHT);
-        l.push(&[id(k + 1, n), id(k, n)], TOP, TOP);
-        l.push(&[id(0, k + 1), id(0, k)], LEFT, LEFT);
-        if two_faces {
-            l.push(&[id(n / 2, k), id(n / 2, k + 1)], INTERFACE, INTERFACE);
-        }
-    }
-    m.blocks = vec![l, t];
+    m.blocks.reverse(); // lines first
     m.tag_names.insert((1, WALL), "Wall".into());
     m
 }

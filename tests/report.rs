@@ -3,24 +3,16 @@
 //! rasterise to a real PNG, are deterministic, and refuse bad input with exit code 2.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use smartmesh::conformity::{metric_field, Conformity};
 use smartmesh::formats::{read_path, write_path, CellKind, DataArray, TaggedMesh, WriteOptions};
 use smartmesh::history::{History, IterationRecord, PhaseTimes};
 use smartmesh::SizeTensor;
 
-fn smartmesh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_smartmesh")).args(args).output().expect("run smartmesh")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
-}
+#[path = "support/cli.rs"]
+mod cli;
+use cli::{fixture, run, stderr};
+use smartmesh_test_support::grid::unit_square;
 
 fn s(p: &Path) -> &str {
     p.to_str().expect("utf-8 path")
@@ -30,27 +22,11 @@ fn s(p: &Path) -> &str {
 /// "Plate"), the bottom side a curve 11 "Bottom", the other sides a curve 12 "Rest", and a
 /// uniform metric of size tensor `t` when given.
 fn grid(n: usize, t: Option<SizeTensor>) -> TaggedMesh {
-    let mut m = TaggedMesh::new();
-    let id = |i: usize, j: usize| j * n + i;
-    let h = 1.0 / (n - 1) as f64;
-    for j in 0..n {
-        for i in 0..n {
-            m.points.push([i as f64 * h, j as f64 * h, 0.0]);
+    let mut m = unit_square(n - 1);
+    for b in m.blocks.iter_mut().filter(|b| b.kind == CellKind::Line) {
+        for tag in b.physical.iter_mut().chain(b.geometrical.iter_mut()) {
+            *tag = (*tag).min(12);
         }
-    }
-    let tris = m.block_mut(CellKind::Triangle);
-    for j in 0..n - 1 {
-        for i in 0..n - 1 {
-            tris.push(&[id(i, j), id(i + 1, j), id(i + 1, j + 1)], 1, 1);
-            tris.push(&[id(i, j), id(i + 1, j + 1), id(i, j + 1)], 1, 1);
-        }
-    }
-    let lines = m.block_mut(CellKind::Line);
-    for i in 0..n - 1 {
-        lines.push(&[id(i, 0), id(i + 1, 0)], 11, 11);
-        lines.push(&[id(n - 1, i), id(n - 1, i + 1)], 12, 12);
-        lines.push(&[id(i + 1, n - 1), id(i, n - 1)], 12, 12);
-        lines.push(&[id(0, i + 1), id(0, i)], 12, 12);
     }
     m.tag_names.insert((2, 1), "Plate".into());
     m.tag_names.insert((1, 11), "Bottom".into());
@@ -73,7 +49,7 @@ fn write(dir: &Path, name: &str, mesh: &TaggedMesh) -> PathBuf {
 /// needs it.
 fn cylinder_with_metric(dir: &Path) -> PathBuf {
     let out = dir.join("cyl.vtu");
-    let o = smartmesh(&[
+    let o = run(&[
         "size",
         s(&fixture("cylinder.msh")),
         "--recipe",
@@ -86,7 +62,7 @@ fn cylinder_with_metric(dir: &Path) -> PathBuf {
 }
 
 fn report(args: &[&str]) -> String {
-    let o = smartmesh(args);
+    let o = run(args);
     assert_eq!(o.status.code(), Some(0), "report {args:?}: {}", stderr(&o));
     let out = args.iter().position(|a| *a == "-o").map(|i| args[i + 1]).expect("-o");
     std::fs::read_to_string(out).expect("read the SVG")
@@ -295,16 +271,16 @@ fn histograms_are_conformitys_counts_and_info_prints_its_figures() {
     );
 
     // info --json: the same figures, exactly.
-    let o = smartmesh(&["info", "--json", s(&fixture("cylinder.msh")), "--metric", s(&cyl)]);
+    let o = run(&["info", "--json", s(&fixture("cylinder.msh")), "--metric", s(&cyl)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["metric"]["conformity"], serde_json::to_value(&c).unwrap());
     // Its own array, found without --metric, gives the same.
-    let o = smartmesh(&["info", "--json", s(&cyl)]);
+    let o = run(&["info", "--json", s(&cyl)]);
     let own: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(own["metric"]["conformity"], v["metric"]["conformity"]);
     // And the text names the share and the quality.
-    let o = smartmesh(&["info", s(&fixture("cylinder.msh")), "--metric", s(&cyl)]);
+    let o = run(&["info", s(&fixture("cylinder.msh")), "--metric", s(&cyl)]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
         text.contains(&format!(
@@ -319,7 +295,7 @@ fn histograms_are_conformitys_counts_and_info_prints_its_figures() {
         "{text}"
     );
     // Without a metric, no metric key at all (the output stays as it was).
-    let o = smartmesh(&["info", "--json", s(&fixture("cylinder.msh"))]);
+    let o = run(&["info", "--json", s(&fixture("cylinder.msh"))]);
     let plain: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(plain.get("metric").is_none());
 }
@@ -341,7 +317,7 @@ fn png_decodes_at_the_requested_width_and_is_not_blank() {
     ]);
     let doc = roxmltree::Document::parse(&text).unwrap();
     let height: u32 = doc.root_element().attribute("height").unwrap().parse().unwrap();
-    let o = smartmesh(&[
+    let o = run(&[
         "report",
         s(&cyl),
         "--recipe",
@@ -355,7 +331,7 @@ fn png_decodes_at_the_requested_width_and_is_not_blank() {
     check_png(&png, 700, height, 1000);
     // The palette variant: indexed, same size, fewer colours, still a picture.
     let pal = dir.path().join("p.png");
-    let o = smartmesh(&[
+    let o = run(&[
         "report",
         s(&cyl),
         "--recipe",
@@ -402,7 +378,7 @@ fn same_input_gives_the_same_bytes() {
         for out in [&a, &b] {
             let mut args = vec!["report", s(&cyl), "--recipe", s(&recipe), "-o", s(out)];
             args.extend(extra);
-            let o = smartmesh(&args);
+            let o = run(&args);
             assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
         }
         assert_eq!(
@@ -481,7 +457,7 @@ fn json_summary_lists_the_zooms_and_the_figures() {
     let dir = tempfile::tempdir().unwrap();
     let cyl = cylinder_with_metric(dir.path());
     let out = dir.path().join("c.svg");
-    let o = smartmesh(&[
+    let o = run(&[
         "report",
         s(&cyl),
         "--recipe",
@@ -522,11 +498,11 @@ fn json_summary_lists_the_zooms_and_the_figures() {
 
 #[test]
 fn stdout_takes_the_kind_from_to() {
-    let o = smartmesh(&["report", s(&fixture("cylinder.msh")), "--to", "svg", "-o", "-"]);
+    let o = run(&["report", s(&fixture("cylinder.msh")), "--to", "svg", "-o", "-"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let text = String::from_utf8(o.stdout).unwrap();
     assert!(roxmltree::Document::parse(&text).is_ok());
-    let o = smartmesh(&["report", s(&fixture("cylinder.msh")), "-o", "-"]);
+    let o = run(&["report", s(&fixture("cylinder.msh")), "-o", "-"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--to svg or --to png"), "{}", stderr(&o));
 }
@@ -535,7 +511,7 @@ fn stdout_takes_the_kind_from_to() {
 fn without_a_metric_the_mesh_is_drawn_and_the_report_says_so() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("m.svg");
-    let o = smartmesh(&["report", s(&fixture("cylinder.msh")), "-o", s(&out)]);
+    let o = run(&["report", s(&fixture("cylinder.msh")), "-o", s(&out)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("no metric"), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
@@ -544,7 +520,7 @@ fn without_a_metric_the_mesh_is_drawn_and_the_report_says_so() {
 }
 
 fn assert_refused(args: &[&str], out: &Path, expected: &[&str]) {
-    let o = smartmesh(args);
+    let o = run(args);
     assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
     let err = stderr(&o);
     for e in expected {
@@ -607,7 +583,7 @@ fn bad_metrics_and_histories_exit_two_with_a_clear_message() {
         &["vertex 7", "not positive definite"],
     );
     // The file's own bad array is only a warning for info, which still prints the rest.
-    let o = smartmesh(&["info", s(&neg)]);
+    let o = run(&["info", s(&neg)]);
     assert_eq!(o.status.code(), Some(0));
     assert!(
         stderr(&o).contains("warning: no metric figures") && stderr(&o).contains("vertex 7"),
@@ -680,7 +656,7 @@ fn u_duct_with_metric(dir: &Path) -> (PathBuf, PathBuf) {
     let ex = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/u-duct");
     let out = dir.join("u.vtu");
     let recipe = ex.join("recipe.cfg");
-    let o = smartmesh(&["size", s(&ex.join("start.msh")), "--recipe", s(&recipe), "-o", s(&out)]);
+    let o = run(&["size", s(&ex.join("start.msh")), "--recipe", s(&recipe), "-o", s(&out)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     (out, recipe)
 }

@@ -5,8 +5,7 @@
 //! cylinder, wake behind it, coarse far away). Interop parts skip when the tools are
 //! missing, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -24,7 +24,8 @@ use smartmesh::{MeshGraph, SizeBounds, SizeTensor, Topology};
 // ---------------------------------------------------------------------------------
 // Meshes
 
-use smartmesh_test_support::{Generator, SplitMix64 as Rng};
+use smartmesh_test_support::grid::{split_quads, triangles_crossed_by, JitteredGrid};
+use smartmesh_test_support::SplitMix64 as Rng;
 
 /// A mesh made here, with its topology and graph.
 struct Model {
@@ -92,25 +93,6 @@ impl Model {
     }
 }
 
-/// Splits the quads of an `nx × ny` array of points (index `j * nx + i`) along random
-/// diagonals; `wrap` joins the last column to the first.
-fn triangulate(nx: usize, ny: usize, wrap: bool, rng: &mut Rng) -> Vec<[usize; 3]> {
-    let cols = if wrap { nx } else { nx - 1 };
-    let mut tris = Vec::new();
-    for j in 0..ny - 1 {
-        for i in 0..cols {
-            let i1 = (i + 1) % nx;
-            let (a, b, c, d) = (j * nx + i, j * nx + i1, (j + 1) * nx + i1, (j + 1) * nx + i);
-            if rng.next_u64() & 1 == 0 {
-                tris.extend([[a, b, c], [a, c, d]]);
-            } else {
-                tris.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
-    tris
-}
-
 /// A jittered grid of `nx × ny` vertices, spacing `h`, from the origin. Boundary lines:
 /// bottom 11 (left to right), right 12, top 13, left 14. Faces: 1 left of `x_split`,
 /// 2 right of it. Point 20 at vertex `point`.
@@ -123,21 +105,8 @@ fn grid(
     x_split: f64,
     point: (usize, usize),
 ) -> Model {
-    let mut rng = Rng(seed);
-    let mut coords = Vec::new();
-    for j in 0..ny {
-        for i in 0..nx {
-            let mut p = [i as f64 * h, j as f64 * h];
-            if i > 0 && i + 1 < nx {
-                p[0] += (2.0 * rng.unit() - 1.0) * jitter * h;
-            }
-            if j > 0 && j + 1 < ny {
-                p[1] += (2.0 * rng.unit() - 1.0) * jitter * h;
-            }
-            coords.push(p);
-        }
-    }
-    let tris = triangulate(nx, ny, false, &mut rng);
+    let JitteredGrid { coords, triangles: tris, .. } =
+        JitteredGrid::new(nx, ny, [0.0, 0.0], h, jitter, seed);
     let v = |i: usize, j: usize| j * nx + i;
     let lines = [
         (11, (0..nx).map(|i| v(i, 0)).collect(), false),
@@ -167,7 +136,7 @@ fn o_mesh(n: usize, layers: usize, dr: f64, border: impl Fn(f64) -> Point2, seed
             coords.push(if j == 0 { b } else { [b[0] * s, b[1] * s] });
         }
     }
-    let tris = triangulate(n, layers, true, &mut Rng(seed));
+    let tris = split_quads(n, layers, true, &mut Rng(seed));
     Model::new(coords, tris, |_| 1, &[(1, (0..n).collect(), true)], &[])
 }
 
@@ -628,7 +597,7 @@ fn curvature_at_corners_of_a_square_with_a_rounded_side() {
             coords.push([x, top(x) * j as f64 / (ny - 1) as f64]);
         }
     }
-    let tris = triangulate(nx, ny, false, &mut Rng(7));
+    let tris = split_quads(nx, ny, false, &mut Rng(7));
     let v = |i: usize, j: usize| j * nx + i;
     let bottom: Vec<usize> = (0..nx).map(|i| v(i, 0)).collect();
     let right: Vec<usize> = (0..ny).map(|j| v(nx - 1, j)).collect();
@@ -805,7 +774,7 @@ fn two_borders_in_a_wedge() {
             coords.push(if j == 0 { [r, 0.0] } else { [r * th.cos(), r * th.sin()] });
         }
     }
-    let tris = triangulate(nr, nt, false, &mut Rng(9));
+    let tris = split_quads(nr, nt, false, &mut Rng(9));
     let wall1: Vec<usize> = (0..nr).collect();
     let wall2: Vec<usize> = (0..nr).map(|i| (nt - 1) * nr + i).collect();
     let m = Model::new(
@@ -950,32 +919,17 @@ fn coarse_mesh_wake_marks_every_crossed_triangle() {
     });
     let f = run(&m, &plan(Some(1.0), vec![("wake", alg)]));
     // Oracle: triangles containing a point of the wake sampled every 1e-3.
-    let inside = |t: &[usize; 3], p: Point2| {
-        let c =
-            |a: Point2, b: Point2| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-        let [a, b, cc] = t.map(|v| m.coords[v]);
-        let (s1, s2, s3) = (c(a, b), c(b, cc), c(cc, a));
-        (s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0) || (s1 <= 0.0 && s2 <= 0.0 && s3 <= 0.0)
-    };
-    let mut crossed = 0;
-    for t in &m.triangles {
-        let hit = wake.windows(2).any(|w| {
-            (0..=1000).any(|k| {
-                let s = k as f64 / 1000.0;
-                inside(t, [w[0][0] + s * (w[1][0] - w[0][0]), w[0][1] + s * (w[1][1] - w[0][1])])
-            })
-        });
-        if hit {
-            crossed += 1;
-            for &v in t {
-                assert!(
-                    f.reached[v] && f.tensors[v].h_max() < 1.0,
-                    "vertex {v} of a crossed triangle keeps the default size: {:?}",
-                    f.tensors[v]
-                );
-            }
+    let crossed = triangles_crossed_by(&m.coords, &m.triangles, &wake);
+    for &t in &crossed {
+        for &v in &m.triangles[t] {
+            assert!(
+                f.reached[v] && f.tensors[v].h_max() < 1.0,
+                "vertex {v} of a crossed triangle keeps the default size: {:?}",
+                f.tensors[v]
+            );
         }
     }
+    let crossed = crossed.len();
     assert!(crossed >= 8, "crossed {crossed}");
     assert!(f.default_size == 1.0 && f.reached.iter().filter(|r| **r).count() < m.coords.len());
 }

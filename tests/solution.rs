@@ -179,8 +179,7 @@ fn size_field_writes_a_metric_of_the_asked_complexity_and_refuses_bad_solutions(
     assert!(e.contains("nan.vtu") && e.contains("value 7 of `u` is not a finite number"), "{e}");
 }
 
-#[path = "../formats/tests/common/mod.rs"]
-mod common;
+use smartmesh_test_support::formats as common;
 
 /// A solver for the loop: u = tanh(30 (x − 0.5 − 0.15 sin 2πy)) on the mesh it is given,
 /// or, from iteration `AT` on (the K of `mesh-K.vtu`), the failure `MODE` asks for.

@@ -4,7 +4,7 @@
 //! regroup cells by tag), tags, names and fields where the format holds them; and
 //! what a format cannot hold must appear in the write report.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
 

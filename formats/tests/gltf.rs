@@ -2,7 +2,7 @@
 //! colours against the input), .glb and .gltf carrying the same data, the container's
 //! layout, colour fields, the report, and the Khronos validator on our files.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::path::PathBuf;
 use std::process::Command;

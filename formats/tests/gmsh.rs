@@ -1,7 +1,7 @@
 //! Gmsh MSH reader and writer: the public fixtures written by Gmsh 4.15.2, round trips
 //! in the four encodings, properties on random meshes, and malformed inputs.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
 

@@ -6,7 +6,7 @@
 //! node count and the same element count of each type. Every file smartmesh writes is
 //! read by meshio as a whole, and saved again by Gmsh without losing an element.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use smartmesh_formats::{
     gmsh, sym2_to_tensor9, CellBlock, CellKind, DataArray, GmshVersion, TaggedMesh, WriteOptions,
@@ -184,15 +184,11 @@ fn meshio_reads_what_smartmesh_writes() {
     }
 }
 
-/// For each file: the cells meshio reads (or its error), and the elements of each type
-/// Gmsh reads before and after saving the file again in its version.
-const READ_AND_RESAVE: &str = include_str!("common/read_and_resave.py");
-
 /// Asserts that meshio reads all `cells` of each file and that Gmsh keeps every element
 /// when it saves the file again.
 fn assert_read_and_resaved(py: &str, files: &[(String, usize)]) {
     let paths: Vec<String> = files.iter().map(|(p, _)| p.clone()).collect();
-    for ((path, cells), s) in files.iter().zip(summaries(py, READ_AND_RESAVE, &paths)) {
+    for ((path, cells), s) in files.iter().zip(summaries(py, common::READ_AND_RESAVE, &paths)) {
         assert_eq!(s["meshio"], *cells, "{path}: meshio");
         let total: u64 = s["before"].as_object().unwrap().values().filter_map(|v| v.as_u64()).sum();
         assert_eq!(total as usize, *cells, "{path}: Gmsh reads {}", s["before"]);

@@ -1,7 +1,7 @@
 //! Medit .mesh/.meshb with .sol/.solb: MMG's files, round trips, every binary version
 //! and byte order, property tests and malformed input.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
 

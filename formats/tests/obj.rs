@@ -1,7 +1,7 @@
 //! Wavefront OBJ: the public fixtures with their counts per group, write → read
 //! identity, property tests, malformed inputs, and meshio / tobj reading what we write.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
 

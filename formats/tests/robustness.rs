@@ -3,7 +3,7 @@
 //! positioned `Err` — never panic, abort or allocate without bound. A deterministic
 //! complement to the cargo-fuzz targets in `fuzz/`, cheap enough for every test run.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 

@@ -1,7 +1,7 @@
 //! Triangle's .node/.ele/.poly/.edge/.area: the public sample set, round trips, property
 //! tests and malformed input.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
 

@@ -5,7 +5,7 @@
 //! `SMARTMESH_REQUIRE_INTEROP=1` (CI), where it fails. Install with
 //! `pip install triangle mmgpy meshio`.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeSet;
 use std::path::Path;

@@ -1,7 +1,7 @@
 //! VTK legacy and XML: the public fixtures, round trips in every variant, property
 //! tests and malformed inputs.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
 

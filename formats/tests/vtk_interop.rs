@@ -2,7 +2,7 @@
 //! we read every encoding VTK's own writers produce. Skips when Python lacks `vtk`
 //! (`pip install vtk meshio`), unless `SMARTMESH_REQUIRE_INTEROP=1`.
 
-mod common;
+use smartmesh_test_support::formats as common;
 
 use smartmesh_formats::{
     read_bytes, write_bytes, CellBlock, CellKind, DataArray, Format, ReadContext, TaggedMesh,

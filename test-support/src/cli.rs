@@ -27,9 +27,24 @@ pub fn command(bin: &str, args: &[&str]) -> Command {
 }
 
 /// The path of a bundled fixture of the workspace (`fixtures/NAME`).
-pub fn bundled(name: &str) -> String {
+pub fn fixture(name: &str) -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("the workspace root");
-    root.join("fixtures").join(name).display().to_string()
+    root.join("fixtures").join(name)
+}
+
+/// [`fixture`] as a string, for a command's arguments.
+pub fn bundled(name: &str) -> String {
+    fixture(name).display().to_string()
+}
+
+/// stdout, lossily decoded.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// stderr, lossily decoded.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// Asserts exit status 0 and returns stdout.
@@ -66,18 +81,41 @@ pub fn streams(o: &Output) -> String {
     )
 }
 
+/// Whether the interop tools must be there (CI sets `SMARTMESH_REQUIRE_INTEROP=1`).
+pub fn interop_required() -> bool {
+    std::env::var("SMARTMESH_REQUIRE_INTEROP").as_deref() == Ok("1")
+}
+
+/// The executable `name` found on `PATH`, if any, saying nothing (for engines a test may
+/// well not find, and says so itself).
+pub fn program_quiet(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&path)
+        .filter(|d| !d.as_os_str().is_empty())
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+}
+
+/// Whether the C preprocessor runs (a recipe with `#define` needs it, as the thesis'
+/// appendix A.1.6). Where it does not, the test skips, saying so for `what`; on CI (`CI`
+/// set) a missing `cpp` fails it instead.
+pub fn cpp_or_skip(what: &str) -> bool {
+    let ok = Command::new("cpp").arg("--version").output().is_ok_and(|o| o.status.success());
+    assert!(ok || std::env::var_os("CI").is_none(), "CI must have cpp for {what}");
+    if !ok {
+        eprintln!("skipped: no cpp on this machine for {what}");
+    }
+    ok
+}
+
 /// The executable `name` found on `PATH`, or `None` after saying on stderr that the test
 /// skips; with `SMARTMESH_REQUIRE_INTEROP=1` (CI) a missing program fails the test
 /// instead. A Python module being importable is not enough: the command a test runs is
 /// looked up on `PATH`.
 pub fn program(name: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH").unwrap_or_default();
-    let found = std::env::split_paths(&path)
-        .filter(|d| !d.as_os_str().is_empty())
-        .map(|d| d.join(name))
-        .find(|p| p.is_file());
+    let found = program_quiet(name);
     if found.is_none() {
-        if std::env::var("SMARTMESH_REQUIRE_INTEROP").as_deref() == Ok("1") {
+        if interop_required() {
             panic!("`{name}` is needed on PATH (SMARTMESH_REQUIRE_INTEROP=1)");
         }
         eprintln!("skipping: `{name}` is not on PATH");

@@ -1,15 +1,20 @@
 //! What the tests and benchmarks of both smartmesh crates share: small seedable generators
 //! whose sequences never change, so that a random case found once is the same case on every
-//! machine and in every later run.
+//! machine and in every later run; the structured meshes built on them ([`grid`]); the
+//! command-line helpers ([`cli`]); the public fixtures, round trips and interop programs of
+//! the format tests ([`formats`]).
 //!
 //! Hand-written rather than `rand`: the tests pin exact sequences (a failing case is
 //! reported by its seed), and a dependency's generator may change its stream between
-//! versions. The CLI helpers ([`cli`]) take the binary as an argument: only the
-//! integration tests of the `smartmesh` package can name it.
+//! versions. The CLI helpers take the binary as an argument: only the integration tests of
+//! the `smartmesh` package can name it. This crate depends on `smartmesh-formats` alone
+//! (never on `smartmesh`, whose unit tests use it).
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod cli;
+pub mod formats;
+pub mod grid;
 
 /// What a seedable test generator offers; each generator gives [`Generator::next_u64`].
 pub trait Generator {

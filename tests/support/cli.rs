@@ -4,7 +4,9 @@
 use std::process::{Command, Output};
 
 #[allow(unused_imports)] // each test file uses some of them
-pub use smartmesh_test_support::cli::{bad, bundled, ok, program, streams};
+pub use smartmesh_test_support::cli::{
+    bad, bundled, cpp_or_skip, fixture, ok, program, program_quiet, stderr, stdout, streams,
+};
 
 /// The binary under test.
 const BIN: &str = env!("CARGO_BIN_EXE_smartmesh");
@@ -15,19 +17,14 @@ pub fn smartmesh(args: &[&str], threads: Option<&str>) -> Output {
     smartmesh_test_support::cli::run(BIN, args, threads)
 }
 
+/// Runs `smartmesh ARGS` with the default thread count.
+#[allow(dead_code)]
+pub fn run(args: &[&str]) -> Output {
+    smartmesh(args, None)
+}
+
 /// A `smartmesh` command to finish by hand (environment, stdin, spawn).
 #[allow(dead_code)]
 pub fn command(args: &[&str]) -> Command {
     smartmesh_test_support::cli::command(BIN, args)
-}
-
-/// The executable `name` found on `PATH`, if any (no message: for engines a test may
-/// well not find, and says so itself).
-#[allow(dead_code)]
-pub fn program_quiet(name: &str) -> Option<std::path::PathBuf> {
-    let path = std::env::var_os("PATH").unwrap_or_default();
-    std::env::split_paths(&path)
-        .filter(|d| !d.as_os_str().is_empty())
-        .map(|d| d.join(name))
-        .find(|p| p.is_file())
 }

@@ -18,17 +18,8 @@ pub fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")
 }
 
-fn has_cpp() -> bool {
-    std::process::Command::new("cpp").arg("--version").output().is_ok_and(|o| o.status.success())
-}
-
-/// The distributor's recipe has a `#define` (as the thesis' appendix A.1.6): it needs
-/// cpp. On CI a missing cpp is a failure, elsewhere the distributor is skipped.
+/// The distributor's recipe has a `#define`: it needs cpp. On CI a missing cpp is a
+/// failure, elsewhere the distributor is skipped.
 pub fn cpp_or_skip() -> bool {
-    if has_cpp() {
-        return true;
-    }
-    assert!(std::env::var_os("CI").is_none(), "CI must have cpp to read the distributor's recipe");
-    eprintln!("skipped: no cpp on this machine for examples/distributor/recipe.cfg");
-    false
+    smartmesh_test_support::cli::cpp_or_skip("examples/distributor/recipe.cfg")
 }

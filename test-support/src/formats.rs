@@ -1,5 +1,6 @@
-//! Helpers shared by the integration tests of the formats crate.
-#![allow(dead_code)]
+//! What the format tests of both crates share: the public sample meshes written by other
+//! tools, a round trip through memory, the Python interpreter and programs of the interop
+//! tests, and the usual fingerprint of a tagged mesh.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -14,14 +15,8 @@ pub fn public_fixtures() -> PathBuf {
     if let Ok(p) = std::env::var("SMARTMESH_PUBLIC_FIXTURES") {
         return PathBuf::from(p);
     }
-    // This module is shared by the formats crate's tests (one level below the repository)
-    // and the root crate's: `shared/` sits beside the repository in both cases.
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
-    ["../shared/fixtures/public", "../../shared/fixtures/public"]
-        .iter()
-        .map(|rel| manifest.join(rel))
-        .find(|p| p.is_dir())
-        .unwrap_or_else(|| manifest.join("../shared/fixtures/public"))
+    // `shared/` sits beside the repository, and this crate one level below it.
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/public")
 }
 
 /// One public fixture by relative path (`gmsh/naca0012.v41_ascii.msh`).
@@ -52,10 +47,12 @@ pub fn roundtrip(
     (written, back)
 }
 
-/// Whether the interop tools must be there (CI sets `SMARTMESH_REQUIRE_INTEROP=1`).
-pub fn interop_required() -> bool {
-    std::env::var("SMARTMESH_REQUIRE_INTEROP").map(|v| v == "1").unwrap_or(false)
-}
+pub use crate::cli::interop_required;
+
+/// The script that reads each `.msh` named on its command line with meshio and with Gmsh,
+/// saves it again with Gmsh and reads that back; it prints the counts as one JSON list
+/// (`python3 -c SCRIPT FILE…`).
+pub const READ_AND_RESAVE: &str = include_str!("read_and_resave.py");
 
 /// The Python interpreter for interop tests (`$SMARTMESH_PYTHON` or `python3`) if it
 /// can import every module in `modules`; `None` (the test then skips, saying so)
