@@ -15,6 +15,7 @@
 //! The files are also left in `target/bench-meshes/` so that `benches/compare_meshio.py`
 //! times meshio on the very same bytes in the same session (see BENCHMARKS.md).
 
+use smartmesh_formats::{GmshWrite, MeditWrite, VtkWrite};
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -86,69 +87,115 @@ fn cases() -> Vec<Case> {
             name: "gmsh41_ascii",
             format: Format::Gmsh,
             ext: "msh",
-            opts: WriteOptions { gmsh_version: GmshVersion::V41, ..o() },
+            opts: WriteOptions {
+                gmsh: GmshWrite { version: GmshVersion::V41, ..Default::default() },
+                ..o()
+            },
         },
         Case {
             name: "gmsh41_binary",
             format: Format::Gmsh,
             ext: "msh",
-            opts: WriteOptions { gmsh_version: GmshVersion::V41, binary: true, ..o() },
+            opts: WriteOptions {
+                gmsh: GmshWrite { version: GmshVersion::V41, binary: true },
+                ..o()
+            },
         },
         Case {
             name: "gmsh22_ascii",
             format: Format::Gmsh,
             ext: "msh",
-            opts: WriteOptions { gmsh_version: GmshVersion::V22, ..o() },
+            opts: WriteOptions {
+                gmsh: GmshWrite { version: GmshVersion::V22, ..Default::default() },
+                ..o()
+            },
         },
         Case {
             name: "gmsh22_binary",
             format: Format::Gmsh,
             ext: "msh",
-            opts: WriteOptions { gmsh_version: GmshVersion::V22, binary: true, ..o() },
+            opts: WriteOptions {
+                gmsh: GmshWrite { version: GmshVersion::V22, binary: true },
+                ..o()
+            },
         },
         Case {
             name: "vtu_zlib",
             format: Format::Vtu,
             ext: "vtu",
-            opts: WriteOptions { vtu_encoding: VtuEncoding::Binary, compress: true, ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite {
+                    vtu_encoding: VtuEncoding::Binary,
+                    compress: true,
+                    ..Default::default()
+                },
+                ..o()
+            },
         },
         Case {
             name: "vtu_appended_raw",
             format: Format::Vtu,
             ext: "vtu",
-            opts: WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: false, ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite {
+                    vtu_encoding: VtuEncoding::Appended,
+                    compress: false,
+                    ..Default::default()
+                },
+                ..o()
+            },
         },
         Case {
             name: "vtu_ascii",
             format: Format::Vtu,
             ext: "vtu",
-            opts: WriteOptions { vtu_encoding: VtuEncoding::Ascii, compress: false, ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite {
+                    vtu_encoding: VtuEncoding::Ascii,
+                    compress: false,
+                    ..Default::default()
+                },
+                ..o()
+            },
         },
         Case { name: "vtk42_ascii", format: Format::VtkLegacy, ext: "vtk", opts: o() },
         Case {
             name: "vtk42_binary",
             format: Format::VtkLegacy,
             ext: "vtk",
-            opts: WriteOptions { binary: true, ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite { legacy_binary: true, ..Default::default() },
+                ..o()
+            },
         },
         Case {
             name: "vtk51_ascii",
             format: Format::VtkLegacy,
             ext: "vtk",
-            opts: WriteOptions { vtk_legacy_version: (5, 1), ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite { legacy_version: (5, 1), ..Default::default() },
+                ..o()
+            },
         },
         Case {
             name: "vtk51_binary",
             format: Format::VtkLegacy,
             ext: "vtk",
-            opts: WriteOptions { vtk_legacy_version: (5, 1), binary: true, ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite { legacy_version: (5, 1), legacy_binary: true, ..Default::default() },
+                ..o()
+            },
         },
         Case { name: "medit_ascii", format: Format::Medit, ext: "mesh", opts: o() },
         Case {
             name: "medit_binary",
             format: Format::Medit,
             ext: "meshb",
-            opts: WriteOptions { medit_binary: true, main_name: Some("big.meshb".into()), ..o() },
+            opts: WriteOptions {
+                medit: MeditWrite { binary: true },
+                main_name: Some("big.meshb".into()),
+                ..o()
+            },
         },
         Case {
             name: "triangle",

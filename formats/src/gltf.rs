@@ -24,7 +24,7 @@
 //!   mesh's `extras`. A coloured mesh uses an unlit material so that viewers show the
 //!   colour map as it is; otherwise a grey, non-metallic, double-sided PBR material.
 //!
-//! Output: `.glb` when [`WriteOptions::glb`] is set or `main_name` ends in `.glb`;
+//! Output: `.glb` when [`GltfWrite::glb`] is set or `main_name` ends in `.glb`;
 //! otherwise `.gltf` JSON with a `bin` sibling named after `main_name` (its stem +
 //! `.bin`, percent-encoded in the URI), or, with no `main_name` (stdout), the buffer
 //! embedded as a base64 data URI so that one file suffices.
@@ -125,7 +125,7 @@ fn colour_field<'a>(
         2 | 3 => Some(Quantity::Magnitude),
         _ => None,
     };
-    match &opts.color_field {
+    match &opts.gltf.color_field {
         Some(name) => {
             let cannot =
                 |reason: String| Error::new(ErrorKind::CannotWrite { format: "glTF", reason });
@@ -219,6 +219,15 @@ fn cannot(reason: impl Into<String>) -> Error {
 /// glTF is written only; its writer leaves validation to `write_bytes`.
 pub(crate) const CHECKS: crate::Checks = crate::Checks::NONE;
 
+/// How to write glTF (the `gltf` group of [`WriteOptions`]).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct GltfWrite {
+    /// The point field whose values colour the vertices (the first scalar if unset).
+    pub color_field: Option<String>,
+    /// One `.glb` rather than `.gltf` + `.bin` (also chosen by a main name in `.glb`).
+    pub glb: bool,
+}
+
 /// Writes a mesh.
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut report = WriteReport::default();
@@ -251,7 +260,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     // The JSON document.
     use json::accessor::{ComponentType, Type};
     use json::buffer::Target;
-    let glb = opts.glb
+    let glb = opts.gltf.glb
         || opts.main_name.as_deref().is_some_and(|m| m.to_ascii_lowercase().ends_with(".glb"));
     let mut root = json::Root {
         asset: json::Asset {
@@ -610,7 +619,7 @@ fn push_colours(
         if field.map(|f| f.0) != Some(name.as_str()) {
             let why = match field {
                 Some((f, _, _)) => format!("the vertices are coloured by `{f}` alone"),
-                None if opts.color_field.is_none() => "glTF holds no fields, and only a scalar colours the vertices unless --color-field names another".to_string(),
+                None if opts.gltf.color_field.is_none() => "glTF holds no fields, and only a scalar colours the vertices unless --color-field names another".to_string(),
                 None => "glTF holds no fields".to_string(),
             };
             report.drop(format!(

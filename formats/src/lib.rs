@@ -5,7 +5,8 @@
 //!   tag names, Gmsh entities, named point and cell data (scalars, vectors, tensors);
 //! - one module per format, each with the same two entry points
 //!   `read(&[u8], &ReadContext) -> Result<TaggedMesh>` and
-//!   `write(&TaggedMesh, &WriteOptions) -> Result<Written>`:
+//!   `write(&TaggedMesh, &WriteOptions) -> Result<Written>`, the writer reading its own
+//!   group of [`WriteOptions`]:
 //!   [`triangle`] (.node/.ele/.poly/.edge/.area), [`gmsh`] (MSH 2.2 and 4.1, ASCII and
 //!   binary), [`vtk`] (legacy .vtk 4.2/5.1 and XML .vtu), [`obj`], [`medit`]
 //!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only);
@@ -39,15 +40,19 @@ pub mod vtk;
 pub mod arbitrary;
 
 pub use error::{Error, ErrorKind, Position, Result};
+pub use gltf::GltfWrite;
+pub use gmsh::{GmshVersion, GmshWrite};
 pub use io::{
     read_bytes, read_bytes_reported, read_path, read_path_reported, write_bytes, write_path,
     MemorySiblings, NoSiblings, PathSiblings, SiblingSource,
 };
+pub use medit::MeditWrite;
 pub use mesh::{
     sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout,
     MeshProblem, NodeIndex, RegionSeed, TaggedMesh, MAX_POINTS,
 };
 pub use output::write_all_atomically;
+pub use vtk::{VtkWrite, VtuEncoding};
 
 use std::path::Path;
 
@@ -179,68 +184,23 @@ impl Format {
     }
 }
 
-/// Gmsh MSH file format version to write.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum GmshVersion {
-    /// MSH 2.2 (physical and elementary tags on each element).
-    V22,
-    /// MSH 4.1 (entities, the current default of Gmsh).
-    #[default]
-    V41,
-}
-
-/// VTK XML data encoding.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum VtuEncoding {
-    /// Numbers as text.
-    Ascii,
-    /// base64 inline binary.
-    #[default]
-    Binary,
-    /// Raw appended data after the XML.
-    Appended,
-}
-
-/// Options for writers; each writer reads the ones that concern it.
-#[derive(Debug, Clone)]
+/// How to write, grouped by the format each knob concerns: a writer reads its own
+/// group, and [`WriteOptions::main_name`], which [`write_path`] sets. A new format with
+/// options adds one group here and its type in its module.
+#[derive(Debug, Clone, Default)]
 pub struct WriteOptions {
-    /// Binary rather than ASCII, where the format has both (Gmsh, VTK legacy, Medit
-    /// is chosen by extension instead: `.meshb`).
-    pub binary: bool,
-    /// Gmsh version.
-    pub gmsh_version: GmshVersion,
-    /// VTK legacy file version: `(4, 2)` or `(5, 1)`.
-    pub vtk_legacy_version: (u8, u8),
-    /// VTK XML encoding.
-    pub vtu_encoding: VtuEncoding,
-    /// zlib compression of VTK XML binary and appended data.
-    pub compress: bool,
-    /// Write `.meshb`/`.solb` (Medit binary) instead of ASCII, and `.glb` instead of
-    /// `.gltf` + `.bin`.
-    pub medit_binary: bool,
-    /// glTF: the point field whose values colour the vertices (first scalar if unset).
-    pub color_field: Option<String>,
-    /// glTF: write one `.glb` instead of `.gltf` + `.bin`.
-    pub glb: bool,
+    /// Gmsh MSH: version and encoding.
+    pub gmsh: GmshWrite,
+    /// VTK: legacy version and encoding, XML encoding and compression.
+    pub vtk: VtkWrite,
+    /// Medit: binary when the file name does not tell.
+    pub medit: MeditWrite,
+    /// glTF: the colouring field, `.glb` or `.gltf` + `.bin`.
+    pub gltf: GltfWrite,
     /// File name (no directory) of the main output, for formats whose main file names
-    /// its siblings (glTF's `.bin` URI). `None` when writing to stdout.
+    /// its siblings (glTF's `.bin` URI) or whose extension chooses what is written
+    /// (Triangle's files, Medit's encoding, `.glb`). `None` when writing to stdout.
     pub main_name: Option<String>,
-}
-
-impl Default for WriteOptions {
-    fn default() -> Self {
-        WriteOptions {
-            binary: false,
-            gmsh_version: GmshVersion::V41,
-            vtk_legacy_version: (4, 2),
-            vtu_encoding: VtuEncoding::Binary,
-            compress: true,
-            medit_binary: false,
-            color_field: None,
-            glb: false,
-            main_name: None,
-        }
-    }
 }
 
 /// What a reader may consult besides the main file's bytes.

@@ -4,6 +4,7 @@
 //! regroup cells by tag), tags, names and fields where the format holds them; and
 //! what a format cannot hold must appear in the write report.
 
+use smartmesh_formats::{GmshWrite, MeditWrite, VtkWrite};
 use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
@@ -87,14 +88,20 @@ fn targets() -> Vec<Target> {
             name: "gmsh 2.2 ascii",
             format: Format::Gmsh,
             ext: "msh",
-            opts: WriteOptions { gmsh_version: GmshVersion::V22, ..o() },
+            opts: WriteOptions {
+                gmsh: GmshWrite { version: GmshVersion::V22, ..Default::default() },
+                ..o()
+            },
             caps: full,
         },
         Target {
             name: "gmsh 2.2 binary",
             format: Format::Gmsh,
             ext: "msh",
-            opts: WriteOptions { gmsh_version: GmshVersion::V22, binary: true, ..o() },
+            opts: WriteOptions {
+                gmsh: GmshWrite { version: GmshVersion::V22, binary: true },
+                ..o()
+            },
             caps: full,
         },
         Target { name: "gmsh 4.1 ascii", format: Format::Gmsh, ext: "msh", opts: o(), caps: full },
@@ -102,7 +109,7 @@ fn targets() -> Vec<Target> {
             name: "gmsh 4.1 binary",
             format: Format::Gmsh,
             ext: "msh",
-            opts: WriteOptions { binary: true, ..o() },
+            opts: WriteOptions { gmsh: GmshWrite { binary: true, ..Default::default() }, ..o() },
             caps: full,
         },
         Target {
@@ -116,35 +123,47 @@ fn targets() -> Vec<Target> {
             name: "vtk 4.2 binary",
             format: Format::VtkLegacy,
             ext: "vtk",
-            opts: WriteOptions { binary: true, ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite { legacy_binary: true, ..Default::default() },
+                ..o()
+            },
             caps: vtk,
         },
         Target {
             name: "vtk 5.1 ascii",
             format: Format::VtkLegacy,
             ext: "vtk",
-            opts: WriteOptions { vtk_legacy_version: (5, 1), ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite { legacy_version: (5, 1), ..Default::default() },
+                ..o()
+            },
             caps: vtk,
         },
         Target {
             name: "vtk 5.1 binary",
             format: Format::VtkLegacy,
             ext: "vtk",
-            opts: WriteOptions { vtk_legacy_version: (5, 1), binary: true, ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite { legacy_version: (5, 1), legacy_binary: true, ..Default::default() },
+                ..o()
+            },
             caps: vtk,
         },
         Target {
             name: "vtu ascii",
             format: Format::Vtu,
             ext: "vtu",
-            opts: WriteOptions { vtu_encoding: VtuEncoding::Ascii, ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite { vtu_encoding: VtuEncoding::Ascii, ..Default::default() },
+                ..o()
+            },
             caps: vtk,
         },
         Target {
             name: "vtu binary",
             format: Format::Vtu,
             ext: "vtu",
-            opts: WriteOptions { compress: false, ..o() },
+            opts: WriteOptions { vtk: VtkWrite { compress: false, ..Default::default() }, ..o() },
             caps: vtk,
         },
         Target { name: "vtu zlib", format: Format::Vtu, ext: "vtu", opts: o(), caps: vtk },
@@ -152,7 +171,10 @@ fn targets() -> Vec<Target> {
             name: "vtu appended",
             format: Format::Vtu,
             ext: "vtu",
-            opts: WriteOptions { vtu_encoding: VtuEncoding::Appended, ..o() },
+            opts: WriteOptions {
+                vtk: VtkWrite { vtu_encoding: VtuEncoding::Appended, ..Default::default() },
+                ..o()
+            },
             caps: vtk,
         },
         Target {
@@ -166,7 +188,11 @@ fn targets() -> Vec<Target> {
             name: "medit binary",
             format: Format::Medit,
             ext: "meshb",
-            opts: WriteOptions { medit_binary: true, main_name: Some("x.meshb".into()), ..o() },
+            opts: WriteOptions {
+                medit: MeditWrite { binary: true },
+                main_name: Some("x.meshb".into()),
+                ..o()
+            },
             caps: medit,
         },
         Target { name: "obj", format: Format::Obj, ext: "obj", opts: o(), caps: obj },

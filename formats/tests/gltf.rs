@@ -2,6 +2,7 @@
 //! colours against the input), .glb and .gltf carrying the same data, the container's
 //! layout, colour fields, the report, and the Khronos validator on our files.
 
+use smartmesh_formats::GltfWrite;
 use smartmesh_test_support::formats as common;
 
 use std::path::PathBuf;
@@ -46,8 +47,8 @@ fn metric_at(p: &[f64; 3]) -> [f64; 9] {
 
 fn opts(main: Option<&str>, field: Option<&str>) -> WriteOptions {
     WriteOptions {
+        gltf: GltfWrite { color_field: field.map(str::to_string), ..Default::default() },
         main_name: main.map(str::to_string),
-        color_field: field.map(str::to_string),
         ..Default::default()
     }
 }
@@ -258,8 +259,9 @@ fn glb_and_gltf_carry_the_same_data() {
     let m = fixture_mesh();
     let gltf_file = write(&m, &opts(Some("mesh.gltf"), Some("metric")));
     let glb_file = write(&m, &opts(Some("mesh.glb"), Some("metric")));
-    let glb_flag =
-        write(&m, &WriteOptions { glb: true, ..opts(Some("mesh.gltf"), Some("metric")) });
+    let mut glb_opts = opts(Some("mesh.gltf"), Some("metric"));
+    glb_opts.gltf.glb = true;
+    let glb_flag = write(&m, &glb_opts);
     let stdout = write(&m, &opts(None, Some("metric")));
     assert!(glb_file.siblings.is_empty() && stdout.siblings.is_empty());
     assert_eq!(glb_file.main[..4], *b"glTF");
@@ -455,7 +457,7 @@ proptest! {
 
     #[test]
     fn prop_what_we_draw_is_the_mesh(mesh in arb_tagged_mesh(MeshFeatures::ALL), glb in any::<bool>()) {
-        let o = WriteOptions { glb, color_field: Some("metric".into()), ..opts(Some("p.gltf"), None) };
+        let o = WriteOptions { gltf: GltfWrite { glb, color_field: Some("metric".into()) }, ..opts(Some("p.gltf"), None) };
         let w = write(&mesh, &o);
         let d = read_back(&w);
         let pos: Vec<[f32; 3]> = mesh.points.iter().map(|p| [p[0] as f32, p[1] as f32, p[2] as f32]).collect();

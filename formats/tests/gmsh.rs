@@ -1,6 +1,7 @@
 //! Gmsh MSH reader and writer: the public fixtures written by Gmsh 4.15.2, round trips
 //! in the four encodings, properties on random meshes, and malformed inputs.
 
+use smartmesh_formats::GmshWrite;
 use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
@@ -17,7 +18,7 @@ fn read_msh(bytes: &[u8]) -> smartmesh_formats::Result<TaggedMesh> {
 }
 
 fn opts(version: GmshVersion, binary: bool) -> WriteOptions {
-    WriteOptions { gmsh_version: version, binary, ..WriteOptions::default() }
+    WriteOptions { gmsh: GmshWrite { version, binary }, ..WriteOptions::default() }
 }
 
 fn all_options() -> [(GmshVersion, bool); 4] {

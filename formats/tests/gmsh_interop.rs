@@ -6,6 +6,7 @@
 //! node count and the same element count of each type. Every file smartmesh writes is
 //! read by meshio as a whole, and saved again by Gmsh without losing an element.
 
+use smartmesh_formats::GmshWrite;
 use smartmesh_test_support::formats as common;
 
 use smartmesh_formats::{
@@ -87,7 +88,7 @@ fn gmsh_reads_what_smartmesh_writes() {
             for binary in [false, true] {
                 let enc = if binary { "binary" } else { "ascii" };
                 let opts =
-                    WriteOptions { gmsh_version: version, binary, ..WriteOptions::default() };
+                    WriteOptions { gmsh: GmshWrite { version, binary }, ..WriteOptions::default() };
                 let written = gmsh::write(&src, &opts).unwrap();
                 let path = dir.path().join(format!("{model}.{v}_{enc}.msh"));
                 std::fs::write(&path, &written.main).unwrap();
@@ -133,8 +134,10 @@ fn gmsh_keeps_unused_nodes_and_split_entities() {
     m.tag_names.insert((2, 2), "B".into());
     let mut paths = Vec::new();
     for binary in [false, true] {
-        let opts =
-            WriteOptions { gmsh_version: GmshVersion::V41, binary, ..WriteOptions::default() };
+        let opts = WriteOptions {
+            gmsh: GmshWrite { version: GmshVersion::V41, binary },
+            ..WriteOptions::default()
+        };
         let path = dir.path().join(format!("split{binary}.msh"));
         std::fs::write(&path, gmsh::write(&m, &opts).unwrap().main).unwrap();
         paths.push(path.display().to_string());
@@ -157,7 +160,7 @@ fn meshio_reads_what_smartmesh_writes() {
         for version in [GmshVersion::V22, GmshVersion::V41] {
             for binary in [false, true] {
                 let opts =
-                    WriteOptions { gmsh_version: version, binary, ..WriteOptions::default() };
+                    WriteOptions { gmsh: GmshWrite { version, binary }, ..WriteOptions::default() };
                 let path = dir.path().join(format!("{model}_{version:?}_{binary}.msh"));
                 std::fs::write(&path, gmsh::write(&src, &opts).unwrap().main).unwrap();
                 paths.push(path.display().to_string());
@@ -224,7 +227,8 @@ fn meshio_and_gmsh_read_meshes_with_untagged_cells_whole() {
             (GmshVersion::V41, false),
             (GmshVersion::V41, true),
         ] {
-            let opts = WriteOptions { gmsh_version: version, binary, ..WriteOptions::default() };
+            let opts =
+                WriteOptions { gmsh: GmshWrite { version, binary }, ..WriteOptions::default() };
             let path = dir.path().join(format!("{name}_{version:?}_{binary}.msh"));
             std::fs::write(&path, gmsh::write(mesh, &opts).unwrap().main).unwrap();
             files.push((path.display().to_string(), mesh.num_cells()));

@@ -1,6 +1,7 @@
 //! Medit .mesh/.meshb with .sol/.solb: MMG's files, round trips, every binary version
 //! and byte order, property tests and malformed input.
 
+use smartmesh_formats::{GmshWrite, MeditWrite, VtkWrite};
 use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
@@ -177,13 +178,16 @@ fn write_read_identity_ascii_and_binary() {
 
 #[test]
 fn binary_option_without_a_name() {
-    let o = WriteOptions { medit_binary: true, ..Default::default() };
+    let o = WriteOptions { medit: MeditWrite { binary: true }, ..Default::default() };
     let w = write_bytes(Format::Medit, &full_mesh(), &o).unwrap();
     assert_eq!(&w.main[..8], &[1, 0, 0, 0, 2, 0, 0, 0]);
     assert_eq!(w.siblings[0].0, "solb");
     // The extension wins over the option: MMG reads `.mesh` as text.
-    let o =
-        WriteOptions { medit_binary: true, main_name: Some("x.mesh".into()), ..Default::default() };
+    let o = WriteOptions {
+        medit: MeditWrite { binary: true },
+        main_name: Some("x.mesh".into()),
+        ..Default::default()
+    };
     let w = write_bytes(Format::Medit, &full_mesh(), &o).unwrap();
     assert!(w.main.starts_with(b"MeshVersionFormatted 2\n"));
 }
@@ -1030,14 +1034,20 @@ fn packed_metric_through_the_nine_component_formats() {
         (
             Format::Gmsh,
             "msh",
-            WriteOptions { binary: true, ..WriteOptions::default() },
+            WriteOptions {
+                gmsh: GmshWrite { binary: true, ..Default::default() },
+                ..WriteOptions::default()
+            },
             Layout::Plain,
         ),
         (
             Format::Gmsh,
             "msh",
             WriteOptions {
-                gmsh_version: smartmesh_formats::GmshVersion::V22,
+                gmsh: GmshWrite {
+                    version: smartmesh_formats::GmshVersion::V22,
+                    ..Default::default()
+                },
                 ..WriteOptions::default()
             },
             Layout::Plain,
@@ -1047,7 +1057,10 @@ fn packed_metric_through_the_nine_component_formats() {
             Format::Vtu,
             "vtu",
             WriteOptions {
-                vtu_encoding: smartmesh_formats::VtuEncoding::Ascii,
+                vtk: VtkWrite {
+                    vtu_encoding: smartmesh_formats::VtuEncoding::Ascii,
+                    ..Default::default()
+                },
                 ..WriteOptions::default()
             },
             Layout::Symmetric2,
@@ -1055,7 +1068,10 @@ fn packed_metric_through_the_nine_component_formats() {
         (
             Format::VtkLegacy,
             "vtk",
-            WriteOptions { binary: true, ..WriteOptions::default() },
+            WriteOptions {
+                vtk: VtkWrite { legacy_binary: true, ..Default::default() },
+                ..WriteOptions::default()
+            },
             Layout::Symmetric2,
         ),
     ];
@@ -1074,7 +1090,7 @@ fn packed_metric_through_the_nine_component_formats() {
         assert_eq!(full, packed, "{ext}");
         // And back to Medit: packed again, bit for bit.
         let medit = WriteOptions {
-            medit_binary: true,
+            medit: MeditWrite { binary: true },
             main_name: Some("x.meshb".into()),
             ..WriteOptions::default()
         };

@@ -5,6 +5,7 @@
 //! `SMARTMESH_REQUIRE_INTEROP=1` (CI), where it fails. Install with
 //! `pip install triangle mmgpy meshio`.
 
+use smartmesh_formats::GmshWrite;
 use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeSet;
@@ -264,7 +265,10 @@ fn medit_corners_become_a_named_group_of_points_in_msh() {
         (
             "x22.msh",
             WriteOptions {
-                gmsh_version: smartmesh_formats::GmshVersion::V22,
+                gmsh: GmshWrite {
+                    version: smartmesh_formats::GmshVersion::V22,
+                    ..Default::default()
+                },
                 ..Default::default()
             },
         ),

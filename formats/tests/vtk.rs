@@ -1,6 +1,7 @@
 //! VTK legacy and XML: the public fixtures, round trips in every variant, property
 //! tests and malformed inputs.
 
+use smartmesh_formats::VtkWrite;
 use smartmesh_test_support::formats as common;
 
 use std::collections::BTreeMap;
@@ -41,7 +42,14 @@ fn variants() -> Vec<(String, Format, WriteOptions)> {
     let mut v = Vec::new();
     for version in [(4, 2), (5, 1)] {
         for binary in [false, true] {
-            let o = WriteOptions { vtk_legacy_version: version, binary, ..WriteOptions::default() };
+            let o = WriteOptions {
+                vtk: VtkWrite {
+                    legacy_version: version,
+                    legacy_binary: binary,
+                    ..Default::default()
+                },
+                ..WriteOptions::default()
+            };
             v.push((
                 format!(
                     "legacy {}.{} {}",
@@ -59,7 +67,10 @@ fn variants() -> Vec<(String, Format, WriteOptions)> {
             if enc == VtuEncoding::Ascii && compress {
                 continue;
             }
-            let o = WriteOptions { vtu_encoding: enc, compress, ..WriteOptions::default() };
+            let o = WriteOptions {
+                vtk: VtkWrite { vtu_encoding: enc, compress, ..Default::default() },
+                ..WriteOptions::default()
+            };
             v.push((format!("vtu {enc:?}{}", if compress { " zlib" } else { "" }), Format::Vtu, o));
         }
     }
@@ -269,7 +280,14 @@ fn legacy_files_put_the_tensor_where_paraview_looks() {
     let w = write_bytes(
         Format::Vtu,
         &m,
-        &WriteOptions { compress: false, vtu_encoding: VtuEncoding::Ascii, ..Default::default() },
+        &WriteOptions {
+            vtk: VtkWrite {
+                compress: false,
+                vtu_encoding: VtuEncoding::Ascii,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
     )
     .unwrap();
     let text = String::from_utf8(w.main).unwrap();
@@ -470,10 +488,16 @@ fn legacy_truncated_points() {
 #[test]
 fn legacy_truncated_binary() {
     let m = common::read_file("vtk/naca0012_legacy_binary.vtk");
-    let bytes =
-        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
-            .unwrap()
-            .main;
+    let bytes = write_bytes(
+        Format::VtkLegacy,
+        &m,
+        &WriteOptions {
+            vtk: VtkWrite { legacy_binary: true, ..Default::default() },
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .main;
     let e = read(Format::VtkLegacy, &bytes[..bytes.len() / 2]).unwrap_err();
     assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
     assert!(e.to_string().contains("byte"), "{e}");
@@ -496,10 +520,16 @@ fn legacy_cell_list_runs_out() {
     m.points = vec![[0.0; 3]; 3];
     m.blocks.push(smartmesh_formats::CellBlock::new(CellKind::Triangle));
     m.blocks[0].push(&[0, 1, 2], 1, 1);
-    let bytes =
-        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
-            .unwrap()
-            .main;
+    let bytes = write_bytes(
+        Format::VtkLegacy,
+        &m,
+        &WriteOptions {
+            vtk: VtkWrite { legacy_binary: true, ..Default::default() },
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .main;
     let i = memchr::memmem::find(&bytes, b"CELLS 1 4").unwrap();
     let mut bad = bytes.clone();
     bad[i..i + 9].copy_from_slice(b"CELLS 2 4");
@@ -556,10 +586,16 @@ fn legacy_nan_coordinate() {
 fn legacy_nan_in_binary_data() {
     let mut m = common::read_file("vtk/naca0012_legacy_binary.vtk");
     m.point_data.get_mut("hmin").unwrap().values[5] = f64::NAN;
-    let bytes =
-        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
-            .unwrap()
-            .main;
+    let bytes = write_bytes(
+        Format::VtkLegacy,
+        &m,
+        &WriteOptions {
+            vtk: VtkWrite { legacy_binary: true, ..Default::default() },
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .main;
     let e = read(Format::VtkLegacy, &bytes).unwrap_err();
     assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
     assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
@@ -655,8 +691,11 @@ fn vtu_truncated() {
         Format::Vtu,
         &m,
         &WriteOptions {
-            vtu_encoding: VtuEncoding::Appended,
-            compress: false,
+            vtk: VtkWrite {
+                vtu_encoding: VtuEncoding::Appended,
+                compress: false,
+                ..Default::default()
+            },
             ..Default::default()
         },
     )
@@ -705,7 +744,14 @@ fn vtu_bad_base64() {
     let bytes = write_bytes(
         Format::Vtu,
         &m,
-        &WriteOptions { vtu_encoding: VtuEncoding::Binary, compress: false, ..Default::default() },
+        &WriteOptions {
+            vtk: VtkWrite {
+                vtu_encoding: VtuEncoding::Binary,
+                compress: false,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
     )
     .unwrap()
     .main;
@@ -724,7 +770,14 @@ fn vtu_bad_zlib() {
     let bytes = write_bytes(
         Format::Vtu,
         &m,
-        &WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: true, ..Default::default() },
+        &WriteOptions {
+            vtk: VtkWrite {
+                vtu_encoding: VtuEncoding::Appended,
+                compress: true,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
     )
     .unwrap()
     .main;
@@ -800,7 +853,10 @@ fn writer_refuses_other_legacy_versions() {
     let e = write_bytes(
         Format::VtkLegacy,
         &m,
-        &WriteOptions { vtk_legacy_version: (3, 0), ..Default::default() },
+        &WriteOptions {
+            vtk: VtkWrite { legacy_version: (3, 0), ..Default::default() },
+            ..Default::default()
+        },
     )
     .unwrap_err();
     assert!(e.to_string().contains("4.2 and 5.1"), "{e}");
@@ -887,8 +943,9 @@ fn binary_blocks_come_back_in_order_whichever_is_largest() {
         &[Line, Triangle, Line],
     ] {
         let m = mixed_mesh(order);
-        for (label, format, opts) in
-            variants().into_iter().filter(|v| v.2.binary || v.2.vtu_encoding != VtuEncoding::Ascii)
+        for (label, format, opts) in variants()
+            .into_iter()
+            .filter(|v| v.2.vtk.legacy_binary || v.2.vtk.vtu_encoding != VtuEncoding::Ascii)
         {
             let bytes = write_bytes(format, &m, &opts).unwrap().main;
             let back = read(format, &bytes).unwrap_or_else(|e| panic!("{label} {order:?}: {e}"));
@@ -907,10 +964,16 @@ fn put_be(bytes: &mut [u8], at: usize, v: i32) {
 #[test]
 fn legacy_binary_cell_list_errors_name_the_byte() {
     let m = mixed_mesh(&[CellKind::Triangle]);
-    let bytes =
-        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
-            .unwrap()
-            .main;
+    let bytes = write_bytes(
+        Format::VtkLegacy,
+        &m,
+        &WriteOptions {
+            vtk: VtkWrite { legacy_binary: true, ..Default::default() },
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .main;
     let list = memchr::memmem::find(&bytes, b"CELLS 2 8\n").unwrap() + b"CELLS 2 8\n".len();
     // Second triangle's last node: 3 -> 4 (out of range) and -> -1.
     for (v, shown) in [(4, 4), (-1, -1)] {
@@ -945,10 +1008,16 @@ fn legacy_binary_cell_list_errors_name_the_byte() {
     assert_eq!(e.at, Some(Position::Byte((list + 32) as u64)), "{e}");
     // Lines then triangles (counts 2, then 3): a bad node in the last cell is named.
     let m = mixed_mesh(&[CellKind::Line, CellKind::Triangle]);
-    let bytes =
-        write_bytes(Format::VtkLegacy, &m, &WriteOptions { binary: true, ..Default::default() })
-            .unwrap()
-            .main;
+    let bytes = write_bytes(
+        Format::VtkLegacy,
+        &m,
+        &WriteOptions {
+            vtk: VtkWrite { legacy_binary: true, ..Default::default() },
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .main;
     let cells = format!(
         "CELLS {} {}\n",
         m.num_cells(),
@@ -983,8 +1052,14 @@ fn vtu_types_and_offsets_are_checked_as_decoded() {
     assert!(e.to_string().contains("cell end offset") && e.to_string().contains("-3"), "{e}");
 
     let m = mixed_mesh(&[CellKind::Line, CellKind::Triangle]);
-    let opts =
-        WriteOptions { vtu_encoding: VtuEncoding::Appended, compress: false, ..Default::default() };
+    let opts = WriteOptions {
+        vtk: VtkWrite {
+            vtu_encoding: VtuEncoding::Appended,
+            compress: false,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
     let bytes = write_bytes(Format::Vtu, &m, &opts).unwrap().main;
     let back = read(Format::Vtu, &bytes).unwrap();
     assert_eq!(back.blocks, m.blocks);

@@ -2,6 +2,7 @@
 //! we read every encoding VTK's own writers produce. Skips when Python lacks `vtk`
 //! (`pip install vtk meshio`), unless `SMARTMESH_REQUIRE_INTEROP=1`.
 
+use smartmesh_formats::VtkWrite;
 use smartmesh_test_support::formats as common;
 
 use smartmesh_formats::{
@@ -14,7 +15,14 @@ fn variants() -> Vec<(String, Format, WriteOptions)> {
     let mut v = Vec::new();
     for version in [(4, 2), (5, 1)] {
         for binary in [false, true] {
-            let o = WriteOptions { vtk_legacy_version: version, binary, ..WriteOptions::default() };
+            let o = WriteOptions {
+                vtk: VtkWrite {
+                    legacy_version: version,
+                    legacy_binary: binary,
+                    ..Default::default()
+                },
+                ..WriteOptions::default()
+            };
             v.push((
                 format!(
                     "legacy{}{}_{}.vtk",
@@ -32,7 +40,10 @@ fn variants() -> Vec<(String, Format, WriteOptions)> {
             if enc == VtuEncoding::Ascii && compress {
                 continue;
             }
-            let o = WriteOptions { vtu_encoding: enc, compress, ..WriteOptions::default() };
+            let o = WriteOptions {
+                vtk: VtkWrite { vtu_encoding: enc, compress, ..Default::default() },
+                ..WriteOptions::default()
+            };
             v.push((
                 format!(
                     "{}{}.vtu",

@@ -79,7 +79,7 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));
     }
     let mut opts = args.output_format.write_options(&args.output);
-    opts.color_field = args.color_field.clone();
+    opts.gltf.color_field = args.color_field.clone();
     if let Some(name) = &args.color_field {
         if !mesh.point_data.contains_key(name) {
             let known: Vec<&str> = mesh.point_data.keys().map(String::as_str).collect();

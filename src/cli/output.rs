@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use smartmesh::formats::{
-    write_path, Error as FormatError, Format, GmshVersion, TaggedMesh, VtuEncoding, WriteOptions,
-    WriteReport,
+    write_path, Error as FormatError, Format, GltfWrite, GmshVersion, GmshWrite, MeditWrite,
+    TaggedMesh, VtkWrite, VtuEncoding, WriteOptions, WriteReport,
 };
 use smartmesh::recipe::{Recipe, RecipeFormat};
 
@@ -74,29 +74,39 @@ pub struct MeshOutputArgs {
 }
 
 impl MeshOutputArgs {
-    /// The writer options these switches ask for, for the output `path`.
+    /// The writer options these switches ask for, for the output `path`: the one place
+    /// where the flattened flags meet the formats' groups (`--binary` is Gmsh's, legacy
+    /// VTK's and Medit's).
     pub fn write_options(&self, path: &Path) -> WriteOptions {
         WriteOptions {
-            binary: self.binary,
-            gmsh_version: if self.msh2 || self.gmsh_version == GmshVersionArg::V22 {
-                GmshVersion::V22
-            } else {
-                GmshVersion::V41
+            gmsh: GmshWrite {
+                version: if self.msh2 || self.gmsh_version == GmshVersionArg::V22 {
+                    GmshVersion::V22
+                } else {
+                    GmshVersion::V41
+                },
+                binary: self.binary,
             },
-            vtk_legacy_version: match self.vtk_version {
-                VtkVersionArg::V42 => (4, 2),
-                VtkVersionArg::V51 => (5, 1),
+            vtk: VtkWrite {
+                legacy_version: match self.vtk_version {
+                    VtkVersionArg::V42 => (4, 2),
+                    VtkVersionArg::V51 => (5, 1),
+                },
+                legacy_binary: self.binary,
+                vtu_encoding: match self.vtu_encoding {
+                    VtuEncodingArg::Ascii => VtuEncoding::Ascii,
+                    VtuEncodingArg::Binary => VtuEncoding::Binary,
+                    VtuEncodingArg::Appended => VtuEncoding::Appended,
+                },
+                compress: !self.no_compress,
             },
-            vtu_encoding: match self.vtu_encoding {
-                VtuEncodingArg::Ascii => VtuEncoding::Ascii,
-                VtuEncodingArg::Binary => VtuEncoding::Binary,
-                VtuEncodingArg::Appended => VtuEncoding::Appended,
+            medit: MeditWrite { binary: self.binary },
+            gltf: GltfWrite {
+                color_field: None,
+                glb: path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"))
+                    || self.to.as_deref().is_some_and(|t| t.eq_ignore_ascii_case("glb")),
             },
-            compress: !self.no_compress,
-            medit_binary: self.binary,
-            glb: path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"))
-                || self.to.as_deref().is_some_and(|t| t.eq_ignore_ascii_case("glb")),
-            ..WriteOptions::default()
+            main_name: None,
         }
     }
 

@@ -106,8 +106,8 @@ mod views;
 pub use untagged::UNTAGGED;
 
 use crate::{
-    DataArray, Error, ErrorKind, GmshVersion, ReadContext, ReadReport, Result, TaggedMesh,
-    WriteOptions, WriteReport, Written,
+    DataArray, Error, ErrorKind, ReadContext, ReadReport, Result, TaggedMesh, WriteOptions,
+    WriteReport, Written,
 };
 use cursor::show;
 use reader::Reader;
@@ -239,7 +239,26 @@ fn read_sections(r: &mut Reader<'_>) -> Result<()> {
     Ok(())
 }
 
-/// Writes MSH 4.1 or 2.2 (per `opts.gmsh_version`), ASCII or binary (`opts.binary`).
+/// Gmsh MSH file format version to write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum GmshVersion {
+    /// MSH 2.2 (physical and elementary tags on each element).
+    V22,
+    /// MSH 4.1 (entities, the current default of Gmsh).
+    #[default]
+    V41,
+}
+
+/// How to write MSH (the `gmsh` group of [`WriteOptions`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct GmshWrite {
+    /// The version: 4.1 by default, as Gmsh's own.
+    pub version: GmshVersion,
+    /// Binary rather than ASCII.
+    pub binary: bool,
+}
+
+/// Writes MSH 4.1 or 2.2 (per `opts.gmsh.version`), ASCII or binary (`opts.gmsh.binary`).
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     if let Some(p) = mesh.validate().into_iter().next() {
         return Err(Error::new(ErrorKind::CannotWrite {
@@ -263,10 +282,11 @@ pub(crate) fn write_validated(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<
         }));
     }
     let grouped = untagged::grouped(mesh, &mut report);
-    let mut out = Vec::with_capacity(estimate_size(mesh, opts.binary));
-    match opts.gmsh_version {
-        GmshVersion::V41 => msh4::write(&grouped, opts.binary, &mut out, &mut report)?,
-        GmshVersion::V22 => msh2::write(&grouped, opts.binary, &mut out, &mut report)?,
+    let GmshWrite { version, binary } = opts.gmsh;
+    let mut out = Vec::with_capacity(estimate_size(mesh, binary));
+    match version {
+        GmshVersion::V41 => msh4::write(&grouped, binary, &mut out, &mut report)?,
+        GmshVersion::V22 => msh2::write(&grouped, binary, &mut out, &mut report)?,
     }
     report_unheld(mesh, &mut report);
     Ok(Written { main: out, siblings: Vec::new(), report })

@@ -40,7 +40,7 @@
 //!
 //! # Writing
 //! `x.meshb` writes binary, `x.mesh` ASCII; other names (or stdout) follow
-//! `WriteOptions::medit_binary`. The extension wins over the option because MMG and
+//! `MeditWrite::binary`. The extension wins over the option because MMG and
 //! libMeshb choose how to read a file from its extension. The mesh is written with
 //! `MeshVersionFormatted 2` (64-bit reals; 3 when a binary file passes 2 GiB), `Dimension 2`
 //! unless a z coordinate is not 0. The physical tag is the reference. The solution file
@@ -616,6 +616,13 @@ fn integral_i32(v: f64) -> Option<i32> {
     (v.fract() == 0.0 && v >= i32::MIN as f64 && v <= i32::MAX as f64).then_some(v as i32)
 }
 
+/// How to write Medit files (the `medit` group of [`WriteOptions`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct MeditWrite {
+    /// `.meshb`/`.solb` rather than ASCII when the main file name does not tell.
+    pub binary: bool,
+}
+
 /// Writes a mesh as Medit, with its solution file beside it (see the module documentation).
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let binary = match opts
@@ -626,7 +633,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     {
         Some(e) if e.eq_ignore_ascii_case("meshb") => true,
         Some(e) if e.eq_ignore_ascii_case("mesh") => false,
-        _ => opts.medit_binary,
+        _ => opts.medit.binary,
     };
     let mut report = WriteReport::default();
     // One pass over the points for the dimension and for what `validate` checks of

@@ -883,7 +883,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<TaggedMesh> {
 
 /// Writes a legacy file.
 pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
-    let v51 = match opts.vtk_legacy_version {
+    let v51 = match opts.vtk.legacy_version {
         (4, 2) => false,
         (5, 1) => true,
         (a, b) => {
@@ -893,7 +893,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             }))
         }
     };
-    let binary = opts.binary;
+    let binary = opts.vtk.legacy_binary;
     let mut plan = Plan::new(mesh, "VTK legacy");
     let np = mesh.points.len();
     let nc = mesh.num_cells();

@@ -86,13 +86,50 @@ pub fn read_vtu(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     xml::read(bytes)
 }
 
-/// Writes a legacy `.vtk` file: version `opts.vtk_legacy_version` ((4, 2) or (5, 1)),
-/// binary when `opts.binary`.
+/// How to write VTK files (the `vtk` group of [`WriteOptions`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VtkWrite {
+    /// Legacy `.vtk` file version: `(4, 2)` (the default, read by every VTK and meshio)
+    /// or `(5, 1)`.
+    pub legacy_version: (u8, u8),
+    /// Legacy `.vtk` in binary rather than ASCII.
+    pub legacy_binary: bool,
+    /// XML `.vtu` data encoding.
+    pub vtu_encoding: VtuEncoding,
+    /// zlib compression of `.vtu` binary and appended data (on by default).
+    pub compress: bool,
+}
+
+impl Default for VtkWrite {
+    fn default() -> Self {
+        VtkWrite {
+            legacy_version: (4, 2),
+            legacy_binary: false,
+            vtu_encoding: VtuEncoding::Binary,
+            compress: true,
+        }
+    }
+}
+
+/// VTK XML data encoding.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VtuEncoding {
+    /// Numbers as text.
+    Ascii,
+    /// base64 inline binary.
+    #[default]
+    Binary,
+    /// Raw appended data after the XML.
+    Appended,
+}
+
+/// Writes a legacy `.vtk` file: version `opts.vtk.legacy_version` ((4, 2) or (5, 1)),
+/// binary when `opts.vtk.legacy_binary`.
 pub fn write_legacy(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     legacy::write(mesh, opts)
 }
 
-/// Writes a `.vtu` file with `opts.vtu_encoding`, zlib-compressed when `opts.compress`
+/// Writes a `.vtu` file with `opts.vtk.vtu_encoding`, zlib-compressed when `opts.vtk.compress`
 /// (ascii is never compressed).
 pub fn write_vtu(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     xml::write(mesh, opts)

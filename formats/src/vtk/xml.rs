@@ -1632,8 +1632,8 @@ fn push_base64(out: &mut Vec<u8>, data: &[u8]) {
 /// Writes a `.vtu` file.
 pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut plan = Plan::new(mesh, "VTK XML");
-    let enc = opts.vtu_encoding;
-    let compress = opts.compress && enc != VtuEncoding::Ascii;
+    let enc = opts.vtk.vtu_encoding;
+    let compress = opts.vtk.compress && enc != VtuEncoding::Ascii;
     let np = mesh.points.len();
     let nc = mesh.num_cells();
     let nconn: usize = mesh.blocks.iter().map(|b| b.nodes.len()).sum();
