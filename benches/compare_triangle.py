@@ -1,7 +1,7 @@
 """Times Shewchuk's Triangle (PyPI `triangle`) on the graph that benches/mesher.rs
 meshes, with the same switches: minimum angle 30 and the same area bounds (`pq30Aa<area>a`),
 and prints count, smallest angle, mean quality (4*sqrt(3)*area / sum of squared edges, as
-smartmesh::quality) and the best of three times.
+benches/mesher.rs) and the best of three times.
 
 Run after `cargo bench -p smartmesh --bench mesher` (which writes the .poly):
     python3 benches/compare_triangle.py target/bench-meshes/mesher-naca256.poly

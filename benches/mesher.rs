@@ -26,7 +26,7 @@ use std::path::Path;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use smartmesh::formats::{read_path, write_path, CellKind, TaggedMesh, WriteOptions};
 use smartmesh::mesher::{triangulate, MeshOptions};
-use smartmesh::quality::{min_angle_deg, triangle_quality};
+use smartmesh_test_support::measure::{min_angle_deg, quality as triangle_quality};
 use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };

@@ -15,9 +15,9 @@
 use std::f64::consts::PI;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use smartmesh::geometry::Point2;
 use smartmesh::sizing::{closest_point_brute_force, propagate, PropagationOptions, Source};
 use smartmesh::MeshGraph;
+use smartmesh::Point2;
 
 const SEGMENTS: usize = 10_000;
 

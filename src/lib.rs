@@ -39,39 +39,38 @@ pub mod adapt;
 pub mod adapters;
 pub mod batch;
 pub mod conformity;
-#[doc(hidden)]
-pub mod geometry;
+pub(crate) mod geometry;
 pub mod history;
 pub mod layer;
-#[doc(hidden)]
-pub mod mesh_graph;
+pub(crate) mod mesh_graph;
 pub mod mesher;
 pub mod metric;
 pub mod metric_field;
-#[doc(hidden)]
-pub mod quality;
+pub(crate) mod quality;
 pub mod recipe;
 pub mod remesh;
 pub mod report;
-#[doc(hidden)]
-pub mod size_controls;
+pub(crate) mod size_controls;
 pub mod sizing;
 pub mod solution;
-#[doc(hidden)]
-pub mod summary;
+pub(crate) mod summary;
 pub mod topology;
 
-// The curated surface: what a user of the library needs, at the root. The modules
-// marked `doc(hidden)` below stay public only for the binary, the tests and the benches.
+// The curated surface: what a user of the library needs, at the root. The crate's
+// own modules (`geometry`, `mesh_graph`, `quality`, `size_controls`, `summary`) show
+// only the types named here.
 pub use adapt::{run as adapt, AdaptError, AdaptOptions, Observer, Outcome, Tolerances};
 pub use adapters::{adapter, Adapter, AdapterKind, AdapterOptions};
 pub use conformity::Conformity;
 pub use formats::{read_path, write_path, Format, TaggedMesh, WriteOptions};
-pub use mesh_graph::MeshGraph;
+pub use geometry::Point2;
+pub use mesh_graph::{MeshGraph, MeshGraphError};
 pub use metric::{SizeBounds, SizeTensor, Sym2};
 pub use metric_field::{MetricError, MetricField, MetricTarget, METRIC};
+pub use quality::QualitySummary;
 pub use recipe::{Recipe, RecipeError};
 pub use remesh::{remesh, RemeshError, RemeshOptions, Remeshed};
+pub use size_controls::{ControlError, SizeControls};
 pub use sizing::{size_mesh, MeshSizing, SizeField, SizeMeshError};
-pub use summary::MeshSummary;
+pub use summary::{HistogramBins, MeshSummary};
 pub use topology::Topology;

@@ -11,13 +11,13 @@ use crate::topology::Topology;
 
 /// Signed area of triangle `(a, b, c)`: positive when counter-clockwise.
 #[inline]
-pub fn signed_area(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+pub(crate) fn signed_area(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
 }
 
 /// Shape quality of a triangle in [0, 1] (negative for an inverted one).
 #[inline]
-pub fn triangle_quality(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+pub(crate) fn triangle_quality(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     let l2 = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
     let s = l2(a, b) + l2(b, c) + l2(c, a);
     if s == 0.0 {
@@ -27,7 +27,7 @@ pub fn triangle_quality(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
 }
 
 /// Smallest interior angle of a triangle, in degrees.
-pub fn min_angle_deg(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+pub(crate) fn min_angle_deg(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     let ang = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
         let u = [q[0] - p[0], q[1] - p[1]];
         let v = [r[0] - p[0], r[1] - p[1]];

@@ -22,8 +22,8 @@ use smartmesh::adapters::restore::physical_tags;
 use smartmesh::adapters::{Adapted, Adapter, AdapterError};
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOptions};
 use smartmesh::history::{History, WrittenFile};
-use smartmesh::quality::signed_area;
 use smartmesh::{Recipe, Sym2, Topology};
+use smartmesh_test_support::measure::signed_area;
 use support::{fixture, program, streams};
 
 fn cylinder() -> TaggedMesh {

@@ -20,8 +20,8 @@ use smartmesh::adapters::restore::physical_tags;
 use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{read_path, write_path, CellKind, TaggedMesh, WriteOptions};
 use smartmesh::history::History;
-use smartmesh::quality::signed_area;
 use smartmesh::Recipe;
+use smartmesh_test_support::measure::signed_area;
 
 #[path = "support/examples.rs"]
 mod support;

@@ -13,9 +13,9 @@ use smartmesh::formats::{
     read_path, write_bytes, CellKind, Format, RegionSeed, TaggedMesh, WriteOptions,
 };
 use smartmesh::mesher::{size_to_area, triangulate, MeshError, MeshOptions};
-use smartmesh::quality::{min_angle_deg, signed_area, triangle_quality};
 use smartmesh::topology::PointOrigin;
 use smartmesh::Topology;
+use smartmesh_test_support::measure::{min_angle_deg, quality as triangle_quality, signed_area};
 
 #[path = "support/cli.rs"]
 mod cli;

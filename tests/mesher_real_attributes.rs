@@ -7,7 +7,7 @@ use smartmesh_test_support::formats as common;
 
 use smartmesh::formats::{read_path, CellKind};
 use smartmesh::mesher::{triangulate, MeshOptions};
-use smartmesh::quality::signed_area;
+use smartmesh_test_support::measure::signed_area;
 
 #[test]
 fn la_poly_meshes_with_its_attributes_as_a_field_and_area_bounds() {

@@ -8,13 +8,14 @@
 
 use proptest::prelude::*;
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
-use smartmesh::geometry::Point2;
 use smartmesh::sizing::{
     closest_point_brute_force, propagate, ClosestPoint, PropagationOptions, Reach, Source,
 };
+use smartmesh::Point2;
 use smartmesh::{MeshGraph, Topology};
 
 use smartmesh_test_support::grid::{triangles_crossed_by, JitteredGrid as Grid};
+use smartmesh_test_support::measure::distance_to_segment;
 use smartmesh_test_support::{Generator, SplitMix64 as Rng};
 
 /// The mesh graph of a grid.
@@ -64,8 +65,7 @@ fn check_exact(graph: &MeshGraph, source: &Source, reach: &Reach) -> Tally {
             <= 1e-9 * want.distance.max(1e-12);
         // A tie: the propagated segment is as close as the brute-force one.
         let seg = source.segments()[got.segment as usize];
-        let tie_d =
-            smartmesh::geometry::SegmentGeom::new(seg.a, seg.b).project(graph.point(v)).distance();
+        let tie_d = distance_to_segment(graph.point(v), seg.a, seg.b);
         let tie = (tie_d - want.distance).abs() <= 1e-9 * want.distance.max(1e-300);
         if (rel > 1e-9 && want.distance > 0.0) || (!same_foot && !tie) {
             t.mismatches += 1;

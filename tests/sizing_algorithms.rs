@@ -12,13 +12,13 @@
 use std::f64::consts::PI;
 
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
-use smartmesh::geometry::Point2;
 use smartmesh::sizing::{
     compute_size_field, run_algorithm, three_point_curvature, Algorithm, CurvatureOfBorder,
     CurvatureToSize, DistanceBetweenTwoBorders, DistanceFunction, DistanceToBorder,
     DistanceToImaginaryPolyline, DistanceToPoint, EntitySet, SizeField, SizeProjectionFunction,
     SizingError, SizingPlan, Step, StepEvent, Uniform,
 };
+use smartmesh::Point2;
 use smartmesh::{MeshGraph, SizeBounds, SizeTensor, Topology};
 
 // ---------------------------------------------------------------------------------

@@ -13,13 +13,13 @@ use std::io::ErrorKind as IoKind;
 use smartmesh::adapt::{AdaptError, StartError};
 use smartmesh::adapters::AdapterError;
 use smartmesh::formats::{Error as FormatError, ErrorKind as FormatKind};
-use smartmesh::mesh_graph::MeshGraphError;
 use smartmesh::mesher::MeshError;
 use smartmesh::metric_field::MetricError;
 use smartmesh::recipe::RecipeError;
 use smartmesh::remesh::RemeshError;
-use smartmesh::size_controls::ControlError;
 use smartmesh::sizing::{SizeMeshError, SizingError};
+use smartmesh::ControlError;
+use smartmesh::MeshGraphError;
 
 /// How a run ended (ruff's `ExitStatus`): 0 success, 1 the work failed, 2 bad usage or
 /// input.

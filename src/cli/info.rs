@@ -9,8 +9,8 @@ use smartmesh::formats::Format;
 use smartmesh::layer::check::{check_mesh, Validity};
 use smartmesh::layer::stats::{quad_quality, QuadQuality};
 use smartmesh::metric_field::MetricField;
-use smartmesh::summary::MeshSummary;
 use smartmesh::topology::Topology;
+use smartmesh::MeshSummary;
 
 use super::{parse_format, print_stdout, CliError};
 

@@ -8,7 +8,7 @@ use clap::Args;
 use smartmesh::formats::triangle::poly_lines;
 use smartmesh::formats::Format;
 use smartmesh::mesher::{triangulate, MeshError, MeshOptions, Subject};
-use smartmesh::quality::QualitySummary;
+use smartmesh::QualitySummary;
 use smartmesh::Topology;
 
 use super::output::{check_output_dir, shown};

@@ -10,8 +10,8 @@ use smartmesh::conformity::Conformity;
 use smartmesh::formats::Format;
 use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::remesh::{remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
-use smartmesh::size_controls::SizeControls as MetricControls;
-use smartmesh::summary::HistogramBins;
+use smartmesh::HistogramBins;
+use smartmesh::SizeControls as MetricControls;
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
 use super::{parse_format, print_stdout, ui, CliError};

@@ -40,7 +40,7 @@ struct Node {
 
 /// The quadtree.
 #[derive(Debug, Clone)]
-pub struct BoxTree {
+pub(crate) struct BoxTree {
     nodes: Vec<Node>,
     items: Vec<u32>,
     /// Box copies the splits may still file.
@@ -49,7 +49,7 @@ pub struct BoxTree {
 
 impl BoxTree {
     /// Files the boxes `(lo, hi)`, one per triangle.
-    pub fn new(boxes: &[([f64; 2], [f64; 2])]) -> BoxTree {
+    pub(crate) fn new(boxes: &[([f64; 2], [f64; 2])]) -> BoxTree {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for (a, b) in boxes {
             for k in 0..2 {
@@ -113,7 +113,7 @@ impl BoxTree {
 
     /// The triangles of the leaf holding `p` (clamped into the root box): every triangle
     /// whose box contains `p`, and others near it, in increasing order.
-    pub fn candidates(&self, p: [f64; 2]) -> &[u32] {
+    pub(crate) fn candidates(&self, p: [f64; 2]) -> &[u32] {
         let mut n = self.nodes[0];
         while n.child != 0 {
             let mid = [0.5 * (n.lo[0] + n.hi[0]), 0.5 * (n.lo[1] + n.hi[1])];

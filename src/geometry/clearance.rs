@@ -62,14 +62,14 @@ use super::segment_index::{Nearest, QueryStats};
 /// Segments either side of a segment whose closest points a certificate compares: the
 /// one definition of the window, which the propagation's window of a closest point
 /// (`sizing::propagation`, `Source::window`) is built from.
-pub const WINDOW: usize = 2;
+pub(crate) const WINDOW: usize = 2;
 
 /// Pieces a segment is cut into for its lower bounds.
-pub const PIECES: usize = 8;
+pub(crate) const PIECES: usize = 8;
 
 /// Distance, relative to the largest coordinate, under which a segment outside a window
 /// counts as touching the segment or vertex of the window.
-pub const SEPARATION: f64 = 1e-9;
+pub(crate) const SEPARATION: f64 = 1e-9;
 
 /// A node is opened only when its bound is below this fraction of the clearance found
 /// so far, and the clearance kept is that fraction of the smallest value found: still
@@ -80,12 +80,12 @@ const SETTLE: f64 = 0.75;
 /// The cone of directions at a polyline vertex from which the vertex is the foot on
 /// both of its segments (the outer side of the turn).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ConeShape {
+pub(crate) struct ConeShape {
     /// Mean direction (unit).
-    pub mean: Point2,
+    pub(crate) mean: Point2,
     /// Square of the largest distance between a unit vector of the cone and `mean`
     /// (with a little slack).
-    pub kappa_squared: f64,
+    pub(crate) kappa_squared: f64,
     /// Its edges.
     sector: Sector,
     /// `cos(θ/2)`, shaved by a few ulps.
@@ -104,7 +104,7 @@ pub struct ConeShape {
 /// else its own search), so the answers do not depend on the order of the questions or
 /// on the thread count; vertices near the source cost only short searches.
 #[derive(Debug)]
-pub struct Clearance {
+pub(crate) struct Clearance {
     geoms: Vec<SegmentGeom>,
     links: Vec<Links>,
     gap: f64,
@@ -153,7 +153,7 @@ impl Memo {
 }
 
 /// Polyline links of a segment: previous and next along its polyline.
-pub type Links = (Option<u32>, Option<u32>);
+pub(crate) type Links = (Option<u32>, Option<u32>);
 
 /// Ratio of the search caps of consecutive tiers.
 const TIER_GROWTH: f64 = 8.0;
@@ -170,7 +170,8 @@ impl Clearance {
     /// The clearances of `geoms` (linked by `links`), with `scale` the largest
     /// coordinate magnitude of the source and `horizon` the largest finite search cap
     /// (past it, a last tier searches without a cap).
-    pub fn new(geoms: &[SegmentGeom], links: &[Links], scale: f64, horizon: f64) -> Clearance {
+    #[cfg(test)]
+    pub(crate) fn new(geoms: &[SegmentGeom], links: &[Links], scale: f64, horizon: f64) -> Clearance {
         Clearance::new_over(Clearance::tree_of(geoms, scale), geoms, links, scale, horizon)
     }
 
@@ -207,11 +208,8 @@ impl Clearance {
     /// `farthest`), then the uncapped one. For a propagation that asks at every
     /// distance up to `farthest` about most segments, one search per segment side
     /// where [`Clearance::new`]'s tiers would make one per tier.
-    pub fn up_to(geoms: &[SegmentGeom], links: &[Links], scale: f64, farthest: f64) -> Clearance {
-        Clearance::up_to_over(Clearance::tree_of(geoms, scale), geoms, links, scale, farthest)
-    }
-
-    /// [`Clearance::up_to`] over a tree of `geoms` already built ([`Clearance::tree_of`]).
+    ///
+    /// `tree` is the tree of `geoms`, built already ([`Clearance::tree_of`]).
     pub(crate) fn up_to_over(
         tree: Arc<ChainTree>,
         geoms: &[SegmentGeom],
@@ -313,7 +311,7 @@ impl Clearance {
     /// `d` (with `p`'s foot strictly inside `s`): then the best of the segment's window
     /// is the closest point of the whole source.
     #[inline]
-    pub fn covers_segment(&self, s: u32, p: Point2, d: f64) -> bool {
+    pub(crate) fn covers_segment(&self, s: u32, p: Point2, d: f64) -> bool {
         let g = &self.geoms[s as usize];
         let cr = g.d[0] * (p[1] - g.a[1]) - g.d[1] * (p[0] - g.a[0]);
         let need = d * BY_CERTIFIED;
@@ -335,7 +333,7 @@ impl Clearance {
     /// Whether the cone at the end of segment `s` (its end point `v`, where it meets the
     /// next one) covers `p` at distance `d` from `v`.
     #[inline]
-    pub fn covers_vertex(&self, s: u32, p: Point2, d: f64) -> bool {
+    pub(crate) fn covers_vertex(&self, s: u32, p: Point2, d: f64) -> bool {
         let Some(shape) = &self.cone[s as usize] else { return false };
         let need = d * BY_CERTIFIED;
         if need.is_nan() {
@@ -355,7 +353,7 @@ impl Clearance {
     /// of `p` on `seed.segment`), searched over the oriented boxes: the guess's leaf,
     /// then up to the root, opening the siblings whose box is not farther than the best
     /// so far. Ties as [`Nearest::beats`]; the answer does not depend on the guess.
-    pub fn closest(&self, p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
+    pub(crate) fn closest(&self, p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
         self.tree.closest(&self.geoms, p, seed, stats)
     }
 }

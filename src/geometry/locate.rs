@@ -21,7 +21,7 @@
 //! index on ties, over sets holding every triangle that contains `p`, so they agree.
 
 /// Triangles (counter-clockwise, over their points) indexed for point location.
-pub struct TriangleLocator {
+pub(crate) struct TriangleLocator {
     points: Vec<[f64; 2]>,
     tris: Vec<[usize; 3]>,
     origin: [f64; 2],
@@ -37,7 +37,7 @@ pub struct TriangleLocator {
 
 impl TriangleLocator {
     /// Indexes `tris` (counter-clockwise) over `points`.
-    pub fn new(points: &[[f64; 2]], tris: &[[usize; 3]]) -> TriangleLocator {
+    pub(crate) fn new(points: &[[f64; 2]], tris: &[[usize; 3]]) -> TriangleLocator {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for t in tris {
             for &v in t {
@@ -108,12 +108,12 @@ impl TriangleLocator {
     }
 
     /// The triangles, as given.
-    pub fn triangles(&self) -> &[[usize; 3]] {
+    pub(crate) fn triangles(&self) -> &[[usize; 3]] {
         &self.tris
     }
 
     /// Whether there is no triangle to locate in.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.tris.is_empty()
     }
 
@@ -142,7 +142,7 @@ impl TriangleLocator {
     }
 
     /// The weights of the closest point of triangle `t` to `p`, and its squared distance.
-    pub fn closest(&self, t: usize, p: [f64; 2]) -> ([f64; 3], f64) {
+    pub(crate) fn closest(&self, t: usize, p: [f64; 2]) -> ([f64; 3], f64) {
         let l = self.barycentric(t, p);
         if l.iter().all(|&x| x >= 0.0) {
             return (l, 0.0);
@@ -174,7 +174,7 @@ impl TriangleLocator {
     /// triangulation, the nearest one, with the weights of `p` (or of its closest point).
     /// With no triangle at all: triangle 0 and weights (1, 0, 0), which callers check
     /// with [`TriangleLocator::is_empty`] first.
-    pub fn locate(&self, p: [f64; 2]) -> (usize, [f64; 3]) {
+    pub(crate) fn locate(&self, p: [f64; 2]) -> (usize, [f64; 3]) {
         if let Some(found) = self.deepest(self.tree.candidates(p), p) {
             return found;
         }

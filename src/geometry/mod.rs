@@ -9,14 +9,15 @@
 
 mod box_tree;
 mod chain_tree;
-pub mod clearance;
-pub mod locate;
-pub mod segment;
-pub mod segment_index;
+pub(crate) mod clearance;
+pub(crate) mod locate;
+pub(crate) mod segment;
+pub(crate) mod segment_index;
 #[cfg(test)]
 pub(crate) mod test_support;
 
-pub use clearance::Clearance;
-pub use locate::TriangleLocator;
-pub use segment::{Point2, Projection, SegmentGeom};
-pub use segment_index::{Nearest, QueryStats, SegmentIndex};
+pub(crate) use clearance::Clearance;
+pub(crate) use locate::TriangleLocator;
+pub use segment::Point2;
+pub(crate) use segment::{Projection, SegmentGeom};
+pub(crate) use segment_index::{Nearest, QueryStats, SegmentIndex};

@@ -13,19 +13,19 @@ pub type Point2 = [f64; 2];
 
 /// Where a point projects on a segment.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Projection {
+pub(crate) struct Projection {
     /// Squared distance from the point to the foot point.
-    pub distance_squared: f64,
+    pub(crate) distance_squared: f64,
     /// The closest point of the segment.
-    pub foot: Point2,
+    pub(crate) foot: Point2,
     /// Parameter of the foot point along the segment, in `[0, 1]` (0 at the start).
-    pub t: f64,
+    pub(crate) t: f64,
 }
 
 impl Projection {
     /// Distance from the point to the foot point.
     #[inline]
-    pub fn distance(&self) -> f64 {
+    pub(crate) fn distance(&self) -> f64 {
         self.distance_squared.sqrt()
     }
 }
@@ -33,20 +33,20 @@ impl Projection {
 /// A segment with what a projection needs stored once: start, end, direction and
 /// inverse squared length (0 for a degenerate segment, which then behaves as a point).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SegmentGeom {
+pub(crate) struct SegmentGeom {
     /// Start point.
-    pub a: Point2,
+    pub(crate) a: Point2,
     /// End point.
-    pub b: Point2,
+    pub(crate) b: Point2,
     /// `b - a`.
-    pub d: Point2,
+    pub(crate) d: Point2,
     /// `1 / |b - a|²`, or 0 when `a == b`.
-    pub inv_len2: f64,
+    pub(crate) inv_len2: f64,
 }
 
 impl SegmentGeom {
     /// The segment from `a` to `b`.
-    pub fn new(a: Point2, b: Point2) -> SegmentGeom {
+    pub(crate) fn new(a: Point2, b: Point2) -> SegmentGeom {
         let d = [b[0] - a[0], b[1] - a[1]];
         let len2 = d[0] * d[0] + d[1] * d[1];
         let inv_len2 = if len2 > 0.0 && len2.is_finite() { 1.0 / len2 } else { 0.0 };
@@ -54,7 +54,7 @@ impl SegmentGeom {
     }
 
     /// Length of the segment.
-    pub fn length(&self) -> f64 {
+    pub(crate) fn length(&self) -> f64 {
         (self.d[0] * self.d[0] + self.d[1] * self.d[1]).sqrt()
     }
 
@@ -62,7 +62,7 @@ impl SegmentGeom {
     /// (t = 1) when the projection is snapped, never `a + 1·(b − a)` rounded: two
     /// segments that share an end then give bit-identical distances to it.
     #[inline]
-    pub fn project(&self, p: Point2) -> Projection {
+    pub(crate) fn project(&self, p: Point2) -> Projection {
         let ap = [p[0] - self.a[0], p[1] - self.a[1]];
         let t = (ap[0] * self.d[0] + ap[1] * self.d[1]) * self.inv_len2;
         // `!(t > 0.0)` also catches NaN from non-finite input.
@@ -83,7 +83,7 @@ impl SegmentGeom {
 /// Exact orientation of `(a, b, c)` (Shewchuk's adaptive predicate): positive when
 /// counter-clockwise, zero only when the three points are collinear.
 #[inline]
-pub fn orient(a: Point2, b: Point2, c: Point2) -> f64 {
+pub(crate) fn orient(a: Point2, b: Point2, c: Point2) -> f64 {
     robust::orient2d(
         robust::Coord { x: a[0], y: a[1] },
         robust::Coord { x: b[0], y: b[1] },
@@ -93,14 +93,14 @@ pub fn orient(a: Point2, b: Point2, c: Point2) -> f64 {
 
 /// `(b - a) × (c - a)`: positive when `c` lies left of the line from `a` to `b`.
 #[inline]
-pub fn cross(a: Point2, b: Point2, c: Point2) -> f64 {
+pub(crate) fn cross(a: Point2, b: Point2, c: Point2) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
 /// Whether the closed segments `pq` and `rs` share a point, with a tolerance `tol`
 /// on the distance between them: near misses count as contact, so that callers
 /// that use this to mark cells err on the side of marking.
-pub fn segments_touch(p: Point2, q: Point2, r: Point2, s: Point2, tol: f64) -> bool {
+pub(crate) fn segments_touch(p: Point2, q: Point2, r: Point2, s: Point2, tol: f64) -> bool {
     let d1 = cross(p, q, r);
     let d2 = cross(p, q, s);
     let d3 = cross(r, s, p);
@@ -122,7 +122,7 @@ pub fn segments_touch(p: Point2, q: Point2, r: Point2, s: Point2, tol: f64) -> b
 
 /// Whether the closed segment `pq` meets the closed polygon `corners` (a mesh cell:
 /// triangle or quad, either orientation), within `tol`.
-pub fn segment_touches_polygon(p: Point2, q: Point2, corners: &[Point2], tol: f64) -> bool {
+pub(crate) fn segment_touches_polygon(p: Point2, q: Point2, corners: &[Point2], tol: f64) -> bool {
     let k = corners.len();
     if k == 0 {
         return false;
@@ -135,7 +135,7 @@ pub fn segment_touches_polygon(p: Point2, q: Point2, corners: &[Point2], tol: f6
 
 /// Crossing-number test (even–odd rule); points on the boundary may go either way,
 /// which [`segment_touches_polygon`] covers with its edge tests.
-pub fn point_in_polygon(p: Point2, corners: &[Point2]) -> bool {
+pub(crate) fn point_in_polygon(p: Point2, corners: &[Point2]) -> bool {
     let k = corners.len();
     let mut inside = false;
     for i in 0..k {

@@ -23,24 +23,24 @@
 use super::segment::{Point2, Projection, SegmentGeom};
 
 /// Most segments in one leaf.
-pub const LEAF_SIZE: usize = 4;
+pub(crate) const LEAF_SIZE: usize = 4;
 
 /// Sentinel for "no node" / "no segment".
 const NONE: u32 = u32::MAX;
 
 /// The answer to a closest-segment query.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Nearest {
+pub(crate) struct Nearest {
     /// The segment id (its index in the slice the index was built from).
-    pub segment: u32,
+    pub(crate) segment: u32,
     /// Where the query point projects on it.
-    pub projection: Projection,
+    pub(crate) projection: Projection,
 }
 
 impl Nearest {
     /// Whether `self` beats `other`: smaller squared distance, then smaller segment id.
     #[inline]
-    pub fn beats(&self, other: &Nearest) -> bool {
+    pub(crate) fn beats(&self, other: &Nearest) -> bool {
         let (d, e) = (self.projection.distance_squared, other.projection.distance_squared);
         d < e || (d == e && self.segment < other.segment)
     }
@@ -48,11 +48,11 @@ impl Nearest {
 
 /// Work counters of queries, summed by the caller.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct QueryStats {
+pub(crate) struct QueryStats {
     /// Boxes whose distance to the query point was computed.
-    pub boxes: u64,
+    pub(crate) boxes: u64,
     /// Segments projected on.
-    pub segments: u64,
+    pub(crate) segments: u64,
 }
 
 impl std::ops::AddAssign for QueryStats {
@@ -80,7 +80,7 @@ struct Item {
 
 /// Exact closest-segment queries over a fixed set of segments.
 #[derive(Debug, Clone)]
-pub struct SegmentIndex {
+pub(crate) struct SegmentIndex {
     nodes: Vec<Node>,
     parent: Vec<u32>,
     items: Vec<Item>,
@@ -94,7 +94,7 @@ const SLACK: f64 = 1.0 + 16.0 * f64::EPSILON;
 impl SegmentIndex {
     /// Builds the index over `segments`; segment ids are their positions in the slice.
     /// Segments with non-finite coordinates are left out of the index.
-    pub fn new(segments: &[SegmentGeom]) -> SegmentIndex {
+    pub(crate) fn new(segments: &[SegmentGeom]) -> SegmentIndex {
         let mut items: Vec<Item> = segments
             .iter()
             .enumerate()
@@ -120,17 +120,20 @@ impl SegmentIndex {
     }
 
     /// Number of indexed segments.
-    pub fn len(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn len(&self) -> usize {
         self.items.len()
     }
 
     /// Whether no segment is indexed.
-    pub fn is_empty(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn is_empty(&self) -> bool {
         self.items.is_empty()
     }
 
     /// Depth of the tree (1 for a single leaf, 0 when empty).
-    pub fn depth(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn depth(&self) -> usize {
         (0..self.nodes.len())
             .filter(|&n| self.nodes[n].count > 0)
             .map(|mut n| {
@@ -145,14 +148,9 @@ impl SegmentIndex {
             .unwrap_or(0)
     }
 
-    /// Bounding box of all segments, `None` when empty.
-    pub fn bounds(&self) -> Option<(Point2, Point2)> {
-        self.nodes.first().map(|n| (n.min, n.max))
-    }
-
-    /// The box [`SegmentIndex::bounds`] gives for an index of `segments`, without
-    /// building it: the grown boxes of the segments with finite ends, folded.
-    pub fn bounds_of(segments: &[SegmentGeom]) -> Option<(Point2, Point2)> {
+    /// The bounding box of an index of `segments` (its root's box, `None` when empty),
+    /// without building it: the grown boxes of the segments with finite ends, folded.
+    pub(crate) fn bounds_of(segments: &[SegmentGeom]) -> Option<(Point2, Point2)> {
         let (mut min, mut max) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         let mut any = false;
         for g in segments.iter().filter(|g| g.a.iter().chain(&g.b).all(|c| c.is_finite())) {
@@ -168,7 +166,7 @@ impl SegmentIndex {
     }
 
     /// The exact closest segment to `p`, searched from the root.
-    pub fn closest(&self, p: Point2, stats: &mut QueryStats) -> Option<Nearest> {
+    pub(crate) fn closest(&self, p: Point2, stats: &mut QueryStats) -> Option<Nearest> {
         if self.nodes.is_empty() {
             return None;
         }
@@ -182,7 +180,7 @@ impl SegmentIndex {
     /// The exact closest segment to `p`, starting from the guess `seed` (which must be
     /// the projection of `p` on segment `seed.segment`). The answer does not depend on
     /// the guess; only the work does.
-    pub fn certify(&self, p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
+    pub(crate) fn certify(&self, p: Point2, seed: Nearest, stats: &mut QueryStats) -> Nearest {
         let mut best = seed;
         let leaf = match self.leaf_of.get(seed.segment as usize) {
             Some(&l) if l != NONE => l,
@@ -211,7 +209,7 @@ impl SegmentIndex {
     }
 
     /// Calls `f` with the id of every segment whose box overlaps the box `[min, max]`.
-    pub fn for_each_overlapping(
+    pub(crate) fn for_each_overlapping(
         &self,
         min: Point2,
         max: Point2,

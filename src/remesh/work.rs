@@ -58,7 +58,7 @@ pub fn key(a: u32, b: u32) -> (u32, u32) {
     }
 }
 
-pub use crate::geometry::segment::orient;
+pub(crate) use crate::geometry::segment::orient;
 
 /// Metric quality used to accept or refuse an operation: the shape quality in the
 /// arithmetic mean of the corner metrics (SPD, and three times cheaper than the

@@ -15,6 +15,7 @@
 pub mod cli;
 pub mod formats;
 pub mod grid;
+pub mod measure;
 
 /// What a seedable test generator offers; each generator gives [`Generator::next_u64`].
 pub trait Generator {

@@ -147,7 +147,7 @@ impl Source {
     }
 
     /// The segment index.
-    pub fn index(&self) -> &SegmentIndex {
+    pub(crate) fn index(&self) -> &SegmentIndex {
         self.index.get_or_init(|| SegmentIndex::new(&self.geoms))
     }
 
@@ -256,7 +256,7 @@ impl Source {
     }
 
     /// The clearances for questions no farther than `farthest` from the source
-    /// ([`Clearance::up_to`]).
+    /// ([`Clearance::up_to_over`]).
     pub(super) fn clearance_up_to(&self, farthest: f64) -> Clearance {
         Clearance::up_to_over(
             self.chain_tree().clone(),

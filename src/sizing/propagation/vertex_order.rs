@@ -95,7 +95,7 @@ pub(crate) fn reach_covers_mesh(
 pub(crate) struct VertexOrder<'a> {
     graph: &'a MeshGraph,
     source: &'a Source,
-    /// Clearances for questions up to the farthest vertex ([`Clearance::up_to`]):
+    /// Clearances for questions up to the farthest vertex ([`Clearance::up_to_over`]):
     /// every vertex is asked about, so the far questions come for most segments, and
     /// one search per segment side answers them all.
     clearance: OnceLock<Clearance>,
