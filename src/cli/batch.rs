@@ -103,7 +103,7 @@ fn handle_interrupts() {
 }
 
 fn manifest_error(e: ManifestError) -> CliError {
-    CliError::usage(e.to_string())
+    CliError::input(e.to_string(), e)
 }
 
 /// The variants to run, checked: the manifest's (or its shard's), or `HQ_ENTRY`'s.

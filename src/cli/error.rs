@@ -69,6 +69,12 @@ impl CliError {
         CliError { status: ExitStatus::Error, message: message.into(), source: None }
     }
 
+    /// Bad input (exit 2) that a library error explains: the error is kept as the
+    /// source, whatever status its type would give.
+    pub fn input(message: impl Into<String>, source: impl Into<Source>) -> Self {
+        CliError { status: ExitStatus::Error, message: message.into(), source: Some(source.into()) }
+    }
+
     /// A library error under a message of the CLI's (what it was doing); the status
     /// comes from the error.
     pub fn context(message: impl Into<String>, source: impl Into<Source>) -> Self {

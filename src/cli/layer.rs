@@ -139,7 +139,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
                 args.reynolds.unwrap_or(0.0),
                 args.ref_length.unwrap_or(0.0),
             )
-            .map_err(|e| CliError::usage(format!("--y-plus: {e}")))?,
+            .map_err(|e| CliError::input(format!("--y-plus: {e}"), e))?,
         ),
         None => args.first_height,
     };
@@ -157,7 +157,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
         let h = heights.iter().rev().find(|x| &x.0 == c).map(|x| x.1).or(first);
         let r = ratios.iter().rev().find(|x| &x.0 == c).map(|x| x.1).or(args.ratio);
         let growth = Growth::solve(h, r, args.layers, args.thickness)
-            .map_err(|e| CliError::usage(format!("curve `{c}`: {e}")))?;
+            .map_err(|e| CliError::input(format!("curve `{c}`: {e}"), e))?;
         curves.push(CurveLayers { curve: c.clone(), growth });
     }
     let opts = LayerOptions {

@@ -153,7 +153,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
                     let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
                     bfield
                         .interpolate(&bmesh, &pts)
-                        .map_err(|e| CliError::usage(format!("{}: {e}", b.display())))?
+                        .map_err(|e| CliError::input(format!("{}: {e}", b.display()), e))?
                 }
                 // A data-only file: already on the mesh's vertices.
                 (None, field) => field,

@@ -105,7 +105,7 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
     let metric =
         MetricField::load(&mesh, &args.mesh, args.metric.as_deref()).map_err(|e| match e {
             MetricError::Read(e) => CliError::from(e),
-            e => CliError::usage(e.to_string()),
+            e => CliError::from(e),
         })?;
     let plan = match &args.recipe {
         Some(r) => {
@@ -124,13 +124,13 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
     let history = match &args.history {
         Some(h) => {
             let text = std::fs::read_to_string(h).map_err(|e| {
-                CliError::usage(format!("{}: cannot read the history: {e}", h.display()))
+                CliError::input(format!("{}: cannot read the history: {e}", h.display()), e)
             })?;
             Some(History::from_json(&text).map_err(|e| {
-                CliError::usage(format!(
-                    "{}: not a history.json of `smartmesh adapt`: {e}",
-                    h.display()
-                ))
+                CliError::input(
+                    format!("{}: not a history.json of `smartmesh adapt`: {e}", h.display()),
+                    e,
+                )
             })?)
         }
         None => None,
