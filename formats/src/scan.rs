@@ -1,16 +1,27 @@
-//! A fast path for the big numeric blocks of ASCII files (Triangle's records, Medit's
-//! vertices and elements): plain numbers separated by ASCII blanks, read with a bare
-//! cursor. It never reports errors: at anything unusual (a comment, a missing field, a
-//! non-finite or malformed number) it gives up, and the reader redoes that record with
-//! [`crate::text::Tokens`], which says precisely what is wrong and where. The reader then
-//! moves the tokenizer past what the fast path consumed with `Tokens::seek`, which
-//! counts the newlines crossed, so line numbers stay right.
+//! The crate's one fast path for the big numeric blocks of ASCII files (Triangle's
+//! records, Medit's vertices and elements, Gmsh's nodes, elements and data): plain
+//! numbers separated by ASCII blanks, read with a bare cursor. It never reports errors:
+//! at anything unusual (a comment, a missing field, a non-finite or malformed number) it
+//! gives up, and the reader redoes that record with [`crate::text::Tokens`], which says
+//! precisely what is wrong and where.
+//!
+//! Lines: [`Scan::ws`] and [`Scan::eol`] count the newlines they cross, from the line
+//! the scanner was started on ([`Scan::on_line`]), so a reader can check that a record
+//! stays on its line ([`Scan::line`], [`Scan::at_line_end`]) without going back to the
+//! tokenizer (Gmsh's readers do). Readers that check with [`Scan::eol`] instead
+//! (Triangle, Medit) move the tokenizer past what the fast path consumed with
+//! `Tokens::seek`, which counts the newlines crossed itself. After a miss, the reader
+//! resumes the tokenizer at [`Scan::start`], where the token that failed begins.
 
 /// A cursor over bytes.
 pub(crate) struct Scan<'a> {
     d: &'a [u8],
     /// Byte offset of the cursor.
     pub pos: usize,
+    /// The line of the cursor (1-based when started with [`Scan::on_line`]).
+    line: u64,
+    /// Where the last blanks skipped by [`Scan::ws`] end: the start of the next token.
+    start: usize,
 }
 
 #[inline(always)]
@@ -19,17 +30,83 @@ fn is_delimiter(c: u8) -> bool {
 }
 
 impl<'a> Scan<'a> {
-    /// A cursor at `pos` of `d`.
+    /// A cursor at `pos` of `d`, its lines counted from 0.
     pub fn new(d: &'a [u8], pos: usize) -> Self {
-        Scan { d, pos }
+        Scan::on_line(d, pos, 0)
     }
 
-    /// Skips blanks and newlines (free-format files).
+    /// A cursor at `pos` of `d`, which is on line `line`.
+    pub fn on_line(d: &'a [u8], pos: usize, line: u64) -> Self {
+        Scan { d, pos, line, start: pos }
+    }
+
+    /// Skips blanks and newlines (free-format files), counting the newlines; the next
+    /// token starts here ([`Scan::start`]).
     #[inline(always)]
     pub fn ws(&mut self) {
-        while self.pos < self.d.len() && is_delimiter(self.d[self.pos]) {
+        while let Some(&c) = self.d.get(self.pos) {
+            match c {
+                b' ' | b'\t' | b'\r' => {}
+                b'\n' => self.line += 1,
+                _ => break,
+            }
             self.pos += 1;
         }
+        self.start = self.pos;
+    }
+
+    /// Where the token after the last [`Scan::ws`] starts.
+    #[inline]
+    pub fn start(&self) -> usize {
+        self.start
+    }
+
+    /// The line of the cursor.
+    #[inline]
+    pub fn line(&self) -> u64 {
+        self.line
+    }
+
+    /// Bytes not read yet.
+    #[inline]
+    pub fn bytes_left(&self) -> usize {
+        self.d.len() - self.pos
+    }
+
+    /// Whether only blanks remain on the current line.
+    #[inline]
+    pub fn at_line_end(&self) -> bool {
+        let mut p = self.pos;
+        while let Some(&c) = self.d.get(p) {
+            match c {
+                b' ' | b'\t' | b'\r' => p += 1,
+                b'\n' => return true,
+                _ => return false,
+            }
+        }
+        true
+    }
+
+    /// An unsigned decimal integer of at most 19 digits (no sign) at the cursor,
+    /// followed by a delimiter or the end; the cursor does not move when there is none.
+    #[inline(always)]
+    pub fn uint(&mut self) -> Option<u64> {
+        let mut v: u64 = 0;
+        let mut p = self.pos;
+        while let Some(&c) = self.d.get(p) {
+            let digit = c.wrapping_sub(b'0');
+            if digit > 9 {
+                break;
+            }
+            v = v.wrapping_mul(10).wrapping_add(digit as u64);
+            p += 1;
+        }
+        // 19 digits cannot overflow a u64; longer numbers go to the careful parser.
+        if p == self.pos || p - self.pos > 19 || !(p >= self.d.len() || is_delimiter(self.d[p])) {
+            return None;
+        }
+        self.pos = p;
+        Some(v)
     }
 
     /// Skips spaces and tabs (line-based files).
@@ -109,6 +186,7 @@ impl<'a> Scan<'a> {
         }
         if self.d[self.pos] == b'\n' {
             self.pos += 1;
+            self.line += 1;
             return true;
         }
         false
@@ -143,6 +221,26 @@ mod tests {
         let mut s = Scan::new(b"1 \r\n2", 0);
         s.int();
         assert!(s.eol());
-        assert_eq!(s.pos, 4);
+        assert_eq!((s.pos, s.line()), (4, 1));
+    }
+
+    /// Lines counted across blanks and ends of lines, the start of the next token, the
+    /// end-of-line look-ahead, and unsigned integers up to 19 digits.
+    #[test]
+    fn lines_starts_and_unsigned_integers() {
+        let mut s = Scan::on_line(b"7 \n\n  12 x\n 9", 0, 3);
+        s.ws();
+        assert_eq!((s.uint(), s.line(), s.start()), (Some(7), 3, 0));
+        assert!(s.at_line_end());
+        s.ws();
+        assert_eq!((s.uint(), s.line(), s.start()), (Some(12), 5, 6));
+        assert!(!s.at_line_end());
+        s.ws();
+        assert_eq!((s.uint(), s.pos), (None, 9));
+        assert_eq!(Scan::new(b"9999999999999999999 ", 0).uint(), Some(9_999_999_999_999_999_999));
+        assert_eq!(Scan::new(b"18446744073709551616 ", 0).uint(), None);
+        assert_eq!(Scan::new(b"-1 ", 0).uint(), None);
+        assert_eq!(Scan::new(b"12a", 0).uint(), None);
+        assert_eq!(Scan::new(b"", 0).bytes_left(), 0);
     }
 }

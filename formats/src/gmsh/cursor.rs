@@ -1,12 +1,10 @@
 //! The reading cursor: text tokens ([`Tokens`]) and binary arrays over the same bytes,
-//! positions as lines in ASCII files and byte offsets in binary ones, and [`Scan`], a
-//! fast path for the numbers of the big ASCII sections that falls back to `Tokens` for
-//! anything unusual and for every error.
-//!
-//! `Scan` is the module's own rather than the crate's `scan::Scan` because MSH records
-//! are checked to stay on their line in the hot loops: it counts the lines it crosses
-//! as it skips blanks, where the crate's leaves that to `Tokens::seek`.
+//! positions as lines in ASCII files and byte offsets in binary ones, and the crate's
+//! [`Scan`] for the numbers of the big ASCII sections, started on the cursor's line so
+//! that the readers can check that an MSH record stays on its line; it falls back to
+//! `Tokens` for anything unusual and for every error.
 
+use crate::scan::Scan;
 use crate::text::{self, Tokens};
 use crate::{Error, ErrorKind, Position, Result};
 
@@ -254,101 +252,10 @@ impl<'a> Cursor<'a> {
     }
 }
 
-/// A quick scanner for the hot loops of the ASCII readers: plain unsigned integers and
-/// finite floats followed by white space. Anything else, and every error, goes back to
-/// [`Tokens`], which parses or explains it; the `Cursor` is kept at the scanner's last
-/// synchronisation point, so that its line count stays right.
-pub(super) struct Scan<'a> {
-    d: &'a [u8],
-    pos: usize,
-    line: u64,
-    /// Start of the token being read, where `Tokens` resumes after a miss.
-    start: usize,
-}
-
-impl Scan<'_> {
-    #[inline(always)]
-    fn skip_space(&mut self) {
-        while let Some(&c) = self.d.get(self.pos) {
-            match c {
-                b' ' | b'\t' | b'\r' => self.pos += 1,
-                b'\n' => {
-                    self.line += 1;
-                    self.pos += 1;
-                }
-                _ => break,
-            }
-        }
-        self.start = self.pos;
-    }
-
-    #[inline(always)]
-    fn ends_token(&self, at: usize) -> bool {
-        self.d.get(at).map_or(true, |&c| matches!(c, b' ' | b'\t' | b'\r' | b'\n'))
-    }
-
-    #[inline(always)]
-    fn uint(&mut self) -> Option<u64> {
-        self.skip_space();
-        let mut v: u64 = 0;
-        let mut p = self.pos;
-        while let Some(&c) = self.d.get(p) {
-            let digit = c.wrapping_sub(b'0');
-            if digit > 9 {
-                break;
-            }
-            v = v.wrapping_mul(10).wrapping_add(digit as u64);
-            p += 1;
-        }
-        // 19 digits cannot overflow a u64; longer numbers go to the careful parser.
-        if p == self.pos || p - self.pos > 19 || !self.ends_token(p) {
-            return None;
-        }
-        self.pos = p;
-        Some(v)
-    }
-
-    #[inline(always)]
-    fn float(&mut self) -> Option<f64> {
-        self.skip_space();
-        let (v, n) = fast_float2::parse_partial::<f64, _>(&self.d[self.pos..]).ok()?;
-        if n == 0 || !v.is_finite() || !self.ends_token(self.pos + n) {
-            return None;
-        }
-        self.pos += n;
-        Some(v)
-    }
-
-    /// Bytes not read yet.
-    pub fn bytes_left(&self) -> usize {
-        self.d.len() - self.pos
-    }
-
-    /// The line of the last number read.
-    #[inline]
-    pub fn line(&self) -> u64 {
-        self.line
-    }
-
-    /// Whether only blanks remain on the current line.
-    #[inline]
-    pub fn at_line_end(&self) -> bool {
-        let mut p = self.pos;
-        while let Some(&c) = self.d.get(p) {
-            match c {
-                b' ' | b'\t' | b'\r' => p += 1,
-                b'\n' => return true,
-                _ => return false,
-            }
-        }
-        true
-    }
-}
-
 impl<'a> Cursor<'a> {
     /// A scanner at the cursor.
     pub fn scan(&self) -> Scan<'a> {
-        Scan { d: self.full, pos: self.pos(), line: self.t.line(), start: self.pos() }
+        Scan::on_line(self.full, self.pos(), self.t.line())
     }
 
     /// Moves the cursor to where the scanner is (before an error or a text read).
@@ -358,6 +265,7 @@ impl<'a> Cursor<'a> {
 
     #[inline(always)]
     pub fn scan_u64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<u64> {
+        s.ws();
         match s.uint() {
             Some(v) => Ok(v),
             None => self.slow_u64(s, what),
@@ -367,7 +275,7 @@ impl<'a> Cursor<'a> {
     #[cold]
     #[inline(never)]
     fn slow_u64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<u64> {
-        self.seek(s.start);
+        self.seek(s.start());
         let v = self.u64(what)?;
         *s = self.scan();
         Ok(v)
@@ -375,6 +283,7 @@ impl<'a> Cursor<'a> {
 
     #[inline(always)]
     pub fn scan_i64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<i64> {
+        s.ws();
         match s.uint() {
             Some(v) if v <= i64::MAX as u64 => Ok(v as i64),
             _ => self.slow_i64(s, what),
@@ -384,7 +293,7 @@ impl<'a> Cursor<'a> {
     #[cold]
     #[inline(never)]
     fn slow_i64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<i64> {
-        self.seek(s.start);
+        self.seek(s.start());
         let v = self.i64(what)?;
         *s = self.scan();
         Ok(v)
@@ -392,7 +301,8 @@ impl<'a> Cursor<'a> {
 
     #[inline(always)]
     pub fn scan_f64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<f64> {
-        match s.float() {
+        s.ws();
+        match s.f64() {
             Some(v) => Ok(v),
             None => self.slow_f64(s, what),
         }
@@ -401,7 +311,7 @@ impl<'a> Cursor<'a> {
     #[cold]
     #[inline(never)]
     fn slow_f64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<f64> {
-        self.seek(s.start);
+        self.seek(s.start());
         let v = self.f64(what)?;
         *s = self.scan();
         Ok(v)
