@@ -1,0 +1,374 @@
+//! Writing a `.vtu`: the arrays of the grid in the chosen encoding, zlib blocks
+//! deflated on every core, the XML around them.
+
+use super::*;
+
+/// Deflates `data` in independent `BLOCK`-sized blocks, on several threads for large
+/// arrays. Level 1: on mesh data it gives files within a few percent of level 6 in a
+/// fraction of the time.
+pub(super) fn deflate_blocks(data: &[u8]) -> Vec<Vec<u8>> {
+    let one = |chunk: &[u8]| -> Vec<u8> {
+        let mut z = Compress::new(Compression::new(1), true);
+        let mut out = Vec::with_capacity(chunk.len() + chunk.len() / 8 + 64);
+        loop {
+            let before = z.total_in() as usize;
+            let st =
+                z.compress_vec(&chunk[before.min(chunk.len())..], &mut out, FlushCompress::Finish);
+            match st {
+                Ok(Status::StreamEnd) => return out,
+                _ => out.reserve(out.capacity().max(64)),
+            }
+        }
+    };
+    let chunks: Vec<&[u8]> = data.chunks(BLOCK).collect();
+    let nt = threads().min(chunks.len());
+    if nt <= 1 || data.len() < (1 << 20) {
+        return chunks.into_iter().map(one).collect();
+    }
+    let per = chunks.len().div_ceil(nt);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = chunks
+            .chunks(per)
+            .map(|g| s.spawn(move || g.iter().map(|c| one(c)).collect::<Vec<_>>()))
+            .collect();
+        // A compression thread cannot fail; a panic would be a bug in flate2.
+        handles.into_iter().flat_map(|h| h.join().expect("compression thread")).collect()
+    })
+}
+
+/// Writes the bytes of one array into the buffer it is given.
+type RawWriter<'a> = Box<dyn FnOnce(&mut Vec<u8>) + 'a>;
+
+struct Writer<'a> {
+    out: Vec<u8>,
+    enc: VtuEncoding,
+    compress: bool,
+    /// Compressed appended data, built as the arrays come.
+    app: Vec<u8>,
+    /// Length of the appended data so far (the next array's `offset`).
+    app_len: usize,
+    /// Uncompressed appended arrays, written straight into `out` after the XML (their
+    /// offsets follow from their sizes), which saves copying them twice.
+    deferred: Vec<(usize, RawWriter<'a>)>,
+}
+
+impl<'a> Writer<'a> {
+    /// `buf` holds 8 bytes of room for a UInt64 header, then the array's bytes. Writes
+    /// the header words (little-endian) and the data as an inline or appended binary
+    /// array: for inline base64, header and data are encoded separately when
+    /// compressed (as VTK does) and as one run when not.
+    fn binary_payload(&mut self, mut buf: Vec<u8>) {
+        let n = buf.len() - 8;
+        if self.compress {
+            let blocks = deflate_blocks(&buf[8..]);
+            let mut header = Vec::with_capacity(8 * (3 + blocks.len()));
+            for w in [blocks.len() as u64, BLOCK as u64, (n % BLOCK) as u64] {
+                header.extend_from_slice(&w.to_le_bytes());
+            }
+            for b in &blocks {
+                header.extend_from_slice(&(b.len() as u64).to_le_bytes());
+            }
+            if self.enc == VtuEncoding::Appended {
+                self.app.extend_from_slice(&header);
+                for b in &blocks {
+                    self.app.extend_from_slice(b);
+                }
+                self.app_len = self.app.len();
+            } else {
+                self.out.extend_from_slice(b"          ");
+                push_base64(&mut self.out, &header);
+                push_base64(&mut self.out, &blocks.concat());
+                self.out.push(b'\n');
+            }
+        } else {
+            buf[..8].copy_from_slice(&(n as u64).to_le_bytes());
+            self.out.extend_from_slice(b"          ");
+            push_base64(&mut self.out, &buf);
+            self.out.push(b'\n');
+        }
+    }
+
+    /// One `<DataArray>`: `ascii` writes the values as text, `raw` as `nbytes`
+    /// little-endian bytes.
+    fn array(
+        &mut self,
+        ty: &str,
+        name: &str,
+        components: usize,
+        nbytes: usize,
+        ascii: impl FnOnce(&mut Vec<u8>),
+        raw: impl FnOnce(&mut Vec<u8>) + 'a,
+    ) {
+        let o = &mut self.out;
+        o.extend_from_slice(b"        <DataArray type=\"");
+        o.extend_from_slice(ty.as_bytes());
+        o.extend_from_slice(b"\" Name=\"");
+        escape(o, name);
+        o.push(b'"');
+        if components != 1 {
+            o.extend_from_slice(b" NumberOfComponents=\"");
+            crate::text::push_int(o, components);
+            o.push(b'"');
+        }
+        match self.enc {
+            VtuEncoding::Ascii => {
+                o.extend_from_slice(b" format=\"ascii\">\n");
+                ascii(o);
+                o.extend_from_slice(b"        </DataArray>\n");
+            }
+            VtuEncoding::Binary => {
+                o.extend_from_slice(b" format=\"binary\">\n");
+                let mut buf = Vec::with_capacity(8 + nbytes);
+                buf.extend_from_slice(&[0; 8]);
+                raw(&mut buf);
+                self.binary_payload(buf);
+                self.out.extend_from_slice(b"        </DataArray>\n");
+            }
+            VtuEncoding::Appended => {
+                o.extend_from_slice(b" format=\"appended\" offset=\"");
+                crate::text::push_int(o, self.app_len);
+                o.extend_from_slice(b"\"/>\n");
+                if self.compress {
+                    let mut buf = Vec::with_capacity(8 + nbytes);
+                    buf.extend_from_slice(&[0; 8]);
+                    raw(&mut buf);
+                    self.binary_payload(buf);
+                } else {
+                    self.app_len += 8 + nbytes;
+                    self.deferred.push((nbytes, Box::new(raw)));
+                }
+            }
+        }
+    }
+
+    /// The appended block, after the XML.
+    fn finish_appended(&mut self) {
+        self.out.extend_from_slice(b"  <AppendedData encoding=\"raw\">\n   _");
+        if self.compress {
+            self.out.extend_from_slice(&self.app);
+        } else {
+            self.out.reserve(self.app_len + 64);
+            for (nbytes, raw) in std::mem::take(&mut self.deferred) {
+                self.out.extend_from_slice(&(nbytes as u64).to_le_bytes());
+                let start = self.out.len();
+                raw(&mut self.out);
+                debug_assert_eq!(self.out.len() - start, nbytes, "appended array size");
+            }
+        }
+        self.out.extend_from_slice(b"\n  </AppendedData>\n");
+    }
+
+    fn f64_array(&mut self, name: &str, components: usize, values: &'a [f64]) {
+        self.array(
+            "Float64",
+            name,
+            components,
+            values.len() * 8,
+            |o| {
+                for item in values.chunks(components.max(1)) {
+                    o.extend_from_slice(b"          ");
+                    for (j, &v) in item.iter().enumerate() {
+                        if j > 0 {
+                            o.push(b' ');
+                        }
+                        push_num(o, v);
+                    }
+                    o.push(b'\n');
+                }
+            },
+            |o| put(o, values, f64::to_le_bytes),
+        );
+    }
+
+    fn i32_array(&mut self, name: &str, values: &'a [i32]) {
+        self.array(
+            "Int32",
+            name,
+            1,
+            values.len() * 4,
+            |o| {
+                for &v in values {
+                    o.extend_from_slice(b"          ");
+                    crate::text::push_int(o, v);
+                    o.push(b'\n');
+                }
+            },
+            |o| put(o, values, i32::to_le_bytes),
+        );
+    }
+}
+
+pub(super) fn push_base64(out: &mut Vec<u8>, data: &[u8]) {
+    let start = out.len();
+    let n = base64::encoded_len(data.len(), true).unwrap_or(0);
+    out.resize(start + n, 0);
+    let written = base64::engine::general_purpose::STANDARD
+        .encode_slice(data, &mut out[start..])
+        .unwrap_or(0);
+    out.truncate(start + written);
+}
+
+/// Writes a `.vtu` file.
+pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    let mut plan = Plan::new(mesh, "VTK XML");
+    let enc = opts.vtk.vtu_encoding;
+    let compress = opts.vtk.compress && enc != VtuEncoding::Ascii;
+    let np = mesh.points.len();
+    let nc = mesh.num_cells();
+    let nconn: usize = mesh.blocks.iter().map(|b| b.nodes.len()).sum();
+    let data_values = plan.point_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>()
+        + plan.cell_arrays.iter().map(|(_, a)| a.values.len()).sum::<usize>();
+    let raw_bytes = np * 24 + nconn * 8 + nc * 17 + data_values * 8;
+    let cap = match (enc, compress) {
+        (VtuEncoding::Ascii, _) => raw_bytes * 2,
+        (_, true) => raw_bytes / 2,
+        (VtuEncoding::Binary, false) => raw_bytes * 4 / 3 + 4096,
+        (VtuEncoding::Appended, false) => raw_bytes + 4096,
+    };
+    // Declared before the writer, which borrows it until the appended data is out.
+    let offs = offsets(mesh);
+    let mut w = Writer {
+        out: Vec::with_capacity(cap),
+        enc,
+        compress,
+        app: Vec::new(),
+        app_len: 0,
+        deferred: Vec::new(),
+    };
+
+    let o = &mut w.out;
+    o.extend_from_slice(b"<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"");
+    if compress {
+        o.extend_from_slice(b" compressor=\"vtkZLibDataCompressor\"");
+    }
+    o.extend_from_slice(b">\n  <UnstructuredGrid>\n");
+    // Tag names: meshio's `field_data` layout, one `[tag, dim]` array per name,
+    // always ascii (a few numbers).
+    if !plan.names.is_empty() {
+        o.extend_from_slice(b"    <FieldData>\n");
+        for &(name, tag, dim) in &plan.names {
+            o.extend_from_slice(b"      <DataArray type=\"Int32\" Name=\"");
+            escape(o, name);
+            o.extend_from_slice(b"\" NumberOfTuples=\"2\" format=\"ascii\">\n        ");
+            crate::text::push_int(o, tag);
+            o.push(b' ');
+            crate::text::push_int(o, dim);
+            o.extend_from_slice(b"\n      </DataArray>\n");
+        }
+        o.extend_from_slice(b"    </FieldData>\n");
+    }
+    o.extend_from_slice(b"    <Piece NumberOfPoints=\"");
+    crate::text::push_int(o, np);
+    o.extend_from_slice(b"\" NumberOfCells=\"");
+    crate::text::push_int(o, nc);
+    o.extend_from_slice(b"\">\n");
+
+    if !plan.point_arrays.is_empty() {
+        w.out.extend_from_slice(b"      <PointData");
+        if let Some(t) = plan.tensor {
+            w.out.extend_from_slice(b" Tensors=\"");
+            escape(&mut w.out, t);
+            w.out.push(b'"');
+        }
+        w.out.extend_from_slice(b">\n");
+        for (name, a) in &plan.point_arrays {
+            w.f64_array(name, a.components, &a.values);
+        }
+        w.out.extend_from_slice(b"      </PointData>\n");
+    }
+    w.out.extend_from_slice(b"      <CellData Scalars=\"gmsh:physical\">\n");
+    w.i32_array(PHYSICAL, &plan.physical);
+    w.i32_array(GEOMETRICAL, &plan.geometrical);
+    for (name, a) in &plan.cell_arrays {
+        w.f64_array(name, a.components, &a.values);
+    }
+    w.out.extend_from_slice(b"      </CellData>\n      <Points>\n");
+    let flat: &[[f64; 3]] = &mesh.points;
+    w.array(
+        "Float64",
+        "Points",
+        3,
+        np * 24,
+        |o| {
+            for p in flat {
+                o.extend_from_slice(b"          ");
+                push_num(o, p[0]);
+                o.push(b' ');
+                push_num(o, p[1]);
+                o.push(b' ');
+                push_num(o, p[2]);
+                o.push(b'\n');
+            }
+        },
+        |o| put(o, flat.as_flattened(), f64::to_le_bytes),
+    );
+    w.out.extend_from_slice(b"      </Points>\n      <Cells>\n");
+    w.array(
+        "Int64",
+        "connectivity",
+        1,
+        nconn * 8,
+        |o| {
+            for b in &mesh.blocks {
+                for cell in b.cells() {
+                    o.extend_from_slice(b"          ");
+                    for (j, &v) in cell.iter().enumerate() {
+                        if j > 0 {
+                            o.push(b' ');
+                        }
+                        crate::text::push_int(o, v);
+                    }
+                    o.push(b'\n');
+                }
+            }
+        },
+        |o| {
+            o.reserve(nconn * 8);
+            for b in &mesh.blocks {
+                put(o, &b.nodes, |v| (v as i64).to_le_bytes());
+            }
+        },
+    );
+    w.array(
+        "Int64",
+        "offsets",
+        1,
+        nc * 8,
+        |o| {
+            for &v in &offs[1..] {
+                o.extend_from_slice(b"          ");
+                crate::text::push_int(o, v);
+                o.push(b'\n');
+            }
+        },
+        |o| put(o, &offs[1..], |v| (v as i64).to_le_bytes()),
+    );
+    w.array(
+        "UInt8",
+        "types",
+        1,
+        nc,
+        |o| {
+            for b in &mesh.blocks {
+                let t = b.kind.vtk_type();
+                for _ in 0..b.len() {
+                    o.extend_from_slice(b"          ");
+                    crate::text::push_int(o, t);
+                    o.push(b'\n');
+                }
+            }
+        },
+        |o| {
+            for b in &mesh.blocks {
+                o.extend(std::iter::repeat(b.kind.vtk_type()).take(b.len()));
+            }
+        },
+    );
+    w.out.extend_from_slice(b"      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
+    if enc == VtuEncoding::Appended {
+        w.finish_appended();
+    }
+    w.out.extend_from_slice(b"</VTKFile>\n");
+    let report = std::mem::take(&mut plan.report);
+    Ok(Written { main: w.out, siblings: Vec::new(), report })
+}
