@@ -171,7 +171,12 @@ impl Clearance {
     /// coordinate magnitude of the source and `horizon` the largest finite search cap
     /// (past it, a last tier searches without a cap).
     #[cfg(test)]
-    pub(crate) fn new(geoms: &[SegmentGeom], links: &[Links], scale: f64, horizon: f64) -> Clearance {
+    pub(crate) fn new(
+        geoms: &[SegmentGeom],
+        links: &[Links],
+        scale: f64,
+        horizon: f64,
+    ) -> Clearance {
         Clearance::new_over(Clearance::tree_of(geoms, scale), geoms, links, scale, horizon)
     }
 
