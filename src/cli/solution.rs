@@ -115,7 +115,9 @@ impl SolutionArgs {
             target,
             p: self.p,
             method: self.recovery,
-            bounds: Some(bounds),
+            h_min: Some(bounds.h_min()),
+            h_max: Some(bounds.h_max()),
+            max_aspect: Some(bounds.max_aspect_ratio()),
         };
         Ok(Step {
             label: format!("solution `{name}` (SOLUTION_HESSIAN, {})", self.recovery.name()),
