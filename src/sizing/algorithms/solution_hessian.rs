@@ -146,7 +146,7 @@ impl SizingAlgorithm for SolutionHessian {
             optional(
                 "p",
                 &["P"],
-                "The Lp norm of the interpolation error the metric minimises (>= 1; 2 when left out; 1 resolves weak features more, large p the strongest).",
+                "The Lp norm of the interpolation error the metric minimises (>= 1; 2 when left out, for the L2 norm; 1 resolves weak features more; a large P, 1e30, is p = infinity: the density |H| the H1 seminorm asks for).",
             ),
             Parameter {
                 field: "recovery",
