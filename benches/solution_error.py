@@ -4,16 +4,21 @@
   (b) the geometric recipe alone (`smartmesh adapt --recipe`), whose vertex count sets N,
   (c) the solution loop with recovered Hessians (`smartmesh adapt --solver`, no recipe,
       vertex count N asked; the "solver" interpolates the exact solution),
-  (d) mmg2d_O3 fed the Lp-optimal metric (p = 2) of the exact Hessian, normalised to N,
+  (d) mmg2d_O3 fed the Lp-optimal metric of the exact Hessian, normalised to N,
       remeshed 5 times from (a) (the ideal: no recovery error).
-(c) and (d) share the bounds: h_max 0.1, h_min 1e-6 sqrt(2), aspect ratio at most 1e4.
+(c) and (d) run for each norm exponent of --p (default 2 and inf): p = 2 minimises the L2
+norm of the interpolation error; p = inf gives the density |H| (det|H|^(1/2)) that the
+H1 seminorm asks for, since the gradient error of P1 interpolation is about h |H| (for
+an isotropic cell of size h, |grad e|^2 h^2 ~ h^4 |H|^2 summed over N ~ 1/h^2 cells is
+smallest at fixed N when h^2 |H| is constant). (c) and (d) share the bounds: h_max 0.1,
+h_min 1e-6 sqrt(2), aspect ratio at most 1e4.
 
 Problems on the unit square: a boundary layer exp(-x/0.01), Mitchell's wave front
 atan(100 (r - 0.7)) about (-0.05, -0.05), and the corner singularity r^(2/3) sin(2 theta / 3)
 at the origin. Errors: L2 and H1 seminorm of u - I_h u by a 7-point degree-5 rule per
 triangle. Everything goes to a temporary directory.
 
-    python3 benches/solution_error.py [--smartmesh target/release/smartmesh] [--problems layer,front,corner]
+    python3 benches/solution_error.py [--smartmesh target/release/smartmesh] [--problems layer,front,corner] [--p 2,inf]
 
 The table of BENCHMARKS.md ("Solution-driven adaptation") comes from this script.
 """
@@ -259,10 +264,10 @@ def lp_metric(points, tris, problem, n, p=2.0, aspect=1e4):
     return m
 
 
-def mmg_ideal(start, problem, n, work, mmg):
+def mmg_ideal(start, problem, n, work, mmg, p):
     pts, tris = read_triangles(start)
     for k in range(5):
-        m = lp_metric(pts, tris, problem, n)
+        m = lp_metric(pts, tris, problem, n, p=p)
         base = os.path.join(work, f"mmg-{k}")
         meshio.write(base + ".mesh", meshio.Mesh(pts[:, :2], [("triangle", tris)]))
         with open(base + ".sol", "w") as f:
@@ -300,6 +305,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--smartmesh", default=None)
     ap.add_argument("--problems", default="layer,front,corner")
+    ap.add_argument("--p", default="2,inf", help="the norm exponents of (c) and (d)")
     ap.add_argument("--solve", nargs=3, metavar=("PROBLEM", "MESH", "SOLUTION"), help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.solve:
@@ -335,24 +341,31 @@ def main():
             a = uniform(n, os.path.join(work, f"{problem}-a.vtu"))
             pts, tris = read_triangles(a)
             res["a"] = (len(pts),) + interpolation_error(pts, tris, problem)
-            c = os.path.join(work, f"{problem}-c.vtu")
             solver = f"{sys.executable} {os.path.abspath(__file__)} --solve {problem} {{mesh}} {{solution}}"
-            run([sm, "adapt", start, "--solver", solver, "--complexity-start", str(n // 4),
-                 "--complexity-growth", "2", "--complexity", str(n), "--max-iterations", "8",
-                 "--hmax", str(HMAX), "-o", c])
-            pts, tris = read_triangles(c)
-            res["c"] = (len(pts),) + interpolation_error(pts, tris, problem)
-            pts, tris = mmg_ideal(a, problem, n, work, mmg)
-            res["d"] = (len(pts),) + interpolation_error(pts, tris, problem)
+            for p in args.p.split(","):
+                c = os.path.join(work, f"{problem}-c-{p}.vtu")
+                run([sm, "adapt", start, "--solver", solver, "--complexity-start", str(n // 4),
+                     "--complexity-growth", "2", "--complexity", str(n), "--max-iterations", "8",
+                     "--hmax", str(HMAX), "--p", p, "-o", c])
+                pts, tris = read_triangles(c)
+                res["c" + p] = (len(pts),) + interpolation_error(pts, tris, problem)
+                pts, tris = mmg_ideal(a, problem, n, work, mmg, float(p))
+                res["d" + p] = (len(pts),) + interpolation_error(pts, tris, problem)
             rows.append((problem, res))
             print(json.dumps({"problem": problem, **res}), file=sys.stderr)
-    print("| problem | (a) uniform Delaunay | (b) geometric recipe | (c) solution loop | (d) MMG, exact Hessian | (c)/(d) L2, H1 | (c)/(b) L2, H1 |")
-    print("|---|---|---|---|---|---|---|")
+    cell = lambda res, k: f"{res[k][0]} v: {res[k][1]:.2e}, {res[k][2]:.2e}"
+    ratio = lambda res, x, y: f"{res[x][1] / res[y][1]:.2f}, {res[x][2] / res[y][2]:.2f}"
+    print("| problem | (a) uniform Delaunay | (b) geometric recipe |")
+    print("|---|---|---|")
     for problem, res in rows:
-        cell = lambda k: f"{res[k][0]} v: {res[k][1]:.2e}, {res[k][2]:.2e}"
-        cd = f"{res['c'][1] / res['d'][1]:.2f}, {res['c'][2] / res['d'][2]:.2f}"
-        cb = f"{res['c'][1] / res['b'][1]:.2f}, {res['c'][2] / res['b'][2]:.2f}"
-        print(f"| {problem} | {cell('a')} | {cell('b')} | {cell('c')} | {cell('d')} | {cd} | {cb} |")
+        print(f"| {problem} | {cell(res, 'a')} | {cell(res, 'b')} |")
+    print()
+    print("| problem | p | (c) solution loop | (d) MMG, exact Hessian | (c)/(d) L2, H1 | (c)/(b) L2, H1 |")
+    print("|---|---|---|---|---|---|")
+    for problem, res in rows:
+        for p in args.p.split(","):
+            c, d = "c" + p, "d" + p
+            print(f"| {problem} | {p} | {cell(res, c)} | {cell(res, d)} | {ratio(res, c, d)} | {ratio(res, c, 'b')} |")
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@ mesh for each made with PyPI `triangle` and written by PyPI `gmsh` as MSH 4.1 AS
 Run from the repository root:
 
     python3 examples/make_examples.py            # every example
-    python3 examples/make_examples.py u-duct     # some of them: naca0012-agard01,
+    python3 examples/make_examples.py u-duct     # some of them: naca0012-agard01 to -agard05,
                                                  # gamm-a7-viscous, u-duct, distributor-1-narrow,
                                                  # distributor-2-thick, distributor-3-s-shaped
     python3 examples/make_examples.py --out DIR  # into DIR instead of examples/
@@ -33,7 +33,7 @@ points, each named as in the .poly.
 Coordinates are rounded to 10 significant digits so that the files stay small.
 
 Geometries (parameters are the constants below):
-- naca0012-agard01, gamm-a7-viscous: the NACA 0012 airfoil from the analytic NACA
+- naca0012-agard01 to -agard05, gamm-a7-viscous: the NACA 0012 airfoil from the analytic NACA
   4-digit thickness formula y = 0.6 (0.2969 sqrt(x) - 0.1260 x - 0.3516 x^2 + 0.2843 x^3
   - 0.1015 x^4), taken to its root x = 1.008930... where y = 0 so that the trailing edge
   closes (hence a chord of 1.00893, as thesis 6.2.4 says of the NACA 0012); cosine
@@ -281,6 +281,25 @@ def naca0012_agard01():
     )
 
 
+# AGARD02-05 (thesis 6.2.3-6.2.6, table 6.1): the same airfoil; AGARD03 in a far field of
+# radius 75 as the thesis used (its trailing-edge shocks reach 35 chords), the others 25.
+AGARD = {
+    "02": (0.85, 1.00, 25.0, 48),
+    "03": (0.95, 0.00, 75.0, 96),
+    "04": (1.20, 0.00, 25.0, 48),
+    "05": (1.20, 7.00, 25.0, 48),
+}
+
+
+def naca0012_agard(case):
+    mach, alpha, radius, points = AGARD[case]
+    return naca0012(
+        "NACA 0012 airfoil in a far field of radius %g chords: AGARD%s (M = %.2f, alpha = %g deg)" % (radius, case, mach, alpha),
+        per_side=100, far_radius=radius, far_points=points,
+        notes=["The chord lies on the x axis; the free stream comes at alpha = %g deg (see recipe.toml)." % alpha],
+    )
+
+
 def gamm_a7_viscous():
     return naca0012(
         "NACA 0012 airfoil in a far field of radius 50 chords: a GAMM A7-like viscous case (M = 0.85, alpha = 0, Re = 5000)",
@@ -507,6 +526,10 @@ def airfoil_grading(x, y):
 EXAMPLES = {
     "naca0012-agard01": ("naca0012-agard01", naca0012_agard01, 40.0, airfoil_grading),
     "gamm-a7-viscous": ("gamm-a7-viscous", gamm_a7_viscous, 150.0, airfoil_grading),
+    "naca0012-agard02": ("naca0012-agard02", lambda: naca0012_agard("02"), 40.0, airfoil_grading),
+    "naca0012-agard03": ("naca0012-agard03", lambda: naca0012_agard("03"), 400.0, airfoil_grading),
+    "naca0012-agard04": ("naca0012-agard04", lambda: naca0012_agard("04"), 40.0, airfoil_grading),
+    "naca0012-agard05": ("naca0012-agard05", lambda: naca0012_agard("05"), 40.0, airfoil_grading),
     "u-duct": ("u-duct", u_duct, 0.01, None),
 }
 for _v in GV_VARIANTS:

@@ -22,7 +22,7 @@ for arg in "$@"; do
 done
 cargo build --release --quiet
 bin="$PWD/target/release/smartmesh"
-all=(naca0012-agard01 gamm-a7-viscous u-duct distributor/1-narrow distributor/2-thick distributor/3-s-shaped)
+all=(naca0012-agard01 naca0012-agard02 naca0012-agard03 naca0012-agard04 naca0012-agard05 gamm-a7-viscous u-duct distributor/1-narrow distributor/2-thick distributor/3-s-shaped)
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")
 # A folder of variants (the distributor) stands for each of them.
 requested=()

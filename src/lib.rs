@@ -28,6 +28,8 @@
 //!   (.msh, .pos) and VTK/ParaView (.vtu, .vtk);
 //! - [`report`]: pictures (SVG, PNG) of a mesh, its metric, conformity and history;
 //! - [`solution`]: metrics from a computed scalar field (Hessian recovery, Lp metric);
+//! - [`variants`]: families of geometries with one set of tags (NACA 4-digit airfoils,
+//!   the turbine distributors) written as `.poly` files with a batch manifest;
 //! - the entry points at the root: [`read_path`], [`size_mesh`], [`remesh()`], [`adapt()`],
 //!   [`MetricField`], with the types they take and give.
 #![forbid(unsafe_code)]
@@ -55,6 +57,7 @@ pub mod sizing;
 pub mod solution;
 pub(crate) mod summary;
 pub mod topology;
+pub mod variants;
 
 // The curated surface: what a user of the library needs, at the root. The crate's
 // own modules (`geometry`, `mesh_graph`, `quality`, `size_controls`, `summary`) show

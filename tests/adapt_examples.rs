@@ -468,6 +468,26 @@ fn naca0012_agard01_adapts() {
 }
 
 #[test]
+fn naca0012_agard02_adapts() {
+    example("naca0012-agard02", DRIFT);
+}
+
+#[test]
+fn naca0012_agard03_adapts() {
+    example("naca0012-agard03", DRIFT);
+}
+
+#[test]
+fn naca0012_agard04_adapts() {
+    example("naca0012-agard04", DRIFT);
+}
+
+#[test]
+fn naca0012_agard05_adapts() {
+    example("naca0012-agard05", DRIFT);
+}
+
+#[test]
 fn gamm_a7_viscous_adapts() {
     example("gamm-a7-viscous", DRIFT);
 }
@@ -497,6 +517,10 @@ fn every_example_has_a_test() {
     let tested = [
         "naca0012-agard01",
         "gamm-a7-viscous",
+        "naca0012-agard02",
+        "naca0012-agard03",
+        "naca0012-agard04",
+        "naca0012-agard05",
         "u-duct",
         "distributor/1-narrow",
         "distributor/2-thick",

@@ -382,6 +382,81 @@ fn airfoil(
     c.check_far(|p| dist(p, [0.5, 0.0]) > far_radius, far_size, 0.01);
 }
 
+/// AGARD02–05 share AGARD01's wall layer and edges and have their own shocks and wakes:
+/// every DISTANCE_TO_IMAGINARY_POLYLINE of the recipe is checked as a band
+/// ([`Case::check_band`]) away from the wall, the edges and every other line at least as
+/// fine across, where that one decides; `bounds` are the field's expected (smallest,
+/// largest) size, `far_size` the uniform size beyond `far_radius` from mid-chord.
+fn airfoil_lines(folder: &str, bounds: (f64, f64), far_radius: f64, far_size: f64) {
+    use smartmesh::recipe::model::SpecValue;
+    let c = load(folder, &format!("{folder}/recipe.toml"));
+    c.check_bounds(bounds.0, bounds.1, 50.0);
+    let (wall, edge) =
+        (c.distance("WallNormal").size_at_source(), c.distance("Edge").size_at_source());
+    c.check_point(11, about(wall, 0.02), about(edge, 0.02));
+    c.check_point(12, about(wall, 0.05), (wall, edge));
+    c.check_wall(
+        &[1, 2],
+        |_| true,
+        about(wall, 0.05),
+        (wall, c.distance("WallTangent").size_at_source()),
+    );
+    // (polyline, its perpendicular function) for each line of the recipe.
+    let lines: Vec<(String, String)> = c
+        .recipe
+        .algorithms
+        .iter()
+        .filter_map(|a| {
+            let (_, polyline) = a.polyline()?;
+            let normal = a.arguments().find_map(|(p, v)| match (p.field, v) {
+                ("perpendicular", SpecValue::Name(n)) => Some(n.clone()),
+                _ => None,
+            })?;
+            Some((polyline.to_string(), normal))
+        })
+        .collect();
+    assert!(lines.len() >= 3, "{folder}: {lines:?}");
+    let edge_reach = c.distance("Edge").max_distance();
+    let wall_reach = c.distance("WallNormal").max_distance();
+    let (le, te) = (c.xy(c.point(11)), c.xy(c.point(12)));
+    for (name, normal) in &lines {
+        let own = c.distance(normal).size_at_source();
+        let others: Vec<(&[[f64; 2]], f64)> = lines
+            .iter()
+            .filter(|(n, f)| n != name && c.distance(f).size_at_source() <= own)
+            .map(|(n, f)| (c.polyline(n), c.distance(f).max_distance()))
+            .collect();
+        let alone = |p: [f64; 2]| {
+            c.to_curves(&[1, 2], p) > wall_reach
+                && dist(p, le) > edge_reach
+                && dist(p, te) > edge_reach
+                && others.iter().all(|(l, r)| foot(l, p).0 > *r)
+        };
+        c.check_band(name, normal, (0.0, f64::INFINITY), alone, 20.0);
+    }
+    c.check_far(|p| dist(p, [0.5, 0.0]) > far_radius, far_size, 0.01);
+}
+
+#[test]
+fn naca0012_agard02() {
+    airfoil_lines("naca0012-agard02", (0.0005, 2.0), 24.0, 2.0);
+}
+
+#[test]
+fn naca0012_agard03() {
+    airfoil_lines("naca0012-agard03", (0.0005, 4.0), 70.0, 4.0);
+}
+
+#[test]
+fn naca0012_agard04() {
+    airfoil_lines("naca0012-agard04", (0.0005, 2.0), 24.0, 2.0);
+}
+
+#[test]
+fn naca0012_agard05() {
+    airfoil_lines("naca0012-agard05", (0.0005, 2.0), 24.0, 2.0);
+}
+
 #[test]
 fn naca0012_agard01() {
     airfoil(

@@ -313,6 +313,140 @@ fn census(m: &TaggedMesh) -> BTreeMap<(CellKind, i32), usize> {
     c
 }
 
+/// The skin's cells (quads, and triangles whose corners are all quad corners) by the
+/// bits of their corners' coordinates, with their tags: equal before and after a
+/// remeshing exactly when the skin is kept as it was, whatever the numbering.
+fn skin_cells_by_coordinates(m: &TaggedMesh) -> Vec<(Vec<[u64; 2]>, i32, i32)> {
+    let keep = smartmesh::remesh::skin_cells(m);
+    let mut out: Vec<(Vec<[u64; 2]>, i32, i32)> = m
+        .cells()
+        .filter(|c| c.0.dim() == 2)
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|((_, nodes, p, g), _)| {
+            let mut c: Vec<[u64; 2]> = nodes
+                .iter()
+                .map(|&v| [m.points[v as usize][0].to_bits(), m.points[v as usize][1].to_bits()])
+                .collect();
+            // Same cell, same orientation, whatever its first corner.
+            let first = (0..c.len()).min_by_key(|&i| c[i]).unwrap_or(0);
+            c.rotate_left(first);
+            (c, p, g)
+        })
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+/// Remeshes `skinned` to `metric` with the skin frozen and checks what must hold: the
+/// skin cells and their tags bit for bit, valid (and by the all-pairs twin on small
+/// meshes), every tag and topological point kept, every line of the input's curves
+/// still there (the same total length on straight sides).
+fn remeshed_around_the_skin(
+    skinned: &TaggedMesh,
+    metric: &[smartmesh::metric::Sym2],
+    brute: bool,
+) -> TaggedMesh {
+    let before = skin_cells_by_coordinates(skinned);
+    assert!(!before.is_empty());
+    let out =
+        smartmesh::remesh::remesh(skinned, metric, &smartmesh::remesh::RemeshOptions::default())
+            .unwrap_or_else(|e| panic!("remesh fails: {e}"));
+    let m = out.mesh;
+    assert_eq!(skin_cells_by_coordinates(&m), before, "the skin changed");
+    assert_eq!(m.num_cells_of(CellKind::Quad), skinned.num_cells_of(CellKind::Quad));
+    let v = check_mesh(&m);
+    assert!(v.is_valid(), "{:?}", v.problems());
+    assert!((v.area - check_mesh(skinned).area).abs() < 1e-9 * v.area);
+    if brute {
+        let pts: Vec<[f64; 2]> = m.points.iter().map(|p| [p[0], p[1]]).collect();
+        let b = check_cells_brute(&pts, &surface_cells(&m));
+        assert!(b.is_valid(), "brute force: {:?}", b.problems());
+    }
+    assert_eq!(vertex_cells(skinned), vertex_cells(&m));
+    let tags = |m: &TaggedMesh, dim: u8| -> std::collections::BTreeSet<(i32, i32)> {
+        m.cells().filter(|c| c.0.dim() == dim).map(|c| (c.2, c.3)).collect()
+    };
+    assert_eq!(tags(skinned, 1), tags(&m, 1));
+    assert_eq!(tags(skinned, 2), tags(&m, 2));
+    assert!(m.validate().is_empty());
+    m
+}
+
+#[test]
+fn remesh_keeps_a_skin_frozen_and_remeshes_around_it() {
+    use smartmesh::metric::SizeTensor;
+    // The square obstacle with fans: quads and fan triangles frozen; a field that refines
+    // across the box and coarsens elsewhere.
+    let pts = [
+        [0.0, 0.0],
+        [3.0, 0.0],
+        [3.0, 2.0],
+        [0.0, 2.0],
+        [1.0, 0.75],
+        [1.5, 0.75],
+        [1.5, 1.25],
+        [1.0, 1.25],
+    ];
+    let segs = [
+        ([0, 1], 1),
+        ([1, 2], 2),
+        ([2, 3], 3),
+        ([3, 0], 4),
+        ([4, 5], 5),
+        ([5, 6], 5),
+        ([6, 7], 5),
+        ([7, 4], 5),
+    ];
+    let mut poly = pslg(&pts, &segs);
+    poly.holes.push([1.25, 1.0]);
+    let input =
+        triangulate(&poly, &MeshOptions { size: Some(0.15), ..Default::default() }).unwrap();
+    let g = Growth { first_height: 0.005, ratio: 1.25, layers: 5 };
+    let skinned = layered(&input, &opts(&["5"], g), false).mesh;
+    let fans = smartmesh::remesh::skin_cells(&skinned).iter().filter(|&&k| k).count()
+        - skinned.num_cells_of(CellKind::Quad);
+    assert_eq!(fans, 4 * 3, "the fan triangles are part of the skin");
+    for f in [
+        &(|x: f64, y: f64| SizeTensor::from_angle(0.5 * x, 0.2, 0.02 + 0.05 * (y - 1.0).abs()))
+            as &dyn Fn(f64, f64) -> Option<SizeTensor>,
+        &|_, _| Some(SizeTensor::isotropic(0.4)),
+    ] {
+        let metric: Vec<_> =
+            skinned.points.iter().map(|p| f(p[0], p[1]).unwrap().to_metric()).collect();
+        let m = remeshed_around_the_skin(&skinned, &metric, true);
+        assert_ne!(m.num_cells_of(CellKind::Triangle), skinned.num_cells_of(CellKind::Triangle));
+        // Straight sides: every curve keeps its length.
+        assert_eq!(line_lengths(&m).keys().collect::<Vec<_>>(), vec![&1, &2, &3, &4, &5]);
+        for (t, l) in line_lengths(&skinned) {
+            assert!((line_lengths(&m)[&t] - l).abs() < 1e-12, "curve {t}");
+        }
+    }
+    // The cylinder fixture with a skin on the cylinder and the walls (sides sliding along
+    // the inlet and outlet), remeshed to its recipe's field.
+    let cyl = fixture("cylinder.msh");
+    let g = Growth::solve(Some(0.002), Some(1.2), Some(6), None).unwrap();
+    let skinned = layered(&cyl, &opts(&["Cylinder", "Walls"], g), false).mesh;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+    let text = std::fs::read_to_string(dir.join("cylinder.toml")).unwrap();
+    let recipe = smartmesh::recipe::serde_io::read_toml(&text, &dir.join("cylinder.toml")).unwrap();
+    let sized = smartmesh::sizing::size_mesh(&skinned, &recipe, &mut |_| {}).unwrap();
+    let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
+    remeshed_around_the_skin(&skinned, &metric, false);
+    // Told to keep nothing, the remesher refuses the quads, naming them.
+    let none = vec![false; smartmesh::layer::check::surface_cells(&skinned).len()];
+    let e = smartmesh::remesh::remesh_keeping(
+        &skinned,
+        &smartmesh::topology::Topology::from_mesh(&skinned),
+        &metric,
+        &smartmesh::remesh::RemeshOptions::default(),
+        &none,
+        &mut |_| {},
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("quad"), "{e}");
+}
+
 #[test]
 fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
     let dir = tempfile::tempdir().unwrap();
@@ -401,7 +535,7 @@ fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
     assert!(check_mesh(&split).is_valid());
     assert!((check_mesh(&split).area - check_mesh(&skin).area).abs() < 1e-12);
 
-    // The native remesher refuses the quads unless asked to split them.
+    // The native remesher keeps the quads frozen, or splits them when asked.
     cli::ok(&cli::smartmesh(
         &[
             "size",
@@ -413,11 +547,14 @@ fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
         ],
         None,
     ));
-    let e = cli::bad(&cli::smartmesh(
-        &["remesh", &out("skin.msh"), "--metric", &out("f.vtu"), "-o", &out("rm.msh")],
+    cli::ok(&cli::smartmesh(
+        &["remesh", &out("skin.msh"), "--metric", &out("f.vtu"), "-o", &out("frozen.msh")],
         None,
     ));
-    assert!(e.contains("--split-quads"), "{e}");
+    let frozen =
+        smartmesh::formats::read_path(std::path::Path::new(&out("frozen.msh")), None).unwrap();
+    assert!(check_mesh(&frozen).is_valid());
+    assert_eq!(skin_cells_by_coordinates(&frozen), skin_cells_by_coordinates(&skin));
     cli::ok(&cli::smartmesh(
         &[
             "remesh",
@@ -432,18 +569,25 @@ fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
     ));
     let rm = smartmesh::formats::read_path(std::path::Path::new(&out("rm.msh")), None).unwrap();
     assert!(check_mesh(&rm).is_valid());
-    let e = cli::bad(&cli::smartmesh(
+    assert_eq!(rm.num_cells_of(CellKind::Quad), 0);
+    // `adapt` on a mesh with a skin adapts the triangles around it.
+    cli::ok(&cli::smartmesh(
         &[
             "adapt",
             &out("skin.msh"),
             "--recipe",
             &cli::bundled("cylinder.toml"),
+            "--max-iterations",
+            "2",
             "-o",
             &out("a.msh"),
         ],
         None,
     ));
-    assert!(e.contains("--split-quads"), "{e}");
+    let a = smartmesh::formats::read_path(std::path::Path::new(&out("a.msh")), None).unwrap();
+    assert!(check_mesh(&a).is_valid());
+    assert_eq!(skin_cells_by_coordinates(&a), skin_cells_by_coordinates(&skin));
+    assert_ne!(a.num_cells_of(CellKind::Triangle), skin.num_cells_of(CellKind::Triangle));
 
     // Gmsh, meshio and VTK read the files with the same cells.
     let Some(py) = common::python_with(&["gmsh", "meshio", "vtk"]) else { return };

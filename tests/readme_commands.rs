@@ -147,7 +147,7 @@ fn smartmesh_outputs(args: &[&str]) -> Result<Vec<Write>, String> {
         [sub, ..]
             if [
                 "info", "recipe", "size", "mesh", "remesh", "adapt", "batch", "report", "convert",
-                "layer",
+                "layer", "variants",
             ]
             .contains(sub) => {}
         _ => return Err(format!("smartmesh {args:?}: not a subcommand this test knows")),

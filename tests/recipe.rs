@@ -694,7 +694,8 @@ fn absent_tags_and_names_are_errors() {
 #[test]
 fn every_algorithm_of_the_table_round_trips_in_every_format() {
     use smartmesh::sizing::algorithms::{FunctionKind, ParameterKind, TABLE};
-    let mut r = Recipe::default();
+    let mut base = Recipe::default();
+    let r = &mut base;
     r.regions.insert("R".into(), vec![EntityRef::Tag(1)]);
     r.polylines.insert("L".into(), vec![[0.0, 0.0], [1.0, 0.5]]);
     r.functions.insert(
@@ -714,30 +715,56 @@ fn every_algorithm_of_the_table_round_trips_in_every_format() {
         "C".into(),
         FunctionSpec::CurvatureToSize { min_size: 0.01, max_size: 1.0, size_of_error: 0.001 },
     );
+    // Every parameter given (a choice its last word), then each optional one left out in
+    // turn; the variants the algorithm's own check accepts must round trip, and every
+    // parameter must be given in one of them.
     for entry in TABLE {
         let d = entry.declaration;
-        let values = d.parameters.iter().map(|p| {
-            let v = match p.kind {
-                ParameterKind::Size => SpecValue::Size(0.25),
-                ParameterKind::Function(FunctionKind::Distance) => SpecValue::Name("D".into()),
-                ParameterKind::Function(FunctionKind::Projection) => SpecValue::Name("P".into()),
-                ParameterKind::Function(FunctionKind::Curvature) => SpecValue::Name("C".into()),
-                ParameterKind::Regions { .. } => SpecValue::Names(vec!["R".into()]),
-                ParameterKind::Polyline => SpecValue::Name("L".into()),
-                ParameterKind::PointData => SpecValue::Name("u".into()),
-            };
-            (p.field, v)
-        });
-        r.algorithms.push(AlgorithmSpec::new(d.keyword, values).unwrap());
-    }
-    r.validate().unwrap();
-    for format in [RecipeFormat::Libconfig, RecipeFormat::Toml, RecipeFormat::Json] {
-        let text = r.to_format(format);
-        let back = Recipe::from_str(&text, format, Path::new("all")).unwrap();
-        assert_eq!(back, r, "{format:?}:\n{text}");
-        for (a, entry) in back.algorithms.iter().zip(TABLE) {
-            assert_eq!(a.keyword(), entry.declaration.keyword);
+        let value = |kind: ParameterKind| match kind {
+            ParameterKind::Size => SpecValue::Size(0.25),
+            ParameterKind::OptionalSize => SpecValue::Size(2.0),
+            ParameterKind::Choice(words) => SpecValue::Name(words.last().unwrap().to_string()),
+            ParameterKind::Function(FunctionKind::Distance) => SpecValue::Name("D".into()),
+            ParameterKind::Function(FunctionKind::Projection) => SpecValue::Name("P".into()),
+            ParameterKind::Function(FunctionKind::Curvature) => SpecValue::Name("C".into()),
+            ParameterKind::Regions { .. } => SpecValue::Names(vec!["R".into()]),
+            ParameterKind::Polyline => SpecValue::Name("L".into()),
+            ParameterKind::PointData => SpecValue::Name("u".into()),
+        };
+        let optional: Vec<Option<usize>> = std::iter::once(None)
+            .chain(
+                d.parameters
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, p)| {
+                        matches!(p.kind, ParameterKind::OptionalSize | ParameterKind::Choice(_))
+                    })
+                    .map(|(i, _)| Some(i)),
+            )
+            .collect();
+        let mut given = vec![false; d.parameters.len()];
+        let mut accepted = 0;
+        for left_out in optional {
+            let values = d.parameters.iter().enumerate().map(|(i, p)| {
+                (p.field, if left_out == Some(i) { SpecValue::Absent } else { value(p.kind) })
+            });
+            let mut one = base.clone();
+            one.algorithms.push(AlgorithmSpec::new(d.keyword, values).unwrap());
+            if one.validate().is_err() {
+                continue;
+            }
+            accepted += 1;
+            for (i, g) in given.iter_mut().enumerate() {
+                *g |= left_out != Some(i);
+            }
+            for format in [RecipeFormat::Libconfig, RecipeFormat::Toml, RecipeFormat::Json] {
+                let text = one.to_format(format);
+                let back = Recipe::from_str(&text, format, Path::new("all")).unwrap();
+                assert_eq!(back, one, "{format:?}:\n{text}");
+                assert_eq!(back.algorithms[0].keyword(), d.keyword);
+            }
         }
+        assert!(accepted > 0 && given.iter().all(|&g| g), "{}", d.keyword);
     }
 }
 

@@ -8,7 +8,8 @@ use smartmesh::formats::{read_path, write_path, DataArray, TaggedMesh, WriteOpti
 use smartmesh::recipe::model::SpecValue;
 use smartmesh::recipe::{AlgorithmSpec, Global, RecipeFormat};
 use smartmesh::sizing::{size_mesh, SizeMeshError, SizingError};
-use smartmesh::{Recipe, SizeTensor};
+use smartmesh::solution::{vertices_of, P1Mesh};
+use smartmesh::{MeshGraph, Recipe, SizeTensor, Topology};
 
 #[path = "support/cli.rs"]
 #[allow(dead_code)]
@@ -95,6 +96,151 @@ CREATE_ALGORITHMS = (
     assert!(matches!(e, SizeMeshError::Sizing(SizingError::Field { step: 0, .. })), "{e}");
     let text = e.to_string();
     assert!(text.contains("no point data `u`") && text.contains("its arrays: w"), "{text}");
+}
+
+/// A recipe of one SOLUTION_HESSIAN step of `u` with the TOML keys `keys`.
+fn hessian_recipe(keys: &str) -> Recipe {
+    let text = format!("[[algorithms]]\ntype = \"solution_hessian\"\nfield = \"u\"\n{keys}\n");
+    Recipe::from_str(&text, RecipeFormat::Toml, Path::new("s.toml")).unwrap()
+}
+
+/// The tensors of `recipe` on `mesh` and the vertex count a mesh conforming to them has.
+fn sized(mesh: &TaggedMesh, recipe: &Recipe) -> (Vec<SizeTensor>, f64) {
+    let field = size_mesh(mesh, recipe, &mut |_| {}).unwrap().field;
+    assert!(field.reached.iter().all(|&r| r));
+    let graph = MeshGraph::from_topology(&Topology::from_mesh(mesh), mesh).unwrap();
+    let p1 = P1Mesh::new(graph.points(), graph.cells()).unwrap();
+    let n = vertices_of(&p1, &field.tensors);
+    (field.tensors, n)
+}
+
+#[test]
+fn each_recipe_option_of_the_step_changes_the_metric_as_it_says() {
+    let mesh = cylinder_with_front();
+    let wide = "hmin = 1e-9\nhmax = 100\n";
+    // COMPLEXITY: the vertex count asked (bounds that do not act).
+    let (_, n) = sized(&mesh, &hessian_recipe(&format!("complexity = 2000\n{wide}")));
+    assert!((n / 2000.0 - 1.0).abs() < 0.01, "{n}");
+    // ERROR instead: in 2D the Lp error of the optimal metric goes as 1/N, so halving the
+    // error doubles the vertices.
+    let (_, n1) = sized(&mesh, &hessian_recipe(&format!("error = 0.002\n{wide}")));
+    let (_, n2) = sized(&mesh, &hessian_recipe(&format!("error = 0.001\n{wide}")));
+    assert!((n2 / n1 / 2.0 - 1.0).abs() < 0.05, "{n1} {n2}");
+
+    // P: left out is 2; p = 1 spreads the vertices more evenly than p = 2 (the smallest
+    // tensor area over the largest is larger), at the same count.
+    let area = |t: &[SizeTensor]| {
+        let a: Vec<f64> = t.iter().map(|t| t.sizes()[0] * t.sizes()[1]).collect();
+        a.iter().copied().fold(f64::INFINITY, f64::min) / a.iter().copied().fold(0.0, f64::max)
+    };
+    let (two, _) = sized(&mesh, &hessian_recipe(&format!("complexity = 2000\np = 2\n{wide}")));
+    let (default, _) = sized(&mesh, &hessian_recipe(&format!("complexity = 2000\n{wide}")));
+    let (one, n) = sized(&mesh, &hessian_recipe(&format!("complexity = 2000\np = 1\n{wide}")));
+    assert_eq!(two, default);
+    assert!((n / 2000.0 - 1.0).abs() < 0.01, "{n}");
+    assert!(area(&one) > 2.0 * area(&two), "{} {}", area(&one), area(&two));
+
+    // RECOVERY: left out is the quadratic fit; the L2 projection gives another field.
+    let (fit, _) = sized(
+        &mesh,
+        &hessian_recipe(&format!("complexity = 2000\nrecovery = \"quadratic-fit\"\n{wide}")),
+    );
+    let (l2, _) = sized(
+        &mesh,
+        &hessian_recipe(&format!("complexity = 2000\nrecovery = \"l2-projection\"\n{wide}")),
+    );
+    assert_eq!(fit, default);
+    assert_ne!(l2, fit);
+
+    // HMIN, HMAX: every size within them, and both reached on this field.
+    let (t, _) = sized(&mesh, &hessian_recipe("complexity = 2000\nhmin = 0.02\nhmax = 0.05"));
+    let (lo, hi) = t
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), t| (lo.min(t.h_min()), hi.max(t.h_max())));
+    assert!(lo >= 0.02 * (1.0 - 1e-9) && hi <= 0.05 * (1.0 + 1e-9), "{lo} {hi}");
+    assert!(lo < 0.02 * (1.0 + 1e-6) && hi > 0.05 * (1.0 - 1e-6), "{lo} {hi}");
+    let (free, _) = sized(&mesh, &hessian_recipe("complexity = 2000"));
+    assert!(free.iter().any(|t| t.h_min() < 0.02) && free.iter().any(|t| t.h_max() > 0.05));
+
+    // MAX_ANISOTROPY: the front's tensors are stretched past 3 without it, not with it.
+    let aspect = |t: &[SizeTensor]| t.iter().map(SizeTensor::aspect_ratio).fold(1.0, f64::max);
+    let (capped, _) =
+        sized(&mesh, &hessian_recipe(&format!("complexity = 2000\nmax_anisotropy = 3\n{wide}")));
+    assert!(aspect(&default) > 5.0, "{}", aspect(&default));
+    assert!(aspect(&capped) <= 3.0 * (1.0 + 1e-9), "{}", aspect(&capped));
+    assert!(aspect(&capped) > 2.9, "{}", aspect(&capped));
+}
+
+#[test]
+fn the_step_options_round_trip_and_bad_ones_are_refused_at_their_line() {
+    let full = r#"CREATE_ALGORITHMS = (
+  { TYPE = "SOLUTION_HESSIAN"; FIELD = "u"; ERROR = 0.001; P = 1.5; RECOVERY = "l2-projection";
+    HMIN = 0.001; HMAX = 0.2; MAX_ANISOTROPY = 50; }
+);
+"#;
+    let r = Recipe::from_str(full, RecipeFormat::Libconfig, Path::new("s.cfg")).unwrap();
+    let toml = hessian_recipe(
+        "error = 0.001\np = 1.5\nrecovery = \"l2-projection\"\nhmin = 0.001\nhmax = 0.2\nmax_anisotropy = 50",
+    );
+    assert_eq!(r, toml);
+    for format in [RecipeFormat::Libconfig, RecipeFormat::Toml, RecipeFormat::Json] {
+        let text = r.to_format(format);
+        assert_eq!(Recipe::from_str(&text, format, Path::new("s")).unwrap(), r, "{text}");
+    }
+    // `recipe convert` through every format and back to libconfig keeps every option.
+    let dir = tempfile::tempdir().unwrap();
+    let mut from = dir.path().join("full.cfg");
+    std::fs::write(&from, full).unwrap();
+    for ext in ["toml", "json", "cfg"] {
+        let to = dir.path().join(format!("converted-{ext}.{ext}"));
+        ok(&smartmesh(&["recipe", "convert", from.to_str().unwrap(), to.to_str().unwrap()], None));
+        assert_eq!(Recipe::from_path(&to).unwrap(), r, "{ext}");
+        from = to;
+    }
+    let back = std::fs::read_to_string(&from).unwrap();
+    assert!(back.contains("RECOVERY = \"l2-projection\"") && back.contains("MAX_ANISOTROPY = 50"));
+    // Only FIELD and COMPLEXITY: the others stay out of every written form.
+    let minimal = hessian_recipe("complexity = 300");
+    for format in [RecipeFormat::Libconfig, RecipeFormat::Toml, RecipeFormat::Json] {
+        let text = minimal.to_format(format);
+        let lower = text.to_ascii_lowercase();
+        assert!(!lower.contains("recovery") && !lower.contains("hmin") && !lower.contains(" p "));
+        assert_eq!(Recipe::from_str(&text, format, Path::new("s")).unwrap(), minimal, "{text}");
+    }
+    let refused = |keys: &str| {
+        let text = format!(
+            "CREATE_ALGORITHMS = (\n  {{ TYPE = \"SOLUTION_HESSIAN\"; FIELD = \"u\";\n {keys} }}\n);\n"
+        );
+        Recipe::from_str(&text, RecipeFormat::Libconfig, Path::new("s.cfg")).unwrap_err()
+    };
+    for (keys, says, line) in [
+        ("COMPLEXITY = 100; ERROR = 0.1;", "ERROR: give COMPLEXITY or ERROR, not both", 3),
+        ("P = 2;", "SOLUTION_HESSIAN: give a vertex count (COMPLEXITY) or ERROR", 2),
+        ("COMPLEXITY = 100; P = 0.5;", "P: 0.5 is not a norm", 3),
+        ("COMPLEXITY = 100; MAX_ANISOTROPY = 0.5;", "MAX_ANISOTROPY: 0.5 is not an aspect", 3),
+        ("COMPLEXITY = 100; HMIN = 0.2; HMAX = 0.1;", "HMIN: 0.2 is larger than HMAX 0.1", 3),
+        (
+            "COMPLEXITY = 100; RECOVERY = \"quadratik-fit\";",
+            "RECOVERY = \"quadratik-fit\" is none of",
+            3,
+        ),
+        ("COMPLEXITY = 100; HMAX = -1;", "HMAX = -1 is out of range", 3),
+    ] {
+        let e = refused(keys);
+        let text = e.to_string();
+        assert!(text.contains(says), "{keys}: {text}");
+        assert_eq!(e.line, Some(line), "{keys}: {text}");
+    }
+    let e = refused("COMPLEXITY = 100; RECOVERY = \"quadratik-fit\";");
+    assert_eq!(e.suggestion.as_deref(), Some("\"quadratic-fit\""), "{e}");
+    let e = Recipe::from_str(
+        "[[algorithms]]\ntype = \"solution_hessian\"\nfield = \"u\"\ncomplexity = 9\nerror = 0.1\n",
+        RecipeFormat::Toml,
+        Path::new("s.toml"),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("error: give COMPLEXITY or ERROR"), "{e}");
+    assert_eq!(e.line, Some(5), "{e}");
 }
 
 fn write(mesh: &TaggedMesh, path: &Path) {

@@ -204,7 +204,9 @@ impl SolverLoop {
                 target,
                 p: self.p,
                 method: self.method,
-                bounds: Some(self.bounds),
+                h_min: Some(self.bounds.h_min()),
+                h_max: Some(self.bounds.h_max()),
+                max_aspect: Some(self.bounds.max_aspect_ratio()),
             }),
             names: vec![name.to_string()],
         }

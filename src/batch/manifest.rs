@@ -240,7 +240,7 @@ fn check_name(name: &str) -> Result<(), String> {
 }
 
 /// The output extension and the `adapt` arguments of an `options` object.
-fn option_args(options: &Map<String, Value>) -> Result<(String, Vec<String>), String> {
+pub fn option_args(options: &Map<String, Value>) -> Result<(String, Vec<String>), String> {
     let known: Vec<&str> = OPTIONS.iter().map(|o| o.0).collect();
     if let Some(key) = options.keys().find(|k| !known.contains(&k.as_str())) {
         return Err(format!(

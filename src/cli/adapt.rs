@@ -188,8 +188,10 @@ pub struct AdaptArgs {
     /// Do not insert the recipe's LAYER skin.
     #[arg(long)]
     no_layer: bool,
-    /// Split the quads of the starting mesh into two triangles each (the native remesher
-    /// takes triangles; a mixed mesh is otherwise refused at its first remeshing).
+    /// Split the quads of the starting mesh into two triangles each, remeshed like the
+    /// rest (without it the native remesher keeps a skin of quads frozen: its cells and
+    /// vertices unchanged, the triangles adapted around it; MMG and Gmsh are given the
+    /// quads split).
     #[arg(long)]
     split_quads: bool,
     #[command(flatten)]
@@ -425,13 +427,6 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     if args.split_quads {
         let n = starting.mesh.split_quads();
         ui::note(&format!("split {n} quads of the starting mesh into {} triangles", 2 * n));
-    } else if args.adapter == AdapterArg::Native
-        && starting.mesh.num_cells_of(smartmesh::formats::CellKind::Quad) > 0
-    {
-        return Err(CliError::usage(format!(
-            "{}: the native remesher takes triangles; split the mesh's quads with --split-quads",
-            args.input.display()
-        )));
     }
     let solver = solver_loop(&args, &starting.mesh, &recipe)?;
     // The input is checked whole before any tool is looked for: a recipe that names tags

@@ -15,6 +15,7 @@ mod size;
 mod solution;
 mod spelling;
 pub mod ui;
+mod variants;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -56,6 +57,7 @@ enum Command {
     Remesh(remesh::RemeshArgs),
     Report(report::ReportArgs),
     Layer(layer::LayerArgs),
+    Variants(variants::VariantsArgs),
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
@@ -95,6 +97,7 @@ pub fn main() -> ExitCode {
         Command::Remesh(a) => remesh::run(a),
         Command::Report(a) => report::run(a),
         Command::Layer(a) => layer::run(a),
+        Command::Variants(a) => variants::run(a),
     };
     match result {
         Ok(()) => ExitStatus::Success.into(),

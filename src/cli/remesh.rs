@@ -53,8 +53,9 @@ pub struct RemeshArgs {
     /// --measure.
     #[arg(long, short = 'o', required_unless_present = "measure")]
     output: Option<PathBuf>,
-    /// Split every quad of MESH into two triangles first (a mesh with a skin of quads is
-    /// otherwise refused).
+    /// Split every quad of MESH into two triangles first and remesh them too (without
+    /// it, a skin of quads is kept frozen: its cells and vertices unchanged, the
+    /// triangles remeshed around it).
     #[arg(long)]
     split_quads: bool,
     /// Only measure MESH against the metric (share of edges in [1/√2, √2], metric quality).

@@ -27,7 +27,8 @@ pub struct SolutionArgs {
     /// Normalise the metric to this Lp norm of the interpolation error instead.
     #[arg(long, value_name = "E", value_parser = positive_size, help_heading = "Solution")]
     pub error: Option<f64>,
-    /// The Lp norm the metric minimises the interpolation error in (>= 1; `inf`).
+    /// The Lp norm the metric minimises the interpolation error in (>= 1; `inf`, the
+    /// density |H| that the H1 seminorm of the error asks for).
     #[arg(long, default_value_t = 2.0, value_parser = norm, help_heading = "Solution")]
     pub p: f64,
     /// How the Hessian is recovered: quadratic-fit (exact on quadratics, any mesh) or
@@ -115,7 +116,9 @@ impl SolutionArgs {
             target,
             p: self.p,
             method: self.recovery,
-            bounds: Some(bounds),
+            h_min: Some(bounds.h_min()),
+            h_max: Some(bounds.h_max()),
+            max_aspect: Some(bounds.max_aspect_ratio()),
         };
         Ok(Step {
             label: format!("solution `{name}` (SOLUTION_HESSIAN, {})", self.recovery.name()),

@@ -601,11 +601,17 @@ impl Reader<'_> {
             let value = match (p.kind, setting) {
                 (ParameterKind::Regions { .. }, Some(s)) => SpecValue::Names(self.names(s, &ctx)?),
                 (ParameterKind::Regions { .. }, None) => SpecValue::Names(Vec::new()),
-                (ParameterKind::Size, Some(s)) => SpecValue::Size(self.number(s, &ctx)?),
+                (ParameterKind::Size | ParameterKind::OptionalSize, Some(s)) => {
+                    SpecValue::Size(self.number(s, &ctx)?)
+                }
                 (
-                    ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData,
+                    ParameterKind::Function(_)
+                    | ParameterKind::Polyline
+                    | ParameterKind::PointData
+                    | ParameterKind::Choice(_),
                     Some(s),
                 ) => SpecValue::Name(self.string(s, &ctx)?),
+                (ParameterKind::OptionalSize | ParameterKind::Choice(_), None) => SpecValue::Absent,
                 // `fields` has refused a group without a required key.
                 (_, None) => {
                     return Err(self.error(
@@ -778,6 +784,7 @@ pub fn write(r: &Recipe) -> String {
                         SpecValue::Names(n) => name_list(n),
                         SpecValue::Name(n) => quote(n),
                         SpecValue::Size(x) => float(*x),
+                        SpecValue::Absent => continue,
                     };
                     if !new_line {
                         body.push(' ');

@@ -20,7 +20,7 @@ use super::preprocess::ReadOptions;
 use super::suggest::nearest;
 use crate::metric::SizeTensor;
 pub use crate::sizing::algorithms::FunctionKind;
-use crate::sizing::algorithms::{Entry, Parameter, ParameterKind, TABLE};
+use crate::sizing::algorithms::{Entry, Given, Parameter, ParameterKind, TABLE};
 use crate::sizing::{CurvatureToSize, DistanceFunction, FunctionError, SizeProjectionFunction};
 
 /// The file formats of a recipe.
@@ -274,24 +274,31 @@ pub enum SpecValue {
     Name(String),
     /// Region names.
     Names(Vec<String>),
+    /// An optional parameter left out.
+    Absent,
 }
 
 impl SpecValue {
     fn fits(&self, kind: ParameterKind) -> bool {
         matches!(
             (self, kind),
-            (SpecValue::Size(_), ParameterKind::Size)
+            (SpecValue::Size(_), ParameterKind::Size | ParameterKind::OptionalSize)
                 | (
                     SpecValue::Name(_),
-                    ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData
+                    ParameterKind::Function(_)
+                        | ParameterKind::Polyline
+                        | ParameterKind::PointData
+                        | ParameterKind::Choice(_)
                 )
                 | (SpecValue::Names(_), ParameterKind::Regions { .. })
-        )
+        ) || (matches!(self, SpecValue::Absent)
+            && matches!(kind, ParameterKind::OptionalSize | ParameterKind::Choice(_)))
     }
 
     fn empty(kind: ParameterKind) -> SpecValue {
         match kind {
             ParameterKind::Size => SpecValue::Size(0.0),
+            ParameterKind::OptionalSize | ParameterKind::Choice(_) => SpecValue::Absent,
             ParameterKind::Regions { .. } => SpecValue::Names(Vec::new()),
             ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData => {
                 SpecValue::Name(String::new())
@@ -314,6 +321,7 @@ impl std::fmt::Debug for AlgorithmSpec {
                 SpecValue::Size(x) => d.field(p.field, x),
                 SpecValue::Name(n) => d.field(p.field, n),
                 SpecValue::Names(n) => d.field(p.field, n),
+                SpecValue::Absent => continue,
             };
         }
         d.finish()
@@ -322,7 +330,8 @@ impl std::fmt::Debug for AlgorithmSpec {
 
 impl AlgorithmSpec {
     /// The algorithm of keyword (or TOML/JSON type) `algorithm` with the values of its
-    /// parameters by field; a parameter left out is empty (its regions, a name ""). `None`
+    /// parameters by field; a parameter left out is empty (its regions, a name "", an
+    /// optional one [`SpecValue::Absent`]). `None`
     /// for an unknown algorithm, an unknown field or a value of another kind.
     pub fn new<'a>(
         algorithm: &str,
@@ -422,6 +431,7 @@ impl Serialize for AlgorithmSpec {
                 SpecValue::Names(n) => st.serialize_field(p.field, n)?,
                 SpecValue::Name(n) => st.serialize_field(p.field, n)?,
                 SpecValue::Size(x) => st.serialize_field(p.field, x)?,
+                SpecValue::Absent => st.skip_field(p.field)?,
             }
         }
         st.end()
@@ -498,15 +508,16 @@ impl Raw {
 
     fn into_value<E: serde::de::Error>(self, kind: ParameterKind) -> Result<SpecValue, E> {
         match kind {
-            ParameterKind::Size => match self {
+            ParameterKind::Size | ParameterKind::OptionalSize => match self {
                 Raw::Float(f) => Ok(SpecValue::Size(f)),
                 Raw::Signed(i) => Ok(SpecValue::Size(i as f64)),
                 Raw::Unsigned(u) => Ok(SpecValue::Size(u as f64)),
                 other => Err(E::invalid_type(other.unexpected(), &"f64")),
             },
-            ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData => {
-                self.string().map(SpecValue::Name)
-            }
+            ParameterKind::Function(_)
+            | ParameterKind::Polyline
+            | ParameterKind::PointData
+            | ParameterKind::Choice(_) => self.string().map(SpecValue::Name),
             ParameterKind::Regions { .. } => match self {
                 Raw::Seq(items) => items
                     .into_iter()
@@ -1002,6 +1013,44 @@ impl Recipe {
                         )),
                         &format!("{base}.{field}"),
                     ));
+                }
+            }
+            let sizes = a.sizes();
+            if let Err(refusal) = (a.entry().check)(Given { sizes: &sizes }) {
+                // The key when the recipe wrote it, else the algorithm's place.
+                let path = format!("{base}.{}", refusal.field);
+                let (key, path) = match self.places.by_path.get(&path) {
+                    Some(place) => (format!("{}: ", place.key), path),
+                    None => (String::new(), base.clone()),
+                };
+                return Err(self.error_at(
+                    RecipeErrorKind::Invalid(format!(
+                        "{} {}: {key}{}",
+                        referrer(i),
+                        a.keyword(),
+                        refusal.why
+                    )),
+                    &path,
+                ));
+            }
+            for (p, value) in a.arguments() {
+                let (ParameterKind::Choice(words), SpecValue::Name(word)) = (p.kind, value) else {
+                    continue;
+                };
+                if !words.contains(&word.as_str()) {
+                    let path = format!("{base}.{}", p.field);
+                    let key = self.written_key(&path, p.field).to_string();
+                    let e = self.error_at(
+                        RecipeErrorKind::Invalid(format!(
+                            "{} {}: {key} = \"{word}\" is none of {}",
+                            referrer(i),
+                            a.keyword(),
+                            words.iter().map(|w| format!("\"{w}\"")).collect::<Vec<_>>().join(", ")
+                        )),
+                        &path,
+                    );
+                    let s = nearest(word, words.iter().copied());
+                    return Err(e.suggest(s.map(|s| format!("\"{s}\""))));
                 }
             }
             for (field, name, kind) in a.function_refs() {

@@ -358,7 +358,13 @@ impl Recipe {
             let mut arguments = Arguments::new();
             for (p, value) in a.arguments() {
                 let argument = match (p.kind, value) {
-                    (ParameterKind::Size, SpecValue::Size(x)) => Argument::Size(*x),
+                    (_, SpecValue::Absent) if p.kind.is_optional() => continue,
+                    (ParameterKind::Size | ParameterKind::OptionalSize, SpecValue::Size(x)) => {
+                        Argument::Size(*x)
+                    }
+                    (ParameterKind::Choice(_), SpecValue::Name(word)) => {
+                        Argument::Name(word.clone())
+                    }
                     (ParameterKind::Function(kind), SpecValue::Name(name)) => match kind {
                         FunctionKind::Distance => Argument::Distance(self.distance(name)?),
                         FunctionKind::Projection => Argument::Projection(self.projection(name)?),

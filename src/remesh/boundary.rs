@@ -38,6 +38,8 @@ pub struct Piece {
     /// Remesher vertex at the start (`s = 0`) and end (`s = length`); the same vertex
     /// for a closed loop with a single corner.
     pub ends: [u32; 2],
+    /// An edge of a kept cell: never split.
+    pub frozen: bool,
 }
 
 impl Piece {
@@ -59,7 +61,7 @@ impl Piece {
                 }
             })
             .collect();
-        Piece { pts, s, logs, tangents, tags, ends }
+        Piece { pts, s, logs, tangents, tags, ends, frozen: false }
     }
 
     /// Arc length of the piece.

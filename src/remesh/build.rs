@@ -8,6 +8,12 @@
 //! physical curve made of several elementary curves), plus the vertices where a curve
 //! turns by more than the ridge angle (MMG's `-ar` convention). A closed curve with no
 //! corner gets its first vertex fixed, so that every piece has two ends.
+//!
+//! Kept cells (a boundary-layer skin: quads, and the triangles the caller keeps) are
+//! taken out of the working triangles: their vertices are corners, their edges that a
+//! working triangle shares are one-edge *frozen* pieces (never split, and with both ends
+//! fixed never collapsed nor moved), and the line cells along their other edges are
+//! carried to the output as they are.
 
 use std::collections::HashMap;
 
@@ -40,15 +46,21 @@ pub struct Start {
     pub vertex_cells: Vec<(u32, i32, i32)>,
     /// What the output will not carry.
     pub warnings: Vec<String>,
+    /// Kept surface cells, as they were: kind, nodes, physical and geometrical tags.
+    pub kept: Vec<(CellKind, Vec<u32>, i32, i32)>,
+    /// Line cells along kept cells' edges that no working triangle holds, as they were.
+    pub kept_lines: Vec<([u32; 2], i32, i32)>,
 }
 
 /// Reads the triangles, constraints and pieces of `mesh`, whose topological points
-/// `topology` lists.
+/// `topology` lists; the surface cells (in [`TaggedMesh::cells`] order) that `keep` flags
+/// stay as they are.
 pub fn start(
     mesh: &TaggedMesh,
     topology: &Topology,
     metric: &[Sym2],
     opts: &RemeshOptions,
+    keep: &[bool],
 ) -> Result<Start, RemeshError> {
     let n = mesh.points.len();
     if metric.len() != n {
@@ -71,7 +83,21 @@ pub fn start(
     let mut line_tags: HashMap<(u32, u32), (i32, i32)> = HashMap::new();
     let mut lines_in_order: Vec<((u32, u32), (i32, i32))> = Vec::new();
     let mut vertex_cells = Vec::new();
+    let mut kept = Vec::new();
+    let mut frozen = vec![false; n];
+    let mut surface = 0;
     for (kind, nodes, phys, geo) in mesh.cells() {
+        if kind.dim() == 2 {
+            surface += 1;
+            if keep.get(surface - 1).copied().unwrap_or(false) {
+                if kind.is_second_order() {
+                    return Err(RemeshError::UnsupportedCell { kind: kind.name() });
+                }
+                nodes.iter().for_each(|&v| frozen[v as usize] = true);
+                kept.push((kind, nodes.to_vec(), phys, geo));
+                continue;
+            }
+        }
         match kind {
             CellKind::Triangle => {
                 let t = [nodes[0], nodes[1], nodes[2]];
@@ -101,7 +127,7 @@ pub fn start(
         }
     }
     if tris.is_empty() {
-        return Err(RemeshError::NoTriangles);
+        return Err(if kept.is_empty() { RemeshError::NoTriangles } else { RemeshError::AllKept });
     }
     // Metric: finite and SPD wherever a triangle uses it.
     let mut used = vec![false; n];
@@ -166,10 +192,25 @@ pub fn start(
         }
         i = j;
     }
-    let dropped_lines = lines_in_order
-        .iter()
-        .filter(|(k, _)| constrained.binary_search_by(|c| c.0.cmp(k)).is_err())
-        .count();
+    // Edges of the kept cells; those a working triangle holds become frozen pieces.
+    let mut frozen_edges: std::collections::BTreeSet<(u32, u32)> = Default::default();
+    for (_, nodes, _, _) in &kept {
+        for k in 0..nodes.len() {
+            frozen_edges.insert(key(nodes[k], nodes[(k + 1) % nodes.len()]));
+        }
+    }
+    let held = |k: &(u32, u32)| constrained.binary_search_by(|c| c.0.cmp(k)).is_ok();
+    let kept_lines: Vec<([u32; 2], i32, i32)> = mesh
+        .cells()
+        .filter(|c| c.0 == CellKind::Line && c.1[0] != c.1[1])
+        .filter(|c| {
+            let k = key(c.1[0], c.1[1]);
+            frozen_edges.contains(&k) && !held(&k)
+        })
+        .map(|c| ([c.1[0], c.1[1]], c.2, c.3))
+        .collect();
+    let dropped_lines =
+        lines_in_order.iter().filter(|(k, _)| !held(k) && !frozen_edges.contains(k)).count();
     if dropped_lines > 0 {
         warnings
             .push(format!("{dropped_lines} line cells that are not triangle edges are not kept"));
@@ -212,16 +253,19 @@ pub fn start(
     for &(v, _, _) in &vertex_cells {
         corner[v as usize] = true;
     }
+    for (c, &f) in corner.iter_mut().zip(&frozen) {
+        *c |= f;
+    }
     let cos_ridge = opts.ridge_angle_degrees.to_radians().cos();
-    let kept: std::collections::BTreeSet<[u64; 2]> =
+    let keep_points: std::collections::BTreeSet<[u64; 2]> =
         opts.keep_points.iter().map(|p| [p[0].to_bits(), p[1].to_bits()]).collect();
     for v in 0..n as u32 {
         let es = around(v);
         if es.is_empty() {
             continue;
         }
-        if !kept.is_empty()
-            && kept.contains(&[pts[v as usize][0].to_bits(), pts[v as usize][1].to_bits()])
+        if !keep_points.is_empty()
+            && keep_points.contains(&[pts[v as usize][0].to_bits(), pts[v as usize][1].to_bits()])
         {
             corner[v as usize] = true;
             continue;
@@ -311,5 +355,21 @@ pub fn start(
             role[v] = Role::Fixed;
         }
     }
-    Ok(Start { pts, tris, face, faces, role, pieces, cons, vertex_cells, warnings })
+    // Both ends of a kept cell's edge are corners: its piece is that one edge.
+    for p in &mut pieces {
+        p.frozen = p.pts.len() == 2 && frozen_edges.contains(&key(p.ends[0], p.ends[1]));
+    }
+    Ok(Start {
+        pts,
+        tris,
+        face,
+        faces,
+        role,
+        pieces,
+        cons,
+        vertex_cells,
+        warnings,
+        kept,
+        kept_lines,
+    })
 }

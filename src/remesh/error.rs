@@ -30,7 +30,7 @@ pub enum RemeshError {
         vertex: usize,
     },
     /// A cell kind the remesher does not handle.
-    #[error("the remesher handles triangles, lines and vertex cells; the mesh has {kind} cells (split the quads: --split-quads on remesh and adapt, or convert --split-quads)")]
+    #[error("the remesher handles first-order triangles and quads, lines and vertex cells; the mesh has {kind} cells")]
     UnsupportedCell {
         /// The kind's name.
         kind: &'static str,
@@ -38,6 +38,14 @@ pub enum RemeshError {
     /// No triangle at all.
     #[error("the mesh has no triangles")]
     NoTriangles,
+    /// Every surface cell is kept: nothing to remesh.
+    #[error(
+        "every surface cell of the mesh is kept (quads of a skin); no triangle is left to remesh"
+    )]
+    AllKept,
+    /// The result with its kept cells failed the mixed-mesh check (a bug).
+    #[error("the remeshed mesh with its kept cells is not valid: {0}")]
+    Invalid(String),
     /// A triangle with zero area or a repeated vertex.
     #[error("triangle {triangle} (0-based, vertices {vertices:?}) has zero area")]
     DegenerateTriangle {

@@ -30,6 +30,10 @@
 //!   constrained edge its curve's line tags; vertex cells stay;
 //! - the metric at every new or moved vertex is interpolated from the *input* field
 //!   ([`crate::metric_field::Interpolator`]), Log-Euclidean, so it stays SPD and does not drift;
+//! - a skin of quads (a mixed mesh from `layer`), or any surface cells the caller keeps
+//!   ([`remesh_keeping`]), stays frozen: its vertices neither move nor go, its edges
+//!   are never split, its cells and their tags are written back unchanged, and the
+//!   triangles are remeshed around it; the result is checked as a mixed mesh;
 //! - deterministic: single-threaded sweeps in index order, no hash-order iteration.
 
 pub mod boundary;
@@ -226,7 +230,8 @@ pub fn remesh_with_progress(
 }
 
 /// [`remesh_with_progress`] for a caller that has `mesh`'s [`Topology`] already (the
-/// adaptation loop builds it once per mesh, for the sizing and the remeshing).
+/// adaptation loop builds it once per mesh, for the sizing and the remeshing). The skin
+/// of a mixed mesh ([`skin_cells`]) is kept frozen.
 pub fn remesh_with_topology(
     mesh: &TaggedMesh,
     topology: &Topology,
@@ -234,10 +239,49 @@ pub fn remesh_with_topology(
     opts: &RemeshOptions,
     progress: &mut dyn FnMut(RemeshEvent),
 ) -> Result<Remeshed, RemeshError> {
+    remesh_keeping(mesh, topology, metric, opts, &skin_cells(mesh), progress)
+}
+
+/// The skin of a mixed mesh, by surface cell in [`TaggedMesh::cells`] order: every
+/// quadrangle, and every triangle whose three corners are corners of quadrangles (the
+/// fan triangles at a skin's convex corners, when the skin has two layers or more).
+/// All `false` on a triangle mesh.
+pub fn skin_cells(mesh: &TaggedMesh) -> Vec<bool> {
+    use crate::formats::CellKind;
+    let mut on_quad = vec![false; mesh.points.len()];
+    for (kind, nodes, _, _) in mesh.cells() {
+        if kind == CellKind::Quad {
+            nodes.iter().for_each(|&v| on_quad[v as usize] = true);
+        }
+    }
+    mesh.cells()
+        .filter(|c| c.0.dim() == 2)
+        .map(|(kind, nodes, _, _)| match kind {
+            CellKind::Quad => true,
+            CellKind::Triangle => nodes.iter().all(|&v| on_quad[v as usize]),
+            _ => false,
+        })
+        .collect()
+}
+
+/// [`remesh_with_topology`] keeping the surface cells that `keep` flags (in
+/// [`TaggedMesh::cells`] order) as they are: their vertices neither move nor go, their
+/// edges are constraints that are never split, and they are written back unchanged
+/// (renumbered) after the remeshed triangles. A result with kept cells is checked as a
+/// mixed mesh ([`crate::layer::check::check_mesh`]: positive cells, no overlap, no
+/// hanging vertex) before it is returned.
+pub fn remesh_keeping(
+    mesh: &TaggedMesh,
+    topology: &Topology,
+    metric: &[Sym2],
+    opts: &RemeshOptions,
+    keep: &[bool],
+    progress: &mut dyn FnMut(RemeshEvent),
+) -> Result<Remeshed, RemeshError> {
     let t0 = Instant::now();
     let metric = bounded_sizes(metric, opts)?;
     let metric: &[Sym2] = &metric;
-    let st = build::start(mesh, topology, metric, opts)?;
+    let st = build::start(mesh, topology, metric, opts, keep)?;
     let input_tris: Vec<[usize; 3]> = st.tris.iter().map(|t| t.map(|v| v as usize)).collect();
     let estimate = estimate::expected_vertices(&st.pts, &input_tris, metric);
     if let Some(limit) = opts.max_vertices {
@@ -337,7 +381,14 @@ pub fn remesh_with_topology(
         panic!("remesher invariant broken: {e}");
     }
     let t = Instant::now();
-    let (out, out_metric) = output::assemble(mesh, &w, &st.faces, &st.vertex_cells);
+    let (out, out_metric) =
+        output::assemble(mesh, &w, &st.faces, &st.vertex_cells, &st.kept, &st.kept_lines);
+    if !st.kept.is_empty() {
+        let v = crate::layer::check::check_mesh(&out);
+        if !v.is_valid() {
+            return Err(RemeshError::Invalid(v.problems().join("; ")));
+        }
+    }
     let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
     let out_tris = triangles(&out);
     stats.output = [out_pts.len(), out_tris.len()];

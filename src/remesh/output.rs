@@ -1,8 +1,9 @@
 //! From the working state back to a [`TaggedMesh`]: live vertices in index order (input
 //! vertices keep their relative order, nodes no triangle used included), vertex cells of
 //! the input, line cells along every piece the input had line cells on (in curve order,
-//! with its tags), live triangles with their face tags, tag names and entities, and the
-//! point data `metric` (written by [`MetricField::to_array`], as every metric is).
+//! with its tags) then the kept line cells, live triangles with their face tags then the
+//! kept triangles, the kept quads, tag names and entities, and the point data `metric`
+//! (written by [`MetricField::to_array`], as every metric is).
 
 use super::work::Work;
 use crate::formats::{CellBlock, CellKind, TaggedMesh};
@@ -15,6 +16,8 @@ pub fn assemble(
     w: &Work,
     faces: &[(i32, i32)],
     vertex_cells: &[(u32, i32, i32)],
+    kept: &[(CellKind, Vec<u32>, i32, i32)],
+    kept_lines: &[([u32; 2], i32, i32)],
 ) -> (TaggedMesh, Vec<Sym2>) {
     let mut new_id = vec![u32::MAX; w.num_vertices()];
     let mut mesh = TaggedMesh::new();
@@ -45,10 +48,13 @@ pub fn assemble(
     let mut on_piece = w.piece_edges();
     on_piece
         .sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then((x.2, x.3).cmp(&(y.2, y.3))));
-    if !on_piece.is_empty() {
+    if !on_piece.is_empty() || !kept_lines.is_empty() {
         let mut b = CellBlock::new(CellKind::Line);
         for &(p, _, u, v) in &on_piece {
             let (ph, g) = w.boundary().pieces[p as usize].tags.unwrap_or((0, 0));
+            b.push(&[id(u), id(v)], ph, g);
+        }
+        for &([u, v], ph, g) in kept_lines {
             b.push(&[id(u), id(v)], ph, g);
         }
         mesh.blocks.push(b);
@@ -61,7 +67,18 @@ pub fn assemble(
             tb.push(&[id(v[0]), id(v[1]), id(v[2])], p, g);
         }
     }
+    let mut qb = CellBlock::new(CellKind::Quad);
+    for (kind, nodes, p, g) in kept {
+        let nodes: Vec<u32> = nodes.iter().map(|&v| id(v)).collect();
+        match kind {
+            CellKind::Triangle => tb.push(&nodes, *p, *g),
+            _ => qb.push(&nodes, *p, *g),
+        }
+    }
     mesh.blocks.push(tb);
+    if !qb.is_empty() {
+        mesh.blocks.push(qb);
+    }
     let field = MetricField::new(metric, "the remeshed field");
     mesh.point_data.insert(METRIC.into(), field.to_array());
     (mesh, field.into_tensors())

@@ -1,7 +1,8 @@
 //! Edge splitting: an edge longer than the bound in the metric gets a new vertex where
 //! its metric length is halved: on the segment for an interior edge, at that fraction of
 //! the parameter range on its piece for a constrained edge (so the vertex lies on the
-//! original curve, or on its smooth reconstruction). The metric of the new vertex comes
+//! original curve, or on its smooth reconstruction); the edges of kept cells (frozen
+//! pieces) are never split. The metric of the new vertex comes
 //! from the input field.
 //!
 //! [`check`] returns a [`SplitPlan`] (the new vertex and the triangles it cuts) or
@@ -105,6 +106,7 @@ pub fn metric_midpoint(w: &Work, a: u32, b: u32) -> f64 {
 /// cross a curve.
 pub fn check(w: &Work, a: u32, b: u32, ts: &[u32]) -> Option<SplitPlan> {
     let (at, metric, role) = match w.constraint(a, b) {
+        Some(p) if w.boundary().pieces[p as usize].frozen => return None,
         Some(p) => {
             let near = w.param_or(a, p, w.param_or(b, p, 0.0));
             let (sa, sb) = (w.param_on(a, p, near), w.param_on(b, p, near));

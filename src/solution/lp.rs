@@ -27,6 +27,11 @@
 //!
 //! Bounds: sizes clamped to [h_min, h_max] and the aspect ratio to r
 //! ([`SizeTensor::clamp`]). p is a real ≥ 1 or infinite (L∞: M = D |H|).
+//!
+//! Which p: p = 2 minimises the L2 norm of the error. The H1 seminorm (the gradient's
+//! error, about h |H| in a cell of size h) asks for the density √det M ∝ |H| (for an
+//! isotropic cell, |∇e|² h² ≈ h⁴ |H|² summed over the N ≈ 1/h² cells is least at fixed N
+//! when h² |H| is constant), which is p = ∞; larger p also refines more at singularities.
 
 use crate::metric::{SizeBounds, SizeTensor, Sym2};
 use crate::remesh::estimate::{complexity, vertices_of_complexity};

@@ -7,6 +7,10 @@ use std::path::{Path, PathBuf};
 pub const EXAMPLES: &[(&str, &str)] = &[
     ("naca0012-agard01", "naca0012-agard01/recipe.toml"),
     ("gamm-a7-viscous", "gamm-a7-viscous/recipe.toml"),
+    ("naca0012-agard02", "naca0012-agard02/recipe.toml"),
+    ("naca0012-agard03", "naca0012-agard03/recipe.toml"),
+    ("naca0012-agard04", "naca0012-agard04/recipe.toml"),
+    ("naca0012-agard05", "naca0012-agard05/recipe.toml"),
     ("u-duct", "u-duct/recipe.cfg"),
     ("distributor/1-narrow", "distributor/recipe.cfg"),
     ("distributor/2-thick", "distributor/recipe.cfg"),

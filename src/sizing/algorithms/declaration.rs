@@ -47,6 +47,11 @@ pub struct Parameter {
 pub enum ParameterKind {
     /// A size (a number in [1e-30, 1e30]).
     Size,
+    /// A size that may be left out (the algorithm then chooses; its documentation says
+    /// how).
+    OptionalSize,
+    /// One of the words listed, the first when left out.
+    Choice(&'static [&'static str]),
     /// The name of a function of this kind.
     Function(FunctionKind),
     /// Region names. `dimensions`: the entity dimensions accepted (0 points, 1 curves,
@@ -73,8 +78,37 @@ impl ParameterKind {
 
     /// Whether it may be left out.
     pub fn is_optional(self) -> bool {
-        matches!(self, ParameterKind::Regions { optional: true, .. })
+        matches!(
+            self,
+            ParameterKind::Regions { optional: true, .. }
+                | ParameterKind::OptionalSize
+                | ParameterKind::Choice(_)
+        )
     }
+}
+
+/// The numbers a recipe gives an algorithm (its sizes, the optional ones left out
+/// absent), for the algorithm's own check of how they go together.
+#[derive(Debug, Clone, Copy)]
+pub struct Given<'a> {
+    /// (parameter field, value), in declaration order.
+    pub sizes: &'a [(&'static str, f64)],
+}
+
+impl Given<'_> {
+    /// The value of `field`, if given.
+    pub fn get(&self, field: &str) -> Option<f64> {
+        self.sizes.iter().find(|(f, _)| *f == field).map(|(_, x)| *x)
+    }
+}
+
+/// Why an algorithm refuses the numbers it was given: the parameter to blame and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refusal {
+    /// The parameter field the recipe should change.
+    pub field: &'static str,
+    /// Why, in words (the recipe error names the key and the place).
+    pub why: String,
 }
 
 /// The kind of function a parameter needs.

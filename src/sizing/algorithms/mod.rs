@@ -39,7 +39,7 @@ mod frame;
 mod sources;
 
 pub use declaration::{
-    Argument, Arguments, Declaration, FunctionKind, Marks, Parameter, ParameterKind,
+    Argument, Arguments, Declaration, FunctionKind, Given, Marks, Parameter, ParameterKind, Refusal,
 };
 pub use frame::ON_SOURCE;
 pub(crate) use frame::{direction, normal_at, on_source, tangent_at, tensor, unit, Junctions};
@@ -124,6 +124,7 @@ macro_rules! algorithms {
             $(Entry {
                 declaration: &<$name as SizingAlgorithm>::DECLARATION,
                 build: build::<$name>,
+                check: <$name as SizingAlgorithm>::check,
             },)*
         ];
     };
@@ -146,6 +147,9 @@ pub struct Entry {
     /// Builds it from its resolved arguments (`None` when an argument is missing or of
     /// another kind than declared).
     pub build: fn(&mut Arguments) -> Option<Algorithm>,
+    /// Checks how the numbers a recipe gives it go together (ranges beyond a size's, one
+    /// parameter excluding another), before anything is resolved.
+    pub check: fn(Given<'_>) -> Result<(), Refusal>,
 }
 
 impl std::fmt::Debug for Entry {
@@ -190,6 +194,12 @@ pub(crate) trait SizingAlgorithm: Sized {
     /// Built from the arguments of its declared parameters (`None` when one is missing
     /// or of another kind).
     fn from_arguments(arguments: &mut Arguments) -> Option<Self>;
+
+    /// Refuses numbers that do not go together (every size is already within [1e-30,
+    /// 1e30]); none by default.
+    fn check(_: Given<'_>) -> Result<(), Refusal> {
+        Ok(())
+    }
 
     /// Every entity set it takes, in declaration order.
     fn entity_sets(&self) -> Vec<&EntitySet>;

@@ -1,20 +1,25 @@
 //! SOLUTION_HESSIAN: the Lp-optimal metric of a computed scalar field (a solution) on
 //! the mesh being sized: the field's Hessian recovered at every vertex
 //! ([`crate::solution::recovery`], the quadratic fit unless told otherwise), made into
-//! M = D det(|H|)^(−1/(2p+2)) |H| and normalised to a vertex count
-//! ([`crate::solution::lp`]). The field is the mesh's scalar point-data array FIELD; in a
+//! M = D det(|H|)^(−1/(2p+2)) |H| and normalised to a vertex count or to an Lp norm of
+//! the interpolation error ([`crate::solution::lp`]). The field is the mesh's scalar point-data array FIELD; in a
 //! recipe the step is intersected with the others in recipe order like any other, so the
 //! geometry's sizes and the solution's both hold where each is the finer. No propagation:
 //! every vertex some cell uses gets a tensor, in increasing index order.
 //!
-//! Bounds: unless given (the command line gives its own), h_max is the diagonal of the
-//! mesh's bounding box, h_min 1e-6 of it and the aspect ratio at most 1e4; the plan's
-//! global bounds clamp the field afterwards, which can move its vertex count away from
-//! COMPLEXITY where they act.
+//! In a recipe: FIELD, and exactly one of COMPLEXITY (a vertex count) and ERROR (the Lp
+//! norm of the interpolation error); optional P (default 2), RECOVERY (`quadratic-fit`,
+//! the default, or `l2-projection`), HMIN, HMAX and MAX_ANISOTROPY.
+//!
+//! Bounds: each one not given (the command line gives its own) comes from the mesh: h_max
+//! the diagonal of its bounding box, h_min 1e-6 of it and the aspect ratio at most 1e4.
+//! The normalisation honours them (the vertex count is that of the bounded metric); the
+//! plan's global bounds clamp the field afterwards, which can move its vertex count away
+//! from COMPLEXITY where they act.
 
 use super::{
-    Around, Arguments, Contribution, Declaration, Failure, Parameter, ParameterKind,
-    SizingAlgorithm, Work,
+    Around, Arguments, Contribution, Declaration, Failure, Given, Parameter, ParameterKind,
+    Refusal, SizingAlgorithm, Work,
 };
 use crate::mesh_graph::{MeshGraph, PointValues};
 use crate::metric::{SizeBounds, SizeTensor};
@@ -33,9 +38,12 @@ pub struct SolutionHessian {
     pub p: f64,
     /// How the Hessian is recovered.
     pub method: Method,
-    /// h_min, h_max and the aspect ratio; `None`: from the mesh (see the module
-    /// documentation).
-    pub bounds: Option<SizeBounds>,
+    /// The smallest size; `None`: from the mesh (see the module documentation).
+    pub h_min: Option<f64>,
+    /// The largest size; `None`: from the mesh.
+    pub h_max: Option<f64>,
+    /// The largest aspect ratio; `None`: 1e4.
+    pub max_aspect: Option<f64>,
 }
 
 impl SolutionHessian {
@@ -68,15 +76,46 @@ impl SolutionHessian {
         let why = |e: &dyn std::fmt::Display| format!("point data `{name}`: {e}");
         let mesh = P1Mesh::new(graph.points(), graph.cells()).map_err(|e| why(&e))?;
         let derivatives = recover(&mesh, values, self.method).map_err(|e| why(&e))?;
-        let bounds = match self.bounds {
-            Some(b) => b,
-            None => graph
-                .bounds()
-                .and_then(|(lo, hi)| Self::default_bounds((hi[0] - lo[0]).hypot(hi[1] - lo[1])))
-                .ok_or_else(|| format!("point data `{name}`: the mesh has no extent"))?,
-        };
+        let bounds = self.bounds(graph).map_err(|e| why(&e))?;
         let options = LpOptions { p: self.p, target: self.target, bounds };
         lp_metric(&mesh, &derivatives.hessian, &options).map_err(|e| why(&e))
+    }
+
+    /// Its bounds on the mesh of `graph`: those given, the others from the mesh's extent.
+    pub fn bounds(&self, graph: &MeshGraph) -> Result<SizeBounds, String> {
+        let given = match (self.h_min, self.h_max, self.max_aspect) {
+            (Some(lo), Some(hi), Some(r)) => SizeBounds::try_new(lo, hi, r),
+            _ => None,
+        };
+        if let Some(b) = given {
+            return Ok(b);
+        }
+        let default = graph
+            .bounds()
+            .and_then(|(lo, hi)| Self::default_bounds((hi[0] - lo[0]).hypot(hi[1] - lo[1])))
+            .ok_or("the mesh has no extent")?;
+        let h_max = self.h_max.unwrap_or(default.h_max());
+        let h_min = self.h_min.unwrap_or(default.h_min().min(h_max));
+        let r = self.max_aspect.unwrap_or(default.max_aspect_ratio());
+        SizeBounds::try_new(h_min, h_max, r).ok_or_else(|| {
+            format!("bounds hmin {h_min}, hmax {h_max}, aspect ratio {r} are out of range")
+        })
+    }
+}
+
+/// A parameter of this algorithm that may be left out.
+const fn optional(
+    field: &'static str,
+    keys: &'static [&'static str],
+    doc: &'static str,
+) -> Parameter {
+    Parameter {
+        field,
+        aliases: &[],
+        keys,
+        kind: ParameterKind::OptionalSize,
+        line_break_after: false,
+        doc,
     }
 }
 
@@ -84,7 +123,7 @@ impl SizingAlgorithm for SolutionHessian {
     const DECLARATION: Declaration = Declaration {
         keyword: "SOLUTION_HESSIAN",
         name: "solution_hessian",
-        doc: "The Lp-optimal metric (Loseille-Alauzet) of the scalar point field FIELD of the mesh being sized: its Hessian recovered by a least-squares quadratic on each vertex's patch, M = D det(|H|)^(-1/(2P+2)) |H|, normalised so that a mesh conforming to it has about COMPLEXITY vertices.",
+        doc: "The Lp-optimal metric (Loseille-Alauzet) of the scalar point field FIELD of the mesh being sized: its Hessian recovered (RECOVERY), M = D det(|H|)^(-1/(2P+2)) |H|, normalised so that a mesh conforming to it has about COMPLEXITY vertices, or an interpolation error of about ERROR in the Lp norm; sizes within HMIN, HMAX and MAX_ANISOTROPY.",
         parameters: &[
             Parameter {
                 field: "field",
@@ -94,35 +133,90 @@ impl SizingAlgorithm for SolutionHessian {
                 line_break_after: false,
                 doc: "The scalar point-data array (a solution) of the mesh being sized.",
             },
+            optional(
+                "complexity",
+                &["COMPLEXITY"],
+                "The vertex count the metric asks for (its complexity); or ERROR.",
+            ),
+            optional(
+                "error",
+                &["ERROR"],
+                "The Lp norm of the interpolation error the metric asks for, instead of COMPLEXITY.",
+            ),
+            optional(
+                "p",
+                &["P"],
+                "The Lp norm of the interpolation error the metric minimises (>= 1; 2 when left out, for the L2 norm; 1 resolves weak features more; a large P, 1e30, is p = infinity: the density |H| the H1 seminorm asks for).",
+            ),
             Parameter {
-                field: "complexity",
+                field: "recovery",
                 aliases: &[],
-                keys: &["COMPLEXITY"],
-                kind: ParameterKind::Size,
+                keys: &["RECOVERY"],
+                kind: ParameterKind::Choice(&["quadratic-fit", "l2-projection"]),
                 line_break_after: false,
-                doc: "The vertex count the metric asks for (its complexity).",
+                doc: "How the Hessian is recovered: quadratic-fit (the default; exact on quadratics on any mesh) or l2-projection (the P1 gradient projected twice; for structured meshes).",
             },
-            Parameter {
-                field: "p",
-                aliases: &[],
-                keys: &["P"],
-                kind: ParameterKind::Size,
-                line_break_after: false,
-                doc: "The Lp norm of the interpolation error the metric minimises (2 is usual; 1 resolves weak features more, large p the strongest).",
-            },
+            optional("hmin", &["HMIN"], "The smallest size (1e-6 of the mesh's diagonal when left out)."),
+            optional("hmax", &["HMAX"], "The largest size (the mesh's diagonal when left out)."),
+            optional(
+                "max_anisotropy",
+                &["MAX_ANISOTROPY"],
+                "The largest aspect ratio of a tensor (>= 1; 1e4 when left out).",
+            ),
         ],
     };
 
     type Tensor<'a> = std::convert::Infallible;
 
     fn from_arguments(arguments: &mut Arguments) -> Option<SolutionHessian> {
+        let field = arguments.name("field")?;
+        let target = match (arguments.size("complexity"), arguments.size("error")) {
+            (Some(n), None) => Target::Vertices(n),
+            (None, Some(e)) => Target::Error(e),
+            _ => return None,
+        };
+        let p = arguments.size("p").unwrap_or(2.0);
+        let method = match arguments.name("recovery") {
+            Some(word) => Method::from_name(&word)?,
+            None => Method::default(),
+        };
         Some(SolutionHessian {
-            field: arguments.name("field")?,
-            target: Target::Vertices(arguments.size("complexity")?),
-            p: arguments.size("p")?,
-            method: Method::QuadraticFit,
-            bounds: None,
+            field,
+            target,
+            p,
+            method,
+            h_min: arguments.size("hmin"),
+            h_max: arguments.size("hmax"),
+            max_aspect: arguments.size("max_anisotropy"),
         })
+    }
+
+    fn check(given: Given<'_>) -> Result<(), Refusal> {
+        let refuse = |field, why: String| Err(Refusal { field, why });
+        match (given.get("complexity"), given.get("error")) {
+            (None, None) => {
+                return refuse("complexity", "give a vertex count (COMPLEXITY) or ERROR".into())
+            }
+            (Some(_), Some(_)) => {
+                return refuse("error", "give COMPLEXITY or ERROR, not both".into())
+            }
+            _ => {}
+        }
+        if let Some(p) = given.get("p").filter(|&p| p < 1.0) {
+            return refuse("p", format!("{p} is not a norm (expected a number >= 1)"));
+        }
+        if let Some(r) = given.get("max_anisotropy").filter(|&r| r < 1.0) {
+            return refuse(
+                "max_anisotropy",
+                format!("{r} is not an aspect ratio (expected a number >= 1)"),
+            );
+        }
+        if let (Some(lo), Some(hi)) = (given.get("hmin"), given.get("hmax")) {
+            if lo > hi {
+                return refuse("hmin", format!("{lo} is larger than HMAX {hi}"));
+            }
+        }
+        Ok(())
     }
 
     fn entity_sets(&self) -> Vec<&EntitySet> {
@@ -154,4 +248,19 @@ fn used_vertices(graph: &MeshGraph) -> Vec<u32> {
         }
     }
     (0..used.len() as u32).filter(|&v| used[v as usize]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The recipe's RECOVERY words are the methods' names, the default first.
+    #[test]
+    fn the_recovery_words_are_the_method_names() {
+        let p = SolutionHessian::DECLARATION.parameters.iter().find(|p| p.field == "recovery");
+        let Some(ParameterKind::Choice(words)) = p.map(|p| p.kind) else { panic!("{p:?}") };
+        let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+        assert_eq!(words, names.as_slice());
+        assert_eq!(words[0], Method::default().name());
+    }
 }
