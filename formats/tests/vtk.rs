@@ -39,42 +39,21 @@ fn read(format: Format, bytes: &[u8]) -> smartmesh_formats::Result<TaggedMesh> {
 
 /// Every variant the writers offer: (label, format, options).
 fn variants() -> Vec<(String, Format, WriteOptions)> {
-    let mut v = Vec::new();
-    for version in [(4, 2), (5, 1)] {
-        for binary in [false, true] {
-            let o = WriteOptions {
-                vtk: VtkWrite {
-                    legacy_version: version,
-                    legacy_binary: binary,
-                    ..Default::default()
-                },
-                ..WriteOptions::default()
-            };
-            v.push((
+    common::vtk_variants()
+        .into_iter()
+        .map(|(format, vtk)| {
+            let label = if format == Format::VtkLegacy {
+                let (major, minor) = vtk.legacy_version;
                 format!(
-                    "legacy {}.{} {}",
-                    version.0,
-                    version.1,
-                    if binary { "binary" } else { "ascii" }
-                ),
-                Format::VtkLegacy,
-                o,
-            ));
-        }
-    }
-    for enc in [VtuEncoding::Ascii, VtuEncoding::Binary, VtuEncoding::Appended] {
-        for compress in [false, true] {
-            if enc == VtuEncoding::Ascii && compress {
-                continue;
-            }
-            let o = WriteOptions {
-                vtk: VtkWrite { vtu_encoding: enc, compress, ..Default::default() },
-                ..WriteOptions::default()
+                    "legacy {major}.{minor} {}",
+                    if vtk.legacy_binary { "binary" } else { "ascii" }
+                )
+            } else {
+                format!("vtu {:?}{}", vtk.vtu_encoding, if vtk.compress { " zlib" } else { "" })
             };
-            v.push((format!("vtu {enc:?}{}", if compress { " zlib" } else { "" }), Format::Vtu, o));
-        }
-    }
-    v
+            (label, format, WriteOptions { vtk, ..WriteOptions::default() })
+        })
+        .collect()
 }
 
 // The expected counts were found independently of this crate: VTK 9.7.2's own readers

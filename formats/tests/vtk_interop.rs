@@ -2,60 +2,31 @@
 //! we read every encoding VTK's own writers produce. Skips when Python lacks `vtk`
 //! (`pip install vtk meshio`), unless `SMARTMESH_REQUIRE_INTEROP=1`.
 
-use smartmesh_formats::VtkWrite;
 use smartmesh_test_support::formats as common;
 
 use smartmesh_formats::{
     read_bytes, write_bytes, CellBlock, CellKind, DataArray, Format, ReadContext, TaggedMesh,
-    VtuEncoding, WriteOptions,
+    WriteOptions,
 };
 
 /// Every variant the writers offer: (file name, format, options).
 fn variants() -> Vec<(String, Format, WriteOptions)> {
-    let mut v = Vec::new();
-    for version in [(4, 2), (5, 1)] {
-        for binary in [false, true] {
-            let o = WriteOptions {
-                vtk: VtkWrite {
-                    legacy_version: version,
-                    legacy_binary: binary,
-                    ..Default::default()
-                },
-                ..WriteOptions::default()
-            };
-            v.push((
+    common::vtk_variants()
+        .into_iter()
+        .map(|(format, vtk)| {
+            let name = if format == Format::VtkLegacy {
+                let (major, minor) = vtk.legacy_version;
                 format!(
-                    "legacy{}{}_{}.vtk",
-                    version.0,
-                    version.1,
-                    if binary { "binary" } else { "ascii" }
-                ),
-                Format::VtkLegacy,
-                o,
-            ));
-        }
-    }
-    for enc in [VtuEncoding::Ascii, VtuEncoding::Binary, VtuEncoding::Appended] {
-        for compress in [false, true] {
-            if enc == VtuEncoding::Ascii && compress {
-                continue;
-            }
-            let o = WriteOptions {
-                vtk: VtkWrite { vtu_encoding: enc, compress, ..Default::default() },
-                ..WriteOptions::default()
+                    "legacy{major}{minor}_{}.vtk",
+                    if vtk.legacy_binary { "binary" } else { "ascii" }
+                )
+            } else {
+                let enc = format!("{:?}", vtk.vtu_encoding).to_lowercase();
+                format!("{enc}{}.vtu", if vtk.compress { "_zlib" } else { "" })
             };
-            v.push((
-                format!(
-                    "{}{}.vtu",
-                    format!("{enc:?}").to_lowercase(),
-                    if compress { "_zlib" } else { "" }
-                ),
-                Format::Vtu,
-                o,
-            ));
-        }
-    }
-    v
+            (name, format, WriteOptions { vtk, ..WriteOptions::default() })
+        })
+        .collect()
 }
 
 /// The naca0012 fixture with names, boundary lines, a vertex and more data.

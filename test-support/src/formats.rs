@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use smartmesh_formats::{
-    read_bytes, write_bytes, Format, MemorySiblings, ReadContext, TaggedMesh, WriteOptions, Written,
+    read_bytes, write_bytes, Format, MemorySiblings, ReadContext, TaggedMesh, VtkWrite,
+    VtuEncoding, WriteOptions, Written,
 };
 
 /// The public sample meshes written by other tools (`../shared/fixtures/public`), or
@@ -103,4 +104,27 @@ pub fn counts_per_tag(mesh: &TaggedMesh) -> std::collections::BTreeMap<(String, 
         *m.entry((kind.name().to_string(), p)).or_insert(0) += 1;
     }
     m
+}
+
+/// Every variant the VTK writers offer, in a fixed order: legacy 4.2 and 5.1, each ASCII
+/// then binary; then `.vtu` ASCII, binary and appended, each plain then zlib (ASCII is
+/// never compressed).
+pub fn vtk_variants() -> Vec<(Format, VtkWrite)> {
+    let mut v = Vec::new();
+    for legacy_version in [(4, 2), (5, 1)] {
+        for legacy_binary in [false, true] {
+            v.push((
+                Format::VtkLegacy,
+                VtkWrite { legacy_version, legacy_binary, ..VtkWrite::default() },
+            ));
+        }
+    }
+    for vtu_encoding in [VtuEncoding::Ascii, VtuEncoding::Binary, VtuEncoding::Appended] {
+        for compress in [false, true] {
+            if vtu_encoding != VtuEncoding::Ascii || !compress {
+                v.push((Format::Vtu, VtkWrite { vtu_encoding, compress, ..VtkWrite::default() }));
+            }
+        }
+    }
+    v
 }
