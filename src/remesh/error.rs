@@ -43,6 +43,9 @@ pub enum RemeshError {
         "every surface cell of the mesh is kept (quads of a skin); no triangle is left to remesh"
     )]
     AllKept,
+    /// The input's quads and triangles do not form a valid mixed mesh.
+    #[error("the mesh's quads and triangles do not form a valid mesh: {0}")]
+    InvalidMixed(String),
     /// The result with its kept cells failed the mixed-mesh check (a bug).
     #[error("the remeshed mesh with its kept cells is not valid: {0}")]
     Invalid(String),

@@ -281,6 +281,14 @@ pub fn remesh_keeping(
     let t0 = Instant::now();
     let metric = bounded_sizes(metric, opts)?;
     let metric: &[Sym2] = &metric;
+    // A mixed input must already be valid: otherwise a bad result would be blamed on
+    // the remesher rather than on the file.
+    if keep.iter().any(|&k| k) && mesh.cells().any(|c| c.0 == crate::formats::CellKind::Quad) {
+        let v = crate::layer::check::check_mesh(mesh);
+        if !v.is_valid() {
+            return Err(RemeshError::InvalidMixed(v.problems().join("; ")));
+        }
+    }
     let st = build::start(mesh, topology, metric, opts, keep)?;
     let input_tris: Vec<[usize; 3]> = st.tris.iter().map(|t| t.map(|v| v as usize)).collect();
     let estimate = estimate::expected_vertices(&st.pts, &input_tris, metric);
