@@ -146,6 +146,13 @@ fn cylinder_fixture() {
     assert!(q.min_scaled_jacobian > 0.9, "{q:?}");
     assert!((q.layers[0].height[1] - 0.002).abs() < 1e-4, "{:?}", q.layers[0]);
     assert_eq!(line_lengths(m), line_lengths(&input));
+    // Nothing thinned: one zoom on the skin, no thinned column drawn.
+    assert!(m.point_data[smartmesh::layer::THICKNESS_SHARE].values.iter().all(|&s| s == 1.0));
+    let (r, svg) = report_of(m);
+    let skin: Vec<_> = r.zooms.iter().filter(|z| z.label.contains("layer")).collect();
+    assert_eq!(skin.len(), 1);
+    assert!(skin[0].label.starts_with("boundary layer: 8 layers"), "{}", skin[0].label);
+    assert!(!svg.contains("layer-thinned"));
 }
 
 #[test]
@@ -253,6 +260,41 @@ fn thin_gap_thins_the_layers_and_reports_it() {
     // The first height holds where the ratio could drop instead.
     let q = quad_quality(&out.mesh).unwrap();
     assert!((q.layers[0].height[1] - 0.002).abs() < 2e-4, "{:?}", q.layers[0]);
+    // The mesh records each column's share at its points: at every thinned wall vertex
+    // the smallest factor of its columns, as the report lists them.
+    let m = &out.mesh;
+    let share = &m.point_data[smartmesh::layer::THICKNESS_SHARE].values;
+    for t in th {
+        let v = m.points.iter().position(|p| p[0] == t.at[0] && p[1] == t.at[1]).unwrap();
+        assert!(share[v] <= t.factor && share[v] > 0.0, "{t:?}: {}", share[v]);
+    }
+    let thinned_points = share.iter().filter(|&&s| s < 1.0).count();
+    assert!(thinned_points >= th.len() * 5, "every point of a thinned column");
+    // `report` zooms on the skin and on the thinnest column, and draws each thinned
+    // column's point once in the overview.
+    let (r, svg) = report_of(m);
+    let labels: Vec<&str> = r.zooms.iter().map(|z| z.label.as_str()).collect();
+    assert!(labels.iter().any(|l| l.starts_with("boundary layer: 5 layers")), "{labels:?}");
+    assert!(labels.iter().any(|l| l.starts_with("layer thinned to 33%")), "{labels:?}");
+    let at = svg.find("class=\"layer-thinned\"").expect("thinned columns drawn");
+    let group = &svg[at..at + svg[at..].find("</g>").unwrap()];
+    assert_eq!(group.matches("<circle").count(), thinned_points);
+}
+
+/// The report of `m` (no metric, no recipe) and its SVG.
+fn report_of(m: &TaggedMesh) -> (smartmesh::report::Report, String) {
+    let topo = smartmesh::topology::Topology::from_mesh(m);
+    let input = smartmesh::report::ReportInput {
+        name: "skin",
+        mesh: m,
+        topology: &topo,
+        metric: None,
+        plan: None,
+        history: None,
+    };
+    let r = smartmesh::report::render(&input, &Default::default());
+    let svg = r.svg.clone();
+    (r, svg)
 }
 
 #[test]

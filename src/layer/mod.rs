@@ -40,6 +40,11 @@ pub use growth::{first_height_for_y_plus, Growth, GrowthError};
 
 use crate::topology::{cell_tag, Topology};
 
+/// The point data in which [`insert`] records, at the points of each column, the share
+/// of its nominal thickness the column took (1 where it was not thinned, 0 where it was
+/// stopped), and 1 at every other point; `report` marks the thinned columns from it.
+pub const THICKNESS_SHARE: &str = "layer_thickness_share";
+
 /// Why a skin could not be inserted.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LayerError {
@@ -381,6 +386,20 @@ fn assemble(
     if !mesh.point_data.is_empty() {
         notes.push("point data on the skin's new points copied from their wall vertex".to_string());
     }
+    // The share of its nominal thickness each column took, at its points (a wall vertex
+    // with a fan takes its thinnest column's), 1 elsewhere.
+    let mut share = vec![1.0f64; out.points.len()];
+    for col in &sk.columns {
+        for &id in &col.ids {
+            if map[id] != usize::MAX {
+                share[map[id]] = share[map[id]].min(col.factor);
+            }
+        }
+    }
+    out.point_data.insert(
+        THICKNESS_SHARE.to_string(),
+        DataArray { components: 1, values: share, layout: Default::default() },
+    );
     if !mesh.cell_data.is_empty() {
         let names: Vec<&str> = mesh.cell_data.keys().map(String::as_str).collect();
         notes.push(format!("cell data dropped: {}", names.join(", ")));

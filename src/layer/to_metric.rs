@@ -45,6 +45,26 @@ pub fn band_to_metric(
     let band_now = surface - kept_cells;
     let mut band = vec![false; surface];
     band[..band_now].iter_mut().for_each(|b| *b = true);
+    // The record of thinned columns, carried to the same (frozen) points.
+    if let Some(a) = layered.mesh.point_data.get(super::THICKNESS_SHARE) {
+        let at: std::collections::BTreeMap<[u64; 2], f64> = layered
+            .mesh
+            .points
+            .iter()
+            .zip(&a.values)
+            .filter(|(_, &v)| v != 1.0)
+            .map(|(p, &v)| ([p[0].to_bits(), p[1].to_bits()], v))
+            .collect();
+        let values = mesh
+            .points
+            .iter()
+            .map(|p| at.get(&[p[0].to_bits(), p[1].to_bits()]).copied().unwrap_or(1.0))
+            .collect();
+        mesh.point_data.insert(
+            super::THICKNESS_SHARE.to_string(),
+            crate::formats::DataArray { components: 1, values, layout: Default::default() },
+        );
+    }
     let mut report = layered.report;
     if !layered.mesh.point_sets.is_empty() {
         report.notes.push("point sets dropped by the band's remeshing".to_string());
