@@ -146,6 +146,13 @@ fn cylinder_fixture() {
     assert!(q.min_scaled_jacobian > 0.9, "{q:?}");
     assert!((q.layers[0].height[1] - 0.002).abs() < 1e-4, "{:?}", q.layers[0]);
     assert_eq!(line_lengths(m), line_lengths(&input));
+    // Nothing thinned: one zoom on the skin, no thinned column drawn.
+    assert!(m.point_data[smartmesh::layer::THICKNESS_SHARE].values.iter().all(|&s| s == 1.0));
+    let (r, svg) = report_of(m);
+    let skin: Vec<_> = r.zooms.iter().filter(|z| z.label.contains("layer")).collect();
+    assert_eq!(skin.len(), 1);
+    assert!(skin[0].label.starts_with("boundary layer: 8 layers"), "{}", skin[0].label);
+    assert!(!svg.contains("layer-thinned"));
 }
 
 #[test]
@@ -253,6 +260,41 @@ fn thin_gap_thins_the_layers_and_reports_it() {
     // The first height holds where the ratio could drop instead.
     let q = quad_quality(&out.mesh).unwrap();
     assert!((q.layers[0].height[1] - 0.002).abs() < 2e-4, "{:?}", q.layers[0]);
+    // The mesh records each column's share at its points: at every thinned wall vertex
+    // the smallest factor of its columns, as the report lists them.
+    let m = &out.mesh;
+    let share = &m.point_data[smartmesh::layer::THICKNESS_SHARE].values;
+    for t in th {
+        let v = m.points.iter().position(|p| p[0] == t.at[0] && p[1] == t.at[1]).unwrap();
+        assert!(share[v] <= t.factor && share[v] > 0.0, "{t:?}: {}", share[v]);
+    }
+    let thinned_points = share.iter().filter(|&&s| s < 1.0).count();
+    assert!(thinned_points >= th.len() * 5, "every point of a thinned column");
+    // `report` zooms on the skin and on the thinnest column, and draws each thinned
+    // column's point once in the overview.
+    let (r, svg) = report_of(m);
+    let labels: Vec<&str> = r.zooms.iter().map(|z| z.label.as_str()).collect();
+    assert!(labels.iter().any(|l| l.starts_with("boundary layer: 5 layers")), "{labels:?}");
+    assert!(labels.iter().any(|l| l.starts_with("layer thinned to 33%")), "{labels:?}");
+    let at = svg.find("class=\"layer-thinned\"").expect("thinned columns drawn");
+    let group = &svg[at..at + svg[at..].find("</g>").unwrap()];
+    assert_eq!(group.matches("<circle").count(), thinned_points);
+}
+
+/// The report of `m` (no metric, no recipe) and its SVG.
+fn report_of(m: &TaggedMesh) -> (smartmesh::report::Report, String) {
+    let topo = smartmesh::topology::Topology::from_mesh(m);
+    let input = smartmesh::report::ReportInput {
+        name: "skin",
+        mesh: m,
+        topology: &topo,
+        metric: None,
+        plan: None,
+        history: None,
+    };
+    let r = smartmesh::report::render(&input, &Default::default());
+    let svg = r.svg.clone();
+    (r, svg)
 }
 
 #[test]
@@ -447,6 +489,145 @@ fn remesh_keeps_a_skin_frozen_and_remeshes_around_it() {
     assert!(e.to_string().contains("quad"), "{e}");
 }
 
+/// Metric lengths of the band's edges that the remeshing may change (those that are not
+/// edges of a kept cell), the metric given by `f` at the points.
+fn band_edge_lengths(
+    l: &smartmesh::layer::Layered,
+    f: &dyn Fn(f64, f64) -> smartmesh::metric::Sym2,
+) -> Vec<f64> {
+    let m = &l.mesh;
+    let cells: Vec<Vec<u32>> = m.cells().filter(|c| c.0.dim() == 2).map(|c| c.1.to_vec()).collect();
+    let edge = |c: &[u32], k: usize| {
+        let (u, v) = (c[k] as usize, c[(k + 1) % c.len()] as usize);
+        (u.min(v), u.max(v))
+    };
+    let mut kept_edges = std::collections::BTreeSet::new();
+    for (c, &b) in cells.iter().zip(&l.band) {
+        if !b {
+            (0..c.len()).for_each(|k| _ = kept_edges.insert(edge(c, k)));
+        }
+    }
+    let mut edges = std::collections::BTreeSet::new();
+    for (c, &b) in cells.iter().zip(&l.band) {
+        if b {
+            for k in 0..3 {
+                if !kept_edges.contains(&edge(c, k)) {
+                    edges.insert(edge(c, k));
+                }
+            }
+        }
+    }
+    edges
+        .into_iter()
+        .map(|(u, v)| {
+            let (a, b) = (m.points[u], m.points[v]);
+            smartmesh::conformity::metric_edge_length(
+                [a[0], a[1]],
+                [b[0], b[1]],
+                &f(a[0], a[1]),
+                &f(b[0], b[1]),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn the_band_is_remeshed_to_a_given_metric() {
+    use smartmesh::layer::to_metric::band_to_metric;
+    use smartmesh::metric::SizeTensor;
+    // The channel with a skin on its bottom wall, meshed coarse (0.12); the metric asks
+    // 0.03 along x and 0.015 across near the front (y = 0.05), growing to the kept
+    // mesh's 0.12 away from it.
+    let pts = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]];
+    let segs = [([0, 1], 1), ([1, 2], 2), ([2, 3], 3), ([3, 0], 4)];
+    let input = mesh_of(&pts, &segs, 0.12);
+    let g = Growth { first_height: 0.004, ratio: 1.3, layers: 6 };
+    let f = |_x: f64, y: f64| {
+        let d = (y - 0.05).max(0.0);
+        SizeTensor::from_angle(0.0, (0.03 + 0.6 * d).min(0.12), (0.015 + 0.6 * d).min(0.12))
+            .unwrap()
+            .to_metric()
+    };
+    // The mesh adapted to the metric first, as the loop leaves it; then a skin.
+    let at = |m: &TaggedMesh| -> Vec<_> { m.points.iter().map(|p| f(p[0], p[1])).collect() };
+    let input = smartmesh::remesh::remesh(
+        &input,
+        &at(&input),
+        &smartmesh::remesh::RemeshOptions::default(),
+    )
+    .unwrap()
+    .mesh;
+    let metric = at(&input);
+    let plain = layered(&input, &opts(&["1"], g), true);
+    let refined = band_to_metric(
+        &input,
+        &metric,
+        plain.clone(),
+        &smartmesh::remesh::RemeshOptions::default(),
+    )
+    .unwrap();
+    // Skin and kept mesh untouched, the whole valid (grid check and all-pairs twin).
+    let kept = |l: &smartmesh::layer::Layered| {
+        let mut c: Vec<(Vec<[u64; 2]>, i32)> = l
+            .mesh
+            .cells()
+            .filter(|c| c.0.dim() == 2)
+            .zip(&l.band)
+            .filter(|(_, &b)| !b)
+            .map(|((_, n, p, _), _)| {
+                let mut v: Vec<[u64; 2]> = n
+                    .iter()
+                    .map(|&v| {
+                        let q = l.mesh.points[v as usize];
+                        [q[0].to_bits(), q[1].to_bits()]
+                    })
+                    .collect();
+                let first = (0..v.len()).min_by_key(|&i| v[i]).unwrap();
+                v.rotate_left(first);
+                (v, p)
+            })
+            .collect();
+        c.sort_unstable();
+        c
+    };
+    assert_eq!(kept(&refined), kept(&plain));
+    let m = &refined.mesh;
+    let pts2: Vec<[f64; 2]> = m.points.iter().map(|p| [p[0], p[1]]).collect();
+    assert!(check_cells_brute(&pts2, &surface_cells(m)).is_valid());
+    assert!(check_mesh(m).is_valid());
+    assert!((area(m) - 2.0).abs() < 1e-12);
+    assert_eq!(vertex_cells(&input), vertex_cells(m));
+    for (t, l) in line_lengths(&input) {
+        assert!((line_lengths(m)[&t] - l).abs() < 1e-12, "curve {t}");
+    }
+    // The band's edges in the metric: within the remesher's usual band, as the plain
+    // band (sizes inherited from the coarse mesh) is not.
+    let share = |l: &[f64]| {
+        l.iter().filter(|&&x| (0.5f64.sqrt()..=2f64.sqrt()).contains(&x)).count() as f64
+            / l.len() as f64
+    };
+    let (before, after) = (band_edge_lengths(&plain, &f), band_edge_lengths(&refined, &f));
+    let whole = smartmesh::remesh::remesh(
+        &input,
+        &metric,
+        &smartmesh::remesh::RemeshOptions { measure: true, ..Default::default() },
+    )
+    .unwrap();
+    let usual = whole.stats.conformity.unwrap().conforming_share;
+    eprintln!(
+        "band share before {:.3}, after {:.3}, whole-mesh remesh {:.3}; {} -> {} edges",
+        share(&before),
+        share(&after),
+        usual,
+        before.len(),
+        after.len()
+    );
+    assert!(share(&after) >= usual - 0.1, "{} vs {usual}", share(&after));
+    assert!(share(&before) + 0.3 < share(&after), "{}", share(&before));
+    let mean = after.iter().sum::<f64>() / after.len() as f64;
+    assert!((0.8..1.25).contains(&mean), "{mean}");
+}
+
 #[test]
 fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
     let dir = tempfile::tempdir().unwrap();
@@ -567,6 +748,36 @@ fn cli_layer_writes_mixed_meshes_that_every_reader_reads_back() {
         ],
         None,
     ));
+    // `layer --metric` remeshes the band to a metric on the input's vertices; one on
+    // another mesh's is refused with exit 2.
+    cli::ok(&cli::smartmesh(
+        &["size", &cyl, "--recipe", &cli::bundled("cylinder.toml"), "-o", &out("fc.vtu")],
+        None,
+    ));
+    let lm = |metric: &str| {
+        cli::smartmesh(
+            &[
+                "layer",
+                &cyl,
+                "--curves",
+                "Cylinder",
+                "--first-height",
+                "0.002",
+                "--layers",
+                "6",
+                "--metric",
+                metric,
+                "-o",
+                &out("lm.msh"),
+            ],
+            None,
+        )
+    };
+    let o = lm(&out("fc.vtu"));
+    cli::ok(&o);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("band remeshed to the metric"));
+    let e = cli::bad(&lm(&out("f.vtu")));
+    assert!(e.contains("f.vtu"), "{e}");
     let rm = smartmesh::formats::read_path(std::path::Path::new(&out("rm.msh")), None).unwrap();
     assert!(check_mesh(&rm).is_valid());
     assert_eq!(rm.num_cells_of(CellKind::Quad), 0);

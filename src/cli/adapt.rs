@@ -519,6 +519,17 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         Some(o) if outcome.failure.is_none() && h.stopped != smartmesh::adapt::INTERRUPTED => {
             let l = smartmesh::layer::insert(&outcome.best, o)
                 .map_err(|e| CliError::context(format!("LAYER: {e}"), e))?;
+            // The band is remeshed to the recipe's field on the best mesh, as the loop's
+            // triangles were.
+            let sized = smartmesh::sizing::size_mesh(&outcome.best, &recipe, &mut |_| {})
+                .map_err(|e| CliError::context(format!("LAYER: sizing the best mesh: {e}"), e))?;
+            let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
+            let remesh = smartmesh::remesh::RemeshOptions {
+                max_vertices: Some(args.max_vertices),
+                ..Default::default()
+            };
+            let l = smartmesh::layer::to_metric::band_to_metric(&outcome.best, &metric, l, &remesh)
+                .map_err(|e| CliError::context(format!("LAYER: {e}"), e))?;
             if !l.report.thinned.is_empty() {
                 ui::warn(&format!(
                     "LAYER: thinned {} of {} columns (smartmesh info shows the layers)",

@@ -7,9 +7,12 @@ use std::time::Instant;
 use clap::Args;
 use smartmesh::formats::{read_path, Format};
 use smartmesh::layer::stats::{quad_quality, QuadQuality};
+use smartmesh::layer::to_metric::band_to_metric;
 use smartmesh::layer::{
     first_height_for_y_plus, insert, CurveLayers, Growth, LayerOptions, LayerReport,
 };
+use smartmesh::metric_field::MetricField;
+use smartmesh::remesh::RemeshOptions;
 
 use super::output::{check_output_dir, shown};
 use super::{parse_format, print_stdout, ui, CliError};
@@ -23,7 +26,8 @@ fourth (the ratio is 1.2 when only two of the others are given). --y-plus with -
 (Blasius's laminar correlation below 5e5, White's turbulent one above).
 
 The triangles in the skin's way are removed and the band between the skin's outer front and the \
-rest of the mesh is triangulated again, conforming to both; curve, face and point tags stay; the \
+rest of the mesh is triangulated again, conforming to both (and, with --metric, remeshed to that \
+metric, the skin and the kept mesh frozen); curve, face and point tags stay; the \
 skin's cells take the face tags of the triangles they replace (--tag sets their geometrical tag \
 apart). Convex corners get a fan (one column per --fan-angle degrees of turn); an open wall ending \
 on another boundary slides its side along it; where the gap in front of a wall is narrow, or fronts \
@@ -89,6 +93,11 @@ pub struct LayerArgs {
     /// Largest share of the gap in front of a wall that the skin may fill.
     #[arg(long, default_value_t = 0.4)]
     gap_ratio: f64,
+    /// A metric on MESH's vertices (any file `remesh --metric` reads): the band between
+    /// the skin's front and the kept mesh is remeshed to it, the skin and the kept mesh
+    /// frozen (without it the band keeps the sizes of the kept vertices).
+    #[arg(long, short = 'm')]
+    metric: Option<PathBuf>,
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
@@ -171,8 +180,20 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
     check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     let mesh = read_path(&args.mesh, from)?;
-    let layered = insert(&mesh, &opts)
+    let metric = match &args.metric {
+        Some(p) => Some(
+            MetricField::read(p, None, &mesh, &args.mesh)
+                .map_err(|e| CliError::context(e.to_string(), e))?
+                .into_tensors(),
+        ),
+        None => None,
+    };
+    let mut layered = insert(&mesh, &opts)
         .map_err(|e| CliError::context(format!("{}: {e}", args.mesh.display()), e))?;
+    if let Some(m) = &metric {
+        layered = band_to_metric(&mesh, m, layered, &RemeshOptions::default())
+            .map_err(|e| CliError::context(format!("{}: {e}", args.mesh.display()), e))?;
+    }
     let written = args.output_format.write(&args.output, &layered.mesh, to)?;
     let r = &layered.report;
     for n in &r.notes {

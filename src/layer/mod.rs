@@ -10,6 +10,8 @@
 //!   thickness each column may take (thinned in gaps and where fronts collide), the cells;
 //! - `band`: the triangles in the skin's way removed and the band between the front and
 //!   the kept mesh triangulated again, conforming to both;
+//! - [`to_metric`]: where a metric is given, the band remeshed to it by the native
+//!   remesher with the skin and the kept mesh frozen;
 //! - [`check`]: validity of any mixed mesh (positive cells, no overlap, no hanging
 //!   vertex), used by the tests, by [`insert`] on its own result, and by `info`;
 //! - [`stats`]: the quality of a skin as built (per-layer heights and ratios, scaled
@@ -28,6 +30,7 @@ mod geom;
 pub mod growth;
 mod skin;
 pub mod stats;
+pub mod to_metric;
 
 use std::collections::BTreeMap;
 
@@ -36,6 +39,11 @@ use smartmesh_formats::{CellKind, DataArray, TaggedMesh};
 pub use growth::{first_height_for_y_plus, Growth, GrowthError};
 
 use crate::topology::{cell_tag, Topology};
+
+/// The point data in which [`insert`] records, at the points of each column, the share
+/// of its nominal thickness the column took (1 where it was not thinned, 0 where it was
+/// stopped), and 1 at every other point; `report` marks the thinned columns from it.
+pub const THICKNESS_SHARE: &str = "layer_thickness_share";
 
 /// Why a skin could not be inserted.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -147,6 +155,9 @@ pub struct LayerReport {
 pub struct Layered {
     /// The mesh.
     pub mesh: TaggedMesh,
+    /// Whether each surface cell of `mesh` ([`TaggedMesh::cells`] order) is a triangle
+    /// of the band, triangulated again between the skin's front and the kept mesh.
+    pub band: Vec<bool>,
     /// What was done.
     pub report: LayerReport,
 }
@@ -251,13 +262,13 @@ pub fn insert(mesh: &TaggedMesh, opts: &LayerOptions) -> Result<Layered, LayerEr
     };
     let sk = skin::Skin::build(&inp)?;
     let band = band::build(&sk, &topo, &cell_tags, &line_tags, &listed)?;
-    let (out, mut report) = assemble(mesh, &sk, &band, opts);
+    let (out, in_band, mut report) = assemble(mesh, &sk, &band, opts);
     let v = check::check_mesh(&out);
     if !v.is_valid() {
         return Err(LayerError::Invalid(v.problems().join("; ")));
     }
     report.thinned = sk.thinned();
-    Ok(Layered { mesh: out, report })
+    Ok(Layered { mesh: out, band: in_band, report })
 }
 
 /// Writes the output mesh: kept cells, the skin, the band; points renumbered.
@@ -266,7 +277,7 @@ fn assemble(
     sk: &skin::Skin,
     band: &band::Band,
     opts: &LayerOptions,
-) -> (TaggedMesh, LayerReport) {
+) -> (TaggedMesh, Vec<bool>, LayerReport) {
     let n = sk.layers;
     let np = sk.pts.len();
     // Surface cells, tagged (nodes in the skin's numbering).
@@ -299,6 +310,7 @@ fn assemble(
     lines.extend(band.lines.iter().copied());
     let removed_triangles = band.removed.iter().filter(|&&r| r).count();
     let band_triangles = band.triangles.len();
+    let band_from = tris.len();
     tris.extend(band.triangles.iter().copied());
     let mut skin_triangles = 0;
     let mut nquads = 0;
@@ -374,6 +386,20 @@ fn assemble(
     if !mesh.point_data.is_empty() {
         notes.push("point data on the skin's new points copied from their wall vertex".to_string());
     }
+    // The share of its nominal thickness each column took, at its points (a wall vertex
+    // with a fan takes its thinnest column's), 1 elsewhere.
+    let mut share = vec![1.0f64; out.points.len()];
+    for col in &sk.columns {
+        for &id in &col.ids {
+            if map[id] != usize::MAX {
+                share[map[id]] = share[map[id]].min(col.factor);
+            }
+        }
+    }
+    out.point_data.insert(
+        THICKNESS_SHARE.to_string(),
+        DataArray { components: 1, values: share, layout: Default::default() },
+    );
     if !mesh.cell_data.is_empty() {
         let names: Vec<&str> = mesh.cell_data.keys().map(String::as_str).collect();
         notes.push(format!("cell data dropped: {}", names.join(", ")));
@@ -421,6 +447,12 @@ fn assemble(
         skin_triangles += 2 * n;
         nquads = 0;
     }
+    // Triangles (kept, band, skin) then the quads, or the triangles of the split quads.
+    // The triangle block (kept, band, skin triangles) comes first, then the quads (or
+    // the triangles of the split quads).
+    let surface = out.blocks.iter().filter(|b| b.kind.dim() == 2).map(|b| b.len()).sum();
+    let mut in_band = vec![false; surface];
+    in_band[band_from..band_from + band_triangles].iter_mut().for_each(|b| *b = true);
     let report = LayerReport {
         wall_vertices: sk.wall.iter().filter(|&&w| w).count(),
         columns: sk.columns.len(),
@@ -433,5 +465,5 @@ fn assemble(
         notes,
     };
     let _ = cell_tag;
-    (out, report)
+    (out, in_band, report)
 }

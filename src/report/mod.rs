@@ -13,7 +13,8 @@
 //! - [`panels`]: the zoom panels and what the overview shares with them;
 //! - [`axes`], [`histogram`], [`history_plot`]: the charts;
 //! - [`text`]: text measured (a table of the font's advances) and fitted to its panel;
-//! - [`png`]: rasterising through resvg.
+//! - [`png`]: rasterising through resvg;
+//! - [`skin`]: zooms on a boundary-layer skin and its thinned columns.
 //!
 //! Everything is a pure function of its input: the same mesh, metric, recipe and history
 //! give the same bytes.
@@ -28,6 +29,7 @@ pub mod mesh_layer;
 pub mod palette;
 pub mod panels;
 pub mod png;
+pub mod skin;
 pub mod svg;
 pub mod text;
 pub mod view;
@@ -182,6 +184,14 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         (None, None) => Vec::new(),
     };
     let mut zooms = zooms;
+    let skin = skin::skin_marks(mesh, &domain);
+    zooms.extend(skin.windows.iter().cloned());
+    if !skin.thinned.is_empty() {
+        notes.push(format!(
+            "{} points of boundary-layer columns thinned or stopped, drawn in red",
+            skin.thinned.len()
+        ));
+    }
     // Wide windows get full-width panels after the others; number them in that order.
     zooms.sort_by_key(|z| z.region.width() > layout::WIDE * z.region.height());
     let marks = source_marks(input.plan, topo, &points);
@@ -309,6 +319,7 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     layers.draw_curves(&mut svg, &ov_view, 1.8);
     layers.draw_points(&mut svg, &ov_view, 4.0);
     draw_marks(&mut svg, &ov_view, &marks);
+    skin::draw(&mut svg, &ov_view, &skin, 1.5);
     for (k, zv) in zoom_views.iter().enumerate() {
         // A window wider or taller than the domain is framed where the mesh is.
         let shown = zv.world.intersect(&domain).unwrap_or(domain);
@@ -380,8 +391,13 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     // Zooms.
     let mut shaded = ov_stats.shaded;
     for (k, ((z, r), view)) in zooms.iter().zip(&lay.zooms).zip(&zoom_views).enumerate() {
-        let scene =
-            Scene { layers: &layers, topology: topo, sizes: sizes.as_deref(), marks: &marks };
+        let scene = Scene {
+            layers: &layers,
+            topology: topo,
+            sizes: sizes.as_deref(),
+            marks: &marks,
+            skin: &skin,
+        };
         let stats = draw_zoom(&mut svg, k, z, r, view, &scene);
         shaded = shaded.max(stats.shaded);
     }

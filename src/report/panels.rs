@@ -29,6 +29,8 @@ pub struct Scene<'a> {
     pub sizes: Option<&'a [Option<SizeTensor>]>,
     /// The plan's source marks.
     pub marks: &'a SourceMarks,
+    /// The boundary-layer skin's thinned columns.
+    pub skin: &'a super::skin::SkinMarks,
 }
 
 /// Imaginary polylines and point sources of a plan, in mesh coordinates.
@@ -226,7 +228,7 @@ pub fn draw_zoom(
     view: &View,
     scene: &Scene<'_>,
 ) -> EdgeStats {
-    let Scene { layers, topology: topo, sizes, marks } = *scene;
+    let Scene { layers, topology: topo, sizes, marks, skin } = *scene;
     let view = *view;
     let inner = view.screen;
     let w = &view.world;
@@ -251,6 +253,7 @@ pub fn draw_zoom(
     layers.draw_curves(svg, &view, 2.4);
     layers.draw_points(svg, &view, 5.0);
     draw_marks(svg, &view, marks);
+    super::skin::draw(svg, &view, skin, 3.0);
     let mut ellipse_note = String::new();
     if let Some(sizes) = sizes {
         let candidates: Vec<(usize, [f64; 2], SizeTensor)> = sizes
