@@ -723,6 +723,7 @@ fn every_algorithm_of_the_table_round_trips_in_every_format() {
         let value = |kind: ParameterKind| match kind {
             ParameterKind::Size => SpecValue::Size(0.25),
             ParameterKind::OptionalSize => SpecValue::Size(2.0),
+            ParameterKind::OptionalNorm => SpecValue::Size(f64::INFINITY),
             ParameterKind::Choice(words) => SpecValue::Name(words.last().unwrap().to_string()),
             ParameterKind::Function(FunctionKind::Distance) => SpecValue::Name("D".into()),
             ParameterKind::Function(FunctionKind::Projection) => SpecValue::Name("P".into()),
@@ -737,7 +738,12 @@ fn every_algorithm_of_the_table_round_trips_in_every_format() {
                     .iter()
                     .enumerate()
                     .filter(|(_, p)| {
-                        matches!(p.kind, ParameterKind::OptionalSize | ParameterKind::Choice(_))
+                        matches!(
+                            p.kind,
+                            ParameterKind::OptionalSize
+                                | ParameterKind::OptionalNorm
+                                | ParameterKind::Choice(_)
+                        )
                     })
                     .map(|(i, _)| Some(i)),
             )

@@ -171,6 +171,80 @@ fn each_recipe_option_of_the_step_changes_the_metric_as_it_says() {
     assert!(aspect(&capped) > 2.9, "{}", aspect(&capped));
 }
 
+/// P = infinity (the density |H| the H1 seminorm asks for, as `--p inf` on the command
+/// line) reads in every recipe format, the same metric from each, round-trips through
+/// `recipe convert`, and is the limit of large finite P.
+#[test]
+fn an_infinite_p_reads_in_every_format_and_round_trips() {
+    let cfg = "CREATE_ALGORITHMS = (\n  { TYPE = \"SOLUTION_HESSIAN\"; FIELD = \"u\"; COMPLEXITY = 2000; P = \"inf\"; }\n);\n";
+    let json = r#"{"algorithms": [{"type": "solution_hessian", "field": "u", "complexity": 2000, "p": "Infinity"}]}"#;
+    let from_cfg = Recipe::from_str(cfg, RecipeFormat::Libconfig, Path::new("s.cfg")).unwrap();
+    let from_json = Recipe::from_str(json, RecipeFormat::Json, Path::new("s.json")).unwrap();
+    let from_toml = hessian_recipe("complexity = 2000\np = inf");
+    let from_toml_word = hessian_recipe("complexity = 2000\np = \"inf\"");
+    assert_eq!(from_cfg, from_toml);
+    assert_eq!(from_json, from_toml);
+    assert_eq!(from_toml_word, from_toml);
+    for format in [RecipeFormat::Libconfig, RecipeFormat::Toml, RecipeFormat::Json] {
+        let text = from_cfg.to_format(format);
+        assert!(text.contains("\"inf\""), "{text}");
+        assert_eq!(Recipe::from_str(&text, format, Path::new("s")).unwrap(), from_cfg, "{text}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut from = dir.path().join("inf.cfg");
+    std::fs::write(&from, cfg).unwrap();
+    for ext in ["json", "toml", "cfg"] {
+        let to = dir.path().join(format!("converted-{ext}.{ext}"));
+        ok(&smartmesh(&["recipe", "convert", from.to_str().unwrap(), to.to_str().unwrap()], None));
+        assert_eq!(Recipe::from_path(&to).unwrap(), from_cfg, "{ext}");
+        from = to;
+    }
+    // The metric: the same from every format, not that of p = 2, and the limit of a
+    // large finite P.
+    let mesh = cylinder_with_front();
+    let wide = "hmin = 1e-9\nhmax = 100\n";
+    let (inf, n) = sized(&mesh, &hessian_recipe(&format!("complexity = 2000\np = inf\n{wide}")));
+    let (word, _) =
+        sized(&mesh, &hessian_recipe(&format!("complexity = 2000\np = \"infinity\"\n{wide}")));
+    let (two, _) = sized(&mesh, &hessian_recipe(&format!("complexity = 2000\np = 2\n{wide}")));
+    let (large, _) = sized(&mesh, &hessian_recipe(&format!("complexity = 2000\np = 1e12\n{wide}")));
+    assert_eq!(inf, word);
+    assert_ne!(inf, two);
+    assert!((n / 2000.0 - 1.0).abs() < 0.01, "{n}");
+    for (a, b) in inf.iter().zip(&large) {
+        for (x, y) in a.sizes().iter().zip(b.sizes()) {
+            assert!((x / y - 1.0).abs() < 1e-6, "{x} {y}");
+        }
+    }
+    // Words that are not infinity, and NaN, are refused naming the key.
+    let e = Recipe::from_str(
+        &cfg.replace("\"inf\"", "\"large\""),
+        RecipeFormat::Libconfig,
+        Path::new("s.cfg"),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("P must be a number or \"inf\""), "{e}");
+    assert_eq!(e.line, Some(2), "{e}");
+    let e = Recipe::from_str(
+        "[[algorithms]]\ntype = \"solution_hessian\"\nfield = \"u\"\ncomplexity = 9\np = nan\n",
+        RecipeFormat::Toml,
+        Path::new("s.toml"),
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("p = NaN is out of range: expected a number >= 1 or \"inf\""),
+        "{e}"
+    );
+    // HMIN stays a size: infinity is refused there.
+    let e = Recipe::from_str(
+        "[[algorithms]]\ntype = \"solution_hessian\"\nfield = \"u\"\ncomplexity = 9\nhmax = inf\n",
+        RecipeFormat::Toml,
+        Path::new("s.toml"),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("hmax = inf is out of range"), "{e}");
+}
+
 #[test]
 fn the_step_options_round_trip_and_bad_ones_are_refused_at_their_line() {
     let full = r#"CREATE_ALGORITHMS = (

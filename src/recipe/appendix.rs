@@ -35,7 +35,7 @@ use super::libconfig::{self, Node, Setting, Value};
 use super::model::{AlgorithmSpec, EntityRef, FunctionSpec, Places, Recipe, SpecValue};
 use super::preprocess::{self, Source};
 use super::suggest::nearest;
-use crate::sizing::algorithms::{Entry, ParameterKind, TABLE};
+use crate::sizing::algorithms::{infinite_norm, Entry, ParameterKind, INFINITE_NORM, TABLE};
 
 /// A key of an item: the model field and the spellings accepted (the first is written).
 struct Key {
@@ -227,6 +227,17 @@ impl Reader<'_> {
             Value::Int(i) => Ok(i as f64),
             Value::Float(f) => Ok(f),
             _ => Err(self.wrong(s, &s.value, "a number", context)),
+        }
+    }
+
+    /// A norm exponent: a number, or the string `"inf"` (libconfig has no infinite literal).
+    fn norm(&self, s: &Setting, context: &str) -> Result<f64, RecipeError> {
+        match &s.value.value {
+            Value::Str(t) => infinite_norm(t)
+                .ok_or_else(|| self.wrong(s, &s.value, "a number or \"inf\"", context)),
+            _ => self
+                .number(s, context)
+                .map_err(|_| self.wrong(s, &s.value, "a number or \"inf\"", context)),
         }
     }
 
@@ -611,7 +622,13 @@ impl Reader<'_> {
                     | ParameterKind::Choice(_),
                     Some(s),
                 ) => SpecValue::Name(self.string(s, &ctx)?),
-                (ParameterKind::OptionalSize | ParameterKind::Choice(_), None) => SpecValue::Absent,
+                (ParameterKind::OptionalNorm, Some(s)) => SpecValue::Size(self.norm(s, &ctx)?),
+                (
+                    ParameterKind::OptionalSize
+                    | ParameterKind::OptionalNorm
+                    | ParameterKind::Choice(_),
+                    None,
+                ) => SpecValue::Absent,
                 // `fields` has refused a group without a required key.
                 (_, None) => {
                     return Err(self.error(
@@ -783,6 +800,7 @@ pub fn write(r: &Recipe) -> String {
                         SpecValue::Names(n) if n.is_empty() && p.kind.is_optional() => continue,
                         SpecValue::Names(n) => name_list(n),
                         SpecValue::Name(n) => quote(n),
+                        SpecValue::Size(x) if x.is_infinite() => quote(INFINITE_NORM),
                         SpecValue::Size(x) => float(*x),
                         SpecValue::Absent => continue,
                     };

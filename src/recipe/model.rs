@@ -20,7 +20,9 @@ use super::preprocess::ReadOptions;
 use super::suggest::nearest;
 use crate::metric::SizeTensor;
 pub use crate::sizing::algorithms::FunctionKind;
-use crate::sizing::algorithms::{Entry, Given, Parameter, ParameterKind, TABLE};
+use crate::sizing::algorithms::{
+    infinite_norm, Entry, Given, Parameter, ParameterKind, INFINITE_NORM, TABLE,
+};
 use crate::sizing::{CurvatureToSize, DistanceFunction, FunctionError, SizeProjectionFunction};
 
 /// The file formats of a recipe.
@@ -282,23 +284,27 @@ impl SpecValue {
     fn fits(&self, kind: ParameterKind) -> bool {
         matches!(
             (self, kind),
-            (SpecValue::Size(_), ParameterKind::Size | ParameterKind::OptionalSize)
-                | (
-                    SpecValue::Name(_),
-                    ParameterKind::Function(_)
-                        | ParameterKind::Polyline
-                        | ParameterKind::PointData
-                        | ParameterKind::Choice(_)
-                )
-                | (SpecValue::Names(_), ParameterKind::Regions { .. })
+            (
+                SpecValue::Size(_),
+                ParameterKind::Size | ParameterKind::OptionalSize | ParameterKind::OptionalNorm
+            ) | (
+                SpecValue::Name(_),
+                ParameterKind::Function(_)
+                    | ParameterKind::Polyline
+                    | ParameterKind::PointData
+                    | ParameterKind::Choice(_)
+            ) | (SpecValue::Names(_), ParameterKind::Regions { .. })
         ) || (matches!(self, SpecValue::Absent)
-            && matches!(kind, ParameterKind::OptionalSize | ParameterKind::Choice(_)))
+            && kind.is_optional()
+            && !matches!(kind, ParameterKind::Regions { .. }))
     }
 
     fn empty(kind: ParameterKind) -> SpecValue {
         match kind {
             ParameterKind::Size => SpecValue::Size(0.0),
-            ParameterKind::OptionalSize | ParameterKind::Choice(_) => SpecValue::Absent,
+            ParameterKind::OptionalSize
+            | ParameterKind::OptionalNorm
+            | ParameterKind::Choice(_) => SpecValue::Absent,
             ParameterKind::Regions { .. } => SpecValue::Names(Vec::new()),
             ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData => {
                 SpecValue::Name(String::new())
@@ -430,6 +436,10 @@ impl Serialize for AlgorithmSpec {
                 }
                 SpecValue::Names(n) => st.serialize_field(p.field, n)?,
                 SpecValue::Name(n) => st.serialize_field(p.field, n)?,
+                // JSON has no infinite number: every format writes the word.
+                SpecValue::Size(x) if x.is_infinite() => {
+                    st.serialize_field(p.field, INFINITE_NORM)?
+                }
                 SpecValue::Size(x) => st.serialize_field(p.field, x)?,
                 SpecValue::Absent => st.skip_field(p.field)?,
             }
@@ -513,6 +523,12 @@ impl Raw {
                 Raw::Signed(i) => Ok(SpecValue::Size(i as f64)),
                 Raw::Unsigned(u) => Ok(SpecValue::Size(u as f64)),
                 other => Err(E::invalid_type(other.unexpected(), &"f64")),
+            },
+            ParameterKind::OptionalNorm => match self {
+                Raw::Str(s) => infinite_norm(&s).map(SpecValue::Size).ok_or_else(|| {
+                    E::invalid_value(serde::de::Unexpected::Str(&s), &"a number or \"inf\"")
+                }),
+                other => other.into_value(ParameterKind::OptionalSize),
             },
             ParameterKind::Function(_)
             | ParameterKind::Polyline
@@ -1005,11 +1021,24 @@ impl Recipe {
         for (i, a) in self.algorithms.iter().enumerate() {
             let base = format!("algorithms[{i}]");
             for (field, size) in a.sizes() {
-                if !(SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&size) {
+                let norm = a
+                    .parameters()
+                    .iter()
+                    .any(|p| p.field == field && p.kind == ParameterKind::OptionalNorm);
+                // A norm below 1 is the algorithm's own refusal, which says why.
+                let (fits, expected) = if norm {
+                    (!size.is_nan(), "a number >= 1 or \"inf\"")
+                } else {
+                    (
+                        (SizeTensor::MIN_SIZE..=SizeTensor::MAX_SIZE).contains(&size),
+                        "a size in [1e-30, 1e30]",
+                    )
+                };
+                if !fits {
                     let key = self.written_key(&format!("{base}.{field}"), field).to_string();
                     return Err(self.error_at(
                         RecipeErrorKind::Invalid(format!(
-                            "{key} = {size} is out of range: expected a size in [1e-30, 1e30]"
+                            "{key} = {size} is out of range: expected {expected}"
                         )),
                         &format!("{base}.{field}"),
                     ));

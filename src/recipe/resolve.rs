@@ -359,9 +359,12 @@ impl Recipe {
             for (p, value) in a.arguments() {
                 let argument = match (p.kind, value) {
                     (_, SpecValue::Absent) if p.kind.is_optional() => continue,
-                    (ParameterKind::Size | ParameterKind::OptionalSize, SpecValue::Size(x)) => {
-                        Argument::Size(*x)
-                    }
+                    (
+                        ParameterKind::Size
+                        | ParameterKind::OptionalSize
+                        | ParameterKind::OptionalNorm,
+                        SpecValue::Size(x),
+                    ) => Argument::Size(*x),
                     (ParameterKind::Choice(_), SpecValue::Name(word)) => {
                         Argument::Name(word.clone())
                     }

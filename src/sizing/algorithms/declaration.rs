@@ -50,6 +50,9 @@ pub enum ParameterKind {
     /// A size that may be left out (the algorithm then chooses; its documentation says
     /// how).
     OptionalSize,
+    /// The exponent of a norm: a number >= 1 or infinity, which may be left out. Written
+    /// `inf` (or `infinity`) as a string in every recipe format, and as TOML's own `inf`.
+    OptionalNorm,
     /// One of the words listed, the first when left out.
     Choice(&'static [&'static str]),
     /// The name of a function of this kind.
@@ -70,6 +73,16 @@ pub enum ParameterKind {
     PointData,
 }
 
+/// The word a recipe writes for an infinite norm exponent.
+pub const INFINITE_NORM: &str = "inf";
+
+/// The value of a norm exponent written as a word: `inf` or `infinity` (any case, an
+/// optional `+`) is infinity; any other word is none.
+pub fn infinite_norm(word: &str) -> Option<f64> {
+    let w = word.trim().strip_prefix('+').unwrap_or(word.trim());
+    (w.eq_ignore_ascii_case("inf") || w.eq_ignore_ascii_case("infinity")).then_some(f64::INFINITY)
+}
+
 impl ParameterKind {
     /// Whether the parameter is a list of names (regions) rather than one value.
     pub fn is_list(self) -> bool {
@@ -82,6 +95,7 @@ impl ParameterKind {
             self,
             ParameterKind::Regions { optional: true, .. }
                 | ParameterKind::OptionalSize
+                | ParameterKind::OptionalNorm
                 | ParameterKind::Choice(_)
         )
     }

@@ -39,7 +39,8 @@ mod frame;
 mod sources;
 
 pub use declaration::{
-    Argument, Arguments, Declaration, FunctionKind, Given, Marks, Parameter, ParameterKind, Refusal,
+    infinite_norm, Argument, Arguments, Declaration, FunctionKind, Given, Marks, Parameter,
+    ParameterKind, Refusal, INFINITE_NORM,
 };
 pub use frame::ON_SOURCE;
 pub(crate) use frame::{direction, normal_at, on_source, tangent_at, tensor, unit, Junctions};

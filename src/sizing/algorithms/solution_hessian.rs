@@ -143,11 +143,14 @@ impl SizingAlgorithm for SolutionHessian {
                 &["ERROR"],
                 "The Lp norm of the interpolation error the metric asks for, instead of COMPLEXITY.",
             ),
-            optional(
-                "p",
-                &["P"],
-                "The Lp norm of the interpolation error the metric minimises (>= 1; 2 when left out, for the L2 norm; 1 resolves weak features more; a large P, 1e30, is p = infinity: the density |H| the H1 seminorm asks for).",
-            ),
+            Parameter {
+                field: "p",
+                aliases: &[],
+                keys: &["P"],
+                kind: ParameterKind::OptionalNorm,
+                line_break_after: false,
+                doc: "The Lp norm of the interpolation error the metric minimises (>= 1, or \"inf\"; 2 when left out, for the L2 norm; 1 resolves weak features more; \"inf\" is the density |H| the H1 seminorm of the error asks for).",
+            },
             Parameter {
                 field: "recovery",
                 aliases: &[],
