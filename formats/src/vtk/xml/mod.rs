@@ -37,6 +37,7 @@ use super::{
     PHYSICAL,
 };
 
+mod decode;
 mod read;
 mod write;
 
@@ -342,7 +343,7 @@ fn escape(out: &mut Vec<u8>, s: &str) {
 
 #[cfg(test)]
 mod tests {
-    use super::read::{base64_decode, inflate_blocks};
+    use super::decode::{base64_decode, inflate_blocks};
     use super::write::{deflate_blocks, push_base64};
     use super::*;
 
