@@ -43,6 +43,9 @@ pub enum RemeshError {
         "every surface cell of the mesh is kept (quads of a skin); no triangle is left to remesh"
     )]
     AllKept,
+    /// The input with cells to keep is not a valid mixed mesh.
+    #[error("the mesh with quads (kept as they are) is not a valid mixed mesh: {0}")]
+    InvalidInput(String),
     /// The result with its kept cells failed the mixed-mesh check (a bug).
     #[error("the remeshed mesh with its kept cells is not valid: {0}")]
     Invalid(String),
