@@ -267,7 +267,8 @@ pub fn skin_cells(mesh: &TaggedMesh) -> Vec<bool> {
 /// [`remesh_with_topology`] keeping the surface cells that `keep` flags (in
 /// [`TaggedMesh::cells`] order) as they are: their vertices neither move nor go, their
 /// edges are constraints that are never split, and they are written back unchanged
-/// (renumbered) after the remeshed triangles. A result with kept cells is checked as a
+/// (renumbered) after the remeshed triangles. An input with kept cells must pass, and
+/// the result is checked as a
 /// mixed mesh ([`crate::layer::check::check_mesh`]: positive cells, no overlap, no
 /// hanging vertex) before it is returned.
 pub fn remesh_keeping(

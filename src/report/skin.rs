@@ -3,7 +3,7 @@
 //!
 //! The skin's thickness is the sum of its layers' mean heights, found from the quads
 //! alone ([`crate::layer::stats::quad_quality`]), so any mixed mesh gets its window: a
-//! square 2.5 thicknesses wide (kept between 1 % and 30 % of the domain's diagonal)
+//! square 2.5 thicknesses wide (kept between 0.02 % and 30 % of the domain's diagonal)
 //! centred on the quad of smallest scaled Jacobian, where the skin is hardest (a corner,
 //! a trailing edge). The thinned columns come from the record `layer` writes,
 //! [`crate::layer::THICKNESS_SHARE`] (a share below 1 at a column's points); when there
@@ -45,7 +45,7 @@ pub fn skin_marks(mesh: &TaggedMesh, domain: &Rect) -> SkinMarks {
     let Some(q) = quad_quality(mesh) else { return SkinMarks { thinned, windows: Vec::new() } };
     let thickness: f64 = q.layers.iter().map(|l| l.height[1]).sum();
     let diag = domain.diagonal();
-    let half = (1.25 * thickness).clamp(0.005 * diag, 0.15 * diag);
+    let half = (1.25 * thickness).clamp(1e-4 * diag, 0.15 * diag);
     let square = |c: [f64; 2]| Rect::new(c[0] - half, c[1] - half, c[0] + half, c[1] + half);
     let mut windows = Vec::new();
     // The worst quad; the first of equals, so the choice is the same every run.
