@@ -50,6 +50,7 @@ pub mod mesh_graph;
 pub mod mesher;
 pub mod metric;
 pub mod metric_field;
+pub mod periodic;
 #[doc(hidden)]
 pub mod quality;
 pub mod recipe;

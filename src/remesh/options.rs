@@ -50,6 +50,11 @@ pub struct RemeshOptions {
     /// boundary).
     #[serde(skip)]
     pub keep_points: Vec<[f64; 2]>,
+    /// Curves (by the tag of their line cells, physical else geometrical) whose vertices
+    /// and edges stay as they are: never split, collapsed nor moved. The sides of a
+    /// periodic pair ([`crate::periodic`]) are frozen so that matching sides stay matched.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub frozen_curves: Vec<i32>,
     /// Smallest size the metric may ask for: every input tensor's sizes are raised to at
     /// least this before remeshing (MMG's `-hmin`). `None`: the metric as given.
     pub hmin: Option<f64>,
@@ -94,6 +99,7 @@ impl Default for RemeshOptions {
             split_above: CONFORMING[1],
             collapse_below: CONFORMING[0],
             keep_points: Vec::new(),
+            frozen_curves: Vec::new(),
             hmin: None,
             hmax: None,
             max_vertices: Some(DEFAULT_MAX_VERTICES),
