@@ -267,6 +267,212 @@ pub fn check_all(
     pairs.iter().map(|p| check(&mesh.points, &topology, p)).collect()
 }
 
+/// `mesh` with the edges of its matched periodic sides split so that none is longer than
+/// 1 in the metric at either side's ends (sized to the finer of the two images), the same
+/// splits on both sides: each new slave vertex is the image of a new master vertex, so
+/// the sides stay matched. New vertices are appended (their metric interpolated along the
+/// edge; a triangle with one split edge is fanned from its opposite vertex, one with more
+/// from its centroid); line cells are split alike; point data is dropped (the remesher
+/// carries only the metric). Unmatched pairs, and edges of non-triangle cells, are left
+/// as they are. Sides are only refined, never coarsened.
+pub fn refine_sides(
+    mesh: &crate::formats::TaggedMesh,
+    metric: &[crate::metric::Sym2],
+    pairs: &[PeriodicPair],
+) -> (crate::formats::TaggedMesh, Vec<crate::metric::Sym2>) {
+    use crate::formats::{CellBlock, CellKind};
+    use std::collections::BTreeMap;
+    let mut out = mesh.clone();
+    let mut metric = metric.to_vec();
+    if pairs.is_empty() || metric.len() != mesh.points.len() {
+        return (out, metric);
+    }
+    let topology = Topology::from_mesh(mesh);
+    let key = |a: usize, b: usize| if a < b { (a, b) } else { (b, a) };
+    // Edges no split may touch: those of quads and other non-triangle surface cells.
+    let mut locked = std::collections::BTreeSet::new();
+    for (kind, nodes, _, _) in mesh.cells() {
+        if kind.dim() == 2 && kind != CellKind::Triangle {
+            for k in 0..nodes.len() {
+                locked.insert(key(nodes[k] as usize, nodes[(k + 1) % nodes.len()] as usize));
+            }
+        }
+    }
+    // New vertices of each split edge, from its smaller end to its larger one.
+    let mut splits: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
+    let xy = |p: &[f64; 3]| [p[0], p[1]];
+    for pair in pairs {
+        let label = pair.label();
+        let Ok(m) = check(&mesh.points, &topology, pair) else { continue };
+        let (Ok((_, me, _)), Ok((sv, _, _))) =
+            (side(&topology, &pair.master, &label), side(&topology, &pair.slave, &label))
+        else {
+            continue;
+        };
+        if !m.matched {
+            continue;
+        }
+        let partner = |q: [f64; 2]| {
+            sv.iter().copied().min_by(|&u, &w| {
+                let d = |v: usize| (mesh.points[v][0] - q[0]).hypot(mesh.points[v][1] - q[1]);
+                d(u).total_cmp(&d(w))
+            })
+        };
+        for &[a, b] in &me {
+            let (pa, pb) = (xy(&mesh.points[a]), xy(&mesh.points[b]));
+            let (Some(a2), Some(b2)) =
+                (partner(pair.transform.apply(pa)), partner(pair.transform.apply(pb)))
+            else {
+                continue;
+            };
+            if locked.contains(&key(a, b)) || locked.contains(&key(a2, b2)) {
+                continue;
+            }
+            // The points strictly inside edge u→w so far, in that order.
+            let placed = |u: usize, w: usize| -> Option<Vec<[f64; 2]>> {
+                let l = splits.get(&key(u, w))?;
+                let mut pts: Vec<[f64; 2]> = l.iter().map(|&v| xy(&out.points[v])).collect();
+                if u > w {
+                    pts.reverse();
+                }
+                Some(pts)
+            };
+            // Where the new master points go: a side already split by another pair is
+            // copied to the other (the chain of pairs stays matched); else the metric says.
+            let (pb2, inverse) = (xy(&mesh.points[b2]), pair.transform.inverse());
+            let on_a_to_b: Vec<[f64; 2]> = match (placed(a, b), placed(a2, b2)) {
+                (Some(_), Some(_)) => continue,
+                (Some(pts), None) => pts,
+                (None, Some(pts)) => pts.iter().map(|&q| inverse.apply(q)).collect(),
+                (None, None) => {
+                    let length = |u: usize, w: usize| {
+                        let d = [
+                            mesh.points[w][0] - mesh.points[u][0],
+                            mesh.points[w][1] - mesh.points[u][1],
+                        ];
+                        let m = 0.5 * (metric[u] + metric[w]);
+                        m.quadratic_form(d).max(0.0).sqrt()
+                    };
+                    let l = length(a, b).max(length(a2, b2));
+                    if !l.is_finite() || l <= 1.0 {
+                        continue;
+                    }
+                    let k = (l.ceil() as usize).min(1 << 16);
+                    (1..k)
+                        .map(|i| {
+                            let t = i as f64 / k as f64;
+                            [pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1])]
+                        })
+                        .collect()
+                }
+            };
+            let (old_master, old_slave) = (placed(a, b).is_some(), placed(a2, b2).is_some());
+            let (mut on_master, mut on_slave) = (Vec::new(), Vec::new());
+            let along = |p: [f64; 2], u: [f64; 2], w: [f64; 2]| {
+                let d = [w[0] - u[0], w[1] - u[1]];
+                (((p[0] - u[0]) * d[0] + (p[1] - u[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]))
+                    .clamp(0.0, 1.0)
+            };
+            for &p in &on_a_to_b {
+                let q = pair.transform.apply(p);
+                let pa2 = xy(&mesh.points[a2]);
+                for (pt, ends, t, list, exists) in [
+                    (p, (a, b), along(p, pa, pb), &mut on_master, old_master),
+                    (q, (a2, b2), along(q, pa2, pb2), &mut on_slave, old_slave),
+                ] {
+                    if exists {
+                        continue;
+                    }
+                    list.push(out.points.len());
+                    out.points.push([pt[0], pt[1], 0.0]);
+                    metric.push((1.0 - t) * metric[ends.0] + t * metric[ends.1]);
+                }
+            }
+            if on_a_to_b.is_empty() {
+                continue;
+            }
+            for ((u, w), mut list) in [((a, b), on_master), ((a2, b2), on_slave)] {
+                if list.is_empty() {
+                    continue;
+                }
+                if u > w {
+                    list.reverse();
+                }
+                splits.insert(key(u, w), list);
+            }
+        }
+    }
+    if splits.is_empty() {
+        return (out, metric);
+    }
+    // The points strictly inside edge u→w, in that order.
+    let inside = |u: usize, w: usize| -> Vec<usize> {
+        match splits.get(&key(u, w)) {
+            Some(l) if u < w => l.clone(),
+            Some(l) => l.iter().rev().copied().collect(),
+            None => Vec::new(),
+        }
+    };
+    let mut blocks = Vec::new();
+    for block in &mesh.blocks {
+        let mut nb = CellBlock::new(block.kind);
+        for (c, nodes) in block.cells().enumerate() {
+            let (phys, geo) = (block.physical[c], block.geometrical[c]);
+            let v: Vec<usize> = nodes.iter().map(|&n| n as usize).collect();
+            match block.kind {
+                CellKind::Line => {
+                    let mut chain = vec![v[0]];
+                    chain.extend(inside(v[0], v[1]));
+                    chain.push(v[1]);
+                    for w in chain.windows(2) {
+                        nb.push(&[w[0], w[1]], phys, geo);
+                    }
+                }
+                CellKind::Triangle => {
+                    let split: Vec<usize> = (0..3)
+                        .filter(|&k| splits.contains_key(&key(v[k], v[(k + 1) % 3])))
+                        .collect();
+                    match split.as_slice() {
+                        [] => nb.push(&v, phys, geo),
+                        &[k] => {
+                            let (a, b, c) = (v[k], v[(k + 1) % 3], v[(k + 2) % 3]);
+                            let mut chain = vec![a];
+                            chain.extend(inside(a, b));
+                            chain.push(b);
+                            for w in chain.windows(2) {
+                                nb.push(&[w[0], w[1], c], phys, geo);
+                            }
+                        }
+                        _ => {
+                            let mut ring = Vec::new();
+                            for k in 0..3 {
+                                ring.push(v[k]);
+                                ring.extend(inside(v[k], v[(k + 1) % 3]));
+                            }
+                            let centre = out.points.len();
+                            let g = |i: usize| {
+                                (mesh.points[v[0]][i] + mesh.points[v[1]][i] + mesh.points[v[2]][i])
+                                    / 3.0
+                            };
+                            out.points.push([g(0), g(1), 0.0]);
+                            metric.push((1.0 / 3.0) * (metric[v[0]] + metric[v[1]] + metric[v[2]]));
+                            for i in 0..ring.len() {
+                                nb.push(&[ring[i], ring[(i + 1) % ring.len()], centre], phys, geo);
+                            }
+                        }
+                    }
+                }
+                _ => nb.push(&v, phys, geo),
+            }
+        }
+        blocks.push(nb);
+    }
+    out.blocks = blocks;
+    out.point_data.clear();
+    out.cell_data.clear();
+    (out, metric)
+}
+
 impl std::fmt::Display for PairMatch {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(

@@ -68,15 +68,14 @@ fn match_by_lines(mesh: &TaggedMesh, a: i32, b: i32, map: impl Fn([f64; 2]) -> [
     }
 }
 
-/// A metric asking for sizes of 0.1 across and 0.5 along the diagonal: the remesher
-/// changes every interior vertex.
-fn anisotropic(mesh: &TaggedMesh) -> Vec<Sym2> {
-    let t = smartmesh::SizeTensor::from_angle(std::f64::consts::FRAC_PI_4, 0.5, 0.1).unwrap();
+/// A metric asking for sizes of `across` and `along` the diagonal.
+fn anisotropic(mesh: &TaggedMesh, along: f64, across: f64) -> Vec<Sym2> {
+    let t = smartmesh::SizeTensor::from_angle(std::f64::consts::FRAC_PI_4, along, across).unwrap();
     vec![t.to_metric(); mesh.points.len()]
 }
 
 #[test]
-fn the_remesher_keeps_frozen_periodic_sides_matched() {
+fn the_remesher_keeps_periodic_sides_matched() {
     let mesh = SquareGrid {
         n: 6,
         sides: [11, 12, 13, 14],
@@ -87,19 +86,25 @@ fn the_remesher_keeps_frozen_periodic_sides_matched() {
     .build();
     for pair in [left_right(), bottom_left()] {
         let before = assert_matched(&mesh, &pair);
+        // Frozen: the sides keep their vertices.
         let tags = check(&mesh.points, &Topology::from_mesh(&mesh), &pair).unwrap().curve_tags;
         let opts = RemeshOptions { frozen_curves: tags, ..Default::default() };
-        let out = remesh(&mesh, &anisotropic(&mesh), &opts).expect("remeshes").mesh;
+        let out = remesh(&mesh, &anisotropic(&mesh, 0.5, 0.1), &opts).expect("remeshes").mesh;
         assert_ne!(out.points.len(), mesh.points.len());
         assert_eq!(assert_matched(&out, &pair), before);
-        // Without freezing, the sides are resampled to the metric and lose the match.
-        let free = remesh(&mesh, &anisotropic(&mesh), &RemeshOptions::default()).unwrap().mesh;
+        // Periodic: both sides split alike to a finer metric, then frozen.
+        let opts = RemeshOptions { periodic: vec![pair.clone()], ..Default::default() };
+        let out = remesh(&mesh, &anisotropic(&mesh, 0.25, 0.05), &opts).expect("remeshes").mesh;
+        assert!(assert_matched(&out, &pair) > 2 * before);
+        // Without either, the sides are resampled to the metric and lose the match.
+        let free =
+            remesh(&mesh, &anisotropic(&mesh, 0.5, 0.1), &RemeshOptions::default()).unwrap().mesh;
         let m = check(&free.points, &Topology::from_mesh(&free), &pair).unwrap();
         assert!(!m.matched, "{m}");
     }
     // The twin, on the translated pair after remeshing.
-    let opts = RemeshOptions { frozen_curves: vec![12, 14], ..Default::default() };
-    let out = remesh(&mesh, &anisotropic(&mesh), &opts).unwrap().mesh;
+    let opts = RemeshOptions { periodic: vec![left_right()], ..Default::default() };
+    let out = remesh(&mesh, &anisotropic(&mesh, 0.25, 0.05), &opts).unwrap().mesh;
     match_by_lines(&out, 14, 12, |p| [p[0] + 1.0, p[1]]);
 }
 
@@ -208,7 +213,11 @@ fn adapt_keeps_periodic_sides_matched_and_refuses_bad_pairs() {
     let run = adapt(dir.path(), &mesh, both, &[]);
     ok(&run);
     let err = stderr(&run);
-    assert!(err.contains("periodic master 14 and slave 12: 5 and 5 vertices"), "{err}");
+    // Both sides refined alike to the recipe's size 0.15 (the square's 4 edges a side
+    // became 8), the rotated pair through the translated one.
+    for pair in ["master 14 and slave 12: 9 and 9 vertices", "master 11 and slave 14: 9 and 9"] {
+        assert!(err.contains(&format!("periodic {pair}")) && err.contains("(matched)"), "{err}");
+    }
     let out = read_path(&dir.path().join("out.msh"), None).unwrap();
     assert!(out.points.len() > 40, "{}", out.points.len());
     assert_matched(&out, &left_right());

@@ -167,11 +167,10 @@ pub struct AdapterOptions {
     /// [`RemeshOptions::keep_points`](crate::remesh::RemeshOptions::keep_points)); the
     /// external tools place boundary points by their own rules and do not read it.
     pub keep_points: Vec<[f64; 2]>,
-    /// Curves whose vertices and edges every remeshing keeps (the native remesher's
-    /// [`RemeshOptions::frozen_curves`](crate::remesh::RemeshOptions::frozen_curves): the
-    /// sides of periodic pairs); the external tools do not read it, and
-    /// [`adapter`] refuses them a non-empty list.
-    pub frozen_curves: Vec<i32>,
+    /// Periodic pairs every remeshing keeps matched (the native remesher's
+    /// [`RemeshOptions::periodic`](crate::remesh::RemeshOptions::periodic)); the external
+    /// tools do not read it, and [`adapter`] refuses them a non-empty list.
+    pub periodic: Vec<crate::periodic::PeriodicPair>,
     /// The native remesher's [`RemeshOptions::max_vertices`](crate::remesh::RemeshOptions::max_vertices)
     /// (the adaptation loop checks the same limit before every remeshing, whatever the
     /// remesher).
@@ -184,7 +183,7 @@ pub fn adapter(
     kind: AdapterKind,
     options: AdapterOptions,
 ) -> Result<Box<dyn Adapter>, AdapterError> {
-    if kind != AdapterKind::Native && !options.frozen_curves.is_empty() {
+    if kind != AdapterKind::Native && !options.periodic.is_empty() {
         return Err(AdapterError::Periodic { adapter: kind.name() });
     }
     if kind != AdapterKind::Mmg2d {
@@ -204,7 +203,7 @@ pub fn adapter(
         AdapterKind::Native => Ok(Box::new(native::NativeAdapter {
             options: crate::remesh::RemeshOptions {
                 keep_points: options.keep_points,
-                frozen_curves: options.frozen_curves,
+                periodic: options.periodic,
                 max_vertices: options.max_vertices,
                 // The loop measures every mesh against the recipe's own field.
                 measure: false,

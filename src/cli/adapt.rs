@@ -474,7 +474,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         extra_args: args.adapter_args.clone(),
         keep_points: if args.coarsen_geometry { Vec::new() } else { starting.geometry_points },
         max_vertices: Some(args.max_vertices),
-        frozen_curves: before.iter().flat_map(|m| m.curve_tags.iter().copied()).collect(),
+        periodic: pairs.clone(),
     };
     let start = starting.mesh;
     let remesher = adapter(args.adapter.into(), options)?;

@@ -55,6 +55,11 @@ pub struct RemeshOptions {
     /// periodic pair ([`crate::periodic`]) are frozen so that matching sides stay matched.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frozen_curves: Vec<i32>,
+    /// Periodic pairs: before remeshing, the edges of each matched pair are split alike
+    /// on both sides to the metric ([`crate::periodic::refine_sides`]); then the sides'
+    /// curves are frozen.
+    #[serde(skip)]
+    pub periodic: Vec<crate::periodic::PeriodicPair>,
     /// Smallest size the metric may ask for: every input tensor's sizes are raised to at
     /// least this before remeshing (MMG's `-hmin`). `None`: the metric as given.
     pub hmin: Option<f64>,
@@ -100,6 +105,7 @@ impl Default for RemeshOptions {
             collapse_below: CONFORMING[0],
             keep_points: Vec::new(),
             frozen_curves: Vec::new(),
+            periodic: Vec::new(),
             hmin: None,
             hmax: None,
             max_vertices: Some(DEFAULT_MAX_VERTICES),
