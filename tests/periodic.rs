@@ -235,3 +235,36 @@ fn adapt_keeps_periodic_sides_matched_and_refuses_bad_pairs() {
     let e = bad(&adapt(dir.path(), &mesh, both, &["--adapter", "mmg2d"]));
     assert!(e.contains("kept matching by the native remesher only"), "{e}");
 }
+
+#[test]
+fn a_layer_on_a_wall_that_ends_on_a_periodic_side_keeps_the_match_or_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = unit_square(4);
+    let pair = "[[periodic]]\nmaster = [14]\nslave = [12]\ntranslation = [1, 0]\n\n";
+    let layer = |curves: &str| {
+        format!(
+            "{pair}[layer]\ncurves = [{curves}]\nfirst_height = 0.01\nratio = 1.2\nlayers = 3\n"
+        )
+    };
+    // The bottom wall ends on both sides: its columns slide up both alike, 3 vertices
+    // more on each, still matched to 1e-12.
+    let run = adapt(dir.path(), &mesh, &layer("11"), &[]);
+    ok(&run);
+    let out = read_path(&dir.path().join("out.msh"), None).unwrap();
+    assert_eq!(out.num_cells_of(smartmesh::formats::CellKind::Quad), 24);
+    let m = check_all(&out, &[left_right()]).unwrap().remove(0);
+    assert!(m.matched && m.max_distance <= 1e-12 && m.master_vertices == 12, "{m}");
+    match_by_lines(&out, 14, 12, |p| [p[0] + 1.0, p[1]]);
+    // With the slave side a wall too, the corner is mitred on the slave side while the
+    // master side gets the columns: refused with exit 2, the skinned mesh not written
+    // (OUT keeps the loop's best mesh, which matches).
+    let e = bad(&adapt(dir.path(), &mesh, &layer("11, 12"), &[]));
+    assert!(
+        e.contains("12 and 9 vertices")
+            && e.contains("the LAYER skin moved or added vertices on a periodic side"),
+        "{e}"
+    );
+    let out = read_path(&dir.path().join("out.msh"), None).unwrap();
+    assert_eq!(out.num_cells_of(smartmesh::formats::CellKind::Quad), 0);
+    assert_matched(&out, &left_right());
+}
