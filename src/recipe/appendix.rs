@@ -12,6 +12,7 @@
 //! | `CREATE_CURVATURE_TO_SIZE_FUNCTIONS` | `functions` (curvature) | `{ NAME; MINSIZE; MAXSIZE; SIZE_OF_ERROR }` |
 //! | `CREATE_ALGORITHMS` | `algorithms` | list of `{ TYPE; … }` in the order they run |
 //! | `LAYER` | `layer` | `{ CURVES; FIRST_HEIGHT; RATIO; LAYERS; THICKNESS; … }` (see [`super::layer`]) |
+//! | `PERIODIC` | `periodic` | list of `{ MASTER; SLAVE; TRANSLATION }` or `{ MASTER; SLAVE; CENTRE; ANGLE }` (see [`super::periodic`]) |
 //!
 //! Spellings found in the thesis, all accepted: `MINSIZE`/`MIN_SIZE` (and, for distance
 //! functions, `SIZE_AT_BORDER`/`SIZE_AT_TOPOLOGICAL_VERTEX`, thesis 7.4.3),
