@@ -195,14 +195,7 @@ pub fn check(
     let (sv, se, slave_tags) = side(topology, &pair.slave, &label)?;
     tags.extend(slave_tags);
     let xy = |v: usize| [points[v][0], points[v][1]];
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in points {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let diagonal = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let diagonal = diagonal(points);
     let tolerance = SHAPE_TOLERANCE * diagonal;
     let inverse = pair.transform.inverse();
     // Shapes: each side's vertices mapped onto the other side's edges.
@@ -267,7 +260,72 @@ pub fn check_all(
     pairs.iter().map(|p| check(&mesh.points, &topology, p)).collect()
 }
 
-/// `mesh` with the edges of its matched periodic sides split so that none is longer than
+/// The diagonal of the bounding box of `points`.
+fn diagonal(points: &[[f64; 3]]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+}
+
+/// Moves the slave vertices of every pair whose sides pair up one to one, each slave
+/// vertex within [`SHAPE_TOLERANCE`] of the diagonal of a master vertex's image, onto
+/// those exact images: a file written with fewer digits than a double (Gmsh's `.msh` at
+/// its defaults) leaves gaps of 1e-9 that a solver gluing vertices may not accept.
+/// Returns, per pair, the largest move (0 where the sides do not pair up; those are left
+/// as they are).
+pub fn snap(mesh: &mut crate::formats::TaggedMesh, pairs: &[PeriodicPair]) -> Vec<f64> {
+    if pairs.is_empty() {
+        return Vec::new();
+    }
+    let topology = Topology::from_mesh(mesh);
+    let tolerance = SHAPE_TOLERANCE * diagonal(&mesh.points);
+    let mut moved = Vec::new();
+    for pair in pairs {
+        let label = pair.label();
+        let (Ok((mv, _, _)), Ok((sv, _, _))) =
+            (side(&topology, &pair.master, &label), side(&topology, &pair.slave, &label))
+        else {
+            moved.push(0.0);
+            continue;
+        };
+        let xy = |v: usize| [mesh.points[v][0], mesh.points[v][1]];
+        let mut moves: Vec<(usize, [f64; 2], f64)> = Vec::new();
+        for &m in &mv {
+            let q = pair.transform.apply(xy(m));
+            let near = sv.iter().map(|&w| {
+                let p = xy(w);
+                (w, (p[0] - q[0]).hypot(p[1] - q[1]))
+            });
+            if let Some((w, d)) = near.min_by(|a, b| a.1.total_cmp(&b.1)) {
+                moves.push((w, q, d));
+            }
+        }
+        let mut partners: Vec<usize> = moves.iter().map(|m| m.0).collect();
+        partners.sort_unstable();
+        partners.dedup();
+        let one_to_one = mv.len() == sv.len() && partners.len() == sv.len();
+        if !one_to_one || moves.iter().any(|m| m.2.is_nan() || m.2 > tolerance) {
+            moved.push(0.0);
+            continue;
+        }
+        let mut largest = 0.0f64;
+        for (w, q, d) in moves {
+            mesh.points[w][0] = q[0];
+            mesh.points[w][1] = q[1];
+            largest = largest.max(d);
+        }
+        moved.push(largest);
+    }
+    moved
+}
+
+/// `mesh`, its sides first snapped ([`snap`]), with the edges of its matched periodic
+/// sides split so that none is longer than
 /// 1 in the metric at either side's ends (sized to the finer of the two images), the same
 /// splits on both sides: each new slave vertex is the image of a new master vertex, so
 /// the sides stay matched. New vertices are appended (their metric interpolated along the
@@ -287,6 +345,9 @@ pub fn refine_sides(
     if pairs.is_empty() || metric.len() != mesh.points.len() {
         return (out, metric);
     }
+    snap(&mut out, pairs);
+    let snapped = out.clone();
+    let mesh = &snapped;
     let topology = Topology::from_mesh(mesh);
     let key = |a: usize, b: usize| if a < b { (a, b) } else { (b, a) };
     // Edges no split may touch: those of quads and other non-triangle surface cells.

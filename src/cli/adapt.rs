@@ -458,6 +458,14 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     // through every remeshing, measured again on the result.
     let pairs: Vec<smartmesh::periodic::PeriodicPair> =
         recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+    for (pair, d) in pairs.iter().zip(smartmesh::periodic::snap(&mut starting.mesh, &pairs)) {
+        if d > 0.0 {
+            ui::note(&format!(
+                "periodic {}: slave vertices moved by at most {d:.3e} onto the master's images",
+                pair.label()
+            ));
+        }
+    }
     let before = smartmesh::periodic::check_all(&starting.mesh, &pairs)
         .map_err(|e| CliError::usage(format!("{e} (input {})", args.input.display())))?;
     for m in before.iter().filter(|m| !m.matched) {
