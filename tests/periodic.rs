@@ -306,6 +306,22 @@ fn the_distributor_keeps_its_periodic_sides_matched() {
     );
     ok(&run);
     assert!(stderr(&run).contains("slave vertices moved by at most 5.000e-9"), "{}", stderr(&run));
+    // recipe check names the pair and its match on the start mesh, or refuses a wrong
+    // transform with exit 2.
+    let text = ok(&smartmesh(
+        &["recipe", "check", recipe.to_str().unwrap(), start.to_str().unwrap()],
+        None,
+    ));
+    assert!(text.contains("periodic master LowerPeriodic1, LowerPeriodic2, LowerPeriodic3 and slave UpperPeriodic1, UpperPeriodic2, UpperPeriodic3: 72 and 72 vertices"), "{text}");
+    assert!(text.contains("(matched)") && text.contains("at most 5.000e-9"), "{text}");
+    let wrong = dir.path().join("wrong.cfg");
+    let text = std::fs::read_to_string(&recipe).unwrap().replace("[0.0, 30.0]", "[0.0, 29.0]");
+    std::fs::write(&wrong, text).unwrap();
+    let e = bad(&smartmesh(
+        &["recipe", "check", wrong.to_str().unwrap(), start.to_str().unwrap()],
+        None,
+    ));
+    assert!(e.contains("the sides are not images of each other"), "{e}");
     let adapted = read_path(&out, None).unwrap();
     assert!(adapted.points.len() > 2 * input.points.len());
     assert_matched(&adapted, &pair);
