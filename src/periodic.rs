@@ -15,8 +15,9 @@
 //!   is at rounding level ([`PairMatch::matched`]).
 //!
 //! Invariant kept by the remesher: the vertices and edges of the curves of a periodic pair
-//! are frozen ([`crate::remesh::RemeshOptions::frozen_curves`]), so a mesh whose sides
-//! match keeps them matching, bit for bit, through `remesh` and `adapt`.
+//! are split alike ([`refine_sides`]) and then frozen (the remesher's
+//! `RemeshOptions::periodic`), so a mesh whose sides match keeps them matching, bit for
+//! bit, through `remesh` and `adapt`.
 
 use crate::topology::Topology;
 
