@@ -325,4 +325,13 @@ fn the_distributor_keeps_its_periodic_sides_matched() {
     let adapted = read_path(&out, None).unwrap();
     assert!(adapted.points.len() > 2 * input.points.len());
     assert_matched(&adapted, &pair);
+    // info with the recipe reports the match of the result.
+    let text = ok(&smartmesh(
+        &["info", out.to_str().unwrap(), "--recipe", recipe.to_str().unwrap()],
+        None,
+    ));
+    assert!(
+        text.contains("  periodic    master LowerPeriodic1") && text.contains("(matched)"),
+        "{text}"
+    );
 }

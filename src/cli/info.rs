@@ -37,6 +37,11 @@ pub struct InfoArgs {
     /// array is used when this is not given).
     #[arg(long, short = 'm')]
     metric: Option<PathBuf>,
+    /// A recipe whose PERIODIC pairs to measure on FILE: each pair's vertex counts and the
+    /// largest distance between a vertex's image and its partner (exit 2 when the sides
+    /// are not images of each other).
+    #[command(flatten)]
+    pub recipe: super::RecipeInput,
 }
 
 /// Runs `info`.
@@ -52,8 +57,18 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Err(e) => return Err(e.into()),
     }
     let quads = QuadReport::of(&mesh);
+    let periodic = match &args.recipe.recipe {
+        None => Vec::new(),
+        Some(_) => {
+            let recipe = args.recipe.read()?;
+            let pairs: Vec<smartmesh::periodic::PeriodicPair> =
+                recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+            smartmesh::periodic::check_all(&mesh, &pairs)
+                .map_err(|e| CliError::usage(format!("{e} (mesh {})", args.file.display())))?
+        }
+    };
     if args.json {
-        let j = InfoJson { summary: &summary, quads: quads.as_ref() };
+        let j = InfoJson { summary: &summary, quads: quads.as_ref(), periodic: &periodic };
         let mut s = serde_json::to_string_pretty(&j)?;
         s.push('\n');
         return print_stdout(&s);
@@ -61,6 +76,10 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let mut text = render(&args.file.display().to_string(), &summary);
     if let Some(q) = &quads {
         text.push_str(&render_quads(q));
+    }
+    for m in &periodic {
+        let line = m.to_string();
+        text.push_str(&format!("  periodic    {}\n", line.trim_start_matches("periodic ")));
     }
     print_stdout(&text)
 }
@@ -72,6 +91,8 @@ struct InfoJson<'a> {
     summary: &'a MeshSummary,
     #[serde(skip_serializing_if = "Option::is_none")]
     quads: Option<&'a QuadReport>,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    periodic: &'a [smartmesh::periodic::PairMatch],
 }
 
 /// What `info` says of a mesh with quads: their quality, the skin's layers, and whether
