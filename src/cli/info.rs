@@ -21,7 +21,9 @@ use super::{parse_format, print_stdout, CliError};
   smartmesh info naca0012.msh
   smartmesh info --json square.1.ele | jq .topology.curves
   smartmesh info adapted.msh --metric field.vtu
+  smartmesh info adapted.msh --recipe recipe.toml    # the match of its periodic sides
   cat mesh.vtu | smartmesh info --from vtu -")]
+#[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs are measured on FILE: vertex counts and the largest distance between a vertex's image and its partner (exit 2 when the sides are not images of each other)")))]
 pub struct InfoArgs {
     /// Mesh file (`-` for stdin, with --from).
     file: PathBuf,
@@ -37,9 +39,7 @@ pub struct InfoArgs {
     /// array is used when this is not given).
     #[arg(long, short = 'm')]
     metric: Option<PathBuf>,
-    /// A recipe whose PERIODIC pairs to measure on FILE: each pair's vertex counts and the
-    /// largest distance between a vertex's image and its partner (exit 2 when the sides
-    /// are not images of each other).
+    /// The recipe whose periodic pairs are measured (its help is set above).
     #[command(flatten)]
     pub recipe: super::RecipeInput,
 }
