@@ -325,6 +325,39 @@ fn the_distributor_keeps_its_periodic_sides_matched() {
     let adapted = read_path(&out, None).unwrap();
     assert!(adapted.points.len() > 2 * input.points.len());
     assert_matched(&adapted, &pair);
+    // size START with the recipe, then remesh it to that field with the recipe: its
+    // sides pair up to 5e-9, are snapped, refined alike and stay matched.
+    let field = dir.path().join("field.vtu");
+    ok(&smartmesh(
+        &[
+            "size",
+            start.to_str().unwrap(),
+            "--recipe",
+            recipe.to_str().unwrap(),
+            "-o",
+            field.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let again = dir.path().join("again.msh");
+    let run = smartmesh(
+        &[
+            "remesh",
+            start.to_str().unwrap(),
+            "--metric",
+            field.to_str().unwrap(),
+            "--recipe",
+            recipe.to_str().unwrap(),
+            "-o",
+            again.to_str().unwrap(),
+        ],
+        None,
+    );
+    ok(&run);
+    assert!(stderr(&run).contains("(matched)"), "{}", stderr(&run));
+    let remeshed = read_path(&again, None).unwrap();
+    assert!(remeshed.points.len() > 2 * input.points.len());
+    assert_matched(&remeshed, &pair);
     // info with the recipe reports the match of the result.
     let text = ok(&smartmesh(
         &["info", out.to_str().unwrap(), "--recipe", recipe.to_str().unwrap()],
