@@ -48,6 +48,7 @@ pub(crate) mod mesh_graph;
 pub mod mesher;
 pub mod metric;
 pub mod metric_field;
+pub mod periodic;
 pub(crate) mod quality;
 pub mod recipe;
 pub mod remesh;

@@ -100,6 +100,13 @@ pub enum AdapterError {
     /// The metric asks for more vertices than the limit allows (valid input, refused).
     #[error("{0}")]
     Limit(String),
+    /// Periodic sides (frozen curves) asked of a remesher that places boundary vertices by
+    /// its own rules.
+    #[error("periodic sides (a recipe's PERIODIC) are kept matching by the native remesher only; the {adapter} adapter places boundary vertices by its own rules")]
+    Periodic {
+        /// The adapter chosen.
+        adapter: &'static str,
+    },
     /// An option the chosen remesher does not take.
     #[error("{option} is an option of the mmg2d adapter; the {adapter} adapter does not take it")]
     Option {
@@ -160,6 +167,10 @@ pub struct AdapterOptions {
     /// [`RemeshOptions::keep_points`](crate::remesh::RemeshOptions::keep_points)); the
     /// external tools place boundary points by their own rules and do not read it.
     pub keep_points: Vec<[f64; 2]>,
+    /// Periodic pairs every remeshing keeps matched (the native remesher's
+    /// [`RemeshOptions::periodic`](crate::remesh::RemeshOptions::periodic)); the external
+    /// tools do not read it, and [`adapter`] refuses them a non-empty list.
+    pub periodic: Vec<crate::periodic::PeriodicPair>,
     /// The native remesher's [`RemeshOptions::max_vertices`](crate::remesh::RemeshOptions::max_vertices)
     /// (the adaptation loop checks the same limit before every remeshing, whatever the
     /// remesher).
@@ -172,6 +183,9 @@ pub fn adapter(
     kind: AdapterKind,
     options: AdapterOptions,
 ) -> Result<Box<dyn Adapter>, AdapterError> {
+    if kind != AdapterKind::Native && !options.periodic.is_empty() {
+        return Err(AdapterError::Periodic { adapter: kind.name() });
+    }
     if kind != AdapterKind::Mmg2d {
         // --hausd is every remesher's (below); MMG's own gradation and -nosurf are not.
         let mmg_only = [("--hgrad", options.hgrad.is_some()), ("--nosurf", options.nosurf)];
@@ -189,6 +203,7 @@ pub fn adapter(
         AdapterKind::Native => Ok(Box::new(native::NativeAdapter {
             options: crate::remesh::RemeshOptions {
                 keep_points: options.keep_points,
+                periodic: options.periodic,
                 max_vertices: options.max_vertices,
                 // The loop measures every mesh against the recipe's own field.
                 measure: false,

@@ -454,6 +454,25 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         }
         (None, false, _) => None,
     };
+    // Periodic sides: images of each other on the starting mesh (else bad input), frozen
+    // through every remeshing, measured again on the result.
+    let pairs: Vec<smartmesh::periodic::PeriodicPair> =
+        recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+    for (pair, d) in pairs.iter().zip(smartmesh::periodic::snap(&mut starting.mesh, &pairs)) {
+        if d > 0.0 {
+            ui::note(&format!(
+                "periodic {}: slave vertices moved by at most {d:.3e} onto the master's images",
+                pair.label()
+            ));
+        }
+    }
+    let before = smartmesh::periodic::check_all(&starting.mesh, &pairs)
+        .map_err(|e| CliError::usage(format!("{e} (input {})", args.input.display())))?;
+    for m in before.iter().filter(|m| !m.matched) {
+        ui::warn(&format!(
+            "{m}: the input's sides do not match vertex to vertex; they are kept as they are"
+        ));
+    }
     let mmg = args.adapter == AdapterArg::Mmg2d;
     let options = AdapterOptions {
         program: args.adapter_program.clone(),
@@ -463,6 +482,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         extra_args: args.adapter_args.clone(),
         keep_points: if args.coarsen_geometry { Vec::new() } else { starting.geometry_points },
         max_vertices: Some(args.max_vertices),
+        periodic: pairs.clone(),
     };
     let start = starting.mesh;
     let remesher = adapter(args.adapter.into(), options)?;
@@ -545,6 +565,19 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         }
         _ => None,
     };
+    let result_mesh = skinned.as_ref().unwrap_or(&outcome.best);
+    let after = smartmesh::periodic::check_all(result_mesh, &pairs)
+        .map_err(|e| CliError::context(format!("{e} (result of the loop)"), e))?;
+    for (b, a) in before.iter().zip(&after) {
+        if b.matched && !a.matched {
+            return Err(CliError::usage(if skinned.is_some() {
+                format!("{a}: the LAYER skin moved or added vertices on a periodic side (a wall ends on it); the skinned mesh is not written (the loop's best mesh is)")
+            } else {
+                format!("{a}: the remeshing broke the match of the periodic sides")
+            }));
+        }
+        ui::note(&a.to_string());
+    }
     if to_stdout {
         let m = skinned.as_ref().unwrap_or(&outcome.best);
         dropped = args.output_format.write(&args.output, m, format)?.dropped;

@@ -184,7 +184,9 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
         return match e {
             // A program the user named with --adapter-program that is missing or not
             // executable is bad input; a tool missing from PATH is not the input's fault.
-            AdapterError::Option { .. } | AdapterError::Unusable { .. } => Some(Error),
+            AdapterError::Option { .. }
+            | AdapterError::Unusable { .. }
+            | AdapterError::Periodic { .. } => Some(Error),
             AdapterError::Format(_) => None,
             _ => Some(Failure),
         };

@@ -21,7 +21,9 @@ use super::{parse_format, print_stdout, CliError};
   smartmesh info naca0012.msh
   smartmesh info --json square.1.ele | jq .topology.curves
   smartmesh info adapted.msh --metric field.vtu
+  smartmesh info adapted.msh --recipe recipe.toml    # the match of its periodic sides
   cat mesh.vtu | smartmesh info --from vtu -")]
+#[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs are measured on FILE: vertex counts and the largest distance between a vertex's image and its partner (exit 2 when the sides are not images of each other)")))]
 pub struct InfoArgs {
     /// Mesh file (`-` for stdin, with --from).
     file: PathBuf,
@@ -37,6 +39,9 @@ pub struct InfoArgs {
     /// array is used when this is not given).
     #[arg(long, short = 'm')]
     metric: Option<PathBuf>,
+    /// The recipe whose periodic pairs are measured (its help is set above).
+    #[command(flatten)]
+    pub recipe: super::RecipeInput,
 }
 
 /// Runs `info`.
@@ -52,8 +57,18 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Err(e) => return Err(e.into()),
     }
     let quads = QuadReport::of(&mesh);
+    let periodic = match &args.recipe.recipe {
+        None => Vec::new(),
+        Some(_) => {
+            let recipe = args.recipe.read()?;
+            let pairs: Vec<smartmesh::periodic::PeriodicPair> =
+                recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+            smartmesh::periodic::check_all(&mesh, &pairs)
+                .map_err(|e| CliError::usage(format!("{e} (mesh {})", args.file.display())))?
+        }
+    };
     if args.json {
-        let j = InfoJson { summary: &summary, quads: quads.as_ref() };
+        let j = InfoJson { summary: &summary, quads: quads.as_ref(), periodic: &periodic };
         let mut s = serde_json::to_string_pretty(&j)?;
         s.push('\n');
         return print_stdout(&s);
@@ -61,6 +76,10 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let mut text = render(&args.file.display().to_string(), &summary);
     if let Some(q) = &quads {
         text.push_str(&render_quads(q));
+    }
+    for m in &periodic {
+        let line = m.to_string();
+        text.push_str(&format!("  periodic    {}\n", line.trim_start_matches("periodic ")));
     }
     print_stdout(&text)
 }
@@ -72,6 +91,8 @@ struct InfoJson<'a> {
     summary: &'a MeshSummary,
     #[serde(skip_serializing_if = "Option::is_none")]
     quads: Option<&'a QuadReport>,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    periodic: &'a [smartmesh::periodic::PairMatch],
 }
 
 /// What `info` says of a mesh with quads: their quality, the skin's layers, and whether

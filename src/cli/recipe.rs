@@ -181,6 +181,9 @@ struct CheckSummary<'a> {
     gradation: Option<f64>,
     regions: &'a [RegionReport],
     algorithms: Vec<StepSummary<'a>>,
+    /// Each periodic pair's match on the mesh.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    periodic: &'a [smartmesh::periodic::PairMatch],
 }
 
 /// The entities an algorithm works on, all its sets together.
@@ -204,6 +207,13 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
     let topo = Topology::from_mesh(&mesh);
     let resolved = recipe.resolve(&topo)?;
     let plan = &resolved.plan;
+    // Periodic pairs: images of each other on this mesh, and how well they match.
+    let pairs: Vec<smartmesh::periodic::PeriodicPair> =
+        recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+    let mut snapped = mesh.clone();
+    let moved = smartmesh::periodic::snap(&mut snapped, &pairs);
+    let periodic = smartmesh::periodic::check_all(&snapped, &pairs)
+        .map_err(|e| CliError::usage(format!("{e} (mesh {})", args.mesh.display())))?;
     let steps: Vec<StepSummary> = plan
         .steps
         .iter()
@@ -228,6 +238,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
             gradation: plan.gradation,
             regions: &resolved.regions,
             algorithms: steps,
+            periodic: &periodic,
         };
         let mut s = serde_json::to_string_pretty(&summary)?;
         s.push('\n');
@@ -312,6 +323,15 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         }
         let on = if parts.is_empty() { "everywhere".into() } else { parts.join(", ") };
         let _ = writeln!(o, "    {}: {on}", s.label);
+    }
+    for (m, d) in periodic.iter().zip(&moved) {
+        let _ = writeln!(o, "  {m}");
+        if *d > 0.0 {
+            let _ = writeln!(
+                o,
+                "    (after moving the slave vertices by at most {d:.3e} onto the master's images, as adapt does)"
+            );
+        }
     }
     print_stdout(&o)
 }

@@ -40,8 +40,10 @@ carries the interpolated `metric` (a .mesh output writes it to the .sol beside i
 Examples:
   smartmesh size fixtures/cylinder.msh --recipe fixtures/cylinder.toml -o field.vtu
   smartmesh remesh fixtures/cylinder.msh --metric field.vtu -o adapted.vtu --json
-  smartmesh remesh adapted.mesh --measure --json      # conformity of a mesh to its own .sol"
+  smartmesh remesh adapted.mesh --measure --json      # conformity of a mesh to its own .sol
+  smartmesh remesh in.msh --metric field.vtu --recipe periodic.toml -o out.msh   # sides kept matched"
 )]
+#[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs the remeshing keeps matched (its sizing steps are not used: the metric is --metric's)")))]
 pub struct RemeshArgs {
     /// Input mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
@@ -94,6 +96,9 @@ pub struct RemeshArgs {
     hausd: Option<f64>,
     #[command(flatten)]
     output_format: super::MeshOutputArgs,
+    /// The recipe whose periodic pairs are kept (its help is set above).
+    #[command(flatten)]
+    recipe: super::RecipeInput,
     /// Print the statistics (or the measure) as JSON on stdout.
     #[arg(long)]
     json: bool,
@@ -203,7 +208,14 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     let (Some(output), Some(to)) = (args.output.as_deref(), to) else {
         return Err(CliError::usage("-o OUT is required unless --measure"));
     };
+    let pairs: Vec<smartmesh::periodic::PeriodicPair> = match &args.recipe.recipe {
+        None => Vec::new(),
+        Some(_) => args.recipe.read()?.periodic.iter().filter_map(|p| p.pair().ok()).collect(),
+    };
+    smartmesh::periodic::check_all(&mesh, &pairs)
+        .map_err(|e| CliError::usage(format!("{e} (input {})", args.mesh.display())))?;
     let opts = RemeshOptions {
+        periodic: pairs.clone(),
         max_passes: args.max_passes,
         boundary: match args.boundary {
             Boundary::Polyline => BoundaryMode::Polyline,
@@ -230,6 +242,11 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         remeshed.map_err(|e| CliError::context(format!("{}: {e}", args.mesh.display()), e))?;
     for w in &out.stats.warnings {
         ui::warn(w);
+    }
+    for m in smartmesh::periodic::check_all(&out.mesh, &pairs)
+        .map_err(|e| CliError::context(format!("{e} (result)"), e))?
+    {
+        ui::note(&m.to_string());
     }
     args.output_format.write(output, &out.mesh, to)?;
     if args.json {

@@ -12,6 +12,7 @@
 //! | `CREATE_CURVATURE_TO_SIZE_FUNCTIONS` | `functions` (curvature) | `{ NAME; MINSIZE; MAXSIZE; SIZE_OF_ERROR }` |
 //! | `CREATE_ALGORITHMS` | `algorithms` | list of `{ TYPE; … }` in the order they run |
 //! | `LAYER` | `layer` | `{ CURVES; FIRST_HEIGHT; RATIO; LAYERS; THICKNESS; … }` (see [`super::layer`]) |
+//! | `PERIODIC` | `periodic` | list of `{ MASTER; SLAVE; TRANSLATION }` or `{ MASTER; SLAVE; CENTRE; ANGLE }` (see [`super::periodic`]) |
 //!
 //! Spellings found in the thesis, all accepted: `MINSIZE`/`MIN_SIZE` (and, for distance
 //! functions, `SIZE_AT_BORDER`/`SIZE_AT_TOPOLOGICAL_VERTEX`, thesis 7.4.3),
@@ -33,6 +34,7 @@ use super::error::{RecipeError, RecipeErrorKind};
 use super::layer::{CurveValues, LayerSpec};
 use super::libconfig::{self, Node, Setting, Value};
 use super::model::{AlgorithmSpec, EntityRef, FunctionSpec, Places, Recipe, SpecValue};
+use super::periodic::PeriodicSpec;
 use super::preprocess::{self, Source};
 use super::suggest::nearest;
 use crate::sizing::algorithms::{infinite_norm, Entry, ParameterKind, INFINITE_NORM, TABLE};
@@ -72,6 +74,14 @@ const TOP: &[Key] = &[
     opt("curvature", &["CREATE_CURVATURE_TO_SIZE_FUNCTIONS"]),
     opt("algorithms", &["CREATE_ALGORITHMS"]),
     opt("layer", &["LAYER"]),
+    opt("periodic", &["PERIODIC"]),
+];
+const PERIODIC: &[Key] = &[
+    req("master", &["MASTER"]),
+    req("slave", &["SLAVE"]),
+    opt("translation", &["TRANSLATION"]),
+    opt("centre", &["CENTRE", "CENTER"]),
+    opt("angle", &["ANGLE"]),
 ];
 const LAYER: &[Key] = &[
     req("curves", &["CURVES"]),
@@ -483,6 +493,12 @@ impl Reader<'_> {
         if let Some(s) = top.get(TOP, "layer") {
             recipe.layer = Some(self.read_layer(s)?);
         }
+        if let Some(s) = top.get(TOP, "periodic") {
+            for (i, (g, line)) in self.groups(s)?.into_iter().enumerate() {
+                let spec = self.read_periodic(&s.name, i, g, line)?;
+                recipe.periodic.push(spec);
+            }
+        }
         Ok(())
     }
 
@@ -502,6 +518,38 @@ impl Reader<'_> {
                 context,
             )),
         }
+    }
+
+    /// Entry `i` of the `PERIODIC = ( … )` list.
+    fn read_periodic(
+        &mut self,
+        list: &str,
+        i: usize,
+        g: &[Setting],
+        line: usize,
+    ) -> Result<PeriodicSpec, RecipeError> {
+        let ctx = format!("{list} entry {}", i + 1);
+        let f = self.fields(g, PERIODIC, line, &ctx)?;
+        let curves = |r: &Self, field: &str| -> Result<Vec<EntityRef>, RecipeError> {
+            let s = f.get(PERIODIC, field).expect("required");
+            Ok(r.entities(s, &ctx)?.into_iter().map(|e| e.0).collect())
+        };
+        let point = |r: &Self, field: &str| -> Result<Option<[f64; 2]>, RecipeError> {
+            let Some(s) = f.get(PERIODIC, field) else { return Ok(None) };
+            match r.numbers(s, &ctx)?.as_slice() {
+                &[x, y] => Ok(Some([x, y])),
+                _ => Err(r.wrong(s, &s.value, "two numbers [x, y]", &ctx)),
+            }
+        };
+        let spec = PeriodicSpec {
+            master: curves(self, "master")?,
+            slave: curves(self, "slave")?,
+            translation: point(self, "translation")?,
+            centre: point(self, "centre")?,
+            angle: f.get(PERIODIC, "angle").map(|s| self.number(s, &ctx)).transpose()?,
+        };
+        self.place(format!("periodic[{i}]"), line, list, &ctx);
+        Ok(spec)
     }
 
     /// The `LAYER = { … }` group.
@@ -870,6 +918,42 @@ pub fn write(r: &Recipe) -> String {
             let _ = writeln!(o, "    PER_CURVE =\n    (\n{}\n    );", items.join(",\n"));
         }
         o.push_str("};\n");
+    }
+    if !r.periodic.is_empty() {
+        let curves = |list: &[EntityRef]| {
+            let items: Vec<String> = list
+                .iter()
+                .map(|e| match e {
+                    EntityRef::Tag(t) => t.to_string(),
+                    EntityRef::Name(n) => quote(n),
+                })
+                .collect();
+            let same = list.iter().all(|e| matches!(e, EntityRef::Tag(_)))
+                || list.iter().all(|e| matches!(e, EntityRef::Name(_)));
+            let (open, close) = if same { ("[", "]") } else { ("(", ")") };
+            format!("{open} {} {close}", items.join(", "))
+        };
+        let point = |p: [f64; 2]| format!("[ {}, {} ]", float(p[0]), float(p[1]));
+        let items: Vec<String> = r
+            .periodic
+            .iter()
+            .map(|p| {
+                let mut g =
+                    format!("    {{ MASTER = {}; SLAVE = {};", curves(&p.master), curves(&p.slave));
+                if let Some(t) = p.translation {
+                    let _ = write!(g, " TRANSLATION = {};", point(t));
+                }
+                if let Some(c) = p.centre {
+                    let _ = write!(g, " CENTRE = {};", point(c));
+                }
+                if let Some(a) = p.angle {
+                    let _ = write!(g, " ANGLE = {};", float(a));
+                }
+                g.push_str(" }");
+                g
+            })
+            .collect();
+        let _ = write!(o, "\nPERIODIC =\n(\n{}\n);\n", items.join(",\n"));
     }
     o
 }

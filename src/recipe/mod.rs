@@ -18,6 +18,7 @@ pub mod error;
 pub mod layer;
 pub mod libconfig;
 pub mod model;
+pub mod periodic;
 pub mod preprocess;
 pub mod resolve;
 pub mod serde_io;
@@ -28,5 +29,6 @@ pub use layer::{CurveValues, LayerSpec};
 pub use model::{
     AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, Recipe, RecipeFormat,
 };
+pub use periodic::PeriodicSpec;
 pub use preprocess::ReadOptions;
 pub use resolve::{RegionReport, Resolved};

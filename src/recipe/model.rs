@@ -808,6 +808,9 @@ pub struct Recipe {
     /// The boundary-layer skin `adapt` inserts after the loop ([`super::LayerSpec`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layer: Option<super::LayerSpec>,
+    /// Periodic pairs of sides, kept matching through remeshing ([`super::PeriodicSpec`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub periodic: Vec<super::PeriodicSpec>,
     #[serde(skip)]
     pub(crate) places: Places,
 }
@@ -820,6 +823,7 @@ impl PartialEq for Recipe {
             && self.functions == other.functions
             && self.algorithms == other.algorithms
             && self.layer == other.layer
+            && self.periodic == other.periodic
     }
 }
 
@@ -915,6 +919,11 @@ impl Recipe {
         if let Some(l) = &self.layer {
             if let Err(e) = l.options() {
                 return Err(self.error_at(RecipeErrorKind::Invalid(e.to_string()), "layer"));
+            }
+        }
+        for (i, p) in self.periodic.iter().enumerate() {
+            if let Err(e) = p.pair() {
+                return Err(self.error_at(RecipeErrorKind::Invalid(e), &format!("periodic[{i}]")));
             }
         }
         let g = &self.global;

@@ -13,7 +13,8 @@
 //! taken out of the working triangles: their vertices are corners, their edges that a
 //! working triangle shares are one-edge *frozen* pieces (never split, and with both ends
 //! fixed never collapsed nor moved), and the line cells along their other edges are
-//! carried to the output as they are.
+//! carried to the output as they are. The edges of the curves the options freeze
+//! (periodic sides) are frozen pieces the same way.
 
 use std::collections::HashMap;
 
@@ -24,7 +25,7 @@ use super::work::{key, orient, Role};
 use crate::formats::{CellKind, TaggedMesh};
 use crate::metric::log_spd;
 use crate::metric::Sym2;
-use crate::topology::Topology;
+use crate::topology::{cell_tag, Topology};
 
 /// Everything the driver starts from.
 pub struct Start {
@@ -197,6 +198,16 @@ pub fn start(
     for (_, nodes, _, _) in &kept {
         for k in 0..nodes.len() {
             frozen_edges.insert(key(nodes[k], nodes[(k + 1) % nodes.len()]));
+        }
+    }
+    // Edges of frozen curves: one-edge frozen pieces too, their ends corners.
+    if !opts.frozen_curves.is_empty() {
+        for (e, (lt, _, _)) in &constrained {
+            if lt.is_some_and(|(p, g)| opts.frozen_curves.contains(&cell_tag(p, g))) {
+                frozen_edges.insert(*e);
+                frozen[e.0 as usize] = true;
+                frozen[e.1 as usize] = true;
+            }
         }
     }
     let held = |k: &(u32, u32)| constrained.binary_search_by(|c| c.0.cmp(k)).is_ok();

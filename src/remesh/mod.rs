@@ -239,7 +239,19 @@ pub fn remesh_with_topology(
     opts: &RemeshOptions,
     progress: &mut dyn FnMut(RemeshEvent),
 ) -> Result<Remeshed, RemeshError> {
-    remesh_keeping(mesh, topology, metric, opts, &skin_cells(mesh), progress)
+    if opts.periodic.is_empty() {
+        return remesh_keeping(mesh, topology, metric, opts, &skin_cells(mesh), progress);
+    }
+    // Periodic sides: split alike on both sides to the metric, then frozen.
+    let (refined, metric) = crate::periodic::refine_sides(mesh, metric, &opts.periodic);
+    let topology = Topology::from_mesh(&refined);
+    let mut opts = opts.clone();
+    for pair in &opts.periodic {
+        if let Ok(m) = crate::periodic::check(&refined.points, &topology, pair) {
+            opts.frozen_curves.extend(m.curve_tags);
+        }
+    }
+    remesh_keeping(&refined, &topology, &metric, &opts, &skin_cells(&refined), progress)
 }
 
 /// The skin of a mixed mesh, by surface cell in [`TaggedMesh::cells`] order: every

@@ -50,6 +50,16 @@ pub struct RemeshOptions {
     /// boundary).
     #[serde(skip)]
     pub keep_points: Vec<[f64; 2]>,
+    /// Curves (by the tag of their line cells, physical else geometrical) whose vertices
+    /// and edges stay as they are: never split, collapsed nor moved. The sides of a
+    /// periodic pair ([`crate::periodic`]) are frozen so that matching sides stay matched.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub frozen_curves: Vec<i32>,
+    /// Periodic pairs: before remeshing, the edges of each matched pair are split alike
+    /// on both sides to the metric ([`crate::periodic::refine_sides`]); then the sides'
+    /// curves are frozen.
+    #[serde(skip)]
+    pub periodic: Vec<crate::periodic::PeriodicPair>,
     /// Smallest size the metric may ask for: every input tensor's sizes are raised to at
     /// least this before remeshing (MMG's `-hmin`). `None`: the metric as given.
     pub hmin: Option<f64>,
@@ -94,6 +104,8 @@ impl Default for RemeshOptions {
             split_above: CONFORMING[1],
             collapse_below: CONFORMING[0],
             keep_points: Vec::new(),
+            frozen_curves: Vec::new(),
+            periodic: Vec::new(),
             hmin: None,
             hmax: None,
             max_vertices: Some(DEFAULT_MAX_VERTICES),

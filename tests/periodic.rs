@@ -1,0 +1,370 @@
+//! Periodic sides: the recipe's PERIODIC section in every format, the check that the two
+//! sides are images of each other (refused with exit 2 naming the pair otherwise), and
+//! the vertex match to 1e-12 after `remesh` (the library's frozen curves) and `adapt`,
+//! for a translation and a rotation; the LAYER step on a wall that ends on a periodic
+//! side.
+
+use std::path::Path;
+
+use smartmesh::formats::{read_path, write_path, TaggedMesh, WriteOptions};
+use smartmesh::periodic::{check, check_all, PeriodicPair, Transform};
+use smartmesh::recipe::RecipeFormat;
+use smartmesh::{remesh, Recipe, RemeshOptions, Sym2, Topology};
+use smartmesh_test_support::grid::{unit_square, SquareGrid};
+
+#[path = "support/cli.rs"]
+#[allow(dead_code)]
+mod cli;
+use cli::{bad, ok, smartmesh, stderr};
+
+/// Left (14, downwards) onto right (12, upwards): x + 1.
+fn left_right() -> PeriodicPair {
+    PeriodicPair {
+        master: vec!["14".into()],
+        slave: vec!["12".into()],
+        transform: Transform::Translation([1.0, 0.0]),
+    }
+}
+
+/// Bottom (11) onto left (14): a quarter turn about the origin.
+fn bottom_left() -> PeriodicPair {
+    PeriodicPair {
+        master: vec!["11".into()],
+        slave: vec!["14".into()],
+        transform: Transform::Rotation { centre: [0.0, 0.0], angle_degrees: 90.0 },
+    }
+}
+
+/// The match of `pair` on `mesh`, asserted to 1e-12.
+fn assert_matched(mesh: &TaggedMesh, pair: &PeriodicPair) -> usize {
+    let m = check(&mesh.points, &Topology::from_mesh(mesh), pair).expect("images");
+    assert!(m.matched && m.max_distance <= 1e-12, "{m}");
+    assert_eq!(m.master_vertices, m.slave_vertices, "{m}");
+    m.master_vertices
+}
+
+/// The brute-force twin of the vertex match: every vertex on the lines of tag `a`, mapped,
+/// equals (to 1e-12) one vertex on the lines of tag `b`, and the counts agree.
+fn match_by_lines(mesh: &TaggedMesh, a: i32, b: i32, map: impl Fn([f64; 2]) -> [f64; 2]) {
+    let on = |tag: i32| {
+        let mut v: Vec<usize> = mesh
+            .cells()
+            .filter(|c| c.0 == smartmesh::formats::CellKind::Line && c.2 == tag)
+            .flat_map(|c| c.1.iter().map(|&v| v as usize).collect::<Vec<_>>())
+            .collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    let (va, vb) = (on(a), on(b));
+    assert_eq!(va.len(), vb.len());
+    for &v in &va {
+        let q = map([mesh.points[v][0], mesh.points[v][1]]);
+        let d = vb
+            .iter()
+            .map(|&w| (mesh.points[w][0] - q[0]).hypot(mesh.points[w][1] - q[1]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(d <= 1e-12, "vertex {v}: {d}");
+    }
+}
+
+/// A metric asking for sizes of `across` and `along` the diagonal.
+fn anisotropic(mesh: &TaggedMesh, along: f64, across: f64) -> Vec<Sym2> {
+    let t = smartmesh::SizeTensor::from_angle(std::f64::consts::FRAC_PI_4, along, across).unwrap();
+    vec![t.to_metric(); mesh.points.len()]
+}
+
+#[test]
+fn the_remesher_keeps_periodic_sides_matched() {
+    let mesh = SquareGrid {
+        n: 6,
+        sides: [11, 12, 13, 14],
+        faces: [1, 1],
+        interface: None,
+        alternate: true,
+    }
+    .build();
+    for pair in [left_right(), bottom_left()] {
+        let before = assert_matched(&mesh, &pair);
+        // Frozen: the sides keep their vertices.
+        let tags = check(&mesh.points, &Topology::from_mesh(&mesh), &pair).unwrap().curve_tags;
+        let opts = RemeshOptions { frozen_curves: tags, ..Default::default() };
+        let out = remesh(&mesh, &anisotropic(&mesh, 0.5, 0.1), &opts).expect("remeshes").mesh;
+        assert_ne!(out.points.len(), mesh.points.len());
+        assert_eq!(assert_matched(&out, &pair), before);
+        // Periodic: both sides split alike to a finer metric, then frozen.
+        let opts = RemeshOptions { periodic: vec![pair.clone()], ..Default::default() };
+        let out = remesh(&mesh, &anisotropic(&mesh, 0.25, 0.05), &opts).expect("remeshes").mesh;
+        assert!(assert_matched(&out, &pair) > 2 * before);
+        // Without either, the sides are resampled to the metric and lose the match.
+        let free =
+            remesh(&mesh, &anisotropic(&mesh, 0.5, 0.1), &RemeshOptions::default()).unwrap().mesh;
+        let m = check(&free.points, &Topology::from_mesh(&free), &pair).unwrap();
+        assert!(!m.matched, "{m}");
+    }
+    // The twin, on the translated pair after remeshing.
+    let opts = RemeshOptions { periodic: vec![left_right()], ..Default::default() };
+    let out = remesh(&mesh, &anisotropic(&mesh, 0.25, 0.05), &opts).unwrap().mesh;
+    match_by_lines(&out, 14, 12, |p| [p[0] + 1.0, p[1]]);
+}
+
+#[test]
+fn sides_that_are_not_images_are_refused_naming_the_pair() {
+    let mesh = unit_square(5);
+    let topo = Topology::from_mesh(&mesh);
+    // Bottom onto top, but shifted by 0.9 instead of 1.
+    let pair = PeriodicPair {
+        master: vec!["11".into()],
+        slave: vec!["13".into()],
+        transform: Transform::Translation([0.0, 0.9]),
+    };
+    let e = check(&mesh.points, &topo, &pair).unwrap_err().to_string();
+    assert!(e.contains("periodic pair master 11 and slave 13: the sides are not images"), "{e}");
+    // A rotation by the wrong angle.
+    let pair = PeriodicPair {
+        transform: Transform::Rotation { centre: [0.0, 0.0], angle_degrees: 89.0 },
+        ..bottom_left()
+    };
+    assert!(check(&mesh.points, &topo, &pair).is_err());
+    // A curve the mesh does not have.
+    let pair = PeriodicPair { master: vec!["99".into()], ..left_right() };
+    let e = check(&mesh.points, &topo, &pair).unwrap_err().to_string();
+    assert!(e.contains("no curve `99`"), "{e}");
+    // Images, but with vertices that do not meet: measured, not matched.
+    let mut shifted = mesh.clone();
+    let v = (0..shifted.points.len()).find(|&v| shifted.points[v] == [1.0, 0.4, 0.0]).unwrap();
+    shifted.points[v][1] = 0.45;
+    let m = check_all(&shifted, &[left_right()]).unwrap().remove(0);
+    assert!(!m.matched && (m.max_distance - 0.05).abs() < 1e-12, "{m}");
+}
+
+const RECIPE: &str = r#"[regions]
+all = [1]
+
+[[algorithms]]
+type = "uniform"
+size = 0.15
+regions = ["all"]
+"#;
+
+#[test]
+fn the_periodic_section_reads_in_every_format_and_round_trips() {
+    let cfg = r#"CREATE_REGIONS = ( { NAME = "all"; TOPOLOGICAL_ENTITIES = [1]; } );
+CREATE_ALGORITHMS = ( { TYPE = "UNIFORM"; SIZE = 0.08; REGIONS = ["all"]; } );
+PERIODIC = (
+  { MASTER = [14]; SLAVE = [12]; TRANSLATION = [1.0, 0.0]; },
+  { MASTER = ("Bottom", 7); SLAVE = ("Left"); CENTER = [0, 0]; ANGLE = 90; }
+);
+"#;
+    let r = Recipe::from_str(cfg, RecipeFormat::Libconfig, Path::new("p.cfg")).unwrap();
+    assert_eq!(r.periodic.len(), 2);
+    assert_eq!(r.periodic[1].pair().unwrap().transform, bottom_left().transform);
+    for format in [RecipeFormat::Libconfig, RecipeFormat::Toml, RecipeFormat::Json] {
+        let text = r.to_format(format);
+        assert_eq!(Recipe::from_str(&text, format, Path::new("p")).unwrap(), r, "{text}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut from = dir.path().join("p.cfg");
+    std::fs::write(&from, cfg).unwrap();
+    for ext in ["toml", "json", "cfg"] {
+        let to = dir.path().join(format!("converted-{ext}.{ext}"));
+        ok(&smartmesh(&["recipe", "convert", from.to_str().unwrap(), to.to_str().unwrap()], None));
+        assert_eq!(Recipe::from_path(&to).unwrap(), r, "{ext}");
+        from = to;
+    }
+    // A translation and a rotation at once, or neither, is refused at its line.
+    for (keys, says) in [
+        ("TRANSLATION = [1, 0]; ANGLE = 3; CENTRE = [0, 0];", "give `translation`, or `centre`"),
+        ("", "give `translation`, or `centre`"),
+        ("TRANSLATION = [1, 0, 2];", "two numbers [x, y]"),
+    ] {
+        let text = format!("PERIODIC = (\n  {{ MASTER = [14]; SLAVE = [12];\n {keys} }}\n);\n");
+        let e = Recipe::from_str(&text, RecipeFormat::Libconfig, Path::new("p.cfg")).unwrap_err();
+        assert!(e.to_string().contains(says), "{keys}: {e}");
+        assert!(e.line.is_some_and(|l| l == 2 || l == 3), "{keys}: {e}");
+    }
+}
+
+/// `smartmesh adapt` on `mesh` with RECIPE and `periodic` (TOML), output `out.msh`.
+fn adapt(dir: &Path, mesh: &TaggedMesh, periodic: &str, extra: &[&str]) -> std::process::Output {
+    let input = dir.join("in.msh");
+    write_path(&input, mesh, None, &WriteOptions::default()).unwrap();
+    let recipe = dir.join("r.toml");
+    std::fs::write(&recipe, format!("{RECIPE}\n{periodic}")).unwrap();
+    let out = dir.join("out.msh");
+    let mut args = vec![
+        "adapt",
+        input.to_str().unwrap(),
+        "--recipe",
+        recipe.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    smartmesh(&args, None)
+}
+
+#[test]
+fn adapt_keeps_periodic_sides_matched_and_refuses_bad_pairs() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = unit_square(4);
+    let both = "[[periodic]]\nmaster = [14]\nslave = [12]\ntranslation = [1, 0]\n\n\
+                [[periodic]]\nmaster = [11]\nslave = [14]\ncentre = [0, 0]\nangle = 90\n";
+    let run = adapt(dir.path(), &mesh, both, &[]);
+    ok(&run);
+    let err = stderr(&run);
+    // Both sides refined alike to the recipe's size 0.15 (the square's 4 edges a side
+    // became 8), the rotated pair through the translated one.
+    for pair in ["master 14 and slave 12: 9 and 9 vertices", "master 11 and slave 14: 9 and 9"] {
+        assert!(err.contains(&format!("periodic {pair}")) && err.contains("(matched)"), "{err}");
+    }
+    let out = read_path(&dir.path().join("out.msh"), None).unwrap();
+    assert!(out.points.len() > 40, "{}", out.points.len());
+    assert_matched(&out, &left_right());
+    assert_matched(&out, &bottom_left());
+    match_by_lines(&out, 14, 12, |p| [p[0] + 1.0, p[1]]);
+    match_by_lines(&out, 11, 14, |p| [-p[1], p[0]]);
+
+    // Not images: exit 2 naming the pair, nothing written.
+    std::fs::remove_file(dir.path().join("out.msh")).unwrap();
+    let shifted = "[[periodic]]\nmaster = [11]\nslave = [13]\ntranslation = [0, 0.9]\n";
+    let e = bad(&adapt(dir.path(), &mesh, shifted, &[]));
+    assert!(e.contains("periodic pair master 11 and slave 13: the sides are not images"), "{e}");
+    assert!(!dir.path().join("out.msh").exists());
+    // A remesher that places boundary vertices by its own rules: exit 2.
+    let e = bad(&adapt(dir.path(), &mesh, both, &["--adapter", "mmg2d"]));
+    assert!(e.contains("kept matching by the native remesher only"), "{e}");
+}
+
+#[test]
+fn a_layer_on_a_wall_that_ends_on_a_periodic_side_keeps_the_match_or_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = unit_square(4);
+    let pair = "[[periodic]]\nmaster = [14]\nslave = [12]\ntranslation = [1, 0]\n\n";
+    let layer = |curves: &str| {
+        format!(
+            "{pair}[layer]\ncurves = [{curves}]\nfirst_height = 0.01\nratio = 1.2\nlayers = 3\n"
+        )
+    };
+    // The bottom wall ends on both sides: its columns slide up both alike, 3 vertices
+    // more on each, still matched to 1e-12.
+    let run = adapt(dir.path(), &mesh, &layer("11"), &[]);
+    ok(&run);
+    let out = read_path(&dir.path().join("out.msh"), None).unwrap();
+    assert_eq!(out.num_cells_of(smartmesh::formats::CellKind::Quad), 24);
+    let m = check_all(&out, &[left_right()]).unwrap().remove(0);
+    assert!(m.matched && m.max_distance <= 1e-12 && m.master_vertices == 12, "{m}");
+    match_by_lines(&out, 14, 12, |p| [p[0] + 1.0, p[1]]);
+    // With the slave side a wall too, the corner is mitred on the slave side while the
+    // master side gets the columns: refused with exit 2, the skinned mesh not written
+    // (OUT keeps the loop's best mesh, which matches).
+    let e = bad(&adapt(dir.path(), &mesh, &layer("11, 12"), &[]));
+    assert!(
+        e.contains("12 and 9 vertices")
+            && e.contains("the LAYER skin moved or added vertices on a periodic side"),
+        "{e}"
+    );
+    let out = read_path(&dir.path().join("out.msh"), None).unwrap();
+    assert_eq!(out.num_cells_of(smartmesh::formats::CellKind::Quad), 0);
+    assert_matched(&out, &left_right());
+}
+
+/// The distributor example (thesis 6.3.2.4): its start mesh's sides pair up to the 1e-9 of
+/// its file's digits; adapt snaps the slave side onto the master's images and the result,
+/// read back from its file, matches to 1e-12.
+#[test]
+fn the_distributor_keeps_its_periodic_sides_matched() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/distributor");
+    let recipe = dir.path().join("r.cfg");
+    let text = std::fs::read_to_string(base.join("recipe.cfg")).unwrap();
+    std::fs::write(
+        &recipe,
+        format!("{text}\nPERIODIC = ( {{ MASTER = (\"LowerPeriodic1\", \"LowerPeriodic2\", \"LowerPeriodic3\"); SLAVE = (\"UpperPeriodic1\", \"UpperPeriodic2\", \"UpperPeriodic3\"); TRANSLATION = [0.0, 30.0]; }} );\n"),
+    )
+    .unwrap();
+    let start = base.join("1-narrow/start.msh");
+    let pair = PeriodicPair {
+        master: vec!["LowerPeriodic1".into(), "LowerPeriodic2".into(), "LowerPeriodic3".into()],
+        slave: vec!["UpperPeriodic1".into(), "UpperPeriodic2".into(), "UpperPeriodic3".into()],
+        transform: Transform::Translation([0.0, 30.0]),
+    };
+    let input = read_path(&start, None).unwrap();
+    let m = check_all(&input, std::slice::from_ref(&pair)).unwrap().remove(0);
+    assert!(!m.matched && m.max_distance < 1e-8, "{m}");
+    let out = dir.path().join("out.msh");
+    let run = smartmesh(
+        &[
+            "adapt",
+            start.to_str().unwrap(),
+            "--recipe",
+            recipe.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    ok(&run);
+    assert!(stderr(&run).contains("slave vertices moved by at most 5.000e-9"), "{}", stderr(&run));
+    // recipe check names the pair and its match on the start mesh, or refuses a wrong
+    // transform with exit 2.
+    let text = ok(&smartmesh(
+        &["recipe", "check", recipe.to_str().unwrap(), start.to_str().unwrap()],
+        None,
+    ));
+    assert!(text.contains("periodic master LowerPeriodic1, LowerPeriodic2, LowerPeriodic3 and slave UpperPeriodic1, UpperPeriodic2, UpperPeriodic3: 72 and 72 vertices"), "{text}");
+    assert!(text.contains("(matched)") && text.contains("at most 5.000e-9"), "{text}");
+    let wrong = dir.path().join("wrong.cfg");
+    let text = std::fs::read_to_string(&recipe).unwrap().replace("[0.0, 30.0]", "[0.0, 29.0]");
+    std::fs::write(&wrong, text).unwrap();
+    let e = bad(&smartmesh(
+        &["recipe", "check", wrong.to_str().unwrap(), start.to_str().unwrap()],
+        None,
+    ));
+    assert!(e.contains("the sides are not images of each other"), "{e}");
+    let adapted = read_path(&out, None).unwrap();
+    assert!(adapted.points.len() > 2 * input.points.len());
+    assert_matched(&adapted, &pair);
+    // size START with the recipe, then remesh it to that field with the recipe: its
+    // sides pair up to 5e-9, are snapped, refined alike and stay matched.
+    let field = dir.path().join("field.vtu");
+    ok(&smartmesh(
+        &[
+            "size",
+            start.to_str().unwrap(),
+            "--recipe",
+            recipe.to_str().unwrap(),
+            "-o",
+            field.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let again = dir.path().join("again.msh");
+    let run = smartmesh(
+        &[
+            "remesh",
+            start.to_str().unwrap(),
+            "--metric",
+            field.to_str().unwrap(),
+            "--recipe",
+            recipe.to_str().unwrap(),
+            "-o",
+            again.to_str().unwrap(),
+        ],
+        None,
+    );
+    ok(&run);
+    assert!(stderr(&run).contains("(matched)"), "{}", stderr(&run));
+    let remeshed = read_path(&again, None).unwrap();
+    assert!(remeshed.points.len() > 2 * input.points.len());
+    assert_matched(&remeshed, &pair);
+    // info with the recipe reports the match of the result.
+    let text = ok(&smartmesh(
+        &["info", out.to_str().unwrap(), "--recipe", recipe.to_str().unwrap()],
+        None,
+    ));
+    assert!(
+        text.contains("  periodic    master LowerPeriodic1") && text.contains("(matched)"),
+        "{text}"
+    );
+}
