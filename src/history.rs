@@ -56,8 +56,11 @@ pub struct IterationRecord {
 pub struct SolverRecord {
     /// The solver's wall-clock seconds.
     pub seconds: f64,
-    /// The solution field taken.
+    /// The solution fields taken, comma-separated (as `--field` takes them).
     pub field: String,
+    /// The solution fields, in the order their metrics were intersected.
+    #[serde(default)]
+    pub fields: Vec<String>,
     /// The vertex count asked of the solution's metric at this iteration (the schedule's
     /// value; absent for an error target).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -199,6 +202,7 @@ mod tests {
                 solver: Some(SolverRecord {
                     seconds: 0.25,
                     field: "u".into(),
+                    fields: vec!["u".into()],
                     complexity_asked: Some(500.0),
                     complexity_obtained: 612.5,
                 }),

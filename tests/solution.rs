@@ -399,10 +399,145 @@ fn size_field_writes_a_metric_of_the_asked_complexity_and_refuses_bad_solutions(
     assert!(e.contains("nan.vtu") && e.contains("value 7 of `u` is not a finite number"), "{e}");
 }
 
+/// `size --field u,p`: the two fields' metrics normalised together to the vertex count
+/// (by an integral independent of the one normalising), intersected, each finer than it
+/// would be alone at a share of the count; a missing one among several is named with the
+/// file's fields, exit 2.
+#[test]
+fn size_with_several_fields_intersects_them_at_the_asked_complexity() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut mesh = cylinder_with_front();
+    // A second field of other units and magnitude: a layer along y = 0.8.
+    let p: Vec<f64> =
+        mesh.points.iter().map(|q| 1e4 * (-((q[1] - 0.8) / 0.05).powi(2)).exp()).collect();
+    mesh.point_data.insert("p".into(), DataArray::new(1, p));
+    let file = dir.path().join("up.vtu");
+    write(&mesh, &file);
+    let f = file.to_str().unwrap();
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let size = |fields: &[&str], o: &str, n: &str| {
+        let mut args = vec!["size", f];
+        for x in fields {
+            args.extend_from_slice(&["--field", x]);
+        }
+        args.extend_from_slice(&["--complexity", n, "-o", o, "--json"]);
+        let json = ok(&smartmesh(&args, None));
+        serde_json::from_str::<serde_json::Value>(&json).unwrap()
+    };
+    let (both, repeated) = (out("both.vtu"), out("repeated.vtu"));
+    let summary = size(&["u,p"], &both, "3000");
+    assert_eq!(summary["solution"]["fields"], serde_json::json!(["u", "p"]), "{summary}");
+    assert_eq!(summary["solution"]["field"], "u,p");
+    let expected = summary["solution"]["expected_vertices"].as_f64().unwrap();
+    assert!((expected / 3000.0 - 1.0).abs() < 0.01, "{expected}");
+    size(&["u", "p"], &repeated, "3000");
+    assert_eq!(std::fs::read(&both).unwrap(), std::fs::read(&repeated).unwrap());
+
+    // The count by an independent midpoint integral of the written field.
+    let read = |path: &str| -> Vec<SizeTensor> {
+        let m = read_path(Path::new(path), None).unwrap();
+        let a = &m.point_data["metric"];
+        (0..m.points.len())
+            .map(|v| {
+                let c = &a.values[9 * v..9 * v + 9];
+                SizeTensor::try_from_metric(&smartmesh::Sym2::new(c[0], c[1], c[4])).unwrap()
+            })
+            .collect()
+    };
+    let graph = MeshGraph::from_topology(&Topology::from_mesh(&mesh), &mesh).unwrap();
+    let p1 = P1Mesh::new(graph.points(), graph.cells()).unwrap();
+    let t = read(&both);
+    let independent = midpoint_vertices(&mesh, &t);
+    assert!((independent / 3000.0 - 1.0).abs() < 0.1, "{independent}");
+    assert!((vertices_of(&p1, &t) / 3000.0 - 1.0).abs() < 0.01);
+
+    // Each field alone at the same count: the result is their intersection scaled by one
+    // factor s < 1 (the share each keeps), so in every direction no larger than the
+    // smaller of the two scaled, and as large somewhere. s from each vertex's areas; the
+    // bounds clamp a few vertices, which then differ.
+    let (u_alone, p_alone) = (out("u.vtu"), out("p.vtu"));
+    size(&["u"], &u_alone, "3000");
+    size(&["p"], &p_alone, "3000");
+    let (tu, tp) = (read(&u_alone), read(&p_alone));
+    let inter: Vec<SizeTensor> = tu.iter().zip(&tp).map(|(a, b)| a.intersection(b)).collect();
+    let s_at = |v: usize| (inter[v].h1() * inter[v].h2()) / (t[v].h1() * t[v].h2());
+    let mut all: Vec<f64> = (0..t.len()).map(s_at).collect();
+    all.sort_by(f64::total_cmp);
+    let s = all[all.len() / 2];
+    assert!(s < 1.0 && s > 0.2, "{s}");
+    let mut proportional = 0;
+    for v in (0..t.len()).filter(|&v| (s_at(v) / s - 1.0).abs() < 1e-6) {
+        proportional += 1;
+        let mut touches = false;
+        for k in 0..180 {
+            let a = k as f64 * std::f64::consts::PI / 180.0;
+            let d = [a.cos(), a.sin()];
+            let smaller = tu[v].size_along(d).min(tp[v].size_along(d)) / s.sqrt();
+            let h = t[v].size_along(d);
+            assert!(h <= smaller * (1.0 + 1e-6), "vertex {v}, angle {a}: {h} > {smaller}");
+            touches |= h > 0.99 * smaller;
+        }
+        assert!(touches, "vertex {v}: smaller than the intersection in every direction");
+    }
+    assert!(proportional * 10 >= 9 * t.len(), "{proportional} of {}", t.len());
+    // Each field drives the sizes somewhere: on the layer of p far from the front of u,
+    // much finer than u alone asks.
+    let v = (0..t.len())
+        .find(|&v| (mesh.points[v][1] - 0.8).abs() < 0.02 && mesh.points[v][0] < 0.7)
+        .expect("a vertex on the layer of p, far from the front of u");
+    assert!(t[v].h_min() < 0.5 * tu[v].h_min(), "{:?} vs u alone {:?}", t[v], tu[v]);
+
+    // Refusals, exit 2.
+    let e =
+        bad(&smartmesh(&["size", f, "--field", "u,w,p", "--complexity", "100", "-o", &both], None));
+    assert!(e.contains("up.vtu: no point data `w` (its point arrays: p, u)"), "{e}");
+    let e = bad(&smartmesh(
+        &["size", f, "--field", "u", "--field", "u", "--complexity", "100", "-o", &both],
+        None,
+    ));
+    assert!(e.contains("--field: `u` is named twice"), "{e}");
+    let e =
+        bad(&smartmesh(&["size", f, "--field", "u,,p", "--complexity", "100", "-o", &both], None));
+    assert!(e.contains("--field: an empty name in `u,,p`"), "{e}");
+}
+
+/// ∫ √det M of the Log-Euclidean interpolation of the vertex metrics by a midpoint rule
+/// on the 36 sub-triangles of each triangle: the twin of the exact integral.
+fn midpoint_vertices(mesh: &TaggedMesh, tensors: &[SizeTensor]) -> f64 {
+    use smartmesh::metric::{log_euclidean, log_spd};
+    let logs: Vec<smartmesh::Sym2> = tensors.iter().map(|t| log_spd(&t.to_metric())).collect();
+    let mut c = 0.0;
+    for (kind, cell, _, _) in mesh.cells() {
+        if kind != smartmesh::formats::CellKind::Triangle {
+            continue;
+        }
+        let [a, b, q] = [cell[0], cell[1], cell[2]].map(|v| mesh.points[v as usize]);
+        let area = 0.5 * ((b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0])).abs();
+        let l = [cell[0], cell[1], cell[2]].map(|v| &logs[v as usize]);
+        let k = 6;
+        let (mut sum, mut count) = (0.0, 0);
+        for i in 0..k {
+            for j in 0..k - i {
+                for (di, dj) in [(1.0 / 3.0, 1.0 / 3.0), (2.0 / 3.0, 2.0 / 3.0)] {
+                    if di > 0.5 && i + j + 1 >= k {
+                        continue;
+                    }
+                    let (x, y) = ((i as f64 + di) / k as f64, (j as f64 + dj) / k as f64);
+                    sum += log_euclidean(&[1.0 - x - y, x, y], &l).det().sqrt();
+                    count += 1;
+                }
+            }
+        }
+        c += area * sum / count as f64;
+    }
+    2.0 * c / 3f64.sqrt()
+}
+
 use smartmesh_test_support::formats as common;
 
 /// A solver for the loop: u = tanh(30 (x − 0.5 − 0.15 sin 2πy)) on the mesh it is given,
-/// or, from iteration `AT` on (the K of `mesh-K.vtu`), the failure `MODE` asks for.
+/// or, from iteration `AT` on (the K of `mesh-K.vtu`), the failure `MODE` asks for; mode
+/// "two" writes a second field v = 50 tanh(25 (y − 0.3)) beside u.
 const SOLVER: &str = r#"
 import re, sys, meshio, numpy as np
 mode, at, mesh_path, out = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
@@ -419,12 +554,15 @@ if k >= at:
     if mode == "count":
         meshio.write(out, meshio.Mesh(m.points[:-1], [], point_data={"u": u[:-1]}))
         sys.exit(0)
-meshio.write(out, meshio.Mesh(m.points, m.cells, point_data={"u": u}))
+data = {"u": u}
+if mode == "two":
+    data["v"] = 50 * np.tanh(25 * (y - 0.3))
+meshio.write(out, meshio.Mesh(m.points, m.cells, point_data=data))
 "#;
 
 /// `adapt --solver` on the unit square from a coarse mesh, with a failure from
-/// iteration `at` on (`mode` "ok" never fails).
-fn adapt_with(dir: &Path, py: &str, mode: &str, at: usize) -> std::process::Output {
+/// iteration `at` on (`mode` "ok" never fails), with `extra` arguments.
+fn adapt_with(dir: &Path, py: &str, mode: &str, at: usize, extra: &[&str]) -> std::process::Output {
     let script = dir.join("solver.py");
     std::fs::write(&script, SOLVER).unwrap();
     let poly = dir.join("square.poly");
@@ -440,25 +578,24 @@ fn adapt_with(dir: &Path, py: &str, mode: &str, at: usize) -> std::process::Outp
     ));
     let command = format!("{py} {} {mode} {at} {{mesh}} {{solution}}", script.display());
     let out = dir.join("adapted.vtu");
-    smartmesh(
-        &[
-            "adapt",
-            start.to_str().unwrap(),
-            "--solver",
-            &command,
-            "--complexity-start",
-            "150",
-            "--complexity-growth",
-            "2",
-            "--complexity",
-            "600",
-            "--max-iterations",
-            "7",
-            "-o",
-            out.to_str().unwrap(),
-        ],
-        None,
-    )
+    let mut args = vec![
+        "adapt",
+        start.to_str().unwrap(),
+        "--solver",
+        &command,
+        "--complexity-start",
+        "150",
+        "--complexity-growth",
+        "2",
+        "--complexity",
+        "600",
+        "--max-iterations",
+        "7",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    smartmesh(&args, None)
 }
 
 fn history(dir: &Path) -> serde_json::Value {
@@ -470,7 +607,7 @@ fn history(dir: &Path) -> serde_json::Value {
 fn the_solver_loop_converges_and_records_the_solver() {
     let Some(py) = common::python_with(&["meshio", "numpy"]) else { return };
     let dir = tempfile::tempdir().unwrap();
-    ok(&adapt_with(dir.path(), &py, "ok", usize::MAX));
+    ok(&adapt_with(dir.path(), &py, "ok", usize::MAX, &[]));
     let h = history(dir.path());
     assert_eq!(h["converged"], true, "{h}");
     let its = h["iterations"].as_array().unwrap();
@@ -496,6 +633,37 @@ fn the_solver_loop_converges_and_records_the_solver() {
     assert!(dir.path().join("adapted.solver/solution-0.vtu").is_file());
 }
 
+/// `adapt --solver --field u,v`: both fields of the solver's output are attached,
+/// normalised together to the schedule's count and recorded in the history; a field the
+/// solver did not write is named with the fields it did.
+#[test]
+fn the_solver_loop_intersects_several_fields_and_records_them() {
+    let Some(py) = common::python_with(&["meshio", "numpy"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    ok(&adapt_with(dir.path(), &py, "two", usize::MAX, &["--field", "u,v"]));
+    let h = history(dir.path());
+    for r in h["iterations"].as_array().unwrap() {
+        let s = &r["solver"];
+        assert_eq!(s["field"], "u,v", "{r}");
+        assert_eq!(s["fields"], serde_json::json!(["u", "v"]), "{r}");
+        let (a, o) =
+            (s["complexity_asked"].as_f64().unwrap(), s["complexity_obtained"].as_f64().unwrap());
+        assert!((o / a - 1.0).abs() < 0.01, "{r}");
+    }
+    let mesh = read_path(&dir.path().join("adapted.vtu"), None).unwrap();
+    assert!(mesh.point_data.contains_key("u") && mesh.point_data.contains_key("v"));
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = adapt_with(dir.path(), &py, "two", usize::MAX, &["--field", "u,w"]);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    // At the starting mesh: nothing adapted yet, the input is at fault (exit 2).
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("solution-0.vtu: no point data `w` (its point arrays: u, v)"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn a_failing_solver_or_a_bad_solution_stops_the_loop_and_keeps_the_best_mesh() {
     let Some(py) = common::python_with(&["meshio", "numpy"]) else { return };
@@ -505,7 +673,7 @@ fn a_failing_solver_or_a_bad_solution_stops_the_loop_and_keeps_the_best_mesh() {
         ("count", vec!["solution-2.vtu", "values of `u` for the"]),
     ] {
         let dir = tempfile::tempdir().unwrap();
-        let out = adapt_with(dir.path(), &py, mode, 2);
+        let out = adapt_with(dir.path(), &py, mode, 2, &[]);
         let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
         assert_eq!(out.status.code(), Some(1), "{mode}: {stderr}");
         assert!(stderr.contains("iteration 2 failed while solving"), "{mode}: {stderr}");

@@ -245,7 +245,7 @@ fn measure(
     if let Some(s) = solver {
         observer.phase(iteration, Phase::Solve);
         let done = s.solve(iteration, &mut mesh).map_err(|e| (Phase::Solve, e.into()))?;
-        extra.push(s.step(iteration, &done.field));
+        extra.push(s.step(iteration, &done.fields));
         solved = Some(done);
     }
     observer.phase(iteration, Phase::Size);
@@ -257,7 +257,8 @@ fn measure(
     let size = t.elapsed().as_secs_f64();
     let solver = solved.map(|d| SolverRecord {
         seconds: d.seconds,
-        field: d.field,
+        field: d.fields.join(","),
+        fields: d.fields,
         complexity_asked: d.complexity_asked,
         complexity_obtained: expected_vertices(&mesh, &metric),
     });

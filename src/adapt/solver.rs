@@ -3,8 +3,9 @@
 //! the current directory, with `{mesh}` and `{solution}` replaced by the quoted paths),
 //! and the scalar field it wrote to `{solution}` (a mesh file on the same vertices; the
 //! extension names its format) is attached to the mesh. The mesh is then sized with the
-//! recipe followed by a SOLUTION_HESSIAN step of that field, so the solution's metric is
-//! intersected into the recipe's field, as in `size --field`.
+//! recipe followed by a SOLUTION_HESSIAN step of that field (of those fields, normalised
+//! together and intersected in order, when several are named), so the solution's metric
+//! is intersected into the recipe's field, as in `size --field`.
 //!
 //! The vertex count asked of the solution's metric follows a schedule, as pyrefine's:
 //! `start · growth^k` at iteration k, up to `target`, so that early iterations, on
@@ -26,7 +27,7 @@ use crate::adapters::tool::quote;
 use crate::metric::SizeBounds;
 use crate::sizing::plan::Step;
 use crate::sizing::{Algorithm, SolutionHessian};
-use crate::solution::input::{attach, field_name, read_solution, FieldError};
+use crate::solution::input::{attach, field_names, read_solution, FieldError};
 use crate::solution::{Method, Target};
 
 /// The vertex count asked at each iteration.
@@ -67,8 +68,9 @@ pub struct SolverLoop {
     pub mesh_extension: String,
     /// The extension of the solution file (its format).
     pub solution_extension: String,
-    /// The field, else the solution file's only scalar point array.
-    pub field: Option<String>,
+    /// The fields, normalised together and intersected in this order; when empty, the
+    /// solution file's only scalar point array.
+    pub fields: Vec<String>,
     /// The normalisation.
     pub goal: Goal,
     /// The norm.
@@ -124,8 +126,8 @@ pub enum SolverError {
 pub struct Solved {
     /// Its wall-clock seconds.
     pub seconds: f64,
-    /// The field taken.
-    pub field: String,
+    /// The fields taken, in order.
+    pub fields: Vec<String>,
     /// The vertex count asked of the solution's metric (`None` for an error target).
     pub complexity_asked: Option<f64>,
 }
@@ -182,33 +184,36 @@ impl SolverLoop {
             });
         }
         let other = read_solution(&solution_path, mesh).map_err(SolverError::Read)?;
-        let name = field_name(&other, &solution_path, self.field.as_deref())?;
-        attach(mesh, &mesh_path, &other, &solution_path, &name)?;
+        let fields = field_names(&other, &solution_path, &self.fields)?;
+        for name in &fields {
+            attach(mesh, &mesh_path, &other, &solution_path, name)?;
+        }
         let complexity_asked = match self.goal {
             Goal::Vertices(s) => Some(s.at(k)),
             Goal::Error(_) => None,
         };
-        Ok(Solved { seconds, field: name, complexity_asked })
+        Ok(Solved { seconds, fields, complexity_asked })
     }
 
-    /// The sizing step of field `name` at iteration `k`.
-    pub fn step(&self, k: usize, name: &str) -> Step {
+    /// The sizing step of fields `names` at iteration `k`.
+    pub fn step(&self, k: usize, names: &[String]) -> Step {
         let target = match self.goal {
             Goal::Vertices(s) => Target::Vertices(s.at(k)),
             Goal::Error(e) => Target::Error(e),
         };
+        let algorithm = SolutionHessian {
+            fields: names.to_vec(),
+            target,
+            p: self.p,
+            method: self.method,
+            h_min: Some(self.bounds.h_min()),
+            h_max: Some(self.bounds.h_max()),
+            max_aspect: Some(self.bounds.max_aspect_ratio()),
+        };
         Step {
-            label: format!("solution `{name}` (SOLUTION_HESSIAN, {})", self.method.name()),
-            algorithm: Algorithm::SolutionHessian(SolutionHessian {
-                field: name.to_string(),
-                target,
-                p: self.p,
-                method: self.method,
-                h_min: Some(self.bounds.h_min()),
-                h_max: Some(self.bounds.h_max()),
-                max_aspect: Some(self.bounds.max_aspect_ratio()),
-            }),
-            names: vec![name.to_string()],
+            label: algorithm.label(),
+            algorithm: Algorithm::SolutionHessian(algorithm),
+            names: names.to_vec(),
         }
     }
 }

@@ -216,7 +216,7 @@ fn solver_loop(
     recipe: &smartmesh::Recipe,
 ) -> Result<Option<SolverLoop>, CliError> {
     let Some(command) = &args.solver else {
-        if args.solution.field.is_some() || args.complexity_start.is_some() {
+        if !args.solution.field.is_empty() || args.complexity_start.is_some() {
             return Err(CliError::usage("--field and --complexity-start need --solver"));
         }
         return Ok(None);
@@ -271,7 +271,7 @@ fn solver_loop(
         dir,
         mesh_extension: args.solver_mesh_format.to_ascii_lowercase(),
         solution_extension: args.solution_format.to_ascii_lowercase(),
-        field: args.solution.field.clone(),
+        fields: args.solution.fields()?,
         goal,
         p: args.solution.p,
         method: args.solution.recovery,

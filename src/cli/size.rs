@@ -1,7 +1,8 @@
 //! `smartmesh size MESH --recipe R -o OUT`: the metric field of a recipe on a mesh's
 //! vertices, written for MMG, Gmsh or ParaView; with `--field u --complexity N` the
 //! Lp-optimal metric of a solution field too, intersected after the recipe's steps (or
-//! alone, without a recipe).
+//! alone, without a recipe); `--field u,p` (or `--field u --field p`) normalises the
+//! fields together and intersects them in that order.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -11,7 +12,7 @@ use smartmesh::formats::Format;
 use smartmesh::metric_field::{MetricField, MetricTarget};
 use smartmesh::remesh::expected_vertices;
 use smartmesh::sizing::{size_mesh_with_steps, SizeMeshError, StepEvent, StepReport};
-use smartmesh::solution::input::{attach, field_name, read_solution};
+use smartmesh::solution::input::{attach, field_names, read_solution};
 use smartmesh::Topology;
 
 use super::output::{check_output_dir, is_stdio, label, shown, SizeControls};
@@ -39,6 +40,7 @@ Examples:
   smartmesh size square.msh --recipe wake.toml -o bgm.pos && gmsh square.geo -2 -bgm bgm.pos -setnumber Mesh.Algorithm 7
   smartmesh size naca.msh -r agard01.toml --hmin 1e-4 -o - --to sol > naca.sol
   smartmesh size flow.vtu --field u --complexity 4000 -o flow.sol
+  smartmesh size flow.vtu --field u,p --complexity 4000 -o flow.sol   (both fields, intersected)
   smartmesh size naca.msh -r agard01.toml --solution-file flow.vtu --field mach --complexity 20000 -o both.sol"
 )]
 pub struct SizeArgs {
@@ -89,7 +91,10 @@ struct SizeSummary<'a> {
 /// What the solution's metric was asked and what the whole field asks.
 #[derive(serde::Serialize)]
 struct SolutionSummary {
+    /// The fields, comma-separated as `--field` takes them.
     field: String,
+    /// The fields in the order they were intersected.
+    fields: Vec<String>,
     /// The vertex count asked of the solution's metric, when one was.
     complexity: Option<f64>,
     /// The error asked, when one was.
@@ -148,7 +153,7 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
         ));
     }
     let target = target(&args)?;
-    let solving = args.solution.field.is_some() || args.solution_file.is_some();
+    let solving = !args.solution.field.is_empty() || args.solution_file.is_some();
     let mut recipe = args.recipe.read_or_empty(solving, "with --field or --solution-file")?;
     args.controls.apply_to(&mut recipe)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
@@ -159,17 +164,20 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
         let goal = args.solution.target().ok_or_else(|| {
             CliError::usage("a metric from a solution needs --complexity N or --error E")
         })?;
-        let name = match &args.solution_file {
+        let asked = args.solution.fields()?;
+        let names = match &args.solution_file {
             Some(file) => {
                 let other = read_solution(file, &mesh)?;
-                let name = field_name(&other, file, args.solution.field.as_deref())?;
-                attach(&mut mesh, &args.mesh, &other, file, &name)?;
-                name
+                let names = field_names(&other, file, &asked)?;
+                for name in &names {
+                    attach(&mut mesh, &args.mesh, &other, file, name)?;
+                }
+                names
             }
-            None => field_name(&mesh, &args.mesh, args.solution.field.as_deref())?,
+            None => field_names(&mesh, &args.mesh, &asked)?,
         };
-        extra.push(args.solution.step(&name, goal, &mesh, &recipe, &args.controls)?);
-        solution = Some(name);
+        extra.push(args.solution.step(&names, goal, &mesh, &recipe, &args.controls)?);
+        solution = Some(names);
     }
     let steps = (recipe.algorithms.len() + extra.len()) as u64;
 
@@ -244,8 +252,9 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             steps: &field.steps,
             warnings: &field.warnings,
             dropped: &report.dropped,
-            solution: solution.as_ref().map(|name| SolutionSummary {
-                field: name.clone(),
+            solution: solution.as_ref().map(|names| SolutionSummary {
+                field: names.join(","),
+                fields: names.clone(),
                 complexity: args.solution.complexity,
                 error: args.solution.error.filter(|_| args.solution.complexity.is_none()),
                 p: args.solution.p,

@@ -16,10 +16,13 @@ use super::CliError;
 /// How a solution field becomes a metric.
 #[derive(Debug, Clone, Args)]
 pub struct SolutionArgs {
-    /// The scalar point-data array of the solution (size: of the mesh, or of --solution;
-    /// adapt: of the solver's output, whose only scalar array is taken when not named).
-    #[arg(long, value_name = "NAME", help_heading = "Solution")]
-    pub field: Option<String>,
+    /// The scalar point-data array of the solution (size: of the mesh, or of
+    /// --solution-file; adapt: of the solver's output, whose only scalar array is taken
+    /// when none is named). Repeat it or separate names by commas for several fields:
+    /// each one's metric is normalised to the target alone, they are intersected in the
+    /// order given, and the intersection is scaled to the target as a whole.
+    #[arg(long, value_name = "NAME", value_delimiter = ',', help_heading = "Solution")]
+    pub field: Vec<String>,
     /// The vertex count the solution's metric asks for (its complexity); adapt: the
     /// last value of the schedule.
     #[arg(long, value_name = "N", value_parser = positive_size, conflicts_with = "error", help_heading = "Solution")]
@@ -73,6 +76,22 @@ impl SolutionArgs {
         }
     }
 
+    /// The fields named by --field, in order: each once, none empty.
+    pub fn fields(&self) -> Result<Vec<String>, CliError> {
+        for (i, name) in self.field.iter().enumerate() {
+            if name.trim().is_empty() {
+                return Err(CliError::usage(format!(
+                    "--field: an empty name in `{}`",
+                    self.field.join(",")
+                )));
+            }
+            if self.field[..i].contains(name) {
+                return Err(CliError::usage(format!("--field: `{name}` is named twice")));
+            }
+        }
+        Ok(self.field.clone())
+    }
+
     /// The bounds of the solution's metric on `mesh`: the command line's sizes, else the
     /// recipe's, else defaults from the mesh's extent.
     pub fn bounds(
@@ -100,11 +119,11 @@ impl SolutionArgs {
         })
     }
 
-    /// The sizing step of field `name` on `mesh` normalised to `target`, within
-    /// [`SolutionArgs::bounds`].
+    /// The sizing step of fields `names` (one or more) on `mesh` normalised together to
+    /// `target`, within [`SolutionArgs::bounds`].
     pub fn step(
         &self,
-        name: &str,
+        names: &[String],
         target: Target,
         mesh: &TaggedMesh,
         recipe: &Recipe,
@@ -112,7 +131,7 @@ impl SolutionArgs {
     ) -> Result<Step, CliError> {
         let bounds = self.bounds(mesh, recipe, controls)?;
         let algorithm = SolutionHessian {
-            field: name.to_string(),
+            fields: names.to_vec(),
             target,
             p: self.p,
             method: self.recovery,
@@ -121,9 +140,9 @@ impl SolutionArgs {
             max_aspect: Some(bounds.max_aspect_ratio()),
         };
         Ok(Step {
-            label: format!("solution `{name}` (SOLUTION_HESSIAN, {})", self.recovery.name()),
+            label: algorithm.label(),
             algorithm: Algorithm::SolutionHessian(algorithm),
-            names: vec![name.to_string()],
+            names: names.to_vec(),
         })
     }
 }

@@ -153,6 +153,20 @@ pub fn field_name(
     }
 }
 
+/// The names of the fields to take from `other` (read from `path`): each of `names`, in
+/// order, when present (the first missing one is the error, listing the file's arrays);
+/// without names, its only scalar point array.
+pub fn field_names(
+    other: &TaggedMesh,
+    path: &Path,
+    names: &[String],
+) -> Result<Vec<String>, FieldError> {
+    if names.is_empty() {
+        return Ok(vec![field_name(other, path, None)?]);
+    }
+    names.iter().map(|n| field_name(other, path, Some(n))).collect()
+}
+
 /// Attaches field `name` of `other` (read from `other_path`) to `mesh` (read from
 /// `mesh_path`) under the same name, after the checks of the module documentation.
 /// `other` may be `mesh` itself (pass a clone), then only the array is checked.
@@ -255,6 +269,11 @@ mod tests {
         assert_eq!(field_name(&other, sp, None).unwrap(), "u");
         let e = field_name(&other, sp, Some("w")).unwrap_err().to_string();
         assert!(e.contains("s.vtu") && e.contains("`w`") && e.contains("u, v"), "{e}");
+        let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert_eq!(field_names(&other, sp, &[]).unwrap(), ["u"]);
+        assert_eq!(field_names(&other, sp, &names(&["v", "u"])).unwrap(), ["v", "u"]);
+        let e = field_names(&other, sp, &names(&["u", "w", "x"])).unwrap_err().to_string();
+        assert_eq!(e, "s.vtu: no point data `w` (its point arrays: u, v)");
         let mut m = mesh();
         attach(&mut m, mp, &other, sp, "u").unwrap();
         assert_eq!(m.point_data["u"].values, vec![1.0, 2.0, 3.0]);

@@ -104,11 +104,11 @@ pub enum LpError {
 
 /// Per vertex: the axis of the larger |eigenvalue|, ln of the floored |eigenvalues|, and
 /// ln det|H|^(−1/(2p+2)).
-struct Prepared {
-    axis: Vec<[f64; 2]>,
-    ln_l: Vec<[f64; 2]>,
-    ln_g: Vec<f64>,
-    used: Vec<bool>,
+pub(super) struct Prepared {
+    pub(super) axis: Vec<[f64; 2]>,
+    pub(super) ln_l: Vec<[f64; 2]>,
+    pub(super) ln_g: Vec<f64>,
+    pub(super) used: Vec<bool>,
 }
 
 /// The Lp-optimal metric of `hessians` (one per vertex of `mesh`); see the module
@@ -118,6 +118,76 @@ pub fn lp_metric(
     hessians: &[Sym2],
     options: &LpOptions,
 ) -> Result<LpMetric, LpError> {
+    let p = options.p;
+    check(mesh, hessians, options)?;
+    let tris = triangles(mesh);
+    let points = mesh.points();
+    let prepared = prepare(mesh, hessians, p, options.bounds.max_aspect_ratio());
+    let field = |ln_d: f64| -> (Vec<SizeTensor>, f64) {
+        let tensors = tensors_at(&prepared, ln_d, &options.bounds);
+        let f: Vec<f64> =
+            tensors.iter().map(|t| -t.sizes().iter().map(|h| h.ln()).sum::<f64>()).collect();
+        let v = vertices_of_complexity(complexity(points, &tris, &f));
+        (tensors, v)
+    };
+    let integral = integral(&prepared, points, &tris);
+    let ln_d = match options.target {
+        Target::Error(_) => unbounded_ln_d(integral, p, options.target),
+        Target::Vertices(target) => {
+            let guess = unbounded_ln_d(integral, p, options.target);
+            solve(guess, target, |x| field(x).1)
+        }
+    };
+    let (tensors, vertices) = field(ln_d);
+    Ok(LpMetric {
+        tensors,
+        scale: ln_d.exp(),
+        vertices,
+        predicted_error: error_of(integral, p, ln_d),
+        linear: is_linear(hessians, mesh),
+    })
+}
+
+/// ∫ det|H|^(p/(2p+2)): the complexity of the unbounded metric of `prepared` at D = 1.
+pub(super) fn integral(prepared: &Prepared, points: &[[f64; 2]], tris: &[[usize; 3]]) -> f64 {
+    let f1: Vec<f64> = (0..prepared.ln_g.len())
+        .map(|i| 0.5 * (2.0 * prepared.ln_g[i] + prepared.ln_l[i][0] + prepared.ln_l[i][1]))
+        .collect();
+    complexity(points, tris, &f1)
+}
+
+/// The ln D that meets `target` without bounds, for a field of [`integral`] `integral`:
+/// exact for an error; for a vertex count, the guess the bounded solve starts from (exact
+/// where no bound acts).
+pub(super) fn unbounded_ln_d(integral: f64, p: f64, target: Target) -> f64 {
+    match target {
+        Target::Error(e) => {
+            let root_ln = if p.is_infinite() { 0.0 } else { integral.ln() / p };
+            root_ln - (8.0 * e).ln()
+        }
+        Target::Vertices(n) => (n / vertices_of_complexity(integral)).ln(),
+    }
+}
+
+/// The predicted Lp interpolation error at D = exp(`ln_d`) of a field of [`integral`]
+/// `integral`, before the bounds act.
+pub(super) fn error_of(integral: f64, p: f64, ln_d: f64) -> f64 {
+    let root = if p.is_infinite() { 1.0 } else { integral.powf(1.0 / p) };
+    root / (8.0 * ln_d.exp())
+}
+
+/// The triangles of `mesh` with `usize` indices.
+pub(super) fn triangles(mesh: &P1Mesh<'_>) -> Vec<[usize; 3]> {
+    mesh.triangles().iter().map(|t| t.map(|v| v as usize)).collect()
+}
+
+/// Refuses a p, a target, a Hessian count or a Hessian that is out of range, and a mesh
+/// without area.
+pub(super) fn check(
+    mesh: &P1Mesh<'_>,
+    hessians: &[Sym2],
+    options: &LpOptions,
+) -> Result<(), LpError> {
     let p = options.p;
     if p.is_nan() || p < 1.0 {
         return Err(LpError::P(p));
@@ -138,58 +208,21 @@ pub fn lp_metric(
     {
         return Err(LpError::NotFinite(v));
     }
-    let tris: Vec<[usize; 3]> = mesh.triangles().iter().map(|t| t.map(|v| v as usize)).collect();
-    let points = mesh.points();
-    let area = complexity(points, &tris, &vec![0.0; n]);
+    let area = complexity(mesh.points(), &triangles(mesh), &vec![0.0; n]);
     if area.is_nan() || area <= 0.0 {
         return Err(LpError::NoArea);
     }
-    let prepared = prepare(mesh, hessians, p, options.bounds.max_aspect_ratio());
-    let field = |ln_d: f64| -> (Vec<SizeTensor>, f64) {
-        let tensors = tensors_at(&prepared, ln_d, &options.bounds);
-        let f: Vec<f64> =
-            tensors.iter().map(|t| -t.sizes().iter().map(|h| h.ln()).sum::<f64>()).collect();
-        let v = vertices_of_complexity(complexity(points, &tris, &f));
-        (tensors, v)
-    };
-    // ∫ det|H|^(p/(2p+2)): the complexity of the unbounded metric at D = 1.
-    let f1: Vec<f64> = (0..n)
-        .map(|i| 0.5 * (2.0 * prepared.ln_g[i] + prepared.ln_l[i][0] + prepared.ln_l[i][1]))
-        .collect();
-    let integral = complexity(points, &tris, &f1);
-    let error_of = |ln_d: f64| {
-        let root = if p.is_infinite() { 1.0 } else { integral.powf(1.0 / p) };
-        root / (8.0 * ln_d.exp())
-    };
-    let ln_d = match options.target {
-        Target::Error(e) => {
-            let root_ln = if p.is_infinite() { 0.0 } else { integral.ln() / p };
-            root_ln - (8.0 * e).ln()
-        }
-        Target::Vertices(target) => {
-            let unbounded = vertices_of_complexity(integral);
-            let guess = (target / unbounded).ln();
-            solve(guess, target, |x| field(x).1)
-        }
-    };
-    let (tensors, vertices) = field(ln_d);
-    Ok(LpMetric {
-        tensors,
-        scale: ln_d.exp(),
-        vertices,
-        predicted_error: error_of(ln_d),
-        linear: is_linear(hessians, mesh),
-    })
+    Ok(())
 }
 
-fn is_linear(hessians: &[Sym2], mesh: &P1Mesh<'_>) -> bool {
+pub(super) fn is_linear(hessians: &[Sym2], mesh: &P1Mesh<'_>) -> bool {
     (0..hessians.len()).filter(|&v| mesh.is_used(v)).all(|v| {
         let h = hessians[v];
         h.a == 0.0 && h.b == 0.0 && h.c == 0.0
     })
 }
 
-fn prepare(mesh: &P1Mesh<'_>, hessians: &[Sym2], p: f64, max_aspect: f64) -> Prepared {
+pub(super) fn prepare(mesh: &P1Mesh<'_>, hessians: &[Sym2], p: f64, max_aspect: f64) -> Prepared {
     let n = hessians.len();
     let used: Vec<bool> = (0..n).map(|v| mesh.is_used(v)).collect();
     let eig: Vec<([f64; 2], [f64; 2])> = hessians
@@ -222,27 +255,31 @@ fn prepare(mesh: &P1Mesh<'_>, hessians: &[Sym2], p: f64, max_aspect: f64) -> Pre
     Prepared { axis, ln_l, ln_g, used }
 }
 
+/// The unbounded tensor of vertex `v` at D = exp(`ln_d`) (sizes within
+/// [`SizeTensor::MIN_SIZE`], [`SizeTensor::MAX_SIZE`]); `None` for a vertex no triangle
+/// uses or a tensor that cannot be made.
+pub(super) fn raw_tensor(prepared: &Prepared, v: usize, ln_d: f64) -> Option<SizeTensor> {
+    if !prepared.used[v] {
+        return None;
+    }
+    let base = ln_d + prepared.ln_g[v];
+    let h = prepared.ln_l[v]
+        .map(|l| (-0.5 * (base + l)).exp().clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
+    SizeTensor::try_new(prepared.axis[v], h[0], h[1])
+}
+
 /// The bounded tensors at D = exp(`ln_d`).
 fn tensors_at(prepared: &Prepared, ln_d: f64, bounds: &SizeBounds) -> Vec<SizeTensor> {
     let outside = SizeTensor::isotropic(bounds.h_max());
     (0..prepared.axis.len())
-        .map(|v| {
-            if !prepared.used[v] {
-                return outside;
-            }
-            let base = ln_d + prepared.ln_g[v];
-            let h = prepared.ln_l[v].map(|l| {
-                (-0.5 * (base + l)).exp().clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE)
-            });
-            SizeTensor::try_new(prepared.axis[v], h[0], h[1]).unwrap_or(outside).clamp(bounds)
-        })
+        .map(|v| raw_tensor(prepared, v, ln_d).map_or(outside, |t| t.clamp(bounds)))
         .collect()
 }
 
 /// The ln D at which the nondecreasing `vertices` reaches `target`, from `guess`: a
 /// bracket grown by factors of 4, then bisection to 1e-4 relative. When the bounds keep
 /// the count from reaching the target, the end of the range nearest to it.
-fn solve(guess: f64, target: f64, vertices: impl Fn(f64) -> f64) -> f64 {
+pub(super) fn solve(guess: f64, target: f64, vertices: impl Fn(f64) -> f64) -> f64 {
     let step = 4f64.ln();
     let at = vertices(guess);
     if (at / target - 1.0).abs() < 1e-4 {

@@ -4,10 +4,12 @@
 //! from a mesh or a solver's file on the same vertices ([`input`]). The sizing algorithm
 //! SOLUTION_HESSIAN ([`crate::sizing::SolutionHessian`]) puts them in a recipe.
 
+pub mod combined;
 pub mod input;
 pub mod lp;
 pub mod recovery;
 
+pub use combined::lp_metric_of_fields;
 pub use lp::{intersect_all, lp_metric, vertices_of, LpError, LpMetric, LpOptions, Target};
 pub use recovery::{recover, Derivatives, Method, P1Mesh, RecoveryError};
 

@@ -2,7 +2,9 @@
 //! the mesh being sized: the field's Hessian recovered at every vertex
 //! ([`crate::solution::recovery`], the quadratic fit unless told otherwise), made into
 //! M = D det(|H|)^(−1/(2p+2)) |H| and normalised to a vertex count or to an Lp norm of
-//! the interpolation error ([`crate::solution::lp`]). The field is the mesh's scalar point-data array FIELD; in a
+//! the interpolation error ([`crate::solution::lp`]). The field is the mesh's scalar point-data array FIELD
+//! (the command line may give several: each normalised to the target alone, intersected
+//! in the order given, the intersection scaled to the target, [`crate::solution::combined`]); in a
 //! recipe the step is intersected with the others in recipe order like any other, so the
 //! geometry's sizes and the solution's both hold where each is the finer. No propagation:
 //! every vertex some cell uses gets a tensor, in increasing index order.
@@ -22,16 +24,18 @@ use super::{
     Refusal, SizingAlgorithm, Work,
 };
 use crate::mesh_graph::{MeshGraph, PointValues};
-use crate::metric::{SizeBounds, SizeTensor};
+use crate::metric::{SizeBounds, SizeTensor, Sym2};
 use crate::sizing::plan::EntitySet;
-use crate::solution::{lp_metric, recover, LpMetric, LpOptions, Method, P1Mesh, Target};
+use crate::solution::{lp_metric_of_fields, recover, LpMetric, LpOptions, Method, P1Mesh, Target};
 use crate::topology::Topology;
 
-/// SOLUTION_HESSIAN: the Lp-optimal metric of point field `field`.
+/// SOLUTION_HESSIAN: the Lp-optimal metric of point field `fields` (one in a recipe;
+/// several, from the command line, normalised together and intersected in order:
+/// [`crate::solution::combined`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolutionHessian {
-    /// The scalar point-data array.
-    pub field: String,
+    /// The scalar point-data arrays, at least one.
+    pub fields: Vec<String>,
     /// The normalisation.
     pub target: Target,
     /// The norm (≥ 1, or infinite).
@@ -53,32 +57,46 @@ impl SolutionHessian {
         SizeBounds::try_new(1e-6 * diagonal, diagonal, 1e4)
     }
 
+    /// The label of a step made in code (not from a recipe): "solution `u`, `p`
+    /// (SOLUTION_HESSIAN, quadratic-fit)".
+    pub fn label(&self) -> String {
+        let quoted: Vec<String> = self.fields.iter().map(|n| format!("`{n}`")).collect();
+        format!("solution {} (SOLUTION_HESSIAN, {})", quoted.join(", "), self.method.name())
+    }
+
     /// The metric on the mesh of `graph`, with what the normalisation gave; an error in
     /// words naming the field.
     pub fn metric(&self, graph: &MeshGraph) -> Result<LpMetric, String> {
-        let name = &self.field;
-        let values = match graph.point_data().get(name) {
-            Some(PointValues::Scalar(v)) => v,
-            Some(PointValues::Other { components, items }) => {
-                return Err(format!(
-                    "point data `{name}` has {components} components and {items} items; a solution field is a scalar with one value per vertex ({})",
-                    graph.num_vertices()
-                ))
-            }
-            None => {
-                let names: Vec<&str> = graph.point_data().keys().map(String::as_str).collect();
-                return Err(format!(
-                    "the mesh has no point data `{name}` (its arrays: {})",
-                    if names.is_empty() { "none".to_string() } else { names.join(", ") }
-                ));
-            }
-        };
-        let why = |e: &dyn std::fmt::Display| format!("point data `{name}`: {e}");
-        let mesh = P1Mesh::new(graph.points(), graph.cells()).map_err(|e| why(&e))?;
-        let derivatives = recover(&mesh, values, self.method).map_err(|e| why(&e))?;
-        let bounds = self.bounds(graph).map_err(|e| why(&e))?;
+        let mut values = Vec::with_capacity(self.fields.len());
+        for name in &self.fields {
+            values.push(match graph.point_data().get(name) {
+                Some(PointValues::Scalar(v)) => v,
+                Some(PointValues::Other { components, items }) => {
+                    return Err(format!(
+                        "point data `{name}` has {components} components and {items} items; a solution field is a scalar with one value per vertex ({})",
+                        graph.num_vertices()
+                    ))
+                }
+                None => {
+                    let names: Vec<&str> = graph.point_data().keys().map(String::as_str).collect();
+                    return Err(format!(
+                        "the mesh has no point data `{name}` (its arrays: {})",
+                        if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                    ));
+                }
+            });
+        }
+        let why = |name: &str, e: &dyn std::fmt::Display| format!("point data `{name}`: {e}");
+        let first = self.fields.first().ok_or("no solution field named")?;
+        let mesh = P1Mesh::new(graph.points(), graph.cells()).map_err(|e| why(first, &e))?;
+        let mut hessians = Vec::with_capacity(values.len());
+        for (name, v) in self.fields.iter().zip(values) {
+            hessians.push(recover(&mesh, v, self.method).map_err(|e| why(name, &e))?.hessian);
+        }
+        let bounds = self.bounds(graph).map_err(|e| why(first, &e))?;
         let options = LpOptions { p: self.p, target: self.target, bounds };
-        lp_metric(&mesh, &derivatives.hessian, &options).map_err(|e| why(&e))
+        let slices: Vec<&[Sym2]> = hessians.iter().map(Vec::as_slice).collect();
+        lp_metric_of_fields(&mesh, &slices, &options).map_err(|(i, e)| why(&self.fields[i], &e))
     }
 
     /// Its bounds on the mesh of `graph`: those given, the others from the mesh's extent.
@@ -184,7 +202,7 @@ impl SizingAlgorithm for SolutionHessian {
             None => Method::default(),
         };
         Some(SolutionHessian {
-            field,
+            fields: vec![field],
             target,
             p,
             method,

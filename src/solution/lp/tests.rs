@@ -1,6 +1,5 @@
 use super::*;
-use crate::metric::{log_euclidean, log_spd};
-use crate::solution::test_meshes::{grid, scattered, Mesh};
+use crate::solution::test_meshes::{brute_force_vertices, grid, scattered};
 use crate::solution::{recover, Method};
 
 fn bounds(h_min: f64, h_max: f64, aspect: f64) -> SizeBounds {
@@ -9,36 +8,6 @@ fn bounds(h_min: f64, h_max: f64, aspect: f64) -> SizeBounds {
 
 fn options(p: f64, target: Target) -> LpOptions {
     LpOptions { p, target, bounds: bounds(1e-9, 1e9, 1e9) }
-}
-
-/// ∫ √det M over the mesh by brute force: the Log-Euclidean interpolation of the vertex
-/// metrics sampled at the centroids of the k² equal sub-triangles of each triangle (a
-/// midpoint rule). The closed form's twin.
-fn brute_force_vertices(m: &Mesh, tensors: &[SizeTensor], k: usize) -> f64 {
-    let logs: Vec<Sym2> = tensors.iter().map(|t| log_spd(&t.to_metric())).collect();
-    let mut c = 0.0;
-    for t in &m.triangles {
-        let [a, b, q] = t.map(|v| m.points[v as usize]);
-        let area = 0.5 * ((b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0])).abs();
-        let l = t.map(|v| &logs[v as usize]);
-        let (mut sum, mut count) = (0.0, 0);
-        // Centres of the k² sub-triangles of a regular subdivision: a midpoint rule.
-        for i in 0..k {
-            for j in 0..k - i {
-                for (di, dj) in [(1.0 / 3.0, 1.0 / 3.0), (2.0 / 3.0, 2.0 / 3.0)] {
-                    if (di > 0.5) && i + j + 1 >= k {
-                        continue;
-                    }
-                    let (x, y) = ((i as f64 + di) / k as f64, (j as f64 + dj) / k as f64);
-                    let w = [1.0 - x - y, x, y];
-                    sum += log_euclidean(&w, &l).det().sqrt();
-                    count += 1;
-                }
-            }
-        }
-        c += area * sum / count as f64;
-    }
-    2.0 * c / 3f64.sqrt()
 }
 
 /// A front: u = tanh(20 (x − 0.5 − 0.1 sin 2πy)).
