@@ -124,6 +124,31 @@ impl BoxTree {
     }
 }
 
+impl BoxTree {
+    /// Every box that meets the closed box `[lo, hi]` (and others near it), each once, in
+    /// increasing order: the boxes of every leaf whose closed region meets it. A box
+    /// meeting the query shares a point with it; that point lies in a leaf the box is
+    /// filed in (a box is filed in every quadrant its closed box touches), and the leaf
+    /// meets the query. Points of the query outside the root box meet nothing filed.
+    pub(crate) fn query(&self, lo: [f64; 2], hi: [f64; 2], out: &mut Vec<u32>) {
+        out.clear();
+        let mut stack = vec![0usize];
+        while let Some(i) = stack.pop() {
+            let n = self.nodes[i];
+            if lo[0] > n.hi[0] || hi[0] < n.lo[0] || lo[1] > n.hi[1] || hi[1] < n.lo[1] {
+                continue;
+            }
+            if n.child == 0 {
+                out.extend_from_slice(&self.items[n.start as usize..n.end as usize]);
+            } else {
+                stack.extend((0..4).map(|k| n.child as usize + k));
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    }
+}
+
 /// The four quadrants of `[lo, hi]` split at `mid`: lower left, lower right, upper left,
 /// upper right (the order [`BoxTree::candidates`] indexes them in).
 fn quadrants(lo: [f64; 2], mid: [f64; 2], hi: [f64; 2]) -> [([f64; 2], [f64; 2]); 4] {
@@ -138,6 +163,76 @@ fn quadrants(lo: [f64; 2], mid: [f64; 2], hi: [f64; 2]) -> [([f64; 2], [f64; 2])
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Boxes graded over seven orders of magnitude, with boxes over the whole domain, a
+    /// fan of boxes that all hold one point, and boxes on split lines.
+    fn graded_boxes(rand: &mut impl FnMut() -> f64) -> Vec<([f64; 2], [f64; 2])> {
+        let mut boxes = Vec::new();
+        for _ in 0..3000 {
+            let size = 0.05 * 10f64.powf(-6.0 * rand());
+            let c = [rand() * rand(), rand() * rand()];
+            let (w, h) = (size * rand(), size * rand());
+            boxes.push(([c[0] - w, c[1] - h], [c[0] + w, c[1] + h]));
+        }
+        for k in 0..5 {
+            boxes.push(([-0.1 - 1e-3 * k as f64, -0.1], [1.1, 1.1 + 1e-3 * k as f64]));
+        }
+        for k in 0..50 {
+            boxes.push(([0.005 - 1e-3 * k as f64, 0.004], [0.006, 0.007 + 1e-4 * k as f64]));
+        }
+        // Degenerate boxes (an axis-aligned segment, a point) and one on the root's edge.
+        boxes.push(([0.25, 0.3], [0.5, 0.3]));
+        boxes.push(([0.125, 0.125], [0.125, 0.125]));
+        boxes.push(([1.1, 0.5], [1.1, 0.6]));
+        boxes
+    }
+
+    /// Brute-force twin of [`BoxTree::query`]: every box meeting a query box is listed,
+    /// once, in increasing order; queries of every scale, degenerate ones, ones touching a
+    /// box at one side only and ones partly or wholly outside the root.
+    #[test]
+    fn a_box_query_lists_every_box_it_meets() {
+        let mut s = 7u64;
+        let mut rand = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let boxes = graded_boxes(&mut rand);
+        let tree = BoxTree::new(&boxes);
+        let mut out = Vec::new();
+        for i in 0..6000 {
+            let (lo, hi) = match i % 4 {
+                0 => {
+                    let size = 0.3 * 10f64.powf(-7.0 * rand());
+                    let c = [rand() * 1.4 - 0.2, rand() * 1.4 - 0.2];
+                    ([c[0] - size * rand(), c[1] - size * rand()], [c[0] + size, c[1] + size])
+                }
+                // A box's own box, and one touching it on its right side only.
+                1 => boxes[i % boxes.len()],
+                2 => {
+                    let (a, b) = boxes[i % boxes.len()];
+                    ([b[0], a[1]], [b[0] + 1e-9, a[1]])
+                }
+                _ => {
+                    let p = [rand() * 1.2 - 0.1, rand() * 1.2 - 0.1];
+                    (p, p)
+                }
+            };
+            tree.query(lo, hi, &mut out);
+            assert!(out.windows(2).all(|w| w[0] < w[1]));
+            for (t, (a, b)) in boxes.iter().enumerate() {
+                if a[0] <= hi[0] && lo[0] <= b[0] && a[1] <= hi[1] && lo[1] <= b[1] {
+                    assert!(
+                        out.binary_search(&(t as u32)).is_ok(),
+                        "{lo:?} {hi:?}: box {t} missing"
+                    );
+                }
+            }
+        }
+        // Not everything: the index prunes (on average far fewer than all boxes).
+        tree.query([0.5, 0.5], [0.5001, 0.5001], &mut out);
+        assert!(out.len() < boxes.len() / 10, "{}", out.len());
+    }
 
     /// Brute-force twin: every box containing a point is among the candidates, in
     /// increasing order, on boxes graded over seven orders of magnitude.

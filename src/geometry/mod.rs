@@ -3,11 +3,12 @@
 //! contact test between a segment and a mesh cell, a spatial index over a set of
 //! segments that answers exact closest-segment queries, and the clearances of a
 //! polyline source, which let most closest points be certified without a search; and
-//! point location in a triangulation (the triangle holding a point, or the nearest).
+//! point location in a triangulation (the triangle holding a point, or the nearest); a
+//! quadtree of boxes that follows the grading (point and box queries).
 //!
 //! Everything here works on plain `[f64; 2]` points and knows nothing of meshes or tags.
 
-mod box_tree;
+pub(crate) mod box_tree;
 mod chain_tree;
 pub(crate) mod clearance;
 pub(crate) mod locate;
