@@ -21,7 +21,7 @@ use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use super::geom::{convex_overlap, inside_convex, norm, segment_distance, sub, Bbox, Grid, P};
+use super::geom::{convex_overlap, inside_convex, norm, segment_distance, sub, Bbox, BoxIndex, P};
 use super::skin::Skin;
 use super::LayerError;
 use crate::topology::{Classification, Topology};
@@ -130,8 +130,15 @@ pub fn build(
             cells.push(skin.cell(g, k).iter().map(|&v| pts[v]).collect());
         }
     }
-    let cboxes: Vec<Bbox> = cells.iter().map(|c| Bbox::of(c)).collect();
-    let mut cgrid = Grid::new(&cboxes);
+    // Grown by the margin of the overlap test below (a quarter of the shortest edge).
+    let shortest_edge = |cell: &[P]| {
+        (0..cell.len())
+            .map(|i| norm(sub(cell[(i + 1) % cell.len()], cell[i])))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let cboxes: Vec<Bbox> =
+        cells.iter().map(|c| Bbox::of(c).grown(0.5 * shortest_edge(c))).collect();
+    let cgrid = BoxIndex::new(&cboxes);
     // The skin's outline: fronts, open sides (with the clearance each asks).
     let mut outline: Vec<([usize; 2], f64)> = Vec::new();
     for gap in &skin.gaps {
@@ -154,7 +161,7 @@ pub fn build(
     }
     let oboxes: Vec<Bbox> =
         outline.iter().map(|(s, c)| Bbox::of(&[pts[s[0]], pts[s[1]]]).grown(*c)).collect();
-    let mut ogrid = Grid::new(&oboxes);
+    let ogrid = BoxIndex::new(&oboxes);
 
     let free = |v: usize| matches!(topo.vertex_class[v], Classification::Face(_)) && !listed[v];
     let mut dropped = vec![false; skin.base_points];
@@ -182,10 +189,7 @@ pub fn build(
         let b = Bbox::of(&poly);
         for c in cgrid.query(b) {
             let cell = &cells[c as usize];
-            let shortest = (0..cell.len())
-                .map(|i| norm(sub(cell[(i + 1) % cell.len()], cell[i])))
-                .fold(f64::INFINITY, f64::min);
-            if convex_overlap(&poly, cell, 0.25 * shortest) {
+            if convex_overlap(&poly, cell, 0.25 * shortest_edge(cell)) {
                 removed[t] = true;
                 break;
             }

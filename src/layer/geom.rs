@@ -1,9 +1,11 @@
-//! The plane geometry the skin needs: a uniform bucket grid over boxes, segment crossing,
+//! The plane geometry the skin needs: an index of boxes, segment crossing,
 //! overlap of convex polygons (separating axes), ray casting, point–segment distance.
 //!
 //! Tolerances are relative to the lengths involved (`EPS` times a length); the exact
 //! predicates of the remesher are not needed here because every result is checked again
 //! by [`super::check`] on the finished mesh.
+
+use crate::geometry::box_tree::BoxTree;
 
 /// A point of the plane.
 pub type P = [f64; 2];
@@ -169,90 +171,27 @@ impl Bbox {
     }
 }
 
-/// Items (by index) in the buckets of a uniform grid their boxes cover. Queries list each
-/// candidate once, in increasing index order (deterministic).
-pub struct Grid {
-    lo: P,
-    cell: f64,
-    nx: usize,
-    ny: usize,
-    buckets: Vec<Vec<u32>>,
-    seen: Vec<u32>,
-    stamp: u32,
+/// Items (by index) filed by their boxes in a quadtree whose leaves follow the grading
+/// ([`crate::geometry::box_tree`]): a skin along an airfoil 50 chords inside a far field
+/// does not fall into a few buckets, as in a uniform grid. A query lists every item whose
+/// (closed) box meets the query box, and possibly others near it, each once, in
+/// increasing index order (deterministic). Callers whose tests reach past a box (a
+/// margin, a tolerance) grow the boxes they file by that reach.
+pub struct BoxIndex {
+    tree: BoxTree,
 }
 
-impl Grid {
-    /// A grid over `boxes` (about one item per bucket, at most 4·10⁶ buckets).
-    pub fn new(boxes: &[Bbox]) -> Grid {
-        let mut all = Bbox { lo: [0.0; 2], hi: [0.0; 2] };
-        let mut mean = 0.0;
-        for (i, b) in boxes.iter().enumerate() {
-            all = if i == 0 { *b } else { all.union(*b) };
-            mean += (b.hi[0] - b.lo[0]).max(b.hi[1] - b.lo[1]);
-        }
-        let n = boxes.len().max(1);
-        let span = (all.hi[0] - all.lo[0]).max(all.hi[1] - all.lo[1]).max(1e-300);
-        let by_count = span / (n as f64).sqrt();
-        let cell = (mean / n as f64).max(by_count).max(span / 2000.0).max(1e-300);
-        let nx = (((all.hi[0] - all.lo[0]) / cell) as usize + 1).min(2000);
-        let ny = (((all.hi[1] - all.lo[1]) / cell) as usize + 1).min(2000);
-        let mut g = Grid {
-            lo: all.lo,
-            cell,
-            nx,
-            ny,
-            buckets: vec![Vec::new(); nx * ny],
-            seen: vec![0; boxes.len()],
-            stamp: 0,
-        };
-        for (i, b) in boxes.iter().enumerate() {
-            let (x0, x1, y0, y1) = g.range(*b);
-            for y in y0..=y1 {
-                for x in x0..=x1 {
-                    g.buckets[y * nx + x].push(i as u32);
-                }
-            }
-        }
-        g
+impl BoxIndex {
+    /// The index of `boxes`.
+    pub fn new(boxes: &[Bbox]) -> BoxIndex {
+        let pairs: Vec<(P, P)> = boxes.iter().map(|b| (b.lo, b.hi)).collect();
+        BoxIndex { tree: BoxTree::new(&pairs) }
     }
 
-    fn range(&self, b: Bbox) -> (usize, usize, usize, usize) {
-        let f = |v: f64, lo: f64, n: usize| -> usize {
-            let c = ((v - lo) / self.cell).floor();
-            if c < 0.0 || c.is_nan() {
-                0
-            } else {
-                (c as usize).min(n - 1)
-            }
-        };
-        (
-            f(b.lo[0], self.lo[0], self.nx),
-            f(b.hi[0], self.lo[0], self.nx),
-            f(b.lo[1], self.lo[1], self.ny),
-            f(b.hi[1], self.lo[1], self.ny),
-        )
-    }
-
-    /// The items whose bucket range meets `b`, each once, ascending.
-    pub fn query(&mut self, b: Bbox) -> Vec<u32> {
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            self.seen.iter_mut().for_each(|s| *s = 0);
-            self.stamp = 1;
-        }
-        let (x0, x1, y0, y1) = self.range(b);
+    /// The items whose box may meet `b`, each once, ascending.
+    pub fn query(&self, b: Bbox) -> Vec<u32> {
         let mut out = Vec::new();
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                for &i in &self.buckets[y * self.nx + x] {
-                    if self.seen[i as usize] != self.stamp {
-                        self.seen[i as usize] = self.stamp;
-                        out.push(i);
-                    }
-                }
-            }
-        }
-        out.sort_unstable();
+        self.tree.query(b.lo, b.hi, &mut out);
         out
     }
 }
@@ -280,7 +219,7 @@ mod tests {
     }
 
     #[test]
-    fn grid_queries_find_what_brute_force_finds() {
+    fn index_queries_find_what_brute_force_finds() {
         let boxes: Vec<Bbox> = (0..200)
             .map(|i| {
                 let x = (i as f64 * 0.618).fract() * 10.0;
@@ -288,7 +227,7 @@ mod tests {
                 Bbox { lo: [x, y], hi: [x + 0.3 + (i % 7) as f64 * 0.2, y + 0.4] }
             })
             .collect();
-        let mut g = Grid::new(&boxes);
+        let g = BoxIndex::new(&boxes);
         let q = Bbox { lo: [3.0, 3.0], hi: [5.0, 4.0] };
         let brute: Vec<u32> = (0..boxes.len() as u32)
             .filter(|&i| {

@@ -20,7 +20,8 @@
 use std::collections::BTreeMap;
 
 use super::geom::{
-    add, dot, left, norm, ray_hit, rotate, scale, segments_meet, sub, turn, unit, Bbox, Grid, P,
+    add, dot, left, norm, ray_hit, rotate, scale, segments_meet, sub, turn, unit, Bbox, BoxIndex,
+    EPS, P,
 };
 use super::{LayerError, Thinned};
 use crate::topology::{Classification, Topology};
@@ -415,9 +416,12 @@ impl Skin {
                 obstacles.push(k);
             }
         }
-        let oboxes: Vec<Bbox> =
-            obstacles.iter().map(|&[a, b]| Bbox::of(&[pts[a], pts[b]])).collect();
-        let mut ogrid = Grid::new(&oboxes);
+        // Grown by the reach of `ray_hit`'s tolerance along the obstacle.
+        let oboxes: Vec<Bbox> = obstacles
+            .iter()
+            .map(|&[a, b]| Bbox::of(&[pts[a], pts[b]]).grown(2.0 * EPS * norm(sub(pts[b], pts[a]))))
+            .collect();
+        let ogrid = BoxIndex::new(&oboxes);
         for c in 0..self.columns.len() {
             let col = &self.columns[c];
             let t = col.nominal[self.layers];
@@ -591,9 +595,16 @@ impl Skin {
         for &o in obstacles {
             segs.push((o, Vec::new()));
         }
-        let boxes: Vec<Bbox> =
-            segs.iter().map(|(s, _)| Bbox::of(&[self.pts[s[0]], self.pts[s[1]]])).collect();
-        let mut grid = Grid::new(&boxes);
+        // Grown by the distance at which `segments_meet` calls two segments met (√EPS of
+        // the longer: each box by twice that of its own).
+        let boxes: Vec<Bbox> = segs
+            .iter()
+            .map(|(s, _)| {
+                let (p, q) = (self.pts[s[0]], self.pts[s[1]]);
+                Bbox::of(&[p, q]).grown(2.0 * EPS.sqrt() * norm(sub(q, p)))
+            })
+            .collect();
+        let grid = BoxIndex::new(&boxes);
         for i in 0..first_obstacle {
             let [a, b] = segs[i].0;
             for j in grid.query(boxes[i]) {
