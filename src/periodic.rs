@@ -144,11 +144,15 @@ pub enum PeriodicError {
 }
 
 /// One side of a pair on a mesh: its vertices (sorted), its edges, its curves' tags.
-type Side = (Vec<usize>, Vec<[usize; 2]>, Vec<i32>);
+pub(crate) type Side = (Vec<usize>, Vec<[usize; 2]>, Vec<i32>);
 
 /// The vertices and edges of the curves `names` (tags or names) of `topology`, and the
 /// curves' tags.
-fn side(topology: &Topology, names: &[String], pair: &str) -> Result<Side, PeriodicError> {
+pub(crate) fn side(
+    topology: &Topology,
+    names: &[String],
+    pair: &str,
+) -> Result<Side, PeriodicError> {
     let bad = |why: String| PeriodicError::Curve { pair: pair.to_string(), why };
     if names.is_empty() {
         return Err(bad("a side lists no curve".into()));
