@@ -686,3 +686,86 @@ fn adapt_from_a_graph_starts_with_matched_sides() {
     };
     assert!(assert_matched(&mesh, &pair) >= 10);
 }
+
+/// `smartmesh layer` with a recipe of periodic pairs: walls that end on both sides of a
+/// pair at image places slide alike along both (translation and rotation), matched to
+/// 1e-12; a wall ending on one side only is refused with exit 2, nothing written.
+#[test]
+fn the_layer_command_keeps_periodic_sides_matched_or_refuses() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.msh");
+    write_path(&input, &unit_square(4), None, &WriteOptions::default()).unwrap();
+    let recipe = dir.path().join("r.toml");
+    std::fs::write(
+        &recipe,
+        "[[periodic]]\nmaster = [14]\nslave = [12]\ntranslation = [1, 0]\n\n\
+         [[periodic]]\nmaster = [11]\nslave = [14]\ncentre = [0, 0]\nangle = 90\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out.msh");
+    let layer = |curves: &str, recipe: &Path| {
+        smartmesh(
+            &[
+                "layer",
+                input.to_str().unwrap(),
+                "--curves",
+                curves,
+                "--first-height",
+                "0.01",
+                "--ratio",
+                "1.2",
+                "--layers",
+                "3",
+                "--recipe",
+                recipe.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            None,
+        )
+    };
+    // The bottom wall ends on the left and right sides (the translated pair) alike; the
+    // right and top walls end on the bottom at (1, 0) and on the left at (0, 1), images
+    // by the quarter turn.
+    let translated = dir.path().join("translated.toml");
+    std::fs::write(
+        &translated,
+        "[[periodic]]\nmaster = [14]\nslave = [12]\ntranslation = [1, 0]\n",
+    )
+    .unwrap();
+    let turned = dir.path().join("turned.toml");
+    std::fs::write(
+        &turned,
+        "[[periodic]]\nmaster = [11]\nslave = [14]\ncentre = [0, 0]\nangle = 90\n",
+    )
+    .unwrap();
+    for (curves, recipe, pair) in
+        [("11", &translated, left_right()), ("12,13", &turned, bottom_left())]
+    {
+        let run = layer(curves, recipe);
+        ok(&run);
+        assert!(stderr(&run).contains("(matched)"), "{}", stderr(&run));
+        let mesh = read_path(&out, None).unwrap();
+        assert!(mesh.num_cells_of(smartmesh::formats::CellKind::Quad) >= 12);
+        assert_eq!(assert_matched(&mesh, &pair), 8, "{curves}");
+    }
+    let mesh = read_path(&out, None).unwrap();
+    match_by_lines(&mesh, 11, 14, |p| [-p[1], p[0]]);
+    // The bottom wall slides up the left side, which the quarter turn pairs with the
+    // bottom, where nothing slides: refused, nothing written.
+    std::fs::remove_file(&out).unwrap();
+    let e = bad(&layer("11", &recipe));
+    assert!(
+        e.contains("periodic master 11 and slave 14")
+            && e.contains("the skin's side slides along one periodic side and not alike")
+            && e.contains("0 vertices more on the master side, 3 on the slave side"),
+        "{e}"
+    );
+    assert!(!out.exists());
+    // Sides that are not images: exit 2 naming the pair.
+    let shifted = dir.path().join("shifted.toml");
+    std::fs::write(&shifted, "[[periodic]]\nmaster = [14]\nslave = [12]\ntranslation = [0.9, 0]\n")
+        .unwrap();
+    let e = bad(&layer("11", &shifted));
+    assert!(e.contains("periodic pair master 14 and slave 12: the sides are not images"), "{e}");
+}
