@@ -310,6 +310,13 @@ fn the_distributor_keeps_its_periodic_sides_matched() {
         assert_matched(&mesh, &pair);
         match_by_line_tags(&mesh, &[302, 303, 304], &[306, 307, 308], |p| [p[0], p[1] + 30.0]);
     }
+    // recipe check meshes a graph as mesh and adapt do: matched.
+    let graph = base.join("2-thick/geometry.poly");
+    let text = ok(&smartmesh(
+        &["recipe", "check", recipe.to_str().unwrap(), graph.to_str().unwrap()],
+        None,
+    ));
+    assert!(text.contains("periodic master 302, 303, 304") && text.contains("(matched)"), "{text}");
     let start = base.join("1-narrow/start.msh");
     let input = read_path(&start, None).unwrap();
     let m = check_all(&input, std::slice::from_ref(&pair)).unwrap().remove(0);
@@ -675,6 +682,14 @@ fn mesh_matches_the_periodic_sides_of_a_graph() {
     let e =
         bad(&mesh_poly(dir.path(), &distributor_like(), &translation.replace("302", "309"), &[]));
     assert!(e.contains("no curve `309`"), "{e}");
+    // --json reports each pair's match.
+    let json = ok(&mesh_poly(dir.path(), &sector(), rotation, &["--json"]));
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["periodic"][0]["matched"], true, "{json}");
+    assert_eq!(v["periodic"][0]["master_vertices"], v["periodic"][0]["slave_vertices"]);
+    // The graph and the recipe cannot both be stdin.
+    let e = bad(&smartmesh(&["mesh", "-", "--from", "poly", "--recipe", "-", "-o", "x.msh"], None));
+    assert!(e.contains("cannot both come from stdin"), "{e}");
 }
 
 /// `adapt` from a `.poly` meshes its sides matched, then keeps them so.

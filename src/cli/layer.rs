@@ -15,7 +15,7 @@ use smartmesh::metric_field::MetricField;
 use smartmesh::periodic::{check_all, snap, PairMatch, PeriodicPair};
 use smartmesh::remesh::RemeshOptions;
 
-use super::output::{check_output_dir, shown};
+use super::output::{check_output_dir, is_stdio, shown};
 use super::{parse_format, print_stdout, ui, CliError};
 
 /// Insert a structured boundary-layer skin of quadrilaterals along curves of a triangle mesh.
@@ -155,6 +155,9 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
         return Err(CliError::usage(
             "--json prints on stdout, which `-` already uses for the mesh",
         ));
+    }
+    if is_stdio(&args.mesh) && args.recipe.is_stdin() {
+        return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
     let first = match args.y_plus {
         Some(y) => Some(

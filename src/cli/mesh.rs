@@ -11,7 +11,7 @@ use smartmesh::mesher::{triangulate_periodic, MeshError, MeshOptions, Subject};
 use smartmesh::QualitySummary;
 use smartmesh::Topology;
 
-use super::output::{check_output_dir, shown};
+use super::output::{check_output_dir, is_stdio, shown};
 use super::{parse_format, print_stdout, ui, CliError};
 
 /// Mesh a planar straight-line graph: constrained Delaunay triangulation with quality
@@ -128,6 +128,9 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
         return Err(CliError::usage(
             "--json prints on stdout, which `-` already uses for the mesh",
         ));
+    }
+    if is_stdio(&args.input) && args.recipe.is_stdin() {
+        return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
     let opts = MeshOptions {
         min_angle_deg: args.min_angle,
