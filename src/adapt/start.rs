@@ -7,7 +7,8 @@ use std::path::Path;
 
 use smartmesh_formats::{read_path_reported, CellKind, Format, TaggedMesh};
 
-use crate::mesher::{triangulate, MeshOptions};
+use crate::mesher::{triangulate_periodic, MeshOptions};
+use crate::periodic::PeriodicPair;
 
 /// Why there is no starting mesh.
 #[derive(Debug, thiserror::Error)]
@@ -39,9 +40,14 @@ fn has_surface(mesh: &TaggedMesh) -> bool {
     })
 }
 
-/// The starting mesh of `input` (read as `format` when given, else by extension).
-pub fn starting_mesh(input: &Path, format: Option<Format>) -> Result<TaggedMesh, StartError> {
-    Ok(start(input, format)?.mesh)
+/// The starting mesh of `input` (read as `format` when given, else by extension), a
+/// graph meshed with the sides of `pairs` matched vertex to vertex.
+pub fn starting_mesh(
+    input: &Path,
+    format: Option<Format>,
+    pairs: &[PeriodicPair],
+) -> Result<TaggedMesh, StartError> {
+    Ok(start_sized(input, format, None, pairs)?.mesh)
 }
 
 /// Where the loop starts: the mesh, and the vertices of the geometry that every
@@ -60,16 +66,19 @@ pub struct Start {
 
 /// The starting mesh of `input` and its geometry's vertices (see [`Start`]).
 pub fn start(input: &Path, format: Option<Format>) -> Result<Start, StartError> {
-    start_sized(input, format, None)
+    start_sized(input, format, None, &[])
 }
 
 /// [`start`], a planar straight-line graph meshed uniformly to about `vertices`
 /// vertices when given (edge length from the area of its bounding box: a solver's first
-/// solution needs a mesh that resolves something), else with the mesher's defaults.
+/// solution needs a mesh that resolves something), else with the mesher's defaults; the
+/// sides of `pairs` meshed matched vertex to vertex ([`crate::mesher::triangulate_periodic`];
+/// a mesh is taken as it is, its pairs left to the caller).
 pub fn start_sized(
     input: &Path,
     format: Option<Format>,
     vertices: Option<f64>,
+    pairs: &[PeriodicPair],
 ) -> Result<Start, StartError> {
     let (mesh, report) = read_path_reported(input, format.or_else(|| Format::from_path(input)))?;
     let notes = report.notes;
@@ -83,7 +92,7 @@ pub fn start_sized(
         let h = (2.0 * area / (3f64.sqrt() * n.max(1.0))).sqrt();
         options.size = Some(h).filter(|h| h.is_finite() && *h > 0.0);
     }
-    let triangulated = triangulate(&mesh, &options)
+    let triangulated = triangulate_periodic(&mesh, &options, pairs)
         .map_err(|source| StartError::Mesher { path: input.display().to_string(), source })?;
     let mut on_segment = vec![false; mesh.points.len()];
     for (kind, nodes, _, _) in mesh.cells() {

@@ -420,7 +420,9 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     // A solver's first solution needs a mesh that resolves something: a .poly is meshed
     // to about the schedule's first vertex count.
     let first = args.solver.as_ref().and(args.complexity_start.or(args.solution.complexity));
-    let mut starting = start_sized(&args.input, args.from, first)?;
+    let pairs: Vec<smartmesh::periodic::PeriodicPair> =
+        recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+    let mut starting = start_sized(&args.input, args.from, first, &pairs)?;
     for n in &starting.notes {
         ui::note(&format!("{}: {n}", args.input.display()));
     }
@@ -456,8 +458,6 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     };
     // Periodic sides: images of each other on the starting mesh (else bad input), frozen
     // through every remeshing, measured again on the result.
-    let pairs: Vec<smartmesh::periodic::PeriodicPair> =
-        recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
     for (pair, d) in pairs.iter().zip(smartmesh::periodic::snap(&mut starting.mesh, &pairs)) {
         if d > 0.0 {
             ui::note(&format!(

@@ -12,9 +12,10 @@ use smartmesh::layer::{
     first_height_for_y_plus, insert, CurveLayers, Growth, LayerOptions, LayerReport,
 };
 use smartmesh::metric_field::MetricField;
+use smartmesh::periodic::{check_all, snap, PairMatch, PeriodicPair};
 use smartmesh::remesh::RemeshOptions;
 
-use super::output::{check_output_dir, shown};
+use super::output::{check_output_dir, is_stdio, shown};
 use super::{parse_format, print_stdout, ui, CliError};
 
 /// Insert a structured boundary-layer skin of quadrilaterals along curves of a triangle mesh.
@@ -35,6 +36,13 @@ would meet, the skin is thinned (first height kept while the ratio can drop to 1
 says where and by how much. The result is checked (positive Jacobian at every quad corner, no \
 overlap, no hanging node) before it is written.
 
+With --recipe, the recipe's PERIODIC pairs are kept matched: the input's sides must be images of \
+each other (exit 2 naming the pair otherwise; slave vertices within 1e-6 of the diagonal of the \
+master's images are moved onto them), and a skin whose side slides along one periodic side but not \
+alike along its image (a wall ends on one side and not at the image place on the other) is refused \
+with exit 2, nothing written. A wall ending on both sides at image places (the bottom of a \
+periodic channel) slides alike along both and keeps the match.
+
 Writes quads to .msh, .vtk, .vtu, .mesh and .obj; Triangle and glTF outputs get two triangles per \
 quad (--split does it for every format).
 
@@ -42,8 +50,11 @@ Examples:
   smartmesh layer fixtures/cylinder.msh --curves Cylinder --first-height 0.002 --ratio 1.2 \\
       --layers 8 -o target/cylinder-skin.msh
   smartmesh layer naca.msh --curves 4 --y-plus 1 --reynolds 5000 --ref-length 1 --layers 12 \\
-      --thickness 0.05 -o naca-skin.vtu --json"
+      --thickness 0.05 -o naca-skin.vtu --json
+  smartmesh layer channel.msh --curves Bottom --first-height 0.01 --ratio 1.2 --layers 5 \\
+      --recipe periodic.toml -o channel-skin.msh     # periodic sides kept matched"
 )]
+#[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs the skin must keep matched (its sizing steps and LAYER section are not used)")))]
 pub struct LayerArgs {
     /// Input triangle mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
@@ -103,6 +114,9 @@ pub struct LayerArgs {
     from: Option<Format>,
     #[command(flatten)]
     output_format: super::MeshOutputArgs,
+    /// The recipe whose periodic pairs are kept (its help is set above).
+    #[command(flatten)]
+    recipe: super::RecipeInput,
     /// Print a JSON summary on stdout.
     #[arg(long)]
     json: bool,
@@ -116,6 +130,7 @@ struct Summary<'a> {
     report: &'a LayerReport,
     quality: Option<QuadQuality>,
     dropped: &'a [String],
+    periodic: Vec<PairMatch>,
 }
 
 fn per_curve(items: &[String], what: &str) -> Result<Vec<(String, f64)>, CliError> {
@@ -140,6 +155,9 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
         return Err(CliError::usage(
             "--json prints on stdout, which `-` already uses for the mesh",
         ));
+    }
+    if is_stdio(&args.mesh) && args.recipe.is_stdin() {
+        return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
     let first = match args.y_plus {
         Some(y) => Some(
@@ -179,7 +197,26 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
     let to = args.output_format.mesh_format(&args.output)?;
     check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mesh = read_path(&args.mesh, from)?;
+    let mut mesh = read_path(&args.mesh, from)?;
+    let pairs: Vec<PeriodicPair> = match &args.recipe.recipe {
+        None => Vec::new(),
+        Some(_) => args.recipe.read()?.periodic.iter().filter_map(|p| p.pair().ok()).collect(),
+    };
+    for (pair, d) in pairs.iter().zip(snap(&mut mesh, &pairs)) {
+        if d > 0.0 {
+            ui::note(&format!(
+                "periodic {}: slave vertices moved by at most {d:.3e} onto the master's images",
+                pair.label()
+            ));
+        }
+    }
+    let before = check_all(&mesh, &pairs)
+        .map_err(|e| CliError::usage(format!("{e} (input {})", args.mesh.display())))?;
+    for m in before.iter().filter(|m| !m.matched) {
+        ui::warn(&format!(
+            "{m}: the input's sides do not match vertex to vertex; they are kept as they are"
+        ));
+    }
     let metric = match &args.metric {
         Some(p) => Some(
             MetricField::read(p, None, &mesh, &args.mesh)
@@ -193,6 +230,22 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
     if let Some(m) = &metric {
         layered = band_to_metric(&mesh, m, layered, &RemeshOptions::default())
             .map_err(|e| CliError::context(format!("{}: {e}", args.mesh.display()), e))?;
+    }
+    let periodic = check_all(&layered.mesh, &pairs)
+        .map_err(|e| CliError::context(format!("{e} (the mesh with its skin)"), e))?;
+    for (b, a) in before.iter().zip(&periodic) {
+        if b.matched && !a.matched {
+            return Err(CliError::usage(format!(
+                "{a}: the skin's side slides along one periodic side and not alike along the \
+                 other ({} vertices more on the master side, {} on the slave side): a wall \
+                 ends on one side where the image of its end is not the end of a wall alike; \
+                 nothing written (take that wall out of --curves, or give both sides walls \
+                 that end at image places)",
+                a.master_vertices.saturating_sub(b.master_vertices),
+                a.slave_vertices.saturating_sub(b.slave_vertices)
+            )));
+        }
+        ui::note(&a.to_string());
     }
     let written = args.output_format.write(&args.output, &layered.mesh, to)?;
     let r = &layered.report;
@@ -222,6 +275,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
             report: r,
             quality,
             dropped: &written.dropped,
+            periodic,
         };
         let mut text = serde_json::to_string_pretty(&s)?;
         text.push('\n');

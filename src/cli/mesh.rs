@@ -7,16 +7,17 @@ use std::time::Instant;
 use clap::Args;
 use smartmesh::formats::triangle::poly_lines;
 use smartmesh::formats::Format;
-use smartmesh::mesher::{triangulate, MeshError, MeshOptions, Subject};
+use smartmesh::mesher::{triangulate_periodic, MeshError, MeshOptions, Subject};
 use smartmesh::QualitySummary;
 use smartmesh::Topology;
 
-use super::output::{check_output_dir, shown};
+use super::output::{check_output_dir, is_stdio, shown};
 use super::{parse_format, print_stdout, ui, CliError};
 
 /// Mesh a planar straight-line graph: constrained Delaunay triangulation with quality
 /// refinement (Triangle's `-pq`, by spade).
 #[derive(Debug, Args)]
+#[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs are meshed matched vertex to vertex (its sizing steps are not used)")))]
 #[command(
     after_help = "IN is a Triangle .poly (segments with boundary markers, holes, regions with \
 attributes and area bounds) or any mesh whose Line cells are the boundary (its triangles are not \
@@ -28,6 +29,12 @@ region), each input segment as Line cells with its marker, and Vertex cells at t
 the marker changes, where other than two segments meet, where the boundary turns by more than \
 --corner-angle), so that `smartmesh info` and recipes see the same curves and points.
 
+With --recipe, the recipe's PERIODIC pairs are meshed matched: each side must be the other's \
+image by its transform (exit 2 naming the pair otherwise), each side's vertices are inserted into \
+the other's segments at their exact images, and where the refinement splits a segment of one side \
+only, its new vertices go to both sides and the graph is meshed again; every slave vertex is then \
+the image of a master vertex (to rounding). The recipe's sizing steps are not used.
+
 --size H is the area bound sqrt(3)/4*H^2 (the equilateral triangle of side H). Region area bounds \
 in the .poly are honoured. The minimum angle is guaranteed except next to smaller input angles; \
 20.7 degrees always terminates, up to about 30 usually does.
@@ -36,7 +43,8 @@ Examples:
   smartmesh mesh fixtures/square_hole.poly -o square.msh
   smartmesh mesh fixtures/naca0012.poly -o naca.vtu --min-angle 30 --max-area 0.001
   smartmesh mesh fixtures/cylinder.msh -o remeshed.mesh --size 0.02 --json
-  smartmesh mesh box.poly -o box.1.node --keep-convex-hull      # Triangle's -pqc"
+  smartmesh mesh box.poly -o box.1.node --keep-convex-hull      # Triangle's -pqc
+  smartmesh mesh channel.poly --recipe periodic.toml -o channel.msh   # periodic sides matched"
 )]
 pub struct MeshArgs {
     /// Input graph: a .poly, or any mesh with Line cells (`-` for stdin, with --from).
@@ -70,6 +78,9 @@ pub struct MeshArgs {
     from: Option<Format>,
     #[command(flatten)]
     output_format: super::MeshOutputArgs,
+    /// The recipe whose periodic pairs are kept (its help is set above).
+    #[command(flatten)]
+    recipe: super::RecipeInput,
     /// Print a JSON summary on stdout.
     #[arg(long)]
     json: bool,
@@ -89,6 +100,7 @@ struct MeshSummary<'a> {
     min_angle_bound: f64,
     quality: Option<QualitySummary>,
     dropped: &'a [String],
+    periodic: Vec<smartmesh::periodic::PairMatch>,
 }
 
 /// The line of the `.poly` record a meshing error is about, when the input is a `.poly`
@@ -117,6 +129,9 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
             "--json prints on stdout, which `-` already uses for the mesh",
         ));
     }
+    if is_stdio(&args.input) && args.recipe.is_stdin() {
+        return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
+    }
     let opts = MeshOptions {
         min_angle_deg: args.min_angle,
         max_area: args.max_area,
@@ -130,7 +145,11 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
     check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.input));
     let pslg = super::read_mesh(&args.input, from)?;
-    let mesh = triangulate(&pslg, &opts).map_err(|e| {
+    let pairs: Vec<smartmesh::periodic::PeriodicPair> = match &args.recipe.recipe {
+        None => Vec::new(),
+        Some(_) => args.recipe.read()?.periodic.iter().filter_map(|p| p.pair().ok()).collect(),
+    };
+    let mesh = triangulate_periodic(&pslg, &opts, &pairs).map_err(|e| {
         let at = match poly_line(&args, from, &e) {
             Some(line) => format!("{}:{line}", args.input.display()),
             None => args.input.display().to_string(),
@@ -143,6 +162,11 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
         };
         CliError::context(format!("{at}: {e}{hint}"), e)
     })?;
+    let periodic = smartmesh::periodic::check_all(&mesh, &pairs)
+        .map_err(|e| CliError::context(format!("{e} (result)"), e))?;
+    for m in &periodic {
+        ui::note(&m.to_string());
+    }
     let report = args.output_format.write(&args.output, &mesh, to)?;
     let topo = Topology::from_mesh(&mesh);
     let quality = QualitySummary::of(&mesh.points, &topo);
@@ -161,6 +185,7 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
             min_angle_bound: opts.min_angle_deg,
             quality: quality.clone(),
             dropped: &report.dropped,
+            periodic,
         };
         let mut text = serde_json::to_string_pretty(&s)?;
         text.push('\n');

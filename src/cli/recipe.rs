@@ -203,13 +203,14 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
     let recipe = read_recipe(&args.recipe, args.format, "--format", args.read)?;
     // A .poly (or any graph without surface cells) is meshed first, as `adapt` does: the
     // recipe may name the face tags that only meshing gives.
-    let mesh = starting_mesh(&args.mesh, args.from)?;
+    // Periodic pairs: a graph is meshed with them matched; on a mesh, images of each
+    // other, and how well they match.
+    let pairs: Vec<smartmesh::periodic::PeriodicPair> =
+        recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+    let mesh = starting_mesh(&args.mesh, args.from, &pairs)?;
     let topo = Topology::from_mesh(&mesh);
     let resolved = recipe.resolve(&topo)?;
     let plan = &resolved.plan;
-    // Periodic pairs: images of each other on this mesh, and how well they match.
-    let pairs: Vec<smartmesh::periodic::PeriodicPair> =
-        recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
     let mut snapped = mesh.clone();
     let moved = smartmesh::periodic::snap(&mut snapped, &pairs);
     let periodic = smartmesh::periodic::check_all(&snapped, &pairs)

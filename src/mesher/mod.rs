@@ -33,8 +33,11 @@
 
 mod assemble;
 mod domain;
+mod periodic;
 mod pslg;
 mod refine;
+
+pub use periodic::triangulate_periodic;
 
 use crate::formats::TaggedMesh;
 
@@ -261,6 +264,18 @@ pub enum MeshError {
         /// Vertices when it stopped.
         vertices: usize,
     },
+    /// A periodic pair that names no curve of the graph, or whose sides are not images
+    /// of each other by its transform.
+    #[error(transparent)]
+    Periodic(#[from] crate::periodic::PeriodicError),
+    /// The refinement kept splitting the two sides of a periodic pair differently.
+    #[error("periodic pair {pair}: the sides' vertices still differ after {rounds} triangulations (the refinement splits one side's segments where it does not split the other's); try a smaller --min-angle or a --size that meshes the sides finer")]
+    PeriodicUnsettled {
+        /// The pair, as `PeriodicPair::label` names it.
+        pair: String,
+        /// Triangulations made.
+        rounds: usize,
+    },
     /// A bug: something the mesher relies on did not hold.
     #[error("internal error: {reason}")]
     Internal {
@@ -310,7 +325,12 @@ impl MeshError {
 
     /// Whether the input (or the options) is at fault, rather than the meshing.
     pub fn is_input_error(&self) -> bool {
-        !matches!(self, MeshError::RefinementIncomplete { .. } | MeshError::Internal { .. })
+        !matches!(
+            self,
+            MeshError::RefinementIncomplete { .. }
+                | MeshError::Internal { .. }
+                | MeshError::PeriodicUnsettled { .. }
+        )
     }
 }
 

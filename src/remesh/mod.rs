@@ -242,8 +242,9 @@ pub fn remesh_with_topology(
     if opts.periodic.is_empty() {
         return remesh_keeping(mesh, topology, metric, opts, &skin_cells(mesh), progress);
     }
-    // Periodic sides: split alike on both sides to the metric, then frozen.
-    let (refined, metric) = crate::periodic::refine_sides(mesh, metric, &opts.periodic);
+    // Periodic sides: coarsened and split alike on both sides to the metric, then frozen.
+    let (coarse, metric) = crate::periodic::coarsen_sides(mesh, metric, &opts.periodic);
+    let (refined, metric) = crate::periodic::refine_sides(&coarse, &metric, &opts.periodic);
     let topology = Topology::from_mesh(&refined);
     let mut opts = opts.clone();
     for pair in &opts.periodic {

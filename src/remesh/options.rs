@@ -55,9 +55,9 @@ pub struct RemeshOptions {
     /// periodic pair ([`crate::periodic`]) are frozen so that matching sides stay matched.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frozen_curves: Vec<i32>,
-    /// Periodic pairs: before remeshing, the edges of each matched pair are split alike
-    /// on both sides to the metric ([`crate::periodic::refine_sides`]); then the sides'
-    /// curves are frozen.
+    /// Periodic pairs: before remeshing, each matched pair's sides are coarsened alike
+    /// ([`crate::periodic::coarsen_sides`]) and their edges split alike to the metric
+    /// ([`crate::periodic::refine_sides`]); then the sides' curves are frozen.
     #[serde(skip)]
     pub periodic: Vec<crate::periodic::PeriodicPair>,
     /// Smallest size the metric may ask for: every input tensor's sizes are raised to at

@@ -15,9 +15,14 @@
 //!   is at rounding level ([`PairMatch::matched`]).
 //!
 //! Invariant kept by the remesher: the vertices and edges of the curves of a periodic pair
-//! are split alike ([`refine_sides`]) and then frozen (the remesher's
+//! are coarsened alike ([`coarsen_sides`]: a vertex and its image removed together),
+//! split alike ([`refine_sides`]) and then frozen (the remesher's
 //! `RemeshOptions::periodic`), so a mesh whose sides match keeps them matching, bit for
 //! bit, through `remesh` and `adapt`.
+
+mod coarsen;
+
+pub use coarsen::coarsen_sides;
 
 use crate::topology::Topology;
 
@@ -144,11 +149,15 @@ pub enum PeriodicError {
 }
 
 /// One side of a pair on a mesh: its vertices (sorted), its edges, its curves' tags.
-type Side = (Vec<usize>, Vec<[usize; 2]>, Vec<i32>);
+pub(crate) type Side = (Vec<usize>, Vec<[usize; 2]>, Vec<i32>);
 
 /// The vertices and edges of the curves `names` (tags or names) of `topology`, and the
 /// curves' tags.
-fn side(topology: &Topology, names: &[String], pair: &str) -> Result<Side, PeriodicError> {
+pub(crate) fn side(
+    topology: &Topology,
+    names: &[String],
+    pair: &str,
+) -> Result<Side, PeriodicError> {
     let bad = |why: String| PeriodicError::Curve { pair: pair.to_string(), why };
     if names.is_empty() {
         return Err(bad("a side lists no curve".into()));
@@ -333,7 +342,7 @@ pub fn snap(mesh: &mut crate::formats::TaggedMesh, pairs: &[PeriodicPair]) -> Ve
 /// edge; a triangle with one split edge is fanned from its opposite vertex, one with more
 /// from its centroid); line cells are split alike; point data is dropped (the remesher
 /// carries only the metric). Unmatched pairs, and edges of non-triangle cells, are left
-/// as they are. Sides are only refined, never coarsened.
+/// as they are. [`coarsen_sides`] removes what the metric does not need.
 pub fn refine_sides(
     mesh: &crate::formats::TaggedMesh,
     metric: &[crate::metric::Sym2],
