@@ -171,3 +171,49 @@ fn small_meshes_stay_on_the_serial_path() {
     let serial = run(&mesh, &metric, None);
     assert_eq!(default.mesh, serial.mesh);
 }
+
+#[path = "support/cli.rs"]
+mod cli;
+
+/// `smartmesh remesh --partition-above 0` on the cylinder: the same bytes with 1, 2 and
+/// 4 threads (RAYON_NUM_THREADS) and with `--threads 3`, a valid mesh, and the
+/// partitioned passes in the statistics.
+#[test]
+fn the_cli_writes_the_same_bytes_whatever_the_thread_count() {
+    use cli::{bundled, ok, smartmesh};
+    let dir = tempfile::tempdir().unwrap();
+    let field = dir.path().join("field.vtu");
+    let field = field.to_str().unwrap();
+    let size = ["size", &bundled("cylinder.msh"), "--recipe", &bundled("cylinder.toml")];
+    ok(&smartmesh(&[&size[..], &["-o", field]].concat(), None));
+    let mut outputs = Vec::new();
+    for (i, (env, flag)) in
+        [(Some("1"), "0"), (Some("2"), "0"), (Some("4"), "0"), (None, "3")].into_iter().enumerate()
+    {
+        let out = dir.path().join(format!("out{i}.msh"));
+        let args = [
+            "remesh",
+            &bundled("cylinder.msh"),
+            "--metric",
+            field,
+            "--partition-above",
+            "0",
+            "--threads",
+            flag,
+            "--json",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        let json: serde_json::Value = serde_json::from_str(&ok(&smartmesh(&args, env))).unwrap();
+        assert!(json["passes"].as_u64().unwrap() >= 2, "{json}");
+        assert!(json["conformity"]["conforming_share"].as_f64().unwrap() >= 0.9, "{json}");
+        outputs.push(std::fs::read(&out).unwrap());
+    }
+    for o in &outputs[1..] {
+        assert!(o == &outputs[0], "outputs differ with the thread count");
+    }
+    let mesh = smartmesh::formats::read_path(&dir.path().join("out0.msh"), None).unwrap();
+    let validity = smartmesh::layer::check::check_mesh(&mesh);
+    assert!(validity.is_valid(), "{:?}", validity.problems());
+    assert_eq!(mesh.tag_name(2, 10), Some("Fluid"));
+}
