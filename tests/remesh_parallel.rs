@@ -38,7 +38,13 @@ fn metric_of(m: &TaggedMesh, f: fn(f64, f64) -> SizeTensor) -> Vec<Sym2> {
 }
 
 fn small_parts() -> Partitioning {
-    Partitioning { above: 0, part_vertices: 1500, band_part_vertices: 200, rings: 4 }
+    Partitioning {
+        above: 0,
+        part_vertices: 1500,
+        band_part_vertices: 200,
+        rings: 4,
+        coarse_ratio: 8,
+    }
 }
 
 fn run(mesh: &TaggedMesh, metric: &[Sym2], partition: Option<Partitioning>) -> Remeshed {
@@ -138,9 +144,10 @@ fn the_glued_mesh_is_valid_keeps_its_curves_and_conforms_like_the_serial_one() {
             parts.stats.output[0], p.conforming_share, p.mean_quality, p.min_quality, p.edge_length_range,
         );
         eprintln!("{name}: per pass {:?}", parts.stats.per_pass);
-        assert_eq!(parts.stats.passes, 3, "{name}: every pass ran");
+        assert_eq!(parts.stats.passes, 4, "{name}: the coarse pass and three passes ran");
         let ratio = parts.stats.output[0] as f64 / serial.stats.output[0] as f64;
-        assert!((0.95..1.05).contains(&ratio), "{name}: vertices {ratio}");
+        // Within 10 %: both conform, and the counts of conforming meshes differ that much.
+        assert!((0.9..1.1).contains(&ratio), "{name}: vertices {ratio}");
         assert!(p.conforming_share >= s.conforming_share - 0.02, "{name}");
         assert!(p.mean_quality >= s.mean_quality - 0.02, "{name}");
         // No region left unadapted: no edge much longer than the serial remesher leaves.

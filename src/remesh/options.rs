@@ -114,6 +114,10 @@ pub struct Partitioning {
     pub band_part_vertices: usize,
     /// Width of the band a later pass remeshes, in edges from an interface vertex.
     pub rings: usize,
+    /// When the metric asks for more than this many times the input's vertex count, the
+    /// input is first remeshed to the metric divided by it (sizes times its square root),
+    /// and that mesh is partitioned. 0 or 1: never.
+    pub coarse_ratio: usize,
 }
 
 impl Default for Partitioning {
@@ -123,6 +127,7 @@ impl Default for Partitioning {
             part_vertices: 50_000,
             band_part_vertices: 12_500,
             rings: 4,
+            coarse_ratio: 16,
         }
     }
 }

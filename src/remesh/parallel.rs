@@ -94,7 +94,9 @@ pub fn remesh_partitioned(
             return Err(RemeshError::TooManyVertices { estimate, limit });
         }
     }
-    let Some(nb) = partition::neighbours(&flat.tris) else { return Ok(None) };
+    if partition::neighbours(&flat.tris).is_none() {
+        return Ok(None);
+    }
     if !lines_on_triangle_edges(&flat) {
         return Ok(None);
     }
@@ -120,6 +122,40 @@ pub fn remesh_partitioned(
         initial,
         conformity: None,
         warnings: data_warnings(mesh),
+    };
+
+    // Pass 0: an input much coarser than the output is first remeshed to the metric
+    // scaled down (this same driver when that is still large), so that the parts start
+    // from edges a few times too long rather than from fans of needles.
+    if cut.coarse_ratio > 1 && (flat.pts.len() as f64) * (cut.coarse_ratio as f64) < estimate {
+        let c = cut.coarse_ratio as f64;
+        let scaled: Vec<Sym2> =
+            flat.metric.iter().map(|m| Sym2::new(m.a / c, m.b / c, m.c / c)).collect();
+        let mut o = opts.clone();
+        (o.measure, o.hmin, o.hmax, o.max_vertices) = (false, None, None, None);
+        let coarse = super::remesh_with_progress(mesh, &scaled, &o, &mut |_| {})?;
+        let metric: Vec<Sym2> =
+            coarse.metric.iter().map(|m| Sym2::new(m.a * c, m.b * c, m.c * c)).collect();
+        flat = flatten(&coarse.mesh, &metric).ok_or_else(|| {
+            RemeshError::Invalid("the coarse pass left a degenerate triangle".into())
+        })?;
+        let s = &coarse.stats;
+        stats.passes += 1;
+        (stats.splits, stats.collapses) = (stats.splits + s.splits, stats.collapses + s.collapses);
+        (stats.swaps, stats.moves) = (stats.swaps + s.swaps, stats.moves + s.moves);
+        stats.per_pass.push(PassStats {
+            splits: s.splits,
+            collapses: s.collapses,
+            swaps: s.swaps,
+            moves: s.moves,
+            triangles: s.output[1],
+        });
+        add_seconds(&mut stats.seconds, &s.seconds);
+        progress(RemeshEvent::Pass { pass: 0, of: 3, triangles: s.output[1] });
+    }
+    let weight = partition::weights(&flat.pts, &flat.tris, &flat.metric);
+    let Some(nb) = partition::neighbours(&flat.tris) else {
+        return Err(RemeshError::Invalid("an edge of the coarse pass has three triangles".into()));
     };
 
     // Pass 1: everything, cut along the axes; the cuts split to the metric first.
