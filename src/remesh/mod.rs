@@ -66,7 +66,7 @@ pub use error::RemeshError;
 pub use options::{
     BoundaryMode, Partitioning, RemeshOptions, DEFAULT_MAX_VERTICES, DEFAULT_PARTITION_ABOVE,
 };
-pub use stats::{PassStats, PhaseSeconds, RemeshCounts, RemeshStats};
+pub use stats::{PartitionedPass, PassStats, PhaseSeconds, RemeshCounts, RemeshStats};
 
 /// The remeshed mesh, its metric and what was done.
 #[derive(Debug, Clone, PartialEq)]
@@ -354,6 +354,7 @@ pub fn remesh_keeping(
         initial,
         conformity: None,
         warnings: st.warnings,
+        partitioned: Vec::new(),
     };
     // Collapses may not create edges longer than this: the split bound, so that a
     // collapse never hands the next split sweep work.

@@ -5,15 +5,22 @@
 //! interfaces, move the interfaces, remesh again).
 //!
 //! The passes:
+//! 0. When the metric asks for more than [`super::Partitioning::coarse_ratio`] times the
+//!    input's vertices, the input is first remeshed to the metric divided by that ratio
+//!    (by this driver again when that is still large), and that mesh, whose metric is
+//!    the input's interpolated, is what the next passes cut: parts that start from a
+//!    coarse input would otherwise refine the fans of needles that splitting their
+//!    interfaces leaves, several times over.
 //! 1. All triangles, cut by recursive coordinate bisection of their metric-weighted
-//!    centroids along the axes into one part per [`super::Partitioning::part_vertices`]
-//!    expected output vertices; before remeshing, the edges between parts are split to the metric
-//!    ([`partition::split_interfaces`]), so the frozen interfaces already have the
-//!    lengths the metric asks for.
-//! 2. The triangles less than [`super::Partitioning::rings`] edges from a vertex shared by two parts of
-//!    pass 1, cut by bisection along the diagonals (one part per
-//!    [`super::Partitioning::band_part_vertices`]), so the new cuts cross the old interfaces' strips; the
-//!    rest of the mesh stays as it is, its edges with the band frozen.
+//!    centroids along the axes, one part per [`super::Partitioning::part_vertices`]
+//!    expected output vertices; before remeshing, the edges between parts are split to
+//!    the metric ([`partition::split_interfaces`]), so the frozen interfaces already
+//!    have the lengths the metric asks for.
+//! 2. The triangles less than [`super::Partitioning::rings`] edges from a vertex shared
+//!    by two parts of pass 1, cut by bisection along the diagonals (one part per
+//!    [`super::Partitioning::band_part_vertices`]), so the new cuts cross the strips
+//!    around the old interfaces; the rest of the mesh stays as it is, its edges with the
+//!    band frozen.
 //! 3. The triangles around the vertices shared by two parts of pass 2, one part per
 //!    connected component: no two parts touch, so no vertex is left on an interface
 //!    between parts that no pass remeshed freely.
@@ -49,8 +56,8 @@ use super::build::data_warnings;
 use super::estimate::{exceeds, vertices_of_complexity};
 use super::partition::{self, Axes, Flat, NONE};
 use super::{
-    bounded_sizes, remesh_keeping, skin_cells, PassStats, PhaseSeconds, RemeshError, RemeshEvent,
-    RemeshOptions, RemeshStats, Remeshed,
+    bounded_sizes, remesh_keeping, skin_cells, PartitionedPass, PassStats, PhaseSeconds,
+    RemeshError, RemeshEvent, RemeshOptions, RemeshStats, Remeshed,
 };
 use crate::conformity::Conformity;
 use crate::formats::{CellBlock, CellKind, TaggedMesh};
@@ -122,6 +129,7 @@ pub fn remesh_partitioned(
         initial,
         conformity: None,
         warnings: data_warnings(mesh),
+        partitioned: Vec::new(),
     };
 
     // Pass 0: an input much coarser than the output is first remeshed to the metric
@@ -133,6 +141,7 @@ pub fn remesh_partitioned(
             flat.metric.iter().map(|m| Sym2::new(m.a / c, m.b / c, m.c / c)).collect();
         let mut o = opts.clone();
         (o.measure, o.hmin, o.hmax, o.max_vertices) = (false, None, None, None);
+        let t = Instant::now();
         let coarse = super::remesh_with_progress(mesh, &scaled, &o, &mut |_| {})?;
         let metric: Vec<Sym2> =
             coarse.metric.iter().map(|m| Sym2::new(m.a * c, m.b * c, m.c * c)).collect();
@@ -151,8 +160,19 @@ pub fn remesh_partitioned(
             triangles: s.output[1],
         });
         add_seconds(&mut stats.seconds, &s.seconds);
+        if s.partitioned.is_empty() {
+            let wall = t.elapsed().as_secs_f64();
+            stats.partitioned.push(PartitionedPass {
+                driver_seconds: wall,
+                seconds: wall,
+                ..PartitionedPass::default()
+            });
+        } else {
+            stats.partitioned.extend(s.partitioned.iter().cloned());
+        }
         progress(RemeshEvent::Pass { pass: 0, of: 3, triangles: s.output[1] });
     }
+    let t1 = Instant::now();
     let weight = partition::weights(&flat.pts, &flat.tris, &flat.metric);
     let Some(nb) = partition::neighbours(&flat.tris) else {
         return Err(RemeshError::Invalid("an edge of the coarse pass has three triangles".into()));
@@ -172,7 +192,9 @@ pub fn remesh_partitioned(
         part = split_part;
     }
     stats.seconds.setup += t0.elapsed().as_secs_f64();
+    let setup = t1.elapsed().as_secs_f64();
     let (mut flat, mut seeds) = run_pass(&flat, &part, parts, &sub, iface, &mut stats)?;
+    add_driver(&mut stats, setup);
     progress(RemeshEvent::Pass { pass: 1, of: 3, triangles: flat.tris.len() });
 
     for pass in 2..=3 {
@@ -202,8 +224,10 @@ pub fn remesh_partitioned(
             partition::components(&selected, &nb)
         };
         drop((nb, selected));
-        stats.seconds.setup += t.elapsed().as_secs_f64();
+        let setup = t.elapsed().as_secs_f64();
+        stats.seconds.setup += setup;
         let (next, next_seeds) = run_pass(&flat, &part, parts, &sub, iface, &mut stats)?;
+        add_driver(&mut stats, setup);
         flat = next;
         seeds = next_seeds;
         progress(RemeshEvent::Pass { pass, of: 3, triangles: flat.tris.len() });
@@ -217,6 +241,14 @@ pub fn remesh_partitioned(
     }
     stats.seconds.output += t.elapsed().as_secs_f64();
     Ok(Some(Remeshed { mesh: out, metric: flat.metric, stats }))
+}
+
+/// Adds `seconds` of the driver's own work to the last pass's times.
+fn add_driver(stats: &mut RemeshStats, seconds: f64) {
+    if let Some(p) = stats.partitioned.last_mut() {
+        p.driver_seconds += seconds;
+        p.seconds += seconds;
+    }
 }
 
 /// One part per `per` expected vertices, at least one.
@@ -355,6 +387,7 @@ fn run_pass(
     iface: i32,
     stats: &mut RemeshStats,
 ) -> Result<(Flat, Vec<bool>), RemeshError> {
+    let pass_start = Instant::now();
     let t = Instant::now();
     let (start, list) = partition::vertex_triangles(f.pts.len(), &f.tris);
     let around = |v: u32| &list[start[v as usize]..start[v as usize + 1]];
@@ -403,13 +436,18 @@ fn run_pass(
         .ok_or_else(|| RemeshError::Invalid("an edge has three triangles".into()))?;
     stats.seconds.setup += t.elapsed().as_secs_f64();
 
-    let outs: Vec<PartOut> = members
+    let in_parts = Instant::now();
+    let outs: Vec<(PartOut, f64)> = members
         .par_iter()
         .enumerate()
         .map(|(p, tris)| {
+            let t = Instant::now();
             remesh_part(f, tris, p as u32, part, &nb, &owner, &line_owner, opts, iface)
+                .map(|o| (o, t.elapsed().as_secs_f64()))
         })
         .collect::<Result<_, _>>()?;
+    let in_parts = in_parts.elapsed().as_secs_f64();
+    let part_seconds: Vec<f64> = outs.iter().map(|o| o.1).collect();
 
     let t = Instant::now();
     // Glue: the vertices that stay, in their old order, then each part's new ones.
@@ -441,7 +479,7 @@ fn run_pass(
         }
     }
     let mut per = PassStats::default();
-    for out in outs {
+    for (out, _) in outs {
         let id: Vec<u32> = out
             .glued
             .iter()
@@ -482,6 +520,12 @@ fn run_pass(
     stats.moves += per.moves;
     stats.per_pass.push(per);
     stats.seconds.output += t.elapsed().as_secs_f64();
+    let seconds = pass_start.elapsed().as_secs_f64();
+    stats.partitioned.push(PartitionedPass {
+        part_seconds,
+        driver_seconds: seconds - in_parts,
+        seconds,
+    });
     Ok((g, seeds))
 }
 
