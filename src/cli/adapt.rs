@@ -132,6 +132,10 @@ pub struct AdaptArgs {
     /// limit).
     #[arg(long, default_value_t = smartmesh::adapt::DEFAULT_MAX_GROWTH, value_parser = non_negative)]
     max_growth: f64,
+    /// Threads for the sizing and for remeshing a large mesh part by part (0: every
+    /// core, or RAYON_NUM_THREADS). The output is the same whatever the count.
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
@@ -412,6 +416,7 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
 pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     let format = check_outputs(&args)?;
+    super::set_threads(args.threads)?;
     if is_stdio(&args.input) && args.recipe.is_stdin() {
         return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }

@@ -110,6 +110,18 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// Sets the thread count of the whole run (`--threads`; 0: rayon's default, every core
+/// unless `RAYON_NUM_THREADS` says otherwise). Outputs do not depend on it.
+pub fn set_threads(threads: usize) -> Result<(), CliError> {
+    if threads == 0 {
+        return Ok(());
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build_global()
+        .map_err(|e| CliError::usage(format!("--threads {threads}: {e}")))
+}
+
 /// Writes to stdout; a closed pipe (`smartmesh info x | head`) is not an error.
 pub fn print_stdout(text: &str) -> Result<(), CliError> {
     write_stdout(text.as_bytes())

@@ -85,6 +85,17 @@ pub struct RemeshArgs {
     /// status 2 above it (about 0.6 KB of memory per vertex).
     #[arg(long, default_value_t = smartmesh::remesh::DEFAULT_MAX_VERTICES)]
     max_vertices: usize,
+    /// Threads for a large mesh, remeshed part by part (0: every core, or
+    /// RAYON_NUM_THREADS). The output is the same whatever the count.
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Cut the mesh into parts remeshed in parallel when the metric asks for at least
+    /// this many vertices (smaller meshes: the serial remesher).
+    #[arg(long, default_value_t = smartmesh::remesh::DEFAULT_PARTITION_ABOVE)]
+    partition_above: usize,
+    /// Never cut the mesh into parts: the serial remesher whatever the size.
+    #[arg(long, conflicts_with = "partition_above")]
+    no_partition: bool,
     /// Input format, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
@@ -224,12 +235,18 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         ridge_angle_degrees: args.ridge_angle,
         smooth_sweeps: args.smooth_sweeps,
         max_vertices: Some(args.max_vertices),
+        partition: (!args.no_partition).then_some(smartmesh::remesh::Partitioning {
+            above: args.partition_above,
+            ..Default::default()
+        }),
         ..RemeshOptions::default()
     };
+    super::set_threads(args.threads)?;
     let bar =
         ui::progress_bar(opts.max_passes as u64, "{bar:30} pass {pos}/{len} {msg} [{elapsed}]");
     let mut observe = |e: RemeshEvent| {
-        if let (Some(b), RemeshEvent::Pass { pass, triangles, .. }) = (&bar, e) {
+        if let (Some(b), RemeshEvent::Pass { pass, of, triangles }) = (&bar, e) {
+            b.set_length(of as u64);
             b.set_position(pass as u64);
             b.set_message(format!("{triangles} triangles"));
         }

@@ -226,16 +226,7 @@ pub fn start(
         warnings
             .push(format!("{dropped_lines} line cells that are not triangle edges are not kept"));
     }
-    for name in mesh.point_data.keys() {
-        if name != crate::metric_field::METRIC {
-            warnings.push(format!(
-                "point data `{name}` is not carried (only the metric is interpolated)"
-            ));
-        }
-    }
-    for name in mesh.cell_data.keys() {
-        warnings.push(format!("cell data `{name}` is not carried"));
-    }
+    warnings.extend(data_warnings(mesh));
 
     // Constrained adjacency per vertex (CSR over the sorted edge list).
     let mut deg = vec![0u32; n + 1];
@@ -383,4 +374,20 @@ pub fn start(
         kept,
         kept_lines,
     })
+}
+
+/// What the output of a remeshing of `mesh` does not carry of its point and cell data.
+pub fn data_warnings(mesh: &TaggedMesh) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for name in mesh.point_data.keys() {
+        if name != crate::metric_field::METRIC {
+            warnings.push(format!(
+                "point data `{name}` is not carried (only the metric is interpolated)"
+            ));
+        }
+    }
+    for name in mesh.cell_data.keys() {
+        warnings.push(format!("cell data `{name}` is not carried"));
+    }
+    warnings
 }

@@ -34,7 +34,9 @@
 //!   ([`remesh_keeping`]), stays frozen: its vertices neither move nor go, its edges
 //!   are never split, its cells and their tags are written back unchanged, and the
 //!   triangles are remeshed around it; the result is checked as a mixed mesh;
-//! - deterministic: single-threaded sweeps in index order, no hash-order iteration.
+//! - deterministic: single-threaded sweeps in index order, no hash-order iteration;
+//!   a mesh expected above [`RemeshOptions::partition`] vertices is remeshed part
+//!   by part on every core ([`parallel`]), with the same output whatever the thread count.
 
 pub mod boundary;
 mod build;
@@ -43,6 +45,8 @@ mod error;
 pub mod estimate;
 mod options;
 mod output;
+pub mod parallel;
+pub mod partition;
 mod smooth;
 mod split;
 mod stats;
@@ -59,8 +63,10 @@ use crate::metric_field::Interpolator;
 use crate::topology::Topology;
 
 pub use error::RemeshError;
-pub use options::{BoundaryMode, RemeshOptions, DEFAULT_MAX_VERTICES};
-pub use stats::{PassStats, PhaseSeconds, RemeshCounts, RemeshStats};
+pub use options::{
+    BoundaryMode, Partitioning, RemeshOptions, DEFAULT_MAX_VERTICES, DEFAULT_PARTITION_ABOVE,
+};
+pub use stats::{PartitionedPass, PassStats, PhaseSeconds, RemeshCounts, RemeshStats};
 
 /// The remeshed mesh, its metric and what was done.
 #[derive(Debug, Clone, PartialEq)]
@@ -240,6 +246,9 @@ pub fn remesh_with_topology(
     progress: &mut dyn FnMut(RemeshEvent),
 ) -> Result<Remeshed, RemeshError> {
     if opts.periodic.is_empty() {
+        if let Some(out) = parallel::remesh_partitioned(mesh, metric, opts, progress)? {
+            return Ok(out);
+        }
         return remesh_keeping(mesh, topology, metric, opts, &skin_cells(mesh), progress);
     }
     // Periodic sides: coarsened and split alike on both sides to the metric, then frozen.
@@ -346,6 +355,7 @@ pub fn remesh_keeping(
         initial,
         conformity: None,
         warnings: st.warnings,
+        partitioned: Vec::new(),
     };
     // Collapses may not create edges longer than this: the split bound, so that a
     // collapse never hands the next split sweep work.

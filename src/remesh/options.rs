@@ -92,6 +92,44 @@ pub struct RemeshOptions {
     /// The passes have settled when `(splits + collapses) × settle_ratio` is at most the
     /// triangle count (one change per `settle_ratio` triangles).
     pub settle_ratio: usize,
+    /// When and how a large mesh is cut into parts remeshed in parallel, their
+    /// interfaces frozen and then remeshed by later passes ([`super::parallel`]); the
+    /// output is the same whatever the thread count. `None`: always the serial remesher.
+    pub partition: Option<Partitioning>,
+}
+
+/// Expected output vertices above which the remesher partitions the mesh by default.
+pub const DEFAULT_PARTITION_ABOVE: usize = 100_000;
+
+/// When and how the remesher cuts a mesh into parts ([`super::parallel`]). None of it
+/// depends on the thread count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Partitioning {
+    /// Partition when the expected output vertex count is at least this.
+    pub above: usize,
+    /// Expected output vertices per part in the first pass.
+    pub part_vertices: usize,
+    /// Expected output vertices per part in the second pass (the band around the first
+    /// pass's interfaces).
+    pub band_part_vertices: usize,
+    /// Width of the band a later pass remeshes, in edges from an interface vertex.
+    pub rings: usize,
+    /// When the metric asks for more than this many times the input's vertex count, the
+    /// input is first remeshed to the metric divided by it (sizes times its square root),
+    /// and that mesh is partitioned. 0 or 1: never.
+    pub coarse_ratio: usize,
+}
+
+impl Default for Partitioning {
+    fn default() -> Self {
+        Partitioning {
+            above: DEFAULT_PARTITION_ABOVE,
+            part_vertices: 50_000,
+            band_part_vertices: 12_500,
+            rings: 4,
+            coarse_ratio: 16,
+        }
+    }
 }
 
 impl Default for RemeshOptions {
@@ -117,6 +155,7 @@ impl Default for RemeshOptions {
             smooth_gain: 1e-3,
             smooth_poor: 0.8,
             settle_ratio: 500,
+            partition: Some(Partitioning::default()),
         }
     }
 }

@@ -65,6 +65,23 @@ pub struct RemeshStats {
     pub conformity: Option<Conformity>,
     /// What the output does not carry.
     pub warnings: Vec<String>,
+    /// When the mesh was remeshed part by part ([`super::parallel`]): each pass's parts
+    /// and times. Empty for the serial remesher.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub partitioned: Vec<PartitionedPass>,
+}
+
+/// One pass of the partitioned remesher: how long each part took and how long the
+/// driver's own work (cutting, gluing) took, in wall seconds, so that a run can tell how
+/// much of it ran in parallel.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct PartitionedPass {
+    /// Wall seconds of each part's remeshing, in part order.
+    pub part_seconds: Vec<f64>,
+    /// Wall seconds of the pass outside the parts (one thread).
+    pub driver_seconds: f64,
+    /// Wall seconds of the whole pass.
+    pub seconds: f64,
 }
 
 /// What the operators did in a run, without the measures: what `history.json` records
