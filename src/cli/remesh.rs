@@ -224,6 +224,8 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         ridge_angle_degrees: args.ridge_angle,
         smooth_sweeps: args.smooth_sweeps,
         max_vertices: Some(args.max_vertices),
+        // The conformity is shown only in the JSON summary: measure it only then.
+        measure: args.json,
         ..RemeshOptions::default()
     };
     let bar =
