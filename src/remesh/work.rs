@@ -85,6 +85,9 @@ pub struct Work<'a> {
     face: Vec<u32>,
     /// Whether each triangle is still in the mesh.
     alive: Vec<bool>,
+    /// Operation quality of each triangle ([`op_quality`]), kept up to date by every
+    /// edit that changes a triangle's corners or a corner's place or metric.
+    qual: Vec<f64>,
     /// Scratch marks of [`Work::edges_around`], all `false` between calls.
     tri_mark: Vec<bool>,
     /// Constrained edges and their piece.
@@ -144,6 +147,10 @@ impl<'a> Work<'a> {
             }
         }
         let ntri = tris.len();
+        let qual = tris
+            .iter()
+            .map(|v| op_quality(v.map(|i| pts[i as usize]), v.map(|i| &met[i as usize])))
+            .collect();
         Work {
             pts,
             met,
@@ -152,6 +159,7 @@ impl<'a> Work<'a> {
             tris,
             face,
             alive: vec![true; ntri],
+            qual,
             tri_mark: vec![false; ntri],
             cons,
             dirty: Vec::new(),
@@ -263,11 +271,10 @@ impl<'a> Work<'a> {
         )
     }
 
-    /// Operation quality of triangle `t`.
+    /// Operation quality of triangle `t` (kept, not recomputed).
     #[inline]
     pub fn quality(&self, t: u32) -> f64 {
-        let v = self.tris[t as usize];
-        self.quality_of(v)
+        self.qual[t as usize]
     }
 
     /// Operation quality of the triangle with corners `v`.
@@ -434,6 +441,7 @@ impl<'a> Work<'a> {
         self.tris.push(v);
         self.face.push(face);
         self.alive.push(true);
+        self.qual.push(self.quality_of(v));
         self.tri_mark.push(false);
         for x in v {
             self.vtris[x as usize].push(t);
@@ -446,6 +454,7 @@ impl<'a> Work<'a> {
     pub fn set_tri(&mut self, t: u32, v: [u32; 3]) {
         let old = self.tris[t as usize];
         self.tris[t as usize] = v;
+        self.qual[t as usize] = self.quality_of(v);
         for x in old {
             if !v.contains(&x) {
                 self.detach(x, t);
@@ -492,6 +501,10 @@ impl<'a> Work<'a> {
         self.pts[v as usize] = p;
         self.met[v as usize] = m;
         self.role[v as usize] = role;
+        for i in 0..self.vtris[v as usize].len() {
+            let t = self.vtris[v as usize][i] as usize;
+            self.qual[t] = self.quality_of(self.tris[t]);
+        }
     }
 
     /// Marks `v` removed; no live triangle may use it any more.
@@ -614,6 +627,9 @@ impl<'a> Work<'a> {
             let p = v.map(|x| self.pts[x as usize]);
             if orient(p[0], p[1], p[2]) <= 0.0 {
                 return Err(format!("triangle {t} {v:?} is not counter-clockwise"));
+            }
+            if self.qual[t].to_bits() != self.quality_of(*v).to_bits() {
+                return Err(format!("triangle {t} {v:?}: kept quality is stale"));
             }
             for &x in v {
                 if self.is_dead(x) || !self.vtris[x as usize].contains(&(t as u32)) {
