@@ -336,6 +336,10 @@ pub fn remesh_keeping(
     };
     let context = work::Context { background: &bg, boundary: &bd, mode: opts.boundary };
     let mut w = work::Work::new(parts, context);
+    // Room for the expected output at once (no doubling slack nor copies as the mesh
+    // grows): the estimate and a margin, within the split cap.
+    let room = (1.25 * estimate).min(cap as f64) as usize;
+    w.reserve(room, 2 * room);
     let mut stats = RemeshStats {
         passes: 0,
         splits: 0,
@@ -416,17 +420,18 @@ pub fn remesh_keeping(
     let t = Instant::now();
     let (out, out_metric) =
         output::assemble(mesh, &w, &st.faces, &st.vertex_cells, &st.kept, &st.kept_lines);
+    // The working mesh is no longer needed: its memory goes before the measuring.
+    drop(w);
     if !st.kept.is_empty() {
         let v = crate::layer::check::check_mesh(&out);
         if !v.is_valid() {
             return Err(RemeshError::Invalid(v.problems().join("; ")));
         }
     }
-    let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
-    let out_tris = triangles(&out);
-    stats.output = [out_pts.len(), out_tris.len()];
+    stats.output = [out.points.len(), out.num_cells_of(crate::formats::CellKind::Triangle)];
     if opts.measure {
-        stats.conformity = Conformity::of(&out_pts, &out_tris, &out_metric);
+        let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
+        stats.conformity = Conformity::of(&out_pts, &triangles(&out), &out_metric);
     }
     stats.seconds.output = t.elapsed().as_secs_f64();
     Ok(Remeshed { mesh: out, metric: out_metric, stats })

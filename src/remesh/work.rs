@@ -171,6 +171,24 @@ impl<'a> Work<'a> {
         }
     }
 
+    /// Makes room for `vertices` vertices and `triangles` triangles in all (a hint:
+    /// nothing changes but the capacities).
+    pub fn reserve(&mut self, vertices: usize, triangles: usize) {
+        let (dv, dt) =
+            (vertices.saturating_sub(self.pts.len()), triangles.saturating_sub(self.tris.len()));
+        self.pts.reserve(dv);
+        self.met.reserve(dv);
+        self.role.reserve(dv);
+        self.vtris.reserve(dv);
+        self.is_dirty.reserve(dv);
+        self.active.reserve(dv);
+        self.tris.reserve(dt);
+        self.face.reserve(dt);
+        self.alive.reserve(dt);
+        self.tri_mark.reserve(dt);
+        self.qual.reserve(dt);
+    }
+
     /// Vertices made so far, dead ones included.
     #[inline]
     pub fn num_vertices(&self) -> usize {
