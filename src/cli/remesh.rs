@@ -239,6 +239,8 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
             above: args.partition_above,
             ..Default::default()
         }),
+        // The conformity is shown only in the JSON summary: measure it only then.
+        measure: args.json,
         ..RemeshOptions::default()
     };
     super::set_threads(args.threads)?;

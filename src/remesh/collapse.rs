@@ -122,13 +122,9 @@ pub fn check(
     } else if along.is_some() {
         return None;
     }
-    // Link condition.
-    let opp: Vec<u32> =
-        ts.iter().map(|&t| w.tri(t).into_iter().find(|&x| x != a && x != b).unwrap_or(a)).collect();
-    let na = w.neighbours(a);
-    let nb = w.neighbours(b);
-    let common = na.iter().filter(|x| nb.binary_search(x).is_ok()).count();
-    if common != opp.len() || opp.iter().any(|x| nb.binary_search(x).is_err()) {
+    // Link condition: the corners opposite `ab` are joined to both ends by
+    // construction; no other vertex may be.
+    if w.common_neighbours(a, b) != nkilled {
         return None;
     }
     // The balls after the merge, with `b` at `pb` carrying `mb`.

@@ -2,7 +2,11 @@
 //! by local operations, every one measured in the metric (thesis 3.5, the role OORT
 //! plays in the loop of 7.3.2).
 //!
-//! Each pass splits the edges longer than √2 in the metric (`split`), collapses the
+//! Each pass splits the edges longer than √2 in the metric (`split`), flipping
+//! diagonals (`swap`) after every split sweep so that the next sweep cuts triangles
+//! shaped by the metric rather than the fans left by the previous cuts (on a coarse
+//! input with a strongly anisotropic field, splitting without the flips makes about six
+//! times the final vertex count, which the collapses then remove), collapses the
 //! edges shorter than 1/√2 (`collapse`), flips diagonals to raise the worse metric
 //! quality of each pair (`swap`), moves vertices toward a metric-equilateral place
 //! (`smooth`), then collapses and flips once more where smoothing left short edges; the
@@ -181,7 +185,7 @@ fn swap_phase(
     everything: bool,
 ) {
     let t = Instant::now();
-    ps.swaps += swap::swap_sweeps(w, opts, everything);
+    ps.swaps += swap::swap_sweeps(w, opts, everything).0;
     secs.swap += t.elapsed().as_secs_f64();
 }
 
@@ -342,6 +346,10 @@ pub fn remesh_keeping(
     };
     let context = work::Context { background: &bg, boundary: &bd, mode: opts.boundary };
     let mut w = work::Work::new(parts, context);
+    // Room for the expected output at once (no doubling slack nor copies as the mesh
+    // grows): the estimate and a margin, within the split cap.
+    let room = (1.25 * estimate).min(cap as f64) as usize;
+    w.reserve(room, 2 * room);
     let mut stats = RemeshStats {
         passes: 0,
         splits: 0,
@@ -363,12 +371,20 @@ pub fn remesh_keeping(
     for pass in 0..opts.max_passes {
         let mut ps = PassStats::default();
         let t = Instant::now();
-        ps.splits +=
-            split::split_sweeps(&mut w, opts.split_above, cap).map_err(|_| RemeshError::Grew {
-                vertices: w.num_vertices(),
-                limit: opts.max_vertices.unwrap_or(cap),
-                estimate,
-            })?;
+        // Flips between the split sweeps, timed with the splits.
+        let mut flips = 0;
+        let mut between = |w: &mut work::Work| {
+            let (k, moved) = swap::swap_sweeps(w, opts, false);
+            flips += k;
+            moved
+        };
+        let split = split::split_sweeps(&mut w, opts.split_above, cap, &mut between);
+        ps.splits += split.map_err(|_| RemeshError::Grew {
+            vertices: w.num_vertices(),
+            limit: opts.max_vertices.unwrap_or(cap),
+            estimate,
+        })?;
+        ps.swaps += flips;
         stats.seconds.split += t.elapsed().as_secs_f64();
         collapse_phase(&mut w, opts, lmax_after, &mut ps, &mut stats.seconds);
         swap_phase(&mut w, opts, &mut ps, &mut stats.seconds, pass == 0);
@@ -415,17 +431,18 @@ pub fn remesh_keeping(
     let t = Instant::now();
     let (out, out_metric) =
         output::assemble(mesh, &w, &st.faces, &st.vertex_cells, &st.kept, &st.kept_lines);
+    // The working mesh is no longer needed: its memory goes before the measuring.
+    drop(w);
     if !st.kept.is_empty() {
         let v = crate::layer::check::check_mesh(&out);
         if !v.is_valid() {
             return Err(RemeshError::Invalid(v.problems().join("; ")));
         }
     }
-    let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
-    let out_tris = triangles(&out);
-    stats.output = [out_pts.len(), out_tris.len()];
+    stats.output = [out.points.len(), out.num_cells_of(crate::formats::CellKind::Triangle)];
     if opts.measure {
-        stats.conformity = Conformity::of(&out_pts, &out_tris, &out_metric);
+        let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
+        stats.conformity = Conformity::of(&out_pts, &triangles(&out), &out_metric);
     }
     stats.seconds.output = t.elapsed().as_secs_f64();
     Ok(Remeshed { mesh: out, metric: out_metric, stats })

@@ -36,11 +36,19 @@ pub struct LimitReached;
 
 /// Sweeps until no edge is longer than `lmax`: in each, every edge longer than `lmax`,
 /// longest first, is split unless one of its triangles was already changed in this sweep
-/// (splitting a fresh triangle again in the same sweep would make slivers). After the
-/// first sweep only the edges of changed triangles are looked at again. Returns the
-/// number of splits, or [`LimitReached`] as soon as the mesh has more than `cap`
-/// vertices.
-pub fn split_sweeps(w: &mut Work, lmax: f64, cap: usize) -> Result<usize, LimitReached> {
+/// (splitting a fresh triangle again in the same sweep would make slivers). After each
+/// sweep that split something, `between` may edit the mesh (the remesher flips
+/// diagonals there, so that the next sweep cuts metric-shaped triangles rather than
+/// the fans the previous cuts made) and returns the vertices whose balls it changed.
+/// After the first sweep only the edges of changed triangles and around those vertices
+/// are looked at again. Returns the number of splits, or [`LimitReached`] as soon as the
+/// mesh has more than `cap` vertices.
+pub fn split_sweeps(
+    w: &mut Work,
+    lmax: f64,
+    cap: usize,
+    between: &mut dyn FnMut(&mut Work) -> Vec<u32>,
+) -> Result<usize, LimitReached> {
     let mut edges = w.edges();
     let mut n = 0;
     loop {
@@ -66,7 +74,8 @@ pub fn split_sweeps(w: &mut Work, lmax: f64, cap: usize) -> Result<usize, LimitR
         if k_sweep == 0 {
             break;
         }
-        edges.clear();
+        let moved = between(w);
+        edges = w.edges_around(&moved);
         for (t, &hit) in touched.iter().enumerate() {
             if hit {
                 let v = w.tri(t as u32);

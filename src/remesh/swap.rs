@@ -22,12 +22,14 @@ pub struct SwapPlan {
 /// Sweeps of flips until none is left or `opts.swap_sweeps` ran: the first sweep tries
 /// the edges around every vertex whose ball changed since the last swap phase (every
 /// edge when `everything`), the next ones only the edges around the vertices a flip
-/// touched (sorted, so the order is fixed). Returns the number of flips.
-pub fn swap_sweeps(w: &mut Work, opts: &RemeshOptions, everything: bool) -> usize {
+/// touched (sorted, so the order is fixed). Returns the number of flips and the corners
+/// of the flipped pairs (each once, in the order first touched).
+pub fn swap_sweeps(w: &mut Work, opts: &RemeshOptions, everything: bool) -> (usize, Vec<u32>) {
     let mut n = 0;
     let dirty = w.take_dirty();
     let mut todo = if everything { w.edges() } else { w.edges_around(&dirty) };
     let mut touched = vec![false; w.num_vertices()];
+    let mut all: Vec<u32> = Vec::new();
     for _ in 0..opts.swap_sweeps {
         let mut hit: Vec<u32> = Vec::new();
         for &(a, b) in &todo {
@@ -52,8 +54,11 @@ pub fn swap_sweeps(w: &mut Work, opts: &RemeshOptions, everything: bool) -> usiz
             touched[x as usize] = false;
         }
         todo = w.edges_around(&hit);
+        all.extend_from_slice(&hit);
     }
-    n
+    all.sort_unstable();
+    all.dedup();
+    (n, all)
 }
 
 /// Whether flipping edge `ab` is allowed and raises the worse quality of the pair by

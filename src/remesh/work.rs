@@ -85,6 +85,11 @@ pub struct Work<'a> {
     face: Vec<u32>,
     /// Whether each triangle is still in the mesh.
     alive: Vec<bool>,
+    /// Operation quality of each triangle ([`op_quality`]), kept up to date by every
+    /// edit that changes a triangle's corners or a corner's place or metric.
+    qual: Vec<f64>,
+    /// Scratch marks of [`Work::edges_around`], all `false` between calls.
+    tri_mark: Vec<bool>,
     /// Constrained edges and their piece.
     cons: ahash::AHashMap<(u32, u32), u32>,
     /// Vertices whose ball changed since the last swap phase, listed once each.
@@ -142,6 +147,10 @@ impl<'a> Work<'a> {
             }
         }
         let ntri = tris.len();
+        let qual = tris
+            .iter()
+            .map(|v| op_quality(v.map(|i| pts[i as usize]), v.map(|i| &met[i as usize])))
+            .collect();
         Work {
             pts,
             met,
@@ -150,6 +159,8 @@ impl<'a> Work<'a> {
             tris,
             face,
             alive: vec![true; ntri],
+            qual,
+            tri_mark: vec![false; ntri],
             cons,
             dirty: Vec::new(),
             is_dirty: vec![false; n],
@@ -158,6 +169,24 @@ impl<'a> Work<'a> {
             bd: context.boundary,
             mode: context.mode,
         }
+    }
+
+    /// Makes room for `vertices` vertices and `triangles` triangles in all (a hint:
+    /// nothing changes but the capacities).
+    pub fn reserve(&mut self, vertices: usize, triangles: usize) {
+        let (dv, dt) =
+            (vertices.saturating_sub(self.pts.len()), triangles.saturating_sub(self.tris.len()));
+        self.pts.reserve(dv);
+        self.met.reserve(dv);
+        self.role.reserve(dv);
+        self.vtris.reserve(dv);
+        self.is_dirty.reserve(dv);
+        self.active.reserve(dv);
+        self.tris.reserve(dt);
+        self.face.reserve(dt);
+        self.alive.reserve(dt);
+        self.tri_mark.reserve(dt);
+        self.qual.reserve(dt);
     }
 
     /// Vertices made so far, dead ones included.
@@ -260,11 +289,10 @@ impl<'a> Work<'a> {
         )
     }
 
-    /// Operation quality of triangle `t`.
+    /// Operation quality of triangle `t` (kept, not recomputed).
     #[inline]
     pub fn quality(&self, t: u32) -> f64 {
-        let v = self.tris[t as usize];
-        self.quality_of(v)
+        self.qual[t as usize]
     }
 
     /// Operation quality of the triangle with corners `v`.
@@ -291,7 +319,9 @@ impl<'a> Work<'a> {
         (out, n)
     }
 
-    /// The vertices joined to `v`, sorted.
+    /// The vertices joined to `v`, sorted: the brute-force twin of
+    /// [`Work::common_neighbours`] and [`Work::curve_neighbours`] in the tests.
+    #[cfg(test)]
     pub fn neighbours(&self, v: u32) -> Vec<u32> {
         let mut n: Vec<u32> = self.vtris[v as usize]
             .iter()
@@ -300,6 +330,28 @@ impl<'a> Work<'a> {
             .collect();
         n.sort_unstable();
         n.dedup();
+        n
+    }
+
+    /// How many distinct vertices are joined to both `a` and `b`: the link condition of
+    /// a collapse of `ab` without building the two neighbour lists.
+    pub fn common_neighbours(&self, a: u32, b: u32) -> usize {
+        let ball = &self.vtris[a as usize];
+        let mut n = 0;
+        for (i, &t) in ball.iter().enumerate() {
+            for x in self.tris[t as usize] {
+                if x == a || x == b {
+                    continue;
+                }
+                // Counted once: at its first triangle in `a`'s ball.
+                if ball[..i].iter().any(|&u| self.tris[u as usize].contains(&x)) {
+                    continue;
+                }
+                if self.vtris[b as usize].iter().any(|&u| self.tris[u as usize].contains(&x)) {
+                    n += 1;
+                }
+            }
+        }
         n
     }
 
@@ -340,17 +392,28 @@ impl<'a> Work<'a> {
     /// the one with the smaller parameter first.
     pub fn curve_neighbours(&self, v: u32) -> Option<[(u32, f64); 2]> {
         let Role::Slides { piece: p, s: sv } = self.role[v as usize] else { return None };
-        let mut found: Vec<(u32, f64)> = Vec::with_capacity(2);
-        for u in self.neighbours(v) {
-            if self.cons.get(&key(u, v)) == Some(&p) {
-                found.push((u, self.param_on(u, p, sv)));
+        let mut found: [(u32, f64); 2] = [(u32::MAX, 0.0); 2];
+        let mut n = 0;
+        for &t in &self.vtris[v as usize] {
+            for u in self.tris[t as usize] {
+                if u == v || found[..n.min(2)].iter().any(|f| f.0 == u) {
+                    continue;
+                }
+                if self.cons.get(&key(u, v)) == Some(&p) {
+                    if n == 2 {
+                        return None;
+                    }
+                    found[n] = (u, self.param_on(u, p, sv));
+                    n += 1;
+                }
             }
         }
-        if found.len() != 2 {
+        if n != 2 {
             return None;
         }
-        found.sort_by(|x, y| x.1.total_cmp(&y.1));
-        Some([found[0], found[1]])
+        // By parameter, then by vertex.
+        found.sort_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)));
+        Some(found)
     }
 
     /// Notes that the ball of `v` changed (the next swap phase looks there).
@@ -366,8 +429,11 @@ impl<'a> Work<'a> {
     /// Marks `v` and every neighbour of it.
     pub fn mark_ball(&mut self, v: u32) {
         self.mark(v);
-        for u in self.neighbours(v) {
-            self.mark(u);
+        for i in 0..self.vtris[v as usize].len() {
+            let t = self.vtris[v as usize][i];
+            for u in self.tris[t as usize] {
+                self.mark(u);
+            }
         }
     }
 
@@ -393,6 +459,8 @@ impl<'a> Work<'a> {
         self.tris.push(v);
         self.face.push(face);
         self.alive.push(true);
+        self.qual.push(self.quality_of(v));
+        self.tri_mark.push(false);
         for x in v {
             self.vtris[x as usize].push(t);
         }
@@ -404,6 +472,7 @@ impl<'a> Work<'a> {
     pub fn set_tri(&mut self, t: u32, v: [u32; 3]) {
         let old = self.tris[t as usize];
         self.tris[t as usize] = v;
+        self.qual[t as usize] = self.quality_of(v);
         for x in old {
             if !v.contains(&x) {
                 self.detach(x, t);
@@ -450,6 +519,10 @@ impl<'a> Work<'a> {
         self.pts[v as usize] = p;
         self.met[v as usize] = m;
         self.role[v as usize] = role;
+        for i in 0..self.vtris[v as usize].len() {
+            let t = self.vtris[v as usize][i] as usize;
+            self.qual[t] = self.quality_of(self.tris[t]);
+        }
     }
 
     /// Marks `v` removed; no live triangle may use it any more.
@@ -495,22 +568,33 @@ impl<'a> Work<'a> {
 
     /// The edges around the vertices in `around` (each once, sorted): where the next
     /// sweep has work after a sweep that changed only those vertices' balls.
-    pub fn edges_around(&self, around: &[u32]) -> Vec<(u32, u32)> {
-        let mut e: Vec<(u32, u32)> = Vec::new();
+    pub fn edges_around(&mut self, around: &[u32]) -> Vec<(u32, u32)> {
+        // Each triangle once (a triangle is around up to three of the vertices), then
+        // each edge once: sorted as packed 64-bit keys, the order of the pairs.
+        let mut tris: Vec<u32> = Vec::new();
         for &x in around {
             if self.is_dead(x) {
                 continue;
             }
             for &t in &self.vtris[x as usize] {
-                let v = self.tris[t as usize];
-                for k in 0..3 {
-                    e.push(key(v[k], v[(k + 1) % 3]));
+                if !self.tri_mark[t as usize] {
+                    self.tri_mark[t as usize] = true;
+                    tris.push(t);
                 }
+            }
+        }
+        let mut e: Vec<u64> = Vec::with_capacity(3 * tris.len());
+        for &t in &tris {
+            self.tri_mark[t as usize] = false;
+            let v = self.tris[t as usize];
+            for k in 0..3 {
+                let (a, b) = key(v[k], v[(k + 1) % 3]);
+                e.push(((a as u64) << 32) | b as u64);
             }
         }
         e.sort_unstable();
         e.dedup();
-        e
+        e.into_iter().map(|k| ((k >> 32) as u32, k as u32)).collect()
     }
 
     /// The constrained edges of live triangles on pieces that carry line tags, each as
@@ -562,6 +646,9 @@ impl<'a> Work<'a> {
             if orient(p[0], p[1], p[2]) <= 0.0 {
                 return Err(format!("triangle {t} {v:?} is not counter-clockwise"));
             }
+            if self.qual[t].to_bits() != self.quality_of(*v).to_bits() {
+                return Err(format!("triangle {t} {v:?}: kept quality is stale"));
+            }
             for &x in v {
                 if self.is_dead(x) || !self.vtris[x as usize].contains(&(t as u32)) {
                     return Err(format!("triangle {t} missing from the list of vertex {x}"));
@@ -609,6 +696,29 @@ impl<'a> Work<'a> {
                 "{} constrained edges, {live_constrained} of them live",
                 self.cons.len()
             ));
+        }
+        // The allocation-free neighbour queries against sorted neighbour lists.
+        for &(a, b) in &occ {
+            let nb = self.neighbours(b);
+            let both = self.neighbours(a).iter().filter(|x| nb.binary_search(x).is_ok()).count();
+            if self.common_neighbours(a, b) != both {
+                return Err(format!("edge {a}-{b}: {both} common neighbours miscounted"));
+            }
+        }
+        for v in 0..self.pts.len() as u32 {
+            if let Role::Slides { piece: p, s } = self.role[v as usize] {
+                let mut on: Vec<(u32, f64)> = self
+                    .neighbours(v)
+                    .into_iter()
+                    .filter(|&u| self.cons.get(&key(u, v)) == Some(&p))
+                    .map(|u| (u, self.param_on(u, p, s)))
+                    .collect();
+                on.sort_by(|x, y| x.1.total_cmp(&y.1));
+                let brute = (on.len() == 2).then(|| [on[0], on[1]]);
+                if self.curve_neighbours(v) != brute {
+                    return Err(format!("vertex {v}: curve neighbours differ from {brute:?}"));
+                }
+            }
         }
         for v in 0..self.pts.len() {
             match self.role[v] {
