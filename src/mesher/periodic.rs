@@ -35,7 +35,7 @@ use std::collections::BTreeMap;
 use smartmesh_formats::{CellBlock, CellKind, TaggedMesh};
 
 use super::{triangulate, MeshError, MeshOptions};
-use crate::periodic::{check, side, snap, PeriodicPair, SHAPE_TOLERANCE};
+use crate::periodic::{check, diagonal, side, snap, PeriodicPair, SHAPE_TOLERANCE};
 use crate::topology::Topology;
 
 /// A point placed along an edge: its parameter and its coordinates.
@@ -93,18 +93,6 @@ pub fn triangulate_periodic(
         }
     }
     unreachable!("the last round returns")
-}
-
-/// The diagonal of the bounding box of `points`.
-fn diagonal(points: &[[f64; 3]]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in points {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
 }
 
 /// Where `p` falls on segment `a`–`b`: the parameter of its projection and its distance.

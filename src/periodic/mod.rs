@@ -270,8 +270,8 @@ pub fn check_all(
     pairs.iter().map(|p| check(&mesh.points, &topology, p)).collect()
 }
 
-/// The diagonal of the bounding box of `points`.
-fn diagonal(points: &[[f64; 3]]) -> f64 {
+/// The diagonal of the bounding box of `points`: the length the side tolerances scale with.
+pub(crate) fn diagonal(points: &[[f64; 3]]) -> f64 {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in points {
         for k in 0..2 {
