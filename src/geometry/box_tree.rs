@@ -243,21 +243,7 @@ mod tests {
             s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             (s >> 11) as f64 / (1u64 << 53) as f64
         };
-        let mut boxes = Vec::new();
-        for _ in 0..3000 {
-            let size = 0.05 * 10f64.powf(-6.0 * rand());
-            let c = [rand() * rand(), rand() * rand()];
-            let (w, h) = (size * rand(), size * rand());
-            boxes.push(([c[0] - w, c[1] - h], [c[0] + w, c[1] + h]));
-        }
-        // Boxes over the whole domain (copied into every quadrant), a fan of boxes that all
-        // hold one point, and boxes on split lines.
-        for k in 0..5 {
-            boxes.push(([-0.1 - 1e-3 * k as f64, -0.1], [1.1, 1.1 + 1e-3 * k as f64]));
-        }
-        for k in 0..50 {
-            boxes.push(([0.005 - 1e-3 * k as f64, 0.004], [0.006, 0.007 + 1e-4 * k as f64]));
-        }
+        let boxes = graded_boxes(&mut rand);
         let tree = BoxTree::new(&boxes);
         assert!(tree.nodes.len() > 100, "the tree follows the grading");
         assert!(tree.items.len() <= BUDGET * boxes.len() + 1024 + boxes.len());
