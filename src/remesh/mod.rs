@@ -350,21 +350,8 @@ pub fn remesh_keeping(
     // grows): the estimate and a margin, within the split cap.
     let room = (1.25 * estimate).min(cap as f64) as usize;
     w.reserve(room, 2 * room);
-    let mut stats = RemeshStats {
-        passes: 0,
-        splits: 0,
-        collapses: 0,
-        swaps: 0,
-        moves: 0,
-        per_pass: Vec::new(),
-        seconds: PhaseSeconds { setup: t0.elapsed().as_secs_f64(), ..PhaseSeconds::default() },
-        input: [n, ntri],
-        output: [0, 0],
-        initial,
-        conformity: None,
-        warnings: st.warnings,
-        partitioned: Vec::new(),
-    };
+    let mut stats = RemeshStats::starting([n, ntri], initial, st.warnings);
+    stats.seconds.setup = t0.elapsed().as_secs_f64();
     // Collapses may not create edges longer than this: the split bound, so that a
     // collapse never hands the next split sweep work.
     let lmax_after = opts.split_above;

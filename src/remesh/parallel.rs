@@ -116,21 +116,7 @@ pub fn remesh_partitioned(
     sub.hmin = None;
     sub.hmax = None;
     sub.partition = None;
-    let mut stats = RemeshStats {
-        passes: 0,
-        splits: 0,
-        collapses: 0,
-        swaps: 0,
-        moves: 0,
-        per_pass: Vec::new(),
-        seconds: PhaseSeconds::default(),
-        input,
-        output: [0, 0],
-        initial,
-        conformity: None,
-        warnings: data_warnings(mesh),
-        partitioned: Vec::new(),
-    };
+    let mut stats = RemeshStats::starting(input, initial, data_warnings(mesh));
 
     // Pass 0: an input much coarser than the output is first remeshed to the metric
     // scaled down (this same driver when that is still large), so that the parts start

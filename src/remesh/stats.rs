@@ -105,6 +105,30 @@ pub struct RemeshCounts {
 }
 
 impl RemeshStats {
+    /// The record of a run about to start on `input` vertices and triangles: no pass,
+    /// no operation, no output yet.
+    pub(crate) fn starting(
+        input: [usize; 2],
+        initial: Option<Conformity>,
+        warnings: Vec<String>,
+    ) -> Self {
+        RemeshStats {
+            passes: 0,
+            splits: 0,
+            collapses: 0,
+            swaps: 0,
+            moves: 0,
+            per_pass: Vec::new(),
+            seconds: PhaseSeconds::default(),
+            input,
+            output: [0, 0],
+            initial,
+            conformity: None,
+            warnings,
+            partitioned: Vec::new(),
+        }
+    }
+
     /// The operators' counts and times.
     pub fn counts(&self) -> RemeshCounts {
         RemeshCounts {
