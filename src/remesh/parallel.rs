@@ -47,7 +47,7 @@
 //!   this driver; phase seconds are summed over parts (processor seconds), the driver's
 //!   own partitioning in `setup` and its gluing in `output`.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::HashMap;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -179,7 +179,10 @@ pub fn remesh_partitioned(
     }
     stats.seconds.setup += t0.elapsed().as_secs_f64();
     let setup = t1.elapsed().as_secs_f64();
-    let (mut flat, mut seeds) = run_pass(&flat, &part, parts, &sub, iface, &mut stats)?;
+    let adjacency = Adjacency::of(&flat)
+        .ok_or_else(|| RemeshError::Invalid("an edge has three triangles".into()))?;
+    let (mut flat, mut seeds) = run_pass(&flat, &part, parts, &adjacency, &sub, iface, &mut stats)?;
+    drop(adjacency);
     add_driver(&mut stats, setup);
     progress(RemeshEvent::Pass { pass: 1, of: 3, triangles: flat.tris.len() });
 
@@ -188,14 +191,12 @@ pub fn remesh_partitioned(
             break;
         }
         let t = Instant::now();
-        let Some(nb) = partition::neighbours(&flat.tris) else {
+        let Some(adjacency) = Adjacency::of(&flat) else {
             return Err(RemeshError::Invalid(
                 "an edge of the glued parts has three triangles".into(),
             ));
         };
-        let around = partition::vertex_triangles(flat.pts.len(), &flat.tris);
-        let selected = partition::band(&flat.tris, &around, &seeds, cut.rings);
-        drop(around);
+        let selected = partition::band(&flat.tris, &adjacency.around, &seeds, cut.rings);
         let (part, parts) = if pass == 2 {
             let weight = partition::weights(&flat.pts, &flat.tris, &flat.metric);
             let in_band: f64 = (0..weight.len()).filter(|&t| selected[t]).map(|t| weight[t]).sum();
@@ -207,12 +208,13 @@ pub fn remesh_partitioned(
             partition::bisect(&centroid, &weight, &mut items, parts, Axes::Diagonal, 0, &mut part);
             (part, parts)
         } else {
-            partition::components(&selected, &nb)
+            partition::components(&selected, &adjacency.nb)
         };
-        drop((nb, selected));
+        drop(selected);
         let setup = t.elapsed().as_secs_f64();
         stats.seconds.setup += setup;
-        let (next, next_seeds) = run_pass(&flat, &part, parts, &sub, iface, &mut stats)?;
+        let (next, next_seeds) =
+            run_pass(&flat, &part, parts, &adjacency, &sub, iface, &mut stats)?;
         add_driver(&mut stats, setup);
         flat = next;
         seeds = next_seeds;
@@ -249,7 +251,7 @@ fn part_count(expected: f64, per: usize) -> usize {
 
 fn centroids(f: &Flat) -> Vec<[f64; 2]> {
     f.tris
-        .iter()
+        .par_iter()
         .map(|t| {
             let p = t.map(|v| f.pts[v as usize]);
             [(p[0][0] + p[1][0] + p[2][0]) / 3.0, (p[0][1] + p[1][1] + p[2][1]) / 3.0]
@@ -357,6 +359,22 @@ struct PartOut {
     stats: RemeshStats,
 }
 
+/// Who touches whom in a [`Flat`]: the neighbours of each triangle
+/// ([`partition::neighbours`]) and the triangles around each vertex
+/// ([`partition::vertex_triangles`]), built once per pass.
+struct Adjacency {
+    nb: Vec<[u32; 3]>,
+    around: (Vec<usize>, Vec<u32>),
+}
+
+impl Adjacency {
+    /// `None` when an edge has more than two triangles.
+    fn of(f: &Flat) -> Option<Adjacency> {
+        let nb = partition::neighbours(&f.tris)?;
+        Some(Adjacency { nb, around: partition::vertex_triangles(f.pts.len(), &f.tris) })
+    }
+}
+
 /// The exact coordinates of a point, as a key.
 fn bits(p: [f64; 2]) -> (u64, u64) {
     (p[0].to_bits(), p[1].to_bits())
@@ -369,36 +387,37 @@ fn run_pass(
     f: &Flat,
     part: &[u32],
     parts: usize,
+    adjacency: &Adjacency,
     opts: &RemeshOptions,
     iface: i32,
     stats: &mut RemeshStats,
 ) -> Result<(Flat, Vec<bool>), RemeshError> {
     let pass_start = Instant::now();
     let t = Instant::now();
-    let (start, list) = partition::vertex_triangles(f.pts.len(), &f.tris);
+    let (start, list) = &adjacency.around;
     let around = |v: u32| &list[start[v as usize]..start[v as usize + 1]];
-    // The unit of each vertex: a part that holds all its triangles, else SHARED.
-    let mut parts_at = vec![0u8; f.pts.len()];
-    let owner: Vec<u32> = (0..f.pts.len() as u32)
+    // The unit of each vertex: a part that holds all its triangles, else SHARED; and
+    // whether two parts hold it (a seed of the next pass's band).
+    let (owner, between): (Vec<u32>, Vec<bool>) = (0..f.pts.len() as u32)
+        .into_par_iter()
         .map(|v| {
             let mut it = around(v).iter().map(|&t| part[t as usize]);
-            let Some(first) = it.next() else { return SHARED };
-            let mut seen = BTreeSet::new();
-            seen.insert(first);
+            let Some(first) = it.next() else { return (SHARED, false) };
+            let (mut alike, mut held, mut two) = (true, (first != NONE).then_some(first), false);
             for p in it {
-                seen.insert(p);
+                alike &= p == first;
+                match held {
+                    _ if p == NONE => {}
+                    None => held = Some(p),
+                    Some(h) => two |= h != p,
+                }
             }
-            parts_at[v as usize] = seen.iter().filter(|&&p| p != NONE).count().min(255) as u8;
-            if seen.len() == 1 && first != NONE {
-                first
-            } else {
-                SHARED
-            }
+            (if alike && first != NONE { first } else { SHARED }, two)
         })
-        .collect();
+        .unzip();
     let line_owner: Vec<u32> = f
         .lines
-        .iter()
+        .par_iter()
         .map(|&([a, b], _)| {
             let mut ps = around(a)
                 .iter()
@@ -418,8 +437,6 @@ fn run_pass(
             members[p as usize].push(t as u32);
         }
     }
-    let nb = partition::neighbours(&f.tris)
-        .ok_or_else(|| RemeshError::Invalid("an edge has three triangles".into()))?;
     stats.seconds.setup += t.elapsed().as_secs_f64();
 
     let in_parts = Instant::now();
@@ -428,7 +445,7 @@ fn run_pass(
         .enumerate()
         .map(|(p, tris)| {
             let t = Instant::now();
-            remesh_part(f, tris, p as u32, part, &nb, &owner, &line_owner, opts, iface)
+            remesh_part(f, tris, p as u32, part, &adjacency.nb, &owner, &line_owner, opts, iface)
                 .map(|o| (o, t.elapsed().as_secs_f64()))
         })
         .collect::<Result<_, _>>()?;
@@ -445,7 +462,7 @@ fn run_pass(
             new_id[v] = g.pts.len() as u32;
             g.pts.push(f.pts[v]);
             g.metric.push(f.metric[v]);
-            seeds.push(parts_at[v] >= 2);
+            seeds.push(between[v]);
         }
     }
     for (t, &p) in part.iter().enumerate() {

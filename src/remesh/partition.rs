@@ -21,6 +21,8 @@
 
 use std::collections::BTreeMap;
 
+use rayon::prelude::*;
+
 use super::estimate::{half_log_det, log_integral_of_exp};
 use super::work::orient;
 use crate::conformity::metric_edge_length;
@@ -33,14 +35,18 @@ pub const NONE: u32 = u32::MAX;
 /// corner `k + 1`), [`NONE`] on a boundary; `None` when an edge has more than two
 /// triangles.
 pub fn neighbours(tris: &[[u32; 3]]) -> Option<Vec<[u32; 3]>> {
-    let mut half: Vec<(u32, u32, u32)> = Vec::with_capacity(tris.len() * 3);
-    for (t, v) in tris.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (v[k], v[(k + 1) % 3]);
-            half.push((a.min(b), a.max(b), t as u32 * 3 + k as u32));
-        }
-    }
-    half.sort_unstable();
+    let mut half: Vec<(u32, u32, u32)> = tris
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(t, v)| {
+            (0..3).map(move |k| {
+                let (a, b) = (v[k], v[(k + 1) % 3]);
+                (a.min(b), a.max(b), t as u32 * 3 + k as u32)
+            })
+        })
+        .collect();
+    // Every key is distinct (the half-edge index is in it): the order is total.
+    half.par_sort_unstable();
     let mut nb = vec![[NONE; 3]; tris.len()];
     let mut i = 0;
     while i < half.len() {
@@ -86,8 +92,8 @@ pub fn vertex_triangles(n: usize, tris: &[[u32; 3]]) -> (Vec<usize>, Vec<u32>) {
 
 /// The complexity ∫ √det M of each triangle, M interpolated Log-Euclidean.
 pub fn weights(pts: &[[f64; 2]], tris: &[[u32; 3]], metric: &[Sym2]) -> Vec<f64> {
-    let hld: Vec<f64> = metric.iter().map(half_log_det).collect();
-    tris.iter()
+    let hld: Vec<f64> = metric.par_iter().map(half_log_det).collect();
+    tris.par_iter()
         .map(|t| {
             let [a, b, c] = t.map(|v| pts[v as usize]);
             let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
@@ -143,7 +149,7 @@ pub fn bisect(
         hi - lo
     };
     let axis = if extent(1) > extent(0) { 1 } else { 0 };
-    items.sort_unstable_by(|&a, &b| coord(a, axis).total_cmp(&coord(b, axis)).then(a.cmp(&b)));
+    items.par_sort_unstable_by(|&a, &b| coord(a, axis).total_cmp(&coord(b, axis)).then(a.cmp(&b)));
     let left = parts / 2;
     let total: f64 = items.iter().map(|&t| weight[t as usize]).sum();
     let mut cut = items.len() * left / parts;
