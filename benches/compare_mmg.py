@@ -36,6 +36,7 @@ remeshers interpolate it from a few vertices. Each tool runs under `/usr/bin/tim
 is kept.
 
     python3 benches/compare_mmg.py --coarse --sizes 1e4,1e5 --repeat 3
+    python3 benches/compare_mmg.py --coarse --sizes 1e6 --one-thread
 """
 
 import math
@@ -196,14 +197,15 @@ def coarse(a, sm, work):
                 write_sol(base, inp.with_suffix(".sol"), case, domain, s)
                 tools = [
                     ("smartmesh", lambda out: [sm, "remesh", str(inp), "-o", str(out)]),
+                ] + ([("smartmesh, 1 thread", lambda out: [sm, "remesh", str(inp), "-o", str(out), "--threads", "1"])] if a.one_thread else []) + [
                     ("mmg2d_O3", lambda out: [a.mmg, str(inp), "-sol", str(inp.with_suffix(".sol")), "-out", str(out), "-hgrad", "-1", "-hausd", "10", "-v", "-1"]),
                 ]
                 runs = {name: [] for name, _ in tools}
                 for _ in range(a.repeat):
                     for name, cmd in tools:
-                        runs[name].append(timed_memory(cmd(work / f"{name}-{tag}.mesh")))
+                        runs[name].append(timed_memory(cmd(work / f"{name.replace(', ', '-').replace(' ', '-')}-{tag}.mesh")))
                 for name, _ in tools:
-                    out = work / f"{name}-{tag}.mesh"
+                    out = work / f"{name.replace(', ', '-').replace(' ', '-')}-{tag}.mesh"
                     own = measure(sm, out)
                     bg = measure(sm, out, background=inp)
                     r = {"domain": domain, "case": case, "target": int(target), "tool": name,
@@ -231,6 +233,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=1, help="runs per tool and size (best time kept)")
     ap.add_argument("--smooth", action="store_true", help="also run smartmesh --boundary smooth")
     ap.add_argument("--coarse", action="store_true", help="the coarse anisotropic cases instead (see above)")
+    ap.add_argument("--one-thread", action="store_true", help="coarse cases: also run smartmesh with --threads 1 (it uses every core by default; mmg2d_O3 uses one)")
     a = ap.parse_args()
     if not a.mmg:
         sys.exit("mmg2d_O3 not found (pip install mmgpy)")
