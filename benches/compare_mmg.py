@@ -201,11 +201,13 @@ def coarse(a, sm, work):
                     ("mmg2d_O3", lambda out: [a.mmg, str(inp), "-sol", str(inp.with_suffix(".sol")), "-out", str(out), "-hgrad", "-1", "-hausd", "10", "-v", "-1"]),
                 ]
                 runs = {name: [] for name, _ in tools}
+                # A tool's output file: its name with the spaces and commas made dashes.
+                out_of = {name: work / f"{name.replace(', ', '-').replace(' ', '-')}-{tag}.mesh" for name, _ in tools}
                 for _ in range(a.repeat):
                     for name, cmd in tools:
-                        runs[name].append(timed_memory(cmd(work / f"{name.replace(', ', '-').replace(' ', '-')}-{tag}.mesh")))
+                        runs[name].append(timed_memory(cmd(out_of[name])))
                 for name, _ in tools:
-                    out = work / f"{name.replace(', ', '-').replace(' ', '-')}-{tag}.mesh"
+                    out = out_of[name]
                     own = measure(sm, out)
                     bg = measure(sm, out, background=inp)
                     r = {"domain": domain, "case": case, "target": int(target), "tool": name,
