@@ -16,11 +16,18 @@
 //! Temporary files are created exclusively (`O_EXCL` with a random name, by the `tempfile`
 //! crate), so a file or link planted under a predictable name is never followed; they
 //! are synced before the renames and removed when anything fails. Their names say whose
-//! they are, `.NAME.smartmesh-PID.RANDOM.tmp`: a process killed before it could remove
-//! its own (SIGKILL, a power cut) leaves them behind, and the next write into that
+//! they are, `.NAME.smartmesh-HOST-PID.RANDOM.tmp`: a process killed before it could
+//! remove its own (SIGKILL, a power cut) leaves them behind, and the next write into that
 //! directory removes those of processes that are gone — only regular files of that exact
-//! pattern, owned by the writing user, whose PID no longer runs (Unix; elsewhere nothing
-//! is removed).
+//! pattern, owned by the writing user, written on this host (the same `HOST`), whose PID
+//! no longer runs (Unix; elsewhere nothing is removed).
+//!
+//! A PID means something only in the PID namespace of the kernel that gave it: a
+//! directory shared by several nodes (NFS, Lustre) or containers holds temporaries whose
+//! PIDs say nothing here, and a writer alive elsewhere must never lose its temporary.
+//! `HOST` ([`host_tag`]) is 16 hex digits of a hash of the kernel's boot id and the PID
+//! namespace (Linux), or of the host name (other Unix systems); a temporary of another
+//! `HOST`, or of the old name without one, is never removed.
 
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -118,22 +125,77 @@ fn directory_of(path: &Path) -> &Path {
     }
 }
 
-/// What follows the target's name in a temporary's: `.smartmesh-PID.RANDOM.tmp`.
+/// What follows the target's name in a temporary's: `.smartmesh-HOST-PID.RANDOM.tmp`.
 const TEMP_TAG: &str = ".smartmesh-";
 const TEMP_SUFFIX: &str = ".tmp";
+/// The digits of `HOST` (hex).
+const HOST_DIGITS: usize = 16;
 
-/// The PID in the name of a temporary file of ours (`.NAME.smartmesh-PID.RANDOM.tmp`),
-/// `None` for any other name.
-fn temporary_pid(name: &str) -> Option<u32> {
+/// The host and PID in the name of a temporary file of ours
+/// (`.NAME.smartmesh-HOST-PID.RANDOM.tmp`), `None` for any other name (the old
+/// `.NAME.smartmesh-PID.RANDOM.tmp` included: whose host it was is not known).
+fn temporary_owner(name: &str) -> Option<(&str, u32)> {
     let rest = name.strip_prefix('.')?.strip_suffix(TEMP_SUFFIX)?;
     let at = rest.rfind(TEMP_TAG)?;
-    let (pid, random) = rest[at + TEMP_TAG.len()..].split_once('.')?;
+    let (owner, random) = rest[at + TEMP_TAG.len()..].split_once('.')?;
+    let (host, pid) = owner.split_once('-')?;
     let ours = at > 0
+        && host.len() == HOST_DIGITS
+        && host.bytes().all(|b| b.is_ascii_hexdigit())
         && !pid.is_empty()
         && pid.bytes().all(|b| b.is_ascii_digit())
         && !random.is_empty()
         && random.bytes().all(|b| b.is_ascii_alphanumeric());
-    ours.then(|| pid.parse().ok()).flatten()
+    ours.then(|| pid.parse().ok().map(|pid| (host, pid))).flatten()
+}
+
+/// FNV-1a, 64 bits: stable across builds and platforms (the tag is compared between
+/// processes, possibly of other builds).
+fn fnv1a(parts: &[&[u8]]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for part in parts {
+        for &b in part.iter().chain([0xffu8].iter()) {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
+}
+
+/// What makes a PID of this process meaningful: on Linux the kernel's boot id and our PID
+/// namespace (two containers on one kernel share the boot id, not the namespace); else
+/// the host name. `None` when neither can be read: then nothing is ever swept.
+#[cfg(unix)]
+fn host_identity() -> Option<Vec<u8>> {
+    let boot = std::fs::read_to_string("/proc/sys/kernel/random/boot_id").ok();
+    let namespace = std::fs::read_link("/proc/self/ns/pid").ok();
+    match (boot, namespace) {
+        (Some(boot), Some(ns)) if !boot.trim().is_empty() => {
+            Some(format!("linux {} {}", boot.trim(), ns.display()).into_bytes())
+        }
+        _ => {
+            let uname = rustix::system::uname();
+            let host = uname.nodename().to_bytes();
+            (!host.is_empty()).then(|| [b"host ".as_slice(), host].concat())
+        }
+    }
+}
+
+/// This process's `HOST` in its temporaries' names (see the module documentation), and
+/// whether it is known (an unknown host writes zeros and sweeps nothing).
+fn host_tag() -> (&'static str, bool) {
+    static TAG: std::sync::OnceLock<(String, bool)> = std::sync::OnceLock::new();
+    let (tag, known) = TAG.get_or_init(|| {
+        #[cfg(unix)]
+        let identity = host_identity();
+        #[cfg(not(unix))]
+        let identity: Option<Vec<u8>> = None;
+        match identity {
+            Some(id) => (format!("{:016x}", fnv1a(&[b"smartmesh host", &id])), true),
+            None => ("0".repeat(HOST_DIGITS), false),
+        }
+    });
+    (tag.as_str(), *known)
 }
 
 /// Whether no process `pid` runs (a process of another user runs: we may not signal it,
@@ -162,10 +224,18 @@ fn remove_stale_temporaries(dir: &Path) {
         }
         cleaned.push(dir.to_path_buf());
         let Ok(entries) = std::fs::read_dir(dir) else { return };
+        let (here, known) = host_tag();
+        if !known {
+            return;
+        }
         let me = rustix::process::getuid().as_raw();
         for entry in entries.flatten() {
             let name = entry.file_name();
-            let Some(pid) = name.to_str().and_then(temporary_pid) else { continue };
+            let Some((host, pid)) = name.to_str().and_then(temporary_owner) else { continue };
+            // Another host's PID says nothing here: its writer may be alive.
+            if host != here {
+                continue;
+            }
             // symlink_metadata: a link is never ours, and never followed.
             let Ok(m) = std::fs::symlink_metadata(entry.path()) else { continue };
             if m.is_file() && m.uid() == me && pid != std::process::id() && is_gone(pid) {
@@ -185,7 +255,7 @@ fn write_temporary(
     bytes: &[u8],
 ) -> std::io::Result<NamedTempFile> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let prefix = format!(".{name}{TEMP_TAG}{}.", std::process::id());
+    let prefix = format!(".{name}{TEMP_TAG}{}-{}.", host_tag().0, std::process::id());
     let mut builder = tempfile::Builder::new();
     builder.prefix(&prefix).suffix(TEMP_SUFFIX);
     #[cfg(unix)]
@@ -265,21 +335,42 @@ pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
 mod tests {
     use super::*;
 
+    const H: &str = "0123456789abcdef";
+
     #[test]
-    fn only_our_temporary_names_give_a_pid() {
-        assert_eq!(temporary_pid(".out.msh.smartmesh-1234.AbC123.tmp"), Some(1234));
-        assert_eq!(temporary_pid(".a.smartmesh-1.x.smartmesh-77.q1.tmp"), Some(77));
+    fn only_our_temporary_names_give_a_host_and_a_pid() {
+        assert_eq!(
+            temporary_owner(&format!(".out.msh.smartmesh-{H}-1234.AbC123.tmp")),
+            Some((H, 1234))
+        );
+        assert_eq!(
+            temporary_owner(&format!(".a.smartmesh-{H}-1.x.smartmesh-{H}-77.q1.tmp")),
+            Some((H, 77))
+        );
         for other in [
-            "out.msh.smartmesh-1234.AbC123.tmp",
-            ".out.msh.smartmesh-1234.tmp",
-            ".smartmesh-1234.AbC123.tmp",
-            ".out.msh.smartmesh-+12.AbC123.tmp",
-            ".out.msh.smartmesh-12.Ab-C.tmp",
-            ".out.msh.AbC123.smartmesh.tmp",
-            ".out.msh.smartmesh-1234.AbC123.tmpx",
+            format!("out.msh.smartmesh-{H}-1234.AbC123.tmp"),
+            format!(".out.msh.smartmesh-{H}-1234.tmp"),
+            format!(".smartmesh-{H}-1234.AbC123.tmp"),
+            format!(".out.msh.smartmesh-{H}-+12.AbC123.tmp"),
+            format!(".out.msh.smartmesh-{H}-12.Ab-C.tmp"),
+            format!(".out.msh.smartmesh-{H}-1234.AbC123.tmpx"),
+            ".out.msh.AbC123.smartmesh.tmp".to_string(),
+            // The old name, without a host: whose it was is not known.
+            ".out.msh.smartmesh-1234.AbC123.tmp".to_string(),
+            ".out.msh.smartmesh-0123456789abcde-1234.AbC123.tmp".to_string(),
+            ".out.msh.smartmesh-0123456789abcdeg-1234.AbC123.tmp".to_string(),
         ] {
-            assert_eq!(temporary_pid(other), None, "{other}");
+            assert_eq!(temporary_owner(&other), None, "{other}");
         }
+    }
+
+    #[test]
+    fn the_host_tag_is_known_and_stable() {
+        let (tag, known) = host_tag();
+        assert_eq!(tag.len(), HOST_DIGITS);
+        assert!(cfg!(not(unix)) || known);
+        assert_eq!(host_tag().0, tag);
+        assert_ne!(fnv1a(&[b"ab", b"c"]), fnv1a(&[b"a", b"bc"]));
     }
 
     #[cfg(unix)]
@@ -290,22 +381,30 @@ mod tests {
         let gone = child.id();
         child.wait().unwrap();
         assert!(is_gone(gone));
-        let stale = dir.path().join(format!(".out.msh.smartmesh-{gone}.AbC123.tmp"));
-        // Kept: a live process's (ours), another pattern, a link.
-        let live = dir.path().join(format!(".out.msh.smartmesh-{}.XyZ789.tmp", std::process::id()));
-        let other = dir.path().join(format!(".out.msh.smartmesh-{gone}.tmp"));
-        let link = dir.path().join(format!(".l.smartmesh-{gone}.Lnk000.tmp"));
-        for p in [&stale, &live, &other] {
+        let here = host_tag().0;
+        let elsewhere = if here == H { "fedcba9876543210" } else { H };
+        let stale = dir.path().join(format!(".out.msh.smartmesh-{here}-{gone}.AbC123.tmp"));
+        // Kept: a live process's (ours), another pattern, a link, the same PID on another
+        // host (its writer may be alive there), the old name without a host.
+        let live =
+            dir.path().join(format!(".out.msh.smartmesh-{here}-{}.XyZ789.tmp", std::process::id()));
+        let other = dir.path().join(format!(".out.msh.smartmesh-{here}-{gone}.tmp"));
+        let link = dir.path().join(format!(".l.smartmesh-{here}-{gone}.Lnk000.tmp"));
+        let remote = dir.path().join(format!(".out.msh.smartmesh-{elsewhere}-{gone}.Rem000.tmp"));
+        let old = dir.path().join(format!(".out.msh.smartmesh-{gone}.Old000.tmp"));
+        for p in [&stale, &live, &other, &remote, &old] {
             std::fs::write(p, b"partial").unwrap();
         }
         std::os::unix::fs::symlink(&other, &link).unwrap();
         write_all_atomically(&[(dir.path().join("out.msh"), b"mesh".to_vec())]).unwrap();
         assert!(!stale.exists(), "the stale temporary stays");
         assert!(live.exists() && other.exists() && link.symlink_metadata().is_ok());
+        assert!(remote.exists(), "another host's temporary is removed");
+        assert!(old.exists(), "a temporary of an unknown host is removed");
         let names: Vec<String> = std::fs::read_dir(dir.path())
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
             .collect();
-        assert_eq!(names.len(), 4, "{names:?}");
+        assert_eq!(names.len(), 6, "{names:?}");
     }
 }
