@@ -1,11 +1,15 @@
 //! `DIR/results.jsonl`: one record per finished variant, appended as each finishes.
 //!
 //! Each record is one JSON line written by a single `write` to a file opened for
-//! appending, then synced: several processes (the tasks of a HyperQueue job, the shards
-//! of a Slurm array) append to one file without mixing their lines, and a run killed at
-//! any moment leaves whole lines (a reader skips a last line without its newline). The
-//! file is never rewritten: a variant run again gets a new record, and the last record of
-//! a name is its result ([`latest`]).
+//! appending, under an exclusive `flock` of the file, then synced: several processes (the
+//! tasks of a HyperQueue job, the shards of a Slurm array) append to one file without
+//! mixing their lines. A record that could not be written whole (a full disk) is cut off
+//! again; an append to a file that does not end with a newline (a run killed mid-write,
+//! another program's bytes) starts with one, so that a torn line never swallows the next
+//! record: a reader loses only the torn bytes, and skips, with a warning, every line that
+//! is not a record (bad JSON, bytes that are not UTF-8). The file is never rewritten: a
+//! variant run again gets a new record, and the last record of a name is its result
+//! ([`latest`]).
 
 use std::collections::HashMap;
 use std::io::Write;
@@ -66,19 +70,56 @@ pub struct ResultRecord {
     pub hash: String,
 }
 
-/// Appends `record` to `path` as one line, in one write, and syncs it.
+/// Opens `path` for appending (creating it), as [`append`] does: to check, before any
+/// run, that the results can be written.
+pub fn open(path: &Path) -> std::io::Result<std::fs::File> {
+    std::fs::OpenOptions::new().create(true).read(true).append(true).open(path)
+}
+
+/// Appends `record` to `path` as one line, in one write, and syncs it (see the module
+/// documentation): under an exclusive lock of the file, after a newline when the file
+/// does not end with one; a short or failed write is cut off again.
 pub fn append(path: &Path, record: &ResultRecord) -> std::io::Result<()> {
     let mut line = serde_json::to_string(record).map_err(std::io::Error::other)?;
     line.push('\n');
-    let mut file = std::fs::OpenOptions::new().create(true).append(true).open(path)?;
-    let written = file.write(line.as_bytes())?;
-    if written != line.len() {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::WriteZero,
-            format!("wrote {written} of the record's {} bytes", line.len()),
-        ));
+    let mut file = open(path)?;
+    // Appenders of this file (on any host whose file system has locks) take turns, so
+    // that the length read below is where this record starts. Without locks (ENOLCK,
+    // EOPNOTSUPP) the single `write` still keeps lines apart.
+    #[cfg(unix)]
+    let _ = rustix::fs::flock(&file, rustix::fs::FlockOperation::LockExclusive);
+    let start = file.metadata()?.len();
+    if start > 0 && !ends_with_newline(&file, start)? {
+        line.insert(0, '\n');
     }
-    file.sync_data()
+    let outcome = match file.write(line.as_bytes()) {
+        Ok(n) if n == line.len() => file.sync_data(),
+        Ok(n) => Err(std::io::Error::new(
+            std::io::ErrorKind::WriteZero,
+            format!("wrote {n} of the record's {} bytes (is the disk full?)", line.len()),
+        )),
+        Err(e) => Err(e),
+    };
+    if outcome.is_err() {
+        // The torn bytes go; a reader sees the file as it was.
+        let _ = file.set_len(start);
+    }
+    outcome
+}
+
+/// Whether the `len` bytes of `file` end with `\n`.
+fn ends_with_newline(file: &std::fs::File, len: u64) -> std::io::Result<bool> {
+    let mut last = [0u8];
+    #[cfg(unix)]
+    std::os::unix::fs::FileExt::read_exact_at(file, &mut last, len - 1)?;
+    #[cfg(not(unix))]
+    {
+        use std::io::{Read, Seek, SeekFrom};
+        let mut f = file;
+        f.seek(SeekFrom::Start(len - 1))?;
+        f.read_exact(&mut last)?;
+    }
+    Ok(last[0] == b'\n')
 }
 
 /// The records of a results file, the last of each name.
@@ -87,29 +128,50 @@ pub type Latest = HashMap<String, ResultRecord>;
 /// The last record of each name in `path` (none when the file does not exist), and the
 /// lines that are not records (line number and why), which the caller reports.
 pub fn latest(path: &Path) -> std::io::Result<(Latest, Vec<(usize, String)>)> {
-    let text = match std::fs::read_to_string(path) {
+    let bytes = match std::fs::read(path) {
         Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Vec::new(),
         Err(e) => return Err(e),
     };
     let mut records = HashMap::new();
+    let bad = read_records(&bytes, 1, |r| {
+        records.insert(r.name.clone(), r);
+    });
+    Ok((records, bad))
+}
+
+/// Reads the whole lines of `bytes` (the first numbered `first_line`), giving each record
+/// to `found`; returns the lines that are not records (number and why), a last line
+/// without its newline among them.
+pub fn read_records(
+    bytes: &[u8],
+    first_line: usize,
+    mut found: impl FnMut(ResultRecord),
+) -> Vec<(usize, String)> {
     let mut bad = Vec::new();
-    let complete = text.rfind('\n').map_or("", |i| &text[..=i]);
-    for (i, line) in complete.lines().enumerate() {
-        if line.trim().is_empty() {
+    let complete = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let mut number = first_line;
+    for line in bytes[..complete].split(|&b| b == b'\n') {
+        let here = number;
+        number += 1;
+        if line.iter().all(u8::is_ascii_whitespace) {
             continue;
         }
-        match serde_json::from_str::<ResultRecord>(line) {
-            Ok(r) => {
-                records.insert(r.name.clone(), r);
-            }
-            Err(e) => bad.push((i + 1, e.to_string())),
+        let Ok(text) = std::str::from_utf8(line) else {
+            bad.push((here, "not UTF-8 text".into()));
+            continue;
+        };
+        match serde_json::from_str::<ResultRecord>(text) {
+            Ok(r) => found(r),
+            Err(e) => bad.push((here, e.to_string())),
         }
     }
-    if complete.len() < text.len() {
-        bad.push((complete.lines().count() + 1, "a partial line (no newline): ignored".into()));
+    // `split` gives one empty piece after the last newline.
+    let last = number - 1;
+    if complete < bytes.len() {
+        bad.push((last, "a partial line (no newline): ignored".into()));
     }
-    Ok((records, bad))
+    bad
 }
 
 #[cfg(test)]
@@ -154,5 +216,41 @@ mod tests {
         assert_eq!(r["b"].status, Status::Ok);
         assert_eq!(bad.len(), 1);
         assert_eq!(bad[0].0, 4);
+    }
+
+    #[test]
+    fn an_append_after_a_torn_line_starts_a_line_of_its_own() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join(RESULTS);
+        append(&p, &record("a", Status::Ok)).unwrap();
+        // A run killed mid-write (or a full disk) left half a record.
+        let mut f = std::fs::OpenOptions::new().append(true).open(&p).unwrap();
+        f.write_all(b"{\"name\":\"b\",\"sta").unwrap();
+        drop(f);
+        append(&p, &record("c", Status::Ok)).unwrap();
+        let (r, bad) = latest(&p).unwrap();
+        assert_eq!(r.len(), 2, "{bad:?}");
+        assert_eq!(r["c"], record("c", Status::Ok));
+        assert_eq!(bad.len(), 1, "only the torn bytes are lost: {bad:?}");
+        assert_eq!(bad[0].0, 2);
+        // A file that ends whole gets no blank line.
+        let before = std::fs::read(&p).unwrap();
+        append(&p, &record("d", Status::Ok)).unwrap();
+        let after = std::fs::read(&p).unwrap();
+        assert_eq!(after[before.len()], b'{');
+    }
+
+    #[test]
+    fn a_line_that_is_not_utf8_is_skipped_not_fatal() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join(RESULTS);
+        append(&p, &record("a", Status::Ok)).unwrap();
+        let mut f = std::fs::OpenOptions::new().append(true).open(&p).unwrap();
+        f.write_all(b"\xff\xfe garbage\n").unwrap();
+        drop(f);
+        append(&p, &record("b", Status::Ok)).unwrap();
+        let (r, bad) = latest(&p).unwrap();
+        assert_eq!(r.len(), 2);
+        assert_eq!(bad, vec![(2, "not UTF-8 text".to_string())]);
     }
 }
