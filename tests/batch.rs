@@ -228,7 +228,6 @@ fn a_bad_manifest_is_refused_before_any_run_naming_file_and_line() {
             r#"{"name":"cyl","input":"cylinder.toml","recipe":"cylinder.toml"}"#,
             "already used at line 1",
         ),
-        (r#"{"name":"x","input":"nowhere.msh","recipe":"cylinder.toml"}"#, "nowhere.msh"),
         (
             r#"{"name":"x","input":"cylinder.toml","recipe":"cylinder.toml","options":{"hgrad":"a"}}"#,
             "must be a number",

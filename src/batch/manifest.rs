@@ -7,8 +7,14 @@
 //! (absolute paths are kept); `options` name only adapt options of [`OPTIONS`], each with
 //! a value of its kind, and become the `adapt` arguments of [`Variant::adapt_args`] in
 //! the order of [`OPTIONS`] (so that equal options give equal arguments, and equal
-//! content hashes, whatever their order in the line). Blank lines are skipped; every
-//! error names the manifest, the line and what was expected.
+//! content hashes, whatever their order in the line). Blank lines and a byte order mark
+//! are skipped; a key given twice in one object is an error (JSON leaves it undefined);
+//! every error names the manifest, the line and what was expected, with the line's own
+//! text shown escaped ([`shown`]: no control character reaches the terminal).
+//!
+//! Whether `input` and `recipe` exist is not the manifest's business but the variant's
+//! ([`Variant::check_files`]): a batch records a variant whose file is missing as failed
+//! and runs the others.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -93,20 +99,63 @@ pub struct ManifestError {
 
 impl Variant {
     /// The `adapt` arguments of this variant writing into `dir`: input, recipe, output,
-    /// history, then the options.
+    /// history, then the options. Every value is joined to its flag (`--hmin=-1`) and
+    /// every path is kept from starting with `-`, so that no value is read as a flag.
     pub fn adapt_args(&self, dir: &Path) -> Vec<std::ffi::OsString> {
         let mut a: Vec<std::ffi::OsString> = vec![
             "adapt".into(),
-            self.input.clone().into_os_string(),
+            not_a_flag(&self.input),
             "--recipe".into(),
-            self.recipe.clone().into_os_string(),
+            not_a_flag(&self.recipe),
             "-o".into(),
-            dir.join(self.output_name()).into_os_string(),
+            not_a_flag(&dir.join(self.output_name())),
             "--history".into(),
-            dir.join(self.history_name()).into_os_string(),
+            not_a_flag(&dir.join(self.history_name())),
         ];
-        a.extend(self.args.iter().map(Into::into));
+        let mut args = self.args.iter();
+        while let Some(arg) = args.next() {
+            let takes_value = OPTIONS.iter().any(|&(_, flag, kind)| {
+                flag == arg
+                    && matches!(kind, OptionKind::Text | OptionKind::Number | OptionKind::Count)
+            });
+            match if takes_value { args.next() } else { None } {
+                Some(value) => a.push(format!("{arg}={value}").into()),
+                None => a.push(arg.into()),
+            }
+        }
         a
+    }
+
+    /// Whether its input and recipe are files that can be read: why not, otherwise.
+    pub fn check_files(&self) -> Result<(), String> {
+        for (key, p) in [("input", &self.input), ("recipe", &self.recipe)] {
+            match std::fs::metadata(p) {
+                Ok(m) if m.is_file() => {}
+                Ok(_) => return Err(format!("`{key}` {} is not a file", shown(&p.display().to_string()))),
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                    return Err(format!("`{key}` {} does not exist (expected a file; relative paths are relative to the manifest's folder)", shown(&p.display().to_string())))
+                }
+                Err(e) => return Err(format!("`{key}` {}: {e}", shown(&p.display().to_string()))),
+            }
+        }
+        Ok(())
+    }
+
+    /// Every file a run of this variant may write in its directory, by name: the output
+    /// and the files its format writes beside it (Triangle's family, Medit's solution),
+    /// the history and the log.
+    pub fn output_names(&self) -> Vec<String> {
+        let siblings: &[&str] = match smartmesh_formats::Format::from_extension(&self.format) {
+            Some(smartmesh_formats::Format::Triangle) => &["node", "ele", "poly", "edge", "area"],
+            Some(smartmesh_formats::Format::Medit) => &["sol", "solb"],
+            _ => &[],
+        };
+        let mut names = vec![self.output_name()];
+        names.extend(siblings.iter().map(|e| format!("{}.{e}", self.name)));
+        names.extend([self.history_name(), self.log_name()]);
+        names.sort();
+        names.dedup();
+        names
     }
 
     /// The output mesh's file name, `NAME.EXT`.
@@ -135,13 +184,15 @@ pub fn parse_line(
 ) -> Result<Option<Variant>, ManifestError> {
     let err =
         |message: String| ManifestError { source_name: source_name.to_string(), line, message };
-    let text = text.trim();
+    // A byte order mark (a manifest saved by some Windows editors) is not text.
+    let text = text.trim_start_matches('\u{feff}').trim();
     if text.is_empty() {
         return Ok(None);
     }
-    let value: Value = serde_json::from_str(text).map_err(|e| {
+    let value: Value = strict_json(text).map_err(|e| {
         err(format!(
-            "not a JSON object ({e}); expected one variant per line: {{\"name\": ..., \"input\": ..., \"recipe\": ..., \"options\": {{...}}}}"
+            "not a JSON object ({}); expected one variant per line: {{\"name\": ..., \"input\": ..., \"recipe\": ..., \"options\": {{...}}}}",
+            shown(&e)
         ))
     })?;
     let Value::Object(object) = value else {
@@ -152,7 +203,8 @@ pub fn parse_line(
     };
     if let Some(key) = object.keys().find(|k| !KEYS.contains(&k.as_str())) {
         return Err(err(format!(
-            "unknown key `{key}`{}; known: {}",
+            "unknown key `{}`{}; known: {}",
+            shown(key),
             did_you_mean(key, KEYS),
             KEYS.join(", ")
         )));
@@ -170,15 +222,7 @@ pub fn parse_line(
     check_name(&name).map_err(|m| err(format!("`name` {m}")))?;
     let path = |key: &str| -> Result<PathBuf, ManifestError> {
         let p = PathBuf::from(text_field(key)?);
-        let p = if p.is_absolute() { p } else { base.join(p) };
-        match std::fs::metadata(&p) {
-            Ok(m) if m.is_file() => Ok(p),
-            Ok(_) => Err(err(format!("`{key}` {} is not a file", p.display()))),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                Err(err(format!("`{key}` {} does not exist (expected a file; relative paths are relative to the manifest's folder)", p.display())))
-            }
-            Err(e) => Err(err(format!("`{key}` {}: {e}", p.display()))),
-        }
+        Ok(if p.is_absolute() { p } else { base.join(p) })
     };
     let input = path("input")?;
     let recipe = path("recipe")?;
@@ -228,13 +272,16 @@ pub fn parse(text: &str, manifest: &Path) -> Result<Vec<Variant>, ManifestError>
 /// Whether `name` can name files in the output directory.
 fn check_name(name: &str) -> Result<(), String> {
     if name.starts_with('.') {
-        return Err(format!("`{name}` starts with `.`; expected letters, digits, `.`, `_` or `-`"));
+        return Err(format!(
+            "`{}` starts with `.`; expected letters, digits, `.`, `_` or `-`",
+            shown(name)
+        ));
     }
     if name.len() > 200 {
         return Err(format!("is {} bytes long; at most 200", name.len()));
     }
     match name.chars().find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-'))) {
-        Some(c) => Err(format!("`{name}` holds {c:?}; expected letters, digits, `.`, `_` or `-` (it names the output files)")),
+        Some(c) => Err(format!("`{}` holds {c:?}; expected letters, digits, `.`, `_` or `-` (it names the output files)", shown(name))),
         None => Ok(()),
     }
 }
@@ -244,7 +291,8 @@ pub fn option_args(options: &Map<String, Value>) -> Result<(String, Vec<String>)
     let known: Vec<&str> = OPTIONS.iter().map(|o| o.0).collect();
     if let Some(key) = options.keys().find(|k| !known.contains(&k.as_str())) {
         return Err(format!(
-            "unknown option `{key}`{}; known: {}",
+            "unknown option `{}`{}; known: {}",
+            shown(key),
             did_you_mean(key, &known),
             known.join(", ")
         ));
@@ -279,7 +327,7 @@ pub fn option_args(options: &Map<String, Value>) -> Result<(String, Vec<String>)
                 let ok = smartmesh_formats::Format::from_extension(&s).is_some()
                     && s.chars().all(|c| c.is_ascii_alphanumeric());
                 if !ok {
-                    return Err(format!("option `format` `{s}` is not a mesh file extension (msh, vtu, vtk, mesh, meshb, obj, node, gltf, glb)"));
+                    return Err(format!("option `format` `{}` is not a mesh file extension (msh, vtu, vtk, mesh, meshb, obj, node, gltf, glb)", shown(&s)));
                 }
                 format = s;
             }
@@ -299,6 +347,104 @@ pub fn option_args(options: &Map<String, Value>) -> Result<(String, Vec<String>)
         }
     }
     Ok((format, args))
+}
+
+/// `text` as it may be shown on a terminal: control characters (escape sequences, bells,
+/// carriage returns) escaped as Rust writes them (`\u{1b}`), the rest unchanged.
+pub fn shown(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_debug());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// `path` made safe to pass as an argument: a relative path starting with `-` gets `./`
+/// before it, so that no parser takes it for a flag.
+fn not_a_flag(path: &Path) -> std::ffi::OsString {
+    if path.as_os_str().as_encoded_bytes().first() == Some(&b'-') {
+        Path::new(".").join(path).into_os_string()
+    } else {
+        path.as_os_str().to_owned()
+    }
+}
+
+/// A JSON value, refusing an object that gives a key twice (serde_json keeps the last
+/// silently).
+fn strict_json(text: &str) -> Result<Value, String> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let value =
+        serde::Deserialize::deserialize(&mut de).map(|Strict(v)| v).map_err(|e| e.to_string())?;
+    de.end().map_err(|e| e.to_string())?;
+    Ok(value)
+}
+
+/// A [`Value`] read with duplicate keys refused.
+struct Strict(Value);
+
+impl<'de> serde::Deserialize<'de> for Strict {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Strict, D::Error> {
+        d.deserialize_any(StrictVisitor).map(Strict)
+    }
+}
+
+struct StrictVisitor;
+
+impl<'de> serde::de::Visitor<'de> for StrictVisitor {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a JSON value")
+    }
+    fn visit_bool<E>(self, b: bool) -> Result<Value, E> {
+        Ok(Value::Bool(b))
+    }
+    fn visit_i64<E>(self, n: i64) -> Result<Value, E> {
+        Ok(Value::from(n))
+    }
+    fn visit_u64<E>(self, n: u64) -> Result<Value, E> {
+        Ok(Value::from(n))
+    }
+    fn visit_f64<E>(self, n: f64) -> Result<Value, E> {
+        Ok(serde_json::Number::from_f64(n).map_or(Value::Null, Value::Number))
+    }
+    fn visit_str<E>(self, s: &str) -> Result<Value, E> {
+        Ok(Value::String(s.to_string()))
+    }
+    fn visit_string<E>(self, s: String) -> Result<Value, E> {
+        Ok(Value::String(s))
+    }
+    fn visit_unit<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+    fn visit_none<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        let mut items = Vec::new();
+        while let Some(Strict(v)) = seq.next_element()? {
+            items.push(v);
+        }
+        Ok(Value::Array(items))
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+        let mut object = Map::new();
+        while let Some(key) = map.next_key::<String>()? {
+            let Strict(v) = map.next_value()?;
+            if object.contains_key(&key) {
+                return Err(serde::de::Error::custom(format!(
+                    "the key `{}` is given twice",
+                    shown(&key)
+                )));
+            }
+            object.insert(key, v);
+        }
+        Ok(Value::Object(object))
+    }
 }
 
 /// ` (did you mean `x`?)` when a known name is close to `key`.
@@ -355,6 +501,30 @@ mod tests {
             ]
         );
         assert_eq!(va.input, d.path().join("a.poly"));
+        // Values are joined to their flags: `-1` is a value, not a flag.
+        let neg = r#"{"name":"v","input":"a.poly","recipe":"r.toml","options":{"hmin":-1,"nosurf":true,"adapter_args":["-v"]}}"#;
+        let v = parse_line(neg, 1, d.path(), "m").unwrap().unwrap();
+        let args: Vec<String> = v
+            .adapt_args(Path::new("out"))
+            .into_iter()
+            .skip(8)
+            .map(|a| a.into_string().unwrap())
+            .collect();
+        assert_eq!(args, ["--adapter-arg=-v", "--hmin=-1", "--nosurf"]);
+        // A path starting with `-` is not a flag either.
+        let dashed = parse_line(neg, 1, Path::new("-dir"), "m").unwrap().unwrap();
+        assert_eq!(dashed.adapt_args(Path::new("out"))[1], "./-dir/a.poly");
+    }
+
+    #[test]
+    fn a_missing_file_is_the_variants_not_the_manifests() {
+        let d = files();
+        let line = r#"{"name":"a","input":"missing.poly","recipe":"r.toml"}"#;
+        let v = parse_line(line, 1, d.path(), "m").unwrap().unwrap();
+        let e = v.check_files().unwrap_err();
+        assert!(e.contains("missing.poly") && e.contains("does not exist"), "{e}");
+        let ok = parse_line(r#"{"name":"a","input":"a.poly","recipe":"r.toml"}"#, 1, d.path(), "m");
+        assert_eq!(ok.unwrap().unwrap().check_files(), Ok(()));
     }
 
     #[test]
@@ -387,7 +557,22 @@ mod tests {
             (r#"{"name":"a/b","input":"a.poly","recipe":"r.toml"}"#, "holds '/'"),
             (r#"{"name":"../a","input":"a.poly","recipe":"r.toml"}"#, "starts with `.`"),
             (r#"{"name":".a","input":"a.poly","recipe":"r.toml"}"#, "starts with `.`"),
-            (r#"{"name":"a","input":"missing.poly","recipe":"r.toml"}"#, "missing.poly"),
+            (
+                r#"{"name":"a","input":"a.poly","recipe":"r.toml","name":"b"}"#,
+                "the key `name` is given twice",
+            ),
+            (
+                r#"{"name":"a","input":"a.poly","recipe":"r.toml","options":{"hmin":1,"hmin":2}}"#,
+                "the key `hmin` is given twice",
+            ),
+            (
+                r#"{"name":"a\u001b[2Jb","input":"a.poly","recipe":"r.toml"}"#,
+                "`a\\u{1b}[2Jb` holds",
+            ),
+            (
+                r#"{"name":"a","in\u0007put":"a.poly","recipe":"r.toml"}"#,
+                "unknown key `in\\u{7}put`",
+            ),
             (r#"{"name":"a","input":"a.poly"}"#, "`recipe` is missing"),
             (
                 r#"{"name":3,"input":"a.poly","recipe":"r.toml"}"#,
@@ -415,6 +600,9 @@ mod tests {
         let ok = parse(&format!("\n{v}\n   \n"), &m).unwrap();
         assert_eq!(ok.len(), 1);
         assert_eq!(ok[0].line, 2);
+        // A byte order mark before the first line is no part of it.
+        let ok = parse(&format!("\u{feff}{v}\n"), &m).unwrap();
+        assert_eq!(ok[0].name, "a");
         assert!(parse("\n\n", &m).unwrap_err().message.contains("no variant"));
     }
 }

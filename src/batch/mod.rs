@@ -13,6 +13,7 @@
 pub mod manifest;
 pub mod results;
 
+use std::io::Read;
 use std::path::Path;
 
 use sha2::{Digest, Sha256};
@@ -54,27 +55,41 @@ impl Shard {
 /// name, the bytes of its input and recipe, its output format and its options. Files a
 /// recipe includes (`#include`, `@include`) are not part of it.
 pub fn content_hash(variant: &Variant) -> std::io::Result<String> {
-    let mut h = Sha256::new();
-    let mut part = |bytes: &[u8]| {
+    // Each part is its length, then its bytes: the boundaries between parts count.
+    fn part(h: &mut Sha256, bytes: &[u8]) {
         h.update((bytes.len() as u64).to_le_bytes());
         h.update(bytes);
-    };
-    part(b"smartmesh batch 1");
-    part(env!("CARGO_PKG_VERSION").as_bytes());
-    part(variant.name.as_bytes());
-    part(&read(&variant.input)?);
-    part(&read(&variant.recipe)?);
-    part(variant.format.as_bytes());
+    }
+    let mut h = Sha256::new();
+    part(&mut h, b"smartmesh batch 1");
+    part(&mut h, env!("CARGO_PKG_VERSION").as_bytes());
+    part(&mut h, variant.name.as_bytes());
+    hash_file(&mut h, &variant.input)?;
+    hash_file(&mut h, &variant.recipe)?;
+    part(&mut h, variant.format.as_bytes());
     for a in &variant.args {
-        part(a.as_bytes());
+        part(&mut h, a.as_bytes());
     }
     let digest = h.finalize();
     Ok(digest.iter().map(|b| format!("{b:02x}")).collect())
 }
 
-fn read(path: &Path) -> std::io::Result<Vec<u8>> {
-    std::fs::read(path)
-        .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display())))
+/// Hashes a regular file's length and bytes as they stream by (a large input is never
+/// held whole); a device or pipe is refused before it is opened.
+fn hash_file(h: &mut Sha256, path: &Path) -> std::io::Result<()> {
+    let named =
+        |e: std::io::Error| std::io::Error::new(e.kind(), format!("{}: {e}", path.display()));
+    if !std::fs::metadata(path).map_err(named)?.is_file() {
+        return Err(named(std::io::Error::other("not a regular file")));
+    }
+    let mut file = std::fs::File::open(path).map_err(named)?;
+    let len = file.metadata().map_err(named)?.len();
+    h.update(len.to_le_bytes());
+    let copied = std::io::copy(&mut (&mut file).take(len), h).map_err(named)?;
+    if copied != len {
+        return Err(named(std::io::Error::other("the file changed while it was read")));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
