@@ -273,6 +273,8 @@ fn what_is_wrong_with_one_variant_is_its_record_and_the_others_run() {
             cylinder("ok", r#"{"max_iterations":1}"#),
             cylinder("logdir", r#"{"max_iterations":1}"#),
             line("missing", "nowhere.msh", "{}"),
+            // One argument longer than the kernel takes (E2BIG).
+            cylinder("toolong", &format!(r#"{{"adapter_args":["{}"]}}"#, "x".repeat(200_000))),
         ],
     );
     let out = d.path().join("out");
@@ -280,7 +282,7 @@ fn what_is_wrong_with_one_variant_is_its_record_and_the_others_run() {
     let o = smartmesh(&["batch", s(&m), "-o", s(&out)], None);
     assert_eq!(o.status.code(), Some(1), "{}", streams(&o));
     let r = records(&out);
-    assert_eq!(names(&r), ["logdir", "missing", "ok"]);
+    assert_eq!(names(&r), ["logdir", "missing", "ok", "toolong"]);
     let of = |n: &str| r.iter().find(|x| x["name"] == n).unwrap().clone();
     assert_eq!(of("ok")["status"], "ok");
     assert_eq!(of("logdir")["status"], "failed");
@@ -288,6 +290,8 @@ fn what_is_wrong_with_one_variant_is_its_record_and_the_others_run() {
     assert_eq!(of("missing")["status"], "failed");
     assert_eq!(of("missing")["line"], 3);
     assert!(of("missing")["error"].as_str().unwrap().contains("nowhere.msh does not exist"));
+    assert_eq!(of("toolong")["status"], "failed");
+    assert!(of("toolong")["error"].as_str().unwrap().starts_with("starting "), "{r:?}");
 }
 
 #[test]
