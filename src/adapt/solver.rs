@@ -18,6 +18,10 @@
 //! its value as code, so no character of a path (`$( )`, quotes, `;`, a newline, a
 //! `{solution}` inside the other path) is run.
 //!
+//! The command runs as every external program does ([`crate::child`]): in a process group
+//! of its own that dies with smartmesh, the last bytes of its output kept (a solver that
+//! prints gigabytes costs a bounded buffer), stopped on Ctrl-C ([`SolverError::Interrupted`]).
+//!
 //! Files: `mesh-K.EXT` and `solution-K.EXT` in the loop's directory, kept after the run
 //! (the last ones show what the solver saw). A failing command is quoted (the end of its
 //! stderr and stdout); a missing solution file, one on other vertices, a field that is
@@ -29,9 +33,8 @@ use std::time::Instant;
 
 use smartmesh_formats::{write_path, Format, TaggedMesh, WriteOptions};
 
-use std::process::Command;
-
-use crate::adapters::tool::quote;
+use crate::adapters::tool::{finish, quote, Stopped};
+use crate::child::Run;
 use crate::metric::SizeBounds;
 use crate::sizing::plan::Step;
 use crate::sizing::{Algorithm, SolutionHessian};
@@ -113,6 +116,12 @@ pub enum SolverError {
         /// The end of its stderr and stdout.
         output: String,
     },
+    /// smartmesh was interrupted while the solver ran: its process group was stopped.
+    #[error("the solver `{command}` was stopped: smartmesh was interrupted")]
+    Interrupted {
+        /// The command run.
+        command: String,
+    },
     /// It exited with 0 but wrote no solution.
     #[error("the solver `{command}` exited with 0 but wrote no {path}")]
     Missing {
@@ -127,6 +136,14 @@ pub enum SolverError {
     /// The field is missing, on other vertices, not scalar or not finite.
     #[error("{0}")]
     Field(#[from] FieldError),
+}
+
+impl SolverError {
+    /// Whether the user's input is at fault (a field the solution does not hold, a
+    /// solver directory that cannot be written) rather than the solver's run.
+    pub fn is_input(&self) -> bool {
+        matches!(self, SolverError::Write(_) | SolverError::Field(_))
+    }
 }
 
 /// The environment variable holding the path of the mesh the solver reads.
@@ -237,21 +254,26 @@ impl SolverLoop {
             .replace("{mesh}", "\u{0}")
             .replace("{solution}", &shell_quote(&solution_arg.display().to_string()))
             .replace('\u{0}', &shell_quote(&mesh_arg.display().to_string()));
-        let t = Instant::now();
-        let out = Command::new("sh")
-            .arg("-c")
-            .arg(script(&self.command))
+        let Some(sh) = crate::child::locate("sh") else {
+            return Err(SolverError::Start {
+                command,
+                source: std::io::Error::new(std::io::ErrorKind::NotFound, "no `sh` on PATH"),
+            });
+        };
+        let run = Run::new(sh)
+            .args(["-c".into(), script(&self.command)])
             .env(MESH_VARIABLE, &mesh_arg)
-            .env(SOLUTION_VARIABLE, &solution_arg)
-            .output()
-            .map_err(|source| SolverError::Start { command: command.clone(), source })?;
+            .env(SOLUTION_VARIABLE, &solution_arg);
+        let t = Instant::now();
+        let ended = finish(run);
         let seconds = t.elapsed().as_secs_f64();
-        if !out.status.success() {
-            let status = match out.status.code() {
-                Some(c) => format!("exit status {c}"),
-                None => "killed by a signal".to_string(),
-            };
-            return Err(SolverError::Failed { command, status, output: quote(&out) });
+        match ended {
+            Ok(_) => {}
+            Err(Stopped::Start(source)) => return Err(SolverError::Start { command, source }),
+            Err(Stopped::Interrupted) => return Err(SolverError::Interrupted { command }),
+            Err(Stopped::Failed(status, printed)) => {
+                return Err(SolverError::Failed { command, status, output: quote(&printed) })
+            }
         }
         if !solution_path.is_file() {
             return Err(SolverError::Missing {
