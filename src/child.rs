@@ -155,7 +155,7 @@ pub enum Ended {
         /// What was kept of its stderr.
         stderr: Captured,
     },
-    /// Its stdout passed its [`Keep::All`] limit; it was killed.
+    /// An output passed its [`Keep::All`] limit; it was killed.
     TooLarge,
     /// The deadline passed; it was killed.
     TimedOut,

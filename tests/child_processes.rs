@@ -202,9 +202,22 @@ fn group_of(pid: &str) -> String {
     stat.rsplit_once(')').unwrap().1.split_whitespace().nth(2).unwrap().to_string()
 }
 
-/// The processes of group `pgid` that are alive (zombies left to an init that does not
-/// reap count as gone).
+/// The processes of group `pgid` still alive 5 s from now at most (a process killed is
+/// gone a moment after the signal; zombies left to an init that does not reap count as
+/// gone).
 fn alive_in_group(pgid: &str) -> Vec<String> {
+    let t = Instant::now();
+    loop {
+        let alive = alive_now(pgid);
+        if alive.is_empty() || t.elapsed() > Duration::from_secs(5) {
+            return alive;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The processes of group `pgid` alive now, zombies left out.
+fn alive_now(pgid: &str) -> Vec<String> {
     let mut alive = Vec::new();
     for e in std::fs::read_dir("/proc").unwrap().flatten() {
         let Ok(stat) = std::fs::read_to_string(e.path().join("stat")) else { continue };
