@@ -332,7 +332,7 @@ pub fn run_with_solver(
 ) -> Result<Outcome, AdaptError> {
     let first =
         measure(0, start, 0.0, None, recipe, solver, observer).map_err(|(phase, source)| {
-            if source.is_interrupted() || observer.interrupted() {
+            if source.is_interrupted() || (phase == Phase::Solve && observer.interrupted()) {
                 AdaptError::Interrupted { phase }
             } else {
                 AdaptError::Start { phase, source }
@@ -396,8 +396,11 @@ pub fn run_with_solver(
         let next = match next {
             Ok(n) => n,
             // A solver stopped by the interruption (or failing under it) is no failure of
-            // the run: the iteration is discarded, as a remeshing under way is.
-            Err((_, source)) if source.is_interrupted() || observer.interrupted() => {
+            // the run: the iteration is discarded, as a remeshing under way is. A sizing
+            // error is the input's, and is said whatever the user pressed.
+            Err((phase, source))
+                if source.is_interrupted() || (phase == Phase::Solve && observer.interrupted()) =>
+            {
                 stopped = INTERRUPTED.to_string();
                 break;
             }
