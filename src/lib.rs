@@ -16,6 +16,8 @@
 //! - [`adapters`]: remeshers behind one trait (MMG's `mmg2d_O3`, Gmsh's BAMG), tags
 //!   restored on their output;
 //! - [`adapt`](mod@adapt): the adaptation loop (size → remesh → size … until converged);
+//! - [`child`]: external programs run in a process group of their own, with a bounded
+//!   share of their output kept, stopped on interruption and dying with smartmesh;
 //! - [`batch`]: manifests of geometry variants, their content hashes and result records
 //!   (`smartmesh batch`);
 //! - [`remesh`](mod@remesh): the native anisotropic remesher (split, collapse, swap, smooth in the
@@ -40,6 +42,7 @@ pub use smartmesh_formats as formats;
 pub mod adapt;
 pub mod adapters;
 pub mod batch;
+pub mod child;
 pub mod conformity;
 pub(crate) mod geometry;
 pub mod history;

@@ -132,6 +132,17 @@ pub enum PhaseError {
     NoTriangle,
 }
 
+impl PhaseError {
+    /// Whether an external program was stopped because the user interrupted the run.
+    pub fn is_interrupted(&self) -> bool {
+        matches!(
+            self,
+            PhaseError::Solver(SolverError::Interrupted { .. })
+                | PhaseError::Remesh(AdapterError::Interrupted { .. })
+        )
+    }
+}
+
 /// Why the loop stopped before its end.
 #[derive(Debug, thiserror::Error)]
 pub enum AdaptError {
@@ -164,6 +175,13 @@ pub enum AdaptError {
         /// The limit.
         limit: usize,
     },
+    /// The user interrupted the run before the starting mesh was measured (its solver
+    /// was stopped): nothing is written.
+    #[error("interrupted while {phase} the starting mesh; nothing was written")]
+    Interrupted {
+        /// The phase under way.
+        phase: Phase,
+    },
     /// The observer could not write the result or the history.
     #[error("{0}")]
     Output(#[from] smartmesh_formats::Error),
@@ -187,9 +205,10 @@ pub trait Observer {
     fn phase(&mut self, _iteration: usize, _phase: Phase) {}
 
     /// Whether the user asked the run to stop (Ctrl-C). Asked before each remeshing and
-    /// after it: the loop then stops with `stopped` = [`INTERRUPTED`], keeping the best
-    /// mesh and the history of the iterations done (a remeshing under way is discarded:
-    /// an external tool gets the signal too).
+    /// after it, and when a phase fails: the loop then stops with `stopped` =
+    /// [`INTERRUPTED`], keeping the best mesh and the history of the iterations done (a
+    /// remeshing or a solver run under way is discarded: an external program is stopped
+    /// by [`crate::child::interrupt`], which whoever handles the signal calls).
     fn interrupted(&mut self) -> bool {
         false
     }
@@ -311,8 +330,14 @@ pub fn run_with_solver(
     recipe_label: &str,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdaptError> {
-    let first = measure(0, start, 0.0, None, recipe, solver, observer)
-        .map_err(|(phase, source)| AdaptError::Start { phase, source })?;
+    let first =
+        measure(0, start, 0.0, None, recipe, solver, observer).map_err(|(phase, source)| {
+            if source.is_interrupted() || (phase == Phase::Solve && observer.interrupted()) {
+                AdaptError::Interrupted { phase }
+            } else {
+                AdaptError::Start { phase, source }
+            }
+        })?;
     let mut history = History {
         input: input.to_string(),
         recipe: recipe_label.to_string(),
@@ -370,6 +395,15 @@ pub fn run_with_solver(
         });
         let next = match next {
             Ok(n) => n,
+            // A solver stopped by the interruption (or failing under it) is no failure of
+            // the run: the iteration is discarded, as a remeshing under way is. A sizing
+            // error is the input's, and is said whatever the user pressed.
+            Err((phase, source))
+                if source.is_interrupted() || (phase == Phase::Solve && observer.interrupted()) =>
+            {
+                stopped = INTERRUPTED.to_string();
+                break;
+            }
             Err((phase, source)) => {
                 let e = AdaptError::Iteration { iteration: k, phase, source };
                 stopped = e.to_string();

@@ -2,7 +2,8 @@
 //! view, and BAMG — Gmsh's only 2D algorithm that honours an anisotropic tensor view
 //! (DESIGN.md) — meshes the model again.
 //!
-//! One run, in a temporary directory that is removed afterwards:
+//! One run, in a temporary directory that is removed afterwards (also when smartmesh is
+//! interrupted: the program is stopped, see [`super::tool`]):
 //! 1. the mesh is [prepared](super::prepare) and written as `in.msh` (MSH 4.1, with its
 //!    physical groups in `$Entities`), the metric as `bgm.pos` (a `TT` tensor view);
 //! 2. `gmsh remesh.geo -setnumber Mesh.Algorithm 7 -setnumber

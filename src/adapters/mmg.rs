@@ -1,6 +1,7 @@
 //! MMG's 2D remesher, `mmg2d_O3`, as an [`Adapter`].
 //!
-//! One run, in a temporary directory that is removed afterwards:
+//! One run, in a temporary directory that is removed afterwards (also when smartmesh is
+//! interrupted: the program is stopped, see [`super::tool`]):
 //! 1. the mesh is [prepared](super::prepare) and written as `in.mesh` (Medit ASCII) with
 //!    the metric in `in.sol` (type 3, m11 m12 m22);
 //! 2. `mmg2d_O3 -in in.mesh -sol in.sol -out out.mesh -v 1 [-hgrad G] [-hausd D]

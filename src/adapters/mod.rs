@@ -9,8 +9,9 @@
 //!
 //! - [`prepare`]: the mesh as the tools want it (linear triangles, no unused vertices);
 //! - [`restore`]: the checks that the tags came back;
-//! - [`tool`]: finding a program on `PATH` and running it, with its output quoted on
-//!   failure.
+//! - [`tool`]: finding a program on `PATH` and running it ([`crate::child`]: in a process
+//!   group of its own, the end of its output kept, stopped on Ctrl-C), with its output
+//!   quoted on failure.
 
 pub mod gmsh;
 pub mod mmg;
@@ -82,6 +83,13 @@ pub enum AdapterError {
         status: String,
         /// The end of what it printed on stderr and stdout.
         output: String,
+    },
+    /// smartmesh was interrupted while the program ran: it was stopped (its process
+    /// group signalled, then killed) and its temporary directory removed.
+    #[error("`{program}` was stopped: smartmesh was interrupted")]
+    Interrupted {
+        /// The program's name.
+        program: String,
     },
     /// The program could not be started, or its files not written or read.
     #[error("{what}: {source}")]

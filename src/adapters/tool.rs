@@ -1,12 +1,15 @@
 //! External programs: where they are and how a run went. A missing program is said
 //! before any work starts; a failing one is quoted (the end of its stderr and stdout),
-//! because the tool's own words are what a user needs to fix the problem.
-
-use std::ffi::OsStr;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+//! because the tool's own words are what a user needs to fix the problem. A run goes
+//! through [`crate::child`]: a process group of its own, the last [`KEPT`] bytes of each
+//! stream kept, stopped when smartmesh is interrupted ([`AdapterError::Interrupted`],
+//! its temporary directory then removed by its owner, or by [`crate::child::stop_all`]
+//! on an exit at once).
 
 use super::AdapterError;
+use crate::child::{Captured, Ended, Keep, Run};
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
 
 /// Lines of a failing tool's output quoted in the error.
 const QUOTED_LINES: usize = 20;
@@ -54,43 +57,130 @@ fn is_executable(p: &Path) -> bool {
     p.is_file() || p.with_extension("exe").is_file()
 }
 
-/// Runs `program args…` in `dir` and returns its output when it exits with 0; otherwise
-/// an [`AdapterError::Failed`] quoting the end of what it printed.
-pub fn run(program: &Path, args: &[impl AsRef<OsStr>], dir: &Path) -> Result<Output, AdapterError> {
+/// What a program printed: the last [`KEPT`] bytes of each stream.
+#[derive(Debug, Clone, Default)]
+pub struct Printed {
+    /// Its stdout.
+    pub stdout: Captured,
+    /// Its stderr.
+    pub stderr: Captured,
+}
+
+/// The bytes of each output stream kept, at the end: a tool that prints gigabytes costs
+/// no more.
+pub const KEPT: usize = 64 << 10;
+
+/// How a run that did not exit with 0 ended.
+pub enum Stopped {
+    /// It could not be started.
+    Start(std::io::Error),
+    /// It exited with another status or was killed; what it printed.
+    Failed(String, Printed),
+    /// smartmesh was interrupted ([`crate::child::interrupt`]): it was stopped.
+    Interrupted,
+}
+
+/// Runs `run` (a [`crate::child::Run`] of the program) to its end, keeping the last
+/// [`KEPT`] bytes of each stream: what it printed when it exits with 0.
+pub fn finish(run: Run) -> Result<Printed, Stopped> {
+    let ended = run.keep(Keep::Tail(KEPT), Keep::Tail(KEPT)).run().map_err(Stopped::Start)?;
+    match ended {
+        Ended::Exited { status, stdout, stderr } => {
+            let printed = Printed { stdout, stderr };
+            if status.success() {
+                return Ok(printed);
+            }
+            Err(Stopped::Failed(status_words(status), printed))
+        }
+        // No deadline and no limit on a tail: only an interruption stops it.
+        Ended::Interrupted | Ended::TimedOut | Ended::TooLarge => Err(Stopped::Interrupted),
+    }
+}
+
+/// An exit status in words.
+pub fn status_words(status: std::process::ExitStatus) -> String {
+    if let Some(c) = status.code() {
+        return format!("exit status {c}");
+    }
+    #[cfg(unix)]
+    if let Some(s) = std::os::unix::process::ExitStatusExt::signal(&status) {
+        return format!("killed by signal {s}");
+    }
+    "killed by a signal".to_string()
+}
+
+/// Runs `program args…` in `dir` (a scratch directory of the run, removed if smartmesh
+/// exits at once) and returns what it printed when it exits with 0; otherwise an
+/// [`AdapterError::Failed`] quoting the end of what it printed, or
+/// [`AdapterError::Interrupted`].
+pub fn run(
+    program: &Path,
+    args: &[impl AsRef<OsStr>],
+    dir: &Path,
+) -> Result<Printed, AdapterError> {
     let name = program
         .file_name()
         .map_or_else(|| program.display().to_string(), |n| n.to_string_lossy().into_owned());
-    let out = Command::new(program).args(args).current_dir(dir).output().map_err(|source| {
-        AdapterError::Io { what: format!("starting {}", program.display()), source }
-    })?;
-    if out.status.success() {
-        return Ok(out);
+    let child = Run::new(program)
+        .args(args.iter().map(|a| a.as_ref().to_os_string()))
+        .current_dir(dir)
+        .scratch(dir);
+    match finish(child) {
+        Ok(printed) => Ok(printed),
+        Err(Stopped::Start(source)) => {
+            Err(AdapterError::Io { what: format!("starting {}", program.display()), source })
+        }
+        Err(Stopped::Interrupted) => Err(AdapterError::Interrupted { program: name }),
+        Err(Stopped::Failed(status, printed)) => {
+            let command = std::iter::once(name)
+                .chain(args.iter().map(|a| a.as_ref().to_string_lossy().into_owned()))
+                .collect::<Vec<_>>()
+                .join(" ");
+            Err(AdapterError::Failed { program: command, status, output: quote(&printed) })
+        }
     }
-    let status = match out.status.code() {
-        Some(c) => format!("exit status {c}"),
-        None => "killed by a signal".to_string(),
-    };
-    let command = std::iter::once(name)
-        .chain(args.iter().map(|a| a.as_ref().to_string_lossy().into_owned()))
-        .collect::<Vec<_>>()
-        .join(" ");
-    Err(AdapterError::Failed { program: command, status, output: quote(&out) })
 }
 
-/// The last lines of a run's stderr, then of its stdout, each line indented.
-pub fn quote(out: &Output) -> String {
+/// The longest line quoted, in characters (its end is kept).
+const QUOTED_WIDTH: usize = 400;
+
+/// The last lines of a run's stderr, then of its stdout, each line indented, control
+/// characters shown escaped, a line longer than [`QUOTED_WIDTH`] cut to its end.
+pub fn quote(printed: &Printed) -> String {
     let mut lines = Vec::new();
-    for stream in [&out.stderr, &out.stdout] {
-        let text = String::from_utf8_lossy(stream);
+    for stream in [&printed.stderr, &printed.stdout] {
+        let text = String::from_utf8_lossy(&stream.bytes);
         let all: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
         let from = all.len().saturating_sub(QUOTED_LINES);
-        lines.extend(all[from..].iter().map(|l| format!("    {l}")));
+        if stream.cut() || from > 0 {
+            lines.push(format!("    [… {} bytes in all; the last lines:]", stream.total));
+        }
+        lines.extend(all[from..].iter().map(|l| format!("    {}", shown(l))));
     }
     if lines.is_empty() {
         "    (it printed nothing)".to_string()
     } else {
         lines.join("\n")
     }
+}
+
+/// `line` for a terminal: control characters escaped, at most [`QUOTED_WIDTH`]
+/// characters (its end).
+fn shown(line: &str) -> String {
+    let escaped: String = line
+        .chars()
+        .flat_map(|c| {
+            let e: Vec<char> =
+                if c.is_control() && c != '\t' { c.escape_default().collect() } else { vec![c] };
+            e
+        })
+        .collect();
+    let n = escaped.chars().count();
+    if n <= QUOTED_WIDTH {
+        return escaped;
+    }
+    let tail: String = escaped.chars().skip(n - QUOTED_WIDTH).collect();
+    format!("…{tail}")
 }
 
 #[cfg(test)]

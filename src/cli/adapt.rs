@@ -61,9 +61,11 @@ OUT's name with .history.json unless --history says where; a new best mesh and t
 naming it are written as one set. With `-o -` (and --to) the best mesh goes to stdout once the \
 loop ends, and --history FILE is required.
 
-Ctrl-C (or SIGTERM, SIGHUP) stops the run after the current phase: the history says \
-\"stopped\": \"interrupted\", OUT keeps the best mesh, and the exit status is 130. A second \
-Ctrl-C stops at once, between two writes, leaving the same agreeing files.
+Ctrl-C (or SIGTERM, SIGHUP) stops the run after the current phase; a solver or remesher \
+program under way is stopped at once (SIGTERM to its process group, SIGKILL 2 s later) and \
+its iteration discarded: the history says \"stopped\": \"interrupted\", OUT keeps the best \
+mesh, and the exit status is 130. A second Ctrl-C stops at once, between two writes, leaving \
+the same agreeing files (and killing such a program's group).
 
 --hmin, --hmax and --hgrad replace the recipe's global hmin, hmax and gradation (with mmg2d, \
 --hgrad is also MMG's own -hgrad). --hausd bounds the sizes along curved boundaries by their \
@@ -87,14 +89,17 @@ Examples:
 
 With --solver, each mesh is first written to {mesh} (mesh-K.vtu in the solver directory, \
 --solver-dir, by default OUT's name with .solver for its extension) and the command runs through `sh -c` in \
-the current directory; it must write the solution on the same vertices to {solution} \
-(solution-K.vtu; --solution-format names another readable format). Its scalar point field \
+the current directory, in a process group of its own that dies with smartmesh; it must write the \
+solution on the same vertices to {solution} (solution-K.vtu; --solution-format names another \
+readable format). No path is ever part of the shell's text: {mesh} and {solution} become \
+\"$SMARTMESH_MESH\" and \"$SMARTMESH_SOLUTION\" (quoted as fits where they stand), which hold \
+the paths. Its scalar point field \
 (--field, else its only one) gives a metric: the Hessian recovered (--recovery), the \
 Lp-optimal metric (--p) normalised to the schedule's vertex count, start * growth^K up to \
 --complexity (or to --error), intersected into the recipe's field after its steps. The \
 recipe may then be left out, and a .poly INPUT is meshed uniformly to about the \
-schedule's first vertex count. A failing solver is quoted and stops the loop; the best mesh \
-stays. The history records per iteration the solver's seconds and the complexity asked \
+schedule's first vertex count. A failing solver is quoted (the end of its output; the rest \
+is read and dropped) and stops the loop with exit status 1; the best mesh stays. The history records per iteration the solver's seconds and the complexity asked \
 and obtained."
 )]
 pub struct AdaptArgs {
@@ -299,14 +304,17 @@ static WRITING: Mutex<()> = Mutex::new(());
 static HANDLER: AtomicBool = AtomicBool::new(false);
 
 /// Installs the Ctrl-C (SIGINT, SIGTERM, SIGHUP) handler: the first asks the loop to stop
-/// after the current phase; the second exits with 130 at once, but never during a write
-/// of the result files, so that they stay whole and agree.
+/// after the current phase, and stops an external program under way (a solver, mmg2d_O3,
+/// gmsh: SIGTERM to its process group, SIGKILL if it lingers); the second exits with 130
+/// at once, having killed such a program's group and removed its temporary directory,
+/// but never during a write of the result files, so that they stay whole and agree.
 fn handle_interrupts() {
     if HANDLER.swap(true, Ordering::SeqCst) {
         return;
     }
     let installed = ctrlc::set_handler(|| {
         if INTERRUPTS.fetch_add(1, Ordering::SeqCst) == 0 {
+            smartmesh::child::interrupt();
             if ui::level() >= ui::Level::Normal {
                 eprintln!(
                     "\nsmartmesh: adapt: stopping after the current phase (Ctrl-C again to stop now)"
@@ -314,6 +322,7 @@ fn handle_interrupts() {
             }
         } else {
             let _writing = WRITING.lock();
+            smartmesh::child::stop_all();
             eprintln!(
                 "\nsmartmesh: adapt: stopped; the result files are as the last iteration left them"
             );

@@ -10,7 +10,7 @@ use std::error::Error as StdError;
 use std::fmt::Write as _;
 use std::io::ErrorKind as IoKind;
 
-use smartmesh::adapt::{AdaptError, StartError};
+use smartmesh::adapt::{AdaptError, PhaseError, StartError};
 use smartmesh::adapters::AdapterError;
 use smartmesh::formats::{Error as FormatError, ErrorKind as FormatKind};
 use smartmesh::mesher::MeshError;
@@ -167,6 +167,12 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
     }
     if let Some(e) = e.downcast_ref::<AdaptError>() {
         return match e {
+            // A solver that fails on the starting mesh fails as it would on a later one;
+            // a field it did not write, a directory that cannot be written are bad input.
+            AdaptError::Start { source: PhaseError::Solver(s), .. } if !s.is_input() => {
+                Some(Failure)
+            }
+            AdaptError::Interrupted { .. } => Some(ExitStatus::Interrupted),
             AdaptError::Start { .. } | AdaptError::TooManyVertices { .. } => Some(Error),
             AdaptError::Iteration { .. } => Some(Failure),
             AdaptError::Output(_) => None,

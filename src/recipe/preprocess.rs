@@ -15,26 +15,22 @@
 //! A recipe is code: cpp and `@include` open whatever file it names. What it may pull in
 //! is capped ([`ReadOptions`]): every file is read through a bounded reader that refuses
 //! anything but a regular file (`/dev/zero`, a pipe); the text after includes and cpp
-//! may not exceed [`MAX_RECIPE_BYTES`]; cpp runs in a process group of its own that is
+//! may not exceed [`MAX_RECIPE_BYTES`]; cpp runs as every external program does
+//! ([`crate::child`]: in a process group of its own, which dies with us however we end),
 //! killed when its output passes what is left of that budget or when it runs past
-//! [`CPP_TIME_LIMIT`] (one deadline for every cpp run of a recipe). On Unix cpp also dies
-//! with us, however we end (SIGKILL included): it is started through a small `sh` guard
-//! ([`GUARD`]) whose watcher, in cpp's group, kills the group once our process is gone.
-//! (`PR_SET_PDEATHSIG` would need `unsafe` in `pre_exec`, which the crate forbids, and
-//! would reach cpp alone, not the `cc1` it starts.) Before cpp runs, the
+//! [`CPP_TIME_LIMIT`] (one deadline for every cpp run of a recipe). Before cpp runs, the
 //! files its literal `#include`s name are checked the same way, so `#include
 //! </dev/zero>` is an error at its line rather than a timeout. [`ReadOptions::untrusted`]
 //! (the CLI's `--no-preprocess`) turns cpp and `@include` off: the recipe then reads no
 //! file but itself.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::io::{Read, Write as _};
+use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use super::error::{RecipeError, RecipeErrorKind};
+use crate::child::{self, Ended, Keep, Run};
 
 /// Environment variable naming the preprocessor command (split on spaces, e.g.
 /// `gcc -E`); by default `cpp`, then `gcc -E`, `clang -E`, `cc -E` are tried.
@@ -425,139 +421,6 @@ fn candidates(options: &ReadOptions) -> Vec<Vec<String>> {
         .collect()
 }
 
-/// How a cpp run ended.
-enum Outcome {
-    /// It exited (with this status) after writing this output.
-    Exited(ExitStatus, Vec<u8>),
-    /// Its output passed the budget.
-    TooLarge,
-    /// The deadline passed.
-    TimedOut,
-    /// Reading its output failed.
-    Failed(std::io::Error),
-}
-
-/// The `sh -c` script cpp is started through on Unix (`sh -c GUARD sh PARENT CPP ARGS…`):
-/// a watcher in the background, its streams on `/dev/null` so that cpp's pipes close when
-/// cpp is done, polls every 0.2 s that our process (`PARENT`) and cpp are alive; when
-/// either is gone it kills the whole group (cpp, its `cc1`, itself). The script then
-/// becomes cpp (`exec`), keeping its pid, which leads the group.
-pub const GUARD: &str = "parent=$1; shift; \
-( while kill -0 \"$parent\" 2>/dev/null && kill -0 $$ 2>/dev/null; do \
-sleep 0.2 2>/dev/null || sleep 1; done; kill -KILL 0 ) </dev/null >/dev/null 2>&1 & \
-exec \"$@\"";
-
-/// `program` as the guard must run it: a path, found on `PATH` when it is a bare name;
-/// `None` when there is no such executable.
-#[cfg(unix)]
-fn locate(program: &str) -> Option<PathBuf> {
-    use std::os::unix::fs::PermissionsExt;
-    let runnable = |p: &Path| {
-        std::fs::metadata(p).is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
-    };
-    if program.contains('/') {
-        let p = PathBuf::from(program);
-        return runnable(&p).then_some(p);
-    }
-    let path = std::env::var_os("PATH").unwrap_or_default();
-    std::env::split_paths(&path)
-        .filter(|d| !d.as_os_str().is_empty())
-        .map(|d| d.join(program))
-        .find(|p| runnable(p))
-}
-
-/// The command that runs `cmd` (program and arguments): through [`GUARD`] in a process
-/// group of its own on Unix; `None` when the program is not found.
-fn preprocessor_command(cmd: &[String]) -> Option<Command> {
-    #[cfg(unix)]
-    {
-        let program = locate(&cmd[0])?;
-        let mut c = Command::new("/bin/sh");
-        c.arg("-c").arg(GUARD).arg("sh").arg(std::process::id().to_string());
-        c.arg(program).args(&cmd[1..]);
-        std::os::unix::process::CommandExt::process_group(&mut c, 0);
-        Some(c)
-    }
-    #[cfg(not(unix))]
-    {
-        let mut c = Command::new(&cmd[0]);
-        c.args(&cmd[1..]);
-        Some(c)
-    }
-}
-
-/// Kills cpp and whatever it started (`cpp` runs `cc1`): on Unix the child leads a
-/// process group of its own, which is killed whole.
-fn stop(child: &mut Child) {
-    #[cfg(unix)]
-    let _ = rustix::process::kill_process_group(
-        rustix::process::Pid::from_child(child),
-        rustix::process::Signal::KILL,
-    );
-    let _ = child.kill();
-    let _ = child.wait();
-}
-
-/// Waits for `child` to exit until `deadline`.
-fn wait_until(child: &mut Child, deadline: Instant) -> std::io::Result<Option<ExitStatus>> {
-    loop {
-        if let Some(status) = child.try_wait()? {
-            return Ok(Some(status));
-        }
-        let now = Instant::now();
-        if now >= deadline {
-            return Ok(None);
-        }
-        std::thread::sleep((deadline - now).min(Duration::from_millis(2)));
-    }
-}
-
-/// Runs cpp on `input` until it exits, its output passes `budget` bytes or `deadline`
-/// passes; its error output is kept up to [`MAX_CPP_MESSAGE`] bytes.
-fn supervise(
-    mut child: Child,
-    input: String,
-    budget: usize,
-    deadline: Instant,
-) -> (Outcome, Vec<u8>) {
-    // Write and read on other threads: cpp may fill one pipe while we wait on another.
-    let mut stdin = child.stdin.take().expect("stdin was piped");
-    let writer = std::thread::spawn(move || stdin.write_all(input.as_bytes()));
-    let mut stdout = child.stdout.take().expect("stdout was piped");
-    let (sender, receiver) = mpsc::channel();
-    std::thread::spawn(move || {
-        let mut bytes = Vec::new();
-        let read = (&mut stdout).take(budget as u64 + 1).read_to_end(&mut bytes);
-        let _ = sender.send(read.map(|_| bytes));
-    });
-    let mut stderr = child.stderr.take().expect("stderr was piped");
-    let errors = std::thread::spawn(move || {
-        let mut kept = Vec::new();
-        let _ = (&mut stderr).take(MAX_CPP_MESSAGE as u64).read_to_end(&mut kept);
-        let _ = std::io::copy(&mut stderr, &mut std::io::sink());
-        kept
-    });
-    let outcome = match receiver.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
-        Ok(Ok(bytes)) if bytes.len() > budget => Outcome::TooLarge,
-        // Its output is closed: it is exiting.
-        Ok(Ok(bytes)) => match wait_until(&mut child, deadline) {
-            Ok(Some(status)) => Outcome::Exited(status, bytes),
-            Ok(None) => Outcome::TimedOut,
-            Err(e) => Outcome::Failed(e),
-        },
-        Ok(Err(e)) => Outcome::Failed(e),
-        Err(_) => Outcome::TimedOut,
-    };
-    if let Outcome::Exited(..) = outcome {
-        let _ = writer.join();
-        let message = errors.join().unwrap_or_default();
-        return (outcome, message);
-    }
-    // The reading threads end when the killed group's pipes close; nothing waits for them.
-    stop(&mut child);
-    (outcome, Vec::new())
-}
-
 impl Loader<'_> {
     fn run_cpp(
         &self,
@@ -573,41 +436,41 @@ impl Loader<'_> {
             .unwrap_or_else(|| PathBuf::from("."));
         let mut tried = Vec::new();
         for cmd in candidates(self.options) {
-            let Some(mut c) = preprocessor_command(&cmd) else {
+            let Some(program) = child::locate(&cmd[0]) else {
                 tried.push(cmd.join(" "));
                 continue;
             };
-            c.args(["-x", "c", "-undef", "-nostdinc", "-w", "-"]);
+            let budget = self.left();
+            let mut run = Run::new(program)
+                .args(&cmd[1..])
+                .args(["-x", "c", "-undef", "-nostdinc", "-w", "-"])
+                .stdin(protect_hash_comments(text).into_bytes())
+                .keep(Keep::All(budget), Keep::Head(MAX_CPP_MESSAGE))
+                .deadline(self.deadline);
             if dir.is_dir() {
-                c.current_dir(&dir);
+                run = run.current_dir(&dir);
             }
-            let child =
-                c.stdin(Stdio::piped()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn();
-            let child = match child {
-                Ok(ch) => ch,
+            let name = cmd.join(" ");
+            let ended = match run.run() {
+                Ok(ended) => ended,
                 Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                    tried.push(cmd.join(" "));
+                    tried.push(name);
                     continue;
                 }
                 Err(e) => {
                     return Err(RecipeError::new(RecipeErrorKind::Preprocessor(format!(
-                        "cannot run the C preprocessor `{}`: {e}",
-                        cmd.join(" ")
+                        "cannot run the C preprocessor `{name}`: {e}"
                     )))
                     .in_file(origin))
                 }
             };
-            let budget = self.left();
-            let (outcome, message) =
-                supervise(child, protect_hash_comments(text), budget, self.deadline);
-            let name = cmd.join(" ");
-            let output = match outcome {
-                Outcome::Exited(status, output) if status.success() => output,
-                Outcome::Exited(..) => {
+            let output = match ended {
+                Ended::Exited { status, stdout, .. } if status.success() => stdout.bytes,
+                Ended::Exited { stderr, .. } => {
                     let origin_name = origin.display().to_string();
                     let mut msg =
-                        String::from_utf8_lossy(&message).replace("<stdin>", &origin_name);
-                    if message.len() >= MAX_CPP_MESSAGE {
+                        String::from_utf8_lossy(&stderr.bytes).replace("<stdin>", &origin_name);
+                    if stderr.cut() {
                         msg.push_str("\n[…]");
                     }
                     return Err(RecipeError::new(RecipeErrorKind::Preprocessor(format!(
@@ -615,7 +478,7 @@ impl Loader<'_> {
                         msg.trim_end()
                     ))));
                 }
-                Outcome::TooLarge => {
+                Ended::TooLarge => {
                     return Err(limit_error(format!(
                         "the C preprocessor's output passed the {} left to the recipe (at most {} in all): a runaway macro, or an #include of a large file? `{name}` was stopped",
                         size_words(budget),
@@ -623,16 +486,16 @@ impl Loader<'_> {
                     ))
                     .in_file(origin))
                 }
-                Outcome::TimedOut => {
+                Ended::TimedOut => {
                     return Err(limit_error(format!(
                         "the C preprocessor ran past its time limit of {:.3} s: an #include of a device or a pipe, or a runaway macro? `{name}` was stopped",
                         self.options.cpp_time_limit.as_secs_f64()
                     ))
                     .in_file(origin))
                 }
-                Outcome::Failed(e) => {
+                Ended::Interrupted => {
                     return Err(RecipeError::new(RecipeErrorKind::Preprocessor(format!(
-                        "cannot read the output of the C preprocessor `{name}`: {e}"
+                        "the C preprocessor `{name}` was stopped: smartmesh was interrupted"
                     )))
                     .in_file(origin))
                 }
