@@ -18,7 +18,7 @@
 //! file is the variant's `adapt` process's stdin, so the lock lasts as long as that
 //! process, even past this one's death; and that process dies with this one (it runs in
 //! a process group of its own under the guard `cpp` runs under,
-//! [`smartmesh::recipe::preprocess::GUARD`]). Lock files are never removed (removing one
+//! [`smartmesh::child::GUARD`]). Lock files are never removed (removing one
 //! would let two processes hold "the" lock of a name).
 //!
 //! Before any run: the manifest is a regular file of at most [`MAX_MANIFEST_BYTES`], the
@@ -446,7 +446,7 @@ fn adapt_command(
     let mut command = {
         let mut c = Process::new("/bin/sh");
         c.arg("-c")
-            .arg(smartmesh::recipe::preprocess::GUARD)
+            .arg(smartmesh::child::GUARD)
             .arg("sh")
             .arg(std::process::id().to_string())
             .arg(program);
