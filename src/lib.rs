@@ -12,6 +12,7 @@
 //!   validated model, resolved against a mesh into a sizing plan;
 //! - [`mesher`]: the starting mesh, a constrained Delaunay triangulation with quality
 //!   refinement of a planar straight-line graph (Triangle `.poly` or a mesh's lines);
+//! - [`planar`]: the one plane z = const a 2D mesh lies in, or the point off it;
 //! - [`conformity`]: metric edge lengths and metric quality of a mesh against a field;
 //! - [`adapters`]: remeshers behind one trait (MMG's `mmg2d_O3`, Gmsh's BAMG), tags
 //!   restored on their output;
@@ -52,6 +53,7 @@ pub mod mesher;
 pub mod metric;
 pub mod metric_field;
 pub mod periodic;
+pub mod planar;
 pub(crate) mod quality;
 pub mod recipe;
 pub mod remesh;

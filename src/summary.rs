@@ -21,6 +21,10 @@ pub struct MeshSummary {
     pub cells: BTreeMap<String, usize>,
     /// `[min, max]` corners of the bounding box (x, y, z).
     pub bounding_box: Option<[[f64; 3]; 2]>,
+    /// Whether every point lies in one plane z = const ([`crate::planar`]); the 2D
+    /// commands refuse a mesh that does not, whose lengths and areas here are measured in
+    /// space.
+    pub planar: bool,
     /// Every physical tag used, with its dimension, name and cell count.
     pub tags: Vec<TagSummary>,
     /// The recovered topology.
@@ -188,6 +192,10 @@ impl MeshSummary {
             },
         };
         let xy = |i: usize| [mesh.points[i][0], mesh.points[i][1]];
+        // A surface in space is measured in space: its lengths and areas are not those of
+        // its shadow on z = 0 ([`crate::planar`]). A planar mesh keeps the plane's formulas.
+        let planar = crate::planar::plane(mesh).is_ok();
+        let p3 = |i: usize| mesh.points[i];
         let topology = TopologySummary {
             points: topo
                 .points
@@ -214,8 +222,9 @@ impl MeshSummary {
                         .iter()
                         .flat_map(|p| p.edges())
                         .map(|[a, b]| {
-                            let (p, q) = (xy(a), xy(b));
-                            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()
+                            let (p, q) = (p3(a), p3(b));
+                            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2))
+                                .sqrt()
                         })
                         .sum(),
                 })
@@ -232,6 +241,9 @@ impl MeshSummary {
                         .iter()
                         .map(|&ci| {
                             let v = topo.surface_cells[ci].vertices();
+                            if !planar {
+                                return vector_area(&v.iter().map(|&i| p3(i)).collect::<Vec<_>>());
+                            }
                             let mut a = crate::quality::signed_area(xy(v[0]), xy(v[1]), xy(v[2]));
                             if v.len() == 4 {
                                 a += crate::quality::signed_area(xy(v[0]), xy(v[2]), xy(v[3]));
@@ -252,6 +264,7 @@ impl MeshSummary {
             coordinate_dim: mesh.coordinate_dim,
             cells,
             bounding_box: mesh.bounding_box().map(|(lo, hi)| [lo, hi]),
+            planar,
             tags: tags
                 .into_iter()
                 .map(|((dim, tag, elementary), n)| TagSummary {
@@ -284,4 +297,19 @@ impl MeshSummary {
         });
         self
     }
+}
+
+/// The area of a planar or nearly planar polygon in space (a triangle, or a quad split
+/// along its diagonal from the first vertex): the length of the sum of its triangles'
+/// vector areas, which is the absolute signed area for a polygon in z = const.
+fn vector_area(p: &[[f64; 3]]) -> f64 {
+    let mut n = [0.0f64; 3];
+    for k in 1..p.len().saturating_sub(1) {
+        let u = [p[k][0] - p[0][0], p[k][1] - p[0][1], p[k][2] - p[0][2]];
+        let w = [p[k + 1][0] - p[0][0], p[k + 1][1] - p[0][1], p[k + 1][2] - p[0][2]];
+        n[0] += u[1] * w[2] - u[2] * w[1];
+        n[1] += u[2] * w[0] - u[0] * w[2];
+        n[2] += u[0] * w[1] - u[1] * w[0];
+    }
+    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
 }

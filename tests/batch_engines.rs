@@ -81,10 +81,9 @@ fn hyperqueue() -> bool {
         .status()
         .is_ok_and(|s| s.success());
     if !ok {
-        if std::env::var("SMARTMESH_REQUIRE_INTEROP").as_deref() == Ok("1") {
-            panic!("the PyPI `hyperqueue` module is needed (SMARTMESH_REQUIRE_INTEROP=1)");
-        }
-        eprintln!("skipping: python3 cannot import `hyperqueue` (pip install hyperqueue)");
+        smartmesh_test_support::skip::missing_tool(
+            "python3 cannot import `hyperqueue` (pip install hyperqueue)",
+        );
     }
     ok
 }
@@ -175,7 +174,7 @@ fn wait_for_processes_naming(path: &Path, limit: Duration) {
 #[test]
 fn a_slurm_array_of_shards_runs_the_whole_manifest() {
     let Some(sbatch) = cli::program_quiet("sbatch") else {
-        eprintln!("skipping: `sbatch` is not on PATH (tests/engines/slurm-single-node.sh sets up Slurm on one machine)");
+        smartmesh_test_support::skip::skip("`sbatch` is not on PATH (tests/engines/slurm-single-node.sh sets up Slurm on one machine)");
         return;
     };
     // Installed is not running: a node must answer (slurmctld and slurmd up).
@@ -184,7 +183,7 @@ fn a_slurm_array_of_shards_runs_the_whole_manifest() {
         o.status.success() && ["idle", "mixed", "allocated"].iter().any(|s| states.contains(s))
     });
     if !up {
-        eprintln!("skipping: `sbatch` is there but no Slurm node answers `sinfo` (tests/engines/slurm-single-node.sh starts one)");
+        smartmesh_test_support::skip::skip("`sbatch` is there but no Slurm node answers `sinfo` (tests/engines/slurm-single-node.sh starts one)");
         return;
     }
     let n = 6;

@@ -130,6 +130,7 @@ fn convert_chain_keeps_tags_and_names() {
 
 #[test]
 fn lossy_conversion_says_what_was_dropped() {
+    smartmesh_test_support::require_public_fixtures!();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("naca.obj");
     let o = run(&[

@@ -39,6 +39,7 @@ regions = ["Corner"]
 
 #[test]
 fn meshio_and_gmsh_read_every_msh_smartmesh_writes_whole() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = common::python_with(&["gmsh", "meshio"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     let out = |name: &str| dir.path().join(name).display().to_string();
@@ -130,6 +131,7 @@ fn meshio_and_gmsh_read_every_msh_smartmesh_writes_whole() {
 #[cfg(unix)]
 #[test]
 fn a_gmsh_output_without_triangles_names_the_likely_cause() {
+    smartmesh_test_support::require_public_fixtures!();
     use std::os::unix::fs::PermissionsExt;
     let dir = tempfile::tempdir().unwrap();
     let fake = dir.path().join("gmsh");

@@ -11,6 +11,7 @@ use smartmesh_test_support::measure::signed_area;
 
 #[test]
 fn la_poly_meshes_with_its_attributes_as_a_field_and_area_bounds() {
+    smartmesh_test_support::require_public_fixtures!();
     let input = read_path(&common::public_fixture("triangle/la.poly"), None).unwrap();
     let regions = input.regions.clone();
     assert_eq!(regions.len(), 6);

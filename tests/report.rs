@@ -919,7 +919,9 @@ fn the_font_table_holds_every_string_as_the_installed_font_draws_it() {
     opt.fontdb_mut().load_system_fonts();
     let has_dejavu = opt.fontdb.faces().any(|f| f.families.iter().any(|(n, _)| n == "DejaVu Sans"));
     if !has_dejavu {
-        eprintln!("skipped: DejaVu Sans is not installed (the font the report's table measures)");
+        smartmesh_test_support::skip::skip(
+            "DejaVu Sans is not installed (the font the report's table measures)",
+        );
         return;
     }
     let dir = tempfile::tempdir().unwrap();

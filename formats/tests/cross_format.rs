@@ -270,6 +270,7 @@ fn used_names(
 
 #[test]
 fn every_fixture_through_every_format() {
+    smartmesh_test_support::require_public_fixtures!();
     let mut checked = 0;
     let mut failures = Vec::new();
     for rel in fixtures() {

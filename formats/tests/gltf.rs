@@ -204,6 +204,7 @@ fn extras_range(d: &Drawn) -> (String, f64, f64) {
 
 #[test]
 fn positions_indices_and_colours_read_back() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = fixture_mesh();
     let w = write(&m, &opts(Some("out.gltf"), None));
     let d = read_back(&w);
@@ -226,6 +227,7 @@ fn positions_indices_and_colours_read_back() {
 
 #[test]
 fn tensor_fields_colour_by_finest_size() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = fixture_mesh();
     let d = read_back(&write(&m, &opts(None, Some("metric"))));
     let h: Vec<f64> = m.points.iter().map(|p| sizes_at(p).0.min(sizes_at(p).1)).collect();
@@ -245,6 +247,7 @@ fn tensor_fields_colour_by_finest_size() {
 
 #[test]
 fn vector_fields_colour_by_magnitude() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = fixture_mesh();
     let d = read_back(&write(&m, &opts(None, Some("velocity"))));
     let mag: Vec<f64> = m.points.iter().map(|p| (p[0] * p[0] + p[1] * p[1]).sqrt()).collect();
@@ -256,6 +259,7 @@ fn vector_fields_colour_by_magnitude() {
 
 #[test]
 fn glb_and_gltf_carry_the_same_data() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = fixture_mesh();
     let gltf_file = write(&m, &opts(Some("mesh.gltf"), Some("metric")));
     let glb_file = write(&m, &opts(Some("mesh.glb"), Some("metric")));
@@ -274,6 +278,7 @@ fn glb_and_gltf_carry_the_same_data() {
 
 #[test]
 fn same_mesh_same_bytes() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = fixture_mesh();
     for o in [opts(Some("a.gltf"), None), opts(Some("a.glb"), Some("metric")), opts(None, None)] {
         let (x, y) = (write(&m, &o), write(&m, &o));
@@ -284,6 +289,7 @@ fn same_mesh_same_bytes() {
 
 #[test]
 fn glb_container_layout() {
+    smartmesh_test_support::require_public_fixtures!();
     let w = write(&fixture_mesh(), &opts(Some("m.glb"), None));
     let b = &w.main;
     let u32_at = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap()) as usize;
@@ -311,6 +317,7 @@ fn glb_container_layout() {
 
 #[test]
 fn gltf_names_its_bin_after_the_main_file() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = fixture_mesh();
     let w = write(&m, &opts(Some("naca 0012.v2.gltf"), None));
     let doc: serde_json::Value = serde_json::from_slice(&w.main).unwrap();
@@ -339,6 +346,7 @@ fn gltf_names_its_bin_after_the_main_file() {
 
 #[test]
 fn no_field_no_colour() {
+    smartmesh_test_support::require_public_fixtures!();
     let mut m = fixture_mesh();
     m.point_data.clear();
     let w = write(&m, &opts(None, None));
@@ -377,6 +385,7 @@ fn lines_only_and_nothing_to_draw() {
 
 #[test]
 fn colour_field_errors() {
+    smartmesh_test_support::require_public_fixtures!();
     let mut m = fixture_mesh();
     m.cell_data.insert("quality".into(), DataArray::new(1, vec![1.0; m.num_cells()]));
     m.point_data.insert("pair".into(), DataArray::new(4, vec![0.0; 4 * m.points.len()]));
@@ -393,6 +402,7 @@ fn colour_field_errors() {
 
 #[test]
 fn values_without_a_colour_are_grey() {
+    smartmesh_test_support::require_public_fixtures!();
     let mut m = fixture_mesh();
     let metric = m.point_data.get_mut("metric").unwrap();
     metric.values[..9].copy_from_slice(&sym2_to_tensor9(-1.0, 0.0, -1.0, 1.0));
@@ -409,6 +419,7 @@ fn values_without_a_colour_are_grey() {
 
 #[test]
 fn report_lists_what_gltf_cannot_hold() {
+    smartmesh_test_support::require_public_fixtures!();
     let mut m = fixture_mesh();
     m.points[1][0] = 0.1; // not a float32
     m.blocks.push(CellBlock {
@@ -477,10 +488,9 @@ proptest! {
 /// missing or the install fails, unless interop is required.
 fn gltf_validator() -> Option<PathBuf> {
     let give_up = |why: String| {
-        if common::interop_required() {
-            panic!("interop test needs the Khronos glTF validator (SMARTMESH_REQUIRE_INTEROP=1): {why}");
-        }
-        eprintln!("skipping: {why}");
+        smartmesh_test_support::skip::missing_tool(&format!(
+            "interop test needs the Khronos glTF validator: {why}"
+        ));
         None
     };
     if Command::new("node").arg("--version").output().map(|o| !o.status.success()).unwrap_or(true) {
@@ -531,6 +541,7 @@ const validator = require(process.argv[2]);
 
 #[test]
 fn interop_khronos_validator_finds_no_errors() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(validator) = gltf_validator() else { return };
     let dir = tempfile::tempdir().unwrap();
     let m = fixture_mesh();

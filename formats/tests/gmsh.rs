@@ -167,6 +167,7 @@ fn fixture(model: &str, enc: &str) -> TaggedMesh {
 
 #[test]
 fn fixtures_have_the_expected_counts_per_tag() {
+    smartmesh_test_support::require_public_fixtures!();
     for e in expected() {
         for enc in ENCODINGS {
             let m = fixture(e.model, enc);
@@ -196,6 +197,7 @@ fn fixtures_have_the_expected_counts_per_tag() {
 
 #[test]
 fn naca_entities_and_geometrical_tags() {
+    smartmesh_test_support::require_public_fixtures!();
     // naca0012.v41_ascii.msh, `$Entities`: point 1 in group 4 (LeadingEdge), point 2 in
     // 5, points 3.. in none; curves 1-2 (the airfoil) in group 1, 3-4 in 2.
     let m = fixture("naca0012", "v41_ascii");
@@ -216,6 +218,7 @@ fn same_to_16_digits(a: f64, b: f64) -> bool {
 
 #[test]
 fn the_four_encodings_of_a_model_read_the_same() {
+    smartmesh_test_support::require_public_fixtures!();
     // Two things Gmsh itself does differently between its four files of one mesh:
     // - it writes ASCII coordinates with `%.16g`, 16 significant digits, one short of
     //   what every double needs, so its ASCII and binary files differ in the last bits
@@ -265,6 +268,7 @@ fn the_four_encodings_of_a_model_read_the_same() {
 
 #[test]
 fn fixtures_written_in_each_encoding_read_back_identical() {
+    smartmesh_test_support::require_public_fixtures!();
     for e in expected() {
         let src = fixture(e.model, "v41_ascii");
         for (v, bin) in all_options() {
@@ -291,6 +295,7 @@ fn fixtures_written_in_each_encoding_read_back_identical() {
 
 #[test]
 fn writing_what_was_read_gives_the_same_bytes() {
+    smartmesh_test_support::require_public_fixtures!();
     // write → read → write is a fixed point for every encoding.
     for e in expected() {
         let src = fixture(e.model, "v22_binary");
@@ -876,6 +881,7 @@ fn malformed_truncated_ascii() {
 
 #[test]
 fn malformed_truncated_binary() {
+    smartmesh_test_support::require_public_fixtures!();
     let bytes = std::fs::read(common::public_fixture("gmsh/square_hole.v41_binary.msh")).unwrap();
     for cut in [100, 700, 5000, bytes.len() / 2, bytes.len() - 20] {
         let e = err(&bytes[..cut]);
@@ -1136,6 +1142,7 @@ fn malformed_entity_defined_twice() {
 
 #[test]
 fn damaged_fixtures_give_errors_not_panics() {
+    smartmesh_test_support::require_public_fixtures!();
     // The two smaller models in all encodings, damaged at 80 places each: a byte
     // replaced, or the file cut there.
     for model in ["square_hole", "two_domains_quads"] {

@@ -80,6 +80,7 @@ fn summaries(py: &str, script: &str, paths: &[String]) -> Vec<serde_json::Value>
 
 #[test]
 fn gmsh_reads_what_smartmesh_writes() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = common::python_with(&["gmsh"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     for model in ["naca0012", "square_hole"] {
@@ -152,6 +153,7 @@ fn gmsh_keeps_unused_nodes_and_split_entities() {
 
 #[test]
 fn meshio_reads_what_smartmesh_writes() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = common::python_with(&["meshio"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     for model in ["naca0012", "square_hole"] {
@@ -205,6 +207,7 @@ fn assert_read_and_resaved(py: &str, files: &[(String, usize)]) {
 /// saves every element again (it kept only those of physical groups).
 #[test]
 fn meshio_and_gmsh_read_meshes_with_untagged_cells_whole() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = common::python_with(&["gmsh", "meshio"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     let a = common::read_file("triangle/A.1.ele");

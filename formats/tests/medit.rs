@@ -47,6 +47,7 @@ fn read_with_sol(
 #[test]
 #[allow(clippy::excessive_precision)] // the values as the file prints them
 fn square_hole_input_with_metric() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("medit/square_hole_input.mesh");
     assert_eq!(m.coordinate_dim, 2);
     assert_eq!(m.points.len(), 435);
@@ -81,6 +82,7 @@ fn square_hole_input_with_metric() {
 
 #[test]
 fn square_hole_adapted_by_mmg() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("medit/square_hole_mmg.mesh");
     assert_eq!(m.points.len(), 466);
     assert_eq!(
@@ -100,6 +102,7 @@ fn square_hole_adapted_by_mmg() {
 
 #[test]
 fn square_hole_mesh_and_meshb_agree() {
+    smartmesh_test_support::require_public_fixtures!();
     let a = read_file("medit/square_hole_mmg.mesh");
     let b = read_file("medit/square_hole_mmg.meshb");
     // MMG prints 15 significant digits in ASCII and writes doubles in binary: the
@@ -306,6 +309,7 @@ fn same_mesh_same_bytes() {
 
 #[test]
 fn fixture_rewritten_reads_back_identically() {
+    smartmesh_test_support::require_public_fixtures!();
     for file in ["medit/square_hole_input.mesh", "medit/square_hole_mmg.meshb"] {
         let m = read_file(file);
         for (main, ext) in [("r.mesh", "mesh"), ("r.meshb", "meshb")] {
@@ -1027,6 +1031,7 @@ fn malformed_solb_value_names_its_byte() {
 /// ones keep the 9 components); back into Medit it is packed again, with the file's bits.
 #[test]
 fn packed_metric_through_the_nine_component_formats() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("medit/square_hole_input.mesh");
     let packed = &m.point_data["metric"];
     assert_eq!(packed.layout, Layout::Symmetric2);

@@ -70,6 +70,7 @@ fn assert_points_bitwise(a: &TaggedMesh, b: &TaggedMesh) {
 
 #[test]
 fn fixture_square_hole_groups() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = common::read_file("obj/square_hole_groups.obj");
     assert_eq!(m.points.len(), 435);
     assert_eq!(m.coordinate_dim, 2);
@@ -95,6 +96,7 @@ fn fixture_square_hole_groups() {
 
 #[test]
 fn fixture_square_hole_vtn_negative() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = common::read_file("obj/square_hole_vtn_negative.obj");
     assert_eq!(m.points.len(), 435);
     assert_eq!(m.coordinate_dim, 2);
@@ -111,6 +113,7 @@ fn fixture_square_hole_vtn_negative() {
 
 #[test]
 fn fixture_two_domains_mixed() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = common::read_file("obj/two_domains_mixed.obj");
     assert_eq!(m.points.len(), 274);
     assert_eq!(m.coordinate_dim, 2);
@@ -123,6 +126,7 @@ fn fixture_two_domains_mixed() {
 
 #[test]
 fn fixtures_write_read_identity() {
+    smartmesh_test_support::require_public_fixtures!();
     for rel in [
         "obj/square_hole_groups.obj",
         "obj/square_hole_vtn_negative.obj",
@@ -557,6 +561,7 @@ proptest! {
 
 #[test]
 fn interop_meshio_reads_our_obj() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = common::python_with(&["meshio"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     for rel in ["obj/square_hole_groups.obj", "obj/two_domains_mixed.obj"] {
@@ -615,6 +620,7 @@ fn interop_meshio_reads_our_obj() {
 
 #[test]
 fn interop_tobj_reads_our_obj() {
+    smartmesh_test_support::require_public_fixtures!();
     // tobj (a Rust OBJ loader) gives each group its own vertex copy: compare positions
     // through its indices, in f32 as tobj stores them.
     let m = common::read_file("obj/two_domains_mixed.obj");

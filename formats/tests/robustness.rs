@@ -86,6 +86,7 @@ fn damaged_copies(bytes: &[u8], rng: &mut Rng) -> Vec<Vec<u8>> {
 
 #[test]
 fn damaged_fixtures_never_panic() {
+    smartmesh_test_support::require_public_fixtures!();
     let mut rng = Rng(0x5eed_1234_abcd_9876);
     let mut errors = 0usize;
     let mut total = 0usize;

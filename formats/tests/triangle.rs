@@ -51,6 +51,7 @@ fn read_mem(
 
 #[test]
 fn box_pslg() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("triangle/box.poly");
     assert_eq!(m.points.len(), 8);
     assert_eq!(counts_per_tag(&m), counts(&[("line", 0, 3), ("line", 5, 1), ("line", 10, 1)]));
@@ -62,6 +63,7 @@ fn box_pslg() {
 
 #[test]
 fn box_meshes_from_every_main_file() {
+    smartmesh_test_support::require_public_fixtures!();
     let expected = [
         ("box.1", 8, 8, vec![("line", 1, 6), ("line", 5, 1), ("line", 10, 1)]),
         ("box.2", 40, 62, vec![("line", 1, 14), ("line", 5, 3), ("line", 10, 1)]),
@@ -83,6 +85,7 @@ fn box_meshes_from_every_main_file() {
 
 #[test]
 fn box_4_vertex_markers() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("triangle/box.4.ele");
     assert_eq!(
         histogram(&m.point_data["triangle:marker"]),
@@ -93,6 +96,7 @@ fn box_4_vertex_markers() {
 #[test]
 #[allow(clippy::excessive_precision)] // the values as the files print them
 fn a_with_vertex_attributes() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("triangle/A.poly");
     assert_eq!(m.points.len(), 29);
     assert_eq!(counts_per_tag(&m), counts(&[("line", 0, 29)]));
@@ -111,6 +115,7 @@ fn a_with_vertex_attributes() {
 
 #[test]
 fn bbox_area_constraints() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("triangle/bbox.1.area");
     assert_eq!(m.points.len(), 12);
     assert_eq!(counts_per_tag(&m), counts(&[("triangle", 0, 12)]));
@@ -127,6 +132,7 @@ fn bbox_area_constraints() {
 
 #[test]
 fn double_hex_family() {
+    smartmesh_test_support::require_public_fixtures!();
     let lines = [("line", 1, 72), ("line", 2, 12), ("line", 3, 12)];
     let m = read_file("triangle/double_hex.poly");
     assert_eq!(m.points.len(), 96);
@@ -157,6 +163,7 @@ fn double_hex_family() {
 
 #[test]
 fn double_hex3_node_and_poly_agree() {
+    smartmesh_test_support::require_public_fixtures!();
     // double_hex3.poly lists its own 16 vertices, the same as double_hex3.node.
     let from_poly = read_file("triangle/double_hex3.poly");
     let from_node = read_file("triangle/double_hex3.node");
@@ -170,6 +177,7 @@ fn double_hex3_node_and_poly_agree() {
 
 #[test]
 fn face_and_la() {
+    smartmesh_test_support::require_public_fixtures!();
     let face = [("line", 2, 8), ("line", 3, 4), ("line", 4, 4), ("line", 5, 4), ("line", 6, 2)];
     let m = read_file("triangle/face.poly");
     assert_eq!(m.points.len(), 26);
@@ -217,6 +225,7 @@ fn face_and_la() {
 
 #[test]
 fn point_sets_and_plain_meshes() {
+    smartmesh_test_support::require_public_fixtures!();
     for (file, np) in [("diamond_02_00009.node", 9), ("dots.node", 100), ("spiral.node", 15)] {
         let m = read_file(&format!("triangle/{file}"));
         assert_eq!(m.points.len(), np, "{file}");
@@ -247,6 +256,7 @@ fn point_sets_and_plain_meshes() {
 
 #[test]
 fn voronoi_edges_and_rays() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("triangle/diamond_02_00009.1.v.edge");
     assert_eq!(m.points.len(), 12);
     assert_eq!(counts_per_tag(&m), counts(&[("line", 0, 16), ("vertex", 0, 4)]));
@@ -263,6 +273,7 @@ fn voronoi_edges_and_rays() {
 
 #[test]
 fn greenland() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("triangle/greenland.ele");
     assert_eq!(m.points.len(), 33343);
     assert_eq!(counts_per_tag(&m), counts(&[("triangle", 0, 64125)]));
@@ -274,6 +285,7 @@ fn greenland() {
 /// main files of its set.
 #[test]
 fn every_public_file_reads() {
+    smartmesh_test_support::require_public_fixtures!();
     let dir = public_fixtures().join("triangle");
     let mut by_base: BTreeMap<String, TaggedMesh> = BTreeMap::new();
     let mut names: Vec<_> = std::fs::read_dir(&dir)
@@ -436,6 +448,7 @@ fn unknown_main_extension_is_refused() {
 
 #[test]
 fn voronoi_rays_round_trip_through_edge() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = read_file("triangle/dots.1.v.edge");
     let (w, back) = roundtrip(Format::Triangle, "edge", &m, &opts("dots.edge"));
     assert!(w.report.dropped.is_empty(), "{:?}", w.report.dropped);

@@ -75,6 +75,7 @@ fn check_triangle_load(py: &str, dir: &Path, name: &str, m: &TaggedMesh) {
 
 #[test]
 fn triangle_loads_our_mesh_set() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = python_with(&["triangle"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     // Triangle's own output, read and written again by us as out.node + .ele + .poly.
@@ -86,6 +87,7 @@ fn triangle_loads_our_mesh_set() {
 
 #[test]
 fn triangle_loads_our_pslg() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = python_with(&["triangle"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     let m = read_file("triangle/box.poly");
@@ -96,6 +98,7 @@ fn triangle_loads_our_pslg() {
 
 #[test]
 fn triangle_refines_our_mesh_with_area_bounds() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = python_with(&["triangle"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     let m = read_file("triangle/bbox.1.area");
@@ -147,6 +150,7 @@ fn tags_of(m: &TaggedMesh, kind: CellKind) -> BTreeSet<i32> {
 
 #[test]
 fn mmg2d_adapts_our_mesh_and_metric() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = python_with(&["mmgpy"]) else { return };
     let exe = common::mmg2d(&py);
     let input = read_file("medit/square_hole_input.mesh");
@@ -186,6 +190,7 @@ for block, refs in zip(m.cells, m.cell_data["medit:ref"]):
 
 #[test]
 fn meshio_reads_our_mesh() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = python_with(&["meshio"]) else { return };
     let m = read_file("medit/square_hole_mmg.mesh");
     for name in ["m.mesh", "m.meshb"] {
@@ -255,6 +260,7 @@ fn mmg2d_keeps_the_topological_points_of_our_mesh() {
 
 #[test]
 fn medit_corners_become_a_named_group_of_points_in_msh() {
+    smartmesh_test_support::require_public_fixtures!();
     // MMG's output lists 4 Corners; Gmsh holds them as the physical points "Corners".
     let m = read_file("medit/square_hole_mmg.mesh");
     let corners = m.point_sets["Corners"].clone();

@@ -67,6 +67,7 @@ const FLUID: i32 = 3;
 
 #[test]
 fn every_public_fixture_reads_with_the_expected_counts() {
+    smartmesh_test_support::require_public_fixtures!();
     for rel in FIXTURES {
         let m = common::read_file(rel);
         assert_eq!(m.points.len(), NPOINTS, "{rel}");
@@ -101,6 +102,7 @@ fn flat(m: &TaggedMesh) -> Vec<f64> {
 
 #[test]
 fn all_six_fixtures_hold_the_same_mesh() {
+    smartmesh_test_support::require_public_fixtures!();
     let reference = common::read_file(EXACT[0]);
     for rel in FIXTURES {
         let m = common::read_file(rel);
@@ -183,6 +185,7 @@ fn rich_mesh() -> TaggedMesh {
 
 #[test]
 fn every_variant_reads_back_identically() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = rich_mesh();
     for (label, format, opts) in variants() {
         let (written, back) =
@@ -195,6 +198,7 @@ fn every_variant_reads_back_identically() {
 
 #[test]
 fn output_is_deterministic() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = rich_mesh();
     for (label, format, opts) in variants() {
         let a = write_bytes(format, &m, &opts).unwrap().main;
@@ -226,6 +230,7 @@ fn quadratic_cells_round_trip() {
 
 #[test]
 fn what_vtk_cannot_hold_is_reported() {
+    smartmesh_test_support::require_public_fixtures!();
     let mut m = rich_mesh();
     m.point_sets.insert("Corners".into(), vec![1, 2]);
     m.entities.insert((2, 1), vec![3]);
@@ -247,6 +252,7 @@ fn what_vtk_cannot_hold_is_reported() {
 
 #[test]
 fn legacy_files_put_the_tensor_where_paraview_looks() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = rich_mesh();
     let w = write_bytes(Format::VtkLegacy, &m, &WriteOptions::default()).unwrap();
     let text = String::from_utf8(w.main).unwrap();
@@ -466,6 +472,7 @@ fn legacy_truncated_points() {
 
 #[test]
 fn legacy_truncated_binary() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = common::read_file("vtk/naca0012_legacy_binary.vtk");
     let bytes = write_bytes(
         Format::VtkLegacy,
@@ -563,6 +570,7 @@ fn legacy_nan_coordinate() {
 
 #[test]
 fn legacy_nan_in_binary_data() {
+    smartmesh_test_support::require_public_fixtures!();
     let mut m = common::read_file("vtk/naca0012_legacy_binary.vtk");
     m.point_data.get_mut("hmin").unwrap().values[5] = f64::NAN;
     let bytes = write_bytes(
@@ -663,6 +671,7 @@ fn vtu_minimal_file_reads() {
 
 #[test]
 fn vtu_truncated() {
+    smartmesh_test_support::require_public_fixtures!();
     let e = vtu_err(&VTU[..VTU.find("<Cells>").unwrap() + 20]);
     assert!(matches!(e.kind, ErrorKind::UnexpectedEof { .. } | ErrorKind::Expected { .. }), "{e}");
     let m = rich_mesh();
@@ -719,6 +728,7 @@ fn vtu_nan() {
 
 #[test]
 fn vtu_bad_base64() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = rich_mesh();
     let bytes = write_bytes(
         Format::Vtu,
@@ -745,6 +755,7 @@ fn vtu_bad_base64() {
 
 #[test]
 fn vtu_bad_zlib() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = rich_mesh();
     let bytes = write_bytes(
         Format::Vtu,
@@ -828,6 +839,7 @@ fn vtu_malformed_xml() {
 
 #[test]
 fn writer_refuses_other_legacy_versions() {
+    smartmesh_test_support::require_public_fixtures!();
     let m = rich_mesh();
     let e = write_bytes(
         Format::VtkLegacy,
@@ -843,6 +855,7 @@ fn writer_refuses_other_legacy_versions() {
 
 #[test]
 fn damaged_fixtures_fail_with_a_position() {
+    smartmesh_test_support::require_public_fixtures!();
     // Deterministic damage (a fixed xorshift): truncations and flipped bytes. Every
     // read returns a mesh or an error that says where; none panics.
     let mut state = 0x9e37_79b9_7f4a_7c15u64;

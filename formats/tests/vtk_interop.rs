@@ -148,6 +148,7 @@ fn write_all(dir: &std::path::Path, m: &TaggedMesh) -> Vec<String> {
 
 #[test]
 fn vtk_reads_every_variant_we_write() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = common::python_with(&["vtk", "numpy"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     let m = mesh();
@@ -174,6 +175,7 @@ fn vtk_reads_every_variant_we_write() {
 
 #[test]
 fn meshio_reads_every_variant_we_write() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = common::python_with(&["meshio", "numpy"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     let m = mesh();
@@ -254,6 +256,7 @@ print("\n".join(names))
 
 #[test]
 fn we_read_every_encoding_vtk_writes() {
+    smartmesh_test_support::require_public_fixtures!();
     let Some(py) = common::python_with(&["vtk"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     let m = mesh();

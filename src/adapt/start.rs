@@ -16,6 +16,14 @@ pub enum StartError {
     /// The file could not be read (the error names the file and the line).
     #[error("{0}")]
     Read(#[from] smartmesh_formats::Error),
+    /// The input does not lie in one plane z = const ([`crate::planar`]).
+    #[error("{path}: {source}")]
+    NotPlanar {
+        /// The input, as given.
+        path: String,
+        /// The point off the plane.
+        source: crate::planar::NotPlanar,
+    },
     /// The input is a planar straight-line graph that the mesher could not triangulate.
     #[error("{path}: {source}")]
     Mesher {
@@ -62,6 +70,9 @@ pub struct Start {
     pub geometry_points: Vec<[f64; 2]>,
     /// What the reader changed in the input (a second-order mesh read as linear).
     pub notes: Vec<String>,
+    /// The z of the input's plane ([`crate::planar::plane`]): the loop computes in (x, y),
+    /// and its outputs go back to this plane ([`crate::planar::place`]).
+    pub plane_z: f64,
 }
 
 /// The starting mesh of `input` and its geometry's vertices (see [`Start`]).
@@ -82,8 +93,10 @@ pub fn start_sized(
 ) -> Result<Start, StartError> {
     let (mesh, report) = read_path_reported(input, format.or_else(|| Format::from_path(input)))?;
     let notes = report.notes;
+    let plane_z = crate::planar::plane(&mesh)
+        .map_err(|source| StartError::NotPlanar { path: input.display().to_string(), source })?;
     if has_surface(&mesh) {
-        return Ok(Start { mesh, geometry_points: Vec::new(), notes });
+        return Ok(Start { mesh, geometry_points: Vec::new(), notes, plane_z });
     }
     let mut options = MeshOptions::default();
     if let (Some(n), Some((lo, hi))) = (vertices, mesh.bounding_box()) {
@@ -109,5 +122,5 @@ pub fn start_sized(
         .filter(|(_, &s)| s)
         .map(|(p, _)| [p[0], p[1]])
         .collect();
-    Ok(Start { mesh: triangulated, geometry_points, notes })
+    Ok(Start { mesh: triangulated, geometry_points, notes, plane_z })
 }

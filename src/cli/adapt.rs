@@ -344,6 +344,9 @@ struct Progress {
     /// Records already printed above the bar (the last record comes twice: after its
     /// iteration and when the loop stops).
     printed: usize,
+    /// The z of the input's plane: the loop computes in (x, y), the files are written in
+    /// the input's plane ([`smartmesh::planar`]).
+    plane_z: f64,
 }
 
 impl Observer for Progress {
@@ -369,6 +372,12 @@ impl Observer for Progress {
     ) -> Result<(), smartmesh::formats::Error> {
         {
             let _writing = WRITING.lock();
+            let placed = new_best.filter(|_| self.plane_z != 0.0).map(|m| {
+                let mut m = m.clone();
+                smartmesh::planar::place(&mut m, self.plane_z);
+                m
+            });
+            let new_best = placed.as_ref().or(new_best);
             self.files.record(history, if self.to_stdout { None } else { new_best })?;
         }
         if let (Some(b), Some(last)) = (
@@ -437,6 +446,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let pairs: Vec<smartmesh::periodic::PeriodicPair> =
         recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
     let mut starting = start_sized(&args.input, args.from, first, &pairs)?;
+    let plane_z = starting.plane_z;
     for n in &starting.notes {
         ui::note(&format!("{}: {n}", args.input.display()));
     }
@@ -519,6 +529,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         bar: ui::progress_bar(opts.max_iterations as u64, "{bar:30} {pos}/{len} {msg} [{elapsed}]"),
         adapter: remesher.name().to_string(),
         printed: 0,
+        plane_z,
     };
     handle_interrupts();
     let input = args.input.display().to_string();
@@ -535,12 +546,13 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     if let Some(b) = &progress.bar {
         b.finish_and_clear();
     }
-    let outcome = result.map_err(|e| match e {
+    let mut outcome = result.map_err(|e| match e {
         e @ smartmesh::adapt::AdaptError::Start { .. } => {
             CliError::context(format!("{e} (input {})", args.input.display()), e)
         }
         e => e.into(),
     })?;
+    smartmesh::planar::place(&mut outcome.best, plane_z);
     let _writing = WRITING.lock();
     for w in &outcome.warnings {
         ui::warn(w);
@@ -575,7 +587,9 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
                 "LAYER: {} layers, {} quads, {} skin triangles inserted",
                 l.report.layers, l.report.quads, l.report.skin_triangles
             ));
-            Some(l.mesh)
+            let mut m = l.mesh;
+            smartmesh::planar::place(&mut m, plane_z);
+            Some(m)
         }
         _ => None,
     };

@@ -181,6 +181,7 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
     if let Some(e) = e.downcast_ref::<StartError>() {
         return match e {
             StartError::Read(_) => None,
+            StartError::NotPlanar { .. } => Some(Error),
             StartError::Mesher { source, .. } => {
                 Some(if source.is_input_error() { Error } else { Failure })
             }
@@ -208,7 +209,8 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
         || e.is::<MeshGraphError>()
         || e.is::<RemeshError>()
         || e.is::<ControlError>()
-        || e.is::<smartmesh::solution::input::FieldError>();
+        || e.is::<smartmesh::solution::input::FieldError>()
+        || e.is::<smartmesh::planar::NotPlanar>();
     input.then_some(Error)
 }
 

@@ -47,6 +47,13 @@ pub struct InfoArgs {
 /// Runs `info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let mesh = super::read_mesh(&args.file, args.from)?;
+    // Described whole, but not as if it were flat ([`smartmesh::planar`]).
+    if let Err(e) = smartmesh::planar::plane(&mesh) {
+        super::ui::warn(&format!(
+            "{}: {e}; lengths and areas are measured in space",
+            args.file.display()
+        ));
+    }
     let topo = Topology::from_mesh(&mesh);
     let mut summary = MeshSummary::of(&mesh, &topo);
     match MetricField::load(&mesh, &args.file, args.metric.as_deref()) {

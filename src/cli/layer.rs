@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use smartmesh::formats::{read_path, Format};
+use smartmesh::formats::Format;
 use smartmesh::layer::stats::{quad_quality, QuadQuality};
 use smartmesh::layer::to_metric::band_to_metric;
 use smartmesh::layer::{
@@ -197,7 +197,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
     let to = args.output_format.mesh_format(&args.output)?;
     check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mut mesh = read_path(&args.mesh, from)?;
+    let (mut mesh, plane_z) = super::read_planar_mesh(&args.mesh, from)?;
     let pairs: Vec<PeriodicPair> = match &args.recipe.recipe {
         None => Vec::new(),
         Some(_) => args.recipe.read()?.periodic.iter().filter_map(|p| p.pair().ok()).collect(),
@@ -247,6 +247,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
         }
         ui::note(&a.to_string());
     }
+    smartmesh::planar::place(&mut layered.mesh, plane_z);
     let written = args.output_format.write(&args.output, &layered.mesh, to)?;
     let r = &layered.report;
     for n in &r.notes {

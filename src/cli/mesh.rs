@@ -144,12 +144,12 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
     let to = args.output_format.mesh_format(&args.output)?;
     check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.input));
-    let pslg = super::read_mesh(&args.input, from)?;
+    let (pslg, plane_z) = super::read_planar_mesh(&args.input, from)?;
     let pairs: Vec<smartmesh::periodic::PeriodicPair> = match &args.recipe.recipe {
         None => Vec::new(),
         Some(_) => args.recipe.read()?.periodic.iter().filter_map(|p| p.pair().ok()).collect(),
     };
-    let mesh = triangulate_periodic(&pslg, &opts, &pairs).map_err(|e| {
+    let mut mesh = triangulate_periodic(&pslg, &opts, &pairs).map_err(|e| {
         let at = match poly_line(&args, from, &e) {
             Some(line) => format!("{}:{line}", args.input.display()),
             None => args.input.display().to_string(),
@@ -162,6 +162,7 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
         };
         CliError::context(format!("{at}: {e}{hint}"), e)
     })?;
+    smartmesh::planar::place(&mut mesh, plane_z);
     let periodic = smartmesh::periodic::check_all(&mesh, &pairs)
         .map_err(|e| CliError::context(format!("{e} (result)"), e))?;
     for m in &periodic {

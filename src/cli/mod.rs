@@ -149,6 +149,22 @@ pub fn read_mesh(
     Ok(mesh)
 }
 
+/// [`read_mesh`] for the commands that compute in the plane: a mesh that does not lie in
+/// one plane z = const is bad input (2), named with the file ([`smartmesh::planar`]).
+/// Returns the mesh and the z of its plane, where the command writes its output.
+pub fn read_planar_mesh(
+    path: &std::path::Path,
+    format: Option<smartmesh::formats::Format>,
+) -> Result<(smartmesh::formats::TaggedMesh, f64), CliError> {
+    let mesh = read_mesh(path, format)?;
+    let z = smartmesh::planar::plane(&mesh).map_err(|e| {
+        let name =
+            if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
+        CliError::usage(format!("{name}: {e}"))
+    })?;
+    Ok((mesh, z))
+}
+
 /// Parses a `--from`/`--to` format name.
 pub fn parse_format(name: &str) -> Result<smartmesh::formats::Format, String> {
     smartmesh::formats::Format::from_name(name).ok_or_else(|| {

@@ -158,7 +158,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         _ => None,
     };
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mut mesh = super::read_mesh(&args.mesh, from)?;
+    let (mut mesh, plane_z) = super::read_planar_mesh(&args.mesh, from)?;
     if args.split_quads {
         let n = mesh.split_quads();
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));
@@ -257,8 +257,9 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let out =
+    let mut out =
         remeshed.map_err(|e| CliError::context(format!("{}: {e}", args.mesh.display()), e))?;
+    smartmesh::planar::place(&mut out.mesh, plane_z);
     for w in &out.stats.warnings {
         ui::warn(w);
     }

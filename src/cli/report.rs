@@ -100,7 +100,8 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
             report::WIDTH_RANGE[1]
         )));
     }
-    let mesh = super::read_mesh(&args.mesh, args.from.or_else(|| Format::from_path(&args.mesh)))?;
+    let (mesh, _plane_z) =
+        super::read_planar_mesh(&args.mesh, args.from.or_else(|| Format::from_path(&args.mesh)))?;
     let topology = Topology::from_mesh(&mesh);
     let metric =
         MetricField::load(&mesh, &args.mesh, args.metric.as_deref()).map_err(|e| match e {

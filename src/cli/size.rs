@@ -157,7 +157,8 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     let mut recipe = args.recipe.read_or_empty(solving, "with --field or --solution-file")?;
     args.controls.apply_to(&mut recipe)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mut mesh = super::read_mesh(&args.mesh, from)?;
+    // The field is written on the input's own points, which stay in its plane.
+    let (mut mesh, _plane_z) = super::read_planar_mesh(&args.mesh, from)?;
     let mut extra = Vec::new();
     let mut solution = None;
     if solving {

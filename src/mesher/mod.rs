@@ -162,14 +162,9 @@ pub enum MeshError {
         /// The point.
         point: usize,
     },
-    /// A point off the plane z = 0.
-    #[error("point {point} has z = {z}; the mesher meshes the plane z = 0")]
-    NotPlanar {
-        /// The point.
-        point: usize,
-        /// Its z.
-        z: f64,
-    },
+    /// Points in more than one plane z = const ([`crate::planar`]).
+    #[error("{0}")]
+    NotPlanar(crate::planar::NotPlanar),
     /// Two points at the same place.
     #[error("points {first} and {second} are both at ({}, {}); expected distinct vertices", at[0], at[1])]
     DuplicatePoint {
@@ -303,7 +298,8 @@ impl MeshError {
     pub fn subject(&self) -> Option<Subject> {
         use MeshError::*;
         Some(match *self {
-            NonFinite { point } | NotPlanar { point, .. } => Subject::Point(point),
+            NonFinite { point } => Subject::Point(point),
+            NotPlanar(ref e) => Subject::Point(e.point),
             DuplicatePoint { second, .. } => Subject::Point(second),
             ZeroLengthSegment { segment, .. } | SegmentsCross { segment, .. } => {
                 Subject::Segment(segment)

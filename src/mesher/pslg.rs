@@ -121,6 +121,8 @@ fn marked_points(
 
 /// Takes the graph out of `mesh` and checks it.
 pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
+    // Meshed in (x, y): the caller puts the result back in the input's plane.
+    crate::planar::plane(mesh).map_err(MeshError::NotPlanar)?;
     let n = mesh.points.len();
     let has_surface = mesh.blocks.iter().any(|b| b.kind.dim() == 2 && !b.is_empty());
     let mut compact = vec![usize::MAX; n];
@@ -163,9 +165,6 @@ pub(crate) fn extract(mesh: &TaggedMesh) -> Result<Pslg, MeshError> {
         let p = mesh.points[i];
         if !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()) {
             return Err(MeshError::NonFinite { point: i });
-        }
-        if p[2] != 0.0 {
-            return Err(MeshError::NotPlanar { point: i, z: p[2] });
         }
         points.push([p[0], p[1]]);
     }

@@ -81,10 +81,7 @@ pub fn streams(o: &Output) -> String {
     )
 }
 
-/// Whether the interop tools must be there (CI sets `SMARTMESH_REQUIRE_INTEROP=1`).
-pub fn interop_required() -> bool {
-    std::env::var("SMARTMESH_REQUIRE_INTEROP").as_deref() == Ok("1")
-}
+pub use crate::skip::{interop_required, skip};
 
 /// The executable `name` found on `PATH`, if any, saying nothing (for engines a test may
 /// well not find, and says so itself).
@@ -103,7 +100,7 @@ pub fn cpp_or_skip(what: &str) -> bool {
     let ok = Command::new("cpp").arg("--version").output().is_ok_and(|o| o.status.success());
     assert!(ok || std::env::var_os("CI").is_none(), "CI must have cpp for {what}");
     if !ok {
-        eprintln!("skipped: no cpp on this machine for {what}");
+        skip(&format!("no cpp on this machine for {what}"));
     }
     ok
 }
@@ -115,10 +112,7 @@ pub fn cpp_or_skip(what: &str) -> bool {
 pub fn program(name: &str) -> Option<PathBuf> {
     let found = program_quiet(name);
     if found.is_none() {
-        if interop_required() {
-            panic!("`{name}` is needed on PATH (SMARTMESH_REQUIRE_INTEROP=1)");
-        }
-        eprintln!("skipping: `{name}` is not on PATH");
+        crate::skip::missing_tool(&format!("`{name}` is not on PATH"));
     }
     found
 }

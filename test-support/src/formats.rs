@@ -10,17 +10,57 @@ use smartmesh_formats::{
     VtuEncoding, WriteOptions, Written,
 };
 
-/// The public sample meshes written by other tools (`../shared/fixtures/public`), or
-/// `$SMARTMESH_PUBLIC_FIXTURES`.
+/// The variable that names the folder of the public sample meshes. CI sets it
+/// (`.ci/run`): a test then fails when they are missing, as the interop tests fail without
+/// their tools under `SMARTMESH_REQUIRE_INTEROP=1`.
+pub const PUBLIC_FIXTURES_VAR: &str = "SMARTMESH_PUBLIC_FIXTURES";
+
+/// The public sample meshes written by other tools: `$SMARTMESH_PUBLIC_FIXTURES`, else
+/// `../shared/fixtures/public` beside the repository (where CI's checkout has them; a
+/// fresh clone has no `../shared`).
 pub fn public_fixtures() -> PathBuf {
-    if let Ok(p) = std::env::var("SMARTMESH_PUBLIC_FIXTURES") {
+    if let Some(p) = std::env::var_os(PUBLIC_FIXTURES_VAR) {
         return PathBuf::from(p);
     }
     // `shared/` sits beside the repository, and this crate one level below it.
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/public")
+    let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let beside = crate_dir.parent().and_then(Path::parent).unwrap_or(crate_dir);
+    beside.join("shared/fixtures/public")
 }
 
-/// One public fixture by relative path (`gmsh/naca0012.v41_ascii.msh`).
+/// Whether a test that reads the public sample meshes can run. With
+/// `SMARTMESH_PUBLIC_FIXTURES` set they are mandatory: a folder that is not there fails
+/// the test. Without it, a missing `../shared/fixtures/public` skips the test, saying so
+/// ([`crate::skip::skip`]); the caller returns. [`crate::require_public_fixtures`] does
+/// both in one line.
+pub fn have_public_fixtures() -> bool {
+    let dir = public_fixtures();
+    if dir.is_dir() {
+        return true;
+    }
+    if std::env::var_os(PUBLIC_FIXTURES_VAR).is_some() {
+        panic!("{PUBLIC_FIXTURES_VAR}={}: no such folder of public fixtures", dir.display());
+    }
+    crate::skip::skip(&format!(
+        "the public sample meshes are not at {} (set {PUBLIC_FIXTURES_VAR} to their folder)",
+        dir.display()
+    ));
+    false
+}
+
+/// Returns from the calling test, saying that it skips, when the public sample meshes
+/// are absent and not required ([`formats::have_public_fixtures`](crate::formats::have_public_fixtures)).
+#[macro_export]
+macro_rules! require_public_fixtures {
+    () => {
+        if !$crate::formats::have_public_fixtures() {
+            return;
+        }
+    };
+}
+
+/// One public fixture by relative path (`gmsh/naca0012.v41_ascii.msh`); a test calls
+/// [`crate::require_public_fixtures`] first.
 pub fn public_fixture(rel: &str) -> PathBuf {
     let p = public_fixtures().join(rel);
     assert!(p.exists(), "public fixture {} is missing", p.display());
@@ -65,10 +105,8 @@ pub fn python_with(modules: &[&str]) -> Option<String> {
         Command::new(&py).args(["-c", &code]).output().map(|o| o.status.success()).unwrap_or(false);
     if ok {
         Some(py)
-    } else if interop_required() {
-        panic!("interop test needs Python modules {modules:?} (SMARTMESH_REQUIRE_INTEROP=1)");
     } else {
-        eprintln!("skipping: Python modules {modules:?} not available");
+        crate::skip::missing_tool(&format!("{py} cannot import the Python modules {modules:?}"));
         None
     }
 }

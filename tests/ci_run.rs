@@ -1,0 +1,59 @@
+//! What `.ci/run` promises: its closing line counts passed, failed and skipped tests
+//! honestly (`.ci/count-tests`), and it installs the Python packages from the one file
+//! README.md tells a fresh machine to install.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn count(log: &str) -> String {
+    let mut child = Command::new("bash")
+        .arg(root().join(".ci/count-tests"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(log.as_bytes()).unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success());
+    String::from_utf8(o.stdout).unwrap()
+}
+
+#[test]
+fn the_closing_line_counts_each_skipped_test_once_and_not_as_passed() {
+    let log = "\
+     Running tests/cli.rs (target/debug/deps/cli-0123abcd)
+skipped: lossy (cli): the public sample meshes are not at /x (set SMARTMESH_PUBLIC_FIXTURES)
+test lossy ... ok
+test result: ok. 12 passed; 0 failed; 1 ignored; 0 measured; 0 filtered out; finished in 2.54s
+skipped: mod::a (gmsh): `gmsh` is not on PATH
+skipped: mod::a (gmsh): `meshio` is not on PATH
+skipped: lossy (other): no: colons: here
+test result: FAILED. 30 passed; 2 failed; 0 ignored; 0 measured; 0 filtered out; finished in 5.13s
+   Doc-tests smartmesh
+test result: ok. 0 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out; finished in 0.00s
+";
+    assert_eq!(count(log), "39 passed, 2 failed, 3 skipped\n");
+    assert_eq!(count("error: could not compile\n"), "0 passed, 0 failed, 0 skipped\n");
+}
+
+#[test]
+fn ci_and_the_readme_install_the_same_requirements() {
+    let run = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let line = "python3 -m pip install -r requirements-interop.txt";
+    assert!(readme.contains(line), "README.md must say `{line}`");
+    assert!(run.contains("-r requirements-interop.txt"), ".ci/run must install that file");
+    let reqs = std::fs::read_to_string(root().join("requirements-interop.txt")).unwrap();
+    for module in ["gmsh", "vtk", "mmgpy", "meshio", "triangle", "scikit-fem", "hyperqueue"] {
+        assert!(
+            reqs.lines().any(|l| l.trim_start().starts_with(module)),
+            "requirements-interop.txt lacks {module}"
+        );
+    }
+    assert!(run.contains("--no-fail-fast") && run.contains(".ci/count-tests"));
+}
