@@ -6,7 +6,7 @@ use serde::Serialize;
 use smartmesh_formats::{DataShape, TaggedMesh};
 
 use crate::quality::QualitySummary;
-use crate::topology::{cell_tag, Classification, PointOrigin, Topology};
+use crate::topology::{cell_tag, PointOrigin, Topology};
 
 /// Counts, bounding box, tags, topology, fields and quality of a mesh.
 #[derive(Debug, Clone, Serialize)]
@@ -156,8 +156,20 @@ pub struct FaceSummary {
     pub name: Option<String>,
     /// Surface cells in it.
     pub cells: usize,
-    /// Area (quads split along a diagonal; absolute value of signed areas).
+    /// Area (quads split along a diagonal; each triangle measured in its own plane).
     pub area: f64,
+}
+
+/// Points that no cell uses, by any of its nodes (a second-order cell's mid-edge nodes
+/// are used, though the topology sees its corners alone).
+fn unused_points(mesh: &TaggedMesh) -> usize {
+    let mut used = vec![false; mesh.points.len()];
+    for b in &mesh.blocks {
+        for &v in &b.nodes {
+            used[v as usize] = true;
+        }
+    }
+    used.iter().filter(|&&u| !u).count()
 }
 
 impl MeshSummary {
@@ -187,7 +199,7 @@ impl MeshSummary {
                 })
             },
         };
-        let xy = |i: usize| [mesh.points[i][0], mesh.points[i][1]];
+        let at = |i: usize| mesh.points[i];
         let topology = TopologySummary {
             points: topo
                 .points
@@ -213,10 +225,7 @@ impl MeshSummary {
                         .polylines
                         .iter()
                         .flat_map(|p| p.edges())
-                        .map(|[a, b]| {
-                            let (p, q) = (xy(a), xy(b));
-                            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()
-                        })
+                        .map(|[a, b]| crate::quality::distance(at(a), at(b)))
                         .sum(),
                 })
                 .collect(),
@@ -231,12 +240,15 @@ impl MeshSummary {
                         .cells
                         .iter()
                         .map(|&ci| {
+                            // In space, each triangle in its own plane (a planar mesh's
+                            // cells are convex or at least not inverted: the same sum).
                             let v = topo.surface_cells[ci].vertices();
-                            let mut a = crate::quality::signed_area(xy(v[0]), xy(v[1]), xy(v[2]));
+                            let area = crate::quality::area_in_space;
+                            let mut a = area(at(v[0]), at(v[1]), at(v[2]));
                             if v.len() == 4 {
-                                a += crate::quality::signed_area(xy(v[0]), xy(v[2]), xy(v[3]));
+                                a += area(at(v[0]), at(v[2]), at(v[3]));
                             }
-                            a.abs()
+                            a
                         })
                         .sum(),
                 })
@@ -244,11 +256,7 @@ impl MeshSummary {
         };
         MeshSummary {
             points: mesh.points.len(),
-            unused_points: topo
-                .vertex_class
-                .iter()
-                .filter(|c| **c == Classification::Unused)
-                .count(),
+            unused_points: unused_points(mesh),
             coordinate_dim: mesh.coordinate_dim,
             cells,
             bounding_box: mesh.bounding_box().map(|(lo, hi)| [lo, hi]),

@@ -105,7 +105,12 @@ struct QuadReport {
 
 impl QuadReport {
     fn of(mesh: &smartmesh::formats::TaggedMesh) -> Option<QuadReport> {
-        let quality = quad_quality(mesh)?;
+        let mut quality = quad_quality(mesh)?;
+        // A skin is quads along walls beside triangles; in a mesh of quads alone every
+        // quad along a wall would start a "layer" of nothing.
+        if mesh.num_cells_of(smartmesh::formats::CellKind::Triangle) == 0 {
+            quality.layers.clear();
+        }
         Some(QuadReport { quality, validity: check_mesh(mesh) })
     }
 }
