@@ -23,6 +23,7 @@
 
 mod error;
 mod io;
+mod linear;
 mod mesh;
 mod output;
 mod point_sets;

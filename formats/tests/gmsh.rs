@@ -529,10 +529,12 @@ fn without_entities_a_41_file_has_no_groups() {
 /// them: corners first), a node no cell uses, and a node view.
 const SECOND_ORDER_NODES: &str = "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n9 0.5 0.5 0\n10 2 2 0\n";
 
-/// Second-order cells are read as the linear cells of their corners; the mid-edge
-/// nodes are dropped with their point data, the node no cell uses is kept.
+/// Second-order cells are kept as the file has them, in both versions (as the VTK and
+/// Medit readers keep them); `linearise` then makes them the linear cells of their
+/// corners, dropping the mid-edge nodes with their point data and keeping the node no
+/// cell uses.
 #[test]
-fn second_order_cells_are_read_as_linear_ones() {
+fn second_order_cells_are_kept_and_linearised_on_demand() {
     let view = "$NodeData\n1\n\"s\"\n1\n0\n3\n0\n1\n10\n1 1\n2 2\n3 3\n4 4\n5 5\n6 6\n7 7\n8 8\n9 9\n10 10\n$EndNodeData\n";
     let coords: String = SECOND_ORDER_NODES
         .lines()
@@ -548,7 +550,26 @@ $Elements\n2 3 1 3\n1 1 8 1\n1 1 2 5\n2 1 9 2\n2 1 2 3 5 6 9\n3 1 3 4 9 7 8\n$En
 $Elements\n3\n1 8 2 2 1 1 2 5\n2 9 2 5 1 1 2 3 5 6 9\n3 9 2 5 1 1 3 4 9 7 8\n$EndElements\n{view}"
     );
     for file in [v41, v22] {
-        let m = read_msh(file.as_bytes()).unwrap();
+        let (mut m, report) =
+            gmsh::read_reported(file.as_bytes(), &ReadContext::alone("msh")).unwrap();
+        assert!(report.notes.is_empty(), "{:?}", report.notes);
+        assert_eq!(m.points.len(), 10);
+        assert_eq!(
+            cell_list(&m),
+            vec![
+                (CellKind::Line3, vec![0, 1, 4], 2, 1),
+                (CellKind::Triangle6, vec![0, 1, 2, 4, 5, 8], 5, 1),
+                (CellKind::Triangle6, vec![0, 2, 3, 8, 6, 7], 5, 1),
+            ]
+        );
+        assert_eq!(m.point_data["s"].values.len(), 10);
+
+        let note = m.linearise().unwrap();
+        assert!(
+            note.contains("2 6-node triangles as 3-node")
+                && note.contains("5 mid-edge nodes dropped"),
+            "{note}"
+        );
         assert_eq!(
             m.points,
             vec![
@@ -568,7 +589,43 @@ $Elements\n3\n1 8 2 2 1 1 2 5\n2 9 2 5 1 1 2 3 5 6 9\n3 9 2 5 1 1 3 4 9 7 8\n$En
             ]
         );
         assert_eq!(m.point_data["s"].values, vec![1.0, 2.0, 3.0, 4.0, 10.0]);
-        assert!(m.blocks.iter().all(|b| !b.kind.is_second_order()));
+        assert_eq!(m.linearise(), None);
+    }
+}
+
+/// Second-order cells of every kind go through MSH 2.2 and 4.1, ASCII and binary, as
+/// they are: a 9-node quad written by smartmesh comes back with its 9 nodes.
+#[test]
+fn second_order_cells_round_trip_in_each_encoding() {
+    let mut m = TaggedMesh::new();
+    // A 2x1 block: nodes 0..15 on a 5x3 grid of step 0.5.
+    for j in 0..3 {
+        for i in 0..5 {
+            m.points.push([0.5 * i as f64, 0.5 * j as f64, 0.0]);
+        }
+    }
+    let g = |i: u32, j: u32| j * 5 + i;
+    let mut q9 = CellBlock::new(CellKind::Quad9);
+    q9.push(
+        &[g(0, 0), g(2, 0), g(2, 2), g(0, 2), g(1, 0), g(2, 1), g(1, 2), g(0, 1), g(1, 1)],
+        1,
+        1,
+    );
+    let mut q8 = CellBlock::new(CellKind::Quad8);
+    q8.push(&[g(2, 0), g(4, 0), g(4, 2), g(2, 2), g(3, 0), g(4, 1), g(3, 2), g(2, 1)], 2, 2);
+    let mut t6 = CellBlock::new(CellKind::Triangle6);
+    t6.push(&[g(0, 0), g(2, 0), g(0, 2), g(1, 0), g(1, 1), g(0, 1)], 3, 3);
+    let mut l3 = CellBlock::new(CellKind::Line3);
+    l3.push(&[g(0, 0), g(2, 0), g(1, 0)], 4, 4);
+    m.blocks = vec![l3, t6, q9, q8];
+    m.point_data.insert("f".into(), DataArray::new(1, (0..15).map(f64::from).collect()));
+    for (version, binary) in all_options() {
+        let what = format!("{version:?} binary={binary}");
+        let (w, back) = common::roundtrip(Format::Gmsh, "msh", &m, &opts(version, binary));
+        assert!(w.report.dropped.is_empty(), "{what}: {:?}", w.report.dropped);
+        assert_points_bitwise(&m, &back, &what);
+        assert_eq!(cell_list(&m), cell_list(&back), "{what}");
+        assert_eq!(m.point_data, back.point_data, "{what}");
     }
 }
 

@@ -46,7 +46,7 @@ pub struct InfoArgs {
 
 /// Runs `info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
-    let mesh = super::read_mesh(&args.file, args.from)?;
+    let (mesh, read_notes) = super::read_mesh_noted(&args.file, args.from)?;
     let topo = Topology::from_mesh(&mesh);
     let mut summary = MeshSummary::of(&mesh, &topo);
     match MetricField::load(&mesh, &args.file, args.metric.as_deref()) {
@@ -56,7 +56,14 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Err(e) if args.metric.is_none() => super::ui::warn(&format!("no metric figures: {e}")),
         Err(e) => return Err(e.into()),
     }
-    let quads = QuadReport::of(&mesh);
+    // Quad figures and validity are taken at the corners, as the topology's.
+    let quads = if mesh.blocks.iter().any(|b| b.kind.is_second_order()) {
+        let mut linear = mesh.clone();
+        linear.linearise();
+        QuadReport::of(&linear)
+    } else {
+        QuadReport::of(&mesh)
+    };
     let periodic = match &args.recipe.recipe {
         None => Vec::new(),
         Some(_) => {
@@ -68,7 +75,12 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         }
     };
     if args.json {
-        let j = InfoJson { summary: &summary, quads: quads.as_ref(), periodic: &periodic };
+        let j = InfoJson {
+            summary: &summary,
+            read_notes: &read_notes,
+            quads: quads.as_ref(),
+            periodic: &periodic,
+        };
         let mut s = serde_json::to_string_pretty(&j)?;
         s.push('\n');
         return print_stdout(&s);
@@ -89,6 +101,8 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
 struct InfoJson<'a> {
     #[serde(flatten)]
     summary: &'a MeshSummary,
+    /// What the reader could not keep (also on stderr, which `-q` silences).
+    read_notes: &'a [String],
     #[serde(skip_serializing_if = "Option::is_none")]
     quads: Option<&'a QuadReport>,
     #[serde(skip_serializing_if = "<[_]>::is_empty")]

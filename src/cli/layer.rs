@@ -198,6 +198,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
     check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     let mut mesh = read_path(&args.mesh, from)?;
+    super::linearise(&mut mesh, &args.mesh);
     let pairs: Vec<PeriodicPair> = match &args.recipe.recipe {
         None => Vec::new(),
         Some(_) => args.recipe.read()?.periodic.iter().filter_map(|p| p.pair().ok()).collect(),

@@ -136,17 +136,45 @@ pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
 }
 
 /// Reads a mesh (`-` for stdin, with `format`) and prints as notes what the reader
-/// changed in it (a second-order mesh read as linear), unless quiet.
+/// could not keep, unless quiet.
 pub fn read_mesh(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
 ) -> Result<smartmesh::formats::TaggedMesh, CliError> {
+    read_mesh_noted(path, format).map(|(mesh, _)| mesh)
+}
+
+/// [`read_mesh`], with the notes it printed (for `--json`, which `-q` does not silence).
+pub fn read_mesh_noted(
+    path: &std::path::Path,
+    format: Option<smartmesh::formats::Format>,
+) -> Result<(smartmesh::formats::TaggedMesh, Vec<String>), CliError> {
     let (mesh, report) = smartmesh::formats::read_path_reported(path, format)?;
     let name = if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
     for n in &report.notes {
         ui::note(&format!("{name}: {n}"));
     }
+    Ok((mesh, report.notes))
+}
+
+/// [`read_mesh`] for a command that computes on linear cells (sizing, remeshing, the
+/// skin): second-order cells are made linear, which a note says.
+pub fn read_linear_mesh(
+    path: &std::path::Path,
+    format: Option<smartmesh::formats::Format>,
+) -> Result<smartmesh::formats::TaggedMesh, CliError> {
+    let mut mesh = read_mesh(path, format)?;
+    linearise(&mut mesh, path);
     Ok(mesh)
+}
+
+/// Makes the second-order cells of `mesh`, read from `path`, linear, saying so.
+pub fn linearise(mesh: &mut smartmesh::formats::TaggedMesh, path: &std::path::Path) {
+    if let Some(n) = mesh.linearise() {
+        let name =
+            if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
+        ui::note(&format!("{name}: {n}"));
+    }
 }
 
 /// Parses a `--from`/`--to` format name.

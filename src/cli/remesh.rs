@@ -158,7 +158,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         _ => None,
     };
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mut mesh = super::read_mesh(&args.mesh, from)?;
+    let mut mesh = super::read_linear_mesh(&args.mesh, from)?;
     if args.split_quads {
         let n = mesh.split_quads();
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));

@@ -157,7 +157,7 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     let mut recipe = args.recipe.read_or_empty(solving, "with --field or --solution-file")?;
     args.controls.apply_to(&mut recipe)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let mut mesh = super::read_mesh(&args.mesh, from)?;
+    let mut mesh = super::read_linear_mesh(&args.mesh, from)?;
     let mut extra = Vec::new();
     let mut solution = None;
     if solving {

@@ -4,8 +4,8 @@
 
 use super::reader::Reader;
 use super::tags::TagList;
+use super::untagged;
 use super::views::ViewKind;
-use super::{linear, untagged};
 use crate::{DataArray, ErrorKind, NodeIndex, ReadReport, Result, TaggedMesh};
 
 impl Reader<'_> {
@@ -232,11 +232,7 @@ impl Reader<'_> {
         // other readers).
         mesh.coordinate_dim = if mesh.points.iter().all(|p| p[2] == 0.0) { 2 } else { 3 };
         untagged::ungroup(&mut mesh);
-        let mut report = ReadReport::default();
-        if let Some(note) = linear::reduce(&mut mesh) {
-            report.note(note);
-        }
-        Ok((mesh, report))
+        Ok((mesh, ReadReport::default()))
     }
 }
 

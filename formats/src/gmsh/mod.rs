@@ -37,10 +37,9 @@
 //!   and elementary tags; further (partition) tags are read past. Gmsh 2.2 writes an
 //!   element once per physical group of its entity: such consecutive copies are read
 //!   as one cell, and their groups listed in `entities[(dim, elementary)]` (the only
-//!   entries a 2.x file gives that table) second-order cells (`gmsh -2 -order 2`) are read as
-//!   the linear cells of their corners, and the nodes only they use beyond their corners
-//!   (mid-edge, mid-face) are dropped with their point data (`linear.rs`: smartmesh is a
-//!   linear tool);
+//!   entries a 2.x file gives that table); second-order cells (`gmsh -2 -order 2`: types
+//!   8, 9, 16, 10) are kept as they are, as the VTK and Medit readers keep them
+//!   ([`TaggedMesh::linearise`] makes them linear for the commands that need it);
 //! - `$NodeData`, `$ElementData` (→ point and cell data named after the view's first
 //!   string tag) and `$ElementNodeData` (→ cell data with components × nodes values per
 //!   cell, padded with NaN for cells with fewer nodes). When a view appears with several
@@ -90,12 +89,11 @@
 // Reading: `cursor` (tokens, binary arrays, the ASCII fast path), `tags` (tag maps),
 // `reader` (the state and the sections both versions share), `msh2` / `msh4` (nodes,
 // elements, 4.1 entities), `views` (data sections, read and written), `assembly` (the
-// mesh in tag order), `untagged` and `linear` (the policies above). Writing: `header`,
+// mesh in tag order), `untagged` (the policy above). Writing: `header`,
 // then `msh2` / `msh4` and `views`.
 mod assembly;
 mod cursor;
 mod header;
-mod linear;
 mod msh2;
 mod msh4;
 mod reader;
@@ -118,7 +116,7 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     read_reported(bytes, ctx).map(|(mesh, _)| mesh)
 }
 
-/// [`read`], with what was changed on the way (second-order cells read as linear).
+/// [`read`], with what the reader could not keep on the way.
 pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh, ReadReport)> {
     let mut r = Reader::new(bytes);
     read_sections(&mut r)?;

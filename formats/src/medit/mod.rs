@@ -701,6 +701,12 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         ));
     }
 
+    if !topological.is_empty() {
+        report.drop(format!(
+            "{} point cells: written as Corners and RequiredVertices entries, which are not cells (the file has {0} cells fewer)",
+            topological.len()
+        ));
+    }
     if point_tags > 0 {
         report.drop(format!(
             "the tags of {point_tags} point cells: written as Corners and RequiredVertices, which have no references"
