@@ -1444,3 +1444,53 @@ fn binary_node_data_is_checked_value_by_value() {
         assert_data_bitwise(&back.point_data, &m.point_data, &format!("{version:?} swapped"));
     }
 }
+
+/// Cells as (kind, tags, coordinates of their nodes to 1e-12), sorted: a mesh's cells
+/// whatever the numbering of its nodes and cells (and the last digit of ASCII numbers).
+fn placed_cells(m: &TaggedMesh) -> Vec<(CellKind, i32, i32, Vec<[i64; 3]>)> {
+    let mut v: Vec<_> = m
+        .cells()
+        .map(|(k, nodes, p, g)| {
+            let at = nodes
+                .iter()
+                .map(|&n| m.points[n as usize].map(|c| (c * 1e12).round() as i64))
+                .collect();
+            (k, p, g, at)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// A partitioned MSH 4.1 file (after Gmsh's tutorial t21, `fixtures/make_partitioned.py`):
+/// its cells lie on the partitioned entities of `$PartitionedEntities`, whose physical
+/// tags and parents are read, so that it reads as the MSH 2.2 file of the same mesh does
+/// (physical groups Left, Right, Bottom; the parent entity as geometrical tag), ASCII and
+/// binary; the report says the partitions were merged.
+#[test]
+fn a_partitioned_41_file_keeps_its_physical_groups() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
+    let read = |name: &str| {
+        smartmesh_formats::read_path_reported(&dir.join(name), None)
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let (v22, _) = read("partitioned_t21.v22.msh");
+    let per_tag = common::counts_per_tag(&v22);
+    assert_eq!(
+        per_tag,
+        counts(&[("line", 10, 5), ("triangle", 100, 66), ("triangle", 200, 66)]),
+        "{per_tag:?}"
+    );
+    for name in ["partitioned_t21.msh", "partitioned_t21_binary.msh"] {
+        let (m, report) = read(name);
+        // Gmsh numbers nodes otherwise in 2.2: cells compared by their corners' places.
+        assert_eq!(placed_cells(&m), placed_cells(&v22), "{name}");
+        assert_eq!(m.tag_names, v22.tag_names, "{name}");
+        assert_eq!(m.entities[&(2, 1)], vec![100], "{name}");
+        assert_eq!(
+            report.notes,
+            vec!["3 partitions read as one mesh (which partition each cell was in is not kept)"],
+            "{name}"
+        );
+    }
+}

@@ -79,11 +79,18 @@ impl Reader<'_> {
             Some(rank)
         };
 
-        // Physical tags of 4.1 blocks: the first physical tag of the entity.
+        // Physical tags of 4.1 blocks: the first physical tag of the entity; the cells
+        // of a partitioned entity take its own and, as geometrical tag, its parent's.
         for b in &mut self.raw {
             if let Some(e) = b.entity {
-                let p = self.entities.get(&e).and_then(|v| v.first()).copied().unwrap_or(0);
-                b.physical = vec![p; b.tags.len()];
+                let p = match self.partitioned.get(&e) {
+                    Some((parent, phys)) => {
+                        b.geometrical.fill(*parent);
+                        phys.first()
+                    }
+                    None => self.entities.get(&e).and_then(|v| v.first()),
+                };
+                b.physical = vec![p.copied().unwrap_or(0); b.tags.len()];
             }
             if let Some(rank) = &node_rank {
                 for v in &mut b.nodes {
@@ -232,7 +239,14 @@ impl Reader<'_> {
         // other readers).
         mesh.coordinate_dim = if mesh.points.iter().all(|p| p[2] == 0.0) { 2 } else { 3 };
         untagged::ungroup(&mut mesh);
-        Ok((mesh, ReadReport::default()))
+        let mut report = ReadReport::default();
+        if self.partitions > 1 {
+            report.note(format!(
+                "{} partitions read as one mesh (which partition each cell was in is not kept)",
+                self.partitions
+            ));
+        }
+        Ok((mesh, report))
     }
 }
 

@@ -26,6 +26,11 @@
 //!   or without `$Entities`, as for Gmsh: such a file has no groups), its geometrical
 //!   tag the entity tag; the cells of a group named [`UNTAGGED`] are read as untagged
 //!   (tag 0, see below);
+//! - 4.1 `$PartitionedEntities` (a partitioned mesh, `gmsh -part N`): the cells of a
+//!   partitioned entity take its first physical tag and, as geometrical tag, its
+//!   parent's (the model entity it is a part of, what a 2.2 file of the same mesh gives
+//!   as elementary tag); the partitions merge into one mesh, which the read report says
+//!   (the partition of a cell is not kept); ghost entities are read past;
 //! - `$Nodes` (and 2.x `$ParametricNodes`): parametric coordinates are read past;
 //!   nodes no element uses are kept. Points are ordered by node tag (the file's order
 //!   when tags ascend, as Gmsh writes them); tags may be sparse: they are looked up in
@@ -49,7 +54,7 @@
 //!   `$Elements`) is refused by [`read`], with a hint, and read by [`read_mesh_or_data`]
 //!   as [`NodeData`] (node tag t = vertex t − 1 of the mesh it goes with);
 //! - `$Comments`, `$Periodic`, `$GhostElements`, `$Parametrizations`,
-//!   `$PartitionedEntities`, `$InterpolationScheme`, Gmsh's `$Edges`/`$Faces`, and any
+//!   2.x `$PartitionedEntities`, `$InterpolationScheme`, Gmsh's `$Edges`/`$Faces`, and any
 //!   section the format does not define (`$Comment`, `$Foo`: Gmsh's documentation says
 //!   readers ignore them, and Gmsh and meshio do) are skipped up to their `$End` line,
 //!   which must be there.
@@ -74,7 +79,7 @@
 //!   quotes in names...) is listed in the [`WriteReport`]. Same mesh, same bytes.
 //!
 //! Not supported: MSH 1, 3 and 4.0, big-endian binary files, 3D and third-order
-//! elements, partitioned entities (their cells are read without physical tags),
+//! elements, the partition of each cell (partitions are read as one mesh),
 //! interpolation schemes.
 //!
 //! Points keep the three coordinates MSH stores; `coordinate_dim` is 3 when some z is
@@ -193,6 +198,7 @@ fn read_sections(r: &mut Reader<'_>) -> Result<()> {
         match name {
             b"PhysicalNames" => r.read_physical_names()?,
             b"Entities" if r.v4 => msh4::read_entities(r)?,
+            b"PartitionedEntities" if r.v4 => msh4::read_partitioned_entities(r)?,
             b"Nodes" if r.v4 => msh4::read_nodes(r, at)?,
             b"Elements" if r.v4 => msh4::read_elements(r)?,
             b"Nodes" => msh2::read_nodes(r, at, false)?,
