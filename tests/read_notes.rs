@@ -38,3 +38,78 @@ fn a_partitioned_file_says_in_json_that_its_partitions_were_merged() {
         .collect();
     assert_eq!(named, vec![("Bottom", 5), ("Left", 66), ("Right", 66)], "{j}");
 }
+
+/// A unit square of two triangles, in Medit's ASCII format.
+const SQUARE_MESH: &str = "MeshVersionFormatted 2\nDimension 2\nVertices\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\nTriangles\n2\n1 2 3 5\n1 3 4 5\nEdges\n4\n1 2 1\n2 3 1\n3 4 1\n4 1 1\nEnd\n";
+
+/// Its metric, 100·I at each vertex, followed by a solver's own keywords as in MMG's
+/// `naca-multiSols.sol` (`Time` and `Iterations` are libMeshb's, the others are not).
+const SOL_WITH_SOLVER_KEYWORDS: &str = "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n4\n1 3\n100 0 100\n100 0 100\n100 0 100\n100 0 100\n Time\n  0.000000000000000E+000\n Iterations\n           0\n CFL\n  1.947954677045874E-004\n Model\n       11001\n Nvar\n           4\n NvarPhys\n           9\n Residu\n        0.0000001700       23.7755237546       32.9919322005\n \nEnd\n";
+
+/// The `.sol` reads (mmg2d_O3 reads it too, where it is installed), its metric kept,
+/// the keywords skipped said in a note on stderr and in `--json`.
+#[test]
+fn solver_keywords_after_a_solution_are_skipped_with_a_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("sq.mesh");
+    std::fs::write(&mesh, SQUARE_MESH).unwrap();
+    std::fs::write(dir.path().join("sq.sol"), SOL_WITH_SOLVER_KEYWORDS).unwrap();
+    let mesh = mesh.to_str().unwrap();
+    let o = smartmesh(&["info", "--json", mesh], None);
+    let j = json(&ok(&o));
+    let point_data: Vec<&str> =
+        j["point_data"].as_array().unwrap().iter().map(|f| f["name"].as_str().unwrap()).collect();
+    assert_eq!(point_data, vec!["metric"], "{j}");
+    let notes = j["read_notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{j}");
+    let note = notes[0].as_str().unwrap();
+    assert!(
+        note.contains("sq.sol: ")
+            && note.contains("from line 14")
+            && note.ends_with("CFL, Model, Nvar, NvarPhys, Residu"),
+        "{note}"
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains(note), "{o:?}");
+
+    let Some(py) = smartmesh_test_support::formats::python_with(&["mmgpy"]) else { return };
+    let mmg = smartmesh_test_support::formats::mmg2d(&py);
+    let out = dir.path().join("out.mesh");
+    let run = std::process::Command::new(mmg)
+        .args([
+            mesh,
+            "-sol",
+            dir.path().join("sq.sol").to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-v",
+            "-1",
+        ])
+        .output()
+        .unwrap();
+    assert!(run.status.success() && out.exists(), "mmg2d_O3: {run:?}");
+}
+
+/// A `.sol` that cannot be read makes its mesh unreadable (exit 2, naming the `.sol`);
+/// `--no-solution` reads the mesh without it.
+#[test]
+fn no_solution_reads_a_mesh_without_its_sol() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("sq.mesh");
+    std::fs::write(&mesh, SQUARE_MESH).unwrap();
+    // Three solutions for four vertices.
+    std::fs::write(
+        dir.path().join("sq.sol"),
+        "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 1\n0.1\n0.1\n0.1\nEnd\n",
+    )
+    .unwrap();
+    let mesh = mesh.to_str().unwrap();
+    let o = smartmesh(&["info", mesh], None);
+    assert_eq!(o.status.code(), Some(2), "{o:?}");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("sq.sol"), "{o:?}");
+    let j = json(&ok(&smartmesh(&["info", "--json", "--no-solution", mesh], None)));
+    assert_eq!(j["points"], 4, "{j}");
+    assert_eq!(j["point_data"], serde_json::json!([]), "{j}");
+    let out = dir.path().join("sq.vtu");
+    ok(&smartmesh(&["convert", "--no-solution", mesh, out.to_str().unwrap()], None));
+    assert_eq!(smartmesh::formats::read_path(&out, None).unwrap().num_cells(), 6);
+}

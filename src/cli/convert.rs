@@ -41,6 +41,10 @@ pub struct ConvertArgs {
     /// tags and cell data kept).
     #[arg(long)]
     split_quads: bool,
+    /// Read a Medit mesh without the .sol/.solb beside it (one MMG cannot read, or of
+    /// another mesh).
+    #[arg(long)]
+    no_solution: bool,
     /// Print a JSON summary (formats, counts, what the reader and the writer could not
     /// keep) on stdout.
     #[arg(long)]
@@ -76,7 +80,7 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
         None => Format::from_path(&args.output),
     };
     check_output_dir(&args.output)?;
-    let (mut mesh, read_notes) = super::read_mesh_noted(&args.input, from)?;
+    let (mut mesh, read_notes) = super::read_mesh_noted(&args.input, from, args.no_solution)?;
     if args.split_quads {
         let n = mesh.split_quads();
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));

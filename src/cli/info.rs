@@ -33,6 +33,10 @@ pub struct InfoArgs {
     /// Print a JSON document instead of text.
     #[arg(long)]
     json: bool,
+    /// Read a Medit mesh without the .sol/.solb beside it (one MMG cannot read, or of
+    /// another mesh).
+    #[arg(long)]
+    no_solution: bool,
     /// A metric on FILE's vertices (a mesh file with point data `metric`, a .sol/.solb in
     /// FILE's vertex order, or a .pos view): adds the share of
     /// edges of metric length in [1/√2, √2] and the metric quality (FILE's own `metric`
@@ -46,7 +50,7 @@ pub struct InfoArgs {
 
 /// Runs `info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
-    let (mesh, read_notes) = super::read_mesh_noted(&args.file, args.from)?;
+    let (mesh, read_notes) = super::read_mesh_noted(&args.file, args.from, args.no_solution)?;
     let topo = Topology::from_mesh(&mesh);
     let mut summary = MeshSummary::of(&mesh, &topo);
     match MetricField::load(&mesh, &args.file, args.metric.as_deref()) {

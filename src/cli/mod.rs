@@ -141,15 +141,18 @@ pub fn read_mesh(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
 ) -> Result<smartmesh::formats::TaggedMesh, CliError> {
-    read_mesh_noted(path, format).map(|(mesh, _)| mesh)
+    read_mesh_noted(path, format, false).map(|(mesh, _)| mesh)
 }
 
-/// [`read_mesh`], with the notes it printed (for `--json`, which `-q` does not silence).
+/// [`read_mesh`], with the notes it printed (for `--json`, which `-q` does not silence);
+/// `no_solution`: without the `.sol`/`.solb` beside a Medit mesh (`--no-solution`).
 pub fn read_mesh_noted(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
+    no_solution: bool,
 ) -> Result<(smartmesh::formats::TaggedMesh, Vec<String>), CliError> {
-    let (mesh, report) = smartmesh::formats::read_path_reported(path, format)?;
+    let left_out: &[&str] = if no_solution { &["sol", "solb"] } else { &[] };
+    let (mesh, report) = smartmesh::formats::read_path_reported_without(path, format, left_out)?;
     let name = if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
     for n in &report.notes {
         ui::note(&format!("{name}: {n}"));
