@@ -99,8 +99,12 @@ pub struct FieldSummary {
     pub components: usize,
     /// Scalar, vector, tensor or other.
     pub shape: DataShape,
-    /// Smallest and largest value over all components (`None` if empty).
+    /// Smallest and largest value over all components, NaN left out (`None` if empty
+    /// or all NaN).
     pub range: Option<[f64; 2]>,
+    /// Items with a NaN component (a Gmsh view that covers part of the mesh, a solver's
+    /// missing values): kept as they are, refused only where the array is used.
+    pub nan_items: usize,
 }
 
 /// Topological entities found from the tags.
@@ -194,10 +198,18 @@ impl MeshSummary {
                     } else {
                         &[]
                     };
-                a.values.iter().chain(implied).fold(None, |r: Option<[f64; 2]>, &v| {
-                    Some(r.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]))
-                })
+                a.values.iter().chain(implied).filter(|v| !v.is_nan()).fold(
+                    None,
+                    |r: Option<[f64; 2]>, &v| {
+                        Some(r.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]))
+                    },
+                )
             },
+            nan_items: a
+                .values
+                .chunks_exact(a.components.max(1))
+                .filter(|item| item.iter().any(|v| v.is_nan()))
+                .count(),
         };
         let at = |i: usize| mesh.points[i];
         let topology = TopologySummary {

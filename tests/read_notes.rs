@@ -113,3 +113,55 @@ fn no_solution_reads_a_mesh_without_its_sol() {
     ok(&smartmesh(&["convert", "--no-solution", mesh, out.to_str().unwrap()], None));
     assert_eq!(smartmesh::formats::read_path(&out, None).unwrap().num_cells(), 6);
 }
+
+/// Three triangles with a Gmsh `$ElementData` view that covers one of them.
+const PARTIAL_VIEW_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 0 0\n$EndNodes\n$Elements\n3\n1 2 2 1 1 1 2 3\n2 2 2 1 1 1 3 4\n3 2 2 1 1 2 5 3\n$EndElements\n$ElementData\n1\n\"err\"\n1\n0\n3\n0\n1\n1\n2 0.25\n$EndElementData\n";
+
+/// A view covering part of the cells: `convert` keeps the others as NaN and says so
+/// (`read_notes`); VTK and meshio read the `.vtu` and `.vtk` written (NaN where the
+/// view gave nothing), and so do `info` and `convert` (which refused them before).
+#[test]
+fn a_partial_view_is_kept_as_nan_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let msh = dir.path().join("partial.msh");
+    std::fs::write(&msh, PARTIAL_VIEW_MSH).unwrap();
+    let mut outs = Vec::new();
+    for (name, extra) in [
+        ("p.vtu", "--vtu-encoding=ascii"),
+        ("p.vtk", "--vtk-version=4.2"),
+        ("pb.vtu", "--vtu-encoding=binary"),
+    ] {
+        let out = dir.path().join(name).display().to_string();
+        let j = json(&ok(&smartmesh(
+            &["convert", msh.to_str().unwrap(), &out, extra, "--json", "-q"],
+            None,
+        )));
+        assert_eq!(
+            j["read_notes"],
+            serde_json::json!(["view `err` gives values for 1 of 3 elements; the others are NaN"]),
+            "{j}"
+        );
+        let info = ok(&smartmesh(&["info", &out], None));
+        assert!(
+            info.contains("cell data   err (1 component) in [0.25, 0.25], 2 items NaN"),
+            "{info}"
+        );
+        outs.push(out);
+    }
+    let Some(py) = smartmesh_test_support::formats::python_with(&["vtk", "meshio"]) else { return };
+    let script = r#"
+import sys, math, meshio, vtk
+from vtk.util.numpy_support import vtk_to_numpy
+for f in sys.argv[1:]:
+    r = vtk.vtkXMLUnstructuredGridReader() if f.endswith(".vtu") else vtk.vtkUnstructuredGridReader()
+    r.SetFileName(f)
+    r.Update()
+    a = [float(x) for x in vtk_to_numpy(r.GetOutput().GetCellData().GetArray("err"))]
+    m = [float(x) for x in meshio.read(f).cell_data["err"][0]]
+    print(" ".join("nan" if math.isnan(x) else repr(x) for x in a + m))
+"#;
+    let args: Vec<&str> = outs.iter().map(String::as_str).collect();
+    let out = smartmesh_test_support::formats::run_python(&py, script, &args);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines, vec!["nan 0.25 nan nan 0.25 nan"; 3], "{out}");
+}

@@ -294,9 +294,14 @@ fn render(file: &str, s: &MeshSummary) -> String {
                 .range
                 .map(|[a, b]| format!(" in [{}, {}]", fmt_g(a), fmt_g(b)))
                 .unwrap_or_default();
+            let nan = if f.nan_items > 0 {
+                format!(", {} items NaN", f.nan_items)
+            } else {
+                String::new()
+            };
             let _ = writeln!(
                 o,
-                "  {label:<11} {} ({} component{}){range}",
+                "  {label:<11} {} ({} component{}){range}{nan}",
                 f.name,
                 f.components,
                 if f.components == 1 { "" } else { "s" }
