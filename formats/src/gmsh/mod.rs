@@ -39,7 +39,8 @@
 //! - `$Elements` of the kinds [`crate::CellKind::from_gmsh_type`] knows; any other type (a
 //!   tetrahedron, a third-order triangle...) is an error that names it. Cells are
 //!   ordered by element tag (file order for Gmsh's files). 2.x elements carry physical
-//!   and elementary tags; further (partition) tags are read past. Gmsh 2.2 writes an
+//!   and elementary tags; further (partition) tags are read past, the partitions
+//!   merged into one mesh, which the read report says as for 4.1. Gmsh 2.2 writes an
 //!   element once per physical group of its entity: such consecutive copies are read
 //!   as one cell, and their groups listed in `entities[(dim, elementary)]` (the only
 //!   entries a 2.x file gives that table); second-order cells (`gmsh -2 -order 2`: types
