@@ -1404,9 +1404,9 @@ fn bench_against_mshio() {
 }
 
 /// Binary `$NodeData` tables are taken whole and converted in one pass, and a view in
-/// node order becomes the point array as read: a NaN or an unknown node tag is still
-/// refused at its byte, in both versions, and a view in another order is still put in
-/// node order.
+/// node order becomes the point array as read: a NaN is kept (a data array may hold
+/// NaN), an unknown node tag is still refused at its byte, in both versions, and a view
+/// in another order is still put in node order.
 #[test]
 fn binary_node_data_is_checked_value_by_value() {
     let mut m = small_mesh();
@@ -1420,9 +1420,10 @@ fn binary_node_data_is_checked_value_by_value() {
         let at = memchr::memmem::find(&bytes, &marker.to_le_bytes()).unwrap();
         let mut bad = bytes.clone();
         bad[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
-        let e = read_msh(&bad).unwrap_err();
-        assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{version:?}: {e}");
-        assert_eq!(e.at, Some(Position::Byte(at as u64)), "{version:?}: {e}");
+        let nan = read_msh(&bad).unwrap_or_else(|e| panic!("{version:?}: {e}"));
+        let values = &nan.point_data["metric"].values;
+        assert!(values[9 * 3 + 4].is_nan(), "{version:?}");
+        assert_eq!(values.iter().filter(|v| v.is_nan()).count(), 1, "{version:?}");
         // The entry's node tag (4 + 8 * 4 bytes before the value): 4 -> 99.
         let tag_at = at - 8 * 4 - 4;
         assert_eq!(bytes[tag_at..tag_at + 4], 4i32.to_le_bytes(), "{version:?}");
@@ -1494,5 +1495,23 @@ fn a_partitioned_41_file_keeps_its_physical_groups() {
             assert_eq!(m.entities.get(&(2, 1)), Some(&vec![100]), "{name}");
         }
         assert_eq!(report.notes, vec![note], "{name}");
+    }
+}
+
+/// A view with `nan` and `inf` values (as Gmsh prints them) is read with them, ASCII and
+/// binary: a data array may hold NaN, refused only where it is used.
+#[test]
+fn views_keep_nan_and_infinities() {
+    let file = format!(
+        "{HEAD22}$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 2 1 1 1 2 3\n$EndElements\n\
+$NodeData\n1\n\"u\"\n1\n0\n3\n0\n1\n3\n1 nan\n2 -inf\n3 2.5\n$EndNodeData\n"
+    );
+    let m = read_msh(file.as_bytes()).unwrap();
+    let u = &m.point_data["u"].values;
+    assert!(u[0].is_nan() && u[1] == f64::NEG_INFINITY && u[2] == 2.5, "{u:?}");
+    for version in [GmshVersion::V22, GmshVersion::V41] {
+        let w = gmsh::write(&m, &opts(version, true)).unwrap();
+        let back = read_msh(&w.main).unwrap();
+        assert_eq!(back.point_data["u"].values[2], 2.5, "{version:?}");
     }
 }

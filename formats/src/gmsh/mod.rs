@@ -50,7 +50,8 @@
 //!   string tag) and `$ElementNodeData` (→ cell data with components × nodes values per
 //!   cell, padded with NaN for cells with fewer nodes). When a view appears with several
 //!   time steps, the last section in the file wins; sections of the same step (a
-//!   partitioned view) are merged. Items a view does not cover are NaN;
+//!   partitioned view) are merged. Items a view does not cover are NaN, which the read
+//!   report says; NaN and infinities in a view are kept (refused where the data is used);
 //! - a file of views alone (Gmsh's data-only file: `$NodeData` before any `$Nodes` or
 //!   `$Elements`) is refused by [`read`], with a hint, and read by [`read_mesh_or_data`]
 //!   as [`NodeData`] (node tag t = vertex t − 1 of the mesh it goes with);
