@@ -168,7 +168,7 @@ mod tests {
     #[test]
     fn a_triangle_in_space_is_measured_in_its_own_plane() {
         let h = 3f64.sqrt() / 2.0;
-        let (c, s) = (70f64.to_radians().cos(), 70f64.to_radians().sin());
+        let (c, s) = (80f64.to_radians().cos(), 80f64.to_radians().sin());
         let (q, area, angle) = in_own_plane([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, h * c, h * s]);
         assert!((q - 1.0).abs() < 1e-12, "{q}");
         assert!((area - h / 2.0).abs() < 1e-12, "{area}");
