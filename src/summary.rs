@@ -6,7 +6,7 @@ use serde::Serialize;
 use smartmesh_formats::{DataShape, TaggedMesh};
 
 use crate::quality::QualitySummary;
-use crate::topology::{cell_tag, Classification, PointOrigin, Topology};
+use crate::topology::{cell_tag, PointOrigin, Topology};
 
 /// Counts, bounding box, tags, topology, fields and quality of a mesh.
 #[derive(Debug, Clone, Serialize)]
@@ -103,8 +103,12 @@ pub struct FieldSummary {
     pub components: usize,
     /// Scalar, vector, tensor or other.
     pub shape: DataShape,
-    /// Smallest and largest value over all components (`None` if empty).
+    /// Smallest and largest value over all components, NaN left out (`None` if empty
+    /// or all NaN).
     pub range: Option<[f64; 2]>,
+    /// Items with a NaN component (a Gmsh view that covers part of the mesh, a solver's
+    /// missing values): kept as they are, refused only where the array is used.
+    pub nan_items: usize,
 }
 
 /// Topological entities found from the tags.
@@ -160,8 +164,20 @@ pub struct FaceSummary {
     pub name: Option<String>,
     /// Surface cells in it.
     pub cells: usize,
-    /// Area (quads split along a diagonal; absolute value of signed areas).
+    /// Area (quads split along a diagonal; each triangle measured in its own plane).
     pub area: f64,
+}
+
+/// Points that no cell uses, by any of its nodes (a second-order cell's mid-edge nodes
+/// are used, though the topology sees its corners alone).
+fn unused_points(mesh: &TaggedMesh) -> usize {
+    let mut used = vec![false; mesh.points.len()];
+    for b in &mesh.blocks {
+        for &v in &b.nodes {
+            used[v as usize] = true;
+        }
+    }
+    used.iter().filter(|&&u| !u).count()
 }
 
 impl MeshSummary {
@@ -186,16 +202,21 @@ impl MeshSummary {
                     } else {
                         &[]
                     };
-                a.values.iter().chain(implied).fold(None, |r: Option<[f64; 2]>, &v| {
-                    Some(r.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]))
-                })
+                a.values.iter().chain(implied).filter(|v| !v.is_nan()).fold(
+                    None,
+                    |r: Option<[f64; 2]>, &v| {
+                        Some(r.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]))
+                    },
+                )
             },
+            nan_items: a
+                .values
+                .chunks_exact(a.components.max(1))
+                .filter(|item| item.iter().any(|v| v.is_nan()))
+                .count(),
         };
-        let xy = |i: usize| [mesh.points[i][0], mesh.points[i][1]];
-        // A surface in space is measured in space: its lengths and areas are not those of
-        // its shadow on z = 0 ([`crate::planar`]). A planar mesh keeps the plane's formulas.
         let planar = crate::planar::plane(mesh).is_ok();
-        let p3 = |i: usize| mesh.points[i];
+        let at = |i: usize| mesh.points[i];
         let topology = TopologySummary {
             points: topo
                 .points
@@ -221,11 +242,7 @@ impl MeshSummary {
                         .polylines
                         .iter()
                         .flat_map(|p| p.edges())
-                        .map(|[a, b]| {
-                            let (p, q) = (p3(a), p3(b));
-                            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2))
-                                .sqrt()
-                        })
+                        .map(|[a, b]| crate::quality::distance(at(a), at(b)))
                         .sum(),
                 })
                 .collect(),
@@ -240,15 +257,15 @@ impl MeshSummary {
                         .cells
                         .iter()
                         .map(|&ci| {
+                            // In space, each triangle in its own plane (a planar mesh's
+                            // cells are convex or at least not inverted: the same sum).
                             let v = topo.surface_cells[ci].vertices();
-                            if !planar {
-                                return vector_area(&v.iter().map(|&i| p3(i)).collect::<Vec<_>>());
-                            }
-                            let mut a = crate::quality::signed_area(xy(v[0]), xy(v[1]), xy(v[2]));
+                            let area = crate::quality::area_in_space;
+                            let mut a = area(at(v[0]), at(v[1]), at(v[2]));
                             if v.len() == 4 {
-                                a += crate::quality::signed_area(xy(v[0]), xy(v[2]), xy(v[3]));
+                                a += area(at(v[0]), at(v[2]), at(v[3]));
                             }
-                            a.abs()
+                            a
                         })
                         .sum(),
                 })
@@ -256,11 +273,7 @@ impl MeshSummary {
         };
         MeshSummary {
             points: mesh.points.len(),
-            unused_points: topo
-                .vertex_class
-                .iter()
-                .filter(|c| **c == Classification::Unused)
-                .count(),
+            unused_points: unused_points(mesh),
             coordinate_dim: mesh.coordinate_dim,
             cells,
             bounding_box: mesh.bounding_box().map(|(lo, hi)| [lo, hi]),
@@ -297,19 +310,4 @@ impl MeshSummary {
         });
         self
     }
-}
-
-/// The area of a planar or nearly planar polygon in space (a triangle, or a quad split
-/// along its diagonal from the first vertex): the length of the sum of its triangles'
-/// vector areas, which is the absolute signed area for a polygon in z = const.
-fn vector_area(p: &[[f64; 3]]) -> f64 {
-    let mut n = [0.0f64; 3];
-    for k in 1..p.len().saturating_sub(1) {
-        let u = [p[k][0] - p[0][0], p[k][1] - p[0][1], p[k][2] - p[0][2]];
-        let w = [p[k + 1][0] - p[0][0], p[k + 1][1] - p[0][1], p[k + 1][2] - p[0][2]];
-        n[0] += u[1] * w[2] - u[2] * w[1];
-        n[1] += u[2] * w[0] - u[0] * w[2];
-        n[2] += u[0] * w[1] - u[1] * w[0];
-    }
-    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
 }

@@ -2,7 +2,8 @@
 //! `adapt` with the native remesher and with Gmsh — read whole by meshio and saved again
 //! by Gmsh without losing an element, on Triangle's own samples without regional
 //! attributes (their faces have no tag while their segments have markers); and a
-//! second-order Gmsh mesh read as linear by `info` and `adapt`. Skips when
+//! second-order Gmsh mesh kept by `info` and `convert` (Gmsh reads the same element
+//! types back) and made linear, with a note, by `adapt`. Skips when
 //! gmsh or meshio is missing for `python3`, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
 
 use smartmesh_test_support::formats as common;
@@ -169,10 +170,11 @@ fn a_gmsh_output_without_triangles_names_the_likely_cause() {
     );
 }
 
-/// A second-order mesh from `gmsh -2 -order 2`: read as the linear mesh of its corners,
-/// so `info` finds no node left without a cell and `adapt` remeshes it.
+/// A second-order mesh from `gmsh -2 -order 2`: `info` and `convert` keep its cells as
+/// they are (Gmsh reads the same element types and nodes from what `convert` wrote, in
+/// 4.1 and 2.2), and `adapt`, which remeshes linear cells, makes them linear with a note.
 #[test]
-fn a_second_order_gmsh_mesh_is_read_as_linear() {
+fn a_second_order_gmsh_mesh_is_kept_and_made_linear_only_to_adapt() {
     let Some(py) = common::python_with(&["gmsh"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     let p2 = dir.path().join("p2.msh").display().to_string();
@@ -197,7 +199,7 @@ for ty, nodes in zip(*gmsh.model.mesh.getElements()[::2]):
     used.update(nodes)
     triangles += len(nodes) // k if ty == 9 else 0
     lines += len(nodes) // k if ty == 8 else 0
-print(len(corners), triangles, lines, len(used - corners))
+print(len(used), triangles, lines, len(used - corners))
 gmsh.finalize()
 "#;
     let out = common::run_python(&py, make, &[&p2]);
@@ -206,29 +208,47 @@ gmsh.finalize()
     let o = smartmesh(&["info", &p2], None);
     let info = ok(&o);
     assert!(!info.contains("used by no cell"), "{info}");
-    // What was reduced is said on stderr, and nothing under -q.
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.contains("note: ")
-            && err.contains("second-order cells read as linear")
-            && err.contains(&format!("{} 6-node triangles as 3-node", counts[1]))
-            && err.contains(&format!("{} 3-node lines as 2-node", counts[2]))
-            && err.contains(&format!("; {} mid-edge nodes dropped", counts[3])),
-        "{err}"
-    );
-    let quiet = smartmesh(&["info", &p2, "-q"], None);
-    ok(&quiet);
-    assert!(quiet.stderr.is_empty(), "{}", String::from_utf8_lossy(&quiet.stderr));
     assert!(info.contains(&format!("points      {},", counts[0])), "{info}");
     assert!(
-        info.contains(&format!("{} triangle", counts[1])) && !info.contains("triangle6"),
+        info.contains(&format!("{} line3", counts[2]))
+            && info.contains(&format!("{} triangle6", counts[1])),
         "{info}"
     );
+    // Nothing was changed: no note.
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("note:"), "{o:?}");
+
+    // What Gmsh reads from what `convert` wrote: element types, counts and nodes.
+    let types = r#"
+import sys, gmsh
+gmsh.initialize()
+gmsh.option.setNumber("General.Terminal", 0)
+for f in sys.argv[1:]:
+    gmsh.open(f)
+    t, e, n = gmsh.model.mesh.getElements()
+    print(f.rsplit("/", 1)[-1], sorted((int(a), len(b)) for a, b in zip(t, e)), len(gmsh.model.mesh.getNodes()[0]))
+gmsh.finalize()
+"#;
+    let mut files = vec![p2.clone()];
+    for version in ["4.1", "2.2"] {
+        let out = dir.path().join(format!("back{version}.msh")).display().to_string();
+        ok(&smartmesh(&["convert", &p2, &out, "--gmsh-version", version], None));
+        files.push(out);
+    }
+    let args: Vec<&str> = files.iter().map(String::as_str).collect();
+    let seen = common::run_python(&py, types, &args);
+    let lines: Vec<&str> = seen.lines().collect();
+    assert_eq!(lines.len(), 3, "{seen}");
+    let what = |l: &str| l.split_once(' ').unwrap().1.to_string();
+    assert!(lines[0].contains("(9, ") && lines[0].contains("(8, "), "{seen}");
+    assert_eq!(what(lines[1]), what(lines[0]), "{seen}");
+    assert_eq!(what(lines[2]), what(lines[0]), "{seen}");
+
+    // `adapt` says what it made linear, and nothing under -q.
     let recipe = dir.path().join("r.toml");
     std::fs::write(&recipe, RECIPE.replace("[1]", "[\"Corner\"]")).unwrap();
     let adapted = dir.path().join("a.msh").display().to_string();
-    ok(&smartmesh(
-        &[
+    let adapt = |quiet: bool| {
+        let mut args = vec![
             "adapt",
             &p2,
             "--recipe",
@@ -237,7 +257,24 @@ gmsh.finalize()
             &adapted,
             "--max-iterations",
             "1",
-        ],
-        None,
-    ));
+        ];
+        if quiet {
+            args.push("-q");
+        }
+        smartmesh(&args, None)
+    };
+    let o = adapt(false);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("note: ")
+            && err.contains("second-order cells made linear")
+            && err.contains(&format!("{} 6-node triangles as 3-node", counts[1]))
+            && err.contains(&format!("{} 3-node lines as 2-node", counts[2]))
+            && err.contains(&format!("; {} mid-edge nodes dropped", counts[3])),
+        "{err}"
+    );
+    let quiet = adapt(true);
+    ok(&quiet);
+    assert!(!String::from_utf8_lossy(&quiet.stderr).contains("note:"), "{quiet:?}");
 }

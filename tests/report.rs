@@ -544,24 +544,25 @@ fn bad_metrics_and_histories_exit_two_with_a_clear_message() {
         &[s(&other), "49 items", "36 vertices"],
     );
     assert_refused(&["info", s(&mesh), "--metric", s(&other)], &out, &["49 items", "36 vertices"]);
-    // A NaN: the VTU reader itself refuses it, naming the byte and the array.
+    // A NaN: the VTU reader keeps it (a data array may hold NaN); the metric check
+    // refuses it where it is used, naming the array and the vertex.
     let mut nan = grid(6, Some(SizeTensor::isotropic(0.1)));
     nan.point_data.get_mut("metric").unwrap().values[9 * 7] = f64::NAN;
     let nan = write(d, "nan.vtu", &nan);
     assert_refused(
         &["report", s(&nan), "-o", s(&out)],
         &out,
-        &[s(&nan), "`metric`", "not a finite number"],
+        &[s(&nan), "`metric`", "vertex 7", "is not finite"],
     );
     assert_refused(
         &["report", s(&mesh), "--metric", s(&nan), "-o", s(&out)],
         &out,
-        &[s(&nan), "not a finite number"],
+        &[s(&nan), "vertex 7", "is not finite"],
     );
     assert_refused(
         &["info", s(&mesh), "--metric", s(&nan)],
         &out,
-        &[s(&nan), "not a finite number"],
+        &[s(&nan), "vertex 7", "is not finite"],
     );
     // A tensor that is finite but not positive definite: the metric check names the vertex.
     let mut neg = grid(6, Some(SizeTensor::isotropic(0.1)));

@@ -120,7 +120,11 @@ pub fn read_bytes_reported(
         Format::VtkLegacy => crate::vtk::read_legacy(bytes, ctx)?,
         Format::Vtu => crate::vtk::read_vtu(bytes, ctx)?,
         Format::Obj => crate::obj::read(bytes, ctx)?,
-        Format::Medit => crate::medit::read(bytes, ctx)?,
+        Format::Medit => {
+            let (mesh, r) = crate::medit::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::Gltf => {
             return Err(Error::new(ErrorKind::Unsupported(
                 "reading glTF (smartmesh writes it for viewers)".into(),
@@ -210,6 +214,35 @@ pub fn read_path(path: &Path, format: Option<Format>) -> Result<TaggedMesh> {
 
 /// [`read_path`], with what the reader changed on the way ([`ReadReport`]).
 pub fn read_path_reported(path: &Path, format: Option<Format>) -> Result<(TaggedMesh, ReadReport)> {
+    read_path_reported_without(path, format, &[])
+}
+
+/// Siblings on disk but those whose extension is listed.
+struct SiblingsBut<'a> {
+    inner: PathSiblings,
+    left_out: &'a [&'a str],
+}
+
+impl SiblingSource for SiblingsBut<'_> {
+    fn read_sibling(&self, ext: &str) -> Result<Option<Vec<u8>>> {
+        if self.left_out.contains(&ext) {
+            return Ok(None);
+        }
+        self.inner.read_sibling(ext)
+    }
+    fn describe(&self, ext: &str) -> String {
+        self.inner.describe(ext)
+    }
+}
+
+/// [`read_path_reported`] as if the siblings with the extensions `left_out` were not
+/// there (`["sol", "solb"]`: a Medit mesh without its solution, which may be unreadable
+/// or of another mesh).
+pub fn read_path_reported_without(
+    path: &Path,
+    format: Option<Format>,
+    left_out: &[&str],
+) -> Result<(TaggedMesh, ReadReport)> {
     if is_stdio(path) {
         let format = format.ok_or_else(|| Error::new(ErrorKind::UnknownFormat(String::new())))?;
         let mut bytes = Vec::new();
@@ -220,7 +253,7 @@ pub fn read_path_reported(path: &Path, format: Option<Format>) -> Result<(Tagged
     let format = resolve_format(path, format)?;
     let bytes =
         std::fs::read(path).map_err(|e| Error::new(ErrorKind::Unreadable(e)).with_path(path))?;
-    let siblings = PathSiblings::new(path);
+    let siblings = SiblingsBut { inner: PathSiblings::new(path), left_out };
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let ctx = ReadContext { siblings: &siblings, extension: ext };
     read_bytes_reported(format, &bytes, &ctx).map_err(|e| e.with_path(path))

@@ -23,6 +23,7 @@
 
 mod error;
 mod io;
+mod linear;
 mod mesh;
 mod output;
 mod point_sets;
@@ -43,8 +44,8 @@ pub use error::{Error, ErrorKind, Position, Result};
 pub use gltf::GltfWrite;
 pub use gmsh::{GmshVersion, GmshWrite};
 pub use io::{
-    read_bytes, read_bytes_reported, read_path, read_path_reported, write_bytes, write_path,
-    MemorySiblings, NoSiblings, PathSiblings, SiblingSource,
+    read_bytes, read_bytes_reported, read_path, read_path_reported, read_path_reported_without,
+    write_bytes, write_path, MemorySiblings, NoSiblings, PathSiblings, SiblingSource,
 };
 pub use medit::MeditWrite;
 pub use mesh::{

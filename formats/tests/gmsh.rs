@@ -534,10 +534,12 @@ fn without_entities_a_41_file_has_no_groups() {
 /// them: corners first), a node no cell uses, and a node view.
 const SECOND_ORDER_NODES: &str = "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n9 0.5 0.5 0\n10 2 2 0\n";
 
-/// Second-order cells are read as the linear cells of their corners; the mid-edge
-/// nodes are dropped with their point data, the node no cell uses is kept.
+/// Second-order cells are kept as the file has them, in both versions (as the VTK and
+/// Medit readers keep them); `linearise` then makes them the linear cells of their
+/// corners, dropping the mid-edge nodes with their point data and keeping the node no
+/// cell uses.
 #[test]
-fn second_order_cells_are_read_as_linear_ones() {
+fn second_order_cells_are_kept_and_linearised_on_demand() {
     let view = "$NodeData\n1\n\"s\"\n1\n0\n3\n0\n1\n10\n1 1\n2 2\n3 3\n4 4\n5 5\n6 6\n7 7\n8 8\n9 9\n10 10\n$EndNodeData\n";
     let coords: String = SECOND_ORDER_NODES
         .lines()
@@ -553,7 +555,26 @@ $Elements\n2 3 1 3\n1 1 8 1\n1 1 2 5\n2 1 9 2\n2 1 2 3 5 6 9\n3 1 3 4 9 7 8\n$En
 $Elements\n3\n1 8 2 2 1 1 2 5\n2 9 2 5 1 1 2 3 5 6 9\n3 9 2 5 1 1 3 4 9 7 8\n$EndElements\n{view}"
     );
     for file in [v41, v22] {
-        let m = read_msh(file.as_bytes()).unwrap();
+        let (mut m, report) =
+            gmsh::read_reported(file.as_bytes(), &ReadContext::alone("msh")).unwrap();
+        assert!(report.notes.is_empty(), "{:?}", report.notes);
+        assert_eq!(m.points.len(), 10);
+        assert_eq!(
+            cell_list(&m),
+            vec![
+                (CellKind::Line3, vec![0, 1, 4], 2, 1),
+                (CellKind::Triangle6, vec![0, 1, 2, 4, 5, 8], 5, 1),
+                (CellKind::Triangle6, vec![0, 2, 3, 8, 6, 7], 5, 1),
+            ]
+        );
+        assert_eq!(m.point_data["s"].values.len(), 10);
+
+        let note = m.linearise().unwrap();
+        assert!(
+            note.contains("2 6-node triangles as 3-node")
+                && note.contains("5 mid-edge nodes dropped"),
+            "{note}"
+        );
         assert_eq!(
             m.points,
             vec![
@@ -573,7 +594,43 @@ $Elements\n3\n1 8 2 2 1 1 2 5\n2 9 2 5 1 1 2 3 5 6 9\n3 9 2 5 1 1 3 4 9 7 8\n$En
             ]
         );
         assert_eq!(m.point_data["s"].values, vec![1.0, 2.0, 3.0, 4.0, 10.0]);
-        assert!(m.blocks.iter().all(|b| !b.kind.is_second_order()));
+        assert_eq!(m.linearise(), None);
+    }
+}
+
+/// Second-order cells of every kind go through MSH 2.2 and 4.1, ASCII and binary, as
+/// they are: a 9-node quad written by smartmesh comes back with its 9 nodes.
+#[test]
+fn second_order_cells_round_trip_in_each_encoding() {
+    let mut m = TaggedMesh::new();
+    // A 2x1 block: nodes 0..15 on a 5x3 grid of step 0.5.
+    for j in 0..3 {
+        for i in 0..5 {
+            m.points.push([0.5 * i as f64, 0.5 * j as f64, 0.0]);
+        }
+    }
+    let g = |i: u32, j: u32| j * 5 + i;
+    let mut q9 = CellBlock::new(CellKind::Quad9);
+    q9.push(
+        &[g(0, 0), g(2, 0), g(2, 2), g(0, 2), g(1, 0), g(2, 1), g(1, 2), g(0, 1), g(1, 1)],
+        1,
+        1,
+    );
+    let mut q8 = CellBlock::new(CellKind::Quad8);
+    q8.push(&[g(2, 0), g(4, 0), g(4, 2), g(2, 2), g(3, 0), g(4, 1), g(3, 2), g(2, 1)], 2, 2);
+    let mut t6 = CellBlock::new(CellKind::Triangle6);
+    t6.push(&[g(0, 0), g(2, 0), g(0, 2), g(1, 0), g(1, 1), g(0, 1)], 3, 3);
+    let mut l3 = CellBlock::new(CellKind::Line3);
+    l3.push(&[g(0, 0), g(2, 0), g(1, 0)], 4, 4);
+    m.blocks = vec![l3, t6, q9, q8];
+    m.point_data.insert("f".into(), DataArray::new(1, (0..15).map(f64::from).collect()));
+    for (version, binary) in all_options() {
+        let what = format!("{version:?} binary={binary}");
+        let (w, back) = common::roundtrip(Format::Gmsh, "msh", &m, &opts(version, binary));
+        assert!(w.report.dropped.is_empty(), "{what}: {:?}", w.report.dropped);
+        assert_points_bitwise(&m, &back, &what);
+        assert_eq!(cell_list(&m), cell_list(&back), "{what}");
+        assert_eq!(m.point_data, back.point_data, "{what}");
     }
 }
 
@@ -1354,9 +1411,9 @@ fn bench_against_mshio() {
 }
 
 /// Binary `$NodeData` tables are taken whole and converted in one pass, and a view in
-/// node order becomes the point array as read: a NaN or an unknown node tag is still
-/// refused at its byte, in both versions, and a view in another order is still put in
-/// node order.
+/// node order becomes the point array as read: a NaN is kept (a data array may hold
+/// NaN), an unknown node tag is still refused at its byte, in both versions, and a view
+/// in another order is still put in node order.
 #[test]
 fn binary_node_data_is_checked_value_by_value() {
     let mut m = small_mesh();
@@ -1370,9 +1427,10 @@ fn binary_node_data_is_checked_value_by_value() {
         let at = memchr::memmem::find(&bytes, &marker.to_le_bytes()).unwrap();
         let mut bad = bytes.clone();
         bad[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
-        let e = read_msh(&bad).unwrap_err();
-        assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{version:?}: {e}");
-        assert_eq!(e.at, Some(Position::Byte(at as u64)), "{version:?}: {e}");
+        let nan = read_msh(&bad).unwrap_or_else(|e| panic!("{version:?}: {e}"));
+        let values = &nan.point_data["metric"].values;
+        assert!(values[9 * 3 + 4].is_nan(), "{version:?}");
+        assert_eq!(values.iter().filter(|v| v.is_nan()).count(), 1, "{version:?}");
         // The entry's node tag (4 + 8 * 4 bytes before the value): 4 -> 99.
         let tag_at = at - 8 * 4 - 4;
         assert_eq!(bytes[tag_at..tag_at + 4], 4i32.to_le_bytes(), "{version:?}");
@@ -1392,5 +1450,75 @@ fn binary_node_data_is_checked_value_by_value() {
         swapped[b..b + rec].copy_from_slice(&bytes[a..a + rec]);
         let back = read_msh(&swapped).unwrap();
         assert_data_bitwise(&back.point_data, &m.point_data, &format!("{version:?} swapped"));
+    }
+}
+
+/// Cells as (kind, tags, coordinates of their nodes to 1e-12), sorted: a mesh's cells
+/// whatever the numbering of its nodes and cells (and the last digit of ASCII numbers).
+fn placed_cells(m: &TaggedMesh) -> Vec<(CellKind, i32, i32, Vec<[i64; 3]>)> {
+    let mut v: Vec<_> = m
+        .cells()
+        .map(|(k, nodes, p, g)| {
+            let at = nodes
+                .iter()
+                .map(|&n| m.points[n as usize].map(|c| (c * 1e12).round() as i64))
+                .collect();
+            (k, p, g, at)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// A partitioned MSH 4.1 file (after Gmsh's tutorial t21, `fixtures/make_partitioned.py`):
+/// its cells lie on the partitioned entities of `$PartitionedEntities`, whose physical
+/// tags and parents are read, so that it reads as the MSH 2.2 file of the same mesh does
+/// (physical groups Left, Right, Bottom; the parent entity as geometrical tag), ASCII and
+/// binary; the report says the partitions were merged.
+#[test]
+fn a_partitioned_41_file_keeps_its_physical_groups() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
+    let read = |name: &str| {
+        smartmesh_formats::read_path_reported(&dir.join(name), None)
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let note = "3 partitions read as one mesh (which partition each cell was in is not kept)";
+    let (v22, report) = read("partitioned_t21.v22.msh");
+    assert_eq!(report.notes, vec![note]);
+    let per_tag = common::counts_per_tag(&v22);
+    assert_eq!(
+        per_tag,
+        counts(&[("line", 10, 5), ("triangle", 100, 66), ("triangle", 200, 66)]),
+        "{per_tag:?}"
+    );
+    for name in
+        ["partitioned_t21.msh", "partitioned_t21_binary.msh", "partitioned_t21_binary.v22.msh"]
+    {
+        let (m, report) = read(name);
+        // Gmsh numbers nodes otherwise in 2.2: cells compared by their corners' places.
+        assert_eq!(placed_cells(&m), placed_cells(&v22), "{name}");
+        assert_eq!(m.tag_names, v22.tag_names, "{name}");
+        if !name.ends_with("v22.msh") {
+            assert_eq!(m.entities.get(&(2, 1)), Some(&vec![100]), "{name}");
+        }
+        assert_eq!(report.notes, vec![note], "{name}");
+    }
+}
+
+/// A view with `nan` and `inf` values (as Gmsh prints them) is read with them, ASCII and
+/// binary: a data array may hold NaN, refused only where it is used.
+#[test]
+fn views_keep_nan_and_infinities() {
+    let file = format!(
+        "{HEAD22}$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 2 1 1 1 2 3\n$EndElements\n\
+$NodeData\n1\n\"u\"\n1\n0\n3\n0\n1\n3\n1 nan\n2 -inf\n3 2.5\n$EndNodeData\n"
+    );
+    let m = read_msh(file.as_bytes()).unwrap();
+    let u = &m.point_data["u"].values;
+    assert!(u[0].is_nan() && u[1] == f64::NEG_INFINITY && u[2] == 2.5, "{u:?}");
+    for version in [GmshVersion::V22, GmshVersion::V41] {
+        let w = gmsh::write(&m, &opts(version, true)).unwrap();
+        let back = read_msh(&w.main).unwrap();
+        assert_eq!(back.point_data["u"].values[2], 2.5, "{version:?}");
     }
 }

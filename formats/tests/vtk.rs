@@ -568,8 +568,10 @@ fn legacy_nan_coordinate() {
     assert_eq!(e.at, Some(Position::Line(7)));
 }
 
+/// NaN in a data array is kept (VTK and meshio read such a file); only coordinates
+/// refuse it.
 #[test]
-fn legacy_nan_in_binary_data() {
+fn legacy_nan_in_binary_data_is_kept() {
     smartmesh_test_support::require_public_fixtures!();
     let mut m = common::read_file("vtk/naca0012_legacy_binary.vtk");
     m.point_data.get_mut("hmin").unwrap().values[5] = f64::NAN;
@@ -583,9 +585,10 @@ fn legacy_nan_in_binary_data() {
     )
     .unwrap()
     .main;
-    let e = read(Format::VtkLegacy, &bytes).unwrap_err();
-    assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{e}");
-    assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
+    let back = read(Format::VtkLegacy, &bytes).unwrap();
+    let hmin = &back.point_data["hmin"].values;
+    assert!(hmin[5].is_nan());
+    assert_eq!(hmin[4], m.point_data["hmin"].values[4]);
 }
 
 #[test]
@@ -1208,8 +1211,8 @@ fn tensors_are_packed_only_when_nothing_is_lost() {
                 );
             }
         }
-        // A NaN in the last item, written finite (writers refuse NaN) and patched where
-        // the file's bytes can be found (raw binary): refused, as by the plain decoder.
+        // A NaN in the last item, patched where the file's bytes can be found (raw
+        // binary): kept, as by the plain decoder (NaN in data is refused where used).
         let patchable =
             (format == Format::VtkLegacy && label.ends_with("binary")) || label == "vtu Appended";
         if !patchable {
@@ -1225,8 +1228,9 @@ fn tensors_are_packed_only_when_nothing_is_lost() {
         let at = memchr::memmem::find(&bytes, &pattern)
             .unwrap_or_else(|| panic!("{label}: m22 in the file"));
         bytes[at..at + 8].copy_from_slice(&nan);
-        let e = read(format, &bytes).expect_err(&format!("{label}: NaN"));
-        assert!(matches!(e.kind, ErrorKind::NonFinite { .. }), "{label}: {e}");
+        let back = read(format, &bytes).unwrap_or_else(|e| panic!("{label}: NaN: {e}"));
+        let values = back.point_data["metric"].expanded().values.clone();
+        assert_eq!(values.iter().filter(|v| v.is_nan()).count(), 1, "{label}");
     }
 }
 
@@ -1338,4 +1342,38 @@ fn legacy_51_offsets_not_from_zero_are_named_plainly() {
     let s = e.to_string();
     assert!(s.contains("a first offset of 3"), "{s}");
     assert!(!s.contains("Some("), "{s}");
+}
+
+/// Three triangles with a Gmsh `$ElementData` view that covers one of them.
+const PARTIAL_VIEW_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 0 0\n$EndNodes\n$Elements\n3\n1 2 2 1 1 1 2 3\n2 2 2 1 1 1 3 4\n3 2 2 1 1 2 5 3\n$EndElements\n$ElementData\n1\n\"err\"\n1\n0\n3\n0\n1\n1\n2 0.25\n$EndElementData\n";
+
+/// A Gmsh view that covers part of the cells is read as it is, the other cells NaN,
+/// which the read report says; every VTK variant writes the NaN (`nan` in ASCII, as VTK
+/// writes it) and reads it back as NaN, and an infinity likewise.
+#[test]
+fn a_partial_gmsh_view_goes_through_vtk_as_nan() {
+    let (mut m, report) = smartmesh_formats::gmsh::read_reported(
+        PARTIAL_VIEW_MSH.as_bytes(),
+        &ReadContext::alone("msh"),
+    )
+    .unwrap();
+    assert_eq!(
+        report.notes,
+        vec!["view `err` gives values for 1 of 3 elements; the others are NaN"]
+    );
+    let err = &m.cell_data["err"].values;
+    assert!(err[0].is_nan() && err[1] == 0.25 && err[2].is_nan(), "{err:?}");
+    m.point_data.insert(
+        "f".into(),
+        DataArray::new(1, vec![1.0, f64::INFINITY, -1.0, f64::NEG_INFINITY, 0.5]),
+    );
+    for (format, vtk) in common::vtk_variants() {
+        let label = format!("{format:?} {vtk:?}");
+        let opts = WriteOptions { vtk, ..WriteOptions::default() };
+        let bytes = write_bytes(format, &m, &opts).unwrap().main;
+        let back = read(format, &bytes).unwrap_or_else(|e| panic!("{label}: {e}"));
+        let err = &back.cell_data["err"].values;
+        assert!(err[0].is_nan() && err[1] == 0.25 && err[2].is_nan(), "{label}: {err:?}");
+        assert_eq!(back.point_data["f"].values, m.point_data["f"].values, "{label}");
+    }
 }

@@ -68,7 +68,7 @@ pub struct Start {
     /// boundaries stay on its segments when these stay vertices); empty for a mesh,
     /// whose boundary is taken as it is.
     pub geometry_points: Vec<[f64; 2]>,
-    /// What the reader changed in the input (a second-order mesh read as linear).
+    /// What the reader could not keep, and the second-order cells made linear.
     pub notes: Vec<String>,
     /// The z of the input's plane ([`crate::planar::plane`]): the loop computes in (x, y),
     /// and its outputs go back to this plane ([`crate::planar::place`]).
@@ -91,10 +91,13 @@ pub fn start_sized(
     vertices: Option<f64>,
     pairs: &[PeriodicPair],
 ) -> Result<Start, StartError> {
-    let (mesh, report) = read_path_reported(input, format.or_else(|| Format::from_path(input)))?;
-    let notes = report.notes;
+    let (mut mesh, report) =
+        read_path_reported(input, format.or_else(|| Format::from_path(input)))?;
+    let mut notes = report.notes;
     let plane_z = crate::planar::plane(&mesh)
         .map_err(|source| StartError::NotPlanar { path: input.display().to_string(), source })?;
+    // The loop sizes and remeshes linear cells.
+    notes.extend(mesh.linearise());
     if has_surface(&mesh) {
         return Ok(Start { mesh, geometry_points: Vec::new(), notes, plane_z });
     }

@@ -41,7 +41,12 @@ pub struct ConvertArgs {
     /// tags and cell data kept).
     #[arg(long)]
     split_quads: bool,
-    /// Print a JSON summary (formats, counts, dropped items) on stdout.
+    /// Read a Medit mesh without the .sol/.solb beside it (one MMG cannot read, or of
+    /// another mesh).
+    #[arg(long)]
+    no_solution: bool,
+    /// Print a JSON summary (formats, counts, what the reader and the writer could not
+    /// keep) on stdout.
     #[arg(long)]
     json: bool,
     #[command(flatten)]
@@ -56,6 +61,8 @@ struct ConvertSummary<'a> {
     to: Option<Format>,
     points: usize,
     cells: usize,
+    /// What the reader could not keep (also on stderr, which `-q` silences).
+    read_notes: &'a [String],
     dropped: &'a [String],
 }
 
@@ -73,7 +80,7 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
         None => Format::from_path(&args.output),
     };
     check_output_dir(&args.output)?;
-    let mut mesh = super::read_mesh(&args.input, from)?;
+    let (mut mesh, read_notes) = super::read_mesh_noted(&args.input, from, args.no_solution)?;
     if args.split_quads {
         let n = mesh.split_quads();
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));
@@ -99,6 +106,7 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
             to,
             points: mesh.points.len(),
             cells: mesh.num_cells(),
+            read_notes: &read_notes,
             dropped: &report.dropped,
         };
         let mut text = serde_json::to_string_pretty(&s)?;

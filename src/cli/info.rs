@@ -33,6 +33,10 @@ pub struct InfoArgs {
     /// Print a JSON document instead of text.
     #[arg(long)]
     json: bool,
+    /// Read a Medit mesh without the .sol/.solb beside it (one MMG cannot read, or of
+    /// another mesh).
+    #[arg(long)]
+    no_solution: bool,
     /// A metric on FILE's vertices (a mesh file with point data `metric`, a .sol/.solb in
     /// FILE's vertex order, or a .pos view): adds the share of
     /// edges of metric length in [1/√2, √2] and the metric quality (FILE's own `metric`
@@ -46,7 +50,7 @@ pub struct InfoArgs {
 
 /// Runs `info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
-    let mesh = super::read_mesh(&args.file, args.from)?;
+    let (mesh, read_notes) = super::read_mesh_noted(&args.file, args.from, args.no_solution)?;
     // Described whole, but not as if it were flat ([`smartmesh::planar`]).
     if let Err(e) = smartmesh::planar::plane(&mesh) {
         super::ui::warn(&format!(
@@ -63,7 +67,14 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Err(e) if args.metric.is_none() => super::ui::warn(&format!("no metric figures: {e}")),
         Err(e) => return Err(e.into()),
     }
-    let quads = QuadReport::of(&mesh);
+    // Quad figures and validity are taken at the corners, as the topology's.
+    let quads = if mesh.blocks.iter().any(|b| b.kind.is_second_order()) {
+        let mut linear = mesh.clone();
+        linear.linearise();
+        QuadReport::of(&linear)
+    } else {
+        QuadReport::of(&mesh)
+    };
     let periodic = match &args.recipe.recipe {
         None => Vec::new(),
         Some(_) => {
@@ -75,7 +86,12 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         }
     };
     if args.json {
-        let j = InfoJson { summary: &summary, quads: quads.as_ref(), periodic: &periodic };
+        let j = InfoJson {
+            summary: &summary,
+            read_notes: &read_notes,
+            quads: quads.as_ref(),
+            periodic: &periodic,
+        };
         let mut s = serde_json::to_string_pretty(&j)?;
         s.push('\n');
         return print_stdout(&s);
@@ -96,6 +112,8 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
 struct InfoJson<'a> {
     #[serde(flatten)]
     summary: &'a MeshSummary,
+    /// What the reader could not keep (also on stderr, which `-q` silences).
+    read_notes: &'a [String],
     #[serde(skip_serializing_if = "Option::is_none")]
     quads: Option<&'a QuadReport>,
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
@@ -112,7 +130,12 @@ struct QuadReport {
 
 impl QuadReport {
     fn of(mesh: &smartmesh::formats::TaggedMesh) -> Option<QuadReport> {
-        let quality = quad_quality(mesh)?;
+        let mut quality = quad_quality(mesh)?;
+        // A skin is quads along walls beside triangles; in a mesh of quads alone every
+        // quad along a wall would start a "layer" of nothing.
+        if mesh.num_cells_of(smartmesh::formats::CellKind::Triangle) == 0 {
+            quality.layers.clear();
+        }
         Some(QuadReport { quality, validity: check_mesh(mesh) })
     }
 }
@@ -278,9 +301,14 @@ fn render(file: &str, s: &MeshSummary) -> String {
                 .range
                 .map(|[a, b]| format!(" in [{}, {}]", fmt_g(a), fmt_g(b)))
                 .unwrap_or_default();
+            let nan = if f.nan_items > 0 {
+                format!(", {} items NaN", f.nan_items)
+            } else {
+                String::new()
+            };
             let _ = writeln!(
                 o,
-                "  {label:<11} {} ({} component{}){range}",
+                "  {label:<11} {} ({} component{}){range}{nan}",
                 f.name,
                 f.components,
                 if f.components == 1 { "" } else { "s" }

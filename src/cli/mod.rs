@@ -136,33 +136,64 @@ pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
 }
 
 /// Reads a mesh (`-` for stdin, with `format`) and prints as notes what the reader
-/// changed in it (a second-order mesh read as linear), unless quiet.
+/// could not keep, unless quiet.
 pub fn read_mesh(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
 ) -> Result<smartmesh::formats::TaggedMesh, CliError> {
-    let (mesh, report) = smartmesh::formats::read_path_reported(path, format)?;
+    read_mesh_noted(path, format, false).map(|(mesh, _)| mesh)
+}
+
+/// [`read_mesh`], with the notes it printed (for `--json`, which `-q` does not silence);
+/// `no_solution`: without the `.sol`/`.solb` beside a Medit mesh (`--no-solution`).
+pub fn read_mesh_noted(
+    path: &std::path::Path,
+    format: Option<smartmesh::formats::Format>,
+    no_solution: bool,
+) -> Result<(smartmesh::formats::TaggedMesh, Vec<String>), CliError> {
+    let left_out: &[&str] = if no_solution { &["sol", "solb"] } else { &[] };
+    let (mesh, report) = smartmesh::formats::read_path_reported_without(path, format, left_out)?;
     let name = if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
     for n in &report.notes {
         ui::note(&format!("{name}: {n}"));
     }
+    Ok((mesh, report.notes))
+}
+
+/// [`read_mesh`] for a command that computes on linear cells (sizing, remeshing, the
+/// skin): second-order cells are made linear, which a note says.
+pub fn read_linear_mesh(
+    path: &std::path::Path,
+    format: Option<smartmesh::formats::Format>,
+) -> Result<smartmesh::formats::TaggedMesh, CliError> {
+    let mut mesh = read_mesh(path, format)?;
+    linearise(&mut mesh, path);
     Ok(mesh)
 }
 
-/// [`read_mesh`] for the commands that compute in the plane: a mesh that does not lie in
+/// [`read_linear_mesh`] for the commands that compute in the plane: a mesh that does not lie in
 /// one plane z = const is bad input (2), named with the file ([`smartmesh::planar`]).
 /// Returns the mesh and the z of its plane, where the command writes its output.
 pub fn read_planar_mesh(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
 ) -> Result<(smartmesh::formats::TaggedMesh, f64), CliError> {
-    let mesh = read_mesh(path, format)?;
+    let mesh = read_linear_mesh(path, format)?;
     let z = smartmesh::planar::plane(&mesh).map_err(|e| {
         let name =
             if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
         CliError::usage(format!("{name}: {e}"))
     })?;
     Ok((mesh, z))
+}
+
+/// Makes the second-order cells of `mesh`, read from `path`, linear, saying so.
+pub fn linearise(mesh: &mut smartmesh::formats::TaggedMesh, path: &std::path::Path) {
+    if let Some(n) = mesh.linearise() {
+        let name =
+            if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
+        ui::note(&format!("{name}: {n}"));
+    }
 }
 
 /// Parses a `--from`/`--to` format name.

@@ -5,7 +5,8 @@
 //!
 //! A Medit solution alone (`.sol`, `.solb`, as MMG pairs it with its mesh) is taken in
 //! the mesh's vertex order: its scalar arrays are named `size`, `size_2`, … as the Medit
-//! reader names them ([`read_solution`]).
+//! reader names them ([`read_solution`]). A Gmsh data-only `.msh` (views without a mesh)
+//! is taken likewise, node tag t at vertex t − 1, its views named as Gmsh names them.
 //!
 //! Checks: the other file has the mesh's vertex count and its vertices at the same
 //! positions (up to 1e-9 of the mesh's extent, what a text file's rounding leaves); the
@@ -13,12 +14,16 @@
 
 use std::path::Path;
 
-use crate::formats::{read_path, ErrorKind, TaggedMesh};
+use crate::formats::gmsh::MshContent;
+use crate::formats::{read_path, ErrorKind, Format, TaggedMesh};
 
 /// The solution file `path` as a mesh to take a field from: a mesh file as read; a Medit
 /// `.sol`/`.solb` alone as `mesh`'s vertices (when it has as many) with its arrays.
 pub fn read_solution(path: &Path, mesh: &TaggedMesh) -> Result<TaggedMesh, crate::formats::Error> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    if Format::from_path(path) == Some(Format::Gmsh) {
+        return read_msh_solution(path, &ext, mesh);
+    }
     if ext != "sol" && ext != "solb" {
         return read_path(path, None);
     }
@@ -36,6 +41,39 @@ pub fn read_solution(path: &Path, mesh: &TaggedMesh) -> Result<TaggedMesh, crate
     other.points = if n == mesh.points.len() { mesh.points.clone() } else { vec![[0.0; 3]; n] };
     other.point_data = arrays;
     Ok(other)
+}
+
+/// A `.msh` solution file: a mesh as read, or a Gmsh data-only file (`$NodeData` alone,
+/// as `gmsh.view.write` or a solver writes it beside the mesh, which `--metric` takes
+/// too) as `mesh`'s vertices, node tag t at vertex t − 1, with its views as point data
+/// (a vertex a view gives nothing for is NaN, which the field's check refuses, naming
+/// it). Views up to another count keep their own, so that `attach` names both.
+fn read_msh_solution(
+    path: &Path,
+    ext: &str,
+    mesh: &TaggedMesh,
+) -> Result<TaggedMesh, crate::formats::Error> {
+    let bytes = std::fs::read(path).map_err(|e| crate::formats::Error::from(e).with_path(path))?;
+    let ctx = crate::formats::ReadContext::alone(ext);
+    match crate::formats::gmsh::read_mesh_or_data(&bytes, &ctx).map_err(|e| e.with_path(path))? {
+        MshContent::Mesh(m) => Ok(m),
+        MshContent::NodeData(data) => {
+            let n = data.arrays.values().map(|a| a.len()).max().unwrap_or(0);
+            let mut other = TaggedMesh::new();
+            // Views of other lengths are padded to the longest, NaN where they give nothing.
+            other.point_data = data
+                .arrays
+                .into_iter()
+                .map(|(name, mut a)| {
+                    a.values.resize(n * a.components, f64::NAN);
+                    (name, a)
+                })
+                .collect();
+            other.points =
+                if n == mesh.points.len() { mesh.points.clone() } else { vec![[0.0; 3]; n] };
+            Ok(other)
+        }
+    }
 }
 
 /// Why a solution field could not be had.

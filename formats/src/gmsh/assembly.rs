@@ -4,8 +4,8 @@
 
 use super::reader::Reader;
 use super::tags::TagList;
+use super::untagged;
 use super::views::ViewKind;
-use super::{linear, untagged};
 use crate::{DataArray, ErrorKind, NodeIndex, ReadReport, Result, TaggedMesh};
 
 impl Reader<'_> {
@@ -79,11 +79,18 @@ impl Reader<'_> {
             Some(rank)
         };
 
-        // Physical tags of 4.1 blocks: the first physical tag of the entity.
+        // Physical tags of 4.1 blocks: the first physical tag of the entity; the cells
+        // of a partitioned entity take its own and, as geometrical tag, its parent's.
         for b in &mut self.raw {
             if let Some(e) = b.entity {
-                let p = self.entities.get(&e).and_then(|v| v.first()).copied().unwrap_or(0);
-                b.physical = vec![p; b.tags.len()];
+                let p = match self.partitioned.get(&e) {
+                    Some((parent, phys)) => {
+                        b.geometrical.fill(*parent);
+                        phys.first()
+                    }
+                    None => self.entities.get(&e).and_then(|v| v.first()),
+                };
+                b.physical = vec![p.copied().unwrap_or(0); b.tags.len()];
             }
             if let Some(rank) = &node_rank {
                 for v in &mut b.nodes {
@@ -173,6 +180,7 @@ impl Reader<'_> {
         // Data views.
         let n_points = mesh.points.len();
         let n_cells = mesh.num_cells();
+        let mut partial = Vec::new();
         for v in std::mem::take(&mut self.views) {
             let (rank, n) = match v.kind {
                 ViewKind::Node => (&node_rank, n_points),
@@ -222,6 +230,23 @@ impl Reader<'_> {
                 }
                 DataArray::new(k, values)
             };
+            // A view that covers part of the items is kept as it is: the others NaN,
+            // which the report says (writers keep NaN; where the data is used, NaN is
+            // refused there).
+            let given = if v.targets.is_identity() && v.targets.len() == n {
+                n
+            } else {
+                let mut seen = vec![false; n];
+                v.targets.iter().for_each(|t| seen[place(t)] = true);
+                seen.iter().filter(|&&s| s).count()
+            };
+            if given < n {
+                let items = if v.kind == ViewKind::Node { "nodes" } else { "elements" };
+                partial.push(format!(
+                    "view `{}` gives values for {given} of {n} {items}; the others are NaN",
+                    v.name
+                ));
+            }
             match v.kind {
                 ViewKind::Node => mesh.point_data.insert(v.name, array),
                 _ => mesh.cell_data.insert(v.name, array),
@@ -233,8 +258,12 @@ impl Reader<'_> {
         mesh.coordinate_dim = if mesh.points.iter().all(|p| p[2] == 0.0) { 2 } else { 3 };
         untagged::ungroup(&mut mesh);
         let mut report = ReadReport::default();
-        if let Some(note) = linear::reduce(&mut mesh) {
-            report.note(note);
+        report.notes.extend(partial);
+        if self.partitions > 1 {
+            report.note(format!(
+                "{} partitions read as one mesh (which partition each cell was in is not kept)",
+                self.partitions
+            ));
         }
         Ok((mesh, report))
     }

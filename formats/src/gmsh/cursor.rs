@@ -308,6 +308,28 @@ impl<'a> Cursor<'a> {
         }
     }
 
+    /// [`Cursor::scan_f64`] for a data value: NaN and infinities (`nan`, `inf`, as Gmsh
+    /// prints them) are kept.
+    pub fn scan_value(&mut self, s: &mut Scan<'a>, what: &str) -> Result<f64> {
+        s.ws();
+        match s.f64() {
+            Some(v) => Ok(v),
+            None => self.slow_value(s, what),
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn slow_value(&mut self, s: &mut Scan<'a>, what: &str) -> Result<f64> {
+        self.seek(s.start());
+        let tok = self.token(what)?;
+        let v = crate::text::parse_f64(tok).map_err(|_| {
+            self.err(ErrorKind::Expected { expected: what.into(), found: show(tok) })
+        })?;
+        *s = self.scan();
+        Ok(v)
+    }
+
     #[cold]
     #[inline(never)]
     fn slow_f64(&mut self, s: &mut Scan<'a>, what: &str) -> Result<f64> {

@@ -26,6 +26,11 @@
 //!   or without `$Entities`, as for Gmsh: such a file has no groups), its geometrical
 //!   tag the entity tag; the cells of a group named [`UNTAGGED`] are read as untagged
 //!   (tag 0, see below);
+//! - 4.1 `$PartitionedEntities` (a partitioned mesh, `gmsh -part N`): the cells of a
+//!   partitioned entity take its first physical tag and, as geometrical tag, its
+//!   parent's (the model entity it is a part of, what a 2.2 file of the same mesh gives
+//!   as elementary tag); the partitions merge into one mesh, which the read report says
+//!   (the partition of a cell is not kept); ghost entities are read past;
 //! - `$Nodes` (and 2.x `$ParametricNodes`): parametric coordinates are read past;
 //!   nodes no element uses are kept. Points are ordered by node tag (the file's order
 //!   when tags ascend, as Gmsh writes them); tags may be sparse: they are looked up in
@@ -34,23 +39,24 @@
 //! - `$Elements` of the kinds [`crate::CellKind::from_gmsh_type`] knows; any other type (a
 //!   tetrahedron, a third-order triangle...) is an error that names it. Cells are
 //!   ordered by element tag (file order for Gmsh's files). 2.x elements carry physical
-//!   and elementary tags; further (partition) tags are read past. Gmsh 2.2 writes an
+//!   and elementary tags; further (partition) tags are read past, the partitions
+//!   merged into one mesh, which the read report says as for 4.1. Gmsh 2.2 writes an
 //!   element once per physical group of its entity: such consecutive copies are read
 //!   as one cell, and their groups listed in `entities[(dim, elementary)]` (the only
-//!   entries a 2.x file gives that table) second-order cells (`gmsh -2 -order 2`) are read as
-//!   the linear cells of their corners, and the nodes only they use beyond their corners
-//!   (mid-edge, mid-face) are dropped with their point data (`linear.rs`: smartmesh is a
-//!   linear tool);
+//!   entries a 2.x file gives that table); second-order cells (`gmsh -2 -order 2`: types
+//!   8, 9, 16, 10) are kept as they are, as the VTK and Medit readers keep them
+//!   ([`TaggedMesh::linearise`] makes them linear for the commands that need it);
 //! - `$NodeData`, `$ElementData` (→ point and cell data named after the view's first
 //!   string tag) and `$ElementNodeData` (→ cell data with components × nodes values per
 //!   cell, padded with NaN for cells with fewer nodes). When a view appears with several
 //!   time steps, the last section in the file wins; sections of the same step (a
-//!   partitioned view) are merged. Items a view does not cover are NaN;
+//!   partitioned view) are merged. Items a view does not cover are NaN, which the read
+//!   report says; NaN and infinities in a view are kept (refused where the data is used);
 //! - a file of views alone (Gmsh's data-only file: `$NodeData` before any `$Nodes` or
 //!   `$Elements`) is refused by [`read`], with a hint, and read by [`read_mesh_or_data`]
 //!   as [`NodeData`] (node tag t = vertex t − 1 of the mesh it goes with);
 //! - `$Comments`, `$Periodic`, `$GhostElements`, `$Parametrizations`,
-//!   `$PartitionedEntities`, `$InterpolationScheme`, Gmsh's `$Edges`/`$Faces`, and any
+//!   2.x `$PartitionedEntities`, `$InterpolationScheme`, Gmsh's `$Edges`/`$Faces`, and any
 //!   section the format does not define (`$Comment`, `$Foo`: Gmsh's documentation says
 //!   readers ignore them, and Gmsh and meshio do) are skipped up to their `$End` line,
 //!   which must be there.
@@ -75,7 +81,7 @@
 //!   quotes in names...) is listed in the [`WriteReport`]. Same mesh, same bytes.
 //!
 //! Not supported: MSH 1, 3 and 4.0, big-endian binary files, 3D and third-order
-//! elements, partitioned entities (their cells are read without physical tags),
+//! elements, the partition of each cell (partitions are read as one mesh),
 //! interpolation schemes.
 //!
 //! Points keep the three coordinates MSH stores; `coordinate_dim` is 3 when some z is
@@ -90,12 +96,11 @@
 // Reading: `cursor` (tokens, binary arrays, the ASCII fast path), `tags` (tag maps),
 // `reader` (the state and the sections both versions share), `msh2` / `msh4` (nodes,
 // elements, 4.1 entities), `views` (data sections, read and written), `assembly` (the
-// mesh in tag order), `untagged` and `linear` (the policies above). Writing: `header`,
+// mesh in tag order), `untagged` (the policy above). Writing: `header`,
 // then `msh2` / `msh4` and `views`.
 mod assembly;
 mod cursor;
 mod header;
-mod linear;
 mod msh2;
 mod msh4;
 mod reader;
@@ -118,7 +123,7 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
     read_reported(bytes, ctx).map(|(mesh, _)| mesh)
 }
 
-/// [`read`], with what was changed on the way (second-order cells read as linear).
+/// [`read`], with what the reader could not keep on the way.
 pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh, ReadReport)> {
     let mut r = Reader::new(bytes);
     read_sections(&mut r)?;
@@ -195,6 +200,7 @@ fn read_sections(r: &mut Reader<'_>) -> Result<()> {
         match name {
             b"PhysicalNames" => r.read_physical_names()?,
             b"Entities" if r.v4 => msh4::read_entities(r)?,
+            b"PartitionedEntities" if r.v4 => msh4::read_partitioned_entities(r)?,
             b"Nodes" if r.v4 => msh4::read_nodes(r, at)?,
             b"Elements" if r.v4 => msh4::read_elements(r)?,
             b"Nodes" => msh2::read_nodes(r, at, false)?,

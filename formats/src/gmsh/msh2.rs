@@ -258,6 +258,7 @@ fn binary_block<const K: usize>(
         (b.physical[i], b.geometrical[i], nodes)
     });
     let mut last_tag = col.last_tag;
+    let mut partitions = 0;
     let node = |nt: i32| u64::try_from(nt).ok().and_then(|t| map.node(t));
     for (e, ch) in data.chunks_exact(rec).enumerate() {
         let at = p + e * rec;
@@ -273,6 +274,10 @@ fn binary_block<const K: usize>(
         }
         let physical = if ntags >= 1 { le_i32(&ch[4..]) } else { 0 };
         let geometrical = if ntags >= 2 { le_i32(&ch[8..]) } else { 0 };
+        // The partitions the element is in (negative: a ghost cell of that partition).
+        for j in 3..ntags {
+            partitions = partitions.max(le_i32(&ch[4 + 4 * j..]).unsigned_abs() as usize);
+        }
         let nb = &ch[off..off + 4 * K];
         let mut nodes = [0 as NodeIndex; K];
         for (j, slot) in nodes.iter_mut().enumerate() {
@@ -300,6 +305,7 @@ fn binary_block<const K: usize>(
         prev = Some((physical, geometrical, nodes));
     }
     col.last_tag = last_tag;
+    r.partitions = r.partitions.max(partitions);
     Ok(())
 }
 
@@ -385,7 +391,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             let ntags = r.c.scan_u64(&mut s, "number of tags")?;
             let (mut physical, mut geometrical) = (0, 0);
             for j in 0..ntags {
-                // Physical, elementary, then partition tags (read past).
+                // Physical, elementary, the number of partitions, the partitions.
                 let v = r.c.scan_i64(&mut s, "element tag")?;
                 let Ok(v) = i32::try_from(v) else {
                     r.c.unscan(&s);
@@ -397,6 +403,8 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                 match j {
                     0 => physical = v,
                     1 => geometrical = v,
+                    // The partitions the element is in (negative: a ghost cell).
+                    3.. => r.partitions = r.partitions.max(v.unsigned_abs() as usize),
                     _ => {}
                 }
             }

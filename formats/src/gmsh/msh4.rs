@@ -78,6 +78,96 @@ pub(super) fn read_entities(r: &mut Reader<'_>) -> Result<()> {
     r.c.expect_end("Entities")
 }
 
+/// `$PartitionedEntities` (a mesh split by `gmsh -part N` or `gmsh.model.mesh.partition`):
+/// the entities the elements of a partitioned file are classified on, each with its
+/// parent (the model entity it is a part of) and its own physical tags. Read so that a
+/// cell gets the physical tag of its partitioned entity and, as geometrical tag, its
+/// parent's (what Gmsh writes as elementary tag in MSH 2.2: the same mesh reads alike
+/// in both versions). Ghost entities and the partitions of each entity are read past.
+pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
+    let binary = r.c.binary;
+    let st = r.size_t;
+    let names = ["points", "curves", "surfaces", "volumes"];
+    let mut counts = [0usize; 4];
+    if binary {
+        r.c.end_text_line()?;
+        r.partitions = r.c.bin_count(st, "number of partitions", 0)?;
+        let ghosts = r.c.bin_count(st, "number of ghost entities", 8)?;
+        r.c.take_array(ghosts, 8, "ghost entities")?;
+        for d in 0..4 {
+            let min = if d == 0 { 12 + 2 * st + 24 } else { 12 + 3 * st + 48 };
+            counts[d] = r.c.bin_count(st, &format!("number of partitioned {}", names[d]), min)?;
+        }
+    } else {
+        r.partitions = r.c.count("number of partitions", 0)?;
+        let ghosts = r.c.count("number of ghost entities", 4)?;
+        for _ in 0..ghosts {
+            r.c.i32("ghost entity tag")?;
+            r.c.i32("ghost entity partition")?;
+        }
+        for d in 0..4 {
+            let min = if d == 0 { 18 } else { 26 };
+            counts[d] = r.c.count(&format!("number of partitioned {}", names[d]), min)?;
+        }
+    }
+    for (dim, &count) in counts.iter().enumerate() {
+        for _ in 0..count {
+            let at = r.c.mark();
+            let n_coords = if dim == 0 { 3 } else { 6 };
+            let (tag, parent_dim, parent_tag);
+            let mut phys = Vec::new();
+            if binary {
+                tag = r.c.bin_i32("entity tag")?;
+                parent_dim = r.c.bin_i32("parent dimension")?;
+                parent_tag = r.c.bin_i32("parent tag")?;
+                let n = r.c.bin_count(st, "number of partitions of the entity", 4)?;
+                r.c.take_array(n, 4, "partition tags")?;
+                r.c.take(8 * n_coords, "entity coordinates")?;
+                let n = r.c.bin_count(st, "number of physical tags", 4)?;
+                phys.extend(r.c.take_array(n, 4, "physical tags")?.chunks_exact(4).map(le_i32));
+                if dim > 0 {
+                    let n = r.c.bin_count(st, "number of bounding entities", 4)?;
+                    r.c.take_array(n, 4, "bounding entity tags")?;
+                }
+            } else {
+                tag = r.c.i32("entity tag")?;
+                parent_dim = r.c.i32("parent dimension")?;
+                parent_tag = r.c.i32("parent tag")?;
+                let n = r.c.count("number of partitions of the entity", 2)?;
+                for _ in 0..n {
+                    r.c.i32("partition tag")?;
+                }
+                for _ in 0..n_coords {
+                    r.c.f64(if dim == 0 { "point coordinate" } else { "bounding box coordinate" })?;
+                }
+                let n = r.c.count("number of physical tags", 2)?;
+                for _ in 0..n {
+                    phys.push(r.c.i32("physical tag")?);
+                }
+                if dim > 0 {
+                    let n = r.c.count("number of bounding entities", 2)?;
+                    for _ in 0..n {
+                        r.c.i32("bounding entity tag")?;
+                    }
+                }
+            }
+            // A part of a model entity of its own dimension stands for it; a partition
+            // boundary (a curve whose parent is a surface) stands for itself.
+            let geometrical = if parent_dim == dim as i32 { parent_tag } else { tag };
+            if r.partitioned.insert((dim as u8, tag), (geometrical, phys)).is_some() {
+                return Err(r.c.err_at(
+                    at,
+                    ErrorKind::Inconsistent(format!(
+                        "partitioned {} {tag} is defined twice in $PartitionedEntities",
+                        &names[dim][..names[dim].len() - 1]
+                    )),
+                ));
+            }
+        }
+    }
+    r.c.expect_end("PartitionedEntities")
+}
+
 /// The four `size_t` of a `$Nodes` or `$Elements` header: blocks, items, min and max tag.
 fn section_header(
     r: &mut Reader<'_>,

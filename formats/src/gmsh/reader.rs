@@ -42,6 +42,11 @@ pub(super) struct Reader<'a> {
     pub aliases: Vec<(u64, usize)>,
     pub tag_names: BTreeMap<(u8, i32), String>,
     pub entities: BTreeMap<(u8, i32), Vec<i32>>,
+    /// 4.1 `$PartitionedEntities`: `(dim, tag)` → (the geometrical tag its cells get,
+    /// its physical tags).
+    pub partitioned: BTreeMap<(u8, i32), (i32, Vec<i32>)>,
+    /// The number of partitions `$PartitionedEntities` announces (0 without it).
+    pub partitions: usize,
     pub(super) views: Vec<View>,
     pub(super) view_count: usize,
     /// Whether a `$NodeData` before any `$Nodes`/`$Elements` is read as a data-only
@@ -69,6 +74,8 @@ impl<'a> Reader<'a> {
             aliases: Vec::new(),
             tag_names: BTreeMap::new(),
             entities: BTreeMap::new(),
+            partitioned: BTreeMap::new(),
+            partitions: 0,
             views: Vec::new(),
             view_count: 0,
             allow_data_only: false,

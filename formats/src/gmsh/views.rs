@@ -80,8 +80,9 @@ impl Targets {
 
 /// Binary view entries of `N` values each (a 4-byte tag, then the values): the values
 /// as one array, made in a single pass over the table, and each entry's target pushed
-/// (a target that `map` lacks is not). Also the first entry whose tag `map` lacks or
-/// whose values are not all finite, for the caller to report.
+/// (a target that `map` lacks is not). Also the first entry whose tag `map` lacks, for
+/// the caller to report. Values are kept as they are, NaN included (a data array may
+/// hold NaN; the code that uses it refuses what it cannot use).
 fn decode_entries<const N: usize>(
     table: &[u8],
     map: &TagMap,
@@ -97,7 +98,6 @@ fn decode_entries<const N: usize>(
             let mut ok = true;
             for (j, x) in row.iter_mut().enumerate() {
                 *x = le_f64(&ch[4 + 8 * j..12 + 8 * j]);
-                ok &= x.is_finite();
             }
             match u64::try_from(le_i32(ch)).ok().and_then(|t| map.get(t)) {
                 Some(t) => targets.push(t),
@@ -250,24 +250,7 @@ impl Reader<'_> {
                 let target = u64::try_from(tag).ok().and_then(|t| map.get(t)).ok_or_else(|| {
                     unknown(&self.c, Position::Byte((p0 + e * rec) as u64), tag as i64)
                 })?;
-                let mut finite = true;
-                values.extend(ch[4..].chunks_exact(8).map(|c| {
-                    let v = le_f64(c);
-                    finite &= v.is_finite();
-                    v
-                }));
-                if !finite {
-                    let j =
-                        ch[4..].chunks_exact(8).position(|c| !le_f64(c).is_finite()).unwrap_or(0);
-                    let v = le_f64(&ch[4 + 8 * j..]);
-                    return Err(self.c.byte_err(
-                        p0 + e * rec + 4 + 8 * j,
-                        ErrorKind::NonFinite {
-                            what: format!("a value of `{name}`"),
-                            value: v.to_string(),
-                        },
-                    ));
-                }
+                values.extend(ch[4..].chunks_exact(8).map(le_f64));
                 targets.push(target);
             }
         } else if self.c.binary {
@@ -295,21 +278,8 @@ impl Reader<'_> {
                     1
                 };
                 let k = ncomp * mult;
-                let p = self.c.pos();
                 let b = self.c.take_array(k, 8, "data values")?;
-                for (j, ch) in b.chunks_exact(8).enumerate() {
-                    let v = le_f64(ch);
-                    if !v.is_finite() {
-                        return Err(self.c.byte_err(
-                            p + 8 * j,
-                            ErrorKind::NonFinite {
-                                what: format!("a value of `{name}`"),
-                                value: v.to_string(),
-                            },
-                        ));
-                    }
-                    values.push(v);
-                }
+                values.extend(b.chunks_exact(8).map(le_f64));
                 targets.push(target);
                 if kind == ViewKind::ElementNode {
                     offsets.push(values.len());
@@ -348,7 +318,7 @@ impl Reader<'_> {
                     ));
                 }
                 for _ in 0..k {
-                    values.push(self.c.scan_f64(&mut s, "a data value")?);
+                    values.push(self.c.scan_value(&mut s, "a data value")?);
                 }
                 targets.push(target);
                 if kind == ViewKind::ElementNode {

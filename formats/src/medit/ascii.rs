@@ -15,6 +15,13 @@ pub(super) fn read(bytes: &[u8]) -> Result<Parsed> {
     let mut p = Parsed::default();
     while let Some(tok) = t.next() {
         let line = t.line();
+        if lookup(tok).is_none() && p.sol.is_some() && tok[0].is_ascii_alphabetic() {
+            // A solver's own keywords after the solution (MMG's `naca-multiSols.sol`:
+            // `CFL`, `Model`, `Residu`...): skipped, as MMG skips what it does not know,
+            // up to the next keyword of the table; the read report names them.
+            skip_unknown(&mut t, &mut p, tok, line);
+            continue;
+        }
         let Some(code) = lookup(tok) else {
             let what = if tok[0].is_ascii_alphabetic() {
                 "a keyword of libMeshb's table"
@@ -72,6 +79,23 @@ pub(super) fn read(bytes: &[u8]) -> Result<Parsed> {
         }
     }
     Ok(p)
+}
+
+/// Skips the unknown keyword `name` (read at `line`) and every token after it up to the
+/// next keyword of libMeshb's table (or the end), noting each unknown keyword met.
+fn skip_unknown(t: &mut Tokens<'_>, p: &mut Parsed, name: &[u8], line: u64) {
+    p.skipped.push((String::from_utf8_lossy(name).into_owned(), line));
+    loop {
+        let mut ahead = t.clone();
+        let Some(tok) = ahead.next() else { break };
+        if lookup(tok).is_some() {
+            break;
+        }
+        if tok[0].is_ascii_alphabetic() {
+            p.skipped.push((String::from_utf8_lossy(tok).into_owned(), ahead.line()));
+        }
+        *t = ahead;
+    }
 }
 
 fn need_dim(p: &Parsed, line: u64, what: &str) -> Result<usize> {

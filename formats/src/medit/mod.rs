@@ -29,6 +29,10 @@
 //!   indices); `Ridges`, `RequiredEdges` (edge numbers), `RequiredTriangles`,
 //!   `RequiredQuadrilaterals` become cell sets of those names (global cell indices).
 //! - Volume elements (tetrahedra, prisms, ...) are refused: smartmesh meshes are 2D.
+//! - After a solution (`SolAtVertices`), keywords libMeshb's table does not define (a
+//!   solver's own, as `CFL`, `Model`, `Residu` in MMG's `naca-multiSols.sol`) are
+//!   skipped with what follows them up to the next keyword of the table, as MMG skips
+//!   them; the read report names them. Before a solution such a keyword is an error.
 //! - `SolAtVertices`, in the mesh file or in the `.sol`/`.solb` beside it (for `x.mesh`,
 //!   `x.sol` then `x.solb`; for `x.meshb`, `x.solb` then `x.sol`), with any number of
 //!   solutions per vertex: type 1 (scalar) becomes point data `size`, type 2 (vector)
@@ -68,7 +72,7 @@ use crate::error::{Error, ErrorKind, Position, Result};
 use crate::io::refused;
 use crate::{
     tensor9_to_sym2, CellBlock, CellKind, DataArray, Format, Layout, NodeIndex, ReadContext,
-    TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS,
+    ReadReport, TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS,
 };
 
 use keywords::KEYWORDS;
@@ -239,6 +243,20 @@ struct Parsed {
     elements: Vec<Elements>,
     sets: Vec<Set>,
     sol: Option<Sol>,
+    /// Unknown keywords skipped after the solution, with their lines (ASCII).
+    skipped: Vec<(String, u64)>,
+}
+
+/// The read note for the unknown keywords `skipped` after the solution of `file` (the
+/// solution file beside the mesh; `None`: the mesh file itself).
+fn skipped_note(file: Option<&str>, skipped: &[(String, u64)]) -> Option<String> {
+    let (_, first) = skipped.first()?;
+    let names: Vec<&str> = skipped.iter().map(|(n, _)| n.as_str()).collect();
+    Some(format!(
+        "{}keywords after the solution that libMeshb does not define, skipped from line {first} (as MMG skips them): {}",
+        file.map(|f| format!("{f}: ")).unwrap_or_default(),
+        names.join(", ")
+    ))
 }
 
 /// The error for a vertex or item number that names nothing: below 1 (Medit numbers from
@@ -271,6 +289,12 @@ fn parse(bytes: &[u8], binary: bool) -> Result<Parsed> {
 /// Reads a Medit mesh (ASCII or binary, told by its first bytes) and the solution file
 /// beside it (see the module documentation).
 pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
+    read_reported(bytes, ctx).map(|(mesh, _)| mesh)
+}
+
+/// [`read`], with what the reader could not keep (unknown keywords after a solution).
+pub fn read_reported(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<(TaggedMesh, ReadReport)> {
+    let mut report = ReadReport::default();
     // The first bytes tell (an ASCII file starts with a letter, a comment or a space); a
     // `.meshb` that is neither gets the binary reader's error about its endianness code.
     let binary = is_binary(bytes) || ctx.extension == "meshb";
@@ -284,6 +308,7 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
             found: if bytes.is_empty() { "an empty file".into() } else { "none".into() },
         }));
     }
+    report.notes.extend(skipped_note(None, &p.skipped));
     let mut mesh = assemble(p, bytes)?;
     let order: [&str; 2] = if ctx.extension == "meshb" { ["solb", "sol"] } else { ["sol", "solb"] };
     for ext in order {
@@ -297,6 +322,7 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
                 })));
             }
             let p = parse(&sol_bytes, is_binary(&sol_bytes)).map_err(in_sol)?;
+            report.notes.extend(skipped_note(Some(&ctx.siblings.describe(ext)), &p.skipped));
             let sol = p.sol.unwrap_or_default();
             if sol.types.is_empty() {
                 break;
@@ -315,7 +341,7 @@ pub fn read(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
             break;
         }
     }
-    Ok(mesh)
+    Ok((mesh, report))
 }
 
 /// Reads a solution file (`.sol` when `binary` is false, `.solb` when true) whose
@@ -701,6 +727,12 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         ));
     }
 
+    if !topological.is_empty() {
+        report.drop(format!(
+            "{} point cells: written as Corners and RequiredVertices entries, which are not cells (the file has {0} cells fewer)",
+            topological.len()
+        ));
+    }
     if point_tags > 0 {
         report.drop(format!(
             "the tags of {point_tags} point cells: written as Corners and RequiredVertices, which have no references"

@@ -170,14 +170,41 @@ impl<'a> Reader<'a> {
 
     /// Reads `n` values as `f64` (ASCII or binary), refusing NaN and infinities.
     fn floats(&mut self, n: usize, ty: Scalar, what: &str, out: &mut Vec<f64>) -> Result<()> {
+        self.floats_of(n, ty, what, out, true)
+    }
+
+    /// Reads the `n` values of a data array as `f64` (ASCII or binary), NaN and
+    /// infinities kept (`nan`, `inf` as VTK writes them in ASCII; see `decode_f64`).
+    fn data_floats(&mut self, n: usize, ty: Scalar, what: &str, out: &mut Vec<f64>) -> Result<()> {
+        self.floats_of(n, ty, what, out, false)
+    }
+
+    fn floats_of(
+        &mut self,
+        n: usize,
+        ty: Scalar,
+        what: &str,
+        out: &mut Vec<f64>,
+        finite_only: bool,
+    ) -> Result<()> {
         if self.binary {
             let start = self.pos();
             let bytes = self.binary_bytes(n, ty, what)?;
-            decode_f64(bytes, ty, true, n, out).map_err(|i| non_finite(start, i, ty, what))
-        } else {
+            decode_f64(bytes, ty, true, n, out, finite_only)
+                .map_err(|i| non_finite(start, i, ty, what))
+        } else if finite_only {
             out.reserve(n);
             for _ in 0..n {
                 out.push(self.t.f64(what)?);
+            }
+            Ok(())
+        } else {
+            out.reserve(n);
+            for _ in 0..n {
+                let tok = self.t.token(what)?;
+                let v = crate::text::parse_f64(tok)
+                    .map_err(|_| Error::expected(self.t.line(), what, show(tok)))?;
+                out.push(v);
             }
             Ok(())
         }
@@ -587,7 +614,7 @@ impl<'a> Reader<'a> {
         let what = format!("value of `{name}`");
         if !self.binary {
             let mut values = Vec::new();
-            self.floats(n, ty, &what, &mut values)?;
+            self.data_floats(n, ty, &what, &mut values)?;
             let (values, layout) = pack_parsed(values, components);
             self.push_laid_out(name, components, values, layout, at);
             return Ok(());
@@ -723,7 +750,7 @@ impl<'a> Reader<'a> {
                     let n = self.items;
                     check_count(n, self.t.remaining().len(), 6 * if self.binary { ty.size() } else { 2 }, &name).map_err(|k| self.err(k))?;
                     let mut six = Vec::new();
-                    self.floats(6 * n, ty, &format!("value of `{name}`"), &mut six)?;
+                    self.data_floats(6 * n, ty, &format!("value of `{name}`"), &mut six)?;
                     let values = six.chunks_exact(6).flat_map(|s| [s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2]]).collect();
                     self.push_array(name, 9, values, at);
                     Ok(())

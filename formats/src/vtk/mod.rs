@@ -37,8 +37,13 @@
 //! `size_tensor` if there is one (it glyphs at scale 1), else `metric`, else the first.
 //!
 //! Not supported: other datasets (POLYDATA, STRUCTURED_GRID...), several XML pieces,
-//! LZ4 and LZMA compression, string and bit arrays; NaN and infinite values are
-//! refused, in coordinates and in data arrays alike.
+//! LZ4 and LZMA compression, string and bit arrays.
+//!
+//! NaN and infinities: refused in coordinates (and tags); kept in data arrays, as VTK
+//! and meshio keep them (`nan`, `inf`, `-inf` in ASCII, as VTK writes them), so that a
+//! partial array (a Gmsh view that covers part of the mesh) goes through as it is. The
+//! code that uses an array refuses what it cannot use (a metric must be finite and
+//! SPD where a triangle uses it).
 //!
 //! Why by hand and not with the vtkio crate, which the design prefers: measured on the
 //! public fixtures and on a 1.5-million-triangle mesh (release build), vtkio 0.6.3 does
@@ -215,13 +220,16 @@ impl Scalar {
 
 /// Decodes `n` values of type `ty` from `bytes` (which holds at least `n * ty.size()`
 /// bytes) as `f64`, appending to `out`. Integers wider than 53 bits lose precision as
-/// any reader of doubles would. Returns the index of the first non-finite value.
+/// any reader of doubles would. With `finite_only` (coordinates, tags), returns the
+/// index of the first non-finite value; data arrays keep NaN and infinities as they
+/// are (VTK and meshio read them), for the code that uses an array to refuse.
 pub(crate) fn decode_f64(
     bytes: &[u8],
     ty: Scalar,
     big: bool,
     n: usize,
     out: &mut Vec<f64>,
+    finite_only: bool,
 ) -> std::result::Result<(), usize> {
     let bytes = &bytes[..n * ty.size()];
     let start = out.len();
@@ -278,7 +286,7 @@ pub(crate) fn decode_f64(
         Scalar::F32 => conv!(float f32, 4),
         Scalar::F64 => conv!(float f64, 8),
     }
-    if !finite {
+    if !finite && finite_only {
         return Err(out[start..].iter().position(|v| !v.is_finite()).unwrap_or(0));
     }
     Ok(())
@@ -333,7 +341,7 @@ pub(crate) fn decode_i64(
         }
         Scalar::F32 | Scalar::F64 => {
             let mut tmp = Vec::new();
-            decode_f64(bytes, ty, big, n, &mut tmp)?;
+            decode_f64(bytes, ty, big, n, &mut tmp, true)?;
             for (i, v) in tmp.into_iter().enumerate() {
                 if v.fract() != 0.0 || v.abs() > 9.0e15 {
                     return Err(i);
@@ -408,7 +416,7 @@ pub(crate) fn decode_items(
         }
     }
     let mut out = Vec::new();
-    decode_f64(bytes, ty, big, n, &mut out)?;
+    decode_f64(bytes, ty, big, n, &mut out, false)?;
     Ok((out, Layout::Plain))
 }
 
@@ -500,7 +508,7 @@ pub(crate) fn decode_points(
         bytes.chunks_exact(24).map(|c| [f(&c[..8]), f(&c[8..16]), f(&c[16..])]).collect()
     } else {
         let mut flat = Vec::new();
-        decode_f64(bytes, ty, big, 3 * n, &mut flat)?;
+        decode_f64(bytes, ty, big, 3 * n, &mut flat, true)?;
         flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
     };
     match pts.as_flattened().iter().position(|v| !v.is_finite()) {
@@ -980,7 +988,17 @@ impl<'m> Plan<'m> {
 /// just as exactly and is shorter (`0` rather than `0.0`).
 #[inline]
 pub(crate) fn push_num(out: &mut Vec<u8>, v: f64) {
-    if v.fract() == 0.0 && v.abs() < 1.0e15 && !(v == 0.0 && v.is_sign_negative()) {
+    if !v.is_finite() {
+        // As VTK writes them, and reads them back (not ryu's `NaN`).
+        let s: &[u8] = if v.is_nan() {
+            b"nan"
+        } else if v > 0.0 {
+            b"inf"
+        } else {
+            b"-inf"
+        };
+        out.extend_from_slice(s);
+    } else if v.fract() == 0.0 && v.abs() < 1.0e15 && !(v == 0.0 && v.is_sign_negative()) {
         crate::text::push_int(out, v as i64);
     } else {
         crate::text::push_f64(out, v);

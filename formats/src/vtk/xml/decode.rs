@@ -341,8 +341,9 @@ impl<'a> Decoder<'a> {
         Ok(Payload { bytes: Cow::Owned(out), start: 0, len: total })
     }
 
-    /// The values of an array as `f64`: `expected` values when known.
-    pub(super) fn floats(&self, sp: &Spec, expected: Option<usize>) -> Result<Vec<f64>> {
+    /// The values of an array as `f64`: `expected` values when known; NaN and
+    /// infinities refused unless `any` (a data array keeps them, see `decode_f64`).
+    pub(super) fn floats(&self, sp: &Spec, expected: Option<usize>, any: bool) -> Result<Vec<f64>> {
         let mut out = Vec::new();
         if sp.format == Format::Ascii {
             let text = &self.d[sp.text.0..sp.text.1];
@@ -363,7 +364,7 @@ impl<'a> Decoder<'a> {
                         },
                     )
                 })?;
-                if !v.is_finite() {
+                if !v.is_finite() && !any {
                     return Err(err(
                         pos,
                         ErrorKind::NonFinite {
@@ -378,7 +379,7 @@ impl<'a> Decoder<'a> {
             let p = self.payload(sp, expected.and_then(|e| e.checked_mul(sp.ty.size())))?;
             let bytes = p.as_slice();
             let n = bytes.len() / sp.ty.size();
-            decode_f64(bytes, sp.ty, self.big, n, &mut out).map_err(|i| {
+            decode_f64(bytes, sp.ty, self.big, n, &mut out, !any).map_err(|i| {
                 err(
                     sp.at,
                     ErrorKind::NonFinite {
@@ -407,14 +408,14 @@ impl<'a> Decoder<'a> {
     /// where they can be ([`decode_items`]).
     pub(super) fn items(&self, sp: &Spec, expected: usize) -> Result<(Vec<f64>, Layout)> {
         if sp.format == Format::Ascii || sp.components != 9 {
-            return Ok(pack_parsed(self.floats(sp, Some(expected))?, sp.components));
+            return Ok(pack_parsed(self.floats(sp, Some(expected), true)?, sp.components));
         }
         let p = self.payload(sp, expected.checked_mul(sp.ty.size()))?;
         let bytes = p.as_slice();
         let n = bytes.len() / sp.ty.size();
         if n != expected {
             // The plain path's errors, in its order.
-            return Ok((self.floats(sp, Some(expected))?, Layout::Plain));
+            return Ok((self.floats(sp, Some(expected), true)?, Layout::Plain));
         }
         decode_items(bytes, sp.ty, self.big, n, sp.components).map_err(|i| {
             err(
@@ -429,7 +430,7 @@ impl<'a> Decoder<'a> {
 
     pub(super) fn points(&self, sp: &Spec, n: usize) -> Result<Vec<[f64; 3]>> {
         if sp.format == Format::Ascii {
-            let flat = self.floats(sp, Some(3 * n))?;
+            let flat = self.floats(sp, Some(3 * n), false)?;
             return Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
         }
         let p = self.payload(sp, (3 * n).checked_mul(sp.ty.size()))?;

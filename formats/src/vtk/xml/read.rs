@@ -478,7 +478,7 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
         if count.is_some_and(|n| n != 2) {
             continue;
         }
-        let values = match dec.floats(sp, count) {
+        let values = match dec.floats(sp, count, false) {
             Err(e) if count.is_none() && matches!(e.kind, ErrorKind::ImplausibleCount { .. }) => {
                 continue
             }

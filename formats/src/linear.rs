@@ -1,14 +1,15 @@
-//! Second-order cells read as linear ones.
+//! Second-order cells made linear, for the commands that compute on linear cells.
 //!
-//! smartmesh is a linear tool: topology, sizing, conformity and the remeshers take
-//! segments, triangles and quadrangles through their corners. A second-order Gmsh mesh
-//! (`gmsh -2 -order 2`: 3-node lines, 6-node triangles, 8- and 9-node quadrangles) is
-//! therefore read as the linear mesh of its corners — Gmsh numbers the corners first —
-//! and the nodes that only second-order cells use beyond their corners (mid-edge and
-//! mid-face nodes) are dropped with their point data, as a linear mesher would never
-//! have made them. Nodes that no cell uses at all (a circle's centre) are kept, as
-//! always. Cell data is kept cell for cell (an `$ElementNodeData` view keeps its values
-//! for every node of the second-order cell).
+//! Every reader keeps second-order cells as the file has them, so that a conversion
+//! loses nothing. The sizing, the remeshers and the skin take segments, triangles and
+//! quadrangles through their corners: before them, [`TaggedMesh::linearise`] makes a
+//! second-order mesh (`gmsh -2 -order 2`: 3-node lines, 6-node triangles, 8- and 9-node
+//! quadrangles) the linear mesh of its corners — every format smartmesh reads numbers
+//! the corners first — and drops the nodes that only second-order cells use beyond
+//! their corners (mid-edge and mid-face nodes) with their point data, as a linear
+//! mesher would never have made them. Nodes that no cell uses at all (a circle's centre)
+//! are kept, as always. Cell data is kept cell for cell (an `$ElementNodeData` view
+//! keeps its values for every node of the second-order cell).
 
 use crate::{CellKind, NodeIndex, TaggedMesh};
 
@@ -32,11 +33,17 @@ fn nodes_word(kind: CellKind) -> String {
     format!("{}-node {what}", kind.nodes_per_cell())
 }
 
-/// Reduces the second-order cells of `mesh` to their corners and drops the nodes only
-/// they used beyond their corners; says what it did (`None`: nothing to do), e.g.
-/// `second-order cells read as linear: 96 6-node triangles as 3-node, 24 3-node lines
-/// as 2-node; 228 mid-edge nodes dropped`.
-pub(super) fn reduce(mesh: &mut TaggedMesh) -> Option<String> {
+impl TaggedMesh {
+    /// Reduces the second-order cells to their corners and drops the nodes only they
+    /// used beyond their corners; says what it did (`None`: nothing to do), e.g.
+    /// `second-order cells made linear: 96 6-node triangles as 3-node, 24 3-node lines
+    /// as 2-node; 228 mid-edge nodes dropped`.
+    pub fn linearise(&mut self) -> Option<String> {
+        reduce(self)
+    }
+}
+
+fn reduce(mesh: &mut TaggedMesh) -> Option<String> {
     if !mesh.blocks.iter().any(|b| b.kind.is_second_order()) {
         return None;
     }
@@ -94,7 +101,7 @@ pub(super) fn reduce(mesh: &mut TaggedMesh) -> Option<String> {
         .collect();
     let what = if mid_face { "mid-edge and mid-face nodes" } else { "mid-edge nodes" };
     let note = format!(
-        "second-order cells read as linear: {}; {dropped} {what} dropped{}",
+        "second-order cells made linear: {}; {dropped} {what} dropped{}",
         kinds.join(", "),
         if mesh.point_data.is_empty() || dropped == 0 { "" } else { " with their point data" }
     );
