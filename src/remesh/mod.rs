@@ -47,6 +47,7 @@ mod build;
 mod collapse;
 mod error;
 pub mod estimate;
+pub mod memory;
 mod options;
 mod output;
 pub mod parallel;
@@ -323,6 +324,9 @@ pub fn remesh_keeping(
         if estimate::exceeds(estimate, limit) {
             return Err(RemeshError::TooManyVertices { estimate, limit });
         }
+    }
+    if estimate.is_finite() {
+        memory::check(estimate)?;
     }
     // Past this many vertices the splits stop: twice the limit, and never near the end
     // of the 32-bit indices.
