@@ -982,6 +982,80 @@ fn adapt_inserts_the_recipe_skin_after_the_loop() {
     assert!(e.contains("no LAYER section"), "{e}");
 }
 
+/// A mesh of quads alone (no skin: nothing left for the native remesher) given to
+/// `adapt` was run, failed at its first remeshing with exit 1 and wrote the input back
+/// as its "best" mesh; `remesh` did not say what to do. Both refuse at once with exit 2,
+/// pointing to --split-quads, and write nothing; with it, both run.
+#[test]
+fn quads_without_a_skin_point_to_split_quads_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |n: &str| dir.path().join(n).display().to_string();
+    // A 4 x 3 grid of unit quads, its sides tagged.
+    let mut m = TaggedMesh::default();
+    for j in 0..4 {
+        for i in 0..5 {
+            m.points.push([i as f64, j as f64, 0.0]);
+        }
+    }
+    let id = |i: u32, j: u32| j * 5 + i;
+    let mut quads = Vec::new();
+    for j in 0..3 {
+        for i in 0..4 {
+            quads.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let b = m.block_mut(CellKind::Quad);
+    (b.nodes, b.physical, b.geometrical) = (quads, vec![1; 12], vec![1; 12]);
+    let mut lines = Vec::new();
+    for i in 0..4 {
+        lines.extend([id(i, 0), id(i + 1, 0), id(i + 1, 3), id(i, 3)]);
+    }
+    for j in 0..3 {
+        lines.extend([id(4, j), id(4, j + 1), id(0, j + 1), id(0, j)]);
+    }
+    let n = lines.len() / 2;
+    let b = m.block_mut(CellKind::Line);
+    (b.nodes, b.physical, b.geometrical) = (lines, vec![2; n], vec![2; n]);
+    let quads_path = out("quads.msh");
+    smartmesh::formats::write_path(
+        std::path::Path::new(&quads_path),
+        &m,
+        None,
+        &Default::default(),
+    )
+    .unwrap();
+    let recipe = out("r.toml");
+    std::fs::write(
+        &recipe,
+        "[global]\nhmin = 0.05\nhmax = 1\n[regions]\nAll = [1]\n[[algorithms]]\ntype = \"uniform\"\nsize = 0.5\nregions = [\"All\"]\n",
+    )
+    .unwrap();
+    let result = out("a.msh");
+    let e = cli::bad(&cli::smartmesh(&["adapt", &quads_path, "-r", &recipe, "-o", &result], None));
+    assert!(e.contains("--split-quads") && e.contains("quads.msh"), "{e}");
+    assert!(!std::path::Path::new(&result).exists(), "nothing written");
+    assert!(!std::path::Path::new(&out("a.history.json")).exists(), "no history");
+    let sized = out("sized.vtu");
+    cli::ok(&cli::smartmesh(&["size", &quads_path, "-r", &recipe, "-o", &sized], None));
+    let e = cli::bad(&cli::smartmesh(&["remesh", &sized, "-o", &out("r.vtu")], None));
+    assert!(e.contains("--split-quads"), "{e}");
+    cli::ok(&cli::smartmesh(
+        &[
+            "adapt",
+            &quads_path,
+            "-r",
+            &recipe,
+            "-o",
+            &result,
+            "--split-quads",
+            "--max-iterations",
+            "1",
+        ],
+        None,
+    ));
+    cli::ok(&cli::smartmesh(&["remesh", &sized, "-o", &out("r.vtu"), "--split-quads"], None));
+}
+
 #[test]
 fn concave_curved_wall_keeps_every_cell_positive() {
     // The inside of a disk: columns converge. A moderate skin, then one asking for most

@@ -435,6 +435,12 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         let n = starting.mesh.split_quads();
         ui::note(&format!("split {n} quads of the starting mesh into {} triangles", 2 * n));
     }
+    if !args.split_quads && args.adapter == AdapterArg::Native {
+        // Refused before any work: the loop would fail at its first remeshing and
+        // write the input back as its "best" mesh.
+        smartmesh::remesh::check_quads(&starting.mesh)
+            .map_err(|e| CliError::usage(format!("{}: {e}", args.input.display())))?;
+    }
     let solver = solver_loop(&args, &starting.mesh, &recipe)?;
     // The input is checked whole before any tool is looked for: a recipe that names tags
     // the mesh does not have is bad input (2) whether or not the remesher is installed.

@@ -40,11 +40,11 @@ pub enum RemeshError {
     NoTriangles,
     /// Every surface cell is kept: nothing to remesh.
     #[error(
-        "every surface cell of the mesh is kept (quads of a skin); no triangle is left to remesh"
+        "every surface cell of the mesh is a quad, or a triangle of a skin of quads, which the native remesher keeps frozen; no triangle is left to remesh: --split-quads splits each quad in two triangles and remeshes them all"
     )]
     AllKept,
     /// The input's quads and triangles do not form a valid mixed mesh.
-    #[error("the mesh's quads and triangles do not form a valid mesh: {0}")]
+    #[error("the mesh's quads and triangles do not form a valid mesh ({0}): the native remesher keeps quads frozen as a skin; --split-quads splits each quad in two triangles and remeshes them with the rest")]
     InvalidMixed(String),
     /// The result with its kept cells failed the mixed-mesh check (a bug).
     #[error("the remeshed mesh with its kept cells is not valid: {0}")]
