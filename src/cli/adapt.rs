@@ -404,6 +404,15 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
             ));
         }
     }
+    // A device or a pipe (`-o /dev/null`) is written in place; the history's default
+    // place beside it would be a file in /dev.
+    let special = std::fs::metadata(&args.output).is_ok_and(|m| !m.is_file() && !m.is_dir());
+    if !is_stdio(&args.output) && special && args.history.is_none() {
+        return Err(CliError::usage(format!(
+            "{} is not a regular file: the history has no place beside it; name one with --history FILE",
+            args.output.display()
+        )));
+    }
     let format = args.output_format.mesh_format(&args.output)?;
     check_output_dir(&args.output)?;
     if let Some(h) = &args.history {
@@ -511,7 +520,8 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
             mesh_file,
             args.history.as_deref(),
             args.output_format.write_options(&args.output),
-        ),
+        )
+        .with_format(format),
         to_stdout,
         bar: ui::progress_bar(opts.max_iterations as u64, "{bar:30} {pos}/{len} {msg} [{elapsed}]"),
         adapter: remesher.name().to_string(),
