@@ -954,6 +954,41 @@ fn adapt_inserts_the_recipe_skin_after_the_loop() {
     assert!(check_mesh(&skin).is_valid());
     let q = quad_quality(&skin).expect("the skin is there");
     assert_eq!(q.layers.len(), 6);
+    // The skinned mesh and its history are one set: the history's size and CRC are the
+    // file's (`report --history` does not warn), its LAYER record counts the file.
+    let hist_path = out("skin.history.json");
+    let h = smartmesh::history::History::from_json(&std::fs::read_to_string(&hist_path).unwrap())
+        .unwrap();
+    assert_eq!(h.mismatch(std::path::Path::new(&skin_path)), None);
+    let l = h.layer.as_ref().expect("the history records the skin");
+    assert_eq!(l.layers, 6);
+    assert_eq!(l.vertices, skin.points.len());
+    assert_eq!(l.quads, skin.num_cells_of(CellKind::Quad));
+    assert_eq!(l.triangles, skin.num_cells_of(CellKind::Triangle));
+    assert_eq!(h.written_counts(), Some((l.vertices, l.triangles)));
+    let svg = out("skin.svg");
+    let r = cli::smartmesh(&["report", &skin_path, "--history", &hist_path, "-o", &svg], None);
+    cli::ok(&r);
+    assert!(
+        !cli::streams(&r).contains("not the mesh this history describes"),
+        "{}",
+        cli::streams(&r)
+    );
+    // The field travels on the skinned mesh as on every iteration's: every array at every
+    // point, the sizes consistent with the metric.
+    for name in ["metric", "size_tensor", "h1", "h2", "anisotropy", "axis1", "axis2"] {
+        let a = skin.point_data.get(name).unwrap_or_else(|| panic!("{name} is lost"));
+        assert_eq!(a.values.len(), a.components * skin.points.len(), "{name}");
+        assert!(a.values.iter().all(|v| v.is_finite()), "{name}");
+    }
+    let (m, h1, h2) = (&skin.point_data["metric"], &skin.point_data["h1"], &skin.point_data["h2"]);
+    for i in 0..skin.points.len() {
+        let t = &m.values[9 * i..9 * i + 9];
+        let (a, b, c) = (t[0], t[1], t[4]);
+        let det = a * c - b * b;
+        let want = 1.0 / (h1.values[i] * h1.values[i] * h2.values[i] * h2.values[i]);
+        assert!((det - want).abs() <= 1e-6 * want, "point {i}: det {det} against {want}");
+    }
     // Each curve its own first height.
     assert!(
         (q.layers[0].height[0] - 0.002).abs() < 1e-9

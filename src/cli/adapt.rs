@@ -558,19 +558,8 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     // The Layer step, on the best mesh, once the loop has stopped of itself.
     let skinned = match &layer {
         Some(o) if outcome.failure.is_none() && h.stopped != smartmesh::adapt::INTERRUPTED => {
-            let l = smartmesh::layer::insert(&outcome.best, o)
-                .map_err(|e| CliError::context(format!("LAYER: {e}"), e))?;
-            // The band is remeshed to the recipe's field on the best mesh, as the loop's
-            // triangles were.
-            let sized = smartmesh::sizing::size_mesh(&outcome.best, &recipe, &mut |_| {})
-                .map_err(|e| CliError::context(format!("LAYER: sizing the best mesh: {e}"), e))?;
-            let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
-            let remesh = smartmesh::remesh::RemeshOptions {
-                max_vertices: Some(args.max_vertices),
-                ..Default::default()
-            };
-            let l = smartmesh::layer::to_metric::band_to_metric(&outcome.best, &metric, l, &remesh)
-                .map_err(|e| CliError::context(format!("LAYER: {e}"), e))?;
+            let l = smartmesh::adapt::skin::skin(&outcome.best, &recipe, o, args.max_vertices)
+                .map_err(|e| CliError::context(e.to_string(), e))?;
             if !l.report.thinned.is_empty() {
                 ui::warn(&format!(
                     "LAYER: thinned {} of {} columns (smartmesh info shows the layers)",
@@ -582,11 +571,11 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
                 "LAYER: {} layers, {} quads, {} skin triangles inserted",
                 l.report.layers, l.report.quads, l.report.skin_triangles
             ));
-            Some(l.mesh)
+            Some(l)
         }
         _ => None,
     };
-    let result_mesh = skinned.as_ref().unwrap_or(&outcome.best);
+    let result_mesh = skinned.as_ref().map_or(&outcome.best, |l| &l.mesh);
     let after = smartmesh::periodic::check_all(result_mesh, &pairs)
         .map_err(|e| CliError::context(format!("{e} (result of the loop)"), e))?;
     for (b, a) in before.iter().zip(&after) {
@@ -599,11 +588,24 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         }
         ui::note(&a.to_string());
     }
+    // The skinned mesh and the history that describes it (its size, CRC and counts) are
+    // written as one set, as every new best mesh of the loop was.
+    let mut described;
+    let h = match &skinned {
+        Some(l) => {
+            described = outcome.history.clone();
+            described.layer = Some(smartmesh::adapt::skin::record(l));
+            let mesh = (!to_stdout).then_some(&l.mesh);
+            progress.files.record(&described, mesh).map_err(|e| {
+                CliError::context(format!("writing the skinned mesh and its history: {e}"), e)
+            })?;
+            dropped = progress.files.dropped.clone();
+            &described
+        }
+        None => h,
+    };
     if to_stdout {
-        let m = skinned.as_ref().unwrap_or(&outcome.best);
-        dropped = args.output_format.write(&args.output, m, format)?.dropped;
-    } else if let Some(m) = &skinned {
-        dropped = args.output_format.write(&args.output, m, format)?.dropped;
+        dropped = args.output_format.write(&args.output, result_mesh, format)?.dropped;
     } else {
         ui::write_notes(&args.output.display().to_string(), &dropped);
     }
@@ -619,10 +621,11 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         print_stdout(&text)?;
     }
     let kept = format!(
-        "{} holds the best mesh, iteration {} ({} vertices, {:.1}% of edges conforming); history in {}",
+        "{} holds the best mesh, iteration {}{} ({} vertices, {:.1}% of edges conforming); history in {}",
         if to_stdout { "stdout".into() } else { args.output.display().to_string() },
         h.best_iteration,
-        best.vertices,
+        if h.layer.is_some() { " with its LAYER skin" } else { "" },
+        h.written_counts().map_or(best.vertices, |c| c.0),
         100.0 * best.conforming_share,
         progress.files.history.display()
     );
