@@ -868,6 +868,30 @@ fn cli_refuses_bad_layer_requests_with_exit_2() {
         None,
     ));
     assert!(e.contains("positive"), "{e}");
+    // A first height the skin cannot tell from the wall (the channel's walls, which end
+    // on the inlet and the outlet, and the cylinder): no thinning helps, so the bound is
+    // stated, exit 2; just above it the skin is built.
+    for curve in ["Walls", "Cylinder"] {
+        let e = cli::bad(&cli::smartmesh(
+            &["layer", &cyl, "--curves", curve, "--first-height", "1e-7", "--layers", "10"]
+                .iter()
+                .chain(&["--ratio", "1.2", "-o", &o])
+                .copied()
+                .collect::<Vec<_>>(),
+            None,
+        ));
+        assert!(e.contains("first height 1e-7 is too small") && e.contains("1e-5"), "{e}");
+        assert!(!e.contains("try fewer"), "{e}");
+    }
+    cli::ok(&cli::smartmesh(
+        &["layer", &cyl, "--curves", "Walls", "--first-height", "1e-6", "--layers", "10"]
+            .iter()
+            .chain(&["--ratio", "1.2", "-o", &o])
+            .copied()
+            .collect::<Vec<_>>(),
+        None,
+    ));
+    std::fs::remove_file(&o).unwrap();
     assert!(!std::path::Path::new(&o).exists(), "no half-written output");
     // y+ gives the first height: Re 5000, L 1, y+ 1 -> 2.9185e-3.
     let json = cli::ok(&cli::smartmesh(

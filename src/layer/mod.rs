@@ -60,6 +60,19 @@ pub enum LayerError {
         /// Where.
         at: [f64; 2],
     },
+    /// The first height is below what the skin can tell from its wall edge: no thinning
+    /// helps (it brings the fronts closer).
+    #[error("the first height {height:e} is too small for the wall edge of length {edge:.3e} near ({x:.6}, {y:.6}): a skin's first layer must be at least 1e-5 of the wall's edges (here {bound:.3e}); give a larger first height, or refine the wall", x = at[0], y = at[1])]
+    FirstHeightTooSmall {
+        /// Where (the middle of the wall edge).
+        at: [f64; 2],
+        /// The first height asked for.
+        height: f64,
+        /// The wall edge's length.
+        edge: f64,
+        /// The smallest first height that edge allows.
+        bound: f64,
+    },
     /// The result failed its own check (a bug; the message lists what failed).
     #[error("the mesh with its skin is not valid: {0}")]
     Invalid(String),
@@ -68,7 +81,10 @@ pub enum LayerError {
 impl LayerError {
     /// Whether the input or the options are at fault (exit 2) rather than the work.
     pub fn is_input_error(&self) -> bool {
-        matches!(self, LayerError::Bad(_) | LayerError::Growth(_))
+        matches!(
+            self,
+            LayerError::Bad(_) | LayerError::Growth(_) | LayerError::FirstHeightTooSmall { .. }
+        )
     }
 }
 

@@ -397,6 +397,7 @@ impl Skin {
     /// Sets the factors from the gaps in front of each column, then thins where the skin
     /// does not fit, until it does.
     fn fit(&mut self, inp: &SkinInput) -> Result<(), LayerError> {
+        self.check_first_heights()?;
         let pts = inp.pts;
         // Obstacles: every boundary edge and every line cell edge.
         let mut obstacles: Vec<[usize; 2]> = Vec::new();
@@ -475,6 +476,32 @@ impl Skin {
                 }
             }
             self.smooth_factors();
+        }
+        Ok(())
+    }
+
+    /// Refuses first heights that the skin's own crossing test cannot tell from the
+    /// wall: a strip's first front meets its wall edge in [`segments_meet`] when they are
+    /// within √EPS of the longer segment, and thinning only brings them closer, so such
+    /// a skin never fits. Fans (no wall edge) are exempt.
+    fn check_first_heights(&self) -> Result<(), LayerError> {
+        for g in &self.gaps {
+            let [a, b] = g.cols.map(|c| &self.columns[c]);
+            if a.base == b.base {
+                continue;
+            }
+            let len = norm(sub(self.pts[b.base], self.pts[a.base]));
+            let height = a.nominal[1].min(b.nominal[1]);
+            let bound = EPS.sqrt() * len;
+            if height < bound {
+                let (p, q) = (self.pts[a.base], self.pts[b.base]);
+                return Err(LayerError::FirstHeightTooSmall {
+                    at: [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])],
+                    height,
+                    edge: len,
+                    bound,
+                });
+            }
         }
         Ok(())
     }
