@@ -158,7 +158,8 @@ pub struct AdaptArgs {
     #[arg(long, value_name = "COMMAND", help_heading = "Solution")]
     solver: Option<String>,
     /// The vertex count asked of the solution's metric at iteration 0 (default: the
-    /// target, --complexity).
+    /// target, --complexity); with --error, the vertex count a .poly is first meshed to
+    /// (default 1000).
     #[arg(long, value_name = "N", value_parser = positive_size, help_heading = "Solution")]
     complexity_start: Option<f64>,
     /// The factor the vertex count asked grows by at each iteration, up to --complexity.
@@ -421,6 +422,11 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
     Ok(format)
 }
 
+/// The vertex count a `.poly` is meshed to before a solver's first solution when the
+/// goal is an error (`--error` without `--complexity-start`): enough for the Hessian's
+/// quadratic fits (five neighbours each) to resolve a smooth solution.
+const ERROR_START_VERTICES: f64 = 1000.0;
+
 /// Runs `adapt`.
 pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
@@ -432,8 +438,14 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let mut recipe = args.recipe.read_or_empty(args.solver.is_some(), "with --solver")?;
     args.controls.apply_to(&mut recipe)?;
     // A solver's first solution needs a mesh that resolves something: a .poly is meshed
-    // to about the schedule's first vertex count.
-    let first = args.solver.as_ref().and(args.complexity_start.or(args.solution.complexity));
+    // to about the schedule's first vertex count (with --error, which has no schedule,
+    // to --complexity-start or ERROR_START_VERTICES: a bare graph's few vertices leave
+    // no patch to recover a Hessian on).
+    let first = args.solver.as_ref().and(
+        args.complexity_start
+            .or(args.solution.complexity)
+            .or(args.solution.error.map(|_| ERROR_START_VERTICES)),
+    );
     let pairs: Vec<smartmesh::periodic::PeriodicPair> =
         recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
     let mut starting = start_sized(&args.input, args.from, first, &pairs)?;
