@@ -566,6 +566,29 @@ fn the_band_is_remeshed_to_a_given_metric() {
         &smartmesh::remesh::RemeshOptions::default(),
     )
     .unwrap();
+    // The field travels with the result (ParaView's glyph needs `size_tensor`): every
+    // array at every point, the sizes those of the metric, the metric the given one
+    // interpolated (near f below the front).
+    let m = &refined.mesh;
+    for name in ["metric", "size_tensor", "h1", "h2", "anisotropy", "axis1", "axis2"] {
+        let a = m.point_data.get(name).unwrap_or_else(|| panic!("{name} is lost"));
+        assert_eq!(a.values.len(), a.components * m.points.len(), "{name}");
+    }
+    let (h1, h2) = (&m.point_data["h1"].values, &m.point_data["h2"].values);
+    let mt = &m.point_data["metric"].values;
+    for (i, p) in m.points.iter().enumerate() {
+        let t = &mt[9 * i..9 * i + 9];
+        let det = t[0] * t[4] - t[1] * t[1];
+        let want = 1.0 / (h1[i] * h1[i] * h2[i] * h2[i]);
+        assert!((det - want).abs() <= 1e-6 * want, "{p:?}: det {det} against {want}");
+        if p[1] < 0.04 {
+            let (a, b) = (h1[i].max(h2[i]), h1[i].min(h2[i]));
+            assert!(
+                (a / 0.03 - 1.0).abs() < 0.1 && (b / 0.015 - 1.0).abs() < 0.1,
+                "{p:?}: {a} {b}"
+            );
+        }
+    }
     // Skin and kept mesh untouched, the whole valid (grid check and all-pairs twin).
     let kept = |l: &smartmesh::layer::Layered| {
         let mut c: Vec<(Vec<[u64; 2]>, i32)> = l

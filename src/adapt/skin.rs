@@ -14,7 +14,6 @@ use smartmesh_formats::{CellKind, TaggedMesh};
 use crate::history::LayerRecord;
 use crate::layer::{self, LayerError, LayerOptions, Layered};
 use crate::metric::{SizeTensor, Sym2};
-use crate::metric_field::{interpolate, MetricField};
 use crate::recipe::Recipe;
 use crate::remesh::RemeshOptions;
 use crate::sizing::{size_mesh, SizeMeshError};
@@ -42,29 +41,8 @@ pub fn skin(
     let sized = size_mesh(best, recipe, &mut |_| {})?;
     let metric: Vec<Sym2> = sized.field.tensors.iter().map(SizeTensor::to_metric).collect();
     let remesh = RemeshOptions { max_vertices: Some(max_vertices), ..Default::default() };
-    let mut l = layer::to_metric::band_to_metric(best, &metric, inserted, &remesh)?;
-    with_field(&mut l.mesh, best, &metric)?;
-    Ok(l)
-}
-
-/// Replaces the field arrays of `mesh` by `metric` (one tensor per point of `source`)
-/// interpolated at its points: the metric and the sizes written beside it, consistent
-/// with each other at every point.
-pub fn with_field(
-    mesh: &mut TaggedMesh,
-    source: &TaggedMesh,
-    metric: &[Sym2],
-) -> Result<(), LayerError> {
-    let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-    let at = interpolate::interpolate(source, metric, &pts)
-        .map_err(|e| LayerError::Bad(format!("the field on the skinned mesh: {e}")))?;
-    let sizes = at
-        .iter()
-        .map(SizeTensor::try_from_metric)
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| LayerError::Invalid(format!("the field on the skinned mesh: {e}")))?;
-    mesh.point_data.extend(MetricField::from_sizes(&sizes, "the recipe's field").arrays());
-    Ok(())
+    // The band remeshed, and the field carried to every point of the result.
+    Ok(layer::to_metric::band_to_metric(best, &metric, inserted, &remesh)?)
 }
 
 /// What the history records of the skin step: the layers and the mesh written.
