@@ -113,6 +113,28 @@ pub struct History {
     /// ([`History::mismatch`]). Empty when the mesh went to stdout.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub best_mesh: Vec<WrittenFile>,
+    /// The recipe's LAYER skin, inserted into the best mesh once the loop stopped: the
+    /// mesh written (and `best_mesh`) is then the skinned one, whose counts are here
+    /// (the best iteration's record keeps the loop's mesh). Absent without a skin.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<LayerRecord>,
+}
+
+/// The skin inserted into the best mesh, and the counts of the mesh written with it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LayerRecord {
+    /// Layers of quads.
+    pub layers: usize,
+    /// Columns of the skin.
+    pub columns: usize,
+    /// Columns thinned below their nominal thickness.
+    pub thinned_columns: usize,
+    /// Points of the mesh written.
+    pub vertices: usize,
+    /// Its triangles.
+    pub triangles: usize,
+    /// Its quads.
+    pub quads: usize,
 }
 
 /// One file as it was written: enough to recognise it.
@@ -164,6 +186,17 @@ impl History {
         })
     }
 
+    /// The vertices and triangles of the mesh written: the skinned mesh's when a skin was
+    /// inserted, else the best iteration's.
+    pub fn written_counts(&self) -> Option<(usize, usize)> {
+        if let Some(l) = &self.layer {
+            return Some((l.vertices, l.triangles));
+        }
+        let best =
+            self.iterations.get(self.best_iteration.min(self.iterations.len().checked_sub(1)?))?;
+        Some((best.vertices, best.triangles))
+    }
+
     /// The history as pretty-printed JSON with a final newline.
     pub fn to_json(&self) -> String {
         let mut s = serde_json::to_string_pretty(self).expect("a History always serialises");
@@ -185,6 +218,7 @@ mod tests {
             converged: true,
             best_iteration: 1,
             stopped: "vertex count and conformity stable".into(),
+            layer: None,
             iterations: vec![IterationRecord {
                 iteration: 0,
                 vertices: 10,

@@ -877,3 +877,33 @@ fn a_recipe_asking_for_too_many_vertices_stops_before_remeshing() {
     let o = run_adapt(&out, &["--max-vertices", "100000", "--max-iterations", "1"], None);
     assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
 }
+
+/// `--to` names the format whatever the output's name: `-o result.dat --to msh` wrote by
+/// the extension (an unknown one: exit 1 after the loop) and `-o /dev/null --to msh`
+/// too; now the file is a Gmsh file, /dev/null takes it, and a device output without
+/// --history is refused before any work (its history has no place beside it).
+#[test]
+fn to_names_the_format_whatever_the_output_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let dat = dir.path().join("result.dat");
+    let o = run_adapt(&dat, &["--to", "msh", "--max-iterations", "1"], None);
+    assert!(o.status.success(), "{}", streams(&o));
+    let text = std::fs::read_to_string(&dat).unwrap();
+    assert!(text.starts_with("$MeshFormat"), "{}", &text[..text.len().min(80)]);
+    let h = History::from_json(
+        &std::fs::read_to_string(dir.path().join("result.history.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(h.mismatch(&dat), None);
+    let hist = dir.path().join("null.history.json");
+    let o = run_adapt(
+        Path::new("/dev/null"),
+        &["--to", "msh", "--max-iterations", "1", "--history", hist.to_str().unwrap()],
+        None,
+    );
+    assert!(o.status.success(), "{}", streams(&o));
+    assert!(hist.exists());
+    let o = run_adapt(Path::new("/dev/null"), &["--to", "msh"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
+    assert!(streams(&o).contains("--history"), "{}", streams(&o));
+}

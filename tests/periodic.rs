@@ -183,6 +183,15 @@ PERIODIC = (
         assert!(e.to_string().contains(says), "{keys}: {e}");
         assert!(e.line.is_some_and(|l| l == 2 || l == 3), "{keys}: {e}");
     }
+    // TOML and JSON refuse a third component too (TOML dropped it silently), at its line.
+    let toml = "[[periodic]]\nmaster = [14]\nslave = [12]\ntranslation = [0.0, 30.0, 5.0]\n";
+    let json = "{\"periodic\": [{\"master\": [14], \"slave\": [12],\n \"centre\": [0, 0, 1], \"angle\": 9}]}";
+    for (text, format, line) in [(toml, RecipeFormat::Toml, 4), (json, RecipeFormat::Json, 2)] {
+        let e = Recipe::from_str(text, format, Path::new("p")).unwrap_err();
+        assert!(e.to_string().contains("two numbers [x, y]"), "{text}: {e}");
+        assert!(e.to_string().contains("found 3 numbers"), "{text}: {e}");
+        assert_eq!(e.line, Some(line), "{text}: {e}");
+    }
 }
 
 /// `smartmesh adapt` on `mesh` with RECIPE and `periodic` (TOML), output `out.msh`.

@@ -268,3 +268,60 @@ fn extreme_metrics_are_refused_with_the_estimate_and_the_option() {
     ));
     assert!(err.contains("more than the limit of 100"), "{err}");
 }
+
+/// An allocation failure aborts: under `ulimit -v` (RLIMIT_AS) below what the metric's
+/// estimate needs (here about 2 million vertices, 1.1 GB, under a limit of 600 MB, well
+/// within --max-vertices), `remesh` refuses at once with exit 2, naming the estimate and
+/// the limit, and writes nothing; without the limit the estimate alone is no refusal.
+#[test]
+fn a_memory_limit_below_the_estimate_is_refused_naming_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut m = read_path(&field(dir.path()), None).unwrap();
+    let sym = |v: &[f64]| -> Vec<smartmesh::Sym2> {
+        v.chunks(9).map(|t| smartmesh::Sym2 { a: t[0], b: t[1], c: t[4] }).collect()
+    };
+    let e1 = smartmesh::remesh::expected_vertices(&m, &sym(&m.point_data["metric"].values));
+    // √det of k·M is k·√det M: the estimate scales with k.
+    let k = 2.0e6 / e1;
+    for v in m.point_data.get_mut("metric").unwrap().values.chunks_mut(9) {
+        for (i, x) in v.iter_mut().enumerate() {
+            if i != 8 {
+                *x *= k;
+            }
+        }
+    }
+    let e = smartmesh::remesh::expected_vertices(&m, &sym(&m.point_data["metric"].values));
+    assert!((1.5e6..2.5e6).contains(&e), "{e}");
+    let big = dir.path().join("big.vtu");
+    write_path(&big, &m, None, &WriteOptions::default()).unwrap();
+    let out = dir.path().join("x.vtu");
+    let started = std::time::Instant::now();
+    let o = Command::new("sh")
+        .args(["-c", "ulimit -v 600000 && exec \"$0\" \"$@\""])
+        .arg(env!("CARGO_BIN_EXE_smartmesh"))
+        .args(["remesh", big.to_str().unwrap(), "-o", out.to_str().unwrap(), "--threads", "1"])
+        .output()
+        .unwrap();
+    let err = bad(&o);
+    assert!(started.elapsed().as_secs_f64() < 60.0, "refused before any work");
+    assert!(err.contains("asks for about 2.") && err.contains("GB of memory"), "{err}");
+    assert!(err.contains("address-space limit (ulimit -v) of 614 MB"), "{err}");
+    assert!(!out.exists());
+}
+
+/// `--threads 100000` started 100 000 threads for over a minute before any work: refused
+/// at once, as is RAYON_NUM_THREADS above the cap.
+#[test]
+fn a_thread_count_past_the_cap_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.vtu");
+    let cyl = bundled("cylinder.msh");
+    let started = std::time::Instant::now();
+    let args = ["remesh", &cyl, "-o", out.to_str().unwrap(), "--threads", "100000"];
+    let err = bad(&smartmesh(&args, None));
+    assert!(err.contains("--threads 100000: at most 1024"), "{err}");
+    let err = bad(&smartmesh(&args[..4], Some("100000")));
+    assert!(err.contains("RAYON_NUM_THREADS=100000: at most 1024"), "{err}");
+    assert!(started.elapsed().as_secs_f64() < 20.0, "{:?}", started.elapsed());
+    assert!(!out.exists());
+}

@@ -414,6 +414,7 @@ fn history_is_drawn_with_its_best_iteration() {
         stopped: "stable".into(),
         iterations: vec![rec(0, 121, 0.3), rec(1, 400, 0.7), rec(2, 450, 0.9), rec(3, 452, 0.89)],
         best_mesh: Vec::new(),
+        layer: None,
     };
     let hp = dir.path().join("history.json");
     std::fs::write(&hp, h.to_json()).unwrap();
@@ -646,6 +647,7 @@ fn history_ending_on_its_best(dir: &Path) -> PathBuf {
             rec(3, 5467, 0.996),
         ],
         best_mesh: Vec::new(),
+        layer: None,
     };
     let p = dir.join("history.json");
     std::fs::write(&p, h.to_json()).unwrap();

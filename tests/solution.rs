@@ -752,3 +752,38 @@ fn the_poisson_example_finds_the_layer_the_recipe_does_not_know() {
     let (near, far) = (near.0 / near.1 as f64, far.0 / far.1 as f64);
     assert!(near < 0.25 * far, "shortest edges: {near} across the layer, {far} away from it");
 }
+
+/// `--error` from a bare `.poly` met its first solution on the graph's 4 vertices, where
+/// no quadratic fits: the graph is now meshed to --complexity-start or 1000 vertices
+/// first, as --complexity does with its schedule's first count.
+#[test]
+fn an_error_goal_from_a_bare_graph_meshes_it_to_a_start_count_first() {
+    let Some(py) = common::python_with(&["skfem", "meshio"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/solution-poisson");
+    let out = dir.path().join("adapted.vtu");
+    let solver = format!("{py} {} {{mesh}} {{solution}}", example.join("solve.py").display());
+    let recipe = example.join("recipe.toml");
+    ok(&smartmesh(
+        &[
+            "adapt",
+            example.join("geometry.poly").to_str().unwrap(),
+            "-r",
+            recipe.to_str().unwrap(),
+            "--solver",
+            &solver,
+            "--field",
+            "u",
+            "--error",
+            "0.01",
+            "--max-iterations",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let h = history(dir.path());
+    let first = h["iterations"][0]["vertices"].as_u64().unwrap();
+    assert!((500..2000).contains(&first), "{first} vertices at iteration 0");
+}

@@ -368,6 +368,25 @@ fn bad_parameters_exit_2_and_write_nothing() {
     let out = d.path().join("out");
     let cases: &[(&[&str], &str)] = &[
         (&["--thickness", "0"], "thickness 0"),
+        // Surfaces 1e-300 apart: `mesh` cannot tell them apart.
+        (&["--thickness", "1e-300"], "expected 0.0001 <= t <= 0.5"),
+        // Caps are checked on counts, before anything is built: 10^9 combinations, and
+        // 1000 members of 300 048 vertices each.
+        (
+            &[
+                "--thickness",
+                "0.01:0.5:1000",
+                "--camber",
+                "0.01:0.2:1000",
+                "--camber-position",
+                "0.1:0.9:1000",
+            ],
+            "1000000000 members: at most 100000",
+        ),
+        (
+            &["--thickness", "0.01:0.5:1000", "--per-side", "100000", "--far-points", "100000"],
+            "300000000 vertices, at most 20000000",
+        ),
         (&["--thickness", "0.1:0.2:0"], "no value"),
         (&["--thickness", "abc"], "not a number"),
         (&["--camber", "0.02", "--camber-position", "1"], "camber position"),
@@ -382,10 +401,24 @@ fn bad_parameters_exit_2_and_write_nothing() {
     for (extra, want) in cases {
         let mut a = vec!["variants", "naca", "-r", s(&recipe), "-o", s(&out)];
         a.extend_from_slice(extra);
+        let start = std::time::Instant::now();
         let e = bad(&smartmesh(&a, None));
         assert!(e.contains(want), "{extra:?}: {e}");
         assert!(!out.exists(), "{extra:?}: wrote something");
+        assert!(start.elapsed().as_secs() < 20, "{extra:?}: {:?}", start.elapsed());
     }
+    // The largest layout of one member is checked (its crossings by a sweep) in moments.
+    let big = d.path().join("big");
+    let start = std::time::Instant::now();
+    ok(&smartmesh(
+        &["variants", "naca", "--per-side", "100000", "--far-points", "100000"]
+            .iter()
+            .chain(&["-r", s(&recipe), "-o", s(&big)])
+            .copied()
+            .collect::<Vec<_>>(),
+        None,
+    ));
+    assert!(start.elapsed().as_secs() < 60, "{:?}", start.elapsed());
     // Legal but sharp: strong camber near the nose turns the boundary by more than
     // `mesh`'s corner angle between two stations, which is said.
     let sharp = d.path().join("sharp");

@@ -26,6 +26,8 @@ pub struct ResultFiles {
     pub mesh: PathBuf,
     /// The history file.
     pub history: PathBuf,
+    /// The mesh's format (`--to`); `None`: chosen by the mesh's extension.
+    pub format: Option<Format>,
     /// Options of the mesh writer.
     pub options: WriteOptions,
     /// What the mesh format could not hold, once per message.
@@ -41,10 +43,19 @@ impl ResultFiles {
         ResultFiles {
             mesh: mesh.to_path_buf(),
             history: history.map_or_else(|| default_history_path(mesh), Path::to_path_buf),
+            format: None,
             options,
             dropped: Vec::new(),
             written: Vec::new(),
         }
+    }
+}
+
+impl ResultFiles {
+    /// The same, the mesh written in `format` whatever its extension (`--to`).
+    pub fn with_format(mut self, format: Format) -> ResultFiles {
+        self.format = Some(format);
+        self
     }
 }
 
@@ -64,9 +75,10 @@ impl Observer for ResultFiles {
     ) -> Result<(), smartmesh_formats::Error> {
         let mut targets = Vec::new();
         if let Some(mesh) = new_best {
-            let format = Format::from_path(&self.mesh).ok_or_else(|| {
-                Error::new(ErrorKind::UnknownFormat(self.mesh.display().to_string()))
-            })?;
+            let format =
+                self.format.or_else(|| Format::from_path(&self.mesh)).ok_or_else(|| {
+                    Error::new(ErrorKind::UnknownFormat(self.mesh.display().to_string()))
+                })?;
             let mut options = self.options.clone();
             options.main_name = self.mesh.file_name().and_then(|n| n.to_str()).map(str::to_owned);
             let written =

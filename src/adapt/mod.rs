@@ -37,6 +37,7 @@
 
 pub mod files;
 pub mod rules;
+pub mod skin;
 pub mod solver;
 pub mod start;
 
@@ -347,6 +348,7 @@ pub fn run_with_solver(
         stopped: "running".to_string(),
         iterations: vec![first.record.clone()],
         best_mesh: Vec::new(),
+        layer: None,
     };
     observer.record(&history, Some(&first.mesh))?;
     let mut warnings = Vec::new();

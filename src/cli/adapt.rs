@@ -163,7 +163,8 @@ pub struct AdaptArgs {
     #[arg(long, value_name = "COMMAND", help_heading = "Solution")]
     solver: Option<String>,
     /// The vertex count asked of the solution's metric at iteration 0 (default: the
-    /// target, --complexity).
+    /// target, --complexity); with --error, the vertex count a .poly is first meshed to
+    /// (default 1000).
     #[arg(long, value_name = "N", value_parser = positive_size, help_heading = "Solution")]
     complexity_start: Option<f64>,
     /// The factor the vertex count asked grows by at each iteration, up to --complexity.
@@ -422,6 +423,15 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
             ));
         }
     }
+    // A device or a pipe (`-o /dev/null`) is written in place; the history's default
+    // place beside it would be a file in /dev.
+    let special = std::fs::metadata(&args.output).is_ok_and(|m| !m.is_file() && !m.is_dir());
+    if !is_stdio(&args.output) && special && args.history.is_none() {
+        return Err(CliError::usage(format!(
+            "{} is not a regular file: the history has no place beside it; name one with --history FILE",
+            args.output.display()
+        )));
+    }
     let format = args.output_format.mesh_format(&args.output)?;
     check_output_dir(&args.output)?;
     if let Some(h) = &args.history {
@@ -429,6 +439,11 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
     }
     Ok(format)
 }
+
+/// The vertex count a `.poly` is meshed to before a solver's first solution when the
+/// goal is an error (`--error` without `--complexity-start`): enough for the Hessian's
+/// quadratic fits (five neighbours each) to resolve a smooth solution.
+const ERROR_START_VERTICES: f64 = 1000.0;
 
 /// Runs `adapt`.
 pub fn run(args: AdaptArgs) -> Result<(), CliError> {
@@ -441,8 +456,14 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     let mut recipe = args.recipe.read_or_empty(args.solver.is_some(), "with --solver")?;
     args.controls.apply_to(&mut recipe)?;
     // A solver's first solution needs a mesh that resolves something: a .poly is meshed
-    // to about the schedule's first vertex count.
-    let first = args.solver.as_ref().and(args.complexity_start.or(args.solution.complexity));
+    // to about the schedule's first vertex count (with --error, which has no schedule,
+    // to --complexity-start or ERROR_START_VERTICES: a bare graph's few vertices leave
+    // no patch to recover a Hessian on).
+    let first = args.solver.as_ref().and(
+        args.complexity_start
+            .or(args.solution.complexity)
+            .or(args.solution.error.map(|_| ERROR_START_VERTICES)),
+    );
     let pairs: Vec<smartmesh::periodic::PeriodicPair> =
         recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
     let mut starting = start_sized(&args.input, args.from, first, &pairs)?;
@@ -453,6 +474,12 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     if args.split_quads {
         let n = starting.mesh.split_quads();
         ui::note(&format!("split {n} quads of the starting mesh into {} triangles", 2 * n));
+    }
+    if !args.split_quads && args.adapter == AdapterArg::Native {
+        // Refused before any work: the loop would fail at its first remeshing and
+        // write the input back as its "best" mesh.
+        smartmesh::remesh::check_quads(&starting.mesh)
+            .map_err(|e| CliError::usage(format!("{}: {e}", args.input.display())))?;
     }
     let solver = solver_loop(&args, &starting.mesh, &recipe)?;
     // The input is checked whole before any tool is looked for: a recipe that names tags
@@ -524,7 +551,8 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
             mesh_file,
             args.history.as_deref(),
             args.output_format.write_options(&args.output),
-        ),
+        )
+        .with_format(format),
         to_stdout,
         bar: ui::progress_bar(opts.max_iterations as u64, "{bar:30} {pos}/{len} {msg} [{elapsed}]"),
         adapter: remesher.name().to_string(),
@@ -563,19 +591,8 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     // The Layer step, on the best mesh, once the loop has stopped of itself.
     let skinned = match &layer {
         Some(o) if outcome.failure.is_none() && h.stopped != smartmesh::adapt::INTERRUPTED => {
-            let l = smartmesh::layer::insert(&outcome.best, o)
-                .map_err(|e| CliError::context(format!("LAYER: {e}"), e))?;
-            // The band is remeshed to the recipe's field on the best mesh, as the loop's
-            // triangles were.
-            let sized = smartmesh::sizing::size_mesh(&outcome.best, &recipe, &mut |_| {})
-                .map_err(|e| CliError::context(format!("LAYER: sizing the best mesh: {e}"), e))?;
-            let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
-            let remesh = smartmesh::remesh::RemeshOptions {
-                max_vertices: Some(args.max_vertices),
-                ..Default::default()
-            };
-            let l = smartmesh::layer::to_metric::band_to_metric(&outcome.best, &metric, l, &remesh)
-                .map_err(|e| CliError::context(format!("LAYER: {e}"), e))?;
+            let l = smartmesh::adapt::skin::skin(&outcome.best, &recipe, o, args.max_vertices)
+                .map_err(|e| CliError::context(e.to_string(), e))?;
             if !l.report.thinned.is_empty() {
                 ui::warn(&format!(
                     "LAYER: thinned {} of {} columns (smartmesh info shows the layers)",
@@ -587,13 +604,13 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
                 "LAYER: {} layers, {} quads, {} skin triangles inserted",
                 l.report.layers, l.report.quads, l.report.skin_triangles
             ));
-            let mut m = l.mesh;
-            smartmesh::planar::place(&mut m, plane_z);
-            Some(m)
+            let mut l = l;
+            smartmesh::planar::place(&mut l.mesh, plane_z);
+            Some(l)
         }
         _ => None,
     };
-    let result_mesh = skinned.as_ref().unwrap_or(&outcome.best);
+    let result_mesh = skinned.as_ref().map_or(&outcome.best, |l| &l.mesh);
     let after = smartmesh::periodic::check_all(result_mesh, &pairs)
         .map_err(|e| CliError::context(format!("{e} (result of the loop)"), e))?;
     for (b, a) in before.iter().zip(&after) {
@@ -606,11 +623,24 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         }
         ui::note(&a.to_string());
     }
+    // The skinned mesh and the history that describes it (its size, CRC and counts) are
+    // written as one set, as every new best mesh of the loop was.
+    let mut described;
+    let h = match &skinned {
+        Some(l) => {
+            described = outcome.history.clone();
+            described.layer = Some(smartmesh::adapt::skin::record(l));
+            let mesh = (!to_stdout).then_some(&l.mesh);
+            progress.files.record(&described, mesh).map_err(|e| {
+                CliError::context(format!("writing the skinned mesh and its history: {e}"), e)
+            })?;
+            dropped = progress.files.dropped.clone();
+            &described
+        }
+        None => h,
+    };
     if to_stdout {
-        let m = skinned.as_ref().unwrap_or(&outcome.best);
-        dropped = args.output_format.write(&args.output, m, format)?.dropped;
-    } else if let Some(m) = &skinned {
-        dropped = args.output_format.write(&args.output, m, format)?.dropped;
+        dropped = args.output_format.write(&args.output, result_mesh, format)?.dropped;
     } else {
         ui::write_notes(&args.output.display().to_string(), &dropped);
     }
@@ -626,10 +656,11 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         print_stdout(&text)?;
     }
     let kept = format!(
-        "{} holds the best mesh, iteration {} ({} vertices, {:.1}% of edges conforming); history in {}",
+        "{} holds the best mesh, iteration {}{} ({} vertices, {:.1}% of edges conforming); history in {}",
         if to_stdout { "stdout".into() } else { args.output.display().to_string() },
         h.best_iteration,
-        best.vertices,
+        if h.layer.is_some() { " with its LAYER skin" } else { "" },
+        h.written_counts().map_or(best.vertices, |c| c.0),
         100.0 * best.conforming_share,
         progress.files.history.display()
     );

@@ -537,8 +537,9 @@ fn run_one(
         status,
         converged: history.as_ref().is_some_and(|h| h.converged),
         iterations: history.as_ref().map_or(0, |h| h.iterations.len().saturating_sub(1)),
-        vertices: best.map(|b| b.vertices),
-        triangles: best.map(|b| b.triangles),
+        // The mesh written: with a LAYER skin, the skinned mesh's counts.
+        vertices: history.as_ref().and_then(History::written_counts).map(|c| c.0),
+        triangles: history.as_ref().and_then(History::written_counts).map(|c| c.1),
         conformity: best.map(|b| b.conforming_share),
         mean_quality: best.map(|b| b.mean_quality),
         min_quality: best.map(|b| b.min_quality),

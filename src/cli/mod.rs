@@ -110,10 +110,29 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// Most threads a run starts: starting a thread costs its stack and a few tens of
+/// microseconds, and 100 000 of them took over a minute before any work; the largest
+/// nodes have a few hundred cores.
+pub const MAX_THREADS: usize = 1024;
+
 /// Sets the thread count of the whole run (`--threads`; 0: rayon's default, every core
-/// unless `RAYON_NUM_THREADS` says otherwise). Outputs do not depend on it.
+/// unless `RAYON_NUM_THREADS` says otherwise), at most [`MAX_THREADS`], checked before
+/// any thread starts. Outputs do not depend on it.
 pub fn set_threads(threads: usize) -> Result<(), CliError> {
+    if threads > MAX_THREADS {
+        return Err(CliError::usage(format!(
+            "--threads {threads}: at most {MAX_THREADS} (0: one per core)"
+        )));
+    }
     if threads == 0 {
+        let env = std::env::var("RAYON_NUM_THREADS").ok();
+        if let Some(n) = env.as_deref().and_then(|v| v.trim().parse::<usize>().ok()) {
+            if n > MAX_THREADS {
+                return Err(CliError::usage(format!(
+                    "RAYON_NUM_THREADS={n}: at most {MAX_THREADS} threads (0: one per core)"
+                )));
+            }
+        }
         return Ok(());
     }
     rayon::ThreadPoolBuilder::new()

@@ -144,6 +144,8 @@ fn stats_json(stats: &smartmesh::remesh::RemeshStats) -> Result<serde_json::Valu
 /// Runs `remesh`.
 pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
+    // Checked before any input is read (a bad count is usage, whatever the input).
+    super::set_threads(args.threads)?;
     let to = match &args.output {
         Some(o) if !args.measure => {
             if is_stdio(o) && args.json {
@@ -243,7 +245,6 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         measure: args.json,
         ..RemeshOptions::default()
     };
-    super::set_threads(args.threads)?;
     let bar =
         ui::progress_bar(opts.max_passes as u64, "{bar:30} pass {pos}/{len} {msg} [{elapsed}]");
     let mut observe = |e: RemeshEvent| {

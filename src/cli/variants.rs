@@ -11,7 +11,9 @@ use std::time::Instant;
 use clap::{Args, Subcommand};
 use serde_json::{Map, Value};
 use smartmesh::batch::manifest;
-use smartmesh::variants::naca::{family, Layout, TrailingEdge};
+use smartmesh::variants::naca::{
+    family, family_size, Layout, TrailingEdge, MAX_FAMILY_VERTICES, MAX_MEMBERS,
+};
 use smartmesh::variants::{distributor, parse_values, Pslg};
 
 use super::{ui, CliError};
@@ -144,20 +146,30 @@ fn naca_members(a: &NacaArgs) -> Result<Vec<(String, Pslg)>, CliError> {
         TrailingEdgeArg::Extended => TrailingEdge::Extended,
         TrailingEdgeArg::Closed => TrailingEdge::Closed,
     };
-    let members = family(
-        &values("thickness", &a.thickness)?,
-        &values("camber", &a.camber)?,
-        &values("camber-position", &a.camber_position)?,
-        trailing_edge,
+    let (t, m, p) = (
+        values("thickness", &a.thickness)?,
+        values("camber", &a.camber)?,
+        values("camber-position", &a.camber_position)?,
     );
-    if members.len() > 100_000 {
+    // Every cap is checked on counts, before a member is built.
+    let count = family_size(&t, &m, &p);
+    if count > MAX_MEMBERS {
         return Err(CliError::usage(format!(
-            "{} members: at most 100000 in one family",
-            members.len()
+            "{count} members: at most {MAX_MEMBERS} in one family"
         )));
     }
     let layout =
         Layout { per_side: a.per_side, far_radius: a.far_radius, far_points: a.far_points };
+    layout.check().map_err(CliError::usage)?;
+    let vertices = (count as u64).saturating_mul(layout.vertices());
+    if vertices > MAX_FAMILY_VERTICES {
+        return Err(CliError::usage(format!(
+            "{count} members of {} vertices each: {vertices} vertices, at most \
+             {MAX_FAMILY_VERTICES} in one family (fewer members, --per-side or --far-points)",
+            layout.vertices()
+        )));
+    }
+    let members = family(&t, &m, &p, trailing_edge);
     members
         .iter()
         .map(|m| {

@@ -125,6 +125,15 @@ impl BoxTree {
 }
 
 impl BoxTree {
+    /// The boxes of each leaf, in increasing order. Two boxes that meet are both filed
+    /// in a leaf holding a point they share (every leaf whose closed region holds it).
+    pub(crate) fn leaves(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        self.nodes
+            .iter()
+            .filter(|n| n.child == 0)
+            .map(|n| &self.items[n.start as usize..n.end as usize])
+    }
+
     /// Every box that meets the closed box `[lo, hi]` (and others near it), each once, in
     /// increasing order: the boxes of every leaf whose closed region meets it. A box
     /// meeting the query shares a point with it; that point lies in a leaf the box is

@@ -5,7 +5,8 @@
 //! the area of the domain the caller knows).
 //!
 //! Overlaps and hanging vertices are found through a quadtree of the cells' and edges'
-//! boxes ([`crate::geometry::box_tree`]), whose leaves follow the grading: an airfoil's
+//! boxes ([`super::pairs`], which sweeps each leaf across its items so that a skin's
+//! stacked, slanted cells are not all tested against each other), whose leaves follow the grading: an airfoil's
 //! cells 50 chords inside a far field do not share a few buckets, as they did in a uniform
 //! grid (10 s on the GAMM A7 example's 20 000 cells). A pair of cells is tested only when
 //! their boxes meet, which overlapping cells' boxes must (overlap means a penetration of
@@ -18,7 +19,7 @@
 use smartmesh_formats::{CellKind, TaggedMesh};
 
 use super::geom::{convex_overlap, norm, orient, segment_distance, sub, Bbox, P};
-use crate::geometry::box_tree::BoxTree;
+use super::pairs::near_pairs;
 
 /// What [`check_mesh`] found. Lists hold at most [`Validity::LIMIT`] items each.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
@@ -202,51 +203,43 @@ pub fn check_cells(pts: &[P], cells: &[Vec<usize>]) -> Validity {
     let edges = edge_checks(cells, &mut v);
     let polys: Vec<Vec<P>> = cells.iter().map(|c| corners(pts, c)).collect();
     let positive: Vec<bool> = polys.iter().map(|p| positive_corners(p)).collect();
-    let boxes: Vec<Bbox> = polys.iter().map(|p| Bbox::of(p)).collect();
-    let pairs =
-        |b: &[Bbox]| -> Vec<([f64; 2], [f64; 2])> { b.iter().map(|b| (b.lo, b.hi)).collect() };
-    let mut near = Vec::new();
-    if !boxes.is_empty() {
-        let tree = BoxTree::new(&pairs(&boxes));
-        for i in (0..cells.len()).filter(|&i| positive[i]) {
-            if v.overlaps.len() >= Validity::LIMIT {
-                break;
-            }
-            tree.query(boxes[i].lo, boxes[i].hi, &mut near);
-            for &j in near.iter().filter(|&&j| j as usize > i) {
-                let j = j as usize;
-                if positive[j]
-                    && overlap_of(&polys[i], &polys[j])
-                    && v.overlaps.len() < Validity::LIMIT
-                {
-                    v.overlaps.push((i, j));
-                }
-            }
+    // Candidate pairs in (i, j) order, so that the first LIMIT found are the twin's.
+    let items: Vec<(&[P], f64)> = polys.iter().map(|p| (&p[..], 0.0)).collect();
+    for (i, j) in near_pairs(&items) {
+        if v.overlaps.len() >= Validity::LIMIT {
+            break;
+        }
+        let (i, j) = (i as usize, j as usize);
+        if positive[i] && positive[j] && overlap_of(&polys[i], &polys[j]) {
+            v.overlaps.push((i, j));
         }
     }
-    // A hanging vertex is within 1e-9 of the edge's length of it: inside its box grown by
-    // twice that.
-    let eboxes: Vec<Bbox> = edges
+    // A hanging vertex is within 1e-9 of the edge's length of it: inside its hull grown
+    // by twice that. Items: the edges, then the vertices used.
+    let mut used: Vec<usize> = cells.iter().flatten().copied().collect();
+    used.sort_unstable();
+    used.dedup();
+    let ends: Vec<[P; 2]> = edges.iter().map(|e| [pts[e[0]], pts[e[1]]]).collect();
+    let spots: Vec<[P; 1]> = used.iter().map(|&p| [pts[p]]).collect();
+    let items: Vec<(&[P], f64)> = ends
         .iter()
-        .map(|e| {
-            let b = Bbox::of(&[pts[e[0]], pts[e[1]]]);
-            b.grown(2e-9 * norm(sub(pts[e[1]], pts[e[0]])))
-        })
+        .map(|e| (&e[..], 2e-9 * norm(sub(e[1], e[0]))))
+        .chain(spots.iter().map(|s| (&s[..], 0.0)))
         .collect();
-    if !eboxes.is_empty() {
-        let tree = BoxTree::new(&pairs(&eboxes));
-        let mut used: Vec<usize> = cells.iter().flatten().copied().collect();
-        used.sort_unstable();
-        used.dedup();
-        for &p in &used {
-            if v.hanging.len() >= Validity::LIMIT {
-                break;
-            }
-            if tree.candidates(pts[p]).iter().any(|&e| hangs(pts, p, edges[e as usize])) {
-                v.hanging.push(p);
-            }
+    let mut hanging = vec![false; used.len()];
+    for (e, p) in near_pairs(&items) {
+        let (e, p) = (e as usize, p as usize);
+        if e < ends.len() && p >= ends.len() && hangs(pts, used[p - ends.len()], edges[e]) {
+            hanging[p - ends.len()] = true;
         }
     }
+    v.hanging = used
+        .iter()
+        .zip(&hanging)
+        .filter(|(_, &h)| h)
+        .map(|(&p, _)| p)
+        .take(Validity::LIMIT)
+        .collect();
     v
 }
 

@@ -14,6 +14,9 @@
 //!   remesher with the skin and the kept mesh frozen;
 //! - [`check`]: validity of any mixed mesh (positive cells, no overlap, no hanging
 //!   vertex), used by the tests, by [`insert`] on its own result, and by `info`;
+//! - `pairs`: the pairs of segments or cells that may meet, for `skin`'s crossing test
+//!   and [`check`], swept across each stack of slanted cells (near-linear in the layer
+//!   count where boxes alone made it quadratic);
 //! - [`stats`]: the quality of a skin as built (per-layer heights and ratios, scaled
 //!   Jacobians, skewness, aspect ratios).
 //!
@@ -28,6 +31,7 @@ mod band;
 pub mod check;
 mod geom;
 pub mod growth;
+mod pairs;
 mod skin;
 pub mod stats;
 pub mod to_metric;
@@ -60,6 +64,19 @@ pub enum LayerError {
         /// Where.
         at: [f64; 2],
     },
+    /// The first height is below what the skin can tell from its wall edge: no thinning
+    /// helps (it brings the fronts closer).
+    #[error("the first height {height:e} is too small for the wall edge of length {edge:.3e} near ({x:.6}, {y:.6}): a skin's first layer must be at least 1e-5 of the wall's edges (here {bound:.3e}); give a larger first height, or refine the wall", x = at[0], y = at[1])]
+    FirstHeightTooSmall {
+        /// Where (the middle of the wall edge).
+        at: [f64; 2],
+        /// The first height asked for.
+        height: f64,
+        /// The wall edge's length.
+        edge: f64,
+        /// The smallest first height that edge allows.
+        bound: f64,
+    },
     /// The result failed its own check (a bug; the message lists what failed).
     #[error("the mesh with its skin is not valid: {0}")]
     Invalid(String),
@@ -68,7 +85,10 @@ pub enum LayerError {
 impl LayerError {
     /// Whether the input or the options are at fault (exit 2) rather than the work.
     pub fn is_input_error(&self) -> bool {
-        matches!(self, LayerError::Bad(_) | LayerError::Growth(_))
+        matches!(
+            self,
+            LayerError::Bad(_) | LayerError::Growth(_) | LayerError::FirstHeightTooSmall { .. }
+        )
     }
 }
 
@@ -466,4 +486,60 @@ fn assemble(
     };
     let _ = cell_tag;
     (out, in_band, report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesher::{triangulate, MeshOptions};
+
+    /// A triangle mesh of the polygon `pts` with segment tags `tags`.
+    fn mesh_of(pts: &[[f64; 2]], tags: &[i32], size: f64) -> TaggedMesh {
+        let mut m = TaggedMesh::new();
+        m.points = pts.iter().map(|p| [p[0], p[1], 0.0]).collect();
+        let b = m.block_mut(CellKind::Line);
+        for (i, &t) in tags.iter().enumerate() {
+            b.push(&[i as u32, ((i + 1) % pts.len()) as u32], t, t);
+        }
+        triangulate(&m, &MeshOptions { size: Some(size), ..Default::default() }).unwrap()
+    }
+
+    fn opts(curves: &[&str], g: Growth) -> LayerOptions {
+        LayerOptions {
+            curves: curves
+                .iter()
+                .map(|c| CurveLayers { curve: c.to_string(), growth: g })
+                .collect(),
+            ..Default::default()
+        }
+    }
+
+    /// Skins whose fitting finds bad strips (fronts colliding in a slot, fans at convex
+    /// corners, a slanted wall whose sides slide): every call of the crossing test is
+    /// checked against its all-pairs twin (under test, `bad_gaps` asserts they agree),
+    /// and the result against the all-pairs check of the mixed mesh.
+    #[test]
+    fn the_crossing_test_and_the_check_agree_with_their_all_pairs_twins() {
+        let slot =
+            mesh_of(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.05], [0.0, 0.05]], &[1, 2, 3, 4], 0.03);
+        let g = Growth::solve(Some(0.002), None, Some(5), Some(0.06)).unwrap();
+        let square = mesh_of(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], &[1, 1, 1, 1], 0.1);
+        let h = Growth::solve(Some(0.01), Some(1.2), Some(6), None).unwrap();
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let rot = |x: f64, y: f64| [c * x - s * y, s * x + c * y];
+        let slanted = mesh_of(
+            &[rot(0.0, 0.0), rot(1.0, 0.0), rot(1.0, 0.3), rot(0.0, 0.3)],
+            &[1, 2, 3, 4],
+            0.05,
+        );
+        let k = Growth::solve(Some(1e-4), Some(1.0), Some(40), None).unwrap();
+        for (m, o) in
+            [(&slot, opts(&["1", "3"], g)), (&square, opts(&["1"], h)), (&slanted, opts(&["1"], k))]
+        {
+            let out = insert(m, &o).unwrap();
+            let pts: Vec<[f64; 2]> = out.mesh.points.iter().map(|p| [p[0], p[1]]).collect();
+            let cells = check::surface_cells(&out.mesh);
+            assert_eq!(check::check_cells(&pts, &cells), check::check_cells_brute(&pts, &cells));
+        }
+    }
 }

@@ -397,6 +397,7 @@ impl Skin {
     /// Sets the factors from the gaps in front of each column, then thins where the skin
     /// does not fit, until it does.
     fn fit(&mut self, inp: &SkinInput) -> Result<(), LayerError> {
+        self.check_first_heights()?;
         let pts = inp.pts;
         // Obstacles: every boundary edge and every line cell edge.
         let mut obstacles: Vec<[usize; 2]> = Vec::new();
@@ -475,6 +476,32 @@ impl Skin {
                 }
             }
             self.smooth_factors();
+        }
+        Ok(())
+    }
+
+    /// Refuses first heights that the skin's own crossing test cannot tell from the
+    /// wall: a strip's first front meets its wall edge in [`segments_meet`] when they are
+    /// within √EPS of the longer segment, and thinning only brings them closer, so such
+    /// a skin never fits. Fans (no wall edge) are exempt.
+    fn check_first_heights(&self) -> Result<(), LayerError> {
+        for g in &self.gaps {
+            let [a, b] = g.cols.map(|c| &self.columns[c]);
+            if a.base == b.base {
+                continue;
+            }
+            let len = norm(sub(self.pts[b.base], self.pts[a.base]));
+            let height = a.nominal[1].min(b.nominal[1]);
+            let bound = EPS.sqrt() * len;
+            if height < bound {
+                let (p, q) = (self.pts[a.base], self.pts[b.base]);
+                return Err(LayerError::FirstHeightTooSmall {
+                    at: [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])],
+                    height,
+                    edge: len,
+                    bound,
+                });
+            }
         }
         Ok(())
     }
@@ -561,8 +588,19 @@ impl Skin {
     }
 
     /// Strips with a non-positive cell or an edge meeting another edge of the skin or of
-    /// the boundary.
+    /// the boundary. Under test, checked against its all-pairs twin on every skin small
+    /// enough.
     fn bad_gaps(&self, obstacles: &[[usize; 2]]) -> Vec<usize> {
+        let bad = self.bad_gaps_by(obstacles, false);
+        #[cfg(test)]
+        if self.columns.len() * self.layers < 4000 {
+            assert_eq!(bad, self.bad_gaps_by(obstacles, true), "the all-pairs twin disagrees");
+        }
+        bad
+    }
+
+    /// [`Skin::bad_gaps`], the pairs from [`super::pairs::near_pairs`] or, `brute`, all.
+    fn bad_gaps_by(&self, obstacles: &[[usize; 2]], brute: bool) -> Vec<usize> {
         let n = self.layers;
         let mut bad = std::collections::BTreeSet::new();
         for g in 0..self.gaps.len() {
@@ -596,34 +634,35 @@ impl Skin {
             segs.push((o, Vec::new()));
         }
         // Grown by the distance at which `segments_meet` calls two segments met (√EPS of
-        // the longer: each box by twice that of its own).
-        let boxes: Vec<Bbox> = segs
-            .iter()
-            .map(|(s, _)| {
-                let (p, q) = (self.pts[s[0]], self.pts[s[1]]);
-                Bbox::of(&[p, q]).grown(2.0 * EPS.sqrt() * norm(sub(q, p)))
-            })
-            .collect();
-        let grid = BoxIndex::new(&boxes);
-        for i in 0..first_obstacle {
+        // the longer: each by twice that of its own).
+        let ends: Vec<[P; 2]> =
+            segs.iter().map(|(s, _)| [self.pts[s[0]], self.pts[s[1]]]).collect();
+        let items: Vec<(&[P], f64)> =
+            ends.iter().map(|e| (&e[..], 2.0 * EPS.sqrt() * norm(sub(e[1], e[0])))).collect();
+        let candidates = if brute {
+            let n = items.len() as u32;
+            (0..n).flat_map(|i| (i + 1..n).map(move |j| (i, j))).collect()
+        } else {
+            super::pairs::near_pairs(&items)
+        };
+        for (i, j) in candidates {
+            let (i, j) = (i as usize, j as usize);
+            // Two obstacles are not the skin's business.
+            if i >= first_obstacle {
+                continue;
+            }
             let [a, b] = segs[i].0;
-            for j in grid.query(boxes[i]) {
-                let j = j as usize;
-                if j == i || (j < first_obstacle && j < i) {
-                    continue;
-                }
-                let [c, d] = segs[j].0;
-                if a == c || a == d || b == c || b == d {
-                    continue;
-                }
-                // A side lying on its boundary is not a crossing.
-                if j >= first_obstacle && self.on_side(a, b, c, d) {
-                    continue;
-                }
-                if segments_meet(self.pts[a], self.pts[b], self.pts[c], self.pts[d]) {
-                    bad.extend(segs[i].1.iter().copied());
-                    bad.extend(segs[j].1.iter().copied());
-                }
+            let [c, d] = segs[j].0;
+            if a == c || a == d || b == c || b == d {
+                continue;
+            }
+            // A side lying on its boundary is not a crossing.
+            if j >= first_obstacle && self.on_side(a, b, c, d) {
+                continue;
+            }
+            if segments_meet(self.pts[a], self.pts[b], self.pts[c], self.pts[d]) {
+                bad.extend(segs[i].1.iter().copied());
+                bad.extend(segs[j].1.iter().copied());
             }
         }
         bad.into_iter().collect()

@@ -4,7 +4,7 @@
 //! to conform to both, is remeshed by the native remesher to that metric, with the skin
 //! and the kept mesh frozen ([`crate::remesh::remesh_keeping`]). The metric at the
 //! skin's new points is interpolated (Log-Euclidean) in the input's triangles, where
-//! they lie.
+//! they lie, and so is the whole field the result carries ([`carry_field`]).
 //!
 //! Invariants: every cell outside the band (skin, kept triangles) comes back with the
 //! same vertices, coordinates and tags; the band's boundary edges are never split, so
@@ -14,8 +14,8 @@
 
 use super::{LayerError, Layered};
 use crate::formats::TaggedMesh;
-use crate::metric::Sym2;
-use crate::metric_field::interpolate;
+use crate::metric::{SizeTensor, Sym2};
+use crate::metric_field::{interpolate, MetricField};
 use crate::remesh::{remesh_keeping, RemeshOptions};
 use crate::topology::Topology;
 
@@ -29,6 +29,8 @@ pub fn band_to_metric(
     opts: &RemeshOptions,
 ) -> Result<Layered, LayerError> {
     if !layered.band.iter().any(|&b| b) {
+        let mut layered = layered;
+        carry_field(&mut layered.mesh, input, metric)?;
         return Ok(layered);
     }
     let pts: Vec<[f64; 2]> = layered.mesh.points.iter().map(|p| [p[0], p[1]]).collect();
@@ -76,5 +78,28 @@ pub fn band_to_metric(
         band_now, report.band_triangles
     ));
     report.band_triangles = band_now;
+    carry_field(&mut mesh, input, metric)?;
     Ok(Layered { mesh, band, report })
+}
+
+/// Sets the field arrays of `mesh` (`metric`, and the sizes written beside it:
+/// `size_tensor`, `h1`, `h2`, `anisotropy`, `axis1`, `axis2`) to `metric` (one tensor
+/// per point of `input`) interpolated (Log-Euclidean) at its points, so that the result
+/// carries the field as the input did, consistent at every point: the remesher keeps
+/// only `metric`, and the skin's new points had copies of their wall vertex's sizes.
+pub fn carry_field(
+    mesh: &mut TaggedMesh,
+    input: &TaggedMesh,
+    metric: &[Sym2],
+) -> Result<(), LayerError> {
+    let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
+    let at = interpolate::interpolate(input, metric, &pts)
+        .map_err(|e| LayerError::Bad(format!("the metric on the skinned mesh: {e}")))?;
+    let sizes = at
+        .iter()
+        .map(SizeTensor::try_from_metric)
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| LayerError::Invalid(format!("the metric on the skinned mesh: {e}")))?;
+    mesh.point_data.extend(MetricField::from_sizes(&sizes, "the metric").arrays());
+    Ok(())
 }

@@ -21,14 +21,30 @@ pub struct PeriodicSpec {
     /// The slave side's curves.
     pub slave: Vec<EntityRef>,
     /// A translation from master to slave.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "xy")]
     pub translation: Option<[f64; 2]>,
     /// The centre of a rotation from master to slave.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "xy")]
     pub centre: Option<[f64; 2]>,
     /// The rotation's angle, degrees, counter-clockwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub angle: Option<f64>,
+}
+
+/// A point or vector of the plane: exactly two numbers. A plain `[f64; 2]` lets TOML
+/// drop a third number silently (and JSON call it "trailing characters"): a 3D
+/// translation `[dx, dy, dz]` is refused, naming what was found.
+fn xy<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+    use serde::de::Error;
+    let v: Option<Vec<f64>> = Option::deserialize(d)?;
+    match v.as_deref() {
+        None => Ok(None),
+        Some(&[x, y]) => Ok(Some([x, y])),
+        Some(other) => Err(D::Error::custom(format!(
+            "expected two numbers [x, y] (the plane's), found {} numbers",
+            other.len()
+        ))),
+    }
 }
 
 fn label(e: &EntityRef) -> String {

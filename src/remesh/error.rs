@@ -40,11 +40,11 @@ pub enum RemeshError {
     NoTriangles,
     /// Every surface cell is kept: nothing to remesh.
     #[error(
-        "every surface cell of the mesh is kept (quads of a skin); no triangle is left to remesh"
+        "every surface cell of the mesh is a quad, or a triangle of a skin of quads, which the native remesher keeps frozen; no triangle is left to remesh: --split-quads splits each quad in two triangles and remeshes them all"
     )]
     AllKept,
     /// The input's quads and triangles do not form a valid mixed mesh.
-    #[error("the mesh's quads and triangles do not form a valid mesh: {0}")]
+    #[error("the mesh's quads and triangles do not form a valid mesh ({0}): the native remesher keeps quads frozen as a skin; --split-quads splits each quad in two triangles and remeshes them with the rest")]
     InvalidMixed(String),
     /// The result with its kept cells failed the mixed-mesh check (a bug).
     #[error("the remeshed mesh with its kept cells is not valid: {0}")]
@@ -81,6 +81,19 @@ pub enum RemeshError {
         /// The limit.
         limit: usize,
     },
+    /// The metric asks for more memory than the process may use (`ulimit -v`, a cgroup's
+    /// `memory.max`): refused before any work, as an allocation failure would abort.
+    #[error("the metric asks for about {} vertices, about {} of memory, more than {which} of {}; lower --max-vertices or the sizes' bounds (hmin), or raise the limit", super::estimate::format_count(*estimate), super::memory::format_bytes(*bytes), super::memory::format_bytes(*limit as f64))]
+    MemoryLimit {
+        /// Expected output vertices.
+        estimate: f64,
+        /// Their memory, bytes.
+        bytes: f64,
+        /// The limit, bytes.
+        limit: u64,
+        /// Which limit.
+        which: &'static str,
+    },
     /// The splits made more vertices than twice the limit (the estimate was wrong): the
     /// run stopped rather than grow without bound.
     #[error("remeshing passed {vertices} vertices, more than twice the limit of {limit} (the metric's complexity promised about {}); raise it with --max-vertices", super::estimate::format_count(*estimate))]
@@ -108,6 +121,11 @@ impl RemeshError {
     /// Whether the limit on the output's size refused the run (the input is valid, but
     /// asks for more than the user allowed).
     pub fn is_limit(&self) -> bool {
-        matches!(self, RemeshError::TooManyVertices { .. } | RemeshError::Grew { .. })
+        matches!(
+            self,
+            RemeshError::TooManyVertices { .. }
+                | RemeshError::MemoryLimit { .. }
+                | RemeshError::Grew { .. }
+        )
     }
 }

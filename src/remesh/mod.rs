@@ -47,6 +47,7 @@ mod build;
 mod collapse;
 mod error;
 pub mod estimate;
+pub mod memory;
 mod options;
 mod output;
 pub mod parallel;
@@ -290,6 +291,25 @@ pub fn skin_cells(mesh: &TaggedMesh) -> Vec<bool> {
         .collect()
 }
 
+/// Whether the native remesher can take `mesh` as it is: a mesh with quads must be a
+/// valid mixed mesh with triangles left to remesh (the quads, and the triangles of a
+/// skin, stay frozen). What [`remesh_keeping`] checks first, for a caller that must
+/// refuse before any work (`adapt`, which would otherwise fail at its first remeshing).
+pub fn check_quads(mesh: &TaggedMesh) -> Result<(), RemeshError> {
+    if !mesh.cells().any(|c| c.0 == crate::formats::CellKind::Quad) {
+        return Ok(());
+    }
+    let keep = skin_cells(mesh);
+    if keep.iter().all(|&k| k) {
+        return Err(RemeshError::AllKept);
+    }
+    let v = crate::layer::check::check_mesh(mesh);
+    if !v.is_valid() {
+        return Err(RemeshError::InvalidMixed(v.problems().join("; ")));
+    }
+    Ok(())
+}
+
 /// [`remesh_with_topology`] keeping the surface cells that `keep` flags (in
 /// [`TaggedMesh::cells`] order) as they are: their vertices neither move nor go, their
 /// edges are constraints that are never split, and they are written back unchanged
@@ -323,6 +343,9 @@ pub fn remesh_keeping(
         if estimate::exceeds(estimate, limit) {
             return Err(RemeshError::TooManyVertices { estimate, limit });
         }
+    }
+    if estimate.is_finite() {
+        memory::check(estimate)?;
     }
     // Past this many vertices the splits stop: twice the limit, and never near the end
     // of the 32-bit indices.

@@ -101,6 +101,7 @@ pub fn remesh_partitioned(
             return Err(RemeshError::TooManyVertices { estimate, limit });
         }
     }
+    super::memory::check(estimate)?;
     if partition::neighbours(&flat.tris).is_none() {
         return Ok(None);
     }

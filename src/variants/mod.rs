@@ -240,9 +240,48 @@ impl Pslg {
 }
 
 /// The first pair of segments (indices, in order) that share a point other than a
-/// common end; all pairs, with the exact orientation predicate (the graphs here have a
-/// few hundred segments).
+/// common end, with the exact orientation predicate. A sweep along x tests only the pairs
+/// whose closed boxes meet (two segments sharing a point have boxes sharing it), so a
+/// graph of 200 000 segments is checked in a moment; the lowest pair of all those found
+/// is the one the all-pairs twin ([`first_crossing_brute`]) finds first.
 fn first_crossing(v: &[Point2], segments: &[(usize, usize, i64)]) -> Option<(usize, usize)> {
+    let bounds = |k: usize| {
+        let (p, q) = (v[segments[k].0], v[segments[k].1]);
+        ([p[0].min(q[0]), p[1].min(q[1])], [p[0].max(q[0]), p[1].max(q[1])])
+    };
+    let boxes: Vec<([f64; 2], [f64; 2])> = (0..segments.len()).map(bounds).collect();
+    let mut order: Vec<usize> = (0..segments.len()).collect();
+    order.sort_by(|&i, &j| boxes[i].0[0].total_cmp(&boxes[j].0[0]).then(i.cmp(&j)));
+    let mut active: Vec<usize> = Vec::new();
+    let mut first: Option<(usize, usize)> = None;
+    for &k in &order {
+        let (lo, hi) = boxes[k];
+        active.retain(|&a| boxes[a].1[0] >= lo[0]);
+        for &a in &active {
+            let (alo, ahi) = boxes[a];
+            if alo[1] > hi[1] || ahi[1] < lo[1] {
+                continue;
+            }
+            let pair = (a.min(k), a.max(k));
+            if first.map_or(true, |f| pair < f) && pair_meets(v, segments, pair.0, pair.1) {
+                first = Some(pair);
+            }
+        }
+        active.push(k);
+    }
+    first
+}
+
+/// The all-pairs twin of [`first_crossing`].
+#[cfg(test)]
+fn first_crossing_brute(v: &[Point2], segments: &[(usize, usize, i64)]) -> Option<(usize, usize)> {
+    (0..segments.len())
+        .flat_map(|i| (i + 1..segments.len()).map(move |j| (i, j)))
+        .find(|&(i, j)| pair_meets(v, segments, i, j))
+}
+
+/// Whether segments `i` and `j` share a point other than a common end.
+fn pair_meets(v: &[Point2], segments: &[(usize, usize, i64)], i: usize, j: usize) -> bool {
     let on_segment = |a: Point2, b: Point2, c: Point2| {
         orient(a, b, c) == 0.0
             && c[0] >= a[0].min(b[0])
@@ -250,41 +289,30 @@ fn first_crossing(v: &[Point2], segments: &[(usize, usize, i64)]) -> Option<(usi
             && c[1] >= a[1].min(b[1])
             && c[1] <= a[1].max(b[1])
     };
-    for (i, &(a, b, _)) in segments.iter().enumerate() {
-        for (j, &(c, d, _)) in segments.iter().enumerate().skip(i + 1) {
-            let shared = [a, b].iter().filter(|x| **x == c || **x == d).count();
-            let (p, q, r, s) = (v[a], v[b], v[c], v[d]);
-            if shared == 2 {
-                return Some((i, j));
-            }
-            if shared == 1 {
-                // Touching at the shared end is what a chain does; overlapping beyond it
-                // (collinear and folding back) is not.
-                let (far1, far2) = if a == c || a == d {
-                    (q, if a == c { s } else { r })
-                } else {
-                    (p, if b == c { s } else { r })
-                };
-                let common = if a == c || a == d { p } else { q };
-                if on_segment(common, far1, far2) || on_segment(common, far2, far1) {
-                    return Some((i, j));
-                }
-                continue;
-            }
-            let (o1, o2, o3, o4) =
-                (orient(p, q, r), orient(p, q, s), orient(r, s, p), orient(r, s, q));
-            let proper = o1 * o2 < 0.0 && o3 * o4 < 0.0;
-            if proper
-                || on_segment(p, q, r)
-                || on_segment(p, q, s)
-                || on_segment(r, s, p)
-                || on_segment(r, s, q)
-            {
-                return Some((i, j));
-            }
-        }
+    let ((a, b, _), (c, d, _)) = (segments[i], segments[j]);
+    let shared = [a, b].iter().filter(|x| **x == c || **x == d).count();
+    let (p, q, r, s) = (v[a], v[b], v[c], v[d]);
+    if shared == 2 {
+        return true;
     }
-    None
+    if shared == 1 {
+        // Touching at the shared end is what a chain does; overlapping beyond it
+        // (collinear and folding back) is not.
+        let (far1, far2) = if a == c || a == d {
+            (q, if a == c { s } else { r })
+        } else {
+            (p, if b == c { s } else { r })
+        };
+        let common = if a == c || a == d { p } else { q };
+        return on_segment(common, far1, far2) || on_segment(common, far2, far1);
+    }
+    let (o1, o2, o3, o4) = (orient(p, q, r), orient(p, q, s), orient(r, s, p), orient(r, s, q));
+    let proper = o1 * o2 < 0.0 && o3 * o4 < 0.0;
+    proper
+        || on_segment(p, q, r)
+        || on_segment(p, q, s)
+        || on_segment(r, s, p)
+        || on_segment(r, s, q)
 }
 
 /// `v` rounded to 10 significant digits (what the files hold).
@@ -459,6 +487,40 @@ mod tests {
         }
         // On one line (or points): overlap of the intervals on both axes.
         (0..2).all(|k| p[k].min(q[k]).max(r[k].min(s[k])) <= p[k].max(q[k]).min(r[k].max(s[k])))
+    }
+
+    /// The sweep and the all-pairs twin find the same first pair on random graphs on a
+    /// small grid (shared ends, collinear overlaps, T junctions), and the sweep checks a
+    /// valid ring of 200 000 segments at once.
+    #[test]
+    fn the_sweep_and_the_all_pairs_twin_find_the_same_first_crossing() {
+        use smartmesh_test_support::Generator;
+        let mut rng = smartmesh_test_support::SplitMix64(11);
+        let mut found = 0;
+        for _ in 0..2000 {
+            let n = rng.int(3, 12);
+            let v: Vec<Point2> =
+                (0..n).map(|_| [rng.int(0, 6) as f64, rng.int(0, 6) as f64]).collect();
+            let segs: Vec<(usize, usize, i64)> = (0..rng.int(1, 10))
+                .map(|_| (rng.int(0, n - 1), rng.int(0, n - 1), 1))
+                .filter(|&(a, b, _)| a != b)
+                .collect();
+            let fast = first_crossing(&v, &segs);
+            assert_eq!(fast, first_crossing_brute(&v, &segs), "{v:?} {segs:?}");
+            found += usize::from(fast.is_some());
+        }
+        assert!(found > 200, "{found}");
+        let n = 200_000;
+        let ring: Vec<Point2> = (0..n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                [a.cos(), a.sin()]
+            })
+            .collect();
+        let segs: Vec<(usize, usize, i64)> = (0..n).map(|k| (k, (k + 1) % n, 1)).collect();
+        let start = std::time::Instant::now();
+        assert_eq!(first_crossing(&ring, &segs), None);
+        assert!(start.elapsed().as_secs_f64() < 5.0, "{:?}", start.elapsed());
     }
 
     #[test]

@@ -63,6 +63,19 @@ pub struct Layout {
     pub far_points: usize,
 }
 
+/// The thinnest profile offered, over chord. At the first cosine station of the default
+/// layout the surfaces are `~0.01 t` apart; `mesh` tells apart gaps down to about 1e-12
+/// of the far field's radius (`t = 1e-12` fails, `1e-9` meshes), so 1e-4 keeps six
+/// orders of margin and every real airfoil.
+pub const MIN_THICKNESS: f64 = 1e-4;
+
+/// Most members of one family.
+pub const MAX_MEMBERS: usize = 100_000;
+
+/// Most vertices of all the members of one family together (all are held, as text, until
+/// they are written as one set: about 30 bytes each).
+pub const MAX_FAMILY_VERTICES: u64 = 20_000_000;
+
 impl Default for Layout {
     /// The bundled example's: 100 segments a side, radius 25, 48 vertices.
     fn default() -> Layout {
@@ -70,12 +83,38 @@ impl Default for Layout {
     }
 }
 
+impl Layout {
+    /// Checks the layout: 8 to 100000 segments a side and far-field vertices, a radius of
+    /// 3 to 1e6 chords.
+    pub fn check(&self) -> Result<(), String> {
+        if self.per_side < 8 || self.per_side > 100_000 {
+            return Err(format!("{} segments a side: expected 8 to 100000", self.per_side));
+        }
+        if self.far_points < 8 || self.far_points > 100_000 {
+            return Err(format!("{} far-field vertices: expected 8 to 100000", self.far_points));
+        }
+        if !(self.far_radius >= 3.0 && self.far_radius <= 1e6) {
+            return Err(format!("far-field radius {}: expected 3 to 1e6 chords", self.far_radius));
+        }
+        Ok(())
+    }
+
+    /// Vertices of one member (an upper bound: both sides and the far field).
+    pub fn vertices(&self) -> u64 {
+        2 * self.per_side as u64 + self.far_points as u64
+    }
+}
+
 impl Naca4 {
-    /// Checks the parameters: `0 < t <= 0.5`, `|m| <= 0.2`, `0 < p < 1` when `m != 0`.
+    /// Checks the parameters: `MIN_THICKNESS <= t <= 0.5`, `|m| <= 0.2`, `0 < p < 1` when
+    /// `m != 0`.
     pub fn check(&self) -> Result<(), String> {
         let t = self.thickness;
-        if !(t > 0.0 && t <= 0.5) {
-            return Err(format!("thickness {t}: expected 0 < t <= 0.5 (of the chord)"));
+        if !(MIN_THICKNESS..=0.5).contains(&t) {
+            return Err(format!(
+                "thickness {t}: expected {MIN_THICKNESS} <= t <= 0.5 (of the chord); a thinner \
+                 profile's surfaces come closer than `mesh` can tell apart in the far field"
+            ));
         }
         if self.camber.is_nan() || self.camber.abs() > 0.2 {
             return Err(format!("camber {}: expected |m| <= 0.2 (of the chord)", self.camber));
@@ -172,18 +211,7 @@ impl Naca4 {
     /// The airfoil in its far field, as a tagged graph (module header).
     pub fn geometry(&self, layout: &Layout) -> Result<Pslg, String> {
         self.check()?;
-        if layout.per_side < 8 || layout.per_side > 100_000 {
-            return Err(format!("{} segments a side: expected 8 to 100000", layout.per_side));
-        }
-        if layout.far_points < 8 || layout.far_points > 100_000 {
-            return Err(format!("{} far-field vertices: expected 8 to 100000", layout.far_points));
-        }
-        if !(layout.far_radius >= 3.0 && layout.far_radius <= 1e6) {
-            return Err(format!(
-                "far-field radius {}: expected 3 to 1e6 chords",
-                layout.far_radius
-            ));
-        }
+        layout.check()?;
         let c = self.chord();
         let (n, r, nf) = (layout.per_side, layout.far_radius, layout.far_points);
         let what = match self.designation() {
@@ -248,10 +276,52 @@ impl Naca4 {
     }
 }
 
+/// `values` without repeats, in the order of their first occurrence (-0 and 0 are one).
+fn distinct(values: &[f64]) -> Vec<f64> {
+    let mut seen = std::collections::BTreeSet::new();
+    values.iter().copied().filter(|v| seen.insert((v + 0.0).to_bits())).collect()
+}
+
+/// How many members [`family`] gives for these values, computed without building them,
+/// so that a cap is checked before any work (saturating: 10^15 combinations is no
+/// overflow).
+pub fn family_size(thickness: &[f64], camber: &[f64], position: &[f64]) -> usize {
+    let (t, m, p) = (distinct(thickness), distinct(camber), distinct(position));
+    let cambered = m.iter().filter(|&&v| v != 0.0).count();
+    let per_thickness = cambered
+        .saturating_mul(p.len())
+        .saturating_add(usize::from(cambered < m.len() && !p.is_empty()));
+    t.len().saturating_mul(per_thickness)
+}
+
 /// The members of a family: every combination of the values, in the order thickness,
 /// then camber, then position (the last changing fastest); a member without camber is
-/// listed once, whatever the positions.
+/// listed once, whatever the positions. A repeated value gives no second member: the
+/// first occurrence of each combination is where its values first occur, so iterating
+/// the distinct values gives the same order. Check [`family_size`] first.
 pub fn family(
+    thickness: &[f64],
+    camber: &[f64],
+    position: &[f64],
+    trailing_edge: TrailingEdge,
+) -> Vec<Naca4> {
+    let (t, m, p) = (distinct(thickness), distinct(camber), distinct(position));
+    let mut out: Vec<Naca4> = Vec::with_capacity(family_size(&t, &m, &p).min(MAX_MEMBERS));
+    for &t in &t {
+        for &m in &m {
+            let positions: &[f64] = if m == 0.0 { &p[..p.len().min(1)] } else { &p };
+            for &p in positions {
+                let position = if m == 0.0 { 0.0 } else { p };
+                out.push(Naca4 { thickness: t, camber: m, position, trailing_edge });
+            }
+        }
+    }
+    out
+}
+
+/// The all-combinations twin of [`family`]: the quadratic search for repeats.
+#[cfg(test)]
+fn family_brute(
     thickness: &[f64],
     camber: &[f64],
     position: &[f64],
@@ -343,6 +413,31 @@ mod tests {
         }
     }
 
+    /// The family and its size agree with the quadratic twin, repeats, -0 and camber 0
+    /// (positions collapse) included; the size of 10^15 combinations is computed at once.
+    #[test]
+    fn families_agree_with_the_quadratic_twin_and_are_counted_before_built() {
+        let lists: [&[f64]; 5] =
+            [&[0.1], &[0.1, 0.12, 0.1], &[0.0, 0.02, -0.0, 0.02], &[0.3, 0.4, 0.3], &[]];
+        for t in lists {
+            for m in lists {
+                for p in lists {
+                    let fast = family(t, m, p, TrailingEdge::Closed);
+                    assert_eq!(
+                        fast,
+                        family_brute(t, m, p, TrailingEdge::Closed),
+                        "{t:?} {m:?} {p:?}"
+                    );
+                    assert_eq!(family_size(t, m, p), fast.len(), "{t:?} {m:?} {p:?}");
+                }
+            }
+        }
+        let many: Vec<f64> = (0..100_000).map(|k| 0.1 + k as f64 * 1e-7).collect();
+        let start = std::time::Instant::now();
+        assert_eq!(family_size(&many, &many[..10_000], &many), 100_000 * 10_000 * 100_000);
+        assert!(start.elapsed().as_secs_f64() < 2.0, "{:?}", start.elapsed());
+    }
+
     #[test]
     fn names_and_families() {
         assert_eq!(naca(0.12, 0.0, 0.4).name(), "naca-t0.12-m0");
@@ -363,6 +458,8 @@ mod tests {
             ]
         );
         assert!(naca(0.0, 0.0, 0.0).geometry(&Layout::default()).is_err());
+        assert!(naca(1e-300, 0.0, 0.0).geometry(&Layout::default()).is_err());
+        assert!(naca(MIN_THICKNESS, 0.0, 0.0).geometry(&Layout::default()).is_ok());
         assert!(naca(0.1, 0.02, 1.0).geometry(&Layout::default()).is_err());
         assert!(naca(0.1, 0.0, 0.0)
             .geometry(&Layout { far_radius: 1.0, ..Layout::default() })

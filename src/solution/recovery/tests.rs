@@ -227,3 +227,45 @@ fn quadrangles_are_split_and_their_sides_kept_as_edges() {
         assert!(hessian_error(h, &H) < 1e-9 * norm(&H), "{h:?}");
     }
 }
+
+/// A linear field's recovered Hessian is round-off (up to 1e-13 and more on an offset,
+/// scaled mesh), which the Lp metric turned into sizes with an anisotropy of 167: it is
+/// zero at every vertex, by both methods, on grids and scattered points, offset and
+/// scaled, and the Lp metric is then the uniform one; a quadratic keeps its Hessian, and
+/// one of curvature 1e-4 against values of 1e3 is still seen.
+#[test]
+fn a_linear_fields_roundoff_hessian_is_zero_and_asks_for_nothing() {
+    let linear = |p: Point2| 3.0 + 2.0 * p[0] - 7.0 * p[1];
+    let meshes = [
+        grid(9, 7, [10.0, -3.0], [0.3, 0.2]),
+        scattered(300, 7, [10.0, -3.0], 0.5),
+        scattered(300, 11, [1e3, 2e3], 1e-3),
+        mapped_grid(12),
+    ];
+    for (k, m) in meshes.iter().enumerate() {
+        for method in [Method::QuadraticFit, Method::L2Projection] {
+            let d = derivatives(m, linear, method);
+            let worst = d.hessian.iter().map(norm).fold(0.0, f64::max);
+            assert_eq!(worst, 0.0, "mesh {k}, {method:?}");
+        }
+        let values: Vec<f64> = m.points.iter().map(|&p| linear(p)).collect();
+        let mesh = P1Mesh::from_triangles(&m.points, &m.triangles).unwrap();
+        let d = recover(&mesh, &values, Method::QuadraticFit).unwrap();
+        let options = crate::solution::LpOptions {
+            p: 2.0,
+            target: crate::solution::Target::Vertices(500.0),
+            bounds: crate::metric::SizeBounds::try_new(1e-9, 1e9, 1e4).unwrap(),
+        };
+        let metric = crate::solution::lp_metric(&mesh, &d.hessian, &options).unwrap();
+        assert!(metric.linear, "mesh {k}");
+        let aniso = metric.tensors.iter().map(|t| t.aspect_ratio()).fold(0.0, f64::max);
+        assert!(aniso < 1.0 + 1e-9, "mesh {k}: anisotropy {aniso}");
+    }
+    let m = scattered(300, 7, [10.0, -3.0], 0.5);
+    let d = derivatives(&m, quadratic, Method::QuadraticFit);
+    assert!(d.hessian.iter().all(|h| (hessian_error(h, &H) / norm(&H)) < 1e-9));
+    let faint = |p: Point2| 1e3 + p[0] + 1e-4 * p[1] * p[1];
+    let d = derivatives(&m, faint, Method::QuadraticFit);
+    let seen = d.hessian.iter().filter(|h| (h.c - 2e-4).abs() < 2e-5).count();
+    assert!(seen > m.points.len() / 2, "{seen} of {}", m.points.len());
+}
