@@ -121,6 +121,11 @@ pub fn read_bytes_reported(
         Format::Vtu => crate::vtk::read_vtu(bytes, ctx)?,
         Format::Obj => crate::obj::read(bytes, ctx)?,
         Format::Medit => crate::medit::read(bytes, ctx)?,
+        Format::Su2 => {
+            let (mesh, r) = crate::su2::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::Gltf => {
             return Err(Error::new(ErrorKind::Unsupported(
                 "reading glTF (smartmesh writes it for viewers)".into(),
@@ -170,6 +175,7 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
         Format::Obj => crate::obj::write(mesh, opts),
         Format::Medit => crate::medit::write(mesh, opts),
         Format::Gltf => crate::gltf::write(mesh, opts),
+        Format::Su2 => crate::su2::write(mesh, opts),
     }
 }
 

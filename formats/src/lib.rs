@@ -9,7 +9,7 @@
 //!   group of [`WriteOptions`]:
 //!   [`triangle`] (.node/.ele/.poly/.edge/.area), [`gmsh`] (MSH 2.2 and 4.1, ASCII and
 //!   binary), [`vtk`] (legacy .vtk 4.2/5.1 and XML .vtu), [`obj`], [`medit`]
-//!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only);
+//!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only), [`su2`];
 //! - [`Format::from_path`], a static extension table;
 //! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
 //!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written as a
@@ -33,6 +33,7 @@ pub mod gltf;
 pub mod gmsh;
 pub mod medit;
 pub mod obj;
+pub mod su2;
 pub mod triangle;
 pub mod vtk;
 
@@ -74,6 +75,8 @@ pub enum Format {
     Medit,
     /// glTF 2.0: `.gltf` with a `.bin` beside it, or a single `.glb`.
     Gltf,
+    /// SU2 native mesh `.su2` (ASCII).
+    Su2,
 }
 
 /// The extension table, as meshio's `_helpers.py` keeps one: last suffix, lower case.
@@ -91,6 +94,7 @@ const EXTENSIONS: &[(&str, Format)] = &[
     ("meshb", Format::Medit),
     ("gltf", Format::Gltf),
     ("glb", Format::Gltf),
+    ("su2", Format::Su2),
 ];
 
 impl Format {
@@ -129,6 +133,7 @@ impl Format {
             Format::Obj => "OBJ",
             Format::Medit => "Medit",
             Format::Gltf => "glTF",
+            Format::Su2 => "SU2",
         }
     }
 
@@ -144,7 +149,7 @@ impl Format {
 
     /// The names accepted by [`Format::from_name`], for help texts.
     pub const NAMES: &'static str =
-        "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb";
+        "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2";
 }
 
 /// Which of [`TaggedMesh::validate`]'s checks a format's reader and writer make
@@ -180,6 +185,7 @@ impl Format {
             Format::Obj => obj::CHECKS,
             Format::Medit => medit::CHECKS,
             Format::Gltf => gltf::CHECKS,
+            Format::Su2 => su2::CHECKS,
         }
     }
 }
