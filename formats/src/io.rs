@@ -131,6 +131,11 @@ pub fn read_bytes_reported(
                 "reading glTF (smartmesh writes it for viewers)".into(),
             )))
         }
+        Format::OpenFoam => {
+            return Err(Error::new(ErrorKind::Unsupported(
+                "reading OpenFOAM cases (smartmesh writes them for the solvers)".into(),
+            )))
+        }
     };
     if format.checks().reader_validates {
         debug_assert_eq!(
@@ -176,6 +181,10 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
         Format::Medit => crate::medit::write(mesh, opts),
         Format::Gltf => crate::gltf::write(mesh, opts),
         Format::Su2 => crate::su2::write(mesh, opts),
+        Format::OpenFoam => Err(Error::new(ErrorKind::CannotWrite {
+            format: format.name(),
+            reason: "an OpenFOAM case is a directory of files; write it to a path".into(),
+        })),
     }
 }
 
@@ -261,6 +270,9 @@ pub fn write_path(
         return Ok(written.report);
     }
     let format = resolve_format(path, format)?;
+    if format == Format::OpenFoam {
+        return crate::openfoam::write_case(path, mesh, &opts.openfoam);
+    }
     let mut opts = opts.clone();
     opts.main_name = path.file_name().and_then(|n| n.to_str()).map(str::to_owned);
     let written = write_bytes(format, mesh, &opts).map_err(|e| e.with_path(path))?;

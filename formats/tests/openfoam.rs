@@ -1,0 +1,279 @@
+//! OpenFOAM cases: the extruded polyMesh against what OpenFOAM requires (checked here
+//! with geometry written apart from the writer's), the case directory written whole,
+//! and the patches named and typed from the tags. `tests/openfoam_interop.rs` runs
+//! OpenFOAM's own `checkMesh` on the cases.
+
+use std::path::Path;
+
+use smartmesh_formats::openfoam::{extrude, patch_type, poly_mesh_files, OpenFoamWrite, PolyMesh};
+use smartmesh_formats::{
+    read_path, write_path, CellBlock, CellKind, Format, TaggedMesh, WriteOptions, WriteReport,
+};
+
+fn cylinder() -> TaggedMesh {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/cylinder.msh");
+    read_path(&path, None).unwrap()
+}
+
+/// A 2 x 1 rectangle: a quad [0,1]² and two triangles on [1,2]x[0,1], one of them
+/// clockwise; lines tagged Bottom (1, two edges), Outlet (2) and unnamed 3 (the top
+/// edge of the quad); the rest of the boundary without lines.
+fn mixed() -> TaggedMesh {
+    let mut m = TaggedMesh::new();
+    m.points = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [2.0, 1.0, 0.0],
+        [9.0, 9.0, 0.0], // used by no cell
+    ];
+    let mut q = CellBlock::new(CellKind::Quad);
+    q.push(&[0u32, 1, 4, 3], 1, 1);
+    let mut t = CellBlock::new(CellKind::Triangle);
+    t.push(&[1u32, 2, 5], 1, 1);
+    t.push(&[1u32, 4, 5], 1, 1); // clockwise
+    let mut l = CellBlock::new(CellKind::Line);
+    l.push(&[0u32, 1], 1, 1);
+    l.push(&[1u32, 2], 1, 1);
+    l.push(&[2u32, 5], 2, 2);
+    l.push(&[4u32, 3], 3, 3);
+    m.blocks = vec![q, t, l];
+    m.tag_names.insert((1, 1), "Bottom".into());
+    m.tag_names.insert((1, 2), "Outlet".into());
+    m
+}
+
+fn poly(mesh: &TaggedMesh, dz: f64) -> (PolyMesh, WriteReport) {
+    let mut report = WriteReport::default();
+    let p = extrude(
+        mesh,
+        dz,
+        |t, _| (mesh.tag_name(1, t).map_or(format!("tag{t}"), str::to_owned), "patch".into()),
+        &mut report,
+    )
+    .unwrap();
+    (p, report)
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// A face's area vector (Newell's method) and centre.
+fn face_geometry(p: &PolyMesh, f: &[u32]) -> ([f64; 3], [f64; 3]) {
+    let mut n = [0.0; 3];
+    let mut c = [0.0; 3];
+    for k in 0..f.len() {
+        let a = p.points[f[k] as usize];
+        let b = p.points[f[(k + 1) % f.len()] as usize];
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+        for i in 0..3 {
+            c[i] += a[i] / f.len() as f64;
+        }
+    }
+    (n, c)
+}
+
+/// Every rule of OpenFOAM's polyMesh, checked from the faces alone.
+fn assert_valid(p: &PolyMesh) {
+    let ni = p.neighbour.len();
+    assert_eq!(p.owner.len(), p.faces.len());
+    // Cell centres: the mean of each cell's face centres.
+    let mut centre = vec![[0.0; 3]; p.n_cells];
+    let mut count = vec![0.0; p.n_cells];
+    let mut faces_of = vec![0usize; p.n_cells];
+    for (fi, f) in p.faces.iter().enumerate() {
+        let (_, c) = face_geometry(p, f);
+        let mut add = |cell: usize| {
+            for i in 0..3 {
+                centre[cell][i] += c[i];
+            }
+            count[cell] += 1.0;
+            faces_of[cell] += 1;
+        };
+        add(p.owner[fi] as usize);
+        if fi < ni {
+            add(p.neighbour[fi] as usize);
+        }
+    }
+    for (c, n) in centre.iter_mut().zip(&count) {
+        for v in c.iter_mut() {
+            *v /= n;
+        }
+    }
+    // Prisms have 5 faces, hexahedra 6.
+    assert!(faces_of.iter().all(|&n| n == 5 || n == 6), "{faces_of:?}");
+    for fi in 0..ni {
+        assert!(p.owner[fi] < p.neighbour[fi], "face {fi}: owner must be below neighbour");
+        if fi > 0 {
+            let prev = (p.owner[fi - 1], p.neighbour[fi - 1]);
+            assert!(prev < (p.owner[fi], p.neighbour[fi]), "face {fi}: not upper-triangular");
+        }
+        let (n, _) = face_geometry(p, &p.faces[fi]);
+        let d = sub(centre[p.neighbour[fi] as usize], centre[p.owner[fi] as usize]);
+        assert!(dot(n, d) > 0.0, "internal face {fi} points from neighbour to owner");
+    }
+    for fi in ni..p.faces.len() {
+        let (n, c) = face_geometry(p, &p.faces[fi]);
+        assert!(dot(n, sub(c, centre[p.owner[fi] as usize])) > 0.0, "boundary face {fi} points in");
+    }
+    // Patches cover the boundary faces exactly, in order.
+    assert_eq!(p.patches.iter().map(|q| q.n_faces).sum::<usize>(), p.faces.len() - ni);
+    // Every point used.
+    let mut used = vec![false; p.points.len()];
+    for f in &p.faces {
+        for &v in f {
+            used[v as usize] = true;
+        }
+    }
+    assert!(used.iter().all(|&u| u));
+}
+
+#[test]
+fn a_mixed_mesh_extrudes_to_a_valid_poly_mesh() {
+    let m = mixed();
+    let (p, report) = poly(&m, 0.1);
+    assert_valid(&p);
+    assert_eq!(p.n_cells, 3);
+    assert_eq!(p.points.len(), 12, "the unused point is left out");
+    assert_eq!(p.neighbour.len(), 2);
+    let patches: Vec<_> = p.patches.iter().map(|q| (q.name.as_str(), q.n_faces)).collect();
+    assert_eq!(
+        patches,
+        [("defaultFaces", 2), ("Bottom", 2), ("Outlet", 1), ("tag3", 1), ("front", 3), ("back", 3)]
+    );
+    assert!(p.patches[4..].iter().all(|q| q.kind == "empty"));
+    let dropped = report.dropped.join("\n");
+    assert!(dropped.contains("1 clockwise"), "{dropped}");
+    assert!(dropped.contains("1 points no triangle"), "{dropped}");
+    assert!(dropped.contains("2 boundary edges without a line cell"), "{dropped}");
+    // z from 0 to dz.
+    assert!(p.points.iter().all(|q| q[2] == 0.0 || q[2] == 0.1));
+}
+
+#[test]
+fn the_cylinder_extrudes_to_a_valid_poly_mesh() {
+    let m = cylinder();
+    let (p, _) = poly(&m, 0.04);
+    assert_valid(&p);
+    assert_eq!(p.n_cells, m.num_cells_of(CellKind::Triangle));
+    let names: Vec<_> = p.patches.iter().map(|q| q.name.as_str()).collect();
+    assert_eq!(names, ["Inlet", "Outlet", "Walls", "Cylinder", "front", "back"]);
+}
+
+#[test]
+fn cells_that_fold_or_share_an_edge_three_times_are_refused() {
+    let mut m = mixed();
+    // A third cell on edge 1-4.
+    m.points.push([0.5, 0.5, 0.0]);
+    m.blocks[1].push(&[1u32, 4, 7], 1, 1);
+    let mut report = WriteReport::default();
+    let e = extrude(&m, 1.0, |_, _| ("x".into(), "patch".into()), &mut report).unwrap_err();
+    assert!(e.contains("shared by 3 cells"), "{e}");
+    let mut m = mixed();
+    m.points[4] = m.points[1];
+    let e = extrude(&m, 1.0, |_, _| ("x".into(), "patch".into()), &mut report).unwrap_err();
+    assert!(e.contains("zero area"), "{e}");
+}
+
+#[test]
+fn patch_types_come_from_the_names() {
+    for (name, kind) in [
+        ("Walls", "wall"),
+        ("Airfoil", "wall"),
+        ("cylinder_surface", "wall"),
+        ("Upper", "wall"),
+        ("Inlet", "patch"),
+        ("FarField", "patch"),
+        ("LowerPeriodic1", "patch"),
+        ("Outlet", "patch"),
+        ("tag3", "patch"),
+    ] {
+        assert_eq!(patch_type(name), kind, "{name}");
+    }
+    // A user's map wins.
+    let opts = OpenFoamWrite {
+        extrude: Some(1.0),
+        patch_types: [("Outlet".to_string(), "wall".to_string())].into(),
+    };
+    let (files, _) = poly_mesh_files(&mixed(), &opts).unwrap();
+    let boundary = String::from_utf8(files.iter().find(|f| f.0 == "boundary").unwrap().1.clone());
+    let boundary = boundary.unwrap();
+    let outlet = &boundary[boundary.find("Outlet").unwrap()..];
+    assert!(outlet[..outlet.find('}').unwrap()].contains("type            wall;"), "{boundary}");
+}
+
+#[test]
+fn names_become_openfoam_words_and_unnamed_tags_are_said() {
+    let mut m = mixed();
+    m.tag_names.insert((1, 1), "far field (x=0)".into());
+    m.tag_names.insert((1, 2), "front".into());
+    let (files, report) = poly_mesh_files(&m, &OpenFoamWrite::default()).unwrap();
+    let boundary = String::from_utf8(files[4].1.clone()).unwrap();
+    assert!(boundary.contains("    far_field__x=0_\n"), "{boundary}");
+    assert!(
+        boundary.contains("    front_"),
+        "a tag named front does not take the empty patch's name"
+    );
+    let dropped = report.dropped.join("\n");
+    assert!(dropped.contains("line tag 3 has no name: written as patch `tag3`"), "{dropped}");
+    assert!(dropped.contains("z = 0.02 (a hundredth"), "{dropped}");
+}
+
+#[test]
+fn the_case_directory_is_written_whole_and_keeps_what_the_user_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("cyl.foam");
+    assert_eq!(Format::from_path(&case), Some(Format::OpenFoam));
+    let opts = WriteOptions {
+        openfoam: OpenFoamWrite { extrude: Some(0.5), ..Default::default() },
+        ..WriteOptions::default()
+    };
+    write_path(&case, &cylinder(), None, &opts).unwrap();
+    for f in ["points", "faces", "owner", "neighbour", "boundary"] {
+        assert!(case.join("constant/polyMesh").join(f).is_file(), "{f}");
+    }
+    let control = case.join("system/controlDict");
+    assert!(std::fs::read_to_string(&control).unwrap().contains("FoamFile"));
+    std::fs::write(&control, "mine").unwrap();
+    // Again, with another mesh: polyMesh replaced, the user's controlDict kept, nothing
+    // left behind in constant/.
+    write_path(&case, &mixed(), Some(Format::OpenFoam), &opts).unwrap();
+    assert_eq!(std::fs::read_to_string(&control).unwrap(), "mine");
+    let owner = std::fs::read_to_string(case.join("constant/polyMesh/owner")).unwrap();
+    assert!(owner.contains("nCells:3 "), "{owner}");
+    let left: Vec<_> =
+        std::fs::read_dir(case.join("constant")).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(left, ["polyMesh"]);
+    // A mesh that cannot be extruded leaves the case as it was.
+    let mut bad = mixed();
+    bad.points[4] = bad.points[1];
+    assert!(write_path(&case, &bad, None, &opts).is_err());
+    assert_eq!(std::fs::read_to_string(case.join("constant/polyMesh/owner")).unwrap(), owner);
+}
+
+#[test]
+fn a_file_stdout_or_a_bad_thickness_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("x.foam");
+    std::fs::write(&file, "").unwrap();
+    let e = write_path(&file, &mixed(), None, &WriteOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("is a directory"), "{e}");
+    let e = write_path(Path::new("-"), &mixed(), Some(Format::OpenFoam), &WriteOptions::default())
+        .unwrap_err();
+    assert!(e.to_string().contains("directory"), "{e}");
+    let opts = OpenFoamWrite { extrude: Some(-1.0), ..Default::default() };
+    assert!(poly_mesh_files(&mixed(), &opts).is_err());
+    // No triangle or quad: nothing to extrude.
+    let mut lines_only = mixed();
+    lines_only.blocks.drain(..2);
+    assert!(poly_mesh_files(&lines_only, &OpenFoamWrite::default()).is_err());
+}

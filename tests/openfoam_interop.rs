@@ -1,0 +1,99 @@
+//! OpenFOAM's own `checkMesh` on the cases `smartmesh convert` writes: the bundled
+//! cylinder (triangles), the cylinder with a boundary-layer skin of quads (`smartmesh
+//! layer`), and the examples' meshes, periodic distributor included. Each must end with
+//! "Mesh OK." and no failed check. Skips, saying so, when `checkMesh` is not on PATH,
+//! unless `SMARTMESH_REQUIRE_INTEROP=1` (CI, where `.ci/run` installs Debian's
+//! `openfoam`).
+
+#[path = "support/cli.rs"]
+#[allow(dead_code)]
+mod support;
+
+use std::path::Path;
+use std::process::Command;
+
+use support::{bundled, ok, program, run, stderr};
+
+/// Runs `checkMesh -case DIR` and returns its output; asserts it passed every check.
+fn check_mesh(check: &Path, case: &Path) -> String {
+    let mut c = Command::new(check);
+    c.arg("-case").arg(case);
+    // Debian's OpenFOAM finds its etc/ files there; a user's own setting is kept.
+    if std::env::var_os("WM_PROJECT_DIR").is_none() {
+        c.env("WM_PROJECT_DIR", "/usr/share/openfoam");
+    }
+    let out = c.output().expect("run checkMesh");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success() && text.contains("\nMesh OK.") && !text.contains("Failed "),
+        "checkMesh on {}:\n{text}\n{}",
+        case.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    text
+}
+
+/// The number after `label:` in checkMesh's statistics (`prisms: 2134`).
+fn count(text: &str, label: &str) -> usize {
+    let line = text.lines().find(|l| l.trim_start().starts_with(label)).unwrap_or("");
+    line.rsplit(' ').next().and_then(|n| n.parse().ok()).unwrap_or(0)
+}
+
+#[test]
+fn check_mesh_passes_the_cylinder_its_skin_of_quads_and_the_examples() {
+    let Some(check) = program("checkMesh") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+
+    // Triangles only: prisms, the four named curves as patches.
+    let cyl = dir.path().join("cylinder.foam");
+    ok(&run(&["convert", &bundled("cylinder.msh"), cyl.to_str().unwrap()]));
+    let text = check_mesh(&check, &cyl);
+    assert_eq!(count(&text, "prisms:"), 2134, "{text}");
+    for patch in ["Inlet", "Outlet", "Walls", "Cylinder", "front", "back"] {
+        assert!(text.contains(&format!("    {patch} ")), "{patch}: {text}");
+    }
+    let boundary = std::fs::read_to_string(cyl.join("constant/polyMesh/boundary")).unwrap();
+    let cylinder = &boundary[boundary.find("Cylinder").unwrap()..];
+    assert!(cylinder[..cylinder.find('}').unwrap()].contains("type            wall;"));
+
+    // A skin of quads: hexahedra beside prisms, with --extrude and --to.
+    let skin = dir.path().join("skin.msh");
+    ok(&run(&[
+        "layer",
+        &bundled("cylinder.msh"),
+        "--curves",
+        "Cylinder",
+        "--first-height",
+        "0.002",
+        "--ratio",
+        "1.2",
+        "--layers",
+        "8",
+        "-o",
+        skin.to_str().unwrap(),
+    ]));
+    let skin_case = dir.path().join("skin-case");
+    let o = run(&[
+        "convert",
+        skin.to_str().unwrap(),
+        skin_case.to_str().unwrap(),
+        "--to",
+        "openfoam",
+        "--extrude",
+        "0.1",
+    ]);
+    ok(&o);
+    assert!(!stderr(&o).contains("a hundredth"), "{}", stderr(&o));
+    let text = check_mesh(&check, &skin_case);
+    assert_eq!(count(&text, "hexahedra:"), 288, "{text}");
+    assert!(text.contains("(4 1 0.1)"), "the bounding box ends at z = 0.1: {text}");
+
+    // The examples' starting meshes.
+    for example in ["naca0012-agard01", "gamm-a7-viscous", "distributor/1-narrow"] {
+        let input = root.join("examples").join(example).join("start.msh");
+        let case = dir.path().join(example.replace('/', "-") + ".foam");
+        ok(&run(&["convert", input.to_str().unwrap(), case.to_str().unwrap()]));
+        check_mesh(&check, &case);
+    }
+}
