@@ -97,3 +97,56 @@ fn check_mesh_passes_the_cylinder_its_skin_of_quads_and_the_examples() {
         check_mesh(&check, &case);
     }
 }
+
+/// OpenFOAM's own `blockMesh` writes a 3 x 2 lid-driven cavity (one empty patch
+/// `frontAndBack` holding both planes); smartmesh reads it back as 6 quads with the
+/// patches' lines, and writes it again as a case checkMesh passes.
+#[test]
+fn a_case_block_mesh_writes_reads_back_as_quads_with_its_patches() {
+    let Some(block_mesh) = program("blockMesh") else { return };
+    let Some(check) = program("checkMesh") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("cavity");
+    // The system/ files come from a case smartmesh writes.
+    let first = dir.path().join("first.foam");
+    ok(&run(&["convert", &bundled("cylinder.msh"), first.to_str().unwrap()]));
+    std::fs::create_dir_all(&case).unwrap();
+    let system = case.join("system");
+    std::fs::create_dir_all(&system).unwrap();
+    for f in ["controlDict", "fvSchemes", "fvSolution"] {
+        std::fs::copy(first.join("system").join(f), system.join(f)).unwrap();
+    }
+    std::fs::write(
+        system.join("blockMeshDict"),
+        "FoamFile { version 2.0; format ascii; class dictionary; object blockMeshDict; }
+convertToMeters 1;
+vertices ( (0 0 0) (3 0 0) (3 2 0) (0 2 0) (0 0 0.1) (3 0 0.1) (3 2 0.1) (0 2 0.1) );
+blocks ( hex (0 1 2 3 4 5 6 7) (3 2 1) simpleGrading (1 1 1) );
+edges ();
+boundary
+(
+    movingWall { type wall; faces ( (3 7 6 2) ); }
+    fixedWalls { type wall; faces ( (0 4 7 3) (2 6 5 1) (1 5 4 0) ); }
+    frontAndBack { type empty; faces ( (0 3 2 1) (4 5 6 7) ); }
+);
+",
+    )
+    .unwrap();
+    let mut c = Command::new(block_mesh);
+    c.arg("-case").arg(&case);
+    if std::env::var_os("WM_PROJECT_DIR").is_none() {
+        c.env("WM_PROJECT_DIR", "/usr/share/openfoam");
+    }
+    let out = c.output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stdout));
+
+    let info = ok(&run(&["info", case.to_str().unwrap(), "--from", "openfoam"]));
+    assert!(info.contains("10 line, 6 quad"), "{info}");
+    assert!(info.contains("\"movingWall\"") && info.contains("\"fixedWalls\""), "{info}");
+    let again = dir.path().join("again.foam");
+    ok(&run(&["convert", case.to_str().unwrap(), again.to_str().unwrap(), "--from", "openfoam"]));
+    let text = check_mesh(&check, &again);
+    assert_eq!(count(&text, "hexahedra:"), 6, "{text}");
+    let boundary = std::fs::read_to_string(again.join("constant/polyMesh/boundary")).unwrap();
+    assert!(boundary.contains("movingWall") && boundary.contains("fixedWalls"), "{boundary}");
+}

@@ -133,7 +133,8 @@ pub fn read_bytes_reported(
         }
         Format::OpenFoam => {
             return Err(Error::new(ErrorKind::Unsupported(
-                "reading OpenFOAM cases (smartmesh writes them for the solvers)".into(),
+                "reading an OpenFOAM case from bytes: it is a directory, read it by its path"
+                    .into(),
             )))
         }
     };
@@ -233,6 +234,9 @@ pub fn read_path_reported(path: &Path, format: Option<Format>) -> Result<(Tagged
         return read_bytes_reported(format, &bytes, &ctx);
     }
     let format = resolve_format(path, format)?;
+    if format == Format::OpenFoam {
+        return Ok((crate::openfoam::read_case(path)?, ReadReport::default()));
+    }
     let bytes =
         std::fs::read(path).map_err(|e| Error::new(ErrorKind::Unreadable(e)).with_path(path))?;
     let siblings = PathSiblings::new(path);

@@ -10,7 +10,7 @@
 //!   [`triangle`] (.node/.ele/.poly/.edge/.area), [`gmsh`] (MSH 2.2 and 4.1, ASCII and
 //!   binary), [`vtk`] (legacy .vtk 4.2/5.1 and XML .vtu), [`obj`], [`medit`]
 //!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only), [`su2`],
-//!   [`openfoam`] (a case directory; write only);
+//!   [`openfoam`] (a case directory);
 //! - [`Format::from_path`], a static extension table;
 //! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
 //!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written as a
@@ -80,8 +80,8 @@ pub enum Format {
     Gltf,
     /// SU2 native mesh `.su2` (ASCII).
     Su2,
-    /// An OpenFOAM case directory (`constant/polyMesh`), write only: the output path
-    /// is the directory (`case.foam`, or any name with `--to openfoam`).
+    /// An OpenFOAM case directory (`constant/polyMesh`): the path is the directory
+    /// (`case.foam`, or any name with `--from`/`--to openfoam`).
     OpenFoam,
 }
 
@@ -153,7 +153,7 @@ impl Format {
 
     /// Whether smartmesh reads this format.
     pub fn can_read(self) -> bool {
-        !matches!(self, Format::Gltf | Format::OpenFoam)
+        !matches!(self, Format::Gltf)
     }
 
     /// The names accepted by [`Format::from_name`], for help texts.

@@ -277,3 +277,112 @@ fn a_file_stdout_or_a_bad_thickness_is_refused() {
     lines_only.blocks.drain(..2);
     assert!(poly_mesh_files(&lines_only, &OpenFoamWrite::default()).is_err());
 }
+
+/// Each cell as its nodes turned to start at the smallest, counter-clockwise made
+/// canonical, sorted: the cells whatever their first node and order.
+fn canonical_cells(m: &TaggedMesh, kinds: &[CellKind]) -> Vec<Vec<u32>> {
+    let mut out: Vec<Vec<u32>> = m
+        .cells()
+        .filter(|c| kinds.contains(&c.0))
+        .map(|(_, n, _, _)| {
+            let k = (0..n.len()).min_by_key(|&i| n[i]).unwrap();
+            let mut v: Vec<u32> = (0..n.len()).map(|i| n[(k + i) % n.len()]).collect();
+            if v.len() > 2 && v[1] > v[v.len() - 1] {
+                v[1..].reverse();
+            }
+            v
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// Line cells per tag name, as sorted point pairs.
+fn lines_by_name(m: &TaggedMesh) -> std::collections::BTreeMap<String, Vec<[u32; 2]>> {
+    let mut out: std::collections::BTreeMap<String, Vec<[u32; 2]>> = Default::default();
+    for (kind, n, p, _) in m.cells() {
+        if kind == CellKind::Line {
+            let name = m.tag_name(1, p).map_or_else(|| format!("tag{p}"), str::to_owned);
+            out.entry(name).or_default().push([n[0].min(n[1]), n[0].max(n[1])]);
+        }
+    }
+    for v in out.values_mut() {
+        v.sort();
+    }
+    out
+}
+
+#[test]
+fn a_written_case_reads_back_as_the_2d_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut cyl = cylinder();
+    cyl.blocks.retain(|b| b.kind != CellKind::Vertex);
+    for (name, mesh) in [("cyl.foam", cyl), ("mixed.foam", mixed())] {
+        let case = dir.path().join(name);
+        write_path(&case, &mesh, None, &WriteOptions::default()).unwrap();
+        let back = read_path(&case, None).unwrap_or_else(|e| panic!("{e}"));
+        // The points no cell uses are left out; the others keep their order and bits.
+        let used: Vec<[f64; 3]> = if name == "mixed.foam" {
+            mesh.points[..6].to_vec()
+        } else {
+            mesh.points.iter().map(|p| [p[0], p[1], 0.0]).collect()
+        };
+        assert_eq!(back.points, used, "{name}");
+        let kinds = [CellKind::Triangle, CellKind::Quad];
+        assert_eq!(canonical_cells(&back, &kinds), canonical_cells(&mesh, &kinds), "{name}");
+        let mut want = lines_by_name(&mesh);
+        if name == "mixed.foam" {
+            // The boundary edges without a line cell.
+            want.insert("defaultFaces".into(), vec![[0, 3], [4, 5]]);
+        }
+        assert_eq!(lines_by_name(&back), want, "{name}");
+        // Every cell counter-clockwise.
+        for (_, n, _, _) in back.cells().filter(|c| c.0.dim() == 2) {
+            let p = |i: usize| back.points[n[i] as usize];
+            let area: f64 = (0..n.len())
+                .map(|i| p(i)[0] * p((i + 1) % n.len())[1] - p((i + 1) % n.len())[0] * p(i)[1])
+                .sum();
+            assert!(area > 0.0);
+        }
+    }
+}
+
+#[test]
+fn malformed_cases_are_refused_naming_the_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("m.foam");
+    let poly = case.join("constant/polyMesh");
+    let fresh = || write_path(&case, &mixed(), None, &WriteOptions::default()).unwrap();
+    let edit = |file: &str, from: &str, to: &str| {
+        let p = poly.join(file);
+        let s = std::fs::read_to_string(&p).unwrap();
+        assert!(s.contains(from), "{from} in {s}");
+        std::fs::write(&p, s.replacen(from, to, 1)).unwrap();
+    };
+    let cases: [(&str, &str, &str, &str); 7] = [
+        ("faces", "4(", "4(99 ", "refers to 99"),
+        ("points", "(0.0 0.0 0.0)", "(0.0 nan 0.0)", "not a finite number"),
+        ("points", "12\n(", "1200000000\n(", "cannot hold"),
+        ("faces", "format      ascii;", "format      binary;", "binary polyMesh"),
+        ("boundary", "nFaces          2;", "nFaces          200;", "at most"),
+        ("owner", "\n0\n", "\nx\n", "expected a cell"),
+        ("boundary", "type            empty;", "type            patch;", ""),
+    ];
+    for (file, from, to, what) in cases {
+        fresh();
+        edit(file, from, to);
+        let e = read_path(&case, None).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains(what), "{what}: {msg}");
+        if what.is_empty() {
+            // front became a plain patch, back is still empty: its faces have no two
+            // points on the base.
+            continue;
+        }
+        assert!(msg.contains(&format!("polyMesh/{file}:")), "{msg}");
+    }
+    fresh();
+    std::fs::remove_file(poly.join("neighbour")).unwrap();
+    let e = read_path(&case, None).unwrap_err();
+    assert!(e.to_string().contains("neighbour"), "{e}");
+}

@@ -1,5 +1,6 @@
 //! OpenFOAM cases: a 2D mesh extruded one cell thick, written as `constant/polyMesh`
-//! (ASCII), with the minimal `system/` files `checkMesh` and the solvers need.
+//! (ASCII), with the minimal `system/` files `checkMesh` and the solvers need; and
+//! read back.
 //!
 //! Source: the OpenFOAM User Guide, section 5.1 *Mesh description* (polyMesh: `points`,
 //! `faces`, `owner`, `neighbour`, `boundary`; internal faces in upper-triangular order,
@@ -20,11 +21,15 @@
 //! directory beside it and renamed into place (an old one is replaced only then);
 //! `system/controlDict`, `fvSchemes` and `fvSolution` are written only where absent.
 //!
-//! Not done yet: reading a case, binary files, wedges (axisymmetric cases), cyclic
+//! Read ([`read_case`]): a 2D case, one cell thick along z, back into a 2D mesh (see
+//! its module).
+//!
+//! Not done yet: binary files, wedges (axisymmetric cases), cyclic
 //! patch pairs for periodic sides, cellZones/faceZones from face tags and inner
 //! curves; the report says what is left.
 
 pub mod extrude;
+mod read;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -34,6 +39,7 @@ use crate::text::{push_f64, push_int};
 use crate::{Error, ErrorKind, Format, Result, TaggedMesh, WriteReport};
 
 pub use extrude::{extrude, Patch, PolyMesh};
+pub use read::read_case;
 
 /// How to write an OpenFOAM case.
 #[derive(Debug, Clone, Default)]

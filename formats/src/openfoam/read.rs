@@ -1,0 +1,451 @@
+//! Reading back a 2D OpenFOAM case: an ASCII `constant/polyMesh` one cell thick along
+//! z, as [`super::write_case`] writes it and as `extrudeMesh` or Gmsh's export make
+//! them.
+//!
+//! What it becomes: each cell's face on the lowest plane (z = min z of the `empty`
+//! patches' faces) is a triangle or a quad, counter-clockwise seen from +z; its points
+//! are the 2D points, in their polyMesh order; each face of a non-`empty` patch that
+//! has two points on that plane is a line cell, whose tag is the patch's (patches
+//! numbered 1, 2, … in file order, `tag<N>` read back as tag N without a name, the
+//! others named by the patch name); the cells get tag 1. Refused, naming the file and
+//! line: binary files, a case without `empty` patches or not extruded along z, a cell
+//! with other than one face on the lowest plane, faces of more than 4 points there,
+//! counts past the bytes left, indices out of range.
+
+use std::path::Path;
+
+use crate::text::{check_count, parse_f64, parse_i64, show};
+use crate::{CellKind, Error, ErrorKind, Result, TaggedMesh};
+
+/// A cursor over the tokens of an OpenFOAM file: words and numbers, and the
+/// punctuation `( ) { } ;` as tokens of their own; `//` and `/* */` comments skipped.
+struct Lexer<'a> {
+    d: &'a [u8],
+    pos: usize,
+    line: u64,
+}
+
+impl<'a> Lexer<'a> {
+    fn new(d: &'a [u8]) -> Self {
+        Lexer { d, pos: 0, line: 1 }
+    }
+
+    fn skip(&mut self) {
+        while self.pos < self.d.len() {
+            match self.d[self.pos] {
+                b'\n' => {
+                    self.line += 1;
+                    self.pos += 1;
+                }
+                c if c.is_ascii_whitespace() => self.pos += 1,
+                b'/' if self.d.get(self.pos + 1) == Some(&b'/') => {
+                    while self.pos < self.d.len() && self.d[self.pos] != b'\n' {
+                        self.pos += 1;
+                    }
+                }
+                b'/' if self.d.get(self.pos + 1) == Some(&b'*') => {
+                    self.pos += 2;
+                    while self.pos < self.d.len()
+                        && !(self.d[self.pos] == b'*' && self.d.get(self.pos + 1) == Some(&b'/'))
+                    {
+                        self.line += u64::from(self.d[self.pos] == b'\n');
+                        self.pos += 1;
+                    }
+                    self.pos = (self.pos + 2).min(self.d.len());
+                }
+                _ => break,
+            }
+        }
+    }
+
+    fn next(&mut self) -> Option<&'a [u8]> {
+        self.skip();
+        let start = self.pos;
+        match self.d.get(self.pos)? {
+            b'(' | b')' | b'{' | b'}' | b';' => self.pos += 1,
+            _ => {
+                while self.pos < self.d.len()
+                    && !self.d[self.pos].is_ascii_whitespace()
+                    && !b"(){};".contains(&self.d[self.pos])
+                {
+                    self.pos += 1;
+                }
+            }
+        }
+        Some(&self.d[start..self.pos])
+    }
+
+    fn token(&mut self, what: &str) -> Result<&'a [u8]> {
+        self.next().ok_or_else(|| {
+            Error::at_line(
+                self.line,
+                ErrorKind::UnexpectedEof { context: format!("expected {what}") },
+            )
+        })
+    }
+
+    fn expect(&mut self, p: &str) -> Result<()> {
+        let t = self.token(&format!("`{p}`"))?;
+        if t == p.as_bytes() {
+            Ok(())
+        } else {
+            Err(Error::expected(self.line, format!("`{p}`"), show(t)))
+        }
+    }
+
+    fn int(&mut self, what: &str) -> Result<i64> {
+        let t = self.token(what)?;
+        parse_i64(t).ok_or_else(|| Error::expected(self.line, what, show(t)))
+    }
+
+    fn label(&mut self, what: &str, below: usize) -> Result<u32> {
+        let v = self.int(what)?;
+        if v < 0 || v as u64 >= below as u64 {
+            return Err(Error::at_line(
+                self.line,
+                ErrorKind::IndexOutOfRange { what: what.into(), index: v, available: below },
+            ));
+        }
+        Ok(v as u32)
+    }
+
+    fn f64(&mut self, what: &str) -> Result<f64> {
+        let t = self.token(what)?;
+        match parse_f64(t) {
+            Ok(v) if v.is_finite() => Ok(v),
+            Ok(_) => Err(Error::at_line(
+                self.line,
+                ErrorKind::NonFinite { what: what.into(), value: show(t) },
+            )),
+            Err(()) => Err(Error::expected(self.line, what, show(t))),
+        }
+    }
+
+    /// The `FoamFile { … }` header, if there is one; refuses binary files.
+    fn header(&mut self) -> Result<()> {
+        let save = (self.pos, self.line);
+        if self.next() != Some(b"FoamFile") {
+            (self.pos, self.line) = save;
+            return Ok(());
+        }
+        self.expect("{")?;
+        loop {
+            let key = self.token("`}` closing FoamFile")?;
+            if key == b"}" {
+                return Ok(());
+            }
+            let mut value = Vec::new();
+            loop {
+                let t = self.token("`;`")?;
+                if t == b";" {
+                    break;
+                }
+                value.push(t);
+            }
+            if key == b"format" && value.first() != Some(&&b"ascii"[..]) {
+                return Err(Error::at_line(
+                    self.line,
+                    ErrorKind::Unsupported(
+                        "binary polyMesh files (write them with `foamFormatConvert` as ascii)"
+                            .into(),
+                    ),
+                ));
+            }
+        }
+    }
+
+    /// A list's count, checked against the bytes left.
+    fn count(&mut self, what: &str, min_bytes: usize) -> Result<usize> {
+        let n = self.int(what)?;
+        if n < 0 {
+            return Err(Error::expected(
+                self.line,
+                format!("{what} (a non-negative integer)"),
+                n.to_string(),
+            ));
+        }
+        check_count(n as usize, self.d.len() - self.pos, min_bytes, what)
+            .map_err(|k| Error::at_line(self.line, k))
+    }
+}
+
+/// One patch of `boundary`.
+struct PatchInfo {
+    name: String,
+    kind: String,
+    n_faces: usize,
+    start: usize,
+}
+
+fn read_file(dir: &Path, name: &str) -> Result<Vec<u8>> {
+    let p = dir.join(name);
+    std::fs::read(&p).map_err(|e| Error::new(ErrorKind::Unreadable(e)).with_path(&p))
+}
+
+/// Reads the 2D mesh of the case directory `case`.
+pub fn read_case(case: &Path) -> Result<TaggedMesh> {
+    let dir = case.join("constant").join("polyMesh");
+    let at = |name: &str| dir.join(name);
+
+    let bytes = read_file(&dir, "points")?;
+    let points = (|| {
+        let mut l = Lexer::new(&bytes);
+        l.header()?;
+        let n = l.count("the number of points", 7)?;
+        l.expect("(")?;
+        let mut pts = Vec::with_capacity(n);
+        for _ in 0..n {
+            l.expect("(")?;
+            pts.push([l.f64("x")?, l.f64("y")?, l.f64("z")?]);
+            l.expect(")")?;
+        }
+        l.expect(")")?;
+        Ok(pts)
+    })()
+    .map_err(|e: Error| e.with_path(at("points")))?;
+
+    let bytes = read_file(&dir, "faces")?;
+    let faces = (|| {
+        let mut l = Lexer::new(&bytes);
+        l.header()?;
+        let n = l.count("the number of faces", 8)?;
+        l.expect("(")?;
+        let mut faces: Vec<Vec<u32>> = Vec::with_capacity(n);
+        for _ in 0..n {
+            let k = l.count("the number of points of a face", 2)?;
+            if k < 3 {
+                return Err(Error::expected(l.line, "a face of 3 points or more", format!("{k}")));
+            }
+            l.expect("(")?;
+            let mut f = Vec::with_capacity(k);
+            for _ in 0..k {
+                f.push(l.label("a face's point", points.len())?);
+            }
+            l.expect(")")?;
+            faces.push(f);
+        }
+        l.expect(")")?;
+        Ok(faces)
+    })()
+    .map_err(|e: Error| e.with_path(at("faces")))?;
+
+    let labels = |name: &str| -> Result<Vec<u32>> {
+        let bytes = read_file(&dir, name)?;
+        (|| {
+            let mut l = Lexer::new(&bytes);
+            l.header()?;
+            let n = l.count("the number of labels", 2)?;
+            l.expect("(")?;
+            let mut v = Vec::with_capacity(n);
+            for _ in 0..n {
+                v.push(l.label("a cell", u32::MAX as usize)?);
+            }
+            l.expect(")")?;
+            Ok(v)
+        })()
+        .map_err(|e: Error| e.with_path(at(name)))
+    };
+    let owner = labels("owner")?;
+    let neighbour = labels("neighbour")?;
+    if owner.len() != faces.len() || neighbour.len() > faces.len() {
+        return Err(Error::new(ErrorKind::Inconsistent(format!(
+            "{} faces, {} owners and {} neighbours",
+            faces.len(),
+            owner.len(),
+            neighbour.len()
+        )))
+        .with_path(at("owner")));
+    }
+    let n_cells = owner.iter().chain(&neighbour).map(|&c| c as usize + 1).max().unwrap_or(0);
+
+    let bytes = read_file(&dir, "boundary")?;
+    let patches = (|| {
+        let mut l = Lexer::new(&bytes);
+        l.header()?;
+        let n = l.count("the number of patches", 8)?;
+        l.expect("(")?;
+        let mut patches = Vec::with_capacity(n);
+        for _ in 0..n {
+            let name = String::from_utf8_lossy(l.token("a patch name")?).into_owned();
+            l.expect("{")?;
+            let (mut kind, mut n_faces, mut start) = (None, None, None);
+            loop {
+                let key = l.token("`}` closing a patch")?;
+                if key == b"}" {
+                    break;
+                }
+                let mut value = Vec::new();
+                loop {
+                    let t = l.token("`;`")?;
+                    if t == b";" {
+                        break;
+                    }
+                    value.push(t);
+                }
+                let first = value.first().copied().unwrap_or(b"");
+                match key {
+                    b"type" => kind = Some(String::from_utf8_lossy(first).into_owned()),
+                    b"nFaces" | b"startFace" => {
+                        let v = parse_i64(first)
+                            .filter(|&v| v >= 0 && v as usize <= faces.len())
+                            .ok_or_else(|| l.expected_count(key, first, faces.len()))?
+                            as usize;
+                        if key == b"nFaces" {
+                            n_faces = Some(v);
+                        } else {
+                            start = Some(v);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            let (Some(kind), Some(n_faces), Some(start)) = (kind, n_faces, start) else {
+                return Err(Error::expected(
+                    l.line,
+                    format!("`type`, `nFaces` and `startFace` in patch `{name}`"),
+                    "fewer",
+                ));
+            };
+            if start + n_faces > faces.len() {
+                return Err(Error::at_line(
+                    l.line,
+                    ErrorKind::Inconsistent(format!(
+                        "patch `{name}` ends past the {} faces",
+                        faces.len()
+                    )),
+                ));
+            }
+            patches.push(PatchInfo { name, kind, n_faces, start });
+        }
+        l.expect(")")?;
+        Ok(patches)
+    })()
+    .map_err(|e: Error| e.with_path(at("boundary")))?;
+
+    to_2d(&points, &faces, &owner, n_cells, &patches).map_err(|reason| {
+        Error::new(ErrorKind::Unsupported(format!("this case as a 2D mesh: {reason}")))
+            .with_path(&dir)
+    })
+}
+
+impl Lexer<'_> {
+    fn expected_count(&self, key: &[u8], found: &[u8], faces: usize) -> Error {
+        Error::expected(
+            self.line,
+            format!("`{}` a count of at most {faces} faces", String::from_utf8_lossy(key)),
+            show(found),
+        )
+    }
+}
+
+/// The 2D mesh of an extruded polyMesh (see the module's header).
+fn to_2d(
+    points: &[[f64; 3]],
+    faces: &[Vec<u32>],
+    owner: &[u32],
+    n_cells: usize,
+    patches: &[PatchInfo],
+) -> std::result::Result<TaggedMesh, String> {
+    let empty: Vec<&PatchInfo> = patches.iter().filter(|p| p.kind == "empty").collect();
+    if empty.is_empty() {
+        return Err("it has no `empty` patch (front and back of a one-cell-thick case)".into());
+    }
+    let zmin = empty
+        .iter()
+        .flat_map(|p| &faces[p.start..p.start + p.n_faces])
+        .flatten()
+        .map(|&v| points[v as usize][2])
+        .fold(f64::INFINITY, f64::min);
+    let on_base = |v: u32| points[v as usize][2] == zmin;
+    let mut base: Vec<Option<&Vec<u32>>> = vec![None; n_cells];
+    for p in &empty {
+        for fi in p.start..p.start + p.n_faces {
+            let f = &faces[fi];
+            if !f.iter().all(|&v| on_base(v)) {
+                continue;
+            }
+            let c = owner[fi] as usize;
+            if base[c].is_some() {
+                return Err(format!("cell {c} has two faces on the plane z = {zmin}"));
+            }
+            if f.len() > 4 {
+                return Err(format!(
+                    "cell {c}'s face on z = {zmin} has {} points (triangles and quads only)",
+                    f.len()
+                ));
+            }
+            base[c] = Some(f);
+        }
+    }
+    if let Some(c) = base.iter().position(Option::is_none) {
+        return Err(format!(
+            "cell {c} has no face on the plane z = {zmin}: the case is not extruded along z"
+        ));
+    }
+    // 2D points: those of the base faces, in polyMesh order.
+    let mut new_of = vec![u32::MAX; points.len()];
+    for f in base.iter().flatten() {
+        for &v in f.iter() {
+            new_of[v as usize] = 0;
+        }
+    }
+    let mut mesh = TaggedMesh::new();
+    for (i, slot) in new_of.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = mesh.points.len() as u32;
+            mesh.points.push([points[i][0], points[i][1], 0.0]);
+        }
+    }
+    for f in base.iter().flatten() {
+        // The base face points out of the cell, down: reversed, it is counter-clockwise.
+        let c: Vec<u32> = std::iter::once(f[0])
+            .chain(f[1..].iter().rev().copied())
+            .map(|v| new_of[v as usize])
+            .collect();
+        let kind = if c.len() == 3 { CellKind::Triangle } else { CellKind::Quad };
+        mesh.block_mut(kind).push(&c, 1, 1);
+    }
+    // Lines from the other patches, tagged by patch.
+    let named: Vec<&PatchInfo> = patches.iter().filter(|p| p.kind != "empty").collect();
+    let generated = |n: &str| -> Option<i32> {
+        let d = n.strip_prefix("tag")?;
+        let v: i32 = d.parse().ok()?;
+        (v >= 0 && v.to_string() == d).then_some(v)
+    };
+    let taken: std::collections::BTreeSet<i32> =
+        named.iter().filter_map(|p| generated(&p.name)).collect();
+    let mut next = 1;
+    for p in named {
+        let tag = match generated(&p.name) {
+            Some(t) => t,
+            None => {
+                while taken.contains(&next) {
+                    next += 1;
+                }
+                next += 1;
+                mesh.tag_names.insert((1, next - 1), p.name.clone());
+                next - 1
+            }
+        };
+        for f in &faces[p.start..p.start + p.n_faces] {
+            let on: Vec<u32> = f.iter().copied().filter(|&v| on_base(v)).collect();
+            if on.len() != 2 {
+                return Err(format!(
+                    "a face of patch `{}` has {} points on z = {zmin}, not 2",
+                    p.name,
+                    on.len()
+                ));
+            }
+            // The face [a, b, b', a'] runs a → b on the base.
+            let k = f.iter().position(|&v| v == on[0]).unwrap_or(0);
+            let (a, b) =
+                if on_base(f[(k + 1) % f.len()]) { (on[0], on[1]) } else { (on[1], on[0]) };
+            let (a, b) = (new_of[a as usize], new_of[b as usize]);
+            if a == u32::MAX || b == u32::MAX {
+                return Err(format!("a face of patch `{}` is on no cell's base", p.name));
+            }
+            mesh.block_mut(CellKind::Line).push(&[a, b], tag, tag);
+        }
+    }
+    Ok(mesh)
+}
