@@ -386,3 +386,55 @@ fn malformed_cases_are_refused_naming_the_file_and_line() {
     let e = read_path(&case, None).unwrap_err();
     assert!(e.to_string().contains("neighbour"), "{e}");
 }
+
+#[test]
+fn damaged_poly_mesh_files_never_panic() {
+    use smartmesh_formats::openfoam::read_poly_mesh;
+    let (files, _) = poly_mesh_files(&mixed(), &OpenFoamWrite::default()).unwrap();
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    for which in 0..files.len() {
+        let original = &files[which].1;
+        let mut copies: Vec<Vec<u8>> =
+            (0..original.len()).step_by(7).map(|n| original[..n].to_vec()).collect();
+        for _ in 0..300 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let mut b = original.clone();
+            let i = (seed % b.len() as u64) as usize;
+            b[i] = [b'9', b'-', b'(', b')', b'{', b';', 0xff, b'/'][(seed >> 40) as usize % 8];
+            copies.push(b);
+        }
+        for damaged in copies {
+            let get = |name: &str| {
+                let (k, (_, bytes)) =
+                    files.iter().enumerate().find(|(_, (n, _))| *n == name).unwrap();
+                Ok(if k == which { damaged.clone() } else { bytes.clone() })
+            };
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                read_poly_mesh(get, Path::new("polyMesh"))
+            }));
+            match r {
+                Ok(Ok(m)) => assert_eq!(m.validate(), Vec::new()),
+                Ok(Err(e)) => assert!(e.path.is_some(), "{e}"),
+                Err(_) => panic!("panicked on damaged `{}`", files[which].0),
+            }
+        }
+    }
+}
+
+#[test]
+fn a_cell_label_past_the_faces_allocates_nothing() {
+    use smartmesh_formats::openfoam::read_poly_mesh;
+    let (files, _) = poly_mesh_files(&mixed(), &OpenFoamWrite::default()).unwrap();
+    let get = |name: &str| {
+        let bytes = files.iter().find(|(n, _)| *n == name).unwrap().1.clone();
+        Ok(if name == "neighbour" {
+            String::from_utf8(bytes).unwrap().replace("\n2\n)", "\n4000000000\n)").into_bytes()
+        } else {
+            bytes
+        })
+    };
+    let e = read_poly_mesh(get, Path::new("polyMesh")).unwrap_err();
+    assert!(e.to_string().contains("at most"), "{e}");
+}

@@ -39,7 +39,7 @@ use crate::text::{push_f64, push_int};
 use crate::{Error, ErrorKind, Format, Result, TaggedMesh, WriteReport};
 
 pub use extrude::{extrude, Patch, PolyMesh};
-pub use read::read_case;
+pub use read::{read_case, read_poly_mesh};
 
 /// How to write an OpenFOAM case.
 #[derive(Debug, Clone, Default)]

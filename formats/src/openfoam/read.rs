@@ -177,17 +177,24 @@ struct PatchInfo {
     start: usize,
 }
 
-fn read_file(dir: &Path, name: &str) -> Result<Vec<u8>> {
-    let p = dir.join(name);
-    std::fs::read(&p).map_err(|e| Error::new(ErrorKind::Unreadable(e)).with_path(&p))
-}
-
 /// Reads the 2D mesh of the case directory `case`.
 pub fn read_case(case: &Path) -> Result<TaggedMesh> {
     let dir = case.join("constant").join("polyMesh");
+    read_poly_mesh(
+        |name| {
+            let p = dir.join(name);
+            std::fs::read(&p).map_err(|e| Error::new(ErrorKind::Unreadable(e)).with_path(&p))
+        },
+        &dir,
+    )
+}
+
+/// Reads the 2D mesh of the polyMesh files `file(name)` gives (`points`, `faces`,
+/// `owner`, `neighbour`, `boundary`); errors name them in `dir`.
+pub fn read_poly_mesh(file: impl Fn(&str) -> Result<Vec<u8>>, dir: &Path) -> Result<TaggedMesh> {
     let at = |name: &str| dir.join(name);
 
-    let bytes = read_file(&dir, "points")?;
+    let bytes = file("points")?;
     let points = (|| {
         let mut l = Lexer::new(&bytes);
         l.header()?;
@@ -204,7 +211,7 @@ pub fn read_case(case: &Path) -> Result<TaggedMesh> {
     })()
     .map_err(|e: Error| e.with_path(at("points")))?;
 
-    let bytes = read_file(&dir, "faces")?;
+    let bytes = file("faces")?;
     let faces = (|| {
         let mut l = Lexer::new(&bytes);
         l.header()?;
@@ -230,7 +237,7 @@ pub fn read_case(case: &Path) -> Result<TaggedMesh> {
     .map_err(|e: Error| e.with_path(at("faces")))?;
 
     let labels = |name: &str| -> Result<Vec<u32>> {
-        let bytes = read_file(&dir, name)?;
+        let bytes = file(name)?;
         (|| {
             let mut l = Lexer::new(&bytes);
             l.header()?;
@@ -257,8 +264,19 @@ pub fn read_case(case: &Path) -> Result<TaggedMesh> {
         .with_path(at("owner")));
     }
     let n_cells = owner.iter().chain(&neighbour).map(|&c| c as usize + 1).max().unwrap_or(0);
+    // Every cell owns a face: more cells than faces is a label out of range, refused
+    // before anything is allocated per cell.
+    if n_cells > owner.len() {
+        return Err(Error::new(ErrorKind::Inconsistent(format!(
+            "a cell label {} where {} faces can make at most {} cells",
+            n_cells - 1,
+            owner.len(),
+            owner.len()
+        )))
+        .with_path(at("owner")));
+    }
 
-    let bytes = read_file(&dir, "boundary")?;
+    let bytes = file("boundary")?;
     let patches = (|| {
         let mut l = Lexer::new(&bytes);
         l.header()?;
@@ -324,7 +342,7 @@ pub fn read_case(case: &Path) -> Result<TaggedMesh> {
 
     to_2d(&points, &faces, &owner, n_cells, &patches).map_err(|reason| {
         Error::new(ErrorKind::Unsupported(format!("this case as a 2D mesh: {reason}")))
-            .with_path(&dir)
+            .with_path(dir)
     })
 }
 
