@@ -446,3 +446,16 @@ meshio.write(sys.argv[1], meshio.Mesh(pts, cells), file_format="su2")
     assert_eq!(m.num_cells_of(CellKind::Triangle), 4);
     assert_eq!(interior(&m)[0], (CellKind::Quad, vec![1, 2, 5, 4]));
 }
+
+/// The layout of SU2's own QuickStart mesh (`mesh_NACA0012_inv.su2`: 5233 points,
+/// 10216 triangles, markers `airfoil` and `farfield`): tab-separated columns, points
+/// indented by a tab with their index last, no comments, markers without indices.
+#[test]
+fn the_layout_of_su2s_quickstart_mesh_reads() {
+    let s = "NDIME= 2\nNELEM= 2\n5\t0\t1\t2\t0\n5\t0\t2\t3\t1\nNPOIN= 4\n\t0.000000000000000e+00\t0.000000000000000e+00\t0\n\t1.000000000000000e+00\t-7.189878803616799e-01\t1\n\t1.0e+00\t1.0e+00\t2\n\t0.0e+00\t1.0e+00\t3\nNMARK= 2\nMARKER_TAG= airfoil\nMARKER_ELEMS= 2\n3\t0\t1\n3\t1\t2\nMARKER_TAG= farfield\nMARKER_ELEMS= 2\n3\t2\t3\n3\t3\t0\n";
+    let m = read(s.as_bytes()).unwrap();
+    assert_eq!(m.points[1], [1.0, -7.189878803616799e-01, 0.0]);
+    assert_eq!(m.num_cells_of(CellKind::Triangle), 2);
+    assert_eq!(lines_by_name(&m)["farfield"], [[2, 3], [3, 0]]);
+    assert_eq!(m.tag_name(1, 1), Some("airfoil"));
+}
