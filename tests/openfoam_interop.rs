@@ -1,6 +1,6 @@
 //! OpenFOAM's own `checkMesh` on the cases `smartmesh convert` writes: the bundled
 //! cylinder (triangles), the cylinder with a boundary-layer skin of quads (`smartmesh
-//! layer`), and the examples' meshes, periodic distributor included. Each must end with
+//! layer`, ASCII and binary), and the examples' meshes, periodic distributor included. Each must end with
 //! "Mesh OK." and no failed check. Skips, saying so, when `checkMesh` is not on PATH,
 //! unless `SMARTMESH_REQUIRE_INTEROP=1` (CI, where `.ci/run` installs Debian's
 //! `openfoam`).
@@ -88,6 +88,14 @@ fn check_mesh_passes_the_cylinder_its_skin_of_quads_and_the_examples() {
     let text = check_mesh(&check, &skin_case);
     assert_eq!(count(&text, "hexahedra:"), 288, "{text}");
     assert!(text.contains("(4 1 0.1)"), "the bounding box ends at z = 0.1: {text}");
+
+    // The same in binary (faceCompactList, 32-bit labels), read back by smartmesh too.
+    let binary = dir.path().join("skin-binary.foam");
+    ok(&run(&["convert", skin.to_str().unwrap(), binary.to_str().unwrap(), "--binary"]));
+    let text = check_mesh(&check, &binary);
+    assert_eq!(count(&text, "hexahedra:"), 288, "{text}");
+    let info = ok(&run(&["info", binary.to_str().unwrap()]));
+    assert!(info.contains("288 quad"), "{info}");
 
     // The examples' starting meshes.
     for example in ["naca0012-agard01", "gamm-a7-viscous", "distributor/1-narrow"] {

@@ -203,6 +203,7 @@ fn patch_types_come_from_the_names() {
     let opts = OpenFoamWrite {
         extrude: Some(1.0),
         patch_types: [("Outlet".to_string(), "wall".to_string())].into(),
+        binary: false,
     };
     let (files, _) = poly_mesh_files(&mixed(), &opts).unwrap();
     let boundary = String::from_utf8(files.iter().find(|f| f.0 == "boundary").unwrap().1.clone());
@@ -317,9 +318,20 @@ fn a_written_case_reads_back_as_the_2d_mesh() {
     let dir = tempfile::tempdir().unwrap();
     let mut cyl = cylinder();
     cyl.blocks.retain(|b| b.kind != CellKind::Vertex);
-    for (name, mesh) in [("cyl.foam", cyl), ("mixed.foam", mixed())] {
-        let case = dir.path().join(name);
-        write_path(&case, &mesh, None, &WriteOptions::default()).unwrap();
+    let cases =
+        [("cyl.foam", cyl.clone(), false), ("mixed.foam", mixed(), false), ("cyl.foam", cyl, true)];
+    for (name, mesh, binary) in cases {
+        let case = dir.path().join(if binary { "binary" } else { "ascii" }).join(name);
+        std::fs::create_dir_all(case.parent().unwrap()).unwrap();
+        let opts = WriteOptions {
+            openfoam: OpenFoamWrite { binary, ..Default::default() },
+            ..WriteOptions::default()
+        };
+        write_path(&case, &mesh, None, &opts).unwrap();
+        if binary {
+            let faces = std::fs::read(case.join("constant/polyMesh/faces")).unwrap();
+            assert!(faces.windows(15).any(|w| w == b"faceCompactList"));
+        }
         let back = read_path(&case, None).unwrap_or_else(|e| panic!("{e}"));
         // The points no cell uses are left out; the others keep their order and bits.
         let used: Vec<[f64; 3]> = if name == "mixed.foam" {
@@ -363,7 +375,12 @@ fn malformed_cases_are_refused_naming_the_file_and_line() {
         ("faces", "4(", "4(99 ", "refers to 99"),
         ("points", "(0.0 0.0 0.0)", "(0.0 nan 0.0)", "not a finite number"),
         ("points", "12\n(", "1200000000\n(", "cannot hold"),
-        ("faces", "format      ascii;", "format      binary;", "binary polyMesh"),
+        (
+            "faces",
+            "format      ascii;",
+            "format      binary;\narch \"LSB;label=64\";",
+            "arch `LSB;label=64`",
+        ),
         ("boundary", "nFaces          2;", "nFaces          200;", "at most"),
         ("owner", "\n0\n", "\nx\n", "expected a cell"),
         ("boundary", "type            empty;", "type            patch;", ""),
@@ -390,34 +407,37 @@ fn malformed_cases_are_refused_naming_the_file_and_line() {
 #[test]
 fn damaged_poly_mesh_files_never_panic() {
     use smartmesh_formats::openfoam::read_poly_mesh;
-    let (files, _) = poly_mesh_files(&mixed(), &OpenFoamWrite::default()).unwrap();
     let mut seed = 0x2545_f491_4f6c_dd1du64;
-    for which in 0..files.len() {
-        let original = &files[which].1;
-        let mut copies: Vec<Vec<u8>> =
-            (0..original.len()).step_by(7).map(|n| original[..n].to_vec()).collect();
-        for _ in 0..300 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            let mut b = original.clone();
-            let i = (seed % b.len() as u64) as usize;
-            b[i] = [b'9', b'-', b'(', b')', b'{', b';', 0xff, b'/'][(seed >> 40) as usize % 8];
-            copies.push(b);
-        }
-        for damaged in copies {
-            let get = |name: &str| {
-                let (k, (_, bytes)) =
-                    files.iter().enumerate().find(|(_, (n, _))| *n == name).unwrap();
-                Ok(if k == which { damaged.clone() } else { bytes.clone() })
-            };
-            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                read_poly_mesh(get, Path::new("polyMesh"))
-            }));
-            match r {
-                Ok(Ok(m)) => assert_eq!(m.validate(), Vec::new()),
-                Ok(Err(e)) => assert!(e.path.is_some(), "{e}"),
-                Err(_) => panic!("panicked on damaged `{}`", files[which].0),
+    for binary in [false, true] {
+        let opts = OpenFoamWrite { binary, ..Default::default() };
+        let (files, _) = poly_mesh_files(&mixed(), &opts).unwrap();
+        for which in 0..files.len() {
+            let original = &files[which].1;
+            let mut copies: Vec<Vec<u8>> =
+                (0..original.len()).step_by(7).map(|n| original[..n].to_vec()).collect();
+            for _ in 0..300 {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                let mut b = original.clone();
+                let i = (seed % b.len() as u64) as usize;
+                b[i] = [b'9', b'-', b'(', b')', b'{', b';', 0xff, b'/'][(seed >> 40) as usize % 8];
+                copies.push(b);
+            }
+            for damaged in copies {
+                let get = |name: &str| {
+                    let (k, (_, bytes)) =
+                        files.iter().enumerate().find(|(_, (n, _))| *n == name).unwrap();
+                    Ok(if k == which { damaged.clone() } else { bytes.clone() })
+                };
+                let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    read_poly_mesh(get, Path::new("polyMesh"))
+                }));
+                match r {
+                    Ok(Ok(m)) => assert_eq!(m.validate(), Vec::new()),
+                    Ok(Err(e)) => assert!(e.path.is_some(), "{e}"),
+                    Err(_) => panic!("panicked on damaged `{}`", files[which].0),
+                }
             }
         }
     }

@@ -54,7 +54,7 @@ pub struct MeshOutputArgs {
     /// sol, solb, pos).
     #[arg(long, value_name = "FORMAT", help_heading = "Output")]
     pub to: Option<String>,
-    /// Write binary variants (.msh binary, .vtk binary, .meshb/.solb).
+    /// Write binary variants (.msh binary, .vtk binary, .meshb/.solb, OpenFOAM binary).
     #[arg(long, help_heading = "Output")]
     pub binary: bool,
     /// Gmsh MSH version to write.
@@ -127,6 +127,7 @@ impl MeshOutputArgs {
             openfoam: OpenFoamWrite {
                 extrude: self.extrude,
                 patch_types: self.patch_type.iter().cloned().collect(),
+                binary: self.binary,
             },
             main_name: None,
         }

@@ -1,5 +1,5 @@
 //! OpenFOAM cases: a 2D mesh extruded one cell thick, written as `constant/polyMesh`
-//! (ASCII), with the minimal `system/` files `checkMesh` and the solvers need; and
+//! (ASCII or binary), with the minimal `system/` files `checkMesh` and the solvers need; and
 //! read back.
 //!
 //! Source: the OpenFOAM User Guide, section 5.1 *Mesh description* (polyMesh: `points`,
@@ -24,7 +24,7 @@
 //! Read ([`read_case`]): a 2D case, one cell thick along z, back into a 2D mesh (see
 //! its module).
 //!
-//! Not done yet: binary files, wedges (axisymmetric cases), cyclic
+//! Not done yet: wedges (axisymmetric cases), cyclic
 //! patch pairs for periodic sides, cellZones/faceZones from face tags and inner
 //! curves; the report says what is left.
 
@@ -49,6 +49,9 @@ pub struct OpenFoamWrite {
     pub extrude: Option<f64>,
     /// Patch types by patch name (`Inlet` → `patch`), over [`patch_type`]'s guess.
     pub patch_types: BTreeMap<String, String>,
+    /// Binary `points`, `faces`, `owner` and `neighbour` (little-endian, 32-bit labels,
+    /// 64-bit scalars), as OpenFOAM's `writeFormat binary` writes them.
+    pub binary: bool,
 }
 
 /// Words in a patch name that make it a `patch` whatever else it says (compared in
@@ -181,17 +184,23 @@ pub fn poly_mesh_files(
     let poly = extrude(mesh, dz, &mut name_of, &mut report).map_err(|reason| {
         Error::new(ErrorKind::CannotWrite { format: Format::OpenFoam.name(), reason })
     })?;
-    Ok((files(&poly), report))
+    Ok((files(&poly, opts.binary), report))
 }
 
-/// The FoamFile header of a polyMesh file.
-fn header(class: &str, object: &str, note: Option<&str>) -> Vec<u8> {
+/// The FoamFile header of a polyMesh file; binary files say their byte layout
+/// (`arch`), as OpenFOAM's own writers do.
+fn header(class: &str, object: &str, note: Option<&str>, binary: bool) -> Vec<u8> {
     let mut s = String::from(
         "/*--------------------------------*- C++ -*----------------------------------*\\\n\
          |  Written by smartmesh                                                       |\n\
          \\*---------------------------------------------------------------------------*/\n\
-         FoamFile\n{\n    version     2.0;\n    format      ascii;\n",
+         FoamFile\n{\n    version     2.0;\n",
     );
+    if binary {
+        s.push_str("    format      binary;\n    arch        \"LSB;label=32;scalar=64\";\n");
+    } else {
+        s.push_str("    format      ascii;\n");
+    }
     let _ = writeln!(s, "    class       {class};");
     if let Some(note) = note {
         let _ = writeln!(s, "    note        \"{note}\";");
@@ -201,8 +210,23 @@ fn header(class: &str, object: &str, note: Option<&str>) -> Vec<u8> {
     s.into_bytes()
 }
 
-fn labels(out: &mut Vec<u8>, values: &[u32]) {
+/// A list of labels: in ASCII one per line; in binary (OpenFOAM's `List` in a binary
+/// stream) the count, then `(`, the 32-bit little-endian labels and `)`; an empty list
+/// is `0()` either way.
+fn labels(out: &mut Vec<u8>, values: &[u32], binary: bool) {
     push_int(out, values.len());
+    if values.is_empty() {
+        out.extend_from_slice(b"()\n");
+        return;
+    }
+    if binary {
+        out.extend_from_slice(b"\n(");
+        for &v in values {
+            out.extend_from_slice(&(v as i32).to_le_bytes());
+        }
+        out.extend_from_slice(b")\n");
+        return;
+    }
     out.extend_from_slice(b"\n(\n");
     for &v in values {
         push_int(out, v);
@@ -211,37 +235,65 @@ fn labels(out: &mut Vec<u8>, values: &[u32]) {
     out.extend_from_slice(b")\n");
 }
 
-/// The five polyMesh files of `poly`.
-fn files(poly: &PolyMesh) -> Vec<CaseFile> {
-    let mut points = header("vectorField", "points", None);
+/// The five polyMesh files of `poly`, ASCII or binary (`boundary` is a dictionary,
+/// always ASCII). Binary faces are a `faceCompactList`: the offsets of each face's
+/// labels, then the labels.
+fn files(poly: &PolyMesh, binary: bool) -> Vec<CaseFile> {
+    let mut points = header("vectorField", "points", None, binary);
     push_int(&mut points, poly.points.len());
-    points.extend_from_slice(b"\n(\n");
-    for p in &poly.points {
-        points.push(b'(');
-        push_f64(&mut points, p[0]);
-        points.push(b' ');
-        push_f64(&mut points, p[1]);
-        points.push(b' ');
-        push_f64(&mut points, p[2]);
+    if binary && !poly.points.is_empty() {
+        points.extend_from_slice(b"\n(");
+        for p in &poly.points {
+            for c in p {
+                points.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        points.extend_from_slice(b")\n");
+    } else {
+        points.extend_from_slice(b"\n(\n");
+        for p in &poly.points {
+            points.push(b'(');
+            push_f64(&mut points, p[0]);
+            points.push(b' ');
+            push_f64(&mut points, p[1]);
+            points.push(b' ');
+            push_f64(&mut points, p[2]);
+            points.extend_from_slice(b")\n");
+        }
         points.extend_from_slice(b")\n");
     }
-    points.extend_from_slice(b")\n");
 
-    let mut faces = header("faceList", "faces", None);
-    push_int(&mut faces, poly.faces.len());
-    faces.extend_from_slice(b"\n(\n");
-    for f in &poly.faces {
-        push_int(&mut faces, f.len());
-        faces.push(b'(');
-        for (k, &v) in f.iter().enumerate() {
-            if k > 0 {
-                faces.push(b' ');
+    let faces = if binary {
+        let mut faces = header("faceCompactList", "faces", None, true);
+        let mut offsets = Vec::with_capacity(poly.faces.len() + 1);
+        let mut flat = Vec::new();
+        offsets.push(0u32);
+        for f in &poly.faces {
+            flat.extend_from_slice(f);
+            offsets.push(flat.len() as u32);
+        }
+        labels(&mut faces, &offsets, true);
+        faces.push(b'\n');
+        labels(&mut faces, &flat, true);
+        faces
+    } else {
+        let mut faces = header("faceList", "faces", None, false);
+        push_int(&mut faces, poly.faces.len());
+        faces.extend_from_slice(b"\n(\n");
+        for f in &poly.faces {
+            push_int(&mut faces, f.len());
+            faces.push(b'(');
+            for (k, &v) in f.iter().enumerate() {
+                if k > 0 {
+                    faces.push(b' ');
+                }
+                push_int(&mut faces, v);
             }
-            push_int(&mut faces, v);
+            faces.extend_from_slice(b")\n");
         }
         faces.extend_from_slice(b")\n");
-    }
-    faces.extend_from_slice(b")\n");
+        faces
+    };
 
     let note = format!(
         "nPoints:{}  nCells:{}  nFaces:{}  nInternalFaces:{}",
@@ -250,12 +302,12 @@ fn files(poly: &PolyMesh) -> Vec<CaseFile> {
         poly.faces.len(),
         poly.neighbour.len()
     );
-    let mut owner = header("labelList", "owner", Some(&note));
-    labels(&mut owner, &poly.owner);
-    let mut neighbour = header("labelList", "neighbour", Some(&note));
-    labels(&mut neighbour, &poly.neighbour);
+    let mut owner = header("labelList", "owner", Some(&note), binary);
+    labels(&mut owner, &poly.owner, binary);
+    let mut neighbour = header("labelList", "neighbour", Some(&note), binary);
+    labels(&mut neighbour, &poly.neighbour, binary);
 
-    let mut boundary = header("polyBoundaryMesh", "boundary", None);
+    let mut boundary = header("polyBoundaryMesh", "boundary", None, false);
     let mut s = format!("{}\n(\n", poly.patches.len());
     let mut start = poly.neighbour.len();
     for p in &poly.patches {

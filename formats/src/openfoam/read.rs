@@ -1,4 +1,5 @@
-//! Reading back a 2D OpenFOAM case: an ASCII `constant/polyMesh` one cell thick along
+//! Reading back a 2D OpenFOAM case: a `constant/polyMesh` (ASCII or binary, little-endian
+//! with 32-bit labels) one cell thick along
 //! z, as [`super::write_case`] writes it and as `extrudeMesh` or Gmsh's export make
 //! them.
 //!
@@ -8,7 +9,7 @@
 //! has two points on that plane is a line cell, whose tag is the patch's (patches
 //! numbered 1, 2, … in file order, `tag<N>` read back as tag N without a name, the
 //! others named by the patch name); the cells get tag 1. Refused, naming the file and
-//! line: binary files, a case without `empty` patches or not extruded along z, a cell
+//! line: other binary layouts, a case without `empty` patches or not extruded along z, a cell
 //! with other than one face on the lowest plane, faces of more than 4 points there,
 //! counts past the bytes left, indices out of range.
 
@@ -63,6 +64,15 @@ impl<'a> Lexer<'a> {
         let start = self.pos;
         match self.d.get(self.pos)? {
             b'(' | b')' | b'{' | b'}' | b';' => self.pos += 1,
+            // A quoted string is one token, `;` and blanks inside it included.
+            b'"' => {
+                self.pos += 1;
+                while self.pos < self.d.len() && self.d[self.pos] != b'"' {
+                    self.line += u64::from(self.d[self.pos] == b'\n');
+                    self.pos += 1;
+                }
+                self.pos = (self.pos + 1).min(self.d.len());
+            }
             _ => {
                 while self.pos < self.d.len()
                     && !self.d[self.pos].is_ascii_whitespace()
@@ -121,18 +131,22 @@ impl<'a> Lexer<'a> {
         }
     }
 
-    /// The `FoamFile { … }` header, if there is one; refuses binary files.
-    fn header(&mut self) -> Result<()> {
+    /// The `FoamFile { … }` header, if there is one: whether the lists are binary, and
+    /// the class. Binary files must be little-endian with 32-bit labels and 64-bit
+    /// scalars (OpenFOAM's default build).
+    fn header(&mut self) -> Result<Header> {
+        let mut h = Header { binary: false, class: Vec::new() };
         let save = (self.pos, self.line);
         if self.next() != Some(b"FoamFile") {
             (self.pos, self.line) = save;
-            return Ok(());
+            return Ok(h);
         }
         self.expect("{")?;
+        let mut arch: Option<Vec<u8>> = None;
         loop {
             let key = self.token("`}` closing FoamFile")?;
             if key == b"}" {
-                return Ok(());
+                break;
             }
             let mut value = Vec::new();
             loop {
@@ -142,16 +156,89 @@ impl<'a> Lexer<'a> {
                 }
                 value.push(t);
             }
-            if key == b"format" && value.first() != Some(&&b"ascii"[..]) {
+            let first = value.first().copied().unwrap_or(b"");
+            match key {
+                b"format" => match first {
+                    b"ascii" => {}
+                    b"binary" => h.binary = true,
+                    _ => {
+                        return Err(Error::expected(
+                            self.line,
+                            "`format ascii;` or `format binary;`",
+                            show(first),
+                        ))
+                    }
+                },
+                b"class" => h.class = first.to_vec(),
+                b"arch" => arch = Some(first.to_vec()),
+                _ => {}
+            }
+        }
+        if h.binary {
+            let a = arch.unwrap_or_default();
+            let words = String::from_utf8_lossy(&a).trim_matches('"').to_string();
+            let ok = words.split(';').all(|w| matches!(w, "LSB" | "label=32" | "scalar=64" | ""));
+            if !ok || !words.contains("LSB") {
                 return Err(Error::at_line(
                     self.line,
-                    ErrorKind::Unsupported(
-                        "binary polyMesh files (write them with `foamFormatConvert` as ascii)"
-                            .into(),
-                    ),
+                    ErrorKind::Unsupported(format!(
+                        "binary polyMesh files of arch `{words}` (smartmesh reads \"LSB;label=32;scalar=64\")"
+                    )),
                 ));
             }
         }
+        Ok(h)
+    }
+
+    /// The bytes of a binary list of `n` items of `size` bytes: `n(` bytes `)`, or `0()`.
+    fn raw(&mut self, what: &str, size: usize) -> Result<(usize, &'a [u8])> {
+        let n = self.count(what, size)?;
+        self.expect("(")?;
+        let end = self.pos + n * size;
+        if end > self.d.len() {
+            return Err(Error::at_line(
+                self.line,
+                ErrorKind::UnexpectedEof { context: format!("{what}: {n} items") },
+            ));
+        }
+        let bytes = &self.d[self.pos..end];
+        self.pos = end;
+        self.expect(")")?;
+        Ok((n, bytes))
+    }
+
+    /// A list of labels below `below`, ASCII or binary.
+    fn labels(&mut self, binary: bool, what: &str, below: usize) -> Result<Vec<u32>> {
+        if binary {
+            let line = self.line;
+            let (_, bytes) = self.raw(what, 4)?;
+            return bytes
+                .chunks_exact(4)
+                .map(|c| {
+                    let v = i32::from_le_bytes([c[0], c[1], c[2], c[3]]) as i64;
+                    if v < 0 || v as u64 >= below as u64 {
+                        Err(Error::at_line(
+                            line,
+                            ErrorKind::IndexOutOfRange {
+                                what: what.into(),
+                                index: v,
+                                available: below,
+                            },
+                        ))
+                    } else {
+                        Ok(v as u32)
+                    }
+                })
+                .collect();
+        }
+        let n = self.count(what, 2)?;
+        self.expect("(")?;
+        let mut v = Vec::with_capacity(n);
+        for _ in 0..n {
+            v.push(self.label(what, below)?);
+        }
+        self.expect(")")?;
+        Ok(v)
     }
 
     /// A list's count, checked against the bytes left.
@@ -167,6 +254,12 @@ impl<'a> Lexer<'a> {
         check_count(n as usize, self.d.len() - self.pos, min_bytes, what)
             .map_err(|k| Error::at_line(self.line, k))
     }
+}
+
+/// What a file's `FoamFile` header says.
+struct Header {
+    binary: bool,
+    class: Vec<u8>,
 }
 
 /// One patch of `boundary`.
@@ -197,7 +290,29 @@ pub fn read_poly_mesh(file: impl Fn(&str) -> Result<Vec<u8>>, dir: &Path) -> Res
     let bytes = file("points")?;
     let points = (|| {
         let mut l = Lexer::new(&bytes);
-        l.header()?;
+        if l.header()?.binary {
+            let line = l.line;
+            let (_, bytes) = l.raw("the number of points", 24)?;
+            return bytes
+                .chunks_exact(24)
+                .map(|c| {
+                    let v: [f64; 3] = std::array::from_fn(|k| {
+                        f64::from_le_bytes(c[8 * k..8 * k + 8].try_into().unwrap_or([0; 8]))
+                    });
+                    if v.iter().all(|x| x.is_finite()) {
+                        Ok(v)
+                    } else {
+                        Err(Error::at_line(
+                            line,
+                            ErrorKind::NonFinite {
+                                what: "a point".into(),
+                                value: format!("{v:?}"),
+                            },
+                        ))
+                    }
+                })
+                .collect();
+        }
         let n = l.count("the number of points", 7)?;
         l.expect("(")?;
         let mut pts = Vec::with_capacity(n);
@@ -214,7 +329,35 @@ pub fn read_poly_mesh(file: impl Fn(&str) -> Result<Vec<u8>>, dir: &Path) -> Res
     let bytes = file("faces")?;
     let faces = (|| {
         let mut l = Lexer::new(&bytes);
-        l.header()?;
+        let h = l.header()?;
+        if h.class == b"faceCompactList" {
+            // The offsets of each face's labels, then the labels.
+            let line = l.line;
+            let offsets = l.labels(h.binary, "a face offset", usize::MAX)?;
+            let flat = l.labels(h.binary, "a face's point", points.len())?;
+            let mut faces = Vec::with_capacity(offsets.len().saturating_sub(1));
+            for w in offsets.windows(2) {
+                let (a, b) = (w[0] as usize, w[1] as usize);
+                if a > b || b > flat.len() || b - a < 3 {
+                    return Err(Error::at_line(
+                        line,
+                        ErrorKind::Inconsistent(format!(
+                            "face offsets {a} to {b} in a list of {} labels",
+                            flat.len()
+                        )),
+                    ));
+                }
+                faces.push(flat[a..b].to_vec());
+            }
+            return Ok(faces);
+        }
+        if h.binary {
+            return Err(Error::expected(
+                l.line,
+                "`class faceCompactList;` in a binary faces file",
+                String::from_utf8_lossy(&h.class).into_owned(),
+            ));
+        }
         let n = l.count("the number of faces", 8)?;
         l.expect("(")?;
         let mut faces: Vec<Vec<u32>> = Vec::with_capacity(n);
@@ -240,15 +383,8 @@ pub fn read_poly_mesh(file: impl Fn(&str) -> Result<Vec<u8>>, dir: &Path) -> Res
         let bytes = file(name)?;
         (|| {
             let mut l = Lexer::new(&bytes);
-            l.header()?;
-            let n = l.count("the number of labels", 2)?;
-            l.expect("(")?;
-            let mut v = Vec::with_capacity(n);
-            for _ in 0..n {
-                v.push(l.label("a cell", u32::MAX as usize)?);
-            }
-            l.expect(")")?;
-            Ok(v)
+            let binary = l.header()?.binary;
+            l.labels(binary, "a cell", u32::MAX as usize)
         })()
         .map_err(|e: Error| e.with_path(at(name)))
     };
