@@ -97,6 +97,16 @@ fn check_mesh_passes_the_cylinder_its_skin_of_quads_and_the_examples() {
     let info = ok(&run(&["info", binary.to_str().unwrap()]));
     assert!(info.contains("288 quad"), "{info}");
 
+    // An axisymmetric wedge of 5 degrees: the bottom wall (y = 0) is the axis.
+    let wedge = dir.path().join("wedge.foam");
+    let o = run(&["convert", &bundled("cylinder.msh"), wedge.to_str().unwrap(), "--wedge", "5"]);
+    ok(&o);
+    assert!(stderr(&o).contains("on the wedge's axis"), "{}", stderr(&o));
+    let text = check_mesh(&check, &wedge);
+    assert!(text.contains("Mesh has 3 solution (non-empty) directions"), "{text}");
+    let boundary = std::fs::read_to_string(wedge.join("constant/polyMesh/boundary")).unwrap();
+    assert_eq!(boundary.matches("type            wedge;").count(), 2, "{boundary}");
+
     // The examples' starting meshes.
     for example in ["naca0012-agard01", "gamm-a7-viscous", "distributor/1-narrow"] {
         let input = root.join("examples").join(example).join("start.msh");

@@ -5,7 +5,9 @@
 
 use std::path::Path;
 
-use smartmesh_formats::openfoam::{extrude, patch_type, poly_mesh_files, OpenFoamWrite, PolyMesh};
+use smartmesh_formats::openfoam::{
+    extrude, extrude_layer, patch_type, poly_mesh_files, Layer, OpenFoamWrite, PolyMesh,
+};
 use smartmesh_formats::{
     read_path, write_path, CellBlock, CellKind, Format, TaggedMesh, WriteOptions, WriteReport,
 };
@@ -109,8 +111,8 @@ fn assert_valid(p: &PolyMesh) {
             *v /= n;
         }
     }
-    // Prisms have 5 faces, hexahedra 6.
-    assert!(faces_of.iter().all(|&n| n == 5 || n == 6), "{faces_of:?}");
+    // Prisms have 5 faces, hexahedra 6; on a wedge's axis, tetrahedra 4 and pyramids 5.
+    assert!(faces_of.iter().all(|&n| (4..=6).contains(&n)), "{faces_of:?}");
     for fi in 0..ni {
         assert!(p.owner[fi] < p.neighbour[fi], "face {fi}: owner must be below neighbour");
         if fi > 0 {
@@ -203,7 +205,7 @@ fn patch_types_come_from_the_names() {
     let opts = OpenFoamWrite {
         extrude: Some(1.0),
         patch_types: [("Outlet".to_string(), "wall".to_string())].into(),
-        binary: false,
+        ..Default::default()
     };
     let (files, _) = poly_mesh_files(&mixed(), &opts).unwrap();
     let boundary = String::from_utf8(files.iter().find(|f| f.0 == "boundary").unwrap().1.clone());
@@ -457,4 +459,47 @@ fn a_cell_label_past_the_faces_allocates_nothing() {
     };
     let e = read_poly_mesh(get, Path::new("polyMesh")).unwrap_err();
     assert!(e.to_string().contains("at most"), "{e}");
+}
+
+#[test]
+fn a_wedge_turns_the_mesh_about_the_x_axis_and_collapses_the_axis_faces() {
+    let m = mixed();
+    let mut report = WriteReport::default();
+    let name = |t: i32, _: &mut WriteReport| {
+        (m.tag_name(1, t).map_or(format!("tag{t}"), str::to_owned), "patch".to_string())
+    };
+    let p = extrude_layer(&m, Layer::Wedge(5.0), name, &mut report).unwrap();
+    assert_valid(&p);
+    // The three points on y = 0 are shared: 6 below, 3 above.
+    assert_eq!(p.points.len(), 9);
+    let half = 2.5f64.to_radians();
+    for q in &p.points {
+        let r = (q[1] * q[1] + q[2] * q[2]).sqrt();
+        assert!(q[2] == 0.0 || (q[2].abs() - r * half.sin()).abs() < 1e-15, "{q:?}");
+    }
+    // Bottom (the axis) has no face left; front and back are wedges.
+    let names: Vec<_> = p.patches.iter().map(|q| (q.name.as_str(), q.kind.as_str())).collect();
+    assert_eq!(
+        names,
+        [
+            ("defaultFaces", "patch"),
+            ("Outlet", "patch"),
+            ("tag3", "patch"),
+            ("front", "wedge"),
+            ("back", "wedge")
+        ]
+    );
+    assert!(report.dropped.iter().any(|d| d.contains("2 boundary edges on the wedge's axis")));
+    // Below the axis is refused.
+    let mut below = mixed();
+    below.points[5][1] = -0.5;
+    let mut report = WriteReport::default();
+    let e = extrude_layer(
+        &below,
+        Layer::Wedge(5.0),
+        |_, _| (String::new(), String::new()),
+        &mut report,
+    )
+    .unwrap_err();
+    assert!(e.contains("y < 0"), "{e}");
 }

@@ -76,6 +76,10 @@ pub struct MeshOutputArgs {
     /// (default: a hundredth of the mesh's extent).
     #[arg(long, value_name = "DZ", value_parser = positive_size, help_heading = "Output")]
     pub extrude: Option<f64>,
+    /// OpenFOAM: an axisymmetric wedge of ANGLE degrees about the x axis (the mesh in
+    /// y >= 0; front and back `wedge` patches) instead of a slab.
+    #[arg(long, value_name = "ANGLE", conflicts_with = "extrude", help_heading = "Output")]
+    pub wedge: Option<f64>,
     /// OpenFOAM: the type of a patch, over the guess from its name (`wall` for names
     /// like Wall, Airfoil, Cylinder; `patch` otherwise); repeatable.
     #[arg(long, value_name = "NAME=TYPE", value_parser = patch_type, help_heading = "Output")]
@@ -127,6 +131,7 @@ impl MeshOutputArgs {
             openfoam: OpenFoamWrite {
                 extrude: self.extrude,
                 patch_types: self.patch_type.iter().cloned().collect(),
+                wedge: self.wedge,
                 binary: self.binary,
             },
             main_name: None,

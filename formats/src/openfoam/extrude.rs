@@ -58,11 +58,33 @@ struct Side {
 /// Why a mesh cannot be extruded.
 pub type Refusal = String;
 
+/// The one cell layer a 2D mesh becomes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Layer {
+    /// From z = 0 to z = dz; `front` and `back` are `empty`.
+    Slab(f64),
+    /// An axisymmetric wedge of this angle (degrees) about the x axis, from -angle/2
+    /// (`back`) to +angle/2 (`front`), both `wedge` patches; the mesh lies in y >= 0,
+    /// and its points on the axis (y = 0) are shared by both planes, so the faces there
+    /// collapse and are left out.
+    Wedge(f64),
+}
+
 /// Extrudes `mesh` by `dz`; `patch_name` gives the patch name and type of a line tag
 /// (called once per tag, in increasing tag order). What is left out goes to `report`.
 pub fn extrude(
     mesh: &TaggedMesh,
     dz: f64,
+    patch_name: impl FnMut(i32, &mut WriteReport) -> (String, String),
+    report: &mut WriteReport,
+) -> Result<PolyMesh, Refusal> {
+    extrude_layer(mesh, Layer::Slab(dz), patch_name, report)
+}
+
+/// [`extrude`] into a slab or a wedge.
+pub fn extrude_layer(
+    mesh: &TaggedMesh,
+    layer: Layer,
     mut patch_name: impl FnMut(i32, &mut WriteReport) -> (String, String),
     report: &mut WriteReport,
 ) -> Result<PolyMesh, Refusal> {
@@ -124,10 +146,45 @@ pub fn extrude(
             "{unused} points no triangle or quad uses: OpenFOAM's checkMesh refuses unused points"
         ));
     }
-    let np = bottom.len() as u32;
     let mut points = Vec::with_capacity(2 * bottom.len());
-    points.extend(bottom.iter().map(|&i| [mesh.points[i][0], mesh.points[i][1], 0.0]));
-    points.extend(bottom.iter().map(|&i| [mesh.points[i][0], mesh.points[i][1], dz]));
+    // `top[v]`: the point above bottom point v (itself on a wedge's axis).
+    let mut top: Vec<u32> = Vec::with_capacity(bottom.len());
+    match layer {
+        Layer::Slab(dz) => {
+            points.extend(bottom.iter().map(|&i| [mesh.points[i][0], mesh.points[i][1], 0.0]));
+            for &i in &bottom {
+                top.push(points.len() as u32);
+                points.push([mesh.points[i][0], mesh.points[i][1], dz]);
+            }
+        }
+        Layer::Wedge(angle) => {
+            if !(angle > 0.0 && angle < 180.0) {
+                return Err(format!(
+                    "a wedge angle of {angle} degrees (expected between 0 and 180)"
+                ));
+            }
+            if let Some(&i) = bottom.iter().find(|&&i| mesh.points[i][1] < 0.0) {
+                return Err(format!(
+                    "point {i} has y < 0: an axisymmetric wedge turns the half plane y >= 0 about the x axis"
+                ));
+            }
+            let (s, c) = (angle.to_radians() / 2.0).sin_cos();
+            let at = |i: usize, sign: f64| {
+                let [x, y, _] = mesh.points[i];
+                [x, y * c, sign * y * s]
+            };
+            points.extend(bottom.iter().map(|&i| at(i, -1.0)));
+            for (v, &i) in bottom.iter().enumerate() {
+                if mesh.points[i][1] == 0.0 {
+                    top.push(v as u32);
+                } else {
+                    top.push(points.len() as u32);
+                    points.push(at(i, 1.0));
+                }
+            }
+        }
+    }
+    let empty_kind = if matches!(layer, Layer::Wedge(_)) { "wedge" } else { "empty" };
     for c in &mut cells {
         for v in c.iter_mut() {
             *v = new_of[*v as usize];
@@ -206,13 +263,28 @@ pub fn extrude(
     }
     internal.sort_by_key(|&(o, n, _)| (o, n));
 
-    let side_face = |[a, b]: [u32; 2]| vec![a, b, b + np, a + np];
+    // [a, b, b', a'] with the points a wedge's axis shares left once; `None` when the
+    // face collapses to the axis.
+    let side_face = |[a, b]: [u32; 2]| -> Option<Vec<u32>> {
+        let mut f = vec![a, b];
+        if top[b as usize] != b {
+            f.push(top[b as usize]);
+        }
+        if top[a as usize] != a {
+            f.push(top[a as usize]);
+        }
+        (f.len() >= 3).then_some(f)
+    };
     let mut poly = PolyMesh { points, n_cells: cells.len(), ..PolyMesh::default() };
     for &(o, n, e) in &internal {
-        poly.faces.push(side_face(e));
+        let Some(f) = side_face(e) else {
+            return Err("an inner edge lies on the wedge's axis".into());
+        };
+        poly.faces.push(f);
         poly.owner.push(o);
         poly.neighbour.push(n);
     }
+    let mut on_axis = 0usize;
     let mut used_names: BTreeMap<String, ()> = BTreeMap::new();
     let reserved = ["front", "back"];
     for (tag, mut faces) in boundary {
@@ -235,24 +307,42 @@ pub fn extrude(
         }
         used_names.insert(name.clone(), ());
         faces.sort_by_key(|&(c, e)| (c, e));
+        let mut n_faces = 0;
         for &(c, e) in &faces {
-            poly.faces.push(side_face(e));
-            poly.owner.push(c);
+            match side_face(e) {
+                Some(f) => {
+                    poly.faces.push(f);
+                    poly.owner.push(c);
+                    n_faces += 1;
+                }
+                None => on_axis += 1,
+            }
         }
-        poly.patches.push(Patch { name, kind, n_faces: faces.len() });
+        if n_faces > 0 {
+            poly.patches.push(Patch { name, kind, n_faces });
+        }
     }
     // Front (z = dz): counter-clockwise from +z, the outward normal. Back (z = 0):
     // reversed.
     for (ci, c) in cells.iter().enumerate() {
-        poly.faces.push(c.iter().map(|&v| v + np).collect());
+        poly.faces.push(c.iter().map(|&v| top[v as usize]).collect());
         poly.owner.push(ci as u32);
     }
-    poly.patches.push(Patch { name: "front".into(), kind: "empty".into(), n_faces: cells.len() });
+    if on_axis > 0 {
+        report.drop(format!(
+            "{on_axis} boundary edges on the wedge's axis: their faces collapse, so they are in no patch"
+        ));
+    }
+    poly.patches.push(Patch {
+        name: "front".into(),
+        kind: empty_kind.into(),
+        n_faces: cells.len(),
+    });
     for (ci, c) in cells.iter().enumerate() {
         poly.faces.push(std::iter::once(c[0]).chain(c[1..].iter().rev().copied()).collect());
         poly.owner.push(ci as u32);
     }
-    poly.patches.push(Patch { name: "back".into(), kind: "empty".into(), n_faces: cells.len() });
+    poly.patches.push(Patch { name: "back".into(), kind: empty_kind.into(), n_faces: cells.len() });
     Ok(poly)
 }
 

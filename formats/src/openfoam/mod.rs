@@ -24,7 +24,10 @@
 //! Read ([`read_case`]): a 2D case, one cell thick along z, back into a 2D mesh (see
 //! its module).
 //!
-//! Not done yet: wedges (axisymmetric cases), cyclic
+//! `wedge` ([`OpenFoamWrite::wedge`], axisymmetric cases): the mesh in y >= 0 is turned
+//! by ±angle/2 about the x axis, its points on the axis shared by both planes.
+//!
+//! Not done yet: cyclic
 //! patch pairs for periodic sides, cellZones/faceZones from face tags and inner
 //! curves; the report says what is left.
 
@@ -38,7 +41,7 @@ use std::path::Path;
 use crate::text::{push_f64, push_int};
 use crate::{Error, ErrorKind, Format, Result, TaggedMesh, WriteReport};
 
-pub use extrude::{extrude, Patch, PolyMesh};
+pub use extrude::{extrude, extrude_layer, Layer, Patch, PolyMesh};
 pub use read::{read_case, read_poly_mesh};
 
 /// How to write an OpenFOAM case.
@@ -49,6 +52,9 @@ pub struct OpenFoamWrite {
     pub extrude: Option<f64>,
     /// Patch types by patch name (`Inlet` → `patch`), over [`patch_type`]'s guess.
     pub patch_types: BTreeMap<String, String>,
+    /// An axisymmetric wedge of this angle in degrees about the x axis (front and back
+    /// `wedge` patches at ±angle/2) instead of a slab.
+    pub wedge: Option<f64>,
     /// Binary `points`, `faces`, `owner` and `neighbour` (little-endian, 32-bit labels,
     /// 64-bit scalars), as OpenFOAM's `writeFormat binary` writes them.
     pub binary: bool,
@@ -152,12 +158,18 @@ pub fn poly_mesh_files(
     }
     let mut report = WriteReport::default();
     report_unheld(mesh, &mut report);
-    let dz = thickness(mesh, opts)?;
-    if opts.extrude.is_none() {
-        report.drop(format!(
-            "the 2D mesh written as one cell layer from z = 0 to z = {dz} (a hundredth of its extent; --extrude DZ sets it)"
-        ));
-    }
+    let layer = match opts.wedge {
+        Some(angle) => Layer::Wedge(angle),
+        None => {
+            let dz = thickness(mesh, opts)?;
+            if opts.extrude.is_none() {
+                report.drop(format!(
+                    "the 2D mesh written as one cell layer from z = 0 to z = {dz} (a hundredth of its extent; --extrude DZ sets it)"
+                ));
+            }
+            Layer::Slab(dz)
+        }
+    };
     let mut name_of = |tag: i32, report: &mut WriteReport| -> (String, String) {
         let name = match mesh.tag_name(1, tag) {
             Some(n) => {
@@ -181,7 +193,7 @@ pub fn poly_mesh_files(
             opts.patch_types.get(&name).cloned().unwrap_or_else(|| patch_type(&name).to_string());
         (name, kind)
     };
-    let poly = extrude(mesh, dz, &mut name_of, &mut report).map_err(|reason| {
+    let poly = extrude_layer(mesh, layer, &mut name_of, &mut report).map_err(|reason| {
         Error::new(ErrorKind::CannotWrite { format: Format::OpenFoam.name(), reason })
     })?;
     Ok((files(&poly, opts.binary), report))

@@ -502,7 +502,12 @@ fn to_2d(
 ) -> std::result::Result<TaggedMesh, String> {
     let empty: Vec<&PatchInfo> = patches.iter().filter(|p| p.kind == "empty").collect();
     if empty.is_empty() {
-        return Err("it has no `empty` patch (front and back of a one-cell-thick case)".into());
+        let what = if patches.iter().any(|p| p.kind == "wedge") {
+            "it is an axisymmetric wedge, which smartmesh does not read back yet"
+        } else {
+            "it has no `empty` patch (front and back of a one-cell-thick case)"
+        };
+        return Err(what.into());
     }
     let zmin = empty
         .iter()
