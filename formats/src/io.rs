@@ -184,7 +184,9 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
         Format::Su2 => crate::su2::write(mesh, opts),
         Format::OpenFoam => Err(Error::new(ErrorKind::CannotWrite {
             format: format.name(),
-            reason: "an OpenFOAM case is a directory of files; write it to a path".into(),
+            reason: "an OpenFOAM case is a directory of files, not one file or a stream; \
+                write a .msh, then `smartmesh convert MESH.msh CASE.foam`"
+                .into(),
         })),
     }
 }
