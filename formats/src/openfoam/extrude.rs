@@ -10,7 +10,10 @@
 //! - then each patch's faces, contiguous, in patch order, each pointing out of the
 //!   domain: the boundary curves first (by tag), then `front` (z = dz) and `back`
 //!   (z = 0);
-//! - every point is used: points no 2D cell uses are left out.
+//! - every point is used: points no 2D cell uses are left out;
+//! - a wedge ([`Layer::Wedge`]) turns the points about the x axis instead of lifting
+//!   them, keeps one point where a point lies on the axis, and leaves out the faces that
+//!   collapse there (so a cell on the axis is a tetrahedron or a pyramid).
 
 use std::collections::BTreeMap;
 
