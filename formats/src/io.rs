@@ -125,9 +125,20 @@ pub fn read_bytes_reported(
             report = r;
             mesh
         }
+        Format::Su2 => {
+            let (mesh, r) = crate::su2::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::Gltf => {
             return Err(Error::new(ErrorKind::Unsupported(
                 "reading glTF (smartmesh writes it for viewers)".into(),
+            )))
+        }
+        Format::OpenFoam => {
+            return Err(Error::new(ErrorKind::Unsupported(
+                "reading an OpenFOAM case from bytes: it is a directory, read it by its path"
+                    .into(),
             )))
         }
     };
@@ -174,6 +185,13 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
         Format::Obj => crate::obj::write(mesh, opts),
         Format::Medit => crate::medit::write(mesh, opts),
         Format::Gltf => crate::gltf::write(mesh, opts),
+        Format::Su2 => crate::su2::write(mesh, opts),
+        Format::OpenFoam => Err(Error::new(ErrorKind::CannotWrite {
+            format: format.name(),
+            reason: "an OpenFOAM case is a directory of files, not one file or a stream; \
+                write a .msh, then `smartmesh convert MESH.msh CASE.foam`"
+                .into(),
+        })),
     }
 }
 
@@ -251,6 +269,9 @@ pub fn read_path_reported_without(
         return read_bytes_reported(format, &bytes, &ctx);
     }
     let format = resolve_format(path, format)?;
+    if format == Format::OpenFoam {
+        return Ok((crate::openfoam::read_case(path)?, ReadReport::default()));
+    }
     let bytes =
         std::fs::read(path).map_err(|e| Error::new(ErrorKind::Unreadable(e)).with_path(path))?;
     let siblings = SiblingsBut { inner: PathSiblings::new(path), left_out };
@@ -288,6 +309,9 @@ pub fn write_path(
         return Ok(written.report);
     }
     let format = resolve_format(path, format)?;
+    if format == Format::OpenFoam {
+        return crate::openfoam::write_case(path, mesh, &opts.openfoam);
+    }
     let mut opts = opts.clone();
     opts.main_name = path.file_name().and_then(|n| n.to_str()).map(str::to_owned);
     let written = write_bytes(format, mesh, &opts).map_err(|e| e.with_path(path))?;

@@ -9,7 +9,8 @@
 //!   group of [`WriteOptions`]:
 //!   [`triangle`] (.node/.ele/.poly/.edge/.area), [`gmsh`] (MSH 2.2 and 4.1, ASCII and
 //!   binary), [`vtk`] (legacy .vtk 4.2/5.1 and XML .vtu), [`obj`], [`medit`]
-//!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only);
+//!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only), [`su2`],
+//!   [`openfoam`] (a case directory);
 //! - [`Format::from_path`], a static extension table;
 //! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
 //!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written as a
@@ -34,6 +35,8 @@ pub mod gltf;
 pub mod gmsh;
 pub mod medit;
 pub mod obj;
+pub mod openfoam;
+pub mod su2;
 pub mod triangle;
 pub mod vtk;
 
@@ -52,6 +55,7 @@ pub use mesh::{
     sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout,
     MeshProblem, NodeIndex, RegionSeed, TaggedMesh, MAX_POINTS,
 };
+pub use openfoam::OpenFoamWrite;
 pub use output::write_all_atomically;
 pub use vtk::{VtkWrite, VtuEncoding};
 
@@ -75,6 +79,11 @@ pub enum Format {
     Medit,
     /// glTF 2.0: `.gltf` with a `.bin` beside it, or a single `.glb`.
     Gltf,
+    /// SU2 native mesh `.su2` (ASCII).
+    Su2,
+    /// An OpenFOAM case directory (`constant/polyMesh`): the path is the directory
+    /// (`case.foam`, or any name with `--from`/`--to openfoam`).
+    OpenFoam,
 }
 
 /// The extension table, as meshio's `_helpers.py` keeps one: last suffix, lower case.
@@ -92,6 +101,8 @@ const EXTENSIONS: &[(&str, Format)] = &[
     ("meshb", Format::Medit),
     ("gltf", Format::Gltf),
     ("glb", Format::Gltf),
+    ("su2", Format::Su2),
+    ("foam", Format::OpenFoam),
 ];
 
 impl Format {
@@ -116,6 +127,7 @@ impl Format {
             "gmsh" => Some(Format::Gmsh),
             "vtk-legacy" | "legacy" => Some(Format::VtkLegacy),
             "medit" | "mmg" => Some(Format::Medit),
+            "openfoam" | "polymesh" => Some(Format::OpenFoam),
             _ => None,
         })
     }
@@ -130,6 +142,8 @@ impl Format {
             Format::Obj => "OBJ",
             Format::Medit => "Medit",
             Format::Gltf => "glTF",
+            Format::Su2 => "SU2",
+            Format::OpenFoam => "OpenFOAM",
         }
     }
 
@@ -145,7 +159,7 @@ impl Format {
 
     /// The names accepted by [`Format::from_name`], for help texts.
     pub const NAMES: &'static str =
-        "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb";
+        "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2, openfoam (foam)";
 }
 
 /// Which of [`TaggedMesh::validate`]'s checks a format's reader and writer make
@@ -181,6 +195,9 @@ impl Format {
             Format::Obj => obj::CHECKS,
             Format::Medit => medit::CHECKS,
             Format::Gltf => gltf::CHECKS,
+            Format::Su2 => su2::CHECKS,
+            // Validated by `openfoam::poly_mesh_files` itself.
+            Format::OpenFoam => Checks { reader_validates: false, writer_validates: true },
         }
     }
 }
@@ -198,6 +215,8 @@ pub struct WriteOptions {
     pub medit: MeditWrite,
     /// glTF: the colouring field, `.glb` or `.gltf` + `.bin`.
     pub gltf: GltfWrite,
+    /// OpenFOAM: the extrusion thickness, patch types.
+    pub openfoam: OpenFoamWrite,
     /// File name (no directory) of the main output, for formats whose main file names
     /// its siblings (glTF's `.bin` URI) or whose extension chooses what is written
     /// (Triangle's files, Medit's encoding, `.glb`). `None` when writing to stdout.

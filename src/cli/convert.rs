@@ -15,7 +15,8 @@ use super::{parse_format, print_stdout, ui, CliError, MeshOutputArgs};
 #[command(
     after_help = "Formats come from the extensions: .node .ele .poly .edge (Triangle), .msh (Gmsh), \
 .vtk .vtu (VTK), .obj, .mesh .meshb (Medit/MMG; a .sol/.solb beside them carries the metric), \
-.gltf .glb (glTF, write only).
+.gltf .glb (glTF, write only), .su2 (SU2), .foam (an OpenFOAM case directory, write only: \
+`--to openfoam` for another name; --extrude DZ, --patch-type NAME=TYPE).
 
 Examples:
   smartmesh convert naca.msh naca.vtu
@@ -23,7 +24,9 @@ Examples:
   smartmesh convert square.msh square.mesh          # writes square.mesh and square.sol
   gmsh -2 -o - model.geo | smartmesh convert --from msh - out.vtu
   smartmesh convert adapted.vtu view.glb --color-field hmin
-  smartmesh convert skin.msh skin-triangles.msh --split-quads"
+  smartmesh convert skin.msh skin-triangles.msh --split-quads
+  smartmesh convert naca.msh naca.su2
+  smartmesh convert skin.msh case.foam --extrude 0.1     # then: checkMesh -case case.foam"
 )]
 pub struct ConvertArgs {
     /// Input mesh (`-` for stdin, with --from).

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use smartmesh::formats::{
     write_path, Error as FormatError, Format, GltfWrite, GmshVersion, GmshWrite, MeditWrite,
-    TaggedMesh, VtkWrite, VtuEncoding, WriteOptions, WriteReport,
+    OpenFoamWrite, TaggedMesh, VtkWrite, VtuEncoding, WriteOptions, WriteReport,
 };
 use smartmesh::recipe::{Recipe, RecipeFormat};
 
@@ -50,10 +50,11 @@ pub enum VtuEncodingArg {
 #[derive(Debug, Clone, Args)]
 pub struct MeshOutputArgs {
     /// Output format when the extension does not tell (needed with `-o -`): a format name
-    /// or extension (msh, vtu, vtk, mesh, obj, node, gltf, glb; `size` also sol, solb, pos).
+    /// or extension (msh, vtu, vtk, mesh, obj, node, gltf, glb, su2, openfoam; `size` also
+    /// sol, solb, pos).
     #[arg(long, value_name = "FORMAT", help_heading = "Output")]
     pub to: Option<String>,
-    /// Write binary variants (.msh binary, .vtk binary, .meshb/.solb).
+    /// Write binary variants (.msh binary, .vtk binary, .meshb/.solb, OpenFOAM binary).
     #[arg(long, help_heading = "Output")]
     pub binary: bool,
     /// Gmsh MSH version to write.
@@ -71,6 +72,27 @@ pub struct MeshOutputArgs {
     /// Do not zlib-compress .vtu binary or appended data.
     #[arg(long, help_heading = "Output")]
     pub no_compress: bool,
+    /// OpenFOAM: the thickness of the one cell layer the 2D mesh is extruded into
+    /// (default: a hundredth of the mesh's extent).
+    #[arg(long, value_name = "DZ", value_parser = positive_size, help_heading = "Output")]
+    pub extrude: Option<f64>,
+    /// OpenFOAM: an axisymmetric wedge of ANGLE degrees about the x axis (the mesh in
+    /// y >= 0; front and back `wedge` patches) instead of a slab.
+    #[arg(long, value_name = "ANGLE", conflicts_with = "extrude", help_heading = "Output")]
+    pub wedge: Option<f64>,
+    /// OpenFOAM: the type of a patch, over the guess from its name (`wall` for names
+    /// like Wall, Airfoil, Cylinder; `patch` otherwise); repeatable.
+    #[arg(long, value_name = "NAME=TYPE", value_parser = patch_type, help_heading = "Output")]
+    pub patch_type: Vec<(String, String)>,
+}
+
+fn patch_type(s: &str) -> Result<(String, String), String> {
+    match s.split_once('=') {
+        Some((n, t)) if !n.is_empty() && !t.is_empty() && !t.contains(char::is_whitespace) => {
+            Ok((n.to_string(), t.to_string()))
+        }
+        _ => Err(format!("`{s}`: expected NAME=TYPE (e.g. Outlet=patch, Top=symmetryPlane)")),
+    }
 }
 
 impl MeshOutputArgs {
@@ -105,6 +127,12 @@ impl MeshOutputArgs {
                 color_field: None,
                 glb: path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"))
                     || self.to.as_deref().is_some_and(|t| t.eq_ignore_ascii_case("glb")),
+            },
+            openfoam: OpenFoamWrite {
+                extrude: self.extrude,
+                patch_types: self.patch_type.iter().cloned().collect(),
+                wedge: self.wedge,
+                binary: self.binary,
             },
             main_name: None,
         }
