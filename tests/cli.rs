@@ -211,3 +211,35 @@ fn output_is_deterministic() {
     }
     assert_eq!(outputs.len(), 7);
 }
+
+#[test]
+fn convert_refuses_to_rewrite_its_input_in_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mesh = d.join("a.msh");
+    std::fs::copy(fixture("cylinder.msh"), &mesh).unwrap();
+    let before = std::fs::read(&mesh).unwrap();
+    std::fs::create_dir(d.join("sub")).unwrap();
+    std::fs::hard_link(&mesh, d.join("hard.msh")).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(&mesh, d.join("soft.msh")).unwrap();
+    let spellings = [
+        mesh.clone(),
+        d.join("sub/../a.msh"),
+        d.join("./a.msh"),
+        d.join("hard.msh"),
+        #[cfg(unix)]
+        d.join("soft.msh"),
+    ];
+    for out in &spellings {
+        let o = run(&["convert", mesh.to_str().unwrap(), out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{}: {}", out.display(), stderr(&o));
+        assert!(stderr(&o).contains("the same file"), "{}", stderr(&o));
+        assert_eq!(std::fs::read(&mesh).unwrap(), before, "{} rewrote the input", out.display());
+    }
+    // A copy is another file: converted over as asked.
+    let copy = d.join("copy.msh");
+    std::fs::copy(&mesh, &copy).unwrap();
+    let o = run(&["convert", mesh.to_str().unwrap(), copy.to_str().unwrap(), "--msh2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}

@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use smartmesh::formats::{write_path, Format};
 
-use super::output::{check_output_dir, label, shown};
+use super::output::{check_output_dir, label, refuse_same_file, shown};
 use super::{parse_format, print_stdout, ui, CliError, MeshOutputArgs};
 
 /// Convert a mesh between formats, keeping tags, tag names and fields.
@@ -73,6 +73,7 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
         None => Format::from_path(&args.output),
     };
     check_output_dir(&args.output)?;
+    refuse_same_file(&args.input, &args.output)?;
     let mut mesh = super::read_mesh(&args.input, from)?;
     if args.split_quads {
         let n = mesh.split_quads();
