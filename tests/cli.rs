@@ -243,3 +243,29 @@ fn convert_refuses_to_rewrite_its_input_in_place() {
     let o = run(&["convert", mesh.to_str().unwrap(), copy.to_str().unwrap(), "--msh2"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
+
+#[test]
+fn info_and_notes_print_numbers_and_counts_as_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let vtk = dir.path().join("t.vtk");
+    std::fs::write(
+        &vtk,
+        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 double\n\
+         -0.0 -0.0 0\n1 0 0\n0 0.07441600000000001 0\nCELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n5\n\
+         POINT_DATA 3\nSCALARS s double 1\nLOOKUP_TABLE default\n0.1 0.30000000000000004 -0.0\n",
+    )
+    .unwrap();
+    let o = run(&["info", vtk.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("bounds      x [0, 1]  y [0, 0.074416]"), "{text}");
+    assert!(text.contains("s (1 component) in [0, 0.3]"), "{text}");
+    for plural_of_one in [" 1 points", " 1 curves", " 1 faces", " 1 cells,", "1 components"] {
+        assert!(!text.contains(plural_of_one), "{plural_of_one}: {text}");
+    }
+    assert!(!text.contains("-0") && !text.contains("00000"), "{text}");
+    // The writers' notes: one component is one.
+    let o = run(&["convert", vtk.to_str().unwrap(), dir.path().join("t.obj").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("point data `s` (1 component)"), "{}", stderr(&o));
+}
