@@ -56,6 +56,26 @@ fn single_dash_options_are_refused_with_the_option_meant() {
 }
 
 #[test]
+fn other_tools_one_dash_words_exit_two_naming_the_option_meant() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.mesh");
+    let poly = bundled("square_hole.poly");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        // MMG's `-out` was read as `-o ut` (a file `ut` written), `-sol` got clap's tip.
+        (vec!["remesh", cyl(), "-out", p(&out)], "`-o` or `--output`"),
+        (vec!["remesh", cyl(), "-sol", cyl(), "-o", p(&out)], "`--metric`"),
+        (vec!["mesh", &poly, "-o", p(&out), "-pq30a0.01"], "--min-angle 30 --max-area 0.01"),
+        (vec!["convert", cyl(), p(&out), "-format", "mesh"], "`--to`"),
+    ];
+    for (args, meant) in cases {
+        let err = bad(&smartmesh(&args, None));
+        assert!(err.contains(meant), "{args:?}: {err}");
+        assert!(!err.contains("tip:"), "{args:?}: {err}");
+        assert!(!out.exists() && !Path::new("ut").exists(), "{args:?}: nothing may be written");
+    }
+}
+
+#[test]
 fn size_controls_override_the_recipe_and_act_on_a_metric() {
     let dir = tempfile::tempdir().unwrap();
     let field = dir.path().join("f.vtu");
