@@ -75,6 +75,36 @@ fn other_tools_one_dash_words_exit_two_naming_the_option_meant() {
     }
 }
 
+/// The `Usage:` line of an error message.
+fn usage_line(err: &str) -> String {
+    err.lines().find(|l| l.starts_with("Usage:")).unwrap_or_else(|| panic!("{err}")).to_string()
+}
+
+#[test]
+fn usage_lines_show_optional_flags_as_optional() {
+    // An error's usage line is the help's: clap built it from the arguments given
+    // (`--metric` shown as required) and from `--output`, which `--measure` makes optional.
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["remesh", cyl(), "--metric", cyl()], "Usage: smartmesh remesh [OPTIONS] <MESH>"),
+        (vec!["remesh"], "Usage: smartmesh remesh [OPTIONS] <MESH>"),
+        (
+            vec!["size", cyl(), "--hmin", "0.1"],
+            "Usage: smartmesh size [OPTIONS] --output <OUTPUT> <MESH>",
+        ),
+        (vec!["convert", "--binary", cyl()], "Usage: smartmesh convert [OPTIONS] <INPUT> <OUTPUT>"),
+        (
+            vec!["recipe", "check", "--json"],
+            "Usage: smartmesh recipe check [OPTIONS] <RECIPE> <MESH>",
+        ),
+    ];
+    for (args, usage) in cases {
+        let err = bad(&smartmesh(&args, None));
+        assert_eq!(usage_line(&err), usage, "{args:?}: {err}");
+    }
+    assert!(ok(&smartmesh(&["remesh", "--help"], None))
+        .contains("Usage: smartmesh remesh [OPTIONS] <MESH>"));
+}
+
 #[test]
 fn size_controls_override_the_recipe_and_act_on_a_metric() {
     let dir = tempfile::tempdir().unwrap();
