@@ -507,7 +507,7 @@ fn every_command_reads_a_recipe_alike_and_names_its_own_format_flag() {
     // (arguments before the recipe, the recipe's place holder, arguments after, flag)
     let commands: [(&[&str], &[&str], &str); 3] = [
         (&["size", cyl(), "-o", p(&sol), "-r"], &[], "--recipe-format"),
-        (&["recipe", "check"], &[cyl()], "--format"),
+        (&["recipe", "check"], &[cyl()], "--recipe-format"),
         (&["recipe", "convert"], &[p(&out)], "--from"),
     ];
     let with = |pre: &[&str], recipe: &str, post: &[&str], extra: &[&str]| -> Vec<String> {
@@ -544,6 +544,11 @@ fn every_command_reads_a_recipe_alike_and_names_its_own_format_flag() {
         let o = run(&with(pre, p(&odd), post, &[flag, "toml"]), b"");
         assert_eq!(o.status.code(), Some(0), "{pre:?}: {}", streams(&o));
     }
+    // One spelling in every help: `recipe check`'s old `--format` still reads, hidden.
+    let o = run(&with(&["recipe", "check"], p(&odd), &[cyl()], &["--format", "toml"]), b"");
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let help = ok(&smartmesh(&["recipe", "check", "--help"], None));
+    assert!(help.contains("--recipe-format") && !help.contains("--format"), "{help}");
 }
 
 /// Whether the report of `mesh` with `history` says the two do not belong together.
