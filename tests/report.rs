@@ -975,3 +975,32 @@ fn the_font_table_holds_every_string_as_the_installed_font_draws_it() {
         assert!(ink.inside(b, 0.5), "`{s}`: drawn {ink:?}, measured {b:?}");
     }
 }
+
+#[test]
+fn a_history_of_another_mesh_is_named_whatever_its_file_name() {
+    use smartmesh::history::WrittenFile;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mesh = d.join("mine.msh");
+    std::fs::copy(fixture("cylinder.msh"), &mesh).unwrap();
+    let bytes = std::fs::read(&mesh).unwrap();
+    let written = history_ending_on_its_best(d);
+    let mut h = History::from_json(&std::fs::read_to_string(&written).unwrap()).unwrap();
+    let warns = |h: &History| -> bool {
+        let path = d.join("h.json");
+        std::fs::write(&path, h.to_json()).unwrap();
+        let out = d.join("r.svg");
+        let o = run(&["report", s(&mesh), "--history", s(&path), "-o", s(&out)]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        stderr(&o).contains("is not the mesh this history describes")
+    };
+    // Another run's history, its mesh under another name: said.
+    h.best_mesh = vec![WrittenFile::of("other.msh", b"another mesh altogether")];
+    assert!(warns(&h), "another run's history passed for this mesh's");
+    // This mesh's history, its file since renamed: not a mismatch.
+    h.best_mesh = vec![WrittenFile::of("adapted.msh", &bytes)];
+    assert!(!warns(&h));
+    // This mesh's name, other bytes: said, as before.
+    h.best_mesh = vec![WrittenFile::of("mine.msh", b"older bytes")];
+    assert!(warns(&h));
+}
