@@ -5,7 +5,7 @@ use std::process::Stdio;
 
 #[path = "support/cli.rs"]
 mod cli;
-use cli::{fixture, run, stderr, stdout};
+use cli::{fixture, program, run, stderr, stdout};
 use smartmesh_test_support::formats::public_fixtures;
 
 fn public(rel: &str) -> std::path::PathBuf {
@@ -268,4 +268,38 @@ fn info_and_notes_print_numbers_and_counts_as_read() {
     let o = run(&["convert", vtk.to_str().unwrap(), dir.path().join("t.obj").to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("point data `s` (1 component)"), "{}", stderr(&o));
+}
+
+#[test]
+fn convert_help_s_gmsh_pipe_runs_as_written() {
+    // Gmsh writes its log to stdout: `gmsh -2 -o - model.geo` sent the log, not a mesh,
+    // down the pipe (and wrote a file named `-`). The help's line, run with a real Gmsh.
+    let help = stdout(&run(&["convert", "--help"]));
+    let line = help
+        .lines()
+        .map(str::trim)
+        .find(|l| l.starts_with("gmsh "))
+        .unwrap_or_else(|| panic!("no gmsh example in convert --help:\n{help}"));
+    let Some(gmsh) = program("gmsh") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("model.geo"),
+        "Point(1) = {0, 0, 0, 0.3}; Point(2) = {1, 0, 0, 0.3}; Point(3) = {1, 1, 0, 0.3};\n\
+         Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1};\n\
+         Curve Loop(1) = {1, 2, 3}; Plane Surface(1) = {1}; Physical Surface(\"F\") = {1};\n",
+    )
+    .unwrap();
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_smartmesh"));
+    let script = line
+        .replacen("gmsh ", &format!("'{}' ", gmsh.display()), 1)
+        .replace("smartmesh ", &format!("'{}' ", bin.display()));
+    let o = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{script}: {}", stderr(&o));
+    let mesh = smartmesh::formats::read_path(&dir.path().join("out.vtu"), None).unwrap();
+    assert!(mesh.num_cells() > 0, "{script}: an empty mesh");
+    assert!(!dir.path().join("-").exists(), "{script}: wrote a file named `-`");
 }

@@ -21,7 +21,7 @@ Examples:
   smartmesh convert naca.msh naca.vtu
   smartmesh convert box.1.ele box.msh --gmsh-version 2.2 --binary
   smartmesh convert square.msh square.mesh          # writes square.mesh and square.sol
-  gmsh -2 -o - model.geo | smartmesh convert --from msh - out.vtu
+  gmsh model.geo -2 -format msh -v 0 -o /dev/stdout | smartmesh convert --from msh - out.vtu
   smartmesh convert adapted.vtu view.glb --color-field hmin
   smartmesh convert skin.msh skin-triangles.msh --split-quads"
 )]
