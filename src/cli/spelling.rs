@@ -17,9 +17,9 @@ use std::ffi::OsString;
 
 use clap::Command;
 
-/// The error message for the first argument that is an option name written with one dash
-/// (`-hausd` where `--hausd` exists, or any `-h…` longer than `-h`, which clap would take
-/// for the help), or `None`. Values of options are skipped (`--adapter-arg -hausd` passes
+/// The error message for the first one-dash word that clap would not read as meant (the
+/// rule of the module: `-hausd`, `-sol`, `-out`, `-pq30a0.01`, any `-h…` longer than
+/// `-h`), or `None`. Values of options are skipped (`--adapter-arg -hausd` passes
 /// `-hausd` to the tool), and so is everything after `--`.
 pub fn single_dash_option(cli: &Command, args: &[OsString]) -> Option<String> {
     let mut cmd = cli.clone();
