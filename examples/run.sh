@@ -3,27 +3,33 @@
 # adaptation loop with its recipe (native remesher), the report. Everything goes to
 # target/examples/<name>/ (the mesh, its history, result.png); the committed pictures
 # (examples/<name>/result.png) are rewritten only with --update-pictures, which also
-# redraws the README's picture of the bundled cylinder (docs/report-cylinder.png).
+# redraws the README's picture of the bundled cylinder (docs/report-cylinder.png), and
+# the figures the READMEs print (between <!--fig:…--> comments, see examples/figures.py)
+# only with --update-figures.
 #
 #   bash examples/run.sh                       # all examples
 #   bash examples/run.sh u-duct                # one
 #   bash examples/run.sh distributor           # the three variants of the distributor
 #   bash examples/run.sh --update-pictures     # all, and refresh the committed pictures
+#   bash examples/run.sh --update-figures      # all, and rewrite the READMEs' figures
 set -euo pipefail
 cd "$(dirname "$0")/.."
 update=false
+figures=false
 names=()
 for arg in "$@"; do
     case "$arg" in
         --update-pictures) update=true ;;
-        -*) echo "examples/run.sh: unknown option $arg (known: --update-pictures)" >&2; exit 2 ;;
+        --update-figures) figures=true ;;
+        -*) echo "examples/run.sh: unknown option $arg (known: --update-pictures, --update-figures)" >&2; exit 2 ;;
         *) names+=("$arg") ;;
     esac
 done
 cargo build --release --quiet
 bin="$PWD/target/release/smartmesh"
 all=(naca0012-agard01 naca0012-agard02 naca0012-agard03 naca0012-agard04 naca0012-agard05 gamm-a7-viscous u-duct distributor/1-narrow distributor/2-thick distributor/3-s-shaped)
-[ ${#names[@]} -gt 0 ] || names=("${all[@]}")
+everything=false
+[ ${#names[@]} -gt 0 ] || { names=("${all[@]}"); everything=true; }
 # A folder of variants (the distributor) stands for each of them.
 requested=()
 for example in "${names[@]}"; do
@@ -54,17 +60,15 @@ for example in "${requested[@]}"; do
     if $update; then
         cp "$out/result.png" "$dir/result.png"
     fi
-    python3 - "$out/$name.history.json" "$example" "$seconds" <<'PY'
-import json, sys
-h = json.load(open(sys.argv[1]))
-b = h["iterations"][h["best_iteration"]]
-print(f"{sys.argv[2]:24} {b['vertices']:7} vertices {b['triangles']:7} triangles  "
-      f"{100 * b['conforming_share']:.1f}% conforming  quality {b['mean_quality']:.3f} mean {b['min_quality']:.3f} min  "
-      f"{len(h['iterations']) - 1} iterations  {float(sys.argv[3]):.1f} s  ({'converged' if h['converged'] else h['stopped']})")
-PY
+    echo "$seconds" >"$out/$name.seconds"
+    python3 examples/figures.py line target/examples "$example"
 done
+if $figures; then
+    python3 examples/figures.py update target/examples "$(IFS=,; echo "${requested[*]}")" \
+        README.md examples/README.md examples/*/README.md
+fi
 # The README's picture: the quick start's adapted cylinder, drawn 800 px wide.
-if $update && [ $# -eq 1 ]; then
+if $update && $everything; then
     out=target/examples/cylinder
     mkdir -p "$out"
     "$bin" adapt fixtures/cylinder.msh --recipe fixtures/cylinder.toml -o "$out/cylinder-adapted.msh" >/dev/null

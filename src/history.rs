@@ -166,24 +166,38 @@ impl History {
     }
 
     /// Why the mesh file at `mesh` is not the mesh of the best iteration this history
-    /// describes, or `None` when it is, or when the history does not name a file of that
-    /// name (another mesh, or a history without the record) and so cannot tell.
+    /// describes, or `None` when it is. The file is recognised by its size and CRC-32,
+    /// whatever its name (a result copied or renamed is still the one described, and
+    /// another run's history does not pass for this mesh's because its file had the same
+    /// name). `None` also when the history has no record to compare with (its mesh went to
+    /// stdout, or it predates the record) or the file cannot be read.
     pub fn mismatch(&self, mesh: &std::path::Path) -> Option<String> {
-        let name = mesh.file_name()?.to_string_lossy();
-        let recorded = self.best_mesh.iter().find(|f| f.name == name)?;
+        if self.best_mesh.is_empty() {
+            return None;
+        }
         let bytes = std::fs::read(mesh).ok()?;
-        let found = WrittenFile::of(&recorded.name, &bytes);
-        (found != *recorded).then(|| {
-            format!(
-                "{} is not the mesh this history describes as iteration {} ({} bytes, CRC-32 {}; the file has {} bytes, CRC-32 {}): the run was stopped between writing the two, or the file was changed since",
-                mesh.display(),
-                self.best_iteration,
-                recorded.bytes,
-                recorded.crc32,
-                found.bytes,
-                found.crc32
-            )
-        })
+        let found = WrittenFile::of("", &bytes);
+        let same = |f: &WrittenFile| f.bytes == found.bytes && f.crc32 == found.crc32;
+        if self.best_mesh.iter().any(same) {
+            return None;
+        }
+        let name = mesh.file_name().map(|n| n.to_string_lossy()).unwrap_or_default();
+        let recorded = self.best_mesh.iter().find(|f| f.name == name).unwrap_or(&self.best_mesh[0]);
+        let why = if recorded.name == name {
+            "the run was stopped between writing the two, or the file was changed since"
+        } else {
+            "another run's history, or a file changed since"
+        };
+        Some(format!(
+            "{} is not the mesh this history describes as iteration {} ({}: {} bytes, CRC-32 {}; the file has {} bytes, CRC-32 {}): {why}",
+            mesh.display(),
+            self.best_iteration,
+            recorded.name,
+            recorded.bytes,
+            recorded.crc32,
+            found.bytes,
+            found.crc32
+        ))
     }
 
     /// The vertices and triangles of the mesh written: the skinned mesh's when a skin was
@@ -252,5 +266,34 @@ mod tests {
         let mut odd = h.clone();
         odd.iterations[0].seconds.size = 1.3374001039999999;
         assert_eq!(History::from_json(&odd.to_json()).unwrap(), odd);
+    }
+
+    #[test]
+    fn a_mesh_is_recognised_by_its_bytes_whatever_its_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let h = |name: &str, bytes: &[u8]| History {
+            input: "a.poly".into(),
+            recipe: "r.toml".into(),
+            adapter: "native".into(),
+            converged: true,
+            best_iteration: 2,
+            stopped: String::new(),
+            iterations: Vec::new(),
+            best_mesh: vec![WrittenFile::of(name, bytes)],
+            layer: None,
+        };
+        let mesh = dir.path().join("b.msh");
+        std::fs::write(&mesh, b"this mesh").unwrap();
+        // The history of this very file, under its name or another (a renamed copy).
+        assert_eq!(h("b.msh", b"this mesh").mismatch(&mesh), None);
+        assert_eq!(h("a.msh", b"this mesh").mismatch(&mesh), None);
+        // Another run's history, whatever the name it records.
+        let m = h("a.msh", b"another mesh").mismatch(&mesh).expect("another run's history");
+        assert!(m.contains("a.msh: 12 bytes") && m.contains("the file has 9 bytes"), "{m}");
+        assert!(h("b.msh", b"another mesh").mismatch(&mesh).is_some());
+        // Nothing recorded: nothing to compare with.
+        let mut none = h("b.msh", b"");
+        none.best_mesh.clear();
+        assert_eq!(none.mismatch(&mesh), None);
     }
 }

@@ -26,7 +26,7 @@ use smartmesh_test_support::measure::signed_area;
 #[path = "support/examples.rs"]
 mod support;
 
-use support::{cpp_or_skip, examples, EXAMPLES};
+use support::{cpp_or_skip, examples, figures_in, grouped, readmes_with_figures, EXAMPLES};
 
 #[path = "support/cli.rs"]
 mod cli;
@@ -460,6 +460,100 @@ fn example(folder: &str, boundary: f64) {
     let run = adapt(&poly, &examples().join(recipe));
     let f = check(folder, &poly, &run, boundary);
     print(folder, &f);
+    readme_figures_agree(folder, &poly, &examples().join(recipe));
+}
+
+/// The figures the READMEs print of example `folder` (between `<!--fig:…-->` comments,
+/// rewritten by `bash examples/run.sh --update-figures`) are those of `smartmesh adapt`
+/// run as run.sh runs it (the command line sets up periodic sides and the LAYER skin that
+/// the library run above leaves out), but the seconds: the run is deterministic (the same
+/// on every machine and thread count), its time is not.
+fn readme_figures_agree(folder: &str, poly: &Path, recipe: &Path) {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, history) = (dir.path().join("out.msh"), dir.path().join("out.history.json"));
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let o = cli::run(&[
+        "adapt",
+        &path(poly),
+        "--recipe",
+        &path(recipe),
+        "-o",
+        &path(&out),
+        "--history",
+        &path(&history),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{folder}: {}", cli::stderr(&o));
+    let h = History::from_json(&std::fs::read_to_string(&history).unwrap()).unwrap();
+    let best = &h.iterations[h.best_iteration];
+    let f = Figures {
+        vertices: best.vertices,
+        triangles: best.triangles,
+        share: best.conforming_share,
+        mean_quality: best.mean_quality,
+        min_quality: best.min_quality,
+        iterations: h.iterations.len() - 1,
+        finest: 0.0,
+        smallest_near_finest: 0.0,
+        median_edge: 0.0,
+    };
+    let end = if h.converged { "converged" } else { h.stopped.as_str() };
+    // run.sh's result line, but the seconds.
+    let line = format!(
+        "{folder:24} {:7} vertices {:7} triangles  {:.1}% conforming  quality {:.3} mean {:.3} min  {} iterations  ({end})",
+        f.vertices,
+        f.triangles,
+        100.0 * f.share,
+        f.mean_quality,
+        f.min_quality,
+        f.iterations
+    );
+    let without_seconds = |l: &str| -> String {
+        match l.rsplit_once(" s  (") {
+            Some((head, tail)) => {
+                let cut = head.trim_end_matches(|c: char| c.is_ascii_digit() || c == '.');
+                format!("{cut}({tail}")
+            }
+            None => l.to_string(),
+        }
+    };
+    let mut checked = 0;
+    for readme in readmes_with_figures() {
+        for fig in figures_in(&readme) {
+            let Some(k) = fig.examples.iter().position(|e| e == folder) else { continue };
+            let expected = match fig.field.as_str() {
+                "vertices" => grouped(f.vertices),
+                "triangles" => grouped(f.triangles),
+                "conforming" => format!("{:.1}", 100.0 * f.share),
+                "quality-mean" => format!("{:.3}", f.mean_quality),
+                "quality-min" => format!("{:.3}", f.min_quality),
+                "iterations" => f.iterations.to_string(),
+                "seconds" => continue,
+                "line" => {
+                    let lines: Vec<&str> = fig
+                        .text
+                        .lines()
+                        .filter(|l| !l.is_empty() && !l.starts_with("```"))
+                        .collect();
+                    assert_eq!(
+                        without_seconds(lines.get(k).copied().unwrap_or_default()),
+                        line,
+                        "{}: the result line of {folder} is not this run's (`bash examples/run.sh --update-figures` rewrites it)",
+                        fig.place
+                    );
+                    checked += 1;
+                    continue;
+                }
+                other => panic!("{}: unknown figure field `{other}`", fig.place),
+            };
+            assert_eq!(
+                fig.text, expected,
+                "{}: the README's {} of {folder} is not this run's (`bash examples/run.sh --update-figures` rewrites it)",
+                fig.place, fig.field
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 0, "no README prints the figures of {folder}");
 }
 
 #[test]

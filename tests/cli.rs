@@ -5,7 +5,7 @@ use std::process::Stdio;
 
 #[path = "support/cli.rs"]
 mod cli;
-use cli::{fixture, run, stderr, stdout};
+use cli::{fixture, program, run, stderr, stdout};
 use smartmesh_test_support::formats::public_fixtures;
 
 fn public(rel: &str) -> std::path::PathBuf {
@@ -211,4 +211,96 @@ fn output_is_deterministic() {
         outputs.push(ext);
     }
     assert_eq!(outputs.len(), 7);
+}
+
+#[test]
+fn convert_refuses_to_rewrite_its_input_in_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mesh = d.join("a.msh");
+    std::fs::copy(fixture("cylinder.msh"), &mesh).unwrap();
+    let before = std::fs::read(&mesh).unwrap();
+    std::fs::create_dir(d.join("sub")).unwrap();
+    std::fs::hard_link(&mesh, d.join("hard.msh")).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(&mesh, d.join("soft.msh")).unwrap();
+    let spellings = [
+        mesh.clone(),
+        d.join("sub/../a.msh"),
+        d.join("./a.msh"),
+        d.join("hard.msh"),
+        #[cfg(unix)]
+        d.join("soft.msh"),
+    ];
+    for out in &spellings {
+        let o = run(&["convert", mesh.to_str().unwrap(), out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{}: {}", out.display(), stderr(&o));
+        assert!(stderr(&o).contains("the same file"), "{}", stderr(&o));
+        assert_eq!(std::fs::read(&mesh).unwrap(), before, "{} rewrote the input", out.display());
+    }
+    // A copy is another file: converted over as asked.
+    let copy = d.join("copy.msh");
+    std::fs::copy(&mesh, &copy).unwrap();
+    let o = run(&["convert", mesh.to_str().unwrap(), copy.to_str().unwrap(), "--msh2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+#[test]
+fn info_and_notes_print_numbers_and_counts_as_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let vtk = dir.path().join("t.vtk");
+    std::fs::write(
+        &vtk,
+        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 double\n\
+         -0.0 -0.0 0\n1 0 0\n0 0.07441600000000001 0\nCELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n5\n\
+         POINT_DATA 3\nSCALARS s double 1\nLOOKUP_TABLE default\n0.1 0.30000000000000004 -0.0\n",
+    )
+    .unwrap();
+    let o = run(&["info", vtk.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("bounds      x [0, 1]  y [0, 0.074416]"), "{text}");
+    assert!(text.contains("s (1 component) in [0, 0.3]"), "{text}");
+    for plural_of_one in [" 1 points", " 1 curves", " 1 faces", " 1 cells,", "1 components"] {
+        assert!(!text.contains(plural_of_one), "{plural_of_one}: {text}");
+    }
+    assert!(!text.contains("-0") && !text.contains("00000"), "{text}");
+    // The writers' notes: one component is one.
+    let o = run(&["convert", vtk.to_str().unwrap(), dir.path().join("t.obj").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("point data `s` (1 component)"), "{}", stderr(&o));
+}
+
+#[test]
+fn convert_help_s_gmsh_pipe_runs_as_written() {
+    // Gmsh writes its log to stdout: `gmsh -2 -o - model.geo` sent the log, not a mesh,
+    // down the pipe (and wrote a file named `-`). The help's line, run with a real Gmsh.
+    let help = stdout(&run(&["convert", "--help"]));
+    let line = help
+        .lines()
+        .map(str::trim)
+        .find(|l| l.starts_with("gmsh "))
+        .unwrap_or_else(|| panic!("no gmsh example in convert --help:\n{help}"));
+    let Some(gmsh) = program("gmsh") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("model.geo"),
+        "Point(1) = {0, 0, 0, 0.3}; Point(2) = {1, 0, 0, 0.3}; Point(3) = {1, 1, 0, 0.3};\n\
+         Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1};\n\
+         Curve Loop(1) = {1, 2, 3}; Plane Surface(1) = {1}; Physical Surface(\"F\") = {1};\n",
+    )
+    .unwrap();
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_smartmesh"));
+    let script = line
+        .replacen("gmsh ", &format!("'{}' ", gmsh.display()), 1)
+        .replace("smartmesh ", &format!("'{}' ", bin.display()));
+    let o = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{script}: {}", stderr(&o));
+    let mesh = smartmesh::formats::read_path(&dir.path().join("out.vtu"), None).unwrap();
+    assert!(mesh.num_cells() > 0, "{script}: an empty mesh");
+    assert!(!dir.path().join("-").exists(), "{script}: wrote a file named `-`");
 }

@@ -56,6 +56,56 @@ fn single_dash_options_are_refused_with_the_option_meant() {
 }
 
 #[test]
+fn other_tools_one_dash_words_exit_two_naming_the_option_meant() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.mesh");
+    let poly = bundled("square_hole.poly");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        // MMG's `-out` was read as `-o ut` (a file `ut` written), `-sol` got clap's tip.
+        (vec!["remesh", cyl(), "-out", p(&out)], "`-o` or `--output`"),
+        (vec!["remesh", cyl(), "-sol", cyl(), "-o", p(&out)], "`--metric`"),
+        (vec!["mesh", &poly, "-o", p(&out), "-pq30a0.01"], "--min-angle 30 --max-area 0.01"),
+        (vec!["convert", cyl(), p(&out), "-format", "mesh"], "`--to`"),
+    ];
+    for (args, meant) in cases {
+        let err = bad(&smartmesh(&args, None));
+        assert!(err.contains(meant), "{args:?}: {err}");
+        assert!(!err.contains("tip:"), "{args:?}: {err}");
+        assert!(!out.exists() && !Path::new("ut").exists(), "{args:?}: nothing may be written");
+    }
+}
+
+/// The `Usage:` line of an error message.
+fn usage_line(err: &str) -> String {
+    err.lines().find(|l| l.starts_with("Usage:")).unwrap_or_else(|| panic!("{err}")).to_string()
+}
+
+#[test]
+fn usage_lines_show_optional_flags_as_optional() {
+    // An error's usage line is the help's: clap built it from the arguments given
+    // (`--metric` shown as required) and from `--output`, which `--measure` makes optional.
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["remesh", cyl(), "--metric", cyl()], "Usage: smartmesh remesh [OPTIONS] <MESH>"),
+        (vec!["remesh"], "Usage: smartmesh remesh [OPTIONS] <MESH>"),
+        (
+            vec!["size", cyl(), "--hmin", "0.1"],
+            "Usage: smartmesh size [OPTIONS] --output <OUTPUT> <MESH>",
+        ),
+        (vec!["convert", "--binary", cyl()], "Usage: smartmesh convert [OPTIONS] <INPUT> <OUTPUT>"),
+        (
+            vec!["recipe", "check", "--json"],
+            "Usage: smartmesh recipe check [OPTIONS] <RECIPE> <MESH>",
+        ),
+    ];
+    for (args, usage) in cases {
+        let err = bad(&smartmesh(&args, None));
+        assert_eq!(usage_line(&err), usage, "{args:?}: {err}");
+    }
+    assert!(ok(&smartmesh(&["remesh", "--help"], None))
+        .contains("Usage: smartmesh remesh [OPTIONS] <MESH>"));
+}
+
+#[test]
 fn size_controls_override_the_recipe_and_act_on_a_metric() {
     let dir = tempfile::tempdir().unwrap();
     let field = dir.path().join("f.vtu");
@@ -457,7 +507,7 @@ fn every_command_reads_a_recipe_alike_and_names_its_own_format_flag() {
     // (arguments before the recipe, the recipe's place holder, arguments after, flag)
     let commands: [(&[&str], &[&str], &str); 3] = [
         (&["size", cyl(), "-o", p(&sol), "-r"], &[], "--recipe-format"),
-        (&["recipe", "check"], &[cyl()], "--format"),
+        (&["recipe", "check"], &[cyl()], "--recipe-format"),
         (&["recipe", "convert"], &[p(&out)], "--from"),
     ];
     let with = |pre: &[&str], recipe: &str, post: &[&str], extra: &[&str]| -> Vec<String> {
@@ -494,6 +544,11 @@ fn every_command_reads_a_recipe_alike_and_names_its_own_format_flag() {
         let o = run(&with(pre, p(&odd), post, &[flag, "toml"]), b"");
         assert_eq!(o.status.code(), Some(0), "{pre:?}: {}", streams(&o));
     }
+    // One spelling in every help: `recipe check`'s old `--format` still reads, hidden.
+    let o = run(&with(&["recipe", "check"], p(&odd), &[cyl()], &["--format", "toml"]), b"");
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let help = ok(&smartmesh(&["recipe", "check", "--help"], None));
+    assert!(help.contains("--recipe-format") && !help.contains("--format"), "{help}");
 }
 
 /// Whether the report of `mesh` with `history` says the two do not belong together.

@@ -98,6 +98,9 @@ fn outputs(words: &[&str]) -> Result<Vec<Write>, String> {
             if args.contains(&"--update-pictures") {
                 return Err("examples/run.sh --update-pictures rewrites committed pictures".into());
             }
+            if args.contains(&"--update-figures") {
+                return Err("examples/run.sh --update-figures rewrites committed READMEs".into());
+            }
             // It writes under target/examples/ (examples/run.sh says so).
         }
         "python3" if args.first() == Some(&"examples/make_examples.py") => {

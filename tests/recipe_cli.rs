@@ -89,8 +89,8 @@ fn errors_exit_two_with_file_line_and_suggestion() {
     let odd = write(dir.path(), "recipe.txt", PLAIN);
     let o = run(&["recipe", "check", odd.to_str().unwrap(), &mesh]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("--format"), "{}", stderr(&o));
-    let o = run(&["recipe", "check", "--format", "cfg", odd.to_str().unwrap(), &mesh]);
+    assert!(stderr(&o).contains("--recipe-format"), "{}", stderr(&o));
+    let o = run(&["recipe", "check", "--recipe-format", "cfg", odd.to_str().unwrap(), &mesh]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let o = run(&["recipe", "check"]);
     assert_eq!(o.status.code(), Some(2));

@@ -980,3 +980,93 @@ fn the_font_table_holds_every_string_as_the_installed_font_draws_it() {
         assert!(ink.inside(b, 0.5), "`{s}`: drawn {ink:?}, measured {b:?}");
     }
 }
+
+#[test]
+fn a_history_of_another_mesh_is_named_whatever_its_file_name() {
+    use smartmesh::history::WrittenFile;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mesh = d.join("mine.msh");
+    std::fs::copy(fixture("cylinder.msh"), &mesh).unwrap();
+    let bytes = std::fs::read(&mesh).unwrap();
+    let written = history_ending_on_its_best(d);
+    let mut h = History::from_json(&std::fs::read_to_string(&written).unwrap()).unwrap();
+    let warns = |h: &History| -> bool {
+        let path = d.join("h.json");
+        std::fs::write(&path, h.to_json()).unwrap();
+        let out = d.join("r.svg");
+        let o = run(&["report", s(&mesh), "--history", s(&path), "-o", s(&out)]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        stderr(&o).contains("is not the mesh this history describes")
+    };
+    // Another run's history, its mesh under another name: said.
+    h.best_mesh = vec![WrittenFile::of("other.msh", b"another mesh altogether")];
+    assert!(warns(&h), "another run's history passed for this mesh's");
+    // This mesh's history, its file since renamed: not a mismatch.
+    h.best_mesh = vec![WrittenFile::of("adapted.msh", &bytes)];
+    assert!(!warns(&h));
+    // This mesh's name, other bytes: said, as before.
+    h.best_mesh = vec![WrittenFile::of("mine.msh", b"older bytes")];
+    assert!(warns(&h));
+}
+
+/// The box of a `<rect>`.
+fn rect_box(n: &roxmltree::Node<'_, '_>) -> Box2 {
+    let (x, y) = (attr(n, "x"), attr(n, "y"));
+    Box2 { x0: x, y0: y, x1: x + attr(n, "width"), y1: y + attr(n, "height") }
+}
+
+#[test]
+fn zoom_tabs_on_the_overview_neither_overlap_nor_hide() {
+    // AGARD01's recipe frames the leading edge at several reaches: windows within a few
+    // pixels of each other, whose tabs all sat on the same corner (2 hidden, 3 half
+    // covered at 1200 px).
+    let ex = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/naca0012-agard01");
+    let dir = tempfile::tempdir().unwrap();
+    for width in ["600", "900", "1200"] {
+        let out = dir.path().join(format!("r{width}.svg"));
+        let text = report(&[
+            "report",
+            s(&ex.join("start.msh")),
+            "--recipe",
+            s(&ex.join("recipe.toml")),
+            "--width",
+            width,
+            "-o",
+            s(&out),
+        ]);
+        let doc = roxmltree::Document::parse(&text).unwrap();
+        let overview = by_id(&doc, "overview").unwrap();
+        let frames = overview.descendants().filter(|n| has_class(n, "zoom-frame")).count();
+        let tabs: Vec<(String, Box2)> = overview
+            .descendants()
+            .filter(|n| has_class(n, "zoom-tab"))
+            .map(|n| (n.attribute("data-zoom").unwrap().to_string(), rect_box(&n)))
+            .collect();
+        assert!(frames >= 4, "{width} px: {frames} frames: not the case this test is about");
+        assert_eq!(tabs.len(), frames, "{width} px: one tab per frame");
+        let panel = data_box(&overview).unwrap();
+        // Every label drawn over the overview's mesh: the tabs' numbers, the scale bar's.
+        let labels: Vec<(String, Box2)> = overview
+            .descendants()
+            .filter(|n| n.has_tag_name("text") && has_class(n, "on-mesh"))
+            .map(|n| (n.text().unwrap_or("").to_string(), text_box(&n)))
+            .collect();
+        for (i, (id, b)) in tabs.iter().enumerate() {
+            assert!(b.inside(&panel, 0.0), "{width} px: tab {id} {b:?} leaves the overview");
+            for (other, c) in &tabs[i + 1..] {
+                assert!(!b.overlaps(c), "{width} px: tabs {id} and {other} overlap: {b:?} {c:?}");
+            }
+            // Its number inside it, and no other label on it.
+            let (_, number) = labels
+                .iter()
+                .find(|(t, n)| t == id && n.inside(b, 0.5))
+                .unwrap_or_else(|| panic!("{width} px: tab {id} {b:?} has no number inside"));
+            for (t, l) in &labels {
+                if l.overlaps(b) && !(t == id && l.inside(b, 0.5)) {
+                    panic!("{width} px: `{t}` {l:?} covers tab {id} {b:?} (number {number:?})");
+                }
+            }
+        }
+    }
+}

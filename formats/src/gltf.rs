@@ -437,8 +437,8 @@ fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
     }
     for (name, a) in &mesh.cell_data {
         report.drop(format!(
-            "cell data `{name}` ({} components): glTF holds no fields",
-            a.components
+            "cell data `{name}` ({}): glTF holds no fields",
+            crate::words::components(a.components)
         ));
     }
     if !mesh.entities.is_empty() {
@@ -590,10 +590,18 @@ fn push_colours(
         colour_range = Some(start..buffer.len());
         let finite = qmin <= qmax;
         report.drop(format!(
-            "point data `{name}` ({} components) written only as vertex colours: its {} through viridis{}",
-            array.expanded_components(),
+            "point data `{name}` ({}) written only as vertex colours: its {} through viridis{}",
+            crate::words::components(array.expanded_components()),
             quantity.describe(),
-            if finite { format!(" from {qmin} to {qmax} (recorded in the mesh extras)") } else { String::new() }
+            if finite {
+                format!(
+                    " from {} to {} (recorded in the mesh extras)",
+                    crate::words::number(qmin),
+                    crate::words::number(qmax)
+                )
+            } else {
+                String::new()
+            }
         ));
         if bad > 0 {
             report.drop(format!(
@@ -623,8 +631,8 @@ fn push_colours(
                 None => "glTF holds no fields".to_string(),
             };
             report.drop(format!(
-                "point data `{name}` ({} components): {why}",
-                a.expanded_components()
+                "point data `{name}` ({}): {why}",
+                crate::words::components(a.expanded_components())
             ));
         }
     }

@@ -30,6 +30,7 @@ mod output;
 mod point_sets;
 mod scan;
 pub mod text;
+pub mod words;
 
 pub mod gltf;
 pub mod gmsh;

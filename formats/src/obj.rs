@@ -698,14 +698,14 @@ pub fn write(mesh: &TaggedMesh, _opts: &WriteOptions) -> Result<Written> {
 fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
     for (name, a) in &mesh.point_data {
         report.drop(format!(
-            "point data `{name}` ({} components): OBJ holds no fields",
-            a.expanded_components()
+            "point data `{name}` ({}): OBJ holds no fields",
+            crate::words::components(a.expanded_components())
         ));
     }
     for (name, a) in &mesh.cell_data {
         report.drop(format!(
-            "cell data `{name}` ({} components): OBJ holds no fields",
-            a.expanded_components()
+            "cell data `{name}` ({}): OBJ holds no fields",
+            crate::words::components(a.expanded_components())
         ));
     }
     let differ: usize = mesh

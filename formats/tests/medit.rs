@@ -286,7 +286,7 @@ fn what_medit_cannot_hold_is_reported() {
     for needle in [
         "the tags of 1 point cells",
         "geometrical tags of 1 cells",
-        "point data `size` (1 components): MMG reads one solution, `metric` was written",
+        "point data `size` (1 component): MMG reads one solution, `metric` was written",
         "point data `size_tensor`",
         "cell data `gmsh:physical`",
         "1 tag names",

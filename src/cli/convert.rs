@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use smartmesh::formats::{write_path, Format};
 
-use super::output::{check_output_dir, label, shown};
+use super::output::{check_output_dir, label, refuse_same_file, shown};
 use super::{parse_format, print_stdout, ui, CliError, MeshOutputArgs};
 
 /// Convert a mesh between formats, keeping tags, tag names and fields.
@@ -22,7 +22,7 @@ Examples:
   smartmesh convert naca.msh naca.vtu
   smartmesh convert box.1.ele box.msh --gmsh-version 2.2 --binary
   smartmesh convert square.msh square.mesh          # writes square.mesh and square.sol
-  gmsh -2 -o - model.geo | smartmesh convert --from msh - out.vtu
+  gmsh model.geo -2 -format msh -v 0 -o /dev/stdout | smartmesh convert --from msh - out.vtu
   smartmesh convert adapted.vtu view.glb --color-field hmin
   smartmesh convert skin.msh skin-triangles.msh --split-quads
   smartmesh convert naca.msh naca.su2
@@ -83,6 +83,7 @@ pub fn run(args: ConvertArgs) -> Result<(), CliError> {
         None => Format::from_path(&args.output),
     };
     check_output_dir(&args.output)?;
+    refuse_same_file(&args.input, &args.output)?;
     let (mut mesh, read_notes) = super::read_mesh_noted(&args.input, from, args.no_solution)?;
     if args.split_quads {
         let n = mesh.split_quads();

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
+use smartmesh::formats::words::count;
 use smartmesh::formats::Format;
 use smartmesh::layer::check::{check_mesh, Validity};
 use smartmesh::layer::stats::{quad_quality, QuadQuality};
@@ -188,12 +189,10 @@ fn render_quads(r: &QuadReport) -> String {
     o
 }
 
+/// A figure as `info` prints it: six significant digits, no `-0` (see
+/// `smartmesh::formats::words::number`).
 fn fmt_g(v: f64) -> String {
-    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
-        format!("{}", (v * 1e6).round() / 1e6)
-    } else {
-        format!("{v:.4e}")
-    }
+    smartmesh::formats::words::number(v)
 }
 
 fn named(tag: Option<i32>, name: &Option<String>) -> String {
@@ -251,17 +250,17 @@ fn render(file: &str, s: &MeshSummary) -> String {
     let topo = &s.topology;
     let _ = writeln!(
         o,
-        "  topology    {} points, {} curves, {} faces",
-        topo.points.len(),
-        topo.curves.len(),
-        topo.faces.len()
+        "  topology    {}, {}, {}",
+        count(topo.points.len(), "point", "points"),
+        count(topo.curves.len(), "curve", "curves"),
+        count(topo.faces.len(), "face", "faces")
     );
     for f in &topo.faces {
         let _ = writeln!(
             o,
-            "    face  {:<24} {} cells, area {}",
+            "    face  {:<24} {}, area {}",
             named(Some(f.tag), &f.name),
-            f.cells,
+            count(f.cells, "cell", "cells"),
             fmt_g(f.area)
         );
     }

@@ -20,7 +20,7 @@ mod variants;
 use std::io::Write;
 use std::process::ExitCode;
 
-use clap::{CommandFactory, Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 pub use error::{CliError, ExitStatus};
 pub use output::{MeshOutputArgs, RecipeInput};
@@ -67,7 +67,11 @@ pub fn main() -> ExitCode {
         let _ = writeln!(std::io::stderr(), "smartmesh: error: {message}");
         return ExitStatus::Error.into();
     }
-    let cli = match Cli::try_parse_from(&args) {
+    let mut cmd = with_help_usage(Cli::command());
+    let parsed = cmd
+        .try_get_matches_from_mut(&args)
+        .and_then(|m| Cli::from_arg_matches(&m).map_err(|e| e.format(&mut cmd)));
+    let cli = match parsed {
         Ok(c) => c,
         Err(e) => {
             let _ = e.print();
@@ -114,6 +118,29 @@ pub fn main() -> ExitCode {
 /// microseconds, and 100 000 of them took over a minute before any work; the largest
 /// nodes have a few hundred cores.
 pub const MAX_THREADS: usize = 1024;
+
+/// `cmd` with every subcommand's usage line fixed to the one its help prints
+/// (`smartmesh remesh [OPTIONS] <MESH>`). Left to itself, clap's error messages print a
+/// usage line built from the arguments given and those it thinks required, so that
+/// `remesh m.msh --metric f.sol` answered `Usage: smartmesh remesh --metric <METRIC>
+/// --output <OUTPUT> <MESH>`: an optional flag shown as required, and `--output`, which
+/// `--measure` makes unneeded, too.
+fn with_help_usage(mut cmd: clap::Command) -> clap::Command {
+    cmd.build();
+    fix_usage(cmd)
+}
+
+fn fix_usage(mut cmd: clap::Command) -> clap::Command {
+    let names: Vec<String> = cmd.get_subcommands().map(|s| s.get_name().to_string()).collect();
+    for name in names {
+        cmd = cmd.mut_subcommand(&name, |sub| {
+            let usage = sub.clone().render_usage().to_string();
+            let usage = usage.trim_start_matches("Usage:").trim().to_string();
+            fix_usage(sub).override_usage(usage)
+        });
+    }
+    cmd
+}
 
 /// Sets the thread count of the whole run (`--threads`; 0: rayon's default, every core
 /// unless `RAYON_NUM_THREADS` says otherwise), at most [`MAX_THREADS`], checked before

@@ -216,6 +216,38 @@ pub fn check_output_dir(output: &Path) -> Result<(), CliError> {
     )))
 }
 
+/// Refuses, before any work, an output that is the input itself (exit 2), as `cp a a`
+/// does: the same device and inode, whatever the spelling (`./a.msh`, a symbolic or a
+/// hard link). Writing would replace the input before a reader could tell what was lost.
+/// Without a file at `output` (or with `-` on either side) there is nothing to compare.
+pub fn refuse_same_file(input: &Path, output: &Path) -> Result<(), CliError> {
+    if is_stdio(input) || is_stdio(output) {
+        return Ok(());
+    }
+    let (Ok(a), Ok(b)) = (std::fs::metadata(input), std::fs::metadata(output)) else {
+        return Ok(());
+    };
+    if same_file(input, &a, output, &b) {
+        return Err(CliError::usage(format!(
+            "{} and {} are the same file: write the output elsewhere (the input is not rewritten in place)",
+            input.display(),
+            output.display()
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(unix)]
+fn same_file(_: &Path, a: &std::fs::Metadata, _: &Path, b: &std::fs::Metadata) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    (a.dev(), a.ino()) == (b.dev(), b.ino())
+}
+
+#[cfg(not(unix))]
+fn same_file(a: &Path, _: &std::fs::Metadata, b: &Path, _: &std::fs::Metadata) -> bool {
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+}
+
 /// The recipe file of `size` and `adapt`: a path, or `-` for stdin with its format.
 #[derive(Debug, Clone, Args)]
 pub struct RecipeInput {

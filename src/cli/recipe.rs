@@ -72,13 +72,15 @@ Examples:
   smartmesh recipe check --json wing.toml wing.msh | jq '.regions[] | {name, dimension}'"
 )]
 pub struct CheckArgs {
-    /// Recipe file (`-` for stdin, with --format).
+    /// Recipe file (`-` for stdin, with --recipe-format).
     recipe: PathBuf,
     /// Mesh file the recipe names tags of.
     mesh: PathBuf,
     /// Recipe format, when the extension does not tell (libconfig, toml, json).
-    #[arg(long, value_parser = parse_recipe_format)]
-    format: Option<RecipeFormat>,
+    // Spelt as in `size`, `adapt`, `mesh` and `layer`; `--format`, its earlier name,
+    // still reads (a hidden alias).
+    #[arg(long, alias = "format", value_parser = parse_recipe_format, value_name = "FORMAT")]
+    recipe_format: Option<RecipeFormat>,
     #[command(flatten)]
     read: RecipeReadArgs,
     /// Mesh format, when the extension does not tell.
@@ -200,7 +202,7 @@ fn plural(n: usize, one: &str, many: &str) -> String {
 }
 
 fn check(args: CheckArgs) -> Result<(), CliError> {
-    let recipe = read_recipe(&args.recipe, args.format, "--format", args.read)?;
+    let recipe = read_recipe(&args.recipe, args.recipe_format, "--recipe-format", args.read)?;
     // A .poly (or any graph without surface cells) is meshed first, as `adapt` does: the
     // recipe may name the face tags that only meshing gives.
     // Periodic pairs: a graph is meshed with them matched; on a mesh, images of each

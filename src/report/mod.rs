@@ -11,6 +11,7 @@
 //! - [`windows`]: the zoom windows;
 //! - [`ellipses`]: size ellipses and the vertices they are drawn at;
 //! - [`panels`]: the zoom panels and what the overview shares with them;
+//! - [`tabs`]: where the overview puts each zoom frame's number tab;
 //! - [`axes`], [`histogram`], [`history_plot`]: the charts;
 //! - [`text`]: text measured (a table of the font's advances) and fitted to its panel;
 //! - [`png`]: rasterising through resvg;
@@ -31,6 +32,7 @@ pub mod panels;
 pub mod png;
 pub mod skin;
 pub mod svg;
+pub mod tabs;
 pub mod text;
 pub mod view;
 pub mod windows;
@@ -320,16 +322,19 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     layers.draw_points(&mut svg, &ov_view, 4.0);
     draw_marks(&mut svg, &ov_view, &marks);
     skin::draw(&mut svg, &ov_view, &skin, 1.5);
-    for (k, zv) in zoom_views.iter().enumerate() {
-        // A window wider or taller than the domain is framed where the mesh is.
-        let shown = zv.world.intersect(&domain).unwrap_or(domain);
-        let r = ov_view.rect_to_px(&shown);
-        let id = (k + 1).to_string();
+    // A window wider or taller than the domain is framed where the mesh is.
+    let frames: Vec<Rect> = zoom_views
+        .iter()
+        .map(|zv| ov_view.rect_to_px(&zv.world.intersect(&domain).unwrap_or(domain)))
+        .collect();
+    let content = ov_view.rect_to_px(&domain).intersect(&ov_inner).unwrap_or(ov_inner);
+    let placed = tabs::place(&frames, &ov_inner, &[panels::scale_bar_box(&ov_view, &content)]);
+    for (k, r) in frames.iter().enumerate() {
         svg.element(
             "rect",
             &[
                 ("class", "zoom-frame"),
-                ("data-zoom", &id),
+                ("data-zoom", &(k + 1).to_string()),
                 ("x", &num(r.x0, 1)),
                 ("y", &num(r.y0, 1)),
                 ("width", &num(r.width(), 1)),
@@ -339,22 +344,44 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
                 ("stroke-width", "1.5"),
             ],
         );
-        // The number tab sits on the frame's top-left corner, inside the panel.
-        let (tx, ty) =
-            (r.x0.clamp(ov_inner.x0, ov_inner.x1 - 15.0), (r.y0 - 15.0).max(ov_inner.y0));
+    }
+    // The number tabs over every frame, each on a corner of its frame when one is free
+    // (see `tabs`), else joined to it by a leader line.
+    for (k, (r, tab)) in frames.iter().zip(&placed).enumerate() {
+        let id = (k + 1).to_string();
+        let t = tab.rect;
+        if !tab.on_frame {
+            let c = t.centre();
+            let e = tabs::nearest_on_border(r, c);
+            svg.element(
+                "line",
+                &[
+                    ("class", "zoom-tab-leader"),
+                    ("data-zoom", &id),
+                    ("x1", &num(c[0], 1)),
+                    ("y1", &num(c[1], 1)),
+                    ("x2", &num(e[0], 1)),
+                    ("y2", &num(e[1], 1)),
+                    ("stroke", palette::FRAME),
+                    ("stroke-width", "1"),
+                ],
+            );
+        }
         svg.element(
             "rect",
             &[
-                ("x", &num(tx, 1)),
-                ("y", &num(ty, 1)),
-                ("width", "15"),
-                ("height", "15"),
+                ("class", "zoom-tab"),
+                ("data-zoom", &id),
+                ("x", &num(t.x0, 1)),
+                ("y", &num(t.y0, 1)),
+                ("width", &num(tabs::SIDE, 1)),
+                ("height", &num(tabs::SIDE, 1)),
                 ("fill", palette::FRAME),
             ],
         );
         svg.text(
-            tx + 7.5,
-            ty + 11.5,
+            t.x0 + 0.5 * tabs::SIDE,
+            t.y0 + 11.5,
             &id,
             &[
                 ("font-size", "11"),
@@ -366,7 +393,6 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         );
     }
     svg.close();
-    let content = ov_view.rect_to_px(&domain).intersect(&ov_inner).unwrap_or(ov_inner);
     scale_bar(&mut svg, &ov_view, &content);
     svg.text(ov.x0, ov.y0 + 14.0, "Whole mesh", &[("font-size", "13"), ("font-weight", "bold")]);
     if ov_stats.shaded > 0 {

@@ -104,9 +104,7 @@ pub fn draw_marks(svg: &mut Svg, view: &View, marks: &SourceMarks) {
 /// mesh is, within the view), drawn over a white outline so that it reads on any fill.
 /// Returns the box of its label.
 pub fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) -> Rect {
-    let len = axes::nice_step(0.12 * content.width() / view.scale, 1);
-    let px = len * view.scale;
-    let (x, y) = (content.x0 + 10.0, content.y1 - 10.0);
+    let (len, px, x, y) = scale_bar_geometry(view, content);
     let d = format!("M{} {}v4h{}v-4", num(x, 1), num(y - 4.0, 1), num(px, 2));
     svg.open("g", &[("class", "scale-bar")]);
     svg.element(
@@ -127,6 +125,19 @@ pub fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) -> Rect {
     halo_text(svg, x + 0.5 * px, y - 8.0, &label, "middle", "#000");
     svg.close();
     halo_box(x + 0.5 * px, y - 8.0, &label, "middle")
+}
+
+/// The scale bar's round length, its length in pixels and where it starts.
+fn scale_bar_geometry(view: &View, content: &Rect) -> (f64, f64, f64, f64) {
+    let len = axes::nice_step(0.12 * content.width() / view.scale, 1);
+    (len, len * view.scale, content.x0 + 10.0, content.y1 - 10.0)
+}
+
+/// What [`scale_bar`] will cover, its label and its bar, to keep other labels off it.
+pub fn scale_bar_box(view: &View, content: &Rect) -> Rect {
+    let (len, px, x, y) = scale_bar_geometry(view, content);
+    let label = halo_box(x + 0.5 * px, y - 8.0, &fmt_sig(len), "middle");
+    Rect::new(label.x0.min(x - 2.0), label.y0, label.x1.max(x + px + 2.0), y + 2.0)
 }
 
 /// The font of labels over the mesh.

@@ -682,8 +682,8 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         }
         Some(a) => {
             report.drop(format!(
-                "point data `{REF}` ({} components): a vertex has one reference",
-                a.components
+                "point data `{REF}` ({}): a vertex has one reference",
+                crate::words::components(a.components)
             ));
             None
         }
@@ -813,7 +813,10 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         ));
     }
     for (name, a) in &mesh.cell_data {
-        report.drop(format!("cell data `{name}` ({} components): the Medit writer keeps point data only (SolAtVertices)", a.components));
+        report.drop(format!(
+            "cell data `{name}` ({}): the Medit writer keeps point data only (SolAtVertices)",
+            crate::words::components(a.components)
+        ));
     }
 
     // The solution MMG reads: the metric, else the size.
@@ -835,7 +838,10 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         } else {
             "only `metric` (tensor) or `size` (scalar) go to the solution file".into()
         };
-        report.drop(format!("point data `{name}` ({} components): {why}", a.expanded_components()));
+        report.drop(format!(
+            "point data `{name}` ({}): {why}",
+            crate::words::components(a.expanded_components())
+        ));
     }
 
     let out = Out { dim, points: &mesh.points, refs, elements, sets };

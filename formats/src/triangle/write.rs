@@ -173,8 +173,8 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
                 .is_some_and(|k| k >= 1 && k <= pattrs.len());
         if !kept && name != MARKER {
             report.drop(format!(
-                "point data `{name}` ({} components): Triangle keeps only vertex markers (`{MARKER}`) and scalar attributes (`{ATTRIBUTE_PREFIX}1`, ...)",
-                a.expanded_components()
+                "point data `{name}` ({}): Triangle keeps only vertex markers (`{MARKER}`) and scalar attributes (`{ATTRIBUTE_PREFIX}1`, ...)",
+                crate::words::components(a.expanded_components())
             ));
         }
     }
@@ -276,8 +276,8 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         // Ray directions without rays were reported with the vertex cells.
         if !(kept || name == RAY_DIRECTION && nvert > 0) {
             report.drop(format!(
-                "cell data `{name}` ({} components): Triangle keeps only triangle attributes (`{ATTRIBUTE_PREFIX}1`, ...) and area bounds (`{AREA}`)",
-                a.components
+                "cell data `{name}` ({}): Triangle keeps only triangle attributes (`{ATTRIBUTE_PREFIX}1`, ...) and area bounds (`{AREA}`)",
+                crate::words::components(a.components)
             ));
         }
     }
