@@ -521,7 +521,7 @@ fn band_edge_lengths(
         .into_iter()
         .map(|(u, v)| {
             let (a, b) = (m.points[u], m.points[v]);
-            smartmesh::conformity::metric_edge_length(
+            smartmesh::metric::length::metric_edge_length(
                 [a[0], a[1]],
                 [b[0], b[1]],
                 &f(a[0], a[1]),

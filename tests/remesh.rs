@@ -503,7 +503,7 @@ fn unsupported_and_broken_meshes_are_refused() {
 /// or take the boundary: within 25 % on refining, graded and anisotropic fields.
 #[test]
 fn expected_vertices_predict_the_output() {
-    use smartmesh::remesh::expected_vertices;
+    use smartmesh::metric_field::expected_vertices;
     for (name, f) in [
         ("uniform", uniform as fn(f64, f64) -> SizeTensor),
         ("boundary layer", boundary_layer),

@@ -29,11 +29,13 @@
 //! points through [`crate::geometry::TriangleLocator`] and takes the mean from
 //! [`crate::metric`]; it knows nothing of the remesher, which uses its [`Interpolator`].
 
+mod expected;
 pub mod interpolate;
 pub mod pos_view;
 pub mod pos_write;
 pub mod write;
 
+pub use expected::expected_vertices;
 pub use interpolate::{InterpolationError, Interpolator};
 pub use write::{MetricTarget, Written};
 

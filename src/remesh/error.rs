@@ -74,7 +74,7 @@ pub enum RemeshError {
         vertices: usize,
     },
     /// The metric asks for more vertices than the limit allows: refused before any work.
-    #[error("the metric asks for about {} vertices (its complexity), more than the limit of {limit}; raise it with --max-vertices, or bound the sizes (hmin)", super::estimate::format_count(*estimate))]
+    #[error("the metric asks for about {} vertices (its complexity), more than the limit of {limit}; raise it with --max-vertices, or bound the sizes (hmin)", crate::metric::complexity::format_count(*estimate))]
     TooManyVertices {
         /// Expected output vertices.
         estimate: f64,
@@ -83,7 +83,7 @@ pub enum RemeshError {
     },
     /// The splits made more vertices than twice the limit (the estimate was wrong): the
     /// run stopped rather than grow without bound.
-    #[error("remeshing passed {vertices} vertices, more than twice the limit of {limit} (the metric's complexity promised about {}); raise it with --max-vertices", super::estimate::format_count(*estimate))]
+    #[error("remeshing passed {vertices} vertices, more than twice the limit of {limit} (the metric's complexity promised about {}); raise it with --max-vertices", crate::metric::complexity::format_count(*estimate))]
     Grew {
         /// Vertices when it stopped.
         vertices: usize,

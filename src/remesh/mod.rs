@@ -20,7 +20,8 @@
 //! tuning of the operators (quality floor, sweep counts, gains, the settling rule) is in
 //! [`RemeshOptions`].
 //!
-//! Before any work the expected output size, the metric's complexity (`estimate`), is
+//! Before any work the expected output size, the metric's complexity
+//! ([`crate::metric::complexity`]), is
 //! compared with [`RemeshOptions::max_vertices`]: a metric asking for 10¹² vertices is
 //! refused in milliseconds instead of filling the memory.
 //!
@@ -46,7 +47,6 @@ pub mod boundary;
 mod build;
 mod collapse;
 mod error;
-pub mod estimate;
 mod options;
 mod output;
 pub mod parallel;
@@ -62,7 +62,7 @@ use std::time::Instant;
 
 use crate::conformity::Conformity;
 use crate::formats::TaggedMesh;
-use crate::metric::Sym2;
+use crate::metric::{complexity, Sym2};
 use crate::metric_field::Interpolator;
 use crate::topology::Topology;
 
@@ -105,34 +105,6 @@ fn triangles(mesh: &TaggedMesh) -> Vec<[usize; 3]> {
         .filter(|c| c.0 == crate::formats::CellKind::Triangle)
         .map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize])
         .collect()
-}
-
-/// The expected vertex count of a remeshing of `mesh` to `metric` (one tensor per point):
-/// the metric's complexity over its triangles and quadrangles ([`estimate`]). What
-/// [`RemeshOptions::max_vertices`] is compared with, and what the adaptation loop checks
-/// before every remeshing, whatever the remesher.
-pub fn expected_vertices(mesh: &TaggedMesh, metric: &[Sym2]) -> f64 {
-    let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-    let mut tris = Vec::new();
-    for (kind, n, _, _) in mesh.cells() {
-        let n: Vec<usize> = n.iter().map(|&v| v as usize).collect();
-        match kind {
-            crate::formats::CellKind::Triangle | crate::formats::CellKind::Triangle6 => {
-                tris.push([n[0], n[1], n[2]])
-            }
-            crate::formats::CellKind::Quad
-            | crate::formats::CellKind::Quad8
-            | crate::formats::CellKind::Quad9 => {
-                tris.push([n[0], n[1], n[2]]);
-                tris.push([n[0], n[2], n[3]]);
-            }
-            _ => {}
-        }
-    }
-    if metric.len() != pts.len() || tris.iter().flatten().any(|&v| v >= pts.len()) {
-        return 0.0;
-    }
-    estimate::expected_vertices(&pts, &tris, metric)
 }
 
 /// The metric with its sizes bounded by `hmin` and `hmax` (eigenvalues clamped to
@@ -318,9 +290,9 @@ pub fn remesh_keeping(
     }
     let st = build::start(mesh, topology, metric, opts, keep)?;
     let input_tris: Vec<[usize; 3]> = st.tris.iter().map(|t| t.map(|v| v as usize)).collect();
-    let estimate = estimate::expected_vertices(&st.pts, &input_tris, metric);
+    let estimate = complexity::expected_vertices(&st.pts, &input_tris, metric);
     if let Some(limit) = opts.max_vertices {
-        if estimate::exceeds(estimate, limit) {
+        if complexity::exceeds(estimate, limit) {
             return Err(RemeshError::TooManyVertices { estimate, limit });
         }
     }

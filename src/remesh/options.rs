@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::conformity::CONFORMING;
+use crate::metric::length::CONFORMING;
 
 /// Where vertices on boundaries and interfaces are placed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]

@@ -53,7 +53,6 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::build::data_warnings;
-use super::estimate::{exceeds, vertices_of_complexity};
 use super::partition::{self, Axes, Flat, NONE};
 use super::{
     bounded_sizes, remesh_keeping, skin_cells, PartitionedPass, PassStats, PhaseSeconds,
@@ -61,6 +60,7 @@ use super::{
 };
 use crate::conformity::Conformity;
 use crate::formats::{CellBlock, CellKind, TaggedMesh};
+use crate::metric::complexity::{exceeds, vertices_of_complexity};
 use crate::metric::Sym2;
 use crate::metric_field::{MetricField, METRIC};
 use crate::topology::Topology;
