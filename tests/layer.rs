@@ -472,7 +472,7 @@ fn remesh_keeps_a_skin_frozen_and_remeshes_around_it() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
     let text = std::fs::read_to_string(dir.join("cylinder.toml")).unwrap();
     let recipe = smartmesh::recipe::serde_io::read_toml(&text, &dir.join("cylinder.toml")).unwrap();
-    let sized = smartmesh::sizing::size_mesh(&skinned, &recipe, &mut |_| {}).unwrap();
+    let sized = smartmesh::recipe::size_mesh(&skinned, &recipe, &mut |_| {}).unwrap();
     let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
     remeshed_around_the_skin(&skinned, &metric, false);
     // Told to keep nothing, the remesher refuses the quads, naming them.

@@ -53,8 +53,9 @@ use crate::metric::complexity::{exceeds, format_count};
 use crate::metric::Sym2;
 use crate::metric_field::{expected_vertices, MetricField};
 use crate::recipe::Recipe;
+use crate::recipe::{size_mesh_with_steps, SizeMeshError};
 use crate::remesh::DEFAULT_MAX_VERTICES;
-use crate::sizing::{size_mesh_with_steps, SizeMeshError, StepEvent};
+use crate::sizing::StepEvent;
 use crate::topology::Topology;
 use solver::{SolverError, SolverLoop};
 

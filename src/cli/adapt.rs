@@ -546,7 +546,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
                 .map_err(|e| CliError::context(format!("LAYER: {e}"), e))?;
             // The band is remeshed to the recipe's field on the best mesh, as the loop's
             // triangles were.
-            let sized = smartmesh::sizing::size_mesh(&outcome.best, &recipe, &mut |_| {})
+            let sized = smartmesh::recipe::size_mesh(&outcome.best, &recipe, &mut |_| {})
                 .map_err(|e| CliError::context(format!("LAYER: sizing the best mesh: {e}"), e))?;
             let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
             let remesh = smartmesh::remesh::RemeshOptions {

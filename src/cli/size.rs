@@ -11,7 +11,8 @@ use clap::Args;
 use smartmesh::formats::Format;
 use smartmesh::metric_field::expected_vertices;
 use smartmesh::metric_field::{MetricField, MetricTarget};
-use smartmesh::sizing::{size_mesh_with_steps, SizeMeshError, StepEvent, StepReport};
+use smartmesh::recipe::{size_mesh_with_steps, SizeMeshError};
+use smartmesh::sizing::{StepEvent, StepReport};
 use smartmesh::solution::input::{attach, field_names, read_solution};
 use smartmesh::Topology;
 

@@ -184,7 +184,7 @@ fn smooth_phase(w: &mut work::Work, opts: &RemeshOptions, secs: &mut PhaseSecond
 /// let mesh = read_path(&dir.join("cylinder.msh"), None)?;
 /// let text = std::fs::read_to_string(dir.join("cylinder.toml"))?;
 /// let recipe = smartmesh::recipe::serde_io::read_toml(&text, &dir.join("cylinder.toml"))?;
-/// let sized = smartmesh::sizing::size_mesh(&mesh, &recipe, &mut |_| {})?;
+/// let sized = smartmesh::recipe::size_mesh(&mesh, &recipe, &mut |_| {})?;
 /// let metric = MetricField::from_sizes(&sized.field.tensors, "the recipe's field");
 /// let out = remesh(&mesh, metric.tensors(), &RemeshOptions::default())?;
 /// // Refined where the recipe asks, tags kept, the field carried as point data.
