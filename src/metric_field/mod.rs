@@ -32,7 +32,6 @@
 mod expected;
 pub mod interpolate;
 pub mod pos_view;
-pub mod pos_write;
 pub mod write;
 
 pub use expected::expected_vertices;
