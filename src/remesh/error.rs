@@ -92,16 +92,6 @@ pub enum RemeshError {
         /// What the estimate said.
         estimate: f64,
     },
-    /// `hmin` or `hmax` is not a positive size, or `hmin` exceeds `hmax`.
-    #[error(
-        "bad size bounds: hmin {hmin:?}, hmax {hmax:?} (expected positive sizes, hmin <= hmax)"
-    )]
-    BadSizeBounds {
-        /// hmin.
-        hmin: Option<f64>,
-        /// hmax.
-        hmax: Option<f64>,
-    },
 }
 
 impl RemeshError {

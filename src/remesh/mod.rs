@@ -57,7 +57,6 @@ mod stats;
 mod swap;
 mod work;
 
-use std::borrow::Cow;
 use std::time::Instant;
 
 use crate::conformity::Conformity;
@@ -105,36 +104,6 @@ fn triangles(mesh: &TaggedMesh) -> Vec<[usize; 3]> {
         .filter(|c| c.0 == crate::formats::CellKind::Triangle)
         .map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize])
         .collect()
-}
-
-/// The metric with its sizes bounded by `hmin` and `hmax` (eigenvalues clamped to
-/// [1/hmax², 1/hmin²]); borrowed unchanged when neither is set.
-fn bounded_sizes<'m>(
-    metric: &'m [Sym2],
-    opts: &RemeshOptions,
-) -> Result<Cow<'m, [Sym2]>, RemeshError> {
-    let (hmin, hmax) = (opts.hmin, opts.hmax);
-    if hmin.is_none() && hmax.is_none() {
-        return Ok(Cow::Borrowed(metric));
-    }
-    let ok = |h: Option<f64>| h.map_or(true, |h| h > 0.0 && h.is_finite());
-    if !ok(hmin) || !ok(hmax) || matches!((hmin, hmax), (Some(a), Some(b)) if a > b) {
-        return Err(RemeshError::BadSizeBounds { hmin, hmax });
-    }
-    let (lo, hi) =
-        (hmax.map_or(0.0, |h| 1.0 / (h * h)), hmin.map_or(f64::INFINITY, |h| 1.0 / (h * h)));
-    Ok(Cow::Owned(
-        metric
-            .iter()
-            .map(|m| {
-                let e = m.eigen();
-                if !(e.values[0].is_finite() && e.values[1].is_finite()) {
-                    return *m;
-                }
-                Sym2::from_eigen([e.values[0].clamp(lo, hi), e.values[1].clamp(lo, hi)], e.vector)
-            })
-            .collect(),
-    ))
 }
 
 fn collapse_phase(
@@ -278,8 +247,6 @@ pub fn remesh_keeping(
     progress: &mut dyn FnMut(RemeshEvent),
 ) -> Result<Remeshed, RemeshError> {
     let t0 = Instant::now();
-    let metric = bounded_sizes(metric, opts)?;
-    let metric: &[Sym2] = &metric;
     // A mixed input must already be valid: otherwise a bad result would be blamed on
     // the remesher rather than on the file.
     if keep.iter().any(|&k| k) && mesh.cells().any(|c| c.0 == crate::formats::CellKind::Quad) {
