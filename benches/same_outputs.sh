@@ -33,7 +33,8 @@ for side in a b; do
             "$bin" size "$mesh" --recipe "$recipe" -o "$out/$name-field.$ext" >/dev/null
         done
         "$bin" size "$mesh" --recipe "$recipe" -o "$out/$name-field.solb" --json >"$out/$name-size.json"
-        "$bin" remesh "$mesh" --metric "$out/$name-field.vtu" -o "$out/$name-remeshed.vtu" >/dev/null
+        "$bin" remesh "$mesh" --metric "$out/$name-field.vtu" -o "$out/$name-remeshed.vtu" \
+            --json >"$out/$name-remesh.json"
         "$bin" remesh "$mesh" --metric "$out/$name-field.pos" -o "$out/$name-remeshed-pos.msh" >/dev/null
         "$bin" remesh "$mesh" --metric "$out/$name-field.vtu" -o "$out/$name-parts.msh" \
             --partition-above 0 --threads 2 >/dev/null
@@ -41,7 +42,7 @@ for side in a b; do
         "$bin" info "$mesh" --metric "$out/$name-field.pos" --json >"$out/$name-info-pos.json"
         "$bin" info "$out/$name-remeshed.vtu" --json >"$out/$name-info-remeshed.json"
         "$bin" adapt "$start" --recipe "$recipe" -o "$out/$name-adapted.msh" \
-            --history "$out/$name-adapted.history.json" >/dev/null
+            --history "$out/$name-adapted.history.json" --json >"$out/$name-adapt.json"
     done
     "$bin" mesh fixtures/square_hole.poly --size 0.05 -o "$out/square_hole.msh" >/dev/null
     # A solver in the loop, and a field sized from a solution (the complexity's other users).
