@@ -6,10 +6,10 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::formats::TaggedMesh;
 use crate::metric::length::{metric_edge_length, metric_triangle_quality, CONFORMING};
 use crate::metric::Sym2;
 use crate::metric_field::MetricField;
+use smartmesh_formats::TaggedMesh;
 
 pub use crate::metric_field::MetricFieldError;
 
@@ -122,10 +122,10 @@ impl Conformity {
         let mut tris = Vec::new();
         for (kind, n, _, _) in mesh.cells() {
             match kind {
-                crate::formats::CellKind::Triangle => {
+                smartmesh_formats::CellKind::Triangle => {
                     tris.push([n[0] as usize, n[1] as usize, n[2] as usize])
                 }
-                crate::formats::CellKind::Quad => {
+                smartmesh_formats::CellKind::Quad => {
                     tris.push([n[0] as usize, n[1] as usize, n[2] as usize]);
                     tris.push([n[0] as usize, n[2] as usize, n[3] as usize]);
                 }
@@ -155,7 +155,7 @@ mod tests {
 
     #[test]
     fn metric_field_errors_name_the_vertex() {
-        use crate::formats::{CellKind, DataArray};
+        use smartmesh_formats::{CellKind, DataArray};
         let mut mesh = TaggedMesh::new();
         mesh.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [5.0, 5.0, 0.0]];
         mesh.block_mut(CellKind::Triangle).push(&[0, 1, 2], 1, 1);

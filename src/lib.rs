@@ -35,6 +35,8 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+// For users: the formats crate under the root's name. The library's own modules import
+// `smartmesh_formats` directly; the root is the front door, not an internal hub.
 pub use smartmesh_formats as formats;
 
 pub mod adapt;

@@ -39,7 +39,7 @@ mod refine;
 
 pub use periodic::triangulate_periodic;
 
-use crate::formats::TaggedMesh;
+use smartmesh_formats::TaggedMesh;
 
 /// spade's constrained triangulation with plain points.
 pub(crate) type Cdt = spade::ConstrainedDelaunayTriangulation<spade::Point2<f64>>;

@@ -3,9 +3,9 @@
 //! adaptation loop checks against its vertex limit before every remeshing, whatever the
 //! remesher, what `size` reports, and what a solver's metric is scaled by.
 
-use crate::formats::{CellKind, TaggedMesh};
 use crate::metric::complexity;
 use crate::metric::Sym2;
+use smartmesh_formats::{CellKind, TaggedMesh};
 
 /// The expected vertex count of a remeshing of `mesh` to `metric` (one tensor per point):
 /// the metric's complexity over its triangles and quadrangles (each cut in two). 0 when

@@ -1,6 +1,6 @@
 //! A Gmsh post-processing view (`.pos`, the parsed format) read as a metric field, the
 //! way `gmsh -bgm X.pos` takes a background mesh. The syntax, the records and their
-//! counts are the formats crate's ([`crate::formats::gmsh::pos`]); this module says what a
+//! counts are the formats crate's ([`smartmesh_formats::gmsh::pos`]); this module says what a
 //! view means as a metric.
 //!
 //! What is read, and why:
@@ -26,9 +26,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use crate::formats::gmsh::pos::{self, Element, Field, Item};
-use crate::formats::{CellKind, Error, ErrorKind, TaggedMesh, MAX_POINTS};
 use crate::metric::Sym2;
+use smartmesh_formats::gmsh::pos::{self, Element, Field, Item};
+use smartmesh_formats::{CellKind, Error, ErrorKind, TaggedMesh, MAX_POINTS};
 
 use super::not_a_metric;
 
@@ -269,7 +269,7 @@ mod tests {
             let e = parse(text.as_bytes()).unwrap_err();
             let s = e.to_string();
             assert!(s.contains(what), "{text:?}: {s}");
-            assert_eq!(e.at, Some(crate::formats::Position::Line(line)), "{text:?}: {s}");
+            assert_eq!(e.at, Some(smartmesh_formats::Position::Line(line)), "{text:?}: {s}");
         }
     }
 

@@ -60,10 +60,10 @@ mod work;
 use std::time::Instant;
 
 use crate::conformity::Conformity;
-use crate::formats::TaggedMesh;
 use crate::metric::{complexity, Sym2};
 use crate::metric_field::Interpolator;
 use crate::topology::Topology;
+use smartmesh_formats::TaggedMesh;
 
 pub use error::RemeshError;
 pub use options::{
@@ -101,7 +101,7 @@ pub enum RemeshEvent {
 /// The triangle cells of `mesh`.
 fn triangles(mesh: &TaggedMesh) -> Vec<[usize; 3]> {
     mesh.cells()
-        .filter(|c| c.0 == crate::formats::CellKind::Triangle)
+        .filter(|c| c.0 == smartmesh_formats::CellKind::Triangle)
         .map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize])
         .collect()
 }
@@ -214,7 +214,7 @@ pub fn remesh_with_topology(
 /// fan triangles at a skin's convex corners, when the skin has two layers or more).
 /// All `false` on a triangle mesh.
 pub fn skin_cells(mesh: &TaggedMesh) -> Vec<bool> {
-    use crate::formats::CellKind;
+    use smartmesh_formats::CellKind;
     let mut on_quad = vec![false; mesh.points.len()];
     for (kind, nodes, _, _) in mesh.cells() {
         if kind == CellKind::Quad {
@@ -249,7 +249,7 @@ pub fn remesh_keeping(
     let t0 = Instant::now();
     // A mixed input must already be valid: otherwise a bad result would be blamed on
     // the remesher rather than on the file.
-    if keep.iter().any(|&k| k) && mesh.cells().any(|c| c.0 == crate::formats::CellKind::Quad) {
+    if keep.iter().any(|&k| k) && mesh.cells().any(|c| c.0 == smartmesh_formats::CellKind::Quad) {
         let v = crate::layer::check::check_mesh(mesh);
         if !v.is_valid() {
             return Err(RemeshError::InvalidMixed(v.problems().join("; ")));
@@ -365,7 +365,7 @@ pub fn remesh_keeping(
             return Err(RemeshError::Invalid(v.problems().join("; ")));
         }
     }
-    stats.output = [out.points.len(), out.num_cells_of(crate::formats::CellKind::Triangle)];
+    stats.output = [out.points.len(), out.num_cells_of(smartmesh_formats::CellKind::Triangle)];
     if opts.measure {
         let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
         stats.conformity = Conformity::of(&out_pts, &triangles(&out), &out_metric);
@@ -377,8 +377,8 @@ pub fn remesh_keeping(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formats::{CellBlock, CellKind};
     use crate::metric::SizeTensor;
+    use smartmesh_formats::{CellBlock, CellKind};
 
     /// A jittered n×n grid on [0,1]² (deterministic jitter), boundary tagged 1..4.
     fn grid(n: usize) -> TaggedMesh {

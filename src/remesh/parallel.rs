@@ -59,11 +59,11 @@ use super::{
     RemeshOptions, RemeshStats, Remeshed,
 };
 use crate::conformity::Conformity;
-use crate::formats::{CellBlock, CellKind, TaggedMesh};
 use crate::metric::complexity::{exceeds, vertices_of_complexity};
 use crate::metric::Sym2;
 use crate::metric_field::{MetricField, METRIC};
 use crate::topology::Topology;
+use smartmesh_formats::{CellBlock, CellKind, TaggedMesh};
 
 /// Most parts in a pass.
 pub const MAX_PARTS: usize = 1 << 14;

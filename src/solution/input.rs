@@ -13,20 +13,24 @@
 
 use std::path::Path;
 
-use crate::formats::{read_path, ErrorKind, TaggedMesh};
+use smartmesh_formats::{read_path, ErrorKind, TaggedMesh};
 
 /// The solution file `path` as a mesh to take a field from: a mesh file as read; a Medit
 /// `.sol`/`.solb` alone as `mesh`'s vertices (when it has as many) with its arrays.
-pub fn read_solution(path: &Path, mesh: &TaggedMesh) -> Result<TaggedMesh, crate::formats::Error> {
+pub fn read_solution(
+    path: &Path,
+    mesh: &TaggedMesh,
+) -> Result<TaggedMesh, smartmesh_formats::Error> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     if ext != "sol" && ext != "solb" {
         return read_path(path, None);
     }
-    let bytes = std::fs::read(path).map_err(|e| crate::formats::Error::from(e).with_path(path))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| smartmesh_formats::Error::from(e).with_path(path))?;
     let Some((n, arrays)) =
-        crate::formats::medit::read_sol_alone(&bytes).map_err(|e| e.with_path(path))?
+        smartmesh_formats::medit::read_sol_alone(&bytes).map_err(|e| e.with_path(path))?
     else {
-        return Err(crate::formats::Error::new(ErrorKind::Inconsistent(
+        return Err(smartmesh_formats::Error::new(ErrorKind::Inconsistent(
             "no SolAtVertices: the file holds no solution at vertices".into(),
         ))
         .with_path(path));
@@ -225,7 +229,7 @@ pub fn attach(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formats::{CellKind, DataArray};
+    use smartmesh_formats::{CellKind, DataArray};
 
     fn mesh() -> TaggedMesh {
         let mut m = TaggedMesh::new();
