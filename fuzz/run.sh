@@ -11,13 +11,13 @@ cd "$(dirname "$0")"
 secs="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(gmsh vtk_legacy vtu triangle obj medit su2 openfoam recipe_libconfig recipe_resolve)
+[ ${#targets[@]} -gt 0 ] || targets=(gmsh gmsh_pos vtk_legacy vtu triangle obj medit su2 openfoam recipe_libconfig recipe_resolve)
 toolchain=()
 if rustup toolchain list 2>/dev/null | grep -q '^nightly'; then toolchain=(+nightly); fi
 mkdir -p logs
 fixtures="${SMARTMESH_PUBLIC_FIXTURES:-$(cd ../.. && pwd)/shared/fixtures/public}"
 export RUSTC_BOOTSTRAP=1
-declare -A seeds=([gmsh]="gmsh/*.msh" [vtk_legacy]="vtk/*.vtk" [vtu]="vtk/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb" [su2]="" [openfoam]="" [recipe_libconfig]="" [recipe_resolve]="")
+declare -A seeds=([gmsh]="gmsh/*.msh" [gmsh_pos]="" [vtk_legacy]="vtk/*.vtk" [vtu]="vtk/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb" [su2]="" [openfoam]="" [recipe_libconfig]="" [recipe_resolve]="")
 status=0
 for target in "${targets[@]}"; do
     corpus="corpus/$target"
@@ -34,6 +34,12 @@ for target in "${targets[@]}"; do
             [ -f "$base.node" ] || continue
             { cat "$ele"; printf '\0'; cat "$base.node"; if [ -f "$base.poly" ]; then printf '\0'; cat "$base.poly"; fi; } > "$corpus/$(basename "$base").set"
         done
+    fi
+    if [ "$target" = gmsh_pos ]; then
+        # No public .pos fixture: a tensor view as `smartmesh size -o X.pos` writes it,
+        # and a view of the other records (scalar, vector, text) with comments.
+        printf 'View "metric" {\nTT(0,0,0,1,0,0,0,1,0){4,0,0,0,4,0,0,0,1,16,0,0,0,16,0,0,0,1,4,1,0,1,4,0,0,0,1};\nTQ(0,0,0,1,0,0,1,1,0,0,1,0){1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1};\n};\n' > "$corpus/metric.pos"
+        printf '// scalar\nView("s") {\nSP(0.5,0.5,0){3,4};\nVL(0,0,0,1,0,0){1,0,0,0,1,0};\n/* text */ T2(10,20,0){"label"};\nST(0,0,0,1,0,0,0,1,0){1,2,3};\n};\n' > "$corpus/views.pos"
     fi
     if [ "$target" = recipe_libconfig ]; then
         # The project's own recipes (without their cpp directives, which the target refuses).

@@ -74,7 +74,7 @@ pub struct SolverRecord {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RemeshingRecord {
     /// The vertices the previous iteration's field asked for, its complexity
-    /// ([`crate::remesh::expected_vertices`]), checked against the vertex limit before the
+    /// ([`crate::metric_field::expected_vertices`]), checked against the vertex limit before the
     /// remesher ran.
     pub expected_vertices: f64,
     /// The vertices the remesher was asked for when the field was scaled down to limit the

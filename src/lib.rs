@@ -38,6 +38,8 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+// For users: the formats crate under the root's name. The library's own modules import
+// `smartmesh_formats` directly; the root is the front door, not an internal hub.
 pub use smartmesh_formats as formats;
 
 pub mod adapt;
@@ -77,9 +79,10 @@ pub use mesh_graph::{MeshGraph, MeshGraphError};
 pub use metric::{SizeBounds, SizeTensor, Sym2};
 pub use metric_field::{MetricError, MetricField, MetricTarget, METRIC};
 pub use quality::QualitySummary;
+pub use recipe::{size_mesh, MeshSizing, SizeMeshError};
 pub use recipe::{Recipe, RecipeError};
 pub use remesh::{remesh, RemeshError, RemeshOptions, Remeshed};
 pub use size_controls::{ControlError, SizeControls};
-pub use sizing::{size_mesh, MeshSizing, SizeField, SizeMeshError};
+pub use sizing::SizeField;
 pub use summary::{HistogramBins, MeshSummary};
 pub use topology::Topology;

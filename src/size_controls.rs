@@ -1,7 +1,8 @@
 //! The size controls of MMG's command line (`-hmin`, `-hmax`, `-hgrad`, `-hausd`) for a
 //! metric that is already on a mesh: what `smartmesh remesh` applies to the metric it
 //! reads, and what `smartmesh adapt` applies for `--hausd` before the remeshers that have
-//! no such option of their own (the native one and Gmsh's BAMG).
+//! no such option of their own (the native one and Gmsh's BAMG, through
+//! [`crate::adapters`]' wrapping adapter).
 //!
 //! Order: the Hausdorff bound first, then the clamp to [hmin, hmax] (hmin wins over the
 //! curvature: a user who sets it means it), then the gradation, which only shrinks sizes.
@@ -17,7 +18,6 @@
 
 use smartmesh_formats::TaggedMesh;
 
-use crate::adapters::{Adapted, Adapter, AdapterError};
 use crate::mesh_graph::{MeshGraph, MeshGraphError};
 use crate::metric::{SizeBounds, SizeTensor, Sym2};
 use crate::sizing::gradation::apply_gradation;
@@ -113,34 +113,6 @@ impl SizeControls {
     }
 }
 
-/// A remesher with controls applied to every metric it is given: `--hausd` for the
-/// remeshers that have no such option of their own.
-pub struct Controlled {
-    /// The remesher.
-    pub inner: Box<dyn Adapter>,
-    /// The controls.
-    pub controls: SizeControls,
-}
-
-impl Adapter for Controlled {
-    fn name(&self) -> &str {
-        self.inner.name()
-    }
-
-    fn adapt(
-        &self,
-        mesh: &TaggedMesh,
-        topology: &Topology,
-        metric: &[Sym2],
-    ) -> Result<Adapted, AdapterError> {
-        let mut metric = metric.to_vec();
-        self.controls
-            .apply(mesh, &mut metric)
-            .map_err(|e| AdapterError::Input(format!("applying --hausd: {e}")))?;
-        self.inner.adapt(mesh, topology, &metric)
-    }
-}
-
 /// For each interior vertex of a curve polyline where the curve bends, the largest size
 /// that keeps the edges within `hausd` of the curve (see the module header); a vertex on
 /// several curves gets the smallest bound.
@@ -217,41 +189,6 @@ mod tests {
         }
         // The centre is on no curve: left as it was.
         assert_eq!(metric[0], Sym2::new(1.0, 0.0, 1.0));
-    }
-
-    /// A remesher that returns its input and keeps the metric it was given.
-    struct Recorder(std::rc::Rc<std::cell::RefCell<Vec<Sym2>>>);
-
-    impl Adapter for Recorder {
-        fn name(&self) -> &str {
-            "recorder"
-        }
-
-        fn adapt(
-            &self,
-            mesh: &TaggedMesh,
-            _topology: &Topology,
-            metric: &[Sym2],
-        ) -> Result<Adapted, AdapterError> {
-            *self.0.borrow_mut() = metric.to_vec();
-            Ok(Adapted { mesh: mesh.clone(), stats: None })
-        }
-    }
-
-    #[test]
-    fn a_controlled_remesher_is_given_the_bounded_metric() {
-        let mesh = polygon(64, 2.0);
-        let metric = vec![Sym2::new(1.0, 0.0, 1.0); mesh.points.len()];
-        let seen = std::rc::Rc::new(std::cell::RefCell::new(Vec::new()));
-        let controls = SizeControls { hausd: Some(1e-3), ..Default::default() };
-        let controlled = Controlled { inner: Box::new(Recorder(seen.clone())), controls };
-        assert_eq!(controlled.name(), "recorder");
-        let topology = Topology::from_mesh(&mesh);
-        controlled.adapt(&mesh, &topology, &metric).unwrap();
-        let mut expected = metric.clone();
-        controls.apply(&mesh, &mut expected).unwrap();
-        assert_ne!(expected, metric);
-        assert_eq!(*seen.borrow(), expected);
     }
 
     #[test]

@@ -472,7 +472,7 @@ fn remesh_keeps_a_skin_frozen_and_remeshes_around_it() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
     let text = std::fs::read_to_string(dir.join("cylinder.toml")).unwrap();
     let recipe = smartmesh::recipe::serde_io::read_toml(&text, &dir.join("cylinder.toml")).unwrap();
-    let sized = smartmesh::sizing::size_mesh(&skinned, &recipe, &mut |_| {}).unwrap();
+    let sized = smartmesh::recipe::size_mesh(&skinned, &recipe, &mut |_| {}).unwrap();
     let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
     remeshed_around_the_skin(&skinned, &metric, false);
     // Told to keep nothing, the remesher refuses the quads, naming them.
@@ -521,7 +521,7 @@ fn band_edge_lengths(
         .into_iter()
         .map(|(u, v)| {
             let (a, b) = (m.points[u], m.points[v]);
-            smartmesh::conformity::metric_edge_length(
+            smartmesh::metric::length::metric_edge_length(
                 [a[0], a[1]],
                 [b[0], b[1]],
                 &f(a[0], a[1]),

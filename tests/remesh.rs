@@ -13,6 +13,7 @@ use smartmesh::formats::{sym2_to_tensor9, CellBlock, CellKind, DataArray, Tagged
 use smartmesh::metric::{exp_sym, log_spd};
 use smartmesh::metric::{SizeTensor, Sym2};
 use smartmesh::remesh::{remesh, BoundaryMode, RemeshOptions, Remeshed};
+use smartmesh::{ControlError, SizeControls};
 use smartmesh_test_support::grid::SquareGrid;
 
 const WALL: i32 = 1; // y = 0
@@ -503,7 +504,7 @@ fn unsupported_and_broken_meshes_are_refused() {
 /// or take the boundary: within 25 % on refining, graded and anisotropic fields.
 #[test]
 fn expected_vertices_predict_the_output() {
-    use smartmesh::remesh::expected_vertices;
+    use smartmesh::metric_field::expected_vertices;
     for (name, f) in [
         ("uniform", uniform as fn(f64, f64) -> SizeTensor),
         ("boundary layer", boundary_layer),
@@ -545,10 +546,15 @@ fn metrics_asking_for_too_many_vertices_are_refused_at_once() {
     assert!(remesh(&mesh, &metric, &low).unwrap_err().is_limit());
     let unlimited = RemeshOptions { max_vertices: None, ..RemeshOptions::default() };
     assert!(remesh(&mesh, &metric, &unlimited).is_ok());
-    // hmin bounds the tiny size: the run goes through, and no edge is much below hmin.
-    let bounded = RemeshOptions { hmin: Some(0.02), ..RemeshOptions::default() };
-    let out = remesh(&mesh, &tiny, &bounded).unwrap();
+    // hmin, the size controls' (`remesh --hmin`), bounds the tiny size: the run goes
+    // through, and no edge is much below hmin.
+    let mut bounded = tiny.clone();
+    SizeControls { h_min: Some(0.02), ..SizeControls::default() }
+        .apply(&mesh, &mut bounded)
+        .unwrap();
+    let out = remesh(&mesh, &bounded, &RemeshOptions::default()).unwrap();
     assert!(out.stats.output[0] < 20_000, "{:?}", out.stats.output);
-    let bad = RemeshOptions { hmin: Some(0.1), hmax: Some(0.01), ..RemeshOptions::default() };
-    assert!(remesh(&mesh, &metric, &bad).unwrap_err().to_string().contains("hmin"));
+    let bad = SizeControls { h_min: Some(0.1), h_max: Some(0.01), ..SizeControls::default() };
+    let e = bad.apply(&mesh, &mut metric.clone()).unwrap_err();
+    assert!(matches!(e, ControlError::Bounds { .. }), "{e}");
 }

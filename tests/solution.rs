@@ -6,8 +6,9 @@ use std::path::Path;
 
 use smartmesh::formats::{read_path, write_path, DataArray, TaggedMesh, WriteOptions};
 use smartmesh::recipe::model::SpecValue;
+use smartmesh::recipe::{size_mesh, SizeMeshError};
 use smartmesh::recipe::{AlgorithmSpec, Global, RecipeFormat};
-use smartmesh::sizing::{size_mesh, SizeMeshError, SizingError};
+use smartmesh::sizing::SizingError;
 use smartmesh::solution::{vertices_of, P1Mesh};
 use smartmesh::{MeshGraph, Recipe, SizeTensor, Topology};
 

@@ -15,7 +15,8 @@
 //! Each mesh's topology is built once, for its sizing and for the remeshing that
 //! follows, and each mesh is measured once, against the recipe's field on it (the native
 //! remesher is asked not to measure). Before each remeshing the field's complexity
-//! ([`crate::remesh::expected_vertices`]) is compared with [`AdaptOptions::max_vertices`],
+//! ([`crate::metric_field::expected_vertices`], computed once per mesh: the solver's
+//! record reads the same figure) is compared with [`AdaptOptions::max_vertices`],
 //! whatever the remesher: a recipe asking for 10¹² vertices stops the loop at once
 //! ([`AdaptError::TooManyVertices`]) instead of filling the memory.
 //!
@@ -41,6 +42,7 @@ pub mod skin;
 pub mod solver;
 pub mod start;
 
+use std::cell::OnceCell;
 use std::time::Instant;
 
 use smartmesh_formats::TaggedMesh;
@@ -48,12 +50,13 @@ use smartmesh_formats::TaggedMesh;
 use crate::adapters::{Adapter, AdapterError};
 use crate::conformity::Conformity;
 use crate::history::{History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord};
+use crate::metric::complexity::{exceeds, format_count};
 use crate::metric::Sym2;
-use crate::metric_field::MetricField;
+use crate::metric_field::{expected_vertices, MetricField};
 use crate::recipe::Recipe;
-use crate::remesh::estimate::{exceeds, format_count};
-use crate::remesh::{expected_vertices, DEFAULT_MAX_VERTICES};
-use crate::sizing::{size_mesh_with_steps, SizeMeshError, StepEvent};
+use crate::recipe::{size_mesh_with_steps, SizeMeshError};
+use crate::remesh::DEFAULT_MAX_VERTICES;
+use crate::sizing::StepEvent;
 use crate::topology::Topology;
 use solver::{SolverError, SolverLoop};
 
@@ -244,8 +247,18 @@ struct Measured {
     mesh: TaggedMesh,
     topology: Topology,
     metric: Vec<Sym2>,
+    /// The vertex count `metric` asks for on `mesh`, computed at most once per mesh: for
+    /// the solver's record and for the check before the next remeshing.
+    expected: OnceCell<f64>,
     record: IterationRecord,
     warnings: Vec<String>,
+}
+
+impl Measured {
+    /// The vertex count the mesh's field asks for ([`expected_vertices`]).
+    fn expected(&self) -> f64 {
+        *self.expected.get_or_init(|| expected_vertices(&self.mesh, &self.metric))
+    }
 }
 
 /// Sizes and measures `mesh` as iteration `iteration`; `remesh` is the time already spent
@@ -275,12 +288,13 @@ fn measure(
         .map_err(|e| (Phase::Size, e.into()))?;
     let metric: Vec<Sym2> = sizing.field.tensors.iter().map(|t| t.to_metric()).collect();
     let size = t.elapsed().as_secs_f64();
+    let expected = OnceCell::new();
     let solver = solved.map(|d| SolverRecord {
         seconds: d.seconds,
         field: d.fields.join(","),
         fields: d.fields,
         complexity_asked: d.complexity_asked,
-        complexity_obtained: expected_vertices(&mesh, &metric),
+        complexity_obtained: *expected.get_or_init(|| expected_vertices(&mesh, &metric)),
     });
     // The result carries the recipe's field on it (`metric`, `size_tensor`, `h1` …, as
     // `size` writes them), so that `report`, `info --metric` and ParaView read one file.
@@ -301,7 +315,7 @@ fn measure(
         remeshing,
         solver,
     };
-    Ok(Measured { mesh, topology, metric, record, warnings: sizing.field.warnings })
+    Ok(Measured { mesh, topology, metric, expected, record, warnings: sizing.field.warnings })
 }
 
 /// Runs the loop from `start` with `recipe` and `adapter`. `input` and `recipe_label`
@@ -363,7 +377,7 @@ pub fn run_with_solver(
             stopped = INTERRUPTED.to_string();
             break;
         }
-        let expected = expected_vertices(&current.mesh, &current.metric);
+        let expected = current.expected();
         if let Some(limit) = options.max_vertices {
             if exceeds(expected, limit) {
                 let e = AdaptError::TooManyVertices { iteration: k, estimate: expected, limit };

@@ -15,8 +15,8 @@ use crate::history::LayerRecord;
 use crate::layer::{self, LayerError, LayerOptions, Layered};
 use crate::metric::{SizeTensor, Sym2};
 use crate::recipe::Recipe;
+use crate::recipe::{size_mesh, SizeMeshError};
 use crate::remesh::RemeshOptions;
-use crate::sizing::{size_mesh, SizeMeshError};
 
 /// Why the skin step failed.
 #[derive(Debug, thiserror::Error)]

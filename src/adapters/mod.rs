@@ -7,12 +7,15 @@
 //! mesh with the same physical tags, tag names and topological points, so that the same
 //! recipe resolves on it (thesis 5.5: the remesher's output is the next input).
 //!
+//! - [`Controlled`]: any of them with size controls applied to the metric it is given
+//!   (`--hausd` for the remeshers without that option);
 //! - [`prepare`]: the mesh as the tools want it (linear triangles, no unused vertices);
 //! - [`restore`]: the checks that the tags came back;
 //! - [`tool`]: finding a program on `PATH` and running it ([`crate::child`]: in a process
 //!   group of its own, the end of its output kept, stopped on Ctrl-C), with its output
 //!   quoted on failure.
 
+mod controlled;
 pub mod gmsh;
 pub mod mmg;
 pub mod native;
@@ -27,6 +30,7 @@ use smartmesh_formats::TaggedMesh;
 use crate::metric::Sym2;
 use crate::remesh::RemeshCounts;
 use crate::topology::Topology;
+pub use controlled::Controlled;
 
 /// A remesher: a new mesh of the same domain, with the same tags, that follows `metric`
 /// (one SPD tensor per vertex of `mesh`) as well as it can.
@@ -204,7 +208,7 @@ pub fn adapter(
             let controls =
                 crate::size_controls::SizeControls { hausd: Some(hausd), ..Default::default() };
             let inner = adapter(kind, AdapterOptions { hausd: None, ..options })?;
-            return Ok(Box::new(crate::size_controls::Controlled { inner, controls }));
+            return Ok(Box::new(Controlled { inner, controls }));
         }
     }
     match kind {

@@ -16,8 +16,9 @@ use smartmesh::formats::{Error as FormatError, ErrorKind as FormatKind};
 use smartmesh::mesher::MeshError;
 use smartmesh::metric_field::MetricError;
 use smartmesh::recipe::RecipeError;
+use smartmesh::recipe::SizeMeshError;
 use smartmesh::remesh::RemeshError;
-use smartmesh::sizing::{SizeMeshError, SizingError};
+use smartmesh::sizing::SizingError;
 use smartmesh::ControlError;
 use smartmesh::MeshGraphError;
 

@@ -338,8 +338,8 @@ fn render(file: &str, s: &MeshSummary) -> String {
                     m.source,
                     c.edges,
                     100.0 * c.conforming_share,
-                    smartmesh::conformity::CONFORMING[0],
-                    smartmesh::conformity::CONFORMING[1],
+                    smartmesh::metric::length::CONFORMING[0],
+                    smartmesh::metric::length::CONFORMING[1],
                     fmt_g(c.mean_edge_length),
                     fmt_g(c.edge_length_range[0]),
                     fmt_g(c.edge_length_range[1])

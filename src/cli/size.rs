@@ -9,9 +9,10 @@ use std::time::Instant;
 
 use clap::Args;
 use smartmesh::formats::Format;
+use smartmesh::metric_field::expected_vertices;
 use smartmesh::metric_field::{MetricField, MetricTarget};
-use smartmesh::remesh::expected_vertices;
-use smartmesh::sizing::{size_mesh_with_steps, SizeMeshError, StepEvent, StepReport};
+use smartmesh::recipe::{size_mesh_with_steps, SizeMeshError};
+use smartmesh::sizing::{StepEvent, StepReport};
 use smartmesh::solution::input::{attach, field_names, read_solution};
 use smartmesh::Topology;
 
@@ -278,7 +279,7 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             ui::sig(aniso),
             expected.map_or(String::new(), |v| format!(
                 "; a conforming mesh has about {} vertices",
-                smartmesh::remesh::estimate::format_count(v)
+                smartmesh::metric::complexity::format_count(v)
             )),
             ui::seconds(t0.elapsed())
         ),

@@ -13,11 +13,11 @@
 //! while `remesh` ──► `layer::check`.
 
 use super::{LayerError, Layered};
-use crate::formats::TaggedMesh;
 use crate::metric::{SizeTensor, Sym2};
 use crate::metric_field::{interpolate, MetricField};
 use crate::remesh::{remesh_keeping, RemeshOptions};
 use crate::topology::Topology;
+use smartmesh_formats::TaggedMesh;
 
 /// `layered`, inserted into `input`, with its band remeshed to `metric` (one SPD tensor
 /// per point of `input`). Returns the mesh (its `metric` point data the field on it) and
@@ -64,7 +64,7 @@ pub fn band_to_metric(
             .collect();
         mesh.point_data.insert(
             super::THICKNESS_SHARE.to_string(),
-            crate::formats::DataArray { components: 1, values, layout: Default::default() },
+            smartmesh_formats::DataArray { components: 1, values, layout: Default::default() },
         );
     }
     let mut report = layered.report;

@@ -13,7 +13,7 @@ use std::collections::{BTreeMap, HashMap};
 use spade::handles::FixedVertexHandle;
 use spade::Triangulation;
 
-use crate::formats::{CellBlock, CellKind, NodeIndex, TaggedMesh};
+use smartmesh_formats::{CellBlock, CellKind, NodeIndex, TaggedMesh};
 
 use super::domain::NO_REGION;
 use super::pslg::Pslg;
@@ -202,8 +202,8 @@ pub(crate) fn assemble(
         let mut values = vec![0.0; before];
         values.extend(domain.iter().map(|&(_, l)| seed(l).map_or(0.0, |s| s.attribute)));
         out.cell_data.insert(
-            crate::formats::triangle::attribute_name(1),
-            crate::formats::DataArray::new(1, values),
+            smartmesh_formats::triangle::attribute_name(1),
+            smartmesh_formats::DataArray::new(1, values),
         );
     }
     out.blocks = [vb, lb, tb].into_iter().filter(|b| !b.is_empty()).collect();

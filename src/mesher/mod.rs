@@ -39,7 +39,7 @@ mod refine;
 
 pub use periodic::triangulate_periodic;
 
-use crate::formats::TaggedMesh;
+use smartmesh_formats::TaggedMesh;
 
 /// spade's constrained triangulation with plain points.
 pub(crate) type Cdt = spade::ConstrainedDelaunayTriangulation<spade::Point2<f64>>;
@@ -246,7 +246,7 @@ pub enum MeshError {
         reason: String,
     },
     /// The area bounds ask for more vertices than the limit: refused before refining.
-    #[error("the area bounds ask for about {} vertices, more than the limit of {limit}; raise it with --max-vertices (max_vertices), or use a larger --size or --max-area", crate::remesh::estimate::format_count(*estimate))]
+    #[error("the area bounds ask for about {} vertices, more than the limit of {limit}; raise it with --max-vertices (max_vertices), or use a larger --size or --max-area", crate::metric::complexity::format_count(*estimate))]
     TooManyVertices {
         /// Expected vertices.
         estimate: f64,

@@ -19,7 +19,7 @@
 
 use std::collections::HashMap;
 
-use crate::formats::{CellKind, TaggedMesh};
+use smartmesh_formats::{CellKind, TaggedMesh};
 
 use super::MeshError;
 

@@ -174,7 +174,7 @@ pub(crate) fn refine(
     // budget that refinement stops at, below).
     let limit = opts.max_vertices.map_or(DEFAULT_MAX_VERTICES, |m| m.max(DEFAULT_MAX_VERTICES));
     if let Some(estimate) = expected_vertices(cdt, &initial, global, pslg) {
-        if crate::remesh::estimate::exceeds(estimate, limit) {
+        if crate::metric::complexity::exceeds(estimate, limit) {
             return Err(MeshError::TooManyVertices { estimate, limit });
         }
     }

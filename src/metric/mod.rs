@@ -11,10 +11,15 @@
 //! - [`SizeTensor::clamp`] with [`SizeBounds`]: global h_min, h_max and aspect-ratio limits.
 //! - [`SizeTensor::log_euclidean_mean`] and, on metrics, [`log_spd`], [`exp_sym`],
 //!   [`log_euclidean`]: the one weighted Log-Euclidean interpolation, which keeps tensors SPD.
+//! - [`length`]: the metric length of an edge and the metric quality of a triangle.
+//! - [`complexity`]: the metric's complexity ∫ √det M over triangles, and the vertex count
+//!   it asks for.
 
+pub mod complexity;
 mod eigen2;
 mod interpolation;
 mod intersection;
+pub mod length;
 mod size_tensor;
 mod svd2;
 mod sym2;

@@ -14,9 +14,9 @@
 //! logarithms is symmetric, its exponential SPD); the logarithms are taken once, at
 //! construction.
 
-use crate::formats::{CellKind, TaggedMesh};
 use crate::geometry::TriangleLocator;
 use crate::metric::{log_euclidean, log_spd, Sym2};
+use smartmesh_formats::{CellKind, TaggedMesh};
 
 /// A triangulation with the logarithm of its metric at every vertex.
 pub struct Interpolator {

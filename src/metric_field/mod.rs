@@ -29,19 +29,20 @@
 //! points through [`crate::geometry::TriangleLocator`] and takes the mean from
 //! [`crate::metric`]; it knows nothing of the remesher, which uses its [`Interpolator`].
 
+mod expected;
 pub mod interpolate;
 pub mod pos_view;
-pub mod pos_write;
 pub mod write;
 
+pub use expected::expected_vertices;
 pub use interpolate::{InterpolationError, Interpolator};
 pub use write::{MetricTarget, Written};
 
 use std::path::Path;
 
-use crate::formats::gmsh::{MshContent, NodeData};
-use crate::formats::{read_path, DataArray, Format, TaggedMesh};
 use crate::metric::{SizeTensor, Sym2};
+use smartmesh_formats::gmsh::{MshContent, NodeData};
+use smartmesh_formats::{read_path, DataArray, Format, TaggedMesh};
 
 /// The name of the point-data array (and of the Gmsh view) that carries a metric, as
 /// every reader and writer of smartmesh names it.
@@ -111,7 +112,7 @@ pub enum MetricFieldError {
 pub enum MetricError {
     /// The metric file could not be read.
     #[error(transparent)]
-    Read(#[from] crate::formats::Error),
+    Read(#[from] smartmesh_formats::Error),
     /// The array is missing, of the wrong shape, or holds a tensor that is not a metric.
     #[error("{path}: {error}")]
     Field {
@@ -304,12 +305,12 @@ impl MetricField {
                         ),
                     })?;
                 let bytes = std::fs::read(&mesh_path)
-                    .map_err(|e| crate::formats::Error::from(e).with_path(&mesh_path))?;
+                    .map_err(|e| smartmesh_formats::Error::from(e).with_path(&mesh_path))?;
                 let ext = mesh_path.extension().and_then(|e| e.to_str()).unwrap_or("mesh");
-                let mesh = crate::formats::read_bytes(
+                let mesh = smartmesh_formats::read_bytes(
                     Format::Medit,
                     &bytes,
-                    &crate::formats::ReadContext::alone(ext),
+                    &smartmesh_formats::ReadContext::alone(ext),
                 )
                 .map_err(|e| e.with_path(&mesh_path))?;
                 let field = read_sol(path, &mesh, &mesh_path)?;
@@ -415,9 +416,10 @@ fn on_mesh(mesh: &TaggedMesh, array: &DataArray, path: &str) -> Result<Vec<Sym2>
 /// A Medit solution file alone, in `mesh`'s vertex order.
 fn read_sol(path: &Path, mesh: &TaggedMesh, mesh_path: &Path) -> Result<MetricField, MetricError> {
     let shown = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| crate::formats::Error::from(e).with_path(path))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| smartmesh_formats::Error::from(e).with_path(path))?;
     let Some((items, arrays)) =
-        crate::formats::medit::read_sol_alone(&bytes).map_err(|e| e.with_path(path))?
+        smartmesh_formats::medit::read_sol_alone(&bytes).map_err(|e| e.with_path(path))?
     else {
         return Err(MetricError::NotAMetric {
             path: shown,
@@ -451,10 +453,14 @@ fn read_mesh_or_data(path: &Path, format: Option<Format>) -> Result<MshContent, 
     if format != Some(Format::Gmsh) || path.as_os_str() == "-" {
         return Ok(MshContent::Mesh(read_path(path, format)?));
     }
-    let bytes = std::fs::read(path).map_err(|e| crate::formats::Error::from(e).with_path(path))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| smartmesh_formats::Error::from(e).with_path(path))?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("msh").to_ascii_lowercase();
-    Ok(crate::formats::gmsh::read_mesh_or_data(&bytes, &crate::formats::ReadContext::alone(&ext))
-        .map_err(|e| e.with_path(path))?)
+    Ok(smartmesh_formats::gmsh::read_mesh_or_data(
+        &bytes,
+        &smartmesh_formats::ReadContext::alone(&ext),
+    )
+    .map_err(|e| e.with_path(path))?)
 }
 
 /// The view [`METRIC`] (or the only view) of a Gmsh data-only file `path` as a field on
@@ -554,7 +560,7 @@ pub(crate) fn first_moved_vertex(mesh: &TaggedMesh, other: &TaggedMesh) -> Optio
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formats::CellKind;
+    use smartmesh_formats::CellKind;
 
     /// A triangle and a fourth vertex that no cell uses.
     fn triangle() -> TaggedMesh {

@@ -1,13 +1,7 @@
 //! A Gmsh post-processing view (`.pos`, the parsed format) read as a metric field, the
-//! way `gmsh -bgm X.pos` takes a background mesh.
-//!
-//! Format (Gmsh reference manual, "Post-processing scripting / parsed format"): views
-//! `View "name" { ... };`, each a list of records `XY(x1,y1,z1, ..., xn,yn,zn){values};`
-//! where X is the field (`S` scalar, `V` vector, `T` tensor: 1, 3 or 9 values per node)
-//! and Y the element (`P` point, `L` line, `T` triangle, `Q` quadrangle, `S`
-//! tetrahedron, `I` prism, `Y` pyramid, `H` hexahedron); the values may hold several time
-//! steps, node after node for each step. `//` and `/* */` are comments. Text records
-//! (`T2`, `T3`) are skipped. Written by hand: no crate reads this format.
+//! way `gmsh -bgm X.pos` takes a background mesh. The syntax, the records and their
+//! counts are the formats crate's ([`smartmesh_formats::gmsh::pos`]); this module says what a
+//! view means as a metric.
 //!
 //! What is read, and why:
 //! - Only the **last** view, as `gmsh -bgm` uses the last view of the file it merges;
@@ -32,8 +26,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use crate::formats::{CellKind, Error, ErrorKind, TaggedMesh, MAX_POINTS};
 use crate::metric::Sym2;
+use smartmesh_formats::gmsh::pos::{self, Element, Field, Item};
+use smartmesh_formats::{CellKind, Error, ErrorKind, TaggedMesh, MAX_POINTS};
 
 use super::not_a_metric;
 
@@ -103,212 +98,6 @@ pub fn read_path(path: &Path) -> Result<View, Error> {
     parse(&bytes).map_err(|e| e.with_path(path))
 }
 
-/// A token of the parsed format.
-#[derive(Debug, Clone, PartialEq)]
-enum Token<'a> {
-    Ident(&'a str),
-    Str(&'a str),
-    Number(f64),
-    Punct(u8),
-}
-
-/// Splits the file into tokens with their line numbers.
-struct Lexer<'a> {
-    bytes: &'a [u8],
-    at: usize,
-    line: u64,
-}
-
-impl<'a> Lexer<'a> {
-    fn next(&mut self) -> Result<Option<(Token<'a>, u64)>, Error> {
-        let b = self.bytes;
-        loop {
-            while self.at < b.len() && b[self.at].is_ascii_whitespace() {
-                if b[self.at] == b'\n' {
-                    self.line += 1;
-                }
-                self.at += 1;
-            }
-            if b[self.at..].starts_with(b"//") {
-                while self.at < b.len() && b[self.at] != b'\n' {
-                    self.at += 1;
-                }
-            } else if b[self.at..].starts_with(b"/*") {
-                let start = self.line;
-                self.at += 2;
-                loop {
-                    if self.at + 1 >= b.len() {
-                        return Err(Error::at_line(
-                            start,
-                            ErrorKind::UnexpectedEof { context: "a comment opened here".into() },
-                        ));
-                    }
-                    if &b[self.at..self.at + 2] == b"*/" {
-                        self.at += 2;
-                        break;
-                    }
-                    if b[self.at] == b'\n' {
-                        self.line += 1;
-                    }
-                    self.at += 1;
-                }
-            } else {
-                break;
-            }
-        }
-        let Some(&c) = b.get(self.at) else { return Ok(None) };
-        let line = self.line;
-        let start = self.at;
-        let token = if c.is_ascii_alphabetic() || c == b'_' {
-            while self.at < b.len() && (b[self.at].is_ascii_alphanumeric() || b[self.at] == b'_') {
-                self.at += 1;
-            }
-            Token::Ident(std::str::from_utf8(&b[start..self.at]).unwrap_or(""))
-        } else if c == b'"' {
-            self.at += 1;
-            while self.at < b.len() && b[self.at] != b'"' && b[self.at] != b'\n' {
-                self.at += 1;
-            }
-            if b.get(self.at) != Some(&b'"') {
-                return Err(Error::expected(line, "a closing `\"`", "the end of the line"));
-            }
-            self.at += 1;
-            Token::Str(std::str::from_utf8(&b[start + 1..self.at - 1]).map_err(|_| {
-                Error::at_line(line, ErrorKind::Inconsistent("a string that is not UTF-8".into()))
-            })?)
-        } else if c.is_ascii_digit() || matches!(c, b'-' | b'+' | b'.') {
-            while self.at < b.len()
-                && (b[self.at].is_ascii_alphanumeric() || matches!(b[self.at], b'-' | b'+' | b'.'))
-            {
-                self.at += 1;
-            }
-            let text = std::str::from_utf8(&b[start..self.at]).unwrap_or("");
-            let v: f64 = text
-                .parse()
-                .map_err(|_| Error::expected(line, "a number", format!("`{}`", shorten(text))))?;
-            if !v.is_finite() {
-                return Err(Error::at_line(
-                    line,
-                    ErrorKind::NonFinite { what: "a view value".into(), value: shorten(text) },
-                ));
-            }
-            Token::Number(v)
-        } else if b"(){},;".contains(&c) {
-            self.at += 1;
-            Token::Punct(c)
-        } else {
-            return Err(Error::expected(
-                line,
-                "a record, a number or one of ( ) { } , ;",
-                format!("byte 0x{c:02x}"),
-            ));
-        };
-        Ok(Some((token, line)))
-    }
-}
-
-/// At most 40 characters of `s`, for messages.
-fn shorten(s: &str) -> String {
-    if s.chars().count() <= 40 {
-        s.to_string()
-    } else {
-        s.chars().take(40).collect::<String>() + "…"
-    }
-}
-
-fn describe(t: &Option<(Token<'_>, u64)>) -> String {
-    match t {
-        None => "the end of the file".into(),
-        Some((Token::Ident(s), _)) => format!("`{}`", shorten(s)),
-        Some((Token::Str(s), _)) => format!("\"{}\"", shorten(s)),
-        Some((Token::Number(v), _)) => format!("the number {v}"),
-        Some((Token::Punct(c), _)) => format!("`{}`", *c as char),
-    }
-}
-
-struct Parser<'a> {
-    lex: Lexer<'a>,
-    peeked: Option<Option<(Token<'a>, u64)>>,
-}
-
-impl<'a> Parser<'a> {
-    fn peek(&mut self) -> Result<&Option<(Token<'a>, u64)>, Error> {
-        if self.peeked.is_none() {
-            self.peeked = Some(self.lex.next()?);
-        }
-        Ok(self.peeked.as_ref().unwrap_or(&None))
-    }
-
-    fn bump(&mut self) -> Result<Option<(Token<'a>, u64)>, Error> {
-        match self.peeked.take() {
-            Some(t) => Ok(t),
-            None => self.lex.next(),
-        }
-    }
-
-    fn punct(&mut self, c: u8) -> Result<u64, Error> {
-        let t = self.bump()?;
-        match t {
-            Some((Token::Punct(p), line)) if p == c => Ok(line),
-            _ => Err(Error::expected(self.lex.line, format!("`{}`", c as char), describe(&t))),
-        }
-    }
-
-    /// Items separated by commas up to `close` (the opening one already read): numbers,
-    /// and strings when `strings` (text records).
-    fn list(&mut self, close: u8, strings: bool) -> Result<Vec<f64>, Error> {
-        let mut out = Vec::new();
-        if matches!(self.peek()?, Some((Token::Punct(p), _)) if *p == close) {
-            self.bump()?;
-            return Ok(out);
-        }
-        loop {
-            let t = self.bump()?;
-            match t {
-                Some((Token::Number(v), _)) => out.push(v),
-                Some((Token::Str(_), _)) if strings => {}
-                _ => return Err(Error::expected(self.lex.line, "a number", describe(&t))),
-            }
-            let t = self.bump()?;
-            match t {
-                Some((Token::Punct(b','), _)) => {}
-                Some((Token::Punct(p), _)) if p == close => return Ok(out),
-                _ => {
-                    return Err(Error::expected(
-                        self.lex.line,
-                        format!("`,` or `{}`", close as char),
-                        describe(&t),
-                    ))
-                }
-            }
-        }
-    }
-}
-
-/// Values per node of a record's field letter.
-fn components(field: u8) -> Option<usize> {
-    match field {
-        b'S' => Some(1),
-        b'V' => Some(3),
-        b'T' => Some(9),
-        _ => None,
-    }
-}
-
-/// Nodes of a record's element letter.
-fn nodes(element: u8) -> Option<usize> {
-    match element {
-        b'P' => Some(1),
-        b'L' => Some(2),
-        b'T' => Some(3),
-        b'Q' | b'S' => Some(4),
-        b'Y' => Some(5),
-        b'I' => Some(6),
-        b'H' => Some(8),
-        _ => None,
-    }
-}
-
 /// One view being read: its name and its tensor faces.
 struct Faces {
     name: String,
@@ -372,84 +161,31 @@ impl Faces {
 
 /// Reads the last view of a `.pos` file's bytes (see the module documentation).
 pub fn parse(bytes: &[u8]) -> Result<View, Error> {
-    let mut p = Parser { lex: Lexer { bytes, at: 0, line: 1 }, peeked: None };
+    let mut current: Option<(Faces, u64)> = None;
     let mut last: Option<(Faces, u64)> = None;
-    loop {
-        let t = p.bump()?;
-        let line = match t {
-            None => break,
-            Some((Token::Ident("View"), line)) => line,
-            _ => return Err(Error::expected(p.lex.line, "`View`", describe(&t))),
-        };
-        let name = match p.bump()? {
-            Some((Token::Str(s), _)) => s.to_string(),
-            Some((Token::Punct(b'('), _)) => {
-                let t = p.bump()?;
-                let Some((Token::Str(s), _)) = t else {
-                    return Err(Error::expected(p.lex.line, "the view's name", describe(&t)));
+    pos::read_bytes(bytes, &mut |item| {
+        match item {
+            Item::View { name, line } => {
+                let faces = Faces {
+                    name: name.to_string(),
+                    points: Vec::new(),
+                    tensors: Vec::new(),
+                    tris: Vec::new(),
+                    index: BTreeMap::new(),
                 };
-                p.punct(b')')?;
-                s.to_string()
+                current = Some((faces, line));
             }
-            t => return Err(Error::expected(p.lex.line, "the view's name", describe(&t))),
-        };
-        p.punct(b'{')?;
-        let mut faces = Faces {
-            name,
-            points: Vec::new(),
-            tensors: Vec::new(),
-            tris: Vec::new(),
-            index: BTreeMap::new(),
-        };
-        loop {
-            let t = p.bump()?;
-            let (ident, line) = match t {
-                Some((Token::Punct(b'}'), _)) => break,
-                Some((Token::Ident(s), line)) => (s, line),
-                _ => return Err(Error::expected(p.lex.line, "a record or `}`", describe(&t))),
-            };
-            let text = matches!(ident, "T2" | "T3");
-            p.punct(b'(')?;
-            let coords = p.list(b')', false)?;
-            p.punct(b'{')?;
-            let values = p.list(b'}', text)?;
-            p.punct(b';')?;
-            if text {
-                continue;
+            Item::Record(r) => {
+                let face = matches!(r.element, Element::Triangle | Element::Quadrangle);
+                if let (Field::Tensor, true, Some((faces, _))) = (r.field, face, current.as_mut()) {
+                    let n = r.element.nodes();
+                    faces.add(n, r.coords, &r.values[..9 * n], r.line)?;
+                }
             }
-            let kind = ident.as_bytes();
-            let (Some(comps), Some(n), 2) =
-                (components(kind[0]), kind.get(1).copied().and_then(nodes), kind.len())
-            else {
-                return Err(Error::at_line(
-                    line,
-                    ErrorKind::Unsupported(format!(
-                        "record `{}` (a view holds records such as ST, VT, TT, TQ)",
-                        shorten(ident)
-                    )),
-                ));
-            };
-            if coords.len() != 3 * n {
-                return Err(Error::expected(
-                    line,
-                    format!("{} coordinates in a `{ident}` record", 3 * n),
-                    coords.len().to_string(),
-                ));
-            }
-            if values.is_empty() || values.len() % (n * comps) != 0 {
-                return Err(Error::expected(
-                    line,
-                    format!("a multiple of {} values in a `{ident}` record", n * comps),
-                    values.len().to_string(),
-                ));
-            }
-            if comps == 9 && (n == 3 || n == 4) && kind[1] != b'S' {
-                faces.add(n, &coords, &values[..9 * n], line)?;
-            }
+            Item::EndView => last = current.take(),
         }
-        p.punct(b';')?;
-        last = Some((faces, line));
-    }
+        Ok(())
+    })?;
     let Some((faces, line)) = last else {
         return Err(Error::at_line(
             1,
@@ -520,21 +256,20 @@ mod tests {
 
     #[test]
     fn bad_views_name_the_line() {
-        let cases: [(&str, u64, &str); 8] = [
+        // The syntax's own errors are the formats crate's (`gmsh::pos`); these are the
+        // metric's, and one of the syntax's to show it comes through with its line.
+        let cases: [(&str, u64, &str); 5] = [
             ("", 1, "no view"),
             ("View \"s\" {\nST(0,0,0,1,0,0,0,1,0){1,1,1};\n};", 1, "not a metric"),
-            ("View \"s\" {\nTT(0,0,0,1,0,0){1};\n};", 2, "9 coordinates"),
             ("View \"s\" {\n\nTT(0,0,0,1,0,0,0,1,0){-1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1};};", 3, "not positive definite"),
             ("View \"s\" {\nTT(0,0,0,1,0,0,0,1,0){1,2};\n};", 2, "multiple of 27"),
-            ("View \"s\" {\nXX(0,0,0){1};\n};", 2, "record `XX`"),
-            ("View \"s\" {\nTT(0,0,0,1,0,0,0,1,0){1e999};\n};", 2, "not a finite number"),
-            ("View \"s\" {\n/* open", 2, "comment"),
+            ("View \"s\" {\nTT(0,0,0,1,0,0,0,1,0){1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1};\n}", 3, "expected `;`"),
         ];
         for (text, line, what) in cases {
             let e = parse(text.as_bytes()).unwrap_err();
             let s = e.to_string();
             assert!(s.contains(what), "{text:?}: {s}");
-            assert_eq!(e.at, Some(crate::formats::Position::Line(line)), "{text:?}: {s}");
+            assert_eq!(e.at, Some(smartmesh_formats::Position::Line(line)), "{text:?}: {s}");
         }
     }
 

@@ -33,7 +33,7 @@ use smartmesh_formats::{
     TaggedMesh, WriteOptions, WriteReport,
 };
 
-use super::{pos_write, MetricField, METRIC};
+use super::{MetricField, METRIC};
 use crate::metric::SizeTensor;
 
 /// Where a metric goes, told by the output's extension.
@@ -166,7 +166,7 @@ impl MetricField {
     /// `mesh` (whose vertices the field lives on) as one view [`METRIC`], as
     /// `gmsh -bgm` reads it.
     pub fn pos_bytes(&self, mesh: &TaggedMesh) -> Result<Vec<u8>, Error> {
-        pos_write::write_tensor_view(mesh, &self.to_array(), METRIC)
+        smartmesh_formats::gmsh::pos::write_tensor_view(mesh, &self.to_array(), METRIC)
     }
 
     /// Writes the field (one tensor per vertex of `mesh`) to `path` as `target` wants,

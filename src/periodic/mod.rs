@@ -260,7 +260,7 @@ pub fn check(
 
 /// Measures every pair of `pairs` on `mesh`.
 pub fn check_all(
-    mesh: &crate::formats::TaggedMesh,
+    mesh: &smartmesh_formats::TaggedMesh,
     pairs: &[PeriodicPair],
 ) -> Result<Vec<PairMatch>, PeriodicError> {
     if pairs.is_empty() {
@@ -288,7 +288,7 @@ pub(crate) fn diagonal(points: &[[f64; 3]]) -> f64 {
 /// its defaults) leaves gaps of 1e-9 that a solver gluing vertices may not accept.
 /// Returns, per pair, the largest move (0 where the sides do not pair up; those are left
 /// as they are).
-pub fn snap(mesh: &mut crate::formats::TaggedMesh, pairs: &[PeriodicPair]) -> Vec<f64> {
+pub fn snap(mesh: &mut smartmesh_formats::TaggedMesh, pairs: &[PeriodicPair]) -> Vec<f64> {
     if pairs.is_empty() {
         return Vec::new();
     }
@@ -344,11 +344,11 @@ pub fn snap(mesh: &mut crate::formats::TaggedMesh, pairs: &[PeriodicPair]) -> Ve
 /// carries only the metric). Unmatched pairs, and edges of non-triangle cells, are left
 /// as they are. [`coarsen_sides`] removes what the metric does not need.
 pub fn refine_sides(
-    mesh: &crate::formats::TaggedMesh,
+    mesh: &smartmesh_formats::TaggedMesh,
     metric: &[crate::metric::Sym2],
     pairs: &[PeriodicPair],
-) -> (crate::formats::TaggedMesh, Vec<crate::metric::Sym2>) {
-    use crate::formats::{CellBlock, CellKind};
+) -> (smartmesh_formats::TaggedMesh, Vec<crate::metric::Sym2>) {
+    use smartmesh_formats::{CellBlock, CellKind};
     use std::collections::BTreeMap;
     let mut out = mesh.clone();
     let mut metric = metric.to_vec();

@@ -10,6 +10,8 @@
 //!   the model;
 //! - [`serde_io`]: TOML and JSON;
 //! - [`resolve`]: regions to topological entities, functions built, steps labelled;
+//! - [`on_mesh`]: a recipe's size field on a mesh in one call (topology, resolution, the
+//!   mesh graph, then the sizing engine, which knows no recipe);
 //! - [`suggest`] and [`error`]: errors that name file, line and key, and the nearest
 //!   valid name.
 
@@ -18,6 +20,7 @@ pub mod error;
 pub mod layer;
 pub mod libconfig;
 pub mod model;
+pub mod on_mesh;
 pub mod periodic;
 pub mod preprocess;
 pub mod resolve;
@@ -28,6 +31,10 @@ pub use error::{RecipeError, RecipeErrorKind};
 pub use layer::{CurveValues, LayerSpec};
 pub use model::{
     AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, Recipe, RecipeFormat,
+};
+/// A recipe's field on a mesh in one call (topology, resolution, graph, engine).
+pub use on_mesh::{
+    size_mesh, size_mesh_with_steps, size_mesh_with_topology, MeshSizing, SizeMeshError,
 };
 pub use periodic::PeriodicSpec;
 pub use preprocess::ReadOptions;

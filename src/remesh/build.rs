@@ -22,10 +22,10 @@ use super::boundary::{LineTags, Piece};
 use super::error::RemeshError;
 use super::options::RemeshOptions;
 use super::work::{key, orient, Role};
-use crate::formats::{CellKind, TaggedMesh};
 use crate::metric::log_spd;
 use crate::metric::Sym2;
 use crate::topology::{cell_tag, Topology};
+use smartmesh_formats::{CellKind, TaggedMesh};
 
 /// Everything the driver starts from.
 pub struct Start {

@@ -14,7 +14,7 @@
 use super::options::RemeshOptions;
 use super::split::metric_midpoint;
 use super::work::{op_quality, orient, Role, Work};
-use crate::conformity::metric_edge_length;
+use crate::metric::length::metric_edge_length;
 use crate::metric::Sym2;
 
 /// A collapse that [`check`] accepted.

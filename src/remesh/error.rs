@@ -74,7 +74,7 @@ pub enum RemeshError {
         vertices: usize,
     },
     /// The metric asks for more vertices than the limit allows: refused before any work.
-    #[error("the metric asks for about {} vertices (its complexity), more than the limit of {limit}; raise it with --max-vertices, or bound the sizes (hmin)", super::estimate::format_count(*estimate))]
+    #[error("the metric asks for about {} vertices (its complexity), more than the limit of {limit}; raise it with --max-vertices, or bound the sizes (hmin)", crate::metric::complexity::format_count(*estimate))]
     TooManyVertices {
         /// Expected output vertices.
         estimate: f64,
@@ -83,7 +83,7 @@ pub enum RemeshError {
     },
     /// The metric asks for more memory than the process may use (`ulimit -v`, a cgroup's
     /// `memory.max`): refused before any work, as an allocation failure would abort.
-    #[error("the metric asks for about {} vertices, about {} of memory, more than {which} of {}; lower --max-vertices or the sizes' bounds (hmin), or raise the limit", super::estimate::format_count(*estimate), super::memory::format_bytes(*bytes), super::memory::format_bytes(*limit as f64))]
+    #[error("the metric asks for about {} vertices, about {} of memory, more than {which} of {}; lower --max-vertices or the sizes' bounds (hmin), or raise the limit", crate::metric::complexity::format_count(*estimate), super::memory::format_bytes(*bytes), super::memory::format_bytes(*limit as f64))]
     MemoryLimit {
         /// Expected output vertices.
         estimate: f64,
@@ -96,7 +96,7 @@ pub enum RemeshError {
     },
     /// The splits made more vertices than twice the limit (the estimate was wrong): the
     /// run stopped rather than grow without bound.
-    #[error("remeshing passed {vertices} vertices, more than twice the limit of {limit} (the metric's complexity promised about {}); raise it with --max-vertices", super::estimate::format_count(*estimate))]
+    #[error("remeshing passed {vertices} vertices, more than twice the limit of {limit} (the metric's complexity promised about {}); raise it with --max-vertices", crate::metric::complexity::format_count(*estimate))]
     Grew {
         /// Vertices when it stopped.
         vertices: usize,
@@ -104,16 +104,6 @@ pub enum RemeshError {
         limit: usize,
         /// What the estimate said.
         estimate: f64,
-    },
-    /// `hmin` or `hmax` is not a positive size, or `hmin` exceeds `hmax`.
-    #[error(
-        "bad size bounds: hmin {hmin:?}, hmax {hmax:?} (expected positive sizes, hmin <= hmax)"
-    )]
-    BadSizeBounds {
-        /// hmin.
-        hmin: Option<f64>,
-        /// hmax.
-        hmax: Option<f64>,
     },
 }
 

@@ -20,7 +20,8 @@
 //! tuning of the operators (quality floor, sweep counts, gains, the settling rule) is in
 //! [`RemeshOptions`].
 //!
-//! Before any work the expected output size, the metric's complexity (`estimate`), is
+//! Before any work the expected output size, the metric's complexity
+//! ([`crate::metric::complexity`]), is
 //! compared with [`RemeshOptions::max_vertices`]: a metric asking for 10¹² vertices is
 //! refused in milliseconds instead of filling the memory.
 //!
@@ -46,7 +47,6 @@ pub mod boundary;
 mod build;
 mod collapse;
 mod error;
-pub mod estimate;
 pub mod memory;
 mod options;
 mod output;
@@ -58,14 +58,13 @@ mod stats;
 mod swap;
 mod work;
 
-use std::borrow::Cow;
 use std::time::Instant;
 
 use crate::conformity::Conformity;
-use crate::formats::TaggedMesh;
-use crate::metric::Sym2;
+use crate::metric::{complexity, Sym2};
 use crate::metric_field::Interpolator;
 use crate::topology::Topology;
+use smartmesh_formats::TaggedMesh;
 
 pub use error::RemeshError;
 pub use options::{
@@ -103,67 +102,9 @@ pub enum RemeshEvent {
 /// The triangle cells of `mesh`.
 fn triangles(mesh: &TaggedMesh) -> Vec<[usize; 3]> {
     mesh.cells()
-        .filter(|c| c.0 == crate::formats::CellKind::Triangle)
+        .filter(|c| c.0 == smartmesh_formats::CellKind::Triangle)
         .map(|c| [c.1[0] as usize, c.1[1] as usize, c.1[2] as usize])
         .collect()
-}
-
-/// The expected vertex count of a remeshing of `mesh` to `metric` (one tensor per point):
-/// the metric's complexity over its triangles and quadrangles ([`estimate`]). What
-/// [`RemeshOptions::max_vertices`] is compared with, and what the adaptation loop checks
-/// before every remeshing, whatever the remesher.
-pub fn expected_vertices(mesh: &TaggedMesh, metric: &[Sym2]) -> f64 {
-    let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-    let mut tris = Vec::new();
-    for (kind, n, _, _) in mesh.cells() {
-        let n: Vec<usize> = n.iter().map(|&v| v as usize).collect();
-        match kind {
-            crate::formats::CellKind::Triangle | crate::formats::CellKind::Triangle6 => {
-                tris.push([n[0], n[1], n[2]])
-            }
-            crate::formats::CellKind::Quad
-            | crate::formats::CellKind::Quad8
-            | crate::formats::CellKind::Quad9 => {
-                tris.push([n[0], n[1], n[2]]);
-                tris.push([n[0], n[2], n[3]]);
-            }
-            _ => {}
-        }
-    }
-    if metric.len() != pts.len() || tris.iter().flatten().any(|&v| v >= pts.len()) {
-        return 0.0;
-    }
-    estimate::expected_vertices(&pts, &tris, metric)
-}
-
-/// The metric with its sizes bounded by `hmin` and `hmax` (eigenvalues clamped to
-/// [1/hmax², 1/hmin²]); borrowed unchanged when neither is set.
-fn bounded_sizes<'m>(
-    metric: &'m [Sym2],
-    opts: &RemeshOptions,
-) -> Result<Cow<'m, [Sym2]>, RemeshError> {
-    let (hmin, hmax) = (opts.hmin, opts.hmax);
-    if hmin.is_none() && hmax.is_none() {
-        return Ok(Cow::Borrowed(metric));
-    }
-    let ok = |h: Option<f64>| h.map_or(true, |h| h > 0.0 && h.is_finite());
-    if !ok(hmin) || !ok(hmax) || matches!((hmin, hmax), (Some(a), Some(b)) if a > b) {
-        return Err(RemeshError::BadSizeBounds { hmin, hmax });
-    }
-    let (lo, hi) =
-        (hmax.map_or(0.0, |h| 1.0 / (h * h)), hmin.map_or(f64::INFINITY, |h| 1.0 / (h * h)));
-    Ok(Cow::Owned(
-        metric
-            .iter()
-            .map(|m| {
-                let e = m.eigen();
-                if !(e.values[0].is_finite() && e.values[1].is_finite()) {
-                    return *m;
-                }
-                Sym2::from_eigen([e.values[0].clamp(lo, hi), e.values[1].clamp(lo, hi)], e.vector)
-            })
-            .collect(),
-    ))
 }
 
 fn collapse_phase(
@@ -213,7 +154,7 @@ fn smooth_phase(w: &mut work::Work, opts: &RemeshOptions, secs: &mut PhaseSecond
 /// let mesh = read_path(&dir.join("cylinder.msh"), None)?;
 /// let text = std::fs::read_to_string(dir.join("cylinder.toml"))?;
 /// let recipe = smartmesh::recipe::serde_io::read_toml(&text, &dir.join("cylinder.toml"))?;
-/// let sized = smartmesh::sizing::size_mesh(&mesh, &recipe, &mut |_| {})?;
+/// let sized = smartmesh::recipe::size_mesh(&mesh, &recipe, &mut |_| {})?;
 /// let metric = MetricField::from_sizes(&sized.field.tensors, "the recipe's field");
 /// let out = remesh(&mesh, metric.tensors(), &RemeshOptions::default())?;
 /// // Refined where the recipe asks, tags kept, the field carried as point data.
@@ -274,7 +215,7 @@ pub fn remesh_with_topology(
 /// fan triangles at a skin's convex corners, when the skin has two layers or more).
 /// All `false` on a triangle mesh.
 pub fn skin_cells(mesh: &TaggedMesh) -> Vec<bool> {
-    use crate::formats::CellKind;
+    use smartmesh_formats::CellKind;
     let mut on_quad = vec![false; mesh.points.len()];
     for (kind, nodes, _, _) in mesh.cells() {
         if kind == CellKind::Quad {
@@ -296,7 +237,7 @@ pub fn skin_cells(mesh: &TaggedMesh) -> Vec<bool> {
 /// skin, stay frozen). What [`remesh_keeping`] checks first, for a caller that must
 /// refuse before any work (`adapt`, which would otherwise fail at its first remeshing).
 pub fn check_quads(mesh: &TaggedMesh) -> Result<(), RemeshError> {
-    if !mesh.cells().any(|c| c.0 == crate::formats::CellKind::Quad) {
+    if !mesh.cells().any(|c| c.0 == smartmesh_formats::CellKind::Quad) {
         return Ok(());
     }
     let keep = skin_cells(mesh);
@@ -326,11 +267,9 @@ pub fn remesh_keeping(
     progress: &mut dyn FnMut(RemeshEvent),
 ) -> Result<Remeshed, RemeshError> {
     let t0 = Instant::now();
-    let metric = bounded_sizes(metric, opts)?;
-    let metric: &[Sym2] = &metric;
     // A mixed input must already be valid: otherwise a bad result would be blamed on
     // the remesher rather than on the file.
-    if keep.iter().any(|&k| k) && mesh.cells().any(|c| c.0 == crate::formats::CellKind::Quad) {
+    if keep.iter().any(|&k| k) && mesh.cells().any(|c| c.0 == smartmesh_formats::CellKind::Quad) {
         let v = crate::layer::check::check_mesh(mesh);
         if !v.is_valid() {
             return Err(RemeshError::InvalidMixed(v.problems().join("; ")));
@@ -338,9 +277,9 @@ pub fn remesh_keeping(
     }
     let st = build::start(mesh, topology, metric, opts, keep)?;
     let input_tris: Vec<[usize; 3]> = st.tris.iter().map(|t| t.map(|v| v as usize)).collect();
-    let estimate = estimate::expected_vertices(&st.pts, &input_tris, metric);
+    let estimate = complexity::expected_vertices(&st.pts, &input_tris, metric);
     if let Some(limit) = opts.max_vertices {
-        if estimate::exceeds(estimate, limit) {
+        if complexity::exceeds(estimate, limit) {
             return Err(RemeshError::TooManyVertices { estimate, limit });
         }
     }
@@ -449,7 +388,7 @@ pub fn remesh_keeping(
             return Err(RemeshError::Invalid(v.problems().join("; ")));
         }
     }
-    stats.output = [out.points.len(), out.num_cells_of(crate::formats::CellKind::Triangle)];
+    stats.output = [out.points.len(), out.num_cells_of(smartmesh_formats::CellKind::Triangle)];
     if opts.measure {
         let out_pts: Vec<[f64; 2]> = out.points.iter().map(|p| [p[0], p[1]]).collect();
         stats.conformity = Conformity::of(&out_pts, &triangles(&out), &out_metric);
@@ -461,8 +400,8 @@ pub fn remesh_keeping(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formats::{CellBlock, CellKind};
     use crate::metric::SizeTensor;
+    use smartmesh_formats::{CellBlock, CellKind};
 
     /// A jittered n×n grid on [0,1]² (deterministic jitter), boundary tagged 1..4.
     fn grid(n: usize) -> TaggedMesh {

@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::conformity::CONFORMING;
+use crate::metric::length::CONFORMING;
 
 /// Where vertices on boundaries and interfaces are placed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
@@ -60,13 +60,8 @@ pub struct RemeshOptions {
     /// ([`crate::periodic::refine_sides`]); then the sides' curves are frozen.
     #[serde(skip)]
     pub periodic: Vec<crate::periodic::PeriodicPair>,
-    /// Smallest size the metric may ask for: every input tensor's sizes are raised to at
-    /// least this before remeshing (MMG's `-hmin`). `None`: the metric as given.
-    pub hmin: Option<f64>,
-    /// Largest size the metric may ask for (MMG's `-hmax`). `None`: the metric as given.
-    pub hmax: Option<f64>,
     /// Most vertices the output may have. The expected count (the metric's complexity,
-    /// [`super::estimate`]) is compared with it before any work, and the run is refused
+    /// [`crate::metric::complexity`]) is compared with it before any work, and the run is refused
     /// ([`super::RemeshError::TooManyVertices`]) when above; the splits stop at twice it,
     /// should the estimate be wrong. `None`: no limit.
     pub max_vertices: Option<usize>,
@@ -144,8 +139,6 @@ impl Default for RemeshOptions {
             keep_points: Vec::new(),
             frozen_curves: Vec::new(),
             periodic: Vec::new(),
-            hmin: None,
-            hmax: None,
             max_vertices: Some(DEFAULT_MAX_VERTICES),
             measure: true,
             quality_floor: 0.3,

@@ -6,9 +6,9 @@
 //! (written by [`MetricField::to_array`], as every metric is).
 
 use super::work::Work;
-use crate::formats::{CellBlock, CellKind, TaggedMesh};
 use crate::metric::Sym2;
 use crate::metric_field::{MetricField, METRIC};
+use smartmesh_formats::{CellBlock, CellKind, TaggedMesh};
 
 /// The output mesh and its metric.
 pub fn assemble(

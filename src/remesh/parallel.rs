@@ -53,17 +53,17 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::build::data_warnings;
-use super::estimate::{exceeds, vertices_of_complexity};
 use super::partition::{self, Axes, Flat, NONE};
 use super::{
-    bounded_sizes, remesh_keeping, skin_cells, PartitionedPass, PassStats, PhaseSeconds,
-    RemeshError, RemeshEvent, RemeshOptions, RemeshStats, Remeshed,
+    remesh_keeping, skin_cells, PartitionedPass, PassStats, PhaseSeconds, RemeshError, RemeshEvent,
+    RemeshOptions, RemeshStats, Remeshed,
 };
 use crate::conformity::Conformity;
-use crate::formats::{CellBlock, CellKind, TaggedMesh};
+use crate::metric::complexity::{exceeds, vertices_of_complexity};
 use crate::metric::Sym2;
 use crate::metric_field::{MetricField, METRIC};
 use crate::topology::Topology;
+use smartmesh_formats::{CellBlock, CellKind, TaggedMesh};
 
 /// Most parts in a pass.
 pub const MAX_PARTS: usize = 1 << 14;
@@ -87,9 +87,7 @@ pub fn remesh_partitioned(
     if skin_cells(mesh).iter().any(|&k| k) {
         return Ok(None);
     }
-    let Some(flat) = flatten(mesh, metric) else { return Ok(None) };
-    let bounded = bounded_sizes(&flat.metric, opts)?.into_owned();
-    let mut flat = Flat { metric: bounded, ..flat };
+    let Some(mut flat) = flatten(mesh, metric) else { return Ok(None) };
     let weight = partition::weights(&flat.pts, &flat.tris, &flat.metric);
     let estimate = vertices_of_complexity(weight.iter().sum());
     // A NaN estimate (a field no one could measure) goes to the serial path, which reports it.
@@ -114,8 +112,6 @@ pub fn remesh_partitioned(
     let mut sub = opts.clone();
     sub.frozen_curves.push(iface);
     sub.measure = false;
-    sub.hmin = None;
-    sub.hmax = None;
     sub.partition = None;
     let mut stats = RemeshStats::starting(input, initial, data_warnings(mesh));
 
@@ -127,7 +123,7 @@ pub fn remesh_partitioned(
         let scaled: Vec<Sym2> =
             flat.metric.iter().map(|m| Sym2::new(m.a / c, m.b / c, m.c / c)).collect();
         let mut o = opts.clone();
-        (o.measure, o.hmin, o.hmax, o.max_vertices) = (false, None, None, None);
+        (o.measure, o.max_vertices) = (false, None);
         let t = Instant::now();
         let coarse = super::remesh_with_progress(mesh, &scaled, &o, &mut |_| {})?;
         let metric: Vec<Sym2> =

@@ -23,9 +23,9 @@ use std::collections::BTreeMap;
 
 use rayon::prelude::*;
 
-use super::estimate::{half_log_det, log_integral_of_exp};
 use super::work::orient;
-use crate::conformity::metric_edge_length;
+use crate::metric::complexity::{half_log_det, log_integral_of_exp};
+use crate::metric::length::metric_edge_length;
 use crate::metric::{exp_sym, log_spd, Sym2};
 
 /// No neighbour, no part.

@@ -92,7 +92,7 @@ pub fn split_sweeps(
 
 /// The fraction of edge `ab` at which its metric length is halved. With the size
 /// varying geometrically along the edge (the interpolation of
-/// [`crate::conformity::metric_edge_length`]), the length density is la·rˢ with
+/// [`crate::metric::length::metric_edge_length`]), the length density is la·rˢ with
 /// r = lb/la, so the half-length point is t = ln((1 + r)/2)/ln r (½ when r = 1). Splitting
 /// at the Euclidean midpoint of a graded edge would leave one half short.
 pub fn metric_midpoint(w: &Work, a: u32, b: u32) -> f64 {

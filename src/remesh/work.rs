@@ -15,7 +15,7 @@
 
 use super::boundary::Boundary;
 use super::options::BoundaryMode;
-use crate::conformity::{metric_edge_length, quality_in_metric};
+use crate::metric::length::{metric_edge_length, quality_in_metric};
 use crate::metric::Sym2;
 use crate::metric_field::Interpolator;
 

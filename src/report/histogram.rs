@@ -3,7 +3,8 @@
 //! share of edges in it printed) and metric triangle quality (bins of 0.1 on [0, 1]).
 //! The bars are [`Conformity`]'s own counts; each carries them in `data-count`.
 
-use crate::conformity::{Conformity, CONFORMING, LENGTH_BINS};
+use crate::conformity::{Conformity, LENGTH_BINS};
+use crate::metric::length::CONFORMING;
 
 use super::axes::{self, nice_step, tick_label, Scale};
 use super::palette;

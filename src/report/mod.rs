@@ -40,12 +40,12 @@ pub mod windows;
 use std::path::Path;
 
 use crate::conformity::Conformity;
-use crate::formats::TaggedMesh;
 use crate::history::History;
 use crate::metric::SizeTensor;
 use crate::metric_field::MetricField;
 use crate::sizing::plan::SizingPlan;
 use crate::topology::Topology;
+use smartmesh_formats::TaggedMesh;
 
 use self::layout::CAPTION;
 use self::mesh_layer::MeshLayers;

@@ -10,9 +10,9 @@
 //! are some, a second window is centred on the thinnest, and every point of a thinned
 //! column is drawn as a red dot, in the overview and in every zoom.
 
-use crate::formats::{CellKind, TaggedMesh};
 use crate::layer::stats::{quad_figures, quad_quality};
 use crate::layer::THICKNESS_SHARE;
+use smartmesh_formats::{CellKind, TaggedMesh};
 
 use super::svg::{num, Svg};
 use super::view::{Rect, View};

@@ -254,7 +254,7 @@ pub fn from_sizes(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formats::{CellKind, TaggedMesh};
+    use smartmesh_formats::{CellKind, TaggedMesh};
 
     /// A strip of `n` unit squares along x, two triangles each.
     fn strip(n: usize) -> (Topology, Vec<[f64; 2]>) {

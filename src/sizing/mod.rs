@@ -7,7 +7,6 @@ mod evaluate;
 pub mod field;
 pub mod functions;
 pub mod gradation;
-pub mod on_mesh;
 pub mod plan;
 pub mod propagation;
 
@@ -28,10 +27,6 @@ pub use functions::{
 };
 /// Anisotropic size gradation (Alauzet's metric gradation, thesis 7.4.1).
 pub use gradation::{apply_gradation, grow, growth_factor, GradationReport};
-/// A recipe's field on a mesh in one call (topology, resolution, graph, engine).
-pub use on_mesh::{
-    size_mesh, size_mesh_with_steps, size_mesh_with_topology, MeshSizing, SizeMeshError,
-};
 pub use plan::{EntitySet, SizingPlan, Step};
 /// Neighbour propagation from a source with exact closest points (thesis 2.2.10.4–5, 4.3.6).
 pub use propagation::{

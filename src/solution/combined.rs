@@ -25,8 +25,8 @@
 //! The reported `scale` is s (1 for an error target); `predicted_error` the largest over
 //! the fields of the error bound s Dᵢ gives each (each field is at least that fine).
 
+use crate::metric::complexity::{complexity, vertices_of_complexity};
 use crate::metric::{SizeTensor, Sym2};
-use crate::remesh::estimate::{complexity, vertices_of_complexity};
 use crate::solution::lp::{
     check, error_of, integral, is_linear, prepare, raw_tensor, solve, triangles, unbounded_ln_d,
     Prepared,

@@ -14,12 +14,15 @@
 
 use std::path::Path;
 
-use crate::formats::gmsh::MshContent;
-use crate::formats::{read_path, ErrorKind, Format, TaggedMesh};
+use smartmesh_formats::gmsh::MshContent;
+use smartmesh_formats::{read_path, ErrorKind, Format, TaggedMesh};
 
 /// The solution file `path` as a mesh to take a field from: a mesh file as read; a Medit
 /// `.sol`/`.solb` alone as `mesh`'s vertices (when it has as many) with its arrays.
-pub fn read_solution(path: &Path, mesh: &TaggedMesh) -> Result<TaggedMesh, crate::formats::Error> {
+pub fn read_solution(
+    path: &Path,
+    mesh: &TaggedMesh,
+) -> Result<TaggedMesh, smartmesh_formats::Error> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     if Format::from_path(path) == Some(Format::Gmsh) {
         return read_msh_solution(path, &ext, mesh);
@@ -27,11 +30,12 @@ pub fn read_solution(path: &Path, mesh: &TaggedMesh) -> Result<TaggedMesh, crate
     if ext != "sol" && ext != "solb" {
         return read_path(path, None);
     }
-    let bytes = std::fs::read(path).map_err(|e| crate::formats::Error::from(e).with_path(path))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| smartmesh_formats::Error::from(e).with_path(path))?;
     let Some((n, arrays)) =
-        crate::formats::medit::read_sol_alone(&bytes).map_err(|e| e.with_path(path))?
+        smartmesh_formats::medit::read_sol_alone(&bytes).map_err(|e| e.with_path(path))?
     else {
-        return Err(crate::formats::Error::new(ErrorKind::Inconsistent(
+        return Err(smartmesh_formats::Error::new(ErrorKind::Inconsistent(
             "no SolAtVertices: the file holds no solution at vertices".into(),
         ))
         .with_path(path));
@@ -52,10 +56,11 @@ fn read_msh_solution(
     path: &Path,
     ext: &str,
     mesh: &TaggedMesh,
-) -> Result<TaggedMesh, crate::formats::Error> {
-    let bytes = std::fs::read(path).map_err(|e| crate::formats::Error::from(e).with_path(path))?;
-    let ctx = crate::formats::ReadContext::alone(ext);
-    match crate::formats::gmsh::read_mesh_or_data(&bytes, &ctx).map_err(|e| e.with_path(path))? {
+) -> Result<TaggedMesh, smartmesh_formats::Error> {
+    let bytes =
+        std::fs::read(path).map_err(|e| smartmesh_formats::Error::from(e).with_path(path))?;
+    let ctx = smartmesh_formats::ReadContext::alone(ext);
+    match smartmesh_formats::gmsh::read_mesh_or_data(&bytes, &ctx).map_err(|e| e.with_path(path))? {
         MshContent::Mesh(m) => Ok(m),
         MshContent::NodeData(data) => {
             let n = data.arrays.values().map(|a| a.len()).max().unwrap_or(0);
@@ -263,7 +268,7 @@ pub fn attach(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formats::{CellKind, DataArray};
+    use smartmesh_formats::{CellKind, DataArray};
 
     fn mesh() -> TaggedMesh {
         let mut m = TaggedMesh::new();

@@ -8,7 +8,7 @@
 //! degree of freedom left; it is set by a target:
 //!
 //! - a vertex count N ([`Target::Vertices`]): the complexity C = ∫ √det M is what the
-//!   remesher's estimate reads ([`crate::remesh::estimate`]: a mesh conforming to M has
+//!   remesher's estimate reads ([`crate::metric::complexity`]: a mesh conforming to M has
 //!   about 2C/√3 vertices), computed exactly for the Log-Euclidean interpolation of the
 //!   vertex metrics. Without bounds C is linear in D, so D is exact at once; with bounds
 //!   (the clamp is monotone in D) D is found by bisection on ln D to 1e-4 relative;
@@ -33,8 +33,8 @@
 //! isotropic cell, |∇e|² h² ≈ h⁴ |H|² summed over the N ≈ 1/h² cells is least at fixed N
 //! when h² |H| is constant), which is p = ∞; larger p also refines more at singularities.
 
+use crate::metric::complexity::{complexity, vertices_of_complexity};
 use crate::metric::{SizeBounds, SizeTensor, Sym2};
-use crate::remesh::estimate::{complexity, vertices_of_complexity};
 use crate::solution::P1Mesh;
 
 /// What the metric is normalised to.

@@ -1,4 +1,5 @@
-//! Gmsh MSH files, versions 2.2 and 4.1, ASCII and binary: reader and writer.
+//! Gmsh MSH files, versions 2.2 and 4.1, ASCII and binary: reader and writer (the
+//! parsed post-processing format, `.pos`, is [`pos`]).
 //!
 //! Source: the Gmsh reference manual, section "MSH file format" (4.1) and "MSH file
 //! format version 2 (Legacy)" (<https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format>),
@@ -103,6 +104,7 @@ mod cursor;
 mod header;
 mod msh2;
 mod msh4;
+pub mod pos;
 mod reader;
 mod tags;
 mod untagged;

@@ -5,8 +5,8 @@
 
 use smartmesh_formats::TaggedMesh;
 
+use super::{Recipe, RecipeError, Resolved};
 use crate::mesh_graph::{MeshGraph, MeshGraphError};
-use crate::recipe::{Recipe, RecipeError, Resolved};
 use crate::sizing::field::{compute_size_field, SizeField, SizingError, StepEvent};
 use crate::sizing::plan::Step;
 use crate::topology::Topology;
@@ -46,7 +46,7 @@ pub struct MeshSizing {
 /// let mesh = read_path(&dir.join("cylinder.msh"), None)?;
 /// let text = std::fs::read_to_string(dir.join("cylinder.toml"))?;
 /// let recipe = smartmesh::recipe::serde_io::read_toml(&text, &dir.join("cylinder.toml"))?;
-/// let sized = smartmesh::sizing::size_mesh(&mesh, &recipe, &mut |_| {})?;
+/// let sized = smartmesh::recipe::size_mesh(&mesh, &recipe, &mut |_| {})?;
 /// // One size tensor per vertex, finest on the cylinder wall.
 /// assert_eq!(sized.field.tensors.len(), mesh.points.len());
 /// let finest = sized.field.tensors.iter().map(|t| t.h_min()).fold(f64::INFINITY, f64::min);

@@ -1,6 +1,6 @@
 //! How many vertices a metric asks for, before any of them is made: the metric's
 //! complexity C = ∫ √det M over the domain (Loseille & Alauzet's continuous mesh
-//! complexity). A triangle of unit edges in the metric covers √3/4 of metric area, so a
+//! complexity), on plain points and triangles. A triangle of unit edges in the metric covers √3/4 of metric area, so a
 //! mesh that conforms to M has about C/(√3/4) triangles and half as many vertices,
 //! 2C/√3.
 //!
@@ -13,7 +13,7 @@
 //! magnitude exactly where it matters: one vertex asking for h = 10⁻⁶ among neighbours at
 //! 10⁻¹.
 
-use crate::metric::Sym2;
+use super::Sym2;
 
 /// ½ ln det `m` for an SPD `m`, scaled so that entries up to f64's largest do not
 /// overflow the determinant.
