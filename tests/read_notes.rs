@@ -165,3 +165,83 @@ for f in sys.argv[1:]:
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines, vec!["nan 0.25 nan nan 0.25 nan"; 3], "{out}");
 }
+
+/// A unit square of two 6-node triangles, its sides 3-node lines, in Gmsh's MSH 2.2
+/// (as `gmsh -2 -order 2` writes it), with a physical point `Corner` for a recipe.
+const SECOND_ORDER_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n0 3 \"Corner\"\n1 2 \"Wall\"\n2 1 \"Fluid\"\n$EndPhysicalNames\n$Nodes\n9\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n9 0.5 0.5 0\n$EndNodes\n$Elements\n7\n1 15 2 3 1 1\n2 8 2 2 1 1 2 5\n3 8 2 2 2 2 3 6\n4 8 2 2 3 3 4 7\n5 8 2 2 4 4 1 8\n6 9 2 1 1 1 2 3 5 6 9\n7 9 2 1 1 1 3 4 9 7 8\n$EndElements\n";
+
+/// Sizes near the corner `Corner`, coarse elsewhere.
+const CORNER_RECIPE: &str = "[global]\nhmin = 0.05\nhmax = 0.3\n\n[regions]\nCorner = [\"Corner\"]\n\n[functions.F]\nkind = \"distance\"\nsize_at_source = 0.1\nsize_at_max_distance = 0.3\nmax_distance = 0.5\nexponent = 1.0\n\n[[algorithms]]\ntype = \"distance_to_point\"\nfunction = \"F\"\nregions = [\"Corner\"]\n";
+
+/// The second-order square and its recipe written in `dir`: (mesh, recipe).
+fn second_order_square(dir: &std::path::Path) -> (String, String) {
+    let mesh = dir.join("p2.msh");
+    std::fs::write(&mesh, SECOND_ORDER_MSH).unwrap();
+    let recipe = dir.join("r.toml");
+    std::fs::write(&recipe, CORNER_RECIPE).unwrap();
+    (mesh.display().to_string(), recipe.display().to_string())
+}
+
+/// The `read_notes` of a `--json -q` run on the second-order square: nothing on stderr,
+/// and the one note says its cells were made linear.
+fn linearised_note(args: &[&str]) -> serde_json::Value {
+    let o = smartmesh(args, None);
+    let j = json(&ok(&o));
+    assert!(o.stderr.is_empty(), "{}", String::from_utf8_lossy(&o.stderr));
+    let notes = j["read_notes"].as_array().unwrap_or_else(|| panic!("no read_notes: {j}"));
+    assert_eq!(notes.len(), 1, "{j}");
+    let note = notes[0].as_str().unwrap();
+    assert!(
+        note.contains("second-order cells made linear")
+            && note.contains("2 6-node triangles as 3-node")
+            && note.contains("4 3-node lines as 2-node"),
+        "{note}"
+    );
+    j
+}
+
+/// `size --json -q` of a second-order mesh lists in `read_notes` that it was made linear.
+#[test]
+fn size_json_says_second_order_cells_were_made_linear() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, recipe) = second_order_square(dir.path());
+    let field = dir.path().join("f.vtu").display().to_string();
+    let j = linearised_note(&["size", &mesh, "-r", &recipe, "-o", &field, "--json", "-q"]);
+    assert_eq!(j["vertices"], 4, "{j}");
+}
+
+/// `remesh --json -q` (and `remesh --measure --json -q`) of a second-order mesh list in
+/// `read_notes` that it was made linear.
+#[test]
+fn remesh_json_says_second_order_cells_were_made_linear() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, recipe) = second_order_square(dir.path());
+    let field = dir.path().join("f.vtu").display().to_string();
+    ok(&smartmesh(&["size", &mesh, "-r", &recipe, "-o", &field, "-q"], None));
+    let out = dir.path().join("o.vtu").display().to_string();
+    linearised_note(&["remesh", &mesh, "--metric", &field, "-o", &out, "--json", "-q"]);
+    let j = linearised_note(&["remesh", &mesh, "--metric", &field, "--measure", "--json", "-q"]);
+    assert_eq!(j["triangles"], 2, "{j}");
+}
+
+/// `adapt --json -q` of a second-order mesh lists in `read_notes` that the starting mesh
+/// was made linear.
+#[test]
+fn adapt_json_says_second_order_cells_were_made_linear() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, recipe) = second_order_square(dir.path());
+    let out = dir.path().join("a.msh").display().to_string();
+    let j = linearised_note(&[
+        "adapt",
+        &mesh,
+        "-r",
+        &recipe,
+        "-o",
+        &out,
+        "--max-iterations",
+        "1",
+        "--json",
+        "-q",
+    ]);
+    assert_eq!(j["input"], mesh.as_str(), "{j}");
+}

@@ -405,6 +405,9 @@ struct AdaptSummary<'a> {
     output: String,
     history_file: String,
     dropped: &'a [String],
+    /// What the reader could not keep of the input, and the second-order cells made
+    /// linear ([`smartmesh::adapt::start::Start::notes`]).
+    read_notes: &'a [String],
     #[serde(flatten)]
     history: &'a History,
 }
@@ -471,6 +474,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     for n in &starting.notes {
         ui::note(&format!("{}: {n}", args.input.display()));
     }
+    let read_notes = starting.notes.clone();
     if args.split_quads {
         let n = starting.mesh.split_quads();
         ui::note(&format!("split {n} quads of the starting mesh into {} triangles", 2 * n));
@@ -649,6 +653,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
             output: args.output.display().to_string(),
             history_file: progress.files.history.display().to_string(),
             dropped: &dropped,
+            read_notes: &read_notes,
             history: h,
         };
         let mut text = serde_json::to_string_pretty(&s)?;

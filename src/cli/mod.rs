@@ -182,16 +182,9 @@ pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
 }
 
 /// Reads a mesh (`-` for stdin, with `format`) and prints as notes what the reader
-/// could not keep, unless quiet.
-pub fn read_mesh(
-    path: &std::path::Path,
-    format: Option<smartmesh::formats::Format>,
-) -> Result<smartmesh::formats::TaggedMesh, CliError> {
-    read_mesh_noted(path, format, false).map(|(mesh, _)| mesh)
-}
-
-/// [`read_mesh`], with the notes it printed (for `--json`, which `-q` does not silence);
-/// `no_solution`: without the `.sol`/`.solb` beside a Medit mesh (`--no-solution`).
+/// could not keep, unless quiet; returns the notes too (for `--json`'s `read_notes`,
+/// which `-q` does not silence). `no_solution`: without the `.sol`/`.solb` beside a
+/// Medit mesh (`--no-solution`).
 pub fn read_mesh_noted(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
@@ -206,40 +199,53 @@ pub fn read_mesh_noted(
     Ok((mesh, report.notes))
 }
 
-/// [`read_mesh`] for a command that computes on linear cells (sizing, remeshing, the
-/// skin): second-order cells are made linear, which a note says.
-pub fn read_linear_mesh(
+/// [`read_mesh_noted`] for a command that computes on linear cells (sizing, remeshing,
+/// the skin): second-order cells are made linear, which a note says (printed, and the
+/// last of the notes returned).
+pub fn read_linear_mesh_noted(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
-) -> Result<smartmesh::formats::TaggedMesh, CliError> {
-    let mut mesh = read_mesh(path, format)?;
-    linearise(&mut mesh, path);
-    Ok(mesh)
+) -> Result<(smartmesh::formats::TaggedMesh, Vec<String>), CliError> {
+    let (mut mesh, mut notes) = read_mesh_noted(path, format, false)?;
+    notes.extend(linearise(&mut mesh, path));
+    Ok((mesh, notes))
 }
 
-/// [`read_linear_mesh`] for the commands that compute in the plane: a mesh that does not lie in
-/// one plane z = const is bad input (2), named with the file ([`smartmesh::planar`]).
+/// [`read_linear_mesh_noted`] for the commands that compute in the plane: a mesh that
+/// does not lie in one plane z = const is bad input (2), named with the file
+/// ([`smartmesh::planar`]).
 /// Returns the mesh and the z of its plane, where the command writes its output.
 pub fn read_planar_mesh(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
 ) -> Result<(smartmesh::formats::TaggedMesh, f64), CliError> {
-    let mesh = read_linear_mesh(path, format)?;
+    read_planar_mesh_noted(path, format).map(|(mesh, z, _)| (mesh, z))
+}
+
+/// [`read_planar_mesh`], with the notes it printed.
+pub fn read_planar_mesh_noted(
+    path: &std::path::Path,
+    format: Option<smartmesh::formats::Format>,
+) -> Result<(smartmesh::formats::TaggedMesh, f64, Vec<String>), CliError> {
+    let (mesh, notes) = read_linear_mesh_noted(path, format)?;
     let z = smartmesh::planar::plane(&mesh).map_err(|e| {
         let name =
             if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
         CliError::usage(format!("{name}: {e}"))
     })?;
-    Ok((mesh, z))
+    Ok((mesh, z, notes))
 }
 
-/// Makes the second-order cells of `mesh`, read from `path`, linear, saying so.
-pub fn linearise(mesh: &mut smartmesh::formats::TaggedMesh, path: &std::path::Path) {
-    if let Some(n) = mesh.linearise() {
-        let name =
-            if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
-        ui::note(&format!("{name}: {n}"));
-    }
+/// Makes the second-order cells of `mesh`, read from `path`, linear, saying so; returns
+/// the note when there was something to make linear.
+pub fn linearise(
+    mesh: &mut smartmesh::formats::TaggedMesh,
+    path: &std::path::Path,
+) -> Option<String> {
+    let n = mesh.linearise()?;
+    let name = if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
+    ui::note(&format!("{name}: {n}"));
+    Some(n)
 }
 
 /// Parses a `--from`/`--to` format name.

@@ -127,11 +127,18 @@ struct MeasureJson<'a> {
     #[serde(flatten)]
     conformity: &'a Conformity,
     histogram_bins: HistogramBins,
+    /// What the reader could not keep, and the second-order cells made linear.
+    read_notes: &'a [String],
 }
 
-/// The remesher's statistics as JSON, its `[vertices, triangles]` pairs named.
-fn stats_json(stats: &smartmesh::remesh::RemeshStats) -> Result<serde_json::Value, CliError> {
+/// The remesher's statistics as JSON, its `[vertices, triangles]` pairs named, with
+/// the input's `read_notes` (what the reader could not keep, the cells made linear).
+fn stats_json(
+    stats: &smartmesh::remesh::RemeshStats,
+    read_notes: &[String],
+) -> Result<serde_json::Value, CliError> {
     let mut v = serde_json::to_value(stats)?;
+    v["read_notes"] = serde_json::json!(read_notes);
     for key in ["input", "output"] {
         if let Some(pair) = v.get(key).and_then(|p| p.as_array()).filter(|p| p.len() == 2) {
             let named = serde_json::json!({ "vertices": pair[0], "triangles": pair[1] });
@@ -160,7 +167,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
         _ => None,
     };
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let (mut mesh, plane_z) = super::read_planar_mesh(&args.mesh, from)?;
+    let (mut mesh, plane_z, read_notes) = super::read_planar_mesh_noted(&args.mesh, from)?;
     if args.split_quads {
         let n = mesh.split_quads();
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));
@@ -202,6 +209,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
             serde_json::to_string_pretty(&MeasureJson {
                 conformity: &c,
                 histogram_bins: HistogramBins::standard(),
+                read_notes: &read_notes,
             })? + "\n"
         } else {
             format!(
@@ -271,7 +279,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     }
     args.output_format.write(output, &out.mesh, to)?;
     if args.json {
-        let mut text = serde_json::to_string_pretty(&stats_json(&out.stats)?)?;
+        let mut text = serde_json::to_string_pretty(&stats_json(&out.stats, &read_notes)?)?;
         text.push('\n');
         print_stdout(&text)?;
     }

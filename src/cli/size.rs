@@ -85,6 +85,8 @@ struct SizeSummary<'a> {
     steps: &'a [StepReport],
     warnings: &'a [String],
     dropped: &'a [String],
+    /// What the reader could not keep, and the second-order cells made linear.
+    read_notes: &'a [String],
     #[serde(skip_serializing_if = "Option::is_none")]
     solution: Option<SolutionSummary>,
 }
@@ -159,7 +161,7 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     args.controls.apply_to(&mut recipe)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     // The field is written on the input's own points, which stay in its plane.
-    let (mut mesh, _plane_z) = super::read_planar_mesh(&args.mesh, from)?;
+    let (mut mesh, _plane_z, read_notes) = super::read_planar_mesh_noted(&args.mesh, from)?;
     let mut extra = Vec::new();
     let mut solution = None;
     if solving {
@@ -254,6 +256,7 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             steps: &field.steps,
             warnings: &field.warnings,
             dropped: &report.dropped,
+            read_notes: &read_notes,
             solution: solution.as_ref().map(|names| SolutionSummary {
                 field: names.join(","),
                 fields: names.clone(),
