@@ -125,3 +125,30 @@ fn a_huge_metric_prints_short_numbers() {
         assert!(longest <= 12, "a number of {longest} digits:\n{out}");
     }
 }
+
+/// An equilateral triangle and, apart, a wall quad ten times longer than high, in legacy
+/// VTK: one triangle, one quad, one layer of one quad.
+const ONE_TRIANGLE_ONE_QUAD: &str = "# vtk DataFile Version 4.2\none of each\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 7 double\n0 0 0\n1 0 0\n0.5 0.8660254037844386 0\n2 0 0\n12 0 0\n12 1 0\n2 1 0\nCELLS 2 9\n3 0 1 2\n4 3 4 5 6\nCELL_TYPES 2\n5\n9\n";
+
+/// `info` says "1 triangle", "1 quad" (not "1 triangles", "1 quads"), and "2 triangles"
+/// when there are two.
+#[test]
+fn info_counts_one_cell_in_the_singular() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("m.vtk");
+    std::fs::write(&f, ONE_TRIANGLE_ONE_QUAD).unwrap();
+    let text = ok(&smartmesh(&["info", p(&f)], None));
+    assert!(text.contains("  quality     1 triangle: min 1.0000"), "{text}");
+    assert!(text.contains("layers      1 from the walls (1 quad; height"), "{text}");
+    assert!(text.contains("    layer 1    1 quad, height 1 [1, 1]"), "{text}");
+    assert!(!text.contains("1 triangles") && !text.contains("1 quads"), "{text}");
+
+    let two = ONE_TRIANGLE_ONE_QUAD
+        .replace("POINTS 7", "POINTS 8")
+        .replace("2 1 0\nCELLS 2 9\n", "2 1 0\n0.5 -0.8660254037844386 0\nCELLS 3 13\n")
+        .replace("4 3 4 5 6\n", "4 3 4 5 6\n3 0 7 1\n")
+        .replace("CELL_TYPES 2\n5\n9\n", "CELL_TYPES 3\n5\n9\n5\n");
+    std::fs::write(&f, two).unwrap();
+    let text = ok(&smartmesh(&["info", p(&f)], None));
+    assert!(text.contains("  quality     2 triangles: min 1.0000"), "{text}");
+}

@@ -59,7 +59,7 @@ fn the_halves_of_a_quad_are_not_measured_as_triangles() {
     assert!((q["min_quality"].as_f64().unwrap() - 1.0).abs() < 1e-12, "{j}");
     assert_eq!(j["quads"]["quality"]["quads"], 1, "{j}");
     assert!(
-        text.contains("quality     1 triangles") && text.contains("min angle 60.00 deg"),
+        text.contains("quality     1 triangle:") && text.contains("min angle 60.00 deg"),
         "{text}"
     );
 }

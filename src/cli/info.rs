@@ -158,8 +158,9 @@ fn render_quads(r: &QuadReport) -> String {
     if !q.layers.is_empty() {
         let _ = writeln!(
             o,
-            "  layers      {} from the walls ({in_layers} quads; height mean [min, max], ratio to the layer below)",
-            q.layers.len()
+            "  layers      {} from the walls ({}; height mean [min, max], ratio to the layer below)",
+            q.layers.len(),
+            count(in_layers, "quad", "quads")
         );
         for (k, l) in q.layers.iter().enumerate() {
             let ratio = l
@@ -168,9 +169,9 @@ fn render_quads(r: &QuadReport) -> String {
                 .unwrap_or_default();
             let _ = writeln!(
                 o,
-                "    layer {:<4} {} quads, height {} [{}, {}]{ratio}",
+                "    layer {:<4} {}, height {} [{}, {}]{ratio}",
                 k + 1,
-                l.quads,
+                count(l.quads, "quad", "quads"),
                 fmt_g(l.height[1]),
                 fmt_g(l.height[0]),
                 fmt_g(l.height[2])
@@ -317,8 +318,12 @@ fn render(file: &str, s: &MeshSummary) -> String {
     if let Some(q) = &s.quality {
         let _ = writeln!(
             o,
-            "  quality     {} triangles: min {:.4}, mean {:.4}, min angle {:.2} deg, {} inverted or flat",
-            q.triangles, q.min_quality, q.mean_quality, q.min_angle_deg, q.inverted_or_flat
+            "  quality     {}: min {:.4}, mean {:.4}, min angle {:.2} deg, {} inverted or flat",
+            count(q.triangles, "triangle", "triangles"),
+            q.min_quality,
+            q.mean_quality,
+            q.min_angle_deg,
+            q.inverted_or_flat
         );
         let _ = writeln!(
             o,
@@ -334,9 +339,9 @@ fn render(file: &str, s: &MeshSummary) -> String {
             Some(c) => {
                 let _ = writeln!(
                     o,
-                    "  metric      {}: {} edges, {:.1}% of metric length in [{:.4}, {:.4}], mean {}, range [{}, {}]",
+                    "  metric      {}: {}, {:.1}% of metric length in [{:.4}, {:.4}], mean {}, range [{}, {}]",
                     m.source,
-                    c.edges,
+                    count(c.edges, "edge", "edges"),
                     100.0 * c.conforming_share,
                     smartmesh::metric::length::CONFORMING[0],
                     smartmesh::metric::length::CONFORMING[1],
@@ -346,8 +351,10 @@ fn render(file: &str, s: &MeshSummary) -> String {
                 );
                 let _ = writeln!(
                     o,
-                    "              metric quality over {} triangles: min {:.4}, mean {:.4}",
-                    c.triangles, c.min_quality, c.mean_quality
+                    "              metric quality over {}: min {:.4}, mean {:.4}",
+                    count(c.triangles, "triangle", "triangles"),
+                    c.min_quality,
+                    c.mean_quality
                 );
             }
             None => {
