@@ -67,6 +67,43 @@ pub fn default_history_path(mesh: &Path) -> PathBuf {
     mesh.with_file_name(format!("{stem}.history.json"))
 }
 
+impl ResultFiles {
+    /// The files of the case directory `self.mesh` for `mesh` (each polyMesh file, and
+    /// the `system/` files it lacks), added to `targets` so that they are renamed into
+    /// place with the history as one set, file by file as every other output; returns
+    /// what the case could not hold. The directories are made first (empty ones are all
+    /// a failed set can leave).
+    fn case_targets(
+        &self,
+        mesh: &TaggedMesh,
+        targets: &mut Vec<(PathBuf, Vec<u8>)>,
+    ) -> Result<Vec<String>, Error> {
+        let (files, report) =
+            smartmesh_formats::openfoam::poly_mesh_files(mesh, &self.options.openfoam)
+                .map_err(|e| e.with_path(&self.mesh))?;
+        if self.mesh.exists() && !self.mesh.is_dir() {
+            return Err(Error::new(ErrorKind::CannotWrite {
+                format: Format::OpenFoam.name(),
+                reason: "an OpenFOAM case is a directory, and this path is a file".into(),
+            })
+            .with_path(&self.mesh));
+        }
+        let poly = self.mesh.join("constant").join("polyMesh");
+        let system = self.mesh.join("system");
+        for dir in [&poly, &system] {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| Error::new(ErrorKind::Unwritable(e)).with_path(dir))?;
+        }
+        for (name, bytes) in files {
+            targets.push((poly.join(name), bytes));
+        }
+        for (name, bytes) in smartmesh_formats::openfoam::missing_system_files(&system) {
+            targets.push((system.join(name), bytes));
+        }
+        Ok(report.dropped)
+    }
+}
+
 impl Observer for ResultFiles {
     fn record(
         &mut self,
@@ -79,19 +116,25 @@ impl Observer for ResultFiles {
                 self.format.or_else(|| Format::from_path(&self.mesh)).ok_or_else(|| {
                     Error::new(ErrorKind::UnknownFormat(self.mesh.display().to_string()))
                 })?;
-            let mut options = self.options.clone();
-            options.main_name = self.mesh.file_name().and_then(|n| n.to_str()).map(str::to_owned);
-            let written =
-                write_bytes(format, mesh, &options).map_err(|e| e.with_path(&self.mesh))?;
-            for d in written.report.dropped {
+            let dropped = if format == Format::OpenFoam {
+                self.case_targets(mesh, &mut targets)?
+            } else {
+                let mut options = self.options.clone();
+                options.main_name =
+                    self.mesh.file_name().and_then(|n| n.to_str()).map(str::to_owned);
+                let written =
+                    write_bytes(format, mesh, &options).map_err(|e| e.with_path(&self.mesh))?;
+                let siblings = PathSiblings::new(&self.mesh);
+                targets.push((self.mesh.clone(), written.main));
+                for (ext, bytes) in written.siblings {
+                    targets.push((siblings.path(&ext), bytes));
+                }
+                written.report.dropped
+            };
+            for d in dropped {
                 if !self.dropped.contains(&d) {
                     self.dropped.push(d);
                 }
-            }
-            let siblings = PathSiblings::new(&self.mesh);
-            targets.push((self.mesh.clone(), written.main));
-            for (ext, bytes) in written.siblings {
-                targets.push((siblings.path(&ext), bytes));
             }
         }
         let written: Vec<WrittenFile> = if new_best.is_some() {

@@ -62,6 +62,9 @@ pub const OPTIONS: &[(&str, &str, OptionKind)] = &[
     ("vtk_version", "--vtk-version", OptionKind::Text),
     ("vtu_encoding", "--vtu-encoding", OptionKind::Text),
     ("no_compress", "--no-compress", OptionKind::Switch),
+    ("extrude", "--extrude", OptionKind::Number),
+    ("wedge", "--wedge", OptionKind::Number),
+    ("patch_type", "--patch-type", OptionKind::List),
 ];
 
 /// The keys of a manifest line.
@@ -327,7 +330,7 @@ pub fn option_args(options: &Map<String, Value>) -> Result<(String, Vec<String>)
                 let ok = smartmesh_formats::Format::from_extension(&s).is_some()
                     && s.chars().all(|c| c.is_ascii_alphanumeric());
                 if !ok {
-                    return Err(format!("option `format` `{}` is not a mesh file extension (msh, vtu, vtk, mesh, meshb, obj, node, gltf, glb)", shown(&s)));
+                    return Err(format!("option `format` `{}` is not a mesh file extension (msh, vtu, vtk, mesh, meshb, obj, node, gltf, glb, su2, foam)", shown(&s)));
                 }
                 format = s;
             }

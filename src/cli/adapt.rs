@@ -18,7 +18,7 @@ use smartmesh::formats::{Format, TaggedMesh};
 use smartmesh::history::History;
 use smartmesh::Topology;
 
-use super::output::{check_output_dir, is_stdio, positive_size, SizeControls};
+use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
 use super::solution::SolutionArgs;
 use super::{parse_format, print_stdout, ui, CliError, ExitStatus, RecipeInput};
 
@@ -436,6 +436,12 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
         )));
     }
     let format = args.output_format.mesh_format(&args.output)?;
+    if format == Format::OpenFoam && (is_stdio(&args.output) || special) {
+        return Err(CliError::usage(format!(
+            "{}: an OpenFOAM case is a directory of files, which a stream or a device cannot hold: name a directory such as case.foam",
+            shown(&args.output)
+        )));
+    }
     check_output_dir(&args.output)?;
     if let Some(h) = &args.history {
         check_output_dir(h)?;

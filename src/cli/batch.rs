@@ -52,8 +52,8 @@ relative to the manifest's folder (a missing one makes that variant's record fai
 others run); options are adapt's options with underscores (adapter, \
 adapter_program, adapter_args [list], max_iterations, tol_vertices, tol_conformity, \
 max_vertices, max_growth, hmin, hmax, hgrad, hausd, coarsen_geometry, nosurf, no_preprocess, \
-recipe_format, from, binary, gmsh_version, vtk_version, vtu_encoding, no_compress) and format, \
-the output's extension (msh unless said). A bad line stops the batch before any run (exit 2, \
+recipe_format, from, binary, gmsh_version, vtk_version, vtu_encoding, no_compress, extrude, wedge, patch_type [list]) and format, \
+the output's extension (msh unless said; su2, or foam for an OpenFOAM case directory). A bad line stops the batch before any run (exit 2, \
 naming the file and the line), and so does an output of a variant that would replace a file \
 the batch reads (an input, a recipe, the manifest).
 

@@ -420,6 +420,16 @@ fn dictionary(object: &str, location: &str, body: &str) -> Vec<u8> {
     .into_bytes()
 }
 
+/// The `system/` files (name and bytes) of a case whose directory `system` lacks them:
+/// for a writer that puts a case's files in place with others as one set.
+pub fn missing_system_files(system: &Path) -> Vec<CaseFile> {
+    SYSTEM_FILES
+        .iter()
+        .filter(|(name, _)| !system.join(name).exists())
+        .map(|(name, body)| (*name, dictionary(name, "system", body)))
+        .collect()
+}
+
 /// Writes `mesh` as the OpenFOAM case directory `dir`: `constant/polyMesh` whole or
 /// not at all, and the `system/` files that are missing.
 pub fn write_case(dir: &Path, mesh: &TaggedMesh, opts: &OpenFoamWrite) -> Result<WriteReport> {
