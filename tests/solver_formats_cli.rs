@@ -145,6 +145,21 @@ fn adapt_writes_its_best_mesh_as_an_openfoam_case_with_the_case_options() {
     ]));
     assert!(err.contains("directory"), "{err}");
     assert!(!d.path().join("h.json").exists());
+    // Nor over a file.
+    let file = d.path().join("file.foam");
+    std::fs::write(&file, "x").unwrap();
+    let err = bad(&run(&[
+        "adapt",
+        &bundled("cylinder.msh"),
+        "--recipe",
+        &repo("fixtures/cylinder.toml"),
+        "-o",
+        s(&file),
+    ]));
+    // Refused before any work: the remesher never ran.
+    assert!(err.contains("name a directory such as case.foam"), "{err}");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "x");
+    assert!(!d.path().join("file.history.json").exists());
 }
 
 #[test]

@@ -436,9 +436,9 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
         )));
     }
     let format = args.output_format.mesh_format(&args.output)?;
-    if format == Format::OpenFoam && (is_stdio(&args.output) || special) {
+    if format == Format::OpenFoam && (is_stdio(&args.output) || special || args.output.is_file()) {
         return Err(CliError::usage(format!(
-            "{}: an OpenFOAM case is a directory of files, which a stream or a device cannot hold: name a directory such as case.foam",
+            "{}: an OpenFOAM case is a directory of files, which a stream, a device or a file cannot hold: name a directory such as case.foam",
             shown(&args.output)
         )));
     }
