@@ -52,17 +52,39 @@ pub fn build(
     line_tags: &BTreeMap<[usize; 2], (i32, i32)>,
     listed: &[bool],
 ) -> Result<Band, LayerError> {
+    let sides = sides(skin, topo);
+    let shapes = Shapes::of(skin);
+    let (dropped, removed) = removed_zone(skin, topo, listed, &shapes, &sides.side_removed);
+    let zone = Zone { removed: &removed, dropped: &dropped, sides: &sides };
+    let Constraints { constraints, seeds, verts } =
+        band_constraints(skin, topo, cell_tags, line_tags, &zone, &shapes)?;
+    let triangles = triangulate(&skin.pts, &verts, constraints, seeds)?;
+    let Sides { side_removed, side_edges, lines, .. } = sides;
+    Ok(Band { removed, triangles, side_removed, side_edges, lines })
+}
+
+/// What the skin's open sides replace and add.
+struct Sides {
+    /// Mesh vertices the sides replace.
+    side_removed: BTreeSet<usize>,
+    /// Boundary edges the sides replace.
+    side_edges: BTreeSet<[usize; 2]>,
+    /// New line cells along the sides.
+    lines: Vec<([usize; 2], (i32, i32))>,
+    /// Edges from each side's last point to where it joins the kept boundary.
+    bridges: Vec<[usize; 2]>,
+}
+
+/// First what every side replaces, then where each side's last point joins the kept
+/// boundary: the first vertex past it that no side replaces, or, when two sides share
+/// one boundary run between two walls, the other side's last point.
+fn sides(skin: &Skin, topo: &Topology) -> Sides {
     let pts = &skin.pts;
     let n = skin.layers;
-    let nc = topo.surface_cells.len();
-    // Side vertices the skin replaces, and the lines along sides.
     let mut side_removed = BTreeSet::new();
     let mut lines = Vec::new();
     let mut bridges: Vec<[usize; 2]> = Vec::new();
     let mut side_edges = BTreeSet::new();
-    // First what every side replaces, then where each side's last point joins the kept
-    // boundary: the first vertex past it that no side replaces, or, when two sides share
-    // one boundary run between two walls, the other side's last point.
     for col in &skin.columns {
         let Some(side) = &col.side else { continue };
         let top = col.ids[n];
@@ -123,46 +145,81 @@ pub fn build(
             }
         }
     }
-    // The skin's cells as polygons.
-    let mut cells: Vec<Vec<P>> = Vec::new();
-    for g in 0..skin.gaps.len() {
-        for k in 0..n {
-            cells.push(skin.cell(g, k).iter().map(|&v| pts[v]).collect());
-        }
-    }
-    // Grown by the margin of the overlap test below (a quarter of the shortest edge).
-    let shortest_edge = |cell: &[P]| {
-        (0..cell.len())
-            .map(|i| norm(sub(cell[(i + 1) % cell.len()], cell[i])))
-            .fold(f64::INFINITY, f64::min)
-    };
-    let cboxes: Vec<Bbox> =
-        cells.iter().map(|c| Bbox::of(c).grown(0.5 * shortest_edge(c))).collect();
-    let cgrid = BoxIndex::new(&cboxes);
-    // The skin's outline: fronts, open sides (with the clearance each asks).
-    let mut outline: Vec<([usize; 2], f64)> = Vec::new();
-    for gap in &skin.gaps {
-        let (a, b) = (skin.columns[gap.cols[0]].ids[n], skin.columns[gap.cols[1]].ids[n]);
-        outline.push(([a, b], 0.5 * norm(sub(pts[b], pts[a]))));
-    }
-    let mut end_cols: Vec<usize> = Vec::new();
-    for ch in &skin.chains {
-        if !ch.closed {
-            end_cols.push(ch.cols[0]);
-            end_cols.push(*ch.cols.last().expect("a chain has columns"));
-        }
-    }
-    for &c in &end_cols {
-        let ids = &skin.columns[c].ids;
-        for k in 0..n {
-            let l = norm(sub(pts[ids[k + 1]], pts[ids[k]]));
-            outline.push(([ids[k], ids[k + 1]], 0.5 * l));
-        }
-    }
-    let oboxes: Vec<Bbox> =
-        outline.iter().map(|(s, c)| Bbox::of(&[pts[s[0]], pts[s[1]]]).grown(*c)).collect();
-    let ogrid = BoxIndex::new(&oboxes);
+    Sides { side_removed, side_edges, lines, bridges }
+}
 
+/// The shortest edge of polygon `cell`.
+fn shortest_edge(cell: &[P]) -> f64 {
+    (0..cell.len())
+        .map(|i| norm(sub(cell[(i + 1) % cell.len()], cell[i])))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The skin's cells and outline, indexed for the removal tests.
+struct Shapes {
+    /// The skin's cells as polygons.
+    cells: Vec<Vec<P>>,
+    /// The cells' boxes, grown by the margin of the overlap test.
+    cgrid: BoxIndex,
+    /// The skin's outline: fronts, open sides (with the clearance each asks).
+    outline: Vec<([usize; 2], f64)>,
+    /// The outline's boxes, grown by their clearance.
+    ogrid: BoxIndex,
+    /// The columns at the ends of open chains.
+    end_cols: Vec<usize>,
+}
+
+impl Shapes {
+    fn of(skin: &Skin) -> Shapes {
+        let pts = &skin.pts;
+        let n = skin.layers;
+        let mut cells: Vec<Vec<P>> = Vec::new();
+        for g in 0..skin.gaps.len() {
+            for k in 0..n {
+                cells.push(skin.cell(g, k).iter().map(|&v| pts[v]).collect());
+            }
+        }
+        // Grown by the margin of the overlap test below (a quarter of the shortest edge).
+        let cboxes: Vec<Bbox> =
+            cells.iter().map(|c| Bbox::of(c).grown(0.5 * shortest_edge(c))).collect();
+        let cgrid = BoxIndex::new(&cboxes);
+        let mut outline: Vec<([usize; 2], f64)> = Vec::new();
+        for gap in &skin.gaps {
+            let (a, b) = (skin.columns[gap.cols[0]].ids[n], skin.columns[gap.cols[1]].ids[n]);
+            outline.push(([a, b], 0.5 * norm(sub(pts[b], pts[a]))));
+        }
+        let mut end_cols: Vec<usize> = Vec::new();
+        for ch in &skin.chains {
+            if !ch.closed {
+                end_cols.push(ch.cols[0]);
+                end_cols.push(*ch.cols.last().expect("a chain has columns"));
+            }
+        }
+        for &c in &end_cols {
+            let ids = &skin.columns[c].ids;
+            for k in 0..n {
+                let l = norm(sub(pts[ids[k + 1]], pts[ids[k]]));
+                outline.push(([ids[k], ids[k + 1]], 0.5 * l));
+            }
+        }
+        let oboxes: Vec<Bbox> =
+            outline.iter().map(|(s, c)| Bbox::of(&[pts[s[0]], pts[s[1]]]).grown(*c)).collect();
+        let ogrid = BoxIndex::new(&oboxes);
+        Shapes { cells, cgrid, outline, ogrid, end_cols }
+    }
+}
+
+/// The free vertices dropped (inside the skin or too near its outline), and the removed
+/// flag of each surface cell.
+fn removed_zone(
+    skin: &Skin,
+    topo: &Topology,
+    listed: &[bool],
+    shapes: &Shapes,
+    side_removed: &BTreeSet<usize>,
+) -> (Vec<bool>, Vec<bool>) {
+    let pts = &skin.pts;
+    let Shapes { cells, cgrid, outline, ogrid, .. } = shapes;
     let free = |v: usize| matches!(topo.vertex_class[v], Classification::Face(_)) && !listed[v];
     let mut dropped = vec![false; skin.base_points];
     for v in 0..skin.base_points {
@@ -178,7 +235,7 @@ pub fn build(
         let inside = cgrid.query(b).into_iter().any(|c| inside_convex(p, &cells[c as usize], 0.0));
         dropped[v] = near || inside;
     }
-    let mut removed = vec![false; nc];
+    let mut removed = vec![false; topo.surface_cells.len()];
     for (t, sc) in topo.surface_cells.iter().enumerate() {
         let vs = sc.vertices();
         if vs.iter().any(|&v| skin.wall[v] || side_removed.contains(&v) || dropped[v]) {
@@ -195,6 +252,41 @@ pub fn build(
             }
         }
     }
+    (dropped, removed)
+}
+
+/// What leaves the mesh (removed cells, dropped vertices) and what the sides replace.
+struct Zone<'a> {
+    removed: &'a [bool],
+    dropped: &'a [bool],
+    sides: &'a Sides,
+}
+
+/// A directed edge with the band on its left, and the tags of the band there.
+type Seed = ([usize; 2], (i32, i32));
+
+/// What the band's triangulation is made of.
+struct Constraints {
+    /// The constrained edges.
+    constraints: Vec<[usize; 2]>,
+    /// Where the flood of the band starts.
+    seeds: Vec<Seed>,
+    /// The vertices.
+    verts: BTreeSet<usize>,
+}
+
+/// The constrained edges of the band's triangulation, its seeds, and its vertices.
+fn band_constraints(
+    skin: &Skin,
+    topo: &Topology,
+    cell_tags: &[(i32, i32)],
+    line_tags: &BTreeMap<[usize; 2], (i32, i32)>,
+    zone: &Zone,
+    shapes: &Shapes,
+) -> Result<Constraints, LayerError> {
+    let n = skin.layers;
+    let Zone { removed, dropped, sides } = *zone;
+    let Sides { side_removed, side_edges, bridges, .. } = sides;
     // Edges of the removed zone, and what is on the other side of each.
     let mut owners: BTreeMap<[usize; 2], Vec<(usize, [usize; 2])>> = BTreeMap::new();
     for (t, sc) in topo.surface_cells.iter().enumerate() {
@@ -206,7 +298,7 @@ pub fn build(
     }
     let mut constraints: Vec<[usize; 2]> = Vec::new();
     // (directed edge with the band on its left, tags)
-    let mut seeds: Vec<([usize; 2], (i32, i32))> = Vec::new();
+    let mut seeds: Vec<Seed> = Vec::new();
     let mut verts: BTreeSet<usize> = BTreeSet::new();
     for (k, own) in &owners {
         let rem: Vec<&(usize, [usize; 2])> = own.iter().filter(|o| removed[o.0]).collect();
@@ -263,7 +355,7 @@ pub fn build(
         verts.insert(a);
         verts.insert(b);
     }
-    for &c in &end_cols {
+    for &c in &shapes.end_cols {
         let ids = &skin.columns[c].ids;
         for k in 0..n {
             constraints.push(key(ids[k], ids[k + 1]));
@@ -271,16 +363,29 @@ pub fn build(
         }
         verts.insert(ids[n]);
     }
-    for &[a, b] in &bridges {
+    for &[a, b] in bridges {
         constraints.push(key(a, b));
         verts.insert(a);
         verts.insert(b);
     }
-    // Triangulate.
+    Ok(Constraints { constraints, seeds, verts })
+}
+
+/// A triangle (point ids) with its tags.
+type TaggedTriangle = ([usize; 3], (i32, i32));
+
+/// Triangulates `verts` with `constraints` and keeps the faces flooded from `seeds`
+/// without crossing a constraint, each with the tags of its seed.
+fn triangulate(
+    pts: &[P],
+    verts: &BTreeSet<usize>,
+    mut constraints: Vec<[usize; 2]>,
+    seeds: Vec<Seed>,
+) -> Result<Vec<TaggedTriangle>, LayerError> {
     let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> = Default::default();
     let mut handle: BTreeMap<usize, FixedVertexHandle> = BTreeMap::new();
     let mut back: BTreeMap<usize, usize> = BTreeMap::new();
-    for &v in &verts {
+    for &v in verts {
         let p = pts[v];
         let h = cdt.insert(Point2::new(p[0], p[1])).map_err(|_| {
             LayerError::Bad(format!("point {v} at ({}, {}) is not finite", p[0], p[1]))
@@ -343,5 +448,5 @@ pub fn build(
             triangles.push((vs, tags));
         }
     }
-    Ok(Band { removed, triangles, side_removed, side_edges, lines })
+    Ok(triangles)
 }

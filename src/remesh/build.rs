@@ -77,15 +77,83 @@ pub fn start(
         }
     }
     let mut warnings = Vec::new();
-    let mut face_of: std::collections::BTreeMap<(i32, i32), u32> =
-        std::collections::BTreeMap::new();
+    let Cells { tris, tri_tags, line_tags, lines_in_order, vertex_cells, kept, mut frozen } =
+        read_cells(mesh, keep, &pts)?;
+    let used = check_metric(metric, &tris, n)?;
+    let (face, faces) = number_faces(&tri_tags);
+    let constrained = constrained_edges(&tris, &face, &line_tags)?;
+    let frozen_edges = frozen_edges(&kept, &constrained, opts, &mut frozen);
+    let held = |k: &(u32, u32)| constrained.binary_search_by(|c| c.0.cmp(k)).is_ok();
+    let kept_lines: Vec<([u32; 2], i32, i32)> = mesh
+        .cells()
+        .filter(|c| c.0 == CellKind::Line && c.1[0] != c.1[1])
+        .filter(|c| {
+            let k = key(c.1[0], c.1[1]);
+            frozen_edges.contains(&k) && !held(&k)
+        })
+        .map(|c| ([c.1[0], c.1[1]], c.2, c.3))
+        .collect();
+    let dropped_lines =
+        lines_in_order.iter().filter(|(k, _)| !held(k) && !frozen_edges.contains(k)).count();
+    if dropped_lines > 0 {
+        warnings
+            .push(format!("{dropped_lines} line cells that are not triangle edges are not kept"));
+    }
+    warnings.extend(data_warnings(mesh));
+
+    let adjacency = Adjacency::new(&constrained, n);
+    let mut corner =
+        corners(topology, &vertex_cells, &frozen, &constrained, &adjacency, &pts, opts);
+    let logs: Vec<Sym2> = metric.iter().map(log_spd).collect();
+    let (mut role, mut pieces, cons) =
+        walk_pieces(&constrained, &adjacency, &mut corner, &pts, &logs);
+    for v in 0..n {
+        if corner[v] || !used[v] {
+            role[v] = Role::Fixed;
+        }
+    }
+    // Both ends of a kept cell's edge are corners: its piece is that one edge.
+    for p in &mut pieces {
+        p.frozen = p.pts.len() == 2 && frozen_edges.contains(&key(p.ends[0], p.ends[1]));
+    }
+    Ok(Start {
+        pts,
+        tris,
+        face,
+        faces,
+        role,
+        pieces,
+        cons,
+        vertex_cells,
+        warnings,
+        kept,
+        kept_lines,
+    })
+}
+
+/// The cells of the input, sorted out: working triangles (counter-clockwise) and their
+/// tags, line cells by edge (first tags win) and in order, vertex cells, kept cells, and
+/// the vertices kept cells freeze.
+struct Cells {
+    tris: Vec<[u32; 3]>,
+    tri_tags: Vec<(i32, i32)>,
+    line_tags: HashMap<(u32, u32), (i32, i32)>,
+    lines_in_order: Vec<((u32, u32), (i32, i32))>,
+    vertex_cells: Vec<(u32, i32, i32)>,
+    kept: Vec<(CellKind, Vec<u32>, i32, i32)>,
+    frozen: Vec<bool>,
+}
+
+/// Sorts the cells of `mesh` (whose points are `pts`); refuses degenerate triangles,
+/// unsupported cells and a mesh with no working triangle.
+fn read_cells(mesh: &TaggedMesh, keep: &[bool], pts: &[[f64; 2]]) -> Result<Cells, RemeshError> {
     let mut tris = Vec::new();
     let mut tri_tags = Vec::new();
     let mut line_tags: HashMap<(u32, u32), (i32, i32)> = HashMap::new();
     let mut lines_in_order: Vec<((u32, u32), (i32, i32))> = Vec::new();
     let mut vertex_cells = Vec::new();
     let mut kept = Vec::new();
-    let mut frozen = vec![false; n];
+    let mut frozen = vec![false; pts.len()];
     let mut surface = 0;
     for (kind, nodes, phys, geo) in mesh.cells() {
         if kind.dim() == 2 {
@@ -130,9 +198,13 @@ pub fn start(
     if tris.is_empty() {
         return Err(if kept.is_empty() { RemeshError::NoTriangles } else { RemeshError::AllKept });
     }
-    // Metric: finite and SPD wherever a triangle uses it.
+    Ok(Cells { tris, tri_tags, line_tags, lines_in_order, vertex_cells, kept, frozen })
+}
+
+/// Which of the `n` vertices a triangle uses; the metric must be finite and SPD there.
+fn check_metric(metric: &[Sym2], tris: &[[u32; 3]], n: usize) -> Result<Vec<bool>, RemeshError> {
     let mut used = vec![false; n];
-    for t in &tris {
+    for t in tris {
         for &v in t {
             used[v as usize] = true;
         }
@@ -149,6 +221,14 @@ pub fn start(
             return Err(RemeshError::NotSpd { vertex: v, a: m.a, b: m.b, c: m.c });
         }
     }
+    Ok(used)
+}
+
+/// The face of each triangle (its tag pair numbered by first use), and the tag pair of
+/// each face.
+fn number_faces(tri_tags: &[(i32, i32)]) -> (Vec<u32>, Vec<(i32, i32)>) {
+    let mut face_of: std::collections::BTreeMap<(i32, i32), u32> =
+        std::collections::BTreeMap::new();
     let face: Vec<u32> = tri_tags
         .iter()
         .map(|tg| {
@@ -160,7 +240,22 @@ pub fn start(
     for (tg, &i) in &face_of {
         faces[i as usize] = *tg;
     }
+    (face, faces)
+}
 
+/// The label of a constrained edge: its line tags and the pair of faces beside it.
+type Label = (LineTags, u32, u32);
+
+/// A constrained edge (its vertices, smaller first) and its label.
+type Constrained = ((u32, u32), Label);
+
+/// The constrained edges, sorted, with their label: boundary edges, edges between two
+/// faces, edges of line cells. Refuses an edge held by more than two triangles.
+fn constrained_edges(
+    tris: &[[u32; 3]],
+    face: &[u32],
+    line_tags: &HashMap<(u32, u32), (i32, i32)>,
+) -> Result<Vec<Constrained>, RemeshError> {
     // Edges of the triangles, sorted, with the triangles holding them.
     let mut occ: Vec<((u32, u32), u32)> = Vec::with_capacity(tris.len() * 3);
     for (i, t) in tris.iter().enumerate() {
@@ -169,9 +264,7 @@ pub fn start(
         }
     }
     occ.sort_unstable();
-    // Constrained edges with their label: line tags and the pair of faces beside them.
-    type Label = (LineTags, u32, u32);
-    let mut constrained: Vec<((u32, u32), Label)> = Vec::new();
+    let mut constrained: Vec<Constrained> = Vec::new();
     let mut i = 0;
     while i < occ.len() {
         let mut j = i;
@@ -193,16 +286,26 @@ pub fn start(
         }
         i = j;
     }
+    Ok(constrained)
+}
+
+/// The edges of the kept cells and of the frozen curves (whose ends join `frozen`).
+fn frozen_edges(
+    kept: &[(CellKind, Vec<u32>, i32, i32)],
+    constrained: &[Constrained],
+    opts: &RemeshOptions,
+    frozen: &mut [bool],
+) -> std::collections::BTreeSet<(u32, u32)> {
     // Edges of the kept cells; those a working triangle holds become frozen pieces.
     let mut frozen_edges: std::collections::BTreeSet<(u32, u32)> = Default::default();
-    for (_, nodes, _, _) in &kept {
+    for (_, nodes, _, _) in kept {
         for k in 0..nodes.len() {
             frozen_edges.insert(key(nodes[k], nodes[(k + 1) % nodes.len()]));
         }
     }
     // Edges of frozen curves: one-edge frozen pieces too, their ends corners.
     if !opts.frozen_curves.is_empty() {
-        for (e, (lt, _, _)) in &constrained {
+        for (e, (lt, _, _)) in constrained {
             if lt.is_some_and(|(p, g)| opts.frozen_curves.contains(&cell_tag(p, g))) {
                 frozen_edges.insert(*e);
                 frozen[e.0 as usize] = true;
@@ -210,59 +313,70 @@ pub fn start(
             }
         }
     }
-    let held = |k: &(u32, u32)| constrained.binary_search_by(|c| c.0.cmp(k)).is_ok();
-    let kept_lines: Vec<([u32; 2], i32, i32)> = mesh
-        .cells()
-        .filter(|c| c.0 == CellKind::Line && c.1[0] != c.1[1])
-        .filter(|c| {
-            let k = key(c.1[0], c.1[1]);
-            frozen_edges.contains(&k) && !held(&k)
-        })
-        .map(|c| ([c.1[0], c.1[1]], c.2, c.3))
-        .collect();
-    let dropped_lines =
-        lines_in_order.iter().filter(|(k, _)| !held(k) && !frozen_edges.contains(k)).count();
-    if dropped_lines > 0 {
-        warnings
-            .push(format!("{dropped_lines} line cells that are not triangle edges are not kept"));
-    }
-    warnings.extend(data_warnings(mesh));
+    frozen_edges
+}
 
-    // Constrained adjacency per vertex (CSR over the sorted edge list).
-    let mut deg = vec![0u32; n + 1];
-    for (e, _) in &constrained {
-        deg[e.0 as usize + 1] += 1;
-        deg[e.1 as usize + 1] += 1;
-    }
-    for v in 0..n {
-        deg[v + 1] += deg[v];
-    }
-    let mut fill = deg.clone();
-    let mut adj = vec![0u32; deg[n] as usize];
-    for (ci, (e, _)) in constrained.iter().enumerate() {
-        for v in [e.0, e.1] {
-            adj[fill[v as usize] as usize] = ci as u32;
-            fill[v as usize] += 1;
+/// Constrained adjacency per vertex (CSR over the sorted edge list).
+struct Adjacency {
+    deg: Vec<u32>,
+    adj: Vec<u32>,
+}
+
+impl Adjacency {
+    fn new(constrained: &[Constrained], n: usize) -> Adjacency {
+        let mut deg = vec![0u32; n + 1];
+        for (e, _) in constrained {
+            deg[e.0 as usize + 1] += 1;
+            deg[e.1 as usize + 1] += 1;
         }
+        for v in 0..n {
+            deg[v + 1] += deg[v];
+        }
+        let mut fill = deg.clone();
+        let mut adj = vec![0u32; deg[n] as usize];
+        for (ci, (e, _)) in constrained.iter().enumerate() {
+            for v in [e.0, e.1] {
+                adj[fill[v as usize] as usize] = ci as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        Adjacency { deg, adj }
     }
-    let around = |v: u32| &adj[deg[v as usize] as usize..deg[v as usize + 1] as usize];
 
-    // Corners.
+    /// The constrained edges at `v`, by index.
+    fn around(&self, v: u32) -> &[u32] {
+        &self.adj[self.deg[v as usize] as usize..self.deg[v as usize + 1] as usize]
+    }
+}
+
+/// The corners: topological points, vertex cells, frozen vertices, kept points, and
+/// the vertices of constrained edges where the edge count or the label changes or the
+/// curve turns by more than the ridge angle.
+fn corners(
+    topology: &Topology,
+    vertex_cells: &[(u32, i32, i32)],
+    frozen: &[bool],
+    constrained: &[Constrained],
+    adjacency: &Adjacency,
+    pts: &[[f64; 2]],
+    opts: &RemeshOptions,
+) -> Vec<bool> {
+    let n = pts.len();
     let mut corner = vec![false; n];
     for p in &topology.points {
         corner[p.vertex] = true;
     }
-    for &(v, _, _) in &vertex_cells {
+    for &(v, _, _) in vertex_cells {
         corner[v as usize] = true;
     }
-    for (c, &f) in corner.iter_mut().zip(&frozen) {
+    for (c, &f) in corner.iter_mut().zip(frozen) {
         *c |= f;
     }
     let cos_ridge = opts.ridge_angle_degrees.to_radians().cos();
     let keep_points: std::collections::BTreeSet<[u64; 2]> =
         opts.keep_points.iter().map(|p| [p[0].to_bits(), p[1].to_bits()]).collect();
     for v in 0..n as u32 {
-        let es = around(v);
+        let es = adjacency.around(v);
         if es.is_empty() {
             continue;
         }
@@ -290,15 +404,29 @@ pub fn start(
             corner[v as usize] = true;
         }
     }
+    corner
+}
 
-    // Pieces: walk from every corner along each unvisited constrained edge to the next
-    // corner; then the loops without corner, from their smallest vertex.
-    let logs: Vec<Sym2> = metric.iter().map(log_spd).collect();
+/// The piece of each constrained edge.
+type PieceOfEdge = ahash::AHashMap<(u32, u32), u32>;
+
+/// The pieces: walks from every corner along each unvisited constrained edge to the next
+/// corner; then the loops without corner, from their smallest vertex (which becomes a
+/// corner). Returns the role of each vertex on a piece, the pieces, and the piece of
+/// each constrained edge.
+fn walk_pieces(
+    constrained: &[Constrained],
+    adjacency: &Adjacency,
+    corner: &mut [bool],
+    pts: &[[f64; 2]],
+    logs: &[Sym2],
+) -> (Vec<Role>, Vec<Piece>, PieceOfEdge) {
+    let n = pts.len();
+    let around = |v: u32| adjacency.around(v);
     let mut visited = vec![false; constrained.len()];
     let mut role = vec![Role::Free; n];
     let mut pieces: Vec<Piece> = Vec::new();
-    let mut cons: ahash::AHashMap<(u32, u32), u32> =
-        ahash::AHashMap::with_capacity(constrained.len());
+    let mut cons: PieceOfEdge = ahash::AHashMap::with_capacity(constrained.len());
     let mut walk =
         |start: u32, first: u32, corner: &[bool], visited: &mut Vec<bool>, role: &mut Vec<Role>| {
             let pid = pieces.len() as u32;
@@ -336,7 +464,7 @@ pub fn start(
         if corner[v as usize] {
             for &e in around(v) {
                 if !visited[e as usize] {
-                    walk(v, e, &corner, &mut visited, &mut role);
+                    walk(v, e, corner, &mut visited, &mut role);
                 }
             }
         }
@@ -347,33 +475,12 @@ pub fn start(
             corner[v as usize] = true;
             for &e in around(v) {
                 if !visited[e as usize] {
-                    walk(v, e, &corner, &mut visited, &mut role);
+                    walk(v, e, corner, &mut visited, &mut role);
                 }
             }
         }
     }
-    for v in 0..n {
-        if corner[v] || !used[v] {
-            role[v] = Role::Fixed;
-        }
-    }
-    // Both ends of a kept cell's edge are corners: its piece is that one edge.
-    for p in &mut pieces {
-        p.frozen = p.pts.len() == 2 && frozen_edges.contains(&key(p.ends[0], p.ends[1]));
-    }
-    Ok(Start {
-        pts,
-        tris,
-        face,
-        faces,
-        role,
-        pieces,
-        cons,
-        vertex_cells,
-        warnings,
-        kept,
-        kept_lines,
-    })
+    (role, pieces, cons)
 }
 
 /// What the output of a remeshing of `mesh` does not carry of its point and cell data.

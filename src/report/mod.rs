@@ -283,23 +283,7 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         .collect();
     let mut svg = Svg::new(lay.width, lay.height);
 
-    // Title.
-    svg.open("g", &[("id", "title"), ("data-box", &layout::data_box(&lay.title))]);
-    svg.text(
-        lay.title.x0,
-        lay.title.y0 + 18.0,
-        &TITLE_FONT.fit(input.name, lay.title.width()),
-        &[("font-size", "18"), ("font-weight", "bold")],
-    );
-    for (k, line) in info_lines.iter().enumerate() {
-        svg.text(
-            lay.title.x0,
-            lay.title.y0 + 37.0 + 16.0 * k as f64,
-            line,
-            &[("font-size", "13"), ("fill", palette::MUTED)],
-        );
-    }
-    svg.close();
+    draw_title(&mut svg, &lay.title, input.name, &info_lines);
 
     // Overview.
     let ov = lay.overview;
@@ -329,6 +313,87 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         .collect();
     let content = ov_view.rect_to_px(&domain).intersect(&ov_inner).unwrap_or(ov_inner);
     let placed = tabs::place(&frames, &ov_inner, &[panels::scale_bar_box(&ov_view, &content)]);
+    draw_zoom_frames(&mut svg, &frames, &placed);
+    svg.close();
+    scale_bar(&mut svg, &ov_view, &content);
+    svg.text(ov.x0, ov.y0 + 14.0, "Whole mesh", &[("font-size", "13"), ("font-weight", "bold")]);
+    if ov_stats.shaded > 0 {
+        let n = ov_stats.shaded;
+        let long = format!(
+            "{n} edges shorter than {} px drawn as shading",
+            num(mesh_layer::MIN_EDGE_PX, 0)
+        );
+        let short = format!("{n} edges shaded");
+        let room = ov.width() - Font::bold(13.0).width("Whole mesh") - 16.0;
+        let s = Font::regular(11.0).first_fitting(&[&long, &short], room);
+        svg.text(
+            ov.x1,
+            ov.y0 + 14.0,
+            &s,
+            &[("font-size", "11"), ("fill", palette::MUTED), ("text-anchor", "end")],
+        );
+    }
+    svg.close();
+    legend::draw(&mut svg, &lay.legend, &entries);
+
+    // Zooms.
+    let mut shaded = ov_stats.shaded;
+    for (k, ((z, r), view)) in zooms.iter().zip(&lay.zooms).zip(&zoom_views).enumerate() {
+        let scene = Scene {
+            layers: &layers,
+            topology: topo,
+            sizes: sizes.as_deref(),
+            marks: &marks,
+            skin: &skin,
+        };
+        let stats = draw_zoom(&mut svg, k, z, r, view, &scene);
+        shaded = shaded.max(stats.shaded);
+    }
+    if shaded > 0 {
+        notes.push(format!(
+            "edges shorter than {} px are drawn as shading (up to {shaded} edges in one panel)",
+            mesh_layer::MIN_EDGE_PX
+        ));
+    }
+
+    draw_charts(&mut svg, &lay.charts, conformity.as_ref(), input.history);
+
+    for (z, v) in zooms.iter_mut().zip(&zoom_views) {
+        z.shown = v.world;
+    }
+    Report {
+        svg: svg.finish(),
+        width: lay.width as u32,
+        height: lay.height as u32,
+        zooms,
+        conformity,
+        notes,
+    }
+}
+
+/// The title panel: the mesh's name and the information lines under it.
+fn draw_title(svg: &mut Svg, title: &Rect, name: &str, info_lines: &[String]) {
+    svg.open("g", &[("id", "title"), ("data-box", &layout::data_box(title))]);
+    svg.text(
+        title.x0,
+        title.y0 + 18.0,
+        &TITLE_FONT.fit(name, title.width()),
+        &[("font-size", "18"), ("font-weight", "bold")],
+    );
+    for (k, line) in info_lines.iter().enumerate() {
+        svg.text(
+            title.x0,
+            title.y0 + 37.0 + 16.0 * k as f64,
+            line,
+            &[("font-size", "13"), ("fill", palette::MUTED)],
+        );
+    }
+    svg.close();
+}
+
+/// The overview's frame of each zoom window and its number tab, on a corner of its frame
+/// when one is free (see `tabs`), else joined to it by a leader line.
+fn draw_zoom_frames(svg: &mut Svg, frames: &[Rect], placed: &[tabs::Tab]) {
     for (k, r) in frames.iter().enumerate() {
         svg.element(
             "rect",
@@ -347,7 +412,7 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     }
     // The number tabs over every frame, each on a corner of its frame when one is free
     // (see `tabs`), else joined to it by a leader line.
-    for (k, (r, tab)) in frames.iter().zip(&placed).enumerate() {
+    for (k, (r, tab)) in frames.iter().zip(placed).enumerate() {
         let id = (k + 1).to_string();
         let t = tab.rect;
         if !tab.on_frame {
@@ -392,72 +457,27 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
             ],
         );
     }
-    svg.close();
-    scale_bar(&mut svg, &ov_view, &content);
-    svg.text(ov.x0, ov.y0 + 14.0, "Whole mesh", &[("font-size", "13"), ("font-weight", "bold")]);
-    if ov_stats.shaded > 0 {
-        let n = ov_stats.shaded;
-        let long = format!(
-            "{n} edges shorter than {} px drawn as shading",
-            num(mesh_layer::MIN_EDGE_PX, 0)
-        );
-        let short = format!("{n} edges shaded");
-        let room = ov.width() - Font::bold(13.0).width("Whole mesh") - 16.0;
-        let s = Font::regular(11.0).first_fitting(&[&long, &short], room);
-        svg.text(
-            ov.x1,
-            ov.y0 + 14.0,
-            &s,
-            &[("font-size", "11"), ("fill", palette::MUTED), ("text-anchor", "end")],
-        );
-    }
-    svg.close();
-    legend::draw(&mut svg, &lay.legend, &entries);
+}
 
-    // Zooms.
-    let mut shaded = ov_stats.shaded;
-    for (k, ((z, r), view)) in zooms.iter().zip(&lay.zooms).zip(&zoom_views).enumerate() {
-        let scene = Scene {
-            layers: &layers,
-            topology: topo,
-            sizes: sizes.as_deref(),
-            marks: &marks,
-            skin: &skin,
-        };
-        let stats = draw_zoom(&mut svg, k, z, r, view, &scene);
-        shaded = shaded.max(stats.shaded);
-    }
-    if shaded > 0 {
-        notes.push(format!(
-            "edges shorter than {} px are drawn as shading (up to {shaded} edges in one panel)",
-            mesh_layer::MIN_EDGE_PX
-        ));
-    }
-
-    // Charts.
-    let mut chart = lay.charts.iter();
-    if let Some(c) = &conformity {
+/// The charts: edge lengths and quality when the mesh has a metric, the adapt history
+/// when there is one; each in a border.
+fn draw_charts(
+    svg: &mut Svg,
+    charts: &[Rect],
+    conformity: Option<&Conformity>,
+    history: Option<&History>,
+) {
+    let mut chart = charts.iter();
+    if let Some(c) = conformity {
         if let (Some(a), Some(b)) = (chart.next(), chart.next()) {
-            histogram::edge_lengths(&mut svg, a, c);
-            histogram::quality(&mut svg, b, c);
+            histogram::edge_lengths(svg, a, c);
+            histogram::quality(svg, b, c);
         }
     }
-    if let (Some(h), Some(r)) = (input.history, chart.next()) {
-        history_plot::draw(&mut svg, r, h);
+    if let (Some(h), Some(r)) = (history, chart.next()) {
+        history_plot::draw(svg, r, h);
     }
-    for r in &lay.charts {
-        panel_border(&mut svg, r);
-    }
-
-    for (z, v) in zooms.iter_mut().zip(&zoom_views) {
-        z.shown = v.world;
-    }
-    Report {
-        svg: svg.finish(),
-        width: lay.width as u32,
-        height: lay.height as u32,
-        zooms,
-        conformity,
-        notes,
+    for r in charts {
+        panel_border(svg, r);
     }
 }

@@ -128,6 +128,41 @@ fn spec(t: &Tag<'_>, d: &[u8]) -> Result<Spec> {
 /// Reads a `.vtu` file.
 pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     let mut s = Scan { d, pos: 0 };
+    let root = root_tag(&mut s, d)?;
+    let (big, hsize, zlib) = encoding(&root)?;
+    let Body { field, point, cell, pts, cells, piece, appended } = scan_body(&mut s, d)?;
+    let Some((np, nc, piece_at)) = piece else {
+        return Err(err(
+            root.at,
+            ErrorKind::Expected {
+                expected: "a <Piece> in <UnstructuredGrid>".into(),
+                found: "none".into(),
+            },
+        ));
+    };
+    check_counts(d, np, nc, piece_at)?;
+
+    let mut app_offsets: Vec<usize> = field
+        .iter()
+        .chain(&point)
+        .chain(&cell)
+        .chain(&pts)
+        .chain(&cells)
+        .filter(|s| s.format == Format::Appended)
+        .map(|s| s.offset)
+        .collect();
+    app_offsets.sort_unstable();
+    app_offsets.dedup();
+    let dec = Decoder { d, big, hsize, zlib, appended, app_offsets };
+
+    let mut g = Grid { points: read_points(&dec, &pts, np, piece_at)?, ..Grid::default() };
+    read_cells(&dec, &cells, nc, np, piece_at, &mut g)?;
+    read_data_arrays(&dec, &point, &cell, &field, np, nc, &mut g)?;
+    g.into_mesh()
+}
+
+/// The root element, which must be `<VTKFile type="UnstructuredGrid">`.
+fn root_tag<'a>(s: &mut Scan<'a>, d: &[u8]) -> Result<Tag<'a>> {
     let root = match s.next()? {
         Ev::Start(t) => t,
         Ev::End(_, p) => {
@@ -164,6 +199,11 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             ))
         }
     }
+    Ok(root)
+}
+
+/// The encoding the root element declares: big-endian, the size of a header word, zlib.
+fn encoding(root: &Tag<'_>) -> Result<(bool, usize, bool)> {
     let big = match root.attr("byte_order") {
         None | Some(b"LittleEndian") => false,
         Some(b"BigEndian") => true,
@@ -203,17 +243,31 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             ))
         }
     };
+    Ok((big, hsize, zlib))
+}
 
-    let (mut field, mut point, mut cell, mut pts, mut cells) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    let mut piece: Option<(usize, usize, usize)> = None;
-    let mut appended = None;
+/// What the scan of the grid finds: the array specifications of each container, the
+/// piece's point and cell counts and place, and the appended data.
+#[derive(Default)]
+struct Body {
+    field: Vec<Spec>,
+    point: Vec<Spec>,
+    cell: Vec<Spec>,
+    pts: Vec<Spec>,
+    cells: Vec<Spec>,
+    piece: Option<(usize, usize, usize)>,
+    appended: Option<Appended>,
+}
+
+/// Scans the elements inside `<VTKFile>`, up to its end or to `<AppendedData>`.
+fn scan_body(s: &mut Scan<'_>, d: &[u8]) -> Result<Body> {
+    let mut body = Body::default();
     loop {
         match s.next()? {
             Ev::Start(t) if t.name == b"UnstructuredGrid" => {}
-            Ev::Start(t) if t.name == b"FieldData" => read_array_specs(&mut s, &t, &mut field)?,
+            Ev::Start(t) if t.name == b"FieldData" => read_array_specs(s, &t, &mut body.field)?,
             Ev::Start(t) if t.name == b"Piece" => {
-                if piece.is_some() {
+                if body.piece.is_some() {
                     return Err(err(
                         t.at,
                         ErrorKind::Unsupported(
@@ -223,76 +277,13 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
                 }
                 let np = t.attr_usize("NumberOfPoints")?.unwrap_or(0);
                 let nc = t.attr_usize("NumberOfCells")?.unwrap_or(0);
-                piece = Some((np, nc, t.at));
-                if t.empty {
-                    continue;
-                }
-                loop {
-                    match s.next()? {
-                        Ev::Start(c) => match c.name {
-                            b"PointData" => read_array_specs(&mut s, &c, &mut point)?,
-                            b"CellData" => read_array_specs(&mut s, &c, &mut cell)?,
-                            b"Points" => {
-                                read_array_specs(&mut s, &c, &mut pts)?;
-                                // VTK leaves the coordinates unnamed; messages name them.
-                                for sp in pts.iter_mut().filter(|sp| sp.name.is_empty()) {
-                                    sp.name = "Points".into();
-                                }
-                            }
-                            b"Cells" => read_array_specs(&mut s, &c, &mut cells)?,
-                            _ => s.skip_subtree(&c)?,
-                        },
-                        Ev::End(b"Piece", _) => break,
-                        Ev::End(n, p) => {
-                            return Err(err(
-                                p,
-                                ErrorKind::Expected {
-                                    expected: "</Piece>".into(),
-                                    found: format!("</{}>", String::from_utf8_lossy(n)),
-                                },
-                            ))
-                        }
-                        Ev::Eof => {
-                            return Err(err(
-                                t.at,
-                                ErrorKind::UnexpectedEof {
-                                    context: "<Piece> is not closed".into(),
-                                },
-                            ))
-                        }
-                    }
+                body.piece = Some((np, nc, t.at));
+                if !t.empty {
+                    scan_piece(s, &t, &mut body)?;
                 }
             }
             Ev::Start(t) if t.name == b"AppendedData" => {
-                let raw = match t.attr("encoding") {
-                    Some(b"raw") => true,
-                    Some(b"base64") | None => false,
-                    Some(o) => {
-                        return Err(err(
-                            t.at,
-                            ErrorKind::Expected {
-                                expected: "encoding=\"raw\" or \"base64\"".into(),
-                                found: show(o),
-                            },
-                        ))
-                    }
-                };
-                // The data starts after `_`; raw bytes may contain anything, so the
-                // scan stops here.
-                let us = memchr::memchr(b'_', &d[t.end..]).map(|i| t.end + i).ok_or_else(|| {
-                    err(
-                        t.end,
-                        ErrorKind::Expected {
-                            expected: "`_` before the appended data".into(),
-                            found: "none".into(),
-                        },
-                    )
-                })?;
-                let base = us + 1;
-                let end = memchr::memmem::rfind(&d[base..], b"</AppendedData>")
-                    .map_or(d.len(), |i| base + i);
-                let end = if raw { end } else { base + crate::text::trim(&d[base..end]).len() };
-                appended = Some(Appended { base, end, raw });
+                body.appended = Some(appended_data(&t, d)?);
                 break;
             }
             Ev::Start(t) => s.skip_subtree(&t)?,
@@ -309,18 +300,82 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             }
         }
     }
-    let Some((np, nc, piece_at)) = piece else {
-        return Err(err(
-            root.at,
+    Ok(body)
+}
+
+/// Scans the containers of `<Piece>` `t`, up to `</Piece>`.
+fn scan_piece<'a>(s: &mut Scan<'a>, t: &Tag<'a>, body: &mut Body) -> Result<()> {
+    loop {
+        match s.next()? {
+            Ev::Start(c) => match c.name {
+                b"PointData" => read_array_specs(s, &c, &mut body.point)?,
+                b"CellData" => read_array_specs(s, &c, &mut body.cell)?,
+                b"Points" => {
+                    read_array_specs(s, &c, &mut body.pts)?;
+                    // VTK leaves the coordinates unnamed; messages name them.
+                    for sp in body.pts.iter_mut().filter(|sp| sp.name.is_empty()) {
+                        sp.name = "Points".into();
+                    }
+                }
+                b"Cells" => read_array_specs(s, &c, &mut body.cells)?,
+                _ => s.skip_subtree(&c)?,
+            },
+            Ev::End(b"Piece", _) => return Ok(()),
+            Ev::End(n, p) => {
+                return Err(err(
+                    p,
+                    ErrorKind::Expected {
+                        expected: "</Piece>".into(),
+                        found: format!("</{}>", String::from_utf8_lossy(n)),
+                    },
+                ))
+            }
+            Ev::Eof => {
+                return Err(err(
+                    t.at,
+                    ErrorKind::UnexpectedEof { context: "<Piece> is not closed".into() },
+                ))
+            }
+        }
+    }
+}
+
+/// Where the data of `<AppendedData>` `t` lies, and how it is encoded.
+fn appended_data(t: &Tag<'_>, d: &[u8]) -> Result<Appended> {
+    let raw = match t.attr("encoding") {
+        Some(b"raw") => true,
+        Some(b"base64") | None => false,
+        Some(o) => {
+            return Err(err(
+                t.at,
+                ErrorKind::Expected {
+                    expected: "encoding=\"raw\" or \"base64\"".into(),
+                    found: show(o),
+                },
+            ))
+        }
+    };
+    // The data starts after `_`; raw bytes may contain anything, so the
+    // scan stops here.
+    let us = memchr::memchr(b'_', &d[t.end..]).map(|i| t.end + i).ok_or_else(|| {
+        err(
+            t.end,
             ErrorKind::Expected {
-                expected: "a <Piece> in <UnstructuredGrid>".into(),
+                expected: "`_` before the appended data".into(),
                 found: "none".into(),
             },
-        ));
-    };
-    // Piece sizes are attacker-controlled: each array is checked against its bytes
-    // before it is allocated, and an empty file cannot claim a billion points.
-    // A point needs 3 bytes of data and a cell 1 even at zlib's best ratio.
+        )
+    })?;
+    let base = us + 1;
+    let end = memchr::memmem::rfind(&d[base..], b"</AppendedData>").map_or(d.len(), |i| base + i);
+    let end = if raw { end } else { base + crate::text::trim(&d[base..end]).len() };
+    Ok(Appended { base, end, raw })
+}
+
+/// Piece sizes are attacker-controlled: each array is checked against its bytes
+/// before it is allocated, and an empty file cannot claim a billion points.
+/// A point needs 3 bytes of data and a cell 1 even at zlib's best ratio.
+fn check_counts(d: &[u8], np: usize, nc: usize, piece_at: usize) -> Result<()> {
     for (n, what, per) in [(np, "NumberOfPoints", 3), (nc, "NumberOfCells", 1)] {
         let most = d.len().saturating_mul(MAX_INFLATE_RATIO) / per;
         if n > most {
@@ -337,21 +392,16 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             ));
         }
     }
+    Ok(())
+}
 
-    let mut app_offsets: Vec<usize> = field
-        .iter()
-        .chain(&point)
-        .chain(&cell)
-        .chain(&pts)
-        .chain(&cells)
-        .filter(|s| s.format == Format::Appended)
-        .map(|s| s.offset)
-        .collect();
-    app_offsets.sort_unstable();
-    app_offsets.dedup();
-    let dec = Decoder { d, big, hsize, zlib, appended, app_offsets };
-
-    let mut g = Grid::default();
+/// The `np` points, from the first `<Points>` array (none needed when `np` is 0).
+fn read_points(
+    dec: &Decoder<'_>,
+    pts: &[Spec],
+    np: usize,
+    piece_at: usize,
+) -> Result<Vec<[f64; 3]>> {
     let empty_points = Spec {
         name: "Points".into(),
         ty: Scalar::F64,
@@ -384,20 +434,32 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             },
         ));
     }
-    g.points = dec.points(p, np)?;
-    let values = |n: usize, sp: &Spec| {
-        n.checked_mul(sp.components).ok_or_else(|| {
-            err(
-                sp.at,
-                ErrorKind::ImplausibleCount {
-                    what: format!("values of `{}`", sp.name),
-                    count: sp.components as u64,
-                    limit: "too many components".into(),
-                },
-            )
-        })
-    };
+    dec.points(p, np)
+}
 
+/// The number of values of `n` tuples of `sp`.
+fn values(n: usize, sp: &Spec) -> Result<usize> {
+    n.checked_mul(sp.components).ok_or_else(|| {
+        err(
+            sp.at,
+            ErrorKind::ImplausibleCount {
+                what: format!("values of `{}`", sp.name),
+                count: sp.components as u64,
+                limit: "too many components".into(),
+            },
+        )
+    })
+}
+
+/// The `nc` cells (types, offsets, connectivity) of `<Cells>` into `g`.
+fn read_cells(
+    dec: &Decoder<'_>,
+    cells: &[Spec],
+    nc: usize,
+    np: usize,
+    piece_at: usize,
+    g: &mut Grid,
+) -> Result<()> {
     let find = |name: &str| cells.iter().find(|s| s.name == name);
     if nc > 0 || !cells.is_empty() {
         let missing = |n: &str| {
@@ -439,7 +501,20 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     } else {
         g.offsets = vec![0];
     }
-    for sp in &point {
+    Ok(())
+}
+
+/// The point, cell and field data arrays into `g`.
+fn read_data_arrays(
+    dec: &Decoder<'_>,
+    point: &[Spec],
+    cell: &[Spec],
+    field: &[Spec],
+    np: usize,
+    nc: usize,
+    g: &mut Grid,
+) -> Result<()> {
+    for sp in point {
         let (values, layout) = dec.items(sp, values(np, sp)?)?;
         g.point_arrays.push(Named::new(
             sp.name.clone(),
@@ -449,7 +524,7 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             Position::Byte(sp.at as u64),
         ));
     }
-    for sp in &cell {
+    for sp in cell {
         // Integer cell tag arrays go straight into 32-bit tags (no f64 copy of them).
         if sp.components == 1 && !sp.ty.is_float() && tag_slot(&sp.name).is_some() {
             let mut tags = Vec::new();
@@ -468,7 +543,7 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             Position::Byte(sp.at as u64),
         ));
     }
-    for sp in &field {
+    for sp in field {
         // Field arrays other than numbers (strings) are skipped by `spec` refusing
         // them; the tuple count is optional. Only arrays of two values can name a tag
         // (`into_mesh`), so the others are not decoded at all.
@@ -492,5 +567,5 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
             Position::Byte(sp.at as u64),
         ));
     }
-    g.into_mesh()
+    Ok(())
 }
