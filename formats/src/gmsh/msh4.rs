@@ -35,34 +35,14 @@ pub(super) fn read_entities(r: &mut Reader<'_>) -> Result<()> {
     for (dim, &count) in counts.iter().enumerate() {
         for _ in 0..count {
             let at = r.c.mark();
-            let n_coords = if dim == 0 { 3 } else { 6 };
             let tag;
-            let mut phys = Vec::new();
+            let phys;
             if binary {
                 tag = r.c.bin_i32("entity tag")?;
-                // Coordinates (points) or bounding boxes: read past, not kept.
-                r.c.take(8 * n_coords, "entity coordinates")?;
-                let n = r.c.bin_count(st, "number of physical tags", 4)?;
-                phys.extend(r.c.take_array(n, 4, "physical tags")?.chunks_exact(4).map(le_i32));
-                if dim > 0 {
-                    let n = r.c.bin_count(st, "number of bounding entities", 4)?;
-                    r.c.take_array(n, 4, "bounding entity tags")?;
-                }
+                phys = entity_tail(r, dim)?;
             } else {
                 tag = r.c.i32("entity tag")?;
-                for _ in 0..n_coords {
-                    r.c.f64(if dim == 0 { "point coordinate" } else { "bounding box coordinate" })?;
-                }
-                let n = r.c.count("number of physical tags", 2)?;
-                for _ in 0..n {
-                    phys.push(r.c.i32("physical tag")?);
-                }
-                if dim > 0 {
-                    let n = r.c.count("number of bounding entities", 2)?;
-                    for _ in 0..n {
-                        r.c.i32("bounding entity tag")?;
-                    }
-                }
+                phys = entity_tail(r, dim)?;
             }
             if r.entities.insert((dim as u8, tag), phys).is_some() {
                 return Err(r.c.err_at(
@@ -113,22 +93,15 @@ pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
     for (dim, &count) in counts.iter().enumerate() {
         for _ in 0..count {
             let at = r.c.mark();
-            let n_coords = if dim == 0 { 3 } else { 6 };
             let (tag, parent_dim, parent_tag);
-            let mut phys = Vec::new();
+            let phys;
             if binary {
                 tag = r.c.bin_i32("entity tag")?;
                 parent_dim = r.c.bin_i32("parent dimension")?;
                 parent_tag = r.c.bin_i32("parent tag")?;
                 let n = r.c.bin_count(st, "number of partitions of the entity", 4)?;
                 r.c.take_array(n, 4, "partition tags")?;
-                r.c.take(8 * n_coords, "entity coordinates")?;
-                let n = r.c.bin_count(st, "number of physical tags", 4)?;
-                phys.extend(r.c.take_array(n, 4, "physical tags")?.chunks_exact(4).map(le_i32));
-                if dim > 0 {
-                    let n = r.c.bin_count(st, "number of bounding entities", 4)?;
-                    r.c.take_array(n, 4, "bounding entity tags")?;
-                }
+                phys = entity_tail(r, dim)?;
             } else {
                 tag = r.c.i32("entity tag")?;
                 parent_dim = r.c.i32("parent dimension")?;
@@ -137,19 +110,7 @@ pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
                 for _ in 0..n {
                     r.c.i32("partition tag")?;
                 }
-                for _ in 0..n_coords {
-                    r.c.f64(if dim == 0 { "point coordinate" } else { "bounding box coordinate" })?;
-                }
-                let n = r.c.count("number of physical tags", 2)?;
-                for _ in 0..n {
-                    phys.push(r.c.i32("physical tag")?);
-                }
-                if dim > 0 {
-                    let n = r.c.count("number of bounding entities", 2)?;
-                    for _ in 0..n {
-                        r.c.i32("bounding entity tag")?;
-                    }
-                }
+                phys = entity_tail(r, dim)?;
             }
             // A part of a model entity of its own dimension stands for it; a partition
             // boundary (a curve whose parent is a surface) stands for itself.
@@ -166,6 +127,39 @@ pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
         }
     }
     r.c.expect_end("PartitionedEntities")
+}
+
+/// The end of an entity's record in `$Entities` and `$PartitionedEntities`, alike in
+/// both: its coordinates (a point's) or bounding box, read past; its physical tags,
+/// returned; its bounding entities (curves and up), read past.
+fn entity_tail(r: &mut Reader<'_>, dim: usize) -> Result<Vec<i32>> {
+    let n_coords = if dim == 0 { 3 } else { 6 };
+    if r.c.binary {
+        let st = r.size_t;
+        r.c.take(8 * n_coords, "entity coordinates")?;
+        let n = r.c.bin_count(st, "number of physical tags", 4)?;
+        let phys = r.c.take_array(n, 4, "physical tags")?.chunks_exact(4).map(le_i32).collect();
+        if dim > 0 {
+            let n = r.c.bin_count(st, "number of bounding entities", 4)?;
+            r.c.take_array(n, 4, "bounding entity tags")?;
+        }
+        return Ok(phys);
+    }
+    for _ in 0..n_coords {
+        r.c.f64(if dim == 0 { "point coordinate" } else { "bounding box coordinate" })?;
+    }
+    let n = r.c.count("number of physical tags", 2)?;
+    let mut phys = Vec::with_capacity(n);
+    for _ in 0..n {
+        phys.push(r.c.i32("physical tag")?);
+    }
+    if dim > 0 {
+        let n = r.c.count("number of bounding entities", 2)?;
+        for _ in 0..n {
+            r.c.i32("bounding entity tag")?;
+        }
+    }
+    Ok(phys)
 }
 
 /// The four `size_t` of a `$Nodes` or `$Elements` header: blocks, items, min and max tag.
