@@ -192,7 +192,7 @@ pub fn read_mesh_noted(
 ) -> Result<(smartmesh::formats::TaggedMesh, Vec<String>), CliError> {
     let left_out: &[&str] = if no_solution { &["sol", "solb"] } else { &[] };
     let (mesh, report) = smartmesh::formats::read_path_reported_without(path, format, left_out)?;
-    let name = if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
+    let name = input_name(path);
     for n in &report.notes {
         ui::note(&format!("{name}: {n}"));
     }
@@ -229,8 +229,7 @@ pub fn read_planar_mesh_noted(
 ) -> Result<(smartmesh::formats::TaggedMesh, f64, Vec<String>), CliError> {
     let (mesh, notes) = read_linear_mesh_noted(path, format)?;
     let z = smartmesh::planar::plane(&mesh).map_err(|e| {
-        let name =
-            if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
+        let name = input_name(path);
         CliError::usage(format!("{name}: {e}"))
     })?;
     Ok((mesh, z, notes))
@@ -243,7 +242,7 @@ pub fn linearise(
     path: &std::path::Path,
 ) -> Option<String> {
     let n = mesh.linearise()?;
-    let name = if path.as_os_str() == "-" { "<stdin>".into() } else { path.display().to_string() };
+    let name = input_name(path);
     ui::note(&format!("{name}: {n}"));
     Some(n)
 }
@@ -253,4 +252,13 @@ pub fn parse_format(name: &str) -> Result<smartmesh::formats::Format, String> {
     smartmesh::formats::Format::from_name(name).ok_or_else(|| {
         format!("unknown format `{name}`; known: {}", smartmesh::formats::Format::NAMES)
     })
+}
+
+/// How messages name an input: its path, or `<stdin>` for `-`.
+fn input_name(path: &std::path::Path) -> String {
+    if path.as_os_str() == "-" {
+        "<stdin>".into()
+    } else {
+        path.display().to_string()
+    }
 }
