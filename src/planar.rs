@@ -14,33 +14,51 @@
 
 use smartmesh_formats::TaggedMesh;
 
-/// A mesh that does not lie in one plane z = const.
+/// A mesh the 2D commands cannot take: volume cells, or points off one plane z = const.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error(
-    "not planar: point {} has z = {z} where point {} has z = {plane}; smartmesh's 2D \
-     commands take a mesh in one plane z = const (a surface in space is not flattened)",
-    point + 1,
-    first + 1
-)]
-pub struct NotPlanar {
-    /// The first point off the plane, 0-based (the file's point order).
-    pub point: usize,
-    /// Its z.
-    pub z: f64,
-    /// The point that set the plane, 0-based.
-    pub first: usize,
-    /// The plane's z.
-    pub plane: f64,
+pub enum NotPlanar {
+    /// A point lies off the plane of the first point.
+    #[error(
+        "not planar: point {} has z = {z} where point {} has z = {plane}; smartmesh's 2D \
+         commands take a mesh in one plane z = const (a surface in space is not flattened)",
+        point + 1,
+        first + 1
+    )]
+    OffPlane {
+        /// The first point off the plane, 0-based (the file's point order).
+        point: usize,
+        /// Its z.
+        z: f64,
+        /// The point that set the plane, 0-based.
+        first: usize,
+        /// The plane's z.
+        plane: f64,
+    },
+    /// The mesh has volume cells: a 3D mesh, which the 2D commands do not size or remesh.
+    #[error(
+        "a 3D mesh: {count} {kind} cells; smartmesh's 2D commands take points, lines and \
+         surface cells in one plane z = const (`info` and `convert` take 3D meshes)"
+    )]
+    Volume {
+        /// The first volume kind met.
+        kind: &'static str,
+        /// How many cells of that kind.
+        count: usize,
+    },
 }
 
-/// The z of the plane every point of `mesh` lies in, or the first point that does not.
+/// The z of the plane every point of `mesh` lies in, or why the mesh is not planar: a
+/// volume cell, or the first point off the plane.
 pub fn plane(mesh: &TaggedMesh) -> Result<f64, NotPlanar> {
+    if let Some(b) = mesh.blocks.iter().find(|b| b.kind.dim() == 3 && !b.is_empty()) {
+        return Err(NotPlanar::Volume { kind: b.kind.name(), count: b.len() });
+    }
     let Some(first) = mesh.points.first() else { return Ok(0.0) };
     let plane = first[2];
     for (point, p) in mesh.points.iter().enumerate() {
         // A non-finite z is off every plane, the first point's included.
         if p[2] != plane || !p[2].is_finite() {
-            return Err(NotPlanar { point, z: p[2], first: 0, plane });
+            return Err(NotPlanar::OffPlane { point, z: p[2], first: 0, plane });
         }
     }
     Ok(plane)
@@ -73,16 +91,27 @@ mod tests {
     fn the_first_point_off_the_plane_is_named() {
         let e = plane(&mesh(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 2.0]]))
             .unwrap_err();
-        assert_eq!(e, NotPlanar { point: 2, z: 1.0, first: 0, plane: 0.0 });
+        assert_eq!(e, NotPlanar::OffPlane { point: 2, z: 1.0, first: 0, plane: 0.0 });
         let text = e.to_string();
         assert!(text.contains("point 3 has z = 1 where point 1 has z = 0"), "{text}");
         assert!(text.contains("z = const"), "{text}");
     }
 
     #[test]
+    fn a_volume_cell_is_refused_even_in_a_plane() {
+        let mut m = mesh(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]]);
+        let mut tets = smartmesh_formats::CellBlock::new(smartmesh_formats::CellKind::Tetra);
+        tets.push(&[0u32, 1, 2, 3], 1, 1);
+        m.blocks.push(tets);
+        let e = plane(&m).unwrap_err();
+        assert_eq!(e, NotPlanar::Volume { kind: "tetra", count: 1 });
+        assert!(e.to_string().contains("a 3D mesh: 1 tetra cells"), "{e}");
+    }
+
+    #[test]
     fn a_non_finite_z_is_off_every_plane() {
         let e = plane(&mesh(&[[0.0, 0.0, f64::NAN], [1.0, 0.0, f64::NAN]])).unwrap_err();
-        assert_eq!(e.point, 0);
+        assert!(matches!(e, NotPlanar::OffPlane { point: 0, .. }), "{e:?}");
         assert!(plane(&mesh(&[[0.0, 0.0, 0.0], [1.0, 0.0, f64::INFINITY]])).is_err());
     }
 

@@ -179,12 +179,7 @@ pub fn cell_tag(physical: i32, geometrical: i32) -> i32 {
 }
 
 fn corner_count(kind: CellKind) -> usize {
-    match kind {
-        CellKind::Triangle | CellKind::Triangle6 => 3,
-        CellKind::Quad | CellKind::Quad8 | CellKind::Quad9 => 4,
-        CellKind::Line | CellKind::Line3 => 2,
-        CellKind::Vertex => 1,
-    }
+    kind.linear().nodes_per_cell()
 }
 
 #[inline]

@@ -488,6 +488,12 @@ fn indices(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<(Vec<u32>, Vec
                     let (a, b1, c1, d) = (i(0)?, i(1)?, i(2)?, i(3)?);
                     tris.extend_from_slice(&[a, b1, c1, a, c1, d]);
                 }
+                _ => {
+                    return Err(cannot(format!(
+                        "{} cells: glTF draws surfaces, not volumes",
+                        b.kind.name()
+                    )))
+                }
             }
         }
     }

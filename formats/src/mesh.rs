@@ -17,6 +17,12 @@ use std::collections::BTreeMap;
 /// The kind of a cell. First-order cells are what smartmesh computes with; second-order
 /// cells are read and kept so that a conversion loses nothing, and a writer whose format
 /// cannot hold them says so in its [`crate::WriteReport`].
+///
+/// Nodes are numbered as Gmsh numbers them (its "node ordering" reference): corners
+/// first, then mid-edge nodes in Gmsh's edge order, then mid-face nodes, then the
+/// centre. Each other format's reader and writer converts its own order to and from
+/// this one (VTK and Medit differ for several second-order volume kinds), so that a cell
+/// means the same element whatever the file it came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum CellKind {
@@ -36,11 +42,33 @@ pub enum CellKind {
     Quad8,
     /// A 9-node second-order quadrilateral.
     Quad9,
+    /// A 4-node tetrahedron.
+    Tetra,
+    /// An 8-node hexahedron.
+    Hexa,
+    /// A 6-node wedge (triangular prism): bottom triangle 0-1-2, top 3-4-5.
+    Wedge,
+    /// A 5-node pyramid: quadrilateral base 0-1-2-3, apex 4.
+    Pyramid,
+    /// A 10-node second-order tetrahedron.
+    Tetra10,
+    /// A 20-node serendipity hexahedron.
+    Hexa20,
+    /// A 27-node second-order hexahedron.
+    Hexa27,
+    /// A 15-node serendipity wedge.
+    Wedge15,
+    /// An 18-node second-order wedge (with the three quadrilateral faces' centres).
+    Wedge18,
+    /// A 13-node serendipity pyramid.
+    Pyramid13,
+    /// A 14-node second-order pyramid (with the base's centre).
+    Pyramid14,
 }
 
 impl CellKind {
     /// Every kind, in a fixed order (the order blocks are sorted in by [`TaggedMesh::sort_blocks`]).
-    pub const ALL: [CellKind; 8] = [
+    pub const ALL: [CellKind; 19] = [
         CellKind::Vertex,
         CellKind::Line,
         CellKind::Triangle,
@@ -49,6 +77,17 @@ impl CellKind {
         CellKind::Triangle6,
         CellKind::Quad8,
         CellKind::Quad9,
+        CellKind::Tetra,
+        CellKind::Hexa,
+        CellKind::Wedge,
+        CellKind::Pyramid,
+        CellKind::Tetra10,
+        CellKind::Hexa20,
+        CellKind::Hexa27,
+        CellKind::Wedge15,
+        CellKind::Wedge18,
+        CellKind::Pyramid13,
+        CellKind::Pyramid14,
     ];
 
     /// Number of nodes of one cell.
@@ -62,21 +101,76 @@ impl CellKind {
             CellKind::Triangle6 => 6,
             CellKind::Quad8 => 8,
             CellKind::Quad9 => 9,
+            CellKind::Tetra => 4,
+            CellKind::Hexa => 8,
+            CellKind::Wedge => 6,
+            CellKind::Pyramid => 5,
+            CellKind::Tetra10 => 10,
+            CellKind::Hexa20 => 20,
+            CellKind::Hexa27 => 27,
+            CellKind::Wedge15 => 15,
+            CellKind::Wedge18 => 18,
+            CellKind::Pyramid13 => 13,
+            CellKind::Pyramid14 => 14,
         }
     }
 
-    /// Topological dimension: 0 for vertices, 1 for lines, 2 for surface cells.
+    /// Topological dimension: 0 for vertices, 1 for lines, 2 for surface cells, 3 for
+    /// volume cells.
     pub const fn dim(self) -> u8 {
         match self {
             CellKind::Vertex => 0,
             CellKind::Line | CellKind::Line3 => 1,
-            _ => 2,
+            CellKind::Triangle
+            | CellKind::Quad
+            | CellKind::Triangle6
+            | CellKind::Quad8
+            | CellKind::Quad9 => 2,
+            CellKind::Tetra
+            | CellKind::Hexa
+            | CellKind::Wedge
+            | CellKind::Pyramid
+            | CellKind::Tetra10
+            | CellKind::Hexa20
+            | CellKind::Hexa27
+            | CellKind::Wedge15
+            | CellKind::Wedge18
+            | CellKind::Pyramid13
+            | CellKind::Pyramid14 => 3,
         }
     }
 
     /// Whether the cell is second order (has mid-edge or mid-face nodes).
     pub const fn is_second_order(self) -> bool {
-        matches!(self, CellKind::Line3 | CellKind::Triangle6 | CellKind::Quad8 | CellKind::Quad9)
+        matches!(
+            self,
+            CellKind::Line3
+                | CellKind::Triangle6
+                | CellKind::Quad8
+                | CellKind::Quad9
+                | CellKind::Tetra10
+                | CellKind::Hexa20
+                | CellKind::Hexa27
+                | CellKind::Wedge15
+                | CellKind::Wedge18
+                | CellKind::Pyramid13
+                | CellKind::Pyramid14
+        )
+    }
+
+    /// The first-order kind of the same shape: the kind itself when first order.
+    /// Every second-order kind numbers its corners first, as the linear kind does.
+    pub const fn linear(self) -> CellKind {
+        match self {
+            CellKind::Line3 => CellKind::Line,
+            CellKind::Triangle6 => CellKind::Triangle,
+            CellKind::Quad8 | CellKind::Quad9 => CellKind::Quad,
+            CellKind::Tetra10 => CellKind::Tetra,
+            CellKind::Hexa20 | CellKind::Hexa27 => CellKind::Hexa,
+            CellKind::Wedge15 | CellKind::Wedge18 => CellKind::Wedge,
+            CellKind::Pyramid13 | CellKind::Pyramid14 => CellKind::Pyramid,
+            k => k,
+        }
     }
 
     /// The Gmsh element type number (MSH 2.2 and 4.1 agree).
@@ -90,6 +184,17 @@ impl CellKind {
             CellKind::Triangle6 => 9,
             CellKind::Quad8 => 16,
             CellKind::Quad9 => 10,
+            CellKind::Tetra => 4,
+            CellKind::Hexa => 5,
+            CellKind::Wedge => 6,
+            CellKind::Pyramid => 7,
+            CellKind::Tetra10 => 11,
+            CellKind::Hexa20 => 17,
+            CellKind::Hexa27 => 12,
+            CellKind::Wedge15 => 18,
+            CellKind::Wedge18 => 13,
+            CellKind::Pyramid13 => 19,
+            CellKind::Pyramid14 => 14,
         }
     }
 
@@ -104,13 +209,27 @@ impl CellKind {
             9 => CellKind::Triangle6,
             16 => CellKind::Quad8,
             10 => CellKind::Quad9,
+            4 => CellKind::Tetra,
+            5 => CellKind::Hexa,
+            6 => CellKind::Wedge,
+            7 => CellKind::Pyramid,
+            11 => CellKind::Tetra10,
+            17 => CellKind::Hexa20,
+            12 => CellKind::Hexa27,
+            18 => CellKind::Wedge15,
+            13 => CellKind::Wedge18,
+            19 => CellKind::Pyramid13,
+            14 => CellKind::Pyramid14,
             _ => return None,
         })
     }
 
-    /// The VTK cell type number.
-    pub const fn vtk_type(self) -> u8 {
-        match self {
+    /// The VTK cell type number, `None` for a kind VTK has no cell type of (the 14-node
+    /// pyramid: VTK's triquadratic pyramid has 19 nodes). The node order of VTK's
+    /// second-order volume cells differs from smartmesh's (Gmsh's): the VTK module
+    /// converts.
+    pub const fn vtk_type(self) -> Option<u8> {
+        Some(match self {
             CellKind::Vertex => 1,
             CellKind::Line => 3,
             CellKind::Triangle => 5,
@@ -119,7 +238,18 @@ impl CellKind {
             CellKind::Triangle6 => 22,
             CellKind::Quad8 => 23,
             CellKind::Quad9 => 28,
-        }
+            CellKind::Tetra => 10,
+            CellKind::Hexa => 12,
+            CellKind::Wedge => 13,
+            CellKind::Pyramid => 14,
+            CellKind::Tetra10 => 24,
+            CellKind::Hexa20 => 25,
+            CellKind::Hexa27 => 29,
+            CellKind::Wedge15 => 26,
+            CellKind::Wedge18 => 32,
+            CellKind::Pyramid13 => 27,
+            CellKind::Pyramid14 => return None,
+        })
     }
 
     /// The kind of a VTK cell type number, if smartmesh knows it.
@@ -133,6 +263,16 @@ impl CellKind {
             22 => CellKind::Triangle6,
             23 => CellKind::Quad8,
             28 => CellKind::Quad9,
+            10 => CellKind::Tetra,
+            12 => CellKind::Hexa,
+            13 => CellKind::Wedge,
+            14 => CellKind::Pyramid,
+            24 => CellKind::Tetra10,
+            25 => CellKind::Hexa20,
+            29 => CellKind::Hexa27,
+            26 => CellKind::Wedge15,
+            32 => CellKind::Wedge18,
+            27 => CellKind::Pyramid13,
             _ => return None,
         })
     }
@@ -148,6 +288,17 @@ impl CellKind {
             CellKind::Triangle6 => "triangle6",
             CellKind::Quad8 => "quad8",
             CellKind::Quad9 => "quad9",
+            CellKind::Tetra => "tetra",
+            CellKind::Hexa => "hexa",
+            CellKind::Wedge => "wedge",
+            CellKind::Pyramid => "pyramid",
+            CellKind::Tetra10 => "tetra10",
+            CellKind::Hexa20 => "hexa20",
+            CellKind::Hexa27 => "hexa27",
+            CellKind::Wedge15 => "wedge15",
+            CellKind::Wedge18 => "wedge18",
+            CellKind::Pyramid13 => "pyramid13",
+            CellKind::Pyramid14 => "pyramid14",
         }
     }
 }

@@ -673,6 +673,7 @@ pub fn write(mesh: &TaggedMesh, _opts: &WriteOptions) -> Result<Written> {
                 CellKind::Line | CellKind::Line3 => (b"l", 2),
                 CellKind::Triangle | CellKind::Triangle6 => (b"f", 3),
                 CellKind::Quad | CellKind::Quad8 | CellKind::Quad9 => (b"f", 4),
+                _ => return Err(volume_cells(b.kind)),
             };
             if b.kind.is_second_order() {
                 second_order.entry(b.kind).or_insert((0, corners)).0 += 1;
@@ -785,4 +786,12 @@ fn report_numbering(groups: &[String], group_tags: &[Vec<(i32, u8)>], report: &m
             report.drop(format!("tag {p} has a different name in each dimension ({}): OBJ groups have no dimension, so they read back as separate tags", names.join(", ")));
         }
     }
+}
+
+/// OBJ holds points, lines and faces: a volume cell is refused, not flattened.
+fn volume_cells(kind: CellKind) -> Error {
+    Error::new(ErrorKind::CannotWrite {
+        format: "OBJ",
+        reason: format!("{} cells: OBJ holds surfaces, not volumes", kind.name()),
+    })
 }

@@ -1081,11 +1081,11 @@ fn malformed_optional_section_without_its_end() {
 }
 
 #[test]
-fn malformed_3d_element() {
-    let e = err_text(&format!("{HEAD22}$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n$Elements\n1\n1 4 2 1 1 1 2 3 4\n$EndElements\n"));
-    let s = e.to_string();
-    assert!(s.contains("type 4 (4-node tetrahedron)") && s.contains("2D"), "{s}");
-    assert_eq!(e.at, Some(Position::Line(13)));
+fn a_tetrahedron_is_read_as_one() {
+    let m = read_msh(format!("{HEAD22}$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n$Elements\n1\n1 4 2 1 1 1 2 3 4\n$EndElements\n").as_bytes()).unwrap();
+    assert_eq!(m.blocks.len(), 1);
+    assert_eq!(m.blocks[0].kind, CellKind::Tetra);
+    assert_eq!(m.blocks[0].nodes, vec![0, 1, 2, 3]);
 }
 
 #[test]

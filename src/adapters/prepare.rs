@@ -63,6 +63,12 @@ pub fn prepare(mesh: &TaggedMesh, metric: &[Sym2]) -> Result<Prepared, AdapterEr
                 triangles.push(&[nodes[0], nodes[1], nodes[2]], p, g);
                 triangles.push(&[nodes[0], nodes[2], nodes[3]], p, g);
             }
+            _ => {
+                return Err(AdapterError::Input(format!(
+                    "{} cells: the 2D remeshers take no volume cells",
+                    kind.name()
+                )))
+            }
         }
     }
     if triangles.is_empty() {

@@ -299,7 +299,8 @@ impl MeshError {
         use MeshError::*;
         Some(match *self {
             NonFinite { point } => Subject::Point(point),
-            NotPlanar(ref e) => Subject::Point(e.point),
+            NotPlanar(crate::planar::NotPlanar::OffPlane { point, .. }) => Subject::Point(point),
+            NotPlanar(crate::planar::NotPlanar::Volume { .. }) => return None,
             DuplicatePoint { second, .. } => Subject::Point(second),
             ZeroLengthSegment { segment, .. } | SegmentsCross { segment, .. } => {
                 Subject::Segment(segment)

@@ -1041,7 +1041,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     crate::text::push_int(&mut out, nc);
     out.push(b'\n');
     for b in &mesh.blocks {
-        let t = b.kind.vtk_type() as i32;
+        let t = super::vtk_type_of(b.kind) as i32;
         if binary {
             for _ in 0..b.len() {
                 out.extend_from_slice(&t.to_be_bytes());

@@ -131,13 +131,33 @@ pub enum VtuEncoding {
 /// Writes a legacy `.vtk` file: version `opts.vtk.legacy_version` ((4, 2) or (5, 1)),
 /// binary when `opts.vtk.legacy_binary`.
 pub fn write_legacy(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    refuse_volume_cells(mesh)?;
     legacy::write(mesh, opts)
 }
 
 /// Writes a `.vtu` file with `opts.vtk.vtu_encoding`, zlib-compressed when `opts.vtk.compress`
 /// (ascii is never compressed).
 pub fn write_vtu(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    refuse_volume_cells(mesh)?;
     xml::write(mesh, opts)
+}
+
+/// The VTK writers do not yet convert the node order of volume cells: a mesh with
+/// any is refused rather than written with cells that would mean other elements.
+fn refuse_volume_cells(mesh: &TaggedMesh) -> Result<()> {
+    match mesh.blocks.iter().find(|b| b.kind.dim() == 3 && !b.is_empty()) {
+        Some(b) => Err(crate::Error::new(crate::ErrorKind::CannotWrite {
+            format: "VTK",
+            reason: format!("{} cells: the VTK writers hold no volume cells yet", b.kind.name()),
+        })),
+        None => Ok(()),
+    }
+}
+
+/// A VTK cell type of a kind the writers were given: [`refuse_volume_cells`] let
+/// through only kinds that have one.
+pub(crate) fn vtk_type_of(kind: crate::CellKind) -> u8 {
+    kind.vtk_type().unwrap_or(0)
 }
 
 /// Cell data names of the tags, as meshio writes them for Gmsh meshes.

@@ -350,7 +350,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         nc,
         |o| {
             for b in &mesh.blocks {
-                let t = b.kind.vtk_type();
+                let t = crate::vtk::vtk_type_of(b.kind);
                 for _ in 0..b.len() {
                     o.extend_from_slice(b"          ");
                     crate::text::push_int(o, t);
@@ -360,7 +360,7 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         },
         |o| {
             for b in &mesh.blocks {
-                o.extend(std::iter::repeat(b.kind.vtk_type()).take(b.len()));
+                o.extend(std::iter::repeat(crate::vtk::vtk_type_of(b.kind)).take(b.len()));
             }
         },
     );
