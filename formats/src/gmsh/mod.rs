@@ -22,7 +22,9 @@
 //!   little-endian (a byte-swapped endianness marker is an error naming its offset);
 //!   4.1 binary takes `size_t` of 4 or 8 bytes;
 //! - `$PhysicalNames` → [`TaggedMesh::tag_names`];
-//! - 4.1 `$Entities` → [`TaggedMesh::entities`] (every entity, with its physical tags);
+//! - 4.1 `$Entities` → [`TaggedMesh::entities`] (every entity, points to volumes, with
+//!   its physical tags; its point or bounding box is checked, finite and no minimum
+//!   above its maximum, and not kept: the writer computes boxes from the nodes);
 //!   the physical tag of a cell is the first physical tag of its entity (0 when none
 //!   or without `$Entities`, as for Gmsh: such a file has no groups), its geometrical
 //!   tag the entity tag; the cells of a group named [`UNTAGGED`] are read as untagged
@@ -37,15 +39,18 @@
 //!   when tags ascend, as Gmsh writes them); tags may be sparse: they are looked up in
 //!   a dense table when the largest tag is within 4x the node count, else in a sorted
 //!   table — never a table sized by an arbitrary largest tag;
-//! - `$Elements` of the kinds [`crate::CellKind::from_gmsh_type`] knows; any other type (a
-//!   tetrahedron, a third-order triangle...) is an error that names it. Cells are
+//! - `$Elements` of the kinds [`crate::CellKind::from_gmsh_type`] knows (types 1 to 19:
+//!   points, lines, triangles, quadrangles, tetrahedra, hexahedra, prisms and pyramids,
+//!   first and second order, in Gmsh's node order, which is smartmesh's: no permutation);
+//!   any other type (a third-order triangle...) is an error that names it. Cells are
 //!   ordered by element tag (file order for Gmsh's files). 2.x elements carry physical
 //!   and elementary tags; further (partition) tags are read past, the partitions
 //!   merged into one mesh, which the read report says as for 4.1. Gmsh 2.2 writes an
 //!   element once per physical group of its entity: such consecutive copies are read
 //!   as one cell, and their groups listed in `entities[(dim, elementary)]` (the only
-//!   entries a 2.x file gives that table); second-order cells (`gmsh -2 -order 2`: types
-//!   8, 9, 16, 10) are kept as they are, as the VTK and Medit readers keep them
+//!   entries a 2.x file gives that table); second-order cells (`gmsh -order 2`: types
+//!   8, 9, 16, 10, 11, 12, 13, 14, 17, 18, 19) are kept as they are, as the VTK and Medit
+//!   readers keep them
 //!   ([`TaggedMesh::linearise`] makes them linear for the commands that need it);
 //! - `$NodeData`, `$ElementData` (→ point and cell data named after the view's first
 //!   string tag) and `$ElementNodeData` (→ cell data with components × nodes values per
@@ -64,7 +69,8 @@
 //!
 //! Writing ([`crate::WriteOptions::gmsh_version`], [`crate::WriteOptions::binary`]):
 //! - 4.1: `$PhysicalNames`, `$Entities` (one entity per dimension and geometrical tag,
-//!   with the physical tags of [`TaggedMesh::entities`] where it lists them; cells of
+//!   with the physical tags of [`TaggedMesh::entities`] where it lists them, and the
+//!   bounding box of the nodes of its cells, zeros for an entity without any; cells of
 //!   one entity with different physical tags are split onto new entities, which the
 //!   report says), `$Nodes` in entity blocks (a node goes to the lowest-dimensional
 //!   entity using it; nodes no cell uses go to the first entity of the highest
@@ -81,8 +87,8 @@
 //!   missing, NaN). What MSH cannot hold (point and cell sets, PSLG holes and regions,
 //!   quotes in names...) is listed in the [`WriteReport`]. Same mesh, same bytes.
 //!
-//! Not supported: MSH 1, 3 and 4.0, big-endian binary files, 3D and third-order
-//! elements, the partition of each cell (partitions are read as one mesh),
+//! Not supported: MSH 1, 3 and 4.0, big-endian binary files, elements of order 3 and
+//! more, the partition of each cell (partitions are read as one mesh),
 //! interpolation schemes.
 //!
 //! Points keep the three coordinates MSH stores; `coordinate_dim` is 3 when some z is
@@ -93,6 +99,57 @@
 //! floats, with [`crate::text::Tokens`] behind it for anything else and for errors;
 //! binary arrays through `chunks_exact` + `from_le_bytes`. Writing fills one pre-sized
 //! buffer with `text::push_f64` / `push_int` numbers.
+
+/// The node counts of the cell kinds, each a const generic instance of the binary
+/// record code (a record then has a size known at compile time). Checked at compile time
+/// against [`crate::CellKind::ALL`] below, so that [`by_nodes!`] has an arm for every kind.
+const NODE_COUNTS: [usize; 15] = [1, 2, 3, 4, 5, 6, 8, 9, 10, 13, 14, 15, 18, 20, 27];
+
+/// The most nodes a cell has (the 27-node hexahedron): the size of the stack buffers
+/// the binary records are assembled in.
+const MAX_NODES: usize = 27;
+
+const _: () = {
+    let mut i = 0;
+    while i < crate::CellKind::ALL.len() {
+        let k = crate::CellKind::ALL[i].nodes_per_cell();
+        let mut found = false;
+        let mut j = 0;
+        while j < NODE_COUNTS.len() {
+            found |= NODE_COUNTS[j] == k;
+            j += 1;
+        }
+        assert!(found && k <= MAX_NODES, "a cell kind's node count has no arm in by_nodes!");
+        i += 1;
+    }
+};
+
+/// `$f::<K>(args)` with `K` the node count `$k` of a cell kind, one of [`NODE_COUNTS`]
+/// (every kind's, as the assertion above checks at compile time).
+macro_rules! by_nodes {
+    ($k:expr, $f:ident ( $($a:expr),* $(,)? )) => {
+        match $k {
+            1 => $f::<1>($($a),*),
+            2 => $f::<2>($($a),*),
+            3 => $f::<3>($($a),*),
+            4 => $f::<4>($($a),*),
+            5 => $f::<5>($($a),*),
+            6 => $f::<6>($($a),*),
+            8 => $f::<8>($($a),*),
+            9 => $f::<9>($($a),*),
+            10 => $f::<10>($($a),*),
+            13 => $f::<13>($($a),*),
+            14 => $f::<14>($($a),*),
+            15 => $f::<15>($($a),*),
+            18 => $f::<18>($($a),*),
+            20 => $f::<20>($($a),*),
+            k => {
+                debug_assert_eq!(k, 27, "no cell kind has {k} nodes");
+                $f::<27>($($a),*)
+            }
+        }
+    };
+}
 
 // Reading: `cursor` (tokens, binary arrays, the ASCII fast path), `tags` (tag maps),
 // `reader` (the state and the sections both versions share), `msh2` / `msh4` (nodes,

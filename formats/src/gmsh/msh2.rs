@@ -6,6 +6,7 @@ use super::header::{write_mesh_format, write_physical_names};
 use super::reader::{cell_kind, RawBlock, Reader};
 use super::tags::TagMap;
 use super::views::write_views;
+use super::MAX_NODES;
 use crate::text::{push_f64, push_int};
 use crate::{
     CellBlock, CellKind, Error, ErrorKind, NodeIndex, Position, Result, TaggedMesh, WriteReport,
@@ -322,7 +323,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
     let n = r.c.count("number of elements", 8)?;
     let map: TagMap = r.take_node_map()?;
     let mut col = Collector { cur: None, last_tag: 0 };
-    let mut nodes = [0 as NodeIndex; 9];
+    let mut nodes = [0 as NodeIndex; MAX_NODES];
     if binary {
         r.c.end_text_line()?;
         let mut done = 0usize;
@@ -351,15 +352,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
             let rec = 4 * (1 + ntags + k);
             let p = r.c.pos();
             let data = r.c.take_array(count, rec, "elements")?;
-            match k {
-                1 => binary_block::<1>(r, &mut col, &map, kind, data, p, ntags)?,
-                2 => binary_block::<2>(r, &mut col, &map, kind, data, p, ntags)?,
-                3 => binary_block::<3>(r, &mut col, &map, kind, data, p, ntags)?,
-                4 => binary_block::<4>(r, &mut col, &map, kind, data, p, ntags)?,
-                6 => binary_block::<6>(r, &mut col, &map, kind, data, p, ntags)?,
-                8 => binary_block::<8>(r, &mut col, &map, kind, data, p, ntags)?,
-                _ => binary_block::<9>(r, &mut col, &map, kind, data, p, ntags)?,
-            }
+            by_nodes!(k, binary_block(r, &mut col, &map, kind, data, p, ntags))?;
             done += count;
         }
     } else {
@@ -448,7 +441,7 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
 /// on the stack and appended whole (a copy of a size known at compile time).
 #[inline(always)]
 fn element_record<const K: usize>(out: &mut Vec<u8>, head: [i32; 3], cell: &[NodeIndex]) {
-    let mut rec = [0u8; 48];
+    let mut rec = [0u8; 4 * (3 + MAX_NODES)];
     for (j, v) in head.into_iter().enumerate() {
         rec[4 * j..4 * j + 4].copy_from_slice(&v.to_le_bytes());
     }
@@ -598,15 +591,7 @@ pub(super) fn write(
         }
         if binary && !has_copies(dim) {
             let tags = keep_tags.then_some(&mut cell_tag);
-            match b.kind.nodes_per_cell() {
-                1 => block_records::<1>(out, b, &mut num, tags),
-                2 => block_records::<2>(out, b, &mut num, tags),
-                3 => block_records::<3>(out, b, &mut num, tags),
-                4 => block_records::<4>(out, b, &mut num, tags),
-                6 => block_records::<6>(out, b, &mut num, tags),
-                8 => block_records::<8>(out, b, &mut num, tags),
-                _ => block_records::<9>(out, b, &mut num, tags),
-            }
+            by_nodes!(b.kind.nodes_per_cell(), block_records(out, b, &mut num, tags));
             continue;
         }
         for (i, cell) in b.cells().enumerate() {
@@ -623,15 +608,7 @@ pub(super) fn write(
             for q in std::iter::once(p).chain(copies(dim, g, p).copied()) {
                 num += 1;
                 if binary {
-                    match cell.len() {
-                        1 => element_record::<1>(out, [num as i32, q, g], cell),
-                        2 => element_record::<2>(out, [num as i32, q, g], cell),
-                        3 => element_record::<3>(out, [num as i32, q, g], cell),
-                        4 => element_record::<4>(out, [num as i32, q, g], cell),
-                        6 => element_record::<6>(out, [num as i32, q, g], cell),
-                        8 => element_record::<8>(out, [num as i32, q, g], cell),
-                        _ => element_record::<9>(out, [num as i32, q, g], cell),
-                    }
+                    by_nodes!(cell.len(), element_record(out, [num as i32, q, g], cell));
                 } else {
                     push_int(out, num);
                     out.push(b' ');

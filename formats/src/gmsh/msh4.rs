@@ -35,15 +35,8 @@ pub(super) fn read_entities(r: &mut Reader<'_>) -> Result<()> {
     for (dim, &count) in counts.iter().enumerate() {
         for _ in 0..count {
             let at = r.c.mark();
-            let tag;
-            let phys;
-            if binary {
-                tag = r.c.bin_i32("entity tag")?;
-                phys = entity_tail(r, dim)?;
-            } else {
-                tag = r.c.i32("entity tag")?;
-                phys = entity_tail(r, dim)?;
-            }
+            let tag = if binary { r.c.bin_i32("entity tag")? } else { r.c.i32("entity tag")? };
+            let phys = entity_tail(r, dim, tag, at)?;
             if r.entities.insert((dim as u8, tag), phys).is_some() {
                 return Err(r.c.err_at(
                     at,
@@ -101,7 +94,7 @@ pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
                 parent_tag = r.c.bin_i32("parent tag")?;
                 let n = r.c.bin_count(st, "number of partitions of the entity", 4)?;
                 r.c.take_array(n, 4, "partition tags")?;
-                phys = entity_tail(r, dim)?;
+                phys = entity_tail(r, dim, tag, at)?;
             } else {
                 tag = r.c.i32("entity tag")?;
                 parent_dim = r.c.i32("parent dimension")?;
@@ -110,7 +103,7 @@ pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
                 for _ in 0..n {
                     r.c.i32("partition tag")?;
                 }
-                phys = entity_tail(r, dim)?;
+                phys = entity_tail(r, dim, tag, at)?;
             }
             // A part of a model entity of its own dimension stands for it; a partition
             // boundary (a curve whose parent is a surface) stands for itself.
@@ -130,13 +123,35 @@ pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
 }
 
 /// The end of an entity's record in `$Entities` and `$PartitionedEntities`, alike in
-/// both: its coordinates (a point's) or bounding box, read past; its physical tags,
-/// returned; its bounding entities (curves and up), read past.
-fn entity_tail(r: &mut Reader<'_>, dim: usize) -> Result<Vec<i32>> {
+/// both: its coordinates (a point's) or bounding box, checked (finite; no minimum above
+/// its maximum: Gmsh writes zeros for an entity without a box, meshio zeros always) and
+/// not kept, since the writer computes each entity's box from its nodes; its physical
+/// tags, returned; its bounding entities (curves and up), read past. `at` is where the
+/// record starts.
+fn entity_tail(r: &mut Reader<'_>, dim: usize, tag: i32, at: Position) -> Result<Vec<i32>> {
     let n_coords = if dim == 0 { 3 } else { 6 };
+    let mut xyz = [0.0f64; 6];
+    let coords_at = r.c.pos();
+    if r.c.binary {
+        let b = r.c.take(8 * n_coords, "entity coordinates")?;
+        for (c, ch) in xyz.iter_mut().zip(b.chunks_exact(8)) {
+            *c = le_f64(ch);
+        }
+    } else {
+        let what = if dim == 0 { "point coordinate" } else { "bounding box coordinate" };
+        for c in &mut xyz[..n_coords] {
+            *c = r.c.f64(what)?;
+        }
+    }
+    check_box(
+        r,
+        &xyz[..n_coords],
+        dim,
+        tag,
+        if r.c.binary { Position::Byte(coords_at as u64) } else { at },
+    )?;
     if r.c.binary {
         let st = r.size_t;
-        r.c.take(8 * n_coords, "entity coordinates")?;
         let n = r.c.bin_count(st, "number of physical tags", 4)?;
         let phys = r.c.take_array(n, 4, "physical tags")?.chunks_exact(4).map(le_i32).collect();
         if dim > 0 {
@@ -144,9 +159,6 @@ fn entity_tail(r: &mut Reader<'_>, dim: usize) -> Result<Vec<i32>> {
             r.c.take_array(n, 4, "bounding entity tags")?;
         }
         return Ok(phys);
-    }
-    for _ in 0..n_coords {
-        r.c.f64(if dim == 0 { "point coordinate" } else { "bounding box coordinate" })?;
     }
     let n = r.c.count("number of physical tags", 2)?;
     let mut phys = Vec::with_capacity(n);
@@ -160,6 +172,36 @@ fn entity_tail(r: &mut Reader<'_>, dim: usize) -> Result<Vec<i32>> {
         }
     }
     Ok(phys)
+}
+
+/// An entity's point (`dim` 0) or bounding box `min max` (`dim` 1 to 3), as read: every
+/// value finite, and each minimum at most its maximum.
+fn check_box(r: &Reader<'_>, v: &[f64], dim: usize, tag: i32, at: Position) -> Result<()> {
+    const NAMES: [&str; 4] = ["point", "curve", "surface", "volume"];
+    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+        return Err(r.c.err_at(
+            at,
+            ErrorKind::NonFinite {
+                what: format!("a coordinate of the box of {} {tag} in $Entities", NAMES[dim]),
+                value: x.to_string(),
+            },
+        ));
+    }
+    if v.len() == 6 {
+        if let Some(k) = (0..3).find(|&k| v[k] > v[k + 3]) {
+            return Err(r.c.err_at(
+                at,
+                ErrorKind::Inconsistent(format!(
+                    "the bounding box of {} {tag} in $Entities has its minimum {} above its maximum {} along {}",
+                    NAMES[dim],
+                    v[k],
+                    v[k + 3],
+                    ["x", "y", "z"][k]
+                )),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The four `size_t` of a `$Nodes` or `$Elements` header: blocks, items, min and max tag.
@@ -469,7 +511,30 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
         let (dim, tag, etype, n) =
             block_header(r, "element type", "element", if binary { 2 * st } else { 4 })?;
         let kind = cell_kind(etype).map_err(|k| r.c.err_at(block_at, k))?;
+        if kind.dim() as i32 != dim {
+            // Gmsh classifies an element on an entity of its own dimension; the physical
+            // group of a block comes from its entity, so a mismatch would mislabel it.
+            return Err(r.c.err_at(
+                block_at,
+                ErrorKind::Inconsistent(format!(
+                    "a block of {}s (dimension {}) on entity {tag} of dimension {dim}: an element block's entity has the elements' dimension",
+                    kind.name(),
+                    kind.dim()
+                )),
+            ));
+        }
         let k = kind.nodes_per_cell();
+        // Now that the kind is known, the count against the bytes an element of it
+        // takes at least (a 27-node hexahedron's record is 14 times a point's): the
+        // block's arrays are made for `n` of them.
+        let min = if binary { (1 + k) * st } else { 2 * (1 + k) };
+        crate::text::check_count(
+            n,
+            r.c.remaining().len(),
+            min,
+            &format!("{}s in the block", kind.name()),
+        )
+        .map_err(|e| r.c.err_at(block_at, e))?;
         total += n;
         if total > n_elems {
             return Err(r.c.err_at(block_at, ErrorKind::Inconsistent(format!("the element blocks hold more elements than the $Elements header announces ({n_elems})"))));

@@ -307,17 +307,6 @@ pub(super) fn quoted(line: &[u8]) -> Option<&[u8]> {
 pub(super) fn cell_kind(t: i32) -> std::result::Result<CellKind, ErrorKind> {
     CellKind::from_gmsh_type(t).ok_or_else(|| {
         let name = match t {
-            4 => "4-node tetrahedron",
-            5 => "8-node hexahedron",
-            6 => "6-node prism",
-            7 => "5-node pyramid",
-            11 => "10-node second-order tetrahedron",
-            12 => "27-node second-order hexahedron",
-            13 => "18-node second-order prism",
-            14 => "14-node second-order pyramid",
-            17 => "20-node second-order hexahedron",
-            18 => "15-node second-order prism",
-            19 => "13-node second-order pyramid",
             20 => "9-node third-order incomplete triangle",
             21 => "10-node third-order triangle",
             22 => "12-node fourth-order incomplete triangle",
@@ -328,11 +317,12 @@ pub(super) fn cell_kind(t: i32) -> std::result::Result<CellKind, ErrorKind> {
             27 => "5-node fourth-order line",
             28 => "6-node fifth-order line",
             29..=31 => "high-order tetrahedron",
+            36 | 37 => "high-order quadrangle",
             92 | 93 => "high-order hexahedron",
             _ => "an element type smartmesh does not know",
         };
         ErrorKind::Unsupported(format!(
-            "Gmsh element type {t} ({name}): smartmesh is 2D and reads points, lines, triangles and quadrangles of order 1 and 2 (types 15, 1, 8, 2, 9, 3, 16, 10)"
+            "Gmsh element type {t} ({name}): smartmesh reads points, lines, triangles, quadrangles, tetrahedra, hexahedra, prisms and pyramids of order 1 and 2 (types 1 to 19)"
         ))
     })
 }

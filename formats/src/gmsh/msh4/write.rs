@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use super::plan::{plan, Plan};
 use crate::gmsh::header::{write_mesh_format, write_physical_names};
 use crate::gmsh::views::write_views;
+use crate::gmsh::MAX_NODES;
 use crate::text::{push_f64, push_int};
 use crate::{NodeIndex, Result, TaggedMesh, WriteReport};
 
@@ -185,15 +186,7 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
             let first = offsets[run.block as usize] + s + 1;
             let nodes = &b.nodes[s * k..(s + len) * k];
             if binary {
-                match k {
-                    1 => element_records::<1>(out, first, nodes),
-                    2 => element_records::<2>(out, first, nodes),
-                    3 => element_records::<3>(out, first, nodes),
-                    4 => element_records::<4>(out, first, nodes),
-                    6 => element_records::<6>(out, first, nodes),
-                    8 => element_records::<8>(out, first, nodes),
-                    _ => element_records::<9>(out, first, nodes),
-                }
+                by_nodes!(k, element_records(out, first, nodes));
                 continue;
             }
             for (j, cell) in nodes.chunks_exact(k).enumerate() {
@@ -217,7 +210,7 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
 /// capacity check per element rather than per number; `K` known, so the copy is of a
 /// fixed size).
 fn element_records<const K: usize>(out: &mut Vec<u8>, first: usize, nodes: &[NodeIndex]) {
-    let mut rec = [0u8; 80];
+    let mut rec = [0u8; 8 * (1 + MAX_NODES)];
     for (j, cell) in nodes.chunks_exact(K).enumerate() {
         rec[..8].copy_from_slice(&((first + j) as u64).to_le_bytes());
         for (i, &v) in cell.iter().enumerate() {
