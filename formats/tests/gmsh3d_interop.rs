@@ -1,0 +1,287 @@
+//! Gmsh itself (its Python API) reads the volume meshes smartmesh writes, and smartmesh
+//! reads the volume meshes Gmsh writes.
+//!
+//! - One element of every volume and surface kind, linear and second order (the affine
+//!   image of Gmsh's reference element, `gmsh3d_support`), written in 2.2 and 4.1,
+//!   ASCII and binary: Gmsh finds the physical volumes and surfaces with their names,
+//!   one element of each type, each node where the element's map puts Gmsh's own
+//!   reference node (`getElementProperties`), and at every Gauss point a Jacobian
+//!   determinant equal to the map's, so a volume equal to the one computed here.
+//! - Gmsh meshes a model of hexahedra, prisms, tetrahedra and pyramids at order 2
+//!   (complete and incomplete): smartmesh reads its counts, writes the mesh in the four
+//!   encodings, and Gmsh reads back each element with the same nodes in the same order
+//!   and the same volume.
+//! - A tetrahedral model partitioned by Gmsh (4.1 and 2.2) reads as the unpartitioned
+//!   mesh: the same cells per kind, physical and geometrical tag.
+
+mod gmsh3d_support;
+
+use std::collections::BTreeMap;
+
+use gmsh3d_support as s3;
+use smartmesh_formats::{
+    gmsh, read_bytes_reported, CellKind, Format, GmshVersion, GmshWrite, ReadContext, TaggedMesh,
+    WriteOptions,
+};
+use smartmesh_test_support::formats as common;
+
+const ALL: [(GmshVersion, bool, &str); 4] = [
+    (GmshVersion::V22, false, "v22_ascii"),
+    (GmshVersion::V22, true, "v22_binary"),
+    (GmshVersion::V41, false, "v41_ascii"),
+    (GmshVersion::V41, true, "v41_binary"),
+];
+
+fn opts(version: GmshVersion, binary: bool) -> WriteOptions {
+    WriteOptions { gmsh: GmshWrite { version, binary }, ..WriteOptions::default() }
+}
+
+/// For each file: its physical groups with names, its element count per type, Gmsh's
+/// reference node coordinates of each type present, and for each element (by tag) its
+/// type, node coordinates, and the volume (area) and smallest and largest Jacobian
+/// determinant at the Gauss points of order 4.
+const GMSH_ELEMENTS: &str = r#"
+import sys, json, gmsh
+gmsh.initialize()
+gmsh.option.setNumber("General.Terminal", 0)
+out = []
+for path in sys.argv[1:]:
+    gmsh.clear()
+    gmsh.open(path)
+    counts, refs, elements = {}, {}, {}
+    ntags, coords, _ = gmsh.model.mesh.getNodes()
+    xyz = {int(t): coords[3 * i:3 * i + 3].tolist() for i, t in enumerate(ntags)}
+    types = sorted({int(t) for d in (2, 3) for t in gmsh.model.mesh.getElementTypes(d)})
+    for t in types:
+        name, dim, order, nn, local, _ = gmsh.model.mesh.getElementProperties(t)
+        refs[str(t)] = [list(local[i * dim:(i + 1) * dim]) for i in range(nn)]
+        etags, enodes = gmsh.model.mesh.getElementsByType(t)
+        counts[str(t)] = len(etags)
+        pts, w = gmsh.model.mesh.getIntegrationPoints(t, "Gauss4")
+        _, det, _ = gmsh.model.mesh.getJacobians(t, pts)
+        ng = len(w)
+        for i, e in enumerate(etags):
+            d = det[i * ng:(i + 1) * ng]
+            elements[str(int(e))] = {
+                "type": t,
+                "nodes": [xyz[int(n)] for n in enodes[i * nn:(i + 1) * nn]],
+                "volume": float(sum(a * b for a, b in zip(w, d))),
+                "det": [float(min(d)), float(max(d))],
+            }
+    out.append({
+        "groups": sorted([d, t, gmsh.model.getPhysicalName(d, t)] for d, t in gmsh.model.getPhysicalGroups()),
+        "counts": counts, "refs": refs, "elements": elements,
+    })
+print(json.dumps(out))
+gmsh.finalize()
+"#;
+
+fn gmsh_elements(py: &str, paths: &[String]) -> Vec<serde_json::Value> {
+    let args: Vec<&str> = paths.iter().map(String::as_str).collect();
+    let out = common::run_python(py, GMSH_ELEMENTS, &args);
+    match serde_json::from_str(out.lines().last().unwrap_or("")) {
+        Ok(serde_json::Value::Array(v)) => v,
+        _ => panic!("unexpected output:\n{out}"),
+    }
+}
+
+fn xyz(v: &serde_json::Value) -> [f64; 3] {
+    let a = v.as_array().unwrap();
+    [a[0].as_f64().unwrap(), a[1].as_f64().unwrap(), a[2].as_f64().unwrap()]
+}
+
+fn close(a: f64, b: f64, rel: f64) -> bool {
+    (a - b).abs() <= rel * a.abs().max(b.abs()).max(1.0)
+}
+
+#[test]
+fn gmsh_reads_every_3d_kind_smartmesh_writes_with_its_volume() {
+    let Some(py) = common::python_with(&["gmsh"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let (m, maps) = s3::every_kind();
+    let mut paths = Vec::new();
+    for (version, binary, enc) in ALL {
+        let w = gmsh::write(&m, &opts(version, binary)).unwrap();
+        assert!(w.report.dropped.is_empty(), "{enc}: {:?}", w.report.dropped);
+        let p = dir.path().join(format!("every_kind.{enc}.msh"));
+        std::fs::write(&p, &w.main).unwrap();
+        paths.push(p.display().to_string());
+    }
+    let groups: Vec<serde_json::Value> =
+        m.tag_names.iter().map(|(&(d, t), n)| serde_json::json!([d, t, n])).collect();
+    let kinds: Vec<CellKind> = m.blocks.iter().map(|b| b.kind).collect();
+    for (s, (_, _, enc)) in gmsh_elements(&py, &paths).iter().zip(ALL) {
+        assert_eq!(s["groups"].as_array().unwrap(), &groups, "{enc}: physical groups");
+        let counts: BTreeMap<String, u64> = serde_json::from_value(s["counts"].clone()).unwrap();
+        let want: BTreeMap<String, u64> =
+            kinds.iter().map(|k| (k.gmsh_type().to_string(), 1)).collect();
+        assert_eq!(counts, want, "{enc}: elements per type");
+        for &k in &kinds {
+            // The test's reference table is Gmsh's.
+            let refs = s["refs"][k.gmsh_type().to_string()].as_array().unwrap();
+            let ours = s3::reference(k);
+            assert_eq!(refs.len(), ours.len(), "{enc}: {}", k.name());
+            for (r, o) in refs.iter().zip(&ours) {
+                let r: Vec<f64> =
+                    r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+                assert_eq!(r[..], o[..r.len()], "{enc}: {} reference node", k.name());
+            }
+        }
+        // Element tag t is cell t − 1: its nodes where its map puts Gmsh's reference
+        // nodes, its Jacobian the map's.
+        for (i, (k, _, _, _)) in m.cells().enumerate() {
+            let e = &s["elements"][(i + 1).to_string()];
+            let what = format!("{enc}: {} (element {})", k.name(), i + 1);
+            assert_eq!(e["type"].as_i64(), Some(k.gmsh_type() as i64), "{what}");
+            let map = maps[i];
+            for (j, (node, r)) in
+                e["nodes"].as_array().unwrap().iter().zip(s3::reference(k)).enumerate()
+            {
+                let (got, want) = (xyz(node), map.apply(r));
+                assert!(
+                    got.iter().zip(&want).all(|(a, b)| close(*a, *b, 1e-14)),
+                    "{what}: node {j} at {got:?}, its map puts it at {want:?}"
+                );
+            }
+            if k.dim() == 3 {
+                let det = map.det();
+                let (lo, hi) = (e["det"][0].as_f64().unwrap(), e["det"][1].as_f64().unwrap());
+                assert!(
+                    close(lo, det, 1e-12) && close(hi, det, 1e-12),
+                    "{what}: det {lo}..{hi} vs {det}"
+                );
+                let v = e["volume"].as_f64().unwrap();
+                let corners = s3::corner_volume(k, &s3::points_of(&m, m.cells().nth(i).unwrap().1));
+                assert!(close(v, corners, 1e-12), "{what}: Gmsh's volume {v}, here {corners}");
+                assert!(close(v, det * s3::reference_measure(k), 1e-12), "{what}");
+            }
+        }
+    }
+}
+
+/// Makes, with Gmsh, the samples of the other tests in `argv[1]` from the scripts
+/// `argv[2]` (hex_prism_pyr) and `argv[3]` (box_cyl): hex_prism_pyr at order 2
+/// complete (4.1 binary) and incomplete (2.2 ASCII); box_cyl whole (4.1 ASCII) and
+/// partitioned in 3 (4.1 ASCII and 2.2 binary).
+const GMSH_MAKE: &str = r#"
+import sys, os, gmsh
+out, hpp, box = sys.argv[1:4]
+gmsh.initialize()
+gmsh.option.setNumber("General.Terminal", 0)
+for incomplete, name, version, binary in [(0, "hpp_o2", 4.1, 1), (1, "hpp_o2i", 2.2, 0)]:
+    gmsh.clear()
+    gmsh.open(hpp)
+    gmsh.option.setNumber("Mesh.SecondOrderIncomplete", incomplete)
+    gmsh.model.mesh.generate(3)
+    gmsh.model.mesh.setOrder(2)
+    gmsh.option.setNumber("Mesh.MshFileVersion", version)
+    gmsh.option.setNumber("Mesh.Binary", binary)
+    gmsh.write(os.path.join(out, name + ".msh"))
+gmsh.clear()
+gmsh.open(box)
+gmsh.option.setNumber("Mesh.MeshSizeMax", 0.17)
+gmsh.model.mesh.generate(3)
+gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+gmsh.option.setNumber("Mesh.Binary", 0)
+gmsh.write(os.path.join(out, "box.msh"))
+gmsh.model.mesh.partition(3)
+gmsh.write(os.path.join(out, "box_part.v41.msh"))
+gmsh.option.setNumber("Mesh.MshFileVersion", 2.2)
+gmsh.option.setNumber("Mesh.Binary", 1)
+gmsh.write(os.path.join(out, "box_part.v22.msh"))
+gmsh.finalize()
+print("ok")
+"#;
+
+fn read_path(p: &std::path::Path) -> TaggedMesh {
+    smartmesh_formats::read_path(p, None).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn smartmesh_reads_and_rewrites_gmsh_second_order_and_partitioned_volume_meshes() {
+    smartmesh_test_support::require_public_fixtures!();
+    let Some(py) = common::python_with(&["gmsh"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let hpp = common::public_fixture("3d/hex_prism_pyr.geo_unrolled");
+    let boxg = common::public_fixture("3d/box_cyl.geo_unrolled");
+    let args = [d.display().to_string(), hpp.display().to_string(), boxg.display().to_string()];
+    common::run_python(&py, GMSH_MAKE, &args.iter().map(String::as_str).collect::<Vec<_>>());
+
+    // Second order: what Gmsh counts, we read; what we write, Gmsh reads element by
+    // element as it wrote it.
+    for (name, kinds) in [
+        ("hpp_o2", [CellKind::Hexa27, CellKind::Wedge18, CellKind::Pyramid14, CellKind::Tetra10]),
+        ("hpp_o2i", [CellKind::Hexa20, CellKind::Wedge15, CellKind::Pyramid13, CellKind::Tetra10]),
+    ] {
+        let orig = d.join(format!("{name}.msh"));
+        let m = read_path(&orig);
+        // The element counts of the fixture's description, at order 2.
+        for (k, n) in kinds.iter().zip([27, 54, 9, 152]) {
+            assert_eq!(m.num_cells_of(*k), n, "{name}: {}", k.name());
+        }
+        let mut paths = vec![orig.display().to_string()];
+        for (version, binary, enc) in ALL {
+            let w = gmsh::write(&m, &opts(version, binary)).unwrap();
+            let p = d.join(format!("{name}.ours.{enc}.msh"));
+            std::fs::write(&p, &w.main).unwrap();
+            paths.push(p.display().to_string());
+        }
+        let s = gmsh_elements(&py, &paths);
+        let theirs = &s[0];
+        for (ours, enc) in s[1..].iter().zip(ALL.map(|a| a.2)) {
+            let what = format!("{name} written as {enc}");
+            assert_eq!(ours["groups"], theirs["groups"], "{what}: groups");
+            assert_eq!(ours["counts"], theirs["counts"], "{what}: counts");
+            // Elements are numbered alike (Gmsh's tags are 1..n, read in tag order).
+            let (a, b) =
+                (theirs["elements"].as_object().unwrap(), ours["elements"].as_object().unwrap());
+            assert_eq!(a.len(), b.len(), "{what}");
+            for (tag, e) in a {
+                let f = &b[tag];
+                assert_eq!(e["type"], f["type"], "{what}: element {tag}");
+                assert_eq!(e["nodes"], f["nodes"], "{what}: element {tag}: nodes");
+                let (u, v) = (e["volume"].as_f64().unwrap(), f["volume"].as_f64().unwrap());
+                assert!(close(u, v, 1e-13), "{what}: element {tag}: volume {u} vs {v}");
+            }
+        }
+        // The model's volumes (plane faces: the corners give them): 1, 1 and 0.6 (the
+        // script names its groups only: Gmsh numbers them in their order).
+        let mut per_group = BTreeMap::new();
+        for (k, cell, p, _) in m.cells().filter(|c| c.0.dim() == 3) {
+            let group = m.tag_name(3, p).unwrap_or("?").to_string();
+            *per_group.entry(group).or_insert(0.0) +=
+                s3::corner_volume(k, &s3::points_of(&m, cell));
+        }
+        let want: BTreeMap<String, f64> = [("Hexa", 1.0), ("Prisms", 1.0), ("TetPyr", 0.6)]
+            .map(|(n, v)| (n.to_string(), v))
+            .into();
+        assert_eq!(per_group.keys().collect::<Vec<_>>(), want.keys().collect::<Vec<_>>(), "{name}");
+        for (g, v) in &per_group {
+            assert!(close(*v, want[g], 1e-12), "{name}: volume of {g} = {v}");
+        }
+    }
+
+    // Partitioned: the cells of the whole mesh, per kind, physical and geometrical tag.
+    let fingerprint = |m: &TaggedMesh| {
+        let mut c: BTreeMap<(CellKind, i32, i32), usize> = BTreeMap::new();
+        for (k, _, p, g) in m.cells() {
+            *c.entry((k, p, g)).or_insert(0) += 1;
+        }
+        c
+    };
+    let whole = read_path(&d.join("box.msh"));
+    assert!(whole.num_cells_of(CellKind::Tetra) > 2000);
+    for file in ["box_part.v41.msh", "box_part.v22.msh"] {
+        let bytes = std::fs::read(d.join(file)).unwrap();
+        let (m, report) =
+            read_bytes_reported(Format::Gmsh, &bytes, &ReadContext::alone("msh")).unwrap();
+        assert_eq!(fingerprint(&m), fingerprint(&whole), "{file}");
+        assert_eq!(m.tag_names, whole.tag_names, "{file}");
+        assert!(
+            report.notes.iter().any(|n| n.contains("3 partitions")),
+            "{file}: {:?}",
+            report.notes
+        );
+    }
+}
