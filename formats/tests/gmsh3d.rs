@@ -460,7 +460,18 @@ fn malformed_tetrahedron_with_three_nodes() {
     let e = err_text(&format!(
         "{HEAD41}{TET_NODES41}$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3\n$EndElements\n"
     ));
-    assert!(matches!(e.at, Some(Position::Line(_))), "{e}");
+    // The last record of the section: said at its own line, not at `$EndElements`.
+    assert_eq!(e.at, Some(Position::Line(19)), "{e}");
+    assert!(e.to_string().contains("4 node tags after element 1 (a tetra)"), "{e}");
+    let e =
+        err_text(&format!("{HEAD22}{TET_NODES22}$Elements\n1\n1 4 2 1 1 1 2 3\n$EndElements\n"));
+    assert_eq!(e.at, Some(Position::Line(13)), "{e}");
+    assert!(e.to_string().contains("4 node numbers (a tetra)"), "{e}");
+    // The next record's number taken for a node.
+    let e = err_text(&format!(
+        "{HEAD41}{TET_NODES41}$Elements\n1 2 1 2\n3 1 4 2\n1 1 2 3\n9 1 2 3 4\n$EndElements\n"
+    ));
+    assert_eq!(e.at, Some(Position::Line(19)), "{e}");
     let e = err_text(&format!(
         "{HEAD22}{TET_NODES22}$Elements\n2\n1 4 2 1 1 1 2 3\n2 4 2 1 1 1 2 3 4\n$EndElements\n"
     ));

@@ -3,7 +3,7 @@
 
 use super::cursor::{le_f64, le_i32};
 use super::header::{write_mesh_format, write_physical_names};
-use super::reader::{cell_kind, RawBlock, Reader};
+use super::reader::{cell_kind, short_record, RawBlock, Reader};
 use super::tags::TagMap;
 use super::views::write_views;
 use super::MAX_NODES;
@@ -402,11 +402,19 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                 }
             }
             let k = kind.nodes_per_cell();
+            let short = || {
+                format!(
+                    "element {et}: its type, {ntags} tags and {k} node numbers (a {}) on one line",
+                    kind.name()
+                )
+            };
             for slot in &mut nodes[..k] {
-                let nt = r.c.scan_i64(&mut s, "node number")?;
+                let nt =
+                    r.c.scan_i64(&mut s, "node number")
+                        .map_err(|e| short_record(e, line, short))?;
                 let Some(v) = u64::try_from(nt).ok().and_then(|t| map.node(t)) else {
                     r.c.unscan(&s);
-                    return Err(r.c.err(missing(et, nt)));
+                    return Err(short_record(r.c.err(missing(et, nt)), line, short));
                 };
                 *slot = v;
             }

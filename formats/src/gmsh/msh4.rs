@@ -8,7 +8,7 @@ mod write;
 pub(super) use write::write;
 
 use super::cursor::{le_f64, le_i32, le_size};
-use super::reader::{cell_kind, RawBlock, Reader};
+use super::reader::{cell_kind, short_record, RawBlock, Reader};
 use crate::{ErrorKind, Position, Result};
 
 // ---------------------------------------------------------------------------------
@@ -569,11 +569,14 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                     }));
                 }
                 b.tags.push(et);
+                let short = || format!("{k} node tags after element {et} (a {})", kind.name());
                 for _ in 0..k {
-                    let nt = r.c.scan_u64(&mut s, "node tag")?;
+                    let nt =
+                        r.c.scan_u64(&mut s, "node tag")
+                            .map_err(|e| short_record(e, line, short))?;
                     let Some(v) = map.node(nt) else {
                         r.c.unscan(&s);
-                        return Err(r.c.err(missing(et, nt)));
+                        return Err(short_record(r.c.err(missing(et, nt)), line, short));
                     };
                     b.nodes.push(v);
                 }

@@ -326,3 +326,16 @@ pub(super) fn cell_kind(t: i32) -> std::result::Result<CellKind, ErrorKind> {
         ))
     })
 }
+
+/// An error met reading the node tags of the ASCII element record on `line`: when it is
+/// on a later line, the record ended before its nodes did (a tetrahedron of 3 nodes
+/// before `$EndElements`), which is said at the record's line as `expected`.
+pub(super) fn short_record(e: Error, line: u64, expected: impl FnOnce() -> String) -> Error {
+    match e.at {
+        Some(Position::Line(l)) if l != line => Error::at_line(
+            line,
+            ErrorKind::Expected { expected: expected(), found: "fewer values on the line".into() },
+        ),
+        _ => e,
+    }
+}
