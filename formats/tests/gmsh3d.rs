@@ -374,6 +374,41 @@ fn written_entities_have_the_bounding_box_of_their_nodes() {
     }
 }
 
+/// Untagged volume cells beside tagged ones get a 3D group of their own, one above the
+/// largest physical volume tag, and read back untagged (the policy of `untagged.rs`, in
+/// dimension 3).
+#[test]
+fn untagged_volume_cells_beside_tagged_ones_get_a_3d_group() {
+    let (mut m, _) = s3::every_kind();
+    // The hexahedra and the tetrahedra (volume tags 1, 2, 5, 6, 7) lose their group.
+    for b in &mut m.blocks {
+        if b.kind.linear() == CellKind::Hexa || b.kind.linear() == CellKind::Tetra {
+            b.physical.fill(0);
+        }
+    }
+    let top = m.tag_names.keys().filter(|k| k.0 == 3).map(|k| k.1).max().unwrap();
+    for (v, bin) in ALL {
+        let what = format!("{v:?} binary={bin}");
+        let w = gmsh::write(&m, &opts(v, bin)).unwrap();
+        let said: Vec<_> =
+            w.report.dropped.iter().filter(|l| l.contains("without a physical tag")).collect();
+        assert_eq!(said.len(), 1, "{what}: {:?}", w.report.dropped);
+        let group =
+            format!("5 3D cell(s) without a physical tag written as physical group {}", top + 1);
+        assert!(said[0].contains(&group), "{what}: {said:?}");
+        if !bin {
+            let text = String::from_utf8_lossy(&w.main);
+            assert!(text.contains(&format!("3 {} \"smartmesh:untagged\"", top + 1)), "{what}");
+        }
+        let back = read_msh(&w.main).unwrap();
+        let tags = |m: &TaggedMesh| -> Vec<_> {
+            cell_list(m).into_iter().map(|(k, n, p, _)| (k, n, p)).collect()
+        };
+        assert_eq!(tags(&back), tags(&m), "{what}");
+        assert_eq!(back.tag_names, m.tag_names, "{what}");
+    }
+}
+
 // ---------------------------------------------------------------------------------
 // Malformed and extreme 3D input: an error with a position, no panic, no huge allocation
 
