@@ -528,13 +528,12 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
         // takes at least (a 27-node hexahedron's record is 14 times a point's): the
         // block's arrays are made for `n` of them.
         let min = if binary { (1 + k) * st } else { 2 * (1 + k) };
-        crate::text::check_count(
-            n,
-            r.c.remaining().len(),
-            min,
-            &format!("{}s in the block", kind.name()),
-        )
-        .map_err(|e| r.c.err_at(block_at, e))?;
+        let left = r.c.remaining().len();
+        if (n as u128) * (min as u128) > left as u128 {
+            let what = format!("{}s in the block", kind.name());
+            let e = crate::text::check_count(n, left, min, &what).err();
+            return Err(r.c.err_at(block_at, e.unwrap_or(ErrorKind::Inconsistent(what))));
+        }
         total += n;
         if total > n_elems {
             return Err(r.c.err_at(block_at, ErrorKind::Inconsistent(format!("the element blocks hold more elements than the $Elements header announces ({n_elems})"))));
