@@ -161,8 +161,9 @@ fn gmsh_reads_every_3d_kind_smartmesh_writes_with_its_volume() {
 
 /// Makes, with Gmsh, the samples of the other tests in `argv[1]` from the scripts
 /// `argv[2]` (hex_prism_pyr) and `argv[3]` (box_cyl): hex_prism_pyr at order 2
-/// complete (4.1 binary) and incomplete (2.2 ASCII); box_cyl whole (4.1 ASCII) and
-/// partitioned in 3 (4.1 ASCII and 2.2 binary).
+/// complete (4.1 binary) and incomplete (2.2 ASCII), and at order 1 with and without
+/// parametric coordinates (`Mesh.SaveParametric`: u v w on volume nodes in 4.1);
+/// box_cyl whole (4.1 ASCII) and partitioned in 3 (4.1 ASCII and 2.2 binary).
 const GMSH_MAKE: &str = r#"
 import sys, os, gmsh
 out, hpp, box = sys.argv[1:4]
@@ -177,6 +178,16 @@ for incomplete, name, version, binary in [(0, "hpp_o2", 4.1, 1), (1, "hpp_o2i", 
     gmsh.option.setNumber("Mesh.MshFileVersion", version)
     gmsh.option.setNumber("Mesh.Binary", binary)
     gmsh.write(os.path.join(out, name + ".msh"))
+gmsh.clear()
+gmsh.open(hpp)
+gmsh.model.mesh.generate(3)
+gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0)
+for version, binary, name in [(4.1, 1, "hpp.msh"), (4.1, 0, "hpp_par.v41.msh"), (2.2, 1, "hpp_par.v22.msh")]:
+    gmsh.option.setNumber("Mesh.SaveParametric", 0 if name == "hpp.msh" else 1)
+    gmsh.option.setNumber("Mesh.MshFileVersion", version)
+    gmsh.option.setNumber("Mesh.Binary", binary)
+    gmsh.write(os.path.join(out, name))
+gmsh.option.setNumber("Mesh.SaveParametric", 0)
 gmsh.clear()
 gmsh.open(box)
 gmsh.option.setNumber("Mesh.MeshSizeMax", 0.17)
@@ -260,6 +271,25 @@ fn smartmesh_reads_and_rewrites_gmsh_second_order_and_partitioned_volume_meshes(
         for (g, v) in &per_group {
             assert!(close(*v, want[g], 1e-12), "{name}: volume of {g} = {v}");
         }
+    }
+
+    // Parametric coordinates (three on volume nodes) are read past: the same mesh.
+    let plain = read_path(&d.join("hpp.msh"));
+    assert_eq!(plain.num_cells_of(CellKind::Pyramid), 9);
+    for file in ["hpp_par.v41.msh", "hpp_par.v22.msh"] {
+        let m = read_path(&d.join(file));
+        // Gmsh writes ASCII coordinates to 16 digits, binary ones exactly.
+        assert_eq!(m.points.len(), plain.points.len(), "{file}");
+        for (p, q) in m.points.iter().zip(&plain.points) {
+            assert!(p.iter().zip(q).all(|(a, b)| close(*a, *b, 1e-15)), "{file}: {p:?} {q:?}");
+        }
+        // Gmsh numbers 2.2 elements by type, 4.1 ones by entity: the same cells sorted.
+        let cells = |m: &TaggedMesh| {
+            let mut c: Vec<_> = m.cells().map(|(k, n, p, _)| (k, n.to_vec(), p)).collect();
+            c.sort();
+            c
+        };
+        assert!(cells(&m) == cells(&plain), "{file}: cells");
     }
 
     // Partitioned: the cells of the whole mesh, per kind, physical and geometrical tag.
