@@ -29,6 +29,7 @@ mod mesh;
 mod output;
 mod point_sets;
 mod scan;
+mod skin;
 pub mod text;
 pub mod words;
 
