@@ -182,7 +182,11 @@ fn malformed_files_are_refused_at_their_position() {
     let facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
     let cases: Vec<(String, u64, &str)> = vec![
         (format!("solid a\n{facet}"), 9, "`facet` or `endsolid`"),
-        (format!("solid a\n{}", facet.replace("vertex 1 0 0", "vertex 1 nan 0")), 5, "not a finite"),
+        (
+            format!("solid a\n{}", facet.replace("vertex 1 0 0", "vertex 1 nan 0")),
+            5,
+            "not a finite",
+        ),
         (format!("solid a\n{}", facet.replace("vertex 1 0 0", "vertex 1 0")), 6, "vertex's z"),
         (
             format!("solid a\n{}", facet.replace("endloop", "vertex 1 1 1\nendloop")),
