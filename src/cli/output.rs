@@ -54,7 +54,7 @@ pub struct MeshOutputArgs {
     /// sol, solb, pos).
     #[arg(long, value_name = "FORMAT", help_heading = "Output")]
     pub to: Option<String>,
-    /// Write binary variants (.msh binary, .vtk binary, .meshb/.solb, OpenFOAM binary).
+    /// Write binary variants (.msh binary, .vtk binary, .meshb/.solb, OpenFOAM binary, binary STL).
     #[arg(long, help_heading = "Output")]
     pub binary: bool,
     /// Gmsh MSH version to write.
