@@ -14,7 +14,7 @@ use std::path::Path;
 use std::process::Command;
 
 use smartmesh_test_support::formats as common;
-use support::{ok, program, run};
+use support::{bundled, ok, program, run};
 
 /// Runs `checkMesh -case DIR` and returns its output; asserts it passed every check.
 fn check_mesh(check: &Path, case: &Path) -> String {
@@ -72,4 +72,62 @@ fn check_mesh_passes_gmsh_3d_meshes_written_directly() {
             }
         }
     }
+}
+
+/// A 3D case made by OpenFOAM's own `blockMesh` (a 3 x 2 x 2 block of hexahedra, two
+/// blocks as two cell zones, every side a named patch) reads back as 12 hexahedra with
+/// its patches and zones, and written again passes checkMesh with the same zones.
+#[test]
+fn a_3d_block_mesh_case_reads_back_as_hexahedra_with_patches_and_zones() {
+    let Some(block_mesh) = program("blockMesh") else { return };
+    let Some(check) = program("checkMesh") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("box");
+    let first = dir.path().join("first.foam");
+    ok(&run(&["convert", &bundled("cylinder.msh"), first.to_str().unwrap()]));
+    let system = case.join("system");
+    std::fs::create_dir_all(&system).unwrap();
+    for f in ["controlDict", "fvSchemes", "fvSolution"] {
+        std::fs::copy(first.join("system").join(f), system.join(f)).unwrap();
+    }
+    std::fs::write(
+        system.join("blockMeshDict"),
+        "FoamFile { version 2.0; format ascii; class dictionary; object blockMeshDict; }
+convertToMeters 1;
+vertices ( (0 0 0) (1 0 0) (1 2 0) (0 2 0) (0 0 2) (1 0 2) (1 2 2) (0 2 2)
+           (3 0 0) (3 2 0) (3 0 2) (3 2 2) );
+blocks ( hex (0 1 2 3 4 5 6 7) left (1 2 2) simpleGrading (1 1 1)
+         hex (1 8 9 2 5 10 11 6) right (2 2 2) simpleGrading (1 1 1) );
+edges ();
+boundary
+(
+    inlet { type patch; faces ( (0 4 7 3) ); }
+    outlet { type patch; faces ( (8 9 11 10) ); }
+    walls { type wall; faces ( (0 1 5 4) (1 8 10 5) (3 7 6 2) (2 6 11 9)
+                               (0 3 2 1) (1 2 9 8) (4 5 6 7) (5 10 11 6) ); }
+);
+",
+    )
+    .unwrap();
+    let mut c = Command::new(block_mesh);
+    c.arg("-case").arg(&case);
+    if std::env::var_os("WM_PROJECT_DIR").is_none() {
+        c.env("WM_PROJECT_DIR", "/usr/share/openfoam");
+    }
+    let out = c.output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stdout));
+
+    let info = ok(&run(&["info", case.to_str().unwrap(), "--from", "openfoam"]));
+    assert!(info.contains("12 hexa, 32 quad"), "{info}");
+    for name in ["\"inlet\"", "\"outlet\"", "\"walls\"", "\"left\"", "\"right\""] {
+        assert!(info.contains(name), "{name}: {info}");
+    }
+    let again = dir.path().join("again.foam");
+    ok(&run(&["convert", case.to_str().unwrap(), again.to_str().unwrap(), "--from", "openfoam"]));
+    let text = check_mesh(&check, &again);
+    assert_eq!(count(&text, "hexahedra:"), 12, "{text}");
+    assert_eq!(count(&text, "cell zones:"), 2, "{text}");
+    let boundary = std::fs::read_to_string(again.join("constant/polyMesh/boundary")).unwrap();
+    let walls = &boundary[boundary.find("walls").unwrap()..];
+    assert!(walls[..walls.find('}').unwrap()].contains("type            wall;"), "{boundary}");
 }
