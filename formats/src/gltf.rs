@@ -31,7 +31,9 @@
 //!
 //! Not written (and reported): tags and tag names, other point data, cell data, Vertex
 //! cells, sets, holes, regions, entities; second-order cells are drawn by their
-//! corners. glTF is not read: smartmesh writes it for viewers only.
+//! corners. A mesh with volume cells is drawn by its boundary (the faces of one volume
+//! cell only, outward, see [`crate::skin`]), as ParaView's *Extract Surface* draws it;
+//! the report says so. glTF is not read: smartmesh writes it for viewers only.
 
 use std::collections::BTreeMap;
 
@@ -231,6 +233,9 @@ pub struct GltfWrite {
 /// Writes a mesh.
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let mut report = WriteReport::default();
+    // A volume mesh is drawn by its boundary faces, as ParaView's Extract Surface does.
+    let skinned = crate::skin::skin(mesh, "glTF", &mut report);
+    let mesh: &TaggedMesh = &skinned;
     let n = mesh.points.len();
     // u32::MAX is the primitive-restart value that indices must not contain (§3.7.2.1).
     if n >= u32::MAX as usize {
@@ -490,7 +495,7 @@ fn indices(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<(Vec<u32>, Vec
                 }
                 _ => {
                     return Err(cannot(format!(
-                        "{} cells: glTF draws surfaces, not volumes",
+                        "{} cells left after the skin: glTF draws surfaces, not volumes",
                         b.kind.name()
                     )))
                 }

@@ -130,6 +130,11 @@ pub fn read_bytes_reported(
             report = r;
             mesh
         }
+        Format::Stl => {
+            let (mesh, r) = crate::stl::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::Gltf => {
             return Err(Error::new(ErrorKind::Unsupported(
                 "reading glTF (smartmesh writes it for viewers)".into(),
@@ -186,6 +191,7 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
         Format::Medit => crate::medit::write(mesh, opts),
         Format::Gltf => crate::gltf::write(mesh, opts),
         Format::Su2 => crate::su2::write(mesh, opts),
+        Format::Stl => crate::stl::write(mesh, opts),
         Format::OpenFoam => Err(Error::new(ErrorKind::CannotWrite {
             format: format.name(),
             reason: "an OpenFOAM case is a directory of files, not one file or a stream; \

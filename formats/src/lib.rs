@@ -10,7 +10,7 @@
 //!   [`triangle`] (.node/.ele/.poly/.edge/.area), [`gmsh`] (MSH 2.2 and 4.1, ASCII and
 //!   binary), [`vtk`] (legacy .vtk 4.2/5.1 and XML .vtu), [`obj`], [`medit`]
 //!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only), [`su2`],
-//!   [`openfoam`] (a case directory);
+//!   [`openfoam`] (a case directory), [`stl`] (ASCII and binary);
 //! - [`Format::from_path`], a static extension table;
 //! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
 //!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written as a
@@ -29,6 +29,7 @@ mod mesh;
 mod output;
 mod point_sets;
 mod scan;
+mod skin;
 pub mod text;
 pub mod words;
 
@@ -37,6 +38,7 @@ pub mod gmsh;
 pub mod medit;
 pub mod obj;
 pub mod openfoam;
+pub mod stl;
 pub mod su2;
 pub mod triangle;
 pub mod vtk;
@@ -58,6 +60,7 @@ pub use mesh::{
 };
 pub use openfoam::OpenFoamWrite;
 pub use output::write_all_atomically;
+pub use stl::StlWrite;
 pub use vtk::{VtkWrite, VtuEncoding};
 
 use std::path::Path;
@@ -82,6 +85,8 @@ pub enum Format {
     Gltf,
     /// SU2 native mesh `.su2` (ASCII).
     Su2,
+    /// STL, ASCII or binary: triangles in space, a solid per tag.
+    Stl,
     /// An OpenFOAM case directory (`constant/polyMesh`): the path is the directory
     /// (`case.foam`, or any name with `--from`/`--to openfoam`).
     OpenFoam,
@@ -104,6 +109,7 @@ const EXTENSIONS: &[(&str, Format)] = &[
     ("glb", Format::Gltf),
     ("su2", Format::Su2),
     ("foam", Format::OpenFoam),
+    ("stl", Format::Stl),
 ];
 
 impl Format {
@@ -145,6 +151,7 @@ impl Format {
             Format::Gltf => "glTF",
             Format::Su2 => "SU2",
             Format::OpenFoam => "OpenFOAM",
+            Format::Stl => "STL",
         }
     }
 
@@ -160,7 +167,7 @@ impl Format {
 
     /// The names accepted by [`Format::from_name`], for help texts.
     pub const NAMES: &'static str =
-        "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2, openfoam (foam)";
+        "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2, openfoam (foam), stl";
 }
 
 /// Which of [`TaggedMesh::validate`]'s checks a format's reader and writer make
@@ -197,6 +204,7 @@ impl Format {
             Format::Medit => medit::CHECKS,
             Format::Gltf => gltf::CHECKS,
             Format::Su2 => su2::CHECKS,
+            Format::Stl => stl::CHECKS,
             // Validated by `openfoam::poly_mesh_files` itself.
             Format::OpenFoam => Checks { reader_validates: false, writer_validates: true },
         }
@@ -218,6 +226,8 @@ pub struct WriteOptions {
     pub gltf: GltfWrite,
     /// OpenFOAM: the extrusion thickness, patch types.
     pub openfoam: OpenFoamWrite,
+    /// STL: binary or ASCII.
+    pub stl: StlWrite,
     /// File name (no directory) of the main output, for formats whose main file names
     /// its siblings (glTF's `.bin` URI) or whose extension chooses what is written
     /// (Triangle's files, Medit's encoding, `.glb`). `None` when writing to stdout.

@@ -51,7 +51,9 @@
 //! reads back with the same numbers; otherwise named tags are renumbered and the report
 //! says so. Point and cell data, geometrical tags that differ from the physical ones,
 //! sets, holes, regions and entities cannot be held and are reported; second-order
-//! cells are written by their corner nodes and reported.
+//! cells are written by their corner nodes and reported. A mesh with volume cells is
+//! written as its boundary (the faces of one volume cell only, outward, see
+//! [`crate::skin`]), as ParaView's *Extract Surface* draws it; the report says so.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -535,6 +537,10 @@ fn sanitize_name(name: &str) -> String {
 /// Writes a mesh.
 pub fn write(mesh: &TaggedMesh, _opts: &WriteOptions) -> Result<Written> {
     let mut report = WriteReport::default();
+    // A volume mesh is written as its boundary faces, as ParaView's Extract Surface
+    // draws it: what a viewer or modeller reading OBJ expects.
+    let skinned = crate::skin::skin(mesh, "OBJ", &mut report);
+    let mesh: &TaggedMesh = &skinned;
     report_unheld(mesh, &mut report);
 
     // Group names: one per (physical tag, dimension) that cells use.
@@ -788,7 +794,8 @@ fn report_numbering(groups: &[String], group_tags: &[Vec<(i32, u8)>], report: &m
     }
 }
 
-/// OBJ holds points, lines and faces: a volume cell is refused, not flattened.
+/// OBJ holds points, lines and faces: a volume cell left after [`crate::skin::skin`]
+/// (none is) would be refused, not flattened.
 fn volume_cells(kind: CellKind) -> Error {
     Error::new(ErrorKind::CannotWrite {
         format: "OBJ",

@@ -576,3 +576,47 @@ fn interop_khronos_validator_finds_no_errors() {
     // The .gltf files' buffers were loaded from the .bin beside them.
     assert!(reports[0]["resources"].as_u64().unwrap() >= 1, "{}", reports[0]);
 }
+
+/// A pyramid and a tetrahedron on one of its sides: a volume mesh is drawn by its
+/// boundary faces (the shared one left out), closed and outward, with its z, and the
+/// report says so.
+#[test]
+fn a_volume_mesh_is_drawn_by_its_boundary() {
+    let mut m = TaggedMesh::new();
+    m.coordinate_dim = 3;
+    m.points = vec![
+        [0.0, 0.0, 0.5],
+        [1.0, 0.0, 0.5],
+        [1.0, 1.0, 0.5],
+        [0.0, 1.0, 0.5],
+        [0.5, 0.5, 1.5],
+        [0.5, -1.0, 1.0],
+    ];
+    // Gmsh's orders: the base 0-1-2-3 turns counter-clockwise seen from the apex 4;
+    // the tetrahedron's 5 lies on the side of (p1 - p0) x (p4 - p0).
+    m.block_mut(CellKind::Pyramid).push(&[0u32, 1, 2, 3, 4], 1, 1);
+    m.block_mut(CellKind::Tetra).push(&[0u32, 1, 4, 5], 1, 1);
+    let w = write(&m, &opts(Some("v.glb"), None));
+    assert!(
+        w.report.dropped.iter().any(|d| d.contains("boundary") && d.contains("7 faces")),
+        "{:?}",
+        w.report.dropped
+    );
+    let d = read_back(&w);
+    assert_eq!(d.positions.len(), 6);
+    assert_eq!(d.positions[4], [0.5, 0.5, 1.5]);
+    // The base quad as 2 triangles, 3 pyramid sides, 3 tetrahedron faces.
+    assert_eq!(d.triangles.len(), 3 * 8);
+    let p = |i: u32| d.positions[i as usize].map(f64::from);
+    let vol: f64 = d
+        .triangles
+        .chunks(3)
+        .map(|t| {
+            let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                / 6.0
+        })
+        .sum();
+    assert!((vol - (1.0 / 3.0 + 1.25 / 6.0)).abs() < 1e-12, "{vol}");
+}

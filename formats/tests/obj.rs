@@ -676,3 +676,87 @@ fn invisible_characters_are_named_in_errors() {
     let e = read_str("\u{feff}v 0 0 0\n").unwrap_err();
     assert!(e.to_string().contains("byte order mark (U+FEFF)"), "{e}");
 }
+
+// ---------------------------------------------------------------------------------
+// Surfaces in space and volume meshes
+
+/// Two unit hexahedra stacked along z (a 1 x 1 x 2 block) tagged 1 `block`, with a
+/// bottom quad tagged 5 `floor`, coordinates off the axes planes so z matters.
+fn two_hexahedra() -> TaggedMesh {
+    let mut m = TaggedMesh::new();
+    m.coordinate_dim = 3;
+    for z in 0..3 {
+        for &(x, y) in &[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+            m.points.push([x + 0.1, y - 0.3, 0.7 + z as f64]);
+        }
+    }
+    m.block_mut(CellKind::Hexa).push(&[0u32, 1, 2, 3, 4, 5, 6, 7], 1, 1);
+    m.block_mut(CellKind::Hexa).push(&[4u32, 5, 6, 7, 8, 9, 10, 11], 1, 1);
+    m.block_mut(CellKind::Quad).push(&[0u32, 3, 2, 1], 5, 5);
+    m.tag_names.insert((3, 1), "block".into());
+    m.tag_names.insert((2, 5), "floor".into());
+    m
+}
+
+/// The volume enclosed by the triangles and quads of `m` (divergence theorem): the
+/// block's volume when the skin is closed and every face points outwards.
+fn enclosed_volume(m: &TaggedMesh) -> f64 {
+    let det = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+            + a[2] * (b[0] * c[1] - b[1] * c[0])
+    };
+    m.cells()
+        .filter(|c| c.0.dim() == 2)
+        .map(|(_, n, _, _)| {
+            let p = |i: usize| m.points[n[i] as usize];
+            (1..n.len() - 1).map(|i| det(p(0), p(i), p(i + 1)) / 6.0).sum::<f64>()
+        })
+        .sum()
+}
+
+/// A volume mesh is written as its boundary, outward, with z kept bit for bit: the
+/// floor keeps its own group, the other faces take the block's name.
+#[test]
+fn a_volume_mesh_is_written_as_its_boundary_with_z() {
+    let m = two_hexahedra();
+    let w = write(&m);
+    assert!(
+        w.report.dropped.iter().any(|d| d.contains("2 hexa") && d.contains("10 faces")),
+        "{:?}",
+        w.report.dropped
+    );
+    let back = read_bytes(Format::Obj, &w.main, &ReadContext::alone("obj")).unwrap();
+    assert_eq!(back.coordinate_dim, 3);
+    assert_points_bitwise(&m, &back);
+    let names = by_name(&back);
+    assert_eq!(names[&(CellKind::Quad, "floor".to_string())], vec![vec![0, 3, 2, 1]]);
+    assert_eq!(names[&(CellKind::Quad, "block".to_string())].len(), 9);
+    assert_eq!(back.num_cells(), 10);
+    assert!((enclosed_volume(&back) - 2.0).abs() < 1e-12, "{}", enclosed_volume(&back));
+}
+
+/// meshio reads the boundary we write with its z (3D points) and its 10 quads.
+#[test]
+fn meshio_reads_a_volume_mesh_boundary() {
+    let Some(py) = common::python_with(&["meshio"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("block.obj");
+    smartmesh_formats::write_path(&out, &two_hexahedra(), None, &WriteOptions::default()).unwrap();
+    let script = r#"
+import sys, json, warnings
+warnings.simplefilter("ignore")
+import meshio
+m = meshio.read(sys.argv[1])
+cells = {}
+for b in m.cells:
+    cells[b.type] = cells.get(b.type, 0) + len(b.data)
+print(json.dumps({"z": m.points[:, 2].tolist(), "cells": cells}))
+"#;
+    let got: serde_json::Value =
+        serde_json::from_str(&common::run_python(&py, script, &[out.to_str().unwrap()])).unwrap();
+    let z: Vec<f64> = serde_json::from_value(got["z"].clone()).unwrap();
+    let want: Vec<f64> = two_hexahedra().points.iter().map(|p| p[2]).collect();
+    assert_eq!(z, want);
+    let quads: u64 = got["cells"]["quad"].as_u64().unwrap();
+    assert_eq!(quads, 10);
+}

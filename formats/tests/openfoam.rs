@@ -503,3 +503,151 @@ fn a_wedge_turns_the_mesh_about_the_x_axis_and_collapses_the_axis_faces() {
     .unwrap_err();
     assert!(e.contains("y < 0"), "{e}");
 }
+
+// ---------------------------------------------------------------------------------
+// 3D meshes, written without extrusion
+
+use smartmesh_formats::openfoam::volume_poly_mesh;
+use smartmesh_test_support::formats as common;
+
+/// The polyMesh of a 3D mesh, patches named by their surface tag's name.
+fn volume_poly(mesh: &TaggedMesh) -> (PolyMesh, WriteReport) {
+    let mut report = WriteReport::default();
+    let p = volume_poly_mesh(
+        mesh,
+        |t, _| (mesh.tag_name(2, t).map_or(format!("tag{t}"), str::to_owned), "patch".into()),
+        |d, t| mesh.tag_name(d, t).map_or(format!("tag{t}"), str::to_owned),
+        &mut report,
+    )
+    .unwrap();
+    (p, report)
+}
+
+/// Each volume cell as its kind and sorted corner coordinates, with its tag's name,
+/// and each surface cell likewise: what a 3D round trip keeps whatever the numbering.
+fn cells_by_points(m: &TaggedMesh) -> Vec<(CellKind, String, Vec<[u64; 3]>)> {
+    let mut v: Vec<_> = m
+        .cells()
+        .filter(|c| c.0.dim() >= 2)
+        .map(|(k, n, p, _)| {
+            let mut pts: Vec<[u64; 3]> =
+                n.iter().map(|&i| m.points[i as usize].map(f64::to_bits)).collect();
+            pts.sort();
+            (k, m.tag_name(k.dim(), p).unwrap_or("").to_string(), pts)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// The volume of each cell of Gmsh's order, cut into positively oriented tetrahedra.
+fn cell_volumes(m: &TaggedMesh) -> Vec<f64> {
+    m.cells()
+        .filter(|c| c.0.dim() == 3)
+        .map(|(k, n, _, _)| {
+            let p = |i: usize| m.points[n[i] as usize];
+            let tet = |a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]| {
+                let (u, v, w) = (sub(b, a), sub(c, a), sub(d, a));
+                dot(
+                    u,
+                    [
+                        v[1] * w[2] - v[2] * w[1],
+                        v[2] * w[0] - v[0] * w[2],
+                        v[0] * w[1] - v[1] * w[0],
+                    ],
+                ) / 6.0
+            };
+            let cut: &[[usize; 4]] = match k {
+                CellKind::Tetra => &[[0, 1, 2, 3]],
+                CellKind::Pyramid => &[[0, 1, 2, 4], [0, 2, 3, 4]],
+                CellKind::Wedge => &[[0, 1, 2, 3], [1, 2, 3, 4], [2, 3, 4, 5]],
+                _ => &[[0, 1, 3, 4], [1, 2, 3, 6], [1, 3, 4, 6], [1, 4, 5, 6], [3, 4, 6, 7]],
+            };
+            cut.iter().map(|t| tet(p(t[0]), p(t[1]), p(t[2]), p(t[3]))).sum()
+        })
+        .collect()
+}
+
+/// Gmsh's mixed mesh (hexahedra, prisms, tetrahedra, pyramids): a valid polyMesh by
+/// every rule, patches from the boundary surface groups, the inner `Interface` group a
+/// face zone, a cell zone per volume group; read back, the same cells (kinds, corners,
+/// names, positive volumes), ASCII and binary.
+#[test]
+fn a_mixed_3d_mesh_is_written_directly_and_reads_back() {
+    smartmesh_test_support::require_public_fixtures!();
+    let m = common::read_file("3d/hex_prism_pyr.v41_ascii.msh");
+    let (p, report) = volume_poly(&m);
+    assert_valid(&p);
+    assert_eq!(p.n_cells, 242);
+    let patches: Vec<(&str, usize)> =
+        p.patches.iter().map(|q| (q.name.as_str(), q.n_faces)).collect();
+    assert_eq!(patches, [("Bottom", 27), ("Top", 44), ("Sides", 118)]);
+    let zones: Vec<(&str, usize)> =
+        p.cell_zones.iter().map(|z| (z.0.as_str(), z.1.len())).collect();
+    assert_eq!(zones, [("Hexa", 27), ("Prisms", 54), ("TetPyr", 161)]);
+    assert_eq!(p.face_zones.len(), 1);
+    assert_eq!((p.face_zones[0].0.as_str(), p.face_zones[0].1.len()), ("Interface", 18));
+    assert!(p.face_zones[0].1.iter().all(|&f| (f as usize) < p.neighbour.len()));
+    assert!(report.dropped.is_empty(), "{:?}", report.dropped);
+
+    let want = cells_by_points(&m);
+    let volumes = cell_volumes(&m);
+    for binary in [false, true] {
+        let dir = tempfile::tempdir().unwrap();
+        let case = dir.path().join("mixed.foam");
+        let opts = WriteOptions {
+            openfoam: OpenFoamWrite { binary, ..Default::default() },
+            ..Default::default()
+        };
+        write_path(&case, &m, Some(Format::OpenFoam), &opts).unwrap();
+        let back = read_path(&case, Some(Format::OpenFoam)).unwrap();
+        assert_eq!(back.coordinate_dim, 3);
+        assert_eq!(cells_by_points(&back), want, "binary {binary}");
+        let got = cell_volumes(&back);
+        assert!(got.iter().all(|&v| v > 0.0));
+        // Same cells in the same order: the same volumes, to rounding.
+        for (a, b) in got.iter().zip(&volumes) {
+            assert!((a - b).abs() <= 1e-14, "{a} {b}");
+        }
+    }
+}
+
+/// box_cyl's tetrahedra: valid, its four surface groups as patches (the cylinder a
+/// wall), the line cells said to be left, and one cell zone (the volume is named).
+#[test]
+fn a_tetrahedral_mesh_with_a_hole_is_written_directly() {
+    smartmesh_test_support::require_public_fixtures!();
+    let m = common::read_file("3d/box_cyl.v41_ascii.msh");
+    let (files, report) = poly_mesh_files(&m, &OpenFoamWrite::default()).unwrap();
+    let boundary =
+        String::from_utf8(files.iter().find(|f| f.0 == "boundary").unwrap().1.clone()).unwrap();
+    let cylinder = &boundary[boundary.find("Cylinder").unwrap()..];
+    assert!(
+        cylinder[..cylinder.find('}').unwrap()].contains("type            wall;"),
+        "{boundary}"
+    );
+    assert!(report.dropped.iter().any(|d| d.contains("16 line and vertex cells")), "{report:?}");
+    assert!(files.iter().any(|f| f.0 == "cellZones"));
+    assert!(!files.iter().any(|f| f.0 == "faceZones"));
+    let (p, _) = volume_poly(&m);
+    assert_valid(&p);
+    let patches: Vec<(&str, usize)> =
+        p.patches.iter().map(|q| (q.name.as_str(), q.n_faces)).collect();
+    assert_eq!(patches, [("Inlet", 90), ("Outlet", 90), ("Walls", 714), ("Cylinder", 118)]);
+}
+
+/// A cell given in the mirrored order is written with its faces outward; boundary
+/// faces without a surface cell go to `defaultFaces`.
+#[test]
+fn a_mirrored_cell_is_turned_and_untagged_faces_are_default_faces() {
+    let mut m = TaggedMesh::new();
+    m.coordinate_dim = 3;
+    m.points = vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.], [1., 1., 1.]];
+    m.block_mut(CellKind::Tetra).push(&[0u32, 2, 1, 3], 1, 1); // mirrored
+    m.block_mut(CellKind::Tetra).push(&[1u32, 2, 3, 4], 1, 1);
+    let (p, report) = volume_poly(&m);
+    assert_valid(&p);
+    assert_eq!(p.patches.len(), 1);
+    assert_eq!((p.patches[0].name.as_str(), p.patches[0].n_faces), ("defaultFaces", 6));
+    assert!(report.dropped.iter().any(|d| d.contains("1 volume cells given in the mirrored")));
+}

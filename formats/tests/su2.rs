@@ -243,7 +243,11 @@ fn free_form_deformation_boxes_end_the_mesh_with_a_note() {
 fn malformed_files_are_refused_at_their_line() {
     let line_of = |needle: &str| SQUARE.lines().position(|l| l == needle).unwrap() as u64 + 1;
     let cases: Vec<(String, u64, &str)> = vec![
-        (SQUARE.replace("NDIME= 2", "NDIME= 3"), line_of("NDIME= 2"), "3D SU2 meshes"),
+        (
+            SQUARE.replace("NDIME= 2", "NDIME= 3"),
+            line_of("9 0 1 4 3 0"),
+            "an interior element of a 3D mesh",
+        ),
         (SQUARE.replace("NDIME= 2", "NDIME= 4"), line_of("NDIME= 2"), "`NDIME= 4`"),
         (SQUARE.replace("5 3 4 7 2", "10 3 4 7 2"), line_of("5 3 4 7 2"), "tetrahedron"),
         (SQUARE.replace("5 3 4 7 2", "12 3 4 7 2 1 1 1 1"), line_of("5 3 4 7 2"), "hexahedron"),
@@ -458,4 +462,204 @@ fn the_layout_of_su2s_quickstart_mesh_reads() {
     assert_eq!(m.num_cells_of(CellKind::Triangle), 2);
     assert_eq!(lines_by_name(&m)["farfield"], [[2, 3], [3, 0]]);
     assert_eq!(m.tag_name(1, 1), Some("airfoil"));
+}
+
+// ---------------------------------------------------------------------------------
+// 3D meshes
+
+/// Cells as their corners' coordinates, with their kind and the name of their tag
+/// (`None` for the interior cells, whose tags SU2 does not name), sorted: what must
+/// agree whatever the point numbering.
+fn cells_by_coordinates(
+    m: &TaggedMesh,
+    named: bool,
+) -> Vec<(CellKind, Option<String>, Vec<[u64; 3]>)> {
+    let mut v: Vec<_> = m
+        .cells()
+        .filter(|c| c.0.dim() >= 2)
+        .map(|(k, n, p, _)| {
+            let name = (named && k.dim() == 2).then(|| m.tag_name(2, p).unwrap_or("?").to_string());
+            (k, name, n.iter().map(|&i| m.points[i as usize].map(f64::to_bits)).collect())
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// The volume of each cell of a kind of Gmsh order, by its outward faces (a pyramid
+/// or prism with an inverted node order would come out negative).
+fn volumes(m: &TaggedMesh) -> Vec<f64> {
+    m.cells()
+        .filter(|c| c.0.dim() == 3)
+        .map(|(k, n, _, _)| {
+            let p = |i: usize| m.points[n[i] as usize];
+            let tet = |a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]| {
+                let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+                let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+                let w = [d[0] - a[0], d[1] - a[1], d[2] - a[2]];
+                (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+                    + u[2] * (v[0] * w[1] - v[1] * w[0]))
+                    / 6.0
+            };
+            // Each kind cut into tetrahedra of Gmsh's orientation.
+            let cut: &[[usize; 4]] = match k {
+                CellKind::Tetra => &[[0, 1, 2, 3]],
+                CellKind::Pyramid => &[[0, 1, 2, 4], [0, 2, 3, 4]],
+                CellKind::Wedge => &[[0, 1, 2, 3], [1, 2, 3, 4], [2, 3, 4, 5]],
+                CellKind::Hexa => {
+                    &[[0, 1, 3, 4], [1, 2, 3, 6], [1, 3, 4, 6], [1, 4, 5, 6], [3, 4, 6, 7]]
+                }
+                _ => &[],
+            };
+            cut.iter().map(|t| tet(p(t[0]), p(t[1]), p(t[2]), p(t[3]))).sum()
+        })
+        .collect()
+}
+
+/// Gmsh's three boxes of hexahedra, prisms, tetrahedra and pyramids with four named
+/// surface groups: written as SU2 and read back, the same points bit for bit, the same
+/// cells in the same order (the prisms' nodes turned to VTK's order and back), a marker
+/// per surface group with its name.
+#[test]
+fn a_mixed_3d_mesh_round_trips_with_its_markers() {
+    smartmesh_test_support::require_public_fixtures!();
+    let m = common::read_file("3d/hex_prism_pyr.v41_ascii.msh");
+    let w = write(&m);
+    let text = String::from_utf8(w.main.clone()).unwrap();
+    assert!(text.contains("NDIME= 3\n") && text.contains("NELEM= 242\n"), "{}", &text[..200]);
+    assert!(text.contains("MARKER_TAG= Interface\nMARKER_ELEMS= 18\n"));
+    let back = read(&w.main).unwrap();
+    assert_eq!(back.coordinate_dim, 3);
+    assert_eq!(back.points.len(), m.points.len());
+    for (a, b) in m.points.iter().zip(&back.points) {
+        assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+    }
+    let vol = |m: &TaggedMesh| -> Vec<(CellKind, Vec<u32>)> {
+        m.cells().filter(|c| c.0.dim() == 3).map(|(k, n, _, _)| (k, n.to_vec())).collect()
+    };
+    assert_eq!(vol(&back), vol(&m));
+    assert_eq!(cells_by_coordinates(&back, true), cells_by_coordinates(&m, true));
+    let total: f64 = volumes(&back).iter().sum();
+    assert!(volumes(&back).iter().all(|&v| v > 0.0));
+    assert!((total - 2.6).abs() < 1e-12, "{total}");
+    // The volume tags 1-3 are not SU2's to hold; the report says so.
+    assert!(w.report.dropped.iter().any(|d| d.contains("volume tags")), "{:?}", w.report);
+    // Writing what was read gives the same bytes.
+    assert_eq!(write(&back).main, w.main);
+}
+
+/// A 3D SU2 file made by Gmsh's own SU2 export reads with the counts it declares and
+/// the cells Gmsh's `.msh` of the same mesh has, prisms included (Gmsh writes them in
+/// VTK's order).
+#[test]
+fn gmsh_s_own_3d_su2_export_reads_as_its_msh() {
+    smartmesh_test_support::require_public_fixtures!();
+    let Some(py) = common::python_with(&["gmsh"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("gmsh.su2");
+    for fixture in ["3d/hex_prism_pyr.v41_ascii.msh", "3d/box_cyl.v41_ascii.msh"] {
+        let script = r#"
+import sys, gmsh
+gmsh.initialize(); gmsh.option.setNumber("General.Terminal", 0)
+gmsh.open(sys.argv[1])
+gmsh.write(sys.argv[2])
+"#;
+        let src = common::public_fixture(fixture);
+        common::run_python(&py, script, &[src.to_str().unwrap(), out.to_str().unwrap()]);
+        let text = std::fs::read_to_string(&out).unwrap();
+        let declared = |key: &str| -> usize {
+            text.lines()
+                .filter_map(|l| l.strip_prefix(key))
+                .map(|v| v.split_whitespace().next().unwrap().parse::<usize>().unwrap())
+                .sum()
+        };
+        let ours = smartmesh_formats::read_path(&out, None).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(ours.points.len(), declared("NPOIN="), "{fixture}");
+        let interior = ours.cells().filter(|c| c.0.dim() == 3).count();
+        assert_eq!(interior, declared("NELEM="), "{fixture}");
+        let boundary = ours.cells().filter(|c| c.0.dim() == 2).count();
+        assert_eq!(boundary, declared("MARKER_ELEMS="), "{fixture}");
+        let msh = common::read_file(fixture);
+        assert_eq!(
+            cells_by_coordinates(&ours, true),
+            cells_by_coordinates(&msh, true),
+            "{fixture}"
+        );
+        assert!(volumes(&ours).iter().all(|&v| v > 0.0), "{fixture}");
+    }
+}
+
+/// meshio reads our 3D SU2 files: the same points and, per kind, the same cells in
+/// VTK's node order (our prisms reordered), boundary triangles and quads included.
+#[test]
+fn meshio_reads_our_3d_files() {
+    smartmesh_test_support::require_public_fixtures!();
+    let Some(py) = common::python_with(&["meshio"]) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    for fixture in ["3d/hex_prism_pyr.v41_ascii.msh", "3d/box_cyl.v41_ascii.msh"] {
+        let m = common::read_file(fixture);
+        let out = dir.path().join("m.su2");
+        smartmesh_formats::write_path(&out, &m, None, &WriteOptions::default()).unwrap();
+        let script = r#"
+import sys, json, warnings
+warnings.simplefilter("ignore")
+import meshio
+m = meshio.read(sys.argv[1])
+cells = {}
+for b in m.cells:
+    cells.setdefault(b.type, []).extend(b.data.tolist())
+print(json.dumps({"points": m.points.astype("<f8").view("<u8").tolist(), "cells": cells}))
+"#;
+        let got: serde_json::Value =
+            serde_json::from_str(&common::run_python(&py, script, &[out.to_str().unwrap()]))
+                .unwrap();
+        let points: Vec<[u64; 3]> = serde_json::from_value(got["points"].clone()).unwrap();
+        let ours: Vec<[u64; 3]> = m.points.iter().map(|p| p.map(f64::to_bits)).collect();
+        assert_eq!(points, ours, "{fixture}");
+        for (name, kind) in [
+            ("tetra", CellKind::Tetra),
+            ("hexahedron", CellKind::Hexa),
+            ("wedge", CellKind::Wedge),
+            ("pyramid", CellKind::Pyramid),
+            ("triangle", CellKind::Triangle),
+            ("quad", CellKind::Quad),
+        ] {
+            let mut theirs: Vec<Vec<u32>> =
+                serde_json::from_value(got["cells"][name].clone()).unwrap_or_default();
+            let mut want: Vec<Vec<u32>> = m
+                .cells()
+                .filter(|c| c.0 == kind)
+                .map(|c| match kind {
+                    CellKind::Wedge => [0, 2, 1, 3, 5, 4].iter().map(|&k| c.1[k]).collect(),
+                    _ => c.1.to_vec(),
+                })
+                .collect();
+            theirs.sort();
+            want.sort();
+            assert_eq!(theirs, want, "{fixture}: {name}");
+        }
+    }
+}
+
+#[test]
+fn malformed_3d_files_are_refused_at_their_line() {
+    let good = "NDIME= 3\nNELEM= 1\n10 0 1 2 3 0\nNPOIN= 4\n0 0 0 0\n1 0 0 1\n0 1 0 2\n0 0 1 3\nNMARK= 1\nMARKER_TAG= wall\nMARKER_ELEMS= 1\n5 0 2 1\n";
+    let m = read(good.as_bytes()).unwrap();
+    assert_eq!(m.num_cells_of(CellKind::Tetra), 1);
+    assert_eq!(m.tag_name(2, 1), Some("wall"));
+    let cases: Vec<(String, u64, &str)> = vec![
+        (good.replace("10 0 1 2 3 0", "5 0 1 2"), 3, "an interior element of a 3D mesh"),
+        (good.replace("5 0 2 1", "3 0 2"), 12, "a marker element of a 3D mesh"),
+        (good.replace("10 0 1 2 3 0", "12 0 1 2 3"), 3, "8 point indices"),
+        (good.replace("0 1 0 2", "0 1"), 7, "a z coordinate"),
+        (good.replace("0 1 0 2", "0 1 nan 2"), 7, "not a finite"),
+        (good.replace("10 0 1 2 3 0", "10 0 1 2 9 0"), 3, "refers to 9"),
+        (good.replace("NDIME= 3\nNELEM= 1", "NELEM= 1"), 1, "`NDIME=` before"),
+        (format!("NPOIN= 0\n{good}"), 2, "`NDIME=` first"),
+    ];
+    for (text, line, what) in cases {
+        let (at, msg) = error(&text);
+        assert!(msg.contains(what), "expected `{what}` in: {msg}");
+        assert_eq!(at, Some(Position::Line(line)), "{msg}");
+    }
 }

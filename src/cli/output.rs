@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use smartmesh::formats::{
     write_path, Error as FormatError, Format, GltfWrite, GmshVersion, GmshWrite, MeditWrite,
-    OpenFoamWrite, TaggedMesh, VtkWrite, VtuEncoding, WriteOptions, WriteReport,
+    OpenFoamWrite, StlWrite, TaggedMesh, VtkWrite, VtuEncoding, WriteOptions, WriteReport,
 };
 use smartmesh::recipe::{Recipe, RecipeFormat};
 
@@ -54,7 +54,7 @@ pub struct MeshOutputArgs {
     /// sol, solb, pos).
     #[arg(long, value_name = "FORMAT", help_heading = "Output")]
     pub to: Option<String>,
-    /// Write binary variants (.msh binary, .vtk binary, .meshb/.solb, OpenFOAM binary).
+    /// Write binary variants (.msh binary, .vtk binary, .meshb/.solb, OpenFOAM binary, binary STL).
     #[arg(long, help_heading = "Output")]
     pub binary: bool,
     /// Gmsh MSH version to write.
@@ -134,6 +134,7 @@ impl MeshOutputArgs {
                 wedge: self.wedge,
                 binary: self.binary,
             },
+            stl: StlWrite { binary: self.binary },
             main_name: None,
         }
     }

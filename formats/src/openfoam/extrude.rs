@@ -45,6 +45,10 @@ pub struct PolyMesh {
     pub n_cells: usize,
     /// The patches, in the order their faces follow the internal ones.
     pub patches: Vec<Patch>,
+    /// `cellZones`: each zone's name and cells (none written when empty).
+    pub cell_zones: Vec<(String, Vec<u32>)>,
+    /// `faceZones`: each zone's name and faces (none written when empty).
+    pub face_zones: Vec<(String, Vec<u32>)>,
 }
 
 /// One edge of a 2D cell, as the cell runs through it counter-clockwise.

@@ -1,6 +1,6 @@
-//! OpenFOAM cases: a 2D mesh extruded one cell thick, written as `constant/polyMesh`
-//! (ASCII or binary), with the minimal `system/` files `checkMesh` and the solvers need; and
-//! read back.
+//! OpenFOAM cases: a 2D mesh extruded one cell thick, or a 3D mesh as it is, written as
+//! `constant/polyMesh` (ASCII or binary), with the minimal `system/` files `checkMesh`
+//! and the solvers need; and read back.
 //!
 //! Source: the OpenFOAM User Guide, section 5.1 *Mesh description* (polyMesh: `points`,
 //! `faces`, `owner`, `neighbour`, `boundary`; internal faces in upper-triangular order,
@@ -21,18 +21,26 @@
 //! directory beside it and renamed into place (an old one is replaced only then);
 //! `system/controlDict`, `fvSchemes` and `fvSolution` are written only where absent.
 //!
-//! Read ([`read_case`]): a 2D case, one cell thick along z, back into a 2D mesh (see
-//! its module).
+//! A mesh with volume cells (tetrahedra, hexahedra, prisms, pyramids) is written
+//! directly ([`volume_poly_mesh`]): one patch per surface tag on the boundary, named and
+//! typed as the line tags of a 2D mesh are, `defaultFaces` for boundary faces without a
+//! surface cell; `cellZones` from the volume tags (a zone per tag, when named or
+//! several), `faceZones` from the surface tags on internal faces.
+//!
+//! Read ([`read_case`]): a 2D case, one cell thick along z, back into a 2D mesh; a case
+//! without `empty` or `wedge` patches back into a 3D mesh, with its `cellZones` and
+//! `faceZones` as tags (see the modules `read` and `read3d`).
 //!
 //! `wedge` ([`OpenFoamWrite::wedge`], axisymmetric cases): the mesh in y >= 0 is turned
 //! by ±angle/2 about the x axis, its points on the axis shared by both planes.
 //!
-//! Not done yet: cyclic
-//! patch pairs for periodic sides, cellZones/faceZones from face tags and inner
-//! curves; the report says what is left.
+//! Not done yet: cyclic patch pairs for periodic sides, cellZones/faceZones of a 2D
+//! mesh's face tags and inner curves; the report says what is left.
 
 pub mod extrude;
 mod read;
+mod read3d;
+mod volume;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -43,6 +51,7 @@ use crate::{Error, ErrorKind, Format, Result, TaggedMesh, WriteReport};
 
 pub use extrude::{extrude, extrude_layer, Layer, Patch, PolyMesh};
 pub use read::{read_case, read_poly_mesh};
+pub use volume::volume_poly_mesh;
 
 /// How to write an OpenFOAM case.
 #[derive(Debug, Clone, Default)]
@@ -158,6 +167,9 @@ pub fn poly_mesh_files(
     }
     let mut report = WriteReport::default();
     report_unheld(mesh, &mut report);
+    if mesh.blocks.iter().any(|b| b.kind.dim() == 3) {
+        return volume_files(mesh, opts, report);
+    }
     let layer = match opts.wedge {
         Some(angle) => Layer::Wedge(angle),
         None => {
@@ -197,6 +209,92 @@ pub fn poly_mesh_files(
         Error::new(ErrorKind::CannotWrite { format: Format::OpenFoam.name(), reason })
     })?;
     Ok((files(&poly, opts.binary), report))
+}
+
+/// `name` as an OpenFOAM word, or `tag<N>` when it is none; the report says what
+/// changed.
+fn word_or_tag(name: Option<&str>, what: &str, tag: i32, report: &mut WriteReport) -> String {
+    match name {
+        Some(n) => {
+            let w = foam_word(n);
+            if w.is_empty() {
+                report.drop(format!("{what} tag {tag}'s blank name written as `tag{tag}`"));
+                format!("tag{tag}")
+            } else {
+                if w != n {
+                    report.drop(format!("{what} tag {tag}'s name `{n}` written as `{w}`: an OpenFOAM word has no blanks, quotes or `/;{{}}()`"));
+                }
+                w
+            }
+        }
+        None => {
+            report.drop(format!("{what} tag {tag} has no name: written as `tag{tag}`"));
+            format!("tag{tag}")
+        }
+    }
+}
+
+/// The polyMesh files of a mesh with volume cells, written directly
+/// ([`volume_poly_mesh`]): patches from the surface tags, zones from the volume tags
+/// and the surface tags inside.
+fn volume_files(
+    mesh: &TaggedMesh,
+    opts: &OpenFoamWrite,
+    mut report: WriteReport,
+) -> Result<(Vec<CaseFile>, WriteReport)> {
+    if opts.extrude.is_some() || opts.wedge.is_some() {
+        report.drop("--extrude and --wedge: a 3D mesh is written as it is, not extruded");
+    }
+    let lines = mesh.blocks.iter().filter(|b| b.kind.dim() < 2).map(|b| b.len()).sum::<usize>();
+    if lines > 0 {
+        report.drop(format!(
+            "{lines} line and vertex cells: a 3D polyMesh has patches of faces only"
+        ));
+    }
+    let patch_name = |tag: i32, report: &mut WriteReport| -> (String, String) {
+        let name = word_or_tag(mesh.tag_name(2, tag), "surface", tag, report);
+        let kind =
+            opts.patch_types.get(&name).cloned().unwrap_or_else(|| patch_type(&name).to_string());
+        (name, kind)
+    };
+    let zone_name = |d: u8, tag: i32| -> String {
+        mesh.tag_name(d, tag)
+            .map(foam_word)
+            .filter(|w| !w.is_empty())
+            .unwrap_or(format!("tag{tag}"))
+    };
+    let mut inner = WriteReport::default();
+    let poly = volume_poly_mesh(mesh, patch_name, zone_name, &mut inner).map_err(|reason| {
+        Error::new(ErrorKind::CannotWrite { format: Format::OpenFoam.name(), reason })
+    })?;
+    report.dropped.extend(inner.dropped);
+    Ok((files(&poly, opts.binary), report))
+}
+
+/// A `cellZones` or `faceZones` file (always ASCII: OpenFOAM reads each file by its
+/// own header).
+fn zones_file(object: &'static str, zones: &[(String, Vec<u32>)]) -> Vec<u8> {
+    let mut out = header("regIOobject", object, None, false);
+    let (kind, list) =
+        if object == "cellZones" { ("cellZone", "cellLabels") } else { ("faceZone", "faceLabels") };
+    push_int(&mut out, zones.len());
+    out.extend_from_slice(b"\n(\n");
+    for (name, items) in zones {
+        out.extend_from_slice(
+            format!("{name}\n{{\n    type {kind};\n{list} List<label> ").as_bytes(),
+        );
+        labels(&mut out, items, false);
+        out.extend_from_slice(b";\n");
+        if kind == "faceZone" {
+            // flipMap false: each face's normal points from its owner, the zone's side.
+            out.extend_from_slice(b"flipMap List<bool> ");
+            labels(&mut out, &vec![0; items.len()], false);
+            out.extend_from_slice(b";\n");
+        }
+        out.extend_from_slice(b"}\n");
+    }
+    out.extend_from_slice(b")\n");
+    out
 }
 
 /// The FoamFile header of a polyMesh file; binary files say their byte layout
@@ -335,13 +433,20 @@ fn files(poly: &PolyMesh, binary: bool) -> Vec<CaseFile> {
     s.push_str(")\n");
     boundary.extend_from_slice(s.as_bytes());
 
-    vec![
+    let mut out = vec![
         ("points", points),
         ("faces", faces),
         ("owner", owner),
         ("neighbour", neighbour),
         ("boundary", boundary),
-    ]
+    ];
+    if !poly.cell_zones.is_empty() {
+        out.push(("cellZones", zones_file("cellZones", &poly.cell_zones)));
+    }
+    if !poly.face_zones.is_empty() {
+        out.push(("faceZones", zones_file("faceZones", &poly.face_zones)));
+    }
+    out
 }
 
 /// What an OpenFOAM mesh written from a 2D mesh does not hold.
@@ -364,7 +469,8 @@ fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
         .filter(|b| b.kind.dim() == 2)
         .flat_map(|b| b.physical.iter().copied())
         .collect();
-    if face_tags.len() > 1 {
+    // A 3D mesh's surface tags are its patches and face zones.
+    if face_tags.len() > 1 && !mesh.blocks.iter().any(|b| b.kind.dim() == 3) {
         report.drop(format!(
             "face tags {face_tags:?}: cellZones are not written yet, so the cells carry no tag"
         ));

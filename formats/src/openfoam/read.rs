@@ -1,4 +1,5 @@
-//! Reading back a 2D OpenFOAM case: a `constant/polyMesh` (ASCII or binary, little-endian
+//! Reading back an OpenFOAM case (a 3D one, without `empty` or `wedge` patches, is
+//! handed to `read3d` with its zones). A 2D OpenFOAM case: a `constant/polyMesh` (ASCII or binary, little-endian
 //! with 32-bit labels) one cell thick along
 //! z, as [`super::write_case`] writes it and as `extrudeMesh` or Gmsh's export make
 //! them.
@@ -20,7 +21,7 @@ use crate::{CellKind, Error, ErrorKind, Result, TaggedMesh};
 
 /// A cursor over the tokens of an OpenFOAM file: words and numbers, and the
 /// punctuation `( ) { } ;` as tokens of their own; `//` and `/* */` comments skipped.
-struct Lexer<'a> {
+pub(super) struct Lexer<'a> {
     d: &'a [u8],
     pos: usize,
     line: u64,
@@ -263,11 +264,11 @@ struct Header {
 }
 
 /// One patch of `boundary`.
-struct PatchInfo {
-    name: String,
-    kind: String,
-    n_faces: usize,
-    start: usize,
+pub(super) struct PatchInfo {
+    pub(super) name: String,
+    pub(super) kind: String,
+    pub(super) n_faces: usize,
+    pub(super) start: usize,
 }
 
 /// Reads the 2D mesh of the case directory `case`.
@@ -476,10 +477,83 @@ pub fn read_poly_mesh(file: impl Fn(&str) -> Result<Vec<u8>>, dir: &Path) -> Res
     })()
     .map_err(|e: Error| e.with_path(at("boundary")))?;
 
+    // A case with no `empty` or `wedge` patch is 3D: its cells are read as they are.
+    if !patches.iter().any(|p| p.kind == "empty" || p.kind == "wedge") {
+        let mut zones = Vec::new();
+        for (name, key, below) in
+            [("cellZones", "cellLabels", n_cells), ("faceZones", "faceLabels", neighbour.len())]
+        {
+            zones.push(match file(name) {
+                Ok(bytes) => parse_zones(&bytes, key, below).map_err(|e| e.with_path(at(name)))?,
+                Err(e) if is_missing(&e) => Vec::new(),
+                Err(e) => return Err(e),
+            });
+        }
+        let mesh = super::read3d::to_3d(
+            &super::read3d::Poly {
+                points: &points,
+                faces: &faces,
+                owner: &owner,
+                neighbour: &neighbour,
+                n_cells,
+            },
+            &patches,
+            &zones[0],
+            &zones[1],
+        );
+        return mesh.map_err(|reason| {
+            Error::new(ErrorKind::Unsupported(format!("this 3D case: {reason}"))).with_path(dir)
+        });
+    }
     to_2d(&points, &faces, &owner, n_cells, &patches).map_err(|reason| {
         Error::new(ErrorKind::Unsupported(format!("this case as a 2D mesh: {reason}")))
             .with_path(dir)
     })
+}
+
+/// Whether reading a file failed because it is not there (an optional zones file).
+fn is_missing(e: &Error) -> bool {
+    matches!(&e.kind, ErrorKind::Unreadable(io) if io.kind() == std::io::ErrorKind::NotFound)
+}
+
+/// The zones of a `cellZones` or `faceZones` file: each zone's name and the labels
+/// under `key` (below `below`); other entries (`type`, `flipMap`) are left.
+fn parse_zones(bytes: &[u8], key: &str, below: usize) -> Result<Vec<(String, Vec<u32>)>> {
+    let mut l = Lexer::new(bytes);
+    let binary = l.header()?.binary;
+    let n = l.count("the number of zones", 8)?;
+    l.expect("(")?;
+    let mut zones = Vec::with_capacity(n);
+    for _ in 0..n {
+        let name = String::from_utf8_lossy(l.token("a zone name")?).into_owned();
+        l.expect("{")?;
+        let mut items = None;
+        loop {
+            let k = l.token("`}` closing a zone")?;
+            if k == b"}" {
+                break;
+            }
+            if k == key.as_bytes() {
+                let save = (l.pos, l.line);
+                if !l.token("a list")?.starts_with(b"List<") {
+                    (l.pos, l.line) = save;
+                }
+                items = Some(l.labels(binary, key, below)?);
+                l.expect(";")?;
+                continue;
+            }
+            loop {
+                if l.token("`;`")? == b";" {
+                    break;
+                }
+            }
+        }
+        let items = items
+            .ok_or_else(|| Error::expected(l.line, format!("`{key}` in zone `{name}`"), "none"))?;
+        zones.push((name, items));
+    }
+    l.expect(")")?;
+    Ok(zones)
 }
 
 impl Lexer<'_> {

@@ -1,4 +1,4 @@
-//! SU2 native mesh files (`.su2`), ASCII, 2D.
+//! SU2 native mesh files (`.su2`), ASCII, 2D and 3D.
 //!
 //! Source: the SU2 documentation, *Mesh File* (su2code.github.io/docs_v7/Mesh-File):
 //! `NDIME=` the dimension, `NELEM=` the interior elements, one per line as the VTK
@@ -8,44 +8,55 @@
 //! `MARKER_ELEMS=` and its elements. `%` starts a comment. A multi-zone file starts
 //! with `NZONE=` and opens each zone with `IZONE=`. Element types (VTK's): line 3,
 //! triangle 5, quadrilateral 9; tetrahedron 10, hexahedron 12, prism 13, pyramid 14.
+//! The nodes of each element are in VTK's order (the documentation's figures), which is
+//! Gmsh's for every kind but the prism: VTK's prism 0-1-2 turns clockwise seen from
+//! 3-4-5, Gmsh's counter-clockwise, so SU2's prism is Gmsh's 0 2 1 3 5 4 (what Gmsh's
+//! own SU2 and VTK exports write, checked with Gmsh 4.15).
 //!
 //! Read:
 //! - the sections in any order within a zone; blank and `%` lines anywhere;
 //!   `KEY=value`, `KEY= value` and `KEY = value` alike; `NPOIN=` may carry a second
 //!   number (the count of points owned by a partition), which is ignored, and each
 //!   point or element line may end with one or two integers (indices), ignored too;
-//! - interior triangles and quads get the zone's number (1-based) as physical and
-//!   geometrical tag, unnamed: SU2 names no volume;
-//! - each marker's lines get one tag of dimension 1 named from `MARKER_TAG`; a marker
+//! - `NDIME= 2`: interior triangles and quads, markers of lines, points of 2
+//!   coordinates; `NDIME= 3`: interior tetrahedra, hexahedra, prisms and pyramids,
+//!   markers of triangles and quads, points of 3 coordinates. `NDIME=` comes before
+//!   the zone's other sections, which need it;
+//! - interior cells get the zone's number (1-based) as physical and geometrical tag,
+//!   unnamed: SU2 names no volume;
+//! - each marker's cells get one tag of dimension NDIME - 1 named from `MARKER_TAG`; a marker
 //!   named `tag<N>` (as this writer names an unnamed tag) is tag N without a name, the
 //!   others are numbered 1, 2, … in file order around those numbers; a name given
 //!   twice is one tag;
 //! - several zones (`NZONE`): read as one mesh, each zone's points apart (SU2 zones do
 //!   not share points), the report saying so;
-//! - `NDIME= 3`, the 3D cells (10, 12, 13, 14) and any other type are refused naming
-//!   the line; so are counts past the bytes left (nothing is allocated for them),
+//! - an element type the zone's dimension does not take (a tetrahedron in a 2D mesh,
+//!   a line marker in a 3D one) and any other type are refused naming the line; so
+//!   are counts past the bytes left (nothing is allocated for them),
 //!   point indices past `NPOIN`, and `NMARK`/`NZONE` counts the file does not keep;
 //! - free-form deformation boxes (`FFD_NBOX=` and what follows, written by SU2's
 //!   shape design tools after the mesh) end the mesh; the report says they were left.
 //!
-//! Write: the layout of the documentation's example, with its comment headers:
-//! `NDIME= 2`, `NELEM=` with every triangle and quad (element index last), `NPOIN=`
-//! with `x y index` (shortest round-trip decimals), `NMARK=` with one marker per
-//! physical tag of the line cells, in increasing tag order, each cell in mesh order.
+//! Write ([`write`]): the layout of the documentation's example, with its comment
+//! headers. A mesh with volume cells is 3D: `NDIME= 3`, `NELEM=` with every volume cell
+//! (element index last), `NPOIN=` with `x y z index`, `NMARK=` with one marker per
+//! physical tag of the triangles and quads; otherwise 2D: `NDIME= 2`, the triangles and
+//! quads inside, `x y index`, a marker per tag of the line cells. Markers in increasing
+//! tag order, each cell in mesh order.
 //! A marker is named from the tag name, made a single SU2 word (blanks, `=`, `%`,
 //! parentheses and commas, which SU2's configuration files cannot hold in a marker
 //! name, become `_`); an unnamed tag `p` is `tag<p>`; both are reported. The report
-//! lists what SU2 cannot hold: face tags, point and cell data, sets, z coordinates,
-//! vertex cells, second-order nodes (cells written by their corners).
+//! lists what SU2 cannot hold: interior tags, point and cell data, sets, z coordinates
+//! of a 2D mesh, cells of a lower dimension than the markers', second-order nodes
+//! (cells written by their corners).
 
-use std::collections::BTreeMap;
+mod write;
+
+pub use write::write;
 
 use crate::mesh::node_index;
-use crate::text::{check_count, parse_f64, parse_i64, push_f64, push_int, show, trim};
-use crate::{
-    CellBlock, CellKind, Error, ErrorKind, ReadContext, ReadReport, Result, TaggedMesh,
-    WriteOptions, WriteReport, Written,
-};
+use crate::text::{check_count, parse_f64, parse_i64, show, trim};
+use crate::{CellBlock, CellKind, Error, ErrorKind, ReadContext, ReadReport, Result, TaggedMesh};
 
 /// The reader checks every index and coordinate it reads (see [`crate::Checks`]).
 pub(crate) const CHECKS: crate::Checks =
@@ -55,6 +66,35 @@ pub(crate) const CHECKS: crate::Checks =
 const LINE: i64 = 3;
 const TRIANGLE: i64 = 5;
 const QUAD: i64 = 9;
+const TETRA: i64 = 10;
+const HEXA: i64 = 12;
+const PRISM: i64 = 13;
+const PYRAMID: i64 = 14;
+
+/// The SU2 type of a linear kind.
+fn su2_type(kind: CellKind) -> Option<i64> {
+    Some(match kind {
+        CellKind::Line => LINE,
+        CellKind::Triangle => TRIANGLE,
+        CellKind::Quad => QUAD,
+        CellKind::Tetra => TETRA,
+        CellKind::Hexa => HEXA,
+        CellKind::Wedge => PRISM,
+        CellKind::Pyramid => PYRAMID,
+        _ => return None,
+    })
+}
+
+/// Which Gmsh node each SU2 (VTK) position of a linear kind holds: the prism's
+/// triangles turn the other way (see the module header); an involution, so the same
+/// table converts both ways.
+fn su2_order(kind: CellKind) -> &'static [usize] {
+    const IDENTITY: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+    match kind {
+        CellKind::Wedge => &[0, 2, 1, 3, 5, 4],
+        k => &IDENTITY[..k.nodes_per_cell().min(8)],
+    }
+}
 
 /// The name of an SU2 element type, for messages.
 fn type_name(t: i64) -> Option<&'static str> {
@@ -141,30 +181,33 @@ fn count(
     }
 }
 
-/// The interior element or marker element of one record: its kind and 0-based nodes.
-fn element(rec: &[u8], line: u64, interior: bool, nodes: &mut Vec<usize>) -> Result<CellKind> {
+/// The interior element or marker element of one record in a zone of dimension
+/// `ndime`: its kind and 0-based nodes in Gmsh's order.
+fn element(
+    rec: &[u8],
+    line: u64,
+    interior: bool,
+    ndime: u8,
+    nodes: &mut Vec<usize>,
+) -> Result<CellKind> {
     let mut w = words(rec);
     let first = w.next().unwrap_or(b"");
     let t = parse_i64(first)
         .ok_or_else(|| Error::expected(line, "an SU2 element type number", show(first)))?;
-    let (kind, expected) = match (t, interior) {
-        (TRIANGLE, true) => (CellKind::Triangle, 3),
-        (QUAD, true) => (CellKind::Quad, 4),
-        (LINE, false) => (CellKind::Line, 2),
-        (10 | 12 | 13 | 14, _) => {
-            return Err(Error::at_line(
-                line,
-                ErrorKind::Unsupported(format!(
-                    "SU2 element type {t} ({}) is a 3D cell; smartmesh reads 2D SU2 meshes (lines, triangles, quadrilaterals)",
-                    type_name(t).unwrap_or("?")
-                )),
-            ))
-        }
+    let kind = match (t, interior, ndime) {
+        (TRIANGLE, true, 2) | (TRIANGLE, false, 3) => CellKind::Triangle,
+        (QUAD, true, 2) | (QUAD, false, 3) => CellKind::Quad,
+        (LINE, false, 2) => CellKind::Line,
+        (TETRA, true, 3) => CellKind::Tetra,
+        (HEXA, true, 3) => CellKind::Hexa,
+        (PRISM, true, 3) => CellKind::Wedge,
+        (PYRAMID, true, 3) => CellKind::Pyramid,
         _ => {
-            let place = if interior {
-                "an interior element of a 2D mesh: triangle (5) or quadrilateral (9)"
-            } else {
-                "a marker element of a 2D mesh: line (3)"
+            let place = match (interior, ndime) {
+                (true, 2) => "an interior element of a 2D mesh: triangle (5) or quadrilateral (9)",
+                (false, 2) => "a marker element of a 2D mesh: line (3)",
+                (true, _) => "an interior element of a 3D mesh: tetrahedron (10), hexahedron (12), prism (13) or pyramid (14)",
+                (false, _) => "a marker element of a 3D mesh: triangle (5) or quadrilateral (9)",
             };
             let found = match type_name(t) {
                 Some(n) => format!("type {t} ({n})"),
@@ -173,6 +216,7 @@ fn element(rec: &[u8], line: u64, interior: bool, nodes: &mut Vec<usize>) -> Res
             return Err(Error::expected(line, place, found));
         }
     };
+    let expected = kind.nodes_per_cell();
     nodes.clear();
     for tok in w {
         match parse_i64(tok) {
@@ -197,6 +241,12 @@ fn element(rec: &[u8], line: u64, interior: bool, nodes: &mut Vec<usize>) -> Res
         ));
     }
     nodes.truncate(expected);
+    if kind == CellKind::Wedge {
+        let su2 = [nodes[0], nodes[1], nodes[2], nodes[3], nodes[4], nodes[5]];
+        for (n, &k) in nodes.iter_mut().zip(su2_order(kind)) {
+            *n = su2[k];
+        }
+    }
     Ok(kind)
 }
 
@@ -210,7 +260,8 @@ struct Zone {
     markers: usize,
     /// The largest point index an element of the zone names, and its line.
     max_node: Option<(usize, u64)>,
-    ndime_seen: bool,
+    /// `NDIME=` of the zone, once read.
+    ndime: Option<u8>,
     nelem_seen: bool,
 }
 
@@ -229,7 +280,7 @@ impl Zone {
                 ));
             }
         }
-        if !self.ndime_seen {
+        if self.ndime.is_none() {
             return Err(Error::expected(line, format!("`NDIME=` in zone {number}"), "none"));
         }
         if let Some((n, at)) = self.nmark {
@@ -257,9 +308,11 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
     let mut report = ReadReport::default();
     let mut r = Records { data: bytes, pos: 0, line: 0 };
     let mut mesh = TaggedMesh::new();
-    // Marker names in order of first appearance, and each marker's lines.
+    // Marker names in order of first appearance, and each marker's cells (a block per
+    // run of one kind, in file order).
     let mut marker_names: Vec<String> = Vec::new();
-    let mut marker_lines: Vec<CellBlock> = Vec::new();
+    let mut marker_cells: Vec<Vec<CellBlock>> = Vec::new();
+    let mut dims = [false; 2];
     let mut nzone: Option<(usize, u64)> = None;
     let mut zone_number = 1usize;
     let mut zones_seen = 0usize;
@@ -311,19 +364,16 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
             }
             "NDIME" => {
                 in_zone = true;
-                if zone.ndime_seen {
+                if zone.ndime.is_some() {
                     return Err(Error::expected(line, "one `NDIME=` per zone", "a second one"));
                 }
-                zone.ndime_seen = true;
+                if zone.npoin.is_some() || zone.nelem_seen || zone.nmark.is_some() {
+                    return Err(Error::expected(line, "`NDIME=` first in its zone", "`NDIME=` after the zone's elements or points"));
+                }
                 match number("the dimension after `NDIME=` (2 or 3)")? {
-                    2 => {}
-                    3 => {
-                        return Err(Error::at_line(
-                            line,
-                            ErrorKind::Unsupported(
-                                "3D SU2 meshes (NDIME= 3): smartmesh's meshes carry 2D cells only (lines, triangles, quadrilaterals)".into(),
-                            ),
-                        ))
+                    d @ (2 | 3) => {
+                        zone.ndime = Some(d as u8);
+                        dims[d as usize - 2] = true;
                     }
                     d => return Err(Error::expected(line, "`NDIME= 2` or `NDIME= 3`", format!("`NDIME= {d}`"))),
                 }
@@ -338,7 +388,7 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
                 let tag = i32::try_from(zone_number).unwrap_or(i32::MAX);
                 for _ in 0..n {
                     let (l, rec) = r.expect("an interior element")?;
-                    let kind = element(rec, l, true, &mut nodes)?;
+                    let kind = element(rec, l, true, zone_dim(&zone, line)?, &mut nodes)?;
                     note_max(&mut zone, &nodes, l);
                     let shifted = shift(&nodes, zone.first_point, l)?;
                     mesh.block_mut(kind).push(&shifted[..nodes.len()], tag, tag);
@@ -357,7 +407,7 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
                 mesh.points.reserve(n);
                 for _ in 0..n {
                     let (l, rec) = r.expect("a point")?;
-                    mesh.points.push(point(rec, l)?);
+                    mesh.points.push(point(rec, l, zone_dim(&zone, line)?)?);
                 }
             }
             "NMARK" => {
@@ -381,7 +431,7 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
                     Some(i) => i,
                     None => {
                         marker_names.push(name);
-                        marker_lines.push(CellBlock::new(CellKind::Line));
+                        marker_cells.push(Vec::new());
                         marker_names.len() - 1
                     }
                 };
@@ -394,11 +444,16 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
                 let n = count(value, line, "MARKER_ELEMS", r.bytes_left(), 6)?;
                 for _ in 0..n {
                     let (l, rec) = r.expect("a marker element")?;
-                    element(rec, l, false, &mut nodes)?;
+                    let kind = element(rec, l, false, zone_dim(&zone, line)?, &mut nodes)?;
                     note_max(&mut zone, &nodes, l);
                     let shifted = shift(&nodes, zone.first_point, l)?;
+                    let blocks = &mut marker_cells[i];
+                    if blocks.last().map(|b| b.kind) != Some(kind) {
+                        blocks.push(CellBlock::new(kind));
+                    }
                     // Tags are given once every name is known (see `marker_tags`).
-                    marker_lines[i].push(&shifted[..2], i as i32, i as i32);
+                    let block = blocks.last_mut().expect("just pushed");
+                    block.push(&shifted[..nodes.len()], i as i32, i as i32);
                 }
             }
             _ => {
@@ -431,18 +486,18 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
         ));
     }
     let tags = marker_tags(&marker_names);
-    for (i, mut block) in marker_lines.into_iter().enumerate() {
+    for (i, blocks) in marker_cells.into_iter().enumerate() {
         let (tag, name) = &tags[i];
-        block.physical.fill(*tag);
-        block.geometrical.fill(*tag);
-        if let Some(name) = name {
-            mesh.tag_names.insert((1, *tag), name.clone());
-        }
-        if !block.is_empty() {
+        for mut block in blocks {
+            block.physical.fill(*tag);
+            block.geometrical.fill(*tag);
+            if let Some(name) = name {
+                mesh.tag_names.insert((block.kind.dim(), *tag), name.clone());
+            }
             mesh.blocks.push(block);
         }
     }
-    mesh.coordinate_dim = 2;
+    mesh.coordinate_dim = if dims[1] { 3 } else { 2 };
     Ok((mesh, report))
 }
 
@@ -454,21 +509,28 @@ fn note_max(zone: &mut Zone, nodes: &[usize], line: u64) {
     }
 }
 
+/// The dimension of the zone, which a section at `line` needs.
+fn zone_dim(zone: &Zone, line: u64) -> Result<u8> {
+    zone.ndime.ok_or_else(|| {
+        Error::expected(line, "`NDIME=` before the zone's elements and points", "none")
+    })
+}
+
 /// Point indices of a zone moved past the zones before it, checked against 32 bits.
-fn shift(nodes: &[usize], first: usize, line: u64) -> Result<[crate::NodeIndex; 4]> {
-    let mut out = [0; 4];
+fn shift(nodes: &[usize], first: usize, line: u64) -> Result<[crate::NodeIndex; 8]> {
+    let mut out = [0; 8];
     for (o, &n) in out.iter_mut().zip(nodes) {
         *o = node_index(n.saturating_add(first)).map_err(|k| Error::at_line(line, k))?;
     }
     Ok(out)
 }
 
-/// A point record: two finite coordinates, then at most two integers.
-fn point(rec: &[u8], line: u64) -> Result<[f64; 3]> {
+/// A point record: `ndime` finite coordinates, then at most two integers.
+fn point(rec: &[u8], line: u64, ndime: u8) -> Result<[f64; 3]> {
     let mut w = words(rec);
     let mut p = [0.0; 3];
-    for (k, c) in p.iter_mut().take(2).enumerate() {
-        let what = if k == 0 { "an x coordinate" } else { "a y coordinate" };
+    for (k, c) in p.iter_mut().take(ndime as usize).enumerate() {
+        let what = ["an x coordinate", "a y coordinate", "a z coordinate"][k];
         let tok = w.next().ok_or_else(|| Error::expected(line, what, "the end of the line"))?;
         *c = match parse_f64(tok) {
             Ok(v) if v.is_finite() => v,
@@ -485,7 +547,7 @@ fn point(rec: &[u8], line: u64) -> Result<[f64; 3]> {
         if k >= 2 || parse_i64(tok).is_none() {
             return Err(Error::expected(
                 line,
-                "2 coordinates then an optional point index (NDIME= 2)",
+                format!("{ndime} coordinates then an optional point index (NDIME= {ndime})"),
                 show(tok),
             ));
         }
@@ -520,217 +582,4 @@ fn generated_tag(name: &str) -> Option<i32> {
     let digits = name.strip_prefix("tag")?;
     let v: i32 = digits.parse().ok()?;
     (v >= 0 && v.to_string() == digits).then_some(v)
-}
-
-// ---------------------------------------------------------------------------------
-// Writing
-
-/// `name` as one SU2 marker word: blanks and the characters SU2's mesh and
-/// configuration files give a meaning (`=`, `%`, parentheses, commas, `;`) become `_`.
-fn marker_word(name: &str) -> String {
-    name.trim()
-        .chars()
-        .map(|c| if c.is_whitespace() || c.is_control() || "=%(),;".contains(c) { '_' } else { c })
-        .collect()
-}
-
-/// Writes a mesh as an SU2 file.
-pub fn write(mesh: &TaggedMesh, _opts: &WriteOptions) -> Result<Written> {
-    let mut report = WriteReport::default();
-    report_unheld(mesh, &mut report);
-    let mut out = Vec::with_capacity(64 + 24 * mesh.points.len() + 16 * mesh.num_cells());
-    out.extend_from_slice(
-        b"% SU2 mesh written by smartmesh\n%\n% Problem dimension\n%\nNDIME= 2\n",
-    );
-
-    // Interior elements: triangles and quads (second order by their corners).
-    let interior: Vec<&CellBlock> = mesh.blocks.iter().filter(|b| b.kind.dim() == 2).collect();
-    let nelem: usize = interior.iter().map(|b| b.len()).sum();
-    out.extend_from_slice(b"%\n% Inner element connectivity\n%\nNELEM= ");
-    push_int(&mut out, nelem);
-    out.push(b'\n');
-    let mut index = 0usize;
-    let mut face_tags = BTreeMap::new();
-    for b in &interior {
-        let (t, corners) = match b.kind {
-            CellKind::Triangle | CellKind::Triangle6 => (TRIANGLE, 3),
-            _ => (QUAD, 4),
-        };
-        for (i, c) in b.cells().enumerate() {
-            push_int(&mut out, t);
-            for &v in &c[..corners] {
-                out.push(b' ');
-                push_int(&mut out, v);
-            }
-            out.push(b' ');
-            push_int(&mut out, index);
-            out.push(b'\n');
-            index += 1;
-            *face_tags.entry(b.physical[i]).or_insert(0usize) += 1;
-        }
-    }
-    if face_tags.keys().any(|&t| t != 1) {
-        let list: Vec<String> = face_tags
-            .iter()
-            .map(|(&t, n)| match mesh.tag_name(2, t) {
-                Some(name) => format!("{t} `{name}` ({n} cells)"),
-                None => format!("{t} ({n} cells)"),
-            })
-            .collect();
-        report.drop(format!(
-            "face tags {}: SU2 names no volume, so the interior cells read back with tag 1 (zone 1)",
-            list.join(", ")
-        ));
-    }
-
-    out.extend_from_slice(b"%\n% Node coordinates\n%\nNPOIN= ");
-    push_int(&mut out, mesh.points.len());
-    out.push(b'\n');
-    let mut with_z = 0usize;
-    for (i, p) in mesh.points.iter().enumerate() {
-        if !p[0].is_finite() || !p[1].is_finite() {
-            return Err(crate::io::refused(crate::Format::Su2, mesh));
-        }
-        push_f64(&mut out, p[0]);
-        out.push(b' ');
-        push_f64(&mut out, p[1]);
-        out.push(b' ');
-        push_int(&mut out, i);
-        out.push(b'\n');
-        with_z += usize::from(p[2] != 0.0);
-    }
-    if with_z > 0 {
-        report.drop(format!(
-            "the z coordinates of {with_z} points: a 2D SU2 mesh (NDIME= 2) holds x and y"
-        ));
-    }
-
-    // Markers: the line cells grouped by physical tag, in increasing tag order.
-    let mut by_tag: BTreeMap<i32, Vec<[crate::NodeIndex; 2]>> = BTreeMap::new();
-    for b in mesh.blocks.iter().filter(|b| b.kind.dim() == 1) {
-        for (i, c) in b.cells().enumerate() {
-            by_tag.entry(b.physical[i]).or_default().push([c[0], c[1]]);
-        }
-    }
-    out.extend_from_slice(b"%\n% Boundary elements\n%\nNMARK= ");
-    push_int(&mut out, by_tag.len());
-    out.push(b'\n');
-    let mut used: BTreeMap<String, i32> = BTreeMap::new();
-    for (&tag, cells) in &by_tag {
-        let name = marker_name(mesh, tag, &used, &mut report);
-        used.insert(name.clone(), tag);
-        out.extend_from_slice(b"MARKER_TAG= ");
-        out.extend_from_slice(name.as_bytes());
-        out.extend_from_slice(b"\nMARKER_ELEMS= ");
-        push_int(&mut out, cells.len());
-        out.push(b'\n');
-        for c in cells {
-            out.extend_from_slice(b"3 ");
-            push_int(&mut out, c[0]);
-            out.push(b' ');
-            push_int(&mut out, c[1]);
-            out.push(b'\n');
-        }
-    }
-    for (&(d, t), name) in &mesh.tag_names {
-        if d == 1 && !by_tag.contains_key(&t) {
-            report.drop(format!("tag name `{name}` (dimension 1, tag {t}) names no line cell; SU2 keeps a marker only with its elements"));
-        }
-    }
-    Ok(Written { main: out, siblings: Vec::new(), report })
-}
-
-/// The marker name of line tag `tag`, reported when it is not the tag name as it stands.
-fn marker_name(
-    mesh: &TaggedMesh,
-    tag: i32,
-    used: &BTreeMap<String, i32>,
-    report: &mut WriteReport,
-) -> String {
-    let generated = format!("tag{tag}");
-    let name = match mesh.tag_name(1, tag) {
-        None => {
-            report.drop(format!(
-                "line tag {tag} has no name: written as marker `{generated}` (read back as tag {tag})"
-            ));
-            generated
-        }
-        Some(orig) => {
-            let word = marker_word(orig);
-            if word.is_empty() {
-                report.drop(format!(
-                    "line tag {tag}'s name `{orig}` is blank: written as marker `{generated}`"
-                ));
-                generated
-            } else if generated_tag(&word).is_some_and(|t| t != tag) {
-                report.drop(format!("line tag {tag}'s name `{orig}` would read back as another tag: written as marker `{generated}`"));
-                generated
-            } else {
-                if word != orig {
-                    report.drop(format!("line tag {tag}'s name `{orig}` written as marker `{word}`: an SU2 marker name is one word without `=`, `%`, parentheses or commas"));
-                }
-                word
-            }
-        }
-    };
-    if let Some(other) = used.get(&name) {
-        let unique = format!("{name}_tag{tag}");
-        report.drop(format!(
-            "line tags {other} and {tag} share the marker name `{name}`: tag {tag} written as `{unique}`"
-        ));
-        return unique;
-    }
-    name
-}
-
-/// What SU2 cannot hold at all, and what it holds only in part.
-fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
-    for (name, a) in &mesh.point_data {
-        report.drop(format!(
-            "point data `{name}` ({} components): an SU2 mesh holds no fields",
-            a.expanded_components()
-        ));
-    }
-    for (name, a) in &mesh.cell_data {
-        report.drop(format!(
-            "cell data `{name}` ({} components): an SU2 mesh holds no fields",
-            a.expanded_components()
-        ));
-    }
-    let differ: usize = mesh
-        .blocks
-        .iter()
-        .filter(|b| b.kind.dim() == 1)
-        .map(|b| b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count())
-        .sum();
-    if differ > 0 {
-        report.drop(format!("geometrical tags of {differ} line cells: SU2 keeps one marker per boundary element, the physical tag"));
-    }
-    let vertices = mesh.num_cells_of(CellKind::Vertex);
-    if vertices > 0 {
-        report.drop(format!(
-            "{vertices} vertex cells: a 2D SU2 mesh holds lines, triangles and quadrilaterals"
-        ));
-    }
-    for kind in [CellKind::Line3, CellKind::Triangle6, CellKind::Quad8, CellKind::Quad9] {
-        let n = mesh.num_cells_of(kind);
-        if n > 0 {
-            report.drop(format!("the mid-edge nodes of {n} {} cells: SU2 meshes are first order (written by their corners)", kind.name()));
-        }
-    }
-    if !mesh.entities.is_empty() {
-        report.drop(format!("the entity table ({} entities): SU2 has none", mesh.entities.len()));
-    }
-    for name in mesh.point_sets.keys() {
-        report.drop(format!("point set `{name}`: SU2 holds no sets"));
-    }
-    for name in mesh.cell_sets.keys() {
-        report.drop(format!("cell set `{name}`: SU2 holds no sets"));
-    }
-    if !mesh.holes.is_empty() {
-        report.drop(format!("{} hole points: SU2 holds none", mesh.holes.len()));
-    }
-    if !mesh.regions.is_empty() {
-        report.drop(format!("{} region seeds: SU2 holds none", mesh.regions.len()));
-    }
 }
