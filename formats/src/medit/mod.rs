@@ -19,16 +19,25 @@
 //! # Reading
 //! - `MeshVersionFormatted` 1 to 4, `Dimension` 2 or 3 (z is kept, `coordinate_dim` 3).
 //! - `Vertices` with their references (point data `medit:ref`, present only when some
-//!   reference is not 0); `Edges`, `Triangles`, `Quadrilaterals`: the reference is the
-//!   physical and geometrical tag. `EdgesP2` (ends, then middle, as libMeshb documents
-//!   it), `TrianglesP2` and `QuadrilateralsQ2` are read and written with their nodes as
-//!   they are, taken to be in smartmesh's (Gmsh's) order: libMeshb leaves that order to
-//!   optional `...Ordering` keywords, which smartmesh does not read. Blocks come out in the order lines,
-//!   triangles, quadrilaterals, then second order, whatever the order in the file.
+//!   reference is not 0); `Edges`, `Triangles`, `Quadrilaterals`, `Tetrahedra`,
+//!   `Prisms`, `Hexahedra`, `Pyramids`: the reference is the physical and geometrical
+//!   tag. Their nodes are in Gmsh's order (a prism's bottom triangle then its top, a
+//!   pyramid's base then its apex; MMG's tetrahedra have Gmsh's positive orientation).
+//! - Second order: `EdgesP2` (ends, then middle, as libMeshb documents it),
+//!   `TrianglesP2`, `QuadrilateralsQ2`, `TetrahedraP2`, `PrismsP2` (18 nodes),
+//!   `HexahedraQ2` (27), `PyramidsP2` (14). libMeshb fixes no order for their nodes
+//!   (it leaves it to optional `...Ordering` keywords, which smartmesh does not read).
+//!   `TetrahedraP2` follows Gmsh's Medit writer, the one tool seen writing them: Gmsh's
+//!   order with its last two edge nodes swapped (edges 0-1, 1-2, 2-0, 0-3, 1-3, 2-3; a
+//!   test compares Gmsh's `.mesh` with its `.msh` of the same mesh). No tool was found
+//!   that writes the others (Gmsh 4.15 writes 27-node hexahedra under `Hexahedra`),
+//!   so their nodes are taken in Gmsh's order as they are, as for `QuadrilateralsQ2`.
+//!   Blocks come out in the order lines, triangles, quadrilaterals, tetrahedra, prisms,
+//!   hexahedra, pyramids, then second order, whatever the order in the file.
 //! - `Corners`, `RequiredVertices` become point sets of those names (0-based point
 //!   indices); `Ridges`, `RequiredEdges` (edge numbers), `RequiredTriangles`,
 //!   `RequiredQuadrilaterals` become cell sets of those names (global cell indices).
-//! - Volume elements (tetrahedra, prisms, ...) are refused: smartmesh meshes are 2D.
+//! - Polyhedra and third- or fourth-order elements are refused with their keyword.
 //! - After a solution (`SolAtVertices`), keywords libMeshb's table does not define (a
 //!   solver's own, as `CFL`, `Model`, `Residu` in MMG's `naca-multiSols.sol`) are
 //!   skipped with what follows them up to the next keyword of the table, as MMG skips
@@ -47,13 +56,14 @@
 //! `MeditWrite::binary`. The extension wins over the option because MMG and
 //! libMeshb choose how to read a file from its extension. The mesh is written with
 //! `MeshVersionFormatted 2` (64-bit reals; 3 when a binary file passes 2 GiB), `Dimension 2`
-//! unless a z coordinate is not 0. The physical tag is the reference. The solution file
+//! unless a z coordinate is not 0 or the mesh has volume elements. The physical tag is the reference. The solution file
 //! beside it (`.sol` or `.solb`) holds point data `metric` as a type-3 tensor, or `size` as
 //! a scalar when there is no metric: MMG reads one solution. (The `mmg2d_O3` command looks
 //! for `x.sol` beside `x.meshb` unless told `-sol x.solb`; it writes `.sol` itself.)
 //! Everything else is reported as dropped: other point and cell data, geometrical tags
 //! that differ from the physical ones, tag names, Gmsh entities, the tags of point
-//! cells, 8-node quadrilaterals, holes and regions, and point or cell sets other than
+//! cells, serendipity elements (8-node quadrilaterals, 20-node hexahedra, 15-node prisms,
+//! 13-node pyramids), holes and regions, and point or cell sets other than
 //! the six above. Point cells (topological points) are written as `Corners` and
 //! `RequiredVertices` entries (joined with those point sets, sorted), so that MMG keeps
 //! them where they are, as the mmg2d adapter does.
@@ -99,6 +109,9 @@ const KW_VERTICES: usize = 4;
 const KW_EDGES: usize = 5;
 const KW_TRIANGLES: usize = 6;
 const KW_QUADRILATERALS: usize = 7;
+const KW_TETRAHEDRA: usize = 8;
+const KW_PRISMS: usize = 9;
+const KW_HEXAHEDRA: usize = 10;
 const KW_CORNERS: usize = 13;
 const KW_RIDGES: usize = 14;
 const KW_REQUIRED_VERTICES: usize = 15;
@@ -108,31 +121,48 @@ const KW_REQUIRED_QUADRILATERALS: usize = 18;
 const KW_TRIANGLES_P2: usize = 24;
 const KW_EDGES_P2: usize = 25;
 const KW_QUADRILATERALS_Q2: usize = 27;
+const KW_TETRAHEDRA_P2: usize = 30;
+const KW_HEXAHEDRA_Q2: usize = 33;
+const KW_PYRAMIDS: usize = 49;
+const KW_PRISMS_P2: usize = 86;
+const KW_PYRAMIDS_P2: usize = 87;
 const KW_END: usize = 54;
 const KW_SOL_AT_VERTICES: usize = 62;
 const KW_FLOAT_PRECISION: usize = 155;
 
 /// Element keywords smartmesh keeps, and their cell kinds (in the order blocks come out).
-const ELEMENTS: [(usize, CellKind); 6] = [
+const ELEMENTS: [(usize, CellKind); 14] = [
     (KW_EDGES, CellKind::Line),
     (KW_TRIANGLES, CellKind::Triangle),
     (KW_QUADRILATERALS, CellKind::Quad),
+    (KW_TETRAHEDRA, CellKind::Tetra),
+    (KW_PRISMS, CellKind::Wedge),
+    (KW_HEXAHEDRA, CellKind::Hexa),
+    (KW_PYRAMIDS, CellKind::Pyramid),
     (KW_EDGES_P2, CellKind::Line3),
     (KW_TRIANGLES_P2, CellKind::Triangle6),
     (KW_QUADRILATERALS_Q2, CellKind::Quad9),
+    (KW_TETRAHEDRA_P2, CellKind::Tetra10),
+    (KW_PRISMS_P2, CellKind::Wedge18),
+    (KW_HEXAHEDRA_Q2, CellKind::Hexa27),
+    (KW_PYRAMIDS_P2, CellKind::Pyramid14),
 ];
 
-/// Volume elements: a 2D toolchain cannot hold them.
-const VOLUMES: [&str; 16] = [
-    "Tetrahedra",
-    "Prisms",
-    "Hexahedra",
-    "TetrahedraP2",
-    "HexahedraQ2",
+/// The most nodes an element of [`ELEMENTS`] has (`HexahedraQ2`).
+const MAX_NODES: usize = 27;
+
+/// Where each node of a Medit element is in Gmsh's order, for the kinds whose orders
+/// differ: Medit's node `j` is Gmsh's node `order[j]` (see the module documentation).
+fn gmsh_positions(kind: CellKind) -> Option<&'static [usize]> {
+    match kind {
+        CellKind::Tetra10 => Some(&[0, 1, 2, 3, 4, 5, 6, 7, 9, 8]),
+        _ => None,
+    }
+}
+
+/// Element keywords smartmesh cannot hold: refused with their count.
+const UNSUPPORTED: [&str; 9] = [
     "Polyhedra",
-    "Pyramids",
-    "PrismsP2",
-    "PyramidsP2",
     "TetrahedraP3",
     "TetrahedraP4",
     "HexahedraQ3",
@@ -140,7 +170,12 @@ const VOLUMES: [&str; 16] = [
     "PyramidsP3",
     "PyramidsP4",
     "PrismsP3",
+    "PrismsP4",
 ];
+
+/// Why [`UNSUPPORTED`] elements are refused.
+const UNSUPPORTED_WHY: &str =
+    "smartmesh reads first- and second-order elements (no polyhedra, no third or fourth order)";
 
 /// Sets of vertices (point sets) and of elements (cell sets): keyword, and the element
 /// kind the numbers refer to (`None` for vertices).
@@ -161,8 +196,8 @@ fn set_target(code: usize) -> Option<Option<CellKind>> {
     SETS.iter().find(|(c, _)| *c == code).map(|&(_, k)| k)
 }
 
-fn is_volume(code: usize) -> bool {
-    VOLUMES.contains(&KEYWORDS[code].name)
+fn is_unsupported(code: usize) -> bool {
+    UNSUPPORTED.contains(&KEYWORDS[code].name)
 }
 
 /// The code of a keyword name.
@@ -401,6 +436,15 @@ fn assemble(p: Parsed, bytes: &[u8]) -> Result<TaggedMesh> {
             } else {
                 block.nodes.extend_from_slice(&e.nodes);
                 block.physical.extend_from_slice(&e.refs);
+            }
+        }
+        if let Some(order) = gmsh_positions(kind) {
+            let mut medit = [0 as NodeIndex; MAX_NODES];
+            for cell in block.nodes.chunks_exact_mut(order.len()) {
+                medit[..order.len()].copy_from_slice(cell);
+                for (j, &g) in order.iter().enumerate() {
+                    cell[g] = medit[j];
+                }
             }
         }
         offsets.insert(kind, (total, block.len()));

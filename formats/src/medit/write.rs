@@ -56,7 +56,8 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     if !finite || !mesh.lengths_agree() {
         return Err(refused(Format::Medit, mesh));
     }
-    let dim = if has_z { 3 } else { 2 };
+    let dim =
+        if has_z || mesh.blocks.iter().any(|b| b.kind.dim() == 3 && !b.is_empty()) { 3 } else { 2 };
 
     let refs = match mesh.point_data.get(REF) {
         Some(a) if a.components == 1 => {
@@ -98,14 +99,14 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             point_tags += b.physical.iter().filter(|&&t| t != 0).count();
         } else if !b.is_empty() {
             report.drop(format!(
-                "{} {} cells: Medit has no 8-node quadrilaterals",
+                "{} {} cells: Medit has no serendipity elements (8-node quadrilaterals, 20-node hexahedra, 15-node prisms, 13-node pyramids)",
                 b.len(),
                 b.kind.name()
             ));
         }
         offset += b.len();
     }
-    // File order as MMG writes it: edges, then triangles, then quadrilaterals.
+    // File order as MMG writes it: edges, triangles, quadrilaterals, then volumes.
     elements.sort_by_key(|(code, _)| ELEMENTS.iter().position(|(c, _)| c == code));
     if geo_differs > 0 {
         report.drop(format!(
