@@ -595,3 +595,54 @@ fn mmgs_adapts_our_surface_in_space() {
     assert_eq!(counts_per_tag(&adapted), counts_per_tag(&reference));
     assert_eq!(adapted.points.len(), reference.points.len());
 }
+
+// -----------------------------------------------------------------------------------------
+// Damaged 3D files
+// -----------------------------------------------------------------------------------------
+
+/// Copies of `bytes` cut short and with bytes replaced, the same every run (a fixed
+/// xorshift sequence): a deterministic complement to the `medit` fuzz target.
+fn damaged(bytes: &[u8]) -> Vec<Vec<u8>> {
+    let mut state = 0x5eed_3d3d_1234_9876u64;
+    let mut below = |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n.max(1) as u64) as usize
+    };
+    let n = bytes.len();
+    let mut v: Vec<Vec<u8>> = (0..24).map(|k| bytes[..(k * n / 24).min(n)].to_vec()).collect();
+    for _ in 0..48 {
+        let mut b = bytes.to_vec();
+        for _ in 0..1 + below(4) {
+            let i = below(n);
+            b[i] = [b'9', b'-', 0xff, b'\n', b' ', 0x7f, 0][below(7)];
+        }
+        v.push(b);
+    }
+    v
+}
+
+#[test]
+fn damaged_3d_files_are_refused_or_read_never_panic() {
+    smartmesh_test_support::require_public_fixtures!();
+    let root = smartmesh_test_support::formats::public_fixture("3d");
+    for (name, ext) in [("box_cyl_mmg.meshb", "meshb"), ("box_cyl_input.mesh", "mesh")] {
+        let bytes = std::fs::read(root.join(name)).unwrap();
+        let mut refused = 0;
+        let copies = damaged(&bytes);
+        for d in &copies {
+            let r =
+                std::panic::catch_unwind(|| read_bytes(Format::Medit, d, &ReadContext::alone(ext)));
+            match r {
+                Ok(Ok(m)) => assert_eq!(m.validate(), Vec::new()),
+                Ok(Err(e)) => {
+                    refused += 1;
+                    assert!(!e.to_string().is_empty());
+                }
+                Err(_) => panic!("the Medit reader panicked on a damaged {name}"),
+            }
+        }
+        assert!(refused > copies.len() / 4, "{name}: {refused} of {} refused", copies.len());
+    }
+}

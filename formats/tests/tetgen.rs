@@ -252,3 +252,43 @@ fn tetgen_tetrahedralises_our_plc_and_we_read_its_mesh() {
     let (a, b) = (volume(&back), volume(&m));
     assert!((a - b).abs() < 1e-9 * b, "{a} vs {b}");
 }
+
+#[test]
+fn damaged_tetgen_files_are_refused_or_read_never_panic() {
+    smartmesh_test_support::require_public_fixtures!();
+    let m = read_file("3d/box_cyl_input.mesh");
+    let set = write_bytes(Format::TetGen, &m, &named("x.ele")).unwrap();
+    let plc = write_bytes(Format::TetGen, &m, &named("x.poly")).unwrap();
+    let sib = MemorySiblings::from_written(&set);
+    let mut state = 0x0007_e79e_5eed_u64;
+    let mut below = |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n.max(1) as u64) as usize
+    };
+    let mut refused = 0;
+    let mut total = 0;
+    for (bytes, ext) in [(&set.main, "ele"), (&plc.main, "poly")] {
+        let n = bytes.len();
+        for k in 0..48 {
+            let mut d = bytes[..if k < 16 { k * n / 16 } else { n }].to_vec();
+            if k >= 16 {
+                for _ in 0..1 + below(4) {
+                    let i = below(n);
+                    d[i] = [b'9', b'-', 0xff, b'\n', b' ', b'#', 0][below(7)];
+                }
+            }
+            let ctx = ReadContext { siblings: &sib, extension: ext.into() };
+            let read = || read_bytes(Format::TetGen, &d, &ctx);
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(read));
+            total += 1;
+            match r {
+                Ok(Ok(_)) => {}
+                Ok(Err(_)) => refused += 1,
+                Err(_) => panic!("the TetGen reader panicked on a damaged .{ext}"),
+            }
+        }
+    }
+    assert!(refused > total / 4, "{refused} of {total} refused");
+}
