@@ -24,11 +24,12 @@
 //!   vertex (0 or 1) sets the numbering of the set, as in TetGen.
 //! - Vertices: markers go to point data `tetgen:marker`, attributes to
 //!   `tetgen:attribute1`, ... .
-//! - `.ele`: 4-node tetrahedra. The first region attribute (`-A`) is the physical and
+//! - `.ele`: 4-node tetrahedra, or 10-node ones (`-o2`), whose edge nodes TetGen 1.6
+//!   lists for edges 2-3, 0-3, 0-1, 1-2, 1-3, 0-2 (read from the PyPI `tetgen` wheel's
+//!   `-o2` output, checked in the tests), put in Gmsh's order. The first region attribute (`-A`) is the physical and
 //!   geometrical tag of each tetrahedron when every one is an integer; otherwise (or
 //!   when there are more) the attributes are cell data `tetgen:attribute<k>` (0 on the
-//!   other cells). 10-node `.ele` files (`-o2`) are refused: their node order is not
-//!   checked against TetGen here.
+//!   other cells).
 //! - `.face` (triangles) and `.edge` (segments): the boundary marker is the tag.
 //! - `.poly` and `.smesh`: each facet polygon becomes a cell of its corner count (1 a
 //!   point cell, 2 a segment, 3 a triangle, 4 a quadrilateral) tagged with the facet's
@@ -42,7 +43,8 @@
 //! The main file's extension chooses the files:
 //! - `.node`, `.ele`, `.face`, `.edge` (or stdout, where the `.node` is the main file):
 //!   `.node` (markers from point data `tetgen:marker`, attributes from
-//!   `tetgen:attribute<k>`), `.ele` for the tetrahedra (region attribute = physical tag
+//!   `tetgen:attribute<k>`), `.ele` for the tetrahedra (4-node ones, or 10-node ones in
+//!   TetGen's order when there are no 4-node ones; region attribute = physical tag
 //!   when a tetrahedron has a tag that is not 0), `.face` for the triangles and `.edge`
 //!   for the segments (marker = physical tag); the named file is written even when empty.
 //! - `.smesh` or `.poly`: one self-contained PLC: the vertices, every point, segment,
@@ -65,6 +67,11 @@ use crate::{ReadContext, ReadReport, Result, TaggedMesh, WriteOptions, Written};
 pub const MARKER: &str = "tetgen:marker";
 /// Prefix of the attribute arrays (`tetgen:attribute1`, ...), point or cell data.
 pub const ATTRIBUTE_PREFIX: &str = "tetgen:attribute";
+
+/// Where each node of a 10-node TetGen tetrahedron is in Gmsh's order: TetGen's node
+/// `j` is Gmsh's node `TETGEN_TO_GMSH[j]` (Gmsh's edge nodes: 0-1, 1-2, 2-0, 3-0, 3-2,
+/// 3-1; TetGen's: 2-3, 0-3, 0-1, 1-2, 1-3, 0-2).
+const TETGEN_TO_GMSH: [usize; 10] = [0, 1, 2, 3, 8, 7, 4, 5, 9, 6];
 
 /// The name of attribute array `k` (1-based).
 pub fn attribute_name(k: usize) -> String {

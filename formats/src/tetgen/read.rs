@@ -11,7 +11,7 @@ use crate::{
     CellBlock, CellKind, DataArray, NodeIndex, ReadContext, ReadReport, TaggedMesh, MAX_POINTS,
 };
 
-use super::{attribute_name, Kind, MARKER};
+use super::{attribute_name, Kind, MARKER, TETGEN_TO_GMSH};
 
 /// A vertex list (`.node`, or the first part of a `.poly`/`.smesh`).
 struct Nodes {
@@ -78,6 +78,8 @@ fn parse_nodes(t: &mut Tokens<'_>, file: &str) -> Result<Nodes> {
 
 /// Elements of one kind with their numbers read: `k` nodes and `nattr` reals each.
 struct Items {
+    /// Nodes per tetrahedron: 4, or 10 (`-o2`, in Gmsh's order once read).
+    k: usize,
     nodes: Vec<NodeIndex>,
     attrs: Vec<f64>,
     nattr: usize,
@@ -92,26 +94,31 @@ fn parse_ele(t: &mut Tokens<'_>, nv: usize, base: i64) -> Result<Items> {
     let mut r = Rec::new(t, line, "header", 0);
     let n = r.count("number of tetrahedra", 10)?;
     let k = r.opt_int("nodes per tetrahedron", 4)?;
-    if k != 4 {
-        return Err(Error::at_line(
-            line,
-            ErrorKind::Unsupported(format!(
-                "{k} nodes per tetrahedron: smartmesh reads 4-node TetGen tetrahedra (not `-o2` ones)"
-            )),
-        ));
+    if k != 4 && k != 10 {
+        return Err(Error::expected(line, "4 or 10 nodes per tetrahedron", k.to_string()));
     }
+    let k = k as usize;
     let nattr = r.opt_int("number of attributes", 0)?;
     let nattr = r.check_count("number of attributes", nattr, 1)?;
     r.end();
     let mut items =
-        Items { nodes: Vec::with_capacity(4 * n), attrs: Vec::with_capacity(n * nattr), nattr };
+        Items { k, nodes: Vec::with_capacity(k * n), attrs: Vec::with_capacity(n * nattr), nattr };
     for i in 0..n {
         let line = start(t, || format!("tetrahedron {} of {n}", i + 1))?;
         let mut r = Rec::new(t, line, "tetrahedron", i + 1);
         r.number()?;
-        for _ in 0..4 {
-            items.nodes.push(r.index("vertex", base, nv)?);
+        let mut cell = [0 as NodeIndex; 10];
+        for v in cell.iter_mut().take(k) {
+            *v = r.index("vertex", base, nv)?;
         }
+        if k == 10 {
+            let mut gmsh = [0 as NodeIndex; 10];
+            for (j, &g) in TETGEN_TO_GMSH.iter().enumerate() {
+                gmsh[g] = cell[j];
+            }
+            cell = gmsh;
+        }
+        items.nodes.extend_from_slice(&cell[..k]);
         for _ in 0..nattr {
             items.attrs.push(r.opt_f64("attribute", 0.0)?);
         }
@@ -392,7 +399,8 @@ fn assemble(nodes: Nodes, set: Set) -> (TaggedMesh, ReadReport) {
         ));
     }
     if let Some(tets) = set.tets {
-        let nt = tets.nodes.len() / 4;
+        let kind = if tets.k == 10 { CellKind::Tetra10 } else { CellKind::Tetra };
+        let nt = tets.nodes.len() / tets.k;
         let first: Vec<f64> =
             (0..nt).map(|i| tets.attrs.get(i * tets.nattr).copied().unwrap_or(0.0)).collect();
         let integral = first.iter().all(|&a| a.fract() == 0.0 && a.abs() <= i32::MAX as f64);
@@ -405,7 +413,7 @@ fn assemble(nodes: Nodes, set: Set) -> (TaggedMesh, ReadReport) {
                 first.iter().map(|&a| a as i32).collect(),
             ));
         } else {
-            mesh.blocks.push(block(CellKind::Tetra, tets.nodes, vec![0; nt]));
+            mesh.blocks.push(block(kind, tets.nodes, vec![0; nt]));
             for k in 0..tets.nattr {
                 let mut a = vec![0.0; total];
                 for i in 0..nt {

@@ -8,10 +8,9 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::text::{push_f64, push_int};
 use crate::{CellKind, TaggedMesh, WriteOptions, WriteReport, Written};
 
-use super::{attribute_name, Kind, ATTRIBUTE_PREFIX, MARKER};
+use super::{attribute_name, Kind, ATTRIBUTE_PREFIX, MARKER, TETGEN_TO_GMSH};
 
-/// The kinds a TetGen file holds: in the mesh set, and as PLC facet polygons.
-const SET_KINDS: [CellKind; 3] = [CellKind::Tetra, CellKind::Triangle, CellKind::Line];
+/// The kinds a PLC holds, as facet polygons.
 const PLC_KINDS: [CellKind; 4] =
     [CellKind::Vertex, CellKind::Line, CellKind::Triangle, CellKind::Quad];
 
@@ -66,7 +65,8 @@ fn cells_file(mesh: &TaggedMesh, kind: CellKind, header: &[u8], tagged: bool) ->
     out.extend_from_slice(if tagged { b" 1\n" } else { b" 0\n" });
     for (i, (_, nodes, tag, _)) in mesh.cells().filter(|c| c.0 == kind).enumerate() {
         push_int(&mut out, i + 1);
-        for &v in nodes {
+        for j in 0..nodes.len() {
+            let v = if kind == CellKind::Tetra10 { nodes[TETGEN_TO_GMSH[j]] } else { nodes[j] };
             out.push(b' ');
             push_int(&mut out, v + 1);
         }
@@ -159,7 +159,15 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
     let mut report = WriteReport::default();
     let plc = matches!(main, Kind::Smesh | Kind::Poly);
-    let kept: &[CellKind] = if plc { &PLC_KINDS } else { &SET_KINDS };
+    // One .ele holds one node count: 10-node tetrahedra when there are no 4-node ones.
+    let ntet = mesh.num_cells_of(CellKind::Tetra);
+    let tet = if ntet == 0 && mesh.num_cells_of(CellKind::Tetra10) > 0 {
+        CellKind::Tetra10
+    } else {
+        CellKind::Tetra
+    };
+    let set_kinds = [tet, CellKind::Triangle, CellKind::Line];
+    let kept: &[CellKind] = if plc { &PLC_KINDS } else { &set_kinds };
     let mut lost: BTreeMap<CellKind, usize> = BTreeMap::new();
     let mut geo_differs = 0;
     for b in &mesh.blocks {
@@ -177,11 +185,10 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             if plc {
                 "points, segments, triangles and quadrilaterals as facets"
             } else {
-                "4-node tetrahedra, triangles (.face) and segments (.edge)"
+                "tetrahedra of one node count (4, or 10 when there are no 4-node ones), triangles (.face) and segments (.edge)"
             }
         ));
     }
-    let ntet = mesh.num_cells_of(CellKind::Tetra);
     if plc && ntet > 0 {
         report.drop(format!(
             "{ntet} tetra cells: a PLC holds the boundary and one region seed per tag, which TetGen (-pA) fills again"
@@ -233,8 +240,9 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
     let mut files: Vec<(Kind, Vec<u8>)> = vec![(Kind::Node, node_file(mesh, &markers, &attrs))];
     let tagged = |k: CellKind| mesh.cells().any(|c| c.0 == k && c.2 != 0);
-    if ntet > 0 || main == Kind::Ele {
-        files.push((Kind::Ele, cells_file(mesh, CellKind::Tetra, b" 4", tagged(CellKind::Tetra))));
+    if mesh.num_cells_of(tet) > 0 || main == Kind::Ele {
+        let k: &[u8] = if tet == CellKind::Tetra10 { b" 10" } else { b" 4" };
+        files.push((Kind::Ele, cells_file(mesh, tet, k, tagged(tet))));
     }
     if mesh.num_cells_of(CellKind::Triangle) > 0 || main == Kind::Face {
         files.push((Kind::Face, cells_file(mesh, CellKind::Triangle, b"", true)));
