@@ -12,8 +12,8 @@
 //! `.smesh` and `.face` are TetGen's alone. `.node`, `.ele`, `.poly` and `.edge` are
 //! Triangle's extensions too; a file of these is read as TetGen's when `--from tetgen`
 //! says so, or when its header says it is 3D: a `.node` or `.poly` of dimension 3, an
-//! `.ele` of 4 or 10 nodes per element (Triangle's have 3 or 6), an `.edge` whose `.node`
-//! beside it is of dimension 3. Writing chooses by the format, not the data: `--to
+//! `.ele` of 4 or 10 nodes per element (Triangle's have 3 or 6) unless the `.node` beside
+//! it is 2D, an `.edge` whose `.node` beside it is of dimension 3. Writing chooses by the format, not the data: `--to
 //! tetgen` (or a `.smesh` or `.face` name) writes TetGen; a `.node`/`.ele` name alone
 //! means Triangle, whose writer refuses volume cells and says to write TetGen.
 //!
@@ -130,7 +130,15 @@ fn header(bytes: &[u8]) -> Vec<i64> {
 pub(crate) fn claims(bytes: &[u8], ctx: &ReadContext<'_>) -> bool {
     match Kind::from_ext(&ctx.extension) {
         Some(Kind::Node | Kind::Poly) => header(bytes).get(1) == Some(&3),
-        Some(Kind::Ele) => matches!(header(bytes).get(1), Some(4 | 10)),
+        // A 4-node .ele beside a 2D .node is a Triangle file gone wrong: Triangle's
+        // reader says why.
+        Some(Kind::Ele) => {
+            matches!(header(bytes).get(1), Some(4 | 10))
+                && !matches!(
+                    ctx.siblings.sibling_bytes("node"),
+                    Ok(Some(node)) if header(&node).get(1) == Some(&2)
+                )
+        }
         Some(Kind::Edge) => matches!(
             ctx.siblings.sibling_bytes("node"),
             Ok(Some(node)) if header(&node).get(1) == Some(&3)
