@@ -719,6 +719,10 @@ pub(super) fn write_mesh(m: &Out<'_>) -> (Vec<u8>, usize) {
                 (true, 2) => element_records::<2>(&mut w.out, b),
                 (true, 3) => element_records::<3>(&mut w.out, b),
                 (true, 4) => element_records::<4>(&mut w.out, b),
+                // Linear volumes; second-order kinds (Tetra10 reordered) take the loop.
+                (true, 5) => element_records::<5>(&mut w.out, b),
+                (true, 6) if b.kind == CellKind::Wedge => element_records::<6>(&mut w.out, b),
+                (true, 8) => element_records::<8>(&mut w.out, b),
                 _ => {
                     let mut b_bound = 0;
                     let order = gmsh_positions(b.kind);
@@ -769,7 +773,8 @@ fn vertex_records<const D: usize>(out: &mut Vec<u8>, points: &[[f64; 3]], refs: 
 /// version choice keeps the numbers of valid nodes within `i32`).
 fn element_records<const K: usize>(out: &mut Vec<u8>, b: &CellBlock) -> usize {
     let len = 4 * (K + 1);
-    let mut rec = [0u8; 20];
+    // Room for the largest record this is called for (8 nodes and a reference).
+    let mut rec = [0u8; 36];
     let mut largest = 0;
     for (cell, &r) in b.nodes.chunks_exact(K).zip(&b.physical) {
         for (j, &v) in cell.iter().enumerate() {
