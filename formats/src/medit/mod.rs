@@ -29,7 +29,7 @@
 //!   (it leaves it to optional `...Ordering` keywords, which smartmesh does not read).
 //!   `TetrahedraP2` follows Gmsh's Medit writer, the one tool seen writing them: Gmsh's
 //!   order with its last two edge nodes swapped (edges 0-1, 1-2, 2-0, 0-3, 1-3, 2-3; a
-//!   test compares Gmsh's `.mesh` with its `.msh` of the same mesh). No tool was found
+//!   test compares the `.mesh` Gmsh writes with the nodes its API gives). No tool was found
 //!   that writes the others (Gmsh 4.15 writes 27-node hexahedra under `Hexahedra`),
 //!   so their nodes are taken in Gmsh's order as they are, as for `QuadrilateralsQ2`.
 //!   Blocks come out in the order lines, triangles, quadrilaterals, tetrahedra, prisms,
@@ -48,15 +48,19 @@
 //!   `vector` (3 components, z = 0 in 2D), type 3 (symmetric tensor, written m11 m12 m22 in
 //!   2D and m11 m12 m22 m13 m23 m33 in 3D, not VTK's order) `metric` (in 2D packed as the
 //!   file has it, `Layout::Symmetric2`: m11 m12 m22, standing for the 9-component tensor
-//!   with zz = 1; in 3D 9 components), type 4 (full matrix) `matrix`; a second solution of the same type gets `_2`,
-//!   and so on.
+//!   with zz = 1; in 3D 9 components, row-major), type 4 (full matrix) `matrix`; a second
+//!   solution of the same type gets `_2`, and so on. The 3D order is the file's, not
+//!   MMG's C API's (m11 m12 m13 m22 m23 m33): MMG's reader swaps the third and fourth
+//!   values. `mmg3d_O3` adapting to an oblique constant metric written so makes edges of
+//!   unit metric length (tests/medit3d.rs).
 //!
 //! # Writing
 //! `x.meshb` writes binary, `x.mesh` ASCII; other names (or stdout) follow
 //! `MeditWrite::binary`. The extension wins over the option because MMG and
 //! libMeshb choose how to read a file from its extension. The mesh is written with
 //! `MeshVersionFormatted 2` (64-bit reals; 3 when a binary file passes 2 GiB), `Dimension 2`
-//! unless a z coordinate is not 0 or the mesh has volume elements. The physical tag is the reference. The solution file
+//! unless a z coordinate is not 0 or the mesh has volume elements. The physical tag is
+//! the reference. The solution file
 //! beside it (`.sol` or `.solb`) holds point data `metric` as a type-3 tensor, or `size` as
 //! a scalar when there is no metric: MMG reads one solution. (The `mmg2d_O3` command looks
 //! for `x.sol` beside `x.meshb` unless told `-sol x.solb`; it writes `.sol` itself.)
@@ -70,6 +74,11 @@
 //!
 //! [`read_sol`] and [`write_sol`] read and write a solution file alone, for the sizing
 //! engine that writes metrics.
+//!
+//! # Code
+//! `ascii` and `binary` read a file into `Parsed` and serialise `write::Out`; this file
+//! holds the keyword tables and builds the mesh; `sol` turns a `SolAtVertices` into
+//! named arrays; `write` makes the writer's choices and reports what it drops.
 
 mod ascii;
 mod binary;

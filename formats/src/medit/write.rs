@@ -253,8 +253,8 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
 
 /// Writes a solution file (`.solb` when `binary`, else `.sol`) with one `SolAtVertices`
 /// holding every array in order: 1 component → scalar (type 1), 2 or 3 → vector (type 2),
-/// 9 or packed symmetric 2D → symmetric tensor (type 3, m11 m12 m22 in 2D; off-diagonal
-/// terms of 9-component ones averaged).
+/// 9 or packed symmetric 2D → symmetric tensor (type 3, m11 m12 m22 in 2D, m11 m12 m22
+/// m13 m23 m33 in 3D; off-diagonal terms of 9-component ones averaged).
 /// `dim` is 2 or 3; every array must cover the same number of vertices.
 pub fn write_sol(arrays: &[(&str, &DataArray)], dim: u8, binary: bool) -> Result<Vec<u8>> {
     let cannot =
