@@ -11,13 +11,13 @@ cd "$(dirname "$0")"
 secs="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(gmsh gmsh_pos vtk_legacy vtu triangle obj medit su2 stl openfoam recipe_libconfig recipe_resolve)
+[ ${#targets[@]} -gt 0 ] || targets=(gmsh gmsh_pos vtk_legacy vtu triangle tetgen obj medit su2 stl openfoam recipe_libconfig recipe_resolve)
 toolchain=()
 if rustup toolchain list 2>/dev/null | grep -q '^nightly'; then toolchain=(+nightly); fi
 mkdir -p logs
 fixtures="${SMARTMESH_PUBLIC_FIXTURES:-$(cd ../.. && pwd)/shared/fixtures/public}"
 export RUSTC_BOOTSTRAP=1
-declare -A seeds=([gmsh]="gmsh/*.msh 3d/*.msh" [gmsh_pos]="" [vtk_legacy]="vtk/*.vtk" [vtu]="vtk/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb" [su2]="" [stl]="" [openfoam]="" [recipe_libconfig]="" [recipe_resolve]="")
+declare -A seeds=([gmsh]="gmsh/*.msh 3d/*.msh" [gmsh_pos]="" [vtk_legacy]="vtk/*.vtk" [vtu]="vtk/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb 3d/*.mesh 3d/*.meshb" [tetgen]="" [su2]="" [stl]="" [openfoam]="" [recipe_libconfig]="" [recipe_resolve]="")
 status=0
 for target in "${targets[@]}"; do
     corpus="corpus/$target"
@@ -34,6 +34,12 @@ for target in "${targets[@]}"; do
             [ -f "$base.node" ] || continue
             { cat "$ele"; printf '\0'; cat "$base.node"; if [ -f "$base.poly" ]; then printf '\0'; cat "$base.poly"; fi; } > "$corpus/$(basename "$base").set"
         done
+    fi
+    if [ "$target" = tetgen ]; then
+        # No public TetGen file: a tetrahedron set (`.ele NUL .node NUL .face`) and a
+        # .smesh with a region seed, as smartmesh writes them.
+        { printf '1 4 1\n1 1 2 3 4 10\n'; printf '\0'; printf '4 3 0 1\n1 0 0 0 1\n2 1 0 0 1\n3 0 1 0 1\n4 0 0 1 2\n'; printf '\0'; printf '1 1\n1 1 3 2 5\n'; } > "$corpus/tet.set"
+        printf '4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n4 1\n3 1 3 2 1\n3 1 2 4 2\n3 2 3 4 3\n3 1 4 3 4\n0\n1\n1 0.2 0.2 0.2 10 -1\n' > "$corpus/tet.smesh"
     fi
     if [ "$target" = gmsh_pos ]; then
         # No public .pos fixture: a tensor view as `smartmesh size -o X.pos` writes it,

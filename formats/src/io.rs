@@ -111,6 +111,17 @@ pub fn read_bytes_reported(
 ) -> Result<(TaggedMesh, ReadReport)> {
     let mut report = ReadReport::default();
     let mesh = match format {
+        // A 3D .node/.ele/.poly/.edge is TetGen's (see `tetgen::claims`).
+        Format::TetGen => {
+            let (mesh, r) = crate::tetgen::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
+        Format::Triangle if crate::tetgen::claims(bytes, ctx) => {
+            let (mesh, r) = crate::tetgen::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::Triangle => crate::triangle::read(bytes, ctx)?,
         Format::Gmsh => {
             let (mesh, r) = crate::gmsh::read_reported(bytes, ctx)?;
@@ -192,6 +203,7 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
         Format::Gltf => crate::gltf::write(mesh, opts),
         Format::Su2 => crate::su2::write(mesh, opts),
         Format::Stl => crate::stl::write(mesh, opts),
+        Format::TetGen => crate::tetgen::write(mesh, opts),
         Format::OpenFoam => Err(Error::new(ErrorKind::CannotWrite {
             format: format.name(),
             reason: "an OpenFOAM case is a directory of files, not one file or a stream; \

@@ -40,6 +40,7 @@ pub mod obj;
 pub mod openfoam;
 pub mod stl;
 pub mod su2;
+pub mod tetgen;
 pub mod triangle;
 pub mod vtk;
 
@@ -87,6 +88,8 @@ pub enum Format {
     Su2,
     /// STL, ASCII or binary: triangles in space, a solid per tag.
     Stl,
+    /// TetGen's .node/.ele/.face/.edge set, or a `.smesh`/`.poly` PLC (3D).
+    TetGen,
     /// An OpenFOAM case directory (`constant/polyMesh`): the path is the directory
     /// (`case.foam`, or any name with `--from`/`--to openfoam`).
     OpenFoam,
@@ -108,6 +111,8 @@ const EXTENSIONS: &[(&str, Format)] = &[
     ("gltf", Format::Gltf),
     ("glb", Format::Gltf),
     ("su2", Format::Su2),
+    ("smesh", Format::TetGen),
+    ("face", Format::TetGen),
     ("foam", Format::OpenFoam),
     ("stl", Format::Stl),
 ];
@@ -134,6 +139,7 @@ impl Format {
             "gmsh" => Some(Format::Gmsh),
             "vtk-legacy" | "legacy" => Some(Format::VtkLegacy),
             "medit" | "mmg" => Some(Format::Medit),
+            "tetgen" => Some(Format::TetGen),
             "openfoam" | "polymesh" => Some(Format::OpenFoam),
             _ => None,
         })
@@ -150,6 +156,7 @@ impl Format {
             Format::Medit => "Medit",
             Format::Gltf => "glTF",
             Format::Su2 => "SU2",
+            Format::TetGen => "TetGen",
             Format::OpenFoam => "OpenFOAM",
             Format::Stl => "STL",
         }
@@ -167,7 +174,7 @@ impl Format {
 
     /// The names accepted by [`Format::from_name`], for help texts.
     pub const NAMES: &'static str =
-        "triangle (node, ele, poly), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2, openfoam (foam), stl";
+        "triangle (node, ele, poly), tetgen (smesh, face; node, ele, poly when 3D), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2, openfoam (foam), stl";
 }
 
 /// Which of [`TaggedMesh::validate`]'s checks a format's reader and writer make
@@ -205,6 +212,7 @@ impl Format {
             Format::Gltf => gltf::CHECKS,
             Format::Su2 => su2::CHECKS,
             Format::Stl => stl::CHECKS,
+            Format::TetGen => tetgen::CHECKS,
             // Validated by `openfoam::poly_mesh_files` itself.
             Format::OpenFoam => Checks { reader_validates: false, writer_validates: true },
         }

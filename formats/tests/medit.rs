@@ -706,10 +706,11 @@ fn known_keywords_are_skipped() {
 }
 
 #[test]
-fn malformed_volume_elements() {
-    let e = ascii_err(&format!("{SQUARE}Tetrahedra\n1\n1 2 3 4 0\nEnd\n"));
+fn malformed_third_order_elements() {
+    let tet20: String = (1..=20).map(|v| format!("{} ", v.min(4))).collect();
+    let e = ascii_err(&format!("{SQUARE}TetrahedraP3\n1\n{tet20}0\nEnd\n"));
     assert!(matches!(e.kind, ErrorKind::Unsupported(_)), "{e}");
-    assert!(e.to_string().contains("1 Tetrahedra"), "{e}");
+    assert!(e.to_string().contains("1 TetrahedraP3"), "{e}");
 }
 
 #[test]

@@ -629,8 +629,11 @@ fn malformed_negative_count() {
 
 #[test]
 fn malformed_wrong_dimension() {
-    let e = err("node", "1 3 0 0\n1 0 0 0\n", &[]);
+    let e = err("node", "1 4 0 0\n1 0 0 0 0\n", &[]);
     assert!(e.to_string().contains("dimension 2"), "{e}");
+    // A 3D .node is TetGen's (see `tetgen`), read as such.
+    let m = read_mem("node", "1 3 0 0\n1 0 0 0.5\n", &[]).unwrap();
+    assert_eq!((m.coordinate_dim, m.points[0][2]), (3, 0.5));
 }
 
 #[test]

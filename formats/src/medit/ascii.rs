@@ -65,11 +65,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<Parsed> {
                     read_set(&mut t, &mut p, code)?;
                 } else {
                     let n = skip(&mut t, &KEYWORDS[code], p.dim, line)?;
-                    if n > 0 && is_volume(code) {
+                    if n > 0 && is_unsupported(code) {
                         return Err(Error::at_line(
                             line,
                             ErrorKind::Unsupported(format!(
-                                "{n} {}: smartmesh reads 2D meshes (no volume elements)",
+                                "{n} {}: {UNSUPPORTED_WHY}",
                                 KEYWORDS[code].name
                             )),
                         ));
@@ -218,7 +218,7 @@ fn read_elements(t: &mut Tokens<'_>, p: &mut Parsed, kind: CellKind, line: u64) 
 fn fast_elements(t: &mut Tokens<'_>, e: &mut Elements, k: usize, nv: usize, max: usize) -> usize {
     let mut s = Scan::new(t.data(), t.pos());
     let (mut done, mut end) = (0, t.pos());
-    let mut v = [0 as NodeIndex; 9];
+    let mut v = [0 as NodeIndex; MAX_NODES];
     while done < max {
         for slot in v.iter_mut().take(k) {
             s.ws();
@@ -415,9 +415,10 @@ pub(super) fn write_mesh(m: &Out<'_>) -> Vec<u8> {
         out.push(b'\n');
         keyword(&mut out, *code, m.count(*code));
         for b in blocks {
+            let order = gmsh_positions(b.kind);
             for (cell, &r) in b.cells().zip(&b.physical) {
-                for &v in cell {
-                    push_int(&mut out, v + 1);
+                for j in 0..cell.len() {
+                    push_int(&mut out, cell[order.map_or(j, |o| o[j])] + 1);
                     out.push(b' ');
                 }
                 push_int(&mut out, r);

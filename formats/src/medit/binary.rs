@@ -168,8 +168,14 @@ fn elements_any<const LE: bool, const I8: bool>(
         2 => elements::<LE, I8, 2>(data, nodes, refs),
         3 => elements::<LE, I8, 3>(data, nodes, refs),
         4 => elements::<LE, I8, 4>(data, nodes, refs),
+        5 => elements::<LE, I8, 5>(data, nodes, refs),
         6 => elements::<LE, I8, 6>(data, nodes, refs),
-        _ => elements::<LE, I8, 9>(data, nodes, refs),
+        8 => elements::<LE, I8, 8>(data, nodes, refs),
+        9 => elements::<LE, I8, 9>(data, nodes, refs),
+        10 => elements::<LE, I8, 10>(data, nodes, refs),
+        14 => elements::<LE, I8, 14>(data, nodes, refs),
+        18 => elements::<LE, I8, 18>(data, nodes, refs),
+        _ => elements::<LE, I8, MAX_NODES>(data, nodes, refs),
     }
 }
 
@@ -325,13 +331,13 @@ pub(super) fn read(b: &[u8]) -> Result<Parsed> {
             Some(KW_SOL_AT_VERTICES) => read_sol(b, data, limit, f, &mut p)?,
             Some(c) if element_kind(c).is_some() => read_elements(b, data, limit, f, c, &mut p)?,
             Some(c) if set_target(c).is_some() => read_set(b, data, limit, f, c, &mut p)?,
-            Some(c) if is_volume(c) && KEYWORDS[c].counted => {
+            Some(c) if is_unsupported(c) && KEYWORDS[c].counted => {
                 let n = scalar(b, data, f.isz(), le, "a count")?;
                 if n > 0 {
                     return Err(Error::at_byte(
                         pos as u64,
                         ErrorKind::Unsupported(format!(
-                            "{n} {}: smartmesh reads 2D meshes (no volume elements)",
+                            "{n} {}: {UNSUPPORTED_WHY}",
                             KEYWORDS[c].name
                         )),
                     ));
@@ -713,10 +719,16 @@ pub(super) fn write_mesh(m: &Out<'_>) -> (Vec<u8>, usize) {
                 (true, 2) => element_records::<2>(&mut w.out, b),
                 (true, 3) => element_records::<3>(&mut w.out, b),
                 (true, 4) => element_records::<4>(&mut w.out, b),
+                // Linear volumes; second-order kinds (Tetra10 reordered) take the loop.
+                (true, 5) => element_records::<5>(&mut w.out, b),
+                (true, 6) if b.kind == CellKind::Wedge => element_records::<6>(&mut w.out, b),
+                (true, 8) => element_records::<8>(&mut w.out, b),
                 _ => {
                     let mut b_bound = 0;
+                    let order = gmsh_positions(b.kind);
                     for (cell, &r) in b.cells().zip(&b.physical) {
-                        for &v in cell {
+                        for j in 0..cell.len() {
+                            let v = cell[order.map_or(j, |o| o[j])];
                             b_bound = b_bound.max(v as usize + 1);
                             w.int(v as usize + 1);
                         }
@@ -761,7 +773,8 @@ fn vertex_records<const D: usize>(out: &mut Vec<u8>, points: &[[f64; 3]], refs: 
 /// version choice keeps the numbers of valid nodes within `i32`).
 fn element_records<const K: usize>(out: &mut Vec<u8>, b: &CellBlock) -> usize {
     let len = 4 * (K + 1);
-    let mut rec = [0u8; 20];
+    // Room for the largest record this is called for (8 nodes and a reference).
+    let mut rec = [0u8; 36];
     let mut largest = 0;
     for (cell, &r) in b.nodes.chunks_exact(K).zip(&b.physical) {
         for (j, &v) in cell.iter().enumerate() {

@@ -60,9 +60,9 @@
 //! tag names, Gmsh entities, point and cell sets, and every point or cell array that is
 //! not one of the `triangle:` arrays above.
 
-mod parse;
+pub(crate) mod parse;
 mod read;
-mod record;
+pub(crate) mod record;
 mod seeds;
 mod write;
 

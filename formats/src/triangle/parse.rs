@@ -431,6 +431,6 @@ pub(super) fn parse_area(t: &mut Tokens<'_>, ntri: usize) -> Result<Vec<f64>> {
     Ok(areas)
 }
 
-pub(super) fn tokens(bytes: &[u8]) -> Tokens<'_> {
+pub(crate) fn tokens(bytes: &[u8]) -> Tokens<'_> {
     Tokens::with_comments(bytes, b'#')
 }

@@ -10,7 +10,7 @@ use crate::{NodeIndex, MAX_POINTS};
 
 /// Moves to the next record (skipping blank lines and comments) and returns its line;
 /// an end-of-file error naming `what` when there is none.
-pub(super) fn start(t: &mut Tokens<'_>, what: impl FnOnce() -> String) -> Result<u64> {
+pub(crate) fn start(t: &mut Tokens<'_>, what: impl FnOnce() -> String) -> Result<u64> {
     t.skip_space();
     if t.remaining().is_empty() {
         return Err(t.error(ErrorKind::UnexpectedEof { context: format!("expected {}", what()) }));
@@ -21,19 +21,19 @@ pub(super) fn start(t: &mut Tokens<'_>, what: impl FnOnce() -> String) -> Result
 /// The fields of one record (one line), read left to right. Triangle reads a record from
 /// one line only: a missing required field is an error at that line, a missing optional
 /// field takes its default, extra fields are ignored.
-pub(super) struct Rec<'t, 'a> {
-    pub(super) t: &'t mut Tokens<'a>,
-    pub(super) line: u64,
-    pub(super) item: &'static str,
-    pub(super) num: usize,
+pub(crate) struct Rec<'t, 'a> {
+    pub(crate) t: &'t mut Tokens<'a>,
+    pub(crate) line: u64,
+    pub(crate) item: &'static str,
+    pub(crate) num: usize,
 }
 
 impl<'t, 'a> Rec<'t, 'a> {
-    pub(super) fn new(t: &'t mut Tokens<'a>, line: u64, item: &'static str, num: usize) -> Self {
+    pub(crate) fn new(t: &'t mut Tokens<'a>, line: u64, item: &'static str, num: usize) -> Self {
         Rec { t, line, item, num }
     }
 
-    pub(super) fn describe(&self, what: &str) -> String {
+    pub(crate) fn describe(&self, what: &str) -> String {
         if self.num == 0 {
             format!("{what} in the {}", self.item)
         } else {
@@ -43,12 +43,12 @@ impl<'t, 'a> Rec<'t, 'a> {
 
     /// Whether another field follows on this line.
     #[inline]
-    pub(super) fn more(&mut self) -> bool {
+    pub(crate) fn more(&mut self) -> bool {
         !self.t.at_line_end()
     }
 
     #[inline]
-    pub(super) fn tok(&mut self, what: &str) -> Result<&'a [u8]> {
+    pub(crate) fn tok(&mut self, what: &str) -> Result<&'a [u8]> {
         if self.t.at_line_end() {
             return Err(Error::expected(self.line, self.describe(what), "end of line"));
         }
@@ -59,7 +59,7 @@ impl<'t, 'a> Rec<'t, 'a> {
     }
 
     #[inline]
-    pub(super) fn f64(&mut self, what: &str) -> Result<f64> {
+    pub(crate) fn f64(&mut self, what: &str) -> Result<f64> {
         let tok = self.tok(what)?;
         match parse_f64(tok) {
             Ok(v) if v.is_finite() => Ok(v),
@@ -72,7 +72,7 @@ impl<'t, 'a> Rec<'t, 'a> {
     }
 
     #[inline]
-    pub(super) fn opt_f64(&mut self, what: &str, default: f64) -> Result<f64> {
+    pub(crate) fn opt_f64(&mut self, what: &str, default: f64) -> Result<f64> {
         if self.more() {
             self.f64(what)
         } else {
@@ -81,13 +81,13 @@ impl<'t, 'a> Rec<'t, 'a> {
     }
 
     #[inline]
-    pub(super) fn int(&mut self, what: &str) -> Result<i64> {
+    pub(crate) fn int(&mut self, what: &str) -> Result<i64> {
         let tok = self.tok(what)?;
         parse_i64(tok).ok_or_else(|| self.bad(&format!("{what} (an integer)"), tok))
     }
 
     #[inline]
-    pub(super) fn opt_int(&mut self, what: &str, default: i64) -> Result<i64> {
+    pub(crate) fn opt_int(&mut self, what: &str, default: i64) -> Result<i64> {
         if self.more() {
             self.int(what)
         } else {
@@ -97,7 +97,7 @@ impl<'t, 'a> Rec<'t, 'a> {
 
     /// An optional marker: an integer that fits in 32 bits.
     #[inline]
-    pub(super) fn opt_marker(&mut self) -> Result<i32> {
+    pub(crate) fn opt_marker(&mut self) -> Result<i32> {
         let v = self.opt_int("boundary marker", 0)?;
         i32::try_from(v).map_err(|_| {
             Error::expected(
@@ -109,12 +109,12 @@ impl<'t, 'a> Rec<'t, 'a> {
     }
 
     /// A count of items that need at least `min_bytes` bytes each in what remains.
-    pub(super) fn count(&mut self, what: &str, min_bytes: usize) -> Result<usize> {
+    pub(crate) fn count(&mut self, what: &str, min_bytes: usize) -> Result<usize> {
         let v = self.int(what)?;
         self.check_count(what, v, min_bytes)
     }
 
-    pub(super) fn check_count(&self, what: &str, v: i64, min_bytes: usize) -> Result<usize> {
+    pub(crate) fn check_count(&self, what: &str, v: i64, min_bytes: usize) -> Result<usize> {
         if v < 0 {
             return Err(Error::expected(
                 self.line,
@@ -129,7 +129,7 @@ impl<'t, 'a> Rec<'t, 'a> {
 
     /// A vertex index as written, turned into a 0-based index below `n`.
     #[inline]
-    pub(super) fn index(&mut self, what: &str, base: i64, n: usize) -> Result<NodeIndex> {
+    pub(crate) fn index(&mut self, what: &str, base: i64, n: usize) -> Result<NodeIndex> {
         let v = self.int(what)?;
         match v.checked_sub(base) {
             Some(i) if i >= 0 && (i as u64) < n.min(MAX_POINTS) as u64 => Ok(i as NodeIndex),
@@ -149,17 +149,17 @@ impl<'t, 'a> Rec<'t, 'a> {
     /// The item number at the start of a record: checked to be an integer, otherwise
     /// ignored (Triangle numbers items by position).
     #[inline]
-    pub(super) fn number(&mut self) -> Result<i64> {
+    pub(crate) fn number(&mut self) -> Result<i64> {
         self.int("number")
     }
 
-    pub(super) fn bad(&self, what: &str, tok: &[u8]) -> Error {
+    pub(crate) fn bad(&self, what: &str, tok: &[u8]) -> Error {
         Error::expected(self.line, self.describe(what), crate::text::show(tok))
     }
 
     /// Skips whatever else is on the line.
     #[inline]
-    pub(super) fn end(self) {
+    pub(crate) fn end(self) {
         self.t.rest_of_line();
     }
 }
@@ -169,23 +169,23 @@ impl<'t, 'a> Rec<'t, 'a> {
 // ---------------------------------------------------------------------------------------
 
 /// Records with more attributes than this always take the general path.
-pub(super) const FAST_ATTRIBUTES: usize = 8;
+pub(crate) const FAST_ATTRIBUTES: usize = 8;
 
 impl Scan<'_> {
     #[inline(always)]
-    pub(super) fn next_f64(&mut self) -> Option<f64> {
+    pub(crate) fn next_f64(&mut self) -> Option<f64> {
         self.blank();
         self.f64()
     }
 
     #[inline(always)]
-    pub(super) fn next_i32(&mut self) -> Option<i32> {
+    pub(crate) fn next_i32(&mut self) -> Option<i32> {
         self.blank();
         self.int().and_then(|v| i32::try_from(v).ok())
     }
 
     #[inline(always)]
-    pub(super) fn next_index(&mut self, base: i64, n: usize) -> Option<NodeIndex> {
+    pub(crate) fn next_index(&mut self, base: i64, n: usize) -> Option<NodeIndex> {
         self.blank();
         let v = self.int()?.checked_sub(base)?;
         (v >= 0 && (v as u64) < n.min(MAX_POINTS) as u64).then_some(v as NodeIndex)
@@ -198,7 +198,7 @@ impl Scan<'_> {
 /// and the general path takes the record that stopped it (with its defaults, comments
 /// and errors).
 #[inline(always)]
-pub(super) fn fast<R>(
+pub(crate) fn fast<R>(
     t: &mut Tokens<'_>,
     max: usize,
     mut fields: impl FnMut(&mut Scan<'_>) -> Option<R>,

@@ -111,6 +111,23 @@ fn push_poly_rest(
 }
 
 pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    // Volume cells: refused, not dropped, since what would be left (their boundary, if
+    // any) is not the mesh the user asked to convert.
+    let volumes: Vec<String> = mesh
+        .blocks
+        .iter()
+        .filter(|b| b.kind.dim() == 3 && !b.is_empty())
+        .map(|b| format!("{} {} cells", b.len(), b.kind.name()))
+        .collect();
+    if !volumes.is_empty() {
+        return Err(Error::new(ErrorKind::CannotWrite {
+            format: "Triangle",
+            reason: format!(
+                "the mesh has volume cells ({}): Triangle's files hold 2D triangulations; write a volume mesh to TetGen (`--to tetgen`, .node/.ele, or .smesh), Gmsh, VTK or Medit",
+                volumes.join(", ")
+            ),
+        }));
+    }
     let mut report = WriteReport::default();
     // Quads go as two triangles each (a skin of boundary-layer cells stays a mesh).
     let split;
