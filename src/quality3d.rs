@@ -13,7 +13,8 @@
 //! - tetrahedron *mean ratio*: η = 12 (3|V|)^(2/3) / Σ lᵢ² over the six edges (Liu and
 //!   Joe 1994), signed as V: 1 for the regular tetrahedron, 0 for a flat one, negative
 //!   for an inverted one. It is the 3D twin of the triangle quality `info` prints for
-//!   2D meshes (4√3 A / Σ lᵢ²). VTK ≥ 9.3 (Verdict 1.4.5) reports η³ as "MeanRatio".
+//!   2D meshes (4√3 A / Σ lᵢ²). VTK 9.7 (Verdict 1.4.5) reports η^(3/2) as "MeanRatio"
+//!   (6√2 V / (Σ lᵢ² / 6)^(3/2)).
 //! - tetrahedron *dihedral angles*: the interior angle between the two faces at each of
 //!   the six edges, in degrees (70.53° everywhere for the regular tetrahedron); Verdict's
 //!   "minimum angle" of a tetrahedron is the smallest of them.
@@ -160,19 +161,24 @@ pub fn tet_mean_ratio(t: &[P; 4]) -> f64 {
     v.signum() * 12.0 * (3.0 * v.abs()).powf(2.0 / 3.0) / s
 }
 
-/// Smallest and largest interior dihedral angle of tetrahedron `t`, in degrees. A flat
-/// tetrahedron has 0 and 180 (or NaN where a face has no area).
-pub fn tet_dihedral_range(t: &[P; 4]) -> [f64; 2] {
-    let mut r = [f64::INFINITY, f64::NEG_INFINITY];
-    for e in TET_EDGES {
+/// The interior dihedral angle of tetrahedron `t` at each edge, in degrees, edges in the
+/// order 01, 02, 03, 12, 13, 23. A flat tetrahedron has 0 and 180 (NaN where a face has
+/// no area).
+pub fn tet_dihedral_angles(t: &[P; 4]) -> [f64; 6] {
+    TET_EDGES.map(|e| {
         let axis = sub(t[e[1]], t[e[0]]);
-        // The two other corners, projected on the plane normal to the edge.
+        // The two other corners, seen along the edge: the normals of the two faces.
         let u = cross(axis, sub(t[e[2]], t[e[0]]));
         let w = cross(axis, sub(t[e[3]], t[e[0]]));
-        let a = norm(cross(u, w)).atan2(dot(u, w)).to_degrees();
-        r = [r[0].min(a), r[1].max(a)];
-    }
-    r
+        norm(cross(u, w)).atan2(dot(u, w)).to_degrees()
+    })
+}
+
+/// Smallest and largest interior dihedral angle of tetrahedron `t`, in degrees.
+pub fn tet_dihedral_range(t: &[P; 4]) -> [f64; 2] {
+    tet_dihedral_angles(t)
+        .iter()
+        .fold([f64::INFINITY, f64::NEG_INFINITY], |r, &a| [r[0].min(a), r[1].max(a)])
 }
 
 /// Verdict's aspect ratio h_max / (2√6 r) (see the module header); infinite when flat.
