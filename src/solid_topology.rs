@@ -8,7 +8,8 @@
 //! those cells carry. Boundary faces that no surface cell covers are counted apart
 //! (`untagged_faces`): a file that lists no boundary triangles, or only some.
 //!
-//! Second-order cells are matched by their corners. Knows connectivity and coordinates
+//! Second-order cells are matched by their corners, and measured as
+//! [`crate::quality3d::signed_volume`] does. Knows connectivity and coordinates
 //! only. Cost: O(F log F) for F cell faces (one sort, no hash map, so the order of
 //! everything reported is that of the tags).
 
@@ -87,9 +88,9 @@ pub fn volumes(mesh: &TaggedMesh) -> Vec<TopoVolume> {
     }
     // Every face of every volume cell, with its volume's index.
     let mut faces: Vec<(FaceKey, u32)> = Vec::new();
-    let mut p = Vec::with_capacity(8);
+    let mut p = Vec::with_capacity(27);
     for b in mesh.blocks.iter().filter(|b| b.kind.dim() == 3) {
-        let n = b.kind.linear().nodes_per_cell();
+        let n = b.kind.nodes_per_cell();
         for (cell, (&ph, &g)) in b.cells().zip(b.physical.iter().zip(&b.geometrical)) {
             let vi = index[&cell_tag(ph, g)];
             let v = &mut out[vi];
@@ -98,6 +99,7 @@ pub fn volumes(mesh: &TaggedMesh) -> Vec<TopoVolume> {
             p.extend(cell[..n].iter().map(|&i| mesh.points[i as usize]));
             v.volume += signed_volume(b.kind, &p).unwrap_or(0.0);
             for f in cell_faces(b.kind) {
+                // Faces by their corners, the first nodes of every kind.
                 faces.push((face_key(f.iter().map(|&c| cell[c])), vi as u32));
             }
         }

@@ -78,9 +78,11 @@ impl HistogramBins {
 pub struct SolidSummary {
     /// Cells of dimension 0, 1, 2 and 3.
     pub cells_per_dim: [usize; 4],
-    /// The sum of the volume cells' signed volumes ([`crate::quality3d::signed_volume`];
-    /// second-order cells through their corners).
+    /// The sum of the volume cells' signed volumes ([`crate::quality3d::signed_volume`]).
     pub volume: f64,
+    /// The volume kinds measured through their corners (second-order kinds but the
+    /// tetrahedron), by name; empty when the volume is exact.
+    pub volume_by_corners: Vec<String>,
     /// The topological volumes and the surfaces bounding each.
     pub volumes: Vec<crate::solid_topology::TopoVolume>,
     /// Shape quality of the volume cells.
@@ -96,8 +98,17 @@ impl SolidSummary {
             cells_per_dim[b.kind.dim() as usize] += b.len();
         }
         let volumes = crate::solid_topology::volumes(mesh);
+        let mut volume_by_corners: Vec<String> = mesh
+            .blocks
+            .iter()
+            .filter(|b| b.kind.dim() == 3 && !crate::quality3d::exact_volume(b.kind))
+            .map(|b| b.kind.name().to_string())
+            .collect();
+        volume_by_corners.sort();
+        volume_by_corners.dedup();
         Some(SolidSummary {
             cells_per_dim,
+            volume_by_corners,
             volume: volumes.iter().map(|v| v.volume).sum(),
             volumes,
             quality: Some(quality),

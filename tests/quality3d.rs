@@ -232,3 +232,40 @@ fn pyramids() {
     mesh.block_mut(CellKind::Pyramid).push(&[0u32, 1, 2, 3, 4], 0, 0);
     assert_eq!(VolumeQuality::of(&mesh).unwrap().inverted, 1);
 }
+
+/// A second-order tetrahedron (Gmsh's node order: mid-edge nodes on 01, 12, 20, 03, 23,
+/// 13) whose nodes are the image of the right-corner one under Φ(x, y, z) = (x + a x²,
+/// y, z): its map is Φ itself, so its volume is ∫ (1 + 2a x) = 1/6 + a/12. With the
+/// mid-edge nodes at the chords' middles (a = 0) it is the straight tetrahedron.
+#[test]
+fn a_curved_second_order_tetrahedron_has_the_volume_of_its_map() {
+    let corners = right();
+    let mid = |i: usize, j: usize| -> P {
+        [
+            (corners[i][0] + corners[j][0]) / 2.0,
+            (corners[i][1] + corners[j][1]) / 2.0,
+            (corners[i][2] + corners[j][2]) / 2.0,
+        ]
+    };
+    let straight: Vec<P> = corners
+        .iter()
+        .copied()
+        .chain([mid(0, 1), mid(1, 2), mid(2, 0), mid(0, 3), mid(2, 3), mid(1, 3)])
+        .collect();
+    for a in [0.0, 0.3, -0.4, 1.0] {
+        let p: Vec<P> = straight.iter().map(|q| [q[0] + a * q[0] * q[0], q[1], q[2]]).collect();
+        close(
+            signed_volume(CellKind::Tetra10, &p).unwrap(),
+            1.0 / 6.0 + a / 12.0,
+            1e-14,
+            "tetra10",
+        );
+    }
+    // Through their corners, the other second-order kinds: a hexa20 with bent edges has
+    // the cube's volume.
+    let mut p = cube();
+    p.extend(std::iter::repeat([0.5, 0.5, 3.0]).take(12));
+    close(signed_volume(CellKind::Hexa20, &p).unwrap(), 1.0, 1e-15, "hexa20 by corners");
+    assert!(smartmesh::quality3d::exact_volume(CellKind::Tetra10));
+    assert!(!smartmesh::quality3d::exact_volume(CellKind::Hexa20));
+}

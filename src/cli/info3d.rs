@@ -14,13 +14,12 @@ use super::info::{fmt_g, named};
 pub(super) fn render_solid(o: &mut String, s: &MeshSummary, solid: &SolidSummary) {
     let [d0, d1, d2, d3] = solid.cells_per_dim;
     let _ = writeln!(o, "  dimensions  3D {d3}, 2D {d2}, 1D {d1}, 0D {d0} cells");
-    let second = s.cells.keys().any(|k| k.ends_with(|c: char| c.is_ascii_digit()));
-    let _ = writeln!(
-        o,
-        "  volume      {}{}",
-        fmt_g(solid.volume),
-        if second { " (second-order cells through their corners)" } else { "" }
-    );
+    let by_corners = if solid.volume_by_corners.is_empty() {
+        String::new()
+    } else {
+        format!(" ({} cells through their corners)", solid.volume_by_corners.join(", "))
+    };
+    let _ = writeln!(o, "  volume      {}{by_corners}", fmt_g(solid.volume));
     let topo = &s.topology;
     let _ = writeln!(
         o,
