@@ -322,7 +322,8 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
     let n = r.c.count("number of elements", 8)?;
     let map: TagMap = r.take_node_map()?;
     let mut col = Collector { cur: None, last_tag: 0 };
-    let mut nodes = [0 as NodeIndex; 9];
+    // Room for the largest cell (27 nodes, a second-order hexahedron).
+    let mut nodes = [0 as NodeIndex; 27];
     if binary {
         r.c.end_text_line()?;
         let mut done = 0usize;
