@@ -357,9 +357,18 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
                 2 => binary_block::<2>(r, &mut col, &map, kind, data, p, ntags)?,
                 3 => binary_block::<3>(r, &mut col, &map, kind, data, p, ntags)?,
                 4 => binary_block::<4>(r, &mut col, &map, kind, data, p, ntags)?,
+                5 => binary_block::<5>(r, &mut col, &map, kind, data, p, ntags)?,
                 6 => binary_block::<6>(r, &mut col, &map, kind, data, p, ntags)?,
                 8 => binary_block::<8>(r, &mut col, &map, kind, data, p, ntags)?,
-                _ => binary_block::<9>(r, &mut col, &map, kind, data, p, ntags)?,
+                9 => binary_block::<9>(r, &mut col, &map, kind, data, p, ntags)?,
+                10 => binary_block::<10>(r, &mut col, &map, kind, data, p, ntags)?,
+                13 => binary_block::<13>(r, &mut col, &map, kind, data, p, ntags)?,
+                14 => binary_block::<14>(r, &mut col, &map, kind, data, p, ntags)?,
+                15 => binary_block::<15>(r, &mut col, &map, kind, data, p, ntags)?,
+                18 => binary_block::<18>(r, &mut col, &map, kind, data, p, ntags)?,
+                20 => binary_block::<20>(r, &mut col, &map, kind, data, p, ntags)?,
+                // 27, the largest cell ([`CellKind::nodes_per_cell`]).
+                _ => binary_block::<27>(r, &mut col, &map, kind, data, p, ntags)?,
             }
             done += count;
         }
@@ -449,7 +458,8 @@ pub(super) fn read_elements(r: &mut Reader<'_>) -> Result<()> {
 /// on the stack and appended whole (a copy of a size known at compile time).
 #[inline(always)]
 fn element_record<const K: usize>(out: &mut Vec<u8>, head: [i32; 3], cell: &[NodeIndex]) {
-    let mut rec = [0u8; 48];
+    // Room for the largest cell: 3 + 27 numbers.
+    let mut rec = [0u8; 120];
     for (j, v) in head.into_iter().enumerate() {
         rec[4 * j..4 * j + 4].copy_from_slice(&v.to_le_bytes());
     }
@@ -604,9 +614,17 @@ pub(super) fn write(
                 2 => block_records::<2>(out, b, &mut num, tags),
                 3 => block_records::<3>(out, b, &mut num, tags),
                 4 => block_records::<4>(out, b, &mut num, tags),
+                5 => block_records::<5>(out, b, &mut num, tags),
                 6 => block_records::<6>(out, b, &mut num, tags),
                 8 => block_records::<8>(out, b, &mut num, tags),
-                _ => block_records::<9>(out, b, &mut num, tags),
+                9 => block_records::<9>(out, b, &mut num, tags),
+                10 => block_records::<10>(out, b, &mut num, tags),
+                13 => block_records::<13>(out, b, &mut num, tags),
+                14 => block_records::<14>(out, b, &mut num, tags),
+                15 => block_records::<15>(out, b, &mut num, tags),
+                18 => block_records::<18>(out, b, &mut num, tags),
+                20 => block_records::<20>(out, b, &mut num, tags),
+                _ => block_records::<27>(out, b, &mut num, tags),
             }
             continue;
         }
@@ -629,9 +647,17 @@ pub(super) fn write(
                         2 => element_record::<2>(out, [num as i32, q, g], cell),
                         3 => element_record::<3>(out, [num as i32, q, g], cell),
                         4 => element_record::<4>(out, [num as i32, q, g], cell),
+                        5 => element_record::<5>(out, [num as i32, q, g], cell),
                         6 => element_record::<6>(out, [num as i32, q, g], cell),
                         8 => element_record::<8>(out, [num as i32, q, g], cell),
-                        _ => element_record::<9>(out, [num as i32, q, g], cell),
+                        9 => element_record::<9>(out, [num as i32, q, g], cell),
+                        10 => element_record::<10>(out, [num as i32, q, g], cell),
+                        13 => element_record::<13>(out, [num as i32, q, g], cell),
+                        14 => element_record::<14>(out, [num as i32, q, g], cell),
+                        15 => element_record::<15>(out, [num as i32, q, g], cell),
+                        18 => element_record::<18>(out, [num as i32, q, g], cell),
+                        20 => element_record::<20>(out, [num as i32, q, g], cell),
+                        _ => element_record::<27>(out, [num as i32, q, g], cell),
                     }
                 } else {
                     push_int(out, num);

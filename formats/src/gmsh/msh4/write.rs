@@ -190,9 +190,17 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
                     2 => element_records::<2>(out, first, nodes),
                     3 => element_records::<3>(out, first, nodes),
                     4 => element_records::<4>(out, first, nodes),
+                    5 => element_records::<5>(out, first, nodes),
                     6 => element_records::<6>(out, first, nodes),
                     8 => element_records::<8>(out, first, nodes),
-                    _ => element_records::<9>(out, first, nodes),
+                    9 => element_records::<9>(out, first, nodes),
+                    10 => element_records::<10>(out, first, nodes),
+                    13 => element_records::<13>(out, first, nodes),
+                    14 => element_records::<14>(out, first, nodes),
+                    15 => element_records::<15>(out, first, nodes),
+                    18 => element_records::<18>(out, first, nodes),
+                    20 => element_records::<20>(out, first, nodes),
+                    _ => element_records::<27>(out, first, nodes),
                 }
                 continue;
             }
@@ -217,7 +225,8 @@ fn write_elements(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
 /// capacity check per element rather than per number; `K` known, so the copy is of a
 /// fixed size).
 fn element_records<const K: usize>(out: &mut Vec<u8>, first: usize, nodes: &[NodeIndex]) {
-    let mut rec = [0u8; 80];
+    // Room for the largest cell: 1 + 27 numbers.
+    let mut rec = [0u8; 224];
     for (j, cell) in nodes.chunks_exact(K).enumerate() {
         rec[..8].copy_from_slice(&((first + j) as u64).to_le_bytes());
         for (i, &v) in cell.iter().enumerate() {
