@@ -5,6 +5,8 @@
 //!   [`formats::TaggedMesh`] (the `smartmesh-formats` crate, usable on its own);
 //! - [`topology`]: topological points, curves and faces recovered from the tags, every
 //!   mesh vertex and edge classified on one of them;
+//! - [`solid_topology`] and [`quality3d`]: the volumes of a 3D mesh, the surfaces that
+//!   bound each, and the volume and shape quality of its cells (`info`);
 //! - [`metric`]: size tensors and metric algebra (intersection, union, clamping);
 //! - [`sizing`]: size functions, and neighbour propagation from sources with exact
 //!   closest points;
@@ -57,11 +59,13 @@ pub mod metric_field;
 pub mod periodic;
 pub mod planar;
 pub(crate) mod quality;
+pub mod quality3d;
 pub mod recipe;
 pub mod remesh;
 pub mod report;
 pub(crate) mod size_controls;
 pub mod sizing;
+pub mod solid_topology;
 pub mod solution;
 pub(crate) mod summary;
 pub mod topology;
@@ -84,5 +88,5 @@ pub use recipe::{Recipe, RecipeError};
 pub use remesh::{remesh, RemeshError, RemeshOptions, Remeshed};
 pub use size_controls::{ControlError, SizeControls};
 pub use sizing::SizeField;
-pub use summary::{HistogramBins, MeshSummary};
+pub use summary::{HistogramBins, MeshSummary, SolidSummary};
 pub use topology::Topology;

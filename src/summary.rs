@@ -35,6 +35,10 @@ pub struct MeshSummary {
     pub cell_data: Vec<FieldSummary>,
     /// Element shape quality, when the mesh has surface cells.
     pub quality: Option<QualitySummary>,
+    /// Volumes, their topology and the quality of volume cells, when the mesh has volume
+    /// cells (left out of the JSON otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub solid: Option<SolidSummary>,
     /// Conformity to a metric and metric quality, when there is a metric (left out of
     /// the JSON otherwise, so that the output without a metric stays as it was).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -66,6 +70,49 @@ impl HistogramBins {
             quality: (0..=10).map(|i| i as f64 / 10.0).collect(),
             metric_edge_length: length,
         }
+    }
+}
+
+/// What `info` adds for a mesh with volume cells.
+#[derive(Debug, Clone, Serialize)]
+pub struct SolidSummary {
+    /// Cells of dimension 0, 1, 2 and 3.
+    pub cells_per_dim: [usize; 4],
+    /// The sum of the volume cells' signed volumes ([`crate::quality3d::signed_volume`]).
+    pub volume: f64,
+    /// The volume kinds measured through their corners (second-order kinds but the
+    /// tetrahedron), by name; empty when the volume is exact.
+    pub volume_by_corners: Vec<String>,
+    /// The topological volumes and the surfaces bounding each.
+    pub volumes: Vec<crate::solid_topology::TopoVolume>,
+    /// Shape quality of the volume cells.
+    pub quality: Option<crate::quality3d::VolumeQuality>,
+}
+
+impl SolidSummary {
+    /// The 3D figures of `mesh`; `None` when it has no volume cell.
+    pub fn of(mesh: &TaggedMesh) -> Option<SolidSummary> {
+        let quality = crate::quality3d::VolumeQuality::of(mesh)?;
+        let mut cells_per_dim = [0; 4];
+        for b in &mesh.blocks {
+            cells_per_dim[b.kind.dim() as usize] += b.len();
+        }
+        let volumes = crate::solid_topology::volumes(mesh);
+        let mut volume_by_corners: Vec<String> = mesh
+            .blocks
+            .iter()
+            .filter(|b| b.kind.dim() == 3 && !crate::quality3d::exact_volume(b.kind))
+            .map(|b| b.kind.name().to_string())
+            .collect();
+        volume_by_corners.sort();
+        volume_by_corners.dedup();
+        Some(SolidSummary {
+            cells_per_dim,
+            volume_by_corners,
+            volume: volumes.iter().map(|v| v.volume).sum(),
+            volumes,
+            quality: Some(quality),
+        })
     }
 }
 
@@ -149,7 +196,8 @@ pub struct CurveSummary {
     /// Closed pieces.
     pub closed_pieces: usize,
     /// Whether every edge is a boundary edge; `None` when the mesh has no surface cell
-    /// (a `.poly`, a set of lines), where boundary and interior are not told yet.
+    /// (a `.poly`, a set of lines), where boundary and interior are not told yet, and in
+    /// a 3D mesh, whose curves lie where surfaces meet.
     pub on_boundary: Option<bool>,
     /// Length of the curve.
     pub length: f64,
@@ -216,6 +264,7 @@ impl MeshSummary {
                 .count(),
         };
         let planar = crate::planar::plane(mesh).is_ok();
+        let solid = SolidSummary::of(mesh);
         let at = |i: usize| mesh.points[i];
         let topology = TopologySummary {
             points: topo
@@ -237,7 +286,8 @@ impl MeshSummary {
                     edges: c.polylines.iter().map(|p| p.num_edges()).sum(),
                     pieces: c.polylines.len(),
                     closed_pieces: c.polylines.iter().filter(|p| p.closed).count(),
-                    on_boundary: (!topo.faces.is_empty()).then_some(c.on_boundary),
+                    on_boundary: (!topo.faces.is_empty() && solid.is_none())
+                        .then_some(c.on_boundary),
                     length: c
                         .polylines
                         .iter()
@@ -293,6 +343,7 @@ impl MeshSummary {
             cell_data: mesh.cell_data.iter().map(|(n, a)| field(n, a)).collect(),
             quality: QualitySummary::of(&mesh.points, topo),
             histogram_bins: HistogramBins::standard(),
+            solid,
             metric: None,
         }
     }

@@ -52,8 +52,10 @@ pub struct InfoArgs {
 /// Runs `info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let (mesh, read_notes) = super::read_mesh_noted(&args.file, args.from, args.no_solution)?;
-    // Described whole, but not as if it were flat ([`smartmesh::planar`]).
-    if let Err(e) = smartmesh::planar::plane(&mesh) {
+    // Described whole, but not as if it were flat ([`smartmesh::planar`]); a 3D mesh is
+    // what `info` expects, no warning.
+    if let Err(e @ smartmesh::planar::NotPlanar::OffPlane { .. }) = smartmesh::planar::plane(&mesh)
+    {
         super::ui::warn(&format!(
             "{}: {e}; lengths and areas are measured in space",
             args.file.display()
@@ -68,8 +70,11 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Err(e) if args.metric.is_none() => super::ui::warn(&format!("no metric figures: {e}")),
         Err(e) => return Err(e.into()),
     }
-    // Quad figures and validity are taken at the corners, as the topology's.
-    let quads = if mesh.blocks.iter().any(|b| b.kind.is_second_order()) {
+    // Quad figures and validity are taken at the corners, as the topology's. The validity
+    // of a mixed planar mesh means nothing for the faces of a 3D mesh.
+    let quads = if summary.solid.is_some() {
+        None
+    } else if mesh.blocks.iter().any(|b| b.kind.is_second_order()) {
         let mut linear = mesh.clone();
         linear.linearise();
         QuadReport::of(&linear)
@@ -192,11 +197,11 @@ fn render_quads(r: &QuadReport) -> String {
 
 /// A figure as `info` prints it: six significant digits, no `-0` (see
 /// `smartmesh::formats::words::number`).
-fn fmt_g(v: f64) -> String {
+pub(super) fn fmt_g(v: f64) -> String {
     smartmesh::formats::words::number(v)
 }
 
-fn named(tag: Option<i32>, name: &Option<String>) -> String {
+pub(super) fn named(tag: Option<i32>, name: &Option<String>) -> String {
     match (tag, name) {
         (Some(t), Some(n)) => format!("{t} \"{n}\""),
         (Some(t), None) => t.to_string(),
@@ -249,17 +254,22 @@ fn render(file: &str, s: &MeshSummary) -> String {
         }
     }
     let topo = &s.topology;
-    let _ = writeln!(
-        o,
-        "  topology    {}, {}, {}",
-        count(topo.points.len(), "point", "points"),
-        count(topo.curves.len(), "curve", "curves"),
-        count(topo.faces.len(), "face", "faces")
-    );
+    if let Some(solid) = &s.solid {
+        super::info3d::render_solid(&mut o, s, solid);
+    } else {
+        let _ = writeln!(
+            o,
+            "  topology    {}, {}, {}",
+            count(topo.points.len(), "point", "points"),
+            count(topo.curves.len(), "curve", "curves"),
+            count(topo.faces.len(), "face", "faces")
+        );
+    }
+    let face = if s.solid.is_some() { "surface" } else { "face " };
     for f in &topo.faces {
         let _ = writeln!(
             o,
-            "    face  {:<24} {}, area {}",
+            "    {face} {:<24} {}, area {}",
             named(Some(f.tag), &f.name),
             count(f.cells, "cell", "cells"),
             fmt_g(f.area)
@@ -283,6 +293,7 @@ fn render(file: &str, s: &MeshSummary) -> String {
             match c.on_boundary {
                 Some(true) => "boundary",
                 Some(false) => "interior",
+                None if s.solid.is_some() => "where surfaces meet",
                 None => "segments (no faces yet: mesh them to see the boundary)",
             }
         );
@@ -333,6 +344,9 @@ fn render(file: &str, s: &MeshSummary) -> String {
             fmt_g(q.area_range[0]),
             fmt_g(q.area_range[1])
         );
+    }
+    if let Some(q) = s.solid.as_ref().and_then(|v| v.quality.as_ref()) {
+        super::info3d::render_quality(&mut o, q);
     }
     if let Some(m) = &s.metric {
         match &m.conformity {

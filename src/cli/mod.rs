@@ -5,6 +5,7 @@ mod batch;
 mod convert;
 mod error;
 mod info;
+mod info3d;
 mod layer;
 mod mesh;
 mod output;

@@ -197,7 +197,9 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
 
     // --- cells Triangle cannot hold
-    for kind in [CellKind::Quad8, CellKind::Quad9, CellKind::Line3] {
+    // Volume cells too: a 3D mesh written as Triangle keeps its surface cells only.
+    let lost = CellKind::ALL.into_iter().filter(|k| k.dim() == 3);
+    for kind in [CellKind::Quad8, CellKind::Quad9, CellKind::Line3].into_iter().chain(lost) {
         let n = count(kind);
         if n > 0 {
             report.drop(format!(
