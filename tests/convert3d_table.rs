@@ -86,6 +86,9 @@ const TABLE: &[Line] = &[
     ("out.ele", &[], Keeps(&[Faces, Lines, Tags]), true),
     // OpenFOAM extrudes the triangles and refuses their zero area in the xy-plane.
     ("out.foam", &[], RefusedUnclearly, true),
+    ("out.stl", &[], Keeps(&ALL), true),
+    ("out.smesh", &[], Keeps(&ALL), true),
+    ("tg.ele", &["--to", "tetgen"], Keeps(&ALL), true),
 ];
 
 /// The second-order box_cyl of the public sample meshes (tetra10, triangle6, line3 and
@@ -128,6 +131,8 @@ fn covered(f: Format) -> bool {
         Format::Gltf => "gltf",
         Format::Su2 => "su2",
         Format::OpenFoam => "foam",
+        Format::Stl => "stl",
+        Format::TetGen => "smesh",
     };
     TABLE.iter().any(|(name, ..)| name.ends_with(&format!(".{ext}")))
 }
@@ -302,6 +307,8 @@ fn every_format_has_a_line_in_the_table() {
         Format::Gltf,
         Format::Su2,
         Format::OpenFoam,
+        Format::Stl,
+        Format::TetGen,
     ] {
         assert!(covered(f), "{} has no line in the table", f.name());
     }
