@@ -117,8 +117,16 @@ pub fn read_bytes_reported(
             report = r;
             mesh
         }
-        Format::VtkLegacy => crate::vtk::read_legacy(bytes, ctx)?,
-        Format::Vtu => crate::vtk::read_vtu(bytes, ctx)?,
+        Format::VtkLegacy => {
+            let (mesh, r) = crate::vtk::read_legacy_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
+        Format::Vtu => {
+            let (mesh, r) = crate::vtk::read_vtu_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::Obj => crate::obj::read(bytes, ctx)?,
         Format::Medit => {
             let (mesh, r) = crate::medit::read_reported(bytes, ctx)?;

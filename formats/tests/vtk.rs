@@ -604,7 +604,7 @@ fn legacy_huge_counts() {
 #[test]
 fn legacy_unsupported_cell_type() {
     let e = legacy_err(&TRI.replace("CELL_TYPES 1\n5", "CELL_TYPES 1\n42"));
-    assert!(e.to_string().contains("cell 0 has VTK type 42"), "{e}");
+    assert!(e.to_string().contains("cell 0 is a VTK polyhedron (type 42)"), "{e}");
     assert_eq!(e.at, Some(Position::Line(11)));
     let e = legacy_err(&TRI.replace("CELL_TYPES 1\n5", "CELL_TYPES 1\n9"));
     assert!(e.to_string().contains("4 nodes for cell 0"), "{e}");
@@ -1083,11 +1083,11 @@ fn vtu_types_and_offsets_are_checked_as_decoded() {
     let types =
         memchr::memmem::find(&bytes, &[3u8, 3, 3, 5, 5]).expect("types in the appended data");
     let mut bad = bytes.clone();
-    bad[types + 4] = 7;
+    bad[types + 4] = 16;
     let e = read(Format::Vtu, &bad).unwrap_err();
     assert!(
         matches!(e.kind, ErrorKind::Unsupported(_))
-            && e.to_string().contains("cell 4 has VTK type 7"),
+            && e.to_string().contains("cell 4 has VTK type 16 (hexagonal prism)"),
         "{e}"
     );
 }

@@ -827,7 +827,7 @@ fn non_finite(start: usize, i: usize, ty: Scalar, what: &str) -> Error {
 }
 
 /// Reads a legacy file.
-pub(crate) fn read(bytes: &[u8]) -> Result<TaggedMesh> {
+pub(crate) fn read(bytes: &[u8]) -> Result<Grid> {
     let mut t = Tokens::new(bytes);
     let first = t.rest_of_line();
     const MAGIC: &[u8] = b"# vtk DataFile Version";
@@ -905,7 +905,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<TaggedMesh> {
         }
         r.grid.offsets = vec![0];
     }
-    r.grid.into_mesh()
+    Ok(r.grid)
 }
 
 /// Writes a legacy file.

@@ -64,7 +64,9 @@
 //! 0.6 s / 0.5 s (meshio: 9.4 s / 10.3 s), legacy binary and appended raw within 1.5–2.2x
 //! of copying the file's bytes.
 
+mod cells;
 mod legacy;
+mod order;
 mod xml;
 
 use std::borrow::Cow;
@@ -72,8 +74,8 @@ use std::collections::BTreeMap;
 
 use crate::error::Position;
 use crate::{
-    CellBlock, CellKind, DataArray, Error, ErrorKind, Layout, NodeIndex, ReadContext, Result,
-    TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS,
+    CellBlock, CellKind, DataArray, Error, ErrorKind, Layout, NodeIndex, ReadContext, ReadReport,
+    Result, TaggedMesh, WriteOptions, WriteReport, Written, MAX_POINTS,
 };
 
 /// Both VTK readers check coordinates, connectivity and array lengths as they read
@@ -82,13 +84,26 @@ pub(crate) const CHECKS: crate::Checks =
     crate::Checks { reader_validates: true, writer_validates: false };
 
 /// Reads a legacy `.vtk` file (versions 2.0 to 5.1, ASCII or binary).
-pub fn read_legacy(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
-    legacy::read(bytes)
+pub fn read_legacy(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
+    read_legacy_reported(bytes, ctx).map(|(m, _)| m)
+}
+
+/// [`read_legacy`], with what was changed on the way (cells split).
+pub fn read_legacy_reported(
+    bytes: &[u8],
+    _ctx: &ReadContext<'_>,
+) -> Result<(TaggedMesh, ReadReport)> {
+    legacy::read(bytes)?.into_mesh()
 }
 
 /// Reads a `.vtu` (XML UnstructuredGrid) file in any encoding VTK writes.
-pub fn read_vtu(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
-    xml::read(bytes)
+pub fn read_vtu(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<TaggedMesh> {
+    read_vtu_reported(bytes, ctx).map(|(m, _)| m)
+}
+
+/// [`read_vtu`], with what was changed on the way (cells split).
+pub fn read_vtu_reported(bytes: &[u8], ctx: &ReadContext<'_>) -> Result<(TaggedMesh, ReadReport)> {
+    xml::read(bytes, ctx)?.into_mesh()
 }
 
 /// How to write VTK files (the `vtk` group of [`WriteOptions`]).
@@ -131,33 +146,25 @@ pub enum VtuEncoding {
 /// Writes a legacy `.vtk` file: version `opts.vtk.legacy_version` ((4, 2) or (5, 1)),
 /// binary when `opts.vtk.legacy_binary`.
 pub fn write_legacy(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
-    refuse_volume_cells(mesh)?;
-    legacy::write(mesh, opts)
+    let (mesh, lost) = order::to_vtk(mesh);
+    let mut w = legacy::write(&mesh, opts)?;
+    w.report.dropped.extend(lost);
+    Ok(w)
 }
 
 /// Writes a `.vtu` file with `opts.vtk.vtu_encoding`, zlib-compressed when `opts.vtk.compress`
 /// (ascii is never compressed).
 pub fn write_vtu(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
-    refuse_volume_cells(mesh)?;
-    xml::write(mesh, opts)
+    let (mesh, lost) = order::to_vtk(mesh);
+    let mut w = xml::write(&mesh, opts)?;
+    w.report.dropped.extend(lost);
+    Ok(w)
 }
 
-/// The VTK writers do not yet convert the node order of volume cells: a mesh with
-/// any is refused rather than written with cells that would mean other elements.
-fn refuse_volume_cells(mesh: &TaggedMesh) -> Result<()> {
-    match mesh.blocks.iter().find(|b| b.kind.dim() == 3 && !b.is_empty()) {
-        Some(b) => Err(crate::Error::new(crate::ErrorKind::CannotWrite {
-            format: "VTK",
-            reason: format!("{} cells: the VTK writers hold no volume cells yet", b.kind.name()),
-        })),
-        None => Ok(()),
-    }
-}
-
-/// A VTK cell type of a kind the writers were given: [`refuse_volume_cells`] let
-/// through only kinds that have one.
+/// The VTK cell type of a kind the writers were given: [`order::to_vtk`] has turned
+/// the one kind without a VTK type (the 14-node pyramid) into one with.
 pub(crate) fn vtk_type_of(kind: crate::CellKind) -> u8 {
-    kind.vtk_type().unwrap_or(0)
+    kind.vtk_type().unwrap_or(27)
 }
 
 /// Cell data names of the tags, as meshio writes them for Gmsh meshes.
@@ -667,11 +674,29 @@ fn vtk_type_name(t: u8) -> &'static str {
         23 => "quadratic quad",
         24 => "quadratic tetra",
         25 => "quadratic hexahedron",
+        26 => "quadratic wedge",
+        27 => "quadratic pyramid",
         28 => "biquadratic quad",
+        29 => "triquadratic hexahedron",
+        30 => "quadratic-linear quad",
+        31 => "quadratic-linear wedge",
+        32 => "biquadratic-quadratic wedge",
+        33 => "biquadratic-quadratic hexahedron",
+        34 => "biquadratic triangle",
+        35 => "cubic line",
+        36 => "quadratic polygon",
+        37 => "triquadratic pyramid",
         42 => "polyhedron",
+        51 => "parametric curve",
+        60..=62 => "higher-order cell",
+        68..=74 => "Lagrange cell",
+        75..=81 => "Bezier cell",
         _ => "unknown",
     }
 }
+
+/// The cell types the readers take, for messages about the others.
+const READ_TYPES: &str = "vertex (1), poly-vertex (2), line (3), poly-line (4), triangle (5), triangle strip (6), polygon (7), pixel (8), quad (9), tetra (10), voxel (11), hexahedron (12), wedge (13), pyramid (14), and the quadratic edge (21), triangle (22), quad (23, 28), tetra (24), hexahedron (25, 29), wedge (26, 32) and pyramid (27)";
 
 /// Converts a tag array value to `i32`, refusing fractions and overflow.
 #[inline]
@@ -685,7 +710,8 @@ fn tag_value(v: f64) -> Option<i32> {
 impl Grid {
     /// Checks cells against points and types, sorts cell arrays into tags and cell
     /// data, and names tags from the field data.
-    pub(crate) fn into_mesh(self) -> Result<TaggedMesh> {
+    pub(crate) fn into_mesh(mut self) -> Result<(TaggedMesh, ReadReport)> {
+        let notes = cells::normalize(&mut self)?;
         let Grid {
             points,
             types,
@@ -805,11 +831,20 @@ impl Grid {
         while i < n {
             let t = types[i];
             let kind = CellKind::from_vtk_type(t).ok_or_else(|| {
+                if t == 42 {
+                    return at_error(
+                        types_at,
+                        ErrorKind::Unsupported(format!(
+                            "cell {i} is a VTK polyhedron (type 42): smartmesh holds cells of fixed shapes; split the polyhedra into tetrahedra first (ParaView's Tetrahedralize filter)"
+                        )),
+                    );
+                }
                 at_error(
                     types_at,
                     ErrorKind::Unsupported(format!(
-                        "cell {i} has VTK type {t} ({}); smartmesh is 2D and reads vertex (1), line (3), triangle (5), quad (9) and quadratic line (21), triangle (22), quad (23, 28)",
-                        vtk_type_name(t)
+                        "cell {i} has VTK type {t} ({}); smartmesh reads {}",
+                        vtk_type_name(t),
+                        READ_TYPES
                     )),
                 )
             })?;
@@ -880,6 +915,9 @@ impl Grid {
             block.physical = phys;
             block.geometrical = geom;
         }
+        for b in &mut mesh.blocks {
+            order::from_vtk(b.kind, &mut b.nodes);
+        }
 
         for a in point_arrays {
             if a.values.len() != np * a.components {
@@ -910,7 +948,7 @@ impl Grid {
             }
         }
         mesh.points = points;
-        Ok(mesh)
+        Ok((mesh, ReadReport { notes }))
     }
 }
 

@@ -126,7 +126,7 @@ fn spec(t: &Tag<'_>, d: &[u8]) -> Result<Spec> {
 }
 
 /// Reads a `.vtu` file.
-pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
+pub(crate) fn read(d: &[u8], _ctx: &crate::ReadContext<'_>) -> Result<Grid> {
     let mut s = Scan { d, pos: 0 };
     let root = root_tag(&mut s, d)?;
     let (big, hsize, zlib) = encoding(&root)?;
@@ -158,7 +158,7 @@ pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
     let mut g = Grid { points: read_points(&dec, &pts, np, piece_at)?, ..Grid::default() };
     read_cells(&dec, &cells, nc, np, piece_at, &mut g)?;
     read_data_arrays(&dec, &point, &cell, &field, np, nc, &mut g)?;
-    g.into_mesh()
+    Ok(g)
 }
 
 /// The root element, which must be `<VTKFile type="UnstructuredGrid">`.
@@ -483,9 +483,9 @@ fn read_cells(
         dec.ints_into(off, nc, &mut g.offsets, "a cell end offset (0 or more)", |e| {
             usize::try_from(e).ok()
         })?;
-        // Each cell smartmesh reads has at most 9 nodes; a larger step is refused by the
-        // cell check, but must not drive an allocation here.
-        let bad_step = |w: &[usize]| w[1] < w[0] || w[1] - w[0] > 64;
+        // Polygons and poly-lines have any number of nodes: the last offset is checked
+        // against the connectivity's bytes before anything of that size is allocated.
+        let bad_step = |w: &[usize]| w[1] < w[0];
         if g.offsets.windows(2).any(bad_step) {
             let i = g.offsets.windows(2).position(bad_step).unwrap_or(0);
             let (prev, e) = (g.offsets[i], g.offsets[i + 1]);
