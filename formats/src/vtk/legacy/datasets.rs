@@ -1,0 +1,1 @@
+//! Structured and polygonal legacy datasets.
