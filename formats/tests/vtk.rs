@@ -612,7 +612,7 @@ fn legacy_unsupported_cell_type() {
 
 #[test]
 fn legacy_unsupported_dataset() {
-    let e = legacy_err("# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\nPOINTS 0 float\n");
+    let e = legacy_err("# vtk DataFile Version 4.2\nt\nASCII\nDATASET FIELD\nPOINTS 0 float\n");
     assert!(matches!(e.kind, ErrorKind::Unsupported(_)), "{e}");
     assert_eq!(e.at, Some(Position::Line(4)));
 }
@@ -808,7 +808,7 @@ fn vtu_zlib_header_claims_too_much() {
 fn vtu_unsupported_compressor_and_type() {
     let e = vtu_err(&VTU.replace("version=\"0.1\"", "compressor=\"vtkLZ4DataCompressor\""));
     assert!(e.to_string().contains("vtkLZ4DataCompressor"), "{e}");
-    let e = vtu_err(&VTU.replace("UnstructuredGrid\" version", "PolyData\" version"));
+    let e = vtu_err(&VTU.replace("UnstructuredGrid\" version", "ImageData\" version"));
     assert!(matches!(e.kind, ErrorKind::Unsupported(_)), "{e}");
     let e = vtu_err(&VTU.replace(
         "UInt8\" Name=\"types\" format=\"ascii\">5",

@@ -156,11 +156,81 @@ pub fn write_legacy(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
 
 /// Writes a `.vtu` file with `opts.vtk.vtu_encoding`, zlib-compressed when `opts.vtk.compress`
 /// (ascii is never compressed).
+///
+/// The output's name chooses the dataset: a `.vtp` is written as PolyData (vertices,
+/// lines and polygons only; see [`poly_order`]); parallel files (`.pvtu`, `.pvtp`) are
+/// read, not written.
 pub fn write_vtu(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    let ext = opts
+        .main_name
+        .as_deref()
+        .and_then(|n| n.rsplit_once('.'))
+        .map(|(_, e)| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    if ext == "pvtu" || ext == "pvtp" {
+        return Err(crate::Error::new(crate::ErrorKind::CannotWrite {
+            format: "VTK XML",
+            reason: format!(
+                "a parallel .{ext} names piece files; smartmesh writes one .vtu (or .vtp) holding the whole mesh"
+            ),
+        }));
+    }
+    if ext == "vtp" {
+        let mesh = poly_order(mesh)?;
+        return xml::write(&mesh, opts, true);
+    }
     let (mesh, lost) = order::to_vtk(mesh);
-    let mut w = xml::write(&mesh, opts)?;
+    let mut w = xml::write(&mesh, opts, false)?;
     w.report.dropped.extend(lost);
     Ok(w)
+}
+
+/// The mesh with its blocks in PolyData's order (vertices, lines, then triangles and
+/// quads, each group in block order) and its cell data following them; refused when it
+/// holds cells PolyData has no place for (second-order and volume cells).
+fn poly_order(mesh: &TaggedMesh) -> Result<Cow<'_, TaggedMesh>> {
+    use crate::CellKind as K;
+    if let Some(b) = mesh
+        .blocks
+        .iter()
+        .find(|b| !b.is_empty() && !matches!(b.kind, K::Vertex | K::Line | K::Triangle | K::Quad))
+    {
+        return Err(crate::Error::new(crate::ErrorKind::CannotWrite {
+            format: "VTK XML PolyData (.vtp)",
+            reason: format!(
+                "{} {} cells: PolyData holds vertices, lines, triangles and quads; write a .vtu",
+                b.len(),
+                b.kind.name()
+            ),
+        }));
+    }
+    let dims: Vec<u8> = mesh.blocks.iter().map(|b| b.kind.dim()).collect();
+    if dims.windows(2).all(|w| w[0] <= w[1]) {
+        return Ok(Cow::Borrowed(mesh));
+    }
+    // Block `i`'s cells start at `first[i]` in the mesh's cell order.
+    let mut first = Vec::with_capacity(mesh.blocks.len());
+    let mut n = 0;
+    for b in &mesh.blocks {
+        first.push(n);
+        n += b.len();
+    }
+    let mut order: Vec<usize> = (0..mesh.blocks.len()).collect();
+    order.sort_by_key(|&i| dims[i]);
+    let mut m = mesh.clone();
+    m.blocks = order.iter().map(|&i| mesh.blocks[i].clone()).collect();
+    for (name, a) in &mesh.cell_data {
+        let k = a.components;
+        let values = order
+            .iter()
+            .flat_map(|&i| {
+                let (s, e) = (first[i], first[i] + mesh.blocks[i].len());
+                a.values[s * k..e * k].iter().copied()
+            })
+            .collect();
+        m.cell_data.insert(name.clone(), DataArray { values, ..a.clone() });
+    }
+    Ok(Cow::Owned(m))
 }
 
 /// The VTK cell type of a kind the writers were given: [`order::to_vtk`] has turned

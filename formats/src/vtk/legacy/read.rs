@@ -5,6 +5,8 @@ use crate::text::{check_count, Tokens};
 use crate::{Error, ErrorKind, Layout, NodeIndex, Result, MAX_POINTS};
 
 use crate::text::show;
+
+use super::datasets::{Dataset, Shape};
 use crate::vtk::{
     decode_f64, decode_i64, decode_indices, decode_items, decode_points, pack_parsed, Grid, Named,
     Scalar,
@@ -32,6 +34,9 @@ pub(super) struct Reader<'a> {
     /// Items in the current POINT_DATA / CELL_DATA section.
     pub(super) items: usize,
     pub(super) grid: Grid,
+    pub(super) dataset: Dataset,
+    /// What a dataset other than an unstructured grid gathers.
+    pub(super) shape: Shape,
 }
 
 impl<'a> Reader<'a> {
@@ -273,6 +278,20 @@ impl<'a> Reader<'a> {
 
     pub(super) fn read_cells(&mut self) -> Result<()> {
         let at = self.here();
+        let (offsets, connectivity) = self.read_cell_list()?;
+        self.ncells = Some(offsets.len() - 1);
+        self.grid.offsets = offsets;
+        self.grid.connectivity = connectivity;
+        self.grid.cells_at = Some(at);
+        Ok(())
+    }
+
+    /// A cell list after its keyword (`CELLS`, or POLYDATA's `POLYGONS`...): `n size`
+    /// then `k i1 .. ik` per cell, or (version 5.1) `OFFSETS` and `CONNECTIVITY`
+    /// arrays. Returns the offsets (`n + 1` from 0) and the connectivity.
+    pub(super) fn read_cell_list(&mut self) -> Result<(Vec<usize>, Vec<NodeIndex>)> {
+        let at = self.here();
+        let connectivity;
         let n = self.count("cells", 2, 4)?;
         let size = self.count("cell list size", 2, 4)?;
         // Version 5.1: `CELLS noffsets nconnectivity`, then two typed arrays.
@@ -316,18 +335,17 @@ impl<'a> Reader<'a> {
                 let start = self.pos();
                 let bytes = self.binary_bytes(size, cty, "cell nodes")?;
                 let np = self.npoints.unwrap_or(usize::MAX);
-                self.grid.connectivity =
-                    decode_indices(bytes, cty, true, size, np).map_err(|(i, v)| {
-                        let cell = offs.partition_point(|&o| o as usize <= i).saturating_sub(1);
-                        let mut e = self.node(v, cell).err().unwrap_or_else(|| {
-                            self.err(ErrorKind::Expected {
-                                expected: "an integer node index".into(),
-                                found: v.to_string(),
-                            })
-                        });
-                        e.at = Some(Position::Byte((start + i * cty.size()) as u64));
-                        e
-                    })?;
+                connectivity = decode_indices(bytes, cty, true, size, np).map_err(|(i, v)| {
+                    let cell = offs.partition_point(|&o| o as usize <= i).saturating_sub(1);
+                    let mut e = self.node(v, cell).err().unwrap_or_else(|| {
+                        self.err(ErrorKind::Expected {
+                            expected: "an integer node index".into(),
+                            found: v.to_string(),
+                        })
+                    });
+                    e.at = Some(Position::Byte((start + i * cty.size()) as u64));
+                    e
+                })?;
             } else {
                 let mut out = Vec::with_capacity(size);
                 for c in 0..ncells {
@@ -336,10 +354,9 @@ impl<'a> Reader<'a> {
                         out.push(self.node(v, c)?);
                     }
                 }
-                self.grid.connectivity = out;
+                connectivity = out;
             }
-            self.grid.offsets = offs.into_iter().map(|o| o as usize).collect();
-            self.ncells = Some(ncells);
+            Ok((offs.into_iter().map(|o| o as usize).collect(), connectivity))
         } else {
             if size < n {
                 return Err(Error {
@@ -459,12 +476,8 @@ impl<'a> Reader<'a> {
                     )),
                 });
             }
-            self.grid.offsets = offs;
-            self.grid.connectivity = conn;
-            self.ncells = Some(n);
+            Ok((offs, conn))
         }
-        self.grid.cells_at = Some(at);
-        Ok(())
     }
 
     pub(super) fn read_cell_types(&mut self) -> Result<()> {
@@ -650,6 +663,8 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Grid> {
         section: Section::Dataset,
         items: 0,
         grid: Grid::default(),
+        dataset: Dataset::Unstructured,
+        shape: Shape::default(),
     };
     let mut dataset = false;
     while let Some(key) = r.t.next() {
@@ -657,22 +672,23 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Grid> {
         match k.as_slice() {
             b"DATASET" => {
                 let ty = r.word("a dataset type")?;
-                if !ty.eq_ignore_ascii_case(b"UNSTRUCTURED_GRID") {
-                    return Err(r.err(ErrorKind::Unsupported(format!(
-                        "legacy dataset {}: smartmesh reads UNSTRUCTURED_GRID",
+                r.dataset = Dataset::from_name(ty).ok_or_else(|| {
+                    r.err(ErrorKind::Unsupported(format!(
+                        "legacy dataset {}: smartmesh reads UNSTRUCTURED_GRID, POLYDATA, STRUCTURED_GRID, RECTILINEAR_GRID and STRUCTURED_POINTS",
                         show(ty)
-                    ))));
-                }
+                    )))
+                })?;
                 dataset = true;
             }
             b"METADATA" => r.skip_metadata(),
             b"FIELD" => r.read_field()?,
             _ if !dataset => {
                 return Err(r.err(ErrorKind::Expected {
-                    expected: "`DATASET UNSTRUCTURED_GRID`".into(),
+                    expected: "`DATASET` and its type (UNSTRUCTURED_GRID, POLYDATA...)".into(),
                     found: show(key),
                 }))
             }
+            _ if r.dataset != Dataset::Unstructured && r.dataset_keyword(key)? => {}
             b"POINTS" => r.read_points()?,
             b"CELLS" => r.read_cells()?,
             b"CELL_TYPES" => r.read_cell_types()?,
@@ -683,9 +699,10 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Grid> {
     }
     if !dataset {
         return Err(r.err(ErrorKind::UnexpectedEof {
-            context: "expected `DATASET UNSTRUCTURED_GRID`".into(),
+            context: "expected `DATASET` and its type (UNSTRUCTURED_GRID, POLYDATA...)".into(),
         }));
     }
+    r.finish_dataset()?;
     if r.npoints.is_none() {
         return Err(r.err(ErrorKind::UnexpectedEof { context: "expected POINTS".into() }));
     }
