@@ -1,26 +1,32 @@
-//! VTK: legacy `.vtk` files and XML UnstructuredGrid `.vtu` files.
+//! VTK: legacy `.vtk` files and XML `.vtu`/`.vtp` files (and parallel `.pvtu`/`.pvtp`).
 //!
 //! Source: "VTK File Formats", <https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html>
 //! (legacy: "Simple Legacy Formats"; XML: "XML File Formats", "Unstructured Grid",
-//! "Appended Data", compressed block headers), checked against what VTK 9.7's own
-//! writers produce (the public fixtures) and what VTK's readers accept (the interop
-//! tests).
+//! "PolyData", "Parallel File Formats", "Appended Data", compressed block headers),
+//! checked against what VTK 9.7's own writers produce (the public fixtures, the samples
+//! of the interop tests) and what VTK's readers accept (the interop tests).
 //!
 //! Supported:
-//! - legacy `DATASET UNSTRUCTURED_GRID`, file versions 2.0–4.2 (`CELLS n size` with
-//!   `k i1 .. ik` per cell) and 5.1 (`OFFSETS`/`CONNECTIVITY`), ASCII and BINARY (binary
-//!   legacy is big-endian), `METADATA` blocks skipped, `POINT_DATA`/`CELL_DATA` with
-//!   `SCALARS` (1–4 components), `VECTORS`, `NORMALS`, `TENSORS` (9 values), `TENSORS6`
-//!   (widened to 9), `TEXTURE_COORDINATES`, `COLOR_SCALARS`, `GLOBAL_IDS`,
-//!   `PEDIGREE_IDS`, `FIELD` arrays; `LOOKUP_TABLE`s are skipped; array names with VTK's
-//!   `%XX` escapes are decoded;
-//! - XML `UnstructuredGrid` with one `Piece`: `ascii`, inline `binary` (base64) and
-//!   `appended` (raw or base64) arrays, zlib compression (`vtkZLibDataCompressor`),
-//!   `header_type` UInt32 or UInt64, `byte_order` LittleEndian or BigEndian, every
-//!   numeric `DataArray` type;
-//! - cells: vertex, line, triangle, quad and their quadratic forms (VTK types 1, 3, 5, 9,
-//!   21, 22, 23, 28); any other type (tetra, polygon, pixel...) is refused with the cell
-//!   and type named, since smartmesh is 2D;
+//! - legacy datasets `UNSTRUCTURED_GRID`, `POLYDATA`, `STRUCTURED_GRID`,
+//!   `RECTILINEAR_GRID` and `STRUCTURED_POINTS` (`legacy/datasets.rs`), file versions
+//!   2.0–4.2 (`CELLS n size` with `k i1 .. ik` per cell) and 5.1
+//!   (`OFFSETS`/`CONNECTIVITY`), ASCII and BINARY (binary legacy is big-endian),
+//!   `METADATA` blocks skipped, `POINT_DATA`/`CELL_DATA` with `SCALARS` (1–4
+//!   components), `VECTORS`, `NORMALS`, `TENSORS` (9 values), `TENSORS6` (widened to 9),
+//!   `TEXTURE_COORDINATES`, `COLOR_SCALARS`, `GLOBAL_IDS`, `PEDIGREE_IDS`, `FIELD`
+//!   arrays; `LOOKUP_TABLE`s are skipped; array names with VTK's `%XX` escapes are
+//!   decoded;
+//! - XML `UnstructuredGrid` and `PolyData`, any number of `Piece`s, and the parallel
+//!   files that name piece files (pieces appended, `xml/pieces.rs`): `ascii`, inline
+//!   `binary` (base64) and `appended` (raw or base64) arrays, zlib compression
+//!   (`vtkZLibDataCompressor`), `header_type` UInt32 or UInt64, `byte_order`
+//!   LittleEndian or BigEndian, every numeric `DataArray` type;
+//! - cells: every linear and quadratic type of [`crate::CellKind`] (VTK 1, 3, 5, 9, 10,
+//!   12, 13, 14, 21–29, 32), second-order volume cells converted from VTK's node order
+//!   to Gmsh's and back (`order.rs`); poly-vertices, poly-lines, triangle strips and
+//!   polygons of more than 4 points split, pixels and voxels renumbered (`cells.rs`,
+//!   with read notes); polyhedra (42) and the other types refused with the cell and
+//!   type named;
 //! - tags: cell data `gmsh:physical` and `gmsh:geometrical` (meshio's names), or
 //!   `CellEntityIds` (VTK's, e.g. from ParaView's Gmsh reader) when neither is there;
 //!   other cell arrays become cell data;
@@ -28,16 +34,19 @@
 //!   meshio's `field_data` convention for Gmsh physical names, so `meshio.read` gives
 //!   them back as `field_data`.
 //!
-//! Written: ASCII or binary legacy 4.2 or 5.1, and `.vtu` in ascii, binary or appended
-//! (raw) encoding, zlib-compressed or not, little-endian with UInt64 headers
-//! (`version="1.0"`, as VTK writes UInt64 headers). Always `gmsh:physical` and
-//! `gmsh:geometrical` (Int32) and the cell data; point data as Float64 with its
-//! component count; one 9-component point array is the active tensor (`TENSORS` in
-//! legacy files, `Tensors=` in XML), so ParaView's Tensor Glyph picks it up: a
-//! `size_tensor` if there is one (it glyphs at scale 1), else `metric`, else the first.
+//! Written: ASCII or binary legacy 4.2 or 5.1 unstructured grids, and `.vtu` (or `.vtp`
+//! PolyData, chosen by the output's name) in ascii, binary or appended (raw) encoding,
+//! zlib-compressed or not, little-endian with UInt64 headers (`version="1.0"`, as VTK
+//! writes UInt64 headers). Always `gmsh:physical` and `gmsh:geometrical` (Int32) and
+//! the cell data; point data as Float64 with its component count; one 9-component
+//! point array is the active tensor (`TENSORS` in legacy files, `Tensors=` in XML), so
+//! ParaView's Tensor Glyph picks it up: a `size_tensor` if there is one (it glyphs at
+//! scale 1), else `metric`, else the first. The 14-node pyramid, which VTK lacks, is
+//! written as its 13-node one, the loss listed in the write report.
 //!
-//! Not supported: other datasets (POLYDATA, STRUCTURED_GRID...), several XML pieces,
-//! LZ4 and LZMA compression, string and bit arrays.
+//! Not supported: writing parallel files and legacy datasets other than unstructured
+//! grids, `ImageData`/`StructuredGrid`/`RectilinearGrid` XML files, polyhedra, LZ4 and
+//! LZMA compression, string and bit arrays.
 //!
 //! NaN and infinities: refused in coordinates (and tags); kept in data arrays, as VTK
 //! and meshio keep them (`nan`, `inf`, `-inf` in ASCII, as VTK writes them), so that a
