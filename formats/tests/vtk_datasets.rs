@@ -370,3 +370,113 @@ print(json.dumps(dict(verts=g.GetNumberOfVerts(), lines=g.GetNumberOfLines(), po
     let e = smartmesh_formats::write_path(&path, &tet, None, &Default::default()).unwrap_err();
     assert!(e.to_string().contains("write a .vtu"), "{e}");
 }
+
+// ---------------------------------------------------------------------------------
+// Malformed and extreme input: refused with a position, nothing allocated for what a
+// header announces, no panic.
+
+fn vtu(text: &str, ext: &str) -> Result<TaggedMesh, smartmesh_formats::Error> {
+    smartmesh_formats::read_bytes(
+        smartmesh_formats::Format::Vtu,
+        text.as_bytes(),
+        &smartmesh_formats::ReadContext::alone(ext),
+    )
+}
+
+#[test]
+fn headers_announcing_10_to_the_15_cells_allocate_nothing() {
+    use smartmesh_formats::{ErrorKind, Position};
+    let head = "# vtk DataFile Version 4.2\nt\nASCII\n";
+    let tet = "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\n";
+    for (text, line) in [
+        (format!("{head}DATASET UNSTRUCTURED_GRID\n{tet}CELLS 1000000000000000 5000000000000000\n5 0 1 2 3\n"), 7),
+        (format!("{head}DATASET UNSTRUCTURED_GRID\n{tet}CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1000000000000000\n10\n"), 9),
+        (format!("{head}DATASET POLYDATA\n{tet}POLYGONS 1000000000000000 4000000000000000\n3 0 1 2\n"), 7),
+        (format!("{head}DATASET UNSTRUCTURED_GRID\n{tet}CELLS 1000000000000001 5\nOFFSETS vtktypeint64\n0 4\n"), 7),
+    ] {
+        let e = legacy(&text).unwrap_err();
+        assert!(
+            matches!(e.kind, ErrorKind::ImplausibleCount { .. } | ErrorKind::Inconsistent(_)),
+            "{e}"
+        );
+        assert_eq!(e.at, Some(Position::Line(line)), "{e}");
+    }
+    let piece = |attrs: &str, kind: &str| {
+        format!(
+            "<VTKFile type=\"{kind}\" version=\"1.0\"><{kind}><Piece NumberOfPoints=\"0\" {attrs}></Piece></{kind}></VTKFile>"
+        )
+    };
+    for (text, ext) in [
+        (piece("NumberOfCells=\"1000000000000000\"", "UnstructuredGrid"), "vtu"),
+        (piece("NumberOfPolys=\"1000000000000000\"", "PolyData"), "vtp"),
+        (
+            piece(
+                "NumberOfVerts=\"9223372036854775807\" NumberOfLines=\"9223372036854775807\"",
+                "PolyData",
+            ),
+            "vtp",
+        ),
+    ] {
+        let e = vtu(&text, ext).unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. }), "{e}");
+        assert!(matches!(e.at, Some(Position::Byte(_))), "{e}");
+    }
+}
+
+#[test]
+fn parallel_files_name_only_files_beside_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    let pvtu = |source: &str| {
+        format!(
+            "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\"><PUnstructuredGrid><Piece Source=\"{source}\"/></PUnstructuredGrid></VTKFile>"
+        )
+    };
+    // Outside the folder, absolute, or a parallel file naming itself: refused.
+    std::fs::write(dir.path().join("secret.vtu"), "").unwrap();
+    for (source, what) in [
+        ("../secret.vtu", "no such file"),
+        ("/etc/hostname", "no such file"),
+        ("self.pvtu", "its pieces must be serial files"),
+    ] {
+        let p = sub.join("self.pvtu");
+        std::fs::write(&p, pvtu(source)).unwrap();
+        let e = smartmesh_formats::read_path(&p, None).unwrap_err();
+        assert!(e.to_string().contains(what), "{source}: {e}");
+    }
+    // A piece that is not a mesh: the error names the piece's file.
+    std::fs::write(
+        sub.join("bad.vtu"),
+        "<VTKFile type=\"UnstructuredGrid\"><Piece NumberOfPoints=\"x\">",
+    )
+    .unwrap();
+    std::fs::write(sub.join("p.pvtu"), pvtu("bad.vtu")).unwrap();
+    let e = smartmesh_formats::read_path(&sub.join("p.pvtu"), None).unwrap_err();
+    assert!(e.to_string().contains("bad.vtu"), "{e}");
+}
+
+#[test]
+fn a_large_non_convex_polygon_is_cut_quickly() {
+    // A comb of 20 000 points: ear clipping would take n^3 steps.
+    let n = 10_000;
+    let mut pts = String::new();
+    for i in 0..n {
+        pts.push_str(&format!("{i} 0 0\n"));
+    }
+    for i in (0..n).rev() {
+        pts.push_str(&format!("{i} {} 0\n", if i % 2 == 0 { 1.0 } else { 2.0 }));
+    }
+    let ids: Vec<String> = (0..2 * n).map(|i| i.to_string()).collect();
+    let text = format!(
+        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\nPOINTS {} double\n{pts}POLYGONS 1 {}\n{} {}\n",
+        2 * n,
+        2 * n + 1,
+        2 * n,
+        ids.join(" ")
+    );
+    let t = std::time::Instant::now();
+    let m = legacy(&text).unwrap();
+    assert_eq!(m.num_cells_of(CellKind::Triangle), 2 * n - 2);
+    assert!(t.elapsed().as_secs() < 10, "{:?}", t.elapsed());
+}

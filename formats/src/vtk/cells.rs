@@ -6,8 +6,10 @@
 //!   strip's orientation (VTK's `vtkTriangleStrip` decomposition);
 //! - polygon (7): three points → a triangle, four → a quad, more → triangles by ear
 //!   clipping in the polygon's plane (Newell's normal), which is exact for any simple
-//!   polygon; a polygon that has no ear (self-intersecting or degenerate) is cut as a
-//!   fan from its first point, and the notes say how many were;
+//!   polygon (a convex one is cut as a fan at once); a polygon that has no ear
+//!   (self-intersecting or degenerate), or a non-convex one of more than 256 points
+//!   (clipping costs up to n^3), is cut as a fan from its first point, and the notes
+//!   say how many were;
 //! - pixel (8) → quad (0, 1, 3, 2); voxel (11) → hexahedron (0, 1, 3, 2, 4, 5, 7, 6).
 //!
 //! Each new cell takes the tags and cell data of the cell it came from. Splits are
@@ -163,12 +165,15 @@ fn notes(c: &Counts) -> Vec<String> {
     say(c.polygons, "VTK polygons of more than 4 points", "triangles");
     if c.fans > 0 {
         out.push(format!(
-            "{} of those polygons are not simple (no ear to clip in their plane) and were cut as a fan from their first point",
+            "{} of those polygons are not simple (no ear to clip in their plane) or are non-convex with more than {MAX_CLIPPED} points, and were cut as a fan from their first point",
             c.fans
         ));
     }
     out
 }
+
+/// The most points of a non-convex polygon cut by ear clipping.
+const MAX_CLIPPED: usize = 256;
 
 /// Triangles of a polygon of more than 4 points, by ear clipping in its plane;
 /// `true` when it had to fall back on a fan.
@@ -194,7 +199,18 @@ fn triangulate(cell: &[NodeIndex], points: &[[f64; 3]]) -> (Vec<[NodeIndex; 3]>,
     let cross = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
         sign * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
     };
-    let mut left: Vec<usize> = (0..cell.len()).collect();
+    let n = cell.len();
+    let fan = || (1..n - 1).map(|j| [cell[0], cell[j], cell[j + 1]]).collect::<Vec<_>>();
+    // A convex polygon (the usual one) is its fan, in one pass. Ear clipping costs up
+    // to n^3 steps: a non-convex polygon of more than `MAX_CLIPPED` points is cut as a
+    // fan too, and counted with the polygons that have no ear.
+    if (0..n).all(|j| cross(q[(j + n - 1) % n], q[j], q[(j + 1) % n]) >= 0.0) {
+        return (fan(), false);
+    }
+    if n > MAX_CLIPPED {
+        return (fan(), true);
+    }
+    let mut left: Vec<usize> = (0..n).collect();
     let mut tris = Vec::with_capacity(cell.len() - 2);
     while left.len() > 3 {
         let m = left.len();
@@ -217,8 +233,7 @@ fn triangulate(cell: &[NodeIndex], points: &[[f64; 3]]) -> (Vec<[NodeIndex; 3]>,
             })
         });
         let Some(j) = ear else {
-            let fan = (1..cell.len() - 1).map(|j| [cell[0], cell[j], cell[j + 1]]).collect();
-            return (fan, true);
+            return (fan(), true);
         };
         let (a, b, c) = (left[(j + m - 1) % m], left[j], left[(j + 1) % m]);
         tris.push([cell[a], cell[b], cell[c]]);

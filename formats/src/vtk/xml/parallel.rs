@@ -57,10 +57,9 @@ pub(super) fn read(s: &mut Scan<'_>, root: &Tag<'_>, ctx: &ReadContext<'_>) -> R
                 },
             )
         })?;
-        // A piece is a serial file: with no siblings, one that is itself parallel
-        // finds no pieces rather than recursing.
-        let g = super::read::read(&bytes, &ReadContext::alone("vtu"))
-            .map_err(|e: Error| e.with_path(&where_))?;
+        // A piece is a serial file: one that is itself parallel is refused rather
+        // than followed (a file naming itself would recurse).
+        let g = super::read::read_piece(&bytes).map_err(|e: Error| e.with_path(&where_))?;
         grids.push((g, at));
     }
     super::pieces::merge(grids)

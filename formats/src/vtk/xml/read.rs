@@ -133,9 +133,28 @@ fn spec(t: &Tag<'_>, d: &[u8]) -> Result<Spec> {
 /// Reads a `.vtu` or `.vtp` file, every piece (merged), or a parallel `.pvtu`/`.pvtp`
 /// file and the pieces it names.
 pub(crate) fn read(d: &[u8], ctx: &crate::ReadContext<'_>) -> Result<Grid> {
+    read_any(d, Some(ctx))
+}
+
+/// Reads the file of a piece a parallel file names: a serial file.
+pub(super) fn read_piece(d: &[u8]) -> Result<Grid> {
+    read_any(d, None)
+}
+
+/// Reads a serial file, or with `ctx` (where its pieces are found) a parallel one.
+fn read_any(d: &[u8], ctx: Option<&crate::ReadContext<'_>>) -> Result<Grid> {
     let mut s = Scan { d, pos: 0 };
     let (root, kind) = root_tag(&mut s, d)?;
     if kind.parallel {
+        let Some(ctx) = ctx else {
+            return Err(err(
+                root.at,
+                ErrorKind::Unsupported(format!(
+                    "a {} as a piece of a parallel file: its pieces must be serial files",
+                    kind.name
+                )),
+            ));
+        };
         return super::parallel::read(&mut s, &root, ctx);
     }
     let (big, hsize, zlib) = encoding(&root)?;
