@@ -18,6 +18,13 @@
 //!   quadrilateral face centres come (0,1,4,3), (1,2,5,4), (2,0,3,5);
 //! - pyramid13 (27): VTK's base edges go round the base, Gmsh's do not.
 //!
+//! The linear wedge: VTK's class documentation says the right-hand normal of (0,1,2)
+//! points out of the wedge, and meshio turns VTK's wedges over on reading for it
+//! (`vtk_to_meshio_order`); but VTK 9.7's parametric coordinates (0,1,2 at t = 0,
+//! 3,4,5 at t = 1), its Jacobian and `vtkCellValidator` all take Gmsh's orientation
+//! (the normal pointing to 3,4,5), and the volume test above passes only with the
+//! wedge as it is. So wedges go through unchanged.
+//!
 //! The 14-node pyramid has no VTK type (VTK's triquadratic pyramid has 19 nodes):
 //! written as a 13-node quadratic pyramid, its base centre dropped and the loss listed
 //! in the write report, rather than refused, so that a second-order mesh of mixed
