@@ -17,7 +17,7 @@ if rustup toolchain list 2>/dev/null | grep -q '^nightly'; then toolchain=(+nigh
 mkdir -p logs
 fixtures="${SMARTMESH_PUBLIC_FIXTURES:-$(cd ../.. && pwd)/shared/fixtures/public}"
 export RUSTC_BOOTSTRAP=1
-declare -A seeds=([gmsh]="gmsh/*.msh 3d/*.msh" [gmsh_pos]="" [vtk_legacy]="vtk/*.vtk" [vtu]="vtk/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb 3d/*.mesh 3d/*.meshb" [tetgen]="" [su2]="" [stl]="" [openfoam]="" [recipe_libconfig]="" [recipe_resolve]="")
+declare -A seeds=([gmsh]="gmsh/*.msh 3d/*.msh" [gmsh_pos]="" [vtk_legacy]="vtk/*.vtk 3d/*.vtk" [vtu]="vtk/*.vtu 3d/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb 3d/*.mesh 3d/*.meshb" [tetgen]="" [su2]="" [stl]="" [openfoam]="" [recipe_libconfig]="" [recipe_resolve]="")
 status=0
 for target in "${targets[@]}"; do
     corpus="corpus/$target"
@@ -46,6 +46,16 @@ for target in "${targets[@]}"; do
         # and a view of the other records (scalar, vector, text) with comments.
         printf 'View "metric" {\nTT(0,0,0,1,0,0,0,1,0){4,0,0,0,4,0,0,0,1,16,0,0,0,16,0,0,0,1,4,1,0,1,4,0,0,0,1};\nTQ(0,0,0,1,0,0,1,1,0,0,1,0){1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1,1,0,0,0,1,0,0,0,1};\n};\n' > "$corpus/metric.pos"
         printf '// scalar\nView("s") {\nSP(0.5,0.5,0){3,4};\nVL(0,0,0,1,0,0){1,0,0,0,1,0};\n/* text */ T2(10,20,0){"label"};\nST(0,0,0,1,0,0,0,1,0){1,2,3};\n};\n' > "$corpus/views.pos"
+    fi
+    if [ "$target" = vtk_legacy ]; then
+        # No public fixture of the other legacy datasets: one of each, small.
+        printf '# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\nPOINTS 6 float\n0 0 0 1 0 0 2 0 0 0 1 0 1 1 0 2 2 0\nVERTICES 1 3\n2 0 5\nLINES 1 4\n3 0 1 2\nPOLYGONS 2 10\n5 0 1 2 5 3\n3 1 4 3\nTRIANGLE_STRIPS 1 5\n4 3 0 4 1\nCELL_DATA 5\nSCALARS c int\nLOOKUP_TABLE default\n1 2 3 4 5\n' > "$corpus/polydata.vtk"
+        printf '# vtk DataFile Version 4.2\nt\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 3 2 2\nORIGIN 0 0 0\nSPACING 1 2 3\nPOINT_DATA 12\nSCALARS f float\nLOOKUP_TABLE default\n0 1 2 3 4 5 6 7 8 9 10 11\n' > "$corpus/structured_points.vtk"
+        printf '# vtk DataFile Version 4.2\nt\nASCII\nDATASET RECTILINEAR_GRID\nDIMENSIONS 2 2 1\nX_COORDINATES 2 float\n0 1\nY_COORDINATES 2 float\n0 3\nZ_COORDINATES 1 float\n0\n' > "$corpus/rectilinear.vtk"
+        printf '# vtk DataFile Version 4.2\nt\nASCII\nDATASET STRUCTURED_GRID\nDIMENSIONS 2 1 2\nPOINTS 4 float\n0 0 0 1 0 0 0 0 1 1 0 1\n' > "$corpus/structured_grid.vtk"
+    fi
+    if [ "$target" = vtu ]; then
+        printf '<VTKFile type="PolyData" version="1.0"><PolyData><Piece NumberOfPoints="4" NumberOfVerts="1" NumberOfLines="1" NumberOfPolys="1" NumberOfStrips="1"><Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 1 1 0 0 1 0</DataArray></Points><Verts><DataArray type="Int64" Name="connectivity" format="ascii">0</DataArray><DataArray type="Int64" Name="offsets" format="ascii">1</DataArray></Verts><Lines><DataArray type="Int64" Name="connectivity" format="ascii">0 1 2</DataArray><DataArray type="Int64" Name="offsets" format="ascii">3</DataArray></Lines><Polys><DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3</DataArray><DataArray type="Int64" Name="offsets" format="ascii">4</DataArray></Polys><Strips><DataArray type="Int64" Name="connectivity" format="ascii">0 1 3 2</DataArray><DataArray type="Int64" Name="offsets" format="ascii">4</DataArray></Strips></Piece><Piece NumberOfPoints="1" NumberOfVerts="1"><Points><DataArray type="Float32" NumberOfComponents="3" format="ascii">5 5 5</DataArray></Points><Verts><DataArray type="Int32" Name="connectivity" format="ascii">0</DataArray><DataArray type="Int32" Name="offsets" format="ascii">1</DataArray></Verts></Piece></PolyData></VTKFile>' > "$corpus/pieces.vtp"
     fi
     if [ "$target" = recipe_libconfig ]; then
         # The project's own recipes (without their cpp directives, which the target refuses).

@@ -21,6 +21,24 @@ pub trait SiblingSource {
     fn sibling_bytes(&self, ext: &str) -> Result<Option<std::borrow::Cow<'_, [u8]>>> {
         Ok(self.read_sibling(ext)?.map(std::borrow::Cow::Owned))
     }
+    /// The bytes of a file the main one names by a relative path (a parallel VTK
+    /// file's pieces), `Ok(None)` when there is none or it cannot be looked up (a
+    /// stream). Where to find it in messages: [`describe_beside`](Self::describe_beside).
+    fn read_beside(&self, _name: &str) -> Result<Option<Vec<u8>>> {
+        Ok(None)
+    }
+    /// How to name a file [`read_beside`](Self::read_beside) looks for.
+    fn describe_beside(&self, name: &str) -> String {
+        name.to_string()
+    }
+}
+
+/// A path relative to the main file's folder, refused when absolute or when it climbs
+/// out of that folder (a file does not get to name any file on the machine).
+fn beside(dir: &Path, name: &str) -> Option<PathBuf> {
+    let rel = Path::new(name);
+    let plain = rel.components().all(|c| matches!(c, std::path::Component::Normal(_)));
+    (plain && !name.is_empty()).then(|| dir.join(rel))
 }
 
 /// No siblings: a stream.
@@ -67,6 +85,19 @@ impl SiblingSource for PathSiblings {
     fn describe(&self, ext: &str) -> String {
         self.path(ext).display().to_string()
     }
+    fn read_beside(&self, name: &str) -> Result<Option<Vec<u8>>> {
+        let dir = self.base.parent().unwrap_or(Path::new(""));
+        let Some(p) = beside(dir, name) else { return Ok(None) };
+        match std::fs::read(&p) {
+            Ok(b) => Ok(Some(b)),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(Error::new(ErrorKind::Unreadable(e)).with_path(p)),
+        }
+    }
+    fn describe_beside(&self, name: &str) -> String {
+        let dir = self.base.parent().unwrap_or(Path::new(""));
+        beside(dir, name).map_or_else(|| name.to_string(), |p| p.display().to_string())
+    }
 }
 
 /// Siblings held in memory, for tests and for round trips without files.
@@ -92,6 +123,10 @@ impl SiblingSource for MemorySiblings {
     }
     fn sibling_bytes(&self, ext: &str) -> Result<Option<std::borrow::Cow<'_, [u8]>>> {
         Ok(self.files.get(ext).map(|b| std::borrow::Cow::Borrowed(b.as_slice())))
+    }
+    /// A file by its relative name, kept in `files` under that name.
+    fn read_beside(&self, name: &str) -> Result<Option<Vec<u8>>> {
+        Ok(self.files.get(name).cloned())
     }
 }
 
@@ -128,8 +163,16 @@ pub fn read_bytes_reported(
             report = r;
             mesh
         }
-        Format::VtkLegacy => crate::vtk::read_legacy(bytes, ctx)?,
-        Format::Vtu => crate::vtk::read_vtu(bytes, ctx)?,
+        Format::VtkLegacy => {
+            let (mesh, r) = crate::vtk::read_legacy_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
+        Format::Vtu => {
+            let (mesh, r) = crate::vtk::read_vtu_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::Obj => crate::obj::read(bytes, ctx)?,
         Format::Medit => {
             let (mesh, r) = crate::medit::read_reported(bytes, ctx)?;
@@ -268,6 +311,12 @@ impl SiblingSource for SiblingsBut<'_> {
     }
     fn describe(&self, ext: &str) -> String {
         self.inner.describe(ext)
+    }
+    fn read_beside(&self, name: &str) -> Result<Option<Vec<u8>>> {
+        self.inner.read_beside(name)
+    }
+    fn describe_beside(&self, name: &str) -> String {
+        self.inner.describe_beside(name)
     }
 }
 

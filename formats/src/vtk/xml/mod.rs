@@ -38,6 +38,8 @@ use super::{
 };
 
 mod decode;
+mod parallel;
+mod pieces;
 mod read;
 mod write;
 

@@ -2,6 +2,7 @@
 //! decoded (ASCII, base64 or appended, raw or zlib blocks) into the grid.
 
 use super::decode::{Appended, Decoder};
+use super::pieces::PieceBody;
 use super::*;
 
 #[derive(Clone, Copy, PartialEq)]
@@ -26,7 +27,11 @@ pub(super) struct Spec {
 
 /// The `<DataArray>`s of a container. In `<FieldData>` arrays of other than numeric
 /// types (ParaView writes strings there) are skipped: they cannot name a tag.
-fn read_array_specs<'a>(s: &mut Scan<'a>, container: &Tag<'a>, out: &mut Vec<Spec>) -> Result<()> {
+pub(super) fn read_array_specs<'a>(
+    s: &mut Scan<'a>,
+    container: &Tag<'a>,
+    out: &mut Vec<Spec>,
+) -> Result<()> {
     if container.empty {
         return Ok(());
     }
@@ -125,44 +130,83 @@ fn spec(t: &Tag<'_>, d: &[u8]) -> Result<Spec> {
     Ok(Spec { name, ty, components, format, offset, tuples, text, at: t.at })
 }
 
-/// Reads a `.vtu` file.
-pub(crate) fn read(d: &[u8]) -> Result<TaggedMesh> {
+/// Reads a `.vtu` or `.vtp` file, every piece (merged), or a parallel `.pvtu`/`.pvtp`
+/// file and the pieces it names.
+pub(crate) fn read(d: &[u8], ctx: &crate::ReadContext<'_>) -> Result<Grid> {
+    read_any(d, Some(ctx))
+}
+
+/// Reads the file of a piece a parallel file names: a serial file.
+pub(super) fn read_piece(d: &[u8]) -> Result<Grid> {
+    read_any(d, None)
+}
+
+/// Reads a serial file, or with `ctx` (where its pieces are found) a parallel one.
+fn read_any(d: &[u8], ctx: Option<&crate::ReadContext<'_>>) -> Result<Grid> {
     let mut s = Scan { d, pos: 0 };
-    let root = root_tag(&mut s, d)?;
+    let (root, kind) = root_tag(&mut s, d)?;
+    if kind.parallel {
+        let Some(ctx) = ctx else {
+            return Err(err(
+                root.at,
+                ErrorKind::Unsupported(format!(
+                    "a {} as a piece of a parallel file: its pieces must be serial files",
+                    kind.name
+                )),
+            ));
+        };
+        return super::parallel::read(&mut s, &root, ctx);
+    }
     let (big, hsize, zlib) = encoding(&root)?;
-    let Body { field, point, cell, pts, cells, piece, appended } = scan_body(&mut s, d)?;
-    let Some((np, nc, piece_at)) = piece else {
+    let Body { field, pieces, appended } = scan_body(&mut s, d)?;
+    if pieces.is_empty() {
         return Err(err(
             root.at,
             ErrorKind::Expected {
-                expected: "a <Piece> in <UnstructuredGrid>".into(),
+                expected: format!("a <Piece> in <{}>", kind.name),
                 found: "none".into(),
             },
         ));
-    };
-    check_counts(d, np, nc, piece_at)?;
-
+    }
     let mut app_offsets: Vec<usize> = field
         .iter()
-        .chain(&point)
-        .chain(&cell)
-        .chain(&pts)
-        .chain(&cells)
+        .chain(pieces.iter().flat_map(PieceBody::specs))
         .filter(|s| s.format == Format::Appended)
         .map(|s| s.offset)
         .collect();
     app_offsets.sort_unstable();
     app_offsets.dedup();
     let dec = Decoder { d, big, hsize, zlib, appended, app_offsets };
-
-    let mut g = Grid { points: read_points(&dec, &pts, np, piece_at)?, ..Grid::default() };
-    read_cells(&dec, &cells, nc, np, piece_at, &mut g)?;
-    read_data_arrays(&dec, &point, &cell, &field, np, nc, &mut g)?;
-    g.into_mesh()
+    let mut grids = Vec::with_capacity(pieces.len());
+    for (i, p) in pieces.iter().enumerate() {
+        let nc = p.cells_total();
+        check_counts(d, p.np, nc, p.at)?;
+        let mut g = Grid { points: read_points(&dec, &p.pts, p.np, p.at)?, ..Grid::default() };
+        if kind.poly {
+            super::pieces::read_poly_cells(&dec, p, &mut g)?;
+        } else {
+            read_cells(&dec, &p.cells, nc, p.np, p.at, &mut g)?;
+        }
+        // Dataset field data (tag names) once, with the first piece.
+        let field: &[Spec] = if i == 0 { &field } else { &[] };
+        read_data_arrays(&dec, &p.point, &p.cell, field, p.np, nc, &mut g)?;
+        grids.push((g, p.at));
+    }
+    super::pieces::merge(grids)
 }
 
-/// The root element, which must be `<VTKFile type="UnstructuredGrid">`.
-fn root_tag<'a>(s: &mut Scan<'a>, d: &[u8]) -> Result<Tag<'a>> {
+/// What the root element says the file holds.
+pub(super) struct Kind {
+    /// The dataset element's name (`UnstructuredGrid`, `PolyData`...).
+    pub(super) name: &'static str,
+    /// PolyData rather than UnstructuredGrid.
+    pub(super) poly: bool,
+    /// A parallel file (`PUnstructuredGrid`, `PPolyData`) naming its pieces' files.
+    pub(super) parallel: bool,
+}
+
+/// The root element, `<VTKFile type="...">` of a type smartmesh reads.
+pub(super) fn root_tag<'a>(s: &mut Scan<'a>, d: &[u8]) -> Result<(Tag<'a>, Kind)> {
     let root = match s.next()? {
         Ev::Start(t) => t,
         Ev::End(_, p) => {
@@ -187,19 +231,22 @@ fn root_tag<'a>(s: &mut Scan<'a>, d: &[u8]) -> Result<Tag<'a>> {
             },
         ));
     }
-    match root.attr("type") {
-        Some(b"UnstructuredGrid") => {}
+    let kind = match root.attr("type") {
+        Some(b"UnstructuredGrid") => Kind { name: "UnstructuredGrid", poly: false, parallel: false },
+        Some(b"PolyData") => Kind { name: "PolyData", poly: true, parallel: false },
+        Some(b"PUnstructuredGrid") => Kind { name: "PUnstructuredGrid", poly: false, parallel: true },
+        Some(b"PPolyData") => Kind { name: "PPolyData", poly: true, parallel: true },
         other => {
             return Err(err(
                 root.at,
                 ErrorKind::Unsupported(format!(
-                    "VTK XML type {}: smartmesh reads UnstructuredGrid (.vtu)",
+                    "VTK XML type {}: smartmesh reads UnstructuredGrid (.vtu), PolyData (.vtp) and their parallel files (.pvtu, .pvtp)",
                     show(other.unwrap_or(b"(none)"))
                 )),
             ))
         }
-    }
-    Ok(root)
+    };
+    Ok((root, kind))
 }
 
 /// The encoding the root element declares: big-endian, the size of a header word, zlib.
@@ -246,16 +293,12 @@ fn encoding(root: &Tag<'_>) -> Result<(bool, usize, bool)> {
     Ok((big, hsize, zlib))
 }
 
-/// What the scan of the grid finds: the array specifications of each container, the
-/// piece's point and cell counts and place, and the appended data.
+/// What the scan of the dataset finds: the dataset's field data, each piece, the
+/// appended data.
 #[derive(Default)]
 struct Body {
     field: Vec<Spec>,
-    point: Vec<Spec>,
-    cell: Vec<Spec>,
-    pts: Vec<Spec>,
-    cells: Vec<Spec>,
-    piece: Option<(usize, usize, usize)>,
+    pieces: Vec<PieceBody>,
     appended: Option<Appended>,
 }
 
@@ -264,36 +307,27 @@ fn scan_body(s: &mut Scan<'_>, d: &[u8]) -> Result<Body> {
     let mut body = Body::default();
     loop {
         match s.next()? {
-            Ev::Start(t) if t.name == b"UnstructuredGrid" => {}
+            Ev::Start(t) if t.name == b"UnstructuredGrid" || t.name == b"PolyData" => {}
             Ev::Start(t) if t.name == b"FieldData" => read_array_specs(s, &t, &mut body.field)?,
             Ev::Start(t) if t.name == b"Piece" => {
-                if body.piece.is_some() {
-                    return Err(err(
-                        t.at,
-                        ErrorKind::Unsupported(
-                            "several <Piece> elements: smartmesh reads one-piece .vtu files".into(),
-                        ),
-                    ));
-                }
-                let np = t.attr_usize("NumberOfPoints")?.unwrap_or(0);
-                let nc = t.attr_usize("NumberOfCells")?.unwrap_or(0);
-                body.piece = Some((np, nc, t.at));
+                let mut p = PieceBody::new(&t)?;
                 if !t.empty {
-                    scan_piece(s, &t, &mut body)?;
+                    scan_piece(s, &t, &mut p)?;
                 }
+                body.pieces.push(p);
             }
             Ev::Start(t) if t.name == b"AppendedData" => {
                 body.appended = Some(appended_data(&t, d)?);
                 break;
             }
             Ev::Start(t) => s.skip_subtree(&t)?,
-            Ev::End(b"UnstructuredGrid", _) => {}
+            Ev::End(b"UnstructuredGrid" | b"PolyData", _) => {}
             Ev::End(b"VTKFile", _) | Ev::Eof => break,
             Ev::End(n, p) => {
                 return Err(err(
                     p,
                     ErrorKind::Expected {
-                        expected: "</UnstructuredGrid> or </VTKFile>".into(),
+                        expected: "</UnstructuredGrid>, </PolyData> or </VTKFile>".into(),
                         found: format!("</{}>", String::from_utf8_lossy(n)),
                     },
                 ))
@@ -304,20 +338,24 @@ fn scan_body(s: &mut Scan<'_>, d: &[u8]) -> Result<Body> {
 }
 
 /// Scans the containers of `<Piece>` `t`, up to `</Piece>`.
-fn scan_piece<'a>(s: &mut Scan<'a>, t: &Tag<'a>, body: &mut Body) -> Result<()> {
+fn scan_piece<'a>(s: &mut Scan<'a>, t: &Tag<'a>, p: &mut PieceBody) -> Result<()> {
     loop {
         match s.next()? {
             Ev::Start(c) => match c.name {
-                b"PointData" => read_array_specs(s, &c, &mut body.point)?,
-                b"CellData" => read_array_specs(s, &c, &mut body.cell)?,
+                b"PointData" => read_array_specs(s, &c, &mut p.point)?,
+                b"CellData" => read_array_specs(s, &c, &mut p.cell)?,
                 b"Points" => {
-                    read_array_specs(s, &c, &mut body.pts)?;
+                    read_array_specs(s, &c, &mut p.pts)?;
                     // VTK leaves the coordinates unnamed; messages name them.
-                    for sp in body.pts.iter_mut().filter(|sp| sp.name.is_empty()) {
+                    for sp in p.pts.iter_mut().filter(|sp| sp.name.is_empty()) {
                         sp.name = "Points".into();
                     }
                 }
-                b"Cells" => read_array_specs(s, &c, &mut body.cells)?,
+                b"Cells" => read_array_specs(s, &c, &mut p.cells)?,
+                b"Verts" => read_array_specs(s, &c, &mut p.poly[0])?,
+                b"Lines" => read_array_specs(s, &c, &mut p.poly[1])?,
+                b"Polys" => read_array_specs(s, &c, &mut p.poly[2])?,
+                b"Strips" => read_array_specs(s, &c, &mut p.poly[3])?,
                 _ => s.skip_subtree(&c)?,
             },
             Ev::End(b"Piece", _) => return Ok(()),
@@ -452,7 +490,7 @@ fn values(n: usize, sp: &Spec) -> Result<usize> {
 }
 
 /// The `nc` cells (types, offsets, connectivity) of `<Cells>` into `g`.
-fn read_cells(
+pub(super) fn read_cells(
     dec: &Decoder<'_>,
     cells: &[Spec],
     nc: usize,
@@ -483,9 +521,9 @@ fn read_cells(
         dec.ints_into(off, nc, &mut g.offsets, "a cell end offset (0 or more)", |e| {
             usize::try_from(e).ok()
         })?;
-        // Each cell smartmesh reads has at most 9 nodes; a larger step is refused by the
-        // cell check, but must not drive an allocation here.
-        let bad_step = |w: &[usize]| w[1] < w[0] || w[1] - w[0] > 64;
+        // Polygons and poly-lines have any number of nodes: the last offset is checked
+        // against the connectivity's bytes before anything of that size is allocated.
+        let bad_step = |w: &[usize]| w[1] < w[0];
         if g.offsets.windows(2).any(bad_step) {
             let i = g.offsets.windows(2).position(bad_step).unwrap_or(0);
             let (prev, e) = (g.offsets[i], g.offsets[i + 1]);

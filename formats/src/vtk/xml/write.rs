@@ -208,8 +208,9 @@ pub(super) fn push_base64(out: &mut Vec<u8>, data: &[u8]) {
     out.truncate(start + written);
 }
 
-/// Writes a `.vtu` file.
-pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+/// Writes a `.vtu` file, or a `.vtp` (PolyData) one when `poly`: the mesh then holds
+/// vertices, lines and polygons only, in that order (`vtk::poly_order`).
+pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions, poly: bool) -> Result<Written> {
     let mut plan = Plan::new(mesh, "VTK XML");
     let enc = opts.vtk.vtu_encoding;
     let compress = opts.vtk.compress && enc != VtuEncoding::Ascii;
@@ -225,8 +226,23 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         (VtuEncoding::Binary, false) => raw_bytes * 4 / 3 + 4096,
         (VtuEncoding::Appended, false) => raw_bytes + 4096,
     };
-    // Declared before the writer, which borrows it until the appended data is out.
-    let offs = offsets(mesh);
+    // Declared before the writer, which borrows them until the appended data is out:
+    // the cell lists, one for an UnstructuredGrid, PolyData's vertices, lines and
+    // polygons (with the blocks of each, and their offsets).
+    let lists: Vec<(&str, &[crate::CellBlock], Vec<u64>)> = if poly {
+        let mut lists = Vec::new();
+        let mut start = 0;
+        for (name, dim) in [("Verts", 0), ("Lines", 1), ("Polys", 2)] {
+            let end =
+                start + mesh.blocks[start..].iter().take_while(|b| b.kind.dim() == dim).count();
+            let blocks = &mesh.blocks[start..end];
+            lists.push((name, blocks, block_offsets(blocks)));
+            start = end;
+        }
+        lists
+    } else {
+        vec![("Cells", &mesh.blocks[..], offsets(mesh))]
+    };
     let mut w = Writer {
         out: Vec::with_capacity(cap),
         enc,
@@ -237,11 +253,16 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     };
 
     let o = &mut w.out;
-    o.extend_from_slice(b"<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"");
+    let dataset: &[u8] = if poly { b"PolyData" } else { b"UnstructuredGrid" };
+    o.extend_from_slice(b"<?xml version=\"1.0\"?>\n<VTKFile type=\"");
+    o.extend_from_slice(dataset);
+    o.extend_from_slice(b"\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"");
     if compress {
         o.extend_from_slice(b" compressor=\"vtkZLibDataCompressor\"");
     }
-    o.extend_from_slice(b">\n  <UnstructuredGrid>\n");
+    o.extend_from_slice(b">\n  <");
+    o.extend_from_slice(dataset);
+    o.extend_from_slice(b">\n");
     // Tag names: meshio's `field_data` layout, one `[tag, dim]` array per name,
     // always ascii (a few numbers).
     if !plan.names.is_empty() {
@@ -259,9 +280,21 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
     o.extend_from_slice(b"    <Piece NumberOfPoints=\"");
     crate::text::push_int(o, np);
-    o.extend_from_slice(b"\" NumberOfCells=\"");
-    crate::text::push_int(o, nc);
-    o.extend_from_slice(b"\">\n");
+    if poly {
+        for ((_, blocks, _), attr) in lists.iter().zip([
+            &b"\" NumberOfVerts=\""[..],
+            b"\" NumberOfLines=\"",
+            b"\" NumberOfPolys=\"",
+        ]) {
+            o.extend_from_slice(attr);
+            crate::text::push_int(o, blocks.iter().map(crate::CellBlock::len).sum::<usize>());
+        }
+        o.extend_from_slice(b"\" NumberOfStrips=\"0\">\n");
+    } else {
+        o.extend_from_slice(b"\" NumberOfCells=\"");
+        crate::text::push_int(o, nc);
+        o.extend_from_slice(b"\">\n");
+    }
 
     if !plan.point_arrays.is_empty() {
         w.out.extend_from_slice(b"      <PointData");
@@ -302,73 +335,102 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         },
         |o| put(o, flat.as_flattened(), f64::to_le_bytes),
     );
-    w.out.extend_from_slice(b"      </Points>\n      <Cells>\n");
-    w.array(
-        "Int64",
-        "connectivity",
-        1,
-        nconn * 8,
-        |o| {
-            for b in &mesh.blocks {
-                for cell in b.cells() {
-                    o.extend_from_slice(b"          ");
-                    for (j, &v) in cell.iter().enumerate() {
-                        if j > 0 {
-                            o.push(b' ');
+    w.out.extend_from_slice(b"      </Points>\n");
+    for (name, blocks, offs) in &lists {
+        let (blocks, offs): (&[crate::CellBlock], &[u64]) = (blocks, offs);
+        let n = offs.len() - 1;
+        let nconn = offs[n] as usize;
+        w.out.extend_from_slice(b"      <");
+        w.out.extend_from_slice(name.as_bytes());
+        w.out.extend_from_slice(b">\n");
+        w.array(
+            "Int64",
+            "connectivity",
+            1,
+            nconn * 8,
+            move |o| {
+                for b in blocks {
+                    for cell in b.cells() {
+                        o.extend_from_slice(b"          ");
+                        for (j, &v) in cell.iter().enumerate() {
+                            if j > 0 {
+                                o.push(b' ');
+                            }
+                            crate::text::push_int(o, v);
                         }
-                        crate::text::push_int(o, v);
+                        o.push(b'\n');
                     }
-                    o.push(b'\n');
                 }
-            }
-        },
-        |o| {
-            o.reserve(nconn * 8);
-            for b in &mesh.blocks {
-                put(o, &b.nodes, |v| (v as i64).to_le_bytes());
-            }
-        },
-    );
-    w.array(
-        "Int64",
-        "offsets",
-        1,
-        nc * 8,
-        |o| {
-            for &v in &offs[1..] {
-                o.extend_from_slice(b"          ");
-                crate::text::push_int(o, v);
-                o.push(b'\n');
-            }
-        },
-        |o| put(o, &offs[1..], |v| (v as i64).to_le_bytes()),
-    );
-    w.array(
-        "UInt8",
-        "types",
-        1,
-        nc,
-        |o| {
-            for b in &mesh.blocks {
-                let t = crate::vtk::vtk_type_of(b.kind);
-                for _ in 0..b.len() {
+            },
+            move |o| {
+                o.reserve(nconn * 8);
+                for b in blocks {
+                    put(o, &b.nodes, |v| (v as i64).to_le_bytes());
+                }
+            },
+        );
+        w.array(
+            "Int64",
+            "offsets",
+            1,
+            n * 8,
+            move |o| {
+                for &v in &offs[1..] {
                     o.extend_from_slice(b"          ");
-                    crate::text::push_int(o, t);
+                    crate::text::push_int(o, v);
                     o.push(b'\n');
                 }
-            }
-        },
-        |o| {
-            for b in &mesh.blocks {
-                o.extend(std::iter::repeat(crate::vtk::vtk_type_of(b.kind)).take(b.len()));
-            }
-        },
-    );
-    w.out.extend_from_slice(b"      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
+            },
+            move |o| put(o, &offs[1..], |v| (v as i64).to_le_bytes()),
+        );
+        if !poly {
+            w.array(
+                "UInt8",
+                "types",
+                1,
+                n,
+                move |o| {
+                    for b in blocks {
+                        let t = crate::vtk::vtk_type_of(b.kind);
+                        for _ in 0..b.len() {
+                            o.extend_from_slice(b"          ");
+                            crate::text::push_int(o, t);
+                            o.push(b'\n');
+                        }
+                    }
+                },
+                move |o| {
+                    for b in blocks {
+                        o.extend(std::iter::repeat(crate::vtk::vtk_type_of(b.kind)).take(b.len()));
+                    }
+                },
+            );
+        }
+        w.out.extend_from_slice(b"      </");
+        w.out.extend_from_slice(name.as_bytes());
+        w.out.extend_from_slice(b">\n");
+    }
+    w.out.extend_from_slice(b"    </Piece>\n  </");
+    w.out.extend_from_slice(dataset);
+    w.out.extend_from_slice(b">\n");
     if enc == VtuEncoding::Appended {
         w.finish_appended();
     }
     w.out.extend_from_slice(b"</VTKFile>\n");
     let report = std::mem::take(&mut plan.report);
     Ok(Written { main: w.out, siblings: Vec::new(), report })
+}
+
+/// Offsets (`ncells + 1`, from 0) of the cells of `blocks`.
+fn block_offsets(blocks: &[crate::CellBlock]) -> Vec<u64> {
+    let mut offs = vec![0u64];
+    let mut o = 0u64;
+    for b in blocks {
+        let k = b.kind.nodes_per_cell() as u64;
+        offs.extend((0..b.len()).map(|_| {
+            o += k;
+            o
+        }));
+    }
+    offs
 }
