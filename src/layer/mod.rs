@@ -12,26 +12,22 @@
 //!   the kept mesh triangulated again, conforming to both;
 //! - [`to_metric`]: where a metric is given, the band remeshed to it by the native
 //!   remesher with the skin and the kept mesh frozen;
-//! - [`check`]: validity of any mixed mesh (positive cells, no overlap, no hanging
-//!   vertex), used by the tests, by [`insert`] on its own result, and by `info`;
-//! - `pairs`: the pairs of segments or cells that may meet, for `skin`'s crossing test
-//!   and [`check`], swept across each stack of slanted cells (near-linear in the layer
-//!   count where boxes alone made it quadratic);
 //! - [`stats`]: the quality of a skin as built (per-layer heights and ratios, scaled
 //!   Jacobians, skewness, aspect ratios).
+//!
+//! What it shares with the remesher lives below both: the plane geometry of the skin
+//! (`geometry::plane`), the pairs of segments or cells that may meet
+//! (`geometry::near_pairs`) and the validity of a mixed mesh ([`crate::validity`]).
 //!
 //! Invariants of [`insert`]'s output: every input point used by a kept cell keeps its
 //! index order (points only go: the removed ones), skin points follow; every line cell,
 //! vertex cell, tag name and face tag of the input stays (line cells along a side of the
 //! skin are replaced by lines of the same tags along the side); skin cells take the
 //! tags of the triangle they replace at the wall (their geometrical tag may be set
-//! apart); the result passes [`check::check_mesh`] or [`insert`] fails.
+//! apart); the result passes [`crate::validity::check_mesh`] or [`insert`] fails.
 
 mod band;
-pub mod check;
-mod geom;
 pub mod growth;
-mod pairs;
 mod skin;
 pub mod stats;
 pub mod to_metric;
@@ -283,7 +279,7 @@ pub fn insert(mesh: &TaggedMesh, opts: &LayerOptions) -> Result<Layered, LayerEr
     let sk = skin::Skin::build(&inp)?;
     let band = band::build(&sk, &topo, &cell_tags, &line_tags, &listed)?;
     let (out, in_band, mut report) = assemble(mesh, &sk, &band, opts);
-    let v = check::check_mesh(&out);
+    let v = crate::validity::check_mesh(&out);
     if !v.is_valid() {
         return Err(LayerError::Invalid(v.problems().join("; ")));
     }
@@ -492,6 +488,7 @@ fn assemble(
 mod tests {
     use super::*;
     use crate::mesher::{triangulate, MeshOptions};
+    use crate::validity;
 
     /// A triangle mesh of the polygon `pts` with segment tags `tags`.
     fn mesh_of(pts: &[[f64; 2]], tags: &[i32], size: f64) -> TaggedMesh {
@@ -538,8 +535,11 @@ mod tests {
         {
             let out = insert(m, &o).unwrap();
             let pts: Vec<[f64; 2]> = out.mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-            let cells = check::surface_cells(&out.mesh);
-            assert_eq!(check::check_cells(&pts, &cells), check::check_cells_brute(&pts, &cells));
+            let cells = validity::surface_cells(&out.mesh);
+            assert_eq!(
+                validity::check_cells(&pts, &cells),
+                validity::check_cells_brute(&pts, &cells)
+            );
         }
     }
 }
