@@ -63,7 +63,7 @@ fn vertex_cells(m: &TaggedMesh) -> Vec<([u64; 2], i32)> {
 
 fn opts(curves: &[&str], g: Growth) -> LayerOptions {
     LayerOptions {
-        curves: curves.iter().map(|c| CurveLayers { curve: c.to_string(), growth: g }).collect(),
+        curves: curves.iter().map(|&c| CurveLayers { curve: c.into(), growth: g }).collect(),
         ..Default::default()
     }
 }

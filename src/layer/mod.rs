@@ -38,7 +38,7 @@ use smartmesh_formats::{CellKind, DataArray, TaggedMesh};
 
 pub use growth::{first_height_for_y_plus, Growth, GrowthError};
 
-use crate::topology::{cell_tag, Topology};
+use crate::topology::{cell_tag, EntityRef, Topology};
 
 /// The point data in which [`insert`] records, at the points of each column, the share
 /// of its nominal thickness the column took (1 where it was not thinned, 0 where it was
@@ -92,7 +92,7 @@ impl LayerError {
 #[derive(Debug, Clone, PartialEq)]
 pub struct CurveLayers {
     /// A curve tag or name.
-    pub curve: String,
+    pub curve: EntityRef,
     /// Its growth.
     pub growth: Growth,
 }
@@ -178,38 +178,10 @@ pub struct Layered {
     pub report: LayerReport,
 }
 
-/// The topological curves `sel` names (a tag or a name), or an error listing the known ones.
-pub fn resolve_curve(topo: &Topology, sel: &str) -> Result<Vec<usize>, LayerError> {
-    let sel = sel.trim();
-    let found: Vec<usize> = match sel.parse::<i32>() {
-        Ok(t) => {
-            topo.curves.iter().enumerate().filter(|c| c.1.tag == Some(t)).map(|c| c.0).collect()
-        }
-        Err(_) => topo
-            .curves
-            .iter()
-            .enumerate()
-            .filter(|c| c.1.name.as_deref() == Some(sel))
-            .map(|c| c.0)
-            .collect(),
-    };
-    if found.is_empty() {
-        let known: Vec<String> = topo
-            .curves
-            .iter()
-            .filter_map(|c| {
-                c.tag.map(|t| match &c.name {
-                    Some(n) => format!("{t} \"{n}\""),
-                    None => t.to_string(),
-                })
-            })
-            .collect();
-        return Err(LayerError::Bad(format!(
-            "no curve `{sel}` (the mesh has: {})",
-            if known.is_empty() { "no tagged curve".to_string() } else { known.join(", ") }
-        )));
-    }
-    Ok(found)
+/// The topological curves `e` names ([`Topology::resolve_curves`]), or an error listing
+/// the tagged ones.
+pub fn resolve_curve(topo: &Topology, e: &EntityRef) -> Result<Vec<usize>, LayerError> {
+    topo.resolve_curves(e).map_err(|e| LayerError::Bad(e.to_string()))
 }
 
 /// Inserts a skin into the triangle mesh `mesh`.
@@ -503,10 +475,7 @@ mod tests {
 
     fn opts(curves: &[&str], g: Growth) -> LayerOptions {
         LayerOptions {
-            curves: curves
-                .iter()
-                .map(|c| CurveLayers { curve: c.to_string(), growth: g })
-                .collect(),
+            curves: curves.iter().map(|&c| CurveLayers { curve: c.into(), growth: g }).collect(),
             ..Default::default()
         }
     }
