@@ -26,7 +26,9 @@
 //! - [`remesh`](mod@remesh): the native anisotropic remesher (split, collapse, swap, smooth in the
 //!   metric; boundaries, interfaces, corners and tags kept);
 //! - [`layer`]: the structured boundary-layer skin (thesis 5.4.2): quads along chosen
-//!   curves, the triangles pushed away, and the validity and quality of mixed meshes;
+//!   curves, the triangles pushed away, and the quality of mixed meshes;
+//! - [`validity`]: whether a mixed triangle/quad mesh is valid (positive cells, no
+//!   overlap, no hanging vertex), for the skin, the remesher and `info`;
 //! - [`history`]: the convergence history of an adaptation run (`history.json`);
 //! - [`metric_field`]: a metric field on a mesh, read from point data, a `.sol`, a `.pos`
 //!   or a mesh file, checked, interpolated elsewhere, and written for MMG (.sol), Gmsh
@@ -69,6 +71,7 @@ pub mod solid_topology;
 pub mod solution;
 pub(crate) mod summary;
 pub mod topology;
+pub mod validity;
 pub mod variants;
 
 // The curated surface: what a user of the library needs, at the root. The crate's

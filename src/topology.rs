@@ -10,6 +10,9 @@
 //! vertex cells a file lists, plus the points no file needs to list: the end points
 //! of open curve pieces and the junctions where curves meet.
 //!
+//! An entity is named by a tag or a tag name ([`EntityRef`]); [`Topology::resolve`] is
+//! the one lookup that finds it (in `resolve.rs`).
+//!
 //! The module knows only connectivity and coordinates; it never reads a metric.
 //! Cost: O(cells): the surface edges by a counting sort on their smaller vertex.
 
@@ -22,6 +25,10 @@ use std::collections::BTreeMap;
 use ahash::AHashMap as HashMap;
 
 use smartmesh_formats::{CellKind, TaggedMesh};
+
+mod resolve;
+
+pub use resolve::{AbsentCurve, EntityRef};
 
 /// What a topological entity is known by: a tag from the file, or nothing when it was
 /// derived from the mesh (boundary or interface edges that no line cell covers).

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use smartmesh::formats::{read_path, write_path, TaggedMesh, WriteOptions};
 use smartmesh::periodic::{check, check_all, PeriodicPair, Transform};
-use smartmesh::recipe::RecipeFormat;
+use smartmesh::recipe::{EntityRef, RecipeFormat};
 use smartmesh::{remesh, Recipe, RemeshOptions, Sym2, Topology};
 use smartmesh_test_support::grid::{unit_square, SquareGrid};
 
@@ -860,7 +860,11 @@ fn the_remesher_coarsens_periodic_sides_alike() {
         // The stretched triangles the collapses leave inside are remeshed away (34 degrees
         // measured).
         assert!(smallest_angle(&out) > 25.0, "{}", smallest_angle(&out));
-        let tags: (i32, i32) = (pair.master[0].parse().unwrap(), pair.slave[0].parse().unwrap());
+        let tag = |e: &EntityRef| match e {
+            EntityRef::Tag(t) => *t,
+            EntityRef::Name(n) => panic!("a tag, not the name {n}"),
+        };
+        let tags: (i32, i32) = (tag(&pair.master[0]), tag(&pair.slave[0]));
         match_by_lines(&out, tags.0, tags.1, map);
     }
 }

@@ -7,10 +7,10 @@ use std::path::PathBuf;
 use clap::Args;
 use smartmesh::formats::words::count;
 use smartmesh::formats::Format;
-use smartmesh::layer::check::{check_mesh, Validity};
 use smartmesh::layer::stats::{quad_quality, QuadQuality};
 use smartmesh::metric_field::MetricField;
 use smartmesh::topology::Topology;
+use smartmesh::validity::{check_mesh, Validity};
 use smartmesh::MeshSummary;
 
 use super::{parse_format, print_stdout, CliError};

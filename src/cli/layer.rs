@@ -185,7 +185,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
         let r = ratios.iter().rev().find(|x| &x.0 == c).map(|x| x.1).or(args.ratio);
         let growth = Growth::solve(h, r, args.layers, args.thickness)
             .map_err(|e| CliError::input(format!("curve `{c}`: {e}"), e))?;
-        curves.push(CurveLayers { curve: c.clone(), growth });
+        curves.push(CurveLayers { curve: c.as_str().into(), growth });
     }
     let opts = LayerOptions {
         curves,
@@ -272,7 +272,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
         let s = Summary {
             input: args.mesh.display().to_string(),
             output: args.output.display().to_string(),
-            growth: opts.curves.iter().map(|c| (c.curve.clone(), c.growth)).collect(),
+            growth: opts.curves.iter().map(|c| (c.curve.label(), c.growth)).collect(),
             report: r,
             quality,
             dropped: &written.dropped,

@@ -4,7 +4,10 @@
 //! segments that answers exact closest-segment queries, and the clearances of a
 //! polyline source, which let most closest points be certified without a search; and
 //! point location in a triangulation (the triangle holding a point, or the nearest); a
-//! quadtree of boxes that follows the grading (point and box queries).
+//! quadtree of boxes that follows the grading (point and box queries); plane geometry
+//! with tolerances for the boundary-layer skin and the mixed-mesh check ([`plane`]), and
+//! the pairs of shapes that may meet ([`near_pairs`]). The exact orientation predicate
+//! (`segment::orient`) is the one every sign test that decides validity uses.
 //!
 //! Everything here works on plain `[f64; 2]` points and knows nothing of meshes or tags.
 
@@ -12,6 +15,8 @@ pub(crate) mod box_tree;
 mod chain_tree;
 pub(crate) mod clearance;
 pub(crate) mod locate;
+pub(crate) mod near_pairs;
+pub(crate) mod plane;
 pub(crate) mod segment;
 pub(crate) mod segment_index;
 #[cfg(test)]

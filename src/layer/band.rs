@@ -21,9 +21,11 @@ use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use super::geom::{convex_overlap, inside_convex, norm, segment_distance, sub, Bbox, BoxIndex, P};
 use super::skin::Skin;
 use super::LayerError;
+use crate::geometry::plane::{
+    convex_overlap, inside_convex, norm, segment_distance, sub, Bbox, BoxIndex, P,
+};
 use crate::topology::{Classification, Topology};
 
 /// The band: which input triangles go, and the triangles that replace them.

@@ -12,26 +12,22 @@
 //!   the kept mesh triangulated again, conforming to both;
 //! - [`to_metric`]: where a metric is given, the band remeshed to it by the native
 //!   remesher with the skin and the kept mesh frozen;
-//! - [`check`]: validity of any mixed mesh (positive cells, no overlap, no hanging
-//!   vertex), used by the tests, by [`insert`] on its own result, and by `info`;
-//! - `pairs`: the pairs of segments or cells that may meet, for `skin`'s crossing test
-//!   and [`check`], swept across each stack of slanted cells (near-linear in the layer
-//!   count where boxes alone made it quadratic);
 //! - [`stats`]: the quality of a skin as built (per-layer heights and ratios, scaled
 //!   Jacobians, skewness, aspect ratios).
+//!
+//! What it shares with the remesher lives below both: the plane geometry of the skin
+//! (`geometry::plane`), the pairs of segments or cells that may meet
+//! (`geometry::near_pairs`) and the validity of a mixed mesh ([`crate::validity`]).
 //!
 //! Invariants of [`insert`]'s output: every input point used by a kept cell keeps its
 //! index order (points only go: the removed ones), skin points follow; every line cell,
 //! vertex cell, tag name and face tag of the input stays (line cells along a side of the
 //! skin are replaced by lines of the same tags along the side); skin cells take the
 //! tags of the triangle they replace at the wall (their geometrical tag may be set
-//! apart); the result passes [`check::check_mesh`] or [`insert`] fails.
+//! apart); the result passes [`crate::validity::check_mesh`] or [`insert`] fails.
 
 mod band;
-pub mod check;
-mod geom;
 pub mod growth;
-mod pairs;
 mod skin;
 pub mod stats;
 pub mod to_metric;
@@ -42,7 +38,7 @@ use smartmesh_formats::{CellKind, DataArray, TaggedMesh};
 
 pub use growth::{first_height_for_y_plus, Growth, GrowthError};
 
-use crate::topology::{cell_tag, Topology};
+use crate::topology::{cell_tag, EntityRef, Topology};
 
 /// The point data in which [`insert`] records, at the points of each column, the share
 /// of its nominal thickness the column took (1 where it was not thinned, 0 where it was
@@ -96,7 +92,7 @@ impl LayerError {
 #[derive(Debug, Clone, PartialEq)]
 pub struct CurveLayers {
     /// A curve tag or name.
-    pub curve: String,
+    pub curve: EntityRef,
     /// Its growth.
     pub growth: Growth,
 }
@@ -182,38 +178,10 @@ pub struct Layered {
     pub report: LayerReport,
 }
 
-/// The topological curves `sel` names (a tag or a name), or an error listing the known ones.
-pub fn resolve_curve(topo: &Topology, sel: &str) -> Result<Vec<usize>, LayerError> {
-    let sel = sel.trim();
-    let found: Vec<usize> = match sel.parse::<i32>() {
-        Ok(t) => {
-            topo.curves.iter().enumerate().filter(|c| c.1.tag == Some(t)).map(|c| c.0).collect()
-        }
-        Err(_) => topo
-            .curves
-            .iter()
-            .enumerate()
-            .filter(|c| c.1.name.as_deref() == Some(sel))
-            .map(|c| c.0)
-            .collect(),
-    };
-    if found.is_empty() {
-        let known: Vec<String> = topo
-            .curves
-            .iter()
-            .filter_map(|c| {
-                c.tag.map(|t| match &c.name {
-                    Some(n) => format!("{t} \"{n}\""),
-                    None => t.to_string(),
-                })
-            })
-            .collect();
-        return Err(LayerError::Bad(format!(
-            "no curve `{sel}` (the mesh has: {})",
-            if known.is_empty() { "no tagged curve".to_string() } else { known.join(", ") }
-        )));
-    }
-    Ok(found)
+/// The topological curves `e` names ([`Topology::resolve_curves`]), or an error listing
+/// the tagged ones.
+pub fn resolve_curve(topo: &Topology, e: &EntityRef) -> Result<Vec<usize>, LayerError> {
+    topo.resolve_curves(e).map_err(|e| LayerError::Bad(e.to_string()))
 }
 
 /// Inserts a skin into the triangle mesh `mesh`.
@@ -283,7 +251,7 @@ pub fn insert(mesh: &TaggedMesh, opts: &LayerOptions) -> Result<Layered, LayerEr
     let sk = skin::Skin::build(&inp)?;
     let band = band::build(&sk, &topo, &cell_tags, &line_tags, &listed)?;
     let (out, in_band, mut report) = assemble(mesh, &sk, &band, opts);
-    let v = check::check_mesh(&out);
+    let v = crate::validity::check_mesh(&out);
     if !v.is_valid() {
         return Err(LayerError::Invalid(v.problems().join("; ")));
     }
@@ -492,6 +460,7 @@ fn assemble(
 mod tests {
     use super::*;
     use crate::mesher::{triangulate, MeshOptions};
+    use crate::validity;
 
     /// A triangle mesh of the polygon `pts` with segment tags `tags`.
     fn mesh_of(pts: &[[f64; 2]], tags: &[i32], size: f64) -> TaggedMesh {
@@ -506,10 +475,7 @@ mod tests {
 
     fn opts(curves: &[&str], g: Growth) -> LayerOptions {
         LayerOptions {
-            curves: curves
-                .iter()
-                .map(|c| CurveLayers { curve: c.to_string(), growth: g })
-                .collect(),
+            curves: curves.iter().map(|&c| CurveLayers { curve: c.into(), growth: g }).collect(),
             ..Default::default()
         }
     }
@@ -538,8 +504,11 @@ mod tests {
         {
             let out = insert(m, &o).unwrap();
             let pts: Vec<[f64; 2]> = out.mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-            let cells = check::surface_cells(&out.mesh);
-            assert_eq!(check::check_cells(&pts, &cells), check::check_cells_brute(&pts, &cells));
+            let cells = validity::surface_cells(&out.mesh);
+            assert_eq!(
+                validity::check_cells(&pts, &cells),
+                validity::check_cells_brute(&pts, &cells)
+            );
         }
     }
 }

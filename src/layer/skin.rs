@@ -19,11 +19,11 @@
 
 use std::collections::BTreeMap;
 
-use super::geom::{
+use super::{LayerError, Thinned};
+use crate::geometry::plane::{
     add, dot, left, norm, ray_hit, rotate, scale, segments_meet, sub, turn, unit, Bbox, BoxIndex,
     EPS, P,
 };
-use super::{LayerError, Thinned};
 use crate::topology::{Classification, Topology};
 
 /// Interior angle (degrees) below which a chain end's neighbouring boundary carries the
@@ -599,14 +599,14 @@ impl Skin {
         bad
     }
 
-    /// [`Skin::bad_gaps`], the pairs from [`super::pairs::near_pairs`] or, `brute`, all.
+    /// [`Skin::bad_gaps`], the pairs from [`crate::geometry::near_pairs::near_pairs`] or, `brute`, all.
     fn bad_gaps_by(&self, obstacles: &[[usize; 2]], brute: bool) -> Vec<usize> {
         let n = self.layers;
         let mut bad = std::collections::BTreeSet::new();
         for g in 0..self.gaps.len() {
             for k in 0..n {
                 let poly: Vec<P> = self.cell(g, k).iter().map(|&v| self.pts[v]).collect();
-                if !super::check::positive_corners(&poly) {
+                if !crate::validity::positive_corners(&poly) {
                     bad.insert(g);
                 }
             }
@@ -643,7 +643,7 @@ impl Skin {
             let n = items.len() as u32;
             (0..n).flat_map(|i| (i + 1..n).map(move |j| (i, j))).collect()
         } else {
-            super::pairs::near_pairs(&items)
+            crate::geometry::near_pairs::near_pairs(&items)
         };
         for (i, j) in candidates {
             let (i, j) = (i as usize, j as usize);

@@ -17,7 +17,7 @@ use std::collections::BTreeMap;
 
 use smartmesh_formats::{CellKind, TaggedMesh};
 
-use super::geom::{cross, dot, norm, sub, P};
+use crate::geometry::plane::{cross, dot, norm, sub, P};
 
 /// Figures of one layer.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

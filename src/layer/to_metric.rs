@@ -8,9 +8,8 @@
 //!
 //! Invariants: every cell outside the band (skin, kept triangles) comes back with the
 //! same vertices, coordinates and tags; the band's boundary edges are never split, so
-//! the result conforms to them; the result passes [`super::check::check_mesh`] (the
-//! remesher checks it) or the call fails. Sideways pair: `layer` ──► `remesh` here,
-//! while `remesh` ──► `layer::check`.
+//! the result conforms to them; the result passes [`crate::validity::check_mesh`] (the
+//! remesher checks it) or the call fails.
 
 use super::{LayerError, Layered};
 use crate::metric::{SizeTensor, Sym2};

@@ -104,7 +104,7 @@ pub fn coarsen_sides(
             })
             .collect();
         for name in &pair.master {
-            let Ok(curves) = crate::layer::resolve_curve(&topology, name) else { continue };
+            let Ok(curves) = topology.resolve_curves(name) else { continue };
             for c in curves {
                 for polyline in &topology.curves[c].polylines {
                     let p = &polyline.vertices;

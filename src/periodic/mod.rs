@@ -24,7 +24,7 @@ mod coarsen;
 
 pub use coarsen::coarsen_sides;
 
-use crate::topology::Topology;
+use crate::topology::{EntityRef, Topology};
 
 /// Largest distance, relative to the diagonal of the mesh's bounding box, between a side
 /// and the image of the other for the two to count as images of each other.
@@ -86,9 +86,9 @@ impl Transform {
 #[derive(Debug, Clone, PartialEq)]
 pub struct PeriodicPair {
     /// The master side's curves.
-    pub master: Vec<String>,
+    pub master: Vec<EntityRef>,
     /// The slave side's curves.
-    pub slave: Vec<String>,
+    pub slave: Vec<EntityRef>,
     /// Master to slave.
     pub transform: Transform,
 }
@@ -96,8 +96,13 @@ pub struct PeriodicPair {
 impl PeriodicPair {
     /// "master 302, 303 and slave 306, 307" as messages name the pair.
     pub fn label(&self) -> String {
-        format!("master {} and slave {}", self.master.join(", "), self.slave.join(", "))
+        format!("master {} and slave {}", labels(&self.master), labels(&self.slave))
     }
+}
+
+/// The curves as a command line spells them, "302, 303".
+fn labels(curves: &[EntityRef]) -> String {
+    curves.iter().map(EntityRef::label).collect::<Vec<_>>().join(", ")
 }
 
 /// How well one pair matches on a mesh.
@@ -155,7 +160,7 @@ pub(crate) type Side = (Vec<usize>, Vec<[usize; 2]>, Vec<i32>);
 /// curves' tags.
 pub(crate) fn side(
     topology: &Topology,
-    names: &[String],
+    names: &[EntityRef],
     pair: &str,
 ) -> Result<Side, PeriodicError> {
     let bad = |why: String| PeriodicError::Curve { pair: pair.to_string(), why };
@@ -166,7 +171,7 @@ pub(crate) fn side(
     let mut edges = Vec::new();
     let mut tags = Vec::new();
     for name in names {
-        let found = crate::layer::resolve_curve(topology, name).map_err(|e| bad(e.to_string()))?;
+        let found = topology.resolve_curves(name).map_err(|e| bad(e.to_string()))?;
         for c in found {
             let curve = &topology.curves[c];
             tags.extend(curve.tag);
@@ -177,7 +182,7 @@ pub(crate) fn side(
         }
     }
     if edges.is_empty() {
-        return Err(bad(format!("curves {} have no edge", names.join(", "))));
+        return Err(bad(format!("curves {} have no edge", labels(names))));
     }
     Ok((vertices.into_iter().collect(), edges, tags))
 }

@@ -72,13 +72,6 @@ pub struct LayerSpec {
     pub per_curve: Vec<CurveValues>,
 }
 
-fn label(e: &EntityRef) -> String {
-    match e {
-        EntityRef::Tag(t) => t.to_string(),
-        EntityRef::Name(n) => n.clone(),
-    }
-}
-
 impl LayerSpec {
     /// The options of [`crate::layer::insert`] this section asks for.
     pub fn options(&self) -> Result<LayerOptions, LayerError> {
@@ -115,8 +108,8 @@ impl LayerSpec {
             let h = pc.and_then(|p| p.first_height).or(first);
             let r = pc.and_then(|p| p.ratio).or(self.ratio);
             let growth = Growth::solve(h, r, self.layers, self.thickness)
-                .map_err(|e| LayerError::Bad(format!("layer: curve {}: {e}", label(c))))?;
-            curves.push(CurveLayers { curve: label(c), growth });
+                .map_err(|e| LayerError::Bad(format!("layer: curve {}: {e}", c.label())))?;
+            curves.push(CurveLayers { curve: c.clone(), growth });
         }
         let d = LayerOptions::default();
         Ok(LayerOptions {

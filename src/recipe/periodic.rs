@@ -47,13 +47,6 @@ fn xy<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Err
     }
 }
 
-fn label(e: &EntityRef) -> String {
-    match e {
-        EntityRef::Tag(t) => t.to_string(),
-        EntityRef::Name(n) => n.clone(),
-    }
-}
-
 impl PeriodicSpec {
     /// The pair this entry describes, or why not.
     pub fn pair(&self) -> Result<PeriodicPair, String> {
@@ -61,7 +54,7 @@ impl PeriodicSpec {
             return Err("periodic: `master` and `slave` each list at least one curve".into());
         }
         if let Some(c) = self.master.iter().find(|c| self.slave.contains(c)) {
-            return Err(format!("periodic: curve {} is on both sides", label(c)));
+            return Err(format!("periodic: curve {} is on both sides", c.label()));
         }
         let transform =
             match (self.translation, self.centre, self.angle) {
@@ -77,10 +70,6 @@ impl PeriodicSpec {
         if !transform.is_finite() {
             return Err("periodic: the transform has a number that is not finite".into());
         }
-        Ok(PeriodicPair {
-            master: self.master.iter().map(label).collect(),
-            slave: self.slave.iter().map(label).collect(),
-            transform,
-        })
+        Ok(PeriodicPair { master: self.master.clone(), slave: self.slave.clone(), transform })
     }
 }

@@ -29,10 +29,12 @@
 //! is put to use), but it is not measured, and it is reported with no counts — and with
 //! no dimension when its dimension stays ambiguous, rather than refused.
 //!
-//! Entities are looked up in an index of the topology built once, and used regions of
-//! the same entities are measured (vertices, edges, cells) once: a recipe of many
-//! regions costs the mesh once plus its own size times a logarithm, not the mesh per
-//! region, and regions that nothing uses cost only their lookups.
+//! Entities are looked up by the topology's one resolver ([`Topology::resolve`]), each
+//! distinct reference once, and used regions of the same entities are measured
+//! (vertices, edges, cells) once: a recipe of many regions costs the mesh once plus its
+//! distinct references times the topology's entities (its tags and curve junctions, not
+//! its cells), not the mesh per region, and regions that nothing uses cost only their
+//! lookups.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -93,41 +95,17 @@ fn expected(a: &AlgorithmSpec, field: &str) -> &'static [usize] {
         .unwrap_or(&[])
 }
 
-/// The topology's entities by tag and by name: per dimension, their indices in order.
+/// The entities of each distinct reference, looked up once ([`Topology::resolve`]): a
+/// recipe that names one tag in many regions pays for one lookup.
 #[derive(Default)]
-struct EntityIndex<'t> {
-    tags: BTreeMap<i32, [Vec<usize>; 3]>,
-    names: BTreeMap<&'t str, [Vec<usize>; 3]>,
+struct Lookups<'r> {
+    found: BTreeMap<&'r EntityRef, [Vec<usize>; 3]>,
 }
 
-impl<'t> EntityIndex<'t> {
-    fn new(topo: &'t Topology) -> EntityIndex<'t> {
-        let mut index = EntityIndex::default();
-        let points = topo.points.iter().map(|p| (p.tag, p.name.as_deref()));
-        let curves = topo.curves.iter().map(|c| (c.tag, c.name.as_deref()));
-        let faces = topo.faces.iter().map(|f| (Some(f.tag), f.name.as_deref()));
-        let dims: [Box<dyn Iterator<Item = _>>; 3] =
-            [Box::new(points), Box::new(curves), Box::new(faces)];
-        for (d, entities) in dims.into_iter().enumerate() {
-            for (i, (tag, name)) in entities.enumerate() {
-                if let Some(t) = tag {
-                    index.tags.entry(t).or_default()[d].push(i);
-                }
-                if let Some(n) = name {
-                    index.names.entry(n).or_default()[d].push(i);
-                }
-            }
-        }
-        index
-    }
-
+impl<'r> Lookups<'r> {
     /// Indices of the entities matching `e` in each dimension.
-    fn lookup(&self, e: &EntityRef) -> [Vec<usize>; 3] {
-        let hits = match e {
-            EntityRef::Tag(t) => self.tags.get(t),
-            EntityRef::Name(n) => self.names.get(n.as_str()),
-        };
-        hits.cloned().unwrap_or_default()
+    fn lookup(&mut self, topo: &Topology, e: &'r EntityRef) -> &[Vec<usize>; 3] {
+        self.found.entry(e).or_insert_with(|| topo.resolve(e))
     }
 }
 
@@ -185,14 +163,14 @@ impl Recipe {
         // The fields are public: a recipe built in code may never have been checked.
         self.validate()?;
         let names: Vec<&String> = self.regions.keys().collect();
-        let index = EntityIndex::new(topology);
+        let mut lookups = Lookups::default();
         let mut states: Vec<RegionState> = Vec::with_capacity(names.len());
         for (name, entities) in &self.regions {
             let mut by_dim: [BTreeSet<usize>; 3] = Default::default();
             let mut candidates: Vec<usize> = vec![0, 1, 2];
             let mut entity_dims = Vec::new();
             for (k, e) in entities.iter().enumerate() {
-                let hits = index.lookup(e);
+                let hits = lookups.lookup(topology, e);
                 let dims: Vec<usize> = (0..3).filter(|&d| !hits[d].is_empty()).collect();
                 if dims.is_empty() {
                     let path = format!("regions.{name}[{k}]");

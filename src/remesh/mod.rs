@@ -244,7 +244,7 @@ pub fn check_quads(mesh: &TaggedMesh) -> Result<(), RemeshError> {
     if keep.iter().all(|&k| k) {
         return Err(RemeshError::AllKept);
     }
-    let v = crate::layer::check::check_mesh(mesh);
+    let v = crate::validity::check_mesh(mesh);
     if !v.is_valid() {
         return Err(RemeshError::InvalidMixed(v.problems().join("; ")));
     }
@@ -256,7 +256,7 @@ pub fn check_quads(mesh: &TaggedMesh) -> Result<(), RemeshError> {
 /// edges are constraints that are never split, and they are written back unchanged
 /// (renumbered) after the remeshed triangles. An input with kept cells must pass, and
 /// the result is checked as a
-/// mixed mesh ([`crate::layer::check::check_mesh`]: positive cells, no overlap, no
+/// mixed mesh ([`crate::validity::check_mesh`]: positive cells, no overlap, no
 /// hanging vertex) before it is returned.
 pub fn remesh_keeping(
     mesh: &TaggedMesh,
@@ -270,7 +270,7 @@ pub fn remesh_keeping(
     // A mixed input must already be valid: otherwise a bad result would be blamed on
     // the remesher rather than on the file.
     if keep.iter().any(|&k| k) && mesh.cells().any(|c| c.0 == smartmesh_formats::CellKind::Quad) {
-        let v = crate::layer::check::check_mesh(mesh);
+        let v = crate::validity::check_mesh(mesh);
         if !v.is_valid() {
             return Err(RemeshError::InvalidMixed(v.problems().join("; ")));
         }
@@ -383,7 +383,7 @@ pub fn remesh_keeping(
     // The working mesh is no longer needed: its memory goes before the measuring.
     drop(w);
     if !st.kept.is_empty() {
-        let v = crate::layer::check::check_mesh(&out);
+        let v = crate::validity::check_mesh(&out);
         if !v.is_valid() {
             return Err(RemeshError::Invalid(v.problems().join("; ")));
         }

@@ -9,42 +9,9 @@
 //! Entities are indices into [`crate::Topology`]'s `points`, `curves` and `faces` of the
 //! mesh the plan was resolved on; running a plan on another mesh is a caller's error.
 
-pub use crate::sizing::algorithms::Algorithm;
+pub use crate::sizing::algorithms::{Algorithm, EntitySet};
 
 pub use crate::geometry::Point2;
-
-/// Topological entities of one mesh, by index into [`crate::Topology`].
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct EntitySet {
-    /// Indices into `Topology::points`.
-    pub points: Vec<usize>,
-    /// Indices into `Topology::curves`.
-    pub curves: Vec<usize>,
-    /// Indices into `Topology::faces`.
-    pub faces: Vec<usize>,
-}
-
-impl EntitySet {
-    /// Whether the set names no entity.
-    pub fn is_empty(&self) -> bool {
-        self.points.is_empty() && self.curves.is_empty() && self.faces.is_empty()
-    }
-
-    /// The union of two sets, each list sorted and without repeats.
-    pub fn union(&self, other: &EntitySet) -> EntitySet {
-        let merge = |a: &[usize], b: &[usize]| {
-            let mut v: Vec<usize> = a.iter().chain(b).copied().collect();
-            v.sort_unstable();
-            v.dedup();
-            v
-        };
-        EntitySet {
-            points: merge(&self.points, &other.points),
-            curves: merge(&self.curves, &other.curves),
-            faces: merge(&self.faces, &other.faces),
-        }
-    }
-}
 
 /// One step of a plan: an algorithm and a label for reports and errors
 /// (e.g. `algorithm 3 (DISTANCE_TO_BORDER on "StayVane")`).

@@ -90,54 +90,9 @@ impl Global {
     }
 }
 
-/// A topological entity as a recipe names it: a tag number or a tag name.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
-#[serde(untagged)]
-pub enum EntityRef {
-    /// A tag number (Gmsh physical or elementary tag, Triangle marker…).
-    Tag(i32),
-    /// A tag name (Gmsh physical name, OBJ group…).
-    Name(String),
-}
-
-/// Read by hand rather than derived (`#[serde(untagged)]`), whose only error is "data did
-/// not match any variant of untagged enum EntityRef": this one says what was found and
-/// what is expected.
-impl<'de> Deserialize<'de> for EntityRef {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<EntityRef, D::Error> {
-        struct Visitor;
-        impl serde::de::Visitor<'_> for Visitor {
-            type Value = EntityRef;
-            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str("an entity: a tag number (an integer) or a tag name (a string)")
-            }
-            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<EntityRef, E> {
-                i32::try_from(v).map(EntityRef::Tag).map_err(|_| {
-                    E::custom(format!(
-                        "tag {v} is out of range (a tag is a 32-bit integer, at most {})",
-                        i32::MAX
-                    ))
-                })
-            }
-            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<EntityRef, E> {
-                self.visit_i64(i64::try_from(v).unwrap_or(i64::MAX))
-            }
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<EntityRef, E> {
-                Ok(EntityRef::Name(v.to_string()))
-            }
-        }
-        d.deserialize_any(Visitor)
-    }
-}
-
-impl std::fmt::Display for EntityRef {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            EntityRef::Tag(t) => write!(f, "tag {t}"),
-            EntityRef::Name(n) => write!(f, "\"{n}\""),
-        }
-    }
-}
+/// A topological entity as a recipe names it: a tag number or a tag name (the topology's,
+/// which resolves it).
+pub use crate::topology::EntityRef;
 
 /// A named size function (thesis 4.3.5), parameters as given.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

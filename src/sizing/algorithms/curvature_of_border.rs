@@ -42,7 +42,7 @@ use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
-use crate::sizing::plan::EntitySet;
+use super::EntitySet;
 use crate::sizing::propagation::{ClosestPoint, Source};
 use crate::topology::Topology;
 

@@ -9,7 +9,39 @@
 
 use crate::geometry::Point2;
 use crate::sizing::functions::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
-use crate::sizing::plan::EntitySet;
+
+/// Topological entities of one mesh, by index into [`crate::Topology`] (a region's, once resolved).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct EntitySet {
+    /// Indices into `Topology::points`.
+    pub points: Vec<usize>,
+    /// Indices into `Topology::curves`.
+    pub curves: Vec<usize>,
+    /// Indices into `Topology::faces`.
+    pub faces: Vec<usize>,
+}
+
+impl EntitySet {
+    /// Whether the set names no entity.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty() && self.curves.is_empty() && self.faces.is_empty()
+    }
+
+    /// The union of two sets, each list sorted and without repeats.
+    pub fn union(&self, other: &EntitySet) -> EntitySet {
+        let merge = |a: &[usize], b: &[usize]| {
+            let mut v: Vec<usize> = a.iter().chain(b).copied().collect();
+            v.sort_unstable();
+            v.dedup();
+            v
+        };
+        EntitySet {
+            points: merge(&self.points, &other.points),
+            curves: merge(&self.curves, &other.curves),
+            faces: merge(&self.faces, &other.faces),
+        }
+    }
+}
 
 /// An algorithm as recipes know it.
 #[derive(Debug, PartialEq)]

@@ -29,7 +29,7 @@ use super::{
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::DistanceFunction;
-use crate::sizing::plan::EntitySet;
+use super::EntitySet;
 use crate::metric::SizeTensor;
 use crate::sizing::propagation::{ClosestPoint, Source};
 use crate::topology::Topology;

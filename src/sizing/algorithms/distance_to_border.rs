@@ -21,7 +21,7 @@ use super::{
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::DistanceFunction;
-use crate::sizing::plan::EntitySet;
+use super::EntitySet;
 use crate::sizing::propagation::{ClosestPoint, Source};
 use crate::topology::Topology;
 

@@ -39,8 +39,8 @@ mod frame;
 mod sources;
 
 pub use declaration::{
-    infinite_norm, Argument, Arguments, Declaration, FunctionKind, Given, Marks, Parameter,
-    ParameterKind, Refusal, INFINITE_NORM,
+    infinite_norm, Argument, Arguments, Declaration, EntitySet, FunctionKind, Given, Marks,
+    Parameter, ParameterKind, Refusal, INFINITE_NORM,
 };
 pub use frame::ON_SOURCE;
 pub(crate) use frame::{direction, normal_at, on_source, tangent_at, tensor, unit, Junctions};
@@ -49,7 +49,6 @@ pub(crate) use sources::{border_source, check_entities, reach_of};
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
-use crate::sizing::plan::EntitySet;
 use crate::sizing::propagation::{ClosestPoint, Source, SourceError};
 use crate::topology::Topology;
 

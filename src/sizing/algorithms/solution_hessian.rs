@@ -25,7 +25,7 @@ use super::{
 };
 use crate::mesh_graph::{MeshGraph, PointValues};
 use crate::metric::{SizeBounds, SizeTensor, Sym2};
-use crate::sizing::plan::EntitySet;
+use super::EntitySet;
 use crate::solution::{lp_metric_of_fields, recover, LpMetric, LpOptions, Method, P1Mesh, Target};
 use crate::topology::Topology;
 

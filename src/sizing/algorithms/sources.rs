@@ -1,9 +1,9 @@
 //! The sources algorithms propagate from: entity sets checked against a topology and
 //! turned into a [`Source`], and the reach of a set of functions.
 
+use super::EntitySet;
 use super::Failure;
 use crate::mesh_graph::MeshGraph;
-use crate::sizing::plan::EntitySet;
 use crate::sizing::propagation::{Source, SourceBuilder};
 use crate::topology::Topology;
 

@@ -9,7 +9,7 @@ use super::{
 };
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
-use crate::sizing::plan::EntitySet;
+use super::EntitySet;
 use crate::topology::Topology;
 
 /// The vertices of `on`, sorted, each once; an error for an index out of range.

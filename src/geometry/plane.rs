@@ -1,11 +1,14 @@
-//! The plane geometry the skin needs: an index of boxes, segment crossing,
-//! overlap of convex polygons (separating axes), ray casting, point–segment distance.
+//! Plane geometry with tolerances: vector arithmetic on `[f64; 2]`, segment crossing,
+//! overlap of convex polygons (separating axes), ray casting, point–segment distance, and
+//! an index of boxes. The boundary-layer skin builds with it and [`crate::validity`]
+//! checks mixed meshes with it.
 //!
-//! Tolerances are relative to the lengths involved (`EPS` times a length); the exact
-//! predicates of the remesher are not needed here because every result is checked again
-//! by [`super::check`] on the finished mesh.
+//! Tolerances are relative to the lengths involved (`EPS` times a length): these tests
+//! decide whether shapes come *too close*, not on which side of a line a point lies, so
+//! they need no exact predicate; the one sign test that decides validity, a corner's
+//! orientation, is the exact [`super::segment::orient`] ([`crate::validity`]).
 
-use crate::geometry::box_tree::BoxTree;
+use super::box_tree::BoxTree;
 
 /// A point of the plane.
 pub type P = [f64; 2];
@@ -172,7 +175,7 @@ impl Bbox {
 }
 
 /// Items (by index) filed by their boxes in a quadtree whose leaves follow the grading
-/// ([`crate::geometry::box_tree`]): a skin along an airfoil 50 chords inside a far field
+/// ([`super::box_tree`]): a skin along an airfoil 50 chords inside a far field
 /// does not fall into a few buckets, as in a uniform grid. A query lists every item whose
 /// (closed) box meets the query box, and possibly others near it, each once, in
 /// increasing index order (deterministic). Callers whose tests reach past a box (a

@@ -1,5 +1,6 @@
-//! The pairs of items (segments, cells, points) that may meet, for the skin's crossing
-//! test and the mixed-mesh check: every pair whose grown convex hulls meet is listed.
+//! The pairs of items (segments, cells, points) that may meet, for the boundary-layer
+//! skin's crossing test and the mixed-mesh check ([`crate::validity`]): every pair whose
+//! grown convex hulls meet is listed.
 //!
 //! A quadtree of boxes ([`BoxTree`]) finds items that are near; but the cells and
 //! fronts of a skin are thin and slanted, stacked along their column, and their
@@ -16,8 +17,8 @@
 //! axis, grown alike, overlap, and the sweep lists every pair whose projections and
 //! boxes overlap. The tests compare with all pairs on meshes with every orientation.
 
-use super::geom::{dot, norm, sub, Bbox, P};
-use crate::geometry::box_tree::BoxTree;
+use super::box_tree::BoxTree;
+use super::plane::{dot, norm, sub, Bbox, P};
 
 /// Leaves with at most this many items are tested pair by pair.
 const SMALL_LEAF: usize = 16;
@@ -163,7 +164,9 @@ mod tests {
             let g = items[i].1 + items[j].1;
             let d = |p: P, s: &[P]| {
                 (0..s.len())
-                    .map(|k| super::super::geom::segment_distance(p, s[k], s[(k + 1) % s.len()]))
+                    .map(|k| {
+                        crate::geometry::plane::segment_distance(p, s[k], s[(k + 1) % s.len()])
+                    })
                     .fold(f64::INFINITY, f64::min)
             };
             a.iter().any(|&p| d(p, b) <= g)
@@ -172,7 +175,7 @@ mod tests {
                     && b.len() > 1
                     && (0..a.len()).any(|x| {
                         (0..b.len()).any(|y| {
-                            super::super::geom::segments_meet(
+                            crate::geometry::plane::segments_meet(
                                 a[x],
                                 a[(x + 1) % a.len()],
                                 b[y],

@@ -4,22 +4,30 @@
 //! the same direction, and the sum of the cell areas (its brute-force twin: it must equal
 //! the area of the domain the caller knows).
 //!
+//! A corner is positive when its exact orientation (Shewchuk's predicate,
+//! `geometry::segment::orient`, the one the remesher's operators use) exceeds 1e-14 of
+//! the square of the cell's longest edge: slivers flatter than that are refused as
+//! inverted. The boundary-layer skin builds only cells that pass this test, and the
+//! remesher checks a mesh with frozen cells, given and returned, with [`check_mesh`].
+//!
 //! Overlaps and hanging vertices are found through a quadtree of the cells' and edges'
-//! boxes ([`super::pairs`], which sweeps each leaf across its items so that a skin's
-//! stacked, slanted cells are not all tested against each other), whose leaves follow the grading: an airfoil's
-//! cells 50 chords inside a far field do not share a few buckets, as they did in a uniform
-//! grid (10 s on the GAMM A7 example's 20 000 cells). A pair of cells is tested only when
-//! their boxes meet, which overlapping cells' boxes must (overlap means a penetration of
-//! more than the tolerance along every separating axis); an edge's box is grown by twice
-//! the distance a hanging vertex may be off it. Each cell's corners and positivity are
-//! computed once. Tests run the all-pairs twin ([`check_cells_brute`]) and require the
-//! same answer, lists in the same order, on hard cases.
+//! boxes (`geometry::near_pairs`, which sweeps each leaf across its items so that a
+//! skin's stacked, slanted cells are not all tested against each other), whose leaves
+//! follow the grading: an airfoil's cells 50 chords inside a far field do not share a
+//! few buckets, as they did in a uniform grid (10 s on the GAMM A7 example's 20 000
+//! cells). A pair of cells is tested only when their boxes meet, which overlapping
+//! cells' boxes must (overlap means a penetration of more than the tolerance along every
+//! separating axis); an edge's box is grown by twice the distance a hanging vertex may
+//! be off it. Each cell's corners and positivity are computed once. Tests run the
+//! all-pairs twin ([`check_cells_brute`]) and require the same answer, lists in the same
+//! order, on hard cases.
 //! Cost: O(cells · log) when cells of similar size are near each other.
 
 use smartmesh_formats::{CellKind, TaggedMesh};
 
-use super::geom::{convex_overlap, norm, orient, segment_distance, sub, Bbox, P};
-use super::pairs::near_pairs;
+use crate::geometry::near_pairs::near_pairs;
+use crate::geometry::plane::{convex_overlap, norm, segment_distance, sub, Bbox, P};
+use crate::geometry::segment::orient;
 
 /// What [`check_mesh`] found. Lists hold at most [`Validity::LIMIT`] items each.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
@@ -123,8 +131,9 @@ pub fn polygon_area(poly: &[P]) -> f64 {
     0.5 * a
 }
 
-/// Whether every corner of the cell has a positive Jacobian (the cross product of its two
-/// edges, counter-clockwise), relative to the cell's size.
+/// Whether every corner of the cell has a positive Jacobian (the exact orientation of the
+/// corner and its two neighbours, counter-clockwise) above 1e-14 of the square of the
+/// cell's longest edge.
 pub fn positive_corners(poly: &[P]) -> bool {
     let n = poly.len();
     let size: f64 = (0..n).map(|i| norm(sub(poly[(i + 1) % n], poly[i]))).fold(0.0, f64::max);
