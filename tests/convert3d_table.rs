@@ -72,23 +72,22 @@ const TABLE: &[Line] = &[
     ("v41b.msh", &["--binary"], Keeps(&ALL), false),
     ("v22.msh", &["--gmsh-version", "2.2"], Keeps(&ALL), false),
     ("v22b.msh", &["--gmsh-version", "2.2", "--binary"], Keeps(&ALL), false),
-    ("out.vtk", &[], Refused, true),
-    ("outb.vtk", &["--binary"], Refused, true),
-    ("out.vtu", &[], Refused, true),
-    // Medit drops the tetrahedra for now (listed, with a wrong reason).
-    ("out.mesh", &[], Keeps(&[Points, Faces, Lines, Tags]), true),
-    ("out.meshb", &[], Keeps(&[Points, Faces, Lines, Tags]), true),
-    ("out.obj", &[], Refused, true),
-    ("out.gltf", &[], Refused, true),
-    ("out.glb", &[], Refused, true),
-    // SU2 writes a 2D mesh without the tetrahedra and without saying so.
-    ("out.su2", &[], SilentLoss(&[Faces, Lines], &[Volumes]), true),
-    ("out.ele", &[], Keeps(&[Faces, Lines, Tags]), true),
-    // OpenFOAM extrudes the triangles and refuses their zero area in the xy-plane.
-    ("out.foam", &[], RefusedUnclearly, true),
-    ("out.stl", &[], Keeps(&ALL), true),
-    ("out.smesh", &[], Keeps(&ALL), true),
-    ("tg.ele", &["--to", "tetgen"], Keeps(&ALL), true),
+    ("out.vtk", &[], Keeps(&ALL), false),
+    ("outb.vtk", &["--binary"], Keeps(&ALL), false),
+    ("out.vtu", &[], Keeps(&ALL), false),
+    ("out.mesh", &[], Keeps(&[Points, Volumes, Faces, Lines, Tags]), false),
+    ("out.meshb", &[], Keeps(&[Points, Volumes, Faces, Lines, Tags]), false),
+    // The boundary faces only (the 12 triangles the mesh has), as Extract Surface.
+    ("out.obj", &[], Keeps(&[Points, Faces, Lines, Vertices]), false),
+    ("out.gltf", &[], WriteOnly(&[Volumes]), false),
+    ("out.glb", &[], WriteOnly(&[Volumes]), false),
+    ("out.su2", &[], Keeps(&[Points, Volumes, Faces]), false),
+    ("out.ele", &[], Refused, false),
+    // The patches and zones read back renumbered, and the volume's name is not said lost.
+    ("out.foam", &[], SilentLoss(&[Points, Volumes, Faces], &[Tags, Names]), false),
+    ("out.stl", &[], Keeps(&[Points, Faces, Tags]), false),
+    ("out.smesh", &[], Keeps(&[Points, Faces, Lines, Vertices, Tags]), false),
+    ("tg.ele", &["--to", "tetgen"], Keeps(&[Points, Volumes, Faces, Lines, Tags]), false),
 ];
 
 /// The second-order box_cyl of the public sample meshes (tetra10, triangle6, line3 and
@@ -98,15 +97,21 @@ const TABLE_O2: &[Line] = &[
     ("v22.msh", &["--gmsh-version", "2.2"], Keeps(&ALL), false),
     ("v41b.msh", &["--binary"], Keeps(&ALL), false),
     ("v22b.msh", &["--gmsh-version", "2.2", "--binary"], Keeps(&ALL), false),
-    ("out.vtu", &[], Refused, true),
-    ("out.vtk", &[], Refused, true),
+    ("out.vtu", &[], Keeps(&ALL), false),
+    ("out.vtk", &[], Keeps(&ALL), false),
     // The mesh has no vertex cell and no data: those columns are kept by any format.
-    ("out.mesh", &[], Keeps(&[Points, Faces, Lines, Vertices, Tags, PointData, CellData]), true),
-    ("out.obj", &[], Refused, true),
-    ("out.glb", &[], Refused, true),
-    ("out.su2", &[], SilentLoss(&[Vertices, Tags, PointData, CellData], &[Volumes]), true),
-    ("out.ele", &[], Keeps(&[Faces, Vertices, Tags, PointData, CellData]), true),
-    ("out.foam", &[], RefusedUnclearly, true),
+    (
+        "out.mesh",
+        &[],
+        Keeps(&[Points, Volumes, Faces, Lines, Vertices, Tags, PointData, CellData]),
+        false,
+    ),
+    ("out.obj", &[], Keeps(&[Points, Vertices, Tags, PointData, CellData]), false),
+    ("out.glb", &[], WriteOnly(&[Volumes]), false),
+    ("out.su2", &[], Keeps(&[Points, Vertices, Tags, PointData, CellData]), false),
+    ("out.ele", &[], Refused, false),
+    // Second-order cells made linear, and the names, without a word.
+    ("out.foam", &[], SilentLoss(&[Vertices, Tags, PointData, CellData], &[Volumes, Names]), false),
 ];
 
 /// hex_prism_pyr of the public sample meshes (hexahedra, prisms, pyramids, tetrahedra,
