@@ -84,3 +84,10 @@ impl PeriodicSpec {
         })
     }
 }
+
+impl super::Recipe {
+    /// The recipe's periodic pairs, those its checks accepted ([`PeriodicSpec::pair`]).
+    pub fn periodic_pairs(&self) -> Vec<PeriodicPair> {
+        self.periodic.iter().filter_map(|p| p.pair().ok()).collect()
+    }
+}
