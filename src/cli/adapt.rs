@@ -11,11 +11,12 @@ use indicatif::ProgressBar;
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::solver::{readable_extension, Goal, Schedule, SolverLoop};
 use smartmesh::adapt::{
-    run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Phase, Tolerances,
+    run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Outcome, Phase, Tolerances,
 };
 use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{Format, TaggedMesh};
 use smartmesh::history::History;
+use smartmesh::layer::LayerOptions;
 use smartmesh::Topology;
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
@@ -449,6 +450,68 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
     Ok(format)
 }
 
+/// The LAYER skin asked for: the recipe's LAYER section unless --no-layer (--layer
+/// insists on one), its curves checked on the starting mesh.
+fn layer_options(
+    args: &AdaptArgs,
+    recipe: &smartmesh::Recipe,
+    mesh: &TaggedMesh,
+) -> Result<Option<LayerOptions>, CliError> {
+    Ok(match (&recipe.layer, args.layer, args.no_layer) {
+        (_, _, true) => None,
+        (None, true, _) => {
+            return Err(CliError::usage(format!(
+                "--layer: the recipe {} has no LAYER section",
+                args.recipe.label()
+            )))
+        }
+        (Some(l), _, _) => {
+            let o = l.options().map_err(|e| CliError::context(e.to_string(), e))?;
+            smartmesh::adapt::skin::check_curves(mesh, &o).map_err(|e| {
+                CliError::context(format!("LAYER: {e} (input {})", args.input.display()), e)
+            })?;
+            Some(o)
+        }
+        (None, false, _) => None,
+    })
+}
+
+/// What the loop did after it stopped: the LAYER skin it inserted (placed in the input's
+/// plane), and each periodic pair measured on the result; a pair whose match the work
+/// broke is bad input (2), nothing more written.
+fn say_layer_and_sides(outcome: &mut Outcome, plane_z: f64) -> Result<(), CliError> {
+    if let Some(l) = &mut outcome.layer {
+        if !l.report.thinned.is_empty() {
+            ui::warn(&format!(
+                "LAYER: thinned {} of {} columns (smartmesh info shows the layers)",
+                l.report.thinned.len(),
+                l.report.columns
+            ));
+        }
+        ui::note(&format!(
+            "LAYER: {} layers, {} quads, {} skin triangles inserted",
+            l.report.layers, l.report.quads, l.report.skin_triangles
+        ));
+        smartmesh::planar::place(&mut l.mesh, plane_z);
+    }
+    let skinned = outcome.layer.is_some();
+    let checked = outcome
+        .periodic
+        .as_ref()
+        .map_err(|e| CliError::context(format!("{e} (result of the loop)"), e.clone()))?;
+    for (k, a) in checked.after.iter().enumerate() {
+        if checked.broken == Some(k) {
+            return Err(CliError::usage(if skinned {
+                format!("{a}: the LAYER skin moved or added vertices on a periodic side (a wall ends on it); the skinned mesh is not written (the loop's best mesh is)")
+            } else {
+                format!("{a}: the remeshing broke the match of the periodic sides")
+            }));
+        }
+        ui::note(&a.to_string());
+    }
+    Ok(())
+}
+
 /// The vertex count a `.poly` is meshed to before a solver's first solution when the
 /// goal is an error (`--error` without `--complexity-start`): enough for the Hessian's
 /// quadratic fits (five neighbours each) to resolve a smooth solution.
@@ -496,23 +559,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     recipe
         .resolve(&Topology::from_mesh(&starting.mesh))
         .map_err(|e| CliError::context(format!("{e} (input {})", args.input.display()), e))?;
-    let layer = match (&recipe.layer, args.layer, args.no_layer) {
-        (_, _, true) => None,
-        (None, true, _) => {
-            return Err(CliError::usage(format!(
-                "--layer: the recipe {} has no LAYER section",
-                args.recipe.label()
-            )))
-        }
-        (Some(l), _, _) => {
-            let o = l.options().map_err(|e| CliError::context(e.to_string(), e))?;
-            smartmesh::adapt::skin::check_curves(&starting.mesh, &o).map_err(|e| {
-                CliError::context(format!("LAYER: {e} (input {})", args.input.display()), e)
-            })?;
-            Some(o)
-        }
-        (None, false, _) => None,
-    };
+    let layer = layer_options(&args, &recipe, &starting.mesh)?;
     // Periodic sides: images of each other on the starting mesh (else bad input), frozen
     // through every remeshing, measured again on the result.
     let sides = super::periodic_sides(&mut starting.mesh, &pairs, &args.input)?;
@@ -579,36 +626,9 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     for w in &outcome.warnings {
         ui::warn(w);
     }
+    say_layer_and_sides(&mut outcome, plane_z)?;
     let h = &outcome.history;
     let best = &h.iterations[h.best_iteration];
-    // The Layer step, done by the loop on its best mesh once it stopped of itself.
-    if let Some(l) = &mut outcome.layer {
-        if !l.report.thinned.is_empty() {
-            ui::warn(&format!(
-                "LAYER: thinned {} of {} columns (smartmesh info shows the layers)",
-                l.report.thinned.len(),
-                l.report.columns
-            ));
-        }
-        ui::note(&format!(
-            "LAYER: {} layers, {} quads, {} skin triangles inserted",
-            l.report.layers, l.report.quads, l.report.skin_triangles
-        ));
-        smartmesh::planar::place(&mut l.mesh, plane_z);
-    }
-    let skinned = outcome.layer.is_some();
-    let checked =
-        outcome.periodic.map_err(|e| CliError::context(format!("{e} (result of the loop)"), e))?;
-    for (k, a) in checked.after.iter().enumerate() {
-        if checked.broken == Some(k) {
-            return Err(CliError::usage(if skinned {
-                format!("{a}: the LAYER skin moved or added vertices on a periodic side (a wall ends on it); the skinned mesh is not written (the loop's best mesh is)")
-            } else {
-                format!("{a}: the remeshing broke the match of the periodic sides")
-            }));
-        }
-        ui::note(&a.to_string());
-    }
     let result_mesh = outcome.layer.as_ref().map_or(&outcome.best, |l| &l.mesh);
     let mut dropped = progress.files.dropped.clone();
     if to_stdout {
