@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs two builds of smartmesh on the same inputs and compares what they write, byte for
 # byte: what it prints, `size` to every metric format, `remesh` (from a .vtu and a .pos metric), `adapt`
-# (native, its mesh and its history less the timings), `info --metric --json` and `mesh`.
+# (native, its mesh and its history less the timings), `info --metric --json`, `mesh`, and
+# `adapt` with a LAYER skin and periodic sides, `layer`, `recipe check` and `batch`.
 # For changes that must not change anything a user sees.
 #
 #   bash benches/same_outputs.sh /tmp/smartmesh-before target/release/smartmesh
@@ -54,9 +55,43 @@ for side in a b; do
         --history "$out/poisson-adapted.history.json" >/dev/null
     "$bin" size "$out/poisson-adapted.vtu" --field u --complexity 8000 -o "$out/poisson-finer.sol" \
         --json >"$out/poisson-size.json"
+    # The recipe's global values over the command line's, a recipe with LAYER and
+    # PERIODIC (the skin after the loop, the sides kept), `layer`, `recipe check` and
+    # `batch` (its manifest's options become adapt's).
+    "$bin" size fixtures/cylinder.msh --recipe fixtures/cylinder.toml --hmin 0.004 --hmax 0.1 \
+        --hgrad -1 -o "$out/cylinder-controls.sol" --json >"$out/cylinder-controls.json"
+    "$bin" adapt fixtures/cylinder.msh --recipe fixtures/cylinder.toml --hmin 0.004 --hgrad 1.2 \
+        --max-iterations 2 -o "$out/cylinder-controls.msh" --json >"$out/cylinder-controls-adapt.json"
+    distributor=examples/distributor
+    "$bin" recipe check $distributor/recipe.cfg $distributor/1-narrow/start.msh >"$out/distributor-check.txt"
+    "$bin" recipe check $distributor/recipe.cfg $distributor/1-narrow/start.msh --json \
+        >"$out/distributor-check.json"
+    "$bin" adapt $distributor/1-narrow/start.msh --recipe $distributor/recipe.cfg --max-iterations 2 \
+        -o "$out/distributor-adapted.msh" --json >"$out/distributor-adapt.json"
+    "$bin" adapt examples/gamm-a7-viscous/start.msh --recipe examples/gamm-a7-viscous/recipe.toml \
+        --max-iterations 2 -o "$out/gamm-adapted.vtu" --json >"$out/gamm-adapt.json"
+    "$bin" layer fixtures/cylinder.msh --curves Cylinder --first-height 0.002 --ratio 1.2 --layers 8 \
+        --curve-ratio Cylinder=1.15 -o "$out/cylinder-skin.msh" --json >"$out/cylinder-skin.json"
+    "$bin" layer fixtures/cylinder.msh --curves Cylinder --y-plus 1 --reynolds 5000 --ref-length 1 \
+        --layers 6 --metric "$out/cylinder-field.vtu" -o "$out/cylinder-skin-metric.vtu" >/dev/null
+    "$bin" layer $distributor/1-narrow/start.msh --curves 101,102,103,104,105,106,107 --first-height 0.01 \
+        --ratio 1.2 --layers 4 --recipe $distributor/recipe.cfg -o "$out/distributor-skin.msh" >/dev/null
+    manifest="$out/manifest.jsonl"
+    printf '%s\n' \
+        "{\"name\": \"cyl\", \"input\": \"$PWD/fixtures/cylinder.msh\", \"recipe\": \"$PWD/fixtures/cylinder.toml\", \"options\": {\"max_iterations\": 1, \"hmin\": 0.004, \"hgrad\": -1, \"format\": \"vtu\", \"vtu_encoding\": \"ascii\"}}" \
+        "{\"name\": \"narrow\", \"input\": \"$PWD/$distributor/1-narrow/start.msh\", \"recipe\": \"$PWD/$distributor/recipe.cfg\", \"options\": {\"max_iterations\": 1, \"binary\": true, \"adapter_args\": []}}" \
+        >"$manifest"
+    "$bin" batch "$manifest" -o "$out/batch" >/dev/null
+    rm "$out/batch/"*.log "$out/batch/".*.lock
+    for f in "$out/batch/"*.history.json; do mv "$f" "$out/batch-$(basename "$f")"; done
+    python3 - "$out/batch/results.jsonl" >"$out/batch-results.json" <<'PY'
+import json, sys
+print(json.dumps(sorted((json.loads(l) for l in open(sys.argv[1])), key=lambda r: r["name"])))
+PY
+    rm "$out/batch/results.jsonl" "$manifest"
     } 2>"$out/messages.txt"
     # The messages, less their timings.
-    sed -E -i 's/[0-9.]+ s$//; s/ in [0-9.]+ s / /' "$out/messages.txt"
+    sed -E -i 's/[0-9.]+ s$//; s/ in [0-9.]+ s / /; s/; [0-9.]+ s with /; with /' "$out/messages.txt"
     mv "$out" "$root/$side"
 done
 # Timings differ from run to run: dropped from the JSON before comparing.

@@ -35,6 +35,12 @@
 //! the metric of the solution it computes is intersected into the recipe's field on that
 //! mesh (after the recipe's steps); a failing solver or a bad solution fails the
 //! iteration like a failing remesher, and the best mesh so far stays.
+//!
+//! Once the loop has stopped of itself, the LAYER skin of [`AdaptOptions::layer`] is
+//! inserted into the best mesh, its band remeshed to the best iteration's field as the
+//! loop computed it ([`skin`]); the periodic sides of [`AdaptOptions::periodic`]
+//! (snapped and measured on the starting mesh) are measured again on the result, and a
+//! skinned mesh that broke their match is not handed on ([`Outcome::periodic`]).
 
 pub mod files;
 pub mod rules;
@@ -50,9 +56,11 @@ use smartmesh_formats::TaggedMesh;
 use crate::adapters::{Adapter, AdapterError};
 use crate::conformity::Conformity;
 use crate::history::{History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord};
+use crate::layer::{LayerOptions, Layered};
 use crate::metric::complexity::{exceeds, format_count};
 use crate::metric::Sym2;
 use crate::metric_field::{expected_vertices, MetricField};
+use crate::periodic::{PeriodicError, Rechecked, Sides};
 use crate::recipe::Recipe;
 use crate::recipe::{size_mesh_with_steps, SizeMeshError};
 use crate::remesh::DEFAULT_MAX_VERTICES;
@@ -66,8 +74,8 @@ pub use rules::Tolerances;
 pub const INTERRUPTED: &str = "interrupted";
 pub use start::{start, start_sized, starting_mesh, Start, StartError};
 
-/// How long the loop may run and when it has converged.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// How long the loop may run, when it has converged, and what is done after it.
+#[derive(Debug, Clone, PartialEq)]
 pub struct AdaptOptions {
     /// Remeshing iterations at most (0: only measure the starting mesh).
     pub max_iterations: usize,
@@ -79,6 +87,12 @@ pub struct AdaptOptions {
     /// Largest growth of the vertex count in one remeshing ([`rules::growth_scale`]);
     /// `None`: the field as it is.
     pub max_growth: Option<f64>,
+    /// The LAYER skin inserted into the best mesh once the loop has stopped of itself
+    /// ([`skin`]); `None`: none.
+    pub layer: Option<LayerOptions>,
+    /// The periodic sides of the starting mesh, snapped and measured
+    /// ([`Sides::snap_and_check`]), measured again on the result.
+    pub periodic: Sides,
 }
 
 /// The default [`AdaptOptions::max_growth`].
@@ -91,6 +105,8 @@ impl Default for AdaptOptions {
             tolerances: Tolerances::default(),
             max_vertices: Some(DEFAULT_MAX_VERTICES),
             max_growth: Some(DEFAULT_MAX_GROWTH),
+            layer: None,
+            periodic: Sides::default(),
         }
     }
 }
@@ -189,6 +205,12 @@ pub enum AdaptError {
     /// The observer could not write the result or the history.
     #[error("{0}")]
     Output(#[from] smartmesh_formats::Error),
+    /// The LAYER step failed: nothing more was written (the loop's best mesh is).
+    #[error(transparent)]
+    Layer(#[from] skin::SkinError),
+    /// The observer could not write the skinned mesh and the history naming it.
+    #[error("writing the skinned mesh and its history: {0}")]
+    LayerOutput(#[source] smartmesh_formats::Error),
 }
 
 impl AdaptError {
@@ -235,6 +257,12 @@ pub struct Outcome {
     pub history: History,
     /// The best mesh, that of `history.best_iteration`.
     pub best: TaggedMesh,
+    /// The best mesh with its LAYER skin, when [`AdaptOptions::layer`] asked for one and
+    /// the loop stopped of itself. It is the run's result, handed to the observer with
+    /// the history naming it (`history.layer`), unless it broke a periodic match.
+    pub layer: Option<Layered>,
+    /// The periodic sides measured on the result (`layer`'s mesh, else `best`).
+    pub periodic: Result<Rechecked, PeriodicError>,
     /// The failure of a later iteration, if any.
     pub failure: Option<AdaptError>,
     /// What the sizing engine warned about (each message once, with the first iteration
@@ -368,6 +396,8 @@ pub fn run_with_solver(
     let mut warnings = Vec::new();
     note_warnings(&mut warnings, &first);
     let mut best = first.mesh.clone();
+    // The field the best mesh was measured against: the LAYER step's band is remeshed to it.
+    let mut best_metric = first.metric.clone();
     let mut current = first;
     let mut failure = None;
     let mut stopped = format!("iteration limit ({}) reached", options.max_iterations);
@@ -433,6 +463,7 @@ pub fn run_with_solver(
         if new_best {
             history.best_iteration = k;
             best = next.mesh.clone();
+            best_metric = next.metric.clone();
         }
         observer.record(&history, new_best.then_some(&next.mesh))?;
         if scale.is_none() && rules::converged(&current.record, &next.record, &options.tolerances) {
@@ -451,7 +482,21 @@ pub fn run_with_solver(
     }
     history.stopped = stopped;
     observer.record(&history, None)?;
-    Ok(Outcome { history, best, failure, warnings })
+    let layer = match &options.layer {
+        Some(o) if failure.is_none() && history.stopped != INTERRUPTED => {
+            let max_vertices = options.max_vertices.unwrap_or(DEFAULT_MAX_VERTICES);
+            Some(skin::skin(&best, &best_metric, o, max_vertices)?)
+        }
+        _ => None,
+    };
+    let periodic = options.periodic.recheck(layer.as_ref().map_or(&best, |l| &l.mesh));
+    if let (Some(l), Ok(Rechecked { broken: None, .. })) = (&layer, &periodic) {
+        // The skinned mesh and the history that describes it (its size, CRC and counts)
+        // are handed on as one set, as every new best mesh of the loop was.
+        history.layer = Some(skin::record(l));
+        observer.record(&history, Some(&l.mesh)).map_err(AdaptError::LayerOutput)?;
+    }
+    Ok(Outcome { history, best, layer, periodic, failure, warnings })
 }
 
 /// Adds the sizing warnings of `m` that `all` does not hold yet.

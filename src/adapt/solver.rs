@@ -37,7 +37,7 @@ use crate::adapters::tool::{finish, quote, Stopped};
 use crate::child::Run;
 use crate::metric::SizeBounds;
 use crate::sizing::plan::Step;
-use crate::sizing::{Algorithm, SolutionHessian};
+use crate::sizing::SolutionHessian;
 use crate::solution::input::{attach, field_names, read_solution, FieldError};
 use crate::solution::{Method, Target};
 
@@ -299,20 +299,7 @@ impl SolverLoop {
             Goal::Vertices(s) => Target::Vertices(s.at(k)),
             Goal::Error(e) => Target::Error(e),
         };
-        let algorithm = SolutionHessian {
-            fields: names.to_vec(),
-            target,
-            p: self.p,
-            method: self.method,
-            h_min: Some(self.bounds.h_min()),
-            h_max: Some(self.bounds.h_max()),
-            max_aspect: Some(self.bounds.max_aspect_ratio()),
-        };
-        Step {
-            label: algorithm.label(),
-            algorithm: Algorithm::SolutionHessian(algorithm),
-            names: names.to_vec(),
-        }
+        SolutionHessian::step(names, target, self.p, self.method, &self.bounds)
     }
 }
 

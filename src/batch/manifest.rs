@@ -36,36 +36,52 @@ pub enum OptionKind {
     List,
 }
 
-/// The adapt options a manifest line may set (JSON key, `adapt` flag, kind), in the order
-/// their arguments are written. `format` is the output's extension (`msh` unless said).
-pub const OPTIONS: &[(&str, &str, OptionKind)] = &[
-    ("adapter", "--adapter", OptionKind::Text),
-    ("adapter_program", "--adapter-program", OptionKind::Text),
-    ("adapter_args", "--adapter-arg", OptionKind::List),
-    ("max_iterations", "--max-iterations", OptionKind::Count),
-    ("tol_vertices", "--tol-vertices", OptionKind::Number),
-    ("tol_conformity", "--tol-conformity", OptionKind::Number),
-    ("max_vertices", "--max-vertices", OptionKind::Count),
-    ("max_growth", "--max-growth", OptionKind::Number),
-    ("hmin", "--hmin", OptionKind::Number),
-    ("hmax", "--hmax", OptionKind::Number),
-    ("hgrad", "--hgrad", OptionKind::Number),
-    ("hausd", "--hausd", OptionKind::Number),
-    ("coarsen_geometry", "--coarsen-geometry", OptionKind::Switch),
-    ("nosurf", "--nosurf", OptionKind::Switch),
-    ("no_preprocess", "--no-preprocess", OptionKind::Switch),
-    ("recipe_format", "--recipe-format", OptionKind::Text),
-    ("from", "--from", OptionKind::Text),
-    ("format", "", OptionKind::Text),
-    ("binary", "--binary", OptionKind::Switch),
-    ("gmsh_version", "--gmsh-version", OptionKind::Text),
-    ("vtk_version", "--vtk-version", OptionKind::Text),
-    ("vtu_encoding", "--vtu-encoding", OptionKind::Text),
-    ("no_compress", "--no-compress", OptionKind::Switch),
-    ("extrude", "--extrude", OptionKind::Number),
-    ("wedge", "--wedge", OptionKind::Number),
-    ("patch_type", "--patch-type", OptionKind::List),
+/// The JSON keys of the adapt options a manifest line may set, in the order their
+/// arguments are written. `format` is the output's extension (`msh` unless said); every
+/// other key is the name of an option of `adapt` (its flag with underscores), whose flag
+/// and kind come from `adapt`'s own definition ([`AdaptOption`]).
+pub const OPTION_KEYS: &[&str] = &[
+    "adapter",
+    "adapter_program",
+    "adapter_args",
+    "max_iterations",
+    "tol_vertices",
+    "tol_conformity",
+    "max_vertices",
+    "max_growth",
+    "hmin",
+    "hmax",
+    "hgrad",
+    "hausd",
+    "coarsen_geometry",
+    "nosurf",
+    "no_preprocess",
+    "recipe_format",
+    "from",
+    "format",
+    "binary",
+    "gmsh_version",
+    "vtk_version",
+    "vtu_encoding",
+    "no_compress",
+    "extrude",
+    "wedge",
+    "patch_type",
 ];
+
+/// One option a manifest line may set: its key (one of [`OPTION_KEYS`]), its `adapt`
+/// flag (empty for `format`) and the kind of its value, as the `adapt` command that
+/// parses the variant's arguments declares them. Whoever reads a manifest hands them to
+/// [`parse`], in [`OPTION_KEYS`] order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AdaptOption {
+    /// The JSON key.
+    pub key: &'static str,
+    /// The flag, `--` included.
+    pub flag: String,
+    /// How its value is written.
+    pub kind: OptionKind,
+}
 
 /// The keys of a manifest line.
 const KEYS: &[&str] = &["name", "input", "recipe", "options"];
@@ -84,8 +100,12 @@ pub struct Variant {
     pub recipe: PathBuf,
     /// The output's extension (`msh` by default).
     pub format: String,
-    /// The options as `adapt` arguments, in [`OPTIONS`] order.
+    /// The options as `adapt` arguments, in [`OPTION_KEYS`] order, each value apart
+    /// from its flag (the parts of the content hash).
     pub args: Vec<String>,
+    /// The same arguments as `adapt` is given them: each value joined to its flag
+    /// (`--hmin=-1`), so that no value is read as a flag.
+    pub argv: Vec<String>,
 }
 
 /// A manifest line that is not a variant.
@@ -115,17 +135,7 @@ impl Variant {
             "--history".into(),
             not_a_flag(&dir.join(self.history_name())),
         ];
-        let mut args = self.args.iter();
-        while let Some(arg) = args.next() {
-            let takes_value = OPTIONS.iter().any(|&(_, flag, kind)| {
-                flag == arg
-                    && matches!(kind, OptionKind::Text | OptionKind::Number | OptionKind::Count)
-            });
-            match if takes_value { args.next() } else { None } {
-                Some(value) => a.push(format!("{arg}={value}").into()),
-                None => a.push(arg.into()),
-            }
-        }
+        a.extend(self.argv.iter().map(Into::into));
         a
     }
 
@@ -184,6 +194,7 @@ pub fn parse_line(
     line: usize,
     base: &Path,
     source_name: &str,
+    table: &[AdaptOption],
 ) -> Result<Option<Variant>, ManifestError> {
     let err =
         |message: String| ManifestError { source_name: source_name.to_string(), line, message };
@@ -240,19 +251,23 @@ pub fn parse_line(
             )))
         }
     };
-    let (format, args) = option_args(options).map_err(err)?;
-    Ok(Some(Variant { line, name, input, recipe, format, args }))
+    let (format, args, argv) = option_args(options, table).map_err(err)?;
+    Ok(Some(Variant { line, name, input, recipe, format, args, argv }))
 }
 
-/// Parses a whole manifest; names must be unique.
-pub fn parse(text: &str, manifest: &Path) -> Result<Vec<Variant>, ManifestError> {
+/// Parses a whole manifest, its options those of `table`; names must be unique.
+pub fn parse(
+    text: &str,
+    manifest: &Path,
+    table: &[AdaptOption],
+) -> Result<Vec<Variant>, ManifestError> {
     let base = manifest.parent().unwrap_or(Path::new(""));
     let base = if base.as_os_str().is_empty() { Path::new(".") } else { base };
     let source_name = manifest.display().to_string();
     let mut variants: Vec<Variant> = Vec::new();
     let mut seen: HashMap<String, usize> = HashMap::new();
     for (i, line) in text.lines().enumerate() {
-        let Some(v) = parse_line(line, i + 1, base, &source_name)? else { continue };
+        let Some(v) = parse_line(line, i + 1, base, &source_name, table)? else { continue };
         if let Some(first) = seen.insert(v.name.clone(), v.line) {
             return Err(ManifestError {
                 source_name,
@@ -289,9 +304,13 @@ fn check_name(name: &str) -> Result<(), String> {
     }
 }
 
-/// The output extension and the `adapt` arguments of an `options` object.
-pub fn option_args(options: &Map<String, Value>) -> Result<(String, Vec<String>), String> {
-    let known: Vec<&str> = OPTIONS.iter().map(|o| o.0).collect();
+/// The output extension and the `adapt` arguments of an `options` object (each value
+/// apart from its flag, and joined to it: [`Variant::args`], [`Variant::argv`]).
+pub fn option_args(
+    options: &Map<String, Value>,
+    table: &[AdaptOption],
+) -> Result<(String, Vec<String>, Vec<String>), String> {
+    let known: Vec<&str> = table.iter().map(|o| o.key).collect();
     if let Some(key) = options.keys().find(|k| !known.contains(&k.as_str())) {
         return Err(format!(
             "unknown option `{}`{}; known: {}",
@@ -302,8 +321,11 @@ pub fn option_args(options: &Map<String, Value>) -> Result<(String, Vec<String>)
     }
     let mut format = "msh".to_string();
     let mut args = Vec::new();
-    for &(key, flag, kind) in OPTIONS {
+    let mut argv = Vec::new();
+    for &AdaptOption { key, ref flag, kind } in table {
         let Some(value) = options.get(key) else { continue };
+        let flag = flag.as_str();
+        let before = args.len();
         let wrong =
             |expected: &str| format!("option `{key}` must be {expected}, found {}", kind_of(value));
         match (kind, value) {
@@ -348,8 +370,12 @@ pub fn option_args(options: &Map<String, Value>) -> Result<(String, Vec<String>)
             }
             (OptionKind::List, _) => return Err(wrong("a list of strings")),
         }
+        match &args[before..] {
+            [flag, value] if kind != OptionKind::List => argv.push(format!("{flag}={value}")),
+            added => argv.extend(added.iter().cloned()),
+        }
     }
-    Ok((format, args))
+    Ok((format, args, argv))
 }
 
 /// `text` as it may be shown on a terminal: control characters (escape sequences, bells,
@@ -474,6 +500,43 @@ fn kind_of(v: &Value) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The options as `adapt` declares them (the CLI's test checks its table against
+    /// this one).
+    fn table() -> Vec<AdaptOption> {
+        use OptionKind::*;
+        let kinds = [
+            Text, Text, List, Count, Number, Number, Count, Number, Number, Number, Number, Number,
+            Switch, Switch, Switch, Text, Text, Text, Switch, Text, Text, Text, Switch, Number,
+            Number, List,
+        ];
+        OPTION_KEYS
+            .iter()
+            .zip(kinds)
+            .map(|(&key, kind)| AdaptOption {
+                key,
+                flag: match key {
+                    "format" => String::new(),
+                    "adapter_args" => "--adapter-arg".into(),
+                    k => format!("--{}", k.replace('_', "-")),
+                },
+                kind,
+            })
+            .collect()
+    }
+
+    fn parse_line(
+        text: &str,
+        line: usize,
+        base: &Path,
+        source_name: &str,
+    ) -> Result<Option<Variant>, ManifestError> {
+        super::parse_line(text, line, base, source_name, &table())
+    }
+
+    fn parse(text: &str, manifest: &Path) -> Result<Vec<Variant>, ManifestError> {
+        super::parse(text, manifest, &table())
+    }
 
     fn files() -> tempfile::TempDir {
         let d = tempfile::tempdir().unwrap();

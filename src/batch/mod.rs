@@ -124,6 +124,7 @@ mod tests {
             recipe: write("r.toml", "recipe"),
             format: "msh".into(),
             args: vec!["--hmin".into(), "0.1".into()],
+            argv: vec!["--hmin=0.1".into()],
         };
         let h = content_hash(&v).unwrap();
         assert_eq!(h.len(), 64);

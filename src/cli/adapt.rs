@@ -11,11 +11,12 @@ use indicatif::ProgressBar;
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::solver::{readable_extension, Goal, Schedule, SolverLoop};
 use smartmesh::adapt::{
-    run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Phase, Tolerances,
+    run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Outcome, Phase, Tolerances,
 };
 use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{Format, TaggedMesh};
 use smartmesh::history::History;
+use smartmesh::layer::LayerOptions;
 use smartmesh::Topology;
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
@@ -285,7 +286,7 @@ fn solver_loop(
         goal,
         p: args.solution.p,
         method: args.solution.recovery,
-        bounds: args.solution.bounds(mesh, recipe, &args.controls)?,
+        bounds: args.solution.bounds(mesh, recipe)?,
     }))
 }
 
@@ -449,6 +450,68 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
     Ok(format)
 }
 
+/// The LAYER skin asked for: the recipe's LAYER section unless --no-layer (--layer
+/// insists on one), its curves checked on the starting mesh.
+fn layer_options(
+    args: &AdaptArgs,
+    recipe: &smartmesh::Recipe,
+    mesh: &TaggedMesh,
+) -> Result<Option<LayerOptions>, CliError> {
+    Ok(match (&recipe.layer, args.layer, args.no_layer) {
+        (_, _, true) => None,
+        (None, true, _) => {
+            return Err(CliError::usage(format!(
+                "--layer: the recipe {} has no LAYER section",
+                args.recipe.label()
+            )))
+        }
+        (Some(l), _, _) => {
+            let o = l.options().map_err(|e| CliError::context(e.to_string(), e))?;
+            smartmesh::adapt::skin::check_curves(mesh, &o).map_err(|e| {
+                CliError::context(format!("LAYER: {e} (input {})", args.input.display()), e)
+            })?;
+            Some(o)
+        }
+        (None, false, _) => None,
+    })
+}
+
+/// What the loop did after it stopped: the LAYER skin it inserted (placed in the input's
+/// plane), and each periodic pair measured on the result; a pair whose match the work
+/// broke is bad input (2), nothing more written.
+fn say_layer_and_sides(outcome: &mut Outcome, plane_z: f64) -> Result<(), CliError> {
+    if let Some(l) = &mut outcome.layer {
+        if !l.report.thinned.is_empty() {
+            ui::warn(&format!(
+                "LAYER: thinned {} of {} columns (smartmesh info shows the layers)",
+                l.report.thinned.len(),
+                l.report.columns
+            ));
+        }
+        ui::note(&format!(
+            "LAYER: {} layers, {} quads, {} skin triangles inserted",
+            l.report.layers, l.report.quads, l.report.skin_triangles
+        ));
+        smartmesh::planar::place(&mut l.mesh, plane_z);
+    }
+    let skinned = outcome.layer.is_some();
+    let checked = outcome
+        .periodic
+        .as_ref()
+        .map_err(|e| CliError::context(format!("{e} (result of the loop)"), e.clone()))?;
+    for (k, a) in checked.after.iter().enumerate() {
+        if checked.broken == Some(k) {
+            return Err(CliError::usage(if skinned {
+                format!("{a}: the LAYER skin moved or added vertices on a periodic side (a wall ends on it); the skinned mesh is not written (the loop's best mesh is)")
+            } else {
+                format!("{a}: the remeshing broke the match of the periodic sides")
+            }));
+        }
+        ui::note(&a.to_string());
+    }
+    Ok(())
+}
+
 /// The vertex count a `.poly` is meshed to before a solver's first solution when the
 /// goal is an error (`--error` without `--complexity-start`): enough for the Hessian's
 /// quadratic fits (five neighbours each) to resolve a smooth solution.
@@ -462,8 +525,8 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     if is_stdio(&args.input) && args.recipe.is_stdin() {
         return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
-    let mut recipe = args.recipe.read_or_empty(args.solver.is_some(), "with --solver")?;
-    args.controls.apply_to(&mut recipe)?;
+    let recipe =
+        args.controls.over(args.recipe.read_or_empty(args.solver.is_some(), "with --solver")?)?;
     // A solver's first solution needs a mesh that resolves something: a .poly is meshed
     // to about the schedule's first vertex count (with --error, which has no schedule,
     // to --complexity-start or ERROR_START_VERTICES: a bare graph's few vertices leave
@@ -473,8 +536,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
             .or(args.solution.complexity)
             .or(args.solution.error.map(|_| ERROR_START_VERTICES)),
     );
-    let pairs: Vec<smartmesh::periodic::PeriodicPair> =
-        recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+    let pairs = recipe.periodic_pairs();
     let mut starting = start_sized(&args.input, args.from, first, &pairs)?;
     let plane_z = starting.plane_z;
     for n in &starting.notes {
@@ -497,43 +559,10 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     recipe
         .resolve(&Topology::from_mesh(&starting.mesh))
         .map_err(|e| CliError::context(format!("{e} (input {})", args.input.display()), e))?;
-    let layer = match (&recipe.layer, args.layer, args.no_layer) {
-        (_, _, true) => None,
-        (None, true, _) => {
-            return Err(CliError::usage(format!(
-                "--layer: the recipe {} has no LAYER section",
-                args.recipe.label()
-            )))
-        }
-        (Some(l), _, _) => {
-            let o = l.options().map_err(|e| CliError::context(e.to_string(), e))?;
-            let topo = Topology::from_mesh(&starting.mesh);
-            for c in &o.curves {
-                smartmesh::layer::resolve_curve(&topo, &c.curve).map_err(|e| {
-                    CliError::context(format!("LAYER: {e} (input {})", args.input.display()), e)
-                })?;
-            }
-            Some(o)
-        }
-        (None, false, _) => None,
-    };
+    let layer = layer_options(&args, &recipe, &starting.mesh)?;
     // Periodic sides: images of each other on the starting mesh (else bad input), frozen
     // through every remeshing, measured again on the result.
-    for (pair, d) in pairs.iter().zip(smartmesh::periodic::snap(&mut starting.mesh, &pairs)) {
-        if d > 0.0 {
-            ui::note(&format!(
-                "periodic {}: slave vertices moved by at most {d:.3e} onto the master's images",
-                pair.label()
-            ));
-        }
-    }
-    let before = smartmesh::periodic::check_all(&starting.mesh, &pairs)
-        .map_err(|e| CliError::usage(format!("{e} (input {})", args.input.display())))?;
-    for m in before.iter().filter(|m| !m.matched) {
-        ui::warn(&format!(
-            "{m}: the input's sides do not match vertex to vertex; they are kept as they are"
-        ));
-    }
+    let sides = super::periodic_sides(&mut starting.mesh, &pairs, &args.input)?;
     let mmg = args.adapter == AdapterArg::Mmg2d;
     let options = AdapterOptions {
         program: args.adapter_program.clone(),
@@ -553,6 +582,8 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         tolerances: Tolerances { vertices: args.tol_vertices, conformity: args.tol_conformity },
         max_vertices: Some(args.max_vertices),
         max_growth: (args.max_growth > 0.0).then_some(args.max_growth),
+        layer,
+        periodic: sides,
     };
     let to_stdout = is_stdio(&args.output);
     let mesh_file = if to_stdout { Path::new("stdout.msh") } else { args.output.as_path() };
@@ -595,60 +626,11 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
     for w in &outcome.warnings {
         ui::warn(w);
     }
+    say_layer_and_sides(&mut outcome, plane_z)?;
     let h = &outcome.history;
     let best = &h.iterations[h.best_iteration];
+    let result_mesh = outcome.layer.as_ref().map_or(&outcome.best, |l| &l.mesh);
     let mut dropped = progress.files.dropped.clone();
-    // The Layer step, on the best mesh, once the loop has stopped of itself.
-    let skinned = match &layer {
-        Some(o) if outcome.failure.is_none() && h.stopped != smartmesh::adapt::INTERRUPTED => {
-            let l = smartmesh::adapt::skin::skin(&outcome.best, &recipe, o, args.max_vertices)
-                .map_err(|e| CliError::context(e.to_string(), e))?;
-            if !l.report.thinned.is_empty() {
-                ui::warn(&format!(
-                    "LAYER: thinned {} of {} columns (smartmesh info shows the layers)",
-                    l.report.thinned.len(),
-                    l.report.columns
-                ));
-            }
-            ui::note(&format!(
-                "LAYER: {} layers, {} quads, {} skin triangles inserted",
-                l.report.layers, l.report.quads, l.report.skin_triangles
-            ));
-            let mut l = l;
-            smartmesh::planar::place(&mut l.mesh, plane_z);
-            Some(l)
-        }
-        _ => None,
-    };
-    let result_mesh = skinned.as_ref().map_or(&outcome.best, |l| &l.mesh);
-    let after = smartmesh::periodic::check_all(result_mesh, &pairs)
-        .map_err(|e| CliError::context(format!("{e} (result of the loop)"), e))?;
-    for (b, a) in before.iter().zip(&after) {
-        if b.matched && !a.matched {
-            return Err(CliError::usage(if skinned.is_some() {
-                format!("{a}: the LAYER skin moved or added vertices on a periodic side (a wall ends on it); the skinned mesh is not written (the loop's best mesh is)")
-            } else {
-                format!("{a}: the remeshing broke the match of the periodic sides")
-            }));
-        }
-        ui::note(&a.to_string());
-    }
-    // The skinned mesh and the history that describes it (its size, CRC and counts) are
-    // written as one set, as every new best mesh of the loop was.
-    let mut described;
-    let h = match &skinned {
-        Some(l) => {
-            described = outcome.history.clone();
-            described.layer = Some(smartmesh::adapt::skin::record(l));
-            let mesh = (!to_stdout).then_some(&l.mesh);
-            progress.files.record(&described, mesh).map_err(|e| {
-                CliError::context(format!("writing the skinned mesh and its history: {e}"), e)
-            })?;
-            dropped = progress.files.dropped.clone();
-            &described
-        }
-        None => h,
-    };
     if to_stdout {
         dropped = args.output_format.write(&args.output, result_mesh, format)?.dropped;
     } else {

@@ -35,12 +35,15 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
-use clap::{Args, Parser};
-use smartmesh::batch::manifest::{self, shown, ManifestError};
+use std::any::TypeId;
+
+use clap::{ArgAction, Args, Parser};
+use smartmesh::batch::manifest::{self, shown, AdaptOption, ManifestError, OptionKind};
 use smartmesh::batch::results::{self, RESULTS};
 use smartmesh::batch::{content_hash, ResultRecord, Shard, Status, Variant};
 use smartmesh::history::History;
 
+use super::adapt::AdaptArgs;
 use super::{ui, CliError, ExitStatus};
 
 /// Run the adaptation loop over the variants of a manifest.
@@ -126,6 +129,38 @@ fn handle_interrupts() {
     }
 }
 
+/// The options a manifest line may set ([`manifest::OPTION_KEYS`]), their flags and
+/// kinds read from the definition `adapt` parses ([`AdaptArgs`]): one declaration of the
+/// adapt options for the command and for the manifest.
+pub fn adapt_options() -> Vec<AdaptOption> {
+    let adapt = AdaptArgs::augment_args(clap::Command::new("adapt"));
+    manifest::OPTION_KEYS
+        .iter()
+        .map(|&key| {
+            let Some(arg) = adapt.get_arguments().find(|a| a.get_id() == key) else {
+                // `format`, the output's extension, is no flag of adapt's.
+                return AdaptOption { key, flag: String::new(), kind: OptionKind::Text };
+            };
+            let kind = match arg.get_action() {
+                ArgAction::SetTrue => OptionKind::Switch,
+                ArgAction::Append => OptionKind::List,
+                _ => {
+                    let t = arg.get_value_parser().type_id();
+                    if t == TypeId::of::<f64>() {
+                        OptionKind::Number
+                    } else if t == TypeId::of::<usize>() {
+                        OptionKind::Count
+                    } else {
+                        OptionKind::Text
+                    }
+                }
+            };
+            let flag = arg.get_long().map_or_else(String::new, |l| format!("--{l}"));
+            AdaptOption { key, flag, kind }
+        })
+        .collect()
+}
+
 fn manifest_error(e: ManifestError) -> CliError {
     CliError::input(e.to_string(), e)
 }
@@ -206,7 +241,9 @@ fn variants(args: &BatchArgs) -> Result<Vec<Variant>, CliError> {
                 }
                 Err(_) => format!("{HQ_ENTRY} ({})", args.manifest.display()),
             };
-            match manifest::parse_line(&entry, line, &base, &source).map_err(manifest_error)? {
+            match manifest::parse_line(&entry, line, &base, &source, &adapt_options())
+                .map_err(manifest_error)?
+            {
                 Some(v) => vec![v],
                 None => {
                     ui::note(&format!("{HQ_ENTRY} is blank: nothing to run"));
@@ -215,7 +252,8 @@ fn variants(args: &BatchArgs) -> Result<Vec<Variant>, CliError> {
             }
         }
         None => {
-            let all = manifest::parse(&text, &args.manifest).map_err(manifest_error)?;
+            let all =
+                manifest::parse(&text, &args.manifest, &adapt_options()).map_err(manifest_error)?;
             match args.shard {
                 Some(s) => all
                     .into_iter()
@@ -761,4 +799,49 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
     }
     ui::done("batch", &summary);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The table read from `adapt`'s definition is the one the manifest was documented
+    /// with (each flag and kind written out here, apart from the code that derives them).
+    #[test]
+    fn the_manifest_options_are_adapts_own() {
+        use OptionKind::*;
+        let written = [
+            ("adapter", "--adapter", Text),
+            ("adapter_program", "--adapter-program", Text),
+            ("adapter_args", "--adapter-arg", List),
+            ("max_iterations", "--max-iterations", Count),
+            ("tol_vertices", "--tol-vertices", Number),
+            ("tol_conformity", "--tol-conformity", Number),
+            ("max_vertices", "--max-vertices", Count),
+            ("max_growth", "--max-growth", Number),
+            ("hmin", "--hmin", Number),
+            ("hmax", "--hmax", Number),
+            ("hgrad", "--hgrad", Number),
+            ("hausd", "--hausd", Number),
+            ("coarsen_geometry", "--coarsen-geometry", Switch),
+            ("nosurf", "--nosurf", Switch),
+            ("no_preprocess", "--no-preprocess", Switch),
+            ("recipe_format", "--recipe-format", Text),
+            ("from", "--from", Text),
+            ("format", "", Text),
+            ("binary", "--binary", Switch),
+            ("gmsh_version", "--gmsh-version", Text),
+            ("vtk_version", "--vtk-version", Text),
+            ("vtu_encoding", "--vtu-encoding", Text),
+            ("no_compress", "--no-compress", Switch),
+            ("extrude", "--extrude", Number),
+            ("wedge", "--wedge", Number),
+            ("patch_type", "--patch-type", List),
+        ];
+        let table = adapt_options();
+        assert_eq!(table.len(), written.len());
+        for (o, (key, flag, kind)) in table.iter().zip(written) {
+            assert_eq!((o.key, o.flag.as_str(), o.kind), (key, flag, kind));
+        }
+    }
 }

@@ -176,7 +176,7 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
             AdaptError::Interrupted { .. } => Some(ExitStatus::Interrupted),
             AdaptError::Start { .. } | AdaptError::TooManyVertices { .. } => Some(Error),
             AdaptError::Iteration { .. } => Some(Failure),
-            AdaptError::Output(_) => None,
+            AdaptError::Output(_) | AdaptError::Layer(_) | AdaptError::LayerOutput(_) => None,
         };
     }
     if let Some(e) = e.downcast_ref::<StartError>() {

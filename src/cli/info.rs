@@ -85,8 +85,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         None => Vec::new(),
         Some(_) => {
             let recipe = args.recipe.read()?;
-            let pairs: Vec<smartmesh::periodic::PeriodicPair> =
-                recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+            let pairs: Vec<smartmesh::periodic::PeriodicPair> = recipe.periodic_pairs();
             smartmesh::periodic::check_all(&mesh, &pairs)
                 .map_err(|e| CliError::usage(format!("{e} (mesh {})", args.file.display())))?
         }

@@ -8,11 +8,10 @@ use clap::Args;
 use smartmesh::formats::Format;
 use smartmesh::layer::stats::{quad_quality, QuadQuality};
 use smartmesh::layer::to_metric::band_to_metric;
-use smartmesh::layer::{
-    first_height_for_y_plus, insert, CurveLayers, Growth, LayerOptions, LayerReport,
-};
+use smartmesh::layer::{insert, Growth, LayerReport};
 use smartmesh::metric_field::MetricField;
-use smartmesh::periodic::{check_all, snap, PairMatch, PeriodicPair};
+use smartmesh::periodic::PairMatch;
+use smartmesh::recipe::{CurveValues, EntityRef, LayerSpec, SpecError};
 use smartmesh::remesh::RemeshOptions;
 
 use super::output::{check_output_dir, is_stdio, shown};
@@ -148,6 +147,56 @@ fn per_curve(items: &[String], what: &str) -> Result<Vec<(String, f64)>, CliErro
         .collect()
 }
 
+/// A curve of --curves as the layer spec names it: a tag when the text is one as
+/// written, else a name (`04` stays the text the user gave).
+fn curve_ref(c: &str) -> EntityRef {
+    match c.parse::<i32>() {
+        Ok(t) if t.to_string() == c => EntityRef::Tag(t),
+        _ => EntityRef::Name(c.to_string()),
+    }
+}
+
+/// The text of [`curve_ref`]'s curve.
+/// The skin the flags describe. A curve given twice by --curve-height (or --curve-ratio)
+/// takes the last value; a curve --curves does not list comes first, in the flags' order,
+/// for the spec to refuse.
+fn layer_spec(args: &LayerArgs) -> Result<LayerSpec, CliError> {
+    let heights = per_curve(&args.curve_height, "height")?;
+    let ratios = per_curve(&args.curve_ratio, "ratio")?;
+    let last = |list: &[(String, f64)], c: &str| list.iter().rev().find(|x| x.0 == c).map(|x| x.1);
+    let mut values: Vec<CurveValues> = heights
+        .iter()
+        .map(|(c, h)| CurveValues { curve: curve_ref(c), first_height: Some(*h), ratio: None })
+        .chain(ratios.iter().map(|(c, r)| CurveValues {
+            curve: curve_ref(c),
+            first_height: None,
+            ratio: Some(*r),
+        }))
+        .filter(|v| !args.curves.contains(&v.curve.label()))
+        .collect();
+    for c in &args.curves {
+        let (h, r) = (last(&heights, c), last(&ratios, c));
+        if h.is_some() || r.is_some() {
+            values.push(CurveValues { curve: curve_ref(c), first_height: h, ratio: r });
+        }
+    }
+    Ok(LayerSpec {
+        curves: args.curves.iter().map(|c| curve_ref(c)).collect(),
+        first_height: args.first_height,
+        ratio: args.ratio,
+        layers: args.layers,
+        thickness: args.thickness,
+        y_plus: args.y_plus,
+        reynolds: args.reynolds,
+        ref_length: args.ref_length,
+        split: args.split,
+        tag: args.tag,
+        fan_angle: Some(args.fan_angle),
+        gap_ratio: Some(args.gap_ratio),
+        per_curve: values,
+    })
+}
+
 /// Runs `layer`.
 pub fn run(args: LayerArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
@@ -159,64 +208,24 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
     if is_stdio(&args.mesh) && args.recipe.is_stdin() {
         return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
     }
-    let first = match args.y_plus {
-        Some(y) => Some(
-            first_height_for_y_plus(
-                y,
-                args.reynolds.unwrap_or(0.0),
-                args.ref_length.unwrap_or(0.0),
-            )
-            .map_err(|e| CliError::input(format!("--y-plus: {e}"), e))?,
-        ),
-        None => args.first_height,
-    };
-    let heights = per_curve(&args.curve_height, "height")?;
-    let ratios = per_curve(&args.curve_ratio, "ratio")?;
-    for (c, _) in heights.iter().chain(&ratios) {
-        if !args.curves.contains(c) {
-            return Err(CliError::usage(format!(
-                "per-curve value for `{c}`, which --curves does not list"
-            )));
-        }
-    }
-    let mut curves = Vec::new();
-    for c in &args.curves {
-        let h = heights.iter().rev().find(|x| &x.0 == c).map(|x| x.1).or(first);
-        let r = ratios.iter().rev().find(|x| &x.0 == c).map(|x| x.1).or(args.ratio);
-        let growth = Growth::solve(h, r, args.layers, args.thickness)
-            .map_err(|e| CliError::input(format!("curve `{c}`: {e}"), e))?;
-        curves.push(CurveLayers { curve: c.as_str().into(), growth });
-    }
-    let opts = LayerOptions {
-        curves,
-        fan_angle_deg: args.fan_angle,
-        gap_ratio: args.gap_ratio,
-        split: args.split,
-        tag: args.tag,
-    };
+    let opts = layer_spec(&args)?.layer_options().map_err(|e| match e {
+        SpecError::YPlus(e) => CliError::input(format!("--y-plus: {e}"), e),
+        SpecError::PerCurve(c) => CliError::usage(format!(
+            "per-curve value for `{}`, which --curves does not list",
+            c.label()
+        )),
+        SpecError::Curve(c, e) => CliError::input(format!("curve `{}`: {e}", c.label()), e),
+        e => CliError::usage(e.to_string()),
+    })?;
     let to = args.output_format.mesh_format(&args.output)?;
     check_output_dir(&args.output)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     let (mut mesh, plane_z) = super::read_planar_mesh(&args.mesh, from)?;
-    let pairs: Vec<PeriodicPair> = match &args.recipe.recipe {
+    let pairs = match &args.recipe.recipe {
         None => Vec::new(),
-        Some(_) => args.recipe.read()?.periodic.iter().filter_map(|p| p.pair().ok()).collect(),
+        Some(_) => args.recipe.read()?.periodic_pairs(),
     };
-    for (pair, d) in pairs.iter().zip(snap(&mut mesh, &pairs)) {
-        if d > 0.0 {
-            ui::note(&format!(
-                "periodic {}: slave vertices moved by at most {d:.3e} onto the master's images",
-                pair.label()
-            ));
-        }
-    }
-    let before = check_all(&mesh, &pairs)
-        .map_err(|e| CliError::usage(format!("{e} (input {})", args.mesh.display())))?;
-    for m in before.iter().filter(|m| !m.matched) {
-        ui::warn(&format!(
-            "{m}: the input's sides do not match vertex to vertex; they are kept as they are"
-        ));
-    }
+    let sides = super::periodic_sides(&mut mesh, &pairs, &args.mesh)?;
     let metric = match &args.metric {
         Some(p) => Some(
             MetricField::read(p, None, &mesh, &args.mesh)
@@ -231,10 +240,12 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
         layered = band_to_metric(&mesh, m, layered, &RemeshOptions::default())
             .map_err(|e| CliError::context(format!("{}: {e}", args.mesh.display()), e))?;
     }
-    let periodic = check_all(&layered.mesh, &pairs)
+    let checked = sides
+        .recheck(&layered.mesh)
         .map_err(|e| CliError::context(format!("{e} (the mesh with its skin)"), e))?;
-    for (b, a) in before.iter().zip(&periodic) {
-        if b.matched && !a.matched {
+    for (k, a) in checked.after.iter().enumerate() {
+        if checked.broken == Some(k) {
+            let b = &sides.before[k];
             return Err(CliError::usage(format!(
                 "{a}: the skin's side slides along one periodic side and not alike along the \
                  other ({} vertices more on the master side, {} on the slave side): a wall \
@@ -276,7 +287,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
             report: r,
             quality,
             dropped: &written.dropped,
-            periodic,
+            periodic: checked.after,
         };
         let mut text = serde_json::to_string_pretty(&s)?;
         text.push('\n');

@@ -147,7 +147,7 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
     let (pslg, plane_z) = super::read_planar_mesh(&args.input, from)?;
     let pairs: Vec<smartmesh::periodic::PeriodicPair> = match &args.recipe.recipe {
         None => Vec::new(),
-        Some(_) => args.recipe.read()?.periodic.iter().filter_map(|p| p.pair().ok()).collect(),
+        Some(_) => args.recipe.read()?.periodic_pairs(),
     };
     let mut mesh = triangulate_periodic(&pslg, &opts, &pairs).map_err(|e| {
         let at = match poly_line(&args, from, &e) {

@@ -263,3 +263,31 @@ fn input_name(path: &std::path::Path) -> String {
         path.display().to_string()
     }
 }
+
+/// The periodic sides of `mesh` (read from `input`) snapped and measured, as `adapt` and
+/// `layer` keep them: a note per pair whose slave vertices moved, bad input (2) when a
+/// pair's sides are not images of each other, a warning per pair that does not match.
+pub fn periodic_sides(
+    mesh: &mut smartmesh::formats::TaggedMesh,
+    pairs: &[smartmesh::periodic::PeriodicPair],
+    input: &std::path::Path,
+) -> Result<smartmesh::periodic::Sides, CliError> {
+    let snapped = smartmesh::periodic::Sides::snap(mesh, pairs);
+    for (pair, d) in snapped.pairs.iter().zip(&snapped.moved) {
+        if *d > 0.0 {
+            ui::note(&format!(
+                "periodic {}: slave vertices moved by at most {d:.3e} onto the master's images",
+                pair.label()
+            ));
+        }
+    }
+    let sides = snapped
+        .check(mesh)
+        .map_err(|e| CliError::usage(format!("{e} (input {})", input.display())))?;
+    for m in sides.unmatched() {
+        ui::warn(&format!(
+            "{m}: the input's sides do not match vertex to vertex; they are kept as they are"
+        ));
+    }
+    Ok(sides)
+}

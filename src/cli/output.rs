@@ -9,7 +9,7 @@ use smartmesh::formats::{
     write_path, Error as FormatError, Format, GltfWrite, GmshVersion, GmshWrite, MeditWrite,
     OpenFoamWrite, StlWrite, TaggedMesh, VtkWrite, VtuEncoding, WriteOptions, WriteReport,
 };
-use smartmesh::recipe::{Recipe, RecipeFormat};
+use smartmesh::recipe::{GlobalOverrides, Recipe, RecipeFormat};
 
 use super::{parse_format, ui, CliError};
 
@@ -344,27 +344,19 @@ fn gradation(s: &str) -> Result<f64, String> {
 }
 
 impl SizeControls {
+    /// The global values these controls set over a recipe's.
+    pub fn overrides(&self) -> GlobalOverrides {
+        GlobalOverrides {
+            h_min: self.hmin,
+            h_max: self.hmax,
+            gradation: self.hgrad.map(|v| (v >= 0.0).then_some(v)),
+        }
+    }
+
     /// `recipe` with these controls in place of its global bounds and gradation.
-    pub fn apply_to(&self, recipe: &mut Recipe) -> Result<(), CliError> {
-        let g = &mut recipe.global;
-        if let Some(h) = self.hmin {
-            g.h_min = Some(h);
-        }
-        if let Some(h) = self.hmax {
-            g.h_max = Some(h);
-        }
-        match self.hgrad {
-            Some(v) if v < 0.0 => g.gradation = None,
-            Some(v) => g.gradation = Some(v),
-            None => {}
-        }
-        if let (Some(lo), Some(hi)) = (g.h_min, g.h_max) {
-            if lo > hi && (self.hmin.is_some() || self.hmax.is_some()) {
-                return Err(CliError::usage(format!(
-                    "hmin {lo} exceeds hmax {hi} (--hmin and --hmax override the recipe's)"
-                )));
-            }
-        }
-        Ok(())
+    pub fn over(&self, recipe: Recipe) -> Result<Recipe, CliError> {
+        recipe
+            .with_overrides(&self.overrides())
+            .map_err(|e| CliError::usage(format!("{e} (--hmin and --hmax override the recipe's)")))
     }
 }

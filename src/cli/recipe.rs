@@ -207,16 +207,14 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
     // recipe may name the face tags that only meshing gives.
     // Periodic pairs: a graph is meshed with them matched; on a mesh, images of each
     // other, and how well they match.
-    let pairs: Vec<smartmesh::periodic::PeriodicPair> =
-        recipe.periodic.iter().filter_map(|p| p.pair().ok()).collect();
+    let pairs = recipe.periodic_pairs();
     let mesh = starting_mesh(&args.mesh, args.from, &pairs)?;
     let topo = Topology::from_mesh(&mesh);
     let resolved = recipe.resolve(&topo)?;
     let plan = &resolved.plan;
-    let mut snapped = mesh.clone();
-    let moved = smartmesh::periodic::snap(&mut snapped, &pairs);
-    let periodic = smartmesh::periodic::check_all(&snapped, &pairs)
+    let sides = smartmesh::periodic::Sides::snap_and_check(&mut mesh.clone(), &pairs)
         .map_err(|e| CliError::usage(format!("{e} (mesh {})", args.mesh.display())))?;
+    let (periodic, moved) = (&sides.before, &sides.moved);
     let steps: Vec<StepSummary> = plan
         .steps
         .iter()
@@ -241,7 +239,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
             gradation: plan.gradation,
             regions: &resolved.regions,
             algorithms: steps,
-            periodic: &periodic,
+            periodic,
         };
         let mut s = serde_json::to_string_pretty(&summary)?;
         s.push('\n');
@@ -327,7 +325,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         let on = if parts.is_empty() { "everywhere".into() } else { parts.join(", ") };
         let _ = writeln!(o, "    {}: {on}", s.label);
     }
-    for (m, d) in periodic.iter().zip(&moved) {
+    for (m, d) in periodic.iter().zip(moved) {
         let _ = writeln!(o, "  {m}");
         if *d > 0.0 {
             let _ = writeln!(

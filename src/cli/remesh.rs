@@ -231,7 +231,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     };
     let pairs: Vec<smartmesh::periodic::PeriodicPair> = match &args.recipe.recipe {
         None => Vec::new(),
-        Some(_) => args.recipe.read()?.periodic.iter().filter_map(|p| p.pair().ok()).collect(),
+        Some(_) => args.recipe.read()?.periodic_pairs(),
     };
     smartmesh::periodic::check_all(&mesh, &pairs)
         .map_err(|e| CliError::usage(format!("{e} (input {})", args.mesh.display())))?;

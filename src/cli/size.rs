@@ -157,8 +157,9 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
     }
     let target = target(&args)?;
     let solving = !args.solution.field.is_empty() || args.solution_file.is_some();
-    let mut recipe = args.recipe.read_or_empty(solving, "with --field or --solution-file")?;
-    args.controls.apply_to(&mut recipe)?;
+    let recipe = args
+        .controls
+        .over(args.recipe.read_or_empty(solving, "with --field or --solution-file")?)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     // The field is written on the input's own points, which stay in its plane.
     let (mut mesh, _plane_z, read_notes) = super::read_planar_mesh_noted(&args.mesh, from)?;
@@ -180,7 +181,7 @@ pub fn run(args: SizeArgs) -> Result<(), CliError> {
             }
             None => field_names(&mesh, &args.mesh, &asked)?,
         };
-        extra.push(args.solution.step(&names, goal, &mesh, &recipe, &args.controls)?);
+        extra.push(args.solution.step(&names, goal, &mesh, &recipe)?);
         solution = Some(names);
     }
     let steps = (recipe.algorithms.len() + extra.len()) as u64;

@@ -6,11 +6,11 @@ use clap::Args;
 use smartmesh::formats::TaggedMesh;
 use smartmesh::recipe::Recipe;
 use smartmesh::sizing::plan::Step;
-use smartmesh::sizing::{Algorithm, SolutionHessian};
+use smartmesh::sizing::SolutionHessian;
 use smartmesh::solution::{Method, Target};
 use smartmesh::SizeBounds;
 
-use super::output::{positive_size, SizeControls};
+use super::output::positive_size;
 use super::CliError;
 
 /// How a solution field becomes a metric.
@@ -92,31 +92,11 @@ impl SolutionArgs {
         Ok(self.field.clone())
     }
 
-    /// The bounds of the solution's metric on `mesh`: the command line's sizes, else the
-    /// recipe's, else defaults from the mesh's extent.
-    pub fn bounds(
-        &self,
-        mesh: &TaggedMesh,
-        recipe: &Recipe,
-        controls: &SizeControls,
-    ) -> Result<SizeBounds, CliError> {
-        let diagonal = mesh
-            .bounding_box()
-            .map(|(lo, hi)| (hi[0] - lo[0]).hypot(hi[1] - lo[1]))
-            .filter(|d| d.is_finite() && *d > 0.0)
-            .ok_or_else(|| CliError::usage("the mesh has no extent: no metric from a field"))?;
-        let default = SolutionHessian::default_bounds(diagonal).ok_or_else(|| {
-            CliError::usage(format!("the mesh's extent {diagonal} is out of range"))
-        })?;
-        let g = &recipe.global;
-        let h_min = controls.hmin.or(g.h_min).unwrap_or(default.h_min());
-        let h_max = controls.hmax.or(g.h_max).unwrap_or(default.h_max()).max(h_min);
-        let r = self.max_aspect.or(g.max_aspect_ratio).unwrap_or(default.max_aspect_ratio());
-        SizeBounds::try_new(h_min, h_max, r).ok_or_else(|| {
-            CliError::usage(format!(
-                "bounds hmin {h_min}, hmax {h_max}, aspect ratio {r} are out of range"
-            ))
-        })
+    /// The bounds of the solution's metric on `mesh`: --max-aspect, else the recipe's
+    /// global values (the command line's sizes already over them), else defaults from
+    /// the mesh's extent ([`Recipe::solution_bounds`]).
+    pub fn bounds(&self, mesh: &TaggedMesh, recipe: &Recipe) -> Result<SizeBounds, CliError> {
+        recipe.solution_bounds(mesh, self.max_aspect).map_err(|e| CliError::usage(e.to_string()))
     }
 
     /// The sizing step of fields `names` (one or more) on `mesh` normalised together to
@@ -127,22 +107,8 @@ impl SolutionArgs {
         target: Target,
         mesh: &TaggedMesh,
         recipe: &Recipe,
-        controls: &SizeControls,
     ) -> Result<Step, CliError> {
-        let bounds = self.bounds(mesh, recipe, controls)?;
-        let algorithm = SolutionHessian {
-            fields: names.to_vec(),
-            target,
-            p: self.p,
-            method: self.recovery,
-            h_min: Some(bounds.h_min()),
-            h_max: Some(bounds.h_max()),
-            max_aspect: Some(bounds.max_aspect_ratio()),
-        };
-        Ok(Step {
-            label: algorithm.label(),
-            algorithm: Algorithm::SolutionHessian(algorithm),
-            names: names.to_vec(),
-        })
+        let bounds = self.bounds(mesh, recipe)?;
+        Ok(SolutionHessian::step(names, target, self.p, self.recovery, &bounds))
     }
 }

@@ -226,7 +226,8 @@ fn write(members: &[(String, Pslg)], common: &Common, start: Instant) -> Result<
             }
         },
     };
-    manifest::option_args(&options).map_err(|e| CliError::usage(format!("--options: {e}")))?;
+    manifest::option_args(&options, &super::batch::adapt_options())
+        .map_err(|e| CliError::usage(format!("--options: {e}")))?;
     let recipe = common
         .recipe
         .canonicalize()

@@ -21,8 +21,10 @@
 //! bit, through `remesh` and `adapt`.
 
 mod coarsen;
+mod sides;
 
 pub use coarsen::coarsen_sides;
+pub use sides::{Rechecked, Sides, Snapped};
 
 use crate::topology::{EntityRef, Topology};
 

@@ -12,7 +12,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::model::EntityRef;
-use crate::layer::{first_height_for_y_plus, CurveLayers, Growth, LayerError, LayerOptions};
+use crate::layer::{
+    first_height_for_y_plus, CurveLayers, Growth, GrowthError, LayerError, LayerOptions,
+};
 
 /// Values of one curve that differ from the section's.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -72,34 +74,66 @@ pub struct LayerSpec {
     pub per_curve: Vec<CurveValues>,
 }
 
+/// Why a [`LayerSpec`] gives no options: what is wrong, for each front end (a recipe's
+/// LAYER section, `smartmesh layer`'s flags) to say in its own words.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SpecError {
+    /// No wall curve.
+    #[error("layer: `curves` lists no curve")]
+    NoCurves,
+    /// A target y+ without the Reynolds number or the reference length.
+    #[error("layer: `y_plus` needs `reynolds` and `ref_length`")]
+    YPlusNeeds,
+    /// Both a first height and a target y+.
+    #[error("layer: give `first_height` or `y_plus`, not both")]
+    Both,
+    /// The first height of the target y+.
+    #[error(transparent)]
+    YPlus(GrowthError),
+    /// Per-curve values of a curve the spec does not list.
+    #[error("layer: per-curve values for {0}, which `curves` does not list")]
+    PerCurve(EntityRef),
+    /// A curve's heights.
+    #[error("layer: curve {curve}: {growth}", curve = .0.label(), growth = .1)]
+    Curve(EntityRef, GrowthError),
+}
+
+impl From<SpecError> for LayerError {
+    fn from(e: SpecError) -> LayerError {
+        match e {
+            SpecError::YPlus(g) => LayerError::Growth(g),
+            e => LayerError::Bad(e.to_string()),
+        }
+    }
+}
+
 impl LayerSpec {
     /// The options of [`crate::layer::insert`] this section asks for.
     pub fn options(&self) -> Result<LayerOptions, LayerError> {
+        Ok(self.layer_options()?)
+    }
+
+    /// [`LayerSpec::options`], its errors as values for the caller to word. A curve's
+    /// values are those of its first per-curve entry, else the spec's.
+    pub fn layer_options(&self) -> Result<LayerOptions, SpecError> {
         if self.curves.is_empty() {
-            return Err(LayerError::Bad("layer: `curves` lists no curve".into()));
+            return Err(SpecError::NoCurves);
         }
         let first = match self.y_plus {
             Some(y) => {
                 let (Some(re), Some(l)) = (self.reynolds, self.ref_length) else {
-                    return Err(LayerError::Bad(
-                        "layer: `y_plus` needs `reynolds` and `ref_length`".into(),
-                    ));
+                    return Err(SpecError::YPlusNeeds);
                 };
                 if self.first_height.is_some() {
-                    return Err(LayerError::Bad(
-                        "layer: give `first_height` or `y_plus`, not both".into(),
-                    ));
+                    return Err(SpecError::Both);
                 }
-                Some(first_height_for_y_plus(y, re, l)?)
+                Some(first_height_for_y_plus(y, re, l).map_err(SpecError::YPlus)?)
             }
             None => self.first_height,
         };
         for pc in &self.per_curve {
             if !self.curves.contains(&pc.curve) {
-                return Err(LayerError::Bad(format!(
-                    "layer: per-curve values for {}, which `curves` does not list",
-                    pc.curve
-                )));
+                return Err(SpecError::PerCurve(pc.curve.clone()));
             }
         }
         let mut curves = Vec::new();
@@ -108,7 +142,7 @@ impl LayerSpec {
             let h = pc.and_then(|p| p.first_height).or(first);
             let r = pc.and_then(|p| p.ratio).or(self.ratio);
             let growth = Growth::solve(h, r, self.layers, self.thickness)
-                .map_err(|e| LayerError::Bad(format!("layer: curve {}: {e}", c.label())))?;
+                .map_err(|e| SpecError::Curve(c.clone(), e))?;
             curves.push(CurveLayers { curve: c.clone(), growth });
         }
         let d = LayerOptions::default();

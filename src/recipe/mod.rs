@@ -16,6 +16,7 @@
 //!   valid name.
 
 pub mod appendix;
+pub mod bounds;
 pub mod error;
 pub mod layer;
 pub mod libconfig;
@@ -27,8 +28,9 @@ pub mod resolve;
 pub mod serde_io;
 pub mod suggest;
 
+pub use bounds::{BoundsError, GlobalOverrides};
 pub use error::{RecipeError, RecipeErrorKind};
-pub use layer::{CurveValues, LayerSpec};
+pub use layer::{CurveValues, LayerSpec, SpecError};
 pub use model::{
     AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, Recipe, RecipeFormat,
 };

@@ -73,3 +73,10 @@ impl PeriodicSpec {
         Ok(PeriodicPair { master: self.master.clone(), slave: self.slave.clone(), transform })
     }
 }
+
+impl super::Recipe {
+    /// The recipe's periodic pairs, those its checks accepted ([`PeriodicSpec::pair`]).
+    pub fn periodic_pairs(&self) -> Vec<PeriodicPair> {
+        self.periodic.iter().filter_map(|p| p.pair().ok()).collect()
+    }
+}
