@@ -13,10 +13,10 @@ use smartmesh::adapt::solver::{readable_extension, Goal, Schedule, SolverLoop};
 use smartmesh::adapt::{
     run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Phase, Tolerances,
 };
-use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{Format, TaggedMesh};
-use smartmesh::history::History;
+use smartmesh::History;
 use smartmesh::Topology;
+use smartmesh::{adapter, AdapterKind, AdapterOptions};
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
 use super::solution::SolutionArgs;
@@ -102,7 +102,7 @@ schedule's first vertex count. A failing solver is quoted (the end of its output
 is read and dropped) and stops the loop with exit status 1; the best mesh stays. The history records per iteration the solver's seconds and the complexity asked \
 and obtained."
 )]
-pub struct AdaptArgs {
+pub(super) struct AdaptArgs {
     /// Starting mesh (any readable format with triangles or quadrangles), or a .poly.
     input: PathBuf,
     #[command(flatten)]
@@ -315,17 +315,19 @@ fn handle_interrupts() {
     }
     let installed = ctrlc::set_handler(|| {
         if INTERRUPTS.fetch_add(1, Ordering::SeqCst) == 0 {
-            smartmesh::child::interrupt();
+            smartmesh::adapt::interrupt();
             if ui::level() >= ui::Level::Normal {
-                eprintln!(
-                    "\nsmartmesh: adapt: stopping after the current phase (Ctrl-C again to stop now)"
+                ui::interrupted(
+                    "adapt",
+                    "stopping after the current phase (Ctrl-C again to stop now)",
                 );
             }
         } else {
             let _writing = WRITING.lock();
-            smartmesh::child::stop_all();
-            eprintln!(
-                "\nsmartmesh: adapt: stopped; the result files are as the last iteration left them"
+            smartmesh::adapt::stop_all();
+            ui::interrupted(
+                "adapt",
+                "stopped; the result files are as the last iteration left them",
             );
             std::process::exit(130);
         }
@@ -346,7 +348,7 @@ struct Progress {
     /// iteration and when the loop stops).
     printed: usize,
     /// The z of the input's plane: the loop computes in (x, y), the files are written in
-    /// the input's plane ([`smartmesh::planar`]).
+    /// the input's plane ([`smartmesh::plane`]).
     plane_z: f64,
 }
 
@@ -375,7 +377,7 @@ impl Observer for Progress {
             let _writing = WRITING.lock();
             let placed = new_best.filter(|_| self.plane_z != 0.0).map(|m| {
                 let mut m = m.clone();
-                smartmesh::planar::place(&mut m, self.plane_z);
+                smartmesh::place(&mut m, self.plane_z);
                 m
             });
             let new_best = placed.as_ref().or(new_best);
@@ -455,7 +457,7 @@ fn check_outputs(args: &AdaptArgs) -> Result<Format, CliError> {
 const ERROR_START_VERTICES: f64 = 1000.0;
 
 /// Runs `adapt`.
-pub fn run(args: AdaptArgs) -> Result<(), CliError> {
+pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     let format = check_outputs(&args)?;
     super::set_threads(args.threads)?;
@@ -590,7 +592,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         }
         e => e.into(),
     })?;
-    smartmesh::planar::place(&mut outcome.best, plane_z);
+    smartmesh::place(&mut outcome.best, plane_z);
     let _writing = WRITING.lock();
     for w in &outcome.warnings {
         ui::warn(w);
@@ -615,7 +617,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
                 l.report.layers, l.report.quads, l.report.skin_triangles
             ));
             let mut l = l;
-            smartmesh::planar::place(&mut l.mesh, plane_z);
+            smartmesh::place(&mut l.mesh, plane_z);
             Some(l)
         }
         _ => None,

@@ -11,9 +11,9 @@ use smartmesh::layer::to_metric::band_to_metric;
 use smartmesh::layer::{
     first_height_for_y_plus, insert, CurveLayers, Growth, LayerOptions, LayerReport,
 };
-use smartmesh::metric_field::MetricField;
 use smartmesh::periodic::{check_all, snap, PairMatch, PeriodicPair};
 use smartmesh::remesh::RemeshOptions;
+use smartmesh::MetricField;
 
 use super::output::{check_output_dir, is_stdio, shown};
 use super::{parse_format, print_stdout, ui, CliError};
@@ -55,7 +55,7 @@ Examples:
       --recipe periodic.toml -o channel-skin.msh     # periodic sides kept matched"
 )]
 #[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs the skin must keep matched (its sizing steps and LAYER section are not used)")))]
-pub struct LayerArgs {
+pub(super) struct LayerArgs {
     /// Input triangle mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
     /// Output mesh (any writable format; `-` for stdout, with --to).
@@ -149,7 +149,7 @@ fn per_curve(items: &[String], what: &str) -> Result<Vec<(String, f64)>, CliErro
 }
 
 /// Runs `layer`.
-pub fn run(args: LayerArgs) -> Result<(), CliError> {
+pub(super) fn run(args: LayerArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     if args.output.as_os_str() == "-" && args.json {
         return Err(CliError::usage(
@@ -247,7 +247,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
         }
         ui::note(&a.to_string());
     }
-    smartmesh::planar::place(&mut layered.mesh, plane_z);
+    smartmesh::place(&mut layered.mesh, plane_z);
     let written = args.output_format.write(&args.output, &layered.mesh, to)?;
     let r = &layered.report;
     for n in &r.notes {

@@ -27,7 +27,7 @@ use super::LayerError;
 use crate::topology::{Classification, Topology};
 
 /// The band: which input triangles go, and the triangles that replace them.
-pub struct Band {
+pub(super) struct Band {
     /// Removed flag per surface cell.
     pub removed: Vec<bool>,
     /// New triangles (point ids into the skin's `pts`) with their tags.
@@ -45,7 +45,7 @@ fn key(a: usize, b: usize) -> [usize; 2] {
 }
 
 /// Builds the band around `skin` in the mesh of `topo` (triangles only).
-pub fn build(
+pub(super) fn build(
     skin: &Skin,
     topo: &Topology,
     cell_tags: &[(i32, i32)],

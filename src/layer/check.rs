@@ -5,7 +5,7 @@
 //! the area of the domain the caller knows).
 //!
 //! Overlaps and hanging vertices are found through a quadtree of the cells' and edges'
-//! boxes ([`super::pairs`], which sweeps each leaf across its items so that a skin's
+//! boxes (`super::pairs`, which sweeps each leaf across its items so that a skin's
 //! stacked, slanted cells are not all tested against each other), whose leaves follow the grading: an airfoil's
 //! cells 50 chords inside a far field do not share a few buckets, as they did in a uniform
 //! grid (10 s on the GAMM A7 example's 20 000 cells). A pair of cells is tested only when
