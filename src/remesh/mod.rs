@@ -147,7 +147,7 @@ fn smooth_phase(w: &mut work::Work, opts: &RemeshOptions, secs: &mut PhaseSecond
 /// ```
 /// use std::path::Path;
 /// use smartmesh::formats::{read_path, CellKind};
-/// use smartmesh::metric_field::{MetricField, METRIC};
+/// use smartmesh::{MetricField, METRIC};
 /// use smartmesh::remesh::{remesh, RemeshOptions};
 ///
 /// let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
