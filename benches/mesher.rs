@@ -20,6 +20,7 @@
 //! Run: `cargo bench -p smartmesh --bench mesher`, then
 //! `python3 benches/compare_triangle.py target/bench-meshes/mesher-naca256.poly` and
 //! `python3 benches/compare_triangle.py fixtures/square_hole.poly 0.000001`.
+#![allow(clippy::print_stdout, clippy::print_stderr)] // A benchmark prints what it measured.
 
 use std::path::Path;
 

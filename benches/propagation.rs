@@ -11,6 +11,7 @@
 //!
 //! Sequential (`with_parallel(false)`) unless the id says `parallel`: the numbers are
 //! per core. Run: `cargo bench -p smartmesh --bench propagation`.
+#![allow(clippy::print_stdout, clippy::print_stderr)] // A benchmark prints what it measured.
 
 use std::f64::consts::PI;
 

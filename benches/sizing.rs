@@ -32,6 +32,7 @@
 //! little-endian f64 files for `benches/compare_ckdtree.py` (scipy on the same bytes).
 //!
 //! Run: `cargo bench -p smartmesh --bench sizing`.
+#![allow(clippy::print_stdout, clippy::print_stderr)] // A benchmark prints what it measured.
 
 use std::f64::consts::PI;
 use std::time::Duration;

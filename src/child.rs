@@ -41,7 +41,7 @@ sleep 0.2 2>/dev/null || sleep 1; done; kill -KILL 0 ) </dev/null >/dev/null 2>&
 exec \"$@\"";
 
 /// How long an interrupted child has between SIGTERM and SIGKILL.
-pub const GRACE: Duration = Duration::from_secs(2);
+pub(crate) const GRACE: Duration = Duration::from_secs(2);
 
 /// How long the output of a child that has exited may still take to reach EOF (a
 /// grandchild that left the group may hold its pipes open).
@@ -53,15 +53,15 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 /// The children running: the group each leads, and the scratch directory it works in.
 static LIVE: Mutex<Vec<(u32, Option<PathBuf>)>> = Mutex::new(Vec::new());
 
-/// Asks every child running to stop (SIGTERM to its group, SIGKILL after [`GRACE`]), and
-/// every later [`Run::run`] to start nothing: the user interrupted smartmesh. Safe to
+/// Asks every child running to stop (SIGTERM to its group, SIGKILL after `GRACE`), and
+/// every later `Run::run` to start nothing: the user interrupted smartmesh. Safe to
 /// call from a signal-handling thread.
 pub fn interrupt() {
     INTERRUPTED.store(true, Ordering::SeqCst);
 }
 
 /// Whether [`interrupt`] was called.
-pub fn interrupted() -> bool {
+pub(crate) fn interrupted() -> bool {
     INTERRUPTED.load(Ordering::SeqCst)
 }
 
@@ -117,7 +117,7 @@ fn group_alive(_pid: u32) -> bool {
 
 /// What is kept of an output stream.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Keep {
+pub(crate) enum Keep {
     /// All of it, up to this many bytes; past them the child is stopped
     /// ([`Ended::TooLarge`]).
     All(usize),
@@ -129,7 +129,7 @@ pub enum Keep {
 
 /// What was kept of a stream, and how long the stream was.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct Captured {
+pub(crate) struct Captured {
     /// The bytes kept ([`Keep`]).
     pub bytes: Vec<u8>,
     /// The bytes the stream had in all.
@@ -138,14 +138,14 @@ pub struct Captured {
 
 impl Captured {
     /// Whether bytes were dropped.
-    pub fn cut(&self) -> bool {
+    pub(crate) fn cut(&self) -> bool {
         self.total > self.bytes.len() as u64
     }
 }
 
 /// How a run ended.
 #[derive(Debug)]
-pub enum Ended {
+pub(crate) enum Ended {
     /// The child exited of itself.
     Exited {
         /// Its status.
@@ -165,7 +165,7 @@ pub enum Ended {
 
 /// A program to run as a child (see the module documentation).
 #[derive(Debug, Clone)]
-pub struct Run {
+pub(crate) struct Run {
     program: PathBuf,
     args: Vec<OsString>,
     dir: Option<PathBuf>,
@@ -178,12 +178,12 @@ pub struct Run {
 }
 
 /// The bytes a tail or a head keeps by default: enough for the last lines of a message.
-pub const DEFAULT_KEEP: usize = 64 << 10;
+pub(crate) const DEFAULT_KEEP: usize = 64 << 10;
 
 impl Run {
     /// `program` (a path; a bare name is looked up on `PATH` by [`locate`] first), with
     /// no argument, stdin empty, the last [`DEFAULT_KEEP`] bytes of each output kept.
-    pub fn new(program: impl Into<PathBuf>) -> Run {
+    pub(crate) fn new(program: impl Into<PathBuf>) -> Run {
         Run {
             program: program.into(),
             args: Vec::new(),
@@ -198,7 +198,7 @@ impl Run {
     }
 
     /// Adds arguments.
-    pub fn args<I, S>(mut self, args: I) -> Run
+    pub(crate) fn args<I, S>(mut self, args: I) -> Run
     where
         I: IntoIterator<Item = S>,
         S: Into<OsString>,
@@ -208,39 +208,39 @@ impl Run {
     }
 
     /// Runs in `dir`.
-    pub fn current_dir(mut self, dir: &Path) -> Run {
+    pub(crate) fn current_dir(mut self, dir: &Path) -> Run {
         self.dir = Some(dir.to_path_buf());
         self
     }
 
     /// Sets an environment variable of the child.
-    pub fn env(mut self, name: impl Into<OsString>, value: impl Into<OsString>) -> Run {
+    pub(crate) fn env(mut self, name: impl Into<OsString>, value: impl Into<OsString>) -> Run {
         self.env.push((name.into(), value.into()));
         self
     }
 
     /// What the child reads on stdin (else nothing: stdin is `/dev/null`).
-    pub fn stdin(mut self, bytes: Vec<u8>) -> Run {
+    pub(crate) fn stdin(mut self, bytes: Vec<u8>) -> Run {
         self.stdin = Some(bytes);
         self
     }
 
     /// What is kept of stdout and of stderr.
-    pub fn keep(mut self, stdout: Keep, stderr: Keep) -> Run {
+    pub(crate) fn keep(mut self, stdout: Keep, stderr: Keep) -> Run {
         self.stdout = stdout;
         self.stderr = stderr;
         self
     }
 
     /// When the child is killed if it has not exited.
-    pub fn deadline(mut self, deadline: Instant) -> Run {
+    pub(crate) fn deadline(mut self, deadline: Instant) -> Run {
         self.deadline = Some(deadline);
         self
     }
 
     /// A directory the child works in, removed by [`stop_all`] when smartmesh exits at
     /// once (its owner removes it otherwise).
-    pub fn scratch(mut self, dir: &Path) -> Run {
+    pub(crate) fn scratch(mut self, dir: &Path) -> Run {
         self.scratch = Some(dir.to_path_buf());
         self
     }
@@ -267,7 +267,7 @@ impl Run {
     /// Runs the program until it exits, passes its output limit or its deadline, or is
     /// interrupted. An error: it could not be started (a program that does not exist
     /// or cannot be run is [`std::io::ErrorKind::NotFound`]).
-    pub fn run(self) -> std::io::Result<Ended> {
+    pub(crate) fn run(self) -> std::io::Result<Ended> {
         if !runnable(&self.program) {
             return Err(std::io::Error::new(
                 std::io::ErrorKind::NotFound,
@@ -440,7 +440,7 @@ impl Reader {
 
 /// `program` if it is a runnable file, as an absolute path; a bare name is found on
 /// `PATH`.
-pub fn locate(program: &str) -> Option<PathBuf> {
+pub(crate) fn locate(program: &str) -> Option<PathBuf> {
     let found = if program.contains('/') || program.contains(std::path::MAIN_SEPARATOR) {
         let p = PathBuf::from(program);
         runnable(&p).then_some(p)
@@ -457,7 +457,7 @@ pub fn locate(program: &str) -> Option<PathBuf> {
 
 /// Whether `p` is a file we may execute.
 #[cfg(unix)]
-pub fn runnable(p: &Path) -> bool {
+pub(crate) fn runnable(p: &Path) -> bool {
     use std::os::unix::fs::PermissionsExt;
     std::fs::metadata(p).is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
 }

@@ -11,7 +11,7 @@ use crate::metric::Sym2;
 use crate::metric_field::MetricField;
 use smartmesh_formats::TaggedMesh;
 
-pub use crate::metric_field::MetricFieldError;
+pub(crate) use crate::metric_field::MetricFieldError;
 
 /// The metric field named `name` (usually [`crate::metric_field::METRIC`]) of a mesh's
 /// point data, one SPD tensor per vertex: [`MetricField::from_point_data`], whose checks
@@ -46,7 +46,7 @@ pub struct Conformity {
 }
 
 /// Number of metric-length bins in [`Conformity::edge_length_histogram`].
-pub const LENGTH_BINS: usize = 30;
+pub(crate) const LENGTH_BINS: usize = 30;
 
 impl Conformity {
     /// Measures triangles `tris` (counter-clockwise or not, each a triple of indices into

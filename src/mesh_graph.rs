@@ -16,7 +16,7 @@ use crate::geometry::Point2;
 use crate::topology::Topology;
 
 /// Marks the missing fourth corner of a triangle in [`MeshGraph::cells`].
-pub const NO_CORNER: u32 = u32::MAX;
+pub(crate) const NO_CORNER: u32 = u32::MAX;
 
 /// Why a graph could not be built.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -239,7 +239,7 @@ impl MeshGraph {
         self.longest_edge[v]
     }
 
-    /// Surface cells by their corners ([`NO_CORNER`] fourth corner for a triangle).
+    /// Surface cells by their corners (`NO_CORNER` fourth corner for a triangle).
     pub fn cells(&self) -> &[[u32; 4]] {
         &self.cells
     }

@@ -116,7 +116,11 @@ impl SizeControls {
 /// For each interior vertex of a curve polyline where the curve bends, the largest size
 /// that keeps the edges within `hausd` of the curve (see the module header); a vertex on
 /// several curves gets the smallest bound.
-pub fn curvature_bounds(mesh: &TaggedMesh, topology: &Topology, hausd: f64) -> Vec<(usize, f64)> {
+pub(crate) fn curvature_bounds(
+    mesh: &TaggedMesh,
+    topology: &Topology,
+    hausd: f64,
+) -> Vec<(usize, f64)> {
     let p = |v: usize| [mesh.points[v][0], mesh.points[v][1]];
     let mut bound: Vec<Option<f64>> = vec![None; mesh.points.len()];
     for curve in &topology.curves {

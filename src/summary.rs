@@ -21,7 +21,7 @@ pub struct MeshSummary {
     pub cells: BTreeMap<String, usize>,
     /// `[min, max]` corners of the bounding box (x, y, z).
     pub bounding_box: Option<[[f64; 3]; 2]>,
-    /// Whether every point lies in one plane z = const ([`crate::planar`]); the 2D
+    /// Whether every point lies in one plane z = const (`crate::planar`); the 2D
     /// commands refuse a mesh that does not, whose lengths and areas here are measured in
     /// space.
     pub planar: bool,

@@ -4,6 +4,7 @@
 //! recipe's refinement shows, conformity rises, the best mesh stays when a later
 //! iteration fails, and one recipe serves a geometry variant. The MMG and Gmsh parts
 //! skip when the tools are missing, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
+#![allow(clippy::print_stdout, clippy::print_stderr)] // What a test measured or skipped is printed for the log.
 
 use smartmesh_test_support::formats as common;
 
@@ -18,10 +19,10 @@ use common::python_with;
 mod support;
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::{run, AdaptError, AdaptOptions, Observer, Tolerances};
-use smartmesh::adapters::restore::physical_tags;
-use smartmesh::adapters::{Adapted, Adapter, AdapterError};
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh, WriteOptions};
-use smartmesh::history::{History, WrittenFile};
+use smartmesh::physical_tags;
+use smartmesh::{Adapted, Adapter, AdapterError};
+use smartmesh::{History, WrittenFile};
 use smartmesh::{Recipe, Sym2, Topology};
 use smartmesh_test_support::measure::signed_area;
 use support::{fixture, program, streams};
@@ -350,8 +351,8 @@ fn the_native_remesher_is_the_default_and_adapts_the_cylinder() {
     assert_eq!(mesh.points.len(), best.vertices);
     assert_adapted("native", &cylinder(), &mesh, (1.0, 0.5, 0.15));
     // The result carries the recipe's field on it: measured again, it gives the record.
-    let metric = smartmesh::conformity::metric_field(&mesh, "metric").unwrap();
-    let c = smartmesh::conformity::Conformity::of_mesh(&mesh, &metric).unwrap();
+    let metric = smartmesh::metric_field(&mesh, "metric").unwrap();
+    let c = smartmesh::Conformity::of_mesh(&mesh, &metric).unwrap();
     assert!(
         (c.conforming_share - best.conforming_share).abs() < 1e-12,
         "{} vs {}",
@@ -795,7 +796,7 @@ fn gmsh_remeshes_to_the_field_with_tags() {
 /// native remesher's passes with their counts; the starting mesh has none.
 #[test]
 fn the_history_records_what_each_remeshing_did() {
-    use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
+    use smartmesh::{adapter, AdapterKind, AdapterOptions};
     let native = adapter(AdapterKind::Native, AdapterOptions::default()).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let mut files = ResultFiles::new(&dir.path().join("c.msh"), None, WriteOptions::default());
@@ -828,7 +829,7 @@ fn the_history_records_what_each_remeshing_did() {
         assert_eq!(d.is_some(), r.is_some());
         if let (Some(d), Some(r)) = (d, r) {
             assert!((d.expected_vertices / r.expected_vertices - 1.0).abs() < 1e-12);
-            let per_pass = |x: &smartmesh::history::RemeshingRecord| {
+            let per_pass = |x: &smartmesh::RemeshingRecord| {
                 x.remesher.as_ref().map(|c| (c.passes, c.splits, c.per_pass.clone()))
             };
             assert_eq!(per_pass(d), per_pass(r));

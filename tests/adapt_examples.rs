@@ -10,17 +10,18 @@
 //! at its coordinates; the physical tags and names are those of the starting mesh; the
 //! recipe's refinement shows. Also: malformed inputs and metrics that the other CLI tests
 //! do not try are refused with exit status 2 and a message naming the file.
+#![allow(clippy::print_stdout, clippy::print_stderr)] // What a test measured or skipped is printed for the log.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::{run, start as starting_point, AdaptOptions};
-use smartmesh::adapters::restore::physical_tags;
-use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{read_path, write_path, CellKind, TaggedMesh, WriteOptions};
-use smartmesh::history::History;
+use smartmesh::physical_tags;
+use smartmesh::History;
 use smartmesh::Recipe;
+use smartmesh::{adapter, AdapterKind, AdapterOptions};
 use smartmesh_test_support::measure::signed_area;
 
 #[path = "support/examples.rs"]

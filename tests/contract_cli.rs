@@ -562,7 +562,7 @@ fn report_says_mismatch(mesh: &Path, history: &Path, dir: &Path) -> bool {
 #[cfg(unix)]
 #[test]
 fn a_killed_adapt_leaves_a_history_that_knows_its_mesh_and_no_temporaries() {
-    use smartmesh::history::{History, WrittenFile};
+    use smartmesh::{History, WrittenFile};
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cyl.msh");
     let history = dir.path().join("cyl.history.json");

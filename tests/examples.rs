@@ -8,6 +8,7 @@
 //! Also: each `geometry.poly` and its `start.msh` carry the same tags at the same places,
 //! the starting meshes stay under 200 KB, and (when Python has numpy, triangle and gmsh)
 //! the generator still writes the committed `.poly` files byte for byte.
+#![allow(clippy::print_stdout, clippy::print_stderr)] // What a test measured or skipped is printed for the log.
 
 use smartmesh_test_support::formats as common;
 
@@ -125,9 +126,7 @@ impl Case {
     /// `[s0, s1]`: (vertex, distance, unit normal from the foot to the vertex).
     fn along(&self, line: &[[f64; 2]], r: f64, s0: f64, s1: f64) -> Vec<(usize, f64, [f64; 2])> {
         (0..self.mesh.points.len())
-            .filter(|&v| {
-                !matches!(self.topo.vertex_class[v], smartmesh::topology::Classification::Unused)
-            })
+            .filter(|&v| !matches!(self.topo.vertex_class[v], smartmesh::Classification::Unused))
             .filter_map(|v| {
                 let (d, s, n) = foot(line, self.xy(v));
                 (d <= r && s >= s0 && s <= s1).then_some((v, d, n))
@@ -569,9 +568,7 @@ fn distributor_variants() {
             }
         }
         let mut gap: Vec<usize> = (0..c.mesh.points.len())
-            .filter(|&v| {
-                !matches!(c.topo.vertex_class[v], smartmesh::topology::Classification::Unused)
-            })
+            .filter(|&v| !matches!(c.topo.vertex_class[v], smartmesh::Classification::Unused))
             .collect();
         gap.sort_by(|&a, &b| dist(c.xy(a), mid).total_cmp(&dist(c.xy(b), mid)));
         gap.truncate(8);

@@ -3,6 +3,7 @@
 //! background mesh (`gmsh -bgm`, BAMG) and the result is fine and stretched where the field says so;
 //! `mmg2d_O3` adapts our mesh to our `.sol` with the same outcome. Each test skips when
 //! its Python modules are missing, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
+#![allow(clippy::print_stdout, clippy::print_stderr)] // What a test measured or skipped is printed for the log.
 
 use smartmesh_test_support::formats as common;
 
@@ -15,8 +16,8 @@ use common::{python_with, run_python};
 #[allow(dead_code)]
 mod support;
 use smartmesh::formats::{read_path, CellKind, TaggedMesh, WriteOptions};
-use smartmesh::metric_field::{MetricField, MetricTarget};
 use smartmesh::SizeTensor;
+use smartmesh::{MetricField, MetricTarget};
 use smartmesh_test_support::grid::unit_square;
 
 /// The test field: in the band `0.4 < y < 0.6`, edges of 0.1 along x and 0.01 across

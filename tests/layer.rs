@@ -283,7 +283,7 @@ fn thin_gap_thins_the_layers_and_reports_it() {
 
 /// The report of `m` (no metric, no recipe) and its SVG.
 fn report_of(m: &TaggedMesh) -> (smartmesh::report::Report, String) {
-    let topo = smartmesh::topology::Topology::from_mesh(m);
+    let topo = smartmesh::Topology::from_mesh(m);
     let input = smartmesh::report::ReportInput {
         name: "skin",
         mesh: m,
@@ -479,7 +479,7 @@ fn remesh_keeps_a_skin_frozen_and_remeshes_around_it() {
     let none = vec![false; smartmesh::validity::surface_cells(&skinned).len()];
     let e = smartmesh::remesh::remesh_keeping(
         &skinned,
-        &smartmesh::topology::Topology::from_mesh(&skinned),
+        &smartmesh::Topology::from_mesh(&skinned),
         &metric,
         &smartmesh::remesh::RemeshOptions::default(),
         &none,
@@ -1004,8 +1004,7 @@ fn adapt_inserts_the_recipe_skin_after_the_loop() {
     // The skinned mesh and its history are one set: the history's size and CRC are the
     // file's (`report --history` does not warn), its LAYER record counts the file.
     let hist_path = out("skin.history.json");
-    let h = smartmesh::history::History::from_json(&std::fs::read_to_string(&hist_path).unwrap())
-        .unwrap();
+    let h = smartmesh::History::from_json(&std::fs::read_to_string(&hist_path).unwrap()).unwrap();
     assert_eq!(h.mismatch(std::path::Path::new(&skin_path)), None);
     let l = h.layer.as_ref().expect("the history records the skin");
     assert_eq!(l.layers, 6);

@@ -13,7 +13,7 @@ use smartmesh::formats::{
     read_path, write_bytes, CellKind, Format, RegionSeed, TaggedMesh, WriteOptions,
 };
 use smartmesh::mesher::{size_to_area, triangulate, MeshError, MeshOptions};
-use smartmesh::topology::PointOrigin;
+use smartmesh::PointOrigin;
 use smartmesh::Topology;
 use smartmesh_test_support::measure::{min_angle_deg, quality as triangle_quality, signed_area};
 

@@ -5,6 +5,7 @@
 //! Every mesh here is made by the test itself: jittered structured triangulations of a
 //! rectangle (each vertex moved by up to `jitter` times the spacing, each quad split
 //! along a random diagonal), seeded so that a failure replays.
+#![allow(clippy::print_stdout, clippy::print_stderr)] // What a test measured or skipped is printed for the log.
 
 use proptest::prelude::*;
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};

@@ -13,7 +13,7 @@ use smartmesh::sizing::{
     Algorithm, DistanceFunction, DistanceToBorder, DistanceToImaginaryPolyline, DistanceToPoint,
     EntitySet, SizeProjectionFunction, Uniform,
 };
-use smartmesh::topology::Topology;
+use smartmesh::Topology;
 
 use smartmesh_test_support::cli::fixture;
 
@@ -167,7 +167,7 @@ fn appendix_example_parses_and_resolves_on_the_distributor() {
         Some(
             topo.vertex_class
                 .iter()
-                .filter(|c| !matches!(c, smartmesh::topology::Classification::Unused))
+                .filter(|c| !matches!(c, smartmesh::Classification::Unused))
                 .count()
         )
     );

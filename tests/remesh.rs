@@ -5,14 +5,15 @@
 //! kept, face tags equal to the tag of the input triangle under each centroid, the metric
 //! at every output vertex equal to the Log-Euclidean interpolation of the input field
 //! there, ≥ 90 % of edges in [1/√2, √2], deterministic.
+#![allow(clippy::print_stdout, clippy::print_stderr)] // What a test measured or skipped is printed for the log.
 
 use std::path::Path;
 
-use smartmesh::conformity::{metric_field, Conformity};
 use smartmesh::formats::{sym2_to_tensor9, CellBlock, CellKind, DataArray, TaggedMesh};
 use smartmesh::metric::{exp_sym, log_spd};
 use smartmesh::metric::{SizeTensor, Sym2};
 use smartmesh::remesh::{remesh, BoundaryMode, RemeshOptions, Remeshed};
+use smartmesh::{metric_field, Conformity};
 use smartmesh::{ControlError, SizeControls};
 use smartmesh_test_support::grid::SquareGrid;
 
@@ -504,7 +505,7 @@ fn unsupported_and_broken_meshes_are_refused() {
 /// or take the boundary: within 25 % on refining, graded and anisotropic fields.
 #[test]
 fn expected_vertices_predict_the_output() {
-    use smartmesh::metric_field::expected_vertices;
+    use smartmesh::expected_vertices;
     for (name, f) in [
         ("uniform", uniform as fn(f64, f64) -> SizeTensor),
         ("boundary layer", boundary_layer),

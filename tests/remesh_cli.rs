@@ -280,7 +280,7 @@ fn a_memory_limit_below_the_estimate_is_refused_naming_both() {
     let sym = |v: &[f64]| -> Vec<smartmesh::Sym2> {
         v.chunks(9).map(|t| smartmesh::Sym2 { a: t[0], b: t[1], c: t[4] }).collect()
     };
-    let e1 = smartmesh::metric_field::expected_vertices(&m, &sym(&m.point_data["metric"].values));
+    let e1 = smartmesh::expected_vertices(&m, &sym(&m.point_data["metric"].values));
     // √det of k·M is k·√det M: the estimate scales with k.
     let k = 2.0e6 / e1;
     for v in m.point_data.get_mut("metric").unwrap().values.chunks_mut(9) {
@@ -290,7 +290,7 @@ fn a_memory_limit_below_the_estimate_is_refused_naming_both() {
             }
         }
     }
-    let e = smartmesh::metric_field::expected_vertices(&m, &sym(&m.point_data["metric"].values));
+    let e = smartmesh::expected_vertices(&m, &sym(&m.point_data["metric"].values));
     assert!((1.5e6..2.5e6).contains(&e), "{e}");
     let big = dir.path().join("big.vtu");
     write_path(&big, &m, None, &WriteOptions::default()).unwrap();

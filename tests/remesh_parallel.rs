@@ -7,10 +7,10 @@
 //! and the face tags are kept, the conformity and quality are near the serial remesher's,
 //! and the output is the same whatever the thread count.
 
-use smartmesh::conformity::Conformity;
 use smartmesh::formats::{CellKind, TaggedMesh};
 use smartmesh::metric::{SizeTensor, Sym2};
 use smartmesh::remesh::{remesh, Partitioning, RemeshOptions, Remeshed};
+use smartmesh::Conformity;
 use smartmesh_test_support::grid::SquareGrid;
 
 const SIDES: [i32; 4] = [1, 2, 3, 4];

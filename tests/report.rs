@@ -4,10 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
-use smartmesh::conformity::{metric_field, Conformity};
 use smartmesh::formats::{read_path, write_path, CellKind, DataArray, TaggedMesh, WriteOptions};
-use smartmesh::history::{History, IterationRecord, PhaseTimes};
 use smartmesh::SizeTensor;
+use smartmesh::{metric_field, Conformity};
+use smartmesh::{History, IterationRecord, PhaseTimes};
 
 #[path = "support/cli.rs"]
 mod cli;
@@ -702,7 +702,7 @@ fn inherited<'a>(n: &roxmltree::Node<'a, '_>, name: &str) -> Option<&'a str> {
 /// font (which the test below checks against the installed font), from the ascent above
 /// its baseline to the descent below.
 fn text_box(n: &roxmltree::Node<'_, '_>) -> Box2 {
-    use smartmesh::report::text::{Font, ASCENT, DESCENT};
+    use smartmesh::report::{Font, ASCENT, DESCENT};
     let size: f64 = inherited(n, "font-size").unwrap_or("12").parse().unwrap();
     let bold = inherited(n, "font-weight") == Some("bold");
     let w = Font { size, bold }.width(n.text().unwrap_or(""));
@@ -983,7 +983,7 @@ fn the_font_table_holds_every_string_as_the_installed_font_draws_it() {
 
 #[test]
 fn a_history_of_another_mesh_is_named_whatever_its_file_name() {
-    use smartmesh::history::WrittenFile;
+    use smartmesh::WrittenFile;
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let mesh = d.join("mine.msh");

@@ -4,6 +4,7 @@
 //! meshes the refinement is where the recipe asks for it (boundary layer on the
 //! cylinder, wake behind it, coarse far away). Interop parts skip when the tools are
 //! missing, unless `SMARTMESH_REQUIRE_INTEROP=1` (CI).
+#![allow(clippy::print_stdout, clippy::print_stderr)] // What a test measured or skipped is printed for the log.
 
 use smartmesh_test_support::formats as common;
 

@@ -8,8 +8,8 @@ use smartmesh::formats::{read_path, write_path, DataArray, TaggedMesh, WriteOpti
 use smartmesh::recipe::model::SpecValue;
 use smartmesh::recipe::{size_mesh, SizeMeshError};
 use smartmesh::recipe::{AlgorithmSpec, Global, RecipeFormat};
+use smartmesh::sizing::solution::{vertices_of, P1Mesh};
 use smartmesh::sizing::SizingError;
-use smartmesh::solution::{vertices_of, P1Mesh};
 use smartmesh::{MeshGraph, Recipe, SizeTensor, Topology};
 
 #[path = "support/cli.rs"]

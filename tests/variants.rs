@@ -48,18 +48,21 @@ fn poly_vertices(path: &Path) -> Vec<([f64; 2], i64)> {
         .collect()
 }
 
-/// The lines of a `.poly` that are not comments.
-fn data_lines(path: &Path) -> Vec<String> {
+/// The records of a `.poly` (its lines that are not comments), each as its numbers.
+/// `smartmesh variants` writes through the formats crate's Triangle writer (`0.0`,
+/// `0.00003531094955`, `100.0 -1.0`), the committed examples come from Python's `%.10g`
+/// (`0`, `3.531094955e-05`, `100 -1`): the same values, spelled differently.
+fn records(path: &Path) -> Vec<Vec<f64>> {
     std::fs::read_to_string(path)
         .unwrap()
         .lines()
         .filter(|l| !l.starts_with('#'))
-        .map(str::to_string)
+        .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
         .collect()
 }
 
 /// The NACA 4-digit profile, written here from its definition (Abbott & von Doenhoff
-/// 6.4) independently of `smartmesh::variants::naca`: (upper, lower) at station x.
+/// 6.4) independently of `smartmesh::batch::variants::naca`: (upper, lower) at station x.
 fn naca_twin(t: f64, m: f64, p: f64, a4: f64, x: f64) -> ([f64; 2], [f64; 2]) {
     let yt = t / 0.2
         * (0.2969 * x.sqrt() - 0.1260 * x - 0.3516 * x.powi(2)
@@ -179,8 +182,8 @@ fn the_symmetric_member_and_the_distributors_are_the_example_geometries() {
     assert_eq!(lines.len(), 1);
     assert_eq!(lines[0]["name"], "naca-t0.12-m0");
     assert_eq!(
-        data_lines(&naca.join("naca-t0.12-m0.poly")),
-        data_lines(&examples().join("naca0012-agard01/geometry.poly")),
+        records(&naca.join("naca-t0.12-m0.poly")),
+        records(&examples().join("naca0012-agard01/geometry.poly")),
         "NACA 0012: every vertex, segment, hole and region as in the example"
     );
     let dist = d.path().join("dist");
@@ -189,16 +192,24 @@ fn the_symmetric_member_and_the_distributors_are_the_example_geometries() {
     let names: Vec<&str> = lines.iter().map(|l| l["name"].as_str().unwrap()).collect();
     assert_eq!(names, ["1-narrow", "2-thick", "3-s-shaped"]);
     for name in names {
-        // The committed file but for the line naming its writer, comments included.
-        let ours = std::fs::read_to_string(dist.join(format!("{name}.poly"))).unwrap();
-        let theirs =
-            std::fs::read_to_string(examples().join(format!("distributor/{name}/geometry.poly")))
-                .unwrap();
-        let strip = |t: &str| {
-            t.lines().filter(|l| !l.starts_with("# Written by ")).collect::<Vec<_>>().join("\n")
+        // The committed file but for the line naming its writer and the spelling of the
+        // numbers: the same comments, the same records value for value.
+        let ours_path = dist.join(format!("{name}.poly"));
+        let theirs_path = examples().join(format!("distributor/{name}/geometry.poly"));
+        let ours = std::fs::read_to_string(&ours_path).unwrap();
+        let theirs = std::fs::read_to_string(&theirs_path).unwrap();
+        let comments = |t: &str| {
+            t.lines()
+                .filter(|l| l.starts_with('#') && !l.starts_with("# Written by "))
+                .collect::<Vec<_>>()
+                .join("\n")
         };
-        assert_eq!(strip(&ours), strip(&theirs), "{name}");
+        assert_eq!(comments(&ours), comments(&theirs), "{name}");
+        assert_eq!(records(&ours_path), records(&theirs_path), "{name}");
         assert!(ours.lines().nth(1).unwrap().contains("smartmesh variants"));
+        // Ours is what the formats crate writes: the region's attribute and bound are
+        // reals, as every number of the file.
+        assert!(ours.ends_with(" 1000.0 -1.0\n"), "{name}");
     }
     let only = d.path().join("only");
     let lines =

@@ -10,7 +10,7 @@ use libfuzzer_sys::fuzz_target;
 use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::recipe::{ReadOptions, Recipe, RecipeFormat};
 use smartmesh::sizing::EntitySet;
-use smartmesh::topology::Topology;
+use smartmesh::Topology;
 
 /// A unit square in two triangles (face tag 1 "Plate", face tag 3 on the second), its
 /// bottom line tag 1 "Bottom", its right line tag 2, vertex cells tag 2 and tag 5

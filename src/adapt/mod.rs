@@ -68,6 +68,10 @@ use crate::sizing::StepEvent;
 use crate::topology::Topology;
 use solver::{SolverError, SolverLoop};
 
+/// Ctrl-C for the external programs a run starts (a solver, `mmg2d_O3`, `gmsh`):
+/// [`interrupt`] lets the current phase end and starts nothing new, [`stop_all`] kills
+/// every program under way.
+pub use crate::child::{interrupt, stop_all};
 pub use rules::Tolerances;
 
 /// `History::stopped` of a run the user stopped ([`Observer::interrupted`]).

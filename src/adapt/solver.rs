@@ -18,7 +18,7 @@
 //! its value as code, so no character of a path (`$( )`, quotes, `;`, a newline, a
 //! `{solution}` inside the other path) is run.
 //!
-//! The command runs as every external program does ([`crate::child`]): in a process group
+//! The command runs as every external program does (`crate::child`): in a process group
 //! of its own that dies with smartmesh, the last bytes of its output kept (a solver that
 //! prints gigabytes costs a bounded buffer), stopped on Ctrl-C ([`SolverError::Interrupted`]).
 //!

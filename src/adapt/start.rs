@@ -16,7 +16,7 @@ pub enum StartError {
     /// The file could not be read (the error names the file and the line).
     #[error("{0}")]
     Read(#[from] smartmesh_formats::Error),
-    /// The input does not lie in one plane z = const ([`crate::planar`]).
+    /// The input does not lie in one plane z = const ([`crate::plane`]).
     #[error("{path}: {source}")]
     NotPlanar {
         /// The input, as given.

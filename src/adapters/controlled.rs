@@ -10,7 +10,7 @@ use crate::size_controls::SizeControls;
 use crate::topology::Topology;
 
 /// `inner` given every metric with `controls` applied.
-pub struct Controlled {
+pub(crate) struct Controlled {
     /// The remesher.
     pub inner: Box<dyn Adapter>,
     /// The controls.

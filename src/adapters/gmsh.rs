@@ -39,12 +39,12 @@ use crate::metric_field::MetricField;
 use crate::topology::Topology;
 
 /// The program looked up on `PATH`.
-pub const PROGRAM: &str = "gmsh";
+pub(crate) const PROGRAM: &str = "gmsh";
 
 const HINT: &str = "install Gmsh (`pip install gmsh` puts gmsh on PATH) or name the executable with --adapter-program";
 
 /// The script Gmsh runs.
-pub const SCRIPT: &str =
+pub(crate) const SCRIPT: &str =
     "// Written by smartmesh: remesh in.msh to the background view bgm.pos with BAMG.
 Merge \"in.msh\";
 CreateTopology;
@@ -58,14 +58,14 @@ Save \"out.msh\";
 
 /// Gmsh with BAMG and its options.
 #[derive(Debug, Clone)]
-pub struct GmshAdapter {
+pub(crate) struct GmshAdapter {
     program: std::path::PathBuf,
     options: AdapterOptions,
 }
 
 impl GmshAdapter {
     /// Finds the program (`options.program`, else `gmsh` on `PATH`).
-    pub fn new(options: AdapterOptions) -> Result<GmshAdapter, AdapterError> {
+    pub(crate) fn new(options: AdapterOptions) -> Result<GmshAdapter, AdapterError> {
         let program = find_program(PROGRAM, options.program.as_deref(), HINT)?;
         Ok(GmshAdapter { program, options })
     }

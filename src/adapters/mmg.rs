@@ -35,20 +35,20 @@ use crate::metric_field::MetricField;
 use crate::topology::Topology;
 
 /// The program looked up on `PATH`.
-pub const PROGRAM: &str = "mmg2d_O3";
+pub(crate) const PROGRAM: &str = "mmg2d_O3";
 
 const HINT: &str = "install MMG (`pip install mmgpy` puts mmg2d_O3 on PATH) or name the executable with --adapter-program";
 
 /// `mmg2d_O3` with its options.
 #[derive(Debug, Clone)]
-pub struct MmgAdapter {
+pub(crate) struct MmgAdapter {
     program: std::path::PathBuf,
     options: AdapterOptions,
 }
 
 impl MmgAdapter {
     /// Finds the program (`options.program`, else `mmg2d_O3` on `PATH`).
-    pub fn new(options: AdapterOptions) -> Result<MmgAdapter, AdapterError> {
+    pub(crate) fn new(options: AdapterOptions) -> Result<MmgAdapter, AdapterError> {
         let program = find_program(PROGRAM, options.program.as_deref(), HINT)?;
         Ok(MmgAdapter { program, options })
     }
@@ -108,7 +108,7 @@ impl Adapter for MmgAdapter {
 
 /// The Medit references of a prepared mesh: one per (dimension, physical, geometrical).
 #[derive(Debug, Clone)]
-pub struct Coded {
+pub(crate) struct Coded {
     /// Edge references: `lines[r - 1]` is the (physical, geometrical) pair of reference r.
     lines: Vec<(i32, i32)>,
     /// Triangle references, the same way.
@@ -117,7 +117,7 @@ pub struct Coded {
 
 impl Coded {
     /// Numbers the tag pairs of `mesh`'s lines and triangles in sorted order.
-    pub fn new(mesh: &TaggedMesh) -> Coded {
+    pub(crate) fn new(mesh: &TaggedMesh) -> Coded {
         let pairs = |kind: CellKind| -> Vec<(i32, i32)> {
             let set: std::collections::BTreeSet<(i32, i32)> =
                 mesh.cells().filter(|c| c.0 == kind).map(|c| (c.2, c.3)).collect();
@@ -132,7 +132,7 @@ impl Coded {
     }
 
     /// The mesh with references for tags, as written for MMG.
-    pub fn encode(&self, mesh: &TaggedMesh) -> TaggedMesh {
+    pub(crate) fn encode(&self, mesh: &TaggedMesh) -> TaggedMesh {
         let mut out = TaggedMesh::new();
         out.points = mesh.points.clone();
         for b in &mesh.blocks {
@@ -153,7 +153,11 @@ impl Coded {
 
     /// MMG's result with the tags its references stand for. Edges of reference 0 are
     /// left out; any other unknown reference is an error.
-    pub fn decode(&self, program: &str, out: &TaggedMesh) -> Result<TaggedMesh, AdapterError> {
+    pub(crate) fn decode(
+        &self,
+        program: &str,
+        out: &TaggedMesh,
+    ) -> Result<TaggedMesh, AdapterError> {
         let mut mesh = TaggedMesh::new();
         mesh.points = out.points.iter().map(|p| [p[0], p[1], 0.0]).collect();
         let mut lines = CellBlock::new(CellKind::Line);
@@ -197,7 +201,7 @@ impl Coded {
 
 /// The vertices MMG must keep: vertex cells, the topological points of the mesh (curve
 /// ends and junctions), and the vertices where the line reference changes, sorted.
-pub fn required_vertices(mesh: &TaggedMesh) -> Vec<usize> {
+pub(crate) fn required_vertices(mesh: &TaggedMesh) -> Vec<usize> {
     let mut req: Vec<usize> =
         mesh.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| c.1[0] as usize).collect();
     req.extend(Topology::from_mesh(mesh).points.iter().map(|p| p.vertex));

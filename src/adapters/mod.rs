@@ -16,12 +16,12 @@
 //!   quoted on failure.
 
 mod controlled;
-pub mod gmsh;
-pub mod mmg;
-pub mod native;
-pub mod prepare;
-pub mod restore;
-pub mod tool;
+pub(crate) mod gmsh;
+pub(crate) mod mmg;
+pub(crate) mod native;
+pub(crate) mod prepare;
+pub(crate) mod restore;
+pub(crate) mod tool;
 
 use std::path::PathBuf;
 
@@ -30,7 +30,7 @@ use smartmesh_formats::TaggedMesh;
 use crate::metric::Sym2;
 use crate::remesh::RemeshCounts;
 use crate::topology::Topology;
-pub use controlled::Controlled;
+pub(crate) use controlled::Controlled;
 
 /// A remesher: a new mesh of the same domain, with the same tags, that follows `metric`
 /// (one SPD tensor per vertex of `mesh`) as well as it can.

@@ -13,7 +13,7 @@ use crate::topology::Topology;
 
 /// The native remesher with its options.
 #[derive(Debug, Clone, Default)]
-pub struct NativeAdapter {
+pub(crate) struct NativeAdapter {
     /// How to remesh.
     pub options: RemeshOptions,
 }

@@ -15,7 +15,7 @@ use crate::metric::Sym2;
 
 /// A mesh ready for a tool, and where its vertices came from.
 #[derive(Debug, Clone)]
-pub struct Prepared {
+pub(crate) struct Prepared {
     /// Linear triangles, lines and vertex cells over the used vertices.
     pub mesh: TaggedMesh,
     /// For each vertex of `mesh`, its index in the original mesh.
@@ -24,13 +24,13 @@ pub struct Prepared {
 
 impl Prepared {
     /// `metric` (one per original vertex) restricted to the prepared vertices.
-    pub fn metric(&self, metric: &[Sym2]) -> Vec<Sym2> {
+    pub(crate) fn metric(&self, metric: &[Sym2]) -> Vec<Sym2> {
         self.original.iter().map(|&v| metric[v]).collect()
     }
 }
 
 /// Prepares `mesh`, whose `metric` must have one tensor per vertex.
-pub fn prepare(mesh: &TaggedMesh, metric: &[Sym2]) -> Result<Prepared, AdapterError> {
+pub(crate) fn prepare(mesh: &TaggedMesh, metric: &[Sym2]) -> Result<Prepared, AdapterError> {
     if metric.len() != mesh.points.len() {
         return Err(AdapterError::Input(format!(
             "{} metric tensors for {} mesh vertices",

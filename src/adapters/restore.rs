@@ -10,7 +10,7 @@ use smartmesh_formats::{CellKind, TaggedMesh};
 use super::AdapterError;
 
 /// 0 for vertex cells, 1 for lines, 2 for surface cells.
-pub fn dimension(kind: CellKind) -> u8 {
+pub(crate) fn dimension(kind: CellKind) -> u8 {
     match kind {
         CellKind::Vertex => 0,
         CellKind::Line | CellKind::Line3 => 1,
@@ -24,7 +24,7 @@ pub fn physical_tags(mesh: &TaggedMesh) -> BTreeSet<(u8, i32)> {
 }
 
 /// Fails, naming them, when physical tags of `input` have no cell in `output`.
-pub fn ensure_tags_kept(
+pub(crate) fn ensure_tags_kept(
     program: &str,
     input: &TaggedMesh,
     output: &TaggedMesh,
@@ -48,7 +48,7 @@ pub fn ensure_tags_kept(
 }
 
 /// Gives `output` the tag names of `input` (those it does not name itself).
-pub fn attach_names(input: &TaggedMesh, output: &mut TaggedMesh) {
+pub(crate) fn attach_names(input: &TaggedMesh, output: &mut TaggedMesh) {
     for (k, name) in &input.tag_names {
         output.tag_names.entry(*k).or_insert_with(|| name.clone());
     }
@@ -58,7 +58,7 @@ pub fn attach_names(input: &TaggedMesh, output: &mut TaggedMesh) {
 /// 10⁻⁹ of the bounding-box diagonal: tools print coordinates with 15 digits), and gives
 /// that vertex the input's exact coordinates. A vertex cell with no vertex there means
 /// the tool moved or removed a required point.
-pub fn place_point_cells(
+pub(crate) fn place_point_cells(
     program: &str,
     input: &TaggedMesh,
     output: &mut TaggedMesh,

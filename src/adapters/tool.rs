@@ -18,7 +18,7 @@ const QUOTED_LINES: usize = 20;
 /// the directories of `PATH`. `hint` says how to get the program. The path returned is
 /// absolute: the tool runs in a temporary directory, and a relative `./tool.sh` means
 /// the one in the current directory.
-pub fn find_program(
+pub(crate) fn find_program(
     name: &str,
     explicit: Option<&Path>,
     hint: &'static str,
@@ -59,7 +59,7 @@ fn is_executable(p: &Path) -> bool {
 
 /// What a program printed: the last [`KEPT`] bytes of each stream.
 #[derive(Debug, Clone, Default)]
-pub struct Printed {
+pub(crate) struct Printed {
     /// Its stdout.
     pub stdout: Captured,
     /// Its stderr.
@@ -68,10 +68,10 @@ pub struct Printed {
 
 /// The bytes of each output stream kept, at the end: a tool that prints gigabytes costs
 /// no more.
-pub const KEPT: usize = 64 << 10;
+pub(crate) const KEPT: usize = 64 << 10;
 
 /// How a run that did not exit with 0 ended.
-pub enum Stopped {
+pub(crate) enum Stopped {
     /// It could not be started.
     Start(std::io::Error),
     /// It exited with another status or was killed; what it printed.
@@ -82,7 +82,7 @@ pub enum Stopped {
 
 /// Runs `run` (a [`crate::child::Run`] of the program) to its end, keeping the last
 /// [`KEPT`] bytes of each stream: what it printed when it exits with 0.
-pub fn finish(run: Run) -> Result<Printed, Stopped> {
+pub(crate) fn finish(run: Run) -> Result<Printed, Stopped> {
     let ended = run.keep(Keep::Tail(KEPT), Keep::Tail(KEPT)).run().map_err(Stopped::Start)?;
     match ended {
         Ended::Exited { status, stdout, stderr } => {
@@ -98,7 +98,7 @@ pub fn finish(run: Run) -> Result<Printed, Stopped> {
 }
 
 /// An exit status in words.
-pub fn status_words(status: std::process::ExitStatus) -> String {
+pub(crate) fn status_words(status: std::process::ExitStatus) -> String {
     if let Some(c) = status.code() {
         return format!("exit status {c}");
     }
@@ -113,7 +113,7 @@ pub fn status_words(status: std::process::ExitStatus) -> String {
 /// exits at once) and returns what it printed when it exits with 0; otherwise an
 /// [`AdapterError::Failed`] quoting the end of what it printed, or
 /// [`AdapterError::Interrupted`].
-pub fn run(
+pub(crate) fn run(
     program: &Path,
     args: &[impl AsRef<OsStr>],
     dir: &Path,
@@ -146,7 +146,7 @@ const QUOTED_WIDTH: usize = 400;
 
 /// The last lines of a run's stderr, then of its stdout, each line indented, control
 /// characters shown escaped, a line longer than [`QUOTED_WIDTH`] cut to its end.
-pub fn quote(printed: &Printed) -> String {
+pub(crate) fn quote(printed: &Printed) -> String {
     let mut lines = Vec::new();
     for stream in [&printed.stderr, &printed.stdout] {
         let text = String::from_utf8_lossy(&stream.bytes);

@@ -18,8 +18,16 @@ use std::path::Path;
 
 use sha2::{Digest, Sha256};
 
+/// The shell prologue that makes a variant's process die with the batch that started it.
+pub use crate::child::GUARD;
 pub use manifest::{ManifestError, Variant};
 pub use results::{ResultRecord, Status};
+
+/// Families of geometry variants (NACA airfoils, turbine distributors) written as
+/// Triangle `.poly` files with a manifest for `smartmesh batch`.
+pub mod variants {
+    pub use crate::variants::{distributor, naca, parse_values, GeometryError, Pslg};
+}
 
 /// Shard `index` of `count` (`--shard i/N`, `i` from 0).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -13,11 +13,11 @@ use smartmesh::adapt::solver::{readable_extension, Goal, Schedule, SolverLoop};
 use smartmesh::adapt::{
     run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Outcome, Phase, Tolerances,
 };
-use smartmesh::adapters::{adapter, AdapterKind, AdapterOptions};
 use smartmesh::formats::{Format, TaggedMesh};
-use smartmesh::history::History;
+use smartmesh::History;
 use smartmesh::layer::LayerOptions;
 use smartmesh::Topology;
+use smartmesh::{adapter, AdapterKind, AdapterOptions};
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
 use super::solution::SolutionArgs;
@@ -103,7 +103,7 @@ schedule's first vertex count. A failing solver is quoted (the end of its output
 is read and dropped) and stops the loop with exit status 1; the best mesh stays. The history records per iteration the solver's seconds and the complexity asked \
 and obtained."
 )]
-pub struct AdaptArgs {
+pub(super) struct AdaptArgs {
     /// Starting mesh (any readable format with triangles or quadrangles), or a .poly.
     input: PathBuf,
     #[command(flatten)]
@@ -316,17 +316,19 @@ fn handle_interrupts() {
     }
     let installed = ctrlc::set_handler(|| {
         if INTERRUPTS.fetch_add(1, Ordering::SeqCst) == 0 {
-            smartmesh::child::interrupt();
+            smartmesh::adapt::interrupt();
             if ui::level() >= ui::Level::Normal {
-                eprintln!(
-                    "\nsmartmesh: adapt: stopping after the current phase (Ctrl-C again to stop now)"
+                ui::interrupted(
+                    "adapt",
+                    "stopping after the current phase (Ctrl-C again to stop now)",
                 );
             }
         } else {
             let _writing = WRITING.lock();
-            smartmesh::child::stop_all();
-            eprintln!(
-                "\nsmartmesh: adapt: stopped; the result files are as the last iteration left them"
+            smartmesh::adapt::stop_all();
+            ui::interrupted(
+                "adapt",
+                "stopped; the result files are as the last iteration left them",
             );
             std::process::exit(130);
         }
@@ -347,7 +349,7 @@ struct Progress {
     /// iteration and when the loop stops).
     printed: usize,
     /// The z of the input's plane: the loop computes in (x, y), the files are written in
-    /// the input's plane ([`smartmesh::planar`]).
+    /// the input's plane ([`smartmesh::plane`]).
     plane_z: f64,
 }
 
@@ -376,7 +378,7 @@ impl Observer for Progress {
             let _writing = WRITING.lock();
             let placed = new_best.filter(|_| self.plane_z != 0.0).map(|m| {
                 let mut m = m.clone();
-                smartmesh::planar::place(&mut m, self.plane_z);
+                smartmesh::place(&mut m, self.plane_z);
                 m
             });
             let new_best = placed.as_ref().or(new_best);
@@ -518,7 +520,7 @@ fn say_layer_and_sides(outcome: &mut Outcome, plane_z: f64) -> Result<(), CliErr
 const ERROR_START_VERTICES: f64 = 1000.0;
 
 /// Runs `adapt`.
-pub fn run(args: AdaptArgs) -> Result<(), CliError> {
+pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     let format = check_outputs(&args)?;
     super::set_threads(args.threads)?;
@@ -621,7 +623,7 @@ pub fn run(args: AdaptArgs) -> Result<(), CliError> {
         }
         e => e.into(),
     })?;
-    smartmesh::planar::place(&mut outcome.best, plane_z);
+    smartmesh::place(&mut outcome.best, plane_z);
     let _writing = WRITING.lock();
     for w in &outcome.warnings {
         ui::warn(w);

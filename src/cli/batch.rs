@@ -18,7 +18,7 @@
 //! file is the variant's `adapt` process's stdin, so the lock lasts as long as that
 //! process, even past this one's death; and that process dies with this one (it runs in
 //! a process group of its own under the guard `cpp` runs under,
-//! [`smartmesh::child::GUARD`]). Lock files are never removed (removing one
+//! [`smartmesh::batch::GUARD`]). Lock files are never removed (removing one
 //! would let two processes hold "the" lock of a name).
 //!
 //! Before any run: the manifest is a regular file of at most [`MAX_MANIFEST_BYTES`], the
@@ -41,7 +41,7 @@ use clap::{ArgAction, Args, Parser};
 use smartmesh::batch::manifest::{self, shown, AdaptOption, ManifestError, OptionKind};
 use smartmesh::batch::results::{self, RESULTS};
 use smartmesh::batch::{content_hash, ResultRecord, Shard, Status, Variant};
-use smartmesh::history::History;
+use smartmesh::History;
 
 use super::adapt::AdaptArgs;
 use super::{ui, CliError, ExitStatus};
@@ -81,7 +81,7 @@ Examples:
   smartmesh batch variants.jsonl -o target/campaign --jobs 2
   smartmesh batch variants.jsonl -o target/campaign --resume
   hq submit --each-line variants.jsonl -- smartmesh batch variants.jsonl -o campaign --resume")]
-pub struct BatchArgs {
+pub(super) struct BatchArgs {
     /// The manifest (JSON lines, one variant per line).
     manifest: PathBuf,
     /// The output directory (created if missing).
@@ -103,7 +103,7 @@ pub struct BatchArgs {
 const HQ_ENTRY: &str = "HQ_ENTRY";
 
 /// The largest manifest read, in bytes (about a million variants).
-pub const MAX_MANIFEST_BYTES: u64 = 256 << 20;
+pub(super) const MAX_MANIFEST_BYTES: u64 = 256 << 20;
 
 /// Ctrl-C (or SIGTERM, SIGHUP) received: launch nothing more.
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -113,7 +113,7 @@ static RUNNING: Mutex<Vec<i32>> = Mutex::new(Vec::new());
 fn handle_interrupts() {
     let installed = ctrlc::set_handler(|| {
         if !STOP.swap(true, Ordering::SeqCst) && ui::level() >= ui::Level::Normal {
-            eprintln!("\nsmartmesh: batch: stopping the variants under way; no new one starts");
+            ui::interrupted("batch", "stopping the variants under way; no new one starts");
         }
         #[cfg(unix)]
         if let Ok(running) = RUNNING.lock() {
@@ -484,7 +484,7 @@ fn adapt_command(
     let mut command = {
         let mut c = Process::new("/bin/sh");
         c.arg("-c")
-            .arg(smartmesh::child::GUARD)
+            .arg(smartmesh::batch::GUARD)
             .arg("sh")
             .arg(std::process::id().to_string())
             .arg(program);
@@ -599,7 +599,7 @@ enum Outcome {
 }
 
 /// Runs `batch`.
-pub fn run(args: BatchArgs) -> Result<(), CliError> {
+pub(super) fn run(args: BatchArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     let selected = variants(&args)?;
     check_outputs_spare_inputs(&args, &selected)?;

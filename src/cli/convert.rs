@@ -28,7 +28,7 @@ Examples:
   smartmesh convert naca.msh naca.su2
   smartmesh convert skin.msh case.foam --extrude 0.1     # then: checkMesh -case case.foam"
 )]
-pub struct ConvertArgs {
+pub(super) struct ConvertArgs {
     /// Input mesh (`-` for stdin, with --from).
     input: PathBuf,
     /// Output mesh (`-` for stdout, with --to). Sibling files (.sol, .bin, .node)
@@ -70,7 +70,7 @@ struct ConvertSummary<'a> {
 }
 
 /// Runs `convert`.
-pub fn run(args: ConvertArgs) -> Result<(), CliError> {
+pub(super) fn run(args: ConvertArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     let from = args.from.or_else(|| Format::from_path(&args.input));
     if args.output.as_os_str() == "-" && args.json {

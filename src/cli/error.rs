@@ -11,16 +11,16 @@ use std::fmt::Write as _;
 use std::io::ErrorKind as IoKind;
 
 use smartmesh::adapt::{AdaptError, PhaseError, StartError};
-use smartmesh::adapters::AdapterError;
 use smartmesh::formats::{Error as FormatError, ErrorKind as FormatKind};
 use smartmesh::mesher::MeshError;
-use smartmesh::metric_field::MetricError;
 use smartmesh::recipe::RecipeError;
 use smartmesh::recipe::SizeMeshError;
 use smartmesh::remesh::RemeshError;
 use smartmesh::sizing::SizingError;
+use smartmesh::AdapterError;
 use smartmesh::ControlError;
 use smartmesh::MeshGraphError;
+use smartmesh::MetricError;
 
 /// How a run ended (ruff's `ExitStatus`): 0 success, 1 the work failed, 2 bad usage or
 /// input.
@@ -50,12 +50,12 @@ impl From<ExitStatus> for std::process::ExitCode {
 
 /// A boxed library error, kept with its type for [`status_of`] and its chain for the
 /// `Cause:` lines.
-pub type Source = Box<dyn StdError + Send + Sync + 'static>;
+pub(super) type Source = Box<dyn StdError + Send + Sync + 'static>;
 
 /// An error the CLI prints: a message, the error it came from (if any) and the exit
 /// status, decided once, from the message's kind or the source's chain.
 #[derive(Debug)]
-pub struct CliError {
+pub(crate) struct CliError {
     /// Exit status.
     pub status: ExitStatus,
     /// What to print after `smartmesh: error: `.
@@ -66,19 +66,19 @@ pub struct CliError {
 
 impl CliError {
     /// A usage or input error the CLI itself finds (exit 2).
-    pub fn usage(message: impl Into<String>) -> Self {
+    pub(crate) fn usage(message: impl Into<String>) -> Self {
         CliError { status: ExitStatus::Error, message: message.into(), source: None }
     }
 
     /// Bad input (exit 2) that a library error explains: the error is kept as the
     /// source, whatever status its type would give.
-    pub fn input(message: impl Into<String>, source: impl Into<Source>) -> Self {
+    pub(crate) fn input(message: impl Into<String>, source: impl Into<Source>) -> Self {
         CliError { status: ExitStatus::Error, message: message.into(), source: Some(source.into()) }
     }
 
     /// A library error under a message of the CLI's (what it was doing); the status
     /// comes from the error.
-    pub fn context(message: impl Into<String>, source: impl Into<Source>) -> Self {
+    pub(crate) fn context(message: impl Into<String>, source: impl Into<Source>) -> Self {
         let source = source.into();
         CliError {
             status: status_of(source.as_ref()),
@@ -90,7 +90,7 @@ impl CliError {
     /// The text printed on stderr: `message`, then `  Cause: …` for each error of the
     /// chain whose text the lines above do not already hold (most library errors quote
     /// their source in their own message).
-    pub fn render(&self) -> String {
+    pub(crate) fn render(&self) -> String {
         let mut out = self.message.clone();
         let mut printed = self.message.clone();
         let mut next: Option<&(dyn StdError + 'static)> = self.source.as_deref().map(|e| e as _);
@@ -129,7 +129,7 @@ impl CliError {
 /// iteration of `adapt` is a failure of the work even when a sizing error caused it),
 /// passing through the wrappers that only carry their source (a read error inside the
 /// loop's output error). Unknown errors are failures of the work.
-pub fn status_of(error: &(dyn StdError + 'static)) -> ExitStatus {
+pub(super) fn status_of(error: &(dyn StdError + 'static)) -> ExitStatus {
     let mut next = Some(error);
     while let Some(e) = next {
         if let Some(status) = decides(e) {
@@ -210,8 +210,8 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
         || e.is::<MeshGraphError>()
         || e.is::<RemeshError>()
         || e.is::<ControlError>()
-        || e.is::<smartmesh::solution::input::FieldError>()
-        || e.is::<smartmesh::planar::NotPlanar>();
+        || e.is::<smartmesh::sizing::solution::input::FieldError>()
+        || e.is::<smartmesh::NotPlanar>();
     input.then_some(Error)
 }
 
@@ -220,7 +220,7 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
 /// closed by its reader (`smartmesh convert x.msh - --to vtk | head -c 10`) ends the run
 /// quietly with 0, as ripgrep and the coreutils under a shell do; anything else (a full
 /// disk, a device error) is a failure of the work (1).
-pub fn io_status(e: &std::io::Error) -> ExitStatus {
+pub(super) fn io_status(e: &std::io::Error) -> ExitStatus {
     match e.kind() {
         IoKind::BrokenPipe => ExitStatus::Success,
         IoKind::NotFound | IoKind::PermissionDenied | IoKind::AlreadyExists => ExitStatus::Error,

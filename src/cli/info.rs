@@ -8,10 +8,10 @@ use clap::Args;
 use smartmesh::formats::words::count;
 use smartmesh::formats::Format;
 use smartmesh::layer::stats::{quad_quality, QuadQuality};
-use smartmesh::metric_field::MetricField;
-use smartmesh::topology::Topology;
-use smartmesh::validity::{check_mesh, Validity};
+use smartmesh::{check_mesh, Validity};
 use smartmesh::MeshSummary;
+use smartmesh::MetricField;
+use smartmesh::Topology;
 
 use super::{parse_format, print_stdout, CliError};
 
@@ -25,7 +25,7 @@ use super::{parse_format, print_stdout, CliError};
   smartmesh info adapted.msh --recipe recipe.toml    # the match of its periodic sides
   cat mesh.vtu | smartmesh info --from vtu -")]
 #[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs are measured on FILE: vertex counts and the largest distance between a vertex's image and its partner (exit 2 when the sides are not images of each other)")))]
-pub struct InfoArgs {
+pub(super) struct InfoArgs {
     /// Mesh file (`-` for stdin, with --from).
     file: PathBuf,
     /// Input format, when the extension does not tell (gmsh, vtk, vtu, triangle, obj, medit).
@@ -50,12 +50,11 @@ pub struct InfoArgs {
 }
 
 /// Runs `info`.
-pub fn run(args: InfoArgs) -> Result<(), CliError> {
+pub(super) fn run(args: InfoArgs) -> Result<(), CliError> {
     let (mesh, read_notes) = super::read_mesh_noted(&args.file, args.from, args.no_solution)?;
-    // Described whole, but not as if it were flat ([`smartmesh::planar`]); a 3D mesh is
+    // Described whole, but not as if it were flat ([`smartmesh::plane`]); a 3D mesh is
     // what `info` expects, no warning.
-    if let Err(e @ smartmesh::planar::NotPlanar::OffPlane { .. }) = smartmesh::planar::plane(&mesh)
-    {
+    if let Err(e @ smartmesh::NotPlanar::OffPlane { .. }) = smartmesh::plane(&mesh) {
         super::ui::warn(&format!(
             "{}: {e}; lengths and areas are measured in space",
             args.file.display()

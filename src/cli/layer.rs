@@ -9,10 +9,10 @@ use smartmesh::formats::Format;
 use smartmesh::layer::stats::{quad_quality, QuadQuality};
 use smartmesh::layer::to_metric::band_to_metric;
 use smartmesh::layer::{insert, Growth, LayerReport};
-use smartmesh::metric_field::MetricField;
 use smartmesh::periodic::PairMatch;
 use smartmesh::recipe::{CurveValues, EntityRef, LayerSpec, SpecError};
 use smartmesh::remesh::RemeshOptions;
+use smartmesh::MetricField;
 
 use super::output::{check_output_dir, is_stdio, shown};
 use super::{parse_format, print_stdout, ui, CliError};
@@ -54,7 +54,7 @@ Examples:
       --recipe periodic.toml -o channel-skin.msh     # periodic sides kept matched"
 )]
 #[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs the skin must keep matched (its sizing steps and LAYER section are not used)")))]
-pub struct LayerArgs {
+pub(super) struct LayerArgs {
     /// Input triangle mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
     /// Output mesh (any writable format; `-` for stdout, with --to).
@@ -198,7 +198,7 @@ fn layer_spec(args: &LayerArgs) -> Result<LayerSpec, CliError> {
 }
 
 /// Runs `layer`.
-pub fn run(args: LayerArgs) -> Result<(), CliError> {
+pub(super) fn run(args: LayerArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     if args.output.as_os_str() == "-" && args.json {
         return Err(CliError::usage(
@@ -258,7 +258,7 @@ pub fn run(args: LayerArgs) -> Result<(), CliError> {
         }
         ui::note(&a.to_string());
     }
-    smartmesh::planar::place(&mut layered.mesh, plane_z);
+    smartmesh::place(&mut layered.mesh, plane_z);
     let written = args.output_format.write(&args.output, &layered.mesh, to)?;
     let r = &layered.report;
     for n in &r.notes {

@@ -46,7 +46,7 @@ Examples:
   smartmesh mesh box.poly -o box.1.node --keep-convex-hull      # Triangle's -pqc
   smartmesh mesh channel.poly --recipe periodic.toml -o channel.msh   # periodic sides matched"
 )]
-pub struct MeshArgs {
+pub(super) struct MeshArgs {
     /// Input graph: a .poly, or any mesh with Line cells (`-` for stdin, with --from).
     input: PathBuf,
     /// Output mesh, any writable format (`-` for stdout, with --to).
@@ -122,7 +122,7 @@ fn poly_line(args: &MeshArgs, from: Option<Format>, e: &MeshError) -> Option<u64
 }
 
 /// Runs `mesh`.
-pub fn run(args: MeshArgs) -> Result<(), CliError> {
+pub(super) fn run(args: MeshArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     if args.output.as_os_str() == "-" && args.json {
         return Err(CliError::usage(
@@ -162,7 +162,7 @@ pub fn run(args: MeshArgs) -> Result<(), CliError> {
         };
         CliError::context(format!("{at}: {e}{hint}"), e)
     })?;
-    smartmesh::planar::place(&mut mesh, plane_z);
+    smartmesh::place(&mut mesh, plane_z);
     let periodic = smartmesh::periodic::check_all(&mesh, &pairs)
         .map_err(|e| CliError::context(format!("{e} (result)"), e))?;
     for m in &periodic {

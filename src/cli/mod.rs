@@ -15,7 +15,7 @@ mod report;
 mod size;
 mod solution;
 mod spelling;
-pub mod ui;
+pub(crate) mod ui;
 mod variants;
 
 use std::io::Write;
@@ -23,8 +23,8 @@ use std::process::ExitCode;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
-pub use error::{CliError, ExitStatus};
-pub use output::{MeshOutputArgs, RecipeInput};
+pub(crate) use error::{CliError, ExitStatus};
+pub(crate) use output::{MeshOutputArgs, RecipeInput};
 
 const ABOUT: &str = "Anisotropic metric fields from geometry, and the glue between meshing tools.
 
@@ -62,7 +62,7 @@ enum Command {
 }
 
 /// Parses arguments, runs the command, prints errors, maps them to exit codes.
-pub fn main() -> ExitCode {
+pub(crate) fn main() -> ExitCode {
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
     if let Some(message) = spelling::single_dash_option(&Cli::command(), &args) {
         let _ = writeln!(std::io::stderr(), "smartmesh: error: {message}");
@@ -118,7 +118,7 @@ pub fn main() -> ExitCode {
 /// Most threads a run starts: starting a thread costs its stack and a few tens of
 /// microseconds, and 100 000 of them took over a minute before any work; the largest
 /// nodes have a few hundred cores.
-pub const MAX_THREADS: usize = 1024;
+pub(crate) const MAX_THREADS: usize = 1024;
 
 /// `cmd` with every subcommand's usage line fixed to the one its help prints
 /// (`smartmesh remesh [OPTIONS] <MESH>`). Left to itself, clap's error messages print a
@@ -146,7 +146,7 @@ fn fix_usage(mut cmd: clap::Command) -> clap::Command {
 /// Sets the thread count of the whole run (`--threads`; 0: rayon's default, every core
 /// unless `RAYON_NUM_THREADS` says otherwise), at most [`MAX_THREADS`], checked before
 /// any thread starts. Outputs do not depend on it.
-pub fn set_threads(threads: usize) -> Result<(), CliError> {
+pub(crate) fn set_threads(threads: usize) -> Result<(), CliError> {
     if threads > MAX_THREADS {
         return Err(CliError::usage(format!(
             "--threads {threads}: at most {MAX_THREADS} (0: one per core)"
@@ -170,12 +170,12 @@ pub fn set_threads(threads: usize) -> Result<(), CliError> {
 }
 
 /// Writes to stdout; a closed pipe (`smartmesh info x | head`) is not an error.
-pub fn print_stdout(text: &str) -> Result<(), CliError> {
+pub(crate) fn print_stdout(text: &str) -> Result<(), CliError> {
     write_stdout(text.as_bytes())
 }
 
 /// Writes bytes to stdout; a closed pipe ends the run quietly ([`error::io_status`]).
-pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
+pub(crate) fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
     let mut out = std::io::stdout().lock();
     out.write_all(bytes)
         .and_then(|_| out.flush())
@@ -186,7 +186,7 @@ pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
 /// could not keep, unless quiet; returns the notes too (for `--json`'s `read_notes`,
 /// which `-q` does not silence). `no_solution`: without the `.sol`/`.solb` beside a
 /// Medit mesh (`--no-solution`).
-pub fn read_mesh_noted(
+pub(crate) fn read_mesh_noted(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
     no_solution: bool,
@@ -203,7 +203,7 @@ pub fn read_mesh_noted(
 /// [`read_mesh_noted`] for a command that computes on linear cells (sizing, remeshing,
 /// the skin): second-order cells are made linear, which a note says (printed, and the
 /// last of the notes returned).
-pub fn read_linear_mesh_noted(
+pub(crate) fn read_linear_mesh_noted(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
 ) -> Result<(smartmesh::formats::TaggedMesh, Vec<String>), CliError> {
@@ -214,9 +214,9 @@ pub fn read_linear_mesh_noted(
 
 /// [`read_linear_mesh_noted`] for the commands that compute in the plane: a mesh that
 /// does not lie in one plane z = const is bad input (2), named with the file
-/// ([`smartmesh::planar`]).
+/// ([`smartmesh::plane`]).
 /// Returns the mesh and the z of its plane, where the command writes its output.
-pub fn read_planar_mesh(
+pub(crate) fn read_planar_mesh(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
 ) -> Result<(smartmesh::formats::TaggedMesh, f64), CliError> {
@@ -224,12 +224,12 @@ pub fn read_planar_mesh(
 }
 
 /// [`read_planar_mesh`], with the notes it printed.
-pub fn read_planar_mesh_noted(
+pub(crate) fn read_planar_mesh_noted(
     path: &std::path::Path,
     format: Option<smartmesh::formats::Format>,
 ) -> Result<(smartmesh::formats::TaggedMesh, f64, Vec<String>), CliError> {
     let (mesh, notes) = read_linear_mesh_noted(path, format)?;
-    let z = smartmesh::planar::plane(&mesh).map_err(|e| {
+    let z = smartmesh::plane(&mesh).map_err(|e| {
         let name = input_name(path);
         CliError::usage(format!("{name}: {e}"))
     })?;
@@ -238,7 +238,7 @@ pub fn read_planar_mesh_noted(
 
 /// Makes the second-order cells of `mesh`, read from `path`, linear, saying so; returns
 /// the note when there was something to make linear.
-pub fn linearise(
+pub(crate) fn linearise(
     mesh: &mut smartmesh::formats::TaggedMesh,
     path: &std::path::Path,
 ) -> Option<String> {
@@ -249,7 +249,7 @@ pub fn linearise(
 }
 
 /// Parses a `--from`/`--to` format name.
-pub fn parse_format(name: &str) -> Result<smartmesh::formats::Format, String> {
+pub(crate) fn parse_format(name: &str) -> Result<smartmesh::formats::Format, String> {
     smartmesh::formats::Format::from_name(name).ok_or_else(|| {
         format!("unknown format `{name}`; known: {}", smartmesh::formats::Format::NAMES)
     })

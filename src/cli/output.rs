@@ -15,7 +15,7 @@ use super::{parse_format, ui, CliError};
 
 /// Gmsh MSH versions on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum GmshVersionArg {
+pub(crate) enum GmshVersionArg {
     /// MSH 2.2.
     #[value(name = "2.2")]
     V22,
@@ -26,7 +26,7 @@ pub enum GmshVersionArg {
 
 /// VTK legacy versions on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum VtkVersionArg {
+pub(crate) enum VtkVersionArg {
     /// 4.2, read by every VTK and meshio.
     #[value(name = "4.2")]
     V42,
@@ -37,7 +37,7 @@ pub enum VtkVersionArg {
 
 /// VTK XML encodings on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum VtuEncodingArg {
+pub(crate) enum VtuEncodingArg {
     /// Numbers as text.
     Ascii,
     /// Base64 inline binary.
@@ -48,7 +48,7 @@ pub enum VtuEncodingArg {
 
 /// Output switches of every command that writes a mesh.
 #[derive(Debug, Clone, Args)]
-pub struct MeshOutputArgs {
+pub(crate) struct MeshOutputArgs {
     /// Output format when the extension does not tell (needed with `-o -`): a format name
     /// or extension (msh, vtu, vtk, mesh, obj, node, gltf, glb, su2, openfoam; `size` also
     /// sol, solb, pos).
@@ -99,7 +99,7 @@ impl MeshOutputArgs {
     /// The writer options these switches ask for, for the output `path`: the one place
     /// where the flattened flags meet the formats' groups (`--binary` is Gmsh's, legacy
     /// VTK's and Medit's).
-    pub fn write_options(&self, path: &Path) -> WriteOptions {
+    pub(crate) fn write_options(&self, path: &Path) -> WriteOptions {
         WriteOptions {
             gmsh: GmshWrite {
                 version: if self.msh2 || self.gmsh_version == GmshVersionArg::V22 {
@@ -141,7 +141,7 @@ impl MeshOutputArgs {
 
     /// The mesh format of `output`: `--to`, else its extension; a usage error when
     /// neither tells (and before any work is done).
-    pub fn mesh_format(&self, output: &Path) -> Result<Format, CliError> {
+    pub(crate) fn mesh_format(&self, output: &Path) -> Result<Format, CliError> {
         if let Some(t) = &self.to {
             return parse_format(t).map_err(|e| CliError::usage(format!("--to: {e}")));
         }
@@ -159,7 +159,7 @@ impl MeshOutputArgs {
     }
 
     /// Writes `mesh` to `output` (`-`: stdout) in `format`, and prints the writer's notes.
-    pub fn write(
+    pub(crate) fn write(
         &self,
         output: &Path,
         mesh: &TaggedMesh,
@@ -173,7 +173,7 @@ impl MeshOutputArgs {
 }
 
 /// `path` as messages name it: `stdout` for `-`.
-pub fn shown(path: &Path) -> String {
+pub(super) fn shown(path: &Path) -> String {
     if is_stdio(path) {
         "stdout".into()
     } else {
@@ -182,13 +182,13 @@ pub fn shown(path: &Path) -> String {
 }
 
 /// Whether `path` is `-` (stdin or stdout).
-pub fn is_stdio(path: &Path) -> bool {
+pub(super) fn is_stdio(path: &Path) -> bool {
     path.as_os_str() == "-"
 }
 
 /// A write error that names `output` (`<stdout>` for `-`, which the formats crate leaves
 /// unnamed).
-pub fn label(e: FormatError, output: &Path) -> FormatError {
+pub(super) fn label(e: FormatError, output: &Path) -> FormatError {
     if is_stdio(output) {
         e.with_path("<stdout>")
     } else {
@@ -198,7 +198,7 @@ pub fn label(e: FormatError, output: &Path) -> FormatError {
 
 /// Refuses, before any work, an output whose directory does not exist or is not a
 /// directory (exit 2, as every bad path the user names).
-pub fn check_output_dir(output: &Path) -> Result<(), CliError> {
+pub(super) fn check_output_dir(output: &Path) -> Result<(), CliError> {
     if is_stdio(output) {
         return Ok(());
     }
@@ -221,7 +221,7 @@ pub fn check_output_dir(output: &Path) -> Result<(), CliError> {
 /// does: the same device and inode, whatever the spelling (`./a.msh`, a symbolic or a
 /// hard link). Writing would replace the input before a reader could tell what was lost.
 /// Without a file at `output` (or with `-` on either side) there is nothing to compare.
-pub fn refuse_same_file(input: &Path, output: &Path) -> Result<(), CliError> {
+pub(super) fn refuse_same_file(input: &Path, output: &Path) -> Result<(), CliError> {
     if is_stdio(input) || is_stdio(output) {
         return Ok(());
     }
@@ -251,7 +251,7 @@ fn same_file(a: &Path, _: &std::fs::Metadata, b: &Path, _: &std::fs::Metadata) -
 
 /// The recipe file of `size` and `adapt`: a path, or `-` for stdin with its format.
 #[derive(Debug, Clone, Args)]
-pub struct RecipeInput {
+pub(crate) struct RecipeInput {
     /// The recipe (.cfg libconfig, .toml, .json; `-` for stdin, with --recipe-format).
     /// Optional only with a solution field (`size --field`, `adapt --solver`).
     #[arg(long, short = 'r')]
@@ -271,13 +271,13 @@ fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
 
 impl RecipeInput {
     /// Whether the recipe comes from stdin.
-    pub fn is_stdin(&self) -> bool {
+    pub(crate) fn is_stdin(&self) -> bool {
         self.recipe.as_deref().is_some_and(is_stdio)
     }
 
     /// Reads and checks the recipe; an empty one when none is given and `optional`
     /// (`why` says when it may be left out, for the error otherwise).
-    pub fn read_or_empty(&self, optional: bool, why: &str) -> Result<Recipe, CliError> {
+    pub(crate) fn read_or_empty(&self, optional: bool, why: &str) -> Result<Recipe, CliError> {
         match &self.recipe {
             Some(_) => self.read(),
             None if optional => Ok(Recipe::default()),
@@ -286,7 +286,7 @@ impl RecipeInput {
     }
 
     /// Reads and checks the recipe.
-    pub fn read(&self) -> Result<Recipe, CliError> {
+    pub(crate) fn read(&self) -> Result<Recipe, CliError> {
         let Some(path) = &self.recipe else {
             return Err(CliError::usage("missing --recipe"));
         };
@@ -294,7 +294,7 @@ impl RecipeInput {
     }
 
     /// The recipe as the history and summaries name it.
-    pub fn label(&self) -> String {
+    pub(crate) fn label(&self) -> String {
         match &self.recipe {
             None => "none".into(),
             Some(p) if is_stdio(p) => "<stdin>".into(),
@@ -307,7 +307,7 @@ impl RecipeInput {
 /// `adapt` they override the recipe's global bounds and gradation; for `remesh` they act
 /// on the metric read.
 #[derive(Debug, Clone, Copy, Args)]
-pub struct SizeControls {
+pub(super) struct SizeControls {
     /// Smallest size anywhere (size, adapt: replaces the recipe's hmin; remesh: clamps
     /// the metric).
     #[arg(long, value_parser = positive_size, help_heading = "Size controls")]
@@ -323,7 +323,7 @@ pub struct SizeControls {
     pub hgrad: Option<f64>,
 }
 
-pub fn positive_size(s: &str) -> Result<f64, String> {
+pub(super) fn positive_size(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v)
             if (smartmesh::SizeTensor::MIN_SIZE..=smartmesh::SizeTensor::MAX_SIZE).contains(&v) =>

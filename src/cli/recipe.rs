@@ -9,13 +9,13 @@ use smartmesh::adapt::starting_mesh;
 use smartmesh::formats::{write_all_atomically, Format};
 use smartmesh::recipe::{ReadOptions, Recipe, RecipeError, RecipeFormat, RegionReport};
 use smartmesh::sizing::{Algorithm, EntitySet};
-use smartmesh::topology::Topology;
+use smartmesh::Topology;
 
 use super::{parse_format, print_stdout, CliError};
 
 /// Sizing recipes: check one against a mesh, or convert it between libconfig, TOML and JSON.
 #[derive(Debug, Args)]
-pub struct RecipeArgs {
+pub(super) struct RecipeArgs {
     #[command(subcommand)]
     command: RecipeCommand,
 }
@@ -34,7 +34,7 @@ fn parse_recipe_format(name: &str) -> Result<RecipeFormat, String> {
 
 /// How a command reads its recipe (flattened into every command that takes one).
 #[derive(Debug, Clone, Copy, Args)]
-pub struct RecipeReadArgs {
+pub(crate) struct RecipeReadArgs {
     /// Read the recipe as data, for one you did not write: no C preprocessor and no
     /// @include (both read any file the recipe names); a directive or an @include is then
     /// an error.
@@ -44,7 +44,7 @@ pub struct RecipeReadArgs {
 
 impl RecipeReadArgs {
     /// The library's reading options.
-    pub fn options(self) -> ReadOptions {
+    pub(crate) fn options(self) -> ReadOptions {
         if self.no_preprocess {
             ReadOptions::untrusted()
         } else {
@@ -53,7 +53,7 @@ impl RecipeReadArgs {
     }
 
     /// Reads the recipe at `path` (its extension tells the format).
-    pub fn read(self, path: &Path) -> Result<Recipe, RecipeError> {
+    pub(crate) fn read(self, path: &Path) -> Result<Recipe, RecipeError> {
         Recipe::from_path_with(path, &self.options())
     }
 }
@@ -71,7 +71,7 @@ Examples:
   smartmesh recipe check distributor.cfg distributor.msh
   smartmesh recipe check --json wing.toml wing.msh | jq '.regions[] | {name, dimension}'"
 )]
-pub struct CheckArgs {
+pub(super) struct CheckArgs {
     /// Recipe file (`-` for stdin, with --recipe-format).
     recipe: PathBuf,
     /// Mesh file the recipe names tags of.
@@ -97,7 +97,7 @@ pub struct CheckArgs {
 #[command(after_help = "Examples:
   smartmesh recipe convert distributor.cfg distributor.toml
   smartmesh recipe convert wing.toml - --to json")]
-pub struct ConvertArgs {
+pub(super) struct ConvertArgs {
     /// Input recipe (`-` for stdin, with --from).
     input: PathBuf,
     /// Output recipe (`-` for stdout, with --to).
@@ -113,7 +113,7 @@ pub struct ConvertArgs {
 }
 
 /// Runs `recipe …`.
-pub fn run(args: RecipeArgs) -> Result<(), CliError> {
+pub(super) fn run(args: RecipeArgs) -> Result<(), CliError> {
     match args.command {
         RecipeCommand::Check(a) => check(a),
         RecipeCommand::Convert(a) => convert(a),
@@ -126,7 +126,7 @@ pub fn run(args: RecipeArgs) -> Result<(), CliError> {
 /// each refuses the same things with the same exit status: a missing format and a text
 /// that is not UTF-8 are bad input (2); a failed read of stdin has the status of its I/O
 /// error.
-pub fn read_recipe(
+pub(super) fn read_recipe(
     path: &Path,
     format: Option<RecipeFormat>,
     flag: &str,

@@ -6,12 +6,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use smartmesh::conformity::Conformity;
 use smartmesh::formats::Format;
-use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::remesh::{remesh_with_progress, BoundaryMode, RemeshEvent, RemeshOptions};
+use smartmesh::Conformity;
 use smartmesh::HistogramBins;
 use smartmesh::SizeControls as MetricControls;
+use smartmesh::{MetricError, MetricField};
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
 use super::{parse_format, print_stdout, ui, CliError};
@@ -44,7 +44,7 @@ Examples:
   smartmesh remesh in.msh --metric field.vtu --recipe periodic.toml -o out.msh   # sides kept matched"
 )]
 #[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs the remeshing keeps matched (its sizing steps are not used: the metric is --metric's)")))]
-pub struct RemeshArgs {
+pub(super) struct RemeshArgs {
     /// Input mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
     /// A metric on MESH's vertices: a mesh file with point data `metric`, a .sol/.solb,
@@ -149,7 +149,7 @@ fn stats_json(
 }
 
 /// Runs `remesh`.
-pub fn run(args: RemeshArgs) -> Result<(), CliError> {
+pub(super) fn run(args: RemeshArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     // Checked before any input is read (a bad count is usage, whatever the input).
     super::set_threads(args.threads)?;
@@ -268,7 +268,7 @@ pub fn run(args: RemeshArgs) -> Result<(), CliError> {
     }
     let mut out =
         remeshed.map_err(|e| CliError::context(format!("{}: {e}", args.mesh.display()), e))?;
-    smartmesh::planar::place(&mut out.mesh, plane_z);
+    smartmesh::place(&mut out.mesh, plane_z);
     for w in &out.stats.warnings {
         ui::warn(w);
     }

@@ -5,10 +5,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 use smartmesh::formats::{write_all_atomically, Format};
-use smartmesh::history::History;
-use smartmesh::metric_field::{MetricError, MetricField};
 use smartmesh::report::{self, ReportFormat, ReportInput, ReportOptions};
+use smartmesh::History;
 use smartmesh::Topology;
+use smartmesh::{MetricError, MetricField};
 
 use super::{parse_format, CliError};
 
@@ -36,7 +36,7 @@ Examples:
   smartmesh size cyl.msh --recipe cyl.toml -o cyl.vtu && smartmesh report cyl.vtu --recipe cyl.toml -o cyl.png
   smartmesh report adapted.msh --metric field.vtu --history history.json -o run.svg"
 )]
-pub struct ReportArgs {
+pub(super) struct ReportArgs {
     /// The mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
     /// A metric on MESH's vertices: a mesh file with point data `metric`, a .sol/.solb,
@@ -72,7 +72,7 @@ pub struct ReportArgs {
 }
 
 /// Runs `report`.
-pub fn run(args: ReportArgs) -> Result<(), CliError> {
+pub(super) fn run(args: ReportArgs) -> Result<(), CliError> {
     let stdout = args.output.as_os_str() == "-";
     let kind = match (&args.to, stdout) {
         (Some(t), _) => match t.to_ascii_lowercase().as_str() {
@@ -155,10 +155,7 @@ pub fn run(args: ReportArgs) -> Result<(), CliError> {
     let bytes = match kind {
         ReportFormat::Svg => std::mem::take(&mut drawn.svg).into_bytes(),
         ReportFormat::Png => {
-            let png = report::png::rasterise(
-                &drawn.svg,
-                &report::png::PngOptions { palette: args.palette },
-            )?;
+            let png = report::rasterise(&drawn.svg, &report::PngOptions { palette: args.palette })?;
             for n in &png.notes {
                 super::ui::note(n);
             }

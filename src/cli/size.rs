@@ -8,13 +8,13 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
+use smartmesh::expected_vertices;
 use smartmesh::formats::Format;
-use smartmesh::metric_field::expected_vertices;
-use smartmesh::metric_field::{MetricField, MetricTarget};
 use smartmesh::recipe::{size_mesh_with_steps, SizeMeshError};
+use smartmesh::sizing::solution::input::{attach, field_names, read_solution};
 use smartmesh::sizing::{StepEvent, StepReport};
-use smartmesh::solution::input::{attach, field_names, read_solution};
 use smartmesh::Topology;
+use smartmesh::{MetricField, MetricTarget};
 
 use super::output::{check_output_dir, is_stdio, label, shown, SizeControls};
 use super::solution::SolutionArgs;
@@ -44,7 +44,7 @@ Examples:
   smartmesh size flow.vtu --field u,p --complexity 4000 -o flow.sol   (both fields, intersected)
   smartmesh size naca.msh -r agard01.toml --solution-file flow.vtu --field mach --complexity 20000 -o both.sol"
 )]
-pub struct SizeArgs {
+pub(super) struct SizeArgs {
     /// Input mesh (any readable format; `-` for stdin, with --from).
     mesh: PathBuf,
     #[command(flatten)]
@@ -145,7 +145,7 @@ fn target(args: &SizeArgs) -> Result<Target, CliError> {
 }
 
 /// Runs `size`.
-pub fn run(args: SizeArgs) -> Result<(), CliError> {
+pub(super) fn run(args: SizeArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     if is_stdio(&args.mesh) && args.recipe.is_stdin() {
         return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));

@@ -6,8 +6,8 @@ use clap::Args;
 use smartmesh::formats::TaggedMesh;
 use smartmesh::recipe::Recipe;
 use smartmesh::sizing::plan::Step;
+use smartmesh::sizing::solution::{Method, Target};
 use smartmesh::sizing::SolutionHessian;
-use smartmesh::solution::{Method, Target};
 use smartmesh::SizeBounds;
 
 use super::output::positive_size;
@@ -15,7 +15,7 @@ use super::CliError;
 
 /// How a solution field becomes a metric.
 #[derive(Debug, Clone, Args)]
-pub struct SolutionArgs {
+pub(super) struct SolutionArgs {
     /// The scalar point-data array of the solution (size: of the mesh, or of
     /// --solution-file; adapt: of the solver's output, whose only scalar array is taken
     /// when none is named). Repeat it or separate names by commas for several fields:
@@ -68,7 +68,7 @@ fn method(s: &str) -> Result<Method, String> {
 
 impl SolutionArgs {
     /// The target given: the vertex count or the error; `None` without either.
-    pub fn target(&self) -> Option<Target> {
+    pub(super) fn target(&self) -> Option<Target> {
         match (self.complexity, self.error) {
             (Some(n), _) => Some(Target::Vertices(n)),
             (None, Some(e)) => Some(Target::Error(e)),
@@ -77,7 +77,7 @@ impl SolutionArgs {
     }
 
     /// The fields named by --field, in order: each once, none empty.
-    pub fn fields(&self) -> Result<Vec<String>, CliError> {
+    pub(super) fn fields(&self) -> Result<Vec<String>, CliError> {
         for (i, name) in self.field.iter().enumerate() {
             if name.trim().is_empty() {
                 return Err(CliError::usage(format!(
@@ -101,7 +101,7 @@ impl SolutionArgs {
 
     /// The sizing step of fields `names` (one or more) on `mesh` normalised together to
     /// `target`, within [`SolutionArgs::bounds`].
-    pub fn step(
+    pub(super) fn step(
         &self,
         names: &[String],
         target: Target,

@@ -21,7 +21,7 @@ use clap::Command;
 /// rule of the module: `-hausd`, `-sol`, `-out`, `-pq30a0.01`, any `-h…` longer than
 /// `-h`), or `None`. Values of options are skipped (`--adapter-arg -hausd` passes
 /// `-hausd` to the tool), and so is everything after `--`.
-pub fn single_dash_option(cli: &Command, args: &[OsString]) -> Option<String> {
+pub(super) fn single_dash_option(cli: &Command, args: &[OsString]) -> Option<String> {
     let mut cmd = cli.clone();
     cmd.build();
     let mut current = &cmd;

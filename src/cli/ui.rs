@@ -7,6 +7,9 @@
 //! user of the output misses (Gmsh's entity table, which has no place in VTK, OBJ, …;
 //! the tags themselves are kept).
 
+// Printing the run's messages on stderr is this module's job (the only one in the CLI).
+#![allow(clippy::print_stderr)]
+
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::time::Duration;
@@ -15,7 +18,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 /// How much to print on stderr.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Level {
+pub(crate) enum Level {
     /// Errors only (`-q`).
     Quiet = 0,
     /// Warnings, notes, progress on a terminal, the summary line.
@@ -27,12 +30,12 @@ pub enum Level {
 static LEVEL: AtomicU8 = AtomicU8::new(Level::Normal as u8);
 
 /// Sets the level for the run (once, from the command line).
-pub fn set_level(level: Level) {
+pub(crate) fn set_level(level: Level) {
     LEVEL.store(level as u8, Ordering::Relaxed);
 }
 
 /// The level of the run.
-pub fn level() -> Level {
+pub(crate) fn level() -> Level {
     match LEVEL.load(Ordering::Relaxed) {
         0 => Level::Quiet,
         1 => Level::Normal,
@@ -41,14 +44,14 @@ pub fn level() -> Level {
 }
 
 /// `smartmesh: warning: …`, unless quiet.
-pub fn warn(message: &str) {
+pub(crate) fn warn(message: &str) {
     if level() >= Level::Normal {
         eprintln!("smartmesh: warning: {message}");
     }
 }
 
 /// `smartmesh: note: …`, unless quiet.
-pub fn note(message: &str) {
+pub(crate) fn note(message: &str) {
     if level() >= Level::Normal {
         eprintln!("smartmesh: note: {message}");
     }
@@ -56,17 +59,24 @@ pub fn note(message: &str) {
 
 /// The one line a command prints when it succeeds (`smartmesh: mesh: wrote …`), unless
 /// quiet; on stderr, so that it never mixes with a mesh or JSON on stdout.
-pub fn done(command: &str, message: &str) {
+pub(crate) fn done(command: &str, message: &str) {
     if level() >= Level::Normal {
         eprintln!("smartmesh: {command}: {message}");
     }
+}
+
+/// What Ctrl-C does (`\nsmartmesh: adapt: stopping …`), on a line of its own after
+/// whatever the terminal shows (the `^C`, a progress bar). Printed whatever the level:
+/// the caller decides, since a second Ctrl-C must say why the run ends.
+pub(crate) fn interrupted(command: &str, message: &str) {
+    eprintln!("\nsmartmesh: {command}: {message}");
 }
 
 /// What a writer's report line means for the user. The formats crate lists, in one list,
 /// what it left out and what it wrote differently from the input; the wording of each
 /// line says which.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum WriteNote {
+pub(crate) enum WriteNote {
     /// Something of the input is not in the output.
     NotWritten,
     /// It is in the output, changed (renamed, cut, rounded) or read back differently.
@@ -78,7 +88,7 @@ pub enum WriteNote {
 
 impl WriteNote {
     /// The kind of a line of a writer's report.
-    pub fn of(line: &str) -> WriteNote {
+    pub(crate) fn of(line: &str) -> WriteNote {
         let changed =
             ["written as", "written, but", "rounded", "cut to", "reads back", "read back"];
         if line.contains("entity table") || line.contains("Gmsh entities") {
@@ -92,7 +102,7 @@ impl WriteNote {
 }
 
 /// Prints a writer's report about `output`: each line as what it means.
-pub fn write_notes(output: &str, lines: &[String]) {
+pub(crate) fn write_notes(output: &str, lines: &[String]) {
     for line in lines {
         match WriteNote::of(line) {
             WriteNote::NotWritten => warn(&format!("{output}: not written: {line}")),
@@ -107,7 +117,7 @@ pub fn write_notes(output: &str, lines: &[String]) {
 
 /// A progress bar of `len` steps on a terminal (and not quiet), ticking every 100 ms so
 /// that the elapsed time moves during a long step; `None` otherwise.
-pub fn progress_bar(len: u64, template: &str) -> Option<ProgressBar> {
+pub(crate) fn progress_bar(len: u64, template: &str) -> Option<ProgressBar> {
     if level() < Level::Normal || !std::io::stderr().is_terminal() {
         return None;
     }
@@ -121,7 +131,7 @@ pub fn progress_bar(len: u64, template: &str) -> Option<ProgressBar> {
 
 /// A number with 4 significant digits (`0.001234`, `1.235e+300`): what a summary line
 /// or a text report needs, never 300 digits.
-pub fn sig(v: f64) -> String {
+pub(crate) fn sig(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");
     }
@@ -140,7 +150,7 @@ pub fn sig(v: f64) -> String {
 }
 
 /// Seconds as the summary lines print them.
-pub fn seconds(d: Duration) -> String {
+pub(crate) fn seconds(d: Duration) -> String {
     let s = d.as_secs_f64();
     if s < 10.0 {
         format!("{s:.2} s")

@@ -11,10 +11,10 @@ use std::time::Instant;
 use clap::{Args, Subcommand};
 use serde_json::{Map, Value};
 use smartmesh::batch::manifest;
-use smartmesh::variants::naca::{
+use smartmesh::batch::variants::naca::{
     family, family_size, Layout, TrailingEdge, MAX_FAMILY_VERTICES, MAX_MEMBERS,
 };
-use smartmesh::variants::{distributor, parse_values, Pslg};
+use smartmesh::batch::variants::{distributor, parse_values, Pslg};
 
 use super::{ui, CliError};
 
@@ -34,7 +34,7 @@ Examples:
   smartmesh batch target/naca-family/manifest.jsonl -o target/naca-runs --jobs 2
   smartmesh variants distributor --recipe examples/distributor/recipe.cfg -o target/distributors"
 )]
-pub struct VariantsArgs {
+pub(super) struct VariantsArgs {
     #[command(subcommand)]
     family: Family,
 }
@@ -128,7 +128,7 @@ const CORNER_ANGLE: f64 = 30.0;
 /// The line naming the writer in each `.poly`.
 const WRITER: &str = "Written by smartmesh variants (do not edit by hand).";
 
-pub fn run(args: VariantsArgs) -> Result<(), CliError> {
+pub(super) fn run(args: VariantsArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let (members, common) = match args.family {
         Family::Naca(a) => (naca_members(&a)?, a.common),

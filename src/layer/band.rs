@@ -29,7 +29,7 @@ use crate::geometry::plane::{
 use crate::topology::{Classification, Topology};
 
 /// The band: which input triangles go, and the triangles that replace them.
-pub struct Band {
+pub(super) struct Band {
     /// Removed flag per surface cell.
     pub removed: Vec<bool>,
     /// New triangles (point ids into the skin's `pts`) with their tags.
@@ -47,7 +47,7 @@ fn key(a: usize, b: usize) -> [usize; 2] {
 }
 
 /// Builds the band around `skin` in the mesh of `topo` (triangles only).
-pub fn build(
+pub(super) fn build(
     skin: &Skin,
     topo: &Topology,
     cell_tags: &[(i32, i32)],

@@ -38,7 +38,7 @@ const SIDE_SHARE: f64 = 0.8;
 
 /// A side of the skin lying on a neighbouring boundary.
 #[derive(Debug, Clone)]
-pub struct Side {
+pub(super) struct Side {
     /// Boundary vertices from the chain end on, in order.
     pub path: Vec<usize>,
     /// Arc length at each of them.
@@ -51,7 +51,7 @@ pub struct Side {
 
 /// One column of points.
 #[derive(Debug, Clone)]
-pub struct Column {
+pub(super) struct Column {
     /// The wall vertex it grows from.
     pub base: usize,
     /// Its direction (a unit normal times the mitre factor).
@@ -76,7 +76,7 @@ pub struct Column {
 
 /// The strip between two consecutive columns of a chain.
 #[derive(Debug, Clone, Copy)]
-pub struct Gap {
+pub(super) struct Gap {
     /// Columns (indices into [`Skin::columns`]).
     pub cols: [usize; 2],
     /// Tags (physical, geometrical) of the triangle it replaces at the wall.
@@ -85,7 +85,7 @@ pub struct Gap {
 
 /// A wall chain.
 #[derive(Debug, Clone)]
-pub struct Chain {
+pub(super) struct Chain {
     /// Its columns in order.
     pub cols: Vec<usize>,
     /// Whether it closes on itself.
@@ -94,7 +94,7 @@ pub struct Chain {
 
 /// A built skin.
 #[derive(Debug, Clone)]
-pub struct Skin {
+pub(super) struct Skin {
     /// Every column.
     pub columns: Vec<Column>,
     /// Every strip.
@@ -114,7 +114,7 @@ pub struct Skin {
 }
 
 /// What the skin is built from.
-pub struct SkinInput<'a> {
+pub(super) struct SkinInput<'a> {
     /// Mesh coordinates.
     pub pts: &'a [P],
     /// The mesh's topology.
@@ -138,7 +138,7 @@ fn key(a: usize, b: usize) -> [usize; 2] {
 /// Offsets of a column of first height `h0`, ratio `r`, `n` layers, thinned to `factor`
 /// of its thickness: the first height is kept and the ratio lowered while it stays at or
 /// above 1, else every height is scaled.
-pub fn thinned_offsets(h0: f64, r: f64, n: usize, factor: f64) -> Vec<f64> {
+pub(super) fn thinned_offsets(h0: f64, r: f64, n: usize, factor: f64) -> Vec<f64> {
     let g = super::Growth { first_height: h0, ratio: r, layers: n };
     if factor >= 1.0 {
         return g.offsets();
@@ -156,7 +156,7 @@ pub fn thinned_offsets(h0: f64, r: f64, n: usize, factor: f64) -> Vec<f64> {
 
 impl Skin {
     /// Builds the columns and strips, thins them until the skin fits.
-    pub fn build(inp: &SkinInput) -> Result<Skin, LayerError> {
+    pub(super) fn build(inp: &SkinInput) -> Result<Skin, LayerError> {
         let pts = inp.pts;
         let topo = inp.topo;
         // Boundary edges, directed as their single cell runs along them.
@@ -556,7 +556,7 @@ impl Skin {
     }
 
     /// Computes every column's points (ids in `ids`, coordinates appended to `pts`).
-    pub fn place(&mut self) {
+    pub(super) fn place(&mut self) {
         self.pts.truncate(self.base_points);
         let n = self.layers;
         for c in 0..self.columns.len() {
@@ -577,7 +577,7 @@ impl Skin {
     }
 
     /// Corners of the cell of strip `g` at layer `k` (3 for the first cell of a fan strip).
-    pub fn cell(&self, g: usize, k: usize) -> Vec<usize> {
+    pub(super) fn cell(&self, g: usize, k: usize) -> Vec<usize> {
         let [a, b] = self.gaps[g].cols;
         let (ca, cb) = (&self.columns[a].ids, &self.columns[b].ids);
         if k == 0 && ca[0] == cb[0] {
@@ -681,7 +681,7 @@ impl Skin {
     }
 
     /// The columns that were thinned, for the report.
-    pub fn thinned(&self) -> Vec<Thinned> {
+    pub(super) fn thinned(&self) -> Vec<Thinned> {
         let mut out = Vec::new();
         for (c, col) in self.columns.iter().enumerate() {
             if col.factor < 1.0 - 1e-9 {

@@ -162,7 +162,7 @@ pub enum MeshError {
         /// The point.
         point: usize,
     },
-    /// Points in more than one plane z = const ([`crate::planar`]).
+    /// Points in more than one plane z = const ([`crate::plane`]).
     #[error("{0}")]
     NotPlanar(crate::planar::NotPlanar),
     /// Two points at the same place.

@@ -42,7 +42,7 @@ use crate::topology::Topology;
 type Placed = (f64, [f64; 2]);
 
 /// Most triangulations before the sides are declared unsettled.
-pub const MAX_ROUNDS: usize = 24;
+pub(super) const MAX_ROUNDS: usize = 24;
 
 /// Most passes over the pairs, per round, before the insertions are declared unsettled
 /// (each pass carries points one pair further along a chain of pairs).

@@ -61,7 +61,7 @@ pub enum InterpolationError {
 
 /// The field `metric` (one tensor per point of `mesh`) at `points`, interpolated in the
 /// triangles of `mesh`.
-pub fn interpolate(
+pub(crate) fn interpolate(
     mesh: &TaggedMesh,
     metric: &[Sym2],
     points: &[[f64; 2]],

@@ -30,13 +30,13 @@
 //! [`crate::metric`]; it knows nothing of the remesher, which uses its [`Interpolator`].
 
 mod expected;
-pub mod interpolate;
-pub mod pos_view;
-pub mod write;
+pub(crate) mod interpolate;
+pub(crate) mod pos_view;
+pub(crate) mod write;
 
 pub use expected::expected_vertices;
 pub use interpolate::{InterpolationError, Interpolator};
-pub use write::{MetricTarget, Written};
+pub use write::MetricTarget;
 
 use std::path::Path;
 

@@ -34,7 +34,7 @@ use super::not_a_metric;
 
 /// The tensor faces of a view: nodes joined by position, one metric per node.
 #[derive(Debug, Clone)]
-pub struct View {
+pub(crate) struct View {
     name: String,
     points: Vec<[f64; 2]>,
     tensors: Vec<Sym2>,
@@ -49,12 +49,12 @@ fn key(p: [f64; 2]) -> (u64, u64) {
 
 impl View {
     /// The view's name.
-    pub fn name(&self) -> &str {
+    pub(crate) fn name(&self) -> &str {
         &self.name
     }
 
     /// The metric at each of `points` (see the module documentation).
-    pub fn at(&self, points: &[[f64; 2]]) -> Vec<Sym2> {
+    pub(crate) fn at(&self, points: &[[f64; 2]]) -> Vec<Sym2> {
         let mut out = Vec::with_capacity(points.len());
         let mut missing = Vec::new();
         for (i, &p) in points.iter().enumerate() {
@@ -81,7 +81,7 @@ impl View {
     }
 
     /// The view as a triangle mesh (z = 0, untagged) and its metric at each point.
-    pub fn into_mesh(self) -> (TaggedMesh, Vec<Sym2>) {
+    pub(crate) fn into_mesh(self) -> (TaggedMesh, Vec<Sym2>) {
         let mut mesh = TaggedMesh::new();
         mesh.points = self.points.iter().map(|p| [p[0], p[1], 0.0]).collect();
         let block = mesh.block_mut(CellKind::Triangle);
@@ -93,7 +93,7 @@ impl View {
 }
 
 /// Reads the `.pos` file at `path`.
-pub fn read_path(path: &Path) -> Result<View, Error> {
+pub(crate) fn read_path(path: &Path) -> Result<View, Error> {
     let bytes = std::fs::read(path).map_err(|e| Error::from(e).with_path(path))?;
     parse(&bytes).map_err(|e| e.with_path(path))
 }
@@ -160,7 +160,7 @@ impl Faces {
 }
 
 /// Reads the last view of a `.pos` file's bytes (see the module documentation).
-pub fn parse(bytes: &[u8]) -> Result<View, Error> {
+pub(crate) fn parse(bytes: &[u8]) -> Result<View, Error> {
     let mut current: Option<(Faces, u64)> = None;
     let mut last: Option<(Faces, u64)> = None;
     pos::read_bytes(bytes, &mut |item| {

@@ -16,7 +16,7 @@
 //! is capped ([`ReadOptions`]): every file is read through a bounded reader that refuses
 //! anything but a regular file (`/dev/zero`, a pipe); the text after includes and cpp
 //! may not exceed [`MAX_RECIPE_BYTES`]; cpp runs as every external program does
-//! ([`crate::child`]: in a process group of its own, which dies with us however we end),
+//! (`crate::child`: in a process group of its own, which dies with us however we end),
 //! killed when its output passes what is left of that budget or when it runs past
 //! [`CPP_TIME_LIMIT`] (one deadline for every cpp run of a recipe). Before cpp runs, the
 //! files its literal `#include`s name are checked the same way, so `#include

@@ -21,10 +21,10 @@ use crate::metric::Sym2;
 
 /// The tags of the line cells of a piece: `(physical, geometrical)`, or `None` when the
 /// input listed no line cell there (a derived boundary or interface).
-pub type LineTags = Option<(i32, i32)>;
+pub(super) type LineTags = Option<(i32, i32)>;
 
 /// One constrained curve piece between two corners.
-pub struct Piece {
+pub(super) struct Piece {
     /// Original polyline points, in order.
     pub pts: Vec<[f64; 2]>,
     /// Cumulative arc length at each point (`s[0] = 0`).
@@ -44,7 +44,12 @@ pub struct Piece {
 
 impl Piece {
     /// A piece through `pts` with the log-metrics `logs`, tags and end vertices.
-    pub fn new(pts: Vec<[f64; 2]>, logs: Vec<Sym2>, tags: LineTags, ends: [u32; 2]) -> Piece {
+    pub(super) fn new(
+        pts: Vec<[f64; 2]>,
+        logs: Vec<Sym2>,
+        tags: LineTags,
+        ends: [u32; 2],
+    ) -> Piece {
         let mut s = vec![0.0; pts.len()];
         for i in 1..pts.len() {
             s[i] = s[i - 1] + dist(pts[i - 1], pts[i]);
@@ -65,7 +70,7 @@ impl Piece {
     }
 
     /// Arc length of the piece.
-    pub fn length(&self) -> f64 {
+    pub(super) fn length(&self) -> f64 {
         *self.s.last().unwrap_or(&0.0)
     }
 
@@ -79,7 +84,7 @@ impl Piece {
     }
 
     /// The position at parameter `s`.
-    pub fn point(&self, s: f64, mode: BoundaryMode) -> [f64; 2] {
+    pub(super) fn point(&self, s: f64, mode: BoundaryMode) -> [f64; 2] {
         let (k, t) = self.segment(s);
         let (a, b) = (self.pts[k], self.pts[k + 1]);
         if t == 0.0 {
@@ -107,7 +112,7 @@ impl Piece {
     }
 
     /// The metric at parameter `s`, interpolated along the piece from the input.
-    pub fn metric(&self, s: f64) -> Sym2 {
+    pub(super) fn metric(&self, s: f64) -> Sym2 {
         let (k, t) = self.segment(s);
         log_euclidean(&[1.0 - t, t], &[&self.logs[k], &self.logs[k + 1]])
     }
@@ -119,7 +124,7 @@ impl Piece {
 }
 
 /// Every piece, and an index of every original constrained segment.
-pub struct Boundary {
+pub(super) struct Boundary {
     /// The pieces.
     pub pieces: Vec<Piece>,
     index: SegmentIndex,
@@ -129,7 +134,7 @@ pub struct Boundary {
 
 impl Boundary {
     /// Indexes the segments of `pieces`.
-    pub fn new(pieces: Vec<Piece>) -> Boundary {
+    pub(super) fn new(pieces: Vec<Piece>) -> Boundary {
         let mut segs = Vec::new();
         let mut owner = Vec::new();
         for (p, piece) in pieces.iter().enumerate() {
@@ -144,7 +149,7 @@ impl Boundary {
     /// Whether the straight edge from `pu` (parameter `su`) to `pv` (parameter `sv`) on
     /// piece `p` leaves the region between itself and the original arc free of every other
     /// original constrained segment (no proper crossing, no end strictly inside).
-    pub fn chord_clear(&self, p: u32, su: f64, pu: [f64; 2], sv: f64, pv: [f64; 2]) -> bool {
+    pub(super) fn chord_clear(&self, p: u32, su: f64, pu: [f64; 2], sv: f64, pv: [f64; 2]) -> bool {
         let piece = &self.pieces[p as usize];
         let (su, pu, sv, pv) = if su <= sv { (su, pu, sv, pv) } else { (sv, pv, su, pu) };
         let mut poly = vec![pu];

@@ -28,7 +28,7 @@ use crate::topology::{cell_tag, Topology};
 use smartmesh_formats::{CellKind, TaggedMesh};
 
 /// Everything the driver starts from.
-pub struct Start {
+pub(super) struct Start {
     /// 2D coordinates of the input points.
     pub pts: Vec<[f64; 2]>,
     /// Counter-clockwise input triangles.
@@ -56,7 +56,7 @@ pub struct Start {
 /// Reads the triangles, constraints and pieces of `mesh`, whose topological points
 /// `topology` lists; the surface cells (in [`TaggedMesh::cells`] order) that `keep` flags
 /// stay as they are.
-pub fn start(
+pub(super) fn start(
     mesh: &TaggedMesh,
     topology: &Topology,
     metric: &[Sym2],
@@ -484,7 +484,7 @@ fn walk_pieces(
 }
 
 /// What the output of a remeshing of `mesh` does not carry of its point and cell data.
-pub fn data_warnings(mesh: &TaggedMesh) -> Vec<String> {
+pub(super) fn data_warnings(mesh: &TaggedMesh) -> Vec<String> {
     let mut warnings = Vec::new();
     for name in mesh.point_data.keys() {
         if name != crate::metric_field::METRIC {

@@ -19,7 +19,7 @@ use crate::metric::Sym2;
 
 /// A collapse that [`check`] accepted.
 #[derive(Debug, Clone, PartialEq)]
-pub struct CollapsePlan {
+pub(super) struct CollapsePlan {
     /// The vertex that goes.
     a: u32,
     /// The vertex that stays (and maybe moves).
@@ -40,7 +40,7 @@ pub struct CollapsePlan {
 /// collapses or `opts.collapse_sweeps` ran; after the first sweep only the edges around
 /// merged vertices are looked at again (nothing else changed). New edges may be no longer
 /// than `lmax`. Returns the number of collapses.
-pub fn collapse_sweeps(w: &mut Work, lmax: f64, opts: &RemeshOptions) -> usize {
+pub(super) fn collapse_sweeps(w: &mut Work, lmax: f64, opts: &RemeshOptions) -> usize {
     let mut edges = w.edges();
     let mut n = 0;
     for _ in 0..opts.collapse_sweeps {
@@ -80,7 +80,7 @@ pub fn collapse_sweeps(w: &mut Work, lmax: f64, opts: &RemeshOptions) -> usize {
 /// merging onto an end would make too long an edge. New edges may be no longer than
 /// `lmax`; the worst triangle of the ball may not drop below the smaller of its worst
 /// before and `floor`.
-pub fn check(
+pub(super) fn check(
     w: &Work,
     a: u32,
     b: u32,
@@ -169,7 +169,7 @@ pub fn check(
 }
 
 /// Carries out a plan of [`check`] on the mesh it was made on.
-pub fn apply(w: &mut Work, plan: &CollapsePlan) {
+pub(super) fn apply(w: &mut Work, plan: &CollapsePlan) {
     let CollapsePlan { a, b, .. } = *plan;
     for &t in &plan.killed[..plan.nkilled] {
         w.kill_tri(t);

@@ -29,7 +29,7 @@
 //! - every triangle strictly counter-clockwise (Shewchuk's exact orientation predicate
 //!   guards every operation), so never an inverted or zero-area one;
 //! - boundary and interface vertices only slide along their own piece of the input curve
-//!   ([`boundary`]); corners and topological points never move nor vanish; no new
+//!   (`boundary`); corners and topological points never move nor vanish; no new
 //!   boundary edge sweeps across another curve;
 //! - every triangle keeps the face tags of the input triangle it came from, every
 //!   constrained edge its curve's line tags; vertex cells stay;
@@ -41,17 +41,17 @@
 //!   triangles are remeshed around it; the result is checked as a mixed mesh;
 //! - deterministic: single-threaded sweeps in index order, no hash-order iteration;
 //!   a mesh expected above [`RemeshOptions::partition`] vertices is remeshed part
-//!   by part on every core ([`parallel`]), with the same output whatever the thread count.
+//!   by part on every core (`parallel`), with the same output whatever the thread count.
 
-pub mod boundary;
+mod boundary;
 mod build;
 mod collapse;
 mod error;
 pub mod memory;
 mod options;
 mod output;
-pub mod parallel;
-pub mod partition;
+mod parallel;
+mod partition;
 mod smooth;
 mod split;
 mod stats;
@@ -147,7 +147,7 @@ fn smooth_phase(w: &mut work::Work, opts: &RemeshOptions, secs: &mut PhaseSecond
 /// ```
 /// use std::path::Path;
 /// use smartmesh::formats::{read_path, CellKind};
-/// use smartmesh::metric_field::{MetricField, METRIC};
+/// use smartmesh::{MetricField, METRIC};
 /// use smartmesh::remesh::{remesh, RemeshOptions};
 ///
 /// let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");

@@ -88,7 +88,7 @@ pub struct RemeshOptions {
     /// triangle count (one change per `settle_ratio` triangles).
     pub settle_ratio: usize,
     /// When and how a large mesh is cut into parts remeshed in parallel, their
-    /// interfaces frozen and then remeshed by later passes ([`super::parallel`]); the
+    /// interfaces frozen and then remeshed by later passes (`super::parallel`); the
     /// output is the same whatever the thread count. `None`: always the serial remesher.
     pub partition: Option<Partitioning>,
 }
@@ -96,7 +96,7 @@ pub struct RemeshOptions {
 /// Expected output vertices above which the remesher partitions the mesh by default.
 pub const DEFAULT_PARTITION_ABOVE: usize = 100_000;
 
-/// When and how the remesher cuts a mesh into parts ([`super::parallel`]). None of it
+/// When and how the remesher cuts a mesh into parts (`super::parallel`). None of it
 /// depends on the thread count.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct Partitioning {

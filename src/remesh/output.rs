@@ -11,7 +11,7 @@ use crate::metric_field::{MetricField, METRIC};
 use smartmesh_formats::{CellBlock, CellKind, TaggedMesh};
 
 /// The output mesh and its metric.
-pub fn assemble(
+pub(super) fn assemble(
     input: &TaggedMesh,
     w: &Work,
     faces: &[(i32, i32)],

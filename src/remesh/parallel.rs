@@ -66,14 +66,14 @@ use crate::topology::Topology;
 use smartmesh_formats::{CellBlock, CellKind, TaggedMesh};
 
 /// Most parts in a pass.
-pub const MAX_PARTS: usize = 1 << 14;
+pub(super) const MAX_PARTS: usize = 1 << 14;
 
 /// A vertex that more than one unit holds: on an interface, or outside every part.
 const SHARED: u32 = NONE - 1;
 
 /// Remeshes `mesh` part by part when it is large enough and of a kind the partitioned
 /// path takes (module header); `None` when the serial path should run.
-pub fn remesh_partitioned(
+pub(super) fn remesh_partitioned(
     mesh: &TaggedMesh,
     metric: &[Sym2],
     opts: &RemeshOptions,

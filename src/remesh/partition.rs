@@ -29,12 +29,12 @@ use crate::metric::length::metric_edge_length;
 use crate::metric::{exp_sym, log_spd, Sym2};
 
 /// No neighbour, no part.
-pub const NONE: u32 = u32::MAX;
+pub(super) const NONE: u32 = u32::MAX;
 
 /// The neighbour of each triangle across each of its edges (edge `k` from corner `k` to
 /// corner `k + 1`), [`NONE`] on a boundary; `None` when an edge has more than two
 /// triangles.
-pub fn neighbours(tris: &[[u32; 3]]) -> Option<Vec<[u32; 3]>> {
+pub(super) fn neighbours(tris: &[[u32; 3]]) -> Option<Vec<[u32; 3]>> {
     let mut half: Vec<(u32, u32, u32)> = tris
         .par_iter()
         .enumerate()
@@ -69,7 +69,7 @@ pub fn neighbours(tris: &[[u32; 3]]) -> Option<Vec<[u32; 3]>> {
 }
 
 /// The triangles around each vertex, as offsets into one list (compressed rows).
-pub fn vertex_triangles(n: usize, tris: &[[u32; 3]]) -> (Vec<usize>, Vec<u32>) {
+pub(super) fn vertex_triangles(n: usize, tris: &[[u32; 3]]) -> (Vec<usize>, Vec<u32>) {
     let mut start = vec![0usize; n + 1];
     for t in tris {
         for &v in t {
@@ -91,7 +91,7 @@ pub fn vertex_triangles(n: usize, tris: &[[u32; 3]]) -> (Vec<usize>, Vec<u32>) {
 }
 
 /// The complexity ∫ √det M of each triangle, M interpolated Log-Euclidean.
-pub fn weights(pts: &[[f64; 2]], tris: &[[u32; 3]], metric: &[Sym2]) -> Vec<f64> {
+pub(super) fn weights(pts: &[[f64; 2]], tris: &[[u32; 3]], metric: &[Sym2]) -> Vec<f64> {
     let hld: Vec<f64> = metric.par_iter().map(half_log_det).collect();
     tris.par_iter()
         .map(|t| {
@@ -109,7 +109,7 @@ pub fn weights(pts: &[[f64; 2]], tris: &[[u32; 3]], metric: &[Sym2]) -> Vec<f64>
 
 /// The directions [`bisect`] cuts across.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Axes {
+pub(super) enum Axes {
     /// x and y: cuts are vertical or horizontal lines.
     Straight,
     /// x + y and x − y: cuts are lines at 45°.
@@ -120,7 +120,7 @@ pub enum Axes {
 /// triangle) into `parts` parts of equal weight by recursive coordinate bisection, each
 /// cut across the longer extent of the centroids. Writes the part of each item into
 /// `part` (indexed by triangle), numbering parts from `first`.
-pub fn bisect(
+pub(super) fn bisect(
     centroid: &[[f64; 2]],
     weight: &[f64],
     items: &mut [u32],
@@ -172,7 +172,7 @@ pub fn bisect(
 }
 
 /// The triangles with a corner less than `rings` edges away from a `seed` vertex.
-pub fn band(
+pub(super) fn band(
     tris: &[[u32; 3]],
     around: &(Vec<usize>, Vec<u32>),
     seed: &[bool],
@@ -200,7 +200,7 @@ pub fn band(
 
 /// The connected components (through edges) of the `selected` triangles, numbered by
 /// their smallest triangle; [`NONE`] for the others. Returns the parts and their count.
-pub fn components(selected: &[bool], nb: &[[u32; 3]]) -> (Vec<u32>, usize) {
+pub(super) fn components(selected: &[bool], nb: &[[u32; 3]]) -> (Vec<u32>, usize) {
     let mut part = vec![NONE; selected.len()];
     let mut count = 0u32;
     let mut stack = Vec::new();
@@ -226,7 +226,7 @@ pub fn components(selected: &[bool], nb: &[[u32; 3]]) -> (Vec<u32>, usize) {
 /// A triangle mesh with its metric, tags and lower-dimensional cells: what the passes
 /// hand each other.
 #[derive(Debug, Clone, Default)]
-pub struct Flat {
+pub(super) struct Flat {
     /// Coordinates.
     pub pts: Vec<[f64; 2]>,
     /// The metric at each point.
@@ -253,7 +253,7 @@ fn along(la: &Sym2, lb: &Sym2, s: f64) -> Sym2 {
 /// Splits every edge between two parts (`part` per triangle, `nb` its neighbours) longer
 /// than `split_above` in the metric, as the module header says. Returns the new mesh and
 /// the part of each of its triangles, or `None` when nothing was split.
-pub fn split_interfaces(
+pub(super) fn split_interfaces(
     mesh: &Flat,
     part: &[u32],
     nb: &[[u32; 3]],

@@ -14,7 +14,7 @@ use crate::metric::Sym2;
 /// A move that [`check`] accepted: `v` goes to `at` with metric `metric` and role
 /// `role` (a sliding vertex's new parameter).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Move {
+pub(super) struct Move {
     v: u32,
     at: [f64; 2],
     metric: Sym2,
@@ -34,7 +34,7 @@ struct Thresholds {
 /// One sweep over the active vertices (those whose ball changed since they were last
 /// tried) in index order; a vertex that moves activates its neighbours. Returns the
 /// number of moves.
-pub fn smooth_sweep(w: &mut Work, opts: &RemeshOptions) -> usize {
+pub(super) fn smooth_sweep(w: &mut Work, opts: &RemeshOptions) -> usize {
     let mut n = 0;
     for v in 0..w.num_vertices() as u32 {
         if !w.take_active(v) {
@@ -50,7 +50,7 @@ pub fn smooth_sweep(w: &mut Work, opts: &RemeshOptions) -> usize {
 
 /// Where `v` should go, if anywhere: fixed and dead vertices and those no triangle uses
 /// stay.
-pub fn check(w: &Work, v: u32, opts: &RemeshOptions) -> Option<Move> {
+pub(super) fn check(w: &Work, v: u32, opts: &RemeshOptions) -> Option<Move> {
     if w.ball(v).is_empty() {
         return None;
     }
@@ -64,7 +64,7 @@ pub fn check(w: &Work, v: u32, opts: &RemeshOptions) -> Option<Move> {
 
 /// Makes a move of [`check`]; the ball is marked for the swaps and the next sweep, `v`
 /// itself is not tried again before its ball changes.
-pub fn apply(w: &mut Work, m: &Move) {
+pub(super) fn apply(w: &mut Work, m: &Move) {
     w.place(m.v, m.at, m.metric, m.role);
     w.mark_ball(m.v);
     w.take_active(m.v);

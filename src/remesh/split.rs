@@ -14,7 +14,7 @@ use crate::metric::Sym2;
 
 /// A split that [`check`] accepted.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SplitPlan {
+pub(super) struct SplitPlan {
     /// The edge.
     a: u32,
     b: u32,
@@ -32,7 +32,7 @@ pub struct SplitPlan {
 
 /// The vertex limit of a split phase was passed (the caller turns it into an error).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct LimitReached;
+pub(super) struct LimitReached;
 
 /// Sweeps until no edge is longer than `lmax`: in each, every edge longer than `lmax`,
 /// longest first, is split unless one of its triangles was already changed in this sweep
@@ -43,7 +43,7 @@ pub struct LimitReached;
 /// After the first sweep only the edges of changed triangles and around those vertices
 /// are looked at again. Returns the number of splits, or [`LimitReached`] as soon as the
 /// mesh has more than `cap` vertices.
-pub fn split_sweeps(
+pub(super) fn split_sweeps(
     w: &mut Work,
     lmax: f64,
     cap: usize,
@@ -95,7 +95,7 @@ pub fn split_sweeps(
 /// [`crate::metric::length::metric_edge_length`]), the length density is la·rˢ with
 /// r = lb/la, so the half-length point is t = ln((1 + r)/2)/ln r (½ when r = 1). Splitting
 /// at the Euclidean midpoint of a graded edge would leave one half short.
-pub fn metric_midpoint(w: &Work, a: u32, b: u32) -> f64 {
+pub(super) fn metric_midpoint(w: &Work, a: u32, b: u32) -> f64 {
     let (pa, pb) = (w.point(a), w.point(b));
     let e = [pb[0] - pa[0], pb[1] - pa[1]];
     let la = w.metric(a).quadratic_form(e).max(0.0).sqrt();
@@ -113,7 +113,7 @@ pub fn metric_midpoint(w: &Work, a: u32, b: u32) -> f64 {
 /// Whether edge `ab`, held by triangles `ts`, may be split, and where: refused when a
 /// new triangle would not be strictly counter-clockwise or a new boundary edge would
 /// cross a curve.
-pub fn check(w: &Work, a: u32, b: u32, ts: &[u32]) -> Option<SplitPlan> {
+pub(super) fn check(w: &Work, a: u32, b: u32, ts: &[u32]) -> Option<SplitPlan> {
     let (at, metric, role) = match w.constraint(a, b) {
         Some(p) if w.boundary().pieces[p as usize].frozen => return None,
         Some(p) => {
@@ -153,7 +153,7 @@ pub fn check(w: &Work, a: u32, b: u32, ts: &[u32]) -> Option<SplitPlan> {
 
 /// Carries out a plan of [`check`]; the triangles it changes or makes are flagged in
 /// `touched` (grown as needed).
-pub fn apply(w: &mut Work, plan: &SplitPlan, touched: &mut Vec<bool>) {
+pub(super) fn apply(w: &mut Work, plan: &SplitPlan, touched: &mut Vec<bool>) {
     let m = w.add_vertex(plan.at, plan.metric, plan.role);
     for &(t, [x, y, c]) in &plan.halves[..plan.n] {
         let face = w.face(t);

@@ -65,7 +65,7 @@ pub struct RemeshStats {
     pub conformity: Option<Conformity>,
     /// What the output does not carry.
     pub warnings: Vec<String>,
-    /// When the mesh was remeshed part by part ([`super::parallel`]): each pass's parts
+    /// When the mesh was remeshed part by part (`super::parallel`): each pass's parts
     /// and times. Empty for the serial remesher.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub partitioned: Vec<PartitionedPass>,

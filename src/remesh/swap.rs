@@ -10,7 +10,7 @@ use super::work::{orient, Work};
 /// A flip that [`check`] accepted: triangles `t1 = (a, b, c)` and `t2 = (b, a, d)`
 /// become `(c, a, d)` and `(d, b, c)`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SwapPlan {
+pub(super) struct SwapPlan {
     t1: u32,
     t2: u32,
     n1: [u32; 3],
@@ -24,7 +24,11 @@ pub struct SwapPlan {
 /// edge when `everything`), the next ones only the edges around the vertices a flip
 /// touched (sorted, so the order is fixed). Returns the number of flips and the corners
 /// of the flipped pairs (each once, in the order first touched).
-pub fn swap_sweeps(w: &mut Work, opts: &RemeshOptions, everything: bool) -> (usize, Vec<u32>) {
+pub(super) fn swap_sweeps(
+    w: &mut Work,
+    opts: &RemeshOptions,
+    everything: bool,
+) -> (usize, Vec<u32>) {
     let mut n = 0;
     let dirty = w.take_dirty();
     let mut todo = if everything { w.edges() } else { w.edges_around(&dirty) };
@@ -63,7 +67,7 @@ pub fn swap_sweeps(w: &mut Work, opts: &RemeshOptions, everything: bool) -> (usi
 
 /// Whether flipping edge `ab` is allowed and raises the worse quality of the pair by
 /// more than the relative `gain`.
-pub fn check(w: &Work, a: u32, b: u32, gain: f64) -> Option<SwapPlan> {
+pub(super) fn check(w: &Work, a: u32, b: u32, gain: f64) -> Option<SwapPlan> {
     let (ts, k) = w.edge_tris(a, b);
     if k != 2 {
         return None;
@@ -105,7 +109,7 @@ pub fn check(w: &Work, a: u32, b: u32, gain: f64) -> Option<SwapPlan> {
 }
 
 /// Carries out a plan of [`check`].
-pub fn apply(w: &mut Work, plan: &SwapPlan) {
+pub(super) fn apply(w: &mut Work, plan: &SwapPlan) {
     w.set_tri(plan.t1, plan.n1);
     w.set_tri(plan.t2, plan.n2);
 }

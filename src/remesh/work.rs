@@ -21,7 +21,7 @@ use crate::metric_field::Interpolator;
 
 /// What a vertex may do.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Role {
+pub(super) enum Role {
     /// Free to move in its face.
     Free,
     /// Slides along piece `piece` of the boundary, at arc-length parameter `s`.
@@ -40,7 +40,7 @@ pub enum Role {
 impl Role {
     /// The piece of a sliding vertex.
     #[inline]
-    pub fn piece(self) -> Option<u32> {
+    pub(super) fn piece(self) -> Option<u32> {
         match self {
             Role::Slides { piece, .. } => Some(piece),
             _ => None,
@@ -50,7 +50,7 @@ impl Role {
 
 /// Key of the undirected edge `ab`.
 #[inline]
-pub fn key(a: u32, b: u32) -> (u32, u32) {
+pub(super) fn key(a: u32, b: u32) -> (u32, u32) {
     if a < b {
         (a, b)
     } else {
@@ -64,13 +64,13 @@ pub(crate) use crate::geometry::segment::orient;
 /// arithmetic mean of the corner metrics (SPD, and three times cheaper than the
 /// Log-Euclidean centroid metric that [`crate::conformity`] reports with).
 #[inline]
-pub fn op_quality(p: [[f64; 2]; 3], m: [&Sym2; 3]) -> f64 {
+pub(super) fn op_quality(p: [[f64; 2]; 3], m: [&Sym2; 3]) -> f64 {
     let mean = (1.0 / 3.0) * (*m[0] + *m[1] + *m[2]);
     quality_in_metric(p[0], p[1], p[2], &mean)
 }
 
 /// The mesh under edit.
-pub struct Work<'a> {
+pub(super) struct Work<'a> {
     /// Coordinates.
     pts: Vec<[f64; 2]>,
     /// Metric at each vertex (interpolated from the input field).
@@ -108,7 +108,7 @@ pub struct Work<'a> {
 }
 
 /// The mesh a [`Work`] starts from.
-pub struct Parts {
+pub(super) struct Parts {
     /// Coordinates.
     pub pts: Vec<[f64; 2]>,
     /// Metric at each vertex.
@@ -126,7 +126,7 @@ pub struct Parts {
 /// What the operators read besides the mesh: the input field and curves, and where
 /// piece vertices are placed.
 #[derive(Clone, Copy)]
-pub struct Context<'a> {
+pub(super) struct Context<'a> {
     /// The input field.
     pub background: &'a Interpolator,
     /// The input curves.
@@ -137,7 +137,7 @@ pub struct Context<'a> {
 
 impl<'a> Work<'a> {
     /// The mesh `parts` ready for editing in `context`.
-    pub fn new(parts: Parts, context: Context<'a>) -> Work<'a> {
+    pub(super) fn new(parts: Parts, context: Context<'a>) -> Work<'a> {
         let Parts { pts, met, role, tris, face, cons } = parts;
         let n = pts.len();
         let mut vtris = vec![Vec::new(); n];
@@ -173,7 +173,7 @@ impl<'a> Work<'a> {
 
     /// Makes room for `vertices` vertices and `triangles` triangles in all (a hint:
     /// nothing changes but the capacities).
-    pub fn reserve(&mut self, vertices: usize, triangles: usize) {
+    pub(super) fn reserve(&mut self, vertices: usize, triangles: usize) {
         let (dv, dt) =
             (vertices.saturating_sub(self.pts.len()), triangles.saturating_sub(self.tris.len()));
         self.pts.reserve(dv);
@@ -191,96 +191,96 @@ impl<'a> Work<'a> {
 
     /// Vertices made so far, dead ones included.
     #[inline]
-    pub fn num_vertices(&self) -> usize {
+    pub(super) fn num_vertices(&self) -> usize {
         self.pts.len()
     }
 
     /// Triangles made so far, dead ones included.
     #[inline]
-    pub fn num_slots(&self) -> usize {
+    pub(super) fn num_slots(&self) -> usize {
         self.tris.len()
     }
 
     /// Live triangles.
-    pub fn live_triangles(&self) -> usize {
+    pub(super) fn live_triangles(&self) -> usize {
         self.alive.iter().filter(|&&a| a).count()
     }
 
     /// Position of `v`.
     #[inline]
-    pub fn point(&self, v: u32) -> [f64; 2] {
+    pub(super) fn point(&self, v: u32) -> [f64; 2] {
         self.pts[v as usize]
     }
 
     /// Metric at `v`.
     #[inline]
-    pub fn metric(&self, v: u32) -> Sym2 {
+    pub(super) fn metric(&self, v: u32) -> Sym2 {
         self.met[v as usize]
     }
 
     /// What `v` may do.
     #[inline]
-    pub fn role(&self, v: u32) -> Role {
+    pub(super) fn role(&self, v: u32) -> Role {
         self.role[v as usize]
     }
 
     /// Whether `v` was removed.
     #[inline]
-    pub fn is_dead(&self, v: u32) -> bool {
+    pub(super) fn is_dead(&self, v: u32) -> bool {
         self.role[v as usize] == Role::Dead
     }
 
     /// Corners of triangle `t`.
     #[inline]
-    pub fn tri(&self, t: u32) -> [u32; 3] {
+    pub(super) fn tri(&self, t: u32) -> [u32; 3] {
         self.tris[t as usize]
     }
 
     /// Face of triangle `t`.
     #[inline]
-    pub fn face(&self, t: u32) -> u32 {
+    pub(super) fn face(&self, t: u32) -> u32 {
         self.face[t as usize]
     }
 
     /// Whether triangle `t` is in the mesh.
     #[inline]
-    pub fn is_alive(&self, t: u32) -> bool {
+    pub(super) fn is_alive(&self, t: u32) -> bool {
         self.alive[t as usize]
     }
 
     /// The live triangles around `v`.
     #[inline]
-    pub fn ball(&self, v: u32) -> &[u32] {
+    pub(super) fn ball(&self, v: u32) -> &[u32] {
         &self.vtris[v as usize]
     }
 
     /// The piece of constrained edge `ab`, or `None` for a free edge.
     #[inline]
-    pub fn constraint(&self, a: u32, b: u32) -> Option<u32> {
+    pub(super) fn constraint(&self, a: u32, b: u32) -> Option<u32> {
         self.cons.get(&key(a, b)).copied()
     }
 
     /// The input field.
     #[inline]
-    pub fn background(&self) -> &'a Interpolator {
+    pub(super) fn background(&self) -> &'a Interpolator {
         self.bg
     }
 
     /// The input curves.
     #[inline]
-    pub fn boundary(&self) -> &'a Boundary {
+    pub(super) fn boundary(&self) -> &'a Boundary {
         self.bd
     }
 
     /// Where piece vertices are placed.
     #[inline]
-    pub fn mode(&self) -> BoundaryMode {
+    pub(super) fn mode(&self) -> BoundaryMode {
         self.mode
     }
 
     /// Metric length of edge `ab`.
     #[inline]
-    pub fn length(&self, a: u32, b: u32) -> f64 {
+    pub(super) fn length(&self, a: u32, b: u32) -> f64 {
         metric_edge_length(
             self.pts[a as usize],
             self.pts[b as usize],
@@ -291,13 +291,13 @@ impl<'a> Work<'a> {
 
     /// Operation quality of triangle `t` (kept, not recomputed).
     #[inline]
-    pub fn quality(&self, t: u32) -> f64 {
+    pub(super) fn quality(&self, t: u32) -> f64 {
         self.qual[t as usize]
     }
 
     /// Operation quality of the triangle with corners `v`.
     #[inline]
-    pub fn quality_of(&self, v: [u32; 3]) -> f64 {
+    pub(super) fn quality_of(&self, v: [u32; 3]) -> f64 {
         op_quality(
             v.map(|i| self.pts[i as usize]),
             [&self.met[v[0] as usize], &self.met[v[1] as usize], &self.met[v[2] as usize]],
@@ -305,7 +305,7 @@ impl<'a> Work<'a> {
     }
 
     /// The (one or two) live triangles holding edge `ab`.
-    pub fn edge_tris(&self, a: u32, b: u32) -> ([u32; 2], usize) {
+    pub(super) fn edge_tris(&self, a: u32, b: u32) -> ([u32; 2], usize) {
         let mut out = [u32::MAX; 2];
         let mut n = 0;
         for &t in &self.vtris[a as usize] {
@@ -322,7 +322,7 @@ impl<'a> Work<'a> {
     /// The vertices joined to `v`, sorted: the brute-force twin of
     /// [`Work::common_neighbours`] and [`Work::curve_neighbours`] in the tests.
     #[cfg(test)]
-    pub fn neighbours(&self, v: u32) -> Vec<u32> {
+    pub(super) fn neighbours(&self, v: u32) -> Vec<u32> {
         let mut n: Vec<u32> = self.vtris[v as usize]
             .iter()
             .flat_map(|&t| self.tris[t as usize])
@@ -335,7 +335,7 @@ impl<'a> Work<'a> {
 
     /// How many distinct vertices are joined to both `a` and `b`: the link condition of
     /// a collapse of `ab` without building the two neighbour lists.
-    pub fn common_neighbours(&self, a: u32, b: u32) -> usize {
+    pub(super) fn common_neighbours(&self, a: u32, b: u32) -> usize {
         let ball = &self.vtris[a as usize];
         let mut n = 0;
         for (i, &t) in ball.iter().enumerate() {
@@ -357,7 +357,7 @@ impl<'a> Work<'a> {
 
     /// Parameter of `v` on piece `p`: its own when it slides on `p`, else that of the
     /// piece's end it is; `near` chooses the end of a loop with one corner.
-    pub fn param_on(&self, v: u32, p: u32, near: f64) -> f64 {
+    pub(super) fn param_on(&self, v: u32, p: u32, near: f64) -> f64 {
         if let Role::Slides { piece, s } = self.role[v as usize] {
             if piece == p {
                 return s;
@@ -381,7 +381,7 @@ impl<'a> Work<'a> {
     /// The parameter of `v` when it slides on `p`, the `near` hint for the other end of an
     /// edge on `p` otherwise.
     #[inline]
-    pub fn param_or(&self, v: u32, p: u32, otherwise: f64) -> f64 {
+    pub(super) fn param_or(&self, v: u32, p: u32, otherwise: f64) -> f64 {
         match self.role[v as usize] {
             Role::Slides { piece, s } if piece == p => s,
             _ => otherwise,
@@ -390,7 +390,7 @@ impl<'a> Work<'a> {
 
     /// The two neighbours of piece vertex `v` along its piece, as `(vertex, parameter)`,
     /// the one with the smaller parameter first.
-    pub fn curve_neighbours(&self, v: u32) -> Option<[(u32, f64); 2]> {
+    pub(super) fn curve_neighbours(&self, v: u32) -> Option<[(u32, f64); 2]> {
         let Role::Slides { piece: p, s: sv } = self.role[v as usize] else { return None };
         let mut found: [(u32, f64); 2] = [(u32::MAX, 0.0); 2];
         let mut n = 0;
@@ -418,7 +418,7 @@ impl<'a> Work<'a> {
 
     /// Notes that the ball of `v` changed (the next swap phase looks there).
     #[inline]
-    pub fn mark(&mut self, v: u32) {
+    pub(super) fn mark(&mut self, v: u32) {
         self.active[v as usize] = true;
         if !self.is_dirty[v as usize] {
             self.is_dirty[v as usize] = true;
@@ -427,7 +427,7 @@ impl<'a> Work<'a> {
     }
 
     /// Marks `v` and every neighbour of it.
-    pub fn mark_ball(&mut self, v: u32) {
+    pub(super) fn mark_ball(&mut self, v: u32) {
         self.mark(v);
         for i in 0..self.vtris[v as usize].len() {
             let t = self.vtris[v as usize][i];
@@ -439,12 +439,12 @@ impl<'a> Work<'a> {
 
     /// Whether the next smoothing sweep should try `v`; clears the mark.
     #[inline]
-    pub fn take_active(&mut self, v: u32) -> bool {
+    pub(super) fn take_active(&mut self, v: u32) -> bool {
         std::mem::replace(&mut self.active[v as usize], false)
     }
 
     /// Takes the changed vertices, sorted, and clears the marks.
-    pub fn take_dirty(&mut self) -> Vec<u32> {
+    pub(super) fn take_dirty(&mut self) -> Vec<u32> {
         let mut d = std::mem::take(&mut self.dirty);
         for &v in &d {
             self.is_dirty[v as usize] = false;
@@ -454,7 +454,7 @@ impl<'a> Work<'a> {
     }
 
     /// Appends a live triangle.
-    pub fn add_tri(&mut self, v: [u32; 3], face: u32) -> u32 {
+    pub(super) fn add_tri(&mut self, v: [u32; 3], face: u32) -> u32 {
         let t = self.tris.len() as u32;
         self.tris.push(v);
         self.face.push(face);
@@ -469,7 +469,7 @@ impl<'a> Work<'a> {
 
     /// Gives live triangle `t` the corners `v`: it leaves the lists of the corners it
     /// loses and joins those of the corners it gains, in corner order.
-    pub fn set_tri(&mut self, t: u32, v: [u32; 3]) {
+    pub(super) fn set_tri(&mut self, t: u32, v: [u32; 3]) {
         let old = self.tris[t as usize];
         self.tris[t as usize] = v;
         self.qual[t as usize] = self.quality_of(v);
@@ -486,7 +486,7 @@ impl<'a> Work<'a> {
     }
 
     /// Removes triangle `t` from the mesh.
-    pub fn kill_tri(&mut self, t: u32) {
+    pub(super) fn kill_tri(&mut self, t: u32) {
         self.alive[t as usize] = false;
         for x in self.tris[t as usize] {
             self.detach(x, t);
@@ -502,7 +502,7 @@ impl<'a> Work<'a> {
     }
 
     /// Appends a vertex.
-    pub fn add_vertex(&mut self, p: [f64; 2], m: Sym2, role: Role) -> u32 {
+    pub(super) fn add_vertex(&mut self, p: [f64; 2], m: Sym2, role: Role) -> u32 {
         let v = self.pts.len() as u32;
         self.pts.push(p);
         self.met.push(m);
@@ -515,7 +515,7 @@ impl<'a> Work<'a> {
 
     /// Puts `v` at `p` with metric `m` and role `role` (a sliding vertex with its new
     /// parameter).
-    pub fn place(&mut self, v: u32, p: [f64; 2], m: Sym2, role: Role) {
+    pub(super) fn place(&mut self, v: u32, p: [f64; 2], m: Sym2, role: Role) {
         self.pts[v as usize] = p;
         self.met[v as usize] = m;
         self.role[v as usize] = role;
@@ -526,25 +526,25 @@ impl<'a> Work<'a> {
     }
 
     /// Marks `v` removed; no live triangle may use it any more.
-    pub fn kill_vertex(&mut self, v: u32) {
+    pub(super) fn kill_vertex(&mut self, v: u32) {
         debug_assert!(self.vtris[v as usize].is_empty());
         self.role[v as usize] = Role::Dead;
     }
 
     /// Makes `ab` a constrained edge of piece `p`.
-    pub fn constrain(&mut self, a: u32, b: u32, p: u32) {
+    pub(super) fn constrain(&mut self, a: u32, b: u32, p: u32) {
         self.cons.insert(key(a, b), p);
     }
 
     /// Makes `ab` free (it left the mesh).
-    pub fn unconstrain(&mut self, a: u32, b: u32) {
+    pub(super) fn unconstrain(&mut self, a: u32, b: u32) {
         self.cons.remove(&key(a, b));
     }
 
     /// Every live undirected edge once, in triangle order (an interior edge from the
     /// triangle that runs along it from the smaller vertex, a boundary edge from its only
     /// triangle): deterministic, and no global sort.
-    pub fn edges(&self) -> Vec<(u32, u32)> {
+    pub(super) fn edges(&self) -> Vec<(u32, u32)> {
         let mut e: Vec<(u32, u32)> = Vec::with_capacity(self.tris.len() * 3 / 2 + 16);
         for (t, v) in self.tris.iter().enumerate() {
             if !self.alive[t] {
@@ -568,7 +568,7 @@ impl<'a> Work<'a> {
 
     /// The edges around the vertices in `around` (each once, sorted): where the next
     /// sweep has work after a sweep that changed only those vertices' balls.
-    pub fn edges_around(&mut self, around: &[u32]) -> Vec<(u32, u32)> {
+    pub(super) fn edges_around(&mut self, around: &[u32]) -> Vec<(u32, u32)> {
         // Each triangle once (a triangle is around up to three of the vertices), then
         // each edge once: sorted as packed 64-bit keys, the order of the pairs.
         let mut tris: Vec<u32> = Vec::new();
@@ -599,7 +599,7 @@ impl<'a> Work<'a> {
 
     /// The constrained edges of live triangles on pieces that carry line tags, each as
     /// `(piece, smaller parameter, start, end)` oriented by increasing parameter.
-    pub fn piece_edges(&self) -> Vec<(u32, f64, u32, u32)> {
+    pub(super) fn piece_edges(&self) -> Vec<(u32, f64, u32, u32)> {
         let mut on_piece = Vec::new();
         for (a, b) in self.edges() {
             if let Some(&p) = self.cons.get(&(a, b)) {
@@ -616,14 +616,14 @@ impl<'a> Work<'a> {
     }
 
     /// Position and metric of a point at parameter `s` on piece `p`.
-    pub fn on_piece(&self, p: u32, s: f64) -> ([f64; 2], Sym2) {
+    pub(super) fn on_piece(&self, p: u32, s: f64) -> ([f64; 2], Sym2) {
         let piece = &self.bd.pieces[p as usize];
         (piece.point(s, self.mode), piece.metric(s))
     }
 
     /// Whether every live triangle is counter-clockwise with positive area (checked
     /// exactly).
-    pub fn all_positive(&self) -> bool {
+    pub(super) fn all_positive(&self) -> bool {
         self.tris.iter().enumerate().all(|(t, v)| {
             !self.alive[t]
                 || orient(self.pts[v[0] as usize], self.pts[v[1] as usize], self.pts[v[2] as usize])
@@ -637,7 +637,7 @@ impl<'a> Work<'a> {
     /// piece vertices exactly where their parameter puts them, fixed vertices where the
     /// input had them.
     #[cfg(test)]
-    pub fn consistency(&self, input: &[[f64; 2]]) -> Result<(), String> {
+    pub(super) fn consistency(&self, input: &[[f64; 2]]) -> Result<(), String> {
         for (t, v) in self.tris.iter().enumerate() {
             if !self.alive[t] {
                 continue;

@@ -7,7 +7,7 @@ use super::text::Font;
 use super::view::Rect;
 
 /// A round step (1, 2 or 5 × 10^k) giving about `n` ticks from 0 to `max`.
-pub fn nice_step(max: f64, n: usize) -> f64 {
+pub(super) fn nice_step(max: f64, n: usize) -> f64 {
     if !(max > 0.0 && max.is_finite()) {
         return 1.0;
     }
@@ -26,7 +26,7 @@ pub fn nice_step(max: f64, n: usize) -> f64 {
 }
 
 /// Formats a tick value: integers plain, others with up to 3 decimals.
-pub fn tick_label(v: f64) -> String {
+pub(super) fn tick_label(v: f64) -> String {
     if v.abs() >= 10_000.0 && v.fract() == 0.0 {
         let k = v / 1000.0;
         format!("{}k", num(k, 1))
@@ -37,7 +37,7 @@ pub fn tick_label(v: f64) -> String {
 
 /// A linear map from `[d0, d1]` to pixels `[p0, p1]`.
 #[derive(Debug, Clone, Copy)]
-pub struct Scale {
+pub(super) struct Scale {
     d0: f64,
     d1: f64,
     p0: f64,
@@ -46,29 +46,29 @@ pub struct Scale {
 
 impl Scale {
     /// Maps `d0 → p0`, `d1 → p1`.
-    pub fn new(d0: f64, d1: f64, p0: f64, p1: f64) -> Scale {
+    pub(super) fn new(d0: f64, d1: f64, p0: f64, p1: f64) -> Scale {
         Scale { d0, d1: if d1 == d0 { d0 + 1.0 } else { d1 }, p0, p1 }
     }
 
     /// The pixel of data value `v`.
-    pub fn at(&self, v: f64) -> f64 {
+    pub(super) fn at(&self, v: f64) -> f64 {
         self.p0 + (v - self.d0) / (self.d1 - self.d0) * (self.p1 - self.p0)
     }
 }
 
 /// The font of a chart's title.
-pub const TITLE_FONT: Font = Font::bold(13.0);
+pub(super) const TITLE_FONT: Font = Font::bold(13.0);
 /// The font of a chart's figures and axis labels.
-pub const LABEL_FONT: Font = Font::regular(11.0);
+pub(super) const LABEL_FONT: Font = Font::regular(11.0);
 /// The font of tick labels.
-pub const TICK_FONT: Font = Font::regular(10.0);
+pub(super) const TICK_FONT: Font = Font::regular(10.0);
 /// Line height of the figures under a chart's title.
 const FIGURE_LINE: f64 = 14.0;
 
 /// The plotting area of a chart panel: the panel less `top` pixels for the heading, room
 /// for the tick labels (`right` more on the right for a second axis) and `bottom` pixels
 /// under the axis for its tick labels and what goes under them.
-pub fn plot_area(panel: &Rect, right: bool, top: f64, bottom: f64) -> Rect {
+pub(super) fn plot_area(panel: &Rect, right: bool, top: f64, bottom: f64) -> Rect {
     Rect::new(
         panel.x0 + 52.0,
         panel.y0 + top,
@@ -80,7 +80,7 @@ pub fn plot_area(panel: &Rect, right: bool, top: f64, bottom: f64) -> Rect {
 /// A chart's heading: a bold title cut to the panel's width and the figures under it,
 /// wrapped over up to two lines. Returns the room it takes from the panel's top, plus
 /// the room the top tick label needs.
-pub fn heading(svg: &mut Svg, panel: &Rect, title: &str, figures: &str) -> f64 {
+pub(super) fn heading(svg: &mut Svg, panel: &Rect, title: &str, figures: &str) -> f64 {
     let room = panel.width() - 16.0;
     svg.text(
         panel.x0 + 8.0,
@@ -106,7 +106,7 @@ pub fn heading(svg: &mut Svg, panel: &Rect, title: &str, figures: &str) -> f64 {
 /// The ticks of a vertical axis: from 0 to `max` by `step`, on the left (with grid lines)
 /// or on the right, labels coloured `colour`.
 #[derive(Debug, Clone, Copy)]
-pub struct Ticks<'a> {
+pub(super) struct Ticks<'a> {
     /// Last tick.
     pub max: f64,
     /// Tick spacing.
@@ -118,7 +118,7 @@ pub struct Ticks<'a> {
 }
 
 /// Horizontal grid lines and labels of a vertical axis.
-pub fn y_axis(
+pub(super) fn y_axis(
     svg: &mut Svg,
     area: &Rect,
     y: &Scale,
@@ -156,7 +156,13 @@ pub fn y_axis(
 }
 
 /// Ticks and labels of the horizontal axis at `values`.
-pub fn x_axis(svg: &mut Svg, area: &Rect, x: &Scale, values: &[f64], fmt: &dyn Fn(f64) -> String) {
+pub(super) fn x_axis(
+    svg: &mut Svg,
+    area: &Rect,
+    x: &Scale,
+    values: &[f64],
+    fmt: &dyn Fn(f64) -> String,
+) {
     for &v in values {
         let px = x.at(v);
         svg.element(
@@ -180,7 +186,7 @@ pub fn x_axis(svg: &mut Svg, area: &Rect, x: &Scale, values: &[f64], fmt: &dyn F
 }
 
 /// The frame of the plotting area.
-pub fn frame(svg: &mut Svg, area: &Rect) {
+pub(super) fn frame(svg: &mut Svg, area: &Rect) {
     svg.element(
         "rect",
         &[

@@ -9,7 +9,7 @@ use super::view::View;
 /// An ellipse in pixels: centre, semi-axes, and the angle of its first axis measured
 /// clockwise from the picture's x axis (SVG's `rotate`, y pointing down).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Ellipse {
+pub(super) struct Ellipse {
     /// Centre x.
     pub cx: f64,
     /// Centre y.
@@ -23,7 +23,7 @@ pub struct Ellipse {
 }
 
 /// The size ellipse of `t` at mesh point `p`, drawn `factor` times its true size.
-pub fn ellipse_in_view(t: &SizeTensor, p: [f64; 2], view: &View, factor: f64) -> Ellipse {
+pub(super) fn ellipse_in_view(t: &SizeTensor, p: [f64; 2], view: &View, factor: f64) -> Ellipse {
     let [cx, cy] = view.to_px(p);
     let [ax, ay] = t.axis();
     // The picture's y axis points down: a direction at +θ in the mesh is at −θ on screen.
@@ -34,7 +34,7 @@ pub fn ellipse_in_view(t: &SizeTensor, p: [f64; 2], view: &View, factor: f64) ->
 
 /// The factor that keeps the largest ellipse of the candidates within 30 % of the view's
 /// shorter side: 1 (true size) when they fit, smaller otherwise.
-pub fn fit_factor(candidates: &[(usize, [f64; 2], SizeTensor)], view: &View) -> f64 {
+pub(super) fn fit_factor(candidates: &[(usize, [f64; 2], SizeTensor)], view: &View) -> f64 {
     let largest = candidates.iter().map(|c| c.2.h_max()).fold(0.0, f64::max) * view.scale;
     let room = 0.3 * view.screen.width().min(view.screen.height());
     if largest > room {
@@ -54,7 +54,7 @@ const SPACING: f64 = 1.15;
 /// the two ellipses' radii towards each other away from every vertex kept before. Small
 /// ellipses come first, so that the finest regions are shown; the result is sorted by
 /// vertex index. Cost: O(n · k) for k kept ellipses, bounded by the view's area.
-pub fn pick(
+pub(super) fn pick(
     candidates: &[(usize, [f64; 2], SizeTensor)],
     view: &View,
     factor: f64,

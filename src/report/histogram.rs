@@ -98,7 +98,7 @@ fn draw(svg: &mut Svg, panel: &Rect, b: &Bars<'_>) {
 }
 
 /// The histogram of metric edge lengths.
-pub fn edge_lengths(svg: &mut Svg, panel: &Rect, c: &Conformity) {
+pub(super) fn edge_lengths(svg: &mut Svg, panel: &Rect, c: &Conformity) {
     let figures = format!(
         "{}% of {} edges in [{}, {}]",
         num(100.0 * c.conforming_share, 1),
@@ -125,7 +125,7 @@ pub fn edge_lengths(svg: &mut Svg, panel: &Rect, c: &Conformity) {
 }
 
 /// The histogram of metric triangle quality.
-pub fn quality(svg: &mut Svg, panel: &Rect, c: &Conformity) {
+pub(super) fn quality(svg: &mut Svg, panel: &Rect, c: &Conformity) {
     let figures = format!(
         "mean {}, min {} over {} triangles",
         num(c.mean_quality, 3),

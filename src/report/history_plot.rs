@@ -34,7 +34,7 @@ fn key_positions(names: &[&str], width: f64) -> Vec<(f64, usize)> {
 }
 
 /// Draws `h` into `panel`.
-pub fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
+pub(super) fn draw(svg: &mut Svg, panel: &Rect, h: &History) {
     let bx = super::layout::data_box(panel);
     svg.open("g", &[("id", "history"), ("class", "panel history"), ("data-box", &bx)]);
     let state = if h.converged { "converged" } else { "not converged" };

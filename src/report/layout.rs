@@ -7,20 +7,20 @@
 use super::view::Rect;
 
 /// Outer margin and gap between panels, in pixels.
-pub const MARGIN: f64 = 16.0;
+pub(super) const MARGIN: f64 = 16.0;
 /// Height of a panel's caption of one line.
-pub const CAPTION: f64 = 22.0;
+pub(super) const CAPTION: f64 = 22.0;
 /// Height of each further caption line.
-pub const CAPTION_LINE: f64 = 15.0;
+pub(super) const CAPTION_LINE: f64 = 15.0;
 const CHART: f64 = 250.0;
 /// Narrowest zoom panel.
-pub const MIN_ZOOM: f64 = 200.0;
+pub(super) const MIN_ZOOM: f64 = 200.0;
 /// Narrowest chart panel: the history's key and the histograms' headings fit on it.
-pub const MIN_CHART: f64 = 260.0;
+pub(super) const MIN_CHART: f64 = 260.0;
 
 /// The panels of one report.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Layout {
+pub(super) struct Layout {
     /// Picture width.
     pub width: f64,
     /// Picture height.
@@ -40,10 +40,10 @@ pub struct Layout {
 }
 
 /// Zoom windows wider than this (width / height) get a panel of the full width.
-pub const WIDE: f64 = 2.2;
+pub(super) const WIDE: f64 = 2.2;
 
 /// What a layout is made for.
-pub struct Request<'a> {
+pub(super) struct Request<'a> {
     /// Picture width.
     pub width: f64,
     /// The domain's aspect (width / height).
@@ -67,25 +67,25 @@ fn per_row(inner: f64, min: f64, max: usize) -> usize {
 
 /// A panel's rectangle as the value of its `data-box` attribute: `x0 y0 x1 y1` in
 /// pixels, so that a reader of the SVG (and the tests) can check what lies inside it.
-pub fn data_box(r: &Rect) -> String {
+pub(super) fn data_box(r: &Rect) -> String {
     use super::svg::num;
     format!("{} {} {} {}", num(r.x0, 1), num(r.y0, 1), num(r.x1, 1), num(r.y1, 1))
 }
 
 /// The height of a caption of `lines` lines.
-pub fn caption_height(lines: usize) -> f64 {
+pub(super) fn caption_height(lines: usize) -> f64 {
     CAPTION + CAPTION_LINE * lines.saturating_sub(1) as f64
 }
 
 /// The height of the overview's drawing (below its caption) in a picture `width` wide,
 /// for a domain of aspect `aspect`.
-pub fn overview_height(width: f64, aspect: f64) -> f64 {
+pub(super) fn overview_height(width: f64, aspect: f64) -> f64 {
     let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
     ((width - 2.0 * MARGIN) / aspect).min(0.55 * width).max(80.0)
 }
 
 /// Lays out the picture `req` asks for.
-pub fn layout(req: &Request<'_>) -> Layout {
+pub(super) fn layout(req: &Request<'_>) -> Layout {
     let width = req.width;
     let zooms = req.zooms;
     let inner = width - 2.0 * MARGIN;

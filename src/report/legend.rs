@@ -13,10 +13,10 @@ use super::text::Font;
 use super::view::Rect;
 
 /// Entries shown at most.
-pub const MAX_ENTRIES: usize = 40;
+pub(super) const MAX_ENTRIES: usize = 40;
 const ROW: f64 = 18.0;
 /// The legend's font.
-pub const FONT: Font = Font::regular(11.0);
+pub(super) const FONT: Font = Font::regular(11.0);
 /// Room for the swatch before a label, and the gap after it.
 const SWATCH: f64 = 26.0;
 const GAP: f64 = 16.0;
@@ -25,7 +25,7 @@ const STEP: f64 = 12.0;
 
 /// What an entry's swatch shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Swatch {
+pub(super) enum Swatch {
     /// A topological face's fill.
     Face,
     /// A topological curve's stroke.
@@ -44,7 +44,7 @@ pub enum Swatch {
 
 /// One legend entry.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Entry {
+pub(super) struct Entry {
     /// What the swatch shows.
     pub swatch: Swatch,
     /// Colour.
@@ -63,7 +63,7 @@ fn name(tag: Option<i32>, name: &Option<String>) -> String {
 
 /// What the picture draws besides the entities of the topology.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Extras {
+pub(super) struct Extras {
     /// The recipe has point sources (drawn as rings).
     pub source_points: bool,
     /// The recipe has imaginary polylines (drawn dashed).
@@ -74,7 +74,7 @@ pub struct Extras {
 
 /// The entries of `topo` — faces, curves, tagged points, in topology order, at most
 /// [`MAX_ENTRIES`] and then a count of the rest — and of `extras`.
-pub fn entries(topo: &Topology, extras: Extras) -> Vec<Entry> {
+pub(super) fn entries(topo: &Topology, extras: Extras) -> Vec<Entry> {
     let faces = topo.faces.iter().enumerate().map(|(i, f)| Entry {
         swatch: Swatch::Face,
         colour: palette::face(i),
@@ -151,12 +151,12 @@ fn positions(entries: &[Entry], width: f64) -> (Vec<(f64, f64, String)>, f64) {
 }
 
 /// The height the legend needs in `width` pixels.
-pub fn height(entries: &[Entry], width: f64) -> f64 {
+pub(super) fn height(entries: &[Entry], width: f64) -> f64 {
     positions(entries, width).1
 }
 
 /// A diamond of half-diagonal `r` pixels at `(x, y)`, as path data.
-pub fn diamond(x: f64, y: f64, r: f64) -> String {
+pub(super) fn diamond(x: f64, y: f64, r: f64) -> String {
     format!(
         "M{} {}L{} {}L{} {}L{} {}Z",
         num(x, 1),
@@ -171,7 +171,7 @@ pub fn diamond(x: f64, y: f64, r: f64) -> String {
 }
 
 /// Draws the legend into `rect`.
-pub fn draw(svg: &mut Svg, rect: &Rect, entries: &[Entry]) {
+pub(super) fn draw(svg: &mut Svg, rect: &Rect, entries: &[Entry]) {
     let (pos, _) = positions(entries, rect.width());
     let bx = super::layout::data_box(rect);
     svg.open("g", &[("id", "legend"), ("data-box", &bx)]);

@@ -15,18 +15,18 @@ use super::svg::{num, PathData, Svg};
 use super::view::{Rect, View};
 
 /// Edges shorter than this many pixels are drawn as shading.
-pub const MIN_EDGE_PX: f64 = 2.0;
+pub(super) const MIN_EDGE_PX: f64 = 2.0;
 /// Side of the shading cells, in pixels.
-pub const DENSITY_CELL_PX: f64 = 2.0;
+pub(super) const DENSITY_CELL_PX: f64 = 2.0;
 /// Opacity of the darkest shading: where edges would cover a cell wholly, the face's
 /// colour still shows through, so that a dense region reads as dense rather than black.
-pub const MAX_SHADING: f64 = 0.5;
+pub(super) const MAX_SHADING: f64 = 0.5;
 /// Levels of shading, from a quarter of [`MAX_SHADING`] to all of it.
-pub const SHADING_LEVELS: usize = 4;
+pub(super) const SHADING_LEVELS: usize = 4;
 
 /// The mesh prepared for drawing: coordinates, face outlines, edges and curves.
 #[derive(Debug, Clone)]
-pub struct MeshLayers {
+pub(super) struct MeshLayers {
     /// Vertex coordinates (x, y).
     pub points: Vec<[f64; 2]>,
     /// Per topological face, its boundary loops (vertex indices).
@@ -41,7 +41,7 @@ pub struct MeshLayers {
 
 /// How many edges a panel drew, and how many it shaded.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct EdgeStats {
+pub(super) struct EdgeStats {
     /// Edges drawn as lines.
     pub drawn: usize,
     /// Edges too short on screen, drawn as shading.
@@ -50,7 +50,7 @@ pub struct EdgeStats {
 
 /// The boundary loops of a set of cells: the edges used an odd number of times, chained
 /// into closed vertex loops (each loop a cycle; pinch points are passed through).
-pub fn boundary_loops<'a>(cells: impl Iterator<Item = &'a [usize]>) -> Vec<Vec<usize>> {
+pub(super) fn boundary_loops<'a>(cells: impl Iterator<Item = &'a [usize]>) -> Vec<Vec<usize>> {
     let mut all: Vec<[usize; 2]> = Vec::new();
     for c in cells {
         for i in 0..c.len() {
@@ -106,7 +106,7 @@ pub fn boundary_loops<'a>(cells: impl Iterator<Item = &'a [usize]>) -> Vec<Vec<u
 
 impl MeshLayers {
     /// Prepares `topology`'s mesh, whose vertices are `points`.
-    pub fn new(topology: &Topology, points: Vec<[f64; 2]>) -> MeshLayers {
+    pub(super) fn new(topology: &Topology, points: Vec<[f64; 2]>) -> MeshLayers {
         let face_loops = (0..topology.faces.len())
             .map(|f| {
                 boundary_loops(
@@ -131,7 +131,7 @@ impl MeshLayers {
     }
 
     /// The bounding box of the vertices that faces or curves use.
-    pub fn bounds(&self) -> Option<Rect> {
+    pub(super) fn bounds(&self) -> Option<Rect> {
         let used = self
             .face_loops
             .iter()
@@ -142,7 +142,7 @@ impl MeshLayers {
     }
 
     /// One even-odd filled path per face, coloured by the face's index.
-    pub fn draw_faces(&self, svg: &mut Svg, view: &View) {
+    pub(super) fn draw_faces(&self, svg: &mut Svg, view: &View) {
         for (f, loops) in self.face_loops.iter().enumerate() {
             let mut d = PathData::new(1);
             for lp in loops {
@@ -173,7 +173,7 @@ impl MeshLayers {
     }
 
     /// Edges inside the view: long ones as one path, short ones as shading.
-    pub fn draw_edges(&self, svg: &mut Svg, view: &View, stroke_px: f64) -> EdgeStats {
+    pub(super) fn draw_edges(&self, svg: &mut Svg, view: &View, stroke_px: f64) -> EdgeStats {
         let mut stats = EdgeStats::default();
         let mut d = PathData::new(1);
         let s = view.screen;
@@ -265,7 +265,7 @@ impl MeshLayers {
 
     /// Whether some edge is shorter than [`MIN_EDGE_PX`] at `scale` pixels per unit, so
     /// that a view of the whole mesh at that scale shades it.
-    pub fn has_short_edges(&self, scale: f64) -> bool {
+    pub(super) fn has_short_edges(&self, scale: f64) -> bool {
         self.edges.iter().any(|&[a, b]| {
             let (p, q) = (self.points[a], self.points[b]);
             (p[0] - q[0]).hypot(p[1] - q[1]) * scale < MIN_EDGE_PX
@@ -274,7 +274,7 @@ impl MeshLayers {
 
     /// The tagged topological points as diamonds of half-diagonal `r` pixels, coloured by
     /// the point's index (the legend's markers).
-    pub fn draw_points(&self, svg: &mut Svg, view: &View, r: f64) {
+    pub(super) fn draw_points(&self, svg: &mut Svg, view: &View, r: f64) {
         let reach = view.screen.inflate(r);
         for &(i, v) in &self.points_0d {
             let [x, y] = view.to_px(self.points[v]);
@@ -297,7 +297,7 @@ impl MeshLayers {
 
     /// The topological curves, one path per curve, coloured by the curve's index; points
     /// closer than half a pixel to the previous one kept are skipped.
-    pub fn draw_curves(&self, svg: &mut Svg, view: &View, width_px: f64) {
+    pub(super) fn draw_curves(&self, svg: &mut Svg, view: &View, width_px: f64) {
         let w = num(width_px, 2);
         for (ci, pieces) in self.curves.iter().enumerate() {
             let mut d = PathData::new(1);

@@ -4,40 +4,46 @@
 //! sizes), size ellipses in the zooms, histograms of metric edge length and quality, and
 //! the convergence history of an adaptation run.
 //!
-//! - [`svg`]: the SVG writer with deterministic number formatting;
-//! - [`view`]: rectangles and the mesh-to-pixel map;
-//! - [`layout`] and [`legend`]: where the panels and legend entries go;
-//! - [`mesh_layer`]: faces, edges (shaded below 2 px, so big meshes stay small) and curves;
-//! - [`windows`]: the zoom windows;
-//! - [`ellipses`]: size ellipses and the vertices they are drawn at;
-//! - [`panels`]: the zoom panels and what the overview shares with them;
-//! - [`tabs`]: where the overview puts each zoom frame's number tab;
-//! - [`axes`], [`histogram`], [`history_plot`]: the charts;
-//! - [`text`]: text measured (a table of the font's advances) and fitted to its panel;
-//! - [`png`]: rasterising through resvg;
-//! - [`skin`]: zooms on a boundary-layer skin and its thinned columns.
+//! - `svg`: the SVG writer with deterministic number formatting;
+//! - `view`: rectangles and the mesh-to-pixel map;
+//! - `layout` and `legend`: where the panels and legend entries go;
+//! - `mesh_layer`: faces, edges (shaded below 2 px, so big meshes stay small) and curves;
+//! - `windows`: the zoom windows;
+//! - `ellipses`: size ellipses and the vertices they are drawn at;
+//! - `panels`: the zoom panels and what the overview shares with them;
+//! - `tabs`: where the overview puts each zoom frame's number tab;
+//! - `axes`, `histogram`, `history_plot`: the charts;
+//! - `text`: text measured (a table of the font's advances) and fitted to its panel;
+//! - `png`: rasterising through resvg;
+//! - `skin`: zooms on a boundary-layer skin and its thinned columns.
 //!
 //! Everything is a pure function of its input: the same mesh, metric, recipe and history
 //! give the same bytes.
 
-pub mod axes;
-pub mod ellipses;
-pub mod histogram;
-pub mod history_plot;
-pub mod layout;
-pub mod legend;
-pub mod mesh_layer;
-pub mod palette;
-pub mod panels;
-pub mod png;
-pub mod skin;
-pub mod svg;
-pub mod tabs;
-pub mod text;
-pub mod view;
-pub mod windows;
+mod axes;
+mod ellipses;
+mod histogram;
+mod history_plot;
+mod layout;
+mod legend;
+mod mesh_layer;
+mod palette;
+mod panels;
+mod png;
+mod skin;
+mod svg;
+mod tabs;
+mod text;
+mod view;
+mod windows;
 
 use std::path::Path;
+
+// What the CLI and the tests use of the drawing modules: the PNG rasteriser and the
+// font table the layout measures text with.
+pub use self::png::{rasterise, PngOptions};
+pub use self::text::{Font, ASCENT, DESCENT};
+pub use self::windows::ZoomWindow;
 
 use crate::conformity::Conformity;
 use crate::history::History;
@@ -52,7 +58,6 @@ use self::mesh_layer::MeshLayers;
 use self::panels::{
     clip, draw_marks, draw_zoom, panel_border, plural, scale_bar, source_marks, zoom_inner, Scene,
 };
-use self::text::Font;
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::field::run_algorithm;
 
@@ -62,7 +67,6 @@ const TITLE_FONT: Font = Font::bold(18.0);
 const TITLE_INFO_FONT: Font = Font::regular(13.0);
 use self::svg::{num, Svg};
 use self::view::{Rect, View};
-use self::windows::ZoomWindow;
 
 /// Default picture width in pixels.
 pub const DEFAULT_WIDTH: u32 = 1200;
@@ -153,7 +157,8 @@ pub fn fmt_sig(v: f64) -> String {
     }
 }
 
-/// Draws the report.
+/// Draws the report: the zoom windows chosen, the title lines written, the page laid
+/// out, then the title, the overview, the legend, the zooms and the charts drawn.
 pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let width = options.width.clamp(WIDTH_RANGE[0], WIDTH_RANGE[1]) as f64;
     let mesh = input.mesh;
@@ -170,32 +175,7 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let sizes: Option<Vec<Option<SizeTensor>>> = input
         .metric
         .map(|m| m.tensors().iter().map(|t| SizeTensor::try_from_metric(t).ok()).collect());
-    // The mesh graph, built only when a step's source is as large as the domain and its
-    // window is framed where the step asks for its finest sizes.
-    let mut graph: Option<Option<MeshGraph>> = None;
-    let mut focus = |k: usize| {
-        let plan = input.plan?;
-        let step = plan.steps.get(k)?;
-        let g = graph.get_or_insert_with(|| MeshGraph::from_topology(topo, mesh).ok()).as_ref()?;
-        let c = run_algorithm(g, topo, &step.algorithm, k, &step.label).ok()?;
-        windows::finest(&c, &points)
-    };
-    let zooms = match (input.plan, &sizes) {
-        (Some(plan), _) => windows::from_plan(plan, topo, &points, &domain, &mut focus),
-        (None, Some(s)) => windows::from_sizes(s, topo, &points, &domain, SIZE_WINDOWS),
-        (None, None) => Vec::new(),
-    };
-    let mut zooms = zooms;
-    let skin = skin::skin_marks(mesh, &domain);
-    zooms.extend(skin.windows.iter().cloned());
-    if !skin.thinned.is_empty() {
-        notes.push(format!(
-            "{} points of boundary-layer columns thinned or stopped, drawn in red",
-            skin.thinned.len()
-        ));
-    }
-    // Wide windows get full-width panels after the others; number them in that order.
-    zooms.sort_by_key(|z| z.region.width() > layout::WIDE * z.region.height());
+    let (mut zooms, skin) = zoom_windows(input, &points, &domain, sizes.as_deref(), &mut notes);
     let marks = source_marks(input.plan, topo, &points);
 
     let inner_width = width - 2.0 * layout::MARGIN;
@@ -219,42 +199,7 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         zooms.iter().map(|z| z.region.width() / z.region.height().max(1e-300)).collect();
     let zoom_captions: Vec<String> =
         zooms.iter().enumerate().map(|(k, z)| format!("{}: {}", k + 1, z.label)).collect();
-
-    // Title lines, wrapped to the width.
-    let triangles = topo.surface_cells.len();
-    let counts = format!(
-        "{}, {}, {}, {}, {}",
-        plural(mesh.points.len(), "vertex", "vertices"),
-        plural(triangles, "surface cell", "surface cells"),
-        plural(topo.faces.len(), "face", "faces"),
-        plural(topo.curves.len(), "curve", "curves"),
-        plural(
-            topo.points.iter().filter(|p| p.tag.is_some()).count(),
-            "tagged point",
-            "tagged points"
-        )
-    );
-    let metric_line = match (input.metric, &conformity) {
-        (Some(m), Some(c)) => format!(
-            "metric {}: {}% of edges conforming, mean metric quality {}",
-            m.source(),
-            num(100.0 * c.conforming_share, 1),
-            num(c.mean_quality, 3)
-        ),
-        (Some(m), None) => format!("metric {}: no triangle to measure", m.source()),
-        (None, _) => {
-            let why = format!(
-                "no metric: {} has no point data `metric` and no --metric was given",
-                input.name
-            );
-            notes.push(why.clone());
-            why
-        }
-    };
-    let info_lines: Vec<String> = [counts, metric_line]
-        .iter()
-        .flat_map(|l| TITLE_INFO_FONT.wrap(l, inner_width, 2))
-        .collect();
+    let info_lines = title_lines(input, conformity.as_ref(), inner_width, &mut notes);
     let title_height = 46.0 + 16.0 * (info_lines.len() - 1) as f64;
 
     let lay = layout::layout(&layout::Request {
@@ -266,78 +211,16 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         caption_lines: &|k, w| panels::caption_lines(&zoom_captions[k], w).len(),
         charts,
     });
-    // Each zoom shows its window grown to the panel's aspect, moved inside the domain
-    // where it fits (a window around a corner shows mesh, not the page), less a margin of
-    // 4 % of the window, so that a boundary at its edge is not drawn on the panel's border.
-    let zoom_views: Vec<View> = zooms
-        .iter()
-        .zip(&lay.zooms)
-        .zip(&lay.zoom_captions)
-        .map(|((z, r), &cap)| {
-            let inner = zoom_inner(r, cap);
-            let world = View::fit(z.region, inner).world;
-            let pad = 0.04 * world.width().min(world.height());
-            let grown = world.shift_inside(&domain.inflate(pad));
-            View::fit(grown, inner)
-        })
-        .collect();
+    let zoom_views = zoom_views(&zooms, &lay, &domain);
     let mut svg = Svg::new(lay.width, lay.height);
 
     draw_title(&mut svg, &lay.title, input.name, &info_lines);
-
-    // Overview.
-    let ov = lay.overview;
-    let ov_inner = Rect::new(ov.x0, ov.y0 + CAPTION, ov.x1, ov.y1);
-    let ov_view = View::fit(ov_world, ov_inner);
-    svg.open(
-        "g",
-        &[
-            ("id", "overview"),
-            ("class", "panel overview"),
-            ("data-scale", &num(ov_view.scale, 6)),
-            ("data-box", &layout::data_box(&ov)),
-        ],
-    );
-    clip(&mut svg, "clip-overview", &ov_inner);
-    svg.open("g", &[("clip-path", "url(#clip-overview)")]);
-    layers.draw_faces(&mut svg, &ov_view);
-    let ov_stats = layers.draw_edges(&mut svg, &ov_view, 0.35);
-    layers.draw_curves(&mut svg, &ov_view, 1.8);
-    layers.draw_points(&mut svg, &ov_view, 4.0);
-    draw_marks(&mut svg, &ov_view, &marks);
-    skin::draw(&mut svg, &ov_view, &skin, 1.5);
-    // A window wider or taller than the domain is framed where the mesh is.
-    let frames: Vec<Rect> = zoom_views
-        .iter()
-        .map(|zv| ov_view.rect_to_px(&zv.world.intersect(&domain).unwrap_or(domain)))
-        .collect();
-    let content = ov_view.rect_to_px(&domain).intersect(&ov_inner).unwrap_or(ov_inner);
-    let placed = tabs::place(&frames, &ov_inner, &[panels::scale_bar_box(&ov_view, &content)]);
-    draw_zoom_frames(&mut svg, &frames, &placed);
-    svg.close();
-    scale_bar(&mut svg, &ov_view, &content);
-    svg.text(ov.x0, ov.y0 + 14.0, "Whole mesh", &[("font-size", "13"), ("font-weight", "bold")]);
-    if ov_stats.shaded > 0 {
-        let n = ov_stats.shaded;
-        let long = format!(
-            "{n} edges shorter than {} px drawn as shading",
-            num(mesh_layer::MIN_EDGE_PX, 0)
-        );
-        let short = format!("{n} edges shaded");
-        let room = ov.width() - Font::bold(13.0).width("Whole mesh") - 16.0;
-        let s = Font::regular(11.0).first_fitting(&[&long, &short], room);
-        svg.text(
-            ov.x1,
-            ov.y0 + 14.0,
-            &s,
-            &[("font-size", "11"), ("fill", palette::MUTED), ("text-anchor", "end")],
-        );
-    }
-    svg.close();
+    let overview =
+        Overview { rect: lay.overview, world: ov_world, domain, zoom_views: &zoom_views };
+    let mut shaded = draw_overview(&mut svg, &overview, &layers, &marks, &skin);
     legend::draw(&mut svg, &lay.legend, &entries);
 
     // Zooms.
-    let mut shaded = ov_stats.shaded;
     for (k, ((z, r), view)) in zooms.iter().zip(&lay.zooms).zip(&zoom_views).enumerate() {
         let scene = Scene {
             layers: &layers,
@@ -369,6 +252,179 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         conformity,
         notes,
     }
+}
+
+/// The zoom windows, in the order they are numbered: around the plan's sources (or the
+/// smallest sizes without a plan), then around a boundary-layer skin; with the skin's
+/// marks, and a note when columns were thinned.
+fn zoom_windows(
+    input: &ReportInput<'_>,
+    points: &[[f64; 2]],
+    domain: &Rect,
+    sizes: Option<&[Option<SizeTensor>]>,
+    notes: &mut Vec<String>,
+) -> (Vec<ZoomWindow>, skin::SkinMarks) {
+    let (mesh, topo) = (input.mesh, input.topology);
+    // The mesh graph, built only when a step's source is as large as the domain and its
+    // window is framed where the step asks for its finest sizes.
+    let mut graph: Option<Option<MeshGraph>> = None;
+    let mut focus = |k: usize| {
+        let plan = input.plan?;
+        let step = plan.steps.get(k)?;
+        let g = graph.get_or_insert_with(|| MeshGraph::from_topology(topo, mesh).ok()).as_ref()?;
+        let c = run_algorithm(g, topo, &step.algorithm, k, &step.label).ok()?;
+        windows::finest(&c, points)
+    };
+    let mut zooms = match (input.plan, sizes) {
+        (Some(plan), _) => windows::from_plan(plan, topo, points, domain, &mut focus),
+        (None, Some(s)) => windows::from_sizes(s, topo, points, domain, SIZE_WINDOWS),
+        (None, None) => Vec::new(),
+    };
+    let skin = skin::skin_marks(mesh, domain);
+    zooms.extend(skin.windows.iter().cloned());
+    if !skin.thinned.is_empty() {
+        notes.push(format!(
+            "{} points of boundary-layer columns thinned or stopped, drawn in red",
+            skin.thinned.len()
+        ));
+    }
+    // Wide windows get full-width panels after the others; number them in that order.
+    zooms.sort_by_key(|z| z.region.width() > layout::WIDE * z.region.height());
+    (zooms, skin)
+}
+
+/// The lines under the title, wrapped to `width`: the mesh's counts, then its metric's
+/// conformity (or why there is none, also a note).
+fn title_lines(
+    input: &ReportInput<'_>,
+    conformity: Option<&Conformity>,
+    width: f64,
+    notes: &mut Vec<String>,
+) -> Vec<String> {
+    let (mesh, topo) = (input.mesh, input.topology);
+    let triangles = topo.surface_cells.len();
+    let counts = format!(
+        "{}, {}, {}, {}, {}",
+        plural(mesh.points.len(), "vertex", "vertices"),
+        plural(triangles, "surface cell", "surface cells"),
+        plural(topo.faces.len(), "face", "faces"),
+        plural(topo.curves.len(), "curve", "curves"),
+        plural(
+            topo.points.iter().filter(|p| p.tag.is_some()).count(),
+            "tagged point",
+            "tagged points"
+        )
+    );
+    let metric_line = match (input.metric, conformity) {
+        (Some(m), Some(c)) => format!(
+            "metric {}: {}% of edges conforming, mean metric quality {}",
+            m.source(),
+            num(100.0 * c.conforming_share, 1),
+            num(c.mean_quality, 3)
+        ),
+        (Some(m), None) => format!("metric {}: no triangle to measure", m.source()),
+        (None, _) => {
+            let why = format!(
+                "no metric: {} has no point data `metric` and no --metric was given",
+                input.name
+            );
+            notes.push(why.clone());
+            why
+        }
+    };
+    [counts, metric_line].iter().flat_map(|l| TITLE_INFO_FONT.wrap(l, width, 2)).collect()
+}
+
+/// The view of each zoom panel: its window grown to the panel's aspect, moved inside the
+/// domain where it fits (a window around a corner shows mesh, not the page), less a
+/// margin of 4 % of the window, so that a boundary at its edge is not drawn on the
+/// panel's border.
+fn zoom_views(zooms: &[ZoomWindow], lay: &layout::Layout, domain: &Rect) -> Vec<View> {
+    zooms
+        .iter()
+        .zip(&lay.zooms)
+        .zip(&lay.zoom_captions)
+        .map(|((z, r), &cap)| {
+            let inner = zoom_inner(r, cap);
+            let world = View::fit(z.region, inner).world;
+            let pad = 0.04 * world.width().min(world.height());
+            let grown = world.shift_inside(&domain.inflate(pad));
+            View::fit(grown, inner)
+        })
+        .collect()
+}
+
+/// Where the overview goes and what it frames.
+struct Overview<'a> {
+    /// Its panel on the page.
+    rect: Rect,
+    /// The part of the plane it shows.
+    world: Rect,
+    /// The mesh's bounds.
+    domain: Rect,
+    /// The zoom panels' views, framed on it.
+    zoom_views: &'a [View],
+}
+
+/// The overview panel: the whole mesh, the source marks, the skin, a frame and a number
+/// tab for each zoom, the scale bar; returns how many of its edges were shaded.
+fn draw_overview(
+    svg: &mut Svg,
+    o: &Overview<'_>,
+    layers: &MeshLayers,
+    marks: &panels::SourceMarks,
+    skin: &skin::SkinMarks,
+) -> usize {
+    let (ov, domain) = (o.rect, o.domain);
+    let ov_inner = Rect::new(ov.x0, ov.y0 + CAPTION, ov.x1, ov.y1);
+    let ov_view = View::fit(o.world, ov_inner);
+    svg.open(
+        "g",
+        &[
+            ("id", "overview"),
+            ("class", "panel overview"),
+            ("data-scale", &num(ov_view.scale, 6)),
+            ("data-box", &layout::data_box(&ov)),
+        ],
+    );
+    clip(svg, "clip-overview", &ov_inner);
+    svg.open("g", &[("clip-path", "url(#clip-overview)")]);
+    layers.draw_faces(svg, &ov_view);
+    let ov_stats = layers.draw_edges(svg, &ov_view, 0.35);
+    layers.draw_curves(svg, &ov_view, 1.8);
+    layers.draw_points(svg, &ov_view, 4.0);
+    draw_marks(svg, &ov_view, marks);
+    skin::draw(svg, &ov_view, skin, 1.5);
+    // A window wider or taller than the domain is framed where the mesh is.
+    let frames: Vec<Rect> = o
+        .zoom_views
+        .iter()
+        .map(|zv| ov_view.rect_to_px(&zv.world.intersect(&domain).unwrap_or(domain)))
+        .collect();
+    let content = ov_view.rect_to_px(&domain).intersect(&ov_inner).unwrap_or(ov_inner);
+    let placed = tabs::place(&frames, &ov_inner, &[panels::scale_bar_box(&ov_view, &content)]);
+    draw_zoom_frames(svg, &frames, &placed);
+    svg.close();
+    scale_bar(svg, &ov_view, &content);
+    svg.text(ov.x0, ov.y0 + 14.0, "Whole mesh", &[("font-size", "13"), ("font-weight", "bold")]);
+    if ov_stats.shaded > 0 {
+        let n = ov_stats.shaded;
+        let long = format!(
+            "{n} edges shorter than {} px drawn as shading",
+            num(mesh_layer::MIN_EDGE_PX, 0)
+        );
+        let short = format!("{n} edges shaded");
+        let room = ov.width() - Font::bold(13.0).width("Whole mesh") - 16.0;
+        let s = Font::regular(11.0).first_fitting(&[&long, &short], room);
+        svg.text(
+            ov.x1,
+            ov.y0 + 14.0,
+            &s,
+            &[("font-size", "11"), ("fill", palette::MUTED), ("text-anchor", "end")],
+        );
+    }
+    svg.close();
+    ov_stats.shaded
 }
 
 /// The title panel: the mesh's name and the information lines under it.

@@ -11,40 +11,40 @@ const CURVES: [&str; 10] = [
 ];
 
 /// Fill of topological face `i`.
-pub fn face(i: usize) -> &'static str {
+pub(super) fn face(i: usize) -> &'static str {
     FACES[i % FACES.len()]
 }
 
 /// Stroke of topological curve `i`.
-pub fn curve(i: usize) -> &'static str {
+pub(super) fn curve(i: usize) -> &'static str {
     CURVES[i % CURVES.len()]
 }
 
 /// Marker of tagged topological point `i`: the curves' hues, shifted so that a corner
 /// and the curves meeting there seldom share one (the marker's shape tells them apart).
-pub fn point(i: usize) -> &'static str {
+pub(super) fn point(i: usize) -> &'static str {
     CURVES[(i + 4) % CURVES.len()]
 }
 
 /// Mesh edges.
-pub const EDGE: &str = "#3a3a3a";
+pub(super) const EDGE: &str = "#3a3a3a";
 /// Size ellipses.
-pub const ELLIPSE: &str = "#c2185b";
+pub(super) const ELLIPSE: &str = "#c2185b";
 /// Frames of the zoom windows.
-pub const FRAME: &str = "#111111";
+pub(super) const FRAME: &str = "#111111";
 /// The conforming band of the edge-length histogram.
-pub const BAND: &str = "#c8e6c9";
+pub(super) const BAND: &str = "#c8e6c9";
 /// Histogram bars.
-pub const BAR: &str = "#5c7cba";
+pub(super) const BAR: &str = "#5c7cba";
 /// Bars inside the conforming band.
-pub const BAR_OK: &str = "#2e7d32";
+pub(super) const BAR_OK: &str = "#2e7d32";
 /// Axes and ticks.
-pub const AXIS: &str = "#444444";
+pub(super) const AXIS: &str = "#444444";
 /// Muted text.
-pub const MUTED: &str = "#666666";
+pub(super) const MUTED: &str = "#666666";
 /// First series of the history plot (vertices).
-pub const SERIES_A: &str = "#1f77b4";
+pub(super) const SERIES_A: &str = "#1f77b4";
 /// Second series (conforming share).
-pub const SERIES_B: &str = "#e65100";
+pub(super) const SERIES_B: &str = "#e65100";
 /// Third series (mean quality).
-pub const SERIES_C: &str = "#2e7d32";
+pub(super) const SERIES_C: &str = "#2e7d32";

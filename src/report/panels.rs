@@ -19,7 +19,7 @@ use super::{axes, fmt_sig, palette};
 const ELLIPSE_GAP_PX: f64 = 10.0;
 
 /// What every mesh panel draws from.
-pub struct Scene<'a> {
+pub(super) struct Scene<'a> {
     /// The mesh as layers.
     pub layers: &'a MeshLayers,
     /// Its topology.
@@ -34,7 +34,7 @@ pub struct Scene<'a> {
 }
 
 /// Imaginary polylines and point sources of a plan, in mesh coordinates.
-pub struct SourceMarks {
+pub(super) struct SourceMarks {
     /// The imaginary polylines.
     pub polylines: Vec<Vec<[f64; 2]>>,
     /// The point sources.
@@ -42,7 +42,7 @@ pub struct SourceMarks {
 }
 
 /// The imaginary polylines and point sources of `plan`'s steps, to draw over the mesh.
-pub fn source_marks(
+pub(super) fn source_marks(
     plan: Option<&SizingPlan>,
     topo: &Topology,
     points: &[[f64; 2]],
@@ -61,7 +61,7 @@ pub fn source_marks(
 }
 
 /// Polylines dashed, point sources as rings.
-pub fn draw_marks(svg: &mut Svg, view: &View, marks: &SourceMarks) {
+pub(super) fn draw_marks(svg: &mut Svg, view: &View, marks: &SourceMarks) {
     for pl in &marks.polylines {
         let mut d = PathData::new(1);
         for (i, &p) in pl.iter().enumerate() {
@@ -103,7 +103,7 @@ pub fn draw_marks(svg: &mut Svg, view: &View, marks: &SourceMarks) {
 /// A scale bar of a round length at the bottom left of `content` (the pixels where the
 /// mesh is, within the view), drawn over a white outline so that it reads on any fill.
 /// Returns the box of its label.
-pub fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) -> Rect {
+pub(super) fn scale_bar(svg: &mut Svg, view: &View, content: &Rect) -> Rect {
     let (len, px, x, y) = scale_bar_geometry(view, content);
     let d = format!("M{} {}v4h{}v-4", num(x, 1), num(y - 4.0, 1), num(px, 2));
     svg.open("g", &[("class", "scale-bar")]);
@@ -134,18 +134,18 @@ fn scale_bar_geometry(view: &View, content: &Rect) -> (f64, f64, f64, f64) {
 }
 
 /// What [`scale_bar`] will cover, its label and its bar, to keep other labels off it.
-pub fn scale_bar_box(view: &View, content: &Rect) -> Rect {
+pub(super) fn scale_bar_box(view: &View, content: &Rect) -> Rect {
     let (len, px, x, y) = scale_bar_geometry(view, content);
     let label = halo_box(x + 0.5 * px, y - 8.0, &fmt_sig(len), "middle");
     Rect::new(label.x0.min(x - 2.0), label.y0, label.x1.max(x + px + 2.0), y + 2.0)
 }
 
 /// The font of labels over the mesh.
-pub const HALO_FONT: Font = Font::regular(11.0);
+pub(super) const HALO_FONT: Font = Font::regular(11.0);
 
 /// The box of 11 px text at `(x, y)` anchored `anchor`, with 3 px of padding: what
 /// [`halo_text`] paints white.
-pub fn halo_box(x: f64, y: f64, text: &str, anchor: &str) -> Rect {
+pub(super) fn halo_box(x: f64, y: f64, text: &str, anchor: &str) -> Rect {
     let w = HALO_FONT.width(text) + 6.0;
     let x0 = match anchor {
         "end" => x - w + 3.0,
@@ -157,7 +157,7 @@ pub fn halo_box(x: f64, y: f64, text: &str, anchor: &str) -> Rect {
 
 /// 11 px text on a translucent white box (measured, see [`super::text`]), readable over
 /// the mesh.
-pub fn halo_text(svg: &mut Svg, x: f64, y: f64, text: &str, anchor: &str, colour: &str) {
+pub(super) fn halo_text(svg: &mut Svg, x: f64, y: f64, text: &str, anchor: &str, colour: &str) {
     let b = halo_box(x, y, text, anchor);
     svg.element(
         "rect",
@@ -179,7 +179,7 @@ pub fn halo_text(svg: &mut Svg, x: f64, y: f64, text: &str, anchor: &str, colour
 }
 
 /// A clip path `id` of rectangle `r`.
-pub fn clip(svg: &mut Svg, id: &str, r: &Rect) {
+pub(super) fn clip(svg: &mut Svg, id: &str, r: &Rect) {
     svg.open("clipPath", &[("id", id)]);
     svg.element(
         "rect",
@@ -194,7 +194,7 @@ pub fn clip(svg: &mut Svg, id: &str, r: &Rect) {
 }
 
 /// A thin grey border around `r`.
-pub fn panel_border(svg: &mut Svg, r: &Rect) {
+pub(super) fn panel_border(svg: &mut Svg, r: &Rect) {
     svg.element(
         "rect",
         &[
@@ -211,27 +211,27 @@ pub fn panel_border(svg: &mut Svg, r: &Rect) {
 }
 
 /// The part of a zoom panel below its caption of `caption` pixels.
-pub fn zoom_inner(r: &Rect, caption: f64) -> Rect {
+pub(super) fn zoom_inner(r: &Rect, caption: f64) -> Rect {
     Rect::new(r.x0, r.y0 + caption, r.x1, r.y1)
 }
 
 /// The font of zoom captions.
-pub const CAPTION_FONT: Font = Font::bold(12.0);
+pub(super) const CAPTION_FONT: Font = Font::bold(12.0);
 /// Lines a zoom caption may take.
-pub const CAPTION_LINES: usize = 2;
+pub(super) const CAPTION_LINES: usize = 2;
 
 /// The lines of zoom caption `caption` in a panel `width` pixels wide.
-pub fn caption_lines(caption: &str, width: f64) -> Vec<String> {
+pub(super) fn caption_lines(caption: &str, width: f64) -> Vec<String> {
     CAPTION_FONT.wrap(caption, width, CAPTION_LINES)
 }
 
 /// `n` and the word for one or many.
-pub fn plural(n: usize, one: &str, many: &str) -> String {
+pub(super) fn plural(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
 /// Zoom panel `k` (0-based) of window `z` in panel rectangle `r`, showing `view`.
-pub fn draw_zoom(
+pub(super) fn draw_zoom(
     svg: &mut Svg,
     k: usize,
     z: &ZoomWindow,

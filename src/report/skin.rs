@@ -19,11 +19,11 @@ use super::view::{Rect, View};
 use super::windows::ZoomWindow;
 
 /// Colour of the thinned columns' dots.
-pub const THINNED: &str = "#d32f2f";
+pub(super) const THINNED: &str = "#d32f2f";
 
 /// The skin as a report shows it.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct SkinMarks {
+pub(super) struct SkinMarks {
     /// Points of thinned columns, with the share of the thickness their column took.
     pub thinned: Vec<([f64; 2], f64)>,
     /// Zoom windows on the skin.
@@ -31,7 +31,7 @@ pub struct SkinMarks {
 }
 
 /// The skin of `mesh` (none without quads), its windows kept inside `domain`'s scale.
-pub fn skin_marks(mesh: &TaggedMesh, domain: &Rect) -> SkinMarks {
+pub(super) fn skin_marks(mesh: &TaggedMesh, domain: &Rect) -> SkinMarks {
     let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
     let thinned: Vec<([f64; 2], f64)> = match mesh.point_data.get(THICKNESS_SHARE) {
         Some(a) if a.components == 1 && a.values.len() == pts.len() => pts
@@ -101,7 +101,7 @@ pub fn skin_marks(mesh: &TaggedMesh, domain: &Rect) -> SkinMarks {
 }
 
 /// Draws the thinned columns' points.
-pub fn draw(svg: &mut Svg, view: &View, marks: &SkinMarks, radius: f64) {
+pub(super) fn draw(svg: &mut Svg, view: &View, marks: &SkinMarks, radius: f64) {
     if marks.thinned.is_empty() {
         return;
     }

@@ -8,7 +8,7 @@
 use std::fmt::Write as _;
 
 /// Formats `v` with at most `decimals` decimals, trailing zeros dropped, `-0` as `0`.
-pub fn num(v: f64, decimals: usize) -> String {
+pub(super) fn num(v: f64, decimals: usize) -> String {
     if !v.is_finite() {
         return "0".into();
     }
@@ -28,7 +28,7 @@ pub fn num(v: f64, decimals: usize) -> String {
 }
 
 /// Escapes the five XML special characters of `text`.
-pub fn escape(text: &str) -> String {
+pub(super) fn escape(text: &str) -> String {
     let mut s = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -47,14 +47,14 @@ pub fn escape(text: &str) -> String {
 /// The document being written. Attributes are `(name, value)` pairs; values are escaped
 /// here, names are trusted (they are literals of this crate).
 #[derive(Debug, Default)]
-pub struct Svg {
+pub(super) struct Svg {
     buf: String,
     open: Vec<&'static str>,
 }
 
 impl Svg {
     /// A document of `width` × `height` pixels with a white background.
-    pub fn new(width: f64, height: f64) -> Svg {
+    pub(super) fn new(width: f64, height: f64) -> Svg {
         let mut s = Svg::default();
         let (w, h) = (num(width, 0), num(height, 0));
         let _ = writeln!(
@@ -77,27 +77,27 @@ impl Svg {
     }
 
     /// Opens `<tag ...>`; close it with [`Svg::close`].
-    pub fn open(&mut self, tag: &'static str, attrs: &[(&str, &str)]) {
+    pub(super) fn open(&mut self, tag: &'static str, attrs: &[(&str, &str)]) {
         self.start(tag, attrs);
         self.buf.push_str(">\n");
         self.open.push(tag);
     }
 
     /// Closes the innermost open element.
-    pub fn close(&mut self) {
+    pub(super) fn close(&mut self) {
         if let Some(tag) = self.open.pop() {
             let _ = writeln!(self.buf, "{}</{tag}>", "  ".repeat(self.open.len().min(8)));
         }
     }
 
     /// An empty element `<tag .../>`.
-    pub fn element(&mut self, tag: &str, attrs: &[(&str, &str)]) {
+    pub(super) fn element(&mut self, tag: &str, attrs: &[(&str, &str)]) {
         self.start(tag, attrs);
         self.buf.push_str("/>\n");
     }
 
     /// A `<text>` element holding `content` (escaped).
-    pub fn text(&mut self, x: f64, y: f64, content: &str, attrs: &[(&str, &str)]) {
+    pub(super) fn text(&mut self, x: f64, y: f64, content: &str, attrs: &[(&str, &str)]) {
         let (xs, ys) = (num(x, 1), num(y, 1));
         let mut all: Vec<(&str, &str)> = vec![("x", &xs), ("y", &ys)];
         all.extend_from_slice(attrs);
@@ -106,7 +106,7 @@ impl Svg {
     }
 
     /// A `<title>` child (a tooltip in browsers, a name for tests).
-    pub fn title(&mut self, content: &str) {
+    pub(super) fn title(&mut self, content: &str) {
         let _ = writeln!(
             self.buf,
             "{}<title>{}</title>",
@@ -116,7 +116,7 @@ impl Svg {
     }
 
     /// Closes every open element and returns the document.
-    pub fn finish(mut self) -> String {
+    pub(super) fn finish(mut self) -> String {
         while !self.open.is_empty() {
             self.close();
         }
@@ -126,50 +126,45 @@ impl Svg {
 
 /// Path data (`d` attribute) with coordinates rounded to `decimals`.
 #[derive(Debug, Clone)]
-pub struct PathData {
+pub(super) struct PathData {
     d: String,
     decimals: usize,
 }
 
 impl PathData {
     /// Empty path data.
-    pub fn new(decimals: usize) -> PathData {
+    pub(super) fn new(decimals: usize) -> PathData {
         PathData { d: String::new(), decimals }
     }
 
     /// Whether nothing was added.
-    pub fn is_empty(&self) -> bool {
+    pub(super) fn is_empty(&self) -> bool {
         self.d.is_empty()
     }
 
-    /// Length of the data in bytes.
-    pub fn len(&self) -> usize {
-        self.d.len()
-    }
-
     /// `M x y`.
-    pub fn move_to(&mut self, p: [f64; 2]) {
+    pub(super) fn move_to(&mut self, p: [f64; 2]) {
         let _ = write!(self.d, "M{} {}", num(p[0], self.decimals), num(p[1], self.decimals));
     }
 
     /// `L x y`.
-    pub fn line_to(&mut self, p: [f64; 2]) {
+    pub(super) fn line_to(&mut self, p: [f64; 2]) {
         let _ = write!(self.d, "L{} {}", num(p[0], self.decimals), num(p[1], self.decimals));
     }
 
     /// An axis-aligned rectangle as a closed subpath.
-    pub fn rect(&mut self, x: f64, y: f64, w: f64, h: f64) {
+    pub(super) fn rect(&mut self, x: f64, y: f64, w: f64, h: f64) {
         let n = |v| num(v, self.decimals);
         let _ = write!(self.d, "M{} {}h{}v{}h{}z", n(x), n(y), n(w), n(h), n(-w));
     }
 
     /// `Z`.
-    pub fn close(&mut self) {
+    pub(super) fn close(&mut self) {
         self.d.push('Z');
     }
 
     /// The `d` string.
-    pub fn as_str(&self) -> &str {
+    pub(super) fn as_str(&self) -> &str {
         &self.d
     }
 }

@@ -11,15 +11,15 @@
 use super::view::Rect;
 
 /// The side of a tab, in pixels.
-pub const SIDE: f64 = 15.0;
+pub(super) const SIDE: f64 = 15.0;
 /// The least gap between a tab and another tab or an obstacle.
-pub const GAP: f64 = 1.0;
+pub(super) const GAP: f64 = 1.0;
 /// The step of the search for a free place when no corner is free.
 const STEP: f64 = 2.0;
 
 /// A tab as placed.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Tab {
+pub(super) struct Tab {
     /// Its square.
     pub rect: Rect,
     /// Whether it sits on a corner of its frame (else a leader line joins them).
@@ -40,7 +40,7 @@ fn tab_at(x: f64, y: f64, area: &Rect) -> Rect {
 
 /// The tabs of `frames` (in pixels, in order), inside `area`, apart from each other and
 /// from `obstacles`.
-pub fn place(frames: &[Rect], area: &Rect, obstacles: &[Rect]) -> Vec<Tab> {
+pub(super) fn place(frames: &[Rect], area: &Rect, obstacles: &[Rect]) -> Vec<Tab> {
     let mut taken: Vec<Rect> = obstacles.to_vec();
     let mut tabs = Vec::with_capacity(frames.len());
     for f in frames {
@@ -96,7 +96,7 @@ pub fn place(frames: &[Rect], area: &Rect, obstacles: &[Rect]) -> Vec<Tab> {
 }
 
 /// The point of `frame`'s border nearest to `p`, where a leader line from a tab ends.
-pub fn nearest_on_border(frame: &Rect, p: [f64; 2]) -> [f64; 2] {
+pub(super) fn nearest_on_border(frame: &Rect, p: [f64; 2]) -> [f64; 2] {
     let x = p[0].clamp(frame.x0, frame.x1);
     let y = p[1].clamp(frame.y0, frame.y1);
     if x > frame.x0 && x < frame.x1 && y > frame.y0 && y < frame.y1 {

@@ -113,7 +113,7 @@ impl Rect {
 
 /// Mesh coordinates to pixels: `px = origin + scale · (p − world corner)`, y flipped.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct View {
+pub(super) struct View {
     /// The part of the plane shown (grown to the pixel rectangle's aspect).
     pub world: Rect,
     /// Where it is drawn, in pixels (y down).
@@ -124,7 +124,7 @@ pub struct View {
 
 impl View {
     /// Fits `world` into `screen`, keeping its aspect and centring it.
-    pub fn fit(world: Rect, screen: Rect) -> View {
+    pub(super) fn fit(world: Rect, screen: Rect) -> View {
         let w = world.width().max(1e-300);
         let h = world.height().max(1e-300);
         let scale = (screen.width() / w).min(screen.height() / h);
@@ -134,14 +134,14 @@ impl View {
 
     /// The pixel position of mesh point `p`.
     #[inline]
-    pub fn to_px(&self, p: [f64; 2]) -> [f64; 2] {
+    pub(super) fn to_px(self, p: [f64; 2]) -> [f64; 2] {
         let [cx, cy] = self.world.centre();
         let [sx, sy] = self.screen.centre();
         [sx + self.scale * (p[0] - cx), sy - self.scale * (p[1] - cy)]
     }
 
     /// The pixel rectangle of a mesh rectangle.
-    pub fn rect_to_px(&self, r: &Rect) -> Rect {
+    pub(super) fn rect_to_px(&self, r: &Rect) -> Rect {
         let a = self.to_px([r.x0, r.y0]);
         let b = self.to_px([r.x1, r.y1]);
         Rect::new(a[0], a[1], b[0], b[1])

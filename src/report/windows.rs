@@ -13,7 +13,7 @@ use crate::topology::{Classification, Topology};
 use super::view::Rect;
 
 /// At most this many zoom windows.
-pub const MAX_WINDOWS: usize = 6;
+pub(super) const MAX_WINDOWS: usize = 6;
 
 /// One zoom window: the part of the plane it shows and why.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -88,7 +88,7 @@ fn entity_names(topo: &Topology, set: &EntitySet) -> Vec<String> {
 /// A short caption for a step: its keyword in words and its sources by the recipe's
 /// names, e.g. "distance to border: Airfoil, Wake"; for a plan made in code, by the
 /// names (or tags) of its entities, or the number of points of its polyline.
-pub fn describe(step: &Step, topo: &Topology) -> String {
+pub(super) fn describe(step: &Step, topo: &Topology) -> String {
     let a = &step.algorithm;
     let words = a.keyword().to_ascii_lowercase().replace('_', " ").replace("imaginary ", "");
     let names = if !step.names.is_empty() {
@@ -119,7 +119,7 @@ fn margin(reach: f64, diag: f64) -> f64 {
 
 /// Whether `region`, grown to the aspect of the panel it would get (4:3, or up to 5:1
 /// for a wide one), shows at least three quarters of the domain both ways: no zoom.
-pub fn is_whole_domain(region: &Rect, domain: &Rect) -> bool {
+pub(super) fn is_whole_domain(region: &Rect, domain: &Rect) -> bool {
     let aspect = region.width() / region.height().max(1e-300);
     let target = if aspect > super::layout::WIDE { aspect.min(5.0) } else { 4.0 / 3.0 };
     let shown = region.with_aspect(target);
@@ -133,7 +133,7 @@ pub fn is_whole_domain(region: &Rect, domain: &Rect) -> bool {
 /// (where the step asks for its finest sizes), twice the reach each way (within [2 %,
 /// 12 %] of the diagonal); without one, around the source point nearest the sources'
 /// centre. Steps with the same window share it; at most [`MAX_WINDOWS`].
-pub fn from_plan(
+pub(super) fn from_plan(
     plan: &SizingPlan,
     topo: &Topology,
     points: &[[f64; 2]],
@@ -186,7 +186,7 @@ pub fn from_plan(
 /// Where a step asks for its finest sizes: the vertex of its contribution whose size
 /// ellipse is smallest (h1 · h2; ties to the lower vertex index), e.g. the tightest bend
 /// of a wall for CURVATURE_OF_BORDER, the start of a wake.
-pub fn finest(contribution: &Contribution, points: &[[f64; 2]]) -> Option<[f64; 2]> {
+pub(super) fn finest(contribution: &Contribution, points: &[[f64; 2]]) -> Option<[f64; 2]> {
     contribution
         .vertices
         .iter()
@@ -210,7 +210,7 @@ fn same_region(a: &Rect, b: &Rect, diag: f64) -> bool {
 /// asking for less than half the median size. A window's half-width is 8 times the
 /// largest size at its vertex, within [2 %, 15 %] of the domain's diagonal. Vertices
 /// that no cell uses are ignored.
-pub fn from_sizes(
+pub(super) fn from_sizes(
     sizes: &[Option<SizeTensor>],
     topo: &Topology,
     points: &[[f64; 2]],

@@ -3,7 +3,7 @@
 //!
 //! Order of work:
 //! 1. each step of the plan, in plan order, computes its tensors on the vertices it
-//!    reaches ([`crate::sizing::algorithms`], evaluated by [`crate::sizing::evaluate`]); each is *intersected* into the vertex's
+//!    reaches ([`crate::sizing::algorithms`], evaluated by `crate::sizing::evaluate`); each is *intersected* into the vertex's
 //!    current tensor (thesis 3.2.2; the first one a vertex gets is taken as it is). The
 //!    intersection is not associative, so the order is the plan's, always;
 //! 2. vertices no step reaches take the default size: the plan's h_max, or the

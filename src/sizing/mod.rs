@@ -10,6 +10,12 @@ pub mod gradation;
 pub mod plan;
 pub mod propagation;
 
+/// Metrics from a computed scalar field: Hessian recovery, the Lp metric and the
+/// solution files they are read from.
+pub mod solution {
+    pub use crate::solution::*;
+}
+
 /// Three-point (Menger) curvature and the corner angle of CURVATURE_OF_BORDER (thesis 4.3.7.2).
 pub use algorithms::curvature_of_border::{three_point_curvature, CORNER_ANGLE};
 /// What one algorithm gives: reached vertices with one tensor each.

@@ -6,14 +6,14 @@ use crate::metric::{log_euclidean, log_spd, SizeTensor, Sym2};
 use spade::Triangulation;
 
 /// Points and triangles.
-pub struct Mesh {
+pub(crate) struct Mesh {
     pub points: Vec<Point2>,
     pub triangles: Vec<[u32; 3]>,
 }
 
 impl Mesh {
     /// Whether each vertex lies on a boundary edge (an edge of one triangle).
-    pub fn boundary(&self) -> Vec<bool> {
+    pub(crate) fn boundary(&self) -> Vec<bool> {
         let mut edges: Vec<[u32; 2]> = self
             .triangles
             .iter()
@@ -39,7 +39,7 @@ impl Mesh {
 
 /// An `nx` × `ny` grid of rectangles of sides `step` from `origin`, each split along the
 /// same diagonal; vertex (i, j) is `j (nx + 1) + i`.
-pub fn grid(nx: usize, ny: usize, origin: Point2, step: [f64; 2]) -> Mesh {
+pub(crate) fn grid(nx: usize, ny: usize, origin: Point2, step: [f64; 2]) -> Mesh {
     let mut points = Vec::new();
     for j in 0..=ny {
         for i in 0..=nx {
@@ -61,7 +61,7 @@ pub fn grid(nx: usize, ny: usize, origin: Point2, step: [f64; 2]) -> Mesh {
 /// The Delaunay triangulation of about `n` points in the square of side `size` at
 /// `origin`: its boundary sampled at the mean spacing, the inside by a seeded generator
 /// (`seed`), kept a third of the spacing apart from each other and the boundary.
-pub fn scattered(n: usize, seed: u64, origin: Point2, size: f64) -> Mesh {
+pub(crate) fn scattered(n: usize, seed: u64, origin: Point2, size: f64) -> Mesh {
     let h = size / (n as f64).sqrt();
     let k = (size / h).round() as usize;
     let mut pts: Vec<Point2> = Vec::new();
@@ -100,7 +100,7 @@ pub fn scattered(n: usize, seed: u64, origin: Point2, size: f64) -> Mesh {
 /// [`grid`] of the unit square (`n` × `n`) moved by a smooth map that fixes its
 /// boundary: an irregular mesh whose patches become point-symmetric as it is refined
 /// ("mildly structured").
-pub fn mapped_grid(n: usize) -> Mesh {
+pub(crate) fn mapped_grid(n: usize) -> Mesh {
     let mut m = grid(n, n, [0.0, 0.0], [1.0 / n as f64; 2]);
     for p in &mut m.points {
         let [x, y] = *p;
@@ -113,7 +113,7 @@ pub fn mapped_grid(n: usize) -> Mesh {
 /// ∫ √det M over the mesh by brute force: the Log-Euclidean interpolation of the vertex
 /// metrics sampled at the centroids of the k² equal sub-triangles of each triangle (a
 /// midpoint rule). The closed form's twin.
-pub fn brute_force_vertices(m: &Mesh, tensors: &[SizeTensor], k: usize) -> f64 {
+pub(crate) fn brute_force_vertices(m: &Mesh, tensors: &[SizeTensor], k: usize) -> f64 {
     let logs: Vec<Sym2> = tensors.iter().map(|t| log_spd(&t.to_metric())).collect();
     let mut c = 0.0;
     for t in &m.triangles {

@@ -12,9 +12,12 @@
 //! - every vertex where curves of different tags meet is a tagged point, so that the
 //!   topology of any mesh of it recovers the point as a curve junction;
 //! - no two segments cross or touch but at a shared end (exact orientation predicate);
-//! - coordinates are rounded to 10 significant digits when a vertex is added and written
-//!   as C's `%.10g` writes them ([`format_g`]), so that the files are those
-//!   `examples/make_examples.py` writes, byte for byte, for the bundled examples;
+//! - coordinates are rounded to 10 significant digits when a vertex is added, as
+//!   `examples/make_examples.py` rounds them for the bundled examples, and written by the
+//!   formats crate's Triangle writer (one `.poly` writer in smartmesh). The records are
+//!   those of the bundled examples, value for value; only the spelling of the numbers
+//!   differs: the shortest that reads back exactly (`0.0`, `0.00003531094955`, the
+//!   region's `100.0 -1.0`) where Python's `%.10g` writes `0`, `3.531094955e-05`, `100 -1`;
 //! - tag names travel in the comment header (`#   curve 1 = Upper`): Triangle's format
 //!   has no names, and a recipe names regions by tag.
 
@@ -23,6 +26,10 @@ pub mod naca;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
+
+use smartmesh_formats::{
+    triangle, CellBlock, CellKind, DataArray, Format, RegionSeed, TaggedMesh, WriteOptions,
+};
 
 use crate::geometry::segment::{orient, Point2};
 
@@ -83,6 +90,14 @@ pub enum GeometryError {
     /// No face was set.
     #[error("{0}: no face")]
     NoFace(String),
+    /// The Triangle writer could not hold the graph whole (a tag past 32 bits).
+    #[error("{title}: cannot be written as a .poly: {reason}")]
+    Unwritable {
+        /// The geometry's title.
+        title: String,
+        /// What could not be written.
+        reason: String,
+    },
 }
 
 impl Pslg {
@@ -201,8 +216,10 @@ impl Pslg {
     }
 
     /// The `.poly` text, after [`Pslg::check`]: a comment header (title, `writer`, notes,
-    /// tag names), then vertices with their point tags, segments with their curve tags,
-    /// holes and the one region whose attribute is the face tag.
+    /// tag names), then the graph as the formats crate's Triangle writer writes a
+    /// self-contained `.poly`: vertices with their point tags as markers, segments with
+    /// their curve tags, holes and the one region whose attribute is the face tag (no
+    /// area bound, -1).
     pub fn write_poly(&self, writer: &str) -> Result<String, GeometryError> {
         self.check()?;
         let mut s = String::new();
@@ -220,22 +237,53 @@ impl Pslg {
             "# Vertex markers are point tags (0: not a topological point); segment markers\n",
         );
         s.push_str("# are curve tags; the region's attribute is the face tag.\n");
-        let _ = writeln!(s, "{} 2 0 1", self.vertices.len());
-        for (i, (p, m)) in self.vertices.iter().zip(&self.markers).enumerate() {
-            let _ = writeln!(s, "{} {} {} {m}", i + 1, format_g(p[0], 10), format_g(p[1], 10));
+        let written = smartmesh_formats::write_bytes(
+            Format::Triangle,
+            &self.to_mesh()?,
+            &WriteOptions { main_name: Some("geometry.poly".into()), ..WriteOptions::default() },
+        )
+        .map_err(|e| self.unwritable(e.to_string()))?;
+        // Everything of the graph has its place in a `.poly`: a line of the writer's
+        // report would be something lost.
+        if let Some(lost) = written.report.dropped.first() {
+            return Err(self.unwritable(lost.clone()));
         }
-        let _ = writeln!(s, "{} 1", self.segments.len());
-        for (i, (a, b, m)) in self.segments.iter().enumerate() {
-            let _ = writeln!(s, "{} {} {} {m}", i + 1, a + 1, b + 1);
-        }
-        let _ = writeln!(s, "{}", self.holes.len());
-        for (i, h) in self.holes.iter().enumerate() {
-            let _ = writeln!(s, "{} {} {}", i + 1, format_g(h[0], 10), format_g(h[1], 10));
-        }
-        let (p, tag) = self.region.ok_or_else(|| GeometryError::NoFace(self.title.clone()))?;
-        s.push_str("1\n");
-        let _ = writeln!(s, "1 {} {} {tag} -1", format_g(p[0], 10), format_g(p[1], 10));
+        s.push_str(&String::from_utf8_lossy(&written.main));
         Ok(s)
+    }
+
+    /// The graph as a mesh the Triangle writer writes as a self-contained `.poly`: Line
+    /// cells tagged with their curve, vertex markers as point data `triangle:marker`, the
+    /// holes and the face's region seed.
+    fn to_mesh(&self) -> Result<TaggedMesh, GeometryError> {
+        let tag = |t: i64| {
+            i32::try_from(t)
+                .map_err(|_| self.unwritable(format!("tag {t} does not fit in 32 bits")))
+        };
+        let (face_point, face_tag) =
+            self.region.ok_or_else(|| GeometryError::NoFace(self.title.clone()))?;
+        let mut mesh = TaggedMesh::new();
+        mesh.points = self.vertices.iter().map(|p| [p[0], p[1], 0.0]).collect();
+        let mut lines = CellBlock::new(CellKind::Line);
+        for &(a, b, t) in &self.segments {
+            let t = tag(t)?;
+            lines.push(&[a, b], t, t);
+        }
+        mesh.blocks.push(lines);
+        let markers =
+            self.markers.iter().map(|&m| tag(m).map(f64::from)).collect::<Result<_, _>>()?;
+        mesh.point_data.insert(triangle::MARKER.to_string(), DataArray::new(1, markers));
+        mesh.holes.clone_from(&self.holes);
+        mesh.regions.push(RegionSeed {
+            point: face_point,
+            attribute: f64::from(tag(face_tag)?),
+            max_area: -1.0,
+        });
+        Ok(mesh)
+    }
+
+    fn unwritable(&self, reason: String) -> GeometryError {
+        GeometryError::Unwritable { title: self.title.clone(), reason }
     }
 }
 
@@ -316,7 +364,7 @@ fn pair_meets(v: &[Point2], segments: &[(usize, usize, i64)], i: usize, j: usize
 }
 
 /// `v` rounded to 10 significant digits (what the files hold).
-pub fn round10(v: f64) -> f64 {
+pub(crate) fn round10(v: f64) -> f64 {
     format_g(v, 10).parse().unwrap_or(v)
 }
 
@@ -324,7 +372,7 @@ pub fn round10(v: f64) -> f64 {
 /// significant digits, trailing zeros dropped, exponent form (`1e-05`, `1.5e+20`) when
 /// the exponent is below -4 or at least `precision`. Rust's formatting is exact, so
 /// the digits are those of the correctly rounded value, as glibc's.
-pub fn format_g(v: f64, precision: usize) -> String {
+pub(crate) fn format_g(v: f64, precision: usize) -> String {
     let p = precision.max(1);
     if !v.is_finite() {
         return if v.is_nan() {
@@ -450,8 +498,8 @@ mod tests {
         let g = square();
         let text = g.write_poly("test").unwrap();
         assert!(text.contains("#   curve 10 = Bottom\n"), "{text}");
-        assert!(text.contains("\n5 2 0 1\n1 0 0 1\n"), "{text}");
-        assert!(text.ends_with("1\n1 0.5 0.5 100 -1\n"), "{text}");
+        assert!(text.contains("\n5 2 0 1\n1 0.0 0.0 1\n"), "{text}");
+        assert!(text.ends_with("0\n1\n1 0.5 0.5 100.0 -1.0\n"), "{text}");
         // A junction of two curves that is no tagged point.
         let mut j = square();
         j.markers[1] = 0;

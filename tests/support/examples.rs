@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 /// Every example: (folder under examples/, recipe under examples/).
-pub const EXAMPLES: &[(&str, &str)] = &[
+pub(crate) const EXAMPLES: &[(&str, &str)] = &[
     ("naca0012-agard01", "naca0012-agard01/recipe.toml"),
     ("gamm-a7-viscous", "gamm-a7-viscous/recipe.toml"),
     ("naca0012-agard02", "naca0012-agard02/recipe.toml"),
@@ -18,13 +18,13 @@ pub const EXAMPLES: &[(&str, &str)] = &[
 ];
 
 /// The `examples/` folder.
-pub fn examples() -> PathBuf {
+pub(crate) fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")
 }
 
 /// The distributor's recipe has a `#define`: it needs cpp. On CI a missing cpp is a
 /// failure, elsewhere the distributor is skipped.
-pub fn cpp_or_skip() -> bool {
+pub(crate) fn cpp_or_skip() -> bool {
     smartmesh_test_support::cli::cpp_or_skip("examples/distributor/recipe.cfg")
 }
 
@@ -32,7 +32,7 @@ pub fn cpp_or_skip() -> bool {
 /// One figure a README prints from a run (see `examples/figures.py`): the examples it is
 /// of, the field, the text between the two comments, and where it is.
 #[derive(Debug)]
-pub struct Figure {
+pub(crate) struct Figure {
     /// The examples (one, or several for a block of result lines).
     pub examples: Vec<String>,
     /// `vertices`, `triangles`, `conforming`, `quality-mean`, `quality-min`,
@@ -46,7 +46,7 @@ pub struct Figure {
 
 #[allow(dead_code)] // used by adapt_examples.rs only
 /// The READMEs whose figures come from the examples' runs.
-pub fn readmes_with_figures() -> Vec<PathBuf> {
+pub(crate) fn readmes_with_figures() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = vec![root.join("README.md"), examples().join("README.md")];
     let mut folders: Vec<PathBuf> = std::fs::read_dir(examples())
@@ -61,7 +61,7 @@ pub fn readmes_with_figures() -> Vec<PathBuf> {
 
 #[allow(dead_code)] // used by adapt_examples.rs only
 /// Every `<!--fig:NAMES:FIELD-->TEXT<!--/fig-->` of `path`.
-pub fn figures_in(path: &Path) -> Vec<Figure> {
+pub(crate) fn figures_in(path: &Path) -> Vec<Figure> {
     const OPEN: &str = "<!--fig:";
     const CLOSE: &str = "<!--/fig-->";
     let text = std::fs::read_to_string(path).unwrap();
@@ -88,7 +88,7 @@ pub fn figures_in(path: &Path) -> Vec<Figure> {
 
 #[allow(dead_code)] // used by adapt_examples.rs only
 /// `n` as the READMEs print a count: grouped by thousands from 10 000 (`15 773`, `9749`).
-pub fn grouped(n: usize) -> String {
+pub(crate) fn grouped(n: usize) -> String {
     if n < 10_000 {
         return n.to_string();
     }

@@ -29,11 +29,11 @@ pub(crate) struct Places {
 }
 
 impl Places {
-    pub fn new(origin: &Path) -> Places {
+    pub(crate) fn new(origin: &Path) -> Places {
         Places { files: vec![origin.to_path_buf()], by_path: BTreeMap::new() }
     }
 
-    pub fn file_index(&mut self, path: &Path) -> usize {
+    pub(crate) fn file_index(&mut self, path: &Path) -> usize {
         match self.files.iter().position(|p| p == path) {
             Some(i) => i,
             None => {
@@ -43,14 +43,21 @@ impl Places {
         }
     }
 
-    pub fn insert(&mut self, path: String, file: &Path, line: usize, key: &str, context: &str) {
+    pub(crate) fn insert(
+        &mut self,
+        path: String,
+        file: &Path,
+        line: usize,
+        key: &str,
+        context: &str,
+    ) {
         let file = self.file_index(file);
         self.by_path
             .insert(path, Place { file, line, key: key.to_string(), context: context.to_string() });
     }
 
     /// The place of `path`, or of its nearest enclosing item.
-    pub fn find(&self, path: &str) -> Option<&Place> {
+    pub(crate) fn find(&self, path: &str) -> Option<&Place> {
         let mut p = path;
         loop {
             if let Some(place) = self.by_path.get(p) {
@@ -62,12 +69,12 @@ impl Places {
     }
 
     /// The key as written at `path`, or `default`.
-    pub fn key<'a>(&'a self, path: &str, default: &'a str) -> &'a str {
+    pub(crate) fn key<'a>(&'a self, path: &str, default: &'a str) -> &'a str {
         self.by_path.get(path).map(|p| p.key.as_str()).unwrap_or(default)
     }
 
     /// `error`, placed at `path`.
-    pub fn locate(&self, error: RecipeError, path: &str) -> RecipeError {
+    pub(crate) fn locate(&self, error: RecipeError, path: &str) -> RecipeError {
         match self.find(path) {
             Some(place) => {
                 let e = error.at(&self.files[place.file], place.line);

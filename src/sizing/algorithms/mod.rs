@@ -2,11 +2,11 @@
 //!
 //! Each algorithm is one file, `algorithms/<name>.rs`, holding one type (its resolved
 //! parameters: built functions, entity sets of one mesh) that implements
-//! [`SizingAlgorithm`]: its recipe [`Declaration`] (keyword, documentation, the
+//! `SizingAlgorithm`: its recipe [`Declaration`] (keyword, documentation, the
 //! functions, regions, sizes and polylines it takes), how it is built from resolved
-//! [`Arguments`], the entities and sources a report shows, and its [`Work`]: the
+//! [`Arguments`], the entities and sources a report shows, and its `Work`: the
 //! vertices it gives a tensor to (a list, or those within a reach of one or two
-//! [`Source`]s) and the [`Tensor`] of each from its closest points. How that work is
+//! [`Source`]s) and the `Tensor` of each from its closest points. How that work is
 //! evaluated — propagation, vertex order, tensors collected or merged into a field — is
 //! the driver's choice ([`crate::sizing::field`]); an algorithm never sees it.
 //!

@@ -13,7 +13,7 @@
 //! - `window`: the polyline geometry of a closest point. A guess steps along the
 //!   polyline while its foot is a segment end and the next segment is closer, then moves
 //!   to the best segment of its *window* (thesis 4.3.6.3's march); the answer is then
-//!   *certified* by the clearance of that segment or vertex ([`Clearance`](crate::geometry::Clearance): how far out
+//!   *certified* by the clearance of that segment or vertex (`Clearance`: how far out
 //!   the window alone decides the closest point), or else found by an exact search — near
 //!   the medial axis of a non-convex source, past a sharp corner, where another curve
 //!   comes close;
