@@ -52,7 +52,7 @@ mod metric_field;
 pub mod periodic;
 mod planar;
 mod quality;
-mod quality3d;
+pub mod quality3d;
 pub mod recipe;
 pub mod remesh;
 pub mod report;
@@ -62,7 +62,7 @@ mod solid_topology;
 mod solution;
 mod summary;
 mod topology;
-mod validity;
+pub mod validity;
 mod variants;
 
 // The curated surface: what a user of the library needs, at the root. The private

@@ -494,7 +494,7 @@ fn say_layer_and_sides(outcome: &mut Outcome, plane_z: f64) -> Result<(), CliErr
             "LAYER: {} layers, {} quads, {} skin triangles inserted",
             l.report.layers, l.report.quads, l.report.skin_triangles
         ));
-        smartmesh::planar::place(&mut l.mesh, plane_z);
+        smartmesh::place(&mut l.mesh, plane_z);
     }
     let skinned = outcome.layer.is_some();
     let checked = outcome

@@ -26,7 +26,7 @@ const SMALL_LEAF: usize = 16;
 /// Every pair `(i, j)`, `i < j`, of `items` (each its corners, 1 to 4 points, and how far
 /// its hull is grown) whose grown boxes meet, and others near them; sorted, each once.
 /// The pairs whose grown hulls meet are all in it.
-pub(super) fn near_pairs(items: &[(&[P], f64)]) -> Vec<(u32, u32)> {
+pub(crate) fn near_pairs(items: &[(&[P], f64)]) -> Vec<(u32, u32)> {
     if items.is_empty() {
         return Vec::new();
     }

@@ -11,37 +11,37 @@
 use super::box_tree::BoxTree;
 
 /// A point of the plane.
-pub(super) type P = [f64; 2];
+pub(crate) type P = [f64; 2];
 
 /// Relative tolerance of the predicates.
-pub(super) const EPS: f64 = 1e-10;
+pub(crate) const EPS: f64 = 1e-10;
 
 #[inline]
-pub(super) fn sub(a: P, b: P) -> P {
+pub(crate) fn sub(a: P, b: P) -> P {
     [a[0] - b[0], a[1] - b[1]]
 }
 #[inline]
-pub(super) fn add(a: P, b: P) -> P {
+pub(crate) fn add(a: P, b: P) -> P {
     [a[0] + b[0], a[1] + b[1]]
 }
 #[inline]
-pub(super) fn scale(a: P, s: f64) -> P {
+pub(crate) fn scale(a: P, s: f64) -> P {
     [a[0] * s, a[1] * s]
 }
 #[inline]
-pub(super) fn dot(a: P, b: P) -> f64 {
+pub(crate) fn dot(a: P, b: P) -> f64 {
     a[0] * b[0] + a[1] * b[1]
 }
 #[inline]
-pub(super) fn cross(a: P, b: P) -> f64 {
+pub(crate) fn cross(a: P, b: P) -> f64 {
     a[0] * b[1] - a[1] * b[0]
 }
 #[inline]
-pub(super) fn norm(a: P) -> f64 {
+pub(crate) fn norm(a: P) -> f64 {
     a[0].hypot(a[1])
 }
 #[inline]
-pub(super) fn unit(a: P) -> P {
+pub(crate) fn unit(a: P) -> P {
     let l = norm(a);
     if l > 0.0 {
         scale(a, 1.0 / l)
@@ -51,28 +51,28 @@ pub(super) fn unit(a: P) -> P {
 }
 /// The left normal of a direction (the domain side of a boundary edge).
 #[inline]
-pub(super) fn left(a: P) -> P {
+pub(crate) fn left(a: P) -> P {
     [-a[1], a[0]]
 }
 /// `a` rotated by `angle` radians counter-clockwise.
 #[inline]
-pub(super) fn rotate(a: P, angle: f64) -> P {
+pub(crate) fn rotate(a: P, angle: f64) -> P {
     let (s, c) = angle.sin_cos();
     [c * a[0] - s * a[1], s * a[0] + c * a[1]]
 }
 /// Twice the signed area of `abc` (positive counter-clockwise).
 #[inline]
-pub(super) fn orient(a: P, b: P, c: P) -> f64 {
+pub(crate) fn orient(a: P, b: P, c: P) -> f64 {
     cross(sub(b, a), sub(c, a))
 }
 /// The signed angle from direction `a` to direction `b`, in (−π, π].
 #[inline]
-pub(super) fn turn(a: P, b: P) -> f64 {
+pub(crate) fn turn(a: P, b: P) -> f64 {
     cross(a, b).atan2(dot(a, b))
 }
 
 /// Distance from `p` to segment `ab`.
-pub(super) fn segment_distance(p: P, a: P, b: P) -> f64 {
+pub(crate) fn segment_distance(p: P, a: P, b: P) -> f64 {
     let ab = sub(b, a);
     let l2 = dot(ab, ab);
     let t = if l2 > 0.0 { (dot(sub(p, a), ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
@@ -81,7 +81,7 @@ pub(super) fn segment_distance(p: P, a: P, b: P) -> f64 {
 
 /// Whether segments `pq` and `rs` share a point (crossing, touching or overlapping), with
 /// a tolerance relative to their lengths. Callers skip pairs that share an end vertex.
-pub(super) fn segments_meet(p: P, q: P, r: P, s: P) -> bool {
+pub(crate) fn segments_meet(p: P, q: P, r: P, s: P) -> bool {
     let tol = EPS * (norm(sub(q, p)) + norm(sub(s, r))).powi(2);
     let d1 = orient(p, q, r);
     let d2 = orient(p, q, s);
@@ -101,7 +101,7 @@ pub(super) fn segments_meet(p: P, q: P, r: P, s: P) -> bool {
 }
 
 /// Distance along the ray `o + t d` (unit `d`, `t > 0`) to segment `ab`, if it hits it.
-pub(super) fn ray_hit(o: P, d: P, a: P, b: P) -> Option<f64> {
+pub(crate) fn ray_hit(o: P, d: P, a: P, b: P) -> Option<f64> {
     let e = sub(b, a);
     let den = cross(d, e);
     if den.abs() < 1e-300 {
@@ -117,7 +117,7 @@ pub(super) fn ray_hit(o: P, d: P, a: P, b: P) -> Option<f64> {
 /// separates them by `margin` or more. A positive margin also counts polygons closer
 /// than it as overlapping; a small negative one lets polygons that touch (share an edge
 /// or a corner) count as apart.
-pub(super) fn convex_overlap(a: &[P], b: &[P], margin: f64) -> bool {
+pub(crate) fn convex_overlap(a: &[P], b: &[P], margin: f64) -> bool {
     for (poly, other) in [(a, b), (b, a)] {
         for i in 0..poly.len() {
             let e = sub(poly[(i + 1) % poly.len()], poly[i]);
@@ -134,7 +134,7 @@ pub(super) fn convex_overlap(a: &[P], b: &[P], margin: f64) -> bool {
 
 /// Whether `p` lies strictly inside the counter-clockwise convex polygon, by more than
 /// `tol`.
-pub(super) fn inside_convex(p: P, poly: &[P], tol: f64) -> bool {
+pub(crate) fn inside_convex(p: P, poly: &[P], tol: f64) -> bool {
     (0..poly.len()).all(|i| {
         let a = poly[i];
         let b = poly[(i + 1) % poly.len()];
@@ -144,7 +144,7 @@ pub(super) fn inside_convex(p: P, poly: &[P], tol: f64) -> bool {
 
 /// Axis-aligned box.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Bbox {
+pub(crate) struct Bbox {
     /// Lower corner.
     pub lo: P,
     /// Upper corner.
@@ -153,7 +153,7 @@ pub(super) struct Bbox {
 
 impl Bbox {
     /// The box of points.
-    pub(super) fn of(points: &[P]) -> Bbox {
+    pub(crate) fn of(points: &[P]) -> Bbox {
         let mut b = Bbox { lo: [f64::INFINITY; 2], hi: [f64::NEG_INFINITY; 2] };
         for p in points {
             b.lo = [b.lo[0].min(p[0]), b.lo[1].min(p[1])];
@@ -162,11 +162,11 @@ impl Bbox {
         b
     }
     /// The box grown by `d` on every side.
-    pub(super) fn grown(self, d: f64) -> Bbox {
+    pub(crate) fn grown(self, d: f64) -> Bbox {
         Bbox { lo: [self.lo[0] - d, self.lo[1] - d], hi: [self.hi[0] + d, self.hi[1] + d] }
     }
     /// The smallest box holding both.
-    pub(super) fn union(self, o: Bbox) -> Bbox {
+    pub(crate) fn union(self, o: Bbox) -> Bbox {
         Bbox {
             lo: [self.lo[0].min(o.lo[0]), self.lo[1].min(o.lo[1])],
             hi: [self.hi[0].max(o.hi[0]), self.hi[1].max(o.hi[1])],
@@ -180,19 +180,19 @@ impl Bbox {
 /// (closed) box meets the query box, and possibly others near it, each once, in
 /// increasing index order (deterministic). Callers whose tests reach past a box (a
 /// margin, a tolerance) grow the boxes they file by that reach.
-pub(super) struct BoxIndex {
+pub(crate) struct BoxIndex {
     tree: BoxTree,
 }
 
 impl BoxIndex {
     /// The index of `boxes`.
-    pub(super) fn new(boxes: &[Bbox]) -> BoxIndex {
+    pub(crate) fn new(boxes: &[Bbox]) -> BoxIndex {
         let pairs: Vec<(P, P)> = boxes.iter().map(|b| (b.lo, b.hi)).collect();
         BoxIndex { tree: BoxTree::new(&pairs) }
     }
 
     /// The items whose box may meet `b`, each once, ascending.
-    pub(super) fn query(&self, b: Bbox) -> Vec<u32> {
+    pub(crate) fn query(&self, b: Bbox) -> Vec<u32> {
         let mut out = Vec::new();
         self.tree.query(b.lo, b.hi, &mut out);
         out
