@@ -64,7 +64,7 @@ fn face_key(corners: impl Iterator<Item = u32>) -> FaceKey {
 }
 
 /// The topological volumes of `mesh`, by tag; empty when it has no volume cell.
-pub fn volumes(mesh: &TaggedMesh) -> Vec<TopoVolume> {
+pub(crate) fn volumes(mesh: &TaggedMesh) -> Vec<TopoVolume> {
     let mut index: BTreeMap<i32, usize> = BTreeMap::new();
     for b in mesh.blocks.iter().filter(|b| b.kind.dim() == 3) {
         for (&p, &g) in b.physical.iter().zip(&b.geometrical) {

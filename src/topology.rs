@@ -28,7 +28,7 @@ use smartmesh_formats::{CellKind, TaggedMesh};
 
 mod resolve;
 
-pub use resolve::{AbsentCurve, EntityRef};
+pub use resolve::EntityRef;
 
 /// What a topological entity is known by: a tag from the file, or nothing when it was
 /// derived from the mesh (boundary or interface edges that no line cell covers).

@@ -7,6 +7,7 @@
 //! still being built may refuse the mesh instead, with an error naming the volume cells.
 //!
 //! To update: change the format's one line in [`TABLE`].
+#![allow(clippy::print_stdout, clippy::print_stderr)] // What a test measured or skipped is printed for the log.
 
 #[path = "support/cli.rs"]
 #[allow(dead_code)]

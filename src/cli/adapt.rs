@@ -14,8 +14,8 @@ use smartmesh::adapt::{
     run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Outcome, Phase, Tolerances,
 };
 use smartmesh::formats::{Format, TaggedMesh};
-use smartmesh::History;
 use smartmesh::layer::LayerOptions;
+use smartmesh::History;
 use smartmesh::Topology;
 use smartmesh::{adapter, AdapterKind, AdapterOptions};
 

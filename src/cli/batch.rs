@@ -132,7 +132,7 @@ fn handle_interrupts() {
 /// The options a manifest line may set ([`manifest::OPTION_KEYS`]), their flags and
 /// kinds read from the definition `adapt` parses ([`AdaptArgs`]): one declaration of the
 /// adapt options for the command and for the manifest.
-pub fn adapt_options() -> Vec<AdaptOption> {
+pub(super) fn adapt_options() -> Vec<AdaptOption> {
     let adapt = AdaptArgs::augment_args(clap::Command::new("adapt"));
     manifest::OPTION_KEYS
         .iter()

@@ -8,10 +8,10 @@ use clap::Args;
 use smartmesh::formats::words::count;
 use smartmesh::formats::Format;
 use smartmesh::layer::stats::{quad_quality, QuadQuality};
-use smartmesh::{check_mesh, Validity};
 use smartmesh::MeshSummary;
 use smartmesh::MetricField;
 use smartmesh::Topology;
+use smartmesh::{check_mesh, Validity};
 
 use super::{parse_format, print_stdout, CliError};
 

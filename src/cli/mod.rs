@@ -267,7 +267,7 @@ fn input_name(path: &std::path::Path) -> String {
 /// The periodic sides of `mesh` (read from `input`) snapped and measured, as `adapt` and
 /// `layer` keep them: a note per pair whose slave vertices moved, bad input (2) when a
 /// pair's sides are not images of each other, a warning per pair that does not match.
-pub fn periodic_sides(
+pub(crate) fn periodic_sides(
     mesh: &mut smartmesh::formats::TaggedMesh,
     pairs: &[smartmesh::periodic::PeriodicPair],
     input: &std::path::Path,

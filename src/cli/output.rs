@@ -345,7 +345,7 @@ fn gradation(s: &str) -> Result<f64, String> {
 
 impl SizeControls {
     /// The global values these controls set over a recipe's.
-    pub fn overrides(&self) -> GlobalOverrides {
+    pub(super) fn overrides(&self) -> GlobalOverrides {
         GlobalOverrides {
             h_min: self.hmin,
             h_max: self.hmax,
@@ -354,7 +354,7 @@ impl SizeControls {
     }
 
     /// `recipe` with these controls in place of its global bounds and gradation.
-    pub fn over(&self, recipe: Recipe) -> Result<Recipe, CliError> {
+    pub(super) fn over(&self, recipe: Recipe) -> Result<Recipe, CliError> {
         recipe
             .with_overrides(&self.overrides())
             .map_err(|e| CliError::usage(format!("{e} (--hmin and --hmax override the recipe's)")))

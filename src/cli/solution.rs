@@ -95,7 +95,11 @@ impl SolutionArgs {
     /// The bounds of the solution's metric on `mesh`: --max-aspect, else the recipe's
     /// global values (the command line's sizes already over them), else defaults from
     /// the mesh's extent ([`Recipe::solution_bounds`]).
-    pub fn bounds(&self, mesh: &TaggedMesh, recipe: &Recipe) -> Result<SizeBounds, CliError> {
+    pub(super) fn bounds(
+        &self,
+        mesh: &TaggedMesh,
+        recipe: &Recipe,
+    ) -> Result<SizeBounds, CliError> {
         recipe.solution_bounds(mesh, self.max_aspect).map_err(|e| CliError::usage(e.to_string()))
     }
 
