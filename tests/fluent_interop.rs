@@ -1,4 +1,5 @@
-//! The Fluent meshes `smartmesh convert` writes, read by other tools: OpenFOAM's
+//! The Fluent meshes `smartmesh convert` writes (the bundled cylinder, its skin of quads,
+//! the examples' meshes, the public 3D fixtures), read by other tools: OpenFOAM's
 //! `fluentMeshToFoam` (with `-2D` for a 2D mesh) converts them and `checkMesh` then says
 //! "Mesh OK." with our zone names as patches and our cell counts; meshio's `ansys`
 //! reader finds our nodes and faces. Skips, saying so, when the tools or the public
@@ -72,6 +73,39 @@ fn fluent_mesh_to_foam_and_check_mesh_accept_the_2d_cylinder() {
         &["Inlet", "Outlet", "Walls", "Cylinder", "frontAndBackPlanes"],
         &[("prisms:", 2134), ("cells:", 2134)],
     );
+}
+
+#[test]
+fn fluent_mesh_to_foam_and_check_mesh_accept_a_skin_of_quads_and_the_examples() {
+    // Quads beside triangles: one mixed cell zone, its cell types listed.
+    let dir = tempfile::tempdir().unwrap();
+    let skin = dir.path().join("skin.msh");
+    let layer = [
+        "layer",
+        &bundled("cylinder.msh"),
+        "--curves",
+        "Cylinder",
+        "--first-height",
+        "0.002",
+        "--ratio",
+        "1.2",
+        "--layers",
+        "8",
+        "-o",
+        skin.to_str().unwrap(),
+    ];
+    ok(&run(&layer));
+    check(
+        skin.to_str().unwrap(),
+        &["-2D", "0.1"],
+        &["Cylinder"],
+        &[("hexahedra:", 288), ("prisms:", 2018)],
+    );
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for example in ["naca0012-agard01", "gamm-a7-viscous", "distributor/1-narrow"] {
+        let input = root.join("examples").join(example).join("start.msh");
+        check(input.to_str().unwrap(), &["-2D", "0.1"], &[], &[]);
+    }
 }
 
 #[test]
