@@ -89,6 +89,8 @@ const TABLE: &[Line] = &[
     ("out.stl", &[], Keeps(&[Points, Faces, Tags]), false),
     ("out.smesh", &[], Keeps(&[Points, Faces, Lines, Vertices, Tags]), false),
     ("tg.ele", &["--to", "tetgen"], Keeps(&[Points, Volumes, Faces, Lines, Tags]), false),
+    // Fluent is written only: the fields and the vertex and line cells are said lost.
+    ("out.fluent.msh", &[], WriteOnly(&[Vertices, Lines, PointData, CellData]), false),
 ];
 
 /// The second-order box_cyl of the public sample meshes (tetra10, triangle6, line3 and
@@ -139,6 +141,7 @@ fn covered(f: Format) -> bool {
         Format::OpenFoam => "foam",
         Format::Stl => "stl",
         Format::TetGen => "smesh",
+        Format::Fluent => "fluent.msh",
     };
     TABLE.iter().any(|(name, ..)| name.ends_with(&format!(".{ext}")))
 }
@@ -315,6 +318,7 @@ fn every_format_has_a_line_in_the_table() {
         Format::OpenFoam,
         Format::Stl,
         Format::TetGen,
+        Format::Fluent,
     ] {
         assert!(covered(f), "{} has no line in the table", f.name());
     }

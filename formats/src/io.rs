@@ -194,6 +194,11 @@ pub fn read_bytes_reported(
                 "reading glTF (smartmesh writes it for viewers)".into(),
             )))
         }
+        Format::Fluent => {
+            return Err(Error::new(ErrorKind::Unsupported(
+                "reading Fluent meshes (smartmesh writes them)".into(),
+            )))
+        }
         Format::OpenFoam => {
             return Err(Error::new(ErrorKind::Unsupported(
                 "reading an OpenFOAM case from bytes: it is a directory, read it by its path"
@@ -247,6 +252,7 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
         Format::Su2 => crate::su2::write(mesh, opts),
         Format::Stl => crate::stl::write(mesh, opts),
         Format::TetGen => crate::tetgen::write(mesh, opts),
+        Format::Fluent => crate::fluent::write(mesh, opts),
         Format::OpenFoam => Err(Error::new(ErrorKind::CannotWrite {
             format: format.name(),
             reason: "an OpenFOAM case is a directory of files, not one file or a stream; \

@@ -10,7 +10,8 @@
 //!   [`triangle`] (.node/.ele/.poly/.edge/.area), [`gmsh`] (MSH 2.2 and 4.1, ASCII and
 //!   binary), [`vtk`] (legacy .vtk 4.2/5.1 and XML .vtu), [`obj`], [`medit`]
 //!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only), [`su2`],
-//!   [`openfoam`] (a case directory), [`stl`] (ASCII and binary);
+//!   [`openfoam`] (a case directory), [`stl`] (ASCII and binary), [`tetgen`], [`fluent`]
+//!   (ASCII `.fluent.msh`; write only);
 //! - [`Format::from_path`], a static extension table;
 //! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
 //!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written as a
@@ -33,6 +34,7 @@ mod skin;
 pub mod text;
 pub mod words;
 
+pub mod fluent;
 pub mod gltf;
 pub mod gmsh;
 pub mod medit;
@@ -93,6 +95,9 @@ pub enum Format {
     /// An OpenFOAM case directory (`constant/polyMesh`): the path is the directory
     /// (`case.foam`, or any name with `--from`/`--to openfoam`).
     OpenFoam,
+    /// Fluent ASCII mesh (write only): a name ending in `.fluent.msh`, or `--to fluent`
+    /// (a plain `.msh` is Gmsh's).
+    Fluent,
 }
 
 /// The extension table, as meshio's `_helpers.py` keeps one: last suffix, lower case.
@@ -124,6 +129,10 @@ impl Format {
     /// The format of a path, from its last extension (`naca.1.ele` is Triangle,
     /// `test.0.mesh` is Medit).
     pub fn from_path(path: impl AsRef<Path>) -> Option<Format> {
+        let name = path.as_ref().file_name()?.to_str()?.to_ascii_lowercase();
+        if name.ends_with(".fluent.msh") {
+            return Some(Format::Fluent);
+        }
         let ext = path.as_ref().extension()?.to_str()?.to_ascii_lowercase();
         Format::from_extension(&ext)
     }
@@ -144,6 +153,7 @@ impl Format {
             "medit" | "mmg" => Some(Format::Medit),
             "tetgen" => Some(Format::TetGen),
             "openfoam" | "polymesh" => Some(Format::OpenFoam),
+            "fluent" => Some(Format::Fluent),
             _ => None,
         })
     }
@@ -162,6 +172,7 @@ impl Format {
             Format::TetGen => "TetGen",
             Format::OpenFoam => "OpenFOAM",
             Format::Stl => "STL",
+            Format::Fluent => "Fluent",
         }
     }
 
@@ -172,12 +183,12 @@ impl Format {
 
     /// Whether smartmesh reads this format.
     pub fn can_read(self) -> bool {
-        !matches!(self, Format::Gltf)
+        !matches!(self, Format::Gltf | Format::Fluent)
     }
 
     /// The names accepted by [`Format::from_name`], for help texts.
     pub const NAMES: &'static str =
-        "triangle (node, ele, poly), tetgen (smesh, face; node, ele, poly when 3D), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2, openfoam (foam), stl";
+        "triangle (node, ele, poly), tetgen (smesh, face; node, ele, poly when 3D), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2, openfoam (foam), stl, fluent (.fluent.msh)";
 }
 
 /// Which of [`TaggedMesh::validate`]'s checks a format's reader and writer make
@@ -216,6 +227,7 @@ impl Format {
             Format::Su2 => su2::CHECKS,
             Format::Stl => stl::CHECKS,
             Format::TetGen => tetgen::CHECKS,
+            Format::Fluent => fluent::CHECKS,
             // Validated by `openfoam::poly_mesh_files` itself.
             Format::OpenFoam => Checks { reader_validates: false, writer_validates: true },
         }
