@@ -37,7 +37,6 @@ use crate::adapters::tool::{finish, quote, Stopped};
 use crate::child::Run;
 use crate::metric::SizeBounds;
 use crate::sizing::plan::Step;
-use crate::sizing::SolutionHessian;
 use crate::solution::input::{attach, field_names, read_solution, FieldError};
 use crate::solution::{Method, Target};
 
@@ -299,7 +298,7 @@ impl SolverLoop {
             Goal::Vertices(s) => Target::Vertices(s.at(k)),
             Goal::Error(e) => Target::Error(e),
         };
-        SolutionHessian::step(names, target, self.p, self.method, &self.bounds)
+        Step::solution_hessian(names, target, self.p, self.method, &self.bounds)
     }
 }
 

@@ -7,7 +7,6 @@ use smartmesh::formats::TaggedMesh;
 use smartmesh::recipe::Recipe;
 use smartmesh::sizing::plan::Step;
 use smartmesh::sizing::solution::{Method, Target};
-use smartmesh::sizing::SolutionHessian;
 use smartmesh::SizeBounds;
 
 use super::output::positive_size;
@@ -113,6 +112,6 @@ impl SolutionArgs {
         recipe: &Recipe,
     ) -> Result<Step, CliError> {
         let bounds = self.bounds(mesh, recipe)?;
-        Ok(SolutionHessian::step(names, target, self.p, self.recovery, &bounds))
+        Ok(Step::solution_hessian(names, target, self.p, self.recovery, &bounds))
     }
 }

@@ -9,8 +9,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::model::EntityRef;
 use crate::periodic::{PeriodicPair, Transform};
+use crate::topology::EntityRef;
 
 /// One periodic pair as a recipe describes it.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -71,12 +71,5 @@ impl PeriodicSpec {
             return Err("periodic: the transform has a number that is not finite".into());
         }
         Ok(PeriodicPair { master: self.master.clone(), slave: self.slave.clone(), transform })
-    }
-}
-
-impl super::Recipe {
-    /// The recipe's periodic pairs, those its checks accepted ([`PeriodicSpec::pair`]).
-    pub fn periodic_pairs(&self) -> Vec<PeriodicPair> {
-        self.periodic.iter().filter_map(|p| p.pair().ok()).collect()
     }
 }

@@ -9,6 +9,7 @@
 //! Entities are indices into [`crate::Topology`]'s `points`, `curves` and `faces` of the
 //! mesh the plan was resolved on; running a plan on another mesh is a caller's error.
 
+use crate::sizing::algorithms::solution_hessian::SolutionHessian;
 pub use crate::sizing::algorithms::{Algorithm, EntitySet};
 
 pub use crate::geometry::Point2;
@@ -42,4 +43,33 @@ pub struct SizingPlan {
     /// The algorithms, run in this order; each tensor is intersected into the vertex's
     /// current one.
     pub steps: Vec<Step>,
+}
+
+impl Step {
+    /// The solution-Hessian step made in code (not from a recipe: `size --field`, `adapt
+    /// --solver`) of fields `names`, normalised together to `target` in the Lp norm `p`,
+    /// their Hessians recovered by `method`, within `bounds`; labelled by
+    /// [`SolutionHessian::label`].
+    pub fn solution_hessian(
+        names: &[String],
+        target: crate::sizing::solution::Target,
+        p: f64,
+        method: crate::sizing::solution::Method,
+        bounds: &crate::metric::SizeBounds,
+    ) -> Step {
+        let algorithm = SolutionHessian {
+            fields: names.to_vec(),
+            target,
+            p,
+            method,
+            h_min: Some(bounds.h_min()),
+            h_max: Some(bounds.h_max()),
+            max_aspect: Some(bounds.max_aspect_ratio()),
+        };
+        Step {
+            label: algorithm.label(),
+            algorithm: Algorithm::SolutionHessian(algorithm),
+            names: names.to_vec(),
+        }
+    }
 }

@@ -246,3 +246,11 @@ impl PartialEq for Recipe {
 pub(crate) fn referrer(i: usize) -> String {
     format!("algorithm {}", i + 1)
 }
+
+impl Recipe {
+    /// The recipe's periodic pairs, those its checks accepted
+    /// ([`super::PeriodicSpec::pair`]).
+    pub fn periodic_pairs(&self) -> Vec<crate::periodic::PeriodicPair> {
+        self.periodic.iter().filter_map(|p| p.pair().ok()).collect()
+    }
+}

@@ -26,7 +26,6 @@ use super::{
 use crate::mesh_graph::{MeshGraph, PointValues};
 use crate::metric::{SizeBounds, SizeTensor, Sym2};
 use super::EntitySet;
-use crate::sizing::plan::Step;
 use crate::solution::{lp_metric_of_fields, recover, LpMetric, LpOptions, Method, P1Mesh, Target};
 use crate::topology::Topology;
 
@@ -56,32 +55,6 @@ impl SolutionHessian {
     /// `diagonal`.
     pub fn default_bounds(diagonal: f64) -> Option<SizeBounds> {
         SizeBounds::try_new(1e-6 * diagonal, diagonal, 1e4)
-    }
-
-    /// The step made in code (not from a recipe: `size --field`, `adapt --solver`) of
-    /// fields `names`, normalised together to `target` in the Lp norm `p`, their Hessians
-    /// recovered by `method`, within `bounds`; labelled by [`SolutionHessian::label`].
-    pub fn step(
-        names: &[String],
-        target: Target,
-        p: f64,
-        method: Method,
-        bounds: &SizeBounds,
-    ) -> Step {
-        let algorithm = SolutionHessian {
-            fields: names.to_vec(),
-            target,
-            p,
-            method,
-            h_min: Some(bounds.h_min()),
-            h_max: Some(bounds.h_max()),
-            max_aspect: Some(bounds.max_aspect_ratio()),
-        };
-        Step {
-            label: algorithm.label(),
-            algorithm: super::Algorithm::SolutionHessian(algorithm),
-            names: names.to_vec(),
-        }
     }
 
     /// The label of a step made in code (not from a recipe): "solution `u`, `p`
