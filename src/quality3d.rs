@@ -71,33 +71,10 @@ fn det(a: P, b: P, c: P) -> f64 {
     dot(a, cross(b, c))
 }
 
-/// The faces of a linear kind, each with its corners in the order whose right-hand
-/// normal points out of a positive cell (Gmsh's node order).
-fn faces(kind: CellKind) -> &'static [&'static [usize]] {
-    match kind {
-        CellKind::Tetra => &[&[0, 2, 1], &[0, 1, 3], &[0, 3, 2], &[1, 2, 3]],
-        CellKind::Hexa => &[
-            &[0, 3, 2, 1],
-            &[4, 5, 6, 7],
-            &[0, 1, 5, 4],
-            &[1, 2, 6, 5],
-            &[2, 3, 7, 6],
-            &[3, 0, 4, 7],
-        ],
-        CellKind::Wedge => &[&[0, 2, 1], &[3, 4, 5], &[0, 1, 4, 3], &[1, 2, 5, 4], &[2, 0, 3, 5]],
-        CellKind::Pyramid => &[&[0, 3, 2, 1], &[0, 1, 4], &[1, 2, 4], &[2, 3, 4], &[3, 0, 4]],
-        _ => &[],
-    }
-}
-
 /// The faces of a volume kind by their corners, outward (second-order kinds by their
 /// linear kind's corners); empty for other kinds.
 pub fn cell_faces(kind: CellKind) -> &'static [&'static [usize]] {
-    if kind.dim() == 3 {
-        faces(kind.linear())
-    } else {
-        &[]
-    }
+    kind.faces()
 }
 
 /// Whether [`signed_volume`] measures a cell of `kind` exactly (a linear kind, or a
@@ -164,7 +141,7 @@ pub fn signed_volume(kind: CellKind, p: &[P]) -> Option<f64> {
     // The two Gauss points on [0, 1], weight 1/2 each.
     let g = [0.5 - 0.5 / 3f64.sqrt(), 0.5 + 0.5 / 3f64.sqrt()];
     let mut six_v = 0.0; // 6 V = 2 ∮ x·n dA
-    for f in faces(kind.linear()) {
+    for f in kind.faces() {
         if f.len() == 3 {
             six_v += det(at(f[0]), at(f[1]), at(f[2]));
             continue;
@@ -234,7 +211,8 @@ pub fn tet_aspect_ratio(t: &[P; 4]) -> f64 {
     let six_v = (6.0 * tet_volume(t)).abs();
     let h_max = TET_EDGES.iter().map(|e| norm(sub(t[e[1]], t[e[0]]))).fold(0.0, f64::max);
     // Twice the total face area.
-    let two_a: f64 = faces(CellKind::Tetra)
+    let two_a: f64 = CellKind::Tetra
+        .faces()
         .iter()
         .map(|f| norm(cross(sub(t[f[1]], t[f[0]]), sub(t[f[2]], t[f[0]]))))
         .sum();

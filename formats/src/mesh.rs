@@ -173,6 +173,30 @@ impl CellKind {
         }
     }
 
+    /// The faces of a volume kind by their corners, each ordered so that its right-hand
+    /// normal points out of a cell of positive volume (Gmsh's node order); a second-order
+    /// kind's faces are its linear kind's, through the corners. Empty for a kind that is
+    /// not a volume. The one face table: the boundary skin, the OpenFOAM and Fluent
+    /// writers and the volume measures all take it.
+    pub const fn faces(self) -> &'static [&'static [usize]] {
+        match self.linear() {
+            CellKind::Tetra => &[&[0, 2, 1], &[0, 1, 3], &[0, 3, 2], &[1, 2, 3]],
+            CellKind::Hexa => &[
+                &[0, 3, 2, 1],
+                &[4, 5, 6, 7],
+                &[0, 1, 5, 4],
+                &[1, 2, 6, 5],
+                &[2, 3, 7, 6],
+                &[3, 0, 4, 7],
+            ],
+            CellKind::Wedge => {
+                &[&[0, 2, 1], &[3, 4, 5], &[0, 1, 4, 3], &[1, 2, 5, 4], &[2, 0, 3, 5]]
+            }
+            CellKind::Pyramid => &[&[0, 3, 2, 1], &[0, 1, 4], &[1, 2, 4], &[2, 3, 4], &[3, 0, 4]],
+            _ => &[],
+        }
+    }
+
     /// The Gmsh element type number (MSH 2.2 and 4.1 agree).
     pub const fn gmsh_type(self) -> i32 {
         match self {

@@ -23,22 +23,9 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use crate::{CellBlock, CellKind, NodeIndex, TaggedMesh, WriteReport};
 
-const TETRA: &[&[usize]] = &[&[0, 2, 1], &[0, 1, 3], &[0, 3, 2], &[1, 2, 3]];
-const HEXA: &[&[usize]] =
-    &[&[0, 3, 2, 1], &[4, 5, 6, 7], &[0, 1, 5, 4], &[1, 2, 6, 5], &[2, 3, 7, 6], &[3, 0, 4, 7]];
-const WEDGE: &[&[usize]] = &[&[0, 2, 1], &[3, 4, 5], &[0, 1, 4, 3], &[1, 2, 5, 4], &[2, 0, 3, 5]];
-const PYRAMID: &[&[usize]] = &[&[0, 3, 2, 1], &[0, 1, 4], &[1, 2, 4], &[2, 3, 4], &[3, 0, 4]];
-
-/// The outward faces of a volume kind (of its linear kind: second-order cells by their
-/// corners), as indices into the cell's nodes; empty for a kind that is not a volume.
+/// The outward faces of a volume kind ([`CellKind::faces`]).
 pub(crate) fn faces(kind: CellKind) -> &'static [&'static [usize]] {
-    match kind.linear() {
-        CellKind::Tetra => TETRA,
-        CellKind::Hexa => HEXA,
-        CellKind::Wedge => WEDGE,
-        CellKind::Pyramid => PYRAMID,
-        _ => &[],
-    }
+    kind.faces()
 }
 
 /// A face's corner indices sorted, a triangle's padded with `NodeIndex::MAX`: equal

@@ -4,9 +4,9 @@
 //! Invariants of a [`Variant`] once parsed: its name is a plain file name (letters,
 //! digits, `.`, `_`, `-`, not starting with `.`), so that its outputs `DIR/NAME.*` stay in
 //! the output directory; `input` and `recipe` are resolved against the manifest's folder
-//! (absolute paths are kept); `options` name only adapt options of [`OPTIONS`], each with
+//! (absolute paths are kept); `options` name only adapt options of [`OPTION_KEYS`], each with
 //! a value of its kind, and become the `adapt` arguments of [`Variant::adapt_args`] in
-//! the order of [`OPTIONS`] (so that equal options give equal arguments, and equal
+//! the order of [`OPTION_KEYS`] (so that equal options give equal arguments, and equal
 //! content hashes, whatever their order in the line). Blank lines and a byte order mark
 //! are skipped; a key given twice in one object is an error (JSON leaves it undefined);
 //! every error names the manifest, the line and what was expected, with the line's own
