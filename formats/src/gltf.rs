@@ -14,7 +14,7 @@
 //! - a LINES primitive of every Line cell, when there are any;
 //! - POSITION (coordinates rounded to `f32`, reported when that changes one) with its
 //!   exact `min`/`max`, indices as UNSIGNED_INT;
-//! - COLOR_0 from a point field: [`WriteOptions::color_field`], else the first scalar
+//! - COLOR_0 from a point field: `WriteOptions::color_field`, else the first scalar
 //!   point field (in name order), else none. Scalars are used as they are, 2- or
 //!   3-component vectors by their magnitude, 9-component tensors by the finest size
 //!   `h = 1/sqrt(λmax)` of their 2D part (a metric's smallest edge length), mapped
@@ -32,7 +32,7 @@
 //! Not written (and reported): tags and tag names, other point data, cell data, Vertex
 //! cells, sets, holes, regions, entities; second-order cells are drawn by their
 //! corners. A mesh with volume cells is drawn by its boundary (the faces of one volume
-//! cell only, outward, see [`crate::skin`]), as ParaView's *Extract Surface* draws it;
+//! cell only, outward, see `skin`), as ParaView's *Extract Surface* draws it;
 //! the report says so. glTF is not read: smartmesh writes it for viewers only.
 
 use std::collections::BTreeMap;

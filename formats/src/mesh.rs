@@ -67,7 +67,7 @@ pub enum CellKind {
 }
 
 impl CellKind {
-    /// Every kind, in a fixed order (the order blocks are sorted in by [`TaggedMesh::sort_blocks`]).
+    /// Every kind, in a fixed order (the order blocks are sorted in by `TaggedMesh::sort_blocks`).
     pub const ALL: [CellKind; 19] = [
         CellKind::Vertex,
         CellKind::Line,

@@ -53,7 +53,7 @@
 //! sets, holes, regions and entities cannot be held and are reported; second-order
 //! cells are written by their corner nodes and reported. A mesh with volume cells is
 //! written as its boundary (the faces of one volume cell only, outward, see
-//! [`crate::skin`]), as ParaView's *Extract Surface* draws it; the report says so.
+//! `skin`), as ParaView's *Extract Surface* draws it; the report says so.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 

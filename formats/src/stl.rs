@@ -29,7 +29,7 @@
 //!
 //! Write: ASCII unless [`StlWrite::binary`]. Triangles and quads (a quad `a b c d` as
 //! `a b c` and `a c d`, reported), second-order ones by their corners; a volume mesh as
-//! its boundary faces ([`crate::skin`]: what a slicer or viewer wants, reported);
+//! its boundary faces (`skin`: what a slicer or viewer wants, reported);
 //! each face's normal the unit normal of its vertices by the right-hand rule (0 0 0 for
 //! a degenerate one). ASCII: one solid per physical tag in increasing order, named
 //! from the tag's name (one line; `tag<N>` for an unnamed tag N, nothing for tag 0),

@@ -18,7 +18,7 @@
 //! - the cells of the mesh's highest dimension (triangles and quads in 2D; tetrahedra,
 //!   hexahedra, wedges, pyramids in 3D; second-order cells by their corners), one
 //!   `fluid` cell zone per physical tag, named from the tag's name;
-//! - each side of each cell once (see [`faces`]), `c1 = 0` on the boundary, its nodes
+//! - each side of each cell once (see `faces`), `c1 = 0` on the boundary, its nodes
 //!   ordered as Fluent's right-hand rule wants: a polygon's normal points into `c0`; an
 //!   edge `n0 → n1` has `c0` on its left (z × (n1 − n0) points into `c0`). Measured with
 //!   `fluentMeshToFoam` + `checkMesh`: the other order in 3D, or its mirror in 2D, gives

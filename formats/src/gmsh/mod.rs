@@ -67,7 +67,7 @@
 //!   readers ignore them, and Gmsh and meshio do) are skipped up to their `$End` line,
 //!   which must be there.
 //!
-//! Writing ([`crate::WriteOptions::gmsh_version`], [`crate::WriteOptions::binary`]):
+//! Writing ([`GmshWrite`]: its `version` and `binary`):
 //! - 4.1: `$PhysicalNames`, `$Entities` (one entity per dimension and geometrical tag,
 //!   with the physical tags of [`TaggedMesh::entities`] where it lists them, and the
 //!   bounding box of the nodes of its cells, zeros for an entity without any; cells of

@@ -10,7 +10,7 @@
 //! OpenFOAM 1912 `checkMesh`.
 //!
 //! Write ([`write_case`]): the output path is the case directory (created if absent,
-//! its other contents left alone). What a 2D mesh becomes ([`extrude`]): triangles
+//! its other contents left alone). What a 2D mesh becomes ([`extrude()`]): triangles
 //! prisms and quads hexahedra between z = 0 and z = `dz` ([`OpenFoamWrite::extrude`];
 //! by default a hundredth of the mesh's largest extent), second-order cells by their
 //! corners; each line tag a patch named from its tag name (made an OpenFOAM word;

@@ -37,7 +37,7 @@
 //! - free-form deformation boxes (`FFD_NBOX=` and what follows, written by SU2's
 //!   shape design tools after the mesh) end the mesh; the report says they were left.
 //!
-//! Write ([`write`]): the layout of the documentation's example, with its comment
+//! Write ([`write()`]): the layout of the documentation's example, with its comment
 //! headers. A mesh with volume cells is 3D: `NDIME= 3`, `NELEM=` with every volume cell
 //! (element index last), `NPOIN=` with `x y z index`, `NMARK=` with one marker per
 //! physical tag of the triangles and quads; otherwise 2D: `NDIME= 2`, the triangles and

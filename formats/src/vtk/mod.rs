@@ -167,7 +167,7 @@ pub fn write_legacy(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
 /// (ascii is never compressed).
 ///
 /// The output's name chooses the dataset: a `.vtp` is written as PolyData (vertices,
-/// lines and polygons only; see [`poly_order`]); parallel files (`.pvtu`, `.pvtp`) are
+/// lines and polygons only; see `poly_order`); parallel files (`.pvtu`, `.pvtp`) are
 /// read, not written.
 pub fn write_vtu(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     let ext = opts
