@@ -1,6 +1,7 @@
 //! OpenFOAM's own `checkMesh` on the cases `smartmesh convert` writes: the bundled
 //! cylinder (triangles), the cylinder with a boundary-layer skin of quads (`smartmesh
-//! layer`, ASCII and binary), and the examples' meshes, periodic distributor included. Each must end with
+//! layer`, ASCII and binary), and the examples' meshes, periodic distributor included (its
+//! periodic sides also as `cyclic` patch pairs, with a rotational quarter annulus). Each must end with
 //! "Mesh OK." and no failed check. Skips, saying so, when `checkMesh` is not on PATH,
 //! unless `SMARTMESH_REQUIRE_INTEROP=1` (CI, where `.ci/run` installs Debian's
 //! `openfoam`).
@@ -114,6 +115,103 @@ fn check_mesh_passes_the_cylinder_its_skin_of_quads_and_the_examples() {
         ok(&run(&["convert", input.to_str().unwrap(), case.to_str().unwrap()]));
         check_mesh(&check, &case);
     }
+}
+
+/// The `Coupled point location match` line of checkMesh: it measures, for every cyclic
+/// face, how far its points lie from its partner's transformed points.
+fn coupled_match(text: &str) -> &str {
+    text.lines().find(|l| l.contains("Coupled point location match")).unwrap_or("")
+}
+
+/// Periodic sides as `cyclic` patch pairs (`--cyclic`): the narrow distributor's
+/// recipe pair (a translation by the pitch, 30 along y), and a quarter annulus turned
+/// by 90 degrees about the z axis. checkMesh matches each face's points with its
+/// partner's and says "Mesh OK."; the other sign of the translation is refused.
+#[test]
+fn check_mesh_matches_the_cyclic_patches_of_periodic_sides() {
+    let Some(check) = program("checkMesh") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let input = root.join("examples/distributor/1-narrow/start.msh");
+    let case = dir.path().join("distributor.foam");
+    let pair = "302,303,304=308,307,306:0,30";
+    ok(&run(&["convert", input.to_str().unwrap(), case.to_str().unwrap(), "--cyclic", pair]));
+    let text = check_mesh(&check, &case);
+    assert!(coupled_match(&text).ends_with("OK."), "{text}");
+    let boundary = std::fs::read_to_string(case.join("constant/polyMesh/boundary")).unwrap();
+    assert_eq!(boundary.matches("type            cyclic;").count(), 2, "{boundary}");
+    assert!(boundary.contains("separationVector (0 30 0);"), "{boundary}");
+    assert!(boundary.contains("separationVector (0 -30 0);"), "{boundary}");
+    // Both halves hold the 71 faces of the three curves of each side.
+    assert_eq!(boundary.matches("nFaces          71;").count(), 2, "{boundary}");
+
+    // The sides are not images of each other by (0, -30): refused, nothing written.
+    let wrong = dir.path().join("wrong.foam");
+    let o = run(&[
+        "convert",
+        input.to_str().unwrap(),
+        wrong.to_str().unwrap(),
+        "--cyclic",
+        "302,303,304=308,307,306:0,-30",
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("not images of each other"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!wrong.join("constant/polyMesh").exists());
+
+    // A quarter annulus 1 <= r <= 2, 0 <= theta <= 90 degrees, of 4 x 6 quads: side 1 at
+    // theta = 0 turned by 90 degrees onto side 2 at theta = 90.
+    let (nr, nt) = (4usize, 6usize);
+    let node = |i: usize, j: usize| 1 + j * (nr + 1) + i;
+    let mut nodes = String::new();
+    for j in 0..=nt {
+        for i in 0..=nr {
+            let (r, t) =
+                (1.0 + i as f64 / nr as f64, (j as f64 / nt as f64) * std::f64::consts::FRAC_PI_2);
+            let (x, y) = if j == nt { (0.0, r) } else { (r * t.cos(), r * t.sin()) };
+            nodes.push_str(&format!("{} {x:?} {y:?} 0\n", node(i, j)));
+        }
+    }
+    let mut elements = Vec::new();
+    for i in 0..nr {
+        elements.push(format!("1 2 1 1 {} {}", node(i, 0), node(i + 1, 0)));
+        elements.push(format!("1 2 2 2 {} {}", node(i + 1, nt), node(i, nt)));
+    }
+    for j in 0..nt {
+        elements.push(format!("1 2 3 3 {} {}", node(0, j + 1), node(0, j)));
+        elements.push(format!("1 2 4 4 {} {}", node(nr, j), node(nr, j + 1)));
+        for i in 0..nr {
+            let q = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)];
+            elements.push(format!("3 2 5 5 {} {} {} {}", q[0], q[1], q[2], q[3]));
+        }
+    }
+    let elements: String =
+        elements.iter().enumerate().map(|(k, e)| format!("{} {e}\n", k + 1)).collect();
+    let msh = format!(
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n1 1 \"Periodic0\"\n1 2 \"Periodic90\"\n1 3 \"Inner\"\n1 4 \"Outer\"\n$EndPhysicalNames\n$Nodes\n{}\n{nodes}$EndNodes\n$Elements\n{}\n{elements}$EndElements\n",
+        (nr + 1) * (nt + 1),
+        elements.lines().count()
+    );
+    let msh_path = dir.path().join("annulus.msh");
+    std::fs::write(&msh_path, msh).unwrap();
+    let sector = dir.path().join("sector.foam");
+    ok(&run(&[
+        "convert",
+        msh_path.to_str().unwrap(),
+        sector.to_str().unwrap(),
+        "--cyclic",
+        "1=2@0,0,90",
+        "--extrude",
+        "0.1",
+    ]));
+    let text = check_mesh(&check, &sector);
+    assert!(coupled_match(&text).ends_with("OK."), "{text}");
+    assert_eq!(count(&text, "hexahedra:"), nr * nt, "{text}");
+    let boundary = std::fs::read_to_string(sector.join("constant/polyMesh/boundary")).unwrap();
+    assert!(boundary.contains("transform       rotational;"), "{boundary}");
+    assert!(boundary.contains("rotationAxis    (0 0 1);"), "{boundary}");
 }
 
 /// OpenFOAM's own `blockMesh` writes a 3 x 2 lid-driven cavity (one empty patch

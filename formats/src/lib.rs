@@ -61,7 +61,7 @@ pub use mesh::{
     sym2_to_tensor9, tensor9_to_sym2, CellBlock, CellKind, DataArray, DataShape, Layout,
     MeshProblem, NodeIndex, RegionSeed, TaggedMesh, MAX_POINTS,
 };
-pub use openfoam::OpenFoamWrite;
+pub use openfoam::{CyclicPair, CyclicTransform, OpenFoamWrite};
 pub use output::write_all_atomically;
 pub use stl::StlWrite;
 pub use vtk::{VtkWrite, VtuEncoding};

@@ -6,7 +6,8 @@
 use std::path::Path;
 
 use smartmesh_formats::openfoam::{
-    extrude, extrude_layer, patch_type, poly_mesh_files, Layer, OpenFoamWrite, PolyMesh,
+    extrude, extrude_layer, patch_type, poly_mesh_files, CyclicPair, CyclicTransform, Layer,
+    OpenFoamWrite, PolyMesh,
 };
 use smartmesh_formats::{
     read_path, write_path, CellBlock, CellKind, Format, TaggedMesh, WriteOptions, WriteReport,
@@ -650,4 +651,76 @@ fn a_mirrored_cell_is_turned_and_untagged_faces_are_default_faces() {
     assert_eq!(p.patches.len(), 1);
     assert_eq!((p.patches[0].name.as_str(), p.patches[0].n_faces), ("defaultFaces", 6));
     assert!(report.dropped.iter().any(|d| d.contains("1 volume cells given in the mirrored")));
+}
+
+/// A 2 x 1 channel of quads whose bottom (tag 1) and top (tag 4) are periodic by
+/// (0, 1): two `cyclic` patches naming each other, the top's faces in the order of the
+/// bottom's; a wrong translation, a count mismatch and an unknown tag are refused.
+#[test]
+fn periodic_sides_become_cyclic_patches_or_are_refused() {
+    let mut m = TaggedMesh::new();
+    m.points = (0..6).map(|k| [(k % 3) as f64, (k / 3) as f64, 0.0]).collect();
+    let mut q = CellBlock::new(CellKind::Quad);
+    q.push(&[0u32, 1, 4, 3], 1, 1);
+    q.push(&[1u32, 2, 5, 4], 1, 1);
+    let mut l = CellBlock::new(CellKind::Line);
+    l.push(&[0u32, 1], 1, 1);
+    l.push(&[1u32, 2], 1, 1);
+    l.push(&[2u32, 5], 2, 2);
+    l.push(&[4u32, 3], 4, 4); // the top, listed out of the bottom's order
+    l.push(&[5u32, 4], 4, 4);
+    l.push(&[3u32, 0], 3, 3);
+    m.blocks = vec![q, l];
+    m.tag_names.insert((1, 1), "Bottom".into());
+    m.tag_names.insert((1, 4), "Top".into());
+    let pair = |t: [f64; 3], slave: i32| OpenFoamWrite {
+        extrude: Some(1.0),
+        cyclic: vec![CyclicPair {
+            master: vec![1],
+            slave: vec![slave],
+            transform: CyclicTransform::Translation(t),
+        }],
+        ..Default::default()
+    };
+    let (files, _) = poly_mesh_files(&m, &pair([0.0, 1.0, 0.0], 4)).unwrap();
+    let text = |name: &str| {
+        String::from_utf8(files.iter().find(|f| f.0 == name).unwrap().1.clone()).unwrap()
+    };
+    let boundary = text("boundary");
+    assert_eq!(boundary.matches("type            cyclic;").count(), 2, "{boundary}");
+    assert!(boundary.contains("neighbourPatch  Top;"), "{boundary}");
+    assert!(boundary.contains("neighbourPatch  Bottom;"), "{boundary}");
+    assert!(boundary.contains("separationVector (0 1 0);"), "{boundary}");
+    assert!(boundary.contains("separationVector (0 -1 0);"), "{boundary}");
+    // The faces after the 1 internal one: Bottom's two then Top's two, the top face i
+    // over the bottom face i, its first point over the bottom face's first point.
+    let faces: Vec<Vec<u32>> = text("faces")
+        .lines()
+        .filter(|l| l.starts_with("4("))
+        .map(|l| l[2..l.len() - 1].split(' ').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let start = boundary.find("Bottom").unwrap();
+    let first: usize = boundary[start..]
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("startFace").map(|v| v.trim().trim_end_matches(';')))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let plane = |v: u32| [(v % 6 % 3) as f64, (v % 6 / 3) as f64, (v / 6) as f64];
+    for i in 0..2 {
+        let (b, t) = (&faces[first + i], &faces[first + 2 + i]);
+        let (pb, pt) = (plane(b[0]), plane(t[0]));
+        assert_eq!([pb[0], pb[1] + 1.0, pb[2]], pt, "face {i}: {b:?} and {t:?}");
+        let centre = |f: &[u32]| f.iter().map(|&v| plane(v)[0]).sum::<f64>();
+        assert_eq!(centre(b), centre(t), "face {i}: {b:?} and {t:?}");
+    }
+
+    for (opts, says) in [
+        (pair([0.0, -1.0, 0.0], 4), "not images of each other"),
+        (pair([0.0, 1.0, 0.0], 2), "1 on the slave side"),
+        (pair([0.0, 1.0, 0.0], 7), "tag 7 is no boundary patch"),
+    ] {
+        let e = poly_mesh_files(&m, &opts).unwrap_err().to_string();
+        assert!(e.contains(says), "{e}");
+    }
 }

@@ -67,6 +67,7 @@ pub const OPTION_KEYS: &[&str] = &[
     "extrude",
     "wedge",
     "patch_type",
+    "cyclic",
 ];
 
 /// One option a manifest line may set: its key (one of [`OPTION_KEYS`]), its `adapt`

@@ -55,7 +55,7 @@ relative to the manifest's folder (a missing one makes that variant's record fai
 others run); options are adapt's options with underscores (adapter, \
 adapter_program, adapter_args [list], max_iterations, tol_vertices, tol_conformity, \
 max_vertices, max_growth, hmin, hmax, hgrad, hausd, coarsen_geometry, nosurf, no_preprocess, \
-recipe_format, from, binary, gmsh_version, vtk_version, vtu_encoding, no_compress, extrude, wedge, patch_type [list]) and format, \
+recipe_format, from, binary, gmsh_version, vtk_version, vtu_encoding, no_compress, extrude, wedge, patch_type [list], cyclic [list]) and format, \
 the output's extension (msh unless said; su2, or foam for an OpenFOAM case directory). A bad line stops the batch before any run (exit 2, \
 naming the file and the line), and so does an output of a variant that would replace a file \
 the batch reads (an input, a recipe, the manifest).
@@ -837,6 +837,7 @@ mod tests {
             ("extrude", "--extrude", Number),
             ("wedge", "--wedge", Number),
             ("patch_type", "--patch-type", List),
+            ("cyclic", "--cyclic", List),
         ];
         let table = adapt_options();
         assert_eq!(table.len(), written.len());

@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use smartmesh::formats::{
-    write_path, Error as FormatError, Format, GltfWrite, GmshVersion, GmshWrite, MeditWrite,
-    OpenFoamWrite, StlWrite, TaggedMesh, VtkWrite, VtuEncoding, WriteOptions, WriteReport,
+    write_path, CyclicPair, CyclicTransform, Error as FormatError, Format, GltfWrite, GmshVersion,
+    GmshWrite, MeditWrite, OpenFoamWrite, StlWrite, TaggedMesh, VtkWrite, VtuEncoding,
+    WriteOptions, WriteReport,
 };
 use smartmesh::recipe::{GlobalOverrides, Recipe, RecipeFormat};
 
@@ -84,6 +85,44 @@ pub(crate) struct MeshOutputArgs {
     /// like Wall, Airfoil, Cylinder; `patch` otherwise); repeatable.
     #[arg(long, value_name = "NAME=TYPE", value_parser = patch_type, help_heading = "Output")]
     pub patch_type: Vec<(String, String)>,
+    /// OpenFOAM: a periodic pair written as two `cyclic` patches, by tag numbers:
+    /// `MASTER=SLAVE:DX,DY[,DZ]` for a translation from master to slave (`302,303,304=
+    /// 308,307,306:0,30`), `MASTER=SLAVE@CX,CY,ANGLE` for a rotation of ANGLE degrees
+    /// about the z axis through (CX, CY); repeatable. The recipe's PERIODIC pairs, spelt
+    /// on the command line.
+    #[arg(long, value_name = "MASTER=SLAVE:DX,DY", value_parser = cyclic_pair, help_heading = "Output")]
+    pub cyclic: Vec<CyclicPair>,
+}
+
+/// A `--cyclic` value: `302,303=306,307:0,30` or `1=2@0,0,60`.
+fn cyclic_pair(s: &str) -> Result<CyclicPair, String> {
+    let bad = || {
+        format!("`{s}`: expected MASTER=SLAVE:DX,DY[,DZ] or MASTER=SLAVE@CX,CY,ANGLE, tags as numbers (e.g. 302,303=307,306:0,30)")
+    };
+    let (sides, rest, rotation) = match (s.split_once(':'), s.split_once('@')) {
+        (Some((a, b)), None) => (a, b, false),
+        (None, Some((a, b))) => (a, b, true),
+        _ => return Err(bad()),
+    };
+    let (m, sl) = sides.split_once('=').ok_or_else(bad)?;
+    let tags = |t: &str| -> Result<Vec<i32>, String> {
+        t.split(',').map(|x| x.trim().parse::<i32>().map_err(|_| bad())).collect()
+    };
+    let nums: Vec<f64> = rest
+        .split(',')
+        .map(|x| x.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(bad))
+        .collect::<Result<_, _>>()?;
+    let transform = match (rotation, nums.as_slice()) {
+        (false, &[dx, dy]) => CyclicTransform::Translation([dx, dy, 0.0]),
+        (false, &[dx, dy, dz]) => CyclicTransform::Translation([dx, dy, dz]),
+        (true, &[cx, cy, angle]) => CyclicTransform::Rotation {
+            axis: [0.0, 0.0, 1.0],
+            centre: [cx, cy, 0.0],
+            angle_degrees: angle,
+        },
+        _ => return Err(bad()),
+    };
+    Ok(CyclicPair { master: tags(m)?, slave: tags(sl)?, transform })
 }
 
 fn patch_type(s: &str) -> Result<(String, String), String> {
@@ -133,6 +172,7 @@ impl MeshOutputArgs {
                 patch_types: self.patch_type.iter().cloned().collect(),
                 wedge: self.wedge,
                 binary: self.binary,
+                cyclic: self.cyclic.clone(),
             },
             stl: StlWrite { binary: self.binary },
             main_name: None,

@@ -28,6 +28,9 @@ pub struct Patch {
     pub kind: String,
     /// Number of faces (they follow the previous patch's).
     pub n_faces: usize,
+    /// More entries of its `boundary` dictionary, in order (a `cyclic` patch's
+    /// `neighbourPatch` and transform).
+    pub entries: Vec<(String, String)>,
 }
 
 /// The extruded mesh.
@@ -326,7 +329,7 @@ pub fn extrude_layer(
             }
         }
         if n_faces > 0 {
-            poly.patches.push(Patch { name, kind, n_faces });
+            poly.patches.push(Patch { name, kind, n_faces, entries: Vec::new() });
         }
     }
     // Front (z = dz): counter-clockwise from +z, the outward normal. Back (z = 0):
@@ -344,12 +347,18 @@ pub fn extrude_layer(
         name: "front".into(),
         kind: empty_kind.into(),
         n_faces: cells.len(),
+        entries: Vec::new(),
     });
     for (ci, c) in cells.iter().enumerate() {
         poly.faces.push(std::iter::once(c[0]).chain(c[1..].iter().rev().copied()).collect());
         poly.owner.push(ci as u32);
     }
-    poly.patches.push(Patch { name: "back".into(), kind: empty_kind.into(), n_faces: cells.len() });
+    poly.patches.push(Patch {
+        name: "back".into(),
+        kind: empty_kind.into(),
+        n_faces: cells.len(),
+        entries: Vec::new(),
+    });
     Ok(poly)
 }
 

@@ -34,9 +34,14 @@
 //! `wedge` ([`OpenFoamWrite::wedge`], axisymmetric cases): the mesh in y >= 0 is turned
 //! by ±angle/2 about the x axis, its points on the axis shared by both planes.
 //!
-//! Not done yet: cyclic patch pairs for periodic sides, cellZones/faceZones of a 2D
+//! Periodic sides ([`OpenFoamWrite::cyclic`], set by `--cyclic`): each pair's master
+//! tags one `cyclic` patch, its slave tags another, faces in matching order (module
+//! `cyclic`).
+//!
+//! Not done yet: cellZones/faceZones of a 2D
 //! mesh's face tags and inner curves; the report says what is left.
 
+mod cyclic;
 pub mod extrude;
 mod read;
 mod read3d;
@@ -49,6 +54,7 @@ use std::path::Path;
 use crate::text::{push_f64, push_int};
 use crate::{Error, ErrorKind, Format, Result, TaggedMesh, WriteReport};
 
+pub use cyclic::{CyclicPair, CyclicTransform};
 pub use extrude::{extrude, extrude_layer, Layer, Patch, PolyMesh};
 pub use read::{read_case, read_poly_mesh};
 pub use volume::volume_poly_mesh;
@@ -67,6 +73,9 @@ pub struct OpenFoamWrite {
     /// Binary `points`, `faces`, `owner` and `neighbour` (little-endian, 32-bit labels,
     /// 64-bit scalars), as OpenFOAM's `writeFormat binary` writes them.
     pub binary: bool,
+    /// Periodic side pairs written as two `cyclic` patches each (see the module
+    /// `cyclic`); their tags' faces must be images of each other by the transform.
+    pub cyclic: Vec<CyclicPair>,
 }
 
 /// Words in a patch name that make it a `patch` whatever else it says (compared in
@@ -182,7 +191,7 @@ pub fn poly_mesh_files(
             Layer::Slab(dz)
         }
     };
-    let mut name_of = |tag: i32, report: &mut WriteReport| -> (String, String) {
+    let name_of = |tag: i32, report: &mut WriteReport| -> (String, String) {
         let name = match mesh.tag_name(1, tag) {
             Some(n) => {
                 let w = foam_word(n);
@@ -205,10 +214,20 @@ pub fn poly_mesh_files(
             opts.patch_types.get(&name).cloned().unwrap_or_else(|| patch_type(&name).to_string());
         (name, kind)
     };
-    let poly = extrude_layer(mesh, layer, &mut name_of, &mut report).map_err(|reason| {
-        Error::new(ErrorKind::CannotWrite { format: Format::OpenFoam.name(), reason })
-    })?;
+    let mut patch_of = BTreeMap::new();
+    let mut named = |tag: i32, report: &mut WriteReport| {
+        let (name, kind) = name_of(tag, report);
+        patch_of.insert(tag, name.clone());
+        (name, kind)
+    };
+    let mut poly = extrude_layer(mesh, layer, &mut named, &mut report).map_err(refused)?;
+    cyclic::couple(&mut poly, &opts.cyclic, &patch_of).map_err(refused)?;
     Ok((files(&poly, opts.binary), report))
+}
+
+/// The error of a mesh the writer cannot write, for `reason`.
+fn refused(reason: String) -> Error {
+    Error::new(ErrorKind::CannotWrite { format: Format::OpenFoam.name(), reason })
 }
 
 /// `name` as an OpenFOAM word, or `tag<N>` when it is none; the report says what
@@ -264,9 +283,14 @@ fn volume_files(
             .unwrap_or(format!("tag{tag}"))
     };
     let mut inner = WriteReport::default();
-    let poly = volume_poly_mesh(mesh, patch_name, zone_name, &mut inner).map_err(|reason| {
-        Error::new(ErrorKind::CannotWrite { format: Format::OpenFoam.name(), reason })
-    })?;
+    let mut patch_of = BTreeMap::new();
+    let named = |tag: i32, report: &mut WriteReport| {
+        let (name, kind) = patch_name(tag, report);
+        patch_of.insert(tag, name.clone());
+        (name, kind)
+    };
+    let mut poly = volume_poly_mesh(mesh, named, zone_name, &mut inner).map_err(refused)?;
+    cyclic::couple(&mut poly, &opts.cyclic, &patch_of).map_err(refused)?;
     report.dropped.extend(inner.dropped);
     Ok((files(&poly, opts.binary), report))
 }
@@ -425,6 +449,9 @@ fn files(poly: &PolyMesh, binary: bool) -> Vec<CaseFile> {
         let _ = writeln!(s, "        type            {};", p.kind);
         if p.kind == "wall" || p.kind == "empty" {
             let _ = writeln!(s, "        inGroups        List<word> 1({});", p.kind);
+        }
+        for (key, value) in &p.entries {
+            let _ = writeln!(s, "        {key:<15} {value};");
         }
         let _ = writeln!(s, "        nFaces          {};", p.n_faces);
         let _ = writeln!(s, "        startFace       {start};\n    }}");

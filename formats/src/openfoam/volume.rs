@@ -209,7 +209,7 @@ pub fn volume_poly_mesh(
             poly.faces.push(f);
             poly.owner.push(c);
         }
-        poly.patches.push(Patch { name, kind, n_faces });
+        poly.patches.push(Patch { name, kind, n_faces, entries: Vec::new() });
     }
 
     let mut zones: BTreeMap<i32, Vec<u32>> = BTreeMap::new();
