@@ -25,7 +25,9 @@
 //! directly ([`volume_poly_mesh`]): one patch per surface tag on the boundary, named and
 //! typed as the line tags of a 2D mesh are, `defaultFaces` for boundary faces without a
 //! surface cell; `cellZones` from the volume tags (a zone per tag, when named or
-//! several), `faceZones` from the surface tags on internal faces.
+//! several), `faceZones` from the surface tags on internal faces. The report lists what
+//! the case does not keep: higher-order nodes, line and vertex cells with their tags'
+//! names, and the numbers of named tags (patches and zones are known by name only).
 //!
 //! Read ([`read_case`]): a 2D case, one cell thick along z, back into a 2D mesh; a case
 //! without `empty` or `wedge` patches back into a 3D mesh, with its `cellZones` and
@@ -264,12 +266,7 @@ fn volume_files(
     if opts.extrude.is_some() || opts.wedge.is_some() {
         report.drop("--extrude and --wedge: a 3D mesh is written as it is, not extruded");
     }
-    let lines = mesh.blocks.iter().filter(|b| b.kind.dim() < 2).map(|b| b.len()).sum::<usize>();
-    if lines > 0 {
-        report.drop(format!(
-            "{lines} line and vertex cells: a 3D polyMesh has patches of faces only"
-        ));
-    }
+    report_volume_losses(mesh, &mut report);
     let patch_name = |tag: i32, report: &mut WriteReport| -> (String, String) {
         let name = word_or_tag(mesh.tag_name(2, tag), "surface", tag, report);
         let kind =
@@ -293,6 +290,41 @@ fn volume_files(
     cyclic::couple(&mut poly, &opts.cyclic, &patch_of).map_err(refused)?;
     report.dropped.extend(inner.dropped);
     Ok((files(&poly, opts.binary), report))
+}
+
+/// What a 3D polyMesh does not hold of `mesh`: line and vertex cells with their tags'
+/// names, and the tag numbers (patches and zones are known by
+/// name, and `read_case` numbers them 1, 2, … in file order).
+fn report_volume_losses(mesh: &TaggedMesh, report: &mut WriteReport) {
+    let low = |b: &&crate::CellBlock| b.kind.dim() < 2;
+    let lines = mesh.blocks.iter().filter(low).map(|b| b.len()).sum::<usize>();
+    if lines > 0 {
+        let names: std::collections::BTreeSet<String> = mesh
+            .blocks
+            .iter()
+            .filter(low)
+            .flat_map(|b| b.physical.iter().map(move |&t| (b.kind.dim(), t)))
+            .filter_map(|(d, t)| mesh.tag_name(d, t).map(|n| format!("`{n}`")))
+            .collect();
+        let names = if names.is_empty() {
+            String::new()
+        } else {
+            format!(", with their tags' names {}", names.into_iter().collect::<Vec<_>>().join(", "))
+        };
+        report.drop(format!(
+            "{lines} line and vertex cells{names}: a 3D polyMesh has patches of faces only"
+        ));
+    }
+    let named = mesh
+        .blocks
+        .iter()
+        .filter(|b| b.kind.dim() >= 2)
+        .any(|b| b.physical.iter().any(|&t| mesh.tag_name(b.kind.dim(), t).is_some()));
+    if named {
+        report.drop(
+            "the numbers of the named surface and volume tags: a polyMesh knows patches and zones by name only, read back numbered 1, 2, … in file order",
+        );
+    }
 }
 
 /// A `cellZones` or `faceZones` file (always ASCII: OpenFOAM reads each file by its
@@ -507,19 +539,15 @@ fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
         report
             .drop(format!("{vertices} vertex cells: a polyMesh has cells, faces and points only"));
     }
-    for kind in [
-        crate::CellKind::Line3,
-        crate::CellKind::Triangle6,
-        crate::CellKind::Quad8,
-        crate::CellKind::Quad9,
-    ] {
-        let n = mesh.num_cells_of(kind);
-        if n > 0 {
-            report.drop(format!(
-                "the mid-edge nodes of {n} {} cells: a polyMesh is first order (written by their corners)",
-                kind.name()
-            ));
-        }
+    // Every higher-order kind, volumes included (a tetra10 is written as its tetra).
+    let mut curved: BTreeMap<&str, usize> = BTreeMap::new();
+    for b in mesh.blocks.iter().filter(|b| b.kind.linear() != b.kind && !b.is_empty()) {
+        *curved.entry(b.kind.name()).or_default() += b.len();
+    }
+    for (kind, n) in curved {
+        report.drop(format!(
+            "the mid-edge nodes of {n} {kind} cells: a polyMesh is first order (written by their corners)"
+        ));
     }
     for name in mesh.point_sets.keys() {
         report.drop(format!("point set `{name}`: pointZones are not written"));
