@@ -237,7 +237,7 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
 }
 
 /// [`write_bytes`], the main file written into `spare`'s memory where the writer can
-/// (Gmsh): memory a process already touched is not faulted in again, which in a binary
+/// (Gmsh, Medit `.meshb`): memory a process already touched is not faulted in again, which in a binary
 /// conversion of 10^6 cells costs more than the conversion itself.
 fn write_bytes_into(
     format: Format,
@@ -259,7 +259,7 @@ fn write_bytes_into(
         Format::VtkLegacy => crate::vtk::write_legacy(mesh, opts),
         Format::Vtu => crate::vtk::write_vtu(mesh, opts),
         Format::Obj => crate::obj::write(mesh, opts),
-        Format::Medit => crate::medit::write(mesh, opts),
+        Format::Medit => crate::medit::write_into(mesh, opts, spare),
         Format::Gltf => crate::gltf::write(mesh, opts),
         Format::Su2 => crate::su2::write(mesh, opts),
         Format::Stl => crate::stl::write(mesh, opts),
