@@ -233,6 +233,18 @@ pub(crate) fn refused(format: Format, mesh: &TaggedMesh) -> Error {
 /// Writes a mesh in `format` to bytes (the main file and its siblings). A mesh that
 /// [`TaggedMesh::validate`] refuses is not written.
 pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    write_bytes_into(format, mesh, opts, Vec::new())
+}
+
+/// [`write_bytes`], the main file written into `spare`'s memory where the writer can
+/// (Gmsh, Medit `.meshb`): memory a process already touched is not faulted in again, which in a binary
+/// conversion of 10^6 cells costs more than the conversion itself.
+fn write_bytes_into(
+    format: Format,
+    mesh: &TaggedMesh,
+    opts: &WriteOptions,
+    spare: Vec<u8>,
+) -> Result<Written> {
     if !format.checks().writer_validates && !mesh.validate().is_empty() {
         return Err(refused(format, mesh));
     }
@@ -241,13 +253,13 @@ pub fn write_bytes(format: Format, mesh: &TaggedMesh, opts: &WriteOptions) -> Re
         // Validated above, with the error `gmsh::write` would give. Point sets become
         // named groups of point elements, which MSH holds.
         Format::Gmsh => match crate::point_sets::as_vertex_cells(mesh) {
-            Some(lowered) => crate::gmsh::write_validated(&lowered, opts),
-            None => crate::gmsh::write_validated(mesh, opts),
+            Some(lowered) => crate::gmsh::write_validated(&lowered, opts, spare),
+            None => crate::gmsh::write_validated(mesh, opts, spare),
         },
         Format::VtkLegacy => crate::vtk::write_legacy(mesh, opts),
         Format::Vtu => crate::vtk::write_vtu(mesh, opts),
         Format::Obj => crate::obj::write(mesh, opts),
-        Format::Medit => crate::medit::write(mesh, opts),
+        Format::Medit => crate::medit::write_into(mesh, opts, spare),
         Format::Gltf => crate::gltf::write(mesh, opts),
         Format::Su2 => crate::su2::write(mesh, opts),
         Format::Stl => crate::stl::write(mesh, opts),
@@ -334,23 +346,36 @@ pub fn read_path_reported_without(
     format: Option<Format>,
     left_out: &[&str],
 ) -> Result<(TaggedMesh, ReadReport)> {
+    read_path_keeping_bytes(path, format, left_out).map(|(mesh, report, _)| (mesh, report))
+}
+
+/// [`read_path_reported_without`], handing back the buffer the file was read into, for
+/// [`write_path_reusing`] to write the output into the same memory (a conversion).
+pub fn read_path_keeping_bytes(
+    path: &Path,
+    format: Option<Format>,
+    left_out: &[&str],
+) -> Result<(TaggedMesh, ReadReport, Vec<u8>)> {
     if is_stdio(path) {
         let format = format.ok_or_else(|| Error::new(ErrorKind::UnknownFormat(String::new())))?;
         let mut bytes = Vec::new();
         std::io::stdin().lock().read_to_end(&mut bytes)?;
         let ctx = ReadContext { siblings: &NoSiblings, extension: String::new() };
-        return read_bytes_reported(format, &bytes, &ctx);
+        let (mesh, report) = read_bytes_reported(format, &bytes, &ctx)?;
+        return Ok((mesh, report, bytes));
     }
     let format = resolve_format(path, format)?;
     if format == Format::OpenFoam {
-        return Ok((crate::openfoam::read_case(path)?, ReadReport::default()));
+        return Ok((crate::openfoam::read_case(path)?, ReadReport::default(), Vec::new()));
     }
     let bytes =
         std::fs::read(path).map_err(|e| Error::new(ErrorKind::Unreadable(e)).with_path(path))?;
     let siblings = SiblingsBut { inner: PathSiblings::new(path), left_out };
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let ctx = ReadContext { siblings: &siblings, extension: ext };
-    read_bytes_reported(format, &bytes, &ctx).map_err(|e| e.with_path(path))
+    let (mesh, report) =
+        read_bytes_reported(format, &bytes, &ctx).map_err(|e| e.with_path(path))?;
+    Ok((mesh, report, bytes))
 }
 
 /// Writes a mesh to a path (`-` for stdout, which needs `format` and a format without
@@ -362,12 +387,25 @@ pub fn write_path(
     format: Option<Format>,
     opts: &WriteOptions,
 ) -> Result<WriteReport> {
+    write_path_reusing(path, mesh, format, opts, Vec::new())
+}
+
+/// [`write_path`], the main file built in `spare`'s memory where the writer can (the
+/// bytes [`read_path_keeping_bytes`] read; their contents do not matter). Still written
+/// to a temporary file renamed once complete.
+pub fn write_path_reusing(
+    path: &Path,
+    mesh: &TaggedMesh,
+    format: Option<Format>,
+    opts: &WriteOptions,
+    spare: Vec<u8>,
+) -> Result<WriteReport> {
     if is_stdio(path) {
         let format = format
             .ok_or_else(|| Error::new(ErrorKind::UnknownFormat(String::new())).on_stdout())?;
         let mut opts = opts.clone();
         opts.main_name = None;
-        let written = write_bytes(format, mesh, &opts)?;
+        let written = write_bytes_into(format, mesh, &opts, spare)?;
         if !written.siblings.is_empty() {
             let exts: Vec<_> = written.siblings.iter().map(|(e, _)| format!(".{e}")).collect();
             return Err(Error::new(ErrorKind::CannotWrite {
@@ -387,7 +425,7 @@ pub fn write_path(
     }
     let mut opts = opts.clone();
     opts.main_name = path.file_name().and_then(|n| n.to_str()).map(str::to_owned);
-    let written = write_bytes(format, mesh, &opts).map_err(|e| e.with_path(path))?;
+    let written = write_bytes_into(format, mesh, &opts, spare).map_err(|e| e.with_path(path))?;
     let siblings = PathSiblings::new(path);
     let mut targets = vec![(path.to_path_buf(), written.main)];
     for (ext, bytes) in written.siblings {

@@ -53,8 +53,9 @@ pub use error::{Error, ErrorKind, Position, Result};
 pub use gltf::GltfWrite;
 pub use gmsh::{GmshVersion, GmshWrite};
 pub use io::{
-    read_bytes, read_bytes_reported, read_path, read_path_reported, read_path_reported_without,
-    write_bytes, write_path, MemorySiblings, NoSiblings, PathSiblings, SiblingSource,
+    read_bytes, read_bytes_reported, read_path, read_path_keeping_bytes, read_path_reported,
+    read_path_reported_without, write_bytes, write_path, write_path_reusing, MemorySiblings,
+    NoSiblings, PathSiblings, SiblingSource,
 };
 pub use medit::MeditWrite;
 pub use mesh::{

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use smartmesh::formats::{write_path, Format};
+use smartmesh::formats::{write_path_reusing, Format};
 
 use super::output::{check_output_dir, label, refuse_same_file, shown};
 use super::{parse_format, print_stdout, ui, CliError, MeshOutputArgs};
@@ -85,7 +85,10 @@ pub(super) fn run(args: ConvertArgs) -> Result<(), CliError> {
     };
     check_output_dir(&args.output)?;
     refuse_same_file(&args.input, &args.output)?;
-    let (mut mesh, read_notes) = super::read_mesh_noted(&args.input, from, args.no_solution)?;
+    // The input's buffer is handed to the writer: a binary conversion of a large mesh
+    // otherwise spends most of its time in the kernel faulting in fresh memory.
+    let (mut mesh, read_notes, spare) =
+        super::read_mesh_noted_keeping_bytes(&args.input, from, args.no_solution)?;
     if args.split_quads {
         let n = mesh.split_quads();
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));
@@ -101,7 +104,8 @@ pub(super) fn run(args: ConvertArgs) -> Result<(), CliError> {
             )));
         }
     }
-    let report = write_path(&args.output, &mesh, to, &opts).map_err(|e| label(e, &args.output))?;
+    let report = write_path_reusing(&args.output, &mesh, to, &opts, spare)
+        .map_err(|e| label(e, &args.output))?;
     ui::write_notes(&shown(&args.output), &report.dropped);
     if args.json {
         let s = ConvertSummary {

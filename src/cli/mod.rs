@@ -191,13 +191,24 @@ pub(crate) fn read_mesh_noted(
     format: Option<smartmesh::formats::Format>,
     no_solution: bool,
 ) -> Result<(smartmesh::formats::TaggedMesh, Vec<String>), CliError> {
+    read_mesh_noted_keeping_bytes(path, format, no_solution).map(|(mesh, notes, _)| (mesh, notes))
+}
+
+/// [`read_mesh_noted`], handing back the buffer the file was read into (for the
+/// output to reuse: `convert`).
+pub(crate) fn read_mesh_noted_keeping_bytes(
+    path: &std::path::Path,
+    format: Option<smartmesh::formats::Format>,
+    no_solution: bool,
+) -> Result<(smartmesh::formats::TaggedMesh, Vec<String>, Vec<u8>), CliError> {
     let left_out: &[&str] = if no_solution { &["sol", "solb"] } else { &[] };
-    let (mesh, report) = smartmesh::formats::read_path_reported_without(path, format, left_out)?;
+    let (mesh, report, bytes) =
+        smartmesh::formats::read_path_keeping_bytes(path, format, left_out)?;
     let name = input_name(path);
     for n in &report.notes {
         ui::note(&format!("{name}: {n}"));
     }
-    Ok((mesh, report.notes))
+    Ok((mesh, report.notes, bytes))
 }
 
 /// [`read_mesh_noted`] for a command that computes on linear cells (sizing, remeshing,

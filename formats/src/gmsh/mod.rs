@@ -331,12 +331,17 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
             reason: p.to_string(),
         }));
     }
-    write_validated(mesh, opts)
+    write_validated(mesh, opts, Vec::new())
 }
 
 /// [`write`] of a mesh that [`TaggedMesh::validate`] found without problems (as
 /// `write_bytes` checks first, with the same error): not checked again.
-pub(crate) fn write_validated(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+/// `spare`: memory to write the file into (cleared first), reused rather than fresh.
+pub(crate) fn write_validated(
+    mesh: &TaggedMesh,
+    opts: &WriteOptions,
+    spare: Vec<u8>,
+) -> Result<Written> {
     let mut report = WriteReport::default();
     // Tags in MSH binary data sections and 2.2 elements are C ints.
     let n_cells = mesh.num_cells();
@@ -348,7 +353,9 @@ pub(crate) fn write_validated(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<
     }
     let grouped = untagged::grouped(mesh, &mut report);
     let GmshWrite { version, binary } = opts.gmsh;
-    let mut out = Vec::with_capacity(estimate_size(mesh, binary));
+    let mut out = spare;
+    out.clear();
+    out.reserve(estimate_size(mesh, binary));
     match version {
         GmshVersion::V41 => msh4::write(&grouped, binary, &mut out, &mut report)?,
         GmshVersion::V22 => msh2::write(&grouped, binary, &mut out, &mut report)?,

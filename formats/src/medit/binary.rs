@@ -611,8 +611,12 @@ struct W {
 }
 
 impl W {
-    fn new(ver: u32, capacity: usize) -> W {
-        let mut w = W { out: Vec::with_capacity(capacity), ver };
+    /// `spare`: memory to write into (cleared first), reused rather than fresh.
+    fn new(ver: u32, capacity: usize, spare: Vec<u8>) -> W {
+        let mut out = spare;
+        out.clear();
+        out.reserve(capacity);
+        let mut w = W { out, ver };
         w.out.extend_from_slice(&1i32.to_le_bytes());
         w.out.extend_from_slice(&(ver as i32).to_le_bytes());
         w
@@ -674,7 +678,7 @@ fn version(bytes_v2: u64, largest_number: u64) -> u32 {
 
 /// The file's bytes, and one past the largest node index written (0 when none), which
 /// the caller checks against the vertex count.
-pub(super) fn write_mesh(m: &Out<'_>) -> (Vec<u8>, usize) {
+pub(super) fn write_mesh(m: &Out<'_>, spare: Vec<u8>) -> (Vec<u8>, usize) {
     let dim = m.dim as usize;
     let nv = m.points.len();
     let mut ints = 0u64; // integers after the vertices, counts included
@@ -692,7 +696,8 @@ pub(super) fn write_mesh(m: &Out<'_>) -> (Vec<u8>, usize) {
     let keywords = 3 + m.elements.len() + m.sets.len();
     let bytes_v2 = 8 + 12 * keywords as u64 + 4 + (nv * (8 * dim + 4)) as u64 + 4 * ints;
     let ver = version(bytes_v2, largest);
-    let mut w = W::new(ver, (bytes_v2 as usize).saturating_mul(if ver == 2 { 1 } else { 2 }));
+    let mut w =
+        W::new(ver, (bytes_v2 as usize).saturating_mul(if ver == 2 { 1 } else { 2 }), spare);
     w.header(m.dim);
     let at = w.begin(KW_VERTICES);
     w.int(nv);
@@ -794,7 +799,7 @@ fn element_records<const K: usize>(out: &mut Vec<u8>, b: &CellBlock) -> usize {
 pub(super) fn write_sol(s: &SolOut<'_>) -> Vec<u8> {
     let bytes_v2 = 8 + 12 * 3 + 4 + 4 + 4 * s.types.len() as u64 + 8 * (s.n * s.stride) as u64;
     let ver = version(bytes_v2, s.n as u64);
-    let mut w = W::new(ver, bytes_v2 as usize + 16);
+    let mut w = W::new(ver, bytes_v2 as usize + 16, Vec::new());
     w.header(s.dim);
     let at = w.begin(KW_SOL_AT_VERTICES);
     w.int(s.n);

@@ -99,6 +99,7 @@ use crate::{
 use keywords::KEYWORDS;
 use sol::{identity_layout, sol_arrays};
 pub use sol::{read_sol, read_sol_alone};
+pub(crate) use write::write_into;
 pub use write::{write, write_sol, MeditWrite};
 use write::{Out, Single, SolOut};
 

@@ -37,6 +37,16 @@ pub struct MeditWrite {
 
 /// Writes a mesh as Medit, with its solution file beside it (see the module documentation).
 pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    write_into(mesh, opts, Vec::new())
+}
+
+/// [`write`], a `.meshb` built in `spare`'s memory (cleared first; reused memory is not
+/// faulted in again).
+pub(crate) fn write_into(
+    mesh: &TaggedMesh,
+    opts: &WriteOptions,
+    spare: Vec<u8>,
+) -> Result<Written> {
     let binary = match opts
         .main_name
         .as_deref()
@@ -236,7 +246,7 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     // their own for ASCII and for the blocks Medit does not hold.
     let bound = |b: &CellBlock| b.nodes.iter().fold(0, |m, &v| m.max(v as usize + 1));
     let (main, written_bound) =
-        if binary { binary::write_mesh(&out) } else { (ascii::write_mesh(&out), 0) };
+        if binary { binary::write_mesh(&out, spare) } else { (ascii::write_mesh(&out), 0) };
     let held = |b: &CellBlock| ELEMENTS.iter().any(|(_, k)| *k == b.kind);
     let rest_bound =
         mesh.blocks.iter().filter(|b| !binary || !held(b)).map(bound).max().unwrap_or(0);
