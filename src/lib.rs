@@ -25,8 +25,10 @@
 //! points [`read_path`], [`size_mesh`], [`remesh()`], [`adapt()`], and the types they take
 //! and give: the [`Topology`] recovered from the tags, the [`MetricField`] on a mesh, its
 //! [`Conformity`], the plane a 2D mesh lies in ([`plane`]), the [`History`] of a run, the
-//! validity of a mixed mesh ([`check_mesh`]) and, for a mesh with volume cells, its
-//! [`SolidSummary`] (volumes, bounding surfaces, cell quality).
+//! validity of a mixed mesh ([`check_mesh`], [`check_cells`] and its all-pairs twin
+//! [`check_cells_brute`]) and, for a mesh with volume cells, its [`SolidSummary`] (volumes,
+//! bounding surfaces, cell quality) and the measures of one volume cell ([`signed_volume`],
+//! [`scaled_jacobian`], the tetrahedron's [`tet_mean_ratio`] and others).
 //!
 //! The crate's other modules are private; the items of theirs a user needs are named
 //! here or in the public module they belong to.
@@ -52,7 +54,7 @@ mod metric_field;
 pub mod periodic;
 mod planar;
 mod quality;
-pub mod quality3d;
+mod quality3d;
 pub mod recipe;
 pub mod remesh;
 pub mod report;
@@ -62,7 +64,7 @@ mod solid_topology;
 mod solution;
 mod summary;
 mod topology;
-pub mod validity;
+mod validity;
 mod variants;
 
 // The curated surface: what a user of the library needs, at the root. The private
@@ -86,6 +88,11 @@ pub use metric_field::{
 };
 pub use planar::{place, plane, NotPlanar};
 pub use quality::QualitySummary;
+pub use quality3d::{
+    exact_volume, hex_scaled_jacobian, pyramid_scaled_jacobian, scaled_jacobian, signed_volume,
+    tet_aspect_ratio, tet_dihedral_angles, tet_dihedral_range, tet_mean_ratio, tet_scaled_jacobian,
+    tet_volume, wedge_scaled_jacobian, KindQuality, TetraQuality, VolumeQuality,
+};
 pub use recipe::{size_mesh, MeshSizing, SizeMeshError};
 pub use recipe::{Recipe, RecipeError};
 pub use remesh::{remesh, RemeshError, RemeshOptions, Remeshed};
@@ -96,4 +103,4 @@ pub use topology::{
     cell_tag, Classification, EntityTag, PointOrigin, Polyline, SurfaceCell, TopoCurve, TopoFace,
     TopoPoint, Topology,
 };
-pub use validity::{check_mesh, Validity};
+pub use validity::{check_cells, check_cells_brute, check_mesh, surface_cells, Validity};

@@ -48,7 +48,7 @@ type P = [f64; 3];
 
 /// |scaled Jacobian| at or below this is degenerate: the relative size of rounding in
 /// the determinant of three unit vectors.
-pub const DEGENERATE: f64 = 1e-12;
+pub(crate) const DEGENERATE: f64 = 1e-12;
 
 #[inline]
 fn sub(a: P, b: P) -> P {
@@ -73,7 +73,7 @@ fn det(a: P, b: P, c: P) -> f64 {
 
 /// The faces of a volume kind by their corners, outward (second-order kinds by their
 /// linear kind's corners); empty for other kinds.
-pub fn cell_faces(kind: CellKind) -> &'static [&'static [usize]] {
+pub(crate) fn cell_faces(kind: CellKind) -> &'static [&'static [usize]] {
     kind.faces()
 }
 
@@ -353,9 +353,6 @@ pub fn scaled_jacobian(kind: CellKind, p: &[P]) -> Option<(f64, f64)> {
 }
 
 /// `[min, mean, max]` of a stream of values, built one value at a time.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Range3(pub [f64; 3]);
-
 #[derive(Default)]
 struct Acc {
     n: usize,
@@ -416,7 +413,7 @@ pub struct VolumeQuality {
     pub others: Vec<KindQuality>,
     /// Cells with a negative corner Jacobian (negative volume for a tetrahedron).
     pub inverted: usize,
-    /// Cells whose scaled Jacobian is zero up to rounding ([`DEGENERATE`]).
+    /// Cells whose scaled Jacobian is zero up to rounding (at most 1e-12 in magnitude).
     pub degenerate: usize,
 }
 

@@ -9,7 +9,7 @@
 //! (`untagged_faces`): a file that lists no boundary triangles, or only some.
 //!
 //! Second-order cells are matched by their corners, and measured as
-//! [`crate::quality3d::signed_volume`] does. Knows connectivity and coordinates
+//! [`crate::signed_volume`] does. Knows connectivity and coordinates
 //! only. Cost: O(F log F) for F cell faces (one sort, no hash map, so the order of
 //! everything reported is that of the tags).
 

@@ -78,7 +78,7 @@ impl HistogramBins {
 pub struct SolidSummary {
     /// Cells of dimension 0, 1, 2 and 3.
     pub cells_per_dim: [usize; 4],
-    /// The sum of the volume cells' signed volumes ([`crate::quality3d::signed_volume`]).
+    /// The sum of the volume cells' signed volumes ([`crate::signed_volume`]).
     pub volume: f64,
     /// The volume kinds measured through their corners (second-order kinds but the
     /// tetrahedron), by name; empty when the volume is exact.

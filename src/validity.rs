@@ -122,7 +122,7 @@ fn corners(pts: &[P], c: &[usize]) -> Vec<P> {
 }
 
 /// Signed area of a polygon.
-pub fn polygon_area(poly: &[P]) -> f64 {
+pub(crate) fn polygon_area(poly: &[P]) -> f64 {
     let mut a = 0.0;
     for i in 0..poly.len() {
         let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
@@ -134,7 +134,7 @@ pub fn polygon_area(poly: &[P]) -> f64 {
 /// Whether every corner of the cell has a positive Jacobian (the exact orientation of the
 /// corner and its two neighbours, counter-clockwise) above 1e-14 of the square of the
 /// cell's longest edge.
-pub fn positive_corners(poly: &[P]) -> bool {
+pub(crate) fn positive_corners(poly: &[P]) -> bool {
     let n = poly.len();
     let size: f64 = (0..n).map(|i| norm(sub(poly[(i + 1) % n], poly[i]))).fold(0.0, f64::max);
     (0..n).all(|i| orient(poly[(i + n - 1) % n], poly[i], poly[(i + 1) % n]) > 1e-14 * size * size)

@@ -10,7 +10,7 @@ use smartmesh::formats::{CellKind, TaggedMesh};
 use smartmesh::layer::stats::quad_quality;
 use smartmesh::layer::{insert, CurveLayers, Growth, LayerOptions};
 use smartmesh::mesher::{triangulate, MeshOptions};
-use smartmesh::validity::{check_cells_brute, check_mesh, surface_cells};
+use smartmesh::{check_cells_brute, check_mesh, surface_cells};
 
 fn pslg(points: &[[f64; 2]], segments: &[([usize; 2], i32)]) -> TaggedMesh {
     let mut m = TaggedMesh::new();
@@ -476,7 +476,7 @@ fn remesh_keeps_a_skin_frozen_and_remeshes_around_it() {
     let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
     remeshed_around_the_skin(&skinned, &metric, false);
     // Told to keep nothing, the remesher refuses the quads, naming them.
-    let none = vec![false; smartmesh::validity::surface_cells(&skinned).len()];
+    let none = vec![false; smartmesh::surface_cells(&skinned).len()];
     let e = smartmesh::remesh::remesh_keeping(
         &skinned,
         &smartmesh::Topology::from_mesh(&skinned),

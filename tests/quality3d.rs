@@ -3,7 +3,7 @@
 //! cube, a sheared and a twisted hexahedron, a right wedge and a pyramid.
 
 use smartmesh::formats::{CellKind, TaggedMesh};
-use smartmesh::quality3d::{
+use smartmesh::{
     hex_scaled_jacobian, pyramid_scaled_jacobian, signed_volume, tet_aspect_ratio,
     tet_dihedral_range, tet_mean_ratio, tet_scaled_jacobian, tet_volume, wedge_scaled_jacobian,
     VolumeQuality,
@@ -266,6 +266,6 @@ fn a_curved_second_order_tetrahedron_has_the_volume_of_its_map() {
     let mut p = cube();
     p.extend(std::iter::repeat([0.5, 0.5, 3.0]).take(12));
     close(signed_volume(CellKind::Hexa20, &p).unwrap(), 1.0, 1e-15, "hexa20 by corners");
-    assert!(smartmesh::quality3d::exact_volume(CellKind::Tetra10));
-    assert!(!smartmesh::quality3d::exact_volume(CellKind::Hexa20));
+    assert!(smartmesh::exact_volume(CellKind::Tetra10));
+    assert!(!smartmesh::exact_volume(CellKind::Hexa20));
 }

@@ -1,4 +1,4 @@
-//! The volume cell measures of `smartmesh::quality3d` against VTK's `vtkMeshQuality`
+//! The volume cell measures of smartmesh (`src/quality3d.rs`) against VTK's `vtkMeshQuality`
 //! (which runs Verdict) on the same cells: the tetrahedron's mean ratio (VTK reports its
 //! power 3/2), aspect ratio, smallest dihedral angle, scaled Jacobian and volume; the scaled
 //! Jacobian and volume of hexahedra, wedges and pyramids. Ideal, skewed, twisted,
@@ -6,7 +6,7 @@
 //! `SMARTMESH_REQUIRE_INTEROP=1` (CI).
 
 use smartmesh::formats::CellKind;
-use smartmesh::quality3d::{
+use smartmesh::{
     hex_scaled_jacobian, pyramid_scaled_jacobian, signed_volume, tet_aspect_ratio,
     tet_dihedral_angles, tet_dihedral_range, tet_mean_ratio, tet_scaled_jacobian,
     wedge_scaled_jacobian,

@@ -1,7 +1,7 @@
 //! The partitioned remesher (`remesh::parallel`) against the serial one and against
 //! brute-force checks, on meshes small enough for a debug build, with part sizes made
 //! small so that all three passes run: the glued mesh is a valid conforming
-//! triangulation (`validity::check_mesh`: positive cells, no overlap, every edge
+//! triangulation (`smartmesh::check_mesh`: positive cells, no overlap, every edge
 //! shared by at most two triangles, no hanging vertex), its boundary edges are exactly its
 //! boundary line cells and cover the input's sides with their tags, the interface curve
 //! and the face tags are kept, the conformity and quality are near the serial remesher's,
@@ -64,7 +64,7 @@ fn xy(m: &TaggedMesh, v: usize) -> [f64; 2] {
 
 /// Brute-force checks of a remeshed square: see the file header.
 fn check_square(out: &TaggedMesh) {
-    let validity = smartmesh::validity::check_mesh(out);
+    let validity = smartmesh::check_mesh(out);
     assert!(validity.is_valid(), "{:?}", validity.problems());
     let t = tris(out);
     // Every edge in one or two triangles, in opposite directions; boundary edges listed.
@@ -220,7 +220,7 @@ fn the_cli_writes_the_same_bytes_whatever_the_thread_count() {
         assert!(o == &outputs[0], "outputs differ with the thread count");
     }
     let mesh = smartmesh::formats::read_path(&dir.path().join("out0.msh"), None).unwrap();
-    let validity = smartmesh::validity::check_mesh(&mesh);
+    let validity = smartmesh::check_mesh(&mesh);
     assert!(validity.is_valid(), "{:?}", validity.problems());
     assert_eq!(mesh.tag_name(2, 10), Some("Fluid"));
 }

@@ -1,11 +1,11 @@
 //! The lines `smartmesh info` adds for a mesh with volume cells: cells per dimension, the
 //! volume, the topological volumes and the surfaces bounding each, and the shape of the
-//! volume cells ([`smartmesh::quality3d`]).
+//! volume cells ([`smartmesh::VolumeQuality`]).
 
 use std::fmt::Write as _;
 
 use smartmesh::formats::words::count;
-use smartmesh::quality3d::VolumeQuality;
+use smartmesh::VolumeQuality;
 use smartmesh::{MeshSummary, SolidSummary};
 
 use super::info::{fmt_g, named};

@@ -17,14 +17,14 @@
 //!
 //! What it shares with the remesher lives below both: the plane geometry of the skin
 //! (`geometry::plane`), the pairs of segments or cells that may meet
-//! (`geometry::near_pairs`) and the validity of a mixed mesh ([`crate::validity`]).
+//! (`geometry::near_pairs`) and the validity of a mixed mesh ([`crate::check_mesh`]).
 //!
 //! Invariants of [`insert`]'s output: every input point used by a kept cell keeps its
 //! index order (points only go: the removed ones), skin points follow; every line cell,
 //! vertex cell, tag name and face tag of the input stays (line cells along a side of the
 //! skin are replaced by lines of the same tags along the side); skin cells take the
 //! tags of the triangle they replace at the wall (their geometrical tag may be set
-//! apart); the result passes [`crate::validity::check_mesh`] or [`insert`] fails.
+//! apart); the result passes [`crate::check_mesh`] or [`insert`] fails.
 
 mod band;
 pub mod growth;

@@ -158,234 +158,185 @@ impl Skin {
     /// Builds the columns and strips, thins them until the skin fits.
     pub(super) fn build(inp: &SkinInput) -> Result<Skin, LayerError> {
         let pts = inp.pts;
-        let topo = inp.topo;
-        // Boundary edges, directed as their single cell runs along them.
-        let mut count: BTreeMap<[usize; 2], (u32, [usize; 2], usize)> = BTreeMap::new();
-        for (ci, sc) in topo.surface_cells.iter().enumerate() {
-            let vs = sc.vertices();
-            for i in 0..vs.len() {
-                let (a, b) = (vs[i], vs[(i + 1) % vs.len()]);
-                let e = count.entry(key(a, b)).or_insert((0, [a, b], ci));
-                e.0 += 1;
-            }
-        }
-        let mut bnext: BTreeMap<usize, usize> = BTreeMap::new();
-        let mut bprev: BTreeMap<usize, usize> = BTreeMap::new();
-        let mut bcell: BTreeMap<[usize; 2], usize> = BTreeMap::new();
-        for (_, &(c, [a, b], ci)) in count.iter() {
-            if c == 1 {
-                bnext.insert(a, b);
-                bprev.insert(b, a);
-                bcell.insert([a, b], ci);
-            }
-        }
-        // Wall edges, with the growth of their curve.
-        let mut wnext: BTreeMap<usize, (usize, usize)> = BTreeMap::new(); // a -> (b, curve)
-        let mut wprev: BTreeMap<usize, usize> = BTreeMap::new();
-        let mut layers = None;
-        for (&ci, g) in inp.growth {
-            if *layers.get_or_insert(g.layers) != g.layers {
-                return Err(LayerError::Bad(
-                    "every curve of one skin needs the same number of layers".into(),
-                ));
-            }
-            let curve = &topo.curves[ci];
-            for pl in &curve.polylines {
-                for [a, b] in pl.edges() {
-                    let (a, b) = if bnext.get(&a) == Some(&b) {
-                        (a, b)
-                    } else if bnext.get(&b) == Some(&a) {
-                        (b, a)
-                    } else {
-                        return Err(LayerError::Bad(format!(
-                            "curve {} has an edge inside the domain ({a}-{b}); layers grow on boundary curves only",
-                            curve_label(topo, ci)
-                        )));
-                    };
-                    wnext.insert(a, (b, ci));
-                    wprev.insert(b, a);
-                }
-            }
-        }
-        let layers = layers.ok_or_else(|| LayerError::Bad("no curve selected".into()))?;
-        let mut wall = vec![false; pts.len()];
+        let bd = Boundary::of(inp);
+        let wall = Wall::of(inp, &bd)?;
+        let layers = wall.layers;
+        let mut on_wall = vec![false; pts.len()];
         let mut wall_edges = std::collections::BTreeSet::new();
-        for (&a, &(b, _)) in &wnext {
-            wall[a] = true;
-            wall[b] = true;
+        for (&a, &(b, _)) in &wall.next {
+            on_wall[a] = true;
+            on_wall[b] = true;
             wall_edges.insert(key(a, b));
         }
-        // Chains: open ones from their starts, then loops from their smallest vertex.
-        let mut vchains: Vec<(Vec<usize>, bool)> = Vec::new();
-        let mut done: std::collections::BTreeSet<usize> = Default::default();
-        let starts: Vec<usize> = wnext.keys().copied().filter(|a| !wprev.contains_key(a)).collect();
-        for s in starts {
-            let mut c = vec![s];
-            let mut v = s;
-            while let Some(&(b, _)) = wnext.get(&v) {
-                done.insert(v);
-                c.push(b);
-                v = b;
-            }
-            done.insert(v);
-            vchains.push((c, false));
-        }
-        for &a in wnext.keys() {
-            if done.contains(&a) {
-                continue;
-            }
-            let mut c = vec![a];
-            done.insert(a);
-            let mut v = wnext[&a].0;
-            while v != a {
-                if !done.insert(v) {
-                    return Err(LayerError::Bad(format!("the wall crosses itself at vertex {v}")));
-                }
-                c.push(v);
-                v = wnext[&v].0;
-            }
-            vchains.push((c, true));
-        }
-
+        let vchains = wall.chains()?;
         let mut skin = Skin {
             columns: Vec::new(),
             gaps: Vec::new(),
             chains: Vec::new(),
-            wall,
+            wall: on_wall,
             wall_edges,
             pts: pts.to_vec(),
             base_points: pts.len(),
             layers,
         };
-        let edge_tags = |a: usize, b: usize| -> (i32, i32) {
-            bcell.get(&[a, b]).map_or((0, 0), |&c| inp.cell_tags[c])
-        };
         for (vs, closed) in vchains {
-            let m = vs.len();
-            let mut chain = Chain { cols: Vec::new(), closed };
-            // Columns of each vertex (one, or a fan), and the tags of the strip after each.
-            let mut first_of: Vec<usize> = Vec::with_capacity(m);
-            let mut last_of: Vec<usize> = Vec::with_capacity(m);
-            for i in 0..m {
-                let v = vs[i];
-                let prev = if i > 0 {
-                    Some(vs[i - 1])
-                } else if closed {
-                    Some(vs[m - 1])
-                } else {
-                    None
-                };
-                let next = if i + 1 < m {
-                    Some(vs[i + 1])
-                } else if closed {
-                    Some(vs[0])
-                } else {
-                    None
-                };
-                let curves: Vec<usize> = [prev.map(|p| wnext[&p].1), next.map(|_| wnext[&v].1)]
-                    .into_iter()
-                    .flatten()
-                    .collect();
-                let (h0, ratio) = {
-                    let gs: Vec<&super::Growth> = curves.iter().map(|c| &inp.growth[c]).collect();
-                    let k = gs.len() as f64;
-                    (
-                        gs.iter().map(|g| g.first_height).sum::<f64>() / k,
-                        gs.iter().map(|g| g.ratio).sum::<f64>() / k,
-                    )
-                };
-                let nominal = super::Growth { first_height: h0, ratio, layers }.offsets();
-                let d_in = prev.map(|p| unit(sub(pts[v], pts[p])));
-                let d_out = next.map(|q| unit(sub(pts[q], pts[v])));
-                let mut dirs: Vec<P> = Vec::new();
-                let mut side = None;
-                let mut side_limit = f64::INFINITY;
-                match (d_in, d_out) {
-                    (Some(di), Some(do_)) => {
-                        let th = turn(di, do_);
-                        let (ni, no) = (left(di), left(do_));
-                        if th < -inp.fan_step {
-                            let k = (th.abs() / inp.fan_step).ceil() as usize;
-                            for j in 0..=k {
-                                dirs.push(rotate(ni, th * j as f64 / k as f64));
-                            }
-                        } else {
-                            let mid = unit(add(ni, no));
-                            let c = dot(mid, ni).max(1.0 / 3.0);
-                            dirs.push(scale(mid, 1.0 / c));
-                        }
-                    }
-                    (None, Some(do_)) | (Some(do_), None) => {
-                        let at_start = d_in.is_none();
-                        let nb = if at_start { bprev.get(&v) } else { bnext.get(&v) };
-                        let mut dir = left(do_);
-                        if let Some(&u) = nb {
-                            let ds = unit(sub(pts[u], pts[v]));
-                            // Interior angle at v between the wall and the neighbour.
-                            let th =
-                                if at_start { turn(scale(ds, -1.0), do_) } else { turn(do_, ds) };
-                            let alpha = std::f64::consts::PI - th;
-                            if alpha.to_degrees() < SLIDE_BELOW_DEG {
-                                dir = ds;
-                                let (s, lim) = side_path(
-                                    inp,
-                                    v,
-                                    u,
-                                    if at_start { &bprev } else { &bnext },
-                                    &skin.wall,
-                                    nominal[layers],
-                                );
-                                side = Some(s);
-                                side_limit = lim;
-                            }
-                        }
-                        dirs.push(dir);
-                    }
-                    (None, None) => unreachable!("a chain has at least one edge"),
-                }
-                first_of.push(skin.columns.len());
-                for d in dirs {
-                    skin.columns.push(Column {
-                        base: v,
-                        dir: d,
-                        nominal: nominal.clone(),
-                        h0,
-                        ratio,
-                        factor: 1.0,
-                        reason: None,
-                        side: side.clone(),
-                        side_limit,
-                        ids: Vec::new(),
-                    });
-                }
-                last_of.push(skin.columns.len() - 1);
-            }
-            for i in 0..m {
-                for c in first_of[i]..=last_of[i] {
-                    chain.cols.push(c);
-                }
-                let next_first = if i + 1 < m {
-                    Some(first_of[i + 1])
-                } else if closed {
-                    Some(first_of[0])
-                } else {
-                    None
-                };
-                let out_tags = next_first.map(|_| edge_tags(vs[i], vs[(i + 1) % m]));
-                // Fan strips take the tags of the wall edge after the corner.
-                for c in first_of[i]..last_of[i] {
-                    let t = out_tags.unwrap_or_else(|| edge_tags(vs[i - 1], vs[i]));
-                    skin.gaps.push(Gap { cols: [c, c + 1], tags: t });
-                }
-                if let (Some(nf), Some(t)) = (next_first, out_tags) {
-                    skin.gaps.push(Gap { cols: [last_of[i], nf], tags: t });
-                }
-            }
-            lean_at_concave_corners(&mut skin, &vs, closed, &first_of, &last_of);
-            skin.chains.push(chain);
+            skin.add_chain(inp, &bd, &wall, &vs, closed);
         }
         skin.fit(inp)?;
         Ok(skin)
+    }
+
+    /// Adds the columns of one wall chain (`vs`, closed or not), the strips between
+    /// them with the tags of the wall edge they stand on, and leans them at concave
+    /// corners.
+    fn add_chain(
+        &mut self,
+        inp: &SkinInput,
+        bd: &Boundary,
+        wall: &Wall,
+        vs: &[usize],
+        closed: bool,
+    ) {
+        let m = vs.len();
+        let mut chain = Chain { cols: Vec::new(), closed };
+        // Columns of each vertex (one, or a fan), and the tags of the strip after each.
+        let mut first_of: Vec<usize> = Vec::with_capacity(m);
+        let mut last_of: Vec<usize> = Vec::with_capacity(m);
+        for i in 0..m {
+            let prev = if i > 0 {
+                Some(vs[i - 1])
+            } else if closed {
+                Some(vs[m - 1])
+            } else {
+                None
+            };
+            let next = if i + 1 < m {
+                Some(vs[i + 1])
+            } else if closed {
+                Some(vs[0])
+            } else {
+                None
+            };
+            first_of.push(self.columns.len());
+            self.add_vertex_columns(inp, bd, wall, vs[i], prev, next);
+            last_of.push(self.columns.len() - 1);
+        }
+        let edge_tags = |a: usize, b: usize| -> (i32, i32) {
+            bd.cell.get(&[a, b]).map_or((0, 0), |&c| inp.cell_tags[c])
+        };
+        for i in 0..m {
+            for c in first_of[i]..=last_of[i] {
+                chain.cols.push(c);
+            }
+            let next_first = if i + 1 < m {
+                Some(first_of[i + 1])
+            } else if closed {
+                Some(first_of[0])
+            } else {
+                None
+            };
+            let out_tags = next_first.map(|_| edge_tags(vs[i], vs[(i + 1) % m]));
+            // Fan strips take the tags of the wall edge after the corner.
+            for c in first_of[i]..last_of[i] {
+                let t = out_tags.unwrap_or_else(|| edge_tags(vs[i - 1], vs[i]));
+                self.gaps.push(Gap { cols: [c, c + 1], tags: t });
+            }
+            if let (Some(nf), Some(t)) = (next_first, out_tags) {
+                self.gaps.push(Gap { cols: [last_of[i], nf], tags: t });
+            }
+        }
+        lean_at_concave_corners(self, vs, closed, &first_of, &last_of);
+        self.chains.push(chain);
+    }
+
+    /// Adds the columns of wall vertex `v` between its wall neighbours `prev` and `next`:
+    /// one along the bisector, a fan at a convex corner sharper than the fan step, or,
+    /// at a chain's end, one along the wall's normal or sliding on the boundary beside it.
+    fn add_vertex_columns(
+        &mut self,
+        inp: &SkinInput,
+        bd: &Boundary,
+        wall: &Wall,
+        v: usize,
+        prev: Option<usize>,
+        next: Option<usize>,
+    ) {
+        let pts = inp.pts;
+        let layers = self.layers;
+        let curves: Vec<usize> = [prev.map(|p| wall.next[&p].1), next.map(|_| wall.next[&v].1)]
+            .into_iter()
+            .flatten()
+            .collect();
+        let (h0, ratio) = {
+            let gs: Vec<&super::Growth> = curves.iter().map(|c| &inp.growth[c]).collect();
+            let k = gs.len() as f64;
+            (
+                gs.iter().map(|g| g.first_height).sum::<f64>() / k,
+                gs.iter().map(|g| g.ratio).sum::<f64>() / k,
+            )
+        };
+        let nominal = super::Growth { first_height: h0, ratio, layers }.offsets();
+        let d_in = prev.map(|p| unit(sub(pts[v], pts[p])));
+        let d_out = next.map(|q| unit(sub(pts[q], pts[v])));
+        let mut dirs: Vec<P> = Vec::new();
+        let mut side = None;
+        let mut side_limit = f64::INFINITY;
+        match (d_in, d_out) {
+            (Some(di), Some(do_)) => {
+                let th = turn(di, do_);
+                let (ni, no) = (left(di), left(do_));
+                if th < -inp.fan_step {
+                    let k = (th.abs() / inp.fan_step).ceil() as usize;
+                    for j in 0..=k {
+                        dirs.push(rotate(ni, th * j as f64 / k as f64));
+                    }
+                } else {
+                    let mid = unit(add(ni, no));
+                    let c = dot(mid, ni).max(1.0 / 3.0);
+                    dirs.push(scale(mid, 1.0 / c));
+                }
+            }
+            (None, Some(do_)) | (Some(do_), None) => {
+                let at_start = d_in.is_none();
+                let nb = if at_start { bd.prev.get(&v) } else { bd.next.get(&v) };
+                let mut dir = left(do_);
+                if let Some(&u) = nb {
+                    let ds = unit(sub(pts[u], pts[v]));
+                    // Interior angle at v between the wall and the neighbour.
+                    let th = if at_start { turn(scale(ds, -1.0), do_) } else { turn(do_, ds) };
+                    let alpha = std::f64::consts::PI - th;
+                    if alpha.to_degrees() < SLIDE_BELOW_DEG {
+                        dir = ds;
+                        let (s, lim) = side_path(
+                            inp,
+                            v,
+                            u,
+                            if at_start { &bd.prev } else { &bd.next },
+                            &self.wall,
+                            nominal[layers],
+                        );
+                        side = Some(s);
+                        side_limit = lim;
+                    }
+                }
+                dirs.push(dir);
+            }
+            (None, None) => unreachable!("a chain has at least one edge"),
+        }
+        for d in dirs {
+            self.columns.push(Column {
+                base: v,
+                dir: d,
+                nominal: nominal.clone(),
+                h0,
+                ratio,
+                factor: 1.0,
+                reason: None,
+                side: side.clone(),
+                side_limit,
+                ids: Vec::new(),
+            });
+        }
     }
 
     /// Thickness of column `c` as it stands.
@@ -712,6 +663,123 @@ fn along(pts: &[P], side: &Side, s: f64) -> P {
         }
     }
     pts[side.path[0]]
+}
+
+/// The mesh's boundary edges, directed as their single cell runs along them.
+struct Boundary {
+    /// a -> b for each boundary edge a-b.
+    next: BTreeMap<usize, usize>,
+    /// b -> a for each boundary edge a-b.
+    prev: BTreeMap<usize, usize>,
+    /// The cell of each directed boundary edge.
+    cell: BTreeMap<[usize; 2], usize>,
+}
+
+impl Boundary {
+    fn of(inp: &SkinInput) -> Boundary {
+        let mut count: BTreeMap<[usize; 2], (u32, [usize; 2], usize)> = BTreeMap::new();
+        for (ci, sc) in inp.topo.surface_cells.iter().enumerate() {
+            let vs = sc.vertices();
+            for i in 0..vs.len() {
+                let (a, b) = (vs[i], vs[(i + 1) % vs.len()]);
+                let e = count.entry(key(a, b)).or_insert((0, [a, b], ci));
+                e.0 += 1;
+            }
+        }
+        let mut bd =
+            Boundary { next: BTreeMap::new(), prev: BTreeMap::new(), cell: BTreeMap::new() };
+        for (_, &(c, [a, b], ci)) in count.iter() {
+            if c == 1 {
+                bd.next.insert(a, b);
+                bd.prev.insert(b, a);
+                bd.cell.insert([a, b], ci);
+            }
+        }
+        bd
+    }
+}
+
+/// The wall: the boundary edges of the chosen curves, directed as the boundary.
+struct Wall {
+    /// a -> (b, curve) for each wall edge a-b.
+    next: BTreeMap<usize, (usize, usize)>,
+    /// b -> a for each wall edge a-b.
+    prev: BTreeMap<usize, usize>,
+    /// The number of layers, the same on every curve.
+    layers: usize,
+}
+
+impl Wall {
+    fn of(inp: &SkinInput, bd: &Boundary) -> Result<Wall, LayerError> {
+        let topo = inp.topo;
+        let mut next: BTreeMap<usize, (usize, usize)> = BTreeMap::new();
+        let mut prev: BTreeMap<usize, usize> = BTreeMap::new();
+        let mut layers = None;
+        for (&ci, g) in inp.growth {
+            if *layers.get_or_insert(g.layers) != g.layers {
+                return Err(LayerError::Bad(
+                    "every curve of one skin needs the same number of layers".into(),
+                ));
+            }
+            let curve = &topo.curves[ci];
+            for pl in &curve.polylines {
+                for [a, b] in pl.edges() {
+                    let (a, b) = if bd.next.get(&a) == Some(&b) {
+                        (a, b)
+                    } else if bd.next.get(&b) == Some(&a) {
+                        (b, a)
+                    } else {
+                        return Err(LayerError::Bad(format!(
+                            "curve {} has an edge inside the domain ({a}-{b}); layers grow on boundary curves only",
+                            curve_label(topo, ci)
+                        )));
+                    };
+                    next.insert(a, (b, ci));
+                    prev.insert(b, a);
+                }
+            }
+        }
+        let layers = layers.ok_or_else(|| LayerError::Bad("no curve selected".into()))?;
+        Ok(Wall { next, prev, layers })
+    }
+
+    /// The wall's chains of vertices, with whether each is closed: open ones from their
+    /// starts, then loops from their smallest vertex.
+    fn chains(&self) -> Result<Vec<(Vec<usize>, bool)>, LayerError> {
+        let wnext = &self.next;
+        let mut vchains: Vec<(Vec<usize>, bool)> = Vec::new();
+        let mut done: std::collections::BTreeSet<usize> = Default::default();
+        let starts: Vec<usize> =
+            wnext.keys().copied().filter(|a| !self.prev.contains_key(a)).collect();
+        for s in starts {
+            let mut c = vec![s];
+            let mut v = s;
+            while let Some(&(b, _)) = wnext.get(&v) {
+                done.insert(v);
+                c.push(b);
+                v = b;
+            }
+            done.insert(v);
+            vchains.push((c, false));
+        }
+        for &a in wnext.keys() {
+            if done.contains(&a) {
+                continue;
+            }
+            let mut c = vec![a];
+            done.insert(a);
+            let mut v = wnext[&a].0;
+            while v != a {
+                if !done.insert(v) {
+                    return Err(LayerError::Bad(format!("the wall crosses itself at vertex {v}")));
+                }
+                c.push(v);
+                v = wnext[&v].0;
+            }
+            vchains.push((c, true));
+        }
+        Ok(vchains)
+    }
 }
 
 /// Walks the boundary from chain end `v` through `u` (following `step`) for a side of a

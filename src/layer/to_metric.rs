@@ -8,7 +8,7 @@
 //!
 //! Invariants: every cell outside the band (skin, kept triangles) comes back with the
 //! same vertices, coordinates and tags; the band's boundary edges are never split, so
-//! the result conforms to them; the result passes [`crate::validity::check_mesh`] (the
+//! the result conforms to them; the result passes [`crate::check_mesh`] (the
 //! remesher checks it) or the call fails.
 
 use super::{LayerError, Layered};

@@ -166,206 +166,22 @@ impl Recipe {
         let mut lookups = Lookups::default();
         let mut states: Vec<RegionState> = Vec::with_capacity(names.len());
         for (name, entities) in &self.regions {
-            let mut by_dim: [BTreeSet<usize>; 3] = Default::default();
-            let mut candidates: Vec<usize> = vec![0, 1, 2];
-            let mut entity_dims = Vec::new();
-            for (k, e) in entities.iter().enumerate() {
-                let hits = lookups.lookup(topology, e);
-                let dims: Vec<usize> = (0..3).filter(|&d| !hits[d].is_empty()).collect();
-                if dims.is_empty() {
-                    let path = format!("regions.{name}[{k}]");
-                    let (available, suggestion) = match e {
-                        EntityRef::Tag(_) => (available_tags(topology), None),
-                        EntityRef::Name(n) => {
-                            let all = entity_names(topology);
-                            let s = nearest(n, all.iter().copied()).map(|s| format!("\"{s}\""));
-                            let list = if all.is_empty() {
-                                "; the mesh names no entity".to_string()
-                            } else {
-                                format!(
-                                    "; the mesh names {}",
-                                    all.iter()
-                                        .map(|n| format!("\"{n}\""))
-                                        .collect::<Vec<_>>()
-                                        .join(", ")
-                                )
-                            };
-                            (list, s)
-                        }
-                    };
-                    return Err(self
-                        .error_at(
-                            RecipeErrorKind::AbsentEntity {
-                                region: name.clone(),
-                                entity: e.to_string(),
-                                available,
-                            },
-                            &path,
-                        )
-                        .suggest(suggestion));
-                }
-                for d in &dims {
-                    by_dim[*d].extend(hits[*d].iter().copied());
-                }
-                candidates.retain(|d| dims.contains(d));
-                entity_dims.push((e.clone(), dims));
-            }
-            if candidates.is_empty() {
-                let detail = format!(
-                    "its entities are of different dimensions ({}); a region holds entities of one dimension",
-                    entity_dims.iter().map(|(e, d)| format!("{e}: {}", d.iter().map(|&d| DIM_NAMES[d]).collect::<Vec<_>>().join(" or "))).collect::<Vec<_>>().join(", ")
-                );
-                return Err(self.error_at(
-                    RecipeErrorKind::Dimension { region: name.clone(), detail },
-                    &format!("regions.{name}"),
-                ));
-            }
-            let dimension = (candidates.len() == 1).then(|| candidates[0]);
-            states.push(RegionState {
-                by_dim: by_dim.map(|s| s.into_iter().collect()),
-                candidates,
-                entity_dims,
-                dimension,
-            });
+            states.push(self.region_state(topology, &mut lookups, name, entities)?);
         }
 
         // Ambiguous regions: the algorithms that use them vote with the dimension they
         // prefer among the region's candidates.
-        let mut used_by: Vec<Vec<usize>> = vec![Vec::new(); names.len()];
-        for (i, a) in self.algorithms.iter().enumerate() {
-            for (_, list) in a.region_lists() {
-                for r in list {
-                    let k = names.binary_search(&r).expect("validated: the region exists");
-                    if !used_by[k].contains(&(i + 1)) {
-                        used_by[k].push(i + 1);
-                    }
-                }
-            }
-        }
+        let used_by = self.used_by(&names);
         for (k, st) in states.iter_mut().enumerate() {
             if st.dimension.is_some() || used_by[k].is_empty() {
                 continue;
             }
-            let mut votes: BTreeSet<usize> = BTreeSet::new();
-            for &i in &used_by[k] {
-                let a = &self.algorithms[i - 1];
-                for (field, list) in a.region_lists() {
-                    if !list.contains(names[k]) {
-                        continue;
-                    }
-                    if let Some(&d) = expected(a, field).iter().find(|d| st.candidates.contains(d))
-                    {
-                        votes.insert(d);
-                    }
-                }
-            }
-            if votes.len() == 1 {
-                st.dimension = votes.into_iter().next();
-            } else {
-                let shared: Vec<String> = st
-                    .entity_dims
-                    .iter()
-                    .filter(|(_, d)| d.len() > 1)
-                    .map(|(e, d)| {
-                        format!(
-                            "{e} is in {}",
-                            d.iter().map(|&d| DIM_NAMES[d]).collect::<Vec<_>>().join(" and ")
-                        )
-                    })
-                    .collect();
-                let users: Vec<String> = used_by[k]
-                    .iter()
-                    .map(|&i| format!("{} ({})", referrer(i - 1), self.algorithms[i - 1].keyword()))
-                    .collect();
-                let detail = format!(
-                    "ambiguous: {}, and {} cannot tell which is meant; use tag names, or split the region",
-                    shared.join(", "),
-                    users.join(", ")
-                );
-                return Err(self.error_at(
-                    RecipeErrorKind::Dimension { region: names[k].clone(), detail },
-                    &format!("regions.{}", names[k]),
-                ));
-            }
+            self.settle_by_vote(names[k], st, &used_by[k])?;
         }
-
-        let set_of = |k: usize| -> EntitySet {
-            let st = &states[k];
-            let mut s = EntitySet::default();
-            match st.dimension {
-                Some(0) => s.points = st.by_dim[0].clone(),
-                Some(1) => s.curves = st.by_dim[1].clone(),
-                Some(2) => s.faces = st.by_dim[2].clone(),
-                _ => {}
-            }
-            s
-        };
 
         let mut steps = Vec::with_capacity(self.algorithms.len());
         for (i, a) in self.algorithms.iter().enumerate() {
-            let base = format!("algorithms[{i}]");
-            // Region lists to entity sets, each region's dimension checked.
-            let mut sets: Vec<EntitySet> = Vec::new();
-            for (field, list) in a.region_lists() {
-                let mut set = EntitySet::default();
-                for r in list {
-                    let k = names.binary_search(&r).expect("validated: the region exists");
-                    let d = states[k].dimension.expect("a used region has a dimension");
-                    if !expected(a, field).contains(&d) {
-                        let accepted: Vec<&str> =
-                            expected(a, field).iter().map(|&d| DIM_NAMES[d]).collect();
-                        let key = self.written_key(&format!("{base}.{field}"), field).to_string();
-                        return Err(self.error_at(
-                            RecipeErrorKind::Invalid(format!(
-                                "{} {}: {key} \"{r}\" holds {}, but {} takes {}",
-                                referrer(i),
-                                a.keyword(),
-                                DIM_NAMES[d],
-                                a.keyword(),
-                                accepted.join(" or ")
-                            )),
-                            &format!("{base}.{field}"),
-                        ));
-                    }
-                    set = set.union(&set_of(k));
-                }
-                sets.push(set);
-            }
-            // The arguments in declaration order, then the algorithm from its table line.
-            let mut sets = sets.into_iter();
-            let mut arguments = Arguments::new();
-            for (p, value) in a.arguments() {
-                let argument = match (p.kind, value) {
-                    (_, SpecValue::Absent) if p.kind.is_optional() => continue,
-                    (
-                        ParameterKind::Size
-                        | ParameterKind::OptionalSize
-                        | ParameterKind::OptionalNorm,
-                        SpecValue::Size(x),
-                    ) => Argument::Size(*x),
-                    (ParameterKind::Choice(_), SpecValue::Name(word)) => {
-                        Argument::Name(word.clone())
-                    }
-                    (ParameterKind::Function(kind), SpecValue::Name(name)) => match kind {
-                        FunctionKind::Distance => Argument::Distance(self.distance(name)?),
-                        FunctionKind::Projection => Argument::Projection(self.projection(name)?),
-                        FunctionKind::Curvature => Argument::Curvature(self.curvature(name)?),
-                    },
-                    (ParameterKind::Regions { .. }, SpecValue::Names(_)) => {
-                        Argument::Entities(sets.next().unwrap_or_default())
-                    }
-                    (ParameterKind::PointData, SpecValue::Name(name)) => {
-                        Argument::Name(name.clone())
-                    }
-                    (ParameterKind::Polyline, SpecValue::Name(name)) => Argument::Polyline(
-                        self.polylines.get(name).cloned().expect("validated: the polyline exists"),
-                    ),
-                    _ => return Err(self.mismatch(i, a)),
-                };
-                arguments.push(p.field, argument);
-            }
-            let algorithm = (a.entry().build)(&mut arguments).ok_or_else(|| self.mismatch(i, a))?;
-            steps.push(Step { label: label(i, a), algorithm, names: step_names(a) });
+            steps.push(self.step(i, a, &names, &states)?);
         }
 
         let mut measured = BTreeMap::new();
@@ -383,6 +199,227 @@ impl Recipe {
             steps,
         };
         Ok(Resolved { plan, regions })
+    }
+
+    /// The entities of region `name` by dimension and the dimensions it may have (those
+    /// every one of its entities has); an error names an entity the mesh lacks, or
+    /// entities of different dimensions.
+    fn region_state<'r>(
+        &'r self,
+        topology: &Topology,
+        lookups: &mut Lookups<'r>,
+        name: &str,
+        entities: &'r [EntityRef],
+    ) -> Result<RegionState, RecipeError> {
+        let mut by_dim: [BTreeSet<usize>; 3] = Default::default();
+        let mut candidates: Vec<usize> = vec![0, 1, 2];
+        let mut entity_dims = Vec::new();
+        for (k, e) in entities.iter().enumerate() {
+            let hits = lookups.lookup(topology, e);
+            let dims: Vec<usize> = (0..3).filter(|&d| !hits[d].is_empty()).collect();
+            if dims.is_empty() {
+                let path = format!("regions.{name}[{k}]");
+                let (available, suggestion) = match e {
+                    EntityRef::Tag(_) => (available_tags(topology), None),
+                    EntityRef::Name(n) => {
+                        let all = entity_names(topology);
+                        let s = nearest(n, all.iter().copied()).map(|s| format!("\"{s}\""));
+                        let list = if all.is_empty() {
+                            "; the mesh names no entity".to_string()
+                        } else {
+                            format!(
+                                "; the mesh names {}",
+                                all.iter()
+                                    .map(|n| format!("\"{n}\""))
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            )
+                        };
+                        (list, s)
+                    }
+                };
+                return Err(self
+                    .error_at(
+                        RecipeErrorKind::AbsentEntity {
+                            region: name.to_string(),
+                            entity: e.to_string(),
+                            available,
+                        },
+                        &path,
+                    )
+                    .suggest(suggestion));
+            }
+            for d in &dims {
+                by_dim[*d].extend(hits[*d].iter().copied());
+            }
+            candidates.retain(|d| dims.contains(d));
+            entity_dims.push((e.clone(), dims));
+        }
+        if candidates.is_empty() {
+            let detail = format!(
+                "its entities are of different dimensions ({}); a region holds entities of one dimension",
+                entity_dims.iter().map(|(e, d)| format!("{e}: {}", d.iter().map(|&d| DIM_NAMES[d]).collect::<Vec<_>>().join(" or "))).collect::<Vec<_>>().join(", ")
+            );
+            return Err(self.error_at(
+                RecipeErrorKind::Dimension { region: name.to_string(), detail },
+                &format!("regions.{name}"),
+            ));
+        }
+        let dimension = (candidates.len() == 1).then(|| candidates[0]);
+        Ok(RegionState {
+            by_dim: by_dim.map(|s| s.into_iter().collect()),
+            candidates,
+            entity_dims,
+            dimension,
+        })
+    }
+
+    /// For each region (by its index in `names`), the algorithms that use it, numbered
+    /// from 1, in order.
+    fn used_by(&self, names: &[&String]) -> Vec<Vec<usize>> {
+        let mut used_by: Vec<Vec<usize>> = vec![Vec::new(); names.len()];
+        for (i, a) in self.algorithms.iter().enumerate() {
+            for (_, list) in a.region_lists() {
+                for r in list {
+                    let k = names.binary_search(&r).expect("validated: the region exists");
+                    if !used_by[k].contains(&(i + 1)) {
+                        used_by[k].push(i + 1);
+                    }
+                }
+            }
+        }
+        used_by
+    }
+
+    /// Gives ambiguous region `name` the one dimension its users (`users`, algorithms
+    /// numbered from 1) prefer among its candidates, or says why it cannot.
+    fn settle_by_vote(
+        &self,
+        name: &String,
+        st: &mut RegionState,
+        users: &[usize],
+    ) -> Result<(), RecipeError> {
+        let mut votes: BTreeSet<usize> = BTreeSet::new();
+        for &i in users {
+            let a = &self.algorithms[i - 1];
+            for (field, list) in a.region_lists() {
+                if !list.contains(name) {
+                    continue;
+                }
+                if let Some(&d) = expected(a, field).iter().find(|d| st.candidates.contains(d)) {
+                    votes.insert(d);
+                }
+            }
+        }
+        if votes.len() == 1 {
+            st.dimension = votes.into_iter().next();
+        } else {
+            let shared: Vec<String> = st
+                .entity_dims
+                .iter()
+                .filter(|(_, d)| d.len() > 1)
+                .map(|(e, d)| {
+                    format!(
+                        "{e} is in {}",
+                        d.iter().map(|&d| DIM_NAMES[d]).collect::<Vec<_>>().join(" and ")
+                    )
+                })
+                .collect();
+            let users: Vec<String> = users
+                .iter()
+                .map(|&i| format!("{} ({})", referrer(i - 1), self.algorithms[i - 1].keyword()))
+                .collect();
+            let detail = format!(
+                "ambiguous: {}, and {} cannot tell which is meant; use tag names, or split the region",
+                shared.join(", "),
+                users.join(", ")
+            );
+            return Err(self.error_at(
+                RecipeErrorKind::Dimension { region: name.clone(), detail },
+                &format!("regions.{name}"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The step of algorithm `i`: its region lists as entity sets, each region's
+    /// dimension checked against what the algorithm takes, its arguments in declaration
+    /// order, then the algorithm from its table line.
+    fn step(
+        &self,
+        i: usize,
+        a: &AlgorithmSpec,
+        names: &[&String],
+        states: &[RegionState],
+    ) -> Result<Step, RecipeError> {
+        let set_of = |k: usize| -> EntitySet {
+            let st = &states[k];
+            let mut s = EntitySet::default();
+            match st.dimension {
+                Some(0) => s.points = st.by_dim[0].clone(),
+                Some(1) => s.curves = st.by_dim[1].clone(),
+                Some(2) => s.faces = st.by_dim[2].clone(),
+                _ => {}
+            }
+            s
+        };
+        let base = format!("algorithms[{i}]");
+        // Region lists to entity sets, each region's dimension checked.
+        let mut sets: Vec<EntitySet> = Vec::new();
+        for (field, list) in a.region_lists() {
+            let mut set = EntitySet::default();
+            for r in list {
+                let k = names.binary_search(&r).expect("validated: the region exists");
+                let d = states[k].dimension.expect("a used region has a dimension");
+                if !expected(a, field).contains(&d) {
+                    let accepted: Vec<&str> =
+                        expected(a, field).iter().map(|&d| DIM_NAMES[d]).collect();
+                    let key = self.written_key(&format!("{base}.{field}"), field).to_string();
+                    return Err(self.error_at(
+                        RecipeErrorKind::Invalid(format!(
+                            "{} {}: {key} \"{r}\" holds {}, but {} takes {}",
+                            referrer(i),
+                            a.keyword(),
+                            DIM_NAMES[d],
+                            a.keyword(),
+                            accepted.join(" or ")
+                        )),
+                        &format!("{base}.{field}"),
+                    ));
+                }
+                set = set.union(&set_of(k));
+            }
+            sets.push(set);
+        }
+        // The arguments in declaration order, then the algorithm from its table line.
+        let mut sets = sets.into_iter();
+        let mut arguments = Arguments::new();
+        for (p, value) in a.arguments() {
+            let argument = match (p.kind, value) {
+                (_, SpecValue::Absent) if p.kind.is_optional() => continue,
+                (
+                    ParameterKind::Size | ParameterKind::OptionalSize | ParameterKind::OptionalNorm,
+                    SpecValue::Size(x),
+                ) => Argument::Size(*x),
+                (ParameterKind::Choice(_), SpecValue::Name(word)) => Argument::Name(word.clone()),
+                (ParameterKind::Function(kind), SpecValue::Name(name)) => match kind {
+                    FunctionKind::Distance => Argument::Distance(self.distance(name)?),
+                    FunctionKind::Projection => Argument::Projection(self.projection(name)?),
+                    FunctionKind::Curvature => Argument::Curvature(self.curvature(name)?),
+                },
+                (ParameterKind::Regions { .. }, SpecValue::Names(_)) => {
+                    Argument::Entities(sets.next().unwrap_or_default())
+                }
+                (ParameterKind::PointData, SpecValue::Name(name)) => Argument::Name(name.clone()),
+                (ParameterKind::Polyline, SpecValue::Name(name)) => Argument::Polyline(
+                    self.polylines.get(name).cloned().expect("validated: the polyline exists"),
+                ),
+                _ => return Err(self.mismatch(i, a)),
+            };
+            arguments.push(p.field, argument);
+        }
+        let algorithm = (a.entry().build)(&mut arguments).ok_or_else(|| self.mismatch(i, a))?;
+        Ok(Step { label: label(i, a), algorithm, names: step_names(a) })
     }
 
     /// An algorithm whose values do not match its declaration (a recipe built in code).

@@ -256,7 +256,7 @@ pub fn check_quads(mesh: &TaggedMesh) -> Result<(), RemeshError> {
 /// edges are constraints that are never split, and they are written back unchanged
 /// (renumbered) after the remeshed triangles. An input with kept cells must pass, and
 /// the result is checked as a
-/// mixed mesh ([`crate::validity::check_mesh`]: positive cells, no overlap, no
+/// mixed mesh ([`crate::check_mesh`]: positive cells, no overlap, no
 /// hanging vertex) before it is returned.
 pub fn remesh_keeping(
     mesh: &TaggedMesh,

@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 
 use crate::recipe::model::{EntityRef, FunctionSpec, Recipe, SpecValue};
+use crate::recipe::{LayerSpec, PeriodicSpec};
 use crate::sizing::algorithms::INFINITE_NORM;
 
 /// A libconfig string literal.
@@ -172,93 +173,102 @@ pub fn write(r: &Recipe) -> String {
             .collect(),
     );
     if let Some(l) = &r.layer {
-        let ent = |e: &EntityRef| match e {
-            EntityRef::Tag(t) => t.to_string(),
-            EntityRef::Name(n) => quote(n),
-        };
-        let all_tags = l.curves.iter().all(|e| matches!(e, EntityRef::Tag(_)));
-        let all_names = l.curves.iter().all(|e| matches!(e, EntityRef::Name(_)));
-        let (open, close) = if all_tags || all_names { ("[", "]") } else { ("(", ")") };
-        let items: Vec<String> = l.curves.iter().map(ent).collect();
-        let _ = write!(o, "\nLAYER =\n{{\n    CURVES = {open} {} {close};\n", items.join(", "));
-        for (key, v) in [
-            ("FIRST_HEIGHT", l.first_height),
-            ("RATIO", l.ratio),
-            ("THICKNESS", l.thickness),
-            ("Y_PLUS", l.y_plus),
-            ("REYNOLDS", l.reynolds),
-            ("REF_LENGTH", l.ref_length),
-            ("FAN_ANGLE", l.fan_angle),
-            ("GAP_RATIO", l.gap_ratio),
-        ] {
-            if let Some(v) = v {
-                let _ = writeln!(o, "    {key} = {};", float(v));
-            }
-        }
-        if let Some(n) = l.layers {
-            let _ = writeln!(o, "    LAYERS = {n};");
-        }
-        if let Some(t) = l.tag {
-            let _ = writeln!(o, "    TAG = {t};");
-        }
-        if l.split {
-            let _ = writeln!(o, "    SPLIT = true;");
-        }
-        if !l.per_curve.is_empty() {
-            let items: Vec<String> = l
-                .per_curve
-                .iter()
-                .map(|p| {
-                    let mut g = format!("        {{ CURVE = {};", ent(&p.curve));
-                    if let Some(h) = p.first_height {
-                        let _ = write!(g, " FIRST_HEIGHT = {};", float(h));
-                    }
-                    if let Some(r) = p.ratio {
-                        let _ = write!(g, " RATIO = {};", float(r));
-                    }
-                    g.push_str(" }");
-                    g
-                })
-                .collect();
-            let _ = writeln!(o, "    PER_CURVE =\n    (\n{}\n    );", items.join(",\n"));
-        }
-        o.push_str("};\n");
+        write_layer(&mut o, l);
     }
     if !r.periodic.is_empty() {
-        let curves = |list: &[EntityRef]| {
-            let items: Vec<String> = list
-                .iter()
-                .map(|e| match e {
-                    EntityRef::Tag(t) => t.to_string(),
-                    EntityRef::Name(n) => quote(n),
-                })
-                .collect();
-            let same = list.iter().all(|e| matches!(e, EntityRef::Tag(_)))
-                || list.iter().all(|e| matches!(e, EntityRef::Name(_)));
-            let (open, close) = if same { ("[", "]") } else { ("(", ")") };
-            format!("{open} {} {close}", items.join(", "))
-        };
-        let point = |p: [f64; 2]| format!("[ {}, {} ]", float(p[0]), float(p[1]));
-        let items: Vec<String> = r
-            .periodic
+        write_periodic(&mut o, &r.periodic);
+    }
+    o
+}
+
+/// The `LAYER` group of a recipe's boundary-layer skin.
+fn write_layer(o: &mut String, l: &LayerSpec) {
+    let ent = |e: &EntityRef| match e {
+        EntityRef::Tag(t) => t.to_string(),
+        EntityRef::Name(n) => quote(n),
+    };
+    let all_tags = l.curves.iter().all(|e| matches!(e, EntityRef::Tag(_)));
+    let all_names = l.curves.iter().all(|e| matches!(e, EntityRef::Name(_)));
+    let (open, close) = if all_tags || all_names { ("[", "]") } else { ("(", ")") };
+    let items: Vec<String> = l.curves.iter().map(ent).collect();
+    let _ = write!(o, "\nLAYER =\n{{\n    CURVES = {open} {} {close};\n", items.join(", "));
+    for (key, v) in [
+        ("FIRST_HEIGHT", l.first_height),
+        ("RATIO", l.ratio),
+        ("THICKNESS", l.thickness),
+        ("Y_PLUS", l.y_plus),
+        ("REYNOLDS", l.reynolds),
+        ("REF_LENGTH", l.ref_length),
+        ("FAN_ANGLE", l.fan_angle),
+        ("GAP_RATIO", l.gap_ratio),
+    ] {
+        if let Some(v) = v {
+            let _ = writeln!(o, "    {key} = {};", float(v));
+        }
+    }
+    if let Some(n) = l.layers {
+        let _ = writeln!(o, "    LAYERS = {n};");
+    }
+    if let Some(t) = l.tag {
+        let _ = writeln!(o, "    TAG = {t};");
+    }
+    if l.split {
+        let _ = writeln!(o, "    SPLIT = true;");
+    }
+    if !l.per_curve.is_empty() {
+        let items: Vec<String> = l
+            .per_curve
             .iter()
             .map(|p| {
-                let mut g =
-                    format!("    {{ MASTER = {}; SLAVE = {};", curves(&p.master), curves(&p.slave));
-                if let Some(t) = p.translation {
-                    let _ = write!(g, " TRANSLATION = {};", point(t));
+                let mut g = format!("        {{ CURVE = {};", ent(&p.curve));
+                if let Some(h) = p.first_height {
+                    let _ = write!(g, " FIRST_HEIGHT = {};", float(h));
                 }
-                if let Some(c) = p.centre {
-                    let _ = write!(g, " CENTRE = {};", point(c));
-                }
-                if let Some(a) = p.angle {
-                    let _ = write!(g, " ANGLE = {};", float(a));
+                if let Some(r) = p.ratio {
+                    let _ = write!(g, " RATIO = {};", float(r));
                 }
                 g.push_str(" }");
                 g
             })
             .collect();
-        let _ = write!(o, "\nPERIODIC =\n(\n{}\n);\n", items.join(",\n"));
+        let _ = writeln!(o, "    PER_CURVE =\n    (\n{}\n    );", items.join(",\n"));
     }
-    o
+    o.push_str("};\n");
+}
+
+/// The `PERIODIC` list of a recipe's pairs of periodic sides.
+fn write_periodic(o: &mut String, periodic: &[PeriodicSpec]) {
+    let curves = |list: &[EntityRef]| {
+        let items: Vec<String> = list
+            .iter()
+            .map(|e| match e {
+                EntityRef::Tag(t) => t.to_string(),
+                EntityRef::Name(n) => quote(n),
+            })
+            .collect();
+        let same = list.iter().all(|e| matches!(e, EntityRef::Tag(_)))
+            || list.iter().all(|e| matches!(e, EntityRef::Name(_)));
+        let (open, close) = if same { ("[", "]") } else { ("(", ")") };
+        format!("{open} {} {close}", items.join(", "))
+    };
+    let point = |p: [f64; 2]| format!("[ {}, {} ]", float(p[0]), float(p[1]));
+    let items: Vec<String> = periodic
+        .iter()
+        .map(|p| {
+            let mut g =
+                format!("    {{ MASTER = {}; SLAVE = {};", curves(&p.master), curves(&p.slave));
+            if let Some(t) = p.translation {
+                let _ = write!(g, " TRANSLATION = {};", point(t));
+            }
+            if let Some(c) = p.centre {
+                let _ = write!(g, " CENTRE = {};", point(c));
+            }
+            if let Some(a) = p.angle {
+                let _ = write!(g, " ANGLE = {};", float(a));
+            }
+            g.push_str(" }");
+            g
+        })
+        .collect();
+    let _ = write!(o, "\nPERIODIC =\n(\n{}\n);\n", items.join(",\n"));
 }
