@@ -418,6 +418,12 @@ impl CellBlock {
         self.geometrical.push(geometrical);
     }
 
+    /// How many cells have a geometrical tag other than their physical one: what a
+    /// format with one tag per cell loses (it keeps the physical tag).
+    pub fn tags_differ(&self) -> usize {
+        self.physical.iter().zip(&self.geometrical).filter(|(p, g)| p != g).count()
+    }
+
     /// The nodes of cell `i`.
     pub fn cell(&self, i: usize) -> &[NodeIndex] {
         let k = self.kind.nodes_per_cell();

@@ -525,11 +525,7 @@ fn report_unheld(mesh: &TaggedMesh, report: &mut WriteReport) {
             crate::words::components(a.expanded_components())
         ));
     }
-    let differ: usize = mesh
-        .blocks
-        .iter()
-        .map(|b| b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count())
-        .sum();
+    let differ: usize = mesh.blocks.iter().map(|b| b.tags_differ()).sum();
     if differ > 0 {
         report.drop(format!(
             "geometrical tags of {differ} cells: STL keeps one solid per cell, the physical tag"

@@ -101,7 +101,7 @@ pub(crate) fn write_into(
                 None => elements.push((code, vec![b])),
             }
             number.entry(b.kind).or_default().push((offset, b.len()));
-            geo_differs += b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count();
+            geo_differs += b.tags_differ();
         } else if b.kind == CellKind::Vertex {
             // Topological points: MMG keeps them where they are as corners and required
             // vertices (what the mmg2d adapter writes too).

@@ -201,12 +201,8 @@ fn report_unheld(mesh: &TaggedMesh, ndime: u8, report: &mut WriteReport) {
             a.expanded_components()
         ));
     }
-    let differ: usize = mesh
-        .blocks
-        .iter()
-        .filter(|b| b.kind.dim() + 1 == ndime)
-        .map(|b| b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count())
-        .sum();
+    let differ: usize =
+        mesh.blocks.iter().filter(|b| b.kind.dim() + 1 == ndime).map(|b| b.tags_differ()).sum();
     if differ > 0 {
         report.drop(format!("geometrical tags of {differ} boundary cells: SU2 keeps one marker per boundary element, the physical tag"));
     }

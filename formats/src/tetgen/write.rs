@@ -175,7 +175,7 @@ pub(super) fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
         if !held {
             *lost.entry(b.kind).or_default() += b.len();
         }
-        geo_differs += b.physical.iter().zip(&b.geometrical).filter(|(p, g)| p != g).count();
+        geo_differs += b.tags_differ();
     }
     for (kind, n) in lost.into_iter().filter(|&(_, n)| n > 0) {
         report.drop(format!(
