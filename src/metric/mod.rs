@@ -1,4 +1,4 @@
-//! Metric algebra in 2D: size tensors, metric tensors and the operations the sizing
+//! Metric algebra (2D, and the 3D matrix `Sym3`): size tensors, metric tensors and the operations the sizing
 //! algorithms and the remesher need (thesis chapter 3 and 4.3.4).
 //!
 //! - [`SizeTensor`]: what the code reasons in — the orientation of the first axis and two
@@ -12,6 +12,7 @@
 //! - [`SizeTensor::log_euclidean_mean`] and, on metrics, [`log_spd`], [`exp_sym`],
 //!   [`log_euclidean`]: the one weighted Log-Euclidean interpolation, which keeps tensors SPD.
 //! - [`length`]: the metric length of an edge and the metric quality of a triangle.
+//! - [`Sym3`]: the symmetric 3×3 matrix of 3D metrics, with the orders files carry it in.
 //! - [`complexity`]: the metric's complexity ∫ √det M over triangles, and the vertex count
 //!   it asks for.
 
@@ -23,8 +24,10 @@ pub mod length;
 mod size_tensor;
 mod svd2;
 mod sym2;
+mod sym3;
 
 pub use eigen2::{eigen2, Eigen2};
 pub use interpolation::{exp_sym, log_euclidean, log_spd};
 pub use size_tensor::{SizeBounds, SizeTensor, TensorError};
 pub use sym2::Sym2;
+pub use sym3::Sym3;
