@@ -18,6 +18,7 @@
 
 pub mod complexity;
 mod eigen2;
+mod eigen3;
 mod interpolation;
 mod intersection;
 pub mod length;
@@ -27,6 +28,7 @@ mod sym2;
 mod sym3;
 
 pub use eigen2::{eigen2, Eigen2};
+pub use eigen3::{eigen3, Eigen3};
 pub use interpolation::{exp_sym, log_euclidean, log_spd};
 pub use size_tensor::{SizeBounds, SizeTensor, TensorError};
 pub use sym2::Sym2;
