@@ -437,7 +437,7 @@ fn a_recipe_naming_absent_tags_on_a_poly_and_bad_arguments_exit_two() {
     let o = run_adapt(&out, &["--adapter", "gmsh", "--nosurf"], None);
     assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
     assert!(
-        String::from_utf8_lossy(&o.stderr).contains("--nosurf is an option of the mmg2d adapter"),
+        String::from_utf8_lossy(&o.stderr).contains("--nosurf is an option of the MMG adapters"),
         "{}",
         streams(&o)
     );

@@ -1,11 +1,20 @@
 //! Remeshers the adaptation loop drives: one trait, [`Adapter`], and the external tools
-//! that implement it — MMG's `mmg2d_O3` ([`mmg::MmgAdapter`]) and Gmsh's BAMG on a
-//! background view ([`gmsh::GmshAdapter`]) — and smartmesh's own remesher
-//! ([`native::NativeAdapter`], the default).
+//! that implement it — MMG's `mmg2d_O3`, `mmg3d_O3` and `mmgs_O3` ([`mmg::MmgAdapter`])
+//! and Gmsh's BAMG on a background view ([`gmsh::GmshAdapter`]) — and smartmesh's own
+//! remesher ([`native::NativeAdapter`], the default).
 //!
 //! Every adapter takes a tagged mesh and a metric per vertex and gives back a new tagged
 //! mesh with the same physical tags, tag names and topological points, so that the same
 //! recipe resolves on it (thesis 5.5: the remesher's output is the next input).
+//!
+//! Two dimensions, one trait: [`Adapter::adapt`] takes a planar mesh and a
+//! [`Sym2`] per vertex, [`Adapter::adapt_space`] a mesh in space (tetrahedra with their
+//! boundary triangles, or a triangulated surface) and a [`Sym3`] per vertex. The 2D
+//! remeshers (native, Gmsh's BAMG) keep the trait's `adapt_space`, which refuses with
+//! [`AdapterError::Space`] naming the tools that take such a mesh; the MMG adapter
+//! answers both, each with the program of its kind (`mmg2d_O3`; `mmg3d_O3` or
+//! `mmgs_O3`). Until the metric field carries 3D tensors, the 3D metric of
+//! `smartmesh remesh` is read by [`space_metric`].
 //!
 //! - [`Controlled`]: any of them with size controls applied to the metric it is given
 //!   (`--hausd` for the remeshers without that option);
@@ -21,13 +30,14 @@ pub(crate) mod mmg;
 pub(crate) mod native;
 pub(crate) mod prepare;
 pub(crate) mod restore;
+pub(crate) mod space_metric;
 pub(crate) mod tool;
 
 use std::path::PathBuf;
 
 use smartmesh_formats::TaggedMesh;
 
-use crate::metric::Sym2;
+use crate::metric::{Sym2, Sym3};
 use crate::remesh::RemeshCounts;
 use crate::topology::Topology;
 pub(crate) use controlled::Controlled;
@@ -45,6 +55,14 @@ pub trait Adapter {
         topology: &Topology,
         metric: &[Sym2],
     ) -> Result<Adapted, AdapterError>;
+
+    /// Remeshes `mesh`, a mesh in space (tetrahedra, or triangles off one plane), to
+    /// `metric` (one SPD 3x3 tensor per vertex). The planar remeshers refuse it, naming
+    /// the tools that take it.
+    fn adapt_space(&self, mesh: &TaggedMesh, metric: &[Sym3]) -> Result<Adapted, AdapterError> {
+        let _ = (mesh, metric);
+        Err(AdapterError::Space { adapter: self.name().to_string() })
+    }
 }
 
 /// What a remesher gives back: the new mesh, and what it did when it says (the native
@@ -119,8 +137,18 @@ pub enum AdapterError {
         /// The adapter chosen.
         adapter: &'static str,
     },
+    /// A mesh in space given to a planar remesher.
+    #[error("the {adapter} adapter remeshes planar meshes only; a tetrahedral mesh goes to mmg3d (mmg3d_O3), a triangulated surface in space to mmgs (mmgs_O3): --adapter mmg3d|mmgs")]
+    Space {
+        /// The adapter chosen.
+        adapter: String,
+    },
+    /// A planar mesh, or a mesh of the other kind, given to an MMG adapter of another
+    /// dimension (a surface to mmg3d, tetrahedra to mmgs or mmg2d).
+    #[error("{0}")]
+    Kind(String),
     /// An option the chosen remesher does not take.
-    #[error("{option} is an option of the mmg2d adapter; the {adapter} adapter does not take it")]
+    #[error("{option} is an option of the MMG adapters (mmg2d, mmg3d, mmgs); the {adapter} adapter does not take it")]
     Option {
         /// The option, as on the command line.
         option: &'static str,
@@ -147,6 +175,10 @@ pub enum AdapterKind {
     Mmg2d,
     /// Gmsh with BAMG on a background view.
     Gmsh,
+    /// MMG's `mmg3d_O3`: tetrahedral meshes in space.
+    Mmg3d,
+    /// MMG's `mmgs_O3`: triangulated surfaces in space.
+    Mmgs,
 }
 
 impl AdapterKind {
@@ -156,7 +188,20 @@ impl AdapterKind {
             AdapterKind::Native => "native",
             AdapterKind::Mmg2d => "mmg2d",
             AdapterKind::Gmsh => "gmsh",
+            AdapterKind::Mmg3d => "mmg3d",
+            AdapterKind::Mmgs => "mmgs",
         }
+    }
+
+    /// Whether MMG runs (and reads its own options: `-hgrad`, `-nosurf`, `-ar`, `-nr`,
+    /// `-hmin`, `-hmax`).
+    pub fn is_mmg(self) -> bool {
+        matches!(self, AdapterKind::Mmg2d | AdapterKind::Mmg3d | AdapterKind::Mmgs)
+    }
+
+    /// Whether the remesher takes meshes in space ([`Adapter::adapt_space`]).
+    pub fn is_space(self) -> bool {
+        matches!(self, AdapterKind::Mmg3d | AdapterKind::Mmgs)
     }
 }
 
@@ -173,6 +218,15 @@ pub struct AdapterOptions {
     pub hausd: Option<f64>,
     /// MMG `-nosurf`: leave the boundary as it is (no point added or moved there).
     pub nosurf: bool,
+    /// MMG `-hmin`: the smallest edge length MMG makes (its own bound on the metric).
+    pub hmin: Option<f64>,
+    /// MMG `-hmax`: the largest edge length MMG makes.
+    pub hmax: Option<f64>,
+    /// MMG `-ar`: the dihedral angle, in degrees, above which an edge is a ridge (MMG's
+    /// default, 45°, when unset).
+    pub ridge_angle: Option<f64>,
+    /// MMG `-nr`: no ridge detection (only the edges and references given are kept).
+    pub no_ridges: bool,
     /// Further arguments passed to the program as they are.
     pub extra_args: Vec<String>,
     /// Vertices of the input geometry that every remeshing keeps (the native remesher's
@@ -198,9 +252,17 @@ pub fn adapter(
     if kind != AdapterKind::Native && !options.periodic.is_empty() {
         return Err(AdapterError::Periodic { adapter: kind.name() });
     }
-    if kind != AdapterKind::Mmg2d {
-        // --hausd is every remesher's (below); MMG's own gradation and -nosurf are not.
-        let mmg_only = [("--hgrad", options.hgrad.is_some()), ("--nosurf", options.nosurf)];
+    if !kind.is_mmg() {
+        // --hausd is every remesher's (below); MMG's own gradation, bounds, ridge
+        // detection and -nosurf are not.
+        let mmg_only = [
+            ("--hgrad", options.hgrad.is_some()),
+            ("--nosurf", options.nosurf),
+            ("--hmin", options.hmin.is_some()),
+            ("--hmax", options.hmax.is_some()),
+            ("--ridge-angle", options.ridge_angle.is_some()),
+            ("--no-ridges", options.no_ridges),
+        ];
         if let Some(&(option, _)) = mmg_only.iter().find(|o| o.1) {
             return Err(AdapterError::Option { option, adapter: kind.name() });
         }
@@ -222,7 +284,9 @@ pub fn adapter(
                 ..Default::default()
             },
         })),
-        AdapterKind::Mmg2d => Ok(Box::new(mmg::MmgAdapter::new(options)?)),
+        AdapterKind::Mmg2d => Ok(Box::new(mmg::MmgAdapter::new(mmg::Tool::Mmg2d, options)?)),
+        AdapterKind::Mmg3d => Ok(Box::new(mmg::MmgAdapter::new(mmg::Tool::Mmg3d, options)?)),
+        AdapterKind::Mmgs => Ok(Box::new(mmg::MmgAdapter::new(mmg::Tool::Mmgs, options)?)),
         AdapterKind::Gmsh => Ok(Box::new(gmsh::GmshAdapter::new(options)?)),
     }
 }

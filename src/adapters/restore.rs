@@ -9,13 +9,10 @@ use smartmesh_formats::{CellKind, TaggedMesh};
 
 use super::AdapterError;
 
-/// 0 for vertex cells, 1 for lines, 2 for surface cells.
+/// 0 for vertex cells, 1 for lines, 2 for surface cells, 3 for volume cells (the
+/// dimension of Gmsh's physical groups, which tags and names are keyed by).
 pub(crate) fn dimension(kind: CellKind) -> u8 {
-    match kind {
-        CellKind::Vertex => 0,
-        CellKind::Line | CellKind::Line3 => 1,
-        _ => 2,
-    }
+    kind.dim()
 }
 
 /// The `(dimension, physical tag)` pairs that have cells, tag 0 (none) left out.
@@ -55,7 +52,8 @@ pub(crate) fn attach_names(input: &TaggedMesh, output: &mut TaggedMesh) {
 }
 
 /// Puts each vertex cell of `input` on the vertex of `output` at the same place (within
-/// 10⁻⁹ of the bounding-box diagonal: tools print coordinates with 15 digits), and gives
+/// 10⁻⁹ of the bounding-box diagonal: tools print coordinates with 15 digits; distances
+/// in space, which in a planar mesh at z = 0 are the planar ones), and gives
 /// that vertex the input's exact coordinates. A vertex cell with no vertex there means
 /// the tool moved or removed a required point.
 pub(crate) fn place_point_cells(
@@ -71,9 +69,10 @@ pub(crate) fn place_point_cells(
     if cells.is_empty() {
         return Ok(());
     }
-    let diag = input
-        .bounding_box()
-        .map_or(1.0, |(lo, hi)| ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt());
+    let dist = |a: [f64; 3], b: [f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    let diag = input.bounding_box().map_or(1.0, |(lo, hi)| dist(lo, hi));
     let tol = 1e-9 * diag.max(f64::MIN_POSITIVE);
     let mut placed = Vec::with_capacity(cells.len());
     for (v, p, g) in cells {
@@ -82,7 +81,7 @@ pub(crate) fn place_point_cells(
             .points
             .iter()
             .enumerate()
-            .map(|(i, o)| (i, (o[0] - q[0]).hypot(o[1] - q[1])))
+            .map(|(i, o)| (i, dist(*o, q)))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         match nearest {
             Some((i, d)) if d <= tol => {
@@ -94,8 +93,8 @@ pub(crate) fn place_point_cells(
                 return Err(AdapterError::Lost {
                     program: program.to_string(),
                     what: format!(
-                    "no vertex at ({}, {}), the topological point of 0D tag {p} (it was required)",
-                    q[0], q[1]
+                    "no vertex at ({}, {}, {}), the topological point of 0D tag {p} (it was required)",
+                    q[0], q[1], q[2]
                 ),
                 })
             }

@@ -32,6 +32,12 @@ enum AdapterArg {
     Mmg2d,
     /// Gmsh with BAMG (Mesh.Algorithm 7) on a background view.
     Gmsh,
+    /// MMG's mmg3d_O3 (tetrahedral meshes): refused until the recipe sizes in 3D; see
+    /// `smartmesh remesh --adapter mmg3d`.
+    Mmg3d,
+    /// MMG's mmgs_O3 (surfaces in space): refused until the recipe sizes in 3D; see
+    /// `smartmesh remesh --adapter mmgs`.
+    Mmgs,
 }
 
 impl From<AdapterArg> for AdapterKind {
@@ -40,6 +46,8 @@ impl From<AdapterArg> for AdapterKind {
             AdapterArg::Native => AdapterKind::Native,
             AdapterArg::Mmg2d => AdapterKind::Mmg2d,
             AdapterArg::Gmsh => AdapterKind::Gmsh,
+            AdapterArg::Mmg3d => AdapterKind::Mmg3d,
+            AdapterArg::Mmgs => AdapterKind::Mmgs,
         }
     }
 }
@@ -80,6 +88,10 @@ Remeshers:
   gmsh     gmsh with the mesh as a discrete model (CreateTopology; CreateGeometry;) and the
            metric as background view, meshed with BAMG (Mesh.Algorithm 7, the only Gmsh
            algorithm that honours an anisotropic view); --adapter-arg goes on its command line
+  mmg3d, mmgs  refused for now (exit status 2): the recipe's sizing is planar, so the loop
+           cannot size a mesh in space. Remesh a tetrahedral mesh (or a surface in space) to
+           a 3D metric you give with `smartmesh remesh MESH --metric M.sol -o OUT` (mmg3d is
+           chosen for tetrahedra, --adapter mmgs for a surface)
 
 Examples:
   smartmesh adapt fixtures/cylinder.msh --recipe fixtures/cylinder.toml -o cyl.msh --adapter mmg2d
@@ -522,6 +534,12 @@ const ERROR_START_VERTICES: f64 = 1000.0;
 /// Runs `adapt`.
 pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
+    if let AdapterArg::Mmg3d | AdapterArg::Mmgs = args.adapter {
+        return Err(CliError::usage(format!(
+            "--adapter {0}: the adaptation loop sizes each mesh with the recipe, whose sizing is planar today: it cannot size a mesh in space. Remesh a mesh in space to a 3D metric you give with `smartmesh remesh MESH --metric M.sol -o OUT --adapter {0}`",
+            AdapterKind::from(args.adapter).name()
+        )));
+    }
     let format = check_outputs(&args)?;
     super::set_threads(args.threads)?;
     if is_stdio(&args.input) && args.recipe.is_stdin() {
@@ -571,6 +589,11 @@ pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
         hgrad: args.controls.hgrad.filter(|_| mmg),
         hausd: args.hausd,
         nosurf: args.nosurf,
+        // The loop's --hmin/--hmax bound the recipe's field, which MMG then follows.
+        hmin: None,
+        hmax: None,
+        ridge_angle: None,
+        no_ridges: false,
         extra_args: args.adapter_args.clone(),
         keep_points: if args.coarsen_geometry { Vec::new() } else { starting.geometry_points },
         max_vertices: Some(args.max_vertices),

@@ -194,7 +194,9 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
             // executable is bad input; a tool missing from PATH is not the input's fault.
             AdapterError::Option { .. }
             | AdapterError::Unusable { .. }
-            | AdapterError::Periodic { .. } => Some(Error),
+            | AdapterError::Periodic { .. }
+            | AdapterError::Space { .. }
+            | AdapterError::Kind(_) => Some(Error),
             AdapterError::Format(_) => None,
             _ => Some(Failure),
         };

@@ -11,6 +11,7 @@ mod mesh;
 mod output;
 mod recipe;
 mod remesh;
+mod remesh_space;
 mod report;
 mod size;
 mod solution;

@@ -1,6 +1,7 @@
 //! `smartmesh remesh MESH --metric M -o OUT`: the native anisotropic remesher, and
 //! `--measure` to report how a mesh conforms to a metric without remeshing it (the same
-//! measure for our output and another tool's).
+//! measure for our output and another tool's). A mesh in space (tetrahedra, or with
+//! `--adapter mmgs` a surface) goes to MMG through `remesh_space`.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -15,6 +16,18 @@ use smartmesh::{MetricError, MetricField};
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
 use super::{parse_format, print_stdout, ui, CliError};
+use smartmesh::{AdapterKind, AdapterOptions};
+
+/// The remeshers of `remesh`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum RemesherArg {
+    /// smartmesh's own remesher (planar meshes).
+    Native,
+    /// MMG's mmg3d_O3: tetrahedral meshes, to a 3D metric.
+    Mmg3d,
+    /// MMG's mmgs_O3: triangulated surfaces in space, to a 3D metric.
+    Mmgs,
+}
 
 /// Boundary placement, as the command line names it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -37,11 +50,24 @@ Boundary and interface vertices slide along their own curve, corners (topologica
 vertices turning by more than --ridge-angle) never move; face and curve tags are kept. The output \
 carries the interpolated `metric` (a .mesh output writes it to the .sol beside it).
 
+A mesh in space goes to MMG: a mesh with tetrahedra to mmg3d_O3 (chosen by itself; --adapter mmg3d \
+says so), a triangulated surface in space to mmgs_O3 with --adapter mmgs (both found on PATH, or \
+--adapter-program). Its metric is 3D, on MESH's vertices: a 3D .sol/.solb (m11 m12 m22 m13 m23 m33, \
+as mmg3d_O3 -sol takes it), a mesh file with point data `metric` of 9 (row-major) or 6 (XX YY ZZ XY YZ \
+XZ) components, or MESH's own (a .mesh with its .sol beside it). Tags and their names (Gmsh physical \
+names) come back through MMG's references, topological points as required corners. MMG is run as \
+`mmg3d_O3 -in in.mesh -sol in.sol -out out.mesh -v 1 [-hgrad G] [-hausd D] [-hmin H] [-hmax H] \
+[-ar A] [-nr] [-nosurf] [--adapter-arg ...]`, from --hgrad, --hausd, --hmin, --hmax, --ridge-angle, \
+--no-ridges, --nosurf (not for mmgs); the native remesher's other options do not apply. The result \
+has no metric; --measure and --background are planar only.
+
 Examples:
   smartmesh size fixtures/cylinder.msh --recipe fixtures/cylinder.toml -o field.vtu
   smartmesh remesh fixtures/cylinder.msh --metric field.vtu -o adapted.vtu --json
   smartmesh remesh adapted.mesh --measure --json      # conformity of a mesh to its own .sol
-  smartmesh remesh in.msh --metric field.vtu --recipe periodic.toml -o out.msh   # sides kept matched"
+  smartmesh remesh in.msh --metric field.vtu --recipe periodic.toml -o out.msh   # sides kept matched
+  smartmesh remesh box.msh --metric box.sol -o box-adapted.mesh --hausd 0.01     # tetrahedra: mmg3d
+  smartmesh remesh hull.mesh --adapter mmgs --metric hull.sol -o hull-adapted.mesh"
 )]
 #[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs the remeshing keeps matched (its sizing steps are not used: the metric is --metric's)")))]
 pub(super) struct RemeshArgs {
@@ -77,9 +103,27 @@ pub(super) struct RemeshArgs {
     /// Smoothing sweeps per pass.
     #[arg(long, default_value_t = RemeshOptions::default().smooth_sweeps)]
     smooth_sweeps: usize,
-    /// A curve turning by more than this many degrees at a vertex makes it a corner.
-    #[arg(long, default_value_t = RemeshOptions::default().ridge_angle_degrees)]
-    ridge_angle: f64,
+    /// A curve turning by more than this many degrees at a vertex makes it a corner
+    /// (native: 30 when unset); with mmg3d/mmgs, MMG's -ar (dihedral angle of a ridge,
+    /// 45 when unset).
+    #[arg(long)]
+    ridge_angle: Option<f64>,
+    /// The remesher: native for a planar mesh; mmg3d (chosen for a mesh with
+    /// tetrahedra) or mmgs (a surface in space) for a mesh in space.
+    #[arg(long, value_enum)]
+    adapter: Option<RemesherArg>,
+    /// mmg3d/mmgs: the executable, instead of the one found on PATH.
+    #[arg(long)]
+    adapter_program: Option<PathBuf>,
+    /// mmg3d/mmgs: an argument passed to MMG as it is (repeat for several).
+    #[arg(long = "adapter-arg", allow_hyphen_values = true, value_name = "ARG")]
+    adapter_args: Vec<String>,
+    /// mmg3d/mmgs: no ridge detection by angle (MMG's -nr).
+    #[arg(long)]
+    no_ridges: bool,
+    /// mmg3d: leave the boundary surface as it is (MMG's -nosurf).
+    #[arg(long)]
+    nosurf: bool,
     /// Most vertices the output may have: the metric's complexity (the vertex count it
     /// asks for) is compared with this before any work, and the run is refused with exit
     /// status 2 above it (about 0.6 KB of memory per vertex).
@@ -167,7 +211,25 @@ pub(super) fn run(args: RemeshArgs) -> Result<(), CliError> {
         _ => None,
     };
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    let (mut mesh, plane_z, read_notes) = super::read_planar_mesh_noted(&args.mesh, from)?;
+    let (mut mesh, read_notes) = super::read_linear_mesh_noted(&args.mesh, from)?;
+    if let Some(kind) = space_remesher(&args, &mesh) {
+        return space(args, mesh, kind, read_notes, to, t0);
+    }
+    let plane_z = smartmesh::plane(&mesh).map_err(|e| {
+        CliError::usage(format!(
+            "{}: {e}; a mesh in space goes to MMG: --adapter mmg3d (tetrahedra) or mmgs (a surface)",
+            super::input_name(&args.mesh)
+        ))
+    })?;
+    let mmg_only = [
+        ("--adapter-program", args.adapter_program.is_some()),
+        ("--adapter-arg", !args.adapter_args.is_empty()),
+        ("--no-ridges", args.no_ridges),
+        ("--nosurf", args.nosurf),
+    ];
+    if let Some((option, _)) = mmg_only.iter().find(|o| o.1) {
+        return Err(CliError::usage(format!("{option} is an option of the mmg3d and mmgs remeshers (a mesh in space); the native remesher does not take it")));
+    }
     if args.split_quads {
         let n = mesh.split_quads();
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));
@@ -242,7 +304,9 @@ pub(super) fn run(args: RemeshArgs) -> Result<(), CliError> {
             Boundary::Polyline => BoundaryMode::Polyline,
             Boundary::Smooth => BoundaryMode::Smooth,
         },
-        ridge_angle_degrees: args.ridge_angle,
+        ridge_angle_degrees: args
+            .ridge_angle
+            .unwrap_or(RemeshOptions::default().ridge_angle_degrees),
         smooth_sweeps: args.smooth_sweeps,
         max_vertices: Some(args.max_vertices),
         partition: (!args.no_partition).then_some(smartmesh::remesh::Partitioning {
@@ -296,4 +360,71 @@ pub(super) fn run(args: RemeshArgs) -> Result<(), CliError> {
         ),
     );
     Ok(())
+}
+
+/// The MMG remesher a mesh goes to: the one asked for, else mmg3d for a mesh with
+/// volume cells; `None`: the native remesher.
+fn space_remesher(args: &RemeshArgs, mesh: &smartmesh::formats::TaggedMesh) -> Option<AdapterKind> {
+    match args.adapter {
+        Some(RemesherArg::Mmg3d) => Some(AdapterKind::Mmg3d),
+        Some(RemesherArg::Mmgs) => Some(AdapterKind::Mmgs),
+        Some(RemesherArg::Native) => None,
+        None => mesh
+            .blocks
+            .iter()
+            .any(|b| b.kind.dim() == 3 && !b.is_empty())
+            .then_some(AdapterKind::Mmg3d),
+    }
+}
+
+/// `remesh` of a mesh in space through MMG ([`super::remesh_space`]).
+fn space(
+    args: RemeshArgs,
+    mesh: smartmesh::formats::TaggedMesh,
+    kind: AdapterKind,
+    read_notes: Vec<String>,
+    to: Option<Format>,
+    t0: Instant,
+) -> Result<(), CliError> {
+    let planar_only = [
+        ("--measure", args.measure),
+        ("--background", args.background.is_some()),
+        ("--recipe", args.recipe.recipe.is_some()),
+        ("--split-quads", args.split_quads),
+    ];
+    if let Some((option, _)) = planar_only.iter().find(|o| o.1) {
+        return Err(CliError::usage(format!(
+            "{option} is planar only; {} is remeshed in space by {}",
+            super::input_name(&args.mesh),
+            kind.name()
+        )));
+    }
+    let (Some(output), Some(to)) = (args.output.as_deref(), to) else {
+        return Err(CliError::usage("-o OUT is required"));
+    };
+    let options = AdapterOptions {
+        program: args.adapter_program.clone(),
+        hgrad: args.controls.hgrad,
+        hausd: args.hausd,
+        nosurf: args.nosurf,
+        hmin: args.controls.hmin,
+        hmax: args.controls.hmax,
+        ridge_angle: args.ridge_angle,
+        no_ridges: args.no_ridges,
+        extra_args: args.adapter_args.clone(),
+        ..AdapterOptions::default()
+    };
+    super::remesh_space::run(super::remesh_space::SpaceRemesh {
+        mesh,
+        mesh_path: &args.mesh,
+        metric: args.metric.as_deref(),
+        output,
+        to,
+        output_format: &args.output_format,
+        kind,
+        options,
+        json: args.json,
+        read_notes,
+        t0,
+    })
 }
