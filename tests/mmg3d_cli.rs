@@ -1,0 +1,333 @@
+//! `smartmesh remesh` on meshes in space, through MMG: a Gmsh-made tetrahedral box with
+//! named physical surfaces and volume adapted by `mmg3d_O3` to an analytic anisotropic
+//! metric, and the public box-cylinder surface adapted by `mmgs_O3`. Each result is
+//! checked apart from the library: positive tetrahedra (orientation computed here), the
+//! same tags and names, boundary vertices on their surfaces, and the metric lengths of
+//! the edges (integrated here from the analytic metric) near 1. The metric goes to
+//! smartmesh as a `.sol` this file writes by hand, in the Medit order m11 m12 m22 m13
+//! m23 m33. The refusals (a planar remesher given a mesh in space, a 2D metric, the
+//! loop asked to drive mmg3d) need no tool.
+//!
+//! Needs `mmg3d_O3`/`mmgs_O3` on PATH and Python's `gmsh` (skipped with a message
+//! without them, mandatory under CI), and the public fixtures for the surface case.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+use smartmesh::formats::{read_path, CellKind, TaggedMesh};
+use smartmesh_test_support::formats::{public_fixture, python_with, run_python};
+use smartmesh_test_support::require_public_fixtures;
+
+#[path = "support/cli.rs"]
+mod support;
+use support::{program, run, streams};
+
+/// A rotation whose axes are none of the coordinate axes: about (1, 2, 3)/√14 by 0.7.
+fn rotation() -> [[f64; 3]; 3] {
+    let n = 14f64.sqrt();
+    let (x, y, z) = (1.0 / n, 2.0 / n, 3.0 / n);
+    let (s, c) = 0.7f64.sin_cos();
+    let t = 1.0 - c;
+    [
+        [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+        [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+        [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
+    ]
+}
+
+/// The analytic metric R diag(1/h1², 1/h2², 1/h3²) Rᵀ, as a full 3×3 matrix, with
+/// sizes `sizes(p)` along R's columns.
+fn metric_at(p: [f64; 3], sizes: impl Fn([f64; 3]) -> [f64; 3]) -> [[f64; 3]; 3] {
+    let r = rotation();
+    let h = sizes(p);
+    let mut m = [[0.0; 3]; 3];
+    for (i, row) in m.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = (0..3).map(|k| r[i][k] * r[j][k] / (h[k] * h[k])).sum();
+        }
+    }
+    m
+}
+
+/// The sizes of the box case: fine across one oblique direction near x = 0.
+fn box_sizes(p: [f64; 3]) -> [f64; 3] {
+    [0.05 + 0.15 * p[0], 0.15, 0.2]
+}
+
+/// The sizes of the surface case.
+fn surface_sizes(p: [f64; 3]) -> [f64; 3] {
+    [0.04 + 0.04 * p[0], 0.1, 0.12]
+}
+
+/// A Medit `.sol` of `sizes`'s metric at `mesh`'s vertices, written here (m11 m12 m22
+/// m13 m23 m33: the lower triangle row by row).
+fn write_sol(path: &Path, mesh: &TaggedMesh, sizes: impl Fn([f64; 3]) -> [f64; 3] + Copy) {
+    let mut s =
+        format!("MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n{}\n1 3\n", mesh.points.len());
+    for p in &mesh.points {
+        let m = metric_at(*p, sizes);
+        s += &format!(
+            "{:.17e} {:.17e} {:.17e} {:.17e} {:.17e} {:.17e}\n",
+            m[0][0], m[1][0], m[1][1], m[2][0], m[2][1], m[2][2]
+        );
+    }
+    s += "End\n";
+    std::fs::write(path, s).unwrap();
+}
+
+/// The metric length of the segment a–b, by the midpoint rule on 16 pieces.
+fn metric_length(a: [f64; 3], b: [f64; 3], sizes: impl Fn([f64; 3]) -> [f64; 3] + Copy) -> f64 {
+    let n = 16;
+    let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    (0..n)
+        .map(|k| {
+            let t = (k as f64 + 0.5) / n as f64;
+            let p = [a[0] + t * e[0], a[1] + t * e[1], a[2] + t * e[2]];
+            let m = metric_at(p, sizes);
+            let q: f64 = (0..3).map(|i| (0..3).map(|j| e[i] * m[i][j] * e[j]).sum::<f64>()).sum();
+            q.sqrt() / n as f64
+        })
+        .sum()
+}
+
+/// The edges of `kind`'s cells (sorted vertex pairs).
+fn edges(mesh: &TaggedMesh, kind: CellKind) -> BTreeSet<(u32, u32)> {
+    let pairs: &[(usize, usize)] = match kind {
+        CellKind::Tetra => &[(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)],
+        _ => &[(0, 1), (1, 2), (2, 0)],
+    };
+    let mut out = BTreeSet::new();
+    for (k, n, _, _) in mesh.cells() {
+        if k == kind {
+            for &(i, j) in pairs {
+                let (a, b) = (n[i], n[j]);
+                out.insert((a.min(b), a.max(b)));
+            }
+        }
+    }
+    out
+}
+
+/// The median and the share in [1/√2, √2] of the metric lengths of `edges`.
+fn lengths(
+    mesh: &TaggedMesh,
+    edges: &BTreeSet<(u32, u32)>,
+    sizes: impl Fn([f64; 3]) -> [f64; 3] + Copy,
+) -> (f64, f64) {
+    let mut l: Vec<f64> = edges
+        .iter()
+        .map(|&(a, b)| metric_length(mesh.points[a as usize], mesh.points[b as usize], sizes))
+        .collect();
+    l.sort_by(f64::total_cmp);
+    let inside = l.iter().filter(|&&x| (0.5f64.sqrt()..=2f64.sqrt()).contains(&x)).count();
+    (l[l.len() / 2], inside as f64 / l.len() as f64)
+}
+
+/// Six times the signed volume of a tetrahedron.
+fn volume6(p: [[f64; 3]; 4]) -> f64 {
+    let d = |i: usize| [p[i][0] - p[0][0], p[i][1] - p[0][1], p[i][2] - p[0][2]];
+    let (a, b, c) = (d(1), d(2), d(3));
+    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0])
+}
+
+/// Cells per (dimension, physical tag).
+fn tag_counts(mesh: &TaggedMesh) -> BTreeMap<(u8, i32), usize> {
+    let mut out = BTreeMap::new();
+    for (k, _, p, _) in mesh.cells() {
+        *out.entry((k.dim(), p)).or_default() += 1;
+    }
+    out
+}
+
+/// The unit cube meshed by Gmsh with physical surfaces Left (x = 0, 1), Right (x = 1,
+/// 2), Walls (the others, 3) and the volume Solid (10).
+const GMSH_BOX: &str = r#"
+import sys, gmsh
+gmsh.initialize()
+gmsh.option.setNumber("General.Terminal", 0)
+gmsh.model.add("box")
+gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
+gmsh.model.occ.synchronize()
+left, right, walls = [], [], []
+for d, t in gmsh.model.getEntities(2):
+    x = gmsh.model.occ.getCenterOfMass(d, t)[0]
+    (left if x < 1e-9 else right if x > 1 - 1e-9 else walls).append(t)
+gmsh.model.addPhysicalGroup(2, left, 1, "Left")
+gmsh.model.addPhysicalGroup(2, right, 2, "Right")
+gmsh.model.addPhysicalGroup(2, walls, 3, "Walls")
+gmsh.model.addPhysicalGroup(3, [1], 10, "Solid")
+gmsh.option.setNumber("Mesh.MeshSizeMax", 0.25)
+gmsh.model.mesh.generate(3)
+gmsh.write(sys.argv[1])
+gmsh.finalize()
+"#;
+
+#[test]
+fn mmg3d_adapts_a_gmsh_box_to_an_oblique_metric_keeping_names_and_tags() {
+    let Some(py) = python_with(&["gmsh"]) else { return };
+    if program("mmg3d_O3").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("box.msh");
+    run_python(&py, GMSH_BOX, &[input.to_str().unwrap()]);
+    let start = read_path(&input, None).unwrap();
+    assert!(start.num_cells_of(CellKind::Tetra) > 50);
+    let sol = dir.path().join("box.sol");
+    write_sol(&sol, &start, box_sizes);
+    let out = dir.path().join("adapted.msh");
+    let o = run(&[
+        "remesh",
+        input.to_str().unwrap(),
+        "--metric",
+        sol.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--hgrad",
+        "-1",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["adapter"], "mmg3d");
+    let mesh = read_path(&out, None).unwrap();
+    assert_eq!(json["output"]["tetrahedra"], mesh.num_cells_of(CellKind::Tetra));
+
+    // The same physical tags, each with cells, and the same names.
+    let (before, after) = (tag_counts(&start), tag_counts(&mesh));
+    let tags = |m: &BTreeMap<(u8, i32), usize>| -> BTreeSet<(u8, i32)> {
+        m.keys().copied().filter(|k| k.0 >= 2).collect()
+    };
+    assert_eq!(tags(&before), tags(&after), "{after:?}");
+    for (k, name) in [((2, 1), "Left"), ((2, 2), "Right"), ((2, 3), "Walls"), ((3, 10), "Solid")] {
+        assert_eq!(mesh.tag_names.get(&k).map(String::as_str), Some(name), "{k:?}");
+    }
+    // Every tetrahedron positive, the volume the cube's.
+    let mut volume = 0.0;
+    for (k, n, _, _) in mesh.cells() {
+        if k == CellKind::Tetra {
+            let v = volume6(std::array::from_fn(|i| mesh.points[n[i] as usize])) / 6.0;
+            assert!(v > 1e-12, "tetrahedron {n:?} has volume {v}");
+            volume += v;
+        }
+    }
+    assert!((volume - 1.0).abs() < 1e-9, "volume {volume}");
+    // Each boundary triangle on the face its tag says.
+    for (k, n, p, _) in mesh.cells() {
+        if k == CellKind::Triangle {
+            for &v in n {
+                let q = mesh.points[v as usize];
+                let on = match p {
+                    1 => q[0].abs() < 1e-12,
+                    2 => (q[0] - 1.0).abs() < 1e-12,
+                    _ => q[1..].iter().any(|&c| c.abs() < 1e-12 || (c - 1.0).abs() < 1e-12),
+                };
+                assert!(on, "triangle of tag {p} has vertex {q:?} off its face");
+            }
+        }
+    }
+    // The metric lengths, integrated here from the analytic metric.
+    let (median, share) = lengths(&mesh, &edges(&mesh, CellKind::Tetra), box_sizes);
+    let (median0, share0) = lengths(&start, &edges(&start, CellKind::Tetra), box_sizes);
+    eprintln!(
+        "mmg3d box: {} -> {} tets, median metric length {median0:.3} -> {median:.3}, in [1/√2, √2] {share0:.3} -> {share:.3}",
+        start.num_cells_of(CellKind::Tetra),
+        mesh.num_cells_of(CellKind::Tetra)
+    );
+    assert!((0.8..=1.2).contains(&median), "median metric length {median}");
+    assert!(share > 0.8 && share > share0, "share {share} (start {share0})");
+}
+
+#[test]
+fn mmgs_adapts_the_box_cylinder_surface_keeping_its_references() {
+    require_public_fixtures!();
+    if program("mmgs_O3").is_none() {
+        return;
+    }
+    let input = public_fixture("3d/box_cyl_surf_input.mesh");
+    let start = read_path(&input, None).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let sol = dir.path().join("surf.sol");
+    write_sol(&sol, &start, surface_sizes);
+    let out = dir.path().join("surf.vtu");
+    let o = run(&[
+        "remesh",
+        input.to_str().unwrap(),
+        "--adapter",
+        "mmgs",
+        "--metric",
+        sol.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--hausd",
+        "0.01",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["adapter"], "mmgs");
+    let mesh = read_path(&out, None).unwrap();
+    assert_eq!(mesh.num_cells_of(CellKind::Tetra), 0);
+    let (before, after) = (tag_counts(&start), tag_counts(&mesh));
+    assert_eq!(before.keys().collect::<Vec<_>>(), after.keys().collect::<Vec<_>>(), "{after:?}");
+    // Every vertex on the box's faces or on the cylinder (r = 0.2 about x = 0.6, y = 0.5):
+    // between the input's facets, which span up to 54° of the circle (r down to 0.2 cos 27°
+    // = 0.178), and MMG's smooth surface through the input's vertices.
+    for q in &mesh.points {
+        let on_box = [(q[0], 2.0), (q[1], 1.0), (q[2], 1.0)]
+            .iter()
+            .any(|&(c, hi)| c.abs() < 1e-9 || (c - hi).abs() < 1e-9);
+        let r = (q[0] - 0.6).hypot(q[1] - 0.5);
+        let chord = 0.2 * 27f64.to_radians().cos();
+        assert!(on_box || (chord..0.21).contains(&r), "vertex {q:?} off the surface (r = {r})");
+    }
+    let (median, share) = lengths(&mesh, &edges(&mesh, CellKind::Triangle), surface_sizes);
+    let (median0, share0) = lengths(&start, &edges(&start, CellKind::Triangle), surface_sizes);
+    eprintln!(
+        "mmgs surface: {} -> {} triangles, median metric length {median0:.3} -> {median:.3}, in [1/√2, √2] {share0:.3} -> {share:.3}",
+        start.num_cells_of(CellKind::Triangle),
+        mesh.num_cells_of(CellKind::Triangle)
+    );
+    assert!((0.8..=1.2).contains(&median), "median metric length {median}");
+    assert!(share > 0.8 && share > share0, "share {share} (start {share0})");
+}
+
+#[test]
+fn a_mesh_in_space_is_refused_by_the_planar_paths_naming_mmg3d() {
+    require_public_fixtures!();
+    let input = public_fixture("3d/box_cyl.v41_ascii.msh");
+    let sol = public_fixture("3d/box_cyl_input.sol");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.msh");
+    let (i, s, o) = (input.to_str().unwrap(), sol.to_str().unwrap(), out.to_str().unwrap());
+    // The native remesher: bad input, naming the tools that take it.
+    let r = run(&["remesh", i, "--metric", s, "-o", o, "--adapter", "native"]);
+    assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("--adapter mmg3d"), "{}", streams(&r));
+    // A 2D metric on a mesh in space.
+    let flat = dir.path().join("flat.sol");
+    let mut text = "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n634\n1 3\n".to_string();
+    text += &"1 0 1\n".repeat(634);
+    text += "End\n";
+    std::fs::write(&flat, text).unwrap();
+    let r = run(&["remesh", i, "--metric", flat.to_str().unwrap(), "-o", o]);
+    assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("2D metric"), "{}", streams(&r));
+    // A planar-only option.
+    let r = run(&["remesh", i, "--metric", s, "-o", o, "--split-quads"]);
+    assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
+    // The loop cannot size a mesh in space yet.
+    let recipe = dir.path().join("r.toml");
+    std::fs::write(&recipe, "[global]\nhmin = 0.01\nhmax = 0.5\n").unwrap();
+    let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o, "--adapter", "mmg3d"]);
+    assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("smartmesh remesh"), "{}", streams(&r));
+    assert!(!out.exists());
+    // The library: the planar adapters refuse adapt_space, naming mmg3d and mmgs.
+    let mesh = read_path(&input, None).unwrap();
+    let metric = smartmesh::read_space_metric(Some(&sol), &mesh, "box_cyl").unwrap();
+    let native = smartmesh::adapter(smartmesh::AdapterKind::Native, Default::default()).unwrap();
+    let e = native.adapt_space(&mesh, &metric).unwrap_err().to_string();
+    assert!(e.contains("mmg3d") && e.contains("mmgs"), "{e}");
+}
