@@ -141,7 +141,8 @@ fn tag_counts(mesh: &TaggedMesh) -> BTreeMap<(u8, i32), usize> {
 }
 
 /// The unit cube meshed by Gmsh with physical surfaces Left (x = 0, 1), Right (x = 1,
-/// 2), Walls (the others, 3) and the volume Solid (10).
+/// 2), Walls (the others, 3), the volume Solid (10), the curve Rim (the four edges of
+/// the face x = 0, 20) and the point Origin (30).
 const GMSH_BOX: &str = r#"
 import sys, gmsh
 gmsh.initialize()
@@ -157,6 +158,11 @@ gmsh.model.addPhysicalGroup(2, left, 1, "Left")
 gmsh.model.addPhysicalGroup(2, right, 2, "Right")
 gmsh.model.addPhysicalGroup(2, walls, 3, "Walls")
 gmsh.model.addPhysicalGroup(3, [1], 10, "Solid")
+rim = [t for d, t in gmsh.model.getBoundary([(2, left[0])], oriented=False)]
+gmsh.model.addPhysicalGroup(1, rim, 20, "Rim")
+origin = [t for d, t in gmsh.model.getEntities(0)
+          if max(abs(c) for c in gmsh.model.getValue(0, t, [])) < 1e-9]
+gmsh.model.addPhysicalGroup(0, origin, 30, "Origin")
 gmsh.option.setNumber("Mesh.MeshSizeMax", 0.25)
 gmsh.model.mesh.generate(3)
 gmsh.write(sys.argv[1])
@@ -194,14 +200,37 @@ fn mmg3d_adapts_a_gmsh_box_to_an_oblique_metric_keeping_names_and_tags() {
     let mesh = read_path(&out, None).unwrap();
     assert_eq!(json["output"]["tetrahedra"], mesh.num_cells_of(CellKind::Tetra));
 
-    // The same physical tags, each with cells, and the same names.
+    // The same physical tags, each with cells, and the same names; the point where it
+    // was, the rim's edges on the face's rim.
     let (before, after) = (tag_counts(&start), tag_counts(&mesh));
-    let tags = |m: &BTreeMap<(u8, i32), usize>| -> BTreeSet<(u8, i32)> {
-        m.keys().copied().filter(|k| k.0 >= 2).collect()
-    };
+    let tags =
+        |m: &BTreeMap<(u8, i32), usize>| -> BTreeSet<(u8, i32)> { m.keys().copied().collect() };
     assert_eq!(tags(&before), tags(&after), "{after:?}");
-    for (k, name) in [((2, 1), "Left"), ((2, 2), "Right"), ((2, 3), "Walls"), ((3, 10), "Solid")] {
+    let names = [
+        ((0, 30), "Origin"),
+        ((1, 20), "Rim"),
+        ((2, 1), "Left"),
+        ((2, 2), "Right"),
+        ((2, 3), "Walls"),
+        ((3, 10), "Solid"),
+    ];
+    for (k, name) in names {
         assert_eq!(mesh.tag_names.get(&k).map(String::as_str), Some(name), "{k:?}");
+    }
+    assert!(after[&(1, 20)] > before[&(1, 20)], "the rim was not refined: {after:?}");
+    for (k, n, _, _) in mesh.cells() {
+        let q = |i: usize| mesh.points[n[i] as usize];
+        match k {
+            CellKind::Vertex => assert_eq!(q(0), [0.0, 0.0, 0.0]),
+            CellKind::Line => {
+                for q in [q(0), q(1)] {
+                    let on_rim = q[0] == 0.0
+                        && q[1..].iter().any(|&c| c.abs() < 1e-12 || (c - 1.0).abs() < 1e-12);
+                    assert!(on_rim, "rim vertex {q:?}");
+                }
+            }
+            _ => {}
+        }
     }
     // Every tetrahedron positive, the volume the cube's.
     let mut volume = 0.0;
