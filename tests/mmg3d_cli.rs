@@ -352,6 +352,9 @@ fn a_mesh_in_space_is_refused_by_the_planar_paths_naming_mmg3d() {
     let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o, "--adapter", "mmg3d"]);
     assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
     assert!(String::from_utf8_lossy(&r.stderr).contains("smartmesh remesh"), "{}", streams(&r));
+    let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o]);
+    assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("smartmesh remesh"), "{}", streams(&r));
     assert!(!out.exists());
     // The library: the planar adapters refuse adapt_space, naming mmg3d and mmgs.
     let mesh = read_path(&input, None).unwrap();

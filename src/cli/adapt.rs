@@ -557,7 +557,15 @@ pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
             .or(args.solution.error.map(|_| ERROR_START_VERTICES)),
     );
     let pairs = recipe.periodic_pairs();
-    let mut starting = start_sized(&args.input, args.from, first, &pairs)?;
+    let mut starting = start_sized(&args.input, args.from, first, &pairs).map_err(|e| {
+        match &e {
+            // The recipe sizes in the plane only: say where a mesh in space can go.
+            smartmesh::adapt::StartError::NotPlanar { .. } => CliError::usage(format!(
+                "{e}; the loop's sizing is planar today: a mesh in space is remeshed to a 3D metric by `smartmesh remesh MESH --metric M.sol -o OUT` (mmg3d for tetrahedra, --adapter mmgs for a surface)"
+            )),
+            _ => CliError::from(e),
+        }
+    })?;
     let plane_z = starting.plane_z;
     for n in &starting.notes {
         ui::note(&format!("{}: {n}", args.input.display()));
