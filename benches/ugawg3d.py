@@ -193,7 +193,7 @@ def start_mesh(case, args, work):
     script = GMSH_CUBE if name == "cube" else "import math\n" + GMSH_CUBE_CYLINDER
     msh = work / f"{case}-gmsh.msh"
     subprocess.run([sys.executable, "-c", script, str(msh)], check=True)
-    subprocess.run([args.smartmesh, "convert", str(msh), "-o", str(out), "-q"], check=True)
+    subprocess.run([args.smartmesh, "convert", str(msh), str(out), "-q"], check=True)
     return out, "Gmsh"
 
 
