@@ -290,3 +290,26 @@ pub fn adapter(
         AdapterKind::Gmsh => Ok(Box::new(gmsh::GmshAdapter::new(options)?)),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mmg_options_are_refused_by_the_other_remeshers_and_space_meshes_by_the_planar_ones() {
+        for kind in [AdapterKind::Native, AdapterKind::Gmsh] {
+            let options = AdapterOptions { ridge_angle: Some(30.0), ..Default::default() };
+            let e = adapter(kind, options).err().map(|e| e.to_string()).unwrap_or_default();
+            assert!(e.contains("--ridge-angle is an option of the MMG adapters"), "{e}");
+        }
+        let native = adapter(AdapterKind::Native, AdapterOptions::default()).unwrap();
+        let e = native.adapt_space(&TaggedMesh::new(), &[]).unwrap_err().to_string();
+        assert!(e.contains("native adapter") && e.contains("mmg3d") && e.contains("mmgs"), "{e}");
+        // The wrapper of --hausd refuses the same way, naming the remesher it wraps.
+        let options = AdapterOptions { hausd: Some(0.01), ..Default::default() };
+        let controlled = adapter(AdapterKind::Native, options).unwrap();
+        let e = controlled.adapt_space(&TaggedMesh::new(), &[]).unwrap_err().to_string();
+        assert!(e.contains("native adapter"), "{e}");
+        assert!(AdapterKind::Mmg3d.is_space() && !AdapterKind::Mmg2d.is_space());
+    }
+}

@@ -103,9 +103,9 @@ pub(super) struct RemeshArgs {
     /// Smoothing sweeps per pass.
     #[arg(long, default_value_t = RemeshOptions::default().smooth_sweeps)]
     smooth_sweeps: usize,
-    /// A curve turning by more than this many degrees at a vertex makes it a corner
-    /// (native: 30 when unset); with mmg3d/mmgs, MMG's -ar (dihedral angle of a ridge,
-    /// 45 when unset).
+    /// A curve turning by more than this many degrees at a vertex makes it a corner (45
+    /// when unset); with mmg3d/mmgs, MMG's -ar: the dihedral angle above which an edge is
+    /// a ridge (MMG's default, also 45, when unset).
     #[arg(long)]
     ridge_angle: Option<f64>,
     /// The remesher: native for a planar mesh; mmg3d (chosen for a mesh with
