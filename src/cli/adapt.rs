@@ -526,6 +526,17 @@ fn say_layer_and_sides(outcome: &mut Outcome, plane_z: f64) -> Result<(), CliErr
     Ok(())
 }
 
+/// A starting mesh that could not be had; one in space is told where it can go (the
+/// recipe sizes in the plane only).
+fn start_error(e: smartmesh::adapt::StartError) -> CliError {
+    match &e {
+        smartmesh::adapt::StartError::NotPlanar { .. } => CliError::usage(format!(
+            "{e}; the loop's sizing is planar today: a mesh in space is remeshed to a 3D metric by `smartmesh remesh MESH --metric M.sol -o OUT` (mmg3d for tetrahedra, --adapter mmgs for a surface)"
+        )),
+        _ => CliError::from(e),
+    }
+}
+
 /// The vertex count a `.poly` is meshed to before a solver's first solution when the
 /// goal is an error (`--error` without `--complexity-start`): enough for the Hessian's
 /// quadratic fits (five neighbours each) to resolve a smooth solution.
@@ -557,15 +568,7 @@ pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
             .or(args.solution.error.map(|_| ERROR_START_VERTICES)),
     );
     let pairs = recipe.periodic_pairs();
-    let mut starting = start_sized(&args.input, args.from, first, &pairs).map_err(|e| {
-        match &e {
-            // The recipe sizes in the plane only: say where a mesh in space can go.
-            smartmesh::adapt::StartError::NotPlanar { .. } => CliError::usage(format!(
-                "{e}; the loop's sizing is planar today: a mesh in space is remeshed to a 3D metric by `smartmesh remesh MESH --metric M.sol -o OUT` (mmg3d for tetrahedra, --adapter mmgs for a surface)"
-            )),
-            _ => CliError::from(e),
-        }
-    })?;
+    let mut starting = start_sized(&args.input, args.from, first, &pairs).map_err(start_error)?;
     let plane_z = starting.plane_z;
     for n in &starting.notes {
         ui::note(&format!("{}: {n}", args.input.display()));

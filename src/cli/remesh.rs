@@ -215,21 +215,7 @@ pub(super) fn run(args: RemeshArgs) -> Result<(), CliError> {
     if let Some(kind) = space_remesher(&args, &mesh) {
         return space(args, mesh, kind, read_notes, to, t0);
     }
-    let plane_z = smartmesh::plane(&mesh).map_err(|e| {
-        CliError::usage(format!(
-            "{}: {e}; a mesh in space goes to MMG: --adapter mmg3d (tetrahedra) or mmgs (a surface)",
-            super::input_name(&args.mesh)
-        ))
-    })?;
-    let mmg_only = [
-        ("--adapter-program", args.adapter_program.is_some()),
-        ("--adapter-arg", !args.adapter_args.is_empty()),
-        ("--no-ridges", args.no_ridges),
-        ("--nosurf", args.nosurf),
-    ];
-    if let Some((option, _)) = mmg_only.iter().find(|o| o.1) {
-        return Err(CliError::usage(format!("{option} is an option of the mmg3d and mmgs remeshers (a mesh in space); the native remesher does not take it")));
-    }
+    let plane_z = planar_input(&args, &mesh)?;
     if args.split_quads {
         let n = mesh.split_quads();
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));
@@ -360,6 +346,27 @@ pub(super) fn run(args: RemeshArgs) -> Result<(), CliError> {
         ),
     );
     Ok(())
+}
+
+/// The plane z = const of a mesh the native remesher takes (bad input, naming the MMG
+/// remeshers, when it is a mesh in space), with no option of theirs given.
+fn planar_input(args: &RemeshArgs, mesh: &smartmesh::formats::TaggedMesh) -> Result<f64, CliError> {
+    let plane_z = smartmesh::plane(mesh).map_err(|e| {
+        CliError::usage(format!(
+            "{}: {e}; a mesh in space goes to MMG: --adapter mmg3d (tetrahedra) or mmgs (a surface)",
+            super::input_name(&args.mesh)
+        ))
+    })?;
+    let mmg_only = [
+        ("--adapter-program", args.adapter_program.is_some()),
+        ("--adapter-arg", !args.adapter_args.is_empty()),
+        ("--no-ridges", args.no_ridges),
+        ("--nosurf", args.nosurf),
+    ];
+    if let Some((option, _)) = mmg_only.iter().find(|o| o.1) {
+        return Err(CliError::usage(format!("{option} is an option of the mmg3d and mmgs remeshers (a mesh in space); the native remesher does not take it")));
+    }
+    Ok(plane_z)
 }
 
 /// The MMG remesher a mesh goes to: the one asked for, else mmg3d for a mesh with
