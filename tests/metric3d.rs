@@ -17,36 +17,10 @@ use smartmesh::metric::Sym3;
 use smartmesh::{MetricField, MetricTarget};
 use smartmesh_test_support::grid::kuhn_box;
 
-/// The rotation by `angle` about the unit axis along `axis`, its columns the frame.
-fn frame(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
-    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-    let [x, y, z] = axis.map(|a| a / n);
-    let (c, s) = (angle.cos(), angle.sin());
-    let t = 1.0 - c;
-    let r = [
-        [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
-        [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
-        [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
-    ];
-    // The columns of r, an orthonormal frame.
-    [0, 1, 2].map(|j| [r[0][j], r[1][j], r[2][j]])
-}
-
-/// The test field: sizes 0.4, 0.2 and 0.05 + 0.1 x along a frame turned 0.7 rad about
-/// (1, 2, 3), written as M = Σ eᵢ eᵢᵀ / hᵢ² without the library.
-fn analytic(p: [f64; 3]) -> Sym3 {
-    let f = frame([1.0, 2.0, 3.0], 0.7);
-    let h = [0.4, 0.2, 0.05 + 0.1 * p[0]];
-    let mut m = [[0.0; 3]; 3];
-    for k in 0..3 {
-        for i in 0..3 {
-            for j in 0..3 {
-                m[i][j] += f[k][i] * f[k][j] / (h[k] * h[k]);
-            }
-        }
-    }
-    Sym3 { xx: m[0][0], xy: m[0][1], yy: m[1][1], xz: m[0][2], yz: m[1][2], zz: m[2][2] }
-}
+#[path = "support/metric3d.rs"]
+#[allow(dead_code)]
+mod metric3d;
+use metric3d::analytic;
 
 fn field(mesh: &TaggedMesh) -> MetricField<Sym3> {
     MetricField::new(mesh.points.iter().map(|&p| analytic(p)).collect(), "the analytic field")
@@ -93,42 +67,6 @@ fn a_3d_field_goes_to_every_target_and_back() {
     }
 }
 
-/// The UGAWG figures of `mesh` against `analytic`, from the definitions alone: each edge
-/// of the tetrahedra once, the log-mean of its ends' lengths.
-fn twin_lengths(mesh: &TaggedMesh) -> Vec<f64> {
-    let mut edges = std::collections::BTreeSet::new();
-    for (kind, n, _, _) in mesh.cells() {
-        if kind != smartmesh::formats::CellKind::Tetra {
-            continue;
-        }
-        for i in 0..4 {
-            for j in i + 1..4 {
-                edges.insert((n[i].min(n[j]), n[i].max(n[j])));
-            }
-        }
-    }
-    edges
-        .iter()
-        .map(|&(a, b)| {
-            let (pa, pb) = (mesh.points[a as usize], mesh.points[b as usize]);
-            let e = [pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]];
-            let l = |m: Sym3| {
-                let r = m.rows();
-                (0..3)
-                    .map(|i| (0..3).map(|j| e[i] * r[i][j] * e[j]).sum::<f64>())
-                    .sum::<f64>()
-                    .sqrt()
-            };
-            let (la, lb) = (l(analytic(pa)), l(analytic(pb)));
-            if (la / lb - 1.0).abs() < 1e-9 {
-                0.5 * (la + lb)
-            } else {
-                (la - lb) / (la / lb).ln()
-            }
-        })
-        .collect()
-}
-
 fn info_json(args: &[&str]) -> Value {
     let mut all = vec!["info", "--json"];
     all.extend_from_slice(args);
@@ -148,7 +86,7 @@ fn info_measures_tetrahedra_as_the_ugawg_does() {
     let (m, s) = (mesh_path.to_str().unwrap(), sol.to_str().unwrap());
     let j = info_json(&[m, "--metric", s]);
     let u = &j["metric"]["ugawg"];
-    let lengths = twin_lengths(&mesh);
+    let lengths = metric3d::edge_lengths(&mesh, smartmesh::formats::CellKind::Tetra);
     assert_eq!(u["dimension"], 3);
     assert_eq!(u["cell"], "tetrahedron");
     assert_eq!(u["cells"], 6 * 64);
