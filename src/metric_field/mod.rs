@@ -13,7 +13,16 @@
 //! | a Gmsh `.pos` view | the tensor (`TT`, `TQ`) records of its last view, as `gmsh -bgm` takes it, at the mesh's vertices ([`pos_view`]) | SPD at every view node |
 //!
 //! A field is the metric M = R diag(1/h1², 1/h2²) Rᵀ (files carry metrics, not sizes);
-//! only the xy block of a 9-component tensor is read. A vertex that no cell uses may carry
+//! only the xy block of a 9-component tensor is read.
+//!
+//! In 3D (`MetricField<Sym3>`, for tetrahedra and surfaces in space) the same files are
+//! read by the same functions (`read_field`, `load_field`, `own_field`,
+//! `point_data_field`; the 2D names call them), generic over [`FieldTensor`]: the whole
+//! 9-component tensor, or 6 components in ParaView's order XX YY ZZ XY YZ XZ, a 3D
+//! `.sol` in MMG's order (the formats crate makes it 9 components), and a `.pos` view's
+//! `TS`/`TT` records at the mesh's own vertices (`pos_view3`; no interpolation inside a
+//! view's tetrahedra yet); positions are compared in x, y and z. Writing is shared too
+//! (`write3` says what a 3D field writes). A vertex that no cell uses may carry
 //! anything (Gmsh keeps such nodes) and gets the identity.
 //!
 //! At positions that are not the field's vertices ([`MetricField::interpolate`]) the field

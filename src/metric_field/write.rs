@@ -22,6 +22,9 @@
 //! Gmsh honours an anisotropic background view only with its BAMG algorithm
 //! (`-setnumber Mesh.Algorithm 7`); the other 2D algorithms ignore it with a warning.
 //!
+//! A 3D field ([`crate::metric::Sym3`]) goes to the same targets through the same
+//! [`MetricField::write`]; what it writes is in `write3`.
+//!
 //! Invariants: a field is written whole or not at all (atomic renames, no half-written
 //! file); the field has one tensor per vertex of the mesh it is written with.
 
