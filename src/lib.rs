@@ -75,7 +75,7 @@ pub use adapt::{run as adapt, AdaptError, AdaptOptions, Observer, Outcome, Toler
 pub use adapters::restore::physical_tags;
 pub use adapters::space_metric::{read_space_metric, SpaceMetricError};
 pub use adapters::{adapter, Adapted, Adapter, AdapterError, AdapterKind, AdapterOptions};
-pub use conformity::{metric_field, Conformity};
+pub use conformity::{metric_field, Conformity, Ugawg};
 pub use formats::{read_path, write_path, Format, TaggedMesh, WriteOptions};
 pub use geometry::Point2;
 pub use history::{
@@ -84,7 +84,7 @@ pub use history::{
 pub use mesh_graph::{MeshGraph, MeshGraphError};
 pub use metric::{SizeBounds, SizeTensor, Sym2};
 pub use metric_field::{
-    expected_vertices, InterpolationError, Interpolator, MetricError, MetricField,
+    expected_vertices, FieldTensor, InterpolationError, Interpolator, MetricError, MetricField,
     MetricFieldError, MetricTarget, METRIC,
 };
 pub use planar::{place, plane, NotPlanar};

@@ -121,8 +121,14 @@ impl SolidSummary {
 pub struct MetricSummary {
     /// Where the metric came from, in words.
     pub source: String,
-    /// The figures; `None` when the mesh has no triangle or quad to measure.
+    /// The figures; `None` when the mesh has no triangle or quad to measure (and for a
+    /// 3D metric, measured by [`MetricSummary::ugawg`] alone).
     pub conformity: Option<crate::conformity::Conformity>,
+    /// The UGAWG measures: always for a 3D metric, for a 2D one when asked
+    /// ([`MeshSummary::with_ugawg`]); `None` when there is no cell to measure or they were
+    /// not asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ugawg: Option<crate::conformity::Ugawg>,
 }
 
 /// One tag, as the topology and the recipes know it ([`crate::topology::cell_tag`]).
@@ -358,6 +364,32 @@ impl MeshSummary {
         self.metric = Some(MetricSummary {
             source,
             conformity: crate::conformity::Conformity::of_mesh(mesh, metric),
+            ugawg: None,
+        });
+        self
+    }
+
+    /// Adds the UGAWG measures of a planar `mesh` against the 2D `metric` beside the
+    /// conformity of [`MeshSummary::with_metric`] (which comes first).
+    pub fn with_ugawg(mut self, mesh: &TaggedMesh, metric: &[crate::metric::Sym2]) -> MeshSummary {
+        if let Some(m) = self.metric.as_mut() {
+            m.ugawg = crate::conformity::Ugawg::of_mesh_2d(mesh, metric);
+        }
+        self
+    }
+
+    /// Adds the UGAWG measures of a mesh in space against the 3D `metric` (one tensor per
+    /// vertex), found at `source`.
+    pub fn with_metric_3d(
+        mut self,
+        mesh: &TaggedMesh,
+        metric: &[crate::metric::Sym3],
+        source: String,
+    ) -> MeshSummary {
+        self.metric = Some(MetricSummary {
+            source,
+            conformity: None,
+            ugawg: crate::conformity::Ugawg::of_mesh_3d(mesh, metric),
         });
         self
     }

@@ -22,6 +22,8 @@ use super::{parse_format, print_stdout, CliError};
   smartmesh info naca0012.msh
   smartmesh info --json square.1.ele | jq .topology.curves
   smartmesh info adapted.msh --metric field.vtu
+  smartmesh info adapted.mesh --metric adapted.sol --measures ugawg
+  smartmesh info cube.meshb --metric cube-metric.solb   # tetrahedra: UGAWG measures
   smartmesh info adapted.msh --recipe recipe.toml    # the match of its periodic sides
   cat mesh.vtu | smartmesh info --from vtu -")]
 #[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs are measured on FILE: vertex counts and the largest distance between a vertex's image and its partner (exit 2 when the sides are not images of each other)")))]
@@ -39,14 +41,29 @@ pub(super) struct InfoArgs {
     #[arg(long)]
     no_solution: bool,
     /// A metric on FILE's vertices (a mesh file with point data `metric`, a .sol/.solb in
-    /// FILE's vertex order, or a .pos view): adds the share of
+    /// FILE's vertex order, a Gmsh data-only .msh, or a .pos view): adds the share of
     /// edges of metric length in [1/√2, √2] and the metric quality (FILE's own `metric`
-    /// array is used when this is not given).
+    /// array is used when this is not given). On a mesh in space (volume cells, or
+    /// vertices off the plane z = constant) the metric is 3D (9 components, ParaView's 6,
+    /// or a 3D .sol in MMG's order m11 m12 m22 m13 m23 m33) and measured as the UGAWG does.
     #[arg(long, short = 'm')]
     metric: Option<PathBuf>,
+    /// Which measures of the metric to print besides the default ones on a planar mesh:
+    /// `ugawg` adds the UGAWG's (edge length by the log-mean of the ends' lengths, its
+    /// min, max, mean and geometric mean, and the mean-ratio quality), as the published
+    /// benchmark tables and nasa/refine's `ref_histogram` give them (always given in 3D).
+    #[arg(long, value_enum)]
+    measures: Option<Measures>,
     /// The recipe whose periodic pairs are measured (its help is set above).
     #[command(flatten)]
     pub recipe: super::RecipeInput,
+}
+
+/// The measures `--measures` adds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Measures {
+    /// The UGAWG's measures.
+    Ugawg,
 }
 
 /// Runs `info`.
@@ -62,12 +79,22 @@ pub(super) fn run(args: InfoArgs) -> Result<(), CliError> {
     }
     let topo = Topology::from_mesh(&mesh);
     let mut summary = MeshSummary::of(&mesh, &topo);
-    match MetricField::load(&mesh, &args.file, args.metric.as_deref()) {
-        Ok(Some(m)) => summary = summary.with_metric(&mesh, m.tensors(), m.source().to_string()),
-        Ok(None) => {}
-        // The file's own array is only looked at by the way: a bad one is a warning.
-        Err(e) if args.metric.is_none() => super::ui::warn(&format!("no metric figures: {e}")),
-        Err(e) => return Err(e.into()),
+    if super::info_metric::in_space(&mesh) {
+        summary =
+            super::info_metric::with_metric_3d(summary, &mesh, &args.file, args.metric.as_deref())?;
+    } else {
+        match MetricField::load(&mesh, &args.file, args.metric.as_deref()) {
+            Ok(Some(m)) => {
+                summary = summary.with_metric(&mesh, m.tensors(), m.source().to_string());
+                if args.measures == Some(Measures::Ugawg) {
+                    summary = summary.with_ugawg(&mesh, m.tensors());
+                }
+            }
+            Ok(None) => {}
+            // The file's own array is only looked at by the way: a bad one is a warning.
+            Err(e) if args.metric.is_none() => super::ui::warn(&format!("no metric figures: {e}")),
+            Err(e) => return Err(e.into()),
+        }
     }
     // Quad figures and validity are taken at the corners, as the topology's. The validity
     // of a mixed planar mesh means nothing for the faces of a 3D mesh.
@@ -369,9 +396,13 @@ fn render(file: &str, s: &MeshSummary) -> String {
                     c.mean_quality
                 );
             }
-            None => {
+            None if m.ugawg.is_none() => {
                 let _ = writeln!(o, "  metric      {}: no triangle to measure", m.source);
             }
+            None => {}
+        }
+        if let Some(u) = &m.ugawg {
+            super::info_metric::render_ugawg(&mut o, &m.source, u);
         }
     }
     o

@@ -6,6 +6,7 @@ mod convert;
 mod error;
 mod info;
 mod info3d;
+mod info_metric;
 mod layer;
 mod mesh;
 mod output;

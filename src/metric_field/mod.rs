@@ -13,7 +13,16 @@
 //! | a Gmsh `.pos` view | the tensor (`TT`, `TQ`) records of its last view, as `gmsh -bgm` takes it, at the mesh's vertices ([`pos_view`]) | SPD at every view node |
 //!
 //! A field is the metric M = R diag(1/h1², 1/h2²) Rᵀ (files carry metrics, not sizes);
-//! only the xy block of a 9-component tensor is read. A vertex that no cell uses may carry
+//! only the xy block of a 9-component tensor is read.
+//!
+//! In 3D (`MetricField<Sym3>`, for tetrahedra and surfaces in space) the same files are
+//! read by the same functions (`read_field`, `load_field`, `own_field`,
+//! `point_data_field`; the 2D names call them), generic over [`FieldTensor`]: the whole
+//! 9-component tensor, or 6 components in ParaView's order XX YY ZZ XY YZ XZ, a 3D
+//! `.sol` in MMG's order (the formats crate makes it 9 components), and a `.pos` view's
+//! `TS`/`TT` records at the mesh's own vertices (`pos_view3`; no interpolation inside a
+//! view's tetrahedra yet); positions are compared in x, y and z. Writing is shared too
+//! (`write3` says what a 3D field writes). A vertex that no cell uses may carry
 //! anything (Gmsh keeps such nodes) and gets the identity.
 //!
 //! At positions that are not the field's vertices ([`MetricField::interpolate`]) the field
@@ -32,10 +41,15 @@
 mod expected;
 pub(crate) mod interpolate;
 pub(crate) mod pos_view;
+mod pos_view3;
+mod tensor;
 pub(crate) mod write;
+mod write3;
 
 pub use expected::expected_vertices;
 pub use interpolate::{InterpolationError, Interpolator};
+pub(crate) use tensor::log_euclidean3;
+pub use tensor::FieldTensor;
 pub use write::MetricTarget;
 
 use std::path::Path;
@@ -48,10 +62,11 @@ use smartmesh_formats::{read_path, DataArray, Format, TaggedMesh};
 /// every reader and writer of smartmesh names it.
 pub const METRIC: &str = "metric";
 
-/// A metric field: one SPD tensor per vertex of a mesh, and where it was found.
+/// A metric field: one SPD tensor per vertex of a mesh, and where it was found; a 2D
+/// field ([`Sym2`], the default) or a field on a mesh in space ([`Sym3`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct MetricField {
-    tensors: Vec<Sym2>,
+pub struct MetricField<T: FieldTensor = Sym2> {
+    tensors: Vec<T>,
     /// The size tensors the field was made from ([`MetricField::from_sizes`]), kept for
     /// what is written beside the metric.
     sizes: Option<Vec<SizeTensor>>,
@@ -69,13 +84,18 @@ pub enum MetricFieldError {
         /// The arrays the mesh has.
         available: String,
     },
-    /// The array is not a tensor (9 components) or a 2D symmetric tensor (3 components).
-    #[error("point data `{name}` has {components} components; a metric has 9 (3x3 row-major) or 3 (m11 m12 m22)")]
+    /// The array is not a tensor (9 components) or a packed symmetric one (3 components
+    /// in 2D, 6 in 3D).
+    #[error("point data `{name}` has {components} components; a {dim}D metric has {expected}")]
     Shape {
         /// The array's name.
         name: String,
         /// Its number of components.
         components: usize,
+        /// The dimension of the metric looked for.
+        dim: u8,
+        /// The counts it may have.
+        expected: &'static str,
     },
     /// One item per vertex is needed.
     #[error("point data `{name}` has {items} items for {vertices} vertices")]
@@ -105,6 +125,27 @@ pub enum MetricFieldError {
         /// What is wrong.
         why: &'static str,
     },
+    /// A 3D tensor that is not finite, not symmetric or not positive definite.
+    #[error("point data `{name}` at vertex {vertex} (0-based) is not a 3D metric: {} (row-major) is {why}", show_rows(.tensor))]
+    NotSpd3 {
+        /// The array's name.
+        name: String,
+        /// The vertex index.
+        vertex: usize,
+        /// The tensor as read, row-major 3×3.
+        tensor: Vec<f64>,
+        /// What is wrong.
+        why: &'static str,
+    },
+}
+
+/// A row-major 3×3 tensor as `[[a, b, c], [d, e, f], [g, h, i]]`.
+fn show_rows(t: &[f64]) -> String {
+    let rows: Vec<String> = t
+        .chunks(3)
+        .map(|r| format!("[{}]", r.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")))
+        .collect();
+    format!("[{}]", rows.join(", "))
 }
 
 /// Why no metric field could be had from a file.
@@ -142,12 +183,12 @@ pub enum MetricError {
         path: String,
         /// The first vertex that differs.
         vertex: usize,
-        /// Where the metric file has it.
-        at: [f64; 2],
+        /// Where the metric file has it (x, y, and z for a 3D field).
+        at: Vec<f64>,
         /// The mesh file.
         mesh: String,
         /// Where the mesh has it.
-        expected: [f64; 2],
+        expected: Vec<f64>,
     },
     /// A file that holds no metric in a form smartmesh reads as one.
     #[error("{path}: {why}")]
@@ -184,20 +225,20 @@ impl Kind {
     }
 }
 
-impl MetricField {
+impl<T: FieldTensor> MetricField<T> {
     /// A field from its tensors (one per vertex, each SPD) and a description of where it
     /// came from.
-    pub fn new(tensors: Vec<Sym2>, source: impl Into<String>) -> MetricField {
+    pub fn new(tensors: Vec<T>, source: impl Into<String>) -> MetricField<T> {
         MetricField { tensors, sizes: None, source: source.into() }
     }
 
     /// The tensors, one per vertex.
-    pub fn tensors(&self) -> &[Sym2] {
+    pub fn tensors(&self) -> &[T] {
         &self.tensors
     }
 
     /// The tensors, one per vertex.
-    pub fn into_tensors(self) -> Vec<Sym2> {
+    pub fn into_tensors(self) -> Vec<T> {
         self.tensors
     }
 
@@ -206,10 +247,9 @@ impl MetricField {
         &self.source
     }
 
-    /// The field named `name` in `mesh`'s point data, one SPD tensor per vertex: a
-    /// 9-component tensor (its xy block) or a packed 2D one (m11 m12 m22). Vertices that no
-    /// cell uses may carry any value (Gmsh keeps such nodes); they get the identity.
-    pub fn from_point_data(mesh: &TaggedMesh, name: &str) -> Result<MetricField, MetricFieldError> {
+    /// [`MetricField::from_point_data`] for a field of either dimension (a 3D field reads
+    /// 9 components or ParaView's 6).
+    pub fn point_data_field(mesh: &TaggedMesh, name: &str) -> Result<Self, MetricFieldError> {
         let array = mesh.point_data.get(name).ok_or_else(|| MetricFieldError::Missing {
             name: name.to_string(),
             available: if mesh.point_data.is_empty() {
@@ -222,12 +262,65 @@ impl MetricField {
         Ok(MetricField { tensors, sizes: None, source: format!("`{name}`") })
     }
 
-    /// The mesh's own [`METRIC`] array (`mesh` read from `mesh_path`).
-    pub fn own(mesh: &TaggedMesh, mesh_path: &Path) -> Result<MetricField, MetricError> {
+    /// [`MetricField::own`] for a field of either dimension.
+    pub fn own_field(mesh: &TaggedMesh, mesh_path: &Path) -> Result<Self, MetricError> {
         let path = mesh_path.display().to_string();
-        let field = MetricField::from_point_data(mesh, METRIC)
+        let field = Self::point_data_field(mesh, METRIC)
             .map_err(|error| MetricError::Field { path: path.clone(), error })?;
         Ok(MetricField { source: format!("`{METRIC}` of {path}"), ..field })
+    }
+
+    /// [`MetricField::load`] for a field of either dimension.
+    pub fn load_field(
+        mesh: &TaggedMesh,
+        mesh_path: &Path,
+        metric_path: Option<&Path>,
+    ) -> Result<Option<Self>, MetricError> {
+        match metric_path {
+            Some(p) => Self::read_field(p, None, mesh, mesh_path).map(Some),
+            None if !mesh.point_data.contains_key(METRIC) => Ok(None),
+            None => Self::own_field(mesh, mesh_path).map(Some),
+        }
+    }
+
+    /// [`MetricField::read`] for a field of either dimension. A 3D `.pos` view (`TS`
+    /// records on tetrahedra, `TT` on triangles in space) is read at its nodes, which
+    /// must be the mesh's vertices (see `pos_view3`).
+    pub fn read_field(
+        path: &Path,
+        format: Option<Format>,
+        mesh: &TaggedMesh,
+        mesh_path: &Path,
+    ) -> Result<Self, MetricError> {
+        match Kind::of(path, format) {
+            Kind::Sol => read_sol(path, mesh, mesh_path),
+            Kind::Pos => {
+                let (name, tensors) = T::read_pos(path, mesh)?;
+                Ok(MetricField {
+                    tensors,
+                    sizes: None,
+                    source: format!("view `{name}` of {}", path.display()),
+                })
+            }
+            Kind::Mesh => match read_mesh_or_data(path, format)? {
+                MshContent::Mesh(other) => on_same_vertices(mesh, mesh_path, &other, path),
+                MshContent::NodeData(data) => on_node_data(mesh, mesh_path, data, path),
+            },
+        }
+    }
+}
+
+impl MetricField {
+    /// The field named `name` in `mesh`'s point data, one SPD tensor per vertex: a
+    /// 9-component tensor (its xy block) or a packed 2D one (m11 m12 m22). Vertices that no
+    /// cell uses may carry any value (Gmsh keeps such nodes); they get the identity.
+    pub fn from_point_data(mesh: &TaggedMesh, name: &str) -> Result<MetricField, MetricFieldError> {
+        Self::point_data_field(mesh, name)
+    }
+
+    /// The mesh's own [`METRIC`] array (`mesh` read from `mesh_path`).
+    pub fn own(mesh: &TaggedMesh, mesh_path: &Path) -> Result<MetricField, MetricError> {
+        Self::own_field(mesh, mesh_path)
     }
 
     /// The metric on `mesh` (read from `mesh_path`): from the file `metric_path` when
@@ -238,11 +331,7 @@ impl MetricField {
         mesh_path: &Path,
         metric_path: Option<&Path>,
     ) -> Result<Option<MetricField>, MetricError> {
-        match metric_path {
-            Some(p) => MetricField::read(p, None, mesh, mesh_path).map(Some),
-            None if !mesh.point_data.contains_key(METRIC) => Ok(None),
-            None => MetricField::own(mesh, mesh_path).map(Some),
-        }
+        Self::load_field(mesh, mesh_path, metric_path)
     }
 
     /// The metric file `path` (of `format` when given, else told by its extension) as a
@@ -254,23 +343,7 @@ impl MetricField {
         mesh: &TaggedMesh,
         mesh_path: &Path,
     ) -> Result<MetricField, MetricError> {
-        match Kind::of(path, format) {
-            Kind::Sol => read_sol(path, mesh, mesh_path),
-            Kind::Pos => {
-                let view = pos_view::read_path(path)?;
-                let points: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
-                let tensors = view.at(&points);
-                Ok(MetricField {
-                    tensors,
-                    sizes: None,
-                    source: format!("view `{}` of {}", view.name(), path.display()),
-                })
-            }
-            Kind::Mesh => match read_mesh_or_data(path, format)? {
-                MshContent::Mesh(other) => on_same_vertices(mesh, mesh_path, &other, path),
-                MshContent::NodeData(data) => on_node_data(mesh, mesh_path, data, path),
-            },
-        }
+        Self::read_field(path, format, mesh, mesh_path)
     }
 
     /// A field with the mesh it lives on, to be interpolated elsewhere (the input of a
@@ -343,15 +416,18 @@ impl MetricField {
 
 /// The tensors of `array` (point data `name` of `mesh`), checked: the shape, one item per
 /// vertex, SPD and finite at every vertex a cell of `mesh` uses.
-fn validate(
+fn validate<T: FieldTensor>(
     array: &DataArray,
     mesh: &TaggedMesh,
     name: &str,
-) -> Result<Vec<Sym2>, MetricFieldError> {
-    if array.components != 9 && array.components != 3 {
+) -> Result<Vec<T>, MetricFieldError> {
+    let packed = array.layout == smartmesh_formats::Layout::Symmetric2;
+    if !T::accepts(array.components, packed) {
         return Err(MetricFieldError::Shape {
             name: name.to_string(),
             components: array.components,
+            dim: T::DIM,
+            expected: T::SHAPES,
         });
     }
     if array.len() != mesh.points.len() {
@@ -371,20 +447,25 @@ fn validate(
     }
     let mut out = Vec::with_capacity(array.len());
     for (v, &in_use) in used.iter().enumerate() {
-        let t = array.item(v);
-        let (a, b, b2, c) =
-            if array.components == 9 { (t[0], t[1], t[3], t[4]) } else { (t[0], t[1], t[1], t[2]) };
-        match not_a_metric(a, b, b2, c) {
-            None => out.push(Sym2::new(a, 0.5 * (b + b2), c)),
-            Some(_) if !in_use => out.push(Sym2::IDENTITY),
-            Some(why) => {
+        match T::from_item(array.item(v), packed) {
+            Ok(t) => out.push(t),
+            Err(_) if !in_use => out.push(T::IDENTITY),
+            Err((why, t)) if T::DIM == 2 => {
                 return Err(MetricFieldError::NotSpd {
                     name: name.to_string(),
                     vertex: v,
-                    a,
-                    b,
-                    b2,
-                    c,
+                    a: t[0],
+                    b: t[1],
+                    b2: t[2],
+                    c: t[3],
+                    why,
+                })
+            }
+            Err((why, tensor)) => {
+                return Err(MetricFieldError::NotSpd3 {
+                    name: name.to_string(),
+                    vertex: v,
+                    tensor,
                     why,
                 })
             }
@@ -408,13 +489,21 @@ pub(crate) fn not_a_metric(a: f64, b: f64, b2: f64, c: f64) -> Option<&'static s
 
 /// `array` (point data [`METRIC`] of the file `path`) validated against `mesh`'s cells: a
 /// vertex that no cell of *this* mesh uses may carry anything.
-fn on_mesh(mesh: &TaggedMesh, array: &DataArray, path: &str) -> Result<Vec<Sym2>, MetricError> {
+fn on_mesh<T: FieldTensor>(
+    mesh: &TaggedMesh,
+    array: &DataArray,
+    path: &str,
+) -> Result<Vec<T>, MetricError> {
     validate(array, mesh, METRIC)
         .map_err(|error| MetricError::Field { path: path.to_string(), error })
 }
 
 /// A Medit solution file alone, in `mesh`'s vertex order.
-fn read_sol(path: &Path, mesh: &TaggedMesh, mesh_path: &Path) -> Result<MetricField, MetricError> {
+fn read_sol<T: FieldTensor>(
+    path: &Path,
+    mesh: &TaggedMesh,
+    mesh_path: &Path,
+) -> Result<MetricField<T>, MetricError> {
     let shown = path.display().to_string();
     let bytes =
         std::fs::read(path).map_err(|e| smartmesh_formats::Error::from(e).with_path(path))?;
@@ -465,12 +554,12 @@ fn read_mesh_or_data(path: &Path, format: Option<Format>) -> Result<MshContent, 
 
 /// The view [`METRIC`] (or the only view) of a Gmsh data-only file `path` as a field on
 /// `mesh`'s vertices: one entry per vertex, node tag t at vertex t − 1.
-fn on_node_data(
+fn on_node_data<T: FieldTensor>(
     mesh: &TaggedMesh,
     mesh_path: &Path,
     data: NodeData,
     path: &Path,
-) -> Result<MetricField, MetricError> {
+) -> Result<MetricField<T>, MetricError> {
     let shown = path.display().to_string();
     let name = if data.arrays.contains_key(METRIC) || data.arrays.len() != 1 {
         METRIC.to_string()
@@ -509,16 +598,16 @@ fn on_node_data(
 
 /// The [`METRIC`] array of `other` (read from `other_path`) as a field on `mesh`'s
 /// vertices: the same count, the same positions.
-fn on_same_vertices(
+fn on_same_vertices<T: FieldTensor>(
     mesh: &TaggedMesh,
     mesh_path: &Path,
     other: &TaggedMesh,
     other_path: &Path,
-) -> Result<MetricField, MetricError> {
+) -> Result<MetricField<T>, MetricError> {
     let path = other_path.display().to_string();
     let Some(array) = other.point_data.get(METRIC) else {
         // Let from_point_data word the error (it lists the arrays there are).
-        let error = MetricField::from_point_data(other, METRIC)
+        let error = MetricField::<T>::point_data_field(other, METRIC)
             .err()
             .unwrap_or(MetricFieldError::Missing { name: METRIC.into(), available: "none".into() });
         return Err(MetricError::Field { path, error });
@@ -533,13 +622,19 @@ fn on_same_vertices(
         });
     }
     // Same count is not enough: the vertices must be the mesh's.
-    if let Some(v) = first_moved_vertex(mesh, other) {
+    let moved = if T::DIM == 2 {
+        first_moved_vertex(mesh, other)
+    } else {
+        first_moved_vertex_3d(mesh, other)
+    };
+    if let Some(v) = moved {
+        let d = T::DIM as usize;
         return Err(MetricError::Moved {
             path,
             vertex: v,
-            at: [other.points[v][0], other.points[v][1]],
+            at: other.points[v][..d].to_vec(),
             mesh: mesh_path.display().to_string(),
-            expected: [mesh.points[v][0], mesh.points[v][1]],
+            expected: mesh.points[v][..d].to_vec(),
         });
     }
     let tensors = on_mesh(mesh, array, &path)?;
@@ -555,6 +650,15 @@ pub(crate) fn first_moved_vertex(mesh: &TaggedMesh, other: &TaggedMesh) -> Optio
     let tol = 1e-9 * (hi[0] - lo[0]).abs().max((hi[1] - lo[1]).abs()).max(1e-300);
     (0..mesh.points.len())
         .find(|&v| (0..2).any(|k| (other.points[v][k] - mesh.points[v][k]).abs() > tol))
+}
+
+/// [`first_moved_vertex`] in space: x, y and z within 1e-9 of the mesh's largest extent.
+fn first_moved_vertex_3d(mesh: &TaggedMesh, other: &TaggedMesh) -> Option<usize> {
+    let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
+    let extent = (0..3).map(|k| (hi[k] - lo[k]).abs()).fold(1e-300, f64::max);
+    let tol = 1e-9 * extent;
+    (0..mesh.points.len())
+        .find(|&v| (0..3).any(|k| (other.points[v][k] - mesh.points[v][k]).abs() > tol))
 }
 
 #[cfg(test)]

@@ -22,6 +22,9 @@
 //! Gmsh honours an anisotropic background view only with its BAMG algorithm
 //! (`-setnumber Mesh.Algorithm 7`); the other 2D algorithms ignore it with a warning.
 //!
+//! A 3D field ([`crate::metric::Sym3`]) goes to the same targets through the same
+//! [`MetricField::write`]; what it writes is in `write3`.
+//!
 //! Invariants: a field is written whole or not at all (atomic renames, no half-written
 //! file); the field has one tensor per vertex of the mesh it is written with.
 
@@ -33,7 +36,7 @@ use smartmesh_formats::{
     TaggedMesh, WriteOptions, WriteReport,
 };
 
-use super::{MetricField, METRIC};
+use super::{FieldTensor, MetricField, METRIC};
 use crate::metric::SizeTensor;
 
 /// Where a metric goes, told by the output's extension.
@@ -168,10 +171,12 @@ impl MetricField {
     pub fn pos_bytes(&self, mesh: &TaggedMesh) -> Result<Vec<u8>, Error> {
         smartmesh_formats::gmsh::pos::write_tensor_view(mesh, &self.to_array(), METRIC)
     }
+}
 
+impl<T: FieldTensor> MetricField<T> {
     /// Writes the field (one tensor per vertex of `mesh`) to `path` as `target` wants,
     /// atomically (no half-written file on failure). `opts` chooses the binary/version
-    /// variants of mesh targets.
+    /// variants of mesh targets. A 3D field goes to the same targets (see `write3`).
     pub fn write(
         &self,
         path: &Path,
@@ -189,12 +194,20 @@ impl MetricField {
         }
         match target {
             MetricTarget::Sol { binary } => {
-                let bytes = self.sol_bytes(binary).map_err(|e| e.with_path(path))?;
+                let array = T::metric_array(self);
+                let bytes =
+                    smartmesh_formats::medit::write_sol(&[(METRIC, &array)], T::DIM, binary)
+                        .map_err(|e| e.with_path(path))?;
                 write_all_atomically(&[(path.to_path_buf(), bytes)])?;
                 Ok(Written { files: vec![path.to_path_buf()], dropped: Vec::new() })
             }
             MetricTarget::Pos => {
-                let bytes = self.pos_bytes(mesh).map_err(|e| e.with_path(path))?;
+                let bytes = smartmesh_formats::gmsh::pos::write_tensor_view(
+                    mesh,
+                    &T::metric_array(self),
+                    METRIC,
+                )
+                .map_err(|e| e.with_path(path))?;
                 write_all_atomically(&[(path.to_path_buf(), bytes)])?;
                 Ok(Written { files: vec![path.to_path_buf()], dropped: Vec::new() })
             }
@@ -219,9 +232,9 @@ impl MetricField {
                             ));
                         }
                         out.cell_data.retain(|k, _| is_tag_array(k));
-                        out.point_data.insert(METRIC.to_string(), self.to_array());
+                        out.point_data.insert(METRIC.to_string(), T::metric_array(self));
                     }
-                    _ => out.point_data.extend(self.arrays()),
+                    _ => out.point_data.extend(T::vtk_arrays(self)),
                 }
                 let report: WriteReport = write_path(path, &out, Some(format), opts)?;
                 dropped.extend(report.dropped);

@@ -207,6 +207,75 @@ pub fn triangles_crossed_by(
         .collect()
 }
 
+/// The box [0, size[0]] × [0, size[1]] × [0, size[2]], `n` cubes a side, each cut into
+/// the six Kuhn tetrahedra around its diagonal from the lower corner, every tetrahedron
+/// positive (Gmsh's orientation): volume 1; its boundary as triangles, tag 10 + the side
+/// (x = 0, x = max, y = 0, y = max, z = 0, z = max: 11 to 16). Vertex (i, j, k) has
+/// index (k (n + 1) + j) (n + 1) + i.
+pub fn kuhn_box(n: usize, size: [f64; 3]) -> TaggedMesh {
+    let m = n + 1;
+    let id = |i: usize, j: usize, k: usize| ((k * m + j) * m + i) as u32;
+    let mut mesh = TaggedMesh::new();
+    mesh.coordinate_dim = 3;
+    for k in 0..m {
+        for j in 0..m {
+            for i in 0..m {
+                mesh.points.push([
+                    size[0] * i as f64 / n as f64,
+                    size[1] * j as f64 / n as f64,
+                    size[2] * k as f64 / n as f64,
+                ]);
+            }
+        }
+    }
+    let mut tets = CellBlock::new(CellKind::Tetra);
+    let mut tris = CellBlock::new(CellKind::Triangle);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let c = |b: usize| id(i + (b & 1), j + (b >> 1 & 1), k + (b >> 2));
+                for path in [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]] {
+                    let mut t = [c(0), c(path[0]), c(path[1]), c(7)];
+                    let p = t.map(|v| mesh.points[v as usize]);
+                    let e = |a: usize| [0, 1, 2].map(|x| p[a][x] - p[0][x]);
+                    let (a, b, d) = (e(1), e(2), e(3));
+                    let det = a[0] * (b[1] * d[2] - b[2] * d[1])
+                        - a[1] * (b[0] * d[2] - b[2] * d[0])
+                        + a[2] * (b[0] * d[1] - b[1] * d[0]);
+                    if det < 0.0 {
+                        t.swap(2, 3);
+                    }
+                    tets.push(&t, 1, 1);
+                }
+            }
+        }
+    }
+    // Each side: two triangles per square, split along the diagonal through the corner
+    // nearest the origin's, as the tetrahedra's faces are.
+    for side in 0..6 {
+        let (axis, high) = (side / 2, side % 2 == 1);
+        for a in 0..n {
+            for b in 0..n {
+                let at = |da: usize, db: usize| {
+                    let fixed = if high { n } else { 0 };
+                    let (u, v) = (a + da, b + db);
+                    match axis {
+                        0 => id(fixed, u, v),
+                        1 => id(u, fixed, v),
+                        _ => id(u, v, fixed),
+                    }
+                };
+                let tag = 11 + side;
+                tris.push(&[at(0, 0), at(1, 0), at(1, 1)], tag, tag);
+                tris.push(&[at(0, 0), at(1, 1), at(0, 1)], tag, tag);
+            }
+        }
+    }
+    mesh.blocks.push(tets);
+    mesh.blocks.push(tris);
+    mesh
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

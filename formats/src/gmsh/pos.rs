@@ -18,9 +18,11 @@
 //! error of its own. Memory stays within one record's numbers.
 //!
 //! Writing ([`write_tensor_view`]): one view of `TT`/`TQ` records with a 9-component
-//! tensor (row-major) at each node, on a mesh's triangles and quadrangles; second-order
-//! cells are written as their corner triangle or quadrangle (a background mesh needs no
-//! more), cells of other dimensions carry no record. Numbers are shortest round-trip
+//! tensor (row-major) at each node, on a mesh's triangles and quadrangles; a mesh with
+//! volume cells gets `TS`/`TH`/`TI`/`TY` records on its tetrahedra, hexahedra, prisms and
+//! pyramids instead (Gmsh's background mesh in 3D is looked up in volume elements; the
+//! faces on their boundary add nothing). Second-order cells are written as their corner
+//! cell (a background mesh needs no more), cells of other dimensions carry no record. Numbers are shortest round-trip
 //! decimals, which Gmsh's `strtod` reads back exactly.
 
 use crate::text::push_f64;
@@ -404,7 +406,8 @@ impl<'a> Parser<'a> {
 }
 
 /// The bytes of a `.pos` file holding one view `name` of the 9-component point array
-/// `tensor` on the triangles and quadrangles of `mesh`.
+/// `tensor` on the volume cells of `mesh` or, when it has none, on its triangles and
+/// quadrangles.
 pub fn write_tensor_view(
     mesh: &TaggedMesh,
     tensor: &DataArray,
@@ -423,7 +426,9 @@ pub fn write_tensor_view(
     if name.contains('"') || name.contains('\n') {
         return Err(cannot(format!("view name {name:?} holds a quote or a newline")));
     }
-    let faces = mesh.blocks.iter().filter(|b| face_corners(b.kind).is_some());
+    let solid = mesh.blocks.iter().any(|b| b.kind.dim() == 3 && !b.is_empty());
+    let record = |kind: CellKind| if solid { volume_corners(kind) } else { face_corners(kind) };
+    let faces = mesh.blocks.iter().filter(|b| record(b.kind).is_some());
     let records: usize = faces.clone().map(|b| b.len()).sum();
     if records == 0 {
         return Err(cannot("the mesh has no triangle or quadrangle to carry the view".into()));
@@ -433,7 +438,7 @@ pub fn write_tensor_view(
     out.extend_from_slice(name.as_bytes());
     out.extend_from_slice(b"\" {\n");
     for block in faces {
-        let Some((tag, corners)) = face_corners(block.kind) else { continue };
+        let Some((tag, corners)) = record(block.kind) else { continue };
         for cell in block.cells() {
             let cell = &cell[..corners];
             out.extend_from_slice(tag);
@@ -461,6 +466,18 @@ pub fn write_tensor_view(
     }
     out.extend_from_slice(b"};\n");
     Ok(out)
+}
+
+/// The record tag and number of corners of a volume kind (Gmsh's node order is ours),
+/// `None` for other kinds.
+fn volume_corners(kind: CellKind) -> Option<(&'static [u8], usize)> {
+    match kind.linear() {
+        CellKind::Tetra => Some((b"TS", 4)),
+        CellKind::Hexa => Some((b"TH", 8)),
+        CellKind::Wedge => Some((b"TI", 6)),
+        CellKind::Pyramid => Some((b"TY", 5)),
+        _ => None,
+    }
 }
 
 /// The record tag and number of corners of a face kind, `None` for other kinds.
