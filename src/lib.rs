@@ -73,7 +73,6 @@ mod variants;
 // `sizing::solution`).
 pub use adapt::{run as adapt, AdaptError, AdaptOptions, Observer, Outcome, Tolerances};
 pub use adapters::restore::physical_tags;
-pub use adapters::space_metric::{read_space_metric, SpaceMetricError};
 pub use adapters::{adapter, Adapted, Adapter, AdapterError, AdapterKind, AdapterOptions};
 pub use conformity::{metric_field, Conformity, Ugawg};
 pub use formats::{read_path, write_path, Format, TaggedMesh, WriteOptions};

@@ -342,7 +342,7 @@ fn a_mesh_in_space_is_refused_by_the_planar_paths_naming_mmg3d() {
     std::fs::write(&flat, text).unwrap();
     let r = run(&["remesh", i, "--metric", flat.to_str().unwrap(), "-o", o]);
     assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
-    assert!(String::from_utf8_lossy(&r.stderr).contains("2D metric"), "{}", streams(&r));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("a 3D metric has"), "{}", streams(&r));
     // A planar-only option.
     let r = run(&["remesh", i, "--metric", s, "-o", o, "--split-quads"]);
     assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
@@ -358,7 +358,10 @@ fn a_mesh_in_space_is_refused_by_the_planar_paths_naming_mmg3d() {
     assert!(!out.exists());
     // The library: the planar adapters refuse adapt_space, naming mmg3d and mmgs.
     let mesh = read_path(&input, None).unwrap();
-    let metric = smartmesh::read_space_metric(Some(&sol), &mesh, "box_cyl").unwrap();
+    let metric =
+        smartmesh::MetricField::<smartmesh::metric::Sym3>::read_field(&sol, None, &mesh, &input)
+            .unwrap()
+            .into_tensors();
     let native = smartmesh::adapter(smartmesh::AdapterKind::Native, Default::default()).unwrap();
     let e = native.adapt_space(&mesh, &metric).unwrap_err().to_string();
     assert!(e.contains("mmg3d") && e.contains("mmgs"), "{e}");

@@ -13,8 +13,7 @@
 //! remeshers (native, Gmsh's BAMG) keep the trait's `adapt_space`, which refuses with
 //! [`AdapterError::Space`] naming the tools that take such a mesh; the MMG adapter
 //! answers both, each with the program of its kind (`mmg2d_O3`; `mmg3d_O3` or
-//! `mmgs_O3`). Until the metric field carries 3D tensors, the 3D metric of
-//! `smartmesh remesh` is read by [`space_metric`].
+//! `mmgs_O3`). The 3D metric comes from the metric field (`MetricField<Sym3>`).
 //!
 //! - [`Controlled`]: any of them with size controls applied to the metric it is given
 //!   (`--hausd` for the remeshers without that option);
@@ -30,7 +29,6 @@ pub(crate) mod mmg;
 pub(crate) mod native;
 pub(crate) mod prepare;
 pub(crate) mod restore;
-pub(crate) mod space_metric;
 pub(crate) mod tool;
 
 use std::path::PathBuf;

@@ -161,7 +161,7 @@ pub(super) struct RemeshArgs {
 
 /// A metric that could not be had: an unreadable file keeps its own exit code, every
 /// other fault is bad input (exit 2).
-fn metric_error(e: MetricError) -> CliError {
+pub(super) fn metric_error(e: MetricError) -> CliError {
     e.into()
 }
 

@@ -1,13 +1,14 @@
 //! `smartmesh remesh` on a mesh in space: a tetrahedral mesh through `mmg3d_O3`, a
 //! triangulated surface through `mmgs_O3` ([`smartmesh::Adapter::adapt_space`]), to a
-//! 3D metric on the mesh's vertices ([`smartmesh::read_space_metric`]). `remesh.rs`
+//! 3D metric on the mesh's vertices (a [`smartmesh::MetricField`] of `Sym3`). `remesh.rs`
 //! parses the arguments and routes here; this file only reads, runs and writes.
 
 use std::path::Path;
 use std::time::Instant;
 
 use smartmesh::formats::{CellKind, Format, TaggedMesh};
-use smartmesh::{adapter, AdapterKind, AdapterOptions, SpaceMetricError};
+use smartmesh::metric::Sym3;
+use smartmesh::{adapter, AdapterKind, AdapterOptions, MetricField};
 
 use super::output::{shown, MeshOutputArgs};
 use super::{print_stdout, ui, CliError};
@@ -70,14 +71,15 @@ struct Summary<'a> {
 /// Runs the remeshing and writes the result.
 pub(super) fn run(r: SpaceRemesh<'_>) -> Result<(), CliError> {
     let name = r.mesh_path.display().to_string();
-    let metric = smartmesh::read_space_metric(r.metric, &r.mesh, &name).map_err(|e| {
-        let message = e.to_string();
-        match e {
-            // The reader's error decides the exit status (a missing file, a malformed one).
-            SpaceMetricError::Read { source, .. } => CliError::context(message, source),
-            SpaceMetricError::Bad { .. } => CliError::usage(message),
-        }
-    })?;
+    let metric = MetricField::<Sym3>::load_field(&r.mesh, r.mesh_path, r.metric)
+        .map_err(super::remesh::metric_error)?
+        .ok_or_else(|| {
+            CliError::usage(format!(
+                "{name}: no point data `metric` (give the metric with --metric: a .sol/.solb, \
+                 a .pos view, or a mesh file with point data `metric`)"
+            ))
+        })?
+        .into_tensors();
     let remesher = adapter(r.kind, r.options)?;
     let adapted = remesher
         .adapt_space(&r.mesh, &metric)
