@@ -1,0 +1,21 @@
+//! Geometry in space for the 3D sizing: the closest point of a triangle to a point with
+//! the feature it lies on ([`triangle`]), exact closest points on a triangulated surface
+//! through a bounding-volume hierarchy that agrees bit for bit with the brute-force scan
+//! ([`surface_index`]), and the exact 3D orientation predicate ([`orient3d`]).
+//!
+//! Everything here works on plain `[f64; 3]` points and knows nothing of meshes or tags;
+//! nothing here imports the rest of smartmesh (the benchmark `surface_distance` compiles
+//! these files on their own).
+
+#[cfg(test)]
+mod index_tests;
+pub(crate) mod surface_index;
+#[cfg(test)]
+mod tests;
+pub(crate) mod triangle;
+
+// The 3D sizing's entry points (not used yet).
+#[allow(unused_imports)]
+pub(crate) use surface_index::{closest_brute, SurfaceError, SurfaceIndex, SurfacePoint};
+#[allow(unused_imports)]
+pub(crate) use triangle::{orient3d, Feature, Point3, TriangleGeom, TriangleProjection};
