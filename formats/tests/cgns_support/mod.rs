@@ -363,7 +363,8 @@ fn meshio_reads_the_tetrahedra_we_write() {
 
 /// VTK's `vtkCGNSReader` (ParaView's CGNS reader): points, cells per VTK type, the
 /// connectivity of every volume cell equal to what VTK reads from our `.vtu` (so each
-/// kind's node order and orientation), the boundary patches by name, the point fields.
+/// kind's node order and orientation, the 10-node tetrahedra of box_cyl_o2 included),
+/// the boundary patches by name, the point fields.
 const VTK_SCRIPT: &str = r#"
 import sys, vtk
 from vtk.util.numpy_support import vtk_to_numpy
@@ -400,7 +401,7 @@ fn vtk_cgns_reader_reads_cells_in_order_patches_and_fields() {
     smartmesh_test_support::require_public_fixtures!();
     let Some(py) = common::python_with(&["vtk"]) else { return };
     let dir = tempfile::tempdir().unwrap();
-    for name in ["hex_prism_pyr", "box_cyl"] {
+    for name in ["hex_prism_pyr", "box_cyl", "box_cyl_o2"] {
         let mut mesh = common::read_file(&format!("3d/{name}.v41_ascii.msh"));
         let n = mesh.points.len();
         mesh.point_data
