@@ -98,6 +98,9 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Plan {
     let mut tags: Vec<TagRange> = Vec::new();
     let mut families = BTreeMap::new();
     let mut corners = BTreeMap::new();
+    let mut family_of: BTreeMap<String, String> = BTreeMap::new();
+    let mut same_name: BTreeMap<(u8, String), Vec<i32>> = BTreeMap::new();
+    let mut family_taken: BTreeSet<String> = ["Zone1".to_string()].into_iter().collect();
     let mut next = 1i64;
     let mut zone_cells = 0;
     for (&(rdim, tag, kind), cells) in &groups {
@@ -139,16 +142,18 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Plan {
                 // Every tag has a family (an unnamed one `tag<N>`): BCs are then
                 // `FamilySpecified`, the one BC type every reader takes (ParaView's
                 // reads no other but Dirichlet and Neumann), the family saying which.
-                let family = Some(match mesh.tag_name(dim, tag) {
-                    Some(n) => {
-                        let f = cgns_name(n);
-                        if f != n {
-                            renamed.insert(format!("`{n}` as `{f}`"));
-                        }
-                        f
-                    }
-                    None => format!("tag{tag}"),
-                });
+                let want =
+                    mesh.tag_name(dim, tag).map_or_else(|| format!("tag{tag}"), String::from);
+                // One family per name, beside the zone under the base.
+                let f = family_of
+                    .entry(want.clone())
+                    .or_insert_with(|| unique(&want, &mut family_taken))
+                    .clone();
+                if f != want {
+                    renamed.insert(format!("`{want}` as `{f}`"));
+                }
+                same_name.entry((dim, f.clone())).or_default().push(tag);
+                let family = Some(f);
                 let boundary = dim + 1 == cell_dim;
                 if let Some(f) = &family {
                     let bc = boundary.then(|| bc_type(Some(f)));
@@ -192,6 +197,12 @@ fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Plan {
             "the tags of vertex cells on {shared} points that carry vertex cells of several \
              tags: CGNS tags vertex cells by their points, so each such point reads back \
              under one tag"
+        ));
+    }
+    for ((dim, name), tags) in same_name.iter().filter(|(_, t)| t.len() > 1) {
+        report.drop(format!(
+            "the tag numbers {tags:?} of dimension {dim}: they share the name `{name}`, one \
+             CGNS family, and read back as one tag"
         ));
     }
     if !renamed.is_empty() {
