@@ -189,6 +189,11 @@ pub fn read_bytes_reported(
             report = r;
             mesh
         }
+        Format::Cgns => {
+            let (mesh, r) = crate::cgns::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::Gltf => {
             return Err(Error::new(ErrorKind::Unsupported(
                 "reading glTF (smartmesh writes it for viewers)".into(),
@@ -265,6 +270,7 @@ fn write_bytes_into(
         Format::Stl => crate::stl::write(mesh, opts),
         Format::TetGen => crate::tetgen::write(mesh, opts),
         Format::Fluent => crate::fluent::write(mesh, opts),
+        Format::Cgns => crate::cgns::write(mesh, opts),
         Format::OpenFoam => Err(Error::new(ErrorKind::CannotWrite {
             format: format.name(),
             reason: "an OpenFOAM case is a directory of files, not one file or a stream; \

@@ -11,7 +11,8 @@
 //!   binary), [`vtk`] (legacy .vtk 4.2/5.1 and XML .vtu), [`obj`], [`medit`]
 //!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only), [`su2`],
 //!   [`openfoam`] (a case directory), [`stl`] (ASCII and binary), [`tetgen`], [`fluent`]
-//!   (ASCII `.fluent.msh`; write only);
+//!   (ASCII `.fluent.msh`; write only), [`cgns`] (`.cgns`, HDF5; with the `cgns`
+//!   feature, which needs libhdf5);
 //! - [`Format::from_path`], a static extension table;
 //! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
 //!   (Triangle's .node beside .ele, Medit's .sol beside .mesh), and outputs written as a
@@ -34,6 +35,7 @@ mod skin;
 pub mod text;
 pub mod words;
 
+pub mod cgns;
 pub mod fluent;
 pub mod gltf;
 pub mod gmsh;
@@ -96,6 +98,8 @@ pub enum Format {
     /// An OpenFOAM case directory (`constant/polyMesh`): the path is the directory
     /// (`case.foam`, or any name with `--from`/`--to openfoam`).
     OpenFoam,
+    /// CGNS (`.cgns`, HDF5): unstructured zones; needs the `cgns` feature and libhdf5.
+    Cgns,
     /// Fluent ASCII mesh (write only): a name ending in `.fluent.msh`, or `--to fluent`
     /// (a plain `.msh` is Gmsh's).
     Fluent,
@@ -124,6 +128,7 @@ const EXTENSIONS: &[(&str, Format)] = &[
     ("face", Format::TetGen),
     ("foam", Format::OpenFoam),
     ("stl", Format::Stl),
+    ("cgns", Format::Cgns),
 ];
 
 impl Format {
@@ -174,6 +179,7 @@ impl Format {
             Format::OpenFoam => "OpenFOAM",
             Format::Stl => "STL",
             Format::Fluent => "Fluent",
+            Format::Cgns => "CGNS",
         }
     }
 
@@ -189,7 +195,7 @@ impl Format {
 
     /// The names accepted by [`Format::from_name`], for help texts.
     pub const NAMES: &'static str =
-        "triangle (node, ele, poly), tetgen (smesh, face; node, ele, poly when 3D), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2, openfoam (foam), stl, fluent (.fluent.msh)";
+        "triangle (node, ele, poly), tetgen (smesh, face; node, ele, poly when 3D), gmsh (msh), vtk, vtu, obj, medit (mesh, meshb), gltf, glb, su2, openfoam (foam), stl, fluent (.fluent.msh), cgns";
 }
 
 /// Which of [`TaggedMesh::validate`]'s checks a format's reader and writer make
@@ -229,6 +235,7 @@ impl Format {
             Format::Stl => stl::CHECKS,
             Format::TetGen => tetgen::CHECKS,
             Format::Fluent => fluent::CHECKS,
+            Format::Cgns => cgns::CHECKS,
             // Validated by `openfoam::poly_mesh_files` itself.
             Format::OpenFoam => Checks { reader_validates: false, writer_validates: true },
         }
