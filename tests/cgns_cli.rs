@@ -95,3 +95,22 @@ fn adapt_writes_its_best_mesh_as_cgns_that_cgnscheck_accepts() {
         "{text}"
     );
 }
+
+#[cfg(feature = "cgns")]
+#[test]
+fn size_writes_the_metric_as_a_flow_solution_that_reads_back() {
+    let d = tempfile::tempdir().unwrap();
+    let cgns = d.path().join("field.cgns");
+    let vtu = d.path().join("field.vtu");
+    let (mesh, recipe) = (bundled("cylinder.msh"), bundled("cylinder.toml"));
+    ok(&run(&["size", &mesh, "--recipe", &recipe, "-o", s(&cgns)]));
+    ok(&run(&["size", &mesh, "--recipe", &recipe, "-o", s(&vtu)]));
+    let a = smartmesh::formats::read_path(&cgns, None).unwrap();
+    let b = smartmesh::formats::read_path(&vtu, None).unwrap();
+    let (ma, mb) = (&a.point_data["metric"], &b.point_data["metric"]);
+    assert_eq!(a.points.len(), b.points.len());
+    assert_eq!(ma.components, mb.components);
+    for (x, y) in ma.values.iter().zip(&mb.values) {
+        assert!((x - y).abs() <= 1e-12 * y.abs().max(1.0), "{x} != {y}");
+    }
+}

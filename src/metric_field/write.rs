@@ -65,16 +65,18 @@ impl MetricTarget {
             "solb" => Some(MetricTarget::Sol { binary: true }),
             "pos" => Some(MetricTarget::Pos),
             _ => match Format::from_path(path)? {
-                f @ (Format::Gmsh | Format::Vtu | Format::VtkLegacy | Format::Medit) => {
-                    Some(MetricTarget::Mesh(f))
-                }
+                f @ (Format::Gmsh
+                | Format::Vtu
+                | Format::VtkLegacy
+                | Format::Medit
+                | Format::Cgns) => Some(MetricTarget::Mesh(f)),
                 _ => None,
             },
         }
     }
 
     /// The extensions accepted, for error messages.
-    pub const EXTENSIONS: &'static str = ".sol .solb .mesh .meshb .msh .pos .vtu .vtk";
+    pub const EXTENSIONS: &'static str = ".sol .solb .mesh .meshb .msh .pos .vtu .vtk .cgns";
 }
 
 /// What [`MetricField::write`] wrote.
