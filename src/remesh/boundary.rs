@@ -8,8 +8,10 @@
 //! and lines, O(h²) elsewhere), at a corner end the mirror of the next tangent across the
 //! end chord; the pieces break at corners, so corners stay corners, and a segment whose
 //! two tangents lie along its chord is the chord itself, so straight runs stay exactly
-//! straight. Through a fixed vertex that is no corner of the curve (a kept point, a
-//! closed loop's start) the tangent takes the point beyond it ([`Beyond`]). The metric of a piece vertex is
+//! straight. Through a fixed vertex that is no corner of the curve (a closed loop's
+//! start) the tangent takes the point beyond it ([`Beyond`]); the kept points of
+//! [`super::RemeshOptions::keep_points`] are corners, so a loop that keeps them keeps
+//! its input's segments. The metric of a piece vertex is
 //! the Log-Euclidean interpolation, along the piece, of the input metric at the two
 //! original vertices around `s`: from the input field, like the interior.
 //!
@@ -55,7 +57,7 @@ pub(super) struct Piece {
 }
 
 /// The points just beyond a piece's two ends where its curve goes on smoothly (a closed
-/// loop's start, a fixed vertex that is no corner of the curve), `None` at a corner.
+/// loop's start), `None` at a corner.
 pub(super) type Beyond = [Option<[f64; 2]>; 2];
 
 impl Piece {

@@ -351,10 +351,9 @@ impl Adjacency {
 
 /// The corners: topological points, vertex cells, frozen vertices, kept points, and
 /// the vertices of constrained edges where the edge count or the label changes or the
-/// curve turns by more than the ridge angle. Returned with the *breaks*: the corners
-/// where the curve itself has a corner (all but the kept points that are none of the
-/// others), at which the smooth reconstruction stops; through a kept point that is no
-/// break the curve goes on smoothly, the point merely fixed.
+/// curve turns by more than the ridge angle. Returned with the *breaks*, at which the
+/// smooth reconstruction stops: all of these corners (a closed loop's start, made a
+/// corner later, is the one fixed vertex the curve goes on smoothly through).
 fn corners(
     topology: &Topology,
     vertex_cells: &[(u32, i32, i32)],
@@ -404,10 +403,13 @@ fn corners(
             corner[v as usize] = true;
         }
     }
-    let breaks = corner.clone();
+    // Kept points are breaks too: the geometry the loop started from is its segments,
+    // and every boundary edge stays on one of them (a curve through them would leave
+    // them).
     for (c, k) in corner.iter_mut().zip(kept) {
         *c |= k;
     }
+    let breaks = corner.clone();
     (corner, breaks)
 }
 
