@@ -13,8 +13,8 @@ MMG options: `-hgrad -1` switches off MMG's gradation so that it adapts to the m
 given (smartmesh never alters the metric); `-hausd 10` switches off its geometric
 refinement of curved boundaries (smartmesh has none; MMG's default 0.01 adds boundary
 points the metric does not ask for). MMG keeps its default smooth boundary reconstruction;
-smartmesh runs with its default `--boundary polyline` (and `--boundary smooth` with
---smooth). MMG is timed through its real executable (the one in the mmgpy package's bin/
+smartmesh runs with its default boundary placement (`--boundary smooth` since 2026-12-06,
+`polyline` before; --smooth adds a run with `--boundary smooth` named). MMG is timed through its real executable (the one in the mmgpy package's bin/
 folder), not the Python wrapper on PATH.
 
 Both outputs are measured by the same code, `smartmesh remesh OUT --measure --json`:

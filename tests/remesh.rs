@@ -329,7 +329,10 @@ fn cylinder_recipe_field() {
     let graph = MeshGraph::from_topology(&topo, &mesh).unwrap();
     let field = compute_size_field(&graph, &topo, &plan, &mut |_| {}).unwrap();
     let metric: Vec<Sym2> = field.tensors.iter().map(|t| t.to_metric()).collect();
-    let out = remesh(&mesh, &metric, &RemeshOptions::default()).unwrap();
+    // On the polylines, so that every boundary vertex is checked on an input segment
+    // (the smooth reconstruction is checked against exact curves in remesh_curved.rs).
+    let opts = RemeshOptions { boundary: BoundaryMode::Polyline, ..Default::default() };
+    let out = remesh(&mesh, &metric, &opts).unwrap();
     let c = out.stats.conformity.clone().unwrap();
     eprintln!(
         "cylinder: {:?} -> {:?}, {} passes, in band {:.3}, mean q {:.3}, min q {:.3}",

@@ -34,7 +34,8 @@ enum RemesherArg {
 enum Boundary {
     /// On the original boundary polylines.
     Polyline,
-    /// On a smooth (C¹ cubic) reconstruction through the original boundary vertices.
+    /// On a smooth (C¹ cubic) reconstruction through the original boundary vertices,
+    /// broken at corners (MMG's default).
     Smooth,
 }
 
@@ -47,7 +48,10 @@ a .mesh with its .sol beside it, a .sol/.solb alone in MESH's vertex order as mm
 or a Gmsh .pos view, taken at MESH's vertices), or in MESH itself when --metric is left out.
 
 Boundary and interface vertices slide along their own curve, corners (topological points, and curve \
-vertices turning by more than --ridge-angle) never move; face and curve tags are kept. The output \
+vertices turning by more than --ridge-angle) never move; face and curve tags are kept. New boundary \
+vertices go on a smooth reconstruction of each curve between corners (straight sides stay straight; \
+--boundary polyline keeps the input's polylines), and a coarsening never takes a boundary edge \
+further than --hausd from its curve. The output \
 carries the interpolated `metric` (a .mesh output writes it to the .sol beside it).
 
 A mesh in space goes to MMG: a mesh with tetrahedra to mmg3d_O3 (chosen by itself; --adapter mmg3d \
@@ -94,8 +98,9 @@ pub(super) struct RemeshArgs {
     /// instead of MESH's own.
     #[arg(long, requires = "measure", conflicts_with = "metric")]
     background: Option<PathBuf>,
-    /// Where boundary vertices go.
-    #[arg(long, value_enum, default_value = "polyline")]
+    /// Where boundary vertices go: on a smooth reconstruction of curved boundaries, or
+    /// on the input's polylines.
+    #[arg(long, value_enum, default_value = "smooth")]
     boundary: Boundary,
     /// Passes of split, collapse, swap and smooth at most.
     #[arg(long, default_value_t = RemeshOptions::default().max_passes)]
@@ -145,8 +150,10 @@ pub(super) struct RemeshArgs {
     from: Option<Format>,
     #[command(flatten)]
     controls: SizeControls,
-    /// Largest distance between a curved boundary and its edges: limits the sizes along
-    /// boundary curves by their curvature, as MMG's -hausd.
+    /// Largest distance between a curved boundary and its edges, as MMG's -hausd: limits
+    /// the sizes along boundary curves by their curvature, and bounds how far a
+    /// coarsening may take an edge from the curve (without it: only the coarsening,
+    /// by 0.01 times the largest side of the mesh's bounding box).
     #[arg(long, value_parser = positive_size, help_heading = "Size controls")]
     hausd: Option<f64>,
     #[command(flatten)]
@@ -293,6 +300,7 @@ pub(super) fn run(args: RemeshArgs) -> Result<(), CliError> {
         ridge_angle_degrees: args
             .ridge_angle
             .unwrap_or(RemeshOptions::default().ridge_angle_degrees),
+        hausd: args.hausd,
         smooth_sweeps: args.smooth_sweeps,
         max_vertices: Some(args.max_vertices),
         partition: (!args.no_partition).then_some(smartmesh::remesh::Partitioning {

@@ -102,11 +102,11 @@ pub(super) fn start(
     warnings.extend(data_warnings(mesh));
 
     let adjacency = Adjacency::new(&constrained, n);
-    let mut corner =
+    let (mut corner, breaks) =
         corners(topology, &vertex_cells, &frozen, &constrained, &adjacency, &pts, opts);
     let logs: Vec<Sym2> = metric.iter().map(log_spd).collect();
     let (mut role, mut pieces, cons) =
-        walk_pieces(&constrained, &adjacency, &mut corner, &pts, &logs);
+        walk_pieces(&constrained, &adjacency, &mut corner, &breaks, &pts, &logs);
     for v in 0..n {
         if corner[v] || !used[v] {
             role[v] = Role::Fixed;
@@ -351,7 +351,9 @@ impl Adjacency {
 
 /// The corners: topological points, vertex cells, frozen vertices, kept points, and
 /// the vertices of constrained edges where the edge count or the label changes or the
-/// curve turns by more than the ridge angle.
+/// curve turns by more than the ridge angle. Returned with the *breaks*, at which the
+/// smooth reconstruction stops: all of these corners (a closed loop's start, made a
+/// corner later, is the one fixed vertex the curve goes on smoothly through).
 fn corners(
     topology: &Topology,
     vertex_cells: &[(u32, i32, i32)],
@@ -360,7 +362,7 @@ fn corners(
     adjacency: &Adjacency,
     pts: &[[f64; 2]],
     opts: &RemeshOptions,
-) -> Vec<bool> {
+) -> (Vec<bool>, Vec<bool>) {
     let n = pts.len();
     let mut corner = vec![false; n];
     for p in &topology.points {
@@ -375,17 +377,14 @@ fn corners(
     let cos_ridge = opts.ridge_angle_degrees.to_radians().cos();
     let keep_points: std::collections::BTreeSet<[u64; 2]> =
         opts.keep_points.iter().map(|p| [p[0].to_bits(), p[1].to_bits()]).collect();
+    let mut kept = vec![false; n];
     for v in 0..n as u32 {
         let es = adjacency.around(v);
         if es.is_empty() {
             continue;
         }
-        if !keep_points.is_empty()
-            && keep_points.contains(&[pts[v as usize][0].to_bits(), pts[v as usize][1].to_bits()])
-        {
-            corner[v as usize] = true;
-            continue;
-        }
+        kept[v as usize] = !keep_points.is_empty()
+            && keep_points.contains(&[pts[v as usize][0].to_bits(), pts[v as usize][1].to_bits()]);
         if es.len() != 2 {
             corner[v as usize] = true;
             continue;
@@ -404,7 +403,14 @@ fn corners(
             corner[v as usize] = true;
         }
     }
-    corner
+    // Kept points are breaks too: the geometry the loop started from is its segments,
+    // and every boundary edge stays on one of them (a curve through them would leave
+    // them).
+    for (c, k) in corner.iter_mut().zip(kept) {
+        *c |= k;
+    }
+    let breaks = corner.clone();
+    (corner, breaks)
 }
 
 /// The piece of each constrained edge.
@@ -412,12 +418,13 @@ type PieceOfEdge = ahash::AHashMap<(u32, u32), u32>;
 
 /// The pieces: walks from every corner along each unvisited constrained edge to the next
 /// corner; then the loops without corner, from their smallest vertex (which becomes a
-/// corner). Returns the role of each vertex on a piece, the pieces, and the piece of
-/// each constrained edge.
+/// corner, but no break: the reconstruction goes on smoothly through it). Returns the
+/// role of each vertex on a piece, the pieces, and the piece of each constrained edge.
 fn walk_pieces(
     constrained: &[Constrained],
     adjacency: &Adjacency,
     corner: &mut [bool],
+    breaks: &[bool],
     pts: &[[f64; 2]],
     logs: &[Sym2],
 ) -> (Vec<Role>, Vec<Piece>, PieceOfEdge) {
@@ -447,11 +454,24 @@ fn walk_pieces(
                 cur = next;
                 e = ne;
             }
+            // Past an end that is no break, the curve's next point (along the one other
+            // constrained edge there).
+            let past = |x: u32, along: u32| -> Option<[f64; 2]> {
+                let es = around(x);
+                if breaks[x as usize] || es.len() != 2 {
+                    return None;
+                }
+                let o = if es[0] == along { es[1] } else { es[0] };
+                let (a, b) = constrained[o as usize].0;
+                Some(pts[if a == x { b } else { a } as usize])
+            };
+            let last = *verts.last().unwrap_or(&verts[0]);
             let p = Piece::new(
                 verts.iter().map(|&v| pts[v as usize]).collect(),
                 verts.iter().map(|&v| logs[v as usize]).collect(),
                 tags,
-                [verts[0], *verts.last().unwrap_or(&verts[0])],
+                [verts[0], last],
+                [past(verts[0], first), past(last, e)],
             );
             for (i, &v) in verts.iter().enumerate() {
                 if !corner[v as usize] {

@@ -4,8 +4,10 @@
 //! vertex never goes. Refused when the ball would fold (exact orientation), when the
 //! link condition fails (the merge would glue two edges), when a new edge would be
 //! longer than the split bound (no split–collapse cycles), when the worst triangle would
-//! get worse than the quality floor allows, or when the new boundary edge would cross a
-//! curve.
+//! get worse than the quality floor allows, when the new boundary edge would stray from
+//! the curve it replaces by more than the Hausdorff bound ([`RemeshOptions::hausd`]:
+//! so coarsening a curve keeps its shape and the domain's area), or when it would cross
+//! a curve.
 //!
 //! As MMG's `chkcol`/`colver`, the operator is a pair: [`check`] reads the mesh and
 //! returns a [`CollapsePlan`] (or `None`, having changed nothing); [`apply`] carries a
@@ -161,7 +163,10 @@ pub(super) fn check(
     }
     if let (Some((c, pa)), Role::Slides { s: sa, .. }) = (relink, ra) {
         let (sb, sc) = (w.param_on(b, pa, sa), w.param_on(c, pa, sa));
-        if !w.boundary().chord_clear(pa, sb, pb, sc, w.point(c)) {
+        let piece = &w.boundary().pieces[pa as usize];
+        if piece.deviation(sb, sc, pb, w.point(c), w.mode()) > w.hausd()
+            || !w.boundary().chord_clear(pa, sb, pb, sc, w.point(c))
+        {
             return None;
         }
     }

@@ -69,6 +69,7 @@ use smartmesh_formats::TaggedMesh;
 pub use error::RemeshError;
 pub use options::{
     BoundaryMode, Partitioning, RemeshOptions, DEFAULT_MAX_VERTICES, DEFAULT_PARTITION_ABOVE,
+    DEFAULT_RELATIVE_HAUSD,
 };
 pub use stats::{PartitionedPass, PassStats, PhaseSeconds, RemeshCounts, RemeshStats};
 
@@ -295,6 +296,7 @@ pub fn remesh_keeping(
     let initial = if opts.measure { Conformity::of(&st.pts, &input_tris, metric) } else { None };
     drop(input_tris);
     let bd = boundary::Boundary::new(st.pieces);
+    let hausd = opts.hausd_for(&st.pts);
     #[cfg(test)]
     let input_points = st.pts.clone();
     let (n, ntri) = (st.pts.len(), st.tris.len());
@@ -306,7 +308,7 @@ pub fn remesh_keeping(
         face: st.face,
         cons: st.cons,
     };
-    let context = work::Context { background: &bg, boundary: &bd, mode: opts.boundary };
+    let context = work::Context { background: &bg, boundary: &bd, mode: opts.boundary, hausd };
     let mut w = work::Work::new(parts, context);
     // Room for the expected output at once (no doubling slack nor copies as the mesh
     // grows): the estimate and a margin, within the split cap.

@@ -12,10 +12,11 @@ use crate::metric::length::CONFORMING;
 #[serde(rename_all = "snake_case")]
 pub enum BoundaryMode {
     /// On the original polyline (the boundary never changes shape).
-    #[default]
     Polyline,
     /// On a C¹ cubic reconstruction through the original boundary vertices (curved
-    /// boundaries get rounder as they are refined; straight runs stay straight).
+    /// boundaries get rounder as they are refined; corners stay corners and straight
+    /// runs straight), as MMG does by default.
+    #[default]
     Smooth,
 }
 
@@ -37,6 +38,11 @@ pub struct RemeshOptions {
     pub boundary: BoundaryMode,
     /// A curve vertex where the curve turns by more than this angle is a corner (fixed).
     pub ridge_angle_degrees: f64,
+    /// Largest distance a collapse on a curve may put between the curve (the smooth
+    /// reconstruction, or the polyline with [`BoundaryMode::Polyline`]) and the new
+    /// boundary edge, as MMG's `-hausd` bounds its coarsening. `None`:
+    /// [`DEFAULT_RELATIVE_HAUSD`] times the largest side of the input's bounding box.
+    pub hausd: Option<f64>,
     /// Split edges longer than this metric length.
     pub split_above: f64,
     /// Collapse edges shorter than this metric length.
@@ -93,6 +99,10 @@ pub struct RemeshOptions {
     pub partition: Option<Partitioning>,
 }
 
+/// The default Hausdorff bound on collapses along curves, relative to the largest side
+/// of the input's bounding box: MMG's default `-hausd 0.01` on a domain of unit size.
+pub const DEFAULT_RELATIVE_HAUSD: f64 = 0.01;
+
 /// Expected output vertices above which the remesher partitions the mesh by default.
 pub const DEFAULT_PARTITION_ABOVE: usize = 100_000;
 
@@ -127,13 +137,37 @@ impl Default for Partitioning {
     }
 }
 
+impl RemeshOptions {
+    /// The Hausdorff bound on collapses along curves for a mesh with points `pts`:
+    /// [`RemeshOptions::hausd`], or its default.
+    pub(super) fn hausd_for(&self, pts: &[[f64; 2]]) -> f64 {
+        self.hausd.unwrap_or_else(|| {
+            let mut lo = [f64::INFINITY; 2];
+            let mut hi = [f64::NEG_INFINITY; 2];
+            for p in pts {
+                for k in 0..2 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+            let side = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+            if side.is_finite() {
+                DEFAULT_RELATIVE_HAUSD * side
+            } else {
+                f64::INFINITY
+            }
+        })
+    }
+}
+
 impl Default for RemeshOptions {
     fn default() -> Self {
         RemeshOptions {
             max_passes: 12,
             smooth_sweeps: 2,
-            boundary: BoundaryMode::Polyline,
+            boundary: BoundaryMode::Smooth,
             ridge_angle_degrees: 45.0,
+            hausd: None,
             split_above: CONFORMING[1],
             collapse_below: CONFORMING[0],
             keep_points: Vec::new(),

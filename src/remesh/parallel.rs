@@ -88,6 +88,10 @@ pub(super) fn remesh_partitioned(
         return Ok(None);
     }
     let Some(mut flat) = flatten(mesh, metric) else { return Ok(None) };
+    // The Hausdorff bound of the whole mesh, not of each part's bounding box.
+    let mut opts = opts.clone();
+    opts.hausd = Some(opts.hausd_for(&flat.pts));
+    let opts = &opts;
     let weight = partition::weights(&flat.pts, &flat.tris, &flat.metric);
     let estimate = vertices_of_complexity(weight.iter().sum());
     // A NaN estimate (a field no one could measure) goes to the serial path, which reports it.

@@ -1,6 +1,7 @@
 //! Vertex smoothing: a free vertex moves toward the mean of the places that would make
 //! each triangle of its ball equilateral in the metric; a piece vertex slides along
-//! its piece to the parameter that equalises the metric lengths of its two piece edges.
+//! its piece to the parameter that equalises the metric lengths of its two piece edges,
+//! unless its piece edges would then stray from the curve past the Hausdorff bound.
 //! A move is kept only when every triangle of the ball stays strictly counter-clockwise
 //! and the worst of them gets better (or stays and the ball's summed quality rises); the
 //! metric at the new place comes from the input field.
@@ -186,6 +187,18 @@ fn plan_on_piece(w: &Work, v: u32, pid: u32, sv: f64, th: Thresholds) -> Option<
     type Candidate = (f64, [f64; 2], Sym2, (f64, f64));
     let mut best: Option<Candidate> = None;
     let bd = w.boundary();
+    let piece = &bd.pieces[pid as usize];
+    let (pu, px) = (w.point(u), w.point(x));
+    // How far the two piece edges stray from the curve with `v` at parameter `t`, place
+    // `p`: a move may not take them past the Hausdorff bound (nor further past it).
+    let stray = |t: f64, p: [f64; 2]| {
+        piece.deviation(su, t, pu, p, w.mode()).max(piece.deviation(t, sx, p, px, w.mode()))
+    };
+    let mut now: Option<f64> = None;
+    let mut within = |t: f64, p: [f64; 2]| {
+        let d = stray(t, p);
+        d <= w.hausd() || d <= *now.get_or_insert_with(|| stray(sv, w.point(v)))
+    };
     for t in cands {
         if !(su < t && t < sx) {
             continue;
@@ -194,8 +207,9 @@ fn plan_on_piece(w: &Work, v: u32, pid: u32, sv: f64, th: Thresholds) -> Option<
         if let Some(q) = ball_quality_at(w, v, np, &nm) {
             if better(q, old, th.gain)
                 && best.as_ref().map_or(true, |b| better(q, b.3, th.gain))
-                && bd.chord_clear(pid, su, w.point(u), t, np)
-                && bd.chord_clear(pid, t, np, sx, w.point(x))
+                && bd.chord_clear(pid, su, pu, t, np)
+                && bd.chord_clear(pid, t, np, sx, px)
+                && within(t, np)
             {
                 best = Some((t, np, nm, q));
                 if old.0 >= th.poor {

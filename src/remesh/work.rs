@@ -105,6 +105,8 @@ pub(super) struct Work<'a> {
     bd: &'a Boundary,
     /// Where piece vertices are placed.
     mode: BoundaryMode,
+    /// Largest distance a collapse may put between a curve and its new edge.
+    hausd: f64,
 }
 
 /// The mesh a [`Work`] starts from.
@@ -133,6 +135,8 @@ pub(super) struct Context<'a> {
     pub boundary: &'a Boundary,
     /// Where piece vertices are placed.
     pub mode: BoundaryMode,
+    /// Largest distance a collapse may put between a curve and its new edge.
+    pub hausd: f64,
 }
 
 impl<'a> Work<'a> {
@@ -168,6 +172,7 @@ impl<'a> Work<'a> {
             bg: context.background,
             bd: context.boundary,
             mode: context.mode,
+            hausd: context.hausd,
         }
     }
 
@@ -276,6 +281,12 @@ impl<'a> Work<'a> {
     #[inline]
     pub(super) fn mode(&self) -> BoundaryMode {
         self.mode
+    }
+
+    /// Largest distance a collapse may put between a curve and its new edge.
+    #[inline]
+    pub(super) fn hausd(&self) -> f64 {
+        self.hausd
     }
 
     /// Metric length of edge `ab`.
