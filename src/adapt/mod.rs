@@ -42,6 +42,7 @@
 //! (snapped and measured on the starting mesh) are measured again on the result, and a
 //! skinned mesh that broke their match is not handed on ([`Outcome::periodic`]).
 
+pub mod budget;
 pub mod files;
 pub mod rules;
 pub mod skin;

@@ -35,6 +35,7 @@ pub(crate) mod pos_view;
 pub(crate) mod write;
 
 pub use expected::expected_vertices;
+pub(crate) use expected::planar_triangles;
 pub use interpolate::{InterpolationError, Interpolator};
 pub use write::MetricTarget;
 
