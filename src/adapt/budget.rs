@@ -32,7 +32,61 @@ use crate::mesh_graph::MeshGraph;
 use crate::metric::complexity::{complexity, vertices_of_complexity};
 use crate::metric::{SizeBounds, SizeTensor};
 use crate::metric_field::planar_triangles;
+use crate::recipe::Recipe;
 use crate::sizing::gradation::apply_gradation;
+
+/// A recipe made to give the raw field, and the limits its globals put on the
+/// normalisation instead.
+#[derive(Debug, Clone)]
+pub struct RawRecipe {
+    /// The recipe without its global h_min, maximum aspect ratio and gradation (its h_max
+    /// stays: the size of the vertices no step reaches, and the largest size).
+    pub recipe: Recipe,
+    /// The recipe's h_min, h_max and aspect ratio (none: the widest range).
+    pub bounds: SizeBounds,
+    /// The recipe's gradation.
+    pub gradation: Option<f64>,
+}
+
+impl RawRecipe {
+    /// `recipe` split in its raw part and its limits; `None` when its global bounds are
+    /// no range (the sizing engine then says why).
+    pub fn of(recipe: &Recipe) -> Option<RawRecipe> {
+        let g = &recipe.global;
+        let bounds = SizeBounds::try_new(
+            g.h_min.unwrap_or(SizeTensor::MIN_SIZE),
+            g.h_max.unwrap_or(SizeTensor::MAX_SIZE),
+            g.max_aspect_ratio.unwrap_or(f64::INFINITY),
+        )?;
+        let mut raw = recipe.clone();
+        raw.global.h_min = None;
+        raw.global.max_aspect_ratio = None;
+        raw.global.gradation = None;
+        Some(RawRecipe { recipe: raw, bounds, gradation: g.gradation })
+    }
+}
+
+/// The vertex budget of a run: the vertex count asked of the mesh at each iteration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Budget {
+    /// The count at iteration k (a constant one: start = target).
+    pub schedule: crate::adapt::solver::Schedule,
+    /// Where it comes from, in words, for the history.
+    pub from: String,
+}
+
+/// The ratio of the vertices a remeshing made to the vertices its field asked for, kept
+/// within [1/2, 2]: the next field is normalised to the budget divided by it, so that the
+/// remesher's own bias (it makes a few percent more or fewer than the complexity says)
+/// does not move the result off the budget. 1 when nothing was asked.
+pub fn remesher_ratio(made: usize, asked: f64) -> f64 {
+    let r = made as f64 / asked;
+    if r.is_finite() && r > 0.0 {
+        r.clamp(0.5, 2.0)
+    } else {
+        1.0
+    }
+}
 
 /// How the raw field is bounded inside the normalisation.
 #[derive(Debug, Clone, Copy)]
