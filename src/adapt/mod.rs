@@ -79,6 +79,9 @@ use solver::{SolverError, SolverLoop};
 pub use crate::child::{interrupt, stop_all};
 pub use rules::Tolerances;
 
+/// `History::stopped` while the loop runs (every record but the last).
+pub const RUNNING: &str = "running";
+
 /// `History::stopped` of a run the user stopped ([`Observer::interrupted`]).
 pub const INTERRUPTED: &str = "interrupted";
 pub use start::{start, start_sized, starting_mesh, Start, StartError};
@@ -446,7 +449,7 @@ pub fn run_with_solver(
         adapter: adapter.name().to_string(),
         converged: false,
         best_iteration: 0,
-        stopped: "running".to_string(),
+        stopped: RUNNING.to_string(),
         iterations: vec![first.record.clone()],
         best_mesh: Vec::new(),
         layer: None,
