@@ -75,6 +75,15 @@ pub struct Budget {
     pub from: String,
 }
 
+/// How far from the budget a mesh may be and count as on it (the loop does not stop off
+/// it, and prefers a mesh on it as its result).
+pub const TOLERANCE: f64 = 0.03;
+
+/// Whether `vertices` is within [`TOLERANCE`] of the budget `n`.
+pub fn within(vertices: usize, n: f64) -> bool {
+    (vertices as f64 / n - 1.0).abs() <= TOLERANCE
+}
+
 /// The ratio of the vertices a remeshing made to the vertices its field asked for, kept
 /// within [1/2, 2]: the next field is normalised to the budget divided by it, so that the
 /// remesher's own bias (it makes a few percent more or fewer than the complexity says)

@@ -535,14 +535,27 @@ pub fn run_with_solver(
         };
         note_warnings(&mut warnings, &next);
         history.iterations.push(next.record.clone());
-        let new_best = rules::is_better(&next.record, &history.iterations[history.best_iteration]);
+        // With a budget a mesh on it beats one off it; otherwise the more conforming wins.
+        let on_budget = |r: &IterationRecord| {
+            options.budget.as_ref().map(|b| budget::within(r.vertices, b.schedule.at(r.iteration)))
+        };
+        let best_so_far = &history.iterations[history.best_iteration];
+        let new_best = match (on_budget(&next.record), on_budget(best_so_far)) {
+            (Some(a), Some(b)) if a != b => a,
+            _ => rules::is_better(&next.record, best_so_far),
+        };
         if new_best {
             history.best_iteration = k;
             best = next.mesh.clone();
             best_metric = next.metric.clone();
         }
         observer.record(&history, new_best.then_some(&next.mesh))?;
-        if scale.is_none() && rules::converged(&current.record, &next.record, &options.tolerances) {
+        // With a budget the loop has not converged while the mesh is off it: the next
+        // field, corrected by the remesher's ratio, brings it there.
+        if scale.is_none()
+            && on_budget(&next.record) != Some(false)
+            && rules::converged(&current.record, &next.record, &options.tolerances)
+        {
             let (dv, dc) = rules::changes(&current.record, &next.record);
             history.converged = true;
             stopped = format!(
