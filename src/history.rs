@@ -118,6 +118,23 @@ pub struct History {
     /// (the best iteration's record keeps the loop's mesh). Absent without a skin.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layer: Option<LayerRecord>,
+    /// The vertex budget the field was normalised to on every mesh (`--complexity`, or
+    /// the recipe's own complexity with a solver); absent without one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub budget: Option<BudgetRecord>,
+}
+
+/// The vertex budget of a run ([`crate::adapt::budget`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BudgetRecord {
+    /// The vertex count asked of the final mesh.
+    pub vertices: f64,
+    /// Where it came from, in words.
+    pub from: String,
+    /// Per iteration: the vertex count the field on that mesh was normalised to (the
+    /// schedule's value, corrected by the ratio of vertices made to vertices asked of the
+    /// previous remeshing).
+    pub normalised_to: Vec<f64>,
 }
 
 /// The skin inserted into the best mesh, and the counts of the mesh written with it.
@@ -233,6 +250,7 @@ mod tests {
             best_iteration: 1,
             stopped: "vertex count and conformity stable".into(),
             layer: None,
+            budget: None,
             iterations: vec![IterationRecord {
                 iteration: 0,
                 vertices: 10,
@@ -281,6 +299,7 @@ mod tests {
             iterations: Vec::new(),
             best_mesh: vec![WrittenFile::of(name, bytes)],
             layer: None,
+            budget: None,
         };
         let mesh = dir.path().join("b.msh");
         std::fs::write(&mesh, b"this mesh").unwrap();

@@ -78,7 +78,8 @@ pub use conformity::{metric_field, Conformity, Ugawg};
 pub use formats::{read_path, write_path, Format, TaggedMesh, WriteOptions};
 pub use geometry::Point2;
 pub use history::{
-    History, IterationRecord, LayerRecord, PhaseTimes, RemeshingRecord, SolverRecord, WrittenFile,
+    BudgetRecord, History, IterationRecord, LayerRecord, PhaseTimes, RemeshingRecord, SolverRecord,
+    WrittenFile,
 };
 pub use mesh_graph::{MeshGraph, MeshGraphError};
 pub use metric::{SizeBounds, SizeTensor, Sym2};

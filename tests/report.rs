@@ -415,6 +415,7 @@ fn history_is_drawn_with_its_best_iteration() {
         iterations: vec![rec(0, 121, 0.3), rec(1, 400, 0.7), rec(2, 450, 0.9), rec(3, 452, 0.89)],
         best_mesh: Vec::new(),
         layer: None,
+        budget: None,
     };
     let hp = dir.path().join("history.json");
     std::fs::write(&hp, h.to_json()).unwrap();
@@ -648,6 +649,7 @@ fn history_ending_on_its_best(dir: &Path) -> PathBuf {
         ],
         best_mesh: Vec::new(),
         layer: None,
+        budget: None,
     };
     let p = dir.join("history.json");
     std::fs::write(&p, h.to_json()).unwrap();

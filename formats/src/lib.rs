@@ -65,7 +65,7 @@ pub use mesh::{
     MeshProblem, NodeIndex, RegionSeed, TaggedMesh, MAX_POINTS,
 };
 pub use openfoam::{CyclicPair, CyclicTransform, OpenFoamWrite};
-pub use output::write_all_atomically;
+pub use output::{sync_files, write_all_atomically, write_all_atomically_synced};
 pub use stl::StlWrite;
 pub use vtk::{VtkWrite, VtuEncoding};
 

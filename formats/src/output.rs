@@ -248,11 +248,12 @@ fn remove_stale_temporaries(dir: &Path) {
 }
 
 /// Writes `bytes` to a new temporary file beside `path`, with the permissions the
-/// target must end with, synced to disk.
+/// target must end with, synced to disk when `durable`.
 fn write_temporary(
     path: &Path,
     existing: Option<&std::fs::Metadata>,
     bytes: &[u8],
+    durable: bool,
 ) -> std::io::Result<NamedTempFile> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let prefix = format!(".{name}{TEMP_TAG}{}-{}.", host_tag().0, std::process::id());
@@ -278,7 +279,9 @@ fn write_temporary(
         }
     }
     tmp.write_all(bytes)?;
-    tmp.as_file().sync_all()?;
+    if durable {
+        tmp.as_file().sync_all()?;
+    }
     Ok(tmp)
 }
 
@@ -286,6 +289,15 @@ fn write_temporary(
 /// then all temporaries written, then all renamed. On failure before the renames, no
 /// target has changed and no temporary is left.
 pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
+    write_all_atomically_synced(targets, true)
+}
+
+/// [`write_all_atomically`], the files and their directories synced to disk only when
+/// `durable`. Without it the set is still all or nothing for every reader and for a
+/// killed writer (the renames are atomic), but not against a crash of the system: for
+/// files rewritten many times in one run (the adaptation loop's result after every
+/// iteration), whose last version alone is synced ([`sync_files`]).
+pub fn write_all_atomically_synced(targets: &[(PathBuf, Vec<u8>)], durable: bool) -> Result<()> {
     let mut plan = Vec::with_capacity(targets.len());
     for (target, bytes) in targets {
         plan.push((target, destination(target)?, bytes));
@@ -299,7 +311,7 @@ pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
     let mut temps = Vec::new();
     for (target, dest, bytes) in &plan {
         if let Destination::Replace { path, existing } = dest {
-            let tmp = write_temporary(path, existing.as_ref(), bytes)
+            let tmp = write_temporary(path, existing.as_ref(), bytes, durable)
                 .map_err(|e| write_error(e).with_path(target))?;
             temps.push((tmp, *target, path));
         }
@@ -314,7 +326,7 @@ pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
     }
     // The renames themselves reach the disk with their directories (best effort: some
     // file systems cannot sync a directory).
-    for dir in dirs {
+    for dir in dirs.into_iter().filter(|_| durable) {
         if let Ok(d) = File::open(dir) {
             let _ = d.sync_all();
         }
@@ -326,6 +338,30 @@ pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
                 .open(path)
                 .and_then(|mut f| f.write_all(bytes))
                 .map_err(|e| write_error(e).with_path(target))?;
+        }
+    }
+    Ok(())
+}
+
+/// Syncs the regular files `paths` and then their directories to disk (best effort for
+/// the directories): what makes files written by [`write_all_atomically_synced`] without
+/// `durable` survive a crash of the system once they are final.
+pub fn sync_files(paths: &[PathBuf]) -> Result<()> {
+    let mut dirs = Vec::new();
+    for path in paths {
+        let Ok(m) = std::fs::metadata(path) else { continue };
+        if !m.is_file() {
+            continue;
+        }
+        File::open(path).and_then(|f| f.sync_all()).map_err(|e| write_error(e).with_path(path))?;
+        let dir = directory_of(path);
+        if !dirs.contains(&dir) {
+            dirs.push(dir);
+        }
+    }
+    for dir in dirs {
+        if let Ok(d) = File::open(dir) {
+            let _ = d.sync_all();
         }
     }
     Ok(())

@@ -12,8 +12,8 @@
 use std::path::{Path, PathBuf};
 
 use smartmesh_formats::{
-    write_all_atomically, write_bytes, Error, ErrorKind, Format, PathSiblings, TaggedMesh,
-    WriteOptions,
+    sync_files, write_all_atomically_synced, write_bytes, Error, ErrorKind, Format, PathSiblings,
+    TaggedMesh, WriteOptions,
 };
 
 use super::Observer;
@@ -34,6 +34,8 @@ pub struct ResultFiles {
     pub dropped: Vec<String>,
     /// The files of the best mesh as last written, which every history names.
     written: Vec<WrittenFile>,
+    /// The paths of the best mesh's files as last written, synced once the loop stops.
+    best_paths: Vec<PathBuf>,
 }
 
 impl ResultFiles {
@@ -47,6 +49,7 @@ impl ResultFiles {
             options,
             dropped: Vec::new(),
             written: Vec::new(),
+            best_paths: Vec::new(),
         }
     }
 }
@@ -152,8 +155,24 @@ impl Observer for ResultFiles {
         described.best_mesh = written.clone();
         // The history last: renamed after the mesh it names.
         targets.push((self.history.clone(), described.to_json().into_bytes()));
-        write_all_atomically(&targets)?;
+        // Rewritten after every iteration: only the last set, once the loop has stopped,
+        // is synced to disk (the renames keep every set whole for readers and a kill).
+        let last = history.stopped != crate::adapt::RUNNING;
+        write_all_atomically_synced(&targets, false)?;
+        if last {
+            let mut paths: Vec<PathBuf> = if new_best.is_some() {
+                targets.iter().map(|(p, _)| p.clone()).collect()
+            } else {
+                self.best_paths.clone()
+            };
+            paths.push(self.history.clone());
+            sync_files(&paths)?;
+        }
         // A set that failed left the previous files, which the previous record names.
+        if new_best.is_some() {
+            self.best_paths =
+                targets.iter().map(|(p, _)| p.clone()).filter(|p| *p != self.history).collect();
+        }
         self.written = written;
         Ok(())
     }

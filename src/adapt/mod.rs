@@ -42,6 +42,7 @@
 //! (snapped and measured on the starting mesh) are measured again on the result, and a
 //! skinned mesh that broke their match is not handed on ([`Outcome::periodic`]).
 
+pub mod budget;
 pub mod files;
 pub mod rules;
 pub mod skin;
@@ -55,8 +56,11 @@ use smartmesh_formats::TaggedMesh;
 
 use crate::adapters::{Adapter, AdapterError};
 use crate::conformity::Conformity;
-use crate::history::{History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord};
+use crate::history::{
+    BudgetRecord, History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord,
+};
 use crate::layer::{LayerOptions, Layered};
+use crate::mesh_graph::MeshGraph;
 use crate::metric::complexity::{exceeds, format_count};
 use crate::metric::Sym2;
 use crate::metric_field::{expected_vertices, MetricField};
@@ -64,8 +68,9 @@ use crate::periodic::{PeriodicError, Rechecked, Sides};
 use crate::recipe::Recipe;
 use crate::recipe::{size_mesh_with_steps, SizeMeshError};
 use crate::remesh::DEFAULT_MAX_VERTICES;
-use crate::sizing::StepEvent;
 use crate::topology::Topology;
+pub use budget::Budget;
+use budget::{normalise, remesher_ratio, Limits, RawRecipe};
 use solver::{SolverError, SolverLoop};
 
 /// Ctrl-C for the external programs a run starts (a solver, `mmg2d_O3`, `gmsh`):
@@ -73,6 +78,9 @@ use solver::{SolverError, SolverLoop};
 /// every program under way.
 pub use crate::child::{interrupt, stop_all};
 pub use rules::Tolerances;
+
+/// `History::stopped` while the loop runs (every record but the last).
+pub const RUNNING: &str = "running";
 
 /// `History::stopped` of a run the user stopped ([`Observer::interrupted`]).
 pub const INTERRUPTED: &str = "interrupted";
@@ -97,6 +105,10 @@ pub struct AdaptOptions {
     /// The periodic sides of the starting mesh, snapped and measured
     /// ([`Sides::snap_and_check`]), measured again on the result.
     pub periodic: Sides,
+    /// The vertex budget: the field on every mesh (the recipe's, the solution's, or both
+    /// intersected) normalised to it with the recipe's bounds and gradation inside
+    /// ([`budget`]); `None`: the field as the recipe and the solution give it.
+    pub budget: Option<Budget>,
 }
 
 /// The default [`AdaptOptions::max_growth`].
@@ -111,6 +123,7 @@ impl Default for AdaptOptions {
             max_growth: Some(DEFAULT_MAX_GROWTH),
             layer: None,
             periodic: Sides::default(),
+            budget: None,
         }
     }
 }
@@ -293,6 +306,43 @@ impl Measured {
     }
 }
 
+/// How each mesh is sized: the recipe, and with a budget the raw recipe and the vertex
+/// count the field is normalised to.
+struct Sizer<'a> {
+    recipe: &'a Recipe,
+    budget: Option<(&'a RawRecipe, f64)>,
+}
+
+/// The recipe's field on `mesh` (with `extra` steps after its own), normalised to the
+/// budget when there is one.
+fn size_field(
+    mesh: &TaggedMesh,
+    topology: &Topology,
+    sizer: &Sizer<'_>,
+    extra: &[crate::sizing::plan::Step],
+) -> Result<(Vec<crate::metric::SizeTensor>, Vec<String>), SizeMeshError> {
+    let Some((raw, target)) = sizer.budget else {
+        let sizing = size_mesh_with_steps(mesh, topology, sizer.recipe, extra, &mut |_| {})?;
+        return Ok((sizing.field.tensors, sizing.field.warnings));
+    };
+    let sizing = size_mesh_with_steps(mesh, topology, &raw.recipe, extra, &mut |_| {})?;
+    let graph = match raw.gradation {
+        Some(_) => Some(MeshGraph::from_topology(topology, mesh).map_err(SizeMeshError::Graph)?),
+        None => None,
+    };
+    let limits = Limits { bounds: raw.bounds, gradation: raw.gradation.zip(graph.as_ref()) };
+    let mut warnings = sizing.field.warnings;
+    let b = normalise(mesh, &sizing.field.tensors, &limits, target);
+    if !b.reached {
+        warnings.push(format!(
+            "the bounds keep the field from the budget: it asks for {} vertices at most, not {} (widen hmin or hmax)",
+            format_count(b.vertices),
+            format_count(target)
+        ));
+    }
+    Ok((b.tensors, warnings))
+}
+
 /// Sizes and measures `mesh` as iteration `iteration`; `remesh` is the time already spent
 /// making it, `remeshing` what that remeshing did.
 fn measure(
@@ -300,7 +350,7 @@ fn measure(
     mesh: TaggedMesh,
     remesh: f64,
     remeshing: Option<RemeshingRecord>,
-    recipe: &Recipe,
+    sizer: &Sizer<'_>,
     solver: Option<&SolverLoop>,
     observer: &mut dyn Observer,
 ) -> Result<Measured, (Phase, PhaseError)> {
@@ -316,9 +366,9 @@ fn measure(
     observer.phase(iteration, Phase::Size);
     let t = Instant::now();
     let topology = Topology::from_mesh(&mesh);
-    let sizing = size_mesh_with_steps(&mesh, &topology, recipe, &extra, &mut |_: StepEvent| {})
-        .map_err(|e| (Phase::Size, e.into()))?;
-    let metric: Vec<Sym2> = sizing.field.tensors.iter().map(|t| t.to_metric()).collect();
+    let (tensors, warnings) =
+        size_field(&mesh, &topology, sizer, &extra).map_err(|e| (Phase::Size, e.into()))?;
+    let metric: Vec<Sym2> = tensors.iter().map(|t| t.to_metric()).collect();
     let size = t.elapsed().as_secs_f64();
     let expected = OnceCell::new();
     let solver = solved.map(|d| SolverRecord {
@@ -330,8 +380,7 @@ fn measure(
     });
     // The result carries the recipe's field on it (`metric`, `size_tensor`, `h1` …, as
     // `size` writes them), so that `report`, `info --metric` and ParaView read one file.
-    mesh.point_data
-        .extend(MetricField::from_sizes(&sizing.field.tensors, "the recipe's field").arrays());
+    mesh.point_data.extend(MetricField::from_sizes(&tensors, "the recipe's field").arrays());
     observer.phase(iteration, Phase::Measure);
     let t = Instant::now();
     let c = Conformity::of_mesh(&mesh, &metric).ok_or((Phase::Measure, PhaseError::NoTriangle))?;
@@ -347,7 +396,7 @@ fn measure(
         remeshing,
         solver,
     };
-    Ok(Measured { mesh, topology, metric, expected, record, warnings: sizing.field.warnings })
+    Ok(Measured { mesh, topology, metric, expected, record, warnings })
 }
 
 /// Runs the loop from `start` with `recipe` and `adapter`. `input` and `recipe_label`
@@ -377,24 +426,38 @@ pub fn run_with_solver(
     recipe_label: &str,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdaptError> {
-    let first =
-        measure(0, start, 0.0, None, recipe, solver, observer).map_err(|(phase, source)| {
+    let raw = options.budget.as_ref().and_then(|_| RawRecipe::of(recipe));
+    // The vertex count of iteration k's field: the budget's, divided by the remesher's
+    // ratio of made to asked measured on the last remeshing.
+    let target = |k: usize, ratio: f64| {
+        let b = options.budget.as_ref()?;
+        Some((raw.as_ref()?, b.schedule.at(k) / ratio))
+    };
+    let sizer = |k: usize, ratio: f64| Sizer { recipe, budget: target(k, ratio) };
+    let first = measure(0, start, 0.0, None, &sizer(0, 1.0), solver, observer).map_err(
+        |(phase, source)| {
             if source.is_interrupted() || (phase == Phase::Solve && observer.interrupted()) {
                 AdaptError::Interrupted { phase }
             } else {
                 AdaptError::Start { phase, source }
             }
-        })?;
+        },
+    )?;
     let mut history = History {
         input: input.to_string(),
         recipe: recipe_label.to_string(),
         adapter: adapter.name().to_string(),
         converged: false,
         best_iteration: 0,
-        stopped: "running".to_string(),
+        stopped: RUNNING.to_string(),
         iterations: vec![first.record.clone()],
         best_mesh: Vec::new(),
         layer: None,
+        budget: options.budget.as_ref().map(|b| BudgetRecord {
+            vertices: b.schedule.target,
+            from: b.from.clone(),
+            normalised_to: target(0, 1.0).map(|t| t.1).into_iter().collect(),
+        }),
     };
     observer.record(&history, Some(&first.mesh))?;
     let mut warnings = Vec::new();
@@ -405,6 +468,7 @@ pub fn run_with_solver(
     let mut current = first;
     let mut failure = None;
     let mut stopped = format!("iteration limit ({}) reached", options.max_iterations);
+    let mut ratio = 1.0;
 
     for k in 1..=options.max_iterations {
         if observer.interrupted() {
@@ -441,7 +505,15 @@ pub fn run_with_solver(
                 remesher: adapted.stats,
             };
             let seconds = t.elapsed().as_secs_f64();
-            measure(k, adapted.mesh, seconds, Some(remeshing), recipe, solver, observer)
+            // A growth-limited remeshing of a coarse mesh measures the coarse mesh's
+            // sampling of the field more than the remesher: its ratio is not kept.
+            if scale.is_none() {
+                ratio = remesher_ratio(adapted.mesh.points.len(), expected);
+            }
+            if let (Some(b), Some((_, t))) = (&mut history.budget, target(k, ratio)) {
+                b.normalised_to.push(t);
+            }
+            measure(k, adapted.mesh, seconds, Some(remeshing), &sizer(k, ratio), solver, observer)
         });
         let next = match next {
             Ok(n) => n,
@@ -463,14 +535,27 @@ pub fn run_with_solver(
         };
         note_warnings(&mut warnings, &next);
         history.iterations.push(next.record.clone());
-        let new_best = rules::is_better(&next.record, &history.iterations[history.best_iteration]);
+        // With a budget a mesh on it beats one off it; otherwise the more conforming wins.
+        let on_budget = |r: &IterationRecord| {
+            options.budget.as_ref().map(|b| budget::within(r.vertices, b.schedule.at(r.iteration)))
+        };
+        let best_so_far = &history.iterations[history.best_iteration];
+        let new_best = match (on_budget(&next.record), on_budget(best_so_far)) {
+            (Some(a), Some(b)) if a != b => a,
+            _ => rules::is_better(&next.record, best_so_far),
+        };
         if new_best {
             history.best_iteration = k;
             best = next.mesh.clone();
             best_metric = next.metric.clone();
         }
         observer.record(&history, new_best.then_some(&next.mesh))?;
-        if scale.is_none() && rules::converged(&current.record, &next.record, &options.tolerances) {
+        // With a budget the loop has not converged while the mesh is off it: the next
+        // field, corrected by the remesher's ratio, brings it there.
+        if scale.is_none()
+            && on_budget(&next.record) != Some(false)
+            && rules::converged(&current.record, &next.record, &options.tolerances)
+        {
             let (dv, dc) = rules::changes(&current.record, &next.record);
             history.converged = true;
             stopped = format!(

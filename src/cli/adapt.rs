@@ -11,10 +11,14 @@ use indicatif::ProgressBar;
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::solver::{readable_extension, Goal, Schedule, SolverLoop};
 use smartmesh::adapt::{
-    run_with_solver as run_loop, start_sized, AdaptOptions, Observer, Outcome, Phase, Tolerances,
+    run_with_solver as run_loop, start_sized, AdaptOptions, Budget, Observer, Outcome, Phase,
+    Tolerances,
 };
+use smartmesh::expected_vertices;
 use smartmesh::formats::{Format, TaggedMesh};
 use smartmesh::layer::LayerOptions;
+use smartmesh::metric::complexity::format_count;
+use smartmesh::recipe::size_mesh_with_steps;
 use smartmesh::History;
 use smartmesh::Topology;
 use smartmesh::{adapter, AdapterKind, AdapterOptions};
@@ -113,7 +117,15 @@ Lp-optimal metric (--p) normalised to the schedule's vertex count, start * growt
 recipe may then be left out, and a .poly INPUT is meshed uniformly to about the \
 schedule's first vertex count. A failing solver is quoted (the end of its output; the rest \
 is read and dropped) and stops the loop with exit status 1; the best mesh stays. The history records per iteration the solver's seconds and the complexity asked \
-and obtained."
+and obtained.
+
+Vertex budget: with --complexity N (with or without --solver) the final field on every mesh — \
+the recipe's, the solution's, or both intersected — is scaled as a whole so that a mesh \
+conforming to it has N vertices (the schedule's value at each iteration), with the recipe's \
+hmin, hmax, aspect ratio and gradation applied inside the scaling, and corrected by the \
+ratio of vertices made to vertices asked of the previous remeshing. With --solver and \
+neither --complexity nor --error, the budget is the recipe's own complexity on the starting \
+mesh (the history's \"budget\" says so). --error is a bound each field meets: no budget."
 )]
 pub(super) struct AdaptArgs {
     /// Starting mesh (any readable format with triangles or quadrangles), or a .poly.
@@ -232,15 +244,78 @@ fn growth(s: &str) -> Result<f64, String> {
     }
 }
 
-/// The solver of `--solver`, checked before any work.
+/// The vertex schedule of `--complexity N` (from --complexity-start, growing by
+/// --complexity-growth).
+fn schedule(args: &AdaptArgs, target: f64) -> Schedule {
+    Schedule {
+        start: args.complexity_start.unwrap_or(target).min(target),
+        growth: args.complexity_growth,
+        target,
+    }
+}
+
+/// The vertex budget: `--complexity N`, else with a solver and no `--error` the recipe's
+/// own complexity on the starting mesh (`recipe_vertices`); `None` otherwise (an error
+/// target is a bound each field meets, not a count).
+fn budget(args: &AdaptArgs, recipe_vertices: Option<f64>) -> Option<Budget> {
+    match (args.solution.complexity, args.solution.error, recipe_vertices) {
+        (Some(n), _, _) => Some(Budget {
+            schedule: schedule(args, n),
+            from: format!("--complexity {}", ui::sig(n)),
+        }),
+        (None, None, Some(n)) => Some(Budget {
+            schedule: schedule(args, n),
+            from: format!(
+                "the recipe's own complexity on the starting mesh ({} vertices): --solver without --complexity",
+                format_count(n)
+            ),
+        }),
+        _ => None,
+    }
+}
+
+/// The recipe's own complexity on `mesh`: the budget of `--solver` without
+/// `--complexity` or `--error`.
+fn recipe_vertices(
+    args: &AdaptArgs,
+    mesh: &TaggedMesh,
+    recipe: &smartmesh::Recipe,
+) -> Result<Option<f64>, CliError> {
+    if args.solver.is_none() || args.solution.complexity.is_some() || args.solution.error.is_some()
+    {
+        return Ok(None);
+    }
+    if recipe.algorithms.is_empty() {
+        return Err(CliError::usage(
+            "--solver needs --complexity N (or --error E), or a recipe whose field's complexity is the budget",
+        ));
+    }
+    let topology = Topology::from_mesh(mesh);
+    let sized = size_mesh_with_steps(mesh, &topology, recipe, &[], &mut |_| {})
+        .map_err(|e| CliError::context(format!("{e} (input {})", args.input.display()), e))?;
+    let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
+    Ok(Some(expected_vertices(mesh, &metric)))
+}
+
+/// The solver of `--solver`, checked before any work; `recipe_vertices` is the budget
+/// when no target is given.
 fn solver_loop(
     args: &AdaptArgs,
     mesh: &TaggedMesh,
     recipe: &smartmesh::Recipe,
+    recipe_vertices: Option<f64>,
 ) -> Result<Option<SolverLoop>, CliError> {
     let Some(command) = &args.solver else {
-        if !args.solution.field.is_empty() || args.complexity_start.is_some() {
-            return Err(CliError::usage("--field and --complexity-start need --solver"));
+        if !args.solution.field.is_empty() {
+            return Err(CliError::usage("--field needs --solver"));
+        }
+        if args.solution.error.is_some() {
+            return Err(CliError::usage(
+                "--error needs --solver: an interpolation error is measured on a solution (--complexity N sets a vertex budget for the recipe alone)",
+            ));
+        }
+        if args.complexity_start.is_some() && args.solution.complexity.is_none() {
+            return Err(CliError::usage("--complexity-start needs --complexity (or --solver)"));
         }
         return Ok(None);
     };
@@ -251,12 +326,8 @@ fn solver_loop(
             )));
         }
     }
-    let goal = match (args.solution.complexity, args.solution.error) {
-        (Some(target), _) => Goal::Vertices(Schedule {
-            start: args.complexity_start.unwrap_or(target).min(target),
-            growth: args.complexity_growth,
-            target,
-        }),
+    let goal = match (args.solution.complexity.or(recipe_vertices), args.solution.error) {
+        (Some(target), _) => Goal::Vertices(schedule(args, target)),
         (None, Some(e)) => Goal::Error(e),
         (None, None) => {
             return Err(CliError::usage("--solver needs --complexity N (or --error E)"))
@@ -584,12 +655,17 @@ pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
         smartmesh::remesh::check_quads(&starting.mesh)
             .map_err(|e| CliError::usage(format!("{}: {e}", args.input.display())))?;
     }
-    let solver = solver_loop(&args, &starting.mesh, &recipe)?;
     // The input is checked whole before any tool is looked for: a recipe that names tags
     // the mesh does not have is bad input (2) whether or not the remesher is installed.
     recipe
         .resolve(&Topology::from_mesh(&starting.mesh))
         .map_err(|e| CliError::context(format!("{e} (input {})", args.input.display()), e))?;
+    let own = recipe_vertices(&args, &starting.mesh, &recipe)?;
+    let solver = solver_loop(&args, &starting.mesh, &recipe, own)?;
+    let budget = budget(&args, own);
+    if let Some(b) = budget.as_ref().filter(|_| own.is_some()) {
+        ui::note(&format!("vertex budget: {}", b.from));
+    }
     let layer = layer_options(&args, &recipe, &starting.mesh)?;
     // Periodic sides: images of each other on the starting mesh (else bad input), frozen
     // through every remeshing, measured again on the result.
@@ -620,6 +696,7 @@ pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
         max_growth: (args.max_growth > 0.0).then_some(args.max_growth),
         layer,
         periodic: sides,
+        budget,
     };
     let to_stdout = is_stdio(&args.output);
     let mesh_file = if to_stdout { Path::new("stdout.msh") } else { args.output.as_path() };

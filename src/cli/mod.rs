@@ -165,10 +165,14 @@ pub(crate) fn set_threads(threads: usize) -> Result<(), CliError> {
         }
         return Ok(());
     }
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build_global()
-        .map_err(|e| CliError::usage(format!("--threads {threads}: {e}")))
+    let mut pool = rayon::ThreadPoolBuilder::new().num_threads(threads);
+    if threads == 1 {
+        // The main thread is the pool's one worker: no second thread is started, so none
+        // spins or yields waiting for work (a pool of one other thread would, after each
+        // parallel call, while the main thread does the rest).
+        pool = pool.use_current_thread();
+    }
+    pool.build_global().map_err(|e| CliError::usage(format!("--threads {threads}: {e}")))
 }
 
 /// Writes to stdout; a closed pipe (`smartmesh info x | head`) is not an error.

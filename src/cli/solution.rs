@@ -23,7 +23,9 @@ pub(super) struct SolutionArgs {
     #[arg(long, value_name = "NAME", value_delimiter = ',', help_heading = "Solution")]
     pub field: Vec<String>,
     /// The vertex count the solution's metric asks for (its complexity); adapt: the
-    /// last value of the schedule.
+    /// vertex budget of the mesh (the last value of the schedule), for the recipe's field,
+    /// the solution's, or both intersected: the final field is scaled to it with the
+    /// recipe's hmin, hmax, aspect ratio and gradation inside the scaling.
     #[arg(long, value_name = "N", value_parser = positive_size, conflicts_with = "error", help_heading = "Solution")]
     pub complexity: Option<f64>,
     /// Normalise the metric to this Lp norm of the interpolation error instead.

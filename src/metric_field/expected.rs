@@ -11,6 +11,17 @@ use smartmesh_formats::{CellKind, TaggedMesh};
 /// the metric's complexity over its triangles and quadrangles (each cut in two). 0 when
 /// `metric` does not match the mesh's points.
 pub fn expected_vertices(mesh: &TaggedMesh, metric: &[Sym2]) -> f64 {
+    let (pts, tris) = planar_triangles(mesh);
+    if metric.len() != pts.len() || tris.iter().flatten().any(|&v| v >= pts.len()) {
+        return 0.0;
+    }
+    complexity::expected_vertices(&pts, &tris, metric)
+}
+
+/// The points of `mesh` in its plane and the triangles the complexity is taken over: its
+/// triangles and its quadrangles each cut in two (the adaptation loop's budget scales a
+/// field by the same count).
+pub(crate) fn planar_triangles(mesh: &TaggedMesh) -> (Vec<[f64; 2]>, Vec<[usize; 3]>) {
     let pts: Vec<[f64; 2]> = mesh.points.iter().map(|p| [p[0], p[1]]).collect();
     let mut tris = Vec::new();
     for (kind, n, _, _) in mesh.cells() {
@@ -24,8 +35,5 @@ pub fn expected_vertices(mesh: &TaggedMesh, metric: &[Sym2]) -> f64 {
             _ => {}
         }
     }
-    if metric.len() != pts.len() || tris.iter().flatten().any(|&v| v >= pts.len()) {
-        return 0.0;
-    }
-    complexity::expected_vertices(&pts, &tris, metric)
+    (pts, tris)
 }

@@ -47,6 +47,7 @@ pub(crate) mod write;
 mod write3;
 
 pub use expected::expected_vertices;
+pub(crate) use expected::planar_triangles;
 pub use interpolate::{InterpolationError, Interpolator};
 pub(crate) use tensor::log_euclidean3;
 pub use tensor::FieldTensor;
