@@ -267,25 +267,37 @@ pub fn adapter(
         if let Some(hausd) = options.hausd {
             let controls =
                 crate::size_controls::SizeControls { hausd: Some(hausd), ..Default::default() };
-            let inner = adapter(kind, AdapterOptions { hausd: None, ..options })?;
+            // The native remesher also bounds its coarsening of curves by it.
+            let inner: Box<dyn Adapter> = if kind == AdapterKind::Native {
+                Box::new(native_adapter(options, Some(hausd)))
+            } else {
+                adapter(kind, AdapterOptions { hausd: None, ..options })?
+            };
             return Ok(Box::new(Controlled { inner, controls }));
         }
     }
     match kind {
-        AdapterKind::Native => Ok(Box::new(native::NativeAdapter {
-            options: crate::remesh::RemeshOptions {
-                keep_points: options.keep_points,
-                periodic: options.periodic,
-                max_vertices: options.max_vertices,
-                // The loop measures every mesh against the recipe's own field.
-                measure: false,
-                ..Default::default()
-            },
-        })),
+        AdapterKind::Native => Ok(Box::new(native_adapter(options, None))),
         AdapterKind::Mmg2d => Ok(Box::new(mmg::MmgAdapter::new(mmg::Tool::Mmg2d, options)?)),
         AdapterKind::Mmg3d => Ok(Box::new(mmg::MmgAdapter::new(mmg::Tool::Mmg3d, options)?)),
         AdapterKind::Mmgs => Ok(Box::new(mmg::MmgAdapter::new(mmg::Tool::Mmgs, options)?)),
         AdapterKind::Gmsh => Ok(Box::new(gmsh::GmshAdapter::new(options)?)),
+    }
+}
+
+/// The native remesher with the loop's options; `hausd` bounds how far a coarsening
+/// takes a boundary edge from its curve (the remesher's default when `None`).
+fn native_adapter(options: AdapterOptions, hausd: Option<f64>) -> native::NativeAdapter {
+    native::NativeAdapter {
+        options: crate::remesh::RemeshOptions {
+            keep_points: options.keep_points,
+            periodic: options.periodic,
+            max_vertices: options.max_vertices,
+            hausd,
+            // The loop measures every mesh against the recipe's own field.
+            measure: false,
+            ..Default::default()
+        },
     }
 }
 

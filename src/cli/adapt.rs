@@ -82,7 +82,9 @@ the same agreeing files (and killing such a program's group).
 
 --hmin, --hmax and --hgrad replace the recipe's global hmin, hmax and gradation (with mmg2d, \
 --hgrad is also MMG's own -hgrad). --hausd bounds the sizes along curved boundaries by their \
-curvature: MMG's -hausd for mmg2d, the same rule applied to the metric for native and gmsh.
+curvature: MMG's -hausd for mmg2d, the same rule applied to the metric for native and gmsh; native \
+also never coarsens a boundary edge further than it from its curve (by default 0.01 times the \
+largest side of the bounding box).
 
 Remeshers:
   native   smartmesh's own remesher (the default)
