@@ -19,6 +19,8 @@
 pub mod complexity;
 mod eigen2;
 mod eigen3;
+#[cfg(test)]
+mod eigen3_twins;
 mod interpolation;
 mod intersection;
 pub mod length;
@@ -26,9 +28,11 @@ mod size_tensor;
 mod svd2;
 mod sym2;
 mod sym3;
+#[cfg(test)]
+mod testgen3;
 
 pub use eigen2::{eigen2, Eigen2};
-pub use eigen3::{eigen3, Eigen3};
+pub use eigen3::{eigen3, jacobi_sweeps, Eigen3, MAX_SWEEPS};
 pub use interpolation::{exp_sym, log_euclidean, log_spd};
 pub use size_tensor::{SizeBounds, SizeTensor, TensorError};
 pub use sym2::Sym2;
