@@ -13,6 +13,10 @@
 //!   [`log_euclidean`]: the one weighted Log-Euclidean interpolation, which keeps tensors SPD.
 //! - [`length`]: the metric length of an edge and the metric quality of a triangle.
 //! - [`Sym3`]: the symmetric 3×3 matrix of 3D metrics, with the orders files carry it in.
+//! - [`eigen3`]: its eigen-decomposition by cyclic Jacobi, exact on repeated, nearly
+//!   repeated and graded (1e-12..1e12) tensors.
+//! - [`SizeTensor3`]: three sizes along an orthonormal frame, to and from metrics
+//!   ([`TensorError3`] for what is not one), limited by the same [`SizeBounds`].
 //! - [`complexity`]: the metric's complexity ∫ √det M over triangles, and the vertex count
 //!   it asks for.
 
@@ -25,6 +29,7 @@ mod interpolation;
 mod intersection;
 pub mod length;
 mod size_tensor;
+mod size_tensor3;
 mod svd2;
 mod sym2;
 mod sym3;
@@ -35,5 +40,6 @@ pub use eigen2::{eigen2, Eigen2};
 pub use eigen3::{eigen3, jacobi_sweeps, Eigen3, MAX_SWEEPS};
 pub use interpolation::{exp_sym, log_euclidean, log_spd};
 pub use size_tensor::{SizeBounds, SizeTensor, TensorError};
+pub use size_tensor3::{SizeTensor3, TensorError3};
 pub use sym2::Sym2;
 pub use sym3::Sym3;
