@@ -16,7 +16,8 @@
 //! - [`eigen3`]: its eigen-decomposition by cyclic Jacobi, exact on repeated, nearly
 //!   repeated and graded (1e-12..1e12) tensors.
 //! - [`SizeTensor3`]: three sizes along an orthonormal frame, to and from metrics
-//!   ([`TensorError3`] for what is not one), limited by the same [`SizeBounds`].
+//!   ([`TensorError3`] for what is not one), limited by the same [`SizeBounds`];
+//!   [`SizeTensor3::intersection`] / [`SizeTensor3::union`] by simultaneous reduction.
 //! - [`complexity`]: the metric's complexity ∫ √det M over triangles, and the vertex count
 //!   it asks for.
 
@@ -27,6 +28,7 @@ mod eigen3;
 mod eigen3_twins;
 mod interpolation;
 mod intersection;
+mod intersection3;
 pub mod length;
 mod size_tensor;
 mod size_tensor3;

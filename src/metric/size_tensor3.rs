@@ -96,6 +96,11 @@ impl SizeTensor3 {
         SizeTensor3::new([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [h; 3])
     }
 
+    /// Builds from an already orthonormal right-handed frame, clamping the sizes into range.
+    pub(crate) fn from_parts(frame: [[f64; 3]; 3], h: [f64; 3]) -> SizeTensor3 {
+        SizeTensor3 { frame, h: h.map(|x| x.clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE)) }
+    }
+
     /// The three unit axes, `frame()[i]` for `sizes()[i]`.
     pub fn frame(&self) -> [[f64; 3]; 3] {
         self.frame
