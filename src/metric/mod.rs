@@ -17,7 +17,8 @@
 //!   repeated and graded (1e-12..1e12) tensors.
 //! - [`SizeTensor3`]: three sizes along an orthonormal frame, to and from metrics
 //!   ([`TensorError3`] for what is not one), limited by the same [`SizeBounds`];
-//!   [`SizeTensor3::intersection`] / [`SizeTensor3::union`] by simultaneous reduction.
+//!   [`SizeTensor3::intersection`] / [`SizeTensor3::union`] by simultaneous reduction;
+//!   [`SizeTensor3::log_euclidean_mean`], [`log_spd3`], [`exp_sym3`], [`log_euclidean3`].
 //! - [`complexity`]: the metric's complexity ∫ √det M over triangles, and the vertex count
 //!   it asks for.
 
@@ -27,6 +28,7 @@ mod eigen3;
 #[cfg(test)]
 mod eigen3_twins;
 mod interpolation;
+mod interpolation3;
 mod intersection;
 mod intersection3;
 pub mod length;
@@ -41,6 +43,7 @@ mod testgen3;
 pub use eigen2::{eigen2, Eigen2};
 pub use eigen3::{eigen3, jacobi_sweeps, Eigen3, MAX_SWEEPS};
 pub use interpolation::{exp_sym, log_euclidean, log_spd};
+pub use interpolation3::{exp_sym3, log_euclidean3, log_spd3};
 pub use size_tensor::{SizeBounds, SizeTensor, TensorError};
 pub use size_tensor3::{SizeTensor3, TensorError3};
 pub use sym2::Sym2;
