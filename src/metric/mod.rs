@@ -19,6 +19,8 @@
 //!   ([`TensorError3`] for what is not one), limited by the same [`SizeBounds`];
 //!   [`SizeTensor3::intersection`] / [`SizeTensor3::union`] by simultaneous reduction;
 //!   [`SizeTensor3::log_euclidean_mean`], [`log_spd3`], [`exp_sym3`], [`log_euclidean3`].
+//! - [`length3`]: the metric length of an edge and the mean-ratio quality of a
+//!   tetrahedron in 3D.
 //! - [`complexity`]: the metric's complexity ∫ √det M over triangles, and the vertex count
 //!   it asks for.
 
@@ -32,6 +34,7 @@ mod interpolation3;
 mod intersection;
 mod intersection3;
 pub mod length;
+pub mod length3;
 mod size_tensor;
 mod size_tensor3;
 mod svd2;
