@@ -13,23 +13,45 @@
 //!   [`log_euclidean`]: the one weighted Log-Euclidean interpolation, which keeps tensors SPD.
 //! - [`length`]: the metric length of an edge and the metric quality of a triangle.
 //! - [`Sym3`]: the symmetric 3×3 matrix of 3D metrics, with the orders files carry it in.
+//! - [`eigen3`]: its eigen-decomposition by cyclic Jacobi, exact on repeated, nearly
+//!   repeated and graded (1e-12..1e12) tensors.
+//! - [`SizeTensor3`]: three sizes along an orthonormal frame, to and from metrics
+//!   ([`TensorError3`] for what is not one), limited by the same [`SizeBounds`];
+//!   [`SizeTensor3::intersection`] / [`SizeTensor3::union`] by simultaneous reduction;
+//!   [`SizeTensor3::log_euclidean_mean`], [`log_spd3`], [`exp_sym3`], [`log_euclidean3`].
+//! - [`gradate_edge3`]: anisotropic gradation across one edge in 3D (T_q ⊆ g^ℓ T_p by
+//!   intersection, so anisotropy is kept).
+//! - [`length3`]: the metric length of an edge and the mean-ratio quality of a
+//!   tetrahedron in 3D.
 //! - [`complexity`]: the metric's complexity ∫ √det M over triangles, and the vertex count
 //!   it asks for.
 
 pub mod complexity;
 mod eigen2;
 mod eigen3;
+#[cfg(test)]
+mod eigen3_twins;
+mod gradation3;
 mod interpolation;
+mod interpolation3;
 mod intersection;
+mod intersection3;
 pub mod length;
+pub mod length3;
 mod size_tensor;
+mod size_tensor3;
 mod svd2;
 mod sym2;
 mod sym3;
+#[cfg(test)]
+mod testgen3;
 
 pub use eigen2::{eigen2, Eigen2};
-pub use eigen3::{eigen3, Eigen3};
+pub use eigen3::{eigen3, jacobi_sweeps, Eigen3, MAX_SWEEPS};
+pub use gradation3::{gradate_edge3, grow3, growth_factor3, SLACK3};
 pub use interpolation::{exp_sym, log_euclidean, log_spd};
+pub use interpolation3::{exp_sym3, log_euclidean3, log_spd3};
 pub use size_tensor::{SizeBounds, SizeTensor, TensorError};
+pub use size_tensor3::{SizeTensor3, TensorError3};
 pub use sym2::Sym2;
 pub use sym3::Sym3;
