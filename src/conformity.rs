@@ -9,11 +9,11 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::metric::length::{
-    geometric_mean_length, metric_edge_length, metric_triangle_quality, CONFORMING,
-};
+use crate::metric::length::{metric_edge_length, metric_triangle_quality, CONFORMING};
+use crate::metric::length3::{mean_ratio_in_metric, metric_edge_length3};
+use crate::metric::{log_euclidean3, log_spd3};
 use crate::metric::{Sym2, Sym3};
-use crate::metric_field::{log_euclidean3, MetricField};
+use crate::metric_field::MetricField;
 use smartmesh_formats::{CellKind, TaggedMesh};
 
 pub(crate) use crate::metric_field::MetricFieldError;
@@ -185,9 +185,6 @@ pub struct Ugawg {
     pub left_out: usize,
 }
 
-/// Mean ratio of a tetrahedron: 36/3^(1/3), which makes the regular one 1.
-const TET_MEAN_RATIO: f64 = 24.961_005_876_622_8;
-
 impl Ugawg {
     /// The figures of edge lengths and cell qualities, in their order.
     fn from_values(
@@ -272,17 +269,17 @@ impl Ugawg {
         let p = &mesh.points;
         let lengths: Vec<f64> = unique_edges(&cells)
             .par_iter()
-            .map(|&[a, b]| metric_edge_length_3d(p[a], p[b], &metric[a], &metric[b]))
+            .map(|&[a, b]| metric_edge_length3(p[a], p[b], &metric[a], &metric[b]))
             .collect();
         let qualities: Vec<f64> = cells
             .par_iter()
             .map(|c| {
-                let m: Vec<(f64, &Sym3)> =
-                    c.iter().map(|&v| (1.0 / c.len() as f64, &metric[v])).collect();
-                let mean = log_euclidean3(&m);
+                let logs: Vec<Sym3> = c.iter().map(|&v| log_spd3(&metric[v])).collect();
+                let weights = vec![1.0 / c.len() as f64; c.len()];
+                let mean = log_euclidean3(&weights, &logs.iter().collect::<Vec<_>>());
                 let x: Vec<[f64; 3]> = c.iter().map(|&v| p[v]).collect();
                 if c.len() == 4 {
-                    tet_quality_in(&x, &mean)
+                    mean_ratio_in_metric([x[0], x[1], x[2], x[3]], &mean)
                 } else {
                     triangle_quality_in_3d(&x, &mean)
                 }
@@ -325,37 +322,6 @@ fn unique_edges(cells: &[Vec<usize>]) -> Vec<[usize; 2]> {
 
 fn sub(b: [f64; 3], a: [f64; 3]) -> [f64; 3] {
     [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
-}
-
-/// The UGAWG metric length of the edge from `a` to `b` in space (see [`Ugawg`]).
-pub(crate) fn metric_edge_length_3d(a: [f64; 3], b: [f64; 3], ma: &Sym3, mb: &Sym3) -> f64 {
-    let e = sub(b, a);
-    let la = ma.quadratic_form(e).max(0.0).sqrt();
-    let lb = mb.quadratic_form(e).max(0.0).sqrt();
-    geometric_mean_length(la, lb)
-}
-
-/// Mean ratio of the tetrahedron `x` (4 corners) in the constant metric `m`, signed by
-/// its orientation.
-fn tet_quality_in(x: &[[f64; 3]], m: &Sym3) -> f64 {
-    let (e1, e2, e3) = (sub(x[1], x[0]), sub(x[2], x[0]), sub(x[3], x[0]));
-    let cross = [
-        e2[1] * e3[2] - e2[2] * e3[1],
-        e2[2] * e3[0] - e2[0] * e3[2],
-        e2[0] * e3[1] - e2[1] * e3[0],
-    ];
-    let volume = (e1[0] * cross[0] + e1[1] * cross[1] + e1[2] * cross[2]) / 6.0;
-    let mut l2 = 0.0;
-    for i in 0..4 {
-        for j in i + 1..4 {
-            l2 += m.quadratic_form(sub(x[j], x[i]));
-        }
-    }
-    if l2 <= 0.0 {
-        return 0.0;
-    }
-    let v = volume.abs() * m.det().max(0.0).sqrt();
-    TET_MEAN_RATIO * volume.signum() * v.powf(2.0 / 3.0) / l2
 }
 
 /// Mean ratio of the triangle `x` (3 corners in space) in the constant metric `m`.

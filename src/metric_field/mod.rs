@@ -49,7 +49,6 @@ mod write3;
 pub use expected::expected_vertices;
 pub(crate) use expected::planar_triangles;
 pub use interpolate::{InterpolationError, Interpolator};
-pub(crate) use tensor::log_euclidean3;
 pub use tensor::FieldTensor;
 pub use write::MetricTarget;
 

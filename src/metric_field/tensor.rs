@@ -14,9 +14,6 @@
 //! reads a `.sol` into 9 row-major components. A tensor is a metric when it is finite,
 //! symmetric (off-diagonal pairs within 1e-9 of the diagonal's size) and positive definite
 //! (Sylvester's leading minors, all positive).
-//!
-//! The logarithm and exponential of a [`Sym3`] ([`log_sym3`], [`exp_sym3`], through
-//! [`Sym3::eigen`]) are here for the 3D measures until the metric algebra has them.
 
 use std::path::Path;
 
@@ -168,27 +165,6 @@ pub(crate) fn not_a_metric3(r: &[f64; 9]) -> Option<&'static str> {
     }
 }
 
-/// The logarithm of an SPD tensor (eigenvalues floored at the smallest positive normal).
-pub(crate) fn log_sym3(m: &Sym3) -> Sym3 {
-    let e = m.eigen();
-    Sym3::from_eigen(e.values.map(|v| v.max(f64::MIN_POSITIVE).ln()), e.frame)
-}
-
-/// The exponential of a symmetric tensor.
-pub(crate) fn exp_sym3(l: &Sym3) -> Sym3 {
-    let e = l.eigen();
-    Sym3::from_eigen(e.values.map(f64::exp), e.frame)
-}
-
-/// The Log-Euclidean mean exp(Σ wᵢ log Mᵢ) of SPD tensors, the weights summed in order.
-pub(crate) fn log_euclidean3(items: &[(f64, &Sym3)]) -> Sym3 {
-    let mut sum = Sym3::ZERO;
-    for &(w, m) in items {
-        sum = sum + w * log_sym3(m);
-    }
-    exp_sym3(&sum)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -214,19 +190,5 @@ mod tests {
         assert_eq!(not_a_metric3(&nan), Some("not finite"));
         let (why, shown) = Sym3::from_item(&bad, false).unwrap_err();
         assert_eq!((why, shown.len()), ("not positive definite", 9));
-    }
-
-    #[test]
-    fn log_and_exp_are_inverse_and_the_mean_is_geometric() {
-        let m = Sym3 { xx: 4.0, xy: 1.0, yy: 3.0, xz: 0.5, yz: -0.25, zz: 2.0 };
-        let back = exp_sym3(&log_sym3(&m));
-        for (a, b) in back.to_medit().iter().zip(m.to_medit()) {
-            assert!((a - b).abs() < 1e-12, "{back:?} {m:?}");
-        }
-        // Diagonal tensors: the mean of sizes 1 and 1/4 along x, weights ½, is 1/2.
-        let a = Sym3::diagonal([1.0, 1.0, 1.0]);
-        let b = Sym3::diagonal([16.0, 1.0, 4.0]);
-        let mean = log_euclidean3(&[(0.5, &a), (0.5, &b)]);
-        assert!((mean.xx - 4.0).abs() < 1e-12 && (mean.zz - 2.0).abs() < 1e-12, "{mean:?}");
     }
 }
