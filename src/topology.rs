@@ -376,18 +376,23 @@ impl Topology {
             }
         }
 
+        // In space, ridges inside each surface (one curve per surface), and the edges
+        // where three surfaces or more meet that the first two cells do not tell.
+        let cell_edges = if in_space { space::cell_edges(&surface_cells) } else { Vec::new() };
+        let found = if in_space {
+            let cos_limit = options.ridge_angle_deg.to_radians().cos();
+            let covered = |k: &[usize; 2]| on_curve.contains_key(k);
+            space::ridges(&mesh.points, &surface_cells, &cell_edges, covered, cos_limit)
+        } else {
+            space::Found::default()
+        };
+        for (pair, e) in found.junctions {
+            derived.entry(pair).or_default().push(e);
+        }
         let mut curve_list: Vec<(EntityTag, CurveOrigin, Vec<[usize; 2]>)> =
             curve_edges.into_iter().map(|(t, e)| (Some(t), CurveOrigin::Tagged, e)).collect();
         curve_list.extend(derived.into_values().map(|e| (None, CurveOrigin::Derived, e)));
-        // In space, ridges inside each surface: one derived curve per surface.
-        let cell_edges = if in_space { space::cell_edges(&surface_cells) } else { Vec::new() };
-        if in_space {
-            let cos_limit = options.ridge_angle_deg.to_radians().cos();
-            let covered = |k: &[usize; 2]| on_curve.contains_key(k);
-            let ridges =
-                space::ridges(&mesh.points, &surface_cells, &cell_edges, covered, cos_limit);
-            curve_list.extend(ridges.into_values().map(|e| (None, CurveOrigin::Ridge, e)));
-        }
+        curve_list.extend(found.ridges.into_values().map(|e| (None, CurveOrigin::Ridge, e)));
 
         // Topological points: listed vertex cells, then ends and junctions. A vertex is a
         // junction when it touches edges of several curves, or more than two edges of

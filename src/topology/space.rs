@@ -9,7 +9,9 @@
 //! oriented alike (one is flipped when both cells run along the edge the same way).
 //! At exactly the angle an edge is *not* a ridge, as in MMG (`ps < dhd`). An edge that
 //! three or more cells of one surface share (non-manifold) is a ridge whatever the angle;
-//! an edge of a degenerate cell (zero normal) is none. Edges where two surfaces meet are
+//! an edge of a degenerate cell (zero normal) is none. An edge that three or more cells
+//! of several surfaces share is where surfaces meet (an interface curve) even when its
+//! first two cells are of one surface. Edges where two surfaces meet are
 //! curves already (the interface curves of `topology.rs`), so ridges lie inside a
 //! surface: the box edges of one `Walls` surface, the rims of a cylinder tagged whole.
 //!
@@ -130,17 +132,28 @@ pub(super) fn unit_normal(points: &[[f64; 3]], sc: &SurfaceCell) -> Option<[f64;
     (len > 0.0 && len.is_finite()).then(|| [n[0] / len, n[1] / len, n[2] / len])
 }
 
-/// The ridge edges inside each surface (see the module documentation), by face, each
-/// directed as its first cell runs along it. `covered`: whether a line cell covers an
-/// edge. `cos_limit`: the cosine of the ridge angle.
+/// Edges found in space, each directed as its first cell runs along it.
+#[derive(Default)]
+pub(super) struct Found {
+    /// The ridge edges inside each surface (see the module documentation), by face.
+    pub ridges: BTreeMap<usize, Vec<[usize; 2]>>,
+    /// Edges where three or more cells meet, of several surfaces, whose first two cells
+    /// are of one (which `topology.rs`'s interfaces, told by the first two, miss): by the
+    /// pair of the first surface and the first other one.
+    pub junctions: Vec<((usize, usize), [usize; 2])>,
+}
+
+/// The ridges and the missed interface edges of the surface cells (see [`Found`]).
+/// `covered`: whether a line cell covers an edge. `cos_limit`: the cosine of the ridge
+/// angle.
 pub(super) fn ridges(
     points: &[[f64; 3]],
     cells: &[SurfaceCell],
     edges: &[(u32, u32, u32, bool)],
     covered: impl Fn(&[usize; 2]) -> bool,
     cos_limit: f64,
-) -> BTreeMap<usize, Vec<[usize; 2]>> {
-    let mut out: BTreeMap<usize, Vec<[usize; 2]>> = BTreeMap::new();
+) -> Found {
+    let mut out = Found::default();
     for r in runs(edges) {
         let run = &edges[r];
         if run.len() < 2 {
@@ -155,6 +168,11 @@ pub(super) fn ridges(
         if covered(&k) {
             continue;
         }
+        let forward = if run[0].3 { k } else { [k[1], k[0]] };
+        if let Some(other) = run.iter().map(|e| cells[e.2 as usize].face).find(|&f| f != c0.face) {
+            out.junctions.push(((c0.face.min(other), c0.face.max(other)), forward));
+            continue;
+        }
         let ridge = run.len() > 2
             || match (unit_normal(points, &c0), unit_normal(points, &c1)) {
                 (Some(n0), Some(n1)) => {
@@ -166,8 +184,7 @@ pub(super) fn ridges(
                 _ => false,
             };
         if ridge {
-            let forward = if run[0].3 { k } else { [k[1], k[0]] };
-            out.entry(c0.face).or_default().push(forward);
+            out.ridges.entry(c0.face).or_default().push(forward);
         }
     }
     out
