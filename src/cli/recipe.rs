@@ -182,7 +182,7 @@ fn is_zero(n: &usize) -> bool {
 
 /// What `recipe check` says of sizing a mesh in space, in its JSON and its text.
 const NO_3D_SIZING: &str =
-    "3D sizing is not there yet: the regions are resolved on the mesh in space, nothing is sized";
+    "3D sizing is not there yet: the regions are resolved on the 3D mesh, nothing is sized";
 
 #[derive(serde::Serialize)]
 struct CheckSummary<'a> {
@@ -221,12 +221,13 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
     // recipe may name the face tags that only meshing gives.
     // Periodic pairs: a graph is meshed with them matched; on a mesh, images of each
     // other, and how well they match.
-    // A mesh in space (volume cells, or surfaces off one plane): its regions are resolved
-    // on its 3D topology; nothing is sized, nothing is periodic yet.
+    // A mesh with volume cells: its regions are resolved on its 3D topology; nothing is
+    // sized, nothing is periodic yet. (A surface alone off one plane is still refused, as
+    // by every 2D command.)
     let pairs = recipe.periodic_pairs();
     let (mesh, in_space) = match starting_mesh(&args.mesh, args.from, &pairs) {
         Ok(mesh) => (mesh, false),
-        Err(StartError::NotPlanar { .. }) => {
+        Err(StartError::NotPlanar { source: smartmesh::NotPlanar::Volume { .. }, .. }) => {
             if !pairs.is_empty() {
                 return Err(CliError::usage(format!(
                     "{}: a mesh in space; periodic pairs are checked on planar meshes only ({NO_3D_SIZING})",
