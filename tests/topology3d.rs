@@ -122,9 +122,9 @@ fn twin_patches(mesh: &TaggedMesh) -> BTreeMap<i32, usize> {
         }
     }
     let mut out = BTreeMap::new();
-    for i in 0..cells.len() {
+    for (i, cell) in cells.iter().enumerate() {
         if root(&mut parent, i) == i {
-            *out.entry(cells[i].1).or_insert(0) += 1;
+            *out.entry(cell.1).or_insert(0) += 1;
         }
     }
     out
@@ -426,4 +426,66 @@ fn a_planar_mesh_is_untouched_by_the_ridge_angle() {
     assert_eq!(a, b);
     assert!(a.space.is_none());
     assert!(a.curves.iter().all(|c| c.origin != CurveOrigin::Ridge));
+}
+
+/// One lookup for every dimension on a hand-built 3D mesh: two tetrahedra sharing a face
+/// (volumes 10 "Left" and 11 "Right"), their outer faces tagged 1 "Skin" and the shared
+/// one 2 "Middle", a vertex cell tagged 1: each reference's hits equal a scan of every
+/// entity's tag and name, and each volume is bounded by the skin (3 faces) and the middle.
+#[test]
+fn resolve_finds_surfaces_and_volumes_as_a_scan_does() {
+    let mut m = TaggedMesh::new();
+    m.coordinate_dim = 3;
+    m.points =
+        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
+    let t = m.block_mut(CellKind::Tetra);
+    t.push(&[0, 1, 2, 3], 10, 10);
+    t.push(&[1, 2, 3, 4], 11, 11);
+    let tri = m.block_mut(CellKind::Triangle);
+    for f in [[0u32, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 4], [2, 3, 4], [3, 1, 4]] {
+        tri.push(&f, 1, 1);
+    }
+    tri.push(&[1, 2, 3], 2, 2);
+    m.block_mut(CellKind::Vertex).push(&[0], 1, 1);
+    for (dim, tag, name) in
+        [(3, 10, "Left"), (3, 11, "Right"), (2, 1, "Skin"), (2, 2, "Middle"), (0, 1, "Origin")]
+    {
+        m.tag_names.insert((dim, tag), name.to_string());
+    }
+    let topo = Topology::from_mesh(&m);
+    let space = topo.space.as_ref().unwrap();
+    type Volume = (i32, usize, usize, Vec<(usize, usize)>);
+    let volumes: Vec<Volume> =
+        space.volumes.iter().map(|v| (v.tag, v.cells, v.vertices, v.bounded_by.clone())).collect();
+    assert_eq!(volumes, [(10, 1, 4, vec![(0, 3), (1, 1)]), (11, 1, 4, vec![(0, 3), (1, 1)])]);
+    let scan = |e: &EntityRef| -> [Vec<usize>; 4] {
+        let hit = |tag: Option<i32>, name: Option<&String>| match e {
+            EntityRef::Tag(t) => tag == Some(*t),
+            EntityRef::Name(n) => name == Some(n),
+        };
+        let pick = |v: Vec<(Option<i32>, Option<&String>)>| -> Vec<usize> {
+            v.into_iter().enumerate().filter(|(_, (t, n))| hit(*t, *n)).map(|(i, _)| i).collect()
+        };
+        [
+            pick(topo.points.iter().map(|p| (p.tag, p.name.as_ref())).collect()),
+            pick(topo.curves.iter().map(|c| (c.tag, c.name.as_ref())).collect()),
+            pick(topo.faces.iter().map(|f| (Some(f.tag), f.name.as_ref())).collect()),
+            pick(space.volumes.iter().map(|v| (Some(v.tag), v.name.as_ref())).collect()),
+        ]
+    };
+    for e in [
+        EntityRef::Tag(1),
+        EntityRef::Tag(2),
+        EntityRef::Tag(10),
+        EntityRef::Tag(11),
+        EntityRef::Tag(12),
+        EntityRef::Name("Left".into()),
+        EntityRef::Name("Skin".into()),
+        EntityRef::Name("Origin".into()),
+        EntityRef::Name("nothing".into()),
+    ] {
+        assert_eq!(topo.resolve(&e).0, scan(&e), "{e:?}");
+    }
+    assert_eq!(topo.resolve(&EntityRef::Name("Right".into()))[3], [1]);
+    assert_eq!(topo.resolve(&EntityRef::Tag(1))[0], [0]);
 }
