@@ -101,7 +101,8 @@ pub use size_controls::{ControlError, SizeControls};
 pub use sizing::SizeField;
 pub use summary::{HistogramBins, MeshSummary, SolidSummary};
 pub use topology::{
-    cell_tag, Classification, EntityTag, PointOrigin, Polyline, SurfaceCell, TopoCurve, TopoFace,
-    TopoPoint, Topology,
+    cell_tag, Classification, CurveOrigin, EntityHits, EntityTag, PointOrigin, Polyline,
+    SpaceTopology, SurfaceCell, SurfaceShape, TopoCurve, TopoFace, TopoPoint, TopoVolume, Topology,
+    TopologyOptions, DEFAULT_RIDGE_ANGLE_DEG,
 };
 pub use validity::{check_cells, check_cells_brute, check_mesh, surface_cells, Validity};

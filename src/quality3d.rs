@@ -71,12 +71,6 @@ fn det(a: P, b: P, c: P) -> f64 {
     dot(a, cross(b, c))
 }
 
-/// The faces of a volume kind by their corners, outward (second-order kinds by their
-/// linear kind's corners); empty for other kinds.
-pub(crate) fn cell_faces(kind: CellKind) -> &'static [&'static [usize]] {
-    kind.faces()
-}
-
 /// Whether [`signed_volume`] measures a cell of `kind` exactly (a linear kind, or a
 /// second-order tetrahedron), rather than through its corners.
 pub fn exact_volume(kind: CellKind) -> bool {

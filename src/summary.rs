@@ -6,7 +6,7 @@ use serde::Serialize;
 use smartmesh_formats::{DataShape, TaggedMesh};
 
 use crate::quality::QualitySummary;
-use crate::topology::{cell_tag, PointOrigin, Topology};
+use crate::topology::{cell_tag, CurveOrigin, PointOrigin, Topology};
 
 /// Counts, bounding box, tags, topology, fields and quality of a mesh.
 #[derive(Debug, Clone, Serialize)]
@@ -90,14 +90,15 @@ pub struct SolidSummary {
 }
 
 impl SolidSummary {
-    /// The 3D figures of `mesh`; `None` when it has no volume cell.
-    pub fn of(mesh: &TaggedMesh) -> Option<SolidSummary> {
+    /// The 3D figures of `mesh`, whose topology is `topo`; `None` when it has no volume
+    /// cell.
+    pub fn of(mesh: &TaggedMesh, topo: &Topology) -> Option<SolidSummary> {
         let quality = crate::quality3d::VolumeQuality::of(mesh)?;
         let mut cells_per_dim = [0; 4];
         for b in &mesh.blocks {
             cells_per_dim[b.kind.dim() as usize] += b.len();
         }
-        let volumes = crate::solid_topology::volumes(mesh);
+        let volumes = crate::solid_topology::volumes(mesh, topo);
         let mut volume_by_corners: Vec<String> = mesh
             .blocks
             .iter()
@@ -173,6 +174,13 @@ pub struct TopologySummary {
     pub curves: Vec<CurveSummary>,
     /// Topological faces.
     pub faces: Vec<FaceSummary>,
+    /// In a mesh in space, the ridge angle (degrees) the ridges were found with; left out
+    /// of the JSON for a planar mesh (as every other figure of a mesh in space).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ridge_angle_deg: Option<f64>,
+    /// In a mesh in space, the line cells the file lists as ridges (Medit `Ridges`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file_ridge_edges: Option<usize>,
 }
 
 /// One topological point.
@@ -207,6 +215,10 @@ pub struct CurveSummary {
     pub on_boundary: Option<bool>,
     /// Length of the curve.
     pub length: f64,
+    /// In a mesh in space: tagged, derived (where surfaces meet, or a surface's free
+    /// boundary) or ridge.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub origin: Option<CurveOrigin>,
 }
 
 /// One topological face.
@@ -220,6 +232,27 @@ pub struct FaceSummary {
     pub cells: usize,
     /// Area (quads split along a diagonal; each triangle measured in its own plane).
     pub area: f64,
+    /// In a mesh in space: connected sets of its cells.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub patches: Option<usize>,
+    /// In a mesh in space: its boundary loops, in order (closed, or open where the
+    /// boundary touches itself).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub boundary_loops: Option<Vec<LoopSummary>>,
+    /// In a mesh in space: the curves its boundary lies on (indices into `curves`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub boundary_curves: Option<Vec<usize>>,
+}
+
+/// One boundary loop of a surface in space.
+#[derive(Debug, Clone, Serialize)]
+pub struct LoopSummary {
+    /// Mesh edges along it.
+    pub edges: usize,
+    /// Whether it closes on itself.
+    pub closed: bool,
+    /// Its mesh vertices in order (0-based; a closed loop's first is not repeated).
+    pub vertices: Vec<usize>,
 }
 
 /// Points that no cell uses, by any of its nodes (a second-order cell's mid-edge nodes
@@ -270,7 +303,8 @@ impl MeshSummary {
                 .count(),
         };
         let planar = crate::planar::plane(mesh).is_ok();
-        let solid = SolidSummary::of(mesh);
+        let solid = SolidSummary::of(mesh, topo);
+        let space = topo.space.as_ref();
         let at = |i: usize| mesh.points[i];
         let topology = TopologySummary {
             points: topo
@@ -300,12 +334,15 @@ impl MeshSummary {
                         .flat_map(|p| p.edges())
                         .map(|[a, b]| crate::quality::distance(at(a), at(b)))
                         .sum(),
+                    origin: space.map(|_| c.origin),
                 })
                 .collect(),
             faces: topo
                 .faces
                 .iter()
-                .map(|f| FaceSummary {
+                .enumerate()
+                .map(|(fi, f)| (f, space.map(|s| &s.surfaces[fi])))
+                .map(|(f, shape)| FaceSummary {
                     tag: f.tag,
                     name: f.name.clone(),
                     cells: f.cells.len(),
@@ -324,8 +361,22 @@ impl MeshSummary {
                             a
                         })
                         .sum(),
+                    patches: shape.map(|s| s.patches),
+                    boundary_loops: shape.map(|s| {
+                        s.boundary
+                            .iter()
+                            .map(|p| LoopSummary {
+                                edges: p.num_edges(),
+                                closed: p.closed,
+                                vertices: p.vertices.clone(),
+                            })
+                            .collect()
+                    }),
+                    boundary_curves: shape.map(|s| s.curves.clone()),
                 })
                 .collect(),
+            ridge_angle_deg: space.map(|s| s.ridge_angle_deg),
+            file_ridge_edges: space.map(|s| s.file_ridge_edges),
         };
         MeshSummary {
             points: mesh.points.len(),

@@ -13,6 +13,14 @@
 //! An entity is named by a tag or a tag name ([`EntityRef`]); [`Topology::resolve`] is
 //! the one lookup that finds it (in `resolve.rs`).
 //!
+//! A mesh in space (volume cells, or surface cells off one plane z = const) gets more
+//! (`space.rs`, `volumes.rs`; [`Topology::space`]): the faces are its surfaces, each with
+//! its patches and boundary loops; ridges inside a surface found by the dihedral angle
+//! join the derived curves ([`CurveOrigin::Ridge`]); the vertices a Medit file lists as
+//! `Corners` or `RequiredVertices` are points ([`PointOrigin::Corner`]); and the volumes
+//! with the surfaces bounding each. A planar mesh gets none of it (`space` is `None`):
+//! its topology is the 2D one.
+//!
 //! The module knows only connectivity and coordinates; it never reads a metric.
 //! Cost: O(cells): the surface edges by a counting sort on their smaller vertex.
 
@@ -27,8 +35,12 @@ use ahash::AHashMap as HashMap;
 use smartmesh_formats::{CellKind, TaggedMesh};
 
 mod resolve;
+mod space;
+mod volumes;
 
-pub use resolve::EntityRef;
+pub use resolve::{EntityHits, EntityRef};
+pub use space::{SpaceTopology, SurfaceShape, TopologyOptions, DEFAULT_RIDGE_ANGLE_DEG};
+pub use volumes::TopoVolume;
 
 /// What a topological entity is known by: a tag from the file, or nothing when it was
 /// derived from the mesh (boundary or interface edges that no line cell covers).
@@ -85,6 +97,21 @@ pub struct TopoCurve {
     pub polylines: Vec<Polyline>,
     /// Whether every edge of the curve bounds exactly one surface cell.
     pub on_boundary: bool,
+    /// Where it comes from: line cells, boundary or interface edges, or ridges.
+    pub origin: CurveOrigin,
+}
+
+/// Where a topological curve comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CurveOrigin {
+    /// Line cells of the file sharing its tag.
+    Tagged,
+    /// Boundary edges, or edges where two faces meet, that no line cell covers.
+    Derived,
+    /// Edges inside one surface of a mesh in space across which the cells' normals turn
+    /// by more than the ridge angle (or that three cells of it share).
+    Ridge,
 }
 
 /// A topological point.
@@ -110,6 +137,9 @@ pub enum PointOrigin {
     CurveEnd,
     /// Where curves meet, or where a curve meets itself more than twice.
     Junction,
+    /// A corner or required vertex a Medit file lists (`Corners`, `RequiredVertices`), in
+    /// a mesh in space.
+    Corner,
 }
 
 /// The topological entity a mesh vertex lies on.
@@ -173,6 +203,9 @@ pub struct Topology {
     /// Every mesh edge `[a, b]` with `a < b`, sorted, and the entity it is classified
     /// on (a curve, or the face of its cells).
     pub edges: Vec<([usize; 2], Classification)>,
+    /// For a mesh in space: the ridge angle, each surface's shape and the volumes;
+    /// `None` for a planar mesh.
+    pub space: Option<SpaceTopology>,
 }
 
 /// The tag of a cell as the topology (and so every recipe) knows it: its physical tag, or
@@ -265,9 +298,16 @@ fn surface_edges(cells: &[SurfaceCell], n: usize) -> Vec<([usize; 2], EdgeInfo)>
 }
 
 impl Topology {
-    /// Recovers the topology of `mesh` from its tags.
+    /// Recovers the topology of `mesh` from its tags, with the default options.
     pub fn from_mesh(mesh: &TaggedMesh) -> Topology {
+        Topology::from_mesh_with(mesh, &TopologyOptions::default())
+    }
+
+    /// Recovers the topology of `mesh` from its tags (`options`: the ridge angle of a
+    /// mesh in space).
+    pub fn from_mesh_with(mesh: &TaggedMesh, options: &TopologyOptions) -> Topology {
         let n = mesh.points.len();
+        let in_space = space::in_space(mesh);
 
         // Faces and surface cells.
         let mut face_index: BTreeMap<i32, usize> = BTreeMap::new();
@@ -336,9 +376,23 @@ impl Topology {
             }
         }
 
-        let mut curve_list: Vec<(EntityTag, Vec<[usize; 2]>)> =
-            curve_edges.into_iter().map(|(t, e)| (Some(t), e)).collect();
-        curve_list.extend(derived.into_values().map(|e| (None, e)));
+        // In space, ridges inside each surface (one curve per surface), and the edges
+        // where three surfaces or more meet that the first two cells do not tell.
+        let cell_edges = if in_space { space::cell_edges(&surface_cells) } else { Vec::new() };
+        let found = if in_space {
+            let cos_limit = options.ridge_angle_deg.to_radians().cos();
+            let covered = |k: &[usize; 2]| on_curve.contains_key(k);
+            space::ridges(&mesh.points, &surface_cells, &cell_edges, covered, cos_limit)
+        } else {
+            space::Found::default()
+        };
+        for (pair, e) in found.junctions {
+            derived.entry(pair).or_default().push(e);
+        }
+        let mut curve_list: Vec<(EntityTag, CurveOrigin, Vec<[usize; 2]>)> =
+            curve_edges.into_iter().map(|(t, e)| (Some(t), CurveOrigin::Tagged, e)).collect();
+        curve_list.extend(derived.into_values().map(|e| (None, CurveOrigin::Derived, e)));
+        curve_list.extend(found.ridges.into_values().map(|e| (None, CurveOrigin::Ridge, e)));
 
         // Topological points: listed vertex cells, then ends and junctions. A vertex is a
         // junction when it touches edges of several curves, or more than two edges of
@@ -357,10 +411,23 @@ impl Topology {
                 });
             }
         }
+        if in_space {
+            for v in space::listed_corners(mesh) {
+                if let std::collections::hash_map::Entry::Vacant(e) = point_of_vertex.entry(v) {
+                    e.insert(points.len());
+                    points.push(TopoPoint {
+                        tag: None,
+                        name: None,
+                        vertex: v,
+                        origin: PointOrigin::Corner,
+                    });
+                }
+            }
+        }
         let mut degree: Vec<u32> = vec![0; n];
         let mut first_curve: Vec<usize> = vec![usize::MAX; n];
         let mut multi_curve: Vec<bool> = vec![false; n];
-        for (ci, (_, edges)) in curve_list.iter().enumerate() {
+        for (ci, (_, _, edges)) in curve_list.iter().enumerate() {
             for e in edges {
                 for &v in e {
                     degree[v] += 1;
@@ -391,7 +458,7 @@ impl Topology {
         // oriented like their cells.
         let curves: Vec<TopoCurve> = curve_list
             .iter()
-            .map(|(tag, edges)| {
+            .map(|(tag, origin, edges)| {
                 let oriented: Vec<[usize; 2]> = edges
                     .iter()
                     .map(|&[a, b]| match edge_info(&key(a, b)) {
@@ -406,6 +473,7 @@ impl Topology {
                     name: tag.and_then(|t| mesh.tag_name(1, t)).map(str::to_owned),
                     polylines: chain_polylines(&oriented, |v| point_of_vertex.contains_key(&v)),
                     on_boundary,
+                    origin: *origin,
                 }
             })
             .collect();
@@ -456,7 +524,15 @@ impl Topology {
         }
         edges.sort_unstable_by_key(|e| e.0);
 
-        Topology { points, curves, faces, surface_cells, vertex_class, edges }
+        let space = in_space.then(|| SpaceTopology {
+            ridge_angle_deg: options.ridge_angle_deg,
+            surfaces: space::shapes(&surface_cells, faces.len(), &cell_edges, |k| {
+                curve_of_edge.get(k).copied()
+            }),
+            volumes: volumes::volumes(mesh, &surface_cells),
+            file_ridge_edges: space::file_ridge_edges(mesh),
+        });
+        Topology { points, curves, faces, surface_cells, vertex_class, edges, space }
     }
 
     /// The curve with `tag`, if any.

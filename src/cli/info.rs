@@ -24,6 +24,7 @@ use super::{parse_format, print_stdout, CliError};
   smartmesh info adapted.msh --metric field.vtu
   smartmesh info adapted.mesh --metric adapted.sol --measures ugawg
   smartmesh info cube.meshb --metric cube-metric.solb   # tetrahedra: UGAWG measures
+  smartmesh info box.msh --ridge-angle 30             # a 3D mesh: ridges above 30°
   smartmesh info adapted.msh --recipe recipe.toml    # the match of its periodic sides
   cat mesh.vtu | smartmesh info --from vtu -")]
 #[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs are measured on FILE: vertex counts and the largest distance between a vertex's image and its partner (exit 2 when the sides are not images of each other)")))]
@@ -54,6 +55,11 @@ pub(super) struct InfoArgs {
     /// benchmark tables and nasa/refine's `ref_histogram` give them (always given in 3D).
     #[arg(long, value_enum)]
     measures: Option<Measures>,
+    /// In a mesh in space, mesh edges inside one surface across which the cells' normals
+    /// turn by more than this angle (degrees, in [0, 180]) are ridges: topological curves
+    /// (MMG's `-ar`).
+    #[arg(long, value_name = "DEG", default_value_t = smartmesh::DEFAULT_RIDGE_ANGLE_DEG)]
+    ridge_angle: f64,
     /// The recipe whose periodic pairs are measured (its help is set above).
     #[command(flatten)]
     pub recipe: super::RecipeInput,
@@ -77,7 +83,14 @@ pub(super) fn run(args: InfoArgs) -> Result<(), CliError> {
             args.file.display()
         ));
     }
-    let topo = Topology::from_mesh(&mesh);
+    if !(0.0..=180.0).contains(&args.ridge_angle) {
+        return Err(CliError::usage(format!(
+            "--ridge-angle {}: expected an angle in degrees in [0, 180]",
+            args.ridge_angle
+        )));
+    }
+    let options = smartmesh::TopologyOptions { ridge_angle_deg: args.ridge_angle };
+    let topo = Topology::from_mesh_with(&mesh, &options);
     let mut summary = MeshSummary::of(&mesh, &topo);
     if super::info_metric::in_space(&mesh) {
         summary =
@@ -281,6 +294,9 @@ fn render(file: &str, s: &MeshSummary) -> String {
     let topo = &s.topology;
     if let Some(solid) = &s.solid {
         super::info3d::render_solid(&mut o, s, solid);
+    }
+    if topo.ridge_angle_deg.is_some() {
+        super::info3d::render_space_topology(&mut o, s);
     } else {
         let _ = writeln!(
             o,
@@ -289,47 +305,7 @@ fn render(file: &str, s: &MeshSummary) -> String {
             count(topo.curves.len(), "curve", "curves"),
             count(topo.faces.len(), "face", "faces")
         );
-    }
-    let face = if s.solid.is_some() { "surface" } else { "face " };
-    for f in &topo.faces {
-        let _ = writeln!(
-            o,
-            "    {face} {:<24} {}, area {}",
-            named(Some(f.tag), &f.name),
-            count(f.cells, "cell", "cells"),
-            fmt_g(f.area)
-        );
-    }
-    for c in &topo.curves {
-        let closed = if c.closed_pieces > 0 {
-            format!(", {} closed", c.closed_pieces)
-        } else {
-            String::new()
-        };
-        let _ = writeln!(
-            o,
-            "    curve {:<24} {} edges in {} piece{}{}, length {}, {}",
-            named(c.tag, &c.name),
-            c.edges,
-            c.pieces,
-            if c.pieces == 1 { "" } else { "s" },
-            closed,
-            fmt_g(c.length),
-            match c.on_boundary {
-                Some(true) => "boundary",
-                Some(false) => "interior",
-                None if s.solid.is_some() => "where surfaces meet",
-                None => "segments (no faces yet: mesh them to see the boundary)",
-            }
-        );
-    }
-    let listed: Vec<&_> = topo.points.iter().filter(|p| p.tag.is_some()).collect();
-    for p in &listed {
-        let _ = writeln!(o, "    point {:<24} vertex {}", named(p.tag, &p.name), p.vertex);
-    }
-    let recovered = topo.points.len() - listed.len();
-    if recovered > 0 {
-        let _ = writeln!(o, "    {recovered} more points recovered at curve ends and junctions");
+        render_planar_topology(&mut o, s);
     }
     for (label, fields) in [("point data", &s.point_data), ("cell data", &s.cell_data)] {
         for f in fields.iter() {
@@ -406,4 +382,49 @@ fn render(file: &str, s: &MeshSummary) -> String {
         }
     }
     o
+}
+
+/// The faces, curves and points of a planar mesh.
+fn render_planar_topology(o: &mut String, s: &MeshSummary) {
+    let topo = &s.topology;
+    let face = "face ";
+    for f in &topo.faces {
+        let _ = writeln!(
+            o,
+            "    {face} {:<24} {}, area {}",
+            named(Some(f.tag), &f.name),
+            count(f.cells, "cell", "cells"),
+            fmt_g(f.area)
+        );
+    }
+    for c in &topo.curves {
+        let closed = if c.closed_pieces > 0 {
+            format!(", {} closed", c.closed_pieces)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            o,
+            "    curve {:<24} {} edges in {} piece{}{}, length {}, {}",
+            named(c.tag, &c.name),
+            c.edges,
+            c.pieces,
+            if c.pieces == 1 { "" } else { "s" },
+            closed,
+            fmt_g(c.length),
+            match c.on_boundary {
+                Some(true) => "boundary",
+                Some(false) => "interior",
+                None => "segments (no faces yet: mesh them to see the boundary)",
+            }
+        );
+    }
+    let listed: Vec<&_> = topo.points.iter().filter(|p| p.tag.is_some()).collect();
+    for p in &listed {
+        let _ = writeln!(o, "    point {:<24} vertex {}", named(p.tag, &p.name), p.vertex);
+    }
+    let recovered = topo.points.len() - listed.len();
+    if recovered > 0 {
+        let _ = writeln!(o, "    {recovered} more points recovered at curve ends and junctions");
+    }
 }

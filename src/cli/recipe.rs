@@ -5,7 +5,7 @@ use std::io::Read as _;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
-use smartmesh::adapt::starting_mesh;
+use smartmesh::adapt::{starting_mesh, StartError};
 use smartmesh::formats::{write_all_atomically, Format};
 use smartmesh::recipe::{ReadOptions, Recipe, RecipeError, RecipeFormat, RegionReport};
 use smartmesh::sizing::{Algorithm, EntitySet};
@@ -171,7 +171,18 @@ struct StepSummary<'a> {
     points: usize,
     curves: usize,
     faces: usize,
+    /// Volumes (a mesh in space), left out of the JSON when none.
+    #[serde(skip_serializing_if = "is_zero")]
+    volumes: usize,
 }
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// What `recipe check` says of sizing a mesh in space, in its JSON and its text.
+const NO_3D_SIZING: &str =
+    "3D sizing is not there yet: the regions are resolved on the 3D mesh, nothing is sized";
 
 #[derive(serde::Serialize)]
 struct CheckSummary<'a> {
@@ -183,6 +194,9 @@ struct CheckSummary<'a> {
     gradation: Option<f64>,
     regions: &'a [RegionReport],
     algorithms: Vec<StepSummary<'a>>,
+    /// On a mesh in space: that nothing is sized ([`NO_3D_SIZING`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sizing: Option<&'static str>,
     /// Each periodic pair's match on the mesh.
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     periodic: &'a [smartmesh::periodic::PairMatch],
@@ -207,13 +221,32 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
     // recipe may name the face tags that only meshing gives.
     // Periodic pairs: a graph is meshed with them matched; on a mesh, images of each
     // other, and how well they match.
+    // A mesh with volume cells: its regions are resolved on its 3D topology; nothing is
+    // sized, nothing is periodic yet. (A surface alone off one plane is still refused, as
+    // by every 2D command.)
     let pairs = recipe.periodic_pairs();
-    let mesh = starting_mesh(&args.mesh, args.from, &pairs)?;
+    let (mesh, in_space) = match starting_mesh(&args.mesh, args.from, &pairs) {
+        Ok(mesh) => (mesh, false),
+        Err(StartError::NotPlanar { source: smartmesh::NotPlanar::Volume { .. }, .. }) => {
+            if !pairs.is_empty() {
+                return Err(CliError::usage(format!(
+                    "{}: a mesh in space; periodic pairs are checked on planar meshes only ({NO_3D_SIZING})",
+                    args.mesh.display()
+                )));
+            }
+            (super::read_linear_mesh_noted(&args.mesh, args.from)?.0, true)
+        }
+        Err(e) => return Err(e.into()),
+    };
     let topo = Topology::from_mesh(&mesh);
     let resolved = recipe.resolve(&topo)?;
     let plan = &resolved.plan;
-    let sides = smartmesh::periodic::Sides::snap_and_check(&mut mesh.clone(), &pairs)
-        .map_err(|e| CliError::usage(format!("{e} (mesh {})", args.mesh.display())))?;
+    let sides = if in_space {
+        smartmesh::periodic::Sides::default()
+    } else {
+        smartmesh::periodic::Sides::snap_and_check(&mut mesh.clone(), &pairs)
+            .map_err(|e| CliError::usage(format!("{e} (mesh {})", args.mesh.display())))?
+    };
     let (periodic, moved) = (&sides.before, &sides.moved);
     let steps: Vec<StepSummary> = plan
         .steps
@@ -226,6 +259,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
                 points: e.points.len(),
                 curves: e.curves.len(),
                 faces: e.faces.len(),
+                volumes: e.volumes.len(),
             }
         })
         .collect();
@@ -239,6 +273,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
             gradation: plan.gradation,
             regions: &resolved.regions,
             algorithms: steps,
+            sizing: in_space.then_some(NO_3D_SIZING),
             periodic,
         };
         let mut s = serde_json::to_string_pretty(&summary)?;
@@ -268,11 +303,12 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         }
     );
     let _ = writeln!(o, "  regions");
-    const DIM: [&str; 3] = ["points", "curves", "faces"];
+    let (face, faces) = if in_space { ("surface", "surfaces") } else { ("face", "faces") };
+    let dim_names: [&str; 4] = ["points", "curves", faces, "volumes"];
     for r in &resolved.regions {
-        const ONE: [&str; 3] = ["point", "curve", "face"];
+        let one: [&str; 4] = ["point", "curve", face, "volume"];
         let what = match r.dimension {
-            Some(d) => plural(r.entities, ONE[d], DIM[d]),
+            Some(d) => plural(r.entities, one[d], dim_names[d]),
             None => "ambiguous dimension".into(),
         };
         let tags: Vec<String> = r.tags.iter().map(i32::to_string).collect();
@@ -291,7 +327,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         if let Some(e) = r.edges.filter(|_| r.dimension.is_some_and(|d| d > 0)) {
             counts.push(plural(e, "edge", "edges"));
         }
-        if let Some(c) = r.cells.filter(|_| r.dimension == Some(2)) {
+        if let Some(c) = r.cells.filter(|_| r.dimension.is_some_and(|d| d >= 2)) {
             counts.push(plural(c, "cell", "cells"));
         }
         let used = if r.used_by.is_empty() {
@@ -316,7 +352,8 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         for (n, one, many) in [
             (s.points, "point", "points"),
             (s.curves, "curve", "curves"),
-            (s.faces, "face", "faces"),
+            (s.faces, face, faces),
+            (s.volumes, "volume", "volumes"),
         ] {
             if n > 0 {
                 parts.push(plural(n, one, many));
@@ -333,6 +370,9 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
                 "    (after moving the slave vertices by at most {d:.3e} onto the master's images, as adapt does)"
             );
         }
+    }
+    if in_space {
+        let _ = writeln!(o, "  sizing      {NO_3D_SIZING}");
     }
     print_stdout(&o)
 }

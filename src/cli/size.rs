@@ -168,7 +168,14 @@ pub(super) fn run(args: SizeArgs) -> Result<(), CliError> {
         .over(args.recipe.read_or_empty(solving, "with --field or --solution-file")?)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
     // The field is written on the input's own points, which stay in its plane.
-    let (mut mesh, _plane_z, read_notes) = super::read_planar_mesh_noted(&args.mesh, from)?;
+    // A mesh in space is bad input (2): the sizing is planar so far.
+    let (mut mesh, read_notes) = super::read_linear_mesh_noted(&args.mesh, from)?;
+    if let Err(e) = smartmesh::plane(&mesh) {
+        return Err(CliError::usage(format!(
+            "{}: {e}; 3D sizing is not there yet (`recipe check RECIPE MESH` resolves a recipe's regions on a mesh in space)",
+            args.mesh.display()
+        )));
+    }
     let mut extra = Vec::new();
     let mut solution = None;
     if solving {

@@ -21,6 +21,13 @@
 //!    sources), DISTANCE_TO_BORDER and DISTANCE_BETWEEN_TWO_BORDERS curves or points,
 //!    CURVATURE_OF_BORDER curves, DISTANCE_TO_IMAGINARY_POLYLINE faces.
 //!
+//! On a mesh in space ([`Topology::space`]) the volumes are looked up too, and each region
+//! parameter accepts, before each dimension `d` ≥ 1 it declares, `d + 1`: the border of a
+//! volume is a surface and the inside of a domain a volume, so DISTANCE_TO_BORDER takes
+//! surfaces, curves or points, UNIFORM volumes first, CURVATURE_OF_BORDER surfaces or
+//! curves, DISTANCE_TO_IMAGINARY_POLYLINE volumes or surfaces. A planar mesh has no
+//! volume, and its regions resolve as the declarations say.
+//!
 //! Every algorithm is then built from its table line
 //! ([`crate::sizing::algorithms::TABLE`]) with its arguments in declaration order.
 //!
@@ -46,16 +53,17 @@ use super::suggest::nearest;
 use crate::sizing::algorithms::{Argument, Arguments, FunctionKind, ParameterKind};
 use crate::sizing::plan::{EntitySet, SizingPlan, Step};
 use crate::sizing::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
-use crate::topology::Topology;
+use crate::topology::{EntityHits, Topology};
 
-const DIM_NAMES: [&str; 3] = ["points", "curves", "faces"];
+const DIM_NAMES: [&str; 4] = ["points", "curves", "faces", "volumes"];
 
 /// How one region of the recipe resolved on the mesh (for `smartmesh recipe check`).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct RegionReport {
     /// The region's name.
     pub name: String,
-    /// 0 points, 1 curves, 2 faces; `None` when ambiguous and used by no algorithm.
+    /// 0 points, 1 curves, 2 faces (surfaces), 3 volumes; `None` when ambiguous and used
+    /// by no algorithm.
     pub dimension: Option<usize>,
     /// Tags of the topological entities it resolved to, sorted.
     pub tags: Vec<i32>,
@@ -66,9 +74,10 @@ pub struct RegionReport {
     /// Mesh vertices on them (a face's include its boundary); `None` when no algorithm
     /// uses the region (it is not measured).
     pub vertices: Option<usize>,
-    /// Mesh edges on them (a face's: the edges of its cells); `None` when unused.
+    /// Mesh edges on them (a face's: the edges of its cells); `None` when unused, and for
+    /// volumes (not counted).
     pub edges: Option<usize>,
-    /// Mesh cells (faces only); `None` when unused.
+    /// Mesh cells (faces and volumes); `None` when unused.
     pub cells: Option<usize>,
     /// The algorithms that use it, numbered from 1.
     pub used_by: Vec<usize>,
@@ -83,28 +92,42 @@ pub struct Resolved {
     pub regions: Vec<RegionReport>,
 }
 
-/// Which dimensions region list `field` of `a` accepts, the one it prefers first (its
-/// declaration's).
-fn expected(a: &AlgorithmSpec, field: &str) -> &'static [usize] {
-    a.parameters()
+/// Which dimensions region list `field` of `a` accepts, the one it prefers first: its
+/// declaration's, and on a mesh in space each `d` ≥ 1 of them lifted to `d + 1` before it
+/// (see the module documentation).
+fn expected(a: &AlgorithmSpec, field: &str, in_space: bool) -> Vec<usize> {
+    let declared = a
+        .parameters()
         .iter()
         .find_map(|p| match p.kind {
             ParameterKind::Regions { dimensions, .. } if p.field == field => Some(dimensions),
             _ => None,
         })
-        .unwrap_or(&[])
+        .unwrap_or(&[]);
+    if !in_space {
+        return declared.to_vec();
+    }
+    let mut out = Vec::with_capacity(4);
+    for &d in declared {
+        for e in [d + 1, d] {
+            if (d >= 1 || e == d) && e <= 3 && !out.contains(&e) {
+                out.push(e);
+            }
+        }
+    }
+    out
 }
 
 /// The entities of each distinct reference, looked up once ([`Topology::resolve`]): a
 /// recipe that names one tag in many regions pays for one lookup.
 #[derive(Default)]
 struct Lookups<'r> {
-    found: BTreeMap<&'r EntityRef, [Vec<usize>; 3]>,
+    found: BTreeMap<&'r EntityRef, EntityHits>,
 }
 
 impl<'r> Lookups<'r> {
     /// Indices of the entities matching `e` in each dimension.
-    fn lookup(&mut self, topo: &Topology, e: &'r EntityRef) -> &[Vec<usize>; 3] {
+    fn lookup(&mut self, topo: &Topology, e: &'r EntityRef) -> &EntityHits {
         self.found.entry(e).or_insert_with(|| topo.resolve(e))
     }
 }
@@ -120,8 +143,9 @@ fn available_tags(topo: &Topology) -> String {
     let p: BTreeSet<i32> = topo.points.iter().filter_map(|p| p.tag).collect();
     let c: BTreeSet<i32> = topo.curves.iter().filter_map(|c| c.tag).collect();
     let f: BTreeSet<i32> = topo.faces.iter().map(|f| f.tag).collect();
+    let v: BTreeSet<i32> = volumes(topo).iter().map(|v| v.tag).collect();
     let mut parts = Vec::new();
-    for (what, set) in [("point", p), ("curve", c), ("face", f)] {
+    for (what, set) in [("point", p), ("curve", c), ("face", f), ("volume", v)] {
         if !set.is_empty() {
             parts.push(format!("{what} tags {}", list_tags(set)));
         }
@@ -140,15 +164,21 @@ fn entity_names(topo: &Topology) -> Vec<&str> {
         .filter_map(|p| p.name.as_deref())
         .chain(topo.curves.iter().filter_map(|c| c.name.as_deref()))
         .chain(topo.faces.iter().filter_map(|f| f.name.as_deref()))
+        .chain(volumes(topo).iter().filter_map(|v| v.name.as_deref()))
         .collect();
     names.sort_unstable();
     names.dedup();
     names
 }
 
+/// The volumes of a mesh in space; none for a planar mesh.
+fn volumes(topo: &Topology) -> &[crate::topology::TopoVolume] {
+    topo.space.as_ref().map_or(&[][..], |s| &s.volumes[..])
+}
+
 struct RegionState {
     /// Per dimension, the entity indices of the whole region (sorted, unique).
-    by_dim: [Vec<usize>; 3],
+    by_dim: [Vec<usize>; 4],
     /// Dimensions where every entity exists.
     candidates: Vec<usize>,
     /// Per entity, the dimensions where it exists (for messages).
@@ -163,6 +193,7 @@ impl Recipe {
         // The fields are public: a recipe built in code may never have been checked.
         self.validate()?;
         let names: Vec<&String> = self.regions.keys().collect();
+        let in_space = topology.space.is_some();
         let mut lookups = Lookups::default();
         let mut states: Vec<RegionState> = Vec::with_capacity(names.len());
         for (name, entities) in &self.regions {
@@ -176,12 +207,12 @@ impl Recipe {
             if st.dimension.is_some() || used_by[k].is_empty() {
                 continue;
             }
-            self.settle_by_vote(names[k], st, &used_by[k])?;
+            self.settle_by_vote(names[k], st, &used_by[k], in_space)?;
         }
 
         let mut steps = Vec::with_capacity(self.algorithms.len());
         for (i, a) in self.algorithms.iter().enumerate() {
-            steps.push(self.step(i, a, &names, &states)?);
+            steps.push(self.step(i, a, &names, &states, in_space)?);
         }
 
         let mut measured = BTreeMap::new();
@@ -211,12 +242,12 @@ impl Recipe {
         name: &str,
         entities: &'r [EntityRef],
     ) -> Result<RegionState, RecipeError> {
-        let mut by_dim: [BTreeSet<usize>; 3] = Default::default();
-        let mut candidates: Vec<usize> = vec![0, 1, 2];
+        let mut by_dim: [BTreeSet<usize>; 4] = Default::default();
+        let mut candidates: Vec<usize> = vec![0, 1, 2, 3];
         let mut entity_dims = Vec::new();
         for (k, e) in entities.iter().enumerate() {
             let hits = lookups.lookup(topology, e);
-            let dims: Vec<usize> = (0..3).filter(|&d| !hits[d].is_empty()).collect();
+            let dims: Vec<usize> = (0..4).filter(|&d| !hits[d].is_empty()).collect();
             if dims.is_empty() {
                 let path = format!("regions.{name}[{k}]");
                 let (available, suggestion) = match e {
@@ -298,6 +329,7 @@ impl Recipe {
         name: &String,
         st: &mut RegionState,
         users: &[usize],
+        in_space: bool,
     ) -> Result<(), RecipeError> {
         let mut votes: BTreeSet<usize> = BTreeSet::new();
         for &i in users {
@@ -306,7 +338,9 @@ impl Recipe {
                 if !list.contains(name) {
                     continue;
                 }
-                if let Some(&d) = expected(a, field).iter().find(|d| st.candidates.contains(d)) {
+                if let Some(&d) =
+                    expected(a, field, in_space).iter().find(|d| st.candidates.contains(d))
+                {
                     votes.insert(d);
                 }
             }
@@ -351,6 +385,7 @@ impl Recipe {
         a: &AlgorithmSpec,
         names: &[&String],
         states: &[RegionState],
+        in_space: bool,
     ) -> Result<Step, RecipeError> {
         let set_of = |k: usize| -> EntitySet {
             let st = &states[k];
@@ -359,6 +394,7 @@ impl Recipe {
                 Some(0) => s.points = st.by_dim[0].clone(),
                 Some(1) => s.curves = st.by_dim[1].clone(),
                 Some(2) => s.faces = st.by_dim[2].clone(),
+                Some(3) => s.volumes = st.by_dim[3].clone(),
                 _ => {}
             }
             s
@@ -371,9 +407,9 @@ impl Recipe {
             for r in list {
                 let k = names.binary_search(&r).expect("validated: the region exists");
                 let d = states[k].dimension.expect("a used region has a dimension");
-                if !expected(a, field).contains(&d) {
-                    let accepted: Vec<&str> =
-                        expected(a, field).iter().map(|&d| DIM_NAMES[d]).collect();
+                let accepts = expected(a, field, in_space);
+                if !accepts.contains(&d) {
+                    let accepted: Vec<&str> = accepts.iter().map(|&d| DIM_NAMES[d]).collect();
                     let key = self.written_key(&format!("{base}.{field}"), field).to_string();
                     return Err(self.error_at(
                         RecipeErrorKind::Invalid(format!(
@@ -514,7 +550,7 @@ fn step_names(a: &AlgorithmSpec) -> Vec<String> {
 }
 
 /// A region's vertex, edge and cell counts, by dimension and entity indices.
-type Measures = BTreeMap<(usize, Vec<usize>), [usize; 3]>;
+type Measures = BTreeMap<(usize, Vec<usize>), [Option<usize>; 3]>;
 
 /// The report of one region; a used region's counts are taken from `measured`, or
 /// measured and kept there for the next region of the same entities.
@@ -547,13 +583,19 @@ fn report(
                 names.extend(topo.faces[f].name.clone());
             }
         }
+        Some(3) => {
+            for &v in &st.by_dim[3] {
+                tags.insert(volumes(topo)[v].tag);
+                names.extend(volumes(topo)[v].name.clone());
+            }
+        }
         _ => {}
     }
     let [vertices, edges, cells] = match st.dimension {
         Some(d) if !used_by.is_empty() => measured
             .entry((d, st.by_dim[d].clone()))
             .or_insert_with(|| measure(topo, d, &st.by_dim[d]))
-            .map(Some),
+            .to_owned(),
         _ => [None; 3],
     };
     RegionReport {
@@ -569,11 +611,18 @@ fn report(
     }
 }
 
-/// Mesh vertices, edges and cells on the entities `of` of dimension `dim`.
-fn measure(topo: &Topology, dim: usize, of: &[usize]) -> [usize; 3] {
+/// Mesh vertices, edges and cells on the entities `of` of dimension `dim`. Volumes: their
+/// cells, and their vertices when there is one volume (the topology counts each volume's
+/// vertices, not those of a union); their edges are not counted.
+fn measure(topo: &Topology, dim: usize, of: &[usize]) -> [Option<usize>; 3] {
     let mut vertices = BTreeSet::new();
     let (mut edges, mut cells) = (0, 0);
     match dim {
+        3 => {
+            let v = volumes(topo);
+            let one = (of.len() == 1).then(|| v[of[0]].vertices);
+            return [one, None, Some(of.iter().map(|&i| v[i].cells).sum())];
+        }
         0 => vertices.extend(of.iter().map(|&p| topo.points[p].vertex)),
         1 => {
             for &c in of {
@@ -600,5 +649,5 @@ fn measure(topo: &Topology, dim: usize, of: &[usize]) -> [usize; 3] {
             edges = cell_edges.len();
         }
     }
-    [vertices.len(), edges, cells]
+    [Some(vertices.len()), Some(edges), Some(cells)]
 }

@@ -9,8 +9,11 @@
 //! that number (derived curves and recovered points have none); a name matches an entity
 //! whose tag the file names exactly so.
 //!
-//! Cost: one pass over the entities per lookup, O(points + curves + faces), which are the
-//! tags of a file and the junctions of its curves, not its cells.
+//! In a mesh in space the faces are its surfaces, and the volumes are looked up too (the
+//! fourth dimension of [`EntityHits`]; a planar mesh has none).
+//!
+//! Cost: one pass over the entities per lookup, O(points + curves + faces + volumes),
+//! which are the tags of a file and the junctions of its curves, not its cells.
 
 use super::Topology;
 
@@ -93,6 +96,27 @@ impl EntityRef {
     }
 }
 
+/// The entities one reference names, per dimension: indices into [`Topology::points`],
+/// [`Topology::curves`], [`Topology::faces`] and the volumes of [`Topology::space`],
+/// ascending. Indexed by dimension (`hits[1]`: the curves).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct EntityHits(pub [Vec<usize>; 4]);
+
+impl std::ops::Index<usize> for EntityHits {
+    type Output = Vec<usize>;
+    fn index(&self, dim: usize) -> &Vec<usize> {
+        &self.0[dim]
+    }
+}
+
+/// Equal to the hits of points, curves and faces alone when it names no volume (what a
+/// planar mesh answers).
+impl PartialEq<[Vec<usize>; 3]> for EntityHits {
+    fn eq(&self, other: &[Vec<usize>; 3]) -> bool {
+        self.0[3].is_empty() && self.0[..3] == other[..]
+    }
+}
+
 /// No curve bears the tag or name asked for; the message lists the tagged curves.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("no curve `{asked}` (the mesh has: {known})")]
@@ -104,23 +128,26 @@ pub struct AbsentCurve {
 }
 
 impl Topology {
-    /// The entities `e` names, per dimension (0 points, 1 curves, 2 faces): indices into
-    /// [`Topology::points`], [`Topology::curves`] and [`Topology::faces`], ascending.
-    pub fn resolve(&self, e: &EntityRef) -> [Vec<usize>; 3] {
+    /// The entities `e` names, per dimension (0 points, 1 curves, 2 faces or surfaces,
+    /// 3 volumes): indices into [`Topology::points`], [`Topology::curves`],
+    /// [`Topology::faces`] and the volumes of [`Topology::space`], ascending.
+    pub fn resolve(&self, e: &EntityRef) -> EntityHits {
         let find = |it: &mut dyn Iterator<Item = (Option<i32>, Option<&str>)>| -> Vec<usize> {
             it.enumerate().filter(|(_, (t, n))| e.matches(*t, *n)).map(|(i, _)| i).collect()
         };
-        [
+        let volumes = self.space.as_ref().map_or(&[][..], |s| &s.volumes[..]);
+        EntityHits([
             find(&mut self.points.iter().map(|p| (p.tag, p.name.as_deref()))),
             find(&mut self.curves.iter().map(|c| (c.tag, c.name.as_deref()))),
             find(&mut self.faces.iter().map(|f| (Some(f.tag), f.name.as_deref()))),
-        ]
+            find(&mut volumes.iter().map(|v| (Some(v.tag), v.name.as_deref()))),
+        ])
     }
 
     /// The curves `e` names ([`Topology::resolve`]'s curves), or an error listing the
     /// tagged curves when there is none.
     pub fn resolve_curves(&self, e: &EntityRef) -> Result<Vec<usize>, AbsentCurve> {
-        let [_, found, _] = self.resolve(e);
+        let EntityHits([_, found, _, _]) = self.resolve(e);
         if !found.is_empty() {
             return Ok(found);
         }

@@ -19,12 +19,17 @@ pub struct EntitySet {
     pub curves: Vec<usize>,
     /// Indices into `Topology::faces`.
     pub faces: Vec<usize>,
+    /// Indices into the volumes of `Topology::space` (a mesh in space).
+    pub volumes: Vec<usize>,
 }
 
 impl EntitySet {
     /// Whether the set names no entity.
     pub fn is_empty(&self) -> bool {
-        self.points.is_empty() && self.curves.is_empty() && self.faces.is_empty()
+        self.points.is_empty()
+            && self.curves.is_empty()
+            && self.faces.is_empty()
+            && self.volumes.is_empty()
     }
 
     /// The union of two sets, each list sorted and without repeats.
@@ -39,6 +44,7 @@ impl EntitySet {
             points: merge(&self.points, &other.points),
             curves: merge(&self.curves, &other.curves),
             faces: merge(&self.faces, &other.faces),
+            volumes: merge(&self.volumes, &other.volumes),
         }
     }
 }
@@ -90,7 +96,9 @@ pub enum ParameterKind {
     /// The name of a function of this kind.
     Function(FunctionKind),
     /// Region names. `dimensions`: the entity dimensions accepted (0 points, 1 curves,
-    /// 2 faces), the one preferred first when a region's dimension is ambiguous.
+    /// 2 faces), the one preferred first when a region's dimension is ambiguous. On a
+    /// mesh in space each dimension from 1 up is also accepted one higher, before it
+    /// (the border of a volume is a surface): see `recipe::resolve`.
     /// `optional`: may be left out or empty (then the set is empty).
     Regions {
         /// Accepted dimensions, preferred first.
