@@ -63,7 +63,7 @@ use smartmesh_formats::{read_path, DataArray, Format, TaggedMesh};
 pub const METRIC: &str = "metric";
 
 /// A metric field: one SPD tensor per vertex of a mesh, and where it was found; a 2D
-/// field ([`Sym2`], the default) or a field on a mesh in space ([`Sym3`]).
+/// field ([`Sym2`], the default) or a field on a mesh in space ([`Sym3`](crate::metric::Sym3)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MetricField<T: FieldTensor = Sym2> {
     tensors: Vec<T>,
