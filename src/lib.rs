@@ -84,8 +84,8 @@ pub use history::{
 pub use mesh_graph::{MeshGraph, MeshGraphError};
 pub use metric::{SizeBounds, SizeTensor, Sym2};
 pub use metric_field::{
-    expected_vertices, FieldTensor, InterpolationError, Interpolator, MetricError, MetricField,
-    MetricFieldError, MetricTarget, METRIC,
+    expected_vertices, Complexity, FieldTensor, InterpolationError, Interpolator, MetricError,
+    MetricField, MetricFieldError, MetricTarget, METRIC,
 };
 pub use planar::{place, plane, NotPlanar};
 pub use quality::QualitySummary;

@@ -130,6 +130,10 @@ pub struct MetricSummary {
     /// not asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ugawg: Option<crate::conformity::Ugawg>,
+    /// The vertex count of a unit mesh of the metric ([`crate::expected_vertices`]), for a
+    /// 3D metric on volume cells.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_vertices: Option<f64>,
 }
 
 /// One tag, as the topology and the recipes know it ([`crate::topology::cell_tag`]).
@@ -416,6 +420,7 @@ impl MeshSummary {
             source,
             conformity: crate::conformity::Conformity::of_mesh(mesh, metric),
             ugawg: None,
+            expected_vertices: None,
         });
         self
     }
@@ -441,6 +446,7 @@ impl MeshSummary {
             source,
             conformity: None,
             ugawg: crate::conformity::Ugawg::of_mesh_3d(mesh, metric),
+            expected_vertices: None,
         });
         self
     }

@@ -378,7 +378,7 @@ fn render(file: &str, s: &MeshSummary) -> String {
             None => {}
         }
         if let Some(u) = &m.ugawg {
-            super::info_metric::render_ugawg(&mut o, &m.source, u);
+            super::info_metric::render_ugawg(&mut o, &m.source, u, m.expected_vertices);
         }
     }
     o

@@ -16,13 +16,20 @@ use super::CliError;
 /// Whether `mesh` lives in space: it has volume cells, or its vertices are not all on one
 /// plane z = constant. Such a mesh is measured against a 3D metric.
 pub(super) fn in_space(mesh: &TaggedMesh) -> bool {
-    let volume = mesh.blocks.iter().any(|b| b.kind.dim() == 3 && !b.is_empty());
+    let volume = has_volume(mesh);
     let z0 = mesh.points.first().map_or(0.0, |p| p[2]);
     volume || mesh.points.iter().any(|p| p[2] != z0)
 }
 
+/// Whether `mesh` has a volume cell, which a 3D metric's complexity is taken over.
+fn has_volume(mesh: &TaggedMesh) -> bool {
+    mesh.blocks.iter().any(|b| b.kind.dim() == 3 && !b.is_empty())
+}
+
 /// `summary` with the UGAWG measures of `mesh` (read from `file`) against the 3D metric
-/// of `metric` (or of the mesh's own `metric` array; a bad own array is a warning).
+/// of `metric` (or of the mesh's own `metric` array; a bad own array is a warning), and,
+/// on volume cells, the vertex count a unit mesh of it has
+/// ([`smartmesh::expected_vertices`]).
 pub(super) fn with_metric_3d(
     summary: MeshSummary,
     mesh: &TaggedMesh,
@@ -30,7 +37,13 @@ pub(super) fn with_metric_3d(
     metric: Option<&Path>,
 ) -> Result<MeshSummary, CliError> {
     match MetricField::<Sym3>::load_field(mesh, file, metric) {
-        Ok(Some(m)) => Ok(summary.with_metric_3d(mesh, m.tensors(), m.source().to_string())),
+        Ok(Some(m)) => {
+            let mut summary = summary.with_metric_3d(mesh, m.tensors(), m.source().to_string());
+            if let Some(s) = summary.metric.as_mut().filter(|_| has_volume(mesh)) {
+                s.expected_vertices = Some(m.expected_vertices(mesh));
+            }
+            Ok(summary)
+        }
         Ok(None) => Ok(summary),
         Err(e) if metric.is_none() => {
             super::ui::warn(&format!("no metric figures: {e}"));
@@ -40,8 +53,9 @@ pub(super) fn with_metric_3d(
     }
 }
 
-/// The lines of the UGAWG measures of the metric found at `source`.
-pub(super) fn render_ugawg(o: &mut String, source: &str, u: &Ugawg) {
+/// The lines of the UGAWG measures of the metric found at `source`, and the vertex count
+/// a unit mesh of it has when `expected` is known.
+pub(super) fn render_ugawg(o: &mut String, source: &str, u: &Ugawg, expected: Option<f64>) {
     let _ = writeln!(
         o,
         "  ugawg       {} metric {source}: {}, {:.1}% of metric length in [{:.4}, {:.4}]",
@@ -74,4 +88,11 @@ pub(super) fn render_ugawg(o: &mut String, source: &str, u: &Ugawg) {
         u.geometric_mean_quality,
         u.non_positive
     );
+    if let Some(n) = expected {
+        let _ = writeln!(
+            o,
+            "              a unit mesh of this metric has about {} vertices (complexity ∫ √det M)",
+            smartmesh::metric::complexity::format_count(n)
+        );
+    }
 }

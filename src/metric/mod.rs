@@ -25,8 +25,10 @@
 //!   tetrahedron in 3D.
 //! - [`complexity`]: the metric's complexity ∫ √det M over triangles, and the vertex count
 //!   it asks for.
+//! - [`complexity3`]: the same over tetrahedra for a 3D metric, and its vertex count.
 
 pub mod complexity;
+pub mod complexity3;
 mod eigen2;
 mod eigen3;
 #[cfg(test)]

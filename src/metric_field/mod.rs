@@ -46,8 +46,8 @@ mod tensor;
 pub(crate) mod write;
 mod write3;
 
-pub use expected::expected_vertices;
 pub(crate) use expected::planar_triangles;
+pub use expected::{expected_vertices, Complexity};
 pub use interpolate::{InterpolationError, Interpolator};
 pub use tensor::FieldTensor;
 pub use write::MetricTarget;
