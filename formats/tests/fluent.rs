@@ -419,5 +419,5 @@ fn a_fluent_path_is_named_so_and_a_plain_msh_stays_gmsh() {
     assert_eq!(Format::from_path("dir/CASE.Fluent.MSH"), Some(Format::Fluent));
     assert_eq!(Format::from_path("case.msh"), Some(Format::Gmsh));
     assert_eq!(Format::from_name("fluent"), Some(Format::Fluent));
-    assert!(!Format::Fluent.can_read());
+    assert!(Format::Fluent.can_read());
 }
