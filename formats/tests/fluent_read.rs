@@ -202,3 +202,64 @@ fn malformed_files_are_refused_with_their_position() {
     let e = refuse(bad.as_bytes());
     assert!(e.to_string().contains("cell 1"), "{e}");
 }
+
+/// A binary file of one unit tetrahedron (double-precision nodes, 32-bit faces), each
+/// face's right-hand normal into its cell c0 as Fluent's convention has it.
+fn binary_tetra() -> Vec<u8> {
+    let mut b = b"(0 \"binary\")\n(2 3)\n(10 (0 1 4 0 3))\n(3010 (1 1 4 1 3)(".to_vec();
+    for x in [0.0f64, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.] {
+        b.extend(x.to_le_bytes());
+    }
+    b.extend(b")End of Binary Section 3010)\n(12 (2 1 1 1 2))\n(2013 (3 1 4 3 3)(");
+    for f in [[1i32, 2, 3], [1, 4, 2], [2, 4, 3], [1, 3, 4]] {
+        for v in f.into_iter().chain([1, 0]) {
+            b.extend(v.to_le_bytes());
+        }
+    }
+    b.extend(b")End of Binary Section 2013)\n(45 (2 fluid Solid)())\n(45 (3 wall Skin)())\n");
+    b
+}
+
+#[test]
+fn a_binary_tetrahedron_reads_with_a_positive_volume() {
+    let m = read_bytes(Format::Fluent, &binary_tetra(), &ReadContext::alone("msh")).unwrap();
+    let tets: Vec<&[u32]> =
+        m.blocks.iter().filter(|b| b.kind == CellKind::Tetra).flat_map(|b| b.cells()).collect();
+    assert_eq!(tets.len(), 1);
+    let p = |i: usize| m.points[tets[0][i] as usize];
+    let (a, b, c, d) = (p(0), p(1), p(2), p(3));
+    let e = |u: [f64; 3]| [u[0] - a[0], u[1] - a[1], u[2] - a[2]];
+    let (u, v, w) = (e(b), e(c), e(d));
+    let det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+        + u[2] * (v[0] * w[1] - v[1] * w[0]);
+    assert!((det - 1.0).abs() < 1e-12, "6 × volume {det}");
+    assert_eq!(m.num_cells_of(CellKind::Triangle), 4);
+    assert_eq!(m.tag_name(3, 2), Some("Solid"));
+    assert_eq!(m.tag_name(2, 3), Some("Skin"));
+    // Every boundary triangle points out: its normal away from the centroid.
+    for t in m.blocks.iter().filter(|b| b.kind == CellKind::Triangle).flat_map(|b| b.cells()) {
+        let q = |i: usize| m.points[t[i] as usize];
+        let (x, y) = (e2(q(0), q(1)), e2(q(0), q(2)));
+        let n = [x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]];
+        let out = e2([0.25; 3], q(0));
+        assert!(n[0] * out[0] + n[1] * out[1] + n[2] * out[2] > 0.0, "{t:?}");
+    }
+    // Truncated anywhere or with a byte changed: Ok or a positioned error, no panic.
+    let bytes = binary_tetra();
+    for cut in 0..bytes.len() {
+        let _ = read_bytes(Format::Fluent, &bytes[..cut], &ReadContext::alone("msh"));
+    }
+    for i in 0..bytes.len() {
+        for v in [0u8, 0xff, b'(', b')', 0x7f] {
+            let mut b = bytes.clone();
+            b[i] = v;
+            if let Ok(m) = read_bytes(Format::Fluent, &b, &ReadContext::alone("msh")) {
+                assert_eq!(m.validate(), Vec::new());
+            }
+        }
+    }
+}
+
+fn e2(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
+}
