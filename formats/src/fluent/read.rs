@@ -210,15 +210,17 @@ impl<'a> Cur<'a> {
         Ok(v)
     }
     /// The end of a section's data and of the section: `))`, or for a binary one
-    /// `)` `End of Binary Section N` `)`.
+    /// `)` `End of Binary Section N` `)`. Whatever stands between the data's `)` and the
+    /// section's is skipped: `foamMeshToFluent` writes `(12 (...)(types...)())`.
     fn close_data(&mut self) -> Result<()> {
         self.eat(b')')?;
         self.ws();
         if self.b[self.pos..].starts_with(b"End of Binary Section") {
             self.pos += b"End of Binary Section".len();
             self.number(10, "the section index")?;
+            return self.eat(b')');
         }
-        self.eat(b')')
+        self.skip_balanced(1)
     }
     /// Refuses `n` items of at least `min` bytes each when fewer bytes are left.
     fn check_count(&self, what: &str, n: u64, min: usize) -> Result<()> {
