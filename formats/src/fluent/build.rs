@@ -25,6 +25,15 @@ fn bad(what: String) -> Error {
     Error::new(ErrorKind::Expected { expected: "a valid Fluent mesh".into(), found: what })
 }
 
+/// `e` placed at the header line of the section holding face `f` (0-based).
+fn at_face(raw: &Raw, f: usize, mut e: Error) -> Error {
+    let k = raw.face_lines.partition_point(|&(first, _)| first <= f);
+    if k > 0 {
+        e.at = Some(crate::Position::Line(raw.face_lines[k - 1].1));
+    }
+    e
+}
+
 /// The mesh of `raw`.
 pub(super) fn build(raw: &Raw, report: &mut ReadReport) -> Result<TaggedMesh> {
     let dim = raw.dim.ok_or_else(|| bad("no dimension section `(2 ND)`".into()))?;
@@ -76,7 +85,7 @@ pub(super) fn build(raw: &Raw, report: &mut ReadReport) -> Result<TaggedMesh> {
             }
         }
         if raw.c0[f] == 0 {
-            return Err(bad(format!("face {} has no cell c0", f + 1)));
+            return Err(at_face(raw, f, bad(format!("face {} has no cell c0", f + 1))));
         }
     }
     for i in 1..=nc {
@@ -97,7 +106,7 @@ pub(super) fn build(raw: &Raw, report: &mut ReadReport) -> Result<TaggedMesh> {
     for c in 0..nc {
         fs.clear();
         for &(f, is_c1) in &of_cell[count[c]..count[c + 1]] {
-            let mut p = nodes0(face(f), np, "a face")?;
+            let mut p = nodes0(face(f), np, "a face").map_err(|e| at_face(raw, f, e))?;
             // Outward of c: 3D reverse for c0; 2D reverse for c1.
             if (dim == 3) != is_c1 {
                 p.reverse();
@@ -105,7 +114,10 @@ pub(super) fn build(raw: &Raw, report: &mut ReadReport) -> Result<TaggedMesh> {
             fs.push(p);
         }
         let (kind, nodes) = if dim == 3 { crate::openfoam::cell_nodes(&fs) } else { polygon(&fs) }
-            .map_err(|why| bad(format!("cell {}: {why}", c + 1)))?;
+            .map_err(|why| {
+                let f = of_cell.get(count[c]).map_or(0, |x| x.0);
+                at_face(raw, f, bad(format!("cell {} (a cell of this face section): {why}", c + 1)))
+            })?;
         mesh.block_mut(kind).push(&nodes, tag[c], tag[c]);
     }
     boundary(raw, dim, np, &face, &mut mesh, report, &mut name_tag)?;
@@ -138,7 +150,7 @@ fn boundary<'r>(
             *dropped.entry(zone).or_default() += 1;
             continue;
         }
-        let mut p = nodes0(face(f), np, "a face")?;
+        let mut p = nodes0(face(f), np, "a face").map_err(|e| at_face(raw, f, e))?;
         if dim == 3 {
             p.reverse(); // outward
         }
@@ -146,7 +158,10 @@ fn boundary<'r>(
             2 => CellKind::Line,
             3 => CellKind::Triangle,
             4 => CellKind::Quad,
-            n => return Err(bad(format!("boundary face {} has {n} nodes", f + 1))),
+            n => {
+                let e = bad(format!("boundary face {} has {n} nodes", f + 1));
+                return Err(at_face(raw, f, e));
+            }
         };
         mesh.block_mut(kind).push(&p, zone as i32, zone as i32);
         kept.insert(zone);

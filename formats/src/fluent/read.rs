@@ -33,6 +33,8 @@ pub(super) struct Raw {
     pub c0: Vec<u64>,
     pub c1: Vec<u64>,
     pub face_zone: Vec<u32>,
+    /// Each face section's first face (index into `c0`) and the line of its header.
+    pub face_lines: Vec<(usize, u64)>,
     /// Face zones: zone → bc-type code.
     pub face_zones: Vec<(u32, u64)>,
     /// Cells given by their nodes (meshio): (zone, elem-type, nodes flat 1-based).
@@ -52,6 +54,8 @@ enum Enc {
 struct Cur<'a> {
     b: &'a [u8],
     pos: usize,
+    /// The line of a position already counted, so that counting lines stays linear.
+    seen: std::cell::Cell<(usize, u64)>,
 }
 
 fn is_delim(c: u8) -> bool {
@@ -60,7 +64,14 @@ fn is_delim(c: u8) -> bool {
 
 impl<'a> Cur<'a> {
     fn line(&self) -> u64 {
-        1 + self.b[..self.pos.min(self.b.len())].iter().filter(|&&c| c == b'\n').count() as u64
+        let pos = self.pos.min(self.b.len());
+        let (mut from, mut line) = self.seen.get();
+        if from > pos {
+            (from, line) = (0, 1);
+        }
+        line += self.b[from..pos].iter().filter(|&&c| c == b'\n').count() as u64;
+        self.seen.set((pos, line));
+        line
     }
     fn found(&self) -> String {
         let rest = &self.b[self.pos.min(self.b.len())..];
@@ -253,7 +264,7 @@ impl<'a> Cur<'a> {
 
 /// Parses every section of `bytes`.
 pub(super) fn parse(bytes: &[u8]) -> Result<Raw> {
-    let mut c = Cur { b: bytes, pos: 0 };
+    let mut c = Cur { b: bytes, pos: 0, seen: std::cell::Cell::new((0, 1)) };
     let mut raw = Raw::default();
     while c.peek().is_some() {
         c.eat(b'(')?;
@@ -325,6 +336,7 @@ fn truncate(raw: &mut Raw, (f, n, z, nc, fz): (usize, usize, usize, usize, usize
     raw.cell_zones.truncate(z);
     raw.node_cells.truncate(nc);
     raw.face_zones.truncate(fz);
+    raw.face_lines.truncate(fz);
 }
 
 /// `first..=last` of a header, its count checked.
@@ -426,6 +438,7 @@ fn cells(c: &mut Cur<'_>, raw: &mut Raw, enc: Enc) -> Result<()> {
 }
 
 fn faces(c: &mut Cur<'_>, raw: &mut Raw, enc: Enc) -> Result<()> {
+    let line = c.line();
     let h = c.header("face section")?;
     if h.len() < 4 {
         return Err(c.expected("a face header `(zone first last bc-type face-type)`"));
@@ -451,6 +464,7 @@ fn faces(c: &mut Cur<'_>, raw: &mut Raw, enc: Enc) -> Result<()> {
         }
     }
     raw.face_zones.push((zone, h[3]));
+    raw.face_lines.push((raw.c0.len(), line));
     for _ in 0..n {
         let k = match fixed {
             Some(k) => k,
