@@ -1,9 +1,11 @@
-//! Fluent mesh files, written ASCII and read ASCII or binary (`read`, `build`): the `.msh` a Fluent session reads with
-//! *File > Read > Mesh*, and OpenFOAM's `fluentMeshToFoam` converts.
+//! Fluent mesh files, written ASCII and read ASCII or binary (`read` parses the
+//! sections, `build` rebuilds the cells from their faces): the `.msh` a Fluent session
+//! reads with *File > Read > Mesh*, and OpenFOAM's `fluentMeshToFoam` converts.
 //!
 //! Which files: Fluent's extension is `.msh`, which is Gmsh's too, so a path is Fluent
 //! only when its name ends in `.fluent.msh` ([`crate::Format::from_path`]) or when
-//! `--to fluent` says so; a plain `.msh` stays Gmsh.
+//! `--from`/`--to fluent` says so; a plain `.msh` stays Gmsh, except that a `.msh` read
+//! whose first non-blank byte is `(` ([`claims`]) is read as Fluent.
 //!
 //! Source: the Fluent User's Guide, appendix *Case and Data File Formats*, sections
 //! *Grid Sections* (comment `(0 "...")`, header `(1 "...")`, dimension `(2 ND)`, nodes
