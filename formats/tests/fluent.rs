@@ -2,8 +2,8 @@
 //! 2D and 3D meshes of every linear cell kind written and parsed back here, each
 //! face's orientation checked by an independent twin (the divergence theorem: every
 //! cell closed, its volume or area from its faces equal to the geometry's), zone names
-//! and types from tag names, and the refusals. `fluentMeshToFoam` + `checkMesh` and meshio read the files in
-//! `tests/fluent_interop.rs` of the smartmesh crate.
+//! and types from tag names, and the refusals. `fluentMeshToFoam` + `checkMesh` and
+//! meshio read the files in `tests/fluent_interop.rs` of the smartmesh crate.
 
 use std::collections::BTreeMap;
 
