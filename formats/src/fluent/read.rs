@@ -223,7 +223,9 @@ impl<'a> Cur<'a> {
     /// The end of a section's data and of the section: `))`, or for a binary one
     /// `)` `End of Binary Section N` `)`. Whatever stands between the data's `)` and the
     /// section's is skipped: `foamMeshToFluent` writes `(12 (...)(types...)())`.
-    fn close_data(&mut self) -> Result<()> {
+    /// A binary section is closed strictly (`)` then the marker or `)`): that is how
+    /// the integer width of a 30xx section is told (see [`with_width`]).
+    fn close_data(&mut self, enc: Enc) -> Result<()> {
         self.eat(b')')?;
         self.ws();
         if self.b[self.pos..].starts_with(b"End of Binary Section") {
@@ -231,7 +233,10 @@ impl<'a> Cur<'a> {
             self.number(10, "the section index")?;
             return self.eat(b')');
         }
-        self.skip_balanced(1)
+        match enc {
+            Enc::Bin(..) => self.eat(b')'),
+            Enc::Ascii => self.skip_balanced(1),
+        }
     }
     /// Refuses `n` items of at least `min` bytes each when fewer bytes are left.
     fn check_count(&self, what: &str, n: u64, min: usize) -> Result<()> {
@@ -387,7 +392,7 @@ fn nodes(c: &mut Cur<'_>, raw: &mut Raw, index: u64) -> Result<()> {
     for _ in 0..n as usize * nd {
         xs.push(c.float(enc)?);
     }
-    c.close_data()?;
+    c.close_data(enc)?;
     raw.nodes.push((first, xs, nd));
     Ok(())
 }
@@ -430,7 +435,7 @@ fn cells(c: &mut Cur<'_>, raw: &mut Raw, enc: Enc) -> Result<()> {
     for _ in 0..n * per {
         list.push(c.int(enc, "a cell's node or type")?);
     }
-    c.close_data()?;
+    c.close_data(enc)?;
     if et != 0 {
         raw.node_cells.push((zone, et, list));
     }
@@ -485,7 +490,7 @@ fn faces(c: &mut Cur<'_>, raw: &mut Raw, enc: Enc) -> Result<()> {
         raw.face_start.push(raw.face_nodes.len());
         raw.face_zone.push(zone);
     }
-    c.close_data()
+    c.close_data(enc)
 }
 
 fn zone_name(c: &mut Cur<'_>, raw: &mut Raw) -> Result<()> {
