@@ -206,12 +206,16 @@ fn malformed_files_are_refused_with_their_position() {
 /// A binary file of one unit tetrahedron (double-precision nodes, 32-bit faces), each
 /// face's right-hand normal into its cell c0 as Fluent's convention has it.
 fn binary_tetra() -> Vec<u8> {
+    binary_tetra_with([[1, 2, 3], [1, 4, 2], [2, 4, 3], [1, 3, 4]])
+}
+
+fn binary_tetra_with(faces: [[i32; 3]; 4]) -> Vec<u8> {
     let mut b = b"(0 \"binary\")\n(2 3)\n(10 (0 1 4 0 3))\n(3010 (1 1 4 1 3)(".to_vec();
     for x in [0.0f64, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.] {
         b.extend(x.to_le_bytes());
     }
     b.extend(b")End of Binary Section 3010)\n(12 (2 1 1 1 2))\n(2013 (3 1 4 3 3)(");
-    for f in [[1i32, 2, 3], [1, 4, 2], [2, 4, 3], [1, 3, 4]] {
+    for f in faces {
         for v in f.into_iter().chain([1, 0]) {
             b.extend(v.to_le_bytes());
         }
@@ -222,7 +226,20 @@ fn binary_tetra() -> Vec<u8> {
 
 #[test]
 fn a_binary_tetrahedron_reads_with_a_positive_volume() {
-    let m = read_bytes(Format::Fluent, &binary_tetra(), &ReadContext::alone("msh")).unwrap();
+    let (m, report) =
+        read_bytes_reported(Format::Fluent, &binary_tetra(), &ReadContext::alone("msh")).unwrap();
+    assert!(report.notes.is_empty(), "{:?}", report.notes);
+    check_tetra(&m);
+    // Faces following the opposite rule (normals out of c0): the same tetrahedron, said.
+    let other = binary_tetra_with([[1, 3, 2], [1, 2, 4], [2, 3, 4], [1, 4, 3]]);
+    let (m, report) =
+        read_bytes_reported(Format::Fluent, &other, &ReadContext::alone("msh")).unwrap();
+    assert!(report.notes.iter().any(|n| n.contains("opposite right-hand rule")), "{report:?}");
+    check_tetra(&m);
+    damaged_binary_never_panics();
+}
+
+fn check_tetra(m: &TaggedMesh) {
     let tets: Vec<&[u32]> =
         m.blocks.iter().filter(|b| b.kind == CellKind::Tetra).flat_map(|b| b.cells()).collect();
     assert_eq!(tets.len(), 1);
@@ -244,7 +261,10 @@ fn a_binary_tetrahedron_reads_with_a_positive_volume() {
         let out = e2([0.25; 3], q(0));
         assert!(n[0] * out[0] + n[1] * out[1] + n[2] * out[2] > 0.0, "{t:?}");
     }
-    // Truncated anywhere or with a byte changed: Ok or a positioned error, no panic.
+}
+
+/// Truncated anywhere or with a byte changed: Ok or an error, no panic.
+fn damaged_binary_never_panics() {
     let bytes = binary_tetra();
     for cut in 0..bytes.len() {
         let _ = read_bytes(Format::Fluent, &bytes[..cut], &ReadContext::alone("msh"));

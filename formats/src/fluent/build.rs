@@ -9,6 +9,9 @@
 //! - 3D cells: their outward faces make a tetrahedron, hexahedron, prism or pyramid in
 //!   Gmsh's order (`openfoam::cell_nodes`, which checks the faces make that cell);
 //! - 2D cells: their counter-clockwise edges chained into a triangle or quad;
+//! - a cell built inside out (its file follows the opposite right-hand rule) is
+//!   reordered to a positive volume or area, its boundary faces turned with it, and a
+//!   note says how many;
 //! - tags: a cell's tag is its cell zone's id; a boundary face's its face zone's id;
 //!   names from the `(45 ...)`/`(39 ...)` records;
 //! - interior face zones (bc-type 2) named as Fluent names its default ones
@@ -103,6 +106,7 @@ pub(super) fn build(raw: &Raw, report: &mut ReadReport) -> Result<TaggedMesh> {
         }
     }
     let mut fs: Vec<Vec<u32>> = Vec::new();
+    let mut flipped = vec![false; nc];
     for c in 0..nc {
         fs.clear();
         for &(f, is_c1) in &of_cell[count[c]..count[c + 1]] {
@@ -113,23 +117,91 @@ pub(super) fn build(raw: &Raw, report: &mut ReadReport) -> Result<TaggedMesh> {
             }
             fs.push(p);
         }
-        let (kind, nodes) = if dim == 3 { crate::openfoam::cell_nodes(&fs) } else { polygon(&fs) }
-            .map_err(|why| {
-                let f = of_cell.get(count[c]).map_or(0, |x| x.0);
-                at_face(raw, f, bad(format!("cell {} (a cell of this face section): {why}", c + 1)))
-            })?;
+        let (kind, mut nodes) =
+            if dim == 3 { crate::openfoam::cell_nodes(&fs) } else { polygon(&fs) }.map_err(
+                |why| {
+                    let f = of_cell.get(count[c]).map_or(0, |x| x.0);
+                    at_face(
+                        raw,
+                        f,
+                        bad(format!("cell {} (a cell of this face section): {why}", c + 1)),
+                    )
+                },
+            )?;
+        // A file following the other right-hand rule: the cell comes out inside out.
+        if signed_measure(kind, &nodes, &mesh.points) < 0.0 {
+            mirror(kind, &mut nodes);
+            flipped[c] = true;
+        }
         mesh.block_mut(kind).push(&nodes, tag[c], tag[c]);
     }
-    boundary(raw, dim, np, &face, &mut mesh, report, &mut name_tag)?;
+    let n = flipped.iter().filter(|&&f| f).count();
+    if n > 0 {
+        report.note(format!(
+            "{n} cells whose faces follow the opposite right-hand rule: reordered to a \
+             positive volume, their boundary faces turned outward"
+        ));
+    }
+    boundary(raw, dim, np, &face, &flipped, &mut mesh, report, &mut name_tag)?;
     Ok(mesh)
 }
 
+/// Six times the volume (3D, by the divergence theorem over the faces fanned into
+/// triangles) or twice the area (2D) of a cell in Gmsh's order: positive when the
+/// order is right.
+fn signed_measure(kind: CellKind, nodes: &[u32], points: &[[f64; 3]]) -> f64 {
+    let o = points[nodes[0] as usize];
+    let p = |v: u32| {
+        let q = points[v as usize];
+        [q[0] - o[0], q[1] - o[1], q[2] - o[2]]
+    };
+    if kind.dim() == 2 {
+        let n = nodes.len();
+        return (0..n)
+            .map(|i| {
+                let (a, b) = (p(nodes[i]), p(nodes[(i + 1) % n]));
+                a[0] * b[1] - a[1] * b[0]
+            })
+            .sum();
+    }
+    let mut v = 0.0;
+    for f in kind.faces() {
+        let a = p(nodes[f[0]]);
+        for k in 1..f.len() - 1 {
+            let (b, c) = (p(nodes[f[k]]), p(nodes[f[k + 1]]));
+            v += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]);
+        }
+    }
+    v
+}
+
+/// The same cell with the opposite orientation, in Gmsh's order.
+fn mirror(kind: CellKind, nodes: &mut [u32]) {
+    let order: &[usize] = match kind {
+        CellKind::Tetra => &[0, 2, 1, 3],
+        CellKind::Pyramid => &[0, 3, 2, 1, 4],
+        CellKind::Wedge => &[0, 2, 1, 3, 5, 4],
+        CellKind::Hexa => &[0, 3, 2, 1, 4, 7, 6, 5],
+        _ => {
+            nodes.reverse();
+            return;
+        }
+    };
+    let old = nodes.to_vec();
+    for (slot, &k) in nodes.iter_mut().zip(order) {
+        *slot = old[k];
+    }
+}
+
 /// The boundary face zones as tagged cells one dimension down.
+#[allow(clippy::too_many_arguments)]
 fn boundary<'r>(
     raw: &'r Raw,
     dim: u8,
     np: u64,
     face: &dyn Fn(usize) -> &'r [u64],
+    flipped: &[bool],
     mesh: &mut TaggedMesh,
     report: &mut ReadReport,
     name_tag: &mut dyn FnMut(&mut TaggedMesh, u8, u32),
@@ -151,8 +223,10 @@ fn boundary<'r>(
             continue;
         }
         let mut p = nodes0(face(f), np, "a face").map_err(|e| at_face(raw, f, e))?;
-        if dim == 3 {
-            p.reverse(); // outward
+        // Outward of c0: reversed in 3D, unless c0 was built from the other rule.
+        let c0_flipped = flipped.get(raw.c0[f] as usize - 1).copied().unwrap_or(false);
+        if (dim == 3) != c0_flipped {
+            p.reverse();
         }
         let kind = match p.len() {
             2 => CellKind::Line,
