@@ -11,13 +11,13 @@ cd "$(dirname "$0")"
 secs="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(gmsh gmsh_pos vtk_legacy vtu triangle tetgen obj medit su2 stl openfoam recipe_libconfig recipe_resolve)
+[ ${#targets[@]} -gt 0 ] || targets=(gmsh gmsh_pos vtk_legacy vtu triangle tetgen obj medit su2 stl fluent openfoam recipe_libconfig recipe_resolve)
 toolchain=()
 if rustup toolchain list 2>/dev/null | grep -q '^nightly'; then toolchain=(+nightly); fi
 mkdir -p logs
 fixtures="${SMARTMESH_PUBLIC_FIXTURES:-$(cd ../.. && pwd)/shared/fixtures/public}"
 export RUSTC_BOOTSTRAP=1
-declare -A seeds=([gmsh]="gmsh/*.msh 3d/*.msh" [gmsh_pos]="" [vtk_legacy]="vtk/*.vtk 3d/*.vtk" [vtu]="vtk/*.vtu 3d/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb 3d/*.mesh 3d/*.meshb" [tetgen]="" [su2]="" [stl]="" [openfoam]="" [recipe_libconfig]="" [recipe_resolve]="")
+declare -A seeds=([gmsh]="gmsh/*.msh 3d/*.msh" [gmsh_pos]="" [vtk_legacy]="vtk/*.vtk 3d/*.vtk" [vtu]="vtk/*.vtu 3d/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb 3d/*.mesh 3d/*.meshb" [tetgen]="" [su2]="" [stl]="" [fluent]="" [openfoam]="" [recipe_libconfig]="" [recipe_resolve]="")
 status=0
 for target in "${targets[@]}"; do
     corpus="corpus/$target"

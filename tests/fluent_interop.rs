@@ -143,3 +143,41 @@ print(len(m.points), m.points.shape[1], " ".join(f"{c.type}:{len(c.data)}" for c
     // Cylinder (meshio skips the cell zones, whose Fluent sections hold no nodes).
     assert_eq!(out.trim(), "1148 2 line:3120 line:13 line:13 line:100 line:36", "{out}");
 }
+
+/// OpenFOAM's `foamMeshToFluent` writes a Fluent file of a case (ours, of the mixed 3D
+/// fixture); smartmesh reads it back (a plain `.msh`, told Fluent by its first byte)
+/// with `checkMesh`'s counts: points, cells per kind, boundary faces, patch names.
+#[test]
+fn foam_mesh_to_fluent_files_read_back_with_check_mesh_counts() {
+    require_public_fixtures!();
+    let (Some(to_fluent), Some(check)) = (program("foamMeshToFluent"), program("checkMesh")) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("case.foam");
+    let mixed = public_fixture("3d/hex_prism_pyr.v41_ascii.msh");
+    ok(&run(&["convert", mixed.to_str().unwrap(), case.to_str().unwrap()]));
+    foam(&to_fluent, &case, &[]);
+    let text = foam(&check, &case, &[]);
+    let count = |label: &str| -> usize {
+        let line = text.lines().find(|l| l.trim_start().starts_with(label));
+        line.and_then(|l| l.rsplit(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{label}: {text}"))
+    };
+    let file = case.join("fluentInterface/case.foam.msh");
+    let mesh = smartmesh::formats::read_path(&file, None).unwrap_or_else(|e| panic!("{e}"));
+    use smartmesh::formats::CellKind as K;
+    assert_eq!(mesh.points.len(), count("points:"));
+    assert_eq!(mesh.num_cells_of(K::Hexa), count("hexahedra:"));
+    assert_eq!(mesh.num_cells_of(K::Wedge), count("prisms:"));
+    assert_eq!(mesh.num_cells_of(K::Pyramid), count("pyramids:"));
+    assert_eq!(mesh.num_cells_of(K::Tetra), count("tetrahedra:"));
+    let boundary = mesh.num_cells_of(K::Triangle) + mesh.num_cells_of(K::Quad);
+    assert_eq!(boundary, count("faces:") - count("internal faces:"));
+    let names: Vec<&str> =
+        mesh.tag_names.iter().filter(|(k, _)| k.0 == 2).map(|(_, n)| n.as_str()).collect();
+    for patch in ["Bottom", "Top", "Sides"] {
+        assert!(names.contains(&patch), "{patch}: {names:?}");
+    }
+}

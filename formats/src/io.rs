@@ -158,6 +158,17 @@ pub fn read_bytes_reported(
             mesh
         }
         Format::Triangle => crate::triangle::read(bytes, ctx)?,
+        // A `.msh` whose first non-blank byte is `(` is Fluent's.
+        Format::Gmsh if crate::fluent::claims(bytes) => {
+            let (mesh, r) = crate::fluent::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
+        Format::Fluent => {
+            let (mesh, r) = crate::fluent::read_reported(bytes, ctx)?;
+            report = r;
+            mesh
+        }
         Format::Gmsh => {
             let (mesh, r) = crate::gmsh::read_reported(bytes, ctx)?;
             report = r;
@@ -197,11 +208,6 @@ pub fn read_bytes_reported(
         Format::Gltf => {
             return Err(Error::new(ErrorKind::Unsupported(
                 "reading glTF (smartmesh writes it for viewers)".into(),
-            )))
-        }
-        Format::Fluent => {
-            return Err(Error::new(ErrorKind::Unsupported(
-                "reading Fluent meshes (smartmesh writes them)".into(),
             )))
         }
         Format::OpenFoam => {

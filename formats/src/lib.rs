@@ -11,7 +11,7 @@
 //!   binary), [`vtk`] (legacy .vtk 4.2/5.1 and XML .vtu), [`obj`], [`medit`]
 //!   (.mesh/.meshb with .sol/.solb), [`gltf`] (.gltf + .bin, .glb; write only), [`su2`],
 //!   [`openfoam`] (a case directory), [`stl`] (ASCII and binary), [`tetgen`], [`fluent`]
-//!   (ASCII `.fluent.msh`; write only), [`cgns`] (`.cgns`, HDF5; with the `cgns`
+//!   (ASCII `.fluent.msh` written; ASCII and binary read), [`cgns`] (`.cgns`, HDF5; with the `cgns`
 //!   feature, which needs libhdf5);
 //! - [`Format::from_path`], a static extension table;
 //! - [`read_path`] / [`write_path`]: files or `-` for stdin/stdout, sibling files
@@ -100,8 +100,9 @@ pub enum Format {
     OpenFoam,
     /// CGNS (`.cgns`, HDF5): unstructured zones; needs the `cgns` feature and libhdf5.
     Cgns,
-    /// Fluent ASCII mesh (write only): a name ending in `.fluent.msh`, or `--to fluent`
-    /// (a plain `.msh` is Gmsh's).
+    /// Fluent mesh: written ASCII to a name ending in `.fluent.msh` or with `--to
+    /// fluent` (a plain `.msh` is Gmsh's); read ASCII or binary from those, or from a
+    /// `.msh` whose first non-blank byte is `(`.
     Fluent,
 }
 
@@ -190,7 +191,7 @@ impl Format {
 
     /// Whether smartmesh reads this format.
     pub fn can_read(self) -> bool {
-        !matches!(self, Format::Gltf | Format::Fluent)
+        !matches!(self, Format::Gltf)
     }
 
     /// The names accepted by [`Format::from_name`], for help texts.

@@ -1,9 +1,9 @@
-//! Fluent ASCII meshes (`.fluent.msh`, write only): small 2D and 3D meshes of every
-//! linear cell kind written and parsed back here, each face's orientation checked by
-//! an independent twin (the divergence theorem: every cell closed, its volume or area
-//! from its faces equal to the geometry's), zone names and types from tag names, and
-//! the refusals. `fluentMeshToFoam` + `checkMesh` and meshio read the files in
-//! `tests/fluent_interop.rs` of the smartmesh crate.
+//! Fluent ASCII meshes (`.fluent.msh`) as written (reading: `fluent_read.rs`): small
+//! 2D and 3D meshes of every linear cell kind written and parsed back here, each
+//! face's orientation checked by an independent twin (the divergence theorem: every
+//! cell closed, its volume or area from its faces equal to the geometry's), zone names
+//! and types from tag names, and the refusals. `fluentMeshToFoam` + `checkMesh` and
+//! meshio read the files in `tests/fluent_interop.rs` of the smartmesh crate.
 
 use std::collections::BTreeMap;
 
@@ -419,5 +419,5 @@ fn a_fluent_path_is_named_so_and_a_plain_msh_stays_gmsh() {
     assert_eq!(Format::from_path("dir/CASE.Fluent.MSH"), Some(Format::Fluent));
     assert_eq!(Format::from_path("case.msh"), Some(Format::Gmsh));
     assert_eq!(Format::from_name("fluent"), Some(Format::Fluent));
-    assert!(!Format::Fluent.can_read());
+    assert!(Format::Fluent.can_read());
 }

@@ -114,3 +114,30 @@ fn damaged_fixtures_never_panic() {
     }
     assert!(errors > total / 4, "damaged files should mostly be refused ({errors} of {total})");
 }
+
+/// The Fluent reader on damaged copies of Fluent files our writer makes from a 2D and
+/// a 3D sample (the public fixtures hold no Fluent file).
+#[test]
+fn damaged_fluent_files_never_panic() {
+    smartmesh_test_support::require_public_fixtures!();
+    let mut rng = Rng(0x0f1e_2d3c_4b5a_6978);
+    let (mut errors, mut total) = (0usize, 0usize);
+    for rel in ["gmsh/square_hole.v41_ascii.msh", "3d/hex_prism_pyr.v41_ascii.msh"] {
+        let mesh = common::read_file(rel);
+        let opts = smartmesh_formats::WriteOptions::default();
+        let bytes = smartmesh_formats::write_bytes(Format::Fluent, &mesh, &opts).unwrap().main;
+        for damaged in damaged_copies(&bytes, &mut rng) {
+            total += 1;
+            let ctx = ReadContext::alone("msh");
+            match catch_unwind(AssertUnwindSafe(|| read_bytes(Format::Fluent, &damaged, &ctx))) {
+                Ok(Ok(_)) => {}
+                Ok(Err(e)) => {
+                    errors += 1;
+                    assert!(!e.to_string().is_empty());
+                }
+                Err(_) => panic!("the Fluent reader panicked on a damaged copy of {rel}"),
+            }
+        }
+    }
+    assert!(errors > total / 4, "damaged files should mostly be refused ({errors} of {total})");
+}

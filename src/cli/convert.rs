@@ -17,7 +17,7 @@ use super::{parse_format, print_stdout, ui, CliError, MeshOutputArgs};
 .vtk .vtu (VTK), .obj, .mesh .meshb (Medit/MMG; a .sol/.solb beside them carries the metric), \
 .gltf .glb (glTF, write only), .su2 (SU2), .foam (an OpenFOAM case directory, write only: \
 `--to openfoam` for another name; --extrude DZ, --patch-type NAME=TYPE), .fluent.msh (Fluent, \
-write only: `--to fluent` for another name; --patch-type NAME=TYPE).
+`--from`/`--to fluent` for another name, a .msh starting with `(` read as Fluent; --patch-type NAME=TYPE).
 
 Examples:
   smartmesh convert naca.msh naca.vtu

@@ -1,9 +1,11 @@
-//! Fluent ASCII mesh files (write only): the `.msh` a Fluent session reads with
-//! *File > Read > Mesh*, and OpenFOAM's `fluentMeshToFoam` converts.
+//! Fluent mesh files, written ASCII and read ASCII or binary (`read` parses the
+//! sections, `build` rebuilds the cells from their faces): the `.msh` a Fluent session
+//! reads with *File > Read > Mesh*, and OpenFOAM's `fluentMeshToFoam` converts.
 //!
 //! Which files: Fluent's extension is `.msh`, which is Gmsh's too, so a path is Fluent
 //! only when its name ends in `.fluent.msh` ([`crate::Format::from_path`]) or when
-//! `--to fluent` says so; a plain `.msh` stays Gmsh.
+//! `--from`/`--to fluent` says so; a plain `.msh` stays Gmsh, except that a `.msh` read
+//! whose first non-blank byte is `(` ([`claims`]) is read as Fluent.
 //!
 //! Source: the Fluent User's Guide, appendix *Case and Data File Formats*, sections
 //! *Grid Sections* (comment `(0 "...")`, header `(1 "...")`, dimension `(2 ND)`, nodes
@@ -36,7 +38,9 @@
 //!
 //! Hand-written: no maintained Rust crate writes Fluent meshes.
 
+mod build;
 mod faces;
+mod read;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::Write as _;
@@ -147,6 +151,24 @@ fn cell_type(kind: CellKind) -> u32 {
         CellKind::Wedge => 6,
         _ => 0,
     }
+}
+
+/// Whether `bytes` look like a Fluent mesh rather than a Gmsh one: the first
+/// non-blank byte is `(` (a Gmsh file starts with `$MeshFormat`).
+pub fn claims(bytes: &[u8]) -> bool {
+    bytes.iter().find(|c| !c.is_ascii_whitespace()) == Some(&b'(')
+}
+
+/// Reads a Fluent mesh (ASCII, or with binary node, cell and face sections): see
+/// `read` and `build` for what is read and how cells are rebuilt from faces.
+pub fn read_reported(
+    bytes: &[u8],
+    _ctx: &crate::ReadContext<'_>,
+) -> Result<(TaggedMesh, crate::ReadReport)> {
+    let raw = read::parse(bytes)?;
+    let mut report = crate::ReadReport::default();
+    let mesh = build::build(&raw, &mut report)?;
+    Ok((mesh, report))
 }
 
 fn cannot(reason: impl Into<String>) -> Error {

@@ -59,6 +59,7 @@ use crate::{Error, ErrorKind, Format, Result, TaggedMesh, WriteReport};
 pub use cyclic::{CyclicPair, CyclicTransform};
 pub use extrude::{extrude, extrude_layer, Layer, Patch, PolyMesh};
 pub use read::{read_case, read_poly_mesh};
+pub(crate) use read3d::cell_nodes;
 pub use volume::volume_poly_mesh;
 
 /// How to write an OpenFOAM case.

@@ -59,7 +59,7 @@ fn tags_of(names: &[&str]) -> Vec<(i32, Option<String>)> {
 }
 
 /// The cell of outward faces `fs` in Gmsh's order, or why not.
-fn cell_nodes(fs: &[Vec<u32>]) -> Result<(CellKind, Vec<u32>), String> {
+pub(crate) fn cell_nodes(fs: &[Vec<u32>]) -> Result<(CellKind, Vec<u32>), String> {
     let tris: Vec<&Vec<u32>> = fs.iter().filter(|f| f.len() == 3).collect();
     let quads: Vec<&Vec<u32>> = fs.iter().filter(|f| f.len() == 4).collect();
     if tris.len() + quads.len() != fs.len() {
