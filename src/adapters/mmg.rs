@@ -337,30 +337,17 @@ impl Coded {
 /// The vertices MMG must keep: vertex cells, the topological points of the mesh (curve
 /// ends and junctions), and the vertices where the line reference changes, sorted.
 pub(crate) fn required_vertices(mesh: &TaggedMesh) -> Vec<usize> {
-    let mut req: Vec<usize> =
-        mesh.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| c.1[0] as usize).collect();
+    let mut req = required_vertices_space(mesh);
     req.extend(Topology::from_mesh(mesh).points.iter().map(|p| p.vertex));
-    let mut around: BTreeMap<usize, Vec<(i32, i32)>> = BTreeMap::new();
-    for (kind, n, p, g) in mesh.cells() {
-        if kind == CellKind::Line {
-            around.entry(n[0] as usize).or_default().push((p, g));
-            around.entry(n[1] as usize).or_default().push((p, g));
-        }
-    }
-    for (v, pairs) in around {
-        if pairs.len() != 2 || pairs[0] != pairs[1] {
-            req.push(v);
-        }
-    }
     req.sort_unstable();
     req.dedup();
     req
 }
 
 /// The vertices MMG must keep in a mesh in space: vertex cells, the ends and junctions
-/// of the curves given as lines, and where the line reference changes along a curve.
-/// (The planar [`required_vertices`] also asks the planar topology, which recovers the
-/// same points from the lines.)
+/// of the curves given as lines, and where the line reference changes along a curve,
+/// sorted. (The planar [`required_vertices`] adds the planar topology's points, which
+/// recovers the same points from the lines.)
 pub(crate) fn required_vertices_space(mesh: &TaggedMesh) -> Vec<usize> {
     let mut req: Vec<usize> =
         mesh.cells().filter(|c| c.0 == CellKind::Vertex).map(|c| c.1[0] as usize).collect();
