@@ -99,19 +99,8 @@ impl Conformity {
         c.conforming_share = ok as f64 / edges.len() as f64;
         c.mean_edge_length = sum / edges.len() as f64;
         let mut qsum = 0.0;
-        let qualities: Vec<f64> = tris
-            .par_iter()
-            .map(|t| {
-                let p = [points[t[0]], points[t[1]], points[t[2]]];
-                let q = metric_triangle_quality(p, [&metric[t[0]], &metric[t[1]], &metric[t[2]]]);
-                // Orientation is the file's business; quality measures shape.
-                if crate::quality::signed_area(p[0], p[1], p[2]) < 0.0 {
-                    -q
-                } else {
-                    q
-                }
-            })
-            .collect();
+        let qualities: Vec<f64> =
+            tris.par_iter().map(|t| signed_triangle_quality(points, t, metric)).collect();
         for q in qualities {
             qsum += q;
             c.min_quality = c.min_quality.min(q);
@@ -240,18 +229,8 @@ impl Ugawg {
             .par_iter()
             .map(|&[a, b]| metric_edge_length(points[a], points[b], &metric[a], &metric[b]))
             .collect();
-        let qualities: Vec<f64> = tris
-            .par_iter()
-            .map(|t| {
-                let p = [points[t[0]], points[t[1]], points[t[2]]];
-                let q = metric_triangle_quality(p, [&metric[t[0]], &metric[t[1]], &metric[t[2]]]);
-                if crate::quality::signed_area(p[0], p[1], p[2]) < 0.0 {
-                    -q
-                } else {
-                    q
-                }
-            })
-            .collect();
+        let qualities: Vec<f64> =
+            tris.par_iter().map(|t| signed_triangle_quality(&points, t, metric)).collect();
         Ugawg::from_values(2, "triangle", &lengths, &qualities, left_out)
     }
 
@@ -286,6 +265,18 @@ impl Ugawg {
             })
             .collect();
         Ugawg::from_values(3, cell, &lengths, &qualities, left_out)
+    }
+}
+
+/// The metric quality of triangle `t`, negative when it turns clockwise. Orientation is
+/// the file's business; quality measures shape, and the sign only says the turn.
+fn signed_triangle_quality(points: &[[f64; 2]], t: &[usize; 3], metric: &[Sym2]) -> f64 {
+    let p = [points[t[0]], points[t[1]], points[t[2]]];
+    let q = metric_triangle_quality(p, [&metric[t[0]], &metric[t[1]], &metric[t[2]]]);
+    if crate::quality::signed_area(p[0], p[1], p[2]) < 0.0 {
+        -q
+    } else {
+        q
     }
 }
 
