@@ -58,6 +58,7 @@ mod quality3d;
 pub mod recipe;
 pub mod remesh;
 pub mod report;
+mod section;
 mod size_controls;
 pub mod sizing;
 mod solid_topology;

@@ -1,11 +1,13 @@
 //! `smartmesh report MESH -o FILE.svg|FILE.png`: a picture of a mesh, its metric, its
-//! conformity and an adaptation history.
+//! conformity and an adaptation history; with `--cut x|y|z=VALUE`, of the planar cut of a
+//! tetrahedral mesh and its 3D metric restricted to the plane.
 
 use std::path::PathBuf;
 
 use clap::Args;
 use smartmesh::formats::{write_all_atomically, Format};
-use smartmesh::report::{self, ReportFormat, ReportInput, ReportOptions};
+use smartmesh::metric::Sym3;
+use smartmesh::report::{self, CutInput, CutPlane, ReportFormat, ReportInput, ReportOptions};
 use smartmesh::History;
 use smartmesh::Topology;
 use smartmesh::{MetricError, MetricField};
@@ -32,9 +34,19 @@ so that the SVG grows with the picture, not with the mesh (10^6 triangles at 120
 330 KB).
 PNG text uses the system's fonts (DejaVu Sans, Liberation Sans, Arial or any installed).
 
+--cut x|y|z=VALUE draws the planar cut of a tetrahedral mesh instead: the exact polygons
+(triangles, quads) where its tetrahedra cross the plane, filled by volume tag (a face in the
+plane drawn once); the traces of its tagged surface triangles as lines coloured by surface, named
+in the legend; with a 3D metric (--metric or MESH's `metric`), ellipses on the whole cut and in
+zooms around the smallest sizes: the metric, interpolated Log-Euclidean along each cut edge,
+RESTRICTED to the plane ({x in the plane : xᵀMx = 1}, the ellipsoid's section through its
+centre, the sizes it asks of edges lying in the plane), not projected onto it. Picture axes:
+(y, z) for x=, (x, z) for y=, (x, y) for z=.
+
 Examples:
   smartmesh size cyl.msh --recipe cyl.toml -o cyl.vtu && smartmesh report cyl.vtu --recipe cyl.toml -o cyl.png
-  smartmesh report adapted.msh --metric field.vtu --history history.json -o run.svg"
+  smartmesh report adapted.msh --metric field.vtu --history history.json -o run.svg
+  smartmesh report cube.meshb --metric cube.solb --cut z=0.5 -o cut.png"
 )]
 pub(super) struct ReportArgs {
     /// The mesh (any readable format; `-` for stdin, with --from).
@@ -69,6 +81,10 @@ pub(super) struct ReportArgs {
     /// Input format of MESH, when the extension does not tell.
     #[arg(long, value_parser = parse_format)]
     from: Option<Format>,
+    /// Draw the planar cut x=VALUE, y=VALUE or z=VALUE of a tetrahedral mesh, with its 3D
+    /// metric's ellipses restricted to the plane.
+    #[arg(long, value_parser = CutPlane::parse, value_name = "AXIS=VALUE")]
+    cut: Option<CutPlane>,
 }
 
 /// Runs `report`.
@@ -100,6 +116,16 @@ pub(super) fn run(args: ReportArgs) -> Result<(), CliError> {
             report::WIDTH_RANGE[1]
         )));
     }
+    let history = read_history(&args)?;
+    if let Some(plane) = args.cut {
+        if args.recipe.is_some() {
+            return Err(CliError::usage(
+                "--recipe frames zooms on a planar mesh; it does not go with --cut",
+            ));
+        }
+        let drawn = draw_cut(&args, plane, history.as_ref())?;
+        return write_report(&args, kind, stdout, drawn);
+    }
     let (mesh, _plane_z) =
         super::read_planar_mesh(&args.mesh, args.from.or_else(|| Format::from_path(&args.mesh)))?;
     let topology = Topology::from_mesh(&mesh);
@@ -122,20 +148,6 @@ pub(super) fn run(args: ReportArgs) -> Result<(), CliError> {
         }
         None => None,
     };
-    let history = match &args.history {
-        Some(h) => {
-            let text = std::fs::read_to_string(h).map_err(|e| {
-                CliError::input(format!("{}: cannot read the history: {e}", h.display()), e)
-            })?;
-            Some(History::from_json(&text).map_err(|e| {
-                CliError::input(
-                    format!("{}: not a history.json of `smartmesh adapt`: {e}", h.display()),
-                    e,
-                )
-            })?)
-        }
-        None => None,
-    };
     if let Some(why) = history.as_ref().and_then(|h| h.mismatch(&args.mesh)) {
         super::ui::warn(&why);
     }
@@ -148,7 +160,53 @@ pub(super) fn run(args: ReportArgs) -> Result<(), CliError> {
         plan: plan.as_ref(),
         history: history.as_ref(),
     };
-    let mut drawn = report::render(&input, &ReportOptions { width: args.width });
+    let drawn = report::render(&input, &ReportOptions { width: args.width });
+    write_report(&args, kind, stdout, drawn)
+}
+
+/// The history of `--history`, checked.
+fn read_history(args: &ReportArgs) -> Result<Option<History>, CliError> {
+    Ok(match &args.history {
+        Some(h) => {
+            let text = std::fs::read_to_string(h).map_err(|e| {
+                CliError::input(format!("{}: cannot read the history: {e}", h.display()), e)
+            })?;
+            Some(History::from_json(&text).map_err(|e| {
+                CliError::input(
+                    format!("{}: not a history.json of `smartmesh adapt`: {e}", h.display()),
+                    e,
+                )
+            })?)
+        }
+        None => None,
+    })
+}
+
+/// The report of the cut of `args.mesh` by `plane`, with its 3D metric.
+fn draw_cut(
+    args: &ReportArgs,
+    plane: CutPlane,
+    history: Option<&History>,
+) -> Result<report::Report, CliError> {
+    let format = args.from.or_else(|| Format::from_path(&args.mesh));
+    let (mesh, _) = super::read_linear_mesh_noted(&args.mesh, format)?;
+    let metric = MetricField::<Sym3>::load_field(&mesh, &args.mesh, args.metric.as_deref())?;
+    if let Some(why) = history.and_then(|h| h.mismatch(&args.mesh)) {
+        super::ui::warn(&why);
+    }
+    let name = args.mesh.display().to_string();
+    let input = CutInput { name: &name, mesh: &mesh, metric: metric.as_ref(), history, plane };
+    report::render_cut(&input, &ReportOptions { width: args.width })
+        .map_err(|e| CliError::usage(format!("{}: {e}", args.mesh.display())))
+}
+
+/// Writes `drawn` as `kind` to `-o` (or stdout), with its notes and the `--json` summary.
+fn write_report(
+    args: &ReportArgs,
+    kind: ReportFormat,
+    stdout: bool,
+    mut drawn: report::Report,
+) -> Result<(), CliError> {
     for n in &drawn.notes {
         super::ui::note(n);
     }

@@ -70,20 +70,24 @@ pub(super) struct Extras {
     pub source_polylines: bool,
     /// Some edges are drawn as shading.
     pub shading: bool,
+    /// The picture is a planar cut of a mesh in space: its faces are volumes cut, its
+    /// curves the traces of surfaces.
+    pub cut: bool,
 }
 
 /// The entries of `topo` — faces, curves, tagged points, in topology order, at most
 /// [`MAX_ENTRIES`] and then a count of the rest — and of `extras`.
 pub(super) fn entries(topo: &Topology, extras: Extras) -> Vec<Entry> {
+    let (face, curve) = if extras.cut { ("volume", "surface") } else { ("face", "curve") };
     let faces = topo.faces.iter().enumerate().map(|(i, f)| Entry {
         swatch: Swatch::Face,
         colour: palette::face(i),
-        label: format!("face {}", name(Some(f.tag), &f.name)),
+        label: format!("{face} {}", name(Some(f.tag), &f.name)),
     });
     let curves = topo.curves.iter().enumerate().map(|(i, c)| Entry {
         swatch: Swatch::Curve,
         colour: palette::curve(i),
-        label: format!("curve {}", name(c.tag, &c.name)),
+        label: format!("{curve} {}", name(c.tag, &c.name)),
     });
     let points =
         topo.points.iter().enumerate().filter(|(_, p)| p.tag.is_some()).map(|(i, p)| Entry {

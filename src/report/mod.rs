@@ -15,12 +15,17 @@
 //! - `axes`, `histogram`, `history_plot`: the charts;
 //! - `text`: text measured (a table of the font's advances) and fitted to its panel;
 //! - `png`: rasterising through resvg;
-//! - `skin`: zooms on a boundary-layer skin and its thinned columns.
+//! - `skin`: zooms on a boundary-layer skin and its thinned columns;
+//! - `cut`: `report --cut`, the planar cut of a tetrahedral mesh (computed by the
+//!   crate's `section`, which knows no picture) drawn as a planar mesh, its volumes as
+//!   faces, its surfaces' traces as curves, with the ellipses of the 3D metric
+//!   *restricted* to the plane (its section through each point, not its projection).
 //!
 //! Everything is a pure function of its input: the same mesh, metric, recipe and history
 //! give the same bytes.
 
 mod axes;
+mod cut;
 mod ellipses;
 mod histogram;
 mod history_plot;
@@ -41,9 +46,11 @@ use std::path::Path;
 
 // What the CLI and the tests use of the drawing modules: the PNG rasteriser and the
 // font table the layout measures text with.
+pub use self::cut::{render_cut, CutError, CutInput, CutSummary};
 pub use self::png::{rasterise, PngOptions};
 pub use self::text::{Font, ASCENT, DESCENT};
 pub use self::windows::ZoomWindow;
+pub use crate::section::{Axis, CutPlane, SectionCounts};
 
 use crate::conformity::Conformity;
 use crate::history::History;
@@ -121,6 +128,9 @@ pub struct Report {
     pub conformity: Option<Conformity>,
     /// What the user should know (no metric, shaded edges …).
     pub notes: Vec<String>,
+    /// What a planar cut (`report --cut`) drew.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cut: Option<CutSummary>,
 }
 
 /// The file kinds a report can be written as.
@@ -160,6 +170,20 @@ pub fn fmt_sig(v: f64) -> String {
 /// Draws the report: the zoom windows chosen, the title lines written, the page laid
 /// out, then the title, the overview, the legend, the zooms and the charts drawn.
 pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
+    render_page(input, options, None)
+}
+
+/// What a cut changes on the page: the title's lines, the legend's words, ellipses on
+/// the overview, no conformity charts (the cut's polygons are no cells of the mesh).
+struct CutPage {
+    /// The lines under the title.
+    lines: Vec<String>,
+    /// What the report says it drew.
+    summary: CutSummary,
+}
+
+/// [`render`], as a cut when `cut` is given.
+fn render_page(input: &ReportInput<'_>, options: &ReportOptions, cut: Option<&CutPage>) -> Report {
     let width = options.width.clamp(WIDTH_RANGE[0], WIDTH_RANGE[1]) as f64;
     let mesh = input.mesh;
     let topo = input.topology;
@@ -171,11 +195,13 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         .unwrap_or(Rect::new(0.0, 0.0, 1.0, 1.0));
     let mut notes = Vec::new();
 
-    let conformity = input.metric.and_then(|m| Conformity::of_mesh(mesh, m.tensors()));
+    let conformity =
+        input.metric.filter(|_| cut.is_none()).and_then(|m| Conformity::of_mesh(mesh, m.tensors()));
     let sizes: Option<Vec<Option<SizeTensor>>> = input
         .metric
         .map(|m| m.tensors().iter().map(|t| SizeTensor::try_from_metric(t).ok()).collect());
-    let (mut zooms, skin) = zoom_windows(input, &points, &domain, sizes.as_deref(), &mut notes);
+    let (mut zooms, skin) =
+        zoom_windows(input, &points, &domain, sizes.as_deref(), cut.is_none(), &mut notes);
     let marks = source_marks(input.plan, topo, &points);
 
     let inner_width = width - 2.0 * layout::MARGIN;
@@ -192,6 +218,7 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         source_points: !marks.points.is_empty(),
         source_polylines: !marks.polylines.is_empty(),
         shading: layers.has_short_edges(ov_scale),
+        cut: cut.is_some(),
     };
     let entries = legend::entries(topo, extras);
     let charts = if conformity.is_some() { 2 } else { 0 } + usize::from(input.history.is_some());
@@ -199,7 +226,10 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         zooms.iter().map(|z| z.region.width() / z.region.height().max(1e-300)).collect();
     let zoom_captions: Vec<String> =
         zooms.iter().enumerate().map(|(k, z)| format!("{}: {}", k + 1, z.label)).collect();
-    let info_lines = title_lines(input, conformity.as_ref(), inner_width, &mut notes);
+    let info_lines = match cut {
+        Some(c) => c.lines.iter().flat_map(|l| TITLE_INFO_FONT.wrap(l, inner_width, 2)).collect(),
+        None => title_lines(input, conformity.as_ref(), inner_width, &mut notes),
+    };
     let title_height = 46.0 + 16.0 * (info_lines.len() - 1) as f64;
 
     let lay = layout::layout(&layout::Request {
@@ -215,8 +245,12 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
     let mut svg = Svg::new(lay.width, lay.height);
 
     draw_title(&mut svg, &lay.title, input.name, &info_lines);
+    let ellipses = match (cut, sizes.as_deref()) {
+        (Some(_), Some(s)) => Some((topo, s)),
+        _ => None,
+    };
     let overview =
-        Overview { rect: lay.overview, world: ov_world, domain, zoom_views: &zoom_views };
+        Overview { rect: lay.overview, world: ov_world, domain, zoom_views: &zoom_views, ellipses };
     let mut shaded = draw_overview(&mut svg, &overview, &layers, &marks, &skin);
     legend::draw(&mut svg, &lay.legend, &entries);
 
@@ -251,17 +285,20 @@ pub fn render(input: &ReportInput<'_>, options: &ReportOptions) -> Report {
         zooms,
         conformity,
         notes,
+        cut: cut.map(|c| c.summary.clone()),
     }
 }
 
 /// The zoom windows, in the order they are numbered: around the plan's sources (or the
-/// smallest sizes without a plan), then around a boundary-layer skin; with the skin's
-/// marks, and a note when columns were thinned.
+/// smallest sizes without a plan), then around a boundary-layer skin (when `skin` is
+/// asked: a cut's quads are no skin); with the skin's marks, and a note when columns
+/// were thinned.
 fn zoom_windows(
     input: &ReportInput<'_>,
     points: &[[f64; 2]],
     domain: &Rect,
     sizes: Option<&[Option<SizeTensor>]>,
+    skin: bool,
     notes: &mut Vec<String>,
 ) -> (Vec<ZoomWindow>, skin::SkinMarks) {
     let (mesh, topo) = (input.mesh, input.topology);
@@ -280,7 +317,7 @@ fn zoom_windows(
         (None, Some(s)) => windows::from_sizes(s, topo, points, domain, SIZE_WINDOWS),
         (None, None) => Vec::new(),
     };
-    let skin = skin::skin_marks(mesh, domain);
+    let skin = if skin { skin::skin_marks(mesh, domain) } else { skin::SkinMarks::default() };
     zooms.extend(skin.windows.iter().cloned());
     if !skin.thinned.is_empty() {
         notes.push(format!(
@@ -364,6 +401,9 @@ struct Overview<'a> {
     domain: Rect,
     /// The zoom panels' views, framed on it.
     zoom_views: &'a [View],
+    /// Size ellipses to draw on it too (a cut's), with the topology that says which
+    /// vertices are used.
+    ellipses: Option<(&'a Topology, &'a [Option<SizeTensor>])>,
 }
 
 /// The overview panel: the whole mesh, the source marks, the skin, a frame and a number
@@ -395,6 +435,9 @@ fn draw_overview(
     layers.draw_points(svg, &ov_view, 4.0);
     draw_marks(svg, &ov_view, marks);
     skin::draw(svg, &ov_view, skin, 1.5);
+    if let Some((topo, sizes)) = o.ellipses {
+        panels::draw_ellipses(svg, &ov_view, layers, topo, sizes);
+    }
     // A window wider or taller than the domain is framed where the mesh is.
     let frames: Vec<Rect> = o
         .zoom_views

@@ -265,58 +265,10 @@ pub(super) fn draw_zoom(
     layers.draw_points(svg, &view, 5.0);
     draw_marks(svg, &view, marks);
     super::skin::draw(svg, &view, skin, 3.0);
-    let mut ellipse_note = String::new();
-    if let Some(sizes) = sizes {
-        let candidates: Vec<(usize, [f64; 2], SizeTensor)> = sizes
-            .iter()
-            .enumerate()
-            .filter(|(v, _)| {
-                !matches!(topo.vertex_class.get(*v), Some(Classification::Unused) | None)
-            })
-            .filter_map(|(v, t)| t.map(|t| (v, layers.points[v], t)))
-            .filter(|(_, p, _)| w.contains(*p))
-            .collect();
-        let factor = fit_factor(&candidates, &view);
-        let kept = pick(&candidates, &view, factor, ELLIPSE_GAP_PX);
-        let s = view.scale * factor;
-        svg.open(
-            "g",
-            &[
-                ("class", "ellipses"),
-                ("data-scale", &num(s, 6)),
-                ("data-factor", &num(factor, 6)),
-                ("fill", palette::ELLIPSE),
-                ("fill-opacity", "0.12"),
-                ("stroke", palette::ELLIPSE),
-                ("stroke-width", "1"),
-            ],
-        );
-        let by_vertex: std::collections::BTreeMap<usize, &(usize, [f64; 2], SizeTensor)> =
-            candidates.iter().map(|c| (c.0, c)).collect();
-        for v in &kept {
-            let (_, p, t) = by_vertex[v];
-            let e = ellipse_in_view(t, *p, &view, factor);
-            let (cx, cy) = (num(e.cx, 3), num(e.cy, 3));
-            let rot = format!("rotate({} {cx} {cy})", num(e.angle_deg, 3));
-            svg.element(
-                "ellipse",
-                &[
-                    ("data-vertex", &v.to_string()),
-                    ("cx", &cx),
-                    ("cy", &cy),
-                    ("rx", &num(e.rx, 3)),
-                    ("ry", &num(e.ry, 3)),
-                    ("transform", &rot),
-                ],
-            );
-        }
-        svg.close();
-        ellipse_note = if factor == 1.0 {
-            format!("{} ellipses, true size", kept.len())
-        } else {
-            format!("{} ellipses ×{}", kept.len(), fmt_sig(factor))
-        };
-    }
+    let ellipse_note = match sizes {
+        Some(sizes) => draw_ellipses(svg, &view, layers, topo, sizes),
+        None => String::new(),
+    };
     svg.close();
     let bar = scale_bar(svg, &view, &inner);
     panel_border(svg, &inner);
@@ -340,4 +292,65 @@ pub(super) fn draw_zoom(
     }
     svg.close();
     stats
+}
+
+/// The size ellipses of the used vertices in `view`'s window, a subset kept apart
+/// ([`pick`]), at true size unless the largest would not fit; returns the note that
+/// says how many and at which factor.
+pub(super) fn draw_ellipses(
+    svg: &mut Svg,
+    view: &View,
+    layers: &MeshLayers,
+    topo: &Topology,
+    sizes: &[Option<SizeTensor>],
+) -> String {
+    let view = *view;
+    let w = &view.world;
+    let candidates: Vec<(usize, [f64; 2], SizeTensor)> = sizes
+        .iter()
+        .enumerate()
+        .filter(|(v, _)| !matches!(topo.vertex_class.get(*v), Some(Classification::Unused) | None))
+        .filter_map(|(v, t)| t.map(|t| (v, layers.points[v], t)))
+        .filter(|(_, p, _)| w.contains(*p))
+        .collect();
+    let factor = fit_factor(&candidates, &view);
+    let kept = pick(&candidates, &view, factor, ELLIPSE_GAP_PX);
+    let s = view.scale * factor;
+    svg.open(
+        "g",
+        &[
+            ("class", "ellipses"),
+            ("data-scale", &num(s, 6)),
+            ("data-factor", &num(factor, 6)),
+            ("fill", palette::ELLIPSE),
+            ("fill-opacity", "0.12"),
+            ("stroke", palette::ELLIPSE),
+            ("stroke-width", "1"),
+        ],
+    );
+    let by_vertex: std::collections::BTreeMap<usize, &(usize, [f64; 2], SizeTensor)> =
+        candidates.iter().map(|c| (c.0, c)).collect();
+    for v in &kept {
+        let (_, p, t) = by_vertex[v];
+        let e = ellipse_in_view(t, *p, &view, factor);
+        let (cx, cy) = (num(e.cx, 3), num(e.cy, 3));
+        let rot = format!("rotate({} {cx} {cy})", num(e.angle_deg, 3));
+        svg.element(
+            "ellipse",
+            &[
+                ("data-vertex", &v.to_string()),
+                ("cx", &cx),
+                ("cy", &cy),
+                ("rx", &num(e.rx, 3)),
+                ("ry", &num(e.ry, 3)),
+                ("transform", &rot),
+            ],
+        );
+    }
+    svg.close();
+    if factor == 1.0 {
+        format!("{} ellipses, true size", kept.len())
+    } else {
+        format!("{} ellipses ×{}", kept.len(), fmt_sig(factor))
+    }
 }
