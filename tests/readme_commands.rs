@@ -103,6 +103,16 @@ fn outputs(words: &[&str]) -> Result<Vec<Write>, String> {
             }
             // It writes under target/examples/ (examples/run.sh says so).
         }
+        "bash" if args.first() == Some(&"examples/ugawg3d/make.sh") => {
+            if args.contains(&"--update-pictures") {
+                return Err(
+                    "examples/ugawg3d/make.sh --update-pictures rewrites committed pictures".into(),
+                );
+            }
+            // Everything under its WORK argument, target/ugawg3d/ when not given.
+            let work = args.get(2).copied().unwrap_or("target/ugawg3d/");
+            out.push(Write { path: work.to_string(), why: "examples/ugawg3d/make.sh WORK" });
+        }
         "python3" if args.first() == Some(&"examples/make_examples.py") => {
             match args.get(1).copied() {
                 // Temporary directories only.

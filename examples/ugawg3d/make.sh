@@ -5,13 +5,22 @@
 # restricted to the plane.
 #
 #   bash examples/ugawg3d/make.sh /path/to/adapt-benchmarks [WORK]
+#   bash examples/ugawg3d/make.sh --update-pictures /path/to/adapt-benchmarks [WORK]
 #
 # ADAPT: a checkout of github.com/UGAWG/adapt-benchmarks (start meshes); WORK: where the
-# meshes go (default target/ugawg3d). Needs numpy, meshio and mmgpy (mmg3d_O3).
+# meshes, the figures (ugawg3d.json) and the pictures go (default target/ugawg3d). The
+# committed pictures of this folder are rewritten only with --update-pictures. Needs
+# numpy, meshio and mmgpy (mmg3d_O3).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-adapt=${1:?"usage: make.sh /path/to/adapt-benchmarks [WORK]"}
+update=false
+if [ "${1:-}" = "--update-pictures" ]; then
+    update=true
+    shift
+fi
+adapt=${1:?"usage: make.sh [--update-pictures] /path/to/adapt-benchmarks [WORK]"}
 work=${2:-target/ugawg3d}
+mkdir -p "$work"
 cargo build --quiet
 bin="$PWD/target/debug/smartmesh"
 python3 benches/ugawg3d.py --ugawg "$adapt" --cycles 5 --work "$work" --smartmesh "$bin" --json "$work/ugawg3d.json"
@@ -26,5 +35,8 @@ for case in ["linear", "polar-1", "polar-2"]:
     m = meshio.read(f"{work}/{case}-05.mesh")
     ugawg3d.write_sol(f"{work}/{case}-05.sol", ugawg3d.metric(case, m.points[:, :3].astype(float)))
 PY
-"$bin" report "$work/linear-05.mesh" --metric "$work/linear-05.sol" --cut x=0.5 --width 1000 --palette -o examples/ugawg3d/linear-cut-x0.5.png
-"$bin" report "$work/polar-2-05.mesh" --metric "$work/polar-2-05.sol" --cut z=0.5 --width 1000 --palette -o examples/ugawg3d/polar-2-cut-z0.5.png
+"$bin" report "$work/linear-05.mesh" --metric "$work/linear-05.sol" --cut x=0.5 --width 1000 --palette -o "$work/linear-cut-x0.5.png"
+"$bin" report "$work/polar-2-05.mesh" --metric "$work/polar-2-05.sol" --cut z=0.5 --width 1000 --palette -o "$work/polar-2-cut-z0.5.png"
+if $update; then
+    cp "$work/linear-cut-x0.5.png" "$work/polar-2-cut-z0.5.png" examples/ugawg3d/
+fi
