@@ -34,7 +34,9 @@
 //! With a solver ([`run_with_solver`], [`solver`]), each mesh is first handed to it, and
 //! the metric of the solution it computes is intersected into the recipe's field on that
 //! mesh (after the recipe's steps); a failing solver or a bad solution fails the
-//! iteration like a failing remesher, and the best mesh so far stays.
+//! iteration like a failing remesher, and the best mesh so far stays. With a vertex
+//! budget the recipe's field takes at most a share of it and the solution's metric is
+//! scaled to the rest ([`budget::share`]).
 //!
 //! Once the loop has stopped of itself, the LAYER skin of [`AdaptOptions::layer`] is
 //! inserted into the best mesh, its band remeshed to the best iteration's field as the
