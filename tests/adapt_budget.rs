@@ -1,7 +1,7 @@
 //! `adapt --complexity N` on a recipe alone: the final mesh has N vertices within 5 %,
-//! whatever the recipe's own complexity (fewer and more than it), with the recipe's
-//! bounds acting, and the history says the budget and what each field was normalised to.
-//! A budget below the vertices a `.poly` keeps is said before the loop. The heavy check,
+//! whatever the recipe's own complexity (fewer and more than it: its sizes, HMIN and HMAX
+//! included, scale with the budget), and the history says the budget and what each
+//! field was normalised to. A budget below the vertices a `.poly` keeps is said before the loop. The heavy check,
 //! on every example and benchmark problem, is `benches/budget.py`.
 
 #[path = "support/cli.rs"]
