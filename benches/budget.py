@@ -5,6 +5,11 @@ vertex count the recipe gives alone (so the recipe's field is both coarsened and
 its hmin/hmax and gradation acting inside the scaling).
 
     python3 benches/budget.py [--smartmesh target/release/smartmesh] [--only NAME,...]
+        [--counts quarter,twice] [--coarsen-geometry]
+
+--counts picks the budgets (default both); --coarsen-geometry passes it to every budgeted
+run (a .poly's vertices may then be removed). The "warned" column says whether smartmesh
+warned before the loop that the .poly's kept vertices alone exceed the budget.
 
 Prints one row per case and budget, and exits 1 if any is off by more than 5 %.
 """
@@ -46,6 +51,7 @@ def adapt(sm, poly, recipe, out, extra):
     if r.returncode not in (0,):
         return None, r.stderr.strip().splitlines()[-1:], time.time() - t
     h = json.load(open(out.replace(".vtu", ".history.json")))
+    h["warned"] = "cannot hold" in r.stderr
     return h, None, time.time() - t
 
 
@@ -53,11 +59,15 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--smartmesh", default=os.path.join(ROOT, "target/release/smartmesh"))
     ap.add_argument("--only", default="")
+    ap.add_argument("--counts", default="quarter,twice")
+    ap.add_argument("--coarsen-geometry", action="store_true")
     args = ap.parse_args()
     only = [s for s in args.only.split(",") if s]
     bad = 0
-    print("| case | recipe alone | N | final vertices | off | iterations | seconds |")
-    print("|---|---|---|---|---|---|---|")
+    counts = args.counts.split(",")
+    extra = ["--coarsen-geometry"] if args.coarsen_geometry else []
+    print("| case | recipe alone | N | final vertices | off | iterations | seconds | warned |")
+    print("|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as work:
         for name, poly, recipe in cases(work):
             if only and not any(o in name for o in only):
@@ -69,9 +79,10 @@ def main():
                 bad += 1
                 continue
             own = h["iterations"][h["best_iteration"]]["vertices"]
-            for n in (max(200, own // 4), 2 * own):
+            budgets = {"quarter": max(200, own // 4), "twice": 2 * own}
+            for n in [budgets[c] for c in counts]:
                 h, err, secs = adapt(args.smartmesh, poly, recipe, os.path.join(work, f"{tag}-{n}.vtu"),
-                                     ["--complexity", str(n)])
+                                     ["--complexity", str(n), *extra])
                 if h is None:
                     print(f"| {name} | {own} | {n} | failed: {err} | | | |")
                     bad += 1
@@ -79,7 +90,8 @@ def main():
                 v = h["iterations"][h["best_iteration"]]["vertices"]
                 off = v / n - 1
                 bad += abs(off) > 0.05
-                print(f"| {name} | {own} | {n} | {v} | {100 * off:+.1f}% | {len(h['iterations']) - 1} | {secs:.1f} |", flush=True)
+                warned = "yes" if h["warned"] else ""
+                print(f"| {name} | {own} | {n} | {v} | {100 * off:+.1f}% | {len(h['iterations']) - 1} | {secs:.1f} | {warned} |", flush=True)
     sys.exit(1 if bad else 0)
 
 

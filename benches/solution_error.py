@@ -7,8 +7,9 @@
   (d) mmg2d_O3 fed the Lp-optimal metric of the exact Hessian, normalised to N,
       remeshed 5 times from (a) (the ideal: no recovery error),
   (e) the solution loop with the geometric recipe intersected (`adapt --recipe R
-      --solver ... --complexity N`): the whole field scaled to the budget N, so the
-      recipe and the solution share it (the vertex count is checked within 5 % of N).
+      --solver ... --complexity N`): the recipe's field takes at most --recipe-share of
+      the budget N (smartmesh's default unless given here), the solution's metric is
+      scaled to the rest.
 (c), (d) and (e) run for each norm exponent of --p (default 2 and inf): p = 2 minimises the L2
 norm of the interpolation error; p = inf gives the density |H| (det|H|^(1/2)) that the
 H1 seminorm asks for, since the gradient error of P1 interpolation is about h |H| (for
@@ -21,7 +22,7 @@ atan(100 (r - 0.7)) about (-0.05, -0.05), and the corner singularity r^(2/3) sin
 at the origin. Errors: L2 and H1 seminorm of u - I_h u by a 7-point degree-5 rule per
 triangle. Everything goes to a temporary directory.
 
-    python3 benches/solution_error.py [--smartmesh target/release/smartmesh] [--problems layer,front,corner] [--p 2,inf]
+    python3 benches/solution_error.py [--smartmesh target/release/smartmesh] [--problems layer,front,corner] [--p 2,inf] [--recipe-share F]
 
 The table of BENCHMARKS.md ("Solution-driven adaptation") comes from this script.
 """
@@ -309,6 +310,7 @@ def main():
     ap.add_argument("--smartmesh", default=None)
     ap.add_argument("--problems", default="layer,front,corner")
     ap.add_argument("--p", default="2,inf", help="the norm exponents of (c) and (d)")
+    ap.add_argument("--recipe-share", default=None, help="passed to (e)")
     ap.add_argument("--solve", nargs=3, metavar=("PROBLEM", "MESH", "SOLUTION"), help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.solve:
@@ -355,7 +357,8 @@ def main():
                 e = os.path.join(work, f"{problem}-e-{p}.vtu")
                 run([sm, "adapt", start, "--recipe", recipe, "--solver", solver,
                      "--complexity-start", str(n // 4), "--complexity-growth", "2",
-                     "--complexity", str(n), "--max-iterations", "8", "--p", p, "-o", e])
+                     "--complexity", str(n), "--max-iterations", "8", "--p", p, "-o", e,
+                     *(["--recipe-share", args.recipe_share] if args.recipe_share else [])])
                 pts, tris = read_triangles(e)
                 res["e" + p] = (len(pts),) + interpolation_error(pts, tris, problem)
                 pts, tris = mmg_ideal(a, problem, n, work, mmg, float(p))

@@ -1,30 +1,39 @@
 //! The vertex budget of `adapt --complexity N`: the final field on a mesh (the recipe's,
-//! the solution's, or both intersected) scaled as a whole so that a mesh conforming to
-//! it has N vertices, with the bounds and the gradation applied inside the scaling.
+//! the solution's, or both intersected) scaled so that a mesh conforming to it has N
+//! vertices, with the hard bounds and the gradation applied inside the scaling.
 //!
-//! The field is given raw: the recipe's steps and the solution's metric intersected,
-//! before the recipe's global h_min, maximum aspect ratio and gradation (its h_max stays
-//! the size of the vertices no step reaches). For a factor s on the metric (sizes times
-//! s^(−1/2)) the field is
+//! The recipe's field is a shape: its steps, its h_min, h_max and aspect ratio say where
+//! the mesh is finer and how stretched, relative to the rest; the budget says how many
+//! vertices. So the recipe's own bounds scale with its field (a recipe whose HMAX alone
+//! asks for more vertices than the budget is coarsened as a whole, not stopped at its
+//! HMAX), and only the bounds given on the command line (`--hmin`, `--hmax`) and the
+//! aspect ratio (which no scaling changes) are hard. For a factor s on the metric (sizes
+//! times s^(−1/2)) the field is
 //!
-//!   F(s) = grade(clamp(s · raw)),
+//!   F(s) = grade(clamp(s · raw ∩ fixed)),
 //!
-//! clamp to [h_min, h_max] and the aspect ratio ([`SizeTensor::clamp`]), then the
-//! gradation pass when there is one ([`apply_gradation`]). Its complexity V(s) (the
-//! vertices a conforming mesh has, 2C/√3 with C exact for the Log-Euclidean
-//! interpolation, [`crate::metric::complexity`]) is continuous and nondecreasing in s:
-//! scaling and the clamp are monotone per vertex, and the gradation only shrinks, more
-//! where the tensors it grows from are smaller. So s is the root of the 1D monotone
-//! equation V(s) = N, found on ln s: bracketed from the unbounded guess (exact where no
-//! bound acts, V being linear in s), then the Illinois variant of regula falsi on
-//! ln V − ln N to 1e-12 relative. The bounds can therefore not break the budget: they
-//! act inside the function whose root is taken. Only when N is out of reach — more than
-//! the uniform field at h_min asks, or fewer than at h_max — the nearest end is returned
-//! and [`Budgeted::reached`] is false.
+//! clamp to the hard [h_min, h_max] and aspect ratio ([`SizeTensor::clamp`]), then the
+//! gradation pass when there is one ([`apply_gradation`]); `fixed` is absent for one
+//! field alone. Its complexity V(s) (the vertices a conforming mesh has, 2C/√3 with C
+//! exact for the Log-Euclidean interpolation, [`crate::metric::complexity`]) is
+//! continuous and nondecreasing in s: scaling, the intersection and the clamp are
+//! monotone per vertex, and the gradation only shrinks, more where the tensors it grows
+//! from are smaller. So s is the root of the 1D monotone equation V(s) = N, found on
+//! ln s: bracketed from a guess (exact for one field where no bound acts, V being linear
+//! in s), then the Illinois variant of regula falsi on ln V − ln N to 1e-12 relative. The
+//! bounds can therefore not break the budget: they act inside the function whose root
+//! is taken. Only when N is out of reach — more than the field at s → ∞ asks, or fewer
+//! than at s → 0 — the nearest end is returned and [`Budgeted::reached`] is false.
 //!
-//! Scaling commutes with the intersection (s A ∩ s B = s (A ∩ B)), so the recipe and the
-//! solution share the budget in the proportions the raw field gives them, instead of the
-//! recipe's vertices coming on top of a solution metric already normalised to N.
+//! The recipe and a solution ([`share`]): the recipe's field R takes at most a share f of
+//! the budget — R itself when it asks for fewer than f·N vertices (a floor the user's
+//! sizes hold), else R scaled as a whole to f·N — and the solution's metric S is scaled
+//! by the root find so that the intersection R' ∩ s·S has N vertices. Scaling R ∩ S as a
+//! whole instead shares the budget in the raw proportions: a recipe asking for its own
+//! count takes all of it and the solution's metric none, and the error stays the
+//! recipe's (measured in `benches/solution_error.py`, column (e)). Where R' is finer than
+//! s·S the recipe's vertices are spent, elsewhere they cost nothing, so the solution has
+//! at least (1 − f)·N of the vertices.
 
 use smartmesh_formats::TaggedMesh;
 
@@ -35,34 +44,48 @@ use crate::metric_field::planar_triangles;
 use crate::recipe::Recipe;
 use crate::sizing::gradation::apply_gradation;
 
-/// A recipe made to give the raw field, and the limits its globals put on the
-/// normalisation instead.
+/// A recipe made to give the raw field, the hard limits of its normalisation, and the
+/// empty recipe a solution's step is run in alone.
 #[derive(Debug, Clone)]
 pub struct RawRecipe {
-    /// The recipe without its global h_min, maximum aspect ratio and gradation (its h_max
-    /// stays: the size of the vertices no step reaches, and the largest size).
+    /// The recipe without its gradation (its h_min, h_max and aspect ratio stay: they
+    /// are part of the shape the budget scales).
     pub recipe: Recipe,
-    /// The recipe's h_min, h_max and aspect ratio (none: the widest range).
+    /// The hard bounds: the command line's h_min and h_max (none: the widest range), the
+    /// recipe's aspect ratio.
     pub bounds: SizeBounds,
     /// The recipe's gradation.
     pub gradation: Option<f64>,
+    /// No step and no bound: the solution's steps are run in it to give S alone.
+    pub empty: Recipe,
 }
 
 impl RawRecipe {
-    /// `recipe` split in its raw part and its limits; `None` when its global bounds are
-    /// no range (the sizing engine then says why).
-    pub fn of(recipe: &Recipe) -> Option<RawRecipe> {
+    /// `recipe` split in its raw part and its limits, `hard` the h_min and h_max given on
+    /// the command line; `None` when these are no range (the sizing engine then says why).
+    pub fn of(recipe: &Recipe, hard: (Option<f64>, Option<f64>)) -> Option<RawRecipe> {
         let g = &recipe.global;
         let bounds = SizeBounds::try_new(
-            g.h_min.unwrap_or(SizeTensor::MIN_SIZE),
-            g.h_max.unwrap_or(SizeTensor::MAX_SIZE),
+            hard.0.unwrap_or(SizeTensor::MIN_SIZE),
+            hard.1.unwrap_or(SizeTensor::MAX_SIZE),
             g.max_aspect_ratio.unwrap_or(f64::INFINITY),
         )?;
         let mut raw = recipe.clone();
-        raw.global.h_min = None;
-        raw.global.max_aspect_ratio = None;
         raw.global.gradation = None;
-        Some(RawRecipe { recipe: raw, bounds, gradation: g.gradation })
+        let mut empty = raw.clone();
+        empty.algorithms.clear();
+        empty.global.h_min = None;
+        empty.global.max_aspect_ratio = None;
+        // Every vertex a cell uses is reached by a solution's step; one no cell uses
+        // weighs nothing, and gets the largest size rather than a warning.
+        empty.global.h_max = Some(SizeTensor::MAX_SIZE);
+        Some(RawRecipe { recipe: raw, bounds, gradation: g.gradation, empty })
+    }
+
+    /// Whether the recipe has steps of its own (else its field is only its h_max, which
+    /// a solution's field is bounded by instead of sharing the budget with).
+    pub fn has_steps(&self) -> bool {
+        !self.recipe.algorithms.is_empty()
     }
 }
 
@@ -73,7 +96,15 @@ pub struct Budget {
     pub schedule: crate::adapt::solver::Schedule,
     /// Where it comes from, in words, for the history.
     pub from: String,
+    /// The hard h_min and h_max (the command line's); the recipe's own scale with it.
+    pub hard: (Option<f64>, Option<f64>),
+    /// The largest share of the budget the recipe's field takes beside a solution's
+    /// ([`share`]).
+    pub recipe_share: f64,
 }
+
+/// The default [`Budget::recipe_share`].
+pub const RECIPE_SHARE: f64 = 0.25;
 
 /// How far from the budget a mesh may be and count as on it (the loop does not stop off
 /// it, and prefers a mesh on it as its result).
@@ -119,16 +150,31 @@ pub struct Budgeted {
     pub reached: bool,
 }
 
-/// The field at ln s = `ln_s`: every size times s^(−1/2), kept in the representable
-/// range, clamped, then graded.
-fn field_at(raw: &[SizeTensor], ln_s: f64, limits: &Limits<'_>) -> Vec<SizeTensor> {
+/// `t` with every size times `factor`, kept in the representable range.
+fn scaled(t: &SizeTensor, factor: f64) -> SizeTensor {
+    let h = t.sizes().map(|h| (h * factor).clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
+    SizeTensor::from_parts(t.axis(), h)
+}
+
+/// The field at ln s = `ln_s`: every size of `raw` times s^(−1/2), intersected with
+/// `fixed` when given, clamped, then graded.
+fn field_at(
+    raw: &[SizeTensor],
+    fixed: Option<&[SizeTensor]>,
+    ln_s: f64,
+    limits: &Limits<'_>,
+) -> Vec<SizeTensor> {
     let factor = (-0.5 * ln_s).exp();
     let mut out: Vec<SizeTensor> = raw
         .iter()
-        .map(|t| {
-            let h =
-                t.sizes().map(|h| (h * factor).clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
-            SizeTensor::from_parts(t.axis(), h).clamp(&limits.bounds)
+        .enumerate()
+        .map(|(i, t)| {
+            let t = scaled(t, factor);
+            let t = match fixed {
+                Some(f) => t.intersection(&f[i]),
+                None => t,
+            };
+            t.clamp(&limits.bounds)
         })
         .collect();
     if let Some((g, graph)) = limits.gradation {
@@ -152,11 +198,55 @@ pub fn normalise(
     limits: &Limits<'_>,
     target: f64,
 ) -> Budgeted {
+    normalise_over(mesh, raw, None, limits, target)
+}
+
+/// The recipe's field `recipe` and a solution's metric `solution` (one tensor per point
+/// of `mesh` each) made one field of `target` vertices, the recipe taking at most
+/// `share` of it; see the module documentation. When the recipe's part leaves the
+/// solution no room (the hard bounds or the gradation asking for more), the
+/// intersection is scaled as a whole ([`normalise`]).
+pub fn share(
+    mesh: &TaggedMesh,
+    recipe: &[SizeTensor],
+    solution: &[SizeTensor],
+    limits: &Limits<'_>,
+    target: f64,
+    share: f64,
+) -> Budgeted {
+    let (points, mut tris) = planar_triangles(mesh);
+    tris.retain(|t| t.iter().all(|&v| v < recipe.len().min(points.len())));
+    let own = vertices_of(&points, &tris, recipe);
+    let cap = share.clamp(0.0, 1.0) * target;
+    let floor: Vec<SizeTensor> = if own > cap && cap > 0.0 && own.is_finite() {
+        let factor = (own / cap).sqrt();
+        recipe.iter().map(|t| scaled(t, factor)).collect()
+    } else {
+        recipe.to_vec()
+    };
+    let b = normalise_over(mesh, solution, Some(&floor), limits, target);
+    if b.reached {
+        return b;
+    }
+    let whole: Vec<SizeTensor> =
+        recipe.iter().zip(solution).map(|(r, s)| r.intersection(s)).collect();
+    normalise(mesh, &whole, limits, target)
+}
+
+/// `raw` scaled, intersected with `fixed` when given, to `target` vertices within
+/// `limits` (see the module documentation).
+fn normalise_over(
+    mesh: &TaggedMesh,
+    raw: &[SizeTensor],
+    fixed: Option<&[SizeTensor]>,
+    limits: &Limits<'_>,
+    target: f64,
+) -> Budgeted {
     let (points, mut tris) = planar_triangles(mesh);
     // A cell on a point the mesh does not have weighs nothing (a valid mesh has none).
     tris.retain(|t| t.iter().all(|&v| v < raw.len().min(points.len())));
     let v = |ln_s: f64| -> (Vec<SizeTensor>, f64) {
-        let t = field_at(raw, ln_s, limits);
+        let t = field_at(raw, fixed, ln_s, limits);
         let n = vertices_of(&points, &tris, &t);
         (t, n)
     };
@@ -166,23 +256,22 @@ pub fn normalise(
         vertices,
         reached,
     };
-    // Out of reach: every size at h_min (the most any s asks) or at h_max (the least).
-    let uniform = |h: f64| vertices_of(&points, &tris, &vec![SizeTensor::isotropic(h); raw.len()]);
-    let (most, least) = (uniform(limits.bounds.h_min()), uniform(limits.bounds.h_max()));
     let at_one = vertices_of(&points, &tris, raw);
     let g = |n: f64| n.ln() - target.ln();
     let guess = if at_one > 0.0 && at_one.is_finite() { (target / at_one).ln() } else { 0.0 };
-    if !(target.is_finite() && target > 0.0) || target >= most || target <= least {
-        // Far enough out that every size is at the bound: the raw sizes times s^(-1/2)
-        // pass it once s is past the ratio of the extreme sizes.
-        let (lo, hi) = raw
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), t| (lo.min(t.h_min()), hi.max(t.h_max())));
-        let span = 2.0
-            * ((hi / limits.bounds.h_min()).ln().abs() + (lo / limits.bounds.h_max()).ln().abs())
-            + 1.0;
-        let ln_s = if target >= most { span } else { -span };
-        let at = v(ln_s);
+    // Far enough out that every scaled size is at a bound: the raw sizes times s^(-1/2)
+    // pass it once s is past the ratio of the extreme sizes. There the field asks for
+    // the most (every size at h_min) or the least (the scaled part at h_max, the fixed
+    // part as it is) any s gives.
+    let (lo, hi) = raw
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), t| (lo.min(t.h_min()), hi.max(t.h_max())));
+    let span = 2.0
+        * ((hi / limits.bounds.h_min()).ln().abs() + (lo / limits.bounds.h_max()).ln().abs())
+        + 1.0;
+    let (most, least) = (v(span), v(-span));
+    if !(target.is_finite() && target > 0.0) || target >= most.1 || target <= least.1 {
+        let (ln_s, at) = if target >= most.1 { (span, most) } else { (-span, least) };
         let reached = (at.1 / target - 1.0).abs() < 1e-9;
         return done(ln_s, at, reached);
     }

@@ -34,7 +34,9 @@
 //! With a solver ([`run_with_solver`], [`solver`]), each mesh is first handed to it, and
 //! the metric of the solution it computes is intersected into the recipe's field on that
 //! mesh (after the recipe's steps); a failing solver or a bad solution fails the
-//! iteration like a failing remesher, and the best mesh so far stays.
+//! iteration like a failing remesher, and the best mesh so far stays. With a vertex
+//! budget the recipe's field takes at most a share of it and the solution's metric is
+//! scaled to the rest ([`budget::share`]).
 //!
 //! Once the loop has stopped of itself, the LAYER skin of [`AdaptOptions::layer`] is
 //! inserted into the best mesh, its band remeshed to the best iteration's field as the
@@ -70,7 +72,7 @@ use crate::recipe::{size_mesh_with_steps, SizeMeshError};
 use crate::remesh::DEFAULT_MAX_VERTICES;
 use crate::topology::Topology;
 pub use budget::Budget;
-use budget::{normalise, remesher_ratio, Limits, RawRecipe};
+use budget::{normalise, remesher_ratio, share, Limits, RawRecipe};
 use solver::{SolverError, SolverLoop};
 
 /// Ctrl-C for the external programs a run starts (a solver, `mmg2d_O3`, `gmsh`):
@@ -306,37 +308,47 @@ impl Measured {
     }
 }
 
-/// How each mesh is sized: the recipe, and with a budget the raw recipe and the vertex
-/// count the field is normalised to.
+/// How each mesh is sized: the recipe, and with a budget the raw recipe, the vertex
+/// count the field is normalised to and the recipe's largest share of it.
 struct Sizer<'a> {
     recipe: &'a Recipe,
-    budget: Option<(&'a RawRecipe, f64)>,
+    budget: Option<(&'a RawRecipe, f64, f64)>,
 }
 
 /// The recipe's field on `mesh` (with `extra` steps after its own), normalised to the
-/// budget when there is one.
+/// budget when there is one: a recipe with steps and a solution's `extra` steps share it
+/// ([`budget::share`]), any other field is scaled as a whole ([`normalise`]).
 fn size_field(
     mesh: &TaggedMesh,
     topology: &Topology,
     sizer: &Sizer<'_>,
     extra: &[crate::sizing::plan::Step],
 ) -> Result<(Vec<crate::metric::SizeTensor>, Vec<String>), SizeMeshError> {
-    let Some((raw, target)) = sizer.budget else {
+    let Some((raw, target, recipe_share)) = sizer.budget else {
         let sizing = size_mesh_with_steps(mesh, topology, sizer.recipe, extra, &mut |_| {})?;
         return Ok((sizing.field.tensors, sizing.field.warnings));
     };
-    let sizing = size_mesh_with_steps(mesh, topology, &raw.recipe, extra, &mut |_| {})?;
     let graph = match raw.gradation {
         Some(_) => Some(MeshGraph::from_topology(topology, mesh).map_err(SizeMeshError::Graph)?),
         None => None,
     };
     let limits = Limits { bounds: raw.bounds, gradation: raw.gradation.zip(graph.as_ref()) };
-    let mut warnings = sizing.field.warnings;
-    let b = normalise(mesh, &sizing.field.tensors, &limits, target);
+    let (b, mut warnings) = if raw.has_steps() && !extra.is_empty() {
+        let r = size_mesh_with_steps(mesh, topology, &raw.recipe, &[], &mut |_| {})?;
+        let s = size_mesh_with_steps(mesh, topology, &raw.empty, extra, &mut |_| {})?;
+        let mut warnings = r.field.warnings;
+        warnings.extend(s.field.warnings);
+        let b = share(mesh, &r.field.tensors, &s.field.tensors, &limits, target, recipe_share);
+        (b, warnings)
+    } else {
+        let sizing = size_mesh_with_steps(mesh, topology, &raw.recipe, extra, &mut |_| {})?;
+        (normalise(mesh, &sizing.field.tensors, &limits, target), sizing.field.warnings)
+    };
     if !b.reached {
         warnings.push(format!(
-            "the bounds keep the field from the budget: it asks for {} vertices at most, not {} (widen hmin or hmax)",
+            "the bounds keep the field from the budget: it asks for {} vertices at {}, not {} (widen --hmin or --hmax)",
             format_count(b.vertices),
+            if b.vertices > target { "least" } else { "most" },
             format_count(target)
         ));
     }
@@ -426,12 +438,12 @@ pub fn run_with_solver(
     recipe_label: &str,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdaptError> {
-    let raw = options.budget.as_ref().and_then(|_| RawRecipe::of(recipe));
+    let raw = options.budget.as_ref().and_then(|b| RawRecipe::of(recipe, b.hard));
     // The vertex count of iteration k's field: the budget's, divided by the remesher's
     // ratio of made to asked measured on the last remeshing.
     let target = |k: usize, ratio: f64| {
         let b = options.budget.as_ref()?;
-        Some((raw.as_ref()?, b.schedule.at(k) / ratio))
+        Some((raw.as_ref()?, b.schedule.at(k) / ratio, b.recipe_share))
     };
     let sizer = |k: usize, ratio: f64| Sizer { recipe, budget: target(k, ratio) };
     let first = measure(0, start, 0.0, None, &sizer(0, 1.0), solver, observer).map_err(
@@ -510,7 +522,7 @@ pub fn run_with_solver(
             if scale.is_none() {
                 ratio = remesher_ratio(adapted.mesh.points.len(), expected);
             }
-            if let (Some(b), Some((_, t))) = (&mut history.budget, target(k, ratio)) {
+            if let (Some(b), Some((_, t, _))) = (&mut history.budget, target(k, ratio)) {
                 b.normalised_to.push(t);
             }
             measure(k, adapted.mesh, seconds, Some(remeshing), &sizer(k, ratio), solver, observer)

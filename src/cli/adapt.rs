@@ -121,11 +121,15 @@ schedule's first vertex count. A failing solver is quoted (the end of its output
 is read and dropped) and stops the loop with exit status 1; the best mesh stays. The history records per iteration the solver's seconds and the complexity asked \
 and obtained.
 
-Vertex budget: with --complexity N (with or without --solver) the final field on every mesh — \
-the recipe's, the solution's, or both intersected — is scaled as a whole so that a mesh \
-conforming to it has N vertices (the schedule's value at each iteration), with the recipe's \
-hmin, hmax, aspect ratio and gradation applied inside the scaling, and corrected by the \
-ratio of vertices made to vertices asked of the previous remeshing. With --solver and \
+Vertex budget: with --complexity N (with or without --solver) the final field on every mesh \
+is scaled so that a mesh conforming to it has N vertices (the schedule's value at each \
+iteration), corrected by the ratio of vertices made to vertices asked of the previous \
+remeshing. The recipe's field is a shape: its sizes, HMIN and HMAX included, scale together; \
+--hmin, --hmax, the aspect ratio and the gradation act inside the scaling. With a solver, \
+the recipe's field takes at most --recipe-share of the budget (scaled down to it when it asks \
+for more) and the solution's metric is scaled to the rest of it. A .poly's vertices stay \
+vertices of every mesh unless --coarsen-geometry: when they alone are more than N, the \
+budget cannot hold, and a warning says so before the loop. With --solver and \
 neither --complexity nor --error, the budget is the recipe's own complexity on the starting \
 mesh (the history's \"budget\" says so). --error is a bound each field meets: no budget."
 )]
@@ -194,6 +198,10 @@ pub(super) struct AdaptArgs {
     /// (default 1000).
     #[arg(long, value_name = "N", value_parser = positive_size, help_heading = "Solution")]
     complexity_start: Option<f64>,
+    /// With a budget and a solver, the largest share of the budget the recipe's field
+    /// takes (scaled down to it when it asks for more); the solution's metric has the rest.
+    #[arg(long, value_name = "F", default_value_t = smartmesh::adapt::budget::RECIPE_SHARE, value_parser = fraction, help_heading = "Solution")]
+    recipe_share: f64,
     /// The factor the vertex count asked grows by at each iteration, up to --complexity.
     #[arg(long, value_name = "F", default_value_t = 1.5, value_parser = growth, help_heading = "Solution")]
     complexity_growth: f64,
@@ -238,6 +246,14 @@ pub(super) struct AdaptArgs {
     json: bool,
 }
 
+fn fraction(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v > 0.0 && v <= 1.0 => Ok(v),
+        Ok(v) => Err(format!("{v} is not a share (expected a number in (0, 1])")),
+        Err(e) => Err(format!("`{s}`: {e}")),
+    }
+}
+
 fn growth(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v >= 1.0 && v.is_finite() => Ok(v),
@@ -264,6 +280,8 @@ fn budget(args: &AdaptArgs, recipe_vertices: Option<f64>) -> Option<Budget> {
         (Some(n), _, _) => Some(Budget {
             schedule: schedule(args, n),
             from: format!("--complexity {}", ui::sig(n)),
+            hard: (args.controls.hmin, args.controls.hmax),
+            recipe_share: args.recipe_share,
         }),
         (None, None, Some(n)) => Some(Budget {
             schedule: schedule(args, n),
@@ -271,9 +289,17 @@ fn budget(args: &AdaptArgs, recipe_vertices: Option<f64>) -> Option<Budget> {
                 "the recipe's own complexity on the starting mesh ({} vertices): --solver without --complexity",
                 format_count(n)
             ),
+            hard: (args.controls.hmin, args.controls.hmax),
+            recipe_share: args.recipe_share,
         }),
         _ => None,
     }
+}
+
+/// Whether `kept` geometry vertices, which every mesh keeps, are more than a budget of
+/// `target` vertices allows (more than its tolerance above it).
+fn geometry_over_budget(kept: usize, target: f64) -> bool {
+    kept as f64 > target * (1.0 + smartmesh::adapt::budget::TOLERANCE)
 }
 
 /// The recipe's own complexity on `mesh`: the budget of `--solver` without
@@ -362,6 +388,15 @@ fn solver_loop(
             args.output.with_file_name(name)
         }
     };
+    // Under a budget the recipe's HMIN and HMAX are its field's shape, scaled with it
+    // (`adapt::budget`), not bounds of the solution's metric: a solution bounded by the
+    // recipe's HMAX would carry a uniform background of it that takes the budget. Only
+    // --hmin and --hmax (else the mesh's defaults) bound it then.
+    let mut bounding = recipe.clone();
+    if let Goal::Vertices(_) = goal {
+        bounding.global.h_min = args.controls.hmin;
+        bounding.global.h_max = args.controls.hmax;
+    }
     Ok(Some(SolverLoop {
         command: command.clone(),
         dir,
@@ -371,7 +406,7 @@ fn solver_loop(
         goal,
         p: args.solution.p,
         method: args.solution.recovery,
-        bounds: args.solution.bounds(mesh, recipe)?,
+        bounds: args.solution.bounds(mesh, &bounding)?,
     }))
 }
 
@@ -667,6 +702,16 @@ pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
     let budget = budget(&args, own);
     if let Some(b) = budget.as_ref().filter(|_| own.is_some()) {
         ui::note(&format!("vertex budget: {}", b.from));
+    }
+    if let Some(b) = &budget {
+        let kept = starting.geometry_points.len();
+        if !args.coarsen_geometry && geometry_over_budget(kept, b.schedule.target) {
+            ui::warn(&format!(
+                "the budget of {} vertices cannot hold: the {kept} vertices of {} stay vertices of every mesh (a floor of {kept}); --coarsen-geometry lets the remesher remove them",
+                format_count(b.schedule.target),
+                args.input.display()
+            ));
+        }
     }
     let layer = layer_options(&args, &recipe, &starting.mesh)?;
     // Periodic sides: images of each other on the starting mesh (else bad input), frozen

@@ -24,8 +24,9 @@ pub(super) struct SolutionArgs {
     pub field: Vec<String>,
     /// The vertex count the solution's metric asks for (its complexity); adapt: the
     /// vertex budget of the mesh (the last value of the schedule), for the recipe's field,
-    /// the solution's, or both intersected: the final field is scaled to it with the
-    /// recipe's hmin, hmax, aspect ratio and gradation inside the scaling.
+    /// the solution's, or both intersected: the final field is scaled to it, the recipe's
+    /// hmin and hmax with it, --hmin, --hmax, the aspect ratio and the gradation inside
+    /// the scaling (with a solver the recipe takes at most --recipe-share of it).
     #[arg(long, value_name = "N", value_parser = positive_size, conflicts_with = "error", help_heading = "Solution")]
     pub complexity: Option<f64>,
     /// Normalise the metric to this Lp norm of the interpolation error instead.

@@ -158,3 +158,139 @@ fn the_gradation_acts_inside_the_normalisation() {
     let v = vertices_of(&points, &tris, &again);
     assert!((v / target - 1.0).abs() < 1e-9, "{v}");
 }
+
+/// A solution's metric: a stretched front along the circle r = 0.6, coarse elsewhere.
+fn front_field(mesh: &TaggedMesh) -> Vec<SizeTensor> {
+    mesh.points
+        .iter()
+        .map(|p| {
+            let (x, y) = (p[0] + 0.05, p[1] + 0.05);
+            let r = x.hypot(y);
+            let across = 2e-3 + 0.4 * (r - 0.6).abs();
+            SizeTensor::from_angle(y.atan2(x), across, (6.0 * across).min(0.3)).unwrap()
+        })
+        .collect()
+}
+
+/// The intersection of the recipe's part and the scaled solution, made by hand: the
+/// recipe scaled to `cap` vertices when it asks for more, the solution's sizes times
+/// `scale`^(-1/2), intersected and clamped to [lo, hi].
+fn share_by_hand(
+    points: &[[f64; 2]],
+    tris: &[[usize; 3]],
+    recipe: &[SizeTensor],
+    solution: &[SizeTensor],
+    cap: f64,
+    scale: f64,
+    (lo, hi): (f64, f64),
+) -> (Vec<SizeTensor>, f64) {
+    let own = vertices_of(points, tris, recipe);
+    let f = if own > cap { (own / cap).sqrt() } else { 1.0 };
+    let part: Vec<SizeTensor> =
+        recipe.iter().map(|t| SizeTensor::from_parts(t.axis(), t.sizes().map(|h| h * f))).collect();
+    let part_vertices = vertices_of(points, tris, &part);
+    let bounds = SizeBounds::try_new(lo, hi, f64::INFINITY).unwrap();
+    let field = part
+        .iter()
+        .zip(solution)
+        .map(|(r, s)| {
+            let s = SizeTensor::from_parts(s.axis(), s.sizes().map(|h| h / scale.sqrt()));
+            r.intersection(&s).clamp(&bounds)
+        })
+        .collect();
+    (field, part_vertices)
+}
+
+#[test]
+fn the_recipe_takes_its_share_and_the_solution_the_rest() {
+    let mesh = grid(16);
+    let (points, tris) = planar_triangles(&mesh);
+    let recipe = raw_field(&mesh);
+    let solution = front_field(&mesh);
+    let (lo, hi) = (1e-5, 0.5);
+    let limits =
+        Limits { bounds: SizeBounds::try_new(lo, hi, f64::INFINITY).unwrap(), gradation: None };
+    let own = vertices_of(&points, &tris, &recipe);
+    // The recipe asks for more than its share (it is coarsened to it), then for less
+    // (it is kept as it is: a floor).
+    for (target, f) in [(1.2 * own, 0.25), (0.8 * own, 0.4), (8.0 * own, 0.25)] {
+        let b = share(&mesh, &recipe, &solution, &limits, target, f);
+        assert!(b.reached, "{target} {f}");
+        assert!((b.vertices / target - 1.0).abs() < 1e-9, "{target}: {}", b.vertices);
+        let cap = f * target;
+        let (hand, part) =
+            share_by_hand(&points, &tris, &recipe, &solution, cap, b.scale, (lo, hi));
+        assert!((part / own.min(cap) - 1.0).abs() < 1e-9, "{target}: recipe's part {part}");
+        let v = vertices_of(&points, &tris, &hand);
+        assert!((v / target - 1.0).abs() < 1e-9, "{target}: {v}");
+        for (x, y) in b.tensors.iter().zip(&hand) {
+            let (m, n) = (x.to_metric(), y.to_metric());
+            let scale = n.a.abs().max(n.c.abs());
+            for (p, q) in [(m.a, n.a), (m.b, n.b), (m.c, n.c)] {
+                assert!((p - q).abs() <= 1e-9 * scale, "{target}: {m:?} {n:?}");
+            }
+        }
+        // The solution's scale is the root: a scan on both sides brackets it.
+        for k in 1..=6 {
+            let d = 10f64.powi(-k);
+            let at = |s: f64| {
+                vertices_of(
+                    &points,
+                    &tris,
+                    &share_by_hand(&points, &tris, &recipe, &solution, cap, s, (lo, hi)).0,
+                )
+            };
+            let (below, above) = (at(b.scale * (1.0 - d)), at(b.scale * (1.0 + d)));
+            assert!(below <= target && above >= target, "{target} {d}: {below} {above}");
+        }
+        // The recipe's part holds: the result is nowhere coarser than it.
+        let f = if own > cap { (own / cap).sqrt() } else { 1.0 };
+        let quad = |m: crate::metric::Sym2, d: [f64; 2]| {
+            m.a * d[0] * d[0] + 2.0 * m.b * d[0] * d[1] + m.c * d[1] * d[1]
+        };
+        for (x, r) in b.tensors.iter().zip(&recipe) {
+            for d in [[1.0, 0.0], [0.0, 1.0], [0.6, 0.8], [-0.8, 0.6]] {
+                let (mx, mr) = (quad(x.to_metric(), d), quad(r.to_metric(), d) / (f * f));
+                assert!(mx >= mr * (1.0 - 1e-9), "{target}: {mx} < {mr}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_recipe_that_leaves_no_room_shares_in_the_raw_proportions() {
+    let mesh = grid(12);
+    let recipe = raw_field(&mesh);
+    let solution = front_field(&mesh);
+    let limits = Limits { bounds: SizeBounds::try_new(1e-5, 0.5, 1e3).unwrap(), gradation: None };
+    let (points, tris) = planar_triangles(&mesh);
+    let target = 0.5 * vertices_of(&points, &tris, &recipe);
+    // With the whole budget for the recipe, the solution has no room: the intersection
+    // is scaled as a whole, as `normalise` does it.
+    let b = share(&mesh, &recipe, &solution, &limits, target, 1.0);
+    let whole: Vec<SizeTensor> =
+        recipe.iter().zip(&solution).map(|(r, s)| r.intersection(s)).collect();
+    let n = normalise(&mesh, &whole, &limits, target);
+    assert!(b.reached && n.reached);
+    assert_eq!(b, n);
+}
+
+#[test]
+fn the_recipes_own_bounds_scale_and_the_command_lines_are_hard() {
+    let mut recipe = Recipe::default();
+    recipe.global.h_min = Some(0.01);
+    recipe.global.h_max = Some(0.2);
+    recipe.global.max_aspect_ratio = Some(30.0);
+    recipe.global.gradation = Some(1.3);
+    let raw = RawRecipe::of(&recipe, (None, Some(0.5))).unwrap();
+    // The recipe keeps its sizes' bounds (its shape); the gradation goes in the limits.
+    assert_eq!(raw.recipe.global.h_min, Some(0.01));
+    assert_eq!(raw.recipe.global.h_max, Some(0.2));
+    assert_eq!(raw.recipe.global.gradation, None);
+    assert_eq!(raw.gradation, Some(1.3));
+    assert_eq!(raw.bounds.h_min(), SizeTensor::MIN_SIZE);
+    assert_eq!(raw.bounds.h_max(), 0.5);
+    assert_eq!(raw.bounds.max_aspect_ratio(), 30.0);
+    assert!(raw.empty.algorithms.is_empty() && raw.empty.global.h_min.is_none());
+    assert!(!raw.has_steps());
+}
