@@ -10,8 +10,8 @@
 //! - ParaView itself (`pvpython`, under `xvfb-run`): its Tensor Glyph filter, scale factor
 //!   1, on our `.vtu`'s `size_tensor` gives glyphs spanning each size along its axis (to
 //!   1e-6, read from the filter's output data) and renders them to a PNG with glyph
-//!   pixels. ParaView is not installed by `.ci/run` (1.3 GB): this test skips without
-//!   it, in CI too;
+//!   pixels. `.ci/run` installs Debian's ParaView and Xvfb, so CI runs it; elsewhere it
+//!   skips without them;
 //! - Gmsh meshes a box with our `.pos` (`TS` records) and `.msh` as background with
 //!   `Mesh.Algorithm3D` 7 (MMG3D) to the field, while its Delaunay algorithm finds no
 //!   size in a tensor view (its warning) and does not.
@@ -316,24 +316,12 @@ print('rendered')
 
 #[test]
 fn paraview_tensor_glyph_draws_the_size_ellipsoids() {
-    // ParaView (Debian's `paraview` and `python3-paraview`: 210 MB to fetch, 1.3 GB
-    // installed) is no part of .ci/run's install step: this test skips without it, in
-    // CI too, and says so.
-    let Some(pvpython) = support::program_quiet("pvpython") else {
-        smartmesh_test_support::skip::skip(
-            "pvpython is not on PATH (ParaView: apt-get install paraview python3-paraview; not installed by .ci/run)",
-        );
-        return;
-    };
-    // Debian's ParaView is built for X (no EGL, no OSMesa): `--force-offscreen-rendering`
-    // without a display dies in the render (SIGSEGV, seen with 5.11), so it runs under
-    // Xvfb.
-    let Some(xvfb_run) = support::program_quiet("xvfb-run") else {
-        smartmesh_test_support::skip::skip(
-            "xvfb-run is not on PATH (apt-get install xvfb): Debian's pvpython renders under X only",
-        );
-        return;
-    };
+    // ParaView is Debian's `paraview` and `python3-paraview` (210 MB to fetch, 1.3 GB
+    // installed; `.ci/run` installs them). Debian's ParaView is built for X (no EGL, no
+    // OSMesa): `--force-offscreen-rendering` without a display dies in the render
+    // (SIGSEGV, seen with 5.11), so it runs under Xvfb.
+    let Some(pvpython) = support::program("pvpython") else { return };
+    let Some(xvfb_run) = support::program("xvfb-run") else { return };
     let dir = tempfile::tempdir().unwrap();
     let mesh = kuhn_box(2, [1.0, 1.0, 1.0]);
     let vtu = dir.path().join("field.vtu");
