@@ -87,7 +87,8 @@ pub(crate) struct MeshOutputArgs {
     /// like Wall, Airfoil, Cylinder; `patch` otherwise); repeatable.
     #[arg(long, value_name = "NAME=TYPE", value_parser = patch_type, help_heading = "Output")]
     pub patch_type: Vec<(String, String)>,
-    /// OpenFOAM: a periodic pair written as two `cyclic` patches, by tag numbers:
+    /// OpenFOAM, Fluent: a periodic pair written as two `cyclic` patches (Fluent: a
+    /// `periodic` and a `periodic-shadow` zone with their face pairs), by tag numbers:
     /// `MASTER=SLAVE:DX,DY[,DZ]` for a translation from master to slave (`302,303,304=
     /// 308,307,306:0,30`), `MASTER=SLAVE@CX,CY,ANGLE` for a rotation of ANGLE degrees
     /// about the z axis through (CX, CY); repeatable. Without it, a recipe's PERIODIC pairs
@@ -192,7 +193,7 @@ impl MeshOutputArgs {
 
     /// Takes a recipe's periodic `pairs`, resolved on `mesh` (tag numbers by the curves'
     /// tags or names), as the pairs an output in `format` glues: OpenFOAM's `cyclic`
-    /// patches. A translation (dx, dy) is (dx, dy, 0); a rotation is about the z axis
+    /// patches, Fluent's periodic zones. A translation (dx, dy) is (dx, dy, 0); a rotation is about the z axis
     /// through its centre. `--cyclic` wins: given, the recipe's pairs are left, said.
     pub(crate) fn periodic_from_recipe(
         &mut self,
@@ -200,12 +201,17 @@ impl MeshOutputArgs {
         mesh: &TaggedMesh,
         pairs: &[PeriodicPair],
     ) -> Result<(), CliError> {
-        if pairs.is_empty() || format != Format::OpenFoam {
+        let what = match format {
+            Format::OpenFoam => "cyclic patch pairs",
+            Format::Fluent => "periodic and periodic-shadow zones",
+            _ => return Ok(()),
+        };
+        if pairs.is_empty() {
             return Ok(());
         }
         if !self.cyclic.is_empty() {
             ui::note(&format!(
-                "--cyclic given: the recipe's {} PERIODIC pair(s) are not written as cyclic patches",
+                "--cyclic given: the recipe's {} PERIODIC pair(s) are not written as {what}",
                 pairs.len()
             ));
             return Ok(());
@@ -230,7 +236,7 @@ impl MeshOutputArgs {
             })
             .collect::<Result<_, CliError>>()?;
         ui::note(&format!(
-            "the recipe's {} PERIODIC pair(s) written as cyclic patch pairs (--cyclic replaces them)",
+            "the recipe's {} PERIODIC pair(s) written as {what} (--cyclic replaces them)",
             pairs.len()
         ));
         Ok(())

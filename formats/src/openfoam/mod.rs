@@ -43,7 +43,7 @@
 //! Not done yet: cellZones/faceZones of a 2D
 //! mesh's face tags and inner curves; the report says what is left.
 
-mod cyclic;
+pub(crate) mod cyclic;
 pub mod extrude;
 mod read;
 mod read3d;
