@@ -1,7 +1,8 @@
 //! OpenFOAM's own `checkMesh` on the cases `smartmesh convert` writes: the bundled
 //! cylinder (triangles), the cylinder with a boundary-layer skin of quads (`smartmesh
 //! layer`, ASCII and binary), and the examples' meshes, periodic distributor included (its
-//! periodic sides also as `cyclic` patch pairs, with a rotational quarter annulus). Each must end with
+//! periodic sides also as `cyclic` patch pairs, by `--cyclic` or from its recipe's
+//! PERIODIC section, with a rotational quarter annulus). Each must end with
 //! "Mesh OK." and no failed check. Skips, saying so, when `checkMesh` is not on PATH,
 //! unless `SMARTMESH_REQUIRE_INTEROP=1` (CI, where `.ci/run` installs Debian's
 //! `openfoam`).
@@ -212,6 +213,74 @@ fn check_mesh_matches_the_cyclic_patches_of_periodic_sides() {
     let boundary = std::fs::read_to_string(sector.join("constant/polyMesh/boundary")).unwrap();
     assert!(boundary.contains("transform       rotational;"), "{boundary}");
     assert!(boundary.contains("rotationAxis    (0 0 1);"), "{boundary}");
+}
+
+/// The recipe's PERIODIC section as `cyclic` pairs, without `--cyclic`: `convert
+/// --recipe` and `adapt -o case.foam` on the narrow distributor write the recipe's pair
+/// (302, 303, 304 onto 308, 307, 306 by (0, 30)) as two cyclic patches checkMesh
+/// matches; `--cyclic` given beside the recipe wins (only 302 and 308 glued).
+#[test]
+fn check_mesh_matches_the_cyclic_patches_of_a_recipe_periodic_section() {
+    let Some(check) = program("checkMesh") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let input = root.join("examples/distributor/1-narrow/start.msh");
+    let recipe = root.join("examples/distributor/recipe.cfg");
+    let (input, recipe) = (input.to_str().unwrap(), recipe.to_str().unwrap());
+    let lower = "LowerPeriodic1_LowerPeriodic2_LowerPeriodic3";
+    let upper = "UpperPeriodic1_UpperPeriodic2_UpperPeriodic3";
+
+    let case = dir.path().join("converted.foam");
+    let o = run(&["convert", input, case.to_str().unwrap(), "--recipe", recipe]);
+    ok(&o);
+    assert!(stderr(&o).contains("PERIODIC pair(s) written as cyclic"), "{}", stderr(&o));
+    let text = check_mesh(&check, &case);
+    assert!(coupled_match(&text).ends_with("OK."), "{text}");
+    let boundary = std::fs::read_to_string(case.join("constant/polyMesh/boundary")).unwrap();
+    assert_eq!(boundary.matches("type            cyclic;").count(), 2, "{boundary}");
+    assert!(boundary.contains(&format!("neighbourPatch  {upper};")), "{boundary}");
+    assert!(boundary.contains(&format!("neighbourPatch  {lower};")), "{boundary}");
+    assert!(boundary.contains("separationVector (0 30 0);"), "{boundary}");
+    assert_eq!(boundary.matches("nFaces          71;").count(), 2, "{boundary}");
+
+    // The command line wins: one curve of each side glued, the others plain patches.
+    let flag = dir.path().join("flag.foam");
+    let o = run(&[
+        "convert",
+        input,
+        flag.to_str().unwrap(),
+        "--recipe",
+        recipe,
+        "--cyclic",
+        "302=308:0,30",
+    ]);
+    ok(&o);
+    assert!(stderr(&o).contains("--cyclic given"), "{}", stderr(&o));
+    let text = check_mesh(&check, &flag);
+    assert!(coupled_match(&text).ends_with("OK."), "{text}");
+    let boundary = std::fs::read_to_string(flag.join("constant/polyMesh/boundary")).unwrap();
+    assert_eq!(boundary.matches("type            cyclic;").count(), 2, "{boundary}");
+    assert!(boundary.contains("neighbourPatch  UpperPeriodic1;"), "{boundary}");
+    assert!(!boundary.contains(lower), "{boundary}");
+
+    // The adaptation loop's result, remeshed twice with the sides kept matched and
+    // then skinned: the recipe's pair glued on the case it writes.
+    let adapted = dir.path().join("adapted.foam");
+    ok(&run(&[
+        "adapt",
+        input,
+        "--recipe",
+        recipe,
+        "-o",
+        adapted.to_str().unwrap(),
+        "--max-iterations",
+        "2",
+    ]));
+    let text = check_mesh(&check, &adapted);
+    assert!(coupled_match(&text).ends_with("OK."), "{text}");
+    let boundary = std::fs::read_to_string(adapted.join("constant/polyMesh/boundary")).unwrap();
+    assert_eq!(boundary.matches("type            cyclic;").count(), 2, "{boundary}");
+    assert!(boundary.contains(&format!("neighbourPatch  {upper};")), "{boundary}");
 }
 
 /// OpenFOAM's own `blockMesh` writes a 3 x 2 lid-driven cavity (one empty patch

@@ -651,7 +651,7 @@ fn start_error(e: smartmesh::adapt::StartError) -> CliError {
 const ERROR_START_VERTICES: f64 = 1000.0;
 
 /// Runs `adapt`.
-pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
+pub(super) fn run(mut args: AdaptArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     if let AdapterArg::Mmg3d | AdapterArg::Mmgs = args.adapter {
         return Err(CliError::usage(format!(
@@ -717,6 +717,8 @@ pub(super) fn run(args: AdaptArgs) -> Result<(), CliError> {
     // Periodic sides: images of each other on the starting mesh (else bad input), frozen
     // through every remeshing, measured again on the result.
     let sides = super::periodic_sides(&mut starting.mesh, &pairs, &args.input)?;
+    // Remeshing keeps the sides' curves and tags: resolved once, on the start.
+    args.output_format.periodic_from_recipe(format, &starting.mesh, &pairs)?;
     let mmg = args.adapter == AdapterArg::Mmg2d;
     let options = AdapterOptions {
         program: args.adapter_program.clone(),

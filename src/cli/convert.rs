@@ -27,8 +27,10 @@ Examples:
   smartmesh convert adapted.vtu view.glb --color-field hmin
   smartmesh convert skin.msh skin-triangles.msh --split-quads
   smartmesh convert naca.msh naca.su2
-  smartmesh convert skin.msh case.foam --extrude 0.1     # then: checkMesh -case case.foam"
+  smartmesh convert skin.msh case.foam --extrude 0.1     # then: checkMesh -case case.foam
+  smartmesh convert adapted.msh case.foam --recipe distributor.cfg   # PERIODIC pairs as cyclic patches"
 )]
+#[command(mut_arg("recipe", |a| a.help("A recipe whose PERIODIC pairs an OpenFOAM case glues as `cyclic` patch pairs (--cyclic wins); its sizing steps are not used")))]
 pub(super) struct ConvertArgs {
     /// Input mesh (`-` for stdin, with --from).
     input: PathBuf,
@@ -55,6 +57,9 @@ pub(super) struct ConvertArgs {
     json: bool,
     #[command(flatten)]
     output_format: MeshOutputArgs,
+    /// The recipe whose PERIODIC pairs are written (its help is set above).
+    #[command(flatten)]
+    recipe: super::RecipeInput,
 }
 
 #[derive(serde::Serialize)]
@@ -71,7 +76,7 @@ struct ConvertSummary<'a> {
 }
 
 /// Runs `convert`.
-pub(super) fn run(args: ConvertArgs) -> Result<(), CliError> {
+pub(super) fn run(mut args: ConvertArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     let from = args.from.or_else(|| Format::from_path(&args.input));
     if args.output.as_os_str() == "-" && args.json {
@@ -92,6 +97,13 @@ pub(super) fn run(args: ConvertArgs) -> Result<(), CliError> {
     if args.split_quads {
         let n = mesh.split_quads();
         ui::note(&format!("split {n} quads into {} triangles", 2 * n));
+    }
+    if args.recipe.is_stdin() && args.input.as_os_str() == "-" {
+        return Err(CliError::usage("the mesh and the recipe cannot both come from stdin"));
+    }
+    if let (Some(_), Some(to)) = (&args.recipe.recipe, to) {
+        let pairs = args.recipe.read()?.periodic_pairs();
+        args.output_format.periodic_from_recipe(to, &mesh, &pairs)?;
     }
     let mut opts = args.output_format.write_options(&args.output);
     opts.gltf.color_field = args.color_field.clone();

@@ -198,7 +198,7 @@ fn layer_spec(args: &LayerArgs) -> Result<LayerSpec, CliError> {
 }
 
 /// Runs `layer`.
-pub(super) fn run(args: LayerArgs) -> Result<(), CliError> {
+pub(super) fn run(mut args: LayerArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     if args.output.as_os_str() == "-" && args.json {
         return Err(CliError::usage(
@@ -259,6 +259,7 @@ pub(super) fn run(args: LayerArgs) -> Result<(), CliError> {
         ui::note(&a.to_string());
     }
     smartmesh::place(&mut layered.mesh, plane_z);
+    args.output_format.periodic_from_recipe(to, &layered.mesh, &pairs)?;
     let written = args.output_format.write(&args.output, &layered.mesh, to)?;
     let r = &layered.report;
     for n in &r.notes {

@@ -122,7 +122,7 @@ fn poly_line(args: &MeshArgs, from: Option<Format>, e: &MeshError) -> Option<u64
 }
 
 /// Runs `mesh`.
-pub(super) fn run(args: MeshArgs) -> Result<(), CliError> {
+pub(super) fn run(mut args: MeshArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     if args.output.as_os_str() == "-" && args.json {
         return Err(CliError::usage(
@@ -168,6 +168,7 @@ pub(super) fn run(args: MeshArgs) -> Result<(), CliError> {
     for m in &periodic {
         ui::note(&m.to_string());
     }
+    args.output_format.periodic_from_recipe(to, &mesh, &pairs)?;
     let report = args.output_format.write(&args.output, &mesh, to)?;
     let topo = Topology::from_mesh(&mesh);
     let quality = QualitySummary::of(&mesh.points, &topo);

@@ -10,7 +10,9 @@ use smartmesh::formats::{
     GmshWrite, MeditWrite, OpenFoamWrite, StlWrite, TaggedMesh, VtkWrite, VtuEncoding,
     WriteOptions, WriteReport,
 };
+use smartmesh::periodic::{PeriodicPair, Transform};
 use smartmesh::recipe::{GlobalOverrides, Recipe, RecipeFormat};
+use smartmesh::Topology;
 
 use super::{parse_format, ui, CliError};
 
@@ -85,13 +87,18 @@ pub(crate) struct MeshOutputArgs {
     /// like Wall, Airfoil, Cylinder; `patch` otherwise); repeatable.
     #[arg(long, value_name = "NAME=TYPE", value_parser = patch_type, help_heading = "Output")]
     pub patch_type: Vec<(String, String)>,
-    /// OpenFOAM: a periodic pair written as two `cyclic` patches, by tag numbers:
+    /// OpenFOAM, Fluent: a periodic pair written as two `cyclic` patches (Fluent: a
+    /// `periodic` and a `periodic-shadow` zone with their face pairs), by tag numbers:
     /// `MASTER=SLAVE:DX,DY[,DZ]` for a translation from master to slave (`302,303,304=
     /// 308,307,306:0,30`), `MASTER=SLAVE@CX,CY,ANGLE` for a rotation of ANGLE degrees
-    /// about the z axis through (CX, CY); repeatable. The recipe's PERIODIC pairs, spelt
-    /// on the command line.
+    /// about the z axis through (CX, CY); repeatable. Without it, a recipe's PERIODIC pairs
+    /// (`--recipe` of mesh, remesh, layer, adapt, convert) are written so.
     #[arg(long, value_name = "MASTER=SLAVE:DX,DY", value_parser = cyclic_pair, help_heading = "Output")]
     pub cyclic: Vec<CyclicPair>,
+    /// The recipe's PERIODIC pairs as `cyclic` pairs, written when `--cyclic` gives
+    /// none (set by the commands that read a recipe, not a flag).
+    #[arg(skip)]
+    pub recipe_cyclic: Vec<CyclicPair>,
 }
 
 /// A `--cyclic` value: `302,303=306,307:0,30` or `1=2@0,0,60`.
@@ -172,11 +179,67 @@ impl MeshOutputArgs {
                 patch_types: self.patch_type.iter().cloned().collect(),
                 wedge: self.wedge,
                 binary: self.binary,
-                cyclic: self.cyclic.clone(),
+                // The command line wins over the recipe.
+                cyclic: if self.cyclic.is_empty() {
+                    self.recipe_cyclic.clone()
+                } else {
+                    self.cyclic.clone()
+                },
             },
             stl: StlWrite { binary: self.binary },
             main_name: None,
         }
+    }
+
+    /// Takes a recipe's periodic `pairs`, resolved on `mesh` (tag numbers by the curves'
+    /// tags or names), as the pairs an output in `format` glues: OpenFOAM's `cyclic`
+    /// patches, Fluent's periodic zones. A translation (dx, dy) is (dx, dy, 0); a rotation is about the z axis
+    /// through its centre. `--cyclic` wins: given, the recipe's pairs are left, said.
+    pub(crate) fn periodic_from_recipe(
+        &mut self,
+        format: Format,
+        mesh: &TaggedMesh,
+        pairs: &[PeriodicPair],
+    ) -> Result<(), CliError> {
+        let what = match format {
+            Format::OpenFoam => "cyclic patch pairs",
+            Format::Fluent => "periodic and periodic-shadow zones",
+            _ => return Ok(()),
+        };
+        if pairs.is_empty() {
+            return Ok(());
+        }
+        if !self.cyclic.is_empty() {
+            ui::note(&format!(
+                "--cyclic given: the recipe's {} PERIODIC pair(s) are not written as {what}",
+                pairs.len()
+            ));
+            return Ok(());
+        }
+        let topology = Topology::from_mesh(mesh);
+        self.recipe_cyclic = pairs
+            .iter()
+            .map(|p| {
+                let (master, slave) =
+                    p.side_tags(&topology).map_err(|e| CliError::context(e.to_string(), e))?;
+                let transform = match p.transform {
+                    Transform::Translation([dx, dy]) => CyclicTransform::Translation([dx, dy, 0.0]),
+                    Transform::Rotation { centre: [cx, cy], angle_degrees } => {
+                        CyclicTransform::Rotation {
+                            axis: [0.0, 0.0, 1.0],
+                            centre: [cx, cy, 0.0],
+                            angle_degrees,
+                        }
+                    }
+                };
+                Ok(CyclicPair { master, slave, transform })
+            })
+            .collect::<Result<_, CliError>>()?;
+        ui::note(&format!(
+            "the recipe's {} PERIODIC pair(s) written as {what} (--cyclic replaces them)",
+            pairs.len()
+        ));
+        Ok(())
     }
 
     /// The mesh format of `output`: `--to`, else its extension; a usage error when

@@ -200,7 +200,7 @@ fn stats_json(
 }
 
 /// Runs `remesh`.
-pub(super) fn run(args: RemeshArgs) -> Result<(), CliError> {
+pub(super) fn run(mut args: RemeshArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     // Checked before any input is read (a bad count is usage, whatever the input).
     super::set_threads(args.threads)?;
@@ -335,6 +335,7 @@ pub(super) fn run(args: RemeshArgs) -> Result<(), CliError> {
     {
         ui::note(&m.to_string());
     }
+    args.output_format.periodic_from_recipe(to, &out.mesh, &pairs)?;
     args.output_format.write(output, &out.mesh, to)?;
     if args.json {
         let mut text = serde_json::to_string_pretty(&stats_json(&out.stats, &read_notes)?)?;

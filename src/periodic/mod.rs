@@ -100,6 +100,24 @@ impl PeriodicPair {
     pub fn label(&self) -> String {
         format!("master {} and slave {}", labels(&self.master), labels(&self.slave))
     }
+
+    /// The tags of the master's and of the slave's curves on `topology`, each side's in
+    /// the order its curves are listed, without repeats: what a solver format names the
+    /// two sides by (OpenFOAM `cyclic` patches, Fluent periodic zones).
+    pub fn side_tags(&self, topology: &Topology) -> Result<(Vec<i32>, Vec<i32>), PeriodicError> {
+        let label = self.label();
+        let tags = |names: &[EntityRef]| -> Result<Vec<i32>, PeriodicError> {
+            let (_, _, found) = side(topology, names, &label)?;
+            let mut out: Vec<i32> = Vec::with_capacity(found.len());
+            for t in found {
+                if !out.contains(&t) {
+                    out.push(t);
+                }
+            }
+            Ok(out)
+        };
+        Ok((tags(&self.master)?, tags(&self.slave)?))
+    }
 }
 
 /// The curves as a command line spells them, "302, 303".

@@ -17,7 +17,11 @@
 //! - interior face zones (bc-type 2) named as Fluent names its default ones
 //!   (`default-interior`, `interior`, `interior-N`) are dropped, said in the report, as
 //!   are inner faces of a boundary zone; another named interior zone is an inner
-//!   surface (the writer's tagged inner faces) and kept as tagged cells.
+//!   surface (the writer's tagged inner faces) and kept as tagged cells;
+//! - periodic face pairs (`(18 ...)`): each pair's faces must lie in the section's
+//!   periodic and shadow zones (else the read fails at the section's line); the zones
+//!   are read as named boundary tags and a note gives the pair count, the pairing
+//!   itself is not kept (a tagged mesh holds no face pairs).
 
 use std::collections::BTreeMap;
 
@@ -246,6 +250,39 @@ fn boundary<'r>(
     for (zone, n) in dropped {
         let name = raw.names.iter().find(|z| z.0 == zone).map_or("", |z| z.2.as_str());
         report.note(format!("face zone {zone} `{name}`: {n} inner faces dropped"));
+    }
+    Ok(())
+}
+
+/// Checks each periodic face-pair section against the faces' zones and notes it.
+pub(super) fn check_periodic(raw: &Raw, report: &mut ReadReport) -> Result<()> {
+    let name = |z: u32| raw.names.iter().find(|n| n.0 == z).map_or("", |n| n.2.as_str());
+    for (line, pz, sz, pairs) in &raw.periodic {
+        let at = |why: String| {
+            let mut e = bad(why);
+            e.at = Some(crate::Position::Line(*line));
+            e
+        };
+        for &(f, s) in pairs {
+            for (face, zone) in [(f, *pz), (s, *sz)] {
+                let got = usize::try_from(face)
+                    .ok()
+                    .and_then(|i| i.checked_sub(1))
+                    .and_then(|i| raw.face_zone.get(i));
+                if got != Some(&zone) {
+                    return Err(at(format!(
+                        "periodic face pair ({f:x}, {s:x}): face {face:x} is not in zone {zone}"
+                    )));
+                }
+            }
+        }
+        report.note(format!(
+            "periodic zones {pz} `{}` and {sz} `{}`: {} face pairs (read as named boundary \
+             tags; the pairing is not kept)",
+            name(*pz),
+            name(*sz),
+            pairs.len()
+        ));
     }
     Ok(())
 }

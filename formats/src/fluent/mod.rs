@@ -30,7 +30,9 @@
 //!   tag; boundary faces by the physical tag of the boundary cell on them, one zone per
 //!   tag, its type from the name ([`bc_type`]), boundary faces with no tagged cell in
 //!   `defaultFaces` (`wall`);
-//! - only the nodes the cells use (Fluent nodes belong to faces).
+//! - only the nodes the cells use (Fluent nodes belong to faces);
+//! - periodic sides ([`crate::OpenFoamWrite::cyclic`]) as a `periodic` and a
+//!   `periodic-shadow` zone with their face pairs (module `periodic`).
 //!
 //! Refused: a mesh without surface or volume cells, a 2D mesh off the z = 0 plane, a
 //! face shared by more than two cells. Reported as dropped: fields, sets, vertex
@@ -40,6 +42,7 @@
 
 mod build;
 mod faces;
+mod periodic;
 mod read;
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -168,6 +171,7 @@ pub fn read_reported(
     let raw = read::parse(bytes)?;
     let mut report = crate::ReadReport::default();
     let mesh = build::build(&raw, &mut report)?;
+    build::check_periodic(&raw, &mut report)?;
     Ok((mesh, report))
 }
 
@@ -186,11 +190,12 @@ fn push_float(out: &mut Vec<u8>, v: f64) {
     }
 }
 
-/// One face zone: its id, type, name and faces.
+/// One face zone: its id, type, name and faces, and its side of a periodic pair.
 struct FaceZone {
     bc: &'static str,
     name: String,
     faces: Vec<u32>,
+    periodic: Option<(usize, bool)>,
 }
 
 /// Writes `mesh` as a Fluent ASCII mesh.
@@ -248,8 +253,11 @@ pub fn write(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
 
     let faces = build_faces(mesh, &cells, corners)?;
     let zones = face_zones(mesh, dim, &faces, opts, &mut report);
+    let sides: Vec<_> = zones.iter().map(|z| (z.periodic, z.faces.as_slice())).collect();
+    let pairs =
+        periodic::pair_faces(points, &faces, &sides, &opts.openfoam.cyclic).map_err(cannot)?;
     let mut out = Vec::with_capacity(64 + 40 * used.len() + 40 * faces.len());
-    write_all(&mut out, mesh, dim, &cells, &used, &new_index, &faces, &zones)
+    write_all(&mut out, mesh, dim, &cells, &used, &new_index, &faces, &zones, &pairs)
         .map_err(|e| cannot(e.to_string()))?;
     Ok(Written { main: out, siblings: Vec::new(), report })
 }
@@ -312,7 +320,20 @@ fn face_zones(
     if clash > 0 {
         report.drop(format!("{clash} faces under two tagged cells: the last tag kept"));
     }
-    // (class, tag): 0 inner, 1 tagged inner, 2 tagged boundary, 3 untagged boundary.
+    // (class, tag): 0 inner, 1 tagged inner, 2 tagged boundary, 3 untagged boundary;
+    // the boundary faces of a periodic side's tags all under the side's first tag.
+    let roles = periodic::roles(&opts.openfoam.cyclic);
+    let first_of = |t: i32| match roles.get(&t) {
+        Some(&(k, m)) => {
+            let p = &opts.openfoam.cyclic[k];
+            if m {
+                p.master[0]
+            } else {
+                p.slave[0]
+            }
+        }
+        None => t,
+    };
     let mut groups: BTreeMap<(u8, i32), Vec<u32>> = BTreeMap::new();
     for (f, &t) in tag.iter().enumerate() {
         let class = match (faces.c1[f] == NONE, t != 0) {
@@ -321,19 +342,30 @@ fn face_zones(
             (true, true) => 2,
             (true, false) => 3,
         };
+        let t = if class == 2 { first_of(t) } else { t };
         groups.entry((class, t)).or_default().push(f as u32);
     }
     let mut names = BTreeSet::new();
     let mut zones = Vec::new();
+    let name_of = |t: i32, report: &mut WriteReport| match mesh.tag_name(dim - 1, t) {
+        Some(n) => zone_word(n),
+        None => {
+            report.drop(format!("face tag {t} has no name: written as zone `tag{t}`"));
+            format!("tag{t}")
+        }
+    };
     for ((class, t), list) in groups {
-        let base = match (class, mesh.tag_name(dim - 1, t)) {
+        let periodic = roles.get(&t).copied().filter(|_| class == 2);
+        let base = match (class, periodic) {
             (0, _) => "default-interior".to_string(),
             (3, _) => "defaultFaces".to_string(),
-            (_, Some(n)) => zone_word(n),
-            (_, None) => {
-                report.drop(format!("face tag {t} has no name: written as zone `tag{t}`"));
-                format!("tag{t}")
+            // A side of several tags: one zone named from them all, as OpenFOAM's.
+            (_, Some((k, m))) => {
+                let p = &opts.openfoam.cyclic[k];
+                let side = if m { &p.master } else { &p.slave };
+                side.iter().map(|&t| name_of(t, report)).collect::<Vec<_>>().join("_")
             }
+            (_, None) => name_of(t, report),
         };
         let mut name = base.clone();
         let mut k = 1;
@@ -341,12 +373,14 @@ fn face_zones(
             k += 1;
             name = format!("{base}_{k}");
         }
-        let bc = match class {
-            0 | 1 => "interior",
-            3 => "wall",
+        let bc = match (class, periodic) {
+            (0 | 1, _) => "interior",
+            (3, _) => "wall",
+            (_, Some((_, true))) => "periodic",
+            (_, Some((_, false))) => "periodic-shadow",
             _ => zone_type(&name, opts, report),
         };
-        zones.push(FaceZone { bc, name, faces: list });
+        zones.push(FaceZone { bc, name, faces: list, periodic });
     }
     zones
 }
@@ -368,6 +402,7 @@ fn write_all(
     new_index: &[u32],
     faces: &Faces,
     zones: &[FaceZone],
+    pairs: &[periodic::FacePairs],
 ) -> std::io::Result<()> {
     writeln!(out, "(0 \"Fluent mesh written by smartmesh\")")?;
     writeln!(out, "(1 \"smartmesh {}\")", env!("CARGO_PKG_VERSION"))?;
@@ -418,7 +453,10 @@ fn write_all(
     // Faces.
     writeln!(out, "(13 (0 1 {} 0))", hex!(faces.len()))?;
     let mut next = 1usize;
+    // Each zone's id and first face, for the periodic face pairs.
+    let mut placed: Vec<(usize, usize)> = Vec::with_capacity(zones.len());
     for zone in zones {
+        placed.push((id, next));
         let sizes: BTreeSet<usize> =
             zone.faces.iter().map(|&f| faces.face(f as usize).len()).collect();
         let mixed = sizes.len() > 1;
@@ -455,6 +493,16 @@ fn write_all(
         names.push((id, zone.bc, zone.name.clone()));
         id += 1;
         next = last + 1;
+    }
+    // Periodic face pairs: a master face, then its shadow.
+    for p in pairs {
+        let ((mid, m0), (sid, s0)) = (placed[p.master_zone], placed[p.shadow_zone]);
+        let n = p.shadow_of.len();
+        writeln!(out, "(18 (1 {} {} {})(", hex!(n), hex!(mid), hex!(sid))?;
+        for (i, &s) in p.shadow_of.iter().enumerate() {
+            writeln!(out, "{} {}", hex!(m0 + i), hex!(s0 + s as usize))?;
+        }
+        writeln!(out, "))")?;
     }
     for (id, kind, name) in names {
         writeln!(out, "(45 ({id} {kind} {name})())")?;

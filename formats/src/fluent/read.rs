@@ -4,7 +4,8 @@
 //! `(10 (zone first last type [ND])(x y [z] ...))`; cells `(12 (zone first last type
 //! elem-type)[(types...)])`; faces `(13 (zone first last bc-type face-type)(n0 n1 ...
 //! c0 c1 ...))` (face-type 0 or 5: each face's node count first); zone names `(45 (id
-//! type name)())` and `(39 ...)`. Every other ASCII section is skipped by its balanced
+//! type name)())` and `(39 ...)`; periodic face pairs `(18 (first last zone shadow)(f s
+//! ...))`. Every other ASCII section is skipped by its balanced
 //! parentheses (strings may hold parentheses). Binary variants: 20xx (single precision:
 //! f32 nodes, i32 integers) and 30xx (f64 nodes; i32 integers as Fluent writes them,
 //! or i64 as meshio's writer does: the width whose data is followed by `)` and `End of
@@ -41,7 +42,14 @@ pub(super) struct Raw {
     pub node_cells: Vec<(u32, u64, Vec<u64>)>,
     /// Zone names: (zone, type word, name).
     pub names: Vec<(u32, String, String)>,
+    /// Periodic face pairs `(18 ...)`: (header line, periodic zone, shadow zone, pairs of
+    /// 1-based face indices).
+    pub periodic: Vec<PeriodicSection>,
 }
+
+/// A periodic face-pair section: its header line, the periodic and the shadow zone,
+/// the pairs of 1-based face indices.
+pub(super) type PeriodicSection = (u64, u32, u32, Vec<(u64, u64)>);
 
 /// How the integers and floats of a section's data are written.
 #[derive(Clone, Copy)]
@@ -287,6 +295,7 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Raw> {
             12 | 2012 | 3012 => with_width(&mut c, &mut raw, index, cells)?,
             13 | 2013 | 3013 => with_width(&mut c, &mut raw, index, faces)?,
             39 | 45 => zone_name(&mut c, &mut raw)?,
+            18 => periodic(&mut c, &mut raw)?,
             i if i >= 2000 => {
                 return Err(Error::new(ErrorKind::Unsupported(format!(
                     "binary section {i} (line {}): only nodes, cells and faces are read in binary",
@@ -491,6 +500,33 @@ fn faces(c: &mut Cur<'_>, raw: &mut Raw, enc: Enc) -> Result<()> {
         raw.face_zone.push(zone);
     }
     c.close_data(enc)
+}
+
+/// `(18 (first last periodic-zone shadow-zone)(f s ...))`: the face pairs of a
+/// periodic zone and its shadow, hexadecimal.
+fn periodic(c: &mut Cur<'_>, raw: &mut Raw) -> Result<()> {
+    let line = c.line();
+    let h = c.header("periodic face-pair section")?;
+    if h.len() != 4 {
+        return Err(c.expected("a periodic header `(first last periodic-zone shadow-zone)`"));
+    }
+    if h[1].saturating_add(1) < h[0] {
+        return Err(c.expected("a periodic header whose last index is not before its first"));
+    }
+    let n = h[1].saturating_add(1) - h[0];
+    let zone = |v: u64| u32::try_from(v).map_err(|_| c.expected("a zone id below 2^32"));
+    let (pz, sz) = (zone(h[2])?, zone(h[3])?);
+    c.eat(b'(')?;
+    c.check_count("the periodic face pairs", n.saturating_mul(2), 2)?;
+    let mut pairs = Vec::with_capacity(n as usize);
+    for _ in 0..n {
+        let f = c.number(16, "a periodic face")?;
+        let s = c.number(16, "its shadow face")?;
+        pairs.push((f, s));
+    }
+    c.skip_balanced(2)?;
+    raw.periodic.push((line, pz, sz, pairs));
+    Ok(())
 }
 
 fn zone_name(c: &mut Cur<'_>, raw: &mut Raw) -> Result<()> {

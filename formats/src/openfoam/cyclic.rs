@@ -59,7 +59,7 @@ impl CyclicTransform {
     }
 
     /// Whether the numbers are finite and a rotation's axis is not zero.
-    fn is_valid(&self) -> bool {
+    pub(crate) fn is_valid(&self) -> bool {
         match *self {
             CyclicTransform::Translation(t) => t.iter().all(|x| x.is_finite()),
             CyclicTransform::Rotation { axis, centre, angle_degrees } => {
@@ -225,7 +225,7 @@ fn vector(v: [f64; 3]) -> String {
 }
 
 /// The diagonal of the points' bounding box (1 when they have no extent).
-fn diagonal(points: &[[f64; 3]]) -> f64 {
+pub(crate) fn diagonal(points: &[[f64; 3]]) -> f64 {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for p in points {
         for k in 0..3 {
@@ -257,8 +257,9 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 /// The slave faces in the order of the master faces they are images of, each turned
-/// so its first point is the image of its master's first point.
-fn order_slave(
+/// so its first point is the image of its master's first point (the Fluent writer
+/// pairs its periodic faces by it too, the second member of each face then its index).
+pub(crate) fn order_slave(
     points: &[[f64; 3]],
     master: &[(Vec<u32>, u32)],
     slave: Faces,

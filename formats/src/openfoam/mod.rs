@@ -36,14 +36,14 @@
 //! `wedge` ([`OpenFoamWrite::wedge`], axisymmetric cases): the mesh in y >= 0 is turned
 //! by ±angle/2 about the x axis, its points on the axis shared by both planes.
 //!
-//! Periodic sides ([`OpenFoamWrite::cyclic`], set by `--cyclic`): each pair's master
-//! tags one `cyclic` patch, its slave tags another, faces in matching order (module
-//! `cyclic`).
+//! Periodic sides ([`OpenFoamWrite::cyclic`], set by `--cyclic` or a recipe's PERIODIC
+//! section): each pair's master tags one `cyclic` patch, its slave tags another, faces
+//! in matching order (module `cyclic`).
 //!
 //! Not done yet: cellZones/faceZones of a 2D
 //! mesh's face tags and inner curves; the report says what is left.
 
-mod cyclic;
+pub(crate) mod cyclic;
 pub mod extrude;
 mod read;
 mod read3d;
