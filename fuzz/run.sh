@@ -2,10 +2,14 @@
 # Runs every reader's fuzz target for a fixed time each (default 60 s), seeded with the
 # public fixtures. Not part of CI (slow); run before a release or after touching a reader:
 #   fuzz/run.sh [seconds-per-target] [target...]   (default: every target)
-# Needs cargo-fuzz (`cargo install cargo-fuzz`). Uses the nightly toolchain when one is
-# installed; otherwise RUSTC_BOOTSTRAP=1 lets stable accept the sanitizer flags cargo-fuzz
-# passes. Each target's libFuzzer log goes to fuzz/logs/<target>.log and the closing
-# summary (runs, seconds) is printed at the end, for fuzz/README.md.
+# With cargo-fuzz (`cargo install cargo-fuzz`) it uses `cargo fuzz run` (AddressSanitizer),
+# on the nightly toolchain when one is installed, otherwise with RUSTC_BOOTSTRAP=1 so that
+# stable accepts the sanitizer flags cargo-fuzz passes. Without cargo-fuzz it builds the
+# targets with plain `cargo build --release` and the coverage flags cargo-fuzz passes
+# (`-s none`: no sanitizer, which the readers' `forbid(unsafe_code)` makes safe to leave
+# out; debug assertions and overflow checks on) and runs the libFuzzer binaries directly.
+# Each target's libFuzzer log goes to fuzz/logs/<target>.log and the closing summary
+# (runs, seconds) is printed at the end, for fuzz/README.md.
 set -euo pipefail
 cd "$(dirname "$0")"
 secs="${1:-60}"
@@ -17,6 +21,12 @@ if rustup toolchain list 2>/dev/null | grep -q '^nightly'; then toolchain=(+nigh
 mkdir -p logs
 fixtures="${SMARTMESH_PUBLIC_FIXTURES:-$(cd ../.. && pwd)/shared/fixtures/public}"
 export RUSTC_BOOTSTRAP=1
+triple="$(rustc -vV | sed -n 's/^host: //p')"
+if ! cargo fuzz --version >/dev/null 2>&1; then
+    export RUSTFLAGS="-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4 -Cllvm-args=-sanitizer-coverage-inline-8bit-counters -Cllvm-args=-sanitizer-coverage-pc-table -Cllvm-args=-sanitizer-coverage-trace-compares --cfg fuzzing -Cdebug-assertions -Coverflow-checks -Ccodegen-units=16"
+    # FUZZ_PREBUILT=1: run the binaries a previous call built (the sources changed since).
+    [ -n "${FUZZ_PREBUILT:-}" ] || cargo build --release --target "$triple" "${targets[@]/#/--bin=}"
+fi
 declare -A seeds=([gmsh]="gmsh/*.msh 3d/*.msh" [gmsh_pos]="" [vtk_legacy]="vtk/*.vtk 3d/*.vtk" [vtu]="vtk/*.vtu 3d/*.vtu" [triangle]="triangle/*.ele triangle/*.poly triangle/*.node" [obj]="obj/*.obj" [medit]="medit/*.mesh medit/*.meshb 3d/*.mesh 3d/*.meshb" [tetgen]="" [su2]="" [stl]="" [fluent]="" [openfoam]="" [recipe_libconfig]="" [recipe_resolve]="")
 status=0
 for target in "${targets[@]}"; do
@@ -34,6 +44,30 @@ for target in "${targets[@]}"; do
             [ -f "$base.node" ] || continue
             { cat "$ele"; printf '\0'; cat "$base.node"; if [ -f "$base.poly" ]; then printf '\0'; cat "$base.poly"; fi; } > "$corpus/$(basename "$base").set"
         done
+    fi
+    # The formats no public fixture holds, seeded with what smartmesh writes of the 3D
+    # fixtures (when a build of it is there: `cargo build --release`).
+    sm=../target/release/smartmesh
+    if [ -x "$sm" ] && [ -d "$fixtures/3d" ]; then
+        seedtmp="$(mktemp -d)"
+        for src in hex_prism_pyr.v41_ascii.msh box_cyl.v41_binary.msh; do
+            base="${src%%.*}"
+            case "$target" in
+                stl) "$sm" convert -q "$fixtures/3d/$src" "$seedtmp/$base.stl" && cp "$seedtmp/$base.stl" "$corpus/" || true
+                     "$sm" convert -q "$fixtures/3d/$src" "$seedtmp/${base}_b.stl" --binary && cp "$seedtmp/${base}_b.stl" "$corpus/" || true ;;
+                su2) "$sm" convert -q "$fixtures/3d/$src" "$seedtmp/$base.su2" && cp "$seedtmp/$base.su2" "$corpus/" || true ;;
+                fluent) "$sm" convert -q "$fixtures/3d/$src" "$seedtmp/$base.fluent.msh" && cp "$seedtmp/$base.fluent.msh" "$corpus/" || true ;;
+                tetgen) if "$sm" convert -q "$fixtures/3d/$src" "$seedtmp/$base.ele" --to tetgen; then
+                            { cat "$seedtmp/$base.ele"; printf '\0'; cat "$seedtmp/$base.node"; printf '\0'; cat "$seedtmp/$base.face" 2>/dev/null || true; } > "$corpus/$base.set"
+                        fi ;;
+                openfoam) if "$sm" convert -q "$fixtures/3d/$src" "$seedtmp/$base.foam"; then
+                              pm="$(dirname "$(find "$seedtmp" -name points -path '*polyMesh*' | head -1)")"
+                              { first=1; for f in points faces owner neighbour boundary cellZones faceZones; do
+                                  [ $first = 1 ] || printf '\0'; first=0; cat "$pm/$f" 2>/dev/null || true; done; } > "$corpus/$base.case"
+                          fi ;;
+            esac
+        done
+        rm -rf "$seedtmp"
     fi
     if [ "$target" = tetgen ]; then
         # No public TetGen file: a tetrahedron set (`.ele NUL .node NUL .face`) and a
@@ -73,7 +107,14 @@ for target in "${targets[@]}"; do
         done
     fi
     echo "== $target for ${secs}s"
-    if ! cargo "${toolchain[@]}" fuzz run "$target" "$corpus" -- -max_total_time="$secs" -rss_limit_mb=2048 -max_len=400000 2>&1 | tee "logs/$target.log"; then
+    flags=(-max_total_time="$secs" -rss_limit_mb=2048 -max_len=400000)
+    if cargo fuzz --version >/dev/null 2>&1; then
+        run=(cargo "${toolchain[@]}" fuzz run "$target" "$corpus" -- "${flags[@]}")
+    else
+        mkdir -p "artifacts/$target"
+        run=("target/$triple/release/$target" "$corpus" "${flags[@]}" -artifact_prefix="artifacts/$target/")
+    fi
+    if ! "${run[@]}" 2>&1 | tee "logs/$target.log"; then
         echo "!! $target failed: a crash (see fuzz/artifacts/$target) or a build error (see fuzz/logs/$target.log)" >&2
         status=1
     fi

@@ -604,6 +604,11 @@ pub struct TaggedMesh {
     /// `$Entities` lists them. May list several physical groups per entity and entities
     /// without cells (a Gmsh point entity, say). Empty when the file has no such table.
     pub entities: BTreeMap<(u8, i32), Vec<i32>>,
+    /// The bounding box `[xmin, ymin, zmin, xmax, ymax, zmax]` of each geometrical entity
+    /// `(dimension, entity tag)` as a file gives it (Gmsh 4.1's `$Entities`: the model's
+    /// boxes, which may be larger than the nodes'; a point entity's coordinates twice).
+    /// The Gmsh writer keeps a box that holds the entity's nodes and computes the others.
+    pub entity_boxes: BTreeMap<(u8, i32), [f64; 6]>,
     /// Named point data, one item per point.
     pub point_data: BTreeMap<String, DataArray>,
     /// Named cell data, one item per cell over all blocks in block order.

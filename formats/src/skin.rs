@@ -132,6 +132,7 @@ pub(crate) fn skin<'a>(
         coordinate_dim: mesh.coordinate_dim,
         tag_names: mesh.tag_names.clone(),
         entities: mesh.entities.clone(),
+        entity_boxes: mesh.entity_boxes.clone(),
         point_data: mesh.point_data.clone(),
         point_sets: mesh.point_sets.clone(),
         holes: mesh.holes.clone(),

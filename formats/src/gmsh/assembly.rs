@@ -253,6 +253,7 @@ impl Reader<'_> {
             };
         }
         mesh.entities = std::mem::take(&mut self.entities);
+        mesh.entity_boxes = std::mem::take(&mut self.entity_boxes);
         // MSH always stores z; a mesh is 2D when every z is 0 (the convention of the
         // other readers).
         mesh.coordinate_dim = if mesh.points.iter().all(|p| p[2] == 0.0) { 2 } else { 3 };

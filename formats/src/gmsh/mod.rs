@@ -24,7 +24,7 @@
 //! - `$PhysicalNames` → [`TaggedMesh::tag_names`];
 //! - 4.1 `$Entities` → [`TaggedMesh::entities`] (every entity, points to volumes, with
 //!   its physical tags; its point or bounding box is checked, finite and no minimum
-//!   above its maximum, and not kept: the writer computes boxes from the nodes);
+//!   above its maximum, and kept in [`TaggedMesh::entity_boxes`]);
 //!   the physical tag of a cell is the first physical tag of its entity (0 when none
 //!   or without `$Entities`, as for Gmsh: such a file has no groups), its geometrical
 //!   tag the entity tag; the cells of a group named [`UNTAGGED`] are read as untagged
@@ -70,7 +70,9 @@
 //! Writing ([`GmshWrite`]: its `version` and `binary`):
 //! - 4.1: `$PhysicalNames`, `$Entities` (one entity per dimension and geometrical tag,
 //!   with the physical tags of [`TaggedMesh::entities`] where it lists them, and the
-//!   bounding box of the nodes of its cells, zeros for an entity without any; cells of
+//!   box of [`TaggedMesh::entity_boxes`] where it holds the nodes of the entity's cells
+//!   (a file's boxes round trip as read), else the bounding box of those nodes (zeros
+//!   for an entity with neither); cells of
 //!   one entity with different physical tags are split onto new entities, which the
 //!   report says), `$Nodes` in entity blocks (a node goes to the lowest-dimensional
 //!   entity using it; nodes no cell uses go to the first entity of the highest
@@ -190,6 +192,9 @@ pub fn read_reported(bytes: &[u8], _ctx: &ReadContext<'_>) -> Result<(TaggedMesh
 }
 
 /// What an MSH file holds: a mesh, or (Gmsh's data-only file) node views alone.
+// Returned once per file read, never stored in bulk: the size of the mesh's table
+// headers inline costs nothing, and boxing it would change the public API.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum MshContent {
     /// A mesh, with its data views as point and cell data ([`read`]).

@@ -36,7 +36,8 @@ pub(super) fn read_entities(r: &mut Reader<'_>) -> Result<()> {
         for _ in 0..count {
             let at = r.c.mark();
             let tag = if binary { r.c.bin_i32("entity tag")? } else { r.c.i32("entity tag")? };
-            let phys = entity_tail(r, dim, tag, at)?;
+            let (phys, bbox) = entity_tail(r, dim, tag, at)?;
+            r.entity_boxes.insert((dim as u8, tag), bbox);
             if r.entities.insert((dim as u8, tag), phys).is_some() {
                 return Err(r.c.err_at(
                     at,
@@ -94,7 +95,7 @@ pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
                 parent_tag = r.c.bin_i32("parent tag")?;
                 let n = r.c.bin_count(st, "number of partitions of the entity", 4)?;
                 r.c.take_array(n, 4, "partition tags")?;
-                phys = entity_tail(r, dim, tag, at)?;
+                phys = entity_tail(r, dim, tag, at)?.0;
             } else {
                 tag = r.c.i32("entity tag")?;
                 parent_dim = r.c.i32("parent dimension")?;
@@ -103,7 +104,7 @@ pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
                 for _ in 0..n {
                     r.c.i32("partition tag")?;
                 }
-                phys = entity_tail(r, dim, tag, at)?;
+                phys = entity_tail(r, dim, tag, at)?.0;
             }
             // A part of a model entity of its own dimension stands for it; a partition
             // boundary (a curve whose parent is a surface) stands for itself.
@@ -125,10 +126,15 @@ pub(super) fn read_partitioned_entities(r: &mut Reader<'_>) -> Result<()> {
 /// The end of an entity's record in `$Entities` and `$PartitionedEntities`, alike in
 /// both: its coordinates (a point's) or bounding box, checked (finite; no minimum above
 /// its maximum: Gmsh writes zeros for an entity without a box, meshio zeros always) and
-/// not kept, since the writer computes each entity's box from its nodes; its physical
-/// tags, returned; its bounding entities (curves and up), read past. `at` is where the
-/// record starts.
-fn entity_tail(r: &mut Reader<'_>, dim: usize, tag: i32, at: Position) -> Result<Vec<i32>> {
+/// returned as `[min, max]` (a point's coordinates twice), which the writer keeps where
+/// it holds the entity's nodes; its physical tags, returned; its bounding entities
+/// (curves and up), read past. `at` is where the record starts.
+fn entity_tail(
+    r: &mut Reader<'_>,
+    dim: usize,
+    tag: i32,
+    at: Position,
+) -> Result<(Vec<i32>, [f64; 6])> {
     let n_coords = if dim == 0 { 3 } else { 6 };
     let mut xyz = [0.0f64; 6];
     let coords_at = r.c.pos();
@@ -150,6 +156,9 @@ fn entity_tail(r: &mut Reader<'_>, dim: usize, tag: i32, at: Position) -> Result
         tag,
         if r.c.binary { Position::Byte(coords_at as u64) } else { at },
     )?;
+    if dim == 0 {
+        xyz.copy_within(0..3, 3);
+    }
     if r.c.binary {
         let st = r.size_t;
         let n = r.c.bin_count(st, "number of physical tags", 4)?;
@@ -158,7 +167,7 @@ fn entity_tail(r: &mut Reader<'_>, dim: usize, tag: i32, at: Position) -> Result
             let n = r.c.bin_count(st, "number of bounding entities", 4)?;
             r.c.take_array(n, 4, "bounding entity tags")?;
         }
-        return Ok(phys);
+        return Ok((phys, xyz));
     }
     let n = r.c.count("number of physical tags", 2)?;
     let mut phys = Vec::with_capacity(n);
@@ -171,7 +180,7 @@ fn entity_tail(r: &mut Reader<'_>, dim: usize, tag: i32, at: Position) -> Result
             r.c.i32("bounding entity tag")?;
         }
     }
-    Ok(phys)
+    Ok((phys, xyz))
 }
 
 /// An entity's point (`dim` 0) or bounding box `min max` (`dim` 1 to 3), as read: every

@@ -42,6 +42,8 @@ pub(super) struct Reader<'a> {
     pub aliases: Vec<(u64, usize)>,
     pub tag_names: BTreeMap<(u8, i32), String>,
     pub entities: BTreeMap<(u8, i32), Vec<i32>>,
+    /// 4.1 `$Entities` boxes as read (`[min, max]`; a point's coordinates twice).
+    pub entity_boxes: BTreeMap<(u8, i32), [f64; 6]>,
     /// 4.1 `$PartitionedEntities`: `(dim, tag)` → (the geometrical tag its cells get,
     /// its physical tags).
     pub partitioned: BTreeMap<(u8, i32), (i32, Vec<i32>)>,
@@ -74,6 +76,7 @@ impl<'a> Reader<'a> {
             aliases: Vec::new(),
             tag_names: BTreeMap::new(),
             entities: BTreeMap::new(),
+            entity_boxes: BTreeMap::new(),
             partitioned: BTreeMap::new(),
             partitions: 0,
             views: Vec::new(),

@@ -170,6 +170,16 @@ pub fn write_legacy(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
 /// lines and polygons only; see `poly_order`); parallel files (`.pvtu`, `.pvtp`) are
 /// read, not written.
 pub fn write_vtu(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
+    write_vtu_into(mesh, opts, Vec::new())
+}
+
+/// [`write_vtu`], the file built in `spare`'s memory (cleared first; memory the process
+/// already touched is not faulted in again).
+pub(crate) fn write_vtu_into(
+    mesh: &TaggedMesh,
+    opts: &WriteOptions,
+    spare: Vec<u8>,
+) -> Result<Written> {
     let ext = opts
         .main_name
         .as_deref()
@@ -186,10 +196,10 @@ pub fn write_vtu(mesh: &TaggedMesh, opts: &WriteOptions) -> Result<Written> {
     }
     if ext == "vtp" {
         let mesh = poly_order(mesh)?;
-        return xml::write(&mesh, opts, true);
+        return xml::write(&mesh, opts, true, spare);
     }
     let (mesh, lost) = order::to_vtk(mesh);
-    let mut w = xml::write(&mesh, opts, false)?;
+    let mut w = xml::write(&mesh, opts, false, spare)?;
     w.report.dropped.extend(lost);
     Ok(w)
 }

@@ -94,6 +94,7 @@ pub(super) fn plan(mesh: &TaggedMesh, report: &mut WriteReport) -> Result<Plan> 
     let (groups, runs) = element_blocks(mesh, ents.len(), &combo_idx, cell_runs);
     let host = host_key.map(|k| index[&k]);
     let node_ent = node_entities(mesh, &mut ents, &groups, &runs, host);
+    given_boxes(mesh, &mut ents);
     let (node_groups, nodes) = node_blocks(ents.len(), &node_ent);
     Ok(Plan { ents, groups, runs, node_groups, nodes })
 }
@@ -364,6 +365,31 @@ fn node_entities(
         }
     }
     node_ent
+}
+
+/// The boxes the mesh was read with ([`TaggedMesh::entity_boxes`]) where they hold the
+/// box of the entity's nodes (or the entity has none): a box from Gmsh's model round
+/// trips as read; a box its nodes have left (a moved or remeshed mesh) is computed.
+fn given_boxes(mesh: &TaggedMesh, ents: &mut [Ent]) {
+    if mesh.entity_boxes.is_empty() {
+        return;
+    }
+    for e in ents.iter_mut() {
+        let Some(b) = mesh.entity_boxes.get(&(e.dim, e.tag)) else { continue };
+        let (lo, hi) = ([b[0], b[1], b[2]], [b[3], b[4], b[5]]);
+        let finite = b.iter().all(|x| x.is_finite()) && (0..3).all(|k| lo[k] <= hi[k]);
+        // A point entity is where its node is; its given point serves one without.
+        let holds = if e.dim == 0 {
+            !e.has_box
+        } else {
+            !e.has_box || (0..3).all(|k| lo[k] <= e.lo[k] && e.hi[k] <= hi[k])
+        };
+        if finite && holds {
+            e.lo = lo;
+            e.hi = hi;
+            e.has_box = true;
+        }
+    }
 }
 
 /// 7. Node blocks: a counting sort of the nodes by entity.

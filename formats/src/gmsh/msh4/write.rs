@@ -55,7 +55,7 @@ fn write_entities(out: &mut Vec<u8>, mesh: &TaggedMesh, plan: &Plan, binary: boo
             let p = e
                 .point
                 .or_else(|| first_node.get(&(ei as u32)).copied())
-                .map_or([0.0; 3], |v| mesh.points[v]);
+                .map_or(if e.has_box { e.lo } else { [0.0; 3] }, |v| mesh.points[v]);
             push_f64s(out, &p, binary);
         } else {
             push_f64s(out, &e.lo, binary);

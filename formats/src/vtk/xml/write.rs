@@ -210,7 +210,13 @@ pub(super) fn push_base64(out: &mut Vec<u8>, data: &[u8]) {
 
 /// Writes a `.vtu` file, or a `.vtp` (PolyData) one when `poly`: the mesh then holds
 /// vertices, lines and polygons only, in that order (`vtk::poly_order`).
-pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions, poly: bool) -> Result<Written> {
+/// `spare`: memory to write the file into (cleared first), reused rather than fresh.
+pub(crate) fn write(
+    mesh: &TaggedMesh,
+    opts: &WriteOptions,
+    poly: bool,
+    mut spare: Vec<u8>,
+) -> Result<Written> {
     let mut plan = Plan::new(mesh, "VTK XML");
     let enc = opts.vtk.vtu_encoding;
     let compress = opts.vtk.compress && enc != VtuEncoding::Ascii;
@@ -243,14 +249,10 @@ pub(crate) fn write(mesh: &TaggedMesh, opts: &WriteOptions, poly: bool) -> Resul
     } else {
         vec![("Cells", &mesh.blocks[..], offsets(mesh))]
     };
-    let mut w = Writer {
-        out: Vec::with_capacity(cap),
-        enc,
-        compress,
-        app: Vec::new(),
-        app_len: 0,
-        deferred: Vec::new(),
-    };
+    spare.clear();
+    spare.reserve(cap);
+    let mut w =
+        Writer { out: spare, enc, compress, app: Vec::new(), app_len: 0, deferred: Vec::new() };
 
     let o = &mut w.out;
     let dataset: &[u8] = if poly { b"PolyData" } else { b"UnstructuredGrid" };
