@@ -279,3 +279,7 @@ fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
 #[cfg(test)]
 #[path = "field3_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "field3_twins.rs"]
+mod twins;

@@ -282,7 +282,6 @@ pub(crate) enum SpaceWork<'a> {
     },
     /// A tensor for every vertex whose exact distance to `source` is within `reach`
     /// (squared distance <= reach², see [`crate::sizing::field3`]), from its closest point.
-    #[allow(dead_code)] // the distance algorithms come next
     FromSource {
         /// The source.
         source: SpaceSource,
