@@ -116,7 +116,6 @@ fn distance_to_point_in_space_is_its_twin() {
         assert!(reached > 0 && reached < mesh.points.len(), "{reached}");
         same_on_any_thread_count(&mesh, &p);
     }
-    let _ = face;
 }
 
 /// The pieces of a border written here from the topology: each surface cell's triangle
@@ -263,6 +262,90 @@ fn distance_to_border_in_space_is_its_twin() {
             assert!(gap < 1e-12, "{v} at {x:?} (d = {d}): {gap:e} {:?}", field.tensors[v]);
         }
         assert!(on_surface > 0);
+        same_on_any_thread_count(&mesh, &p);
+    }
+}
+
+/// DISTANCE_BETWEEN_TWO_BORDERS in space against its twin: the two sheets of a thin box
+/// (0.08 apart), the two walls of a concave right-angle ridge, a coarse box's top and a
+/// box edge. The thickness d1 + d2 and the normal of Fig. 4.6 written here from the
+/// brute-force closest points; tensors to 1e-12.
+#[test]
+fn distance_between_two_borders_in_space_is_its_twin() {
+    use crate::sizing::algorithms::DistanceBetweenTwoBorders;
+    let perp = DistanceFunction::try_new(0.01, 0.1, 0.4, 1.0).unwrap();
+    let par = DistanceFunction::try_new(0.05, 0.2, 0.3, 2.0).unwrap();
+    let reach: f64 = 0.4;
+    let cases: Vec<(TaggedMesh, EntitySet, EntitySet)> = {
+        let thin = jittered_box(5, [1.0, 1.0, 0.08], 0.3, 3);
+        let corner = jittered_box(6, [1.0, 1.0, 1.0], 0.35, 4);
+        let coarse = kuhn_box(2, [0.5, 0.5, 0.3]);
+        let faces =
+            |m: &TaggedMesh, t: i32| EntitySet { faces: vec![face(m, t)], ..EntitySet::default() };
+        let curve0 = EntitySet { curves: vec![0], ..EntitySet::default() };
+        vec![
+            (thin.clone(), faces(&thin, 15), faces(&thin, 16)),
+            (corner.clone(), faces(&corner, 15), faces(&corner, 11)),
+            (coarse.clone(), faces(&coarse, 16), curve0),
+        ]
+    };
+    for (mesh, first, second) in cases {
+        let topology = Topology::from_mesh(&mesh);
+        let algorithm = DistanceBetweenTwoBorders {
+            perpendicular: perp,
+            parallel: par,
+            first: first.clone(),
+            second: second.clone(),
+        };
+        let p = plan(vec![Algorithm::DistanceBetweenTwoBorders(algorithm)], Some(1.0));
+        let field = run(&mesh, &p).unwrap();
+        let (g1, k1) = border_pieces(&mesh, &topology, &first);
+        let (g2, k2) = border_pieces(&mesh, &topology, &second);
+        let mut reached = 0;
+        for (v, x) in mesh.points.iter().enumerate() {
+            let (a, b) = (closest_brute(&g1, *x).unwrap(), closest_brute(&g2, *x).unwrap());
+            let (d1s, d2s) = (a.projection.distance_squared, b.projection.distance_squared);
+            let (d1, d2) = (d1s.sqrt(), d2s.sqrt());
+            let t = d1 + d2;
+            let want = if d1s > reach * reach || d2s > reach * reach || t > reach {
+                SizeTensor3::isotropic(1.0).to_metric()
+            } else {
+                reached += 1;
+                let h = |_: f64| (perp.eval(t), par.eval(t));
+                let on = |k: &[[usize; 3]], c: &crate::geometry::space::SurfacePoint| {
+                    let corners = k[c.triangle as usize].map(|i| mesh.points[i]);
+                    let longest = (0..3)
+                        .map(|i| {
+                            let e = sub3(corners[i], corners[(i + 1) % 3]);
+                            (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt()
+                        })
+                        .fold(0.0, f64::max);
+                    c.projection.distance_squared.sqrt() <= 1e-12 * longest
+                };
+                if on(&k1, &a) {
+                    wall_metric_brute(&mesh, &g1, &k1, *x, h).1
+                } else if on(&k2, &b) {
+                    wall_metric_brute(&mesh, &g2, &k2, *x, h).1
+                } else {
+                    let u1 = unit(sub3(a.projection.foot, *x));
+                    let u2 = unit(sub3(b.projection.foot, *x));
+                    let w = [0, 1, 2].map(|k| d2 * u1[k] - d1 * u2[k]);
+                    let wn = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+                    let n = if wn > 1e-9 * t {
+                        unit(w)
+                    } else if d1 <= d2 {
+                        u1
+                    } else {
+                        u2
+                    };
+                    axial_metric(n, perp.eval(t), par.eval(t))
+                }
+            };
+            let gap = metric_gap(&field.tensors[v].to_metric(), &want);
+            assert!(gap < 1e-12, "{v} at {x:?} (d1 {d1}, d2 {d2}): {gap:e}");
+        }
+        assert_eq!(field.steps[0].vertices_reached, reached);
+        assert!(reached > 0);
         same_on_any_thread_count(&mesh, &p);
     }
 }

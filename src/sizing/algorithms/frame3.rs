@@ -26,6 +26,11 @@ pub(crate) enum Across {
     Point,
 }
 
+/// Whether the vertex whose closest point on `source` is `c` lies on the source.
+pub(crate) fn on_source3(source: &SpaceSource, c: &SpaceClosest) -> bool {
+    c.distance <= ON_SOURCE * source.piece_size(c.piece)
+}
+
 /// The frame of a vertex at `at` with closest point `c` on `source`.
 pub(crate) fn across(source: &SpaceSource, c: &SpaceClosest, at: Point3) -> Across {
     let tolerance = ON_SOURCE * source.piece_size(c.piece);

@@ -53,7 +53,7 @@ pub use declaration::{
 };
 pub use frame::ON_SOURCE;
 pub(crate) use frame::{direction, normal_at, on_source, tangent_at, tensor, unit, Junctions};
-pub(crate) use frame3::{across, wall_tensor};
+pub(crate) use frame3::{across, on_source3, wall_tensor, Across};
 pub(crate) use sources::{border_source, check_entities, reach_of, space_border_source};
 
 use crate::geometry::Point2;
