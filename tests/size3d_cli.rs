@@ -284,3 +284,69 @@ fn a_wall_layer_on_the_cylinder_is_sized_and_mmg3d_follows_it() {
     );
     assert!((0.7..=1.3).contains(&median), "median metric length {median}");
 }
+
+/// A recipe whose second step does not size in space yet (DISTANCE_TO_IMAGINARY_POLYLINE:
+/// its polylines have two coordinates): `recipe check` says so per step, and `size`
+/// refuses the mesh naming the step and the keyword (exit 2), writing nothing.
+const NOT_IN_SPACE: &str = r#"
+[regions]
+cyl = ["Cylinder"]
+
+[polylines]
+Wake = [[0.8, 0.5], [2.0, 0.5]]
+
+[functions.D]
+kind = "distance"
+size_at_source = 0.02
+size_at_max_distance = 0.15
+max_distance = 0.3
+exponent = 1.0
+
+[functions.P]
+kind = "projection"
+size_at_max_distance = 0.15
+max_distance = 0.3
+exponent = 1.0
+
+[[algorithms]]
+type = "uniform"
+regions = ["cyl"]
+size = 0.05
+
+[[algorithms]]
+type = "distance_to_imaginary_polyline"
+perpendicular = "D"
+polyline_distance = "D"
+projection = "P"
+polyline = "Wake"
+"#;
+
+#[test]
+fn a_step_not_sized_in_space_is_said_and_refused() {
+    require_public_fixtures!();
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("n.toml");
+    std::fs::write(&recipe, NOT_IN_SPACE).unwrap();
+    let r = recipe.to_str().unwrap();
+    let o = run(&["recipe", "check", "--json", r, &box_cyl()]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["algorithms"][0]["in_space"], true);
+    assert_eq!(j["algorithms"][1]["in_space"], false);
+    let said = j["sizing"].as_str().unwrap();
+    assert!(
+        said.contains("steps 1 (UNIFORM)")
+            && said.contains("steps 2 (DISTANCE_TO_IMAGINARY_POLYLINE)"),
+        "{said}"
+    );
+    let out = dir.path().join("n.sol");
+    let o = run(&["size", &box_cyl(), "--recipe", r, "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("step 1")
+            && e.contains("DISTANCE_TO_IMAGINARY_POLYLINE is not available on a mesh in space yet"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
