@@ -14,14 +14,14 @@ use crate::geometry::test_support::Rng;
 use std::collections::BTreeMap;
 
 /// A triangulated surface.
-pub(super) struct Mesh {
-    pub(super) points: Vec<Point3>,
-    pub(super) triangles: Vec<[u32; 3]>,
+pub(crate) struct Mesh {
+    pub(crate) points: Vec<Point3>,
+    pub(crate) triangles: Vec<[u32; 3]>,
 }
 
 impl Mesh {
     /// The mean edge length (each edge counted once per triangle).
-    pub(super) fn h(&self) -> f64 {
+    pub(crate) fn h(&self) -> f64 {
         let mut sum = 0.0;
         for t in &self.triangles {
             for i in 0..3 {
@@ -50,7 +50,7 @@ fn normalize(a: Point3) -> Point3 {
 /// points pushed onto the sphere; with vertices at the six poles ±x, ±y, ±z (valence 4),
 /// outward triangles. `jitter` (a fraction of the edge) moves every vertex but the six
 /// poles tangentially at random, then back onto the sphere.
-pub(super) fn octasphere(level: u32, jitter: f64, seed: u64) -> Mesh {
+pub(crate) fn octasphere(level: u32, jitter: f64, seed: u64) -> Mesh {
     let mut points: Vec<Point3> = vec![
         [1.0, 0.0, 0.0],
         [-1.0, 0.0, 0.0],
@@ -110,7 +110,7 @@ pub(super) fn octasphere(level: u32, jitter: f64, seed: u64) -> Mesh {
 /// v as asked, one diagonal per cell, mapped by `f`; `jitter` (a fraction of a cell)
 /// moves the parameters of every vertex off the grid's open edges at random. Returns the
 /// mesh and each vertex's parameters and whether it is on an open edge.
-pub(super) fn grid(
+pub(crate) fn grid(
     nu: usize,
     nv: usize,
     wrap: [bool; 2],

@@ -11,7 +11,7 @@
 
 pub(crate) mod curvature;
 #[cfg(test)]
-mod curvature_tests;
+pub(crate) mod curvature_tests;
 #[cfg(test)]
 mod index_tests;
 pub(crate) mod surface_index;
