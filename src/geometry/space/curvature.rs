@@ -499,7 +499,7 @@ fn symmetric_eigen2(a: f64, b: f64, c: f64) -> ([f64; 2], [[f64; 2]; 2]) {
 }
 
 /// Two unit vectors completing unit `n` into an orthonormal right-handed frame.
-fn tangent_basis(n: Point3) -> (Point3, Point3) {
+pub(crate) fn tangent_basis(n: Point3) -> (Point3, Point3) {
     // Cross with the axis least aligned with n.
     let axis = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
         [1.0, 0.0, 0.0]
@@ -512,23 +512,23 @@ fn tangent_basis(n: Point3) -> (Point3, Point3) {
     (e1, cross(n, e1))
 }
 
-fn sub(a: Point3, b: Point3) -> Point3 {
+pub(crate) fn sub(a: Point3, b: Point3) -> Point3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-fn dot(a: Point3, b: Point3) -> f64 {
+pub(crate) fn dot(a: Point3, b: Point3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-fn cross(a: Point3, b: Point3) -> Point3 {
+pub(crate) fn cross(a: Point3, b: Point3) -> Point3 {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
-fn norm(a: Point3) -> f64 {
+pub(crate) fn norm(a: Point3) -> f64 {
     dot(a, a).sqrt()
 }
 
-fn unit(a: Point3) -> Option<Point3> {
+pub(crate) fn unit(a: Point3) -> Option<Point3> {
     let l = norm(a);
     (l > 0.0 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
 }

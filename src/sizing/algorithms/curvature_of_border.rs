@@ -54,21 +54,23 @@
 //!   `perpendicular(0)` every way. A ridge arm sizes only along itself.
 
 use super::{
-    border_source, direction, normal_at, on_source, reach_of, tangent_at, tensor, Around,
-    Arguments, Declaration, Failure, FunctionKind, Junctions, Parameter, ParameterKind,
-    SizingAlgorithm, Tensor, Work, ON_SOURCE,
+    border_source, check_entities, direction, normal_at, on_source, reach_of, tangent_at,
+    tensor, Around, Arguments, Declaration, Failure, FunctionKind, Junctions, Parameter,
+    ParameterKind, SizingAlgorithm, SpaceTensor, SpaceWork, Tensor, Work, ON_SOURCE,
 };
 use crate::geometry::space::curvature::{
-    surface_curvature, three_point_curvature as three_point_curvature3, CurvatureError,
-    CurvatureSide, SurfaceCurvature,
+    cross as cross3, dot as dot3, norm as norm3, sub as sub3, surface_curvature,
+    tangent_basis as plane_basis, three_point_curvature as three_point_curvature3,
+    unit as unit3, CurvatureError, CurvatureSide, SurfaceCurvature,
 };
-use crate::geometry::space::{Feature, Point3, SurfacePoint};
+use crate::geometry::space::{Feature, Point3, SurfacePoint, TriangleProjection};
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::metric::{eigen2, SizeTensor, SizeTensor3, Sym2, Sym3};
 use crate::sizing::functions::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
 use super::EntitySet;
 use crate::sizing::propagation::{ClosestPoint, Source};
+use crate::sizing::space::{SpaceClosest, SpaceMesh, SpaceSource, SpaceSourceBuilder};
 use crate::topology::Topology;
 
 /// A polyline vertex where the border turns by more than this (radians) is a corner.
@@ -247,6 +249,94 @@ impl SizingAlgorithm for CurvatureOfBorder {
         let tensor = CurvatureTensor { algorithm: self, graph, junctions, curvatures };
         Ok(Work::FromSource { source, reach, tensor })
     }
+
+    const IN_SPACE: bool = true;
+
+    /// In space: the border's surfaces and curves in one source; the tensor from
+    /// [`SpaceBorder`], whose ridges are every topological curve along a border triangle's
+    /// edge (ridges, interface and boundary curves, line cells) and the border curves.
+    fn work_in_space<'a>(
+        &'a self,
+        mesh: &'a SpaceMesh<'a>,
+        topology: &'a Topology,
+    ) -> Result<SpaceWork<'a>, Failure> {
+        let set = &self.borders;
+        check_entities(topology, set)?;
+        if let Some(&index) = set.points.first() {
+            return Err(Failure::UnsupportedEntity { what: "point", index });
+        }
+        if let Some(&index) = set.volumes.first() {
+            return Err(Failure::UnsupportedEntity { what: "volume", index });
+        }
+        let points = mesh.points();
+        let mut builder = SpaceSourceBuilder::new(points);
+        // The pieces in the builder's order (each surface's cells, quads split along
+        // 0–2; each curve's edges), in mesh vertices.
+        let (mut pieces, mut triangles, mut edges) = (Vec::new(), Vec::new(), Vec::new());
+        for &f in &set.faces {
+            builder.surface(topology, f)?;
+            for &c in &topology.faces[f].cells {
+                let v: Vec<u32> =
+                    topology.surface_cells[c].vertices().iter().map(|&x| x as u32).collect();
+                let mut split = vec![[v[0], v[1], v[2]]];
+                if v.len() == 4 {
+                    split.push([v[0], v[2], v[3]]);
+                }
+                for t in split {
+                    pieces.push(MeshPiece::Triangle(triangles.len() as u32));
+                    triangles.push(t);
+                }
+            }
+        }
+        for &c in &set.curves {
+            builder.curve(topology, c)?;
+            for pl in &topology.curves[c].polylines {
+                for [x, y] in pl.edges() {
+                    if points[x] == points[y] {
+                        pieces.push(MeshPiece::Point(x as u32));
+                    } else {
+                        pieces.push(MeshPiece::Segment([x as u32, y as u32]));
+                        edges.push([x as u32, y as u32]);
+                    }
+                }
+                if pl.num_edges() == 0 {
+                    pieces.extend(pl.vertices.first().map(|&v| MeshPiece::Point(v as u32)));
+                }
+            }
+        }
+        if builder.is_empty() {
+            return Err(Failure::NoSource);
+        }
+        let source = builder.build()?;
+        debug_assert_eq!(source.len(), pieces.len());
+        // Curves along the border triangles' edges: not smoothed across.
+        let key = |a: u32, b: u32| (a.min(b), a.max(b));
+        let mut along: Vec<(u32, u32)> =
+            triangles.iter().flat_map(|t| [key(t[0], t[1]), key(t[1], t[2]), key(t[2], t[0])]).collect();
+        along.sort_unstable();
+        along.dedup();
+        for curve in &topology.curves {
+            for pl in &curve.polylines {
+                for [x, y] in pl.edges() {
+                    if along.binary_search(&key(x as u32, y as u32)).is_ok() {
+                        edges.push([x as u32, y as u32]);
+                    }
+                }
+            }
+        }
+        edges.sort_unstable_by_key(|e| key(e[0], e[1]));
+        edges.dedup_by_key(|e| key(e[0], e[1]));
+        let border = SpaceBorder::new(points, &triangles, &edges).map_err(
+            |CurvatureError::VertexOutOfRange { vertex, len, .. }| Failure::EntityOutOfRange {
+                what: "mesh vertex",
+                index: vertex as usize,
+                len,
+            },
+        )?;
+        let reach = reach_of(&[self.perpendicular.max_distance(), self.projection.max_distance()]);
+        let tensor = SpaceCurvatureTensor { algorithm: self, border, pieces };
+        Ok(SpaceWork::FromSource { source, reach, tensor: Box::new(tensor) })
+    }
 }
 
 /// The tensor of CURVATURE_OF_BORDER.
@@ -339,7 +429,6 @@ fn border_tensor(
 /// The sign-free curvature tensor |k1| d1 d1ᵀ + |k2| d2 d2ᵀ of a side: sizes need |k|
 /// only, and unlike the signed shape operator it interpolates between vertices whose
 /// normals a file orients differently.
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 fn curvature_tensor(side: &CurvatureSide) -> Sym3 {
     let mut m = Sym3::ZERO;
     for (k, d) in side.k.iter().zip(&side.directions) {
@@ -354,7 +443,6 @@ fn curvature_tensor(side: &CurvatureSide) -> Sym3 {
     m
 }
 
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 fn lerp_sym3(a: &Sym3, b: &Sym3, t: f64) -> Sym3 {
     let l = |x: f64, y: f64| x + t * (y - x);
     Sym3 {
@@ -373,13 +461,11 @@ fn lerp_sym3(a: &Sym3, b: &Sym3, t: f64) -> Sym3 {
 /// [`CORNER_ANGLE`]), else (an end, a corner, a junction) the one-sided circle, the
 /// curvature of the neighbour when it is smooth, else 0 (a straight piece).
 #[derive(Debug, Clone, Default)]
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 pub(crate) struct CurveArms {
     /// Per curve vertex, its arms (neighbour, curvature) and whether it is smooth.
     arms: std::collections::BTreeMap<u32, (Vec<(u32, f64)>, bool)>,
 }
 
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 impl CurveArms {
     /// The arms of the curves made of `edges` (vertex pairs into `points`, in range).
     pub(crate) fn new(points: &[Point3], edges: &[[u32; 2]]) -> CurveArms {
@@ -447,17 +533,15 @@ impl CurveArms {
 /// What CURVATURE_OF_BORDER knows of a border in space: its surface triangles with their
 /// curvature (ridges apart), and the curves (ridges, interface curves, line cells) with
 /// their arms. `points` are the mesh's; every index is in range.
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 pub(crate) struct SpaceBorder<'a> {
     points: &'a [Point3],
-    triangles: &'a [[u32; 3]],
+    triangles: Vec<[u32; 3]>,
     curvature: SurfaceCurvature,
     arms: CurveArms,
 }
 
 /// Where a vertex's closest point on a border in space lies.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 pub(crate) enum SpaceFoot {
     /// On triangle `triangle` of the border (index into its triangles), as the surface
     /// index reports it.
@@ -466,17 +550,17 @@ pub(crate) enum SpaceFoot {
     Curve { edge: [u32; 2], t: f64, distance: f64, foot: Point3 },
 }
 
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 impl<'a> SpaceBorder<'a> {
     /// The border made of `triangles` and the curve `edges` over `points`; `edges` are
     /// also the ridges the surface's curvature does not smooth across.
     pub(crate) fn new(
         points: &'a [Point3],
-        triangles: &'a [[u32; 3]],
+        triangles: &[[u32; 3]],
         edges: &[[u32; 2]],
     ) -> Result<SpaceBorder<'a>, CurvatureError> {
         let curvature = surface_curvature(points, triangles, edges)?;
-        Ok(SpaceBorder { points, triangles, curvature, arms: CurveArms::new(points, edges) })
+        let arms = CurveArms::new(points, edges);
+        Ok(SpaceBorder { points, triangles: triangles.to_vec(), curvature, arms })
     }
 
     /// The tensor of `p` (mesh vertex `v`, for errors) from its closest point `foot`: on
@@ -648,9 +732,64 @@ impl<'a> SpaceBorder<'a> {
     }
 }
 
+/// A piece of the source in space, in mesh vertices.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum MeshPiece {
+    /// A border triangle (index into the [`SpaceBorder`]'s triangles).
+    Triangle(u32),
+    /// A curve edge.
+    Segment([u32; 2]),
+    /// A curve of one vertex.
+    Point(u32),
+}
+
+/// The tensor of CURVATURE_OF_BORDER in space.
+struct SpaceCurvatureTensor<'a> {
+    algorithm: &'a CurvatureOfBorder,
+    border: SpaceBorder<'a>,
+    /// The source's pieces, by piece index.
+    pieces: Vec<MeshPiece>,
+}
+
+impl SpaceTensor for SpaceCurvatureTensor<'_> {
+    fn tensor(
+        &self,
+        _: &[SpaceSource],
+        v: usize,
+        at: Point3,
+        closest: &[SpaceClosest],
+    ) -> Result<Option<SizeTensor3>, Failure> {
+        let (a, c) = (self.algorithm, &closest[0]);
+        let projection = TriangleProjection {
+            distance_squared: c.distance_squared,
+            foot: c.foot,
+            feature: c.feature,
+        };
+        let foot = match self.pieces.get(c.piece as usize) {
+            Some(&MeshPiece::Triangle(triangle)) => {
+                SpaceFoot::Surface(SurfacePoint { triangle, projection })
+            }
+            Some(&MeshPiece::Segment(edge)) => {
+                let (p, q) = (self.border.points[edge[0] as usize], self.border.points[edge[1] as usize]);
+                let t = parameter(p, q, c.foot);
+                SpaceFoot::Curve { edge, t, distance: c.distance, foot: c.foot }
+            }
+            // A curve of one point has no curvature: the normal size every way, or the
+            // largest size carried inward where that is smaller.
+            Some(&MeshPiece::Point(_)) => {
+                let h = a.perpendicular.eval(c.distance).min(a.projection.eval(c.distance, a.curvature.max_size()));
+                return SizeTensor3::try_new([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [h; 3])
+                    .map(Some)
+                    .ok_or(Failure::Degenerate { vertex: v });
+            }
+            None => return Err(Failure::Degenerate { vertex: v }),
+        };
+        self.border.tensor(a, at, v, &foot).map(Some)
+    }
+}
+
 /// `h_normal` along `n`, and in the plane across it the curvature-to-size function of
 /// the principal curvatures of `k` read in that plane, carried by `projection(d, ·)`.
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 fn tangent_tensor(
     a: &CurvatureOfBorder,
     v: usize,
@@ -675,7 +814,6 @@ fn tangent_tensor(
 /// `h_t` along the curve direction `t`; off the curve (`away` given) `h_away` along
 /// `away`, the tangent's part across it along the second axis, `h_across` along the
 /// third; on the curve `h_across` along both directions across `t`.
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 fn arm_tensor(
     v: usize,
     t: Point3,
@@ -696,22 +834,7 @@ fn arm_tensor(
     tensor.ok_or(Failure::Degenerate { vertex: v })
 }
 
-/// Two unit vectors completing unit `n` into an orthonormal frame.
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
-fn plane_basis(n: Point3) -> (Point3, Point3) {
-    let axis = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
-        [1.0, 0.0, 0.0]
-    } else if n[1].abs() <= n[2].abs() {
-        [0.0, 1.0, 0.0]
-    } else {
-        [0.0, 0.0, 1.0]
-    };
-    let u = unit3(cross3(axis, n)).unwrap_or([1.0, 0.0, 0.0]);
-    (u, cross3(n, u))
-}
-
 /// The parameter of the projection of `q` on segment (a, b), clamped to [0, 1].
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 fn parameter(a: Point3, b: Point3, q: Point3) -> f64 {
     let ab = sub3(b, a);
     let l2 = dot3(ab, ab);
@@ -724,7 +847,6 @@ fn parameter(a: Point3, b: Point3, q: Point3) -> f64 {
 
 /// The barycentric coordinates of `q` (on the triangle's plane) in triangle `t`, from
 /// the sub-triangles' areas along the normal; a third each for a degenerate triangle.
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 fn barycentric(t: [Point3; 3], q: Point3) -> [f64; 3] {
     let n = cross3(sub3(t[1], t[0]), sub3(t[2], t[0]));
     let total = dot3(n, n);
@@ -741,45 +863,16 @@ fn barycentric(t: [Point3; 3], q: Point3) -> [f64; 3] {
     }
 }
 
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 fn triangle_normal(t: [Point3; 3]) -> Option<Point3> {
     unit3(cross3(sub3(t[1], t[0]), sub3(t[2], t[0])))
 }
 
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
-fn sub3(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 fn scale3(a: Point3, s: f64) -> Point3 {
     [a[0] * s, a[1] * s, a[2] * s]
 }
 
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
 fn lerp3(a: Point3, b: Point3, t: f64) -> Point3 {
     [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])]
-}
-
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
-fn dot3(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
-fn cross3(a: Point3, b: Point3) -> Point3 {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
-fn norm3(a: Point3) -> f64 {
-    dot3(a, a).sqrt()
-}
-
-#[cfg_attr(not(test), allow(dead_code))] // The 3D driver's, when it runs this algorithm in space.
-fn unit3(a: Point3) -> Option<Point3> {
-    let l = norm3(a);
-    (l > 0.0 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
 }
 
 #[cfg(test)]
