@@ -128,3 +128,159 @@ fn mmg3d_takes_the_sol_size_writes() {
     let mesh = read_path(&out, None).unwrap();
     assert!(mesh.num_cells_of(CellKind::Tetra) > 2187, "{}", mesh.num_cells_of(CellKind::Tetra));
 }
+
+/// A wall layer on the cylinder: across the wall 0.02 growing to 0.15 at 0.3 away, along
+/// it 0.06 to 0.15; h_max 0.15.
+const WALL: &str = r#"
+[global]
+h_max = 0.15
+
+[regions]
+cyl = ["Cylinder"]
+
+[functions.perp]
+kind = "distance"
+size_at_source = 0.02
+size_at_max_distance = 0.15
+max_distance = 0.3
+exponent = 1.0
+
+[functions.par]
+kind = "distance"
+size_at_source = 0.06
+size_at_max_distance = 0.15
+max_distance = 0.3
+exponent = 1.0
+
+[[algorithms]]
+type = "distance_to_border"
+regions = ["cyl"]
+perpendicular = "perp"
+parallel = "par"
+"#;
+
+/// The wall layer's metric at `p`, written here from the exact cylinder (axis along z
+/// through (0.6, 0.5), radius 0.2): radial size perp(d), the others par(d).
+fn wall_metric(p: [f64; 3]) -> [[f64; 3]; 3] {
+    let (dx, dy) = (p[0] - 0.6, p[1] - 0.5);
+    let r = dx.hypot(dy);
+    let d = (r - 0.2).max(0.0);
+    let lin = |a: f64, b: f64| if d >= 0.3 { b } else { a + (b - a) * d / 0.3 };
+    let (hn, ht) = (lin(0.02, 0.15), lin(0.06, 0.15));
+    let n = [dx / r, dy / r, 0.0];
+    let mut m = [[0.0; 3]; 3];
+    for (i, row) in m.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            let nn = n[i] * n[j];
+            *v = nn / (hn * hn) + (f64::from(u8::from(i == j)) - nn) / (ht * ht);
+        }
+    }
+    m
+}
+
+/// The metric length of a–b in the wall metric, by the midpoint rule on 16 pieces.
+fn wall_length(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    (0..16)
+        .map(|k| {
+            let s = (k as f64 + 0.5) / 16.0;
+            let m = wall_metric([a[0] + s * e[0], a[1] + s * e[1], a[2] + s * e[2]]);
+            let q: f64 = (0..3)
+                .flat_map(|i| (0..3).map(move |j| (i, j)))
+                .map(|(i, j)| e[i] * m[i][j] * e[j])
+                .sum();
+            q.sqrt() / 16.0
+        })
+        .sum()
+}
+
+/// DISTANCE_TO_BORDER on the cylinder of box_cyl: the `.vtu` sizes are the wall layer's
+/// (checked here against the exact cylinder, to the faceting of its 118 triangles);
+/// `mmg3d_O3` adapts box_cyl to
+/// the `.sol` (through `remesh`) and the median metric length of the result's edges,
+/// measured here in the metric of the exact cylinder, is in [0.7, 1.3].
+#[test]
+fn a_wall_layer_on_the_cylinder_is_sized_and_mmg3d_follows_it() {
+    require_public_fixtures!();
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("w.toml");
+    std::fs::write(&recipe, WALL).unwrap();
+    let vtu = dir.path().join("w.vtu");
+    let o = run(&[
+        "size",
+        &box_cyl(),
+        "--recipe",
+        recipe.to_str().unwrap(),
+        "-o",
+        vtu.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let mesh = read_path(std::path::Path::new(&box_cyl()), None).unwrap();
+    let field = read_path(&vtu, None).unwrap();
+    let axis1 = &field.point_data["axis1"];
+    for (v, p) in mesh.points.iter().enumerate() {
+        let h3 = field.point_data["h3"].values[v];
+        let h1 = field.point_data["h1"].values[v];
+        let d = ((p[0] - 0.6).hypot(p[1] - 0.5) - 0.2).max(0.0);
+        // The facets lie inside the cylinder, their corners on it 8 to a turn or fewer:
+        // the distance to them exceeds the exact one by at most 0.2 (1 − cos(π/6)) < 0.03
+        // (a triangle spans at most 60° of the turn).
+        let lin = |a: f64, b: f64, d: f64| if d >= 0.3 { b } else { a + (b - a) * d / 0.3 };
+        let within = |h: f64, a: f64, b: f64| {
+            lin(a, b, d) * (1.0 - 1e-9) <= h && h <= lin(a, b, d + 0.03) * (1.0 + 1e-9)
+        };
+        assert!(within(h3, 0.02, 0.15), "{p:?}: h3 {h3}");
+        assert!(within(h1, 0.06, 0.15), "{p:?}: h1 {h1}");
+        // The largest size lies in the tangent plane: no radial part where anisotropic.
+        if h1 > 1.5 * h3 {
+            let a = axis1.item(v);
+            let radial = (a[0] * (p[0] - 0.6) + a[1] * (p[1] - 0.5)).abs() / (h1 * (d + 0.2));
+            assert!(radial < 0.2, "{p:?}: axis1 {a:?}");
+        }
+    }
+    if program("mmg3d_O3").is_none() {
+        return;
+    }
+    let sol = dir.path().join("w.sol");
+    let o = run(&[
+        "size",
+        &box_cyl(),
+        "--recipe",
+        recipe.to_str().unwrap(),
+        "-o",
+        sol.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let out = dir.path().join("adapted.msh");
+    let o = run(&[
+        "remesh",
+        &box_cyl(),
+        "--metric",
+        sol.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--hgrad",
+        "-1",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let adapted = read_path(&out, None).unwrap();
+    let mut edges = std::collections::BTreeSet::new();
+    for (k, n, _, _) in adapted.cells() {
+        if k == CellKind::Tetra {
+            for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+                edges.insert((n[i].min(n[j]), n[i].max(n[j])));
+            }
+        }
+    }
+    let mut l: Vec<f64> = edges
+        .iter()
+        .map(|&(a, b)| wall_length(adapted.points[a as usize], adapted.points[b as usize]))
+        .collect();
+    l.sort_by(f64::total_cmp);
+    let median = l[l.len() / 2];
+    eprintln!(
+        "box_cyl wall layer: {} tets after mmg3d, median metric length {median:.3}",
+        adapted.num_cells_of(CellKind::Tetra)
+    );
+    assert!((0.7..=1.3).contains(&median), "median metric length {median}");
+}

@@ -37,7 +37,8 @@ The output's extension chooses what is written:
 Gmsh honours an anisotropic background mesh only with BAMG: `-setnumber Mesh.Algorithm 7`.
 A 3D metric (tetrahedra, a surface in space) goes to the same files: .sol/.solb in MMG's order
 m11 m12 m22 m13 m23 m33 (`mmg3d_O3`, `mmgs_O3`), .pos with TS records on the tetrahedra, .vtu/.vtk
-with h3 and axis3 too. Inside a volume Gmsh reads a tensor view only with MMG3D
+with h3 and axis3 too; `recipe check RECIPE MESH` says which of the recipe's steps are sized in
+space (the others are refused, exit 2). Inside a volume Gmsh reads a tensor view only with MMG3D
 (`-setnumber Mesh.Algorithm3D 7`, the surfaces meshed by BAMG); its Delaunay (1), Frontal (4)
 and HXT (10) warn \"No vector or scalar value found in PostView field\" and fill the volume
 from the surface mesh.

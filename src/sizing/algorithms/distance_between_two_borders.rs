@@ -21,6 +21,11 @@
 //! direction of the nearer border.
 //!
 //! Reach R: the larger of the two functions' maximum distances (module [`super`]).
+//!
+//! In space the same, the borders surfaces, curves or points (as DISTANCE_TO_BORDER's),
+//! each in its own exact closest-point index: thickness d1 + d2, the normal w of Fig. 4.6
+//! from the two feet in space (on a border, that border's frame,
+//! [`super::frame3`]), `perpendicular(d)` along it and `parallel(d)` twice across it.
 
 use super::{
     border_source, normal_at, on_source, reach_of, tensor, unit, Around, Arguments, Declaration,
@@ -32,6 +37,9 @@ use crate::sizing::functions::DistanceFunction;
 use super::EntitySet;
 use crate::metric::SizeTensor;
 use crate::sizing::propagation::{ClosestPoint, Source};
+use super::{across, on_source3, space_border_source, wall_tensor, Across, SpaceTensor, SpaceWork};
+use crate::metric::SizeTensor3;
+use crate::sizing::space::{unit3, SpaceClosest, SpaceMesh, SpaceSource};
 use crate::topology::Topology;
 
 /// DISTANCE_BETWEEN_TWO_BORDERS: sizes from the local thickness d1 + d2 between
@@ -122,6 +130,73 @@ impl SizingAlgorithm for DistanceBetweenTwoBorders {
         let tensor = GapTensor { algorithm: self, graph, junctions, reach };
         Ok(Work::FromTwoSources { sources: [s1, s2], reach, tensor })
     }
+
+    const IN_SPACE: bool = true;
+
+    fn work_in_space<'a>(
+        &'a self,
+        mesh: &'a SpaceMesh<'a>,
+        topology: &'a Topology,
+    ) -> Result<SpaceWork<'a>, Failure> {
+        let s1 = space_border_source(mesh, topology, &self.first, true)?;
+        let s2 = space_border_source(mesh, topology, &self.second, true)?;
+        let reach = reach_of(&[self.perpendicular.max_distance(), self.parallel.max_distance()]);
+        let tensor = Box::new(GapTensor3 { algorithm: self, reach });
+        Ok(SpaceWork::FromTwoSources { sources: [s1, s2], reach, tensor })
+    }
+}
+
+/// The tensor of DISTANCE_BETWEEN_TWO_BORDERS in space.
+struct GapTensor3<'a> {
+    algorithm: &'a DistanceBetweenTwoBorders,
+    reach: f64,
+}
+
+impl SpaceTensor for GapTensor3<'_> {
+    fn tensor(
+        &self,
+        sources: &[SpaceSource],
+        v: usize,
+        at: [f64; 3],
+        closest: &[SpaceClosest],
+    ) -> Result<Option<SizeTensor3>, Failure> {
+        let (c1, c2) = (&closest[0], &closest[1]);
+        let thickness = c1.distance + c2.distance;
+        if thickness.is_nan() || thickness > self.reach {
+            return Ok(None);
+        }
+        let frame = gap_frame(at, (&sources[0], c1), (&sources[1], c2));
+        let a = self.algorithm;
+        wall_tensor(v, frame, a.perpendicular.eval(thickness), a.parallel.eval(thickness)).map(Some)
+    }
+}
+
+/// The weighted normal of thesis Fig. 4.6 in space (see the module header).
+fn gap_frame(
+    p: [f64; 3],
+    first: (&SpaceSource, &SpaceClosest),
+    second: (&SpaceSource, &SpaceClosest),
+) -> Across {
+    let ((s1, c1), (s2, c2)) = (first, second);
+    if on_source3(s1, c1) {
+        return across(s1, c1, p);
+    }
+    if on_source3(s2, c2) {
+        return across(s2, c2, p);
+    }
+    let (d1, d2) = (c1.distance, c2.distance);
+    let u1 = [0, 1, 2].map(|k| (c1.foot[k] - p[k]) / d1);
+    let u2 = [0, 1, 2].map(|k| (c2.foot[k] - p[k]) / d2);
+    let w = [0, 1, 2].map(|k| d2 * u1[k] - d1 * u2[k]);
+    let norm = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    let n = if norm > 1e-9 * (d1 + d2) {
+        unit3(w)
+    } else if d1 <= d2 {
+        unit3(u1)
+    } else {
+        unit3(u2)
+    };
+    n.map_or(Across::Point, Across::Normal)
 }
 
 /// The tensor of DISTANCE_BETWEEN_TWO_BORDERS.

@@ -13,16 +13,26 @@
 //!
 //! Reach: the larger of the two functions' maximum distances (see the module
 //! [`super`]).
+//!
+//! In space the border is surfaces (every cell of them, quads split), curves (their
+//! edges) and points, in one exact closest-point index; the tensor is wall-aligned
+//! ([`super::frame3`]): `perpendicular(d)` along the direction from the foot to the
+//! vertex, `parallel(d)` twice in the plane across it; on a surface (d = 0) the normal is
+//! the surface's, area-weighted at a foot on an edge or a vertex of its cells
+//! ([`SpaceSource::surface_normal`]).
 
 use super::{
     border_source, normal_at, reach_of, tensor, Around, Arguments, Declaration, Failure,
     FunctionKind, Junctions, Marks, Parameter, ParameterKind, SizingAlgorithm, Tensor, Work,
 };
+use super::{across, space_border_source, wall_tensor, SpaceTensor, SpaceWork};
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::DistanceFunction;
 use super::EntitySet;
 use crate::sizing::propagation::{ClosestPoint, Source};
+use crate::metric::SizeTensor3;
+use crate::sizing::space::{SpaceClosest, SpaceMesh, SpaceSource};
 use crate::topology::Topology;
 
 /// DISTANCE_TO_BORDER: anisotropic; normal size `perpendicular(distance)`, tangent
@@ -68,7 +78,7 @@ impl SizingAlgorithm for DistanceToBorder {
                 keys: &["REGIONS"],
                 kind: ParameterKind::Regions { dimensions: &[1, 0], optional: false },
                 line_break_after: false,
-                doc: "The border: curves, or points as point sources.",
+                doc: "The border: curves, or points as point sources (surfaces too in space).",
             },
         ],
     };
@@ -104,6 +114,36 @@ impl SizingAlgorithm for DistanceToBorder {
         let junctions = Junctions::new(&source);
         let reach = reach_of(&[self.perpendicular.max_distance(), self.parallel.max_distance()]);
         Ok(Work::FromSource { source, reach, tensor: BorderTensor { algorithm: self, graph, junctions } })
+    }
+
+    const IN_SPACE: bool = true;
+
+    fn work_in_space<'a>(
+        &'a self,
+        mesh: &'a SpaceMesh<'a>,
+        topology: &'a Topology,
+    ) -> Result<SpaceWork<'a>, Failure> {
+        let source = space_border_source(mesh, topology, &self.borders, true)?;
+        let reach = reach_of(&[self.perpendicular.max_distance(), self.parallel.max_distance()]);
+        Ok(SpaceWork::FromSource { source, reach, tensor: Box::new(BorderTensor3(self)) })
+    }
+}
+
+/// The tensor of DISTANCE_TO_BORDER in space.
+struct BorderTensor3<'a>(&'a DistanceToBorder);
+
+impl SpaceTensor for BorderTensor3<'_> {
+    fn tensor(
+        &self,
+        sources: &[SpaceSource],
+        v: usize,
+        at: [f64; 3],
+        closest: &[SpaceClosest],
+    ) -> Result<Option<SizeTensor3>, Failure> {
+        let (a, c) = (self.0, &closest[0]);
+        let frame = across(&sources[0], c, at);
+        wall_tensor(v, frame, a.perpendicular.eval(c.distance), a.parallel.eval(c.distance))
+            .map(Some)
     }
 }
 

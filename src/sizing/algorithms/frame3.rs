@@ -26,15 +26,23 @@ pub(crate) enum Across {
     Point,
 }
 
+/// Whether the vertex whose closest point on `source` is `c` lies on the source.
+pub(crate) fn on_source3(source: &SpaceSource, c: &SpaceClosest) -> bool {
+    c.distance <= ON_SOURCE * source.piece_size(c.piece)
+}
+
 /// The frame of a vertex at `at` with closest point `c` on `source`.
 pub(crate) fn across(source: &SpaceSource, c: &SpaceClosest, at: Point3) -> Across {
-    let on = c.distance <= ON_SOURCE * source.piece_size(c.piece);
+    let tolerance = ON_SOURCE * source.piece_size(c.piece);
+    let on = c.distance <= tolerance;
     if !on {
         let d = [at[0] - c.foot[0], at[1] - c.foot[1], at[2] - c.foot[2]];
         return unit3(d).map_or(Across::Point, Across::Normal);
     }
     match source.pieces()[c.piece as usize].kind {
-        PieceKind3::Surface => source.surface_normal(c).map_or(Across::Point, Across::Normal),
+        PieceKind3::Surface => {
+            source.surface_normal(c, tolerance).map_or(Across::Point, Across::Normal)
+        }
         PieceKind3::Segment => {
             source.segment_direction(c.piece).map_or(Across::Point, Across::Line)
         }

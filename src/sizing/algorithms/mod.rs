@@ -44,7 +44,6 @@
 
 mod declaration;
 mod frame;
-#[allow(dead_code)] // the distance algorithms come next
 mod frame3;
 mod sources;
 
@@ -54,9 +53,8 @@ pub use declaration::{
 };
 pub use frame::ON_SOURCE;
 pub(crate) use frame::{direction, normal_at, on_source, tangent_at, tensor, unit, Junctions};
-#[allow(unused_imports)]
-pub(crate) use frame3::{across, wall_tensor, Across};
-pub(crate) use sources::{border_source, check_entities, reach_of};
+pub(crate) use frame3::{across, on_source3, wall_tensor, Across};
+pub(crate) use sources::{border_source, check_entities, reach_of, space_border_source};
 
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;

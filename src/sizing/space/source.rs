@@ -323,28 +323,43 @@ impl SpaceSource {
     }
 
     /// The surface normal at the foot of `c` on a surface piece (`None` for another kind,
-    /// or where the normals cancel): in the face, the triangle's unit normal; on an edge
-    /// or at a vertex, the area-weighted mean of the normals of the source's triangles
-    /// that share that edge or vertex — the sum of their cross products
-    /// (b − a) × (c − a), each twice the triangle's area times its unit normal, each
-    /// turned to agree with the foot's own triangle (so an inconsistently oriented
-    /// neighbour adds, not cancels) — normalised.
-    pub(crate) fn surface_normal(&self, c: &SpaceClosest) -> Option<Point3> {
+    /// or where the normals cancel), for a vertex on the source: in the face, the
+    /// triangle's unit normal; on an edge or at a corner, the area-weighted mean of the
+    /// normals of the source's triangles that share that edge or corner — the sum of
+    /// their cross products (b − a) × (c − a), each twice the triangle's area times its
+    /// unit normal, each turned to agree with the foot's own triangle (so an
+    /// inconsistently oriented neighbour adds, not cancels) — normalised.
+    ///
+    /// Where the foot lies is told by its coordinates, not by the kernel's feature (a
+    /// point at a corner projects into the face with two edge functions zero): at a
+    /// corner when within `tolerance` of it, else on an edge when within `tolerance` of
+    /// its line, else in the face.
+    pub(crate) fn surface_normal(&self, c: &SpaceClosest, tolerance: f64) -> Option<Point3> {
         let own = self.pieces[c.piece as usize];
         if own.kind != PieceKind3::Surface {
             return None;
         }
+        let corner = own.corners.map(|k| self.points[k as usize]);
         let n0 = self.raw_normal(c.piece);
-        let shared: Vec<u32> = match c.feature {
-            Feature::Face => return unit3(n0),
-            Feature::Vertex(k) => self.around_corner(own.corners[k as usize]).collect(),
-            Feature::Edge(k) => {
-                let (a, b) = (own.corners[k as usize], own.corners[(k as usize + 1) % 3]);
+        let shared: Vec<u32> =
+            if let Some(k) = (0..3).find(|&k| dist(corner[k], c.foot) <= tolerance) {
+                self.around_corner(own.corners[k]).collect()
+            } else if let Some(k) = (0..3).find(|&k| {
+                let (a, b) = (corner[k], corner[(k + 1) % 3]);
+                let e = sub(b, a);
+                let len = dot(e, e).sqrt();
+                len > 0.0 && {
+                    let x = cross(e, sub(c.foot, a));
+                    dot(x, x).sqrt() / len <= tolerance
+                }
+            }) {
+                let (a, b) = (own.corners[k], own.corners[(k + 1) % 3]);
                 self.around_corner(a)
                     .filter(|&t| self.pieces[t as usize].corners.contains(&b))
                     .collect()
-            }
-        };
+            } else {
+                return unit3(n0);
+            };
         let mut sum = [0.0; 3];
         for t in shared {
             let n = self.raw_normal(t);
