@@ -7,11 +7,16 @@
 pub mod combined;
 pub mod input;
 pub mod lp;
+mod patch;
 pub mod recovery;
+pub mod recovery3;
 
 pub use combined::lp_metric_of_fields;
 pub use lp::{intersect_all, lp_metric, vertices_of, LpError, LpMetric, LpOptions, Target};
 pub use recovery::{recover, Derivatives, Method, P1Mesh, RecoveryError};
+pub use recovery3::{recover3, Derivatives3, P1Mesh3};
 
 #[cfg(test)]
 pub(crate) mod test_meshes;
+#[cfg(test)]
+pub(crate) mod test_meshes3;
