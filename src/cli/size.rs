@@ -20,6 +20,8 @@ use super::output::{check_output_dir, is_stdio, label, shown, SizeControls};
 use super::solution::SolutionArgs;
 use super::{parse_format, print_stdout, ui, write_stdout, CliError, RecipeInput};
 
+mod space;
+
 /// Compute the metric field a recipe asks for on a mesh, and write it.
 #[derive(Debug, Args)]
 #[command(
@@ -48,6 +50,7 @@ Examples:
   smartmesh size naca.msh -r agard01.toml --hmin 1e-4 -o - --to sol > naca.sol
   smartmesh size flow.vtu --field u --complexity 4000 -o flow.sol
   smartmesh size flow.vtu --field u,p --complexity 4000 -o flow.sol   (both fields, intersected)
+  smartmesh size box.vtu --field u --complexity 20000 -o box.sol   (tetrahedra: a 3D metric for mmg3d_O3)
   smartmesh size naca.msh -r agard01.toml --solution-file flow.vtu --field mach --complexity 20000 -o both.sol"
 )]
 pub(super) struct SizeArgs {
@@ -170,6 +173,9 @@ pub(super) fn run(args: SizeArgs) -> Result<(), CliError> {
     // The field is written on the input's own points, which stay in its plane.
     // A mesh in space is bad input (2): the sizing is planar so far.
     let (mut mesh, read_notes) = super::read_linear_mesh_noted(&args.mesh, from)?;
+    if mesh.num_cells_of(smartmesh::formats::CellKind::Tetra) > 0 {
+        return space::run(&args, mesh, &recipe, &target, t0);
+    }
     if let Err(e) = smartmesh::plane(&mesh) {
         return Err(CliError::usage(format!(
             "{}: {e}; 3D sizing is not there yet (`recipe check RECIPE MESH` resolves a recipe's regions on a mesh in space)",
