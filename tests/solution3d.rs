@@ -134,7 +134,7 @@ fn size_in_space_refuses_what_it_cannot_do_with_exit_two() {
         "-o",
         s(&out),
     ]));
-    assert!(e.contains("not there yet"), "{e}");
+    assert!(e.contains("not available on a mesh in space yet"), "{e}");
     assert!(!out.exists(), "no output on failure");
 }
 

@@ -7,11 +7,17 @@
 //! DISTANCE_TO_BORDER). Several sources act as one set: the distance is to the nearest,
 //! as in the other algorithms, rather than one run per point intersected (which differs
 //! only for functions that shrink away from the source, thesis 7.4.3).
+//!
+//! In space the same: the source points are the sources' mesh vertices in one
+//! [`SpaceSource`](crate::sizing::space::SpaceSource), each distance exact (bit for bit a
+//! scan of every point).
 
 use super::{
     check_entities, Around, Arguments, Declaration, Failure, FunctionKind, Marks, Parameter,
-    ParameterKind, SizingAlgorithm, Tensor, Work,
+    ParameterKind, SizingAlgorithm, SpaceTensor, SpaceWork, Tensor, Work,
 };
+use crate::metric::SizeTensor3;
+use crate::sizing::space::{SpaceClosest, SpaceMesh, SpaceSource, SpaceSourceBuilder};
 use crate::mesh_graph::MeshGraph;
 use crate::metric::SizeTensor;
 use crate::sizing::functions::DistanceFunction;
@@ -103,6 +109,55 @@ impl SizingAlgorithm for DistanceToPoint {
         }
         let reach = self.function.max_distance();
         Ok(Work::FromSource { source, reach, tensor: PointTensor(&self.function) })
+    }
+
+    const IN_SPACE: bool = true;
+
+    fn work_in_space<'a>(
+        &'a self,
+        mesh: &'a SpaceMesh<'a>,
+        topology: &'a Topology,
+    ) -> Result<SpaceWork<'a>, Failure> {
+        let sources = &self.sources;
+        check_entities(topology, sources)?;
+        if let Some(&index) = sources.faces.first() {
+            return Err(Failure::UnsupportedEntity { what: "face", index });
+        }
+        if let Some(&index) = sources.volumes.first() {
+            return Err(Failure::UnsupportedEntity { what: "volume", index });
+        }
+        let mut b = SpaceSourceBuilder::new(mesh.points());
+        for &p in &sources.points {
+            b.topology_point(topology, p)?;
+        }
+        for &c in &sources.curves {
+            for pl in &topology.curves[c].polylines {
+                for &v in &pl.vertices {
+                    b.vertex(v)?;
+                }
+            }
+        }
+        if b.is_empty() {
+            return Err(Failure::NoSource);
+        }
+        let source = b.build()?;
+        let reach = self.function.max_distance();
+        Ok(SpaceWork::FromSource { source, reach, tensor: Box::new(PointTensor(&self.function)) })
+    }
+}
+
+impl SpaceTensor for PointTensor<'_> {
+    fn tensor(
+        &self,
+        _: &[SpaceSource],
+        v: usize,
+        _: [f64; 3],
+        closest: &[SpaceClosest],
+    ) -> Result<Option<SizeTensor3>, Failure> {
+        let h = self.0.eval(closest[0].distance);
+        SizeTensor3::try_new([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [h; 3])
+            .map(Some)
+            .ok_or(Failure::Degenerate { vertex: v })
     }
 }
 
