@@ -3,6 +3,7 @@
 //! - `size MESH --field u --complexity N` on a tetrahedral box writes the 3D Lp metric to
 //!   every metric target, each read back to the same tensors, with the vertex count the
 //!   complexity asks (as `info --metric` measures it independently);
+//! - a recipe's SOLUTION_HESSIAN step sizes it as `size --field` does (the same file);
 //! - `mmg3d_O3` adapts the box to the metric of a Gaussian bump: the median metric
 //!   length of its edges (in the metric it carries to its vertices) is near 1;
 //! - Gmsh's unstructured tetrahedra of a cube and a ball: the quadratic fit recovers a
@@ -68,9 +69,8 @@ fn size_writes_the_3d_solution_metric_to_every_target() {
             "--json",
         ]);
         let json: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
-        let expected = json["expected_vertices"].as_f64().unwrap();
+        let expected = json["solution"]["expected_vertices"].as_f64().unwrap();
         assert!((expected / 4000.0 - 1.0).abs() < 1e-3, "{ext}: {expected}");
-        assert_eq!(json["dimension"], 3);
         // The metric read back: from the file itself, or the .sol beside a Medit mesh.
         let metric_file = match ext {
             "mesh" => dir.path().join("metric.sol"),
@@ -110,6 +110,7 @@ fn size_writes_the_3d_solution_metric_to_every_target() {
 
 #[test]
 fn size_in_space_refuses_what_it_cannot_do_with_exit_two() {
+    // Several fields, a missing field, no target.
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("box.vtu");
     write_path(&input, &box_with_field(3), None, &WriteOptions::default()).unwrap();
@@ -120,22 +121,45 @@ fn size_in_space_refuses_what_it_cannot_do_with_exit_two() {
     assert!(e.contains("`w`") && e.contains("u, v"), "{e}");
     let e = bad(&run(&["size", s(&input), "--field", "u", "-o", s(&out)]));
     assert!(e.contains("--complexity"), "{e}");
-    let recipe = dir.path().join("r.toml");
-    std::fs::write(&recipe, "[regions]\nAll = [1]\n[[algorithms]]\ntype = \"uniform\"\nsize = 0.1\nregions = [\"All\"]\n").unwrap();
-    let e = bad(&run(&[
-        "size",
-        s(&input),
-        "-r",
-        s(&recipe),
-        "--field",
-        "u",
-        "--complexity",
-        "100",
-        "-o",
-        s(&out),
-    ]));
-    assert!(e.contains("not available on a mesh in space yet"), "{e}");
     assert!(!out.exists(), "no output on failure");
+}
+
+/// A recipe with a SOLUTION_HESSIAN step (its bounds left to the mesh, as `--field`
+/// leaves them) sizes a tetrahedral mesh as `size --field` does: the same `.sol`, byte
+/// for byte; with a UNIFORM step before it the two are intersected (no size above the
+/// uniform one).
+#[test]
+fn a_recipe_with_solution_hessian_sizes_a_tetra_mesh_as_the_solution_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("box.vtu");
+    let mesh = box_with_field(6);
+    write_path(&input, &mesh, None, &WriteOptions::default()).unwrap();
+    let (by_recipe, by_field) = (dir.path().join("r.sol"), dir.path().join("f.sol"));
+    let recipe = dir.path().join("r.toml");
+    let step =
+        "[[algorithms]]\ntype = \"solution_hessian\"\nfield = \"u\"\ncomplexity = 2500\np = 3\n";
+    std::fs::write(&recipe, step).unwrap();
+    ok(&run(&["size", s(&input), "-r", s(&recipe), "-o", s(&by_recipe)]));
+    let args = ["--field", "u", "--complexity", "2500", "--p", "3", "-o", s(&by_field)];
+    ok(&run(&[&["size", s(&input)][..], &args[..]].concat()));
+    let (a, b) = (std::fs::read(&by_recipe).unwrap(), std::fs::read(&by_field).unwrap());
+    assert!(a.len() > 1000 && a == b, "the recipe's .sol differs from --field's");
+    // With UNIFORM 0.05 on the volume first: every size at most 0.05.
+    let both = format!("[regions]\nAll = [1]\n[[algorithms]]\ntype = \"uniform\"\nsize = 0.05\nregions = [\"All\"]\n{step}");
+    std::fs::write(&recipe, both).unwrap();
+    ok(&run(&["size", s(&input), "-r", s(&recipe), "-o", s(&by_recipe)]));
+    let tensors =
+        MetricField::<Sym3>::read_field(&by_recipe, None, &mesh, &input).unwrap().into_tensors();
+    let fine =
+        MetricField::<Sym3>::read_field(&by_field, None, &mesh, &input).unwrap().into_tensors();
+    let mut finer = 0;
+    for (t, f) in tensors.iter().zip(&fine) {
+        // The largest size is 1/sqrt of the smallest eigenvalue.
+        let smallest = t.eigen().values[2];
+        assert!(smallest >= 1.0 / (0.05f64 * 0.05) * (1.0 - 1e-9), "{t:?}");
+        finer += usize::from(t.trace() > f.trace() * (1.0 + 1e-9));
+    }
+    assert!(finer > mesh.points.len() / 2, "the uniform step acts at {finer} vertices");
 }
 
 /// The median of the UGAWG metric lengths of the edges of the tetrahedra of `mesh` in

@@ -21,8 +21,6 @@ use super::output::{check_output_dir, is_stdio, label, shown, SizeControls};
 use super::solution::SolutionArgs;
 use super::{parse_format, print_stdout, ui, write_stdout, CliError, RecipeInput};
 
-mod space;
-
 /// Compute the metric field a recipe asks for on a mesh, and write it.
 #[derive(Debug, Args)]
 #[command(
@@ -174,13 +172,6 @@ pub(super) fn run(args: SizeArgs) -> Result<(), CliError> {
     // The field is written on the input's own points. A mesh in space (volume cells, or
     // surface cells off one plane) goes to the 3D engine, the same recipe and steps.
     let (mut mesh, read_notes) = super::read_linear_mesh_noted(&args.mesh, from)?;
-    // A solution alone on tetrahedra: its own path until SOLUTION_HESSIAN sizes in space.
-    if solving
-        && recipe.algorithms.is_empty()
-        && mesh.num_cells_of(smartmesh::formats::CellKind::Tetra) > 0
-    {
-        return space::run(&args, mesh, &recipe, &target, t0);
-    }
     let in_space = smartmesh::plane(&mesh).is_err();
     let mut extra = Vec::new();
     let mut solution = None;

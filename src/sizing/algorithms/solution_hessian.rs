@@ -9,6 +9,11 @@
 //! geometry's sizes and the solution's both hold where each is the finer. No propagation:
 //! every vertex some cell uses gets a tensor, in increasing index order.
 //!
+//! In space (a mesh of tetrahedra): the same with the recovery on tetrahedra
+//! ([`crate::solution::recovery3`]) and M = D det(|H|)^(−1/(2p+3)) |H|
+//! ([`crate::solution::lp3`]), one field, bounds from the diagonal of the box in space;
+//! every vertex some tetrahedron uses gets a tensor.
+//!
 //! In a recipe: FIELD, and exactly one of COMPLEXITY (a vertex count) and ERROR (the Lp
 //! norm of the interpolation error); optional P (default 2), RECOVERY (`quadratic-fit`,
 //! the default, or `l2-projection`), HMIN, HMAX and MAX_ANISOTROPY.
@@ -21,8 +26,9 @@
 
 use super::{
     Around, Arguments, Contribution, Declaration, Failure, Given, Parameter, ParameterKind,
-    Refusal, SizingAlgorithm, Work,
+    Refusal, SizingAlgorithm, SpaceWork, Work,
 };
+use crate::sizing::space::SpaceMesh;
 use crate::mesh_graph::{MeshGraph, PointValues};
 use crate::metric::{SizeBounds, SizeTensor, Sym2};
 use super::EntitySet;
@@ -341,6 +347,26 @@ impl SizingAlgorithm for SolutionHessian {
         let used = used_vertices(graph);
         let tensors: Vec<SizeTensor> = used.iter().map(|&v| metric.tensors[v as usize]).collect();
         Ok(Work::Listed(Contribution { vertices: used, tensors, seeds: 0 }))
+    }
+
+    const IN_SPACE: bool = true;
+
+    /// In space: the metric of [`SolutionHessian::metric_in_space`] at every vertex some
+    /// tetrahedron uses, in increasing order.
+    fn work_in_space<'a>(
+        &'a self,
+        mesh: &'a SpaceMesh<'a>,
+        _: &'a Topology,
+    ) -> Result<SpaceWork<'a>, Failure> {
+        let tagged = mesh.tagged();
+        let metric = self.metric_in_space(tagged).map_err(|why| Failure::Field { why })?;
+        let mut used = vec![false; tagged.points.len()];
+        for t in tetrahedra(tagged).map_err(|why| Failure::Field { why })? {
+            t.iter().for_each(|&v| used[v as usize] = true);
+        }
+        let vertices: Vec<u32> = (0..used.len() as u32).filter(|&v| used[v as usize]).collect();
+        let tensors = vertices.iter().map(|&v| metric.tensors[v as usize]).collect();
+        Ok(SpaceWork::Listed { vertices, tensors })
     }
 }
 
