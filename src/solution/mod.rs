@@ -2,7 +2,8 @@
 //! Hessian recovered on the mesh ([`recovery`]), the Lp-optimal metric of the continuous
 //! mesh framework normalised to a vertex count or an error ([`lp`]), and the field read
 //! from a mesh or a solver's file on the same vertices ([`input`]). The sizing algorithm
-//! SOLUTION_HESSIAN ([`crate::sizing::SolutionHessian`]) puts them in a recipe.
+//! SOLUTION_HESSIAN ([`crate::sizing::SolutionHessian`]) puts them in a recipe. On
+//! tetrahedra: [`recovery3`] and [`lp3`], what both dimensions share in `patch`.
 
 pub mod combined;
 pub mod input;
