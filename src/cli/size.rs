@@ -50,6 +50,7 @@ Examples:
   smartmesh size naca.msh -r agard01.toml --hmin 1e-4 -o - --to sol > naca.sol
   smartmesh size flow.vtu --field u --complexity 4000 -o flow.sol
   smartmesh size flow.vtu --field u,p --complexity 4000 -o flow.sol   (both fields, intersected)
+  smartmesh size box.vtu --field u --complexity 20000 -o box.sol   (tetrahedra: a 3D metric for mmg3d_O3)
   smartmesh size naca.msh -r agard01.toml --solution-file flow.vtu --field mach --complexity 20000 -o both.sol"
 )]
 pub(super) struct SizeArgs {

@@ -98,9 +98,10 @@ impl Recipe {
         mesh: &TaggedMesh,
         max_aspect: Option<f64>,
     ) -> Result<SizeBounds, BoundsError> {
+        // The diagonal in space: a planar mesh's z extent is zero.
         let diagonal = mesh
             .bounding_box()
-            .map(|(lo, hi)| (hi[0] - lo[0]).hypot(hi[1] - lo[1]))
+            .map(|(lo, hi)| (hi[0] - lo[0]).hypot(hi[1] - lo[1]).hypot(hi[2] - lo[2]))
             .filter(|d| d.is_finite() && *d > 0.0)
             .ok_or(BoundsError::NoExtent)?;
         let default =

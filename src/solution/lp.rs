@@ -100,6 +100,9 @@ pub enum LpError {
     /// The mesh has no area.
     #[error("the mesh has no triangle of positive area")]
     NoArea,
+    /// The mesh (of tetrahedra) has no volume.
+    #[error("the mesh has no tetrahedron of positive volume")]
+    NoVolume,
 }
 
 /// Per vertex: the axis of the larger |eigenvalue|, ln of the floored |eigenvalues|, and

@@ -32,6 +32,7 @@
 
 use rayon::prelude::*;
 
+use super::patch::{least_squares, roundoff_floor, Adjacency, Patch};
 use crate::geometry::Point2;
 use crate::metric::Sym2;
 
@@ -108,8 +109,9 @@ pub enum RecoveryError {
         len: usize,
     },
     /// No quadratic can be fitted around a vertex: its connected part of the mesh has
-    /// fewer than six vertices, or they all lie on a conic through it.
-    #[error("no quadratic fits the field around vertex {vertex} (0-based): its part of the mesh has {patch} other vertices, on no determined patch (a quadratic needs five, not on one conic)")]
+    /// too few vertices (six in the plane, ten in space), or they all lie on a conic
+    /// (a quadric) through it.
+    #[error("no quadratic fits the field around vertex {vertex} (0-based): its part of the mesh has {patch} other vertices, on no determined patch (a quadratic needs five in the plane, nine in space, not on one conic or quadric)")]
     Undetermined {
         /// The vertex.
         vertex: usize,
@@ -124,8 +126,7 @@ pub enum RecoveryError {
 pub struct P1Mesh<'a> {
     points: &'a [Point2],
     triangles: Vec<[u32; 3]>,
-    offsets: Vec<u32>,
-    neighbours: Vec<u32>,
+    adjacency: Adjacency,
 }
 
 impl<'a> P1Mesh<'a> {
@@ -163,26 +164,8 @@ impl<'a> P1Mesh<'a> {
         }
         edges.sort_unstable();
         edges.dedup();
-        let mut offsets = vec![0u32; n + 1];
-        for &[a, b] in &edges {
-            offsets[a as usize + 1] += 1;
-            offsets[b as usize + 1] += 1;
-        }
-        for v in 0..n {
-            offsets[v + 1] += offsets[v];
-        }
-        let mut fill = offsets[..n].to_vec();
-        let mut neighbours = vec![0u32; offsets[n] as usize];
-        for &[a, b] in &edges {
-            neighbours[fill[a as usize] as usize] = b;
-            fill[a as usize] += 1;
-            neighbours[fill[b as usize] as usize] = a;
-            fill[b as usize] += 1;
-        }
-        for v in 0..n {
-            neighbours[offsets[v] as usize..offsets[v + 1] as usize].sort_unstable();
-        }
-        Ok(P1Mesh { points, triangles, offsets, neighbours })
+        let adjacency = Adjacency::new(n, &edges);
+        Ok(P1Mesh { points, triangles, adjacency })
     }
 
     /// The mesh of `points` and `triangles`.
@@ -206,12 +189,12 @@ impl<'a> P1Mesh<'a> {
 
     /// The neighbours of `v` along cell edges, sorted.
     pub fn neighbours(&self, v: usize) -> &[u32] {
-        &self.neighbours[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+        self.adjacency.of(v)
     }
 
     /// Whether some cell uses `v`.
     pub fn is_used(&self, v: usize) -> bool {
-        self.offsets[v + 1] > self.offsets[v]
+        self.adjacency.is_used(v)
     }
 }
 
@@ -236,16 +219,7 @@ pub fn recover(
     Ok(d)
 }
 
-/// How many units of round-off of the values, over the squared shortest edge, a
-/// recovered Hessian may be and still be round-off: a fit amplifies the values' errors
-/// by its conditioning (a linear field's Hessian measured at up to 52 units on the
-/// tests' meshes, both methods; 20 times that is kept as margin).
-const ROUNDOFF: f64 = 1e3;
-
-/// Zeroes each Hessian that is round-off: a value carries an error of about ε|u|, which
-/// a second difference over an edge h turns into ε|u|/h², so a Hessian whose spectral
-/// radius is within [`ROUNDOFF`] ε max|u| / h² (|u| over the vertex and its neighbours,
-/// h its shortest edge) says nothing of the field. A linear field's Hessian is then zero
+/// Zeroes each Hessian that is round-off ([`roundoff_floor`]). A linear field's Hessian is then zero
 /// at every vertex and asks for nothing (it gave an anisotropy of 167 from noise); a
 /// quadratic's is far above the floor.
 fn drop_roundoff(mesh: &P1Mesh<'_>, values: &[f64], hessian: &mut [Sym2]) {
@@ -266,7 +240,7 @@ fn drop_roundoff(mesh: &P1Mesh<'_>, values: &[f64], hessian: &mut [Sym2]) {
         if !hmin.is_finite() {
             continue;
         }
-        let floor = ROUNDOFF * f64::EPSILON * umax / (hmin * hmin);
+        let floor = roundoff_floor(umax, hmin);
         let radius = h.a.abs().max(h.c.abs()) + h.b.abs();
         if radius <= floor {
             *h = Sym2::new(0.0, 0.0, 0.0);
@@ -355,7 +329,7 @@ fn quadratic_fit(mesh: &P1Mesh<'_>, values: &[f64]) -> Result<Derivatives, Recov
     let fits: Vec<Result<([f64; 2], Sym2), RecoveryError>> = (0..n)
         .into_par_iter()
         .map_init(
-            || Patch { stamp: vec![0; n], round: 0, ring: Vec::new(), all: Vec::new() },
+            || Patch::new(n),
             |patch, v| {
                 if !mesh.is_used(v) {
                     return Ok(([0.0; 2], Sym2::new(0.0, 0.0, 0.0)));
@@ -374,52 +348,15 @@ fn quadratic_fit(mesh: &P1Mesh<'_>, values: &[f64]) -> Result<Derivatives, Recov
     Ok(Derivatives { gradient, hessian })
 }
 
-/// Scratch of one thread: a visit stamp per vertex, the last ring and the whole patch.
-struct Patch {
-    stamp: Vec<u32>,
-    round: u32,
-    ring: Vec<u32>,
-    all: Vec<u32>,
-}
-
 fn fit_at(
     mesh: &P1Mesh<'_>,
     values: &[f64],
     v: usize,
     patch: &mut Patch,
 ) -> Result<([f64; 2], Sym2), RecoveryError> {
-    patch.round = patch.round.wrapping_add(1);
-    if patch.round == 0 {
-        patch.stamp.iter_mut().for_each(|s| *s = 0);
-        patch.round = 1;
-    }
-    let round = patch.round;
-    patch.stamp[v] = round;
-    patch.ring.clear();
-    patch.ring.push(v as u32);
-    patch.all.clear();
-    let mut next = Vec::new();
-    loop {
-        next.clear();
-        for &u in &patch.ring {
-            for &w in mesh.neighbours(u as usize) {
-                if patch.stamp[w as usize] != round {
-                    patch.stamp[w as usize] = round;
-                    next.push(w);
-                }
-            }
-        }
-        if next.is_empty() {
-            return Err(RecoveryError::Undetermined { vertex: v, patch: patch.all.len() });
-        }
-        patch.all.extend_from_slice(&next);
-        std::mem::swap(&mut patch.ring, &mut next);
-        if patch.all.len() >= MIN_PATCH {
-            if let Some(fit) = solve_fit(mesh.points, values, v, &patch.all) {
-                return Ok(fit);
-            }
-        }
-    }
+    patch
+        .grow(&mesh.adjacency, v, MIN_PATCH, |others| solve_fit(mesh.points, values, v, others))
+        .map_err(|patch| RecoveryError::Undetermined { vertex: v, patch })
 }
 
 /// The least-squares quadratic at `v` through the values at `others`, `None` when it is
@@ -450,55 +387,9 @@ fn solve_fit(
         a[i] = [x, y, 0.5 * x * x, x * y, 0.5 * y * y];
         b[i] = values[u as usize] - values[v];
     }
-    let c = least_squares(&mut a, &mut b)?;
+    let c = least_squares::<COLS>(&mut a, &mut b, DETERMINED)?;
     let s2 = scale * scale;
     Some(([c[0] / scale, c[1] / scale], Sym2::new(c[2] / s2, c[3] / s2, c[4] / s2)))
-}
-
-/// The least-squares solution of `a x = b` (a: m × 5, m ≥ 5) by Householder QR;
-/// `None` when the triangular factor's smallest diagonal entry is below
-/// [`DETERMINED`] times its largest. Overwrites `a` and `b`.
-fn least_squares(a: &mut [[f64; COLS]], b: &mut [f64]) -> Option<[f64; COLS]> {
-    let m = a.len();
-    if m < COLS {
-        return None;
-    }
-    let mut diag = [0.0; COLS];
-    for k in 0..COLS {
-        let norm = (k..m).map(|i| a[i][k] * a[i][k]).sum::<f64>().sqrt();
-        if norm == 0.0 {
-            return None;
-        }
-        let alpha = if a[k][k] > 0.0 { -norm } else { norm };
-        // v = a[k..][k] - alpha e1, stored in place.
-        a[k][k] -= alpha;
-        let vnorm2: f64 = (k..m).map(|i| a[i][k] * a[i][k]).sum();
-        if vnorm2 > 0.0 {
-            for j in k + 1..COLS {
-                let dot: f64 = (k..m).map(|i| a[i][k] * a[i][j]).sum();
-                let f = 2.0 * dot / vnorm2;
-                for row in &mut a[k..] {
-                    row[j] -= f * row[k];
-                }
-            }
-            let dot: f64 = (k..m).map(|i| a[i][k] * b[i]).sum();
-            let f = 2.0 * dot / vnorm2;
-            for i in k..m {
-                b[i] -= f * a[i][k];
-            }
-        }
-        diag[k] = alpha;
-    }
-    let largest = diag.iter().fold(0.0f64, |x, d| x.max(d.abs()));
-    if diag.iter().any(|d| d.abs() < DETERMINED * largest || d.is_nan()) {
-        return None;
-    }
-    let mut x = [0.0; COLS];
-    for k in (0..COLS).rev() {
-        let s: f64 = (k + 1..COLS).map(|j| a[k][j] * x[j]).sum();
-        x[k] = (b[k] - s) / diag[k];
-    }
-    Some(x)
 }
 
 #[cfg(test)]

@@ -9,6 +9,11 @@
 //! geometry's sizes and the solution's both hold where each is the finer. No propagation:
 //! every vertex some cell uses gets a tensor, in increasing index order.
 //!
+//! In space (a mesh of tetrahedra): the same with the recovery on tetrahedra
+//! ([`crate::solution::recovery3`]) and M = D det(|H|)^(−1/(2p+3)) |H|
+//! ([`crate::solution::lp3`]), one field, bounds from the diagonal of the box in space;
+//! every vertex some tetrahedron uses gets a tensor.
+//!
 //! In a recipe: FIELD, and exactly one of COMPLEXITY (a vertex count) and ERROR (the Lp
 //! norm of the interpolation error); optional P (default 2), RECOVERY (`quadratic-fit`,
 //! the default, or `l2-projection`), HMIN, HMAX and MAX_ANISOTROPY.
@@ -21,12 +26,17 @@
 
 use super::{
     Around, Arguments, Contribution, Declaration, Failure, Given, Parameter, ParameterKind,
-    Refusal, SizingAlgorithm, Work,
+    Refusal, SizingAlgorithm, SpaceWork, Work,
 };
+use crate::sizing::space::SpaceMesh;
 use crate::mesh_graph::{MeshGraph, PointValues};
 use crate::metric::{SizeBounds, SizeTensor, Sym2};
 use super::EntitySet;
-use crate::solution::{lp_metric_of_fields, recover, LpMetric, LpOptions, Method, P1Mesh, Target};
+use crate::solution::{
+    lp_metric3, lp_metric_of_fields, recover, recover3, LpMetric, LpMetric3, LpOptions, Method,
+    P1Mesh, P1Mesh3, Target,
+};
+use smartmesh_formats::{CellKind, TaggedMesh};
 use crate::topology::Topology;
 
 /// SOLUTION_HESSIAN: the Lp-optimal metric of point field `fields` (one in a recipe;
@@ -119,6 +129,86 @@ impl SolutionHessian {
             format!("bounds hmin {h_min}, hmax {h_max}, aspect ratio {r} are out of range")
         })
     }
+}
+
+impl SolutionHessian {
+    /// The metric on the tetrahedra of `mesh`, a mesh in space: the field's Hessian
+    /// recovered on them ([`crate::solution::recovery3`]) and made the Lp-optimal metric
+    /// in 3D ([`crate::solution::lp3`]); an error in words naming the field. One field
+    /// in space so far; hexahedra, prisms and pyramids are refused (the recovery is P1
+    /// on tetrahedra).
+    pub fn metric_in_space(&self, mesh: &TaggedMesh) -> Result<LpMetric3, String> {
+        let [name] = self.fields.as_slice() else {
+            return Err(format!(
+                "{} fields given; a metric from a solution takes one field in space so far",
+                self.fields.len()
+            ));
+        };
+        let why = |e: &dyn std::fmt::Display| format!("point data `{name}`: {e}");
+        let values = scalar_values(mesh, name)?;
+        let tets = tetrahedra(mesh)?;
+        let mesh3 = P1Mesh3::new(&mesh.points, &tets).map_err(|e| why(&e))?;
+        let hessians = recover3(&mesh3, values, self.method).map_err(|e| why(&e))?.hessian;
+        let bounds = self.bounds_in_space(mesh)?;
+        let options = LpOptions { p: self.p, target: self.target, bounds };
+        lp_metric3(&mesh3, &hessians, &options).map_err(|e| why(&e))
+    }
+
+    /// Its bounds on a mesh in space: those given, the others from the diagonal of the
+    /// mesh's bounding box.
+    pub fn bounds_in_space(&self, mesh: &TaggedMesh) -> Result<SizeBounds, String> {
+        let diagonal = mesh
+            .bounding_box()
+            .map(|(lo, hi)| (hi[0] - lo[0]).hypot(hi[1] - lo[1]).hypot(hi[2] - lo[2]));
+        let default = diagonal.and_then(Self::default_bounds).ok_or("the mesh has no extent")?;
+        let h_max = self.h_max.unwrap_or(default.h_max());
+        let h_min = self.h_min.unwrap_or(default.h_min().min(h_max));
+        let r = self.max_aspect.unwrap_or(default.max_aspect_ratio());
+        SizeBounds::try_new(h_min, h_max, r).ok_or_else(|| {
+            format!("bounds hmin {h_min}, hmax {h_max}, aspect ratio {r} are out of range")
+        })
+    }
+}
+
+/// The values of the scalar point-data array `name` of `mesh`, one per vertex.
+fn scalar_values<'m>(mesh: &'m TaggedMesh, name: &str) -> Result<&'m [f64], String> {
+    match mesh.point_data.get(name) {
+        Some(a) if a.components == 1 && a.len() == mesh.points.len() => Ok(&a.values),
+        Some(a) => Err(format!(
+            "point data `{name}` has {} components and {} items; a solution field is a scalar with one value per vertex ({})",
+            a.components,
+            a.len(),
+            mesh.points.len()
+        )),
+        None => {
+            let names: Vec<&str> = mesh.point_data.keys().map(String::as_str).collect();
+            Err(format!(
+                "the mesh has no point data `{name}` (its arrays: {})",
+                if names.is_empty() { "none".to_string() } else { names.join(", ") }
+            ))
+        }
+    }
+}
+
+/// The tetrahedra of `mesh`; an error when it has none or has other volume cells.
+fn tetrahedra(mesh: &TaggedMesh) -> Result<Vec<[u32; 4]>, String> {
+    let mut tets = Vec::with_capacity(mesh.num_cells_of(CellKind::Tetra));
+    for (kind, nodes, _, _) in mesh.cells() {
+        match kind {
+            CellKind::Tetra => tets.push([nodes[0], nodes[1], nodes[2], nodes[3]]),
+            k if k.dim() == 3 => {
+                return Err(format!(
+                    "the mesh has {} cells; a metric from a solution in space takes tetrahedra only (split the mesh into tetrahedra first)",
+                    k.name()
+                ))
+            }
+            _ => {}
+        }
+    }
+    if tets.is_empty() {
+        return Err("the mesh has no tetrahedra".into());
+    }
+    Ok(tets)
 }
 
 /// A parameter of this algorithm that may be left out.
@@ -257,6 +347,26 @@ impl SizingAlgorithm for SolutionHessian {
         let used = used_vertices(graph);
         let tensors: Vec<SizeTensor> = used.iter().map(|&v| metric.tensors[v as usize]).collect();
         Ok(Work::Listed(Contribution { vertices: used, tensors, seeds: 0 }))
+    }
+
+    const IN_SPACE: bool = true;
+
+    /// In space: the metric of [`SolutionHessian::metric_in_space`] at every vertex some
+    /// tetrahedron uses, in increasing order.
+    fn work_in_space<'a>(
+        &'a self,
+        mesh: &'a SpaceMesh<'a>,
+        _: &'a Topology,
+    ) -> Result<SpaceWork<'a>, Failure> {
+        let tagged = mesh.tagged();
+        let metric = self.metric_in_space(tagged).map_err(|why| Failure::Field { why })?;
+        let mut used = vec![false; tagged.points.len()];
+        for t in tetrahedra(tagged).map_err(|why| Failure::Field { why })? {
+            t.iter().for_each(|&v| used[v as usize] = true);
+        }
+        let vertices: Vec<u32> = (0..used.len() as u32).filter(|&v| used[v as usize]).collect();
+        let tensors = vertices.iter().map(|&v| metric.tensors[v as usize]).collect();
+        Ok(SpaceWork::Listed { vertices, tensors })
     }
 }
 

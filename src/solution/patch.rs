@@ -1,0 +1,178 @@
+//! What Hessian recovery does the same way in every dimension ([`super::recovery`] on
+//! triangles, [`super::recovery3`] on tetrahedra): the vertex adjacency of the cell edges
+//! (compressed rows, each row sorted), the vertex patches grown one ring of edges at a
+//! time until a fit is determined, the least-squares solve of a fit by Householder QR,
+//! and the floor under which a recovered Hessian is round-off.
+//!
+//! Hand-written QR rather than nalgebra's: the fit runs once per vertex on a small
+//! m × C system kept on the stack's shape ([f64; C] rows), and the determinacy test reads
+//! the triangular factor's diagonal, which the solve exposes here directly. The tests
+//! check it against nalgebra's SVD solve (`recovery3`'s twin).
+
+/// How many units of round-off of the values, over the squared shortest edge, a
+/// recovered Hessian may be and still be round-off: a fit amplifies the values' errors
+/// by its conditioning (a linear field's Hessian measured at up to 52 units on the
+/// tests' meshes, both methods; 20 times that is kept as margin).
+pub(super) const ROUNDOFF: f64 = 1e3;
+
+/// The vertex adjacency of `n` vertices along `edges` (each `[a, b]` with a < b, sorted
+/// and without repeats): compressed rows, each sorted.
+#[derive(Debug, Clone)]
+pub(super) struct Adjacency {
+    offsets: Vec<u32>,
+    neighbours: Vec<u32>,
+}
+
+impl Adjacency {
+    /// The adjacency of `edges` (sorted, deduplicated, a < b) over `n` vertices.
+    pub(super) fn new(n: usize, edges: &[[u32; 2]]) -> Adjacency {
+        let mut offsets = vec![0u32; n + 1];
+        for &[a, b] in edges {
+            offsets[a as usize + 1] += 1;
+            offsets[b as usize + 1] += 1;
+        }
+        for v in 0..n {
+            offsets[v + 1] += offsets[v];
+        }
+        let mut fill = offsets[..n].to_vec();
+        let mut neighbours = vec![0u32; offsets[n] as usize];
+        for &[a, b] in edges {
+            neighbours[fill[a as usize] as usize] = b;
+            fill[a as usize] += 1;
+            neighbours[fill[b as usize] as usize] = a;
+            fill[b as usize] += 1;
+        }
+        for v in 0..n {
+            neighbours[offsets[v] as usize..offsets[v + 1] as usize].sort_unstable();
+        }
+        Adjacency { offsets, neighbours }
+    }
+
+    /// The neighbours of `v`, sorted.
+    pub(super) fn of(&self, v: usize) -> &[u32] {
+        &self.neighbours[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+    }
+
+    /// Whether `v` has a neighbour (some cell uses it).
+    pub(super) fn is_used(&self, v: usize) -> bool {
+        self.offsets[v + 1] > self.offsets[v]
+    }
+}
+
+/// Scratch of one thread: a visit stamp per vertex, the last ring and the whole patch.
+pub(super) struct Patch {
+    stamp: Vec<u32>,
+    round: u32,
+    ring: Vec<u32>,
+    all: Vec<u32>,
+    next: Vec<u32>,
+}
+
+impl Patch {
+    /// Scratch for a mesh of `n` vertices.
+    pub(super) fn new(n: usize) -> Patch {
+        Patch { stamp: vec![0; n], round: 0, ring: Vec::new(), all: Vec::new(), next: Vec::new() }
+    }
+
+    /// The first determined fit at `v`: the patch of the vertices within k edges,
+    /// k = 1, 2, … (breadth-first, each ring in the order found), handed to `fit` once it
+    /// has at least `min_patch` vertices, until `fit` answers. `Err` with the size of
+    /// the largest patch when the connected part of `v` runs out first.
+    pub(super) fn grow<R>(
+        &mut self,
+        adjacency: &Adjacency,
+        v: usize,
+        min_patch: usize,
+        mut fit: impl FnMut(&[u32]) -> Option<R>,
+    ) -> Result<R, usize> {
+        self.round = self.round.wrapping_add(1);
+        if self.round == 0 {
+            self.stamp.iter_mut().for_each(|s| *s = 0);
+            self.round = 1;
+        }
+        let round = self.round;
+        self.stamp[v] = round;
+        self.ring.clear();
+        self.ring.push(v as u32);
+        self.all.clear();
+        loop {
+            self.next.clear();
+            for &u in &self.ring {
+                for &w in adjacency.of(u as usize) {
+                    if self.stamp[w as usize] != round {
+                        self.stamp[w as usize] = round;
+                        self.next.push(w);
+                    }
+                }
+            }
+            if self.next.is_empty() {
+                return Err(self.all.len());
+            }
+            self.all.extend_from_slice(&self.next);
+            std::mem::swap(&mut self.ring, &mut self.next);
+            if self.all.len() >= min_patch {
+                if let Some(r) = fit(&self.all) {
+                    return Ok(r);
+                }
+            }
+        }
+    }
+}
+
+/// The round-off floor of a Hessian at a vertex: a value carries an error of about
+/// ε|u|, which a second difference over an edge h turns into ε|u|/h², so a Hessian whose
+/// spectral radius is within [`ROUNDOFF`] ε `umax` / `hmin`² (|u| over the vertex and its
+/// neighbours, h its shortest edge) says nothing of the field.
+pub(super) fn roundoff_floor(umax: f64, hmin: f64) -> f64 {
+    ROUNDOFF * f64::EPSILON * umax / (hmin * hmin)
+}
+
+/// The least-squares solution of `a x = b` (a: m × C, m ≥ C) by Householder QR;
+/// `None` when the triangular factor's smallest diagonal entry is below `determined`
+/// times its largest. Overwrites `a` and `b`.
+pub(super) fn least_squares<const C: usize>(
+    a: &mut [[f64; C]],
+    b: &mut [f64],
+    determined: f64,
+) -> Option<[f64; C]> {
+    let m = a.len();
+    if m < C {
+        return None;
+    }
+    let mut diag = [0.0; C];
+    for k in 0..C {
+        let norm = (k..m).map(|i| a[i][k] * a[i][k]).sum::<f64>().sqrt();
+        if norm == 0.0 {
+            return None;
+        }
+        let alpha = if a[k][k] > 0.0 { -norm } else { norm };
+        // v = a[k..][k] - alpha e1, stored in place.
+        a[k][k] -= alpha;
+        let vnorm2: f64 = (k..m).map(|i| a[i][k] * a[i][k]).sum();
+        if vnorm2 > 0.0 {
+            for j in k + 1..C {
+                let dot: f64 = (k..m).map(|i| a[i][k] * a[i][j]).sum();
+                let f = 2.0 * dot / vnorm2;
+                for row in &mut a[k..] {
+                    row[j] -= f * row[k];
+                }
+            }
+            let dot: f64 = (k..m).map(|i| a[i][k] * b[i]).sum();
+            let f = 2.0 * dot / vnorm2;
+            for i in k..m {
+                b[i] -= f * a[i][k];
+            }
+        }
+        diag[k] = alpha;
+    }
+    let largest = diag.iter().fold(0.0f64, |x, d| x.max(d.abs()));
+    if diag.iter().any(|d| d.abs() < determined * largest || d.is_nan()) {
+        return None;
+    }
+    let mut x = [0.0; C];
+    for k in (0..C).rev() {
+        let s: f64 = (k + 1..C).map(|j| a[k][j] * x[j]).sum();
+        x[k] = (b[k] - s) / diag[k];
+    }
+    Some(x)
+}
