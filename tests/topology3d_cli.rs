@@ -1,6 +1,6 @@
 //! The 3D topology through the commands: `info` (text and JSON, `--ridge-angle`), `recipe
-//! check` resolving surfaces and volumes on a 3D mesh without sizing, and `size`
-//! refusing a 3D mesh.
+//! check` resolving surfaces and volumes on a 3D mesh and saying which steps are sized in
+//! space (`size` on a 3D mesh: `tests/size3d_cli.rs`).
 
 #[path = "support/cli.rs"]
 #[allow(dead_code)]
@@ -116,10 +116,9 @@ parallel = "lin"
 
 /// `recipe check` on box_cyl: the regions resolve to a volume, surfaces and a curve with
 /// their counts (the cylinder's 118 triangles and 67 vertices, the fluid's 2187 tetrahedra
-/// on 634 vertices), exit 0, and it says that nothing is sized; `size` refuses the mesh
-/// (exit 2) saying that 3D sizing is not there yet.
+/// on 634 vertices), exit 0, and it says which steps are sized in space.
 #[test]
-fn recipe_check_resolves_surfaces_and_volumes_and_size_refuses_3d() {
+fn recipe_check_resolves_surfaces_and_volumes_and_says_what_is_sized() {
     smartmesh_test_support::require_public_fixtures!();
     let dir = tempfile::tempdir().unwrap();
     let recipe = dir.path().join("r.toml");
@@ -140,7 +139,8 @@ fn recipe_check_resolves_surfaces_and_volumes_and_size_refuses_3d() {
         (Some(2), 0)
     );
     assert_eq!((edges["dimension"].as_u64(), edges["edges"].as_u64()), (Some(1), Some(16)));
-    assert!(j["sizing"].as_str().unwrap().contains("3D sizing is not there yet"), "{j}");
+    assert!(j["sizing"].as_str().unwrap().contains("sized in space"), "{j}");
+    assert_eq!(j["algorithms"][0]["in_space"], true);
     assert_eq!(j["algorithms"][0]["volumes"], 1);
     let text = ok(&smartmesh(&["recipe", "check", r, &f], None));
     assert!(
@@ -148,8 +148,4 @@ fn recipe_check_resolves_surfaces_and_volumes_and_size_refuses_3d() {
         "{text}"
     );
     assert!(text.contains("cyl              1 surface: tags 4 (\"Cylinder\")"), "{text}");
-    let out = dir.path().join("o.vtu");
-    let e = bad(&smartmesh(&["size", &f, "--recipe", r, "-o", out.to_str().unwrap()], None));
-    assert!(e.contains("3D sizing is not there yet"), "{e}");
-    assert!(!out.exists());
 }

@@ -174,15 +174,40 @@ struct StepSummary<'a> {
     /// Volumes (a mesh in space), left out of the JSON when none.
     #[serde(skip_serializing_if = "is_zero")]
     volumes: usize,
+    /// On a mesh in space: whether the step is sized there (left out on a planar mesh).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    in_space: Option<bool>,
 }
 
 fn is_zero(n: &usize) -> bool {
     *n == 0
 }
 
-/// What `recipe check` says of sizing a mesh in space, in its JSON and its text.
-const NO_3D_SIZING: &str =
-    "3D sizing is not there yet: the regions are resolved on the 3D mesh, nothing is sized";
+/// What `recipe check` says of periodic pairs on a mesh in space.
+const NO_3D_PERIODIC: &str = "periodic pairs are not there yet in space";
+
+/// What `recipe check` says of sizing a mesh in space: which steps are sized there and
+/// which are not yet (`size` refuses those, exit 2).
+fn space_sizing(plan: &smartmesh::sizing::SizingPlan) -> String {
+    let list = |sized: bool| -> Vec<String> {
+        plan.steps
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.algorithm.in_space() == sized)
+            .map(|(i, s)| format!("{} ({})", i + 1, s.algorithm.keyword()))
+            .collect()
+    };
+    let (yes, no) = (list(true), list(false));
+    match (yes.is_empty(), no.is_empty()) {
+        (_, true) => "every step is sized in space".to_string(),
+        (true, false) => format!("no step is sized in space yet: {}", no.join(", ")),
+        (false, false) => format!(
+            "sized in space: steps {}; not yet in space (size refuses them): steps {}",
+            yes.join(", "),
+            no.join(", ")
+        ),
+    }
+}
 
 #[derive(serde::Serialize)]
 struct CheckSummary<'a> {
@@ -194,9 +219,9 @@ struct CheckSummary<'a> {
     gradation: Option<f64>,
     regions: &'a [RegionReport],
     algorithms: Vec<StepSummary<'a>>,
-    /// On a mesh in space: that nothing is sized ([`NO_3D_SIZING`]).
+    /// On a mesh in space: which steps are sized there ([`space_sizing`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    sizing: Option<&'static str>,
+    sizing: Option<String>,
     /// Each periodic pair's match on the mesh.
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     periodic: &'a [smartmesh::periodic::PairMatch],
@@ -221,8 +246,8 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
     // recipe may name the face tags that only meshing gives.
     // Periodic pairs: a graph is meshed with them matched; on a mesh, images of each
     // other, and how well they match.
-    // A mesh with volume cells: its regions are resolved on its 3D topology; nothing is
-    // sized, nothing is periodic yet. (A surface alone off one plane is still refused, as
+    // A mesh with volume cells: its regions are resolved on its 3D topology, and each
+    // step says whether it is sized in space; nothing is periodic yet. (A surface alone off one plane is still refused, as
     // by every 2D command.)
     let pairs = recipe.periodic_pairs();
     let (mesh, in_space) = match starting_mesh(&args.mesh, args.from, &pairs) {
@@ -230,7 +255,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         Err(StartError::NotPlanar { source: smartmesh::NotPlanar::Volume { .. }, .. }) => {
             if !pairs.is_empty() {
                 return Err(CliError::usage(format!(
-                    "{}: a mesh in space; periodic pairs are checked on planar meshes only ({NO_3D_SIZING})",
+                    "{}: a mesh in space; periodic pairs are checked on planar meshes only ({NO_3D_PERIODIC})",
                     args.mesh.display()
                 )));
             }
@@ -260,6 +285,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
                 curves: e.curves.len(),
                 faces: e.faces.len(),
                 volumes: e.volumes.len(),
+                in_space: in_space.then(|| s.algorithm.in_space()),
             }
         })
         .collect();
@@ -273,7 +299,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
             gradation: plan.gradation,
             regions: &resolved.regions,
             algorithms: steps,
-            sizing: in_space.then_some(NO_3D_SIZING),
+            sizing: in_space.then(|| space_sizing(plan)),
             periodic,
         };
         let mut s = serde_json::to_string_pretty(&summary)?;
@@ -372,7 +398,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         }
     }
     if in_space {
-        let _ = writeln!(o, "  sizing      {NO_3D_SIZING}");
+        let _ = writeln!(o, "  sizing      {}", space_sizing(plan));
     }
     print_stdout(&o)
 }

@@ -10,9 +10,10 @@ use std::time::Instant;
 use clap::Args;
 use smartmesh::expected_vertices;
 use smartmesh::formats::Format;
-use smartmesh::recipe::{size_mesh_with_steps, SizeMeshError};
+use smartmesh::metric::{SizeTensor, SizeTensor3, Sym3};
+use smartmesh::recipe::{size_mesh_in_space, size_mesh_with_steps, SizeMeshError};
 use smartmesh::sizing::solution::input::{attach, field_names, read_solution};
-use smartmesh::sizing::{StepEvent, StepReport};
+use smartmesh::sizing::{SizeField, SizeField3, StepEvent, StepReport};
 use smartmesh::Topology;
 use smartmesh::{MetricField, MetricTarget};
 
@@ -167,15 +168,10 @@ pub(super) fn run(args: SizeArgs) -> Result<(), CliError> {
         .controls
         .over(args.recipe.read_or_empty(solving, "with --field or --solution-file")?)?;
     let from = args.from.or_else(|| Format::from_path(&args.mesh));
-    // The field is written on the input's own points, which stay in its plane.
-    // A mesh in space is bad input (2): the sizing is planar so far.
+    // The field is written on the input's own points. A mesh in space (volume cells, or
+    // surface cells off one plane) goes to the 3D engine, the same recipe and steps.
     let (mut mesh, read_notes) = super::read_linear_mesh_noted(&args.mesh, from)?;
-    if let Err(e) = smartmesh::plane(&mesh) {
-        return Err(CliError::usage(format!(
-            "{}: {e}; 3D sizing is not there yet (`recipe check RECIPE MESH` resolves a recipe's regions on a mesh in space)",
-            args.mesh.display()
-        )));
-    }
+    let in_space = smartmesh::plane(&mesh).is_err();
     let mut extra = Vec::new();
     let mut solution = None;
     if solving {
@@ -211,13 +207,19 @@ pub(super) fn run(args: SizeArgs) -> Result<(), CliError> {
             }
         }
     };
-    let sized =
-        size_mesh_with_steps(&mesh, &Topology::from_mesh(&mesh), &recipe, &extra, &mut observe);
+    let topology = Topology::from_mesh(&mesh);
+    let sized = if in_space {
+        size_mesh_in_space(&mesh, &topology, &recipe, &extra, &mut observe)
+            .map(|s| Sized::space(s.field))
+    } else {
+        size_mesh_with_steps(&mesh, &topology, &recipe, &extra, &mut observe)
+            .map(|s| Sized::plane(s.field))
+    };
     if let Some(b) = bar {
         b.finish_and_clear();
     }
     let field = match sized {
-        Ok(s) => s.field,
+        Ok(s) => s,
         Err(e @ SizeMeshError::Resolve(_)) => {
             return Err(CliError::context(format!("{e} (mesh {})", args.mesh.display()), e))
         }
@@ -231,9 +233,11 @@ pub(super) fn run(args: SizeArgs) -> Result<(), CliError> {
     }
 
     let opts = args.output_format.write_options(&target.path);
-    let report = MetricField::from_sizes(&field.tensors, "the recipe's field")
-        .write(&target.path, &mesh, target.kind, &opts)
-        .map_err(|e| label(e, &args.output))?;
+    let report = match &field.metric {
+        Metric::Plane(m) => m.write(&target.path, &mesh, target.kind, &opts),
+        Metric::Space(m) => m.write(&target.path, &mesh, target.kind, &opts),
+    }
+    .map_err(|e| label(e, &args.output))?;
     ui::write_notes(&args.output.display().to_string(), &report.dropped);
     if target._dir.is_some() {
         if report.files.len() > 1 {
@@ -246,23 +250,18 @@ pub(super) fn run(args: SizeArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::context("reading back the field for stdout", e))?;
         write_stdout(&bytes)?;
     }
-    let expected = solution.as_ref().map(|_| {
-        let metric: Vec<_> = field.tensors.iter().map(|t| t.to_metric()).collect();
-        expected_vertices(&mesh, &metric)
+    let expected = solution.as_ref().map(|_| match &field.metric {
+        Metric::Plane(m) => expected_vertices(&mesh, m.tensors()),
+        Metric::Space(m) => expected_vertices(&mesh, m.tensors()),
     });
-    let (mut lo, mut hi, mut aniso) = (f64::INFINITY, 0.0f64, 1.0f64);
-    for t in &field.tensors {
-        lo = lo.min(t.h_min());
-        hi = hi.max(t.h_max());
-        aniso = aniso.max(t.aspect_ratio());
-    }
+    let (lo, hi, aniso) = field.extremes;
     if args.json {
         let s = SizeSummary {
             mesh: args.mesh.display().to_string(),
             recipe: args.recipe.label(),
             files: report.files.iter().map(|p| p.display().to_string()).collect(),
             vertices: mesh.points.len(),
-            vertices_reached: field.reached.iter().filter(|&&r| r).count(),
+            vertices_reached: field.reached,
             default_size: field.default_size,
             smallest_size: lo,
             largest_size: hi,
@@ -302,4 +301,57 @@ pub(super) fn run(args: SizeArgs) -> Result<(), CliError> {
         ),
     );
     Ok(())
+}
+
+/// The field as a metric of its dimension.
+enum Metric {
+    Plane(MetricField),
+    Space(MetricField<Sym3>),
+}
+
+/// A sized field of either dimension, with what the summary says of it.
+struct Sized {
+    metric: Metric,
+    /// Vertices some step reached.
+    reached: usize,
+    default_size: f64,
+    warnings: Vec<String>,
+    steps: Vec<StepReport>,
+    /// The smallest size, the largest, the largest anisotropy.
+    extremes: (f64, f64, f64),
+}
+
+/// The smallest and largest sizes and the largest anisotropy of `sizes`.
+fn extremes(sizes: impl Iterator<Item = (f64, f64, f64)>) -> (f64, f64, f64) {
+    sizes.fold((f64::INFINITY, 0.0f64, 1.0f64), |(lo, hi, an), (a, b, c)| {
+        (lo.min(a), hi.max(b), an.max(c))
+    })
+}
+
+impl Sized {
+    fn plane(f: SizeField) -> Sized {
+        Sized {
+            extremes: extremes(
+                f.tensors.iter().map(|t: &SizeTensor| (t.h_min(), t.h_max(), t.aspect_ratio())),
+            ),
+            metric: Metric::Plane(MetricField::from_sizes(&f.tensors, "the recipe's field")),
+            reached: f.reached.iter().filter(|&&r| r).count(),
+            default_size: f.default_size,
+            warnings: f.warnings,
+            steps: f.steps,
+        }
+    }
+
+    fn space(f: SizeField3) -> Sized {
+        Sized {
+            extremes: extremes(
+                f.tensors.iter().map(|t: &SizeTensor3| (t.h_min(), t.h_max(), t.aspect_ratio())),
+            ),
+            metric: Metric::Space(f.metric_field("the recipe's field")),
+            reached: f.reached.iter().filter(|&&r| r).count(),
+            default_size: f.default_size,
+            warnings: f.warnings,
+            steps: f.steps,
+        }
+    }
 }

@@ -36,7 +36,8 @@ pub use model::{
 };
 /// A recipe's field on a mesh in one call (topology, resolution, graph, engine).
 pub use on_mesh::{
-    size_mesh, size_mesh_with_steps, size_mesh_with_topology, MeshSizing, SizeMeshError,
+    size_mesh, size_mesh_in_space, size_mesh_with_steps, size_mesh_with_topology, MeshSizing,
+    MeshSizing3, SizeMeshError,
 };
 pub use periodic::PeriodicSpec;
 pub use preprocess::ReadOptions;

@@ -2,13 +2,17 @@
 //! recipe's regions on the mesh's tags, the mesh graph, then the engine. `smartmesh size`
 //! runs it once; the adaptation loop runs it on every new mesh with the same recipe
 //! (thesis 5.5: the same configuration at each iteration), so the sequence lives here once.
+//! On a mesh in space ([`size_mesh_in_space`]) the same resolution feeds the 3D driver
+//! ([`crate::sizing::field3`]) instead of the mesh graph and the 2D engine.
 
 use smartmesh_formats::TaggedMesh;
 
 use super::{Recipe, RecipeError, Resolved};
 use crate::mesh_graph::{MeshGraph, MeshGraphError};
 use crate::sizing::field::{compute_size_field, SizeField, SizingError, StepEvent};
+use crate::sizing::field3::{compute_size_field3, SizeField3};
 use crate::sizing::plan::Step;
+use crate::sizing::space::SpaceMesh;
 use crate::topology::Topology;
 
 /// Why a recipe gave no field on a mesh. Each variant keeps its source's message, so
@@ -87,4 +91,31 @@ pub fn size_mesh_with_steps(
     let field = compute_size_field(&graph, topology, &resolved.plan, observer)
         .map_err(SizeMeshError::Sizing)?;
     Ok(MeshSizing { resolved, field })
+}
+
+/// The field and how the recipe resolved on a mesh in space.
+#[derive(Debug, Clone)]
+pub struct MeshSizing3 {
+    /// The recipe resolved on the mesh (plan and per-region report).
+    pub resolved: Resolved,
+    /// One 3D size tensor per mesh vertex.
+    pub field: SizeField3,
+}
+
+/// The size field `recipe` (then the `extra` steps) gives on the mesh in space `mesh`
+/// (tetrahedra, or a surface off one plane) with its `topology`; a step whose algorithm
+/// does not size in space yet is refused ([`SizingError::NotInSpace`]).
+pub fn size_mesh_in_space(
+    mesh: &TaggedMesh,
+    topology: &Topology,
+    recipe: &Recipe,
+    extra: &[Step],
+    observer: &mut dyn FnMut(StepEvent),
+) -> Result<MeshSizing3, SizeMeshError> {
+    let mut resolved = recipe.resolve(topology).map_err(SizeMeshError::Resolve)?;
+    resolved.plan.steps.extend_from_slice(extra);
+    let space = SpaceMesh::new(mesh, topology).map_err(SizeMeshError::Graph)?;
+    let field = compute_size_field3(&space, topology, &resolved.plan, observer)
+        .map_err(SizeMeshError::Sizing)?;
+    Ok(MeshSizing3 { resolved, field })
 }

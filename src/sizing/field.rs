@@ -176,6 +176,17 @@ pub enum SizingError {
         /// What is wrong.
         why: String,
     },
+    /// The step's algorithm does not size a mesh in space yet (`recipe check RECIPE
+    /// MESH` says which steps do).
+    #[error("step {step} ({label}): {keyword} is not available on a mesh in space yet")]
+    NotInSpace {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+        /// The algorithm's keyword.
+        keyword: &'static str,
+    },
     /// The global bounds contradict each other or are out of range: need
     /// 1e-30 <= h_min <= h_max <= 1e30 and max_aspect_ratio >= 1.
     #[error("invalid global bounds: h_min = {h_min:?}, h_max = {h_max:?}, max_aspect_ratio = {max_aspect_ratio:?} (need 1e-30 <= h_min <= h_max <= 1e30, aspect ratio >= 1)")]
@@ -198,7 +209,7 @@ pub enum SizingError {
 }
 
 impl Failure {
-    fn at(self, step: usize, label: &str) -> SizingError {
+    pub(crate) fn at(self, step: usize, label: &str) -> SizingError {
         let label = label.to_string();
         match self {
             Failure::EntityOutOfRange { what, index, len } => {
@@ -213,6 +224,7 @@ impl Failure {
             Failure::InvalidSize { size } => SizingError::InvalidSize { step, label, size },
             Failure::Degenerate { vertex } => SizingError::Degenerate { step, label, vertex },
             Failure::Field { why } => SizingError::Field { step, label, why },
+            Failure::NotInSpace { keyword } => SizingError::NotInSpace { step, label, keyword },
         }
     }
 }

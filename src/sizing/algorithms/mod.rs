@@ -26,6 +26,14 @@
 //! algorithms! { ..., solution_hessian::SolutionHessian, }
 //! ```
 //!
+//! In space. An algorithm that sizes a mesh in space (tetrahedra, or triangles off one
+//! plane) also implements [`SizingAlgorithm::work_in_space`], in the same file as its 2D
+//! `work` and sharing its functions, and says so with `IN_SPACE = true`; by default it
+//! refuses with [`Failure::NotInSpace`] naming its keyword. Its [`SpaceWork`] is a list of
+//! vertices with [`SizeTensor3`]s, or a [`SpaceTensor`] of each vertex from its exact
+//! closest point(s) on one or two [`SpaceSource`]s within a reach; the 3D driver
+//! ([`crate::sizing::field3`]) evaluates it.
+//!
 //! Maximum distance. An algorithm propagates up to the largest maximum distance of the
 //! functions it evaluates at a distance (perpendicular, parallel, projection; the
 //! polyline's abscissa function and the curvature-to-size function take no distance).
@@ -36,6 +44,8 @@
 
 mod declaration;
 mod frame;
+#[allow(dead_code)] // the distance algorithms come next
+mod frame3;
 mod sources;
 
 pub use declaration::{
@@ -44,12 +54,15 @@ pub use declaration::{
 };
 pub use frame::ON_SOURCE;
 pub(crate) use frame::{direction, normal_at, on_source, tangent_at, tensor, unit, Junctions};
+#[allow(unused_imports)]
+pub(crate) use frame3::{across, wall_tensor, Across};
 pub(crate) use sources::{border_source, check_entities, reach_of};
 
 use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
-use crate::metric::SizeTensor;
+use crate::metric::{SizeTensor, SizeTensor3};
 use crate::sizing::propagation::{ClosestPoint, Source, SourceError};
+use crate::sizing::space::{SpaceClosest, SpaceMesh, SpaceSource};
 use crate::topology::Topology;
 
 /// The table of algorithms: one line each, `module::Type`, in the order recipes list
@@ -108,6 +121,24 @@ macro_rules! algorithms {
             pub fn marks(&self) -> Marks<'_> {
                 match self {
                     $(Algorithm::$name(a) => a.marks(),)*
+                }
+            }
+
+            /// Whether it sizes a mesh in space ([`SizingAlgorithm::IN_SPACE`]).
+            pub fn in_space(&self) -> bool {
+                match self {
+                    $(Algorithm::$name(_) => <$name as SizingAlgorithm>::IN_SPACE,)*
+                }
+            }
+
+            /// What it asks of the 3D driver on `mesh` (see [`SpaceWork`]).
+            pub(crate) fn work_in_space<'a>(
+                &'a self,
+                mesh: &'a SpaceMesh<'a>,
+                topology: &'a Topology,
+            ) -> Result<SpaceWork<'a>, Failure> {
+                match self {
+                    $(Algorithm::$name(a) => a.work_in_space(mesh, topology),)*
                 }
             }
 
@@ -219,6 +250,72 @@ pub(crate) trait SizingAlgorithm: Sized {
         graph: &'a MeshGraph,
         topology: &'a Topology,
     ) -> Result<Work<Self::Tensor<'a>>, Failure>;
+
+    /// Whether it implements [`work_in_space`](Self::work_in_space) (`recipe check` on a
+    /// mesh in space says which steps are sized there).
+    const IN_SPACE: bool = false;
+
+    /// What it asks of the 3D driver on a mesh in space: by default a refusal naming the
+    /// keyword ([`Failure::NotInSpace`], exit code 2 from the command line).
+    fn work_in_space<'a>(
+        &'a self,
+        _mesh: &'a SpaceMesh<'a>,
+        _topology: &'a Topology,
+    ) -> Result<SpaceWork<'a>, Failure> {
+        Err(Failure::NotInSpace { keyword: Self::DECLARATION.keyword })
+    }
+}
+
+/// What an algorithm asks the 3D driver to evaluate on a mesh in space (the 3D
+/// counterpart of [`Work`]; the tensor of a vertex is a trait object, called once per
+/// vertex within reach, next to a closest-point query that costs far more). Made once
+/// per step and moved once: the size of its variants does not matter.
+#[allow(clippy::large_enum_variant)]
+pub(crate) enum SpaceWork<'a> {
+    /// Tensors of listed vertices (each once, ascending), with no source (UNIFORM,
+    /// SOLUTION_HESSIAN).
+    Listed {
+        /// The vertices.
+        vertices: Vec<u32>,
+        /// The tensor of each.
+        tensors: Vec<SizeTensor3>,
+    },
+    /// A tensor for every vertex whose exact distance to `source` is within `reach`
+    /// (squared distance <= reach², see [`crate::sizing::field3`]), from its closest point.
+    #[allow(dead_code)] // the distance algorithms come next
+    FromSource {
+        /// The source.
+        source: SpaceSource,
+        /// The largest distance that matters.
+        reach: f64,
+        /// The tensor of a vertex.
+        tensor: Box<dyn SpaceTensor + 'a>,
+    },
+    /// A tensor for every vertex within `reach` of both sources, from its closest point
+    /// on each.
+    #[allow(dead_code)]
+    FromTwoSources {
+        /// The sources.
+        sources: [SpaceSource; 2],
+        /// The largest distance that matters.
+        reach: f64,
+        /// The tensor of a vertex.
+        tensor: Box<dyn SpaceTensor + 'a>,
+    },
+}
+
+/// The tensor of vertex `v` (at `at`) from its closest point on each source of its
+/// [`SpaceWork`] (`sources` and `closest` have one entry per source): `Ok(None)` leaves
+/// the vertex out. Called from any thread, in any order: a function of its arguments.
+pub(crate) trait SpaceTensor: Sync {
+    /// The tensor of `v`.
+    fn tensor(
+        &self,
+        sources: &[SpaceSource],
+        v: usize,
+        at: [f64; 3],
+        closest: &[SpaceClosest],
+    ) -> Result<Option<SizeTensor3>, Failure>;
 }
 
 /// What an algorithm asks the driver to evaluate. One per step, made once and moved
@@ -325,6 +422,8 @@ pub(crate) enum Failure {
     Degenerate { vertex: usize },
     /// The field an algorithm sizes from is missing or unusable: why, in words.
     Field { why: String },
+    /// The algorithm does not size a mesh in space yet.
+    NotInSpace { keyword: &'static str },
 }
 
 impl From<SourceError> for Failure {
