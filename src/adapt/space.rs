@@ -1,6 +1,7 @@
 //! The loop on a mesh in space: a tetrahedral mesh remeshed by `mmg3d_O3`, a
 //! triangulated surface by `mmgs_O3` ([`Adapter::adapt_space`]), each mesh sized with a
-//! 3D field ([`SpaceSizing`]: the recipe's, in the CLI) and measured as the UGAWG does
+//! 3D field ([`SpaceSizing`]: the recipe's, [`RecipeInSpace`], or any function of the
+//! mesh) and measured as the UGAWG does
 //! ([`Ugawg::of_mesh_3d`]: the share of edges of metric length in [1/√2, √2], the
 //! mean-ratio quality of each cell in the Log-Euclidean mean of its corners' metrics).
 //!
@@ -33,9 +34,11 @@ use super::{AdaptError, AdaptOptions, Observer, Outcome, Phase, PhaseError, RUNN
 use crate::adapters::{Adapted, Adapter, AdapterError};
 use crate::conformity::Ugawg;
 use crate::history::{History, IterationRecord, PhaseTimes, RemeshingRecord, SpaceRecord};
-use crate::metric::Sym3;
+use crate::metric::{SizeTensor3, Sym3};
 use crate::metric_field::{expected_vertices, MetricField};
 use crate::periodic::Rechecked;
+use crate::recipe::{size_mesh_in_space, Recipe};
+use crate::topology::Topology;
 
 /// A 3D field on a mesh: one SPD tensor per point, and what the sizing warned about.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,6 +65,20 @@ where
 {
     fn size(&self, mesh: &TaggedMesh) -> Result<SpaceField, SpaceSizingError> {
         self(mesh)
+    }
+}
+
+/// The recipe's 3D field on each mesh ([`size_mesh_in_space`]), its regions found again
+/// on every mesh by their tag names (the topology of each mesh built afresh).
+#[derive(Debug, Clone, Copy)]
+pub struct RecipeInSpace<'a>(pub &'a Recipe);
+
+impl SpaceSizing for RecipeInSpace<'_> {
+    fn size(&self, mesh: &TaggedMesh) -> Result<SpaceField, SpaceSizingError> {
+        let topology = Topology::from_mesh(mesh);
+        let sized = size_mesh_in_space(mesh, &topology, self.0, &[], &mut |_| {})?;
+        let metric = sized.field.tensors.iter().map(SizeTensor3::to_metric).collect();
+        Ok(SpaceField { metric, warnings: sized.field.warnings })
     }
 }
 
