@@ -36,6 +36,13 @@
 //! mesh (after the recipe's steps); a failing solver or a bad solution fails the
 //! iteration like a failing remesher, and the best mesh so far stays.
 //!
+//! One loop for both dimensions: its skeleton — the best mesh, the stopping rules, the
+//! vertex and growth limits, Ctrl-C, the records after every iteration — is
+//! [`driver`]'s; the planar loop here is its 2D stepper, and [`space`] (a tetrahedral
+//! mesh through mmg3d, a surface through mmgs, sized by the recipe's 3D engine and
+//! measured as the UGAWG does) its 3D one. The solver, the budget, the LAYER skin and
+//! periodic sides are the planar stepper's only ([`space`] says why).
+//!
 //! Once the loop has stopped of itself, the LAYER skin of [`AdaptOptions::layer`] is
 //! inserted into the best mesh, its band remeshed to the best iteration's field as the
 //! loop computed it ([`skin`]); the periodic sides of [`AdaptOptions::periodic`]
