@@ -26,7 +26,7 @@ fn remesher(args: &AdaptArgs, tetrahedra: bool) -> Result<AdapterKind, CliError>
         AdapterArg::Native => Ok(AdapterKind::Mmgs),
         AdapterArg::Mmg2d | AdapterArg::Gmsh => Err(CliError::usage(format!(
             "{}: a mesh in space; --adapter {} remeshes planar meshes: a tetrahedral mesh goes to mmg3d, a surface in space to mmgs (the default picks them)",
-            super::super::input_name(&args.input),
+            crate::cli::input_name(&args.input),
             AdapterKind::from(args.adapter).name()
         ))),
     }
@@ -49,7 +49,7 @@ fn planar_only(args: &AdaptArgs, recipe: &smartmesh::Recipe) -> Result<(), CliEr
     if let Some((what, _)) = planar.iter().find(|o| o.1) {
         return Err(CliError::usage(format!(
             "{}: a mesh in space; {what} works on planar meshes only (the loop in space sizes with the recipe, remeshes with mmg3d or mmgs and measures as the UGAWG does)",
-            super::super::input_name(&args.input)
+            crate::cli::input_name(&args.input)
         )));
     }
     Ok(())
@@ -70,7 +70,7 @@ pub(super) fn run(
         ));
     }
     let from = args.from.or_else(|| Format::from_path(&args.input));
-    let (mesh, read_notes) = super::super::read_linear_mesh_noted(&args.input, from)?;
+    let (mesh, read_notes) = crate::cli::read_linear_mesh_noted(&args.input, from)?;
     for n in &read_notes {
         ui::note(&format!("{}: {n}", args.input.display()));
     }
