@@ -49,6 +49,34 @@ pub struct IterationRecord {
     /// solution.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solver: Option<SolverRecord>,
+    /// For a mesh in space (tetrahedra, or a surface through mmgs): the UGAWG measures of
+    /// its cells against the 3D field ([`crate::conformity::Ugawg`]); absent for a planar
+    /// mesh. `triangles` then counts the boundary (or surface) triangles, and
+    /// `conforming_share`, `mean_edge_length`, `mean_quality` and `min_quality` are these
+    /// cells' (the mean ratio of each tetrahedron in the Log-Euclidean mean of its
+    /// corners' metrics).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub space: Option<SpaceRecord>,
+}
+
+/// The UGAWG measures of a mesh in space against its 3D field, as published in the
+/// UGAWG's tables: what `info --metric` prints for a 3D mesh.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SpaceRecord {
+    /// The cells measured: `tetrahedron`, or `triangle` for a surface in space.
+    pub cell: String,
+    /// Cells measured.
+    pub cells: usize,
+    /// Edges measured (each undirected edge of the cells once).
+    pub edges: usize,
+    /// Shortest and longest metric edge length.
+    pub edge_length_range: [f64; 2],
+    /// Geometric mean of the positive metric edge lengths (refine's "mean").
+    pub geometric_mean_edge_length: f64,
+    /// Geometric mean of the positive qualities (refine's "mean").
+    pub geometric_mean_quality: f64,
+    /// Cells of quality 0 or less (flat or inverted).
+    pub non_positive: usize,
 }
 
 /// What the solver of the loop did on one mesh, and what its solution's metric asked.
@@ -271,6 +299,15 @@ mod tests {
                     fields: vec!["u".into()],
                     complexity_asked: Some(500.0),
                     complexity_obtained: 612.5,
+                }),
+                space: Some(SpaceRecord {
+                    cell: "tetrahedron".into(),
+                    cells: 30,
+                    edges: 50,
+                    edge_length_range: [0.4, 1.9],
+                    geometric_mean_edge_length: 0.95,
+                    geometric_mean_quality: 0.6,
+                    non_positive: 0,
                 }),
             }],
             best_mesh: vec![WrittenFile::of("a.msh", b"123456789")],

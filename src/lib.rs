@@ -80,7 +80,7 @@ pub use formats::{read_path, write_path, Format, TaggedMesh, WriteOptions};
 pub use geometry::Point2;
 pub use history::{
     BudgetRecord, History, IterationRecord, LayerRecord, PhaseTimes, RemeshingRecord, SolverRecord,
-    WrittenFile,
+    SpaceRecord, WrittenFile,
 };
 pub use mesh_graph::{MeshGraph, MeshGraphError};
 pub use metric::{SizeBounds, SizeTensor, Sym2};

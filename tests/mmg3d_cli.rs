@@ -6,7 +6,7 @@
 //! the edges (integrated here from the analytic metric) near 1. The metric goes to
 //! smartmesh as a `.sol` this file writes by hand, in the Medit order m11 m12 m22 m13
 //! m23 m33. The refusals (a planar remesher given a mesh in space, a 2D metric, the
-//! loop asked to drive mmg3d) need no tool.
+//! loop in space asked for what only the planar loop does) need no tool.
 //!
 //! Needs `mmg3d_O3`/`mmgs_O3` on PATH and Python's `gmsh` (skipped with a message
 //! without them, mandatory under CI), and the public fixtures for the surface case.
@@ -346,15 +346,16 @@ fn a_mesh_in_space_is_refused_by_the_planar_paths_naming_mmg3d() {
     // A planar-only option.
     let r = run(&["remesh", i, "--metric", s, "-o", o, "--split-quads"]);
     assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
-    // The loop cannot size a mesh in space yet.
+    // The loop in space: a planar remesher, or what only the planar loop does, is
+    // refused before any work.
     let recipe = dir.path().join("r.toml");
     std::fs::write(&recipe, "[global]\nhmin = 0.01\nhmax = 0.5\n").unwrap();
-    let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o, "--adapter", "mmg3d"]);
+    let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o, "--adapter", "mmg2d"]);
     assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
-    assert!(String::from_utf8_lossy(&r.stderr).contains("smartmesh remesh"), "{}", streams(&r));
-    let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o]);
+    assert!(String::from_utf8_lossy(&r.stderr).contains("goes to mmg3d"), "{}", streams(&r));
+    let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o, "--complexity", "9"]);
     assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
-    assert!(String::from_utf8_lossy(&r.stderr).contains("smartmesh remesh"), "{}", streams(&r));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("planar meshes only"), "{}", streams(&r));
     assert!(!out.exists());
     // The library: the planar adapters refuse adapt_space, naming mmg3d and mmgs.
     let mesh = read_path(&input, None).unwrap();

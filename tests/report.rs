@@ -404,6 +404,7 @@ fn history_is_drawn_with_its_best_iteration() {
         seconds: PhaseTimes::default(),
         remeshing: None,
         solver: None,
+        space: None,
     };
     let h = History {
         input: "g.poly".into(),
@@ -633,6 +634,7 @@ fn history_ending_on_its_best(dir: &Path) -> PathBuf {
         seconds: PhaseTimes::default(),
         remeshing: None,
         solver: None,
+        space: None,
     };
     let h = History {
         input: "geometry.poly".into(),

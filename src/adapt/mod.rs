@@ -38,6 +38,13 @@
 //! budget the recipe's field takes at most a share of it and the solution's metric is
 //! scaled to the rest ([`budget::share`]).
 //!
+//! One loop for both dimensions: its skeleton — the best mesh, the stopping rules, the
+//! vertex and growth limits, Ctrl-C, the records after every iteration — is
+//! [`driver`]'s; the planar loop here is its 2D stepper, and [`space`] (a tetrahedral
+//! mesh through mmg3d, a surface through mmgs, sized by the recipe's 3D engine and
+//! measured as the UGAWG does) its 3D one. The solver, the budget, the LAYER skin and
+//! periodic sides are the planar stepper's only ([`space`] says why).
+//!
 //! Once the loop has stopped of itself, the LAYER skin of [`AdaptOptions::layer`] is
 //! inserted into the best mesh, its band remeshed to the best iteration's field as the
 //! loop computed it ([`skin`]); the periodic sides of [`AdaptOptions::periodic`]
@@ -45,10 +52,12 @@
 //! skinned mesh that broke their match is not handed on ([`Outcome::periodic`]).
 
 pub mod budget;
+mod driver;
 pub mod files;
 pub mod rules;
 pub mod skin;
 pub mod solver;
+pub mod space;
 pub mod start;
 
 use std::cell::OnceCell;
@@ -56,14 +65,14 @@ use std::time::Instant;
 
 use smartmesh_formats::TaggedMesh;
 
-use crate::adapters::{Adapter, AdapterError};
+use crate::adapters::{Adapted, Adapter, AdapterError};
 use crate::conformity::Conformity;
 use crate::history::{
     BudgetRecord, History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord,
 };
 use crate::layer::{LayerOptions, Layered};
 use crate::mesh_graph::MeshGraph;
-use crate::metric::complexity::{exceeds, format_count};
+use crate::metric::complexity::format_count;
 use crate::metric::Sym2;
 use crate::metric_field::{expected_vertices, MetricField};
 use crate::periodic::{PeriodicError, Rechecked, Sides};
@@ -169,6 +178,12 @@ pub enum PhaseError {
     /// The mesh has no triangle to measure.
     #[error("the mesh has no triangle")]
     NoTriangle,
+    /// The 3D sizing gave no field on a mesh in space ([`space::SpaceSizing`]).
+    #[error("{0}")]
+    Space(space::SpaceSizingError),
+    /// A mesh in space has neither tetrahedra nor triangles to measure.
+    #[error("the mesh has no tetrahedron and no triangle")]
+    NoCell,
 }
 
 impl PhaseError {
@@ -221,6 +236,10 @@ pub enum AdaptError {
         /// The phase under way.
         phase: Phase,
     },
+    /// The loop in space was asked for what only the planar loop does
+    /// ([`space::run_space`]).
+    #[error("{0} works on planar meshes only: the loop in space has none")]
+    Planar(&'static str),
     /// The observer could not write the result or the history.
     #[error("{0}")]
     Output(#[from] smartmesh_formats::Error),
@@ -407,6 +426,7 @@ fn measure(
         seconds: PhaseTimes { size, remesh, measure: t.elapsed().as_secs_f64() },
         remeshing,
         solver,
+        space: None,
     };
     Ok(Measured { mesh, topology, metric, expected, record, warnings })
 }
@@ -425,6 +445,101 @@ pub fn run(
     run_with_solver(start, recipe, None, adapter, options, input, recipe_label, observer)
 }
 
+/// The planar half of the loop ([`driver::Stepper`]): the recipe's 2D field (with the
+/// solver's metric and the budget), [`Conformity`], `Adapter::adapt`.
+struct Planar<'a> {
+    recipe: &'a Recipe,
+    raw: Option<RawRecipe>,
+    solver: Option<&'a SolverLoop>,
+    adapter: &'a dyn Adapter,
+    options: &'a AdaptOptions,
+    /// The ratio of vertices made to vertices asked of the last remeshing to a field not
+    /// growth-limited (the budget is divided by it).
+    ratio: f64,
+}
+
+impl Planar<'_> {
+    /// The vertex count of iteration k's field: the budget's, divided by the remesher's
+    /// ratio of made to asked measured on the last remeshing.
+    /// With the recipe's largest share of it.
+    fn target(&self, k: usize) -> Option<(&RawRecipe, f64, f64)> {
+        let b = self.options.budget.as_ref()?;
+        Some((self.raw.as_ref()?, b.schedule.at(k) / self.ratio, b.recipe_share))
+    }
+}
+
+impl driver::Stepper for Planar<'_> {
+    type State = Measured;
+    type Best = Vec<Sym2>;
+
+    fn dimension(&self) -> u8 {
+        2
+    }
+
+    fn measure(
+        &mut self,
+        iteration: usize,
+        mesh: TaggedMesh,
+        seconds: f64,
+        remeshing: Option<RemeshingRecord>,
+        observer: &mut dyn Observer,
+    ) -> Result<Measured, (Phase, PhaseError)> {
+        let sizer = Sizer { recipe: self.recipe, budget: self.target(iteration) };
+        measure(iteration, mesh, seconds, remeshing, &sizer, self.solver, observer)
+    }
+
+    fn remesh(&self, state: &Measured, scale: Option<f64>) -> Result<Adapted, AdapterError> {
+        let scaled: Option<Vec<Sym2>> =
+            scale.map(|s| state.metric.iter().map(|&m| s * m).collect());
+        self.adapter.adapt(&state.mesh, &state.topology, scaled.as_deref().unwrap_or(&state.metric))
+    }
+
+    fn expected(&self, state: &Measured) -> f64 {
+        state.expected()
+    }
+
+    fn record<'s>(&self, state: &'s Measured) -> &'s IterationRecord {
+        &state.record
+    }
+
+    fn mesh<'s>(&self, state: &'s Measured) -> &'s TaggedMesh {
+        &state.mesh
+    }
+
+    fn warnings<'s>(&self, state: &'s Measured) -> &'s [String] {
+        &state.warnings
+    }
+
+    fn best(&self, state: &Measured) -> Vec<Sym2> {
+        // The field the best mesh was measured against: the LAYER step's band is
+        // remeshed to it.
+        state.metric.clone()
+    }
+
+    fn remeshed(
+        &mut self,
+        k: usize,
+        made: usize,
+        expected: f64,
+        scaled: bool,
+        history: &mut History,
+    ) {
+        // A growth-limited remeshing of a coarse mesh measures the coarse mesh's
+        // sampling of the field more than the remesher: its ratio is not kept.
+        if !scaled {
+            self.ratio = remesher_ratio(made, expected);
+        }
+        let t = self.target(k).map(|t| t.1);
+        if let (Some(b), Some(t)) = (&mut history.budget, t) {
+            b.normalised_to.push(t);
+        }
+    }
+
+    fn on_budget(&self, r: &IterationRecord) -> Option<bool> {
+        self.options.budget.as_ref().map(|b| budget::within(r.vertices, b.schedule.at(r.iteration)))
+    }
+}
+
 /// [`run`] with a solver: each mesh is solved on, and its solution's metric intersected
 /// into the recipe's field (see the module documentation).
 #[allow(clippy::too_many_arguments)]
@@ -439,150 +554,25 @@ pub fn run_with_solver(
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdaptError> {
     let raw = options.budget.as_ref().and_then(|b| RawRecipe::of(recipe, b.hard));
-    // The vertex count of iteration k's field: the budget's, divided by the remesher's
-    // ratio of made to asked measured on the last remeshing.
-    let target = |k: usize, ratio: f64| {
-        let b = options.budget.as_ref()?;
-        Some((raw.as_ref()?, b.schedule.at(k) / ratio, b.recipe_share))
-    };
-    let sizer = |k: usize, ratio: f64| Sizer { recipe, budget: target(k, ratio) };
-    let first = measure(0, start, 0.0, None, &sizer(0, 1.0), solver, observer).map_err(
-        |(phase, source)| {
-            if source.is_interrupted() || (phase == Phase::Solve && observer.interrupted()) {
-                AdaptError::Interrupted { phase }
-            } else {
-                AdaptError::Start { phase, source }
-            }
-        },
-    )?;
-    let mut history = History {
+    let mut planar = Planar { recipe, raw, solver, adapter, options, ratio: 1.0 };
+    let history = History {
         input: input.to_string(),
         recipe: recipe_label.to_string(),
         adapter: adapter.name().to_string(),
         converged: false,
         best_iteration: 0,
         stopped: RUNNING.to_string(),
-        iterations: vec![first.record.clone()],
+        iterations: Vec::new(),
         best_mesh: Vec::new(),
         layer: None,
         budget: options.budget.as_ref().map(|b| BudgetRecord {
             vertices: b.schedule.target,
             from: b.from.clone(),
-            normalised_to: target(0, 1.0).map(|t| t.1).into_iter().collect(),
+            normalised_to: planar.target(0).map(|t| t.1).into_iter().collect(),
         }),
     };
-    observer.record(&history, Some(&first.mesh))?;
-    let mut warnings = Vec::new();
-    note_warnings(&mut warnings, &first);
-    let mut best = first.mesh.clone();
-    // The field the best mesh was measured against: the LAYER step's band is remeshed to it.
-    let mut best_metric = first.metric.clone();
-    let mut current = first;
-    let mut failure = None;
-    let mut stopped = format!("iteration limit ({}) reached", options.max_iterations);
-    let mut ratio = 1.0;
-
-    for k in 1..=options.max_iterations {
-        if observer.interrupted() {
-            stopped = INTERRUPTED.to_string();
-            break;
-        }
-        let expected = current.expected();
-        if let Some(limit) = options.max_vertices {
-            if exceeds(expected, limit) {
-                let e = AdaptError::TooManyVertices { iteration: k, estimate: expected, limit };
-                stopped = e.to_string();
-                failure = Some(e);
-                break;
-            }
-        }
-        let scale = rules::growth_scale(expected, current.mesh.points.len(), options.max_growth);
-        let scaled: Option<Vec<Sym2>> =
-            scale.map(|s| current.metric.iter().map(|&m| s * m).collect());
-        observer.phase(k, Phase::Remesh);
-        let t = Instant::now();
-        let remeshed = adapter.adapt(
-            &current.mesh,
-            &current.topology,
-            scaled.as_deref().unwrap_or(&current.metric),
-        );
-        if observer.interrupted() {
-            stopped = INTERRUPTED.to_string();
-            break;
-        }
-        let next = remeshed.map_err(|e| (Phase::Remesh, PhaseError::from(e))).and_then(|adapted| {
-            let remeshing = RemeshingRecord {
-                expected_vertices: expected,
-                growth_limited_to: scale.map(|s| s * expected),
-                remesher: adapted.stats,
-            };
-            let seconds = t.elapsed().as_secs_f64();
-            // A growth-limited remeshing of a coarse mesh measures the coarse mesh's
-            // sampling of the field more than the remesher: its ratio is not kept.
-            if scale.is_none() {
-                ratio = remesher_ratio(adapted.mesh.points.len(), expected);
-            }
-            if let (Some(b), Some((_, t, _))) = (&mut history.budget, target(k, ratio)) {
-                b.normalised_to.push(t);
-            }
-            measure(k, adapted.mesh, seconds, Some(remeshing), &sizer(k, ratio), solver, observer)
-        });
-        let next = match next {
-            Ok(n) => n,
-            // A solver stopped by the interruption (or failing under it) is no failure of
-            // the run: the iteration is discarded, as a remeshing under way is. A sizing
-            // error is the input's, and is said whatever the user pressed.
-            Err((phase, source))
-                if source.is_interrupted() || (phase == Phase::Solve && observer.interrupted()) =>
-            {
-                stopped = INTERRUPTED.to_string();
-                break;
-            }
-            Err((phase, source)) => {
-                let e = AdaptError::Iteration { iteration: k, phase, source };
-                stopped = e.to_string();
-                failure = Some(e);
-                break;
-            }
-        };
-        note_warnings(&mut warnings, &next);
-        history.iterations.push(next.record.clone());
-        // With a budget a mesh on it beats one off it; otherwise the more conforming wins.
-        let on_budget = |r: &IterationRecord| {
-            options.budget.as_ref().map(|b| budget::within(r.vertices, b.schedule.at(r.iteration)))
-        };
-        let best_so_far = &history.iterations[history.best_iteration];
-        let new_best = match (on_budget(&next.record), on_budget(best_so_far)) {
-            (Some(a), Some(b)) if a != b => a,
-            _ => rules::is_better(&next.record, best_so_far),
-        };
-        if new_best {
-            history.best_iteration = k;
-            best = next.mesh.clone();
-            best_metric = next.metric.clone();
-        }
-        observer.record(&history, new_best.then_some(&next.mesh))?;
-        // With a budget the loop has not converged while the mesh is off it: the next
-        // field, corrected by the remesher's ratio, brings it there.
-        if scale.is_none()
-            && on_budget(&next.record) != Some(false)
-            && rules::converged(&current.record, &next.record, &options.tolerances)
-        {
-            let (dv, dc) = rules::changes(&current.record, &next.record);
-            history.converged = true;
-            stopped = format!(
-                "converged at iteration {k}: vertex count changed by {:.2}% (tolerance {:.2}%), conforming share by {:.4} (tolerance {:.4})",
-                100.0 * dv,
-                100.0 * options.tolerances.vertices,
-                dc,
-                options.tolerances.conformity
-            );
-            break;
-        }
-        current = next;
-    }
-    history.stopped = stopped;
-    observer.record(&history, None)?;
+    let driven = driver::drive(&mut planar, start, history, options, observer)?;
+    let driver::Driven { mut history, best, best_kept: best_metric, failure, warnings } = driven;
     let layer = match &options.layer {
         Some(o) if failure.is_none() && history.stopped != INTERRUPTED => {
             let max_vertices = options.max_vertices.unwrap_or(DEFAULT_MAX_VERTICES);
@@ -598,13 +588,4 @@ pub fn run_with_solver(
         observer.record(&history, Some(&l.mesh)).map_err(AdaptError::LayerOutput)?;
     }
     Ok(Outcome { history, best, layer, periodic, failure, warnings })
-}
-
-/// Adds the sizing warnings of `m` that `all` does not hold yet.
-fn note_warnings(all: &mut Vec<String>, m: &Measured) {
-    for w in &m.warnings {
-        if !all.iter().any(|a| a.ends_with(w.as_str())) {
-            all.push(format!("iteration {}: {w}", m.record.iteration));
-        }
-    }
 }

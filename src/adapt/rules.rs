@@ -41,9 +41,9 @@ pub fn is_better(candidate: &IterationRecord, best: &IterationRecord) -> bool {
     candidate.conforming_share >= best.conforming_share
 }
 
-/// The growth limit of one remeshing: the factor by which to scale the field (every
-/// tensor multiplied by it) so that it asks for at most `max_growth` times the current
-/// `vertices`, or `None` when the field asks for no more than that.
+/// The growth limit of one remeshing: the factor by which to scale the field's
+/// complexity so that it asks for at most `max_growth` times the current `vertices`, or
+/// `None` when the field asks for no more than that.
 ///
 /// On a coarse mesh the recipe's field is sampled at few vertices and interpolated across
 /// large triangles: a boundary layer or a shock smeared over them asks for far more
@@ -51,9 +51,10 @@ pub fn is_better(candidate: &IterationRecord, best: &IterationRecord) -> bool {
 /// start, 17 000 at convergence). Remeshing to the field scaled down to `max_growth`
 /// times the mesh keeps its shape — directions, ratios and relative sizes — at a
 /// vertex count the next sizing resolves better; the loop grows the mesh by at most
-/// `max_growth` per iteration until the field's own count is within reach. In 2D the
-/// complexity ∫√det M is linear in a uniform scaling of M, so the scaled field asks for
-/// exactly `max_growth · vertices`.
+/// `max_growth` per iteration until the field's own count is within reach. In dimension
+/// d the complexity ∫√det M goes as s^(d/2) under a uniform scaling s·M (linear in 2D),
+/// so the metric is multiplied by this factor to the power 2/d (the loop's driver does
+/// it) and the scaled field asks for exactly `max_growth · vertices`.
 pub fn growth_scale(expected: f64, vertices: usize, max_growth: Option<f64>) -> Option<f64> {
     let g = max_growth?;
     let limit = g * vertices.max(1) as f64;
@@ -77,6 +78,7 @@ mod tests {
             seconds: PhaseTimes::default(),
             remeshing: None,
             solver: None,
+            space: None,
         }
     }
 

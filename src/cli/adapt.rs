@@ -24,6 +24,9 @@ use smartmesh::Topology;
 use smartmesh::{adapter, AdapterKind, AdapterOptions};
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
+
+#[path = "adapt_space.rs"]
+mod space;
 use super::solution::SolutionArgs;
 use super::{parse_format, print_stdout, ui, CliError, ExitStatus, RecipeInput};
 
@@ -36,11 +39,9 @@ enum AdapterArg {
     Mmg2d,
     /// Gmsh with BAMG (Mesh.Algorithm 7) on a background view.
     Gmsh,
-    /// MMG's mmg3d_O3 (tetrahedral meshes): refused until the recipe sizes in 3D; see
-    /// `smartmesh remesh --adapter mmg3d`.
+    /// MMG's mmg3d_O3 (tetrahedral meshes; chosen by itself for a mesh with tetrahedra).
     Mmg3d,
-    /// MMG's mmgs_O3 (surfaces in space): refused until the recipe sizes in 3D; see
-    /// `smartmesh remesh --adapter mmgs`.
+    /// MMG's mmgs_O3 (surfaces in space; chosen by itself for a surface off one plane).
     Mmgs,
 }
 
@@ -94,10 +95,18 @@ Remeshers:
   gmsh     gmsh with the mesh as a discrete model (CreateTopology; CreateGeometry;) and the
            metric as background view, meshed with BAMG (Mesh.Algorithm 7, the only Gmsh
            algorithm that honours an anisotropic view); --adapter-arg goes on its command line
-  mmg3d, mmgs  refused for now (exit status 2): the recipe's sizing is planar, so the loop
-           cannot size a mesh in space. Remesh a tetrahedral mesh (or a surface in space) to
-           a 3D metric you give with `smartmesh remesh MESH --metric M.sol -o OUT` (mmg3d is
-           chosen for tetrahedra, --adapter mmgs for a surface)
+  mmg3d    mmg3d_O3 -in in.mesh -sol in.sol -out out.mesh -v 1 [-hgrad G] [-hausd D] [-nosurf]
+           [--adapter-arg ...]: a mesh in space with tetrahedra (chosen by itself)
+  mmgs     mmgs_O3, the same way: a triangulated surface in space (chosen by itself)
+
+A mesh in space (tetrahedra, or triangles off one plane) is sized by the recipe's 3D engine \
+and remeshed by mmg3d_O3 or mmgs_O3 (tags, tag names, curves and points through MMG's \
+references); each mesh is measured as the UGAWG does (share of edges of metric length in \
+[1/sqrt2, sqrt2], mean ratio of each tetrahedron, or triangle of a surface), the history \
+recording them per iteration (\"space\"). The best mesh, the stopping rules, the vertex and \
+growth limits (complexity over the tetrahedra; none on a surface), the history and Ctrl-C \
+are the planar loop's. --solver, --complexity, --error, LAYER, periodic sides, \
+--split-quads and --coarsen-geometry are planar only (exit status 2).
 
 Examples:
   smartmesh adapt fixtures/cylinder.msh --recipe fixtures/cylinder.toml -o cyl.msh --adapter mmg2d
@@ -134,7 +143,8 @@ neither --complexity nor --error, the budget is the recipe's own complexity on t
 mesh (the history's \"budget\" says so). --error is a bound each field meets: no budget."
 )]
 pub(super) struct AdaptArgs {
-    /// Starting mesh (any readable format with triangles or quadrangles), or a .poly.
+    /// Starting mesh (any readable format with triangles or quadrangles; tetrahedra, or a
+    /// triangulated surface in space), or a .poly.
     input: PathBuf,
     #[command(flatten)]
     recipe: RecipeInput,
@@ -469,8 +479,9 @@ struct Progress {
     /// iteration and when the loop stops).
     printed: usize,
     /// The z of the input's plane: the loop computes in (x, y), the files are written in
-    /// the input's plane ([`smartmesh::plane`]).
-    plane_z: f64,
+    /// the input's plane ([`smartmesh::plane`]); `None` for a mesh in space, written as
+    /// it is.
+    plane_z: Option<f64>,
 }
 
 impl Observer for Progress {
@@ -496,9 +507,9 @@ impl Observer for Progress {
     ) -> Result<(), smartmesh::formats::Error> {
         {
             let _writing = WRITING.lock();
-            let placed = new_best.filter(|_| self.plane_z != 0.0).map(|m| {
+            let placed = new_best.zip(self.plane_z.filter(|&z| z != 0.0)).map(|(m, z)| {
                 let mut m = m.clone();
-                smartmesh::place(&mut m, self.plane_z);
+                smartmesh::place(&mut m, z);
                 m
             });
             let new_best = placed.as_ref().or(new_best);
@@ -510,11 +521,14 @@ impl Observer for Progress {
         ) {
             self.printed = history.iterations.len();
             b.set_position(last.iteration as u64);
+            let cells = last.space.as_ref().map_or_else(
+                || format!("{} triangles", last.triangles),
+                |s| format!("{} {}s", s.cells, s.cell),
+            );
             b.println(format!(
-                "iteration {}: {} vertices, {} triangles, {:.1}% conforming, mean quality {:.3}",
+                "iteration {}: {} vertices, {cells}, {:.1}% conforming, mean quality {:.3}",
                 last.iteration,
                 last.vertices,
-                last.triangles,
                 100.0 * last.conforming_share,
                 last.mean_quality
             ));
@@ -653,12 +667,6 @@ const ERROR_START_VERTICES: f64 = 1000.0;
 /// Runs `adapt`.
 pub(super) fn run(mut args: AdaptArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
-    if let AdapterArg::Mmg3d | AdapterArg::Mmgs = args.adapter {
-        return Err(CliError::usage(format!(
-            "--adapter {0}: the adaptation loop sizes each mesh with the recipe, whose sizing is planar today: it cannot size a mesh in space. Remesh a mesh in space to a 3D metric you give with `smartmesh remesh MESH --metric M.sol -o OUT --adapter {0}`",
-            AdapterKind::from(args.adapter).name()
-        )));
-    }
     let format = check_outputs(&args)?;
     super::set_threads(args.threads)?;
     if is_stdio(&args.input) && args.recipe.is_stdin() {
@@ -676,7 +684,21 @@ pub(super) fn run(mut args: AdaptArgs) -> Result<(), CliError> {
             .or(args.solution.error.map(|_| ERROR_START_VERTICES)),
     );
     let pairs = recipe.periodic_pairs();
-    let mut starting = start_sized(&args.input, args.from, first, &pairs).map_err(start_error)?;
+    let mut starting = match start_sized(&args.input, args.from, first, &pairs) {
+        // A mesh in space goes to the loop in space (its own reading: tetrahedra, or a
+        // surface off one plane).
+        Err(smartmesh::adapt::StartError::NotPlanar { .. }) => {
+            return space::run(&args, &recipe, format, t0)
+        }
+        s => s.map_err(start_error)?,
+    };
+    if let AdapterArg::Mmg3d | AdapterArg::Mmgs = args.adapter {
+        return Err(CliError::usage(format!(
+            "{}: a planar mesh; --adapter {} remeshes meshes in space (tetrahedra, a surface off one plane): a planar mesh goes to native, mmg2d or gmsh",
+            super::input_name(&args.input),
+            AdapterKind::from(args.adapter).name()
+        )));
+    }
     let plane_z = starting.plane_z;
     for n in &starting.notes {
         ui::note(&format!("{}: {n}", args.input.display()));
@@ -760,7 +782,7 @@ pub(super) fn run(mut args: AdaptArgs) -> Result<(), CliError> {
         bar: ui::progress_bar(opts.max_iterations as u64, "{bar:30} {pos}/{len} {msg} [{elapsed}]"),
         adapter: remesher.name().to_string(),
         printed: 0,
-        plane_z,
+        plane_z: Some(plane_z),
     };
     handle_interrupts();
     let input = args.input.display().to_string();
@@ -774,6 +796,22 @@ pub(super) fn run(mut args: AdaptArgs) -> Result<(), CliError> {
         &args.recipe.label(),
         &mut progress,
     );
+    finish(&args, result, progress, &read_notes, format, Some(plane_z), t0)
+}
+
+/// Says how the run ended and writes what is left to write: the best mesh to stdout
+/// with `-o -`, the `--json` summary; the exit status from the outcome. `plane_z`: the
+/// input's plane (the result is put back in it), `None` for a mesh in space.
+fn finish(
+    args: &AdaptArgs,
+    result: Result<Outcome, smartmesh::adapt::AdaptError>,
+    progress: Progress,
+    read_notes: &[String],
+    format: Format,
+    plane_z: Option<f64>,
+    t0: Instant,
+) -> Result<(), CliError> {
+    let to_stdout = progress.to_stdout;
     if let Some(b) = &progress.bar {
         b.finish_and_clear();
     }
@@ -783,12 +821,14 @@ pub(super) fn run(mut args: AdaptArgs) -> Result<(), CliError> {
         }
         e => e.into(),
     })?;
-    smartmesh::place(&mut outcome.best, plane_z);
+    if let Some(z) = plane_z {
+        smartmesh::place(&mut outcome.best, z);
+    }
     let _writing = WRITING.lock();
     for w in &outcome.warnings {
         ui::warn(w);
     }
-    say_layer_and_sides(&mut outcome, plane_z)?;
+    say_layer_and_sides(&mut outcome, plane_z.unwrap_or(0.0))?;
     let h = &outcome.history;
     let best = &h.iterations[h.best_iteration];
     let result_mesh = outcome.layer.as_ref().map_or(&outcome.best, |l| &l.mesh);
@@ -803,7 +843,7 @@ pub(super) fn run(mut args: AdaptArgs) -> Result<(), CliError> {
             output: args.output.display().to_string(),
             history_file: progress.files.history.display().to_string(),
             dropped: &dropped,
-            read_notes: &read_notes,
+            read_notes,
             history: h,
         };
         let mut text = serde_json::to_string_pretty(&s)?;

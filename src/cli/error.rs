@@ -174,7 +174,9 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
                 Some(Failure)
             }
             AdaptError::Interrupted { .. } => Some(ExitStatus::Interrupted),
-            AdaptError::Start { .. } | AdaptError::TooManyVertices { .. } => Some(Error),
+            AdaptError::Start { .. }
+            | AdaptError::TooManyVertices { .. }
+            | AdaptError::Planar(_) => Some(Error),
             AdaptError::Iteration { .. } => Some(Failure),
             AdaptError::Output(_) | AdaptError::Layer(_) | AdaptError::LayerOutput(_) => None,
         };

@@ -1,0 +1,128 @@
+//! `adapt` on a mesh in space: a tetrahedral mesh through `mmg3d_O3`, a triangulated
+//! surface through `mmgs_O3`, each mesh sized by the recipe's 3D engine
+//! ([`smartmesh::adapt::space`]). The result files, the progress, Ctrl-C and the end of
+//! the run are the planar command's (`adapt.rs`); this file only checks what the loop
+//! in space cannot do, picks the remesher and starts the loop.
+
+use std::path::Path;
+use std::time::Instant;
+
+use smartmesh::adapt::files::ResultFiles;
+use smartmesh::adapt::space::{run_space, RecipeInSpace};
+use smartmesh::adapt::{AdaptOptions, Tolerances};
+use smartmesh::formats::{CellKind, Format};
+use smartmesh::Topology;
+use smartmesh::{adapter, AdapterKind, AdapterOptions};
+
+use super::{finish, handle_interrupts, is_stdio, ui, AdaptArgs, AdapterArg, CliError, Progress};
+
+/// The remesher of a mesh in space: the one asked for (mmg3d, mmgs), else mmg3d for a
+/// mesh with tetrahedra and mmgs for a surface.
+fn remesher(args: &AdaptArgs, tetrahedra: bool) -> Result<AdapterKind, CliError> {
+    match args.adapter {
+        AdapterArg::Mmg3d => Ok(AdapterKind::Mmg3d),
+        AdapterArg::Mmgs => Ok(AdapterKind::Mmgs),
+        AdapterArg::Native if tetrahedra => Ok(AdapterKind::Mmg3d),
+        AdapterArg::Native => Ok(AdapterKind::Mmgs),
+        AdapterArg::Mmg2d | AdapterArg::Gmsh => Err(CliError::usage(format!(
+            "{}: a mesh in space; --adapter {} remeshes planar meshes: a tetrahedral mesh goes to mmg3d, a surface in space to mmgs (the default picks them)",
+            crate::cli::input_name(&args.input),
+            AdapterKind::from(args.adapter).name()
+        ))),
+    }
+}
+
+/// The options of the planar loop that the loop in space has not, refused before any
+/// work (see [`smartmesh::adapt::space`] for why).
+fn planar_only(args: &AdaptArgs, recipe: &smartmesh::Recipe) -> Result<(), CliError> {
+    let planar = [
+        ("--solver", args.solver.is_some()),
+        ("--complexity", args.solution.complexity.is_some()),
+        ("--error", args.solution.error.is_some()),
+        ("--field", !args.solution.field.is_empty()),
+        ("--layer", args.layer),
+        ("the recipe's LAYER section", recipe.layer.is_some() && !args.no_layer),
+        ("the recipe's periodic sides", !recipe.periodic_pairs().is_empty()),
+        ("--split-quads", args.split_quads),
+        ("--coarsen-geometry", args.coarsen_geometry),
+    ];
+    if let Some((what, _)) = planar.iter().find(|o| o.1) {
+        return Err(CliError::usage(format!(
+            "{}: a mesh in space; {what} works on planar meshes only (the loop in space sizes with the recipe, remeshes with mmg3d or mmgs and measures as the UGAWG does)",
+            crate::cli::input_name(&args.input)
+        )));
+    }
+    Ok(())
+}
+
+/// Runs `adapt` on the mesh in space at `args.input`, with the recipe read and the
+/// output checked (`format`).
+pub(super) fn run(
+    args: &AdaptArgs,
+    recipe: &smartmesh::Recipe,
+    format: Format,
+    t0: Instant,
+) -> Result<(), CliError> {
+    planar_only(args, recipe)?;
+    if is_stdio(&args.input) {
+        return Err(CliError::usage(
+            "a mesh in space on stdin: the loop in space reads its input from a file",
+        ));
+    }
+    let from = args.from.or_else(|| Format::from_path(&args.input));
+    let (mesh, read_notes) = crate::cli::read_linear_mesh_noted(&args.input, from)?;
+    for n in &read_notes {
+        ui::note(&format!("{}: {n}", args.input.display()));
+    }
+    let kind = remesher(args, mesh.num_cells_of(CellKind::Tetra) > 0)?;
+    // The input is checked whole before any tool is looked for: a recipe that names tags
+    // the mesh does not have is bad input (2) whether or not the remesher is installed.
+    recipe
+        .resolve(&Topology::from_mesh(&mesh))
+        .map_err(|e| CliError::context(format!("{e} (input {})", args.input.display()), e))?;
+    let options = AdapterOptions {
+        program: args.adapter_program.clone(),
+        hgrad: args.controls.hgrad,
+        hausd: args.hausd,
+        nosurf: args.nosurf,
+        // The loop's --hmin/--hmax bound the recipe's field, which MMG then follows.
+        extra_args: args.adapter_args.clone(),
+        ..AdapterOptions::default()
+    };
+    let remesher = adapter(kind, options)?;
+    let opts = AdaptOptions {
+        max_iterations: args.max_iterations,
+        tolerances: Tolerances { vertices: args.tol_vertices, conformity: args.tol_conformity },
+        max_vertices: Some(args.max_vertices),
+        max_growth: (args.max_growth > 0.0).then_some(args.max_growth),
+        ..AdaptOptions::default()
+    };
+    let to_stdout = is_stdio(&args.output);
+    let mesh_file = if to_stdout { Path::new("stdout.msh") } else { args.output.as_path() };
+    let progress = Progress {
+        files: ResultFiles::new(
+            mesh_file,
+            args.history.as_deref(),
+            args.output_format.write_options(&args.output),
+        )
+        .with_format(format),
+        to_stdout,
+        bar: ui::progress_bar(opts.max_iterations as u64, "{bar:30} {pos}/{len} {msg} [{elapsed}]"),
+        adapter: remesher.name().to_string(),
+        printed: 0,
+        plane_z: None,
+    };
+    let mut progress = progress;
+    handle_interrupts();
+    let input = args.input.display().to_string();
+    let result = run_space(
+        mesh,
+        &RecipeInSpace(recipe),
+        remesher.as_ref(),
+        &opts,
+        &input,
+        &args.recipe.label(),
+        &mut progress,
+    );
+    finish(args, result, progress, &read_notes, format, None, t0)
+}

@@ -1,0 +1,236 @@
+//! `smartmesh adapt` on meshes in space: a Gmsh-made cube with named surfaces, curve,
+//! point and volume adapted through `mmg3d_O3` to a UNIFORM recipe, checked apart from
+//! the library (every tetrahedron positive, the cube's volume, every tag and name back,
+//! a history row per iteration, the median edge length over the recipe's size), and
+//! Ctrl-C while `mmg3d_O3` runs (a fake that hangs): exit 130, the history says
+//! "interrupted", the program's process group is gone.
+//!
+//! Needs Python's `gmsh` and `mmg3d_O3` on PATH for the first (skipped with a message
+//! without them, mandatory under CI); the second needs only `sh`.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+use smartmesh::formats::{read_path, write_path, CellKind};
+use smartmesh_test_support::formats::{python_with, run_python};
+use smartmesh_test_support::grid::kuhn_box;
+
+#[path = "support/cli.rs"]
+mod support;
+use support::{command, program, run, streams};
+
+/// The unit cube meshed by Gmsh with physical surfaces Left (x = 0, 1), Right (x = 1,
+/// 2), Walls (the others, 3), the volume Solid (10), the curve Rim (the four edges of
+/// the face x = 0, 20) and the point Origin (30).
+const GMSH_BOX: &str = r#"
+import sys, gmsh
+gmsh.initialize()
+gmsh.option.setNumber("General.Terminal", 0)
+gmsh.model.add("box")
+gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
+gmsh.model.occ.synchronize()
+left, right, walls = [], [], []
+for d, t in gmsh.model.getEntities(2):
+    x = gmsh.model.occ.getCenterOfMass(d, t)[0]
+    (left if x < 1e-9 else right if x > 1 - 1e-9 else walls).append(t)
+gmsh.model.addPhysicalGroup(2, left, 1, "Left")
+gmsh.model.addPhysicalGroup(2, right, 2, "Right")
+gmsh.model.addPhysicalGroup(2, walls, 3, "Walls")
+gmsh.model.addPhysicalGroup(3, [1], 10, "Solid")
+rim = [t for d, t in gmsh.model.getBoundary([(2, left[0])], oriented=False)]
+gmsh.model.addPhysicalGroup(1, rim, 20, "Rim")
+origin = [t for d, t in gmsh.model.getEntities(0)
+          if max(abs(c) for c in gmsh.model.getValue(0, t, [])) < 1e-9]
+gmsh.model.addPhysicalGroup(0, origin, 30, "Origin")
+gmsh.option.setNumber("Mesh.MeshSizeMax", 0.3)
+gmsh.model.mesh.generate(3)
+gmsh.write(sys.argv[1])
+gmsh.finalize()
+"#;
+
+/// UNIFORM 0.125 on the volume: the field is 64 I at every vertex.
+const UNIFORM: &str = r#"
+[global]
+h_max = 0.5
+
+[regions]
+solid = ["Solid"]
+
+[[algorithms]]
+type = "uniform"
+regions = ["solid"]
+size = 0.125
+"#;
+
+/// Six times the signed volume of a tetrahedron.
+fn volume6(p: [[f64; 3]; 4]) -> f64 {
+    let d = |i: usize| [p[i][0] - p[0][0], p[i][1] - p[0][1], p[i][2] - p[0][2]];
+    let (a, b, c) = (d(1), d(2), d(3));
+    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0])
+}
+
+#[test]
+fn adapt_takes_a_gmsh_cube_through_mmg3d_to_a_uniform_recipe() {
+    let Some(py) = python_with(&["gmsh"]) else { return };
+    if program("mmg3d_O3").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("box.msh");
+    run_python(&py, GMSH_BOX, &[input.to_str().unwrap()]);
+    let recipe = dir.path().join("u.toml");
+    std::fs::write(&recipe, UNIFORM).unwrap();
+    let out = dir.path().join("adapted.msh");
+    let (i, r, o) = (input.to_str().unwrap(), recipe.to_str().unwrap(), out.to_str().unwrap());
+    let res = run(&["adapt", i, "-r", r, "-o", o, "--max-iterations", "3", "--json"]);
+    assert_eq!(res.status.code(), Some(0), "{}", streams(&res));
+    let json: serde_json::Value = serde_json::from_slice(&res.stdout).unwrap();
+    assert_eq!(json["adapter"], "mmg3d");
+    // A history row per iteration, each with the 3D measures.
+    let h: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("adapted.history.json")).unwrap(),
+    )
+    .unwrap();
+    let rows = h["iterations"].as_array().unwrap();
+    assert!(rows.len() >= 2, "{h}");
+    for (k, row) in rows.iter().enumerate() {
+        assert_eq!(row["iteration"], k);
+        assert_eq!(row["space"]["cell"], "tetrahedron", "{row}");
+    }
+    let start = read_path(&input, None).unwrap();
+    let mesh = read_path(&out, None).unwrap();
+    let best = &rows[h["best_iteration"].as_u64().unwrap() as usize];
+    assert_eq!(best["vertices"], mesh.points.len());
+    // Every tetrahedron positive, the cube's volume.
+    let mut volume = 0.0;
+    let mut edges = BTreeSet::new();
+    for (k, n, _, _) in mesh.cells() {
+        if k == CellKind::Tetra {
+            let v = volume6(std::array::from_fn(|i| mesh.points[n[i] as usize])) / 6.0;
+            assert!(v > 0.0, "tetrahedron {n:?} has volume {v}");
+            volume += v;
+            for a in 0..4 {
+                for b in a + 1..4 {
+                    edges.insert((n[a].min(n[b]), n[a].max(n[b])));
+                }
+            }
+        }
+    }
+    assert!((volume - 1.0).abs() < 1e-9, "volume {volume}");
+    // Every tag and name back.
+    let tags = |m: &smartmesh::formats::TaggedMesh| -> BTreeSet<(u8, i32)> {
+        m.cells().map(|(k, _, p, _)| (k.dim(), p)).collect()
+    };
+    assert_eq!(tags(&mesh), tags(&start));
+    for (k, name) in
+        [(0, "Origin"), (1, "Rim"), (2, "Left"), (2, "Right"), (2, "Walls"), (3, "Solid")]
+    {
+        assert!(mesh.tag_names.iter().any(|(t, n)| t.0 == k && n == name), "{name} lost");
+    }
+    assert_eq!(mesh.tag_names, start.tag_names);
+    // The median edge length in the field 64 I: |e| / 0.125.
+    let mut l: Vec<f64> = edges
+        .iter()
+        .map(|&(a, b)| {
+            let (p, q) = (mesh.points[a as usize], mesh.points[b as usize]);
+            (0..3).map(|i| (p[i] - q[i]).powi(2)).sum::<f64>().sqrt() / 0.125
+        })
+        .collect();
+    l.sort_by(f64::total_cmp);
+    let median = l[l.len() / 2];
+    eprintln!(
+        "adapt cube: {} -> {} tetrahedra, median metric length {median:.3}, {}",
+        start.num_cells_of(CellKind::Tetra),
+        mesh.num_cells_of(CellKind::Tetra),
+        h["stopped"]
+    );
+    assert!((0.7..=1.3).contains(&median), "median metric length {median}");
+}
+
+/// Waits until `file` holds a line.
+fn wait_for_line(file: &Path, child: &mut std::process::Child) -> String {
+    let t = Instant::now();
+    loop {
+        if let Ok(s) = std::fs::read_to_string(file) {
+            if s.ends_with('\n') {
+                return s.trim().to_string();
+            }
+        }
+        if let Ok(Some(status)) = child.try_wait() {
+            panic!("smartmesh ended ({status}) before its remesher started");
+        }
+        assert!(t.elapsed() < Duration::from_secs(120), "the remesher did not start");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn ctrl_c_stops_mmg3d_in_the_loop_and_keeps_the_start() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("box.msh");
+    let mut mesh = kuhn_box(3, [1.0; 3]);
+    mesh.tag_names.insert((3, 1), "Solid".into());
+    write_path(&input, &mesh, None, &Default::default()).unwrap();
+    let recipe = dir.path().join("u.toml");
+    std::fs::write(&recipe, UNIFORM).unwrap();
+    let pid_file = dir.path().join("mmg3d.pid");
+    let fake = dir.path().join("mmg3d_O3");
+    std::fs::write(
+        &fake,
+        format!("#!/bin/sh\necho $$ > '{}'\nwhile :; do sleep 1; done\n", pid_file.display()),
+    )
+    .unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let out = dir.path().join("o.msh");
+    let mut child = command(&[
+        "adapt",
+        input.to_str().unwrap(),
+        "-r",
+        recipe.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--adapter-program",
+        fake.to_str().unwrap(),
+    ])
+    .stdout(Stdio::piped())
+    .stderr(Stdio::piped())
+    .spawn()
+    .unwrap();
+    let pid = wait_for_line(&pid_file, &mut child);
+    assert!(std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let t = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        assert!(t.elapsed() < Duration::from_secs(30), "smartmesh still runs after the signal");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", streams(&o));
+    let h: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("o.history.json")).unwrap())
+            .unwrap();
+    assert_eq!(h["stopped"], "interrupted", "{h}");
+    assert_eq!(h["iterations"].as_array().unwrap().len(), 1, "{h}");
+    // The start is the best mesh, written whole.
+    assert_eq!(read_path(&out, None).unwrap().points.len(), 64);
+    // The fake mmg3d_O3 is gone (a zombie left to an init that does not reap counts).
+    let t = Instant::now();
+    loop {
+        let state = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok();
+        let alive =
+            state.is_some_and(|s| !s.rsplit_once(')').unwrap().1.trim_start().starts_with('Z'));
+        if !alive {
+            break;
+        }
+        assert!(t.elapsed() < Duration::from_secs(5), "mmg3d_O3 ({pid}) lives on");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
