@@ -213,6 +213,8 @@ fn what_only_the_planar_loop_does_is_refused() {
     let budget = crate::adapt::Budget {
         schedule: crate::adapt::solver::Schedule { start: 10.0, growth: 1.0, target: 10.0 },
         from: "test".into(),
+        hard: (None, None),
+        recipe_share: crate::adapt::budget::RECIPE_SHARE,
     };
     let o = AdaptOptions { budget: Some(budget), ..options(1) };
     let e = run_space(kuhn_box(1, [1.0; 3]), &sizing, &adapter, &o, "b", "u", &mut Kept::default())
