@@ -29,8 +29,8 @@ import re, sys
 table = open(sys.argv[1]).read()
 path = "examples/dfg-2d-1/README.md"
 text = open(path).read()
-text = re.sub(r"<!--fig:table-->.*<!--/fig:table-->",
-              "<!--fig:table-->\n" + table + "<!--/fig:table-->", text, flags=re.S)
+text = re.sub(r"<!--table-->.*<!--/table-->",
+              "<!--table-->\n" + table + "<!--/table-->", text, flags=re.S)
 open(path, "w").write(text)
 PY
 fi
