@@ -1,5 +1,7 @@
 //! Every command that computes in the plane refuses a mesh that does not lie in one plane
-//! z = const (exit 2, saying so, nothing written) instead of flattening it onto z = 0; a
+//! z = const (exit 2, saying so, nothing written) instead of flattening it onto z = 0,
+//! while `size`, `adapt` and `recipe check` take it as a surface in space (a 3D field,
+//! the loop through `mmgs_O3`: `tests/size3d_cli.rs`, `tests/adapt_space_cli.rs`); a
 //! mesh in a plane z = c comes back in that plane; `info` describes a surface in space
 //! with its lengths and areas measured in space and says that it is not planar.
 
@@ -81,11 +83,19 @@ fn every_2d_command_refuses_a_surface_in_space() {
     for input in [&xz, &tilted] {
         for (what, args, out) in commands(d, input, &recipe) {
             let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            if matches!(what, "size" | "adapt" | "recipe check") {
+                continue; // A surface in space: sized and adapted in space.
+            }
             let e = bad(&run(&args));
             assert!(e.contains("not planar") && e.contains(input.as_str()), "{what} {input}: {e}");
             assert!(e.contains("z = const"), "{what}: {e}");
             assert!(!out.exists(), "{what} wrote {}", out.display());
         }
+        // `size` gives the tilted or upright square a field in space: 3×3 tensors.
+        let field = d.join("space.vtu");
+        ok(&run(&["size", input, "--recipe", &recipe, "-o", field.to_str().unwrap()]));
+        let m = read_path(&field, None).unwrap();
+        assert_eq!(m.point_data["metric"].components, 9, "{input}");
     }
 }
 
