@@ -40,7 +40,7 @@
 //!
 //! One loop for both dimensions: its skeleton — the best mesh, the stopping rules, the
 //! vertex and growth limits, Ctrl-C, the records after every iteration — is
-//! [`driver`]'s; the planar loop here is its 2D stepper, and [`space`] (a tetrahedral
+//! `driver`'s; the planar loop here is its 2D stepper, and [`space`] (a tetrahedral
 //! mesh through mmg3d, a surface through mmgs, sized by the recipe's 3D engine and
 //! measured as the UGAWG does) its 3D one. The solver, the budget, the LAYER skin and
 //! periodic sides are the planar stepper's only ([`space`] says why).

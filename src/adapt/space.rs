@@ -7,7 +7,7 @@
 //!
 //! The loop itself — the best mesh, the stopping rules, the vertex limit, the growth
 //! limit, Ctrl-C, the history and result files after every iteration — is the planar
-//! loop's ([`super::driver`]); this file is only the [`Stepper`] of space. Each record
+//! loop's (`super::driver`); this file is only the `Stepper` of space. Each record
 //! carries the 3D measures ([`SpaceRecord`]); its `triangles` counts the boundary (or
 //! surface) triangles. Each mesh handed on carries the field it was measured against
 //! (`metric`, `size_tensor`, `h1`…`h3`, `anisotropy`, `axis1`…`axis3`), as `size` writes

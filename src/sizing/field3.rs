@@ -4,7 +4,7 @@
 //! [`MetricField<Sym3>`](crate::metric_field::MetricField) every metric format writes.
 //!
 //! Order of work, as the 2D engine's ([`crate::sizing::field`]):
-//! 1. each step, in plan order, asks for its work ([`Algorithm::work_in_space`]; an
+//! 1. each step, in plan order, asks for its work (`Algorithm::work_in_space`; an
 //!    algorithm that does not size in space refuses, naming its keyword); its tensors
 //!    are intersected into the vertex's current one ([`SizeTensor3::intersection`], the
 //!    first one taken as it is), in plan order always;
@@ -14,13 +14,13 @@
 //!    ([`SizeTensor3::clamp`]);
 //! 4. the gradation pass, when the plan asks for one, then the clamp once
 //!    more to remove rounding (the pass only shrinks, by intersection;
-//!    [`crate::sizing::gradation3`]).
+//!    `crate::sizing::gradation3`).
 //!
 //! Evaluation of a work from a source: no propagation over the mesh; every vertex whose
 //! box distance to the source's pieces is within the reach asks the source's index for
 //! its exact closest point (bit for bit the scan of every piece), and is reached when
 //! the squared distance is at most reach² (the squared form, so that the box pre-test
-//! never drops a vertex the test would keep). Vertices go in fixed chunks of [`CHUNK`]
+//! never drops a vertex the test would keep). Vertices go in fixed chunks of `CHUNK`
 //! in parallel (rayon), each chunk merging into its own slice of the field, each query
 //! seeded by the previous one of its chunk (the answer does not depend on the seed): the
 //! field is the same on every thread count. An error is the first in vertex order.

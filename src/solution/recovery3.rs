@@ -1,7 +1,7 @@
 //! Gradient and Hessian recovery of a scalar P1 field on tetrahedra: the 3D counterpart
 //! of [`super::recovery`], with the same two [`Method`]s and the same errors; what does
 //! not depend on the dimension (the vertex adjacency, the patches grown ring by ring, the
-//! QR solve, the round-off floor) is shared in [`super::patch`].
+//! QR solve, the round-off floor) is shared in `super::patch`.
 //!
 //! - [`Method::L2Projection`]: the element gradients (constant per tetrahedron)
 //!   projected onto P1 with the lumped mass matrix (each vertex takes the volume-weighted

@@ -33,7 +33,7 @@
 //! Border points (topological points) have no curvature and are refused as sources.
 //! Reach: the larger maximum distance of the perpendicular and projection functions.
 //!
-//! In space ([`SpaceBorder`]), the same meaning, one dimension up:
+//! In space (`SpaceBorder`), the same meaning, one dimension up:
 //!
 //! - On a border surface, the principal curvatures and directions at each vertex
 //!   (`geometry::space::curvature`: a cubic jet fit, O(h²)) give the tangential sizes:

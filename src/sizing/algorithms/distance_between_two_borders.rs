@@ -25,7 +25,7 @@
 //! In space the same, the borders surfaces, curves or points (as DISTANCE_TO_BORDER's),
 //! each in its own exact closest-point index: thickness d1 + d2, the normal w of Fig. 4.6
 //! from the two feet in space (on a border, that border's frame,
-//! [`super::frame3`]), `perpendicular(d)` along it and `parallel(d)` twice across it.
+//! `super::frame3`), `perpendicular(d)` along it and `parallel(d)` twice across it.
 
 use super::{
     border_source, normal_at, on_source, reach_of, tensor, unit, Around, Arguments, Declaration,

@@ -16,10 +16,10 @@
 //!
 //! In space the border is surfaces (every cell of them, quads split), curves (their
 //! edges) and points, in one exact closest-point index; the tensor is wall-aligned
-//! ([`super::frame3`]): `perpendicular(d)` along the direction from the foot to the
+//! (`super::frame3`): `perpendicular(d)` along the direction from the foot to the
 //! vertex, `parallel(d)` twice in the plane across it; on a surface (d = 0) the normal is
 //! the surface's, area-weighted at a foot on an edge or a vertex of its cells
-//! ([`SpaceSource::surface_normal`]).
+//! (`SpaceSource::surface_normal`).
 
 use super::{
     border_source, normal_at, reach_of, tensor, Around, Arguments, Declaration, Failure,

@@ -9,7 +9,7 @@
 //! only for functions that shrink away from the source, thesis 7.4.3).
 //!
 //! In space the same: the source points are the sources' mesh vertices in one
-//! [`SpaceSource`](crate::sizing::space::SpaceSource), each distance exact (bit for bit a
+//! `SpaceSource`, each distance exact (bit for bit a
 //! scan of every point).
 
 use super::{

@@ -27,11 +27,11 @@
 //! ```
 //!
 //! In space. An algorithm that sizes a mesh in space (tetrahedra, or triangles off one
-//! plane) also implements [`SizingAlgorithm::work_in_space`], in the same file as its 2D
+//! plane) also implements `SizingAlgorithm::work_in_space`, in the same file as its 2D
 //! `work` and sharing its functions, and says so with `IN_SPACE = true`; by default it
-//! refuses with [`Failure::NotInSpace`] naming its keyword. Its [`SpaceWork`] is a list of
-//! vertices with [`SizeTensor3`]s, or a [`SpaceTensor`] of each vertex from its exact
-//! closest point(s) on one or two [`SpaceSource`]s within a reach; the 3D driver
+//! refuses with `Failure::NotInSpace` naming its keyword. Its `SpaceWork` is a list of
+//! vertices with [`SizeTensor3`]s, or a `SpaceTensor` of each vertex from its exact
+//! closest point(s) on one or two `SpaceSource`s within a reach; the 3D driver
 //! ([`crate::sizing::field3`]) evaluates it.
 //!
 //! Maximum distance. An algorithm propagates up to the largest maximum distance of the
@@ -122,7 +122,7 @@ macro_rules! algorithms {
                 }
             }
 
-            /// Whether it sizes a mesh in space ([`SizingAlgorithm::IN_SPACE`]).
+            /// Whether it sizes a mesh in space (`SizingAlgorithm::IN_SPACE`).
             pub fn in_space(&self) -> bool {
                 match self {
                     $(Algorithm::$name(_) => <$name as SizingAlgorithm>::IN_SPACE,)*

@@ -1,6 +1,6 @@
 //! What the 3D sizing measures on a mesh in space, below the algorithms that use it:
 //! the mesh with its vertex adjacency ([`SpaceMesh`]) and the sources in space
-//! ([`SpaceSource`]: surfaces, segments and points in one exact closest-point index).
+//! (`SpaceSource`: surfaces, segments and points in one exact closest-point index).
 //! The driver that runs a plan on a mesh in space is [`crate::sizing::field3`].
 
 mod mesh;
