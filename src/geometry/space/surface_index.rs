@@ -6,7 +6,8 @@
 //!
 //! Method (hand-written: parry3d's `TriMesh` answers the same query with the same kind of
 //! tree, but neither its ties nor its rounding match a brute-force scan; the benchmark
-//! `surface_distance` compares the two, 1.2x parry's throughput per core so far):
+//! `surface_distance` compares the two: 1.4x parry's throughput per core on 10^6
+//! queries, short of the 2x aimed at):
 //! - Build: top-down binary tree, each node split by the binned surface-area heuristic
 //!   ([`split_sah`]; below depth [`SAH_DEPTH`], and where it finds no plane, at the
 //!   median of the triangles' box centres along the longer side of the centres' box,
@@ -326,10 +327,13 @@ impl SurfaceIndex {
     fn scan_leaf(&self, first: usize, count: usize, p: Point3, best: &mut SurfacePoint) {
         for s in first..first + count {
             let [lo, hi] = self.boxes[s];
-            if box_distance_squared(lo, hi, p) > best.projection.distance_squared {
+            let floor = box_distance_squared(lo, hi, p);
+            if floor > best.projection.distance_squared {
                 continue;
             }
-            let c = SurfacePoint { triangle: self.ids[s], projection: self.tris[s].project(p) };
+            // The boxes are the triangles' own (`bounds`), so this is `project(p)`.
+            let projection = self.tris[s].project_above(p, floor);
+            let c = SurfacePoint { triangle: self.ids[s], projection };
             if c.beats(best) {
                 *best = c;
             }
