@@ -257,3 +257,33 @@ fn bad_input_and_empty_surfaces() {
         g.project([0.5, 1.0, 0.0])
     );
 }
+
+#[test]
+fn a_dense_volume_grid_in_a_batch_equals_the_scan_on_every_thread_count() {
+    // What the 3D DISTANCE_TO_BORDER asks: every vertex of a volume grid around the
+    // surface in one batch (Morton order, each query seeded by the previous answer,
+    // the wide tree's search), grid nodes on the axis and in the planes of symmetry
+    // where many triangles are equally near.
+    let (pts, tris) = torus(36, 20, 1.0, 0.4);
+    let geoms = triangle_geoms(&pts, &tris).unwrap();
+    let idx = SurfaceIndex::new(&pts, &tris).unwrap();
+    let mut rng = Rng(77);
+    let mut queries = Vec::new();
+    for k in 0..8 {
+        for j in 0..20 {
+            for i in 0..20 {
+                let c = [i as f64 * 0.16 - 1.52, j as f64 * 0.16 - 1.52, k as f64 * 0.2 - 0.7];
+                queries.push(c);
+                queries.push([c[0] + 0.1 * rng.unit(), c[1] + 0.1 * rng.unit(), c[2]]);
+            }
+        }
+    }
+    let brute: Vec<_> = queries.iter().map(|q| closest_brute(&geoms, *q)).collect();
+    for threads in [1, 2, 8] {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let many = pool.install(|| idx.closest_many(&queries));
+        for (i, (m, b)) in many.iter().zip(&brute).enumerate() {
+            assert_eq!(m, b, "query {i} {:?} on {threads} threads", queries[i]);
+        }
+    }
+}

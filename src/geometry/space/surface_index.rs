@@ -6,13 +6,19 @@
 //!
 //! Method (hand-written: parry3d's `TriMesh` answers the same query with the same kind of
 //! tree, but neither its ties nor its rounding match a brute-force scan; the benchmark
-//! `surface_distance` compares the two, 1.2x parry's throughput per core so far):
-//! - Build: top-down binary tree, each node split at the median of the triangles' box
-//!   centres along the longer side of the centres' box (ties by triangle index, so the
-//!   same input always gives the same tree), at most [`LEAF_SIZE`] triangles per leaf.
-//!   Each node stores the boxes of both children side by side (one cache line pair, two
-//!   box tests computed together); the triangles are stored in leaf order.
-//! - Query: branch and bound, nearer child first, pruning a box only when its squared
+//! `surface_distance` compares the two: 1.6x parry's throughput per core on 10^6
+//! queries, short of the 2x aimed at):
+//! - Build: top-down binary tree, each node split by the binned surface-area heuristic
+//!   ([`split_sah`]; below depth [`SAH_DEPTH`], and where it finds no plane, at the
+//!   median of the triangles' box centres along the longer side of the centres' box,
+//!   ties by triangle index), at most [`LEAF_SIZE`] triangles per leaf. Every choice
+//!   depends only on the input, so the same input always gives the same tree.
+//!   Each node stores the boxes of both children side by side. The binary tree is then
+//!   collapsed two levels into one: a searched node has up to four children whose
+//!   boxes are tested in one pass (half the stack traffic of the binary tree). The
+//!   triangles are stored in leaf order, their boxes in an array of their own (what a
+//!   leaf scan reads first, packed for the cache).
+//! - Query: branch and bound, nearer children first, pruning a box only when its squared
 //!   distance is strictly above the best so far, and skipping a triangle whose own box
 //!   is. Why this never loses the scan's answer: the kernel never returns less than the
 //!   squared distance to the triangle's box, computed by the same expression as a node's
@@ -32,7 +38,7 @@ use rayon::prelude::*;
 use super::triangle::{box_distance_squared, Point3, TriangleGeom, TriangleProjection};
 
 /// Most triangles in one leaf.
-pub(crate) const LEAF_SIZE: usize = 4;
+pub(crate) const LEAF_SIZE: usize = 16;
 
 /// Sentinel for "no node" / "no triangle".
 const NONE: u32 = u32::MAX;
@@ -101,12 +107,28 @@ struct Node {
     count: [u32; 2],
 }
 
-impl Node {
-    /// Squared distances from `p` to both children's boxes, each exactly as
-    /// [`box_distance_squared`] computes it.
+/// Number of children of a [`Wide`] node.
+const WIDTH: usize = 4;
+
+/// A node of the searched tree: the binary tree collapsed two levels into one, up to
+/// [`WIDTH`] children whose boxes are stored axis by axis (`lo[axis][child]`, as in
+/// [`Node`]) so that one pass computes every child's box distance. A child is a node
+/// index (`count == 0`), a leaf's range of triangle slots (`count > 0`), or absent
+/// (`child == NONE`, `count == 0`, box empty, only at the end of the list).
+#[derive(Debug, Clone, Copy)]
+struct Wide {
+    lo: [[f64; WIDTH]; 3],
+    hi: [[f64; WIDTH]; 3],
+    child: [u32; WIDTH],
+    count: [u32; WIDTH],
+}
+
+impl Wide {
+    /// Squared distances from `p` to every child's box, each exactly as
+    /// [`box_distance_squared`] computes it (an absent child's empty box gives +∞).
     #[inline]
-    fn distances(&self, p: Point3) -> [f64; 2] {
-        let mut d = [0.0; 2];
+    fn distances(&self, p: Point3) -> [f64; WIDTH] {
+        let mut d = [0.0; WIDTH];
         for (c, dc) in d.iter_mut().enumerate() {
             let gx = (self.lo[0][c] - p[0]).max(p[0] - self.hi[0][c]).max(0.0);
             let gy = (self.lo[1][c] - p[1]).max(p[1] - self.hi[1][c]).max(0.0);
@@ -134,9 +156,12 @@ impl BuildItem {
 /// Exact closest-point queries over a fixed triangulated surface.
 #[derive(Debug, Clone)]
 pub(crate) struct SurfaceIndex {
-    nodes: Vec<Node>,
-    /// Triangles in leaf order, with their ids.
+    /// The searched tree (root at 0), see [`Wide`].
+    nodes: Vec<Wide>,
+    /// Triangles in leaf order, with their ids and, apart, their boxes (`[lo, hi]`):
+    /// the boxes are what a leaf scan reads first, packed for the cache.
     tris: Vec<TriangleGeom>,
+    boxes: Vec<[Point3; 2]>,
     ids: Vec<u32>,
     /// Slot in `tris` of each triangle id.
     slot_of: Vec<u32>,
@@ -158,17 +183,26 @@ impl SurfaceIndex {
                 BuildItem { id: i as u32, lo, hi }
             })
             .collect();
-        let mut nodes = Vec::with_capacity(items.len() / 2 + 1);
+        let mut binary = Vec::with_capacity(items.len() / 2 + 1);
+        let mut nodes = Vec::with_capacity(items.len() / 4 + 1);
         if !items.is_empty() {
-            build(&mut items, 0, &mut nodes);
+            build(&mut items, 0, 0, &mut binary);
+            collapse(&binary, 0, &mut nodes);
         }
         let ids: Vec<u32> = items.iter().map(|it| it.id).collect();
         let tris: Vec<TriangleGeom> = ids.iter().map(|&i| geoms[i as usize]).collect();
+        let boxes = tris
+            .iter()
+            .map(|g| {
+                let (lo, hi) = g.bounds();
+                [lo, hi]
+            })
+            .collect();
         let mut slot_of = vec![NONE; ids.len()];
         for (s, &i) in ids.iter().enumerate() {
             slot_of[i as usize] = s as u32;
         }
-        Ok(SurfaceIndex { nodes, tris, ids, slot_of })
+        Ok(SurfaceIndex { nodes, tris, boxes, ids, slot_of })
     }
 
     /// Number of indexed triangles.
@@ -244,13 +278,14 @@ impl SurfaceIndex {
         out
     }
 
-    /// Branch and bound from the root, nearer child first. A stack entry is a node or
-    /// a leaf with its box distance, checked again when popped since the bound may have
-    /// shrunk. Median splits make the depth at most 33 for `u32` counts; the stack holds
-    /// at most one entry per level plus one.
+    /// Branch and bound from the root, nearer children first. A stack entry is a node
+    /// or a leaf with its box distance, checked again when popped since the bound may
+    /// have shrunk. The binary depth is at most [`SAH_DEPTH`] + 33 (median splits below
+    /// it), so the collapsed depth is at most 37; a node pushes at most [`WIDTH`]
+    /// entries after its own pop, so the stack holds at most 37 × 3 + 4 entries.
     fn search(&self, p: Point3, best: &mut SurfacePoint) {
         // (node or first slot, leaf count (0: node), box distance)
-        let mut stack = [(0u32, 0u32, 0.0f64); 72];
+        let mut stack = [(0u32, 0u32, 0.0f64); 128];
         let mut top = 1;
         while top > 0 {
             top -= 1;
@@ -264,14 +299,26 @@ impl SurfaceIndex {
             }
             let node = &self.nodes[at as usize];
             let d = node.distances(p);
-            let (near, far) = if d[1] < d[0] { (1, 0) } else { (0, 1) };
             let bound = best.projection.distance_squared;
-            // Far pushed first: the near one is opened first and tightens the bound.
-            for c in [far, near] {
-                if d[c] <= bound && !(node.child[c] == NONE && node.count[c] == 0) {
-                    stack[top] = (node.child[c], node.count[c], d[c]);
-                    top += 1;
+            // The children within the bound, sorted by decreasing distance (insertion
+            // sort of at most four; equal distances keep child order), pushed so that
+            // the nearest is popped first and tightens the bound.
+            let mut kept = [(0.0f64, 0usize); WIDTH];
+            let mut n = 0;
+            for (c, &dc) in d.iter().enumerate() {
+                if dc <= bound && !(node.child[c] == NONE && node.count[c] == 0) {
+                    let mut i = n;
+                    while i > 0 && kept[i - 1].0 < dc {
+                        kept[i] = kept[i - 1];
+                        i -= 1;
+                    }
+                    kept[i] = (dc, c);
+                    n += 1;
                 }
+            }
+            for &(dc, c) in &kept[..n] {
+                stack[top] = (node.child[c], node.count[c], dc);
+                top += 1;
             }
         }
     }
@@ -279,12 +326,14 @@ impl SurfaceIndex {
     #[inline]
     fn scan_leaf(&self, first: usize, count: usize, p: Point3, best: &mut SurfacePoint) {
         for s in first..first + count {
-            let g = &self.tris[s];
-            let (lo, hi) = g.bounds();
-            if box_distance_squared(lo, hi, p) > best.projection.distance_squared {
+            let [lo, hi] = self.boxes[s];
+            let floor = box_distance_squared(lo, hi, p);
+            if floor > best.projection.distance_squared {
                 continue;
             }
-            let c = SurfacePoint { triangle: self.ids[s], projection: g.project(p) };
+            // The boxes are the triangles' own (`bounds`), so this is `project(p)`.
+            let projection = self.tris[s].project_above(p, floor);
+            let c = SurfacePoint { triangle: self.ids[s], projection };
             if c.beats(best) {
                 *best = c;
             }
@@ -337,7 +386,7 @@ pub(crate) fn closest_brute(geoms: &[TriangleGeom], p: Point3) -> Option<Surface
 
 /// Builds the node over `items` (which start at slot `offset`), appending nodes
 /// depth-first; returns the node's index. `items.len() > 0`.
-fn build(items: &mut [BuildItem], offset: usize, nodes: &mut Vec<Node>) -> u32 {
+fn build(items: &mut [BuildItem], offset: usize, depth: usize, nodes: &mut Vec<Node>) -> u32 {
     let me = nodes.len() as u32;
     let empty = Node {
         lo: [[f64::INFINITY; 2]; 3],
@@ -349,7 +398,8 @@ fn build(items: &mut [BuildItem], offset: usize, nodes: &mut Vec<Node>) -> u32 {
     let halves: Vec<(usize, usize)> = if items.len() <= LEAF_SIZE {
         vec![(0, items.len())]
     } else {
-        let mid = split(items);
+        let mid = if depth < SAH_DEPTH { split_sah(items) } else { None };
+        let mid = mid.unwrap_or_else(|| split(items));
         vec![(0, mid), (mid, items.len())]
     };
     let mut node = empty;
@@ -365,11 +415,149 @@ fn build(items: &mut [BuildItem], offset: usize, nodes: &mut Vec<Node>) -> u32 {
             node.child[c] = (offset + from) as u32;
             node.count[c] = part.len() as u32;
         } else {
-            node.child[c] = build(part, offset + from, nodes);
+            node.child[c] = build(part, offset + from, depth + 1, nodes);
         }
     }
     nodes[me as usize] = node;
     me
+}
+
+/// Collapses binary node `b` and its binary children into one [`Wide`] node (each
+/// internal child replaced by its own two children), appending wide nodes depth-first;
+/// returns the node's index. The boxes are copied, never recomputed, so every box is
+/// the one the binary tree built (a child's box inside its parent's).
+fn collapse(binary: &[Node], b: u32, out: &mut Vec<Wide>) -> u32 {
+    let me = out.len() as u32;
+    let mut wide = Wide {
+        lo: [[f64::INFINITY; WIDTH]; 3],
+        hi: [[f64::NEG_INFINITY; WIDTH]; 3],
+        child: [NONE; WIDTH],
+        count: [0; WIDTH],
+    };
+    out.push(wide);
+    let node = &binary[b as usize];
+    let mut n = 0;
+    for c in 0..2 {
+        let (child, count) = (node.child[c], node.count[c]);
+        if child == NONE && count == 0 {
+            continue;
+        }
+        let entries: Vec<(&Node, usize)> = if count == 0 {
+            let inner = &binary[child as usize];
+            (0..2)
+                .filter(|&g| !(inner.child[g] == NONE && inner.count[g] == 0))
+                .map(|g| (inner, g))
+                .collect()
+        } else {
+            vec![(node, c)]
+        };
+        for (from, g) in entries {
+            for k in 0..3 {
+                wide.lo[k][n] = from.lo[k][g];
+                wide.hi[k][n] = from.hi[k][g];
+            }
+            wide.count[n] = from.count[g];
+            wide.child[n] = if from.count[g] == 0 {
+                collapse(binary, from.child[g], out)
+            } else {
+                from.child[g]
+            };
+            n += 1;
+        }
+    }
+    out[me as usize] = wide;
+    me
+}
+
+/// Bins per axis of the surface-area split.
+const SAH_BINS: usize = 16;
+
+/// Below this depth a node is split by surface area, deeper at the median (which bounds
+/// the depth: at most `SAH_DEPTH + 33` binary levels).
+const SAH_DEPTH: usize = 40;
+
+/// Half the surface area of the box `[lo, hi]` (0 for an empty one).
+fn half_area(lo: Point3, hi: Point3) -> f64 {
+    let d = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+    if d.iter().any(|x| x.is_nan() || *x < 0.0) {
+        return 0.0;
+    }
+    d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
+}
+
+/// Reorders `items` into two parts by the binned surface-area heuristic (the split
+/// plane, among [`SAH_BINS`] − 1 per axis of the centres' box, that minimises
+/// `area(left) × |left| + area(right) × |right|`, the first on ties); returns the split
+/// position, or `None` when every plane leaves one side empty. Why: the boxes of a
+/// surface's patches fit tighter than with median splits, so fewer of them reach a
+/// query's distance. Deterministic: the same input order gives the same parts.
+fn split_sah(items: &mut [BuildItem]) -> Option<usize> {
+    let (mut cmin, mut cmax) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for it in items.iter() {
+        for k in 0..3 {
+            cmin[k] = cmin[k].min(it.centre(k));
+            cmax[k] = cmax[k].max(it.centre(k));
+        }
+    }
+    let bin = |it: &BuildItem, k: usize| -> usize {
+        let w = cmax[k] - cmin[k];
+        let b = ((it.centre(k) - cmin[k]) * (SAH_BINS as f64 / w)) as usize;
+        b.min(SAH_BINS - 1)
+    };
+    let mut best: Option<(f64, usize, usize)> = None;
+    for k in 0..3 {
+        let w = cmax[k] - cmin[k];
+        if w.is_nan() || w <= 0.0 {
+            continue;
+        }
+        let mut lo = [[f64::INFINITY; 3]; SAH_BINS];
+        let mut hi = [[f64::NEG_INFINITY; 3]; SAH_BINS];
+        let mut count = [0usize; SAH_BINS];
+        for it in items.iter() {
+            let b = bin(it, k);
+            count[b] += 1;
+            for a in 0..3 {
+                lo[b][a] = lo[b][a].min(it.lo[a]);
+                hi[b][a] = hi[b][a].max(it.hi[a]);
+            }
+        }
+        // Cost of the right side of each plane, swept from the right.
+        let mut right = [0.0; SAH_BINS];
+        let (mut rlo, mut rhi, mut rn) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+        for b in (1..SAH_BINS).rev() {
+            for a in 0..3 {
+                rlo[a] = rlo[a].min(lo[b][a]);
+                rhi[a] = rhi[a].max(hi[b][a]);
+            }
+            rn += count[b];
+            right[b] = half_area(rlo, rhi) * rn as f64;
+        }
+        let (mut llo, mut lhi, mut ln) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+        for b in 1..SAH_BINS {
+            for a in 0..3 {
+                llo[a] = llo[a].min(lo[b - 1][a]);
+                lhi[a] = lhi[a].max(hi[b - 1][a]);
+            }
+            ln += count[b - 1];
+            if ln == 0 || ln == items.len() {
+                continue;
+            }
+            let cost = half_area(llo, lhi) * ln as f64 + right[b];
+            if best.map_or(true, |(c, _, _)| cost < c) {
+                best = Some((cost, k, b));
+            }
+        }
+    }
+    let (_, k, plane) = best?;
+    // In-place partition: left part first.
+    let mut mid = 0;
+    for i in 0..items.len() {
+        if bin(&items[i], k) < plane {
+            items.swap(i, mid);
+            mid += 1;
+        }
+    }
+    Some(mid)
 }
 
 /// Reorders `items` into two halves at the median of the box centres along the longer

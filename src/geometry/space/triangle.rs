@@ -184,8 +184,16 @@ impl TriangleGeom {
 
     /// Projects `p` on the triangle (see the module doc).
     #[inline]
-    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must count as outside.
     pub(crate) fn project(&self, p: Point3) -> TriangleProjection {
+        self.project_above(p, box_distance_squared(self.lo, self.hi, p))
+    }
+
+    /// [`project`](Self::project) given `floor`, the squared distance from `p` to the
+    /// triangle's box as [`box_distance_squared`] computes it (the surface index has it
+    /// already): the same result bit for bit when `floor` is that value.
+    #[inline]
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must count as outside.
+    pub(crate) fn project_above(&self, p: Point3, floor: f64) -> TriangleProjection {
         let mut best = if self.inv_n2 > 0.0 {
             let w = [
                 dot(self.m[0], sub(p, self.v[0])),
@@ -213,7 +221,6 @@ impl TriangleGeom {
         } else {
             self.project_on_edges(p)
         };
-        let floor = box_distance_squared(self.lo, self.hi, p);
         if floor > best.distance_squared {
             best.distance_squared = floor;
         }
