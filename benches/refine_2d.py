@@ -26,9 +26,11 @@ smartmesh does) and without geometric refinement of the (straight) boundary.
 import argparse
 import json
 import math
+import resource
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -146,8 +148,17 @@ def real_mmg():
     return str(Path(mmgpy.__file__).parent / "bin" / "mmg2d_O3")
 
 
+def cpu_children():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def adapt(tool, sm, mmg, work, name, cycles):
+    """The cycles of one tool on one metric: the final mesh's vertex count, its UGAWG
+    measures, and the remeshers' wall and CPU seconds summed over the cycles (the
+    writing of inputs and the measuring are not counted)."""
     mesh = start_mesh()
+    wall = cpu = 0.0
     for c in range(cycles):
         inp, sol, out = work / f"{tool}-{c}.mesh", work / f"{tool}-{c}.sol", work / f"{tool}-{c + 1}.o.mesh"
         write_mesh(inp, mesh)
@@ -156,7 +167,10 @@ def adapt(tool, sm, mmg, work, name, cycles):
             cmd = [sm, "-q", "remesh", str(inp), "--metric", str(sol), "-o", str(out)]
         else:
             cmd = [mmg, "-in", str(inp), "-sol", str(sol), "-out", str(out), "-hgrad", "-1", "-hausd", "10", "-v", "-1"]
+        c0, t0 = cpu_children(), time.perf_counter()
         subprocess.run(cmd, check=True, capture_output=True)
+        wall += time.perf_counter() - t0
+        cpu += cpu_children() - c0
         mesh = read_mesh(out)
     final, sol = work / f"{tool}-final.mesh", work / f"{tool}-final.sol"
     write_mesh(final, mesh)
@@ -167,34 +181,41 @@ def adapt(tool, sm, mmg, work, name, cycles):
         capture_output=True,
         text=True,
     )
-    return len(mesh[0]), json.loads(info.stdout)["metric"]["ugawg"]
+    return len(mesh[0]), json.loads(info.stdout)["metric"]["ugawg"], wall, cpu
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--smartmesh", default=str(ROOT / "target" / "release" / "smartmesh"))
     ap.add_argument("--json", help="write every figure here")
+    ap.add_argument("--cases", default=",".join(CASES), help="comma-separated metric names")
+    ap.add_argument("--work", help="keep every cycle's files in this folder (default: a temporary one)")
     a = ap.parse_args()
     mmg = real_mmg()
     rows = []
-    print("| metric | tool | vertices | edges in [1/√2, √2] | L min | L max | L mean | quality min | quality mean | refine's limits |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| metric | tool | vertices | edges in [1/√2, √2] | L min | L max | L mean | quality min | quality mean | refine's limits | CPU s | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as d:
-        for name, (cycles, limits) in CASES.items():
+        if a.work:
+            d = a.work
+        for name in a.cases.split(","):
+            cycles, limits = CASES[name]
             for tool in ("smartmesh", "mmg2d_O3"):
                 work = Path(d) / name
-                work.mkdir(exist_ok=True)
-                nv, u = adapt(tool, a.smartmesh, mmg, work, name, cycles)
+                work.mkdir(parents=True, exist_ok=True)
+                nv, u, wall, cpu = adapt(tool, a.smartmesh, mmg, work, name, cycles)
                 lo, hi = u["edge_length_range"]
                 met = "—" if limits is None else (
                     f"[{limits[0]}, {limits[1]}] " + ("met" if lo >= limits[0] and hi <= limits[1] else "NOT met")
                 )
                 print(
                     f"| {name} | {tool} | {nv} | {100 * u['conforming_share']:.1f}% | {lo:.3f} | {hi:.3f} | "
-                    f"{u['mean_edge_length']:.3f} | {u['min_quality']:.3f} | {u['mean_quality']:.3f} | {met} |",
+                    f"{u['mean_edge_length']:.3f} | {u['min_quality']:.3f} | {u['mean_quality']:.3f} | {met} | {cpu:.3f} | {wall:.3f} |",
                     flush=True,
                 )
-                rows.append({"metric": name, "tool": tool, "cycles": cycles, "vertices": nv, "ugawg": u})
+                rows.append(
+                    {"metric": name, "tool": tool, "cycles": cycles, "vertices": nv, "ugawg": u, "cpu_s": cpu, "wall_s": wall}
+                )
     if a.json:
         Path(a.json).write_text(json.dumps(rows, indent=1) + "\n")
 

@@ -18,6 +18,9 @@
 //! [`Piece::deviation`] measures how far a new boundary edge strays from the curve it
 //! replaces: a collapse on a curve is refused past the Hausdorff bound
 //! ([`super::RemeshOptions::hausd`]), so coarsening keeps the area and the curve.
+//! [`Piece::bends_between`] tells a bending stretch from a straight run: there a chord
+//! cuts off area growing as the cube of its length, so a collapse on a bending stretch
+//! stops at the metric's unit length rather than the split bound.
 //!
 //! [`Boundary::chord_clear`] is the guard against boundary crossings: replacing the arc
 //! between two piece vertices by the straight edge between them sweeps the region between
@@ -173,6 +176,15 @@ impl Piece {
             }
         }
         worst
+    }
+
+    /// Whether the piece bends anywhere between parameters `s0` and `s1` (in either
+    /// order): some segment crossed is not a straight run.
+    pub(super) fn bends_between(&self, s0: f64, s1: f64) -> bool {
+        let (lo, hi) = if s0 <= s1 { (s0, s1) } else { (s1, s0) };
+        let first = self.segment(lo).0;
+        let last = self.segment(hi).0;
+        (first..=last).any(|k| !self.straight[k])
     }
 
     /// The metric at parameter `s`, interpolated along the piece from the input.

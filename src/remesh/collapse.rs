@@ -6,8 +6,11 @@
 //! longer than the split bound (no split–collapse cycles), when the worst triangle would
 //! get worse than the quality floor allows, when the new boundary edge would stray from
 //! the curve it replaces by more than the Hausdorff bound ([`RemeshOptions::hausd`]:
-//! so coarsening a curve keeps its shape and the domain's area), or when it would cross
-//! a curve.
+//! so coarsening a curve keeps its shape and the domain's area), when the new edge on a
+//! bending stretch of a curve would be longer than the unit length (the area a chord cuts
+//! off a curve grows as the cube of its length: coarsening a curve stops at the metric's
+//! size, not at the split bound, so the curve keeps as many vertices as its metric asks
+//! and no fewer), or when it would cross a curve.
 //!
 //! As MMG's `chkcol`/`colver`, the operator is a pair: [`check`] reads the mesh and
 //! returns a [`CollapsePlan`] (or `None`, having changed nothing); [`apply`] carries a
@@ -18,6 +21,10 @@ use super::split::metric_midpoint;
 use super::work::{op_quality, orient, Role, Work};
 use crate::metric::length::metric_edge_length;
 use crate::metric::Sym2;
+
+/// The longest a collapse may make an edge on a bending stretch of a curve: the unit
+/// metric length (elsewhere the split bound).
+const CURVE_LMAX: f64 = 1.0;
 
 /// A collapse that [`check`] accepted.
 #[derive(Debug, Clone, PartialEq)]
@@ -164,7 +171,10 @@ pub(super) fn check(
     if let (Some((c, pa)), Role::Slides { s: sa, .. }) = (relink, ra) {
         let (sb, sc) = (w.param_on(b, pa, sa), w.param_on(c, pa, sa));
         let piece = &w.boundary().pieces[pa as usize];
-        if piece.deviation(sb, sc, pb, w.point(c), w.mode()) > w.hausd()
+        let bent_long = piece.bends_between(sb, sc)
+            && metric_edge_length(pb, w.point(c), &mb, &w.metric(c)) > CURVE_LMAX;
+        if bent_long
+            || piece.deviation(sb, sc, pb, w.point(c), w.mode()) > w.hausd()
             || !w.boundary().chord_clear(pa, sb, pb, sc, w.point(c))
         {
             return None;
