@@ -7,7 +7,7 @@
 //! Needs the public fixtures (skipped with a message without them, mandatory under CI),
 //! and `mmg3d_O3` for the remeshing (skipped without it).
 
-use smartmesh::formats::{read_path, CellKind};
+use smartmesh::formats::{read_path, CellKind, TaggedMesh};
 use smartmesh_test_support::formats::public_fixture;
 use smartmesh_test_support::require_public_fixtures;
 
@@ -17,6 +17,34 @@ use support::{program, run, streams};
 
 fn box_cyl() -> String {
     public_fixture("3d/box_cyl.v41_ascii.msh").display().to_string()
+}
+
+/// `size` box_cyl with `recipe` into `dir/sol`, then `remesh` box_cyl to it through
+/// mmg3d_O3 (`--hgrad -1`: the field as given); the adapted mesh.
+fn size_then_mmg3d(dir: &std::path::Path, recipe: &std::path::Path, sol: &str) -> TaggedMesh {
+    let sol = dir.join(sol);
+    let o = run(&[
+        "size",
+        &box_cyl(),
+        "--recipe",
+        recipe.to_str().unwrap(),
+        "-o",
+        sol.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let out = dir.join("adapted.msh");
+    let o = run(&[
+        "remesh",
+        &box_cyl(),
+        "--metric",
+        sol.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--hgrad",
+        "-1",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    read_path(&out, None).unwrap()
 }
 
 /// UNIFORM on the cylinder surface and on the fluid volume, h_max 0.15.
@@ -103,29 +131,7 @@ fn mmg3d_takes_the_sol_size_writes() {
     let dir = tempfile::tempdir().unwrap();
     let recipe = dir.path().join("u.toml");
     std::fs::write(&recipe, UNIFORM).unwrap();
-    let sol = dir.path().join("f.sol");
-    let o = run(&[
-        "size",
-        &box_cyl(),
-        "--recipe",
-        recipe.to_str().unwrap(),
-        "-o",
-        sol.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
-    let out = dir.path().join("adapted.msh");
-    let o = run(&[
-        "remesh",
-        &box_cyl(),
-        "--metric",
-        sol.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--hgrad",
-        "-1",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
-    let mesh = read_path(&out, None).unwrap();
+    let mesh = size_then_mmg3d(dir.path(), &recipe, "f.sol");
     assert!(mesh.num_cells_of(CellKind::Tetra) > 2187, "{}", mesh.num_cells_of(CellKind::Tetra));
 }
 
@@ -241,29 +247,7 @@ fn a_wall_layer_on_the_cylinder_is_sized_and_mmg3d_follows_it() {
     if program("mmg3d_O3").is_none() {
         return;
     }
-    let sol = dir.path().join("w.sol");
-    let o = run(&[
-        "size",
-        &box_cyl(),
-        "--recipe",
-        recipe.to_str().unwrap(),
-        "-o",
-        sol.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
-    let out = dir.path().join("adapted.msh");
-    let o = run(&[
-        "remesh",
-        &box_cyl(),
-        "--metric",
-        sol.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--hgrad",
-        "-1",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
-    let adapted = read_path(&out, None).unwrap();
+    let adapted = size_then_mmg3d(dir.path(), &recipe, "w.sol");
     let mut edges = std::collections::BTreeSet::new();
     for (k, n, _, _) in adapted.cells() {
         if k == CellKind::Tetra {
