@@ -34,15 +34,26 @@
 //! recipe's (measured in `benches/solution_error.py`, column (e)). Where R' is finer than
 //! s·S the recipe's vertices are spent, elsewhere they cost nothing, so the solution has
 //! at least (1 − f)·N of the vertices.
+//!
+//! One normalisation for both dimensions: what differs is the tensor ([`Scalable`]:
+//! [`SizeTensor`] in the plane, [`SizeTensor3`] in space), the cells the complexity is
+//! taken over (triangles and V = 2C/√3; tetrahedra and V = 6√2·C/5.6,
+//! [`crate::metric::complexity3`]) and the gradation pass (on the planar graph; on the
+//! edges of a [`SpaceMesh`]). In space V(s) goes as s^(3/2) where no bound acts, so the
+//! guess is (N/V(1))^(2/3); the root find on ln s is the same. [`normalise3`] and
+//! [`share3`] are the loop in space's.
 
 use smartmesh_formats::TaggedMesh;
 
 use crate::mesh_graph::MeshGraph;
-use crate::metric::complexity::{complexity, vertices_of_complexity};
-use crate::metric::{SizeBounds, SizeTensor};
-use crate::metric_field::planar_triangles;
+use crate::metric::complexity::{complexity, format_count, vertices_of_complexity};
+use crate::metric::complexity3::{complexity3, vertices_of_complexity3};
+use crate::metric::{SizeBounds, SizeTensor, SizeTensor3, Sym3};
+use crate::metric_field::{planar_triangles, Complexity};
 use crate::recipe::Recipe;
 use crate::sizing::gradation::apply_gradation;
+use crate::sizing::gradation3::apply_gradation3;
+use crate::sizing::SpaceMesh;
 
 /// A recipe made to give the raw field, the hard limits of its normalisation, and the
 /// empty recipe a solution's step is run in alone.
@@ -128,6 +139,19 @@ pub fn remesher_ratio(made: usize, asked: f64) -> f64 {
     }
 }
 
+/// The warning of a field the bounds kept from the budget (`reached` false): it asks for
+/// `vertices` at least or at most, not `target`.
+pub fn unreached(reached: bool, vertices: f64, target: f64) -> Option<String> {
+    (!reached).then(|| {
+        format!(
+            "the bounds keep the field from the budget: it asks for {} vertices at {}, not {} (widen --hmin or --hmax)",
+            format_count(vertices),
+            if vertices > target { "least" } else { "most" },
+            format_count(target)
+        )
+    })
+}
+
 /// How the raw field is bounded inside the normalisation.
 #[derive(Debug, Clone, Copy)]
 pub struct Limits<'a> {
@@ -139,55 +163,194 @@ pub struct Limits<'a> {
 
 /// The field normalised to a vertex count.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Budgeted {
+pub struct Budgeted<T = SizeTensor> {
     /// One tensor per vertex.
-    pub tensors: Vec<SizeTensor>,
+    pub tensors: Vec<T>,
     /// The factor s on the metric.
     pub scale: f64,
-    /// The vertices a conforming mesh has (the complexity of `tensors`, 2C/√3).
+    /// The vertices a conforming mesh has (from the complexity of `tensors`: 2C/√3 in
+    /// the plane, 6√2·C/5.6 in space).
     pub vertices: f64,
     /// Whether the target was met (false: the bounds keep it out of reach).
     pub reached: bool,
 }
 
-/// `t` with every size times `factor`, kept in the representable range.
-fn scaled(t: &SizeTensor, factor: f64) -> SizeTensor {
-    let h = t.sizes().map(|h| (h * factor).clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
-    SizeTensor::from_parts(t.axis(), h)
+/// A size tensor the normalisation scales: [`SizeTensor`] in the plane, [`SizeTensor3`]
+/// in space.
+pub trait Scalable: Copy {
+    /// The tensor with every size times `factor`, kept in the representable range.
+    fn scaled(&self, factor: f64) -> Self;
+    /// The largest tensor inside both.
+    fn meet(&self, other: &Self) -> Self;
+    /// The tensor within `bounds` (h_min, h_max, the aspect ratio).
+    fn bounded(&self, bounds: &SizeBounds) -> Self;
+    /// The smallest and the largest size.
+    fn extremes(&self) -> (f64, f64);
+    /// −Σ ln hᵢ: ½ ln det of its metric, what the complexity integrates.
+    fn half_log_det(&self) -> f64;
+}
+
+impl Scalable for SizeTensor {
+    fn scaled(&self, factor: f64) -> Self {
+        let h = self.sizes().map(|h| (h * factor).clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
+        SizeTensor::from_parts(self.axis(), h)
+    }
+    fn meet(&self, other: &Self) -> Self {
+        self.intersection(other)
+    }
+    fn bounded(&self, bounds: &SizeBounds) -> Self {
+        self.clamp(bounds)
+    }
+    fn extremes(&self) -> (f64, f64) {
+        (self.h_min(), self.h_max())
+    }
+    fn half_log_det(&self) -> f64 {
+        -self.sizes().iter().map(|h| h.ln()).sum::<f64>()
+    }
+}
+
+impl Scalable for SizeTensor3 {
+    fn scaled(&self, factor: f64) -> Self {
+        // `from_parts` keeps the sizes in the representable range.
+        SizeTensor3::from_parts(self.frame(), self.sizes().map(|h| h * factor))
+    }
+    fn meet(&self, other: &Self) -> Self {
+        self.intersection(other)
+    }
+    fn bounded(&self, bounds: &SizeBounds) -> Self {
+        self.clamp(bounds)
+    }
+    fn extremes(&self) -> (f64, f64) {
+        (self.h_min(), self.h_max())
+    }
+    fn half_log_det(&self) -> f64 {
+        -self.sizes().iter().map(|h| h.ln()).sum::<f64>()
+    }
+}
+
+/// The cells a field's vertex count is taken over, and its gradation pass.
+trait Cells<T> {
+    /// The dimension d: a factor s on the metric scales the count by s^(d/2).
+    fn dimension(&self) -> f64;
+    /// The vertices a mesh conforming to `tensors` has.
+    fn vertices(&self, tensors: &[T]) -> f64;
+    /// The gradation pass on `tensors`, when there is one.
+    fn grade(&self, tensors: &mut [T]);
+    /// h_min, h_max, the largest aspect ratio.
+    fn bounds(&self) -> &SizeBounds;
+}
+
+/// A planar mesh's triangles (quadrangles cut in two) and its limits.
+struct Plane<'a> {
+    points: Vec<[f64; 2]>,
+    tris: Vec<[usize; 3]>,
+    limits: &'a Limits<'a>,
+}
+
+impl<'a> Plane<'a> {
+    /// The triangles of `mesh` on its first `n` points (a cell on a point the field does
+    /// not have weighs nothing: a valid mesh has none).
+    fn new(mesh: &TaggedMesh, n: usize, limits: &'a Limits<'a>) -> Plane<'a> {
+        let (points, mut tris) = planar_triangles(mesh);
+        tris.retain(|t| t.iter().all(|&v| v < n.min(points.len())));
+        Plane { points, tris, limits }
+    }
+}
+
+impl Cells<SizeTensor> for Plane<'_> {
+    fn dimension(&self) -> f64 {
+        2.0
+    }
+    fn vertices(&self, tensors: &[SizeTensor]) -> f64 {
+        vertices_of(&self.points, &self.tris, tensors)
+    }
+    fn grade(&self, tensors: &mut [SizeTensor]) {
+        if let Some((g, graph)) = self.limits.gradation {
+            apply_gradation(graph, tensors, g.max(1.0));
+        }
+    }
+    fn bounds(&self) -> &SizeBounds {
+        &self.limits.bounds
+    }
+}
+
+/// How the raw field of a mesh in space is bounded inside the normalisation.
+#[derive(Debug, Clone, Copy)]
+pub struct Limits3<'a> {
+    /// h_min, h_max, the largest aspect ratio.
+    pub bounds: SizeBounds,
+    /// The gradation factor (≥ 1) and the mesh it runs on; `None`: none.
+    pub gradation: Option<(f64, &'a SpaceMesh<'a>)>,
+}
+
+/// A mesh in space's volume cells cut into tetrahedra, and its limits.
+struct Solid<'a> {
+    points: &'a [[f64; 3]],
+    tets: Vec<[usize; 4]>,
+    limits: &'a Limits3<'a>,
+}
+
+impl<'a> Solid<'a> {
+    fn new(mesh: &'a TaggedMesh, n: usize, limits: &'a Limits3<'a>) -> Solid<'a> {
+        let mut tets = <Sym3 as Complexity>::simplices(mesh);
+        tets.retain(|t| t.iter().all(|&v| v < n.min(mesh.points.len())));
+        Solid { points: &mesh.points, tets, limits }
+    }
+}
+
+impl Cells<SizeTensor3> for Solid<'_> {
+    fn dimension(&self) -> f64 {
+        3.0
+    }
+    fn vertices(&self, tensors: &[SizeTensor3]) -> f64 {
+        vertices_of3(self.points, &self.tets, tensors)
+    }
+    fn grade(&self, tensors: &mut [SizeTensor3]) {
+        if let Some((g, mesh)) = self.limits.gradation {
+            apply_gradation3(mesh, tensors, g.max(1.0));
+        }
+    }
+    fn bounds(&self) -> &SizeBounds {
+        &self.limits.bounds
+    }
 }
 
 /// The field at ln s = `ln_s`: every size of `raw` times s^(−1/2), intersected with
 /// `fixed` when given, clamped, then graded.
-fn field_at(
-    raw: &[SizeTensor],
-    fixed: Option<&[SizeTensor]>,
+fn field_at<T: Scalable>(
+    raw: &[T],
+    fixed: Option<&[T]>,
     ln_s: f64,
-    limits: &Limits<'_>,
-) -> Vec<SizeTensor> {
+    cells: &dyn Cells<T>,
+) -> Vec<T> {
     let factor = (-0.5 * ln_s).exp();
-    let mut out: Vec<SizeTensor> = raw
+    let bounds = cells.bounds();
+    let mut out: Vec<T> = raw
         .iter()
         .enumerate()
         .map(|(i, t)| {
-            let t = scaled(t, factor);
+            let t = t.scaled(factor);
             let t = match fixed {
-                Some(f) => t.intersection(&f[i]),
+                Some(f) => t.meet(&f[i]),
                 None => t,
             };
-            t.clamp(&limits.bounds)
+            t.bounded(bounds)
         })
         .collect();
-    if let Some((g, graph)) = limits.gradation {
-        apply_gradation(graph, &mut out, g.max(1.0));
-    }
+    cells.grade(&mut out);
     out
 }
 
 /// The vertices a mesh of `tris` on `points` conforming to `tensors` has.
 pub fn vertices_of(points: &[[f64; 2]], tris: &[[usize; 3]], tensors: &[SizeTensor]) -> f64 {
-    let f: Vec<f64> =
-        tensors.iter().map(|t| -t.sizes().iter().map(|h| h.ln()).sum::<f64>()).collect();
+    let f: Vec<f64> = tensors.iter().map(Scalable::half_log_det).collect();
     vertices_of_complexity(complexity(points, tris, &f))
+}
+
+/// The vertices a mesh of `tets` on `points` conforming to `tensors` has.
+pub fn vertices_of3(points: &[[f64; 3]], tets: &[[usize; 4]], tensors: &[SizeTensor3]) -> f64 {
+    let f: Vec<f64> = tensors.iter().map(Scalable::half_log_det).collect();
+    vertices_of_complexity3(complexity3(points, tets, &f))
 }
 
 /// `raw` (one tensor per point of `mesh`) normalised to `target` vertices within
@@ -198,7 +361,7 @@ pub fn normalise(
     limits: &Limits<'_>,
     target: f64,
 ) -> Budgeted {
-    normalise_over(mesh, raw, None, limits, target)
+    normalise_over(&Plane::new(mesh, raw.len(), limits), raw, None, target)
 }
 
 /// The recipe's field `recipe` and a solution's metric `solution` (one tensor per point
@@ -214,61 +377,95 @@ pub fn share(
     target: f64,
     share: f64,
 ) -> Budgeted {
-    let (points, mut tris) = planar_triangles(mesh);
-    tris.retain(|t| t.iter().all(|&v| v < recipe.len().min(points.len())));
-    let own = vertices_of(&points, &tris, recipe);
+    share_over(&Plane::new(mesh, recipe.len(), limits), recipe, solution, target, share)
+}
+
+/// [`normalise`] on a mesh in space: the complexity over its volume cells, the gradation
+/// on its edges.
+pub fn normalise3(
+    mesh: &TaggedMesh,
+    raw: &[SizeTensor3],
+    limits: &Limits3<'_>,
+    target: f64,
+) -> Budgeted<SizeTensor3> {
+    normalise_over(&Solid::new(mesh, raw.len(), limits), raw, None, target)
+}
+
+/// [`share`] on a mesh in space.
+pub fn share3(
+    mesh: &TaggedMesh,
+    recipe: &[SizeTensor3],
+    solution: &[SizeTensor3],
+    limits: &Limits3<'_>,
+    target: f64,
+    share: f64,
+) -> Budgeted<SizeTensor3> {
+    share_over(&Solid::new(mesh, recipe.len(), limits), recipe, solution, target, share)
+}
+
+/// [`share`] over `cells`.
+fn share_over<T: Scalable>(
+    cells: &dyn Cells<T>,
+    recipe: &[T],
+    solution: &[T],
+    target: f64,
+    share: f64,
+) -> Budgeted<T> {
+    let own = cells.vertices(recipe);
     let cap = share.clamp(0.0, 1.0) * target;
-    let floor: Vec<SizeTensor> = if own > cap && cap > 0.0 && own.is_finite() {
-        let factor = (own / cap).sqrt();
-        recipe.iter().map(|t| scaled(t, factor)).collect()
+    let floor: Vec<T> = if own > cap && cap > 0.0 && own.is_finite() {
+        // Sizes times (own/cap)^(1/d) bring the count from own to cap.
+        let factor = (own / cap).powf(1.0 / cells.dimension());
+        recipe.iter().map(|t| t.scaled(factor)).collect()
     } else {
         recipe.to_vec()
     };
-    let b = normalise_over(mesh, solution, Some(&floor), limits, target);
+    let b = normalise_over(cells, solution, Some(&floor), target);
     if b.reached {
         return b;
     }
-    let whole: Vec<SizeTensor> =
-        recipe.iter().zip(solution).map(|(r, s)| r.intersection(s)).collect();
-    normalise(mesh, &whole, limits, target)
+    let whole: Vec<T> = recipe.iter().zip(solution).map(|(r, s)| r.meet(s)).collect();
+    normalise_over(cells, &whole, None, target)
 }
 
-/// `raw` scaled, intersected with `fixed` when given, to `target` vertices within
-/// `limits` (see the module documentation).
-fn normalise_over(
-    mesh: &TaggedMesh,
-    raw: &[SizeTensor],
-    fixed: Option<&[SizeTensor]>,
-    limits: &Limits<'_>,
+/// `raw` scaled, intersected with `fixed` when given, to `target` vertices within the
+/// limits of `cells` (see the module documentation).
+fn normalise_over<T: Scalable>(
+    cells: &dyn Cells<T>,
+    raw: &[T],
+    fixed: Option<&[T]>,
     target: f64,
-) -> Budgeted {
-    let (points, mut tris) = planar_triangles(mesh);
-    // A cell on a point the mesh does not have weighs nothing (a valid mesh has none).
-    tris.retain(|t| t.iter().all(|&v| v < raw.len().min(points.len())));
-    let v = |ln_s: f64| -> (Vec<SizeTensor>, f64) {
-        let t = field_at(raw, fixed, ln_s, limits);
-        let n = vertices_of(&points, &tris, &t);
+) -> Budgeted<T> {
+    let v = |ln_s: f64| -> (Vec<T>, f64) {
+        let t = field_at(raw, fixed, ln_s, cells);
+        let n = cells.vertices(&t);
         (t, n)
     };
-    let done = |ln_s: f64, (tensors, vertices): (Vec<SizeTensor>, f64), reached: bool| Budgeted {
+    let done = |ln_s: f64, (tensors, vertices): (Vec<T>, f64), reached: bool| Budgeted {
         tensors,
         scale: ln_s.exp(),
         vertices,
         reached,
     };
-    let at_one = vertices_of(&points, &tris, raw);
+    let at_one = cells.vertices(raw);
     let g = |n: f64| n.ln() - target.ln();
-    let guess = if at_one > 0.0 && at_one.is_finite() { (target / at_one).ln() } else { 0.0 };
+    // V(s) = s^(d/2) V(1) where no bound acts.
+    let guess = if at_one > 0.0 && at_one.is_finite() {
+        (target / at_one).ln() * 2.0 / cells.dimension()
+    } else {
+        0.0
+    };
     // Far enough out that every scaled size is at a bound: the raw sizes times s^(-1/2)
     // pass it once s is past the ratio of the extreme sizes. There the field asks for
     // the most (every size at h_min) or the least (the scaled part at h_max, the fixed
     // part as it is) any s gives.
-    let (lo, hi) = raw
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), t| (lo.min(t.h_min()), hi.max(t.h_max())));
-    let span = 2.0
-        * ((hi / limits.bounds.h_min()).ln().abs() + (lo / limits.bounds.h_max()).ln().abs())
-        + 1.0;
+    let (lo, hi) = raw.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), t| {
+        let (a, b) = t.extremes();
+        (lo.min(a), hi.max(b))
+    });
+    let bounds = cells.bounds();
+    let span =
+        2.0 * ((hi / bounds.h_min()).ln().abs() + (lo / bounds.h_max()).ln().abs()) + 1.0;
     let (most, least) = (v(span), v(-span));
     if !(target.is_finite() && target > 0.0) || target >= most.1 || target <= least.1 {
         let (ln_s, at) = if target >= most.1 { (span, most) } else { (-span, least) };

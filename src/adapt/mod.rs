@@ -240,6 +240,10 @@ pub enum AdaptError {
     /// ([`space::run_space`]).
     #[error("{0} works on planar meshes only: the loop in space has none")]
     Planar(&'static str),
+    /// The loop on a surface in space was asked for what needs volume cells
+    /// ([`space::run_space_with_solver`]); the text says why.
+    #[error("a surface in space: {0}")]
+    Surface(&'static str),
     /// The observer could not write the result or the history.
     #[error("{0}")]
     Output(#[from] smartmesh_formats::Error),
@@ -363,14 +367,7 @@ fn size_field(
         let sizing = size_mesh_with_steps(mesh, topology, &raw.recipe, extra, &mut |_| {})?;
         (normalise(mesh, &sizing.field.tensors, &limits, target), sizing.field.warnings)
     };
-    if !b.reached {
-        warnings.push(format!(
-            "the bounds keep the field from the budget: it asks for {} vertices at {}, not {} (widen --hmin or --hmax)",
-            format_count(b.vertices),
-            if b.vertices > target { "least" } else { "most" },
-            format_count(target)
-        ));
-    }
+    warnings.extend(budget::unreached(b.reached, b.vertices, target));
     Ok((b.tensors, warnings))
 }
 

@@ -13,31 +13,46 @@
 //! (`metric`, `size_tensor`, `h1`…`h3`, `anisotropy`, `axis1`…`axis3`), as `size` writes
 //! a 3D field, so that `info --metric` and ParaView read one file.
 //!
-//! What the planar loop has and this one has not, and why:
-//! - the solver (`--solver`): its metric is a 2D Hessian's (`sizing::solution`);
-//! - the LAYER skin and periodic sides: both are planar algorithms (`layer`, `periodic`);
-//! - the vertex budget (`--complexity`): it normalises the recipe's raw field with its
-//!   bounds and gradation inside the scaling ([`super::budget`]), which needs the 3D
-//!   sizing's raw field and a 3D gradation on the mesh's graph.
+//! The solver (`--solver`) and the vertex budget (`--complexity`) are the planar loop's
+//! too, through the same pieces: the solver runs on each mesh before it is sized
+//! ([`SolverLoop::solve`], the same files, script and checks), its field's Hessian is
+//! recovered on the tetrahedra and made the Lp-optimal metric in 3D (a SOLUTION_HESSIAN
+//! step after the recipe's, as in 2D), and with a budget the recipe's raw field, the
+//! solution's metric or both are normalised by [`super::budget`]'s one root find
+//! ([`super::budget::normalise3`], [`super::budget::share3`]: the complexity over the
+//! tetrahedra, the bounds and the 3D gradation inside the scaling), the target divided
+//! by the remesher's ratio of made to asked, as in 2D ([`super::budget::remesher_ratio`]).
 //!
-//! [`run_space`] refuses options that ask for them ([`AdaptError::Planar`]). On a
-//! surface the complexity is not taken (it is an integral over volume cells,
-//! [`crate::metric_field::expected_vertices`]), so neither the vertex limit nor the
-//! growth limit acts there: the field goes to `mmgs_O3` as it is.
+//! What the loop in space has not, and why:
+//! - the LAYER skin and periodic sides: both are planar algorithms (`layer`, `periodic`);
+//! - on a surface in space (no volume cell), the vertex budget and the solver: the
+//!   complexity is an integral over volume cells
+//!   ([`crate::metric_field::expected_vertices`]), so a surface's field asks for no
+//!   count, and the Hessian is recovered on tetrahedra. Neither the vertex limit nor the
+//!   growth limit acts there: the field goes to `mmgs_O3` as it is.
+//!
+//! [`run_space`] refuses options that ask for them ([`AdaptError::Planar`],
+//! [`AdaptError::Surface`]), before any work.
 
 use std::time::Instant;
 
 use smartmesh_formats::{CellKind, TaggedMesh};
 
+use super::budget::{self, normalise3, remesher_ratio, share3, Limits3, RawRecipe};
 use super::driver::{self, Stepper};
+use super::solver::SolverLoop;
 use super::{AdaptError, AdaptOptions, Observer, Outcome, Phase, PhaseError, RUNNING};
 use crate::adapters::{Adapted, Adapter, AdapterError};
 use crate::conformity::Ugawg;
-use crate::history::{History, IterationRecord, PhaseTimes, RemeshingRecord, SpaceRecord};
-use crate::metric::{SizeTensor3, Sym3};
-use crate::metric_field::{expected_vertices, MetricField};
+use crate::history::{
+    BudgetRecord, History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord,
+    SpaceRecord,
+};
+use crate::metric::{SizeBounds, SizeTensor, SizeTensor3, Sym3};
+use crate::metric_field::{expected_vertices, Complexity, MetricField};
 use crate::periodic::Rechecked;
 use crate::recipe::{size_mesh_in_space, Recipe};
+use crate::sizing::{SpaceMesh, Step};
 use crate::topology::Topology;
 
 /// A 3D field on a mesh: one SPD tensor per point, and what the sizing warned about.
@@ -52,11 +67,56 @@ pub struct SpaceField {
 /// Why a mesh in space got no field: the sizing's own error, as it says it.
 pub type SpaceSizingError = Box<dyn std::error::Error + Send + Sync + 'static>;
 
+/// What the field on a mesh of the loop in space is normalised to (the planar loop's
+/// [`super::Budget`] at one iteration): a vertex count, the hard h_min and h_max of the
+/// command line, and the recipe's largest share of the count beside a solution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Normalisation {
+    /// The vertex count.
+    pub target: f64,
+    /// The hard h_min and h_max (the recipe's own scale with the field).
+    pub hard: (Option<f64>, Option<f64>),
+    /// The recipe's largest share of `target` beside a solution ([`budget::share3`]).
+    pub recipe_share: f64,
+}
+
 /// How each mesh of the loop in space is sized (the recipe's 3D sizing in the CLI; an
 /// analytic field in tests).
 pub trait SpaceSizing {
     /// The field on `mesh`.
     fn size(&self, mesh: &TaggedMesh) -> Result<SpaceField, SpaceSizingError>;
+
+    /// The field on `mesh` with `extra` steps after its own (a solution's), normalised
+    /// to `budget` when given. By default: [`SpaceSizing::size`] alone (no step can be
+    /// added to it), normalised as a whole within the hard bounds, with no gradation.
+    fn size_for(
+        &self,
+        mesh: &TaggedMesh,
+        extra: &[Step],
+        budget: Option<&Normalisation>,
+    ) -> Result<SpaceField, SpaceSizingError> {
+        if !extra.is_empty() {
+            return Err("a solution's metric is intersected into a recipe's field: this sizing takes no step".into());
+        }
+        let field = self.size(mesh)?;
+        let Some(b) = budget else { return Ok(field) };
+        let bounds = SizeBounds::try_new(
+            b.hard.0.unwrap_or(SizeTensor::MIN_SIZE),
+            b.hard.1.unwrap_or(SizeTensor::MAX_SIZE),
+            f64::INFINITY,
+        )
+        .ok_or("--hmin and --hmax are no range")?;
+        let mut raw = Vec::with_capacity(field.metric.len());
+        for (v, m) in field.metric.iter().enumerate() {
+            raw.push(SizeTensor3::try_from_metric(m).map_err(|e| format!("vertex {v}: {e}"))?);
+        }
+        let limits = Limits3 { bounds, gradation: None };
+        let b3 = normalise3(mesh, &raw, &limits, b.target);
+        let mut warnings = field.warnings;
+        warnings.extend(budget::unreached(b3.reached, b3.vertices, b.target));
+        let metric = b3.tensors.iter().map(SizeTensor3::to_metric).collect();
+        Ok(SpaceField { metric, warnings })
+    }
 }
 
 impl<F> SpaceSizing for F
@@ -75,10 +135,49 @@ pub struct RecipeInSpace<'a>(pub &'a Recipe);
 
 impl SpaceSizing for RecipeInSpace<'_> {
     fn size(&self, mesh: &TaggedMesh) -> Result<SpaceField, SpaceSizingError> {
+        self.size_for(mesh, &[], None)
+    }
+
+    /// The recipe's field (with `extra` steps after its own), normalised to the budget
+    /// as the planar loop's is: a recipe with steps and a solution's steps share it
+    /// ([`share3`]), any other field is scaled as a whole ([`normalise3`]), the recipe's
+    /// gradation and the hard bounds inside the scaling.
+    fn size_for(
+        &self,
+        mesh: &TaggedMesh,
+        extra: &[Step],
+        budget: Option<&Normalisation>,
+    ) -> Result<SpaceField, SpaceSizingError> {
         let topology = Topology::from_mesh(mesh);
-        let sized = size_mesh_in_space(mesh, &topology, self.0, &[], &mut |_| {})?;
-        let metric = sized.field.tensors.iter().map(SizeTensor3::to_metric).collect();
-        Ok(SpaceField { metric, warnings: sized.field.warnings })
+        let to_metric = |t: &[SizeTensor3]| t.iter().map(SizeTensor3::to_metric).collect();
+        // Bounds that are no range are said by the sizing engine, on the recipe itself.
+        let raw = budget.and_then(|b| Some((b, RawRecipe::of(self.0, b.hard)?)));
+        let Some((b, raw)) = raw else {
+            let sized = size_mesh_in_space(mesh, &topology, self.0, extra, &mut |_| {})?;
+            return Ok(SpaceField {
+                metric: to_metric(&sized.field.tensors),
+                warnings: sized.field.warnings,
+            });
+        };
+        let space = match raw.gradation {
+            Some(_) => Some(SpaceMesh::new(mesh, &topology)?),
+            None => None,
+        };
+        let limits = Limits3 { bounds: raw.bounds, gradation: raw.gradation.zip(space.as_ref()) };
+        let (b3, mut warnings) = if raw.has_steps() && !extra.is_empty() {
+            let r = size_mesh_in_space(mesh, &topology, &raw.recipe, &[], &mut |_| {})?;
+            let s = size_mesh_in_space(mesh, &topology, &raw.empty, extra, &mut |_| {})?;
+            let mut warnings = r.field.warnings;
+            warnings.extend(s.field.warnings);
+            let shared =
+                share3(mesh, &r.field.tensors, &s.field.tensors, &limits, b.target, b.recipe_share);
+            (shared, warnings)
+        } else {
+            let sized = size_mesh_in_space(mesh, &topology, &raw.recipe, extra, &mut |_| {})?;
+            (normalise3(mesh, &sized.field.tensors, &limits, b.target), sized.field.warnings)
+        };
+        warnings.extend(budget::unreached(b3.reached, b3.vertices, b.target));
+        Ok(SpaceField { metric: to_metric(&b3.tensors), warnings })
     }
 }
 
@@ -95,7 +194,25 @@ struct InSpace {
 /// The half of the loop in space ([`Stepper`]).
 struct Space<'a> {
     sizing: &'a dyn SpaceSizing,
+    solver: Option<&'a SolverLoop>,
     adapter: &'a dyn Adapter,
+    options: &'a AdaptOptions,
+    /// The ratio of vertices made to vertices asked of the last remeshing to a field not
+    /// growth-limited (the budget is divided by it), as in the planar loop.
+    ratio: f64,
+}
+
+impl Space<'_> {
+    /// What iteration k's field is normalised to: the budget's count divided by the
+    /// remesher's ratio; `None` without a budget.
+    fn target(&self, k: usize) -> Option<Normalisation> {
+        let b = self.options.budget.as_ref()?;
+        Some(Normalisation {
+            target: b.schedule.at(k) / self.ratio,
+            hard: b.hard,
+            recipe_share: b.recipe_share,
+        })
+    }
 }
 
 impl Stepper for Space<'_> {
@@ -114,9 +231,21 @@ impl Stepper for Space<'_> {
         remeshing: Option<RemeshingRecord>,
         observer: &mut dyn Observer,
     ) -> Result<InSpace, (Phase, PhaseError)> {
+        let mut solved = None;
+        let mut extra = Vec::new();
+        if let Some(s) = self.solver {
+            observer.phase(iteration, Phase::Solve);
+            let done = s.solve(iteration, &mut mesh).map_err(|e| (Phase::Solve, e.into()))?;
+            extra.push(s.step(iteration, &done.fields));
+            solved = Some(done);
+        }
         observer.phase(iteration, Phase::Size);
         let t = Instant::now();
-        let field = self.sizing.size(&mesh).map_err(|e| (Phase::Size, PhaseError::Space(e)))?;
+        let target = self.target(iteration);
+        let field = self
+            .sizing
+            .size_for(&mesh, &extra, target.as_ref())
+            .map_err(|e| (Phase::Size, PhaseError::Space(e)))?;
         if field.metric.len() != mesh.points.len() {
             let e = format!(
                 "the field has {} tensors for {} vertices",
@@ -132,6 +261,13 @@ impl Stepper for Space<'_> {
         let u = Ugawg::of_mesh_3d(&mesh, &metric).ok_or((Phase::Measure, PhaseError::NoCell))?;
         let expected = expected_vertices(&mesh, &metric);
         let measure = t.elapsed().as_secs_f64();
+        let solver = solved.map(|d| SolverRecord {
+            seconds: d.seconds,
+            field: d.fields.join(","),
+            fields: d.fields,
+            complexity_asked: d.complexity_asked,
+            complexity_obtained: expected,
+        });
         let record = IterationRecord {
             iteration,
             vertices: mesh.points.len(),
@@ -142,7 +278,7 @@ impl Stepper for Space<'_> {
             min_quality: u.min_quality,
             seconds: PhaseTimes { size, remesh, measure },
             remeshing,
-            solver: None,
+            solver,
             space: Some(SpaceRecord {
                 cell: u.cell.to_string(),
                 cells: u.cells,
@@ -181,12 +317,33 @@ impl Stepper for Space<'_> {
     }
 
     fn best(&self, _state: &InSpace) {}
+
+    fn remeshed(
+        &mut self,
+        k: usize,
+        made: usize,
+        expected: f64,
+        scaled: bool,
+        history: &mut History,
+    ) {
+        // As in the planar loop: a growth-limited remeshing's ratio is not kept.
+        if !scaled {
+            self.ratio = remesher_ratio(made, expected);
+        }
+        if let (Some(b), Some(t)) = (&mut history.budget, self.target(k)) {
+            b.normalised_to.push(t.target);
+        }
+    }
+
+    fn on_budget(&self, r: &IterationRecord) -> Option<bool> {
+        self.options.budget.as_ref().map(|b| budget::within(r.vertices, b.schedule.at(r.iteration)))
+    }
 }
 
 /// Runs the loop in space from `start` (a tetrahedral mesh, or a triangulated surface in
 /// space) with `sizing` and `adapter` (mmg3d or mmgs). `input` and `recipe_label` name the
-/// input and the recipe in the history. `options.layer`, `options.budget` and periodic
-/// sides are planar: asking for them is [`AdaptError::Planar`], before any work.
+/// input and the recipe in the history. `options.layer` and periodic sides are planar:
+/// asking for them is [`AdaptError::Planar`], before any work.
 pub fn run_space(
     start: TaggedMesh,
     sizing: &dyn SpaceSizing,
@@ -196,15 +353,38 @@ pub fn run_space(
     recipe_label: &str,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdaptError> {
+    run_space_with_solver(start, sizing, None, adapter, options, input, recipe_label, observer)
+}
+
+/// [`run_space`] with a solver: each mesh is solved on, and its solution's metric
+/// intersected into the field (see the module documentation). On a surface (no volume
+/// cell) a budget or a solver is [`AdaptError::Surface`], before any work.
+#[allow(clippy::too_many_arguments)]
+pub fn run_space_with_solver(
+    start: TaggedMesh,
+    sizing: &dyn SpaceSizing,
+    solver: Option<&SolverLoop>,
+    adapter: &dyn Adapter,
+    options: &AdaptOptions,
+    input: &str,
+    recipe_label: &str,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, AdaptError> {
     if options.layer.is_some() {
         return Err(AdaptError::Planar("the LAYER skin"));
-    }
-    if options.budget.is_some() {
-        return Err(AdaptError::Planar("the vertex budget (--complexity)"));
     }
     if !options.periodic.pairs.is_empty() {
         return Err(AdaptError::Planar("periodic sides"));
     }
+    if <Sym3 as Complexity>::simplices(&start).is_empty() {
+        if options.budget.is_some() {
+            return Err(AdaptError::Surface(SURFACE_BUDGET));
+        }
+        if solver.is_some() {
+            return Err(AdaptError::Surface(SURFACE_SOLVER));
+        }
+    }
+    let mut space = Space { sizing, solver, adapter, options, ratio: 1.0 };
     let history = History {
         input: input.to_string(),
         recipe: recipe_label.to_string(),
@@ -215,14 +395,23 @@ pub fn run_space(
         iterations: Vec::new(),
         best_mesh: Vec::new(),
         layer: None,
-        budget: None,
+        budget: options.budget.as_ref().map(|b| BudgetRecord {
+            vertices: b.schedule.target,
+            from: b.from.clone(),
+            normalised_to: space.target(0).map(|t| t.target).into_iter().collect(),
+        }),
     };
-    let mut space = Space { sizing, adapter };
     let driven = driver::drive(&mut space, start, history, options, observer)?;
     let driver::Driven { history, best, failure, warnings, .. } = driven;
     let periodic = Ok(Rechecked::default());
     Ok(Outcome { history, best, layer: None, periodic, failure, warnings })
 }
+
+/// Why a surface in space takes no vertex budget.
+pub const SURFACE_BUDGET: &str = "the vertex budget (--complexity) counts the vertices a field asks for by its complexity, an integral of √det M over volume cells: a surface in space has none, so its field asks for no count (mmgs takes the recipe's field as it is; --hmin and --hmax bound it)";
+
+/// Why a surface in space takes no solver.
+pub const SURFACE_SOLVER: &str = "a solver's metric (--solver) comes from its solution's Hessian, recovered on tetrahedra: a surface in space has none";
 
 #[cfg(test)]
 #[path = "space_tests.rs"]

@@ -206,21 +206,98 @@ fn a_field_asking_for_too_much_is_refused_and_growth_is_limited_by_the_3d_expone
     assert!(!out.history.converged);
 }
 
-#[test]
-fn what_only_the_planar_loop_does_is_refused() {
-    let sizing = uniform(0.2);
-    let adapter = Scripted { sides: vec![], given: RefCell::new(Vec::new()) };
-    let budget = crate::adapt::Budget {
-        schedule: crate::adapt::solver::Schedule { start: 10.0, growth: 1.0, target: 10.0 },
+/// A budget of `n` vertices, constant over the iterations.
+fn budget(n: f64) -> crate::adapt::Budget {
+    crate::adapt::Budget {
+        schedule: crate::adapt::solver::Schedule { start: n, growth: 1.0, target: n },
         from: "test".into(),
         hard: (None, None),
         recipe_share: crate::adapt::budget::RECIPE_SHARE,
-    };
-    let o = AdaptOptions { budget: Some(budget), ..options(1) };
+    }
+}
+
+/// The surface of the tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1): four triangles.
+fn tetrahedron_surface() -> TaggedMesh {
+    let mut m = TaggedMesh::new();
+    m.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for t in [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
+        m.block_mut(CellKind::Triangle).push(&t, 1, 1);
+    }
+    m
+}
+
+#[test]
+fn what_needs_the_plane_or_volume_cells_is_refused_before_any_work() {
+    let sizing = uniform(0.2);
+    let adapter = Scripted { sides: vec![], given: RefCell::new(Vec::new()) };
+    let layer = crate::layer::LayerOptions::default();
+    let o = AdaptOptions { layer: Some(layer), ..options(1) };
     let e = run_space(kuhn_box(1, [1.0; 3]), &sizing, &adapter, &o, "b", "u", &mut Kept::default())
         .unwrap_err();
     assert!(matches!(e, AdaptError::Planar(_)), "{e}");
-    assert!(e.to_string().contains("--complexity"), "{e}");
+    // On a surface: no complexity, so no budget; no tetrahedra to recover a Hessian on.
+    let o = AdaptOptions { budget: Some(budget(10.0)), ..options(1) };
+    let surface = tetrahedron_surface();
+    let e = run_space(surface.clone(), &sizing, &adapter, &o, "s", "u", &mut Kept::default())
+        .unwrap_err();
+    assert!(matches!(e, AdaptError::Surface(SURFACE_BUDGET)), "{e}");
+    assert!(e.to_string().contains("integral of √det M over volume cells"), "{e}");
+    let solver = SolverLoop {
+        command: "true {mesh} {solution}".into(),
+        dir: std::env::temp_dir(),
+        mesh_extension: "vtu".into(),
+        solution_extension: "vtu".into(),
+        fields: vec![],
+        goal: crate::adapt::solver::Goal::Error(0.01),
+        p: 2.0,
+        method: Default::default(),
+        bounds: SizeBounds::try_new(1e-3, 1.0, 100.0).unwrap(),
+    };
+    let e = run_space_with_solver(
+        surface,
+        &sizing,
+        Some(&solver),
+        &adapter,
+        &options(1),
+        "s",
+        "u",
+        &mut Kept::default(),
+    )
+    .unwrap_err();
+    assert!(matches!(e, AdaptError::Surface(SURFACE_SOLVER)), "{e}");
+    assert!(adapter.given.borrow().is_empty());
+    // A field that is no recipe takes no solution's step.
+    let e = sizing.size_for(&kuhn_box(1, [1.0; 3]), &[solver.step(0, &["u".into()])], None);
+    assert!(e.unwrap_err().to_string().contains("takes no step"));
+}
+
+#[test]
+fn the_budget_normalises_the_field_and_divides_by_the_remeshers_ratio() {
+    // Uniform h = 0.2 on the unit cube asks for 6√2 · 125 / 5.6 ≈ 189 vertices; a budget
+    // of 500 scales it, and the remesher's boxes (5³ = 125 vertices for a field of 500,
+    // then 8³) set the ratio the next target is divided by.
+    let sizing = uniform(0.2);
+    let adapter = Scripted { sides: vec![4, 7], given: RefCell::new(Vec::new()) };
+    let start = kuhn_box(2, [1.0; 3]);
+    let o = AdaptOptions { budget: Some(budget(500.0)), ..options(2) };
+    let mut kept = Kept::default();
+    let out = run_space(start.clone(), &sizing, &adapter, &o, "box", "u", &mut kept).unwrap();
+    let given = adapter.given.borrow();
+    let n0 = crate::metric_field::expected_vertices(&start, &given[0]);
+    assert!((n0 / 500.0 - 1.0).abs() < 1e-9, "{n0}");
+    // Iteration 1 made 125 of 500: ratio 1/4, clamped to 1/2, so 1000 asked next.
+    let n1 = crate::metric_field::expected_vertices(&kuhn_box(4, [1.0; 3]), &given[1]);
+    assert!((n1 / 1000.0 - 1.0).abs() < 1e-9, "{n1}");
+    let b = out.history.budget.as_ref().unwrap();
+    assert_eq!(b.vertices, 500.0);
+    // Iteration 2 made 512 of 1000: the next target is 500 / 0.512.
+    let want = [500.0, 1000.0, 500.0 / (512.0 / 1000.0)];
+    assert_eq!(b.normalised_to.len(), 3);
+    for (got, want) in b.normalised_to.iter().zip(want) {
+        assert!((got / want - 1.0).abs() < 1e-9, "{:?}", b.normalised_to);
+    }
+    // The mesh on the budget (512 of 500) is the best, off-budget ones are not.
+    assert_eq!(out.history.best_iteration, 2);
 }
 
 #[test]

@@ -176,7 +176,8 @@ fn decides(e: &(dyn StdError + 'static)) -> Option<ExitStatus> {
             AdaptError::Interrupted { .. } => Some(ExitStatus::Interrupted),
             AdaptError::Start { .. }
             | AdaptError::TooManyVertices { .. }
-            | AdaptError::Planar(_) => Some(Error),
+            | AdaptError::Planar(_)
+            | AdaptError::Surface(_) => Some(Error),
             AdaptError::Iteration { .. } => Some(Failure),
             AdaptError::Output(_) | AdaptError::Layer(_) | AdaptError::LayerOutput(_) => None,
         };

@@ -9,7 +9,7 @@ pub mod field;
 pub mod field3;
 pub mod functions;
 pub mod gradation;
-mod gradation3;
+pub(crate) mod gradation3;
 pub mod plan;
 pub mod propagation;
 pub mod space;
