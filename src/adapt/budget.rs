@@ -139,6 +139,35 @@ pub fn remesher_ratio(made: usize, asked: f64) -> f64 {
     }
 }
 
+/// The vertex count to normalise the next field to so that the remesher makes `n`,
+/// from its last remeshings to fields not growth-limited (`(asked, made)`, oldest first).
+/// With one, `n` divided by its ratio ([`remesher_ratio`]). With two whose asked counts
+/// differ by 2 % or more, the secant of ln made against ln asked through them, its slope
+/// kept in [1/2, 2], solved for `n`, and kept within [n/2, 2n] as the ratio is: a
+/// remesher's ratio drifts with the field's count (mmg3d refines a curved boundary to
+/// its Hausdorff distance whatever the field asks, so a coarser field makes
+/// proportionally more), which the ratio alone follows one iteration late.
+pub fn corrected_target(n: f64, remeshings: &[(f64, usize)]) -> f64 {
+    let ratio = |&(asked, made): &(f64, usize)| remesher_ratio(made, asked);
+    match remeshings {
+        [] => n,
+        [.., a, b] if a.0 > 0.0 && b.0 > 0.0 && (b.0 / a.0).ln().abs() >= 0.02 => {
+            let (ma, mb) = (a.1 as f64, b.1 as f64);
+            let slope = (mb / ma).ln() / (b.0 / a.0).ln();
+            if !(slope.is_finite() && ma > 0.0 && mb > 0.0) {
+                return n / ratio(b);
+            }
+            let t = b.0 * (n / mb).powf(1.0 / slope.clamp(0.5, 2.0));
+            if t.is_finite() {
+                t.clamp(0.5 * n, 2.0 * n)
+            } else {
+                n / ratio(b)
+            }
+        }
+        [.., b] => n / ratio(b),
+    }
+}
+
 /// The warning of a field the bounds kept from the budget (`reached` false): it asks for
 /// `vertices` at least or at most, not `target`.
 pub fn unreached(reached: bool, vertices: f64, target: f64) -> Option<String> {
@@ -192,7 +221,8 @@ pub trait Scalable: Copy {
 
 impl Scalable for SizeTensor {
     fn scaled(&self, factor: f64) -> Self {
-        let h = self.sizes().map(|h| (h * factor).clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
+        let h =
+            self.sizes().map(|h| (h * factor).clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
         SizeTensor::from_parts(self.axis(), h)
     }
     fn meet(&self, other: &Self) -> Self {
@@ -464,8 +494,7 @@ fn normalise_over<T: Scalable>(
         (lo.min(a), hi.max(b))
     });
     let bounds = cells.bounds();
-    let span =
-        2.0 * ((hi / bounds.h_min()).ln().abs() + (lo / bounds.h_max()).ln().abs()) + 1.0;
+    let span = 2.0 * ((hi / bounds.h_min()).ln().abs() + (lo / bounds.h_max()).ln().abs()) + 1.0;
     let (most, least) = (v(span), v(-span));
     if !(target.is_finite() && target > 0.0) || target >= most.1 || target <= least.1 {
         let (ln_s, at) = if target >= most.1 { (span, most) } else { (-span, least) };

@@ -20,8 +20,10 @@
 //! step after the recipe's, as in 2D), and with a budget the recipe's raw field, the
 //! solution's metric or both are normalised by [`super::budget`]'s one root find
 //! ([`super::budget::normalise3`], [`super::budget::share3`]: the complexity over the
-//! tetrahedra, the bounds and the 3D gradation inside the scaling), the target divided
-//! by the remesher's ratio of made to asked, as in 2D ([`super::budget::remesher_ratio`]).
+//! tetrahedra, the bounds and the 3D gradation inside the scaling), the target corrected
+//! by what the remesher made of the last fields ([`super::budget::corrected_target`]: the
+//! planar loop's ratio of made to asked, then the secant through the last two, as
+//! mmg3d's ratio drifts with the field's count).
 //!
 //! What the loop in space has not, and why:
 //! - the LAYER skin and periodic sides: both are planar algorithms (`layer`, `periodic`);
@@ -38,15 +40,14 @@ use std::time::Instant;
 
 use smartmesh_formats::{CellKind, TaggedMesh};
 
-use super::budget::{self, normalise3, remesher_ratio, share3, Limits3, RawRecipe};
+use super::budget::{self, corrected_target, normalise3, share3, Limits3, RawRecipe};
 use super::driver::{self, Stepper};
 use super::solver::SolverLoop;
 use super::{AdaptError, AdaptOptions, Observer, Outcome, Phase, PhaseError, RUNNING};
 use crate::adapters::{Adapted, Adapter, AdapterError};
 use crate::conformity::Ugawg;
 use crate::history::{
-    BudgetRecord, History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord,
-    SpaceRecord,
+    BudgetRecord, History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord, SpaceRecord,
 };
 use crate::metric::{SizeBounds, SizeTensor, SizeTensor3, Sym3};
 use crate::metric_field::{expected_vertices, Complexity, MetricField};
@@ -197,18 +198,18 @@ struct Space<'a> {
     solver: Option<&'a SolverLoop>,
     adapter: &'a dyn Adapter,
     options: &'a AdaptOptions,
-    /// The ratio of vertices made to vertices asked of the last remeshing to a field not
-    /// growth-limited (the budget is divided by it), as in the planar loop.
-    ratio: f64,
+    /// The vertices asked and made of the remeshings to fields not growth-limited, oldest
+    /// first: the next target is corrected by them ([`budget::corrected_target`]).
+    remeshings: Vec<(f64, usize)>,
 }
 
 impl Space<'_> {
-    /// What iteration k's field is normalised to: the budget's count divided by the
-    /// remesher's ratio; `None` without a budget.
+    /// What iteration k's field is normalised to: the budget's count corrected by what
+    /// the remesher made of the last fields; `None` without a budget.
     fn target(&self, k: usize) -> Option<Normalisation> {
         let b = self.options.budget.as_ref()?;
         Some(Normalisation {
-            target: b.schedule.at(k) / self.ratio,
+            target: corrected_target(b.schedule.at(k), &self.remeshings),
             hard: b.hard,
             recipe_share: b.recipe_share,
         })
@@ -326,9 +327,10 @@ impl Stepper for Space<'_> {
         scaled: bool,
         history: &mut History,
     ) {
-        // As in the planar loop: a growth-limited remeshing's ratio is not kept.
-        if !scaled {
-            self.ratio = remesher_ratio(made, expected);
+        // As in the planar loop: a growth-limited remeshing measures the coarse mesh's
+        // sampling of the field more than the remesher, and is not kept.
+        if !scaled && expected > 0.0 {
+            self.remeshings.push((expected, made));
         }
         if let (Some(b), Some(t)) = (&mut history.budget, self.target(k)) {
             b.normalised_to.push(t.target);
@@ -384,7 +386,7 @@ pub fn run_space_with_solver(
             return Err(AdaptError::Surface(SURFACE_SOLVER));
         }
     }
-    let mut space = Space { sizing, solver, adapter, options, ratio: 1.0 };
+    let mut space = Space { sizing, solver, adapter, options, remeshings: Vec::new() };
     let history = History {
         input: input.to_string(),
         recipe: recipe_label.to_string(),

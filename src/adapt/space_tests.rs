@@ -290,8 +290,9 @@ fn the_budget_normalises_the_field_and_divides_by_the_remeshers_ratio() {
     assert!((n1 / 1000.0 - 1.0).abs() < 1e-9, "{n1}");
     let b = out.history.budget.as_ref().unwrap();
     assert_eq!(b.vertices, 500.0);
-    // Iteration 2 made 512 of 1000: the next target is 500 / 0.512.
-    let want = [500.0, 1000.0, 500.0 / (512.0 / 1000.0)];
+    // Iteration 2 made 512 of 1000: the secant through (500, 125) and (1000, 512) has
+    // slope ln 4.096 / ln 2, kept at 2, so the next target is 1000 · (500/512)^(1/2).
+    let want = [500.0, 1000.0, 1000.0 * (500.0f64 / 512.0).sqrt()];
     assert_eq!(b.normalised_to.len(), 3);
     for (got, want) in b.normalised_to.iter().zip(want) {
         assert!((got / want - 1.0).abs() < 1e-9, "{:?}", b.normalised_to);

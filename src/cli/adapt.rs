@@ -319,20 +319,29 @@ fn recipe_vertices(
     mesh: &TaggedMesh,
     recipe: &smartmesh::Recipe,
 ) -> Result<Option<f64>, CliError> {
-    if args.solver.is_none() || args.solution.complexity.is_some() || args.solution.error.is_some()
-    {
+    if !own_budget(args, recipe)? {
         return Ok(None);
-    }
-    if recipe.algorithms.is_empty() {
-        return Err(CliError::usage(
-            "--solver needs --complexity N (or --error E), or a recipe whose field's complexity is the budget",
-        ));
     }
     let topology = Topology::from_mesh(mesh);
     let sized = size_mesh_with_steps(mesh, &topology, recipe, &[], &mut |_| {})
         .map_err(|e| CliError::context(format!("{e} (input {})", args.input.display()), e))?;
     let metric: Vec<_> = sized.field.tensors.iter().map(|t| t.to_metric()).collect();
     Ok(Some(expected_vertices(mesh, &metric)))
+}
+
+/// Whether the budget is the recipe's own complexity on the starting mesh (`--solver`
+/// without `--complexity` or `--error`); an error when the recipe has no step to give it.
+fn own_budget(args: &AdaptArgs, recipe: &smartmesh::Recipe) -> Result<bool, CliError> {
+    if args.solver.is_none() || args.solution.complexity.is_some() || args.solution.error.is_some()
+    {
+        return Ok(false);
+    }
+    if recipe.algorithms.is_empty() {
+        return Err(CliError::usage(
+            "--solver needs --complexity N (or --error E), or a recipe whose field's complexity is the budget",
+        ));
+    }
+    Ok(true)
 }
 
 /// The solver of `--solver`, checked before any work; `recipe_vertices` is the budget

@@ -294,3 +294,26 @@ fn the_recipes_own_bounds_scale_and_the_command_lines_are_hard() {
     assert!(raw.empty.algorithms.is_empty() && raw.empty.global.h_min.is_none());
     assert!(!raw.has_steps());
 }
+
+#[test]
+fn the_target_is_corrected_by_the_ratio_then_by_the_secant() {
+    assert_eq!(corrected_target(1000.0, &[]), 1000.0);
+    // One remeshing: the ratio, kept in [1/2, 2].
+    assert_eq!(corrected_target(1000.0, &[(1000.0, 1250)]), 800.0);
+    assert_eq!(corrected_target(1000.0, &[(1000.0, 5000)]), 500.0);
+    // A remesher that makes 1.5 · asked^0.9: the secant through two of its points finds
+    // the count that makes 1000 (up to the rounding of the counts made).
+    let made = |a: f64| 1.5 * a.powf(0.9);
+    let pairs = [(800.0, made(800.0).round() as usize), (1100.0, made(1100.0).round() as usize)];
+    let t = corrected_target(1000.0, &pairs);
+    let want = (1000.0f64 / 1.5).powf(1.0 / 0.9);
+    assert!((t / want - 1.0).abs() < 2e-3, "{t} vs {want}");
+    // Two counts too close for a slope: the ratio of the last.
+    let t = corrected_target(1000.0, &[(900.0, 1000), (901.0, 1200)]);
+    assert!((t - 1000.0 / (1200.0 / 901.0)).abs() < 1e-9, "{t}");
+    // A slope past 2 is kept at 2, the result within [n/2, 2n].
+    let t = corrected_target(1000.0, &[(500.0, 100), (1000.0, 1000)]);
+    assert_eq!(t, 1000.0);
+    let t = corrected_target(1000.0, &[(500.0, 2000), (1000.0, 8000)]);
+    assert_eq!(t, 500.0);
+}
