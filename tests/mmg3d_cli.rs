@@ -353,7 +353,7 @@ fn a_mesh_in_space_is_refused_by_the_planar_paths_naming_mmg3d() {
     let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o, "--adapter", "mmg2d"]);
     assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
     assert!(String::from_utf8_lossy(&r.stderr).contains("goes to mmg3d"), "{}", streams(&r));
-    let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o, "--complexity", "9"]);
+    let r = run(&["adapt", i, "--recipe", recipe.to_str().unwrap(), "-o", o, "--split-quads"]);
     assert_eq!(r.status.code(), Some(2), "{}", streams(&r));
     assert!(String::from_utf8_lossy(&r.stderr).contains("planar meshes only"), "{}", streams(&r));
     assert!(!out.exists());

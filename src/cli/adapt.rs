@@ -105,7 +105,11 @@ references); each mesh is measured as the UGAWG does (share of edges of metric l
 [1/sqrt2, sqrt2], mean ratio of each tetrahedron, or triangle of a surface), the history \
 recording them per iteration (\"space\"). The best mesh, the stopping rules, the vertex and \
 growth limits (complexity over the tetrahedra; none on a surface), the history and Ctrl-C \
-are the planar loop's. --solver, --complexity, --error, LAYER, periodic sides, \
+are the planar loop's. --solver and --complexity work on tetrahedra as below (the Hessian \
+recovered on the tetrahedra, the complexity taken over them; under a budget MMG's own \
+gradation is off unless --hgrad, and each target is corrected by what mmg3d made of the \
+last two fields); a surface in space takes neither (no volume cell: its field asks for no \
+vertex count, and has no tetrahedra to recover a Hessian on). LAYER, periodic sides, \
 --split-quads and --coarsen-geometry are planar only (exit status 2).
 
 Examples:
