@@ -317,3 +317,110 @@ fn the_target_is_corrected_by_the_ratio_then_by_the_secant() {
     let t = corrected_target(1000.0, &[(500.0, 2000), (1000.0, 8000)]);
     assert_eq!(t, 500.0);
 }
+
+/// A raw field in space on `mesh`: fine and stretched near x = 0, coarse at x = 1, its
+/// frame turning with y.
+fn raw_field3(mesh: &TaggedMesh) -> Vec<SizeTensor3> {
+    mesh.points
+        .iter()
+        .map(|p| {
+            let (s, c) = p[1].sin_cos();
+            let h = [1e-3 + 0.4 * p[0] * p[0], 2e-2 + 0.2 * p[1], 5e-2 + 0.1 * p[2]];
+            SizeTensor3::new([c, s, 0.0], [-s, c, 0.0], h)
+        })
+        .collect()
+}
+
+/// The field in space at `scale` made by hand: sizes times scale^(-1/2), each clamped to
+/// [lo, hi], those above the smallest times `r` shrunk to it.
+fn by_hand3(raw: &[SizeTensor3], scale: f64, lo: f64, hi: f64, r: f64) -> Vec<SizeTensor3> {
+    raw.iter()
+        .map(|t| {
+            let h = t.sizes().map(|h| (h / scale.sqrt()).max(lo).min(hi));
+            let small = h[0].min(h[1]).min(h[2]);
+            SizeTensor3::new(t.frame()[0], t.frame()[1], h.map(|x| x.min(small * r)))
+        })
+        .collect()
+}
+
+#[test]
+fn the_normalised_field_in_space_asks_for_the_target_with_every_bound_acting() {
+    let mesh = smartmesh_test_support::grid::kuhn_box(6, [1.0; 3]);
+    let raw = raw_field3(&mesh);
+    // Every size at h_max asks for 6√2/5.6/0.2³ ≈ 189 vertices, at h_min 10⁸.
+    let (lo, hi, r) = (0.004, 0.2, 8.0);
+    let limits = Limits3 { bounds: SizeBounds::try_new(lo, hi, r).unwrap(), gradation: None };
+    for target in [300.0, 3000.0, 30_000.0] {
+        let b = normalise3(&mesh, &raw, &limits, target);
+        assert!(b.reached, "{target}");
+        let hand = by_hand3(&raw, b.scale, lo, hi, r);
+        // The count by another route: the metrics' expected vertices over the cells.
+        let metric: Vec<Sym3> = hand.iter().map(SizeTensor3::to_metric).collect();
+        let v = crate::metric_field::expected_vertices(&mesh, &metric);
+        assert!((v / target - 1.0).abs() < 1e-9, "{target}: {v}");
+        for (x, y) in b.tensors.iter().zip(&hand) {
+            for (p, q) in x.sizes().iter().zip(y.sizes()) {
+                assert!((p / q - 1.0).abs() < 1e-12, "{target}: {p} {q}");
+            }
+        }
+        let at =
+            |h: f64| hand.iter().any(|t| t.sizes().iter().any(|&s| (s / h - 1.0).abs() < 1e-12));
+        assert!(at(hi), "{target}: no size at hmax");
+        if target >= 30_000.0 {
+            assert!(at(lo), "{target}: no size at hmin");
+        }
+        if target > 300.0 {
+            let ratio = |t: &SizeTensor3| (t.aspect_ratio() / r - 1.0).abs() < 1e-9;
+            assert!(hand.iter().any(ratio), "{target}: no tensor at the aspect ratio");
+        }
+        // The root is where it is: scales on both sides bracket it.
+        let tets = <Sym3 as Complexity>::simplices(&mesh);
+        for k in 1..=6 {
+            let d = 10f64.powi(-k);
+            let below =
+                vertices_of3(&mesh.points, &tets, &by_hand3(&raw, b.scale * (1.0 - d), lo, hi, r));
+            let above =
+                vertices_of3(&mesh.points, &tets, &by_hand3(&raw, b.scale * (1.0 + d), lo, hi, r));
+            assert!(below <= target && above >= target, "{target} {d}: {below} {above}");
+        }
+    }
+}
+
+#[test]
+fn the_gradation_and_the_share_act_inside_the_normalisation_in_space() {
+    let mesh = smartmesh_test_support::grid::kuhn_box(5, [1.0; 3]);
+    let topology = crate::topology::Topology::from_mesh(&mesh);
+    let space = SpaceMesh::new(&mesh, &topology).unwrap();
+    let raw = raw_field3(&mesh);
+    let bounds = SizeBounds::try_new(1e-4, 10.0, 1e3).unwrap();
+    let graded = Limits3 { bounds, gradation: Some((1.3, &space)) };
+    let target = 2000.0;
+    let b = normalise3(&mesh, &raw, &graded, target);
+    assert!(b.reached && (b.vertices / target - 1.0).abs() < 1e-9, "{}", b.vertices);
+    // The graded field is the ungraded one at the same scale, graded: its count is the
+    // target, and the ungraded one's at that scale fewer (the gradation only shrinks).
+    let mut by_hand = by_hand3(&raw, b.scale, 1e-4, 10.0, 1e3);
+    let tets = <Sym3 as Complexity>::simplices(&mesh);
+    let ungraded = vertices_of3(&mesh.points, &tets, &by_hand);
+    apply_gradation3(&space, &mut by_hand, 1.3);
+    let again = vertices_of3(&mesh.points, &tets, &by_hand);
+    assert!((again / target - 1.0).abs() < 1e-9 && ungraded < target, "{again} {ungraded}");
+    // A recipe asking for more than its share is scaled to it; the solution's uniform
+    // field takes the rest, the whole on the target.
+    let plain = Limits3 { bounds, gradation: None };
+    let solution = vec![SizeTensor3::isotropic(0.3); raw.len()];
+    let own = vertices_of3(&mesh.points, &tets, &raw);
+    assert!(own > 0.25 * target, "{own}");
+    let s = share3(&mesh, &raw, &solution, &plain, target, 0.25);
+    assert!(s.reached && (s.vertices / target - 1.0).abs() < 1e-9, "{}", s.vertices);
+    let factor = (own / (0.25 * target)).powf(1.0 / 3.0);
+    let floor: Vec<SizeTensor3> = raw.iter().map(|t| t.scaled(factor)).collect();
+    let capped = vertices_of3(&mesh.points, &tets, &floor);
+    assert!((capped / (0.25 * target) - 1.0).abs() < 1e-9, "{capped}");
+    for (t, f) in s.tensors.iter().zip(&floor) {
+        // Every tensor lies inside the recipe's capped one: no longer along its axes.
+        for (axis, h) in f.frame().iter().zip(f.sizes()) {
+            assert!(t.size_along(*axis) <= h * (1.0 + 1e-9), "{t:?} not inside {f:?}");
+        }
+    }
+}
