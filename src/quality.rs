@@ -148,6 +148,28 @@ impl QualitySummary {
         s.mean_quality = sum / s.triangles as f64;
         Some(s)
     }
+
+    /// The smallest angle (degrees) of the first-order Triangle cells of `mesh`, as
+    /// [`QualitySummary::of`] measures it on a mesh whose surface cells are those
+    /// triangles, without the topology `of` needs (a tenth of `smartmesh mesh`'s time at
+    /// 10⁶ triangles went to the topology and the full summary of a one-line report).
+    /// `None` without triangles.
+    pub fn smallest_angle_deg(mesh: &smartmesh_formats::TaggedMesh) -> Option<f64> {
+        let points = &mesh.points;
+        let planar = is_planar(points);
+        let xy = |i: u32| [points[i as usize][0], points[i as usize][1]];
+        mesh.cells()
+            .filter(|c| c.0 == smartmesh_formats::CellKind::Triangle)
+            .map(|(_, v, _, _)| {
+                if planar {
+                    min_angle_deg(xy(v[0]), xy(v[1]), xy(v[2]))
+                } else {
+                    let p = |i: u32| points[i as usize];
+                    in_own_plane(p(v[0]), p(v[1]), p(v[2])).2
+                }
+            })
+            .reduce(f64::min)
+    }
 }
 
 #[cfg(test)]
@@ -174,6 +196,23 @@ mod tests {
         assert!((area - h / 2.0).abs() < 1e-12, "{area}");
         assert!((angle - 60.0).abs() < 1e-9, "{angle}");
         assert!(triangle_quality([0.0, 0.0], [1.0, 0.0], [0.5, h * c]) < 0.5);
+    }
+
+    /// The shortcut agrees with the full summary, in the plane and in space.
+    #[test]
+    fn smallest_angle_is_the_summarys() {
+        use smartmesh_formats::{CellKind, TaggedMesh};
+        for z in [[0.0; 4], [0.0, 0.3, 0.1, 0.7]] {
+            let mut m = TaggedMesh::new();
+            m.points = vec![[0.0, 0.0, z[0]], [1.0, 0.0, z[1]], [0.9, 0.2, z[2]], [0.0, 1.0, z[3]]];
+            let b = m.block_mut(CellKind::Triangle);
+            b.push(&[0, 1, 2], 1, 1);
+            b.push(&[0, 2, 3], 1, 1);
+            m.block_mut(CellKind::Line).push(&[0, 1], 2, 2);
+            let full = QualitySummary::of(&m.points, &Topology::from_mesh(&m)).unwrap();
+            assert_eq!(QualitySummary::smallest_angle_deg(&m), Some(full.min_angle_deg));
+        }
+        assert_eq!(QualitySummary::smallest_angle_deg(&smartmesh_formats::TaggedMesh::new()), None);
     }
 
     #[test]

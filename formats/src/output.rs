@@ -2,6 +2,17 @@
 //! beside its target, and the targets are replaced only once every temporary is written
 //! and flushed to disk.
 //!
+//! What survives a crash of the system (a power cut), and what it costs: each temporary
+//! is synced (`fsync`) before it is renamed, so whatever a target's name points to after
+//! a crash is a whole file, the old one or the new one, never a torn one. The directory
+//! is not synced after the renames: that would only make the new names themselves
+//! durable at once (instead of at the file system's next commit, 5 s on ext4), and each
+//! `fsync` waits for a journal commit shared with every other writer of the disk (0.1–0.5
+//! ms on an idle disk, 4–10 ms on a busy one, where a whole 2 000-triangle `mesh` takes
+//! 4 ms of CPU). So after a crash within seconds of a write a target may still be the old
+//! file, or absent if it was new; it is never partial. [`sync_files`] still syncs the
+//! directory: the files it syncs were renamed before being synced.
+//!
 //! What a user of `cp`, Gmsh or Triangle expects of an output path, and so what happens:
 //! - a symbolic link is written through: the file it points to (followed to the end of
 //!   a chain of links) is replaced, the link stays;
@@ -292,7 +303,7 @@ pub fn write_all_atomically(targets: &[(PathBuf, Vec<u8>)]) -> Result<()> {
     write_all_atomically_synced(targets, true)
 }
 
-/// [`write_all_atomically`], the files and their directories synced to disk only when
+/// [`write_all_atomically`], the files synced to disk before their renames only when
 /// `durable`. Without it the set is still all or nothing for every reader and for a
 /// killed writer (the renames are atomic), but not against a crash of the system: for
 /// files rewritten many times in one run (the adaptation loop's result after every
@@ -316,20 +327,10 @@ pub fn write_all_atomically_synced(targets: &[(PathBuf, Vec<u8>)], durable: bool
             temps.push((tmp, *target, path));
         }
     }
-    let mut dirs = Vec::new();
+    // The temporaries are on disk (when durable): the renames need no directory sync to
+    // keep every name on a whole file (module documentation).
     for (tmp, target, path) in temps {
         tmp.persist(path).map_err(|e| write_error(e.error).with_path(target))?;
-        let dir = directory_of(path);
-        if !dirs.contains(&dir) {
-            dirs.push(dir);
-        }
-    }
-    // The renames themselves reach the disk with their directories (best effort: some
-    // file systems cannot sync a directory).
-    for dir in dirs.into_iter().filter(|_| durable) {
-        if let Ok(d) = File::open(dir) {
-            let _ = d.sync_all();
-        }
     }
     for (target, dest, bytes) in &plan {
         if let Destination::Stream(path) = dest {

@@ -170,10 +170,14 @@ pub(super) fn run(mut args: MeshArgs) -> Result<(), CliError> {
     }
     args.output_format.periodic_from_recipe(to, &mesh, &pairs)?;
     let report = args.output_format.write(&args.output, &mesh, to)?;
-    let topo = Topology::from_mesh(&mesh);
-    let quality = QualitySummary::of(&mesh.points, &topo);
     let count = |k| mesh.num_cells_of(k);
+    // The topology and the whole quality summary only for --json; the one-line report
+    // needs the smallest angle alone, and a quiet run nothing.
+    let mut smallest = None;
     if args.json {
+        let topo = Topology::from_mesh(&mesh);
+        let quality = QualitySummary::of(&mesh.points, &topo);
+        smallest = quality.as_ref().map(|q| q.min_angle_deg);
         let s = MeshSummary {
             input: args.input.display().to_string(),
             output: args.output.display().to_string(),
@@ -185,7 +189,7 @@ pub(super) fn run(mut args: MeshArgs) -> Result<(), CliError> {
             faces: topo.faces.len(),
             area_bound: opts.area_bound(),
             min_angle_bound: opts.min_angle_deg,
-            quality: quality.clone(),
+            quality,
             dropped: &report.dropped,
             periodic,
         };
@@ -193,8 +197,13 @@ pub(super) fn run(mut args: MeshArgs) -> Result<(), CliError> {
         text.push('\n');
         print_stdout(&text)?;
     }
-    let angle =
-        quality.map(|q| format!(", smallest angle {:.1} deg", q.min_angle_deg)).unwrap_or_default();
+    if ui::level() == ui::Level::Quiet {
+        return Ok(());
+    }
+    let angle = smallest
+        .or_else(|| QualitySummary::smallest_angle_deg(&mesh))
+        .map(|a| format!(", smallest angle {a:.1} deg"))
+        .unwrap_or_default();
     ui::done(
         "mesh",
         &format!(
