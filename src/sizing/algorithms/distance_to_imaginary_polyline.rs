@@ -24,9 +24,8 @@
 
 use super::{
     normal_at, reach_of, tensor, Around, Arguments, Declaration, Failure, FunctionKind, Junctions,
-    Marks, Parameter, ParameterKind, SizingAlgorithm, Tensor, Work,
+    Marks, Parameter, ParameterKind, PolylinePoints, SizingAlgorithm, Tensor, Work,
 };
-use crate::geometry::Point2;
 use crate::mesh_graph::MeshGraph;
 use crate::sizing::functions::{DistanceFunction, SizeProjectionFunction};
 use super::EntitySet;
@@ -45,8 +44,9 @@ pub struct DistanceToImaginaryPolyline {
     pub polyline_distance: DistanceFunction,
     /// How the tangent size grows away from the polyline.
     pub projection: SizeProjectionFunction,
-    /// The polyline, at least one point; consecutive points distinct.
-    pub polyline: Vec<Point2>,
+    /// The polyline, at least one point; consecutive points distinct: (x, y) points for
+    /// a planar mesh, (x, y, z) for a mesh in space.
+    pub polyline: PolylinePoints,
     /// Where the algorithm applies (faces); empty means everywhere.
     pub within: EntitySet,
 }
@@ -120,11 +120,12 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
     }
 
     fn zoom(&self) -> Option<(Around<'_>, f64)> {
-        Some((Around::Points(&self.polyline), self.perpendicular.max_distance()))
+        let points = self.polyline.plane()?;
+        Some((Around::Points(points), self.perpendicular.max_distance()))
     }
 
     fn marks(&self) -> Marks<'_> {
-        Marks { polyline: Some(&self.polyline), points: &[] }
+        Marks { polyline: self.polyline.plane(), points: &[] }
     }
 
     fn work<'a>(
@@ -135,6 +136,9 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
         if self.polyline.is_empty() {
             return Err(Failure::EmptyPolyline);
         }
+        let Some(polyline) = self.polyline.plane() else {
+            return Err(Failure::PolylineComponents { components: 3, in_space: false });
+        };
         let within = &self.within;
         let inside = if within.is_empty() {
             None
@@ -147,7 +151,7 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
                 mask[v as usize] = true;
             }
         }
-        let source = SourceBuilder::new(graph).polyline(&self.polyline, false).build()?;
+        let source = SourceBuilder::new(graph).polyline(polyline, false).build()?;
         let junctions = Junctions::new(&source);
         let reach = reach_of(&[self.perpendicular.max_distance(), self.projection.max_distance()]);
         let tensor = PolylineTensor { algorithm: self, graph, junctions, mask };
