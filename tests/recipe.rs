@@ -736,6 +736,7 @@ fn every_algorithm_of_the_table_round_trips_in_every_format() {
             ParameterKind::Function(FunctionKind::Curvature) => SpecValue::Name("C".into()),
             ParameterKind::Regions { .. } => SpecValue::Names(vec!["R".into()]),
             ParameterKind::Polyline => SpecValue::Name("L".into()),
+            ParameterKind::File => SpecValue::Name("sheets/wake.stl".into()),
             ParameterKind::PointData => SpecValue::Name("u".into()),
         };
         let optional: Vec<Option<usize>> = std::iter::once(None)

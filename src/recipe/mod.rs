@@ -26,6 +26,7 @@ pub mod periodic;
 pub mod preprocess;
 pub mod resolve;
 pub mod serde_io;
+mod sheet;
 pub mod suggest;
 
 pub use bounds::{BoundsError, GlobalOverrides};

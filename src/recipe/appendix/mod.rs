@@ -690,6 +690,7 @@ impl Reader<'_> {
                 (
                     ParameterKind::Function(_)
                     | ParameterKind::Polyline
+                    | ParameterKind::File
                     | ParameterKind::PointData
                     | ParameterKind::Choice(_),
                     Some(s),

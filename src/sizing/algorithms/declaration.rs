@@ -91,6 +91,18 @@ impl PolylinePoints {
     }
 }
 
+/// A triangulated sheet in space (a wake, a shock surface) read from a file, for
+/// DISTANCE_TO_IMAGINARY_SURFACE: its points and triangles (quads split), as read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sheet {
+    /// The file it was read from, as resolved (for messages).
+    pub path: std::path::PathBuf,
+    /// Its points.
+    pub points: Vec<[f64; 3]>,
+    /// Its triangles, indices into `points`, at least one.
+    pub triangles: Vec<[u32; 3]>,
+}
+
 impl serde::Serialize for PolylinePoints {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match self {
@@ -205,6 +217,9 @@ pub enum ParameterKind {
     },
     /// The name of a polyline of the recipe.
     Polyline,
+    /// The path of a file (a triangulated surface), relative to the recipe file that
+    /// names it; read when the recipe is resolved.
+    File,
     /// The name of a scalar point-data array of the mesh being sized (a solution field),
     /// looked up when the step runs.
     PointData,
@@ -300,6 +315,8 @@ pub enum Argument {
     Entities(EntitySet),
     /// A polyline's points.
     Polyline(PolylinePoints),
+    /// A triangulated sheet read from a file.
+    Sheet(Sheet),
     /// A name passed as it is (a point-data array).
     Name(String),
 }
@@ -370,6 +387,14 @@ impl Arguments {
     pub fn polyline(&mut self, field: &str) -> Option<PolylinePoints> {
         match self.take(field)? {
             Argument::Polyline(p) => Some(p),
+            _ => None,
+        }
+    }
+
+    /// The sheet of `field`.
+    pub fn sheet(&mut self, field: &str) -> Option<Sheet> {
+        match self.take(field)? {
+            Argument::Sheet(s) => Some(s),
             _ => None,
         }
     }

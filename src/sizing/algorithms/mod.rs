@@ -49,7 +49,7 @@ mod sources;
 
 pub use declaration::{
     infinite_norm, Argument, Arguments, Declaration, EntitySet, FunctionKind, Given, Marks,
-    Parameter, ParameterKind, PolylinePoints, Refusal, INFINITE_NORM,
+    Parameter, ParameterKind, PolylinePoints, Refusal, Sheet, INFINITE_NORM,
 };
 pub use frame::ON_SOURCE;
 pub(crate) use frame::{direction, normal_at, on_source, tangent_at, tensor, unit, Junctions};
@@ -167,6 +167,7 @@ algorithms! {
     distance_between_two_borders::DistanceBetweenTwoBorders,
     distance_to_imaginary_polyline::DistanceToImaginaryPolyline,
     solution_hessian::SolutionHessian,
+    distance_to_imaginary_surface::DistanceToImaginarySurface,
 }
 
 /// One line of [`TABLE`].
@@ -421,6 +422,8 @@ pub(crate) enum Failure {
     Field { why: String },
     /// The algorithm does not size a mesh in space yet.
     NotInSpace { keyword: &'static str },
+    /// An algorithm that sizes meshes in space only, on a planar mesh.
+    OnlyInSpace { keyword: &'static str },
     /// A polyline of 2 coordinates on a mesh in space, or of 3 on a planar mesh.
     PolylineComponents { components: usize, in_space: bool },
 }
