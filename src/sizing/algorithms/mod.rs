@@ -125,7 +125,7 @@ macro_rules! algorithms {
             /// Whether it sizes a mesh in space (`SizingAlgorithm::IN_SPACE`).
             pub fn in_space(&self) -> bool {
                 match self {
-                    $(Algorithm::$name(_) => <$name as SizingAlgorithm>::IN_SPACE,)*
+                    $(Algorithm::$name(a) => a.sized_in_space(),)*
                 }
             }
 
@@ -253,6 +253,12 @@ pub(crate) trait SizingAlgorithm: Sized {
     /// Whether it implements [`work_in_space`](Self::work_in_space) (`recipe check` on a
     /// mesh in space says which steps are sized there).
     const IN_SPACE: bool = false;
+
+    /// Whether this instance sizes a mesh in space: [`IN_SPACE`](Self::IN_SPACE) unless
+    /// its arguments say otherwise (a polyline of (x, y) points).
+    fn sized_in_space(&self) -> bool {
+        Self::IN_SPACE
+    }
 
     /// What it asks of the 3D driver on a mesh in space: by default a refusal naming the
     /// keyword ([`Failure::NotInSpace`], exit code 2 from the command line).
