@@ -549,6 +549,7 @@ fn label(i: usize, a: &AlgorithmSpec) -> String {
             .arguments()
             .find_map(|(p, v)| match (p.kind, v) {
                 (ParameterKind::PointData, SpecValue::Name(n)) => Some(format!("of \"{n}\"")),
+                (ParameterKind::File, SpecValue::Name(n)) => Some(format!("from \"{n}\"")),
                 _ => None,
             })
             .unwrap_or_else(|| "on the whole mesh".to_string()),
