@@ -167,3 +167,31 @@ fn an_imaginary_surface_is_read_relative_to_its_recipe_in_every_format() {
     let e = Recipe::from_path(&toml_path).unwrap().resolve(&topo).unwrap_err().to_string();
     assert!(e.contains("holds no triangle"), "{e}");
 }
+
+/// A polyline of (x, y, z) points on a planar mesh, and a sheet there, are refused by
+/// step, saying why (there is no implied z).
+#[test]
+fn a_polyline_in_space_or_a_sheet_on_a_planar_mesh_is_refused_by_step() {
+    let mesh = smartmesh::formats::read_path(
+        &smartmesh_test_support::cli::fixture("distributor.msh"),
+        None,
+    )
+    .unwrap();
+    let cfg =
+        read(&vortex_cfg("    Z_COORDS = [ 0.1, 0.2, -0.3 ];\n"), RecipeFormat::Libconfig, "r.cfg")
+            .unwrap();
+    let e = smartmesh::recipe::size_mesh(&mesh, &cfg, &mut |_| {}).unwrap_err().to_string();
+    assert!(
+        e.contains("step 0")
+            && e.contains("DISTANCE_TO_IMAGINARY_POLYLINE")
+            && e.contains("3 coordinates, but the mesh is planar"),
+        "{e}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    write_sheet(dir.path(), "wake.stl");
+    let path = dir.path().join("s.toml");
+    std::fs::write(&path, SURFACE_TOML.replace("sheets/", "")).unwrap();
+    let r = Recipe::from_path(&path).unwrap();
+    let e = smartmesh::recipe::size_mesh(&mesh, &r, &mut |_| {}).unwrap_err().to_string();
+    assert!(e.contains("DISTANCE_TO_IMAGINARY_SURFACE sizes a mesh in space only"), "{e}");
+}

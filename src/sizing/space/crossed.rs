@@ -6,12 +6,14 @@
 //!
 //! Each tetrahedron is tested exactly (`geometry::space::meets`, signs of the exact
 //! orientation predicates; touching counts). Candidates are found without missing one:
-//! a piece meeting a tetrahedron is within its circumradius-like bound r (the largest
-//! distance from its centroid to a corner) of the centroid, so a tetrahedron whose
-//! centroid's exact distance to the source exceeds r (with a relative margin of 1e-9
-//! for rounding) meets no piece; the others are tested against every piece whose box
-//! overlaps theirs. Cost: one closest-point query per tetrahedron near the source's box,
-//! then the pieces scanned for the few tetrahedra the source passes through.
+//! a point X of a tetrahedron lies within the tetrahedron's longest edge L of each of
+//! its corners (convexity), so a tetrahedron a piece meets has every corner within L of
+//! the source; one exact closest-point query per mesh vertex (in fixed chunks, each
+//! seeded by the last: the answer does not depend on the seed) rules out every
+//! tetrahedron with a corner farther than L (with a relative margin of 1e-9 for
+//! rounding), and the others are tested against every piece whose box overlaps theirs.
+//! Cost: one query per vertex near the source's box, then the pieces scanned for the
+//! tetrahedra along the source.
 //! [`crossed_corners_brute`] is the twin: every piece against every tetrahedron.
 //!
 //! Other volume cells (hexahedra, prisms, pyramids) and a surface mesh's triangles are
@@ -60,10 +62,11 @@ fn box_of(points: &[Point3]) -> (Point3, Point3) {
     (lo, hi)
 }
 
-/// Whether every corner of `mesh` belongs to a tetrahedron some piece of `source` meets.
-fn mark(mesh: &TaggedMesh, hit: impl Fn(&[Point3; 4]) -> bool + Sync) -> Vec<bool> {
+/// Whether every corner of `mesh` belongs to a tetrahedron `hit` says a piece meets
+/// (`hit` is given the tetrahedron's vertices and corners).
+fn mark(mesh: &TaggedMesh, hit: impl Fn([usize; 4], &[Point3; 4]) -> bool + Sync) -> Vec<bool> {
     let tets = tets(mesh);
-    let met: Vec<bool> = tets.par_iter().map(|&t| hit(&corners(mesh, t))).collect();
+    let met: Vec<bool> = tets.par_iter().map(|&t| hit(t, &corners(mesh, t))).collect();
     let mut out = vec![false; mesh.points.len()];
     for (t, m) in tets.iter().zip(met) {
         if m {
@@ -72,6 +75,9 @@ fn mark(mesh: &TaggedMesh, hit: impl Fn(&[Point3; 4]) -> bool + Sync) -> Vec<boo
     }
     out
 }
+
+/// Vertices per chunk of the distance queries (fixed: the same on every thread count).
+const CHUNK: usize = 1024;
 
 /// The corners of the tetrahedra that `source`'s pieces meet (see the module header).
 pub(crate) fn crossed_corners(mesh: &TaggedMesh, source: &SpaceSource) -> Vec<bool> {
@@ -82,27 +88,47 @@ pub(crate) fn crossed_corners(mesh: &TaggedMesh, source: &SpaceSource) -> Vec<bo
             (c, box_of(&c))
         })
         .collect();
-    mark(mesh, |t| {
+    // Each vertex's squared distance to the source (infinite where not finite).
+    let distance2: Vec<f64> = mesh
+        .points
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut seed = u32::MAX;
+            chunk
+                .iter()
+                .map(|&p| match source.closest_from(p, seed) {
+                    Some(c) => {
+                        seed = c.piece;
+                        c.distance_squared
+                    }
+                    None => f64::INFINITY,
+                })
+                .collect::<Vec<f64>>()
+        })
+        .collect::<Vec<Vec<f64>>>()
+        .concat();
+    mark(mesh, |vertices, t| {
         let tbox = box_of(t);
         if !boxes_overlap(tbox, source_box) {
             return false;
         }
-        let g: Point3 = std::array::from_fn(|k| (t[0][k] + t[1][k] + t[2][k] + t[3][k]) / 4.0);
-        let r2 = t
+        let longest2 = EDGES
             .iter()
-            .map(|p| (0..3).map(|k| (p[k] - g[k]) * (p[k] - g[k])).sum::<f64>())
+            .map(|&[i, j]| (0..3).map(|k| (t[i][k] - t[j][k]) * (t[i][k] - t[j][k])).sum::<f64>())
             .fold(0.0, f64::max);
-        match source.closest_from(g, u32::MAX) {
-            Some(c) if c.distance_squared > r2 * (1.0 + 1e-9) + f64::MIN_POSITIVE => return false,
-            None => return false,
-            _ => {}
+        let bound = longest2 * (1.0 + 1e-9) + f64::MIN_POSITIVE;
+        // NaN (a non-finite corner) is ruled out too.
+        if !vertices.iter().all(|&v| distance2[v] <= bound) {
+            return false;
         }
         pieces.iter().any(|(c, b)| boxes_overlap(tbox, *b) && piece_meets_tet(c, t))
     })
 }
 
+const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+
 /// The twin of [`crossed_corners`]: every piece against every tetrahedron.
 #[cfg(test)]
 pub(crate) fn crossed_corners_brute(mesh: &TaggedMesh, source: &SpaceSource) -> Vec<bool> {
-    mark(mesh, |t| (0..source.len()).any(|i| piece_meets_tet(&source.piece_corners(i), t)))
+    mark(mesh, |_, t| (0..source.len()).any(|i| piece_meets_tet(&source.piece_corners(i), t)))
 }
