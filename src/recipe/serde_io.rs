@@ -21,7 +21,8 @@
 //! Airfoil = ["Airfoil"]      # or tag names
 //!
 //! [polylines]
-//! Wake = [[-50.0, -12.8], [-48.0, -13.5]]
+//! Wake = [[-50.0, -12.8], [-48.0, -13.5]]         # (x, y): a planar mesh
+//! Vortex = [[1.0, 0.0, 0.5], [2.0, 0.0, 0.55]]    # (x, y, z): a mesh in space
 //!
 //! [functions.FStayVanePerp]
 //! kind = "distance"          # or "projection", "curvature_to_size"
