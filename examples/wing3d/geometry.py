@@ -19,7 +19,9 @@ Tags (physical groups, named):
 
 writes the starting tetrahedral mesh (MSH 4.1): Gmsh's Delaunay, size SIZE_WING on the
 wing (finer where its curvature asks, 12 elements per radian) growing to SIZE_FAR at
-the box. Deterministic for one version of gmsh (4.15.2 here), one thread.
+the box. Deterministic for one version of gmsh (4.15.2 here), one thread. With
+--wake FILE it also writes the wake sheet the recipe names (wake.stl here is its output:
+a flat sheet from the trailing edge downstream, write_wake).
 """
 import argparse
 import math
@@ -147,13 +149,50 @@ def mesh(wing, size_wing, size_far):
     gmsh.model.mesh.generate(3)
 
 
+WAKE_END = 4.0  # the wake sheet runs from the trailing edge to x = WAKE_END
+WAKE_CELLS = (12, 6)  # its quads along x and along y, each split into two triangles
+
+
+def trailing_edge():
+    """(x, z) of the trailing edge once the wing is set at its incidence."""
+    a = math.radians(INCIDENCE)
+    # OpenCASCADE's rotation by +a about +y through (0.25, 0, 0): z goes to -x sin a.
+    return 0.25 + 0.75 * math.cos(a), -0.75 * math.sin(a)
+
+
+def write_wake(path):
+    """The wake sheet as an ASCII STL: the plane z = z(trailing edge) from the trailing
+    edge downstream to x = WAKE_END (the free stream is along +x), from the symmetry
+    plane to the tip (y = SPAN), WAKE_CELLS quads each split along its diagonal. The
+    numbers are printed to 6 decimals: the file is the same on every machine."""
+    x0, z = trailing_edge()
+    nx, ny = WAKE_CELLS
+    p = lambda i, j: (x0 + (WAKE_END - x0) * i / nx, SPAN * j / ny, z)
+    lines = ["solid wake"]
+    for i in range(nx):
+        for j in range(ny):
+            for tri in ((p(i, j), p(i + 1, j), p(i + 1, j + 1)),
+                        (p(i, j), p(i + 1, j + 1), p(i, j + 1))):
+                lines.append("  facet normal 0 0 1")
+                lines.append("    outer loop")
+                lines += ["      vertex %.6f %.6f %.6f" % v for v in tri]
+                lines.append("    endloop")
+                lines.append("  endfacet")
+    lines.append("endsolid wake")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("out")
     p.add_argument("--size-wing", type=float, default=0.08)
     p.add_argument("--size-far", type=float, default=1.0)
     p.add_argument("--verbose", action="store_true")
+    p.add_argument("--wake", metavar="FILE", help="also write the wake sheet (ASCII STL)")
     a = p.parse_args()
+    if a.wake:
+        write_wake(a.wake)
     gmsh.initialize(["-noenv"])
     gmsh.option.setNumber("General.Terminal", 1 if a.verbose else 0)
     gmsh.model.add("wing3d")
