@@ -2,7 +2,7 @@
 # The wing3d example end to end: the starting mesh by Gmsh (geometry.py), `smartmesh
 # adapt` through mmg3d_O3 with the recipe, the UGAWG measures of the best mesh
 # (`smartmesh info --json`), two planar cuts with the metric's ellipses (`smartmesh
-# report --cut`), and the figures (figures.py). Everything goes to
+# report --cut`), ParaView's view (render.py) and the figures (figures.py). Everything goes to
 # target/examples/wing3d/; `--update-figures` also copies the pictures here and rewrites
 # the README's figures (between <!--figures--> and <!--/figures-->).
 #
@@ -31,11 +31,18 @@ echo "$t1 - $t0" | bc > "$out/seconds"
 "$SMARTMESH" convert "$out/adapted.msh" "$out/adapted.vtu"
 "$SMARTMESH" report "$out/adapted.msh" --cut y=0.75 -o "$out/cut-y0.75.png"
 "$SMARTMESH" report "$out/adapted.msh" --cut x=1.3 -o "$out/cut-x1.3.png"
+# ParaView's view of the wing and a cut, where ParaView is installed (Debian's renders
+# under X only: xvfb-run).
+if command -v pvpython >/dev/null && command -v xvfb-run >/dev/null; then
+    xvfb-run -a pvpython examples/wing3d/render.py "$out/adapted.vtu" "$out/wing-paraview.png" \
+        2> "$out/paraview.log"
+fi
 python3 examples/wing3d/figures.py "$out" > "$out/figures.md"
 printf '\nThe whole adapt run: %.0f s.\n' "$(cat "$out/seconds")" >> "$out/figures.md"
 cat "$out/figures.md"
 if [ "${1:-}" = "--update-figures" ]; then
     cp "$out/cut-y0.75.png" "$out/cut-x1.3.png" examples/wing3d/
+    [ ! -f "$out/wing-paraview.png" ] || cp "$out/wing-paraview.png" examples/wing3d/
     python3 - "$out/figures.md" <<'PY'
 import re, sys
 figures = open(sys.argv[1]).read()
