@@ -44,7 +44,7 @@ use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::sizing::{
     closest_point_brute_force, compute_size_field, propagate, Algorithm, CurvatureOfBorder,
     CurvatureToSize, DistanceBetweenTwoBorders, DistanceFunction, DistanceToBorder,
-    DistanceToImaginaryPolyline, DistanceToPoint, EntitySet, PropagationOptions,
+    DistanceToImaginaryPolyline, DistanceToPoint, EntitySet, PolylinePoints, PropagationOptions,
     SizeProjectionFunction, SizingPlan, Source, Step, Uniform,
 };
 use smartmesh::{MeshGraph, SizeTensor, Topology};
@@ -203,7 +203,7 @@ fn algorithms(case: &Case, reach: f64) -> Vec<(&'static str, Algorithm)> {
                 perpendicular: df(0.002, 0.1, d, 1.0),
                 polyline_distance: df(0.01, 0.1, d, 1.0),
                 projection,
-                polyline: case.wake(),
+                polyline: PolylinePoints::Plane(case.wake()),
                 within: EntitySet::default(),
             }),
         ),

@@ -67,7 +67,7 @@ impl Case {
     }
 
     fn polyline(&self, name: &str) -> &[[f64; 2]] {
-        &self.recipe.polylines[name]
+        self.recipe.polylines[name].plane().expect("a planar polyline")
     }
 
     fn xy(&self, v: usize) -> [f64; 2] {

@@ -6,8 +6,8 @@ use std::path::Path;
 use smartmesh::formats::{read_path, CellBlock, CellKind, TaggedMesh};
 use smartmesh::recipe::model::SpecValue;
 use smartmesh::recipe::{
-    AlgorithmSpec, EntityRef, FunctionSpec, ReadOptions, Recipe, RecipeError, RecipeErrorKind,
-    RecipeFormat,
+    AlgorithmSpec, EntityRef, FunctionSpec, PolylinePoints, ReadOptions, Recipe, RecipeError,
+    RecipeErrorKind, RecipeFormat,
 };
 use smartmesh::sizing::{
     Algorithm, DistanceFunction, DistanceToBorder, DistanceToImaginaryPolyline, DistanceToPoint,
@@ -72,7 +72,7 @@ fn appendix_example_parses_and_resolves_on_the_distributor() {
     );
     assert_eq!(
         r.polylines["POLYLINE1"],
-        vec![[-50.0, -12.8], [-48.0, -13.5], [-46.0, -13.5], [-44.0, -13.0]]
+        PolylinePoints::Plane(vec![[-50.0, -12.8], [-48.0, -13.5], [-46.0, -13.5], [-44.0, -13.0]])
     );
 
     let topo = distributor();
@@ -137,7 +137,12 @@ fn appendix_example_parses_and_resolves_on_the_distributor() {
             perpendicular: DistanceFunction::try_new(0.03, 0.5, 2.0, 1.0).unwrap(),
             polyline_distance: DistanceFunction::try_new(0.03, 1.0, 2.0, 1.0).unwrap(),
             projection: SizeProjectionFunction::try_new(2.0, 1.0, 1.0).unwrap(),
-            polyline: vec![[-50.0, -12.8], [-48.0, -13.5], [-46.0, -13.5], [-44.0, -13.0]],
+            polyline: PolylinePoints::Plane(vec![
+                [-50.0, -12.8],
+                [-48.0, -13.5],
+                [-46.0, -13.5],
+                [-44.0, -13.0]
+            ]),
             within: fluid,
         })
     );
@@ -554,7 +559,8 @@ fn toml_and_json_equivalents_and_round_trips() {
         "we\"ird\\ name\t".into(),
         vec![EntityRef::Tag(-3), EntityRef::Name("Wall \"A\"".into())],
     );
-    odd.polylines.insert("P2".into(), vec![[0.1 + 0.2, 1e-300], [-7.0, 1.0 / 3.0]]);
+    odd.polylines
+        .insert("P2".into(), PolylinePoints::Plane(vec![[0.1 + 0.2, 1e-300], [-7.0, 1.0 / 3.0]]));
     assert_eq!(cfg(&odd.to_libconfig()).unwrap(), odd);
     assert_eq!(toml(&odd.to_toml()).unwrap(), odd);
 }
@@ -697,7 +703,7 @@ fn every_algorithm_of_the_table_round_trips_in_every_format() {
     let mut base = Recipe::default();
     let r = &mut base;
     r.regions.insert("R".into(), vec![EntityRef::Tag(1)]);
-    r.polylines.insert("L".into(), vec![[0.0, 0.0], [1.0, 0.5]]);
+    r.polylines.insert("L".into(), PolylinePoints::Plane(vec![[0.0, 0.0], [1.0, 0.5]]));
     r.functions.insert(
         "D".into(),
         FunctionSpec::Distance {
@@ -730,6 +736,7 @@ fn every_algorithm_of_the_table_round_trips_in_every_format() {
             ParameterKind::Function(FunctionKind::Curvature) => SpecValue::Name("C".into()),
             ParameterKind::Regions { .. } => SpecValue::Names(vec!["R".into()]),
             ParameterKind::Polyline => SpecValue::Name("L".into()),
+            ParameterKind::File => SpecValue::Name("sheets/wake.stl".into()),
             ParameterKind::PointData => SpecValue::Name("u".into()),
         };
         let optional: Vec<Option<usize>> = std::iter::once(None)

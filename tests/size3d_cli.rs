@@ -269,9 +269,10 @@ fn a_wall_layer_on_the_cylinder_is_sized_and_mmg3d_follows_it() {
     assert!((0.7..=1.3).contains(&median), "median metric length {median}");
 }
 
-/// A recipe whose second step does not size in space yet (DISTANCE_TO_IMAGINARY_POLYLINE:
-/// its polylines have two coordinates): `recipe check` says so per step, and `size`
-/// refuses the mesh naming the step and the keyword (exit 2), writing nothing.
+/// A recipe whose second step does not size in space (DISTANCE_TO_IMAGINARY_POLYLINE
+/// with a polyline of two coordinates: there is no implied z): `recipe check` says so
+/// per step, and `size` refuses the mesh naming the step and why (exit 2), writing
+/// nothing.
 const NOT_IN_SPACE: &str = r#"
 [regions]
 cyl = ["Cylinder"]
@@ -329,7 +330,8 @@ fn a_step_not_sized_in_space_is_said_and_refused() {
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(
         e.contains("step 1")
-            && e.contains("DISTANCE_TO_IMAGINARY_POLYLINE is not available on a mesh in space yet"),
+            && e.contains("DISTANCE_TO_IMAGINARY_POLYLINE")
+            && e.contains("the polyline's points have 2 coordinates, but the mesh is in space"),
         "{e}"
     );
     assert!(!out.exists());

@@ -15,8 +15,8 @@ use smartmesh::formats::{CellBlock, CellKind, TaggedMesh};
 use smartmesh::sizing::{
     compute_size_field, run_algorithm, three_point_curvature, Algorithm, CurvatureOfBorder,
     CurvatureToSize, DistanceBetweenTwoBorders, DistanceFunction, DistanceToBorder,
-    DistanceToImaginaryPolyline, DistanceToPoint, EntitySet, SizeField, SizeProjectionFunction,
-    SizingError, SizingPlan, Step, StepEvent, Uniform,
+    DistanceToImaginaryPolyline, DistanceToPoint, EntitySet, PolylinePoints, SizeField,
+    SizeProjectionFunction, SizingError, SizingPlan, Step, StepEvent, Uniform,
 };
 use smartmesh::Point2;
 use smartmesh::{MeshGraph, SizeBounds, SizeTensor, Topology};
@@ -837,7 +837,7 @@ fn straight_wake_has_the_analytic_abscissa_and_respects_within() {
             perpendicular: perp,
             polyline_distance: along,
             projection: proj,
-            polyline: wake.clone(),
+            polyline: PolylinePoints::Plane(wake.clone()),
             within,
         })
     };
@@ -914,7 +914,7 @@ fn coarse_mesh_wake_marks_every_crossed_triangle() {
         perpendicular: perp,
         polyline_distance: along,
         projection: proj,
-        polyline: wake.clone(),
+        polyline: PolylinePoints::Plane(wake.clone()),
         within: EntitySet::default(),
     });
     let f = run(&m, &plan(Some(1.0), vec![("wake", alg)]));
@@ -1250,7 +1250,7 @@ fn same_field_whatever_the_thread_count() {
             perpendicular: df(0.002, 0.1, 0.3, 1.0),
             polyline_distance: df(0.01, 0.1, 1.0, 1.0),
             projection: SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap(),
-            polyline: vec![[0.1, 0.5], [0.5, 0.6], [0.9, 0.4]],
+            polyline: PolylinePoints::Plane(vec![[0.1, 0.5], [0.5, 0.6], [0.9, 0.4]]),
             within: EntitySet::default(),
         }),
         names: Vec::new(),
@@ -1298,7 +1298,7 @@ fn algorithms_run_side_by_side_give_the_same_bits() {
             perpendicular: df(0.002, 0.1, 0.3, 1.0),
             polyline_distance: df(0.01, 0.1, 1.0, 1.0),
             projection: SizeProjectionFunction::try_new(0.2, 0.3, 1.0).unwrap(),
-            polyline: vec![[0.1, 0.5], [0.5, 0.6], [0.9, 0.4]],
+            polyline: PolylinePoints::Plane(vec![[0.1, 0.5], [0.5, 0.6], [0.9, 0.4]]),
             within: EntitySet::default(),
         }),
     ));
@@ -1399,7 +1399,7 @@ fn errors_are_values() {
             perpendicular: perp,
             polyline_distance: perp,
             projection: proj,
-            polyline,
+            polyline: PolylinePoints::Plane(polyline),
             within: EntitySet::default(),
         })
     };
@@ -1499,7 +1499,7 @@ fn full_reach_in_vertex_order_is_the_propagated_field() {
                     perpendicular: df(0.002, 0.1, far, 1.0),
                     polyline_distance: df(0.01, 0.1, 1.0, 1.0),
                     projection,
-                    polyline: doubling_back.clone(),
+                    polyline: PolylinePoints::Plane(doubling_back.clone()),
                     within: EntitySet::default(),
                 }),
             ),

@@ -26,13 +26,15 @@ pub mod periodic;
 pub mod preprocess;
 pub mod resolve;
 pub mod serde_io;
+mod sheet;
 pub mod suggest;
 
 pub use bounds::{BoundsError, GlobalOverrides};
 pub use error::{RecipeError, RecipeErrorKind};
 pub use layer::{CurveValues, LayerSpec, SpecError};
 pub use model::{
-    AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, Recipe, RecipeFormat,
+    AlgorithmSpec, EntityRef, FunctionKind, FunctionSpec, Global, PolylinePoints, Recipe,
+    RecipeFormat,
 };
 /// A recipe's field on a mesh in one call (topology, resolution, graph, engine).
 pub use on_mesh::{

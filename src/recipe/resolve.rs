@@ -447,6 +447,23 @@ impl Recipe {
                     Argument::Entities(sets.next().unwrap_or_default())
                 }
                 (ParameterKind::PointData, SpecValue::Name(name)) => Argument::Name(name.clone()),
+                (ParameterKind::File, SpecValue::Name(written)) => {
+                    let at = format!("{base}.{}", p.field);
+                    let base_file = self.file_of(&at).map(std::path::Path::to_path_buf);
+                    let key = self.written_key(&at, p.keys[0]).to_string();
+                    let sheet =
+                        super::sheet::read_sheet(base_file.as_deref(), written).map_err(|why| {
+                            self.error_at(
+                                RecipeErrorKind::Invalid(format!(
+                                    "{} {}: {key} \"{written}\": {why}",
+                                    referrer(i),
+                                    a.keyword()
+                                )),
+                                &at,
+                            )
+                        })?;
+                    Argument::Sheet(sheet)
+                }
                 (ParameterKind::Polyline, SpecValue::Name(name)) => Argument::Polyline(
                     self.polylines.get(name).cloned().expect("validated: the polyline exists"),
                 ),
@@ -532,6 +549,7 @@ fn label(i: usize, a: &AlgorithmSpec) -> String {
             .arguments()
             .find_map(|(p, v)| match (p.kind, v) {
                 (ParameterKind::PointData, SpecValue::Name(n)) => Some(format!("of \"{n}\"")),
+                (ParameterKind::File, SpecValue::Name(n)) => Some(format!("from \"{n}\"")),
                 _ => None,
             })
             .unwrap_or_else(|| "on the whole mesh".to_string()),

@@ -187,6 +187,29 @@ pub enum SizingError {
         /// The algorithm's keyword.
         keyword: &'static str,
     },
+    /// The step's algorithm sizes meshes in space only (a sheet in space).
+    #[error("step {step} ({label}): {keyword} sizes a mesh in space only (tetrahedra, or a surface off one plane)")]
+    OnlyInSpace {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+        /// The algorithm's keyword.
+        keyword: &'static str,
+    },
+    /// A polyline of (x, y) points on a mesh in space, or of (x, y, z) points on a
+    /// planar mesh: give each point the coordinates of the mesh (there is no implied z).
+    #[error("step {step} ({label}): the polyline's points have {components} coordinates, but the mesh is {}: give every point {}", if *in_space { "in space" } else { "planar" }, if *in_space { "x, y and z (Z_COORDS in libconfig, [x, y, z] in TOML/JSON)" } else { "x and y only" })]
+    PolylineComponents {
+        /// The step.
+        step: usize,
+        /// Its label.
+        label: String,
+        /// The polyline's coordinates per point.
+        components: usize,
+        /// Whether the mesh is in space.
+        in_space: bool,
+    },
     /// The global bounds contradict each other or are out of range: need
     /// 1e-30 <= h_min <= h_max <= 1e30 and max_aspect_ratio >= 1.
     #[error("invalid global bounds: h_min = {h_min:?}, h_max = {h_max:?}, max_aspect_ratio = {max_aspect_ratio:?} (need 1e-30 <= h_min <= h_max <= 1e30, aspect ratio >= 1)")]
@@ -225,6 +248,10 @@ impl Failure {
             Failure::Degenerate { vertex } => SizingError::Degenerate { step, label, vertex },
             Failure::Field { why } => SizingError::Field { step, label, why },
             Failure::NotInSpace { keyword } => SizingError::NotInSpace { step, label, keyword },
+            Failure::OnlyInSpace { keyword } => SizingError::OnlyInSpace { step, label, keyword },
+            Failure::PolylineComponents { components, in_space } => {
+                SizingError::PolylineComponents { step, label, components, in_space }
+            }
         }
     }
 }

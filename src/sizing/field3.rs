@@ -26,9 +26,16 @@
 //! field is the same on every thread count. An error is the first in vertex order.
 //!
 //! Coarse meshes: a source made of mesh entities has its own vertices at distance 0, so
-//! it always reaches them; a free source (an imaginary polyline or sheet) farther than
-//! its reach from every vertex reaches none (a warning says so), unlike the 2D
-//! propagation, which also seeds the corners of the cells a free polyline crosses.
+//! it always reaches them. A free source (an imaginary polyline or sheet) also reaches
+//! the corners of every tetrahedron one of its pieces meets, whatever their distance
+//! (`sizing::space::crossed_corners`, exact), each with the tensor of its true distance
+//! (the functions hold their end values past their maximum distance), as the 2D
+//! propagation seeds the corners of the cells a free polyline crosses: a source thinner
+//! than the cells still refines the cells it passes through, and the adaptation loop
+//! then brings vertices within reach. The step's report counts those corners as its
+//! seeds. Only tetrahedra are tested (not other volume cells, nor a surface mesh's
+//! triangles): a free source that meets none and is out of reach of every vertex
+//! reaches none (a warning says so).
 
 use rayon::prelude::*;
 
@@ -39,7 +46,7 @@ use crate::sizing::field::{plan_bounds, SizingError, StepEvent, StepReport};
 use crate::sizing::gradation::GradationReport;
 use crate::sizing::gradation3::apply_gradation3;
 use crate::sizing::plan::SizingPlan;
-use crate::sizing::space::{SpaceClosest, SpaceMesh, SpaceSource};
+use crate::sizing::space::{crossed_corners, SpaceClosest, SpaceMesh, SpaceSource};
 use crate::topology::Topology;
 
 /// Vertices per parallel chunk (fixed: the chunking does not depend on the thread count).
@@ -182,11 +189,16 @@ fn merge_work(
             Ok((vertices.len().min(listed.len()), 0))
         }
         SpaceWork::FromSource { source, reach, tensor } => {
+            // The coarse-mesh rule of a free source (see the module header).
+            let crossed = source.is_free().then(|| crossed_corners(mesh.tagged(), &source));
+            let seeds = crossed.as_ref().map_or(0, |c| c.iter().filter(|&&x| x).count());
             let sources = std::slice::from_ref(&source);
-            Ok((from_sources(mesh, sources, reach, tensor.as_ref(), tensors, reached)?, 0))
+            let work = Reaching { sources, reach, crossed: crossed.as_deref() };
+            Ok((from_sources(mesh, work, tensor.as_ref(), tensors, reached)?, seeds))
         }
         SpaceWork::FromTwoSources { sources, reach, tensor } => {
-            Ok((from_sources(mesh, &sources, reach, tensor.as_ref(), tensors, reached)?, 0))
+            let work = Reaching { sources: &sources, reach, crossed: None };
+            Ok((from_sources(mesh, work, tensor.as_ref(), tensors, reached)?, 0))
         }
     }
 }
@@ -221,17 +233,26 @@ pub(crate) fn closest_within(
     Ok(Some([first, out[1].unwrap_or(first)]))
 }
 
-/// Every vertex within `reach` of all `sources` gets `tensor`'s tensor, intersected into
-/// the field in fixed chunks run in parallel (see the module header); returns how many.
+/// What a step reaches: the vertices within `reach` of all `sources`, and those
+/// `crossed` marks whatever their distance.
+#[derive(Clone, Copy)]
+struct Reaching<'s> {
+    sources: &'s [SpaceSource],
+    reach: f64,
+    crossed: Option<&'s [bool]>,
+}
+
+/// Every vertex `work` reaches gets `tensor`'s tensor, intersected into the field in
+/// fixed chunks run in parallel (see the module header); returns how many.
 fn from_sources(
     mesh: &SpaceMesh<'_>,
-    sources: &[SpaceSource],
-    reach: f64,
+    work: Reaching<'_>,
     tensor: &dyn SpaceTensor,
     tensors: &mut [SizeTensor3],
     reached: &mut [bool],
 ) -> Result<usize, Failure> {
     let points = mesh.points();
+    let sources = work.sources;
     let counts: Vec<Result<usize, Failure>> = tensors
         .par_chunks_mut(CHUNK)
         .zip(reached.par_chunks_mut(CHUNK))
@@ -242,6 +263,8 @@ fn from_sources(
             for (i, (t, r)) in ts.iter_mut().zip(rs.iter_mut()).enumerate() {
                 let v = chunk * CHUNK + i;
                 let p = points[v];
+                let forced = work.crossed.is_some_and(|c| c[v]);
+                let reach = if forced { f64::INFINITY } else { work.reach };
                 let Some(closest) = closest_within(sources, reach, v, p, &mut seeds)? else {
                     continue;
                 };
@@ -283,3 +306,7 @@ mod tests;
 #[cfg(test)]
 #[path = "field3_twins.rs"]
 mod twins;
+
+#[cfg(test)]
+#[path = "field3_imaginary.rs"]
+mod imaginary;

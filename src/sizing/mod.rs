@@ -26,7 +26,7 @@ pub use algorithms::curvature_of_border::{three_point_curvature, CORNER_ANGLE};
 pub use algorithms::Contribution;
 pub use algorithms::{
     Algorithm, CurvatureOfBorder, DistanceBetweenTwoBorders, DistanceToBorder,
-    DistanceToImaginaryPolyline, DistanceToPoint, SolutionHessian, Uniform,
+    DistanceToImaginaryPolyline, DistanceToPoint, PolylinePoints, SolutionHessian, Uniform,
 };
 /// The sizing engine: a plan run on a mesh into one size tensor per vertex (thesis 4.3.6).
 pub use field::{

@@ -1,7 +1,8 @@
 //! Geometry in space for the 3D sizing: the closest point of a triangle to a point with
 //! the feature it lies on ([`triangle`]), exact closest points on a triangulated surface
 //! through a bounding-volume hierarchy that agrees bit for bit with the brute-force scan
-//! ([`surface_index`]), the exact 3D orientation predicate ([`orient3d`]), and the
+//! ([`surface_index`]), the exact 3D orientation predicate ([`orient3d`]), whether a
+//! segment or a triangle meets a tetrahedron, from its signs alone ([`meets`]), and the
 //! principal curvatures of a triangulated surface with its ridges kept apart, and of a
 //! curve through three points ([`curvature`]).
 //!
@@ -14,6 +15,7 @@ pub(crate) mod curvature;
 pub(crate) mod curvature_tests;
 #[cfg(test)]
 mod index_tests;
+pub(crate) mod meets;
 pub(crate) mod surface_index;
 #[cfg(test)]
 mod tests;

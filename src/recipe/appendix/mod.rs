@@ -6,7 +6,7 @@
 //! | --- | --- | --- |
 //! | `HMIN` (`H_MIN`), `HMAX` (`H_MAX`), `MAX_ASPECT_RATIO`, `GRADATION` | `global` | numbers |
 //! | `CREATE_REGIONS` | `regions` | list of `{ NAME; TOPOLOGICAL_ENTITIES }` (or `ENTITIES`) |
-//! | `CREATE_POLYLINES` | `polylines` | list of `{ NAME; X_COORDS; Y_COORDS }` |
+//! | `CREATE_POLYLINES` | `polylines` | list of `{ NAME; X_COORDS; Y_COORDS }`, and `Z_COORDS` for a polyline in space |
 //! | `CREATE_DISTANCE_FUNCTIONS` | `functions` (distance) | `{ NAME; MINSIZE; MAXSIZE; MAXDISTANCE; EXPONENT }` |
 //! | `CREATE_PROJECTION_FUNCTIONS` | `functions` (projection) | `{ NAME; MAXSIZE; MAXDISTANCE; EXPONENT }` |
 //! | `CREATE_CURVATURE_TO_SIZE_FUNCTIONS` | `functions` (curvature) | `{ NAME; MINSIZE; MAXSIZE; SIZE_OF_ERROR }` |
@@ -31,7 +31,9 @@
 use super::error::{RecipeError, RecipeErrorKind};
 use super::layer::{CurveValues, LayerSpec};
 use super::libconfig::{self, Node, Setting, Value};
-use super::model::{AlgorithmSpec, EntityRef, FunctionSpec, Places, Recipe, SpecValue};
+use super::model::{
+    AlgorithmSpec, EntityRef, FunctionSpec, Places, PolylinePoints, Recipe, SpecValue,
+};
 use super::periodic::PeriodicSpec;
 use super::preprocess::{self, Source};
 use super::suggest::nearest;
@@ -102,7 +104,8 @@ const LAYER: &[Key] = &[
 const CURVE_VALUES: &[Key] =
     &[req("curve", &["CURVE"]), opt("first_height", &["FIRST_HEIGHT"]), opt("ratio", &["RATIO"])];
 const REGION: &[Key] = &[NAME, req("entities", &["TOPOLOGICAL_ENTITIES", "ENTITIES"])];
-const POLYLINE: &[Key] = &[NAME, req("x", &["X_COORDS"]), req("y", &["Y_COORDS"])];
+const POLYLINE: &[Key] =
+    &[NAME, req("x", &["X_COORDS"]), req("y", &["Y_COORDS"]), opt("z", &["Z_COORDS"])];
 const DISTANCE: &[Key] = &[
     NAME,
     req("size_at_source", SIZE_AT_SOURCE),
@@ -425,9 +428,29 @@ impl Reader<'_> {
                     &s.name,
                     &format!("polyline \"{name}\""),
                 );
-                recipe
-                    .polylines
-                    .insert(name, xs.into_iter().zip(ys).map(|(x, y)| [x, y]).collect());
+                let points = match f.get(POLYLINE, "z") {
+                    None => {
+                        PolylinePoints::Plane(xs.into_iter().zip(ys).map(|(x, y)| [x, y]).collect())
+                    }
+                    Some(zs_s) => {
+                        let zs = self.numbers(zs_s, &ctx)?;
+                        if zs.len() != xs.len() {
+                            return Err(self.error(
+                                zs_s.at,
+                                RecipeErrorKind::Invalid(format!(
+                                    "polyline \"{name}\": {} X_COORDS but {} Z_COORDS (every point of a polyline in space has x, y and z)",
+                                    xs.len(),
+                                    zs.len()
+                                )),
+                                &ctx,
+                            ));
+                        }
+                        PolylinePoints::Space(
+                            xs.into_iter().zip(ys).zip(zs).map(|((x, y), z)| [x, y, z]).collect(),
+                        )
+                    }
+                };
+                recipe.polylines.insert(name, points);
             }
         }
         for (list, keys) in
@@ -667,6 +690,7 @@ impl Reader<'_> {
                 (
                     ParameterKind::Function(_)
                     | ParameterKind::Polyline
+                    | ParameterKind::File
                     | ParameterKind::PointData
                     | ParameterKind::Choice(_),
                     Some(s),

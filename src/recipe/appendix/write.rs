@@ -88,13 +88,18 @@ pub fn write(r: &Recipe) -> String {
         r.polylines
             .iter()
             .map(|(name, pts)| {
-                let xs: Vec<String> = pts.iter().map(|p| float(p[0])).collect();
-                let ys: Vec<String> = pts.iter().map(|p| float(p[1])).collect();
+                let coords = |k: usize| -> String {
+                    (0..pts.len()).map(|i| float(pts.point(i)[k])).collect::<Vec<_>>().join(", ")
+                };
+                let z = match pts.components() {
+                    3 => format!(";\n      Z_COORDS = [ {} ]", coords(2)),
+                    _ => String::new(),
+                };
                 format!(
-                    "    {{ NAME = {};\n      X_COORDS = [ {} ];\n      Y_COORDS = [ {} ]; }}",
+                    "    {{ NAME = {};\n      X_COORDS = [ {} ];\n      Y_COORDS = [ {} ]{z}; }}",
                     quote(name),
-                    xs.join(", "),
-                    ys.join(", ")
+                    coords(0),
+                    coords(1)
                 )
             })
             .collect(),

@@ -43,6 +43,7 @@ impl SpecValue {
                 SpecValue::Name(_),
                 ParameterKind::Function(_)
                     | ParameterKind::Polyline
+                    | ParameterKind::File
                     | ParameterKind::PointData
                     | ParameterKind::Choice(_)
             ) | (SpecValue::Names(_), ParameterKind::Regions { .. })
@@ -58,9 +59,10 @@ impl SpecValue {
             | ParameterKind::OptionalNorm
             | ParameterKind::Choice(_) => SpecValue::Absent,
             ParameterKind::Regions { .. } => SpecValue::Names(Vec::new()),
-            ParameterKind::Function(_) | ParameterKind::Polyline | ParameterKind::PointData => {
-                SpecValue::Name(String::new())
-            }
+            ParameterKind::Function(_)
+            | ParameterKind::Polyline
+            | ParameterKind::File
+            | ParameterKind::PointData => SpecValue::Name(String::new()),
         }
     }
 }
@@ -284,6 +286,7 @@ impl Raw {
             },
             ParameterKind::Function(_)
             | ParameterKind::Polyline
+            | ParameterKind::File
             | ParameterKind::PointData
             | ParameterKind::Choice(_) => self.string().map(SpecValue::Name),
             ParameterKind::Regions { .. } => match self {

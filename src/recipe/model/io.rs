@@ -108,6 +108,11 @@ impl Recipe {
         self.places.locate(RecipeError::new(kind), path)
     }
 
+    /// The file of the recipe that wrote `path` (an included file's), if known.
+    pub(crate) fn file_of(&self, path: &str) -> Option<&Path> {
+        self.places.file_of(path)
+    }
+
     /// The key as the recipe's file wrote it at `path`.
     pub(crate) fn written_key<'a>(&'a self, path: &str, default: &'a str) -> &'a str {
         self.places.key(path, default)

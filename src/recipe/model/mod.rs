@@ -15,7 +15,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-pub use crate::sizing::algorithms::FunctionKind;
+pub use crate::sizing::algorithms::{FunctionKind, PolylinePoints};
 use crate::sizing::{CurvatureToSize, DistanceFunction, FunctionError, SizeProjectionFunction};
 
 mod algorithm;
@@ -211,9 +211,10 @@ pub struct Recipe {
     /// Regions: name → tag numbers or tag names of entities of one dimension.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub regions: BTreeMap<String, Vec<EntityRef>>,
-    /// Polylines: name → points `[x, y]` (for DISTANCE_TO_IMAGINARY_POLYLINE).
+    /// Polylines: name → points, every one `[x, y]` or every one `[x, y, z]` (for
+    /// DISTANCE_TO_IMAGINARY_POLYLINE on a planar mesh or on a mesh in space).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub polylines: BTreeMap<String, Vec<[f64; 2]>>,
+    pub polylines: BTreeMap<String, PolylinePoints>,
     /// Functions: name → function (one namespace for the three kinds).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub functions: BTreeMap<String, FunctionSpec>,

@@ -68,6 +68,15 @@ impl Places {
         }
     }
 
+    /// The file `path` was written in (or its nearest enclosing item), else the recipe's
+    /// own file.
+    pub(crate) fn file_of(&self, path: &str) -> Option<&Path> {
+        match self.find(path) {
+            Some(place) => self.files.get(place.file).map(PathBuf::as_path),
+            None => self.files.first().map(PathBuf::as_path),
+        }
+    }
+
     /// The key as written at `path`, or `default`.
     pub(crate) fn key<'a>(&'a self, path: &str, default: &'a str) -> &'a str {
         self.by_path.get(path).map(|p| p.key.as_str()).unwrap_or(default)

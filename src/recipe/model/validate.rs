@@ -112,7 +112,10 @@ impl Recipe {
                     &path,
                 ));
             }
-            if let Some(p) = points.iter().find(|p| !p[0].is_finite() || !p[1].is_finite()) {
+            let n = points.len();
+            if let Some(p) =
+                (0..n).map(|i| points.point(i)).find(|p| !p.iter().all(|c| c.is_finite()))
+            {
                 return Err(self.error_at(
                     RecipeErrorKind::Invalid(format!(
                         "polyline \"{name}\" has a point that is not finite: {p:?}"
@@ -120,8 +123,8 @@ impl Recipe {
                     &path,
                 ));
             }
-            if let Some(i) = points.windows(2).position(|w| w[0] == w[1]) {
-                return Err(self.error_at(RecipeErrorKind::Invalid(format!("polyline \"{name}\" repeats point {} ({:?}) at once: consecutive points must differ", i + 1, points[i])), &path));
+            if let Some(i) = (1..n).position(|i| points.point(i - 1) == points.point(i)) {
+                return Err(self.error_at(RecipeErrorKind::Invalid(format!("polyline \"{name}\" repeats point {} ({:?}) at once: consecutive points must differ", i + 1, points.point(i))), &path));
             }
         }
         Ok(())

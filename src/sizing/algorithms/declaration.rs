@@ -10,6 +10,115 @@
 use crate::geometry::Point2;
 use crate::sizing::functions::{CurvatureToSize, DistanceFunction, SizeProjectionFunction};
 
+/// The points of a recipe polyline: every point (x, y) for a planar mesh, or every
+/// point (x, y, z) for a mesh in space; never a mix (the readers refuse one, naming the
+/// point). TOML and JSON write it as an array of 2- or 3-number arrays, libconfig as
+/// `X_COORDS`, `Y_COORDS` and, in space, `Z_COORDS`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PolylinePoints {
+    /// Points (x, y).
+    Plane(Vec<Point2>),
+    /// Points (x, y, z).
+    Space(Vec<[f64; 3]>),
+}
+
+impl PolylinePoints {
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        match self {
+            PolylinePoints::Plane(p) => p.len(),
+            PolylinePoints::Space(p) => p.len(),
+        }
+    }
+
+    /// Whether it has no point.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// 2 or 3.
+    pub fn components(&self) -> usize {
+        match self {
+            PolylinePoints::Plane(_) => 2,
+            PolylinePoints::Space(_) => 3,
+        }
+    }
+
+    /// The coordinates of point `i` (2 or 3 numbers).
+    pub fn point(&self, i: usize) -> &[f64] {
+        match self {
+            PolylinePoints::Plane(p) => &p[i],
+            PolylinePoints::Space(p) => &p[i],
+        }
+    }
+
+    /// The points in the plane, `None` in space.
+    pub fn plane(&self) -> Option<&[Point2]> {
+        match self {
+            PolylinePoints::Plane(p) => Some(p),
+            PolylinePoints::Space(_) => None,
+        }
+    }
+
+    /// The points in space, `None` in the plane.
+    pub fn space(&self) -> Option<&[[f64; 3]]> {
+        match self {
+            PolylinePoints::Plane(_) => None,
+            PolylinePoints::Space(p) => Some(p),
+        }
+    }
+
+    /// The points from lists of coordinates, each of 2 or 3 numbers, all of one length;
+    /// otherwise why not (naming the 1-based point).
+    pub fn from_coordinates(points: Vec<Vec<f64>>) -> Result<PolylinePoints, String> {
+        let n = points.first().map_or(2, Vec::len);
+        if n != 2 && n != 3 {
+            return Err(format!("point 1 has {n} coordinates: expected 2 (x, y) or 3 (x, y, z)"));
+        }
+        if let Some(i) = points.iter().position(|p| p.len() != n) {
+            return Err(format!(
+                "point {} has {} coordinates but point 1 has {n}: every point of a polyline \
+                 has 2 (x, y) or every point 3 (x, y, z)",
+                i + 1,
+                points[i].len()
+            ));
+        }
+        Ok(if n == 2 {
+            PolylinePoints::Plane(points.iter().map(|p| [p[0], p[1]]).collect())
+        } else {
+            PolylinePoints::Space(points.iter().map(|p| [p[0], p[1], p[2]]).collect())
+        })
+    }
+}
+
+/// A triangulated sheet in space (a wake, a shock surface) read from a file, for
+/// DISTANCE_TO_IMAGINARY_SURFACE: its points and triangles (quads split), as read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sheet {
+    /// The file it was read from, as resolved (for messages).
+    pub path: std::path::PathBuf,
+    /// Its points.
+    pub points: Vec<[f64; 3]>,
+    /// Its triangles, indices into `points`, at least one.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl serde::Serialize for PolylinePoints {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            PolylinePoints::Plane(p) => p.serialize(s),
+            PolylinePoints::Space(p) => p.serialize(s),
+        }
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for PolylinePoints {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<PolylinePoints, D::Error> {
+        let points: Vec<Vec<f64>> = serde::Deserialize::deserialize(d)?;
+        PolylinePoints::from_coordinates(points).map_err(serde::de::Error::custom)
+    }
+}
+
 /// Topological entities of one mesh, by index into [`crate::Topology`] (a region's, once resolved).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct EntitySet {
@@ -108,6 +217,9 @@ pub enum ParameterKind {
     },
     /// The name of a polyline of the recipe.
     Polyline,
+    /// The path of a file (a triangulated surface), relative to the recipe file that
+    /// names it; read when the recipe is resolved.
+    File,
     /// The name of a scalar point-data array of the mesh being sized (a solution field),
     /// looked up when the step runs.
     PointData,
@@ -202,7 +314,9 @@ pub enum Argument {
     /// The entities of a region list.
     Entities(EntitySet),
     /// A polyline's points.
-    Polyline(Vec<Point2>),
+    Polyline(PolylinePoints),
+    /// A triangulated sheet read from a file.
+    Sheet(Sheet),
     /// A name passed as it is (a point-data array).
     Name(String),
 }
@@ -270,9 +384,17 @@ impl Arguments {
     }
 
     /// The polyline of `field`.
-    pub fn polyline(&mut self, field: &str) -> Option<Vec<Point2>> {
+    pub fn polyline(&mut self, field: &str) -> Option<PolylinePoints> {
         match self.take(field)? {
             Argument::Polyline(p) => Some(p),
+            _ => None,
+        }
+    }
+
+    /// The sheet of `field`.
+    pub fn sheet(&mut self, field: &str) -> Option<Sheet> {
+        match self.take(field)? {
+            Argument::Sheet(s) => Some(s),
             _ => None,
         }
     }

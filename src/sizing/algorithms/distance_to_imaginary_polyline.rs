@@ -21,16 +21,35 @@
 //!
 //! Reach: the larger maximum distance of the perpendicular and projection functions
 //! (the abscissa function's maximum distance is along the polyline, not away from it).
+//!
+//! In space (a vortex line): the polyline's points are (x, y, z) and its segments one
+//! free source of the exact closest-point index (a segment is a degenerate triangle of
+//! the one kernel, bit for bit a scan of every segment). With d and s' as above, the
+//! tensor of a vertex off the line is a tube's: `perpendicular(d)` along the direction
+//! from the closest point to the vertex and around the line, the projected tangent size
+//! along the line's tangent at the foot (at a corner of the polyline, the mean of its two
+//! segments' directions), made orthogonal to that direction. Around the line the size is
+//! the perpendicular one, not the tangent one as DISTANCE_TO_BORDER gives around a curve
+//! in space: a vortex core is round, and on the line itself (d within `ON_SOURCE` of the
+//! foot's segment, where the direction is noise) the tensor is the tangent size along
+//! the line and the smaller size across it in every direction, which this tube tensor
+//! meets continuously as d goes to 0. Coarse meshes: the 3D driver also sizes the
+//! corners of every tetrahedron a segment meets ([`crate::sizing::field3`]). A polyline
+//! of (x, y) points on a mesh in space is refused, naming the step (there is no implied
+//! z); `recipe check` lists such a step as not sized in space. `REGIONS` is not taken in
+//! space yet (refused).
 
 use super::{
     normal_at, reach_of, tensor, Around, Arguments, Declaration, Failure, FunctionKind, Junctions,
-    Marks, Parameter, ParameterKind, SizingAlgorithm, Tensor, Work,
+    Marks, Parameter, ParameterKind, PolylinePoints, SizingAlgorithm, Tensor, Work,
 };
-use crate::geometry::Point2;
+use super::{SpaceTensor, SpaceWork};
 use crate::mesh_graph::MeshGraph;
+use crate::sizing::space::{SpaceMesh, SpaceSourceBuilder};
 use crate::sizing::functions::{DistanceFunction, SizeProjectionFunction};
 use super::EntitySet;
-use crate::metric::SizeTensor;
+use super::{wall_tensor, Across};
+use crate::metric::{SizeTensor, SizeTensor3};
 use crate::sizing::propagation::{ClosestPoint, Source, SourceBuilder};
 use crate::topology::Topology;
 
@@ -45,8 +64,9 @@ pub struct DistanceToImaginaryPolyline {
     pub polyline_distance: DistanceFunction,
     /// How the tangent size grows away from the polyline.
     pub projection: SizeProjectionFunction,
-    /// The polyline, at least one point; consecutive points distinct.
-    pub polyline: Vec<Point2>,
+    /// The polyline, at least one point; consecutive points distinct: (x, y) points for
+    /// a planar mesh, (x, y, z) for a mesh in space.
+    pub polyline: PolylinePoints,
     /// Where the algorithm applies (faces); empty means everywhere.
     pub within: EntitySet,
 }
@@ -120,11 +140,39 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
     }
 
     fn zoom(&self) -> Option<(Around<'_>, f64)> {
-        Some((Around::Points(&self.polyline), self.perpendicular.max_distance()))
+        let points = self.polyline.plane()?;
+        Some((Around::Points(points), self.perpendicular.max_distance()))
     }
 
     fn marks(&self) -> Marks<'_> {
-        Marks { polyline: Some(&self.polyline), points: &[] }
+        Marks { polyline: self.polyline.plane(), points: &[] }
+    }
+
+    fn sized_in_space(&self) -> bool {
+        self.polyline.space().is_some()
+    }
+
+    const IN_SPACE: bool = true;
+
+    fn work_in_space<'a>(
+        &'a self,
+        mesh: &'a SpaceMesh<'a>,
+        _topology: &'a Topology,
+    ) -> Result<SpaceWork<'a>, Failure> {
+        if self.polyline.is_empty() {
+            return Err(Failure::EmptyPolyline);
+        }
+        let Some(points) = self.polyline.space() else {
+            return Err(Failure::PolylineComponents { components: 2, in_space: true });
+        };
+        if let Some(&index) = self.within.faces.first().or(self.within.volumes.first()) {
+            let what = if self.within.faces.is_empty() { "volume" } else { "face" };
+            return Err(Failure::UnsupportedEntity { what, index });
+        }
+        let source = polyline_source(mesh, points)?;
+        let reach = reach_of(&[self.perpendicular.max_distance(), self.projection.max_distance()]);
+        let tensor = Box::new(TubeTensor::new(self, points));
+        Ok(SpaceWork::FromSource { source, reach, tensor })
     }
 
     fn work<'a>(
@@ -135,6 +183,9 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
         if self.polyline.is_empty() {
             return Err(Failure::EmptyPolyline);
         }
+        let Some(polyline) = self.polyline.plane() else {
+            return Err(Failure::PolylineComponents { components: 3, in_space: false });
+        };
         let within = &self.within;
         let inside = if within.is_empty() {
             None
@@ -147,7 +198,7 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
                 mask[v as usize] = true;
             }
         }
-        let source = SourceBuilder::new(graph).polyline(&self.polyline, false).build()?;
+        let source = SourceBuilder::new(graph).polyline(polyline, false).build()?;
         let junctions = Junctions::new(&source);
         let reach = reach_of(&[self.perpendicular.max_distance(), self.projection.max_distance()]);
         let tensor = PolylineTensor { algorithm: self, graph, junctions, mask };
@@ -180,5 +231,134 @@ impl Tensor for PolylineTensor<'_> {
         let h_line = a.polyline_distance.eval(c.abscissa);
         let h_tangent = a.projection.eval(c.distance, h_line);
         tensor(v, n, a.perpendicular.eval(c.distance), h_tangent).map(Some)
+    }
+}
+
+/// The polyline in space as a free source of the 3D driver: segment `i` is piece `i`
+/// (consecutive points differ: the recipe checks), a single point one point piece.
+pub(crate) fn polyline_source(
+    mesh: &SpaceMesh<'_>,
+    points: &[[f64; 3]],
+) -> Result<crate::sizing::space::SpaceSource, Failure> {
+    let mut b = SpaceSourceBuilder::new(mesh.points());
+    for (i, &p) in points.iter().enumerate() {
+        b.free_point(p, i)?;
+    }
+    if points.len() == 1 {
+        b.point(0);
+    }
+    for i in 1..points.len() {
+        if points[i - 1] == points[i] {
+            return Err(Failure::EmptyPolyline);
+        }
+        b.segment(i as u32 - 1, i as u32);
+    }
+    Ok(b.build()?)
+}
+
+/// The tensor of DISTANCE_TO_IMAGINARY_POLYLINE in space (see the module header).
+pub(crate) struct TubeTensor<'a> {
+    algorithm: &'a DistanceToImaginaryPolyline,
+    points: &'a [[f64; 3]],
+    /// Curvilinear abscissa of each point from the first.
+    abscissa: Vec<f64>,
+    /// Unit direction of each segment.
+    directions: Vec<[f64; 3]>,
+}
+
+impl<'a> TubeTensor<'a> {
+    pub(crate) fn new(algorithm: &'a DistanceToImaginaryPolyline, points: &'a [[f64; 3]]) -> Self {
+        let mut abscissa = vec![0.0; points.len()];
+        let mut directions = Vec::with_capacity(points.len().saturating_sub(1));
+        for i in 1..points.len() {
+            let d = sub3(points[i], points[i - 1]);
+            let len = dot3(d, d).sqrt();
+            abscissa[i] = abscissa[i - 1] + len;
+            directions.push([d[0] / len, d[1] / len, d[2] / len]);
+        }
+        TubeTensor { algorithm, points, abscissa, directions }
+    }
+
+    /// The abscissa of `foot` on piece `piece`, and the line's unit tangent there (`None`
+    /// on a single point, or where the two segments at a corner turn right back).
+    pub(crate) fn along(&self, piece: usize, foot: [f64; 3]) -> (f64, Option<[f64; 3]>) {
+        if self.directions.is_empty() {
+            return (0.0, None);
+        }
+        let a = self.points[piece];
+        let f = sub3(foot, a);
+        let s = self.abscissa[piece] + dot3(f, f).sqrt();
+        let own = self.directions[piece];
+        // The index snaps a foot at a segment's end to that point exactly.
+        let other = if foot == a && piece > 0 {
+            Some(self.directions[piece - 1])
+        } else if foot == self.points[piece + 1] && piece + 1 < self.directions.len() {
+            Some(self.directions[piece + 1])
+        } else {
+            None
+        };
+        let t = match other {
+            None => Some(own),
+            Some(o) => unit(std::array::from_fn(|k| own[k] + o[k])),
+        };
+        (s, t)
+    }
+}
+
+fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn unit(v: [f64; 3]) -> Option<[f64; 3]> {
+    crate::sizing::space::unit3(v)
+}
+
+impl SpaceTensor for TubeTensor<'_> {
+    fn tensor(
+        &self,
+        sources: &[crate::sizing::space::SpaceSource],
+        v: usize,
+        at: [f64; 3],
+        closest: &[crate::sizing::space::SpaceClosest],
+    ) -> Result<Option<SizeTensor3>, Failure> {
+        let (a, c) = (self.algorithm, &closest[0]);
+        let (s, t) = self.along(c.piece as usize, c.foot);
+        let h_perp = a.perpendicular.eval(c.distance);
+        let h_tangent = a.projection.eval(c.distance, a.polyline_distance.eval(s));
+        let frame = match (super::across(&sources[0], c, at), t) {
+            (Across::Normal(n), Some(t)) => {
+                // Radial n; the tangent made orthogonal to it (the third axis, around the
+                // line, takes the perpendicular size too).
+                match SizeTensor3::try_new(n, t, [h_perp, h_tangent, h_perp]) {
+                    Some(tensor) => return Ok(Some(tensor)),
+                    None => Across::Normal(n),
+                }
+            }
+            (Across::Line(_), Some(t)) => Across::Line(t),
+            (other, _) => other,
+        };
+        // Off the line with no tangent known (a single point, a foot straight beyond an
+        // end along the line, a corner that turns back): `perpendicular` along the
+        // direction, the smaller size across; on the line, the tangent size along it.
+        let tensor = match frame {
+            Across::Normal(n) => SizeTensor3::try_new(n, other_axis(n), [h_perp, h_perp.min(h_tangent), h_perp.min(h_tangent)]).ok_or(Failure::Degenerate { vertex: v })?,
+            f => wall_tensor(v, f, h_perp, h_tangent)?,
+        };
+        Ok(Some(tensor))
+    }
+}
+
+fn other_axis(n: [f64; 3]) -> [f64; 3] {
+    let a = n.map(f64::abs);
+    if a[0] <= a[1] && a[0] <= a[2] {
+        [1.0, 0.0, 0.0]
+    } else if a[1] <= a[2] {
+        [0.0, 1.0, 0.0]
+    } else {
+        [0.0, 0.0, 1.0]
     }
 }

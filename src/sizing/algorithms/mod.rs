@@ -49,7 +49,7 @@ mod sources;
 
 pub use declaration::{
     infinite_norm, Argument, Arguments, Declaration, EntitySet, FunctionKind, Given, Marks,
-    Parameter, ParameterKind, Refusal, INFINITE_NORM,
+    Parameter, ParameterKind, PolylinePoints, Refusal, Sheet, INFINITE_NORM,
 };
 pub use frame::ON_SOURCE;
 pub(crate) use frame::{direction, normal_at, on_source, tangent_at, tensor, unit, Junctions};
@@ -125,7 +125,7 @@ macro_rules! algorithms {
             /// Whether it sizes a mesh in space (`SizingAlgorithm::IN_SPACE`).
             pub fn in_space(&self) -> bool {
                 match self {
-                    $(Algorithm::$name(_) => <$name as SizingAlgorithm>::IN_SPACE,)*
+                    $(Algorithm::$name(a) => a.sized_in_space(),)*
                 }
             }
 
@@ -167,6 +167,7 @@ algorithms! {
     distance_between_two_borders::DistanceBetweenTwoBorders,
     distance_to_imaginary_polyline::DistanceToImaginaryPolyline,
     solution_hessian::SolutionHessian,
+    distance_to_imaginary_surface::DistanceToImaginarySurface,
 }
 
 /// One line of [`TABLE`].
@@ -252,6 +253,12 @@ pub(crate) trait SizingAlgorithm: Sized {
     /// Whether it implements [`work_in_space`](Self::work_in_space) (`recipe check` on a
     /// mesh in space says which steps are sized there).
     const IN_SPACE: bool = false;
+
+    /// Whether this instance sizes a mesh in space: [`IN_SPACE`](Self::IN_SPACE) unless
+    /// its arguments say otherwise (a polyline of (x, y) points).
+    fn sized_in_space(&self) -> bool {
+        Self::IN_SPACE
+    }
 
     /// What it asks of the 3D driver on a mesh in space: by default a refusal naming the
     /// keyword ([`Failure::NotInSpace`], exit code 2 from the command line).
@@ -421,6 +428,10 @@ pub(crate) enum Failure {
     Field { why: String },
     /// The algorithm does not size a mesh in space yet.
     NotInSpace { keyword: &'static str },
+    /// An algorithm that sizes meshes in space only, on a planar mesh.
+    OnlyInSpace { keyword: &'static str },
+    /// A polyline of 2 coordinates on a mesh in space, or of 3 on a planar mesh.
+    PolylineComponents { components: usize, in_space: bool },
 }
 
 impl From<SourceError> for Failure {

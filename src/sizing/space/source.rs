@@ -78,6 +78,9 @@ pub(crate) struct SpaceSource {
     /// The box of every piece.
     lo: Point3,
     hi: Point3,
+    /// Whether every point is a free point (no mesh vertex): an imaginary polyline or
+    /// sheet, whose coarse-mesh rule the driver applies.
+    free: bool,
 }
 
 /// Builds a [`SpaceSource`] from mesh entities and free coordinates.
@@ -264,7 +267,8 @@ impl<'m> SpaceSourceBuilder<'m> {
                 }
             }
         }
-        Ok(SpaceSource { index, points: self.points, pieces: self.pieces, around, lo, hi })
+        let free = self.local.is_empty() && !self.points.is_empty();
+        Ok(SpaceSource { index, points: self.points, pieces: self.pieces, around, lo, hi, free })
     }
 }
 
@@ -272,6 +276,21 @@ impl SpaceSource {
     /// Number of pieces.
     pub(crate) fn len(&self) -> usize {
         self.pieces.len()
+    }
+
+    /// Whether the source is made of free points only (see [`SpaceSourceBuilder::free_point`]).
+    pub(crate) fn is_free(&self) -> bool {
+        self.free
+    }
+
+    /// The corners of piece `i` (a segment `(a, b, b)`, a point `(p, p, p)`).
+    pub(crate) fn piece_corners(&self, i: usize) -> [Point3; 3] {
+        self.pieces[i].corners.map(|k| self.points[k as usize])
+    }
+
+    /// The box of every piece: (lowest, highest) corner.
+    pub(crate) fn bounds(&self) -> (Point3, Point3) {
+        (self.lo, self.hi)
     }
 
     /// The pieces, by index.

@@ -1,0 +1,202 @@
+//! `smartmesh size` on the public box-cylinder (tetrahedra) with a recipe of a vortex
+//! line (DISTANCE_TO_IMAGINARY_POLYLINE with (x, y, z) points) and a wake sheet
+//! (DISTANCE_TO_IMAGINARY_SURFACE, an STL file beside the recipe): `recipe check` says
+//! both steps are sized in space, the field's sizes near the sheet are those of the
+//! recipe's functions, `mmg3d_O3` adapts the mesh to the written `.sol` (finer at the
+//! sheet), and a missing or malformed sheet is refused with its path (exit 2).
+//!
+//! Needs the public fixtures (skipped with a message without them, mandatory under CI),
+//! and `mmg3d_O3` for the remeshing (skipped without it).
+
+use std::path::Path;
+
+use smartmesh::formats::{read_path, CellKind, TaggedMesh};
+use smartmesh_test_support::formats::public_fixture;
+use smartmesh_test_support::require_public_fixtures;
+
+#[path = "support/cli.rs"]
+mod support;
+use support::{program, run, streams};
+
+fn box_cyl() -> String {
+    public_fixture("3d/box_cyl.v41_ascii.msh").display().to_string()
+}
+
+/// The wake sheet behind the cylinder, tilted: y = 0.5 + 0.05 (x − 0.85), x in
+/// [0.85, 1.95], z in [0.05, 0.95], as two triangles.
+const SHEET: [[f64; 3]; 4] =
+    [[0.85, 0.5, 0.05], [1.95, 0.555, 0.05], [1.95, 0.555, 0.95], [0.85, 0.5, 0.95]];
+
+fn write_sheet_stl(path: &Path) {
+    let v = |p: [f64; 3]| format!("   vertex {} {} {}\n", p[0], p[1], p[2]);
+    let mut s = String::from("solid wake\n");
+    for t in [[0, 1, 2], [0, 2, 3]] {
+        s += " facet normal 0 0 0\n  outer loop\n";
+        for k in t {
+            s += &v(SHEET[k]);
+        }
+        s += "  endloop\n endfacet\n";
+    }
+    s += "endsolid wake\n";
+    std::fs::write(path, s).unwrap();
+}
+
+/// Distance from `p` to the sheet's plane, and whether its foot lies on the sheet.
+fn to_sheet(p: [f64; 3]) -> (f64, bool) {
+    let n: [f64; 3] = [-0.05, 1.0, 0.0];
+    let l = (n[0] * n[0] + n[1] * n[1]).sqrt();
+    let d = ((p[0] - 0.85) * n[0] + (p[1] - 0.5) * n[1]) / l;
+    let inside = (0.9..=1.9).contains(&p[0]) && (0.1..=0.9).contains(&p[2]);
+    (d.abs(), inside)
+}
+
+const RECIPE: &str = r#"
+[global]
+h_max = 0.15
+
+[polylines]
+Vortex = [[0.3, 0.25, 0.7], [1.0, 0.22, 0.72], [1.9, 0.2, 0.75]]
+
+[functions.core]
+kind = "distance"
+size_at_source = 0.03
+size_at_max_distance = 0.15
+max_distance = 0.2
+exponent = 1.0
+
+[functions.along]
+kind = "distance"
+size_at_source = 0.1
+size_at_max_distance = 0.15
+max_distance = 1.0
+exponent = 1.0
+
+[functions.away]
+kind = "projection"
+size_at_max_distance = 0.15
+max_distance = 0.2
+exponent = 1.0
+
+[functions.perp]
+kind = "distance"
+size_at_source = 0.02
+size_at_max_distance = 0.15
+max_distance = 0.2
+exponent = 1.0
+
+[functions.par]
+kind = "distance"
+size_at_source = 0.08
+size_at_max_distance = 0.15
+max_distance = 0.2
+exponent = 1.0
+
+[[algorithms]]
+type = "distance_to_imaginary_polyline"
+perpendicular = "core"
+polyline_distance = "along"
+projection = "away"
+polyline = "Vortex"
+
+[[algorithms]]
+type = "distance_to_imaginary_surface"
+perpendicular = "perp"
+parallel = "par"
+file = "wake.stl"
+"#;
+
+/// Vertices within 0.05 of the sheet, over it.
+fn near_sheet(mesh: &TaggedMesh) -> usize {
+    mesh.points
+        .iter()
+        .filter(|p| {
+            let (d, inside) = to_sheet(**p);
+            inside && d < 0.05
+        })
+        .count()
+}
+
+#[test]
+fn a_vortex_line_and_a_wake_sheet_size_box_cyl_and_mmg3d_follows() {
+    require_public_fixtures!();
+    let dir = tempfile::tempdir().unwrap();
+    write_sheet_stl(&dir.path().join("wake.stl"));
+    let recipe = dir.path().join("wake.toml");
+    std::fs::write(&recipe, RECIPE).unwrap();
+    let r = recipe.to_str().unwrap();
+    let o = run(&["recipe", "check", "--json", r, &box_cyl()]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["algorithms"][0]["in_space"], true);
+    assert_eq!(j["algorithms"][1]["in_space"], true);
+    assert_eq!(j["sizing"], "every step is sized in space");
+
+    let vtu = dir.path().join("f.vtu");
+    let o = run(&["size", &box_cyl(), "--recipe", r, "-o", vtu.to_str().unwrap(), "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let m = read_path(&vtu, None).unwrap();
+    let h3 = &m.point_data["h3"].values;
+    let mut near = 0;
+    for (p, &h) in m.points.iter().zip(h3) {
+        let (d, inside) = to_sheet(*p);
+        if inside && d < 0.2 {
+            // The sheet's perpendicular size at d; the vortex step can only shrink it.
+            let perp = 0.02 + (0.15 - 0.02) * d / 0.2;
+            assert!(h <= perp * (1.0 + 1e-9), "{p:?}: h3 {h} above {perp}");
+            near += 1;
+        }
+    }
+    assert!(near > 30, "{near}");
+
+    if program("mmg3d_O3").is_none() {
+        return;
+    }
+    let sol = dir.path().join("f.sol");
+    let o = run(&["size", &box_cyl(), "--recipe", r, "-o", sol.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let out = dir.path().join("adapted.msh");
+    let o = run(&[
+        "remesh",
+        &box_cyl(),
+        "--metric",
+        sol.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--hgrad",
+        "-1",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let start = read_path(Path::new(&box_cyl()), None).unwrap();
+    let adapted = read_path(&out, None).unwrap();
+    assert!(adapted.num_cells_of(CellKind::Tetra) > 2 * start.num_cells_of(CellKind::Tetra));
+    let (before, after) = (near_sheet(&start), near_sheet(&adapted));
+    assert!(after > 4 * before, "vertices near the sheet: {before} then {after}");
+}
+
+#[test]
+fn a_missing_or_malformed_sheet_is_refused_with_its_path() {
+    require_public_fixtures!();
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("wake.toml");
+    std::fs::write(&recipe, RECIPE).unwrap();
+    let r = recipe.to_str().unwrap();
+    let sol = dir.path().join("f.sol");
+    for (body, why) in [
+        (None, "No such file"),
+        (Some("solid w\n facet normal 0 0 1\n  outer loop\n   vertex 1 2\n"), "wake.stl:5"),
+    ] {
+        if let Some(b) = body {
+            std::fs::write(dir.path().join("wake.stl"), b).unwrap();
+        }
+        for args in [
+            vec!["size", &box_cyl(), "--recipe", r, "-o", sol.to_str().unwrap()],
+            vec!["recipe", "check", r, &box_cyl()],
+        ] {
+            let o = run(&args);
+            assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
+            let e = String::from_utf8_lossy(&o.stderr);
+            assert!(e.contains("wake.stl") && e.contains(why) && e.contains("wake.toml:"), "{e}");
+        }
+        assert!(!sol.exists());
+    }
+}
