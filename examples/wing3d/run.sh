@@ -30,18 +30,18 @@ echo "$t1 - $t0" | bc > "$out/seconds"
 "$SMARTMESH" info "$out/adapted.msh" --json > "$out/info.json"
 "$SMARTMESH" convert "$out/adapted.msh" "$out/adapted.vtu"
 "$SMARTMESH" report "$out/adapted.msh" --cut y=0.75 -o "$out/cut-y0.75.png"
-"$SMARTMESH" report "$out/adapted.msh" --cut x=1.3 -o "$out/cut-x1.3.png"
+"$SMARTMESH" report "$out/adapted.msh" --cut x=2 -o "$out/cut-x2.png"
 # ParaView's view of the wing and a cut, where ParaView is installed (Debian's renders
 # under X only: xvfb-run).
 if command -v pvpython >/dev/null && command -v xvfb-run >/dev/null; then
     xvfb-run -a pvpython examples/wing3d/render.py "$out/adapted.vtu" "$out/wing-paraview.png" \
-        2> "$out/paraview.log"
+        2> "$out/paraview.log" || echo "run.sh: ParaView's view failed (see $out/paraview.log)" >&2
 fi
 python3 examples/wing3d/figures.py "$out" > "$out/figures.md"
 printf '\nThe whole adapt run: %.0f s.\n' "$(cat "$out/seconds")" >> "$out/figures.md"
 cat "$out/figures.md"
 if [ "${1:-}" = "--update-figures" ]; then
-    cp "$out/cut-y0.75.png" "$out/cut-x1.3.png" examples/wing3d/
+    cp "$out/cut-y0.75.png" "$out/cut-x2.png" examples/wing3d/
     [ ! -f "$out/wing-paraview.png" ] || cp "$out/wing-paraview.png" examples/wing3d/
     python3 - "$out/figures.md" <<'PY'
 import re, sys
