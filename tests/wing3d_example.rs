@@ -1,7 +1,7 @@
 //! The wing3d example in small (examples/wing3d): its `geometry.py` meshes the wing in a
 //! box coarser than the example does, and `smartmesh adapt` takes one iteration through
 //! `mmg3d_O3` with the example's recipe and options, the growth limited to 1.5 (about
-//! 15 s in a debug build). Checked apart from the library: every tetrahedron positive,
+//! 20 s in a debug build). Checked apart from the library: every tetrahedron positive,
 //! the fluid's volume (the box less the wing, whose exact volume is computed here), every
 //! tag name back, the wing's triangles each the face of one tetrahedron; the recipe's
 //! wall size (0.005) along the normal of every wing triangle, up to the gradation; and
