@@ -113,6 +113,23 @@ fn outputs(words: &[&str]) -> Result<Vec<Write>, String> {
             let work = args.get(2).copied().unwrap_or("target/ugawg3d/");
             out.push(Write { path: work.to_string(), why: "examples/ugawg3d/make.sh WORK" });
         }
+        "bash" if args.first() == Some(&"examples/wing3d/run.sh") => {
+            if args.contains(&"--update-figures") {
+                return Err(
+                    "examples/wing3d/run.sh --update-figures rewrites committed files".into()
+                );
+            }
+            // It writes under target/examples/wing3d/ (its header says so).
+        }
+        "python3" if args.first() == Some(&"examples/wing3d/geometry.py") => {
+            let o = args.get(1).ok_or("geometry.py without its output")?;
+            out.push(Write { path: o.to_string(), why: "geometry.py OUT" });
+            if let Some(w) = value(args, "--wake") {
+                out.push(Write { path: w.to_string(), why: "geometry.py --wake" });
+            }
+        }
+        // It prints to stdout only.
+        "python3" if args.first() == Some(&"examples/wing3d/figures.py") => {}
         "python3" if args.first() == Some(&"examples/make_examples.py") => {
             match args.get(1).copied() {
                 // Temporary directories only.
