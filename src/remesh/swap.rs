@@ -60,7 +60,7 @@ pub(super) fn swap_sweeps(
         todo = w.edges_around(&hit);
         all.extend_from_slice(&hit);
     }
-    all.sort_unstable();
+    super::radix::sort_u32(&mut all);
     all.dedup();
     (n, all)
 }
