@@ -20,6 +20,10 @@
 //! contains goes to the grid. Both scans take the triangle `p` is deepest in, the lowest
 //! index on ties, over sets holding every triangle that contains `p`, so they agree.
 
+/// A point whose every barycentric weight in a triangle is above this is inside it
+/// beyond any rounding of the weights (a few ulps of 1): the point location stops there.
+const DEEP: f64 = 1e-9;
+
 /// Triangles (counter-clockwise, over their points) indexed for point location.
 pub(crate) struct TriangleLocator {
     points: Vec<[f64; 2]>,
@@ -231,12 +235,18 @@ impl TriangleLocator {
     }
 
     /// The triangle of `candidates` that `p` is deepest in (the first on ties), if `p` is
-    /// in one of them.
+    /// in one of them. A triangle that holds `p` with every weight above [`DEEP`] is
+    /// that triangle: in a triangulation (no two triangles overlap) `p` is in no other,
+    /// whose smallest weight is then at most zero up to rounding, far below [`DEEP`];
+    /// so the scan stops there, with the answer the whole scan gives.
     fn deepest(&self, candidates: &[u32], p: [f64; 2]) -> Option<(usize, [f64; 3])> {
         let mut best: Option<(usize, [f64; 3], f64)> = None;
         for &t in candidates {
             let l = self.barycentric(t as usize, p);
             let m = l[0].min(l[1]).min(l[2]);
+            if m > DEEP {
+                return Some((t as usize, l));
+            }
             if best.as_ref().map_or(true, |b| m > b.2) {
                 best = Some((t as usize, l, m));
             }

@@ -145,10 +145,14 @@ pub(super) fn check(
     } else {
         (w.point(b), w.metric(b))
     };
-    let (mut old_min, mut new_min) = (f64::INFINITY, f64::INFINITY);
     let moved: &[u32] = if to_middle { w.ball(b) } else { &[] };
+    // The worst quality before, from the kept qualities: a triangle after the merge below
+    // `worst` refuses the collapse at once, the outcome the whole scan would give.
+    let old_min =
+        w.ball(a).iter().chain(moved).map(|&t| w.quality(t)).fold(f64::INFINITY, f64::min);
+    let worst = old_min.min(floor);
+    let mut new_min = f64::INFINITY;
     for &t in w.ball(a).iter().chain(moved) {
-        old_min = old_min.min(w.quality(t));
         if ts.contains(&t) {
             continue;
         }
@@ -158,14 +162,18 @@ pub(super) fn check(
             return None;
         }
         let ms = v.map(|x| if x == b { mb } else { w.metric(x) });
+        let q = op_quality(p, [&ms[0], &ms[1], &ms[2]]);
+        if q < worst {
+            return None;
+        }
         for (k, &x) in v.iter().enumerate() {
             if x != b && metric_edge_length(pb, p[k], &mb, &ms[k]) > lmax {
                 return None;
             }
         }
-        new_min = new_min.min(op_quality(p, [&ms[0], &ms[1], &ms[2]]));
+        new_min = new_min.min(q);
     }
-    if new_min < old_min.min(floor) {
+    if new_min < worst {
         return None;
     }
     if let (Some((c, pa)), Role::Slides { s: sa, .. }) = (relink, ra) {

@@ -52,6 +52,7 @@ mod options;
 mod output;
 mod parallel;
 mod partition;
+mod radix;
 mod smooth;
 mod split;
 mod stats;

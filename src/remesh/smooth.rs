@@ -86,8 +86,11 @@ fn better(new: (f64, f64), old: (f64, f64), gain: f64) -> bool {
 }
 
 /// The worst and summed quality of `v`'s ball with `v` at `p` carrying `m`, or `None`
-/// when a triangle would not be strictly counter-clockwise.
-fn ball_quality_at(w: &Work, v: u32, p: [f64; 2], m: &Sym2) -> Option<(f64, f64)> {
+/// when a triangle would not be strictly counter-clockwise or would be worse than
+/// `floor`. A place whose worst triangle is below the worst of the ball now (or of the
+/// best place so far) is never [`better`], so the callers pass that as `floor` and the
+/// scan of the ball stops at the first triangle below it, with the same outcome.
+fn ball_quality_at(w: &Work, v: u32, p: [f64; 2], m: &Sym2, floor: f64) -> Option<(f64, f64)> {
     let (mut q, mut sum) = (f64::INFINITY, 0.0);
     for &t in w.ball(v) {
         let tri = w.tri(t);
@@ -97,6 +100,9 @@ fn ball_quality_at(w: &Work, v: u32, p: [f64; 2], m: &Sym2) -> Option<(f64, f64)
         }
         let ms = tri.map(|x| if x == v { *m } else { w.metric(x) });
         let x = op_quality(pts, [&ms[0], &ms[1], &ms[2]]);
+        if x < floor {
+            return None;
+        }
         q = q.min(x);
         sum += x;
     }
@@ -152,7 +158,8 @@ fn plan_free(w: &Work, v: u32, th: Thresholds) -> Option<Move> {
     let mut best: Option<([f64; 2], Sym2, (f64, f64))> = None;
     for np in cands {
         let nm = w.background().metric_at(np);
-        if let Some(q) = ball_quality_at(w, v, np, &nm) {
+        let floor = best.as_ref().map_or(old.0, |b| old.0.max(b.2 .0));
+        if let Some(q) = ball_quality_at(w, v, np, &nm, floor) {
             if better(q, old, th.gain) && best.as_ref().map_or(true, |b| better(q, b.2, th.gain)) {
                 best = Some((np, nm, q));
                 if old.0 >= th.poor {
@@ -204,7 +211,8 @@ fn plan_on_piece(w: &Work, v: u32, pid: u32, sv: f64, th: Thresholds) -> Option<
             continue;
         }
         let (np, nm) = w.on_piece(pid, t);
-        if let Some(q) = ball_quality_at(w, v, np, &nm) {
+        let floor = best.as_ref().map_or(old.0, |b| old.0.max(b.3 .0));
+        if let Some(q) = ball_quality_at(w, v, np, &nm, floor) {
             if better(q, old, th.gain)
                 && best.as_ref().map_or(true, |b| better(q, b.3, th.gain))
                 && bd.chord_clear(pid, su, pu, t, np)

@@ -84,8 +84,7 @@ pub(super) fn split_sweeps(
                 }
             }
         }
-        edges.sort_unstable();
-        edges.dedup();
+        w.sort_edges(&mut edges);
     }
     Ok(n)
 }

@@ -60,7 +60,7 @@ pub(super) fn swap_sweeps(
         todo = w.edges_around(&hit);
         all.extend_from_slice(&hit);
     }
-    all.sort_unstable();
+    super::radix::sort_u32(&mut all);
     all.dedup();
     (n, all)
 }
@@ -97,9 +97,10 @@ pub(super) fn check(w: &Work, a: u32, b: u32, gain: f64) -> Option<SwapPlan> {
     if orient(q1[0], q1[1], q1[2]) <= 0.0 || orient(q2[0], q2[1], q2[2]) <= 0.0 {
         return None;
     }
-    let old = w.quality(t1).min(w.quality(t2));
-    let new = w.quality_of(n1).min(w.quality_of(n2));
-    if new <= old * (1.0 + gain) {
+    // The worse new triangle must beat the bound: the second is not measured when the
+    // first already fails it (nearly every flip tried is refused).
+    let bound = w.quality(t1).min(w.quality(t2)) * (1.0 + gain);
+    if w.quality_of(n1) <= bound || w.quality_of(n2) <= bound {
         return None;
     }
     if w.ball(c).iter().any(|&t| w.tri(t).contains(&d)) {

@@ -90,6 +90,8 @@ pub(super) struct Work<'a> {
     qual: Vec<f64>,
     /// Scratch marks of [`Work::edges_around`], all `false` between calls.
     tri_mark: Vec<bool>,
+    /// Scratch buffer of the radix sorts of edge keys.
+    sort_scratch: Vec<u64>,
     /// Constrained edges and their piece.
     cons: ahash::AHashMap<(u32, u32), u32>,
     /// Vertices whose ball changed since the last swap phase, listed once each.
@@ -165,6 +167,7 @@ impl<'a> Work<'a> {
             alive: vec![true; ntri],
             qual,
             tri_mark: vec![false; ntri],
+            sort_scratch: Vec::new(),
             cons,
             dirty: Vec::new(),
             is_dirty: vec![false; n],
@@ -460,7 +463,7 @@ impl<'a> Work<'a> {
         for &v in &d {
             self.is_dirty[v as usize] = false;
         }
-        d.sort_unstable();
+        super::radix::sort_u32(&mut d);
         d
     }
 
@@ -603,9 +606,19 @@ impl<'a> Work<'a> {
                 e.push(((a as u64) << 32) | b as u64);
             }
         }
-        e.sort_unstable();
+        super::radix::sort_u64(&mut e, &mut self.sort_scratch);
         e.dedup();
         e.into_iter().map(|k| ((k >> 32) as u32, k as u32)).collect()
+    }
+
+    /// Sorts the undirected edges `e` (each as `(smaller, larger)`) and drops repeats:
+    /// the order of `sort_unstable`, by radix.
+    pub(super) fn sort_edges(&mut self, e: &mut Vec<(u32, u32)>) {
+        let mut k: Vec<u64> = e.iter().map(|&(a, b)| ((a as u64) << 32) | b as u64).collect();
+        super::radix::sort_u64(&mut k, &mut self.sort_scratch);
+        k.dedup();
+        e.clear();
+        e.extend(k.into_iter().map(|k| ((k >> 32) as u32, k as u32)));
     }
 
     /// The constrained edges of live triangles on pieces that carry line tags, each as
