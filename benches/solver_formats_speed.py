@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Reading and writing the solver formats, smartmesh beside meshio, on the same files in
-the same run: SU2 (`.su2`) and Fluent (`.fluent.msh`, meshio's `ansys`). OpenFOAM is not
-in meshio (no writer, meshio #660) and is timed for smartmesh alone; CGNS needs the `cgns`
-build of smartmesh and is left out here.
+the same run: SU2 (`.su2`), Fluent (`.fluent.msh`, meshio's `ansys`) and CGNS (`.cgns`,
+HDF5: smartmesh's `cgns` build, meshio through h5py). OpenFOAM is not in meshio (no
+writer, meshio #660) and is timed for smartmesh alone.
 
 The mesh: the unit cube meshed by Gmsh's Python API (HXT, `--size`, 0.03 by default:
-about 2.3 x 10^5 tetrahedra; 0.0185 gives about 10^6) with a physical volume and six
+about 2.3 x 10^5 tetrahedra; 0.0155 gives about 10^6) with a physical volume and six
 named sides, saved as MSH 4.1 binary; smartmesh writes `cube.meshb` (the cheap binary
 side of every smartmesh timing), `cube.su2` and `cube.fluent.msh` from it, which both
 tools then read.
@@ -17,9 +17,13 @@ tools then read.
   the tetrahedra read from `cube.meshb` (meshio's SU2 writer crashes when markers are
   present, meshio #1419, so it writes the volume cells only; its `ansys` writer writes
   cells by their nodes, which Fluent does not read, meshio #1339).
+- CGNS: meshio's reader knows only a base named `Base`, a zone `Zone1` and one section of
+  tetrahedra (its own writer's layout, gzip-compressed, without the CGNS library's
+  labels), so each tool reads the file it wrote itself; the other's file is tried too
+  (timed when it reads, its failure printed otherwise). A smartmesh built without `cgns` leaves the row out.
 Times are CPU seconds (user + system), each the best of `--repeat` runs.
 
-    cargo build --release
+    cargo build --release --features cgns
     python3 benches/solver_formats_speed.py [--size 0.03] [--repeat 2] [--dir /tmp/solver-speed]
 """
 
@@ -84,6 +88,42 @@ def meshio_cpu(f, repeat):
     return best, out
 
 
+def cross_read(args):
+    """Whether a read of the other tool's file succeeds: 'reads' or the error's first line."""
+    try:
+        args()
+        return "reads"
+    except Exception as e:  # noqa: BLE001 - a tool's failure is a result
+        return f"fails: {str(e).strip().splitlines()[0][:200] if str(e).strip() else type(e).__name__}"
+
+
+def cgns_row(d, tets, repeat, meshio):
+    """CGNS: each tool writes the cube's tetrahedra and reads its own file back."""
+    ours, theirs = d / "cube.cgns", d / "m.cube.cgns"
+    if subprocess.run([str(BIN), "-q", "convert", str(d / "cube.meshb"), str(ours)],
+                      capture_output=True).returncode != 0:
+        print("| CGNS | smartmesh built without the `cgns` feature | | | |")
+        return
+    sw = smartmesh(["convert", str(d / "cube.meshb"), str(ours)], repeat)
+    sr = smartmesh(["convert", str(ours), str(d / "back.meshb")], repeat)
+    mw, _ = meshio_cpu(lambda: meshio.write(theirs, tets, file_format="cgns"), repeat)
+    mr, got = meshio_cpu(lambda: meshio.read(theirs, file_format="cgns"), repeat)
+    cells = sum(len(c.data) for c in got.cells)
+    print(f"| CGNS | {sr:.2f} | {mr:.2f} ({cells} cells, its own file) | {sw:.2f} | {mw:.2f} |")
+    def ours_reads_theirs():
+        o = subprocess.run([str(BIN), "-q", "convert", str(theirs), str(d / "x.meshb")],
+                           capture_output=True, text=True)
+        if o.returncode != 0:
+            raise RuntimeError(f"exit {o.returncode}: {o.stderr.strip()}")
+
+    print("smartmesh reads meshio's .cgns:", cross_read(ours_reads_theirs))
+    read = cross_read(lambda: meshio.read(ours, file_format="cgns"))
+    if read == "reads":
+        mr, got = meshio_cpu(lambda: meshio.read(ours, file_format="cgns"), repeat)
+        read = f"{mr:.2f} s ({sum(len(c.data) for c in got.cells)} cells)"
+    print("meshio reads smartmesh's .cgns:", read)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--size", type=float, default=0.03)
@@ -119,6 +159,7 @@ def main():
             mw = f"fails: {type(e).__name__}"
         cells = sum(len(c.data) for c in got.cells)
         print(f"| {name} | {sr:.2f} | {mr:.2f} ({cells} cells) | {sw:.2f} | {mw} |")
+    cgns_row(d, tets, a.repeat, meshio)
     sw = smartmesh(["convert", str(d / "cube.meshb"), str(d / "case.foam")], a.repeat)
     sr = smartmesh(["convert", str(d / "case.foam"), str(d / "back.meshb")], a.repeat)
     print(f"| OpenFOAM (ASCII case) | {sr:.2f} | not in meshio | {sw:.2f} | not in meshio |")

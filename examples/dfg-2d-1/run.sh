@@ -2,9 +2,10 @@
 # The DFG 2D-1 loop end to end (release build; a few minutes): from start.msh, six
 # iterations of `smartmesh adapt` with OpenFOAM's simpleFoam as the solver (solve.py),
 # the vertex count asked growing from 1500 by 1.6 up to 16000, then the figures
-# (drag and lift per iteration against the benchmark's values) from the solver's log.
-# Everything goes to target/examples/dfg-2d-1/; `--update-figures` also rewrites the
-# committed figure and the README's table.
+# (drag and lift per iteration against the benchmark's values) from the solver's log, and
+# at each adapted mesh's vertex count a uniform mesh and the recipe alone solved the same
+# way (compare.py). Everything goes to target/examples/dfg-2d-1/; `--update-figures` also
+# rewrites the committed figure and the README's two tables.
 #
 #   bash examples/dfg-2d-1/run.sh [--update-figures]
 set -euo pipefail
@@ -22,15 +23,19 @@ export WM_PROJECT_DIR="${WM_PROJECT_DIR:-/usr/share/openfoam}"
 python3 examples/dfg-2d-1/figures.py "$out/adapted.solver/dfg.jsonl" "$out/drag-lift.png" \
     > "$out/table.md"
 cat "$out/table.md"
+python3 examples/dfg-2d-1/compare.py "$SMARTMESH" "$out/adapted.solver/dfg.jsonl" "$out/compare" \
+    > "$out/compare.md"
+cat "$out/compare.md"
 if [ "${1:-}" = "--update-figures" ]; then
     cp "$out/drag-lift.png" examples/dfg-2d-1/drag-lift.png
-    python3 - "$out/table.md" <<'PY'
+    python3 - "$out/table.md" "$out/compare.md" <<'PY'
 import re, sys
-table = open(sys.argv[1]).read()
 path = "examples/dfg-2d-1/README.md"
 text = open(path).read()
-text = re.sub(r"<!--table-->.*<!--/table-->",
-              "<!--table-->\n" + table + "<!--/table-->", text, flags=re.S)
+for marker, table in [("table", sys.argv[1]), ("compare", sys.argv[2])]:
+    text = re.sub(f"<!--{marker}-->.*<!--/{marker}-->",
+                  lambda _: f"<!--{marker}-->\n" + open(table).read() + f"<!--/{marker}-->",
+                  text, flags=re.S)
 open(path, "w").write(text)
 PY
 fi

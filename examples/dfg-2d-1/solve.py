@@ -15,9 +15,10 @@ function object gives the drag and lift coefficients of the cylinder
 cylinder's front and back points, (0.15, 0.2) and (0.25, 0.2).
 
 SOLUTION gets the velocity magnitude `umag` at MESH's vertices (the area-weighted mean
-of the cells around each vertex, 0 on the walls and the exact profile on the inlet),
-for the Hessian; one JSON line per run is appended to `dfg.jsonl` beside SOLUTION
-(vertices, cells, cd, cl, dp, SIMPLE iterations, seconds).
+of the cells around each vertex, 0 on the walls and the exact profile on the inlet) and
+the vorticity `vort` (its z component, OpenFOAM's `vorticity`, the same mean), for the
+Hessian (`adapt --field umag` or `--field vort`); one JSON line per run is appended to
+`dfg.jsonl` beside SOLUTION (vertices, cells, cd, cl, dp, SIMPLE iterations, seconds).
 """
 
 import json
@@ -172,26 +173,33 @@ def results(case):
     return cd, cl, dp, int(float(row[0]))
 
 
-def vertex_speed(mesh, case, time_dir):
-    """|U| at the mesh's vertices: the area-weighted mean of the cells around each."""
+def vertex_fields(mesh, case, time_dir):
+    """|U| and the vorticity at the mesh's vertices: the area-weighted mean of the cells
+    around each."""
     tri = np.vstack([c.data for c in mesh.cells if c.type == "triangle"])
     pts = mesh.points[:, :2]
-    subprocess.run(["postProcess", "-case", str(case), "-func", "writeCellCentres",
-                    "-time", time_dir], check=True, env=foam_env(), capture_output=True)
-    centres = np.array([numbers(l) for l in foam_list((case / time_dir / "C").read_text())])
-    u = np.array([numbers(l) for l in foam_list((case / time_dir / "U").read_text())])
+    for func in ("writeCellCentres", "vorticity"):
+        subprocess.run(["postProcess", "-case", str(case), "-func", func, "-time", time_dir],
+                       check=True, env=foam_env(), capture_output=True)
+    field = lambda name: np.array([numbers(l) for l in  # noqa: E731
+                                   foam_list((case / time_dir / name).read_text())])
+    centres, u, w = field("C"), field("U"), field("vorticity")
     centroid = pts[tri].mean(axis=1)
     dist, cell = cKDTree(centres[:, :2]).query(centroid)
     assert dist.max() < 1e-9, f"a triangle matches no cell ({dist.max()})"
-    speed = np.linalg.norm(u[cell, :2], axis=1)
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
     area = 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
                         - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
-    num, den = np.zeros(len(pts)), np.zeros(len(pts))
-    for k in range(3):
-        np.add.at(num, tri[:, k], area * speed)
-        np.add.at(den, tri[:, k], area)
-    umag = num / np.where(den > 0, den, 1.0)
+
+    def at_vertices(values):
+        num, den = np.zeros(len(pts)), np.zeros(len(pts))
+        for k in range(3):
+            np.add.at(num, tri[:, k], area * values)
+            np.add.at(den, tri[:, k], area)
+        return num / np.where(den > 0, den, 1.0)
+
+    umag = at_vertices(np.linalg.norm(u[cell, :2], axis=1))
+    vort = at_vertices(w[cell, 2])
     # The boundary conditions, exactly: no slip on the walls, the profile at the inlet.
     names = {v[0]: k for k, v in mesh.field_data.items()}
     for block, tags in zip(mesh.cells, mesh.cell_data["gmsh:physical"]):
@@ -203,7 +211,7 @@ def vertex_speed(mesh, case, time_dir):
                 umag[edge] = 0.0
             elif name == "Inlet":
                 umag[edge] = profile(pts[edge, 1])
-    return umag, len(tri)
+    return umag, vort, len(tri)
 
 
 def main(argv):
@@ -224,10 +232,10 @@ def main(argv):
     time_dir = max(times, key=int)
     cd, cl, dp, iterations = results(case)
     mesh = meshio.read(mesh_path)
-    umag, cells = vertex_speed(mesh, case, time_dir)
+    umag, vort, cells = vertex_fields(mesh, case, time_dir)
     tri = np.vstack([c.data for c in mesh.cells if c.type == "triangle"])
     meshio.write(out_path, meshio.Mesh(mesh.points, [("triangle", tri)],
-                                       point_data={"umag": umag}))
+                                       point_data={"umag": umag, "vort": vort}))
     row = {"vertices": len(mesh.points), "cells": cells, "cd": cd, "cl": cl, "dp": dp,
            "iterations": iterations, "seconds": round(time.time() - t0, 2)}
     with open(out_path.parent / "dfg.jsonl", "a") as f:
