@@ -5,11 +5,11 @@
 //! Why edges: the P1 gradient of a field is constant on each cell, and on an irregular
 //! cell it is the field's gradient at no one point, even for a quadratic (its error is a
 //! linear function of the Hessian that depends on the cell's shape), so no weighted mean
-//! of cell gradients around a vertex is exact on quadratics in general (Dalík, Appl.
-//! Math. 2010, proves it for the triangles around an inner vertex). Its component along
-//! an edge ab is another matter: it is (u_b − u_a)/|b − a| in every cell that holds the
-//! edge, and for a quadratic it equals the exact derivative along the edge at the edge's
-//! midpoint (the mean value theorem, exact for a quadratic at the midpoint).
+//! of cell gradients around a vertex is exact on quadratics in general (J. Dalík proves
+//! it for the triangles around an inner vertex). Its component along an edge ab is
+//! another matter: it is (u_b − u_a)/|b − a| in every cell that holds the edge, and for
+//! a quadratic it equals the exact derivative along the edge at the edge's midpoint (the
+//! mean value theorem, exact for a quadratic at the midpoint).
 //!
 //! The fit: at vertex v, the linear vector field g(x) = g_v + B (x − x_v) (B any d × d
 //! matrix: d + d² unknowns, 6 in the plane, 12 in space) whose component along each edge
@@ -29,8 +29,8 @@
 //! vectors, where the edges are of unit mean square length in every direction: a
 //! linear field is linear in any affine frame, so exactness is kept, and a stretched
 //! patch (an anisotropic mesh, the kind this recovery sizes) is as well conditioned as an
-//! isotropic one (without the frame, every vertex of a grid stretched 100:1 at an angle
-//! failed the test below). Determined: the triangular factor of the system with unit
+//! isotropic one (without the frame, every vertex of the tests' grid stretched 100:1 at
+//! an angle fell back to the plain projection). Determined: the triangular factor of the system with unit
 //! columns has no diagonal entry below [`DETERMINED`] times its largest. Interior vertices
 //! take their star; boundary vertices, whose one-sided star leaves B undetermined (on a
 //! flat side, always), take two rings or more. A vertex whose connected part runs out,
