@@ -6,8 +6,9 @@
 //! - a recipe's SOLUTION_HESSIAN step sizes it as `size --field` does (the same file);
 //! - `mmg3d_O3` adapts the box to the metric of a Gaussian bump: the median metric
 //!   length of its edges (in the metric it carries to its vertices) is near 1;
-//! - Gmsh's unstructured tetrahedra of a cube and a ball: the quadratic fit recovers a
-//!   quadratic's Hessian at every vertex, interior and boundary, to 1e-9.
+//! - Gmsh's unstructured tetrahedra of a cube and a ball: both recovery methods (the
+//!   quadratic fit and the l2-projection) recover a quadratic's Hessian at every vertex,
+//!   interior and boundary, to 1e-9.
 //!
 //! The external tools skip with a message when absent, unless interop is required (CI).
 #![allow(clippy::print_stdout, clippy::print_stderr)] // What a test measured is printed for the log.
@@ -241,7 +242,7 @@ gmsh.finalize()
 "#;
 
 #[test]
-fn the_fit_is_exact_at_every_vertex_of_gmsh_tetrahedra() {
+fn both_recoveries_are_exact_at_every_vertex_of_gmsh_tetrahedra() {
     let Some(py) = python_with(&["gmsh"]) else { return };
     let dir = tempfile::tempdir().unwrap();
     let h = Sym3 { xx: 3.0, xy: -4.0, yy: 1.4, xz: 2.5, yz: -1.2, zz: -1.8 };
@@ -257,24 +258,27 @@ fn the_fit_is_exact_at_every_vertex_of_gmsh_tetrahedra() {
             .collect();
         let values: Vec<f64> = mesh.points.iter().map(|&p| u(p)).collect();
         let p1 = P1Mesh3::new(&mesh.points, &tets).unwrap();
-        let d = recover3(&p1, &values, Method::QuadraticFit).unwrap();
-        let norm = h.rows().iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
-        let mut worst = 0.0f64;
-        let mut used = 0;
-        for v in (0..mesh.points.len()).filter(|&v| p1.is_used(v)) {
-            let (a, b) = (d.hessian[v].rows(), h.rows());
-            let e = (0..3)
-                .flat_map(|i| (0..3).map(move |j| (a[i][j] - b[i][j]).powi(2)))
-                .sum::<f64>()
-                .sqrt()
-                / norm;
-            worst = worst.max(e);
-            used += 1;
+        for method in Method::ALL {
+            let d = recover3(&p1, &values, method).unwrap();
+            let norm = h.rows().iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
+            let mut worst = 0.0f64;
+            let mut used = 0;
+            for v in (0..mesh.points.len()).filter(|&v| p1.is_used(v)) {
+                let (a, b) = (d.hessian[v].rows(), h.rows());
+                let e = (0..3)
+                    .flat_map(|i| (0..3).map(move |j| (a[i][j] - b[i][j]).powi(2)))
+                    .sum::<f64>()
+                    .sqrt()
+                    / norm;
+                worst = worst.max(e);
+                used += 1;
+            }
+            eprintln!(
+                "{shape}, {}: {used} vertices, {} tetrahedra, worst relative Hessian error {worst:.1e}",
+                method.name(),
+                tets.len()
+            );
+            assert!(used > 100 && worst < 1e-9, "{shape}, {method:?}: {worst}");
         }
-        eprintln!(
-            "{shape}: {used} vertices, {} tetrahedra, worst relative Hessian error {worst:.1e}",
-            tets.len()
-        );
-        assert!(used > 100 && worst < 1e-9, "{shape}: {worst}");
     }
 }

@@ -36,8 +36,10 @@ pub(super) struct SolutionArgs {
     /// density |H| that the H1 seminorm of the error asks for).
     #[arg(long, default_value_t = 2.0, value_parser = norm, help_heading = "Solution")]
     pub p: f64,
-    /// How the Hessian is recovered: quadratic-fit (exact on quadratics, any mesh) or
-    /// l2-projection (the P1 gradient projected twice; for structured meshes).
+    /// How the Hessian is recovered, both exact on quadratics at every vertex of any mesh:
+    /// quadratic-fit (a quadratic fitted to each vertex's patch) or l2-projection (a
+    /// gradient fitted to the P1 gradient's edge components, then its gradient's lumped
+    /// L2 projection).
     #[arg(long, default_value = "quadratic-fit", value_parser = method, help_heading = "Solution")]
     pub recovery: Method,
     /// Largest aspect ratio of the solution's metric (default: the recipe's, else 1e4).

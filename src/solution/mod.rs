@@ -6,6 +6,7 @@
 //! tetrahedra: [`recovery3`] and [`lp3`], what both dimensions share in `patch`.
 
 pub mod combined;
+mod edge_fit;
 pub mod input;
 pub mod lp;
 pub mod lp3;

@@ -1,7 +1,8 @@
 //! What Hessian recovery does the same way in every dimension ([`super::recovery`] on
 //! triangles, [`super::recovery3`] on tetrahedra): the vertex adjacency of the cell edges
 //! (compressed rows, each row sorted), the vertex patches grown one ring of edges at a
-//! time until a fit is determined, the least-squares solve of a fit by Householder QR,
+//! time until a fit is determined (the quadratic fit's and the edge fit's of
+//! `super::edge_fit`), the least-squares solve of a fit by Householder QR,
 //! and the floor under which a recovered Hessian is round-off.
 //!
 //! Hand-written QR rather than nalgebra's: the fit runs once per vertex on a small
@@ -83,7 +84,20 @@ impl Patch {
         adjacency: &Adjacency,
         v: usize,
         min_patch: usize,
-        mut fit: impl FnMut(&[u32]) -> Option<R>,
+        fit: impl FnMut(Grown<'_>) -> Option<R>,
+    ) -> Result<R, usize> {
+        self.grow_within(adjacency, v, min_patch, usize::MAX, fit)
+    }
+
+    /// [`Patch::grow`] that gives up after `max_rings` rings (`Err` with the size of the
+    /// last patch), so that the work at a vertex stays bounded whatever the mesh.
+    pub(super) fn grow_within<R>(
+        &mut self,
+        adjacency: &Adjacency,
+        v: usize,
+        min_patch: usize,
+        max_rings: usize,
+        mut fit: impl FnMut(Grown<'_>) -> Option<R>,
     ) -> Result<R, usize> {
         self.round = self.round.wrapping_add(1);
         if self.round == 0 {
@@ -95,7 +109,7 @@ impl Patch {
         self.ring.clear();
         self.ring.push(v as u32);
         self.all.clear();
-        loop {
+        for _ in 0..max_rings {
             self.next.clear();
             for &u in &self.ring {
                 for &w in adjacency.of(u as usize) {
@@ -111,11 +125,30 @@ impl Patch {
             self.all.extend_from_slice(&self.next);
             std::mem::swap(&mut self.ring, &mut self.next);
             if self.all.len() >= min_patch {
-                if let Some(r) = fit(&self.all) {
+                let grown = Grown { others: &self.all, stamp: &self.stamp, round };
+                if let Some(r) = fit(grown) {
                     return Ok(r);
                 }
             }
         }
+        Err(self.all.len())
+    }
+}
+
+/// A patch as [`Patch::grow`] hands it to a fit: its vertices other than the centre, in
+/// the order found, and which vertices (the centre included) it holds.
+#[derive(Clone, Copy)]
+pub(super) struct Grown<'a> {
+    /// The vertices within k edges of the centre, the centre left out.
+    pub(super) others: &'a [u32],
+    stamp: &'a [u32],
+    round: u32,
+}
+
+impl Grown<'_> {
+    /// Whether `w` is the centre or one of `others`.
+    pub(super) fn contains(&self, w: u32) -> bool {
+        self.stamp[w as usize] == self.round
     }
 }
 

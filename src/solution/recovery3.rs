@@ -3,17 +3,24 @@
 //! not depend on the dimension (the vertex adjacency, the patches grown ring by ring, the
 //! QR solve, the round-off floor) is shared in `super::patch`.
 //!
-//! - [`Method::L2Projection`]: the element gradients (constant per tetrahedron)
-//!   projected onto P1 with the lumped mass matrix (each vertex takes the volume-weighted
-//!   mean of its tetrahedra's gradients), then the same projection of the gradients of
-//!   that P1 gradient, symmetrised. As in 2D it is exact on a quadratic only where the
-//!   patches are point-symmetric: at the vertices two layers inside a grid of cubes each
-//!   split into the six tetrahedra around one diagonal (Freudenthal–Kuhn, a triangulation
-//!   symmetric about every vertex). It is not exact at the boundary nor on irregular
-//!   meshes, and no lumped projection can be: a tetrahedron's P1 gradient of a quadratic
-//!   is no gradient of it at any one point, so exactness would need weights tuned to each
-//!   patch, i.e. a fit. It converges on smooth images of such a grid (the tests measure
-//!   the order); the quadratic fit is the method for unstructured meshes.
+//! - [`Method::L2Projection`]: the gradient of the edge fit (`super::edge_fit`: at each
+//!   vertex the linear vector field closest, in least squares over its patch, to the P1
+//!   gradient's component along each edge at the edge's midpoint, which is exact for a
+//!   quadratic), then the lumped-mass L2 projection of that gradient's P1 gradient (each
+//!   vertex takes the volume-weighted mean over its tetrahedra), symmetrised. Exact on
+//!   quadratics at every vertex, interior and boundary, on any mesh: the fit returns the
+//!   exact gradient everywhere (boundary vertices, whose one-sided star leaves it
+//!   undetermined, take two rings), so the recovered gradient is linear, its P1 gradient
+//!   the constant Hessian on every tetrahedron, and its mean the Hessian. The lumped
+//!   projection of the field's own P1 gradient, which this method applied twice until
+//!   then, is exact only where patches are point-symmetric (two layers inside a
+//!   Freudenthal–Kuhn grid): a tetrahedron's P1 gradient of a quadratic is its gradient at
+//!   no one point. It is kept where no patch within four rings determines the fit (a
+//!   connected part of a few tetrahedra, or flat ones), exact there on linear fields only.
+//!   Cost: a QR of about 50 × 12 per vertex (a star's edges; boundary vertices about 150
+//!   × 12) and two passes over the tetrahedra. On smooth fields it converges at second
+//!   order inside smooth images of a Kuhn grid, faster than first on jittered grids, and
+//!   at first order at the worst vertex, boundary included (the tests measure it).
 //! - [`Method::QuadraticFit`]: at each vertex the quadratic
 //!   u(x) = u_v + g·d + ½ dᵀ H d (d = x − x_v, nine unknowns) fitted to the values of the
 //!   vertex's patch in the least-squares sense (coordinates scaled by the patch's radius).
@@ -31,6 +38,7 @@
 
 use rayon::prelude::*;
 
+use super::edge_fit::recovered_gradients;
 use super::patch::{least_squares, roundoff_floor, Adjacency, Patch};
 use super::{Method, RecoveryError};
 use crate::metric::Sym3;
@@ -119,7 +127,7 @@ pub fn recover3(
         return Err(RecoveryError::NotFinite { vertex, value: values[vertex] });
     }
     let mut d = match method {
-        Method::L2Projection => double_projection(mesh, values),
+        Method::L2Projection => fit_then_project(mesh, values),
         Method::QuadraticFit => quadratic_fit(mesh, values)?,
     };
     drop_roundoff(mesh, values, &mut d.hessian);
@@ -228,10 +236,13 @@ fn project_gradients<const K: usize>(
     sum
 }
 
-fn double_projection(mesh: &P1Mesh3<'_>, values: &[f64]) -> Derivatives3 {
+/// The `l2-projection` method: the edge fit's gradient (the lumped projection where no
+/// patch determines the fit), then the lumped projection of that gradient's P1 gradient.
+fn fit_then_project(mesh: &P1Mesh3<'_>, values: &[f64]) -> Derivatives3 {
     let scalar: Vec<[f64; 1]> = values.iter().map(|&v| [v]).collect();
-    let gradient: Vec<[f64; 3]> =
+    let projected: Vec<[f64; 3]> =
         project_gradients(mesh, &scalar).into_iter().map(|g| g[0]).collect();
+    let gradient = recovered_gradients::<3, 12>(mesh.points, &mesh.adjacency, values, &projected);
     let second = project_gradients(mesh, &gradient);
     // second[v][i][j] = ∂j (∂i u): symmetrised.
     let hessian = second
@@ -272,8 +283,8 @@ fn quadratic_fit(mesh: &P1Mesh3<'_>, values: &[f64]) -> Result<Derivatives3, Rec
                     return Ok(([0.0; 3], Sym3::ZERO));
                 }
                 patch
-                    .grow(&mesh.adjacency, v, MIN_PATCH, |others| {
-                        solve_fit(mesh.points, values, v, others)
+                    .grow(&mesh.adjacency, v, MIN_PATCH, |p| {
+                        solve_fit(mesh.points, values, v, p.others)
                     })
                     .map_err(|patch| RecoveryError::Undetermined { vertex: v, patch })
             },
@@ -296,8 +307,8 @@ pub(crate) fn fit_patch(mesh: &P1Mesh3<'_>, v: usize) -> Option<Vec<u32>> {
     let values = vec![0.0; mesh.points.len()];
     let mut patch = Patch::new(mesh.points.len());
     patch
-        .grow(&mesh.adjacency, v, MIN_PATCH, |others| {
-            solve_fit(mesh.points, &values, v, others).map(|_| others.to_vec())
+        .grow(&mesh.adjacency, v, MIN_PATCH, |p| {
+            solve_fit(mesh.points, &values, v, p.others).map(|_| p.others.to_vec())
         })
         .ok()
 }

@@ -1,5 +1,5 @@
-//! Meshes for the tests of this module: structured grids and Delaunay triangulations of
-//! scattered points (spade), both deterministic.
+//! Meshes for the tests of this module: structured grids, jittered or mapped, and
+//! Delaunay triangulations of scattered points (spade), all deterministic.
 
 use crate::geometry::Point2;
 use crate::metric::{log_euclidean, log_spd, SizeTensor, Sym2};
@@ -56,6 +56,38 @@ pub(crate) fn grid(nx: usize, ny: usize, origin: Point2, step: [f64; 2]) -> Mesh
         }
     }
     Mesh { points, triangles }
+}
+
+/// [`grid`] with every vertex moved by up to `jitter` steps along each axis (seeded by
+/// `seed`), a boundary vertex only along its side; panics if a triangle turned.
+pub(crate) fn jittered_grid(
+    n: [usize; 2],
+    origin: Point2,
+    step: [f64; 2],
+    jitter: f64,
+    seed: u64,
+) -> Mesh {
+    let mut m = grid(n[0], n[1], origin, step);
+    let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut next = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for (v, p) in m.points.iter_mut().enumerate() {
+        let c = [v % (n[0] + 1), v / (n[0] + 1)];
+        for a in 0..2 {
+            let d = jitter * step[a] * (2.0 * next() - 1.0);
+            if c[a] != 0 && c[a] != n[a] {
+                p[a] += d;
+            }
+        }
+    }
+    for t in &m.triangles {
+        let [a, b, c] = t.map(|v| m.points[v as usize]);
+        let area2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        assert!(area2 > 0.0, "jitter {jitter} turned a triangle");
+    }
+    m
 }
 
 /// The Delaunay triangulation of about `n` points in the square of side `size` at

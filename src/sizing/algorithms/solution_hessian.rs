@@ -265,7 +265,7 @@ impl SizingAlgorithm for SolutionHessian {
                 keys: &["RECOVERY"],
                 kind: ParameterKind::Choice(&["quadratic-fit", "l2-projection"]),
                 line_break_after: false,
-                doc: "How the Hessian is recovered: quadratic-fit (the default; exact on quadratics on any mesh) or l2-projection (the P1 gradient projected twice; for structured meshes).",
+                doc: "How the Hessian is recovered, both exact on quadratics at every vertex of any mesh: quadratic-fit (the default; a quadratic fitted to each vertex's patch) or l2-projection (a gradient fitted to the P1 gradient's edge components, then its gradient's lumped L2 projection).",
             },
             optional("hmin", &["HMIN"], "The smallest size (1e-6 of the mesh's diagonal when left out)."),
             optional("hmax", &["HMAX"], "The largest size (the mesh's diagonal when left out)."),
