@@ -8,14 +8,20 @@ Ratio, Thickness; fans at the sharp points). Both results are measured by
 `smartmesh info --json`: layers found from the cells, per-layer height and ratio, min
 scaled Jacobian, max skewness, cell counts, validity (positive corners, no overlap, no
 hanging node). Times: Gmsh's meshing with the field against Gmsh's meshing without it
-plus `smartmesh layer` (release build, best of three).
+plus `smartmesh layer` (release build, best of three), wall and CPU (Gmsh's process CPU
+around its meshing; the `smartmesh` child's user + system time).
+
+`--sweep` times the NACA 0012 case alone at 10 to 320 layers (ratio 1.02, the first
+height solved for the same 0.05 thickness), Gmsh's field against `smartmesh layer`.
 
     cargo build --release
     python3 benches/compare_gmsh_layer.py            # table on stdout, files in target/compare-layer/
+    python3 benches/compare_gmsh_layer.py --sweep    # time against the number of layers
 """
 import json
 import math
 import os
+import resource
 import subprocess
 import sys
 import time
@@ -113,11 +119,28 @@ def gmsh_mesh(name, layer, path):
         if fans:
             gmsh.model.mesh.field.setNumbers(f, "FanPointsList", fans)
         gmsh.model.mesh.field.setAsBoundaryLayer(f)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     gmsh.model.mesh.generate(2)
-    dt = time.perf_counter() - t0
+    dt, dc = time.perf_counter() - t0, time.process_time() - c0
     gmsh.write(path)
+    CPU.append(dc)
     return curves, (h0, r, t), dt
+
+
+# The CPU time of each `gmsh_mesh` call, in order.
+CPU = []
+
+
+def child_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def run_layer(args):
+    """Runs `smartmesh -q layer ARGS`; returns (completed process, wall s, CPU s)."""
+    t0, c0 = time.perf_counter(), child_cpu()
+    out = subprocess.run([SM, "-q", "layer"] + args, capture_output=True, text=True)
+    return out, time.perf_counter() - t0, child_cpu() - c0
 
 
 def info(path):
@@ -157,42 +180,92 @@ def main():
         gm = os.path.join(OUT, f"{name}-gmsh.msh")
         sk = os.path.join(OUT, f"{name}-smartmesh.msh")
         times_g, times_b, times_s = [], [], []
+        cpu_g, cpu_b, cpu_s = [], [], []
         for _ in range(3):
             try:
                 curves, (h0, r, t), dt = gmsh_mesh(name, True, gm)
                 times_g.append(dt)
+                cpu_g.append(CPU[-1])
             except Exception as e:  # noqa: BLE001 - a Gmsh failure is a result
                 times_g.append(float("nan"))
+                cpu_g.append(float("nan"))
                 print(f"{name}: gmsh with BoundaryLayer failed: {e}", file=sys.stderr)
             curves, (h0, r, t), dt = gmsh_mesh(name, False, base)
             times_b.append(dt)
-            t0 = time.perf_counter()
-            out = subprocess.run(
-                [SM, "-q", "layer", base, "--curves", ",".join(curves), "--first-height", str(h0),
-                 "--ratio", str(r), "--thickness", str(t), "-o", sk, "--json"],
-                capture_output=True, text=True)
-            times_s.append(time.perf_counter() - t0)
+            cpu_b.append(CPU[-1])
+            out, dt, dc = run_layer(
+                [base, "--curves", ",".join(curves), "--first-height", str(h0),
+                 "--ratio", str(r), "--thickness", str(t), "-o", sk, "--json"])
+            times_s.append(dt)
+            cpu_s.append(dc)
             if out.returncode != 0:
                 print(f"{name}: smartmesh layer failed: {out.stderr}", file=sys.stderr)
         jg, js = info(gm), info(sk)
         rows.append((name, "Gmsh BoundaryLayer", figures(jg) if jg else None,
-                     min(times_g), None))
+                     (min(times_g), min(cpu_g)), None))
         rep = json.loads(out.stdout)["report"] if out.returncode == 0 else None
         rows.append((name, "smartmesh layer", figures(js) if js else None,
-                     min(times_b) + min(times_s), rep))
+                     (min(times_b) + min(times_s), min(cpu_b) + min(cpu_s)), rep))
     gmsh.finalize()
     print("| geometry | tool | layers | quads | triangles | first height | ratio achieved | "
-          "min scaled Jacobian | max skewness | valid | thinned columns | time (s) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for name, tool, f, secs, rep in rows:
+          "min scaled Jacobian | max skewness | valid | thinned columns | time (s) | CPU (s) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for name, tool, f, (secs, cpu), rep in rows:
         if f is None:
-            print(f"| {name} | {tool} | failed | | | | | | | | | {secs:.3f} |")
+            print(f"| {name} | {tool} | failed | | | | | | | | | {secs:.3f} | {cpu:.3f} |")
             continue
         th = "-" if rep is None else str(len(rep["thinned"]))
         print(f"| {name} | {tool} | {f['layers']} | {f['quads']} | {f['tri']} | "
               f"{f.get('h0', float('nan')):.4g} | {f['ratio']} | {f['msj']:.3f} | {f['skew']:.3f} | "
-              f"{f['valid']} | {th} | {secs:.3f} |")
+              f"{f['valid']} | {th} | {secs:.3f} | {cpu:.3f} |")
+
+
+def sweep():
+    """NACA 0012 at 10 to 320 layers: Gmsh's meshing with the field against its meshing
+    without it plus `smartmesh layer` (best of three, wall and CPU)."""
+    os.makedirs(OUT, exist_ok=True)
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+    base = os.path.join(OUT, "naca0012-base.msh")
+    gm = os.path.join(OUT, "naca0012-sweep-gmsh.msh")
+    sk = os.path.join(OUT, "naca0012-sweep-smartmesh.msh")
+    print("| layers | Gmsh quads | Gmsh BoundaryLayer wall / CPU (s) | Gmsh without wall / CPU (s) | "
+          "smartmesh layer wall / CPU (s) | smartmesh quads | valid (Gmsh / smartmesh) |")
+    print("|---|---|---|---|---|---|---|")
+    t, r = 0.05, 1.02
+    global build
+    plain = build
+    for n in [10, 20, 40, 80, 160, 320]:
+        h0 = t * (r - 1) / (r ** n - 1)
+
+        def with_heights(name, h0=h0):
+            curves, tags, fans, _ = plain(name)
+            return curves, tags, fans, (h0, r, t)
+
+        build = with_heights
+        g, b, s, ok = [], [], [], True
+        for _ in range(3):
+            g.append((gmsh_mesh("naca0012", True, gm)[2], CPU[-1]))
+            b.append((gmsh_mesh("naca0012", False, base)[2], CPU[-1]))
+            out, dt, dc = run_layer([base, "--curves", "Airfoil", "--first-height", str(h0),
+                                     "--ratio", str(r), "--layers", str(n), "-o", sk])
+            s.append((dt, dc))
+            if out.returncode != 0:
+                ok = False
+                print(f"{n} layers: smartmesh layer failed: {out.stderr}", file=sys.stderr)
+        build = plain
+        if not ok:
+            print(f"| {n} | | | | failed | | |")
+            continue
+        jg, js = info(gm), info(sk)
+        fg, fs = figures(jg), figures(js)
+        print(f"| {n} | {fg['quads']} | {min(w for w, _ in g):.3f} / {min(c for _, c in g):.3f} | "
+              f"{min(w for w, _ in b):.3f} / {min(c for _, c in b):.3f} | "
+              f"{min(w for w, _ in s):.3f} / {min(c for _, c in s):.3f} | {fs['quads']} | "
+              f"{fg['valid']} / {fs['valid']} |")
+    gmsh.finalize()
 
 
 if __name__ == "__main__":
-    main()
+    sweep() if "--sweep" in sys.argv[1:] else main()

@@ -166,19 +166,24 @@ fn edge_checks(cells: &[Vec<usize>], v: &mut Validity) -> Vec<[usize; 2]> {
     unique
 }
 
-fn cell_checks(pts: &[P], cells: &[Vec<usize>], v: &mut Validity) {
-    for (i, c) in cells.iter().enumerate() {
-        let poly = corners(pts, c);
-        if c.len() == 3 {
+/// Counts, area and inverted cells of the cells of corners `polys`; returns whether each
+/// is positive.
+fn cell_checks(polys: &[Vec<P>], v: &mut Validity) -> Vec<bool> {
+    let mut positive = Vec::with_capacity(polys.len());
+    for (i, poly) in polys.iter().enumerate() {
+        if poly.len() == 3 {
             v.triangles += 1;
         } else {
             v.quads += 1;
         }
-        v.area += polygon_area(&poly).abs();
-        if !positive_corners(&poly) && v.inverted.len() < Validity::LIMIT {
+        v.area += polygon_area(poly).abs();
+        let ok = positive_corners(poly);
+        if !ok && v.inverted.len() < Validity::LIMIT {
             v.inverted.push(i);
         }
+        positive.push(ok);
     }
+    positive
 }
 
 fn overlap(pts: &[P], a: &[usize], b: &[usize]) -> bool {
@@ -208,10 +213,10 @@ fn hangs(pts: &[P], v: usize, e: [usize; 2]) -> bool {
 /// Checks cells given by their counter-clockwise corners (3 or 4 each).
 pub fn check_cells(pts: &[P], cells: &[Vec<usize>]) -> Validity {
     let mut v = Validity::default();
-    cell_checks(pts, cells, &mut v);
-    let edges = edge_checks(cells, &mut v);
+    // Each cell's corners gathered once, for every test below.
     let polys: Vec<Vec<P>> = cells.iter().map(|c| corners(pts, c)).collect();
-    let positive: Vec<bool> = polys.iter().map(|p| positive_corners(p)).collect();
+    let positive = cell_checks(&polys, &mut v);
+    let edges = edge_checks(cells, &mut v);
     // Candidate pairs in (i, j) order, so that the first LIMIT found are the twin's.
     let items: Vec<(&[P], f64)> = polys.iter().map(|p| (&p[..], 0.0)).collect();
     for (i, j) in near_pairs(&items) {
@@ -255,7 +260,8 @@ pub fn check_cells(pts: &[P], cells: &[Vec<usize>]) -> Validity {
 /// The all-pairs twin of [`check_cells`] (for small meshes in tests).
 pub fn check_cells_brute(pts: &[P], cells: &[Vec<usize>]) -> Validity {
     let mut v = Validity::default();
-    cell_checks(pts, cells, &mut v);
+    let polys: Vec<Vec<P>> = cells.iter().map(|c| corners(pts, c)).collect();
+    cell_checks(&polys, &mut v);
     let edges = edge_checks(cells, &mut v);
     for i in 0..cells.len() {
         for j in i + 1..cells.len() {

@@ -279,8 +279,9 @@ pub(super) fn run(mut args: LayerArgs) -> Result<(), CliError> {
             worst.reason
         ));
     }
-    let quality = quad_quality(&layered.mesh);
     if args.json {
+        // The quads' quality is a walk of the whole mesh: only for the summary.
+        let quality = quad_quality(&layered.mesh);
         let s = Summary {
             input: args.mesh.display().to_string(),
             output: args.output.display().to_string(),

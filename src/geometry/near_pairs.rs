@@ -36,7 +36,10 @@ pub(crate) fn near_pairs(items: &[(&[P], f64)]) -> Vec<(u32, u32)> {
     let meet = |a: &Bbox, b: &Bbox| {
         a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1]
     };
-    let mut out: Vec<(u32, u32)> = Vec::new();
+    // Pairs as `i << 32 | j`: one integer to sort and deduplicate (a pair sharing
+    // several leaves is found in each), in the same order as `(i, j)`.
+    let mut out: Vec<u64> = Vec::new();
+    let pair = |i: u32, j: u32| (u64::from(i.min(j)) << 32) | u64::from(i.max(j));
     let mut order: Vec<(f64, f64, u32)> = Vec::new();
     let mut active: Vec<(f64, u32)> = Vec::new();
     for leaf in tree.leaves() {
@@ -44,7 +47,7 @@ pub(crate) fn near_pairs(items: &[(&[P], f64)]) -> Vec<(u32, u32)> {
             for (k, &i) in leaf.iter().enumerate() {
                 for &j in &leaf[k + 1..] {
                     if meet(&boxes[i as usize], &boxes[j as usize]) {
-                        out.push((i.min(j), i.max(j)));
+                        out.push(pair(i, j));
                     }
                 }
             }
@@ -66,7 +69,7 @@ pub(crate) fn near_pairs(items: &[(&[P], f64)]) -> Vec<(u32, u32)> {
             active.retain(|&(h, _)| h >= lo);
             for &(_, j) in &active {
                 if meet(&boxes[i as usize], &boxes[j as usize]) {
-                    out.push((i.min(j), i.max(j)));
+                    out.push(pair(i, j));
                 }
             }
             active.push((hi, i));
@@ -74,7 +77,7 @@ pub(crate) fn near_pairs(items: &[(&[P], f64)]) -> Vec<(u32, u32)> {
     }
     out.sort_unstable();
     out.dedup();
-    out
+    out.into_iter().map(|k| ((k >> 32) as u32, k as u32)).collect()
 }
 
 /// The unit normal of the mean direction of the items' longest edges (doubled angles,
