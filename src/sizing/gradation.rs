@@ -25,6 +25,13 @@
 //! guard against a pathological slow convergence the pass stops after
 //! [`MAX_UPDATES_PER_VERTEX`] × n updates and says so in its report.
 //!
+//! One driver for both dimensions: the worklist is [`propagate_bounds`], generic over the
+//! tensor type and given the one-edge rule as a closure; this file's 2D pass gives it
+//! [`gradate_edge`] on a [`MeshGraph`], `sizing::gradation3` gives it
+//! [`crate::metric::gradate_edge3`] on a mesh in space. So the order of visits, the
+//! update guard and the report are the same code in 2D and 3D, and a fix to one is a fix
+//! to both.
+//!
 //! Cost: each visit is one metric length, one power and one intersection per edge; in
 //! practice a few visits per vertex.
 
@@ -64,6 +71,27 @@ pub fn growth_factor(from: &SizeTensor, edge: [f64; 2], gradation: f64) -> f64 {
     gradation.powf(from.metric_length(edge))
 }
 
+/// The 2D edge rule: the tensor at q after bounding it by the one at p across the edge
+/// vector `edge` = q − p with gradation `gradation` (>= 1): `Some(T_q ∩ η T_p)` when T_q
+/// is not already inside η T_p (to [`SLACK`]), `None` when nothing changes. The twin of
+/// [`crate::metric::gradate_edge3`].
+pub fn gradate_edge(
+    tp: &SizeTensor,
+    tq: &SizeTensor,
+    edge: [f64; 2],
+    gradation: f64,
+) -> Option<SizeTensor> {
+    let eta = growth_factor(tp, edge, gradation);
+    // Infinite or NaN: no bound; a grown disc that holds T_q: nothing to do.
+    if !eta.is_finite() || tp.h_min() * eta >= tq.h_max() {
+        return None;
+    }
+    if tq.intersection(&grow(tp, eta * (1.0 + SLACK))) == *tq {
+        return None;
+    }
+    Some(tq.intersection(&grow(tp, eta)))
+}
+
 /// Runs the gradation pass on `tensors` (one per vertex of `graph`) with gradation
 /// `gradation` (>= 1; 1 allows no growth at all).
 pub fn apply_gradation(
@@ -72,6 +100,33 @@ pub fn apply_gradation(
     gradation: f64,
 ) -> GradationReport {
     let n = graph.num_vertices().min(tensors.len());
+    propagate_bounds(
+        n,
+        |p| graph.neighbours(p),
+        tensors,
+        |p, q, tp, tq| {
+            let (xp, xq) = (graph.point(p), graph.point(q));
+            gradate_edge(tp, tq, [xq[0] - xp[0], xq[1] - xp[1]], gradation)
+        },
+    )
+}
+
+/// The fixed point of the module header, whatever the dimension: `n` vertices whose
+/// neighbours are `neighbours(p)`, one tensor of type `T` each (`tensors[..n]`), and the
+/// one-edge rule `edge(p, q, T_p, T_q)`, which returns the shrunk T_q or `None` when T_q
+/// already satisfies the bound. The 2D pass ([`apply_gradation`]) and the pass in space
+/// (`sizing::gradation3`) differ only in their points, tensors and rule.
+///
+/// Invariants: vertices are visited in FIFO order from 0..n, neighbours in the order
+/// given, so the result depends on nothing but the inputs (no threads, no hashing);
+/// neighbours at or above `n` are skipped; at most [`MAX_UPDATES_PER_VERTEX`] × n + 1024
+/// updates, after which the report says `converged: false`.
+pub(crate) fn propagate_bounds<'g, T: Copy>(
+    n: usize,
+    neighbours: impl Fn(usize) -> &'g [u32],
+    tensors: &mut [T],
+    mut edge: impl FnMut(usize, usize, &T, &T) -> Option<T>,
+) -> GradationReport {
     let mut report = GradationReport { converged: true, ..GradationReport::default() };
     let mut queued = vec![true; n];
     let mut changed = vec![false; n];
@@ -82,24 +137,13 @@ pub fn apply_gradation(
         queued[p] = false;
         report.visits += 1;
         let tp = tensors[p];
-        let xp = graph.point(p);
-        for &q in graph.neighbours(p) {
+        for &q in neighbours(p) {
             let q = q as usize;
             if q >= n {
                 continue;
             }
-            let xq = graph.point(q);
-            let eta = growth_factor(&tp, [xq[0] - xp[0], xq[1] - xp[1]], gradation);
-            let tq = tensors[q];
-            // Infinite or NaN: no bound; a grown disc that holds T_q: nothing to do.
-            if !eta.is_finite() || tp.h_min() * eta >= tq.h_max() {
-                continue;
-            }
-            let loose = grow(&tp, eta * (1.0 + SLACK));
-            if tq.intersection(&loose) == tq {
-                continue;
-            }
-            tensors[q] = tq.intersection(&grow(&tp, eta));
+            let Some(t) = edge(p, q, &tp, &tensors[q]) else { continue };
+            tensors[q] = t;
             report.updates += 1;
             if !changed[q] {
                 changed[q] = true;
