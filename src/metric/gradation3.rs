@@ -1,6 +1,6 @@
 //! Anisotropic size gradation on one edge in 3D: the law of the 2D sizing pass
 //! (`sizing::gradation`, Alauzet 2010 with the exponential growth law) as a library
-//! function, not yet wired into a sizing driver.
+//! function, used by `sizing::gradation3`.
 //!
 //! For an edge pq, with ℓ = ℓ_{M_p}(pq) the edge's length in the tensor at p, the tensor
 //! at q must lie inside T_p grown by η = g^ℓ (same axes, all three sizes times η):
@@ -9,7 +9,11 @@
 //! directions where η T_p is smaller, so an anisotropic T_q keeps its anisotropy (an
 //! isotropic gradation, which bounds every size by the smallest, destroys it: the
 //! warning of MMG's PR #120).
+//!
+//! The rule itself is [`super::gradation::gradate_edge_generic`], shared with 2D; this
+//! file names its 3D form and its tests.
 
+use super::gradation::{gradate_edge_generic, GradedTensor};
 use super::size_tensor3::SizeTensor3;
 
 /// Relative slack under which a tensor counts as already inside the grown one (as the
@@ -18,7 +22,7 @@ pub const SLACK3: f64 = 1e-9;
 
 /// `t` with its three sizes multiplied by `factor` (kept in the size range).
 pub fn grow3(t: &SizeTensor3, factor: f64) -> SizeTensor3 {
-    SizeTensor3::from_parts(t.frame(), t.sizes().map(|h| h * factor))
+    t.grown(factor)
 }
 
 /// The growth factor η = g^ℓ allowed from a vertex with tensor `from` along `edge`.
@@ -35,14 +39,7 @@ pub fn gradate_edge3(
     edge: [f64; 3],
     gradation: f64,
 ) -> Option<SizeTensor3> {
-    let eta = growth_factor3(tp, edge, gradation);
-    if !eta.is_finite() || tp.h_min() * eta >= tq.h_max() {
-        return None;
-    }
-    if tq.intersection(&grow3(tp, eta * (1.0 + SLACK3))) == *tq {
-        return None;
-    }
-    Some(tq.intersection(&grow3(tp, eta)))
+    gradate_edge_generic(tp, tq, edge, gradation, SLACK3)
 }
 
 #[cfg(test)]

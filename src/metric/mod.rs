@@ -19,7 +19,8 @@
 //!   ([`TensorError3`] for what is not one), limited by the same [`SizeBounds`];
 //!   [`SizeTensor3::intersection`] / [`SizeTensor3::union`] by simultaneous reduction;
 //!   [`SizeTensor3::log_euclidean_mean`], [`log_spd3`], [`exp_sym3`], [`log_euclidean3`].
-//! - [`gradate_edge3`]: anisotropic gradation across one edge in 3D (T_q ⊆ g^ℓ T_p by
+//! - [`gradate_edge_generic`] over [`GradedTensor`]: the one-edge gradation rule of both
+//!   dimensions; [`gradate_edge3`]: anisotropic gradation across one edge in 3D (T_q ⊆ g^ℓ T_p by
 //!   intersection, so anisotropy is kept).
 //! - [`length3`]: the metric length of an edge and the mean-ratio quality of a
 //!   tetrahedron in 3D.
@@ -33,6 +34,7 @@ mod eigen2;
 mod eigen3;
 #[cfg(test)]
 mod eigen3_twins;
+mod gradation;
 mod gradation3;
 mod interpolation;
 mod interpolation3;
@@ -50,6 +52,7 @@ mod testgen3;
 
 pub use eigen2::{eigen2, Eigen2};
 pub use eigen3::{eigen3, jacobi_sweeps, Eigen3, MAX_SWEEPS};
+pub use gradation::{gradate_edge_generic, GradedTensor};
 pub use gradation3::{gradate_edge3, grow3, growth_factor3, SLACK3};
 pub use interpolation::{exp_sym, log_euclidean, log_spd};
 pub use interpolation3::{exp_sym3, log_euclidean3, log_spd3};

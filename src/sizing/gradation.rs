@@ -38,7 +38,7 @@
 use std::collections::VecDeque;
 
 use crate::mesh_graph::MeshGraph;
-use crate::metric::SizeTensor;
+use crate::metric::{gradate_edge_generic, GradedTensor, SizeTensor};
 
 /// Relative tolerance of the gradation bound (see the module header).
 pub const SLACK: f64 = 1e-9;
@@ -61,8 +61,7 @@ pub struct GradationReport {
 
 /// `t` with both sizes multiplied by `factor` (kept within [`SizeTensor::MAX_SIZE`]).
 pub fn grow(t: &SizeTensor, factor: f64) -> SizeTensor {
-    let [h1, h2] = t.sizes();
-    SizeTensor::from_parts(t.axis(), [h1 * factor, h2 * factor])
+    t.grown(factor)
 }
 
 /// The growth factor η = g^ℓ allowed from a vertex with tensor `from` along the edge
@@ -81,15 +80,7 @@ pub fn gradate_edge(
     edge: [f64; 2],
     gradation: f64,
 ) -> Option<SizeTensor> {
-    let eta = growth_factor(tp, edge, gradation);
-    // Infinite or NaN: no bound; a grown disc that holds T_q: nothing to do.
-    if !eta.is_finite() || tp.h_min() * eta >= tq.h_max() {
-        return None;
-    }
-    if tq.intersection(&grow(tp, eta * (1.0 + SLACK))) == *tq {
-        return None;
-    }
-    Some(tq.intersection(&grow(tp, eta)))
+    gradate_edge_generic(tp, tq, edge, gradation, SLACK)
 }
 
 /// Runs the gradation pass on `tensors` (one per vertex of `graph`) with gradation
