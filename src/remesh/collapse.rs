@@ -18,7 +18,7 @@
 
 use super::options::RemeshOptions;
 use super::split::metric_midpoint;
-use super::work::{op_quality, orient, Role, Work};
+use super::work::{op_quality, orient, Op, Role, Work};
 use crate::metric::length::metric_edge_length;
 use crate::metric::Sym2;
 
@@ -65,6 +65,16 @@ pub(super) fn collapse_sweeps(w: &mut Work, lmax: f64, opts: &RemeshOptions) -> 
                 continue;
             }
             let floor = opts.quality_floor;
+            if w.still_refused(Op::Collapse, a, b) {
+                // The brute-force twin: the three checks refuse again.
+                debug_assert!(
+                    check(w, a, b, lmax, false, floor).is_none()
+                        && check(w, b, a, lmax, false, floor).is_none()
+                        && check(w, a, b, lmax, true, floor).is_none(),
+                    "kept refusal of {a}-{b}"
+                );
+                continue;
+            }
             let plan = check(w, a, b, lmax, false, floor)
                 .or_else(|| check(w, b, a, lmax, false, floor))
                 .or_else(|| check(w, a, b, lmax, true, floor));
@@ -73,6 +83,8 @@ pub(super) fn collapse_sweeps(w: &mut Work, lmax: f64, opts: &RemeshOptions) -> 
                 apply(w, &plan);
                 n += 1;
                 hit.push(kept);
+            } else {
+                w.refuse(Op::Collapse, a, b);
             }
         }
         if hit.is_empty() {

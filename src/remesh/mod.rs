@@ -320,6 +320,8 @@ pub fn remesh_keeping(
     // Collapses may not create edges longer than this: the split bound, so that a
     // collapse never hands the next split sweep work.
     let lmax_after = opts.split_above;
+    // When the previous split phase started: a later one looks only around what changed.
+    let mut split_since: Option<u64> = None;
     for pass in 0..opts.max_passes {
         let mut ps = PassStats::default();
         let t = Instant::now();
@@ -330,7 +332,9 @@ pub fn remesh_keeping(
             flips += k;
             moved
         };
-        let split = split::split_sweeps(&mut w, opts.split_above, cap, &mut between);
+        let started = w.now();
+        let split = split::split_sweeps(&mut w, opts.split_above, cap, split_since, &mut between);
+        split_since = Some(started);
         ps.splits += split.map_err(|_| RemeshError::Grew {
             vertices: w.num_vertices(),
             limit: opts.max_vertices.unwrap_or(cap),

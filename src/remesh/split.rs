@@ -9,7 +9,7 @@
 //! `None`; [`apply`] carries it out.
 
 use super::options::BoundaryMode;
-use super::work::{key, orient, Role, Work};
+use super::work::{key, orient, Op, Role, Work};
 use crate::metric::Sym2;
 
 /// A split that [`check`] accepted.
@@ -41,15 +41,40 @@ pub(super) struct LimitReached;
 /// diagonals there, so that the next sweep cuts metric-shaped triangles rather than
 /// the fans the previous cuts made) and returns the vertices whose balls it changed.
 /// After the first sweep only the edges of changed triangles and around those vertices
-/// are looked at again. Returns the number of splits, or [`LimitReached`] as soon as the
+/// are looked at again. With `since`, the tick at which the previous split phase
+/// started, the first sweep looks only at the edges around the vertices stamped after it:
+/// every other edge is as that phase left it, short or refused (and [`Work::still_refused`]
+/// would skip it), so the splits are those a sweep over every edge makes, and a late pass
+/// costs what it changes. Returns the number of splits, or [`LimitReached`] as soon as the
 /// mesh has more than `cap` vertices.
 pub(super) fn split_sweeps(
     w: &mut Work,
     lmax: f64,
     cap: usize,
+    since: Option<u64>,
     between: &mut dyn FnMut(&mut Work) -> Vec<u32>,
 ) -> Result<usize, LimitReached> {
-    let mut edges = w.edges();
+    let mut edges = match since {
+        None => w.edges(),
+        Some(t) => {
+            // Past a quarter of the vertices, listing every edge costs less than
+            // gathering and sorting the edges around them; the sweep is the same.
+            let changed = w.changed_since(t);
+            let full = 4 * changed.len() > w.num_vertices();
+            let edges = if full { w.edges() } else { w.edges_around(&changed) };
+            #[cfg(debug_assertions)]
+            for (a, b) in if full { Vec::new() } else { w.edges() } {
+                // Every long edge left out is one whose refusal still holds.
+                debug_assert!(
+                    w.length(a, b) <= lmax
+                        || edges.binary_search(&(a, b)).is_ok()
+                        || w.still_refused(Op::Split, a, b),
+                    "long edge {a}-{b} left out"
+                );
+            }
+            edges
+        }
+    };
     let mut n = 0;
     loop {
         let mut cand: Vec<(f64, u32, u32)> =
@@ -62,12 +87,20 @@ pub(super) fn split_sweeps(
             if k == 0 || k > 2 || ts[..k].iter().any(|&t| touched[t as usize]) {
                 continue;
             }
-            if let Some(plan) = check(w, a, b, &ts[..k]) {
-                if w.num_vertices() >= cap {
-                    return Err(LimitReached);
+            if w.still_refused(Op::Split, a, b) {
+                // The brute-force twin: the check itself refuses again.
+                debug_assert!(check(w, a, b, &ts[..k]).is_none(), "kept refusal of {a}-{b}");
+                continue;
+            }
+            match check(w, a, b, &ts[..k]) {
+                Some(plan) => {
+                    if w.num_vertices() >= cap {
+                        return Err(LimitReached);
+                    }
+                    apply(w, &plan, &mut touched);
+                    k_sweep += 1;
                 }
-                apply(w, &plan, &mut touched);
-                k_sweep += 1;
+                None => w.refuse(Op::Split, a, b),
             }
         }
         n += k_sweep;

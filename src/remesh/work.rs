@@ -69,6 +69,13 @@ pub(super) fn op_quality(p: [[f64; 2]; 3], m: [&Sym2; 3]) -> f64 {
     quality_in_metric(p[0], p[1], p[2], &mean)
 }
 
+/// The operators whose refusals [`Work::refuse`] keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Op {
+    Split = 0,
+    Collapse = 1,
+}
+
 /// The mesh under edit.
 pub(super) struct Work<'a> {
     /// Coordinates.
@@ -101,6 +108,16 @@ pub(super) struct Work<'a> {
     /// Whether the next smoothing sweep should try each vertex (its ball changed since
     /// it was last tried).
     active: Vec<bool>,
+    /// Edit clock: one tick per edit.
+    clock: u64,
+    /// For each vertex, the tick of the last edit that could change what a split or a
+    /// collapse check of one of its edges reads: its triangles, their corners' places,
+    /// metrics and roles (a moved vertex stamps its whole ball).
+    stamp: Vec<u64>,
+    /// Refused checks by edge key and tick, per operator (split, collapse): while neither
+    /// end was stamped after the tick, the same check reads the same mesh and refuses
+    /// again, so it is not run (lookups only, never iterated).
+    refused: [ahash::AHashMap<u64, u64>; 2],
     /// The input field.
     bg: &'a Interpolator,
     /// The input curves.
@@ -172,6 +189,9 @@ impl<'a> Work<'a> {
             dirty: Vec::new(),
             is_dirty: vec![false; n],
             active: vec![true; n],
+            clock: 0,
+            stamp: vec![0; n],
+            refused: Default::default(),
             bg: context.background,
             bd: context.boundary,
             mode: context.mode,
@@ -190,6 +210,7 @@ impl<'a> Work<'a> {
         self.vtris.reserve(dv);
         self.is_dirty.reserve(dv);
         self.active.reserve(dv);
+        self.stamp.reserve(dv);
         self.tris.reserve(dt);
         self.face.reserve(dt);
         self.alive.reserve(dt);
@@ -475,8 +496,10 @@ impl<'a> Work<'a> {
         self.alive.push(true);
         self.qual.push(self.quality_of(v));
         self.tri_mark.push(false);
+        self.tick();
         for x in v {
             self.vtris[x as usize].push(t);
+            self.stamp[x as usize] = self.clock;
         }
         t
     }
@@ -487,6 +510,10 @@ impl<'a> Work<'a> {
         let old = self.tris[t as usize];
         self.tris[t as usize] = v;
         self.qual[t as usize] = self.quality_of(v);
+        self.tick();
+        for x in old.into_iter().chain(v) {
+            self.stamp[x as usize] = self.clock;
+        }
         for x in old {
             if !v.contains(&x) {
                 self.detach(x, t);
@@ -502,8 +529,10 @@ impl<'a> Work<'a> {
     /// Removes triangle `t` from the mesh.
     pub(super) fn kill_tri(&mut self, t: u32) {
         self.alive[t as usize] = false;
+        self.tick();
         for x in self.tris[t as usize] {
             self.detach(x, t);
+            self.stamp[x as usize] = self.clock;
         }
     }
 
@@ -524,6 +553,8 @@ impl<'a> Work<'a> {
         self.vtris.push(Vec::new());
         self.is_dirty.push(false);
         self.active.push(true);
+        self.tick();
+        self.stamp.push(self.clock);
         v
     }
 
@@ -533,9 +564,14 @@ impl<'a> Work<'a> {
         self.pts[v as usize] = p;
         self.met[v as usize] = m;
         self.role[v as usize] = role;
+        self.tick();
+        self.stamp[v as usize] = self.clock;
         for i in 0..self.vtris[v as usize].len() {
             let t = self.vtris[v as usize][i] as usize;
             self.qual[t] = self.quality_of(self.tris[t]);
+            for x in self.tris[t] {
+                self.stamp[x as usize] = self.clock;
+            }
         }
     }
 
@@ -543,16 +579,59 @@ impl<'a> Work<'a> {
     pub(super) fn kill_vertex(&mut self, v: u32) {
         debug_assert!(self.vtris[v as usize].is_empty());
         self.role[v as usize] = Role::Dead;
+        self.tick();
+        self.stamp[v as usize] = self.clock;
     }
 
     /// Makes `ab` a constrained edge of piece `p`.
     pub(super) fn constrain(&mut self, a: u32, b: u32, p: u32) {
         self.cons.insert(key(a, b), p);
+        self.tick();
+        self.stamp[a as usize] = self.clock;
+        self.stamp[b as usize] = self.clock;
     }
 
     /// Makes `ab` free (it left the mesh).
     pub(super) fn unconstrain(&mut self, a: u32, b: u32) {
         self.cons.remove(&key(a, b));
+        self.tick();
+        self.stamp[a as usize] = self.clock;
+        self.stamp[b as usize] = self.clock;
+    }
+
+    /// The edit clock now: [`Work::changed_since`] of it is empty.
+    pub(super) fn now(&self) -> u64 {
+        self.clock
+    }
+
+    /// The live vertices stamped after tick `t`, in index order.
+    pub(super) fn changed_since(&self, t: u64) -> Vec<u32> {
+        (0..self.stamp.len() as u32)
+            .filter(|&v| self.stamp[v as usize] > t && !self.is_dead(v))
+            .collect()
+    }
+
+    #[inline]
+    fn tick(&mut self) {
+        self.clock += 1;
+    }
+
+    /// Whether the check of operator `op` on edge `ab` was refused and neither end was
+    /// stamped since: the check would read the same mesh and refuse again.
+    #[inline]
+    pub(super) fn still_refused(&self, op: Op, a: u32, b: u32) -> bool {
+        let k = key(a, b);
+        match self.refused[op as usize].get(&(((k.0 as u64) << 32) | k.1 as u64)) {
+            Some(&at) => self.stamp[a as usize] <= at && self.stamp[b as usize] <= at,
+            None => false,
+        }
+    }
+
+    /// Notes that the check of operator `op` on edge `ab` refused it now.
+    #[inline]
+    pub(super) fn refuse(&mut self, op: Op, a: u32, b: u32) {
+        let k = key(a, b);
+        self.refused[op as usize].insert(((k.0 as u64) << 32) | k.1 as u64, self.clock);
     }
 
     /// Every live undirected edge once, in triangle order (an interior edge from the
