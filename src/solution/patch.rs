@@ -133,6 +133,40 @@ impl Patch {
         }
         Err(self.all.len())
     }
+
+    /// The fit at `v` on the first patch ([`Patch::grow`]'s, within `max_rings` rings)
+    /// whose fit is determined and has a condition number (as `fit` answers it with the
+    /// fit) of at most `well`; when none within `max_rings` is, the best conditioned
+    /// determined one there; when none is determined there, [`Patch::grow`]'s first
+    /// determined fit however far. So a patch grows past the first determined one only
+    /// while that one is ill conditioned, and the work stays bounded unless no patch
+    /// within `max_rings` is determined at all.
+    pub(super) fn grow_conditioned<R>(
+        &mut self,
+        adjacency: &Adjacency,
+        v: usize,
+        min_patch: usize,
+        max_rings: usize,
+        well: f64,
+        mut fit: impl FnMut(Grown<'_>) -> Option<(R, f64)>,
+    ) -> Result<R, usize> {
+        let mut best: Option<(f64, R)> = None;
+        let first = self.grow_within(adjacency, v, min_patch, max_rings, |p| {
+            let (r, condition) = fit(p)?;
+            if condition <= well {
+                return Some(r);
+            }
+            if !best.as_ref().is_some_and(|(c, _)| *c <= condition) {
+                best = Some((condition, r));
+            }
+            None
+        });
+        match (first, best) {
+            (Ok(r), _) => Ok(r),
+            (Err(_), Some((_, r))) => Ok(r),
+            (Err(_), None) => self.grow(adjacency, v, min_patch, |p| fit(p).map(|(r, _)| r)),
+        }
+    }
 }
 
 /// A patch as [`Patch::grow`] hands it to a fit: its vertices other than the centre, in
@@ -168,6 +202,17 @@ pub(super) fn least_squares<const C: usize>(
     b: &mut [f64],
     determined: f64,
 ) -> Option<[f64; C]> {
+    least_squares_conditioned(a, b, determined).map(|(x, _)| x)
+}
+
+/// [`least_squares`] with the condition number of `a` in the Frobenius norm,
+/// ‖R‖ ‖R⁻¹‖ of its triangular factor R (an upper bound of the 2-norm's, within a
+/// factor C): how much the fit may amplify the part of `b` it cannot fit.
+pub(super) fn least_squares_conditioned<const C: usize>(
+    a: &mut [[f64; C]],
+    b: &mut [f64],
+    determined: f64,
+) -> Option<([f64; C], f64)> {
     let m = a.len();
     if m < C {
         return None;
@@ -207,5 +252,24 @@ pub(super) fn least_squares<const C: usize>(
         let s: f64 = (k + 1..C).map(|j| a[k][j] * x[j]).sum();
         x[k] = (b[k] - s) / diag[k];
     }
-    Some(x)
+    Some((x, condition(a, &diag)))
+}
+
+/// ‖R‖_F ‖R⁻¹‖_F of the triangular factor whose diagonal is `diag` and whose strict
+/// upper part is that of `a`'s first C rows; R⁻¹ by back substitution, column by column.
+fn condition<const C: usize>(a: &[[f64; C]], diag: &[f64; C]) -> f64 {
+    let r = |i: usize, j: usize| if i == j { diag[i] } else { a[i][j] };
+    let mut norm = 0.0;
+    let mut inverse = 0.0;
+    for j in 0..C {
+        // Column j of R⁻¹: R y = e_j, y zero below row j.
+        let mut y = [0.0; C];
+        for i in (0..=j).rev() {
+            let s: f64 = (i + 1..=j).map(|k| r(i, k) * y[k]).sum();
+            y[i] = (if i == j { 1.0 } else { 0.0 } - s) / diag[i];
+        }
+        inverse += y.iter().map(|x| x * x).sum::<f64>();
+        norm += (0..=j).map(|i| r(i, j) * r(i, j)).sum::<f64>();
+    }
+    (norm * inverse).sqrt()
 }
