@@ -323,7 +323,7 @@ fn fit_then_project(mesh: &P1Mesh<'_>, values: &[f64]) -> Derivatives {
     let scalar: Vec<[f64; 1]> = values.iter().map(|&v| [v]).collect();
     let projected: Vec<[f64; 2]> =
         project_gradients(mesh, &scalar).into_iter().map(|g| g[0]).collect();
-    let gradient = recovered_gradients::<2, 6>(mesh.points, &mesh.adjacency, values, &projected);
+    let gradient = recovered_gradients::<2, 5>(mesh.points, &mesh.adjacency, values, &projected);
     let second = project_gradients(mesh, &gradient);
     let hessian =
         second.into_iter().map(|[gx, gy]| Sym2::new(gx[0], 0.5 * (gx[1] + gy[0]), gy[1])).collect();

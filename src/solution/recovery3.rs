@@ -253,7 +253,7 @@ fn fit_then_project(mesh: &P1Mesh3<'_>, values: &[f64]) -> Derivatives3 {
     let scalar: Vec<[f64; 1]> = values.iter().map(|&v| [v]).collect();
     let projected: Vec<[f64; 3]> =
         project_gradients(mesh, &scalar).into_iter().map(|g| g[0]).collect();
-    let gradient = recovered_gradients::<3, 12>(mesh.points, &mesh.adjacency, values, &projected);
+    let gradient = recovered_gradients::<3, 9>(mesh.points, &mesh.adjacency, values, &projected);
     let second = project_gradients(mesh, &gradient);
     // second[v][i][j] = ∂j (∂i u): symmetrised.
     let hessian = second
