@@ -25,7 +25,7 @@
 //! guard against a pathological slow convergence the pass stops after
 //! [`MAX_UPDATES_PER_VERTEX`] × n updates and says so in its report.
 //!
-//! One driver for both dimensions: the worklist is [`propagate_bounds`], generic over the
+//! One driver for both dimensions: the worklist is `propagate_bounds`, generic over the
 //! tensor type and given the one-edge rule as a closure; this file's 2D pass gives it
 //! [`gradate_edge`] on a [`MeshGraph`], `sizing::gradation3` gives it
 //! [`crate::metric::gradate_edge3`] on a mesh in space. So the order of visits, the

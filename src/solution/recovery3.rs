@@ -28,7 +28,7 @@
 //!   the fit is determined (at least ten other vertices, one more than the unknowns, and
 //!   a triangular factor whose smallest diagonal is no less than 1e-4 of its largest) and
 //!   well conditioned: a condition number ‖R‖‖R⁻¹‖ (Frobenius, in the patch's scaling) of
-//!   at most [`WELL`] = 100, else the best conditioned determined patch within four
+//!   at most `WELL` = 100, else the best conditioned determined patch within four
 //!   rings. The conditioning matters on fields that are not quadratics: the fit passes
 //!   their cubic part, O(|∇³u| r³) at a patch of radius r, to the Hessian amplified by
 //!   about the condition number over r². A first ring inside a mesh measures 13 to 20 on
