@@ -552,22 +552,8 @@ pub fn run_with_solver(
 ) -> Result<Outcome, AdaptError> {
     let raw = options.budget.as_ref().and_then(|b| RawRecipe::of(recipe, b.hard));
     let mut planar = Planar { recipe, raw, solver, adapter, options, ratio: 1.0 };
-    let history = History {
-        input: input.to_string(),
-        recipe: recipe_label.to_string(),
-        adapter: adapter.name().to_string(),
-        converged: false,
-        best_iteration: 0,
-        stopped: RUNNING.to_string(),
-        iterations: Vec::new(),
-        best_mesh: Vec::new(),
-        layer: None,
-        budget: options.budget.as_ref().map(|b| BudgetRecord {
-            vertices: b.schedule.target,
-            from: b.from.clone(),
-            normalised_to: planar.target(0).map(|t| t.1).into_iter().collect(),
-        }),
-    };
+    let first_target = planar.target(0).map(|t| t.1);
+    let history = starting_history(input, recipe_label, adapter, options, first_target);
     let driven = driver::drive(&mut planar, start, history, options, observer)?;
     let driver::Driven { mut history, best, best_kept: best_metric, failure, warnings } = driven;
     let layer = match &options.layer {
@@ -585,4 +571,32 @@ pub fn run_with_solver(
         observer.record(&history, Some(&l.mesh)).map_err(AdaptError::LayerOutput)?;
     }
     Ok(Outcome { history, best, layer, periodic, failure, warnings })
+}
+
+/// The history of a run before its first iteration, in the plane and in space: nothing
+/// converged, the run going on, and the budget (if any) with the count the field on the
+/// start mesh is normalised to (`first_target`).
+pub(crate) fn starting_history(
+    input: &str,
+    recipe_label: &str,
+    adapter: &dyn Adapter,
+    options: &AdaptOptions,
+    first_target: Option<f64>,
+) -> History {
+    History {
+        input: input.to_string(),
+        recipe: recipe_label.to_string(),
+        adapter: adapter.name().to_string(),
+        converged: false,
+        best_iteration: 0,
+        stopped: RUNNING.to_string(),
+        iterations: Vec::new(),
+        best_mesh: Vec::new(),
+        layer: None,
+        budget: options.budget.as_ref().map(|b| BudgetRecord {
+            vertices: b.schedule.target,
+            from: b.from.clone(),
+            normalised_to: first_target.into_iter().collect(),
+        }),
+    }
 }

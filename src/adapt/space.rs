@@ -43,11 +43,11 @@ use smartmesh_formats::{CellKind, TaggedMesh};
 use super::budget::{self, corrected_target, normalise3, share3, Limits3, RawRecipe};
 use super::driver::{self, Stepper};
 use super::solver::SolverLoop;
-use super::{AdaptError, AdaptOptions, Observer, Outcome, Phase, PhaseError, RUNNING};
+use super::{AdaptError, AdaptOptions, Observer, Outcome, Phase, PhaseError};
 use crate::adapters::{Adapted, Adapter, AdapterError};
 use crate::conformity::Ugawg;
 use crate::history::{
-    BudgetRecord, History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord, SpaceRecord,
+    History, IterationRecord, PhaseTimes, RemeshingRecord, SolverRecord, SpaceRecord,
 };
 use crate::metric::{SizeBounds, SizeTensor, SizeTensor3, Sym3};
 use crate::metric_field::{expected_vertices, Complexity, MetricField};
@@ -387,22 +387,8 @@ pub fn run_space_with_solver(
         }
     }
     let mut space = Space { sizing, solver, adapter, options, remeshings: Vec::new() };
-    let history = History {
-        input: input.to_string(),
-        recipe: recipe_label.to_string(),
-        adapter: adapter.name().to_string(),
-        converged: false,
-        best_iteration: 0,
-        stopped: RUNNING.to_string(),
-        iterations: Vec::new(),
-        best_mesh: Vec::new(),
-        layer: None,
-        budget: options.budget.as_ref().map(|b| BudgetRecord {
-            vertices: b.schedule.target,
-            from: b.from.clone(),
-            normalised_to: space.target(0).map(|t| t.target).into_iter().collect(),
-        }),
-    };
+    let first_target = space.target(0).map(|t| t.target);
+    let history = super::starting_history(input, recipe_label, adapter, options, first_target);
     let driven = driver::drive(&mut space, start, history, options, observer)?;
     let driver::Driven { history, best, failure, warnings, .. } = driven;
     let periodic = Ok(Rechecked::default());

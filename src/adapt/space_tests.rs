@@ -8,7 +8,7 @@ use smartmesh_formats::{CellKind, TaggedMesh};
 use smartmesh_test_support::grid::kuhn_box;
 
 use super::*;
-use crate::adapt::INTERRUPTED;
+use crate::adapt::{INTERRUPTED, RUNNING};
 use crate::history::History;
 
 /// The isotropic field of size `h` everywhere.
