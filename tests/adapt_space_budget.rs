@@ -13,42 +13,18 @@ use std::path::Path;
 
 use smartmesh_test_support::formats::{public_fixture, python_with};
 use smartmesh_test_support::require_public_fixtures;
+use smartmesh_test_support::space::{box_cyl_path, cylinder_wall_recipe};
 
 #[path = "support/cli.rs"]
 #[allow(dead_code)]
 mod support;
 use support::{program, run, streams};
 
-/// A wall layer on the cylinder of box_cyl: across the wall 0.02 growing to 0.15 at 0.3
-/// away, along it 0.06 to 0.15; h_max 0.15; a gradation of 1.5 (inside the budget).
-const WALL: &str = r#"
-[global]
-h_max = 0.15
-gradation = 1.5
-
-[regions]
-cyl = ["Cylinder"]
-
-[functions.perp]
-kind = "distance"
-size_at_source = 0.02
-size_at_max_distance = 0.15
-max_distance = 0.3
-exponent = 1.0
-
-[functions.par]
-kind = "distance"
-size_at_source = 0.06
-size_at_max_distance = 0.15
-max_distance = 0.3
-exponent = 1.0
-
-[[algorithms]]
-type = "distance_to_border"
-regions = ["cyl"]
-perpendicular = "perp"
-parallel = "par"
-"#;
+/// A wall layer on the cylinder of box_cyl (across the wall 0.02 growing to 0.15 at 0.3
+/// away, along it 0.06 to 0.15; h_max 0.15) with a gradation of 1.5 (inside the budget).
+fn wall() -> String {
+    cylinder_wall_recipe("gradation = 1.5\n")
+}
 
 /// Runs `adapt` with `args` after the input, `-o DIR/out.vtu`; the history, checked to
 /// be mmg3d's with the 3D measures, and the best iteration's vertex count.
@@ -88,8 +64,8 @@ fn a_recipe_alone_meets_the_budget_within_five_percent() {
     }
     let dir = tempfile::tempdir().unwrap();
     let recipe = dir.path().join("wall.toml");
-    std::fs::write(&recipe, WALL).unwrap();
-    let input = public_fixture("3d/box_cyl.v41_ascii.msh");
+    std::fs::write(&recipe, wall()).unwrap();
+    let input = box_cyl_path();
     let n = 3000.0;
     let (h, v) = adapt(
         dir.path(),
@@ -149,7 +125,7 @@ fn a_surface_in_space_refuses_the_budget_and_the_solver_saying_why() {
     require_public_fixtures!();
     let dir = tempfile::tempdir().unwrap();
     let recipe = dir.path().join("wall.toml");
-    std::fs::write(&recipe, WALL).unwrap();
+    std::fs::write(&recipe, wall()).unwrap();
     let surface = public_fixture("3d/box_cyl_surf_input.mesh");
     let out = dir.path().join("out.mesh");
     let (s, r, o) = (surface.to_str().unwrap(), recipe.to_str().unwrap(), out.to_str().unwrap());
@@ -168,7 +144,7 @@ fn a_surface_in_space_refuses_the_budget_and_the_solver_saying_why() {
     }
     // On tetrahedra, a solver with neither a budget nor a recipe's steps is refused as in
     // the plane, before any work.
-    let tets = public_fixture("3d/box_cyl.v41_ascii.msh");
+    let tets = box_cyl_path();
     let res =
         run(&["adapt", tets.to_str().unwrap(), "--solver", "true {mesh} {solution}", "-o", o]);
     assert_eq!(res.status.code(), Some(2), "{}", streams(&res));

@@ -14,41 +14,12 @@ use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 use smartmesh::formats::{read_path, write_path, CellKind};
-use smartmesh_test_support::formats::{python_with, run_python};
 use smartmesh_test_support::grid::kuhn_box;
+use smartmesh_test_support::space::{gmsh_and_mmg3d, volume6, write_gmsh_cube};
 
 #[path = "support/cli.rs"]
 mod support;
-use support::{command, program, run, streams};
-
-/// The unit cube meshed by Gmsh with physical surfaces Left (x = 0, 1), Right (x = 1,
-/// 2), Walls (the others, 3), the volume Solid (10), the curve Rim (the four edges of
-/// the face x = 0, 20) and the point Origin (30).
-const GMSH_BOX: &str = r#"
-import sys, gmsh
-gmsh.initialize()
-gmsh.option.setNumber("General.Terminal", 0)
-gmsh.model.add("box")
-gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
-gmsh.model.occ.synchronize()
-left, right, walls = [], [], []
-for d, t in gmsh.model.getEntities(2):
-    x = gmsh.model.occ.getCenterOfMass(d, t)[0]
-    (left if x < 1e-9 else right if x > 1 - 1e-9 else walls).append(t)
-gmsh.model.addPhysicalGroup(2, left, 1, "Left")
-gmsh.model.addPhysicalGroup(2, right, 2, "Right")
-gmsh.model.addPhysicalGroup(2, walls, 3, "Walls")
-gmsh.model.addPhysicalGroup(3, [1], 10, "Solid")
-rim = [t for d, t in gmsh.model.getBoundary([(2, left[0])], oriented=False)]
-gmsh.model.addPhysicalGroup(1, rim, 20, "Rim")
-origin = [t for d, t in gmsh.model.getEntities(0)
-          if max(abs(c) for c in gmsh.model.getValue(0, t, [])) < 1e-9]
-gmsh.model.addPhysicalGroup(0, origin, 30, "Origin")
-gmsh.option.setNumber("Mesh.MeshSizeMax", 0.3)
-gmsh.model.mesh.generate(3)
-gmsh.write(sys.argv[1])
-gmsh.finalize()
-"#;
+use support::{command, run, streams};
 
 /// UNIFORM 0.125 on the volume: the field is 64 I at every vertex.
 const UNIFORM: &str = r#"
@@ -64,23 +35,12 @@ regions = ["solid"]
 size = 0.125
 "#;
 
-/// Six times the signed volume of a tetrahedron.
-fn volume6(p: [[f64; 3]; 4]) -> f64 {
-    let d = |i: usize| [p[i][0] - p[0][0], p[i][1] - p[0][1], p[i][2] - p[0][2]];
-    let (a, b, c) = (d(1), d(2), d(3));
-    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-        + a[2] * (b[0] * c[1] - b[1] * c[0])
-}
-
 #[test]
 fn adapt_takes_a_gmsh_cube_through_mmg3d_to_a_uniform_recipe() {
-    let Some(py) = python_with(&["gmsh"]) else { return };
-    if program("mmg3d_O3").is_none() {
-        return;
-    }
+    let Some(py) = gmsh_and_mmg3d() else { return };
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("box.msh");
-    run_python(&py, GMSH_BOX, &[input.to_str().unwrap()]);
+    write_gmsh_cube(&py, &input, 0.3);
     let recipe = dir.path().join("u.toml");
     std::fs::write(&recipe, UNIFORM).unwrap();
     let out = dir.path().join("adapted.msh");

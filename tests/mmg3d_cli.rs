@@ -15,12 +15,16 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use smartmesh::formats::{read_path, CellKind, TaggedMesh};
-use smartmesh_test_support::formats::{public_fixture, python_with, run_python};
+use smartmesh_test_support::formats::public_fixture;
 use smartmesh_test_support::require_public_fixtures;
+use smartmesh_test_support::space::{
+    edge_lengths, edges, gmsh_and_mmg3d, median, metric_length, positive_volume, remesh_as_given,
+    write_gmsh_cube,
+};
 
 #[path = "support/cli.rs"]
 mod support;
-use support::{program, run, streams};
+use support::{program, run, streams, BIN};
 
 /// A rotation whose axes are none of the coordinate axes: about (1, 2, 3)/√14 by 0.7.
 fn rotation() -> [[f64; 3]; 3] {
@@ -75,60 +79,15 @@ fn write_sol(path: &Path, mesh: &TaggedMesh, sizes: impl Fn([f64; 3]) -> [f64; 3
     std::fs::write(path, s).unwrap();
 }
 
-/// The metric length of the segment a–b, by the midpoint rule on 16 pieces.
-fn metric_length(a: [f64; 3], b: [f64; 3], sizes: impl Fn([f64; 3]) -> [f64; 3] + Copy) -> f64 {
-    let n = 16;
-    let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    (0..n)
-        .map(|k| {
-            let t = (k as f64 + 0.5) / n as f64;
-            let p = [a[0] + t * e[0], a[1] + t * e[1], a[2] + t * e[2]];
-            let m = metric_at(p, sizes);
-            let q: f64 = (0..3).map(|i| (0..3).map(|j| e[i] * m[i][j] * e[j]).sum::<f64>()).sum();
-            q.sqrt() / n as f64
-        })
-        .sum()
-}
-
-/// The edges of `kind`'s cells (sorted vertex pairs).
-fn edges(mesh: &TaggedMesh, kind: CellKind) -> BTreeSet<(u32, u32)> {
-    let pairs: &[(usize, usize)] = match kind {
-        CellKind::Tetra => &[(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)],
-        _ => &[(0, 1), (1, 2), (2, 0)],
-    };
-    let mut out = BTreeSet::new();
-    for (k, n, _, _) in mesh.cells() {
-        if k == kind {
-            for &(i, j) in pairs {
-                let (a, b) = (n[i], n[j]);
-                out.insert((a.min(b), a.max(b)));
-            }
-        }
-    }
-    out
-}
-
 /// The median and the share in [1/√2, √2] of the metric lengths of `edges`.
 fn lengths(
     mesh: &TaggedMesh,
     edges: &BTreeSet<(u32, u32)>,
     sizes: impl Fn([f64; 3]) -> [f64; 3] + Copy,
 ) -> (f64, f64) {
-    let mut l: Vec<f64> = edges
-        .iter()
-        .map(|&(a, b)| metric_length(mesh.points[a as usize], mesh.points[b as usize], sizes))
-        .collect();
-    l.sort_by(f64::total_cmp);
+    let l = edge_lengths(mesh, edges, |a, b| metric_length(a, b, |p| metric_at(p, sizes)));
     let inside = l.iter().filter(|&&x| (0.5f64.sqrt()..=2f64.sqrt()).contains(&x)).count();
-    (l[l.len() / 2], inside as f64 / l.len() as f64)
-}
-
-/// Six times the signed volume of a tetrahedron.
-fn volume6(p: [[f64; 3]; 4]) -> f64 {
-    let d = |i: usize| [p[i][0] - p[0][0], p[i][1] - p[0][1], p[i][2] - p[0][2]];
-    let (a, b, c) = (d(1), d(2), d(3));
-    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-        + a[2] * (b[0] * c[1] - b[1] * c[0])
+    (median(&l), inside as f64 / l.len() as f64)
 }
 
 /// Cells per (dimension, physical tag).
@@ -140,61 +99,18 @@ fn tag_counts(mesh: &TaggedMesh) -> BTreeMap<(u8, i32), usize> {
     out
 }
 
-/// The unit cube meshed by Gmsh with physical surfaces Left (x = 0, 1), Right (x = 1,
-/// 2), Walls (the others, 3), the volume Solid (10), the curve Rim (the four edges of
-/// the face x = 0, 20) and the point Origin (30).
-const GMSH_BOX: &str = r#"
-import sys, gmsh
-gmsh.initialize()
-gmsh.option.setNumber("General.Terminal", 0)
-gmsh.model.add("box")
-gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
-gmsh.model.occ.synchronize()
-left, right, walls = [], [], []
-for d, t in gmsh.model.getEntities(2):
-    x = gmsh.model.occ.getCenterOfMass(d, t)[0]
-    (left if x < 1e-9 else right if x > 1 - 1e-9 else walls).append(t)
-gmsh.model.addPhysicalGroup(2, left, 1, "Left")
-gmsh.model.addPhysicalGroup(2, right, 2, "Right")
-gmsh.model.addPhysicalGroup(2, walls, 3, "Walls")
-gmsh.model.addPhysicalGroup(3, [1], 10, "Solid")
-rim = [t for d, t in gmsh.model.getBoundary([(2, left[0])], oriented=False)]
-gmsh.model.addPhysicalGroup(1, rim, 20, "Rim")
-origin = [t for d, t in gmsh.model.getEntities(0)
-          if max(abs(c) for c in gmsh.model.getValue(0, t, [])) < 1e-9]
-gmsh.model.addPhysicalGroup(0, origin, 30, "Origin")
-gmsh.option.setNumber("Mesh.MeshSizeMax", 0.25)
-gmsh.model.mesh.generate(3)
-gmsh.write(sys.argv[1])
-gmsh.finalize()
-"#;
-
 #[test]
 fn mmg3d_adapts_a_gmsh_box_to_an_oblique_metric_keeping_names_and_tags() {
-    let Some(py) = python_with(&["gmsh"]) else { return };
-    if program("mmg3d_O3").is_none() {
-        return;
-    }
+    let Some(py) = gmsh_and_mmg3d() else { return };
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("box.msh");
-    run_python(&py, GMSH_BOX, &[input.to_str().unwrap()]);
+    write_gmsh_cube(&py, &input, 0.25);
     let start = read_path(&input, None).unwrap();
     assert!(start.num_cells_of(CellKind::Tetra) > 50);
     let sol = dir.path().join("box.sol");
     write_sol(&sol, &start, box_sizes);
     let out = dir.path().join("adapted.msh");
-    let o = run(&[
-        "remesh",
-        input.to_str().unwrap(),
-        "--metric",
-        sol.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--hgrad",
-        "-1",
-        "--json",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let o = remesh_as_given(BIN, input.to_str().unwrap(), &sol, &out, &["--json"]);
     let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(json["adapter"], "mmg3d");
     let mesh = read_path(&out, None).unwrap();
@@ -233,14 +149,7 @@ fn mmg3d_adapts_a_gmsh_box_to_an_oblique_metric_keeping_names_and_tags() {
         }
     }
     // Every tetrahedron positive, the volume the cube's.
-    let mut volume = 0.0;
-    for (k, n, _, _) in mesh.cells() {
-        if k == CellKind::Tetra {
-            let v = volume6(std::array::from_fn(|i| mesh.points[n[i] as usize])) / 6.0;
-            assert!(v > 1e-12, "tetrahedron {n:?} has volume {v}");
-            volume += v;
-        }
-    }
+    let volume = positive_volume(&mesh, 1e-12);
     assert!((volume - 1.0).abs() < 1e-9, "volume {volume}");
     // Each boundary triangle on the face its tag says.
     for (k, n, p, _) in mesh.cells() {

@@ -7,45 +7,15 @@
 //! Needs the public fixtures (skipped with a message without them, mandatory under CI),
 //! and `mmg3d_O3` for the remeshing (skipped without it).
 
-use smartmesh::formats::{read_path, CellKind, TaggedMesh};
-use smartmesh_test_support::formats::public_fixture;
+use smartmesh::formats::{read_path, CellKind};
 use smartmesh_test_support::require_public_fixtures;
+use smartmesh_test_support::space::{
+    box_cyl, cylinder_wall_recipe, edge_lengths, edges, median, metric_length, size_then_mmg3d,
+};
 
 #[path = "support/cli.rs"]
 mod support;
-use support::{program, run, streams};
-
-fn box_cyl() -> String {
-    public_fixture("3d/box_cyl.v41_ascii.msh").display().to_string()
-}
-
-/// `size` box_cyl with `recipe` into `dir/sol`, then `remesh` box_cyl to it through
-/// mmg3d_O3 (`--hgrad -1`: the field as given); the adapted mesh.
-fn size_then_mmg3d(dir: &std::path::Path, recipe: &std::path::Path, sol: &str) -> TaggedMesh {
-    let sol = dir.join(sol);
-    let o = run(&[
-        "size",
-        &box_cyl(),
-        "--recipe",
-        recipe.to_str().unwrap(),
-        "-o",
-        sol.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
-    let out = dir.join("adapted.msh");
-    let o = run(&[
-        "remesh",
-        &box_cyl(),
-        "--metric",
-        sol.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--hgrad",
-        "-1",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
-    read_path(&out, None).unwrap()
-}
+use support::{program, run, streams, BIN};
 
 /// UNIFORM on the cylinder surface and on the fluid volume, h_max 0.15.
 const UNIFORM: &str = r#"
@@ -131,39 +101,9 @@ fn mmg3d_takes_the_sol_size_writes() {
     let dir = tempfile::tempdir().unwrap();
     let recipe = dir.path().join("u.toml");
     std::fs::write(&recipe, UNIFORM).unwrap();
-    let mesh = size_then_mmg3d(dir.path(), &recipe, "f.sol");
+    let mesh = size_then_mmg3d(BIN, dir.path(), &recipe, "f.sol");
     assert!(mesh.num_cells_of(CellKind::Tetra) > 2187, "{}", mesh.num_cells_of(CellKind::Tetra));
 }
-
-/// A wall layer on the cylinder: across the wall 0.02 growing to 0.15 at 0.3 away, along
-/// it 0.06 to 0.15; h_max 0.15.
-const WALL: &str = r#"
-[global]
-h_max = 0.15
-
-[regions]
-cyl = ["Cylinder"]
-
-[functions.perp]
-kind = "distance"
-size_at_source = 0.02
-size_at_max_distance = 0.15
-max_distance = 0.3
-exponent = 1.0
-
-[functions.par]
-kind = "distance"
-size_at_source = 0.06
-size_at_max_distance = 0.15
-max_distance = 0.3
-exponent = 1.0
-
-[[algorithms]]
-type = "distance_to_border"
-regions = ["cyl"]
-perpendicular = "perp"
-parallel = "par"
-"#;
 
 /// The wall layer's metric at `p`, written here from the exact cylinder (axis along z
 /// through (0.6, 0.5), radius 0.2): radial size perp(d), the others par(d).
@@ -184,22 +124,6 @@ fn wall_metric(p: [f64; 3]) -> [[f64; 3]; 3] {
     m
 }
 
-/// The metric length of a–b in the wall metric, by the midpoint rule on 16 pieces.
-fn wall_length(a: [f64; 3], b: [f64; 3]) -> f64 {
-    let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    (0..16)
-        .map(|k| {
-            let s = (k as f64 + 0.5) / 16.0;
-            let m = wall_metric([a[0] + s * e[0], a[1] + s * e[1], a[2] + s * e[2]]);
-            let q: f64 = (0..3)
-                .flat_map(|i| (0..3).map(move |j| (i, j)))
-                .map(|(i, j)| e[i] * m[i][j] * e[j])
-                .sum();
-            q.sqrt() / 16.0
-        })
-        .sum()
-}
-
 /// DISTANCE_TO_BORDER on the cylinder of box_cyl: the `.vtu` sizes are the wall layer's
 /// (checked here against the exact cylinder, to the faceting of its 118 triangles);
 /// `mmg3d_O3` adapts box_cyl to
@@ -210,7 +134,7 @@ fn a_wall_layer_on_the_cylinder_is_sized_and_mmg3d_follows_it() {
     require_public_fixtures!();
     let dir = tempfile::tempdir().unwrap();
     let recipe = dir.path().join("w.toml");
-    std::fs::write(&recipe, WALL).unwrap();
+    std::fs::write(&recipe, cylinder_wall_recipe("")).unwrap();
     let vtu = dir.path().join("w.vtu");
     let o = run(&[
         "size",
@@ -247,21 +171,10 @@ fn a_wall_layer_on_the_cylinder_is_sized_and_mmg3d_follows_it() {
     if program("mmg3d_O3").is_none() {
         return;
     }
-    let adapted = size_then_mmg3d(dir.path(), &recipe, "w.sol");
-    let mut edges = std::collections::BTreeSet::new();
-    for (k, n, _, _) in adapted.cells() {
-        if k == CellKind::Tetra {
-            for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
-                edges.insert((n[i].min(n[j]), n[i].max(n[j])));
-            }
-        }
-    }
-    let mut l: Vec<f64> = edges
-        .iter()
-        .map(|&(a, b)| wall_length(adapted.points[a as usize], adapted.points[b as usize]))
-        .collect();
-    l.sort_by(f64::total_cmp);
-    let median = l[l.len() / 2];
+    let adapted = size_then_mmg3d(BIN, dir.path(), &recipe, "w.sol");
+    let tetra_edges = edges(&adapted, CellKind::Tetra);
+    let l = edge_lengths(&adapted, &tetra_edges, |a, b| metric_length(a, b, wall_metric));
+    let median = median(&l);
     eprintln!(
         "box_cyl wall layer: {} tets after mmg3d, median metric length {median:.3}",
         adapted.num_cells_of(CellKind::Tetra)

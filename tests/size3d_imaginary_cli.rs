@@ -11,16 +11,12 @@
 use std::path::Path;
 
 use smartmesh::formats::{read_path, CellKind, TaggedMesh};
-use smartmesh_test_support::formats::public_fixture;
 use smartmesh_test_support::require_public_fixtures;
+use smartmesh_test_support::space::{box_cyl, size_then_mmg3d};
 
 #[path = "support/cli.rs"]
 mod support;
-use support::{program, run, streams};
-
-fn box_cyl() -> String {
-    public_fixture("3d/box_cyl.v41_ascii.msh").display().to_string()
-}
+use support::{program, run, streams, BIN};
 
 /// The wake sheet behind the cylinder, tilted: y = 0.5 + 0.05 (x − 0.85), x in
 /// [0.85, 1.95], z in [0.05, 0.95], as two triangles.
@@ -151,23 +147,8 @@ fn a_vortex_line_and_a_wake_sheet_size_box_cyl_and_mmg3d_follows() {
     if program("mmg3d_O3").is_none() {
         return;
     }
-    let sol = dir.path().join("f.sol");
-    let o = run(&["size", &box_cyl(), "--recipe", r, "-o", sol.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
-    let out = dir.path().join("adapted.msh");
-    let o = run(&[
-        "remesh",
-        &box_cyl(),
-        "--metric",
-        sol.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--hgrad",
-        "-1",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let adapted = size_then_mmg3d(BIN, dir.path(), &recipe, "f.sol");
     let start = read_path(Path::new(&box_cyl()), None).unwrap();
-    let adapted = read_path(&out, None).unwrap();
     assert!(adapted.num_cells_of(CellKind::Tetra) > 2 * start.num_cells_of(CellKind::Tetra));
     let (before, after) = (near_sheet(&start), near_sheet(&adapted));
     assert!(after > 4 * before, "vertices near the sheet: {before} then {after}");

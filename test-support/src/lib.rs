@@ -2,7 +2,8 @@
 //! whose sequences never change, so that a random case found once is the same case on every
 //! machine and in every later run; the structured meshes built on them ([`grid`]); the
 //! command-line helpers ([`cli`]); the public fixtures, round trips and interop programs of
-//! the format tests ([`formats`]); the skips that say so in every run ([`skip`]).
+//! the format tests ([`formats`]); the set-ups and measures of the tests in space ([`space`]);
+//! the skips that say so in every run ([`skip`]).
 //!
 //! Hand-written rather than `rand`: the tests pin exact sequences (a failing case is
 //! reported by its seed), and a dependency's generator may change its stream between
@@ -17,6 +18,7 @@ pub mod formats;
 pub mod grid;
 pub mod measure;
 pub mod skip;
+pub mod space;
 
 /// What a seedable test generator offers; each generator gives [`Generator::next_u64`].
 pub trait Generator {

@@ -9,7 +9,7 @@ pub(crate) use smartmesh_test_support::cli::{
 };
 
 /// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_smartmesh");
+pub(crate) const BIN: &str = env!("CARGO_BIN_EXE_smartmesh");
 
 /// Runs `smartmesh ARGS`, with `RAYON_NUM_THREADS` set when `threads` is given.
 #[allow(dead_code)]
