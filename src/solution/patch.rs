@@ -3,7 +3,7 @@
 //! (compressed rows, each row sorted), the vertex patches grown one ring of edges at a
 //! time until a fit is determined (the quadratic fit's and the edge fit's of
 //! `super::edge_fit`), the least-squares solve of a fit by Householder QR,
-//! and the floor under which a recovered Hessian is round-off.
+//! and the floor under which a recovered Hessian is round-off, and is zeroed.
 //!
 //! Hand-written QR rather than nalgebra's: the fit runs once per vertex on a small
 //! m × C system kept on the stack's shape ([f64; C] rows), and the determinacy test reads
@@ -190,8 +190,45 @@ impl Grown<'_> {
 /// ε|u|, which a second difference over an edge h turns into ε|u|/h², so a Hessian whose
 /// spectral radius is within [`ROUNDOFF`] ε `umax` / `hmin`² (|u| over the vertex and its
 /// neighbours, h its shortest edge) says nothing of the field.
-pub(super) fn roundoff_floor(umax: f64, hmin: f64) -> f64 {
+fn roundoff_floor(umax: f64, hmin: f64) -> f64 {
     ROUNDOFF * f64::EPSILON * umax / (hmin * hmin)
+}
+
+/// Sets to `zero` each Hessian of `hessian` (one per vertex of `points`, whose edges
+/// `adjacency` holds) that is round-off: whose bound `radius` on its spectral radius is
+/// within its vertex's [`roundoff_floor`]. A linear field's Hessian is then zero at every
+/// vertex and asks for nothing (it gave an anisotropy of 167 from noise); a quadratic's
+/// is far above the floor. A vertex that no cell uses, or whose edges all have zero
+/// length, keeps its Hessian.
+pub(super) fn drop_roundoff<const D: usize, H>(
+    points: &[[f64; D]],
+    adjacency: &Adjacency,
+    values: &[f64],
+    hessian: &mut [H],
+    radius: impl Fn(&H) -> f64,
+    zero: H,
+) where
+    H: Copy,
+{
+    for (v, h) in hessian.iter_mut().enumerate() {
+        if !adjacency.is_used(v) {
+            continue;
+        }
+        let p = points[v];
+        let (mut umax, mut hmin) = (values[v].abs(), f64::INFINITY);
+        for &w in adjacency.of(v) {
+            let q = points[w as usize];
+            umax = umax.max(values[w as usize].abs());
+            // hypot pair by pair, x and y first: the length the plane and space took.
+            let len = (2..D).fold((q[0] - p[0]).hypot(q[1] - p[1]), |l, k| l.hypot(q[k] - p[k]));
+            if len > 0.0 {
+                hmin = hmin.min(len);
+            }
+        }
+        if hmin.is_finite() && radius(h) <= roundoff_floor(umax, hmin) {
+            *h = zero;
+        }
+    }
 }
 
 /// The least-squares solution of `a x = b` (a: m × C, m ≥ C) by Householder QR;

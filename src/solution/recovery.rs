@@ -43,7 +43,7 @@
 use rayon::prelude::*;
 
 use super::edge_fit::recovered_gradients;
-use super::patch::{least_squares, roundoff_floor, Adjacency, Patch};
+use super::patch::{drop_roundoff, least_squares, Adjacency, Patch};
 use crate::geometry::Point2;
 use crate::metric::Sym2;
 
@@ -216,48 +216,32 @@ pub fn recover(
     values: &[f64],
     method: Method,
 ) -> Result<Derivatives, RecoveryError> {
-    let n = mesh.points.len();
-    if values.len() != n {
-        return Err(RecoveryError::Count { values: values.len(), vertices: n });
-    }
-    if let Some(vertex) = (0..n).find(|&v| mesh.is_used(v) && !values[v].is_finite()) {
-        return Err(RecoveryError::NotFinite { vertex, value: values[vertex] });
-    }
+    check_values(values, mesh.points.len(), &mesh.adjacency)?;
     let mut d = match method {
         Method::L2Projection => fit_then_project(mesh, values),
         Method::QuadraticFit => quadratic_fit(mesh, values)?,
     };
-    drop_roundoff(mesh, values, &mut d.hessian);
+    // The largest absolute row sum bounds the spectral radius.
+    let radius = |h: &Sym2| h.a.abs().max(h.c.abs()) + h.b.abs();
+    let zero = Sym2::new(0.0, 0.0, 0.0);
+    drop_roundoff(mesh.points, &mesh.adjacency, values, &mut d.hessian, radius, zero);
     Ok(d)
 }
 
-/// Zeroes each Hessian that is round-off ([`roundoff_floor`]). A linear field's Hessian is then zero
-/// at every vertex and asks for nothing (it gave an anisotropy of 167 from noise); a
-/// quadratic's is far above the floor.
-fn drop_roundoff(mesh: &P1Mesh<'_>, values: &[f64], hessian: &mut [Sym2]) {
-    for (v, h) in hessian.iter_mut().enumerate() {
-        if !mesh.is_used(v) {
-            continue;
-        }
-        let p = mesh.points[v];
-        let (mut umax, mut hmin) = (values[v].abs(), f64::INFINITY);
-        for &w in mesh.neighbours(v) {
-            let q = mesh.points[w as usize];
-            umax = umax.max(values[w as usize].abs());
-            let len = (q[0] - p[0]).hypot(q[1] - p[1]);
-            if len > 0.0 {
-                hmin = hmin.min(len);
-            }
-        }
-        if !hmin.is_finite() {
-            continue;
-        }
-        let floor = roundoff_floor(umax, hmin);
-        let radius = h.a.abs().max(h.c.abs()) + h.b.abs();
-        if radius <= floor {
-            *h = Sym2::new(0.0, 0.0, 0.0);
-        }
+/// The field's values against a mesh of `n` vertices (in both dimensions): one per
+/// vertex, finite wherever a cell (as `adjacency` says) uses the vertex.
+pub(super) fn check_values(
+    values: &[f64],
+    n: usize,
+    adjacency: &Adjacency,
+) -> Result<(), RecoveryError> {
+    if values.len() != n {
+        return Err(RecoveryError::Count { values: values.len(), vertices: n });
     }
+    if let Some(vertex) = (0..n).find(|&v| adjacency.is_used(v) && !values[v].is_finite()) {
+        return Err(RecoveryError::NotFinite { vertex, value: values[vertex] });
+    }
+    Ok(())
 }
 
 /// Twice the signed area of triangle `t` and the gradient of the P1 function with

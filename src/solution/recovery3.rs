@@ -1,7 +1,8 @@
 //! Gradient and Hessian recovery of a scalar P1 field on tetrahedra: the 3D counterpart
-//! of [`super::recovery`], with the same two [`Method`]s and the same errors; what does
-//! not depend on the dimension (the vertex adjacency, the patches grown ring by ring, the
-//! QR solve, the round-off floor) is shared in `super::patch`.
+//! of [`super::recovery`], with the same two [`Method`]s and the same errors (and the same
+//! checks of the values); what does not depend on the dimension (the vertex adjacency,
+//! the patches grown ring by ring, the QR solve, the round-off floor) is shared in
+//! `super::patch`.
 //!
 //! - [`Method::L2Projection`]: the gradient of the edge fit (`super::edge_fit`: at each
 //!   vertex the linear vector field closest, in least squares over its patch, to the P1
@@ -50,7 +51,8 @@
 use rayon::prelude::*;
 
 use super::edge_fit::recovered_gradients;
-use super::patch::{least_squares_conditioned, roundoff_floor, Adjacency, Patch};
+use super::patch::{drop_roundoff, least_squares_conditioned, Adjacency, Patch};
+use super::recovery::check_values;
 use super::{Method, RecoveryError};
 use crate::metric::Sym3;
 
@@ -130,48 +132,17 @@ pub fn recover3(
     values: &[f64],
     method: Method,
 ) -> Result<Derivatives3, RecoveryError> {
-    let n = mesh.points.len();
-    if values.len() != n {
-        return Err(RecoveryError::Count { values: values.len(), vertices: n });
-    }
-    if let Some(vertex) = (0..n).find(|&v| mesh.is_used(v) && !values[v].is_finite()) {
-        return Err(RecoveryError::NotFinite { vertex, value: values[vertex] });
-    }
+    check_values(values, mesh.points.len(), &mesh.adjacency)?;
     let mut d = match method {
         Method::L2Projection => fit_then_project(mesh, values),
         Method::QuadraticFit => quadratic_fit(mesh, values)?,
     };
-    drop_roundoff(mesh, values, &mut d.hessian);
+    // The largest absolute row sum bounds the spectral radius.
+    let radius = |h: &Sym3| {
+        h.rows().iter().map(|r| r.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max)
+    };
+    drop_roundoff(mesh.points, &mesh.adjacency, values, &mut d.hessian, radius, Sym3::ZERO);
     Ok(d)
-}
-
-/// Zeroes each Hessian that is round-off ([`roundoff_floor`]): a linear field's Hessian
-/// is then zero at every vertex.
-fn drop_roundoff(mesh: &P1Mesh3<'_>, values: &[f64], hessian: &mut [Sym3]) {
-    for (v, h) in hessian.iter_mut().enumerate() {
-        if !mesh.is_used(v) {
-            continue;
-        }
-        let p = mesh.points[v];
-        let (mut umax, mut hmin) = (values[v].abs(), f64::INFINITY);
-        for &w in mesh.neighbours(v) {
-            umax = umax.max(values[w as usize].abs());
-            let len = distance(mesh.points[w as usize], p);
-            if len > 0.0 {
-                hmin = hmin.min(len);
-            }
-        }
-        if !hmin.is_finite() {
-            continue;
-        }
-        // The largest absolute row sum bounds the spectral radius.
-        let rows = h.rows();
-        let radius =
-            rows.iter().map(|r| r.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max);
-        if radius <= roundoff_floor(umax, hmin) {
-            *h = Sym3::ZERO;
-        }
-    }
 }
 
 fn distance(a: Point3, b: Point3) -> f64 {
