@@ -138,7 +138,7 @@ pub enum AdapterError {
         adapter: &'static str,
     },
     /// A mesh in space given to a planar remesher.
-    #[error("the {adapter} adapter remeshes planar meshes only; a tetrahedral mesh goes to mmg3d (mmg3d_O3), a triangulated surface in space to mmgs (mmgs_O3): --adapter mmg3d|mmgs")]
+    #[error("the {adapter} adapter remeshes planar meshes only; a tetrahedral mesh goes to mmg3d (mmg3d_O3), a triangulated surface in space to mmgs (mmgs_O3), either to Gmsh: --adapter mmg3d|mmgs|gmsh")]
     Space {
         /// The adapter chosen.
         adapter: String,
