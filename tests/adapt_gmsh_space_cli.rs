@@ -12,10 +12,11 @@
 //! - `adapt --adapter gmsh` runs the loop in space (the refusal is gone): a history
 //!   row per iteration with the 3D measures, the best mesh valid with its tags;
 //! - the cube's boundary alone, a surface in space, through BAMG: tags back, share up;
-//! - `--hausd` with gmsh in space is refused (exit 2), before any tool is looked for.
+//! - `--hausd` with gmsh in space is refused (exit 2), before any tool is looked for;
+//! - a Gmsh that exits with 0 and writes no mesh is a failure quoting its output.
 //!
 //! Needs Python's `gmsh` and `gmsh` on PATH (skipped with a message without them,
-//! mandatory under CI), but for the last test.
+//! mandatory under CI), but for the last two tests (`sh` only).
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -280,5 +281,47 @@ fn hausd_with_gmsh_in_space_is_refused() {
     ]);
     assert_eq!(res.status.code(), Some(2), "{}", streams(&res));
     assert!(streams(&res).contains("--hausd"), "{}", streams(&res));
+    assert!(!out.exists());
+}
+
+/// A Gmsh that exits with 0 without writing a mesh (as Gmsh does when its 3D meshing
+/// fails) is a failure quoting its output, and no output file is left.
+#[cfg(unix)]
+#[test]
+fn a_gmsh_that_writes_no_volume_mesh_is_a_failure() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("box.msh");
+    let mut mesh = kuhn_box(2, [1.0; 3]);
+    let n = mesh.points.len();
+    mesh.point_data.insert(
+        "metric".into(),
+        smartmesh::formats::DataArray::new(
+            9,
+            (0..n).flat_map(|_| [25.0, 0.0, 0.0, 0.0, 25.0, 0.0, 0.0, 0.0, 25.0]).collect(),
+        ),
+    );
+    write_path(&input, &mesh, None, &Default::default()).unwrap();
+    let fake = dir.path().join("gmsh");
+    std::fs::write(
+        &fake,
+        "#!/bin/sh\necho 'Error   : ERROR: Edge 1 - 15 multiple times in surface mesh'\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let out = dir.path().join("o.msh");
+    let res = run(&[
+        "remesh",
+        input.to_str().unwrap(),
+        "--adapter",
+        "gmsh",
+        "--adapter-program",
+        fake.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = streams(&res);
+    assert_eq!(res.status.code(), Some(1), "{err}");
+    assert!(err.contains("it wrote no out.msh") && err.contains("multiple times"), "{err}");
     assert!(!out.exists());
 }
