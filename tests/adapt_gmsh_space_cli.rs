@@ -13,10 +13,12 @@
 //!   row per iteration with the 3D measures, the best mesh valid with its tags;
 //! - the cube's boundary alone, a surface in space, through BAMG: tags back, share up;
 //! - `--hausd` with gmsh in space is refused (exit 2), before any tool is looked for;
+//! - a mesh of two physical volumes is refused before Gmsh runs (Gmsh's MMG3D fails on
+//!   volumes sharing a surface);
 //! - a Gmsh that exits with 0 and writes no mesh is a failure quoting its output.
 //!
 //! Needs Python's `gmsh` and `gmsh` on PATH (skipped with a message without them,
-//! mandatory under CI), but for the last two tests (`sh` only).
+//! mandatory under CI), but for the last three tests (`sh` at most).
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -284,6 +286,50 @@ fn hausd_with_gmsh_in_space_is_refused() {
     assert!(!out.exists());
 }
 
+/// A cube of two physical volumes is refused before Gmsh runs (exit 2, naming them):
+/// Gmsh 4.15.2's MMG3D fails on volumes that share a surface.
+#[cfg(unix)]
+#[test]
+fn two_volumes_are_refused_with_gmsh() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("two.msh");
+    let mut mesh = with_metric(kuhn_box(2, [1.0; 3]));
+    for b in mesh.blocks.iter_mut().filter(|b| b.kind == CellKind::Tetra) {
+        let half = b.physical.len() / 2;
+        b.physical[half..].iter_mut().for_each(|p| *p = 2);
+    }
+    mesh.tag_names.insert((3, 2), "Second".into());
+    write_path(&input, &mesh, None, &Default::default()).unwrap();
+    let ran = dir.path().join("ran");
+    let fake = dir.path().join("gmsh");
+    std::fs::write(&fake, format!("#!/bin/sh\ntouch '{}'\n", ran.display())).unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let out = dir.path().join("o.msh");
+    let res = run(&[
+        "remesh",
+        input.to_str().unwrap(),
+        "--adapter",
+        "gmsh",
+        "--adapter-program",
+        fake.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = streams(&res);
+    assert_eq!(res.status.code(), Some(2), "{err}");
+    assert!(err.contains("2 volumes") && err.contains("\"Second\""), "{err}");
+    assert!(!ran.exists() && !out.exists());
+}
+
+/// `mesh` with the point data `metric` 25 I at every vertex.
+fn with_metric(mut mesh: TaggedMesh) -> TaggedMesh {
+    let n = mesh.points.len();
+    let values = (0..n).flat_map(|_| [25.0, 0.0, 0.0, 0.0, 25.0, 0.0, 0.0, 0.0, 25.0]).collect();
+    mesh.point_data.insert("metric".into(), smartmesh::formats::DataArray::new(9, values));
+    mesh
+}
+
 /// A Gmsh that exits with 0 without writing a mesh (as Gmsh does when its 3D meshing
 /// fails) is a failure quoting its output, and no output file is left.
 #[cfg(unix)]
@@ -292,15 +338,7 @@ fn a_gmsh_that_writes_no_volume_mesh_is_a_failure() {
     use std::os::unix::fs::PermissionsExt;
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("box.msh");
-    let mut mesh = kuhn_box(2, [1.0; 3]);
-    let n = mesh.points.len();
-    mesh.point_data.insert(
-        "metric".into(),
-        smartmesh::formats::DataArray::new(
-            9,
-            (0..n).flat_map(|_| [25.0, 0.0, 0.0, 0.0, 25.0, 0.0, 0.0, 0.0, 25.0]).collect(),
-        ),
-    );
+    let mesh = with_metric(kuhn_box(2, [1.0; 3]));
     write_path(&input, &mesh, None, &Default::default()).unwrap();
     let fake = dir.path().join("gmsh");
     std::fs::write(

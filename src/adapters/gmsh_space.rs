@@ -19,7 +19,10 @@
 //!   warning "No vector or scalar value found in PostView field") and fill the volume
 //!   from the surface mesh: longest edges 7.8 to 9.7 in the metric, mean ratio 0.51;
 //! - on a surface in space BAMG follows the view: box_cyl's boundary, 81.0 % → 87.4 %
-//!   (longest 4.46 → 1.49), where `mmgs_O3` made 62.8 % (69.0 % with `-hgrad -1`).
+//!   (longest 4.46 → 1.49), where `mmgs_O3` made 62.8 % (69.0 % with `-hgrad -1`);
+//! - several volumes sharing a surface: Gmsh's one MMG3D call for them fails
+//!   ("Mmg3d: unable to set mesh size"), the first volume alone meshed; such a mesh is
+//!   refused ([`one_volume`]).
 //!
 //! One run, in a temporary directory that is removed afterwards (also when smartmesh is
 //! interrupted), as the planar path does: the mesh [prepared](super::prepare) as
@@ -117,6 +120,9 @@ pub(crate) fn adapt_space(
         ));
     }
     prepared.mesh.entities.clear();
+    if volume {
+        one_volume(&mut prepared.mesh)?;
+    }
     let dir = tempfile::Builder::new().prefix("smartmesh-gmsh3d-").tempdir().map_err(|source| {
         AdapterError::Io { what: "creating a temporary directory".into(), source }
     })?;
@@ -163,6 +169,40 @@ pub(crate) fn adapt_space(
     Ok(Adapted { mesh: result, stats: None })
 }
 
+/// Makes the tetrahedra of `mesh` one Gmsh volume entity (their elementary tag the
+/// physical one: Gmsh numbers the discrete entities anew anyway), or refuses a mesh of
+/// several physical volumes: Gmsh 4.15.2 meshes several volumes that share a surface
+/// with one MMG3D call that fails ("Mmg3d: unable to set mesh size") and saves the
+/// first volume alone — seen on two boxes sharing a face, as smartmesh's discrete model
+/// and as Gmsh's own OpenCASCADE model meshed with `Mesh.Algorithm3D` 7.
+fn one_volume(mesh: &mut TaggedMesh) -> Result<(), AdapterError> {
+    let mut volumes = std::collections::BTreeSet::new();
+    for b in mesh.blocks.iter_mut().filter(|b| b.kind == CellKind::Tetra) {
+        for (g, &p) in b.geometrical.iter_mut().zip(&b.physical) {
+            if p != 0 {
+                *g = p;
+            }
+            volumes.insert((p, *g));
+        }
+    }
+    if volumes.len() > 1 {
+        let named: Vec<String> = volumes
+            .iter()
+            .map(|&(p, g)| match (p, mesh.tag_name(3, p)) {
+                (0, _) => format!("untagged (elementary {g})"),
+                (_, Some(name)) => format!("{p} \"{name}\""),
+                (_, None) => p.to_string(),
+            })
+            .collect();
+        return Err(AdapterError::Kind(format!(
+            "gmsh: the tetrahedra make {} volumes ({}); Gmsh 4.15.2 meshes volumes that share a surface with one MMG3D call, which fails (\"Mmg3d: unable to set mesh size\") and leaves all but the first empty: a mesh of several volumes goes to mmg3d (--adapter mmg3d)",
+            volumes.len(),
+            named.join(", ")
+        )));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -177,5 +217,21 @@ mod tests {
         assert!(at("Mesh.Algorithm3D") > at("Mesh.MeshSizeFromCurvature"));
         assert_eq!(a[a.len() - 1], "-parse_and_exit");
         assert!(VOLUME_SCRIPT.contains("Mesh 3;") && SURFACE_SCRIPT.contains("Mesh 2;"));
+    }
+
+    #[test]
+    fn one_physical_volume_becomes_one_entity_and_two_are_refused() {
+        let mut m = TaggedMesh::new();
+        m.points = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        m.block_mut(CellKind::Tetra).push(&[0, 1, 2, 3], 10, 1);
+        m.block_mut(CellKind::Tetra).push(&[0, 1, 2, 3], 10, 2);
+        m.block_mut(CellKind::Triangle).push(&[0, 2, 1], 4, 7);
+        one_volume(&mut m).unwrap();
+        let tags: Vec<(i32, i32)> = m.cells().map(|c| (c.2, c.3)).collect();
+        assert_eq!(tags, [(10, 10), (10, 10), (4, 7)]);
+        m.tag_names.insert((3, 11), "B".into());
+        m.block_mut(CellKind::Tetra).push(&[0, 1, 2, 3], 11, 3);
+        let e = one_volume(&mut m).unwrap_err().to_string();
+        assert!(e.contains("2 volumes (10, 11 \"B\")") && e.contains("mmg3d"), "{e}");
     }
 }

@@ -75,7 +75,8 @@ the metric: the mesh as a discrete model (CreateTopology; CreateGeometry;), its 
 that honours an anisotropic view; Delaunay, Frontal and HXT fill the volume from the surface mesh). \
 Gmsh runs MMG3D with its own gradation (1.3) and the boundary frozen: measured on a Gmsh cube with \
 a wall layer, 49.5% of the edges in [1/sqrt2, sqrt2] before, 72.8% after (mmg3d_O3: 30.2%, 83.3% \
-with --hgrad -1). Of the MMG options it takes none; --adapter-arg goes on its command line.
+with --hgrad -1). Of the MMG options it takes none; --adapter-arg goes on its command line. A mesh \
+of several physical volumes is refused: Gmsh 4.15.2's MMG3D fails on volumes sharing a surface.
 
 Examples:
   smartmesh size fixtures/cylinder.msh --recipe fixtures/cylinder.toml -o field.vtu
