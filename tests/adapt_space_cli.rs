@@ -2,11 +2,12 @@
 //! point and volume adapted through `mmg3d_O3` to a UNIFORM recipe, checked apart from
 //! the library (every tetrahedron positive, the cube's volume, every tag and name back,
 //! a history row per iteration, the median edge length over the recipe's size), and
-//! Ctrl-C while `mmg3d_O3` runs (a fake that hangs): exit 130, the history says
-//! "interrupted", the program's process group is gone.
+//! Ctrl-C while `mmg3d_O3` or `gmsh` (`--adapter gmsh`) runs (a fake that hangs): exit
+//! 130, the history says "interrupted", the program's process group and its temporary
+//! directory are gone.
 //!
 //! Needs Python's `gmsh` and `mmg3d_O3` on PATH for the first (skipped with a message
-//! without them, mandatory under CI); the second needs only `sh`.
+//! without them, mandatory under CI); the others need only `sh`.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -130,6 +131,20 @@ fn wait_for_line(file: &Path, child: &mut std::process::Child) -> String {
 #[cfg(target_os = "linux")]
 #[test]
 fn ctrl_c_stops_mmg3d_in_the_loop_and_keeps_the_start() {
+    ctrl_c_stops("mmg3d_O3", &[]);
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn ctrl_c_stops_gmsh_in_the_loop_and_keeps_the_start() {
+    ctrl_c_stops("gmsh", &["--adapter", "gmsh"]);
+}
+
+/// Ctrl-C while the remesher `program` (a fake that hangs), chosen by `adapter`, runs
+/// on a tetrahedral cube: exit 130, the start kept, the program gone, and no temporary
+/// directory left behind.
+#[cfg(target_os = "linux")]
+fn ctrl_c_stops(program: &str, adapter: &[&str]) {
     use std::os::unix::fs::PermissionsExt;
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("box.msh");
@@ -138,29 +153,26 @@ fn ctrl_c_stops_mmg3d_in_the_loop_and_keeps_the_start() {
     write_path(&input, &mesh, None, &Default::default()).unwrap();
     let recipe = dir.path().join("u.toml");
     std::fs::write(&recipe, UNIFORM).unwrap();
-    let pid_file = dir.path().join("mmg3d.pid");
-    let fake = dir.path().join("mmg3d_O3");
+    let pid_file = dir.path().join("remesher.pid");
+    let fake = dir.path().join(program);
     std::fs::write(
         &fake,
         format!("#!/bin/sh\necho $$ > '{}'\nwhile :; do sleep 1; done\n", pid_file.display()),
     )
     .unwrap();
     std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
     let out = dir.path().join("o.msh");
-    let mut child = command(&[
-        "adapt",
-        input.to_str().unwrap(),
-        "-r",
-        recipe.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--adapter-program",
-        fake.to_str().unwrap(),
-    ])
-    .stdout(Stdio::piped())
-    .stderr(Stdio::piped())
-    .spawn()
-    .unwrap();
+    let (i, r, o) = (input.to_str().unwrap(), recipe.to_str().unwrap(), out.to_str().unwrap());
+    let mut args = vec!["adapt", i, "-r", r, "-o", o, "--adapter-program", fake.to_str().unwrap()];
+    args.extend_from_slice(adapter);
+    let mut child = command(&args)
+        .env("TMPDIR", &tmp)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
     let pid = wait_for_line(&pid_file, &mut child);
     assert!(std::process::Command::new("kill")
         .args(["-INT", &child.id().to_string()])
@@ -181,7 +193,10 @@ fn ctrl_c_stops_mmg3d_in_the_loop_and_keeps_the_start() {
     assert_eq!(h["iterations"].as_array().unwrap().len(), 1, "{h}");
     // The start is the best mesh, written whole.
     assert_eq!(read_path(&out, None).unwrap().points.len(), 64);
-    // The fake mmg3d_O3 is gone (a zombie left to an init that does not reap counts).
+    // The remesher's temporary directory is removed.
+    let left: Vec<_> = std::fs::read_dir(&tmp).unwrap().collect();
+    assert!(left.is_empty(), "{program}: left in TMPDIR: {left:?}");
+    // The fake remesher is gone (a zombie left to an init that does not reap counts).
     let t = Instant::now();
     loop {
         let state = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok();
@@ -190,7 +205,7 @@ fn ctrl_c_stops_mmg3d_in_the_loop_and_keeps_the_start() {
         if !alive {
             break;
         }
-        assert!(t.elapsed() < Duration::from_secs(5), "mmg3d_O3 ({pid}) lives on");
+        assert!(t.elapsed() < Duration::from_secs(5), "{program} ({pid}) lives on");
         std::thread::sleep(Duration::from_millis(20));
     }
 }

@@ -5,7 +5,7 @@
 use smartmesh_formats::TaggedMesh;
 
 use super::{Adapted, Adapter, AdapterError};
-use crate::metric::Sym2;
+use crate::metric::{Sym2, Sym3};
 use crate::size_controls::SizeControls;
 use crate::topology::Topology;
 
@@ -33,6 +33,16 @@ impl Adapter for Controlled {
             .apply(mesh, &mut metric)
             .map_err(|e| AdapterError::Input(format!("applying --hausd: {e}")))?;
         self.inner.adapt(mesh, topology, &metric)
+    }
+
+    /// The controls bound a planar metric (curves of a planar boundary): a mesh in space
+    /// is refused before any work, naming the remeshers that bound it themselves.
+    fn adapt_space(&self, mesh: &TaggedMesh, metric: &[Sym3]) -> Result<Adapted, AdapterError> {
+        let _ = (mesh, metric);
+        Err(AdapterError::Input(format!(
+            "--hausd with the {} adapter bounds a planar metric by the curvature of its boundary curves; in space it is MMG's -hausd (--adapter mmg3d|mmgs)",
+            self.inner.name()
+        )))
     }
 }
 

@@ -1,6 +1,9 @@
 //! Gmsh as an [`Adapter`]: the mesh becomes a discrete model, the metric a background
 //! view, and BAMG — Gmsh's only 2D algorithm that honours an anisotropic tensor view
-//! (DESIGN.md) — meshes the model again.
+//! (DESIGN.md) — meshes the model again. This file is the planar path
+//! ([`Adapter::adapt`]); a mesh in space ([`Adapter::adapt_space`]: tetrahedra through
+//! MMG3D inside Gmsh, a surface in space through BAMG) is [`super::gmsh_space`]'s, with
+//! what was measured of Gmsh's 3D algorithms.
 //!
 //! One run, in a temporary directory that is removed afterwards (also when smartmesh is
 //! interrupted: the program is stopped, see [`super::tool`]):
@@ -34,7 +37,7 @@ use super::prepare::prepare;
 use super::restore::{attach_names, ensure_tags_kept};
 use super::tool::{find_program, quote, run};
 use super::{Adapted, Adapter, AdapterError, AdapterOptions};
-use crate::metric::Sym2;
+use crate::metric::{Sym2, Sym3};
 use crate::metric_field::MetricField;
 use crate::topology::Topology;
 
@@ -140,9 +143,14 @@ impl Adapter for GmshAdapter {
         ensure_tags_kept(self.name(), &prepared.mesh, &result)?;
         Ok(Adapted { mesh: result, stats: None })
     }
+
+    fn adapt_space(&self, mesh: &TaggedMesh, metric: &[Sym3]) -> Result<Adapted, AdapterError> {
+        super::gmsh_space::adapt_space(&self.program, &self.options.extra_args, mesh, metric)
+    }
 }
 
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), AdapterError> {
+/// Writes `bytes` as `dir/name`.
+pub(super) fn write(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), AdapterError> {
     std::fs::write(dir.join(name), bytes).map_err(|source| AdapterError::Io {
         what: format!("writing {name} in {}", dir.display()),
         source,

@@ -203,7 +203,7 @@ impl Adapter for MmgAdapter {
     fn adapt_space(&self, mesh: &TaggedMesh, metric: &[Sym3]) -> Result<Adapted, AdapterError> {
         if self.tool == Tool::Mmg2d {
             return Err(AdapterError::Kind(
-                "mmg2d remeshes planar meshes; a tetrahedral mesh goes to mmg3d, a surface in space to mmgs (--adapter mmg3d|mmgs)".into(),
+                "mmg2d remeshes planar meshes; a tetrahedral mesh goes to mmg3d, a surface in space to mmgs, either to Gmsh (--adapter mmg3d|mmgs|gmsh)".into(),
             ));
         }
         let prepared = prepare_space(mesh, metric.len(), self.tool.shape())?;

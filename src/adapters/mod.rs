@@ -9,11 +9,12 @@
 //!
 //! Two dimensions, one trait: [`Adapter::adapt`] takes a planar mesh and a
 //! [`Sym2`] per vertex, [`Adapter::adapt_space`] a mesh in space (tetrahedra with their
-//! boundary triangles, or a triangulated surface) and a [`Sym3`] per vertex. The 2D
-//! remeshers (native, Gmsh's BAMG) keep the trait's `adapt_space`, which refuses with
-//! [`AdapterError::Space`] naming the tools that take such a mesh; the MMG adapter
-//! answers both, each with the program of its kind (`mmg2d_O3`; `mmg3d_O3` or
-//! `mmgs_O3`). The 3D metric comes from the metric field (`MetricField<Sym3>`).
+//! boundary triangles, or a triangulated surface) and a [`Sym3`] per vertex. The native
+//! remesher keeps the trait's `adapt_space`, which refuses with [`AdapterError::Space`]
+//! naming the tools that take such a mesh; the MMG adapter answers both, each with the
+//! program of its kind (`mmg2d_O3`; `mmg3d_O3` or `mmgs_O3`), and so does Gmsh (BAMG in
+//! the plane; MMG3D inside Gmsh for tetrahedra, BAMG for a surface in space:
+//! [`gmsh_space`]). The 3D metric comes from the metric field (`MetricField<Sym3>`).
 //!
 //! - [`Controlled`]: any of them with size controls applied to the metric it is given
 //!   (`--hausd` for the remeshers without that option);
@@ -25,6 +26,7 @@
 
 mod controlled;
 pub(crate) mod gmsh;
+mod gmsh_space;
 pub(crate) mod mmg;
 pub(crate) mod native;
 pub(crate) mod prepare;
@@ -136,7 +138,7 @@ pub enum AdapterError {
         adapter: &'static str,
     },
     /// A mesh in space given to a planar remesher.
-    #[error("the {adapter} adapter remeshes planar meshes only; a tetrahedral mesh goes to mmg3d (mmg3d_O3), a triangulated surface in space to mmgs (mmgs_O3): --adapter mmg3d|mmgs")]
+    #[error("the {adapter} adapter remeshes planar meshes only; a tetrahedral mesh goes to mmg3d (mmg3d_O3), a triangulated surface in space to mmgs (mmgs_O3), either to Gmsh: --adapter mmg3d|mmgs|gmsh")]
     Space {
         /// The adapter chosen.
         adapter: String,
@@ -171,7 +173,8 @@ pub enum AdapterKind {
     Native,
     /// MMG's `mmg2d_O3`.
     Mmg2d,
-    /// Gmsh with BAMG on a background view.
+    /// Gmsh on a background view: BAMG in the plane and on surfaces, MMG3D inside
+    /// Gmsh for tetrahedra.
     Gmsh,
     /// MMG's `mmg3d_O3`: tetrahedral meshes in space.
     Mmg3d,
@@ -197,7 +200,8 @@ impl AdapterKind {
         matches!(self, AdapterKind::Mmg2d | AdapterKind::Mmg3d | AdapterKind::Mmgs)
     }
 
-    /// Whether the remesher takes meshes in space ([`Adapter::adapt_space`]).
+    /// Whether the remesher takes only meshes in space ([`Adapter::adapt_space`]): mmg3d
+    /// and mmgs. (Gmsh takes both kinds; mmg2d and native planar meshes only.)
     pub fn is_space(self) -> bool {
         matches!(self, AdapterKind::Mmg3d | AdapterKind::Mmgs)
     }

@@ -1,10 +1,10 @@
 //! `adapt` on a mesh in space: a tetrahedral mesh through `mmg3d_O3`, a triangulated
-//! surface through `mmgs_O3`, each mesh sized by the recipe's 3D engine
-//! ([`smartmesh::adapt::space`]). The result files, the progress, Ctrl-C, the end of
-//! the run, the solver (`--solver`) and the vertex budget (`--complexity`, or the
-//! recipe's own complexity with `--solver` alone) are the planar command's (`adapt.rs`);
-//! this file only checks what the loop in space cannot do, picks the remesher, gives the
-//! recipe's own complexity in space and starts the loop.
+//! surface through `mmgs_O3` (or either through Gmsh: `--adapter gmsh`), each mesh
+//! sized by the recipe's 3D engine ([`smartmesh::adapt::space`]). The result files, the
+//! progress, Ctrl-C, the end of the run, the solver (`--solver`) and the vertex budget
+//! (`--complexity`, or the recipe's own complexity with `--solver` alone) are the planar
+//! command's (`adapt.rs`); this file only checks what the loop in space cannot do, picks
+//! the remesher, gives the recipe's own complexity in space and starts the loop.
 
 use std::path::Path;
 use std::time::Instant;
@@ -23,18 +23,22 @@ use smartmesh::{adapter, AdapterKind, AdapterOptions};
 
 use super::{finish, handle_interrupts, is_stdio, ui, AdaptArgs, AdapterArg, CliError, Progress};
 
-/// The remesher of a mesh in space: the one asked for (mmg3d, mmgs), else mmg3d for a
-/// mesh with tetrahedra and mmgs for a surface.
+/// The remesher of a mesh in space: the one asked for (mmg3d, mmgs, gmsh), else mmg3d
+/// for a mesh with tetrahedra and mmgs for a surface.
 fn remesher(args: &AdaptArgs, tetrahedra: bool) -> Result<AdapterKind, CliError> {
     match args.adapter {
         AdapterArg::Mmg3d => Ok(AdapterKind::Mmg3d),
         AdapterArg::Mmgs => Ok(AdapterKind::Mmgs),
+        AdapterArg::Gmsh if args.hausd.is_some() => Err(CliError::usage(format!(
+            "{}: a mesh in space; --hausd with --adapter gmsh bounds a planar metric only (in space it is MMG's -hausd: --adapter mmg3d|mmgs)",
+            crate::cli::input_name(&args.input)
+        ))),
+        AdapterArg::Gmsh => Ok(AdapterKind::Gmsh),
         AdapterArg::Native if tetrahedra => Ok(AdapterKind::Mmg3d),
         AdapterArg::Native => Ok(AdapterKind::Mmgs),
-        AdapterArg::Mmg2d | AdapterArg::Gmsh => Err(CliError::usage(format!(
-            "{}: a mesh in space; --adapter {} remeshes planar meshes: a tetrahedral mesh goes to mmg3d, a surface in space to mmgs (the default picks them)",
+        AdapterArg::Mmg2d => Err(CliError::usage(format!(
+            "{}: a mesh in space; --adapter mmg2d remeshes planar meshes: a tetrahedral mesh goes to mmg3d or gmsh, a surface in space to mmgs or gmsh (the default picks mmg3d or mmgs)",
             crate::cli::input_name(&args.input),
-            AdapterKind::from(args.adapter).name()
         ))),
     }
 }
@@ -134,7 +138,9 @@ pub(super) fn run(
         // (1.3 by default) would grade the field again and spend vertices off the budget
         // (measured on box_cyl with a wall layer: 2 to 3.5 times the count asked, not
         // 1.4 to 1.6), so it is off unless --hgrad asks for it.
-        hgrad: args.controls.hgrad.or(budget.as_ref().map(|_| -1.0)),
+        // Gmsh drives MMG3D with its own gradation, which its command line cannot turn off
+        // (adapters/gmsh_space.rs): --hgrad is then the recipe's gradation alone.
+        hgrad: args.controls.hgrad.or(budget.as_ref().map(|_| -1.0)).filter(|_| kind.is_mmg()),
         hausd: args.hausd,
         nosurf: args.nosurf,
         // The loop's --hmin/--hmax bound the recipe's field, which MMG then follows.

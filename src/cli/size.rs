@@ -41,7 +41,8 @@ with h3 and axis3 too; `recipe check RECIPE MESH` says which of the recipe's ste
 space (the others are refused, exit 2). Inside a volume Gmsh reads a tensor view only with MMG3D
 (`-setnumber Mesh.Algorithm3D 7`, the surfaces meshed by BAMG); its Delaunay (1), Frontal (4)
 and HXT (10) warn \"No vector or scalar value found in PostView field\" and fill the volume
-from the surface mesh.
+from the surface mesh. `remesh`/`adapt --adapter gmsh` drive that MMG3D on a tetrahedral mesh
+(a Gmsh cube with a wall layer: 49.5% of edges in [1/sqrt2, sqrt2] before, 73.8% after).
 
 Examples:
   smartmesh size naca.msh --recipe agard01.toml -o naca.sol
