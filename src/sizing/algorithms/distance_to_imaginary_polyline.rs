@@ -34,7 +34,7 @@
 //! foot's segment, where the direction is noise) the tensor is the tangent size along
 //! the line and the smaller size across it in every direction, which this tube tensor
 //! meets continuously as d goes to 0. Coarse meshes: the 3D driver also sizes the
-//! corners of every tetrahedron a segment meets ([`crate::sizing::field3`]). A polyline
+//! corners of every cell a segment meets ([`crate::sizing::field3`]). A polyline
 //! of (x, y) points on a mesh in space is refused, naming the step (there is no implied
 //! z); `recipe check` lists such a step as not sized in space. `REGIONS` is not taken in
 //! space yet (refused).

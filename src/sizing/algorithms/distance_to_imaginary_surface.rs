@@ -11,7 +11,7 @@
 //! scan of every triangle.
 //!
 //! Coarse meshes: the sheet is a free source, so the 3D driver also gives a tensor to the
-//! corners of every tetrahedron a sheet triangle meets, whatever their distance
+//! corners of every cell a sheet triangle meets, whatever their distance
 //! ([`crate::sizing::field3`]), as the 2D propagation does for the cells an imaginary
 //! polyline crosses.
 //!
