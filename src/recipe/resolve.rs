@@ -25,8 +25,9 @@
 //! parameter accepts, before each dimension `d` ≥ 1 it declares, `d + 1`: the border of a
 //! volume is a surface and the inside of a domain a volume, so DISTANCE_TO_BORDER takes
 //! surfaces, curves or points, UNIFORM volumes first, CURVATURE_OF_BORDER surfaces or
-//! curves, DISTANCE_TO_IMAGINARY_POLYLINE volumes or surfaces. A planar mesh has no
-//! volume, and its regions resolve as the declarations say.
+//! curves, DISTANCE_TO_IMAGINARY_POLYLINE and DISTANCE_TO_IMAGINARY_SURFACE volumes or
+//! surfaces. A planar mesh has no volume, and its regions resolve as the declarations
+//! say.
 //!
 //! Every algorithm is then built from its table line
 //! ([`crate::sizing::algorithms::TABLE`]) with its arguments in declaration order.

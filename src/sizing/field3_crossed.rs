@@ -155,6 +155,7 @@ fn sheet_step(points: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>, reach: f64) -> Al
         perpendicular: DistanceFunction::try_new(0.01, 0.3, reach, 1.0).unwrap(),
         parallel: DistanceFunction::try_new(0.2, 0.5, reach, 1.0).unwrap(),
         sheet: Sheet { path: "sheet.stl".into(), points, triangles },
+        within: EntitySet::default(),
     })
 }
 
