@@ -413,7 +413,10 @@ fn convert(args: ConvertArgs) -> Result<(), CliError> {
             )))
         }
     };
-    let recipe = read_recipe(&args.input, args.from, "--from", args.read)?;
+    let mut recipe = read_recipe(&args.input, args.from, "--from", args.read)?;
+    // A sheet's FILE is relative to the recipe that names it: the copy names the same file.
+    let to_path = (args.output.as_os_str() != "-").then_some(args.output.as_path());
+    recipe.rebase_files(to_path).map_err(CliError::usage)?;
     let text = recipe.to_format(to);
     if args.output.as_os_str() == "-" {
         return print_stdout(&text);
