@@ -336,3 +336,42 @@ fn a_step_not_sized_in_space_is_said_and_refused() {
     );
     assert!(!out.exists());
 }
+
+/// DISTANCE_TO_POINT on a region naming a surface: its sources are vertices (points, or a
+/// curve's vertices), so in space a surface is refused by `recipe check` and `size` alike,
+/// at the recipe's line, rather than accepted by the check and refused by `size`; a curve
+/// is sized (its vertices as points).
+#[test]
+fn distance_to_point_on_a_surface_is_refused_at_its_line_in_space() {
+    require_public_fixtures!();
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = |entity: &str| {
+        format!(
+            "[global]\nh_max = 0.5\n\n[regions]\nR = [\"{entity}\"]\n\n[functions.D]\nkind = \"distance\"\nsize_at_source = 0.05\nsize_at_max_distance = 0.5\nmax_distance = 0.5\nexponent = 1.0\n\n[[algorithms]]\ntype = \"distance_to_point\"\nfunction = \"D\"\nregions = [\"R\"]\n"
+        )
+    };
+    let path = dir.path().join("p.toml");
+    let out = dir.path().join("p.sol");
+    std::fs::write(&path, recipe("Cylinder")).unwrap();
+    let r = path.to_str().unwrap();
+    for args in [
+        vec!["recipe", "check", r, &box_cyl()],
+        vec!["size", &box_cyl(), "--recipe", r, "-o", out.to_str().unwrap()],
+    ] {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            e.contains("p.toml:17") && e.contains("DISTANCE_TO_POINT takes points or curves"),
+            "{e}"
+        );
+    }
+    assert!(!out.exists());
+    std::fs::write(&path, recipe("CylinderEdges")).unwrap();
+    let o = run(&["recipe", "check", "--json", r, &box_cyl()]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["regions"][0]["dimension"], 1, "{j}");
+    let o = run(&["size", &box_cyl(), "--recipe", r, "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+}

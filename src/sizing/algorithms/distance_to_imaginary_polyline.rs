@@ -118,7 +118,7 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
                 field: "regions",
                 aliases: &[],
                 keys: &["REGIONS"],
-                kind: ParameterKind::Regions { dimensions: &[2], optional: true },
+                kind: ParameterKind::Regions { dimensions: &[2], optional: true, lift: true },
                 line_break_after: false,
                 doc: "The faces (in space: volumes or surfaces) where it applies; everywhere \
                       when left out.",

@@ -89,7 +89,7 @@ impl SizingAlgorithm for DistanceToImaginarySurface {
                 field: "regions",
                 aliases: &[],
                 keys: &["REGIONS"],
-                kind: ParameterKind::Regions { dimensions: &[2], optional: true },
+                kind: ParameterKind::Regions { dimensions: &[2], optional: true, lift: true },
                 line_break_after: false,
                 doc: "The volumes or surfaces where it applies; everywhere when left out.",
             },
