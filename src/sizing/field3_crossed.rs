@@ -4,7 +4,9 @@
 //! a folded sheet mark the corners a scan of every piece against every cell marks; on an
 //! unwarped hexahedral grid, the cells a segment meets are those an independent slab test
 //! finds; coarse meshes crossed far from every vertex size the corners of the crossed
-//! cells, and only those; the field is the same on 1 and 3 threads.
+//! cells, and only those; the field is the same on 1 and 3 threads. And SOLUTION_HESSIAN
+//! on those cells (split into tetrahedra for the recovery), exact on a quadratic at every
+//! vertex.
 
 use smartmesh_formats::{CellBlock, CellKind, TaggedMesh};
 
@@ -311,5 +313,81 @@ fn crossed_cells_give_the_same_field_on_any_thread_count() {
         same_on_any_thread_count(&mesh, &plan(vec![polyline_step(helix(), 0.02)], Some(10.0)));
         let sheet = sheet_step(points.clone(), triangles.clone(), 0.02);
         same_on_any_thread_count(&mesh, &plan(vec![sheet], Some(10.0)));
+    }
+}
+
+/// SOLUTION_HESSIAN on hexahedra, prisms and pyramids (split into tetrahedra on their
+/// corners for the recovery): on a quadratic field with Hessian H, both recoveries are
+/// exact at every vertex, so every vertex's metric is the same multiple c H, and the
+/// normalisation over the cells' volume gives the c of a tetrahedral mesh of the same box
+/// (the analytic twin: c = C^(2/3) det(H)^(-1/3), C the complexity of N vertices over the
+/// unit box's volume).
+#[test]
+fn solution_hessian_on_every_volume_cell_is_exact_on_a_quadratic() {
+    use crate::sizing::algorithms::SolutionHessian;
+    use crate::solution::{Method, Target};
+    use smartmesh_formats::DataArray;
+    use smartmesh_test_support::grid::kuhn_box;
+    let h: [[f64; 3]; 3] = [[2.0, 0.5, 0.1], [0.5, 1.0, -0.3], [0.1, -0.3, 3.0]];
+    let u = |p: &[f64; 3]| {
+        let mut q = 0.3 * p[0] - p[2];
+        for i in 0..3 {
+            for j in 0..3 {
+                q += 0.5 * h[i][j] * p[i] * p[j];
+            }
+        }
+        q
+    };
+    let det = h[0][0] * (h[1][1] * h[2][2] - h[1][2] * h[2][1])
+        - h[0][1] * (h[1][0] * h[2][2] - h[1][2] * h[2][0])
+        + h[0][2] * (h[1][0] * h[2][1] - h[1][1] * h[2][0]);
+    let n: f64 = 3000.0;
+    // The complexity of N vertices (a unit mesh's tetrahedra per vertex), over the unit box.
+    let complexity = n / crate::metric::complexity3::vertices_of_complexity3(1.0);
+    let c = complexity.powf(2.0 / 3.0) * det.powf(-1.0 / 3.0);
+    for method in [Method::QuadraticFit, Method::L2Projection] {
+        let step = Algorithm::SolutionHessian(SolutionHessian {
+            fields: vec!["u".into()],
+            target: Target::Vertices(n),
+            p: 2.0,
+            method,
+            h_min: Some(1e-6),
+            h_max: Some(100.0),
+            max_aspect: Some(1e6),
+        });
+        // Warped cells (jittered): a warped face split along different diagonals by its
+        // two cells leaves the tetrahedra's volume a little off the box's, so only the
+        // common multiple is checked; planar ones: the multiple too.
+        let meshes = [
+            (volume_mesh(4, 0.4, 5, Kind::Hexa), false),
+            (volume_mesh(4, 0.4, 6, Kind::Wedge), false),
+            (volume_mesh(3, 0.4, 7, Kind::Pyramid), false),
+            (volume_mesh(4, 0.0, 0, Kind::Hexa), true),
+            (volume_mesh(4, 0.0, 0, Kind::Wedge), true),
+            (volume_mesh(3, 0.0, 0, Kind::Pyramid), true),
+            (kuhn_box(4, [1.0, 1.0, 1.0]), true),
+        ];
+        for (m, (mut mesh, planar)) in meshes.into_iter().enumerate() {
+            let values = mesh.points.iter().map(u).collect();
+            mesh.point_data.insert("u".into(), DataArray::new(1, values));
+            let field = run(&mesh, &plan(vec![step.clone()], None)).unwrap();
+            assert!(field.reached.iter().all(|&r| r), "mesh {m}");
+            let first = field.tensors[0].to_metric().to_row_major()[0] / h[0][0];
+            if planar {
+                assert!((first - c).abs() < 1e-9 * c, "{method:?} mesh {m}: {first} {c}");
+            }
+            for (v, t) in field.tensors.iter().enumerate() {
+                let metric = t.to_metric().to_row_major();
+                for i in 0..3 {
+                    for j in 0..3 {
+                        let (got, want) = (metric[3 * i + j], first * h[i][j]);
+                        assert!(
+                            (got - want).abs() < 1e-9 * first,
+                            "{method:?} mesh {m} vertex {v}: {got} {want}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }
