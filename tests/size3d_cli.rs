@@ -375,3 +375,31 @@ fn distance_to_point_on_a_surface_is_refused_at_its_line_in_space() {
     let o = run(&["size", &box_cyl(), "--recipe", r, "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
 }
+
+/// `recipe check` takes a surface mesh in space (MMG's box-cylinder surface, triangles off
+/// one plane) as `size` does: regions resolved on its 3D topology (tag 4, the cylinder, a
+/// surface), every step said sized in space, exit 0; `size` then sizes it.
+#[test]
+fn recipe_check_takes_a_surface_mesh_in_space_as_size_does() {
+    require_public_fixtures!();
+    let surface = public_fixture("3d/box_cyl_surf_input.mesh").display().to_string();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.toml");
+    std::fs::write(
+        &path,
+        "[global]\nh_max = 0.5\n\n[regions]\nCyl = [4]\n\n[polylines]\nV = [[0.1, 0.5, 0.5], [1.9, 0.5, 0.5]]\n\n[functions.D]\nkind = \"distance\"\nsize_at_source = 0.05\nsize_at_max_distance = 0.5\nmax_distance = 0.5\nexponent = 1.0\n\n[functions.P]\nkind = \"projection\"\nsize_at_max_distance = 0.5\nmax_distance = 0.2\nexponent = 1.0\n\n[[algorithms]]\ntype = \"distance_to_border\"\nperpendicular = \"D\"\nparallel = \"D\"\nregions = [\"Cyl\"]\n\n[[algorithms]]\ntype = \"distance_to_imaginary_polyline\"\nperpendicular = \"D\"\npolyline_distance = \"D\"\nprojection = \"P\"\npolyline = \"V\"\n",
+    )
+    .unwrap();
+    let r = path.to_str().unwrap();
+    let o = run(&["recipe", "check", "--json", r, &surface]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["regions"][0]["dimension"], 2, "{j}");
+    assert_eq!(j["regions"][0]["vertices"], 67, "{j}");
+    assert_eq!(j["algorithms"][0]["faces"], 1, "{j}");
+    assert_eq!(j["algorithms"][1]["in_space"], true, "{j}");
+    assert_eq!(j["sizing"], "every step is sized in space");
+    let out = dir.path().join("s.sol");
+    let o = run(&["size", &surface, "--recipe", r, "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+}

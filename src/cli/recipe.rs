@@ -246,13 +246,13 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
     // recipe may name the face tags that only meshing gives.
     // Periodic pairs: a graph is meshed with them matched; on a mesh, images of each
     // other, and how well they match.
-    // A mesh with volume cells: its regions are resolved on its 3D topology, and each
-    // step says whether it is sized in space; nothing is periodic yet. (A surface alone off one plane is still refused, as
-    // by every 2D command.)
+    // A mesh in space, as `size` takes it (volume cells, or surface cells off one plane:
+    // a surface mesh for mmgs): its regions are resolved on its 3D topology, and each
+    // step says whether it is sized in space; nothing is periodic yet.
     let pairs = recipe.periodic_pairs();
     let (mesh, in_space) = match starting_mesh(&args.mesh, args.from, &pairs) {
         Ok(mesh) => (mesh, false),
-        Err(StartError::NotPlanar { source: smartmesh::NotPlanar::Volume { .. }, .. }) => {
+        Err(StartError::NotPlanar { .. }) => {
             if !pairs.is_empty() {
                 return Err(CliError::usage(format!(
                     "{}: a mesh in space; periodic pairs are checked on planar meshes only ({NO_3D_PERIODIC})",
