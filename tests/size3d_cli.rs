@@ -378,7 +378,8 @@ fn distance_to_point_on_a_surface_is_refused_at_its_line_in_space() {
 
 /// `recipe check` takes a surface mesh in space (MMG's box-cylinder surface, triangles off
 /// one plane) as `size` does: regions resolved on its 3D topology (tag 4, the cylinder, a
-/// surface), every step said sized in space, exit 0; `size` then sizes it.
+/// surface), every step said sized in space, exit 0; `size` then sizes it. A
+/// SOLUTION_HESSIAN step, which needs volume cells, is said not sized there.
 #[test]
 fn recipe_check_takes_a_surface_mesh_in_space_as_size_does() {
     require_public_fixtures!();
@@ -402,4 +403,16 @@ fn recipe_check_takes_a_surface_mesh_in_space_as_size_does() {
     let out = dir.path().join("s.sol");
     let o = run(&["size", &surface, "--recipe", r, "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    // SOLUTION_HESSIAN needs volume cells: not sized on a surface alone, and said so.
+    let hessian = dir.path().join("h.toml");
+    std::fs::write(
+        &hessian,
+        "[[algorithms]]\ntype = \"solution_hessian\"\nfield = \"u\"\ncomplexity = 1000\n",
+    )
+    .unwrap();
+    let o = run(&["recipe", "check", "--json", hessian.to_str().unwrap(), &surface]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["algorithms"][0]["in_space"], false, "{j}");
+    assert!(j["sizing"].as_str().unwrap().contains("1 (SOLUTION_HESSIAN)"), "{j}");
 }

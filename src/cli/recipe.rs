@@ -188,12 +188,22 @@ const NO_3D_PERIODIC: &str = "periodic pairs are not there yet in space";
 
 /// What `recipe check` says of sizing a mesh in space: which steps are sized there and
 /// which are not yet (`size` refuses those, exit 2).
-fn space_sizing(plan: &smartmesh::sizing::SizingPlan) -> String {
+/// Whether `size` sizes `algorithm` on a mesh in space with (`volumes`) or without
+/// volume cells.
+fn sized_in_space(algorithm: &smartmesh::sizing::Algorithm, volumes: bool) -> bool {
+    if volumes {
+        algorithm.in_space()
+    } else {
+        algorithm.on_surface_in_space()
+    }
+}
+
+fn space_sizing(plan: &smartmesh::sizing::SizingPlan, volumes: bool) -> String {
     let list = |sized: bool| -> Vec<String> {
         plan.steps
             .iter()
             .enumerate()
-            .filter(|(_, s)| s.algorithm.in_space() == sized)
+            .filter(|(_, s)| sized_in_space(&s.algorithm, volumes) == sized)
             .map(|(i, s)| format!("{} ({})", i + 1, s.algorithm.keyword()))
             .collect()
     };
@@ -264,6 +274,8 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         Err(e) => return Err(e.into()),
     };
     let topo = Topology::from_mesh(&mesh);
+    // A surface alone in space: the steps that need volume cells are not sized there.
+    let volumes = mesh.blocks.iter().any(|b| b.kind.dim() == 3);
     let resolved = recipe.resolve(&topo)?;
     let plan = &resolved.plan;
     let sides = if in_space {
@@ -285,7 +297,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
                 curves: e.curves.len(),
                 faces: e.faces.len(),
                 volumes: e.volumes.len(),
-                in_space: in_space.then(|| s.algorithm.in_space()),
+                in_space: in_space.then(|| sized_in_space(&s.algorithm, volumes)),
             }
         })
         .collect();
@@ -299,7 +311,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
             gradation: plan.gradation,
             regions: &resolved.regions,
             algorithms: steps,
-            sizing: in_space.then(|| space_sizing(plan)),
+            sizing: in_space.then(|| space_sizing(plan, volumes)),
             periodic,
         };
         let mut s = serde_json::to_string_pretty(&summary)?;
@@ -398,7 +410,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         }
     }
     if in_space {
-        let _ = writeln!(o, "  sizing      {}", space_sizing(plan));
+        let _ = writeln!(o, "  sizing      {}", space_sizing(plan, volumes));
     }
     print_stdout(&o)
 }

@@ -368,6 +368,11 @@ impl SizingAlgorithm for SolutionHessian {
 
     /// In space: the metric of [`SolutionHessian::metric_in_space`] at every vertex some
     /// tetrahedron uses, in increasing order.
+    /// The recovery and the normalisation work on volume cells: not on a surface alone.
+    fn sized_on_surface_in_space(&self) -> bool {
+        false
+    }
+
     fn work_in_space<'a>(
         &'a self,
         mesh: &'a SpaceMesh<'a>,
