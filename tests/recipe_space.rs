@@ -1,6 +1,7 @@
 //! Recipes for meshes in space: polylines of (x, y, z) points in every recipe format,
 //! written back as read; a mix of 2 and 3 coordinates refused with the file and line;
-//! planar polylines written byte for byte as before.
+//! planar polylines written byte for byte as before; a sheet's FILE rewritten by
+//! `recipe convert` so that the converted recipe names the same file.
 
 use std::path::Path;
 
@@ -194,4 +195,90 @@ fn a_polyline_in_space_or_a_sheet_on_a_planar_mesh_is_refused_by_step() {
     let r = Recipe::from_path(&path).unwrap();
     let e = smartmesh::recipe::size_mesh(&mesh, &r, &mut |_| {}).unwrap_err().to_string();
     assert!(e.contains("DISTANCE_TO_IMAGINARY_SURFACE sizes a mesh in space only"), "{e}");
+}
+
+#[path = "support/cli.rs"]
+mod support;
+
+/// The sheet's FILE in the recipe text `text` (TOML `file = "…"`, libconfig or JSON).
+fn file_in(text: &str) -> String {
+    let at = text.find("wake").expect("a sheet path");
+    let start = text[..at].rfind('"').unwrap() + 1;
+    let end = at + text[at..].find('"').unwrap();
+    text[start..end].to_string()
+}
+
+/// `recipe convert` to another folder makes the sheet's relative FILE relative to the new
+/// recipe's folder (and the converted recipe reads the same sheet); written back into the
+/// same folder it is kept as written; to standard output it is absolute; an absolute
+/// path is kept; a key written in an included file is taken from that file's folder.
+#[test]
+fn converting_a_recipe_to_another_folder_keeps_its_sheet() {
+    use support::{run, streams};
+    let dir = tempfile::tempdir().unwrap();
+    let root = std::fs::canonicalize(dir.path()).unwrap();
+    for d in ["a/sheets", "b/c", "a/inc"] {
+        std::fs::create_dir_all(root.join(d)).unwrap();
+    }
+    write_sheet(&root.join("a/sheets"), "wake.stl");
+    write_sheet(&root.join("a/inc"), "wake2.stl");
+    let input = root.join("a/r.toml");
+    std::fs::write(&input, SURFACE_TOML).unwrap();
+    let topo = smartmesh::Topology::from_mesh(
+        &smartmesh::formats::read_path(&support::fixture("distributor.msh"), None).unwrap(),
+    );
+    let sheet_of = |path: &Path| {
+        let plan = Recipe::from_path(path).unwrap().resolve(&topo).unwrap().plan;
+        match &plan.steps[0].algorithm {
+            smartmesh::sizing::Algorithm::DistanceToImaginarySurface(a) => {
+                // The same file, however its path reads.
+                let file = std::fs::canonicalize(&a.sheet.path).unwrap();
+                (file, a.sheet.points.clone(), a.sheet.triangles.clone())
+            }
+            other => panic!("{other:?}"),
+        }
+    };
+    let want = sheet_of(&input);
+    let convert = |from: &Path, to: &str| {
+        let mut args = vec!["recipe", "convert", from.to_str().unwrap(), to];
+        if to == "-" {
+            args.extend(["--to", "json"]);
+        }
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+        o
+    };
+    for (to, path) in [
+        ("b/c/r.cfg", "../../a/sheets/wake.stl"),
+        ("b/r.json", "../a/sheets/wake.stl"),
+        ("a/sheets/r.toml", "wake.stl"),
+        ("a/r.json", "sheets/wake.stl"),
+    ] {
+        let out = root.join(to);
+        convert(&input, out.to_str().unwrap());
+        assert_eq!(file_in(&std::fs::read_to_string(&out).unwrap()), path, "{to}");
+        assert_eq!(sheet_of(&out), want, "{to}");
+    }
+    // To standard output: absolute.
+    let o = convert(&input, "-");
+    let absolute = root.join("a/sheets/wake.stl");
+    assert_eq!(file_in(&String::from_utf8_lossy(&o.stdout)), absolute.to_str().unwrap());
+    // An absolute FILE is kept.
+    let abs = root.join("a/abs.toml");
+    std::fs::write(&abs, SURFACE_TOML.replace("sheets/wake.stl", absolute.to_str().unwrap()))
+        .unwrap();
+    let out = root.join("b/c/abs.toml");
+    convert(&abs, out.to_str().unwrap());
+    assert_eq!(file_in(&std::fs::read_to_string(&out).unwrap()), absolute.to_str().unwrap());
+    // A key written in an included file, relative to that file's folder.
+    let cfg = Recipe::from_path(&input).unwrap().to_libconfig();
+    let (head, algorithms) = cfg.split_at(cfg.find("CREATE_ALGORITHMS").unwrap());
+    std::fs::write(root.join("a/inc/algorithms.cfg"), algorithms.replace("sheets/wake", "wake2"))
+        .unwrap();
+    let main = root.join("a/main.cfg");
+    std::fs::write(&main, format!("{head}@include \"inc/algorithms.cfg\"\n")).unwrap();
+    let out = root.join("b/c/main.toml");
+    convert(&main, out.to_str().unwrap());
+    assert_eq!(file_in(&std::fs::read_to_string(&out).unwrap()), "../../a/inc/wake2.stl");
+    assert_eq!(sheet_of(&out), sheet_of(&main));
 }

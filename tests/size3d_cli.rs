@@ -8,6 +8,7 @@
 //! and `mmg3d_O3` for the remeshing (skipped without it).
 
 use smartmesh::formats::{read_path, CellKind};
+use smartmesh_test_support::formats::public_fixture;
 use smartmesh_test_support::require_public_fixtures;
 use smartmesh_test_support::space::{
     box_cyl, cylinder_wall_recipe, edge_lengths, edges, median, metric_length, size_then_mmg3d,
@@ -248,4 +249,84 @@ fn a_step_not_sized_in_space_is_said_and_refused() {
         "{e}"
     );
     assert!(!out.exists());
+}
+
+/// DISTANCE_TO_POINT on a region naming a surface: its sources are vertices (points, or a
+/// curve's vertices), so in space a surface is refused by `recipe check` and `size` alike,
+/// at the recipe's line, rather than accepted by the check and refused by `size`; a curve
+/// is sized (its vertices as points).
+#[test]
+fn distance_to_point_on_a_surface_is_refused_at_its_line_in_space() {
+    require_public_fixtures!();
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = |entity: &str| {
+        format!(
+            "[global]\nh_max = 0.5\n\n[regions]\nR = [\"{entity}\"]\n\n[functions.D]\nkind = \"distance\"\nsize_at_source = 0.05\nsize_at_max_distance = 0.5\nmax_distance = 0.5\nexponent = 1.0\n\n[[algorithms]]\ntype = \"distance_to_point\"\nfunction = \"D\"\nregions = [\"R\"]\n"
+        )
+    };
+    let path = dir.path().join("p.toml");
+    let out = dir.path().join("p.sol");
+    std::fs::write(&path, recipe("Cylinder")).unwrap();
+    let r = path.to_str().unwrap();
+    for args in [
+        vec!["recipe", "check", r, &box_cyl()],
+        vec!["size", &box_cyl(), "--recipe", r, "-o", out.to_str().unwrap()],
+    ] {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{}", streams(&o));
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            e.contains("p.toml:17") && e.contains("DISTANCE_TO_POINT takes points or curves"),
+            "{e}"
+        );
+    }
+    assert!(!out.exists());
+    std::fs::write(&path, recipe("CylinderEdges")).unwrap();
+    let o = run(&["recipe", "check", "--json", r, &box_cyl()]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["regions"][0]["dimension"], 1, "{j}");
+    let o = run(&["size", &box_cyl(), "--recipe", r, "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+}
+
+/// `recipe check` takes a surface mesh in space (MMG's box-cylinder surface, triangles off
+/// one plane) as `size` does: regions resolved on its 3D topology (tag 4, the cylinder, a
+/// surface), every step said sized in space, exit 0; `size` then sizes it. A
+/// SOLUTION_HESSIAN step, which needs volume cells, is said not sized there.
+#[test]
+fn recipe_check_takes_a_surface_mesh_in_space_as_size_does() {
+    require_public_fixtures!();
+    let surface = public_fixture("3d/box_cyl_surf_input.mesh").display().to_string();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.toml");
+    std::fs::write(
+        &path,
+        "[global]\nh_max = 0.5\n\n[regions]\nCyl = [4]\n\n[polylines]\nV = [[0.1, 0.5, 0.5], [1.9, 0.5, 0.5]]\n\n[functions.D]\nkind = \"distance\"\nsize_at_source = 0.05\nsize_at_max_distance = 0.5\nmax_distance = 0.5\nexponent = 1.0\n\n[functions.P]\nkind = \"projection\"\nsize_at_max_distance = 0.5\nmax_distance = 0.2\nexponent = 1.0\n\n[[algorithms]]\ntype = \"distance_to_border\"\nperpendicular = \"D\"\nparallel = \"D\"\nregions = [\"Cyl\"]\n\n[[algorithms]]\ntype = \"distance_to_imaginary_polyline\"\nperpendicular = \"D\"\npolyline_distance = \"D\"\nprojection = \"P\"\npolyline = \"V\"\n",
+    )
+    .unwrap();
+    let r = path.to_str().unwrap();
+    let o = run(&["recipe", "check", "--json", r, &surface]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["regions"][0]["dimension"], 2, "{j}");
+    assert_eq!(j["regions"][0]["vertices"], 67, "{j}");
+    assert_eq!(j["algorithms"][0]["faces"], 1, "{j}");
+    assert_eq!(j["algorithms"][1]["in_space"], true, "{j}");
+    assert_eq!(j["sizing"], "every step is sized in space");
+    let out = dir.path().join("s.sol");
+    let o = run(&["size", &surface, "--recipe", r, "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    // SOLUTION_HESSIAN needs volume cells: not sized on a surface alone, and said so.
+    let hessian = dir.path().join("h.toml");
+    std::fs::write(
+        &hessian,
+        "[[algorithms]]\ntype = \"solution_hessian\"\nfield = \"u\"\ncomplexity = 1000\n",
+    )
+    .unwrap();
+    let o = run(&["recipe", "check", "--json", hessian.to_str().unwrap(), &surface]);
+    assert_eq!(o.status.code(), Some(0), "{}", streams(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["algorithms"][0]["in_space"], false, "{j}");
+    assert!(j["sizing"].as_str().unwrap().contains("1 (SOLUTION_HESSIAN)"), "{j}");
 }

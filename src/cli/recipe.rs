@@ -188,12 +188,22 @@ const NO_3D_PERIODIC: &str = "periodic pairs are not there yet in space";
 
 /// What `recipe check` says of sizing a mesh in space: which steps are sized there and
 /// which are not yet (`size` refuses those, exit 2).
-fn space_sizing(plan: &smartmesh::sizing::SizingPlan) -> String {
+/// Whether `size` sizes `algorithm` on a mesh in space with (`volumes`) or without
+/// volume cells.
+fn sized_in_space(algorithm: &smartmesh::sizing::Algorithm, volumes: bool) -> bool {
+    if volumes {
+        algorithm.in_space()
+    } else {
+        algorithm.on_surface_in_space()
+    }
+}
+
+fn space_sizing(plan: &smartmesh::sizing::SizingPlan, volumes: bool) -> String {
     let list = |sized: bool| -> Vec<String> {
         plan.steps
             .iter()
             .enumerate()
-            .filter(|(_, s)| s.algorithm.in_space() == sized)
+            .filter(|(_, s)| sized_in_space(&s.algorithm, volumes) == sized)
             .map(|(i, s)| format!("{} ({})", i + 1, s.algorithm.keyword()))
             .collect()
     };
@@ -246,13 +256,13 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
     // recipe may name the face tags that only meshing gives.
     // Periodic pairs: a graph is meshed with them matched; on a mesh, images of each
     // other, and how well they match.
-    // A mesh with volume cells: its regions are resolved on its 3D topology, and each
-    // step says whether it is sized in space; nothing is periodic yet. (A surface alone off one plane is still refused, as
-    // by every 2D command.)
+    // A mesh in space, as `size` takes it (volume cells, or surface cells off one plane:
+    // a surface mesh for mmgs): its regions are resolved on its 3D topology, and each
+    // step says whether it is sized in space; nothing is periodic yet.
     let pairs = recipe.periodic_pairs();
     let (mesh, in_space) = match starting_mesh(&args.mesh, args.from, &pairs) {
         Ok(mesh) => (mesh, false),
-        Err(StartError::NotPlanar { source: smartmesh::NotPlanar::Volume { .. }, .. }) => {
+        Err(StartError::NotPlanar { .. }) => {
             if !pairs.is_empty() {
                 return Err(CliError::usage(format!(
                     "{}: a mesh in space; periodic pairs are checked on planar meshes only ({NO_3D_PERIODIC})",
@@ -264,6 +274,8 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         Err(e) => return Err(e.into()),
     };
     let topo = Topology::from_mesh(&mesh);
+    // A surface alone in space: the steps that need volume cells are not sized there.
+    let volumes = mesh.blocks.iter().any(|b| b.kind.dim() == 3);
     let resolved = recipe.resolve(&topo)?;
     let plan = &resolved.plan;
     let sides = if in_space {
@@ -285,7 +297,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
                 curves: e.curves.len(),
                 faces: e.faces.len(),
                 volumes: e.volumes.len(),
-                in_space: in_space.then(|| s.algorithm.in_space()),
+                in_space: in_space.then(|| sized_in_space(&s.algorithm, volumes)),
             }
         })
         .collect();
@@ -299,7 +311,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
             gradation: plan.gradation,
             regions: &resolved.regions,
             algorithms: steps,
-            sizing: in_space.then(|| space_sizing(plan)),
+            sizing: in_space.then(|| space_sizing(plan, volumes)),
             periodic,
         };
         let mut s = serde_json::to_string_pretty(&summary)?;
@@ -398,7 +410,7 @@ fn check(args: CheckArgs) -> Result<(), CliError> {
         }
     }
     if in_space {
-        let _ = writeln!(o, "  sizing      {}", space_sizing(plan));
+        let _ = writeln!(o, "  sizing      {}", space_sizing(plan, volumes));
     }
     print_stdout(&o)
 }
@@ -413,7 +425,10 @@ fn convert(args: ConvertArgs) -> Result<(), CliError> {
             )))
         }
     };
-    let recipe = read_recipe(&args.input, args.from, "--from", args.read)?;
+    let mut recipe = read_recipe(&args.input, args.from, "--from", args.read)?;
+    // A sheet's FILE is relative to the recipe that names it: the copy names the same file.
+    let to_path = (args.output.as_os_str() != "-").then_some(args.output.as_path());
+    recipe.rebase_files(to_path).map_err(CliError::usage)?;
     let text = recipe.to_format(to);
     if args.output.as_os_str() == "-" {
         return print_stdout(&text);

@@ -24,6 +24,7 @@ pub mod model;
 pub mod on_mesh;
 pub mod periodic;
 pub mod preprocess;
+mod rebase;
 pub mod resolve;
 pub mod serde_io;
 mod sheet;

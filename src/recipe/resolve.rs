@@ -25,8 +25,10 @@
 //! parameter accepts, before each dimension `d` ≥ 1 it declares, `d + 1`: the border of a
 //! volume is a surface and the inside of a domain a volume, so DISTANCE_TO_BORDER takes
 //! surfaces, curves or points, UNIFORM volumes first, CURVATURE_OF_BORDER surfaces or
-//! curves, DISTANCE_TO_IMAGINARY_POLYLINE volumes or surfaces. A planar mesh has no
-//! volume, and its regions resolve as the declarations say.
+//! curves, DISTANCE_TO_IMAGINARY_POLYLINE and DISTANCE_TO_IMAGINARY_SURFACE volumes or
+//! surfaces. DISTANCE_TO_POINT is not lifted: its sources are vertices (points, or a
+//! curve's vertices), and a surface is refused here, at the recipe's line, rather than by
+//! `size`. A planar mesh has no volume, and its regions resolve as the declarations say.
 //!
 //! Every algorithm is then built from its table line
 //! ([`crate::sizing::algorithms::TABLE`]) with its arguments in declaration order.
@@ -93,18 +95,20 @@ pub struct Resolved {
 }
 
 /// Which dimensions region list `field` of `a` accepts, the one it prefers first: its
-/// declaration's, and on a mesh in space each `d` ≥ 1 of them lifted to `d + 1` before it
-/// (see the module documentation).
+/// declaration's, and on a mesh in space, when it lifts, each `d` ≥ 1 of them as `d + 1`
+/// before it (see the module documentation).
 fn expected(a: &AlgorithmSpec, field: &str, in_space: bool) -> Vec<usize> {
-    let declared = a
+    let (declared, lift) = a
         .parameters()
         .iter()
         .find_map(|p| match p.kind {
-            ParameterKind::Regions { dimensions, .. } if p.field == field => Some(dimensions),
+            ParameterKind::Regions { dimensions, lift, .. } if p.field == field => {
+                Some((dimensions, lift))
+            }
             _ => None,
         })
-        .unwrap_or(&[]);
-    if !in_space {
+        .unwrap_or((&[], false));
+    if !in_space || !lift {
         return declared.to_vec();
     }
     let mut out = Vec::with_capacity(4);

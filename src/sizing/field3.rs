@@ -27,15 +27,15 @@
 //!
 //! Coarse meshes: a source made of mesh entities has its own vertices at distance 0, so
 //! it always reaches them. A free source (an imaginary polyline or sheet) also reaches
-//! the corners of every tetrahedron one of its pieces meets, whatever their distance
-//! (`sizing::space::crossed_corners`, exact), each with the tensor of its true distance
-//! (the functions hold their end values past their maximum distance), as the 2D
-//! propagation seeds the corners of the cells a free polyline crosses: a source thinner
-//! than the cells still refines the cells it passes through, and the adaptation loop
-//! then brings vertices within reach. The step's report counts those corners as its
-//! seeds. Only tetrahedra are tested (not other volume cells, nor a surface mesh's
-//! triangles): a free source that meets none and is out of reach of every vertex
-//! reaches none (a warning says so).
+//! the corners of every cell one of its pieces meets, whatever their distance
+//! (`sizing::space::crossed_corners`, exact: the volume cells of every kind, or a surface
+//! mesh's triangles and quadrilaterals), each with the tensor of its true distance (the
+//! functions hold their end values past their maximum distance), as the 2D propagation
+//! seeds the corners of the cells a free polyline crosses: a source thinner than the
+//! cells still refines the cells it passes through, and the adaptation loop then brings
+//! vertices within reach. The step's report counts those corners as its seeds. A free
+//! source that meets no cell and is out of reach of every vertex reaches none (a warning
+//! says so).
 
 use rayon::prelude::*;
 
@@ -310,3 +310,7 @@ mod twins;
 #[cfg(test)]
 #[path = "field3_imaginary.rs"]
 mod imaginary;
+
+#[cfg(test)]
+#[path = "field3_crossed.rs"]
+mod crossed;

@@ -57,6 +57,7 @@ fn sheet_step(points: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>, reach: f64) -> Al
         perpendicular: DistanceFunction::try_new(0.01, 0.3, 0.5 * reach, 1.0).unwrap(),
         parallel: DistanceFunction::try_new(0.2, 0.5, reach, 1.0).unwrap(),
         sheet: Sheet { path: "sheet.stl".into(), points, triangles },
+        within: EntitySet::default(),
     })
 }
 
@@ -337,4 +338,69 @@ fn the_exact_piece_tetrahedron_test_is_its_twin() {
         &t
     ));
     assert!(piece_meets_tet(&[[0.2, 0.2, -1.0], [0.2, 0.2, 2.0], [2.0, 2.0, 2.0]], &t));
+}
+
+/// The box of [`kuhn_box`] (6 cubes a side) cut at x = 0.5 into two volumes: tag 1 for
+/// x < 0.5, tag 2 beyond.
+fn two_volumes() -> TaggedMesh {
+    let mut mesh = kuhn_box(6, [1.0, 1.0, 1.0]);
+    let points = mesh.points.clone();
+    for block in mesh.blocks.iter_mut().filter(|b| b.kind == smartmesh_formats::CellKind::Tetra) {
+        let cells: Vec<Vec<u32>> = block.cells().map(|c| c.to_vec()).collect();
+        for (i, c) in cells.iter().enumerate() {
+            let x: f64 = c.iter().map(|&v| points[v as usize][0]).sum::<f64>() / 4.0;
+            let tag = if x > 0.5 { 2 } else { 1 };
+            block.physical[i] = tag;
+            block.geometrical[i] = tag;
+        }
+    }
+    mesh
+}
+
+/// REGIONS on a free source in space: with a volume (or a surface) named, the vertices
+/// of that volume (the corners of its cells: x ≥ 0.5) or surface (x = 1) are sized as
+/// without REGIONS, bit for bit, crossed corners included, and no other vertex is.
+#[test]
+fn regions_keep_a_free_source_to_their_vertices() {
+    let mesh = two_volumes();
+    let topology = Topology::from_mesh(&mesh);
+    let volumes = &topology.space.as_ref().unwrap().volumes;
+    let second = volumes.iter().position(|v| v.tag == 2).unwrap();
+    let side = super::tests::face(&mesh, 12);
+    let points = helix(24, [0.5, 0.5, 0.1], 0.3, 0.06);
+    let perp = DistanceFunction::try_new(0.02, 0.3, 0.25, 1.0).unwrap();
+    let (sheet, tris) = (
+        vec![[0.3, -0.1, 0.43], [1.2, -0.1, 0.41], [1.2, 1.1, 0.47], [0.3, 1.1, 0.45]],
+        vec![[0, 1, 2], [0, 2, 3]],
+    );
+    let regions = [
+        (EntitySet { volumes: vec![second], ..EntitySet::default() }, 0.5),
+        (EntitySet { faces: vec![side], ..EntitySet::default() }, 1.0),
+    ];
+    for (within, x_min) in regions {
+        for mut step in
+            [polyline_step(points.clone(), perp, 0.6), sheet_step(sheet.clone(), tris.clone(), 0.3)]
+        {
+            let everywhere = run(&mesh, &plan(vec![step.clone()], Some(10.0))).unwrap();
+            match &mut step {
+                Algorithm::DistanceToImaginaryPolyline(a) => a.within = within.clone(),
+                Algorithm::DistanceToImaginarySurface(a) => a.within = within.clone(),
+                _ => unreachable!(),
+            }
+            let field = run(&mesh, &plan(vec![step.clone()], Some(10.0))).unwrap();
+            let (mut inside, mut outside) = (0, 0);
+            for (v, p) in mesh.points.iter().enumerate() {
+                let in_region = p[0] >= x_min;
+                assert_eq!(field.reached[v], everywhere.reached[v] && in_region, "vertex {v}");
+                if field.reached[v] {
+                    assert_eq!(field.tensors[v], everywhere.tensors[v], "vertex {v}");
+                    inside += 1;
+                } else if everywhere.reached[v] {
+                    outside += 1;
+                }
+            }
+            assert!(inside > 10 && outside > 10, "{inside} {outside}");
+            same_on_any_thread_count(&mesh, &plan(vec![step], Some(10.0)));
+        }
+    }
 }

@@ -1,7 +1,8 @@
-//! Whether a point, a segment or a triangle meets a tetrahedron (closed sets: touching
-//! counts), decided by the signs of the exact orientation predicates alone (`orient3d`,
-//! and `orient2d` in a coordinate plane for coplanar pieces), so that the answer never
-//! depends on rounding: a free source's coarse-mesh rule (`sizing::space`) asks it.
+//! Whether a point, a segment or a triangle meets a tetrahedron, or the convex hull of a
+//! cell's corners (closed sets: touching counts), decided by the signs of the exact
+//! orientation predicates alone (`orient3d`, and `orient2d` in a coordinate plane for
+//! coplanar pieces), so that the answer never depends on rounding: a free source's
+//! coarse-mesh rule (`sizing::space`) asks it.
 //!
 //! Method. A piece (triangle `abc`, a segment as `(a, b, b)`, a point as `(p, p, p)`)
 //! meets a tetrahedron T iff a corner of the piece lies in T, or an edge of the piece
@@ -17,6 +18,10 @@
 //! a collinear sheet triangle) is its three edges, each met by a segment when the four
 //! points are coplanar and their projection onto a coordinate plane that maps their plane
 //! (or common line) one to one shows the two segments meeting.
+//!
+//! A cell of another kind (a surface triangle or quadrilateral, a hexahedron, a prism, a
+//! pyramid) is met through its corners' convex hull ([`piece_meets_hull`]): the union of
+//! the tetrahedra of every four corners, each decided as above.
 //!
 //! Hand-written: no crate offers exact segment/triangle–tetrahedron tests (parry3d's
 //! intersection tests are in floating point, with tolerances).
@@ -121,28 +126,37 @@ fn collinear(a: Point3, b: Point3, c: Point3) -> bool {
     (0..3).all(|k| orient2d(drop_axis(a, k), drop_axis(b, k), drop_axis(c, k)) == 0.0)
 }
 
-/// Whether closed segments `pq` and `ab` of space meet: coplanar, then in the coordinate
-/// plane onto which their plane (or their common line) projects one to one.
+/// Whether closed segments `pq` and `ab` of space meet: coplanar, then in a coordinate
+/// plane onto which their plane (or their common line) projects one to one. That plane is
+/// chosen from exact signs alone: one where a triple of the four points keeps a non-zero
+/// area (its plane is theirs, and the projection keeps it one to one); when every triple
+/// is collinear in every projection the four lie on one line, and any coordinate plane
+/// where two distinct ones stay distinct maps that line one to one. (Choosing it from the
+/// rounded cross product of the directions could take two parallel segments on distinct
+/// lines onto one line, or miss a crossing the rounding called parallel.)
 fn segments_meet3(p: Point3, q: Point3, a: Point3, b: Point3) -> bool {
     if orient3d(p, q, a, b) != 0.0 {
         return false;
     }
-    let n = cross(sub(q, p), sub(b, a));
-    let k = if n != [0.0; 3] {
-        largest(n)
-    } else {
-        // Parallel or on one line: drop the axis along which the segment runs least.
-        let d = if p != q { sub(q, p) } else { sub(b, a) };
-        let s = d.map(f64::abs);
-        if s[0] <= s[1] && s[0] <= s[2] {
-            0
-        } else if s[1] <= s[2] {
-            1
-        } else {
-            2
-        }
+    let points = [p, q, a, b];
+    let triples = [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]];
+    let spans = |k: usize| {
+        triples.iter().any(|t| {
+            let [x, y, z] = t.map(|i| drop_axis(points[i], k));
+            orient2d(x, y, z) != 0.0
+        })
     };
-    segments_meet2(drop_axis(p, k), drop_axis(q, k), drop_axis(a, k), drop_axis(b, k))
+    let axis = (0..3).find(|&k| spans(k)).or_else(|| {
+        let v = points.iter().find(|&&x| x != p)?;
+        (0..3).find(|&k| drop_axis(p, k) != drop_axis(*v, k))
+    });
+    match axis {
+        Some(k) => {
+            segments_meet2(drop_axis(p, k), drop_axis(q, k), drop_axis(a, k), drop_axis(b, k))
+        }
+        // The four points are one point.
+        None => true,
+    }
 }
 
 /// Whether the closed segment `pq` meets the closed triangle `abc` of non-zero area, all
@@ -207,4 +221,35 @@ pub(crate) fn piece_meets_tet(piece: &[Point3; 3], t: &[Point3; 4]) -> bool {
         && EDGES
             .iter()
             .any(|&[i, j]| segment_meets_triangle(t[i], t[j], piece[0], piece[1], piece[2]))
+}
+
+/// Whether the closed piece (as [`piece_meets_tet`]) meets the convex hull of `corners`
+/// (a cell's corners: one to eight points; none meets nothing). The hull is the union of
+/// the tetrahedra of every four of the corners (Carathéodory), some of them flat: a
+/// triangle `abc` is the flat tetrahedron `abcc`, a segment `abbb`, four corners their
+/// one tetrahedron, flat or not. Every answer is the exact one of [`piece_meets_tet`].
+pub(crate) fn piece_meets_hull(piece: &[Point3; 3], corners: &[Point3]) -> bool {
+    match *corners {
+        [] => false,
+        [a] => piece_meets_tet(piece, &[a, a, a, a]),
+        [a, b] => piece_meets_tet(piece, &[a, b, b, b]),
+        [a, b, c] => piece_meets_tet(piece, &[a, b, c, c]),
+        [a, b, c, d] => piece_meets_tet(piece, &[a, b, c, d]),
+        _ => {
+            let n = corners.len();
+            for i in 0..n {
+                for j in i + 1..n {
+                    for k in j + 1..n {
+                        for l in k + 1..n {
+                            let t = [corners[i], corners[j], corners[k], corners[l]];
+                            if piece_meets_tet(piece, &t) {
+                                return true;
+                            }
+                        }
+                    }
+                }
+            }
+            false
+        }
+    }
 }

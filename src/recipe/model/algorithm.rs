@@ -166,6 +166,15 @@ impl AlgorithmSpec {
         })
     }
 
+    /// Every file path it names (`FILE`, a sheet), writable: (model field, path).
+    pub(crate) fn files_mut(&mut self) -> impl Iterator<Item = (&'static str, &mut String)> {
+        let params = self.entry.declaration.parameters;
+        params.iter().zip(self.values.iter_mut()).filter_map(|(p, v)| match (p.kind, v) {
+            (ParameterKind::File, SpecValue::Name(n)) => Some((p.field, n)),
+            _ => None,
+        })
+    }
+
     /// Every size it gives, with its model field.
     pub fn sizes(&self) -> Vec<(&'static str, f64)> {
         self.arguments()

@@ -211,7 +211,7 @@ impl SizingAlgorithm for CurvatureOfBorder {
                 field: "regions",
                 aliases: &[],
                 keys: &["REGIONS"],
-                kind: ParameterKind::Regions { dimensions: &[1], optional: false },
+                kind: ParameterKind::Regions { dimensions: &[1], optional: false, lift: true },
                 line_break_after: false,
                 doc: "The border curves.",
             },

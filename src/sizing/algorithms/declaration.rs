@@ -206,14 +206,17 @@ pub enum ParameterKind {
     Function(FunctionKind),
     /// Region names. `dimensions`: the entity dimensions accepted (0 points, 1 curves,
     /// 2 faces), the one preferred first when a region's dimension is ambiguous. On a
-    /// mesh in space each dimension from 1 up is also accepted one higher, before it
-    /// (the border of a volume is a surface): see `recipe::resolve`.
+    /// mesh in space, when `lift`, each dimension from 1 up is also accepted one higher,
+    /// before it (the border of a volume is a surface): see `recipe::resolve`.
     /// `optional`: may be left out or empty (then the set is empty).
     Regions {
         /// Accepted dimensions, preferred first.
         dimensions: &'static [usize],
         /// Whether it may be empty.
         optional: bool,
+        /// Whether a mesh in space also takes each dimension d ≥ 1 as d + 1 (false for
+        /// DISTANCE_TO_POINT, whose sources are vertices: points, or a curve's vertices).
+        lift: bool,
     },
     /// The name of a polyline of the recipe.
     Polyline,

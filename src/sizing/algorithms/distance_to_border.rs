@@ -76,7 +76,7 @@ impl SizingAlgorithm for DistanceToBorder {
                 field: "regions",
                 aliases: &[],
                 keys: &["REGIONS"],
-                kind: ParameterKind::Regions { dimensions: &[1, 0], optional: false },
+                kind: ParameterKind::Regions { dimensions: &[1, 0], optional: false, lift: true },
                 line_break_after: false,
                 doc: "The border: curves, or points as point sources (surfaces too in space).",
             },

@@ -34,10 +34,12 @@
 //! foot's segment, where the direction is noise) the tensor is the tangent size along
 //! the line and the smaller size across it in every direction, which this tube tensor
 //! meets continuously as d goes to 0. Coarse meshes: the 3D driver also sizes the
-//! corners of every tetrahedron a segment meets ([`crate::sizing::field3`]). A polyline
+//! corners of every cell a segment meets ([`crate::sizing::field3`]). A polyline
 //! of (x, y) points on a mesh in space is refused, naming the step (there is no implied
-//! z); `recipe check` lists such a step as not sized in space. `REGIONS` is not taken in
-//! space yet (refused).
+//! z); `recipe check` lists such a step as not sized in space. `REGIONS` means in space
+//! what it means in the plane: only the vertices of the named entities get a tensor —
+//! a volume's (the corners of its cells), a surface's (the corners of its triangles) —
+//! the distance still to the whole line, crossed cells' corners included.
 
 use super::{
     normal_at, reach_of, tensor, Around, Arguments, Declaration, Failure, FunctionKind, Junctions,
@@ -116,9 +118,10 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
                 field: "regions",
                 aliases: &[],
                 keys: &["REGIONS"],
-                kind: ParameterKind::Regions { dimensions: &[2], optional: true },
+                kind: ParameterKind::Regions { dimensions: &[2], optional: true, lift: true },
                 line_break_after: false,
-                doc: "The faces where it applies; everywhere when left out.",
+                doc: "The faces (in space: volumes or surfaces) where it applies; everywhere \
+                      when left out.",
             },
         ],
     };
@@ -157,7 +160,7 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
     fn work_in_space<'a>(
         &'a self,
         mesh: &'a SpaceMesh<'a>,
-        _topology: &'a Topology,
+        topology: &'a Topology,
     ) -> Result<SpaceWork<'a>, Failure> {
         if self.polyline.is_empty() {
             return Err(Failure::EmptyPolyline);
@@ -165,13 +168,10 @@ impl SizingAlgorithm for DistanceToImaginaryPolyline {
         let Some(points) = self.polyline.space() else {
             return Err(Failure::PolylineComponents { components: 2, in_space: true });
         };
-        if let Some(&index) = self.within.faces.first().or(self.within.volumes.first()) {
-            let what = if self.within.faces.is_empty() { "volume" } else { "face" };
-            return Err(Failure::UnsupportedEntity { what, index });
-        }
+        let mask = within_mask(mesh, topology, &self.within)?;
         let source = polyline_source(mesh, points)?;
         let reach = reach_of(&[self.perpendicular.max_distance(), self.projection.max_distance()]);
-        let tensor = Box::new(TubeTensor::new(self, points));
+        let tensor = Box::new(TubeTensor::new(self, points, mask));
         Ok(SpaceWork::FromSource { source, reach, tensor })
     }
 
@@ -256,10 +256,29 @@ pub(crate) fn polyline_source(
     Ok(b.build()?)
 }
 
+/// Whether each vertex of the mesh in space lies in `within` (the vertices of its volumes
+/// and surfaces, as UNIFORM takes them), or `None` when `within` is empty (everywhere).
+pub(crate) fn within_mask(
+    mesh: &SpaceMesh<'_>,
+    topology: &Topology,
+    within: &EntitySet,
+) -> Result<Option<Vec<bool>>, Failure> {
+    if within.is_empty() {
+        return Ok(None);
+    }
+    let mut mask = vec![false; mesh.num_vertices()];
+    for v in super::uniform::entity_vertices_in_space(mesh, topology, within)? {
+        mask[v as usize] = true;
+    }
+    Ok(Some(mask))
+}
+
 /// The tensor of DISTANCE_TO_IMAGINARY_POLYLINE in space (see the module header).
 pub(crate) struct TubeTensor<'a> {
     algorithm: &'a DistanceToImaginaryPolyline,
     points: &'a [[f64; 3]],
+    /// Whether each vertex lies where the step applies (`None`: everywhere).
+    mask: Option<Vec<bool>>,
     /// Curvilinear abscissa of each point from the first.
     abscissa: Vec<f64>,
     /// Unit direction of each segment.
@@ -267,7 +286,11 @@ pub(crate) struct TubeTensor<'a> {
 }
 
 impl<'a> TubeTensor<'a> {
-    pub(crate) fn new(algorithm: &'a DistanceToImaginaryPolyline, points: &'a [[f64; 3]]) -> Self {
+    pub(crate) fn new(
+        algorithm: &'a DistanceToImaginaryPolyline,
+        points: &'a [[f64; 3]],
+        mask: Option<Vec<bool>>,
+    ) -> Self {
         let mut abscissa = vec![0.0; points.len()];
         let mut directions = Vec::with_capacity(points.len().saturating_sub(1));
         for i in 1..points.len() {
@@ -276,7 +299,7 @@ impl<'a> TubeTensor<'a> {
             abscissa[i] = abscissa[i - 1] + len;
             directions.push([d[0] / len, d[1] / len, d[2] / len]);
         }
-        TubeTensor { algorithm, points, abscissa, directions }
+        TubeTensor { algorithm, points, mask, abscissa, directions }
     }
 
     /// The abscissa of `foot` on piece `piece`, and the line's unit tangent there (`None`
@@ -325,6 +348,9 @@ impl SpaceTensor for TubeTensor<'_> {
         at: [f64; 3],
         closest: &[crate::sizing::space::SpaceClosest],
     ) -> Result<Option<SizeTensor3>, Failure> {
+        if self.mask.as_ref().is_some_and(|m| !m[v]) {
+            return Ok(None);
+        }
         let (a, c) = (self.algorithm, &closest[0]);
         let (s, t) = self.along(c.piece as usize, c.foot);
         let h_perp = a.perpendicular.eval(c.distance);

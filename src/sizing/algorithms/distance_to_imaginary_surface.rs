@@ -11,15 +11,21 @@
 //! scan of every triangle.
 //!
 //! Coarse meshes: the sheet is a free source, so the 3D driver also gives a tensor to the
-//! corners of every tetrahedron a sheet triangle meets, whatever their distance
+//! corners of every cell a sheet triangle meets, whatever their distance
 //! ([`crate::sizing::field3`]), as the 2D propagation does for the cells an imaginary
 //! polyline crosses.
+//!
+//! `REGIONS` (optional): as for DISTANCE_TO_IMAGINARY_POLYLINE in space, only the
+//! vertices of the named volumes (the corners of their cells) and surfaces (the corners
+//! of their triangles) get a tensor; the distance is still to the whole sheet, so a
+//! region's boundary cuts the field without bending it.
 //!
 //! A sheet has no meaning on a planar mesh: there the step is refused, naming it
 //! (`Failure::OnlyInSpace`).
 //!
 //! Reach: the larger of the two functions' maximum distances.
 
+use super::distance_to_imaginary_polyline::within_mask;
 use super::{across, reach_of, wall_tensor, SpaceTensor, SpaceWork};
 use super::{
     Around, Arguments, Declaration, EntitySet, Failure, FunctionKind, Parameter, ParameterKind,
@@ -41,6 +47,8 @@ pub struct DistanceToImaginarySurface {
     pub parallel: DistanceFunction,
     /// The sheet.
     pub sheet: Sheet,
+    /// Where the algorithm applies (volumes, surfaces); empty means everywhere.
+    pub within: EntitySet,
 }
 
 impl SizingAlgorithm for DistanceToImaginarySurface {
@@ -77,6 +85,14 @@ impl SizingAlgorithm for DistanceToImaginarySurface {
                 doc: "The sheet: a triangulated surface file (.stl, .obj, .mesh, .msh, …), \
                       relative to the recipe file.",
             },
+            Parameter {
+                field: "regions",
+                aliases: &[],
+                keys: &["REGIONS"],
+                kind: ParameterKind::Regions { dimensions: &[2], optional: true, lift: true },
+                line_break_after: false,
+                doc: "The volumes or surfaces where it applies; everywhere when left out.",
+            },
         ],
     };
 
@@ -87,11 +103,12 @@ impl SizingAlgorithm for DistanceToImaginarySurface {
             perpendicular: arguments.distance("perpendicular")?,
             parallel: arguments.distance("parallel")?,
             sheet: arguments.sheet("file")?,
+            within: arguments.entities("regions")?,
         })
     }
 
     fn entity_sets(&self) -> Vec<&EntitySet> {
-        Vec::new()
+        vec![&self.within]
     }
 
     fn zoom(&self) -> Option<(Around<'_>, f64)> {
@@ -111,11 +128,12 @@ impl SizingAlgorithm for DistanceToImaginarySurface {
     fn work_in_space<'a>(
         &'a self,
         mesh: &'a SpaceMesh<'a>,
-        _topology: &'a Topology,
+        topology: &'a Topology,
     ) -> Result<SpaceWork<'a>, Failure> {
+        let mask = within_mask(mesh, topology, &self.within)?;
         let source = sheet_source(mesh, &self.sheet)?;
         let reach = reach_of(&[self.perpendicular.max_distance(), self.parallel.max_distance()]);
-        Ok(SpaceWork::FromSource { source, reach, tensor: Box::new(SheetTensor(self)) })
+        Ok(SpaceWork::FromSource { source, reach, tensor: Box::new(SheetTensor(self, mask)) })
     }
 }
 
@@ -138,8 +156,8 @@ pub(crate) fn sheet_source(mesh: &SpaceMesh<'_>, sheet: &Sheet) -> Result<SpaceS
     Ok(b.build()?)
 }
 
-/// The tensor of DISTANCE_TO_IMAGINARY_SURFACE.
-struct SheetTensor<'a>(&'a DistanceToImaginarySurface);
+/// The tensor of DISTANCE_TO_IMAGINARY_SURFACE, and where it applies (`None`: everywhere).
+struct SheetTensor<'a>(&'a DistanceToImaginarySurface, Option<Vec<bool>>);
 
 impl SpaceTensor for SheetTensor<'_> {
     fn tensor(
@@ -149,6 +167,9 @@ impl SpaceTensor for SheetTensor<'_> {
         at: [f64; 3],
         closest: &[SpaceClosest],
     ) -> Result<Option<SizeTensor3>, Failure> {
+        if self.1.as_ref().is_some_and(|m| !m[v]) {
+            return Ok(None);
+        }
         let (a, c) = (self.0, &closest[0]);
         let frame = across(&sources[0], c, at);
         wall_tensor(v, frame, a.perpendicular.eval(c.distance), a.parallel.eval(c.distance))

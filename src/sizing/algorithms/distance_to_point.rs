@@ -54,7 +54,7 @@ impl SizingAlgorithm for DistanceToPoint {
                 field: "regions",
                 aliases: &[],
                 keys: &["REGIONS"],
-                kind: ParameterKind::Regions { dimensions: &[0, 1], optional: false },
+                kind: ParameterKind::Regions { dimensions: &[0, 1], optional: false, lift: false },
                 line_break_after: false,
                 doc: "The sources: points, or curves whose vertices are point sources.",
             },

@@ -129,6 +129,14 @@ macro_rules! algorithms {
                 }
             }
 
+            /// Whether it sizes a mesh in space that has no volume cell (a surface mesh
+            /// off one plane).
+            pub fn on_surface_in_space(&self) -> bool {
+                match self {
+                    $(Algorithm::$name(a) => a.sized_on_surface_in_space(),)*
+                }
+            }
+
             /// What it asks of the 3D driver on `mesh` (see [`SpaceWork`]).
             pub(crate) fn work_in_space<'a>(
                 &'a self,
@@ -258,6 +266,12 @@ pub(crate) trait SizingAlgorithm: Sized {
     /// its arguments say otherwise (a polyline of (x, y) points).
     fn sized_in_space(&self) -> bool {
         Self::IN_SPACE
+    }
+
+    /// Whether this instance sizes a surface mesh in space (no volume cell): as in space,
+    /// unless the work needs volume cells.
+    fn sized_on_surface_in_space(&self) -> bool {
+        self.sized_in_space()
     }
 
     /// What it asks of the 3D driver on a mesh in space: by default a refusal naming the

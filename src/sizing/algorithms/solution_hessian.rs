@@ -9,10 +9,13 @@
 //! geometry's sizes and the solution's both hold where each is the finer. No propagation:
 //! every vertex some cell uses gets a tensor, in increasing index order.
 //!
-//! In space (a mesh of tetrahedra): the same with the recovery on tetrahedra
-//! ([`crate::solution::recovery3`]) and M = D det(|H|)^(−1/(2p+3)) |H|
-//! ([`crate::solution::lp3`]), one field, bounds from the diagonal of the box in space;
-//! every vertex some tetrahedron uses gets a tensor.
+//! In space: the same with the recovery on tetrahedra ([`crate::solution::recovery3`])
+//! and M = D det(|H|)^(−1/(2p+3)) |H| ([`crate::solution::lp3`]), one field, bounds from
+//! the diagonal of the box in space; every vertex some volume cell uses gets a tensor.
+//! Hexahedra, prisms and pyramids are split into tetrahedra on their own corners by a
+//! fixed table (`tetrahedra`): both recoveries stay exact on quadratics at every vertex
+//! (they need the edges and the tetrahedra's volumes, not a conforming mesh), and the
+//! normalisation integrates over the cells' volumes (exact for planar faces).
 //!
 //! In a recipe: FIELD, and exactly one of COMPLEXITY (a vertex count) and ERROR (the Lp
 //! norm of the interpolation error); optional P (default 2), RECOVERY (`quadratic-fit`,
@@ -190,23 +193,35 @@ fn scalar_values<'m>(mesh: &'m TaggedMesh, name: &str) -> Result<&'m [f64], Stri
     }
 }
 
-/// The tetrahedra of `mesh`; an error when it has none or has other volume cells.
+/// The split of a hexahedron (Gmsh's corner order) into the six tetrahedra around its
+/// diagonal 0–6, each from 0 to 6 along three edges.
+const HEXA_SPLIT: [[usize; 4]; 6] =
+    [[0, 1, 2, 6], [0, 1, 5, 6], [0, 3, 2, 6], [0, 3, 7, 6], [0, 4, 5, 6], [0, 4, 7, 6]];
+/// A prism (bottom 0-1-2, top 3-4-5) into three, along the diagonals 0–4, 1–5 and 0–5.
+const WEDGE_SPLIT: [[usize; 4]; 3] = [[0, 1, 2, 5], [0, 1, 5, 4], [0, 4, 5, 3]];
+/// A pyramid (base 0-1-2-3, apex 4) into two along the base's diagonal 0–2.
+const PYRAMID_SPLIT: [[usize; 4]; 2] = [[0, 1, 2, 4], [0, 2, 3, 4]];
+
+/// The tetrahedra the recovery works on: those of `mesh`, and its other volume cells
+/// split by the fixed tables above (second-order ones by their corners); an error when it
+/// has no volume cell. The split of each cell covers it (for planar faces exactly) with
+/// tetrahedra on its own corners: the recovery needs only edges joining vertices and
+/// tetrahedra whose volumes sum to the cells', not a conforming mesh, so neighbours may
+/// split a shared face along different diagonals.
 fn tetrahedra(mesh: &TaggedMesh) -> Result<Vec<[u32; 4]>, String> {
     let mut tets = Vec::with_capacity(mesh.num_cells_of(CellKind::Tetra));
     for (kind, nodes, _, _) in mesh.cells() {
-        match kind {
-            CellKind::Tetra => tets.push([nodes[0], nodes[1], nodes[2], nodes[3]]),
-            k if k.dim() == 3 => {
-                return Err(format!(
-                    "the mesh has {} cells; a metric from a solution in space takes tetrahedra only (split the mesh into tetrahedra first)",
-                    k.name()
-                ))
-            }
-            _ => {}
-        }
+        let split: &[[usize; 4]] = match kind.linear() {
+            CellKind::Tetra => &[[0, 1, 2, 3]],
+            CellKind::Hexa => &HEXA_SPLIT,
+            CellKind::Wedge => &WEDGE_SPLIT,
+            CellKind::Pyramid => &PYRAMID_SPLIT,
+            _ => continue,
+        };
+        tets.extend(split.iter().map(|t| t.map(|k| nodes[k])));
     }
     if tets.is_empty() {
-        return Err("the mesh has no tetrahedra".into());
+        return Err("the mesh has no volume cells".into());
     }
     Ok(tets)
 }
@@ -353,6 +368,11 @@ impl SizingAlgorithm for SolutionHessian {
 
     /// In space: the metric of [`SolutionHessian::metric_in_space`] at every vertex some
     /// tetrahedron uses, in increasing order.
+    /// The recovery and the normalisation work on volume cells: not on a surface alone.
+    fn sized_on_surface_in_space(&self) -> bool {
+        false
+    }
+
     fn work_in_space<'a>(
         &'a self,
         mesh: &'a SpaceMesh<'a>,

@@ -154,7 +154,7 @@ impl SizingAlgorithm for Uniform {
                 field: "regions",
                 aliases: &[],
                 keys: &["REGIONS"],
-                kind: ParameterKind::Regions { dimensions: &[2, 1, 0], optional: false },
+                kind: ParameterKind::Regions { dimensions: &[2, 1, 0], optional: false, lift: true },
                 line_break_after: false,
                 doc: "Where it applies: faces, curves or points (volumes and surfaces in space).",
             },
