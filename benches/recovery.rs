@@ -5,7 +5,9 @@
 //! along each axis, seeded. The field is sin(3x) cos(2y) + x²y, or
 //! sin(2x) cos(1.5y) e^(z/2) + xyz in space. Each line: the mesh, the method, the
 //! thread count, the wall time of `recover`/`recover3` (the best of `REPEAT` runs,
-//! 3 below 10^6 vertices, 1 above) and the time per vertex.
+//! 3 below 10^6 vertices, 1 above), the wall time per vertex, and the best CPU time of
+//! the process over the same runs (every thread; from /proc on Linux, in 1/100 s: a
+//! figure for a machine shared with other jobs, where the wall time is the load's).
 //!
 //! `SMARTMESH_BENCH_MAX_VERTICES=n` skips the meshes above n vertices (default 1.1·10^6).
 //! Run: `cargo bench -p smartmesh --bench recovery`.
@@ -65,22 +67,34 @@ fn cube(n: usize) -> (Vec<[f64; 3]>, Vec<[u32; 4]>) {
     (mesh.points, tets)
 }
 
-/// The best wall time of `repeat` runs of `f` on a pool of `threads`.
-fn time(threads: usize, repeat: usize, f: impl Fn() + Sync) -> f64 {
+/// CPU seconds of this process (every thread), from /proc/self/stat (fields 14 and 15,
+/// in clock ticks of 1/100 s: Linux's USER_HZ); 0 where there is no /proc.
+fn cpu() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else { return 0.0 };
+    // The command name (field 2) may hold spaces: the fields after it follow its ')'.
+    let rest = stat.rfind(')').map_or("", |i| &stat[i + 2..]);
+    let f: Vec<f64> = rest.split_whitespace().map(|x| x.parse().unwrap_or(0.0)).collect();
+    // rest starts at field 3: utime is field 14, so index 11.
+    f.get(11).zip(f.get(12)).map_or(0.0, |(u, s)| (u + s) / 100.0)
+}
+
+/// The best wall time and the best CPU time (every thread) of `repeat` runs of `f` on a
+/// pool of `threads`.
+fn time(threads: usize, repeat: usize, f: impl Fn() + Sync) -> (f64, f64) {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     (0..repeat)
         .map(|_| {
-            let start = Instant::now();
+            let (start, c) = (Instant::now(), cpu());
             pool.install(&f);
-            start.elapsed().as_secs_f64()
+            (start.elapsed().as_secs_f64(), cpu() - c)
         })
-        .fold(f64::INFINITY, f64::min)
+        .fold((f64::INFINITY, f64::INFINITY), |a, b| (a.0.min(b.0), a.1.min(b.1)))
 }
 
-fn report(mesh: &str, n: usize, method: Method, threads: usize, seconds: f64) {
+fn report(mesh: &str, n: usize, method: Method, threads: usize, (seconds, cpu): (f64, f64)) {
     let per = 1e6 * seconds / n as f64;
     println!(
-        "{mesh} {n} vertices, {}, {threads} thread(s): {seconds:.3} s, {per:.2} µs/vertex",
+        "{mesh} {n} vertices, {}, {threads} thread(s): {seconds:.3} s, {per:.2} µs/vertex, CPU {cpu:.2} s",
         method.name()
     );
 }

@@ -6,10 +6,12 @@ H, the sphere a named surface; a recipe of one DISTANCE_TO_BORDER step on it (a 
 layer 0.005 across, 0.03 along, growing to 0.15 at 0.5 away). `size` is run on 1 and
 2 threads (RAYON_NUM_THREADS) writing a `.solb`, timed with /usr/bin/time (wall, CPU,
 peak resident memory); the two outputs must be the same bytes. `convert` of the mesh
-to `.meshb` is timed beside it: the read and write alone.
+to `.meshb` is timed beside it: the read and write alone. `--keep DIR` leaves the mesh
+and the recipe in DIR (mesh.msh, wall.toml), for the split of `size`'s time by phase
+(benches/adapt_space.rs with ADAPT_SPACE_ITERATIONS=0).
 
     cargo build --release
-    python3 benches/size_space.py [--h 0.009] [--smartmesh target/release/smartmesh]
+    python3 benches/size_space.py [--h 0.009] [--smartmesh target/release/smartmesh] [--keep DIR]
 """
 import argparse, filecmp, os, subprocess, sys, tempfile
 
@@ -78,8 +80,11 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--h", type=float, default=0.009)
     ap.add_argument("--smartmesh", default="target/release/smartmesh")
+    ap.add_argument("--keep", help="leave mesh.msh and wall.toml in this directory")
     a = ap.parse_args()
-    with tempfile.TemporaryDirectory() as d:
+    with tempfile.TemporaryDirectory() as tmp:
+        d = a.keep or tmp
+        os.makedirs(d, exist_ok=True)
         mesh, recipe = os.path.join(d, "mesh.msh"), os.path.join(d, "wall.toml")
         make_mesh(a.h, mesh)
         with open(recipe, "w") as f:
@@ -88,13 +93,13 @@ def main():
         print("\n".join(info.splitlines()[1:3]))
         outs = []
         for t in (1, 2):
-            out = os.path.join(d, f"f{t}.solb")
+            out = os.path.join(tmp, f"f{t}.solb")
             env = dict(os.environ, RAYON_NUM_THREADS=str(t))
             wall, cpu, rss = timed([a.smartmesh, "-q", "size", mesh, "--recipe", recipe, "-o", out], env)
             print(f"size, {t} thread(s): wall {wall:.2f} s, CPU {cpu:.2f} s, peak {rss:.0f} MiB")
             outs.append(out)
         print("same bytes on 1 and 2 threads:", filecmp.cmp(outs[0], outs[1], shallow=False))
-        wall, cpu, rss = timed([a.smartmesh, "-q", "convert", mesh, os.path.join(d, "c.meshb")])
+        wall, cpu, rss = timed([a.smartmesh, "-q", "convert", mesh, os.path.join(tmp, "c.meshb")])
         print(f"convert to .meshb (read and write only): wall {wall:.2f} s, CPU {cpu:.2f} s, peak {rss:.0f} MiB")
 
 
