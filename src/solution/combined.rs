@@ -25,12 +25,12 @@
 //! The reported `scale` is s (1 for an error target); `predicted_error` the largest over
 //! the fields of the error bound s Dᵢ gives each (each field is at least that fine).
 
-use crate::metric::complexity::{complexity, vertices_of_complexity};
 use crate::metric::{SizeTensor, Sym2};
 use crate::solution::lp::{
-    check, error_of, integral, is_linear, prepare, raw_tensor, solve, triangles, unbounded_ln_d,
+    check, error_of, integral, is_linear, prepare, raw_tensor, solve, unbounded_ln_d, vertices_in,
     Prepared,
 };
+use crate::solution::lp_space::LpSpace;
 use crate::solution::{lp_metric, LpError, LpMetric, LpOptions, P1Mesh, Target};
 
 /// The metric of the fields of Hessians `hessians` (one slice per field, one Hessian per
@@ -45,7 +45,7 @@ pub fn lp_metric_of_fields(
         check(mesh, h, options).map_err(|e| (i, e))?;
     }
     let asking: Vec<usize> =
-        (0..hessians.len()).filter(|&i| !is_linear(hessians[i], mesh)).collect();
+        (0..hessians.len()).filter(|&i| !is_linear(mesh, hessians[i])).collect();
     match asking.as_slice() {
         [] if hessians.is_empty() => {
             return Err((0, LpError::Count { hessians: 0, vertices: mesh.points().len() }))
@@ -56,15 +56,15 @@ pub fn lp_metric_of_fields(
     }
     let p = options.p;
     let bounds = &options.bounds;
-    let tris = triangles(mesh);
+    let tris = mesh.cells();
     let points = mesh.points();
     let n = points.len();
-    let fields: Vec<(Prepared, f64, f64)> = asking
+    let fields: Vec<(Prepared<2, P1Mesh<'_>>, f64, f64)> = asking
         .iter()
         .map(|&i| {
             let prepared = prepare(mesh, hessians[i], p, bounds.max_aspect_ratio());
-            let integral = integral(&prepared, points, &tris);
-            let ln_d = unbounded_ln_d(integral, p, options.target);
+            let integral = integral(mesh, &prepared, &tris);
+            let ln_d = unbounded_ln_d::<2, P1Mesh<'_>>(integral, p, options.target);
             (prepared, integral, ln_d)
         })
         .collect();
@@ -92,11 +92,7 @@ pub fn lp_metric_of_fields(
             })
             .collect()
     };
-    let vertices = |tensors: &[SizeTensor]| {
-        let f: Vec<f64> =
-            tensors.iter().map(|t| -t.sizes().iter().map(|h| h.ln()).sum::<f64>()).collect();
-        vertices_of_complexity(complexity(points, &tris, &f))
-    };
+    let vertices = |tensors: &[SizeTensor]| vertices_in(mesh, &tris, tensors);
     let ln_s = match options.target {
         Target::Error(_) => 0.0,
         Target::Vertices(target) => {

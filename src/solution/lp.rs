@@ -32,9 +32,14 @@
 //! error, about h |H| in a cell of size h) asks for the density √det M ∝ |H| (for an
 //! isotropic cell, |∇e|² h² ≈ h⁴ |H|² summed over the N ≈ 1/h² cells is least at fixed N
 //! when h² |H| is constant), which is p = ∞; larger p also refines more at singularities.
+//!
+//! One normaliser for both dimensions: the functions here are generic over `LpSpace`
+//! (`solution::lp_space`: the mesh, Hessian and tensor types of one dimension), with n
+//! the dimension in the exponent −1/(2p+n), the complexity integrand and the vertex-count
+//! guess D = (N / N(∫ …))^(2/n); [`lp_metric`] is n = 2, [`super::lp_metric3`] n = 3.
 
-use crate::metric::complexity::{complexity, vertices_of_complexity};
 use crate::metric::{SizeBounds, SizeTensor, Sym2};
+use crate::solution::lp_space::LpSpace;
 use crate::solution::P1Mesh;
 
 /// What the metric is normalised to.
@@ -57,20 +62,24 @@ pub struct LpOptions {
     pub bounds: SizeBounds,
 }
 
-/// The metric and how it came out.
+/// The metric and how it came out, with size tensors `T` ([`LpMetric`] in the plane,
+/// [`super::LpMetric3`] in space).
 #[derive(Debug, Clone, PartialEq)]
-pub struct LpMetric {
+pub struct LpMetricOf<T> {
     /// One size tensor per vertex.
-    pub tensors: Vec<SizeTensor>,
+    pub tensors: Vec<T>,
     /// The global factor D.
     pub scale: f64,
-    /// The vertices a mesh conforming to `tensors` has (2C/√3, C exact).
+    /// The vertices a mesh conforming to `tensors` has (in 2D 2C/√3, C exact).
     pub vertices: f64,
     /// The predicted Lp interpolation error of the metric before the bounds act.
     pub predicted_error: f64,
     /// Whether the Hessian was zero everywhere (the metric is uniform).
     pub linear: bool,
 }
+
+/// The metric in the plane.
+pub type LpMetric = LpMetricOf<SizeTensor>;
 
 /// Why no metric could be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -105,11 +114,11 @@ pub enum LpError {
     NoVolume,
 }
 
-/// Per vertex: the axis of the larger |eigenvalue|, ln of the floored |eigenvalues|, and
-/// ln det|H|^(−1/(2p+2)).
-pub(super) struct Prepared {
-    pub(super) axis: Vec<[f64; 2]>,
-    pub(super) ln_l: Vec<[f64; 2]>,
+/// Per vertex: the axes of the |eigenvalues| (decreasing), ln of the floored
+/// |eigenvalues|, and ln det|H|^(−1/(2p+n)); whether a cell uses the vertex.
+pub(super) struct Prepared<const N: usize, M: LpSpace<N>> {
+    pub(super) frame: Vec<M::Frame>,
+    pub(super) ln_l: Vec<[f64; N]>,
     pub(super) ln_g: Vec<f64>,
     pub(super) used: Vec<bool>,
 }
@@ -121,76 +130,83 @@ pub fn lp_metric(
     hessians: &[Sym2],
     options: &LpOptions,
 ) -> Result<LpMetric, LpError> {
+    lp_metric_in(mesh, hessians, options)
+}
+
+/// [`lp_metric`] in any dimension (in space [`super::lp_metric3`]).
+pub(super) fn lp_metric_in<const N: usize, M: LpSpace<N>>(
+    mesh: &M,
+    hessians: &[M::Hessian],
+    options: &LpOptions,
+) -> Result<LpMetricOf<M::Tensor>, LpError> {
     let p = options.p;
-    check(mesh, hessians, options)?;
-    let tris = triangles(mesh);
-    let points = mesh.points();
+    let cells = check(mesh, hessians, options)?;
     let prepared = prepare(mesh, hessians, p, options.bounds.max_aspect_ratio());
-    let field = |ln_d: f64| -> (Vec<SizeTensor>, f64) {
+    let field = |ln_d: f64| -> (Vec<M::Tensor>, f64) {
         let tensors = tensors_at(&prepared, ln_d, &options.bounds);
-        let f: Vec<f64> =
-            tensors.iter().map(|t| -t.sizes().iter().map(|h| h.ln()).sum::<f64>()).collect();
-        let v = vertices_of_complexity(complexity(points, &tris, &f));
+        let v = vertices_in(mesh, &cells, &tensors);
         (tensors, v)
     };
-    let integral = integral(&prepared, points, &tris);
+    let integral = integral(mesh, &prepared, &cells);
     let ln_d = match options.target {
-        Target::Error(_) => unbounded_ln_d(integral, p, options.target),
+        Target::Error(_) => unbounded_ln_d::<N, M>(integral, p, options.target),
         Target::Vertices(target) => {
-            let guess = unbounded_ln_d(integral, p, options.target);
+            let guess = unbounded_ln_d::<N, M>(integral, p, options.target);
             solve(guess, target, |x| field(x).1)
         }
     };
     let (tensors, vertices) = field(ln_d);
-    Ok(LpMetric {
+    Ok(LpMetricOf {
         tensors,
         scale: ln_d.exp(),
         vertices,
-        predicted_error: error_of(integral, p, ln_d),
-        linear: is_linear(hessians, mesh),
+        predicted_error: M::error_of(integral, p, ln_d),
+        linear: is_linear(mesh, hessians),
     })
 }
 
-/// ∫ det|H|^(p/(2p+2)): the complexity of the unbounded metric of `prepared` at D = 1.
-pub(super) fn integral(prepared: &Prepared, points: &[[f64; 2]], tris: &[[usize; 3]]) -> f64 {
+/// ∫ det|H|^(p/(2p+n)): the complexity of the unbounded metric of `prepared` at D = 1.
+pub(super) fn integral<const N: usize, M: LpSpace<N>>(
+    mesh: &M,
+    prepared: &Prepared<N, M>,
+    cells: &[M::Cell],
+) -> f64 {
     let f1: Vec<f64> = (0..prepared.ln_g.len())
-        .map(|i| 0.5 * (2.0 * prepared.ln_g[i] + prepared.ln_l[i][0] + prepared.ln_l[i][1]))
+        .map(|i| M::unit_half_log_det(prepared.ln_g[i], &prepared.ln_l[i]))
         .collect();
-    complexity(points, tris, &f1)
+    mesh.complexity(cells, &f1)
 }
 
 /// The ln D that meets `target` without bounds, for a field of [`integral`] `integral`:
 /// exact for an error; for a vertex count, the guess the bounded solve starts from (exact
-/// where no bound acts).
-pub(super) fn unbounded_ln_d(integral: f64, p: f64, target: Target) -> f64 {
+/// where no bound acts: C = D^(n/2) ∫ …).
+pub(super) fn unbounded_ln_d<const N: usize, M: LpSpace<N>>(
+    integral: f64,
+    p: f64,
+    target: Target,
+) -> f64 {
     match target {
         Target::Error(e) => {
             let root_ln = if p.is_infinite() { 0.0 } else { integral.ln() / p };
-            root_ln - (8.0 * e).ln()
+            M::ln_d_of_error(root_ln, e)
         }
-        Target::Vertices(n) => (n / vertices_of_complexity(integral)).ln(),
+        Target::Vertices(n) => 2.0 / N as f64 * (n / M::vertices_of_complexity(integral)).ln(),
     }
 }
 
-/// The predicted Lp interpolation error at D = exp(`ln_d`) of a field of [`integral`]
-/// `integral`, before the bounds act.
+/// The predicted Lp interpolation error at D = exp(`ln_d`) of a planar field of
+/// [`integral`] `integral`, before the bounds act.
 pub(super) fn error_of(integral: f64, p: f64, ln_d: f64) -> f64 {
-    let root = if p.is_infinite() { 1.0 } else { integral.powf(1.0 / p) };
-    root / (8.0 * ln_d.exp())
-}
-
-/// The triangles of `mesh` with `usize` indices.
-pub(super) fn triangles(mesh: &P1Mesh<'_>) -> Vec<[usize; 3]> {
-    mesh.triangles().iter().map(|t| t.map(|v| v as usize)).collect()
+    <P1Mesh<'_> as LpSpace<2>>::error_of(integral, p, ln_d)
 }
 
 /// Refuses a p, a target, a Hessian count or a Hessian that is out of range, and a mesh
-/// without area.
-pub(super) fn check(
-    mesh: &P1Mesh<'_>,
-    hessians: &[Sym2],
+/// without area (volume); the cells.
+pub(super) fn check<const N: usize, M: LpSpace<N>>(
+    mesh: &M,
+    hessians: &[M::Hessian],
     options: &LpOptions,
-) -> Result<(), LpError> {
+) -> Result<Vec<M::Cell>, LpError> {
     let p = options.p;
     if p.is_nan() || p < 1.0 {
         return Err(LpError::P(p));
@@ -202,81 +218,96 @@ pub(super) fn check(
     if !(value.is_finite() && value > 0.0) {
         return Err(LpError::Target { what, value });
     }
-    let n = mesh.points().len();
+    let n = mesh.num_points();
     if hessians.len() != n {
         return Err(LpError::Count { hessians: hessians.len(), vertices: n });
     }
-    if let Some(v) =
-        hessians.iter().position(|h| !(h.a.is_finite() && h.b.is_finite() && h.c.is_finite()))
-    {
+    if let Some(v) = hessians.iter().position(|h| !M::is_finite(h)) {
         return Err(LpError::NotFinite(v));
     }
-    let area = complexity(mesh.points(), &triangles(mesh), &vec![0.0; n]);
-    if area.is_nan() || area <= 0.0 {
-        return Err(LpError::NoArea);
+    let cells = mesh.cells();
+    let measure = mesh.complexity(&cells, &vec![0.0; n]);
+    if measure.is_nan() || measure <= 0.0 {
+        return Err(if N == 2 { LpError::NoArea } else { LpError::NoVolume });
     }
-    Ok(())
+    Ok(cells)
 }
 
-pub(super) fn is_linear(hessians: &[Sym2], mesh: &P1Mesh<'_>) -> bool {
-    (0..hessians.len()).filter(|&v| mesh.is_used(v)).all(|v| {
-        let h = hessians[v];
-        h.a == 0.0 && h.b == 0.0 && h.c == 0.0
-    })
+/// Whether the Hessian is zero at every vertex a cell uses.
+pub(super) fn is_linear<const N: usize, M: LpSpace<N>>(mesh: &M, hessians: &[M::Hessian]) -> bool {
+    (0..hessians.len()).filter(|&v| mesh.is_used(v)).all(|v| M::is_zero(&hessians[v]))
 }
 
-pub(super) fn prepare(mesh: &P1Mesh<'_>, hessians: &[Sym2], p: f64, max_aspect: f64) -> Prepared {
+pub(super) fn prepare<const N: usize, M: LpSpace<N>>(
+    mesh: &M,
+    hessians: &[M::Hessian],
+    p: f64,
+    max_aspect: f64,
+) -> Prepared<N, M> {
     let n = hessians.len();
     let used: Vec<bool> = (0..n).map(|v| mesh.is_used(v)).collect();
-    let eig: Vec<([f64; 2], [f64; 2])> = hessians
-        .iter()
-        .map(|h| {
-            let e = h.eigen();
-            let (a0, a1) = (e.values[0].abs(), e.values[1].abs());
-            if a0 >= a1 {
-                ([a0, a1], e.vector)
-            } else {
-                ([a1, a0], [-e.vector[1], e.vector[0]])
-            }
-        })
-        .collect();
+    let eig: Vec<([f64; N], M::Frame)> = hessians.iter().map(M::abs_eigen).collect();
     let largest = (0..n).filter(|&v| used[v]).map(|v| eig[v].0[0]).fold(0.0f64, f64::max);
     let global_floor = if largest > 0.0 { 1e-12 * largest } else { 1.0 };
     let aspect2 = if max_aspect.is_finite() { max_aspect * max_aspect } else { f64::INFINITY };
-    let exponent = if p.is_infinite() { 0.0 } else { 1.0 / (2.0 * p + 2.0) };
-    let mut axis = Vec::with_capacity(n);
-    let mut ln_l = Vec::with_capacity(n);
-    let mut ln_g = Vec::with_capacity(n);
-    for (values, vector) in eig {
+    let exponent = if p.is_infinite() { 0.0 } else { 1.0 / (2.0 * p + N as f64) };
+    let mut prepared = Prepared {
+        frame: Vec::with_capacity(n),
+        ln_l: Vec::with_capacity(n),
+        ln_g: Vec::with_capacity(n),
+        used,
+    };
+    for (mut values, frame) in eig {
+        // The largest keeps its value: l0 / r² <= l0 as r >= 1.
         let l0 = values[0].max(global_floor);
-        let l1 = values[1].max(global_floor).max(l0 / aspect2);
-        let (a, b) = (l0.ln(), l1.ln());
-        axis.push(vector);
-        ln_l.push([a, b]);
-        ln_g.push(-exponent * (a + b));
+        values[0] = l0;
+        let ln_l = values.map(|l| l.max(global_floor).max(l0 / aspect2).ln());
+        prepared.frame.push(frame);
+        prepared.ln_g.push(-exponent * ln_l.iter().sum::<f64>());
+        prepared.ln_l.push(ln_l);
     }
-    Prepared { axis, ln_l, ln_g, used }
+    prepared
 }
 
 /// The unbounded tensor of vertex `v` at D = exp(`ln_d`) (sizes within
-/// [`SizeTensor::MIN_SIZE`], [`SizeTensor::MAX_SIZE`]); `None` for a vertex no triangle
+/// [`SizeTensor::MIN_SIZE`], [`SizeTensor::MAX_SIZE`]); `None` for a vertex no cell
 /// uses or a tensor that cannot be made.
-pub(super) fn raw_tensor(prepared: &Prepared, v: usize, ln_d: f64) -> Option<SizeTensor> {
+pub(super) fn raw_tensor<const N: usize, M: LpSpace<N>>(
+    prepared: &Prepared<N, M>,
+    v: usize,
+    ln_d: f64,
+) -> Option<M::Tensor> {
     if !prepared.used[v] {
         return None;
     }
     let base = ln_d + prepared.ln_g[v];
     let h = prepared.ln_l[v]
         .map(|l| (-0.5 * (base + l)).exp().clamp(SizeTensor::MIN_SIZE, SizeTensor::MAX_SIZE));
-    SizeTensor::try_new(prepared.axis[v], h[0], h[1])
+    M::tensor(prepared.frame[v], h)
 }
 
-/// The bounded tensors at D = exp(`ln_d`).
-fn tensors_at(prepared: &Prepared, ln_d: f64, bounds: &SizeBounds) -> Vec<SizeTensor> {
-    let outside = SizeTensor::isotropic(bounds.h_max());
-    (0..prepared.axis.len())
-        .map(|v| raw_tensor(prepared, v, ln_d).map_or(outside, |t| t.clamp(bounds)))
+/// The bounded tensors at D = exp(`ln_d`); h_max isotropic where no cell is.
+fn tensors_at<const N: usize, M: LpSpace<N>>(
+    prepared: &Prepared<N, M>,
+    ln_d: f64,
+    bounds: &SizeBounds,
+) -> Vec<M::Tensor> {
+    let outside = M::isotropic(bounds.h_max());
+    (0..prepared.frame.len())
+        .map(|v| raw_tensor(prepared, v, ln_d).map_or(outside, |t| M::clamp(&t, bounds)))
         .collect()
+}
+
+/// The vertices a mesh conforming to `tensors` (one per vertex of `mesh`, whose cells
+/// are `cells`) has: that of the exact complexity of their Log-Euclidean interpolation.
+pub(super) fn vertices_in<const N: usize, M: LpSpace<N>>(
+    mesh: &M,
+    cells: &[M::Cell],
+    tensors: &[M::Tensor],
+) -> f64 {
+    let f: Vec<f64> =
+        tensors.iter().map(|t| -M::sizes(t).iter().map(|h| h.ln()).sum::<f64>()).collect();
+    M::vertices_of_complexity(mesh.complexity(cells, &f))
 }
 
 /// The ln D at which the nondecreasing `vertices` reaches `target`, from `guess`: a
@@ -336,10 +367,7 @@ pub(super) fn solve(guess: f64, target: f64, vertices: impl Fn(f64) -> f64) -> f
 /// The vertices a mesh conforming to `tensors` (one per vertex of `mesh`) has, 2C/√3
 /// with C the exact complexity of their Log-Euclidean interpolation.
 pub fn vertices_of(mesh: &P1Mesh<'_>, tensors: &[SizeTensor]) -> f64 {
-    let tris: Vec<[usize; 3]> = mesh.triangles().iter().map(|t| t.map(|v| v as usize)).collect();
-    let f: Vec<f64> =
-        tensors.iter().map(|t| -t.sizes().iter().map(|h| h.ln()).sum::<f64>()).collect();
-    vertices_of_complexity(complexity(mesh.points(), &tris, &f))
+    vertices_in(mesh, &mesh.cells(), tensors)
 }
 
 /// `fields` combined in order by intersection (thesis 3.2.2): at each vertex the

@@ -10,12 +10,15 @@ mod edge_fit;
 pub mod input;
 pub mod lp;
 pub mod lp3;
+mod lp_space;
 mod patch;
 pub mod recovery;
 pub mod recovery3;
 
 pub use combined::lp_metric_of_fields;
-pub use lp::{intersect_all, lp_metric, vertices_of, LpError, LpMetric, LpOptions, Target};
+pub use lp::{
+    intersect_all, lp_metric, vertices_of, LpError, LpMetric, LpMetricOf, LpOptions, Target,
+};
 pub use lp3::{lp_metric3, vertices_of3, LpMetric3};
 pub use recovery::{recover, Derivatives, Method, P1Mesh, RecoveryError};
 pub use recovery3::{recover3, Derivatives3, P1Mesh3};

@@ -1,7 +1,8 @@
 use super::*;
 use crate::metric::complexity3::expected_vertices3;
+use crate::metric::SizeBounds;
 use crate::solution::test_meshes3::{jittered, kuhn};
-use crate::solution::{recover3, Method};
+use crate::solution::{recover3, Method, Target};
 
 fn bounds(h_min: f64, h_max: f64, aspect: f64) -> SizeBounds {
     SizeBounds::try_new(h_min, h_max, aspect).unwrap()
