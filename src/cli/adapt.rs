@@ -2,17 +2,13 @@
 //! with a remesher, writing the best mesh and the convergence history.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::Mutex;
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use indicatif::ProgressBar;
 use smartmesh::adapt::files::ResultFiles;
 use smartmesh::adapt::solver::{readable_extension, Goal, Schedule, SolverLoop};
 use smartmesh::adapt::{
-    run_with_solver as run_loop, start_sized, AdaptOptions, Budget, Observer, Outcome, Phase,
-    Tolerances,
+    run_with_solver as run_loop, start_sized, AdaptOptions, Budget, Outcome, Tolerances,
 };
 use smartmesh::expected_vertices;
 use smartmesh::formats::{Format, TaggedMesh};
@@ -25,10 +21,13 @@ use smartmesh::{adapter, AdapterKind, AdapterOptions};
 
 use super::output::{check_output_dir, is_stdio, positive_size, shown, SizeControls};
 
+#[path = "adapt_progress.rs"]
+mod progress;
 #[path = "adapt_space.rs"]
 mod space;
 use super::solution::SolutionArgs;
 use super::{parse_format, print_stdout, ui, CliError, ExitStatus, RecipeInput};
+use progress::{handle_interrupts, Progress, WRITING};
 
 /// The remeshers on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -444,115 +443,6 @@ fn non_negative(s: &str) -> Result<f64, String> {
         Ok(v) if v >= 0.0 && v.is_finite() => Ok(v),
         Ok(v) => Err(format!("{v} is not a tolerance (expected a number >= 0)")),
         Err(e) => Err(format!("`{s}`: {e}")),
-    }
-}
-
-/// Ctrl-C presses so far (the handler counts; the loop reads).
-static INTERRUPTS: AtomicUsize = AtomicUsize::new(0);
-/// Held while the result files are written: a second Ctrl-C exits only between writes.
-static WRITING: Mutex<()> = Mutex::new(());
-/// Whether the handler is installed (once per process).
-static HANDLER: AtomicBool = AtomicBool::new(false);
-
-/// Installs the Ctrl-C (SIGINT, SIGTERM, SIGHUP) handler: the first asks the loop to stop
-/// after the current phase, and stops an external program under way (a solver, mmg2d_O3,
-/// gmsh: SIGTERM to its process group, SIGKILL if it lingers); the second exits with 130
-/// at once, having killed such a program's group and removed its temporary directory,
-/// but never during a write of the result files, so that they stay whole and agree.
-fn handle_interrupts() {
-    if HANDLER.swap(true, Ordering::SeqCst) {
-        return;
-    }
-    let installed = ctrlc::set_handler(|| {
-        if INTERRUPTS.fetch_add(1, Ordering::SeqCst) == 0 {
-            smartmesh::adapt::interrupt();
-            if ui::level() >= ui::Level::Normal {
-                ui::interrupted(
-                    "adapt",
-                    "stopping after the current phase (Ctrl-C again to stop now)",
-                );
-            }
-        } else {
-            let _writing = WRITING.lock();
-            smartmesh::adapt::stop_all();
-            ui::interrupted(
-                "adapt",
-                "stopped; the result files are as the last iteration left them",
-            );
-            std::process::exit(130);
-        }
-    });
-    if let Err(e) = installed {
-        ui::warn(&format!("Ctrl-C will not save the run: {e}"));
-    }
-}
-
-/// The result files, with a progress bar on a terminal.
-struct Progress {
-    files: ResultFiles,
-    /// Whether the best mesh goes to stdout at the end instead of to a file.
-    to_stdout: bool,
-    bar: Option<ProgressBar>,
-    adapter: String,
-    /// Records already printed above the bar (the last record comes twice: after its
-    /// iteration and when the loop stops).
-    printed: usize,
-    /// The z of the input's plane: the loop computes in (x, y), the files are written in
-    /// the input's plane ([`smartmesh::plane`]); `None` for a mesh in space, written as
-    /// it is.
-    plane_z: Option<f64>,
-}
-
-impl Observer for Progress {
-    fn phase(&mut self, iteration: usize, phase: Phase) {
-        if let Some(b) = &self.bar {
-            let what = if phase == Phase::Remesh {
-                format!("{phase} ({})", self.adapter)
-            } else {
-                phase.to_string()
-            };
-            b.set_message(format!("iteration {iteration}: {what}"));
-        }
-    }
-
-    fn interrupted(&mut self) -> bool {
-        INTERRUPTS.load(Ordering::SeqCst) > 0
-    }
-
-    fn record(
-        &mut self,
-        history: &History,
-        new_best: Option<&TaggedMesh>,
-    ) -> Result<(), smartmesh::formats::Error> {
-        {
-            let _writing = WRITING.lock();
-            let placed = new_best.zip(self.plane_z.filter(|&z| z != 0.0)).map(|(m, z)| {
-                let mut m = m.clone();
-                smartmesh::place(&mut m, z);
-                m
-            });
-            let new_best = placed.as_ref().or(new_best);
-            self.files.record(history, if self.to_stdout { None } else { new_best })?;
-        }
-        if let (Some(b), Some(last)) = (
-            &self.bar,
-            history.iterations.last().filter(|_| history.iterations.len() > self.printed),
-        ) {
-            self.printed = history.iterations.len();
-            b.set_position(last.iteration as u64);
-            let cells = last.space.as_ref().map_or_else(
-                || format!("{} triangles", last.triangles),
-                |s| format!("{} {}s", s.cells, s.cell),
-            );
-            b.println(format!(
-                "iteration {}: {} vertices, {cells}, {:.1}% conforming, mean quality {:.3}",
-                last.iteration,
-                last.vertices,
-                100.0 * last.conforming_share,
-                last.mean_quality
-            ));
-        }
-        Ok(())
     }
 }
 
