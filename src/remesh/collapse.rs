@@ -55,10 +55,12 @@ pub(super) fn collapse_sweeps(w: &mut Work, lmax: f64, opts: &RemeshOptions) -> 
     for _ in 0..opts.collapse_sweeps {
         let mut cand: Vec<(f64, u32, u32)> = edges
             .iter()
-            .map(|&(a, b)| (w.length(a, b), a, b))
-            .filter(|c| c.0 < opts.collapse_below)
+            .filter_map(|&(a, b)| {
+                super::band::length_below(w, a, b, opts.collapse_below).map(|l| (l, a, b))
+            })
             .collect();
-        cand.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        // The edges are distinct, so the order is total and an unstable sort gives it.
+        cand.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let mut hit = Vec::new();
         for (_, a, b) in cand {
             if w.is_dead(a) || w.is_dead(b) || w.edge_tris(a, b).1 == 0 {

@@ -43,6 +43,7 @@
 //!   a mesh expected above [`RemeshOptions::partition`] vertices is remeshed part
 //!   by part on every core (`parallel`), with the same output whatever the thread count.
 
+mod band;
 mod boundary;
 mod build;
 mod collapse;

@@ -63,11 +63,11 @@ pub(super) fn check(w: &Work, v: u32, opts: &RemeshOptions) -> Option<Move> {
     }
 }
 
-/// Makes a move of [`check`]; the ball is marked for the swaps and the next sweep, `v`
-/// itself is not tried again before its ball changes.
+/// Makes a move of [`check`]; the edges around `v` are marked for the swaps and its
+/// neighbours for the next sweep, `v` itself is not tried again before its ball changes.
 pub(super) fn apply(w: &mut Work, m: &Move) {
     w.place(m.v, m.at, m.metric, m.role);
-    w.mark_ball(m.v);
+    w.mark_moved(m.v);
     w.take_active(m.v);
 }
 

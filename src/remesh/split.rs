@@ -77,9 +77,12 @@ pub(super) fn split_sweeps(
     };
     let mut n = 0;
     loop {
-        let mut cand: Vec<(f64, u32, u32)> =
-            edges.iter().map(|&(a, b)| (w.length(a, b), a, b)).filter(|c| c.0 > lmax).collect();
-        cand.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        let mut cand: Vec<(f64, u32, u32)> = edges
+            .iter()
+            .filter_map(|&(a, b)| super::band::length_above(w, a, b, lmax).map(|l| (l, a, b)))
+            .collect();
+        // The edges are distinct, so the order is total and an unstable sort gives it.
+        cand.sort_unstable_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let mut touched = vec![false; w.num_slots()];
         let mut k_sweep = 0;
         for (_, a, b) in cand {

@@ -472,6 +472,23 @@ impl<'a> Work<'a> {
         }
     }
 
+    /// Notes that `v` moved: its neighbours' balls changed shape, so the next smoothing
+    /// sweep tries them, but only the edges around `v` are listed for the swap phase. A
+    /// flip check reads the two triangles of its edge (and whether the new diagonal is
+    /// an edge already, which a move does not change), and the triangles a move changes
+    /// are those of `v`'s ball, every edge of which is around `v`; listing the
+    /// neighbours too, as [`Work::mark_ball`] does, would only re-check edges whose two
+    /// triangles did not change.
+    pub(super) fn mark_moved(&mut self, v: u32) {
+        self.mark(v);
+        for i in 0..self.vtris[v as usize].len() {
+            let t = self.vtris[v as usize][i];
+            for u in self.tris[t as usize] {
+                self.active[u as usize] = true;
+            }
+        }
+    }
+
     /// Whether the next smoothing sweep should try `v`; clears the mark.
     #[inline]
     pub(super) fn take_active(&mut self, v: u32) -> bool {
