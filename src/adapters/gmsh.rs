@@ -112,27 +112,16 @@ impl Adapter for GmshAdapter {
             MetricField::new(prepared.metric(metric), "the metric").pos_bytes(&prepared.mesh)?;
         let msh =
             smartmesh_formats::write_bytes(Format::Gmsh, &prepared.mesh, &WriteOptions::default())?;
-        write(dir.path(), "in.msh", &msh.main)?;
-        write(dir.path(), "bgm.pos", &pos)?;
-        write(dir.path(), "remesh.geo", SCRIPT.as_bytes())?;
-        let output = run(&self.program, &self.args(), dir.path())?;
-        let out_path = dir.path().join("out.msh");
-        // Gmsh may report an error and still exit with 0: no file, or no triangle, is a
-        // failure quoted the same way as an exit status.
-        let failed = |why: &str| AdapterError::Failed {
-            program: format!("{PROGRAM} remesh.geo"),
-            status: why.to_string(),
-            output: quote(&output),
-        };
-        if !out_path.exists() {
-            return Err(failed("it wrote no out.msh"));
-        }
-        let mut result = read_path(&out_path, Some(Format::Gmsh))?;
-        if result.num_cells_of(CellKind::Triangle) == 0 {
-            return Err(failed(
-                "its out.msh has no triangle (Gmsh saves only the elements of physical groups; its output says whether meshing failed)",
-            ));
-        }
+        let inputs =
+            [("in.msh", &msh.main[..]), ("bgm.pos", &pos[..]), ("remesh.geo", SCRIPT.as_bytes())];
+        let mut result = run_script(
+            &self.program,
+            &self.args(),
+            dir.path(),
+            &inputs,
+            CellKind::Triangle,
+            "triangle",
+        )?;
         result.point_data.clear();
         result.cell_data.clear();
         for p in &mut result.points {
@@ -150,6 +139,40 @@ impl Adapter for GmshAdapter {
 }
 
 /// Writes `bytes` as `dir/name`.
+/// Writes `inputs` (name, bytes) in `dir`, runs the Gmsh at `program` with `args` there
+/// and reads its `out.msh`. Gmsh may report an error and still exit with 0: no file, or
+/// no cell of `kind` (`what`, for the message), is a failure quoted the same way as an
+/// exit status.
+pub(super) fn run_script(
+    program: &Path,
+    args: &[String],
+    dir: &Path,
+    inputs: &[(&str, &[u8])],
+    kind: CellKind,
+    what: &str,
+) -> Result<TaggedMesh, AdapterError> {
+    for (name, bytes) in inputs {
+        write(dir, name, bytes)?;
+    }
+    let output = run(program, args, dir)?;
+    let out_path = dir.join("out.msh");
+    let failed = |why: &str| AdapterError::Failed {
+        program: format!("{PROGRAM} remesh.geo"),
+        status: why.to_string(),
+        output: quote(&output),
+    };
+    if !out_path.exists() {
+        return Err(failed("it wrote no out.msh"));
+    }
+    let result = read_path(&out_path, Some(Format::Gmsh))?;
+    if result.num_cells_of(kind) == 0 {
+        return Err(failed(&format!(
+            "its out.msh has no {what} (Gmsh saves only the elements of physical groups; its output says whether meshing failed)"
+        )));
+    }
+    Ok(result)
+}
+
 pub(super) fn write(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), AdapterError> {
     std::fs::write(dir.join(name), bytes).map_err(|source| AdapterError::Io {
         what: format!("writing {name} in {}", dir.display()),

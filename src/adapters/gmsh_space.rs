@@ -37,12 +37,11 @@
 //! path brings them, the vertex cells put back on their points by position (Gmsh keeps
 //! a discrete model's points, renumbering their entities).
 
-use smartmesh_formats::{read_path, CellKind, Format, TaggedMesh, WriteOptions};
+use smartmesh_formats::{CellKind, Format, TaggedMesh, WriteOptions};
 
-use super::gmsh::{write, PROGRAM};
+use super::gmsh::{run_script, PROGRAM};
 use super::prepare::{prepare_space, Shape};
 use super::restore::{attach_names, ensure_tags_kept, place_point_cells};
-use super::tool::{quote, run};
 use super::{Adapted, AdapterError};
 use crate::metric::Sym3;
 use crate::metric_field::MetricField;
@@ -134,30 +133,12 @@ pub(crate) fn adapt_space(
     )?;
     let msh =
         smartmesh_formats::write_bytes(Format::Gmsh, &prepared.mesh, &WriteOptions::default())?;
-    write(dir.path(), "in.msh", &msh.main)?;
-    write(dir.path(), "bgm.pos", &pos)?;
     let script = if volume { VOLUME_SCRIPT } else { SURFACE_SCRIPT };
-    write(dir.path(), "remesh.geo", script.as_bytes())?;
-    let output = run(program, &args(extra), dir.path())?;
-    let out_path = dir.path().join("out.msh");
-    // Gmsh may report an error and still exit with 0: no file, or no cell of the kind
-    // asked, is a failure quoted the same way as an exit status.
-    let failed = |why: &str| AdapterError::Failed {
-        program: format!("{PROGRAM} remesh.geo"),
-        status: why.to_string(),
-        output: quote(&output),
-    };
-    if !out_path.exists() {
-        return Err(failed("it wrote no out.msh"));
-    }
-    let mut result = read_path(&out_path, Some(Format::Gmsh))?;
+    let inputs =
+        [("in.msh", &msh.main[..]), ("bgm.pos", &pos[..]), ("remesh.geo", script.as_bytes())];
     let (kind, what) =
         if volume { (CellKind::Tetra, "tetrahedron") } else { (CellKind::Triangle, "triangle") };
-    if result.num_cells_of(kind) == 0 {
-        return Err(failed(&format!(
-            "its out.msh has no {what} (Gmsh saves only the elements of physical groups; its output says whether meshing failed)"
-        )));
-    }
+    let mut result = run_script(program, &args(extra), dir.path(), &inputs, kind, what)?;
     result.point_data.clear();
     result.cell_data.clear();
     // Gmsh gives the points of the discrete model entities of its own numbering: they are
