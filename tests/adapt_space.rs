@@ -21,6 +21,7 @@ use smartmesh::{adapter, AdaptOptions, AdapterKind, AdapterOptions, History};
 use smartmesh_test_support::formats::public_fixture;
 use smartmesh_test_support::grid::kuhn_box;
 use smartmesh_test_support::require_public_fixtures;
+use smartmesh_test_support::space::positive_volume;
 
 #[path = "support/cli.rs"]
 mod support;
@@ -87,14 +88,6 @@ fn median_length(mesh: &TaggedMesh, kind: CellKind, sizes: fn([f64; 3]) -> [f64;
     l[l.len() / 2]
 }
 
-/// Six times the signed volume of a tetrahedron.
-fn volume6(p: [[f64; 3]; 4]) -> f64 {
-    let d = |i: usize| [p[i][0] - p[0][0], p[i][1] - p[0][1], p[i][2] - p[0][2]];
-    let (a, b, c) = (d(1), d(2), d(3));
-    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-        + a[2] * (b[0] * c[1] - b[1] * c[0])
-}
-
 /// The physical tags of each dimension's cells.
 fn tags(mesh: &TaggedMesh) -> BTreeSet<(u8, i32)> {
     mesh.cells().map(|(k, _, p, _)| (k.dim(), p)).collect()
@@ -148,14 +141,7 @@ fn mmg3d_adapts_a_box_to_the_linear_metric_keeping_tags_names_and_the_best_mesh(
     // The mesh written: every tetrahedron positive, the cube's volume, every tag and name.
     let mesh = read_path(&out, None).unwrap();
     assert_eq!(mesh.points.len(), best.vertices);
-    let mut volume = 0.0;
-    for (k, n, _, _) in mesh.cells() {
-        if k == CellKind::Tetra {
-            let v = volume6(std::array::from_fn(|i| mesh.points[n[i] as usize])) / 6.0;
-            assert!(v > 0.0, "tetrahedron {n:?} has volume {v}");
-            volume += v;
-        }
-    }
+    let volume = positive_volume(&mesh, 0.0);
     assert!((volume - 1.0).abs() < 1e-9, "volume {volume}");
     assert_eq!(tags(&mesh), tags(&start));
     assert_eq!(mesh.tag_names, start.tag_names);
