@@ -21,7 +21,7 @@
 //! mandatory under CI), but for the last three tests (`sh` at most).
 
 use std::collections::BTreeSet;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use smartmesh::formats::{read_path, write_path, CellBlock, CellKind, TaggedMesh};
 use smartmesh_test_support::formats::python_with;
@@ -276,7 +276,6 @@ fn hausd_with_gmsh_in_space_is_refused() {
 #[cfg(unix)]
 #[test]
 fn two_volumes_are_refused_with_gmsh() {
-    use std::os::unix::fs::PermissionsExt;
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("two.msh");
     let mut mesh = with_metric(kuhn_box(2, [1.0; 3]));
@@ -287,24 +286,26 @@ fn two_volumes_are_refused_with_gmsh() {
     mesh.tag_names.insert((3, 2), "Second".into());
     write_path(&input, &mesh, None, &Default::default()).unwrap();
     let ran = dir.path().join("ran");
-    let fake = dir.path().join("gmsh");
-    std::fs::write(&fake, format!("#!/bin/sh\ntouch '{}'\n", ran.display())).unwrap();
-    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
-    let out = dir.path().join("o.msh");
-    let res = run(&[
-        "remesh",
-        input.to_str().unwrap(),
-        "--adapter",
-        "gmsh",
-        "--adapter-program",
-        fake.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let (res, out) =
+        remesh_with_fake_gmsh(dir.path(), &input, &format!("touch '{}'", ran.display()));
     let err = streams(&res);
     assert_eq!(res.status.code(), Some(2), "{err}");
     assert!(err.contains("2 volumes") && err.contains("\"Second\""), "{err}");
     assert!(!ran.exists() && !out.exists());
+}
+
+/// `remesh INPUT --adapter gmsh` with a fake Gmsh in `dir` that runs the shell line
+/// `body`; the run's output and the path asked for.
+#[cfg(unix)]
+fn remesh_with_fake_gmsh(dir: &Path, input: &Path, body: &str) -> (std::process::Output, PathBuf) {
+    use std::os::unix::fs::PermissionsExt;
+    let fake = dir.join("gmsh");
+    std::fs::write(&fake, format!("#!/bin/sh\n{body}\n")).unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let out = dir.join("o.msh");
+    let args = ["remesh", input.to_str().unwrap(), "--adapter", "gmsh", "--adapter-program"];
+    let res = run(&[&args[..], &[fake.to_str().unwrap(), "-o", out.to_str().unwrap()]].concat());
+    (res, out)
 }
 
 /// `mesh` with the point data `metric` 25 I at every vertex.
@@ -320,29 +321,15 @@ fn with_metric(mut mesh: TaggedMesh) -> TaggedMesh {
 #[cfg(unix)]
 #[test]
 fn a_gmsh_that_writes_no_volume_mesh_is_a_failure() {
-    use std::os::unix::fs::PermissionsExt;
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("box.msh");
     let mesh = with_metric(kuhn_box(2, [1.0; 3]));
     write_path(&input, &mesh, None, &Default::default()).unwrap();
-    let fake = dir.path().join("gmsh");
-    std::fs::write(
-        &fake,
-        "#!/bin/sh\necho 'Error   : ERROR: Edge 1 - 15 multiple times in surface mesh'\n",
-    )
-    .unwrap();
-    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
-    let out = dir.path().join("o.msh");
-    let res = run(&[
-        "remesh",
-        input.to_str().unwrap(),
-        "--adapter",
-        "gmsh",
-        "--adapter-program",
-        fake.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let (res, out) = remesh_with_fake_gmsh(
+        dir.path(),
+        &input,
+        "echo 'Error   : ERROR: Edge 1 - 15 multiple times in surface mesh'",
+    );
     let err = streams(&res);
     assert_eq!(res.status.code(), Some(1), "{err}");
     assert!(err.contains("it wrote no out.msh") && err.contains("multiple times"), "{err}");

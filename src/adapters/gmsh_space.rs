@@ -68,18 +68,9 @@ Mesh.MshFileVersion = 4.1;
 Save \"out.msh\";
 ";
 
-/// The script for a surface in space: [`VOLUME_SCRIPT`] with `Mesh 2` (BAMG alone).
-pub(crate) const SURFACE_SCRIPT: &str =
-    "// Written by smartmesh: remesh the surface in.msh to the background view bgm.pos (BAMG).
-Merge \"in.msh\";
-CreateTopology;
-CreateGeometry;
-Merge \"bgm.pos\";
-Background Mesh View[0];
-Mesh 2;
-Mesh.MshFileVersion = 4.1;
-Save \"out.msh\";
-";
+/// The script for a surface in space: the planar path's own ([`VOLUME_SCRIPT`] with
+/// `Mesh 2`, BAMG alone), which meshes each discrete surface in its parametrisation.
+pub(crate) const SURFACE_SCRIPT: &str = super::gmsh::SCRIPT;
 
 /// The settings on Gmsh's command line, before the user's extra arguments (which may
 /// override them).
