@@ -193,12 +193,13 @@ fn helix() -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// A zigzag sheet across the box: strips alternating between two heights.
-fn folded_sheet() -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+/// A zigzag sheet across the box: strips alternating between the heights `low` and
+/// `high` (each strip rising 0.05 across y).
+pub(super) fn folded_sheet(low: f64, high: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     let (mut points, mut triangles) = (Vec::new(), Vec::new());
     for i in 0..7 {
         let x = -0.1 + 0.2 * i as f64;
-        let z = if i % 2 == 0 { 0.33 } else { 0.61 };
+        let z = if i % 2 == 0 { low } else { high };
         points.push([x, -0.1, z]);
         points.push([x, 1.1, z + 0.05]);
         if i > 0 {
@@ -219,7 +220,7 @@ fn crossed_cells_of_every_kind_are_their_scan() {
         surface_mesh(6, false),
         surface_mesh(6, true),
     ];
-    let (points, triangles) = folded_sheet();
+    let (points, triangles) = folded_sheet(0.33, 0.61);
     for (m, mesh) in meshes.iter().enumerate() {
         // Reaches far below the cells: the marks come from the crossings.
         let by_line = crossed_twin(mesh, &polyline_step(helix(), 0.01));
@@ -308,7 +309,7 @@ fn coarse_cells_crossed_far_from_their_corners_are_sized() {
 
 #[test]
 fn crossed_cells_give_the_same_field_on_any_thread_count() {
-    let (points, triangles) = folded_sheet();
+    let (points, triangles) = folded_sheet(0.33, 0.61);
     for mesh in [volume_mesh(5, 0.5, 9, Kind::Hexa), surface_mesh(8, true)] {
         same_on_any_thread_count(&mesh, &plan(vec![polyline_step(helix(), 0.02)], Some(10.0)));
         let sheet = sheet_step(points.clone(), triangles.clone(), 0.02);

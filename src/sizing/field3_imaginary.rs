@@ -217,18 +217,7 @@ fn check_sheet(
 #[test]
 fn folded_and_close_sheets_are_their_twins() {
     let mesh = jittered_box(6, [1.0, 1.0, 1.0], 0.3, 5);
-    let (mut points, mut triangles) = (Vec::new(), Vec::new());
-    for i in 0..7 {
-        let x = -0.1 + 0.2 * i as f64;
-        let z = if i % 2 == 0 { 0.3 } else { 0.6 };
-        points.push([x, -0.1, z]);
-        points.push([x, 1.1, z + 0.05]);
-        if i > 0 {
-            let k = 2 * i as u32;
-            triangles.push([k - 2, k, k + 1]);
-            triangles.push([k - 2, k + 1, k - 1]);
-        }
-    }
+    let (points, triangles) = super::crossed::folded_sheet(0.3, 0.6);
     assert!(check_sheet(&mesh, points, triangles, 0.5) > 50);
     let two: Vec<[f64; 3]> = [0.4, 0.41]
         .iter()
